@@ -1,0 +1,44 @@
+# Test helpers. Every GoogleTest case becomes its own CTest entry (gtest_discover_tests).
+find_package(GTest REQUIRED)
+include(GoogleTest)
+
+# cathbox_add_test(NAME n SOURCES ... [LIBS ...] [LABELS unit|integration|slow ...] [TIMEOUT s])
+function(cathbox_add_test)
+  cmake_parse_arguments(A "" "NAME;TIMEOUT" "SOURCES;LIBS;LABELS" ${ARGN})
+  if(NOT A_LABELS)
+    set(A_LABELS unit)
+  endif()
+  if(NOT A_TIMEOUT)
+    set(A_TIMEOUT 300)
+  endif()
+  add_executable(${A_NAME} ${A_SOURCES})
+  target_link_libraries(${A_NAME} PRIVATE ${A_LIBS} GTest::gtest GTest::gmock GTest::gtest_main)
+  target_compile_definitions(${A_NAME} PRIVATE
+    CATHBOX_SOURCE_DIR="${PROJECT_SOURCE_DIR}" CATHBOX_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  cathbox_target_warnings(${A_NAME})
+  gtest_discover_tests(${A_NAME}
+    WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
+    PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT}
+    DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# cathbox_add_fuzzer(NAME n SOURCES ... [LIBS ...] [CORPUS dir ...])
+# The sources define LLVMFuzzerTestOneInput. With CATHBOX_FUZZ (clang) this is a libFuzzer
+# binary; otherwise it is linked with a replay driver and a CTest entry replays every file of
+# the seed corpora, so each fuzz target is compiled and exercised on every build.
+function(cathbox_add_fuzzer)
+  cmake_parse_arguments(A "" "NAME" "SOURCES;LIBS;CORPUS" ${ARGN})
+  set(target fuzz_${A_NAME})
+  add_executable(${target} ${A_SOURCES})
+  target_link_libraries(${target} PRIVATE ${A_LIBS})
+  cathbox_target_warnings(${target})
+  if(CATHBOX_FUZZ)
+    target_compile_options(${target} PRIVATE -fsanitize=fuzzer)
+    target_link_options(${target} PRIVATE -fsanitize=fuzzer)
+  else()
+    target_sources(${target} PRIVATE ${PROJECT_SOURCE_DIR}/tests/fuzz/replay_main.cpp)
+    add_test(NAME fuzz_replay.${A_NAME} COMMAND ${target} ${A_CORPUS})
+    set_tests_properties(fuzz_replay.${A_NAME} PROPERTIES LABELS unit TIMEOUT 120)
+  endif()
+  set_property(GLOBAL APPEND PROPERTY CATHBOX_FUZZERS "${target}|${A_CORPUS}")
+endfunction()
