@@ -166,12 +166,13 @@ struct Nearest {
   int pending_count = 0;
 };
 
-CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
+// Depth-first search below `root`, nearest child first (the fallback of the best-first search).
+void search_subtree(Nearest& s, std::int32_t root) {
   const TreeData& d = s.d;
   std::int32_t stack[kStackSize];
   float stack_lb[kStackSize];
   int sp = 0;
-  stack[sp] = 0;
+  stack[sp] = root;
   stack_lb[sp++] = 0.0f;
   while (sp > 0) {
     --sp;
@@ -180,28 +181,66 @@ CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
     float v[4];
     int order[4];
     sort4(detail::box_distance_sq(n.boxes.row, s.lanes), v, order);
-    std::int32_t push[4];
-    float push_lb[4];
-    int np = 0;
-    std::int32_t leaves[4];
-    int nl = 0;
-    for (int i : order) {
-      if (v[i] > s.thresh) break;
+    for (int k = 3; k >= 0; --k) {
+      const int i = order[k];
       const std::int32_t slot = n.child[i];
-      if (slot == detail::kEmptySlot) continue;
+      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        leaves[nl++] = detail::leaf_block(slot);
-        prefetch(d.blocks[static_cast<std::size_t>(leaves[nl - 1])]);
+        s.visit_block(detail::leaf_block(slot));
       } else {
-        push[np] = slot;
-        push_lb[np++] = v[i];
-        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+        stack[sp] = slot;
+        stack_lb[sp++] = v[i];
       }
     }
-    for (int k = 0; k < nl; ++k) s.visit_block(leaves[k]);
-    for (int k = np - 1; k >= 0; --k) {
-      stack[sp] = push[k];
-      stack_lb[sp++] = push_lb[k];
+  }
+}
+
+// Best-first search: a min-heap of nodes and leaves by box distance, so leaves are measured in
+// order of their boxes and the search stops as soon as the nearest pending box is farther than
+// the best triangle.
+CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
+  const TreeData& d = s.d;
+  struct Entry {
+    float lb;
+    std::int32_t slot;
+  };
+  constexpr int kHeap = 256;
+  Entry heap[kHeap];
+  int size = 0;
+  auto later = [](const Entry& a, const Entry& b) { return a.lb > b.lb; };
+  heap[size++] = {0.0f, 0};
+  while (size > 0) {
+    std::pop_heap(heap, heap + size, later);
+    const Entry top = heap[--size];
+    if (top.lb > s.thresh) break;
+    if (detail::is_leaf(top.slot)) {
+      s.visit_block(detail::leaf_block(top.slot));
+      continue;
+    }
+    if (size + 4 > kHeap) {
+      search_subtree(s, top.slot);
+      continue;
+    }
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top.slot)];
+    float v[4];
+    int order[4];
+    sort4(detail::box_distance_sq(n.boxes.row, s.lanes), v, order);
+    for (int i : order) {
+      const std::int32_t slot = n.child[i];
+      if (v[i] > s.thresh) break;
+      if (slot == detail::kEmptySlot) continue;
+      if (detail::is_leaf(slot)) {
+        // The nearest pending box: measure it now rather than through the heap.
+        if (size == 0 || v[i] <= heap[0].lb) {
+          s.visit_block(detail::leaf_block(slot));
+          continue;
+        }
+        prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+      } else {
+        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+      }
+      heap[size++] = {v[i], slot};
+      std::push_heap(heap, heap + size, later);
     }
   }
   s.resolve();
@@ -249,62 +288,43 @@ class HintCache {
     const PointLanes lanes = lanes_of(p);
     const float slack = slack_for(d, p);
     const float limit = threshold_sq(radius_target, slack);
-    struct Item {
+    // Best-first over boxes: leaves come out nearest first, so the first kCapacity leaves are
+    // the cache and the next box popped bounds everything left out.
+    struct Entry {
       float lb;
-      std::int32_t block;
-      std::int32_t node;
+      std::int32_t slot;
+      std::int32_t node;  // parent wide node and lane, where the leaf's box is stored
       int lane;
     };
-    Item items[QueryHint::kCapacity];
+    constexpr int kHeap = 256;
+    Entry heap[kHeap];
+    int size = 0;
+    auto later = [](const Entry& a, const Entry& b) { return a.lb > b.lb; };
+    Entry items[QueryHint::kCapacity];
     int count = 0;
-    int worst = -1;  // index of the largest lb when full
     float rejected = kInfF;
-    std::int32_t stack[kStackSize];
-    float stack_lb[kStackSize];
-    int sp = 0;
-    stack[sp] = 0;
-    stack_lb[sp++] = 0.0f;
-    auto cap = [&]() { return count == QueryHint::kCapacity ? items[worst].lb : limit; };
-    while (sp > 0) {
-      --sp;
-      if (stack_lb[sp] >= cap()) {
-        if (stack_lb[sp] < limit) rejected = std::min(rejected, stack_lb[sp]);
+    heap[size++] = {0.0f, 0, -1, 0};
+    while (size > 0) {
+      std::pop_heap(heap, heap + size, later);
+      const Entry top = heap[--size];
+      if (!(top.lb < limit)) break;
+      if (count == QueryHint::kCapacity || size + 4 > kHeap) {
+        rejected = top.lb;
+        break;
+      }
+      if (detail::is_leaf(top.slot)) {
+        items[count++] = top;
         continue;
       }
-      const std::int32_t node = stack[sp];
-      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(node)];
+      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top.slot)];
+      const v4f lb = detail::box_distance_sq(n.boxes.row, lanes);
       float v[4];
-      int order[4];
-      sort4(detail::box_distance_sq(n.boxes.row, lanes), v, order);
-      std::int32_t push[4];
-      float push_lb[4];
-      int np = 0;
-      for (int i : order) {
+      std::memcpy(v, &lb, sizeof v);
+      for (int i = 0; i < 4; ++i) {
         const std::int32_t slot = n.child[i];
         if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
-        if (!detail::is_leaf(slot)) {
-          push[np] = slot;
-          push_lb[np++] = v[i];
-          continue;
-        }
-        if (count < QueryHint::kCapacity) {
-          items[count++] = {v[i], detail::leaf_block(slot), node, i};
-        } else if (v[i] < items[worst].lb) {
-          rejected = std::min(rejected, items[worst].lb);
-          items[worst] = {v[i], detail::leaf_block(slot), node, i};
-        } else {
-          rejected = std::min(rejected, v[i]);
-          continue;
-        }
-        if (count == QueryHint::kCapacity) {
-          worst = 0;
-          for (int k = 1; k < count; ++k)
-            if (items[k].lb > items[worst].lb) worst = k;
-        }
-      }
-      for (int k = np - 1; k >= 0; --k) {
-        stack[sp] = push[k];
-        stack_lb[sp++] = push_lb[k];
+        heap[size++] = {v[i], slot, top.slot, i};
+        std::push_heap(heap, heap + size, later);
       }
     }
     const float covered = std::min(limit, rejected);
@@ -323,7 +343,7 @@ class HintCache {
       if (j < count) {
         src = &d.nodes[static_cast<std::size_t>(items[j].node)].boxes;
         src_lane = items[j].lane;
-        h.leaves_[j] = items[j].block;
+        h.leaves_[j] = detail::leaf_block(items[j].slot);
       } else {
         h.leaves_[j] = -1;
       }
@@ -347,13 +367,19 @@ class HintCache {
   CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s) {
     float v[QueryHint::kCapacity];
     leaf_bounds(h, s.lanes, v);
-    for (;;) {
-      int best = -1;
-      for (int j = 0; j < h.count_; ++j)
-        if (v[j] <= s.thresh && (best < 0 || v[j] < v[best])) best = j;
-      if (best < 0) break;
-      v[best] = kInfF;
-      s.visit_block(h.leaves_[best]);
+    // Leaves within reach, nearest box first.
+    int order[QueryHint::kCapacity];
+    int n = 0;
+    for (int j = 0; j < h.count_; ++j) {
+      if (!(v[j] <= s.thresh)) continue;
+      int k = n++;
+      for (; k > 0 && v[order[k - 1]] > v[j]; --k) order[k] = order[k - 1];
+      order[k] = j;
+    }
+    if (n > 0) prefetch(s.d.blocks[static_cast<std::size_t>(h.leaves_[order[0]])]);
+    for (int k = 0; k < n && v[order[k]] <= s.thresh; ++k) {
+      if (k + 1 < n) prefetch(s.d.blocks[static_cast<std::size_t>(h.leaves_[order[k + 1]])]);
+      s.visit_block(h.leaves_[order[k]]);
     }
     s.resolve();
   }
