@@ -100,9 +100,12 @@ struct Nearest {
   CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane) {
     glm::dvec3 ta, tb, tc;
     detail::block_corners(b, lane, ta, tb, tc);
-    const double dsq = detail::point_triangle_distance_sq(p, ta, tb, tc);
+    const detail::PointOnTriangle q = detail::closest_on_triangle(p, ta, tb, tc);
+    const glm::dvec3 diff = p - q.point;
+    const double dsq = glm::dot(diff, diff);
     if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
       best_sq = dsq;
+      best_point = q;
       face = b.face[lane];
       best_block = &b;
       best_lane = lane;
@@ -162,6 +165,7 @@ struct Nearest {
   std::int32_t face = -1;
   const detail::TriangleBlock* best_block = nullptr;
   int best_lane = 0;
+  detail::PointOnTriangle best_point;
   Pending pending[kPending];
   int pending_count = 0;
 };
@@ -200,47 +204,49 @@ void search_subtree(Nearest& s, std::int32_t root) {
 // the best triangle.
 CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   const TreeData& d = s.d;
-  struct Entry {
-    float lb;
-    std::int32_t slot;
-  };
-  constexpr int kHeap = 256;
-  Entry heap[kHeap];
+  // Pending boxes in no order; the nearest is found by a branch-free scan (the list stays
+  // short, and this beats a binary heap's unpredictable branches).
+  constexpr int kPendingBoxes = 256;
+  float pending_lb[kPendingBoxes];
+  std::int32_t pending_slot[kPendingBoxes];
   int size = 0;
-  auto later = [](const Entry& a, const Entry& b) { return a.lb > b.lb; };
-  heap[size++] = {0.0f, 0};
+  pending_lb[size] = 0.0f;
+  pending_slot[size++] = 0;
   while (size > 0) {
-    std::pop_heap(heap, heap + size, later);
-    const Entry top = heap[--size];
-    if (top.lb > s.thresh) break;
-    if (detail::is_leaf(top.slot)) {
-      s.visit_block(detail::leaf_block(top.slot));
+    int best = 0;
+    float best_lb = pending_lb[0];
+    for (int i = 1; i < size; ++i) {
+      const bool nearer = pending_lb[i] < best_lb;
+      best_lb = nearer ? pending_lb[i] : best_lb;
+      best = nearer ? i : best;
+    }
+    if (best_lb > s.thresh) break;
+    const std::int32_t top = pending_slot[best];
+    --size;
+    pending_lb[best] = pending_lb[size];
+    pending_slot[best] = pending_slot[size];
+    if (detail::is_leaf(top)) {
+      s.visit_block(detail::leaf_block(top));
       continue;
     }
-    if (size + 4 > kHeap) {
-      search_subtree(s, top.slot);
+    if (size + 4 > kPendingBoxes) {
+      search_subtree(s, top);
       continue;
     }
-    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top.slot)];
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
+    const v4f lb = detail::box_distance_sq(n.boxes.row, s.lanes);
     float v[4];
-    int order[4];
-    sort4(detail::box_distance_sq(n.boxes.row, s.lanes), v, order);
-    for (int i : order) {
+    std::memcpy(v, &lb, sizeof v);
+    for (int i = 0; i < 4; ++i) {
       const std::int32_t slot = n.child[i];
-      if (v[i] > s.thresh) break;
-      if (slot == detail::kEmptySlot) continue;
+      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        // The nearest pending box: measure it now rather than through the heap.
-        if (size == 0 || v[i] <= heap[0].lb) {
-          s.visit_block(detail::leaf_block(slot));
-          continue;
-        }
         prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
       } else {
         prefetch(d.nodes[static_cast<std::size_t>(slot)]);
       }
-      heap[size++] = {v[i], slot};
-      std::push_heap(heap, heap + size, later);
+      pending_lb[size] = v[i];
+      pending_slot[size++] = slot;
     }
   }
   s.resolve();
@@ -288,30 +294,45 @@ class HintCache {
     const PointLanes lanes = lanes_of(p);
     const float slack = slack_for(d, p);
     const float limit = threshold_sq(radius_target, slack);
-    // Best-first over boxes: leaves come out nearest first, so the first kCapacity leaves are
-    // the cache and the next box popped bounds everything left out.
-    struct Entry {
-      float lb;
+    // Best-first over boxes (as in search_tree): leaves come out nearest first, so the first
+    // kCapacity leaves are the cache and the next box taken bounds everything left out.
+    constexpr int kPendingBoxes = 256;
+    float pending_lb[kPendingBoxes];
+    std::int32_t pending_slot[kPendingBoxes];
+    std::int32_t pending_parent[kPendingBoxes];  // wide node and lane holding a leaf's box
+    int pending_lane[kPendingBoxes];
+    struct Item {
       std::int32_t slot;
-      std::int32_t node;  // parent wide node and lane, where the leaf's box is stored
+      std::int32_t node;
       int lane;
     };
-    constexpr int kHeap = 256;
-    Entry heap[kHeap];
-    int size = 0;
-    auto later = [](const Entry& a, const Entry& b) { return a.lb > b.lb; };
-    Entry items[QueryHint::kCapacity];
+    Item items[QueryHint::kCapacity];
     int count = 0;
     float rejected = kInfF;
-    heap[size++] = {0.0f, 0, -1, 0};
+    int size = 0;
+    pending_lb[size] = 0.0f;
+    pending_slot[size] = 0;
+    pending_parent[size] = -1;
+    pending_lane[size++] = 0;
     while (size > 0) {
-      std::pop_heap(heap, heap + size, later);
-      const Entry top = heap[--size];
-      if (!(top.lb < limit)) break;
-      if (count == QueryHint::kCapacity || size + 4 > kHeap) {
-        rejected = top.lb;
+      int best = 0;
+      float best_lb = pending_lb[0];
+      for (int i = 1; i < size; ++i) {
+        const bool nearer = pending_lb[i] < best_lb;
+        best_lb = nearer ? pending_lb[i] : best_lb;
+        best = nearer ? i : best;
+      }
+      if (!(best_lb < limit)) break;
+      if (count == QueryHint::kCapacity || size + 4 > kPendingBoxes) {
+        rejected = best_lb;
         break;
       }
+      const Item top{pending_slot[best], pending_parent[best], pending_lane[best]};
+      --size;
+      pending_lb[best] = pending_lb[size];
+      pending_slot[best] = pending_slot[size];
+      pending_parent[best] = pending_parent[size];
+      pending_lane[best] = pending_lane[size];
       if (detail::is_leaf(top.slot)) {
         items[count++] = top;
         continue;
@@ -323,8 +344,10 @@ class HintCache {
       for (int i = 0; i < 4; ++i) {
         const std::int32_t slot = n.child[i];
         if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
-        heap[size++] = {v[i], slot, top.slot, i};
-        std::push_heap(heap, heap + size, later);
+        pending_lb[size] = v[i];
+        pending_slot[size] = slot;
+        pending_parent[size] = top.slot;
+        pending_lane[size++] = i;
       }
     }
     const float covered = std::min(limit, rejected);
@@ -583,9 +606,7 @@ namespace {
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
   const detail::TriangleBlock& b = *s.best_block;
-  glm::dvec3 ta, tb, tc;
-  detail::block_corners(b, s.best_lane, ta, tb, tc);
-  const detail::PointOnTriangle q = detail::closest_on_triangle(s.p, ta, tb, tc);
+  const detail::PointOnTriangle& q = s.best_point;
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
