@@ -147,7 +147,7 @@ class Builder {
     group_regions();
     const std::int32_t root = build_groups(0, static_cast<std::uint32_t>(region_roots_.size()));
     d_.nodes.reserve(kept_.size() / 6 + 8);
-    d_.blocks.reserve(kept_.size() / 3 + 8);
+    d_.blocks.reserve(leaf_count_);
     std::size_t depth = 0;
     make_wide(root, 1, depth);
     if (depth > kMaxWideDepth) return "surface_mesh: tree too deep (" + std::to_string(depth) + ")";
@@ -195,19 +195,26 @@ class Builder {
 
   // Vertex -> kept triangles, neighbours across edges, valences, pseudo-normals.
   void build_topology() {
+    // Outgoing half-edges per vertex: u -> w of face f.
     const std::size_t nv = d_.positions.size();
     std::vector<std::uint32_t> start(nv + 1, 0);
     for (std::uint32_t f : kept_)
       for (int k = 0; k < 3; ++k) ++start[d_.triangles[3 * f + k] + 1];
     for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> incident(start[nv]);
+    struct HalfEdge {
+      std::uint32_t to;
+      std::uint32_t face;
+    };
+    std::vector<HalfEdge> out(start[nv]);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::uint32_t f : kept_)
-      for (int k = 0; k < 3; ++k) incident[fill[d_.triangles[3 * f + k]]++] = f;
+      for (int k = 0; k < 3; ++k)
+        out[fill[d_.triangles[3 * f + k]]++] = {d_.triangles[3 * f + (k + 1) % 3], f};
 
     d_.valence.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) d_.valence[v] = start[v + 1] - start[v];
 
+    // The opposite of u -> w is w -> u; another u -> w means a non-manifold or flipped face.
     d_.opposite.assign(d_.triangles.size(), -1);
     bool closed = true;
     bool oriented = true;
@@ -216,21 +223,14 @@ class Builder {
         const std::uint32_t u = d_.triangles[3 * f + k];
         const std::uint32_t w = d_.triangles[3 * f + (k + 1) % 3];
         int found = 0;
+        for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
+          if (out[i].to != u) continue;
+          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
+        }
         for (std::uint32_t i = start[u]; i < start[u + 1]; ++i) {
-          const std::uint32_t g = incident[i];
-          if (g == f) continue;
-          for (int j = 0; j < 3; ++j) {
-            const std::uint32_t gu = d_.triangles[3 * g + j];
-            const std::uint32_t gw = d_.triangles[3 * g + (j + 1) % 3];
-            if (gu == w && gw == u) {
-              if (found == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(g);
-              ++found;
-            } else if (gu == u && gw == w) {
-              oriented = false;
-              if (found == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(g);
-              ++found;
-            }
-          }
+          if (out[i].to != w || out[i].face == f) continue;
+          oriented = false;
+          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
         }
         if (found != 1) closed = false;
       }
@@ -244,7 +244,7 @@ class Builder {
         const glm::dvec3 p = corner(f, k);
         const glm::dvec3 e1 = glm::normalize(corner(f, (k + 1) % 3) - p);
         const glm::dvec3 e2 = glm::normalize(corner(f, (k + 2) % 3) - p);
-        const double angle = std::acos(std::clamp(glm::dot(e1, e2), -1.0, 1.0));
+        const double angle = std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
         d_.vertex_normals[d_.triangles[3 * f + k]] += angle * d_.face_normals[f];
       }
     }
@@ -342,7 +342,10 @@ class Builder {
       });
     }
     const std::int32_t id = add_node(node);
-    if (n <= kLeafSize) return id;
+    if (n <= kLeafSize) {
+      ++leaf_count_;
+      return id;
+    }
     const glm::dvec3 axis = dominant_axis(node.moments.cov);
     const glm::vec3 axis_f(axis);
     for (std::uint32_t i = begin; i < end; ++i) items_[i].key = glm::dot(items_[i].centroid, axis_f);
@@ -518,6 +521,7 @@ class Builder {
     std::uint32_t face;
   };
   std::vector<Item> items_;
+  std::size_t leaf_count_ = 0;
   std::vector<BinaryNode> bnodes_;
   std::vector<std::int32_t> region_roots_;
   std::vector<glm::dvec3> region_centres_;
