@@ -101,25 +101,37 @@ glm::dvec3 dominant_axis(const double cov[6]) {
   return v;
 }
 
-// Box with the principal axes of `m` around all `points`; the margin covers storing it in floats.
+// Box in the orthonormal frame (x, y, z) around all `points` (origin: any point near them); the
+// margin covers storing it in floats.
 template <typename Points>
-Obb box_around(const Moments& m, Points&& points, double scale_mm) {
+Obb box_in_frame(const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z, const glm::dvec3& origin,
+                 Points&& points, double scale_mm) {
   Obb box;
-  detail::principal_axes(m.cov, box.axis);
+  box.axis[0] = x;
+  box.axis[1] = y;
+  box.axis[2] = z;
   glm::dvec3 lo{std::numeric_limits<double>::infinity()};
   glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
   points([&](const glm::dvec3& p) {
-    const glm::dvec3 x = p - m.mean;
-    const glm::dvec3 l{glm::dot(x, box.axis[0]), glm::dot(x, box.axis[1]), glm::dot(x, box.axis[2])};
+    const glm::dvec3 d = p - origin;
+    const glm::dvec3 l{glm::dot(d, x), glm::dot(d, y), glm::dot(d, z)};
     lo = glm::min(lo, l);
     hi = glm::max(hi, l);
   });
   const glm::dvec3 mid = (lo + hi) * 0.5;
-  box.center = m.mean + mid.x * box.axis[0] + mid.y * box.axis[1] + mid.z * box.axis[2];
+  box.center = origin + mid.x * x + mid.y * y + mid.z * z;
   const glm::dvec3 half = (hi - lo) * 0.5;
   const double margin = 16.0 * std::numeric_limits<float>::epsilon() * (scale_mm + half.x + half.y + half.z);
   box.half = half + glm::dvec3{margin};
   return box;
+}
+
+// Box with the principal axes of `m` around all `points`.
+template <typename Points>
+Obb box_around(const Moments& m, Points&& points, double scale_mm) {
+  glm::dvec3 axes[3];
+  detail::principal_axes(m.cov, axes);
+  return box_in_frame(axes[0], axes[1], axes[2], m.mean, points, scale_mm);
 }
 
 struct BinaryNode {
@@ -240,13 +252,25 @@ class Builder {
 
     d_.vertex_normals.assign(nv, glm::dvec3{0.0});
     for (std::uint32_t f : kept_) {
+      const glm::dvec3 p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+      const glm::dvec3 e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};  // e[k] leaves corner k
+      // The largest angle (opposite the longest edge) is pi minus the other two, which atan2
+      // gives accurately even for slivers; float precision is plenty for a weight.
+      double len[3];
+      for (int k = 0; k < 3; ++k) len[k] = glm::dot(e[k], e[k]);
+      const int longest = len[0] >= len[1] && len[0] >= len[2] ? 0 : (len[1] >= len[2] ? 1 : 2);
+      const int big = (longest + 2) % 3;  // the corner opposite the longest edge
+      double angle[3];
+      double sum = 0.0;
       for (int k = 0; k < 3; ++k) {
-        const glm::dvec3 p = corner(f, k);
-        const glm::dvec3 e1 = glm::normalize(corner(f, (k + 1) % 3) - p);
-        const glm::dvec3 e2 = glm::normalize(corner(f, (k + 2) % 3) - p);
-        const double angle = std::atan2(glm::length(glm::cross(e1, e2)), glm::dot(e1, e2));
-        d_.vertex_normals[d_.triangles[3 * f + k]] += angle * d_.face_normals[f];
+        if (k == big) continue;
+        const glm::dvec3 a = e[k];
+        const glm::dvec3 b = -e[(k + 2) % 3];
+        angle[k] = std::atan2(static_cast<float>(glm::length(glm::cross(a, b))), static_cast<float>(glm::dot(a, b)));
+        sum += angle[k];
       }
+      angle[big] = std::max(0.0, 3.14159265358979323846 - sum);
+      for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += angle[k] * d_.face_normals[f];
     }
     for (glm::dvec3& n : d_.vertex_normals) {
       const double len = glm::length(n);
@@ -300,6 +324,39 @@ class Builder {
       for (int k = 0; k < 3; ++k) fn(corner(items_[i].face, k));
   }
 
+  // A leaf's few triangles lie on a patch of the wall: its box is thin along their mean normal
+  // and aligned in the patch with the longest edge (no eigen-solve needed).
+  Obb leaf_box(std::uint32_t begin, std::uint32_t end) const {
+    glm::dvec3 normal{0.0};
+    glm::dvec3 longest{0.0};
+    double longest_sq = -1.0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t f = items_[i].face;
+      const glm::dvec3 a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+      normal += glm::cross(b - a, c - a);
+      for (const glm::dvec3& e : {b - a, c - b, a - c}) {
+        const double len = glm::dot(e, e);
+        if (len > longest_sq) {
+          longest_sq = len;
+          longest = e;
+        }
+      }
+    }
+    const glm::dvec3 origin = corner(items_[begin].face, 0);
+    const double nlen = glm::length(normal);
+    glm::dvec3 z = nlen > 0.0 ? normal / nlen : glm::dvec3{0.0, 0.0, 1.0};
+    glm::dvec3 x = longest - glm::dot(longest, z) * z;
+    const double xlen = glm::length(x);
+    if (!(xlen > 1e-12 * std::sqrt(longest_sq))) {
+      x = std::abs(z.x) < 0.6 ? glm::dvec3{1, 0, 0} : glm::dvec3{0, 1, 0};
+      x = glm::normalize(x - glm::dot(x, z) * z);
+    } else {
+      x /= xlen;
+    }
+    return box_in_frame(x, glm::cross(z, x), z, origin, [&](auto&& fn) { for_each_corner(begin, end, fn); },
+                        d_.scale_mm);
+  }
+
   // Boxes are fitted only for the nodes that become children of wide nodes: region nodes take
   // the principal axes of their centroids (of their corners for leaves, which have few), group
   // nodes enclose their children's boxes.
@@ -314,7 +371,7 @@ class Builder {
       const Obb b = ensure_box(bnodes_[id].right);
       bnodes_[id].box = enclose(a, b);
     } else if (node.leaf()) {
-      bnodes_[id].box = box_around(moments_of(corners), corners, d_.scale_mm);
+      bnodes_[id].box = leaf_box(begin, end);
     } else {
       bnodes_[id].box = box_around(node.moments, corners, d_.scale_mm);
     }
