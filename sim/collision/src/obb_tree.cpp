@@ -4,6 +4,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <new>
 
 #include <glm/geometric.hpp>
 
@@ -97,7 +98,7 @@ struct Nearest {
     exact_thresh = threshold_sq(max_distance, slack);
     thresh = exact_thresh;
   }
-  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane) {
+  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane, const vessel::FaceRegion& region) {
     glm::dvec3 ta, tb, tc;
     detail::block_corners(b, lane, ta, tb, tc);
     const detail::PointOnTriangle q = detail::closest_on_triangle(p, ta, tb, tc);
@@ -106,6 +107,7 @@ struct Nearest {
     if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
       best_sq = dsq;
       best_point = q;
+      best_region = region;
       face = b.face[lane];
       best_block = &b;
       best_lane = lane;
@@ -115,6 +117,10 @@ struct Nearest {
   }
   CATHBOX_COLLISION_INLINE void visit_block(std::int32_t block) {
     const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+    visit_block(b, nullptr);
+  }
+  // lane_regions: one region per lane (a hint's copy), or null for the block's own region.
+  CATHBOX_COLLISION_INLINE void visit_block(const detail::TriangleBlock& b, const vessel::FaceRegion* lane_regions) {
     const detail::DistanceBracket bracket = detail::triangle_distance_sq(b, lanes);
     float lo[4];
     float hi[4];
@@ -128,7 +134,7 @@ struct Nearest {
     for (int i = 0; i < 4; ++i) {
       if (lo[i] > thresh || b.face[i] < 0) continue;
       if (pending_count == kPending) resolve();
-      pending[pending_count++] = {lo[i], i, &b};
+      pending[pending_count++] = {lo[i], i, &b, lane_regions ? &lane_regions[i] : &b.region};
     }
   }
   // Measures the candidates exactly, nearest first.
@@ -141,7 +147,7 @@ struct Nearest {
     }
     for (int i = 0; i < pending_count; ++i) {
       if (pending[i].lower > thresh) break;
-      consider(*pending[i].block, pending[i].lane);
+      consider(*pending[i].block, pending[i].lane, *pending[i].region);
     }
     pending_count = 0;
   }
@@ -151,6 +157,7 @@ struct Nearest {
     float lower;
     int lane;
     const detail::TriangleBlock* block;
+    const vessel::FaceRegion* region;
   };
 
   const TreeData& d;
@@ -166,6 +173,7 @@ struct Nearest {
   const detail::TriangleBlock* best_block = nullptr;
   int best_lane = 0;
   detail::PointOnTriangle best_point;
+  vessel::FaceRegion best_region;
   Pending pending[kPending];
   int pending_count = 0;
 };
@@ -252,7 +260,7 @@ CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   s.resolve();
 }
 
-// Calls fn(block) for every leaf whose box lies within sqrt(thresh) of p.
+// Calls fn(block, nullptr) for every leaf whose box lies within sqrt(thresh) of p.
 template <typename Fn>
 void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn&& fn) {
   std::int32_t stack[kStackSize];
@@ -267,7 +275,7 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
       const std::int32_t slot = n.child[i];
       if (v[i] > thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        fn(detail::leaf_block(slot));
+        fn(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))], nullptr);
       } else {
         stack[sp++] = slot;
       }
@@ -281,39 +289,45 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
 
 class HintCache {
  public:
+  static_assert(sizeof(detail::TriangleBlock) == QueryHint::kBlockBytes);
+  static_assert(alignof(detail::TriangleBlock) <= 64);
+
   static bool usable(const QueryHint& h, const TreeData& d) { return h.valid() && h.tree_id_ == d.id; }
   static double moved(const QueryHint& h, const glm::dvec3& p) {
     return glm::length(p - glm::dvec3{h.origin_mm_[0], h.origin_mm_[1], h.origin_mm_[2]});
   }
   static void count_hit(QueryHint& h) { ++h.hits_; }
 
-  // Fills the hint with the leaves nearest to p (at most kCapacity) and records the radius
-  // within which it holds every leaf.
+  // Fills the hint with the triangles nearest to p (at most kCapacity, by their float lower
+  // bounds) and records the radius within which it holds every triangle.
   CATHBOX_COLLISION_HOT static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
     ++h.refills_;
     const PointLanes lanes = lanes_of(p);
     const float slack = slack_for(d, p);
     const float limit = threshold_sq(radius_target, slack);
-    // Best-first over boxes (as in search_tree): leaves come out nearest first, so the first
-    // kCapacity leaves are the cache and the next box taken bounds everything left out.
+    constexpr int kCap = QueryHint::kCapacity;
+    struct Cached {
+      float lb;
+      const detail::TriangleBlock* block;
+      int lane;
+    };
+    Cached cached[kCap];
+    int count = 0;
+    int worst = 0;        // the largest cached bound, once full
+    float rejected = kInfF;  // smallest bound of anything left out
+    auto recompute_worst = [&]() {
+      worst = 0;
+      for (int k = 1; k < count; ++k)
+        if (cached[k].lb > cached[worst].lb) worst = k;
+    };
+    // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
+    // cache's worst triangle, nothing left can enter.
     constexpr int kPendingBoxes = 256;
     float pending_lb[kPendingBoxes];
     std::int32_t pending_slot[kPendingBoxes];
-    std::int32_t pending_parent[kPendingBoxes];  // wide node and lane holding a leaf's box
-    int pending_lane[kPendingBoxes];
-    struct Item {
-      std::int32_t slot;
-      std::int32_t node;
-      int lane;
-    };
-    Item items[QueryHint::kCapacity];
-    int count = 0;
-    float rejected = kInfF;
     int size = 0;
     pending_lb[size] = 0.0f;
-    pending_slot[size] = 0;
-    pending_parent[size] = -1;
-    pending_lane[size++] = 0;
+    pending_slot[size++] = 0;
     while (size > 0) {
       int best = 0;
       float best_lb = pending_lb[0];
@@ -322,22 +336,36 @@ class HintCache {
         best_lb = nearer ? pending_lb[i] : best_lb;
         best = nearer ? i : best;
       }
-      if (!(best_lb < limit)) break;
-      if (count == QueryHint::kCapacity || size + 4 > kPendingBoxes) {
-        rejected = best_lb;
+      const float cap = count == kCap ? cached[worst].lb : limit;
+      if (!(best_lb < cap) || size + 4 > kPendingBoxes) {
+        if (best_lb < limit) rejected = std::min(rejected, best_lb);
         break;
       }
-      const Item top{pending_slot[best], pending_parent[best], pending_lane[best]};
+      const std::int32_t top = pending_slot[best];
       --size;
       pending_lb[best] = pending_lb[size];
       pending_slot[best] = pending_slot[size];
-      pending_parent[best] = pending_parent[size];
-      pending_lane[best] = pending_lane[size];
-      if (detail::is_leaf(top.slot)) {
-        items[count++] = top;
+      if (detail::is_leaf(top)) {
+        const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
+        const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
+        float v[4];
+        std::memcpy(v, &lower, sizeof v);
+        for (int i = 0; i < 4; ++i) {
+          if (b.face[i] < 0 || !(v[i] < limit)) continue;
+          if (count < kCap) {
+            cached[count++] = {v[i], &b, i};
+            if (count == kCap) recompute_worst();
+          } else if (v[i] < cached[worst].lb) {
+            rejected = std::min(rejected, cached[worst].lb);
+            cached[worst] = {v[i], &b, i};
+            recompute_worst();
+          } else {
+            rejected = std::min(rejected, v[i]);
+          }
+        }
         continue;
       }
-      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top.slot)];
+      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
       const v4f lb = detail::box_distance_sq(n.boxes.row, lanes);
       float v[4];
       std::memcpy(v, &lb, sizeof v);
@@ -345,11 +373,10 @@ class HintCache {
         const std::int32_t slot = n.child[i];
         if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
         pending_lb[size] = v[i];
-        pending_slot[size] = slot;
-        pending_parent[size] = top.slot;
-        pending_lane[size++] = i;
+        pending_slot[size++] = slot;
       }
     }
+    std::sort(cached, cached + count, [](const Cached& x, const Cached& y) { return x.lb < y.lb; });
     const float covered = std::min(limit, rejected);
     h.radius_mm_ = covered == kInfF ? kInf
                                     : std::max(0.0, std::sqrt(static_cast<double>(covered)) - slack);
@@ -358,61 +385,49 @@ class HintCache {
     h.origin_mm_[2] = p.z;
     h.tree_id_ = d.id;
     h.count_ = count;
-    for (int j = 0; j < QueryHint::kCapacity; ++j) {
-      const int g = j / 4;
-      const int lane = j % 4;
-      const detail::BoxLanes* src = nullptr;
-      int src_lane = 0;
-      if (j < count) {
-        src = &d.nodes[static_cast<std::size_t>(items[j].node)].boxes;
-        src_lane = items[j].lane;
-        h.leaves_[j] = detail::leaf_block(items[j].slot);
-      } else {
-        h.leaves_[j] = -1;
+    for (int g = 0; g * 4 < count; ++g) {
+      detail::TriangleBlock block;
+      for (int lane = 0; lane < 4; ++lane) {
+        const int j = 4 * g + lane;
+        if (j < count) {
+          const detail::TriangleBlock& src = *cached[j].block;
+          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = src.row[r][cached[j].lane];
+          block.face[lane] = src.face[cached[j].lane];
+          h.regions_[j] = src.region;
+        } else {
+          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = r < detail::kRowN ? 1e30f : 0.0f;
+          block.row[detail::kRowN][lane] = 1.0f;
+          block.face[lane] = -1;
+        }
       }
-      for (int r = 0; r < detail::kBoxRows; ++r) {
-        float value = r < 3 ? 1e30f : ((r == 3 || r == 7 || r == 11) ? 1.0f : 0.0f);
-        if (src) value = src->row[r][src_lane];
-        h.boxes_[g][r][lane] = value;
-      }
+      block.region = h.regions_[4 * g];
+      std::memcpy(h.blocks_[g], &block, sizeof block);
+      h.block_min_mm_[g] = std::sqrt(cached[4 * g].lb);
     }
   }
 
-  // Squared box distances of the cached leaves.
-  static void leaf_bounds(const QueryHint& h, const PointLanes& p, float (&v)[QueryHint::kCapacity]) {
-    for (int g = 0; g < QueryHint::kGroups; ++g) {
-      const v4f lb = detail::box_distance_sq(h.boxes_[g], p);
-      std::memcpy(v + 4 * g, &lb, sizeof(float) * 4);
+  static const detail::TriangleBlock& block(const QueryHint& h, int g) {
+    return *std::launder(reinterpret_cast<const detail::TriangleBlock*>(h.blocks_[g]));
+  }
+
+  // Calls fn(block, lane_regions) for the cached blocks that may hold a triangle within
+  // sqrt(thresh) of p (blocks are nearest first, so the first one out of reach ends it).
+  template <typename Fn>
+  static void for_each_block_near(const QueryHint& h, const glm::dvec3& p, float slack, const float& thresh, Fn&& fn) {
+    const double delta = moved(h, p);
+    for (int g = 0; g * 4 < h.count_; ++g) {
+      const double reach = static_cast<double>(h.block_min_mm_[g]) - slack - delta;
+      if (reach > 0.0 && reach * reach > static_cast<double>(thresh)) break;
+      fn(block(h, g), &h.regions_[4 * g]);
     }
-    for (int j = h.count_; j < QueryHint::kCapacity; ++j) v[j] = kInfF;
   }
 
   CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s) {
-    float v[QueryHint::kCapacity];
-    leaf_bounds(h, s.lanes, v);
-    // Leaves within reach, nearest box first.
-    int order[QueryHint::kCapacity];
-    int n = 0;
-    for (int j = 0; j < h.count_; ++j) {
-      if (!(v[j] <= s.thresh)) continue;
-      int k = n++;
-      for (; k > 0 && v[order[k - 1]] > v[j]; --k) order[k] = order[k - 1];
-      order[k] = j;
-    }
-    if (n > 0) prefetch(s.d.blocks[static_cast<std::size_t>(h.leaves_[order[0]])]);
-    for (int k = 0; k < n && v[order[k]] <= s.thresh; ++k) {
-      if (k + 1 < n) prefetch(s.d.blocks[static_cast<std::size_t>(h.leaves_[order[k + 1]])]);
-      s.visit_block(h.leaves_[order[k]]);
-    }
+    for_each_block_near(h, s.p, s.slack, s.thresh,
+                        [&](const detail::TriangleBlock& b, const vessel::FaceRegion* regions) {
+                          s.visit_block(b, regions);
+                        });
     s.resolve();
-  }
-
-  template <typename Fn>
-  static void for_each_leaf_near(const QueryHint& h, const PointLanes& p, float thresh, Fn&& fn) {
-    float v[QueryHint::kCapacity];
-    leaf_bounds(h, p, v);
-    for (int j = 0; j < h.count_; ++j)
-      if (v[j] <= thresh) fn(h.leaves_[j]);
   }
 };
 
@@ -431,6 +446,7 @@ struct Candidate {
   std::uint64_t key;
   const detail::TriangleBlock* block;
   int lane;
+  vessel::FaceRegion region;
 };
 
 std::uint64_t feature_key(const TreeData& d, const Candidate& c) {
@@ -520,7 +536,7 @@ class ContactCollector {
     Contact out;
     out.wall_point_mm = c.wall;
     out.face = c.face;
-    out.region = c.block->region;
+    out.region = c.region;
     out.segment_t = c.segment_t;
     const glm::dvec3 n = pseudo_normal(d_, *c.block, c.lane, c.feature);
     const glm::dvec3 v = c.tool - c.wall;
@@ -551,14 +567,13 @@ class ContactCollector {
   bool has_deepest_ = false;
 };
 
+// Probes take a block and, for a hint's copy, one region per lane (null: the block's own).
 struct SphereProbe {
-  const TreeData& d;
   glm::dvec3 centre;
   PointLanes lanes;
   float thresh;
   ContactCollector& out;
-  void operator()(std::int32_t block) const {
-    const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+  void operator()(const detail::TriangleBlock& b, const vessel::FaceRegion* regions) const {
     float v[4];
     const v4f lb = detail::triangle_distance_sq(b, lanes).lower;
     std::memcpy(v, &lb, sizeof v);
@@ -569,18 +584,16 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i, regions ? regions[i] : b.region});
     }
   }
 };
 
 struct CapsuleProbe {
-  const TreeData& d;
   glm::dvec3 a;
   glm::dvec3 b;
   ContactCollector& out;
-  void operator()(std::int32_t block) const {
-    const detail::TriangleBlock& blk = d.blocks[static_cast<std::size_t>(block)];
+  void operator()(const detail::TriangleBlock& blk, const vessel::FaceRegion* regions) const {
     for (int i = 0; i < 4; ++i) {
       const std::int32_t f = blk.face[i];
       if (f < 0) continue;
@@ -588,12 +601,31 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, &blk, i});
+               q.on_triangle.feature, 0, &blk, i, regions ? regions[i] : blk.region});
     }
   }
 };
 
 bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
+
+// Runs a probe over every block that may hold a triangle within `reach` of `centre`: from the
+// hint when it covers that ball, else after refilling it, else from the tree.
+template <typename Probe>
+void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, const PointLanes& lanes,
+                float thresh, const Probe& probe) {
+  bool cached = HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm();
+  if (cached) {
+    HintCache::count_hit(hint);
+  } else {
+    HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
+    cached = reach <= hint.radius_mm();
+  }
+  if (cached) {
+    HintCache::for_each_block_near(hint, centre, slack_for(d, centre), thresh, probe);
+  } else {
+    for_each_leaf_near(d, lanes, thresh, probe);
+  }
+}
 
 }  // namespace
 
@@ -613,7 +645,7 @@ std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   out.normal = pseudo_normal(s.d, b, s.best_lane, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
-  out.region = b.region;
+  out.region = s.best_region;
   out.feature = q.feature.kind;
   out.feature_index = q.feature.index;
   return out;
@@ -671,7 +703,7 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  for_each_leaf_near(d, lanes, thresh, SphereProbe{d, centre_mm, lanes, thresh, collector});
+  for_each_leaf_near(d, lanes, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
   return collector.finish(out);
 }
 
@@ -682,19 +714,7 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  const SphereProbe probe{d, centre_mm, lanes, thresh, collector};
-  bool cached = HintCache::usable(hint, d) && radius_mm + HintCache::moved(hint, centre_mm) <= hint.radius_mm();
-  if (cached) {
-    HintCache::count_hit(hint);
-  } else {
-    HintCache::refill(d, centre_mm, radius_mm + 2.0 * d.coherence_margin_mm, hint);
-    cached = radius_mm <= hint.radius_mm();
-  }
-  if (cached) {
-    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
-  } else {
-    for_each_leaf_near(d, lanes, thresh, probe);
-  }
+  probe_near(d, hint, centre_mm, radius_mm, lanes, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
   return collector.finish(out);
 }
 
@@ -719,7 +739,7 @@ std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& 
   const CapsuleFrame f = capsule_frame(a_mm, b_mm, radius_mm);
   if (!std::isfinite(f.reach)) return 0;
   for_each_leaf_near(d, lanes_of(f.mid), threshold_sq(f.reach, slack_for(d, f.mid)),
-                     CapsuleProbe{d, a_mm, b_mm, collector});
+                     CapsuleProbe{a_mm, b_mm, collector});
   return collector.finish(out);
 }
 
@@ -732,19 +752,7 @@ std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& 
   if (!std::isfinite(f.reach)) return 0;
   const PointLanes lanes = lanes_of(f.mid);
   const float thresh = threshold_sq(f.reach, slack_for(d, f.mid));
-  const CapsuleProbe probe{d, a_mm, b_mm, collector};
-  bool cached = HintCache::usable(hint, d) && f.reach + HintCache::moved(hint, f.mid) <= hint.radius_mm();
-  if (cached) {
-    HintCache::count_hit(hint);
-  } else {
-    HintCache::refill(d, f.mid, f.reach + 2.0 * d.coherence_margin_mm, hint);
-    cached = f.reach <= hint.radius_mm();
-  }
-  if (cached) {
-    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
-  } else {
-    for_each_leaf_near(d, lanes, thresh, probe);
-  }
+  probe_near(d, hint, f.mid, f.reach, lanes, thresh, CapsuleProbe{a_mm, b_mm, collector});
   return collector.finish(out);
 }
 
