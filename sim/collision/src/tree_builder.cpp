@@ -321,7 +321,8 @@ class Builder {
   template <typename Fn>
   void for_each_corner(std::uint32_t begin, std::uint32_t end, Fn&& fn) const {
     for (std::uint32_t i = begin; i < end; ++i)
-      for (int k = 0; k < 3; ++k) fn(corner(items_[i].face, k));
+      for (int k = 0; k < 3; ++k)  // the float copy: half the memory traffic, same values
+        fn(glm::dvec3(mesh_.positions_mm[d_.triangles[3 * items_[i].face + static_cast<std::uint32_t>(k)]]));
   }
 
   // A leaf's few triangles lie on a patch of the wall: its box is thin along their mean normal
@@ -384,6 +385,42 @@ class Builder {
     return static_cast<std::int32_t>(bnodes_.size() - 1);
   }
 
+  // Moments of the centroids of items [begin, end), accumulated relative to the first centroid:
+  // in float for the many small nodes (the split and box axes need no more), in double for big
+  // ones.
+  Moments centroid_moments(std::uint32_t begin, std::uint32_t end) const {
+    return end - begin <= 4096 ? centroid_moments_as<float>(begin, end) : centroid_moments_as<double>(begin, end);
+  }
+
+  template <typename Real>
+  Moments centroid_moments_as(std::uint32_t begin, std::uint32_t end) const {
+    using Vec = glm::vec<3, Real>;
+    const Vec origin(items_[begin].centroid);
+    Vec sum{Real(0)};
+    Real sq[6] = {0, 0, 0, 0, 0, 0};
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Vec q = Vec(items_[i].centroid) - origin;
+      sum += q;
+      sq[0] += q.x * q.x;
+      sq[1] += q.y * q.y;
+      sq[2] += q.z * q.z;
+      sq[3] += q.x * q.y;
+      sq[4] += q.x * q.z;
+      sq[5] += q.y * q.z;
+    }
+    const double n = static_cast<double>(end - begin);
+    const glm::dvec3 mq = glm::dvec3(sum) / n;
+    Moments m;
+    m.mean = glm::dvec3(origin) + mq;
+    m.cov[0] = static_cast<double>(sq[0]) / n - mq.x * mq.x;
+    m.cov[1] = static_cast<double>(sq[1]) / n - mq.y * mq.y;
+    m.cov[2] = static_cast<double>(sq[2]) / n - mq.z * mq.z;
+    m.cov[3] = static_cast<double>(sq[3]) / n - mq.x * mq.y;
+    m.cov[4] = static_cast<double>(sq[4]) / n - mq.x * mq.z;
+    m.cov[5] = static_cast<double>(sq[5]) / n - mq.y * mq.z;
+    return m;
+  }
+
   // Median split along the principal axis of the centroids, keeping the left part a multiple of
   // the leaf size.
   std::int32_t build_region(std::uint32_t begin, std::uint32_t end) {
@@ -394,9 +431,7 @@ class Builder {
     node.in_region = true;
     const std::uint32_t n = end - begin;
     if (n > kLeafSize) {
-      node.moments = moments_of([&](auto&& fn) {
-        for (std::uint32_t i = begin; i < end; ++i) fn(glm::dvec3(items_[i].centroid));
-      });
+      node.moments = centroid_moments(begin, end);
     }
     const std::int32_t id = add_node(node);
     if (n <= kLeafSize) {
