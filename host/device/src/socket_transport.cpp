@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -201,6 +202,20 @@ Status SocketTransport::control_out(const UsbSetup& setup, std::span<const uint8
 Result<size_t> SocketTransport::control_in(const UsbSetup& setup, std::span<uint8_t> in) {
   if (in.size() > CBX_EMU_CONTROL_DATA_MAX) return make_error(Errc::kBadArgument, "control data stage too long");
   return transfer(setup, static_cast<uint16_t>(in.size()), {}, in);
+}
+
+Result<std::string> SocketTransport::alt_name(uint8_t alt) {
+  // Standard GET_DESCRIPTOR(STRING); the emulated bootloader names alternate setting N with
+  // string index 4 + N (host/device/README.md).
+  std::array<uint8_t, 255> raw{};
+  const UsbSetup setup{0x80, 0x06, static_cast<uint16_t>(0x0300u | (4u + alt)), 0x0409};
+  auto got = transfer(setup, raw.size(), {}, raw);
+  if (!got) return got.error();
+  const size_t n = got.value();
+  if (n < 2 || raw[1] != 0x03 || raw[0] != n || (n % 2) != 0) return make_error(Errc::kDeviceError, "bad string descriptor");
+  std::string text;
+  for (size_t i = 2; i + 1 < n; i += 2) text.push_back(raw[i + 1] == 0 && raw[i] < 0x80 ? static_cast<char>(raw[i]) : '?');
+  return text;
 }
 
 void SocketTransport::delay(uint64_t max_us) { clock_.wait(-1, max_us); }

@@ -39,6 +39,7 @@ class SocketTransport final : public Transport, public ControlTransfer {
 
   [[nodiscard]] Status control_out(const UsbSetup& setup, std::span<const uint8_t> data) override;
   [[nodiscard]] Result<size_t> control_in(const UsbSetup& setup, std::span<uint8_t> in) override;
+  [[nodiscard]] Result<std::string> alt_name(uint8_t alt) override;
   void delay(uint64_t max_us) override;
 
  private:
