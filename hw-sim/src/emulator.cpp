@@ -128,24 +128,31 @@ void Emulator::edge(int axis, int direction) {
   auto& phase = edge_phase_[static_cast<size_t>(axis)];
   phase = static_cast<uint8_t>((phase + (direction > 0 ? 1 : 3)) & 3u);
   cbx_core_encoder_edge(&core_->c, static_cast<cbx_axis>(axis), kQuadrature[phase]);
+  ++edges_fed_;
 }
 
 void Emulator::feed_edges(int axis, int64_t steps) {
   const int direction = steps > 0 ? 1 : -1;
   auto& phase = edge_phase_[static_cast<size_t>(axis)];
   for (int64_t i = 0; i < std::llabs(steps); ++i) {
+    bool bounced = false;
     if (faults_.chance(faults_.encoder.bounce)) {
+      bounced = true;
       // One line chatters: it toggles and returns before the real edge.
       const uint8_t ab = kQuadrature[phase];
       const uint8_t line = faults_.uniform(2) == 0 ? 0b01 : 0b10;
       cbx_core_encoder_edge(&core_->c, static_cast<cbx_axis>(axis), static_cast<uint8_t>(ab ^ line));
       cbx_core_encoder_edge(&core_->c, static_cast<cbx_axis>(axis), ab);
+      edges_fed_ += 2;
       ++faults_.mutable_counts().bounces;
     }
-    if (i + 1 < std::llabs(steps) && faults_.chance(faults_.encoder.skip)) {
-      // The sample between two edges of a run is missed: both lines change at once.
-      phase = static_cast<uint8_t>((phase + (direction > 0 ? 2 : 2)) & 3u);
+    if (!bounced && i + 1 < std::llabs(steps) && faults_.chance(faults_.encoder.skip)) {
+      // The sample between two edges of a run is missed: both lines change at once. (Not
+      // right after a bounce: the decoder takes the direction of its last transition, which
+      // a bounce reverses; see hw-sim/README.md.)
+      phase = static_cast<uint8_t>((phase + 2u) & 3u);
       cbx_core_encoder_edge(&core_->c, static_cast<cbx_axis>(axis), kQuadrature[phase]);
+      edges_fed_ += 2;
       ++faults_.mutable_counts().skips;
       ++i;
       continue;

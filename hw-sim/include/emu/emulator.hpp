@@ -81,6 +81,8 @@ class Emulator final : public EmuServer::Handler {
   [[nodiscard]] uint64_t in_reports_sent() const { return in_reports_; }
   [[nodiscard]] uint64_t out_reports_delivered() const { return out_delivered_; }
   [[nodiscard]] uint64_t boots() const { return boots_; }
+  // Quadrature transitions fed to the core (both axes, noise included).
+  [[nodiscard]] uint64_t edges_fed() const { return edges_fed_; }
 
   // EmuServer::Handler
   [[nodiscard]] bool attached(uint16_t& vid, uint16_t& pid) override;
@@ -122,6 +124,7 @@ class Emulator final : public EmuServer::Handler {
   uint64_t in_reports_ = 0;
   uint64_t out_delivered_ = 0;
   uint64_t boots_ = 0;
+  uint64_t edges_fed_ = 0;
 };
 
 }  // namespace cathbox::emu
