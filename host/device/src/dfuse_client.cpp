@@ -1,5 +1,6 @@
 #include "device/dfuse_client.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 
@@ -44,6 +45,12 @@ Result<DfuStatus> DfuseClient::get_status() {
 Status DfuseClient::ensure_idle() {
   auto s = get_status();
   if (!s) return s.error();
+  // An operation interrupted earlier (a pulled cable) may still be running: let it finish.
+  for (int polls = 0; polls < 100 && (s.value().state == CBX_DFU_DNBUSY || s.value().state == CBX_DFU_DNLOAD_SYNC); ++polls) {
+    usb_.delay(uint64_t{std::max<uint32_t>(s.value().poll_timeout_ms, 1u)} * 1000u);
+    s = get_status();
+    if (!s) return s.error();
+  }
   if (s.value().state == CBX_DFU_ERROR) {
     auto cleared = usb_.control_out({CBX_DFU_OUT_TYPE, CBX_DFU_CLRSTATUS, 0, 0}, {});
     if (!cleared) return cleared;

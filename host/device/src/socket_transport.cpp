@@ -218,7 +218,10 @@ Result<std::string> SocketTransport::alt_name(uint8_t alt) {
   return text;
 }
 
-void SocketTransport::delay(uint64_t max_us) { clock_.wait(-1, max_us); }
+void SocketTransport::delay(uint64_t max_us) {
+  const uint64_t deadline = clock_.now_us() + max_us;
+  for (uint64_t now = clock_.now_us(); now < deadline; now = clock_.now_us()) clock_.wait(-1, deadline - now);
+}
 
 std::string SocketTransport::describe() const {
   char id[16];

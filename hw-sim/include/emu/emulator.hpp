@@ -74,6 +74,7 @@ class Emulator final : public EmuServer::Handler {
   void reset();
 
   [[nodiscard]] BoardMode mode() const { return mode_; }
+  [[nodiscard]] uint8_t bootloader_state() const { return bootloader_.state(); }
   // The firmware's own view (what the next IN report carries), for tests.
   [[nodiscard]] cbx_state_report core_state();
   // The true encoder position (counts) of the physical model.
