@@ -11,7 +11,7 @@ BoxModel::BoxModel() {
   params_[1].mass = 2e-5;
   params_[1].hand_stiffness = 0.5;
   params_[1].hand_damping = 0.01;
-  params_[1].friction_damping = 2e-4;
+  params_[1].friction_damping = 2e-3;
   params_[1].full_scale = 0.05;
   params_[1].counts_per_unit = 4096.0 / (2.0 * 3.14159265358979);
 }

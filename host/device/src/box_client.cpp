@@ -85,8 +85,9 @@ bool BoxClient::poll(BoxState& state) {
     if (!transport_) return false;
   }
   bool updated = false;
-  // Bounded drain: a flood cannot hold the haptic thread.
-  for (int i = 0; i < 256; ++i) {
+  // Drains everything queued (a socket or hidraw buffer holds at most a few hundred reports),
+  // bounded so that a flood cannot hold the haptic thread.
+  for (int i = 0; i < 4096; ++i) {
     const IoStatus io = transport_->read_in(rx_);
     if (io == IoStatus::kEmpty) break;
     if (io == IoStatus::kDisconnected) {

@@ -16,7 +16,7 @@ struct AxisParams {
   double mass = 0.05;            // kg (insertion: tool + rollers) or kg*m^2 (rotation)
   double hand_stiffness = 400;   // N/m (N*m/rad): the grip in velocity mode
   double hand_damping = 8;       // N*s/m
-  double friction_damping = 0.2; // N*s/m of the bearings
+  double friction_damping = 2.0; // N*s/m: rollers and bearings
   double full_scale = 5.0;       // N (N*m) at drive 1000
   double full_scale_current_mA = 1000;
   double counts_per_unit = 0;    // encoder counts per m (per rad)
