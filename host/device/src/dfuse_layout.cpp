@@ -9,11 +9,13 @@ Error bad(const std::string& text, size_t at, const char* what) {
   return make_error(Errc::kDeviceError, "bootloader memory layout '" + text + "' at character " + std::to_string(at) + ": " + what);
 }
 
-// Parses an unsigned number (decimal or 0x hex) at text[at]; advances at.
-bool number(const std::string& text, size_t& at, uint64_t& value) {
+// Parses an unsigned number at text[at] (base 0: 0x hex for addresses; base 10 for counts and
+// sizes, whose leading zeros are not octal); advances at.
+bool number(const std::string& text, size_t& at, uint64_t& value, int base) {
   const char* begin = text.c_str() + at;
+  if (*begin < '0' || *begin > '9') return false;
   char* end = nullptr;
-  value = std::strtoull(begin, &end, 0);
+  value = std::strtoull(begin, &end, base);
   if (end == begin) return false;
   at += static_cast<size_t>(end - begin);
   return true;
@@ -31,16 +33,16 @@ Result<DfuseLayout> DfuseLayout::parse(const std::string& text) {
   while (at < text.size() && text[at] == '/') {
     ++at;
     uint64_t address = 0;
-    if (!number(text, at, address) || address > 0xFFFFFFFFu) return bad(text, at, "bad region address");
+    if (!number(text, at, address, 0) || address > 0xFFFFFFFFu) return bad(text, at, "bad region address");
     if (at >= text.size() || text[at] != '/') return bad(text, at, "expected '/' after the address");
     ++at;
     for (;;) {
       uint64_t count = 0;
       uint64_t size = 0;
-      if (!number(text, at, count) || count == 0 || count > 4096) return bad(text, at, "bad sector count");
+      if (!number(text, at, count, 10) || count == 0 || count > 4096) return bad(text, at, "bad sector count");
       if (at >= text.size() || text[at] != '*') return bad(text, at, "expected '*'");
       ++at;
-      if (!number(text, at, size) || size == 0) return bad(text, at, "bad sector size");
+      if (!number(text, at, size, 10) || size == 0) return bad(text, at, "bad sector size");
       if (at < text.size() && text[at] == ' ') ++at;
       if (at < text.size() && (text[at] == 'K' || text[at] == 'M' || text[at] == 'B')) {
         size *= text[at] == 'K' ? 1024u : (text[at] == 'M' ? 1024u * 1024u : 1u);
