@@ -1,7 +1,5 @@
 // cathbox-emu: the emulated box, served in real time on a Unix-domain socket.
-#include <poll.h>
-#include <signal.h>
-
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -12,12 +10,13 @@
 #include <vector>
 
 #include "emu/emulator.hpp"
+#include "emu/real_time_loop.hpp"
 #include "protocol/cbx_emu_frame.h"
 
 namespace {
 
-volatile std::sig_atomic_t stop_requested = 0;
-void on_signal(int) { stop_requested = 1; }
+std::atomic<bool> stop_requested{false};  // lock-free: safe to set from a signal handler
+void on_signal(int) { stop_requested.store(true); }
 
 void usage() {
   std::printf(
@@ -149,26 +148,11 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   const uint64_t start = wall_us();
-  const uint64_t end_us = duration_s > 0 ? static_cast<uint64_t>(duration_s * 1e6) : UINT64_MAX;
-  std::vector<pollfd> fds;
-  while (stop_requested == 0) {
-    const uint64_t now = wall_us() - start;
-    if (now >= end_us) break;
-    if (estop_after_ms >= 0 && now >= static_cast<uint64_t>(estop_after_ms) * 1000u) emu.set_estop(true);
-    // Catch up with the wall clock in whole physics steps.
-    if (now > emu.now_us() + Emulator::kPhysicsStepUs) {
-      const uint64_t behind = now - emu.now_us();
-      emu.advance(std::min<uint64_t>(behind - behind % Emulator::kPhysicsStepUs, 100'000));
-      continue;
-    }
-    // Sleep until the next frame or socket input, whichever comes first.
-    fds.clear();
-    for (const int fd : emu.server()->fds()) fds.push_back({fd, POLLIN, 0});
-    const uint64_t next_frame = (emu.now_us() / Emulator::kFrameUs + 1) * Emulator::kFrameUs;
-    const uint64_t wait_us = next_frame > now ? next_frame - now : 0;
-    timespec timeout{0, static_cast<long>(wait_us * 1000)};
-    if (::ppoll(fds.data(), fds.size(), &timeout, nullptr) > 0) emu.service();
-  }
+  const uint64_t estop_at_us = estop_after_ms >= 0 ? static_cast<uint64_t>(estop_after_ms) * 1000u : UINT64_MAX;
+  cathbox::emu::RealTimeLoop::run(emu, stop_requested, duration_s > 0 ? static_cast<uint64_t>(duration_s * 1e6) : 0,
+                                  [&](uint64_t now_us) {
+                                    if (now_us >= estop_at_us) emu.set_estop(true);
+                                  });
   std::printf("cathbox-emu: stopped after %.1f s, %llu IN reports sent\n", (wall_us() - start) * 1e-6,
               static_cast<unsigned long long>(emu.in_reports_sent()));
   return 0;
