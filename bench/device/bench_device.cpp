@@ -50,6 +50,15 @@ cbx_command_report idle_command() {
   return c;
 }
 
+std::unique_ptr<BoxClient> connect_or_skip(benchmark::State& bench, RunningEmulator& box, SystemClock& clock) {
+  auto client = BoxClient::connect(cathbox::device::box_opener(box.path, clock), clock);
+  if (!client) {
+    bench.SkipWithError(client.error().message.c_str());
+    return nullptr;
+  }
+  return std::move(client.value());
+}
+
 double percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
@@ -58,12 +67,9 @@ double percentile(std::vector<double> v, double p) {
 void RoundTrip(benchmark::State& bench) {
   RunningEmulator box;
   SystemClock clock;
-  auto client = BoxClient::connect(cathbox::device::box_opener(box.path, clock), clock);
-  if (!client) {
-    bench.SkipWithError(client.error().message.c_str());
-    return;
-  }
-  auto& c = *client.value();
+  auto client = connect_or_skip(bench, box, clock);
+  if (!client) return;
+  auto& c = *client;
   const auto command = idle_command();
   BoxState state;
   std::vector<double> samples_us;
@@ -87,12 +93,9 @@ BENCHMARK(RoundTrip)->Iterations(2000)->UseRealTime()->Unit(benchmark::kMicrosec
 void SustainedRate(benchmark::State& bench) {
   RunningEmulator box;
   SystemClock clock;
-  auto client = BoxClient::connect(cathbox::device::box_opener(box.path, clock), clock);
-  if (!client) {
-    bench.SkipWithError(client.error().message.c_str());
-    return;
-  }
-  auto& c = *client.value();
+  auto client = connect_or_skip(bench, box, clock);
+  if (!client) return;
+  auto& c = *client;
   const auto command = idle_command();
   BoxState state;
   double rate = 0;
