@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "firmware/cbx_core.h"
+#include "protocol/cbx_crc16.h"
 #include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::emu {
@@ -209,7 +210,16 @@ void Emulator::usb_frame() {
   }
 }
 
+void Emulator::rewrite_version(std::span<uint8_t> report) const {
+  if (wire_version_ == CBX_PROTOCOL_VERSION || report.size() != CBX_REPORT_SIZE) return;
+  report[1] = wire_version_;
+  const uint16_t crc = cbx_crc16(report.data(), CBX_CRC_OFFSET);
+  report[CBX_CRC_OFFSET] = static_cast<uint8_t>(crc);
+  report[CBX_CRC_OFFSET + 1] = static_cast<uint8_t>(crc >> 8);
+}
+
 void Emulator::send_in(std::array<uint8_t, 64> report) {
+  rewrite_version(report);
   const auto d = faults_.apply(faults_.in, report);
   for (int i = 0; i < d.copies; ++i) {
     if (d.delay_us > 0) {
@@ -253,6 +263,7 @@ bool Emulator::on_control(const cbx_usb_setup& setup, std::span<const uint8_t> d
         type == CBX_USB_HID_REPORT_FEATURE && setup.length >= CBX_REPORT_SIZE) {
       reply.resize(CBX_REPORT_SIZE);
       ok = cbx_core_usb_feature_get(&core_->c, id, reply.data()) == CBX_OK;
+      if (ok) rewrite_version(reply);
       if (!ok) reply.clear();
     } else if (setup.request_type == CBX_USB_HID_SET_TYPE && setup.request == CBX_USB_HID_SET_REPORT &&
                type == CBX_USB_HID_REPORT_FEATURE && (data.empty() || data[0] == id)) {

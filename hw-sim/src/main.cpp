@@ -35,6 +35,7 @@ void usage() {
       "  --encoder-bounce P     encoder line chatter per transition\n"
       "  --estop-after MS       press the E-stop after MS milliseconds\n"
       "  --seed N               seed of the fault injection (default 1)\n"
+      "  --wire-version N       send reports with protocol major N (tests the host's version check)\n"
       "  --duration S           exit after S seconds (default: run until SIGINT/SIGTERM)\n");
 }
 
@@ -60,6 +61,7 @@ int main(int argc, char** argv) {
   double drop = 0, duplicate = 0, corrupt = 0, delay_p = 0, bounce = 0;
   uint64_t delay_us = 0;
   long long estop_after_ms = -1;
+  int wire_version = CBX_PROTOCOL_VERSION;
   double duration_s = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -98,6 +100,9 @@ int main(int argc, char** argv) {
       if (ok) delay_us = std::strtoull(v.c_str() + colon + 1, nullptr, 10);
     } else if (arg == "--estop-after") {
       estop_after_ms = std::atoll(value());
+    } else if (arg == "--wire-version") {
+      wire_version = std::atoi(value());
+      ok = wire_version >= 0 && wire_version <= 255;
     } else if (arg == "--seed") {
       options.seed = std::strtoull(value(), nullptr, 10);
     } else if (arg == "--duration") {
@@ -137,6 +142,7 @@ int main(int argc, char** argv) {
     link->delay_us = delay_us;
   }
   emu.faults().encoder.bounce = bounce;
+  emu.set_wire_version(static_cast<uint8_t>(wire_version));
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;

@@ -65,6 +65,9 @@ class Emulator final : public EmuServer::Handler {
   [[nodiscard]] EmuServer* server() { return server_.get(); }
   void set_hand(int axis, HandScript script) { model_.set_script(axis, std::move(script), now_us_); }
   void set_estop(bool pressed) { board_.estop_pressed = pressed; }
+  // Pretends to be a box of another protocol major version: byte 1 of every report the box
+  // sends is rewritten (with a valid CRC), as a future firmware would send it.
+  void set_wire_version(uint8_t version) { wire_version_ = version; }
   // Unplugs the box (all connections close, new ones are refused) for duration_us.
   void unplug(uint64_t duration_us);
   // Injects an extra current on an axis's sense input (over-current tests).
@@ -105,6 +108,7 @@ class Emulator final : public EmuServer::Handler {
   void usb_frame();
   void deliver_out(const std::array<uint8_t, 64>& report);
   void send_in(std::array<uint8_t, 64> report);
+  void rewrite_version(std::span<uint8_t> report) const;
 
   EmuOptions options_;
   std::unique_ptr<Core> core_;
@@ -126,6 +130,7 @@ class Emulator final : public EmuServer::Handler {
   uint64_t out_delivered_ = 0;
   uint64_t boots_ = 0;
   uint64_t edges_fed_ = 0;
+  uint8_t wire_version_ = CBX_PROTOCOL_VERSION;
 };
 
 }  // namespace cathbox::emu

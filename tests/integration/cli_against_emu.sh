@@ -1,0 +1,65 @@
+#!/usr/bin/env bash
+# `cathbox` as a hardware engineer uses it, against a real `cathbox-emu` process: list, info,
+# monitor, selftest, flash pack + flash, and the documented exit codes. No sleeps: it waits for
+# the emulator's "listening" line; no timing is asserted.
+set -u
+bin="$1"
+dir=$(mktemp -d)
+sock="$dir/emu.sock"
+failures=0
+exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
+emu_pid=$!
+trap 'kill "$emu_pid" 2>/dev/null; rm -rf "$dir"' EXIT
+read -r line <&3
+case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
+
+# expect RC NEEDLE -- COMMAND...: the exit code must be RC and the output must contain NEEDLE.
+expect() {
+  local want_rc=$1 needle=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$rc" -ne "$want_rc" ] || [[ "$out" != *"$needle"* ]]; then
+    echo "FAIL: $* -> rc $rc (want $want_rc), output:"
+    echo "$out" | head -20
+    failures=$((failures + 1))
+  else
+    echo "ok:   $* -> rc $rc"
+  fi
+}
+
+cb="$bin/cathbox"
+expect 0 "emulator" -- "$cb" list --emu "$sock"
+expect 0 '"board":"cathbox-emu"' -- "$cb" info --emu "$sock" --json
+expect 0 "calibration  108650 counts/m" -- "$cb" info --emu "$sock"
+expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5 --rate 4
+expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
+expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
+expect 2 "unknown option --bogus" -- "$cb" info --bogus
+
+# A firmware binary: vector table (SP in SRAM, Thumb reset vector in flash) and a body.
+python3 - "$dir/fw.bin" <<'PY'
+import struct, sys
+body = bytes((i * 7) & 0xFF for i in range(24 * 1024))
+open(sys.argv[1], "wb").write(struct.pack("<II", 0x20008000, 0x08000201) + body)
+PY
+expect 0 "packed" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.0
+expect 2 "speaks protocol v2" -- "$cb" flash pack "$dir/fw.bin" "$dir/v2.dfu" --version 2.0
+expect 0 "box is back" -- "$cb" flash "$dir/fw.dfu" --emu "$sock"
+cp "$dir/fw.dfu" "$dir/corrupt.dfu"
+printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+expect 2 "does not match the content" -- "$cb" flash "$dir/corrupt.dfu" --emu "$sock"
+expect 2 "cannot be combined" -- "$cb" flash "$dir/fw.dfu" --emu "$sock" --recover-gpio gpiochip0:17:27
+expect 0 "firmware     1.0.0" -- "$cb" info --emu "$sock"
+
+# A box from the future: the one-line message and exit code 4.
+exec 4< <(exec "$bin/cathbox-emu" --socket "$dir/v2.sock" --wire-version 2 --duration 60 2>&1)
+v2_pid=$!
+trap 'kill "$emu_pid" "$v2_pid" 2>/dev/null; rm -rf "$dir"' EXIT
+read -r line <&4
+expect 4 "cathbox: the box speaks protocol v2, this host speaks v1: update the host tools (or flash firmware 1.x)" -- "$cb" info --emu "$dir/v2.sock"
+expect 4 "speaks protocol v2" -- "$cb" monitor --emu "$dir/v2.sock" --duration 0.1
+
+[ "$failures" -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }
+echo "all cathbox CLI checks passed against cathbox-emu"
