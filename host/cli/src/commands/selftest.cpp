@@ -32,20 +32,26 @@ int run_selftest(std::span<const std::string> argv) {
   const bool json = args.flag("json");
   if (!json) std::printf("self-test running (keep hands off the tool)...\n");
   const uint64_t deadline = session->clock.now_us() + static_cast<uint64_t>(timeout_s.value_or(10.0) * 1e6);
+  // The box starts the test at its next control tick and flags it in every state report while
+  // it runs: wait for the flag to appear and to clear, then read the result (a read right after
+  // the start could still return the previous run's result).
   device::BoxState state;
-  cbx_selftest result{};
+  bool seen_running = false;
   for (;;) {
-    (void)box.poll(state);
-    auto got = box.selftest();
-    if (!got) return fail("selftest", got.error());
-    result = got.value();
-    if (result.state != CBX_SELFTEST_RUNNING) break;
-    if (session->clock.now_us() > deadline) {
-      std::fprintf(stderr, "cathbox selftest: still running after the timeout\n");
+    if (box.poll(state)) {
+      const bool running = (state.report.status & CBX_STATUS_SELFTEST_RUNNING) != 0;
+      if (running) seen_running = true;
+      if (seen_running && !running) break;
+    }
+    if (box.link() == device::Link::kDown || session->clock.now_us() > deadline) {
+      std::fprintf(stderr, "cathbox selftest: %s\n", seen_running ? "still running after the timeout" : "the box never started the test");
       return kExitDeviceError;
     }
-    session->clock.wait(-1, 20'000);
+    session->clock.wait(-1, 1000);
   }
+  auto got = box.selftest();
+  if (!got) return fail("selftest", got.error());
+  const cbx_selftest result = got.value();
   const bool passed = result.state == CBX_SELFTEST_PASSED;
   if (json) {
     std::printf("%s\n", Json()
