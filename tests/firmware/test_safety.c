@@ -246,6 +246,8 @@ static void clamps_whatever_the_command(void) {
   CBX_CHECK_EQ(s.rotation_torque_uNm, 50000); /* default max_torque */
   CBX_CHECK_EQ(cbx_fake.drive[1], 1000);      /* beyond the 20000 uNm full scale */
   set_limits(50u, 1200u);
+  cbx_fake_tick(&core); /* a lowered limit applies at once, not at the slew rate */
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
   stream(100, CBX_MODE_MOTOR, 0, 40000, 0);
   CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
 }

@@ -142,6 +142,9 @@ static void render_axis(cbx_core* core, cbx_axis axis, cbx_gate gate, uint32_t d
   } else {
     out = 0;
   }
+  /* Limits lowered while rendering take effect at once, not at the slew rate. */
+  if (out > s->max_out) out = s->max_out;
+  if (out < -s->max_out) out = -s->max_out;
   core->out[axis] = out;
 
   /* Current clamp: fold the drive back while the measured current is over the limit. */
