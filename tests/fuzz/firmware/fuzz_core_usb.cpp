@@ -7,9 +7,10 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "../fuzz_crc_fix.hpp"
+
 extern "C" {
 #include "fake_hal.h"
-#include "protocol/cbx_crc16.h"
 }
 
 namespace {
@@ -40,17 +41,8 @@ void check_tick() {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* input, size_t size) {
-  // A 65th byte with its low bit set asks for a correct CRC (as in the protocol fuzzers).
   uint8_t fixed[CBX_REPORT_SIZE];
-  const uint8_t* data = input;
-  if (size == CBX_REPORT_SIZE + 1 && (input[CBX_REPORT_SIZE] & 1u) != 0u) {
-    std::memcpy(fixed, input, CBX_REPORT_SIZE);
-    const uint16_t crc = cbx_crc16(fixed, CBX_CRC_OFFSET);
-    fixed[CBX_CRC_OFFSET] = static_cast<uint8_t>(crc & 0xFFu);
-    fixed[CBX_CRC_OFFSET + 1] = static_cast<uint8_t>(crc >> 8);
-    data = fixed;
-    size = CBX_REPORT_SIZE;
-  }
+  const uint8_t* data = cbx_fuzz_fix_crc(input, size, fixed);
   cbx_fake_reset();
   const cbx_core_config config = cbx_fake_config(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR);
   cbx_core_init(&core, &config);
