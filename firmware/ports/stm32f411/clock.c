@@ -10,6 +10,7 @@
 #define PLL_P_DIV2 0u
 #define PLL_Q 4u
 #define HSE_STARTUP_LOOPS 500000u
+#define PLLCFGR_FIELDS 0x0F437FFFu /* PLLM, PLLN, PLLP, PLLSRC, PLLQ */
 
 bool board_clock_init(void) {
   RCC_APB1ENR |= RCC_APB1ENR_PWR;
@@ -24,7 +25,8 @@ bool board_clock_init(void) {
     }
   }
   const uint32_t m = hse ? PLL_M_HSE : PLL_M_HSI;
-  RCC_PLLCFGR = m | (PLL_N << 6) | (PLL_P_DIV2 << 16) | (hse ? RCC_PLLCFGR_SRC_HSE : 0u) | (PLL_Q << 24);
+  RCC_PLLCFGR = (RCC_PLLCFGR & ~PLLCFGR_FIELDS) | m | (PLL_N << 6) | (PLL_P_DIV2 << 16) |
+                (hse ? RCC_PLLCFGR_SRC_HSE : 0u) | (PLL_Q << 24); /* reserved bits kept */
 
   FLASH_ACR = FLASH_ACR_LATENCY_3WS | FLASH_ACR_PRFTEN | FLASH_ACR_ICEN | FLASH_ACR_DCEN;
   while ((FLASH_ACR & 0xFu) != FLASH_ACR_LATENCY_3WS) {
