@@ -223,7 +223,13 @@ void usb_device_ep1_out(const uint8_t* data, uint16_t length) {
   (void)cbx_core_usb_out_report(core, data, length);
 }
 
+/* One state report per frame. The core marks one report due per millisecond of its own clock;
+ * when the frame and that millisecond are out of phase (no new one since the last frame), the
+ * current state is sent anyway, so the host never misses a frame. */
 void usb_device_sof(void) {
   if (configuration != 1u || usb_ep1_in_busy()) return;
-  if (cbx_core_usb_in_report(core, in_report)) usb_ep1_in_send(in_report, CBX_REPORT_SIZE);
+  if (!cbx_core_usb_in_report(core, in_report) &&
+      cbx_core_usb_feature_get(core, CBX_ID_STATE, in_report) != CBX_OK)
+    return;
+  usb_ep1_in_send(in_report, CBX_REPORT_SIZE);
 }

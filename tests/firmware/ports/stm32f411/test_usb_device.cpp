@@ -158,14 +158,18 @@ TEST_F(UsbDevice, AddressConfigurationAndHalt) {
 
 TEST_F(UsbDevice, StateGoesInOncePerFrameAndCommandsComeOut) {
   ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
-  usb_device_sof();
-  EXPECT_TRUE(driver.ep1_in.empty());  // no millisecond yet
   cbx_fake_run_us(&core_, 1000u);
   usb_device_sof();
   ASSERT_EQ(driver.ep1_in.size(), 64u);
   cbx_state_report state;
   ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
   EXPECT_EQ(state.header.seq, 1);
+  EXPECT_EQ(state.header.time_us, 1000u);
+  // A frame with no new millisecond of the core's clock still gets the current state.
+  driver.ep1_busy = false;
+  usb_device_sof();
+  ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
+  EXPECT_EQ(state.header.seq, 2);
   // Busy endpoint: nothing new is queued until the host took the last one.
   cbx_fake_run_us(&core_, 1000u);
   driver.ep1_in.clear();
