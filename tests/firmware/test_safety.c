@@ -272,7 +272,7 @@ static void brake_only_resists_motion(void) {
       CBX_CHECK_EQ(cbx_fake.drive[0], 0);
     }
   }
-  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_MOTOR); /* as commanded, rendered as a brake */
+  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_BRAKE); /* motor commanded, rendered as a brake */
   for (uint32_t i = 0; i < 20; ++i) {
     CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_BRAKE, 0, &resist, NULL), CBX_OK);
     for (int k = 0; k < 10; ++k) {
