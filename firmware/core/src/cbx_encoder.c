@@ -70,7 +70,10 @@ void cbx_encoder_update(cbx_encoder* e, uint32_t raw, uint32_t now_us) {
         e->vel_cps = dc > 0 ? (int32_t)(1000000u / CBX_ENCODER_STOP_US)
                             : -(int32_t)(1000000u / CBX_ENCODER_STOP_US);
       } else {
-        e->vel_cps = (int32_t)(((int64_t)dc * 1000000) / (int32_t)dt);
+        /* 32-bit hardware division whenever the product fits (the common case). */
+        e->vel_cps = (dc <= 2147 && dc >= -2147 && dt <= (uint32_t)INT32_MAX)
+                         ? dc * 1000000 / (int32_t)dt
+                         : (int32_t)(((int64_t)dc * 1000000) / (int64_t)dt);
       }
       e->ref_count = count;
       e->ref_time_us = now_us;
