@@ -64,6 +64,34 @@ TEST(Watchdog, HostStopsMidPushOutputRampsToZeroAndFaultIsSeenAfterReconnect) {
   EXPECT_LT(seen.report.insertion_force_mN, -500);
 }
 
+TEST(EStop, CutsOutputAtOnceLatchesAndClearsOnlyWhenReleasedAndAcknowledged) {
+  EmuWorld world;
+  world.emu().set_hand(0, emu::HandScript::parse("v:0.01:3s,f:1.0:10s").value());
+  auto client = world.connect();
+  const auto command = wall_command(15'000, 2'000'000);
+  device::BoxState state;
+  run(world, *client, command, 2500, true, state);
+  ASSERT_NE(world.emu().board().drive_permille[0], 0);
+  world.emu().set_estop(true);
+  world.advance(100);  // one control tick
+  EXPECT_EQ(world.emu().board().drive_permille[0], 0) << "E-stop must cut the drive at the next tick";
+  run(world, *client, command, 5, true, state);
+  EXPECT_TRUE(state.report.faults & CBX_FAULT_ESTOP);
+  EXPECT_TRUE(state.report.status & CBX_STATUS_ESTOP_PRESSED);
+  // Acknowledging while it is still pressed does not clear it.
+  cbx_command_report ack = command;
+  ack.flags = CBX_CMD_ACK_FAULTS;
+  run(world, *client, ack, 20, true, state);
+  EXPECT_TRUE(state.report.faults & CBX_FAULT_ESTOP);
+  EXPECT_EQ(world.emu().board().drive_permille[0], 0);
+  // Released and acknowledged: the wall comes back.
+  world.emu().set_estop(false);
+  run(world, *client, ack, 20, true, state);
+  run(world, *client, command, 200, true, state);
+  EXPECT_EQ(state.report.faults & CBX_FAULT_ESTOP, 0);
+  EXPECT_NE(world.emu().board().drive_permille[0], 0);
+}
+
 TEST(Reconnect, EmulatorKilledAndRestartedRecoversWithinOneSecond) {
   EmuWorld world;
   auto client = world.connect();
