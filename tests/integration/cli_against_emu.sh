@@ -7,9 +7,11 @@ bin="$1"
 dir=$(mktemp -d)
 sock="$dir/emu.sock"
 failures=0
+v2_pid=""
+mon_pid=""
 exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
 emu_pid=$!
-trap 'kill "$emu_pid" 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&3
 case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
 
@@ -49,10 +51,37 @@ expect 2 "does not match the content" -- "$cb" flash "$dir/corrupt.dfu" --emu "$
 expect 2 "cannot be combined" -- "$cb" flash "$dir/fw.dfu" --emu "$sock" --recover-gpio gpiochip0:17:27
 expect 0 "firmware     1.0.0" -- "$cb" info --emu "$sock"
 
+# The emulator process killed (SIGKILL, stale socket file left behind) and restarted while
+# `cathbox monitor` runs: monitor's BoxClient reports the link down, then up again.
+exec 5< <(exec "$cb" monitor --emu "$sock" --json --rate 50 --duration 20 2>&1)
+mon_pid=$!
+read -r first <&5
+kill -9 "$emu_pid"
+wait "$emu_pid" 2>/dev/null
+down=0
+while read -r line <&5; do
+  case "$line" in *'"link_up":false'*) down=1; break ;; esac
+done
+exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
+emu_pid=$!
+read -r line <&3
+up=0
+while read -r line <&5; do
+  case "$line" in *'"link_up":true'*) up=1; break ;; esac
+done
+kill "$mon_pid" 2>/dev/null
+if [ "$down" -eq 1 ] && [ "$up" -eq 1 ] && [[ "$first" == *'"link_up":true'* ]]; then
+  echo "ok:   monitor saw the emulator process killed and restarted (link down, then up)"
+else
+  echo "FAIL: monitor across an emulator restart: first=$first down=$down up=$up"
+  failures=$((failures + 1))
+fi
+expect 0 "emulator" -- "$cb" list --emu "$sock"
+
 # A box from the future: the one-line message and exit code 4.
 exec 4< <(exec "$bin/cathbox-emu" --socket "$dir/v2.sock" --wire-version 2 --duration 60 2>&1)
 v2_pid=$!
-trap 'kill "$emu_pid" "$v2_pid" 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&4
 expect 4 "cathbox: the box speaks protocol v2, this host speaks v1: update the host tools (or flash firmware 1.x)" -- "$cb" info --emu "$dir/v2.sock"
 expect 4 "speaks protocol v2" -- "$cb" monitor --emu "$dir/v2.sock" --duration 0.1
