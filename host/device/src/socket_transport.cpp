@@ -145,7 +145,10 @@ Result<size_t> SocketTransport::transfer(const UsbSetup& setup, uint16_t length,
   const int n = cbx_emu_frame_encode(&frame, tx_.data(), tx_.size());
   if (n < 0) return make_error(Errc::kBadArgument, "control transfer of " + std::to_string(length) + " bytes does not fit a frame");
   if (::send(fd_, tx_.data(), static_cast<size_t>(n), MSG_NOSIGNAL) < 0) {
-    if (errno != EAGAIN && errno != EWOULDBLOCK) closed_ = true;
+    if (errno == EAGAIN || errno == EWOULDBLOCK) {
+      return make_error(Errc::kTimeout, "emulator at " + path_ + " is not reading its socket");
+    }
+    closed_ = true;
     return make_error(Errc::kDisconnected, "emulator at " + path_ + ": send: " + std::strerror(errno));
   }
   const uint64_t deadline = clock_.now_us() + timeout_us_;
