@@ -189,6 +189,22 @@ static void zero_keeps_velocity(void) {
   CBX_CHECK_NEAR(e.vel_cps, v, 500);
 }
 
+static void velocity_after_a_rest_longer_than_the_clock_wrap(void) {
+  /* The microsecond clock wraps every 2^32 us (71.6 min). A tool at rest for longer than
+   * that and then moved by one count is still a start from rest, not one count over the
+   * wrapped remainder of the rest. Updates every 100 ms stand in for the ticks. */
+  cbx_encoder e;
+  cbx_encoder_init(&e, CBX_ENCODER_COUNTER, 16, 0u, 0u);
+  uint32_t t = 0u;
+  for (uint32_t i = 0; i < 42950u; ++i) { /* 4295 s: just past 2^32 us */
+    t += 100000u;
+    cbx_encoder_update(&e, 0u, t);
+    CBX_CHECK_EQ(e.vel_cps, 0);
+  }
+  cbx_encoder_update(&e, 1u, t + 50000u); /* (t + 50 ms) mod 2^32 ~ 0.03 s after a wrap */
+  CBX_CHECK_RANGE(e.vel_cps, 1, (int32_t)(1000000u / CBX_ENCODER_STOP_US));
+}
+
 const cbx_test_case cbx_tests_encoder[] = {
     {"edges_count_both_ways", edges_count_both_ways},
     {"edges_bounce_is_not_motion", edges_bounce_is_not_motion},
@@ -201,4 +217,5 @@ const cbx_test_case cbx_tests_encoder[] = {
     {"velocity_at_low_speed_stays_sane", velocity_at_low_speed_stays_sane},
     {"velocity_reverses", velocity_reverses},
     {"zero_keeps_velocity", zero_keeps_velocity},
+    {"velocity_after_a_rest_longer_than_the_clock_wrap", velocity_after_a_rest_longer_than_the_clock_wrap},
     {0, 0}};

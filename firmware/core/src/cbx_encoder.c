@@ -80,15 +80,17 @@ void cbx_encoder_update(cbx_encoder* e, uint32_t raw, uint32_t now_us) {
     }
     e->seen_count = count;
     e->change_time_us = now_us;
-  } else if (e->vel_cps != 0) {
+  } else {
     /* No change: the speed cannot be above one count per elapsed time; decay to that bound
-     * and to zero after the stop time. */
+     * and to zero after the stop time. At rest the reference times follow the clock, so
+     * that they never age past its wrap (2^32 us) and a restart always reads as one. */
     const uint32_t idle = now_us - e->change_time_us;
     if (idle >= CBX_ENCODER_STOP_US) {
       e->vel_cps = 0;
       e->ref_count = count;
       e->ref_time_us = now_us - CBX_ENCODER_STOP_US - 1u;
-    } else if (idle > 0u) {
+      e->change_time_us = now_us - CBX_ENCODER_STOP_US;
+    } else if (idle > 0u && e->vel_cps != 0) {
       const int32_t bound = (int32_t)(1000000u / idle);
       if (e->vel_cps > bound) e->vel_cps = bound;
       if (e->vel_cps < -bound) e->vel_cps = -bound;
