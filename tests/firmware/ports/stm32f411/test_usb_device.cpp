@@ -223,4 +223,51 @@ TEST_F(UsbDevice, BootloaderRequestThroughSetReport) {
   EXPECT_EQ(cbx_fake.bootloader_requests, 1u);
 }
 
+// USB 2.0 9.4: requests naming an endpoint, interface or feature that does not exist, or an
+// endpoint other than 0 before the device is configured, are request errors (stall).
+TEST_F(UsbDevice, RequestErrorsStall) {
+  EXPECT_FALSE(Setup(0x00, 5, 128, 0, 0));     // SET_ADDRESS beyond 127
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x81, 2));    // GET_STATUS of EP1 while not configured
+  EXPECT_FALSE(Setup(0x02, 3, 0, 0x81, 0));    // SET_FEATURE(HALT) on EP1 while not configured
+  EXPECT_FALSE(driver.halted[1]);
+  ASSERT_TRUE(Setup(0x82, 0, 0, 0x80, 2));     // EP0 always exists
+  ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x82, 2));    // GET_STATUS of an endpoint the device lacks
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x02, 2));
+  EXPECT_FALSE(Setup(0x81, 0, 0, 1, 2));       // GET_STATUS of interface 1
+  EXPECT_FALSE(Setup(0x02, 3, 5, 0x81, 0));    // an endpoint feature other than HALT
+  EXPECT_FALSE(Setup(0x00, 3, 1, 0, 0));       // DEVICE_REMOTE_WAKEUP: not offered (bmAttributes)
+  EXPECT_FALSE(Setup(0x01, 3, 0, 0, 0));       // interfaces have no features
+  EXPECT_FALSE(Setup(0x81, 10, 0, 1, 1));      // GET_INTERFACE of interface 1
+  EXPECT_FALSE(driver.halted[0]);
+  EXPECT_FALSE(driver.halted[1]);
+  ASSERT_TRUE(Setup(0x02, 3, 0, 0x01, 0));     // HALT on EP1 OUT once configured
+  EXPECT_TRUE(driver.halted[0]);
+  ASSERT_TRUE(Setup(0x82, 0, 0, 0x01, 2));
+  EXPECT_EQ(driver.ep0_in, (std::vector<uint8_t>{1, 0}));
+}
+
+// HID 1.11 7.2.1/7.2.2: wValue names the report type and ID; a report of another type or ID
+// than the one named is a request error, and SET_REPORT's data must be the named report.
+TEST_F(UsbDevice, ReportTypeAndIdMustMatch) {
+  EXPECT_FALSE(Setup(0xA1, 1, 0x0110, 0, 64));  // device info is a feature, not an input report
+  EXPECT_FALSE(Setup(0xA1, 1, 0x0301, 0, 64));  // the state is an input, not a feature report
+  ASSERT_TRUE(Setup(0xA1, 1, 0x0101, 0, 64));   // GET_REPORT(Input, state)
+  cbx_state_report state;
+  EXPECT_EQ(cbx_state_decode(driver.ep0_in.data(), 64, &state), CBX_OK);
+
+  const cbx_vector* bootloader = cbx_fake_vector("enter_bootloader");
+  ASSERT_NE(bootloader, nullptr);
+  ASSERT_TRUE(Setup(0x21, 9, 0x0311, 0, 64));   // announced as calibration...
+  EXPECT_FALSE(usb_device_ep0_out(bootloader->bytes, 64));  // ...but the data is 0x14
+  EXPECT_EQ(cbx_fake.bootloader_requests, 0u);
+  const cbx_vector* command = cbx_fake_vector("command_brake_law");
+  ASSERT_NE(command, nullptr);
+  ASSERT_TRUE(Setup(0x21, 9, 0x0202, 0, 64));   // SET_REPORT(Output, command) on EP0
+  EXPECT_TRUE(usb_device_ep0_out(command->bytes, 64));
+  cbx_fake_tick(&core_);
+  EXPECT_EQ(cbx_fake_state(&core_).command_seq_echo, 0x1234);
+  EXPECT_FALSE(Setup(0x21, 9, 0x0302, 0, 64));  // the command is not a feature report
+}
+
 }  // namespace
