@@ -274,7 +274,9 @@ void cbx_core_background(cbx_core* core) {
     uint32_t generation;
     do {
       generation = core->settings_generation;
+      CBX_COMPILER_BARRIER();
       s = core->settings_slot[core->settings_published];
+      CBX_COMPILER_BARRIER();
     } while (generation != core->settings_generation);
     uint8_t block[STORE_SIZE];
     s.calibration.header.version = CBX_PROTOCOL_VERSION;
