@@ -410,6 +410,32 @@ static void resetting_error_counters_is_not_an_encoder_fault(void) {
   CBX_CHECK_EQ(cbx_fake_state(&core).encoder_errors, 1);
 }
 
+static void hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts(void) {
+  /* E-stop while the watchdog ramp is under way: zero in that tick, not at the ramp rate. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  stream(30, CBX_MODE_MOTOR, 0, 3000, 0);
+  CBX_CHECK(ticks_until_fault(CBX_FAULT_WATCHDOG, cbx_fake.time_us, 100000u) <= 51000u);
+  cbx_fake_run_us(&core, 2000u);
+  CBX_CHECK(cbx_fake_state(&core).insertion_force_mN > 1000); /* still ramping */
+  cbx_fake.estop = true;
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+  /* Calibration replaced by "none" while rendering: zero in the tick that takes it. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  stream(30, CBX_MODE_MOTOR, 0, 2000, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 250);
+  const cbx_vector* none = cbx_fake_vector("calibration_none");
+  if (!none) return;
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, none->bytes, none->length), CBX_OK);
+  cbx_fake_tick(&core);
+  const cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_EQ(s.insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+  CBX_CHECK(s.faults & CBX_FAULT_NOT_CALIBRATED);
+  CBX_CHECK(!(s.status & CBX_STATUS_CALIBRATED));
+}
+
 const cbx_test_case cbx_tests_safety[] = {
     {"not_calibrated_blocks_output", not_calibrated_blocks_output},
     {"motor_push_slews_to_target", motor_push_slews_to_target},
@@ -426,4 +452,5 @@ const cbx_test_case cbx_tests_safety[] = {
     {"brake_mode_on_motors_resists", brake_mode_on_motors_resists},
     {"brake_releases_at_once_when_the_motion_reverses", brake_releases_at_once_when_the_motion_reverses},
     {"resetting_error_counters_is_not_an_encoder_fault", resetting_error_counters_is_not_an_encoder_fault},
+    {"hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts", hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts},
     {0, 0}};

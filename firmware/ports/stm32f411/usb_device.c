@@ -247,9 +247,10 @@ bool usb_device_setup(const usb_setup* s) {
 bool usb_device_ep0_out(const uint8_t* data, uint16_t length) {
   if (pending_set_report.bRequest != HID_SET_REPORT) return false;
   pending_set_report.bRequest = 0u;
-  if (length == 0u || data[0] != LO(pending_set_report.wValue)) return false; /* not the named report */
+  /* A command goes to the core whatever it holds: a bad one latches BAD_COMMAND there. */
   if (HI(pending_set_report.wValue) == REPORT_TYPE_OUTPUT)
     return cbx_core_usb_out_report(core, data, length) == CBX_OK;
+  if (length == 0u || data[0] != LO(pending_set_report.wValue)) return false; /* not the named report */
   return cbx_core_usb_feature_set(core, data, length) == CBX_OK;
 }
 

@@ -268,6 +268,13 @@ TEST_F(UsbDevice, ReportTypeAndIdMustMatch) {
   cbx_fake_tick(&core_);
   EXPECT_EQ(cbx_fake_state(&core_).command_seq_echo, 0x1234);
   EXPECT_FALSE(Setup(0x21, 9, 0x0302, 0, 64));  // the command is not a feature report
+  // A bad command on EP0 is a bad command like one on EP1: counted, BAD_COMMAND latched.
+  ASSERT_TRUE(Setup(0x21, 9, 0x0202, 0, 64));
+  EXPECT_FALSE(usb_device_ep0_out(bootloader->bytes, 64));
+  cbx_fake_tick(&core_);
+  EXPECT_TRUE(cbx_fake_state(&core_).faults & CBX_FAULT_BAD_COMMAND);
+  EXPECT_EQ(cbx_fake_state(&core_).rx_errors, 1);
+  EXPECT_EQ(cbx_fake.bootloader_requests, 0u);
 }
 
 }  // namespace
