@@ -57,7 +57,7 @@ static void encoder_timer_init(cbx_tim_regs* tim, uint32_t arr) {
   tim->CR1 = TIM_CR1_CEN;
 }
 
-static void outputs_off(void) {
+void board_outputs_off(void) {
   TIM4->CCR1 = 0u;
   TIM4->CCR2 = 0u;
   gpio_write(GPIOB, PIN_ENABLE, false);
@@ -168,7 +168,7 @@ void EXTI9_5_IRQHandler(void);
 void EXTI9_5_IRQHandler(void) {
   EXTI_PR = 1u << PIN_ESTOP;
   estop_tripped = true;
-  outputs_off();
+  board_outputs_off();
 }
 
 static bool estop_loop_open(void) { return (GPIOB->IDR >> PIN_ESTOP) & 1u; }
@@ -197,7 +197,7 @@ bool cbx_hal_estop_pressed(void) {
 
 void cbx_hal_actuator_set(cbx_axis axis, int16_t drive_permille) {
   if (bootloader_requested || estop_tripped || estop_loop_open()) {
-    outputs_off();
+    board_outputs_off();
     return;
   }
   int32_t d = drive_permille;
@@ -224,7 +224,7 @@ void cbx_hal_watchdog_kick(void) { IWDG_KR = IWDG_KEY_RELOAD; }
 
 void cbx_hal_bootloader_request(void) {
   bootloader_requested = true;
-  outputs_off();
+  board_outputs_off();
 }
 
 bool board_bootloader_requested(void) { return bootloader_requested; }

@@ -262,7 +262,7 @@ void usb_device_ep1_out(const uint8_t* data, uint16_t length) {
  * when the frame and that millisecond are out of phase (no new one since the last frame), the
  * current state is sent anyway, so the host never misses a frame. */
 void usb_device_sof(void) {
-  if (configuration != 1u || usb_ep1_in_busy()) return;
+  if (configuration != 1u || usb_ep1_in_busy() || usb_ep1_stalled(true)) return;
   if (!cbx_core_usb_in_report(core, in_report) &&
       cbx_core_usb_feature_get(core, CBX_ID_STATE, in_report) != CBX_OK)
     return;

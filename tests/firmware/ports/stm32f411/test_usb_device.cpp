@@ -277,4 +277,21 @@ TEST_F(UsbDevice, ReportTypeAndIdMustMatch) {
   EXPECT_EQ(cbx_fake.bootloader_requests, 0u);
 }
 
+// A halted interrupt IN endpoint takes no reports (they would go out stale once the host
+// clears the halt); after CLEAR_FEATURE(HALT) the next frame carries the current state.
+TEST_F(UsbDevice, HaltedInEndpointQueuesNothing) {
+  ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
+  ASSERT_TRUE(Setup(0x02, 3, 0, 0x81, 0));
+  cbx_fake_run_us(&core_, 1000u);
+  usb_device_sof();
+  EXPECT_TRUE(driver.ep1_in.empty());
+  ASSERT_TRUE(Setup(0x02, 1, 0, 0x81, 0));
+  cbx_fake_run_us(&core_, 1000u);
+  usb_device_sof();
+  ASSERT_EQ(driver.ep1_in.size(), 64u);
+  cbx_state_report state;
+  ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
+  EXPECT_EQ(state.header.time_us, 2000u);
+}
+
 }  // namespace
