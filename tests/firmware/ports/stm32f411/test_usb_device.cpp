@@ -69,6 +69,17 @@ class UsbDevice : public testing::Test {
     return usb_device_setup(&s);
   }
 
+  // One millisecond of core ticks, then a USB frame: the state report it queued, decoded.
+  ::testing::AssertionResult Frame(cbx_state_report* state) {
+    driver.ep1_in.clear();
+    cbx_fake_run_us(&core_, 1000u);
+    usb_device_sof();
+    if (driver.ep1_in.size() != 64u) return ::testing::AssertionFailure() << "no report queued";
+    if (cbx_state_decode(driver.ep1_in.data(), 64, state) != CBX_OK)
+      return ::testing::AssertionFailure() << "report does not decode";
+    return ::testing::AssertionSuccess();
+  }
+
   cbx_core core_{};
 };
 
@@ -158,11 +169,8 @@ TEST_F(UsbDevice, AddressConfigurationAndHalt) {
 
 TEST_F(UsbDevice, StateGoesInOncePerFrameAndCommandsComeOut) {
   ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
-  cbx_fake_run_us(&core_, 1000u);
-  usb_device_sof();
-  ASSERT_EQ(driver.ep1_in.size(), 64u);
   cbx_state_report state;
-  ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
+  ASSERT_TRUE(Frame(&state));
   EXPECT_EQ(state.header.seq, 1);
   EXPECT_EQ(state.header.time_us, 1000u);
   // A frame with no new millisecond of the core's clock still gets the current state.
@@ -282,15 +290,10 @@ TEST_F(UsbDevice, ReportTypeAndIdMustMatch) {
 TEST_F(UsbDevice, HaltedInEndpointQueuesNothing) {
   ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
   ASSERT_TRUE(Setup(0x02, 3, 0, 0x81, 0));
-  cbx_fake_run_us(&core_, 1000u);
-  usb_device_sof();
-  EXPECT_TRUE(driver.ep1_in.empty());
-  ASSERT_TRUE(Setup(0x02, 1, 0, 0x81, 0));
-  cbx_fake_run_us(&core_, 1000u);
-  usb_device_sof();
-  ASSERT_EQ(driver.ep1_in.size(), 64u);
   cbx_state_report state;
-  ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
+  EXPECT_FALSE(Frame(&state));
+  ASSERT_TRUE(Setup(0x02, 1, 0, 0x81, 0));
+  ASSERT_TRUE(Frame(&state));
   EXPECT_EQ(state.header.time_us, 2000u);
 }
 
