@@ -29,6 +29,7 @@
 
 static volatile uint32_t adc_raw[3];  /* insertion current, rotation current, supply */
 static volatile bool bootloader_requested;
+static volatile bool estop_tripped;     /* the loop opened (EXTI) since the core last read it */
 
 static void gpio_mode(cbx_gpio_regs* port, uint32_t pin, uint32_t mode, uint32_t pull, uint32_t af) {
   port->MODER = (port->MODER & ~(3u << (2u * pin))) | (mode << (2u * pin));
@@ -56,7 +57,7 @@ static void encoder_timer_init(cbx_tim_regs* tim, uint32_t arr) {
   tim->CR1 = TIM_CR1_CEN;
 }
 
-static void outputs_off(void) {
+void board_outputs_off(void) {
   TIM4->CCR1 = 0u;
   TIM4->CCR2 = 0u;
   gpio_write(GPIOB, PIN_ENABLE, false);
@@ -166,8 +167,11 @@ void board_serial(char out[CBX_TEXT_FIELD + 1]) {
 void EXTI9_5_IRQHandler(void);
 void EXTI9_5_IRQHandler(void) {
   EXTI_PR = 1u << PIN_ESTOP;
-  outputs_off();
+  estop_tripped = true;
+  board_outputs_off();
 }
+
+static bool estop_loop_open(void) { return (GPIOB->IDR >> PIN_ESTOP) & 1u; }
 
 /* ---- The port contract ---- */
 
@@ -182,11 +186,18 @@ int16_t cbx_hal_current_mA(cbx_axis axis) {
   return (int16_t)((mv - CBX_CURRENT_ZERO_MV) * 1000 / CBX_CURRENT_MV_PER_A);
 }
 
-bool cbx_hal_estop_pressed(void) { return (GPIOB->IDR >> PIN_ESTOP) & 1u; }
+/* Also true once after the loop opened for less than a tick (a glitch, a loose wire): the
+ * EXTI cut the PWM then, and the core latches the E-stop fault for it. Same priority as the
+ * tick, so the EXTI cannot run between this read and the clear. */
+bool cbx_hal_estop_pressed(void) {
+  const bool tripped = estop_tripped;
+  estop_tripped = false;
+  return tripped || estop_loop_open();
+}
 
 void cbx_hal_actuator_set(cbx_axis axis, int16_t drive_permille) {
-  if (bootloader_requested || cbx_hal_estop_pressed()) {
-    outputs_off();
+  if (bootloader_requested || estop_tripped || estop_loop_open()) {
+    board_outputs_off();
     return;
   }
   int32_t d = drive_permille;
@@ -213,7 +224,7 @@ void cbx_hal_watchdog_kick(void) { IWDG_KR = IWDG_KEY_RELOAD; }
 
 void cbx_hal_bootloader_request(void) {
   bootloader_requested = true;
-  outputs_off();
+  board_outputs_off();
 }
 
 bool board_bootloader_requested(void) { return bootloader_requested; }

@@ -42,6 +42,8 @@ bool board_bootloader_requested(void);
 void board_enter_bootloader(void);
 /* Early in the reset handler: jumps into the ROM bootloader if the last reset asked for it. */
 void board_bootloader_check(void);
+/* PWM duty 0 and the driver disabled, at once (E-stop interrupt, bootloader, fault handlers). */
+void board_outputs_off(void);
 /* Busy wait on the microsecond timer. */
 void board_delay_us(uint32_t us);
 

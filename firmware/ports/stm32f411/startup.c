@@ -26,14 +26,16 @@ void Reset_Handler(void) {
   }
 }
 
-/* Unexpected interrupts and faults: stop; the independent watchdog then resets the chip with
- * the outputs already off (the PWM pins return to their reset state). */
+/* Unexpected interrupts and faults: outputs off at once (the PWM timer would otherwise keep
+ * the last duty until the reset), then stop; the independent watchdog resets the chip. */
 void default_handler(void) {
+  board_outputs_off();
   for (;;) {
   }
 }
 
 void HardFault_Handler(void) {
+  board_outputs_off();
   for (;;) {
   }
 }

@@ -119,6 +119,39 @@ static bool get_descriptor(const usb_setup* s) {
   return true;
 }
 
+/* The endpoint named by wIndex: 0 always, 1 (IN or OUT) once configured; -1 for any other. */
+static int endpoint_number(uint16_t wIndex) {
+  const uint16_t number = wIndex & 0x7Fu;
+  if ((wIndex & ~0x8Fu) != 0u) return -1;
+  if (number == 0u) return 0;
+  return number == 1u && configuration == 1u ? 1 : -1;
+}
+
+/* USB 2.0 9.4.1/9.4.5/9.4.9: only endpoints have a feature here (HALT); the device does not
+ * offer remote wake-up, interfaces have none. The recipient must exist. */
+static bool feature_request(const usb_setup* s, uint8_t recipient) {
+  if (recipient != RECIPIENT_ENDPOINT || s->wValue != FEATURE_ENDPOINT_HALT) return false;
+  const int ep = endpoint_number(s->wIndex);
+  if (ep < 0) return false;
+  if (ep == 1) usb_ep1_stall((s->wIndex & 0x80u) != 0u, s->bRequest == REQ_SET_FEATURE);
+  usb_ep0_status();
+  return true;
+}
+
+static bool get_status(const usb_setup* s, uint8_t recipient) {
+  uint8_t reply[2] = {0u, 0u}; /* device: bus powered, no remote wake-up; interface: 0 */
+  if (recipient == RECIPIENT_INTERFACE && s->wIndex != 0u) return false;
+  if (recipient == RECIPIENT_ENDPOINT) {
+    const int ep = endpoint_number(s->wIndex);
+    if (ep < 0) return false;
+    if (ep == 1) reply[0] = usb_ep1_stalled((s->wIndex & 0x80u) != 0u) ? 1u : 0u;
+  } else if (recipient != RECIPIENT_DEVICE && recipient != RECIPIENT_INTERFACE) {
+    return false;
+  }
+  usb_ep0_send(reply, 2u, s->wLength);
+  return true;
+}
+
 static bool standard_request(const usb_setup* s) {
   const uint8_t recipient = s->bmRequestType & RECIPIENT_MASK;
   uint8_t reply[2] = {0u, 0u};
@@ -126,7 +159,8 @@ static bool standard_request(const usb_setup* s) {
     case REQ_GET_DESCRIPTOR:
       return get_descriptor(s);
     case REQ_SET_ADDRESS:
-      usb_set_address((uint8_t)(s->wValue & 0x7Fu));
+      if (s->wValue > 127u) return false;
+      usb_set_address((uint8_t)s->wValue);
       usb_ep0_status();
       return true;
     case REQ_GET_CONFIGURATION:
@@ -139,25 +173,16 @@ static bool standard_request(const usb_setup* s) {
       usb_ep0_status();
       return true;
     case REQ_GET_STATUS:
-      if (recipient == RECIPIENT_ENDPOINT && (LO(s->wIndex) & 0x7Fu) == 1u)
-        reply[0] = usb_ep1_stalled((s->wIndex & 0x80u) != 0u) ? 1u : 0u;
-      usb_ep0_send(reply, 2u, s->wLength);
-      return true;
+      return get_status(s, recipient);
     case REQ_CLEAR_FEATURE:
     case REQ_SET_FEATURE:
-      if (recipient == RECIPIENT_ENDPOINT && s->wValue == FEATURE_ENDPOINT_HALT) {
-        if ((LO(s->wIndex) & 0x7Fu) == 1u)
-          usb_ep1_stall((s->wIndex & 0x80u) != 0u, s->bRequest == REQ_SET_FEATURE);
-        else if ((LO(s->wIndex) & 0x7Fu) != 0u)
-          return false;
-      }
-      usb_ep0_status(); /* device remote wake-up: accepted, not used */
-      return true;
+      return feature_request(s, recipient);
     case REQ_GET_INTERFACE:
+      if (configuration != 1u || s->wIndex != 0u) return false;
       usb_ep0_send(reply, 1u, s->wLength);
       return true;
     case REQ_SET_INTERFACE:
-      if (s->wValue != 0u) return false;
+      if (configuration != 1u || s->wIndex != 0u || s->wValue != 0u) return false;
       usb_ep0_status();
       return true;
     default:
@@ -165,19 +190,27 @@ static bool standard_request(const usb_setup* s) {
   }
 }
 
+/* The report type the descriptor declares for `id`: the state is the input report, the
+ * command the output report, every other ID a feature report. */
+static uint8_t report_type(uint8_t id) {
+  if (id == CBX_ID_STATE) return REPORT_TYPE_INPUT;
+  if (id == CBX_ID_COMMAND) return REPORT_TYPE_OUTPUT;
+  return REPORT_TYPE_FEATURE;
+}
+
 static bool hid_request(const usb_setup* s) {
   uint8_t report[CBX_REPORT_SIZE];
   switch (s->bRequest) {
     case HID_GET_REPORT: {
       const uint8_t type = HI(s->wValue);
-      if (type != REPORT_TYPE_FEATURE && type != REPORT_TYPE_INPUT) return false;
+      if (type == REPORT_TYPE_OUTPUT || type != report_type(LO(s->wValue))) return false;
       if (cbx_core_usb_feature_get(core, LO(s->wValue), report) != CBX_OK) return false;
       usb_ep0_send(report, CBX_REPORT_SIZE, s->wLength);
       return true;
     }
     case HID_SET_REPORT: {
       const uint8_t type = HI(s->wValue);
-      if ((type != REPORT_TYPE_FEATURE && type != REPORT_TYPE_OUTPUT) || s->wLength == 0u ||
+      if (type == REPORT_TYPE_INPUT || type != report_type(LO(s->wValue)) || s->wLength == 0u ||
           s->wLength > USB_EP0_BUFFER)
         return false;
       pending_set_report = *s;
@@ -214,8 +247,10 @@ bool usb_device_setup(const usb_setup* s) {
 bool usb_device_ep0_out(const uint8_t* data, uint16_t length) {
   if (pending_set_report.bRequest != HID_SET_REPORT) return false;
   pending_set_report.bRequest = 0u;
+  /* A command goes to the core whatever it holds: a bad one latches BAD_COMMAND there. */
   if (HI(pending_set_report.wValue) == REPORT_TYPE_OUTPUT)
     return cbx_core_usb_out_report(core, data, length) == CBX_OK;
+  if (length == 0u || data[0] != LO(pending_set_report.wValue)) return false; /* not the named report */
   return cbx_core_usb_feature_set(core, data, length) == CBX_OK;
 }
 
@@ -227,7 +262,7 @@ void usb_device_ep1_out(const uint8_t* data, uint16_t length) {
  * when the frame and that millisecond are out of phase (no new one since the last frame), the
  * current state is sent anyway, so the host never misses a frame. */
 void usb_device_sof(void) {
-  if (configuration != 1u || usb_ep1_in_busy()) return;
+  if (configuration != 1u || usb_ep1_in_busy() || usb_ep1_stalled(true)) return;
   if (!cbx_core_usb_in_report(core, in_report) &&
       cbx_core_usb_feature_get(core, CBX_ID_STATE, in_report) != CBX_OK)
     return;

@@ -156,7 +156,7 @@ void usb_ep0_send(const uint8_t* data, uint16_t length, uint16_t requested) {
   ep0.in_length = length;
   ep0.in_sent = 0u;
   /* A short answer that is a multiple of the packet size ends with a zero-length packet. */
-  ep0.in_zlp = length < requested && length % USB_EP0_SIZE == 0u;
+  ep0.in_zlp = length != 0u && length < requested && length % USB_EP0_SIZE == 0u; /* an empty answer is one ZLP */
   ep0.stage = EP0_DATA_IN;
   ep0_out_arm(); /* ready for the host's status OUT (or an early SETUP) */
   ep0_send_next();

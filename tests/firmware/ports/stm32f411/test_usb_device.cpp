@@ -69,6 +69,17 @@ class UsbDevice : public testing::Test {
     return usb_device_setup(&s);
   }
 
+  // One millisecond of core ticks, then a USB frame: the state report it queued, decoded.
+  ::testing::AssertionResult Frame(cbx_state_report* state) {
+    driver.ep1_in.clear();
+    cbx_fake_run_us(&core_, 1000u);
+    usb_device_sof();
+    if (driver.ep1_in.size() != 64u) return ::testing::AssertionFailure() << "no report queued";
+    if (cbx_state_decode(driver.ep1_in.data(), 64, state) != CBX_OK)
+      return ::testing::AssertionFailure() << "report does not decode";
+    return ::testing::AssertionSuccess();
+  }
+
   cbx_core core_{};
 };
 
@@ -158,11 +169,8 @@ TEST_F(UsbDevice, AddressConfigurationAndHalt) {
 
 TEST_F(UsbDevice, StateGoesInOncePerFrameAndCommandsComeOut) {
   ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
-  cbx_fake_run_us(&core_, 1000u);
-  usb_device_sof();
-  ASSERT_EQ(driver.ep1_in.size(), 64u);
   cbx_state_report state;
-  ASSERT_EQ(cbx_state_decode(driver.ep1_in.data(), 64, &state), CBX_OK);
+  ASSERT_TRUE(Frame(&state));
   EXPECT_EQ(state.header.seq, 1);
   EXPECT_EQ(state.header.time_us, 1000u);
   // A frame with no new millisecond of the core's clock still gets the current state.
@@ -221,6 +229,72 @@ TEST_F(UsbDevice, BootloaderRequestThroughSetReport) {
   ASSERT_TRUE(Setup(0x21, 9, 0x0314, 0, 64));
   EXPECT_TRUE(usb_device_ep0_out(v->bytes, 64));
   EXPECT_EQ(cbx_fake.bootloader_requests, 1u);
+}
+
+// USB 2.0 9.4: requests naming an endpoint, interface or feature that does not exist, or an
+// endpoint other than 0 before the device is configured, are request errors (stall).
+TEST_F(UsbDevice, RequestErrorsStall) {
+  EXPECT_FALSE(Setup(0x00, 5, 128, 0, 0));     // SET_ADDRESS beyond 127
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x81, 2));    // GET_STATUS of EP1 while not configured
+  EXPECT_FALSE(Setup(0x02, 3, 0, 0x81, 0));    // SET_FEATURE(HALT) on EP1 while not configured
+  EXPECT_FALSE(driver.halted[1]);
+  ASSERT_TRUE(Setup(0x82, 0, 0, 0x80, 2));     // EP0 always exists
+  ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x82, 2));    // GET_STATUS of an endpoint the device lacks
+  EXPECT_FALSE(Setup(0x82, 0, 0, 0x02, 2));
+  EXPECT_FALSE(Setup(0x81, 0, 0, 1, 2));       // GET_STATUS of interface 1
+  EXPECT_FALSE(Setup(0x02, 3, 5, 0x81, 0));    // an endpoint feature other than HALT
+  EXPECT_FALSE(Setup(0x00, 3, 1, 0, 0));       // DEVICE_REMOTE_WAKEUP: not offered (bmAttributes)
+  EXPECT_FALSE(Setup(0x01, 3, 0, 0, 0));       // interfaces have no features
+  EXPECT_FALSE(Setup(0x81, 10, 0, 1, 1));      // GET_INTERFACE of interface 1
+  EXPECT_FALSE(driver.halted[0]);
+  EXPECT_FALSE(driver.halted[1]);
+  ASSERT_TRUE(Setup(0x02, 3, 0, 0x01, 0));     // HALT on EP1 OUT once configured
+  EXPECT_TRUE(driver.halted[0]);
+  ASSERT_TRUE(Setup(0x82, 0, 0, 0x01, 2));
+  EXPECT_EQ(driver.ep0_in, (std::vector<uint8_t>{1, 0}));
+}
+
+// HID 1.11 7.2.1/7.2.2: wValue names the report type and ID; a report of another type or ID
+// than the one named is a request error, and SET_REPORT's data must be the named report.
+TEST_F(UsbDevice, ReportTypeAndIdMustMatch) {
+  EXPECT_FALSE(Setup(0xA1, 1, 0x0110, 0, 64));  // device info is a feature, not an input report
+  EXPECT_FALSE(Setup(0xA1, 1, 0x0301, 0, 64));  // the state is an input, not a feature report
+  ASSERT_TRUE(Setup(0xA1, 1, 0x0101, 0, 64));   // GET_REPORT(Input, state)
+  cbx_state_report state;
+  EXPECT_EQ(cbx_state_decode(driver.ep0_in.data(), 64, &state), CBX_OK);
+
+  const cbx_vector* bootloader = cbx_fake_vector("enter_bootloader");
+  ASSERT_NE(bootloader, nullptr);
+  ASSERT_TRUE(Setup(0x21, 9, 0x0311, 0, 64));   // announced as calibration...
+  EXPECT_FALSE(usb_device_ep0_out(bootloader->bytes, 64));  // ...but the data is 0x14
+  EXPECT_EQ(cbx_fake.bootloader_requests, 0u);
+  const cbx_vector* command = cbx_fake_vector("command_brake_law");
+  ASSERT_NE(command, nullptr);
+  ASSERT_TRUE(Setup(0x21, 9, 0x0202, 0, 64));   // SET_REPORT(Output, command) on EP0
+  EXPECT_TRUE(usb_device_ep0_out(command->bytes, 64));
+  cbx_fake_tick(&core_);
+  EXPECT_EQ(cbx_fake_state(&core_).command_seq_echo, 0x1234);
+  EXPECT_FALSE(Setup(0x21, 9, 0x0302, 0, 64));  // the command is not a feature report
+  // A bad command on EP0 is a bad command like one on EP1: counted, BAD_COMMAND latched.
+  ASSERT_TRUE(Setup(0x21, 9, 0x0202, 0, 64));
+  EXPECT_FALSE(usb_device_ep0_out(bootloader->bytes, 64));
+  cbx_fake_tick(&core_);
+  EXPECT_TRUE(cbx_fake_state(&core_).faults & CBX_FAULT_BAD_COMMAND);
+  EXPECT_EQ(cbx_fake_state(&core_).rx_errors, 1);
+  EXPECT_EQ(cbx_fake.bootloader_requests, 0u);
+}
+
+// A halted interrupt IN endpoint takes no reports (they would go out stale once the host
+// clears the halt); after CLEAR_FEATURE(HALT) the next frame carries the current state.
+TEST_F(UsbDevice, HaltedInEndpointQueuesNothing) {
+  ASSERT_TRUE(Setup(0x00, 9, 1, 0, 0));
+  ASSERT_TRUE(Setup(0x02, 3, 0, 0x81, 0));
+  cbx_state_report state;
+  EXPECT_FALSE(Frame(&state));
+  ASSERT_TRUE(Setup(0x02, 1, 0, 0x81, 0));
+  ASSERT_TRUE(Frame(&state));
+  EXPECT_EQ(state.header.time_us, 2000u);
 }
 
 }  // namespace
