@@ -1,5 +1,6 @@
 #include "vessel/subdivision.hpp"
 
+#include <array>
 #include <cmath>
 #include <memory>
 
@@ -14,6 +15,8 @@ namespace {
 namespace Far = OpenSubdiv::Far;
 namespace Sdc = OpenSubdiv::Sdc;
 
+constexpr double kPi = 3.14159265358979323846;
+
 // Primvar for OpenSubdiv's refiner (the interface it expects: Clear and AddWithWeight).
 struct Point {
   glm::dvec3 p{0.0};
@@ -21,67 +24,185 @@ struct Point {
   void AddWithWeight(const Point& src, double weight) { p += weight * src.p; }
 };
 
-// Splits each polygon into triangles (quads along the shorter diagonal, others as a fan).
-void triangulate(const std::vector<glm::dvec3>& pos, const int* sizes, const int* verts, std::size_t faces,
-                 const std::vector<FaceRegion>& regions, SurfaceMesh& out) {
-  std::size_t offset = 0;
-  for (std::size_t f = 0; f < faces; ++f) {
-    const int n = sizes[f];
-    const int* v = verts + offset;
-    offset += static_cast<std::size_t>(n);
-    const auto emit = [&](int a, int b, int c) {
-      out.triangles.insert(out.triangles.end(), {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
-                                                 static_cast<std::uint32_t>(c)});
-      out.triangle_regions.push_back(regions[f]);
-    };
-    if (n == 4) {
-      const double d02 = glm::length(pos[static_cast<std::size_t>(v[0])] - pos[static_cast<std::size_t>(v[2])]);
-      const double d13 = glm::length(pos[static_cast<std::size_t>(v[1])] - pos[static_cast<std::size_t>(v[3])]);
-      if (d02 <= d13) {
-        emit(v[0], v[1], v[2]);
-        emit(v[0], v[2], v[3]);
-      } else {
-        emit(v[1], v[2], v[3]);
-        emit(v[1], v[3], v[0]);
-      }
+void emit_triangle(SurfaceMesh& out, FaceRegion region, int a, int b, int c) {
+  out.triangles.insert(out.triangles.end(),
+                       {static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(c)});
+  out.triangle_regions.push_back(region);
+}
+
+// A quad as two triangles, split along its shorter diagonal.
+void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
+  const auto& p = out.positions_mm;
+  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
+  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
+  if (d02 <= d13) {
+    emit_triangle(out, region, v[0], v[1], v[2]);
+    emit_triangle(out, region, v[0], v[2], v[3]);
+  } else {
+    emit_triangle(out, region, v[1], v[2], v[3]);
+    emit_triangle(out, region, v[1], v[3], v[0]);
+  }
+}
+
+// Unit normal from a (possibly unoriented) direction, turned to the side of `outward`; falls back
+// to `outward` when the direction is degenerate.
+[[nodiscard]] glm::vec3 oriented_normal(const glm::dvec3& n, const glm::dvec3& outward) {
+  glm::dvec3 out = n;
+  double len = glm::length(out);
+  if (!(len > 1e-12 * std::max(1.0, glm::length(outward))) || !std::isfinite(len)) {
+    out = outward;
+    len = glm::length(out);
+  } else if (glm::dot(out, outward) < 0.0) {
+    out = -out;
+  }
+  return len > 0.0 ? glm::vec3(out / len) : glm::vec3(0.0f, 0.0f, 1.0f);
+}
+
+// Catmull-Clark limit positions and normals of the vertices of an all-quad level:
+//   interior vertex of valence n, edge neighbours e_i, face-diagonal vertices f_i (between e_i
+//   and e_i+1):  P = (n^2 v + 4 sum e_i + sum f_i) / (n (n + 5)),
+//   tangents t1/t2 = sum A_n c_i e_i + (c_i + c_i+1) f_i with c_i = cos(2 pi i / n) (resp. sin),
+//   A_n = 1 + cos(2 pi / n) + cos(pi / n) sqrt(2 (9 + cos(2 pi / n)))  (Halstead et al. 1993);
+//   boundary vertex (crease rule): P = (e_first + 4 v + e_last) / 6.
+void limit_by_masks(const std::vector<int>& quads, const Point* src, std::size_t nverts, SurfaceMesh& out) {
+  std::vector<std::uint32_t> offset(nverts + 1, 0);
+  for (int v : quads) ++offset[static_cast<std::size_t>(v) + 1];
+  for (std::size_t i = 0; i < nverts; ++i) offset[i + 1] += offset[i];
+  std::vector<std::uint32_t> corners(quads.size());
+  {
+    std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+    for (std::size_t c = 0; c < quads.size(); ++c) corners[fill[static_cast<std::size_t>(quads[c])]++] = static_cast<std::uint32_t>(c);
+  }
+  const auto next_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 1) & 3u)]; };
+  const auto opp_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 2) & 3u)]; };
+  const auto prev_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 3) & 3u)]; };
+
+  std::vector<std::uint32_t> ring;
+  std::vector<double> cos_table, sin_table;
+  int table_n = 0;
+  double a_n = 0.0;
+  out.positions_mm.resize(nverts);
+  out.normals.resize(nverts);
+  for (std::size_t v = 0; v < nverts; ++v) {
+    const std::uint32_t* c = corners.data() + offset[v];
+    const std::size_t n = offset[v + 1] - offset[v];
+    const glm::dvec3 pv = src[v].p;
+    if (n == 0) {
+      out.positions_mm[v] = glm::vec3(pv);
+      out.normals[v] = glm::vec3(0.0f, 0.0f, 1.0f);
       continue;
     }
-    for (int k = 1; k + 1 < n; ++k) emit(v[0], v[k], v[k + 1]);
-  }
-}
-
-// Area-weighted face normals summed at the vertices.
-[[nodiscard]] std::vector<glm::dvec3> face_normals_at_vertices(const std::vector<glm::dvec3>& pos,
-                                                               const std::vector<std::uint32_t>& tris) {
-  std::vector<glm::dvec3> acc(pos.size(), glm::dvec3(0.0));
-  for (std::size_t t = 0; t + 2 < tris.size(); t += 3) {
-    const glm::dvec3 n = glm::cross(pos[tris[t + 1]] - pos[tris[t]], pos[tris[t + 2]] - pos[tris[t]]);
-    for (int k = 0; k < 3; ++k) acc[tris[t + static_cast<std::size_t>(k)]] += n;
-  }
-  return acc;
-}
-
-void finish(const std::vector<glm::dvec3>& pos, const std::vector<glm::dvec3>* limit_normals, SurfaceMesh& out) {
-  const std::vector<glm::dvec3> face_acc = face_normals_at_vertices(pos, out.triangles);
-  out.positions_mm.resize(pos.size());
-  out.normals.resize(pos.size());
-  for (std::size_t i = 0; i < pos.size(); ++i) {
-    out.positions_mm[i] = glm::vec3(pos[i]);
-    glm::dvec3 n = limit_normals ? (*limit_normals)[i] : face_acc[i];
-    const double len = glm::length(n);
-    if (!(len > 1e-12) || !std::isfinite(len)) {
-      n = face_acc[i];
-    } else if (glm::dot(n, face_acc[i]) < 0.0) {
-      n = -n;  // the limit tangents' handedness does not fix the side; the faces do
+    // Order the corners around v: the successor of corner a is the corner whose `next` is a's `prev`.
+    ring.assign(c, c + n);
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      bool has_predecessor = false;
+      for (std::size_t j = 0; j < n && !has_predecessor; ++j) has_predecessor = prev_of(ring[j]) == next_of(ring[i]);
+      if (!has_predecessor) {
+        start = i;
+        break;
+      }
     }
-    const double n_len = glm::length(n);
-    out.normals[i] = n_len > 0.0 ? glm::vec3(n / n_len) : glm::vec3(0.0f, 0.0f, 1.0f);
+    std::swap(ring[0], ring[start]);
+    bool closed = true;
+    for (std::size_t i = 0; i + 1 < n; ++i) {
+      const int want = prev_of(ring[i]);
+      std::size_t j = i + 1;
+      while (j < n && next_of(ring[j]) != want) ++j;
+      if (j == n) {
+        closed = false;  // broken fan (never for our meshes): keep the order found
+        break;
+      }
+      std::swap(ring[i + 1], ring[j]);
+    }
+    closed = closed && prev_of(ring[n - 1]) == next_of(ring[0]);
+    glm::dvec3 face_normal(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3 a = src[next_of(ring[i])].p - pv;
+      const glm::dvec3 b = src[prev_of(ring[i])].p - pv;
+      face_normal += glm::cross(a, b);
+    }
+    if (!closed) {
+      const glm::dvec3 first = src[next_of(ring[0])].p;
+      const glm::dvec3 last = src[prev_of(ring[n - 1])].p;
+      out.positions_mm[v] = glm::vec3((first + 4.0 * pv + last) / 6.0);
+      out.normals[v] = oriented_normal(face_normal, face_normal);
+      continue;
+    }
+    const double dn = static_cast<double>(n);
+    if (static_cast<int>(n) != table_n) {
+      table_n = static_cast<int>(n);
+      cos_table.resize(n + 1);
+      sin_table.resize(n + 1);
+      for (std::size_t i = 0; i <= n; ++i) {
+        cos_table[i] = std::cos(2.0 * kPi * static_cast<double>(i) / dn);
+        sin_table[i] = std::sin(2.0 * kPi * static_cast<double>(i) / dn);
+      }
+      a_n = 1.0 + cos_table[1] + std::cos(kPi / dn) * std::sqrt(2.0 * (9.0 + cos_table[1]));
+    }
+    glm::dvec3 sum_e(0.0), sum_f(0.0), t1(0.0), t2(0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::dvec3 e = src[next_of(ring[i])].p;
+      const glm::dvec3 f = src[opp_of(ring[i])].p;
+      sum_e += e;
+      sum_f += f;
+      t1 += a_n * cos_table[i] * e + (cos_table[i] + cos_table[i + 1]) * f;
+      t2 += a_n * sin_table[i] * e + (sin_table[i] + sin_table[i + 1]) * f;
+    }
+    out.positions_mm[v] = glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0)));
+    out.normals[v] = oriented_normal(glm::cross(t1, t2), face_normal);
   }
+}
+
+void limit_by_opensubdiv(const Far::PrimvarRefinerReal<double>& primvar, const Point* src, const std::vector<int>& quads,
+                         std::size_t nverts, SurfaceMesh& out) {
+  std::vector<Point> limit(nverts), du(nverts), dv(nverts);
+  primvar.Limit(src, limit, du, dv);
+  std::vector<glm::dvec3> face_normal(nverts, glm::dvec3(0.0));
+  for (std::size_t f = 0; f + 3 < quads.size(); f += 4) {
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto v = static_cast<std::size_t>(quads[f + k]);
+      face_normal[v] += glm::cross(src[quads[f + (k + 1) % 4]].p - src[v].p, src[quads[f + (k + 3) % 4]].p - src[v].p);
+    }
+  }
+  out.positions_mm.resize(nverts);
+  out.normals.resize(nverts);
+  for (std::size_t i = 0; i < nverts; ++i) {
+    out.positions_mm[i] = glm::vec3(limit[i].p);
+    out.normals[i] = oriented_normal(glm::cross(du[i].p, dv[i].p), face_normal[i]);
+  }
+}
+
+SurfaceMeshResult control_mesh_as_surface(const ControlMesh& control) {
+  SurfaceMeshResult result;
+  SurfaceMesh& out = result.mesh;
+  out.positions_mm.reserve(control.vertex_count());
+  for (const glm::dvec3& p : control.positions_mm) out.positions_mm.emplace_back(p);
+  std::size_t offset = 0;
+  for (std::size_t f = 0; f < control.face_count(); ++f) {
+    const int n = control.face_sizes[f];
+    const int* v = control.face_vertices.data() + offset;
+    offset += static_cast<std::size_t>(n);
+    if (n == 4) {
+      emit_quad(out, control.face_regions[f], v);
+    } else {
+      for (int k = 1; k + 1 < n; ++k) emit_triangle(out, control.face_regions[f], v[0], v[k], v[k + 1]);
+    }
+  }
+  std::vector<glm::dvec3> acc(control.vertex_count(), glm::dvec3(0.0));
+  for (std::size_t t = 0; t + 2 < out.triangles.size(); t += 3) {
+    const glm::dvec3 a = control.positions_mm[out.triangles[t]];
+    const glm::dvec3 n = glm::cross(control.positions_mm[out.triangles[t + 1]] - a, control.positions_mm[out.triangles[t + 2]] - a);
+    for (std::size_t k = 0; k < 3; ++k) acc[out.triangles[t + k]] += n;
+  }
+  out.normals.resize(control.vertex_count());
+  for (std::size_t i = 0; i < acc.size(); ++i) out.normals[i] = oriented_normal(acc[i], acc[i]);
+  return result;
 }
 
 }  // namespace
 
-SurfaceMeshResult subdivide(const ControlMesh& control, int level) {
+SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method) {
   SurfaceMeshResult result;
   if (level < 0 || level > 6) {
     result.error = "subdivision level must be between 0 and 6, got " + std::to_string(level);
@@ -91,12 +212,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level) {
     result.error = "the control mesh has no faces";
     return result;
   }
-  if (level == 0) {
-    triangulate(control.positions_mm, control.face_sizes.data(), control.face_vertices.data(), control.face_count(),
-                control.face_regions, result.mesh);
-    finish(control.positions_mm, nullptr, result.mesh);
-    return result;
-  }
+  if (level == 0) return control_mesh_as_surface(control);
 
   Far::TopologyDescriptor desc;
   desc.numVertices = static_cast<int>(control.vertex_count());
@@ -113,7 +229,8 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level) {
     return result;
   }
   Far::TopologyRefiner::UniformOptions uniform(level);
-  uniform.fullTopologyInLastLevel = true;  // the limit masks need the last level's neighbourhoods
+  // PrimvarRefiner::Limit needs the last level's neighbourhoods; the masks build their own.
+  uniform.fullTopologyInLastLevel = method == LimitMethod::kOpenSubdiv;
   refiner->RefineUniform(uniform);
 
   std::vector<Point> verts(static_cast<std::size_t>(refiner->GetNumVerticesTotal()));
@@ -127,39 +244,28 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level) {
   }
   const Far::TopologyLevel& last = refiner->GetLevel(level);
   const auto nverts = static_cast<std::size_t>(last.GetNumVertices());
-  std::vector<Point> limit(nverts);
-  std::vector<Point> du(nverts);
-  std::vector<Point> dv(nverts);
-  primvar.Limit(src, limit, du, dv);
-
-  // Regions: follow each refined face back to its control face.
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
-  std::vector<int> base(nfaces);
+  std::vector<int> quads(4 * nfaces);
+  for (std::size_t f = 0; f < nfaces; ++f) {
+    const auto fv = last.GetFaceVertices(static_cast<int>(f));
+    if (fv.size() != 4) {
+      result.error = "refined face is not a quad";
+      return result;
+    }
+    for (int k = 0; k < 4; ++k) quads[4 * f + static_cast<std::size_t>(k)] = fv[k];
+  }
+  SurfaceMesh& out = result.mesh;
+  if (method == LimitMethod::kOpenSubdiv) limit_by_opensubdiv(primvar, src, quads, nverts, out);
+  else limit_by_masks(quads, src, nverts, out);
+
+  // Triangles, each with the region of the control face it descends from.
+  out.triangles.reserve(6 * nfaces);
+  out.triangle_regions.reserve(2 * nfaces);
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
     for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
-    base[f] = face;
+    emit_quad(out, control.face_regions[static_cast<std::size_t>(face)], quads.data() + 4 * f);
   }
-  std::vector<FaceRegion> regions(nfaces);
-  std::vector<int> sizes(nfaces);
-  std::vector<int> indices;
-  indices.reserve(nfaces * 4);
-  for (std::size_t f = 0; f < nfaces; ++f) {
-    regions[f] = control.face_regions[static_cast<std::size_t>(base[f])];
-    const auto fv = last.GetFaceVertices(static_cast<int>(f));
-    sizes[f] = fv.size();
-    for (int k = 0; k < fv.size(); ++k) indices.push_back(fv[k]);
-  }
-  std::vector<glm::dvec3> pos(nverts);
-  std::vector<glm::dvec3> normals(nverts);
-  for (std::size_t i = 0; i < nverts; ++i) {
-    pos[i] = limit[i].p;
-    normals[i] = glm::cross(du[i].p, dv[i].p);
-  }
-  result.mesh.triangles.reserve(nfaces * 6);
-  result.mesh.triangle_regions.reserve(nfaces * 2);
-  triangulate(pos, sizes.data(), indices.data(), nfaces, regions, result.mesh);
-  finish(pos, &normals, result.mesh);
   return result;
 }
 

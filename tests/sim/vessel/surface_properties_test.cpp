@@ -10,6 +10,7 @@
 
 #include "vessel/case_generator.hpp"
 #include "vessel/hclm.hpp"
+#include "vessel/subdivision.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel_test_support.hpp"
 
@@ -281,6 +282,41 @@ TEST(SurfaceProperties, LoadSurfaceMeshReadsABundledCase) {
   const SurfaceMeshLoad loaded = load_surface_mesh(test::case_path("y_bifurcation"));
   ASSERT_TRUE(loaded.ok()) << loaded.error;
   EXPECT_GT(loaded.mesh.triangle_count(), 1000u);
+}
+
+}  // namespace
+}  // namespace cathbox::vessel
+
+namespace cathbox::vessel {
+namespace {
+
+TEST(SurfaceProperties, LimitMasksAgreeWithOpenSubdivLimit) {
+  // The fast limit masks must give OpenSubdiv's own limit positions and normals, including
+  // extraordinary vertices (junctions, cap centres) and open boundaries.
+  for (const auto& [model, caps] : {std::pair{CaseGenerator::neuro_aneurysm(), true},
+                                    std::pair{CaseGenerator::random_graph(5, 2), true},
+                                    std::pair{CaseGenerator::y_bifurcation(), false}}) {
+    for (int level : {1, 2}) {
+      MeshOptions options = with_ring(8, caps);
+      options.subdivision_level = 0;
+      const VesselSurface base = build_vessel_surface(model, options);
+      ASSERT_TRUE(base.ok()) << base.error;
+      const SurfaceMeshResult masks = subdivide(base.control, level, LimitMethod::kMasks);
+      const SurfaceMeshResult reference = subdivide(base.control, level, LimitMethod::kOpenSubdiv);
+      ASSERT_TRUE(masks.ok() && reference.ok());
+      ASSERT_EQ(masks.mesh.vertex_count(), reference.mesh.vertex_count());
+      ASSERT_EQ(masks.mesh.triangles, reference.mesh.triangles);
+      ASSERT_EQ(masks.mesh.triangle_regions, reference.mesh.triangle_regions);
+      double worst_pos = 0.0;
+      double worst_dot = 1.0;
+      for (std::size_t i = 0; i < masks.mesh.vertex_count(); ++i) {
+        worst_pos = std::max(worst_pos, static_cast<double>(glm::length(masks.mesh.positions_mm[i] - reference.mesh.positions_mm[i])));
+        worst_dot = std::min(worst_dot, static_cast<double>(glm::dot(masks.mesh.normals[i], reference.mesh.normals[i])));
+      }
+      EXPECT_LT(worst_pos, 1e-4) << "level " << level;
+      EXPECT_GT(worst_dot, 0.9999) << "level " << level;
+    }
+  }
 }
 
 }  // namespace
