@@ -95,7 +95,13 @@ class Pairing {
     }
     return 0.0;
   }
+  // Pairs two triangles if they are neighbours and both still free (guards every caller).
   void pair(int a, int b) {
+    const auto& na = nbs_[static_cast<std::size_t>(a)];
+    const bool adjacent = std::any_of(na.begin(), na.end(), [b](const Neighbor& n) { return n.tri == b; });
+    if (a == b || !adjacent || partner_[static_cast<std::size_t>(a)] >= 0 || partner_[static_cast<std::size_t>(b)] >= 0) {
+      return;
+    }
     partner_[static_cast<std::size_t>(a)] = b;
     partner_[static_cast<std::size_t>(b)] = a;
   }
@@ -105,6 +111,7 @@ class Pairing {
   void match_structured(const std::vector<int>& triples) {
     std::vector<Path> paths;
     std::vector<std::array<std::pair<int, int>, 3>> slot_path(triples.size());  // (path, end 0/1)
+    for (auto& slots : slot_path) slots.fill({-1, -1});
     std::unordered_map<int, int> triple_index;
     for (std::size_t i = 0; i < triples.size(); ++i) triple_index[triples[i]] = static_cast<int>(i);
     std::vector<char> claimed(tris_.size(), 0);
@@ -162,12 +169,16 @@ class Pairing {
         rest /= 3;
       }
       for (auto& u : used) u = {0, 0};
+      bool feasible = true;
       for (std::size_t i = 0; i < triples.size(); ++i) {
         const auto [p, end] = slot_path[i][static_cast<std::size_t>(choice[i])];
+        if (p < 0) {
+          feasible = false;
+          break;
+        }
         used[static_cast<std::size_t>(p)][static_cast<std::size_t>(end)] = 1;
       }
       double score = 0.0;
-      bool feasible = true;
       for (std::size_t p = 0; p < paths.size() && feasible; ++p) {
         const Path& path = paths[p];
         const int n = static_cast<int>(path.inner.size());

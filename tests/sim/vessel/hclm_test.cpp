@@ -125,6 +125,9 @@ std::string with_line(int line, const std::string& replacement) {
   return text.substr(0, start) + replacement + text.substr(end);
 }
 
+// Shown by CTest/GoogleTest instead of the parameter's bytes.
+void PrintTo(const BadInput& bad, std::ostream* os) { *os << bad.what; }
+
 class HclmBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(HclmBadInput, GivesOneClearErrorWithFileAndLine) {

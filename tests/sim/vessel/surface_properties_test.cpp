@@ -134,6 +134,8 @@ struct CaseParam {
   int ring_points;
 };
 
+void PrintTo(const CaseParam& param, std::ostream* os) { *os << param.name << " M=" << param.ring_points; }
+
 class BundledCase : public ::testing::TestWithParam<CaseParam> {};
 
 TEST_P(BundledCase, SurfaceIsAClosedOrientedManifoldWithoutJunctionIntersections) {
