@@ -31,8 +31,18 @@ const std::string& neuro_text() {
   return text;
 }
 
+// The random 100-segment tree at the generator's default density (a point every 1.2 radii,
+// ~10 points per segment) and a sparser one (a point every 2.5 radii, ~5 per segment).
 const std::string& tree_text() {
   static const std::string text = write_hclm(CaseGenerator::random_tree(2026, RandomTreeOptions{}));
+  return text;
+}
+const std::string& sparse_tree_text() {
+  static const std::string text = [] {
+    RandomTreeOptions options;
+    options.spacing_radii = 2.5;
+    return write_hclm(CaseGenerator::random_tree(2026, options));
+  }();
   return text;
 }
 
@@ -40,7 +50,7 @@ const std::string& tree_text() {
 void pipeline(benchmark::State& state, const std::string& text, int ring_points) {
   MeshOptions options;
   options.ring_points = ring_points;
-  std::size_t triangles = 0, vertices = 0, control_faces = 0, segments = 0;
+  std::size_t triangles = 0, vertices = 0, control_faces = 0, segments = 0, points = 0;
   for (auto _ : state) {
     const HclmReadResult read = read_hclm(text);
     const VesselGraph graph(read.model);
@@ -52,9 +62,11 @@ void pipeline(benchmark::State& state, const std::string& text, int ring_points)
     vertices = surface.mesh.vertex_count();
     control_faces = control.mesh.face_count();
     segments = read.model.segments.size();
+    points = read.model.point_count();
     benchmark::DoNotOptimize(surface.mesh.positions_mm.data());
   }
   state.counters["segments"] = static_cast<double>(segments);
+  state.counters["points"] = static_cast<double>(points);
   state.counters["control_faces"] = static_cast<double>(control_faces);
   state.counters["vertices"] = static_cast<double>(vertices);
   state.counters["triangles"] = static_cast<double>(triangles);
@@ -79,10 +91,14 @@ void stage(benchmark::State& state, const std::string& text) {
 
 void BM_NeuroPipeline(benchmark::State& state) { pipeline(state, neuro_text(), static_cast<int>(state.range(0))); }
 void BM_Tree100Pipeline(benchmark::State& state) { pipeline(state, tree_text(), static_cast<int>(state.range(0))); }
+void BM_SparseTree100Pipeline(benchmark::State& state) {
+  pipeline(state, sparse_tree_text(), static_cast<int>(state.range(0)));
+}
 void BM_Tree100Stage(benchmark::State& state) { stage(state, tree_text()); }
 void BM_NeuroStage(benchmark::State& state) { stage(state, neuro_text()); }
 
 BENCHMARK(BM_Tree100Pipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SparseTree100Pipeline)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroPipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100Stage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroStage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);

@@ -44,6 +44,23 @@ void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
   }
 }
 
+// Quad f of an all-quad mesh as triangles 2f and 2f+1 (arrays already sized).
+void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v) {
+  const auto& p = out.positions_mm;
+  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
+  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
+  const int s = d02 <= d13 ? 0 : 1;  // first corner of the diagonal
+  std::uint32_t* t = out.triangles.data() + 6 * f;
+  t[0] = static_cast<std::uint32_t>(v[s]);
+  t[1] = static_cast<std::uint32_t>(v[s + 1]);
+  t[2] = static_cast<std::uint32_t>(v[s + 2]);
+  t[3] = static_cast<std::uint32_t>(v[s]);
+  t[4] = static_cast<std::uint32_t>(v[s + 2]);
+  t[5] = static_cast<std::uint32_t>(v[(s + 3) % 4]);
+  out.triangle_regions[2 * f] = region;
+  out.triangle_regions[2 * f + 1] = region;
+}
+
 // Unit normal from a (possibly unoriented) direction, turned to the side of `outward`; falls back
 // to `outward` when the direction is degenerate.
 [[nodiscard]] glm::vec3 oriented_normal(const glm::dvec3& n, const glm::dvec3& outward) {
@@ -259,12 +276,12 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   else limit_by_masks(quads, src, nverts, out);
 
   // Triangles, each with the region of the control face it descends from.
-  out.triangles.reserve(6 * nfaces);
-  out.triangle_regions.reserve(2 * nfaces);
+  out.triangles.resize(6 * nfaces);
+  out.triangle_regions.resize(2 * nfaces);
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
     for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
-    emit_quad(out, control.face_regions[static_cast<std::size_t>(face)], quads.data() + 4 * f);
+    split_quad(out, f, control.face_regions[static_cast<std::size_t>(face)], quads.data() + 4 * f);
   }
   return result;
 }
