@@ -135,8 +135,10 @@ void limit_by_masks(const std::vector<int>& quads, const Point* src, std::size_t
       std::swap(ring[i + 1], ring[j]);
     }
     closed = closed && prev_of(ring[n - 1]) == next_of(ring[0]);
+    // Outward reference: the corner faces' normals (counter-clockwise faces); one is enough to
+    // orient the tangent cross product of an interior vertex.
     glm::dvec3 face_normal(0.0);
-    for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t i = 0; i < (closed ? 1 : n); ++i) {
       const glm::dvec3 a = glm::dvec3(src[next_of(ring[i])].p) - pv;
       const glm::dvec3 b = glm::dvec3(src[prev_of(ring[i])].p) - pv;
       face_normal += glm::cross(a, b);
