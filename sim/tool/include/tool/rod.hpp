@@ -110,13 +110,15 @@ class Rod {
     double la = 0.0, lb = 0.0, chi = 0.0, w = 0.0;
   };
   [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  [[nodiscard]] double plane_gap(std::size_t k) const;  // penetration of node k into its plane
   void update_window();
   void advect(double delta_mm);
   void seed_buckling();
   void limit_penetration();
   void place_outside(std::size_t k);
-  void refresh_contacts(const WallModel& wall, bool only_moved);
-  void assemble(double dt_s);
+  // Re-probes the wall; true when the plane of a node in the active set was replaced.
+  bool refresh_contacts(const WallModel& wall, bool only_moved);
+  void assemble(double dt_s, bool hessian);
   [[nodiscard]] double energy(double dt_s) const;
   void update_frames();
   void solve_twist(double dt_s);
@@ -146,6 +148,7 @@ class Rod {
 
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
+  std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
   std::unique_ptr<BandedCholesky> matrix_;
 
@@ -153,6 +156,7 @@ class Rod {
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
   ForceLaw law_;
+  double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
   double last_update_mm_ = 0.0;
 };
