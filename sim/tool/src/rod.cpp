@@ -255,7 +255,13 @@ void Rod::advect(double delta_mm) {
     if (s >= from_tip_[first_]) {
       x_pred_[k] = entry_ + dir_ * (old_insertion - s);
     } else if (s <= 0.0) {
-      x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      // Ahead of the tip: along the leader (a wire beyond this catheter) or straight on.
+      const double leader_station = leader_ != nullptr ? leader_insertion_mm_ - (old_insertion - s) : -1.0;
+      if (leader_ != nullptr && leader_station >= 0.0) {
+        x_pred_[k] = leader_->point_at_from_tip(leader_station);
+      } else {
+        x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      }
     } else {
       while (j + 2 < n && from_tip_[j + 1] > s) ++j;
       while (j > first_ && from_tip_[j] < s) --j;
@@ -264,6 +270,25 @@ void Rod::advect(double delta_mm) {
     }
   }
   for (std::size_t k = new_kp + 1; k < n; ++k) x_[k] = x_pred_[k];
+}
+
+void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference) {
+  const double len = glm::length(direction);
+  if (!(len > 1e-12) || !std::isfinite(len)) return;
+  entry_ = point_mm;
+  dir_ = direction / len;
+  const glm::dvec3 r = reference - dir_ * glm::dot(reference, dir_);
+  const double rl = glm::length(r);
+  entry_d1_ = rl > 1e-9 ? r / rl : perpendicular_unit(dir_);
+}
+
+glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {
+  const std::size_t n = x_.size();
+  if (from_tip_mm >= from_tip_[first_]) return entry_ + dir_ * (insertion_mm_ - from_tip_mm);
+  if (from_tip_mm <= 0.0) return x_[n - 1];
+  const std::size_t k = std::clamp(station_at(from_tip_, from_tip_mm), first_, n - 2);
+  const double u = std::clamp((from_tip_[k] - from_tip_mm) / rest_[k], 0.0, 1.0);
+  return x_[k] + (x_[k + 1] - x_[k]) * u;
 }
 
 glm::dvec3 Rod::point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const {
@@ -331,7 +356,9 @@ void Rod::step(double dt_s, const WallModel& wall) {
   const std::size_t n = x_.size();
   const std::size_t old_first = first_;
   for (std::size_t k = std::min(old_first, first_); k < n; ++k) x_start_[k] = x_[k];
-  advect(insertion_mm_ - stepped_insertion_mm_);
+  const double advance = std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
+  material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+  advect(advance);
   stepped_insertion_mm_ = insertion_mm_;
   update_window();
   for (std::size_t k = first_; k < old_first; ++k) x_start_[k] = x_[k];
