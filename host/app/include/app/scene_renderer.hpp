@@ -1,0 +1,71 @@
+#pragma once
+// Draws the scene with few draw calls and cheap shaders (it must hold 60 fps on Mesa's
+// software rasteriser): the vessel from a static buffer, semi-transparent (far wall, then near
+// wall, over the opaque tools) or as a wireframe; the tools as tubes along their nodes; the
+// target as a small sphere. The global view uses a given camera; the local view looks forward
+// from the tool tip, inside the lumen, with distance fog.
+#include <optional>
+#include <span>
+#include <string>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "app/gpu_mesh.hpp"
+#include "app/scene_snapshot.hpp"
+#include "app/shader_program.hpp"
+#include "app/tube_mesh.hpp"
+#include "app/viewport.hpp"
+
+namespace cathbox::app {
+
+struct RenderSettings {
+  bool wireframe = false;
+  float vessel_alpha = 0.3F;
+  // Tools are drawn at least this thick in the global view so a 0.36 mm wire stays visible.
+  float min_tool_radius_mm = 0.6F;
+};
+
+struct SceneColors {
+  static constexpr glm::vec3 kBackground{0.07F, 0.08F, 0.10F};
+  static constexpr glm::vec3 kVessel{0.85F, 0.22F, 0.20F};
+  static constexpr glm::vec3 kActiveTool{0.25F, 0.95F, 0.40F};
+  static constexpr glm::vec3 kOtherTool{0.30F, 0.60F, 0.95F};
+  static constexpr glm::vec3 kTarget{1.00F, 0.85F, 0.10F};
+};
+
+class SceneRenderer {
+ public:
+  [[nodiscard]] bool init(std::string& error);
+  void set_vessel(std::span<const glm::vec3> positions_mm, std::span<const glm::vec3> normals,
+                  std::span<const std::uint32_t> triangles);
+  void set_target(std::optional<glm::vec3> target_mm, float radius_mm);
+
+  // Clears the whole framebuffer to the background colour.
+  void clear(int framebuffer_width, int framebuffer_height) const;
+  // Rebuilds the tool tubes from the snapshot (once per frame, before the views).
+  void update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings);
+  void render_global(const Viewport& viewport, int framebuffer_height, const glm::mat4& view,
+                     const glm::mat4& projection, const RenderSettings& settings);
+  void render_local(const Viewport& viewport, int framebuffer_height, const SceneSnapshot& snapshot);
+
+  [[nodiscard]] std::size_t vessel_triangles() const { return vessel_.index_count() / 3; }
+
+ private:
+  void draw_tools(bool local) const;
+
+  ShaderProgram shader_;
+  GpuMesh vessel_;
+  GpuMesh target_;
+  bool has_target_ = false;
+  struct ToolDraw {
+    GpuMesh global;
+    GpuMesh local;
+    glm::vec3 color{1.0F};
+  };
+  std::array<ToolDraw, SceneSnapshot::kMaxTools> tools_;
+  int tool_count_ = 0;
+  TubeMesh tube_;
+};
+
+}  // namespace cathbox::app

@@ -1,0 +1,193 @@
+#include "app/scene_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "app/gl.hpp"
+#include "app/orbit_camera.hpp"
+
+namespace cathbox::app {
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 330 core
+in vec3 in_position;
+in vec3 in_normal;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+out vec3 v_normal;
+out vec3 v_pos;
+void main() {
+  vec4 p = u_view * vec4(in_position, 1.0);
+  v_pos = p.xyz;
+  v_normal = mat3(u_view) * in_normal;
+  gl_Position = u_proj * p;
+}
+)";
+
+// Headlight shading (light at the eye), two-sided so the inside of the vessel is lit too.
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec3 v_normal;
+in vec3 v_pos;
+uniform vec4 u_color;
+uniform vec4 u_fog;  // rgb, and the distance in mm at which the fog is complete (0: none)
+out vec4 frag;
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 l = normalize(-v_pos);
+  float d = abs(dot(n, l));
+  vec3 c = u_color.rgb * (0.35 + 0.65 * d) + vec3(0.25) * pow(d, 24.0);
+  if (u_fog.a > 0.0) c = mix(c, u_fog.rgb, clamp(length(v_pos) / u_fog.a, 0.0, 1.0));
+  frag = vec4(c, u_color.a);
+}
+)";
+
+void set_viewport(const Viewport& vp, int framebuffer_height) {
+  glViewport(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
+  glScissor(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
+}
+
+void make_sphere(float radius, const glm::vec3& centre, std::vector<glm::vec3>& p,
+                 std::vector<glm::vec3>& n, std::vector<std::uint32_t>& t) {
+  constexpr int kRings = 8;
+  constexpr int kSlices = 12;
+  for (int i = 0; i <= kRings; ++i) {
+    const float phi = 3.1415927F * static_cast<float>(i) / kRings;
+    for (int j = 0; j < kSlices; ++j) {
+      const float th = 6.2831853F * static_cast<float>(j) / kSlices;
+      const glm::vec3 d{std::sin(phi) * std::cos(th), std::sin(phi) * std::sin(th), std::cos(phi)};
+      p.push_back(centre + radius * d);
+      n.push_back(d);
+    }
+  }
+  for (std::uint32_t i = 0; i < kRings; ++i) {
+    for (std::uint32_t j = 0; j < kSlices; ++j) {
+      const std::uint32_t a = i * kSlices + j;
+      const std::uint32_t b = i * kSlices + (j + 1) % kSlices;
+      t.insert(t.end(), {a, a + kSlices, b + kSlices, a, b + kSlices, b});
+    }
+  }
+}
+
+}  // namespace
+
+bool SceneRenderer::init(std::string& error) {
+  if (!shader_.build(kVertexShader, kFragmentShader, error)) return false;
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_SCISSOR_TEST);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  return true;
+}
+
+void SceneRenderer::set_vessel(std::span<const glm::vec3> positions_mm,
+                               std::span<const glm::vec3> normals,
+                               std::span<const std::uint32_t> triangles) {
+  vessel_.upload(positions_mm, normals, triangles, false);
+}
+
+void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {
+  has_target_ = target_mm.has_value();
+  if (!has_target_) return;
+  std::vector<glm::vec3> p;
+  std::vector<glm::vec3> n;
+  std::vector<std::uint32_t> t;
+  make_sphere(radius_mm, *target_mm, p, n, t);
+  target_.upload(p, n, t, false);
+}
+
+void SceneRenderer::clear(int framebuffer_width, int framebuffer_height) const {
+  glViewport(0, 0, framebuffer_width, framebuffer_height);
+  glScissor(0, 0, framebuffer_width, framebuffer_height);
+  glDepthMask(GL_TRUE);
+  glClearColor(SceneColors::kBackground.r, SceneColors::kBackground.g, SceneColors::kBackground.b,
+               1.0F);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings) {
+  tool_count_ = std::min(snapshot.tool_count, SceneSnapshot::kMaxTools);
+  for (int i = 0; i < tool_count_; ++i) {
+    const ToolView& tv = snapshot.tools[static_cast<std::size_t>(i)];
+    ToolDraw& td = tools_[static_cast<std::size_t>(i)];
+    td.color = tv.active ? SceneColors::kActiveTool : SceneColors::kOtherTool;
+    tube_.build(tv.nodes_mm, tv.frames, std::max(tv.radius_mm, settings.min_tool_radius_mm));
+    td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
+    tube_.build(tv.nodes_mm, tv.frames, tv.radius_mm);
+    td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
+  }
+}
+
+void SceneRenderer::draw_tools(bool local) const {
+  for (int i = 0; i < tool_count_; ++i) {
+    const ToolDraw& td = tools_[static_cast<std::size_t>(i)];
+    shader_.set("u_color", glm::vec4(td.color, 1.0F));
+    (local ? td.local : td.global).draw();
+  }
+}
+
+void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_height,
+                                  const glm::mat4& view, const glm::mat4& projection,
+                                  const RenderSettings& settings) {
+  set_viewport(viewport, framebuffer_height);
+  shader_.use();
+  shader_.set("u_view", view);
+  shader_.set("u_proj", projection);
+  shader_.set("u_fog", glm::vec4(0.0F));
+
+  // Opaque first: tools and target write depth.
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  draw_tools(false);
+  if (has_target_) {
+    shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
+    target_.draw();
+  }
+
+  // The vessel over them, without writing depth so the tools show through.
+  glEnable(GL_BLEND);
+  glDepthMask(GL_FALSE);
+  if (settings.wireframe) {
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    shader_.set("u_color", glm::vec4(SceneColors::kVessel, std::min(1.0F, 2.0F * settings.vessel_alpha)));
+    vessel_.draw();
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  } else {
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_FRONT);  // far wall
+    shader_.set("u_color", glm::vec4(0.8F * SceneColors::kVessel, settings.vessel_alpha));
+    vessel_.draw();
+    glCullFace(GL_BACK);  // near wall
+    shader_.set("u_color", glm::vec4(SceneColors::kVessel, settings.vessel_alpha));
+    vessel_.draw();
+    glDisable(GL_CULL_FACE);
+  }
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+}
+
+void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_height,
+                                 const SceneSnapshot& snapshot) {
+  set_viewport(viewport, framebuffer_height);
+  constexpr glm::vec3 kFog{0.10F, 0.02F, 0.02F};
+  glClearColor(kFog.r, kFog.g, kFog.b, 1.0F);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  shader_.use();
+  shader_.set("u_view", EndoCamera::view(snapshot.tip_mm, snapshot.tip_direction, snapshot.tip_up));
+  shader_.set("u_proj", EndoCamera::projection(viewport.aspect()));
+  shader_.set("u_fog", glm::vec4(kFog, 60.0F));
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  shader_.set("u_color", glm::vec4(0.95F, 0.55F, 0.50F, 1.0F));
+  vessel_.draw();
+  draw_tools(true);
+  if (has_target_) {
+    shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
+    target_.draw();
+  }
+}
+
+}  // namespace cathbox::app
