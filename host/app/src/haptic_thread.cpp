@@ -2,8 +2,6 @@
 
 #include <utility>
 
-#include "app/haptic_pacer.hpp"
-#include "app/rate_meter.hpp"
 
 namespace cathbox::app {
 
@@ -24,8 +22,9 @@ void HapticThread::stop() {
 }
 
 void HapticThread::run(std::stop_token stop, std::int64_t max_ticks) {
-  HapticPacer pacer(period_us_, clock_.now_us());
-  RateMeter meter;
+  if (!pacer_) pacer_.emplace(period_us_, clock_.now_us());
+  HapticPacer& pacer = *pacer_;
+  RateMeter& meter = meter_;
   std::int64_t n = ticks_.load(std::memory_order_relaxed);
   bool go_on = true;
   while (go_on && !stop.stop_requested() && (max_ticks < 0 || n < max_ticks)) {

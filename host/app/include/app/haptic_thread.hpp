@@ -5,10 +5,13 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <stop_token>
 #include <thread>
 
 #include "app/clock.hpp"
+#include "app/haptic_pacer.hpp"
+#include "app/rate_meter.hpp"
 
 namespace cathbox::app {
 
@@ -25,7 +28,8 @@ class HapticThread {
   // Requests the stop and joins.
   void stop();
   // Runs the loop on the calling thread until the tick function returns false, the stop token
-  // fires, or `max_ticks` ticks have run (negative: no limit).
+  // fires, or `max_ticks` ticks in total have run (negative: no limit). Successive calls carry
+  // on where the last one stopped (headless frames step the loop this way in virtual time).
   void run(std::stop_token stop, std::int64_t max_ticks = -1);
 
   [[nodiscard]] bool finished() const { return finished_.load(std::memory_order_acquire); }
@@ -38,6 +42,8 @@ class HapticThread {
   Clock& clock_;
   std::int64_t period_us_;
   TickFn tick_;
+  std::optional<HapticPacer> pacer_;
+  RateMeter meter_;
   std::jthread thread_;
   std::atomic<bool> finished_{false};
   std::atomic<std::int64_t> ticks_{0};
