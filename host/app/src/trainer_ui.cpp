@@ -64,6 +64,7 @@ void TrainerUi::drain(EventLog& log) {
 
 bool TrainerUi::wants_mouse() const { return ready_ && ImGui::GetIO().WantCaptureMouse; }
 bool TrainerUi::wants_keyboard() const { return ready_ && ImGui::GetIO().WantCaptureKeyboard; }
+float TrainerUi::mouse_wheel() const { return ready_ ? ImGui::GetIO().MouseWheel : 0.0F; }
 
 UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, const UiStatus& status,
                           const CaseCatalog& catalog, int current_case, RenderSettings& settings) {

@@ -51,6 +51,8 @@ class TrainerUi {
   void drain(EventLog& log);
   [[nodiscard]] bool wants_mouse() const;
   [[nodiscard]] bool wants_keyboard() const;
+  // Mouse wheel steps of this frame (the GLFW backend collects them).
+  [[nodiscard]] float mouse_wheel() const;
   // Where the HUD was drawn last frame, for tests that must not sample under it.
   [[nodiscard]] const Viewport& hud_rect() const { return hud_rect_; }
 
