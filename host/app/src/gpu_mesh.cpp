@@ -67,3 +67,18 @@ void GpuMesh::draw() const {
 }
 
 }  // namespace cathbox::app
+
+namespace cathbox::app {
+
+void GpuMesh::draw_ranges(std::span<const IndexRange> ranges) const {
+  if (index_count_ == 0 || ranges.empty()) return;
+  glBindVertexArray(vao_);
+  for (const IndexRange& r : ranges) {
+    if (r.first_index + r.index_count > index_count_) continue;
+    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(r.index_count), GL_UNSIGNED_INT,
+                   reinterpret_cast<const void*>(static_cast<std::uintptr_t>(r.first_index) * sizeof(std::uint32_t)));
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace cathbox::app

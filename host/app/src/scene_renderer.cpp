@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vec4.hpp>
 
 #include "app/gl.hpp"
@@ -33,16 +35,22 @@ in vec3 v_normal;
 in vec3 v_pos;
 uniform vec4 u_color;
 uniform vec4 u_fog;  // rgb, and the distance in mm at which the fog is complete (0: none)
+uniform float u_back_shade;
 out vec4 frag;
 void main() {
   vec3 n = normalize(v_normal);
   vec3 l = normalize(-v_pos);
   float d = abs(dot(n, l));
-  vec3 c = u_color.rgb * (0.35 + 0.65 * d) + vec3(0.25) * pow(d, 24.0);
+  // The far wall (seen from inside: back faces) a little darker than the near wall.
+  vec3 base = gl_FrontFacing ? u_color.rgb : u_color.rgb * u_back_shade;
+  vec3 c = base * (0.35 + 0.65 * d) + vec3(0.25) * pow(d, 24.0);
   if (u_fog.a > 0.0) c = mix(c, u_fog.rgb, clamp(length(v_pos) / u_fog.a, 0.0, 1.0));
   frag = vec4(c, u_color.a);
 }
 )";
+
+constexpr float kChunkCellMm = 12.0F;
+constexpr float kLocalFogMm = 40.0F;  // the local view fades to the fog colour at this distance
 
 void set_viewport(const Viewport& vp, int framebuffer_height) {
   glViewport(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
@@ -81,10 +89,26 @@ bool SceneRenderer::init(std::string& error) {
   return true;
 }
 
-void SceneRenderer::set_vessel(std::span<const glm::vec3> positions_mm,
-                               std::span<const glm::vec3> normals,
-                               std::span<const std::uint32_t> triangles) {
-  vessel_.upload(positions_mm, normals, triangles, false);
+void SceneRenderer::ChunkedGpuMesh::upload(const MeshView& m) {
+  ChunkedMesh chunked = ChunkedMesh::build(m.positions_mm, m.triangles, kChunkCellMm);
+  gpu.upload(m.positions_mm, m.normals, chunked.triangles, false);
+  chunks = std::move(chunked.chunks);
+}
+
+std::size_t SceneRenderer::ChunkedGpuMesh::draw_visible(const glm::mat4& view_projection,
+                                                        const glm::vec3& eye_mm, float max_distance_mm,
+                                                        std::vector<IndexRange>& scratch) const {
+  visible_ranges(chunks, view_projection, eye_mm, max_distance_mm, scratch);
+  gpu.draw_ranges(scratch);
+  std::size_t n = 0;
+  for (const IndexRange& r : scratch) n += r.index_count / 3;
+  return n;
+}
+
+void SceneRenderer::set_vessel(const MeshView& detail, const MeshView& overview) {
+  detail_.upload(detail);
+  has_overview_ = !overview.triangles.empty();
+  if (has_overview_) overview_.upload(overview);
 }
 
 void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {
@@ -135,6 +159,7 @@ void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_heig
   shader_.set("u_view", view);
   shader_.set("u_proj", projection);
   shader_.set("u_fog", glm::vec4(0.0F));
+  shader_.set("u_back_shade", 1.0F);
 
   // Opaque first: tools and target write depth.
   glDisable(GL_BLEND);
@@ -152,17 +177,15 @@ void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_heig
   if (settings.wireframe) {
     glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     shader_.set("u_color", glm::vec4(SceneColors::kVessel, std::min(1.0F, 2.0F * settings.vessel_alpha)));
-    vessel_.draw();
+    last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   } else {
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_FRONT);  // far wall
-    shader_.set("u_color", glm::vec4(0.8F * SceneColors::kVessel, settings.vessel_alpha));
-    vessel_.draw();
-    glCullFace(GL_BACK);  // near wall
+    // One pass over both walls: with one colour and one alpha the blend barely depends on the
+    // order, so no sorting and no second pass over the mesh (vertex work is what costs most
+    // on a software rasteriser).
+    shader_.set("u_back_shade", 0.8F);
     shader_.set("u_color", glm::vec4(SceneColors::kVessel, settings.vessel_alpha));
-    vessel_.draw();
-    glDisable(GL_CULL_FACE);
+    last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
   }
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
@@ -175,14 +198,18 @@ void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_heigh
   glClearColor(kFog.r, kFog.g, kFog.b, 1.0F);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   shader_.use();
-  shader_.set("u_view", EndoCamera::view(snapshot.tip_mm, snapshot.tip_direction, snapshot.tip_up));
-  shader_.set("u_proj", EndoCamera::projection(viewport.aspect()));
-  shader_.set("u_fog", glm::vec4(kFog, 60.0F));
+  const glm::mat4 view = EndoCamera::view(snapshot.tip_mm, snapshot.tip_direction, snapshot.tip_up);
+  const glm::mat4 projection = EndoCamera::projection(viewport.aspect());
+  shader_.set("u_view", view);
+  shader_.set("u_proj", projection);
+  shader_.set("u_fog", glm::vec4(kFog, kLocalFogMm));
+  shader_.set("u_back_shade", 1.0F);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   glDisable(GL_CULL_FACE);
   shader_.set("u_color", glm::vec4(0.95F, 0.55F, 0.50F, 1.0F));
-  vessel_.draw();
+  const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]);
+  last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFogMm, ranges_);
   draw_tools(true);
   if (has_target_) {
     shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));

@@ -69,7 +69,7 @@ class RenderTest : public ::testing::Test {
   }
   void use_tube(int rings, int sides) {
     const testing::FixtureMesh tube = testing::straight_tube(-50.0F, 50.0F, 6.0F, rings, sides);
-    renderer_.set_vessel(tube.positions_mm, tube.normals, tube.triangles);
+    renderer_.set_vessel({tube.positions_mm, tube.normals, tube.triangles});
   }
 
   static GlWindow* window_;

@@ -7,6 +7,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "app/mesh_chunks.hpp"
+
 namespace cathbox::app {
 
 class GpuMesh {
@@ -19,6 +21,8 @@ class GpuMesh {
   void upload(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
               std::span<const std::uint32_t> triangles, bool dynamic);
   void draw() const;
+  // Draws index ranges (in indices, not bytes) of the uploaded triangles.
+  void draw_ranges(std::span<const IndexRange> ranges) const;
   [[nodiscard]] std::size_t index_count() const { return index_count_; }
 
  private:

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "app/gpu_mesh.hpp"
+#include "app/mesh_chunks.hpp"
 #include "app/scene_snapshot.hpp"
 #include "app/shader_program.hpp"
 #include "app/tube_mesh.hpp"
@@ -37,8 +38,15 @@ struct SceneColors {
 class SceneRenderer {
  public:
   [[nodiscard]] bool init(std::string& error);
-  void set_vessel(std::span<const glm::vec3> positions_mm, std::span<const glm::vec3> normals,
-                  std::span<const std::uint32_t> triangles);
+  // The vessel surface. `detail` is drawn in the local view (close to the tip, culled by
+  // chunks); `overview`, if not empty, in the global view (a coarser level of the same surface,
+  // since the global view cannot show sub-pixel triangles and each costs as much to submit).
+  struct MeshView {
+    std::span<const glm::vec3> positions_mm;
+    std::span<const glm::vec3> normals;
+    std::span<const std::uint32_t> triangles;
+  };
+  void set_vessel(const MeshView& detail, const MeshView& overview = {});
   void set_target(std::optional<glm::vec3> target_mm, float radius_mm);
 
   // Clears the whole framebuffer to the background colour.
@@ -49,13 +57,30 @@ class SceneRenderer {
                      const glm::mat4& projection, const RenderSettings& settings);
   void render_local(const Viewport& viewport, int framebuffer_height, const SceneSnapshot& snapshot);
 
-  [[nodiscard]] std::size_t vessel_triangles() const { return vessel_.index_count() / 3; }
+  [[nodiscard]] std::size_t detail_triangles() const { return detail_.gpu.index_count() / 3; }
+  [[nodiscard]] std::size_t overview_triangles() const { return overview().gpu.index_count() / 3; }
+  // Triangles submitted by the last render_global / render_local call (after culling).
+  [[nodiscard]] std::size_t last_global_triangles() const { return last_global_triangles_; }
+  [[nodiscard]] std::size_t last_local_triangles() const { return last_local_triangles_; }
 
  private:
+  struct ChunkedGpuMesh {
+    GpuMesh gpu;
+    std::vector<MeshChunk> chunks;
+    void upload(const MeshView& m);
+    std::size_t draw_visible(const glm::mat4& view_projection, const glm::vec3& eye_mm,
+                             float max_distance_mm, std::vector<IndexRange>& scratch) const;
+  };
   void draw_tools(bool local) const;
+  [[nodiscard]] const ChunkedGpuMesh& overview() const { return has_overview_ ? overview_ : detail_; }
 
   ShaderProgram shader_;
-  GpuMesh vessel_;
+  ChunkedGpuMesh detail_;
+  ChunkedGpuMesh overview_;
+  bool has_overview_ = false;
+  std::vector<IndexRange> ranges_;
+  std::size_t last_global_triangles_ = 0;
+  std::size_t last_local_triangles_ = 0;
   GpuMesh target_;
   bool has_target_ = false;
   struct ToolDraw {
