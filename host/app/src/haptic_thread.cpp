@@ -3,6 +3,7 @@
 #include <utility>
 
 
+
 namespace cathbox::app {
 
 HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick)
@@ -12,7 +13,10 @@ HapticThread::~HapticThread() { stop(); }
 
 void HapticThread::start() {
   if (thread_.joinable()) return;
-  thread_ = std::jthread([this](std::stop_token stop) { run(std::move(stop)); });
+  thread_ = std::jthread([this](std::stop_token stop) {
+    scheduling_.store(ThreadPriority::favour_calling_thread(), std::memory_order_relaxed);
+    run(std::move(stop));
+  });
 }
 
 void HapticThread::stop() {

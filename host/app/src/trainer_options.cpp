@@ -27,6 +27,8 @@ const char* trainer_usage() {
          "  --screenshot OUT.png write the last frame as PNG (and OUT.png.txt with the camera)\n"
          "  --size WxH           window size (default 1280x720)\n"
          "  --bench SECONDS      measure frame time and haptic rate for SECONDS, print them, exit\n"
+         "  --fps N              without vsync (Xvfb, --bench), pace frames at N per second\n"
+         "                       (default 60, as a display would; 0: as fast as possible)\n"
          "  --seconds S          headless run: stop after S simulated seconds\n"
          "  --wireframe          start with the vessel in wireframe\n"
          "  --help               this text\n";
@@ -82,6 +84,9 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
       if (!value(v) || !parse_number(v, o.bench_seconds) || !(o.bench_seconds > 0.0) ||
           o.bench_seconds > 3600.0)
         return fail("--bench needs seconds (0 < s <= 3600)");
+    } else if (a == "--fps") {
+      if (!value(v) || !parse_number(v, o.fps_cap) || o.fps_cap < 0 || o.fps_cap > 1000)
+        return fail("--fps needs frames per second from 0 to 1000");
     } else if (a == "--seconds") {
       if (!value(v) || !parse_number(v, o.max_seconds) || !(o.max_seconds > 0.0) ||
           o.max_seconds > 86400.0)

@@ -12,6 +12,7 @@
 #include "app/clock.hpp"
 #include "app/haptic_pacer.hpp"
 #include "app/rate_meter.hpp"
+#include "app/thread_priority.hpp"
 
 namespace cathbox::app {
 
@@ -37,6 +38,8 @@ class HapticThread {
   [[nodiscard]] std::int64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   // Ticks per second of clock time, over the last half second.
   [[nodiscard]] double rate_hz() const { return rate_hz_.load(std::memory_order_relaxed); }
+  // The scheduling the started thread obtained (kNormal before start()).
+  [[nodiscard]] HapticScheduling scheduling() const { return scheduling_.load(std::memory_order_relaxed); }
 
  private:
   Clock& clock_;
@@ -49,6 +52,7 @@ class HapticThread {
   std::atomic<std::int64_t> ticks_{0};
   std::atomic<std::int64_t> dropped_{0};
   std::atomic<double> rate_hz_{0.0};
+  std::atomic<HapticScheduling> scheduling_{HapticScheduling::kNormal};
 };
 
 }  // namespace cathbox::app
