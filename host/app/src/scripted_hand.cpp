@@ -54,6 +54,10 @@ double ScriptedHand::closest_arc(const glm::vec3& p) const {
 HandCommand ScriptedHand::step(double dt_s, const HandObservation& seen) {
   if (path_.size() < 2) return cmd_;
   progress_mm_ = closest_arc(seen.tip_mm);
+  if (!started_) {  // progress is counted from where the tip starts
+    started_ = true;
+    best_progress_mm_ = progress_mm_;
+  }
 
   if (backing_off()) {  // pulling back and turning
     const double pull = std::min(back_off_left_mm_, s_.push_mm_s * dt_s);
@@ -69,16 +73,25 @@ HandCommand ScriptedHand::step(double dt_s, const HandObservation& seen) {
     return cmd_;
   }
 
-  // Turn the bend towards the path ahead: the signed angle, about the tip direction, from the
-  // bend to the direction of the look-ahead point.
-  const glm::vec3 t = seen.tip_direction;
-  const glm::vec3 ahead = point_at(progress_mm_ + s_.lookahead_mm) - seen.tip_mm;
-  const glm::vec3 lateral = ahead - glm::dot(ahead, t) * t;
+  // Turn the bend towards where the path goes: the signed angle, about the local path
+  // direction, from the bend to the path's turn over the look-ahead. (The curved tip itself
+  // points sideways, so the path, not the tip, is the reference.) Steer only when the path
+  // ahead turns by more than ~8 degrees: on a straight stretch the bend may point anywhere.
+  const glm::vec3 here = point_at(progress_mm_);
+  const glm::vec3 axis_raw = point_at(progress_mm_ + 1.0) - point_at(progress_mm_ - 1.0);
+  const glm::vec3 ahead = point_at(progress_mm_ + s_.lookahead_mm) - here;
   double error_rad = 0.0;
-  if (glm::length(lateral) > 0.2F) {
-    const glm::vec3 d = glm::normalize(lateral);
-    error_rad = std::atan2(static_cast<double>(glm::dot(t, glm::cross(seen.tip_bend, d))),
-                           static_cast<double>(glm::dot(seen.tip_bend, d)));
+  if (glm::length(axis_raw) > 1e-4F) {
+    const glm::vec3 t = glm::normalize(axis_raw);
+    const glm::vec3 lateral = ahead - glm::dot(ahead, t) * t;
+    const glm::vec3 bend = seen.tip_bend - glm::dot(seen.tip_bend, t) * t;
+    if (glm::length(lateral) > 0.15F * glm::length(ahead) && glm::length(lateral) > 0.2F &&
+        glm::length(bend) > 1e-3F) {
+      const glm::vec3 d = glm::normalize(lateral);
+      const glm::vec3 b = glm::normalize(bend);
+      error_rad = std::atan2(static_cast<double>(glm::dot(t, glm::cross(b, d))),
+                             static_cast<double>(glm::dot(b, d)));
+    }
   }
   const double twist =
       std::clamp(s_.twist_gain_per_s * error_rad, -s_.max_twist_rad_s, s_.max_twist_rad_s);

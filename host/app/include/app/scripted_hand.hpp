@@ -1,8 +1,8 @@
 #pragma once
 // The scripted hand for headless runs: a simple autopilot that does what a trainee does. It
 // pushes the tool along a path of waypoints (the vessel centerline from the entry to the
-// target), twists the tool so that its curved tip points towards the path a few millimetres
-// ahead, slows down while the tip is turned the wrong way, and when the tool is stuck (the
+// target), twists the tool so that its curved tip bends the way the path turns a few
+// millimetres ahead, slows down while the tip is turned the wrong way, and when the tool is stuck (the
 // hand force rises or the tip makes no progress) pulls back a little, turns a quarter turn and
 // tries again. Deterministic: its output depends only on its inputs.
 #include <cstdint>
@@ -68,6 +68,7 @@ class ScriptedHand {
   double back_off_left_mm_ = 0.0;
   double turn_left_rad_ = 0.0;
   int retries_ = 0;
+  bool started_ = false;
 };
 
 }  // namespace cathbox::app
