@@ -1,0 +1,23 @@
+# cmake -DSIZE=arm-none-eabi-size -DELF=x.elf -DFLASH_KIB=64 -DRAM_KIB=16 -P CheckBudget.cmake
+# Flash = text + data (initial values live in flash); RAM = data + bss (stack included, the
+# linker script reserves it in .bss-like sections).
+execute_process(COMMAND ${SIZE} -B ${ELF} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "budget: ${SIZE} failed on ${ELF}")
+endif()
+string(REGEX MATCH "\n[ \t]*([0-9]+)[ \t]+([0-9]+)[ \t]+([0-9]+)" _ "${out}")
+set(text ${CMAKE_MATCH_1})
+set(data ${CMAKE_MATCH_2})
+set(bss ${CMAKE_MATCH_3})
+math(EXPR flash "${text} + ${data}")
+math(EXPR ram "${data} + ${bss}")
+math(EXPR flash_max "${FLASH_KIB} * 1024")
+math(EXPR ram_max "${RAM_KIB} * 1024")
+get_filename_component(name ${ELF} NAME)
+message("${name}: flash ${flash} / ${flash_max} bytes, RAM ${ram} / ${ram_max} bytes")
+if(flash GREATER flash_max)
+  message(FATAL_ERROR "${name}: flash use ${flash} bytes exceeds the budget of ${FLASH_KIB} KiB")
+endif()
+if(ram GREATER ram_max)
+  message(FATAL_ERROR "${name}: RAM use ${ram} bytes exceeds the budget of ${RAM_KIB} KiB")
+endif()

@@ -1,0 +1,704 @@
+#include "collision/obb_tree.hpp"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "kernels.hpp"
+#include "tree_data.hpp"
+#include "triangle_geometry.hpp"
+
+namespace cathbox::collision {
+
+using detail::PointLanes;
+using detail::TreeData;
+using detail::v4f;
+
+namespace {
+
+constexpr int kStackSize = 256;       // > 3 * max wide depth + 4
+constexpr int kMaxCandidates = 128;   // triangles touching one sphere or capsule
+constexpr float kInfF = std::numeric_limits<float>::infinity();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
+
+// Bound on the float error of a lower bound near p (distance units).
+float slack_for(const TreeData& d, const glm::dvec3& p) {
+  return static_cast<float>(64.0 * FLT_EPSILON *
+                            (d.scale_mm + std::abs(p.x) + std::abs(p.y) + std::abs(p.z)));
+}
+
+// Float threshold on squared lower bounds that keeps everything within `dist` of the query.
+float threshold_sq(double dist, float slack) {
+  if (!(dist < 1e18)) return kInfF;
+  const double t = dist + static_cast<double>(slack);
+  return static_cast<float>(t * t * (1.0 + 1e-6));
+}
+
+PointLanes lanes_of(const glm::dvec3& p) {
+  return detail::splat_point(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
+}
+
+// Lane order by ascending value.
+void sort4(v4f values, float (&v)[4], int (&order)[4]) {
+  std::memcpy(v, &values, sizeof v);
+  for (int i = 0; i < 4; ++i) order[i] = i;
+  for (int i = 1; i < 4; ++i) {
+    const int o = order[i];
+    int j = i;
+    for (; j > 0 && v[order[j - 1]] > v[o]; --j) order[j] = order[j - 1];
+    order[j] = o;
+  }
+}
+
+glm::dvec3 corner(const TreeData& d, std::int32_t face, int k) {
+  return d.positions[d.triangles[3 * static_cast<std::size_t>(face) + static_cast<std::size_t>(k)]];
+}
+
+double exact_distance_sq(const TreeData& d, const glm::dvec3& p, std::int32_t face) {
+  return detail::point_triangle_distance_sq(p, corner(d, face, 0), corner(d, face, 1), corner(d, face, 2));
+}
+
+glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleFeature feature) {
+  const auto f = static_cast<std::size_t>(face);
+  switch (feature.kind) {
+    case FeatureKind::kFace:
+      return d.face_normals[f];
+    case FeatureKind::kEdge: {
+      const std::int32_t opp = d.opposite[3 * f + feature.index];
+      glm::dvec3 n = d.face_normals[f];
+      if (opp >= 0) n += d.face_normals[static_cast<std::size_t>(opp)];
+      const double len = glm::length(n);
+      return len > 0.0 ? n / len : d.face_normals[f];
+    }
+    case FeatureKind::kVertex:
+      return d.vertex_normals[d.triangles[3 * f + feature.index]];
+  }
+  return d.face_normals[f];
+}
+
+// ---- nearest triangle ------------------------------------------------------------------------
+
+struct Nearest {
+  Nearest(const TreeData& data, const glm::dvec3& point, double max_distance)
+      : d(data), p(point), lanes(lanes_of(point)), slack(slack_for(data, point)),
+        best_sq(max_distance < 1e18 ? max_distance * max_distance : kInf) {
+    thresh = threshold_sq(max_distance, slack);
+  }
+  void consider(std::int32_t f) {
+    const double dsq = exact_distance_sq(d, p, f);
+    if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
+      best_sq = dsq;
+      face = f;
+      thresh = threshold_sq(std::sqrt(best_sq), slack);
+    }
+  }
+  void visit_block(std::int32_t block) {
+    const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+    float v[4];
+    int order[4];
+    sort4(detail::triangle_distance_sq(b, lanes), v, order);
+    for (int i : order) {
+      if (v[i] > thresh) break;
+      if (b.face[i] >= 0) consider(b.face[i]);
+    }
+  }
+  [[nodiscard]] double bound(double max_distance) const { return face >= 0 ? std::sqrt(best_sq) : max_distance; }
+
+  const TreeData& d;
+  glm::dvec3 p;
+  PointLanes lanes;
+  float slack;
+  double best_sq;
+  float thresh;
+  std::int32_t face = -1;
+};
+
+void search_tree(Nearest& s) {
+  const TreeData& d = s.d;
+  std::int32_t stack[kStackSize];
+  float stack_lb[kStackSize];
+  int sp = 0;
+  stack[sp] = 0;
+  stack_lb[sp++] = 0.0f;
+  while (sp > 0) {
+    --sp;
+    if (stack_lb[sp] > s.thresh) continue;
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(stack[sp])];
+    float v[4];
+    int order[4];
+    sort4(detail::box_distance_sq(n.boxes.row, s.lanes), v, order);
+    std::int32_t push[4];
+    float push_lb[4];
+    int np = 0;
+    for (int i : order) {
+      if (v[i] > s.thresh) break;
+      const std::int32_t slot = n.child[i];
+      if (slot == detail::kEmptySlot) continue;
+      if (detail::is_leaf(slot)) {
+        s.visit_block(detail::leaf_block(slot));
+      } else {
+        push[np] = slot;
+        push_lb[np++] = v[i];
+      }
+    }
+    for (int k = np - 1; k >= 0; --k) {
+      stack[sp] = push[k];
+      stack_lb[sp++] = push_lb[k];
+    }
+  }
+}
+
+// Calls fn(block) for every leaf whose box lies within sqrt(thresh) of p.
+template <typename Fn>
+void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn&& fn) {
+  std::int32_t stack[kStackSize];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(stack[--sp])];
+    float v[4];
+    const v4f lb = detail::box_distance_sq(n.boxes.row, p);
+    std::memcpy(v, &lb, sizeof v);
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t slot = n.child[i];
+      if (v[i] > thresh || slot == detail::kEmptySlot) continue;
+      if (detail::is_leaf(slot)) {
+        fn(detail::leaf_block(slot));
+      } else {
+        stack[sp++] = slot;
+      }
+    }
+  }
+}
+
+// ---- the per-node leaf cache (QueryHint) -----------------------------------------------------
+
+}  // namespace
+
+class HintCache {
+ public:
+  static bool usable(const QueryHint& h, const TreeData& d) { return h.valid() && h.tree_id_ == d.id; }
+  static double moved(const QueryHint& h, const glm::dvec3& p) {
+    return glm::length(p - glm::dvec3{h.origin_mm_[0], h.origin_mm_[1], h.origin_mm_[2]});
+  }
+  static void count_hit(QueryHint& h) { ++h.hits_; }
+
+  // Fills the hint with the leaves nearest to p (at most kCapacity) and records the radius
+  // within which it holds every leaf.
+  static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
+    ++h.refills_;
+    const PointLanes lanes = lanes_of(p);
+    const float slack = slack_for(d, p);
+    const float limit = threshold_sq(radius_target, slack);
+    struct Item {
+      float lb;
+      std::int32_t block;
+      std::int32_t node;
+      int lane;
+    };
+    Item items[QueryHint::kCapacity];
+    int count = 0;
+    int worst = -1;  // index of the largest lb when full
+    float rejected = kInfF;
+    std::int32_t stack[kStackSize];
+    float stack_lb[kStackSize];
+    int sp = 0;
+    stack[sp] = 0;
+    stack_lb[sp++] = 0.0f;
+    auto cap = [&]() { return count == QueryHint::kCapacity ? items[worst].lb : limit; };
+    while (sp > 0) {
+      --sp;
+      if (stack_lb[sp] >= cap()) {
+        if (stack_lb[sp] < limit) rejected = std::min(rejected, stack_lb[sp]);
+        continue;
+      }
+      const std::int32_t node = stack[sp];
+      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(node)];
+      float v[4];
+      int order[4];
+      sort4(detail::box_distance_sq(n.boxes.row, lanes), v, order);
+      std::int32_t push[4];
+      float push_lb[4];
+      int np = 0;
+      for (int i : order) {
+        const std::int32_t slot = n.child[i];
+        if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
+        if (!detail::is_leaf(slot)) {
+          push[np] = slot;
+          push_lb[np++] = v[i];
+          continue;
+        }
+        if (count < QueryHint::kCapacity) {
+          items[count++] = {v[i], detail::leaf_block(slot), node, i};
+        } else if (v[i] < items[worst].lb) {
+          rejected = std::min(rejected, items[worst].lb);
+          items[worst] = {v[i], detail::leaf_block(slot), node, i};
+        } else {
+          rejected = std::min(rejected, v[i]);
+          continue;
+        }
+        if (count == QueryHint::kCapacity) {
+          worst = 0;
+          for (int k = 1; k < count; ++k)
+            if (items[k].lb > items[worst].lb) worst = k;
+        }
+      }
+      for (int k = np - 1; k >= 0; --k) {
+        stack[sp] = push[k];
+        stack_lb[sp++] = push_lb[k];
+      }
+    }
+    const float covered = std::min(limit, rejected);
+    h.radius_mm_ = covered == kInfF ? kInf
+                                    : std::max(0.0, std::sqrt(static_cast<double>(covered)) - slack);
+    h.origin_mm_[0] = p.x;
+    h.origin_mm_[1] = p.y;
+    h.origin_mm_[2] = p.z;
+    h.tree_id_ = d.id;
+    h.count_ = count;
+    for (int j = 0; j < QueryHint::kCapacity; ++j) {
+      const int g = j / 4;
+      const int lane = j % 4;
+      const detail::BoxLanes* src = nullptr;
+      int src_lane = 0;
+      if (j < count) {
+        src = &d.nodes[static_cast<std::size_t>(items[j].node)].boxes;
+        src_lane = items[j].lane;
+        h.leaves_[j] = items[j].block;
+      } else {
+        h.leaves_[j] = -1;
+      }
+      for (int r = 0; r < detail::kBoxRows; ++r) {
+        float value = r < 3 ? 1e30f : ((r == 3 || r == 7 || r == 11) ? 1.0f : 0.0f);
+        if (src) value = src->row[r][src_lane];
+        h.boxes_[g][r][lane] = value;
+      }
+    }
+  }
+
+  // Squared box distances of the cached leaves.
+  static void leaf_bounds(const QueryHint& h, const PointLanes& p, float (&v)[QueryHint::kCapacity]) {
+    for (int g = 0; g < QueryHint::kGroups; ++g) {
+      const v4f lb = detail::box_distance_sq(h.boxes_[g], p);
+      std::memcpy(v + 4 * g, &lb, sizeof(float) * 4);
+    }
+    for (int j = h.count_; j < QueryHint::kCapacity; ++j) v[j] = kInfF;
+  }
+
+  static void search(const QueryHint& h, Nearest& s) {
+    float v[QueryHint::kCapacity];
+    leaf_bounds(h, s.lanes, v);
+    for (;;) {
+      int best = -1;
+      for (int j = 0; j < h.count_; ++j)
+        if (v[j] <= s.thresh && (best < 0 || v[j] < v[best])) best = j;
+      if (best < 0) return;
+      v[best] = kInfF;
+      s.visit_block(h.leaves_[best]);
+    }
+  }
+
+  template <typename Fn>
+  static void for_each_leaf_near(const QueryHint& h, const PointLanes& p, float thresh, Fn&& fn) {
+    float v[QueryHint::kCapacity];
+    leaf_bounds(h, p, v);
+    for (int j = 0; j < h.count_; ++j)
+      if (v[j] <= thresh) fn(h.leaves_[j]);
+  }
+};
+
+namespace {
+
+// ---- contacts ------------------------------------------------------------------------------
+
+struct Candidate {
+  double distance_sq = 0.0;
+  glm::dvec3 wall{0.0};
+  glm::dvec3 tool{0.0};  // the point of the sphere centre or capsule axis
+  double segment_t = 0.0;
+  std::int32_t face = -1;
+  detail::TriangleFeature feature{};
+  std::uint64_t key = 0;
+};
+
+std::uint64_t feature_key(const TreeData& d, std::int32_t face, detail::TriangleFeature f) {
+  const auto t = static_cast<std::size_t>(face);
+  switch (f.kind) {
+    case FeatureKind::kFace:
+      return static_cast<std::uint64_t>(t);
+    case FeatureKind::kEdge: {
+      const std::uint64_t u = d.triangles[3 * t + f.index];
+      const std::uint64_t w = d.triangles[3 * t + (f.index + 1u) % 3u];
+      return (1ull << 62) | (std::min(u, w) << 31) | std::max(u, w);
+    }
+    case FeatureKind::kVertex:
+      return (2ull << 62) | d.triangles[3 * t + f.index];
+  }
+  return 0;
+}
+
+// Triangles that report the same edge or vertex: it is a local minimum of the distance only
+// if every triangle around it does.
+std::uint32_t expected_reports(const TreeData& d, std::int32_t face, detail::TriangleFeature f) {
+  const auto t = static_cast<std::size_t>(face);
+  switch (f.kind) {
+    case FeatureKind::kFace:
+      return 1;
+    case FeatureKind::kEdge:
+      return d.opposite[3 * t + f.index] >= 0 ? 2u : 1u;
+    case FeatureKind::kVertex:
+      return d.valence[d.triangles[3 * t + f.index]];
+  }
+  return 1;
+}
+
+class ContactCollector {
+ public:
+  ContactCollector(const TreeData& data, double radius) : d_(data), radius_sq_(radius * radius), radius_(radius) {}
+
+  void add(const Candidate& c) {
+    if (!(c.distance_sq < radius_sq_)) return;
+    if (!has_deepest_ || c.distance_sq < deepest_.distance_sq) {
+      deepest_ = c;
+      has_deepest_ = true;
+    }
+    if (n_ < kMaxCandidates) {
+      items_[n_++] = c;
+    } else {
+      overflow_ = true;
+    }
+  }
+
+  std::size_t finish(std::span<Contact> out) {
+    if (!has_deepest_ || out.empty()) return 0;
+    Contact contacts[kMaxCandidates + 1];
+    std::size_t nc = 0;
+    if (!overflow_) {
+      for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i].face, items_[i].feature);
+      std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) { return a.key < b.key; });
+      bool deepest_kept = false;
+      const std::uint64_t deepest_key = feature_key(d_, deepest_.face, deepest_.feature);
+      for (int i = 0; i < n_;) {
+        int j = i + 1;
+        while (j < n_ && items_[j].key == items_[i].key) ++j;
+        if (static_cast<std::uint32_t>(j - i) == expected_reports(d_, items_[i].face, items_[i].feature)) {
+          contacts[nc++] = make_contact(items_[i]);
+          if (items_[i].key == deepest_key) deepest_kept = true;
+        }
+        i = j;
+      }
+      if (!deepest_kept) contacts[nc++] = make_contact(deepest_);
+    } else {
+      contacts[nc++] = make_contact(deepest_);
+    }
+    std::sort(contacts, contacts + nc, [](const Contact& a, const Contact& b) { return a.depth_mm > b.depth_mm; });
+    const std::size_t n = std::min(nc, out.size());
+    std::copy(contacts, contacts + n, out.begin());
+    return n;
+  }
+
+ private:
+  Contact make_contact(const Candidate& c) const {
+    Contact out;
+    out.wall_point_mm = c.wall;
+    out.face = c.face;
+    out.region = d_.regions[static_cast<std::size_t>(c.face)];
+    out.segment_t = c.segment_t;
+    const glm::dvec3 n = pseudo_normal(d_, c.face, c.feature);
+    const glm::dvec3 v = c.tool - c.wall;
+    const double dist = std::sqrt(c.distance_sq);
+    if (dist > 1e-12 * (d_.scale_mm + 1.0)) {
+      const glm::dvec3 dir = v / dist;
+      if (glm::dot(v, n) <= 0.0) {
+        out.normal = dir;
+        out.depth_mm = radius_ - dist;
+      } else {
+        out.normal = -dir;
+        out.depth_mm = radius_ + dist;
+      }
+    } else {
+      out.normal = -n;
+      out.depth_mm = radius_;
+    }
+    return out;
+  }
+
+  const TreeData& d_;
+  double radius_sq_;
+  double radius_;
+  Candidate items_[kMaxCandidates];
+  int n_ = 0;
+  bool overflow_ = false;
+  Candidate deepest_{};
+  bool has_deepest_ = false;
+};
+
+struct SphereProbe {
+  const TreeData& d;
+  glm::dvec3 centre;
+  PointLanes lanes;
+  float thresh;
+  ContactCollector& out;
+  void operator()(std::int32_t block) const {
+    const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+    float v[4];
+    const v4f lb = detail::triangle_distance_sq(b, lanes);
+    std::memcpy(v, &lb, sizeof v);
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t f = b.face[i];
+      if (f < 0 || v[i] > thresh) continue;
+      const detail::PointOnTriangle q =
+          detail::closest_on_triangle(centre, corner(d, f, 0), corner(d, f, 1), corner(d, f, 2));
+      const glm::dvec3 diff = centre - q.point;
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0});
+    }
+  }
+};
+
+struct CapsuleProbe {
+  const TreeData& d;
+  glm::dvec3 a;
+  glm::dvec3 b;
+  ContactCollector& out;
+  void operator()(std::int32_t block) const {
+    const detail::TriangleBlock& blk = d.blocks[static_cast<std::size_t>(block)];
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t f = blk.face[i];
+      if (f < 0) continue;
+      const detail::SegmentOnTriangle q =
+          detail::closest_segment_triangle(a, b, corner(d, f, 0), corner(d, f, 1), corner(d, f, 2));
+      out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
+               q.on_triangle.feature, 0});
+    }
+  }
+};
+
+bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
+
+}  // namespace
+
+// ---- public queries --------------------------------------------------------------------------
+
+const TreeStats& ObbTree::stats() const { return data_->stats; }
+
+namespace {
+
+std::optional<ClosestPoint> finish_closest(const Nearest& s) {
+  if (s.face < 0) return std::nullopt;
+  const TreeData& d = s.d;
+  const detail::PointOnTriangle q =
+      detail::closest_on_triangle(s.p, corner(d, s.face, 0), corner(d, s.face, 1), corner(d, s.face, 2));
+  ClosestPoint out;
+  out.point_mm = q.point;
+  out.distance_mm = std::sqrt(s.best_sq);
+  out.normal = pseudo_normal(d, s.face, q.feature);
+  out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
+  out.face = s.face;
+  out.region = d.regions[static_cast<std::size_t>(s.face)];
+  out.feature = q.feature.kind;
+  out.feature_index = q.feature.index;
+  return out;
+}
+
+bool valid_max_distance(double m) { return !std::isnan(m) && m >= 0.0; }
+
+}  // namespace
+
+std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, double max_distance_mm) const {
+  if (!finite(point_mm) || !valid_max_distance(max_distance_mm)) return std::nullopt;
+  Nearest s(*data_, point_mm, max_distance_mm);
+  search_tree(s);
+  return finish_closest(s);
+}
+
+std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, double max_distance_mm,
+                                                   QueryHint& hint) const {
+  if (!finite(point_mm) || !valid_max_distance(max_distance_mm)) return std::nullopt;
+  const TreeData& d = *data_;
+  Nearest s(d, point_mm, max_distance_mm);
+  const double margin2 = 2.0 * d.coherence_margin_mm;
+  double target = max_distance_mm + margin2;
+  if (HintCache::usable(hint, d)) {
+    const double delta = HintCache::moved(hint, point_mm);
+    HintCache::search(hint, s);
+    const double bound = s.bound(max_distance_mm);
+    if (bound + delta <= hint.radius_mm()) {
+      HintCache::count_hit(hint);
+      return finish_closest(s);
+    }
+    target = bound + margin2;
+  }
+  HintCache::refill(d, point_mm, target, hint);
+  HintCache::search(hint, s);
+  if (s.bound(max_distance_mm) > hint.radius_mm()) search_tree(s);
+  return finish_closest(s);
+}
+
+std::optional<double> ObbTree::signed_distance(const glm::dvec3& point_mm) const {
+  const auto c = closest_point(point_mm);
+  if (!c) return std::nullopt;
+  return c->signed_distance_mm;
+}
+
+std::optional<bool> ObbTree::contains(const glm::dvec3& point_mm) const {
+  const auto s = signed_distance(point_mm);
+  if (!s) return std::nullopt;
+  return *s < 0.0;
+}
+
+std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out) const {
+  if (!finite(centre_mm) || !valid_radius(radius_mm)) return 0;
+  const TreeData& d = *data_;
+  ContactCollector collector(d, radius_mm);
+  const PointLanes lanes = lanes_of(centre_mm);
+  const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
+  for_each_leaf_near(d, lanes, thresh, SphereProbe{d, centre_mm, lanes, thresh, collector});
+  return collector.finish(out);
+}
+
+std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
+                                     QueryHint& hint) const {
+  if (!finite(centre_mm) || !valid_radius(radius_mm)) return 0;
+  const TreeData& d = *data_;
+  ContactCollector collector(d, radius_mm);
+  const PointLanes lanes = lanes_of(centre_mm);
+  const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
+  const SphereProbe probe{d, centre_mm, lanes, thresh, collector};
+  bool cached = HintCache::usable(hint, d) && radius_mm + HintCache::moved(hint, centre_mm) <= hint.radius_mm();
+  if (cached) {
+    HintCache::count_hit(hint);
+  } else {
+    HintCache::refill(d, centre_mm, radius_mm + 2.0 * d.coherence_margin_mm, hint);
+    cached = radius_mm <= hint.radius_mm();
+  }
+  if (cached) {
+    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
+  } else {
+    for_each_leaf_near(d, lanes, thresh, probe);
+  }
+  return collector.finish(out);
+}
+
+namespace {
+
+struct CapsuleFrame {
+  glm::dvec3 mid;
+  double reach;  // radius + half length
+};
+
+CapsuleFrame capsule_frame(const glm::dvec3& a, const glm::dvec3& b, double r) {
+  return {(a + b) * 0.5, r + 0.5 * glm::length(b - a)};
+}
+
+}  // namespace
+
+std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& b_mm, double radius_mm,
+                                      std::span<Contact> out) const {
+  if (!finite(a_mm) || !finite(b_mm) || !valid_radius(radius_mm)) return 0;
+  const TreeData& d = *data_;
+  ContactCollector collector(d, radius_mm);
+  const CapsuleFrame f = capsule_frame(a_mm, b_mm, radius_mm);
+  if (!std::isfinite(f.reach)) return 0;
+  for_each_leaf_near(d, lanes_of(f.mid), threshold_sq(f.reach, slack_for(d, f.mid)),
+                     CapsuleProbe{d, a_mm, b_mm, collector});
+  return collector.finish(out);
+}
+
+std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& b_mm, double radius_mm,
+                                      std::span<Contact> out, QueryHint& hint) const {
+  if (!finite(a_mm) || !finite(b_mm) || !valid_radius(radius_mm)) return 0;
+  const TreeData& d = *data_;
+  ContactCollector collector(d, radius_mm);
+  const CapsuleFrame f = capsule_frame(a_mm, b_mm, radius_mm);
+  if (!std::isfinite(f.reach)) return 0;
+  const PointLanes lanes = lanes_of(f.mid);
+  const float thresh = threshold_sq(f.reach, slack_for(d, f.mid));
+  const CapsuleProbe probe{d, a_mm, b_mm, collector};
+  bool cached = HintCache::usable(hint, d) && f.reach + HintCache::moved(hint, f.mid) <= hint.radius_mm();
+  if (cached) {
+    HintCache::count_hit(hint);
+  } else {
+    HintCache::refill(d, f.mid, f.reach + 2.0 * d.coherence_margin_mm, hint);
+    cached = f.reach <= hint.radius_mm();
+  }
+  if (cached) {
+    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
+  } else {
+    for_each_leaf_near(d, lanes, thresh, probe);
+  }
+  return collector.finish(out);
+}
+
+std::optional<RayHit> ObbTree::ray_cast(const glm::dvec3& origin_mm, const glm::dvec3& direction,
+                                        double max_t) const {
+  if (!finite(origin_mm) || !finite(direction) || std::isnan(max_t) || max_t < 0.0) return std::nullopt;
+  const double dir_len = glm::length(direction);
+  if (!(dir_len > 0.0)) return std::nullopt;
+  const TreeData& d = *data_;
+  const PointLanes o = lanes_of(origin_mm);
+  const PointLanes dl = lanes_of(direction);
+  const float grow = slack_for(d, origin_mm);
+  const double t_slack = static_cast<double>(grow) / dir_len;
+  double best_t = max_t;
+  std::int32_t best_face = -1;
+  auto limit = [&]() {
+    const double l = best_t * (1.0 + 1e-5) + t_slack;
+    return l < 1e30 ? static_cast<float>(l) : kInfF;
+  };
+  std::int32_t stack[kStackSize];
+  float stack_t[kStackSize];
+  int sp = 0;
+  stack[sp] = 0;
+  stack_t[sp++] = 0.0f;
+  while (sp > 0) {
+    --sp;
+    if (stack_t[sp] > limit()) continue;
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(stack[sp])];
+    float v[4];
+    int order[4];
+    sort4(detail::box_ray_entry(n.boxes.row, o, dl, limit(), grow), v, order);
+    std::int32_t push[4];
+    float push_t[4];
+    int np = 0;
+    for (int i : order) {
+      const std::int32_t slot = n.child[i];
+      if (slot == detail::kEmptySlot || !(v[i] <= limit())) continue;
+      if (!detail::is_leaf(slot)) {
+        push[np] = slot;
+        push_t[np++] = v[i];
+        continue;
+      }
+      const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))];
+      for (int k = 0; k < 4; ++k) {
+        const std::int32_t f = b.face[k];
+        if (f < 0) continue;
+        const auto t = detail::ray_triangle(origin_mm, direction, corner(d, f, 0), corner(d, f, 1),
+                                            corner(d, f, 2), best_t);
+        if (t && (*t < best_t || best_face < 0)) {
+          best_t = *t;
+          best_face = f;
+        }
+      }
+    }
+    for (int k = np - 1; k >= 0; --k) {
+      stack[sp] = push[k];
+      stack_t[sp++] = push_t[k];
+    }
+  }
+  if (best_face < 0) return std::nullopt;
+  RayHit hit;
+  hit.t = best_t;
+  hit.point_mm = origin_mm + best_t * direction;
+  hit.face = best_face;
+  hit.normal = d.face_normals[static_cast<std::size_t>(best_face)];
+  hit.front_face = glm::dot(direction, hit.normal) < 0.0;
+  hit.region = d.regions[static_cast<std::size_t>(best_face)];
+  return hit;
+}
+
+}  // namespace cathbox::collision
