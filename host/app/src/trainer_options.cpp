@@ -29,7 +29,7 @@ const char* trainer_usage() {
          "  --bench SECONDS      measure frame time and haptic rate for SECONDS, print them, exit\n"
          "  --fps N              without vsync (Xvfb, --bench), pace frames at N per second\n"
          "                       (default 60, as a display would; 0: as fast as possible)\n"
-         "  --seconds S          headless run: stop after S simulated seconds\n"
+         "  --seconds S          stop after S seconds (headless: simulated seconds)\n"
          "  --wireframe          start with the vessel in wireframe\n"
          "  --help               this text\n";
 }

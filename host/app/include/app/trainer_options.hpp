@@ -26,7 +26,7 @@ struct TrainerOptions {
   int height = 720;
   double bench_seconds = 0.0;     // > 0: benchmark run (real time), prints frame and haptic rates
   int fps_cap = 60;               // frame pacing without vsync (Xvfb, bench): 0 = as fast as possible
-  double max_seconds = 0.0;       // headless run: simulated time limit (0: the script's length)
+  double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
   bool wireframe = false;
   bool help = false;
 };
