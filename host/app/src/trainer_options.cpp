@@ -1,10 +1,28 @@
 #include "app/trainer_options.hpp"
 
 #include <charconv>
+#include <cstdio>
 #include <string_view>
 
 namespace cathbox::app {
 namespace {
+
+// The argument as it may appear in a one-line message: control bytes as \xNN, cut at 60.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text.substr(0, 60)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  if (text.size() > 60) out += "...";
+  return out;
+}
 
 template <class T>
 bool parse_number(std::string_view text, T& out) {
@@ -94,7 +112,7 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
     } else if (a == "--wireframe") {
       o.wireframe = true;
     } else {
-      return fail("unknown option '" + std::string(a) + "' (see --help)");
+      return fail("unknown option '" + printable(a) + "' (see --help)");
     }
   }
   if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");

@@ -50,6 +50,7 @@ TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
       {{"--screenshot", "a.png"}, "--screenshot"},
       {{"--frames", "3"}, "--headless"},
       {{"--colour"}, "--colour"},
+      {{"-\n"}, "-\\x0A"},
   };
   for (const auto& [args, name] : bad) {
     const OptionsResult r = parse(args);
