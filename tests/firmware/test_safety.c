@@ -246,6 +246,8 @@ static void clamps_whatever_the_command(void) {
   CBX_CHECK_EQ(s.rotation_torque_uNm, 50000); /* default max_torque */
   CBX_CHECK_EQ(cbx_fake.drive[1], 1000);      /* beyond the 20000 uNm full scale */
   set_limits(50u, 1200u);
+  cbx_fake_tick(&core); /* a lowered limit applies at once, not at the slew rate */
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
   stream(100, CBX_MODE_MOTOR, 0, 40000, 0);
   CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
 }
@@ -270,7 +272,7 @@ static void brake_only_resists_motion(void) {
       CBX_CHECK_EQ(cbx_fake.drive[0], 0);
     }
   }
-  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_MOTOR); /* as commanded, rendered as a brake */
+  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_BRAKE); /* motor commanded, rendered as a brake */
   for (uint32_t i = 0; i < 20; ++i) {
     CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_BRAKE, 0, &resist, NULL), CBX_OK);
     for (int k = 0; k < 10; ++k) {
@@ -281,6 +283,43 @@ static void brake_only_resists_motion(void) {
   }
   CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, -1000);
   CBX_CHECK_EQ(cbx_fake.drive[0], 125); /* magnitude */
+}
+
+static void wall_renders_spring_and_damper(void) {
+  /* calibration_identity: 38197 counts per metre, 8000 mN full scale. A 400 N/m wall at 10 mm
+   * with 2 N*s/m damping, pushing back out (negative) when the tool is in the wall. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  const cbx_force_law wall = {.offset = 0, .pos0 = 10000, .stiffness = 400000, .damping = 2000,
+                              .out_min = -5000, .out_max = 0};
+  const int32_t count_um = 1000000 / 38197; /* ~26 um: the position resolution */
+  cbx_fake.counter[0] = 573u; /* 15.0 mm: 5 mm into the wall */
+  for (int i = 0; i < 300; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_NEAR(s.insertion_force_mN, -2000, 400 * count_um / 1000 + 1); /* -400 N/m * 5 mm */
+  CBX_CHECK_NEAR(cbx_fake.drive[0], -250, 2);
+  /* Moving further in at 2000 counts/s (52.4 mm/s): the damper adds 2 N*s/m * 52.4 mm/s. */
+  for (int i = 0; i < 50; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    for (int k = 0; k < 10; ++k) {
+      if (k % 5 == 0) cbx_fake.counter[0] += 1u;
+      cbx_fake_tick(&core);
+    }
+  }
+  s = cbx_fake_state(&core);
+  CBX_CHECK_NEAR(s.insertion_vel_cps, 2000, 20);
+  const int32_t depth_um = (int32_t)((int64_t)cbx_fake.counter[0] * 1000000 / 38197) - 10000;
+  CBX_CHECK_NEAR(s.insertion_force_mN, -(400 * depth_um / 1000) - 105, 12);
+  /* Out of the wall: out_max 0, nothing rendered. */
+  cbx_fake.counter[0] = 200u;
+  for (int i = 0; i < 300; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
 }
 
 const cbx_test_case cbx_tests_safety[] = {
@@ -295,4 +334,5 @@ const cbx_test_case cbx_tests_safety[] = {
     {"bad_command_latches", bad_command_latches},
     {"clamps_whatever_the_command", clamps_whatever_the_command},
     {"brake_only_resists_motion", brake_only_resists_motion},
+    {"wall_renders_spring_and_damper", wall_renders_spring_and_damper},
     {0, 0}};

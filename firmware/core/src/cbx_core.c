@@ -142,6 +142,9 @@ static void render_axis(cbx_core* core, cbx_axis axis, cbx_gate gate, uint32_t d
   } else {
     out = 0;
   }
+  /* Limits lowered while rendering take effect at once, not at the slew rate. */
+  if (out > s->max_out) out = s->max_out;
+  if (out < -s->max_out) out = -s->max_out;
   core->out[axis] = out;
 
   /* Current clamp: fold the drive back while the measured current is over the limit. */
@@ -190,7 +193,11 @@ static void publish_snapshot(cbx_core* core, uint32_t now, uint32_t dt, cbx_gate
   r->command_seq_echo = core->command_seq_echo;
   r->encoder_errors = core->encoder_errors_seen > 0xFFFFu ? 0xFFFFu : (uint16_t)core->encoder_errors_seen;
   r->rx_errors = core->rx_errors > 0xFFFFu ? 0xFFFFu : (uint16_t)core->rx_errors;
-  r->mode = (gate == CBX_GATE_RUN || gate == CBX_GATE_RAMP) ? core->safety.mode : CBX_MODE_OFF;
+  uint8_t mode = core->safety.mode;
+  if (mode == CBX_MODE_MOTOR && core->config.axis[CBX_AXIS_INSERTION].actuator == CBX_ACTUATOR_BRAKE &&
+      core->config.axis[CBX_AXIS_ROTATION].actuator == CBX_ACTUATOR_BRAKE)
+    mode = CBX_MODE_BRAKE; /* what brakes can render */
+  r->mode = (gate == CBX_GATE_RUN || gate == CBX_GATE_RAMP) ? mode : CBX_MODE_OFF;
   core->ms_accum_us += dt;
   while (core->ms_accum_us >= 1000u) {
     core->ms_accum_us -= 1000u;
