@@ -141,6 +141,26 @@ void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSett
     tube_.build(tv.nodes_mm, tv.frames, tv.radius_mm);
     td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
   }
+  update_contacts(snapshot, settings.min_tool_radius_mm);
+}
+
+void SceneRenderer::update_contacts(const SceneSnapshot& snapshot, float size_mm) {
+  static constexpr glm::vec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  // Faces of the octahedron as (x, y, z) axis picks, counter-clockwise from outside.
+  static constexpr std::uint32_t kFaces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  contact_positions_.clear();
+  contact_normals_.clear();
+  contact_triangles_.clear();
+  for (const ContactView& c : snapshot.contacts) {
+    const auto base = static_cast<std::uint32_t>(contact_positions_.size());
+    for (const glm::vec3& a : kAxes) {
+      contact_positions_.push_back(c.point_mm + size_mm * a);
+      contact_normals_.push_back(a);
+    }
+    for (const auto& f : kFaces) contact_triangles_.insert(contact_triangles_.end(), {base + f[0], base + f[1], base + f[2]});
+  }
+  contacts_.upload(contact_positions_, contact_normals_, contact_triangles_, true);
 }
 
 void SceneRenderer::draw_tools(bool local) const {
@@ -170,6 +190,8 @@ void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_heig
     shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
     target_.draw();
   }
+  shader_.set("u_color", glm::vec4(SceneColors::kContact, 1.0F));
+  contacts_.draw();
 
   // The vessel over them, without writing depth so the tools show through.
   glEnable(GL_BLEND);

@@ -100,7 +100,8 @@ TEST_F(RenderTest, GlobalViewShowsToolInsideTranslucentVesselTargetAndBackground
   const int fh = fh_;
   std::string error;
   renderer.set_target(glm::vec3(40.0F, 0.0F, 0.0F), 2.0F);
-  const SceneSnapshot snap = tool_along_axis(-50.0F, 15.0F);
+  SceneSnapshot snap = tool_along_axis(-50.0F, 15.0F);
+  snap.contacts.push_back({glm::vec3(-30.0F, 0.0F, -6.0F), 40.0F});  // on the wall, below the tool
   const RenderSettings settings;
   renderer.update_tools(snap, settings);
 
@@ -131,6 +132,9 @@ TEST_F(RenderTest, GlobalViewShowsToolInsideTranslucentVesselTargetAndBackground
   // Off the axis but inside the tube: vessel, not tool.
   const Rgb wall = at(*img, project(vp, view, glm::vec3(-20.0F, 0.0F, 4.0F)));
   EXPECT_TRUE(is_vessel(wall)) << wall.r << "," << wall.g << "," << wall.b;
+  const Rgb contact = at(*img, project(vp, view, glm::vec3(-30.0F, 0.0F, -6.0F)));
+  EXPECT_TRUE(contact.r > 150 && contact.g > 50 && contact.g < contact.r - 60 && contact.b < 60)
+      << "contact marker: " << contact.r << "," << contact.g << "," << contact.b;
   const Rgb target = at(*img, project(vp, view, glm::vec3(40.0F, 0.0F, 0.0F)));
   EXPECT_TRUE(is_target(target)) << target.r << "," << target.g << "," << target.b;
   for (const glm::vec3& p : {glm::vec3(0, 0, 25), glm::vec3(0, 0, -25), glm::vec3(-60, 0, 15)}) {

@@ -33,6 +33,7 @@ struct SceneColors {
   static constexpr glm::vec3 kActiveTool{0.25F, 0.95F, 0.40F};
   static constexpr glm::vec3 kOtherTool{0.30F, 0.60F, 0.95F};
   static constexpr glm::vec3 kTarget{1.00F, 0.85F, 0.10F};
+  static constexpr glm::vec3 kContact{1.00F, 0.45F, 0.00F};
 };
 
 class SceneRenderer {
@@ -51,7 +52,8 @@ class SceneRenderer {
 
   // Clears the whole framebuffer to the background colour.
   void clear(int framebuffer_width, int framebuffer_height) const;
-  // Rebuilds the tool tubes from the snapshot (once per frame, before the views).
+  // Rebuilds the tool tubes and the wall-contact markers from the snapshot (once per frame,
+  // before the views).
   void update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings);
   void render_global(const Viewport& viewport, int framebuffer_height, const glm::mat4& view,
                      const glm::mat4& projection, const RenderSettings& settings);
@@ -72,6 +74,7 @@ class SceneRenderer {
                              float max_distance_mm, std::vector<IndexRange>& scratch) const;
   };
   void draw_tools(bool local) const;
+  void update_contacts(const SceneSnapshot& snapshot, float size_mm);
   [[nodiscard]] const ChunkedGpuMesh& overview() const { return has_overview_ ? overview_ : detail_; }
 
   ShaderProgram shader_;
@@ -83,6 +86,10 @@ class SceneRenderer {
   std::size_t last_local_triangles_ = 0;
   GpuMesh target_;
   bool has_target_ = false;
+  GpuMesh contacts_;  // a small octahedron at every wall contact
+  std::vector<glm::vec3> contact_positions_;
+  std::vector<glm::vec3> contact_normals_;
+  std::vector<std::uint32_t> contact_triangles_;
   struct ToolDraw {
     GpuMesh global;
     GpuMesh local;
