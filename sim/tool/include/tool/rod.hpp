@@ -1,0 +1,187 @@
+#pragma once
+// One tool (guidewire or catheter) as a discrete elastic rod, solved quasi-statically at every
+// step. Model: Bergou, Wardetzky, Robinson, Audoly, Grinspun, "Discrete Elastic Rods",
+// SIGGRAPH 2008 (curvature binormal, material frames, reference twist) with the quasi-static
+// twist and time-parallel reference frames of Bergou et al., "Discrete Viscous Threads",
+// SIGGRAPH 2010. Centreline positions are found by Gauss-Newton on the elastic + contact +
+// friction + drag energy with a banded Cholesky solve (O(n) per iteration); twist angles by
+// a tridiagonal Newton solve. Wall contacts are stiff penalties on planes from the wall probe,
+// Coulomb friction a stick spring with a slip limit (elastic-plastic anchor model).
+//
+// Nodes are material points fixed along the tool (finer towards the tip). The tool enters the
+// body at the entry point along the entry direction: nodes not yet past the entry sit on the
+// entry line, the last two of them clamp the rod (position, direction and rotation); further
+// proximal ones are not simulated, so nodes join and leave the simulation at the entry.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "tool/force_law.hpp"
+#include "tool/rod_settings.hpp"
+#include "tool/tool_spec.hpp"
+#include "tool/wall_model.hpp"
+
+namespace cathbox::tool {
+
+class BandedCholesky;
+
+struct RodContact {
+  std::uint32_t node = 0;
+  glm::dvec3 point_mm{0.0};      // wall point
+  glm::dvec3 normal{0.0};        // unit, out of the lumen
+  double normal_force_mN = 0.0;  // wall on the tool, along -normal
+  glm::dvec3 friction_mN{0.0};   // wall friction on the tool
+  std::int32_t segment = -1;
+};
+
+struct TipPose {
+  glm::dvec3 position_mm{0.0};
+  glm::dvec3 direction{0.0, 0.0, 1.0};  // unit tangent, distal
+  glm::dvec3 normal{1.0, 0.0, 0.0};     // material director m1 (the pre-curve bends towards it)
+};
+
+class Rod {
+ public:
+  Rod(const ToolSpec& spec, const RodSettings& settings = {});
+  ~Rod();
+  Rod(Rod&&) noexcept;
+  Rod& operator=(Rod&&) noexcept;
+  Rod(const Rod&) = delete;
+  Rod& operator=(const Rod&) = delete;
+
+  // Entry point (introducer) and inward direction; resets the tool to fully withdrawn.
+  void set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction);
+  // Proximal boundary from the box; insertion is clamped to [0, max_insertion_mm()].
+  void set_boundary(double insertion_mm, double rotation_rad);
+  // Coaxial use: the entry moves with the outer tool's tip without resetting the tool;
+  // `reference` is the director that rotation 0 points to (normal to direction).
+  void move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference);
+  // How far the material advances in the next step, when it differs from the insertion change
+  // (an inner tool whose entry rides on the outer tool's tip). NaN: the insertion change.
+  void set_material_advance(double advance_mm) { material_advance_mm_ = advance_mm; }
+  // A tool running ahead of this one (the inner wire beyond a catheter's tip): the predictor
+  // continues this tool's path along it. leader_insertion_mm is the leader's depth of its tip
+  // past this tool's entry. nullptr: straight ahead.
+  void set_leader(const Rod* leader, double leader_insertion_mm) {
+    leader_ = leader;
+    leader_insertion_mm_ = leader_insertion_mm;
+  }
+  // One quasi-static step of dt seconds against the wall.
+  void step(double dt_s, const WallModel& wall);
+
+  // Test and coupling hooks.
+  void set_node_load(std::size_t node, const glm::dvec3& force_mN);  // constant external force
+  void clear_node_loads();
+  void set_extra_bending(std::span<const double> ei_Nmm2_by_node);  // added EI (coaxial inner tool)
+  void set_friction(double mu) { spec_.friction = mu > 0.0 ? mu : 0.0; }
+  RodSettings& settings() { return settings_; }
+
+  // Properties of the tool at a distance from its tip.
+  [[nodiscard]] double radius_at_mm(double from_tip_mm) const;
+  [[nodiscard]] double bending_at_Nmm2(double from_tip_mm) const;
+  [[nodiscard]] double inner_radius_at_mm(double from_tip_mm) const;
+
+  [[nodiscard]] const ToolSpec& spec() const { return spec_; }
+  [[nodiscard]] double insertion_mm() const { return insertion_mm_; }
+  [[nodiscard]] double rotation_rad() const { return rotation_rad_; }
+  [[nodiscard]] double max_insertion_mm() const;
+  [[nodiscard]] double length_mm() const { return length_mm_; }
+
+  // The simulated window: nodes [first_node(), node_total()), tip last. Nodes with depth <= 0
+  // are outside the body on the entry line.
+  [[nodiscard]] std::size_t node_total() const { return x_.size(); }
+  [[nodiscard]] std::size_t first_node() const { return first_; }
+  [[nodiscard]] std::size_t first_free_node() const { return first_free_; }
+  [[nodiscard]] std::span<const glm::dvec3> positions() const { return x_; }
+  [[nodiscard]] std::span<const glm::dvec3> tangents() const { return t_; }    // per edge k: k -> k+1
+  [[nodiscard]] std::span<const glm::dvec3> directors() const { return m1_; }  // per edge, m1
+  [[nodiscard]] double node_radius_mm(std::size_t k) const { return radius_[k]; }
+  [[nodiscard]] double node_depth_mm(std::size_t k) const { return insertion_mm_ - from_tip_[k]; }
+  [[nodiscard]] double node_from_tip_mm(std::size_t k) const { return from_tip_[k]; }
+  [[nodiscard]] double edge_angle_rad(std::size_t k) const { return theta_[k]; }
+  [[nodiscard]] TipPose tip() const;
+  [[nodiscard]] std::span<const RodContact> contacts() const { return contacts_; }
+
+  // What the tool exerts on the hand: positive resists insertion / rotation.
+  [[nodiscard]] double hand_force_mN() const { return hand_force_mN_; }
+  [[nodiscard]] double hand_torque_mNmm() const { return hand_torque_mNmm_; }
+  [[nodiscard]] const ForceLaw& force_law() const { return law_; }
+  // Solver diagnostics of the last step: iterations used and the last position update.
+  [[nodiscard]] int last_iterations() const { return last_iterations_; }
+  [[nodiscard]] double last_update_mm() const { return last_update_mm_; }
+  // Point on the tool's centreline at a depth past the entry (clamped to the tool), its
+  // tangent and the index of the node just proximal to it.
+  [[nodiscard]] glm::dvec3 point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const;
+  // Present position of the material station `from_tip_mm` from the tip (on the entry line
+  // when it is outside the simulated window).
+  [[nodiscard]] glm::dvec3 point_at_from_tip(double from_tip_mm) const;
+  [[nodiscard]] const glm::dvec3& entry_point() const { return entry_; }
+  [[nodiscard]] const glm::dvec3& entry_direction() const { return dir_; }
+  [[nodiscard]] glm::dvec3 reference_director(std::size_t edge) const { return d1_[edge]; }
+
+ private:
+  struct NodeContact;
+  struct BendTerm {  // discrete curvature binormal at a vertex and its residual
+    glm::dvec3 a{0.0}, b{0.0}, kb{0.0}, r{0.0};
+    double la = 0.0, lb = 0.0, chi = 0.0, w = 0.0;
+  };
+  [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  [[nodiscard]] double plane_gap(std::size_t k) const;  // penetration of node k into its plane
+  void update_window();
+  void advect(double delta_mm);
+  void seed_buckling();
+  void limit_penetration();
+  void place_outside(std::size_t k);
+  // Re-probes the wall; true when the plane of a node in the active set was replaced.
+  bool refresh_contacts(const WallModel& wall, bool only_moved);
+  void assemble(double dt_s, bool hessian);
+  [[nodiscard]] double energy(double dt_s) const;
+  void update_frames();
+  void solve_twist(double dt_s);
+  void finish_contacts();
+  void compute_force_law(double dt_s);
+
+  ToolSpec spec_;
+  RodSettings settings_;
+  double length_mm_ = 0.0;
+  glm::dvec3 entry_{0.0};
+  glm::dvec3 dir_{0.0, 0.0, 1.0};
+  glm::dvec3 entry_d1_{1.0, 0.0, 0.0};
+  double insertion_mm_ = 0.0;
+  double rotation_rad_ = 0.0;
+  double stepped_insertion_mm_ = 0.0;  // insertion at the end of the last step
+  bool compressed_ = false;            // the last step ended with a compressed edge
+  double material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+  const Rod* leader_ = nullptr;
+  double leader_insertion_mm_ = 0.0;
+  std::size_t first_ = 0;       // first simulated node
+  std::size_t first_free_ = 0;  // first node past the entry
+
+  // Per node.
+  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, kbar1_, voronoi_, drag_;
+  std::vector<glm::dvec3> x_, x_start_, x_pred_, load_;
+  std::vector<NodeContact> node_contacts_;
+  // Per edge (k: node k -> k+1).
+  std::vector<double> rest_, theta_, theta_start_, ref_twist_;
+  std::vector<glm::dvec3> t_, d1_, m1_, m2_;
+
+  // Solver scratch, sized once.
+  std::vector<double> grad_, delta_, work_, friction_limit_;
+  std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
+  std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
+  std::unique_ptr<BandedCholesky> matrix_;
+
+  std::vector<RodContact> contacts_;
+  double hand_force_mN_ = 0.0;
+  double hand_torque_mNmm_ = 0.0;
+  ForceLaw law_;
+  double energy_ = 0.0;  // energy at the last assembly
+  int last_iterations_ = 0;
+  double last_update_mm_ = 0.0;
+};
+
+}  // namespace cathbox::tool

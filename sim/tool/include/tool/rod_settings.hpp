@@ -1,0 +1,24 @@
+#pragma once
+// Numerical settings of the rod solver. The defaults suit the 1 kHz haptic loop; validation
+// tests raise the iteration count to reach static equilibrium tightly.
+namespace cathbox::tool {
+
+struct RodSettings {
+  int newton_iterations = 8;               // most Gauss-Newton iterations on positions per step
+  int twist_iterations = 2;                // Newton iterations on the twist angles per step
+  double contact_stiffness_mN_per_mm = 2.0e5;  // wall penalty per node
+  double stick_stiffness_ratio = 0.1;      // tangential stick spring / contact stiffness
+  double contact_margin_mm = 0.15;         // nodes this close to the wall get a contact plane
+  double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
+  double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
+  double max_node_step_mm = 0.2;           // largest position update of one iteration
+  double min_drag_mN_s_per_mm2 = 1.0e-3;   // numerical floor of the viscous drag
+  double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
+  bool reuse_hessian = false;              // chord iterations while the active set is unchanged
+  double trust_step_mm = 0.01;             // updates below this skip the line search
+  double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
+  double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
+  double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
+};
+
+}  // namespace cathbox::tool

@@ -1,0 +1,39 @@
+#pragma once
+// The wall a tool node can touch, as the rod solver sees it: for a node (centre, radius) the
+// closest wall point, the wall's outward normal there and the signed clearance of the centre.
+// Analytic walls (tubes, bends, bifurcations) and the vessel mesh (through the collision tree)
+// implement it.
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+namespace cathbox::tool {
+
+struct WallProbe {
+  glm::dvec3 center_mm{0.0};
+  double radius_mm = 0.0;
+  double range_mm = 2.0;     // report the wall only if the node surface is within this distance
+  double depth_mm = 0.0;     // how far past the entry this node is along its tool (coaxial walls use it)
+};
+
+struct WallContact {
+  glm::dvec3 point_mm{0.0};  // closest wall point
+  glm::dvec3 normal{0.0};    // unit, pointing out of the lumen into the wall
+  double distance_mm = 0.0;  // signed distance of the centre to the wall, positive inside the lumen
+  std::int32_t segment = -1; // vessel segment (or analytic tube) the wall point belongs to
+};
+
+// Per-node memory a wall may use to answer the next query faster (coherent queries).
+struct WallHint {
+  std::uint32_t index = 0xffffffffu;
+};
+
+class WallModel {
+ public:
+  virtual ~WallModel() = default;
+  // Fills `out` and returns true when the wall is within probe.range_mm of the node surface
+  // (or the node is outside the lumen); returns false otherwise.
+  [[nodiscard]] virtual bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const = 0;
+};
+
+}  // namespace cathbox::tool

@@ -1,0 +1,889 @@
+#include "tool/rod.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include "banded_cholesky.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+constexpr double kMilli = 1000.0;  // N -> mN
+constexpr std::size_t kHalfBand = 8;  // node coupling +-2 (bending stencil), 3 dofs per node
+
+glm::dmat3 skew(const glm::dvec3& v) {
+  return glm::dmat3(0.0, v.z, -v.y, -v.z, 0.0, v.x, v.y, -v.x, 0.0);
+}
+
+// Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
+glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
+  const glm::dvec3 axis = glm::cross(from, to);
+  const double s = glm::length(axis);
+  const double c = glm::dot(from, to);
+  if (s < 1e-14) return v;
+  const glm::dvec3 k = axis / s;
+  return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0 - c));
+}
+
+glm::dvec3 perpendicular_unit(const glm::dvec3& t) {
+  const glm::dvec3 a = std::abs(t.x) < 0.6 ? glm::dvec3(1, 0, 0)
+                       : std::abs(t.y) < 0.6 ? glm::dvec3(0, 1, 0)
+                                              : glm::dvec3(0, 0, 1);
+  return glm::normalize(a - t * glm::dot(a, t));
+}
+
+struct BlockAdder {
+  BandedCholesky& m;
+  std::size_t first;
+  bool enabled;
+  void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
+    if (!enabled) return;
+    if (a < b) {
+      (*this)(b, a, glm::transpose(block));
+      return;
+    }
+    const std::size_t ra = 3 * (a - first);
+    const std::size_t cb = 3 * (b - first);
+    for (std::size_t r = 0; r < 3; ++r) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        if (a == b && c > r) continue;
+        m.add(ra + r, cb + c, block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
+      }
+    }
+  }
+};
+
+double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
+
+}  // namespace
+
+struct Rod::NodeContact {
+  bool has_plane = false;
+  bool active = false;  // held on its plane in this step's solve (active set)
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};
+  std::int32_t segment = -1;
+  WallHint hint;
+  glm::dvec3 query_pos{0.0};
+  double clearance = -1.0;  // node surface clearance when last probed; < 0: probe again
+  bool anchored = false;
+  glm::dvec3 anchor{0.0};
+  double twist_anchor = 0.0;
+  double normal_force = 0.0;
+  glm::dvec3 friction{0.0};
+};
+
+Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), settings_(settings) {
+  if (spec_.sections.empty()) spec_.sections.push_back(ToolSection{100.0});
+  length_mm_ = spec_.length_mm();
+  const double h_tip = std::max(0.05, spec_.tip_spacing_mm);
+  const double h_max = std::max(h_tip, spec_.max_spacing_mm);
+  // Material stations from the tip: fine over the tip zone, then growing to h_max.
+  std::vector<double> s{0.0};
+  for (;;) {
+    const double u = s.back();
+    const double ramp = std::clamp((u - spec_.tip_zone_mm) / std::max(1e-9, 2.0 * spec_.tip_zone_mm), 0.0, 1.0);
+    const double h = h_tip + (h_max - h_tip) * ramp;
+    if (u + h >= length_mm_ - 0.3 * h) break;
+    s.push_back(u + h);
+  }
+  s.push_back(length_mm_);
+  const std::size_t n = s.size();
+  from_tip_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) from_tip_[k] = s[n - 1 - k];
+
+  radius_.resize(n);
+  inner_radius_.resize(n);
+  ei_.resize(n);
+  ei_extra_.assign(n, 0.0);
+  gj_.resize(n);
+  kbar1_.assign(n, 0.0);
+  voronoi_.resize(n);
+  drag_.resize(n);
+  rest_.assign(n - 1, 0.0);
+  for (std::size_t k = 0; k + 1 < n; ++k) rest_[k] = from_tip_[k] - from_tip_[k + 1];
+  for (std::size_t k = 0; k < n; ++k) {
+    const double left = k > 0 ? rest_[k - 1] : 0.0;
+    const double right = k + 1 < n ? rest_[k] : 0.0;
+    voronoi_[k] = 0.5 * (left + right);
+    // Section holding this station.
+    double from_proximal = length_mm_ - from_tip_[k];
+    const ToolSection* sec = &spec_.sections.back();
+    for (const ToolSection& candidate : spec_.sections) {
+      if (from_proximal <= candidate.length_mm) {
+        sec = &candidate;
+        break;
+      }
+      from_proximal -= candidate.length_mm;
+    }
+    radius_[k] = 0.5 * sec->outer_diameter_mm;
+    inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
+    ei_[k] = sec->bending_stiffness_Nmm2 * kMilli;
+    gj_[k] = sec->torsion_stiffness_Nmm2 * kMilli;
+    if (sec->curve_deg != 0.0 && sec->length_mm > 0.0 && k > 0 && k + 1 < n) {
+      const double curvature = sec->curve_deg * (M_PI / 180.0) / sec->length_mm;
+      kbar1_[k] = 2.0 * std::tan(0.5 * std::clamp(curvature * voronoi_[k], -3.0, 3.0));
+    }
+    drag_[k] = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
+  }
+
+  x_.assign(n, glm::dvec3(0.0));
+  x_start_.assign(n, glm::dvec3(0.0));
+  x_pred_.assign(n, glm::dvec3(0.0));
+  load_.assign(n, glm::dvec3(0.0));
+  node_contacts_.assign(n, NodeContact{});
+  theta_.assign(n - 1, 0.0);
+  theta_start_.assign(n - 1, 0.0);
+  ref_twist_.assign(n, 0.0);
+  t_.assign(n - 1, glm::dvec3(0, 0, 1));
+  d1_.assign(n - 1, glm::dvec3(1, 0, 0));
+  m1_.assign(n - 1, glm::dvec3(1, 0, 0));
+  m2_.assign(n - 1, glm::dvec3(0, 1, 0));
+  grad_.assign(3 * n, 0.0);
+  delta_.assign(3 * n, 0.0);
+  work_.assign(3 * n, 0.0);
+  friction_limit_.assign(n, 0.0);
+  joined_.assign(n, 0);
+  tw_diag_.assign(n, 0.0);
+  tw_off_.assign(n, 0.0);
+  tw_rhs_.assign(n, 0.0);
+  tw_c_.assign(n, 0.0);
+  contacts_.reserve(n);
+  matrix_ = std::make_unique<BandedCholesky>(3 * n, kHalfBand);
+  set_entry(glm::dvec3(0.0), glm::dvec3(0, 0, 1));
+}
+
+Rod::~Rod() = default;
+Rod::Rod(Rod&&) noexcept = default;
+Rod& Rod::operator=(Rod&&) noexcept = default;
+
+double Rod::max_insertion_mm() const { return from_tip_.size() > 1 ? from_tip_[1] : 0.0; }
+
+void Rod::set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction) {
+  entry_ = point_mm;
+  const double len = glm::length(direction);
+  dir_ = len > 1e-12 && std::isfinite(len) ? direction / len : glm::dvec3(0, 0, 1);
+  entry_d1_ = perpendicular_unit(dir_);
+  insertion_mm_ = 0.0;
+  rotation_rad_ = 0.0;
+  stepped_insertion_mm_ = 0.0;
+  for (std::size_t k = 0; k < x_.size(); ++k) place_outside(k);
+  for (NodeContact& c : node_contacts_) c = NodeContact{};
+  contacts_.clear();
+  update_window();
+}
+
+void Rod::set_boundary(double insertion_mm, double rotation_rad) {
+  insertion_mm_ = std::clamp(finite_or(insertion_mm, 0.0), 0.0, max_insertion_mm());
+  rotation_rad_ = finite_or(rotation_rad, rotation_rad_);
+}
+
+void Rod::set_node_load(std::size_t node, const glm::dvec3& force_mN) {
+  if (node < load_.size()) load_[node] = force_mN;
+}
+
+void Rod::clear_node_loads() { std::fill(load_.begin(), load_.end(), glm::dvec3(0.0)); }
+
+void Rod::set_extra_bending(std::span<const double> ei_Nmm2_by_node) {
+  for (std::size_t k = 0; k < ei_extra_.size(); ++k) {
+    ei_extra_[k] = k < ei_Nmm2_by_node.size() ? std::max(0.0, ei_Nmm2_by_node[k]) * kMilli : 0.0;
+  }
+}
+
+namespace {
+// Index of the station holding a distance from the tip (stations descend with k).
+std::size_t station_at(const std::vector<double>& from_tip, double d) {
+  std::size_t lo = 0;
+  std::size_t hi = from_tip.size() - 1;
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    if (from_tip[mid] >= d) lo = mid; else hi = mid;
+  }
+  return lo;
+}
+}  // namespace
+
+double Rod::radius_at_mm(double from_tip_mm) const { return radius_[station_at(from_tip_, from_tip_mm)]; }
+double Rod::bending_at_Nmm2(double from_tip_mm) const {
+  return ei_[station_at(from_tip_, from_tip_mm)] / kMilli;
+}
+double Rod::inner_radius_at_mm(double from_tip_mm) const {
+  return inner_radius_[station_at(from_tip_, from_tip_mm)];
+}
+
+void Rod::place_outside(std::size_t k) {
+  x_[k] = entry_ + dir_ * (insertion_mm_ - from_tip_[k]);
+  if (k + 1 < x_.size()) {
+    t_[k] = dir_;
+    d1_[k] = entry_d1_;
+    theta_[k] = rotation_rad_;
+  }
+  node_contacts_[k] = NodeContact{};
+}
+
+void Rod::update_window() {
+  const std::size_t n = x_.size();
+  // Last node not past the entry (depth <= 0); max_insertion keeps it >= 1.
+  std::size_t kp = station_at(from_tip_, insertion_mm_);
+  if (from_tip_[kp + 1 < n ? kp + 1 : kp] >= insertion_mm_) kp = kp + 1 < n ? kp + 1 : kp;
+  if (kp < 1) kp = 1;
+  first_ = kp - 1;
+  first_free_ = kp + 1;
+  for (std::size_t k = first_; k < first_free_; ++k) place_outside(k);
+}
+
+void Rod::advect(double delta_mm) {
+  // Predictor: every free node slides along the present centreline by the insertion change
+  // (follow the leader); the elastic solve then corrects the shape. Beyond the tip the path
+  // continues straight; proximal of the window it is the entry line.
+  const std::size_t n = x_.size();
+  if (delta_mm == 0.0) return;
+  const double old_insertion = insertion_mm_ - delta_mm;
+  const std::size_t new_kp = [&] {
+    std::size_t kp = station_at(from_tip_, insertion_mm_);
+    if (kp + 1 < n && from_tip_[kp + 1] >= insertion_mm_) ++kp;
+    return std::max<std::size_t>(kp, 1);
+  }();
+  std::size_t j = first_;  // segment [j, j+1] of the old curve holding the target station
+  for (std::size_t k = new_kp + 1; k < n; ++k) {
+    const double s = from_tip_[k] - delta_mm;  // station (old curve) the node moves to
+    if (s >= from_tip_[first_]) {
+      x_pred_[k] = entry_ + dir_ * (old_insertion - s);
+    } else if (s <= 0.0) {
+      // Ahead of the tip: along the leader (a wire beyond this catheter) or straight on.
+      const double leader_station = leader_ != nullptr ? leader_insertion_mm_ - (old_insertion - s) : -1.0;
+      if (leader_ != nullptr && leader_station >= 0.0) {
+        x_pred_[k] = leader_->point_at_from_tip(leader_station);
+      } else {
+        x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      }
+    } else {
+      while (j + 2 < n && from_tip_[j + 1] > s) ++j;
+      while (j > first_ && from_tip_[j] < s) --j;
+      const double u = (from_tip_[j] - s) / rest_[j];
+      x_pred_[k] = x_[j] + (x_[j + 1] - x_[j]) * std::clamp(u, 0.0, 1.0);
+    }
+  }
+  for (std::size_t k = new_kp + 1; k < n; ++k) x_[k] = x_pred_[k];
+}
+
+void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference) {
+  const double len = glm::length(direction);
+  if (!(len > 1e-12) || !std::isfinite(len)) return;
+  entry_ = point_mm;
+  dir_ = direction / len;
+  const glm::dvec3 r = reference - dir_ * glm::dot(reference, dir_);
+  const double rl = glm::length(r);
+  entry_d1_ = rl > 1e-9 ? r / rl : perpendicular_unit(dir_);
+}
+
+glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {
+  const std::size_t n = x_.size();
+  if (from_tip_mm >= from_tip_[first_]) return entry_ + dir_ * (insertion_mm_ - from_tip_mm);
+  if (from_tip_mm <= 0.0) return x_[n - 1];
+  const std::size_t k = std::clamp(station_at(from_tip_, from_tip_mm), first_, n - 2);
+  const double u = std::clamp((from_tip_[k] - from_tip_mm) / rest_[k], 0.0, 1.0);
+  return x_[k] + (x_[k + 1] - x_[k]) * u;
+}
+
+glm::dvec3 Rod::point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const {
+  const std::size_t n = x_.size();
+  std::size_t k = station_at(from_tip_, insertion_mm_ - depth_mm);
+  k = std::clamp(k, first_, n - 2);
+  const double d0 = insertion_mm_ - from_tip_[k];
+  const double u = std::clamp((depth_mm - d0) / rest_[k], 0.0, 1.0);
+  if (tangent != nullptr) *tangent = t_[k];
+  if (node != nullptr) *node = k;
+  return x_[k] + (x_[k + 1] - x_[k]) * u;
+}
+
+TipPose Rod::tip() const {
+  TipPose p;
+  const std::size_t n = x_.size();
+  p.position_mm = x_[n - 1];
+  p.direction = t_[n - 2];
+  p.normal = m1_[n - 2];
+  return p;
+}
+
+bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
+  const std::size_t n = x_.size();
+  bool active_changed = false;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& c = node_contacts_[k];
+    const double moved = glm::length(x_[k] - c.query_pos);
+    if (c.clearance >= 0.0) {
+      if (only_moved && moved < settings_.requery_move_mm) continue;
+      if (!c.has_plane && moved < c.clearance - settings_.contact_margin_mm) continue;
+    }
+    WallProbe probe;
+    probe.center_mm = x_[k];
+    probe.radius_mm = radius_[k];
+    probe.range_mm = settings_.query_range_mm;
+    probe.depth_mm = insertion_mm_ - from_tip_[k];
+    WallContact wc;
+    c.query_pos = x_[k];
+    active_changed = active_changed || c.active;
+    if (wall.probe(probe, c.hint, wc) && std::isfinite(wc.distance_mm)) {
+      c.clearance = std::max(0.0, wc.distance_mm - radius_[k]);
+      c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
+      c.point = wc.point_mm;
+      c.normal = wc.normal;
+      c.segment = wc.segment;
+    } else {
+      c.clearance = settings_.query_range_mm;
+      c.has_plane = false;
+    }
+    if (c.has_plane && !c.anchored) {
+      c.anchored = true;
+      c.anchor = x_[k];
+      c.twist_anchor = theta_[std::min(k, n - 2)];
+    } else if (!c.has_plane) {
+      c.anchored = false;
+      c.active = false;
+    }
+  }
+  return active_changed;
+}
+
+void Rod::step(double dt_s, const WallModel& wall) {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+  const std::size_t n = x_.size();
+  const std::size_t old_first = first_;
+  for (std::size_t k = std::min(old_first, first_); k < n; ++k) x_start_[k] = x_[k];
+  const double advance = std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
+  material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+  advect(advance);
+  stepped_insertion_mm_ = insertion_mm_;
+  update_window();
+  for (std::size_t k = first_; k < old_first; ++k) x_start_[k] = x_[k];
+  for (std::size_t k = first_; k + 1 < n; ++k) theta_start_[k] = theta_[k];
+
+  if (first_free_ < n) {
+    if (compressed_) seed_buckling();
+    refresh_contacts(wall, false);
+    const std::size_t dofs = 3 * (n - first_);
+    const std::size_t free0 = 3 * (first_free_ - first_);
+    const int iterations = std::max(1, settings_.newton_iterations);
+    // Active set: nodes touching now or at the end of the last step are held on their plane.
+    for (std::size_t k = first_free_; k < n; ++k) {
+      NodeContact& nc = node_contacts_[k];
+      nc.active = nc.has_plane && (nc.normal_force > 0.0 || plane_gap(k) > 0.0);
+    }
+    int activations = 0;
+    // Newton with a lazily refreshed Hessian: it is assembled and factored again only when the
+    // active set or an active contact plane changed, or a step failed to lower the energy;
+    // otherwise only the gradient is rebuilt (chord iterations).
+    bool refactor = true;
+    bool rejoin = false;
+    for (int it = 0; it < iterations; ++it) {
+      if (rejoin) {
+        // Amend the saved assembly with the wall terms of the nodes that joined.
+        matrix_->restore();
+        const BlockAdder add{*matrix_, first_, true};
+        const double kc = settings_.contact_stiffness_mN_per_mm;
+        for (std::size_t k = first_free_; k < n; ++k) {
+          if (!joined_[k]) continue;
+          const NodeContact& nc = node_contacts_[k];
+          const double phi = plane_gap(k);
+          add(k, k, kc * glm::outerProduct(nc.normal, nc.normal));
+          const std::size_t d = 3 * (k - first_);
+          grad_[d] += nc.normal.x * kc * phi;
+          grad_[d + 1] += nc.normal.y * kc * phi;
+          grad_[d + 2] += nc.normal.z * kc * phi;
+          energy_ += 0.5 * kc * phi * phi;
+          joined_[k] = 0;
+        }
+        rejoin = false;
+      } else {
+        assemble(dt_s, refactor);
+      }
+      if (refactor) {
+        matrix_->save();
+        matrix_->factor(free0);
+      }
+      const bool fresh = refactor;
+      refactor = !settings_.reuse_hessian;
+      for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
+      matrix_->solve(delta_.data());
+      double largest = 0.0;
+      for (std::size_t k = first_free_; k < n; ++k) {
+        const std::size_t d = 3 * (k - first_);
+        const double m = std::sqrt(delta_[d] * delta_[d] + delta_[d + 1] * delta_[d + 1] + delta_[d + 2] * delta_[d + 2]);
+        largest = std::max(largest, m);
+      }
+      if (!std::isfinite(largest)) break;  // keep the previous positions; never propagate NaN
+      // Nodes off the wall that the step would carry into it join the active set; solve again.
+      bool joined = false;
+      for (std::size_t k = first_free_; k < n && activations < 3; ++k) {
+        NodeContact& nc = node_contacts_[k];
+        if (!nc.has_plane || nc.active) continue;
+        const std::size_t d = 3 * (k - first_);
+        const double into = nc.normal.x * delta_[d] + nc.normal.y * delta_[d + 1] + nc.normal.z * delta_[d + 2];
+        if (plane_gap(k) + into > 0.0) {
+          nc.active = true;
+          joined = true;
+          joined_[k] = 1;
+        }
+      }
+      if (joined) {
+        ++activations;
+        refactor = true;
+        rejoin = true;
+        continue;
+      }
+      double scale = largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / largest : 1.0;
+      // Backtracking line search on the step energy (contacts and friction are non-smooth).
+      const double e0 = energy_;
+      double slope = 0.0;
+      for (std::size_t i = free0; i < dofs; ++i) slope += grad_[i] * delta_[i];
+      for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];
+      for (int tries = 0;; ++tries) {
+        for (std::size_t k = first_free_; k < n; ++k) {
+          const std::size_t d = 3 * (k - first_);
+          x_[k] = x_pred_[k] + glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) * scale;
+        }
+        // Small steps near convergence are taken as they are.
+        if (tries >= 6 || slope >= 0.0 || largest * scale < settings_.trust_step_mm ||
+            energy(dt_s) <= e0 + 1e-4 * scale * slope) {
+          break;
+        }
+        scale *= 0.5;
+        if (!fresh) refactor = true;  // a stale Hessian gave a poor step
+      }
+      // Nodes the wall would have to pull leave the active set.
+      for (std::size_t k = first_free_; k < n; ++k) {
+        NodeContact& nc = node_contacts_[k];
+        if (nc.active && plane_gap(k) < -1e-9) {
+          nc.active = false;
+          refactor = true;
+        }
+      }
+      if (refresh_contacts(wall, true)) refactor = true;
+      last_iterations_ = it + 1;
+      last_update_mm_ = largest * scale;
+      if (largest * scale < settings_.convergence_mm) break;
+    }
+    refresh_contacts(wall, true);
+    limit_penetration();
+    // Outputs from the final state: the gradient there, with the last factored Hessian.
+    assemble(dt_s, false);
+  } else {
+    hand_force_mN_ = 0.0;
+  }
+  update_frames();
+  solve_twist(dt_s);
+  finish_contacts();
+  compute_force_law(dt_s);
+}
+
+
+double Rod::plane_gap(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  return glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+}
+
+Rod::BendTerm Rod::bend_term(std::size_t i) const {
+  BendTerm bt;
+  bt.a = x_[i] - x_[i - 1];
+  bt.b = x_[i + 1] - x_[i];
+  bt.la = std::max(glm::length(bt.a), 1e-12);
+  bt.lb = std::max(glm::length(bt.b), 1e-12);
+  bt.chi = std::max(bt.la * bt.lb + glm::dot(bt.a, bt.b), 1e-6 * bt.la * bt.lb);
+  bt.kb = glm::cross(bt.a, bt.b) * (2.0 / bt.chi);
+  bt.r = bt.kb;
+  if (kbar1_[i] != 0.0) bt.r -= (m2_[i - 1] + m2_[i]) * (0.5 * kbar1_[i]);
+  // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
+  bt.w = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 ? 0.5 * rest_[i] : voronoi_[i]);
+  return bt;
+}
+
+void Rod::assemble(double dt_s, bool hessian) {
+  const std::size_t n = x_.size();
+  const std::size_t dofs = 3 * (n - first_);
+  if (hessian) matrix_->reset(dofs);
+  std::fill(grad_.begin(), grad_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+  energy_ = 0.0;
+  const BlockAdder add{*matrix_, first_, hessian};
+  auto add_grad = [&](std::size_t k, const glm::dvec3& g) {
+    const std::size_t d = 3 * (k - first_);
+    grad_[d] += g.x;
+    grad_[d + 1] += g.y;
+    grad_[d + 2] += g.z;
+  };
+  const glm::dmat3 identity(1.0);
+
+  // Stretching.
+  const double ea = spec_.axial_stiffness_N * kMilli;
+  for (std::size_t k = first_; k + 1 < n; ++k) {
+    const glm::dvec3 e = x_[k + 1] - x_[k];
+    const double len = std::max(glm::length(e), 1e-12);
+    const glm::dvec3 u = e / len;
+    const double ks = ea / rest_[k];
+    const glm::dvec3 f = u * (ks * (len - rest_[k]));
+    energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
+    if (!hessian) {
+      add_grad(k + 1, f);
+      add_grad(k, -f);
+      continue;
+    }
+    add_grad(k + 1, f);
+    add_grad(k, -f);
+    const glm::dmat3 uu = glm::outerProduct(u, u);
+    const glm::dmat3 h = ks * uu + (ks * std::max(0.0, 1.0 - rest_[k] / len)) * (identity - uu);
+    add(k, k, h);
+    add(k + 1, k + 1, h);
+    add(k + 1, k, -h);
+  }
+
+  // Bending (discrete curvature binormal), Gauss-Newton on r = kb - kb_rest.
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    const BendTerm bt = bend_term(i);
+    const glm::dvec3& a = bt.a;
+    const glm::dvec3& b = bt.b;
+    const double la = bt.la;
+    const double lb = bt.lb;
+    const double chi = bt.chi;
+    const glm::dvec3& kb = bt.kb;
+    const glm::dvec3& r = bt.r;
+    const double w = bt.w;
+    const glm::dmat3 ja = -(2.0 * skew(b) + glm::outerProduct(kb, b * (la / lb) + b)) / chi;
+    const glm::dmat3 jb = (2.0 * skew(a) - glm::outerProduct(kb, a * (lb / la) + a)) / chi;
+    // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1; three products give every block of w J^T J.
+    const glm::dmat3 jat = glm::transpose(ja) * w;
+    const glm::dmat3 jbt = glm::transpose(jb) * w;
+    const glm::dvec3 ga = jat * r;
+    const glm::dvec3 gb = jbt * r;
+    add_grad(i - 1, -ga);
+    add_grad(i, ga - gb);
+    add_grad(i + 1, gb);
+    energy_ += 0.5 * w * glm::dot(r, r);
+    if (!hessian) continue;
+    const glm::dmat3 aa = jat * ja;
+    const glm::dmat3 ab = jat * jb;
+    const glm::dmat3 ba = glm::transpose(ab);
+    const glm::dmat3 bb = jbt * jb;
+    add(i - 1, i - 1, aa);
+    add(i, i, aa - ab - ba + bb);
+    add(i + 1, i + 1, bb);
+    add(i, i - 1, ba - aa);
+    add(i + 1, i - 1, -ba);
+    add(i + 1, i, ba - bb);
+  }
+
+  // Wall contacts, friction, drag and loads on the free nodes.
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const double c = drag_[k] / dt_s;
+    const glm::dvec3 moved = x_[k] - x_start_[k];
+    add_grad(k, moved * c - load_[k]);
+    add(k, k, identity * c);
+    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
+    friction_limit_[k] = 0.0;
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    const double phi = plane_gap(k);
+    if (!nc.active) continue;
+    const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
+    add_grad(k, nc.normal * (kc * phi));
+    add(k, k, kc * nn);
+    energy_ += 0.5 * kc * phi * phi;
+    if (spec_.friction <= 0.0) continue;
+    const glm::dmat3 pt = identity - nn;
+    const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+    const double slip_len = glm::length(slip);
+    // The slip limit uses the normal force of the previous step, so within a step friction is
+    // a fixed convex potential and the iterations converge.
+    const double limit = spec_.friction * nc.normal_force;
+    friction_limit_[k] = limit;
+    if (kt * slip_len <= limit) {
+      add_grad(k, slip * kt);
+      add(k, k, kt * pt);
+      energy_ += 0.5 * kt * slip_len * slip_len;
+    } else {
+      energy_ += limit * slip_len - 0.5 * limit * limit / kt;
+      const glm::dvec3 s = slip / slip_len;
+      add_grad(k, s * limit);
+      add(k, k, (limit / slip_len) * (pt - glm::outerProduct(s, s)));
+    }
+  }
+}
+
+double Rod::energy(double dt_s) const {
+  // The energy whose gradient assemble() builds, with the friction limits of the last assembly.
+  const std::size_t n = x_.size();
+  const double ea = spec_.axial_stiffness_N * kMilli;
+  double e = 0.0;
+  for (std::size_t k = first_; k + 1 < n; ++k) {
+    const double stretch = glm::length(x_[k + 1] - x_[k]) - rest_[k];
+    e += 0.5 * ea / rest_[k] * stretch * stretch;
+  }
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    const BendTerm bt = bend_term(i);
+    e += 0.5 * bt.w * glm::dot(bt.r, bt.r);
+  }
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const glm::dvec3 moved = x_[k] - x_start_[k];
+    e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
+    const NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    if (!nc.active) continue;
+    const double phi = plane_gap(k);
+    e += 0.5 * kc * phi * phi;
+    const double limit = friction_limit_[k];
+    if (limit <= 0.0) continue;
+    const glm::dvec3 rel = x_[k] - nc.anchor;
+    const double slip = glm::length(rel - nc.normal * glm::dot(nc.normal, rel));
+    e += kt * slip <= limit ? 0.5 * kt * slip * slip : limit * slip - 0.5 * limit * limit / kt;
+  }
+  return e;
+}
+
+void Rod::seed_buckling() {
+  // A perfectly straight rod pushed along its axis stays on the unstable straight branch;
+  // real tools are never perfectly straight, so give the free nodes a tiny lateral offset.
+  const std::size_t n = x_.size();
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const std::size_t e = std::min(k, n - 2);
+    const double a = 0.7 * static_cast<double>(k);
+    x_[k] += (m1_[e] * std::cos(a) + m2_[e] * std::sin(a)) * settings_.buckling_seed_mm;
+  }
+}
+
+void Rod::limit_penetration() {
+  const std::size_t n = x_.size();
+  compressed_ = false;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (nc.has_plane) {
+      const double allowed = settings_.max_penetration_ratio * radius_[k];
+      const double phi = plane_gap(k);
+      if (phi > allowed) x_[k] -= nc.normal * (phi - allowed);
+      if (phi > 0.0) nc.active = true;
+    }
+    if (glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
+  }
+}
+
+void Rod::update_frames() {
+  const std::size_t n = x_.size();
+  for (std::size_t k = first_free_ - 1; k + 1 < n; ++k) {
+    const glm::dvec3 e = x_[k + 1] - x_[k];
+    const double len = glm::length(e);
+    if (!(len > 1e-12)) continue;
+    const glm::dvec3 t = e / len;
+    glm::dvec3 d1 = transport(d1_[k], t_[k], t);
+    d1 = d1 - t * glm::dot(d1, t);
+    const double dl = glm::length(d1);
+    d1_[k] = dl > 1e-9 ? d1 / dl : perpendicular_unit(t);
+    t_[k] = t;
+  }
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    const glm::dvec3 v = transport(d1_[i - 1], t_[i - 1], t_[i]);
+    ref_twist_[i] = std::atan2(glm::dot(glm::cross(v, d1_[i]), t_[i]), glm::dot(v, d1_[i]));
+  }
+}
+
+void Rod::solve_twist(double dt_s) {
+  const std::size_t n = x_.size();
+  const std::size_t ef = first_free_ - 1;  // first free edge; edge ef - 1 is clamped
+  const std::size_t m = n - 1 - ef;        // free edges
+  auto material = [&](std::size_t e) {
+    const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
+    const double c = std::cos(theta_[e]);
+    const double s = std::sin(theta_[e]);
+    m1_[e] = d1_[e] * c + d2 * s;
+    m2_[e] = d2 * c - d1_[e] * s;
+  };
+  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  if (m > 0 && first_free_ < n) {
+    for (int it = 0; it < std::max(1, settings_.twist_iterations); ++it) {
+      for (std::size_t j = 0; j < m; ++j) {
+        const std::size_t e = ef + j;
+        const double r = radius_[e + 1];
+        const double c = drag_[e + 1] * r * r / dt_s + 1e-9;
+        tw_diag_[j] = c;
+        tw_off_[j] = 0.0;
+        tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
+      }
+      // Twist at every vertex i between edges i-1 and i.
+      for (std::size_t i = ef; i + 1 < n; ++i) {
+        const double c = gj_[i] / (i == ef ? 0.5 * rest_[i] : voronoi_[i]);
+        const double tau = theta_[i] - theta_[i - 1] + ref_twist_[i];
+        const std::size_t j = i - ef;
+        tw_diag_[j] += c;
+        tw_rhs_[j] += c * tau;
+        if (i - 1 >= ef) {
+          tw_diag_[j - 1] += c;
+          tw_rhs_[j - 1] -= c * tau;
+          tw_off_[j] -= c;
+        }
+        if (kbar1_[i] != 0.0) {
+          // Pre-curved sections: the material curvature depends on the edge angles.
+          const glm::dvec3 a = x_[i] - x_[i - 1];
+          const glm::dvec3 b = x_[i + 1] - x_[i];
+          const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
+          const glm::dvec3 kb = glm::cross(a, b) * (2.0 / chi);
+          const double w = 0.5 * (ei_[i] + ei_extra_[i]) / voronoi_[i];
+          for (std::size_t e = i - 1; e <= i; ++e) {
+            if (e < ef) continue;
+            material(e);
+            const double k1 = glm::dot(kb, m2_[e]);
+            const double k2 = -glm::dot(kb, m1_[e]);
+            tw_rhs_[e - ef] += -w * kbar1_[i] * k2;
+            tw_diag_[e - ef] += w * std::max(0.0, kbar1_[i] * k1);
+          }
+        }
+      }
+      // Torsional wall friction: stick spring with a slip limit.
+      for (std::size_t k = first_free_; k < n; ++k) {
+        const NodeContact& nc = node_contacts_[k];
+        if (!nc.has_plane || spec_.friction <= 0.0) continue;
+        const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+        if (phi <= 0.0) continue;
+        const std::size_t e = std::min(k, n - 2);
+        const double r = radius_[k];
+        const double ktr = kt * r * r;
+        const double limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
+        const double d = theta_[e] - nc.twist_anchor;
+        if (ktr * std::abs(d) <= limit) {
+          tw_rhs_[e - ef] += ktr * d;
+          tw_diag_[e - ef] += ktr;
+        } else {
+          tw_rhs_[e - ef] += d > 0.0 ? limit : -limit;
+        }
+      }
+      // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j).
+      for (std::size_t j = 0; j < m; ++j) tw_c_[j] = tw_diag_[j];
+      for (std::size_t j = 1; j < m; ++j) {
+        const double f = tw_off_[j] / tw_c_[j - 1];
+        tw_c_[j] -= f * tw_off_[j];
+        tw_rhs_[j] -= f * tw_rhs_[j - 1];
+      }
+      tw_rhs_[m - 1] /= tw_c_[m - 1];
+      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+      for (std::size_t j = 0; j < m; ++j) {
+        const double step = tw_rhs_[j];
+        if (std::isfinite(step)) theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
+      }
+    }
+    // Torsional stiffness at the hand: Schur complement of the last system on the clamp.
+    const double c0 = gj_[ef] / (0.5 * rest_[ef]);
+    for (std::size_t j = 0; j < m; ++j) tw_rhs_[j] = j == 0 ? 1.0 : 0.0;
+    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] / tw_c_[j - 1] * tw_rhs_[j - 1];
+    tw_rhs_[m - 1] /= tw_c_[m - 1];
+    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+    law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
+    const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
+    hand_torque_mNmm_ = -c0 * tau0;
+  } else {
+    law_.torsion_stiffness_mNmm_per_rad = 0.0;
+    hand_torque_mNmm_ = 0.0;
+  }
+  for (std::size_t e = first_; e + 1 < n; ++e) material(e);
+}
+
+void Rod::finish_contacts() {
+  const std::size_t n = x_.size();
+  contacts_.clear();
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+    const std::size_t e = std::min(k, n - 2);
+    if (phi <= 0.0) {
+      nc.anchor = x_[k];
+      nc.twist_anchor = theta_[e];
+      nc.normal_force = 0.0;
+      continue;
+    }
+    const double normal_force = kc * phi;
+    const glm::dmat3 pt = glm::dmat3(1.0) - glm::outerProduct(nc.normal, nc.normal);
+    const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+    const double slip_len = glm::length(slip);
+    const double limit = spec_.friction * normal_force;
+    glm::dvec3 friction(0.0);
+    if (kt * slip_len > limit && slip_len > 0.0) {
+      const glm::dvec3 s = slip / slip_len;
+      nc.anchor = x_[k] - s * (limit / kt);
+      friction = -s * limit;
+    } else {
+      friction = -slip * kt;
+    }
+    const double r = radius_[k];
+    const double ktr = kt * r * r;
+    const double tlimit = limit * r;
+    const double d = theta_[e] - nc.twist_anchor;
+    if (ktr * std::abs(d) > tlimit) nc.twist_anchor = theta_[e] - (d > 0.0 ? tlimit : -tlimit) / ktr;
+    nc.normal_force = normal_force;
+    RodContact out;
+    out.node = static_cast<std::uint32_t>(k);
+    out.point_mm = x_[k] + nc.normal * (r - phi);
+    out.normal = nc.normal;
+    out.normal_force_mN = normal_force;
+    out.friction_mN = friction;
+    out.segment = nc.segment;
+    contacts_.push_back(out);
+  }
+}
+
+void Rod::compute_force_law(double dt_s) {
+  const std::size_t n = x_.size();
+  law_.insertion0_mm = insertion_mm_;
+  law_.rotation0_rad = rotation_rad_;
+  double drag_total = 0.0;
+  double rot_drag_total = 0.0;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    drag_total += drag_[k];
+    rot_drag_total += drag_[k] * radius_[k] * radius_[k];
+  }
+  law_.damping_mN_s_per_mm = drag_total;
+  law_.torsion_damping_mNmm_s_per_rad = rot_drag_total;
+  law_.torque0_mNmm = hand_torque_mNmm_;
+  if (first_free_ >= n) {
+    hand_force_mN_ = 0.0;
+    law_.force0_mN = 0.0;
+    law_.stiffness_mN_per_mm = 0.0;
+    return;
+  }
+  // Axial force on the clamp: the energy gradient on the outside nodes along the entry.
+  double force = 0.0;
+  for (std::size_t k = first_; k < first_free_; ++k) {
+    const std::size_t d = 3 * (k - first_);
+    force += grad_[d] * dir_.x + grad_[d + 1] * dir_.y + grad_[d + 2] * dir_.z;
+  }
+  hand_force_mN_ = force;
+  law_.force0_mN = force;
+  // Stiffness: Schur complement of the (factored) free block on a unit insertion.
+  const std::size_t dofs = 3 * (n - first_);
+  const std::size_t free0 = 3 * (first_free_ - first_);
+  std::fill(work_.begin(), work_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+  for (std::size_t k = first_; k < first_free_; ++k) {
+    const std::size_t d = 3 * (k - first_);
+    work_[d] = dir_.x;
+    work_[d + 1] = dir_.y;
+    work_[d + 2] = dir_.z;
+  }
+  std::fill(delta_.begin(), delta_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+  matrix_->multiply_add(work_.data(), delta_.data(), 0, dofs, 0, free0);  // K[:, p] d
+  double kpp = 0.0;
+  for (std::size_t i = 0; i < free0; ++i) kpp += work_[i] * delta_[i];
+  double coupling = 0.0;
+  for (std::size_t i = free0; i < dofs; ++i) work_[i] = delta_[i];
+  matrix_->solve(work_.data());
+  for (std::size_t i = free0; i < dofs; ++i) coupling += delta_[i] * work_[i];
+  const double k_with_drag = kpp - coupling;
+  law_.stiffness_mN_per_mm = std::max(0.0, k_with_drag - drag_total / dt_s);
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,245 @@
+// Analytic references for the elastic rod: Euler-Bernoulli cantilever, capstan friction,
+// torque transmission, steering a curved tip into each child of a Y, and the seed's contact
+// behaviours (slide along a wall met at an angle; stop against a dead end while the force
+// rises; pull back frees the tool).
+#include <cmath>
+#include <set>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+using testing::NoWall;
+
+ToolSpec uniform_tool(double length, double od, double ei, double gj, double spacing, double mu) {
+  ToolSpec spec;
+  spec.name = "rod";
+  spec.sections.push_back(ToolSection{length, od, ei, gj, 0.0});
+  spec.friction = mu;
+  spec.max_spacing_mm = spacing;
+  spec.tip_spacing_mm = spacing;
+  spec.drag_mN_s_per_mm2 = 0.0;
+  return spec;
+}
+
+RodSettings static_settings() {
+  RodSettings s;
+  s.newton_iterations = 30;
+  s.convergence_mm = 1e-8;
+  s.twist_iterations = 4;
+  s.min_drag_mN_s_per_mm2 = 1e-6;
+  s.buckling_seed_mm = 0.0;
+  return s;
+}
+
+// Inserts to `target` in steps of at most `speed` mm per step.
+void insert_to(Rod& rod, const WallModel& wall, double target, double per_step, double rotation = 0.0) {
+  double ins = rod.insertion_mm();
+  while (std::abs(target - ins) > 1e-12) {
+    ins += std::clamp(target - ins, -per_step, per_step);
+    rod.set_boundary(ins, rotation);
+    rod.step(1e-3, wall);
+  }
+}
+
+TEST(RodValidation, CantileverMatchesEulerBernoulli) {
+  const double L = 40.0;
+  const double ei = 10.0;  // N mm^2
+  for (const double spacing : {1.0, 0.5}) {
+    Rod rod(uniform_tool(60.0, 0.5, ei, 8.0, spacing, 0.0), static_settings());
+    NoWall wall;
+    rod.set_entry({0, 0, 0}, {0, 0, 1});
+    rod.set_boundary(L, 0.0);
+    const double P = 0.2;  // mN, small: linear regime
+    rod.set_node_load(rod.node_total() - 1, {P, 0, 0});
+    for (int i = 0; i < 10; ++i) rod.step(1e-3, wall);
+    const double expected = P * L * L * L / (3.0 * ei * 1000.0);
+    const glm::dvec3 tip = rod.tip().position_mm;
+    EXPECT_NEAR(tip.x / expected, 1.0, 0.03) << "spacing " << spacing << " tip.x " << tip.x;
+    EXPECT_NEAR(tip.z, L, 0.01);
+    // Slope at the tip: P L^2 / (2 EI).
+    const double slope = P * L * L / (2.0 * ei * 1000.0);
+    EXPECT_NEAR(rod.tip().direction.x / slope, 1.0, 0.03);
+    // The hand holds the lateral load without axial force; the moment is P L.
+    EXPECT_NEAR(rod.hand_force_mN(), 0.0, 1e-3);
+  }
+}
+
+TEST(RodValidation, FreeRodFeelsNoStiffness) {
+  Rod rod(uniform_tool(60.0, 0.5, 10.0, 8.0, 1.0, 0.0), static_settings());
+  NoWall wall;
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, 30.0, 0.5);
+  EXPECT_NEAR(rod.hand_force_mN(), 0.0, 0.05);  // only the (tiny) drag
+  EXPECT_NEAR(rod.force_law().stiffness_mN_per_mm, 0.0, 1.0);
+}
+
+struct CapstanCase {
+  double angle_deg;
+  double mu;
+};
+
+class Capstan : public ::testing::TestWithParam<CapstanCase> {};
+
+TEST_P(Capstan, PushForceRatioFollowsExpMuTheta) {
+  const double angle = GetParam().angle_deg * M_PI / 180.0;
+  const double mu = GetParam().mu;
+  const double R = 20.0;
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(R, angle, 2.0, 4.0), 0.25, 0);
+  wall.build();
+  RodSettings settings = static_settings();
+  settings.newton_iterations = 12;
+  Rod rod(uniform_tool(R * angle + 40.0, 0.4, 0.2, 0.15, 0.5, 0.0), settings);
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  const double start = R * angle + 1.0;  // tip 1 mm into the lead-out
+  insert_to(rod, wall, start, 0.25);
+  rod.set_friction(mu);
+  const double f_out = 100.0;  // mN, resisting at the tip
+  rod.set_node_load(rod.node_total() - 1, -testing::bend_exit_tangent(angle) * f_out);
+  // Push slowly so every contact slides forwards; average the hand force over the last part.
+  double sum = 0.0;
+  int count = 0;
+  for (int i = 0; i < 150; ++i) {
+    rod.set_boundary(start + 0.01 * (i + 1), 0.0);
+    rod.step(1e-3, wall);
+    if (i >= 100) {
+      sum += rod.hand_force_mN();
+      ++count;
+    }
+  }
+  const double ratio = sum / count / f_out;
+  const double expected = std::exp(mu * angle);
+  EXPECT_NEAR(ratio / expected, 1.0, 0.10) << "ratio " << ratio << " expected " << expected;
+}
+
+INSTANTIATE_TEST_SUITE_P(Bends, Capstan,
+                         ::testing::Values(CapstanCase{90.0, 0.2}, CapstanCase{180.0, 0.2},
+                                           CapstanCase{180.0, 0.4}, CapstanCase{90.0, 0.0}));
+
+// Angle of `v` about `axis` measured from `ref` (both roughly normal to axis).
+double angle_about(const glm::dvec3& ref, const glm::dvec3& v, const glm::dvec3& axis) {
+  return std::atan2(glm::dot(glm::cross(ref, v), axis), glm::dot(ref, v));
+}
+
+void check_torque_transmission(const WallModel& wall, double insertion) {
+  Rod rod(uniform_tool(insertion + 30.0, 0.36, 40.0, 30.0, 1.0, 0.0), static_settings());
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, insertion, 0.5);
+  const TipPose start = rod.tip();
+  double accumulated = 0.0;
+  glm::dvec3 previous = start.normal;
+  double rotation = 0.0;
+  for (int i = 1; i <= 72; ++i) {  // one full turn and a bit, 7.5 degrees per step
+    rotation = i * (7.5 * M_PI / 180.0);
+    rod.set_boundary(insertion, rotation);
+    for (int s = 0; s < 3; ++s) rod.step(1e-3, wall);
+    const TipPose tip = rod.tip();
+    accumulated += angle_about(previous, tip.normal, tip.direction);
+    previous = tip.normal;
+    EXPECT_NEAR(accumulated, rotation, 2.0 * M_PI / 180.0) << "at step " << i;
+  }
+  EXPECT_NEAR(accumulated, 2.0 * M_PI * 1.5, 2.0 * M_PI / 180.0);
+  EXPECT_NEAR(rod.hand_torque_mNmm(), 0.0, 0.5);
+}
+
+TEST(RodValidation, TorqueTransmissionStraightTube) {
+  const TubeNetworkWall wall = testing::straight_tube(0.5, -5.0, 200.0);
+  check_torque_transmission(wall, 120.0);
+}
+
+TEST(RodValidation, TorqueTransmissionPlanarBend) {
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(25.0, M_PI / 2.0, 5.0, 60.0), 0.5, 0);
+  wall.build();
+  check_torque_transmission(wall, 80.0);
+}
+
+ToolSpec angled_tip_wire() {
+  ToolSpec spec;
+  spec.name = "angled";
+  spec.sections.push_back(ToolSection{150.0, 0.36, 20.0, 15.0, 0.0});
+  spec.sections.push_back(ToolSection{12.0, 0.36, 0.5, 0.4, 0.0});
+  spec.sections.push_back(ToolSection{4.0, 0.36, 0.5, 0.4, 50.0});
+  spec.friction = 0.05;
+  spec.tip_spacing_mm = 0.5;
+  spec.max_spacing_mm = 2.0;
+  return spec;
+}
+
+TEST(RodValidation, SteeringAngledTipEntersEachChildOfAY) {
+  const TubeNetworkWall wall = testing::y_bifurcation();
+  std::set<std::int32_t> reached;
+  for (int i = 0; i < 8; ++i) {
+    const double rotation = i * (M_PI / 4.0);
+    Rod rod(angled_tip_wire());
+    rod.set_entry({0, 0, -42.0}, {0, 0, 1});
+    insert_to(rod, wall, 25.0, 0.2);               // tip in the parent
+    for (int s = 1; s <= 40; ++s) {                 // turn the tip towards one side
+      rod.set_boundary(25.0, rotation * s / 40.0);
+      rod.step(1e-3, wall);
+    }
+    insert_to(rod, wall, 62.0, 0.1, rotation);     // through the junction
+    std::int32_t segment = -1;
+    const double d = wall.signed_distance(rod.tip().position_mm, &segment);
+    EXPECT_GT(d, 0.0);
+    if (rod.tip().position_mm.z > 10.0) reached.insert(segment);
+    // The tip bends towards +x at rotation 0 and towards -x at half a turn.
+    if (i == 0) {
+      EXPECT_EQ(segment, 1);
+    }
+    if (i == 4) {
+      EXPECT_EQ(segment, 2);
+    }
+  }
+  EXPECT_EQ(reached.count(1), 1u);
+  EXPECT_EQ(reached.count(2), 1u);
+}
+
+TEST(RodBehaviour, PushIntoDeadEndStopsToolAndForceRisesThenPullBackFrees) {
+  const TubeNetworkWall wall = testing::straight_tube(0.6, -5.0, 30.0);  // closed end at z = 30.6
+  Rod rod(uniform_tool(120.0, 0.36, 20.0, 15.0, 1.0, 0.1));
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, 28.0, 0.1);
+  EXPECT_NEAR(rod.hand_force_mN(), 0.0, 5.0);
+  const double free_force = rod.hand_force_mN();
+  double peak = free_force;
+  for (double ins = 28.5; ins <= 33.0; ins += 0.5) {
+    insert_to(rod, wall, ins, 0.05);
+    const glm::dvec3 tip = rod.tip().position_mm;
+    EXPECT_LT(tip.z, 30.6 - 0.18 + 0.02) << "tip passed the dead end at insertion " << ins;
+    peak = std::max(peak, rod.hand_force_mN());
+  }
+  // The tool is stopped by the wall: the force at the hand has risen far above sliding.
+  EXPECT_GT(rod.hand_force_mN(), 100.0);
+  EXPECT_GT(peak, 10.0 * std::max(1.0, free_force));
+  insert_to(rod, wall, 20.0, 0.05);
+  EXPECT_LT(std::abs(rod.hand_force_mN()), 5.0);
+  EXPECT_LT(rod.tip().position_mm.z, 21.0);
+}
+
+TEST(RodBehaviour, TipMeetingWallAtAnAngleSlidesAlongIt) {
+  // A tube with a 50 degree kink: the straight tool meets the far wall at an angle and follows it.
+  const TubeNetworkWall wall({Tube{{0, 0, -5}, {0, 0, 20}, 1.0, 1.0, 0},
+                              Tube{{0, 0, 20}, {20 * std::sin(0.87), 0, 20 + 20 * std::cos(0.87)}, 1.0, 1.0, 1}});
+  ToolSpec spec = uniform_tool(150.0, 0.36, 2.0, 1.5, 1.0, 0.1);
+  spec.sections.insert(spec.sections.begin(), ToolSection{100.0, 0.36, 20.0, 15.0, 0.0});
+  spec.sections.back().length_mm = 30.0;
+  spec.tip_spacing_mm = 0.5;
+  Rod rod(spec);
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, 36.0, 0.1);
+  std::int32_t segment = -1;
+  EXPECT_GT(wall.signed_distance(rod.tip().position_mm, &segment), 0.0);
+  EXPECT_EQ(segment, 1);
+  EXPECT_GT(rod.tip().position_mm.x, 8.0);
+  EXPECT_LT(rod.hand_force_mN(), 50.0);
+}
+
+}  // namespace
+}  // namespace cathbox::tool
