@@ -19,6 +19,7 @@
 #include "collision/obb_tree.hpp"
 #include "mesh_factory.hpp"
 #include "peers.hpp"
+#include "vessel/vessel_mesher.hpp"
 
 namespace cb = cathbox::collision;
 
@@ -106,7 +107,7 @@ void register_case(Case& c) {
       auto b = cb::ObbTree::build(c.mesh);
       benchmark::DoNotOptimize(b.tree);
     }
-  })->Unit(benchmark::kMillisecond)->Iterations(3)->Repetitions(7);
+  })->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5);
 
   benchmark::RegisterBenchmark((n + "closest/ours").c_str(), [&c](benchmark::State& state) {
     for (auto _ : state)
@@ -192,9 +193,19 @@ class MedianReporter : public benchmark::ConsoleReporter {
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   std::vector<std::unique_ptr<Case>> cases;
-  // Until the bundled neuro case lands: knot-shaped vessel tubes at two subdivision levels.
-  cases.push_back(make_case("tube_level2", cb::testing::make_knot_tube(782, 16)));
-  cases.push_back(make_case("tube_level3", cb::testing::make_knot_tube(1563, 32)));
+  // The largest bundled case at subdivision levels 2 and 3, and a 100k-triangle knot-shaped
+  // vessel tube (the build-time reference size).
+  for (int level : {2, 3}) {
+    cathbox::vessel::MeshOptions options;
+    options.subdivision_level = level;
+    auto loaded = cathbox::vessel::load_surface_mesh(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm", options);
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "bench_collision: %s\n", loaded.error.c_str());
+      return 1;
+    }
+    cases.push_back(make_case("neuro_L" + std::to_string(level), std::move(loaded.mesh)));
+  }
+  cases.push_back(make_case("tube_100k", cb::testing::make_knot_tube(1563, 32)));
   for (auto& c : cases) check_agreement(*c);
   for (auto& c : cases) register_case(*c);
   MedianReporter reporter;
@@ -205,7 +216,7 @@ int main(int argc, char** argv) {
     return it == reporter.medians.end() ? std::nan("") : it->second;
   };
   std::printf("\nSide by side (medians; ns per closest-point query over %d points within 2 mm of the wall)\n", kPoints);
-  std::printf("%-12s %9s %9s %9s %9s %9s %11s %9s %9s %9s %8s %7s %11s %7s\n", "mesh", "triangles", "build_ms",
+  std::printf("%-10s %9s %9s %9s %9s %9s %11s %9s %9s %9s %8s %7s %11s %7s\n", "mesh", "triangles", "build_ms",
               "ours_ns", "embree_ns", "fcl_ns", "ours/embree", "fcl/ours", "cold_ns", "coh_ns", "speedup",
               "hits", "step350_us", "hits");
   for (const auto& c : cases) {
@@ -219,7 +230,7 @@ int main(int argc, char** argv) {
     auto hit_rate = [&](const std::string& key) {
       return reporter.hit_rates.count(key) ? 100.0 * reporter.hit_rates[key] : std::nan("");
     };
-    std::printf("%-12s %9zu %9.2f %9.0f %9.0f %9.0f %11.2f %9.1f %9.0f %9.0f %8.2fx %6.1f%% %11.1f %6.1f%%\n",
+    std::printf("%-10s %9zu %9.2f %9.0f %9.0f %9.0f %11.2f %9.1f %9.0f %9.0f %8.2fx %6.1f%% %11.1f %6.1f%%\n",
                 c->name.c_str(), c->mesh.triangle_count(), ms(n + "build/ours"), ours, embree, fcl, ours / embree,
                 fcl / ours, cold, coherent, cold / coherent, hit_rate(n + "walk/coherent"), step_us,
                 hit_rate(n + "step/sphere_contacts"));

@@ -311,15 +311,10 @@ class HintCache {
       const detail::TriangleBlock* block;
       int lane;
     };
-    Cached cached[kCap];
+    Cached cached[kCap];  // a max-heap by bound once full
     int count = 0;
-    int worst = 0;        // the largest cached bound, once full
     float rejected = kInfF;  // smallest bound of anything left out
-    auto recompute_worst = [&]() {
-      worst = 0;
-      for (int k = 1; k < count; ++k)
-        if (cached[k].lb > cached[worst].lb) worst = k;
-    };
+    auto farther = [](const Cached& x, const Cached& y) { return x.lb < y.lb; };
     // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
     // cache's worst triangle, nothing left can enter.
     constexpr int kPendingBoxes = 256;
@@ -336,7 +331,7 @@ class HintCache {
         best_lb = nearer ? pending_lb[i] : best_lb;
         best = nearer ? i : best;
       }
-      const float cap = count == kCap ? cached[worst].lb : limit;
+      const float cap = count == kCap ? cached[0].lb : limit;
       if (!(best_lb < cap) || size + 4 > kPendingBoxes) {
         if (best_lb < limit) rejected = std::min(rejected, best_lb);
         break;
@@ -354,11 +349,12 @@ class HintCache {
           if (b.face[i] < 0 || !(v[i] < limit)) continue;
           if (count < kCap) {
             cached[count++] = {v[i], &b, i};
-            if (count == kCap) recompute_worst();
-          } else if (v[i] < cached[worst].lb) {
-            rejected = std::min(rejected, cached[worst].lb);
-            cached[worst] = {v[i], &b, i};
-            recompute_worst();
+            if (count == kCap) std::make_heap(cached, cached + count, farther);
+          } else if (v[i] < cached[0].lb) {
+            rejected = std::min(rejected, cached[0].lb);
+            std::pop_heap(cached, cached + count, farther);
+            cached[count - 1] = {v[i], &b, i};
+            std::push_heap(cached, cached + count, farther);
           } else {
             rejected = std::min(rejected, v[i]);
           }

@@ -17,7 +17,7 @@ class HintCache;
 
 class QueryHint {
  public:
-  static constexpr int kCapacity = 64;  // triangles
+  static constexpr int kCapacity = 128;  // triangles
   static constexpr int kBlocks = kCapacity / 4;
   static constexpr int kBlockBytes = 320;  // one 4-wide triangle block of the tree
 
