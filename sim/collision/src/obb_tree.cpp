@@ -63,11 +63,10 @@ CATHBOX_COLLISION_INLINE void sort4(v4f values, float (&v)[4], int (&order)[4]) 
   }
 }
 
-// Outward pseudo-normal of a feature of lane `lane` of block b: the face normal, the normalised
+// Outward pseudo-normal of a feature of a mesh triangle: the face normal, the normalised
 // sum of the two face normals at an edge, the angle-weighted vertex normal.
-glm::dvec3 pseudo_normal(const TreeData& d, const detail::TriangleBlock& b, int lane,
-                         detail::TriangleFeature feature) {
-  const auto f = static_cast<std::size_t>(b.face[lane]);
+glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleFeature feature) {
+  const auto f = static_cast<std::size_t>(face);
   switch (feature.kind) {
     case FeatureKind::kFace:
       return d.face_normals[f];
@@ -109,8 +108,6 @@ struct Nearest {
       best_point = q;
       best_region = region;
       face = b.face[lane];
-      best_block = &b;
-      best_lane = lane;
       exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
       thresh = std::min(thresh, exact_thresh);
     }
@@ -170,8 +167,6 @@ struct Nearest {
   float thresh;        // also from the smallest float upper bound
   float upper_sq = kInfF;
   std::int32_t face = -1;
-  const detail::TriangleBlock* best_block = nullptr;
-  int best_lane = 0;
   detail::PointOnTriangle best_point;
   vessel::FaceRegion best_region;
   Pending pending[kPending];
@@ -440,8 +435,6 @@ struct Candidate {
   std::int32_t face;
   detail::TriangleFeature feature;
   std::uint64_t key;
-  const detail::TriangleBlock* block;
-  int lane;
   vessel::FaceRegion region;
 };
 
@@ -534,7 +527,7 @@ class ContactCollector {
     out.face = c.face;
     out.region = c.region;
     out.segment_t = c.segment_t;
-    const glm::dvec3 n = pseudo_normal(d_, *c.block, c.lane, c.feature);
+    const glm::dvec3 n = pseudo_normal(d_, c.face, c.feature);
     const glm::dvec3 v = c.tool - c.wall;
     const double dist = std::sqrt(c.distance_sq);
     if (dist > 1e-12 * (d_.scale_mm + 1.0)) {
@@ -580,7 +573,7 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i, regions ? regions[i] : b.region});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, regions ? regions[i] : b.region});
     }
   }
 };
@@ -597,7 +590,7 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, &blk, i, regions ? regions[i] : blk.region});
+               q.on_triangle.feature, 0, regions ? regions[i] : blk.region});
     }
   }
 };
@@ -633,12 +626,12 @@ namespace {
 
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
-  const detail::TriangleBlock& b = *s.best_block;
+  // Only values are kept from the search: a refill may have rewritten the hint's blocks since.
   const detail::PointOnTriangle& q = s.best_point;
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
-  out.normal = pseudo_normal(s.d, b, s.best_lane, q.feature);
+  out.normal = pseudo_normal(s.d, s.face, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
   out.region = s.best_region;
