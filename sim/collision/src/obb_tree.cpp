@@ -363,6 +363,11 @@ class HintCache {
       for (int i = 0; i < 4; ++i) {
         const std::int32_t slot = n.child[i];
         if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
+        if (detail::is_leaf(slot)) {
+          prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+        } else {
+          prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+        }
         pending_lb[size] = v[i];
         pending_slot[size++] = slot;
       }
