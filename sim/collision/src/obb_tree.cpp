@@ -108,6 +108,9 @@ struct Nearest {
       best_point = q;
       best_region = region;
       face = b.face[lane];
+      // The block's own unit normal serves a face-interior point (no lookup); slivers store 0.
+      best_face_normal = glm::dvec3{b.row[detail::kRowN][lane], b.row[detail::kRowN + 1][lane],
+                                    b.row[detail::kRowN + 2][lane]};
       exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
       thresh = std::min(thresh, exact_thresh);
     }
@@ -169,6 +172,7 @@ struct Nearest {
   std::int32_t face = -1;
   detail::PointOnTriangle best_point;
   vessel::FaceRegion best_region;
+  glm::dvec3 best_face_normal{0.0};
   Pending pending[kPending];
   int pending_count = 0;
 };
@@ -636,7 +640,9 @@ std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
-  out.normal = pseudo_normal(s.d, s.face, q.feature);
+  const double n_len = glm::length(s.best_face_normal);
+  out.normal = q.feature.kind == FeatureKind::kFace && n_len > 0.5 ? s.best_face_normal / n_len
+                                                                   : pseudo_normal(s.d, s.face, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
   out.region = s.best_region;
