@@ -91,9 +91,12 @@ glm::dvec3 dominant_axis(const double cov[6]) {
   glm::dvec3 v{1.0, 0.0, 0.0};
   if (cov[1] > cov[0] && cov[1] >= cov[2]) v = {0.0, 1.0, 0.0};
   if (cov[2] > cov[0] && cov[2] > cov[1]) v = {0.0, 0.0, 1.0};
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 w{cov[0] * v.x + cov[3] * v.y + cov[4] * v.z, cov[3] * v.x + cov[1] * v.y + cov[5] * v.z,
-                       cov[4] * v.x + cov[5] * v.y + cov[2] * v.z};
+  auto apply = [&](const glm::dvec3& x) {
+    return glm::dvec3{cov[0] * x.x + cov[3] * x.y + cov[4] * x.z, cov[3] * x.x + cov[1] * x.y + cov[5] * x.z,
+                      cov[4] * x.x + cov[5] * x.y + cov[2] * x.z};
+  };
+  for (int round = 0; round < 3; ++round) {  // three products per normalisation
+    const glm::dvec3 w = apply(apply(apply(v)));
     const double len = glm::length(w);
     if (!(len > 0.0) || !std::isfinite(len)) break;
     v = w / len;
