@@ -40,8 +40,9 @@ bool BandedCholesky::factor(std::size_t first) {
           sum = 1e-12;
         }
         row_i[0] = std::sqrt(sum);
+        inv_diag_[i] = 1.0 / row_i[0];
       } else {
-        row_i[i - j] = sum / row_j[0];
+        row_i[i - j] = sum * inv_diag_[j];
       }
     }
   }
@@ -54,13 +55,13 @@ void BandedCholesky::solve(double* b) const {
     const std::size_t j0 = std::max(first_, i > band_ ? i - band_ : 0);
     double sum = b[i];
     for (std::size_t j = j0; j < i; ++j) sum -= a_[i * w + (i - j)] * b[j];
-    b[i] = sum / a_[i * w];
+    b[i] = sum * inv_diag_[i];
   }
   for (std::size_t ii = n_; ii-- > first_;) {
     double sum = b[ii];
     const std::size_t j1 = std::min(n_, ii + band_ + 1);
     for (std::size_t j = ii + 1; j < j1; ++j) sum -= a_[j * w + (j - ii)] * b[j];
-    b[ii] = sum / a_[ii * w];
+    b[ii] = sum * inv_diag_[ii];
   }
 }
 

@@ -2,6 +2,7 @@
 // A symmetric positive definite band matrix (lower half stored) with an in-place Cholesky
 // factorisation restricted to a trailing block [first, n): the rod's free unknowns follow its
 // prescribed ones, so one assembly serves the solve and the force law's Schur complement.
+#include <algorithm>
 #include <cstddef>
 #include <vector>
 
@@ -11,6 +12,8 @@ class BandedCholesky {
  public:
   BandedCholesky(std::size_t max_n, std::size_t half_band) : band_(half_band) {
     a_.assign(max_n * (half_band + 1), 0.0);
+    saved_.reserve(a_.size());
+    inv_diag_.assign(max_n, 0.0);
   }
 
   void reset(std::size_t n);
@@ -32,6 +35,10 @@ class BandedCholesky {
   void multiply_add(const double* x, double* y, std::size_t row_first, std::size_t row_last,
                     std::size_t col_first, std::size_t col_last) const;
 
+  // Keeps a copy of the assembled matrix / puts it back (to amend it after a factorisation).
+  void save() { saved_.assign(a_.begin(), a_.begin() + static_cast<std::ptrdiff_t>(n_ * (band_ + 1))); }
+  void restore() { std::copy(saved_.begin(), saved_.end(), a_.begin()); }
+
   // Factors the block [first, n) in place; non-positive pivots are clamped (returns false then).
   bool factor(std::size_t first);
   // Solves the factored block for b (entries [first, n)), in place.
@@ -45,6 +52,8 @@ class BandedCholesky {
   std::size_t n_ = 0;
   std::size_t first_ = 0;
   std::vector<double> a_;
+  std::vector<double> saved_;
+  std::vector<double> inv_diag_;  // 1 / L(i, i) of the factored block
 };
 
 }  // namespace cathbox::tool

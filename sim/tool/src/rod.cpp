@@ -37,12 +37,34 @@ glm::dvec3 perpendicular_unit(const glm::dvec3& t) {
   return glm::normalize(a - t * glm::dot(a, t));
 }
 
+struct BlockAdder {
+  BandedCholesky& m;
+  std::size_t first;
+  bool enabled;
+  void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
+    if (!enabled) return;
+    if (a < b) {
+      (*this)(b, a, glm::transpose(block));
+      return;
+    }
+    const std::size_t ra = 3 * (a - first);
+    const std::size_t cb = 3 * (b - first);
+    for (std::size_t r = 0; r < 3; ++r) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        if (a == b && c > r) continue;
+        m.add(ra + r, cb + c, block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
+      }
+    }
+  }
+};
+
 double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
 
 }  // namespace
 
 struct Rod::NodeContact {
   bool has_plane = false;
+  bool active = false;  // held on its plane in this step's solve (active set)
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0};
   std::int32_t segment = -1;
@@ -126,6 +148,7 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   delta_.assign(3 * n, 0.0);
   work_.assign(3 * n, 0.0);
   friction_limit_.assign(n, 0.0);
+  joined_.assign(n, 0);
   tw_diag_.assign(n, 0.0);
   tw_off_.assign(n, 0.0);
   tw_rhs_.assign(n, 0.0);
@@ -232,7 +255,13 @@ void Rod::advect(double delta_mm) {
     if (s >= from_tip_[first_]) {
       x_pred_[k] = entry_ + dir_ * (old_insertion - s);
     } else if (s <= 0.0) {
-      x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      // Ahead of the tip: along the leader (a wire beyond this catheter) or straight on.
+      const double leader_station = leader_ != nullptr ? leader_insertion_mm_ - (old_insertion - s) : -1.0;
+      if (leader_ != nullptr && leader_station >= 0.0) {
+        x_pred_[k] = leader_->point_at_from_tip(leader_station);
+      } else {
+        x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      }
     } else {
       while (j + 2 < n && from_tip_[j + 1] > s) ++j;
       while (j > first_ && from_tip_[j] < s) --j;
@@ -241,6 +270,25 @@ void Rod::advect(double delta_mm) {
     }
   }
   for (std::size_t k = new_kp + 1; k < n; ++k) x_[k] = x_pred_[k];
+}
+
+void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference) {
+  const double len = glm::length(direction);
+  if (!(len > 1e-12) || !std::isfinite(len)) return;
+  entry_ = point_mm;
+  dir_ = direction / len;
+  const glm::dvec3 r = reference - dir_ * glm::dot(reference, dir_);
+  const double rl = glm::length(r);
+  entry_d1_ = rl > 1e-9 ? r / rl : perpendicular_unit(dir_);
+}
+
+glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {
+  const std::size_t n = x_.size();
+  if (from_tip_mm >= from_tip_[first_]) return entry_ + dir_ * (insertion_mm_ - from_tip_mm);
+  if (from_tip_mm <= 0.0) return x_[n - 1];
+  const std::size_t k = std::clamp(station_at(from_tip_, from_tip_mm), first_, n - 2);
+  const double u = std::clamp((from_tip_[k] - from_tip_mm) / rest_[k], 0.0, 1.0);
+  return x_[k] + (x_[k + 1] - x_[k]) * u;
 }
 
 glm::dvec3 Rod::point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const {
@@ -263,8 +311,9 @@ TipPose Rod::tip() const {
   return p;
 }
 
-void Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
+bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
   const std::size_t n = x_.size();
+  bool active_changed = false;
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& c = node_contacts_[k];
     const double moved = glm::length(x_[k] - c.query_pos);
@@ -279,6 +328,7 @@ void Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     probe.depth_mm = insertion_mm_ - from_tip_[k];
     WallContact wc;
     c.query_pos = x_[k];
+    active_changed = active_changed || c.active;
     if (wall.probe(probe, c.hint, wc) && std::isfinite(wc.distance_mm)) {
       c.clearance = std::max(0.0, wc.distance_mm - radius_[k]);
       c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
@@ -295,8 +345,10 @@ void Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.twist_anchor = theta_[std::min(k, n - 2)];
     } else if (!c.has_plane) {
       c.anchored = false;
+      c.active = false;
     }
   }
+  return active_changed;
 }
 
 void Rod::step(double dt_s, const WallModel& wall) {
@@ -304,7 +356,9 @@ void Rod::step(double dt_s, const WallModel& wall) {
   const std::size_t n = x_.size();
   const std::size_t old_first = first_;
   for (std::size_t k = std::min(old_first, first_); k < n; ++k) x_start_[k] = x_[k];
-  advect(insertion_mm_ - stepped_insertion_mm_);
+  const double advance = std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
+  material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+  advect(advance);
   stepped_insertion_mm_ = insertion_mm_;
   update_window();
   for (std::size_t k = first_; k < old_first; ++k) x_start_[k] = x_[k];
@@ -316,9 +370,45 @@ void Rod::step(double dt_s, const WallModel& wall) {
     const std::size_t dofs = 3 * (n - first_);
     const std::size_t free0 = 3 * (first_free_ - first_);
     const int iterations = std::max(1, settings_.newton_iterations);
+    // Active set: nodes touching now or at the end of the last step are held on their plane.
+    for (std::size_t k = first_free_; k < n; ++k) {
+      NodeContact& nc = node_contacts_[k];
+      nc.active = nc.has_plane && (nc.normal_force > 0.0 || plane_gap(k) > 0.0);
+    }
+    int activations = 0;
+    // Newton with a lazily refreshed Hessian: it is assembled and factored again only when the
+    // active set or an active contact plane changed, or a step failed to lower the energy;
+    // otherwise only the gradient is rebuilt (chord iterations).
+    bool refactor = true;
+    bool rejoin = false;
     for (int it = 0; it < iterations; ++it) {
-      assemble(dt_s);
-      matrix_->factor(free0);
+      if (rejoin) {
+        // Amend the saved assembly with the wall terms of the nodes that joined.
+        matrix_->restore();
+        const BlockAdder add{*matrix_, first_, true};
+        const double kc = settings_.contact_stiffness_mN_per_mm;
+        for (std::size_t k = first_free_; k < n; ++k) {
+          if (!joined_[k]) continue;
+          const NodeContact& nc = node_contacts_[k];
+          const double phi = plane_gap(k);
+          add(k, k, kc * glm::outerProduct(nc.normal, nc.normal));
+          const std::size_t d = 3 * (k - first_);
+          grad_[d] += nc.normal.x * kc * phi;
+          grad_[d + 1] += nc.normal.y * kc * phi;
+          grad_[d + 2] += nc.normal.z * kc * phi;
+          energy_ += 0.5 * kc * phi * phi;
+          joined_[k] = 0;
+        }
+        rejoin = false;
+      } else {
+        assemble(dt_s, refactor);
+      }
+      if (refactor) {
+        matrix_->save();
+        matrix_->factor(free0);
+      }
+      const bool fresh = refactor;
+      refactor = !settings_.reuse_hessian;
       for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
       matrix_->solve(delta_.data());
       double largest = 0.0;
@@ -328,9 +418,28 @@ void Rod::step(double dt_s, const WallModel& wall) {
         largest = std::max(largest, m);
       }
       if (!std::isfinite(largest)) break;  // keep the previous positions; never propagate NaN
+      // Nodes off the wall that the step would carry into it join the active set; solve again.
+      bool joined = false;
+      for (std::size_t k = first_free_; k < n && activations < 3; ++k) {
+        NodeContact& nc = node_contacts_[k];
+        if (!nc.has_plane || nc.active) continue;
+        const std::size_t d = 3 * (k - first_);
+        const double into = nc.normal.x * delta_[d] + nc.normal.y * delta_[d + 1] + nc.normal.z * delta_[d + 2];
+        if (plane_gap(k) + into > 0.0) {
+          nc.active = true;
+          joined = true;
+          joined_[k] = 1;
+        }
+      }
+      if (joined) {
+        ++activations;
+        refactor = true;
+        rejoin = true;
+        continue;
+      }
       double scale = largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / largest : 1.0;
       // Backtracking line search on the step energy (contacts and friction are non-smooth).
-      const double e0 = energy(dt_s);
+      const double e0 = energy_;
       double slope = 0.0;
       for (std::size_t i = free0; i < dofs; ++i) slope += grad_[i] * delta_[i];
       for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];
@@ -339,19 +448,31 @@ void Rod::step(double dt_s, const WallModel& wall) {
           const std::size_t d = 3 * (k - first_);
           x_[k] = x_pred_[k] + glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) * scale;
         }
-        if (tries >= 6 || slope >= 0.0 || energy(dt_s) <= e0 + 1e-4 * scale * slope) break;
+        // Small steps near convergence are taken as they are.
+        if (tries >= 6 || slope >= 0.0 || largest * scale < settings_.trust_step_mm ||
+            energy(dt_s) <= e0 + 1e-4 * scale * slope) {
+          break;
+        }
         scale *= 0.5;
+        if (!fresh) refactor = true;  // a stale Hessian gave a poor step
       }
-      refresh_contacts(wall, true);
+      // Nodes the wall would have to pull leave the active set.
+      for (std::size_t k = first_free_; k < n; ++k) {
+        NodeContact& nc = node_contacts_[k];
+        if (nc.active && plane_gap(k) < -1e-9) {
+          nc.active = false;
+          refactor = true;
+        }
+      }
+      if (refresh_contacts(wall, true)) refactor = true;
       last_iterations_ = it + 1;
       last_update_mm_ = largest * scale;
       if (largest * scale < settings_.convergence_mm) break;
     }
     refresh_contacts(wall, true);
     limit_penetration();
-    // Outputs from the final state: one more assembly, no solve.
-    assemble(dt_s);
-    matrix_->factor(free0);
+    // Outputs from the final state: the gradient there, with the last factored Hessian.
+    assemble(dt_s, false);
   } else {
     hand_force_mN_ = 0.0;
   }
@@ -361,26 +482,11 @@ void Rod::step(double dt_s, const WallModel& wall) {
   compute_force_law(dt_s);
 }
 
-namespace {
-struct BlockAdder {
-  BandedCholesky& m;
-  std::size_t first;
-  void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
-    if (a < b) {
-      (*this)(b, a, glm::transpose(block));
-      return;
-    }
-    const std::size_t ra = 3 * (a - first);
-    const std::size_t cb = 3 * (b - first);
-    for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t c = 0; c < 3; ++c) {
-        if (a == b && c > r) continue;
-        m.add(ra + r, cb + c, block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
-      }
-    }
-  }
-};
-}  // namespace
+
+double Rod::plane_gap(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  return glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+}
 
 Rod::BendTerm Rod::bend_term(std::size_t i) const {
   BendTerm bt;
@@ -397,12 +503,13 @@ Rod::BendTerm Rod::bend_term(std::size_t i) const {
   return bt;
 }
 
-void Rod::assemble(double dt_s) {
+void Rod::assemble(double dt_s, bool hessian) {
   const std::size_t n = x_.size();
   const std::size_t dofs = 3 * (n - first_);
-  matrix_->reset(dofs);
+  if (hessian) matrix_->reset(dofs);
   std::fill(grad_.begin(), grad_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
-  const BlockAdder add{*matrix_, first_};
+  energy_ = 0.0;
+  const BlockAdder add{*matrix_, first_, hessian};
   auto add_grad = [&](std::size_t k, const glm::dvec3& g) {
     const std::size_t d = 3 * (k - first_);
     grad_[d] += g.x;
@@ -419,6 +526,12 @@ void Rod::assemble(double dt_s) {
     const glm::dvec3 u = e / len;
     const double ks = ea / rest_[k];
     const glm::dvec3 f = u * (ks * (len - rest_[k]));
+    energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
+    if (!hessian) {
+      add_grad(k + 1, f);
+      add_grad(k, -f);
+      continue;
+    }
     add_grad(k + 1, f);
     add_grad(k, -f);
     const glm::dmat3 uu = glm::outerProduct(u, u);
@@ -441,21 +554,26 @@ void Rod::assemble(double dt_s) {
     const double w = bt.w;
     const glm::dmat3 ja = -(2.0 * skew(b) + glm::outerProduct(kb, b * (la / lb) + b)) / chi;
     const glm::dmat3 jb = (2.0 * skew(a) - glm::outerProduct(kb, a * (lb / la) + a)) / chi;
-    const glm::dmat3 j0 = -ja;
-    const glm::dmat3 j1 = ja - jb;
-    const glm::dmat3 j2 = jb;
-    add_grad(i - 1, w * (glm::transpose(j0) * r));
-    add_grad(i, w * (glm::transpose(j1) * r));
-    add_grad(i + 1, w * (glm::transpose(j2) * r));
-    const glm::dmat3 t0 = glm::transpose(j0) * w;
-    const glm::dmat3 t1 = glm::transpose(j1) * w;
-    const glm::dmat3 t2 = glm::transpose(j2) * w;
-    add(i - 1, i - 1, t0 * j0);
-    add(i, i, t1 * j1);
-    add(i + 1, i + 1, t2 * j2);
-    add(i, i - 1, t1 * j0);
-    add(i + 1, i - 1, t2 * j0);
-    add(i + 1, i, t2 * j1);
+    // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1; three products give every block of w J^T J.
+    const glm::dmat3 jat = glm::transpose(ja) * w;
+    const glm::dmat3 jbt = glm::transpose(jb) * w;
+    const glm::dvec3 ga = jat * r;
+    const glm::dvec3 gb = jbt * r;
+    add_grad(i - 1, -ga);
+    add_grad(i, ga - gb);
+    add_grad(i + 1, gb);
+    energy_ += 0.5 * w * glm::dot(r, r);
+    if (!hessian) continue;
+    const glm::dmat3 aa = jat * ja;
+    const glm::dmat3 ab = jat * jb;
+    const glm::dmat3 ba = glm::transpose(ab);
+    const glm::dmat3 bb = jbt * jb;
+    add(i - 1, i - 1, aa);
+    add(i, i, aa - ab - ba + bb);
+    add(i + 1, i + 1, bb);
+    add(i, i - 1, ba - aa);
+    add(i + 1, i - 1, -ba);
+    add(i + 1, i, ba - bb);
   }
 
   // Wall contacts, friction, drag and loads on the free nodes.
@@ -463,17 +581,19 @@ void Rod::assemble(double dt_s) {
   const double kt = kc * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
     const double c = drag_[k] / dt_s;
-    add_grad(k, (x_[k] - x_start_[k]) * c - load_[k]);
+    const glm::dvec3 moved = x_[k] - x_start_[k];
+    add_grad(k, moved * c - load_[k]);
     add(k, k, identity * c);
+    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
     friction_limit_[k] = 0.0;
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
-    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
-    if (phi <= 0.0) continue;
-    const double normal_force = kc * phi;
-    add_grad(k, nc.normal * normal_force);
+    const double phi = plane_gap(k);
+    if (!nc.active) continue;
     const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
+    add_grad(k, nc.normal * (kc * phi));
     add(k, k, kc * nn);
+    energy_ += 0.5 * kc * phi * phi;
     if (spec_.friction <= 0.0) continue;
     const glm::dmat3 pt = identity - nn;
     const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
@@ -485,7 +605,9 @@ void Rod::assemble(double dt_s) {
     if (kt * slip_len <= limit) {
       add_grad(k, slip * kt);
       add(k, k, kt * pt);
+      energy_ += 0.5 * kt * slip_len * slip_len;
     } else {
+      energy_ += limit * slip_len - 0.5 * limit * limit / kt;
       const glm::dvec3 s = slip / slip_len;
       add_grad(k, s * limit);
       add(k, k, (limit / slip_len) * (pt - glm::outerProduct(s, s)));
@@ -513,8 +635,9 @@ double Rod::energy(double dt_s) const {
     e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
     const NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
-    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
-    if (phi > 0.0) e += 0.5 * kc * phi * phi;
+    if (!nc.active) continue;
+    const double phi = plane_gap(k);
+    e += 0.5 * kc * phi * phi;
     const double limit = friction_limit_[k];
     if (limit <= 0.0) continue;
     const glm::dvec3 rel = x_[k] - nc.anchor;
@@ -539,11 +662,12 @@ void Rod::limit_penetration() {
   const std::size_t n = x_.size();
   compressed_ = false;
   for (std::size_t k = first_free_; k < n; ++k) {
-    const NodeContact& nc = node_contacts_[k];
+    NodeContact& nc = node_contacts_[k];
     if (nc.has_plane) {
       const double allowed = settings_.max_penetration_ratio * radius_[k];
-      const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+      const double phi = plane_gap(k);
       if (phi > allowed) x_[k] -= nc.normal * (phi - allowed);
+      if (phi > 0.0) nc.active = true;
     }
     if (glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
   }

@@ -30,6 +30,7 @@ ToolSpec uniform_tool(double length, double od, double ei, double gj, double spa
 RodSettings static_settings() {
   RodSettings s;
   s.newton_iterations = 30;
+  s.convergence_mm = 1e-8;
   s.twist_iterations = 4;
   s.min_drag_mN_s_per_mm2 = 1e-6;
   s.buckling_seed_mm = 0.0;

@@ -13,6 +13,7 @@
 // entry line, the last two of them clamp the rod (position, direction and rotation); further
 // proximal ones are not simulated, so nodes join and leave the simulation at the entry.
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -56,6 +57,19 @@ class Rod {
   void set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction);
   // Proximal boundary from the box; insertion is clamped to [0, max_insertion_mm()].
   void set_boundary(double insertion_mm, double rotation_rad);
+  // Coaxial use: the entry moves with the outer tool's tip without resetting the tool;
+  // `reference` is the director that rotation 0 points to (normal to direction).
+  void move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference);
+  // How far the material advances in the next step, when it differs from the insertion change
+  // (an inner tool whose entry rides on the outer tool's tip). NaN: the insertion change.
+  void set_material_advance(double advance_mm) { material_advance_mm_ = advance_mm; }
+  // A tool running ahead of this one (the inner wire beyond a catheter's tip): the predictor
+  // continues this tool's path along it. leader_insertion_mm is the leader's depth of its tip
+  // past this tool's entry. nullptr: straight ahead.
+  void set_leader(const Rod* leader, double leader_insertion_mm) {
+    leader_ = leader;
+    leader_insertion_mm_ = leader_insertion_mm;
+  }
   // One quasi-static step of dt seconds against the wall.
   void step(double dt_s, const WallModel& wall);
 
@@ -102,6 +116,12 @@ class Rod {
   // Point on the tool's centreline at a depth past the entry (clamped to the tool), its
   // tangent and the index of the node just proximal to it.
   [[nodiscard]] glm::dvec3 point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const;
+  // Present position of the material station `from_tip_mm` from the tip (on the entry line
+  // when it is outside the simulated window).
+  [[nodiscard]] glm::dvec3 point_at_from_tip(double from_tip_mm) const;
+  [[nodiscard]] const glm::dvec3& entry_point() const { return entry_; }
+  [[nodiscard]] const glm::dvec3& entry_direction() const { return dir_; }
+  [[nodiscard]] glm::dvec3 reference_director(std::size_t edge) const { return d1_[edge]; }
 
  private:
   struct NodeContact;
@@ -110,13 +130,15 @@ class Rod {
     double la = 0.0, lb = 0.0, chi = 0.0, w = 0.0;
   };
   [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  [[nodiscard]] double plane_gap(std::size_t k) const;  // penetration of node k into its plane
   void update_window();
   void advect(double delta_mm);
   void seed_buckling();
   void limit_penetration();
   void place_outside(std::size_t k);
-  void refresh_contacts(const WallModel& wall, bool only_moved);
-  void assemble(double dt_s);
+  // Re-probes the wall; true when the plane of a node in the active set was replaced.
+  bool refresh_contacts(const WallModel& wall, bool only_moved);
+  void assemble(double dt_s, bool hessian);
   [[nodiscard]] double energy(double dt_s) const;
   void update_frames();
   void solve_twist(double dt_s);
@@ -133,6 +155,9 @@ class Rod {
   double rotation_rad_ = 0.0;
   double stepped_insertion_mm_ = 0.0;  // insertion at the end of the last step
   bool compressed_ = false;            // the last step ended with a compressed edge
+  double material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+  const Rod* leader_ = nullptr;
+  double leader_insertion_mm_ = 0.0;
   std::size_t first_ = 0;       // first simulated node
   std::size_t first_free_ = 0;  // first node past the entry
 
@@ -146,6 +171,7 @@ class Rod {
 
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
+  std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
   std::unique_ptr<BandedCholesky> matrix_;
 
@@ -153,6 +179,7 @@ class Rod {
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
   ForceLaw law_;
+  double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
   double last_update_mm_ = 0.0;
 };

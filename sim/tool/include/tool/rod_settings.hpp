@@ -13,7 +13,9 @@ struct RodSettings {
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
   double max_node_step_mm = 0.2;           // largest position update of one iteration
   double min_drag_mN_s_per_mm2 = 1.0e-3;   // numerical floor of the viscous drag
-  double convergence_mm = 1.0e-7;
+  double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
+  bool reuse_hessian = false;              // chord iterations while the active set is unchanged
+  double trust_step_mm = 0.01;             // updates below this skip the line search
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain

@@ -1,0 +1,113 @@
+// `cathbox sim`: the tool simulator without GUI and without a box.
+//   cathbox sim run --case FILE --script ACTIONS --out LOG.csv [--every MS]
+// FILE is a case file (sim/tool/README.md) or an HCLM vessel (entry at the start of the root
+// segment, default guidewire). Bad input: one line with file:line on stderr, exit code 2.
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "cli/args.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+#include "tool/action_script.hpp"
+#include "tool/case_file.hpp"
+#include "tool/case_world.hpp"
+#include "tool/scenario_runner.hpp"
+#include "tool/simulator.hpp"
+
+namespace {
+
+using cathbox::cli::kExitBadInput;
+using cathbox::cli::kExitFailure;
+using cathbox::cli::kExitOk;
+
+constexpr const char* kUsage =
+    "usage: cathbox sim run --case FILE --script ACTIONS --out LOG.csv [--every MS]\n";
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+int run_run(std::span<const std::string> argv) {
+  cathbox::cli::Args args(argv, {"case", "script", "out", "every"}, {});
+  if (!args.ok() || !args.positionals().empty()) {
+    std::fprintf(stderr, "cathbox sim run: %s\n%s", args.ok() ? "unexpected argument" : args.error().c_str(), kUsage);
+    return kExitBadInput;
+  }
+  const auto case_path = args.value("case");
+  const auto script_path = args.value("script");
+  const auto out_path = args.value("out");
+  if (!case_path || !script_path || !out_path) {
+    std::fprintf(stderr, "cathbox sim run: --case, --script and --out are required\n%s", kUsage);
+    return kExitBadInput;
+  }
+  long long every = 1;
+  if (args.value("every")) {
+    const auto v = args.integer("every");
+    if (!v || *v < 1 || *v > 3600000) {
+      std::fprintf(stderr, "cathbox sim run: --every must be a whole number of milliseconds >= 1\n");
+      return kExitBadInput;
+    }
+    every = *v;
+  }
+  cathbox::tool::Case scenario_case;
+  if (ends_with(*case_path, ".hclm")) {
+    scenario_case.vessel_path = *case_path;
+    scenario_case.tools.push_back(cathbox::tool::default_guidewire());
+  } else {
+    cathbox::tool::CaseParse parsed = cathbox::tool::load_case(*case_path);
+    if (!parsed.value) {
+      std::fprintf(stderr, "%s\n", parsed.error.c_str());
+      return kExitBadInput;
+    }
+    scenario_case = std::move(*parsed.value);
+  }
+  const cathbox::tool::ScriptParse script = cathbox::tool::load_script(*script_path);
+  if (!script.value) {
+    std::fprintf(stderr, "%s\n", script.error.c_str());
+    return kExitBadInput;
+  }
+  cathbox::tool::WorldBuild world = cathbox::tool::build_world(scenario_case);
+  if (!world.world) {
+    std::fprintf(stderr, "%s\n", world.error.c_str());
+    return kExitBadInput;
+  }
+  cathbox::tool::Simulator sim(world.world->wall(), scenario_case.tools, world.world->entry());
+  std::ofstream out(*out_path, std::ios::binary | std::ios::trunc);
+  if (!out) {
+    std::fprintf(stderr, "%s: cannot open for writing\n", out_path->c_str());
+    return kExitBadInput;
+  }
+  cathbox::tool::ScenarioOptions options;
+  options.every_ms = every;
+  options.script_name = *script_path;
+  const cathbox::tool::ScenarioResult result = cathbox::tool::run_scenario(sim, *script.value, options, out);
+  if (!result.ok) {
+    std::fprintf(stderr, "%s\n", result.error.c_str());
+    out.close();
+    std::remove(out_path->c_str());
+    return kExitBadInput;
+  }
+  out.close();
+  if (!out) {
+    std::fprintf(stderr, "%s: write failed\n", out_path->c_str());
+    return kExitFailure;
+  }
+  std::printf("%llu steps, %llu rows -> %s\n", static_cast<unsigned long long>(result.steps),
+              static_cast<unsigned long long>(result.rows), out_path->c_str());
+  return kExitOk;
+}
+
+int run_sim(std::span<const std::string> args) {
+  if (args.empty() || args[0] == "help" || args[0] == "--help") {
+    std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
+    return args.empty() ? kExitBadInput : kExitOk;
+  }
+  if (args[0] == "run") return run_run(args.subspan(1));
+  std::fprintf(stderr, "cathbox sim: unknown subcommand '%s'\n%s", args[0].c_str(), kUsage);
+  return kExitBadInput;
+}
+
+const cathbox::cli::Registrar registrar({"sim", "run tool scenarios headless (sim run)", run_sim});
+
+}  // namespace

@@ -1,0 +1,63 @@
+#pragma once
+// A case: the vessel (an HCLM file, or analytic tubes), the entry point and direction, the
+// target (segment and position along it) and the tools. Text format, one statement a line
+// (documented in sim/tool/README.md):
+//
+//   cathbox-case 1
+//   name   carotid-demo
+//   vessel neuro.hclm                       # path relative to the case file
+//   tube   SEG  X0 Y0 Z0 R0  X1 Y1 Z1 R1     # analytic lumen piece instead of a vessel file
+//   entry  X Y Z  DX DY DZ                  # optional: default is the start of the root segment
+//   target SEG FRACTION                     # fraction of the segment's length, 0..1
+//   tool   NAME guidewire|catheter
+//     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG]   # proximal first
+//     friction MU
+//     inner_diameter MM                     # catheters
+//     inside NAME                           # coaxial: the catheter this tool runs in
+//     spacing MAX_MM TIP_MM [TIP_ZONE_MM]
+//     drag MN_S_PER_MM2
+//     axial_stiffness N
+//   end
+//
+// Bad input gives one line "file:line: message"; parsing never throws or crashes.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "tool/simulator.hpp"
+#include "tool/tool_spec.hpp"
+#include "tool/tube_network_wall.hpp"
+
+namespace cathbox::tool {
+
+struct CaseTarget {
+  std::int32_t segment = -1;
+  double fraction = 1.0;
+};
+
+struct Case {
+  std::string name;
+  std::string vessel_path;       // resolved against the case file's folder; empty: analytic tubes
+  std::vector<Tube> tubes;
+  std::optional<Entry> entry;
+  std::optional<CaseTarget> target;
+  std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
+};
+
+struct CaseParse {
+  std::optional<Case> value;
+  std::string error;  // "file:line: message" when value is empty
+};
+
+// Parses case text; `file_name` names the source in errors and anchors relative paths.
+[[nodiscard]] CaseParse parse_case(std::string_view text, std::string_view file_name);
+// Reads and parses a case file.
+[[nodiscard]] CaseParse load_case(const std::string& path);
+
+// A 0.014" guidewire with a soft distal tip and an angled tip, and a 5F catheter.
+[[nodiscard]] ToolSpec default_guidewire();
+[[nodiscard]] ToolSpec default_catheter();
+
+}  // namespace cathbox::tool

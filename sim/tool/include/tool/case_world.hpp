@@ -1,0 +1,32 @@
+#pragma once
+// What a case becomes at run time: the wall the tools touch and the entry. Analytic tubes give
+// a TubeNetworkWall; an HCLM vessel gives the vessel surface in the collision tree (when the
+// vessel and collision modules are built).
+#include <memory>
+#include <string>
+
+#include "tool/case_file.hpp"
+#include "tool/simulator.hpp"
+#include "tool/wall_model.hpp"
+
+namespace cathbox::tool {
+
+class CaseWorld {
+ public:
+  CaseWorld(std::unique_ptr<WallModel> wall, const Entry& entry) : wall_(std::move(wall)), entry_(entry) {}
+  [[nodiscard]] const WallModel& wall() const { return *wall_; }
+  [[nodiscard]] const Entry& entry() const { return entry_; }
+
+ private:
+  std::unique_ptr<WallModel> wall_;
+  Entry entry_;
+};
+
+struct WorldBuild {
+  std::unique_ptr<CaseWorld> world;
+  std::string error;  // one line naming the file and what went wrong
+};
+
+[[nodiscard]] WorldBuild build_world(const Case& c);
+
+}  // namespace cathbox::tool

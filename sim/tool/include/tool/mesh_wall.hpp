@@ -1,0 +1,29 @@
+#pragma once
+// The vessel wall as a triangle mesh, queried through the collision module's OBB tree with one
+// coherent hint per tool node. Not thread-safe (the hints are per simulator); the tree itself
+// is shared and immutable. Only built with the collision module (CATHBOX_TOOL_HAS_COLLISION).
+#include <cstdint>
+#include <vector>
+
+#include "collision/obb_tree.hpp"
+#include "tool/wall_model.hpp"
+
+namespace cathbox::tool {
+
+class MeshWall final : public WallModel {
+ public:
+  // Segment reported for wall points on a junction between segments.
+  static constexpr std::int32_t kJunction = -2;
+
+  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = 4096);
+
+  [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
+  [[nodiscard]] const collision::ObbTree& tree() const { return tree_; }
+
+ private:
+  collision::ObbTree tree_;
+  mutable std::vector<collision::QueryHint> hints_;
+  mutable std::uint32_t next_slot_ = 0;
+};
+
+}  // namespace cathbox::tool

@@ -1,0 +1,32 @@
+#pragma once
+// The headless runner behind `cathbox sim run`: plays an action script on a simulator in
+// virtual time (1 ms steps) and writes one CSV row per logged step:
+//   time_ms,tool,insertion_mm,rotation_rad,tip_x_mm,tip_y_mm,tip_z_mm,force_mN,torque_mNmm,contacts,tip_segment
+// for the selected tool. The same inputs give byte-identical output.
+#include <cstdint>
+#include <ostream>
+#include <string>
+#include <string_view>
+
+#include "tool/action_script.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::tool {
+
+struct ScenarioOptions {
+  std::int64_t every_ms = 1;        // log every this many steps
+  std::string script_name = "script";  // for file:line errors
+  std::int64_t settle_ms = 100;     // run on after the last motion ends (when there is no 'end')
+};
+
+struct ScenarioResult {
+  bool ok = false;
+  std::string error;  // "file:line: message" for a script that does not fit the case
+  std::uint64_t steps = 0;
+  std::uint64_t rows = 0;
+};
+
+[[nodiscard]] ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options,
+                                          std::ostream& csv);
+
+}  // namespace cathbox::tool

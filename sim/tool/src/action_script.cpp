@@ -1,0 +1,93 @@
+#include "tool/action_script.hpp"
+
+#include <cmath>
+
+#include "tool/text_lines.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+constexpr std::size_t kMaxScriptBytes = 8u << 20;
+constexpr std::size_t kMaxActions = 200000;
+constexpr double kMaxTime_ms = 3.6e6;  // one hour of virtual time
+}  // namespace
+
+ScriptParse parse_script(std::string_view text, std::string_view file_name) {
+  ScriptParse out;
+  Script script;
+  TextLines lines(text);
+  std::vector<std::string_view> w;
+  std::int64_t last_time = 0;
+  bool ended = false;
+  auto fail = [&](const std::string& message) {
+    out.error = located(file_name, lines.line(), message);
+    return out;
+  };
+  while (lines.next(w)) {
+    if (ended) return fail("action after 'end'");
+    if (script.actions.size() >= kMaxActions) return fail("too many actions (at most 200000)");
+    const std::optional<double> t = parse_number(w[0]);
+    if (!t || *t < 0.0 || *t > kMaxTime_ms || *t != std::floor(*t)) {
+      return fail("time '" + std::string(w[0]) + "' must be a whole number of milliseconds in [0, 3600000]");
+    }
+    Action a;
+    a.time_ms = static_cast<std::int64_t>(*t);
+    a.line = lines.line();
+    if (a.time_ms < last_time) return fail("time " + std::to_string(a.time_ms) + " ms is before the previous action");
+    last_time = a.time_ms;
+    if (w.size() < 2) return fail("missing verb after the time");
+    const std::string_view verb = w[1];
+    if (verb == "select") {
+      if (w.size() != 3) return fail("select: expected one tool name");
+      a.kind = ActionKind::kSelect;
+      a.tool = std::string(w[2]);
+    } else if (verb == "end") {
+      if (w.size() != 2) return fail("end: takes no arguments");
+      a.kind = ActionKind::kEnd;
+      ended = true;
+    } else {
+      const bool insert = verb == "insert_to" || verb == "insert_by";
+      const bool rotate = verb == "rotate_to" || verb == "rotate_by";
+      if (!insert && !rotate) {
+        return fail("unknown verb '" + std::string(verb) + "' (known: select insert_to insert_by rotate_to rotate_by end)");
+      }
+      a.kind = verb == "insert_to" ? ActionKind::kInsertTo
+               : verb == "insert_by" ? ActionKind::kInsertBy
+               : verb == "rotate_to" ? ActionKind::kRotateTo
+                                     : ActionKind::kRotateBy;
+      if (w.size() != 3 && w.size() != 5) return fail(std::string(verb) + ": expected VALUE [at SPEED]");
+      const std::optional<double> v = parse_number(w[2]);
+      if (!v) return fail(std::string(verb) + ": '" + std::string(w[2]) + "' is not a finite number");
+      const double limit = insert ? 4000.0 : 36000.0;
+      if (std::abs(*v) > limit || (a.kind == ActionKind::kInsertTo && *v < 0.0)) {
+        return fail(std::string(verb) + ": value out of range");
+      }
+      a.value = *v;
+      a.speed = insert ? kDefaultInsertSpeed_mm_s : kDefaultRotateSpeed_deg_s;
+      if (w.size() == 5) {
+        if (w[3] != "at") return fail(std::string(verb) + ": expected 'at SPEED', got '" + std::string(w[3]) + "'");
+        const std::optional<double> s = parse_number(w[4]);
+        const double max_speed = insert ? 1000.0 : 7200.0;
+        if (!s || *s <= 0.0 || *s > max_speed) {
+          return fail(std::string(verb) + ": speed must be in (0, " + std::to_string(static_cast<int>(max_speed)) + "]");
+        }
+        a.speed = *s;
+      }
+    }
+    script.actions.push_back(std::move(a));
+  }
+  out.value = std::move(script);
+  return out;
+}
+
+ScriptParse load_script(const std::string& path) {
+  const std::optional<std::string> text = read_text_file(path, kMaxScriptBytes);
+  if (!text) {
+    ScriptParse out;
+    out.error = path + ":0: cannot read the file (missing, unreadable or larger than 8 MiB)";
+    return out;
+  }
+  return parse_script(*text, path);
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,301 @@
+#include "tool/case_file.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include <glm/geometric.hpp>
+
+#include "tool/text_lines.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+constexpr std::size_t kMaxCaseBytes = 16u << 20;
+constexpr std::size_t kMaxTools = 4;
+constexpr std::size_t kMaxTubes = 200000;
+constexpr std::size_t kMaxSections = 64;
+constexpr double kMaxToolLength_mm = 4000.0;
+constexpr double kMaxNodes = 6000.0;
+
+class CaseParser {
+ public:
+  CaseParser(std::string_view text, std::string_view file) : lines_(text), file_(file) {}
+
+  CaseParse run() {
+    CaseParse out;
+    Case c;
+    std::vector<std::string_view> w;
+    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false;
+    ToolSpec* tool = nullptr;
+    std::size_t tool_line = 0;
+    std::vector<std::size_t> tool_lines;
+    while (lines_.next(w)) {
+      const std::string_view key = w[0];
+      if (tool != nullptr) {
+        if (key == "end") {
+          if (!expect_args(w, 0)) return fail();
+          if (tool->sections.empty()) return fail_at(tool_line, "tool '" + tool->name + "' has no section");
+          if (!check_tool(*tool, tool_line)) return fail();
+          tool = nullptr;
+        } else if (!tool_statement(*tool, w)) {
+          return fail();
+        }
+        continue;
+      }
+      if (key == "cathbox-case") {
+        if (!expect_args(w, 1) || !once(seen_header, key)) return fail();
+        if (w[1] != "1") return fail_here("unsupported case version '" + std::string(w[1]) + "' (known: 1)");
+      } else if (key == "name") {
+        if (w.size() < 2 || !once(seen_name, key)) return w.size() < 2 ? fail_here("name: missing value") : fail();
+        c.name = std::string(w[1]);
+        for (std::size_t i = 2; i < w.size(); ++i) c.name += " " + std::string(w[i]);
+      } else if (key == "vessel") {
+        if (!expect_args(w, 1)) return fail();
+        if (!c.vessel_path.empty()) return fail_here("vessel given twice");
+        std::filesystem::path p{std::string(w[1])};
+        if (p.is_relative()) p = std::filesystem::path{std::string(file_)}.parent_path() / p;
+        c.vessel_path = p.lexically_normal().string();
+      } else if (key == "tube") {
+        double v[9];
+        if (!expect_args(w, 9) || !numbers(w, 1, v, 9)) return fail();
+        if (c.tubes.size() >= kMaxTubes) return fail_here("too many tubes (at most 200000)");
+        if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 2e9) return fail_here("tube: segment id must be an integer");
+        if (v[4] <= 0.0 || v[8] <= 0.0) return fail_here("tube: radius must be > 0");
+        c.tubes.push_back(Tube{{v[1], v[2], v[3]}, {v[5], v[6], v[7]}, v[4], v[8], static_cast<std::int32_t>(v[0])});
+      } else if (key == "entry") {
+        double v[6];
+        if (!expect_args(w, 6) || !once(seen_entry, key) || !numbers(w, 1, v, 6)) return fail();
+        const glm::dvec3 d(v[3], v[4], v[5]);
+        const double len = glm::length(d);
+        if (!(len > 1e-9) || !std::isfinite(len)) return fail_here("entry: direction must not be zero");
+        c.entry = Entry{{v[0], v[1], v[2]}, d / len};
+      } else if (key == "target") {
+        double v[2];
+        if (!expect_args(w, 2) || !once(seen_target, key) || !numbers(w, 1, v, 2)) return fail();
+        if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return fail_here("target: segment id must be an integer >= 0");
+        if (v[1] < 0.0 || v[1] > 1.0) return fail_here("target: fraction must be in [0, 1]");
+        c.target = CaseTarget{static_cast<std::int32_t>(v[0]), v[1]};
+      } else if (key == "tool") {
+        if (!expect_args(w, 2)) return fail();
+        if (c.tools.size() >= kMaxTools) return fail_here("too many tools (at most 4)");
+        for (const ToolSpec& t : c.tools) {
+          if (t.name == w[1]) return fail_here("tool '" + std::string(w[1]) + "' defined twice");
+        }
+        ToolSpec spec;
+        spec.sections.clear();
+        spec.name = std::string(w[1]);
+        if (w[2] == "guidewire") {
+          spec.kind = ToolKind::kGuidewire;
+        } else if (w[2] == "catheter") {
+          spec.kind = ToolKind::kCatheter;
+        } else {
+          return fail_here("tool: kind must be 'guidewire' or 'catheter', not '" + std::string(w[2]) + "'");
+        }
+        c.tools.push_back(spec);
+        tool = &c.tools.back();
+        tool_line = lines_.line();
+        tool_lines.push_back(tool_line);
+      } else if (key == "end") {
+        return fail_here("'end' without a tool");
+      } else {
+        return fail_here("unknown keyword '" + std::string(key) + "'");
+      }
+    }
+    if (tool != nullptr) return fail_at(tool_line, "tool '" + tool->name + "' has no 'end'");
+    if (c.vessel_path.empty() && c.tubes.empty()) return fail_at(lines_.line(), "no vessel: give 'vessel FILE' or 'tube' lines");
+    if (!c.vessel_path.empty() && !c.tubes.empty()) return fail_at(lines_.line(), "give either 'vessel' or 'tube' lines, not both");
+    if (c.tubes.size() > 0 && !c.entry) return fail_at(lines_.line(), "analytic tubes need an 'entry'");
+    // Coaxial references.
+    for (std::size_t i = 0; i < c.tools.size(); ++i) {
+      const ToolSpec& t = c.tools[i];
+      if (t.inside.empty()) continue;
+      const ToolSpec* outer = nullptr;
+      for (const ToolSpec& o : c.tools) if (o.name == t.inside) outer = &o;
+      if (outer == nullptr) return fail_at(tool_lines[i], "tool '" + t.name + "': inside unknown tool '" + t.inside + "'");
+      if (outer == &t) return fail_at(tool_lines[i], "tool '" + t.name + "' cannot be inside itself");
+      if (!outer->inside.empty()) return fail_at(tool_lines[i], "tool '" + t.name + "': only one level of nesting");
+      double od = 0.0;
+      for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
+      if (outer->inner_diameter_mm <= od) {
+        return fail_at(tool_lines[i], "tool '" + t.name + "' (od " + std::to_string(od) + " mm) does not fit in '" + outer->name + "'");
+      }
+    }
+    if (c.tools.empty()) c.tools.push_back(default_guidewire());
+    out.value = std::move(c);
+    return out;
+  }
+
+ private:
+  bool tool_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    const std::string_view key = w[0];
+    if (key == "section") {
+      if (w.size() < 2) return error_here("section: missing length");
+      if (t.sections.size() >= kMaxSections) return error_here("too many sections (at most 64)");
+      ToolSection s;
+      double len = 0.0;
+      if (!number(w[1], "section length", len)) return false;
+      if (len <= 0.0) return error_here("section: length must be > 0");
+      s.length_mm = len;
+      bool od = false, ei = false, gj = false;
+      for (std::size_t i = 2; i < w.size(); ++i) {
+        const std::size_t eq = w[i].find('=');
+        if (eq == std::string_view::npos) return error_here("section: expected key=value, got '" + std::string(w[i]) + "'");
+        const std::string_view k = w[i].substr(0, eq);
+        double v = 0.0;
+        if (!number(w[i].substr(eq + 1), std::string(k), v)) return false;
+        if (k == "od") {
+          if (v <= 0.0 || v > 20.0) return error_here("section: od must be in (0, 20] mm");
+          s.outer_diameter_mm = v;
+          od = true;
+        } else if (k == "ei") {
+          if (v <= 0.0 || v > 1e6) return error_here("section: ei must be in (0, 1e6] N.mm2");
+          s.bending_stiffness_Nmm2 = v;
+          ei = true;
+        } else if (k == "gj") {
+          if (v <= 0.0 || v > 1e6) return error_here("section: gj must be in (0, 1e6] N.mm2");
+          s.torsion_stiffness_Nmm2 = v;
+          gj = true;
+        } else if (k == "curve") {
+          if (std::abs(v) > 360.0) return error_here("section: curve must be within +-360 degrees");
+          s.curve_deg = v;
+        } else {
+          return error_here("section: unknown key '" + std::string(k) + "' (known: od ei gj curve)");
+        }
+      }
+      if (!od || !ei || !gj) return error_here("section: od=, ei= and gj= are required");
+      t.sections.push_back(s);
+      return true;
+    }
+    double v = 0.0;
+    if (key == "friction") {
+      if (!expect_args(w, 1) || !number(w[1], "friction", v)) return false;
+      if (v < 0.0 || v > 2.0) return error_here("friction must be in [0, 2]");
+      t.friction = v;
+    } else if (key == "inner_diameter") {
+      if (!expect_args(w, 1) || !number(w[1], "inner_diameter", v)) return false;
+      if (v < 0.0 || v > 20.0) return error_here("inner_diameter must be in [0, 20] mm");
+      t.inner_diameter_mm = v;
+    } else if (key == "inside") {
+      if (!expect_args(w, 1)) return false;
+      t.inside = std::string(w[1]);
+    } else if (key == "spacing") {
+      if (w.size() != 3 && w.size() != 4) return error_here("spacing: expected MAX_MM TIP_MM [TIP_ZONE_MM]");
+      double mx = 0.0, tip = 0.0, zone = t.tip_zone_mm;
+      if (!number(w[1], "spacing", mx) || !number(w[2], "tip spacing", tip)) return false;
+      if (w.size() == 4 && !number(w[3], "tip zone", zone)) return false;
+      if (mx <= 0.0 || mx > 2.0) return error_here("spacing: node spacing must be in (0, 2] mm");
+      if (tip < 0.1 || tip > mx) return error_here("spacing: tip spacing must be in [0.1, spacing] mm");
+      if (zone < 0.0 || zone > 500.0) return error_here("spacing: tip zone must be in [0, 500] mm");
+      t.max_spacing_mm = mx;
+      t.tip_spacing_mm = tip;
+      t.tip_zone_mm = zone;
+    } else if (key == "drag") {
+      if (!expect_args(w, 1) || !number(w[1], "drag", v)) return false;
+      if (v < 0.0 || v > 10.0) return error_here("drag must be in [0, 10] mN.s/mm2");
+      t.drag_mN_s_per_mm2 = v;
+    } else if (key == "axial_stiffness") {
+      if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
+      if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");
+      t.axial_stiffness_N = v;
+    } else {
+      return error_here("unknown tool keyword '" + std::string(key) + "'");
+    }
+    return true;
+  }
+
+  bool check_tool(const ToolSpec& t, std::size_t line) {
+    const double len = t.length_mm();
+    if (len > kMaxToolLength_mm) return error_at(line, "tool '" + t.name + "' is longer than 4000 mm");
+    if (len < 4.0 * t.max_spacing_mm) return error_at(line, "tool '" + t.name + "' is shorter than 4 node spacings");
+    const double nodes = t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm;
+    if (nodes > kMaxNodes) return error_at(line, "tool '" + t.name + "' needs more than 6000 nodes");
+    return true;
+  }
+
+  bool expect_args(const std::vector<std::string_view>& w, std::size_t n) {
+    if (w.size() == n + 1) return true;
+    return error_here(std::string(w[0]) + ": expected " + std::to_string(n) + " value" + (n == 1 ? "" : "s") + ", got " +
+                      std::to_string(w.size() - 1));
+  }
+  bool once(bool& seen, std::string_view key) {
+    if (seen) return error_here(std::string(key) + " given twice");
+    seen = true;
+    return true;
+  }
+  bool number(std::string_view word, const std::string& what, double& out) {
+    const std::optional<double> v = parse_number(word);
+    if (!v) return error_here(what + ": '" + std::string(word) + "' is not a finite number");
+    out = *v;
+    return true;
+  }
+  bool numbers(const std::vector<std::string_view>& w, std::size_t first, double* out, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!number(w[first + i], std::string(w[0]), out[i])) return false;
+    }
+    return true;
+  }
+  bool error_here(const std::string& message) { return error_at(lines_.line(), message); }
+  bool error_at(std::size_t line, const std::string& message) {
+    error_ = located(file_, line, message);
+    return false;
+  }
+  CaseParse fail() {
+    CaseParse out;
+    out.error = error_;
+    return out;
+  }
+  CaseParse fail_here(const std::string& message) {
+    error_here(message);
+    return fail();
+  }
+  CaseParse fail_at(std::size_t line, const std::string& message) {
+    error_at(line, message);
+    return fail();
+  }
+
+  TextLines lines_;
+  std::string_view file_;
+  std::string error_;
+};
+
+}  // namespace
+
+CaseParse parse_case(std::string_view text, std::string_view file_name) {
+  return CaseParser(text, file_name).run();
+}
+
+CaseParse load_case(const std::string& path) {
+  const std::optional<std::string> text = read_text_file(path, kMaxCaseBytes);
+  if (!text) {
+    CaseParse out;
+    out.error = path + ":0: cannot read the file (missing, unreadable or larger than 16 MiB)";
+    return out;
+  }
+  return parse_case(*text, path);
+}
+
+ToolSpec default_guidewire() {
+  ToolSpec spec;
+  spec.name = "guidewire";
+  spec.kind = ToolKind::kGuidewire;
+  // 0.014" nitinol wire: stiff shaft, tapered core, soft distal 15 mm with a 45 degree tip.
+  spec.sections = {ToolSection{1750.0, 0.36, 40.0, 31.0, 0.0}, ToolSection{35.0, 0.36, 3.0, 2.3, 0.0},
+                   ToolSection{12.0, 0.36, 0.3, 0.23, 0.0}, ToolSection{3.0, 0.36, 0.3, 0.23, 45.0}};
+  spec.friction = 0.08;
+  return spec;
+}
+
+ToolSpec default_catheter() {
+  ToolSpec spec;
+  spec.name = "catheter";
+  spec.kind = ToolKind::kCatheter;
+  // 5F braided catheter with a softer distal 40 mm and a slight angle at the tip.
+  spec.sections = {ToolSection{960.0, 1.67, 250.0, 190.0, 0.0}, ToolSection{30.0, 1.67, 40.0, 30.0, 0.0},
+                   ToolSection{10.0, 1.67, 20.0, 15.0, 30.0}};
+  spec.friction = 0.15;
+  spec.inner_diameter_mm = 1.0;
+  return spec;
+}
+
+}  // namespace cathbox::tool

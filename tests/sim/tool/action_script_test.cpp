@@ -1,0 +1,58 @@
+#include "tool/action_script.hpp"
+
+#include <gtest/gtest.h>
+
+namespace cathbox::tool {
+namespace {
+
+TEST(ActionScript, ParsesVerbsSpeedsAndDefaults) {
+  const ScriptParse p = parse_script(
+      "# demo\n0 select wire\n0 insert_to 120 at 25\n\n1500 rotate_by -90\t# turn\r\n2000 insert_by -5 at 2\n"
+      "2500 rotate_to 45 at 90\n3000 end\n",
+      "demo.actions");
+  ASSERT_TRUE(p.value) << p.error;
+  const auto& a = p.value->actions;
+  ASSERT_EQ(a.size(), 6u);
+  EXPECT_EQ(a[0].kind, ActionKind::kSelect);
+  EXPECT_EQ(a[0].tool, "wire");
+  EXPECT_EQ(a[1].kind, ActionKind::kInsertTo);
+  EXPECT_DOUBLE_EQ(a[1].speed, 25.0);
+  EXPECT_EQ(a[2].kind, ActionKind::kRotateBy);
+  EXPECT_DOUBLE_EQ(a[2].value, -90.0);
+  EXPECT_DOUBLE_EQ(a[2].speed, kDefaultRotateSpeed_deg_s);
+  EXPECT_EQ(a[2].line, 5u);
+  EXPECT_EQ(a[5].kind, ActionKind::kEnd);
+  EXPECT_EQ(a[5].time_ms, 3000);
+}
+
+struct BadScript {
+  const char* text;
+  const char* error;
+};
+
+class ActionScriptErrors : public ::testing::TestWithParam<BadScript> {};
+
+TEST_P(ActionScriptErrors, NameFileAndLine) {
+  const ScriptParse p = parse_script(GetParam().text, "s.actions");
+  EXPECT_FALSE(p.value);
+  EXPECT_EQ(p.error, GetParam().error);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Bad, ActionScriptErrors,
+    ::testing::Values(
+        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end)"},
+        BadScript{"10 insert_to 5\n5 insert_to 6\n", "s.actions:2: time 5 ms is before the previous action"},
+        BadScript{"-1 end\n", "s.actions:1: time '-1' must be a whole number of milliseconds in [0, 3600000]"},
+        BadScript{"1.5 end\n", "s.actions:1: time '1.5' must be a whole number of milliseconds in [0, 3600000]"},
+        BadScript{"0 insert_to\n", "s.actions:1: insert_to: expected VALUE [at SPEED]"},
+        BadScript{"0 insert_to 5 by 3\n", "s.actions:1: insert_to: expected 'at SPEED', got 'by'"},
+        BadScript{"0 insert_to 5 at 0\n", "s.actions:1: insert_to: speed must be in (0, 1000]"},
+        BadScript{"0 insert_to -5\n", "s.actions:1: insert_to: value out of range"},
+        BadScript{"0 rotate_by inf\n", "s.actions:1: rotate_by: 'inf' is not a finite number"},
+        BadScript{"0 end\n1 insert_to 3\n", "s.actions:2: action after 'end'"},
+        BadScript{"0\n", "s.actions:1: missing verb after the time"},
+        BadScript{"0 select\n", "s.actions:1: select: expected one tool name"}));
+
+}  // namespace
+}  // namespace cathbox::tool

@@ -1,0 +1,63 @@
+// The mesh wall (collision tree) against the analytic tube it approximates, and a rod pushed
+// through a meshed bend staying in the lumen.
+#include "tool/mesh_wall.hpp"
+
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "tool/rod.hpp"
+#include "tube_mesh.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
+  const std::vector<glm::dvec3> axis{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
+  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 48, 7));
+  ASSERT_TRUE(build.tree) << build.error;
+  const MeshWall wall(*build.tree);
+  WallHint hint;
+  WallContact c;
+  WallProbe probe;
+  probe.center_mm = {0.5, 0.0, 10.0};
+  probe.radius_mm = 0.2;
+  ASSERT_TRUE(wall.probe(probe, hint, c));
+  // Inscribed polygon of 48 sides: the wall is within 1 - cos(pi/48) = 0.2% of the radius.
+  EXPECT_NEAR(c.distance_mm, 0.5, 0.003);
+  EXPECT_NEAR(c.normal.x, 1.0, 0.01);
+  EXPECT_EQ(c.segment, 7);
+  probe.center_mm = {1.2, 0.0, 10.0};  // outside the lumen
+  ASSERT_TRUE(wall.probe(probe, hint, c));
+  EXPECT_LT(c.distance_mm, 0.0);
+  probe.center_mm = {0.0, 0.0, 10.0};
+  probe.range_mm = 0.5;
+  EXPECT_FALSE(wall.probe(probe, hint, c));
+}
+
+TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
+  const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
+  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 24));
+  ASSERT_TRUE(build.tree) << build.error;
+  const MeshWall wall(*build.tree);
+  ToolSpec spec;
+  spec.sections = {ToolSection{200.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{10.0, 0.36, 1.0, 0.8, 0.0}};
+  Rod rod(spec);
+  rod.set_entry({0, 0, -4}, {0, 0, 1});
+  double worst = 0.0;
+  for (int i = 1; i <= 500; ++i) {
+    rod.set_boundary(0.1 * i, 0.01 * i);
+    rod.step(1e-3, wall);
+    for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
+      const auto sd = wall.tree().signed_distance(rod.positions()[k]);
+      ASSERT_TRUE(sd.has_value());
+      worst = std::max(worst, (*sd + rod.node_radius_mm(k)) / rod.node_radius_mm(k));
+    }
+  }
+  EXPECT_LT(worst, 0.10) << "a node left the lumen by more than 10% of its radius";
+  // Through the bend: the tip is in the lead-out.
+  EXPECT_GT(rod.tip().position_mm.x, 15.0);
+  EXPECT_GT(rod.contacts().size(), 0u);
+}
+
+}  // namespace
+}  // namespace cathbox::tool

@@ -1,0 +1,96 @@
+// Coaxial tools, selection and the snapshot.
+#include "tool/simulator.hpp"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+std::vector<ToolSpec> coaxial_tools() {
+  ToolSpec cath;
+  cath.name = "cath";
+  cath.kind = ToolKind::kCatheter;
+  cath.sections = {ToolSection{400.0, 1.0, 30.0, 23.0, 0.0}};
+  cath.inner_diameter_mm = 0.6;
+  ToolSpec wire;
+  wire.name = "wire";
+  wire.sections = {ToolSection{500.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{5.0, 0.36, 0.5, 0.4, 60.0}};
+  wire.inside = "cath";
+  return {cath, wire};
+}
+
+void drive(Simulator& sim, std::size_t tool, double target, double per_step) {
+  while (std::abs(sim.insertion_mm(tool) - target) > 1e-9) {
+    const double d = std::clamp(target - sim.insertion_mm(tool), -per_step, per_step);
+    sim.set_insertion(tool, sim.insertion_mm(tool) + d);
+    sim.step();
+  }
+}
+
+TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
+  const TubeNetworkWall wall = testing::y_bifurcation();
+  const std::vector<ToolSpec> tools = coaxial_tools();
+  Simulator sim(wall, tools, Entry{{0, 0, -42}, {0, 0, 1}});
+  const std::size_t cath = sim.find_tool("cath");
+  const std::size_t wire = sim.find_tool("wire");
+  ASSERT_EQ(sim.find_tool("none"), sim.tool_count());
+  drive(sim, cath, 30.0, 0.2);
+  drive(sim, wire, 20.0, 0.2);
+  // Inside the catheter the wire's nodes lie on the catheter's centreline.
+  std::vector<glm::dvec3> wire_nodes;
+  sim.inserted_positions(wire, wire_nodes);
+  ASSERT_GT(wire_nodes.size(), 5u);
+  const glm::dvec3 wire_tip = wire_nodes.back();
+  const glm::dvec3 on_cath = sim.rod(cath).point_at_depth(20.0, nullptr, nullptr);
+  EXPECT_LT(glm::length(wire_tip - on_cath), 1e-6);
+  EXPECT_NEAR(sim.hand_force_mN(wire), 0.0, 1e-9);
+  // Pushed beyond the catheter tip, the wire leads.
+  drive(sim, wire, 45.0, 0.2);
+  const glm::dvec3 cath_tip = sim.tip(cath).position_mm;
+  const glm::dvec3 lead = sim.tip(wire).position_mm;
+  EXPECT_GT(lead.z, cath_tip.z + 10.0);
+  // The wire beyond the catheter starts at the catheter's tip.
+  EXPECT_LT(glm::length(sim.rod(wire).entry_point() - cath_tip), 1e-9);
+}
+
+TEST(Simulator, ActiveToolSelectionAndForceLawOfTheInnerTool) {
+  const TubeNetworkWall wall = testing::y_bifurcation();
+  const std::vector<ToolSpec> tools = coaxial_tools();
+  Simulator sim(wall, tools, Entry{{0, 0, -42}, {0, 0, 1}});
+  EXPECT_EQ(sim.active_tool(), 0u);
+  sim.select(1);
+  EXPECT_EQ(sim.active_tool(), 1u);
+  sim.select(7);  // ignored
+  EXPECT_EQ(sim.active_tool(), 1u);
+  drive(sim, 0, 20.0, 0.5);
+  drive(sim, 1, 35.0, 0.5);
+  EXPECT_DOUBLE_EQ(sim.force_law(1).insertion0_mm, 35.0);
+}
+
+TEST(Simulator, SnapshotCopyReusesItsStorage) {
+  const TubeNetworkWall wall = testing::y_bifurcation();
+  const std::vector<ToolSpec> tools = coaxial_tools();
+  Simulator sim(wall, tools, Entry{{0, 0, -42}, {0, 0, 1}});
+  drive(sim, 0, 30.0, 0.5);
+  drive(sim, 1, 50.0, 0.5);
+  Snapshot snap;
+  sim.copy_snapshot(snap);
+  ASSERT_EQ(snap.tools.size(), 2u);
+  EXPECT_EQ(snap.tools[1].name, "wire");
+  EXPECT_EQ(snap.tools[1].positions_mm.size(), snap.tools[1].tangents.size());
+  EXPECT_LT(glm::length(snap.tools[1].positions_mm.back() - sim.tip(1).position_mm), 1e-9);
+  EXPECT_NEAR(snap.tools[0].positions_mm.front().z, -42.0, 2.1);  // starts at the entry
+  const glm::dvec3* data = snap.tools[0].positions_mm.data();
+  const std::size_t capacity = snap.tools[0].positions_mm.capacity();
+  sim.step();
+  sim.copy_snapshot(snap);
+  EXPECT_EQ(snap.tools[0].positions_mm.data(), data);
+  EXPECT_EQ(snap.tools[0].positions_mm.capacity(), capacity);
+  EXPECT_EQ(snap.step, sim.time_s() > 0.0 ? static_cast<std::uint64_t>(std::llround(sim.time_s() * 1000.0)) : 0u);
+}
+
+}  // namespace
+}  // namespace cathbox::tool
