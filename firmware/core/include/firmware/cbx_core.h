@@ -72,6 +72,7 @@ typedef struct {
   cbx_command_report command_slot[2];
   volatile uint8_t command_published;
   volatile uint32_t command_generation;
+  volatile uint8_t ack_pending;        /* an ACK_FAULTS arrived since the tick last took one */
   cbx_settings settings_slot[2];
   volatile uint8_t settings_published;
   volatile uint32_t settings_generation;
