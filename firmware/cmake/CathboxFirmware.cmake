@@ -9,7 +9,7 @@ function(cathbox_firmware_image target)
   add_custom_command(TARGET ${target} POST_BUILD
     COMMAND ${CMAKE_OBJCOPY} -O binary $<TARGET_FILE:${target}> $<TARGET_FILE_DIR:${target}>/${target}.bin
     COMMAND ${CMAKE_OBJCOPY} -O ihex $<TARGET_FILE:${target}> $<TARGET_FILE_DIR:${target}>/${target}.hex
-    COMMAND ${CMAKE_COMMAND} -DSIZE=${CMAKE_SIZE} -DELF=$<TARGET_FILE:${target}>
+    COMMAND ${CMAKE_COMMAND} -DOBJDUMP=${CMAKE_OBJDUMP} -DELF=$<TARGET_FILE:${target}>
             -DFLASH_KIB=${A_FLASH_KIB} -DRAM_KIB=${A_RAM_KIB}
             -P ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/CheckBudget.cmake
     VERBATIM)

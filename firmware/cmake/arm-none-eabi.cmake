@@ -15,7 +15,7 @@ set(CMAKE_ASM_FLAGS_INIT "${CATHBOX_CPU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,--gc-sections")
 
 find_program(CMAKE_OBJCOPY arm-none-eabi-objcopy REQUIRED)
-find_program(CMAKE_SIZE arm-none-eabi-size REQUIRED)
+find_program(CMAKE_OBJDUMP arm-none-eabi-objdump REQUIRED)
 
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)

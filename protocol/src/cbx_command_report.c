@@ -17,7 +17,9 @@ static int64_t scaled_product(int32_t coefficient, int64_t delta) {
 }
 
 int32_t cbx_force_law_eval(const cbx_force_law* law, int32_t pos, int32_t vel) {
-  int64_t out = (int64_t)law->offset + scaled_product(law->stiffness, (int64_t)pos - law->pos0) +
+  /* Restoring and dissipative: with k, b >= 0 the law pushes back toward pos0 and against the
+   * motion (a positive stiffness times a positive displacement pushes toward smaller positions). */
+  int64_t out = (int64_t)law->offset - scaled_product(law->stiffness, (int64_t)pos - law->pos0) -
                 scaled_product(law->damping, vel);
   if (out < law->out_min) out = law->out_min;
   if (out > law->out_max) out = law->out_max;

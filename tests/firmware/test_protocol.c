@@ -275,6 +275,42 @@ static void settings_persist_across_restart(void) {
   CBX_CHECK(!(cbx_fake_state(&core).status & CBX_STATUS_CALIBRATED));
 }
 
+static void settings_wait_while_outputs_are_driven(void) {
+  /* Saving erases a flash sector with the tick stopped for 1-2 s: never while rendering and
+   * never while the self-test drives an actuator; afterwards it happens. */
+  setup();
+  cbx_fake_calibrate(&core);
+  cbx_fake_tick(&core);
+  cbx_core_background(&core);
+  CBX_CHECK_EQ(cbx_fake.saves, 1);
+  const cbx_vector* limits = cbx_fake_vector("limits_default");
+  const cbx_vector* start = cbx_fake_vector("selftest_start");
+  if (!limits || !start) return;
+  cbx_fake.mA_per_permille = 2;
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, start->bytes, start->length), CBX_OK);
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 200);
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, limits->bytes, limits->length), CBX_OK);
+  for (int i = 0; i < 500; ++i) { /* the test takes 40 ms */
+    cbx_fake_tick(&core);
+    cbx_core_background(&core);
+    if (cbx_fake.drive[0] != 0 || cbx_fake.drive[1] != 0) CBX_CHECK_EQ(cbx_fake.saves, 1);
+  }
+  CBX_CHECK_EQ(cbx_fake.saves, 2);
+  /* Rendering: deferred until the output is off again. */
+  const cbx_force_law f = cbx_fake_constant_law(500, 5000);
+  CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &f, NULL), CBX_OK);
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, limits->bytes, limits->length), CBX_OK);
+  cbx_fake_tick(&core);
+  cbx_core_background(&core);
+  CBX_CHECK_EQ(cbx_fake.saves, 2);
+  CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_OFF, 0, NULL, NULL), CBX_OK);
+  cbx_fake_tick(&core);
+  cbx_core_background(&core);
+  CBX_CHECK_EQ(cbx_fake.saves, 3);
+}
+
 const cbx_test_case cbx_tests_protocol[] = {
     {"state_idle_matches_golden_vector", state_idle_matches_golden_vector},
     {"state_report_every_millisecond", state_report_every_millisecond},
@@ -286,4 +322,5 @@ const cbx_test_case cbx_tests_protocol[] = {
     {"enter_bootloader_cuts_outputs", enter_bootloader_cuts_outputs},
     {"selftest_reports_its_checks", selftest_reports_its_checks},
     {"settings_persist_across_restart", settings_persist_across_restart},
+    {"settings_wait_while_outputs_are_driven", settings_wait_while_outputs_are_driven},
     {0, 0}};

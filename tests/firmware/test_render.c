@@ -38,10 +38,10 @@ static void law_through_scaling(void) {
   const int32_t vel = cbx_axis_scale_position(&s, 400);   /* 10 mm/s */
   CBX_CHECK_EQ(pos, 260000);
   CBX_CHECK_EQ(vel, 10000);
-  CBX_CHECK_EQ(cbx_force_law_eval(law, pos, vel), 0); /* -200 + 4000 + 20 clamped to out_max */
-  CBX_CHECK_EQ(cbx_force_law_eval(law, cbx_axis_scale_position(&s, 9960), 0), -600); /* 249 mm */
-  CBX_CHECK_EQ(cbx_force_law_eval(law, cbx_axis_scale_position(&s, 9600), 0), -3000); /* clamped */
-  CBX_CHECK_EQ(cbx_force_law_eval(law, 249000, cbx_axis_scale_position(&s, -400)), -620);
+  CBX_CHECK_EQ(cbx_force_law_eval(law, pos, vel), -3000); /* -200 - 4000 - 20, clamped */
+  CBX_CHECK_EQ(cbx_force_law_eval(law, cbx_axis_scale_position(&s, 10040), 0), -600); /* 251 mm */
+  CBX_CHECK_EQ(cbx_force_law_eval(law, cbx_axis_scale_position(&s, 9600), 0), 0);    /* outside */
+  CBX_CHECK_EQ(cbx_force_law_eval(law, 250500, cbx_axis_scale_position(&s, -400)), -380);
 }
 
 static void clamp_and_brake_passivity(void) {

@@ -246,6 +246,8 @@ static void clamps_whatever_the_command(void) {
   CBX_CHECK_EQ(s.rotation_torque_uNm, 50000); /* default max_torque */
   CBX_CHECK_EQ(cbx_fake.drive[1], 1000);      /* beyond the 20000 uNm full scale */
   set_limits(50u, 1200u);
+  cbx_fake_tick(&core); /* a lowered limit applies at once, not at the slew rate */
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
   stream(100, CBX_MODE_MOTOR, 0, 40000, 0);
   CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1200);
 }
@@ -270,7 +272,7 @@ static void brake_only_resists_motion(void) {
       CBX_CHECK_EQ(cbx_fake.drive[0], 0);
     }
   }
-  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_MOTOR); /* as commanded, rendered as a brake */
+  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_BRAKE); /* motor commanded, rendered as a brake */
   for (uint32_t i = 0; i < 20; ++i) {
     CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_BRAKE, 0, &resist, NULL), CBX_OK);
     for (int k = 0; k < 10; ++k) {
@@ -281,6 +283,157 @@ static void brake_only_resists_motion(void) {
   }
   CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, -1000);
   CBX_CHECK_EQ(cbx_fake.drive[0], 125); /* magnitude */
+}
+
+static void wall_renders_spring_and_damper(void) {
+  /* calibration_identity: 38197 counts per metre, 8000 mN full scale. A 400 N/m wall at 10 mm
+   * with 2 N*s/m damping, pushing back out (negative) when the tool is in the wall. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  const cbx_force_law wall = {.offset = 0, .pos0 = 10000, .stiffness = 400000, .damping = 2000,
+                              .out_min = -5000, .out_max = 0};
+  const int32_t count_um = 1000000 / 38197; /* ~26 um: the position resolution */
+  cbx_fake.counter[0] = 573u; /* 15.0 mm: 5 mm into the wall */
+  for (int i = 0; i < 300; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_NEAR(s.insertion_force_mN, -2000, 400 * count_um / 1000 + 1); /* -400 N/m * 5 mm */
+  CBX_CHECK_NEAR(cbx_fake.drive[0], -250, 2);
+  /* Moving further in at 2000 counts/s (52.4 mm/s): the damper adds 2 N*s/m * 52.4 mm/s. */
+  for (int i = 0; i < 50; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    for (int k = 0; k < 10; ++k) {
+      if (k % 5 == 0) cbx_fake.counter[0] += 1u;
+      cbx_fake_tick(&core);
+    }
+  }
+  s = cbx_fake_state(&core);
+  CBX_CHECK_NEAR(s.insertion_vel_cps, 2000, 20);
+  const int32_t depth_um = (int32_t)((int64_t)cbx_fake.counter[0] * 1000000 / 38197) - 10000;
+  CBX_CHECK_NEAR(s.insertion_force_mN, -(400 * depth_um / 1000) - 105, 12);
+  /* Out of the wall: out_max 0, nothing rendered. */
+  cbx_fake.counter[0] = 200u;
+  for (int i = 0; i < 300; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &wall, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+}
+
+/* The motor's drive never has the sign of the (estimated) insertion velocity. */
+static void check_drive_resists_motion(void) {
+  const int32_t vel = cbx_fake_state(&core).insertion_vel_cps;
+  if (vel > 0) CBX_CHECK(cbx_fake.drive[0] <= 0);
+  if (vel < 0) CBX_CHECK(cbx_fake.drive[0] >= 0);
+}
+
+/* Streams `law` on the insertion axis for `ms` milliseconds while the tool moves by
+ * `counts_per_tick`; `check` (if any) runs after every tick. */
+static void move(uint32_t ms, uint8_t mode, const cbx_force_law* law, int32_t counts_per_tick,
+                 void (*check)(void)) {
+  for (uint32_t i = 0; i < ms; ++i) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, mode, 0, law, NULL), CBX_OK);
+    for (int k = 0; k < 10; ++k) {
+      cbx_fake.counter[0] += (uint32_t)counts_per_tick;
+      cbx_fake_tick(&core);
+      if (check) check();
+    }
+  }
+}
+
+static void brake_mode_on_motors_resists(void) {
+  /* A box with DC motors given a brake-mode command: the motor renders the resisting force
+   * with its sign (a drive magnitude would push along the motion). */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  const cbx_force_law resist_in = cbx_fake_constant_law(-1000, 5000);
+  const cbx_force_law resist_out = cbx_fake_constant_law(1000, 5000);
+  move(30, CBX_MODE_BRAKE, &resist_in, 10, check_drive_resists_motion); /* moving in */
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, -1000);
+  CBX_CHECK_EQ(cbx_fake_state(&core).mode, CBX_MODE_BRAKE);
+  CBX_CHECK_EQ(cbx_fake.drive[0], -125);
+  move(30, CBX_MODE_BRAKE, &resist_out, -10, check_drive_resists_motion); /* moving out */
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 1000);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 125);
+}
+
+static bool released;
+/* Once the velocity estimate says "moving out", a brake resisting insertion has let go. */
+static void check_released_when_moving_out(void) {
+  const cbx_state_report s = cbx_fake_state(&core);
+  if (s.insertion_vel_cps >= 0) return;
+  CBX_CHECK_EQ(s.insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+  released = true;
+}
+
+static void brake_releases_at_once_when_the_motion_reverses(void) {
+  /* Resisting insertion, then the tool is pulled back: the law's force (still negative) would
+   * now push along the motion, so a brake lets go at once instead of slewing down. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_BRAKE, true);
+  const cbx_force_law resist = cbx_fake_constant_law(-1000, 5000);
+  move(30, CBX_MODE_BRAKE, &resist, 10, NULL);
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, -1000);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 125);
+  released = false;
+  move(3, CBX_MODE_BRAKE, &resist, -10, check_released_when_moving_out); /* estimate turns in 2 ms */
+  CBX_CHECK(released);
+}
+
+static void resetting_error_counters_is_not_an_encoder_fault(void) {
+  setup(CBX_ENCODER_EDGES, CBX_ACTUATOR_MOTOR, true);
+  cbx_core_encoder_edge(&core, CBX_AXIS_INSERTION, 3u); /* 00 -> 11: illegal */
+  stream(2, CBX_MODE_MOTOR, 0, 1000, 0);
+  CBX_CHECK(cbx_fake_state(&core).faults & CBX_FAULT_ENCODER);
+  stream(20, CBX_MODE_MOTOR, CBX_CMD_ACK_FAULTS, 1000, 0);
+  CBX_CHECK_EQ(cbx_fake_state(&core).faults, 0);
+  CBX_CHECK_EQ(cbx_fake_state(&core).encoder_errors, 1);
+  cbx_reset_counters r;
+  memset(&r, 0, sizeof r);
+  r.header.version = CBX_PROTOCOL_VERSION;
+  r.mask = CBX_RESET_ERROR_COUNTERS;
+  uint8_t bytes[CBX_REPORT_SIZE];
+  CBX_CHECK_EQ(cbx_reset_counters_encode(&r, bytes), CBX_OK);
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, bytes, sizeof bytes), CBX_OK);
+  for (int k = 0; k < 3; ++k) {
+    cbx_fake_tick(&core);
+    const cbx_state_report s = cbx_fake_state(&core);
+    CBX_CHECK_EQ(s.faults, 0);
+    CBX_CHECK_EQ(s.encoder_errors, 0);
+    CBX_CHECK(s.status & CBX_STATUS_OUTPUT_ENABLED);
+  }
+  /* A new illegal transition after the reset still latches. */
+  cbx_core_encoder_edge(&core, CBX_AXIS_INSERTION, 0u);
+  cbx_fake_tick(&core);
+  CBX_CHECK(cbx_fake_state(&core).faults & CBX_FAULT_ENCODER);
+  CBX_CHECK_EQ(cbx_fake_state(&core).encoder_errors, 1);
+}
+
+static void hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts(void) {
+  /* E-stop while the watchdog ramp is under way: zero in that tick, not at the ramp rate. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  stream(30, CBX_MODE_MOTOR, 0, 3000, 0);
+  CBX_CHECK(ticks_until_fault(CBX_FAULT_WATCHDOG, cbx_fake.time_us, 100000u) <= 51000u);
+  cbx_fake_run_us(&core, 2000u);
+  CBX_CHECK(cbx_fake_state(&core).insertion_force_mN > 1000); /* still ramping */
+  cbx_fake.estop = true;
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_fake_state(&core).insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+  /* Calibration replaced by "none" while rendering: zero in the tick that takes it. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  stream(30, CBX_MODE_MOTOR, 0, 2000, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 250);
+  const cbx_vector* none = cbx_fake_vector("calibration_none");
+  if (!none) return;
+  CBX_CHECK_EQ(cbx_core_usb_feature_set(&core, none->bytes, none->length), CBX_OK);
+  cbx_fake_tick(&core);
+  const cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_EQ(s.insertion_force_mN, 0);
+  CBX_CHECK_EQ(cbx_fake.drive[0], 0);
+  CBX_CHECK(s.faults & CBX_FAULT_NOT_CALIBRATED);
+  CBX_CHECK(!(s.status & CBX_STATUS_CALIBRATED));
 }
 
 const cbx_test_case cbx_tests_safety[] = {
@@ -295,4 +448,9 @@ const cbx_test_case cbx_tests_safety[] = {
     {"bad_command_latches", bad_command_latches},
     {"clamps_whatever_the_command", clamps_whatever_the_command},
     {"brake_only_resists_motion", brake_only_resists_motion},
+    {"wall_renders_spring_and_damper", wall_renders_spring_and_damper},
+    {"brake_mode_on_motors_resists", brake_mode_on_motors_resists},
+    {"brake_releases_at_once_when_the_motion_reverses", brake_releases_at_once_when_the_motion_reverses},
+    {"resetting_error_counters_is_not_an_encoder_fault", resetting_error_counters_is_not_an_encoder_fault},
+    {"hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts", hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts},
     {0, 0}};

@@ -19,3 +19,21 @@ TEST(Crc16, UpdateContinuesAcrossChunks) {
         << "split at " << split;
   }
 }
+
+// The table-driven implementation against the bitwise definition (MSB first, polynomial
+// 0x1021): every byte value from many register states, so every table entry is exercised.
+TEST(Crc16, TableMatchesTheBitwiseDefinition) {
+  const auto bitwise = [](uint16_t crc, uint8_t byte) {
+    crc = static_cast<uint16_t>(crc ^ (byte << 8));
+    for (int bit = 0; bit < 8; ++bit)
+      crc = static_cast<uint16_t>((crc & 0x8000u) ? (crc << 1) ^ 0x1021u : crc << 1);
+    return crc;
+  };
+  for (uint32_t start = 0; start <= 0xFFFFu; start += 257u) {
+    for (uint32_t b = 0; b < 256u; ++b) {
+      const uint8_t byte = static_cast<uint8_t>(b);
+      ASSERT_EQ(cbx_crc16_update(static_cast<uint16_t>(start), &byte, 1), bitwise(static_cast<uint16_t>(start), byte))
+          << "state " << start << " byte " << b;
+    }
+  }
+}

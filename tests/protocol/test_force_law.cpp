@@ -10,18 +10,22 @@ TEST(ForceLaw, SpringDamperAndClamp) {
   // A wall at 250 mm, 400 N/m (= 400000 mN/m), 2 N*s/m damping, clamped to [-3000, 0] mN.
   const cbx_force_law law{-200, 250000, 400000, 2000, -3000, 0};
   EXPECT_EQ(cbx_force_law_eval(&law, 250000, 0), -200);
-  // 1 mm past the wall: -200 + 400000 * 1000 / 1e6 = +200 -> clamped to 0 (brake cannot pull).
-  EXPECT_EQ(cbx_force_law_eval(&law, 251000, 0), 0);
-  // 1 mm before the wall, moving out at 10 mm/s: -200 - 400 - 20 = -620.
-  EXPECT_EQ(cbx_force_law_eval(&law, 249000, -10000), -620);
-  EXPECT_EQ(cbx_force_law_eval(&law, -2000000000, 0), -3000);
+  // 1 mm into the wall: -200 - 400000 * 1000 / 1e6 = -600 (pushes back out).
+  EXPECT_EQ(cbx_force_law_eval(&law, 251000, 0), -600);
+  // 10 mm in, moving further in at 10 mm/s: -200 - 4000 - 20 -> clamped to -3000.
+  EXPECT_EQ(cbx_force_law_eval(&law, 260000, 10000), -3000);
+  // 1 mm before the wall, moving out at 10 mm/s: -200 + 400 + 20 = +220 -> clamped to 0.
+  EXPECT_EQ(cbx_force_law_eval(&law, 249000, -10000), 0);
+  // 0.5 mm in, moving out at 10 mm/s: -200 - 200 + 20 = -380 (the damper eases the push).
+  EXPECT_EQ(cbx_force_law_eval(&law, 250500, -10000), -380);
+  EXPECT_EQ(cbx_force_law_eval(&law, -2000000000, 0), 0);
 }
 
 TEST(ForceLaw, NoOverflowAtExtremes) {
-  const cbx_force_law law{INT32_MAX, INT32_MIN, INT32_MAX, INT32_MAX, INT32_MIN, INT32_MAX};
-  EXPECT_EQ(cbx_force_law_eval(&law, INT32_MAX, INT32_MAX), INT32_MAX);
-  const cbx_force_law negative{INT32_MIN, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MIN, INT32_MAX};
-  EXPECT_EQ(cbx_force_law_eval(&negative, INT32_MIN, INT32_MIN), INT32_MIN);
+  const cbx_force_law law{INT32_MAX, INT32_MAX, INT32_MAX, INT32_MAX, INT32_MIN, INT32_MAX};
+  EXPECT_EQ(cbx_force_law_eval(&law, INT32_MIN, INT32_MIN), INT32_MAX);
+  const cbx_force_law negative{INT32_MIN, INT32_MIN, INT32_MAX, INT32_MAX, INT32_MIN, INT32_MAX};
+  EXPECT_EQ(cbx_force_law_eval(&negative, INT32_MAX, INT32_MAX), INT32_MIN);
 }
 
 TEST(ForceLaw, RangeCheck) {

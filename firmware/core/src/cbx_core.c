@@ -130,6 +130,8 @@ static void render_axis(cbx_core* core, cbx_axis axis, cbx_gate gate, uint32_t d
     const int32_t vel = cbx_axis_scale_position(s, e->vel_cps);
     const int32_t target = cbx_render_target(s, mode, cbx_force_law_eval(law, pos, vel), vel);
     out = cbx_render_slew(out, target, ceil_step(s->slew_per_ms, dt));
+    /* A brake lets go at once when the motion turns (the slew limits only what it applies). */
+    if (mode == CBX_MODE_BRAKE) out = cbx_render_target(s, mode, out, vel);
   } else if (gate == CBX_GATE_RAMP) {
     if (core->gate != CBX_GATE_RAMP) {
       /* Entering the ramp: fast enough to reach zero within CBX_RAMP_DOWN_MS. */
@@ -142,6 +144,9 @@ static void render_axis(cbx_core* core, cbx_axis axis, cbx_gate gate, uint32_t d
   } else {
     out = 0;
   }
+  /* Limits lowered while rendering take effect at once, not at the slew rate. */
+  if (out > s->max_out) out = s->max_out;
+  if (out < -s->max_out) out = -s->max_out;
   core->out[axis] = out;
 
   /* Current clamp: fold the drive back while the measured current is over the limit. */
@@ -160,7 +165,10 @@ static void render_axis(cbx_core* core, cbx_axis axis, cbx_gate gate, uint32_t d
   }
   core->current_cap[axis] = cap;
 
-  int16_t drive = actuator == CBX_ACTUATOR_NONE ? 0 : cbx_render_drive(s, mode, out);
+  /* The drive is a magnitude only for a brake; a motor renders even brake mode with the
+   * force's sign (the sign is what makes it resist). */
+  const uint8_t drive_mode = (mode == CBX_MODE_BRAKE && actuator == CBX_ACTUATOR_MOTOR) ? CBX_MODE_MOTOR : mode;
+  int16_t drive = actuator == CBX_ACTUATOR_NONE ? 0 : cbx_render_drive(s, drive_mode, out);
   if (drive > (int16_t)cap) drive = (int16_t)cap;
   if (drive < -(int16_t)cap) drive = (int16_t)-(int16_t)cap;
   core->drive[axis] = drive;
@@ -190,7 +198,11 @@ static void publish_snapshot(cbx_core* core, uint32_t now, uint32_t dt, cbx_gate
   r->command_seq_echo = core->command_seq_echo;
   r->encoder_errors = core->encoder_errors_seen > 0xFFFFu ? 0xFFFFu : (uint16_t)core->encoder_errors_seen;
   r->rx_errors = core->rx_errors > 0xFFFFu ? 0xFFFFu : (uint16_t)core->rx_errors;
-  r->mode = (gate == CBX_GATE_RUN || gate == CBX_GATE_RAMP) ? core->safety.mode : CBX_MODE_OFF;
+  uint8_t mode = core->safety.mode;
+  if (mode == CBX_MODE_MOTOR && core->config.axis[CBX_AXIS_INSERTION].actuator == CBX_ACTUATOR_BRAKE &&
+      core->config.axis[CBX_AXIS_ROTATION].actuator == CBX_ACTUATOR_BRAKE)
+    mode = CBX_MODE_BRAKE; /* what brakes can render */
+  r->mode = (gate == CBX_GATE_RUN || gate == CBX_GATE_RAMP) ? mode : CBX_MODE_OFF;
   core->ms_accum_us += dt;
   while (core->ms_accum_us >= 1000u) {
     core->ms_accum_us -= 1000u;
@@ -207,15 +219,15 @@ void cbx_core_control_tick(cbx_core* core) {
   cbx_safety_inputs in;
   in.now_us = now;
   in.estop_pressed = cbx_hal_estop_pressed();
-  uint32_t errors = 0u;
   for (int i = 0; i < CBX_AXIS_COUNT; ++i) {
     cbx_encoder* e = &core->encoder[i];
     const uint32_t raw = e->source == CBX_ENCODER_COUNTER ? cbx_hal_encoder_counter((cbx_axis)i) : 0u;
     cbx_encoder_update(e, raw, now);
-    errors += e->errors;
     in.current_mA[i] = cbx_hal_current_mA((cbx_axis)i);
   }
   apply_mailboxes(core, now, &in);
+  /* Summed after the mailboxes, so that a counter reset is not taken for a new error. */
+  const uint32_t errors = core->encoder[CBX_AXIS_INSERTION].errors + core->encoder[CBX_AXIS_ROTATION].errors;
   in.encoder_error = errors != core->encoder_errors_seen;
   core->encoder_errors_seen = errors;
   in.calibrated = core->scale[CBX_AXIS_INSERTION].valid && core->scale[CBX_AXIS_ROTATION].valid;
@@ -252,13 +264,19 @@ void cbx_core_state(cbx_core* core, cbx_state_report* out) {
 
 void cbx_core_background(cbx_core* core) {
   uint8_t gate = core->gate;
-  if (core->save_pending && gate != CBX_GATE_RUN && gate != CBX_GATE_RAMP) {
+  /* Saving stops the tick for 1-2 s (flash erase): only while nothing drives the actuators
+   * (the self-test drives them with the gate off). */
+  const bool driving = gate == CBX_GATE_RUN || gate == CBX_GATE_RAMP ||
+                       core->selftest.state == CBX_SELFTEST_RUNNING;
+  if (core->save_pending && !driving) {
     core->save_pending = 0u;
     cbx_settings s;
     uint32_t generation;
     do {
       generation = core->settings_generation;
+      CBX_COMPILER_BARRIER();
       s = core->settings_slot[core->settings_published];
+      CBX_COMPILER_BARRIER();
     } while (generation != core->settings_generation);
     uint8_t block[STORE_SIZE];
     s.calibration.header.version = CBX_PROTOCOL_VERSION;

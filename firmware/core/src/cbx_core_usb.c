@@ -25,6 +25,7 @@ cbx_status cbx_core_usb_out_report(cbx_core* core, const uint8_t* data, size_t l
     core->bad_command_count++;
     return st;
   }
+  CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
   core->command_published = slot;
   core->command_generation++;
   return CBX_OK;
@@ -47,6 +48,7 @@ static void current_settings(cbx_core* core, cbx_settings* s) {
 static void publish_settings(cbx_core* core, const cbx_settings* s) {
   const uint8_t slot = (uint8_t)(core->settings_published ^ 1u);
   core->settings_slot[slot] = *s;
+  CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
   core->settings_published = slot;
   core->settings_generation++;
   core->save_pending = 1u;
@@ -125,6 +127,7 @@ static cbx_status feature_set(cbx_core* core, const uint8_t* data, size_t length
       /* Not yet taken by the tick: add to the pending mask. */
       const bool pending = core->reset_generation != core->applied_reset_generation;
       core->reset_mask = (uint8_t)(pending ? (core->reset_mask | r.mask) : r.mask);
+      CBX_COMPILER_BARRIER();
       core->reset_generation++;
       return CBX_OK;
     }

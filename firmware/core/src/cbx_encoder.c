@@ -9,6 +9,7 @@ void cbx_encoder_init(cbx_encoder* e, cbx_encoder_source source, uint8_t counter
   e->counter_bits = (counter_bits < 2u || counter_bits > 32u) ? 32u : counter_bits;
   e->ab = 0u;
   e->direction = 0;
+  e->bridged = 0;
   e->last_raw = raw;
   e->count = 0;
   e->errors = 0u;
@@ -29,15 +30,25 @@ void cbx_encoder_edge(cbx_encoder* e, uint8_t ab) {
   e->ab = ab;
   if (diff == 1u) {
     e->direction = 1;
+    e->bridged = 0;
     step(e, 1);
   } else if (diff == 3u) {
     e->direction = -1;
+    e->bridged = 0;
     step(e, -1);
   } else if (diff == 2u) {
     /* Both lines changed: an edge was missed (or noise). The most likely truth is two
-     * steps in the direction of travel; unknown direction leaves the count alone. */
+     * steps in the direction of travel; unknown direction leaves the count alone. Right
+     * after another illegal transition the lines are back where that one started: a spike
+     * on both lines, so its bridge is undone. */
     if (e->errors != UINT32_MAX) e->errors++;
-    step(e, 2 * (int32_t)e->direction);
+    if (e->bridged != 0) {
+      step(e, -(int32_t)e->bridged);
+      e->bridged = 0;
+    } else {
+      e->bridged = (int8_t)(2 * e->direction);
+      step(e, e->bridged);
+    }
   }
 }
 
@@ -80,15 +91,17 @@ void cbx_encoder_update(cbx_encoder* e, uint32_t raw, uint32_t now_us) {
     }
     e->seen_count = count;
     e->change_time_us = now_us;
-  } else if (e->vel_cps != 0) {
+  } else {
     /* No change: the speed cannot be above one count per elapsed time; decay to that bound
-     * and to zero after the stop time. */
+     * and to zero after the stop time. At rest the reference times follow the clock, so
+     * that they never age past its wrap (2^32 us) and a restart always reads as one. */
     const uint32_t idle = now_us - e->change_time_us;
     if (idle >= CBX_ENCODER_STOP_US) {
       e->vel_cps = 0;
       e->ref_count = count;
       e->ref_time_us = now_us - CBX_ENCODER_STOP_US - 1u;
-    } else if (idle > 0u) {
+      e->change_time_us = now_us - CBX_ENCODER_STOP_US;
+    } else if (idle > 0u && e->vel_cps != 0) {
       const int32_t bound = (int32_t)(1000000u / idle);
       if (e->vel_cps > bound) e->vel_cps = bound;
       if (e->vel_cps < -bound) e->vel_cps = -bound;

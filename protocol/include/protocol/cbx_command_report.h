@@ -15,10 +15,11 @@ enum {
   CBX_CMD_ALL = 0x01u
 };
 
-/* out = clamp(offset + stiffness*(pos - pos0)/1e6 + damping*vel/1e6, out_min, out_max)
+/* out = clamp(offset - stiffness*(pos - pos0)/1e6 - damping*vel/1e6, out_min, out_max)
  *   insertion: out in mN, pos in um, vel in um/s, stiffness in mN/m, damping in mN*s/m
  *   rotation:  out in uNm, pos in urad, vel in urad/s, stiffness in uNm/rad, damping in uNm*s/rad
- * Positive out pushes toward larger positions (insertion: into the patient). */
+ * Positive out pushes toward larger positions (insertion: into the patient); with k, b >= 0 the
+ * spring pulls back toward pos0 and the damper opposes the motion (restoring, dissipative). */
 typedef struct {
   int32_t offset;    /* F0 (mN) or T0 (uNm) */
   int32_t pos0;      /* x0 (um) or theta0 (urad) */

@@ -43,8 +43,15 @@ PointLanes lanes_of(const glm::dvec3& p) {
   return detail::splat_point(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
 }
 
+// Starts loading a node or block that is about to be tested (their misses dominate).
+template <typename T>
+CATHBOX_COLLISION_INLINE void prefetch(const T& object) {
+  const char* p = reinterpret_cast<const char*>(&object);
+  for (std::size_t line = 0; line < sizeof(T); line += 64) __builtin_prefetch(p + line);
+}
+
 // Lane order by ascending value.
-void sort4(v4f values, float (&v)[4], int (&order)[4]) {
+CATHBOX_COLLISION_INLINE void sort4(v4f values, float (&v)[4], int (&order)[4]) {
   std::memcpy(v, &values, sizeof v);
   for (int i = 0; i < 4; ++i) order[i] = i;
   for (int i = 1; i < 4; ++i) {
@@ -55,16 +62,11 @@ void sort4(v4f values, float (&v)[4], int (&order)[4]) {
   }
 }
 
-glm::dvec3 corner(const TreeData& d, std::int32_t face, int k) {
-  return d.positions[d.triangles[3 * static_cast<std::size_t>(face) + static_cast<std::size_t>(k)]];
-}
-
-double exact_distance_sq(const TreeData& d, const glm::dvec3& p, std::int32_t face) {
-  return detail::point_triangle_distance_sq(p, corner(d, face, 0), corner(d, face, 1), corner(d, face, 2));
-}
-
-glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleFeature feature) {
-  const auto f = static_cast<std::size_t>(face);
+// Outward pseudo-normal of a feature of lane `lane` of block b: the face normal, the normalised
+// sum of the two face normals at an edge, the angle-weighted vertex normal.
+glm::dvec3 pseudo_normal(const TreeData& d, const detail::TriangleBlock& b, int lane,
+                         detail::TriangleFeature feature) {
+  const auto f = static_cast<std::size_t>(b.face[lane]);
   switch (feature.kind) {
     case FeatureKind::kFace:
       return d.face_normals[f];
@@ -83,42 +85,88 @@ glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleF
 
 // ---- nearest triangle ------------------------------------------------------------------------
 
+// Nearest triangle in two stages: float brackets of every triangle met give a shrinking upper
+// bound that prunes the search and a short list of candidates; the candidates are then measured
+// exactly, nearest first, until the next one cannot be closer.
 struct Nearest {
+  static constexpr int kPending = 48;
+
   Nearest(const TreeData& data, const glm::dvec3& point, double max_distance)
-      : d(data), p(point), lanes(lanes_of(point)), slack(slack_for(data, point)),
+      : d(data), p(point), lanes(lanes_of(point)), slack(slack_for(data, point)), max_d(max_distance),
         best_sq(max_distance < 1e18 ? max_distance * max_distance : kInf) {
-    thresh = threshold_sq(max_distance, slack);
+    exact_thresh = threshold_sq(max_distance, slack);
+    thresh = exact_thresh;
   }
-  void consider(std::int32_t f) {
-    const double dsq = exact_distance_sq(d, p, f);
+  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane) {
+    glm::dvec3 ta, tb, tc;
+    detail::block_corners(b, lane, ta, tb, tc);
+    const double dsq = detail::point_triangle_distance_sq(p, ta, tb, tc);
     if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
       best_sq = dsq;
-      face = f;
-      thresh = threshold_sq(std::sqrt(best_sq), slack);
+      face = b.face[lane];
+      best_block = &b;
+      best_lane = lane;
+      exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
+      thresh = std::min(thresh, exact_thresh);
     }
   }
-  void visit_block(std::int32_t block) {
+  CATHBOX_COLLISION_INLINE void visit_block(std::int32_t block) {
     const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
-    float v[4];
-    int order[4];
-    sort4(detail::triangle_distance_sq(b, lanes), v, order);
-    for (int i : order) {
-      if (v[i] > thresh) break;
-      if (b.face[i] >= 0) consider(b.face[i]);
+    const detail::DistanceBracket bracket = detail::triangle_distance_sq(b, lanes);
+    float lo[4];
+    float hi[4];
+    std::memcpy(lo, &bracket.lower, sizeof lo);
+    std::memcpy(hi, &bracket.upper, sizeof hi);
+    const float hmin = std::min(std::min(hi[0], hi[1]), std::min(hi[2], hi[3]));
+    if (hmin < upper_sq) {
+      upper_sq = hmin;
+      thresh = std::min(exact_thresh, threshold_sq(std::sqrt(static_cast<double>(hmin)), 2.0f * slack));
+    }
+    for (int i = 0; i < 4; ++i) {
+      if (lo[i] > thresh || b.face[i] < 0) continue;
+      if (pending_count == kPending) resolve();
+      pending[pending_count++] = {lo[i], i, &b};
     }
   }
-  [[nodiscard]] double bound(double max_distance) const { return face >= 0 ? std::sqrt(best_sq) : max_distance; }
+  // Measures the candidates exactly, nearest first.
+  void resolve() {
+    for (int i = 1; i < pending_count; ++i) {
+      const Pending x = pending[i];
+      int j = i;
+      for (; j > 0 && pending[j - 1].lower > x.lower; --j) pending[j] = pending[j - 1];
+      pending[j] = x;
+    }
+    for (int i = 0; i < pending_count; ++i) {
+      if (pending[i].lower > thresh) break;
+      consider(*pending[i].block, pending[i].lane);
+    }
+    pending_count = 0;
+  }
+  [[nodiscard]] double bound() const { return face >= 0 ? std::sqrt(best_sq) : max_d; }
+
+  struct Pending {
+    float lower;
+    int lane;
+    const detail::TriangleBlock* block;
+  };
 
   const TreeData& d;
   glm::dvec3 p;
   PointLanes lanes;
   float slack;
+  double max_d;
   double best_sq;
-  float thresh;
+  float exact_thresh;  // from the exact best (or the maximum distance)
+  float thresh;        // also from the smallest float upper bound
+  float upper_sq = kInfF;
   std::int32_t face = -1;
+  const detail::TriangleBlock* best_block = nullptr;
+  int best_lane = 0;
+  Pending pending[kPending];
+  int pending_count = 0;
 };
 
-void search_tree(Nearest& s) {
+CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   const TreeData& d = s.d;
   std::int32_t stack[kStackSize];
   float stack_lb[kStackSize];
@@ -135,22 +183,28 @@ void search_tree(Nearest& s) {
     std::int32_t push[4];
     float push_lb[4];
     int np = 0;
+    std::int32_t leaves[4];
+    int nl = 0;
     for (int i : order) {
       if (v[i] > s.thresh) break;
       const std::int32_t slot = n.child[i];
       if (slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        s.visit_block(detail::leaf_block(slot));
+        leaves[nl++] = detail::leaf_block(slot);
+        prefetch(d.blocks[static_cast<std::size_t>(leaves[nl - 1])]);
       } else {
         push[np] = slot;
         push_lb[np++] = v[i];
+        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
       }
     }
+    for (int k = 0; k < nl; ++k) s.visit_block(leaves[k]);
     for (int k = np - 1; k >= 0; --k) {
       stack[sp] = push[k];
       stack_lb[sp++] = push_lb[k];
     }
   }
+  s.resolve();
 }
 
 // Calls fn(block) for every leaf whose box lies within sqrt(thresh) of p.
@@ -190,7 +244,7 @@ class HintCache {
 
   // Fills the hint with the leaves nearest to p (at most kCapacity) and records the radius
   // within which it holds every leaf.
-  static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
+  CATHBOX_COLLISION_HOT static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
     ++h.refills_;
     const PointLanes lanes = lanes_of(p);
     const float slack = slack_for(d, p);
@@ -290,17 +344,18 @@ class HintCache {
     for (int j = h.count_; j < QueryHint::kCapacity; ++j) v[j] = kInfF;
   }
 
-  static void search(const QueryHint& h, Nearest& s) {
+  CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s) {
     float v[QueryHint::kCapacity];
     leaf_bounds(h, s.lanes, v);
     for (;;) {
       int best = -1;
       for (int j = 0; j < h.count_; ++j)
         if (v[j] <= s.thresh && (best < 0 || v[j] < v[best])) best = j;
-      if (best < 0) return;
+      if (best < 0) break;
       v[best] = kInfF;
       s.visit_block(h.leaves_[best]);
     }
+    s.resolve();
   }
 
   template <typename Fn>
@@ -316,43 +371,45 @@ namespace {
 
 // ---- contacts ------------------------------------------------------------------------------
 
+// Plain data without initialisers, so the collector's fixed array costs nothing to set up.
 struct Candidate {
-  double distance_sq = 0.0;
-  glm::dvec3 wall{0.0};
-  glm::dvec3 tool{0.0};  // the point of the sphere centre or capsule axis
-  double segment_t = 0.0;
-  std::int32_t face = -1;
-  detail::TriangleFeature feature{};
-  std::uint64_t key = 0;
+  double distance_sq;
+  glm::dvec3 wall;
+  glm::dvec3 tool;  // the point of the sphere centre or capsule axis
+  double segment_t;
+  std::int32_t face;
+  detail::TriangleFeature feature;
+  std::uint64_t key;
+  const detail::TriangleBlock* block;
+  int lane;
 };
 
-std::uint64_t feature_key(const TreeData& d, std::int32_t face, detail::TriangleFeature f) {
-  const auto t = static_cast<std::size_t>(face);
-  switch (f.kind) {
+std::uint64_t feature_key(const TreeData& d, const Candidate& c) {
+  const std::uint32_t* v = &d.triangles[3 * static_cast<std::size_t>(c.face)];
+  switch (c.feature.kind) {
     case FeatureKind::kFace:
-      return static_cast<std::uint64_t>(t);
+      return static_cast<std::uint64_t>(c.face);
     case FeatureKind::kEdge: {
-      const std::uint64_t u = d.triangles[3 * t + f.index];
-      const std::uint64_t w = d.triangles[3 * t + (f.index + 1u) % 3u];
+      const std::uint64_t u = v[c.feature.index];
+      const std::uint64_t w = v[(c.feature.index + 1u) % 3u];
       return (1ull << 62) | (std::min(u, w) << 31) | std::max(u, w);
     }
     case FeatureKind::kVertex:
-      return (2ull << 62) | d.triangles[3 * t + f.index];
+      return (2ull << 62) | v[c.feature.index];
   }
   return 0;
 }
 
 // Triangles that report the same edge or vertex: it is a local minimum of the distance only
 // if every triangle around it does.
-std::uint32_t expected_reports(const TreeData& d, std::int32_t face, detail::TriangleFeature f) {
-  const auto t = static_cast<std::size_t>(face);
-  switch (f.kind) {
+std::uint32_t expected_reports(const TreeData& d, const Candidate& c) {
+  switch (c.feature.kind) {
     case FeatureKind::kFace:
       return 1;
     case FeatureKind::kEdge:
-      return d.opposite[3 * t + f.index] >= 0 ? 2u : 1u;
+      return d.opposite[3 * static_cast<std::size_t>(c.face) + c.feature.index] >= 0 ? 2u : 1u;
     case FeatureKind::kVertex:
-      return d.valence[d.triangles[3 * t + f.index]];
+      return d.valence[d.triangles[3 * static_cast<std::size_t>(c.face) + c.feature.index]];
   }
   return 1;
 }
@@ -376,40 +433,47 @@ class ContactCollector {
 
   std::size_t finish(std::span<Contact> out) {
     if (!has_deepest_ || out.empty()) return 0;
-    Contact contacts[kMaxCandidates + 1];
-    std::size_t nc = 0;
+    // Indices of the kept candidates (kMaxCandidates marks the deepest, kept separately).
+    int kept[kMaxCandidates + 1];
+    double depth[kMaxCandidates + 1];
+    int nk = 0;
     if (!overflow_) {
-      for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i].face, items_[i].feature);
+      for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i]);
       std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) { return a.key < b.key; });
       bool deepest_kept = false;
-      const std::uint64_t deepest_key = feature_key(d_, deepest_.face, deepest_.feature);
+      const std::uint64_t deepest_key = feature_key(d_, deepest_);
       for (int i = 0; i < n_;) {
         int j = i + 1;
         while (j < n_ && items_[j].key == items_[i].key) ++j;
-        if (static_cast<std::uint32_t>(j - i) == expected_reports(d_, items_[i].face, items_[i].feature)) {
-          contacts[nc++] = make_contact(items_[i]);
+        if (static_cast<std::uint32_t>(j - i) == expected_reports(d_, items_[i])) {
+          kept[nk++] = i;
           if (items_[i].key == deepest_key) deepest_kept = true;
         }
         i = j;
       }
-      if (!deepest_kept) contacts[nc++] = make_contact(deepest_);
+      if (!deepest_kept) kept[nk++] = kMaxCandidates;
     } else {
-      contacts[nc++] = make_contact(deepest_);
+      kept[nk++] = kMaxCandidates;
     }
-    std::sort(contacts, contacts + nc, [](const Contact& a, const Contact& b) { return a.depth_mm > b.depth_mm; });
-    const std::size_t n = std::min(nc, out.size());
-    std::copy(contacts, contacts + n, out.begin());
+    for (int k = 0; k < nk; ++k) depth[k] = make_contact(candidate(kept[k])).depth_mm;
+    int order[kMaxCandidates + 1];
+    for (int k = 0; k < nk; ++k) order[k] = k;
+    std::sort(order, order + nk, [&](int a, int b) { return depth[a] > depth[b]; });
+    const std::size_t n = std::min(static_cast<std::size_t>(nk), out.size());
+    for (std::size_t k = 0; k < n; ++k) out[k] = make_contact(candidate(kept[order[k]]));
     return n;
   }
 
  private:
+  const Candidate& candidate(int index) const { return index == kMaxCandidates ? deepest_ : items_[index]; }
+
   Contact make_contact(const Candidate& c) const {
     Contact out;
     out.wall_point_mm = c.wall;
     out.face = c.face;
-    out.region = d_.regions[static_cast<std::size_t>(c.face)];
+    out.region = c.block->region;
     out.segment_t = c.segment_t;
-    const glm::dvec3 n = pseudo_normal(d_, c.face, c.feature);
+    const glm::dvec3 n = pseudo_normal(d_, *c.block, c.lane, c.feature);
     const glm::dvec3 v = c.tool - c.wall;
     const double dist = std::sqrt(c.distance_sq);
     if (dist > 1e-12 * (d_.scale_mm + 1.0)) {
@@ -434,7 +498,7 @@ class ContactCollector {
   Candidate items_[kMaxCandidates];
   int n_ = 0;
   bool overflow_ = false;
-  Candidate deepest_{};
+  Candidate deepest_;
   bool has_deepest_ = false;
 };
 
@@ -447,15 +511,16 @@ struct SphereProbe {
   void operator()(std::int32_t block) const {
     const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
     float v[4];
-    const v4f lb = detail::triangle_distance_sq(b, lanes);
+    const v4f lb = detail::triangle_distance_sq(b, lanes).lower;
     std::memcpy(v, &lb, sizeof v);
     for (int i = 0; i < 4; ++i) {
       const std::int32_t f = b.face[i];
       if (f < 0 || v[i] > thresh) continue;
-      const detail::PointOnTriangle q =
-          detail::closest_on_triangle(centre, corner(d, f, 0), corner(d, f, 1), corner(d, f, 2));
+      glm::dvec3 ta, tb, tc;
+      detail::block_corners(b, i, ta, tb, tc);
+      const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i});
     }
   }
 };
@@ -470,10 +535,11 @@ struct CapsuleProbe {
     for (int i = 0; i < 4; ++i) {
       const std::int32_t f = blk.face[i];
       if (f < 0) continue;
-      const detail::SegmentOnTriangle q =
-          detail::closest_segment_triangle(a, b, corner(d, f, 0), corner(d, f, 1), corner(d, f, 2));
+      glm::dvec3 ta, tb, tc;
+      detail::block_corners(blk, i, ta, tb, tc);
+      const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0});
+               q.on_triangle.feature, 0, &blk, i});
     }
   }
 };
@@ -490,16 +556,17 @@ namespace {
 
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
-  const TreeData& d = s.d;
-  const detail::PointOnTriangle q =
-      detail::closest_on_triangle(s.p, corner(d, s.face, 0), corner(d, s.face, 1), corner(d, s.face, 2));
+  const detail::TriangleBlock& b = *s.best_block;
+  glm::dvec3 ta, tb, tc;
+  detail::block_corners(b, s.best_lane, ta, tb, tc);
+  const detail::PointOnTriangle q = detail::closest_on_triangle(s.p, ta, tb, tc);
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
-  out.normal = pseudo_normal(d, s.face, q.feature);
+  out.normal = pseudo_normal(s.d, b, s.best_lane, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
-  out.region = d.regions[static_cast<std::size_t>(s.face)];
+  out.region = b.region;
   out.feature = q.feature.kind;
   out.feature_index = q.feature.index;
   return out;
@@ -526,7 +593,7 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
   if (HintCache::usable(hint, d)) {
     const double delta = HintCache::moved(hint, point_mm);
     HintCache::search(hint, s);
-    const double bound = s.bound(max_distance_mm);
+    const double bound = s.bound();
     if (bound + delta <= hint.radius_mm()) {
       HintCache::count_hit(hint);
       return finish_closest(s);
@@ -535,7 +602,7 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
   }
   HintCache::refill(d, point_mm, target, hint);
   HintCache::search(hint, s);
-  if (s.bound(max_distance_mm) > hint.radius_mm()) search_tree(s);
+  if (s.bound() > hint.radius_mm()) search_tree(s);
   return finish_closest(s);
 }
 
@@ -646,6 +713,7 @@ std::optional<RayHit> ObbTree::ray_cast(const glm::dvec3& origin_mm, const glm::
   const double t_slack = static_cast<double>(grow) / dir_len;
   double best_t = max_t;
   std::int32_t best_face = -1;
+  vessel::FaceRegion best_region{};
   auto limit = [&]() {
     const double l = best_t * (1.0 + 1e-5) + t_slack;
     return l < 1e30 ? static_cast<float>(l) : kInfF;
@@ -677,11 +745,13 @@ std::optional<RayHit> ObbTree::ray_cast(const glm::dvec3& origin_mm, const glm::
       for (int k = 0; k < 4; ++k) {
         const std::int32_t f = b.face[k];
         if (f < 0) continue;
-        const auto t = detail::ray_triangle(origin_mm, direction, corner(d, f, 0), corner(d, f, 1),
-                                            corner(d, f, 2), best_t);
+        glm::dvec3 ta, tb, tc;
+        detail::block_corners(b, k, ta, tb, tc);
+        const auto t = detail::ray_triangle(origin_mm, direction, ta, tb, tc, best_t);
         if (t && (*t < best_t || best_face < 0)) {
           best_t = *t;
           best_face = f;
+          best_region = b.region;
         }
       }
     }
@@ -697,7 +767,7 @@ std::optional<RayHit> ObbTree::ray_cast(const glm::dvec3& origin_mm, const glm::
   hit.face = best_face;
   hit.normal = d.face_normals[static_cast<std::size_t>(best_face)];
   hit.front_face = glm::dot(direction, hit.normal) < 0.0;
-  hit.region = d.regions[static_cast<std::size_t>(best_face)];
+  hit.region = best_region;
   return hit;
 }
 

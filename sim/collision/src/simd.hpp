@@ -6,12 +6,23 @@
 
 namespace cathbox::collision::detail {
 
+// Hot kernels are forced inline: GCC at -O2 otherwise leaves some as calls.
+#define CATHBOX_COLLISION_INLINE inline __attribute__((always_inline))
+
+// The hot loops are compiled twice on x86-64: for the baseline and for Haswell and later
+// (AVX2, FMA), picked at load time; elsewhere once.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define CATHBOX_COLLISION_HOT __attribute__((target_clones("arch=haswell", "default")))
+#else
+#define CATHBOX_COLLISION_HOT
+#endif
+
 using v4f = float __attribute__((vector_size(16)));
 using v4i = std::int32_t __attribute__((vector_size(16)));
 
-inline v4f splat(float x) { return v4f{x, x, x, x}; }
+CATHBOX_COLLISION_INLINE v4f splat(float x) { return v4f{x, x, x, x}; }
 
-inline v4f select(v4i mask, v4f yes, v4f no) {
+CATHBOX_COLLISION_INLINE v4f select(v4i mask, v4f yes, v4f no) {
   v4i y;
   v4i n;
   std::memcpy(&y, &yes, sizeof y);
@@ -21,12 +32,12 @@ inline v4f select(v4i mask, v4f yes, v4f no) {
   std::memcpy(&out, &r, sizeof out);
   return out;
 }
-inline v4f vmin(v4f a, v4f b) { return select(a < b, a, b); }
-inline v4f vmax(v4f a, v4f b) { return select(a > b, a, b); }
-inline v4f vabs(v4f a) { return vmax(a, -a); }
-inline v4f clamp01(v4f a) { return vmin(vmax(a, splat(0.0f)), splat(1.0f)); }
+CATHBOX_COLLISION_INLINE v4f vmin(v4f a, v4f b) { return select(a < b, a, b); }
+CATHBOX_COLLISION_INLINE v4f vmax(v4f a, v4f b) { return select(a > b, a, b); }
+CATHBOX_COLLISION_INLINE v4f vabs(v4f a) { return vmax(a, -a); }
+CATHBOX_COLLISION_INLINE v4f clamp01(v4f a) { return vmin(vmax(a, splat(0.0f)), splat(1.0f)); }
 
-inline v4f load(const float* p) {
+CATHBOX_COLLISION_INLINE v4f load(const float* p) {
   v4f v;
   std::memcpy(&v, p, sizeof v);
   return v;

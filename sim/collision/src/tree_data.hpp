@@ -26,21 +26,23 @@ struct alignas(16) BoxLanes {
   float row[kBoxRows][4];
 };
 
-struct alignas(16) WideNode {
+struct alignas(64) WideNode {  // exactly four cache lines
   BoxLanes boxes;
   std::int32_t child[4];
 };
+static_assert(sizeof(WideNode) == 256);
 
-// Up to four triangles, rows as for boxes: corner a, edges e0 = b - a, e1 = c - a, unit normal
-// n, the dual basis (u, v) giving barycentric coordinates of the projection, and 1 / |edge|^2
-// of the edges a->b, a->c, b->c. Empty lanes sit far away; slivers have u = v = n = 0, which
+// Up to four triangles, rows as for boxes: corners a, b, c (the mesh's floats, exactly), unit
+// normal n and the dual basis (u, v) giving barycentric coordinates of the projection. Empty lanes sit far away; slivers have u = v = n = 0, which
 // makes their float lower bound 0 so they always get the exact test.
-enum TriangleRow : int { kRowA = 0, kRowE0 = 3, kRowE1 = 6, kRowN = 9, kRowU = 12, kRowV = 15,
-                         kRowInvLenSq = 18, kTriangleRows = 21 };
-struct alignas(16) TriangleBlock {
+enum TriangleRow : int { kRowA = 0, kRowB = 3, kRowC = 6, kRowN = 9, kRowU = 12, kRowV = 15,
+                         kTriangleRows = 18 };
+struct alignas(64) TriangleBlock {
   float row[kTriangleRows][4];
-  std::int32_t face[4];  // mesh triangle index, -1 for empty lanes
+  std::int32_t face[4];     // mesh triangle index, -1 for empty lanes
+  vessel::FaceRegion region;  // one per leaf: every leaf lies inside one region's subtree
 };
+static_assert(sizeof(TriangleBlock) == 320);
 
 struct TreeData {
   std::uint64_t id = 0;  // distinguishes trees, so a hint filled by another tree is never used

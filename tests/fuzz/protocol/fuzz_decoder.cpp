@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "../fuzz_crc_fix.hpp"
 #include "protocol/cbx_command_report.h"
-#include "protocol/cbx_crc16.h"
 #include "protocol/cbx_feature_reports.h"
 #include "protocol/cbx_state_report.h"
 
@@ -16,18 +16,8 @@
 #define CBX_ENCODE CBX_CAT(CBX_CAT(cbx_, CBX_FUZZ_KIND), _encode)
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* input, size_t size) {
-  // A 65th byte with its low bit set asks for a correct CRC, so that the fuzzer also explores
-  // the range checks behind the CRC instead of stopping at it.
   uint8_t fixed[CBX_REPORT_SIZE];
-  const uint8_t* data = input;
-  if (size == CBX_REPORT_SIZE + 1 && (input[CBX_REPORT_SIZE] & 1u) != 0u) {
-    std::memcpy(fixed, input, CBX_REPORT_SIZE);
-    const uint16_t crc = cbx_crc16(fixed, CBX_CRC_OFFSET);
-    fixed[CBX_CRC_OFFSET] = static_cast<uint8_t>(crc & 0xFFu);
-    fixed[CBX_CRC_OFFSET + 1] = static_cast<uint8_t>(crc >> 8);
-    data = fixed;
-    size = CBX_REPORT_SIZE;
-  }
+  const uint8_t* data = cbx_fuzz_fix_crc(input, size, fixed);
   CBX_FUZZ_TYPE first;
   if (CBX_DECODE(data, size, &first) != CBX_OK) return 0;
   uint8_t once[CBX_REPORT_SIZE];

@@ -7,7 +7,9 @@
  * Contexts: cbx_core_control_tick() runs at CBX_CORE_TICK_HZ with the highest priority;
  * the cbx_core_usb_* entry points run in the USB context (lower priority, or the same thread);
  * cbx_core_background() runs in the main loop. cbx_core_encoder_edge() must not run
- * concurrently with the tick (same priority or same thread). */
+ * concurrently with the tick (same priority or same thread). The hand-over between contexts
+ * relies on the tick never being preempted by them (interrupt priorities); a hosted program
+ * with threads calls all entry points from one thread or under one lock. */
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -18,7 +18,7 @@ typedef enum { CBX_AXIS_INSERTION = 0, CBX_AXIS_ROTATION = 1, CBX_AXIS_COUNT = 2
 uint32_t cbx_hal_time_us(void);                       /* free-running microsecond clock, wraps at 2^32; callable from any context */
 uint32_t cbx_hal_encoder_counter(cbx_axis axis);      /* raw hardware quadrature counter (axes configured CBX_ENCODER_COUNTER) */
 int16_t cbx_hal_current_mA(cbx_axis axis);            /* latest actuator current sample in mA, signed like the drive */
-bool cbx_hal_estop_pressed(void);                     /* true while the normally-closed E-stop loop is open (or broken) */
+bool cbx_hal_estop_pressed(void);                     /* true while the normally-closed E-stop loop is open (or broken), and once after it opened briefly */
 void cbx_hal_actuator_set(cbx_axis axis, int16_t drive_permille); /* drive -1000..1000: |drive| = PWM duty, sign = direction (brakes get >= 0) */
 uint16_t cbx_hal_supply_mV(void);                     /* actuator supply voltage in mV (self-test) */
 void cbx_hal_led_set(bool on);                        /* status LED (called from cbx_core_background) */

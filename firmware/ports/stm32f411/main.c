@@ -1,0 +1,45 @@
+/* STM32F411 firmware entry: clocks, board, the core, USB, the 10 kHz control tick (SysTick,
+ * highest priority) and the main loop (settings storage, LED, bootloader entry). */
+#include <string.h>
+
+#include "board.h"
+#include "firmware/cbx_core.h"
+#include "stm32f411_regs.h"
+#include "usb_device.h"
+
+static cbx_core core;
+
+void SysTick_Handler(void);
+void SysTick_Handler(void) {
+  board_adc_cycle();
+  cbx_core_control_tick(&core);
+}
+
+int main(void) {
+  (void)board_clock_init();
+  board_init();
+
+  cbx_core_config config;
+  memset(&config, 0, sizeof config);
+  board_serial(config.serial);
+  strcpy(config.board, CBX_BOARD_NAME);
+  config.axis[CBX_AXIS_INSERTION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 32u, CBX_BOARD_ACTUATOR,
+                                                      CBX_BOARD_INSERTION_CPR};
+  config.axis[CBX_AXIS_ROTATION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 16u, CBX_BOARD_ACTUATOR,
+                                                     CBX_BOARD_ROTATION_CPR};
+  cbx_core_init(&core, &config);
+
+  /* Control tick: SysTick at 10 kHz, priority 0 (above USB). */
+  SCB_SHPR3 = (SCB_SHPR3 & 0x00FFFFFFu) | (0x00u << 24);
+  SYST_RVR = CBX_HCLK_HZ / CBX_CORE_TICK_HZ - 1u;
+  SYST_CVR = 0u;
+  SYST_CSR = 0x7u; /* processor clock, interrupt, enable */
+
+  usb_device_start(&core);
+
+  for (;;) {
+    cbx_core_background(&core);
+    if (board_bootloader_requested()) board_enter_bootloader();
+    __asm volatile("wfi");
+  }
+}

@@ -1,0 +1,30 @@
+#pragma once
+// The case picker's list: the case files in a folder (by extension), sorted by name, with the
+// default case (the first whose name contains `preferred`, else the first).
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cathbox::app {
+
+struct CaseEntry {
+  std::string name;  // file name without the folder
+  std::string path;
+};
+
+class CaseCatalog {
+ public:
+  // Lists `dir`; an unreadable folder gives an empty catalog and one line in `error`.
+  [[nodiscard]] static CaseCatalog scan(const std::string& dir,
+                                        std::span<const std::string> extensions,
+                                        std::string& error);
+
+  [[nodiscard]] const std::vector<CaseEntry>& entries() const { return entries_; }
+  // Index of the default case, or -1 when the catalog is empty.
+  [[nodiscard]] int default_index(const std::string& preferred) const;
+
+ private:
+  std::vector<CaseEntry> entries_;
+};
+
+}  // namespace cathbox::app

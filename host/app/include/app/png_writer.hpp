@@ -1,0 +1,35 @@
+#pragma once
+// A small PNG encoder for screenshots: 8-bit RGB or RGBA, one IDAT of stored (uncompressed)
+// deflate blocks, so it needs no compression library. CRC-32 and Adler-32 are computed here.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace cathbox::app {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 3;                 // 3 = RGB, 4 = RGBA
+  std::vector<std::uint8_t> pixels; // row-major, top row first, width * height * channels
+
+  [[nodiscard]] const std::uint8_t* pixel(int x, int y) const {
+    return pixels.data() + (static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                            static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels);
+  }
+};
+
+class PngWriter {
+ public:
+  // The whole PNG file as bytes; empty when the image is malformed (size, channels, pixel count).
+  [[nodiscard]] static std::vector<std::uint8_t> encode(const Image& image);
+  // Writes the file; on failure returns false and sets `error` to one line.
+  [[nodiscard]] static bool write_file(const std::string& path, const Image& image, std::string& error);
+
+  [[nodiscard]] static std::uint32_t crc32(std::span<const std::uint8_t> bytes,
+                                           std::uint32_t crc = 0);
+  [[nodiscard]] static std::uint32_t adler32(std::span<const std::uint8_t> bytes);
+};
+
+}  // namespace cathbox::app

@@ -1,0 +1,28 @@
+#pragma once
+// A linked GLSL program (vertex + fragment); attributes 0 = in_position, 1 = in_normal.
+#include <string>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+namespace cathbox::app {
+
+class ShaderProgram {
+ public:
+  ShaderProgram() = default;
+  ~ShaderProgram();
+  ShaderProgram(const ShaderProgram&) = delete;
+  ShaderProgram& operator=(const ShaderProgram&) = delete;
+
+  // Compiles and links; on failure returns false with the driver's log in `error`.
+  [[nodiscard]] bool build(const char* vertex_src, const char* fragment_src, std::string& error);
+  void use() const;
+  void set(const char* name, const glm::mat4& m) const;
+  void set(const char* name, const glm::vec4& v) const;
+  void set(const char* name, float v) const;
+
+ private:
+  unsigned id_ = 0;
+};
+
+}  // namespace cathbox::app

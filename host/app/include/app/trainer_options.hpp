@@ -1,0 +1,42 @@
+#pragma once
+// The command line of cathbox-trainer. Parsing never exits or throws: errors come back as one
+// line naming the option.
+#include <optional>
+#include <span>
+#include <string>
+
+namespace cathbox::app {
+
+enum class BoxChoice {
+  kAuto,      // a real box if one is found, else start the emulator
+  kEmulator,  // always the emulator (optionally at a given socket path)
+  kNone,      // no box: keyboard and mouse, or the scripted hand
+};
+
+struct TrainerOptions {
+  std::string case_path;          // empty: the default case from cases_dir
+  std::string cases_dir;          // empty: <source>/cases, or ./cases
+  BoxChoice box = BoxChoice::kAuto;
+  std::string emu_socket;         // --emu PATH
+  bool headless = false;          // no visible window (with --frames: hidden window, e.g. Xvfb)
+  int frames = 0;                 // headless: render this many frames, then stop
+  int sim_ms_per_frame = 16;      // headless frames: simulated time per frame (virtual time)
+  std::string screenshot;         // PNG of the last frame
+  int width = 1280;
+  int height = 720;
+  double bench_seconds = 0.0;     // > 0: benchmark run (real time), prints frame and haptic rates
+  int fps_cap = 60;               // frame pacing without vsync (Xvfb, bench): 0 = as fast as possible
+  double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
+  bool wireframe = false;
+  bool help = false;
+};
+
+struct OptionsResult {
+  std::optional<TrainerOptions> options;
+  std::string error;
+};
+
+[[nodiscard]] OptionsResult parse_trainer_options(std::span<const char* const> args);
+[[nodiscard]] const char* trainer_usage();
+
+}  // namespace cathbox::app

@@ -1,0 +1,66 @@
+#pragma once
+// The trainer's Dear ImGui panels: the HUD over the global view (insertion, rotation, hand
+// force, haptic rate, frame rate, device status, view toggles, case picker), the output panel
+// (contacts, faults, device events) and the end-of-run panel.
+#include <deque>
+#include <string>
+#include <vector>
+
+#include "app/case_catalog.hpp"
+#include "app/event_log.hpp"
+#include "app/scene_renderer.hpp"
+#include "app/scene_snapshot.hpp"
+#include "app/screen_layout.hpp"
+
+struct GLFWwindow;
+
+namespace cathbox::app {
+
+struct UiStatus {
+  double fps = 0.0;
+  std::string device;      // e.g. "emulated box (socket /tmp/...)", "keyboard"
+  std::string case_name;
+  std::string tool_name;   // the active tool
+};
+
+struct UiActions {
+  int pick_case = -1;     // index into the catalog
+  bool restart = false;
+  bool end_run = false;
+  bool switch_tool = false;
+};
+
+class TrainerUi {
+ public:
+  TrainerUi() = default;
+  ~TrainerUi();
+  TrainerUi(const TrainerUi&) = delete;
+  TrainerUi& operator=(const TrainerUi&) = delete;
+
+  // Installs the GLFW and OpenGL3 backends on the window (with its context current).
+  [[nodiscard]] bool init(GLFWwindow* window);
+  void begin_frame();
+  // Draws every panel and returns what the trainee asked for.
+  [[nodiscard]] UiActions draw(const ScreenLayout& layout, const SceneSnapshot& snapshot,
+                               const UiStatus& status, const CaseCatalog& catalog,
+                               int current_case, RenderSettings& settings);
+  void end_frame();
+
+  // Output panel lines (kept to the last few hundred).
+  void add_line(std::string line);
+  void drain(EventLog& log);
+  [[nodiscard]] bool wants_mouse() const;
+  [[nodiscard]] bool wants_keyboard() const;
+  // Mouse wheel steps of this frame (the GLFW backend collects them).
+  [[nodiscard]] float mouse_wheel() const;
+  // Where the HUD was drawn last frame, for tests that must not sample under it.
+  [[nodiscard]] const Viewport& hud_rect() const { return hud_rect_; }
+
+ private:
+  bool ready_ = false;
+  std::deque<std::string> lines_;
+  bool scroll_to_bottom_ = false;
+  Viewport hud_rect_{};
+};
+
+}  // namespace cathbox::app

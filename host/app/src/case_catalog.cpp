@@ -1,0 +1,37 @@
+#include "app/case_catalog.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+namespace cathbox::app {
+
+CaseCatalog CaseCatalog::scan(const std::string& dir, std::span<const std::string> extensions,
+                              std::string& error) {
+  CaseCatalog c;
+  std::error_code ec;
+  std::filesystem::directory_iterator it(dir, ec);
+  if (ec) {
+    error = dir + ": " + ec.message();
+    return c;
+  }
+  for (const auto& e : it) {
+    if (!e.is_regular_file(ec)) continue;
+    const std::string ext = e.path().extension().string();
+    if (std::find(extensions.begin(), extensions.end(), ext) == extensions.end()) continue;
+    c.entries_.push_back({e.path().filename().string(), e.path().string()});
+  }
+  std::sort(c.entries_.begin(), c.entries_.end(),
+            [](const CaseEntry& a, const CaseEntry& b) { return a.name < b.name; });
+  return c;
+}
+
+int CaseCatalog::default_index(const std::string& preferred) const {
+  if (entries_.empty()) return -1;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (entries_[i].name.find(preferred) != std::string::npos) return static_cast<int>(i);
+  }
+  return 0;
+}
+
+}  // namespace cathbox::app

@@ -1,0 +1,49 @@
+#include "app/gl_window.hpp"
+
+#include "app/gl.hpp"
+
+namespace cathbox::app {
+namespace {
+std::string g_glfw_error;
+void on_glfw_error(int code, const char* text) {
+  g_glfw_error = "glfw error " + std::to_string(code) + ": " + (text ? text : "?");
+}
+}  // namespace
+
+std::unique_ptr<GlWindow> GlWindow::create(int width, int height, const char* title, bool visible,
+                                           std::string& error) {
+  glfwSetErrorCallback(on_glfw_error);
+  if (glfwInit() != GLFW_TRUE) {
+    error = g_glfw_error.empty() ? "glfw: cannot initialise (no display?)" : g_glfw_error;
+    return nullptr;
+  }
+  glfwDefaultWindowHints();
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+  glfwWindowHint(GLFW_SAMPLES, 0);
+  GLFWwindow* w = glfwCreateWindow(width, height, title, nullptr, nullptr);
+  if (w == nullptr) {
+    error = g_glfw_error.empty() ? "glfw: cannot create an OpenGL 3.3 core window" : g_glfw_error;
+    glfwTerminate();
+    return nullptr;
+  }
+  glfwMakeContextCurrent(w);
+  return std::unique_ptr<GlWindow>(new GlWindow(w));
+}
+
+GlWindow::~GlWindow() {
+  glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+bool GlWindow::should_close() const { return glfwWindowShouldClose(window_) == GLFW_TRUE; }
+void GlWindow::swap_buffers() { glfwSwapBuffers(window_); }
+void GlWindow::set_vsync(bool on) { glfwSwapInterval(on ? 1 : 0); }
+void GlWindow::framebuffer_size(int& width, int& height) const {
+  glfwGetFramebufferSize(window_, &width, &height);
+}
+
+}  // namespace cathbox::app

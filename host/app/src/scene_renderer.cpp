@@ -1,0 +1,242 @@
+#include "app/scene_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vec4.hpp>
+
+#include "app/gl.hpp"
+#include "app/orbit_camera.hpp"
+
+namespace cathbox::app {
+namespace {
+
+constexpr const char* kVertexShader = R"(#version 330 core
+in vec3 in_position;
+in vec3 in_normal;
+uniform mat4 u_view;
+uniform mat4 u_proj;
+out vec3 v_normal;
+out vec3 v_pos;
+void main() {
+  vec4 p = u_view * vec4(in_position, 1.0);
+  v_pos = p.xyz;
+  v_normal = mat3(u_view) * in_normal;
+  gl_Position = u_proj * p;
+}
+)";
+
+// Headlight shading (light at the eye), two-sided so the inside of the vessel is lit too.
+constexpr const char* kFragmentShader = R"(#version 330 core
+in vec3 v_normal;
+in vec3 v_pos;
+uniform vec4 u_color;
+uniform vec4 u_fog;  // rgb, and the distance in mm at which the fog is complete (0: none)
+uniform float u_back_shade;
+out vec4 frag;
+void main() {
+  vec3 n = normalize(v_normal);
+  vec3 l = normalize(-v_pos);
+  float d = abs(dot(n, l));
+  // The far wall (seen from inside: back faces) a little darker than the near wall.
+  vec3 base = gl_FrontFacing ? u_color.rgb : u_color.rgb * u_back_shade;
+  vec3 c = base * (0.35 + 0.65 * d) + vec3(0.25) * pow(d, 24.0);
+  if (u_fog.a > 0.0) c = mix(c, u_fog.rgb, clamp(length(v_pos) / u_fog.a, 0.0, 1.0));
+  frag = vec4(c, u_color.a);
+}
+)";
+
+constexpr float kChunkCellMm = 12.0F;
+constexpr float kLocalFogMm = 40.0F;  // the local view fades to the fog colour at this distance
+
+void set_viewport(const Viewport& vp, int framebuffer_height) {
+  glViewport(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
+  glScissor(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
+}
+
+void make_sphere(float radius, const glm::vec3& centre, std::vector<glm::vec3>& p,
+                 std::vector<glm::vec3>& n, std::vector<std::uint32_t>& t) {
+  constexpr int kRings = 8;
+  constexpr int kSlices = 12;
+  for (int i = 0; i <= kRings; ++i) {
+    const float phi = 3.1415927F * static_cast<float>(i) / kRings;
+    for (int j = 0; j < kSlices; ++j) {
+      const float th = 6.2831853F * static_cast<float>(j) / kSlices;
+      const glm::vec3 d{std::sin(phi) * std::cos(th), std::sin(phi) * std::sin(th), std::cos(phi)};
+      p.push_back(centre + radius * d);
+      n.push_back(d);
+    }
+  }
+  for (std::uint32_t i = 0; i < kRings; ++i) {
+    for (std::uint32_t j = 0; j < kSlices; ++j) {
+      const std::uint32_t a = i * kSlices + j;
+      const std::uint32_t b = i * kSlices + (j + 1) % kSlices;
+      t.insert(t.end(), {a, a + kSlices, b + kSlices, a, b + kSlices, b});
+    }
+  }
+}
+
+}  // namespace
+
+bool SceneRenderer::init(std::string& error) {
+  if (!shader_.build(kVertexShader, kFragmentShader, error)) return false;
+  glEnable(GL_DEPTH_TEST);
+  glEnable(GL_SCISSOR_TEST);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  return true;
+}
+
+void SceneRenderer::ChunkedGpuMesh::upload(const MeshView& m) {
+  ChunkedMesh chunked = ChunkedMesh::build(m.positions_mm, m.triangles, kChunkCellMm);
+  gpu.upload(m.positions_mm, m.normals, chunked.triangles, false);
+  chunks = std::move(chunked.chunks);
+}
+
+std::size_t SceneRenderer::ChunkedGpuMesh::draw_visible(const glm::mat4& view_projection,
+                                                        const glm::vec3& eye_mm, float max_distance_mm,
+                                                        std::vector<IndexRange>& scratch) const {
+  visible_ranges(chunks, view_projection, eye_mm, max_distance_mm, scratch);
+  gpu.draw_ranges(scratch);
+  std::size_t n = 0;
+  for (const IndexRange& r : scratch) n += r.index_count / 3;
+  return n;
+}
+
+void SceneRenderer::set_vessel(const MeshView& detail, const MeshView& overview) {
+  detail_.upload(detail);
+  has_overview_ = !overview.triangles.empty();
+  if (has_overview_) overview_.upload(overview);
+}
+
+void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {
+  has_target_ = target_mm.has_value();
+  if (!has_target_) return;
+  std::vector<glm::vec3> p;
+  std::vector<glm::vec3> n;
+  std::vector<std::uint32_t> t;
+  make_sphere(radius_mm, *target_mm, p, n, t);
+  target_.upload(p, n, t, false);
+}
+
+void SceneRenderer::clear(int framebuffer_width, int framebuffer_height) const {
+  glViewport(0, 0, framebuffer_width, framebuffer_height);
+  glScissor(0, 0, framebuffer_width, framebuffer_height);
+  glDepthMask(GL_TRUE);
+  glClearColor(SceneColors::kBackground.r, SceneColors::kBackground.g, SceneColors::kBackground.b,
+               1.0F);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings) {
+  tool_count_ = std::min(snapshot.tool_count, SceneSnapshot::kMaxTools);
+  for (int i = 0; i < tool_count_; ++i) {
+    const ToolView& tv = snapshot.tools[static_cast<std::size_t>(i)];
+    ToolDraw& td = tools_[static_cast<std::size_t>(i)];
+    td.color = tv.active ? SceneColors::kActiveTool : SceneColors::kOtherTool;
+    tube_.build(tv.nodes_mm, tv.frames, std::max(tv.radius_mm, settings.min_tool_radius_mm));
+    td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
+    tube_.build(tv.nodes_mm, tv.frames, tv.radius_mm);
+    td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
+  }
+  update_contacts(snapshot, settings.min_tool_radius_mm);
+}
+
+void SceneRenderer::update_contacts(const SceneSnapshot& snapshot, float size_mm) {
+  static constexpr glm::vec3 kAxes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  // Faces of the octahedron as (x, y, z) axis picks, counter-clockwise from outside.
+  static constexpr std::uint32_t kFaces[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                                                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  contact_positions_.clear();
+  contact_normals_.clear();
+  contact_triangles_.clear();
+  for (const ContactView& c : snapshot.contacts) {
+    const auto base = static_cast<std::uint32_t>(contact_positions_.size());
+    for (const glm::vec3& a : kAxes) {
+      contact_positions_.push_back(c.point_mm + size_mm * a);
+      contact_normals_.push_back(a);
+    }
+    for (const auto& f : kFaces) contact_triangles_.insert(contact_triangles_.end(), {base + f[0], base + f[1], base + f[2]});
+  }
+  contacts_.upload(contact_positions_, contact_normals_, contact_triangles_, true);
+}
+
+void SceneRenderer::draw_tools(bool local) const {
+  for (int i = 0; i < tool_count_; ++i) {
+    const ToolDraw& td = tools_[static_cast<std::size_t>(i)];
+    shader_.set("u_color", glm::vec4(td.color, 1.0F));
+    (local ? td.local : td.global).draw();
+  }
+}
+
+void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_height,
+                                  const glm::mat4& view, const glm::mat4& projection,
+                                  const RenderSettings& settings) {
+  set_viewport(viewport, framebuffer_height);
+  shader_.use();
+  shader_.set("u_view", view);
+  shader_.set("u_proj", projection);
+  shader_.set("u_fog", glm::vec4(0.0F));
+  shader_.set("u_back_shade", 1.0F);
+
+  // Opaque first: tools and target write depth.
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  draw_tools(false);
+  if (has_target_) {
+    shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
+    target_.draw();
+  }
+  shader_.set("u_color", glm::vec4(SceneColors::kContact, 1.0F));
+  contacts_.draw();
+
+  // The vessel over them, without writing depth so the tools show through.
+  glEnable(GL_BLEND);
+  glDepthMask(GL_FALSE);
+  if (settings.wireframe) {
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    shader_.set("u_color", glm::vec4(SceneColors::kVessel, std::min(1.0F, 2.0F * settings.vessel_alpha)));
+    last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  } else {
+    // One pass over both walls: with one colour and one alpha the blend barely depends on the
+    // order, so no sorting and no second pass over the mesh (vertex work is what costs most
+    // on a software rasteriser).
+    shader_.set("u_back_shade", 0.8F);
+    shader_.set("u_color", glm::vec4(SceneColors::kVessel, settings.vessel_alpha));
+    last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
+  }
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+}
+
+void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_height,
+                                 const SceneSnapshot& snapshot) {
+  set_viewport(viewport, framebuffer_height);
+  constexpr glm::vec3 kFog{0.10F, 0.02F, 0.02F};
+  glClearColor(kFog.r, kFog.g, kFog.b, 1.0F);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  shader_.use();
+  const glm::mat4 view = EndoCamera::view(snapshot.tip_mm, snapshot.tip_direction, snapshot.tip_up);
+  const glm::mat4 projection = EndoCamera::projection(viewport.aspect());
+  shader_.set("u_view", view);
+  shader_.set("u_proj", projection);
+  shader_.set("u_fog", glm::vec4(kFog, kLocalFogMm));
+  shader_.set("u_back_shade", 1.0F);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  shader_.set("u_color", glm::vec4(0.95F, 0.55F, 0.50F, 1.0F));
+  const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]);
+  last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFogMm, ranges_);
+  draw_tools(true);
+  if (has_target_) {
+    shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
+    target_.draw();
+  }
+}
+
+}  // namespace cathbox::app

@@ -1,0 +1,71 @@
+#include "app/shader_program.hpp"
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include "app/gl.hpp"
+
+namespace cathbox::app {
+namespace {
+
+GLuint compile(GLenum kind, const char* src, std::string& error) {
+  const GLuint s = glCreateShader(kind);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (ok == GL_FALSE) {
+    char log[1024] = {};
+    glGetShaderInfoLog(s, sizeof log, nullptr, log);
+    error = std::string(kind == GL_VERTEX_SHADER ? "vertex" : "fragment") + " shader: " + log;
+    glDeleteShader(s);
+    return 0;
+  }
+  return s;
+}
+
+}  // namespace
+
+ShaderProgram::~ShaderProgram() {
+  if (id_ != 0) glDeleteProgram(id_);
+}
+
+bool ShaderProgram::build(const char* vertex_src, const char* fragment_src, std::string& error) {
+  const GLuint vs = compile(GL_VERTEX_SHADER, vertex_src, error);
+  if (vs == 0) return false;
+  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_src, error);
+  if (fs == 0) {
+    glDeleteShader(vs);
+    return false;
+  }
+  id_ = glCreateProgram();
+  glAttachShader(id_, vs);
+  glAttachShader(id_, fs);
+  glBindAttribLocation(id_, 0, "in_position");
+  glBindAttribLocation(id_, 1, "in_normal");
+  glLinkProgram(id_);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(id_, GL_LINK_STATUS, &ok);
+  if (ok == GL_FALSE) {
+    char log[1024] = {};
+    glGetProgramInfoLog(id_, sizeof log, nullptr, log);
+    error = std::string("shader link: ") + log;
+    return false;
+  }
+  return true;
+}
+
+void ShaderProgram::use() const { glUseProgram(id_); }
+
+void ShaderProgram::set(const char* name, const glm::mat4& m) const {
+  glUniformMatrix4fv(glGetUniformLocation(id_, name), 1, GL_FALSE, glm::value_ptr(m));
+}
+void ShaderProgram::set(const char* name, const glm::vec4& v) const {
+  glUniform4fv(glGetUniformLocation(id_, name), 1, glm::value_ptr(v));
+}
+void ShaderProgram::set(const char* name, float v) const {
+  glUniform1f(glGetUniformLocation(id_, name), v);
+}
+
+}  // namespace cathbox::app

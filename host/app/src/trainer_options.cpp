@@ -1,0 +1,125 @@
+#include "app/trainer_options.hpp"
+
+#include <charconv>
+#include <cstdio>
+#include <string_view>
+
+namespace cathbox::app {
+namespace {
+
+// The argument as it may appear in a one-line message: control bytes as \xNN, cut at 60.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text.substr(0, 60)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7F) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02X", u);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  if (text.size() > 60) out += "...";
+  return out;
+}
+
+template <class T>
+bool parse_number(std::string_view text, T& out) {
+  const auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc() && p == text.data() + text.size();
+}
+
+}  // namespace
+
+const char* trainer_usage() {
+  return "usage: cathbox-trainer [options]\n"
+         "  --case FILE          case to open (default: the default case in the cases folder)\n"
+         "  --cases DIR          cases folder for the picker (default: the project's cases/)\n"
+         "  --emu [PATH]         use the emulated box (cathbox-emu), at PATH if given\n"
+         "  --no-box             no box: keyboard and mouse (or the scripted hand when headless)\n"
+         "  --headless           no visible window; without --frames, run the case with the\n"
+         "                       scripted hand in virtual time and print the end-of-run summary\n"
+         "  --frames N           headless: render N frames in a hidden window (needs X, e.g. Xvfb)\n"
+         "  --ms-per-frame MS    headless frames: simulated milliseconds per frame (default 16)\n"
+         "  --screenshot OUT.png write the last frame as PNG (and OUT.png.txt with the camera)\n"
+         "  --size WxH           window size (default 1280x720)\n"
+         "  --bench SECONDS      measure frame time and haptic rate for SECONDS, print them, exit\n"
+         "  --fps N              without vsync (Xvfb, --bench), pace frames at N per second\n"
+         "                       (default 60, as a display would; 0: as fast as possible)\n"
+         "  --seconds S          stop after S seconds (headless: simulated seconds)\n"
+         "  --wireframe          start with the vessel in wireframe\n"
+         "  --help               this text\n";
+}
+
+OptionsResult parse_trainer_options(std::span<const char* const> args) {
+  TrainerOptions o;
+  OptionsResult r;
+  auto fail = [&](const std::string& msg) {
+    r.error = msg;
+    return r;
+  };
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string_view a = args[i];
+    auto value = [&](std::string_view& out) {
+      if (i + 1 >= args.size()) return false;
+      out = args[++i];
+      return true;
+    };
+    std::string_view v;
+    if (a == "--help" || a == "-h") {
+      o.help = true;
+    } else if (a == "--case") {
+      if (!value(v)) return fail("--case needs a file");
+      o.case_path = v;
+    } else if (a == "--cases") {
+      if (!value(v)) return fail("--cases needs a folder");
+      o.cases_dir = v;
+    } else if (a == "--emu") {
+      o.box = BoxChoice::kEmulator;
+      if (i + 1 < args.size() && std::string_view(args[i + 1]).substr(0, 2) != "--") o.emu_socket = args[++i];
+    } else if (a == "--no-box") {
+      o.box = BoxChoice::kNone;
+    } else if (a == "--headless") {
+      o.headless = true;
+    } else if (a == "--frames") {
+      if (!value(v) || !parse_number(v, o.frames) || o.frames < 1 || o.frames > 1'000'000)
+        return fail("--frames needs a count from 1 to 1000000");
+    } else if (a == "--ms-per-frame") {
+      if (!value(v) || !parse_number(v, o.sim_ms_per_frame) || o.sim_ms_per_frame < 0 ||
+          o.sim_ms_per_frame > 10'000)
+        return fail("--ms-per-frame needs milliseconds from 0 to 10000");
+    } else if (a == "--screenshot") {
+      if (!value(v) || v.empty()) return fail("--screenshot needs a file name");
+      o.screenshot = v;
+    } else if (a == "--size") {
+      const std::size_t x = value(v) ? v.find('x') : std::string_view::npos;
+      if (x == std::string_view::npos || !parse_number(v.substr(0, x), o.width) ||
+          !parse_number(v.substr(x + 1), o.height) || o.width < 64 || o.height < 64 ||
+          o.width > 8192 || o.height > 8192)
+        return fail("--size needs WxH, each from 64 to 8192");
+    } else if (a == "--bench") {
+      if (!value(v) || !parse_number(v, o.bench_seconds) || !(o.bench_seconds > 0.0) ||
+          o.bench_seconds > 3600.0)
+        return fail("--bench needs seconds (0 < s <= 3600)");
+    } else if (a == "--fps") {
+      if (!value(v) || !parse_number(v, o.fps_cap) || o.fps_cap < 0 || o.fps_cap > 1000)
+        return fail("--fps needs frames per second from 0 to 1000");
+    } else if (a == "--seconds") {
+      if (!value(v) || !parse_number(v, o.max_seconds) || !(o.max_seconds > 0.0) ||
+          o.max_seconds > 86400.0)
+        return fail("--seconds needs simulated seconds (0 < s <= 86400)");
+    } else if (a == "--wireframe") {
+      o.wireframe = true;
+    } else {
+      return fail("unknown option '" + printable(a) + "' (see --help)");
+    }
+  }
+  if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");
+  if (o.frames > 0 && !o.headless) return fail("--frames needs --headless");
+  if (o.bench_seconds > 0.0 && o.frames > 0) return fail("--bench and --frames exclude each other");
+  r.options = o;
+  return r;
+}
+
+}  // namespace cathbox::app

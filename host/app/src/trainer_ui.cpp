@@ -1,0 +1,157 @@
+#include "app/trainer_ui.hpp"
+
+#include <cstdio>
+
+#include <imgui.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+
+#include "app/gl.hpp"
+
+namespace cathbox::app {
+namespace {
+constexpr std::size_t kMaxLines = 400;
+constexpr double kRadToDeg = 57.29577951308232;
+}  // namespace
+
+TrainerUi::~TrainerUi() {
+  if (!ready_) return;
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+}
+
+bool TrainerUi::init(GLFWwindow* window) {
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the working folder
+  ImGui::StyleColorsDark();
+  ImGui::GetStyle().WindowRounding = 3.0F;
+  if (!ImGui_ImplGlfw_InitForOpenGL(window, true)) return false;
+  if (!ImGui_ImplOpenGL3_Init("#version 330 core")) {
+    ImGui_ImplGlfw_Shutdown();
+    return false;
+  }
+  ready_ = true;
+  return true;
+}
+
+void TrainerUi::begin_frame() {
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+}
+
+void TrainerUi::end_frame() {
+  ImGui::Render();
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+void TrainerUi::add_line(std::string line) {
+  lines_.push_back(std::move(line));
+  while (lines_.size() > kMaxLines) lines_.pop_front();
+  scroll_to_bottom_ = true;
+}
+
+void TrainerUi::drain(EventLog& log) {
+  LogEvent e;
+  char buf[160];
+  while (log.pop(e)) {
+    std::snprintf(buf, sizeof buf, "%8.3f s  %s", static_cast<double>(e.time_us) * 1e-6, e.text.data());
+    add_line(buf);
+  }
+}
+
+bool TrainerUi::wants_mouse() const { return ready_ && ImGui::GetIO().WantCaptureMouse; }
+bool TrainerUi::wants_keyboard() const { return ready_ && ImGui::GetIO().WantCaptureKeyboard; }
+float TrainerUi::mouse_wheel() const { return ready_ ? ImGui::GetIO().MouseWheel : 0.0F; }
+
+UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, const UiStatus& status,
+                          const CaseCatalog& catalog, int current_case, RenderSettings& settings) {
+  UiActions act;
+  constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
+                                      ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
+
+  // HUD, top left of the global view.
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(layout.global.x) + 8.0F, static_cast<float>(layout.global.y) + 8.0F));
+  ImGui::SetNextWindowBgAlpha(0.75F);
+  if (ImGui::Begin("Cathbox", nullptr, kFixed | ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("case      %s", status.case_name.c_str());
+    ImGui::Text("tool      %s", status.tool_name.c_str());
+    ImGui::Separator();
+    ImGui::Text("insertion %8.1f mm", s.insertion_mm);
+    ImGui::Text("rotation  %8.1f deg", s.rotation_rad * kRadToDeg);
+    ImGui::Text("hand      %8.1f mN  %7.2f mNm", s.hand_force_mN, s.hand_torque_mNmm * 1e-3);
+    ImGui::Text("contacts  %8zu", s.contacts.size());
+    ImGui::Separator();
+    ImGui::Text("haptic    %8.0f Hz (%lld dropped)", s.haptic_rate_hz, static_cast<long long>(s.dropped_ticks));
+    ImGui::Text("display   %8.1f fps", status.fps);
+    ImGui::Text("box       %s", status.device.c_str());
+    ImGui::Text("time      %8.1f s", static_cast<double>(s.sim_time_us) * 1e-6);
+    ImGui::Separator();
+    ImGui::Checkbox("wireframe", &settings.wireframe);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(110.0F);
+    ImGui::SliderFloat("opacity", &settings.vessel_alpha, 0.05F, 1.0F, "%.2f");
+    if (!catalog.entries().empty()) {
+      const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
+      ImGui::SetNextItemWidth(220.0F);
+      if (ImGui::BeginCombo("case", current)) {
+        for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
+          const bool selected = static_cast<int>(i) == current_case;
+          if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
+        }
+        ImGui::EndCombo();
+      }
+    }
+    if (ImGui::Button("restart")) act.restart = true;
+    ImGui::SameLine();
+    if (ImGui::Button("end run")) act.end_run = true;
+    ImGui::SameLine();
+    if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
+    ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
+    ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
+    const ImVec2 p = ImGui::GetWindowPos();
+    const ImVec2 sz = ImGui::GetWindowSize();
+    hud_rect_ = {static_cast<int>(p.x), static_cast<int>(p.y), static_cast<int>(sz.x), static_cast<int>(sz.y)};
+  }
+  ImGui::End();
+
+  // Output panel, lower right.
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(layout.output.x), static_cast<float>(layout.output.y)));
+  ImGui::SetNextWindowSize(ImVec2(static_cast<float>(layout.output.width), static_cast<float>(layout.output.height)));
+  if (ImGui::Begin("Output", nullptr, kFixed)) {
+    for (const std::string& line : lines_) ImGui::TextUnformatted(line.c_str());
+    if (scroll_to_bottom_) ImGui::SetScrollHereY(1.0F);
+    scroll_to_bottom_ = false;
+  }
+  ImGui::End();
+
+  // End of run, centred on the global view.
+  if (s.run_over) {
+    const RunSummary& r = s.summary;
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(layout.global.x + layout.global.width / 2),
+                                   static_cast<float>(layout.global.y + layout.global.height / 2)),
+                            ImGuiCond_Always, ImVec2(0.5F, 0.5F));
+    if (ImGui::Begin("End of run", nullptr, kFixed | ImGuiWindowFlags_AlwaysAutoResize)) {
+      if (r.closest_to_target_mm < 0.0) {
+        ImGui::Text("No target in this case");
+      } else if (r.reached_target) {
+        ImGui::Text("Target reached at %.2f s", static_cast<double>(r.reached_at_us) * 1e-6);
+      } else {
+        ImGui::Text("Target not reached (closest %.1f mm)", r.closest_to_target_mm);
+      }
+      ImGui::Separator();
+      ImGui::Text("time             %8.2f s", static_cast<double>(r.elapsed_us) * 1e-6);
+      ImGui::Text("path length      %8.1f mm", r.path_length_mm);
+      ImGui::Text("wall contacts    %8d", r.wall_contacts);
+      ImGui::Text("peak wall force  %8.1f mN", r.peak_wall_force_mN);
+      ImGui::Text("peak hand force  %8.1f mN", r.peak_hand_force_mN);
+      if (ImGui::Button("again")) act.restart = true;
+    }
+    ImGui::End();
+  }
+  return act;
+}
+
+}  // namespace cathbox::app

@@ -1,0 +1,89 @@
+// `cathbox info`: what the box says about itself: firmware, serial, board, actuators, encoders,
+// calibration, limits and its current state.
+#include <cstdio>
+
+#include "box_session.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+#include "device/flasher.hpp"
+
+namespace cathbox::cli {
+namespace {
+
+const char* actuator_name(uint8_t a) {
+  switch (a) {
+    case CBX_ACTUATOR_BRAKE: return "brake";
+    case CBX_ACTUATOR_MOTOR: return "motor";
+    default: return "none";
+  }
+}
+
+int run_info(std::span<const std::string> argv) {
+  Args args(argv, {"emu"}, {"json"});
+  if (!args.ok()) return fail_usage("info", args.error());
+  if (!args.positionals().empty()) return fail_usage("info", "takes no arguments");
+  int code = 0;
+  auto session = open_box("info", args, code);
+  if (!session) return code;
+  auto& box = *session->client;
+  const cbx_device_info& d = box.device_info();
+  auto cal = box.calibration();
+  if (!cal) return fail("info", cal.error());
+  auto lim = box.limits();
+  if (!lim) return fail("info", lim.error());
+  device::BoxState state;
+  for (int i = 0; i < 50 && !box.poll(state); ++i) session->clock.wait(-1, 2000);
+  const auto& c = cal.value();
+  const auto& l = lim.value();
+  char fw[32];
+  std::snprintf(fw, sizeof fw, "%u.%u.%u", d.fw_major, d.fw_minor, d.fw_patch);
+  if (args.flag("json")) {
+    Json j;
+    j.field("transport", box.describe()).field("firmware", fw).field("protocol", std::to_string(CBX_PROTOCOL_VERSION) + "." + std::to_string(d.protocol_minor));
+    j.field("serial", d.serial).field("board", d.board);
+    j.field("insertion_actuator", actuator_name(d.insertion_actuator)).field("rotation_actuator", actuator_name(d.rotation_actuator));
+    j.field("insertion_encoder_cpr", d.insertion_encoder_cpr).field("rotation_encoder_cpr", d.rotation_encoder_cpr);
+    j.raw("calibration", Json()
+                             .field("insertion_counts_per_m", c.insertion_counts_per_m)
+                             .field("rotation_counts_per_rev", c.rotation_counts_per_rev)
+                             .field("insertion_full_scale_mN", c.insertion_full_scale_mN)
+                             .field("rotation_full_scale_uNm", c.rotation_full_scale_uNm)
+                             .str());
+    j.raw("limits", Json()
+                        .field("max_force_mN", l.max_force_mN)
+                        .field("max_torque_uNm", l.max_torque_uNm)
+                        .field("watchdog_timeout_ms", unsigned{l.watchdog_timeout_ms})
+                        .field("insertion_max_current_mA", unsigned{l.insertion_max_current_mA})
+                        .field("rotation_max_current_mA", unsigned{l.rotation_max_current_mA})
+                        .field("force_slew_mN_per_ms", unsigned{l.force_slew_mN_per_ms})
+                        .field("torque_slew_uNm_per_ms", unsigned{l.torque_slew_uNm_per_ms})
+                        .str());
+    j.field("status", status_names(state.report.status)).field("faults", fault_names(state.report.faults));
+    j.field("mode", mode_name(state.report.mode));
+    std::printf("%s\n", j.str().c_str());
+    return kExitOk;
+  }
+  std::printf("box          %s\n", box.describe().c_str());
+  std::printf("firmware     %s (protocol v%u.%u)\n", fw, CBX_PROTOCOL_VERSION, d.protocol_minor);
+  std::printf("serial       %s\nboard        %s\n", d.serial, d.board);
+  std::printf("actuators    insertion %s, rotation %s\n", actuator_name(d.insertion_actuator), actuator_name(d.rotation_actuator));
+  std::printf("encoders     insertion %u, rotation %u counts per encoder revolution\n", d.insertion_encoder_cpr, d.rotation_encoder_cpr);
+  if (c.insertion_counts_per_m == 0 || c.rotation_counts_per_rev == 0) {
+    std::printf("calibration  NOT CALIBRATED (force output blocked): run 'cathbox calibrate'\n");
+  } else {
+    std::printf("calibration  %u counts/m (%.2f counts/mm), %u counts/rev; full scale %u mN, %u uN*m\n",
+                c.insertion_counts_per_m, c.insertion_counts_per_m / 1000.0, c.rotation_counts_per_rev,
+                c.insertion_full_scale_mN, c.rotation_full_scale_uNm);
+  }
+  std::printf("limits       force %u mN, torque %u uN*m, watchdog %u ms, current %u/%u mA, slew %u mN/ms, %u uN*m/ms\n",
+              l.max_force_mN, l.max_torque_uNm, l.watchdog_timeout_ms, l.insertion_max_current_mA,
+              l.rotation_max_current_mA, l.force_slew_mN_per_ms, l.torque_slew_uNm_per_ms);
+  std::printf("state        mode %s, status %s, faults %s\n", mode_name(state.report.mode),
+              status_names(state.report.status).c_str(), fault_names(state.report.faults).c_str());
+  return kExitOk;
+}
+
+const Registrar registrar({"info", "firmware, serial, calibration, limits and state [--emu PATH] [--json]", run_info});
+
+}  // namespace
+}  // namespace cathbox::cli

@@ -1,0 +1,54 @@
+// `cathbox list`: every box the host can reach: real boxes (hidraw), STM32 ROM bootloaders
+// (USB 0483:DF11) and the emulator's socket.
+#include <cstdio>
+
+#include "box_session.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+#include "device/hidapi_transport.hpp"
+#include "device/libusb_control.hpp"
+#include "device/socket_transport.hpp"
+#include "protocol/cbx_protocol.h"
+
+namespace cathbox::cli {
+namespace {
+
+int run_list(std::span<const std::string> argv) {
+  Args args(argv, {"emu"}, {"json"});
+  if (!args.ok()) return fail_usage("list", args.error());
+  if (!args.positionals().empty()) return fail_usage("list", "takes no arguments");
+  std::vector<std::string> items;
+  std::vector<std::string> lines;
+  if (auto boxes = device::HidapiTransport::enumerate(); boxes) {
+    for (const auto& b : boxes.value()) {
+      items.push_back(Json().field("kind", "box").field("path", b.path).field("serial", b.serial).str());
+      lines.push_back("box         " + b.path + "  serial " + b.serial + "  (" + b.product + ")");
+    }
+  }
+  if (auto loaders = device::LibusbControl::list(); loaders) {
+    for (const auto& where : loaders.value()) {
+      items.push_back(Json().field("kind", "bootloader").field("usb", where).str());
+      lines.push_back("bootloader  usb " + where + "  (STM32 ROM DFU, 0483:df11)");
+    }
+  }
+  device::SystemClock clock;
+  const std::string path = args.value("emu").value_or(device::SocketTransport::default_path());
+  if (auto emu = device::SocketTransport::open(path, clock); emu) {
+    const bool app = emu.value()->pid() == CBX_USB_PID;
+    items.push_back(Json().field("kind", app ? "emulator" : "emulator-bootloader").field("socket", path).str());
+    lines.push_back(std::string(app ? "emulator    " : "emulator    (in DFU bootloader) ") + path);
+  }
+  if (args.flag("json")) {
+    std::printf("%s\n", Json::array(items).c_str());
+  } else if (lines.empty()) {
+    std::printf("no box found (no hidraw 1209:cb01, no bootloader 0483:df11, no emulator at %s)\n", path.c_str());
+  } else {
+    for (const auto& line : lines) std::printf("%s\n", line.c_str());
+  }
+  return items.empty() ? kExitNoDevice : kExitOk;
+}
+
+const Registrar registrar({"list", "list boxes, bootloaders and the emulator [--emu PATH] [--json]", run_list});
+
+}  // namespace
+}  // namespace cathbox::cli

@@ -1,0 +1,94 @@
+// `cathbox monitor`: live encoder counts, mm and degrees, velocities, rendered output, currents,
+// status and faults, and the state report rate. Reads only: it sends no commands.
+#include <csignal>
+#include <cstdio>
+
+#include "box_session.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+
+namespace cathbox::cli {
+namespace {
+
+volatile std::sig_atomic_t interrupted = 0;
+void on_interrupt(int) { interrupted = 1; }
+
+int run_monitor(std::span<const std::string> argv) {
+  Args args(argv, {"emu", "duration", "rate"}, {"json"});
+  const auto duration_s = args.number("duration");
+  const auto rate_hz = args.number("rate");
+  if (!args.ok()) return fail_usage("monitor", args.error());
+  if (!args.positionals().empty()) return fail_usage("monitor", "takes no arguments");
+  const double rate = rate_hz.value_or(10.0);
+  if (rate <= 0 || rate > 1000) return fail_usage("monitor", "--rate must be in (0, 1000] Hz");
+  int code = 0;
+  auto session = open_box("monitor", args, code);
+  if (!session) return code;
+  auto& box = *session->client;
+  auto& clock = session->clock;
+  auto cal = box.calibration();
+  if (!cal) return fail("monitor", cal.error());
+  const double counts_per_mm = cal.value().insertion_counts_per_m / 1000.0;
+  const double counts_per_deg = cal.value().rotation_counts_per_rev / 360.0;
+  const bool json = args.flag("json");
+  std::signal(SIGINT, on_interrupt);
+  std::signal(SIGTERM, on_interrupt);
+
+  const uint64_t start = clock.now_us();
+  const uint64_t end = duration_s ? start + static_cast<uint64_t>(*duration_s * 1e6) : UINT64_MAX;
+  const auto period = static_cast<uint64_t>(1e6 / rate);
+  uint64_t next_print = start + period;
+  uint64_t accepted_at_last = box.stats().states_accepted;
+  device::BoxState state;
+  bool have_state = false;
+  if (!json) {
+    std::printf("%7s  %10s %9s %9s %7s  %10s %9s %9s %9s  %6s %6s  %-28s %-12s %6s\n", "t s", "ins count", "mm", "mm/s",
+                "mN", "rot count", "deg", "deg/s", "uN*m", "I1 mA", "I2 mA", "status", "faults", "Hz");
+  }
+  while (interrupted == 0 && clock.now_us() < end) {
+    have_state = box.poll(state) || have_state;
+    const uint64_t now = clock.now_us();
+    if (now < next_print) {
+      clock.wait(-1, 1000);
+      continue;
+    }
+    const double interval_s = (now - next_print + period) * 1e-6;
+    next_print += period;
+    const uint64_t accepted = box.stats().states_accepted;
+    const double hz = (accepted - accepted_at_last) / interval_s;
+    accepted_at_last = accepted;
+    if (!have_state) {
+      std::fprintf(stderr, "cathbox monitor: no state from the box (%s)\n", box.describe().c_str());
+      continue;
+    }
+    const auto& r = state.report;
+    const double mm = counts_per_mm > 0 ? r.insertion_count / counts_per_mm : 0;
+    const double mm_s = counts_per_mm > 0 ? r.insertion_vel_cps / counts_per_mm : 0;
+    const double deg = counts_per_deg > 0 ? r.rotation_count / counts_per_deg : 0;
+    const double deg_s = counts_per_deg > 0 ? r.rotation_vel_cps / counts_per_deg : 0;
+    if (json) {
+      Json j;
+      j.field("t_s", (now - start) * 1e-6).field("insertion_count", int64_t{r.insertion_count}).field("insertion_mm", mm);
+      j.field("insertion_mm_s", mm_s).field("insertion_force_mN", int64_t{r.insertion_force_mN});
+      j.field("rotation_count", int64_t{r.rotation_count}).field("rotation_deg", deg).field("rotation_deg_s", deg_s);
+      j.field("rotation_torque_uNm", int64_t{r.rotation_torque_uNm});
+      j.field("insertion_current_mA", int64_t{r.insertion_current_mA}).field("rotation_current_mA", int64_t{r.rotation_current_mA});
+      j.field("mode", mode_name(r.mode)).field("status", status_names(r.status)).field("faults", fault_names(r.faults));
+      j.field("encoder_errors", unsigned{r.encoder_errors}).field("rx_errors", unsigned{r.rx_errors});
+      j.field("report_rate_hz", hz).field("host_rejected", box.stats().rejected()).field("link_up", box.link() == device::Link::kUp);
+      std::printf("%s\n", j.str().c_str());
+    } else {
+      std::printf("%7.2f  %10d %9.2f %9.1f %7d  %10d %9.1f %9.1f %9d  %6d %6d  %-28s %-12s %6.0f%s\n", (now - start) * 1e-6,
+                  r.insertion_count, mm, mm_s, r.insertion_force_mN, r.rotation_count, deg, deg_s, r.rotation_torque_uNm,
+                  r.insertion_current_mA, r.rotation_current_mA, status_names(r.status).c_str(),
+                  fault_names(r.faults).c_str(), hz, box.link() == device::Link::kUp ? "" : "  (link down)");
+    }
+    std::fflush(stdout);
+  }
+  return kExitOk;
+}
+
+const Registrar registrar({"monitor", "live counts, mm, degrees, velocity, output, faults, report rate [--emu PATH] [--json] [--duration S] [--rate HZ]", run_monitor});
+
+}  // namespace
+}  // namespace cathbox::cli

@@ -1,0 +1,245 @@
+// `cathbox vessel validate|info|mesh|generate`: the vessel model (HCLM) from the command line.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "cli/args.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+#include "vessel/case_generator.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/mesh_analysis.hpp"
+#include "vessel/mesh_export.hpp"
+#include "vessel/vessel_graph.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace {
+
+namespace cli = cathbox::cli;
+namespace vessel = cathbox::vessel;
+
+constexpr const char* kUsage =
+    "usage: cathbox vessel validate FILE\n"
+    "       cathbox vessel info FILE [--json]\n"
+    "       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl [--ring M] [--level L] [--control-mesh]\n"
+    "                           [--no-caps] [--no-trim] [--smooth N]\n"
+    "       cathbox vessel generate NAME -o OUT.hclm      NAME: neuro, neuro_aneurysm, neuro_stenosis,\n"
+    "                                                    y_bifurcation\n"
+    "       cathbox vessel generate --all DIR            all bundled cases into DIR\n"
+    "       cathbox vessel generate random-tree  [--seed S] [--segments N] -o OUT.hclm\n"
+    "       cathbox vessel generate random-graph [--seed S] [--cycles C] -o OUT.hclm\n";
+
+int usage_error(const std::string& message) {
+  std::fprintf(stderr, "cathbox vessel: %s\n%s", message.c_str(), kUsage);
+  return cli::kExitBadInput;
+}
+
+// `-o X` is spelled `--output X` for the shared parser.
+std::vector<std::string> normalize(std::span<const std::string> args) {
+  std::vector<std::string> out;
+  for (const std::string& a : args) out.push_back(a == "-o" ? "--output" : a);
+  return out;
+}
+
+// Reads and validates; on bad input prints one line: the first problem (and how many more).
+std::optional<vessel::VesselModel> read_model(const std::string& path) {
+  vessel::HclmReadResult read = vessel::load_hclm(path);
+  if (!read.ok()) {
+    std::string line = read.errors.front().to_string();
+    if (read.errors.size() > 1) line += " (+" + std::to_string(read.errors.size() - 1) + " more)";
+    std::fprintf(stderr, "%s\n", line.c_str());
+    return std::nullopt;
+  }
+  return std::move(read.model);
+}
+
+int run_validate(const cli::Args& args) {
+  if (args.positionals().size() != 1) return usage_error("validate takes one FILE");
+  const std::string& path = args.positionals()[0];
+  const auto model = read_model(path);
+  if (!model) return cli::kExitBadInput;
+  std::printf("%s: ok (%zu segments, %zu points)\n", path.c_str(), model->segments.size(), model->point_count());
+  return cli::kExitOk;
+}
+
+std::string junction_kind(const vessel::Junction& j) {
+  const auto parents = static_cast<int>(std::count_if(j.ends.begin(), j.ends.end(), [](auto& e) { return e.at_end; }));
+  const int children = static_cast<int>(j.ends.size()) - parents;
+  if (parents == 1 && children == 1) return "continuation";
+  if (parents == 1 && children == 2) return "bifurcation";
+  if (parents == 1 && children == 3) return "trifurcation";
+  if (parents >= 2 && children == 1) return "confluence";
+  return "junction_" + std::to_string(parents) + "_" + std::to_string(children);
+}
+
+int run_info(const cli::Args& args) {
+  if (args.positionals().size() != 1) return usage_error("info takes one FILE");
+  const std::string& path = args.positionals()[0];
+  const auto model = read_model(path);
+  if (!model) return cli::kExitBadInput;
+  const vessel::VesselGraph graph(*model);
+  double length_mm = 0.0;
+  double r_min = std::numeric_limits<double>::infinity();
+  double r_max = 0.0;
+  for (const vessel::Segment& s : model->segments) {
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      if (i > 0) length_mm += glm::length(s.points[i].pos_mm - s.points[i - 1].pos_mm);
+      r_min = std::min(r_min, s.points[i].radius_mm);
+      r_max = std::max(r_max, s.points[i].radius_mm);
+    }
+  }
+  std::vector<std::pair<std::string, int>> kinds;
+  for (const vessel::Junction& j : graph.junctions()) {
+    const std::string kind = junction_kind(j);
+    auto it = std::find_if(kinds.begin(), kinds.end(), [&](auto& k) { return k.first == kind; });
+    if (it == kinds.end()) kinds.emplace_back(kind, 1);
+    else ++it->second;
+  }
+  if (args.flag("json")) {
+    std::printf("{\"file\": \"%s\", \"segments\": %zu, \"points\": %zu, \"junctions\": %zu, \"junction_kinds\": {",
+                path.c_str(), model->segments.size(), model->point_count(), graph.junctions().size());
+    for (std::size_t i = 0; i < kinds.size(); ++i) {
+      std::printf("%s\"%s\": %d", i ? ", " : "", kinds[i].first.c_str(), kinds[i].second);
+    }
+    std::printf("}, \"free_ends\": %zu, \"components\": %d, \"cycles\": %d, \"total_length_mm\": %.3f, "
+                "\"radius_min_mm\": %.4g, \"radius_max_mm\": %.4g}\n",
+                graph.free_ends().size(), graph.component_count(), graph.cycle_count(), length_mm, r_min, r_max);
+    return cli::kExitOk;
+  }
+  std::printf("file          %s\n", path.c_str());
+  std::printf("segments      %zu (%zu points)\n", model->segments.size(), model->point_count());
+  std::printf("junctions     %zu", graph.junctions().size());
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    std::printf("%s%d %s", i ? ", " : " (", kinds[i].second, kinds[i].first.c_str());
+  }
+  std::printf("%s\n", kinds.empty() ? "" : ")");
+  std::printf("free ends     %zu\n", graph.free_ends().size());
+  std::printf("components    %d\n", graph.component_count());
+  std::printf("cycles        %d\n", graph.cycle_count());
+  std::printf("total length  %.1f mm\n", length_mm);
+  std::printf("radius        %.3g .. %.3g mm\n", r_min, r_max);
+  return cli::kExitOk;
+}
+
+int run_mesh(cli::Args& args) {
+  if (args.positionals().size() != 1) return usage_error("mesh takes one FILE");
+  const auto output = args.value("output");
+  if (!output) return usage_error("mesh needs -o OUT.obj|.ply|.stl");
+  vessel::MeshOptions options;
+  if (const auto m = args.integer("ring")) options.ring_points = static_cast<int>(*m);
+  if (const auto l = args.integer("level")) options.subdivision_level = static_cast<int>(*l);
+  if (const auto s = args.integer("smooth")) options.smoothing_passes = static_cast<int>(*s);
+  if (!args.ok()) return usage_error(args.error());
+  if (options.ring_points < 3 || options.ring_points > 64) return usage_error("--ring must be 3..64");
+  if (options.subdivision_level < 0 || options.subdivision_level > 5) return usage_error("--level must be 0..5");
+  if (options.smoothing_passes < 0 || options.smoothing_passes > 100) return usage_error("--smooth must be 0..100");
+  options.caps = !args.flag("no-caps");
+  options.trim_at_junctions = !args.flag("no-trim");
+  if (args.flag("control-mesh")) options.subdivision_level = 0;
+  const std::string& path = args.positionals()[0];
+  const auto model = read_model(path);
+  if (!model) return cli::kExitBadInput;
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(*model, options);
+  if (!surface.ok()) {
+    std::fprintf(stderr, "%s: %s\n", path.c_str(), surface.error.c_str());
+    return cli::kExitBadInput;
+  }
+  if (const std::string error = vessel::write_mesh(surface.mesh, *output); !error.empty()) {
+    std::fprintf(stderr, "cathbox vessel mesh: %s\n", error.c_str());
+    return error.rfind("unknown mesh format", 0) == 0 ? cli::kExitBadInput : cli::kExitFailure;
+  }
+  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
+  std::printf("%s: control mesh %zu vertices %zu faces; surface %zu vertices %zu triangles; euler %d; %s, %s; "
+              "volume %.1f mm3\n",
+              output->c_str(), surface.control.vertex_count(), surface.control.face_count(), a.vertices, a.triangles,
+              a.euler_characteristic, a.closed() ? "closed" : "open", a.manifold() ? "manifold" : "NOT manifold",
+              a.signed_volume_mm3);
+  return cli::kExitOk;
+}
+
+int save(const vessel::VesselModel& model, const std::string& path) {
+  if (const std::string error = vessel::save_hclm(model, path); !error.empty()) {
+    std::fprintf(stderr, "cathbox vessel generate: %s\n", error.c_str());
+    return cli::kExitFailure;
+  }
+  std::printf("%s: %zu segments, %zu points\n", path.c_str(), model.segments.size(), model.point_count());
+  return cli::kExitOk;
+}
+
+int run_generate(cli::Args& args) {
+  if (const auto dir = args.value("all")) {
+    if (!args.positionals().empty()) return usage_error("generate --all DIR takes no NAME");
+    std::error_code ec;
+    std::filesystem::create_directories(*dir, ec);
+    for (const std::string& name : vessel::CaseGenerator::case_names()) {
+      const int rc = save(vessel::CaseGenerator::make_case(name), (std::filesystem::path(*dir) / (name + ".hclm")).string());
+      if (rc != cli::kExitOk) return rc;
+    }
+    return cli::kExitOk;
+  }
+  if (args.positionals().size() != 1) return usage_error("generate takes one NAME (or --all DIR)");
+  const auto output = args.value("output");
+  if (!output) return usage_error("generate needs -o OUT.hclm");
+  const std::string& name = args.positionals()[0];
+  const auto seed = args.integer("seed");
+  const auto segments = args.integer("segments");
+  const auto cycles = args.integer("cycles");
+  if (!args.ok()) return usage_error(args.error());
+  if (name == "random-tree") {
+    vessel::RandomTreeOptions options;
+    if (segments) {
+      if (*segments < 1 || *segments > 100000) return usage_error("--segments must be 1..100000");
+      options.segments = static_cast<int>(*segments);
+    }
+    return save(vessel::CaseGenerator::random_tree(static_cast<std::uint64_t>(seed.value_or(1)), options), *output);
+  }
+  if (name == "random-graph") {
+    const long long c = cycles.value_or(1);
+    if (c < 1 || c > 8) return usage_error("--cycles must be 1..8");
+    return save(vessel::CaseGenerator::random_graph(static_cast<std::uint64_t>(seed.value_or(1)), static_cast<int>(c)),
+                *output);
+  }
+  const vessel::VesselModel model = vessel::CaseGenerator::make_case(name);
+  if (model.segments.empty()) return usage_error("unknown case '" + name + "'");
+  return save(model, *output);
+}
+
+int run_vessel(std::span<const std::string> raw) {
+  if (raw.empty()) return usage_error("missing subcommand");
+  const std::string sub = raw[0];
+  const std::vector<std::string> rest = normalize(raw.subspan(1));
+  if (sub == "validate") {
+    cli::Args args(rest, {}, {});
+    if (!args.ok()) return usage_error(args.error());
+    return run_validate(args);
+  }
+  if (sub == "info") {
+    cli::Args args(rest, {}, {"json"});
+    if (!args.ok()) return usage_error(args.error());
+    return run_info(args);
+  }
+  if (sub == "mesh") {
+    cli::Args args(rest, {"output", "ring", "level", "smooth"}, {"control-mesh", "no-caps", "no-trim"});
+    if (!args.ok()) return usage_error(args.error());
+    return run_mesh(args);
+  }
+  if (sub == "generate") {
+    cli::Args args(rest, {"output", "all", "seed", "segments", "cycles"}, {});
+    if (!args.ok()) return usage_error(args.error());
+    return run_generate(args);
+  }
+  if (sub == "help" || sub == "--help") {
+    std::printf("%s", kUsage);
+    return cli::kExitOk;
+  }
+  return usage_error("unknown subcommand '" + sub + "'");
+}
+
+const cli::Registrar registrar({"vessel", "vessel models: validate, info, mesh, generate (HCLM)", run_vessel});
+
+}  // namespace

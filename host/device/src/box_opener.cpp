@@ -1,0 +1,28 @@
+#include "device/box_opener.hpp"
+
+#include "device/hidapi_transport.hpp"
+#include "device/socket_transport.hpp"
+#include "protocol/cbx_protocol.h"
+
+namespace cathbox::device {
+
+BoxClient::Opener box_opener(std::optional<std::string> emu_path, Clock& clock) {
+  if (!emu_path) {
+    return []() -> Result<std::unique_ptr<Transport>> {
+      auto opened = HidapiTransport::open("");
+      if (!opened) return opened.error();
+      return std::unique_ptr<Transport>(std::move(opened.value()));
+    };
+  }
+  return [path = *emu_path, &clock]() -> Result<std::unique_ptr<Transport>> {
+    auto opened = SocketTransport::open(path, clock);
+    if (!opened) return opened.error();
+    if (opened.value()->pid() != CBX_USB_PID) {
+      return make_error(Errc::kNoDevice, "the emulated box at " + path + " is in its DFU bootloader (" +
+                                             opened.value()->describe() + "); run 'cathbox flash'");
+    }
+    return std::unique_ptr<Transport>(std::move(opened.value()));
+  };
+}
+
+}  // namespace cathbox::device

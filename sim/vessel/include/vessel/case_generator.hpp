@@ -1,0 +1,47 @@
+#pragma once
+// Procedural vessel networks: the bundled neurovascular cases (aortic arch to the circle of
+// Willis, with dimensions from the anatomical literature cited in case_generator.cpp), their
+// pathological variants (saccular aneurysm, stenosis), a simple Y bifurcation, and random trees
+// and graphs for property tests and benchmarks. Every output is a valid VesselModel whose
+// children start exactly at their parents' last points.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vessel/vessel_model.hpp"
+
+namespace cathbox::vessel {
+
+struct RandomTreeOptions {
+  int segments = 100;              // approximate number of segments (exact for trees: the
+                                   // generator stops splitting once reached)
+  double root_radius_mm = 3.0;
+  double min_branch_angle_deg = 25.0;   // angle between a child and its parent's direction
+  double max_branch_angle_deg = 60.0;
+  double trifurcation_chance = 0.15;
+  double spacing_radii = 1.2;      // centerline point spacing, in local radii
+};
+
+class CaseGenerator {
+ public:
+  // Names of the bundled cases: "neuro", "neuro_aneurysm", "neuro_stenosis", "y_bifurcation".
+  [[nodiscard]] static std::vector<std::string> case_names();
+  // The named case; an empty model for an unknown name.
+  [[nodiscard]] static VesselModel make_case(const std::string& name);
+
+  [[nodiscard]] static VesselModel neuro();            // healthy arch-to-Willis network
+  [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the left MCA bifurcation
+  [[nodiscard]] static VesselModel neuro_stenosis();   // + 70 % stenosis at the left ICA origin
+  [[nodiscard]] static VesselModel y_bifurcation();    // one parent, two children (steering tests)
+
+  // Random binary/ternary tree (one root, branch angles in the given range).
+  [[nodiscard]] static VesselModel random_tree(std::uint64_t seed, const RandomTreeOptions& options = {});
+  // Random graph with `cycles` independent loops (a ring of segments with chords) plus
+  // random side trees; bifurcations, trifurcations and confluences all occur.
+  [[nodiscard]] static VesselModel random_graph(std::uint64_t seed, int cycles);
+  // A single helical segment (for the twist property).
+  [[nodiscard]] static VesselModel helix(double helix_radius_mm, double pitch_mm, double turns, double radius_mm,
+                                         int points);
+};
+
+}  // namespace cathbox::vessel

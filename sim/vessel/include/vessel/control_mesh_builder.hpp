@@ -1,0 +1,38 @@
+#pragma once
+// Builds the control mesh from a smoothed model (see control_mesh.hpp for its parts).
+//
+// Rings: one per HCLM point of a segment (the thesis' count), at the same relative arc-length
+// positions; where a segment meets a junction its rings are pulled back (trimmed) until every
+// ring at that junction lies strictly behind the plane of every other ring there.
+// Frames: rotation-minimising (double reflection), propagated from each component's root
+// segment through the junctions, so successive rings do not twist.
+// Junctions: the convex hull of the incident rings minus the rings' own discs; its triangles are
+// paired into quads by a perfect matching when one exists (for M = 4 and a plain bifurcation
+// this gives the thesis' 7 quads). Any number of incident segments works.
+// Caps: a smaller ring beyond a free end plus one M-sided face, which subdivides to a dome.
+// Shrink compensation: ring radii are divided by the radius ratio of the periodic cubic
+// B-spline through a regular M-gon, the curve a Catmull-Clark tube converges to.
+#include <string>
+
+#include "vessel/control_mesh.hpp"
+#include "vessel/mesh_options.hpp"
+#include "vessel/vessel_graph.hpp"
+#include "vessel/vessel_model.hpp"
+
+namespace cathbox::vessel {
+
+struct ControlMeshResult {
+  ControlMesh mesh;
+  std::string error;  // empty on success, else what could not be built (names the junction/segment)
+  [[nodiscard]] bool ok() const { return error.empty(); }
+};
+
+// `smoothed` is the output of smooth_centerlines() for `graph`'s model.
+[[nodiscard]] ControlMeshResult build_control_mesh(const VesselModel& smoothed, const VesselGraph& graph,
+                                                   const MeshOptions& options);
+
+// Limit radius / control radius of a Catmull-Clark tube with M points per ring (mean of the
+// extremes at ring vertices and between them).
+[[nodiscard]] double tube_shrink_ratio(int ring_points);
+
+}  // namespace cathbox::vessel

@@ -1,0 +1,64 @@
+#include "app/trainer_options.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace cathbox::app {
+namespace {
+
+OptionsResult parse(std::vector<const char*> args) { return parse_trainer_options(args); }
+
+TEST(TrainerOptions, DefaultsOpenTheDefaultCaseWithAnyBox) {
+  const OptionsResult r = parse({});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_EQ(r.options->box, BoxChoice::kAuto);
+  EXPECT_FALSE(r.options->headless);
+  EXPECT_EQ(r.options->width, 1280);
+  EXPECT_EQ(r.options->height, 720);
+}
+
+TEST(TrainerOptions, ParsesTheHeadlessScreenshotMode) {
+  const OptionsResult r = parse({"--headless", "--frames", "30", "--screenshot", "out.png",
+                                 "--size", "800x600", "--case", "cases/neuro.case", "--emu"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_TRUE(r.options->headless);
+  EXPECT_EQ(r.options->frames, 30);
+  EXPECT_EQ(r.options->screenshot, "out.png");
+  EXPECT_EQ(r.options->width, 800);
+  EXPECT_EQ(r.options->height, 600);
+  EXPECT_EQ(r.options->case_path, "cases/neuro.case");
+  EXPECT_EQ(r.options->box, BoxChoice::kEmulator);
+  EXPECT_TRUE(r.options->emu_socket.empty());
+}
+
+TEST(TrainerOptions, EmuTakesAnOptionalSocketPath) {
+  const OptionsResult r = parse({"--emu", "/tmp/box.sock", "--bench", "2.5"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_EQ(r.options->emu_socket, "/tmp/box.sock");
+  EXPECT_DOUBLE_EQ(r.options->bench_seconds, 2.5);
+}
+
+TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
+  const std::vector<std::pair<std::vector<const char*>, const char*>> bad = {
+      {{"--frames"}, "--frames"},
+      {{"--headless", "--frames", "0"}, "--frames"},
+      {{"--headless", "--frames", "12x"}, "--frames"},
+      {{"--size", "100"}, "--size"},
+      {{"--size", "10x10"}, "--size"},
+      {{"--bench", "-1"}, "--bench"},
+      {{"--screenshot", "a.png"}, "--screenshot"},
+      {{"--frames", "3"}, "--headless"},
+      {{"--colour"}, "--colour"},
+      {{"-\n"}, "-\\x0A"},
+  };
+  for (const auto& [args, name] : bad) {
+    const OptionsResult r = parse(args);
+    EXPECT_FALSE(r.options) << name;
+    EXPECT_NE(r.error.find(name), std::string::npos) << r.error;
+    EXPECT_EQ(r.error.find('\n'), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace cathbox::app

@@ -1,0 +1,76 @@
+// Small parts of the trainer: case catalog, frame statistics, screen layout, keyboard hand.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "app/case_catalog.hpp"
+#include "app/frame_stats.hpp"
+#include "app/keyboard_hand.hpp"
+#include "app/screen_layout.hpp"
+
+namespace cathbox::app {
+namespace {
+
+TEST(CaseCatalog, ListsCaseFilesSortedAndPicksTheDefault) {
+  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "case_catalog_test";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "sub.hclm");
+  for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt"}) std::ofstream(dir / f) << "x";
+  std::string error;
+  const std::vector<std::string> ext = {".hclm"};
+  const CaseCatalog c = CaseCatalog::scan(dir.string(), ext, error);
+  ASSERT_EQ(c.entries().size(), 3U) << error;
+  EXPECT_EQ(c.entries()[0].name, "alpha.hclm");
+  EXPECT_EQ(c.entries()[2].name, "zeta.hclm");
+  EXPECT_EQ(c.default_index("neuro"), 1);
+  EXPECT_EQ(c.default_index("absent"), 0);
+}
+
+TEST(CaseCatalog, AMissingFolderIsAnErrorLineAndAnEmptyList) {
+  std::string error;
+  const std::vector<std::string> ext = {".hclm"};
+  const CaseCatalog c = CaseCatalog::scan("/no/such/folder", ext, error);
+  EXPECT_TRUE(c.entries().empty());
+  EXPECT_EQ(c.default_index("neuro"), -1);
+  EXPECT_NE(error.find("/no/such/folder"), std::string::npos);
+}
+
+TEST(FrameStats, PercentilesAndMeanRate) {
+  FrameStats s;
+  EXPECT_EQ(s.percentile_us(50), 0.0);
+  for (int i = 1; i <= 100; ++i) s.add(i * 100);  // 100 us .. 10 ms
+  EXPECT_NEAR(s.percentile_us(50), 5050.0, 1e-9);
+  EXPECT_NEAR(s.percentile_us(100), 10000.0, 1e-9);
+  EXPECT_NEAR(s.percentile_us(0), 100.0, 1e-9);
+  EXPECT_NEAR(s.mean_fps(), 1e6 * 100 / 505000.0, 1e-9);
+}
+
+TEST(ScreenLayout, ThreeAreasTileTheWindow) {
+  for (const auto& [w, h] : {std::pair{1280, 720}, std::pair{800, 600}, std::pair{300, 900}}) {
+    const ScreenLayout l = ScreenLayout::for_window(w, h);
+    EXPECT_EQ(l.global.width + l.local.width, w);
+    EXPECT_EQ(l.local.width, l.output.width);
+    EXPECT_EQ(l.local.height + l.output.height, h);
+    EXPECT_EQ(l.global.height, h);
+    EXPECT_GE(l.global.width, w * 3 / 5);
+  }
+}
+
+TEST(KeyboardHand, IntegratesSpeedsWithinLimits) {
+  KeyboardHand k;
+  k.set_speeds(20.0, 1.0);
+  for (int i = 0; i < 500; ++i) k.advance(0.001, 0.0, 8.0);
+  EXPECT_DOUBLE_EQ(k.insertion_mm(), 8.0);  // clamped
+  EXPECT_NEAR(k.rotation_rad(), 0.5, 1e-9);
+  k.set_speeds(-20.0, 0.0);
+  for (int i = 0; i < 1000; ++i) k.advance(0.001, 0.0, 8.0);
+  EXPECT_DOUBLE_EQ(k.insertion_mm(), 0.0);
+  k.request_tool_switch();
+  k.request_tool_switch();
+  EXPECT_EQ(k.take_tool_switches(), 2);
+  EXPECT_EQ(k.take_tool_switches(), 0);
+}
+
+}  // namespace
+}  // namespace cathbox::app

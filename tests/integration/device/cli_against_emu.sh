@@ -1,0 +1,90 @@
+#!/usr/bin/env bash
+# `cathbox` as a hardware engineer uses it, against a real `cathbox-emu` process: list, info,
+# monitor, selftest, flash pack + flash, and the documented exit codes. No sleeps: it waits for
+# the emulator's "listening" line; no timing is asserted.
+set -u
+bin="$1"
+dir=$(mktemp -d)
+sock="$dir/emu.sock"
+failures=0
+v2_pid=""
+mon_pid=""
+exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
+emu_pid=$!
+trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
+read -r line <&3
+case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
+
+# expect RC NEEDLE -- COMMAND...: the exit code must be RC and the output must contain NEEDLE.
+expect() {
+  local want_rc=$1 needle=$2
+  shift 3
+  local out rc
+  out=$("$@" 2>&1)
+  rc=$?
+  if [ "$rc" -ne "$want_rc" ] || [[ "$out" != *"$needle"* ]]; then
+    echo "FAIL: $* -> rc $rc (want $want_rc), output:"
+    echo "$out" | head -20
+    failures=$((failures + 1))
+  else
+    echo "ok:   $* -> rc $rc"
+  fi
+}
+
+cb="$bin/cathbox"
+expect 0 "emulator" -- "$cb" list --emu "$sock"
+expect 0 '"board":"cathbox-emu"' -- "$cb" info --emu "$sock" --json
+expect 0 "calibration  108650 counts/m" -- "$cb" info --emu "$sock"
+expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5 --rate 4
+expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
+expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
+expect 2 "unknown option --bogus" -- "$cb" info --bogus
+
+# A firmware binary: vector table (SP in SRAM, Thumb reset vector in flash) and a body.
+{ printf '\x00\x80\x00\x20\x01\x02\x00\x08'; head -c 24576 /dev/urandom; } > "$dir/fw.bin"
+expect 0 "packed" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.0
+expect 2 "speaks protocol v2" -- "$cb" flash pack "$dir/fw.bin" "$dir/v2.dfu" --version 2.0
+expect 0 "box is back" -- "$cb" flash "$dir/fw.dfu" --emu "$sock"
+cp "$dir/fw.dfu" "$dir/corrupt.dfu"
+printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+expect 2 "does not match the content" -- "$cb" flash "$dir/corrupt.dfu" --emu "$sock"
+expect 2 "cannot be combined" -- "$cb" flash "$dir/fw.dfu" --emu "$sock" --recover-gpio gpiochip0:17:27
+expect 0 "firmware     1.0.0" -- "$cb" info --emu "$sock"
+
+# The emulator process killed (SIGKILL, stale socket file left behind) and restarted while
+# `cathbox monitor` runs: monitor's BoxClient reports the link down, then up again.
+exec 5< <(exec "$cb" monitor --emu "$sock" --json --rate 50 --duration 20 2>&1)
+mon_pid=$!
+read -r first <&5
+kill -9 "$emu_pid"
+wait "$emu_pid" 2>/dev/null
+down=0
+while read -r line <&5; do
+  case "$line" in *'"link_up":false'*) down=1; break ;; esac
+done
+exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
+emu_pid=$!
+read -r line <&3
+up=0
+while read -r line <&5; do
+  case "$line" in *'"link_up":true'*) up=1; break ;; esac
+done
+kill "$mon_pid" 2>/dev/null
+if [ "$down" -eq 1 ] && [ "$up" -eq 1 ] && [[ "$first" == *'"link_up":true'* ]]; then
+  echo "ok:   monitor saw the emulator process killed and restarted (link down, then up)"
+else
+  echo "FAIL: monitor across an emulator restart: first=$first down=$down up=$up"
+  failures=$((failures + 1))
+fi
+expect 0 "emulator" -- "$cb" list --emu "$sock"
+
+# A box from the future: the one-line message and exit code 4.
+exec 4< <(exec "$bin/cathbox-emu" --socket "$dir/v2.sock" --wire-version 2 --duration 60 2>&1)
+v2_pid=$!
+trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
+read -r line <&4
+expect 4 "cathbox: the box speaks protocol v2, this host speaks v1: update the host tools (or flash firmware 1.x)" -- "$cb" info --emu "$dir/v2.sock"
+expect 4 "speaks protocol v2" -- "$cb" monitor --emu "$dir/v2.sock" --duration 0.1
+
+[ "$failures" -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }
+echo "all cathbox CLI checks passed against cathbox-emu"

@@ -1,0 +1,189 @@
+// Flashing end to end: `cathbox flash`'s code path (BoxClient -> enter bootloader -> DfuSe over
+// the socket -> the emulated STM32 ROM bootloader and its flash) in virtual time.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "device/dfu_file.hpp"
+#include "device/flasher.hpp"
+#include "device/socket_transport.hpp"
+#include "emu_world.hpp"
+
+namespace cathbox::testing {
+namespace {
+
+using device::DfuImage;
+using device::Errc;
+using device::Flasher;
+
+DfuImage make_image(size_t size, uint16_t version = 0x0100, const char* target = "cathbox stm32f411") {
+  DfuImage image;
+  image.bcd_device = version;
+  image.vid = CBX_DFU_VID;
+  image.pid = CBX_DFU_PID;
+  image.target_name = target;
+  device::DfuElement e;
+  e.address = 0x08000000u;
+  e.data.resize(size);
+  std::mt19937 rng(42);
+  for (auto& b : e.data) b = static_cast<uint8_t>(rng());
+  const uint32_t sp = 0x20008000u;
+  const uint32_t reset = 0x08000201u;
+  for (int i = 0; i < 4; ++i) {
+    e.data[static_cast<size_t>(i)] = static_cast<uint8_t>(sp >> (8 * i));
+    e.data[static_cast<size_t>(4 + i)] = static_cast<uint8_t>(reset >> (8 * i));
+  }
+  image.elements.push_back(std::move(e));
+  return image;
+}
+
+std::vector<uint8_t> flash_bytes(emu::Emulator& emu, size_t n) {
+  std::vector<uint8_t> out(n);
+  EXPECT_TRUE(emu.flash().read(emu::FlashMemory::kBase, out));
+  return out;
+}
+
+// The application asks the box into its bootloader; returns a transport to the bootloader.
+std::unique_ptr<device::SocketTransport> enter_bootloader(EmuWorld& world) {
+  auto client = world.connect();
+  EXPECT_TRUE(client->enter_bootloader().ok());
+  world.advance(1000);
+  auto dfu = device::SocketTransport::open(world.path(), world);
+  if (!dfu) {
+    ADD_FAILURE() << dfu.error().message;
+    return nullptr;
+  }
+  EXPECT_EQ(dfu.value()->pid(), CBX_DFU_PID);
+  return std::move(dfu.value());
+}
+
+// A cable that is pulled after `budget` control transfers.
+class FlakyControl final : public device::ControlTransfer {
+ public:
+  FlakyControl(device::ControlTransfer& inner, int budget) : inner_(inner), budget_(budget) {}
+  device::Status control_out(const device::UsbSetup& s, std::span<const uint8_t> d) override {
+    if (--budget_ < 0) return device::make_error(Errc::kDisconnected, "cable pulled");
+    return inner_.control_out(s, d);
+  }
+  device::Result<size_t> control_in(const device::UsbSetup& s, std::span<uint8_t> in) override {
+    if (--budget_ < 0) return device::make_error(Errc::kDisconnected, "cable pulled");
+    return inner_.control_in(s, in);
+  }
+  device::Result<std::string> alt_name(uint8_t alt) override { return inner_.alt_name(alt); }
+  void delay(uint64_t us) override { inner_.delay(us); }
+  std::string describe() const override { return "flaky " + inner_.describe(); }
+
+ private:
+  device::ControlTransfer& inner_;
+  int budget_;
+};
+
+TEST(Flash, GoodImageFlashesVerifiesAndTheBoxComesBack) {
+  EmuWorld world;
+  const DfuImage image = make_image(40 * 1024 + 123);  // sectors 0, 1 and 2
+  // Through the file format, as `cathbox flash FILE` reads it.
+  auto parsed = device::DfuFile::parse(device::DfuFile::write(image), "good.dfu");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kBootloader);
+  const uint64_t start = world.now_us();
+  auto done = Flasher::flash(*dfu, parsed.value(), {}, {});
+  ASSERT_TRUE(done.ok()) << done.error().message;
+  std::printf("flashed %zu bytes in %.2f s of virtual time (%zu sectors erased)\n", done.value().bytes_written,
+              (world.now_us() - start) / 1e6, done.value().sectors_erased);
+  EXPECT_EQ(done.value().sectors_erased, 3u);
+  EXPECT_EQ(done.value().bytes_verified, image.total_bytes());
+  EXPECT_EQ(flash_bytes(world.emu(), image.total_bytes()), image.elements[0].data);
+  // The bootloader reset into the application, which enumerates again.
+  dfu.reset();
+  world.advance(1000);
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kApplication);
+  auto client = world.connect();
+  EXPECT_STREQ(client->device_info().board, "cathbox-emu");
+}
+
+TEST(Flash, CorruptAndTruncatedFilesAreRefusedBeforeAnythingIsErased) {
+  auto bytes = device::DfuFile::write(make_image(4096));
+  auto corrupt = bytes;
+  corrupt[400] ^= 0x10;
+  auto bad = device::DfuFile::parse(corrupt, "corrupt.dfu");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.error().code, Errc::kBadImage);
+  EXPECT_NE(bad.error().message.find("CRC"), std::string::npos) << bad.error().message;
+  const std::vector<uint8_t> truncated(bytes.begin(), bytes.begin() + 3000);
+  auto cut = device::DfuFile::parse(truncated, "cut.dfu");
+  ASSERT_FALSE(cut.ok());
+  EXPECT_NE(cut.error().message.find("cut.dfu: byte"), std::string::npos) << cut.error().message;
+}
+
+TEST(Flash, WrongTargetVersionOrLayoutIsRefusedInTheBootloaderBeforeErasing) {
+  EmuWorld world;
+  const auto before = flash_bytes(world.emu(), 64 * 1024);
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  DfuImage outside = make_image(1024);
+  outside.elements.push_back({0x08080000u, std::vector<uint8_t>(16, 0)});
+  DfuImage bad_stack = make_image(1024);
+  bad_stack.elements[0].data[3] = 0x10;  // SP 0x10008000: CCM/other MCU
+  const std::vector<std::pair<const char*, DfuImage>> refused = {
+      {"target", make_image(1024, 0x0100, "cathbox stm32f401")},
+      {"version", make_image(1024, 0x0200)},
+      {"outside", outside},
+      {"stack", bad_stack},
+  };
+  for (const auto& [what, image] : refused) {
+    auto done = Flasher::flash(*dfu, image, {}, {});
+    ASSERT_FALSE(done.ok()) << what;
+    EXPECT_EQ(done.error().code, Errc::kBadImage) << what;
+    EXPECT_NE(done.error().message.find("nothing erased"), std::string::npos) << done.error().message;
+    std::printf("%s: %s\n", what, done.error().message.c_str());
+  }
+  EXPECT_EQ(flash_bytes(world.emu(), before.size()), before);
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kBootloader);
+}
+
+TEST(Flash, TruncatedTransferFailsSafelyAndTheBootloaderStaysReachable) {
+  EmuWorld world;
+  const DfuImage image = make_image(20 * 1024);
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  FlakyControl flaky(*dfu, 40);  // the cable goes after 40 control transfers (mid-download)
+  auto broken = Flasher::flash(flaky, image, {}, {});
+  ASSERT_FALSE(broken.ok());
+  EXPECT_EQ(broken.error().code, Errc::kDisconnected);
+  dfu.reset();
+  world.advance(5000);
+  // Still the bootloader: it enumerates again and a second attempt completes.
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kBootloader);
+  auto again = device::SocketTransport::open(world.path(), world);
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again.value()->pid(), CBX_DFU_PID);
+  std::printf("bootloader state after the pull: %d\n", world.emu().bootloader_state());
+  auto done = Flasher::flash(*again.value(), image, {}, {});
+  ASSERT_TRUE(done.ok()) << done.error().message;
+  EXPECT_EQ(flash_bytes(world.emu(), image.total_bytes()), image.elements[0].data);
+}
+
+TEST(Flash, BrokenImageNeedsTheBootStrapAndRecoversThroughIt) {
+  // A board whose flash holds no bootable application does not enumerate; BOOT0 high and a
+  // reset (what `cathbox flash --recover-gpio` drives) start the ROM bootloader.
+  EmuWorld world;
+  world.emu().flash().erase_sector(0);
+  world.emu().reset();
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kNoFirmware);
+  EXPECT_FALSE(device::SocketTransport::open(world.path(), world).ok());
+  world.emu().set_boot0(true);
+  world.emu().reset();
+  auto dfu = device::SocketTransport::open(world.path(), world);
+  ASSERT_TRUE(dfu.ok());
+  EXPECT_EQ(dfu.value()->pid(), CBX_DFU_PID);
+  ASSERT_TRUE(Flasher::flash(*dfu.value(), make_image(2048), {}, {}).ok());
+  world.emu().set_boot0(false);
+  world.emu().reset();
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kApplication);
+}
+
+}  // namespace
+}  // namespace cathbox::testing

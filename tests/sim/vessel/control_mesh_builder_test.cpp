@@ -1,0 +1,160 @@
+#include "vessel/control_mesh_builder.hpp"
+
+#include <cmath>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "vessel/case_generator.hpp"
+#include "vessel/centerline_smoother.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/mesh_analysis.hpp"
+#include "vessel/subdivision.hpp"
+
+namespace cathbox::vessel {
+namespace {
+
+ControlMeshResult build(const VesselModel& model, const MeshOptions& options) {
+  const VesselGraph graph(model);
+  return build_control_mesh(smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions),
+                            graph, options);
+}
+
+// The thesis' count (3.2.3.2): m segments of k_i nodes and n bifurcations give 4 sum k_i points
+// and 4 sum (k_i - 1) + 7 n faces, with M = 4 and open ends.
+void expect_thesis_counts(const VesselModel& model) {
+  MeshOptions options;
+  options.ring_points = 4;
+  options.caps = false;
+  const ControlMeshResult built = build(model, options);
+  ASSERT_TRUE(built.ok()) << built.error;
+  const VesselGraph graph(model);
+  std::size_t sum_k = 0;
+  std::size_t sum_k1 = 0;
+  for (const Segment& s : model.segments) {
+    sum_k += s.points.size();
+    sum_k1 += s.points.size() - 1;
+  }
+  std::size_t bifurcations = 0;
+  for (const Junction& j : graph.junctions()) {
+    ASSERT_EQ(j.ends.size(), 3u) << "not a plain bifurcation model";
+    ++bifurcations;
+  }
+  EXPECT_EQ(built.mesh.vertex_count(), 4 * sum_k);
+  EXPECT_EQ(built.mesh.face_count(), 4 * sum_k1 + 7 * bifurcations);
+  for (int size : built.mesh.face_sizes) EXPECT_EQ(size, 4);  // all quads, as in the thesis
+}
+
+TEST(ControlMeshBuilder, ReproducesTheThesisCountsForAYBifurcation) {
+  expect_thesis_counts(CaseGenerator::y_bifurcation());
+}
+
+TEST(ControlMeshBuilder, ReproducesTheThesisCountsForRandomBinaryTrees) {
+  RandomTreeOptions options;
+  options.segments = 41;
+  options.trifurcation_chance = 0.0;
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) expect_thesis_counts(CaseGenerator::random_tree(seed, options));
+}
+
+TEST(ControlMeshBuilder, RingsFollowTheCenterlineWithCompensatedRadius) {
+  const VesselModel model = CaseGenerator::y_bifurcation();
+  for (int m : {4, 8, 16}) {
+    MeshOptions options;
+    options.ring_points = m;
+    const ControlMeshResult built = build(model, options);
+    ASSERT_TRUE(built.ok()) << built.error;
+    for (const Ring& ring : built.mesh.rings) {
+      EXPECT_NEAR(ring.control_radius_mm * tube_shrink_ratio(m), ring.radius_mm, 1e-12);
+      for (int k = 0; k < m; ++k) {
+        const glm::dvec3 p = built.mesh.positions_mm[ring.first_vertex + static_cast<std::uint32_t>(k)];
+        EXPECT_NEAR(glm::length(p - ring.center_mm), ring.control_radius_mm, 1e-9);
+        EXPECT_NEAR(glm::dot(p - ring.center_mm, ring.tangent), 0.0, 1e-9);
+      }
+    }
+  }
+}
+
+TEST(ControlMeshBuilder, ShrinkRatioMatchesTheCubicBSplineOfARegularPolygon) {
+  EXPECT_NEAR(tube_shrink_ratio(4), 0.5 * (2.0 / 3.0 + 0.6481), 1e-4);
+  EXPECT_NEAR(tube_shrink_ratio(8), 0.9019, 1e-3);
+  EXPECT_GT(tube_shrink_ratio(16), 0.97);
+  EXPECT_LT(tube_shrink_ratio(16), 1.0);
+}
+
+TEST(ControlMeshBuilder, JunctionTemplateHandlesAnyNumberOfBranches) {
+  // A star: one parent and 2..6 children spread on a cone; the control mesh must be a closed
+  // manifold with consistent orientation for every count.
+  for (int children = 2; children <= 6; ++children) {
+    std::string text = "s " + std::to_string(children + 1) + "\ng 1\np 0\nc " + std::to_string(children);
+    for (int c = 0; c < children; ++c) text += " " + std::to_string(c + 2);
+    text += "\nn 11\n";
+    for (int i = 0; i <= 10; ++i) text += "v 0 0 " + std::to_string(3 * i) + " 2\n";
+    for (int c = 0; c < children; ++c) {
+      const double az = 2.0 * 3.14159265358979 * c / children;
+      const glm::dvec3 dir = glm::normalize(glm::dvec3(std::cos(az), std::sin(az), 0.9));
+      text += "g " + std::to_string(c + 2) + "\np 1 1\nc 0\nn 11\n";
+      for (int i = 0; i <= 10; ++i) {
+        const glm::dvec3 p = glm::dvec3(0, 0, 30) + 3.0 * i * dir;
+        text += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + " 1.2\n";
+      }
+    }
+    const HclmReadResult read = read_hclm(text);
+    ASSERT_TRUE(read.ok()) << read.errors.front().to_string();
+    for (int m : {4, 6, 8}) {
+      MeshOptions options;
+      options.ring_points = m;
+      const ControlMeshResult built = build(read.model, options);
+      ASSERT_TRUE(built.ok()) << children << " children, M " << m << ": " << built.error;
+      const SurfaceMeshResult flat = subdivide(built.mesh, 0);
+      ASSERT_TRUE(flat.ok());
+      const MeshAnalysis a = analyze_mesh(flat.mesh);
+      EXPECT_TRUE(a.closed() && a.manifold() && a.consistently_oriented()) << children << " children, M " << m;
+      EXPECT_EQ(a.euler_characteristic, 2);
+      EXPECT_GT(a.signed_volume_mm3, 0.0);
+      // Junction faces: quads where a perfect pairing exists, at most a few triangles otherwise.
+      std::size_t junction_triangles = 0;
+      for (std::size_t f = 0; f < built.mesh.face_count(); ++f) {
+        if (built.mesh.face_regions[f].kind == RegionKind::kJunction && built.mesh.face_sizes[f] == 3) ++junction_triangles;
+      }
+      EXPECT_LE(junction_triangles, 2u) << children << " children, M " << m;
+    }
+  }
+}
+
+TEST(ControlMeshBuilder, OverlappingBranchesAreAnErrorNotACrash) {
+  // A child folding straight back along its parent cannot get a junction.
+  const HclmReadResult read = read_hclm(
+      "s 2\ng 1\np 0\nc 1 2\nn 3\nv 0 0 0 2\nv 0 0 1 2\nv 0 0 2 2\n"
+      "g 2\np 1 1\nc 0\nn 3\nv 0 0 2 2\nv 0 0.01 1 2\nv 0 0.02 0 2\n");
+  ASSERT_TRUE(read.ok()) << read.errors.front().to_string();
+  const ControlMeshResult built = build(read.model, MeshOptions{});
+  EXPECT_FALSE(built.ok());
+  EXPECT_NE(built.error.find("junction 0 (segments 1 2)"), std::string::npos) << built.error;
+}
+
+TEST(ControlMeshBuilder, RejectsBadRingSizes) {
+  MeshOptions options;
+  options.ring_points = 2;
+  EXPECT_FALSE(build(CaseGenerator::y_bifurcation(), options).ok());
+}
+
+TEST(ControlMeshBuilder, TagsEveryFaceWithItsSegmentJunctionOrCap) {
+  const VesselModel model = CaseGenerator::y_bifurcation();
+  const ControlMeshResult built = build(model, MeshOptions{});
+  ASSERT_TRUE(built.ok());
+  std::size_t segment = 0, junction = 0, cap = 0;
+  for (const FaceRegion& r : built.mesh.face_regions) {
+    if (r.kind == RegionKind::kSegment) ++segment;
+    if (r.kind == RegionKind::kJunction) ++junction;
+    if (r.kind == RegionKind::kCap) ++cap;
+  }
+  std::size_t sum_k1 = 0;
+  for (const Segment& s : model.segments) sum_k1 += s.points.size() - 1;
+  EXPECT_EQ(segment, 8 * sum_k1);
+  EXPECT_EQ(junction, 8u * 3u / 2u + 1u);  // k M / 2 + k - 2 quads
+  EXPECT_EQ(cap, 3u * (8u + 1u));           // a band of M quads and one M-gon per free end
+}
+
+}  // namespace
+}  // namespace cathbox::vessel

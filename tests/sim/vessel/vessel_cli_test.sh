@@ -1,0 +1,80 @@
+#!/usr/bin/env bash
+# Checks the `cathbox vessel` commands against the built tool: exit codes, one-line file:line
+# errors on bad input, and the files they write. Usage: vessel_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR
+set -u
+cathbox="$1"
+src="$2"
+work="$3"
+rm -rf "$work"
+mkdir -p "$work"
+failures=0
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+
+# expect CODE CMD...: runs CMD, checks its exit code; stdout/stderr land in $work/out, $work/err.
+expect() {
+  local want="$1"
+  shift
+  "$@" >"$work/out" 2>"$work/err"
+  local got=$?
+  [ "$got" -eq "$want" ] || fail "exit $got (want $want): $* -- $(head -c 300 "$work/err")"
+}
+
+for c in neuro neuro_aneurysm neuro_stenosis y_bifurcation seed_catheter; do
+  expect 0 "$cathbox" vessel validate "$src/cases/$c.hclm"
+  grep -q ": ok (" "$work/out" || fail "validate $c printed $(cat "$work/out")"
+done
+
+expect 0 "$cathbox" vessel info "$src/cases/neuro.hclm"
+grep -q "^cycles *4$" "$work/out" || fail "info neuro: $(cat "$work/out")"
+expect 0 "$cathbox" vessel info "$src/cases/neuro.hclm" --json
+grep -q '"cycles": 4' "$work/out" || fail "info --json: $(cat "$work/out")"
+grep -q '"confluence": 4' "$work/out" || fail "info --json kinds: $(cat "$work/out")"
+
+# Bad files: exit 2, exactly one stderr line naming file:line.
+printf 's 1\ng 1\np 0\nc 0\nn 3\nv 0 0 0 1\nv 0 0 1 0\nv 0 0 2 1\n' >"$work/bad_radius.hclm"
+printf 's 1\ng 1\np 0\nc 0\nn 2\nv 0 0 0 1\nw 0 0 1 1\n' >"$work/bad_label.hclm"
+for bad in bad_radius:7 bad_label:7; do
+  file="$work/${bad%%:*}.hclm"
+  line="${bad##*:}"
+  for cmd in validate info "mesh -o $work/x.obj"; do
+    # shellcheck disable=SC2086
+    expect 2 "$cathbox" vessel $cmd "$file"
+    [ "$(wc -l <"$work/err")" -eq 1 ] || fail "$cmd $bad: want one stderr line, got: $(cat "$work/err")"
+    grep -q "^$file:$line: " "$work/err" || fail "$cmd $bad: no file:line in: $(cat "$work/err")"
+  done
+done
+expect 2 "$cathbox" vessel validate "$work/missing.hclm"
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm"                  # no -o
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.xyz" # unknown format
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --ring 2
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --level nine
+expect 2 "$cathbox" vessel frobnicate
+expect 2 "$cathbox" vessel generate no_such_case -o "$work/x.hclm"
+
+# Meshing: every format, control mesh, open ends.
+for ext in obj ply stl; do
+  expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/y.$ext" --ring 8 --level 2
+  [ -s "$work/y.$ext" ] || fail "mesh .$ext wrote nothing"
+  grep -q "closed, manifold" "$work/out" || fail "mesh .$ext: $(cat "$work/out")"
+done
+head -c 3 "$work/y.ply" | grep -q ply || fail "ply header"
+grep -q "^g junction_0" "$work/y.obj" || fail "obj groups per region"
+expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/c.obj" --ring 4 --control-mesh --no-caps
+grep -q "control mesh 300 vertices 295 faces" "$work/out" || fail "control mesh counts: $(cat "$work/out")"
+
+# Generate: bundled cases reproduce the shipped files; random models validate.
+expect 0 "$cathbox" vessel generate --all "$work/cases"
+for c in neuro neuro_aneurysm neuro_stenosis y_bifurcation; do
+  cmp -s "$work/cases/$c.hclm" "$src/cases/$c.hclm" || fail "cases/$c.hclm differs from the generator"
+done
+expect 0 "$cathbox" vessel generate random-tree --seed 3 --segments 30 -o "$work/tree.hclm"
+expect 0 "$cathbox" vessel validate "$work/tree.hclm"
+expect 0 "$cathbox" vessel generate random-graph --seed 2 --cycles 2 -o "$work/graph.hclm"
+expect 0 "$cathbox" vessel info "$work/graph.hclm"
+grep -q "^cycles *2$" "$work/out" || fail "random graph cycles: $(cat "$work/out")"
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures failure(s)" >&2
+  exit 1
+fi
+echo "vessel cli: all checks passed"
