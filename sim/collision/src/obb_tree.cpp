@@ -177,6 +177,62 @@ struct Nearest {
   int pending_count = 0;
 };
 
+// Boxes waiting in a best-first walk, in no order: the nearest is found by a branch-free scan
+// (the list stays short, and this beats a binary heap's unpredictable branches).
+class PendingBoxes {
+ public:
+  static constexpr int kCapacity = 256;
+  void push(float lb, std::int32_t slot) {
+    lb_[size_] = lb;
+    slot_[size_++] = slot;
+  }
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+  [[nodiscard]] bool has_room() const { return size_ + 4 <= kCapacity; }
+  // Index of the nearest pending box; its bound in `lb`.
+  [[nodiscard]] int nearest(float& lb) const {
+    int best = 0;
+    float best_lb = lb_[0];
+    for (int i = 1; i < size_; ++i) {
+      const bool nearer = lb_[i] < best_lb;
+      best_lb = nearer ? lb_[i] : best_lb;
+      best = nearer ? i : best;
+    }
+    lb = best_lb;
+    return best;
+  }
+  std::int32_t take(int i) {
+    const std::int32_t slot = slot_[i];
+    --size_;
+    lb_[i] = lb_[size_];
+    slot_[i] = slot_[size_];
+    return slot;
+  }
+
+ private:
+  float lb_[kCapacity];
+  std::int32_t slot_[kCapacity];
+  int size_ = 0;
+};
+
+// Queues the children of node n whose box bound passes keep(bound), and starts loading them.
+template <typename Keep>
+CATHBOX_COLLISION_INLINE void push_children(const TreeData& d, const detail::WideNode& n, const PointLanes& p,
+                                            PendingBoxes& pending, Keep&& keep) {
+  const v4f lb = detail::box_distance_sq(n.boxes.row, p);
+  float v[4];
+  std::memcpy(v, &lb, sizeof v);
+  for (int i = 0; i < 4; ++i) {
+    const std::int32_t slot = n.child[i];
+    if (slot == detail::kEmptySlot || !keep(v[i])) continue;
+    if (detail::is_leaf(slot)) {
+      prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+    } else {
+      prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+    }
+    pending.push(v[i], slot);
+  }
+}
+
 // Depth-first search below `root`, nearest child first (the fallback of the best-first search).
 void search_subtree(Nearest& s, std::int32_t root) {
   const TreeData& d = s.d;
@@ -206,54 +262,25 @@ void search_subtree(Nearest& s, std::int32_t root) {
   }
 }
 
-// Best-first search: a min-heap of nodes and leaves by box distance, so leaves are measured in
-// order of their boxes and the search stops as soon as the nearest pending box is farther than
-// the best triangle.
+// Best-first search over nodes and leaves by box distance, so leaves are measured in order of
+// their boxes and the search stops as soon as the nearest pending box is farther than the best
+// triangle.
 CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   const TreeData& d = s.d;
-  // Pending boxes in no order; the nearest is found by a branch-free scan (the list stays
-  // short, and this beats a binary heap's unpredictable branches).
-  constexpr int kPendingBoxes = 256;
-  float pending_lb[kPendingBoxes];
-  std::int32_t pending_slot[kPendingBoxes];
-  int size = 0;
-  pending_lb[size] = 0.0f;
-  pending_slot[size++] = 0;
-  while (size > 0) {
-    int best = 0;
-    float best_lb = pending_lb[0];
-    for (int i = 1; i < size; ++i) {
-      const bool nearer = pending_lb[i] < best_lb;
-      best_lb = nearer ? pending_lb[i] : best_lb;
-      best = nearer ? i : best;
-    }
-    if (best_lb > s.thresh) break;
-    const std::int32_t top = pending_slot[best];
-    --size;
-    pending_lb[best] = pending_lb[size];
-    pending_slot[best] = pending_slot[size];
+  PendingBoxes pending;
+  pending.push(0.0f, 0);
+  while (!pending.empty()) {
+    float lb;
+    const int next = pending.nearest(lb);
+    if (lb > s.thresh) break;
+    const std::int32_t top = pending.take(next);
     if (detail::is_leaf(top)) {
       s.visit_block(detail::leaf_block(top));
-      continue;
-    }
-    if (size + 4 > kPendingBoxes) {
+    } else if (!pending.has_room()) {
       search_subtree(s, top);
-      continue;
-    }
-    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
-    const v4f lb = detail::box_distance_sq(n.boxes.row, s.lanes);
-    float v[4];
-    std::memcpy(v, &lb, sizeof v);
-    for (int i = 0; i < 4; ++i) {
-      const std::int32_t slot = n.child[i];
-      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
-      if (detail::is_leaf(slot)) {
-        prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
-      } else {
-        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
-      }
-      pending_lb[size] = v[i];
-      pending_slot[size++] = slot;
+    } else {
+      push_children(d, d.nodes[static_cast<std::size_t>(top)], s.lanes, pending,
+                    [&](float v) { return v <= s.thresh; });
     }
   }
   s.resolve();
@@ -316,64 +343,38 @@ class HintCache {
     auto farther = [](const Cached& x, const Cached& y) { return x.lb < y.lb; };
     // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
     // cache's worst triangle, nothing left can enter.
-    constexpr int kPendingBoxes = 256;
-    float pending_lb[kPendingBoxes];
-    std::int32_t pending_slot[kPendingBoxes];
-    int size = 0;
-    pending_lb[size] = 0.0f;
-    pending_slot[size++] = 0;
-    while (size > 0) {
-      int best = 0;
-      float best_lb = pending_lb[0];
-      for (int i = 1; i < size; ++i) {
-        const bool nearer = pending_lb[i] < best_lb;
-        best_lb = nearer ? pending_lb[i] : best_lb;
-        best = nearer ? i : best;
-      }
+    PendingBoxes pending;
+    pending.push(0.0f, 0);
+    while (!pending.empty()) {
+      float best_lb;
+      const int next = pending.nearest(best_lb);
       const float cap = count == kCap ? cached[0].lb : limit;
-      if (!(best_lb < cap) || size + 4 > kPendingBoxes) {
+      if (!(best_lb < cap) || !pending.has_room()) {
         if (best_lb < limit) rejected = std::min(rejected, best_lb);
         break;
       }
-      const std::int32_t top = pending_slot[best];
-      --size;
-      pending_lb[best] = pending_lb[size];
-      pending_slot[best] = pending_slot[size];
-      if (detail::is_leaf(top)) {
-        const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
-        const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
-        float v[4];
-        std::memcpy(v, &lower, sizeof v);
-        for (int i = 0; i < 4; ++i) {
-          if (b.face[i] < 0 || !(v[i] < limit)) continue;
-          if (count < kCap) {
-            cached[count++] = {v[i], &b, i};
-            if (count == kCap) std::make_heap(cached, cached + count, farther);
-          } else if (v[i] < cached[0].lb) {
-            rejected = std::min(rejected, cached[0].lb);
-            std::pop_heap(cached, cached + count, farther);
-            cached[count - 1] = {v[i], &b, i};
-            std::push_heap(cached, cached + count, farther);
-          } else {
-            rejected = std::min(rejected, v[i]);
-          }
-        }
+      const std::int32_t top = pending.take(next);
+      if (!detail::is_leaf(top)) {
+        push_children(d, d.nodes[static_cast<std::size_t>(top)], lanes, pending, [&](float v) { return v < limit; });
         continue;
       }
-      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
-      const v4f lb = detail::box_distance_sq(n.boxes.row, lanes);
+      const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
+      const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
       float v[4];
-      std::memcpy(v, &lb, sizeof v);
+      std::memcpy(v, &lower, sizeof v);
       for (int i = 0; i < 4; ++i) {
-        const std::int32_t slot = n.child[i];
-        if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
-        if (detail::is_leaf(slot)) {
-          prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+        if (b.face[i] < 0 || !(v[i] < limit)) continue;
+        if (count < kCap) {
+          cached[count++] = {v[i], &b, i};
+          if (count == kCap) std::make_heap(cached, cached + count, farther);
+        } else if (v[i] < cached[0].lb) {
+          rejected = std::min(rejected, cached[0].lb);
+          std::pop_heap(cached, cached + count, farther);
+          cached[count - 1] = {v[i], &b, i};
+          std::push_heap(cached, cached + count, farther);
         } else {
-          prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+          rejected = std::min(rejected, v[i]);
         }
-        pending_lb[size] = v[i];
-        pending_slot[size++] = slot;
       }
     }
     std::sort(cached, cached + count, [](const Cached& x, const Cached& y) { return x.lb < y.lb; });
