@@ -417,6 +417,7 @@ void Rod::step(double dt_s, const WallModel& wall) {
         rejoin = false;
       } else {
         assemble(dt_s, refactor);
+        for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
       if (refactor) {
         matrix_->save();
@@ -462,7 +463,6 @@ void Rod::step(double dt_s, const WallModel& wall) {
       const double e0 = energy_;
       double slope = 0.0;
       for (std::size_t i = free0; i < dofs; ++i) slope += grad_[i] * delta_[i];
-      for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];
       for (int tries = 0;; ++tries) {
         for (std::size_t k = first_free_; k < n; ++k) {
           const std::size_t d = 3 * (k - first_);
@@ -495,8 +495,16 @@ void Rod::step(double dt_s, const WallModel& wall) {
     }
     refresh_contacts(wall, true);
     limit_penetration();
-    // Outputs from the final state: the gradient there, with the last factored Hessian.
-    assemble(dt_s, false);
+    // The force on the clamp at the final state, to first order from the last assembly:
+    // g_p += K_pf (x - x_assembled).
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const std::size_t d = 3 * (k - first_);
+      const glm::dvec3 moved = x_[k] - x_pred_[k];
+      work_[d] = moved.x;
+      work_[d + 1] = moved.y;
+      work_[d + 2] = moved.z;
+    }
+    matrix_->multiply_add(work_.data(), grad_.data(), 0, free0, free0, dofs);
   } else {
     hand_force_mN_ = 0.0;
   }

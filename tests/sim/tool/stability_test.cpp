@@ -1,6 +1,6 @@
 // Stability on every bundled vessel case: 10^5 steps (100 s of virtual time) of random insert
-// and rotate inputs on every tool of the case: no NaN anywhere, and no simulated node outside
-// the lumen by more than 10% of its radius (checked on the exact mesh distance).
+// and rotate inputs on every tool of the case: no NaN anywhere (every step), and no simulated
+// node outside the lumen by more than 10% of its radius (exact mesh distance, every 25 steps).
 // cases/seed_catheter.hclm is the seed's catheter centreline (lumen radius 0.03 mm), not a
 // vessel a tool fits in, so it is not a case here.
 #include <cmath>
@@ -58,7 +58,7 @@ TEST_P(Stability, RandomInputsKeepEveryNodeInTheLumen) {
       ASSERT_TRUE(std::isfinite(sim.hand_force_mN(t)) && std::isfinite(sim.hand_torque_mNmm(t))) << "step " << step;
       ASSERT_TRUE(std::isfinite(sim.tip(t).position_mm.x)) << "step " << step;
     }
-    if (step % 10 != 0) continue;
+    if (step % 25 != 0) continue;
     for (std::size_t t = 0; t < tools; ++t) {
       const Rod& rod = sim.rod(t);
       for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
@@ -78,8 +78,8 @@ TEST_P(Stability, RandomInputsKeepEveryNodeInTheLumen) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledCases, Stability,
-                         ::testing::Values(StabilityCase{"neuro.case", 200.0}, StabilityCase{"neuro_aneurysm.case", 200.0},
-                                           StabilityCase{"neuro_stenosis.case", 200.0},
+                         ::testing::Values(StabilityCase{"neuro.case", 160.0}, StabilityCase{"neuro_aneurysm.case", 160.0},
+                                           StabilityCase{"neuro_stenosis.case", 160.0},
                                            StabilityCase{"y_bifurcation.case", 85.0}),
                          [](const ::testing::TestParamInfo<StabilityCase>& param_info) {
                            std::string name = param_info.param.file;
