@@ -40,17 +40,10 @@ struct BlockAdder {
   void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
     if (!enabled) return;
     if (a < b) {
-      (*this)(b, a, glm::transpose(block));
+      m.add_block(b - first, a - first, &glm::transpose(block)[0][0]);
       return;
     }
-    const std::size_t ra = 3 * (a - first);
-    const std::size_t cb = 3 * (b - first);
-    for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t c = 0; c < 3; ++c) {
-        if (a == b && c > r) continue;
-        m.add(ra + r, cb + c, block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
-      }
-    }
+    m.add_block(a - first, b - first, &block[0][0]);
   }
 };
 
