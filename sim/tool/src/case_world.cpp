@@ -79,6 +79,7 @@ WorldBuild build_world(const Case& c) {
     return out;
   }
   auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree.tree), entry);
+  world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
   if (c.target) {
     for (const vessel::Segment& s : surface.smoothed.segments) {
       if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));

@@ -78,6 +78,8 @@ TEST(MeshWall, SteeringOnTheBundledYBifurcation) {
   WorldBuild world = build_world(*c.value);
   ASSERT_TRUE(world.world) << world.error;
   ASSERT_TRUE(world.world->target().has_value());
+  ASSERT_NE(world.world->mesh(), nullptr);
+  EXPECT_GT(world.world->mesh()->triangle_count(), 1000u);
   for (const auto& [rotation, branch] : {std::pair{0.0, 2}, std::pair{M_PI, 3}}) {
     Simulator sim(world.world->wall(), c.value->tools, world.world->entry());
     for (int i = 1; i <= 1300; ++i) {
