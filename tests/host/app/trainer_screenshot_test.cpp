@@ -1,0 +1,219 @@
+// The trainer's headless test mode: runs `cathbox-trainer --headless --frames N --screenshot`
+// under Xvfb (Mesa llvmpipe) on the default case with the scripted hand, then checks the
+// screenshot against the camera the trainer wrote beside it: the vessel's centerline (read
+// here from the case's HCLM file by the vessel module, independently of the trainer) projects
+// onto vessel-coloured pixels, the tool's nodes onto tool-coloured pixels and lie inside the
+// vessel, the corners of the global view show the background and the local view shows the
+// lumen.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec4.hpp>
+
+#include "app/scene_renderer.hpp"
+#include "app/viewport.hpp"
+#include "png_reader.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::app {
+namespace {
+
+struct Sidecar {
+  int width = 0;
+  int height = 0;
+  std::string vessel_file;
+  Viewport global;
+  Viewport local;
+  Viewport hud;
+  glm::mat4 view{1.0F};
+  glm::mat4 proj{1.0F};
+  std::vector<glm::vec3> nodes;
+  glm::vec3 tip{0.0F};
+  std::int64_t sim_time_us = 0;
+};
+
+bool read_sidecar(const std::string& path, Sidecar& s) {
+  std::ifstream in(path);
+  std::string line;
+  auto rect = [](std::istringstream& ls, Viewport& v) { ls >> v.x >> v.y >> v.width >> v.height; };
+  auto matrix = [](std::istringstream& ls, glm::mat4& m) {
+    float* p = glm::value_ptr(m);
+    for (int i = 0; i < 16; ++i) ls >> p[i];
+  };
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    if (key == "size") ls >> s.width >> s.height;
+    else if (key == "vessel_file") ls >> s.vessel_file;
+    else if (key == "global") rect(ls, s.global);
+    else if (key == "local") rect(ls, s.local);
+    else if (key == "hud") rect(ls, s.hud);
+    else if (key == "view") matrix(ls, s.view);
+    else if (key == "proj") matrix(ls, s.proj);
+    else if (key == "node") {
+      int tool = 0;
+      glm::vec3 p;
+      ls >> tool >> p.x >> p.y >> p.z;
+      s.nodes.push_back(p);
+    } else if (key == "tip") ls >> s.tip.x >> s.tip.y >> s.tip.z;
+    else if (key == "sim_time_us") ls >> s.sim_time_us;
+  }
+  return s.width > 0 && !s.vessel_file.empty();
+}
+
+struct Rgb {
+  int r, g, b;
+};
+
+class TrainerScreenshot : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    shot_ = std::string(CATHBOX_TEST_OUT) + "/trainer_screenshot.png";
+    std::remove(shot_.c_str());
+    const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " +
+                            CATHBOX_TRAINER + " --headless --frames 40 --ms-per-frame 50 --size 1280x720 --screenshot " +
+                            shot_ + " > " + shot_ + ".log 2>&1";
+    status_ = std::system(cmd.c_str());
+  }
+  static std::string shot_;
+  static int status_;
+
+  static glm::vec2 project(const Sidecar& s, const glm::vec3& p, bool* in_front) {
+    const glm::vec4 c = s.proj * s.view * glm::vec4(p, 1.0F);
+    *in_front = c.w > 0.0F;
+    return {static_cast<float>(s.global.x) + (c.x / c.w * 0.5F + 0.5F) * static_cast<float>(s.global.width),
+            static_cast<float>(s.global.y) + (0.5F - c.y / c.w * 0.5F) * static_cast<float>(s.global.height)};
+  }
+  // Inside the global view by a margin and away from the HUD panel.
+  static bool usable(const Sidecar& s, const glm::vec2& px) {
+    const Viewport inner{s.global.x + 3, s.global.y + 3, s.global.width - 6, s.global.height - 6};
+    const Viewport hud{s.hud.x - 3, s.hud.y - 3, s.hud.width + 6, s.hud.height + 6};
+    return inner.contains(px.x, px.y) && !hud.contains(px.x, px.y);
+  }
+  static Rgb at(const Image& img, const glm::vec2& px) {
+    const std::uint8_t* p = img.pixel(static_cast<int>(px.x), static_cast<int>(px.y));
+    return {p[0], p[1], p[2]};
+  }
+};
+std::string TrainerScreenshot::shot_;
+int TrainerScreenshot::status_ = -1;
+
+TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
+  ASSERT_EQ(status_, 0) << "see " << shot_ << ".log";
+  std::string error;
+  const auto img = testing::read_png(shot_, error);
+  ASSERT_TRUE(img) << error;
+  Sidecar s;
+  ASSERT_TRUE(read_sidecar(shot_ + ".txt", s));
+  ASSERT_EQ(img->width, 1280);
+  ASSERT_EQ(img->height, 720);
+  EXPECT_EQ(s.sim_time_us, 40 * 50 * 1000 - 1000);  // 40 frames of 50 ms of virtual time
+
+  // The tool: inserted, inside the vessel, and drawn where its nodes project.
+  const vessel::VesselSurface surface = vessel::load_vessel_surface(s.vessel_file);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  std::vector<std::pair<glm::vec3, float>> axis;
+  for (const vessel::Segment& seg : surface.smoothed.segments) {
+    for (const vessel::CenterlinePoint& p : seg.points) axis.emplace_back(glm::vec3(p.pos_mm), static_cast<float>(p.radius_mm));
+  }
+  ASSERT_GE(s.nodes.size(), 5U);
+  int tool_seen = 0;
+  int tool_probed = 0;
+  for (const glm::vec3& n : s.nodes) {
+    float best = 1e9F;
+    for (const auto& [c, r] : axis) best = std::min(best, glm::distance(n, c) - r);
+    EXPECT_LT(best, 1.0F) << "tool node outside the vessel";
+    bool front = false;
+    const glm::vec2 px = project(s, n, &front);
+    if (!front || !usable(s, px)) continue;
+    ++tool_probed;
+    const Rgb c = at(*img, px);
+    tool_seen += (c.g > c.r + 30 && c.g > c.b + 30) ? 1 : 0;
+  }
+  ASSERT_GE(tool_probed, 5);
+  EXPECT_GE(tool_seen * 10, tool_probed * 7) << tool_seen << " of " << tool_probed << " tool nodes";
+
+  // The vessel: centerline points away from the tool show vessel colour.
+  int vessel_seen = 0;
+  int vessel_probed = 0;
+  for (const auto& [c, r] : axis) {
+    bool near_tool = false;
+    for (const glm::vec3& n : s.nodes) near_tool = near_tool || glm::distance(n, c) < r + 3.0F;
+    bool front = false;
+    const glm::vec2 px = project(s, c, &front);
+    if (near_tool || !front || !usable(s, px)) continue;
+    ++vessel_probed;
+    const Rgb p = at(*img, px);
+    vessel_seen += (p.r > p.g + 25 && p.r > p.b + 25) ? 1 : 0;
+  }
+  ASSERT_GE(vessel_probed, 50);
+  EXPECT_GE(vessel_seen * 10, vessel_probed * 8) << vessel_seen << " of " << vessel_probed;
+
+  // Background in the lower corners of the global view.
+  const glm::vec3 bg = 255.0F * SceneColors::kBackground;
+  for (const glm::vec2 px : {glm::vec2(s.global.x + 4, s.global.y + s.global.height - 5),
+                             glm::vec2(s.global.x + s.global.width - 5, s.global.y + s.global.height - 5)}) {
+    const Rgb p = at(*img, px);
+    EXPECT_NEAR(p.r, bg.r, 3.0F);
+    EXPECT_NEAR(p.g, bg.g, 3.0F);
+    EXPECT_NEAR(p.b, bg.b, 3.0F);
+  }
+
+  // The local view is inside the lumen: reddish wall or fog everywhere, never the background.
+  int reddish = 0;
+  int total = 0;
+  for (int y = s.local.y + 2; y < s.local.y + s.local.height - 2; y += 7) {
+    for (int x = s.local.x + 2; x < s.local.x + s.local.width - 2; x += 7) {
+      const Rgb p = at(*img, glm::vec2(x, y));
+      ++total;
+      reddish += p.r > p.b ? 1 : 0;
+    }
+  }
+  EXPECT_GE(reddish * 10, total * 9);
+}
+
+}  // namespace
+}  // namespace cathbox::app
+
+namespace cathbox::app {
+namespace {
+
+std::string run_headless(const std::string& out) {
+  const std::string cmd = std::string(CATHBOX_TRAINER) + " --headless --seconds 4 > " + out + " 2>&1";
+  if (std::system(cmd.c_str()) != 0) return {};
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Without a display: the scripted hand in virtual time, the end-of-run summary on stdout, and
+// the same output on every run.
+TEST(TrainerHeadless, ScriptedRunPrintsTheSummaryAndIsDeterministic) {
+  const std::string dir = CATHBOX_TEST_OUT;
+  const std::string a = run_headless(dir + "/headless_a.txt");
+  const std::string b = run_headless(dir + "/headless_b.txt");
+  ASSERT_FALSE(a.empty()) << "see " << dir << "/headless_a.txt";
+  EXPECT_EQ(a, b);
+  for (const char* line : {"end of run", "time            4.00 s", "path length", "wall contacts",
+                           "peak wall force", "peak hand force", "target"}) {
+    EXPECT_NE(a.find(line), std::string::npos) << line << " missing in:\n" << a;
+  }
+  // The hand moved the tool: some tip travel.
+  const std::size_t at = a.find("path length");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_GT(std::atof(a.c_str() + at + 11), 5.0);
+}
+
+}  // namespace
+}  // namespace cathbox::app
