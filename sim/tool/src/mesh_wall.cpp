@@ -39,7 +39,8 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   const double touch = probe.radius_mm + probe.margin_mm;
   if (cp->distance_mm < touch || cp->signed_distance_mm > 0.0) {
     std::array<collision::Contact, 3> contacts;
-    const std::size_t count = tree_.sphere_contacts(probe.center_mm, touch, contacts);
+    const std::size_t count = coherent ? tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index])
+                                       : tree_.sphere_contacts(probe.center_mm, touch, contacts);
     for (std::size_t i = 0; i < count; ++i) {
       const glm::dvec3 normal = -contacts[i].normal;
       if (glm::dot(normal, out.normal) < 0.995 && glm::dot(normal, out.normal) > -0.5) {

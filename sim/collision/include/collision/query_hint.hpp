@@ -22,6 +22,10 @@ class QueryHint {
   static constexpr int kBlocks = kCapacity / 4;
   static constexpr int kBlockBytes = 320;  // one 4-wide triangle block of the tree
 
+  // User-provided, so value-initialisation (std::vector<QueryHint>(n)) leaves the triangle
+  // copies unwritten instead of zeroing them.
+  QueryHint() noexcept {}  // NOLINT(modernize-use-equals-default)
+
   void reset() { radius_mm_ = -1.0; count_ = 0; tree_id_ = 0; }
   [[nodiscard]] bool valid() const { return radius_mm_ >= 0.0; }
   [[nodiscard]] int triangle_count() const { return count_; }

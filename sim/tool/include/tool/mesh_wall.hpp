@@ -1,8 +1,8 @@
 #pragma once
-// The vessel wall as a triangle mesh, queried through the collision module's OBB tree (cold
-// queries by default, optionally one coherent hint per tool node). Not thread-safe (the hints
-// are per simulator); the tree itself is shared and immutable. Only built with the collision
-// module (CATHBOX_TOOL_HAS_COLLISION).
+// The vessel wall as a triangle mesh, queried through the collision module's OBB tree with one
+// coherent hint per tool node. Not thread-safe (the hints are per simulator); the tree itself
+// is shared and immutable. Only built with the collision module (CATHBOX_TOOL_HAS_COLLISION).
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -16,11 +16,12 @@ class MeshWall final : public WallModel {
   // Segment reported for wall points on a junction between segments.
   static constexpr std::int32_t kJunction = -2;
 
-  // hint_slots > 0 enables the tree's coherent queries, one hint per tool node (round robin
-  // over that many slots). Off by default: the hinted closest-point query of the collision
-  // module at this revision can crash after ~10^5 coherent queries along a walk (reported);
-  // the rod re-probes only nodes near the wall, so cold queries cost little.
-  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = 0);
+  // One coherent hint per probed tool node (a node's first probe takes the next of hint_slots,
+  // round robin when more nodes than slots; results equal the cold queries either way). The
+  // slots are allocated here, never per step; a slot's ~11 KB triangle copy is first written
+  // when that slot is used. hint_slots = 0 gives cold queries.
+  static constexpr std::size_t kDefaultHintSlots = 4096;
+  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots);
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   [[nodiscard]] const collision::ObbTree& tree() const { return tree_; }
