@@ -69,7 +69,8 @@ std::string TrainerApp::resolve_case(std::string& error) {
     }
     return options_.case_path;
   }
-  current_case_ = catalog_.default_index(kPreferredCase);
+  // The default: a neuro case file (it names a target), else the neuro vessel file itself.
+  current_case_ = catalog_.default_index(kPreferredCase, ".case");
   if (current_case_ < 0) {
     error = scan_error.empty() ? dir + ": no case files (.case, .hclm)" : scan_error;
     return {};

@@ -37,7 +37,7 @@ constexpr double kDtS = 1e-3;
 // Above this the global view gets a coarser surface (level L-1, 4-point rings): it shows the
 // vessels at ~0.3 mm per pixel, and every triangle costs a software rasteriser the same.
 constexpr std::size_t kOverviewTriangles = 40'000;
-constexpr double kScriptedLimitS = 180.0;
+constexpr double kScriptedLimitS = 120.0;
 constexpr std::size_t kMaxNodesPerTool = 2048;
 
 glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
@@ -385,6 +385,11 @@ bool SimTrainerSession::tick(std::int64_t sim_time_us) {
   }
   if (scripted_ && static_cast<double>(sim_time_us) * 1e-6 >= kScriptedLimitS) {
     log(sim_time_us, "scripted hand: time limit of %.0f s", kScriptedLimitS);
+    go_on = false;
+  }
+  if (scripted_ && scripted_->gave_up()) {
+    log(sim_time_us, "scripted hand: stuck %.0f mm along the way, gives up after %d tries", scripted_->progress_mm(),
+        scripted_->retries());
     go_on = false;
   }
   if (scripted_ && scripted_->path_length_mm() > 0.0 && scripted_->progress_mm() >= scripted_->path_length_mm() - 1.0) {
