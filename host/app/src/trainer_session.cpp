@@ -120,6 +120,7 @@ class SimTrainerSession final : public TrainerSession {
   void end_run() override { end_requested_.store(true, std::memory_order_release); }
   double haptic_rate_hz() const override { return active_thread() ? active_thread()->rate_hz() : 0.0; }
   std::int64_t haptic_ticks() const override { return active_thread() ? active_thread()->ticks() : 0; }
+  std::int64_t haptic_cpu_time_us() const override { return active_thread() ? active_thread()->cpu_time_us() : 0; }
   std::string haptic_scheduling() const override {
     return real_thread_ ? ThreadPriority::name(real_thread_->scheduling()) : "virtual time";
   }

@@ -22,7 +22,7 @@ namespace cathbox::app {
 
 struct RenderSettings {
   bool wireframe = false;
-  float vessel_alpha = 0.3F;
+  float vessel_alpha = 0.35F;
   // Tools are drawn at least this thick in the global view so a 0.36 mm wire stays visible.
   float min_tool_radius_mm = 0.6F;
 };

@@ -61,6 +61,7 @@ class TrainerSession {
   virtual void end_run() = 0;
   [[nodiscard]] virtual double haptic_rate_hz() const = 0;
   [[nodiscard]] virtual std::int64_t haptic_ticks() const = 0;
+  [[nodiscard]] virtual std::int64_t haptic_cpu_time_us() const = 0;
   // How the real-time haptic thread is scheduled ("real-time (SCHED_FIFO)", "normal", ...).
   [[nodiscard]] virtual std::string haptic_scheduling() const = 0;
 
