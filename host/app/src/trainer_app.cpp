@@ -169,6 +169,20 @@ void TrainerApp::handle_input(const ScreenLayout& layout) {
     last_mouse_y_ = my;
     if (layout.global.contains(static_cast<float>(mx), static_cast<float>(my))) {
       camera_.zoom(ui_->mouse_wheel());
+      // Double click on a vessel: orbit around that point from now on.
+      const bool pressed = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+      if (pressed && !left_down_) {
+        const double t = glfwGetTime();
+        if (t - last_click_s_ < 0.35) {
+          const glm::vec3 dir = camera_.ray_through(static_cast<float>(mx) - static_cast<float>(layout.global.x),
+                                                    static_cast<float>(my) - static_cast<float>(layout.global.y),
+                                                    static_cast<float>(layout.global.width),
+                                                    static_cast<float>(layout.global.height));
+          if (const auto hit = session_->pick(camera_.eye_mm(), dir)) camera_.target_mm = *hit;
+        }
+        last_click_s_ = t;
+      }
+      left_down_ = pressed;
       if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) camera_.orbit(dx, dy);
       if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
           glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) {

@@ -99,6 +99,11 @@ class SimTrainerSession final : public TrainerSession {
   std::string device_status() const override { return device_status_; }
   std::string active_tool_name() const override { return tool_names_[active_.load(std::memory_order_relaxed)]; }
   HandSource hand() const override { return hand_; }
+  std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const override {
+    const auto hit = wall_->tree().ray_cast(glm::dvec3(origin_mm), glm::dvec3(direction));
+    if (!hit) return std::nullopt;
+    return to_f(hit->point_mm);
+  }
 
   void start() override {
     if (!real_thread_) {

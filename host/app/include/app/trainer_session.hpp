@@ -50,6 +50,9 @@ class TrainerSession {
   [[nodiscard]] virtual std::string device_status() const = 0;
   [[nodiscard]] virtual std::string active_tool_name() const = 0;
   [[nodiscard]] virtual HandSource hand() const = 0;
+  // The first point of the vessel wall along a ray (the collision tree's ray cast), for
+  // picking in the global view; safe from the render thread.
+  [[nodiscard]] virtual std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const = 0;
 
   // Real time: the haptic thread at 1 kHz against the steady clock.
   virtual void start() = 0;
