@@ -2,6 +2,8 @@
 // Catmull-Clark limit surface) for the largest bundled case (cases/neuro.hclm) and a random
 // 100-segment tree, with the stages timed separately. Mesh sizes are printed as counters.
 // Target (issue 3): <= 20 ms on one core for the 100-segment tree at M = 8, L = 2.
+// Peer in the same run: the pipeline with OpenSubdiv's PrimvarRefiner::Limit instead of the
+// limit masks (BM_Tree100PipelineOsdLimit).
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -47,7 +49,8 @@ const std::string& sparse_tree_text() {
 }
 
 // Parse + smooth + control mesh + subdivision, timed as one.
-void pipeline(benchmark::State& state, const std::string& text, int ring_points) {
+void pipeline(benchmark::State& state, const std::string& text, int ring_points,
+              LimitMethod method = LimitMethod::kMasks) {
   MeshOptions options;
   options.ring_points = ring_points;
   std::size_t triangles = 0, vertices = 0, control_faces = 0, segments = 0, points = 0;
@@ -56,7 +59,7 @@ void pipeline(benchmark::State& state, const std::string& text, int ring_points)
     const VesselGraph graph(read.model);
     const VesselModel smoothed = smooth_centerlines(read.model, graph, options.smoothing_passes);
     const ControlMeshResult control = build_control_mesh(smoothed, graph, options);
-    const SurfaceMeshResult surface = subdivide(control.mesh, options.subdivision_level);
+    const SurfaceMeshResult surface = subdivide(control.mesh, options.subdivision_level, method);
     if (!read.ok() || !control.ok() || !surface.ok()) state.SkipWithError("pipeline failed");
     triangles = surface.mesh.triangle_count();
     vertices = surface.mesh.vertex_count();
@@ -91,6 +94,10 @@ void stage(benchmark::State& state, const std::string& text) {
 
 void BM_NeuroPipeline(benchmark::State& state) { pipeline(state, neuro_text(), static_cast<int>(state.range(0))); }
 void BM_Tree100Pipeline(benchmark::State& state) { pipeline(state, tree_text(), static_cast<int>(state.range(0))); }
+// Peer: the same pipeline with OpenSubdiv's own PrimvarRefiner::Limit (full last-level topology).
+void BM_Tree100PipelineOsdLimit(benchmark::State& state) {
+  pipeline(state, tree_text(), static_cast<int>(state.range(0)), LimitMethod::kOpenSubdiv);
+}
 void BM_SparseTree100Pipeline(benchmark::State& state) {
   pipeline(state, sparse_tree_text(), static_cast<int>(state.range(0)));
 }
@@ -98,6 +105,7 @@ void BM_Tree100Stage(benchmark::State& state) { stage(state, tree_text()); }
 void BM_NeuroStage(benchmark::State& state) { stage(state, neuro_text()); }
 
 BENCHMARK(BM_Tree100Pipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Tree100PipelineOsdLimit)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SparseTree100Pipeline)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroPipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100Stage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);

@@ -436,6 +436,29 @@ static void hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts(void) {
   CBX_CHECK(!(s.status & CBX_STATUS_CALIBRATED));
 }
 
+static void acknowledge_is_not_lost_to_a_later_command(void) {
+  /* Two commands between ticks (a queue drained at once): only the newer one is applied,
+   * but an ACK_FAULTS in the older one still counts. */
+  setup(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR, true);
+  stream(10, CBX_MODE_MOTOR, 0, 1000, 0);
+  cbx_fake.estop = true;
+  cbx_fake_tick(&core);
+  cbx_fake.estop = false;
+  stream(5, CBX_MODE_MOTOR, 0, 1000, 0);
+  CBX_CHECK(cbx_fake_state(&core).faults & CBX_FAULT_ESTOP);
+  const cbx_force_law f = cbx_fake_constant_law(1000, 5000);
+  CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, CBX_CMD_ACK_FAULTS, &f, NULL), CBX_OK);
+  CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0, &f, NULL), CBX_OK);
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_fake_state(&core).faults, 0);
+  /* Taken once: a later fault is not cleared by that old acknowledgement. */
+  cbx_fake.estop = true;
+  cbx_fake_tick(&core);
+  cbx_fake.estop = false;
+  stream(5, CBX_MODE_MOTOR, 0, 1000, 0);
+  CBX_CHECK(cbx_fake_state(&core).faults & CBX_FAULT_ESTOP);
+}
+
 const cbx_test_case cbx_tests_safety[] = {
     {"not_calibrated_blocks_output", not_calibrated_blocks_output},
     {"motor_push_slews_to_target", motor_push_slews_to_target},
@@ -453,4 +476,5 @@ const cbx_test_case cbx_tests_safety[] = {
     {"brake_releases_at_once_when_the_motion_reverses", brake_releases_at_once_when_the_motion_reverses},
     {"resetting_error_counters_is_not_an_encoder_fault", resetting_error_counters_is_not_an_encoder_fault},
     {"hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts", hard_cuts_interrupt_a_ramp_and_calibration_loss_cuts},
+    {"acknowledge_is_not_lost_to_a_later_command", acknowledge_is_not_lost_to_a_later_command},
     {0, 0}};

@@ -101,8 +101,12 @@ static void apply_mailboxes(cbx_core* core, uint32_t now, const cbx_safety_input
     core->applied_command_generation = core->command_generation;
     core->command = core->command_slot[core->command_published];
     core->command_seq_echo = core->command.header.seq;
-    cbx_safety_command(&core->safety, now, core->command.mode, core->command.flags, in,
-                       &core->settings.limits);
+    uint8_t flags = core->command.flags;
+    if (core->ack_pending) {
+      flags |= CBX_CMD_ACK_FAULTS;
+      core->ack_pending = 0u;
+    }
+    cbx_safety_command(&core->safety, now, core->command.mode, flags, in, &core->settings.limits);
   }
   if (core->selftest_generation != core->applied_selftest_generation) {
     core->applied_selftest_generation = core->selftest_generation;

@@ -25,6 +25,8 @@ cbx_status cbx_core_usb_out_report(cbx_core* core, const uint8_t* data, size_t l
     core->bad_command_count++;
     return st;
   }
+  /* Sticky until the tick takes it: a newer command before the next tick must not drop it. */
+  if (core->command_slot[slot].flags & CBX_CMD_ACK_FAULTS) core->ack_pending = 1u;
   CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
   core->command_published = slot;
   core->command_generation++;

@@ -9,7 +9,6 @@ void cbx_encoder_init(cbx_encoder* e, cbx_encoder_source source, uint8_t counter
   e->counter_bits = (counter_bits < 2u || counter_bits > 32u) ? 32u : counter_bits;
   e->ab = 0u;
   e->direction = 0;
-  e->bridged = 0;
   e->last_raw = raw;
   e->count = 0;
   e->errors = 0u;
@@ -30,25 +29,15 @@ void cbx_encoder_edge(cbx_encoder* e, uint8_t ab) {
   e->ab = ab;
   if (diff == 1u) {
     e->direction = 1;
-    e->bridged = 0;
     step(e, 1);
   } else if (diff == 3u) {
     e->direction = -1;
-    e->bridged = 0;
     step(e, -1);
   } else if (diff == 2u) {
     /* Both lines changed: an edge was missed (or noise). The most likely truth is two
-     * steps in the direction of travel; unknown direction leaves the count alone. Right
-     * after another illegal transition the lines are back where that one started: a spike
-     * on both lines, so its bridge is undone. */
+     * steps in the direction of travel; unknown direction leaves the count alone. */
     if (e->errors != UINT32_MAX) e->errors++;
-    if (e->bridged != 0) {
-      step(e, -(int32_t)e->bridged);
-      e->bridged = 0;
-    } else {
-      e->bridged = (int8_t)(2 * e->direction);
-      step(e, e->bridged);
-    }
+    step(e, 2 * (int32_t)e->direction);
   }
 }
 

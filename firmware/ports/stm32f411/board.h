@@ -39,7 +39,9 @@ void board_serial(char out[CBX_TEXT_FIELD + 1]);
 /* True once cbx_hal_bootloader_request() was called. */
 bool board_bootloader_requested(void);
 /* Reset into the ROM DFU bootloader (never returns). */
-void board_enter_bootloader(void);
+void board_enter_bootloader(void) __attribute__((noreturn));
+/* System reset (never returns). */
+void board_reset(void) __attribute__((noreturn));
 /* Early in the reset handler: jumps into the ROM bootloader if the last reset asked for it. */
 void board_bootloader_check(void);
 /* PWM duty 0 and the driver disabled, at once (E-stop interrupt, bootloader, fault handlers). */

@@ -15,6 +15,10 @@ void board_enter_bootloader(void) {
   usb_otgfs_detach();
   board_delay_us(50000u);   /* the host sees the disconnect */
   bootloader_magic = BOOTLOADER_MAGIC;
+  board_reset();
+}
+
+void board_reset(void) {
   __asm volatile("dsb");
   SCB_AIRCR = AIRCR_VECTKEY | AIRCR_SYSRESETREQ;
   __asm volatile("dsb");

@@ -14,6 +14,7 @@
 
 bool board_clock_init(void) {
   RCC_APB1ENR |= RCC_APB1ENR_PWR;
+  (void)RCC_APB1ENR; /* the PWR clock runs before its first access (as after every enable here) */
   PWR_CR = (PWR_CR & ~(3u << 14)) | PWR_CR_VOS_SCALE1;
 
   RCC_CR |= RCC_CR_HSEON;

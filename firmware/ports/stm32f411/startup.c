@@ -15,8 +15,16 @@ void SysTick_Handler(void);
 void EXTI9_5_IRQHandler(void);
 void OTG_FS_IRQHandler(void);
 
+typedef struct vector_table vector_table;
+static const vector_table vectors;
+
 void Reset_Handler(void) {
   board_bootloader_check();
+  /* Started by a jump, not a reset (the ROM DFU bootloader's "leave" after dfu-util's
+   * :leave): the PLL, USB core, interrupts and memory remap are as the ROM left them. One
+   * system reset gives a clean start; every reset leaves the PLL off. */
+  if (RCC_CR & RCC_CR_PLLON) board_reset();
+  SCB_VTOR = (uint32_t)&vectors; /* not address 0: that may still alias the system memory */
   for (uint32_t *src = &_sidata, *dst = &_sdata; dst < &_edata;) *dst++ = *src++;
   for (uint32_t* dst = &_sbss; dst < &_ebss;) *dst++ = 0u;
   SCB_CPACR |= 0xFu << 20; /* CP10, CP11 full access */
@@ -40,10 +48,10 @@ void HardFault_Handler(void) {
   }
 }
 
-typedef struct {
+struct vector_table {
   void* initial_sp;
   void (*handlers[15 + IRQ_COUNT])(void);
-} vector_table;
+};
 
 __attribute__((section(".isr_vector"), used)) static const vector_table vectors = {
     &_estack,

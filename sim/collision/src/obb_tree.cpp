@@ -4,6 +4,7 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <new>
 
 #include <glm/geometric.hpp>
 
@@ -97,12 +98,16 @@ struct Nearest {
     exact_thresh = threshold_sq(max_distance, slack);
     thresh = exact_thresh;
   }
-  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane) {
+  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane, const vessel::FaceRegion& region) {
     glm::dvec3 ta, tb, tc;
     detail::block_corners(b, lane, ta, tb, tc);
-    const double dsq = detail::point_triangle_distance_sq(p, ta, tb, tc);
+    const detail::PointOnTriangle q = detail::closest_on_triangle(p, ta, tb, tc);
+    const glm::dvec3 diff = p - q.point;
+    const double dsq = glm::dot(diff, diff);
     if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
       best_sq = dsq;
+      best_point = q;
+      best_region = region;
       face = b.face[lane];
       best_block = &b;
       best_lane = lane;
@@ -112,6 +117,10 @@ struct Nearest {
   }
   CATHBOX_COLLISION_INLINE void visit_block(std::int32_t block) {
     const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+    visit_block(b, nullptr);
+  }
+  // lane_regions: one region per lane (a hint's copy), or null for the block's own region.
+  CATHBOX_COLLISION_INLINE void visit_block(const detail::TriangleBlock& b, const vessel::FaceRegion* lane_regions) {
     const detail::DistanceBracket bracket = detail::triangle_distance_sq(b, lanes);
     float lo[4];
     float hi[4];
@@ -125,7 +134,7 @@ struct Nearest {
     for (int i = 0; i < 4; ++i) {
       if (lo[i] > thresh || b.face[i] < 0) continue;
       if (pending_count == kPending) resolve();
-      pending[pending_count++] = {lo[i], i, &b};
+      pending[pending_count++] = {lo[i], i, &b, lane_regions ? &lane_regions[i] : &b.region};
     }
   }
   // Measures the candidates exactly, nearest first.
@@ -138,7 +147,7 @@ struct Nearest {
     }
     for (int i = 0; i < pending_count; ++i) {
       if (pending[i].lower > thresh) break;
-      consider(*pending[i].block, pending[i].lane);
+      consider(*pending[i].block, pending[i].lane, *pending[i].region);
     }
     pending_count = 0;
   }
@@ -148,6 +157,7 @@ struct Nearest {
     float lower;
     int lane;
     const detail::TriangleBlock* block;
+    const vessel::FaceRegion* region;
   };
 
   const TreeData& d;
@@ -162,16 +172,19 @@ struct Nearest {
   std::int32_t face = -1;
   const detail::TriangleBlock* best_block = nullptr;
   int best_lane = 0;
+  detail::PointOnTriangle best_point;
+  vessel::FaceRegion best_region;
   Pending pending[kPending];
   int pending_count = 0;
 };
 
-CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
+// Depth-first search below `root`, nearest child first (the fallback of the best-first search).
+void search_subtree(Nearest& s, std::int32_t root) {
   const TreeData& d = s.d;
   std::int32_t stack[kStackSize];
   float stack_lb[kStackSize];
   int sp = 0;
-  stack[sp] = 0;
+  stack[sp] = root;
   stack_lb[sp++] = 0.0f;
   while (sp > 0) {
     --sp;
@@ -180,34 +193,74 @@ CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
     float v[4];
     int order[4];
     sort4(detail::box_distance_sq(n.boxes.row, s.lanes), v, order);
-    std::int32_t push[4];
-    float push_lb[4];
-    int np = 0;
-    std::int32_t leaves[4];
-    int nl = 0;
-    for (int i : order) {
-      if (v[i] > s.thresh) break;
+    for (int k = 3; k >= 0; --k) {
+      const int i = order[k];
       const std::int32_t slot = n.child[i];
-      if (slot == detail::kEmptySlot) continue;
+      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        leaves[nl++] = detail::leaf_block(slot);
-        prefetch(d.blocks[static_cast<std::size_t>(leaves[nl - 1])]);
+        s.visit_block(detail::leaf_block(slot));
       } else {
-        push[np] = slot;
-        push_lb[np++] = v[i];
-        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+        stack[sp] = slot;
+        stack_lb[sp++] = v[i];
       }
     }
-    for (int k = 0; k < nl; ++k) s.visit_block(leaves[k]);
-    for (int k = np - 1; k >= 0; --k) {
-      stack[sp] = push[k];
-      stack_lb[sp++] = push_lb[k];
+  }
+}
+
+// Best-first search: a min-heap of nodes and leaves by box distance, so leaves are measured in
+// order of their boxes and the search stops as soon as the nearest pending box is farther than
+// the best triangle.
+CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
+  const TreeData& d = s.d;
+  // Pending boxes in no order; the nearest is found by a branch-free scan (the list stays
+  // short, and this beats a binary heap's unpredictable branches).
+  constexpr int kPendingBoxes = 256;
+  float pending_lb[kPendingBoxes];
+  std::int32_t pending_slot[kPendingBoxes];
+  int size = 0;
+  pending_lb[size] = 0.0f;
+  pending_slot[size++] = 0;
+  while (size > 0) {
+    int best = 0;
+    float best_lb = pending_lb[0];
+    for (int i = 1; i < size; ++i) {
+      const bool nearer = pending_lb[i] < best_lb;
+      best_lb = nearer ? pending_lb[i] : best_lb;
+      best = nearer ? i : best;
+    }
+    if (best_lb > s.thresh) break;
+    const std::int32_t top = pending_slot[best];
+    --size;
+    pending_lb[best] = pending_lb[size];
+    pending_slot[best] = pending_slot[size];
+    if (detail::is_leaf(top)) {
+      s.visit_block(detail::leaf_block(top));
+      continue;
+    }
+    if (size + 4 > kPendingBoxes) {
+      search_subtree(s, top);
+      continue;
+    }
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
+    const v4f lb = detail::box_distance_sq(n.boxes.row, s.lanes);
+    float v[4];
+    std::memcpy(v, &lb, sizeof v);
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t slot = n.child[i];
+      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
+      if (detail::is_leaf(slot)) {
+        prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+      } else {
+        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+      }
+      pending_lb[size] = v[i];
+      pending_slot[size++] = slot;
     }
   }
   s.resolve();
 }
 
-// Calls fn(block) for every leaf whose box lies within sqrt(thresh) of p.
+// Calls fn(block, nullptr) for every leaf whose box lies within sqrt(thresh) of p.
 template <typename Fn>
 void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn&& fn) {
   std::int32_t stack[kStackSize];
@@ -222,7 +275,7 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
       const std::int32_t slot = n.child[i];
       if (v[i] > thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        fn(detail::leaf_block(slot));
+        fn(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))], nullptr);
       } else {
         stack[sp++] = slot;
       }
@@ -236,77 +289,94 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
 
 class HintCache {
  public:
+  static_assert(sizeof(detail::TriangleBlock) == QueryHint::kBlockBytes);
+  static_assert(alignof(detail::TriangleBlock) <= 64);
+
   static bool usable(const QueryHint& h, const TreeData& d) { return h.valid() && h.tree_id_ == d.id; }
   static double moved(const QueryHint& h, const glm::dvec3& p) {
     return glm::length(p - glm::dvec3{h.origin_mm_[0], h.origin_mm_[1], h.origin_mm_[2]});
   }
   static void count_hit(QueryHint& h) { ++h.hits_; }
 
-  // Fills the hint with the leaves nearest to p (at most kCapacity) and records the radius
-  // within which it holds every leaf.
+  // Fills the hint with the triangles nearest to p (at most kCapacity, by their float lower
+  // bounds) and records the radius within which it holds every triangle.
   CATHBOX_COLLISION_HOT static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
     ++h.refills_;
     const PointLanes lanes = lanes_of(p);
     const float slack = slack_for(d, p);
     const float limit = threshold_sq(radius_target, slack);
-    struct Item {
+    constexpr int kCap = QueryHint::kCapacity;
+    struct Cached {
       float lb;
-      std::int32_t block;
-      std::int32_t node;
+      const detail::TriangleBlock* block;
       int lane;
     };
-    Item items[QueryHint::kCapacity];
+    Cached cached[kCap];
     int count = 0;
-    int worst = -1;  // index of the largest lb when full
-    float rejected = kInfF;
-    std::int32_t stack[kStackSize];
-    float stack_lb[kStackSize];
-    int sp = 0;
-    stack[sp] = 0;
-    stack_lb[sp++] = 0.0f;
-    auto cap = [&]() { return count == QueryHint::kCapacity ? items[worst].lb : limit; };
-    while (sp > 0) {
-      --sp;
-      if (stack_lb[sp] >= cap()) {
-        if (stack_lb[sp] < limit) rejected = std::min(rejected, stack_lb[sp]);
+    int worst = 0;        // the largest cached bound, once full
+    float rejected = kInfF;  // smallest bound of anything left out
+    auto recompute_worst = [&]() {
+      worst = 0;
+      for (int k = 1; k < count; ++k)
+        if (cached[k].lb > cached[worst].lb) worst = k;
+    };
+    // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
+    // cache's worst triangle, nothing left can enter.
+    constexpr int kPendingBoxes = 256;
+    float pending_lb[kPendingBoxes];
+    std::int32_t pending_slot[kPendingBoxes];
+    int size = 0;
+    pending_lb[size] = 0.0f;
+    pending_slot[size++] = 0;
+    while (size > 0) {
+      int best = 0;
+      float best_lb = pending_lb[0];
+      for (int i = 1; i < size; ++i) {
+        const bool nearer = pending_lb[i] < best_lb;
+        best_lb = nearer ? pending_lb[i] : best_lb;
+        best = nearer ? i : best;
+      }
+      const float cap = count == kCap ? cached[worst].lb : limit;
+      if (!(best_lb < cap) || size + 4 > kPendingBoxes) {
+        if (best_lb < limit) rejected = std::min(rejected, best_lb);
+        break;
+      }
+      const std::int32_t top = pending_slot[best];
+      --size;
+      pending_lb[best] = pending_lb[size];
+      pending_slot[best] = pending_slot[size];
+      if (detail::is_leaf(top)) {
+        const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
+        const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
+        float v[4];
+        std::memcpy(v, &lower, sizeof v);
+        for (int i = 0; i < 4; ++i) {
+          if (b.face[i] < 0 || !(v[i] < limit)) continue;
+          if (count < kCap) {
+            cached[count++] = {v[i], &b, i};
+            if (count == kCap) recompute_worst();
+          } else if (v[i] < cached[worst].lb) {
+            rejected = std::min(rejected, cached[worst].lb);
+            cached[worst] = {v[i], &b, i};
+            recompute_worst();
+          } else {
+            rejected = std::min(rejected, v[i]);
+          }
+        }
         continue;
       }
-      const std::int32_t node = stack[sp];
-      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(node)];
+      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
+      const v4f lb = detail::box_distance_sq(n.boxes.row, lanes);
       float v[4];
-      int order[4];
-      sort4(detail::box_distance_sq(n.boxes.row, lanes), v, order);
-      std::int32_t push[4];
-      float push_lb[4];
-      int np = 0;
-      for (int i : order) {
+      std::memcpy(v, &lb, sizeof v);
+      for (int i = 0; i < 4; ++i) {
         const std::int32_t slot = n.child[i];
         if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
-        if (!detail::is_leaf(slot)) {
-          push[np] = slot;
-          push_lb[np++] = v[i];
-          continue;
-        }
-        if (count < QueryHint::kCapacity) {
-          items[count++] = {v[i], detail::leaf_block(slot), node, i};
-        } else if (v[i] < items[worst].lb) {
-          rejected = std::min(rejected, items[worst].lb);
-          items[worst] = {v[i], detail::leaf_block(slot), node, i};
-        } else {
-          rejected = std::min(rejected, v[i]);
-          continue;
-        }
-        if (count == QueryHint::kCapacity) {
-          worst = 0;
-          for (int k = 1; k < count; ++k)
-            if (items[k].lb > items[worst].lb) worst = k;
-        }
-      }
-      for (int k = np - 1; k >= 0; --k) {
-        stack[sp] = push[k];
-        stack_lb[sp++] = push_lb[k];
+        pending_lb[size] = v[i];
+        pending_slot[size++] = slot;
       }
     }
+    std::sort(cached, cached + count, [](const Cached& x, const Cached& y) { return x.lb < y.lb; });
     const float covered = std::min(limit, rejected);
     h.radius_mm_ = covered == kInfF ? kInf
                                     : std::max(0.0, std::sqrt(static_cast<double>(covered)) - slack);
@@ -315,55 +385,49 @@ class HintCache {
     h.origin_mm_[2] = p.z;
     h.tree_id_ = d.id;
     h.count_ = count;
-    for (int j = 0; j < QueryHint::kCapacity; ++j) {
-      const int g = j / 4;
-      const int lane = j % 4;
-      const detail::BoxLanes* src = nullptr;
-      int src_lane = 0;
-      if (j < count) {
-        src = &d.nodes[static_cast<std::size_t>(items[j].node)].boxes;
-        src_lane = items[j].lane;
-        h.leaves_[j] = items[j].block;
-      } else {
-        h.leaves_[j] = -1;
+    for (int g = 0; g * 4 < count; ++g) {
+      detail::TriangleBlock block;
+      for (int lane = 0; lane < 4; ++lane) {
+        const int j = 4 * g + lane;
+        if (j < count) {
+          const detail::TriangleBlock& src = *cached[j].block;
+          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = src.row[r][cached[j].lane];
+          block.face[lane] = src.face[cached[j].lane];
+          h.regions_[j] = src.region;
+        } else {
+          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = r < detail::kRowN ? 1e30f : 0.0f;
+          block.row[detail::kRowN][lane] = 1.0f;
+          block.face[lane] = -1;
+        }
       }
-      for (int r = 0; r < detail::kBoxRows; ++r) {
-        float value = r < 3 ? 1e30f : ((r == 3 || r == 7 || r == 11) ? 1.0f : 0.0f);
-        if (src) value = src->row[r][src_lane];
-        h.boxes_[g][r][lane] = value;
-      }
+      block.region = h.regions_[4 * g];
+      std::memcpy(h.blocks_[g], &block, sizeof block);
+      h.block_min_mm_[g] = std::sqrt(cached[4 * g].lb);
     }
   }
 
-  // Squared box distances of the cached leaves.
-  static void leaf_bounds(const QueryHint& h, const PointLanes& p, float (&v)[QueryHint::kCapacity]) {
-    for (int g = 0; g < QueryHint::kGroups; ++g) {
-      const v4f lb = detail::box_distance_sq(h.boxes_[g], p);
-      std::memcpy(v + 4 * g, &lb, sizeof(float) * 4);
+  static const detail::TriangleBlock& block(const QueryHint& h, int g) {
+    return *std::launder(reinterpret_cast<const detail::TriangleBlock*>(h.blocks_[g]));
+  }
+
+  // Calls fn(block, lane_regions) for the cached blocks that may hold a triangle within
+  // sqrt(thresh) of p (blocks are nearest first, so the first one out of reach ends it).
+  template <typename Fn>
+  static void for_each_block_near(const QueryHint& h, const glm::dvec3& p, float slack, const float& thresh, Fn&& fn) {
+    const double delta = moved(h, p);
+    for (int g = 0; g * 4 < h.count_; ++g) {
+      const double reach = static_cast<double>(h.block_min_mm_[g]) - slack - delta;
+      if (reach > 0.0 && reach * reach > static_cast<double>(thresh)) break;
+      fn(block(h, g), &h.regions_[4 * g]);
     }
-    for (int j = h.count_; j < QueryHint::kCapacity; ++j) v[j] = kInfF;
   }
 
   CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s) {
-    float v[QueryHint::kCapacity];
-    leaf_bounds(h, s.lanes, v);
-    for (;;) {
-      int best = -1;
-      for (int j = 0; j < h.count_; ++j)
-        if (v[j] <= s.thresh && (best < 0 || v[j] < v[best])) best = j;
-      if (best < 0) break;
-      v[best] = kInfF;
-      s.visit_block(h.leaves_[best]);
-    }
+    for_each_block_near(h, s.p, s.slack, s.thresh,
+                        [&](const detail::TriangleBlock& b, const vessel::FaceRegion* regions) {
+                          s.visit_block(b, regions);
+                        });
     s.resolve();
-  }
-
-  template <typename Fn>
-  static void for_each_leaf_near(const QueryHint& h, const PointLanes& p, float thresh, Fn&& fn) {
-    float v[QueryHint::kCapacity];
-    leaf_bounds(h, p, v);
-    for (int j = 0; j < h.count_; ++j)
-      if (v[j] <= thresh) fn(h.leaves_[j]);
   }
 };
 
@@ -382,6 +446,7 @@ struct Candidate {
   std::uint64_t key;
   const detail::TriangleBlock* block;
   int lane;
+  vessel::FaceRegion region;
 };
 
 std::uint64_t feature_key(const TreeData& d, const Candidate& c) {
@@ -471,7 +536,7 @@ class ContactCollector {
     Contact out;
     out.wall_point_mm = c.wall;
     out.face = c.face;
-    out.region = c.block->region;
+    out.region = c.region;
     out.segment_t = c.segment_t;
     const glm::dvec3 n = pseudo_normal(d_, *c.block, c.lane, c.feature);
     const glm::dvec3 v = c.tool - c.wall;
@@ -502,14 +567,13 @@ class ContactCollector {
   bool has_deepest_ = false;
 };
 
+// Probes take a block and, for a hint's copy, one region per lane (null: the block's own).
 struct SphereProbe {
-  const TreeData& d;
   glm::dvec3 centre;
   PointLanes lanes;
   float thresh;
   ContactCollector& out;
-  void operator()(std::int32_t block) const {
-    const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
+  void operator()(const detail::TriangleBlock& b, const vessel::FaceRegion* regions) const {
     float v[4];
     const v4f lb = detail::triangle_distance_sq(b, lanes).lower;
     std::memcpy(v, &lb, sizeof v);
@@ -520,18 +584,16 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i, regions ? regions[i] : b.region});
     }
   }
 };
 
 struct CapsuleProbe {
-  const TreeData& d;
   glm::dvec3 a;
   glm::dvec3 b;
   ContactCollector& out;
-  void operator()(std::int32_t block) const {
-    const detail::TriangleBlock& blk = d.blocks[static_cast<std::size_t>(block)];
+  void operator()(const detail::TriangleBlock& blk, const vessel::FaceRegion* regions) const {
     for (int i = 0; i < 4; ++i) {
       const std::int32_t f = blk.face[i];
       if (f < 0) continue;
@@ -539,12 +601,31 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, &blk, i});
+               q.on_triangle.feature, 0, &blk, i, regions ? regions[i] : blk.region});
     }
   }
 };
 
 bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
+
+// Runs a probe over every block that may hold a triangle within `reach` of `centre`: from the
+// hint when it covers that ball, else after refilling it, else from the tree.
+template <typename Probe>
+void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, const PointLanes& lanes,
+                float thresh, const Probe& probe) {
+  bool cached = HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm();
+  if (cached) {
+    HintCache::count_hit(hint);
+  } else {
+    HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
+    cached = reach <= hint.radius_mm();
+  }
+  if (cached) {
+    HintCache::for_each_block_near(hint, centre, slack_for(d, centre), thresh, probe);
+  } else {
+    for_each_leaf_near(d, lanes, thresh, probe);
+  }
+}
 
 }  // namespace
 
@@ -557,16 +638,14 @@ namespace {
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
   const detail::TriangleBlock& b = *s.best_block;
-  glm::dvec3 ta, tb, tc;
-  detail::block_corners(b, s.best_lane, ta, tb, tc);
-  const detail::PointOnTriangle q = detail::closest_on_triangle(s.p, ta, tb, tc);
+  const detail::PointOnTriangle& q = s.best_point;
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
   out.normal = pseudo_normal(s.d, b, s.best_lane, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
-  out.region = b.region;
+  out.region = s.best_region;
   out.feature = q.feature.kind;
   out.feature_index = q.feature.index;
   return out;
@@ -624,7 +703,7 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  for_each_leaf_near(d, lanes, thresh, SphereProbe{d, centre_mm, lanes, thresh, collector});
+  for_each_leaf_near(d, lanes, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
   return collector.finish(out);
 }
 
@@ -635,19 +714,7 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  const SphereProbe probe{d, centre_mm, lanes, thresh, collector};
-  bool cached = HintCache::usable(hint, d) && radius_mm + HintCache::moved(hint, centre_mm) <= hint.radius_mm();
-  if (cached) {
-    HintCache::count_hit(hint);
-  } else {
-    HintCache::refill(d, centre_mm, radius_mm + 2.0 * d.coherence_margin_mm, hint);
-    cached = radius_mm <= hint.radius_mm();
-  }
-  if (cached) {
-    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
-  } else {
-    for_each_leaf_near(d, lanes, thresh, probe);
-  }
+  probe_near(d, hint, centre_mm, radius_mm, lanes, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
   return collector.finish(out);
 }
 
@@ -672,7 +739,7 @@ std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& 
   const CapsuleFrame f = capsule_frame(a_mm, b_mm, radius_mm);
   if (!std::isfinite(f.reach)) return 0;
   for_each_leaf_near(d, lanes_of(f.mid), threshold_sq(f.reach, slack_for(d, f.mid)),
-                     CapsuleProbe{d, a_mm, b_mm, collector});
+                     CapsuleProbe{a_mm, b_mm, collector});
   return collector.finish(out);
 }
 
@@ -685,19 +752,7 @@ std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& 
   if (!std::isfinite(f.reach)) return 0;
   const PointLanes lanes = lanes_of(f.mid);
   const float thresh = threshold_sq(f.reach, slack_for(d, f.mid));
-  const CapsuleProbe probe{d, a_mm, b_mm, collector};
-  bool cached = HintCache::usable(hint, d) && f.reach + HintCache::moved(hint, f.mid) <= hint.radius_mm();
-  if (cached) {
-    HintCache::count_hit(hint);
-  } else {
-    HintCache::refill(d, f.mid, f.reach + 2.0 * d.coherence_margin_mm, hint);
-    cached = f.reach <= hint.radius_mm();
-  }
-  if (cached) {
-    HintCache::for_each_leaf_near(hint, lanes, thresh, probe);
-  } else {
-    for_each_leaf_near(d, lanes, thresh, probe);
-  }
+  probe_near(d, hint, f.mid, f.reach, lanes, thresh, CapsuleProbe{a_mm, b_mm, collector});
   return collector.finish(out);
 }
 

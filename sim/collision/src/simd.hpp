@@ -4,15 +4,19 @@
 #include <cstdint>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
 namespace cathbox::collision::detail {
 
 // Hot kernels are forced inline: GCC at -O2 otherwise leaves some as calls.
 #define CATHBOX_COLLISION_INLINE inline __attribute__((always_inline))
 
-// The hot loops are compiled twice on x86-64: for the baseline and for Haswell and later
-// (AVX2, FMA), picked at load time; elsewhere once.
+// The hot loops are compiled twice on x86-64: for the baseline and for Haswell-class CPUs
+// (x86-64-v3: AVX2, FMA), picked at load time by a CPU feature test; elsewhere once.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define CATHBOX_COLLISION_HOT __attribute__((target_clones("arch=haswell", "default")))
+#define CATHBOX_COLLISION_HOT __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define CATHBOX_COLLISION_HOT
 #endif
@@ -32,9 +36,17 @@ CATHBOX_COLLISION_INLINE v4f select(v4i mask, v4f yes, v4f no) {
   std::memcpy(&out, &r, sizeof out);
   return out;
 }
+#if defined(__SSE2__)
+// Native min/max/abs on x86 (min/max return the second operand when either is NaN, as the
+// portable select below does).
+CATHBOX_COLLISION_INLINE v4f vmin(v4f a, v4f b) { return _mm_min_ps(a, b); }
+CATHBOX_COLLISION_INLINE v4f vmax(v4f a, v4f b) { return _mm_max_ps(a, b); }
+CATHBOX_COLLISION_INLINE v4f vabs(v4f a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
+#else
 CATHBOX_COLLISION_INLINE v4f vmin(v4f a, v4f b) { return select(a < b, a, b); }
 CATHBOX_COLLISION_INLINE v4f vmax(v4f a, v4f b) { return select(a > b, a, b); }
 CATHBOX_COLLISION_INLINE v4f vabs(v4f a) { return vmax(a, -a); }
+#endif
 CATHBOX_COLLISION_INLINE v4f clamp01(v4f a) { return vmin(vmax(a, splat(0.0f)), splat(1.0f)); }
 
 CATHBOX_COLLISION_INLINE v4f load(const float* p) {

@@ -50,48 +50,94 @@ std::string validate(const vessel::SurfaceMesh& mesh) {
   return {};
 }
 
-// Box around points given by for_each(fn): principal axes of `axis_points` (centroids for
-// faces, the corners themselves for groups), extents of all `points`.
-template <typename AxisPoints, typename Points>
-Obb fit_box(AxisPoints&& axis_points, Points&& points, double scale_mm) {
+// Mean and covariance (xx, yy, zz, xy, xz, yz) of points, in one pass.
+struct Moments {
   glm::dvec3 mean{0.0};
+  double cov[6] = {0, 0, 0, 0, 0, 0};
+};
+
+template <typename Points>
+Moments moments_of(Points&& points) {
+  glm::dvec3 origin{0.0};
+  glm::dvec3 sum{0.0};
+  double sq[6] = {0, 0, 0, 0, 0, 0};
   double n = 0.0;
-  axis_points([&](const glm::dvec3& p) {
-    mean += p;
+  points([&](const glm::dvec3& p) {
+    if (n == 0.0) origin = p;  // shifted sums keep the precision
+    const glm::dvec3 q = p - origin;
+    sum += q;
+    sq[0] += q.x * q.x;
+    sq[1] += q.y * q.y;
+    sq[2] += q.z * q.z;
+    sq[3] += q.x * q.y;
+    sq[4] += q.x * q.z;
+    sq[5] += q.y * q.z;
     n += 1.0;
   });
-  mean /= n;
-  double cov[6] = {0, 0, 0, 0, 0, 0};
-  axis_points([&](const glm::dvec3& p) {
-    const glm::dvec3 q = p - mean;
-    cov[0] += q.x * q.x;
-    cov[1] += q.y * q.y;
-    cov[2] += q.z * q.z;
-    cov[3] += q.x * q.y;
-    cov[4] += q.x * q.z;
-    cov[5] += q.y * q.z;
-  });
+  Moments m;
+  const glm::dvec3 mq = sum / n;
+  m.mean = origin + mq;
+  m.cov[0] = sq[0] / n - mq.x * mq.x;
+  m.cov[1] = sq[1] / n - mq.y * mq.y;
+  m.cov[2] = sq[2] / n - mq.z * mq.z;
+  m.cov[3] = sq[3] / n - mq.x * mq.y;
+  m.cov[4] = sq[4] / n - mq.x * mq.z;
+  m.cov[5] = sq[5] / n - mq.y * mq.z;
+  return m;
+}
+
+// Dominant eigenvector of a covariance by a few power iterations (the split direction).
+glm::dvec3 dominant_axis(const double cov[6]) {
+  glm::dvec3 v{1.0, 0.0, 0.0};
+  if (cov[1] > cov[0] && cov[1] >= cov[2]) v = {0.0, 1.0, 0.0};
+  if (cov[2] > cov[0] && cov[2] > cov[1]) v = {0.0, 0.0, 1.0};
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec3 w{cov[0] * v.x + cov[3] * v.y + cov[4] * v.z, cov[3] * v.x + cov[1] * v.y + cov[5] * v.z,
+                       cov[4] * v.x + cov[5] * v.y + cov[2] * v.z};
+    const double len = glm::length(w);
+    if (!(len > 0.0) || !std::isfinite(len)) break;
+    v = w / len;
+  }
+  return v;
+}
+
+// Box in the orthonormal frame (x, y, z) around all `points` (origin: any point near them); the
+// margin covers storing it in floats.
+template <typename Points>
+Obb box_in_frame(const glm::dvec3& x, const glm::dvec3& y, const glm::dvec3& z, const glm::dvec3& origin,
+                 Points&& points, double scale_mm) {
   Obb box;
-  detail::principal_axes(cov, box.axis);
+  box.axis[0] = x;
+  box.axis[1] = y;
+  box.axis[2] = z;
   glm::dvec3 lo{std::numeric_limits<double>::infinity()};
   glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
   points([&](const glm::dvec3& p) {
-    const glm::dvec3 x = p - mean;
-    const glm::dvec3 l{glm::dot(x, box.axis[0]), glm::dot(x, box.axis[1]), glm::dot(x, box.axis[2])};
+    const glm::dvec3 d = p - origin;
+    const glm::dvec3 l{glm::dot(d, x), glm::dot(d, y), glm::dot(d, z)};
     lo = glm::min(lo, l);
     hi = glm::max(hi, l);
   });
-  // Centre back in world space; the margin covers storing the box in floats.
   const glm::dvec3 mid = (lo + hi) * 0.5;
-  box.center = mean + mid.x * box.axis[0] + mid.y * box.axis[1] + mid.z * box.axis[2];
+  box.center = origin + mid.x * x + mid.y * y + mid.z * z;
   const glm::dvec3 half = (hi - lo) * 0.5;
   const double margin = 16.0 * std::numeric_limits<float>::epsilon() * (scale_mm + half.x + half.y + half.z);
   box.half = half + glm::dvec3{margin};
   return box;
 }
 
+// Box with the principal axes of `m` around all `points`.
+template <typename Points>
+Obb box_around(const Moments& m, Points&& points, double scale_mm) {
+  glm::dvec3 axes[3];
+  detail::principal_axes(m.cov, axes);
+  return box_in_frame(axes[0], axes[1], axes[2], m.mean, points, scale_mm);
+}
+
 struct BinaryNode {
-  Obb box;
+  Obb box;                  // valid once has_box (only nodes that become wide-node children)
+  Moments moments;          // of the centroids (region nodes)
+  bool has_box = false;
   std::int32_t left = -1;
   std::int32_t right = -1;
   std::uint32_t begin = 0;  // faces order[begin, end) (leaves and region nodes)
@@ -113,7 +159,7 @@ class Builder {
     group_regions();
     const std::int32_t root = build_groups(0, static_cast<std::uint32_t>(region_roots_.size()));
     d_.nodes.reserve(kept_.size() / 6 + 8);
-    d_.blocks.reserve(kept_.size() / 3 + 8);
+    d_.blocks.reserve(leaf_count_);
     std::size_t depth = 0;
     make_wide(root, 1, depth);
     if (depth > kMaxWideDepth) return "surface_mesh: tree too deep (" + std::to_string(depth) + ")";
@@ -161,19 +207,26 @@ class Builder {
 
   // Vertex -> kept triangles, neighbours across edges, valences, pseudo-normals.
   void build_topology() {
+    // Outgoing half-edges per vertex: u -> w of face f.
     const std::size_t nv = d_.positions.size();
     std::vector<std::uint32_t> start(nv + 1, 0);
     for (std::uint32_t f : kept_)
       for (int k = 0; k < 3; ++k) ++start[d_.triangles[3 * f + k] + 1];
     for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-    std::vector<std::uint32_t> incident(start[nv]);
+    struct HalfEdge {
+      std::uint32_t to;
+      std::uint32_t face;
+    };
+    std::vector<HalfEdge> out(start[nv]);
     std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
     for (std::uint32_t f : kept_)
-      for (int k = 0; k < 3; ++k) incident[fill[d_.triangles[3 * f + k]]++] = f;
+      for (int k = 0; k < 3; ++k)
+        out[fill[d_.triangles[3 * f + k]]++] = {d_.triangles[3 * f + (k + 1) % 3], f};
 
     d_.valence.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) d_.valence[v] = start[v + 1] - start[v];
 
+    // The opposite of u -> w is w -> u; another u -> w means a non-manifold or flipped face.
     d_.opposite.assign(d_.triangles.size(), -1);
     bool closed = true;
     bool oriented = true;
@@ -182,21 +235,14 @@ class Builder {
         const std::uint32_t u = d_.triangles[3 * f + k];
         const std::uint32_t w = d_.triangles[3 * f + (k + 1) % 3];
         int found = 0;
+        for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
+          if (out[i].to != u) continue;
+          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
+        }
         for (std::uint32_t i = start[u]; i < start[u + 1]; ++i) {
-          const std::uint32_t g = incident[i];
-          if (g == f) continue;
-          for (int j = 0; j < 3; ++j) {
-            const std::uint32_t gu = d_.triangles[3 * g + j];
-            const std::uint32_t gw = d_.triangles[3 * g + (j + 1) % 3];
-            if (gu == w && gw == u) {
-              if (found == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(g);
-              ++found;
-            } else if (gu == u && gw == w) {
-              oriented = false;
-              if (found == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(g);
-              ++found;
-            }
-          }
+          if (out[i].to != w || out[i].face == f) continue;
+          oriented = false;
+          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
         }
         if (found != 1) closed = false;
       }
@@ -206,13 +252,25 @@ class Builder {
 
     d_.vertex_normals.assign(nv, glm::dvec3{0.0});
     for (std::uint32_t f : kept_) {
+      const glm::dvec3 p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
+      const glm::dvec3 e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};  // e[k] leaves corner k
+      // The largest angle (opposite the longest edge) is pi minus the other two, which atan2
+      // gives accurately even for slivers; float precision is plenty for a weight.
+      double len[3];
+      for (int k = 0; k < 3; ++k) len[k] = glm::dot(e[k], e[k]);
+      const int longest = len[0] >= len[1] && len[0] >= len[2] ? 0 : (len[1] >= len[2] ? 1 : 2);
+      const int big = (longest + 2) % 3;  // the corner opposite the longest edge
+      double angle[3];
+      double sum = 0.0;
       for (int k = 0; k < 3; ++k) {
-        const glm::dvec3 p = corner(f, k);
-        const glm::dvec3 e1 = glm::normalize(corner(f, (k + 1) % 3) - p);
-        const glm::dvec3 e2 = glm::normalize(corner(f, (k + 2) % 3) - p);
-        const double angle = std::acos(std::clamp(glm::dot(e1, e2), -1.0, 1.0));
-        d_.vertex_normals[d_.triangles[3 * f + k]] += angle * d_.face_normals[f];
+        if (k == big) continue;
+        const glm::dvec3 a = e[k];
+        const glm::dvec3 b = -e[(k + 2) % 3];
+        angle[k] = std::atan2(static_cast<float>(glm::length(glm::cross(a, b))), static_cast<float>(glm::dot(a, b)));
+        sum += angle[k];
       }
+      angle[big] = std::max(0.0, 3.14159265358979323846 - sum);
+      for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += angle[k] * d_.face_normals[f];
     }
     for (glm::dvec3& n : d_.vertex_normals) {
       const double len = glm::length(n);
@@ -225,46 +283,101 @@ class Builder {
     std::unordered_map<std::uint64_t, std::uint32_t> index;
     std::vector<std::uint32_t> region_of(kept_.size());
     std::vector<std::uint32_t> counts;
+    std::uint64_t last_key = ~0ull;
+    std::uint32_t last = 0;
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       const vessel::FaceRegion r = d_.regions[kept_[i]];
       const std::uint64_t key = (static_cast<std::uint64_t>(r.kind) << 32) |
                                 static_cast<std::uint32_t>(r.id);
-      auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(counts.size()));
-      if (inserted) counts.push_back(0);
-      region_of[i] = it->second;
-      ++counts[it->second];
+      if (key != last_key) {  // neighbouring faces mostly share a region
+        auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(counts.size()));
+        if (inserted) counts.push_back(0);
+        last_key = key;
+        last = it->second;
+      }
+      region_of[i] = last;
+      ++counts[last];
     }
     std::vector<std::uint32_t> first(counts.size() + 1, 0);
     for (std::size_t r = 0; r < counts.size(); ++r) first[r + 1] = first[r] + counts[r];
-    order_.resize(kept_.size());
+    items_.resize(kept_.size());
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::size_t i = 0; i < kept_.size(); ++i) order_[fill[region_of[i]]++] = kept_[i];
-
-    centroids_.resize(d_.triangles.size() / 3);
-    for (std::uint32_t f : kept_)
-      centroids_[f] = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
-    keys_.resize(kept_.size());
+    for (std::size_t i = 0; i < kept_.size(); ++i) {
+      const std::uint32_t f = kept_[i];
+      const glm::dvec3 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
+      items_[fill[region_of[i]]++] = {0.0f, glm::vec3(c), f};
+    }
+    bnodes_.reserve(2 * (kept_.size() / kLeafSize + counts.size()) + 8);
 
     for (std::size_t r = 0; r < counts.size(); ++r) {
       const std::int32_t root = build_region(first[r], first[r + 1]);
       region_roots_.push_back(root);
       glm::dvec3 mean{0.0};
-      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) mean += centroids_[order_[i]];
+      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) mean += glm::dvec3(items_[i].centroid);
       region_centres_.push_back(mean / static_cast<double>(counts[r]));
     }
   }
 
-  // Box of the faces order[begin, end): principal axes of the centroids, extents of the corners.
-  Obb fit_faces(std::uint32_t begin, std::uint32_t end) const {
-    return fit_box(
-        [&](auto&& fn) {
-          for (std::uint32_t i = begin; i < end; ++i) fn(centroids_[order_[i]]);
-        },
-        [&](auto&& fn) {
-          for (std::uint32_t i = begin; i < end; ++i)
-            for (int k = 0; k < 3; ++k) fn(corner(order_[i], k));
-        },
-        d_.scale_mm);
+  template <typename Fn>
+  void for_each_corner(std::uint32_t begin, std::uint32_t end, Fn&& fn) const {
+    for (std::uint32_t i = begin; i < end; ++i)
+      for (int k = 0; k < 3; ++k)  // the float copy: half the memory traffic, same values
+        fn(glm::dvec3(mesh_.positions_mm[d_.triangles[3 * items_[i].face + static_cast<std::uint32_t>(k)]]));
+  }
+
+  // A leaf's few triangles lie on a patch of the wall: its box is thin along their mean normal
+  // and aligned in the patch with the longest edge (no eigen-solve needed).
+  Obb leaf_box(std::uint32_t begin, std::uint32_t end) const {
+    glm::dvec3 normal{0.0};
+    glm::dvec3 longest{0.0};
+    double longest_sq = -1.0;
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t f = items_[i].face;
+      const glm::dvec3 a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+      normal += glm::cross(b - a, c - a);
+      for (const glm::dvec3& e : {b - a, c - b, a - c}) {
+        const double len = glm::dot(e, e);
+        if (len > longest_sq) {
+          longest_sq = len;
+          longest = e;
+        }
+      }
+    }
+    const glm::dvec3 origin = corner(items_[begin].face, 0);
+    const double nlen = glm::length(normal);
+    glm::dvec3 z = nlen > 0.0 ? normal / nlen : glm::dvec3{0.0, 0.0, 1.0};
+    glm::dvec3 x = longest - glm::dot(longest, z) * z;
+    const double xlen = glm::length(x);
+    if (!(xlen > 1e-12 * std::sqrt(longest_sq))) {
+      x = std::abs(z.x) < 0.6 ? glm::dvec3{1, 0, 0} : glm::dvec3{0, 1, 0};
+      x = glm::normalize(x - glm::dot(x, z) * z);
+    } else {
+      x /= xlen;
+    }
+    return box_in_frame(x, glm::cross(z, x), z, origin, [&](auto&& fn) { for_each_corner(begin, end, fn); },
+                        d_.scale_mm);
+  }
+
+  // Boxes are fitted only for the nodes that become children of wide nodes: region nodes take
+  // the principal axes of their centroids (of their corners for leaves, which have few), group
+  // nodes enclose their children's boxes.
+  const Obb& ensure_box(std::int32_t id) {
+    BinaryNode& node = bnodes_[id];
+    if (node.has_box) return node.box;
+    const std::uint32_t begin = node.begin;
+    const std::uint32_t end = node.end;
+    auto corners = [&](auto&& fn) { for_each_corner(begin, end, fn); };
+    if (!node.in_region) {
+      const Obb a = ensure_box(node.left);
+      const Obb b = ensure_box(bnodes_[id].right);
+      bnodes_[id].box = enclose(a, b);
+    } else if (node.leaf()) {
+      bnodes_[id].box = leaf_box(begin, end);
+    } else {
+      bnodes_[id].box = box_around(node.moments, corners, d_.scale_mm);
+    }
+    bnodes_[id].has_box = true;
+    return bnodes_[id].box;
   }
 
   std::int32_t add_node(const BinaryNode& node) {
@@ -272,27 +385,66 @@ class Builder {
     return static_cast<std::int32_t>(bnodes_.size() - 1);
   }
 
-  // Median split along the longest box axis, keeping the left part a multiple of the leaf size.
+  // Moments of the centroids of items [begin, end), accumulated relative to the first centroid:
+  // in float for the many small nodes (the split and box axes need no more), in double for big
+  // ones.
+  Moments centroid_moments(std::uint32_t begin, std::uint32_t end) const {
+    return end - begin <= 4096 ? centroid_moments_as<float>(begin, end) : centroid_moments_as<double>(begin, end);
+  }
+
+  template <typename Real>
+  Moments centroid_moments_as(std::uint32_t begin, std::uint32_t end) const {
+    using Vec = glm::vec<3, Real>;
+    const Vec origin(items_[begin].centroid);
+    Vec sum{Real(0)};
+    Real sq[6] = {0, 0, 0, 0, 0, 0};
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const Vec q = Vec(items_[i].centroid) - origin;
+      sum += q;
+      sq[0] += q.x * q.x;
+      sq[1] += q.y * q.y;
+      sq[2] += q.z * q.z;
+      sq[3] += q.x * q.y;
+      sq[4] += q.x * q.z;
+      sq[5] += q.y * q.z;
+    }
+    const double n = static_cast<double>(end - begin);
+    const glm::dvec3 mq = glm::dvec3(sum) / n;
+    Moments m;
+    m.mean = glm::dvec3(origin) + mq;
+    m.cov[0] = static_cast<double>(sq[0]) / n - mq.x * mq.x;
+    m.cov[1] = static_cast<double>(sq[1]) / n - mq.y * mq.y;
+    m.cov[2] = static_cast<double>(sq[2]) / n - mq.z * mq.z;
+    m.cov[3] = static_cast<double>(sq[3]) / n - mq.x * mq.y;
+    m.cov[4] = static_cast<double>(sq[4]) / n - mq.x * mq.z;
+    m.cov[5] = static_cast<double>(sq[5]) / n - mq.y * mq.z;
+    return m;
+  }
+
+  // Median split along the principal axis of the centroids, keeping the left part a multiple of
+  // the leaf size.
   std::int32_t build_region(std::uint32_t begin, std::uint32_t end) {
     BinaryNode node;
-    node.box = fit_faces(begin, end);
     node.begin = begin;
     node.end = end;
     node.count = end - begin;
     node.in_region = true;
-    const std::int32_t id = add_node(node);
     const std::uint32_t n = end - begin;
-    if (n <= kLeafSize) return id;
-    int longest = 0;
-    for (int k = 1; k < 3; ++k)
-      if (node.box.half[k] > node.box.half[longest]) longest = k;
-    const glm::dvec3 axis = node.box.axis[longest];
-    for (std::uint32_t i = begin; i < end; ++i)
-      keys_[i] = {glm::dot(centroids_[order_[i]], axis), order_[i]};
+    if (n > kLeafSize) {
+      node.moments = centroid_moments(begin, end);
+    }
+    const std::int32_t id = add_node(node);
+    if (n <= kLeafSize) {
+      ++leaf_count_;
+      return id;
+    }
+    const glm::dvec3 axis = dominant_axis(node.moments.cov);
+    const glm::vec3 axis_f(axis);
+    for (std::uint32_t i = begin; i < end; ++i) items_[i].key = glm::dot(items_[i].centroid, axis_f);
     std::uint32_t left = ((n / 2 + kLeafSize / 2) / kLeafSize) * kLeafSize;
     left = std::clamp(left, kLeafSize, n - 1);
-    std::nth_element(keys_.begin() + begin, keys_.begin() + begin + left, keys_.begin() + end);
-    for (std::uint32_t i = begin; i < end; ++i) order_[i] = keys_[i].second;
+    std::nth_element(items_.begin() + begin, items_.begin() + begin + left, items_.begin() + end,
+                     [](const Item& a, const Item& b) { return a.key < b.key; });
     const std::int32_t l = build_region(begin, begin + left);
     const std::int32_t r = build_region(begin + left, end);
     bnodes_[id].left = l;
@@ -341,7 +493,6 @@ class Builder {
     node.right = r;
     node.count = bnodes_[l].count + bnodes_[r].count;
     node.in_region = false;
-    node.box = enclose(bnodes_[l].box, bnodes_[r].box);
     return add_node(node);
   }
 
@@ -356,7 +507,7 @@ class Builder {
     auto each = [&](auto&& fn) {
       for (const glm::dvec3& p : pts) fn(p);
     };
-    return fit_box(each, each, d_.scale_mm);
+    return box_around(moments_of(each), each, d_.scale_mm);
   }
 
   static void set_box_lane(detail::BoxLanes& lanes, int lane, const Obb& box) {
@@ -384,7 +535,7 @@ class Builder {
         block.face[lane] = -1;
         continue;
       }
-      const std::uint32_t f = order_[i];
+      const std::uint32_t f = items_[i].face;
       block.face[lane] = static_cast<std::int32_t>(f);
       block.region = d_.regions[f];
       const glm::dvec3 a = corner(f, 0);
@@ -443,7 +594,7 @@ class Builder {
       if (lane < count) {
         const BinaryNode& c = bnodes_[slots[lane]];
         child = c.leaf() ? -1 - make_block(c) : make_wide(slots[lane], level + 1, depth);
-        set_box_lane(d_.nodes[w].boxes, lane, bnodes_[slots[lane]].box);
+        set_box_lane(d_.nodes[w].boxes, lane, ensure_box(slots[lane]));
       } else {
         set_empty_box_lane(d_.nodes[w].boxes, lane);
       }
@@ -455,9 +606,14 @@ class Builder {
   const vessel::SurfaceMesh& mesh_;
   TreeData& d_;
   std::vector<std::uint32_t> kept_;
-  std::vector<std::uint32_t> order_;
-  std::vector<glm::dvec3> centroids_;
-  std::vector<std::pair<double, std::uint32_t>> keys_;
+  // Kept faces, grouped by region and then ordered by the splits; leaves are runs of them.
+  struct Item {
+    float key;  // projection on the current split axis
+    glm::vec3 centroid;
+    std::uint32_t face;
+  };
+  std::vector<Item> items_;
+  std::size_t leaf_count_ = 0;
   std::vector<BinaryNode> bnodes_;
   std::vector<std::int32_t> region_roots_;
   std::vector<glm::dvec3> region_centres_;

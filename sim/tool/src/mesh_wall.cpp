@@ -1,6 +1,9 @@
 #include "tool/mesh_wall.hpp"
 
+#include <array>
 #include <cmath>
+
+#include <glm/geometric.hpp>
 
 namespace cathbox::tool {
 
@@ -19,8 +22,32 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   const std::optional<collision::ClosestPoint> cp = tree_.closest_point(probe.center_mm, reach, hints_[hint.index]);
   if (!cp) return false;
   out.point_mm = cp->point_mm;
-  out.normal = cp->normal;
+  // The direction between the centre and the closest point is the gradient of the distance:
+  // continuous across the mesh's creases, where face and edge normals jump. The feature's
+  // pseudo-normal serves only when the centre sits on the wall.
+  if (cp->distance_mm > 1e-6) {
+    const glm::dvec3 towards_wall = (cp->point_mm - probe.center_mm) / cp->distance_mm;
+    out.normal = cp->signed_distance_mm <= 0.0 ? towards_wall : -towards_wall;
+  } else {
+    out.normal = cp->normal;
+  }
   out.distance_mm = -cp->signed_distance_mm;
+  // A node in a crease touches two faces; with one plane it would slip from one to the other.
+  out.has_second = false;
+  const double touch = probe.radius_mm + probe.margin_mm;
+  if (cp->distance_mm < touch || cp->signed_distance_mm > 0.0) {
+    std::array<collision::Contact, 3> contacts;
+    const std::size_t count = tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index]);
+    for (std::size_t i = 0; i < count; ++i) {
+      const glm::dvec3 normal = -contacts[i].normal;
+      if (glm::dot(normal, out.normal) < 0.995 && glm::dot(normal, out.normal) > -0.5) {
+        out.has_second = true;
+        out.second_point_mm = contacts[i].wall_point_mm;
+        out.second_normal = normal;
+        break;
+      }
+    }
+  }
   switch (cp->region.kind) {
     case vessel::RegionKind::kSegment:
     case vessel::RegionKind::kCap: out.segment = cp->region.id; break;

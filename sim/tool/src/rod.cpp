@@ -16,10 +16,6 @@ namespace {
 constexpr double kMilli = 1000.0;  // N -> mN
 constexpr std::size_t kHalfBand = 8;  // node coupling +-2 (bending stencil), 3 dofs per node
 
-glm::dmat3 skew(const glm::dvec3& v) {
-  return glm::dmat3(0.0, v.z, -v.y, -v.z, 0.0, v.x, v.y, -v.x, 0.0);
-}
-
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
 glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
   const glm::dvec3 axis = glm::cross(from, to);
@@ -65,6 +61,11 @@ double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fall
 struct Rod::NodeContact {
   bool has_plane = false;
   bool active = false;  // held on its plane in this step's solve (active set)
+  bool has_second = false;  // a second plane (crease of a meshed wall): normal force only
+  bool active2 = false;
+  glm::dvec3 point2{0.0};
+  glm::dvec3 normal2{0.0};
+  double normal_force2 = 0.0;
   glm::dvec3 point{0.0};
   glm::dvec3 normal{0.0};
   std::int32_t segment = -1;
@@ -103,6 +104,7 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   ei_extra_.assign(n, 0.0);
   gj_.resize(n);
   kbar1_.assign(n, 0.0);
+  kbar_turn_.assign(n, 0.0);
   voronoi_.resize(n);
   drag_.resize(n);
   rest_.assign(n - 1, 0.0);
@@ -128,6 +130,7 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
     if (sec->curve_deg != 0.0 && sec->length_mm > 0.0 && k > 0 && k + 1 < n) {
       const double curvature = sec->curve_deg * (M_PI / 180.0) / sec->length_mm;
       kbar1_[k] = 2.0 * std::tan(0.5 * std::clamp(curvature * voronoi_[k], -3.0, 3.0));
+      kbar_turn_[k] = 2.0 * std::sin(0.5 * std::clamp(curvature * voronoi_[k], -3.0, 3.0));
     }
     drag_[k] = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
   }
@@ -325,6 +328,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     probe.center_mm = x_[k];
     probe.radius_mm = radius_[k];
     probe.range_mm = settings_.query_range_mm;
+    probe.margin_mm = settings_.contact_margin_mm;
     probe.depth_mm = insertion_mm_ - from_tip_[k];
     WallContact wc;
     c.query_pos = x_[k];
@@ -334,6 +338,10 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
       c.point = wc.point_mm;
       c.normal = wc.normal;
+      c.has_second = c.has_plane && wc.has_second;
+      c.point2 = wc.second_point_mm;
+      c.normal2 = wc.second_normal;
+      if (!c.has_second) c.active2 = false;
       c.segment = wc.segment;
     } else {
       c.clearance = settings_.query_range_mm;
@@ -346,6 +354,8 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     } else if (!c.has_plane) {
       c.anchored = false;
       c.active = false;
+      c.has_second = false;
+      c.active2 = false;
     }
   }
   return active_changed;
@@ -374,6 +384,7 @@ void Rod::step(double dt_s, const WallModel& wall) {
     for (std::size_t k = first_free_; k < n; ++k) {
       NodeContact& nc = node_contacts_[k];
       nc.active = nc.has_plane && (nc.normal_force > 0.0 || plane_gap(k) > 0.0);
+      nc.active2 = nc.has_second && (nc.normal_force2 > 0.0 || second_gap(k) > 0.0);
     }
     int activations = 0;
     // Newton with a lazily refreshed Hessian: it is assembled and factored again only when the
@@ -390,13 +401,17 @@ void Rod::step(double dt_s, const WallModel& wall) {
         for (std::size_t k = first_free_; k < n; ++k) {
           if (!joined_[k]) continue;
           const NodeContact& nc = node_contacts_[k];
-          const double phi = plane_gap(k);
-          add(k, k, kc * glm::outerProduct(nc.normal, nc.normal));
           const std::size_t d = 3 * (k - first_);
-          grad_[d] += nc.normal.x * kc * phi;
-          grad_[d + 1] += nc.normal.y * kc * phi;
-          grad_[d + 2] += nc.normal.z * kc * phi;
-          energy_ += 0.5 * kc * phi * phi;
+          for (int j = 0; j < 2; ++j) {
+            if (!(joined_[k] & (1 << j))) continue;
+            const glm::dvec3& normal = j == 0 ? nc.normal : nc.normal2;
+            const double phi = j == 0 ? plane_gap(k) : second_gap(k);
+            add(k, k, kc * glm::outerProduct(normal, normal));
+            grad_[d] += normal.x * kc * phi;
+            grad_[d + 1] += normal.y * kc * phi;
+            grad_[d + 2] += normal.z * kc * phi;
+            energy_ += 0.5 * kc * phi * phi;
+          }
           joined_[k] = 0;
         }
         rejoin = false;
@@ -422,13 +437,18 @@ void Rod::step(double dt_s, const WallModel& wall) {
       bool joined = false;
       for (std::size_t k = first_free_; k < n && activations < 3; ++k) {
         NodeContact& nc = node_contacts_[k];
-        if (!nc.has_plane || nc.active) continue;
+        if (!nc.has_plane) continue;
         const std::size_t d = 3 * (k - first_);
-        const double into = nc.normal.x * delta_[d] + nc.normal.y * delta_[d + 1] + nc.normal.z * delta_[d + 2];
-        if (plane_gap(k) + into > 0.0) {
+        const glm::dvec3 step(delta_[d], delta_[d + 1], delta_[d + 2]);
+        if (!nc.active && plane_gap(k) + glm::dot(nc.normal, step) > 0.0) {
           nc.active = true;
           joined = true;
-          joined_[k] = 1;
+          joined_[k] |= 1;
+        }
+        if (nc.has_second && !nc.active2 && second_gap(k) + glm::dot(nc.normal2, step) > 0.0) {
+          nc.active2 = true;
+          joined = true;
+          joined_[k] |= 2;
         }
       }
       if (joined) {
@@ -463,6 +483,10 @@ void Rod::step(double dt_s, const WallModel& wall) {
           nc.active = false;
           refactor = true;
         }
+        if (nc.active2 && second_gap(k) < -1e-9) {
+          nc.active2 = false;
+          refactor = true;
+        }
       }
       if (refresh_contacts(wall, true)) refactor = true;
       last_iterations_ = it + 1;
@@ -488,16 +512,24 @@ double Rod::plane_gap(std::size_t k) const {
   return glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
 }
 
+double Rod::second_gap(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  return glm::dot(nc.normal2, x_[k] - nc.point2) + radius_[k];
+}
+
 Rod::BendTerm Rod::bend_term(std::size_t i) const {
+  // Bending residual on unit tangents: r = t_b - t_a - (rest turn towards m1). |t_b - t_a| is
+  // 2 sin(phi/2) of the turning angle phi: the discrete curvature for small angles, and bounded
+  // for kinks, which keeps the Gauss-Newton steps good.
   BendTerm bt;
-  bt.a = x_[i] - x_[i - 1];
-  bt.b = x_[i + 1] - x_[i];
-  bt.la = std::max(glm::length(bt.a), 1e-12);
-  bt.lb = std::max(glm::length(bt.b), 1e-12);
-  bt.chi = std::max(bt.la * bt.lb + glm::dot(bt.a, bt.b), 1e-6 * bt.la * bt.lb);
-  bt.kb = glm::cross(bt.a, bt.b) * (2.0 / bt.chi);
-  bt.r = bt.kb;
-  if (kbar1_[i] != 0.0) bt.r -= (m2_[i - 1] + m2_[i]) * (0.5 * kbar1_[i]);
+  const glm::dvec3 a = x_[i] - x_[i - 1];
+  const glm::dvec3 b = x_[i + 1] - x_[i];
+  bt.la = std::max(glm::length(a), 1e-12);
+  bt.lb = std::max(glm::length(b), 1e-12);
+  bt.ta = a / bt.la;
+  bt.tb = b / bt.lb;
+  bt.r = bt.tb - bt.ta;
+  if (kbar_turn_[i] != 0.0) bt.r -= (m1_[i - 1] + m1_[i]) * (0.5 * kbar_turn_[i]);
   // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
   bt.w = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 ? 0.5 * rest_[i] : voronoi_[i]);
   return bt;
@@ -544,16 +576,11 @@ void Rod::assemble(double dt_s, bool hessian) {
   // Bending (discrete curvature binormal), Gauss-Newton on r = kb - kb_rest.
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
     const BendTerm bt = bend_term(i);
-    const glm::dvec3& a = bt.a;
-    const glm::dvec3& b = bt.b;
-    const double la = bt.la;
-    const double lb = bt.lb;
-    const double chi = bt.chi;
-    const glm::dvec3& kb = bt.kb;
     const glm::dvec3& r = bt.r;
     const double w = bt.w;
-    const glm::dmat3 ja = -(2.0 * skew(b) + glm::outerProduct(kb, b * (la / lb) + b)) / chi;
-    const glm::dmat3 jb = (2.0 * skew(a) - glm::outerProduct(kb, a * (lb / la) + a)) / chi;
+    const glm::dmat3 identity3(1.0);
+    const glm::dmat3 ja = -(identity3 - glm::outerProduct(bt.ta, bt.ta)) / bt.la;
+    const glm::dmat3 jb = (identity3 - glm::outerProduct(bt.tb, bt.tb)) / bt.lb;
     // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1; three products give every block of w J^T J.
     const glm::dmat3 jat = glm::transpose(ja) * w;
     const glm::dmat3 jbt = glm::transpose(jb) * w;
@@ -588,6 +615,12 @@ void Rod::assemble(double dt_s, bool hessian) {
     friction_limit_[k] = 0.0;
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
+    if (nc.active2) {
+      const double phi2 = second_gap(k);
+      add_grad(k, nc.normal2 * (kc * phi2));
+      add(k, k, kc * glm::outerProduct(nc.normal2, nc.normal2));
+      energy_ += 0.5 * kc * phi2 * phi2;
+    }
     const double phi = plane_gap(k);
     if (!nc.active) continue;
     const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
@@ -635,6 +668,7 @@ double Rod::energy(double dt_s) const {
     e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
     const NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
+    if (nc.active2) e += 0.5 * kc * second_gap(k) * second_gap(k);
     if (!nc.active) continue;
     const double phi = plane_gap(k);
     e += 0.5 * kc * phi * phi;
@@ -668,6 +702,11 @@ void Rod::limit_penetration() {
       const double phi = plane_gap(k);
       if (phi > allowed) x_[k] -= nc.normal * (phi - allowed);
       if (phi > 0.0) nc.active = true;
+      if (nc.has_second) {
+        const double phi2 = second_gap(k);
+        if (phi2 > allowed) x_[k] -= nc.normal2 * (phi2 - allowed);
+        if (phi2 > 0.0) nc.active2 = true;
+      }
     }
     if (glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
   }
@@ -799,6 +838,16 @@ void Rod::finish_contacts() {
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
+    nc.normal_force2 = nc.has_second ? kc * std::max(0.0, second_gap(k)) : 0.0;
+    if (nc.normal_force2 > 0.0) {
+      RodContact second;
+      second.node = static_cast<std::uint32_t>(k);
+      second.point_mm = x_[k] + nc.normal2 * (radius_[k] - second_gap(k));
+      second.normal = nc.normal2;
+      second.normal_force_mN = nc.normal_force2;
+      second.segment = nc.segment;
+      contacts_.push_back(second);
+    }
     const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
     const std::size_t e = std::min(k, n - 2);
     if (phi <= 0.0) {

@@ -1,8 +1,8 @@
 // libFuzzer target: arbitrary bytes as an interrupt OUT report and as a feature SET_REPORT to
 // a calibrated, running core, then control ticks. Properties: never crash; the actuator drive
 // stays within +-1000 per mille; the rendered force and torque stay within the limits in
-// force; every state report the core produces decodes; every feature report it answers with
-// passes the protocol's checks.
+// force; brake mode never drives along the motion; every state report the core produces
+// decodes; every feature report it answers with passes the protocol's checks.
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -32,6 +32,12 @@ void check_tick() {
   if (s.rotation_torque_uNm > static_cast<int64_t>(limits.limits.max_torque_uNm) ||
       -static_cast<int64_t>(s.rotation_torque_uNm) > static_cast<int64_t>(limits.limits.max_torque_uNm))
     std::abort();
+  // Brake mode only resists: the drive never has the sign of the motion (a motor renders
+  // brake mode with the force's sign, a brake gets the magnitude).
+  if (s.mode == CBX_MODE_BRAKE && !(s.status & CBX_STATUS_SELFTEST_RUNNING)) {
+    if (s.insertion_vel_cps > 0 && cbx_fake.drive[0] > 0) std::abort();
+    if (s.rotation_vel_cps < 0 && cbx_fake.drive[1] < 0) std::abort();
+  }
   uint8_t report[CBX_REPORT_SIZE];
   if (cbx_core_usb_in_report(&core, report)) {
     cbx_state_report decoded;

@@ -57,6 +57,39 @@ TEST(ControlMeshBuilder, ReproducesTheThesisCountsForRandomBinaryTrees) {
   for (std::uint64_t seed = 1; seed <= 5; ++seed) expect_thesis_counts(CaseGenerator::random_tree(seed, options));
 }
 
+TEST(ControlMeshBuilder, WithoutTrimmingRingsSitAtEveryHclmPointAsInTheThesis) {
+  // Children that start two parent radii beyond the parent's end (the "near" of the HCLM rule)
+  // leave the junction room without trimming: every ring is at its HCLM point.
+  VesselModel model = CaseGenerator::y_bifurcation();
+  for (std::size_t c = 1; c <= 2; ++c) {
+    auto& pts = model.segments[c].points;
+    const glm::dvec3 start = pts.front().pos_mm;
+    std::erase_if(pts, [&](const CenterlinePoint& p) { return glm::length(p.pos_mm - start) < 6.0; });
+  }
+  ASSERT_TRUE(validate_model(model).empty());
+  MeshOptions options;
+  options.ring_points = 4;
+  options.caps = false;
+  options.trim_at_junctions = false;
+  options.compensate_shrink = false;
+  options.smoothing_passes = 0;
+  const ControlMeshResult built = build(model, options);
+  ASSERT_TRUE(built.ok()) << built.error;
+  std::size_t ring = 0;
+  for (const Segment& s : model.segments) {
+    for (const CenterlinePoint& p : s.points) {
+      EXPECT_NEAR(glm::length(built.mesh.rings[ring].center_mm - p.pos_mm), 0.0, 1e-9);
+      EXPECT_NEAR(built.mesh.rings[ring].control_radius_mm, p.radius_mm, 1e-12);
+      ++ring;
+    }
+  }
+  EXPECT_EQ(built.mesh.face_count(), 4 * (model.point_count() - 3) + 7);
+  // Children starting exactly at the parent's end leave no room: a clean error.
+  const ControlMeshResult crowded = build(CaseGenerator::y_bifurcation(), options);
+  EXPECT_FALSE(crowded.ok());
+  EXPECT_NE(crowded.error.find("junction 0"), std::string::npos) << crowded.error;
+}
+
 TEST(ControlMeshBuilder, RingsFollowTheCenterlineWithCompensatedRadius) {
   const VesselModel model = CaseGenerator::y_bifurcation();
   for (int m : {4, 8, 16}) {

@@ -72,6 +72,7 @@ typedef struct {
   cbx_command_report command_slot[2];
   volatile uint8_t command_published;
   volatile uint32_t command_generation;
+  volatile uint8_t ack_pending;        /* an ACK_FAULTS arrived since the tick last took one */
   cbx_settings settings_slot[2];
   volatile uint8_t settings_published;
   volatile uint32_t settings_generation;
@@ -118,7 +119,9 @@ void cbx_core_default_settings(cbx_settings* settings);
 void cbx_core_init(cbx_core* core, const cbx_core_config* config);
 /* The control tick (CBX_CORE_TICK_HZ): sensors, safety, force rendering, actuator drive. */
 void cbx_core_control_tick(cbx_core* core);
-/* One A/B sample of an edge-source encoder: bit 0 = A, bit 1 = B. */
+/* One A/B sample of an edge-source encoder: bit 0 = A, bit 1 = B. Decoding starts from
+ * A/B = 00 at cbx_core_init(); a source whose lines rest elsewhere then reads as a move (or
+ * an illegal transition) on its first sample. */
 void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab);
 /* Main loop work: persists changed settings while outputs are off, drives the LED. */
 void cbx_core_background(cbx_core* core);

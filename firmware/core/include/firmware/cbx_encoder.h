@@ -23,7 +23,6 @@ typedef struct {
   uint8_t counter_bits;  /* width of the hardware counter, 2..32 (counter source) */
   uint8_t ab;            /* last A/B sample: bit 0 = A, bit 1 = B (edge source) */
   int8_t direction;      /* last step direction, -1, 0, +1 */
-  int8_t bridged;        /* counts added by the last transition if it was illegal, else 0 */
   uint32_t last_raw;     /* last hardware counter reading (counter source) */
   int32_t count;         /* position in counts, extended to 32 bits (wraps as int32) */
   uint32_t errors;       /* illegal transitions (both lines changed at once), saturating */
@@ -38,9 +37,7 @@ typedef struct {
 void cbx_encoder_init(cbx_encoder* e, cbx_encoder_source source, uint8_t counter_bits,
                       uint32_t raw, uint32_t now_us);
 /* One A/B sample (edge source). Unchanged lines: nothing; one line changed: one count;
- * both changed (a missed edge or noise): an error, and two counts in the last direction,
- * except right after another illegal transition: both lines flipping twice is back where
- * they were (a spike on both lines), so that bridge is taken back instead. */
+ * both changed (a missed edge or noise): an error, and two counts in the last direction. */
 void cbx_encoder_edge(cbx_encoder* e, uint8_t ab);
 /* Once per control tick: takes the counter reading (ignored for the edge source) and updates
  * the velocity estimate. */

@@ -16,6 +16,8 @@ class CaseWorld {
   CaseWorld(std::unique_ptr<WallModel> wall, const Entry& entry) : wall_(std::move(wall)), entry_(entry) {}
   [[nodiscard]] const WallModel& wall() const { return *wall_; }
   [[nodiscard]] const Entry& entry() const { return entry_; }
+  // Hands the wall over (the world is then empty).
+  [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
  private:
   std::unique_ptr<WallModel> wall_;

@@ -125,12 +125,13 @@ class Rod {
 
  private:
   struct NodeContact;
-  struct BendTerm {  // discrete curvature binormal at a vertex and its residual
-    glm::dvec3 a{0.0}, b{0.0}, kb{0.0}, r{0.0};
-    double la = 0.0, lb = 0.0, chi = 0.0, w = 0.0;
+  struct BendTerm {  // unit tangents around a vertex and the bending residual
+    glm::dvec3 ta{0.0}, tb{0.0}, r{0.0};
+    double la = 0.0, lb = 0.0, w = 0.0;
   };
   [[nodiscard]] BendTerm bend_term(std::size_t i) const;
-  [[nodiscard]] double plane_gap(std::size_t k) const;  // penetration of node k into its plane
+  [[nodiscard]] double plane_gap(std::size_t k) const;   // penetration of node k into its plane
+  [[nodiscard]] double second_gap(std::size_t k) const;  // ... into its second plane
   void update_window();
   void advect(double delta_mm);
   void seed_buckling();
@@ -162,7 +163,7 @@ class Rod {
   std::size_t first_free_ = 0;  // first node past the entry
 
   // Per node.
-  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, kbar1_, voronoi_, drag_;
+  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, kbar1_, kbar_turn_, voronoi_, drag_;
   std::vector<glm::dvec3> x_, x_start_, x_pred_, load_;
   std::vector<NodeContact> node_contacts_;
   // Per edge (k: node k -> k+1).

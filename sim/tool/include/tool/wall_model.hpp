@@ -13,6 +13,7 @@ struct WallProbe {
   glm::dvec3 center_mm{0.0};
   double radius_mm = 0.0;
   double range_mm = 2.0;     // report the wall only if the node surface is within this distance
+  double margin_mm = 0.15;   // a second touching wall is looked for within this distance
   double depth_mm = 0.0;     // how far past the entry this node is along its tool (coaxial walls use it)
 };
 
@@ -21,6 +22,11 @@ struct WallContact {
   glm::dvec3 normal{0.0};    // unit, pointing out of the lumen into the wall
   double distance_mm = 0.0;  // signed distance of the centre to the wall, positive inside the lumen
   std::int32_t segment = -1; // vessel segment (or analytic tube) the wall point belongs to
+  // A second wall the node touches at the same time (a crease of a meshed wall, where one
+  // plane alone would let the node slip into the neighbouring face).
+  bool has_second = false;
+  glm::dvec3 second_point_mm{0.0};
+  glm::dvec3 second_normal{0.0};
 };
 
 // Per-node memory a wall may use to answer the next query faster (coherent queries).
