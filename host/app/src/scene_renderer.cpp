@@ -111,6 +111,8 @@ void SceneRenderer::set_vessel(const MeshView& detail, const MeshView& overview)
 void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {
   has_target_ = target_mm.has_value();
   if (!has_target_) return;
+  target_mm_ = *target_mm;
+  target_radius_mm_ = radius_mm;
   std::vector<glm::vec3> p;
   std::vector<glm::vec3> n;
   std::vector<std::uint32_t> t;
@@ -233,7 +235,8 @@ void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_heigh
   last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFogMm, ranges_);
   glDisable(GL_CULL_FACE);
   draw_tools(true);
-  if (has_target_) {
+  // The target marker, unless the eye is inside it (the tip has arrived).
+  if (has_target_ && glm::distance(eye, target_mm_) > target_radius_mm_ + 0.1F) {
     shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
     target_.draw();
   }

@@ -317,6 +317,7 @@ void SimTrainerSession::switch_tool(std::int64_t sim_time_us) {
 }
 
 bool SimTrainerSession::tick(std::int64_t sim_time_us) {
+  if (over_.load(std::memory_order_acquire)) return false;  // a finished run stays as it ended
   if (end_requested_.load(std::memory_order_acquire)) {
     over_.store(true, std::memory_order_release);
     release_box();
