@@ -28,6 +28,7 @@ std::int64_t cpu_time_us(clockid_t which) {
 }
 
 const std::vector<std::string> kCaseExtensions = {".case", ".hclm"};
+constexpr const char* kDefaultCase = "neuro_right_ica.case";
 constexpr const char* kPreferredCase = "neuro";
 
 void print_matrix(std::ofstream& out, const char* name, const glm::mat4& m) {
@@ -77,8 +78,13 @@ std::string TrainerApp::resolve_case(std::string& error) {
     }
     return options_.case_path;
   }
-  // The default: a neuro case file (it names a target), else the neuro vessel file itself.
-  current_case_ = catalog_.default_index(kPreferredCase, ".case");
+  // The default: the single-wire neuro case with a target (the scripted hand reaches it), else
+  // another neuro case file, else the neuro vessel file itself.
+  current_case_ = -1;
+  for (std::size_t i = 0; i < catalog_.entries().size(); ++i) {
+    if (catalog_.entries()[i].name == kDefaultCase) current_case_ = static_cast<int>(i);
+  }
+  if (current_case_ < 0) current_case_ = catalog_.default_index(kPreferredCase, ".case");
   if (current_case_ < 0) {
     error = scan_error.empty() ? dir + ": no case files (.case, .hclm)" : scan_error;
     return {};
