@@ -39,6 +39,9 @@ expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5
 expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
+expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration -1
+expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration 1e300
+expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --timeout -5
 
 # A firmware binary: vector table (SP in SRAM, Thumb reset vector in flash) and a body.
 { printf '\x00\x80\x00\x20\x01\x02\x00\x08'; head -c 24576 /dev/urandom; } > "$dir/fw.bin"

@@ -21,6 +21,9 @@ int run_monitor(std::span<const std::string> argv) {
   if (!args.positionals().empty()) return fail_usage("monitor", "takes no arguments");
   const double rate = rate_hz.value_or(10.0);
   if (rate <= 0 || rate > 1000) return fail_usage("monitor", "--rate must be in (0, 1000] Hz");
+  if (duration_s && (*duration_s <= 0 || *duration_s > kMaxSeconds)) {
+    return fail_usage("monitor", "--duration must be in (0, " + std::to_string(static_cast<int>(kMaxSeconds)) + "] s");
+  }
   int code = 0;
   auto session = open_box("monitor", args, code);
   if (!session) return code;
