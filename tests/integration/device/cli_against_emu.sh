@@ -32,11 +32,29 @@ expect() {
 }
 
 cb="$bin/cathbox"
+
+# expect_json COMMAND...: exit code 0 and stdout is nothing but valid JSON (parsed by jq).
+expect_json() {
+  local out rc
+  out=$("$@" 2>/dev/null)
+  rc=$?
+  if [ "$rc" -ne 0 ] || [ -z "$out" ] || ! jq -e . >/dev/null 2>&1 <<<"$out"; then
+    echo "FAIL: $* -> rc $rc, not valid JSON:"
+    echo "$out" | head -5
+    failures=$((failures + 1))
+  else
+    echo "ok:   $* -> valid JSON"
+  fi
+}
 expect 0 "emulator" -- "$cb" list --emu "$sock"
 expect 0 '"board":"cathbox-emu"' -- "$cb" info --emu "$sock" --json
 expect 0 "calibration  108650 counts/m" -- "$cb" info --emu "$sock"
 expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5 --rate 4
 expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
+expect_json "$cb" list --emu "$sock" --json
+expect_json "$cb" info --emu "$sock" --json
+expect_json "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
+expect_json "$cb" selftest --emu "$sock" --json
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration -1
