@@ -57,6 +57,13 @@ expect_json "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
 expect_json "$cb" selftest --emu "$sock" --json
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
+# cathbox-emu refuses a bad option value with one line instead of running with 0 (an E-stop at
+# once, seed 0, no delay); the trailing --duration bounds the run if it did not.
+expect 2 "option --estop-after: bad value 'soon'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --estop-after soon --duration 0.01
+expect 2 "option --seed: bad value '12x'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --seed 12x --duration 0.01
+expect 2 "option --delay: bad value '0.1:2ms'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --delay 0.1:2ms --duration 0.01
+expect 2 "option --wire-version: bad value '2b'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --wire-version 2b --duration 0.01
+expect 2 "option --duration: bad value 'abc'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --duration abc
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration -1
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration 1e300
 expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --timeout -5
