@@ -54,6 +54,15 @@ expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
 expect_json "$cb" list --emu "$sock" --json
 expect_json "$cb" info --emu "$sock" --json
 expect_json "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
+# One line per period and the last at the end of --duration, even when it is shorter than a period.
+lines=$("$cb" monitor --emu "$sock" --json --duration 1 --rate 4 2>/dev/null | wc -l)
+short=$("$cb" monitor --emu "$sock" --json --duration 0.05 2>/dev/null | wc -l)
+if [ "$lines" -eq 4 ] && [ "$short" -eq 1 ]; then
+  echo "ok:   monitor printed 4 lines in 1 s at 4 Hz, 1 line in 0.05 s"
+else
+  echo "FAIL: monitor printed $lines lines in 1 s at 4 Hz (want 4), $short in 0.05 s (want 1)"
+  failures=$((failures + 1))
+fi
 expect_json "$cb" selftest --emu "$sock" --json
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
