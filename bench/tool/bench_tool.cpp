@@ -88,8 +88,8 @@ World make_world() {
     }
   }
   auto idx = [&](std::size_t ring, int j) { return static_cast<std::uint32_t>(ring * m + (j % m)); };
-  auto tri = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+  auto tri = [&](std::uint32_t i0, std::uint32_t i1, std::uint32_t i2) {
+    mesh.triangles.insert(mesh.triangles.end(), {i0, i1, i2});
     mesh.triangle_regions.push_back({cathbox::vessel::RegionKind::kSegment, 0});
   };
   for (std::size_t i = 0; i + 1 < axis.size(); ++i) {
@@ -141,6 +141,8 @@ void run(benchmark::State& state, bool coaxial) {
   cath.sections.back().curve_deg = 0.0;
   ToolSpec wire = default_guidewire();
   wire.name = "wire";
+  // 1 mm node spacing: 150 and 200 inserted nodes fit in the aortic path of the neuro case.
+  cath.max_spacing_mm = wire.max_spacing_mm = 1.0;
   // Advanced blindly (no steering), an angled tip digs into the wall at the first sharp bend
   // and the tool jams, as a real one does; the benchmark navigates with straight tips.
   wire.sections.back().curve_deg = 0.0;

@@ -26,6 +26,28 @@ class BandedCholesky {
     }
     a_[i * (band_ + 1) + (i - j)] += v;
   }
+  // Adds a 3x3 block (column-major, as glm stores it) at rows 3a.., columns 3b.. with a >= b;
+  // on the diagonal (a == b) only the lower triangle is added.
+  void add_block(std::size_t a, std::size_t b, const double* m) {
+    const std::size_t w = band_ + 1;
+    double* base = &a_[3 * a * w];
+    const std::size_t off = 3 * (a - b);
+    if (a == b) {
+      base[0] += m[0];
+      base[w + 1] += m[1];
+      base[w] += m[4];
+      base[2 * w + 2] += m[2];
+      base[2 * w + 1] += m[5];
+      base[2 * w] += m[8];
+      return;
+    }
+    for (std::size_t r = 0; r < 3; ++r) {
+      double* row = base + r * w + off + r;
+      row[0] += m[r];
+      row[-1] += m[3 + r];
+      row[-2] += m[6 + r];
+    }
+  }
   [[nodiscard]] double get(std::size_t i, std::size_t j) const {
     if (i < j) return get(j, i);
     if (i - j > band_) return 0.0;

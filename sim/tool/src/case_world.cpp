@@ -1,8 +1,39 @@
 #include "tool/case_world.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
 #include "tool/tube_network_wall.hpp"
+#if defined(CATHBOX_TOOL_HAS_VESSEL)
+#include "collision/obb_tree.hpp"
+#include "tool/mesh_wall.hpp"
+#include "vessel/vessel_mesher.hpp"
+#endif
 
 namespace cathbox::tool {
+
+#if defined(CATHBOX_TOOL_HAS_VESSEL)
+namespace {
+
+// Point at a fraction of a segment's length along its centreline.
+glm::dvec3 along(const vessel::Segment& s, double fraction) {
+  double total = 0.0;
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) total += glm::length(s.points[i + 1].pos_mm - s.points[i].pos_mm);
+  double want = std::clamp(fraction, 0.0, 1.0) * total;
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+    const glm::dvec3 a = s.points[i].pos_mm;
+    const glm::dvec3 b = s.points[i + 1].pos_mm;
+    const double len = glm::length(b - a);
+    if (want <= len && len > 0.0) return a + (b - a) * (want / len);
+    want -= len;
+  }
+  return s.points.back().pos_mm;
+}
+
+}  // namespace
+#endif
 
 WorldBuild build_world(const Case& c) {
   WorldBuild out;
@@ -11,8 +42,55 @@ WorldBuild build_world(const Case& c) {
     out.world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
     return out;
   }
+#if defined(CATHBOX_TOOL_HAS_VESSEL)
+  vessel::VesselSurface surface = vessel::load_vessel_surface(c.vessel_path);
+  if (!surface.ok()) {
+    out.error = surface.error;
+    return out;
+  }
+  collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
+  if (!tree.tree) {
+    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error;
+    return out;
+  }
+  // Default entry: the start of the root segment (the first without parents), along it.
+  const vessel::Segment* root = nullptr;
+  for (const vessel::Segment& s : surface.smoothed.segments) {
+    if (s.parents.empty() && s.points.size() >= 2) {
+      root = &s;
+      break;
+    }
+  }
+  Entry entry;
+  if (c.entry) {
+    entry = *c.entry;
+  } else if (root != nullptr) {
+    entry.point_mm = root->points[0].pos_mm;
+    entry.direction = glm::normalize(root->points[1].pos_mm - root->points[0].pos_mm);
+    // The root's first point lies on its end cap: step in until well inside the lumen.
+    const double inside = 0.5 * root->points[0].radius_mm;
+    for (int i = 0; i < 40; ++i) {
+      const std::optional<double> d = tree.tree->signed_distance(entry.point_mm);
+      if (d && *d < -inside) break;
+      entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
+    }
+  } else {
+    out.error = c.vessel_path + ":0: the vessel has no root segment to enter";
+    return out;
+  }
+  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree.tree), entry);
+  world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
+  if (c.target) {
+    for (const vessel::Segment& s : surface.smoothed.segments) {
+      if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));
+    }
+  }
+  out.world = std::move(world);
+  return out;
+#else
   out.error = c.vessel_path + ":0: vessel files need the vessel and collision modules, which this build lacks";
   return out;
+#endif
 }
 
 }  // namespace cathbox::tool

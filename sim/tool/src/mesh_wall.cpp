@@ -8,10 +8,11 @@
 namespace cathbox::tool {
 
 MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots)
-    : tree_(std::move(tree)), hints_(hint_slots > 0 ? hint_slots : 1) {}
+    : tree_(std::move(tree)), hints_(hint_slots) {}
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
-  if (hint.index >= hints_.size()) {
+  const bool coherent = !hints_.empty();
+  if (coherent && hint.index >= hints_.size()) {
     // A node's first query takes the next slot (round robin when more nodes than slots).
     hint.index = next_slot_;
     next_slot_ = (next_slot_ + 1) % static_cast<std::uint32_t>(hints_.size());
@@ -19,7 +20,8 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   }
   const double reach = probe.radius_mm + probe.range_mm;
   if (!(reach >= 0.0) || !std::isfinite(reach)) return false;
-  const std::optional<collision::ClosestPoint> cp = tree_.closest_point(probe.center_mm, reach, hints_[hint.index]);
+  const std::optional<collision::ClosestPoint> cp =
+      coherent ? tree_.closest_point(probe.center_mm, reach, hints_[hint.index]) : tree_.closest_point(probe.center_mm, reach);
   if (!cp) return false;
   out.point_mm = cp->point_mm;
   // The direction between the centre and the closest point is the gradient of the distance:
@@ -37,7 +39,7 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   const double touch = probe.radius_mm + probe.margin_mm;
   if (cp->distance_mm < touch || cp->signed_distance_mm > 0.0) {
     std::array<collision::Contact, 3> contacts;
-    const std::size_t count = tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index]);
+    const std::size_t count = tree_.sphere_contacts(probe.center_mm, touch, contacts);
     for (std::size_t i = 0; i < count; ++i) {
       const glm::dvec3 normal = -contacts[i].normal;
       if (glm::dot(normal, out.normal) < 0.995 && glm::dot(normal, out.normal) > -0.5) {

@@ -40,17 +40,10 @@ struct BlockAdder {
   void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
     if (!enabled) return;
     if (a < b) {
-      (*this)(b, a, glm::transpose(block));
+      m.add_block(b - first, a - first, &glm::transpose(block)[0][0]);
       return;
     }
-    const std::size_t ra = 3 * (a - first);
-    const std::size_t cb = 3 * (b - first);
-    for (std::size_t r = 0; r < 3; ++r) {
-      for (std::size_t c = 0; c < 3; ++c) {
-        if (a == b && c > r) continue;
-        m.add(ra + r, cb + c, block[static_cast<glm::length_t>(c)][static_cast<glm::length_t>(r)]);
-      }
-    }
+    m.add_block(a - first, b - first, &block[0][0]);
   }
 };
 
@@ -417,6 +410,7 @@ void Rod::step(double dt_s, const WallModel& wall) {
         rejoin = false;
       } else {
         assemble(dt_s, refactor);
+        for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
       if (refactor) {
         matrix_->save();
@@ -462,7 +456,6 @@ void Rod::step(double dt_s, const WallModel& wall) {
       const double e0 = energy_;
       double slope = 0.0;
       for (std::size_t i = free0; i < dofs; ++i) slope += grad_[i] * delta_[i];
-      for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];
       for (int tries = 0;; ++tries) {
         for (std::size_t k = first_free_; k < n; ++k) {
           const std::size_t d = 3 * (k - first_);
@@ -495,8 +488,16 @@ void Rod::step(double dt_s, const WallModel& wall) {
     }
     refresh_contacts(wall, true);
     limit_penetration();
-    // Outputs from the final state: the gradient there, with the last factored Hessian.
-    assemble(dt_s, false);
+    // The force on the clamp at the final state, to first order from the last assembly:
+    // g_p += K_pf (x - x_assembled).
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const std::size_t d = 3 * (k - first_);
+      const glm::dvec3 moved = x_[k] - x_pred_[k];
+      work_[d] = moved.x;
+      work_[d + 1] = moved.y;
+      work_[d + 2] = moved.z;
+    }
+    matrix_->multiply_add(work_.data(), grad_.data(), 0, free0, free0, dofs);
   } else {
     hand_force_mN_ = 0.0;
   }

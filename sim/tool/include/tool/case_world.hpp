@@ -3,9 +3,11 @@
 // a TubeNetworkWall; an HCLM vessel gives the vessel surface in the collision tree (when the
 // vessel and collision modules are built).
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "tool/case_file.hpp"
+#include "vessel/surface_mesh.hpp"
 #include "tool/simulator.hpp"
 #include "tool/wall_model.hpp"
 
@@ -16,12 +18,20 @@ class CaseWorld {
   CaseWorld(std::unique_ptr<WallModel> wall, const Entry& entry) : wall_(std::move(wall)), entry_(entry) {}
   [[nodiscard]] const WallModel& wall() const { return *wall_; }
   [[nodiscard]] const Entry& entry() const { return entry_; }
+  // The target point (the case's target segment and fraction on the smoothed centreline).
+  [[nodiscard]] const std::optional<glm::dvec3>& target() const { return target_; }
+  void set_target(const glm::dvec3& point_mm) { target_ = point_mm; }
+  // The vessel surface the wall was built from (for rendering); empty for analytic tubes.
+  [[nodiscard]] const vessel::SurfaceMesh* mesh() const { return mesh_ ? mesh_.get() : nullptr; }
+  void set_mesh(std::shared_ptr<const vessel::SurfaceMesh> mesh) { mesh_ = std::move(mesh); }
   // Hands the wall over (the world is then empty).
   [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
  private:
   std::unique_ptr<WallModel> wall_;
   Entry entry_;
+  std::optional<glm::dvec3> target_;
+  std::shared_ptr<const vessel::SurfaceMesh> mesh_;
 };
 
 struct WorldBuild {

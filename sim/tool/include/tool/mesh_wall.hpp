@@ -1,7 +1,8 @@
 #pragma once
-// The vessel wall as a triangle mesh, queried through the collision module's OBB tree with one
-// coherent hint per tool node. Not thread-safe (the hints are per simulator); the tree itself
-// is shared and immutable. Only built with the collision module (CATHBOX_TOOL_HAS_COLLISION).
+// The vessel wall as a triangle mesh, queried through the collision module's OBB tree (cold
+// queries by default, optionally one coherent hint per tool node). Not thread-safe (the hints
+// are per simulator); the tree itself is shared and immutable. Only built with the collision
+// module (CATHBOX_TOOL_HAS_COLLISION).
 #include <cstdint>
 #include <vector>
 
@@ -15,7 +16,11 @@ class MeshWall final : public WallModel {
   // Segment reported for wall points on a junction between segments.
   static constexpr std::int32_t kJunction = -2;
 
-  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = 4096);
+  // hint_slots > 0 enables the tree's coherent queries, one hint per tool node (round robin
+  // over that many slots). Off by default: the hinted closest-point query of the collision
+  // module at this revision can crash after ~10^5 coherent queries along a walk (reported);
+  // the rod re-probes only nodes near the wall, so cold queries cost little.
+  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = 0);
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   [[nodiscard]] const collision::ObbTree& tree() const { return tree_; }
