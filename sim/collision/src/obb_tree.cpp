@@ -63,11 +63,10 @@ CATHBOX_COLLISION_INLINE void sort4(v4f values, float (&v)[4], int (&order)[4]) 
   }
 }
 
-// Outward pseudo-normal of a feature of lane `lane` of block b: the face normal, the normalised
+// Outward pseudo-normal of a feature of a mesh triangle: the face normal, the normalised
 // sum of the two face normals at an edge, the angle-weighted vertex normal.
-glm::dvec3 pseudo_normal(const TreeData& d, const detail::TriangleBlock& b, int lane,
-                         detail::TriangleFeature feature) {
-  const auto f = static_cast<std::size_t>(b.face[lane]);
+glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleFeature feature) {
+  const auto f = static_cast<std::size_t>(face);
   switch (feature.kind) {
     case FeatureKind::kFace:
       return d.face_normals[f];
@@ -109,8 +108,9 @@ struct Nearest {
       best_point = q;
       best_region = region;
       face = b.face[lane];
-      best_block = &b;
-      best_lane = lane;
+      // The block's own unit normal serves a face-interior point (no lookup); slivers store 0.
+      best_face_normal = glm::dvec3{b.row[detail::kRowN][lane], b.row[detail::kRowN + 1][lane],
+                                    b.row[detail::kRowN + 2][lane]};
       exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
       thresh = std::min(thresh, exact_thresh);
     }
@@ -170,13 +170,68 @@ struct Nearest {
   float thresh;        // also from the smallest float upper bound
   float upper_sq = kInfF;
   std::int32_t face = -1;
-  const detail::TriangleBlock* best_block = nullptr;
-  int best_lane = 0;
   detail::PointOnTriangle best_point;
   vessel::FaceRegion best_region;
+  glm::dvec3 best_face_normal{0.0};
   Pending pending[kPending];
   int pending_count = 0;
 };
+
+// Boxes waiting in a best-first walk, in no order: the nearest is found by a branch-free scan
+// (the list stays short, and this beats a binary heap's unpredictable branches).
+class PendingBoxes {
+ public:
+  static constexpr int kCapacity = 256;
+  void push(float lb, std::int32_t slot) {
+    lb_[size_] = lb;
+    slot_[size_++] = slot;
+  }
+  [[nodiscard]] bool empty() const { return size_ == 0; }
+  [[nodiscard]] bool has_room() const { return size_ + 4 <= kCapacity; }
+  // Index of the nearest pending box; its bound in `lb`.
+  [[nodiscard]] int nearest(float& lb) const {
+    int best = 0;
+    float best_lb = lb_[0];
+    for (int i = 1; i < size_; ++i) {
+      const bool nearer = lb_[i] < best_lb;
+      best_lb = nearer ? lb_[i] : best_lb;
+      best = nearer ? i : best;
+    }
+    lb = best_lb;
+    return best;
+  }
+  std::int32_t take(int i) {
+    const std::int32_t slot = slot_[i];
+    --size_;
+    lb_[i] = lb_[size_];
+    slot_[i] = slot_[size_];
+    return slot;
+  }
+
+ private:
+  float lb_[kCapacity];
+  std::int32_t slot_[kCapacity];
+  int size_ = 0;
+};
+
+// Queues the children of node n whose box bound passes keep(bound), and starts loading them.
+template <typename Keep>
+CATHBOX_COLLISION_INLINE void push_children(const TreeData& d, const detail::WideNode& n, const PointLanes& p,
+                                            PendingBoxes& pending, Keep&& keep) {
+  const v4f lb = detail::box_distance_sq(n.boxes.row, p);
+  float v[4];
+  std::memcpy(v, &lb, sizeof v);
+  for (int i = 0; i < 4; ++i) {
+    const std::int32_t slot = n.child[i];
+    if (slot == detail::kEmptySlot || !keep(v[i])) continue;
+    if (detail::is_leaf(slot)) {
+      prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+    } else {
+      prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+    }
+    pending.push(v[i], slot);
+  }
+}
 
 // Depth-first search below `root`, nearest child first (the fallback of the best-first search).
 void search_subtree(Nearest& s, std::int32_t root) {
@@ -207,54 +262,25 @@ void search_subtree(Nearest& s, std::int32_t root) {
   }
 }
 
-// Best-first search: a min-heap of nodes and leaves by box distance, so leaves are measured in
-// order of their boxes and the search stops as soon as the nearest pending box is farther than
-// the best triangle.
+// Best-first search over nodes and leaves by box distance, so leaves are measured in order of
+// their boxes and the search stops as soon as the nearest pending box is farther than the best
+// triangle.
 CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   const TreeData& d = s.d;
-  // Pending boxes in no order; the nearest is found by a branch-free scan (the list stays
-  // short, and this beats a binary heap's unpredictable branches).
-  constexpr int kPendingBoxes = 256;
-  float pending_lb[kPendingBoxes];
-  std::int32_t pending_slot[kPendingBoxes];
-  int size = 0;
-  pending_lb[size] = 0.0f;
-  pending_slot[size++] = 0;
-  while (size > 0) {
-    int best = 0;
-    float best_lb = pending_lb[0];
-    for (int i = 1; i < size; ++i) {
-      const bool nearer = pending_lb[i] < best_lb;
-      best_lb = nearer ? pending_lb[i] : best_lb;
-      best = nearer ? i : best;
-    }
-    if (best_lb > s.thresh) break;
-    const std::int32_t top = pending_slot[best];
-    --size;
-    pending_lb[best] = pending_lb[size];
-    pending_slot[best] = pending_slot[size];
+  PendingBoxes pending;
+  pending.push(0.0f, 0);
+  while (!pending.empty()) {
+    float lb;
+    const int next = pending.nearest(lb);
+    if (lb > s.thresh) break;
+    const std::int32_t top = pending.take(next);
     if (detail::is_leaf(top)) {
       s.visit_block(detail::leaf_block(top));
-      continue;
-    }
-    if (size + 4 > kPendingBoxes) {
+    } else if (!pending.has_room()) {
       search_subtree(s, top);
-      continue;
-    }
-    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
-    const v4f lb = detail::box_distance_sq(n.boxes.row, s.lanes);
-    float v[4];
-    std::memcpy(v, &lb, sizeof v);
-    for (int i = 0; i < 4; ++i) {
-      const std::int32_t slot = n.child[i];
-      if (v[i] > s.thresh || slot == detail::kEmptySlot) continue;
-      if (detail::is_leaf(slot)) {
-        prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
-      } else {
-        prefetch(d.nodes[static_cast<std::size_t>(slot)]);
-      }
-      pending_lb[size] = v[i];
-      pending_slot[size++] = slot;
+    } else {
+      push_children(d, d.nodes[static_cast<std::size_t>(top)], s.lanes, pending,
+                    [&](float v) { return v <= s.thresh; });
     }
   }
   s.resolve();
@@ -311,69 +337,44 @@ class HintCache {
       const detail::TriangleBlock* block;
       int lane;
     };
-    Cached cached[kCap];
+    Cached cached[kCap];  // a max-heap by bound once full
     int count = 0;
-    int worst = 0;        // the largest cached bound, once full
     float rejected = kInfF;  // smallest bound of anything left out
-    auto recompute_worst = [&]() {
-      worst = 0;
-      for (int k = 1; k < count; ++k)
-        if (cached[k].lb > cached[worst].lb) worst = k;
-    };
+    auto farther = [](const Cached& x, const Cached& y) { return x.lb < y.lb; };
     // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
     // cache's worst triangle, nothing left can enter.
-    constexpr int kPendingBoxes = 256;
-    float pending_lb[kPendingBoxes];
-    std::int32_t pending_slot[kPendingBoxes];
-    int size = 0;
-    pending_lb[size] = 0.0f;
-    pending_slot[size++] = 0;
-    while (size > 0) {
-      int best = 0;
-      float best_lb = pending_lb[0];
-      for (int i = 1; i < size; ++i) {
-        const bool nearer = pending_lb[i] < best_lb;
-        best_lb = nearer ? pending_lb[i] : best_lb;
-        best = nearer ? i : best;
-      }
-      const float cap = count == kCap ? cached[worst].lb : limit;
-      if (!(best_lb < cap) || size + 4 > kPendingBoxes) {
+    PendingBoxes pending;
+    pending.push(0.0f, 0);
+    while (!pending.empty()) {
+      float best_lb;
+      const int next = pending.nearest(best_lb);
+      const float cap = count == kCap ? cached[0].lb : limit;
+      if (!(best_lb < cap) || !pending.has_room()) {
         if (best_lb < limit) rejected = std::min(rejected, best_lb);
         break;
       }
-      const std::int32_t top = pending_slot[best];
-      --size;
-      pending_lb[best] = pending_lb[size];
-      pending_slot[best] = pending_slot[size];
-      if (detail::is_leaf(top)) {
-        const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
-        const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
-        float v[4];
-        std::memcpy(v, &lower, sizeof v);
-        for (int i = 0; i < 4; ++i) {
-          if (b.face[i] < 0 || !(v[i] < limit)) continue;
-          if (count < kCap) {
-            cached[count++] = {v[i], &b, i};
-            if (count == kCap) recompute_worst();
-          } else if (v[i] < cached[worst].lb) {
-            rejected = std::min(rejected, cached[worst].lb);
-            cached[worst] = {v[i], &b, i};
-            recompute_worst();
-          } else {
-            rejected = std::min(rejected, v[i]);
-          }
-        }
+      const std::int32_t top = pending.take(next);
+      if (!detail::is_leaf(top)) {
+        push_children(d, d.nodes[static_cast<std::size_t>(top)], lanes, pending, [&](float v) { return v < limit; });
         continue;
       }
-      const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
-      const v4f lb = detail::box_distance_sq(n.boxes.row, lanes);
+      const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
+      const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
       float v[4];
-      std::memcpy(v, &lb, sizeof v);
+      std::memcpy(v, &lower, sizeof v);
       for (int i = 0; i < 4; ++i) {
-        const std::int32_t slot = n.child[i];
-        if (slot == detail::kEmptySlot || !(v[i] < limit)) continue;
-        pending_lb[size] = v[i];
-        pending_slot[size++] = slot;
+        if (b.face[i] < 0 || !(v[i] < limit)) continue;
+        if (count < kCap) {
+          cached[count++] = {v[i], &b, i};
+          if (count == kCap) std::make_heap(cached, cached + count, farther);
+        } else if (v[i] < cached[0].lb) {
+          rejected = std::min(rejected, cached[0].lb);
+          std::pop_heap(cached, cached + count, farther);
+          cached[count - 1] = {v[i], &b, i};
+          std::push_heap(cached, cached + count, farther);
+        } else {
+          rejected = std::min(rejected, v[i]);
+        }
       }
     }
     std::sort(cached, cached + count, [](const Cached& x, const Cached& y) { return x.lb < y.lb; });
@@ -444,8 +445,6 @@ struct Candidate {
   std::int32_t face;
   detail::TriangleFeature feature;
   std::uint64_t key;
-  const detail::TriangleBlock* block;
-  int lane;
   vessel::FaceRegion region;
 };
 
@@ -538,7 +537,7 @@ class ContactCollector {
     out.face = c.face;
     out.region = c.region;
     out.segment_t = c.segment_t;
-    const glm::dvec3 n = pseudo_normal(d_, *c.block, c.lane, c.feature);
+    const glm::dvec3 n = pseudo_normal(d_, c.face, c.feature);
     const glm::dvec3 v = c.tool - c.wall;
     const double dist = std::sqrt(c.distance_sq);
     if (dist > 1e-12 * (d_.scale_mm + 1.0)) {
@@ -584,7 +583,7 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, &b, i, regions ? regions[i] : b.region});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, regions ? regions[i] : b.region});
     }
   }
 };
@@ -601,7 +600,7 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, &blk, i, regions ? regions[i] : blk.region});
+               q.on_triangle.feature, 0, regions ? regions[i] : blk.region});
     }
   }
 };
@@ -637,12 +636,14 @@ namespace {
 
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
-  const detail::TriangleBlock& b = *s.best_block;
+  // Only values are kept from the search: a refill may have rewritten the hint's blocks since.
   const detail::PointOnTriangle& q = s.best_point;
   ClosestPoint out;
   out.point_mm = q.point;
   out.distance_mm = std::sqrt(s.best_sq);
-  out.normal = pseudo_normal(s.d, b, s.best_lane, q.feature);
+  const double n_len = glm::length(s.best_face_normal);
+  out.normal = q.feature.kind == FeatureKind::kFace && n_len > 0.5 ? s.best_face_normal / n_len
+                                                                   : pseudo_normal(s.d, s.face, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
   out.region = s.best_region;

@@ -56,15 +56,18 @@ struct Moments {
   double cov[6] = {0, 0, 0, 0, 0, 0};
 };
 
-template <typename Points>
-Moments moments_of(Points&& points) {
-  glm::dvec3 origin{0.0};
-  glm::dvec3 sum{0.0};
-  double sq[6] = {0, 0, 0, 0, 0, 0};
+// Sums of points relative to the first one (shifted sums keep the precision), in Real.
+template <typename Real>
+struct MomentSums {
+  using Vec = glm::vec<3, Real>;
+  Vec origin{Real(0)};
+  Vec sum{Real(0)};
+  Real sq[6] = {0, 0, 0, 0, 0, 0};
   double n = 0.0;
-  points([&](const glm::dvec3& p) {
-    if (n == 0.0) origin = p;  // shifted sums keep the precision
-    const glm::dvec3 q = p - origin;
+
+  void add(const Vec& p) {
+    if (n == 0.0) origin = p;
+    const Vec q = p - origin;
     sum += q;
     sq[0] += q.x * q.x;
     sq[1] += q.y * q.y;
@@ -73,17 +76,22 @@ Moments moments_of(Points&& points) {
     sq[4] += q.x * q.z;
     sq[5] += q.y * q.z;
     n += 1.0;
-  });
-  Moments m;
-  const glm::dvec3 mq = sum / n;
-  m.mean = origin + mq;
-  m.cov[0] = sq[0] / n - mq.x * mq.x;
-  m.cov[1] = sq[1] / n - mq.y * mq.y;
-  m.cov[2] = sq[2] / n - mq.z * mq.z;
-  m.cov[3] = sq[3] / n - mq.x * mq.y;
-  m.cov[4] = sq[4] / n - mq.x * mq.z;
-  m.cov[5] = sq[5] / n - mq.y * mq.z;
-  return m;
+  }
+  [[nodiscard]] Moments moments() const {
+    const glm::dvec3 mq = glm::dvec3(sum) / n;
+    Moments m;
+    m.mean = glm::dvec3(origin) + mq;
+    const double pairs[6][2] = {{mq.x, mq.x}, {mq.y, mq.y}, {mq.z, mq.z}, {mq.x, mq.y}, {mq.x, mq.z}, {mq.y, mq.z}};
+    for (int k = 0; k < 6; ++k) m.cov[k] = static_cast<double>(sq[k]) / n - pairs[k][0] * pairs[k][1];
+    return m;
+  }
+};
+
+template <typename Points>
+Moments moments_of(Points&& points) {
+  MomentSums<double> sums;
+  points([&](const glm::dvec3& p) { sums.add(p); });
+  return sums.moments();
 }
 
 // Dominant eigenvector of a covariance by a few power iterations (the split direction).
@@ -91,9 +99,12 @@ glm::dvec3 dominant_axis(const double cov[6]) {
   glm::dvec3 v{1.0, 0.0, 0.0};
   if (cov[1] > cov[0] && cov[1] >= cov[2]) v = {0.0, 1.0, 0.0};
   if (cov[2] > cov[0] && cov[2] > cov[1]) v = {0.0, 0.0, 1.0};
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec3 w{cov[0] * v.x + cov[3] * v.y + cov[4] * v.z, cov[3] * v.x + cov[1] * v.y + cov[5] * v.z,
-                       cov[4] * v.x + cov[5] * v.y + cov[2] * v.z};
+  auto apply = [&](const glm::dvec3& x) {
+    return glm::dvec3{cov[0] * x.x + cov[3] * x.y + cov[4] * x.z, cov[3] * x.x + cov[1] * x.y + cov[5] * x.z,
+                      cov[4] * x.x + cov[5] * x.y + cov[2] * x.z};
+  };
+  for (int round = 0; round < 3; ++round) {  // three products per normalisation
+    const glm::dvec3 w = apply(apply(apply(v)));
     const double len = glm::length(w);
     if (!(len > 0.0) || !std::isfinite(len)) break;
     v = w / len;
@@ -394,31 +405,9 @@ class Builder {
 
   template <typename Real>
   Moments centroid_moments_as(std::uint32_t begin, std::uint32_t end) const {
-    using Vec = glm::vec<3, Real>;
-    const Vec origin(items_[begin].centroid);
-    Vec sum{Real(0)};
-    Real sq[6] = {0, 0, 0, 0, 0, 0};
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const Vec q = Vec(items_[i].centroid) - origin;
-      sum += q;
-      sq[0] += q.x * q.x;
-      sq[1] += q.y * q.y;
-      sq[2] += q.z * q.z;
-      sq[3] += q.x * q.y;
-      sq[4] += q.x * q.z;
-      sq[5] += q.y * q.z;
-    }
-    const double n = static_cast<double>(end - begin);
-    const glm::dvec3 mq = glm::dvec3(sum) / n;
-    Moments m;
-    m.mean = glm::dvec3(origin) + mq;
-    m.cov[0] = static_cast<double>(sq[0]) / n - mq.x * mq.x;
-    m.cov[1] = static_cast<double>(sq[1]) / n - mq.y * mq.y;
-    m.cov[2] = static_cast<double>(sq[2]) / n - mq.z * mq.z;
-    m.cov[3] = static_cast<double>(sq[3]) / n - mq.x * mq.y;
-    m.cov[4] = static_cast<double>(sq[4]) / n - mq.x * mq.z;
-    m.cov[5] = static_cast<double>(sq[5]) / n - mq.y * mq.z;
-    return m;
+    MomentSums<Real> sums;
+    for (std::uint32_t i = begin; i < end; ++i) sums.add(glm::vec<3, Real>(items_[i].centroid));
+    return sums.moments();
   }
 
   // Median split along the principal axis of the centroids, keeping the left part a multiple of

@@ -1,0 +1,103 @@
+// Exactness on the bundled vessel cases (cases/*.hclm through the vessel mesher): closest
+// points, signs, contacts and ray casts equal brute force over all triangles.
+#include <algorithm>
+#include <array>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "test_meshes.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::collision {
+namespace {
+
+using testing::near_rel;
+
+struct BundledCase {
+  const char* file;
+  int level;
+};
+
+class BundledCaseTest : public ::testing::TestWithParam<BundledCase> {
+ protected:
+  void SetUp() override {
+    vessel::MeshOptions options;
+    options.subdivision_level = GetParam().level;
+    auto loaded = vessel::load_surface_mesh(std::string(CATHBOX_SOURCE_DIR) + "/cases/" + GetParam().file, options);
+    ASSERT_TRUE(loaded.ok()) << loaded.error;
+    mesh_ = std::move(loaded.mesh);
+    TreeBuild b = ObbTree::build(mesh_);
+    ASSERT_TRUE(b.tree) << b.error;
+    tree_.emplace(std::move(*b.tree));
+  }
+  vessel::SurfaceMesh mesh_;
+  std::optional<ObbTree> tree_;
+};
+
+TEST_P(BundledCaseTest, TreeFollowsRegionsAndMeshIsClosed) {
+  const TreeStats& s = tree_->stats();
+  EXPECT_TRUE(s.closed);
+  EXPECT_TRUE(s.consistently_oriented);
+  EXPECT_EQ(s.degenerate_dropped, 0u);
+  EXPECT_EQ(s.triangles, mesh_.triangle_count());
+  std::vector<vessel::FaceRegion> distinct;
+  for (const auto& r : mesh_.triangle_regions)
+    if (std::find(distinct.begin(), distinct.end(), r) == distinct.end()) distinct.push_back(r);
+  EXPECT_EQ(s.regions, distinct.size());
+}
+
+TEST_P(BundledCaseTest, ClosestPointAndSignEqualBruteForce) {
+  int index = 0;
+  for (const glm::dvec3& p : testing::query_points(mesh_, 120, 2.0, 81)) {
+    const testing::BruteNearest want = testing::nearest(mesh_, p);
+    const auto got = tree_->closest_point(p);
+    ASSERT_TRUE(got);
+    EXPECT_TRUE(near_rel(got->distance_mm, want.distance)) << got->distance_mm << " vs " << want.distance;
+    EXPECT_EQ(got->region, mesh_.triangle_regions[static_cast<std::size_t>(got->face)]);
+    if (index++ % 3 == 0 && std::abs(got->signed_distance_mm) > 1e-6) {
+      EXPECT_EQ(got->signed_distance_mm < 0.0, testing::inside_by_parity(mesh_, p));
+    }
+  }
+}
+
+TEST_P(BundledCaseTest, SphereContactsAndRaysEqualBruteForce) {
+  std::mt19937 rng(83);
+  std::uniform_real_distribution<double> radius(0.05, 0.8);
+  QueryHint hint;
+  for (const glm::dvec3& c : testing::query_points(mesh_, 60, 1.0, 84)) {
+    const double r = radius(rng);
+    const double want = testing::nearest(mesh_, c).distance;
+    std::array<Contact, 8> out{};
+    const std::size_t n = tree_->sphere_contacts(c, r, out, hint);
+    if (want >= r * (1.0 + 1e-9)) {
+      EXPECT_EQ(n, 0u);
+    } else if (want <= r * (1.0 - 1e-9)) {
+      ASSERT_GE(n, 1u);
+      double nearest = 1e30;
+      for (std::size_t i = 0; i < n; ++i) nearest = std::min(nearest, glm::length(c - out[i].wall_point_mm));
+      EXPECT_TRUE(near_rel(nearest, want));
+    }
+    const glm::dvec3 dir = testing::random_unit(rng);
+    const auto hit = tree_->ray_cast(c, dir);
+    const auto brute = testing::first_hit(mesh_, c, dir);
+    ASSERT_EQ(hit.has_value(), brute.has_value());
+    if (hit) {
+      EXPECT_TRUE(near_rel(hit->t, *brute, 1e-6, 1e-12));
+    }
+  }
+}
+
+std::string case_name(const ::testing::TestParamInfo<BundledCase>& info) {
+  std::string name = info.param.file;
+  name = name.substr(0, name.find('.'));
+  return name + "_L" + std::to_string(info.param.level);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, BundledCaseTest,
+                         ::testing::Values(BundledCase{"neuro.hclm", 1}, BundledCase{"neuro_aneurysm.hclm", 1},
+                                           BundledCase{"y_bifurcation.hclm", 2}, BundledCase{"seed_catheter.hclm", 3}),
+                         case_name);
+
+}  // namespace
+}  // namespace cathbox::collision
