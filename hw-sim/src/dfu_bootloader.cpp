@@ -68,6 +68,10 @@ bool DfuBootloader::control(const cbx_usb_setup& setup, std::span<const uint8_t>
       if (in || state_ == CBX_DFU_ERROR || state_ == CBX_DFU_DNBUSY || state_ == CBX_DFU_MANIFEST) {
         return false;
       }
+      if (state_ == CBX_DFU_DNLOAD_SYNC || state_ == CBX_DFU_MANIFEST_SYNC) {
+        fail(CBX_DFU_ERR_STALLEDPKT);  // these states take only GETSTATUS and GETSTATE
+        return false;
+      }
       state_ = CBX_DFU_IDLE;
       op_ = Op::kNone;
       return true;

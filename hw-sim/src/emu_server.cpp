@@ -106,6 +106,20 @@ void EmuServer::accept_all() {
 void EmuServer::close_client(size_t slot) {
   if (clients_[slot] >= 0) ::close(clients_[slot]);
   clients_[slot] = -1;
+  held_reply_[slot].clear();
+}
+
+bool EmuServer::flush_reply(size_t slot) {
+  auto& held = held_reply_[slot];
+  if (held.empty()) return true;
+  const ssize_t n = ::send(clients_[slot], held.data(), held.size(), MSG_DONTWAIT | MSG_NOSIGNAL);
+  if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)) return false;
+  if (n < 0) {
+    close_client(slot);
+    return false;
+  }
+  held.clear();
+  return true;
 }
 
 void EmuServer::detach() {
@@ -113,7 +127,7 @@ void EmuServer::detach() {
 }
 
 void EmuServer::serve(size_t slot) {
-  for (int budget = 0; budget < 64 && clients_[slot] >= 0; ++budget) {
+  for (int budget = 0; budget < 64 && clients_[slot] >= 0 && held_reply_[slot].empty(); ++budget) {
     const int fd = clients_[slot];
     const ssize_t n = ::recv(fd, rx_.data(), rx_.size(), MSG_DONTWAIT);
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) return;
@@ -141,7 +155,15 @@ void EmuServer::serve(size_t slot) {
       answer.data = ok && !reply_.empty() ? reply_.data() : nullptr;
       answer.data_length = ok ? reply_.size() : 0u;
       if (!ok) ++counts_.stalls;
-      (void)send_frame(fd, answer);
+      const int length = cbx_emu_frame_encode(&answer, tx_.data(), tx_.size());
+      if (length > 0 && ::send(fd, tx_.data(), static_cast<size_t>(length), MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
+        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+          held_reply_[slot].assign(tx_.begin(), tx_.begin() + length);  // the client's queue is full
+        } else {
+          close_client(slot);
+          return;
+        }
+      }
       // The handler may have detached the device (bootloader entry/exit) after replying.
       if (clients_[slot] < 0) return;
     } else {
@@ -153,7 +175,7 @@ void EmuServer::serve(size_t slot) {
 void EmuServer::poll() {
   accept_all();
   for (size_t i = 0; i < kMaxClients; ++i) {
-    if (clients_[i] >= 0) serve(i);
+    if (clients_[i] >= 0 && flush_reply(i)) serve(i);
   }
 }
 
@@ -164,6 +186,10 @@ void EmuServer::send_in(std::span<const uint8_t> report) {
   frame.data_length = report.size();
   for (size_t i = 0; i < kMaxClients; ++i) {
     if (clients_[i] < 0) continue;
+    if (!held_reply_[i].empty()) {
+      ++counts_.in_dropped;  // the queue space is the reply's
+      continue;
+    }
     if (send_frame(clients_[i], frame)) {
       ++counts_.in_sent;
     } else if (errno == EAGAIN || errno == EWOULDBLOCK) {

@@ -1,5 +1,7 @@
 // cathbox-emu: the emulated box, served in real time on a Unix-domain socket.
 #include <atomic>
+#include <cerrno>
+#include <cstdint>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -42,7 +44,23 @@ void usage() {
 bool parse_probability(const char* text, double& out) {
   char* end = nullptr;
   out = std::strtod(text, &end);
-  return *end == '\0' && out >= 0 && out <= 1;
+  return end != text && *end == '\0' && out >= 0 && out <= 1;
+}
+
+// A whole decimal number in [0, max]: no sign, no trailing characters, no overflow.
+bool parse_count(const char* text, unsigned long long max, unsigned long long& out) {
+  if (*text < '0' || *text > '9') return false;
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtoull(text, &end, 10);
+  return *end == '\0' && errno == 0 && out <= max;
+}
+
+// Seconds in (0, one year].
+bool parse_seconds(const char* text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(out) && out > 0 && out <= 365.0 * 86400.0;
 }
 
 uint64_t wall_us() {
@@ -96,22 +114,33 @@ int main(int argc, char** argv) {
     } else if (arg == "--delay") {
       const std::string v = value();
       const size_t colon = v.find(':');
-      ok = colon != std::string::npos && parse_probability(v.substr(0, colon).c_str(), delay_p);
-      if (ok) delay_us = std::strtoull(v.c_str() + colon + 1, nullptr, 10);
+      unsigned long long us = 0;
+      ok = colon != std::string::npos && parse_probability(v.substr(0, colon).c_str(), delay_p) &&
+           parse_count(v.c_str() + colon + 1, 10'000'000ull, us);
+      delay_us = us;
     } else if (arg == "--estop-after") {
-      estop_after_ms = std::atoll(value());
+      unsigned long long ms = 0;
+      ok = parse_count(value(), 365ull * 86'400'000ull, ms);
+      estop_after_ms = static_cast<long long>(ms);
     } else if (arg == "--wire-version") {
-      wire_version = std::atoi(value());
-      ok = wire_version >= 0 && wire_version <= 255;
+      unsigned long long version = 0;
+      ok = parse_count(value(), 255, version);
+      wire_version = static_cast<int>(version);
     } else if (arg == "--seed") {
-      options.seed = std::strtoull(value(), nullptr, 10);
+      unsigned long long seed = 0;
+      ok = parse_count(value(), UINT64_MAX, seed);
+      options.seed = seed;
     } else if (arg == "--duration") {
-      duration_s = std::atof(value());
+      ok = parse_seconds(value(), duration_s);
     } else {
       ok = false;
     }
     if (!ok) {
-      std::fprintf(stderr, "cathbox-emu: bad or incomplete option '%s' (see --help)\n", arg.c_str());
+      if (has_value && arg != argv[i]) {
+        std::fprintf(stderr, "cathbox-emu: option %s: bad value '%s' (see --help)\n", arg.c_str(), argv[i]);
+      } else {
+        std::fprintf(stderr, "cathbox-emu: bad or incomplete option '%s' (see --help)\n", arg.c_str());
+      }
       return 2;
     }
   }

@@ -96,6 +96,22 @@ TEST_F(Rom, UnsupportedRequestsStall) {
   EXPECT_FALSE(in(0x77, 0, 1));
 }
 
+TEST_F(Rom, AbortBeforeTheDownloadStatusStallsIntoError) {
+  // DFU 1.1: dfuDNLOAD-SYNC takes only GETSTATUS and GETSTATE; anything else stalls into dfuERROR.
+  flash.load(0x08004000u, std::vector<uint8_t>(16, 0x00));
+  ASSERT_TRUE(out(CBX_DFU_DNLOAD, 0, command(CBX_DFUSE_ERASE, 0x08004000u)));
+  EXPECT_EQ(rom.state(), CBX_DFU_DNLOAD_SYNC);
+  EXPECT_FALSE(out(CBX_DFU_ABORT, 0));
+  const auto s = status();
+  EXPECT_EQ(s[0], CBX_DFU_ERR_STALLEDPKT);
+  EXPECT_EQ(s[1], CBX_DFU_ERROR);
+  std::array<uint8_t, 16> kept{};
+  ASSERT_TRUE(flash.read(0x08004000u, kept));
+  EXPECT_EQ(kept[0], 0x00) << "the erase never ran";
+  ASSERT_TRUE(out(CBX_DFU_CLRSTATUS, 0));
+  EXPECT_EQ(status()[1], CBX_DFU_IDLE);
+}
+
 TEST_F(Rom, LeaveManifestsAndAsksForAReset) {
   ASSERT_TRUE(out(CBX_DFU_DNLOAD, 0, command(CBX_DFUSE_SET_ADDRESS, 0x08000000u)));
   finish();

@@ -26,12 +26,15 @@ CaseCatalog CaseCatalog::scan(const std::string& dir, std::span<const std::strin
   return c;
 }
 
-int CaseCatalog::default_index(const std::string& preferred) const {
+int CaseCatalog::default_index(const std::string& preferred, const std::string& preferred_extension) const {
   if (entries_.empty()) return -1;
+  int fallback = -1;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
-    if (entries_[i].name.find(preferred) != std::string::npos) return static_cast<int>(i);
+    if (entries_[i].name.find(preferred) == std::string::npos) continue;
+    if (std::filesystem::path(entries_[i].name).extension() == preferred_extension) return static_cast<int>(i);
+    if (fallback < 0) fallback = static_cast<int>(i);
   }
-  return 0;
+  return fallback >= 0 ? fallback : 0;
 }
 
 }  // namespace cathbox::app

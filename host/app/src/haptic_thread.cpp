@@ -1,10 +1,19 @@
 #include "app/haptic_thread.hpp"
 
+#include <time.h>
+
 #include <utility>
 
 
 
 namespace cathbox::app {
+namespace {
+std::int64_t thread_cpu_time_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
+}
+}  // namespace
 
 HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick)
     : clock_(clock), period_us_(period_us), tick_(std::move(tick)) {}
@@ -42,6 +51,7 @@ void HapticThread::run(std::stop_token stop, std::int64_t max_ticks) {
       meter.tick(now);
     }
     rate_hz_.store(meter.rate_hz(), std::memory_order_relaxed);
+    if (n % 100 < static_cast<std::int64_t>(due.ticks)) cpu_us_.store(thread_cpu_time_us(), std::memory_order_relaxed);
     if (due.ticks == 0) clock_.sleep_until_us(pacer.next_deadline_us());
   }
   finished_.store(true, std::memory_order_release);

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/matrix.hpp>
+#include <glm/vec4.hpp>
 
 namespace cathbox::app {
 namespace {
@@ -50,6 +52,15 @@ glm::mat4 OrbitCamera::projection(float aspect) const {
   const float near_mm = std::max(0.1F, distance_mm - 2.0F * scene_radius_mm);
   const float far_mm = distance_mm + 2.0F * scene_radius_mm;
   return glm::perspective(fov_y_rad, std::max(1e-3F, aspect), near_mm, far_mm);
+}
+
+glm::vec3 OrbitCamera::ray_through(float x_px, float y_px, float width_px, float height_px) const {
+  const float ndc_x = 2.0F * x_px / std::max(1.0F, width_px) - 1.0F;
+  const float ndc_y = 1.0F - 2.0F * y_px / std::max(1.0F, height_px);
+  const glm::mat4 inv = glm::inverse(projection(width_px / std::max(1.0F, height_px)) * view());
+  const glm::vec4 near_p = inv * glm::vec4(ndc_x, ndc_y, -1.0F, 1.0F);
+  const glm::vec4 far_p = inv * glm::vec4(ndc_x, ndc_y, 1.0F, 1.0F);
+  return glm::normalize(glm::vec3(far_p) / far_p.w - glm::vec3(near_p) / near_p.w);
 }
 
 glm::mat4 EndoCamera::view(const glm::vec3& tip_mm, const glm::vec3& direction,

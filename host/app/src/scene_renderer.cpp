@@ -14,38 +14,35 @@
 namespace cathbox::app {
 namespace {
 
+// Headlight shading (light at the eye), two-sided so the inside of the vessel is lit too,
+// evaluated per vertex: the fragment shader only blends three numbers, which matters on a
+// software rasteriser (the meshes are fine enough that Gouraud shading looks smooth).
 constexpr const char* kVertexShader = R"(#version 330 core
 in vec3 in_position;
 in vec3 in_normal;
 uniform mat4 u_view;
 uniform mat4 u_proj;
-out vec3 v_normal;
-out vec3 v_pos;
+uniform vec4 u_fog;  // rgb, and the distance in mm at which the fog is complete (0: none)
+out vec2 v_light;    // diffuse factor, specular term
+out float v_fog;
 void main() {
   vec4 p = u_view * vec4(in_position, 1.0);
-  v_pos = p.xyz;
-  v_normal = mat3(u_view) * in_normal;
+  vec3 n = normalize(mat3(u_view) * in_normal);
+  float d = abs(dot(n, normalize(-p.xyz)));
+  v_light = vec2(0.35 + 0.65 * d, 0.25 * pow(d, 24.0));
+  v_fog = u_fog.a > 0.0 ? clamp(length(p.xyz) / u_fog.a, 0.0, 1.0) : 0.0;
   gl_Position = u_proj * p;
 }
 )";
 
-// Headlight shading (light at the eye), two-sided so the inside of the vessel is lit too.
 constexpr const char* kFragmentShader = R"(#version 330 core
-in vec3 v_normal;
-in vec3 v_pos;
+in vec2 v_light;
+in float v_fog;
 uniform vec4 u_color;
-uniform vec4 u_fog;  // rgb, and the distance in mm at which the fog is complete (0: none)
-uniform float u_back_shade;
+uniform vec4 u_fog;
 out vec4 frag;
 void main() {
-  vec3 n = normalize(v_normal);
-  vec3 l = normalize(-v_pos);
-  float d = abs(dot(n, l));
-  // The far wall (seen from inside: back faces) a little darker than the near wall.
-  vec3 base = gl_FrontFacing ? u_color.rgb : u_color.rgb * u_back_shade;
-  vec3 c = base * (0.35 + 0.65 * d) + vec3(0.25) * pow(d, 24.0);
-  if (u_fog.a > 0.0) c = mix(c, u_fog.rgb, clamp(length(v_pos) / u_fog.a, 0.0, 1.0));
-  frag = vec4(c, u_color.a);
+  frag = vec4(mix(u_color.rgb * v_light.x + vec3(v_light.y), u_fog.rgb, v_fog), u_color.a);
 }
 )";
 
@@ -114,6 +111,8 @@ void SceneRenderer::set_vessel(const MeshView& detail, const MeshView& overview)
 void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {
   has_target_ = target_mm.has_value();
   if (!has_target_) return;
+  target_mm_ = *target_mm;
+  target_radius_mm_ = radius_mm;
   std::vector<glm::vec3> p;
   std::vector<glm::vec3> n;
   std::vector<std::uint32_t> t;
@@ -179,7 +178,6 @@ void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_heig
   shader_.set("u_view", view);
   shader_.set("u_proj", projection);
   shader_.set("u_fog", glm::vec4(0.0F));
-  shader_.set("u_back_shade", 1.0F);
 
   // Opaque first: tools and target write depth.
   glDisable(GL_BLEND);
@@ -202,12 +200,14 @@ void SceneRenderer::render_global(const Viewport& viewport, int framebuffer_heig
     last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   } else {
-    // One pass over both walls: with one colour and one alpha the blend barely depends on the
-    // order, so no sorting and no second pass over the mesh (vertex work is what costs most
-    // on a software rasteriser).
-    shader_.set("u_back_shade", 0.8F);
+    // The near wall only, translucent over the opaque tools: one pass, no sorting. (The far
+    // wall too would cost a quarter of the frame on a software rasteriser, where setting up
+    // and binning triangles dominates, for little more depth cue.)
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
     shader_.set("u_color", glm::vec4(SceneColors::kVessel, settings.vessel_alpha));
     last_global_triangles_ = overview().draw_visible(projection * view, glm::vec3(0.0F), 0.0F, ranges_);
+    glDisable(GL_CULL_FACE);
   }
   glDepthMask(GL_TRUE);
   glDisable(GL_BLEND);
@@ -225,15 +225,18 @@ void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_heigh
   shader_.set("u_view", view);
   shader_.set("u_proj", projection);
   shader_.set("u_fog", glm::vec4(kFog, kLocalFogMm));
-  shader_.set("u_back_shade", 1.0F);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);
+  // Inside the lumen every wall in sight faces away (the normals point out of the vessel).
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_FRONT);
   shader_.set("u_color", glm::vec4(0.95F, 0.55F, 0.50F, 1.0F));
   const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]);
   last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFogMm, ranges_);
+  glDisable(GL_CULL_FACE);
   draw_tools(true);
-  if (has_target_) {
+  // The target marker, unless the eye is inside it (the tip has arrived).
+  if (has_target_ && glm::distance(eye, target_mm_) > target_radius_mm_ + 0.1F) {
     shader_.set("u_color", glm::vec4(SceneColors::kTarget, 1.0F));
     target_.draw();
   }

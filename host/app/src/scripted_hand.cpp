@@ -6,6 +6,9 @@
 #include <glm/geometric.hpp>
 
 namespace cathbox::app {
+namespace {
+constexpr double kTrackWindowMm = 3.0;
+}  // namespace
 
 ScriptedHand::ScriptedHand(std::vector<glm::vec3> path_mm, double max_insertion_mm,
                            ScriptedHandSettings settings)
@@ -31,12 +34,14 @@ glm::vec3 ScriptedHand::point_at(double s_mm) const {
 }
 
 double ScriptedHand::closest_arc(const glm::vec3& p) const {
-  // Closest point on the polyline, searched near the last progress so that a path that passes
-  // close to itself (a loop) does not make the hand jump ahead.
+  // Closest point on the polyline. After the first call it is searched within a few
+  // millimetres of the last progress (the tip moves ~0.02 mm per tick), so that a path that
+  // passes close to itself (the carotid siphon, a loop) cannot make the hand jump ahead.
+  const double window = started_ ? kTrackWindowMm : 1e300;
   double best_d2 = 1e300;
   double best_s = progress_mm_;
   for (std::size_t i = 0; i + 1 < path_.size(); ++i) {
-    if (cumulative_[i] > progress_mm_ + 30.0 || cumulative_[i + 1] < progress_mm_ - 30.0) continue;
+    if (cumulative_[i] > progress_mm_ + window || cumulative_[i + 1] < progress_mm_ - window) continue;
     const glm::vec3 a = path_[i];
     const glm::vec3 ab = path_[i + 1] - a;
     const float len2 = glm::dot(ab, ab);
@@ -108,6 +113,8 @@ HandCommand ScriptedHand::step(double dt_s, const HandObservation& seen) {
   }
   if (seen.hand_force_mN > s_.stuck_force_mN || time_since_progress_s_ > s_.stuck_window_s) {
     ++retries_;
+    fruitless_retries_ = best_progress_mm_ > progress_at_last_retry_mm_ + s_.min_progress_mm ? 0 : fruitless_retries_ + 1;
+    progress_at_last_retry_mm_ = std::max(progress_at_last_retry_mm_, best_progress_mm_);
     back_off_left_mm_ = s_.back_off_mm;
     turn_left_rad_ = s_.back_off_turn_rad;
   }

@@ -1,5 +1,7 @@
 #include "app/trainer_app.hpp"
 
+#include <time.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +21,14 @@
 namespace cathbox::app {
 namespace {
 
+std::int64_t cpu_time_us(clockid_t which) {
+  timespec ts{};
+  clock_gettime(which, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
+}
+
 const std::vector<std::string> kCaseExtensions = {".case", ".hclm"};
+constexpr const char* kDefaultCase = "neuro_right_ica.case";
 constexpr const char* kPreferredCase = "neuro";
 
 void print_matrix(std::ofstream& out, const char* name, const glm::mat4& m) {
@@ -69,7 +78,13 @@ std::string TrainerApp::resolve_case(std::string& error) {
     }
     return options_.case_path;
   }
-  current_case_ = catalog_.default_index(kPreferredCase);
+  // The default: the single-wire neuro case with a target (the scripted hand reaches it), else
+  // another neuro case file, else the neuro vessel file itself.
+  current_case_ = -1;
+  for (std::size_t i = 0; i < catalog_.entries().size(); ++i) {
+    if (catalog_.entries()[i].name == kDefaultCase) current_case_ = static_cast<int>(i);
+  }
+  if (current_case_ < 0) current_case_ = catalog_.default_index(kPreferredCase, ".case");
   if (current_case_ < 0) {
     error = scan_error.empty() ? dir + ": no case files (.case, .hclm)" : scan_error;
     return {};
@@ -160,6 +175,20 @@ void TrainerApp::handle_input(const ScreenLayout& layout) {
     last_mouse_y_ = my;
     if (layout.global.contains(static_cast<float>(mx), static_cast<float>(my))) {
       camera_.zoom(ui_->mouse_wheel());
+      // Double click on a vessel: orbit around that point from now on.
+      const bool pressed = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+      if (pressed && !left_down_) {
+        const double t = glfwGetTime();
+        if (t - last_click_s_ < 0.35) {
+          const glm::vec3 dir = camera_.ray_through(static_cast<float>(mx) - static_cast<float>(layout.global.x),
+                                                    static_cast<float>(my) - static_cast<float>(layout.global.y),
+                                                    static_cast<float>(layout.global.width),
+                                                    static_cast<float>(layout.global.height));
+          if (const auto hit = session_->pick(camera_.eye_mm(), dir)) camera_.target_mm = *hit;
+        }
+        last_click_s_ = t;
+      }
+      left_down_ = pressed;
       if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) camera_.orbit(dx, dy);
       if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
           glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) {
@@ -261,6 +290,9 @@ int TrainerApp::run_window() {
   std::int64_t last_us = clock.now_us();
   std::int64_t bench_start_us = -1;
   std::int64_t bench_start_ticks = 0;
+  std::int64_t bench_start_process_cpu_us = 0;
+  std::int64_t bench_start_render_cpu_us = 0;
+  std::int64_t bench_start_haptic_cpu_us = 0;
   double fps = 0.0;
   int frame = 0;
   constexpr int kWarmupFrames = 20;
@@ -308,6 +340,9 @@ int TrainerApp::run_window() {
     if (timed && frame == kWarmupFrames) {
       bench_start_us = now;
       bench_start_ticks = session_->haptic_ticks();
+      bench_start_process_cpu_us = cpu_time_us(CLOCK_PROCESS_CPUTIME_ID);
+      bench_start_render_cpu_us = cpu_time_us(CLOCK_THREAD_CPUTIME_ID);
+      bench_start_haptic_cpu_us = session_->haptic_cpu_time_us();
     } else if (timed && frame > kWarmupFrames) {
       stats.add(dt);
       work.add(now - frame_start_us);
@@ -338,6 +373,9 @@ int TrainerApp::run_window() {
   }
   const std::int64_t end_us = clock.now_us();
   const std::int64_t end_ticks = session_->haptic_ticks();
+  const std::int64_t end_process_cpu_us = cpu_time_us(CLOCK_PROCESS_CPUTIME_ID);
+  const std::int64_t end_render_cpu_us = cpu_time_us(CLOCK_THREAD_CPUTIME_ID);
+  const std::int64_t end_haptic_cpu_us = session_->haptic_cpu_time_us();
   session_->stop();
   if (timed) {
     const double seconds = static_cast<double>(end_us - bench_start_us) * 1e-6;
@@ -351,6 +389,14 @@ int TrainerApp::run_window() {
     std::printf("frame time (render work, poll to swap): median %.2f ms, p99 %.2f ms -> %.0f fps possible\n",
                 work.percentile_us(50) * 1e-3, work.percentile_us(99) * 1e-3,
                 work.percentile_us(50) > 0 ? 1e6 / work.percentile_us(50) : 0.0);
+    // CPU time per frame is what the machine's load does not change: the render thread's own,
+    // and the whole process's less the haptic thread's (so including Mesa's rasteriser threads).
+    const double frames = static_cast<double>(std::max<std::size_t>(1, stats.count()));
+    const double haptic_cpu_ms = static_cast<double>(end_haptic_cpu_us - bench_start_haptic_cpu_us) * 1e-3;
+    std::printf("CPU per frame: render thread %.2f ms, all rendering threads %.2f ms; haptic thread %.1f %% of a core\n",
+                static_cast<double>(end_render_cpu_us - bench_start_render_cpu_us) * 1e-3 / frames,
+                (static_cast<double>(end_process_cpu_us - bench_start_process_cpu_us) * 1e-3 - haptic_cpu_ms) / frames,
+                100.0 * haptic_cpu_ms / (seconds * 1e3));
     std::printf("triangles submitted per frame: global view %zu, local view %zu\n",
                 renderer_->last_global_triangles(), renderer_->last_local_triangles());
     std::printf("haptic: %.1f Hz over the same window (%lld ticks, %lld dropped in the run), thread %s\n",

@@ -37,7 +37,7 @@ constexpr double kDtS = 1e-3;
 // Above this the global view gets a coarser surface (level L-1, 4-point rings): it shows the
 // vessels at ~0.3 mm per pixel, and every triangle costs a software rasteriser the same.
 constexpr std::size_t kOverviewTriangles = 40'000;
-constexpr double kScriptedLimitS = 180.0;
+constexpr double kScriptedLimitS = 120.0;
 constexpr std::size_t kMaxNodesPerTool = 2048;
 
 glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
@@ -99,6 +99,11 @@ class SimTrainerSession final : public TrainerSession {
   std::string device_status() const override { return device_status_; }
   std::string active_tool_name() const override { return tool_names_[active_.load(std::memory_order_relaxed)]; }
   HandSource hand() const override { return hand_; }
+  std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const override {
+    const auto hit = wall_->tree().ray_cast(glm::dvec3(origin_mm), glm::dvec3(direction));
+    if (!hit) return std::nullopt;
+    return to_f(hit->point_mm);
+  }
 
   void start() override {
     if (!real_thread_) {
@@ -120,6 +125,7 @@ class SimTrainerSession final : public TrainerSession {
   void end_run() override { end_requested_.store(true, std::memory_order_release); }
   double haptic_rate_hz() const override { return active_thread() ? active_thread()->rate_hz() : 0.0; }
   std::int64_t haptic_ticks() const override { return active_thread() ? active_thread()->ticks() : 0; }
+  std::int64_t haptic_cpu_time_us() const override { return active_thread() ? active_thread()->cpu_time_us() : 0; }
   std::string haptic_scheduling() const override {
     return real_thread_ ? ThreadPriority::name(real_thread_->scheduling()) : "virtual time";
   }
@@ -311,6 +317,7 @@ void SimTrainerSession::switch_tool(std::int64_t sim_time_us) {
 }
 
 bool SimTrainerSession::tick(std::int64_t sim_time_us) {
+  if (over_.load(std::memory_order_acquire)) return false;  // a finished run stays as it ended
   if (end_requested_.load(std::memory_order_acquire)) {
     over_.store(true, std::memory_order_release);
     release_box();
@@ -385,6 +392,11 @@ bool SimTrainerSession::tick(std::int64_t sim_time_us) {
   }
   if (scripted_ && static_cast<double>(sim_time_us) * 1e-6 >= kScriptedLimitS) {
     log(sim_time_us, "scripted hand: time limit of %.0f s", kScriptedLimitS);
+    go_on = false;
+  }
+  if (scripted_ && scripted_->gave_up()) {
+    log(sim_time_us, "scripted hand: stuck %.0f mm along the way, gives up after %d tries", scripted_->progress_mm(),
+        scripted_->retries());
     go_on = false;
   }
   if (scripted_ && scripted_->path_length_mm() > 0.0 && scripted_->progress_mm() >= scripted_->path_length_mm() - 1.0) {

@@ -111,6 +111,7 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, co
     if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
     ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
+    ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");
     const ImVec2 p = ImGui::GetWindowPos();
     const ImVec2 sz = ImGui::GetWindowSize();
     hud_rect_ = {static_cast<int>(p.x), static_cast<int>(p.y), static_cast<int>(sz.x), static_cast<int>(sz.y)};

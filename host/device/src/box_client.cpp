@@ -53,17 +53,23 @@ void BoxClient::drop_link() {
 void BoxClient::try_reconnect() {
   const uint64_t now = clock_.now_us();
   if (now < next_attempt_us_) return;
-  next_attempt_us_ = now + options_.reconnect_interval_us;
-  if (!open_link()) return;
+  // A failed attempt (even one whose feature calls see the link drop again) is still the same
+  // outage: its start, its count and the next attempt one interval on are kept.
+  const uint64_t down_since = down_since_us_;
+  const uint64_t disconnects = stats_.disconnects;
+  const uint64_t next_attempt = now + options_.reconnect_interval_us;
+  bool up = open_link().ok();
   // Restore what this session configured; a box that restarted has lost it (or kept it).
-  bool restored = true;
-  if (session_limits_) restored = set_limits(limits_).ok();
-  if (restored && session_calibration_) restored = set_calibration(calibration_).ok();
-  if (!restored) {
-    drop_link();
-    --stats_.disconnects;  // still the same outage
+  if (up && session_limits_) up = set_limits(limits_).ok();
+  if (up && session_calibration_) up = set_calibration(calibration_).ok();
+  if (!up) {
+    transport_.reset();
+    stats_.disconnects = disconnects;
+    down_since_us_ = down_since;
+    next_attempt_us_ = next_attempt;
     return;
   }
+  next_attempt_us_ = next_attempt;
   ++stats_.reconnects;
   stats_.last_reconnect_us = clock_.now_us() - down_since_us_;
   if (have_command_) (void)send(last_command_);

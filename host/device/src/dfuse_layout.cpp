@@ -1,5 +1,6 @@
 #include "device/dfuse_layout.hpp"
 
+#include <cerrno>
 #include <cstdlib>
 
 namespace cathbox::device {
@@ -15,8 +16,9 @@ bool number(const std::string& text, size_t& at, uint64_t& value, int base) {
   const char* begin = text.c_str() + at;
   if (*begin < '0' || *begin > '9') return false;
   char* end = nullptr;
+  errno = 0;
   value = std::strtoull(begin, &end, base);
-  if (end == begin) return false;
+  if (end == begin || errno == ERANGE) return false;
   at += static_cast<size_t>(end - begin);
   return true;
 }
@@ -42,7 +44,8 @@ Result<DfuseLayout> DfuseLayout::parse(const std::string& text) {
       if (!number(text, at, count, 10) || count == 0 || count > 4096) return bad(text, at, "bad sector count");
       if (at >= text.size() || text[at] != '*') return bad(text, at, "expected '*'");
       ++at;
-      if (!number(text, at, size, 10) || size == 0) return bad(text, at, "bad sector size");
+      // At most 32 bits before the K/M multiple, so that the multiple cannot wrap 64 bits.
+      if (!number(text, at, size, 10) || size == 0 || size > 0xFFFFFFFFu) return bad(text, at, "bad sector size");
       if (at < text.size() && text[at] == ' ') ++at;
       if (at < text.size() && (text[at] == 'K' || text[at] == 'M' || text[at] == 'B')) {
         size *= text[at] == 'K' ? 1024u : (text[at] == 'M' ? 1024u * 1024u : 1u);

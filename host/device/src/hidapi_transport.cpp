@@ -56,11 +56,16 @@ Result<std::unique_ptr<HidapiTransport>> HidapiTransport::open(const std::string
     hid_close(device);
     return make_error(Errc::kIo, "cannot make " + chosen + " non-blocking");
   }
-  return std::unique_ptr<HidapiTransport>(new HidapiTransport(device, chosen));
+  hid_device* writer = hid_open_path(chosen.c_str());
+  if (writer == nullptr) {
+    hid_close(device);
+    return make_error(Errc::kNoDevice, "cannot open " + chosen + " a second time for writing");
+  }
+  return std::unique_ptr<HidapiTransport>(new HidapiTransport(device, writer, chosen));
 }
 
-HidapiTransport::HidapiTransport(hid_device* device, std::string path)
-    : device_(device), path_(std::move(path)), writer_([this] { writer_loop(); }) {}
+HidapiTransport::HidapiTransport(hid_device* device, hid_device* writer_device, std::string path)
+    : device_(device), writer_device_(writer_device), path_(std::move(path)), writer_([this] { writer_loop(); }) {}
 
 HidapiTransport::~HidapiTransport() {
   {
@@ -69,6 +74,7 @@ HidapiTransport::~HidapiTransport() {
   }
   wake_.notify_one();
   writer_.join();
+  hid_close(writer_device_);
   hid_close(device_);
 }
 
@@ -83,7 +89,7 @@ void HidapiTransport::writer_loop() {
       mailbox_full_ = false;
     }
     // hid_write may wait for the interrupt OUT transfer; only this thread waits.
-    if (hid_write(device_, report.data(), report.size()) < 0) {
+    if (hid_write(writer_device_, report.data(), report.size()) < 0) {
       std::lock_guard lock(mutex_);
       failed_ = true;
     }

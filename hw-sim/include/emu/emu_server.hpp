@@ -3,7 +3,10 @@
 // transport"): a listening Unix-domain SOCK_SEQPACKET socket, up to kMaxClients connections
 // (like several programs opening one hidraw node: each gets every IN report, any may send),
 // frames decoded and handed to a Handler. Never blocks: a client that does not read loses IN
-// reports, as a USB host that does not poll would.
+// reports, as a USB host that does not poll would. A control reply is never lost that way: if
+// the client's queue is full it is kept and sent first at the next poll (endpoint 0 does not
+// queue behind interrupt IN), and that client gets no IN report and no new request is taken
+// from it until it went out.
 #include <array>
 #include <cstdint>
 #include <memory>
@@ -64,6 +67,8 @@ class EmuServer {
   void serve(size_t slot);
   void close_client(size_t slot);
   bool send_frame(int fd, const cbx_emu_frame& frame);
+  // Sends a held-back control reply; false while the client's queue is still full.
+  bool flush_reply(size_t slot);
 
   int listen_fd_;
   std::string path_;
@@ -73,6 +78,7 @@ class EmuServer {
   std::vector<uint8_t> rx_;
   std::vector<uint8_t> tx_;
   std::vector<uint8_t> reply_;
+  std::array<std::vector<uint8_t>, kMaxClients> held_reply_;  // encoded, waiting for queue space
 };
 
 }  // namespace cathbox::emu

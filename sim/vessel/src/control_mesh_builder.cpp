@@ -123,6 +123,7 @@ class Builder {
     }
     trims_.assign(2 * model_.segments.size(), 0.0);
     if (options_.trim_at_junctions) compute_trims();
+    reserve_mesh();
     place_rings();
     propagate_frames();
     emit_vertices();
@@ -200,6 +201,30 @@ class Builder {
       trims_[2 * e.segment + (e.at_end ? 1 : 0)] = d[i];
     }
     return clear;
+  }
+
+  // Sizes known up front (junction patches estimated by M faces per incident ring), so the
+  // mesh arrays are allocated once instead of growing.
+  void reserve_mesh() {
+    const std::size_t m = static_cast<std::size_t>(m_);
+    const std::size_t points = model_.point_count();
+    const std::size_t caps = options_.caps ? graph_.free_ends().size() : 0;
+    std::size_t junction_ends = 0;
+    for (const Junction& junction : graph_.junctions()) junction_ends += junction.ends.size();
+    const std::size_t faces = (points - model_.segments.size() + caps + junction_ends) * m + caps;
+    mesh_.rings.reserve(points);
+    mesh_.segment_first_ring.reserve(model_.segments.size() + 1);
+    mesh_.positions_mm.reserve((points + caps) * m);
+    mesh_.face_sizes.reserve(faces);
+    mesh_.face_regions.reserve(faces);
+    mesh_.face_vertices.reserve(4 * faces);
+    ring_cos_.resize(m);
+    ring_sin_.resize(m);
+    for (int k = 0; k < m_; ++k) {
+      const double angle = 2.0 * kPi * k / m_;
+      ring_cos_[static_cast<std::size_t>(k)] = std::cos(angle);
+      ring_sin_[static_cast<std::size_t>(k)] = std::sin(angle);
+    }
   }
 
   void place_rings() {
@@ -328,9 +353,8 @@ class Builder {
   std::uint32_t add_ring_vertices(const glm::dvec3& center, const glm::dvec3& normal, const glm::dvec3& binormal,
                                   double radius) {
     const auto first = static_cast<std::uint32_t>(mesh_.positions_mm.size());
-    for (int m = 0; m < m_; ++m) {
-      const double angle = 2.0 * kPi * m / m_;
-      mesh_.positions_mm.push_back(center + radius * (std::cos(angle) * normal + std::sin(angle) * binormal));
+    for (std::size_t m = 0; m < ring_cos_.size(); ++m) {
+      mesh_.positions_mm.push_back(center + radius * (ring_cos_[m] * normal + ring_sin_[m] * binormal));
     }
     return first;
   }
@@ -419,6 +443,7 @@ class Builder {
   double ratio_ = 1.0;
   std::vector<Polyline> polylines_;
   std::vector<double> trims_;
+  std::vector<double> ring_cos_, ring_sin_;  // cos / sin(2 pi m / M)
   ControlMesh mesh_;
 };
 

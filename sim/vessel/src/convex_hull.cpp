@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_set>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -76,9 +76,11 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
   // Now i3 is below face (i0,i1,i2), so that face points outward.
   std::vector<std::array<int, 3>> faces = {{i0, i1, i2}, {i0, i3, i1}, {i1, i3, i2}, {i2, i3, i0}};
   std::vector<char> alive(faces.size(), 1);
+  faces.reserve(8 * static_cast<std::size_t>(n));
+  alive.reserve(faces.capacity());
 
   std::vector<std::size_t> visible;
-  std::unordered_set<std::uint64_t> visible_edges;
+  std::vector<std::uint64_t> visible_edges;  // sorted; a few dozen at most
   for (int p = 0; p < n; ++p) {
     if (p == i0 || p == i1 || p == i2 || p == i3) continue;
     visible.clear();
@@ -91,15 +93,16 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
     visible_edges.clear();
     for (std::size_t f : visible) {
       const auto& t = faces[f];
-      for (int e = 0; e < 3; ++e) visible_edges.insert(edge_key(t[e], t[(e + 1) % 3]));
+      for (int e = 0; e < 3; ++e) visible_edges.push_back(edge_key(t[e], t[(e + 1) % 3]));
     }
+    std::sort(visible_edges.begin(), visible_edges.end());
     for (std::size_t f : visible) {
       const auto t = faces[f];
       alive[f] = 0;
       for (int e = 0; e < 3; ++e) {
         const int a = t[e];
         const int b = t[(e + 1) % 3];
-        if (visible_edges.count(edge_key(b, a)) == 0) {
+        if (!std::binary_search(visible_edges.begin(), visible_edges.end(), edge_key(b, a))) {
           faces.push_back({a, b, p});
           alive.push_back(1);
         }

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <iterator>
 #include <unordered_map>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -51,18 +53,24 @@ class Pairing {
  public:
   Pairing(const std::vector<Triangle>& tris, const std::vector<glm::dvec3>& points, int ring_points)
       : tris_(tris), partner_(tris.size(), -1), nbs_(tris.size()) {
-    std::unordered_map<std::uint64_t, int> edge_tri;
+    // Directed edge -> triangle, sorted by edge (ties keep insertion order: the last one wins).
+    std::vector<std::pair<std::uint64_t, int>> edge_tri;
+    edge_tri.reserve(3 * tris.size());
     for (std::size_t t = 0; t < tris.size(); ++t) {
-      for (int e = 0; e < 3; ++e) edge_tri[edge_key(tris[t][e], tris[t][(e + 1) % 3])] = static_cast<int>(t);
+      for (int e = 0; e < 3; ++e) edge_tri.emplace_back(edge_key(tris[t][e], tris[t][(e + 1) % 3]), static_cast<int>(t));
     }
+    const auto by_edge = [](const std::pair<std::uint64_t, int>& x, const std::pair<std::uint64_t, int>& y) {
+      return x.first < y.first;
+    };
+    std::stable_sort(edge_tri.begin(), edge_tri.end(), by_edge);
     for (std::size_t t = 0; t < tris.size(); ++t) {
       for (int e = 0; e < 3; ++e) {
         const int a = tris[t][e];
         const int b = tris[t][(e + 1) % 3];
         if (a / ring_points == b / ring_points) continue;
-        const auto it = edge_tri.find(edge_key(b, a));
-        if (it == edge_tri.end()) continue;
-        nbs_[t].push_back({it->second, a, b, glm::length(points[static_cast<std::size_t>(a)] -
+        const auto it = std::upper_bound(edge_tri.begin(), edge_tri.end(), std::pair{edge_key(b, a), 0}, by_edge);
+        if (it == edge_tri.begin() || std::prev(it)->first != edge_key(b, a)) continue;
+        nbs_[t].push_back({std::prev(it)->second, a, b, glm::length(points[static_cast<std::size_t>(a)] -
                                                         points[static_cast<std::size_t>(b)])});
       }
     }

@@ -1,5 +1,6 @@
 #include "vessel/subdivision.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
@@ -67,120 +68,231 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
 // to `outward` when the direction is degenerate.
 [[nodiscard]] glm::vec3 oriented_normal(const glm::dvec3& n, const glm::dvec3& outward) {
   glm::dvec3 out = n;
-  double len = glm::length(out);
-  if (!(len > 1e-12 * std::max(1.0, glm::length(outward))) || !std::isfinite(len)) {
+  const double len2 = glm::dot(out, out);
+  double len = std::sqrt(len2);
+  const double outward2 = glm::dot(outward, outward);
+  // len > 1e-12 max(1, |outward|), decided without the second square root when clear-cut.
+  const bool usable = len2 > 1.000001e-24 * std::max(1.0, outward2) || len > 1e-12 * std::max(1.0, std::sqrt(outward2));
+  if (!usable || !std::isfinite(len)) {
     out = outward;
-    len = glm::length(out);
+    len = std::sqrt(outward2);
   } else if (glm::dot(out, outward) < 0.0) {
     out = -out;
   }
   return len > 0.0 ? glm::vec3(out / len) : glm::vec3(0.0f, 0.0f, 1.0f);
 }
 
-// Catmull-Clark limit positions and normals of the vertices of an all-quad level:
-//   interior vertex of valence n, edge neighbours e_i, face-diagonal vertices f_i (between e_i
-//   and e_i+1):  P = (n^2 v + 4 sum e_i + sum f_i) / (n (n + 5)),
-//   tangents t1/t2 = sum A_n c_i e_i + (c_i + c_i+1) f_i with c_i = cos(2 pi i / n) (resp. sin),
-//   A_n = 1 + cos(2 pi / n) + cos(pi / n) sqrt(2 (9 + cos(2 pi / n)))  (Halstead et al. 1993);
-//   boundary vertex (crease rule): P = (e_first + 4 v + e_last) / 6.
-void limit_by_masks(const std::vector<int>& quads, const Point* src, std::size_t nverts, SurfaceMesh& out) {
-  std::vector<std::uint32_t> offset(nverts + 1, 0);
-  for (int v : quads) ++offset[static_cast<std::size_t>(v) + 1];
-  for (std::size_t i = 0; i < nverts; ++i) offset[i + 1] += offset[i];
-  std::vector<std::uint32_t> corners(quads.size());
-  {
-    std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
-    for (std::size_t c = 0; c < quads.size(); ++c) corners[fill[static_cast<std::size_t>(quads[c])]++] = static_cast<std::uint32_t>(c);
-  }
-  const auto next_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 1) & 3u)]; };
-  const auto opp_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 2) & 3u)]; };
-  const auto prev_of = [&](std::uint32_t c) { return quads[(c & ~3u) | ((c + 3) & 3u)]; };
+// Catmull-Clark limit positions and normals of the vertices of level L (L >= 1), each computed
+// from its one-ring in level L (the limit masks), the one-ring read off level L-1's ordered
+// topology and the parent-to-child indices instead of building level L's neighbourhoods:
+//   interior vertex of valence n, edge neighbours e_i counter-clockwise seen from outside,
+//   face-diagonal vertices f_i (between e_i and e_i+1):
+//     P = (n^2 v + 4 sum e_i + sum f_i) / (n (n + 5)),
+//     tangents t1/t2 = sum A_n c_i e_i + (c_i + c_i+1) f_i with c_i = cos(2 pi i / n) (resp. sin),
+//     A_n = 1 + cos(2 pi / n) + cos(pi / n) sqrt(2 (9 + cos(2 pi / n)))  (Halstead et al. 1993);
+//   boundary vertex (crease rule), edge neighbours e_0..e_n from one boundary edge to the other:
+//     P = (e_0 + 4 v + e_n) / 6, normal from the corner faces.
+// Level L-1 must be manifold (the caller checks); its faces and vertex fans are oriented.
+class LimitMasks {
+ public:
+  LimitMasks(const Far::TopologyRefiner& refiner, int level, const Point* src, SurfaceMesh& out)
+      : parent_(refiner.GetLevel(level - 1)), src_(src), pos_(out.positions_mm.data()), nrm_(out.normals.data()) {}
 
-  std::vector<std::uint32_t> ring;
-  std::vector<double> cos_table, sin_table;
-  int table_n = 0;
-  double a_n = 0.0;
-  out.positions_mm.resize(nverts);
-  out.normals.resize(nverts);
-  for (std::size_t v = 0; v < nverts; ++v) {
-    const std::uint32_t* c = corners.data() + offset[v];
-    const std::size_t n = offset[v + 1] - offset[v];
-    const glm::dvec3 pv(src[v].p);
-    if (n == 0) {
-      out.positions_mm[v] = glm::vec3(pv);
-      out.normals[v] = glm::vec3(0.0f, 0.0f, 1.0f);
-      continue;
-    }
-    // Order the corners around v: the successor of corner a is the corner whose `next` is a's `prev`.
-    ring.assign(c, c + n);
-    std::size_t start = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      bool has_predecessor = false;
-      for (std::size_t j = 0; j < n && !has_predecessor; ++j) has_predecessor = prev_of(ring[j]) == next_of(ring[i]);
-      if (!has_predecessor) {
-        start = i;
-        break;
-      }
-    }
-    std::swap(ring[0], ring[start]);
-    bool closed = true;
-    for (std::size_t i = 0; i + 1 < n; ++i) {
-      const int want = prev_of(ring[i]);
-      std::size_t j = i + 1;
-      while (j < n && next_of(ring[j]) != want) ++j;
-      if (j == n) {
-        closed = false;  // broken fan (never for our meshes): keep the order found
-        break;
-      }
-      std::swap(ring[i + 1], ring[j]);
-    }
-    closed = closed && prev_of(ring[n - 1]) == next_of(ring[0]);
-    // Outward reference: the corner faces' normals (counter-clockwise faces); one is enough to
-    // orient the tangent cross product of an interior vertex.
-    glm::dvec3 face_normal(0.0);
-    for (std::size_t i = 0; i < (closed ? 1 : n); ++i) {
-      const glm::dvec3 a = glm::dvec3(src[next_of(ring[i])].p) - pv;
-      const glm::dvec3 b = glm::dvec3(src[prev_of(ring[i])].p) - pv;
-      face_normal += glm::cross(a, b);
-    }
-    if (!closed) {
-      const glm::dvec3 first(src[next_of(ring[0])].p);
-      const glm::dvec3 last(src[prev_of(ring[n - 1])].p);
-      out.positions_mm[v] = glm::vec3((first + 4.0 * pv + last) / 6.0);
-      out.normals[v] = oriented_normal(face_normal, face_normal);
-      continue;
-    }
-    const double dn = static_cast<double>(n);
-    if (static_cast<int>(n) != table_n) {
-      table_n = static_cast<int>(n);
-      cos_table.resize(n + 1);
-      sin_table.resize(n + 1);
-      for (std::size_t i = 0; i <= n; ++i) {
-        cos_table[i] = std::cos(2.0 * kPi * static_cast<double>(i) / dn);
-        sin_table[i] = std::sin(2.0 * kPi * static_cast<double>(i) / dn);
-      }
-      a_n = 1.0 + cos_table[1] + std::cos(kPi / dn) * std::sqrt(2.0 * (9.0 + cos_table[1]));
-    }
-    glm::dvec3 sum_e(0.0), sum_f(0.0), t1(0.0), t2(0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::dvec3 e(src[next_of(ring[i])].p);
-      const glm::dvec3 f(src[opp_of(ring[i])].p);
-      sum_e += e;
-      sum_f += f;
-      t1 += a_n * cos_table[i] * e + (cos_table[i] + cos_table[i + 1]) * f;
-      t2 += a_n * sin_table[i] * e + (sin_table[i] + sin_table[i + 1]) * f;
-    }
-    out.positions_mm[v] = glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0)));
-    out.normals[v] = oriented_normal(glm::cross(t1, t2), face_normal);
+  void run() {
+    for (int f = 0; f < parent_.GetNumFaces(); ++f) face_child(f);
+    for (int e = 0; e < parent_.GetNumEdges(); ++e) edge_child(e);
+    for (int v = 0; v < parent_.GetNumVertices(); ++v) vertex_child(v);
   }
+
+ private:
+  static constexpr int kTabulated = 64;  // valences with precomputed trigonometry
+  struct Trig {
+    std::array<double, kTabulated + 1> cos{}, sin{};
+    double a_n = 0.0;
+  };
+  static void fill_trig(int n, Trig& t) {
+    const double dn = static_cast<double>(n);
+    for (int i = 0; i <= n; ++i) {
+      t.cos[static_cast<std::size_t>(i)] = std::cos(2.0 * kPi * static_cast<double>(i) / dn);
+      t.sin[static_cast<std::size_t>(i)] = std::sin(2.0 * kPi * static_cast<double>(i) / dn);
+    }
+    t.a_n = 1.0 + t.cos[1] + std::cos(kPi / dn) * std::sqrt(2.0 * (9.0 + t.cos[1]));
+  }
+  static const Trig& trig(int n) {
+    static const std::array<Trig, kTabulated + 1> table = [] {
+      std::array<Trig, kTabulated + 1> t{};
+      for (int k = 1; k <= kTabulated; ++k) fill_trig(k, t[static_cast<std::size_t>(k)]);
+      return t;
+    }();
+    return table[static_cast<std::size_t>(n)];
+  }
+
+  [[nodiscard]] glm::dvec3 at(int v) const { return glm::dvec3(src_[v].p); }
+
+  // Interior vertex v of valence n: e[0..n-1], f[0..n-1] as above.
+  void closed(int v, const int* e, const int* f, int n) {
+    if (n == 4) {
+      closed4(v, e, f);
+    } else if (n > kTabulated) {
+      Trig local;
+      fill_trig(n, local);
+      closed_with(v, e, f, n, local);
+    } else {
+      closed_with(v, e, f, n, trig(n));
+    }
+  }
+
+  // Valence 4 (all but the extraordinary vertices): the masks with c_i = 1, 0, -1, 0 and A_4 = 4.
+  void closed4(int v, const int* e, const int* f) {
+    const glm::dvec3 pv = at(v);
+    const glm::dvec3 e0 = at(e[0]), e1 = at(e[1]), e2 = at(e[2]), e3 = at(e[3]);
+    const glm::dvec3 f0 = at(f[0]), f1 = at(f[1]), f2 = at(f[2]), f3 = at(f[3]);
+    pos_[v] = glm::vec3((16.0 * pv + 4.0 * (e0 + e1 + e2 + e3) + (f0 + f1 + f2 + f3)) / 36.0);
+    const glm::dvec3 t1 = 4.0 * (e0 - e2) + (f0 - f1) - (f2 - f3);
+    const glm::dvec3 t2 = 4.0 * (e1 - e3) + (f0 + f1) - (f2 + f3);
+    nrm_[v] = oriented_normal(glm::cross(t1, t2), glm::cross(e0 - pv, e1 - pv));
+  }
+
+  void closed_with(int v, const int* e, const int* f, int n, const Trig& t) {
+    const glm::dvec3 pv = at(v);
+    // Outward reference for the tangent cross product: the first corner face's normal.
+    const glm::dvec3 face_normal = glm::cross(at(e[0]) - pv, at(e[n > 1 ? 1 : 0]) - pv);
+    const double dn = static_cast<double>(n);
+    glm::dvec3 sum_e(0.0), sum_f(0.0), t1(0.0), t2(0.0);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) {
+      const glm::dvec3 ei = at(e[i]);
+      const glm::dvec3 fi = at(f[i]);
+      sum_e += ei;
+      sum_f += fi;
+      t1 += t.a_n * t.cos[i] * ei + (t.cos[i] + t.cos[i + 1]) * fi;
+      t2 += t.a_n * t.sin[i] * ei + (t.sin[i] + t.sin[i + 1]) * fi;
+    }
+    pos_[v] = glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0)));
+    nrm_[v] = oriented_normal(glm::cross(t1, t2), face_normal);
+  }
+
+  // Boundary vertex v with n corner faces: e[0..n] from one boundary neighbour to the other.
+  void open(int v, const int* e, int n) {
+    const glm::dvec3 pv = at(v);
+    glm::dvec3 face_normal(0.0);
+    for (int i = 0; i < n; ++i) face_normal += glm::cross(at(e[i]) - pv, at(e[i + 1]) - pv);
+    pos_[v] = glm::vec3((at(e[0]) + 4.0 * pv + at(e[n])) / 6.0);
+    nrm_[v] = oriented_normal(face_normal, face_normal);
+  }
+
+  [[nodiscard]] int vc(int v) const { return parent_.GetVertexChildVertex(v); }
+  [[nodiscard]] int ec(int e) const { return parent_.GetEdgeChildVertex(e); }
+  [[nodiscard]] int fc(int f) const { return parent_.GetFaceChildVertex(f); }
+
+  // The child of face F (n vertices v_k, edges from v_k to v_k+1): edge neighbours are the
+  // children of F's edges, the diagonals the children of its vertices.
+  void face_child(int face) {
+    const auto fv = parent_.GetFaceVertices(face);
+    const auto fe = parent_.GetFaceEdges(face);
+    const int n = fv.size();
+    reserve_scratch(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      e_[static_cast<std::size_t>(i)] = ec(fe[i]);
+      f_[static_cast<std::size_t>(i)] = vc(fv[i + 1 < n ? i + 1 : 0]);
+    }
+    closed(fc(face), e_.data(), f_.data(), n);
+  }
+
+  // The child of edge E = (a, b) as face F0 runs along it (F0 to its left, F1 to its right).
+  void edge_child(int edge) {
+    const auto faces = parent_.GetEdgeFaces(edge);
+    const auto local = parent_.GetEdgeFaceLocalIndices(edge);
+    const int v = ec(edge);
+    if (faces.size() == 0) {  // no faces (never in a valid mesh): stays where it is
+      pos_[v] = src_[v].p;
+      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      return;
+    }
+    const auto fv0 = parent_.GetFaceVertices(faces[0]);
+    const auto fe0 = parent_.GetFaceEdges(faces[0]);
+    const int n0 = fv0.size();
+    const int k = local[0];
+    const int a = vc(fv0[k]);
+    const int b = vc(fv0[(k + 1) % n0]);
+    if (faces.size() == 1) {
+      const int e[3] = {b, fc(faces[0]), a};
+      open(v, e, 2);
+      return;
+    }
+    const auto fe1 = parent_.GetFaceEdges(faces[1]);
+    const int n1 = fe1.size();
+    const int j = local[1];
+    const int e[4] = {b, fc(faces[0]), a, fc(faces[1])};
+    const int f[4] = {ec(fe0[(k + 1) % n0]), ec(fe0[(k + n0 - 1) % n0]), ec(fe1[(j + 1) % n1]),
+                      ec(fe1[(j + n1 - 1) % n1])};
+    closed4(v, e, f);
+  }
+
+  // The child of vertex V: one corner per face F around V, with V at F's local index k:
+  // next = child of F's edge k, diagonal = child of F, prev = child of F's edge k-1.
+  void vertex_child(int vertex) {
+    const auto faces = parent_.GetVertexFaces(vertex);
+    const auto local = parent_.GetVertexFaceLocalIndices(vertex);
+    const int v = vc(vertex);
+    const int n = faces.size();
+    if (n == 0) {
+      pos_[v] = src_[v].p;
+      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      return;
+    }
+    const auto un = static_cast<std::size_t>(n);
+    reserve_scratch(un);
+    for (int i = 0; i < n; ++i) {
+      const auto fe = parent_.GetFaceEdges(faces[i]);
+      const int k = local[i];
+      e_[static_cast<std::size_t>(i)] = ec(fe[k]);
+      f_[static_cast<std::size_t>(i)] = fc(faces[i]);
+      prev_[static_cast<std::size_t>(i)] = ec(fe[k > 0 ? k - 1 : fe.size() - 1]);
+    }
+    // The fan is ordered; turn it counter-clockwise (each corner's prev is the next one's next).
+    if (n > 1 && prev_[0] != e_[1]) {
+      std::reverse(e_.begin(), e_.begin() + n);
+      std::reverse(f_.begin(), f_.begin() + n);
+      std::reverse(prev_.begin(), prev_.begin() + n);
+    }
+    if (prev_[un - 1] == e_[0]) {
+      closed(v, e_.data(), f_.data(), n);
+    } else {
+      e_[un] = prev_[un - 1];
+      open(v, e_.data(), n);
+    }
+  }
+
+  // Scratch for n neighbours (+1 on open fans); only grows, so no allocation per vertex.
+  void reserve_scratch(std::size_t n) {
+    if (e_.size() <= n) {
+      e_.resize(n + 1);
+      f_.resize(n + 1);
+      prev_.resize(n + 1);
+    }
+  }
+
+  const Far::TopologyLevel& parent_;
+  const Point* src_;
+  glm::vec3* pos_;
+  glm::vec3* nrm_;
+  std::vector<int> e_, f_, prev_;  // scratch, reused
+};
+
+[[nodiscard]] bool is_manifold(const Far::TopologyLevel& level) {
+  for (int v = 0; v < level.GetNumVertices(); ++v)
+    if (level.IsVertexNonManifold(v)) return false;
+  for (int e = 0; e < level.GetNumEdges(); ++e)
+    if (level.IsEdgeNonManifold(e)) return false;
+  return true;
 }
 
-void limit_by_opensubdiv(const Far::PrimvarRefinerReal<float>& primvar, const Point* src, const std::vector<int>& quads,
-                         std::size_t nverts, SurfaceMesh& out) {
+void limit_by_opensubdiv(const Far::PrimvarRefinerReal<float>& primvar, const Point* src, const int* quads,
+                         std::size_t nfaces, std::size_t nverts, SurfaceMesh& out) {
   std::vector<Point> limit(nverts), du(nverts), dv(nverts);
   primvar.Limit(src, limit, du, dv);
   std::vector<glm::dvec3> face_normal(nverts, glm::dvec3(0.0));
-  for (std::size_t f = 0; f + 3 < quads.size(); f += 4) {
+  for (std::size_t f = 0; f < 4 * nfaces; f += 4) {
     for (std::size_t k = 0; k < 4; ++k) {
       const auto v = static_cast<std::size_t>(quads[f + k]);
       face_normal[v] += glm::dvec3(glm::cross(src[quads[f + (k + 1) % 4]].p - src[v].p, src[quads[f + (k + 3) % 4]].p - src[v].p));
@@ -249,8 +361,11 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     result.error = "OpenSubdiv rejected the control mesh topology";
     return result;
   }
+  // The limit masks read each vertex's neighbourhood off the previous level, which needs a
+  // manifold mesh (the control mesh builder makes one); anything else goes to OpenSubdiv's Limit.
+  if (method == LimitMethod::kMasks && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
   Far::TopologyRefiner::UniformOptions uniform(level);
-  // PrimvarRefiner::Limit needs the last level's neighbourhoods; the masks build their own.
+  // PrimvarRefiner::Limit needs the last level's neighbourhoods; the masks do not.
   uniform.fullTopologyInLastLevel = method == LimitMethod::kOpenSubdiv;
   refiner->RefineUniform(uniform);
 
@@ -266,18 +381,20 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   const Far::TopologyLevel& last = refiner->GetLevel(level);
   const auto nverts = static_cast<std::size_t>(last.GetNumVertices());
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
-  std::vector<int> quads(4 * nfaces);
-  for (std::size_t f = 0; f < nfaces; ++f) {
-    const auto fv = last.GetFaceVertices(static_cast<int>(f));
-    if (fv.size() != 4) {
-      result.error = "refined face is not a quad";
-      return result;
-    }
-    for (int k = 0; k < 4; ++k) quads[4 * f + static_cast<std::size_t>(k)] = fv[k];
+  // Catmull-Clark faces after one step are quads, stored one after the other.
+  const int* quads = last.GetFaceVertices(0).begin();
+  if (last.GetNumFaceVertices() != static_cast<int>(4 * nfaces)) {
+    result.error = "refined face is not a quad";
+    return result;
   }
   SurfaceMesh& out = result.mesh;
-  if (method == LimitMethod::kOpenSubdiv) limit_by_opensubdiv(primvar, src, quads, nverts, out);
-  else limit_by_masks(quads, src, nverts, out);
+  if (method == LimitMethod::kOpenSubdiv) {
+    limit_by_opensubdiv(primvar, src, quads, nfaces, nverts, out);
+  } else {
+    out.positions_mm.resize(nverts);
+    out.normals.resize(nverts);
+    LimitMasks(*refiner, level, src, out).run();
+  }
 
   // Triangles, each with the region of the control face it descends from.
   out.triangles.resize(6 * nfaces);
@@ -285,7 +402,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
     for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
-    split_quad(out, f, control.face_regions[static_cast<std::size_t>(face)], quads.data() + 4 * f);
+    split_quad(out, f, control.face_regions[static_cast<std::size_t>(face)], quads + 4 * f);
   }
   return result;
 }

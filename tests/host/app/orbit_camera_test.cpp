@@ -73,3 +73,26 @@ TEST(EndoCamera, LooksAlongTheTipDirectionFromJustAheadOfTheTip) {
 
 }  // namespace
 }  // namespace cathbox::app
+
+namespace cathbox::app {
+namespace {
+
+TEST(OrbitCamera, PickingRaysPassThroughWhatThePixelShows) {
+  OrbitCamera cam;
+  cam.frame(glm::vec3(-20.0F, -5.0F, 0.0F), glm::vec3(30.0F, 5.0F, 80.0F));
+  cam.orbit(37.0F, -21.0F);
+  const float w = 800.0F;
+  const float h = 600.0F;
+  const glm::vec3 centre_dir = cam.ray_through(w / 2, h / 2, w, h);
+  EXPECT_NEAR(glm::dot(centre_dir, glm::normalize(cam.target_mm - cam.eye_mm())), 1.0F, 1e-5F);
+  const glm::mat4 vp = cam.projection(w / h) * cam.view();
+  const glm::vec3 p{12.0F, 3.0F, 55.0F};
+  const glm::vec3 ndc = to_ndc(vp, p);
+  const glm::vec3 dir = cam.ray_through((ndc.x * 0.5F + 0.5F) * w, (0.5F - ndc.y * 0.5F) * h, w, h);
+  const glm::vec3 to_p = p - cam.eye_mm();
+  const float miss = glm::length(to_p - glm::dot(to_p, dir) * dir);
+  EXPECT_LT(miss, 1e-3F);
+}
+
+}  // namespace
+}  // namespace cathbox::app

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -60,12 +61,17 @@ TEST(ScriptedHand, BacksOffAndTurnsWhenTheForceRises) {
   EXPECT_NEAR(c.rotation_rad, 1.5707963, 1e-6);
 }
 
-TEST(ScriptedHand, BacksOffWhenTheTipMakesNoProgress) {
+TEST(ScriptedHand, BacksOffWhenTheTipMakesNoProgressAndGivesUpAfterFruitlessTries) {
   ScriptedHand hand({{0, 0, 0}, {100, 0, 0}}, 500.0);
   for (int i = 0; i < 999; ++i) (void)hand.step(0.001, tip_at({2, 0, 0}));
   EXPECT_EQ(hand.retries(), 0);
   for (int i = 0; i < 5; ++i) (void)hand.step(0.001, tip_at({2, 0, 0}));
   EXPECT_EQ(hand.retries(), 1);
+  EXPECT_FALSE(hand.gave_up());
+  // The tip never gets past x = 2: after 9 tries in a row that end no further, it stops.
+  for (int i = 0; i < 30000 && !hand.gave_up(); ++i) (void)hand.step(0.001, tip_at({2, 0, 0}));
+  EXPECT_TRUE(hand.gave_up());
+  EXPECT_EQ(hand.retries(), 10);
 }
 
 // A kinematic toy: a trunk along +X splits at x = 20 into a branch up (+Z) and one down (-Z);
@@ -99,6 +105,30 @@ TEST(ScriptedHand, SteersAKinematicTipIntoTheTargetBranch) {
   }
   EXPECT_EQ(branch, -1);
   EXPECT_LT(glm::distance(tip, path.back()), 1.0F);
+}
+
+}  // namespace
+}  // namespace cathbox::app
+
+namespace cathbox::app {
+namespace {
+
+// A hairpin: out along +X, back along -X 2 mm beside. A tip still on the way out but close to
+// the way back must not make the hand believe it has gone round.
+TEST(ScriptedHand, ProgressFollowsThePathAndDoesNotJumpAcrossAHairpin) {
+  std::vector<glm::vec3> path;
+  for (int i = 0; i <= 10; ++i) path.emplace_back(static_cast<float>(i), 0.0F, 0.0F);
+  for (int i = 0; i <= 10; ++i) path.emplace_back(10.0F - static_cast<float>(i), 0.0F, 2.0F);
+  ScriptedHand hand(path, 500.0);
+  HandObservation seen;
+  seen.tip_direction = {1, 0, 0};
+  seen.tip_bend = {0, 1, 0};
+  for (int i = 0; i <= 400; ++i) {  // the tip moves from x = 0 to x = 8 on the way out...
+    const float z = std::min(1.1F, 0.01F * static_cast<float>(i));  // ...drifting nearer the way back
+    seen.tip_mm = {0.02F * static_cast<float>(i), 0.0F, z};
+    (void)hand.step(0.001, seen);
+  }
+  EXPECT_NEAR(hand.progress_mm(), 8.0, 0.2);
 }
 
 }  // namespace

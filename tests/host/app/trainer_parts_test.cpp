@@ -16,14 +16,20 @@ TEST(CaseCatalog, ListsCaseFilesSortedAndPicksTheDefault) {
   const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "case_catalog_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "sub.hclm");
-  for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt"}) std::ofstream(dir / f) << "x";
+  for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt", "neuro_x.case"}) {
+    std::ofstream(dir / f) << "x";
+  }
   std::string error;
-  const std::vector<std::string> ext = {".hclm"};
+  const std::vector<std::string> ext = {".hclm", ".case"};
   const CaseCatalog c = CaseCatalog::scan(dir.string(), ext, error);
-  ASSERT_EQ(c.entries().size(), 3U) << error;
+  ASSERT_EQ(c.entries().size(), 4U) << error;
   EXPECT_EQ(c.entries()[0].name, "alpha.hclm");
-  EXPECT_EQ(c.entries()[2].name, "zeta.hclm");
+  EXPECT_EQ(c.entries()[1].name, "neuro_l2.hclm");
+  EXPECT_EQ(c.entries()[2].name, "neuro_x.case");
+  EXPECT_EQ(c.entries()[3].name, "zeta.hclm");
   EXPECT_EQ(c.default_index("neuro"), 1);
+  EXPECT_EQ(c.default_index("neuro", ".case"), 2);
+  EXPECT_EQ(c.default_index("zeta", ".case"), 3);  // no case file: the vessel file
   EXPECT_EQ(c.default_index("absent"), 0);
 }
 

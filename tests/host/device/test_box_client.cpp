@@ -32,6 +32,7 @@ struct FakeBox {
   std::vector<Report> out;
   unsigned info_version = 1;
   bool gone = false;
+  bool refuse_set = false;  // SET_REPORT stalls (a box that no longer takes the session's settings)
   int opens = 0;
 };
 
@@ -64,7 +65,10 @@ class FakeTransport final : public Transport {
     }
     return Ok{};
   }
-  Status set_feature(const Report&) override { return Ok{}; }
+  Status set_feature(const Report&) override {
+    if (box_.refuse_set) return make_error(Errc::kStall, "stall");
+    return Ok{};
+  }
   std::string describe() const override { return "fake"; }
 
  private:
@@ -163,6 +167,44 @@ TEST(BoxClient, ReconnectsThroughItsOpenerAndResendsTheLastCommand) {
   cbx_command_report back;
   ASSERT_EQ(cbx_command_decode(box.out[0].data(), kReportSize, &back), CBX_OK);
   EXPECT_EQ(back.header.seq, 1);  // the sequence continues (the undelivered send used none)
+}
+
+TEST(BoxClient, AFailedSessionRestoreWaitsTheReconnectIntervalAndKeepsTheOutageStart) {
+  FakeBox box;
+  FakeClock clock;
+  auto client = std::move(BoxClient::connect(opener(box), clock).value());
+  cbx_limits limits{};
+  limits.max_force_mN = 1000;
+  limits.max_torque_uNm = 1000;
+  limits.watchdog_timeout_ms = 50;
+  limits.insertion_max_current_mA = 1000;
+  limits.rotation_max_current_mA = 1000;
+  limits.force_slew_mN_per_ms = 10;
+  limits.torque_slew_uNm_per_ms = 10;
+  ASSERT_TRUE(client->set_limits(limits).ok());
+  box.gone = true;
+  BoxState state;
+  EXPECT_FALSE(client->poll(state));
+  ASSERT_EQ(client->link(), Link::kDown);
+  const int opens_before = box.opens;
+  // The box is back but refuses the session's limits: 1 s of polls at 1 kHz.
+  box.gone = false;
+  box.refuse_set = true;
+  for (int i = 0; i < 1000; ++i) {
+    clock.t += 1000;
+    EXPECT_FALSE(client->poll(state));
+  }
+  EXPECT_LE(box.opens - opens_before, 21) << "one attempt per reconnect interval (50 ms), not one per poll";
+  EXPECT_EQ(client->stats().disconnects, 1u);
+  // It takes the limits again: the outage is measured from the first loss of the link.
+  box.refuse_set = false;
+  for (int i = 0; i < 60 && client->link() == Link::kDown; ++i) {
+    clock.t += 1000;
+    (void)client->poll(state);
+  }
+  ASSERT_EQ(client->link(), Link::kUp);
+  EXPECT_EQ(client->stats().reconnects, 1u);
+  EXPECT_GE(client->stats().last_reconnect_us, 1'000'000u);
 }
 
 }  // namespace

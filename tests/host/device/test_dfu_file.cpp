@@ -108,7 +108,10 @@ TEST(DfuseLayout, ReadOnlyRegionsAreNotCovered) {
 
 TEST(DfuseLayout, RefusesMalformedStrings) {
   for (const char* bad : {"", "Internal", "@Flash", "@Flash /0x08000000", "@Flash /0x08000000/04016Kg",
-                          "@Flash /0x08000000/04*016Kz", "@Flash /0x08000000/00*016Kg", "@Flash /0xFFFFFFFF/02*016Kg"}) {
+                          "@Flash /0x08000000/04*016Kz", "@Flash /0x08000000/00*016Kg", "@Flash /0xFFFFFFFF/02*016Kg",
+                          // sizes whose K/M multiple wraps 64 bits (to 1 MiB, to 0) or overflows strtoull
+                          "@Flash /0x08000000/01*18014398509481985Mg", "@Flash /0x08000000/01*18014398509481984Mg",
+                          "@Flash /0x08000000/01*99999999999999999999Kg"}) {
     auto layout = DfuseLayout::parse(bad);
     EXPECT_FALSE(layout.ok()) << bad;
   }

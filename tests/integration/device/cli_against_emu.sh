@@ -32,13 +32,51 @@ expect() {
 }
 
 cb="$bin/cathbox"
+
+# expect_json COMMAND...: exit code 0 and stdout is nothing but valid JSON (parsed by jq).
+expect_json() {
+  local out rc
+  out=$("$@" 2>/dev/null)
+  rc=$?
+  if [ "$rc" -ne 0 ] || [ -z "$out" ] || ! jq -e . >/dev/null 2>&1 <<<"$out"; then
+    echo "FAIL: $* -> rc $rc, not valid JSON:"
+    echo "$out" | head -5
+    failures=$((failures + 1))
+  else
+    echo "ok:   $* -> valid JSON"
+  fi
+}
 expect 0 "emulator" -- "$cb" list --emu "$sock"
 expect 0 '"board":"cathbox-emu"' -- "$cb" info --emu "$sock" --json
 expect 0 "calibration  108650 counts/m" -- "$cb" info --emu "$sock"
 expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5 --rate 4
 expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
+expect_json "$cb" list --emu "$sock" --json
+expect_json "$cb" info --emu "$sock" --json
+expect_json "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
+# One line per period and the last at the end of --duration, even when it is shorter than a period
+# (counted on stdout and stderr: on a loaded machine a slot may say "no state from the box").
+lines=$("$cb" monitor --emu "$sock" --json --duration 1 --rate 4 2>&1 | wc -l)
+short=$("$cb" monitor --emu "$sock" --json --duration 0.05 2>&1 | wc -l)
+if [ "$lines" -eq 4 ] && [ "$short" -eq 1 ]; then
+  echo "ok:   monitor printed 4 lines in 1 s at 4 Hz, 1 line in 0.05 s"
+else
+  echo "FAIL: monitor printed $lines lines in 1 s at 4 Hz (want 4), $short in 0.05 s (want 1)"
+  failures=$((failures + 1))
+fi
+expect_json "$cb" selftest --emu "$sock" --json
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
+# cathbox-emu refuses a bad option value with one line instead of running with 0 (an E-stop at
+# once, seed 0, no delay); the trailing --duration bounds the run if it did not.
+expect 2 "option --estop-after: bad value 'soon'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --estop-after soon --duration 0.01
+expect 2 "option --seed: bad value '12x'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --seed 12x --duration 0.01
+expect 2 "option --delay: bad value '0.1:2ms'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --delay 0.1:2ms --duration 0.01
+expect 2 "option --wire-version: bad value '2b'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --wire-version 2b --duration 0.01
+expect 2 "option --duration: bad value 'abc'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --duration abc
+expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration -1
+expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration 1e300
+expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --timeout -5
 
 # A firmware binary: vector table (SP in SRAM, Thumb reset vector in flash) and a body.
 { printf '\x00\x80\x00\x20\x01\x02\x00\x08'; head -c 24576 /dev/urandom; } > "$dir/fw.bin"

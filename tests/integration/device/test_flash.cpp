@@ -8,6 +8,7 @@
 #include "device/dfu_file.hpp"
 #include "device/flasher.hpp"
 #include "device/socket_transport.hpp"
+#include "protocol/cbx_usb_requests.h"
 #include "emu_world.hpp"
 
 namespace cathbox::testing {
@@ -78,6 +79,56 @@ class FlakyControl final : public device::ControlTransfer {
   device::ControlTransfer& inner_;
   int budget_;
 };
+
+// Watches every DFU GETSTATUS: none may come before the bwPollTimeout of the previous answer
+// that said dfuDNBUSY (DFU 1.1), and busy states are not polled in a spin.
+class PollTimeoutWatch final : public device::ControlTransfer {
+ public:
+  PollTimeoutWatch(device::ControlTransfer& inner, device::Clock& clock) : inner_(inner), clock_(clock) {}
+  device::Status control_out(const device::UsbSetup& s, std::span<const uint8_t> d) override { return inner_.control_out(s, d); }
+  device::Result<size_t> control_in(const device::UsbSetup& s, std::span<uint8_t> in) override {
+    const uint64_t asked_us = clock_.now_us();
+    auto got = inner_.control_in(s, in);
+    if (s.request != CBX_DFU_GETSTATUS || !got || got.value() != CBX_DFU_STATUS_SIZE) return got;
+    ++statuses;
+    if (asked_us < not_before_us) ++early;
+    const uint32_t poll_ms = static_cast<uint32_t>(in[1] | (in[2] << 8) | (in[3] << 16));
+    busy_ms += in[4] == CBX_DFU_DNBUSY ? poll_ms : 0u;
+    not_before_us = in[4] == CBX_DFU_DNBUSY ? clock_.now_us() + uint64_t{poll_ms} * 1000u : 0u;
+    return got;
+  }
+  device::Result<std::string> alt_name(uint8_t alt) override { return inner_.alt_name(alt); }
+  void delay(uint64_t us) override { inner_.delay(us); }
+  std::string describe() const override { return inner_.describe(); }
+
+  int statuses = 0;
+  int early = 0;
+  uint64_t busy_ms = 0;
+
+ private:
+  device::ControlTransfer& inner_;
+  device::Clock& clock_;
+  uint64_t not_before_us = 0;
+};
+
+TEST(Flash, GetStatusHonoursBwPollTimeout) {
+  EmuWorld world;
+  const DfuImage image = make_image(40 * 1024);  // sectors 0..2: 250 + 250 + 250 ms of erase
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  PollTimeoutWatch watch(*dfu, world);
+  const uint64_t start = world.now_us();
+  auto done = Flasher::flash(watch, image, {}, {});
+  ASSERT_TRUE(done.ok()) << done.error().message;
+  EXPECT_EQ(watch.early, 0) << "GETSTATUS sent before bwPollTimeout ran out";
+  EXPECT_GE(watch.busy_ms, 750u);
+  EXPECT_GE(world.now_us() - start, watch.busy_ms * 1000u);
+  // Per operation: the status that starts it, at most a few while busy, the one that ends it.
+  const int operations = 3 + 20 * 2;  // 3 erases, 20 blocks of 2 KiB each with its set-address
+  EXPECT_LE(watch.statuses, operations * 3 + 10) << "busy states polled in a spin";
+  std::printf("%d GETSTATUS for %d DfuSe operations, %llu ms busy announced\n", watch.statuses, operations,
+              static_cast<unsigned long long>(watch.busy_ms));
+}
 
 TEST(Flash, GoodImageFlashesVerifiesAndTheBoxComesBack) {
   EmuWorld world;

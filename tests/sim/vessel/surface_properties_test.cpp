@@ -320,5 +320,25 @@ TEST(SurfaceProperties, LimitMasksAgreeWithOpenSubdivLimit) {
   }
 }
 
+TEST(SurfaceProperties, NonManifoldControlMeshFallsBackToOpenSubdivLimit) {
+  // Two quads sharing only a corner: the one-ring masks need manifold fans, so subdivide must
+  // hand this to PrimvarRefiner::Limit and give exactly what kOpenSubdiv gives.
+  ControlMesh bowtie;
+  bowtie.ring_points = 4;
+  bowtie.positions_mm = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 0, 0.5}, {-1, -1, 0.5}, {0, -1, 0.5}};
+  bowtie.face_sizes = {4, 4};
+  bowtie.face_vertices = {0, 1, 2, 3, 0, 4, 5, 6};
+  bowtie.face_regions = {FaceRegion{RegionKind::kSegment, 1}, FaceRegion{RegionKind::kSegment, 2}};
+  const SurfaceMeshResult masks = subdivide(bowtie, 2, LimitMethod::kMasks);
+  const SurfaceMeshResult reference = subdivide(bowtie, 2, LimitMethod::kOpenSubdiv);
+  ASSERT_TRUE(masks.ok()) << masks.error;
+  ASSERT_TRUE(reference.ok()) << reference.error;
+  EXPECT_EQ(masks.mesh.triangle_count(), 64u);  // 2 quads x 16 x 2
+  EXPECT_EQ(masks.mesh.positions_mm, reference.mesh.positions_mm);
+  EXPECT_EQ(masks.mesh.normals, reference.mesh.normals);
+  EXPECT_EQ(masks.mesh.triangles, reference.mesh.triangles);
+  for (const glm::vec3& n : masks.mesh.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+}
+
 }  // namespace
 }  // namespace cathbox::vessel

@@ -1,6 +1,7 @@
 #pragma once
 // The case picker's list: the case files in a folder (by extension), sorted by name, with the
-// default case (the first whose name contains `preferred`, else the first).
+// default case (the first whose name contains `preferred`, one with `preferred_extension`
+// first; else the first of all).
 #include <span>
 #include <string>
 #include <vector>
@@ -21,7 +22,7 @@ class CaseCatalog {
 
   [[nodiscard]] const std::vector<CaseEntry>& entries() const { return entries_; }
   // Index of the default case, or -1 when the catalog is empty.
-  [[nodiscard]] int default_index(const std::string& preferred) const;
+  [[nodiscard]] int default_index(const std::string& preferred, const std::string& preferred_extension = "") const;
 
  private:
   std::vector<CaseEntry> entries_;

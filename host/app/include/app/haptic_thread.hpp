@@ -38,6 +38,8 @@ class HapticThread {
   [[nodiscard]] std::int64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   // Ticks per second of clock time, over the last half second.
   [[nodiscard]] double rate_hz() const { return rate_hz_.load(std::memory_order_relaxed); }
+  // CPU time the loop's thread has used (updated every 100 ticks).
+  [[nodiscard]] std::int64_t cpu_time_us() const { return cpu_us_.load(std::memory_order_relaxed); }
   // The scheduling the started thread obtained (kNormal before start()).
   [[nodiscard]] HapticScheduling scheduling() const { return scheduling_.load(std::memory_order_relaxed); }
 
@@ -52,6 +54,7 @@ class HapticThread {
   std::atomic<std::int64_t> ticks_{0};
   std::atomic<std::int64_t> dropped_{0};
   std::atomic<double> rate_hz_{0.0};
+  std::atomic<std::int64_t> cpu_us_{0};
   std::atomic<HapticScheduling> scheduling_{HapticScheduling::kNormal};
 };
 

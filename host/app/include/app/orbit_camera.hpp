@@ -18,6 +18,9 @@ class OrbitCamera {
   [[nodiscard]] glm::vec3 eye_mm() const;
   [[nodiscard]] glm::mat4 view() const;
   [[nodiscard]] glm::mat4 projection(float aspect) const;
+  // The ray from the eye through a pixel of a view of the given size (origin at its top left):
+  // for picking. Returns the unit direction; the origin is eye_mm().
+  [[nodiscard]] glm::vec3 ray_through(float x_px, float y_px, float width_px, float height_px) const;
 
   glm::vec3 target_mm{0.0F};
   float distance_mm = 100.0F;

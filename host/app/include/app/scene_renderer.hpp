@@ -22,7 +22,7 @@ namespace cathbox::app {
 
 struct RenderSettings {
   bool wireframe = false;
-  float vessel_alpha = 0.3F;
+  float vessel_alpha = 0.35F;
   // Tools are drawn at least this thick in the global view so a 0.36 mm wire stays visible.
   float min_tool_radius_mm = 0.6F;
 };
@@ -86,6 +86,8 @@ class SceneRenderer {
   std::size_t last_local_triangles_ = 0;
   GpuMesh target_;
   bool has_target_ = false;
+  glm::vec3 target_mm_{0.0F};
+  float target_radius_mm_ = 0.0F;
   GpuMesh contacts_;  // a small octahedron at every wall contact
   std::vector<glm::vec3> contact_positions_;
   std::vector<glm::vec3> contact_normals_;

@@ -34,6 +34,7 @@ struct ScriptedHandSettings {
   double min_progress_mm = 0.5;
   double back_off_mm = 6.0;
   double back_off_turn_rad = 1.5707963;
+  int max_fruitless_retries = 8;       // retries in a row that end no further along the path
   // +1 when a positive proximal rotation turns the tip's bend positively about the distal
   // direction (right hand); -1 for the opposite convention.
   double rotation_sign = 1.0;
@@ -52,6 +53,8 @@ class ScriptedHand {
   [[nodiscard]] double path_length_mm() const { return cumulative_.empty() ? 0.0 : cumulative_.back(); }
   [[nodiscard]] bool backing_off() const { return back_off_left_mm_ > 0.0 || turn_left_rad_ > 0.0; }
   [[nodiscard]] int retries() const { return retries_; }
+  // Tried `max_fruitless_retries` times in a row without getting further: a trainee would stop.
+  [[nodiscard]] bool gave_up() const { return fruitless_retries_ > s_.max_fruitless_retries; }
   [[nodiscard]] glm::vec3 point_at(double s_mm) const;
 
  private:
@@ -68,6 +71,8 @@ class ScriptedHand {
   double back_off_left_mm_ = 0.0;
   double turn_left_rad_ = 0.0;
   int retries_ = 0;
+  int fruitless_retries_ = 0;
+  double progress_at_last_retry_mm_ = -1.0;
   bool started_ = false;
 };
 

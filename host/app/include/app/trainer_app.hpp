@@ -51,6 +51,8 @@ class TrainerApp {
   double last_mouse_x_ = 0.0;
   double last_mouse_y_ = 0.0;
   bool tab_down_ = false;
+  bool left_down_ = false;
+  double last_click_s_ = -1.0;
   bool f_down_ = false;
   bool c_down_ = false;
 };

@@ -50,6 +50,9 @@ class TrainerSession {
   [[nodiscard]] virtual std::string device_status() const = 0;
   [[nodiscard]] virtual std::string active_tool_name() const = 0;
   [[nodiscard]] virtual HandSource hand() const = 0;
+  // The first point of the vessel wall along a ray (the collision tree's ray cast), for
+  // picking in the global view; safe from the render thread.
+  [[nodiscard]] virtual std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const = 0;
 
   // Real time: the haptic thread at 1 kHz against the steady clock.
   virtual void start() = 0;
@@ -61,6 +64,7 @@ class TrainerSession {
   virtual void end_run() = 0;
   [[nodiscard]] virtual double haptic_rate_hz() const = 0;
   [[nodiscard]] virtual std::int64_t haptic_ticks() const = 0;
+  [[nodiscard]] virtual std::int64_t haptic_cpu_time_us() const = 0;
   // How the real-time haptic thread is scheduled ("real-time (SCHED_FIFO)", "normal", ...).
   [[nodiscard]] virtual std::string haptic_scheduling() const = 0;
 

@@ -15,6 +15,10 @@
 
 namespace cathbox::cli {
 
+// The longest --duration / --timeout a command takes (one day): beyond it, or at or below
+// zero, the option is bad input (the microsecond count must fit a uint64_t).
+inline constexpr double kMaxSeconds = 86'400.0;
+
 // The exit code for a device error (host/cli/README.md).
 [[nodiscard]] int exit_code(device::Errc code);
 // Prints "cathbox GROUP: MESSAGE" on stderr and returns the exit code.

@@ -1,5 +1,6 @@
 // `cathbox monitor`: live encoder counts, mm and degrees, velocities, rendered output, currents,
 // status and faults, and the state report rate. Reads only: it sends no commands.
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 
@@ -21,6 +22,9 @@ int run_monitor(std::span<const std::string> argv) {
   if (!args.positionals().empty()) return fail_usage("monitor", "takes no arguments");
   const double rate = rate_hz.value_or(10.0);
   if (rate <= 0 || rate > 1000) return fail_usage("monitor", "--rate must be in (0, 1000] Hz");
+  if (duration_s && (*duration_s <= 0 || *duration_s > kMaxSeconds)) {
+    return fail_usage("monitor", "--duration must be in (0, " + std::to_string(static_cast<int>(kMaxSeconds)) + "] s");
+  }
   int code = 0;
   auto session = open_box("monitor", args, code);
   if (!session) return code;
@@ -37,7 +41,10 @@ int run_monitor(std::span<const std::string> argv) {
   const uint64_t start = clock.now_us();
   const uint64_t end = duration_s ? start + static_cast<uint64_t>(*duration_s * 1e6) : UINT64_MAX;
   const auto period = static_cast<uint64_t>(1e6 / rate);
-  uint64_t next_print = start + period;
+  // One line per period, and the last one at the end of --duration (also when it is shorter
+  // than a period). The rate is over the time since the previous line.
+  uint64_t next_print = std::min(start + period, end);
+  uint64_t last_print = start;
   uint64_t accepted_at_last = box.stats().states_accepted;
   device::BoxState state;
   bool have_state = false;
@@ -45,15 +52,17 @@ int run_monitor(std::span<const std::string> argv) {
     std::printf("%7s  %10s %9s %9s %7s  %10s %9s %9s %9s  %6s %6s  %-28s %-12s %6s\n", "t s", "ins count", "mm", "mm/s",
                 "mN", "rot count", "deg", "deg/s", "uN*m", "I1 mA", "I2 mA", "status", "faults", "Hz");
   }
-  while (interrupted == 0 && clock.now_us() < end) {
+  for (bool last = false; interrupted == 0 && !last;) {
     have_state = box.poll(state) || have_state;
     const uint64_t now = clock.now_us();
     if (now < next_print) {
       clock.wait(-1, 1000);
       continue;
     }
-    const double interval_s = (now - next_print + period) * 1e-6;
-    next_print += period;
+    last = next_print >= end;
+    next_print = std::min(next_print + period, end);
+    const double interval_s = std::max<uint64_t>(now - last_print, 1) * 1e-6;
+    last_print = now;
     const uint64_t accepted = box.stats().states_accepted;
     const double hz = (accepted - accepted_at_last) / interval_s;
     accepted_at_last = accepted;

@@ -24,6 +24,9 @@ int run_selftest(std::span<const std::string> argv) {
   const auto timeout_s = args.number("timeout");
   if (!args.ok()) return fail_usage("selftest", args.error());
   if (!args.positionals().empty()) return fail_usage("selftest", "takes no arguments");
+  if (timeout_s && (*timeout_s <= 0 || *timeout_s > kMaxSeconds)) {
+    return fail_usage("selftest", "--timeout must be in (0, " + std::to_string(static_cast<int>(kMaxSeconds)) + "] s");
+  }
   int code = 0;
   auto session = open_box("selftest", args, code);
   if (!session) return code;

@@ -2,7 +2,10 @@
 // A real box over hidapi's hidraw backend (hidapi-hidraw), matched by the protocol's VID:PID.
 // Reads are non-blocking (hid_set_nonblocking); writes go through a one-slot mailbox to a writer
 // thread, because a hidraw write waits for its interrupt OUT transfer (up to a frame) and the
-// haptic thread must not. A newer command replaces one the writer has not sent yet.
+// haptic thread must not. A newer command replaces one the writer has not sent yet. The writer
+// has a handle of its own on the same hidraw node: hidapi keeps a per-handle error string that
+// every hid_read and hid_write frees and replaces, so one handle shared by two threads races
+// (a double free when the box is unplugged and both calls fail).
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -41,12 +44,13 @@ class HidapiTransport final : public Transport {
   [[nodiscard]] std::string describe() const override;
 
  private:
-  HidapiTransport(hid_device_* device, std::string path);
+  HidapiTransport(hid_device_* device, hid_device_* writer_device, std::string path);
   void writer_loop();
 
-  hid_device_* device_;
+  hid_device_* device_;         // reads and feature reports: the caller's thread only
+  hid_device_* writer_device_;  // interrupt OUT writes: the writer thread only
   std::string path_;
-  std::mutex mutex_;  // guards the mailbox, the failure flag and the device in feature calls
+  std::mutex mutex_;  // guards the mailbox and the failure flag
   std::condition_variable wake_;
   Report mailbox_{};
   bool mailbox_full_ = false;
