@@ -371,7 +371,7 @@ class HintCache {
       bool openable;
     };
     constexpr int kCap = QueryHint::kSlots;
-    Entry e[kCap];
+    Entry e[kCap];  // the cut
     // Children of wide node `parent` that may hold a triangle within the radius.
     auto children = [&](std::int32_t parent, Entry (&out)[4]) {
       const detail::WideNode& node = d.nodes[static_cast<std::size_t>(parent)];
@@ -387,25 +387,31 @@ class HintCache {
       }
       return k;
     };
-    Entry kids[4];
-    int n = children(0, kids);
-    std::copy(kids, kids + n, e);
-    for (;;) {
-      int pick = -1;
-      for (int i = 0; i < n; ++i) {
-        if (!e[i].openable) continue;
-        if (pick < 0 || e[i].lb < e[pick].lb || (e[i].lb == e[pick].lb && e[i].size > e[pick].size)) pick = i;
-      }
-      if (pick < 0) break;
-      const int k = children(e[pick].slot, kids);
-      if (n - 1 + k > kCap) {
-        e[pick].openable = false;
-      } else if (k == 0) {
-        e[pick] = e[--n];
+    // Subtrees still to open, nearest first (a binary heap), and the cut's final slots.
+    Entry open[kCap];
+    int n_open = 0;
+    int n = 0;
+    auto later = [](const Entry& x, const Entry& y) { return x.lb > y.lb || (x.lb == y.lb && x.size < y.size); };
+    auto add = [&](const Entry& x) {
+      if (x.openable) {
+        open[n_open++] = x;
+        std::push_heap(open, open + n_open, later);
       } else {
-        e[pick] = kids[0];
-        for (int i = 1; i < k; ++i) e[n++] = kids[i];
+        e[n++] = x;
       }
+    };
+    Entry kids[4];
+    const int roots = children(0, kids);
+    for (int i = 0; i < roots; ++i) add(kids[i]);
+    while (n_open > 0) {
+      std::pop_heap(open, open + n_open, later);
+      const Entry top = open[--n_open];
+      const int k = children(top.slot, kids);
+      if (n + n_open + k > kCap) {
+        e[n++] = top;  // no room to open it: it stays whole in the cut
+        continue;
+      }
+      for (int i = 0; i < k; ++i) add(kids[i]);
     }
     std::sort(e, e + n, [](const Entry& x, const Entry& y) { return x.lb < y.lb; });
     h.radius_mm_ = limit == kInfF ? kInf : radius;
