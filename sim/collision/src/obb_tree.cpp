@@ -415,6 +415,7 @@ class HintCache {
     }
     std::sort(e, e + n, [](const Entry& x, const Entry& y) { return x.lb < y.lb; });
     h.radius_mm_ = limit == kInfF ? kInf : radius;
+    h.clear_mm_ = 0.0;
     h.origin_mm_[0] = p.x;
     h.origin_mm_[1] = p.y;
     h.origin_mm_[2] = p.z;
@@ -472,8 +473,19 @@ class HintCache {
     best_first(s, pending);
   }
 
-  static void remember(QueryHint& h, const Nearest& s) {
+  // After an exact search at distance `moved` from the origin: the answer's leaf seeds the next
+  // search, and no triangle is nearer to the origin than the answer's distance (or the query's
+  // limit, when nothing was within it) minus `moved`.
+  static void remember(QueryHint& h, const Nearest& s, double moved) {
     h.seed_block_ = s.best_block ? static_cast<std::int32_t>(s.best_block - s.d.blocks.data()) : -1;
+    const double bound = s.bound();
+    if (std::isfinite(bound)) h.clear_mm_ = std::max(h.clear_mm_, bound - moved);
+  }
+
+  // True when the hint proves that no triangle lies within `reach` of a point `moved` from the
+  // origin (the margin absorbs rounding in the distances).
+  static bool clear_of(const QueryHint& h, double moved, double reach) {
+    return h.clear_mm_ - moved > reach * (1.0 + 1e-12) + 1e-12;
   }
 
   // Calls fn(block) for every leaf below the cut whose box lies within sqrt(thresh) of p.
@@ -669,6 +681,7 @@ void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, do
                 const Probe& probe) {
   if (HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm()) {
     HintCache::count_hit(hint);
+    if (HintCache::clear_of(hint, HintCache::moved(hint, centre), reach)) return;  // nothing in reach
   } else {
     HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
   }
@@ -721,10 +734,14 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
   bool searched = false;
   if (HintCache::usable(hint, d)) {
     const double delta = HintCache::moved(hint, point_mm);
+    if (HintCache::clear_of(hint, delta, max_distance_mm)) {  // the wall is out of reach
+      HintCache::count_hit(hint);
+      return std::nullopt;
+    }
     HintCache::search(hint, s, delta);
     if (s.bound() + delta <= hint.radius_mm()) {
       HintCache::count_hit(hint);
-      HintCache::remember(hint, s);
+      HintCache::remember(hint, s, delta);
       return finish_closest(s);
     }
     // s holds a real triangle's distance (or the limit): a cut around the point that covers it
@@ -739,7 +756,7 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
     search_tree(s);
     if (std::isfinite(s.bound())) HintCache::refill(d, point_mm, s.bound() + margin2, hint);
   }
-  HintCache::remember(hint, s);
+  HintCache::remember(hint, s, HintCache::moved(hint, point_mm));
   return finish_closest(s);
 }
 

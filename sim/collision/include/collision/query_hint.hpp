@@ -5,7 +5,8 @@
 // leaves, with copies of their boxes) that together hold every wall triangle within `radius` of
 // `origin`, the subtrees nearest to the origin opened deepest. A closest-point query also first
 // measures the leaf that held its previous answer, which gives a tight bound before any box is
-// opened. A cheap test (needed reach + distance moved <= radius) proves nothing outside the cut
+// opened, and the hint remembers how far the wall is known to be from the origin, so a node
+// out of a limited query's reach gets its empty answer at once. A cheap test (needed reach + distance moved <= radius) proves nothing outside the cut
 // can change the answer; otherwise the hint is refilled. Results are exactly those of the cold
 // queries. Keep one hint per tool node; queries never allocate. About 4.4 KB each.
 #include <cstdint>
@@ -24,7 +25,7 @@ class QueryHint {
   // unwritten instead of zeroing them.
   QueryHint() noexcept {}  // NOLINT(modernize-use-equals-default)
 
-  void reset() { radius_mm_ = -1.0; count_ = 0; tree_id_ = 0; seed_block_ = -1; }
+  void reset() { radius_mm_ = -1.0; count_ = 0; tree_id_ = 0; seed_block_ = -1; clear_mm_ = 0.0; }
   [[nodiscard]] bool valid() const { return radius_mm_ >= 0.0; }
   [[nodiscard]] int slot_count() const { return count_; }
   [[nodiscard]] double radius_mm() const { return radius_mm_; }
@@ -40,6 +41,7 @@ class QueryHint {
   std::uint64_t tree_id_ = 0;
   int count_ = 0;
   std::int32_t seed_block_ = -1;  // leaf block of the last closest-point answer, -1 none
+  double clear_mm_ = 0.0;  // no triangle is nearer than this to origin (learnt from answers)
   std::uint32_t hits_ = 0;
   std::uint32_t refills_ = 0;
   std::int32_t slot_[kSlots] = {};  // child slots of the tree (node index or leaf), nearest first
