@@ -82,6 +82,81 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
   return len > 0.0 ? glm::vec3(out / len) : glm::vec3(0.0f, 0.0f, 1.0f);
 }
 
+// The index in level L of the child vertex of a level L-1 vertex, face or edge.
+//  RefinerChildren: as the refiner recorded it (it refined level L itself).
+//  UniformChildren: as uniform refinement numbers them (Vtr::Refinement, vertices not ordered
+//  from faces first): the children of the vertices, then of the faces, then of the edges, each
+//  in parent order. A test checks that both give the same mesh.
+struct RefinerChildren {
+  const Far::TopologyLevel* parent;
+  [[nodiscard]] int vertex(int v) const { return parent->GetVertexChildVertex(v); }
+  [[nodiscard]] int face(int f) const { return parent->GetFaceChildVertex(f); }
+  [[nodiscard]] int edge(int e) const { return parent->GetEdgeChildVertex(e); }
+};
+struct UniformChildren {
+  int num_vertices = 0;
+  int num_faces = 0;
+  explicit UniformChildren(const Far::TopologyLevel& parent)
+      : num_vertices(parent.GetNumVertices()), num_faces(parent.GetNumFaces()) {}
+  [[nodiscard]] int vertex(int v) const { return v; }
+  [[nodiscard]] int face(int f) const { return num_vertices + f; }
+  [[nodiscard]] int edge(int e) const { return num_vertices + num_faces + e; }
+  [[nodiscard]] int total(const Far::TopologyLevel& parent) const { return num_vertices + num_faces + parent.GetNumEdges(); }
+};
+
+// The last refinement step of a closed, manifold mesh without creases (every vertex and edge of
+// level L-1 takes the smooth Catmull-Clark rule), done the way Far::PrimvarRefiner does it:
+// the same weights (Sdc::Scheme<SCHEME_CATMARK> smooth masks), added in the same order in single
+// precision, so the points equal PrimvarRefiner::Interpolate's bit for bit (a test checks).
+//   face child:   sum of the face's vertices times 1/n,
+//   edge child:   1/4 of both end points, then 1/4 of both faces' children,
+//   vertex child: 1/n^2 of each face's child, then 1/n^2 of each edge's far end, then (n-2)/n v.
+void refine_smooth_last_level(const Far::TopologyLevel& parent, const UniformChildren& children, const Point* src,
+                              Point* dst) {
+  for (int f = 0; f < parent.GetNumFaces(); ++f) {
+    const auto fv = parent.GetFaceVertices(f);
+    const float weight = 1.0f / static_cast<float>(fv.size());
+    Point& p = dst[children.face(f)];
+    p.Clear();
+    for (int i = 0; i < fv.size(); ++i) p.AddWithWeight(src[fv[i]], weight);
+  }
+  for (int e = 0; e < parent.GetNumEdges(); ++e) {
+    const auto ev = parent.GetEdgeVertices(e);
+    const auto ef = parent.GetEdgeFaces(e);
+    Point& p = dst[children.edge(e)];
+    p.Clear();
+    p.AddWithWeight(src[ev[0]], 0.25f);
+    p.AddWithWeight(src[ev[1]], 0.25f);
+    p.AddWithWeight(dst[children.face(ef[0])], 0.25f);
+    p.AddWithWeight(dst[children.face(ef[1])], 0.25f);
+  }
+  for (int v = 0; v < parent.GetNumVertices(); ++v) {
+    const auto vf = parent.GetVertexFaces(v);
+    const auto ve = parent.GetVertexEdges(v);
+    const int n = vf.size();
+    const float v_weight = static_cast<float>(n - 2) / static_cast<float>(n);
+    const float fe_weight = 1.0f / static_cast<float>(n * n);
+    Point& p = dst[children.vertex(v)];
+    p.Clear();
+    for (int i = 0; i < n; ++i) p.AddWithWeight(dst[children.face(vf[i])], fe_weight);
+    for (int i = 0; i < n; ++i) {
+      const auto ev = parent.GetEdgeVertices(ve[i]);
+      p.AddWithWeight(src[ev[0] == v ? ev[1] : ev[0]], fe_weight);
+    }
+    p.AddWithWeight(src[v], v_weight);
+  }
+}
+
+// True when every vertex of the level takes the smooth rule and every edge has two faces and
+// no sharpness: a closed manifold without creases, so every finer level is one too.
+[[nodiscard]] bool is_smooth_closed(const Far::TopologyLevel& level) {
+  for (int v = 0; v < level.GetNumVertices(); ++v)
+    if (level.GetVertexRule(v) != Sdc::Crease::RULE_SMOOTH || level.GetVertexFaces(v).size() != level.GetVertexEdges(v).size()) return false;
+  for (int e = 0; e < level.GetNumEdges(); ++e)
+    if (level.GetEdgeFaces(e).size() != 2 || level.GetEdgeSharpness(e) != 0.0f) return false;
+  return true;
+}
+
 // Catmull-Clark limit positions and normals of the vertices of level L (L >= 1), each computed
 // from its one-ring in level L (the limit masks), the one-ring read off level L-1's ordered
 // topology and the parent-to-child indices instead of building level L's neighbourhoods:
@@ -93,10 +168,11 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
 //   boundary vertex (crease rule), edge neighbours e_0..e_n from one boundary edge to the other:
 //     P = (e_0 + 4 v + e_n) / 6, normal from the corner faces.
 // Level L-1 must be manifold (the caller checks); its faces and vertex fans are oriented.
+template <class Children>
 class LimitMasks {
  public:
-  LimitMasks(const Far::TopologyRefiner& refiner, int level, const Point* src, SurfaceMesh& out)
-      : parent_(refiner.GetLevel(level - 1)), src_(src), pos_(out.positions_mm.data()), nrm_(out.normals.data()) {}
+  LimitMasks(const Far::TopologyLevel& parent, Children children, const Point* src, SurfaceMesh& out)
+      : parent_(parent), children_(children), src_(src), pos_(out.positions_mm.data()), nrm_(out.normals.data()) {}
 
   void run() {
     for (int f = 0; f < parent_.GetNumFaces(); ++f) face_child(f);
@@ -180,9 +256,9 @@ class LimitMasks {
     nrm_[v] = oriented_normal(face_normal, face_normal);
   }
 
-  [[nodiscard]] int vc(int v) const { return parent_.GetVertexChildVertex(v); }
-  [[nodiscard]] int ec(int e) const { return parent_.GetEdgeChildVertex(e); }
-  [[nodiscard]] int fc(int f) const { return parent_.GetFaceChildVertex(f); }
+  [[nodiscard]] int vc(int v) const { return children_.vertex(v); }
+  [[nodiscard]] int ec(int e) const { return children_.edge(e); }
+  [[nodiscard]] int fc(int f) const { return children_.face(f); }
 
   // The child of face F (n vertices v_k, edges from v_k to v_k+1): edge neighbours are the
   // children of F's edges, the diagonals the children of its vertices.
@@ -273,11 +349,40 @@ class LimitMasks {
   }
 
   const Far::TopologyLevel& parent_;
+  Children children_;
   const Point* src_;
   glm::vec3* pos_;
   glm::vec3* nrm_;
   std::vector<int> e_, f_, prev_;  // scratch, reused
 };
+
+// The faces of level L (all quads) as two triangles each, straight from level L-1 (`parent`):
+// uniform refinement gives face F of n vertices the children n_0 + j, j = 0..n-1 (n_0 the
+// children of the faces before F), child j being the quad (child of vertex j, of edge j, of F, of
+// edge j-1), rotated by j places when F is a quad so that vertex j's child keeps F's local index j.
+void emit_child_quads(const Far::TopologyRefiner& refiner, int parent_level, const UniformChildren& children,
+                      const std::vector<FaceRegion>& control_regions, SurfaceMesh& out) {
+  const Far::TopologyLevel& parent = refiner.GetLevel(parent_level);
+  const auto nfaces = static_cast<std::size_t>(parent.GetNumFaceVertices());
+  out.triangles.resize(6 * nfaces);
+  out.triangle_regions.resize(2 * nfaces);
+  std::size_t child = 0;
+  for (int f = 0; f < parent.GetNumFaces(); ++f) {
+    int ancestor = f;
+    for (int l = parent_level; l >= 1; --l) ancestor = refiner.GetLevel(l).GetFaceParentFace(ancestor);
+    const FaceRegion region = control_regions[static_cast<std::size_t>(ancestor)];
+    const auto fv = parent.GetFaceVertices(f);
+    const auto fe = parent.GetFaceEdges(f);
+    const int n = fv.size();
+    for (int j = 0; j < n; ++j, ++child) {
+      const int quad[4] = {children.vertex(fv[j]), children.edge(fe[j]), children.face(f), children.edge(fe[j > 0 ? j - 1 : n - 1])};
+      const int rotation = n == 4 ? j : 0;
+      int v[4];
+      for (int k = 0; k < 4; ++k) v[(k + rotation) % 4] = quad[k];
+      split_quad(out, child, region, v);
+    }
+  }
+}
 
 [[nodiscard]] bool is_manifold(const Far::TopologyLevel& level) {
   for (int v = 0; v < level.GetNumVertices(); ++v)
@@ -363,21 +468,42 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   }
   // The limit masks read each vertex's neighbourhood off the previous level, which needs a
   // manifold mesh (the control mesh builder makes one); anything else goes to OpenSubdiv's Limit.
-  if (method == LimitMethod::kMasks && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
-  Far::TopologyRefiner::UniformOptions uniform(level);
-  // PrimvarRefiner::Limit needs the last level's neighbourhoods; the masks do not.
-  uniform.fullTopologyInLastLevel = method == LimitMethod::kOpenSubdiv;
-  refiner->RefineUniform(uniform);
+  if (method != LimitMethod::kOpenSubdiv && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
+  // The last step by hand only where every vertex and edge takes the smooth rule (closed, no
+  // creases: the default caps); open ends have OpenSubdiv refine level L too.
+  if (method == LimitMethod::kMasks && !is_smooth_closed(refiner->GetLevel(0))) method = LimitMethod::kMasksOnRefinedLevel;
+  // kMasks: OpenSubdiv refines to level L-1 in full (the masks read its neighbourhoods), the
+  // last step is refine_smooth_last_level. kMasksOnRefinedLevel: level L by OpenSubdiv, its
+  // faces only. kOpenSubdiv: level L in full (PrimvarRefiner::Limit needs its neighbourhoods).
+  const int osd_levels = method == LimitMethod::kMasks ? level - 1 : level;
+  if (osd_levels > 0) {
+    Far::TopologyRefiner::UniformOptions uniform(osd_levels);
+    uniform.fullTopologyInLastLevel = method != LimitMethod::kMasksOnRefinedLevel;
+    refiner->RefineUniform(uniform);
+  }
 
   std::vector<Point> verts(static_cast<std::size_t>(refiner->GetNumVerticesTotal()));
   for (std::size_t i = 0; i < control.vertex_count(); ++i) verts[i].p = glm::vec3(control.positions_mm[i]);
   Far::PrimvarRefinerReal<float> primvar(*refiner);
   Point* src = verts.data();
-  for (int l = 1; l <= level; ++l) {
+  for (int l = 1; l <= osd_levels; ++l) {
     Point* dst = src + refiner->GetLevel(l - 1).GetNumVertices();
     primvar.Interpolate(l, src, dst);
     src = dst;
   }
+  SurfaceMesh& out = result.mesh;
+  const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
+  if (method == LimitMethod::kMasks) {
+    const UniformChildren children(parent);
+    std::vector<Point> fine(static_cast<std::size_t>(children.total(parent)));
+    refine_smooth_last_level(parent, children, src, fine.data());
+    out.positions_mm.resize(fine.size());
+    out.normals.resize(fine.size());
+    LimitMasks<UniformChildren>(parent, children, fine.data(), out).run();
+    emit_child_quads(*refiner, level - 1, children, control.face_regions, out);
+    return result;
+  }
+
   const Far::TopologyLevel& last = refiner->GetLevel(level);
   const auto nverts = static_cast<std::size_t>(last.GetNumVertices());
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
@@ -387,13 +513,12 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     result.error = "refined face is not a quad";
     return result;
   }
-  SurfaceMesh& out = result.mesh;
   if (method == LimitMethod::kOpenSubdiv) {
     limit_by_opensubdiv(primvar, src, quads, nfaces, nverts, out);
   } else {
     out.positions_mm.resize(nverts);
     out.normals.resize(nverts);
-    LimitMasks(*refiner, level, src, out).run();
+    LimitMasks<RefinerChildren>(parent, RefinerChildren{&parent}, src, out).run();
   }
 
   // Triangles, each with the region of the control face it descends from.
