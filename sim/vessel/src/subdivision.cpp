@@ -4,6 +4,10 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <type_traits>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <glm/geometric.hpp>
 #include <opensubdiv/far/primvarRefiner.h>
@@ -21,11 +25,28 @@ constexpr double kPi = 3.14159265358979323846;
 // Primvar for OpenSubdiv's refiner (the interface it expects: Clear and AddWithWeight).
 // Single precision: positions in mm up to a few hundred mm keep ~1e-5 mm, and half the memory
 // traffic makes refinement noticeably faster.
+// Trivially constructible, so scratch arrays of it that are fully overwritten are not zeroed first.
 struct Point {
-  glm::vec3 p{0.0f};
+  glm::vec3 p;
   void Clear(void* = nullptr) { p = glm::vec3(0.0f); }
   void AddWithWeight(const Point& src, float weight) { p += weight * src.p; }
 };
+static_assert(std::is_trivially_default_constructible_v<Point>);
+
+// Maps the whole pages inside [data, data + bytes) writable in one call (MADV_POPULATE_WRITE,
+// Linux 5.14+) instead of one page fault per 4 KB page as they are first written; the buffers
+// here are written in full right after. Advice only: where it is unsupported the pages fault in.
+void prefault(const void* data, std::size_t bytes) {
+#ifdef MADV_POPULATE_WRITE
+  static const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
+  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
 
 void emit_triangle(SurfaceMesh& out, FaceRegion region, int a, int b, int c) {
   out.triangles.insert(out.triangles.end(),
@@ -33,35 +54,37 @@ void emit_triangle(SurfaceMesh& out, FaceRegion region, int a, int b, int c) {
   out.triangle_regions.push_back(region);
 }
 
-// A quad as two triangles, split along its shorter diagonal.
-void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
-  const auto& p = out.positions_mm;
-  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
-  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
-  if (d02 <= d13) {
-    emit_triangle(out, region, v[0], v[1], v[2]);
-    emit_triangle(out, region, v[0], v[2], v[3]);
-  } else {
-    emit_triangle(out, region, v[1], v[2], v[3]);
-    emit_triangle(out, region, v[1], v[3], v[0]);
-  }
+// The first corner (0 or 1) of the shorter diagonal of quad v: 0 when |p0 - p2| <= |p1 - p3| as
+// glm::length gives them. The squared lengths decide without a square root except when the
+// second is the smaller: the rounded roots may still be equal then, which is a tie (corner 0).
+[[nodiscard]] int shorter_diagonal(const std::vector<glm::vec3>& p, const int* v) {
+  const glm::vec3 d02 = p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])];
+  const glm::vec3 d13 = p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])];
+  const float a = glm::dot(d02, d02);
+  const float b = glm::dot(d13, d13);
+  return a <= b || std::sqrt(a) <= std::sqrt(b) ? 0 : 1;
 }
 
-// Quad f of an all-quad mesh as triangles 2f and 2f+1 (arrays already sized).
-void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v) {
-  const auto& p = out.positions_mm;
-  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
-  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
-  const int s = d02 <= d13 ? 0 : 1;  // first corner of the diagonal
-  std::uint32_t* t = out.triangles.data() + 6 * f;
+// Quad v as two triangles, split along its shorter diagonal, written to t[0..5].
+void split_quad(const std::vector<glm::vec3>& p, const int* v, std::uint32_t* t) {
+  const int s = shorter_diagonal(p, v);
   t[0] = static_cast<std::uint32_t>(v[s]);
   t[1] = static_cast<std::uint32_t>(v[s + 1]);
   t[2] = static_cast<std::uint32_t>(v[s + 2]);
   t[3] = static_cast<std::uint32_t>(v[s]);
   t[4] = static_cast<std::uint32_t>(v[s + 2]);
   t[5] = static_cast<std::uint32_t>(v[(s + 3) % 4]);
-  out.triangle_regions[2 * f] = region;
-  out.triangle_regions[2 * f + 1] = region;
+}
+
+// A quad as two triangles, split along its shorter diagonal.
+void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
+  if (shorter_diagonal(out.positions_mm, v) == 0) {
+    emit_triangle(out, region, v[0], v[1], v[2]);
+    emit_triangle(out, region, v[0], v[2], v[3]);
+  } else {
+    emit_triangle(out, region, v[1], v[2], v[3]);
+    emit_triangle(out, region, v[1], v[3], v[0]);
+  }
 }
 
 // Unit normal from a (possibly unoriented) direction, turned to the side of `outward`; falls back
@@ -88,12 +111,14 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
 //  from faces first): the children of the vertices, then of the faces, then of the edges, each
 //  in parent order. A test checks that both give the same mesh.
 struct RefinerChildren {
+  static constexpr bool kInOrder = false;
   const Far::TopologyLevel* parent;
   [[nodiscard]] int vertex(int v) const { return parent->GetVertexChildVertex(v); }
   [[nodiscard]] int face(int f) const { return parent->GetFaceChildVertex(f); }
   [[nodiscard]] int edge(int e) const { return parent->GetEdgeChildVertex(e); }
 };
 struct UniformChildren {
+  static constexpr bool kInOrder = true;
   int num_vertices = 0;
   int num_faces = 0;
   explicit UniformChildren(const Far::TopologyLevel& parent)
@@ -171,13 +196,17 @@ void refine_smooth_last_level(const Far::TopologyLevel& parent, const UniformChi
 template <class Children>
 class LimitMasks {
  public:
+  // With Children::kInOrder the output vectors are appended to (reserved by the caller),
+  // otherwise written by index (sized by the caller).
   LimitMasks(const Far::TopologyLevel& parent, Children children, const Point* src, SurfaceMesh& out)
-      : parent_(parent), children_(children), src_(src), pos_(out.positions_mm.data()), nrm_(out.normals.data()) {}
+      : parent_(parent), children_(children), src_(src), out_(out) {}
 
+  // In the uniform numbering's order (vertex children, face children, edge children), so that
+  // UniformChildren can append to the output instead of zero-filling it first.
   void run() {
+    for (int v = 0; v < parent_.GetNumVertices(); ++v) vertex_child(v);
     for (int f = 0; f < parent_.GetNumFaces(); ++f) face_child(f);
     for (int e = 0; e < parent_.GetNumEdges(); ++e) edge_child(e);
-    for (int v = 0; v < parent_.GetNumVertices(); ++v) vertex_child(v);
   }
 
  private:
@@ -223,10 +252,10 @@ class LimitMasks {
     const glm::dvec3 pv = at(v);
     const glm::dvec3 e0 = at(e[0]), e1 = at(e[1]), e2 = at(e[2]), e3 = at(e[3]);
     const glm::dvec3 f0 = at(f[0]), f1 = at(f[1]), f2 = at(f[2]), f3 = at(f[3]);
-    pos_[v] = glm::vec3((16.0 * pv + 4.0 * (e0 + e1 + e2 + e3) + (f0 + f1 + f2 + f3)) / 36.0);
+    const glm::vec3 position((16.0 * pv + 4.0 * (e0 + e1 + e2 + e3) + (f0 + f1 + f2 + f3)) / 36.0);
     const glm::dvec3 t1 = 4.0 * (e0 - e2) + (f0 - f1) - (f2 - f3);
     const glm::dvec3 t2 = 4.0 * (e1 - e3) + (f0 + f1) - (f2 + f3);
-    nrm_[v] = oriented_normal(glm::cross(t1, t2), glm::cross(e0 - pv, e1 - pv));
+    put(v, position, oriented_normal(glm::cross(t1, t2), glm::cross(e0 - pv, e1 - pv)));
   }
 
   void closed_with(int v, const int* e, const int* f, int n, const Trig& t) {
@@ -243,8 +272,7 @@ class LimitMasks {
       t1 += t.a_n * t.cos[i] * ei + (t.cos[i] + t.cos[i + 1]) * fi;
       t2 += t.a_n * t.sin[i] * ei + (t.sin[i] + t.sin[i + 1]) * fi;
     }
-    pos_[v] = glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0)));
-    nrm_[v] = oriented_normal(glm::cross(t1, t2), face_normal);
+    put(v, glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0))), oriented_normal(glm::cross(t1, t2), face_normal));
   }
 
   // Boundary vertex v with n corner faces: e[0..n] from one boundary neighbour to the other.
@@ -252,8 +280,17 @@ class LimitMasks {
     const glm::dvec3 pv = at(v);
     glm::dvec3 face_normal(0.0);
     for (int i = 0; i < n; ++i) face_normal += glm::cross(at(e[i]) - pv, at(e[i + 1]) - pv);
-    pos_[v] = glm::vec3((at(e[0]) + 4.0 * pv + at(e[n])) / 6.0);
-    nrm_[v] = oriented_normal(face_normal, face_normal);
+    put(v, glm::vec3((at(e[0]) + 4.0 * pv + at(e[n])) / 6.0), oriented_normal(face_normal, face_normal));
+  }
+
+  void put(int v, const glm::vec3& position, const glm::vec3& normal) {
+    if constexpr (Children::kInOrder) {
+      out_.positions_mm.push_back(position);
+      out_.normals.push_back(normal);
+    } else {
+      out_.positions_mm[static_cast<std::size_t>(v)] = position;
+      out_.normals[static_cast<std::size_t>(v)] = normal;
+    }
   }
 
   [[nodiscard]] int vc(int v) const { return children_.vertex(v); }
@@ -280,8 +317,7 @@ class LimitMasks {
     const auto local = parent_.GetEdgeFaceLocalIndices(edge);
     const int v = ec(edge);
     if (faces.size() == 0) {  // no faces (never in a valid mesh): stays where it is
-      pos_[v] = src_[v].p;
-      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      put(v, src_[v].p, glm::vec3(0.0f, 0.0f, 1.0f));
       return;
     }
     const auto fv0 = parent_.GetFaceVertices(faces[0]);
@@ -312,8 +348,7 @@ class LimitMasks {
     const int v = vc(vertex);
     const int n = faces.size();
     if (n == 0) {
-      pos_[v] = src_[v].p;
-      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      put(v, src_[v].p, glm::vec3(0.0f, 0.0f, 1.0f));
       return;
     }
     const auto un = static_cast<std::size_t>(n);
@@ -351,22 +386,24 @@ class LimitMasks {
   const Far::TopologyLevel& parent_;
   Children children_;
   const Point* src_;
-  glm::vec3* pos_;
-  glm::vec3* nrm_;
+  SurfaceMesh& out_;
   std::vector<int> e_, f_, prev_;  // scratch, reused
 };
 
-// The faces of level L (all quads) as two triangles each, straight from level L-1 (`parent`):
-// uniform refinement gives face F of n vertices the children n_0 + j, j = 0..n-1 (n_0 the
-// children of the faces before F), child j being the quad (child of vertex j, of edge j, of F, of
-// edge j-1), rotated by j places when F is a quad so that vertex j's child keeps F's local index j.
+// The faces of level L (all quads) as two triangles each, straight from level L-1 (`parent`),
+// appended in level L's face order: uniform refinement gives face F of n vertices the children
+// n_0 + j, j = 0..n-1 (n_0 the children of the faces before F), child j being the quad (child of
+// vertex j, of edge j, of F, of edge j-1), rotated by j places when F is a quad so that vertex j's
+// child keeps F's local index j.
 void emit_child_quads(const Far::TopologyRefiner& refiner, int parent_level, const UniformChildren& children,
                       const std::vector<FaceRegion>& control_regions, SurfaceMesh& out) {
   const Far::TopologyLevel& parent = refiner.GetLevel(parent_level);
   const auto nfaces = static_cast<std::size_t>(parent.GetNumFaceVertices());
-  out.triangles.resize(6 * nfaces);
-  out.triangle_regions.resize(2 * nfaces);
-  std::size_t child = 0;
+  out.triangles.reserve(6 * nfaces);
+  out.triangle_regions.reserve(2 * nfaces);
+  prefault(out.triangles.data(), 6 * nfaces * sizeof(std::uint32_t));
+  prefault(out.triangle_regions.data(), 2 * nfaces * sizeof(FaceRegion));
+  std::vector<std::uint32_t> face_triangles;  // one parent face's 2n triangles, appended at once
   for (int f = 0; f < parent.GetNumFaces(); ++f) {
     int ancestor = f;
     for (int l = parent_level; l >= 1; --l) ancestor = refiner.GetLevel(l).GetFaceParentFace(ancestor);
@@ -374,13 +411,22 @@ void emit_child_quads(const Far::TopologyRefiner& refiner, int parent_level, con
     const auto fv = parent.GetFaceVertices(f);
     const auto fe = parent.GetFaceEdges(f);
     const int n = fv.size();
-    for (int j = 0; j < n; ++j, ++child) {
-      const int quad[4] = {children.vertex(fv[j]), children.edge(fe[j]), children.face(f), children.edge(fe[j > 0 ? j - 1 : n - 1])};
+    face_triangles.resize(6 * static_cast<std::size_t>(n));
+    const int center = children.face(f);
+    int previous_edge = children.edge(fe[n - 1]);
+    for (int j = 0; j < n; ++j) {
+      const int next_edge = children.edge(fe[j]);
       const int rotation = n == 4 ? j : 0;
       int v[4];
-      for (int k = 0; k < 4; ++k) v[(k + rotation) % 4] = quad[k];
-      split_quad(out, child, region, v);
+      v[rotation] = children.vertex(fv[j]);
+      v[(rotation + 1) & 3] = next_edge;
+      v[(rotation + 2) & 3] = center;
+      v[(rotation + 3) & 3] = previous_edge;
+      previous_edge = next_edge;
+      split_quad(out.positions_mm, v, face_triangles.data() + 6 * j);
     }
+    out.triangles.insert(out.triangles.end(), face_triangles.begin(), face_triangles.end());
+    out.triangle_regions.insert(out.triangle_regions.end(), 2 * static_cast<std::size_t>(n), region);
   }
 }
 
@@ -495,11 +541,15 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
   if (method == LimitMethod::kMasks) {
     const UniformChildren children(parent);
-    std::vector<Point> fine(static_cast<std::size_t>(children.total(parent)));
-    refine_smooth_last_level(parent, children, src, fine.data());
-    out.positions_mm.resize(fine.size());
-    out.normals.resize(fine.size());
-    LimitMasks<UniformChildren>(parent, children, fine.data(), out).run();
+    const auto nfine = static_cast<std::size_t>(children.total(parent));
+    const auto fine = std::make_unique_for_overwrite<Point[]>(nfine);  // every entry is written
+    prefault(fine.get(), nfine * sizeof(Point));
+    refine_smooth_last_level(parent, children, src, fine.get());
+    out.positions_mm.reserve(nfine);
+    out.normals.reserve(nfine);
+    prefault(out.positions_mm.data(), nfine * sizeof(glm::vec3));
+    prefault(out.normals.data(), nfine * sizeof(glm::vec3));
+    LimitMasks<UniformChildren>(parent, children, fine.get(), out).run();
     emit_child_quads(*refiner, level - 1, children, control.face_regions, out);
     return result;
   }
@@ -527,7 +577,8 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
     for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
-    split_quad(out, f, control.face_regions[static_cast<std::size_t>(face)], quads + 4 * f);
+    split_quad(out.positions_mm, quads + 4 * f, out.triangles.data() + 6 * f);
+    out.triangle_regions[2 * f] = out.triangle_regions[2 * f + 1] = control.face_regions[static_cast<std::size_t>(face)];
   }
   return result;
 }
