@@ -325,7 +325,8 @@ class LimitMasks {
     const int n0 = fv0.size();
     const int k = local[0];
     const int a = vc(fv0[k]);
-    const int b = vc(fv0[(k + 1) % n0]);
+    const int k_next = k + 1 < n0 ? k + 1 : 0;  // (no integer division in this per-edge code)
+    const int b = vc(fv0[k_next]);
     if (faces.size() == 1) {
       const int e[3] = {b, fc(faces[0]), a};
       open(v, e, 2);
@@ -335,8 +336,8 @@ class LimitMasks {
     const int n1 = fe1.size();
     const int j = local[1];
     const int e[4] = {b, fc(faces[0]), a, fc(faces[1])};
-    const int f[4] = {ec(fe0[(k + 1) % n0]), ec(fe0[(k + n0 - 1) % n0]), ec(fe1[(j + 1) % n1]),
-                      ec(fe1[(j + n1 - 1) % n1])};
+    const int f[4] = {ec(fe0[k_next]), ec(fe0[k > 0 ? k - 1 : n0 - 1]), ec(fe1[j + 1 < n1 ? j + 1 : 0]),
+                      ec(fe1[j > 0 ? j - 1 : n1 - 1])};
     closed4(v, e, f);
   }
 
@@ -528,10 +529,13 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     refiner->RefineUniform(uniform);
   }
 
-  std::vector<Point> verts(static_cast<std::size_t>(refiner->GetNumVerticesTotal()));
+  // Levels 0..osd_levels one after the other; level 0 is copied in, Interpolate writes the rest.
+  const auto nverts_total = static_cast<std::size_t>(refiner->GetNumVerticesTotal());
+  const auto verts = std::make_unique_for_overwrite<Point[]>(nverts_total);
+  prefault(verts.get(), nverts_total * sizeof(Point));
   for (std::size_t i = 0; i < control.vertex_count(); ++i) verts[i].p = glm::vec3(control.positions_mm[i]);
   Far::PrimvarRefinerReal<float> primvar(*refiner);
-  Point* src = verts.data();
+  Point* src = verts.get();
   for (int l = 1; l <= osd_levels; ++l) {
     Point* dst = src + refiner->GetLevel(l - 1).GetNumVertices();
     primvar.Interpolate(l, src, dst);
