@@ -91,8 +91,19 @@ void check_agreement(Case& c) {
     worst_embree = std::max(worst_embree, std::abs(c.embree->distance(c.points[static_cast<std::size_t>(i)]) - ours));
     worst_fcl = std::max(worst_fcl, std::abs(c.fcl->distance(c.points[static_cast<std::size_t>(i)]) - ours));
   }
-  std::printf("%s: %zu triangles; largest distance difference vs Embree %.2g mm, vs FCL %.2g mm\n",
-              c.name.c_str(), c.mesh.triangle_count(), worst_embree, worst_fcl);
+  // The coherent walk must give exactly the cold answers.
+  std::vector<cb::QueryHint> hints(kNodes);
+  std::size_t differ = 0;
+  for (const auto& step : c.walks)
+    for (std::size_t i = 0; i < step.size(); ++i) {
+      const auto warm = c.tree->closest_point(step[i], cb::ObbTree::kNoLimit, hints[i]);
+      const auto cold = c.tree->closest_point(step[i]);
+      if (!warm || !cold || warm->distance_mm != cold->distance_mm) ++differ;
+    }
+  std::printf("%s: %zu triangles; largest distance difference vs Embree %.2g mm, vs FCL %.2g mm; "
+              "coherent walk vs cold: %zu of %d differ\n",
+              c.name.c_str(), c.mesh.triangle_count(), worst_embree, worst_fcl, differ, kNodes * kSteps);
+  if (differ != 0) std::exit(1);
 }
 
 void per_query(benchmark::State& state, double queries) {

@@ -8,6 +8,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "float_bounds.hpp"
 #include "kernels.hpp"
 #include "tree_data.hpp"
 #include "triangle_geometry.hpp"
@@ -20,25 +21,15 @@ using detail::v4f;
 
 namespace {
 
-constexpr int kStackSize = 256;       // > 3 * max wide depth + 4
+constexpr int kStackSize = 256 + QueryHint::kSlots;  // > hint slots + 3 * max wide depth + 4
 constexpr int kMaxCandidates = 128;   // triangles touching one sphere or capsule
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 bool finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
-// Bound on the float error of a lower bound near p (distance units).
-float slack_for(const TreeData& d, const glm::dvec3& p) {
-  return static_cast<float>(64.0 * FLT_EPSILON *
-                            (d.scale_mm + std::abs(p.x) + std::abs(p.y) + std::abs(p.z)));
-}
-
-// Float threshold on squared lower bounds that keeps everything within `dist` of the query.
-float threshold_sq(double dist, float slack) {
-  if (!(dist < 1e18)) return kInfF;
-  const double t = dist + static_cast<double>(slack);
-  return static_cast<float>(t * t * (1.0 + 1e-6));
-}
+float slack_for(const TreeData& d, const glm::dvec3& p) { return detail::slack_for(d.scale_mm, p); }
+using detail::threshold_sq;
 
 PointLanes lanes_of(const glm::dvec3& p) {
   return detail::splat_point(static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z));
@@ -97,7 +88,7 @@ struct Nearest {
     exact_thresh = threshold_sq(max_distance, slack);
     thresh = exact_thresh;
   }
-  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane, const vessel::FaceRegion& region) {
+  CATHBOX_COLLISION_INLINE void consider(const detail::TriangleBlock& b, int lane) {
     glm::dvec3 ta, tb, tc;
     detail::block_corners(b, lane, ta, tb, tc);
     const detail::PointOnTriangle q = detail::closest_on_triangle(p, ta, tb, tc);
@@ -106,7 +97,7 @@ struct Nearest {
     if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
       best_sq = dsq;
       best_point = q;
-      best_region = region;
+      best_block = &b;
       face = b.face[lane];
       // The block's own unit normal serves a face-interior point (no lookup); slivers store 0.
       best_face_normal = glm::dvec3{b.row[detail::kRowN][lane], b.row[detail::kRowN + 1][lane],
@@ -116,11 +107,8 @@ struct Nearest {
     }
   }
   CATHBOX_COLLISION_INLINE void visit_block(std::int32_t block) {
+    if (block == visited) return;
     const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(block)];
-    visit_block(b, nullptr);
-  }
-  // lane_regions: one region per lane (a hint's copy), or null for the block's own region.
-  CATHBOX_COLLISION_INLINE void visit_block(const detail::TriangleBlock& b, const vessel::FaceRegion* lane_regions) {
     const detail::DistanceBracket bracket = detail::triangle_distance_sq(b, lanes);
     float lo[4];
     float hi[4];
@@ -134,7 +122,7 @@ struct Nearest {
     for (int i = 0; i < 4; ++i) {
       if (lo[i] > thresh || b.face[i] < 0) continue;
       if (pending_count == kPending) resolve();
-      pending[pending_count++] = {lo[i], i, &b, lane_regions ? &lane_regions[i] : &b.region};
+      pending[pending_count++] = {lo[i], i, &b};
     }
   }
   // Measures the candidates exactly, nearest first.
@@ -147,7 +135,7 @@ struct Nearest {
     }
     for (int i = 0; i < pending_count; ++i) {
       if (pending[i].lower > thresh) break;
-      consider(*pending[i].block, pending[i].lane, *pending[i].region);
+      consider(*pending[i].block, pending[i].lane);
     }
     pending_count = 0;
   }
@@ -157,7 +145,6 @@ struct Nearest {
     float lower;
     int lane;
     const detail::TriangleBlock* block;
-    const vessel::FaceRegion* region;
   };
 
   const TreeData& d;
@@ -170,8 +157,9 @@ struct Nearest {
   float thresh;        // also from the smallest float upper bound
   float upper_sq = kInfF;
   std::int32_t face = -1;
+  std::int32_t visited = -1;  // a block measured up front (a hint's seed), not to be measured again
   detail::PointOnTriangle best_point;
-  vessel::FaceRegion best_region;
+  const detail::TriangleBlock* best_block = nullptr;
   glm::dvec3 best_face_normal{0.0};
   Pending pending[kPending];
   int pending_count = 0;
@@ -292,10 +280,8 @@ void search_subtree(Nearest& s, std::int32_t root) {
 // Best-first search over nodes and leaves by box distance, so leaves are measured in order of
 // their boxes and the search stops as soon as the nearest pending box is farther than the best
 // triangle.
-CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
+CATHBOX_COLLISION_HOT void best_first(Nearest& s, PendingBoxes& pending) {
   const TreeData& d = s.d;
-  PendingBoxes pending;
-  pending.push(0.0f, 0);
   while (!pending.empty()) {
     float lb;
     const int next = pending.nearest(lb);
@@ -313,14 +299,24 @@ CATHBOX_COLLISION_HOT void search_tree(Nearest& s) {
   s.resolve();
 }
 
-// Calls fn(block, nullptr) for every leaf whose box lies within sqrt(thresh) of p.
+void search_tree(Nearest& s) {
+  PendingBoxes pending;
+  pending.push(0.0f, 0);
+  best_first(s, pending);
+}
+
+// Calls fn(block) for every leaf whose box lies within sqrt(thresh) of p, below the `sp` slots
+// already on the stack (nodes or leaves).
 template <typename Fn>
-void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn&& fn) {
-  std::int32_t stack[kStackSize];
-  int sp = 0;
-  stack[sp++] = 0;
+void for_each_leaf_below(const TreeData& d, const PointLanes& p, float thresh, std::int32_t (&stack)[kStackSize],
+                         int sp, Fn&& fn) {
   while (sp > 0) {
-    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(stack[--sp])];
+    const std::int32_t top = stack[--sp];
+    if (detail::is_leaf(top)) {
+      fn(d.blocks[static_cast<std::size_t>(detail::leaf_block(top))]);
+      continue;
+    }
+    const detail::WideNode& n = d.nodes[static_cast<std::size_t>(top)];
     float v[4];
     const v4f lb = detail::box_distance_sq(n.boxes.row, p);
     std::memcpy(v, &lb, sizeof v);
@@ -328,7 +324,7 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
       const std::int32_t slot = n.child[i];
       if (v[i] > thresh || slot == detail::kEmptySlot) continue;
       if (detail::is_leaf(slot)) {
-        fn(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))], nullptr);
+        fn(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
       } else {
         stack[sp++] = slot;
       }
@@ -336,14 +332,21 @@ void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn
   }
 }
 
-// ---- the per-node leaf cache (QueryHint) -----------------------------------------------------
+template <typename Fn>
+void for_each_leaf_near(const TreeData& d, const PointLanes& p, float thresh, Fn&& fn) {
+  std::int32_t stack[kStackSize];
+  stack[0] = 0;
+  for_each_leaf_below(d, p, thresh, stack, 1, fn);
+}
+
+// ---- the per-node cut of the tree (QueryHint) ----------------------------------------------
 
 }  // namespace
 
 class HintCache {
  public:
-  static_assert(sizeof(detail::TriangleBlock) == QueryHint::kBlockBytes);
-  static_assert(alignof(detail::TriangleBlock) <= 64);
+  static_assert(QueryHint::kBoxRows == detail::kBoxRows);
+  static_assert(QueryHint::kSlots % 4 == 0);
 
   static bool usable(const QueryHint& h, const TreeData& d) { return h.valid() && h.tree_id_ == d.id; }
   static double moved(const QueryHint& h, const glm::dvec3& p) {
@@ -351,110 +354,136 @@ class HintCache {
   }
   static void count_hit(QueryHint& h) { ++h.hits_; }
 
-  // Fills the hint with the triangles nearest to p (at most kCapacity, by their float lower
-  // bounds) and records the radius within which it holds every triangle.
-  CATHBOX_COLLISION_HOT static void refill(const TreeData& d, const glm::dvec3& p, double radius_target, QueryHint& h) {
+  // Takes a cut of the tree around p: at most kSlots subtrees that together hold every triangle
+  // within `radius` of p (by the float box bounds, which never exceed the true distance). Boxes
+  // beyond the radius are dropped as they are met; the nearest subtrees (largest first among
+  // those containing p) are opened until the cut is full.
+  CATHBOX_COLLISION_HOT static void refill(const TreeData& d, const glm::dvec3& p, double radius, QueryHint& h) {
     ++h.refills_;
     const PointLanes lanes = lanes_of(p);
-    const float slack = slack_for(d, p);
-    const float limit = threshold_sq(radius_target, slack);
-    constexpr int kCap = QueryHint::kCapacity;
-    struct Cached {
+    const float limit = threshold_sq(radius, slack_for(d, p));
+    struct Entry {
       float lb;
-      const detail::TriangleBlock* block;
+      float size;
+      std::int32_t slot;
+      std::int32_t parent;  // the wide node whose lane holds the box
       int lane;
+      bool openable;
     };
-    Cached cached[kCap];  // a max-heap by bound once full
-    int count = 0;
-    float rejected = kInfF;  // smallest bound of anything left out
-    auto farther = [](const Cached& x, const Cached& y) { return x.lb < y.lb; };
-    // Best-first over boxes (as in search_tree): once the nearest pending box is beyond the
-    // cache's worst triangle, nothing left can enter.
-    PendingHeap pending;
-    pending.push(0.0f, 0);
-    while (!pending.empty()) {
-      const float best_lb = pending.nearest_bound();
-      const float cap = count == kCap ? cached[0].lb : limit;
-      if (!(best_lb < cap) || !pending.has_room()) {
-        if (best_lb < limit) rejected = std::min(rejected, best_lb);
-        break;
+    constexpr int kCap = QueryHint::kSlots;
+    Entry e[kCap];  // the cut
+    // Children of wide node `parent` that may hold a triangle within the radius.
+    auto children = [&](std::int32_t parent, Entry (&out)[4]) {
+      const detail::WideNode& node = d.nodes[static_cast<std::size_t>(parent)];
+      float v[4];
+      const v4f lb = detail::box_distance_sq(node.boxes.row, lanes);
+      std::memcpy(v, &lb, sizeof v);
+      int k = 0;
+      for (int i = 0; i < 4; ++i) {
+        const std::int32_t slot = node.child[i];
+        if (slot == detail::kEmptySlot || !(v[i] <= limit)) continue;
+        const float size = node.boxes.row[12][i] + node.boxes.row[13][i] + node.boxes.row[14][i];
+        out[k++] = {v[i], size, slot, parent, i, !detail::is_leaf(slot)};
       }
-      const std::int32_t top = pending.pop();
-      if (!detail::is_leaf(top)) {
-        push_children(d, d.nodes[static_cast<std::size_t>(top)], lanes, pending, [&](float v) { return v < limit; });
+      return k;
+    };
+    // Subtrees still to open, nearest first (a binary heap), and the cut's final slots.
+    Entry open[kCap];
+    int n_open = 0;
+    int n = 0;
+    auto later = [](const Entry& x, const Entry& y) { return x.lb > y.lb || (x.lb == y.lb && x.size < y.size); };
+    auto add = [&](const Entry& x) {
+      if (x.openable) {
+        open[n_open++] = x;
+        std::push_heap(open, open + n_open, later);
+      } else {
+        e[n++] = x;
+      }
+    };
+    Entry kids[4];
+    const int roots = children(0, kids);
+    for (int i = 0; i < roots; ++i) add(kids[i]);
+    while (n_open > 0) {
+      std::pop_heap(open, open + n_open, later);
+      const Entry top = open[--n_open];
+      const int k = children(top.slot, kids);
+      if (n + n_open + k > kCap) {
+        e[n++] = top;  // no room to open it: it stays whole in the cut
         continue;
       }
-      const detail::TriangleBlock& b = d.blocks[static_cast<std::size_t>(detail::leaf_block(top))];
-      const v4f lower = detail::triangle_distance_sq(b, lanes).lower;
-      float v[4];
-      std::memcpy(v, &lower, sizeof v);
-      for (int i = 0; i < 4; ++i) {
-        if (b.face[i] < 0 || !(v[i] < limit)) continue;
-        if (count < kCap) {
-          cached[count++] = {v[i], &b, i};
-          if (count == kCap) std::make_heap(cached, cached + count, farther);
-        } else if (v[i] < cached[0].lb) {
-          rejected = std::min(rejected, cached[0].lb);
-          std::pop_heap(cached, cached + count, farther);
-          cached[count - 1] = {v[i], &b, i};
-          std::push_heap(cached, cached + count, farther);
-        } else {
-          rejected = std::min(rejected, v[i]);
-        }
-      }
+      for (int i = 0; i < k; ++i) add(kids[i]);
     }
-    std::sort(cached, cached + count, [](const Cached& x, const Cached& y) { return x.lb < y.lb; });
-    const float covered = std::min(limit, rejected);
-    h.radius_mm_ = covered == kInfF ? kInf
-                                    : std::max(0.0, std::sqrt(static_cast<double>(covered)) - slack);
+    std::sort(e, e + n, [](const Entry& x, const Entry& y) { return x.lb < y.lb; });
+    h.radius_mm_ = limit == kInfF ? kInf : radius;
     h.origin_mm_[0] = p.x;
     h.origin_mm_[1] = p.y;
     h.origin_mm_[2] = p.z;
     h.tree_id_ = d.id;
-    h.count_ = count;
-    for (int g = 0; g * 4 < count; ++g) {
-      detail::TriangleBlock block;
-      for (int lane = 0; lane < 4; ++lane) {
-        const int j = 4 * g + lane;
-        if (j < count) {
-          const detail::TriangleBlock& src = *cached[j].block;
-          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = src.row[r][cached[j].lane];
-          block.face[lane] = src.face[cached[j].lane];
-          h.regions_[j] = src.region;
-        } else {
-          for (int r = 0; r < detail::kTriangleRows; ++r) block.row[r][lane] = r < detail::kRowN ? 1e30f : 0.0f;
-          block.row[detail::kRowN][lane] = 1.0f;
-          block.face[lane] = -1;
-        }
+    h.count_ = n;
+    for (int j = 0; j < (n + 3) / 4 * 4; ++j) {
+      float(*group)[4] = h.boxes_[j / 4];
+      const int lane = j % 4;
+      if (j < n) {
+        const detail::WideNode& parent = d.nodes[static_cast<std::size_t>(e[j].parent)];
+        for (int r = 0; r < detail::kBoxRows; ++r) group[r][lane] = parent.boxes.row[r][e[j].lane];
+        h.slot_[j] = e[j].slot;
+        if (lane == 0) h.group_min_mm_[j / 4] = std::sqrt(e[j].lb);
+      } else {
+        for (int r = 0; r < detail::kBoxRows; ++r) group[r][lane] = 0.0f;
+        h.slot_[j] = detail::kEmptySlot;
       }
-      block.region = h.regions_[4 * g];
-      std::memcpy(h.blocks_[g], &block, sizeof block);
-      h.block_min_mm_[g] = std::sqrt(cached[4 * g].lb);
     }
   }
 
-  static const detail::TriangleBlock& block(const QueryHint& h, int g) {
-    return *std::launder(reinterpret_cast<const detail::TriangleBlock*>(h.blocks_[g]));
-  }
-
-  // Calls fn(block, lane_regions) for the cached blocks that may hold a triangle within
-  // sqrt(thresh) of p (blocks are nearest first, so the first one out of reach ends it).
-  template <typename Fn>
-  static void for_each_block_near(const QueryHint& h, const glm::dvec3& p, float slack, const float& thresh, Fn&& fn) {
-    const double delta = moved(h, p);
-    for (int g = 0; g * 4 < h.count_; ++g) {
-      const double reach = static_cast<double>(h.block_min_mm_[g]) - slack - delta;
+  // Calls push(bound, slot) for the cut's slots whose boxes lie within sqrt(thresh) of p and
+  // starts loading them. Groups are nearest to the origin first, so once a group's nearest box
+  // was farther from the origin than sqrt(thresh) + the distance moved, the rest are out of reach
+  // too. `thresh` is read per group: a caller's search may tighten it meanwhile.
+  template <typename Push>
+  CATHBOX_COLLISION_INLINE static void slots_near(const QueryHint& h, const TreeData& d, const PointLanes& p,
+                                                  double moved, float slack, const float& thresh, Push&& push) {
+    for (int g = 0; 4 * g < h.count_; ++g) {
+      const double reach = static_cast<double>(h.group_min_mm_[g]) - static_cast<double>(slack) - moved;
       if (reach > 0.0 && reach * reach > static_cast<double>(thresh)) break;
-      fn(block(h, g), &h.regions_[4 * g]);
+      float v[4];
+      const v4f lb = detail::box_distance_sq(h.boxes_[g], p);
+      std::memcpy(v, &lb, sizeof v);
+      for (int i = 0; i < 4; ++i) {
+        const std::int32_t slot = h.slot_[4 * g + i];
+        if (slot == detail::kEmptySlot || !(v[i] <= thresh)) continue;
+        if (detail::is_leaf(slot)) {
+          prefetch(d.blocks[static_cast<std::size_t>(detail::leaf_block(slot))]);
+        } else {
+          prefetch(d.nodes[static_cast<std::size_t>(slot)]);
+        }
+        push(v[i], slot);
+      }
     }
   }
 
-  CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s) {
-    for_each_block_near(h, s.p, s.slack, s.thresh,
-                        [&](const detail::TriangleBlock& b, const vessel::FaceRegion* regions) {
-                          s.visit_block(b, regions);
-                        });
-    s.resolve();
+  // Nearest triangle below the cut, starting with the leaf of the previous answer.
+  CATHBOX_COLLISION_HOT static void search(const QueryHint& h, Nearest& s, double moved) {
+    if (h.seed_block_ >= 0 && static_cast<std::size_t>(h.seed_block_) < s.d.blocks.size()) {
+      s.visit_block(h.seed_block_);
+      s.visited = h.seed_block_;
+    }
+    PendingBoxes pending;
+    slots_near(h, s.d, s.lanes, moved, s.slack, s.thresh, [&](float lb, std::int32_t slot) { pending.push(lb, slot); });
+    best_first(s, pending);
+  }
+
+  static void remember(QueryHint& h, const Nearest& s) {
+    h.seed_block_ = s.best_block ? static_cast<std::int32_t>(s.best_block - s.d.blocks.data()) : -1;
+  }
+
+  // Calls fn(block) for every leaf below the cut whose box lies within sqrt(thresh) of p.
+  template <typename Fn>
+  static void for_each_leaf_near(const QueryHint& h, const TreeData& d, const glm::dvec3& p, float thresh, Fn&& fn) {
+    const PointLanes lanes = lanes_of(p);
+    std::int32_t stack[kStackSize];
+    int sp = 0;
+    slots_near(h, d, lanes, moved(h, p), slack_for(d, p), thresh, [&](float, std::int32_t slot) { stack[sp++] = slot; });
+    for_each_leaf_below(d, lanes, thresh, stack, sp, fn);
   }
 };
 
@@ -592,13 +621,13 @@ class ContactCollector {
   bool has_deepest_ = false;
 };
 
-// Probes take a block and, for a hint's copy, one region per lane (null: the block's own).
+// Probes take a leaf block.
 struct SphereProbe {
   glm::dvec3 centre;
   PointLanes lanes;
   float thresh;
   ContactCollector& out;
-  void operator()(const detail::TriangleBlock& b, const vessel::FaceRegion* regions) const {
+  void operator()(const detail::TriangleBlock& b) const {
     float v[4];
     const v4f lb = detail::triangle_distance_sq(b, lanes).lower;
     std::memcpy(v, &lb, sizeof v);
@@ -609,7 +638,7 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, regions ? regions[i] : b.region});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, b.region});
     }
   }
 };
@@ -618,7 +647,7 @@ struct CapsuleProbe {
   glm::dvec3 a;
   glm::dvec3 b;
   ContactCollector& out;
-  void operator()(const detail::TriangleBlock& blk, const vessel::FaceRegion* regions) const {
+  void operator()(const detail::TriangleBlock& blk) const {
     for (int i = 0; i < 4; ++i) {
       const std::int32_t f = blk.face[i];
       if (f < 0) continue;
@@ -626,30 +655,24 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, regions ? regions[i] : blk.region});
+               q.on_triangle.feature, 0, blk.region});
     }
   }
 };
 
 bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
 
-// Runs a probe over every block that may hold a triangle within `reach` of `centre`: from the
-// hint when it covers that ball, else after refilling it, else from the tree.
+// Runs a probe over every block that may hold a triangle within `reach` of `centre`, below the
+// hint's cut when it covers that ball, else after refilling it.
 template <typename Probe>
-void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, const PointLanes& lanes,
-                float thresh, const Probe& probe) {
-  bool cached = HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm();
-  if (cached) {
+void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, float thresh,
+                const Probe& probe) {
+  if (HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm()) {
     HintCache::count_hit(hint);
   } else {
     HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
-    cached = reach <= hint.radius_mm();
   }
-  if (cached) {
-    HintCache::for_each_block_near(hint, centre, slack_for(d, centre), thresh, probe);
-  } else {
-    for_each_leaf_near(d, lanes, thresh, probe);
-  }
+  HintCache::for_each_leaf_near(hint, d, centre, thresh, probe);
 }
 
 }  // namespace
@@ -672,7 +695,7 @@ std::optional<ClosestPoint> finish_closest(const Nearest& s) {
                                                                    : pseudo_normal(s.d, s.face, q.feature);
   out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
   out.face = s.face;
-  out.region = s.best_region;
+  out.region = s.best_block->region;
   out.feature = q.feature.kind;
   out.feature_index = q.feature.index;
   return out;
@@ -695,20 +718,28 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
   const TreeData& d = *data_;
   Nearest s(d, point_mm, max_distance_mm);
   const double margin2 = 2.0 * d.coherence_margin_mm;
-  double target = max_distance_mm + margin2;
+  bool searched = false;
   if (HintCache::usable(hint, d)) {
     const double delta = HintCache::moved(hint, point_mm);
-    HintCache::search(hint, s);
-    const double bound = s.bound();
-    if (bound + delta <= hint.radius_mm()) {
+    HintCache::search(hint, s, delta);
+    if (s.bound() + delta <= hint.radius_mm()) {
       HintCache::count_hit(hint);
+      HintCache::remember(hint, s);
       return finish_closest(s);
     }
-    target = bound + margin2;
+    // s holds a real triangle's distance (or the limit): a cut around the point that covers it
+    // and the margin holds the answer.
+    if (std::isfinite(s.bound())) {
+      HintCache::refill(d, point_mm, s.bound() + margin2, hint);
+      HintCache::search(hint, s, 0.0);
+      searched = true;
+    }
   }
-  HintCache::refill(d, point_mm, target, hint);
-  HintCache::search(hint, s);
-  if (s.bound() > hint.radius_mm()) search_tree(s);
+  if (!searched) {
+    search_tree(s);
+    if (std::isfinite(s.bound())) HintCache::refill(d, point_mm, s.bound() + margin2, hint);
+  }
+  HintCache::remember(hint, s);
   return finish_closest(s);
 }
 
@@ -741,7 +772,7 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  probe_near(d, hint, centre_mm, radius_mm, lanes, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
+  probe_near(d, hint, centre_mm, radius_mm, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
   return collector.finish(out);
 }
 
@@ -777,9 +808,8 @@ std::size_t ObbTree::capsule_contacts(const glm::dvec3& a_mm, const glm::dvec3& 
   ContactCollector collector(d, radius_mm);
   const CapsuleFrame f = capsule_frame(a_mm, b_mm, radius_mm);
   if (!std::isfinite(f.reach)) return 0;
-  const PointLanes lanes = lanes_of(f.mid);
   const float thresh = threshold_sq(f.reach, slack_for(d, f.mid));
-  probe_near(d, hint, f.mid, f.reach, lanes, thresh, CapsuleProbe{a_mm, b_mm, collector});
+  probe_near(d, hint, f.mid, f.reach, thresh, CapsuleProbe{a_mm, b_mm, collector});
   return collector.finish(out);
 }
 

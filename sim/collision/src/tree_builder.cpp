@@ -13,6 +13,7 @@
 
 #include "obb_fit.hpp"
 #include "tree_data.hpp"
+#include "triangle_block.hpp"
 
 namespace cathbox::collision {
 
@@ -518,34 +519,13 @@ class Builder {
     for (int lane = 0; lane < 4; ++lane) {
       const std::uint32_t i = leaf.begin + static_cast<std::uint32_t>(lane);
       if (i >= leaf.end) {
-        for (int c = 0; c < 3; ++c)
-          for (int r : {detail::kRowA, detail::kRowB, detail::kRowC}) block.row[r + c][lane] = 1e30f;
-        block.row[detail::kRowN][lane] = 1.0f;
-        block.face[lane] = -1;
+        detail::set_empty_triangle_lane(block, lane);
         continue;
       }
       const std::uint32_t f = items_[i].face;
-      block.face[lane] = static_cast<std::int32_t>(f);
       block.region = d_.regions[f];
-      const glm::dvec3 a = corner(f, 0);
-      const glm::dvec3 e0 = corner(f, 1) - a;
-      const glm::dvec3 e1 = corner(f, 2) - a;
-      const double g00 = glm::dot(e0, e0);
-      const double g01 = glm::dot(e0, e1);
-      const double g11 = glm::dot(e1, e1);
-      const double det = g00 * g11 - g01 * g01;
-      const bool sliver = !(det > 1e-6 * g00 * g11);
-      const glm::dvec3 u = sliver ? glm::dvec3{0.0} : (g11 * e0 - g01 * e1) / det;
-      const glm::dvec3 v = sliver ? glm::dvec3{0.0} : (g00 * e1 - g01 * e0) / det;
-      const glm::dvec3 n = sliver ? glm::dvec3{0.0} : d_.face_normals[f];
-      for (int c = 0; c < 3; ++c) {
-        block.row[detail::kRowA + c][lane] = static_cast<float>(a[c]);
-        block.row[detail::kRowB + c][lane] = static_cast<float>(a[c] + e0[c]);
-        block.row[detail::kRowC + c][lane] = static_cast<float>(a[c] + e1[c]);
-        block.row[detail::kRowN + c][lane] = static_cast<float>(n[c]);
-        block.row[detail::kRowU + c][lane] = static_cast<float>(u[c]);
-        block.row[detail::kRowV + c][lane] = static_cast<float>(v[c]);
-      }
+      detail::set_triangle_lane(block, lane, corner(f, 0), corner(f, 1), corner(f, 2), d_.face_normals[f],
+                                static_cast<std::int32_t>(f));
     }
     d_.blocks.push_back(block);
     return static_cast<std::int32_t>(d_.blocks.size() - 1);

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "collision/obb_tree.hpp"
+#include "huge_page_allocator.hpp"
 #include "simd.hpp"
 #include "vessel/surface_mesh.hpp"
 
@@ -48,8 +49,8 @@ struct TreeData {
   std::uint64_t id = 0;  // distinguishes trees, so a hint filled by another tree is never used
   double coherence_margin_mm = 0.25;
   double scale_mm = 0.0;  // sum of the largest absolute coordinates, for the float error bound
-  std::vector<WideNode> nodes;  // nodes[0] is the root
-  std::vector<TriangleBlock> blocks;
+  std::vector<WideNode, HugePageAllocator<WideNode>> nodes;  // nodes[0] is the root
+  std::vector<TriangleBlock, HugePageAllocator<TriangleBlock>> blocks;
   // Mesh copy in double for the exact stage.
   std::vector<glm::dvec3> positions;
   std::vector<std::uint32_t> triangles;       // 3 per mesh triangle

@@ -2,6 +2,7 @@
 // points, signs, contacts and ray casts equal brute force over all triangles.
 #include <algorithm>
 #include <array>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -86,6 +87,42 @@ TEST_P(BundledCaseTest, SphereContactsAndRaysEqualBruteForce) {
       EXPECT_TRUE(near_rel(hit->t, *brute, 1e-6, 1e-12));
     }
   }
+}
+
+// Tool nodes walking near the wall in steps of up to 0.1 mm, on meshes big enough that the
+// hints' cuts fill up: coherent closest points (unlimited and within 0.7 mm) and sphere contacts
+// equal the cold ones exactly.
+TEST_P(BundledCaseTest, CoherentWalksEqualColdQueries) {
+  std::mt19937 rng(87);
+  std::uniform_real_distribution<double> step(0.0, 0.1);
+  std::uint32_t hits = 0;
+  std::uint32_t refills = 0;
+  for (glm::dvec3 p : testing::query_points(mesh_, 24, 2.0, 88)) {
+    QueryHint far_hint;
+    QueryHint probe_hint;
+    QueryHint sphere_hint;
+    for (int s = 0; s < 40; ++s) {
+      p += step(rng) * testing::random_unit(rng);
+      const auto cold = tree_->closest_point(p);
+      const auto warm = tree_->closest_point(p, ObbTree::kNoLimit, far_hint);
+      ASSERT_TRUE(cold && warm);
+      EXPECT_DOUBLE_EQ(cold->distance_mm, warm->distance_mm);
+      EXPECT_NEAR(glm::length(cold->normal - warm->normal), 0.0, 1e-9);
+      const auto probe = tree_->closest_point(p, 0.7, probe_hint);
+      ASSERT_EQ(probe.has_value(), cold->distance_mm <= 0.7);
+      if (probe) {
+        EXPECT_DOUBLE_EQ(probe->distance_mm, cold->distance_mm);
+      }
+      std::array<Contact, 8> a{}, b{};
+      const std::size_t na = tree_->sphere_contacts(p, 0.5, a);
+      const std::size_t nb = tree_->sphere_contacts(p, 0.5, b, sphere_hint);
+      ASSERT_EQ(na, nb);
+      for (std::size_t i = 0; i < na; ++i) EXPECT_NEAR(a[i].depth_mm, b[i].depth_mm, 1e-12);
+    }
+    hits += far_hint.hits() + probe_hint.hits() + sphere_hint.hits();
+    refills += far_hint.refills() + probe_hint.refills() + sphere_hint.refills();
+  }
+  EXPECT_GT(hits, 4 * refills);
 }
 
 std::string case_name(const ::testing::TestParamInfo<BundledCase>& info) {

@@ -57,6 +57,38 @@ TEST(Coherent, RandomWalksEqualColdQueries) {
   EXPECT_GT(hits, refills);
 }
 
+// Nodes drifting in and out of reach of a limited query (empty answers), and unlimited queries
+// on the same walk: the hint's cut is refilled around the empty and the far answers alike.
+TEST(Coherent, WalksInAndOutOfReachEqualColdQueries) {
+  const auto m = testing::make_bumpy_sphere(30, 40, 5.0, 0.1, 13);
+  const TreeBuild b = ObbTree::build(m);
+  ASSERT_TRUE(b.tree) << b.error;
+  std::mt19937 rng(67);
+  std::uniform_real_distribution<double> step(0.0, 0.1);
+  std::uint32_t empty = 0;
+  for (int node = 0; node < 20; ++node) {
+    const glm::dvec3 dir = testing::random_unit(rng);
+    QueryHint limited;
+    QueryHint unlimited;
+    for (int s = 0; s < 80; ++s) {
+      // Out from 4.5 mm to 6.5 mm from the centre and back, with a sideways jitter.
+      const double r = 4.5 + 2.0 * (s < 40 ? s : 80 - s) / 40.0;
+      const glm::dvec3 p = r * dir + step(rng) * testing::random_unit(rng);
+      const auto cold = b.tree->closest_point(p, 0.8);
+      const auto warm = b.tree->closest_point(p, 0.8, limited);
+      ASSERT_EQ(cold.has_value(), warm.has_value()) << "node " << node << " step " << s;
+      if (cold) expect_same(*cold, *warm);
+      empty += cold ? 0u : 1u;
+      const auto far_cold = b.tree->closest_point(p);
+      const auto far_warm = b.tree->closest_point(p, ObbTree::kNoLimit, unlimited);
+      ASSERT_TRUE(far_cold && far_warm);
+      expect_same(*far_cold, *far_warm);
+    }
+    EXPECT_GT(unlimited.hits(), unlimited.refills());
+  }
+  EXPECT_GT(empty, 100u);  // the walk does leave the limited query's reach
+}
+
 // A hint filled on one tree is never trusted by another.
 TEST(Coherent, HintFromAnotherTreeIsIgnored) {
   const auto small = testing::make_bumpy_sphere(12, 16, 2.0, 0.0, 1);

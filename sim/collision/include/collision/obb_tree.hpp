@@ -34,8 +34,8 @@ struct TreeData;
 }
 
 struct BuildOptions {
-  // A coherent query refills its hint with the leaves within (needed radius + 2 * margin), so
-  // that a node can move up to `margin` before the next refill.
+  // A coherent query refills its hint with a cut of the tree that covers (needed radius +
+  // 2 * margin) around the node, so that the node can move up to `margin` before the next refill.
   double coherence_margin_mm = 0.25;
 };
 

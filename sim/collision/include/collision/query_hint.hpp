@@ -1,15 +1,14 @@
 #pragma once
 // Per-tool-node memory for the coherent queries. A tool node moves little between two 1 ms
-// steps, so the hint keeps a copy of the wall triangles nearest to where it was last filled:
-// every triangle closer than `radius` to `origin` (at most kCapacity, nearest first, in the
-// tree's 4-wide float layout). A later query near that origin searches only that copy, and a
-// cheap test (needed reach + distance moved <= radius) proves nothing else can change the
-// answer; otherwise the hint is refilled from the tree. Results are exactly those of the cold
-// queries. Keep one hint per tool node; queries never allocate. About 22 KB each (the triangle
-// copies stay untouched until the first refill).
+// steps, so instead of descending from the root every time, a query starts from a cut of the
+// tree taken where the node was when the hint was filled: up to kSlots subtrees (inner nodes or
+// leaves, with copies of their boxes) that together hold every wall triangle within `radius` of
+// `origin`, the subtrees nearest to the origin opened deepest. A closest-point query also first
+// measures the leaf that held its previous answer, which gives a tight bound before any box is
+// opened. A cheap test (needed reach + distance moved <= radius) proves nothing outside the cut
+// can change the answer; otherwise the hint is refilled. Results are exactly those of the cold
+// queries. Keep one hint per tool node; queries never allocate. About 4.4 KB each.
 #include <cstdint>
-
-#include "vessel/surface_mesh.hpp"
 
 namespace cathbox::collision {
 
@@ -18,19 +17,18 @@ class HintCache;
 
 class QueryHint {
  public:
-  static constexpr int kCapacity = 256;  // triangles
-  static constexpr int kBlocks = kCapacity / 4;
-  static constexpr int kBlockBytes = 320;  // one 4-wide triangle block of the tree
+  static constexpr int kSlots = 64;  // subtrees in the cut
+  static constexpr int kBoxRows = 15;  // one 4-wide box group, as in the tree's nodes
 
-  // User-provided, so value-initialisation (std::vector<QueryHint>(n)) leaves the triangle
-  // copies unwritten instead of zeroing them.
+  // User-provided, so value-initialisation (std::vector<QueryHint>(n)) leaves the box copies
+  // unwritten instead of zeroing them.
   QueryHint() noexcept {}  // NOLINT(modernize-use-equals-default)
 
-  void reset() { radius_mm_ = -1.0; count_ = 0; tree_id_ = 0; }
+  void reset() { radius_mm_ = -1.0; count_ = 0; tree_id_ = 0; seed_block_ = -1; }
   [[nodiscard]] bool valid() const { return radius_mm_ >= 0.0; }
-  [[nodiscard]] int triangle_count() const { return count_; }
+  [[nodiscard]] int slot_count() const { return count_; }
   [[nodiscard]] double radius_mm() const { return radius_mm_; }
-  // How many queries were answered from the cache / needed a refill (for tuning and tests).
+  // How many queries were answered from the cut / needed a refill (for tuning and tests).
   [[nodiscard]] std::uint32_t hits() const { return hits_; }
   [[nodiscard]] std::uint32_t refills() const { return refills_; }
 
@@ -38,15 +36,16 @@ class QueryHint {
   friend class ObbTree;
   friend class HintCache;
   double origin_mm_[3] = {0.0, 0.0, 0.0};
-  double radius_mm_ = -1.0;  // every triangle within this distance of origin is cached
+  double radius_mm_ = -1.0;  // every triangle within this distance of origin lies in the cut
   std::uint64_t tree_id_ = 0;
   int count_ = 0;
+  std::int32_t seed_block_ = -1;  // leaf block of the last closest-point answer, -1 none
   std::uint32_t hits_ = 0;
   std::uint32_t refills_ = 0;
-  float block_min_mm_[kBlocks] = {};  // distance from origin to the nearest triangle of each block
-  vessel::FaceRegion regions_[kCapacity] = {};
-  // The cached triangles, filled on refill (left uninitialised until then).
-  alignas(64) unsigned char blocks_[kBlocks][kBlockBytes];
+  std::int32_t slot_[kSlots] = {};  // child slots of the tree (node index or leaf), nearest first
+  float group_min_mm_[kSlots / 4] = {};  // float distance from origin to each group's nearest box
+  // The slots' boxes, four per group in the tree's lane layout (filled on refill).
+  alignas(16) float boxes_[kSlots / 4][kBoxRows][4];
 };
 
 }  // namespace cathbox::collision

@@ -18,8 +18,8 @@ class MeshWall final : public WallModel {
 
   // One coherent hint per probed tool node (a node's first probe takes the next of hint_slots,
   // round robin when more nodes than slots; results equal the cold queries either way). The
-  // slots are allocated here, never per step; a slot's ~22 KB triangle copy is first written
-  // when that slot is used. hint_slots = 0 gives cold queries.
+  // slots are allocated here, never per step; a slot's ~4.4 KB cut of the tree is first
+  // written when that slot is used. hint_slots = 0 gives cold queries.
   static constexpr std::size_t kDefaultHintSlots = 4096;
   explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots);
 
