@@ -2,8 +2,9 @@
 // Catmull-Clark limit surface) for the largest bundled case (cases/neuro.hclm) and a random
 // 100-segment tree, with the stages timed separately. Mesh sizes are printed as counters.
 // Target (issue 3): <= 20 ms on one core for the 100-segment tree at M = 8, L = 2.
-// Peer in the same run: the pipeline with OpenSubdiv's PrimvarRefiner::Limit instead of the
-// limit masks (BM_Tree100PipelineOsdLimit).
+// Peers in the same run: the pipeline with OpenSubdiv's PrimvarRefiner::Limit instead of the
+// limit masks (BM_Tree100PipelineOsdLimit), and with OpenSubdiv refining level 2 itself before the
+// same masks instead of the last step done by hand (BM_Tree100PipelineOsdLevel2; same mesh).
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -98,6 +99,10 @@ void BM_Tree100Pipeline(benchmark::State& state) { pipeline(state, tree_text(), 
 void BM_Tree100PipelineOsdLimit(benchmark::State& state) {
   pipeline(state, tree_text(), static_cast<int>(state.range(0)), LimitMethod::kOpenSubdiv);
 }
+// Peer: OpenSubdiv refines level L (faces only) and PrimvarRefiner interpolates it, then the masks.
+void BM_Tree100PipelineOsdLevel2(benchmark::State& state) {
+  pipeline(state, tree_text(), static_cast<int>(state.range(0)), LimitMethod::kMasksOnRefinedLevel);
+}
 void BM_SparseTree100Pipeline(benchmark::State& state) {
   pipeline(state, sparse_tree_text(), static_cast<int>(state.range(0)));
 }
@@ -106,6 +111,7 @@ void BM_NeuroStage(benchmark::State& state) { stage(state, neuro_text()); }
 
 BENCHMARK(BM_Tree100Pipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100PipelineOsdLimit)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Tree100PipelineOsdLevel2)->Arg(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SparseTree100Pipeline)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroPipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100Stage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);

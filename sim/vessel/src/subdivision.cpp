@@ -4,6 +4,10 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <type_traits>
+
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <glm/geometric.hpp>
 #include <opensubdiv/far/primvarRefiner.h>
@@ -21,11 +25,28 @@ constexpr double kPi = 3.14159265358979323846;
 // Primvar for OpenSubdiv's refiner (the interface it expects: Clear and AddWithWeight).
 // Single precision: positions in mm up to a few hundred mm keep ~1e-5 mm, and half the memory
 // traffic makes refinement noticeably faster.
+// Trivially constructible, so scratch arrays of it that are fully overwritten are not zeroed first.
 struct Point {
-  glm::vec3 p{0.0f};
+  glm::vec3 p;
   void Clear(void* = nullptr) { p = glm::vec3(0.0f); }
   void AddWithWeight(const Point& src, float weight) { p += weight * src.p; }
 };
+static_assert(std::is_trivially_default_constructible_v<Point>);
+
+// Maps the whole pages inside [data, data + bytes) writable in one call (MADV_POPULATE_WRITE,
+// Linux 5.14+) instead of one page fault per 4 KB page as they are first written; the buffers
+// here are written in full right after. Advice only: where it is unsupported the pages fault in.
+void prefault(const void* data, std::size_t bytes) {
+#ifdef MADV_POPULATE_WRITE
+  static const auto page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const auto begin = (reinterpret_cast<std::uintptr_t>(data) + page - 1) & ~(page - 1);
+  const auto end = (reinterpret_cast<std::uintptr_t>(data) + bytes) & ~(page - 1);
+  if (end > begin) (void)madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
 
 void emit_triangle(SurfaceMesh& out, FaceRegion region, int a, int b, int c) {
   out.triangles.insert(out.triangles.end(),
@@ -33,35 +54,37 @@ void emit_triangle(SurfaceMesh& out, FaceRegion region, int a, int b, int c) {
   out.triangle_regions.push_back(region);
 }
 
-// A quad as two triangles, split along its shorter diagonal.
-void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
-  const auto& p = out.positions_mm;
-  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
-  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
-  if (d02 <= d13) {
-    emit_triangle(out, region, v[0], v[1], v[2]);
-    emit_triangle(out, region, v[0], v[2], v[3]);
-  } else {
-    emit_triangle(out, region, v[1], v[2], v[3]);
-    emit_triangle(out, region, v[1], v[3], v[0]);
-  }
+// The first corner (0 or 1) of the shorter diagonal of quad v: 0 when |p0 - p2| <= |p1 - p3| as
+// glm::length gives them. The squared lengths decide without a square root except when the
+// second is the smaller: the rounded roots may still be equal then, which is a tie (corner 0).
+[[nodiscard]] int shorter_diagonal(const std::vector<glm::vec3>& p, const int* v) {
+  const glm::vec3 d02 = p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])];
+  const glm::vec3 d13 = p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])];
+  const float a = glm::dot(d02, d02);
+  const float b = glm::dot(d13, d13);
+  return a <= b || std::sqrt(a) <= std::sqrt(b) ? 0 : 1;
 }
 
-// Quad f of an all-quad mesh as triangles 2f and 2f+1 (arrays already sized).
-void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v) {
-  const auto& p = out.positions_mm;
-  const float d02 = glm::length(p[static_cast<std::size_t>(v[0])] - p[static_cast<std::size_t>(v[2])]);
-  const float d13 = glm::length(p[static_cast<std::size_t>(v[1])] - p[static_cast<std::size_t>(v[3])]);
-  const int s = d02 <= d13 ? 0 : 1;  // first corner of the diagonal
-  std::uint32_t* t = out.triangles.data() + 6 * f;
+// Quad v as two triangles, split along its shorter diagonal, written to t[0..5].
+void split_quad(const std::vector<glm::vec3>& p, const int* v, std::uint32_t* t) {
+  const int s = shorter_diagonal(p, v);
   t[0] = static_cast<std::uint32_t>(v[s]);
   t[1] = static_cast<std::uint32_t>(v[s + 1]);
   t[2] = static_cast<std::uint32_t>(v[s + 2]);
   t[3] = static_cast<std::uint32_t>(v[s]);
   t[4] = static_cast<std::uint32_t>(v[s + 2]);
   t[5] = static_cast<std::uint32_t>(v[(s + 3) % 4]);
-  out.triangle_regions[2 * f] = region;
-  out.triangle_regions[2 * f + 1] = region;
+}
+
+// A quad as two triangles, split along its shorter diagonal.
+void emit_quad(SurfaceMesh& out, FaceRegion region, const int* v) {
+  if (shorter_diagonal(out.positions_mm, v) == 0) {
+    emit_triangle(out, region, v[0], v[1], v[2]);
+    emit_triangle(out, region, v[0], v[2], v[3]);
+  } else {
+    emit_triangle(out, region, v[1], v[2], v[3]);
+    emit_triangle(out, region, v[1], v[3], v[0]);
+  }
 }
 
 // Unit normal from a (possibly unoriented) direction, turned to the side of `outward`; falls back
@@ -82,6 +105,83 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
   return len > 0.0 ? glm::vec3(out / len) : glm::vec3(0.0f, 0.0f, 1.0f);
 }
 
+// The index in level L of the child vertex of a level L-1 vertex, face or edge.
+//  RefinerChildren: as the refiner recorded it (it refined level L itself).
+//  UniformChildren: as uniform refinement numbers them (Vtr::Refinement, vertices not ordered
+//  from faces first): the children of the vertices, then of the faces, then of the edges, each
+//  in parent order. A test checks that both give the same mesh.
+struct RefinerChildren {
+  static constexpr bool kInOrder = false;
+  const Far::TopologyLevel* parent;
+  [[nodiscard]] int vertex(int v) const { return parent->GetVertexChildVertex(v); }
+  [[nodiscard]] int face(int f) const { return parent->GetFaceChildVertex(f); }
+  [[nodiscard]] int edge(int e) const { return parent->GetEdgeChildVertex(e); }
+};
+struct UniformChildren {
+  static constexpr bool kInOrder = true;
+  int num_vertices = 0;
+  int num_faces = 0;
+  explicit UniformChildren(const Far::TopologyLevel& parent)
+      : num_vertices(parent.GetNumVertices()), num_faces(parent.GetNumFaces()) {}
+  [[nodiscard]] int vertex(int v) const { return v; }
+  [[nodiscard]] int face(int f) const { return num_vertices + f; }
+  [[nodiscard]] int edge(int e) const { return num_vertices + num_faces + e; }
+  [[nodiscard]] int total(const Far::TopologyLevel& parent) const { return num_vertices + num_faces + parent.GetNumEdges(); }
+};
+
+// The last refinement step of a closed, manifold mesh without creases (every vertex and edge of
+// level L-1 takes the smooth Catmull-Clark rule), done the way Far::PrimvarRefiner does it:
+// the same weights (Sdc::Scheme<SCHEME_CATMARK> smooth masks), added in the same order in single
+// precision, so the points equal PrimvarRefiner::Interpolate's bit for bit (a test checks).
+//   face child:   sum of the face's vertices times 1/n,
+//   edge child:   1/4 of both end points, then 1/4 of both faces' children,
+//   vertex child: 1/n^2 of each face's child, then 1/n^2 of each edge's far end, then (n-2)/n v.
+void refine_smooth_last_level(const Far::TopologyLevel& parent, const UniformChildren& children, const Point* src,
+                              Point* dst) {
+  for (int f = 0; f < parent.GetNumFaces(); ++f) {
+    const auto fv = parent.GetFaceVertices(f);
+    const float weight = 1.0f / static_cast<float>(fv.size());
+    Point& p = dst[children.face(f)];
+    p.Clear();
+    for (int i = 0; i < fv.size(); ++i) p.AddWithWeight(src[fv[i]], weight);
+  }
+  for (int e = 0; e < parent.GetNumEdges(); ++e) {
+    const auto ev = parent.GetEdgeVertices(e);
+    const auto ef = parent.GetEdgeFaces(e);
+    Point& p = dst[children.edge(e)];
+    p.Clear();
+    p.AddWithWeight(src[ev[0]], 0.25f);
+    p.AddWithWeight(src[ev[1]], 0.25f);
+    p.AddWithWeight(dst[children.face(ef[0])], 0.25f);
+    p.AddWithWeight(dst[children.face(ef[1])], 0.25f);
+  }
+  for (int v = 0; v < parent.GetNumVertices(); ++v) {
+    const auto vf = parent.GetVertexFaces(v);
+    const auto ve = parent.GetVertexEdges(v);
+    const int n = vf.size();
+    const float v_weight = static_cast<float>(n - 2) / static_cast<float>(n);
+    const float fe_weight = 1.0f / static_cast<float>(n * n);
+    Point& p = dst[children.vertex(v)];
+    p.Clear();
+    for (int i = 0; i < n; ++i) p.AddWithWeight(dst[children.face(vf[i])], fe_weight);
+    for (int i = 0; i < n; ++i) {
+      const auto ev = parent.GetEdgeVertices(ve[i]);
+      p.AddWithWeight(src[ev[0] == v ? ev[1] : ev[0]], fe_weight);
+    }
+    p.AddWithWeight(src[v], v_weight);
+  }
+}
+
+// True when every vertex of the level takes the smooth rule and every edge has two faces and
+// no sharpness: a closed manifold without creases, so every finer level is one too.
+[[nodiscard]] bool is_smooth_closed(const Far::TopologyLevel& level) {
+  for (int v = 0; v < level.GetNumVertices(); ++v)
+    if (level.GetVertexRule(v) != Sdc::Crease::RULE_SMOOTH || level.GetVertexFaces(v).size() != level.GetVertexEdges(v).size()) return false;
+  for (int e = 0; e < level.GetNumEdges(); ++e)
+    if (level.GetEdgeFaces(e).size() != 2 || level.GetEdgeSharpness(e) != 0.0f) return false;
+  return true;
+}
+
 // Catmull-Clark limit positions and normals of the vertices of level L (L >= 1), each computed
 // from its one-ring in level L (the limit masks), the one-ring read off level L-1's ordered
 // topology and the parent-to-child indices instead of building level L's neighbourhoods:
@@ -93,15 +193,20 @@ void split_quad(SurfaceMesh& out, std::size_t f, FaceRegion region, const int* v
 //   boundary vertex (crease rule), edge neighbours e_0..e_n from one boundary edge to the other:
 //     P = (e_0 + 4 v + e_n) / 6, normal from the corner faces.
 // Level L-1 must be manifold (the caller checks); its faces and vertex fans are oriented.
+template <class Children>
 class LimitMasks {
  public:
-  LimitMasks(const Far::TopologyRefiner& refiner, int level, const Point* src, SurfaceMesh& out)
-      : parent_(refiner.GetLevel(level - 1)), src_(src), pos_(out.positions_mm.data()), nrm_(out.normals.data()) {}
+  // With Children::kInOrder the output vectors are appended to (reserved by the caller),
+  // otherwise written by index (sized by the caller).
+  LimitMasks(const Far::TopologyLevel& parent, Children children, const Point* src, SurfaceMesh& out)
+      : parent_(parent), children_(children), src_(src), out_(out) {}
 
+  // In the uniform numbering's order (vertex children, face children, edge children), so that
+  // UniformChildren can append to the output instead of zero-filling it first.
   void run() {
+    for (int v = 0; v < parent_.GetNumVertices(); ++v) vertex_child(v);
     for (int f = 0; f < parent_.GetNumFaces(); ++f) face_child(f);
     for (int e = 0; e < parent_.GetNumEdges(); ++e) edge_child(e);
-    for (int v = 0; v < parent_.GetNumVertices(); ++v) vertex_child(v);
   }
 
  private:
@@ -147,10 +252,10 @@ class LimitMasks {
     const glm::dvec3 pv = at(v);
     const glm::dvec3 e0 = at(e[0]), e1 = at(e[1]), e2 = at(e[2]), e3 = at(e[3]);
     const glm::dvec3 f0 = at(f[0]), f1 = at(f[1]), f2 = at(f[2]), f3 = at(f[3]);
-    pos_[v] = glm::vec3((16.0 * pv + 4.0 * (e0 + e1 + e2 + e3) + (f0 + f1 + f2 + f3)) / 36.0);
+    const glm::vec3 position((16.0 * pv + 4.0 * (e0 + e1 + e2 + e3) + (f0 + f1 + f2 + f3)) / 36.0);
     const glm::dvec3 t1 = 4.0 * (e0 - e2) + (f0 - f1) - (f2 - f3);
     const glm::dvec3 t2 = 4.0 * (e1 - e3) + (f0 + f1) - (f2 + f3);
-    nrm_[v] = oriented_normal(glm::cross(t1, t2), glm::cross(e0 - pv, e1 - pv));
+    put(v, position, oriented_normal(glm::cross(t1, t2), glm::cross(e0 - pv, e1 - pv)));
   }
 
   void closed_with(int v, const int* e, const int* f, int n, const Trig& t) {
@@ -167,8 +272,7 @@ class LimitMasks {
       t1 += t.a_n * t.cos[i] * ei + (t.cos[i] + t.cos[i + 1]) * fi;
       t2 += t.a_n * t.sin[i] * ei + (t.sin[i] + t.sin[i + 1]) * fi;
     }
-    pos_[v] = glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0)));
-    nrm_[v] = oriented_normal(glm::cross(t1, t2), face_normal);
+    put(v, glm::vec3((dn * dn * pv + 4.0 * sum_e + sum_f) / (dn * (dn + 5.0))), oriented_normal(glm::cross(t1, t2), face_normal));
   }
 
   // Boundary vertex v with n corner faces: e[0..n] from one boundary neighbour to the other.
@@ -176,13 +280,22 @@ class LimitMasks {
     const glm::dvec3 pv = at(v);
     glm::dvec3 face_normal(0.0);
     for (int i = 0; i < n; ++i) face_normal += glm::cross(at(e[i]) - pv, at(e[i + 1]) - pv);
-    pos_[v] = glm::vec3((at(e[0]) + 4.0 * pv + at(e[n])) / 6.0);
-    nrm_[v] = oriented_normal(face_normal, face_normal);
+    put(v, glm::vec3((at(e[0]) + 4.0 * pv + at(e[n])) / 6.0), oriented_normal(face_normal, face_normal));
   }
 
-  [[nodiscard]] int vc(int v) const { return parent_.GetVertexChildVertex(v); }
-  [[nodiscard]] int ec(int e) const { return parent_.GetEdgeChildVertex(e); }
-  [[nodiscard]] int fc(int f) const { return parent_.GetFaceChildVertex(f); }
+  void put(int v, const glm::vec3& position, const glm::vec3& normal) {
+    if constexpr (Children::kInOrder) {
+      out_.positions_mm.push_back(position);
+      out_.normals.push_back(normal);
+    } else {
+      out_.positions_mm[static_cast<std::size_t>(v)] = position;
+      out_.normals[static_cast<std::size_t>(v)] = normal;
+    }
+  }
+
+  [[nodiscard]] int vc(int v) const { return children_.vertex(v); }
+  [[nodiscard]] int ec(int e) const { return children_.edge(e); }
+  [[nodiscard]] int fc(int f) const { return children_.face(f); }
 
   // The child of face F (n vertices v_k, edges from v_k to v_k+1): edge neighbours are the
   // children of F's edges, the diagonals the children of its vertices.
@@ -204,8 +317,7 @@ class LimitMasks {
     const auto local = parent_.GetEdgeFaceLocalIndices(edge);
     const int v = ec(edge);
     if (faces.size() == 0) {  // no faces (never in a valid mesh): stays where it is
-      pos_[v] = src_[v].p;
-      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      put(v, src_[v].p, glm::vec3(0.0f, 0.0f, 1.0f));
       return;
     }
     const auto fv0 = parent_.GetFaceVertices(faces[0]);
@@ -213,7 +325,8 @@ class LimitMasks {
     const int n0 = fv0.size();
     const int k = local[0];
     const int a = vc(fv0[k]);
-    const int b = vc(fv0[(k + 1) % n0]);
+    const int k_next = k + 1 < n0 ? k + 1 : 0;  // (no integer division in this per-edge code)
+    const int b = vc(fv0[k_next]);
     if (faces.size() == 1) {
       const int e[3] = {b, fc(faces[0]), a};
       open(v, e, 2);
@@ -223,8 +336,8 @@ class LimitMasks {
     const int n1 = fe1.size();
     const int j = local[1];
     const int e[4] = {b, fc(faces[0]), a, fc(faces[1])};
-    const int f[4] = {ec(fe0[(k + 1) % n0]), ec(fe0[(k + n0 - 1) % n0]), ec(fe1[(j + 1) % n1]),
-                      ec(fe1[(j + n1 - 1) % n1])};
+    const int f[4] = {ec(fe0[k_next]), ec(fe0[k > 0 ? k - 1 : n0 - 1]), ec(fe1[j + 1 < n1 ? j + 1 : 0]),
+                      ec(fe1[j > 0 ? j - 1 : n1 - 1])};
     closed4(v, e, f);
   }
 
@@ -236,8 +349,7 @@ class LimitMasks {
     const int v = vc(vertex);
     const int n = faces.size();
     if (n == 0) {
-      pos_[v] = src_[v].p;
-      nrm_[v] = glm::vec3(0.0f, 0.0f, 1.0f);
+      put(v, src_[v].p, glm::vec3(0.0f, 0.0f, 1.0f));
       return;
     }
     const auto un = static_cast<std::size_t>(n);
@@ -273,11 +385,51 @@ class LimitMasks {
   }
 
   const Far::TopologyLevel& parent_;
+  Children children_;
   const Point* src_;
-  glm::vec3* pos_;
-  glm::vec3* nrm_;
+  SurfaceMesh& out_;
   std::vector<int> e_, f_, prev_;  // scratch, reused
 };
+
+// The faces of level L (all quads) as two triangles each, straight from level L-1 (`parent`),
+// appended in level L's face order: uniform refinement gives face F of n vertices the children
+// n_0 + j, j = 0..n-1 (n_0 the children of the faces before F), child j being the quad (child of
+// vertex j, of edge j, of F, of edge j-1), rotated by j places when F is a quad so that vertex j's
+// child keeps F's local index j.
+void emit_child_quads(const Far::TopologyRefiner& refiner, int parent_level, const UniformChildren& children,
+                      const std::vector<FaceRegion>& control_regions, SurfaceMesh& out) {
+  const Far::TopologyLevel& parent = refiner.GetLevel(parent_level);
+  const auto nfaces = static_cast<std::size_t>(parent.GetNumFaceVertices());
+  out.triangles.reserve(6 * nfaces);
+  out.triangle_regions.reserve(2 * nfaces);
+  prefault(out.triangles.data(), 6 * nfaces * sizeof(std::uint32_t));
+  prefault(out.triangle_regions.data(), 2 * nfaces * sizeof(FaceRegion));
+  std::vector<std::uint32_t> face_triangles;  // one parent face's 2n triangles, appended at once
+  for (int f = 0; f < parent.GetNumFaces(); ++f) {
+    int ancestor = f;
+    for (int l = parent_level; l >= 1; --l) ancestor = refiner.GetLevel(l).GetFaceParentFace(ancestor);
+    const FaceRegion region = control_regions[static_cast<std::size_t>(ancestor)];
+    const auto fv = parent.GetFaceVertices(f);
+    const auto fe = parent.GetFaceEdges(f);
+    const int n = fv.size();
+    face_triangles.resize(6 * static_cast<std::size_t>(n));
+    const int center = children.face(f);
+    int previous_edge = children.edge(fe[n - 1]);
+    for (int j = 0; j < n; ++j) {
+      const int next_edge = children.edge(fe[j]);
+      const int rotation = n == 4 ? j : 0;
+      int v[4];
+      v[rotation] = children.vertex(fv[j]);
+      v[(rotation + 1) & 3] = next_edge;
+      v[(rotation + 2) & 3] = center;
+      v[(rotation + 3) & 3] = previous_edge;
+      previous_edge = next_edge;
+      split_quad(out.positions_mm, v, face_triangles.data() + 6 * j);
+    }
+    out.triangles.insert(out.triangles.end(), face_triangles.begin(), face_triangles.end());
+    out.triangle_regions.insert(out.triangle_regions.end(), 2 * static_cast<std::size_t>(n), region);
+  }
+}
 
 [[nodiscard]] bool is_manifold(const Far::TopologyLevel& level) {
   for (int v = 0; v < level.GetNumVertices(); ++v)
@@ -363,21 +515,49 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   }
   // The limit masks read each vertex's neighbourhood off the previous level, which needs a
   // manifold mesh (the control mesh builder makes one); anything else goes to OpenSubdiv's Limit.
-  if (method == LimitMethod::kMasks && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
-  Far::TopologyRefiner::UniformOptions uniform(level);
-  // PrimvarRefiner::Limit needs the last level's neighbourhoods; the masks do not.
-  uniform.fullTopologyInLastLevel = method == LimitMethod::kOpenSubdiv;
-  refiner->RefineUniform(uniform);
+  if (method != LimitMethod::kOpenSubdiv && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
+  // The last step by hand only where every vertex and edge takes the smooth rule (closed, no
+  // creases: the default caps); open ends have OpenSubdiv refine level L too.
+  if (method == LimitMethod::kMasks && !is_smooth_closed(refiner->GetLevel(0))) method = LimitMethod::kMasksOnRefinedLevel;
+  // kMasks: OpenSubdiv refines to level L-1 in full (the masks read its neighbourhoods), the
+  // last step is refine_smooth_last_level. kMasksOnRefinedLevel: level L by OpenSubdiv, its
+  // faces only. kOpenSubdiv: level L in full (PrimvarRefiner::Limit needs its neighbourhoods).
+  const int osd_levels = method == LimitMethod::kMasks ? level - 1 : level;
+  if (osd_levels > 0) {
+    Far::TopologyRefiner::UniformOptions uniform(osd_levels);
+    uniform.fullTopologyInLastLevel = method != LimitMethod::kMasksOnRefinedLevel;
+    refiner->RefineUniform(uniform);
+  }
 
-  std::vector<Point> verts(static_cast<std::size_t>(refiner->GetNumVerticesTotal()));
+  // Levels 0..osd_levels one after the other; level 0 is copied in, Interpolate writes the rest.
+  const auto nverts_total = static_cast<std::size_t>(refiner->GetNumVerticesTotal());
+  const auto verts = std::make_unique_for_overwrite<Point[]>(nverts_total);
+  prefault(verts.get(), nverts_total * sizeof(Point));
   for (std::size_t i = 0; i < control.vertex_count(); ++i) verts[i].p = glm::vec3(control.positions_mm[i]);
   Far::PrimvarRefinerReal<float> primvar(*refiner);
-  Point* src = verts.data();
-  for (int l = 1; l <= level; ++l) {
+  Point* src = verts.get();
+  for (int l = 1; l <= osd_levels; ++l) {
     Point* dst = src + refiner->GetLevel(l - 1).GetNumVertices();
     primvar.Interpolate(l, src, dst);
     src = dst;
   }
+  SurfaceMesh& out = result.mesh;
+  const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
+  if (method == LimitMethod::kMasks) {
+    const UniformChildren children(parent);
+    const auto nfine = static_cast<std::size_t>(children.total(parent));
+    const auto fine = std::make_unique_for_overwrite<Point[]>(nfine);  // every entry is written
+    prefault(fine.get(), nfine * sizeof(Point));
+    refine_smooth_last_level(parent, children, src, fine.get());
+    out.positions_mm.reserve(nfine);
+    out.normals.reserve(nfine);
+    prefault(out.positions_mm.data(), nfine * sizeof(glm::vec3));
+    prefault(out.normals.data(), nfine * sizeof(glm::vec3));
+    LimitMasks<UniformChildren>(parent, children, fine.get(), out).run();
+    emit_child_quads(*refiner, level - 1, children, control.face_regions, out);
+    return result;
+  }
+
   const Far::TopologyLevel& last = refiner->GetLevel(level);
   const auto nverts = static_cast<std::size_t>(last.GetNumVertices());
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
@@ -387,13 +567,12 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     result.error = "refined face is not a quad";
     return result;
   }
-  SurfaceMesh& out = result.mesh;
   if (method == LimitMethod::kOpenSubdiv) {
     limit_by_opensubdiv(primvar, src, quads, nfaces, nverts, out);
   } else {
     out.positions_mm.resize(nverts);
     out.normals.resize(nverts);
-    LimitMasks(*refiner, level, src, out).run();
+    LimitMasks<RefinerChildren>(parent, RefinerChildren{&parent}, src, out).run();
   }
 
   // Triangles, each with the region of the control face it descends from.
@@ -402,7 +581,8 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
     for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
-    split_quad(out, f, control.face_regions[static_cast<std::size_t>(face)], quads + 4 * f);
+    split_quad(out.positions_mm, quads + 4 * f, out.triangles.data() + 6 * f);
+    out.triangle_regions[2 * f] = out.triangle_regions[2 * f + 1] = control.face_regions[static_cast<std::size_t>(face)];
   }
   return result;
 }

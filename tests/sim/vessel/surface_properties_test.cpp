@@ -320,6 +320,37 @@ TEST(SurfaceProperties, LimitMasksAgreeWithOpenSubdivLimit) {
   }
 }
 
+TEST(SurfaceProperties, LastStepByHandEqualsOpenSubdivRefinedLevel) {
+  // kMasks refines the last level itself (OpenSubdiv stops at level L-1) on closed meshes; it
+  // must number, connect and place level L exactly as OpenSubdiv's own refinement and
+  // PrimvarRefiner::Interpolate do (kMasksOnRefinedLevel), bit for bit, for quads, the
+  // triangles and M-gons of junction patches and caps (level 1), and deeper levels.
+  struct Case {
+    VesselModel model;
+    int ring_points;
+    int max_level;
+  };
+  const std::vector<Case> cases = {{CaseGenerator::neuro_aneurysm(), 8, 2},
+                                   {CaseGenerator::random_graph(7, 3), 4, 3},
+                                   {CaseGenerator::random_tree(11, RandomTreeOptions{}), 16, 2},
+                                   {CaseGenerator::y_bifurcation(), 5, 3}};
+  for (const Case& c : cases) {
+    MeshOptions options = with_ring(c.ring_points);
+    options.subdivision_level = 0;
+    const VesselSurface base = build_vessel_surface(c.model, options);
+    ASSERT_TRUE(base.ok()) << base.error;
+    for (int level = 1; level <= c.max_level; ++level) {
+      const SurfaceMeshResult fast = subdivide(base.control, level, LimitMethod::kMasks);
+      const SurfaceMeshResult reference = subdivide(base.control, level, LimitMethod::kMasksOnRefinedLevel);
+      ASSERT_TRUE(fast.ok() && reference.ok());
+      EXPECT_EQ(fast.mesh.triangles, reference.mesh.triangles) << "M " << c.ring_points << " level " << level;
+      EXPECT_EQ(fast.mesh.triangle_regions, reference.mesh.triangle_regions);
+      EXPECT_EQ(fast.mesh.positions_mm, reference.mesh.positions_mm);
+      EXPECT_EQ(fast.mesh.normals, reference.mesh.normals);
+    }
+  }
+}
+
 TEST(SurfaceProperties, NonManifoldControlMeshFallsBackToOpenSubdivLimit) {
   // Two quads sharing only a corner: the one-ring masks need manifold fans, so subdivide must
   // hand this to PrimvarRefiner::Limit and give exactly what kOpenSubdiv gives.

@@ -18,10 +18,14 @@ struct SurfaceMeshResult {
 
 // How the refined vertices are moved to the limit surface:
 //  kMasks: the Catmull-Clark limit position and tangent masks (Halstead et al. 1993) applied to
-//          the last level, whose faces are all quads (fast: the refiner skips the last level's
-//          full topology). Cross-checked against kOpenSubdiv in the tests.
+//          the last level. OpenSubdiv refines to level L-1; on a closed mesh without creases
+//          the last step is done with PrimvarRefiner's own smooth weights in the same order
+//          straight into the limit pass (so OpenSubdiv never builds level L), otherwise as
+//          kMasksOnRefinedLevel. Cross-checked against the other two in the tests.
+//  kMasksOnRefinedLevel: the same masks on level L as OpenSubdiv refines it (faces only) and
+//          PrimvarRefiner interpolates it; kMasks must give exactly this mesh.
 //  kOpenSubdiv: Far::PrimvarRefiner::Limit() with full topology in the last level.
-enum class LimitMethod { kMasks, kOpenSubdiv };
+enum class LimitMethod { kMasks, kMasksOnRefinedLevel, kOpenSubdiv };
 
 // level 0 returns the control mesh itself, triangulated (normals from the faces).
 [[nodiscard]] SurfaceMeshResult subdivide(const ControlMesh& control, int level,
