@@ -202,33 +202,6 @@ class PendingBoxes {
   int size_ = 0;
 };
 
-// The same list as a binary min-heap, for the hint refill: it opens many more boxes than a
-// query, and with its longer list the linear scan took a third of the refill.
-class PendingHeap {
- public:
-  static constexpr int kCapacity = 256;
-  void push(float lb, std::int32_t slot) {
-    items_[size_++] = {lb, slot};
-    std::push_heap(items_, items_ + size_, later);
-  }
-  [[nodiscard]] bool empty() const { return size_ == 0; }
-  [[nodiscard]] bool has_room() const { return size_ + 4 <= kCapacity; }
-  [[nodiscard]] float nearest_bound() const { return items_[0].lb; }
-  std::int32_t pop() {
-    std::pop_heap(items_, items_ + size_, later);
-    return items_[--size_].slot;
-  }
-
- private:
-  struct Item {
-    float lb;
-    std::int32_t slot;
-  };
-  static bool later(const Item& x, const Item& y) { return x.lb > y.lb; }
-  Item items_[kCapacity];
-  int size_ = 0;
-};
-
 // Queues the children of node n whose box bound passes keep(bound), and starts loading them.
 template <typename List, typename Keep>
 CATHBOX_COLLISION_INLINE void push_children(const TreeData& d, const detail::WideNode& n, const PointLanes& p,

@@ -5,10 +5,11 @@
 // leaves, with copies of their boxes) that together hold every wall triangle within `radius` of
 // `origin`, the subtrees nearest to the origin opened deepest. A closest-point query also first
 // measures the leaf that held its previous answer, which gives a tight bound before any box is
-// opened, and the hint remembers how far the wall is known to be from the origin, so a node
-// out of a limited query's reach gets its empty answer at once. A cheap test (needed reach + distance moved <= radius) proves nothing outside the cut
-// can change the answer; otherwise the hint is refilled. Results are exactly those of the cold
-// queries. Keep one hint per tool node; queries never allocate. About 4.4 KB each.
+// opened; and the hint remembers how far the wall is known to be from the origin, so a node out
+// of a limited query's reach gets its empty answer at once. A cheap test (needed reach +
+// distance moved <= radius) proves nothing outside the cut can change the answer; otherwise the
+// hint is refilled. Results are exactly those of the cold queries. Keep one hint per tool node;
+// queries never allocate. About 4.4 KB each.
 #include <cstdint>
 
 namespace cathbox::collision {
