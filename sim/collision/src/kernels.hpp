@@ -58,13 +58,13 @@ CATHBOX_COLLISION_INLINE DistanceBracket triangle_distance_sq(const TriangleBloc
   const v4i surely_inside = (u >= tol) & (v >= tol) & (u + v <= splat(1.0f) - tol);
 
   // Edge parameters; an empty lane's 0 / 0 clamps to 0 (select picks the bound on NaN).
-  const v4f t0 = clamp01((wx * e0x + wy * e0y + wz * e0z) / (e0x * e0x + e0y * e0y + e0z * e0z));
+  const v4f t0 = clamp01((wx * e0x + wy * e0y + wz * e0z) * recip(e0x * e0x + e0y * e0y + e0z * e0z));
   const v4f d0x = wx - t0 * e0x, d0y = wy - t0 * e0y, d0z = wz - t0 * e0z;
-  const v4f t1 = clamp01((wx * e1x + wy * e1y + wz * e1z) / (e1x * e1x + e1y * e1y + e1z * e1z));
+  const v4f t1 = clamp01((wx * e1x + wy * e1y + wz * e1z) * recip(e1x * e1x + e1y * e1y + e1z * e1z));
   const v4f d1x = wx - t1 * e1x, d1y = wy - t1 * e1y, d1z = wz - t1 * e1z;
   const v4f e2x = e1x - e0x, e2y = e1y - e0y, e2z = e1z - e0z;
   const v4f w2x = wx - e0x, w2y = wy - e0y, w2z = wz - e0z;
-  const v4f t2 = clamp01((w2x * e2x + w2y * e2y + w2z * e2z) / (e2x * e2x + e2y * e2y + e2z * e2z));
+  const v4f t2 = clamp01((w2x * e2x + w2y * e2y + w2z * e2z) * recip(e2x * e2x + e2y * e2y + e2z * e2z));
   const v4f d2x = w2x - t2 * e2x, d2y = w2y - t2 * e2y, d2z = w2z - t2 * e2z;
   const v4f edge = vmin(vmin(d0x * d0x + d0y * d0y + d0z * d0z, d1x * d1x + d1y * d1y + d1z * d1z),
                         d2x * d2x + d2y * d2y + d2z * d2z);
