@@ -462,12 +462,14 @@ class HintCache {
   }
 
   // Calls fn(block) for every leaf below the cut whose box lies within sqrt(thresh) of p.
+  // `delta`: the distance of p from the hint's origin.
   template <typename Fn>
-  static void for_each_leaf_near(const QueryHint& h, const TreeData& d, const glm::dvec3& p, float thresh, Fn&& fn) {
+  static void for_each_leaf_near(const QueryHint& h, const TreeData& d, const glm::dvec3& p, double delta, float thresh,
+                                 Fn&& fn) {
     const PointLanes lanes = lanes_of(p);
     std::int32_t stack[kStackSize];
     int sp = 0;
-    slots_near(h, d, lanes, moved(h, p), slack_for(d, p), thresh, [&](float, std::int32_t slot) { stack[sp++] = slot; });
+    slots_near(h, d, lanes, delta, slack_for(d, p), thresh, [&](float, std::int32_t slot) { stack[sp++] = slot; });
     for_each_leaf_below(d, lanes, thresh, stack, sp, fn);
   }
 };
@@ -652,13 +654,16 @@ bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
 template <typename Probe>
 void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, float thresh,
                 const Probe& probe) {
-  if (HintCache::usable(hint, d) && reach + HintCache::moved(hint, centre) <= hint.radius_mm()) {
+  const bool usable = HintCache::usable(hint, d);
+  double delta = usable ? HintCache::moved(hint, centre) : 0.0;
+  if (usable && reach + delta <= hint.radius_mm()) {
     HintCache::count_hit(hint);
-    if (HintCache::clear_of(hint, HintCache::moved(hint, centre), reach)) return;  // nothing in reach
+    if (HintCache::clear_of(hint, delta, reach)) return;  // nothing in reach
   } else {
     HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
+    delta = 0.0;
   }
-  HintCache::for_each_leaf_near(hint, d, centre, thresh, probe);
+  HintCache::for_each_leaf_near(hint, d, centre, delta, thresh, probe);
 }
 
 }  // namespace
@@ -704,7 +709,6 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
   const TreeData& d = *data_;
   Nearest s(d, point_mm, max_distance_mm);
   const double margin2 = 2.0 * d.coherence_margin_mm;
-  bool searched = false;
   if (HintCache::usable(hint, d)) {
     const double delta = HintCache::moved(hint, point_mm);
     if (HintCache::clear_of(hint, delta, max_distance_mm)) {  // the wall is out of reach
@@ -722,14 +726,17 @@ std::optional<ClosestPoint> ObbTree::closest_point(const glm::dvec3& point_mm, d
     if (std::isfinite(s.bound())) {
       HintCache::refill(d, point_mm, s.bound() + margin2, hint);
       HintCache::search(hint, s, 0.0);
-      searched = true;
+      HintCache::remember(hint, s, 0.0);
+      return finish_closest(s);
     }
   }
-  if (!searched) {
-    search_tree(s);
-    if (std::isfinite(s.bound())) HintCache::refill(d, point_mm, s.bound() + margin2, hint);
+  // No usable hint (or nothing at all within an unlimited reach of its cut): the tree, then a
+  // cut around the answer. An unlimited search of a tree always finds a triangle.
+  search_tree(s);
+  if (std::isfinite(s.bound())) {
+    HintCache::refill(d, point_mm, s.bound() + margin2, hint);
+    HintCache::remember(hint, s, 0.0);
   }
-  HintCache::remember(hint, s, HintCache::moved(hint, point_mm));
   return finish_closest(s);
 }
 
