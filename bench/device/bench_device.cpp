@@ -59,19 +59,29 @@ std::unique_ptr<BoxClient> connect_or_skip(benchmark::State& bench, RunningEmula
   return std::move(client.value());
 }
 
+// What the emulator benchmarks start from: a running emulator, its clock, a connected client
+// (null after SkipWithError), the idle command and a state to poll into.
+struct Session {
+  RunningEmulator box;
+  SystemClock clock;
+  std::unique_ptr<BoxClient> client;
+  const cbx_command_report command = idle_command();
+  BoxState state{};
+  explicit Session(benchmark::State& bench) : client(connect_or_skip(bench, box, clock)) {}
+};
+
 double percentile(std::vector<double> v, double p) {
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
 }
 
 void RoundTrip(benchmark::State& bench) {
-  RunningEmulator box;
-  SystemClock clock;
-  auto client = connect_or_skip(bench, box, clock);
-  if (!client) return;
-  auto& c = *client;
-  const auto command = idle_command();
-  BoxState state;
+  Session session(bench);
+  if (!session.client) return;
+  auto& c = *session.client;
+  auto& clock = session.clock;
+  const auto& command = session.command;
+  auto& state = session.state;
   std::vector<double> samples_us;
   for (auto _ : bench) {
     const uint16_t seq = c.next_command_seq();
@@ -91,13 +101,12 @@ void RoundTrip(benchmark::State& bench) {
 BENCHMARK(RoundTrip)->Iterations(2000)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 void SustainedRate(benchmark::State& bench) {
-  RunningEmulator box;
-  SystemClock clock;
-  auto client = connect_or_skip(bench, box, clock);
-  if (!client) return;
-  auto& c = *client;
-  const auto command = idle_command();
-  BoxState state;
+  Session session(bench);
+  if (!session.client) return;
+  auto& c = *session.client;
+  auto& clock = session.clock;
+  const auto& command = session.command;
+  auto& state = session.state;
   double rate = 0;
   for (auto _ : bench) {
     const uint64_t start = clock.now_us();
