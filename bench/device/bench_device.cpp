@@ -76,23 +76,20 @@ double percentile(std::vector<double> v, double p) {
 }
 
 void RoundTrip(benchmark::State& bench) {
-  Session session(bench);
-  if (!session.client) return;
-  auto& c = *session.client;
-  auto& clock = session.clock;
-  const auto& command = session.command;
-  auto& state = session.state;
+  Session s(bench);
+  if (!s.client) return;
+  auto& c = *s.client;
   std::vector<double> samples_us;
   for (auto _ : bench) {
     const uint16_t seq = c.next_command_seq();
-    const uint64_t sent = clock.now_us();
-    (void)c.send(command);
+    const uint64_t sent = s.clock.now_us();
+    (void)c.send(s.command);
     for (;;) {
-      if (c.poll(state) && static_cast<uint16_t>(state.report.command_seq_echo - seq) < 0x8000u) break;
-      if (clock.now_us() - sent > 100'000) break;
-      clock.wait(-1, 50);  // yield the core to the emulator thread (2-core machines)
+      if (c.poll(s.state) && static_cast<uint16_t>(s.state.report.command_seq_echo - seq) < 0x8000u) break;
+      if (s.clock.now_us() - sent > 100'000) break;
+      s.clock.wait(-1, 50);  // yield the core to the emulator thread (2-core machines)
     }
-    samples_us.push_back(static_cast<double>(clock.now_us() - sent));
+    samples_us.push_back(static_cast<double>(s.clock.now_us() - sent));
   }
   bench.counters["median_us"] = percentile(samples_us, 0.5);
   bench.counters["p99_us"] = percentile(samples_us, 0.99);
@@ -101,22 +98,19 @@ void RoundTrip(benchmark::State& bench) {
 BENCHMARK(RoundTrip)->Iterations(2000)->UseRealTime()->Unit(benchmark::kMicrosecond);
 
 void SustainedRate(benchmark::State& bench) {
-  Session session(bench);
-  if (!session.client) return;
-  auto& c = *session.client;
-  auto& clock = session.clock;
-  const auto& command = session.command;
-  auto& state = session.state;
+  Session s(bench);
+  if (!s.client) return;
+  auto& c = *s.client;
   double rate = 0;
   for (auto _ : bench) {
-    const uint64_t start = clock.now_us();
+    const uint64_t start = s.clock.now_us();
     const uint64_t accepted0 = c.stats().states_accepted;
     const uint64_t missed0 = c.stats().states_missed;
-    while (clock.now_us() - start < 2'000'000) {
-      if (c.poll(state)) (void)c.send(command);
-      clock.wait(-1, 200);
+    while (s.clock.now_us() - start < 2'000'000) {
+      if (c.poll(s.state)) (void)c.send(s.command);
+      s.clock.wait(-1, 200);
     }
-    rate = static_cast<double>(c.stats().states_accepted - accepted0) / ((clock.now_us() - start) * 1e-6);
+    rate = static_cast<double>(c.stats().states_accepted - accepted0) / ((s.clock.now_us() - start) * 1e-6);
     bench.counters["missed"] = static_cast<double>(c.stats().states_missed - missed0);
   }
   bench.counters["reports_per_s"] = rate;
