@@ -56,41 +56,6 @@ double point_triangle_distance_sq(const glm::dvec3& p, const glm::dvec3& a, cons
   return glm::dot(d, d);
 }
 
-SegmentPair closest_segment_segment(const glm::dvec3& p0, const glm::dvec3& p1,
-                                    const glm::dvec3& q0, const glm::dvec3& q1) {
-  const glm::dvec3 d1 = p1 - p0;
-  const glm::dvec3 d2 = q1 - q0;
-  const glm::dvec3 r = p0 - q0;
-  const double a = glm::dot(d1, d1);
-  const double e = glm::dot(d2, d2);
-  const double f = glm::dot(d2, r);
-  double s = 0.0;
-  double t = 0.0;
-  if (a <= 0.0 && e <= 0.0) {
-    // both points
-  } else if (a <= 0.0) {
-    t = std::clamp(f / e, 0.0, 1.0);
-  } else {
-    const double c = glm::dot(d1, r);
-    if (e <= 0.0) {
-      s = std::clamp(-c / a, 0.0, 1.0);
-    } else {
-      const double b = glm::dot(d1, d2);
-      const double denom = a * e - b * b;
-      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-      t = (b * s + f) / e;
-      if (t < 0.0) {
-        t = 0.0;
-        s = std::clamp(-c / a, 0.0, 1.0);
-      } else if (t > 1.0) {
-        t = 1.0;
-        s = std::clamp((b - c) / a, 0.0, 1.0);
-      }
-    }
-  }
-  const glm::dvec3 diff = (p0 + d1 * s) - (q0 + d2 * t);
-  return {s, t, glm::dot(diff, diff)};
-}
 
 namespace {
 
@@ -173,3 +138,43 @@ std::optional<double> ray_triangle(const glm::dvec3& origin, const glm::dvec3& d
 }
 
 }  // namespace cathbox::collision::detail
+
+namespace cathbox::collision {
+
+SegmentPair closest_segment_segment(const glm::dvec3& p0, const glm::dvec3& p1,
+                                    const glm::dvec3& q0, const glm::dvec3& q1) {
+  const glm::dvec3 d1 = p1 - p0;
+  const glm::dvec3 d2 = q1 - q0;
+  const glm::dvec3 r = p0 - q0;
+  const double a = glm::dot(d1, d1);
+  const double e = glm::dot(d2, d2);
+  const double f = glm::dot(d2, r);
+  double s = 0.0;
+  double t = 0.0;
+  if (a <= 0.0 && e <= 0.0) {
+    // both points
+  } else if (a <= 0.0) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = glm::dot(d1, r);
+    if (e <= 0.0) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = glm::dot(d1, d2);
+      const double denom = a * e - b * b;
+      s = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  const glm::dvec3 diff = (p0 + d1 * s) - (q0 + d2 * t);
+  return {s, t, glm::dot(diff, diff)};
+}
+
+}  // namespace cathbox::collision

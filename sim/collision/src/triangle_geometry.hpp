@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "collision/closest_point.hpp"
+#include "collision/segment_pair.hpp"
 
 namespace cathbox::collision::detail {
 
@@ -27,15 +28,8 @@ struct PointOnTriangle {
 [[nodiscard]] double point_triangle_distance_sq(const glm::dvec3& p, const glm::dvec3& a,
                                                 const glm::dvec3& b, const glm::dvec3& c);
 
-struct SegmentPair {
-  double s = 0.0;  // parameter on the first segment
-  double t = 0.0;  // parameter on the second segment
-  double distance_sq = 0.0;
-};
-
-// Closest points of segments p0-p1 and q0-q1 (either may be a point).
-[[nodiscard]] SegmentPair closest_segment_segment(const glm::dvec3& p0, const glm::dvec3& p1,
-                                                  const glm::dvec3& q0, const glm::dvec3& q1);
+using collision::closest_segment_segment;
+using collision::SegmentPair;
 
 struct SegmentOnTriangle {
   double segment_t = 0.0;  // parameter of the closest point on p0-p1

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
 #include "banded_cholesky.hpp"
+#include "tool/coil_shape.hpp"
 
 namespace cathbox::tool {
 
@@ -77,12 +79,18 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   length_mm_ = spec_.length_mm();
   const double h_tip = std::max(0.05, spec_.tip_spacing_mm);
   const double h_max = std::max(h_tip, spec_.max_spacing_mm);
+  // A detachable coil ends at a node (its detachment zone).
+  const double must = spec_.detach_mm > 0.0 && spec_.detach_mm < length_mm_ ? spec_.detach_mm : -1.0;
   // Material stations from the tip: fine over the tip zone, then growing to h_max.
   std::vector<double> s{0.0};
   for (;;) {
     const double u = s.back();
     const double ramp = std::clamp((u - spec_.tip_zone_mm) / std::max(1e-9, 2.0 * spec_.tip_zone_mm), 0.0, 1.0);
     const double h = h_tip + (h_max - h_tip) * ramp;
+    if (must > u && must <= u + h) {
+      if (must - u < 0.3 * h && u > 0.0) s.back() = must; else s.push_back(must);
+      continue;
+    }
     if (u + h >= length_mm_ - 0.3 * h) break;
     s.push_back(u + h);
   }
@@ -97,7 +105,9 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   ei_extra_.assign(n, 0.0);
   gj_.resize(n);
   kbar1_.assign(n, 0.0);
-  kbar_turn_.assign(n, 0.0);
+  kbar2_.assign(n, 0.0);
+  kturn1_.assign(n, 0.0);
+  kturn2_.assign(n, 0.0);
   voronoi_.resize(n);
   drag_.resize(n);
   rest_.assign(n - 1, 0.0);
@@ -120,10 +130,13 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
     inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
     ei_[k] = sec->bending_stiffness_Nmm2 * kMilli;
     gj_[k] = sec->torsion_stiffness_Nmm2 * kMilli;
-    if (sec->curve_deg != 0.0 && sec->length_mm > 0.0 && k > 0 && k + 1 < n) {
-      const double curvature = sec->curve_deg * (M_PI / 180.0) / sec->length_mm;
-      kbar1_[k] = 2.0 * std::tan(0.5 * std::clamp(curvature * voronoi_[k], -3.0, 3.0));
-      kbar_turn_[k] = 2.0 * std::sin(0.5 * std::clamp(curvature * voronoi_[k], -3.0, 3.0));
+    if (k > 0 && k + 1 < n) {
+      const CoilRest rest = coil_rest(*sec, from_tip_[k]);
+      if (rest.curvature_per_mm != 0.0) {
+        set_rest_shape(k, rest.curvature_per_mm, rest.direction_rad);
+      } else if (sec->curve_deg != 0.0 && sec->length_mm > 0.0) {
+        set_rest_shape(k, sec->curve_deg * (M_PI / 180.0) / sec->length_mm, 0.0);
+      }
     }
     drag_[k] = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
   }
@@ -132,6 +145,9 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   x_start_.assign(n, glm::dvec3(0.0));
   x_pred_.assign(n, glm::dvec3(0.0));
   load_.assign(n, glm::dvec3(0.0));
+  coupling_.assign(n, glm::dvec3(0.0));
+  grip_anchor_.assign(n, glm::dvec3(0.0));
+  grip_limit_.assign(n, 0.0);
   node_contacts_.assign(n, NodeContact{});
   theta_.assign(n - 1, 0.0);
   theta_start_.assign(n - 1, 0.0);
@@ -140,6 +156,14 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   d1_.assign(n - 1, glm::dvec3(1, 0, 0));
   m1_.assign(n - 1, glm::dvec3(1, 0, 0));
   m2_.assign(n - 1, glm::dvec3(0, 1, 0));
+  size_scratch();
+  set_entry(glm::dvec3(0.0), glm::dvec3(0, 0, 1));
+}
+
+Rod::Rod() = default;
+
+void Rod::size_scratch() {
+  const std::size_t n = x_.size();
   grad_.assign(3 * n, 0.0);
   delta_.assign(3 * n, 0.0);
   work_.assign(3 * n, 0.0);
@@ -150,8 +174,27 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   tw_rhs_.assign(n, 0.0);
   tw_c_.assign(n, 0.0);
   contacts_.reserve(n);
+  edge_contacts_.reserve(4 * n);
+  gathered_at_.assign(n, glm::dvec3(0.0));
   matrix_ = std::make_unique<BandedCholesky>(3 * n, kHalfBand);
-  set_entry(glm::dvec3(0.0), glm::dvec3(0, 0, 1));
+}
+
+void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {
+  const double phi = std::clamp(curvature_per_mm * voronoi_[k], -3.0, 3.0);
+  const double bar = 2.0 * std::tan(0.5 * phi);
+  const double turn = 2.0 * std::sin(0.5 * phi);
+  const double c = std::cos(direction_rad);
+  const double s = std::sin(direction_rad);
+  kbar1_[k] = bar * c;
+  kbar2_[k] = bar * s;
+  kturn1_[k] = turn * c;
+  kturn2_[k] = turn * s;
+}
+
+double Rod::rest_curvature_per_mm(std::size_t k) const {
+  if (k >= kturn1_.size() || voronoi_[k] <= 0.0) return 0.0;
+  const double turn = std::sqrt(kturn1_[k] * kturn1_[k] + kturn2_[k] * kturn2_[k]);
+  return 2.0 * std::asin(std::min(1.0, 0.5 * turn)) / voronoi_[k];
 }
 
 Rod::~Rod() = default;
@@ -270,7 +313,19 @@ void Rod::advect(double delta_mm) {
 
 void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference) {
   const double len = glm::length(direction);
-  if (!(len > 1e-12) || !std::isfinite(len)) return;
+  if (!(len > 1e-12) || !std::isfinite(len) || !std::isfinite(point_mm.x + point_mm.y + point_mm.z)) return;
+  // Predictor: the free part near the entry follows the entry's move (the carrier's tip), fading
+  // out over kFollowEntry_mm along the tool, so the clamp does not tear at the first nodes.
+  const glm::dvec3 moved = point_mm - entry_;
+  if (glm::dot(moved, moved) > 0.0 && first_free_ < x_.size()) {
+    constexpr double kFollowEntry_mm = 10.0;
+    const double s0 = from_tip_[first_free_ - 1];
+    for (std::size_t k = first_free_; k < x_.size(); ++k) {
+      const double w = 1.0 - (s0 - from_tip_[k]) / kFollowEntry_mm;
+      if (w <= 0.0) break;
+      x_[k] += moved * w;
+    }
+  }
   entry_ = point_mm;
   dir_ = direction / len;
   const glm::dvec3 r = reference - dir_ * glm::dot(reference, dir_);
@@ -354,22 +409,27 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
   return active_changed;
 }
 
-void Rod::step(double dt_s, const WallModel& wall) {
+void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
   const std::size_t n = x_.size();
   const std::size_t old_first = first_;
   for (std::size_t k = std::min(old_first, first_); k < n; ++k) x_start_[k] = x_[k];
-  const double advance = std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
-  material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
-  advect(advance);
-  stepped_insertion_mm_ = insertion_mm_;
-  update_window();
+  if (!free_) {
+    const double advance =
+        std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
+    material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
+    advect(advance);
+    stepped_insertion_mm_ = insertion_mm_;
+    update_window();
+  }
   for (std::size_t k = first_; k < old_first; ++k) x_start_[k] = x_[k];
   for (std::size_t k = first_; k + 1 < n; ++k) theta_start_[k] = theta_[k];
 
+  edge_contacts_.clear();
   if (first_free_ < n) {
     if (compressed_) seed_buckling();
     refresh_contacts(wall, false);
+    if (obstacles != nullptr) gather_obstacles(*obstacles);
     const std::size_t dofs = 3 * (n - first_);
     const std::size_t free0 = 3 * (first_free_ - first_);
     const int iterations = std::max(1, settings_.newton_iterations);
@@ -482,12 +542,24 @@ void Rod::step(double dt_s, const WallModel& wall) {
         }
       }
       if (refresh_contacts(wall, true)) refactor = true;
+      if (obstacles != nullptr) {
+        // Planes of other rods are taken again once a node has moved half the margin.
+        const double limit = 0.5 * obstacles->margin_mm();
+        for (std::size_t k = first_free_; k < n; ++k) {
+          if (glm::length(x_[k] - gathered_at_[k]) > limit) {
+            gather_obstacles(*obstacles);
+            refactor = true;
+            break;
+          }
+        }
+      }
       last_iterations_ = it + 1;
       last_update_mm_ = largest * scale;
       if (largest * scale < settings_.convergence_mm) break;
     }
     refresh_contacts(wall, true);
     limit_penetration();
+    finish_edge_contacts();
     // The force on the clamp at the final state, to first order from the last assembly:
     // g_p += K_pf (x - x_assembled).
     for (std::size_t k = first_free_; k < n; ++k) {
@@ -530,9 +602,10 @@ Rod::BendTerm Rod::bend_term(std::size_t i) const {
   bt.ta = a / bt.la;
   bt.tb = b / bt.lb;
   bt.r = bt.tb - bt.ta;
-  if (kbar_turn_[i] != 0.0) bt.r -= (m1_[i - 1] + m1_[i]) * (0.5 * kbar_turn_[i]);
+  if (kturn1_[i] != 0.0) bt.r -= (m1_[i - 1] + m1_[i]) * (0.5 * kturn1_[i]);
+  if (kturn2_[i] != 0.0) bt.r -= (m2_[i - 1] + m2_[i]) * (0.5 * kturn2_[i]);
   // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
-  bt.w = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 ? 0.5 * rest_[i] : voronoi_[i]);
+  bt.w = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
   return bt;
 }
 
@@ -604,15 +677,50 @@ void Rod::assemble(double dt_s, bool hessian) {
     add(i + 1, i, ba - bb);
   }
 
+  // Other rods (and the rod's own far parts): one-sided penalty on the gathered planes.
+  for (const EdgeContact& ec : edge_contacts_) {
+    const double phi = edge_gap(ec);
+    if (phi <= 0.0) continue;
+    const double kc = settings_.contact_stiffness_mN_per_mm;
+    const std::size_t a = ec.edge;
+    const double wa = 1.0 - ec.s;
+    const double wb = ec.s;
+    energy_ += 0.5 * kc * phi * phi;
+    if (a >= first_free_) add_grad(a, -ec.normal * (kc * phi * wa));
+    if (a + 1 >= first_free_) add_grad(a + 1, -ec.normal * (kc * phi * wb));
+    if (!hessian) continue;
+    const glm::dmat3 nn = kc * glm::outerProduct(ec.normal, ec.normal);
+    if (a >= first_free_) add(a, a, nn * (wa * wa));
+    if (a + 1 >= first_free_) add(a + 1, a + 1, nn * (wb * wb));
+    if (a >= first_free_) add(a + 1, a, nn * (wa * wb));
+  }
+
   // Wall contacts, friction, drag and loads on the free nodes.
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
     const double c = drag_[k] / dt_s;
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    add_grad(k, moved * c - load_[k]);
+    const glm::dvec3 load = load_[k] + coupling_[k];
+    add_grad(k, moved * c - load);
     add(k, k, identity * c);
-    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
+    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load, x_[k]);
+    if (grip_limit_[k] > 0.0) {
+      const double kg = kc * settings_.stick_stiffness_ratio;
+      const glm::dvec3 rel = x_[k] - grip_anchor_[k];
+      const double len = glm::length(rel);
+      const double limit = grip_limit_[k];
+      if (kg * len <= limit) {
+        add_grad(k, rel * kg);
+        add(k, k, identity * kg);
+        energy_ += 0.5 * kg * len * len;
+      } else {
+        const glm::dvec3 u = rel / len;
+        add_grad(k, u * limit);
+        add(k, k, (limit / len) * (identity - glm::outerProduct(u, u)));
+        energy_ += limit * len - 0.5 * limit * limit / kg;
+      }
+    }
     friction_limit_[k] = 0.0;
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
@@ -664,9 +772,18 @@ double Rod::energy(double dt_s) const {
   }
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
+  for (const EdgeContact& ec : edge_contacts_) {
+    const double phi = edge_gap(ec);
+    if (phi > 0.0) e += 0.5 * kc * phi * phi;
+  }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k], x_[k]);
+    e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
+    if (grip_limit_[k] > 0.0) {
+      const double len = glm::length(x_[k] - grip_anchor_[k]);
+      const double limit = grip_limit_[k];
+      e += kt * len <= limit ? 0.5 * kt * len * len : limit * len - 0.5 * limit * limit / kt;
+    }
     const NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
     if (nc.active2) e += 0.5 * kc * second_gap(k) * second_gap(k);
@@ -709,13 +826,13 @@ void Rod::limit_penetration() {
         if (phi2 > 0.0) nc.active2 = true;
       }
     }
-    if (glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
+    if (k > 0 && glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
   }
 }
 
 void Rod::update_frames() {
   const std::size_t n = x_.size();
-  for (std::size_t k = first_free_ - 1; k + 1 < n; ++k) {
+  for (std::size_t k = first_edge(); k + 1 < n; ++k) {
     const glm::dvec3 e = x_[k + 1] - x_[k];
     const double len = glm::length(e);
     if (!(len > 1e-12)) continue;
@@ -734,7 +851,7 @@ void Rod::update_frames() {
 
 void Rod::solve_twist(double dt_s) {
   const std::size_t n = x_.size();
-  const std::size_t ef = first_free_ - 1;  // first free edge; edge ef - 1 is clamped
+  const std::size_t ef = first_edge();  // first free edge; edge ef - 1 is clamped (unless free)
   const std::size_t m = n - 1 - ef;        // free edges
   auto material = [&](std::size_t e) {
     const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
@@ -755,8 +872,8 @@ void Rod::solve_twist(double dt_s) {
         tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
       }
       // Twist at every vertex i between edges i-1 and i.
-      for (std::size_t i = ef; i + 1 < n; ++i) {
-        const double c = gj_[i] / (i == ef ? 0.5 * rest_[i] : voronoi_[i]);
+      for (std::size_t i = free_ ? 1 : ef; i + 1 < n; ++i) {
+        const double c = gj_[i] / (i == ef && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
         const double tau = theta_[i] - theta_[i - 1] + ref_twist_[i];
         const std::size_t j = i - ef;
         tw_diag_[j] += c;
@@ -766,7 +883,7 @@ void Rod::solve_twist(double dt_s) {
           tw_rhs_[j - 1] -= c * tau;
           tw_off_[j] -= c;
         }
-        if (kbar1_[i] != 0.0) {
+        if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
           // Pre-curved sections: the material curvature depends on the edge angles.
           const glm::dvec3 a = x_[i] - x_[i - 1];
           const glm::dvec3 b = x_[i + 1] - x_[i];
@@ -778,8 +895,9 @@ void Rod::solve_twist(double dt_s) {
             material(e);
             const double k1 = glm::dot(kb, m2_[e]);
             const double k2 = -glm::dot(kb, m1_[e]);
-            tw_rhs_[e - ef] += -w * kbar1_[i] * k2;
-            tw_diag_[e - ef] += w * std::max(0.0, kbar1_[i] * k1);
+            // E = w/2 |k - kbar|^2 with dk1/dtheta = k2, dk2/dtheta = -k1.
+            tw_rhs_[e - ef] += w * (kbar2_[i] * k1 - kbar1_[i] * k2);
+            tw_diag_[e - ef] += w * std::max(0.0, kbar1_[i] * k1 + kbar2_[i] * k2);
           }
         }
       }
@@ -814,6 +932,12 @@ void Rod::solve_twist(double dt_s) {
         const double step = tw_rhs_[j];
         if (std::isfinite(step)) theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
       }
+    }
+    if (free_) {
+      law_.torsion_stiffness_mNmm_per_rad = 0.0;
+      hand_torque_mNmm_ = 0.0;
+      for (std::size_t e = first_; e + 1 < n; ++e) material(e);
+      return;
     }
     // Torsional stiffness at the hand: Schur complement of the last system on the clamp.
     const double c0 = gj_[ef] / (0.5 * rest_[ef]);
@@ -887,6 +1011,168 @@ void Rod::finish_contacts() {
   }
 }
 
+double Rod::edge_gap(const EdgeContact& c) const {
+  const glm::dvec3 p = x_[c.edge] * (1.0 - c.s) + x_[c.edge + 1] * c.s;
+  return c.offset_mm - glm::dot(c.normal, p);
+}
+
+void Rod::gather_obstacles(const RodObstacles& obstacles) {
+  obstacles.gather(*this, edge_contacts_);
+  for (std::size_t k = first_free_; k < x_.size(); ++k) gathered_at_[k] = x_[k];
+  // Only edges with a free node can move away.
+  std::erase_if(edge_contacts_, [&](const EdgeContact& c) {
+    return c.edge + 1 >= x_.size() || c.edge + 1 < first_free_;
+  });
+}
+
+void Rod::finish_edge_contacts() {
+  // Held to within the penetration limit, like the wall; the force is the penalty's.
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  for (EdgeContact& ec : edge_contacts_) {
+    const double phi = edge_gap(ec);
+    const double allowed = settings_.max_penetration_ratio * radius_[ec.edge];
+    if (phi > allowed) {
+      const glm::dvec3 push = ec.normal * (phi - allowed);
+      if (ec.edge >= first_free_) x_[ec.edge] += push;
+      if (ec.edge + 1 >= first_free_) x_[ec.edge + 1] += push;
+    }
+    ec.force_mN = kc * std::max(0.0, std::min(phi, allowed));
+  }
+  // Gripping nodes that were pulled beyond the limit slip: the anchor follows.
+  const double kg = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < x_.size(); ++k) {
+    if (grip_limit_[k] <= 0.0) continue;
+    const glm::dvec3 rel = x_[k] - grip_anchor_[k];
+    const double len = glm::length(rel);
+    if (kg * len > grip_limit_[k]) grip_anchor_[k] = x_[k] - rel * (grip_limit_[k] / (kg * len));
+  }
+}
+
+void Rod::add_coupling_load(std::size_t node, const glm::dvec3& force_mN) {
+  if (node < coupling_.size() && std::isfinite(force_mN.x + force_mN.y + force_mN.z)) coupling_[node] += force_mN;
+}
+
+void Rod::set_grip(std::size_t node, double limit_mN) {
+  if (node >= grip_limit_.size()) return;
+  const double limit = std::isfinite(limit_mN) ? std::max(0.0, limit_mN) : 0.0;
+  if (limit > 0.0 && grip_limit_[node] <= 0.0) grip_anchor_[node] = x_[node];
+  grip_limit_[node] = limit;
+}
+
+void Rod::clear_coupling_loads() { std::fill(coupling_.begin(), coupling_.end(), glm::dvec3(0.0)); }
+
+glm::dvec3 Rod::clamp_force_mN() const { return clamp_force_; }
+
+void Rod::forget_wall() {
+  for (NodeContact& c : node_contacts_) c = NodeContact{};
+}
+
+Rod Rod::split_distal(double length_mm) {
+  Rod coil;
+  const std::size_t n = x_.size();
+  // The detachment node: the station length_mm from the tip.
+  std::size_t k0 = n;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (std::abs(from_tip_[k] - length_mm) < 1e-9) k0 = k;
+  }
+  if (k0 + 2 >= n || k0 < 2) return coil;  // not a node, or too short to stand alone
+  const auto tail = [&](const auto& v, std::size_t from) {
+    using V = std::decay_t<decltype(v)>;
+    return V(v.begin() + static_cast<std::ptrdiff_t>(from), v.end());
+  };
+  coil.spec_ = spec_;
+  coil.spec_.name = spec_.name + " (detached)";
+  coil.spec_.detach_mm = 0.0;
+  coil.spec_.inside.clear();
+  // The coil's sections: the distal length_mm of the tool's.
+  std::vector<ToolSection> distal;
+  double left = length_mm;
+  for (auto it = spec_.sections.rbegin(); it != spec_.sections.rend() && left > 1e-9; ++it) {
+    ToolSection part = *it;
+    part.length_mm = std::min(part.length_mm, left);
+    left -= part.length_mm;
+    distal.insert(distal.begin(), part);
+  }
+  coil.spec_.sections = distal;
+  coil.settings_ = settings_;
+  coil.length_mm_ = length_mm;
+  coil.free_ = true;
+  coil.from_tip_ = tail(from_tip_, k0);
+  coil.radius_ = tail(radius_, k0);
+  coil.inner_radius_ = tail(inner_radius_, k0);
+  coil.ei_ = tail(ei_, k0);
+  coil.ei_extra_.assign(n - k0, 0.0);
+  coil.gj_ = tail(gj_, k0);
+  coil.voronoi_ = tail(voronoi_, k0);
+  coil.drag_ = tail(drag_, k0);
+  coil.kbar1_ = tail(kbar1_, k0);
+  coil.kbar2_ = tail(kbar2_, k0);
+  coil.kturn1_ = tail(kturn1_, k0);
+  coil.kturn2_ = tail(kturn2_, k0);
+  coil.x_ = tail(x_, k0);
+  coil.x_start_ = coil.x_;
+  coil.x_pred_ = coil.x_;
+  coil.load_.assign(n - k0, glm::dvec3(0.0));
+  coil.coupling_.assign(n - k0, glm::dvec3(0.0));
+  coil.grip_anchor_.assign(n - k0, glm::dvec3(0.0));
+  coil.grip_limit_.assign(n - k0, 0.0);
+  coil.node_contacts_ = tail(node_contacts_, k0);
+  coil.rest_ = tail(rest_, k0);
+  coil.theta_ = tail(theta_, k0);
+  coil.theta_start_ = coil.theta_;
+  coil.ref_twist_ = tail(ref_twist_, k0);
+  coil.t_ = tail(t_, k0);
+  coil.d1_ = tail(d1_, k0);
+  coil.m1_ = tail(m1_, k0);
+  coil.m2_ = tail(m2_, k0);
+  // The new ends: half an edge each, no bending at the end vertex.
+  coil.voronoi_.front() = 0.5 * coil.rest_.front();
+  coil.drag_.front() = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * coil.voronoi_.front();
+  coil.kbar1_.front() = coil.kbar2_.front() = coil.kturn1_.front() = coil.kturn2_.front() = 0.0;
+  coil.insertion_mm_ = insertion_mm_;
+  coil.rotation_rad_ = rotation_rad_;
+  coil.entry_ = entry_;
+  coil.dir_ = dir_;
+  coil.first_ = 0;
+  coil.first_free_ = 0;
+  coil.size_scratch();
+
+  // This rod keeps nodes [0, k0]: its tip is now the detachment node.
+  const std::size_t m = k0 + 1;
+  const auto head = [&](auto& v, std::size_t count) { v.resize(count); };
+  for (auto* v : {&from_tip_, &radius_, &inner_radius_, &ei_, &ei_extra_, &gj_, &voronoi_, &drag_, &kbar1_, &kbar2_,
+                  &kturn1_, &kturn2_}) head(*v, m);
+  for (auto* v : {&x_, &x_start_, &x_pred_, &load_, &coupling_, &grip_anchor_}) head(*v, m);
+  head(grip_limit_, m);
+  head(node_contacts_, m);
+  for (auto* v : {&rest_, &theta_, &theta_start_}) head(*v, m - 1);
+  head(ref_twist_, m);
+  for (auto* v : {&t_, &d1_, &m1_, &m2_}) head(*v, m - 1);
+  for (double& d : from_tip_) d -= length_mm;
+  voronoi_.back() = 0.5 * rest_.back();
+  drag_.back() = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_.back();
+  kbar1_.back() = kbar2_.back() = kturn1_.back() = kturn2_.back() = 0.0;
+  insertion_mm_ = std::max(0.0, insertion_mm_ - length_mm);
+  stepped_insertion_mm_ = std::max(0.0, stepped_insertion_mm_ - length_mm);
+  length_mm_ -= length_mm;
+  left = length_mm;
+  while (!spec_.sections.empty() && left > 1e-9) {
+    ToolSection& last = spec_.sections.back();
+    if (last.length_mm <= left + 1e-9) {
+      left -= last.length_mm;
+      spec_.sections.pop_back();
+    } else {
+      last.length_mm -= left;
+      left = 0.0;
+    }
+  }
+  spec_.detach_mm = 0.0;
+  contacts_.clear();
+  edge_contacts_.clear();
+  update_window();
+  return coil;
+}
+
 void Rod::compute_force_law(double dt_s) {
   const std::size_t n = x_.size();
   law_.insertion0_mm = insertion_mm_;
@@ -900,18 +1186,19 @@ void Rod::compute_force_law(double dt_s) {
   law_.damping_mN_s_per_mm = drag_total;
   law_.torsion_damping_mNmm_s_per_rad = rot_drag_total;
   law_.torque0_mNmm = hand_torque_mNmm_;
-  if (first_free_ >= n) {
+  clamp_force_ = glm::dvec3(0.0);
+  if (first_free_ >= n || free_) {
     hand_force_mN_ = 0.0;
     law_.force0_mN = 0.0;
     law_.stiffness_mN_per_mm = 0.0;
     return;
   }
   // Axial force on the clamp: the energy gradient on the outside nodes along the entry.
-  double force = 0.0;
   for (std::size_t k = first_; k < first_free_; ++k) {
     const std::size_t d = 3 * (k - first_);
-    force += grad_[d] * dir_.x + grad_[d + 1] * dir_.y + grad_[d + 2] * dir_.z;
+    clamp_force_ += glm::dvec3(grad_[d], grad_[d + 1], grad_[d + 2]);
   }
+  const double force = glm::dot(clamp_force_, dir_);
   hand_force_mN_ = force;
   law_.force0_mN = force;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.

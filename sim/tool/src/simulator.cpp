@@ -9,33 +9,89 @@ namespace cathbox::tool {
 
 namespace {
 constexpr double kTipProbeRange_mm = 20.0;
+// Coils and the catheter tips they touch: pairs within this margin are gathered, and a node
+// moves at most half of it per iteration, so no loop passes through another between gathers.
+constexpr double kRodContactMargin_mm = 0.1;
+constexpr double kRodContactStep_mm = 0.04;
+constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
+constexpr double kBalloonGripFriction = 0.3;    // balloon on the intima (inflated)
+constexpr double kCouplingRelaxation = 0.5;     // loads from inner tools: new = r new + (1 - r) old
+}  // namespace
+
+const char* device_error_text(DeviceError e) {
+  switch (e) {
+    case DeviceError::kNone: return "ok";
+    case DeviceError::kNoSuchTool: return "no such tool";
+    case DeviceError::kNotACoil: return "the tool carries no coil to detach";
+    case DeviceError::kCoilInCatheter: return "the coil's detachment zone is still inside the catheter";
+    case DeviceError::kNotABalloon: return "the tool has no balloon";
+    case DeviceError::kOutOfRange: return "pressure or volume out of range";
+  }
+  return "unknown";
 }
 
 Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
                      const RodSettings& settings)
-    : wall_(wall), entry_(entry) {
-  rods_.reserve(tools.size());
+    : wall_(&wall), entry_(entry), settings_(settings), contacts_(kRodContactMargin_mm) {
+  const std::size_t n = tools.size();
+  rods_.reserve(n);
   std::size_t max_nodes = 0;
   for (const ToolSpec& spec : tools) {
     rods_.emplace_back(spec, settings);
     rods_.back().set_entry(entry.point_mm, entry.direction);
     max_nodes = std::max(max_nodes, rods_.back().node_total());
   }
-  const std::size_t n = rods_.size();
   outer_of_.assign(n, n);
   for (std::size_t i = 0; i < n; ++i) {
     if (tools[i].inside.empty()) continue;
     const std::size_t j = find_tool(tools[i].inside);
-    if (j < n && j != i && tools[j].inside.empty()) outer_of_[i] = j;
+    if (j < n && j != i) outer_of_[i] = j;
   }
-  for (std::size_t i = 0; i < n; ++i) if (outer_of_[i] == n) order_.push_back(i);
-  for (std::size_t i = 0; i < n; ++i) if (outer_of_[i] != n) order_.push_back(i);
+  // Nesting depth of each tool (a cycle, which the case parser refuses, is cut).
+  std::vector<std::size_t> depth(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t d = 0;
+    for (std::size_t o = outer_of_[i]; o < n && d <= n; o = outer_of_[o]) ++d;
+    if (d > n) outer_of_[i] = n, d = 0;
+    depth[i] = d;
+  }
+  order_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) order_[i] = i;
+  std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return depth[a] < depth[b]; });
+  // Coils and the catheters they leave move in small iterations (no loop through another).
+  for (std::size_t i = 0; i < n; ++i) {
+    if (tools[i].kind != ToolKind::kCoil) continue;
+    rods_[i].settings().max_node_step_mm = std::min(rods_[i].settings().max_node_step_mm, kRodContactStep_mm);
+    if (outer_of_[i] < n) {
+      RodSettings& s = rods_[outer_of_[i]].settings();
+      s.max_node_step_mm = std::min(s.max_node_step_mm, kRodContactStep_mm);
+    }
+  }
   insertion_.assign(n, 0.0);
   rotation_.assign(n, 0.0);
-  stepped_insertion_.assign(n, 0.0);
+  stepped_depth_.assign(n, 0.0);
+  stepped_rotation_.assign(n, 0.0);
+  removed_mm_.assign(n, 0.0);
+  free_start_.assign(n, 0.0);
+  carrier_.assign(n, n);
   tip_segment_.assign(n, -1);
   tip_hint_.assign(n, WallHint{});
   extra_ei_.assign(max_nodes, 0.0);
+  sheath_.assign(n, SheathFriction{});
+  sheath_result_.assign(n, SheathFriction::Result{});
+  hand_force_.assign(n, 0.0);
+  hand_torque_.assign(n, 0.0);
+  coupling_next_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
+  balloons_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (tools[i].balloon.present()) {
+      const double shaft = 2.0 * rods_[i].radius_at_mm(tools[i].balloon.from_tip_mm + 0.5 * tools[i].balloon.length_mm);
+      balloons_[i].emplace(tools[i].balloon, shaft);
+    }
+  }
+  detached_.reserve(16);
+  path_.reserve(max_nodes * 2);
 }
 
 std::size_t Simulator::find_tool(std::string_view name) const {
@@ -49,9 +105,13 @@ void Simulator::select(std::size_t tool) {
   if (tool < rods_.size()) active_ = tool;
 }
 
+double Simulator::max_insertion_mm(std::size_t tool) const {
+  return rods_[tool].max_insertion_mm() + removed_mm_[tool];
+}
+
 void Simulator::set_insertion(std::size_t tool, double insertion_mm) {
   if (tool >= rods_.size() || !std::isfinite(insertion_mm)) return;
-  insertion_[tool] = std::clamp(insertion_mm, 0.0, rods_[tool].max_insertion_mm());
+  insertion_[tool] = std::clamp(insertion_mm, 0.0, max_insertion_mm(tool));
 }
 
 void Simulator::set_rotation(std::size_t tool, double rotation_rad) {
@@ -59,100 +119,436 @@ void Simulator::set_rotation(std::size_t tool, double rotation_rad) {
   rotation_[tool] = rotation_rad;
 }
 
-void Simulator::update_composite(std::size_t outer) {
-  // Where an inner tool runs inside, the outer one bends with both stiffnesses.
-  Rod& rod = rods_[outer];
-  const std::size_t n = rod.node_total();
-  std::fill(extra_ei_.begin(), extra_ei_.begin() + static_cast<std::ptrdiff_t>(n), 0.0);
-  bool any = false;
-  for (std::size_t t = 0; t < rods_.size(); ++t) {
-    if (outer_of_[t] != outer) continue;
-    any = true;
-    const double inner_insertion = insertion_[t];
-    for (std::size_t k = rod.first_node(); k < n; ++k) {
-      const double depth = insertion_[outer] - rod.node_from_tip_mm(k);
-      if (depth > 0.0 && depth <= inner_insertion) {
-        extra_ei_[k] += rods_[t].bending_at_Nmm2(inner_insertion - depth);
-      }
-    }
-    // A catheter advanced over the wire follows the wire's path.
-    rod.set_leader(inner_insertion > insertion_[outer] ? &rods_[t] : nullptr, inner_insertion);
-  }
-  if (any) rod.set_extra_bending(std::span<const double>(extra_ei_.data(), n));
+double Simulator::tip_depth_mm(std::size_t tool) const {
+  return std::clamp(insertion_[tool] - removed_mm_[tool], 0.0, rods_[tool].max_insertion_mm());
 }
 
-void Simulator::step_inner(std::size_t tool, double dt_s) {
-  Rod& rod = rods_[tool];
-  const std::size_t outer = outer_of_[tool];
-  const Rod& out = rods_[outer];
-  const double outer_insertion = insertion_[outer];
-  if (outer_insertion > 0.0) {
-    const TipPose tip = out.tip();
-    rod.move_entry(tip.position_mm, tip.direction, out.reference_director(out.node_total() - 2));
-  } else {
-    rod.move_entry(entry_.point_mm, entry_.direction, glm::dvec3(0.0));
+bool Simulator::nested_in(std::size_t inner, std::size_t outer) const {
+  const std::size_t n = rods_.size();
+  for (std::size_t o = outer_of_[inner], guard = 0; o < n && guard <= n; o = outer_of_[o], ++guard) {
+    if (o == outer) return true;
   }
-  rod.set_material_advance(insertion_[tool] - stepped_insertion_[tool]);
-  rod.set_boundary(std::max(0.0, insertion_[tool] - outer_insertion), rotation_[tool]);
-  rod.step(dt_s, wall_);
+  return false;
+}
+
+void Simulator::update_chain() {
+  // A tool's own part starts at the furthest tip of the catheters around it; the catheter
+  // owning that tip carries its entry.
+  const std::size_t n = rods_.size();
+  for (const std::size_t t : order_) {
+    const std::size_t o = outer_of_[t];
+    if (o >= n) {
+      free_start_[t] = 0.0;
+      carrier_[t] = n;
+      continue;
+    }
+    const double tip_o = tip_depth_mm(o);
+    if (tip_o > free_start_[o]) {
+      free_start_[t] = tip_o;
+      carrier_[t] = o;
+    } else {
+      free_start_[t] = free_start_[o];
+      carrier_[t] = carrier_[o];
+    }
+    if (free_start_[t] <= 0.0) carrier_[t] = n;
+  }
+}
+
+glm::dvec3 Simulator::path_point(std::size_t tool, double depth_mm) const {
+  // The centre line a tool lies on at a depth: the free part of the catheter that holds it.
+  const std::size_t n = rods_.size();
+  if (depth_mm <= 0.0) return entry_.point_mm + entry_.direction * depth_mm;
+  if (depth_mm > free_start_[tool]) {
+    return rods_[tool].point_at_depth(depth_mm - free_start_[tool], nullptr, nullptr);
+  }
+  for (std::size_t c = outer_of_[tool], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (depth_mm > free_start_[c] && depth_mm <= tip_depth_mm(c)) {
+      return rods_[c].point_at_depth(depth_mm - free_start_[c], nullptr, nullptr);
+    }
+  }
+  return entry_.point_mm + entry_.direction * depth_mm;
+}
+
+void Simulator::prepare(std::size_t t) {
+  const std::size_t n = rods_.size();
+  Rod& rod = rods_[t];
+  const double tip = tip_depth_mm(t);
+  if (outer_of_[t] < n) {
+    const std::size_t c = carrier_[t];
+    if (c < n) {
+      const Rod& carrier = rods_[c];
+      const TipPose pose = carrier.tip();
+      rod.move_entry(pose.position_mm, pose.direction, carrier.reference_director(carrier.node_total() - 2));
+    } else {
+      rod.move_entry(entry_.point_mm, entry_.direction, glm::dvec3(0.0));
+    }
+    rod.set_material_advance(tip - stepped_depth_[t]);
+  }
+  rod.set_boundary(std::max(0.0, tip - free_start_[t]), rotation_[t]);
+
+  // Composite stiffness: every tool inside this one, where it lies on this one's free part.
+  const std::size_t nodes = rod.node_total();
+  std::fill(extra_ei_.begin(), extra_ei_.begin() + static_cast<std::ptrdiff_t>(nodes), 0.0);
+  bool any = false;
+  const Rod* leader = nullptr;
+  double leader_insertion = 0.0;
+  for (std::size_t u = 0; u < n; ++u) {
+    if (u == t || !nested_in(u, t)) continue;
+    any = true;
+    const double tip_u = tip_depth_mm(u);
+    for (std::size_t k = rod.first_node(); k < nodes; ++k) {
+      const double depth = free_start_[t] + rod.node_depth_mm(k);
+      if (depth > 0.0 && depth <= tip_u) extra_ei_[k] += rods_[u].bending_at_Nmm2(tip_u - depth);
+    }
+    // A catheter advanced over a tool whose own part starts at this one's tip follows it.
+    if (carrier_[u] == t && tip_u > free_start_[u] && leader == nullptr) {
+      leader = &rods_[u];
+      leader_insertion = tip_u - free_start_[t];
+    }
+  }
+  if (any) rod.set_extra_bending(std::span<const double>(extra_ei_.data(), nodes));
+  rod.set_leader(leader, leader_insertion);
+
+  // Loads from the tools inside (their friction and their push on the bends).
+  rod.clear_coupling_loads();
+  const std::vector<glm::dvec3>& loads = coupling_next_[t];
+  for (std::size_t k = 0; k < loads.size() && k < nodes; ++k) {
+    if (loads[k] != glm::dvec3(0.0)) rod.add_coupling_load(k, loads[k]);
+  }
+}
+
+void Simulator::update_contact_members() {
+  // Coils (their part past the detachment zone), released coils, and the tips of the
+  // catheters coils leave.
+  const std::size_t n = rods_.size();
+  members_.clear();
+  for (std::size_t t = 0; t < n; ++t) {
+    const Rod& rod = rods_[t];
+    if (rod.spec().kind != ToolKind::kCoil || removed_mm_[t] > 0.0 || rod.first_free_node() >= rod.node_total()) continue;
+    std::size_t first = rod.first_edge();
+    while (first + 1 < rod.node_total() && rod.node_from_tip_mm(first) > rod.spec().detach_mm + 1e-9) ++first;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = first;
+    m.edge_last = rod.node_total() - 1;
+    m.self = true;
+    const std::size_t c = carrier_[t];
+    if (c < n) {
+      m.hollow = &rods_[c];
+      m.hollow_depth_mm = 2.0 * (rod.node_radius_mm(rod.node_total() - 1) + rods_[c].radius_at_mm(0.0)) + 0.5;
+    }
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
+  const bool coils = !members_.empty() || !detached_.empty();
+  if (!coils) {
+    contacts_.set_members(members_);
+    return;
+  }
+  for (const Rod& coil : detached_) {
+    RodContactField::Member m;
+    m.rod = &coil;
+    m.edge_first = 0;
+    m.edge_last = coil.node_total() - 1;
+    m.self = true;
+    members_.push_back(m);
+  }
+  for (std::size_t t = 0; t < n; ++t) {
+    bool carries = false;
+    for (std::size_t u = 0; u < n; ++u) {
+      carries = carries || (rods_[u].spec().kind == ToolKind::kCoil && outer_of_[u] == t);
+    }
+    const Rod& rod = rods_[t];
+    if (!carries || rod.first_free_node() >= rod.node_total()) continue;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = rod.first_edge();
+    while (m.edge_first + 1 < rod.node_total() && rod.node_from_tip_mm(m.edge_first) > kCatheterTipContact_mm) ++m.edge_first;
+    m.edge_last = rod.node_total() - 1;
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
+  contacts_.set_members(members_);
+}
+
+void Simulator::update_balloons(double dt_s) {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    if (!balloons_[t]) continue;
+    Balloon& b = *balloons_[t];
+    b.step(dt_s);
+    // An inflated balloon grips the wall: friction on its surface, pressed with the pressure.
+    Rod& rod = rods_[t];
+    const double lo = b.spec().from_tip_mm;
+    const double hi = lo + b.spec().length_mm;
+    const double pressure = b.inflated() ? b.pressure_atm() * Balloon::kAtm_N_per_mm2 : 0.0;
+    for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
+      const double s = rod.node_from_tip_mm(k);
+      if (s < lo || s > hi) continue;
+      const double h = k + 1 < rod.node_total() ? rod.node_from_tip_mm(k) - rod.node_from_tip_mm(k + 1)
+                                                 : rod.node_from_tip_mm(k - 1) - rod.node_from_tip_mm(k);
+      const double area = M_PI * b.diameter_mm() * h;
+      rod.set_grip(k, kBalloonGripFriction * pressure * area * 1000.0);
+    }
+  }
 }
 
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+  const std::size_t n = rods_.size();
+  update_chain();
+  update_balloons(dt_s);
   for (const std::size_t t : order_) {
-    if (outer_of_[t] != rods_.size()) {
-      step_inner(t, dt_s);
-    } else {
-      update_composite(t);
-      rods_[t].set_boundary(insertion_[t], rotation_[t]);
-      rods_[t].step(dt_s, wall_);
-    }
-    stepped_insertion_[t] = insertion_[t];
+    prepare(t);
+    update_contact_members();
+    const bool member = std::any_of(members_.begin(), members_.end(),
+                                    [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
+    rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     WallProbe probe;
     probe.center_mm = rods_[t].tip().position_mm;
     probe.range_mm = kTipProbeRange_mm;
     WallContact c;
-    if (insertion_[t] > 0.0 && wall_.probe(probe, tip_hint_[t], c)) tip_segment_[t] = c.segment;
+    if (insertion_[t] > 0.0 && wall_->probe(probe, tip_hint_[t], c)) tip_segment_[t] = c.segment;
     else if (insertion_[t] <= 0.0) tip_segment_[t] = -1;
+  }
+  if (!detached_.empty()) {
+    update_contact_members();
+    for (Rod& coil : detached_) coil.step(dt_s, *wall_, &contacts_);
+  }
+  // Friction in the lumens, felt at the hands, and its reaction on the catheters.
+  for (std::size_t t = 0; t < n; ++t) {
+    for (glm::dvec3& f : coupling_next_[t]) f *= 1.0 - kCouplingRelaxation;
+  }
+  for (const std::size_t t : order_) {
+    if (outer_of_[t] < n) {
+      update_sheath(t, dt_s);
+    } else {
+      hand_force_[t] = rods_[t].hand_force_mN();
+      hand_torque_[t] = rods_[t].hand_torque_mNmm();
+    }
+  }
+  for (std::size_t t = 0; t < n; ++t) {
+    stepped_depth_[t] = tip_depth_mm(t);
+    stepped_rotation_[t] = rotation_[t];
   }
   time_s_ += dt_s;
   ++steps_;
 }
 
-double Simulator::hand_force_mN(std::size_t tool) const { return rods_[tool].hand_force_mN(); }
-double Simulator::hand_torque_mNmm(std::size_t tool) const { return rods_[tool].hand_torque_mNmm(); }
+void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path) const {
+  // From where the tool's covered part ends (its own part's clamp, or its tip) back to the
+  // entry, along the free parts of the catheters around it, innermost first.
+  path.clear();
+  const std::size_t n = rods_.size();
+  const Rod& inner = rods_[u];
+  const double tip_u = tip_depth_mm(u);
+  const double end = std::min(tip_u, free_start_[u]);
+  if (end <= 0.0) return;
+  const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth) {
+    SheathVertex v;
+    v.point_mm = p;
+    v.holder = static_cast<std::uint32_t>(holder);
+    v.node = static_cast<std::uint32_t>(node);
+    const double from_tip = tip_u - depth;
+    v.inner_ei_Nmm2 = inner.bending_at_Nmm2(from_tip);
+    v.inner_radius_mm = inner.radius_at_mm(from_tip);
+    const Rod& h = rods_[holder];
+    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(h.insertion_mm() - (depth - free_start_[holder])) - v.inner_radius_mm);
+    v.mu = h.spec().lumen_friction;
+    path.push_back(v);
+  };
+  // The distal end.
+  std::size_t first_holder = n;
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (end > free_start_[c] && end <= tip_depth_mm(c) + 1e-9) first_holder = c;
+  }
+  if (first_holder >= n) return;
+  {
+    std::size_t node = 0;
+    const glm::dvec3 p = rods_[first_holder].point_at_depth(end - free_start_[first_holder], nullptr, &node);
+    vertex(p, first_holder, std::min(node + 1, rods_[first_holder].node_total() - 1), end);
+  }
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    const Rod& h = rods_[c];
+    const double lo = free_start_[c];
+    const double hi = std::min(end, tip_depth_mm(c));
+    if (hi <= lo) continue;
+    for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
+      const double depth = lo + h.node_depth_mm(k);
+      if (depth >= end - 1e-9 || depth <= lo) continue;
+      vertex(h.positions()[k], c, k, depth);
+    }
+  }
+  // The entry.
+  std::size_t outermost = u;
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) outermost = c;
+  vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0);
+}
+
+void Simulator::update_sheath(std::size_t u, double dt_s) {
+  (void)dt_s;
+  const std::size_t n = rods_.size();
+  const Rod& rod = rods_[u];
+  const std::size_t o = outer_of_[u];
+  const bool has_free = tip_depth_mm(u) > free_start_[u] && rod.first_free_node() < rod.node_total();
+  const double distal = has_free ? rod.hand_force_mN() : 0.0;
+  build_sheath_path(u, path_);
+  const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
+  const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
+  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  sheath_result_[u] = sheath_[u].update(slide, turn, distal, path_, k_anchor);
+  const SheathFriction::Result& r = sheath_result_[u];
+  hand_force_[u] = distal + r.force_mN;
+  hand_torque_[u] = (has_free ? rod.hand_torque_mNmm() : 0.0) + r.torque_mNmm;
+  // The reaction onto the catheters' nodes.
+  const std::vector<glm::dvec3>& reaction = sheath_[u].reaction_mN();
+  for (std::size_t j = 0; j < path_.size() && j < reaction.size(); ++j) {
+    const SheathVertex& v = path_[j];
+    if (v.holder >= n || v.node >= coupling_next_[v.holder].size()) continue;
+    if (v.node < rods_[v.holder].first_free_node()) continue;
+    coupling_next_[v.holder][v.node] += reaction[j] * kCouplingRelaxation;
+  }
+}
+
+double Simulator::hand_force_mN(std::size_t tool) const { return hand_force_[tool]; }
+double Simulator::hand_torque_mNmm(std::size_t tool) const { return hand_torque_[tool]; }
 
 ForceLaw Simulator::force_law(std::size_t tool) const {
   ForceLaw law = rods_[tool].force_law();
-  // The inner tool's law is expressed in its own insertion, not its protrusion.
+  // The inner tool's law is expressed in its own insertion, not its protrusion, and carries
+  // the friction of the lumens around it.
   law.insertion0_mm = insertion_[tool];
+  if (outer_of_[tool] < rods_.size()) {
+    const SheathFriction::Result& r = sheath_result_[tool];
+    const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+    law.force0_mN = hand_force_[tool];
+    law.torque0_mNmm = hand_torque_[tool];
+    if (r.sticking && (r.force_limit_fwd_mN > 0.0 || r.force_limit_back_mN < 0.0)) law.stiffness_mN_per_mm += k_anchor;
+    const double radius = rods_[tool].radius_at_mm(0.0);
+    if (r.twist_sticking && r.torque_limit_mNmm > 0.0) {
+      law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
+    }
+  }
   return law;
+}
+
+DeviceError Simulator::detach(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  Rod& rod = rods_[tool];
+  const double length = rod.spec().detach_mm;
+  if (rod.spec().kind != ToolKind::kCoil || !(length > 0.0) || removed_mm_[tool] > 0.0) return DeviceError::kNotACoil;
+  // The detachment zone must have left the catheter (its marker past the catheter's tip).
+  if (tip_depth_mm(tool) - free_start_[tool] < length + 1e-6) return DeviceError::kCoilInCatheter;
+  Rod coil = rod.split_distal(length);
+  if (coil.node_total() == 0) return DeviceError::kCoilInCatheter;
+  removed_mm_[tool] += length;
+  stepped_depth_[tool] = tip_depth_mm(tool);
+  coupling_next_[tool].resize(rod.node_total());
+  detached_.push_back(std::move(coil));
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::inflate_pressure(std::size_t tool, double pressure_atm) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  if (!std::isfinite(pressure_atm) || pressure_atm < 0.0 || pressure_atm > Balloon::kMaxPressure_atm) {
+    return DeviceError::kOutOfRange;
+  }
+  balloons_[tool]->set_target_pressure(pressure_atm);
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::inflate_volume(std::size_t tool, double volume_ml) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  if (!std::isfinite(volume_ml) || volume_ml < 0.0 ||
+      volume_ml > balloons_[tool]->volume_at(Balloon::kMaxPressure_atm)) {
+    return DeviceError::kOutOfRange;
+  }
+  balloons_[tool]->set_target_volume(volume_ml);
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::deflate(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  balloons_[tool]->deflate();
+  return DeviceError::kNone;
+}
+
+const Balloon* Simulator::balloon(std::size_t tool) const {
+  return tool < balloons_.size() && balloons_[tool] ? &*balloons_[tool] : nullptr;
+}
+
+void Simulator::balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_mm) const {
+  points_mm.clear();
+  const Balloon* b = balloon(tool);
+  if (b == nullptr) return;
+  const Rod& rod = rods_[tool];
+  const double lo = b->spec().from_tip_mm;
+  const double hi = lo + b->spec().length_mm;
+  points_mm.push_back(rod.point_at_from_tip(hi));
+  for (std::size_t k = rod.first_node(); k < rod.node_total(); ++k) {
+    const double s = rod.node_from_tip_mm(k);
+    if (s > lo && s < hi) points_mm.push_back(rod.positions()[k]);
+  }
+  points_mm.push_back(rod.point_at_from_tip(lo));
+}
+
+const WallModel* Simulator::swap_wall(const WallModel& next) {
+  const WallModel* old = wall_;
+  wall_ = &next;
+  for (Rod& rod : rods_) rod.forget_wall();
+  for (Rod& coil : detached_) coil.forget_wall();
+  for (WallHint& h : tip_hint_) h = WallHint{};
+  ++wall_swaps_;
+  return old;
 }
 
 void Simulator::inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const {
   out.clear();
   const Rod& rod = rods_[tool];
   const std::size_t n = rod.node_total();
-  const std::size_t outer = outer_of_[tool];
-  const double outer_insertion = outer < rods_.size() ? insertion_[outer] : 0.0;
-  const std::size_t k0 = outer < rods_.size() ? 0 : rod.first_node();
+  const double tip = tip_depth_mm(tool);
+  const double start = free_start_[tool];
+  const bool inner = outer_of_[tool] < rods_.size();
+  const std::size_t k0 = inner ? 0 : rod.first_node();
   for (std::size_t k = k0; k < n; ++k) {
-    const double depth = insertion_[tool] - rod.node_from_tip_mm(k);
-    if (depth < 0.0 && k + 1 < n && insertion_[tool] - rod.node_from_tip_mm(k + 1) <= 0.0) continue;
-    if (outer < rods_.size() && depth <= outer_insertion) {
-      out.push_back(depth <= 0.0 ? entry_.point_mm + entry_.direction * depth
-                                 : rods_[outer].point_at_depth(depth, nullptr, nullptr));
+    const double depth = tip - rod.node_from_tip_mm(k);
+    if (depth < 0.0 && k + 1 < n && tip - rod.node_from_tip_mm(k + 1) <= 0.0) continue;
+    if (inner && depth <= start) {
+      out.push_back(path_point(tool, depth));
     } else {
       out.push_back(rod.positions()[k]);
     }
   }
 }
 
+void Simulator::fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const {
+  const std::size_t m = s.positions_mm.size();
+  s.tangents.resize(m);
+  s.normals.resize(m);
+  s.radii_mm.resize(m);
+  const std::size_t n = rod.node_total();
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::size_t k = n - m + i;  // the snapshot holds the distal-most m nodes
+    glm::dvec3 tangent = i + 1 < m ? s.positions_mm[i + 1] - s.positions_mm[i]
+                                   : (m > 1 ? s.positions_mm[i] - s.positions_mm[i - 1] : entry_.direction);
+    const double len = glm::length(tangent);
+    tangent = len > 1e-12 ? tangent / len : entry_.direction;
+    s.tangents[i] = tangent;
+    glm::dvec3 normal = rod.directors()[std::min(k, n - 2)];
+    normal -= tangent * glm::dot(normal, tangent);
+    const double nl = glm::length(normal);
+    s.normals[i] = nl > 1e-9 ? normal / nl : normal;
+    s.radii_mm[i] = static_cast<float>(rod.node_radius_mm(k));
+  }
+  s.tip = rod.tip();
+  s.contacts.assign(rod.contacts().begin(), rod.contacts().end());
+}
+
 void Simulator::copy_snapshot(Snapshot& out) const {
   out.time_s = time_s_;
   out.step = steps_;
   out.active_tool = active_;
-  out.tools.resize(rods_.size());
+  out.tools.resize(rods_.size() + detached_.size());
   for (std::size_t t = 0; t < rods_.size(); ++t) {
     const Rod& rod = rods_[t];
     ToolSnapshot& s = out.tools[t];
@@ -160,31 +556,47 @@ void Simulator::copy_snapshot(Snapshot& out) const {
     s.kind = rod.spec().kind;
     s.insertion_mm = insertion_[t];
     s.rotation_rad = rotation_[t];
+    s.detached = false;
     inserted_positions(t, s.positions_mm);
-    const std::size_t m = s.positions_mm.size();
-    s.tangents.resize(m);
-    s.normals.resize(m);
-    s.radii_mm.resize(m);
-    const std::size_t n = rod.node_total();
-    for (std::size_t i = 0; i < m; ++i) {
-      const std::size_t k = n - m + i;  // the snapshot holds the distal-most m nodes
-      glm::dvec3 tangent = i + 1 < m ? s.positions_mm[i + 1] - s.positions_mm[i]
-                                     : (m > 1 ? s.positions_mm[i] - s.positions_mm[i - 1] : entry_.direction);
-      const double len = glm::length(tangent);
-      tangent = len > 1e-12 ? tangent / len : entry_.direction;
-      s.tangents[i] = tangent;
-      glm::dvec3 normal = rod.directors()[std::min(k, n - 2)];
-      normal -= tangent * glm::dot(normal, tangent);
-      const double nl = glm::length(normal);
-      s.normals[i] = nl > 1e-9 ? normal / nl : normal;
-      s.radii_mm[i] = static_cast<float>(rod.node_radius_mm(k));
-    }
-    s.tip = rod.tip();
+    fill_tool_snapshot(rod, s);
     s.tip_segment = tip_segment_[t];
-    s.contacts.assign(rod.contacts().begin(), rod.contacts().end());
-    s.hand_force_mN = rod.hand_force_mN();
-    s.hand_torque_mNmm = rod.hand_torque_mNmm();
+    s.hand_force_mN = hand_force_[t];
+    s.hand_torque_mNmm = hand_torque_[t];
     s.force_law = force_law(t);
+    s.balloon_pressure_atm = 0.0;
+    s.balloon_diameter_mm = 0.0;
+    if (const Balloon* b = balloon(t)) {
+      s.balloon_pressure_atm = b->pressure_atm();
+      s.balloon_diameter_mm = b->diameter_mm();
+      if (b->pressure_atm() > 0.0) {
+        const std::size_t m = s.positions_mm.size();
+        const std::size_t n = rod.node_total();
+        for (std::size_t i = 0; i < m; ++i) {
+          const double from_tip = rod.node_from_tip_mm(n - m + i);
+          const double lo = b->spec().from_tip_mm;
+          if (from_tip >= lo && from_tip <= lo + b->spec().length_mm) {
+            s.radii_mm[i] = std::max(s.radii_mm[i], static_cast<float>(0.5 * b->diameter_mm()));
+          }
+        }
+      }
+    }
+  }
+  for (std::size_t i = 0; i < detached_.size(); ++i) {
+    const Rod& coil = detached_[i];
+    ToolSnapshot& s = out.tools[rods_.size() + i];
+    s.name = coil.spec().name;
+    s.kind = ToolKind::kCoil;
+    s.insertion_mm = 0.0;
+    s.rotation_rad = 0.0;
+    s.detached = true;
+    s.positions_mm.assign(coil.positions().begin(), coil.positions().end());
+    fill_tool_snapshot(coil, s);
+    s.tip_segment = -1;
+    s.hand_force_mN = 0.0;
+    s.hand_torque_mNmm = 0.0;
+    s.force_law = ForceLaw{};
+    s.balloon_pressure_atm = 0.0;
+    s.balloon_diameter_mm = 0.0;
   }
 }
 

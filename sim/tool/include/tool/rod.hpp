@@ -28,6 +28,31 @@
 namespace cathbox::tool {
 
 class BandedCholesky;
+class Rod;
+
+// One side of a contact between two rods, or between two parts of one rod, as the rod being
+// solved sees it: the point p = (1 - s) x[edge] + s x[edge + 1] must stay on the positive side
+// of the plane normal . p >= offset_mm. The planes are taken when gathered and held for the
+// iterations that follow (the other side is frozen, or, for two parts of the same rod, each
+// side is held to its half of the gap); penetration is penalised quadratically.
+struct EdgeContact {
+  std::uint32_t edge = 0;
+  double s = 0.0;
+  glm::dvec3 normal{0.0};
+  double offset_mm = 0.0;
+  double force_mN = 0.0;  // after the step: the contact force along the normal
+};
+
+// Rods (and the rod itself, away from its neighbours along it) a rod must not pass through.
+class RodObstacles {
+ public:
+  virtual ~RodObstacles() = default;
+  // Replaces `out` with the contact planes of `rod` at its present positions.
+  virtual void gather(const Rod& rod, std::vector<EdgeContact>& out) const = 0;
+  // Pairs closer than the contact distance plus this margin are gathered; a node may move
+  // half of it before the planes are gathered again.
+  [[nodiscard]] virtual double margin_mm() const = 0;
+};
 
 struct RodContact {
   std::uint32_t node = 0;
@@ -70,12 +95,28 @@ class Rod {
     leader_ = leader;
     leader_insertion_mm_ = leader_insertion_mm;
   }
-  // One quasi-static step of dt seconds against the wall.
-  void step(double dt_s, const WallModel& wall);
+  // One quasi-static step of dt seconds against the wall (and other rods, when given).
+  void step(double dt_s, const WallModel& wall, const RodObstacles* obstacles = nullptr);
+
+  // Detaches the distal `length_mm` of the tool (a coil at its detachment zone, which must be
+  // a node: ToolSpec::detach_mm) and returns it as a free rod: no clamp, held only by drag,
+  // the wall and other rods. This rod keeps the proximal part (its tip is the detachment
+  // point; insertion and length shrink by length_mm).
+  [[nodiscard]] Rod split_distal(double length_mm);
+  // True for a free rod (a detached coil).
+  [[nodiscard]] bool free() const { return free_; }
+  // The wall changed (a new collision tree): every node is probed afresh in the next step.
+  void forget_wall();
 
   // Test and coupling hooks.
   void set_node_load(std::size_t node, const glm::dvec3& force_mN);  // constant external force
   void clear_node_loads();
+  // Loads from coupled tools (the tool inside this one), reset by the simulator every step.
+  void add_coupling_load(std::size_t node, const glm::dvec3& force_mN);
+  void clear_coupling_loads();
+  // Holds node k where it is now with an elastic-plastic anchor that slips beyond limit_mN
+  // (an inflated balloon gripping the wall); 0 releases it.
+  void set_grip(std::size_t node, double limit_mN);
   void set_extra_bending(std::span<const double> ei_Nmm2_by_node);  // added EI (coaxial inner tool)
   void set_friction(double mu) { spec_.friction = mu > 0.0 ? mu : 0.0; }
   RodSettings& settings() { return settings_; }
@@ -96,6 +137,8 @@ class Rod {
   [[nodiscard]] std::size_t node_total() const { return x_.size(); }
   [[nodiscard]] std::size_t first_node() const { return first_; }
   [[nodiscard]] std::size_t first_free_node() const { return first_free_; }
+  // First edge the solve moves (the one leaving the clamp; 0 for a free rod).
+  [[nodiscard]] std::size_t first_edge() const { return free_ ? 0 : first_free_ - 1; }
   [[nodiscard]] std::span<const glm::dvec3> positions() const { return x_; }
   [[nodiscard]] std::span<const glm::dvec3> tangents() const { return t_; }    // per edge k: k -> k+1
   [[nodiscard]] std::span<const glm::dvec3> directors() const { return m1_; }  // per edge, m1
@@ -105,6 +148,12 @@ class Rod {
   [[nodiscard]] double edge_angle_rad(std::size_t k) const { return theta_[k]; }
   [[nodiscard]] TipPose tip() const;
   [[nodiscard]] std::span<const RodContact> contacts() const { return contacts_; }
+  // Contacts with other rods (and itself) held in the last step, with their forces.
+  [[nodiscard]] std::span<const EdgeContact> edge_contacts() const { return edge_contacts_; }
+  // Rest curvature at node k (1/mm, magnitude) of the pre-curve or coil shape.
+  [[nodiscard]] double rest_curvature_per_mm(std::size_t k) const;
+  // Force the rod exerts on its clamp (the entry), lateral components included.
+  [[nodiscard]] glm::dvec3 clamp_force_mN() const;
 
   // What the tool exerts on the hand: positive resists insertion / rotation.
   [[nodiscard]] double hand_force_mN() const { return hand_force_mN_; }
@@ -129,7 +178,12 @@ class Rod {
     glm::dvec3 ta{0.0}, tb{0.0}, r{0.0};
     double la = 0.0, lb = 0.0, w = 0.0;
   };
+  Rod();  // an empty rod, filled by split_distal
   [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  void size_scratch();
+  void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
+  void gather_obstacles(const RodObstacles& obstacles);
+  [[nodiscard]] double edge_gap(const EdgeContact& c) const;
   [[nodiscard]] double plane_gap(std::size_t k) const;   // penetration of node k into its plane
   [[nodiscard]] double second_gap(std::size_t k) const;  // ... into its second plane
   void update_window();
@@ -144,6 +198,7 @@ class Rod {
   void update_frames();
   void solve_twist(double dt_s);
   void finish_contacts();
+  void finish_edge_contacts();
   void compute_force_law(double dt_s);
 
   ToolSpec spec_;
@@ -161,10 +216,15 @@ class Rod {
   double leader_insertion_mm_ = 0.0;
   std::size_t first_ = 0;       // first simulated node
   std::size_t first_free_ = 0;  // first node past the entry
+  bool free_ = false;           // detached: every node free, no clamp
 
   // Per node.
-  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, kbar1_, kbar_turn_, voronoi_, drag_;
-  std::vector<glm::dvec3> x_, x_start_, x_pred_, load_;
+  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_;
+  // Rest curvature towards m1 and m2: 2 tan(phi/2) for the twist coupling, 2 sin(phi/2) for
+  // the bending residual (phi = the rest turning angle at the node).
+  std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;
+  std::vector<glm::dvec3> x_, x_start_, x_pred_, load_, coupling_, grip_anchor_;
+  std::vector<double> grip_limit_;
   std::vector<NodeContact> node_contacts_;
   // Per edge (k: node k -> k+1).
   std::vector<double> rest_, theta_, theta_start_, ref_twist_;
@@ -177,6 +237,9 @@ class Rod {
   std::unique_ptr<BandedCholesky> matrix_;
 
   std::vector<RodContact> contacts_;
+  std::vector<EdgeContact> edge_contacts_;
+  std::vector<glm::dvec3> gathered_at_;  // node positions when the edge contacts were gathered
+  glm::dvec3 clamp_force_{0.0};
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
   ForceLaw law_;

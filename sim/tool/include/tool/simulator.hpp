@@ -1,20 +1,31 @@
 #pragma once
-// The tools in the vessel: one or two elastic rods (a guidewire alone, a catheter alone, or a
-// guidewire inside a catheter), driven at the entry by insertion and rotation, stepped in
-// virtual time. The caller drives time (one step() per haptic tick) and owns the wall.
+// The tools in the vessel: elastic rods (guidewires, catheters, coils on their pushers,
+// balloon catheters), each driven at the entry by its own insertion and rotation, nested to
+// any depth (guide catheter > microcatheter > microwire), stepped in virtual time. The caller
+// drives time (one step() per haptic tick) and owns the wall.
 //
-// Coaxial tools follow the composite model of Lenoir, Cotin, Duriez, Neumann, "Interactive
+// Nested tools follow the composite model of Lenoir, Cotin, Duriez, Neumann, "Interactive
 // physically-based simulation of catheter and guidewire", Computers & Graphics 30(3), 2006:
-// where the wire is inside the catheter, the two bend as one rod (the catheter carries the sum
-// of their bending stiffnesses) and the wire follows the catheter's centreline; the part of
-// the wire beyond the catheter tip is its own rod clamped at that tip, and a catheter advanced
-// over the wire is predicted along the wire's path.
+// where a tool runs inside catheters it lies on their centre line and they bend with the sum
+// of the stiffnesses; the part of a tool beyond the furthest tip of the catheters around it is
+// its own rod clamped at that tip; a catheter advanced over a tool is predicted along that
+// tool's path. The friction of each tool in the lumens around it is felt at its hand and drags
+// the catheters (SheathFriction). Coils leave their microcatheter taking their secondary shape,
+// touch themselves, earlier coils and the microcatheter's tip (RodContactField), and are
+// released by detach(). Balloons inflate along a compliance curve (Balloon) and grip the wall
+// while inflated.
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
+#include "tool/balloon.hpp"
 #include "tool/rod.hpp"
+#include "tool/rod_contact_field.hpp"
+#include "tool/sheath_friction.hpp"
 #include "tool/snapshot.hpp"
 #include "tool/wall_model.hpp"
 
@@ -25,9 +36,21 @@ struct Entry {
   glm::dvec3 direction{0.0, 0.0, 1.0};
 };
 
+// Why a device action was refused (nothing changed then).
+enum class DeviceError : std::uint8_t {
+  kNone = 0,
+  kNoSuchTool,
+  kNotACoil,          // detach on a tool that carries no coil (or already released it)
+  kCoilInCatheter,    // detach while the detachment zone is still inside the catheter
+  kNotABalloon,       // inflate/deflate on a tool without a balloon
+  kOutOfRange,        // pressure or volume outside what the balloon takes
+};
+[[nodiscard]] const char* device_error_text(DeviceError e);
+
 class Simulator {
  public:
-  // `wall` must outlive the simulator. Inner tools name their outer tool in ToolSpec::inside.
+  // `wall` must outlive the simulator (or its replacement, see swap_wall). Inner tools name
+  // the catheter they run in in ToolSpec::inside (any depth; no cycles).
   Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
             const RodSettings& settings = {});
 
@@ -35,44 +58,103 @@ class Simulator {
   [[nodiscard]] std::size_t find_tool(std::string_view name) const;  // tool_count() if none
   void select(std::size_t tool);
   [[nodiscard]] std::size_t active_tool() const { return active_; }
+  // The catheter a tool runs in, or tool_count() for a tool in the vessel.
+  [[nodiscard]] std::size_t outer_of(std::size_t tool) const { return outer_of_[tool]; }
 
   // Box input for one tool (the active one on a real box).
   void set_insertion(std::size_t tool, double insertion_mm);
   void set_rotation(std::size_t tool, double rotation_rad);
   [[nodiscard]] double insertion_mm(std::size_t tool) const { return insertion_[tool]; }
   [[nodiscard]] double rotation_rad(std::size_t tool) const { return rotation_[tool]; }
+  // Largest insertion the box may command (the tool's length, less a released coil).
+  [[nodiscard]] double max_insertion_mm(std::size_t tool) const;
+
+  // Test hook: a constant force on one node of a tool (e.g. a load resisting its tip).
+  void set_node_load(std::size_t tool, std::size_t node, const glm::dvec3& force_mN) {
+    if (tool < rods_.size()) rods_[tool].set_node_load(node, force_mN);
+  }
 
   // Advances the simulation by dt seconds (1 ms at haptic rate).
   void step(double dt_s = 1e-3);
 
   [[nodiscard]] double time_s() const { return time_s_; }
+  [[nodiscard]] std::uint64_t steps() const { return steps_; }
   [[nodiscard]] const Rod& rod(std::size_t tool) const { return rods_[tool]; }
   [[nodiscard]] std::int32_t tip_segment(std::size_t tool) const { return tip_segment_[tool]; }
   [[nodiscard]] double hand_force_mN(std::size_t tool) const;
   [[nodiscard]] double hand_torque_mNmm(std::size_t tool) const;
   [[nodiscard]] ForceLaw force_law(std::size_t tool) const;
   [[nodiscard]] TipPose tip(std::size_t tool) const { return rods_[tool].tip(); }
-  // Inserted node positions of a tool, entry to tip, the part inside an outer tool included.
+  // Depth past the entry of a tool's tip, and where its own (simulated) part begins: the
+  // furthest tip of the catheters around it (0 for a tool in the vessel).
+  [[nodiscard]] double tip_depth_mm(std::size_t tool) const;
+  [[nodiscard]] double free_start_mm(std::size_t tool) const { return free_start_[tool]; }
+  // Friction of the catheters around a tool in the last step (zero for a tool in the vessel).
+  [[nodiscard]] const SheathFriction::Result& sheath(std::size_t tool) const { return sheath_result_[tool]; }
+  // Inserted node positions of a tool, entry to tip, the part inside catheters included.
   void inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const;
+
+  // Coils. Releases the coil of `tool` at its detachment zone; it must be out of the catheter.
+  [[nodiscard]] DeviceError detach(std::size_t tool);
+  [[nodiscard]] std::size_t detached_count() const { return detached_.size(); }
+  [[nodiscard]] const Rod& detached(std::size_t i) const { return detached_[i]; }
+  // Length of coil released from `tool` so far (0 before detach).
+  [[nodiscard]] double released_mm(std::size_t tool) const { return removed_mm_[tool]; }
+  // Deepest overlap between coil loops (and coils and the microcatheter tip), last step.
+  [[nodiscard]] RodContactField::Overlap worst_coil_overlap() const { return contacts_.worst_overlap(); }
+
+  // Balloons: the inflation device drives the pressure towards the target at its rate.
+  [[nodiscard]] DeviceError inflate_pressure(std::size_t tool, double pressure_atm);
+  [[nodiscard]] DeviceError inflate_volume(std::size_t tool, double volume_ml);
+  [[nodiscard]] DeviceError deflate(std::size_t tool);
+  [[nodiscard]] const Balloon* balloon(std::size_t tool) const;
+  // Balloon axis points (proximal to distal) and their inflated radius, in the last step.
+  void balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_mm) const;
+
+  // The wall, and its replacement between two steps (a widened lumen): the old wall is
+  // returned to the caller, which must keep it alive until this returns and then destroy it
+  // off the haptic thread. Costs nothing here; every node is probed afresh in the next step.
+  [[nodiscard]] const WallModel& wall() const { return *wall_; }
+  const WallModel* swap_wall(const WallModel& next);
+  [[nodiscard]] std::uint64_t wall_swaps() const { return wall_swaps_; }
 
   void copy_snapshot(Snapshot& out) const;
 
  private:
-  void step_inner(std::size_t tool, double dt_s);
-  void update_composite(std::size_t outer);
+  void update_chain();
+  void prepare(std::size_t tool);
+  void update_contact_members();
+  void update_sheath(std::size_t tool, double dt_s);
+  void build_sheath_path(std::size_t tool, std::vector<SheathVertex>& path) const;
+  [[nodiscard]] bool nested_in(std::size_t inner, std::size_t outer) const;
+  [[nodiscard]] glm::dvec3 path_point(std::size_t tool, double depth_mm) const;
+  void fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const;
+  void update_balloons(double dt_s);
 
-  const WallModel& wall_;
+  const WallModel* wall_;
   Entry entry_;
+  RodSettings settings_;
   std::vector<Rod> rods_;
-  std::vector<std::size_t> outer_of_;  // index of the outer tool, or tool_count() if none
+  std::vector<std::size_t> outer_of_;  // index of the catheter around it, or tool_count() if none
   std::vector<std::size_t> order_;     // outer tools first
-  std::vector<double> insertion_, rotation_, stepped_insertion_;
+  std::vector<double> insertion_, rotation_, stepped_depth_, stepped_rotation_, removed_mm_, free_start_;
+  std::vector<std::size_t> carrier_;   // the catheter whose tip the tool's free part starts at
   std::vector<std::int32_t> tip_segment_;
   std::vector<WallHint> tip_hint_;
   std::vector<double> extra_ei_;       // scratch for the composite stiffness
+  std::vector<SheathFriction> sheath_;
+  std::vector<SheathFriction::Result> sheath_result_;
+  std::vector<SheathVertex> path_;     // scratch
+  std::vector<std::vector<glm::dvec3>> coupling_next_;  // loads for the next step, per tool node
+  std::vector<double> hand_force_, hand_torque_;
+  std::vector<std::optional<Balloon>> balloons_;
+  std::vector<Rod> detached_;
+  RodContactField contacts_;
+  std::vector<RodContactField::Member> members_;  // scratch
   std::size_t active_ = 0;
   double time_s_ = 0.0;
   std::uint64_t steps_ = 0;
+  std::uint64_t wall_swaps_ = 0;
 };
 
 }  // namespace cathbox::tool

@@ -28,13 +28,16 @@ struct ToolSnapshot {
   double hand_force_mN = 0.0;
   double hand_torque_mNmm = 0.0;
   ForceLaw force_law;
+  bool detached = false;                 // a released coil (no hand, no insertion)
+  double balloon_pressure_atm = 0.0;     // balloon catheters
+  double balloon_diameter_mm = 0.0;      // unconstrained diameter at that pressure
 };
 
 struct Snapshot {
   double time_s = 0.0;
   std::uint64_t step = 0;
   std::size_t active_tool = 0;
-  std::vector<ToolSnapshot> tools;
+  std::vector<ToolSnapshot> tools;       // the tools in case order, then the released coils
 };
 
 }  // namespace cathbox::tool

@@ -1,14 +1,24 @@
 #pragma once
-// What a guidewire or a catheter is made of: sections along its length (proximal to distal),
-// each with an outer diameter, bending and torsional stiffness and an optional pre-curve
-// (J-tip, angled tip), plus the wall friction and the node spacing of its discretisation.
+// What a tool is made of: sections along its length (proximal to distal), each with an outer
+// diameter, bending and torsional stiffness, an optional pre-curve (J-tip, angled tip) or a
+// secondary coil shape, plus the wall friction and the node spacing of its discretisation.
+// Catheters have a lumen (the next tool runs in it); a coil is a pusher wire carrying a
+// detachable platinum coil at its distal end; a balloon catheter carries a balloon.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace cathbox::tool {
 
-enum class ToolKind : std::uint8_t { kGuidewire = 0, kCatheter = 1 };
+enum class ToolKind : std::uint8_t { kGuidewire = 0, kCatheter = 1, kCoil = 2, kBalloon = 3 };
+
+// Secondary (rest) shape of a coil section. The primary wind (the platinum wire wound into a
+// soft spring of the section's outer diameter) is the section's od, ei and gj; the secondary
+// shape is its rest curvature, taken up as the coil leaves the microcatheter:
+//   kHelix: a helix of loop diameter D whose turns lie side by side (pitch = od);
+//   kComplex: circular loops of diameter D, each in a plane turned 120 degrees about the
+//             tangent from the last (a "3D" framing coil that builds a cage).
+enum class CoilShape : std::uint8_t { kNone = 0, kHelix = 1, kComplex = 2 };
 
 struct ToolSection {
   double length_mm = 0.0;
@@ -16,25 +26,47 @@ struct ToolSection {
   double bending_stiffness_Nmm2 = 40.0;    // EI
   double torsion_stiffness_Nmm2 = 30.0;    // GJ
   double curve_deg = 0.0;                  // pre-curve: total bend of this section at rest
+  CoilShape shape = CoilShape::kNone;      // coil sections: secondary shape
+  double loop_diameter_mm = 0.0;           // ... and its loop diameter (2..20 mm)
+};
+
+// A balloon on a catheter: where it sits, and its compliance chart (diameter at each
+// pressure, as manufacturers print it), nominal and rated-burst pressure.
+struct BalloonSpec {
+  double length_mm = 0.0;                  // working length; 0: no balloon
+  double from_tip_mm = 0.0;                // distal end of the balloon from the catheter tip
+  std::vector<double> pressure_atm;        // compliance chart, increasing pressures ...
+  std::vector<double> diameter_mm;         // ... and the diameter at each
+  double nominal_atm = 6.0;
+  double rated_burst_atm = 14.0;
+  [[nodiscard]] bool present() const { return length_mm > 0.0; }
 };
 
 struct ToolSpec {
   std::string name = "guidewire";
   ToolKind kind = ToolKind::kGuidewire;
   std::vector<ToolSection> sections;       // proximal first; the last one holds the tip
-  double friction = 0.1;                   // Coulomb coefficient against the wall (and the outer tool)
+  double friction = 0.1;                   // Coulomb coefficient against the wall
   double inner_diameter_mm = 0.0;          // catheters: lumen diameter (0 for a guidewire)
+  double lumen_friction = 0.05;            // catheters: Coulomb coefficient of the lumen liner
   double axial_stiffness_N = 5000.0;       // EA; large, the tool is nearly inextensible
   double drag_mN_s_per_mm2 = 0.01;         // viscous drag per mm of tool per mm/s (blood, sheath)
   double max_spacing_mm = 2.0;             // node spacing along the shaft
   double tip_spacing_mm = 0.5;             // node spacing over the distal tip_zone_mm
   double tip_zone_mm = 10.0;
-  std::string inside;                      // name of the tool this one runs inside (coaxial), or ""
+  std::string inside;                      // name of the catheter this one runs in, or ""
+  double detach_mm = 0.0;                  // coils: length of the detachable coil at the tip
+  BalloonSpec balloon;                     // balloon catheters
 
   [[nodiscard]] double length_mm() const {
     double total = 0.0;
     for (const ToolSection& s : sections) total += s.length_mm;
     return total;
+  }
+  [[nodiscard]] double max_outer_diameter_mm() const {
+    double od = 0.0;
+    for (const ToolSection& s : sections) od = od > s.outer_diameter_mm ? od : s.outer_diameter_mm;
+    return od;
   }
 };
 

@@ -1,0 +1,69 @@
+#pragma once
+// Friction between a tool and the catheters around it, felt at the hand. In the composite
+// model a tool inside a catheter lies on the catheter's centre line; where that line bends the
+// inner tool presses on the lumen:
+//   - capstan: an axial force T in the inner tool through a turn of angle theta presses with
+//     |T| theta (Euler-Eytelwein: pushed or pulled through a bend, F_in / F_out = e^(mu theta));
+//   - bending: forced to follow a change of curvature dk, the inner tool (stiffness EI) presses
+//     with EI |dk| / l, l being the length over which its radial clearance c lets it take up the
+//     change, 2 sqrt(2 c / k) (never shorter than the node spacing);
+// and Coulomb friction mu N of the lumen liner resists the relative sliding and turning. The
+// force is an elastic-plastic anchor (stick, then slip at the limit), like the wall friction,
+// lumped over the covered length: sticking, the hand feels the anchor's stiffness; slipping,
+// the limit. The reaction (the catheter dragged along by the friction) goes back onto the
+// catheters' nodes as loads for the next step. The push of a compressed inner tool on the
+// catheter's bends is not applied to the catheter (lagged by a step it feeds back on itself).
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cathbox::tool {
+
+// One vertex of the path the inner tool lies on, from its distal end (where its own free part
+// begins, or its tip) back to the entry.
+struct SheathVertex {
+  glm::dvec3 point_mm{0.0};
+  std::uint32_t holder = 0;        // tool whose free part the vertex is a node of
+  std::uint32_t node = 0;          // that node
+  double inner_ei_Nmm2 = 0.0;      // bending stiffness of the inner tool there
+  double inner_radius_mm = 0.0;
+  double clearance_mm = 0.0;       // lumen radius of the holder minus the inner tool's radius
+  double mu = 0.0;                 // lumen friction of the holder
+};
+
+class SheathFriction {
+ public:
+  struct Result {
+    double force_mN = 0.0;           // friction on the inner tool, positive resists insertion
+    double torque_mNmm = 0.0;        // positive resists rotation
+    double force_limit_fwd_mN = 0.0; // slipping forwards (>= 0) / backwards (<= 0)
+    double force_limit_back_mN = 0.0;
+    double torque_limit_mNmm = 0.0;
+    bool sticking = true;
+    bool twist_sticking = true;
+  };
+
+  // Relative sliding and turning of the inner tool against its catheter in this step, the
+  // axial force where the covered part ends (the inner free part's push on its clamp, positive
+  // in compression), and the path. `anchor_stiffness` is the stick spring (mN/mm; the twist
+  // spring is it times the inner radius squared). Fills the per-vertex reaction on the holders.
+  Result update(double slide_mm, double turn_rad, double distal_force_mN, const std::vector<SheathVertex>& path,
+                double anchor_stiffness_mN_per_mm);
+
+  // The reaction on the holders, one per path vertex (the force the inner tool exerts there).
+  [[nodiscard]] const std::vector<glm::dvec3>& reaction_mN() const { return reaction_; }
+  // Axial force along the path from the distal end (index 0) to the entry, for the last update.
+  [[nodiscard]] const std::vector<double>& axial_mN() const { return axial_; }
+  void reset();
+
+ private:
+  double slide_ = 0.0;        // accumulated relative sliding, mm
+  double anchor_ = 0.0;       // where the stick spring is relaxed, mm
+  double turn_ = 0.0;
+  double turn_anchor_ = 0.0;
+  std::vector<double> normal_fwd_, normal_back_, axial_, turning_, curvature_, bending_;
+  std::vector<glm::dvec3> reaction_;
+};
+
+}  // namespace cathbox::tool

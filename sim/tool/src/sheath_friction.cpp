@@ -1,0 +1,123 @@
+#include "tool/sheath_friction.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::tool {
+
+namespace {
+constexpr double kMilli = 1000.0;  // N -> mN
+
+glm::dvec3 unit_or(const glm::dvec3& v, const glm::dvec3& fallback) {
+  const double l = glm::length(v);
+  return l > 1e-12 ? v / l : fallback;
+}
+}  // namespace
+
+void SheathFriction::reset() {
+  slide_ = anchor_ = turn_ = turn_anchor_ = 0.0;
+}
+
+SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, double distal_force_mN,
+                                              const std::vector<SheathVertex>& path,
+                                              double anchor_stiffness_mN_per_mm) {
+  Result out;
+  const std::size_t m = path.size();
+  normal_fwd_.assign(m, 0.0);
+  normal_back_.assign(m, 0.0);
+  axial_.assign(m + 1, distal_force_mN);
+  turning_.assign(m, 0.0);
+  reaction_.assign(m, glm::dvec3(0.0));
+  slide_ += std::isfinite(slide_mm) ? slide_mm : 0.0;
+  turn_ += std::isfinite(turn_rad) ? turn_rad : 0.0;
+  if (m < 3) {
+    anchor_ = slide_;
+    turn_anchor_ = turn_;
+    out.force_mN = 0.0;
+    return out;
+  }
+  // Turning angle and curvature at the interior vertices (index 0 is distal).
+  curvature_.assign(m, 0.0);
+  bending_.assign(m, 0.0);
+  std::vector<double>& curvature = curvature_;
+  for (std::size_t j = 1; j + 1 < m; ++j) {
+    const glm::dvec3 a = path[j].point_mm - path[j + 1].point_mm;  // distal direction, proximal edge
+    const glm::dvec3 b = path[j - 1].point_mm - path[j].point_mm;  // distal edge
+    const double la = glm::length(a);
+    const double lb = glm::length(b);
+    if (!(la > 1e-9) || !(lb > 1e-9)) continue;
+    const double c = std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0);
+    turning_[j] = std::acos(c);
+    curvature[j] = turning_[j] / (0.5 * (la + lb));
+  }
+  // Normal forces for sliding forwards and backwards (capstan on the running axial force).
+  double t_fwd = distal_force_mN;
+  double t_back = distal_force_mN;
+  for (std::size_t j = 0; j < m; ++j) {
+    double bending = 0.0;
+    if (j + 1 < m) {
+      const double dk = std::abs(curvature[j] - curvature[j + 1]);
+      if (dk > 0.0) {
+        const double k = std::max({curvature[j], curvature[j + 1], 1e-9});
+        const double h = glm::length(path[j].point_mm - path[j + 1].point_mm);
+        const double l = std::max(h, 2.0 * std::sqrt(2.0 * std::max(0.0, path[j].clearance_mm) / k));
+        bending = path[j].inner_ei_Nmm2 * kMilli * dk / l;
+      }
+    }
+    bending_[j] = bending;
+    normal_fwd_[j] = std::abs(t_fwd) * turning_[j] + bending;
+    normal_back_[j] = std::abs(t_back) * turning_[j] + bending;
+    t_fwd += path[j].mu * normal_fwd_[j];
+    t_back -= path[j].mu * normal_back_[j];
+  }
+  out.force_limit_fwd_mN = t_fwd - distal_force_mN;
+  out.force_limit_back_mN = t_back - distal_force_mN;
+  // Stick spring with slip at the limits.
+  const double k = std::max(1e-9, anchor_stiffness_mN_per_mm);
+  double f = k * (slide_ - anchor_);
+  out.sticking = true;
+  if (f > out.force_limit_fwd_mN) {
+    f = out.force_limit_fwd_mN;
+    anchor_ = slide_ - f / k;
+    out.sticking = false;
+  } else if (f < out.force_limit_back_mN) {
+    f = out.force_limit_back_mN;
+    anchor_ = slide_ - f / k;
+    out.sticking = false;
+  }
+  out.force_mN = f;
+  // The axial force profile and the normal forces that go with the friction actually acting.
+  const std::vector<double>& normal = f >= 0.0 ? normal_fwd_ : normal_back_;
+  const double limit = f >= 0.0 ? out.force_limit_fwd_mN : out.force_limit_back_mN;
+  const double share = std::abs(limit) > 1e-12 ? f / limit : 0.0;
+  double t = distal_force_mN;
+  double torque_limit = 0.0;
+  for (std::size_t j = 0; j < m; ++j) {
+    axial_[j] = t;
+    const double fj = (f >= 0.0 ? 1.0 : -1.0) * path[j].mu * normal[j] * share;  // resists insertion
+    torque_limit += path[j].mu * (std::abs(t) * turning_[j] + bending_[j]) * path[j].inner_radius_mm;
+    t += fj;
+    // Reaction on the holder: the friction drags it along.
+    const glm::dvec3 distal =
+        j > 0 ? unit_or(path[j - 1].point_mm - path[j].point_mm, glm::dvec3(0.0))
+              : unit_or(path[0].point_mm - path[1].point_mm, glm::dvec3(0.0));
+    reaction_[j] = distal * fj;
+  }
+  axial_[m] = t;
+  out.torque_limit_mNmm = torque_limit;
+  const double r_mean = path.front().inner_radius_mm;
+  const double kt = k * r_mean * r_mean;
+  double tau = kt * (turn_ - turn_anchor_);
+  out.twist_sticking = true;
+  if (std::abs(tau) > torque_limit) {
+    tau = tau > 0.0 ? torque_limit : -torque_limit;
+    turn_anchor_ = turn_ - tau / std::max(1e-12, kt);
+    out.twist_sticking = false;
+  }
+  out.torque_mNmm = tau;
+  return out;
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,210 @@
+// Tools nested to any depth (guide catheter > microcatheter > microwire) and the friction of a
+// tool in the lumens around it, felt at the hand: capstan through a bend (Euler-Eytelwein,
+// F_in / F_out = e^(mu theta) pushing, e^(-mu theta) pulling), none in a straight catheter,
+// stick before slip, the catheter dragged along, friction torque.
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+ToolSpec catheter(const std::string& name, double od, double id, double ei, double mu_lumen) {
+  ToolSpec s;
+  s.name = name;
+  s.kind = ToolKind::kCatheter;
+  s.sections = {ToolSection{600.0, od, ei, 0.8 * ei, 0.0}};
+  s.inner_diameter_mm = id;
+  s.lumen_friction = mu_lumen;
+  s.friction = 0.0;
+  s.drag_mN_s_per_mm2 = 0.0;
+  s.max_spacing_mm = 0.5;
+  return s;
+}
+
+ToolSpec wire(const std::string& name, double od, double ei) {
+  ToolSpec s;
+  s.name = name;
+  s.sections = {ToolSection{700.0, od, ei, 0.75 * ei, 0.0}};
+  s.friction = 0.0;
+  s.drag_mN_s_per_mm2 = 0.0;
+  s.max_spacing_mm = 0.5;
+  return s;
+}
+
+RodSettings precise() {
+  RodSettings s;
+  s.newton_iterations = 20;
+  s.convergence_mm = 1e-7;
+  s.min_drag_mN_s_per_mm2 = 1e-5;
+  s.buckling_seed_mm = 0.0;
+  return s;
+}
+
+void drive(Simulator& sim, std::size_t tool, double target, double per_step) {
+  while (std::abs(sim.insertion_mm(tool) - target) > 1e-9) {
+    const double d = std::clamp(target - sim.insertion_mm(tool), -per_step, per_step);
+    sim.set_insertion(tool, sim.insertion_mm(tool) + d);
+    sim.step();
+  }
+}
+
+struct BendCase {
+  double angle_deg;
+  double mu;
+};
+
+class SheathCapstan : public ::testing::TestWithParam<BendCase> {};
+
+// A wire pushed (then pulled) through a catheter that turns by theta in a bend, against a load
+// on its tip: the hand force over the tip force is e^(+-mu theta).
+TEST_P(SheathCapstan, HandForceOverTipForceIsExpMuTheta) {
+  const double angle = GetParam().angle_deg * M_PI / 180.0;
+  const double mu = GetParam().mu;
+  const double R = 20.0;
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(R, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
+  wall.build();
+  ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, mu);
+  ToolSpec w = wire("wire", 0.36, 0.05);
+  w.inside = "cath";
+  const std::vector<ToolSpec> tools{cath, w};
+  Simulator sim(wall, tools, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
+  const double cath_in = 2.0 + R * angle + 8.0;
+  drive(sim, 0, cath_in, 0.1);
+  drive(sim, 1, cath_in + 6.0, 0.1);
+  const std::size_t tip = sim.rod(1).node_total() - 1;
+  const double f_out = 50.0;
+  sim.set_node_load(1, tip, -testing::bend_exit_tangent(angle) * f_out);
+  const double expected = std::exp(mu * angle);
+  for (const double dir : {1.0, -1.0}) {
+    double ratio = 0.0;
+    int count = 0;
+    for (int i = 0; i < 200; ++i) {
+      sim.set_insertion(1, sim.insertion_mm(1) + dir * 0.005);
+      sim.step();
+      if (i >= 150) {
+        ratio += sim.hand_force_mN(1) / sim.rod(1).hand_force_mN();
+        ++count;
+      }
+    }
+    ratio /= count;
+    const double want = dir > 0.0 ? expected : 1.0 / expected;
+    EXPECT_NEAR(ratio / want, 1.0, 0.10) << (dir > 0 ? "push" : "pull") << " ratio " << ratio << " expected " << want;
+    EXPECT_FALSE(sim.sheath(1).sticking);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Bends, SheathCapstan,
+                         ::testing::Values(BendCase{90.0, 0.2}, BendCase{180.0, 0.2}, BendCase{180.0, 0.4}));
+
+TEST(SheathFriction, StraightCatheterHasNoFrictionAndStickComesBeforeSlip) {
+  const TubeNetworkWall wall = testing::straight_tube(1.0, -5.0, 300.0);
+  ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);
+  ToolSpec w = wire("wire", 0.36, 0.05);
+  w.inside = "cath";
+  const std::vector<ToolSpec> tools{cath, w};
+  Simulator sim(wall, tools, Entry{{0, 0, 0}, {0, 0, 1}}, precise());
+  drive(sim, 0, 60.0, 0.2);
+  drive(sim, 1, 70.0, 0.2);
+  const std::size_t tip = sim.rod(1).node_total() - 1;
+  sim.set_node_load(1, tip, glm::dvec3(0, 0, -30.0));
+  for (int i = 0; i < 50; ++i) {
+    sim.set_insertion(1, sim.insertion_mm(1) + 0.01);
+    sim.step();
+  }
+  // Straight: nothing presses the wire on the lumen, the hand feels the tip load alone.
+  EXPECT_NEAR(sim.hand_force_mN(1), 30.0, 0.5);
+  EXPECT_NEAR(sim.sheath(1).force_limit_fwd_mN, 0.0, 1e-6);
+}
+
+// Guide > microcatheter > microwire: each tool moves on its own, each lies on the centre line
+// of the tools around it, and the innermost tool's own part starts at the furthest tip.
+TEST(NestedTools, TriaxialStackEachToolOnItsOwnOnTheCentreLineOfTheOthers) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  ToolSpec guide = catheter("guide", 1.6, 1.2, 20.0, 0.05);
+  ToolSpec micro = catheter("micro", 0.8, 0.45, 2.0, 0.05);
+  micro.inside = "guide";
+  micro.sections.push_back(ToolSection{6.0, 0.8, 0.3, 0.25, 45.0});
+  ToolSpec mw = wire("microwire", 0.36, 0.3);
+  mw.inside = "micro";
+  mw.sections.push_back(ToolSection{5.0, 0.36, 0.05, 0.04, 50.0});
+  const std::vector<ToolSpec> tools{guide, micro, mw};
+  Simulator sim(wall, tools, Entry{{0, 0, -58}, {0, 0, 1}});
+  EXPECT_EQ(sim.outer_of(2), 1u);
+  EXPECT_EQ(sim.outer_of(1), 0u);
+  drive(sim, 0, 30.0, 0.3);
+  drive(sim, 1, 45.0, 0.3);
+  drive(sim, 2, 55.0, 0.3);
+  EXPECT_NEAR(sim.free_start_mm(1), 30.0, 1e-9);
+  EXPECT_NEAR(sim.free_start_mm(2), 45.0, 1e-9);
+  // The wire's part inside the microcatheter lies on its centre line, beyond it the wire leads.
+  std::vector<glm::dvec3> nodes;
+  sim.inserted_positions(2, nodes);
+  ASSERT_GT(nodes.size(), 20u);
+  EXPECT_LT(glm::length(sim.rod(2).entry_point() - sim.tip(1).position_mm), 1e-9);
+  EXPECT_LT(glm::length(sim.rod(1).entry_point() - sim.tip(0).position_mm), 1e-9);
+  EXPECT_GT(sim.tip(2).position_mm.z, sim.tip(1).position_mm.z + 5.0);
+  // Steering the wire alone into the left branch; then the microcatheter follows over it.
+  for (int i = 0; i < 600; ++i) {
+    sim.set_rotation(2, M_PI * i / 600.0);
+    sim.step();
+  }
+  drive(sim, 2, 85.0, 0.2);
+  drive(sim, 1, 70.0, 0.2);
+  EXPECT_EQ(sim.tip_segment(2), sim.tip_segment(1));
+  EXPECT_NE(sim.tip_segment(2), 0);
+  // The microcatheter pulled back inside the guide: the wire's own part starts at the guide's tip.
+  drive(sim, 1, 20.0, 0.3);
+  EXPECT_NEAR(sim.free_start_mm(2), 30.0, 1e-9);
+  EXPECT_LT(glm::length(sim.rod(2).entry_point() - sim.tip(0).position_mm), 1e-9);
+  for (int i = 0; i < 20; ++i) sim.step();
+  for (std::size_t t = 0; t < 3; ++t) {
+    EXPECT_TRUE(std::isfinite(sim.hand_force_mN(t)));
+    EXPECT_TRUE(std::isfinite(sim.tip(t).position_mm.x));
+  }
+}
+
+// Pushing a wire through a curved catheter drags the catheter along (the reaction of the
+// friction), and turning it costs a friction torque at the hand.
+TEST(SheathFriction, CatheterIsDraggedAlongAndTurningCostsTorque) {
+  const double angle = M_PI;
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(15.0, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
+  wall.build();
+  ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);
+  ToolSpec w = wire("wire", 0.36, 0.05);
+  w.inside = "cath";
+  const std::vector<ToolSpec> tools{cath, w};
+  Simulator sim(wall, tools, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
+  const double cath_in = 2.0 + 15.0 * angle + 8.0;
+  drive(sim, 0, cath_in, 0.1);
+  drive(sim, 1, cath_in + 6.0, 0.1);
+  sim.set_node_load(1, sim.rod(1).node_total() - 1, -testing::bend_exit_tangent(angle) * 60.0);
+  for (int i = 0; i < 100; ++i) sim.step();
+  const double held = sim.hand_force_mN(0);
+  for (int i = 0; i < 200; ++i) {
+    sim.set_insertion(1, sim.insertion_mm(1) + 0.005);
+    sim.step();
+  }
+  // The catheter is pulled forwards: its hand must hold it back (a force towards the patient).
+  const double friction = sim.sheath(1).force_mN;
+  EXPECT_GT(friction, 10.0);
+  EXPECT_LT(sim.hand_force_mN(0), held - 0.3 * friction);
+  // Turning the wire: the torque rises to the friction limit and stays there.
+  const double torque_limit = sim.sheath(1).torque_limit_mNmm;
+  EXPECT_GT(torque_limit, 0.0);
+  for (int i = 0; i < 300; ++i) {
+    sim.set_rotation(1, sim.rotation_rad(1) + 0.01);
+    sim.step();
+  }
+  EXPECT_NEAR(sim.sheath(1).torque_mNmm, sim.sheath(1).torque_limit_mNmm, 1e-6);
+  EXPECT_FALSE(sim.sheath(1).twist_sticking);
+}
+
+}  // namespace
+}  // namespace cathbox::tool
