@@ -18,6 +18,11 @@
 //     drag MN_S_PER_MM2
 //     axial_stiffness N
 //   end
+//   flow   KEY VALUES...                    # blood flow overrides (sim/flow), see the README:
+//          viscosity MPA_S | cardiac_output ML_PER_MIN | cerebral_fraction F |
+//          pressure ARTERIAL_MMHG VENOUS_MMHG | wall_shear_stress PA | dispersion RADII |
+//          pulsatile BPM PI | terminals calibrated|fixed | inflow SEG ML_PER_MIN | outlet SEG ML_PER_MIN |
+//          closed SEG [EXCHANGE_FRACTION]
 //
 // Bad input gives one line "file:line: message"; parsing never throws or crashes.
 #include <cstdint>
@@ -26,6 +31,7 @@
 #include <string_view>
 #include <vector>
 
+#include "flow/flow_settings.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/tube_network_wall.hpp"
@@ -44,6 +50,7 @@ struct Case {
   std::optional<Entry> entry;
   std::optional<CaseTarget> target;
   std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
+  flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
 };
 
 struct CaseParse {
