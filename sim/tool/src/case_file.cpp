@@ -18,6 +18,7 @@ constexpr std::size_t kMaxSections = 64;
 constexpr double kMaxToolLength_mm = 4000.0;
 constexpr double kMaxNodes = 6000.0;
 constexpr std::size_t kMaxFlowSettings = 100000;
+constexpr std::size_t kMaxViews = 16;
 
 class CaseParser {
  public:
@@ -27,7 +28,7 @@ class CaseParser {
     CaseParse out;
     Case c;
     std::vector<std::string_view> w;
-    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false;
+    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
     std::vector<std::size_t> tool_lines;
@@ -97,6 +98,19 @@ class CaseParser {
         tool = &c.tools.back();
         tool_line = lines_.line();
         tool_lines.push_back(tool_line);
+      } else if (key == "view") {
+        double v[2];
+        if (!expect_args(w, 3) || !numbers(w, 2, v, 2)) return fail();
+        if (c.views.size() >= kMaxViews) return fail_here("too many views (at most 16)");
+        for (const flow::NamedProjection& other : c.views) {
+          if (other.name == w[1]) return fail_here("view '" + std::string(w[1]) + "' defined twice");
+        }
+        if (std::abs(v[0]) > 120.0) return fail_here("view: LAO/RAO angle must be within +-120 degrees");
+        if (std::abs(v[1]) > 60.0) return fail_here("view: cranial/caudal angle must be within +-60 degrees");
+        c.views.push_back(flow::NamedProjection{std::string(w[1]), v[0], v[1]});
+      } else if (key == "realistic") {
+        if (!expect_args(w, 0) || !once(seen_realistic, key)) return fail();
+        c.realistic = true;
       } else if (key == "flow") {
         if (!flow_statement(c.flow, w)) return fail();
       } else if (key == "end") {

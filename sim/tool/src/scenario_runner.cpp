@@ -84,6 +84,11 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
           rotate[t].target = a.kind == ActionKind::kRotateTo ? a.value * kDegToRad : rot[t] + a.value * kDegToRad;
           rotate[t].speed_per_ms = a.speed * kDegToRad / 1000.0;
           break;
+        case ActionKind::kFluoro:
+        case ActionKind::kInject:
+        case ActionKind::kCArm:
+        case ActionKind::kRoadmap:
+          break;  // imaging: acted on by the session and the trainer, not by the tool log
       }
     }
     if (end_ms >= 0 && now >= end_ms) break;

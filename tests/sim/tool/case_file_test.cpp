@@ -100,6 +100,17 @@ TEST(CaseFile, ParsesFlowSettings) {
   EXPECT_EQ(d.value->flow, defaults);
 }
 
+TEST(CaseFile, ParsesViewsAndRealisticMode) {
+  const CaseParse p = parse_case("vessel neuro.hclm\nview right_working -25 15\nview towne 0 30\nrealistic\n", "x.case");
+  ASSERT_TRUE(p.value) << p.error;
+  ASSERT_EQ(p.value->views.size(), 2u);
+  EXPECT_EQ(p.value->views[0].name, "right_working");
+  EXPECT_EQ(p.value->views[0].lao_deg, -25.0);
+  EXPECT_EQ(p.value->views[0].cranial_deg, 15.0);
+  EXPECT_TRUE(p.value->realistic);
+  EXPECT_FALSE(parse_case("vessel neuro.hclm\n", "x.case").value->realistic);
+}
+
 struct BadCase {
   const char* text;
   const char* error;
@@ -162,6 +173,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"vessel a.hclm\nflow closed 3 2\n", "x.case:2: flow closed: 2 is not in [0, 1]"},
         BadCase{"vessel a.hclm\nflow closed 3\nflow outlet 3 50\n",
                 "x.case:3: flow outlet: segment 3 already given on line 2"},
+        BadCase{"vessel a.hclm\nview a 10\n", "x.case:2: view: expected 3 values, got 2"},
+        BadCase{"vessel a.hclm\nview a 10 0\nview a 20 0\n", "x.case:3: view 'a' defined twice"},
+        BadCase{"vessel a.hclm\nview a 130 0\n", "x.case:2: view: LAO/RAO angle must be within +-120 degrees"},
+        BadCase{"vessel a.hclm\nview a 0 90\n", "x.case:2: view: cranial/caudal angle must be within +-60 degrees"},
+        BadCase{"vessel a.hclm\nrealistic yes\n", "x.case:2: realistic: expected 0 values, got 1"},
+        BadCase{"vessel a.hclm\nrealistic\nrealistic\n", "x.case:3: realistic given twice"},
         BadCase{"vessel a.hclm\nflow inflow 3 50\nflow inflow 3 60\n",
                 "x.case:3: flow inflow: segment 3 already given on line 2"}));
 

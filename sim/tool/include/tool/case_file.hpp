@@ -23,6 +23,8 @@
 //          pressure ARTERIAL_MMHG VENOUS_MMHG | wall_shear_stress PA | dispersion RADII |
 //          pulsatile BPM PI | terminals calibrated|fixed | inflow SEG ML_PER_MIN | outlet SEG ML_PER_MIN |
 //          closed SEG [EXCHANGE_FRACTION]
+//   view   NAME LAO_DEG CRANIAL_DEG          # a working projection of the C-arm (RAO/caudal negative)
+//   realistic                               # fluoroscopy only: no 3D view for the trainee
 //
 // Bad input gives one line "file:line: message"; parsing never throws or crashes.
 #include <cstdint>
@@ -31,6 +33,7 @@
 #include <string_view>
 #include <vector>
 
+#include "flow/c_arm.hpp"
 #include "flow/flow_settings.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tool_spec.hpp"
@@ -51,6 +54,8 @@ struct Case {
   std::optional<CaseTarget> target;
   std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
   flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
+  std::vector<flow::NamedProjection> views;  // the case's working projections (besides AP, lateral)
+  bool realistic = false;        // the 3D view is off for the trainee (fluoroscopy only)
 };
 
 struct CaseParse {
