@@ -55,6 +55,13 @@ void run(net::io_context& ioc) {
   ioc.run();
 }
 
+// Runs handlers until `done` (other operations, such as a pending read, may stay pending).
+void run_until(net::io_context& ioc, const bool& done) {
+  ioc.restart();
+  while (!done && ioc.run_one() > 0) {
+  }
+}
+
 beast::error_code connect_stream(net::io_context& ioc, beast::tcp_stream& stream, const std::string& host, const std::string& port,
                                  int timeout_ms) {
   beast::error_code result;
@@ -172,6 +179,10 @@ struct WsClient::Impl {
   net::io_context ioc;
   std::optional<websocket::stream<beast::tcp_stream>> ws;
   beast::flat_buffer buffer;
+  // A read that outlived its call's timeout stays pending; the next read() collects it.
+  bool reading = false;
+  bool read_done = false;
+  beast::error_code read_result;
 };
 
 WsClient::WsClient(int timeout_ms) : impl_(std::make_unique<Impl>()) { impl_->timeout_ms = timeout_ms; }
@@ -181,6 +192,7 @@ Status WsClient::connect(const std::string& base_url, const std::string& target,
   const auto split = split_base_url(base_url);
   if (!split) return split.error();
   const auto& [host, port] = split.value();
+  close();
   impl_->ws.emplace(impl_->ioc);
   auto& lowest = beast::get_lowest_layer(*impl_->ws);
   if (beast::error_code ec = connect_stream(impl_->ioc, lowest, host, port, impl_->timeout_ms)) {
@@ -216,56 +228,60 @@ Status WsClient::connect(const std::string& base_url, const std::string& target,
 Status WsClient::send(std::string_view text) {
   if (!impl_->ws) return make_error(503, "websocket: not connected");
   beast::error_code result;
-  auto& lowest = beast::get_lowest_layer(*impl_->ws);
-  lowest.expires_after(std::chrono::milliseconds(impl_->timeout_ms));
+  bool done = false;
   impl_->ws->text(true);
-  impl_->ws->async_write(net::buffer(text.data(), text.size()), [&](beast::error_code ec, std::size_t) { result = ec; });
-  run(impl_->ioc);
-  lowest.expires_never();
+  impl_->ws->async_write(net::buffer(text.data(), text.size()), [&](beast::error_code ec, std::size_t) {
+    result = ec;
+    done = true;
+  });
+  run_until(impl_->ioc, done);
   if (result) return make_error(503, "websocket send: " + result.message());
   return Ok{};
 }
 
 std::optional<std::string> WsClient::read(int timeout_ms, std::string* error) {
-  if (!impl_->ws) {
+  Impl& m = *impl_;
+  if (!m.ws) {
     if (error != nullptr) *error = "not connected";
     return std::nullopt;
   }
-  beast::error_code result;
-  bool done = false;
-  impl_->ws->async_read(impl_->buffer, [&](beast::error_code ec, std::size_t) {
-    result = ec;
-    done = true;
-  });
-  impl_->ioc.restart();
-  impl_->ioc.run_for(std::chrono::milliseconds(timeout_ms));
-  if (!done) {
-    // Timed out: abandon the socket (a websocket read cannot be cancelled and resumed).
+  if (!m.reading) {
+    m.reading = true;
+    m.read_done = false;
+    m.ws->async_read(m.buffer, [&m](beast::error_code ec, std::size_t) {
+      m.read_result = ec;
+      m.read_done = true;
+    });
+  }
+  if (!m.read_done) {
+    m.ioc.restart();
+    m.ioc.run_for(std::chrono::milliseconds(timeout_ms));
+  }
+  if (!m.read_done) {
     if (error != nullptr) *error = "timeout";
-    beast::get_lowest_layer(*impl_->ws).cancel();
-    impl_->ioc.restart();
-    impl_->ioc.run();
-    impl_->ws.reset();
     return std::nullopt;
   }
-  if (result) {
-    if (error != nullptr) *error = result.message();
-    impl_->ws.reset();
+  m.reading = false;
+  if (m.read_result) {
+    if (error != nullptr) *error = m.read_result.message();
+    m.ws.reset();
     return std::nullopt;
   }
-  std::string text = beast::buffers_to_string(impl_->buffer.data());
-  impl_->buffer.consume(impl_->buffer.size());
+  std::string text = beast::buffers_to_string(m.buffer.data());
+  m.buffer.consume(m.buffer.size());
   return text;
 }
 
 void WsClient::close() {
   if (!impl_->ws) return;
-  beast::error_code result;
-  auto& lowest = beast::get_lowest_layer(*impl_->ws);
-  lowest.expires_after(std::chrono::milliseconds(1000));
-  impl_->ws->async_close(websocket::close_code::normal, [&](beast::error_code ec) { result = ec; });
-  impl_->ioc.restart();
-  impl_->ioc.run();
+  bool done = false;
+  beast::get_lowest_layer(*impl_->ws).expires_after(std::chrono::milliseconds(1000));
+  impl_->ws->async_close(websocket::close_code::normal, [&](beast::error_code) { done = true; });
+  run_until(impl_->ioc, done);
+  // Let a pending read finish (it completes with the close), then drop the stream.
+  beast::get_lowest_layer(*impl_->ws).cancel();
+  run(impl_->ioc);
+  impl_->reading = false;
   impl_->ws.reset();
 }
 

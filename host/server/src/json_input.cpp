@@ -37,18 +37,21 @@ std::size_t too_deep_at(std::string_view text) {
 // nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1,
 // column 5: " prefix.
 std::string short_reason(const std::string& what) {
-  std::size_t at = what.find(": ");
-  if (what.rfind("[json.exception", 0) == 0 && at != std::string::npos) {
-    const std::size_t second = what.find(": ", at + 2);
-    if (what.compare(at + 2, 6, "syntax") != 0 && second != std::string::npos) at = second;
-    std::string reason = what.substr(at + 2);
-    for (char& ch : reason) {
-      const auto u = static_cast<unsigned char>(ch);
-      if (u < 0x20 || u >= 0x7f) ch = '?';  // "last read" quotes the input: keep the line plain
-    }
-    return reason;
+  std::string reason = what;
+  if (reason.rfind("[json.exception", 0) == 0) {
+    const std::size_t close = reason.find("] ");
+    if (close != std::string::npos) reason = reason.substr(close + 2);
   }
-  return what;
+  if (reason.rfind("parse error", 0) == 0) {
+    const std::size_t colon = reason.find(": ");
+    if (colon != std::string::npos) reason = reason.substr(colon + 2);
+  }
+  if (reason.size() > 200) reason = reason.substr(0, 200) + "...";
+  for (char& ch : reason) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (u < 0x20 || u >= 0x7f) ch = '?';  // "last read" quotes the input: keep the line plain
+  }
+  return reason;
 }
 
 bool has_nul(const nlohmann::json& v) {
@@ -83,6 +86,9 @@ Result<nlohmann::json> parse_json(std::string_view text, std::string_view what) 
   } catch (const nlohmann::json::parse_error& e) {
     return make_error(400, std::string(what) + ": invalid JSON at byte " + std::to_string(e.byte > 0 ? e.byte - 1 : 0) + ": " +
                                short_reason(e.what()));
+  } catch (const nlohmann::json::exception& e) {
+    // out_of_range 406: a number too large for a double ("1e99999").
+    return make_error(400, std::string(what) + ": invalid JSON: " + short_reason(e.what()));
   }
 }
 

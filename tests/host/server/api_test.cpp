@@ -15,18 +15,7 @@ using test::error_of;
 using test::FakeRecords;
 using json = nlohmann::json;
 
-class ApiTest : public ::testing::TestWithParam<std::string> {
- protected:
-  void SetUp() override {
-    f_ = std::make_unique<ApiFixture>(GetParam());
-    admin_ = f_->user("root", Role::kAdmin);
-    teacher_ = f_->user("teacher", Role::kInstructor);
-    alice_ = f_->user("alice", Role::kTrainee);
-    bob_ = f_->user("bob", Role::kTrainee);
-  }
-  std::unique_ptr<ApiFixture> f_;
-  std::string admin_, teacher_, alice_, bob_;
-};
+using ApiTest = test::CentreTest;
 
 TEST_P(ApiTest, LoginAnswersATokenThatExpires) {
   const json me = f_->call_json("GET", "/api/v1/me", nullptr, alice_, 200);

@@ -70,7 +70,8 @@ class WsClient {
   // is in the error when refused ("HTTP 403: ...").
   [[nodiscard]] Status connect(const std::string& base_url, const std::string& target, const std::string& token);
   [[nodiscard]] Status send(std::string_view text);
-  // The next text message; nullopt on timeout (error says so) or a closed socket.
+  // The next text message; nullopt on timeout (error "timeout": the read stays pending and the
+  // socket open, so read again) or on a closed socket.
   [[nodiscard]] std::optional<std::string> read(int timeout_ms, std::string* error = nullptr);
   void close();
 

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "server/api.hpp"
@@ -49,6 +50,21 @@ class ApiFixture {
   Store* store = nullptr;
   Auth* auth = nullptr;
   Api* api = nullptr;
+};
+
+// A training centre on one backend (the test's parameter) with an admin (root), an instructor
+// (teacher) and two trainees (alice, bob), logged in.
+class CentreTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    f_ = std::make_unique<ApiFixture>(GetParam());
+    admin_ = f_->user("root", Role::kAdmin);
+    teacher_ = f_->user("teacher", Role::kInstructor);
+    alice_ = f_->user("alice", Role::kTrainee);
+    bob_ = f_->user("bob", Role::kTrainee);
+  }
+  std::unique_ptr<ApiFixture> f_;
+  std::string admin_, teacher_, alice_, bob_;
 };
 
 // {"error": ...} of a response, or "" when it has none.
