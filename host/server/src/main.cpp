@@ -80,8 +80,17 @@ std::unique_ptr<Store> open_store(const std::string& url, int& code) {
   return std::make_unique<Store>(std::move(opened.db));
 }
 
-int serve(const std::string& url, const std::string& listen, const std::string& web, const std::string& instance, int io_threads,
-          int api_threads, double token_hours) {
+struct ServeOptions {
+  std::string web;
+  std::string instance;
+  int io_threads = 2;
+  int api_threads = 4;
+  double token_hours = 12.0;
+  int login_burst = 20;
+  double logins_per_minute = 30.0;
+};
+
+int serve(const std::string& url, const std::string& listen, const ServeOptions& so) {
   ServerConfig config;
   config.db_url = url;
   const std::size_t colon = listen.rfind(':');
@@ -101,11 +110,13 @@ int serve(const std::string& url, const std::string& listen, const std::string& 
     std::cerr << "cathbox-server: --listen: '" << listen.substr(colon + 1) << "' is not a port\n";
     return kBadInput;
   }
-  config.http.mounts = default_mounts(web);
-  config.http.io_threads = io_threads;
-  config.http.api_threads = api_threads;
-  config.auth.token_lifetime_us = static_cast<std::int64_t>(token_hours * 3600e6);
-  config.instance = instance;
+  config.http.mounts = default_mounts(so.web);
+  config.http.io_threads = so.io_threads;
+  config.http.api_threads = so.api_threads;
+  config.auth.token_lifetime_us = static_cast<std::int64_t>(so.token_hours * 3600e6);
+  config.auth.address_burst = so.login_burst;
+  config.auth.address_per_minute = so.logins_per_minute;
+  config.instance = so.instance;
 
   // The signals that stop the server are taken by this thread only (sigwait below).
   sigset_t stop_signals;
@@ -186,17 +197,21 @@ int upload_case_file(Store& store, SystemClock& clock, const std::string& case_p
 int main(int argc, char** argv) {
   CLI::App cli{"cathbox-server: cases, assignments, results and live sessions for a training centre"};
   cli.require_subcommand(0, 1);
-  std::string db, listen = "127.0.0.1:8080", data = default_data_dir(), web = CATHBOX_SERVER_WEB_DIR, instance;
-  int io_threads = 2, api_threads = 4;
-  double token_hours = 12.0;
+  std::string db, listen = "127.0.0.1:8080", data = default_data_dir();
+  ServeOptions so;
+  so.web = CATHBOX_SERVER_WEB_DIR;
   cli.add_option("--db", db, "sqlite:PATH or postgresql://... (default: sqlite:DATA/server.db)");
   cli.add_option("--listen", listen, "HOST:PORT to listen on (port 0: any free port)")->capture_default_str();
   cli.add_option("--data", data, "data folder (default: $XDG_DATA_HOME/cathbox)")->capture_default_str();
-  cli.add_option("--web", web, "folder of the browser pages")->capture_default_str();
-  cli.add_option("--instance", instance, "this instance's name (default: random)");
-  cli.add_option("--io-threads", io_threads, "socket threads")->check(CLI::Range(1, 64))->capture_default_str();
-  cli.add_option("--api-threads", api_threads, "API handler threads")->check(CLI::Range(1, 256))->capture_default_str();
-  cli.add_option("--token-hours", token_hours, "bearer token lifetime")->check(CLI::Range(0.01, 24.0 * 365))->capture_default_str();
+  cli.add_option("--web", so.web, "folder of the browser pages")->capture_default_str();
+  cli.add_option("--instance", so.instance, "this instance's name (default: random)");
+  cli.add_option("--io-threads", so.io_threads, "socket threads")->check(CLI::Range(1, 64))->capture_default_str();
+  cli.add_option("--api-threads", so.api_threads, "API handler threads")->check(CLI::Range(1, 256))->capture_default_str();
+  cli.add_option("--token-hours", so.token_hours, "bearer token lifetime")->check(CLI::Range(0.01, 24.0 * 365))->capture_default_str();
+  cli.add_option("--login-burst", so.login_burst, "login attempts one address may make at once")->check(CLI::Range(1, 1000000))->capture_default_str();
+  cli.add_option("--logins-per-minute", so.logins_per_minute, "login attempts per minute one address gets back")
+      ->check(CLI::Range(0.1, 1e6))
+      ->capture_default_str();
 
   CLI::App* admin = cli.add_subcommand("admin", "accounts and the case library (uses --db / --data like the server)");
   admin->require_subcommand(1);
@@ -226,7 +241,7 @@ int main(int argc, char** argv) {
     return rc == 0 ? kOk : kBadInput;
   }
   const std::string url = db_url(db, data);
-  if (!admin->parsed()) return serve(url, listen, web, instance, io_threads, api_threads, token_hours);
+  if (!admin->parsed()) return serve(url, listen, so);
 
   int code = kOk;
   std::unique_ptr<Store> store = open_store(url, code);

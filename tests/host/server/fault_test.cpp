@@ -15,7 +15,7 @@
 #include "server/migrations.hpp"
 #include "server/sha256.hpp"
 #include "support/server_fixture.hpp"
-#include "support/server_process.hpp"
+#include "server/testing/server_process.hpp"
 
 namespace cathbox::server {
 namespace {
@@ -164,7 +164,7 @@ TEST_P(FaultTest, AcknowledgedUploadsSurviveSigkillAndTheRestAreRetried) {
     ASSERT_TRUE(opened.db) << opened.error;
     ASSERT_TRUE(migrate(*opened.db));
   }
-  test::ServerProcess server(url);
+  testing::ServerProcess server(url);
   Clients clients(server.base_url(), make_instructor(url, server.base_url()));
   clients.run();
   clients.wait_acknowledged(kClients * kUploadsPerClient / 3);
@@ -198,7 +198,7 @@ class PostgresFault : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(PostgresFault, RestartUnderLoadLosesNothingAcknowledged) {
   const std::string url = test::fresh_database_url(GetParam());
-  test::ServerProcess server(url);
+  testing::ServerProcess server(url);
   Clients clients(server.base_url(), make_instructor(url, server.base_url()));
   clients.run();
   clients.wait_acknowledged(kClients * kUploadsPerClient / 3);

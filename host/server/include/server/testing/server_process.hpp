@@ -7,11 +7,12 @@
 
 #include "server/testing/child_process.hpp"
 
-namespace cathbox::server::test {
+namespace cathbox::server::testing {
 
 class ServerProcess {
  public:
   // `port` 0 takes a free one (then reused by restart()). Waits for the "listening" line.
+  // The program is build/<preset>/bin/cathbox-server beside the running executable.
   ServerProcess(std::string db_url, std::uint16_t port = 0, std::vector<std::string> extra_args = {});
   ~ServerProcess();
   void kill(int sig);   // and reap
@@ -26,7 +27,7 @@ class ServerProcess {
   std::string db_url_;
   std::uint16_t port_;
   std::vector<std::string> extra_;
-  testing::ChildProcess child_;
+  ChildProcess child_;
 };
 
-}  // namespace cathbox::server::test
+}  // namespace cathbox::server::testing

@@ -1,11 +1,11 @@
-#include "support/server_process.hpp"
+#include "server/testing/server_process.hpp"
 
 #include <signal.h>
 #include <sys/wait.h>
 
 #include <stdexcept>
 
-namespace cathbox::server::test {
+namespace cathbox::server::testing {
 
 ServerProcess::ServerProcess(std::string db_url, std::uint16_t port, std::vector<std::string> extra_args)
     : db_url_(std::move(db_url)), port_(port), extra_(std::move(extra_args)) {
@@ -20,10 +20,10 @@ ServerProcess::~ServerProcess() {
 }
 
 void ServerProcess::start() {
-  std::vector<std::string> argv = {testing::sibling_program("cathbox-server"), "--db", db_url_, "--listen",
-                                   "127.0.0.1:" + std::to_string(port_), "--web", std::string(CATHBOX_SOURCE_DIR) + "/host/server/web"};
+  std::vector<std::string> argv = {sibling_program("cathbox-server"), "--db", db_url_, "--listen",
+                                   "127.0.0.1:" + std::to_string(port_), "--web", CATHBOX_SERVER_WEB_DIR};
   argv.insert(argv.end(), extra_.begin(), extra_.end());
-  testing::ChildOptions o;
+  ChildOptions o;
   o.capture_stdout = true;
   if (const std::string e = child_.start(argv, o); !e.empty()) throw std::runtime_error("cathbox-server: " + e);
   const std::optional<std::string> line = child_.read_line();
@@ -51,4 +51,4 @@ bool ServerProcess::alive() {
   return ::waitpid(child_.pid(), &status, WNOHANG) == 0;
 }
 
-}  // namespace cathbox::server::test
+}  // namespace cathbox::server::testing
