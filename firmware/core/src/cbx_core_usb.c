@@ -50,6 +50,7 @@ static void current_settings(cbx_core* core, cbx_settings* s) {
 static void publish_settings(cbx_core* core, const cbx_settings* s) {
   const uint8_t slot = (uint8_t)(core->settings_published ^ 1u);
   core->settings_slot[slot] = *s;
+  cbx_core_scales(&core->settings_slot[slot], core->scale_slot[slot]);
   CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
   core->settings_published = slot;
   core->settings_generation++;

@@ -74,6 +74,7 @@ typedef struct {
   volatile uint32_t command_generation;
   volatile uint8_t ack_pending;        /* an ACK_FAULTS arrived since the tick last took one */
   cbx_settings settings_slot[2];
+  cbx_axis_scale scale_slot[2][CBX_AXIS_COUNT]; /* derived from settings_slot by the writer, so the tick has no divisions */
   volatile uint8_t settings_published;
   volatile uint32_t settings_generation;
   volatile uint8_t reset_mask;
