@@ -80,6 +80,7 @@ void cbx_core_init(cbx_core* core, const cbx_core_config* config) {
   core->last_tick_us = now;
   core->snapshot.status = core->scale[0].valid && core->scale[1].valid ? CBX_STATUS_CALIBRATED : 0u;
   core->snapshot.faults = cbx_safety_faults(&core->safety, core->snapshot.status != 0u);
+  core->snapshot.board_faults = config->board_faults;
 }
 
 void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab) {
@@ -212,6 +213,7 @@ static void publish_snapshot(cbx_core* core, uint32_t now, uint32_t dt, cbx_gate
   r->command_seq_echo = core->command_seq_echo;
   r->encoder_errors = core->encoder_errors_seen > 0xFFFFu ? 0xFFFFu : (uint16_t)core->encoder_errors_seen;
   r->rx_errors = core->rx_errors > 0xFFFFu ? 0xFFFFu : (uint16_t)core->rx_errors;
+  r->board_faults = core->config.board_faults;
   uint8_t mode = core->safety.mode;
   if (mode == CBX_MODE_MOTOR && core->config.axis[CBX_AXIS_INSERTION].actuator == CBX_ACTUATOR_BRAKE &&
       core->config.axis[CBX_AXIS_ROTATION].actuator == CBX_ACTUATOR_BRAKE)

@@ -21,6 +21,9 @@
 #ifndef CBX_FLASH_BASE
 #define CBX_FLASH_BASE 0x08000000u  /* main flash (the settings store lives in sector 5) */
 #endif
+#ifndef CBX_SYSMEM_BASE
+#define CBX_SYSMEM_BASE 0x1FFF0000u /* system memory: ROM bootloader, unique device ID */
+#endif
 #define CBX_PERIPH(offset) (CBX_PERIPH_BASE + (offset))
 
 #define CBX_REG(addr) (*(volatile uint32_t*)(addr))
@@ -172,8 +175,8 @@ typedef struct {
 #define SYSCFG_MEMRMP_SYSTEM 1u
 
 /* ---- Unique device ID, system memory (ROM bootloader) ---- */
-#define UID_BASE 0x1FFF7A10u
-#define SYSTEM_MEMORY_BASE 0x1FFF0000u
+#define UID_BASE (CBX_SYSMEM_BASE + 0x7A10u)
+#define SYSTEM_MEMORY_BASE CBX_SYSMEM_BASE
 
 /* ---- USB OTG full speed (device mode) ---- */
 #define OTG_BASE CBX_OTG_BASE

@@ -1,4 +1,5 @@
-// libFuzzer target for one protocol decoder, chosen at compile time (CBX_FUZZ_KIND).
+// libFuzzer target for one protocol decoder, chosen at compile time (CBX_FUZZ_KIND): a report
+// kind, or the firmware image info block.
 // Properties: never crash; a report that decodes
 //   - re-encodes to the same bytes as the input on every byte that is not reserved (the spec's
 //     reserved bytes are sent as 0 and ignored on receipt), so no field is dropped or moved;
@@ -11,6 +12,7 @@
 #include "../fuzz_crc_fix.hpp"
 #include "protocol/cbx_command_report.h"
 #include "protocol/cbx_feature_reports.h"
+#include "protocol/cbx_image_info.h"
 #include "protocol/cbx_state_report.h"
 
 #define CBX_CAT2(a, b) a##b
@@ -20,20 +22,23 @@
 
 namespace {
 
-// Reserved bytes of each report body (protocol/README.md), as a mask: bit i = byte i.
+// The bytes not carried from the input (the spec's reserved bytes, and a report's CRC, which
+// covers them), as a mask: bit i = byte i (protocol/README.md).
 constexpr uint64_t bytes(int first, int last) {
   uint64_t m = 0;
   for (int i = first; i <= last; ++i) m |= uint64_t{1} << i;
   return m;
 }
-[[maybe_unused]] uint64_t reserved(const cbx_state_report*) { return bytes(47, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_command_report*) { return bytes(10, 11) | bytes(60, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_device_info*) { return bytes(54, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_calibration*) { return bytes(56, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_limits*) { return bytes(26, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_reset_counters*) { return bytes(9, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_enter_bootloader*) { return bytes(12, 61); }
-[[maybe_unused]] uint64_t reserved(const cbx_selftest*) { return bytes(9, 9) | bytes(18, 61); }
+constexpr uint64_t kCrc = bytes(62, 63);
+[[maybe_unused]] uint64_t reserved(const cbx_state_report*) { return bytes(50, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_command_report*) { return bytes(10, 11) | bytes(60, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_device_info*) { return kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_calibration*) { return bytes(56, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_limits*) { return bytes(26, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_reset_counters*) { return bytes(9, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_enter_bootloader*) { return bytes(12, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_selftest*) { return bytes(9, 9) | bytes(18, 61) | kCrc; }
+[[maybe_unused]] uint64_t reserved(const cbx_image_info*) { return bytes(10, 11) | bytes(36, 59); }
 
 bool same(const cbx_header& a, const cbx_header& b) {
   return a.version == b.version && a.seq == b.seq && a.time_us == b.time_us;
@@ -53,7 +58,8 @@ bool same(const cbx_curve_point (&a)[CBX_CURVE_POINTS], const cbx_curve_point (&
          a.insertion_force_mN == b.insertion_force_mN && a.rotation_torque_uNm == b.rotation_torque_uNm &&
          a.insertion_current_mA == b.insertion_current_mA && a.rotation_current_mA == b.rotation_current_mA &&
          a.status == b.status && a.faults == b.faults && a.command_seq_echo == b.command_seq_echo &&
-         a.encoder_errors == b.encoder_errors && a.rx_errors == b.rx_errors && a.mode == b.mode;
+         a.encoder_errors == b.encoder_errors && a.rx_errors == b.rx_errors && a.mode == b.mode &&
+         a.board_faults == b.board_faults && a.in_dropped == b.in_dropped;
 }
 [[maybe_unused]] bool same(const cbx_command_report& a, const cbx_command_report& b) {
   return same(a.header, b.header) && a.mode == b.mode && a.flags == b.flags && same(a.insertion, b.insertion) &&
@@ -64,7 +70,8 @@ bool same(const cbx_curve_point (&a)[CBX_CURVE_POINTS], const cbx_curve_point (&
          a.fw_patch == b.fw_patch && a.protocol_minor == b.protocol_minor &&
          std::memcmp(a.serial, b.serial, sizeof a.serial) == 0 && std::memcmp(a.board, b.board, sizeof a.board) == 0 &&
          a.insertion_actuator == b.insertion_actuator && a.rotation_actuator == b.rotation_actuator &&
-         a.insertion_encoder_cpr == b.insertion_encoder_cpr && a.rotation_encoder_cpr == b.rotation_encoder_cpr;
+         a.insertion_encoder_cpr == b.insertion_encoder_cpr && a.rotation_encoder_cpr == b.rotation_encoder_cpr &&
+         std::memcmp(a.build, b.build, sizeof a.build) == 0;
 }
 [[maybe_unused]] bool same(const cbx_calibration& a, const cbx_calibration& b) {
   return same(a.header, b.header) && a.insertion_counts_per_m == b.insertion_counts_per_m &&
@@ -84,15 +91,20 @@ bool same(const cbx_curve_point (&a)[CBX_CURVE_POINTS], const cbx_curve_point (&
 [[maybe_unused]] bool same(const cbx_enter_bootloader& a, const cbx_enter_bootloader& b) {
   return same(a.header, b.header) && a.magic == b.magic;
 }
+[[maybe_unused]] bool same(const cbx_image_info& a, const cbx_image_info& b) {
+  return a.fw_major == b.fw_major && a.fw_minor == b.fw_minor && a.fw_patch == b.fw_patch &&
+         a.protocol_minor == b.protocol_minor && std::memcmp(a.board, b.board, sizeof a.board) == 0 &&
+         std::memcmp(a.build, b.build, sizeof a.build) == 0 && a.image_size == b.image_size;
+}
 [[maybe_unused]] bool same(const cbx_selftest& a, const cbx_selftest& b) {
   return same(a.header, b.header) && a.state == b.state && a.failed_checks == b.failed_checks &&
          a.insertion_current_mA == b.insertion_current_mA && a.rotation_current_mA == b.rotation_current_mA &&
          a.supply_mV == b.supply_mV;
 }
 
-// Every byte of 0..61 that is not reserved is equal in `a` and `b`.
+// Every byte of the 64 that is not in `reserved_bytes` is equal in `a` and `b`.
 bool payload_carried(const uint8_t* a, const uint8_t* b, uint64_t reserved_bytes) {
-  for (unsigned i = 0; i < CBX_CRC_OFFSET; ++i)
+  for (unsigned i = 0; i < CBX_REPORT_SIZE; ++i)
     if (((reserved_bytes >> i) & 1u) == 0u && a[i] != b[i]) return false;
   return true;
 }
