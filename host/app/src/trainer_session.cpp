@@ -399,7 +399,12 @@ bool SimTrainerSession::tick(std::int64_t sim_time_us) {
         scripted_->retries());
     go_on = false;
   }
-  if (scripted_ && scripted_->path_length_mm() > 0.0 && scripted_->progress_mm() >= scripted_->path_length_mm() - 1.0) {
+  // The path ends at the target, if there is one: the hand goes on until the tip is level with
+  // it (a tip on the wall 1 mm short of it can be further than the lumen radius from it); to a
+  // leaf's end, 1 mm short of the cap is the end.
+  const double end_margin_mm = target_ ? 0.0 : 1.0;
+  if (scripted_ && scripted_->path_length_mm() > 0.0 &&
+      scripted_->progress_mm() >= scripted_->path_length_mm() - end_margin_mm) {
     log(sim_time_us, "scripted hand: end of the path (%.0f mm)", scripted_->path_length_mm());
     go_on = false;
   }

@@ -1,5 +1,6 @@
 #include "vessel/vessel_mesher.hpp"
 
+#include "junction_fit.hpp"
 #include "vessel/centerline_smoother.hpp"
 #include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
@@ -20,7 +21,7 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
   }
   const VesselGraph graph(model);
   out.euler_characteristic = graph.surface_euler_characteristic();
-  out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions);
+  out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing);
   ControlMeshResult control = build_control_mesh(out.smoothed, graph, options);
   if (!control.ok()) {
     out.error = control.error;
@@ -33,6 +34,9 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
     return out;
   }
   out.mesh = std::move(surface.mesh);
+  if (options.fit_junctions && options.subdivision_level > 0) {
+    (void)detail::fit_junction_patches(out.mesh, out.smoothed, graph, out.control);
+  }
   if (!options.caps) out.euler_characteristic -= static_cast<int>(graph.free_ends().size());
   return out;
 }

@@ -59,8 +59,13 @@ for ext in obj ply stl; do
 done
 head -c 3 "$work/y.ply" | grep -q ply || fail "ply header"
 grep -q "^g junction_0" "$work/y.obj" || fail "obj groups per region"
-expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/c.obj" --ring 4 --control-mesh --no-caps
+# The thesis' counts (4 sum k_i points, 4 sum (k_i - 1) + 7 faces) with a ring per HCLM point.
+expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/c.obj" --ring 4 --control-mesh --no-caps --rings per-point
 grep -q "control mesh 300 vertices 295 faces" "$work/out" || fail "control mesh counts: $(cat "$work/out")"
+expect 0 "$cathbox" vessel mesh "$src/cases/neuro_stenosis.hclm" -o "$work/s.ply" --smoothing moving-average --no-junction-fit
+grep -q "closed, manifold" "$work/out" || fail "mesh with the thesis smoothing: $(cat "$work/out")"
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --smoothing gaussian
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --rings every-mm
 
 # Generate: bundled cases reproduce the shipped files; random models validate.
 expect 0 "$cathbox" vessel generate --all "$work/cases"

@@ -27,7 +27,8 @@ constexpr const char* kUsage =
     "usage: cathbox vessel validate FILE\n"
     "       cathbox vessel info FILE [--json]\n"
     "       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl [--ring M] [--level L] [--control-mesh]\n"
-    "                           [--no-caps] [--no-trim] [--smooth N]\n"
+    "                           [--no-caps] [--no-trim] [--smooth N] [--smoothing taubin|moving-average]\n"
+    "                           [--rings adaptive|per-point] [--no-junction-fit]\n"
     "       cathbox vessel generate NAME -o OUT.hclm      NAME: neuro, neuro_aneurysm, neuro_stenosis,\n"
     "                                                    y_bifurcation\n"
     "       cathbox vessel generate --all DIR            all bundled cases into DIR\n"
@@ -138,8 +139,19 @@ int run_mesh(cli::Args& args) {
   if (options.ring_points < 3 || options.ring_points > 64) return usage_error("--ring must be 3..64");
   if (options.subdivision_level < 0 || options.subdivision_level > 5) return usage_error("--level must be 0..5");
   if (options.smoothing_passes < 0 || options.smoothing_passes > 100) return usage_error("--smooth must be 0..100");
+  if (const auto method = args.value("smoothing")) {
+    if (*method == "taubin") options.smoothing = vessel::SmoothingMethod::kTaubin;
+    else if (*method == "moving-average") options.smoothing = vessel::SmoothingMethod::kMovingAverage;
+    else return usage_error("--smoothing must be taubin or moving-average");
+  }
+  if (const auto rings = args.value("rings")) {
+    if (*rings == "adaptive") options.ring_placement = vessel::RingPlacement::kAdaptive;
+    else if (*rings == "per-point") options.ring_placement = vessel::RingPlacement::kPerPoint;
+    else return usage_error("--rings must be adaptive or per-point");
+  }
   options.caps = !args.flag("no-caps");
   options.trim_at_junctions = !args.flag("no-trim");
+  options.fit_junctions = !args.flag("no-junction-fit");
   if (args.flag("control-mesh")) options.subdivision_level = 0;
   const std::string& path = args.positionals()[0];
   const auto model = read_model(path);
@@ -224,7 +236,8 @@ int run_vessel(std::span<const std::string> raw) {
     return run_info(args);
   }
   if (sub == "mesh") {
-    cli::Args args(rest, {"output", "ring", "level", "smooth"}, {"control-mesh", "no-caps", "no-trim"});
+    cli::Args args(rest, {"output", "ring", "level", "smooth", "smoothing", "rings"},
+                   {"control-mesh", "no-caps", "no-trim", "no-junction-fit"});
     if (!args.ok()) return usage_error(args.error());
     return run_mesh(args);
   }
