@@ -1,5 +1,7 @@
 #include "vessel/vessel_mesher.hpp"
 
+#include <optional>
+
 #include "junction_fit.hpp"
 #include "vessel/centerline_smoother.hpp"
 #include "vessel/control_mesh_builder.hpp"
@@ -28,15 +30,18 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
     return out;
   }
   out.control = std::move(control.mesh);
-  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level);
+  std::optional<detail::JunctionFit> fit;
+  LevelAdjuster adjust;
+  if (options.fit_junctions && options.subdivision_level > 0) {
+    fit.emplace(out.smoothed, graph, out.control);
+    if (!fit->empty()) adjust = [&fit](RefinedLevel& level) { fit->apply(level); };
+  }
+  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level, LimitMethod::kMasks, adjust);
   if (!surface.ok()) {
     out.error = surface.error;
     return out;
   }
   out.mesh = std::move(surface.mesh);
-  if (options.fit_junctions && options.subdivision_level > 0) {
-    (void)detail::fit_junction_patches(out.mesh, out.smoothed, graph, out.control);
-  }
   if (!options.caps) out.euler_characteristic -= static_cast<int>(graph.free_ends().size());
   return out;
 }
