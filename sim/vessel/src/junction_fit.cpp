@@ -25,19 +25,27 @@ struct Nearest {
   double arc = 0.0;                                                   // of the foot, from the junction end
 };
 
-// The nearest point of the axis polyline: the nearest sample, then the two pieces beside it.
+// The nearest point of the axis polyline: the nearest sample (every kCoarseStride-th sample,
+// then those around the best of them; the axis is a smooth curve a few radii long sampled every
+// half radius, so its distance to a point has one minimum within that window), then the two
+// pieces beside it.
 [[nodiscard]] Nearest nearest_on(const JunctionFit::Axis& axis, const glm::dvec3& p, double scale) {
+  constexpr std::size_t kCoarseStride = 3;
   const std::size_t n = axis.pos.size();
   std::size_t near = 0;
   double near_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < n; ++i) {
+  const auto consider = [&](std::size_t i) {
     const glm::dvec3 d = p - axis.pos[i];
     const double d2 = glm::dot(d, d);
     if (d2 < near_d2) {
       near_d2 = d2;
       near = i;
     }
-  }
+  };
+  for (std::size_t i = 0; i < n; i += kCoarseStride) consider(i);
+  consider(n - 1);
+  const std::size_t coarse = near;
+  for (std::size_t i = coarse > kCoarseStride ? coarse - kCoarseStride : 0; i <= std::min(n - 1, coarse + kCoarseStride); ++i) consider(i);
   Nearest best;
   double best_d2 = std::numeric_limits<double>::infinity();
   glm::dvec3 best_foot = axis.pos[near];
@@ -74,6 +82,7 @@ struct Nearest {
 JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, const ControlMesh& control)
     : control_(control) {
   std::vector<std::uint32_t> first_tube_face;  // per segment index, filled on first use
+  std::vector<int> slot(graph.junctions().size(), -1);  // junction -> its entry in junctions_
   for (std::size_t j = 0; j < graph.junctions().size(); ++j) {
     const Junction& junction = graph.junctions()[j];
     bool long_patch = false;
@@ -91,12 +100,19 @@ JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, 
       const double reach = std::min(pl.length, axis.trim + kAxisReachRadii * ring.radius_mm);
       const int steps = std::clamp(static_cast<int>(std::ceil(reach / (kAxisStepRadii * ring.radius_mm))), 1, 256);
       axis.step = reach / steps;
+      glm::dvec3 lo(std::numeric_limits<double>::infinity());
+      glm::dvec3 hi(-std::numeric_limits<double>::infinity());
       for (int k = 0; k <= steps; ++k) {
         const double from_end = axis.step * k;
         const Sample s = sample(pl, e.at_end ? pl.length - from_end : from_end);
         axis.pos.push_back(s.pos);
         axis.radius.push_back(s.radius);
+        lo = glm::min(lo, s.pos);
+        hi = glm::max(hi, s.pos);
+        axis.max_radius = std::max(axis.max_radius, s.radius);
       }
+      axis.bound_center = 0.5 * (lo + hi);
+      axis.bound_radius = 0.5 * glm::length(hi - lo);
       fitted.axes.push_back(std::move(axis));
     }
     if (!long_patch) continue;
@@ -124,13 +140,15 @@ JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, 
         }
       }
     }
-    for (std::size_t f = 0; f < control.face_regions.size(); ++f) {
-      const FaceRegion region = control.face_regions[f];
-      if (region.kind == RegionKind::kJunction && region.id == static_cast<std::int32_t>(j)) {
-        fitted.patch_faces.push_back(static_cast<std::uint32_t>(f));
-      }
-    }
+    slot[j] = static_cast<int>(junctions_.size());
     junctions_.push_back(std::move(fitted));
+  }
+  if (junctions_.empty()) return;
+  for (std::size_t f = 0; f < control.face_regions.size(); ++f) {
+    const FaceRegion region = control.face_regions[f];
+    if (region.kind != RegionKind::kJunction || region.id < 0 || static_cast<std::size_t>(region.id) >= slot.size()) continue;
+    const int s = slot[static_cast<std::size_t>(region.id)];
+    if (s >= 0) junctions_[static_cast<std::size_t>(s)].patch_faces.push_back(static_cast<std::uint32_t>(f));
   }
 }
 
@@ -221,6 +239,7 @@ void JunctionFit::apply(RefinedLevel& level) {
   std::vector<glm::dvec3> start_limit, displacement;
   std::vector<int> interior_of(locals.size(), -1);
   std::vector<Nearest> nearest;
+  std::vector<std::pair<double, std::size_t>> order;
   std::vector<char> touched(junctions_.size(), 0);
   for (std::size_t i = 0; i < locals.size(); ++i) {
     const Local& l = locals[i];
@@ -235,8 +254,25 @@ void JunctionFit::apply(RefinedLevel& level) {
     std::array<Nearest, 2> best;
     Nearest own;
     bool inside_other = false;
-    nearest.clear();
-    for (std::size_t b = 0; b < axes.size(); ++b) nearest.push_back(nearest_on(axes[b], at, 1.0));
+    // Axes in order of a lower bound of their distance; one whose tube is certainly further than
+    // the nearest so far plus the blend width (and cannot hold the point) changes nothing below
+    // and is skipped (its distance stays infinite).
+    order.clear();
+    double largest_radius = 0.0;
+    for (std::size_t b = 0; b < axes.size(); ++b) {
+      order.emplace_back(std::max(0.0, glm::length(at - axes[b].bound_center) - axes[b].bound_radius), b);
+      largest_radius = std::max(largest_radius, axes[b].max_radius);
+    }
+    std::sort(order.begin(), order.end());
+    nearest.assign(axes.size(), Nearest{});
+    double nearest_abs = std::numeric_limits<double>::infinity();
+    for (const auto& [lower_bound, b] : order) {
+      const bool needed = static_cast<int>(b) == l.branch || lower_bound <= axes[b].max_radius ||
+                          lower_bound - axes[b].max_radius < nearest_abs + kFitBlendRadii * largest_radius;
+      if (!needed) continue;
+      nearest[b] = nearest_on(axes[b], at, 1.0);
+      nearest_abs = std::min(nearest_abs, std::abs(nearest[b].signed_distance));
+    }
     std::size_t first_index = 0;
     for (std::size_t b = 0; b < nearest.size(); ++b) {
       if (static_cast<int>(b) == l.branch) own = nearest[b];
@@ -273,10 +309,18 @@ void JunctionFit::apply(RefinedLevel& level) {
   // Move the vertices until their limit positions reach start + displacement (Richardson
   // iteration v += target - limit(v), all at once per step; the limit stencil is a smoothing,
   // so smooth differences settle in a few steps).
-  std::vector<glm::dvec3> step(interior.size());
+  // Only vertices with a displacement move; the others keep their positions.
+  std::vector<std::size_t> moving;
+  for (std::size_t q = 0; q < interior.size(); ++q) {
+    if (glm::dot(displacement[q], displacement[q]) > 0.0) moving.push_back(q);
+  }
+  std::vector<glm::dvec3> step(moving.size());
   for (int iteration = 0; iteration < kFitIterations; ++iteration) {
-    for (std::size_t q = 0; q < interior.size(); ++q) step[q] = start_limit[q] + displacement[q] - limit_of(interior[q]);
-    for (std::size_t q = 0; q < interior.size(); ++q) pos[interior[q]] += step[q];
+    for (std::size_t m = 0; m < moving.size(); ++m) {
+      const std::size_t q = moving[m];
+      step[m] = start_limit[q] + displacement[q] - limit_of(interior[q]);
+    }
+    for (std::size_t m = 0; m < moving.size(); ++m) pos[interior[moving[m]]] += step[m];
   }
   // Where a vertex's neighbours stay (the weight falls off next to it) its limit can only follow
   // by the vertex moving ~2.25 times as far, which may fold the faces around it: a marked face that

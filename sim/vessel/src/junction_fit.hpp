@@ -75,6 +75,9 @@ class JunctionFit {
     double trim = 0.0;        // arc of the branch's ring from the junction end
     double ring_radius = 0.0;
     std::vector<std::uint32_t> fade_faces;  // tube control faces within kFitTubeFadeRadii beyond the ring
+    glm::dvec3 bound_center{0.0};           // a sphere holding every sample
+    double bound_radius = 0.0;
+    double max_radius = 0.0;                // the largest tube radius along it
   };
   struct FittedJunction {
     std::vector<Axis> axes;                  // one per branch
