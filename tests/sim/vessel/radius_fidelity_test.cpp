@@ -219,27 +219,6 @@ TEST(RadiusFidelity, NarrowJunctionsDoNotPinchTheBranches) {
   }
 }
 
-// Every segment's lumen, from one input radius beyond its first ring to one before its last,
-// against the input centreline: the worst relative error over all segments.
-test::ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
-  test::ProfileError worst;
-  for (std::size_t s = 0; s < model.segments.size(); ++s) {
-    const Segment& segment = model.segments[s];
-    const Ring& first = surface.control.rings[surface.control.segment_first_ring[s]];
-    const Ring& last = surface.control.rings[surface.control.segment_first_ring[s + 1] - 1];
-    const SurfaceMesh own = test::region_only(surface.mesh, {RegionKind::kSegment, segment.id});
-    const test::ProfileError e = test::profile_error(own, segment, first.arc_mm + segment.points.front().radius_mm,
-                                                     last.arc_mm - segment.points.back().radius_mm);
-    worst.samples += e.samples;
-    if (std::abs(e.worst) > std::abs(worst.worst)) {
-      const int samples = worst.samples;
-      worst = e;
-      worst.samples = samples;
-    }
-  }
-  return worst;
-}
-
 TEST(RadiusFidelity, CurvedHelicalConfluentAndLoopingSegmentsWithinThreePercentOfTheInput) {
   std::vector<std::pair<std::string, VesselModel>> models;
   models.emplace_back("neuro (curved: siphon, arch)", CaseGenerator::neuro());
@@ -259,7 +238,7 @@ TEST(RadiusFidelity, CurvedHelicalConfluentAndLoopingSegmentsWithinThreePercentO
       options.ring_points = m;
       const VesselSurface surface = build_vessel_surface(model, options);
       ASSERT_TRUE(surface.ok()) << name << ": " << surface.error;
-      const test::ProfileError e = worst_along_segments(model, surface);
+      const test::ProfileError e = test::worst_along_segments(model, surface);
       EXPECT_GT(e.samples, 100) << name;
       EXPECT_LT(std::abs(e.worst), 0.03) << name << " M " << m << ": " << e.worst_surface << " mm for "
                                          << e.worst_input << " at arc " << e.worst_arc;

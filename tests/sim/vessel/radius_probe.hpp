@@ -18,6 +18,7 @@
 #include <glm/geometric.hpp>
 
 #include "vessel/surface_mesh.hpp"
+#include "vessel/vessel_mesher.hpp"
 #include "vessel/vessel_model.hpp"
 
 namespace cathbox::vessel::test {
@@ -165,6 +166,27 @@ inline ProfileError profile_error(const SurfaceMesh& mesh, const Segment& s, dou
     }
   }
   return out;
+}
+
+// Every segment's lumen, from one input radius beyond its first ring to one before its last,
+// against the input centreline: the worst relative error over all segments.
+inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
+  ProfileError worst;
+  for (std::size_t s = 0; s < model.segments.size(); ++s) {
+    const Segment& segment = model.segments[s];
+    const Ring& first = surface.control.rings[surface.control.segment_first_ring[s]];
+    const Ring& last = surface.control.rings[surface.control.segment_first_ring[s + 1] - 1];
+    const SurfaceMesh own = region_only(surface.mesh, {RegionKind::kSegment, segment.id});
+    const ProfileError e = profile_error(own, segment, first.arc_mm + segment.points.front().radius_mm,
+                                                     last.arc_mm - segment.points.back().radius_mm);
+    worst.samples += e.samples;
+    if (std::abs(e.worst) > std::abs(worst.worst)) {
+      const int samples = worst.samples;
+      worst = e;
+      worst.samples = samples;
+    }
+  }
+  return worst;
 }
 
 }  // namespace cathbox::vessel::test

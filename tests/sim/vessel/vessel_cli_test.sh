@@ -1,23 +1,7 @@
 #!/usr/bin/env bash
 # Checks the `cathbox vessel` commands against the built tool: exit codes, one-line file:line
 # errors on bad input, and the files they write. Usage: vessel_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR
-set -u
-cathbox="$1"
-src="$2"
-work="$3"
-rm -rf "$work"
-mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# expect CODE CMD...: runs CMD, checks its exit code; stdout/stderr land in $work/out, $work/err.
-expect() {
-  local want="$1"
-  shift
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "exit $got (want $want): $* -- $(head -c 300 "$work/err")"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_check.sh"
 
 for c in neuro neuro_aneurysm neuro_stenosis y_bifurcation seed_catheter; do
   expect 0 "$cathbox" vessel validate "$src/cases/$c.hclm"
@@ -78,8 +62,4 @@ expect 0 "$cathbox" vessel generate random-graph --seed 2 --cycles 2 -o "$work/g
 expect 0 "$cathbox" vessel info "$work/graph.hclm"
 grep -q "^cycles *2$" "$work/out" || fail "random graph cycles: $(cat "$work/out")"
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)" >&2
-  exit 1
-fi
-echo "vessel cli: all checks passed"
+finish "vessel cli"

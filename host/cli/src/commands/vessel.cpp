@@ -1,4 +1,4 @@
-// `cathbox vessel validate|info|mesh|generate`: the vessel model (HCLM) from the command line.
+// `cathbox vessel validate|info|mesh|import|generate`: the vessel model (HCLM) from the command line.
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -19,11 +19,13 @@
 #include "vessel/mesh_export.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel/vessel_mesher.hpp"
+#include "vessel_import/importer.hpp"
 
 namespace {
 
 namespace cli = cathbox::cli;
 namespace vessel = cathbox::vessel;
+namespace vessel_import = cathbox::vessel_import;
 
 constexpr const char* kUsage =
     "usage: cathbox vessel validate FILE\n"
@@ -31,6 +33,8 @@ constexpr const char* kUsage =
     "       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl [--ring M] [--level L] [--control-mesh]\n"
     "                           [--no-caps] [--no-trim] [--smooth N] [--smoothing taubin|moving-average]\n"
     "                           [--rings adaptive|per-point] [--no-junction-fit]\n"
+    "       cathbox vessel import IN -o OUT.hclm [--format vtk|vtp|slicer|swc] [--units mm|cm|m|um]\n"
+    "                           [--radius-array NAME] [--no-radius-filter]\n"
     "       cathbox vessel generate NAME -o OUT.hclm      NAME: neuro, neuro_aneurysm, neuro_stenosis,\n"
     "                                                    y_bifurcation\n"
     "       cathbox vessel generate --all DIR            all bundled cases into DIR\n"
@@ -187,6 +191,38 @@ int run_mesh(cli::Args& args) {
   return cli::kExitOk;
 }
 
+int run_import(cli::Args& args) {
+  if (args.positionals().size() != 1) return usage_error("import takes one IN file");
+  const auto output = args.value("output");
+  if (!output) return usage_error("import needs -o OUT.hclm");
+  vessel_import::ImportOptions options;
+  if (const auto format = args.value("format")) {
+    options.format = vessel_import::format_from_name(*format);
+    if (!options.format) return usage_error("--format must be vtk, vtp, slicer or swc");
+  }
+  if (const auto units = args.value("units")) {
+    const auto mm = vessel_import::unit_to_mm(*units);
+    if (!mm) return usage_error("--units must be mm, cm, m or um");
+    options.unit_mm = *mm;
+  }
+  if (const auto name = args.value("radius-array")) options.radius_array = *name;
+  options.filter_radii = !args.flag("no-radius-filter");
+  const std::string& path = args.positionals()[0];
+  const vessel_import::ImportResult result = vessel_import::import_centerlines(path, options);
+  if (!result.ok()) {
+    std::string line = result.errors.front().to_string();
+    if (result.errors.size() > 1) line += " (+" + std::to_string(result.errors.size() - 1) + " more)";
+    std::fprintf(stderr, "%s\n", line.c_str());
+    return cli::kExitBadInput;
+  }
+  if (const std::string error = vessel::save_hclm(result.model, *output); !error.empty()) {
+    std::fprintf(stderr, "cathbox vessel import: %s\n", error.c_str());
+    return cli::kExitFailure;
+  }
+  std::printf("%s: %s\n", output->c_str(), result.summary().c_str());
+  return cli::kExitOk;
+}
+
 int save(const vessel::VesselModel& model, const std::string& path) {
   if (const std::string error = vessel::save_hclm(model, path); !error.empty()) {
     std::fprintf(stderr, "cathbox vessel generate: %s\n", error.c_str());
@@ -254,6 +290,11 @@ int run_vessel(std::span<const std::string> raw) {
     if (!args.ok()) return usage_error(args.error());
     return run_mesh(args);
   }
+  if (sub == "import") {
+    cli::Args args(rest, {"output", "format", "units", "radius-array"}, {"no-radius-filter"});
+    if (!args.ok()) return usage_error(args.error());
+    return run_import(args);
+  }
   if (sub == "generate") {
     cli::Args args(rest, {"output", "all", "seed", "segments", "cycles"}, {});
     if (!args.ok()) return usage_error(args.error());
@@ -266,6 +307,6 @@ int run_vessel(std::span<const std::string> raw) {
   return usage_error("unknown subcommand '" + sub + "'");
 }
 
-const cli::Registrar registrar({"vessel", "vessel models: validate, info, mesh, generate (HCLM)", run_vessel});
+const cli::Registrar registrar({"vessel", "vessel models: validate, info, mesh, import, generate (HCLM)", run_vessel});
 
 }  // namespace
