@@ -36,7 +36,7 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
     fit.emplace(out.smoothed, graph, out.control);
     if (!fit->empty()) adjust = [&fit](RefinedLevel& level) { fit->apply(level); };
   }
-  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level, LimitMethod::kMasks, adjust);
+  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level, options.limit_method, adjust);
   if (!surface.ok()) {
     out.error = surface.error;
     return out;

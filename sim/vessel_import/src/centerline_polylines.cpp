@@ -9,11 +9,6 @@
 
 namespace cathbox::vessel_import {
 
-const std::vector<std::string>& default_radius_arrays() {
-  static const std::vector<std::string> names = {"MaximumInscribedSphereRadius", "Radius", "radius"};
-  return names;
-}
-
 PolylinesRead centerline_polylines(const PolylineArrays& a, const std::string& file, double scale_to_mm) {
   PolylinesRead out;
   const auto fail = [&](std::string message) { out.errors.push_back({file, 0, 0, std::move(message)}); };

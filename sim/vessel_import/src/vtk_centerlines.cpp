@@ -1,5 +1,7 @@
 // The VTK half of the VTK importer: reads the polydata and copies its lines and arrays out.
-// This file and CMake are the only places that know VTK.
+// Built on its own as the module libcathbox_vessel_import_vtk.so, which vtk_module_loader.cpp
+// opens when a VTK file is imported: this file and CMake are the only places that know VTK, and
+// no program maps VTK's libraries (11 MB resident, their start-up) unless it reads a VTK file.
 #include "vessel_import/vtk_centerlines.hpp"
 
 #include <algorithm>
@@ -21,6 +23,9 @@
 #include <vtkXMLPolyDataReader.h>
 
 namespace cathbox::vessel_import {
+
+VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_array, bool xml);
+
 namespace {
 
 // VTK reports problems through its output window (to stderr by default); while a file is read
@@ -87,7 +92,7 @@ class CapturedMessages {
 
 }  // namespace
 
-VtkRead read_vtk_centerlines(const std::string& path, const std::string& radius_array, bool xml) {
+VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_array, bool xml) {
   VtkRead out;
   ImportError error{path, 0, 0, ""};
   const auto fail = [&](std::string message) {
@@ -191,3 +196,9 @@ VtkRead read_vtk_centerlines(const std::string& path, const std::string& radius_
 }
 
 }  // namespace cathbox::vessel_import
+
+// The module's entry point (C linkage: looked up by name with dlsym).
+extern "C" __attribute__((visibility("default"))) void cathbox_vessel_import_read_vtk(
+    const std::string* path, const std::string* radius_array, bool xml, cathbox::vessel_import::VtkRead* out) {
+  *out = cathbox::vessel_import::read_vtk_with_vtk(*path, *radius_array, xml);
+}

@@ -4,7 +4,6 @@
 #include "vessel_import/importer.hpp"
 
 #include <cmath>
-#include <random>
 
 #include <gtest/gtest.h>
 
@@ -12,7 +11,9 @@
 #include "vessel/hclm.hpp"
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/vessel_mesher.hpp"
-#include "vessel_import/swc_reader.hpp"
+#include "vessel/case_generator.hpp"
+#include "vessel/vessel_graph.hpp"
+#include "vessel_import/swc_writer.hpp"
 
 namespace cathbox::vessel_import {
 namespace {
@@ -73,55 +74,29 @@ TEST(Importer, FormatsUnitsAndTheFilterSwitch) {
   EXPECT_NE(unfiltered.errors.front().message.find("radius filter is off"), std::string::npos) << unfiltered.errors.front().message;
 }
 
-// A random SWC tree of `branches` branches (each split in two), points every 0.5 mm.
-std::string random_swc(int branches, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::string out = "# random tree\n";
-  struct Tip {
-    int id;
-    glm::dvec3 pos, dir;
-    double r;
-  };
-  int next = 1;
-  out += "1 0 0 0 0 1.5 -1\n";
-  std::vector<Tip> queue{{1, {0, 0, 0}, {0, 0, 1}, 1.5}};
-  int count = 1;
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    Tip t = queue[q];
-    const double length = t.r * (10.0 + 6.0 * u(rng));
-    const int n = static_cast<int>(length / 0.5);
-    int last = t.id;
-    for (int i = 1; i <= n; ++i) {
-      t.pos += t.dir * (length / n);
-      ++next;
-      out += std::to_string(next) + " 0 " + std::to_string(t.pos.x) + " " + std::to_string(t.pos.y) + " " +
-             std::to_string(t.pos.z) + " " + std::to_string(t.r) + " " + std::to_string(last) + "\n";
-      last = next;
-    }
-    if (count + 2 > branches) continue;
-    const double az = 6.283 * u(rng);
-    const glm::dvec3 side = glm::normalize(glm::cross(t.dir, glm::dvec3(std::cos(az), std::sin(az), 0.3)));
-    for (double s : {-1.0, 1.0}) {
-      const double angle = 0.35 + 0.5 * u(rng);
-      queue.push_back({last, t.pos, glm::normalize(t.dir * std::cos(angle) + side * (s * std::sin(angle))), std::max(0.2, 0.8 * t.r)});
-      ++count;
-    }
-  }
-  return out;
-}
-
-TEST(Importer, TwoHundredBranchSwcTree) {
-  const std::string text = random_swc(201, 7);
-  const ImportResult r = import_centerlines_text(text, "tree.swc", Format::kSwc);
+TEST(Importer, TwoHundredBranchSwcTreeRoundTrip) {
+  // A generated binary tree of 200 branches under its root written as SWC and imported back: the
+  // same segments, junctions and points (the benchmark's BM_ImportSwc200 input).
+  vessel::RandomTreeOptions options;
+  options.segments = 201;
+  options.trifurcation_chance = 0.0;
+  const vessel::VesselModel tree = vessel::CaseGenerator::random_tree(7, options);
+  const SwcWrite swc = write_swc(tree);
+  ASSERT_TRUE(swc.ok()) << swc.error;
+  const ImportResult r = import_centerlines_text(swc.text, "tree.swc", Format::kSwc);
   ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
   EXPECT_EQ(r.polylines, 201u);
-  EXPECT_EQ(r.network.junctions + r.network.contracted, 100u);
+  EXPECT_EQ(r.model.segments.size(), 201u);
+  EXPECT_EQ(r.model.point_count(), tree.point_count());
+  EXPECT_EQ(r.network.junctions, vessel::VesselGraph(tree).junctions().size());
+  EXPECT_EQ(r.filter.changed, 0u);
   const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
   ASSERT_TRUE(surface.ok()) << surface.error;
   const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
   EXPECT_TRUE(a.closed() && a.manifold());
   EXPECT_EQ(a.euler_characteristic, 2);
+  // Networks with a confluence or a cycle are not trees.
+  EXPECT_FALSE(write_swc(vessel::CaseGenerator::neuro()).ok());
 }
 
 }  // namespace

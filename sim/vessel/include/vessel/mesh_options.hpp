@@ -18,6 +18,17 @@ enum class SmoothingMethod { kTaubin, kMovingAverage };
 //             relative arc positions (the thesis' count: 4 sum k_i control points for M = 4).
 enum class RingPlacement { kAdaptive, kPerPoint };
 
+// How the refined vertices are moved to the limit surface:
+//  kMasks: the Catmull-Clark limit position and tangent masks (Halstead et al. 1993) applied to
+//          the last level. OpenSubdiv refines to level L-1; on a closed mesh without creases
+//          the last step is done with PrimvarRefiner's own smooth weights in the same order
+//          straight into the limit pass (so OpenSubdiv never builds level L), otherwise as
+//          kMasksOnRefinedLevel. Cross-checked against the other two in the tests.
+//  kMasksOnRefinedLevel: the same masks on level L as OpenSubdiv refines it (faces only) and
+//          PrimvarRefiner interpolates it; kMasks must give exactly this mesh.
+//  kOpenSubdiv: Far::PrimvarRefiner::Limit() with full topology in the last level.
+enum class LimitMethod { kMasks, kMasksOnRefinedLevel, kOpenSubdiv };
+
 struct MeshOptions {
   int smoothing_passes = 3;       // smoothing passes over centerline and radius (a Taubin pass is one lambda|mu pair)
   SmoothingMethod smoothing = SmoothingMethod::kTaubin;
@@ -32,6 +43,7 @@ struct MeshOptions {
   // Move the limit surface of long junction patches (narrow branch angles) onto the branches'
   // tubes away from the crotch (see src/junction_fit.hpp).
   bool fit_junctions = true;
+  LimitMethod limit_method = LimitMethod::kMasks;  // the others are the peers the tests and benchmarks check against
 };
 
 }  // namespace cathbox::vessel

@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "vessel/control_mesh.hpp"
+#include "vessel/mesh_options.hpp"
 #include "vessel/surface_mesh.hpp"
 
 namespace cathbox::vessel {
@@ -20,16 +21,8 @@ struct SurfaceMeshResult {
   [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
-// How the refined vertices are moved to the limit surface:
-//  kMasks: the Catmull-Clark limit position and tangent masks (Halstead et al. 1993) applied to
-//          the last level. OpenSubdiv refines to level L-1; on a closed mesh without creases
-//          the last step is done with PrimvarRefiner's own smooth weights in the same order
-//          straight into the limit pass (so OpenSubdiv never builds level L), otherwise as
-//          kMasksOnRefinedLevel. Cross-checked against the other two in the tests.
-//  kMasksOnRefinedLevel: the same masks on level L as OpenSubdiv refines it (faces only) and
-//          PrimvarRefiner interpolates it; kMasks must give exactly this mesh.
-//  kOpenSubdiv: Far::PrimvarRefiner::Limit() with full topology in the last level.
-enum class LimitMethod { kMasks, kMasksOnRefinedLevel, kOpenSubdiv };
+// LimitMethod (how the refined vertices go to the limit surface) is in mesh_options.hpp.
+
 
 // One refinement level's vertices and faces, as a LevelAdjuster sees them. Uniform refinement
 // numbers faces by parent: at level k >= 1 a control face of n vertices has the n 4^(k-1)

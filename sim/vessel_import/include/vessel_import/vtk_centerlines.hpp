@@ -43,7 +43,10 @@ struct PolylinesRead {
                                                  double scale_to_mm);
 
 // The default radius arrays, tried in this order when none is named.
-[[nodiscard]] const std::vector<std::string>& default_radius_arrays();
+[[nodiscard]] inline const std::vector<std::string>& default_radius_arrays() {
+  static const std::vector<std::string> names = {"MaximumInscribedSphereRadius", "Radius", "radius"};
+  return names;
+}
 
 struct VtkRead {
   PolylineArrays arrays;
@@ -51,7 +54,8 @@ struct VtkRead {
   [[nodiscard]] bool ok() const { return errors.empty(); }
 };
 
-// Reads a legacy .vtk or XML .vtp file (by extension: ".vtp" is XML, anything else legacy).
+// Reads a legacy .vtk (xml false) or XML .vtp (xml true) file with VTK, in the reader module
+// libcathbox_vessel_import_vtk.so opened on first use (an error names it when it is missing).
 // `radius_array` empty: the first of default_radius_arrays() present.
 [[nodiscard]] VtkRead read_vtk_centerlines(const std::string& path, const std::string& radius_array, bool xml);
 
