@@ -2,7 +2,8 @@
 # Checks `cathbox vessel import` against the built tool: every example format imports (summary
 # line, exit 0) and the result meshes and runs in the simulator; bad input gives exactly one
 # stderr line naming file and line (or byte) and exit 2; bad options exit 2.
-# Usage: vessel_import_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR
+# With the trainer given, it runs the imported carotid bifurcation headless with the scripted hand.
+# Usage: vessel_import_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR [TRAINER]
 source "$(dirname "${BASH_SOURCE[0]}")/../vessel/cli_check.sh"
 examples="$src/sim/vessel_import/examples"
 
@@ -55,5 +56,14 @@ expect 2 "$cathbox" vessel import "$work/tree.txt" -o "$work/x.hclm"            
 printf "0 insert_to 40 at 20\n2500 end\n" >"$work/push.actions"
 expect 0 "$cathbox" sim run --case "$work/vb.hclm" --script "$work/push.actions" --out "$work/run.csv" --every 100
 [ "$(wc -l <"$work/run.csv")" -gt 10 ] || fail "sim run log: $(head -3 "$work/run.csv")"
+
+# The trainer: the scripted hand drives the wire through the imported carotid (virtual time).
+if [ -n "${4:-}" ]; then
+  expect 0 "$cathbox" vessel import "$examples/carotid_bifurcation_centerlines.vtp" -o "$work/carotid.hclm"
+  expect 0 "$4" --case "$work/carotid.hclm" --no-box --headless
+  grep -q "end of run" "$work/out" || fail "trainer on the imported carotid: $(tail -5 "$work/out")"
+  length=$(sed -n 's/^path length *\([0-9.]*\) mm/\1/p' "$work/out")
+  awk -v l="${length:-0}" 'BEGIN { exit !(l > 80) }' || fail "the wire went only ${length:-?} mm into the imported carotid"
+fi
 
 finish "vessel import cli"
