@@ -9,6 +9,7 @@
 
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_graph.hpp"
+#include "vessel/vessel_mesher.hpp"
 #include "vessel_import/slicer_markups_reader.hpp"
 #include "vessel_import/swc_reader.hpp"
 #include "vessel_import/vtk_centerlines.hpp"
@@ -50,7 +51,16 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
     std::string message = problems.front().message;
     if (!options.filter_radii && message.find("radius") != std::string::npos) message += " (the radius filter is off)";
     result.errors.push_back({std::string(file), 0, 0, "the imported network is not valid: " + message});
+    return;
   }
+  // A valid network may still have a junction the mesher cannot give room (branches a few degrees
+  // apart and shorter than the ~10 radii they need to part): the control mesh says so in a few
+  // milliseconds (the default options, without subdivision), and the summary passes it on.
+  vessel::MeshOptions coarse;
+  coarse.subdivision_level = 0;
+  coarse.fit_junctions = false;
+  const vessel::VesselSurface check = vessel::build_vessel_surface(result.model, coarse);
+  if (!check.ok()) result.notes.push_back("WARNING: the surface cannot be built: " + check.error);
 }
 
 [[nodiscard]] std::string read_text(const std::string& path, bool& ok) {

@@ -32,6 +32,19 @@ grep -q "radius 4.2.*\.\.12.4 mm" "$work/out" || fail "--units cm: $(cat "$work/
 expect 0 "$cathbox" vessel import "$examples/carotid_bifurcation_centerlines.vtp" --radius-array MaximumInscribedSphereRadius --no-radius-filter -o "$work/raw.hclm"
 grep -q "radius filter off" "$work/out" || fail "--no-radius-filter: $(cat "$work/out")"
 
+# Two branches 10 degrees apart and 6 radii long: imported, with the mesher's refusal in the summary.
+awk 'BEGIN {
+  print "1 0 0 0 0 1 -1"; id = 1
+  for (i = 1; i <= 20; ++i) { id++; print id, 0, 0, 0, i * 0.5, 1, id - 1 }
+  for (s = -1; s <= 1; s += 2) {
+    prev = 21
+    for (i = 1; i <= 6; ++i) { id++; printf "%d 0 %.4f 0 %.4f 0.5 %d\n", id, s * i * 0.5 * sin(0.0873), 10 + i * 0.5 * cos(0.0873), prev; prev = id }
+  }
+}' >"$work/narrow.swc"
+expect 0 "$cathbox" vessel import "$work/narrow.swc" -o "$work/narrow.hclm"
+grep -q "WARNING: the surface cannot be built: junction 0" "$work/out" || fail "narrow junction warning: $(cat "$work/out")"
+expect 2 "$cathbox" vessel mesh "$work/narrow.hclm" -o "$work/narrow.ply"
+
 # Bad input: exit 2, one stderr line starting file:line (or file:) and nothing written.
 printf '1 0 0 0 0 1 -1\n2 0 0 0 1 1 1\n3 0 0 zero 2 1 2\n' >"$work/bad.swc"
 printf '{\n "markups": [\n  {"type": "Curve",, }\n ]\n}\n' >"$work/bad.mrk.json"

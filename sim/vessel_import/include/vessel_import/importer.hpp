@@ -40,7 +40,8 @@ struct ImportResult {
   NetworkStats network;
   vessel::RadiusFilterReport filter;
   bool filtered = false;
-  std::vector<std::string> notes;   // what else was done or skipped ("3 markups that are not curves skipped")
+  std::vector<std::string> notes;   // what else was done or skipped ("3 markups that are not curves skipped");
+                                    // "WARNING: the surface cannot be built: ..." when the mesher would refuse it
   std::vector<ImportError> errors;  // the first is the one to show
   [[nodiscard]] bool ok() const { return errors.empty(); }
 
