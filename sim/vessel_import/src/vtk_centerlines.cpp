@@ -6,7 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <regex>
+#include <charconv>
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
@@ -70,9 +70,12 @@ class CapturedMessages {
     if (const std::size_t object = message.find("): "); object != std::string::npos) message = message.substr(object + 3);
     if (const std::size_t suffix = message.find(" for file: "); suffix != std::string::npos) message.resize(suffix);
     while (!message.empty() && message.back() == ' ') message.pop_back();
-    static const std::regex xml_line(R"(at line (\d+))");
-    std::smatch m;
-    if (std::regex_search(message, m, xml_line)) e.line = std::stoi(m[1].str());
+    if (const std::size_t at_line = message.find("at line "); at_line != std::string::npos) {
+      const char* digits = message.c_str() + at_line + 8;
+      int line = 0;
+      const auto [end, ec] = std::from_chars(digits, message.c_str() + message.size(), line);
+      if (ec == std::errc() && end != digits) e.line = line;
+    }
     if (!message.empty()) e.message = "VTK: " + message;
   }
 
