@@ -141,11 +141,15 @@ void BM_SparseTree100Pipeline(benchmark::State& state) {
 // ---- end to end ------------------------------------------------------------------------------
 
 // A random tree of `segments` segments as an HCLM file in a scratch folder (made once).
+std::filesystem::path scratch_dir() {
+  return std::filesystem::temp_directory_path() / ("cathbox_bench_vessel_" + std::to_string(getpid()));
+}
+
 const std::string& tree_file(int segments) {
   static std::map<int, std::string> files;
   auto& path = files[segments];
   if (path.empty()) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cathbox_bench_vessel_" + std::to_string(getpid()));
+    const std::filesystem::path dir = scratch_dir();
     std::filesystem::create_directories(dir);
     RandomTreeOptions options;
     options.segments = segments;
@@ -352,5 +356,7 @@ int main(int argc, char** argv) {
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();
+  std::error_code ec;
+  std::filesystem::remove_all(scratch_dir(), ec);  // the trees and meshes of BM_MeshCommand
   return 0;
 }
