@@ -2,6 +2,8 @@
 
 #include <imgui.h>
 
+#include <cstdio>
+
 namespace cathbox::app {
 namespace {
 
@@ -40,7 +42,9 @@ EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m,
     }
     ImGui::Text("%-22s %8d", "wall contacts", m.wall_contacts);
     ImGui::Text("%-22s %8.1f mN", "peak wall force", m.peak_wall_force_mN);
-    ImGui::Text("time above %-11.0f %8.2f s", m.wall_force_threshold_mN, static_cast<double>(m.time_above_threshold_us) * 1e-6);
+    char above[32];
+    std::snprintf(above, sizeof above, "time above %.0f mN", m.wall_force_threshold_mN);
+    ImGui::Text("%-22s %8.2f s", above, static_cast<double>(m.time_above_threshold_us) * 1e-6);
     if (m.wrong_branch_entries >= 0) {
       ImGui::Text("%-22s %8d", "wrong-branch entries", m.wrong_branch_entries);
     } else {

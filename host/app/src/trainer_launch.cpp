@@ -69,7 +69,10 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   std::unique_ptr<session::Hand> hand;
   if (scripted) {
     // Its insertion limit follows the held tool's (TickInput::max_insertion_um).
-    auto autopilot = std::make_unique<session::ScriptedHand>(scene.value->route_mm, scene.value->spec.tools.front().length_mm());
+    session::ScriptedHandSettings autopilot_settings;
+    autopilot_settings.end_margin_mm = scene.value->target_mm ? 0.0 : 1.0;
+    auto autopilot = std::make_unique<session::ScriptedHand>(
+        scene.value->route_mm, scene.value->spec.tools.front().length_mm(), autopilot_settings);
     autopilot->set_tick_s(dt_s);
     hand = std::move(autopilot);
   } else if (options.box == BoxChoice::kNone) {

@@ -132,8 +132,9 @@ std::string MetricsCollector::format(const Metrics& m) {
   appendf(out, "tip path length       %.1f mm\n", m.tip_path_mm);
   appendf(out, "wall contacts         %d\n", m.wall_contacts);
   appendf(out, "peak wall force       %.1f mN\n", m.peak_wall_force_mN);
-  appendf(out, "time above %-10.0f %.2f s (mN)\n", m.wall_force_threshold_mN,
-          static_cast<double>(m.time_above_threshold_us) * 1e-6);
+  char above[32];
+  std::snprintf(above, sizeof above, "time above %.0f mN", m.wall_force_threshold_mN);
+  appendf(out, "%-21s %.2f s\n", above, static_cast<double>(m.time_above_threshold_us) * 1e-6);
   if (m.wrong_branch_entries >= 0) {
     appendf(out, "wrong-branch entries  %d\n", m.wrong_branch_entries);
   } else {

@@ -138,7 +138,7 @@ void ScriptedHand::feel(const HandFeedback& fb) {
 
 bool ScriptedHand::finished() const {
   return gave_up() || elapsed_s_ >= s_.time_limit_s ||
-         (path_length_mm() > 0.0 && progress_mm_ >= path_length_mm() - 1.0);
+         (path_length_mm() > 0.0 && progress_mm_ >= path_length_mm() - s_.end_margin_mm);
 }
 
 std::string ScriptedHand::finish_reason() const {

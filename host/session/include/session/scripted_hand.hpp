@@ -43,6 +43,10 @@ struct ScriptedHandSettings {
   double back_off_turn_rad = 1.5707963;
   int max_fruitless_retries = 8;       // retries in a row that end no further along the path
   double time_limit_s = 120.0;         // as a Hand: finishes after this long
+  // As a Hand: finishes when the tip is this far from the path's end. 0 when the path ends at a
+  // target (a tip on the wall 1 mm short of it can be further than the lumen radius from it);
+  // 1 mm short of a leaf's cap is its end.
+  double end_margin_mm = 1.0;
   // +1 when a positive proximal rotation turns the tip's bend positively about the distal
   // direction (right hand); -1 for the opposite convention.
   double rotation_sign = 1.0;
