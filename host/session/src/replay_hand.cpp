@@ -8,7 +8,7 @@ ReplayHand::ReplayHand(std::unique_ptr<RecordReader> reader, bool stop_at_mismat
     : reader_(std::move(reader)), stop_at_mismatch_(stop_at_mismatch) {}
 
 std::string ReplayHand::describe() const {
-  return "replay (" + std::string(hand_kind_name(reader_->header().hand)) + ": " + reader_->header().hand_description + ")";
+  return "replay of " + reader_->header().hand_description;
 }
 
 void ReplayHand::controls(std::int64_t tick, ControlSink& sink) {

@@ -3,9 +3,13 @@
 // block; a kind the reader does not know is refused, not misread.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <random>
 
 #include "session/record_format.hpp"
 #include "session/record_reader.hpp"
@@ -279,6 +283,54 @@ TEST(Record, ControlsCarryTheirKindAndPayload) {
   EXPECT_EQ(out.payload[0], 0);
   q.close();
   EXPECT_FALSE(q.post(c));
+}
+
+// Thirty minutes at 1 kHz of a trainee's hand on the box: the wire moves most ticks in whole
+// encoder counts (108,650 counts/m: ~9.2 um each) with a speed that wanders between pushing and
+// pulling, the tip twisted now and then (4,096 counts a turn), a hash every 100 ticks, the box's
+// status changing a few times. The record stays under 10 MB and reads back whole.
+TEST(Record, ThirtyMinutesOfAHandOnTheBoxStayUnderTenMegabytes) {
+  const std::string path = temp_path("thirty_minutes.cbxrec");
+  std::string error;
+  auto rec = Recorder::create(path, sample_header(), error);
+  ASSERT_TRUE(rec) << error;
+  std::mt19937 rng(20261124);
+  std::normal_distribution<double> accel(0.0, 0.4);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  constexpr std::int64_t kTicks = 30 * 60 * 1000;
+  constexpr double kUmPerCount = 1e6 / 108'650.0;
+  constexpr double kUradPerCount = 2.0 * 3.14159265358979 * 1e6 / 4096.0;
+  TickInput in;
+  in.tool_count = 2;
+  double speed_mm_s = 0.0;
+  double insertion_um = 0.0;
+  double turn_speed_rad_s = 0.0;
+  double rotation_urad = 0.0;
+  for (std::int64_t t = 0; t < kTicks; ++t) {
+    rec->begin_tick(t, t * 1000);
+    speed_mm_s = std::clamp(speed_mm_s * 0.999 + accel(rng), -30.0, 30.0);
+    insertion_um = std::max(0.0, insertion_um + speed_mm_s);  // um per ms == mm per s
+    if (t % 5000 == 0) turn_speed_rad_s = unit(rng) < 0.5 ? 0.0 : (unit(rng) - 0.5) * 6.0;
+    rotation_urad += turn_speed_rad_s * 1e3;
+    in.tools[1].insertion_um = std::llround(std::floor(insertion_um / kUmPerCount) * kUmPerCount);
+    in.tools[1].rotation_urad = std::llround(std::floor(rotation_urad / kUradPerCount) * kUradPerCount);
+    rec->tools(in);
+    rec->box({true, true, static_cast<std::uint16_t>((t / 400'000) % 2 == 0 ? 0 : 0x01)});
+    if ((t + 1) % 100 == 0) rec->state_hash(rng());
+    rec->end_tick();
+  }
+  rec->finish(record::EndReason::kEndedByUser, "run ended by the trainee", kTicks, 0);
+  ASSERT_TRUE(rec->close()) << rec->error();
+  const auto bytes = std::filesystem::file_size(path);
+  std::printf("thirty minutes at 1 kHz: %ju bytes\n", static_cast<std::uintmax_t>(bytes));
+  EXPECT_LT(bytes, 10U * 1000U * 1000U);
+  auto r = RecordReader::open(path, error);
+  ASSERT_TRUE(r) << error;
+  TickRecord tr;
+  std::int64_t n = 0;
+  while (r->next(tr)) ++n;
+  EXPECT_TRUE(r->error().empty()) << r->error();
+  EXPECT_EQ(n, kTicks);
 }
 
 }  // namespace
