@@ -3,6 +3,7 @@
 #include <zstd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 namespace cathbox::session {
@@ -52,7 +53,21 @@ std::unique_ptr<RecordReader> RecordReader::from_bytes(std::vector<std::uint8_t>
 }
 
 bool RecordReader::fail(std::uint64_t byte, const std::string& what) {
-  if (error_.empty()) error_ = name_ + ": byte " + std::to_string(byte) + ": " + what;
+  if (error_.empty()) {
+    // One line, whatever the record's text fields hold: bytes outside printable ASCII as \xNN.
+    std::string line = name_ + ": byte " + std::to_string(byte) + ": ";
+    for (const char c : what) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u >= 0x20 && u < 0x7F) {
+        line += c;
+      } else {
+        char hex[5];
+        std::snprintf(hex, sizeof hex, "\\x%02x", u);
+        line += hex;
+      }
+    }
+    error_ = std::move(line);
+  }
   stopped_ = true;
   return false;
 }
@@ -61,7 +76,7 @@ bool RecordReader::read_exact(std::uint8_t* out, std::size_t n, std::size_t& got
   if (from_memory_) {
     const std::size_t left = memory_.size() - static_cast<std::size_t>(std::min<std::uint64_t>(file_pos_, memory_.size()));
     got = std::min(n, left);
-    std::memcpy(out, memory_.data() + file_pos_, got);
+    if (got > 0) std::memcpy(out, memory_.data() + file_pos_, got);  // out may be null when n is 0
   } else {
     got = std::fread(out, 1, n, file_);
   }

@@ -4,6 +4,7 @@
 // headers), so that the fuzzer also explores the header fields, the tick entries and the
 // decompression behind the CRCs instead of stopping at them.
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -39,7 +40,10 @@ void fix_crcs(std::vector<uint8_t>& b) {
 
 void check_line(const std::string& error) {
   if (error.empty()) return;
-  if (error.rfind("fuzz.cbxrec: byte ", 0) != 0 || error.find('\n') != std::string::npos) std::abort();
+  if (error.rfind("fuzz.cbxrec: byte ", 0) != 0 || error.find('\n') != std::string::npos) {
+    std::fprintf(stderr, "bad error line: %s\n", error.c_str());
+    std::abort();
+  }
 }
 
 }  // namespace
