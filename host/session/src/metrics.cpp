@@ -171,4 +171,38 @@ std::string MetricsCollector::format(const Metrics& m) {
   return out;
 }
 
+std::vector<NamedMetric> named_metrics(const Metrics& m) {
+  std::vector<NamedMetric> out;
+  auto add = [&out](const char* name, double v) { out.push_back({name, v}); };
+  add("procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6);
+  if (m.has_target) {
+    add("target_reached", m.target_reached ? 1.0 : 0.0);
+    if (m.target_reached) add("time_to_target_s", static_cast<double>(m.time_to_target_us) * 1e-6);
+    add("closest_to_target_mm", m.closest_to_target_mm);
+  }
+  add("tip_path_mm", m.tip_path_mm);
+  if (m.path_efficiency > 0.0) add("path_efficiency", m.path_efficiency);
+  add("wall_contacts", m.wall_contacts);
+  add("peak_wall_force_mN", m.peak_wall_force_mN);
+  add("time_above_threshold_s", static_cast<double>(m.time_above_threshold_us) * 1e-6);
+  if (m.wrong_branch_entries >= 0) add("wrong_branch_entries", m.wrong_branch_entries);
+  add("retractions", m.retractions);
+  add("peak_insertion_speed_mm_s", m.peak_insertion_speed_mm_s);
+  add("tool_changes", m.tool_changes);
+  add("peak_hand_force_mN", m.peak_hand_force_mN);
+  if (m.fluoroscopy_time_s) add("fluoroscopy_time_s", *m.fluoroscopy_time_s);
+  if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
+  if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
+  if (m.contrast_volume_ml) add("contrast_volume_ml", *m.contrast_volume_ml);
+  return out;
+}
+
+std::vector<std::string> metric_names() {
+  return {"procedure_time_s", "target_reached", "time_to_target_s", "closest_to_target_mm", "tip_path_mm",
+          "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
+          "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
+          "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
+          "contrast_volume_ml"};
+}
+
 }  // namespace cathbox::session

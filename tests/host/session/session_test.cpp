@@ -13,6 +13,7 @@
 #include "session/replay.hpp"
 #include "session/session.hpp"
 #include "tool/action_script.hpp"
+#include "record_tamper.hpp"
 
 namespace cathbox::session {
 namespace {
@@ -90,25 +91,8 @@ TEST(Session, AScriptedRunReplaysWithEveryHashMatching) {
 
 // Re-writes a record with one input changed by 1 um at `tick`.
 std::string tamper(const std::string& path, std::int64_t tick) {
-  std::string error;
-  auto in = RecordReader::open(path, error);
-  EXPECT_TRUE(in) << error;
   const std::string out_path = temp_path("tampered.cbxrec");
-  auto out = Recorder::create(out_path, in->header(), error);
-  EXPECT_TRUE(out) << error;
-  TickRecord t;
-  TickInput input;
-  input.tool_count = in->header().tools.size();
-  while (in->next(t)) {
-    out->begin_tick(t.tick, t.tick * 1000);
-    for (std::size_t i = 0; i < t.control_count; ++i) out->control(t.controls[i]);
-    input.tools = t.tools;
-    if (t.tick >= tick) input.tools[0].insertion_um += 1;
-    out->tools(input);
-    if (t.state_hash) out->state_hash(*t.state_hash);
-    out->end_tick();
-  }
-  EXPECT_TRUE(out->close());
+  testing::tamper_record(path, out_path, tick);
   return out_path;
 }
 

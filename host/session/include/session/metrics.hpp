@@ -79,6 +79,16 @@ struct MetricsSettings {
   std::int64_t speed_window_us = 50'000;
 };
 
+// The metrics as named numbers (booleans 0/1), only those the run has (no target: no time to
+// target; no fluoroscopy: none of its figures): what the server indexes and pass criteria name.
+struct NamedMetric {
+  std::string name;
+  double value = 0.0;
+};
+[[nodiscard]] std::vector<NamedMetric> named_metrics(const Metrics& m);
+// Every name named_metrics can give.
+[[nodiscard]] std::vector<std::string> metric_names();
+
 class MetricsCollector {
  public:
   explicit MetricsCollector(MetricsSettings settings = {});
