@@ -12,11 +12,11 @@ namespace cathbox::tool {
 namespace {
 
 constexpr std::size_t kMaxCaseBytes = 16u << 20;
-constexpr std::size_t kMaxTools = 4;
+constexpr std::size_t kMaxTools = ToolLimits::kMaxTools;
 constexpr std::size_t kMaxTubes = 200000;
-constexpr std::size_t kMaxSections = 64;
-constexpr double kMaxToolLength_mm = 4000.0;
-constexpr double kMaxNodes = 6000.0;
+constexpr std::size_t kMaxSections = ToolLimits::kMaxSections;
+constexpr double kMaxToolLength_mm = ToolLimits::kMaxLength_mm;
+constexpr double kMaxNodes = ToolLimits::kMaxNodes;
 constexpr std::size_t kMaxFlowSettings = 100000;
 constexpr std::size_t kMaxViews = 16;
 
@@ -28,7 +28,8 @@ class CaseParser {
     CaseParse out;
     Case c;
     std::vector<std::string_view> w;
-    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false;
+    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false,
+         seen_threshold = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
     std::vector<std::size_t> tool_lines;
@@ -78,6 +79,11 @@ class CaseParser {
         if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return fail_here("target: segment id must be an integer >= 0");
         if (v[1] < 0.0 || v[1] > 1.0) return fail_here("target: fraction must be in [0, 1]");
         c.target = CaseTarget{static_cast<std::int32_t>(v[0]), v[1]};
+      } else if (key == "wall_force_threshold") {
+        double v[1];
+        if (!expect_args(w, 1) || !once(seen_threshold, key) || !numbers(w, 1, v, 1)) return fail();
+        if (!(v[0] > 0.0) || v[0] > 1e6) return fail_here("wall_force_threshold: mN must be in (0, 1e6]");
+        c.wall_force_threshold_mN = v[0];
       } else if (key == "tool") {
         if (!expect_args(w, 2)) return fail();
         if (c.tools.size() >= kMaxTools) return fail_here("too many tools (at most 4)");

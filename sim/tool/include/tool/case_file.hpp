@@ -9,6 +9,7 @@
 //   tube   SEG  X0 Y0 Z0 R0  X1 Y1 Z1 R1     # analytic lumen piece instead of a vessel file
 //   entry  X Y Z  DX DY DZ                  # optional: default is the start of the root segment
 //   target SEG FRACTION                     # fraction of the segment's length, 0..1
+//   wall_force_threshold MN                 # optional: the session's "time above" wall force
 //   tool   NAME guidewire|catheter
 //     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG]   # proximal first
 //     friction MU
@@ -52,6 +53,7 @@ struct Case {
   std::vector<Tube> tubes;
   std::optional<Entry> entry;
   std::optional<CaseTarget> target;
+  std::optional<double> wall_force_threshold_mN;  // for the session's metrics (default there: 100 mN)
   std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
   flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
   std::vector<flow::NamedProjection> views;  // the case's working projections (besides AP, lateral)
