@@ -1,12 +1,15 @@
 // bench_collision: closest-point queries on vessel-sized meshes, ours beside Embree
 // (rtcPointQuery) and FCL (distance to a tiny sphere), same mesh and the same 10,000 points
 // within 2 mm of the wall; tree build time; coherent vs cold queries for tool nodes moving
-// <= 0.1 mm per step; sphere contacts for a 350-node tool per step. Prints Google Benchmark's
-// table, then a side-by-side summary of the medians.
+// <= 0.1 mm per step; sphere contacts for a 350-node tool per step. First checks that the
+// peers agree with ours on every point within their precision (exit 1 otherwise; --check-only
+// stops there), then prints Google Benchmark's table and a side-by-side summary of the medians.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -82,15 +85,76 @@ std::unique_ptr<Case> make_case(std::string name, cathbox::vessel::SurfaceMesh m
   return c;
 }
 
-// The three answers must agree before their speeds mean anything.
-void check_agreement(Case& c) {
-  double worst_embree = 0.0;
-  double worst_fcl = 0.0;
-  for (int i = 0; i < kPoints; i += 10) {
-    const double ours = c.tree->closest_point(c.points[static_cast<std::size_t>(i)])->distance_mm;
-    worst_embree = std::max(worst_embree, std::abs(c.embree->distance(c.points[static_cast<std::size_t>(i)]) - ours));
-    worst_fcl = std::max(worst_fcl, std::abs(c.fcl->distance(c.points[static_cast<std::size_t>(i)]) - ours));
+// For the tests of the check itself: a peer whose answer at one point is made wrong.
+struct Perturbation {
+  std::string peer;  // "embree" or "fcl"; empty: none
+  int index = -1;
+};
+
+// How far a peer's distance may be from ours: a few rounding steps of the coordinates'
+// magnitude in the peer's precision. Embree works in float (the query point, the vertices and
+// the closest-point arithmetic); FCL in double, like ours.
+constexpr double kUlpsAllowed = 16.0;
+double precision_mm(const Case& c, double epsilon) {
+  double scale = 0.0;
+  for (const glm::vec3& q : c.mesh.positions_mm)
+    scale = std::max({scale, std::abs(static_cast<double>(q.x)), std::abs(static_cast<double>(q.y)),
+                      std::abs(static_cast<double>(q.z))});
+  return kUlpsAllowed * epsilon * (scale + 2.0);  // the points lie within 2 mm of the wall
+}
+
+struct Disagreement {
+  const char* peer;
+  double tolerance_mm;
+  double worst_mm = 0.0;
+  int worst_index = -1;
+  int count = 0;  // points beyond the tolerance
+  void add(int index, double peer_mm, double ours_mm) {
+    const double d = std::abs(peer_mm - ours_mm);
+    if (d > tolerance_mm) ++count;
+    if (d > worst_mm || worst_index < 0) {
+      worst_mm = d;
+      worst_index = index;
+    }
   }
+};
+
+// The three answers must agree, on every point, before their speeds mean anything: exits 1
+// (before any timing) naming the case, the peer and the worst point otherwise.
+void check_agreement(Case& c, const Perturbation& perturb) {
+  Disagreement embree{"embree", precision_mm(c, std::numeric_limits<float>::epsilon())};
+  Disagreement fcl{"fcl", precision_mm(c, std::numeric_limits<double>::epsilon())};
+  std::vector<double> ours(kPoints);
+  for (int i = 0; i < kPoints; ++i) {
+    const glm::dvec3& p = c.points[static_cast<std::size_t>(i)];
+    const auto closest = c.tree->closest_point(p);
+    ours[static_cast<std::size_t>(i)] = closest ? closest->distance_mm : std::nan("");
+    double e = c.embree->distance(p);
+    double f = c.fcl->distance(p);
+    // The check's own test: a peer answer made wrong by 4x its tolerance at one point.
+    if (i == perturb.index && perturb.peer == "embree") e += 4.0 * embree.tolerance_mm;
+    if (i == perturb.index && perturb.peer == "fcl") f += 4.0 * fcl.tolerance_mm;
+    if (!closest) {
+      std::fprintf(stderr, "bench_collision: %s: no closest point for point %d\n", c.name.c_str(), i);
+      std::exit(1);
+    }
+    embree.add(i, e, ours[static_cast<std::size_t>(i)]);
+    fcl.add(i, f, ours[static_cast<std::size_t>(i)]);
+  }
+  std::printf("%s: %zu triangles, %d points: largest distance difference vs Embree %.2g mm (allowed %.2g), "
+              "vs FCL %.2g mm (allowed %.2g)\n",
+              c.name.c_str(), c.mesh.triangle_count(), kPoints, embree.worst_mm, embree.tolerance_mm, fcl.worst_mm,
+              fcl.tolerance_mm);
+  for (const Disagreement* d : {&embree, &fcl}) {
+    if (d->count == 0) continue;
+    const glm::dvec3& p = c.points[static_cast<std::size_t>(d->worst_index)];
+    std::fprintf(stderr,
+                 "bench_collision: %s: %s disagrees with ours beyond its precision (%.2g mm) at %d of %d points; "
+                 "worst at point %d (%.6f, %.6f, %.6f): ours %.9f mm, %s off by %.3g mm\n",
+                 c.name.c_str(), d->peer, d->tolerance_mm, d->count, kPoints, d->worst_index, p.x, p.y, p.z,
+                 ours[static_cast<std::size_t>(d->worst_index)], d->peer, d->worst_mm);
+  }
+  if (embree.count != 0 || fcl.count != 0) std::exit(1);
   // The coherent walk must give exactly the cold answers.
   std::vector<cb::QueryHint> hints(kNodes);
   std::size_t differ = 0;
@@ -100,9 +164,7 @@ void check_agreement(Case& c) {
       const auto cold = c.tree->closest_point(step[i]);
       if (!warm || !cold || warm->distance_mm != cold->distance_mm) ++differ;
     }
-  std::printf("%s: %zu triangles; largest distance difference vs Embree %.2g mm, vs FCL %.2g mm; "
-              "coherent walk vs cold: %zu of %d differ\n",
-              c.name.c_str(), c.mesh.triangle_count(), worst_embree, worst_fcl, differ, kNodes * kSteps);
+  std::printf("%s: coherent walk vs cold: %zu of %d differ\n", c.name.c_str(), differ, kNodes * kSteps);
   if (differ != 0) std::exit(1);
 }
 
@@ -214,6 +276,29 @@ class MedianReporter : public benchmark::ConsoleReporter {
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
+  // Our options (Google Benchmark has taken its own): --check-only runs the agreement checks
+  // and exits; --perturb=PEER:INDEX makes a peer's answer at one point wrong (the check's test).
+  bool check_only = false;
+  Perturbation perturb;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--check-only") {
+      check_only = true;
+    } else if (arg.rfind("--perturb=", 0) == 0 && arg.find(':') != std::string::npos) {
+      const std::string value = arg.substr(10);
+      perturb.peer = value.substr(0, value.find(':'));
+      perturb.index = std::atoi(value.c_str() + value.find(':') + 1);
+      if ((perturb.peer != "embree" && perturb.peer != "fcl") || perturb.index < 0 || perturb.index >= kPoints) {
+        std::fprintf(stderr, "bench_collision: --perturb=%s: expected embree|fcl:INDEX with INDEX < %d\n",
+                     value.c_str(), kPoints);
+        return 2;
+      }
+    } else {
+      std::fprintf(stderr, "bench_collision: unknown option '%s' (known: --check-only, --perturb=PEER:INDEX, "
+                   "Google Benchmark's --benchmark_*)\n", arg.c_str());
+      return 2;
+    }
+  }
   std::vector<std::unique_ptr<Case>> cases;
   // The largest bundled case at subdivision levels 2 and 3, and a 100k-triangle knot-shaped
   // vessel tube (the build-time reference size).
@@ -228,7 +313,8 @@ int main(int argc, char** argv) {
     cases.push_back(make_case("neuro_L" + std::to_string(level), std::move(loaded.mesh)));
   }
   cases.push_back(make_case("tube_100k", cb::testing::make_knot_tube(1563, 32)));
-  for (auto& c : cases) check_agreement(*c);
+  for (auto& c : cases) check_agreement(*c, perturb);
+  if (check_only) return 0;
   for (auto& c : cases) register_case(*c);
   MedianReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);

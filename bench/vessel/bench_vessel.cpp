@@ -1,13 +1,31 @@
 // bench_vessel: the whole HCLM -> surface pipeline (parse + smooth + control mesh + level-2
-// Catmull-Clark limit surface) for the largest bundled case (cases/neuro.hclm) and a random
-// 100-segment tree, with the stages timed separately. Mesh sizes are printed as counters.
-// Target (issue 3): <= 20 ms on one core for the 100-segment tree at M = 8, L = 2.
+// Catmull-Clark limit surface + junction fit) for the largest bundled case (cases/neuro.hclm) and
+// a random 100-segment tree, with the stages timed separately. Mesh sizes are printed as counters.
+// Targets: <= 20 ms on one core for the 100-segment tree at M = 8, L = 2 (issue 3), within 10 %
+// of 16 ms with the new geometry (issue 17).
 // Peers in the same run: the pipeline with OpenSubdiv's PrimvarRefiner::Limit instead of the
-// limit masks (BM_Tree100PipelineOsdLimit), and with OpenSubdiv refining level 2 itself before the
-// same masks instead of the last step done by hand (BM_Tree100PipelineOsdLevel2; same mesh).
+// limit masks (BM_Tree100PipelineOsdLimit), with OpenSubdiv refining level 2 itself before the
+// same masks instead of the last step done by hand (BM_Tree100PipelineOsdLevel2; same mesh), and
+// with the thesis' geometry (BM_Tree100PipelineThesis: (1,2,1) smoothing, a ring per point, no
+// junction fit).
+//
+// Issue 17, end to end: `cathbox vessel mesh` (read, mesh, check, write PLY) run as its own
+// process on random trees of 100..3,000 segments (BM_MeshCommand), with the wall time and the
+// peak memory per output triangle as counters (targets <= 150 ns and <= 120 bytes); the mesh
+// check alone against the hash-map version it replaced (BM_CheckMesh / BM_CheckMeshReference);
+// and importing + meshing a 200-branch SWC tree (BM_ImportSwc200, target <= 100 ms).
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 
 #include <benchmark/benchmark.h>
 
@@ -17,6 +35,10 @@
 #include "vessel/hclm.hpp"
 #include "vessel/subdivision.hpp"
 #include "vessel/vessel_graph.hpp"
+#include "vessel/vessel_mesher.hpp"
+#include "vessel_import/importer.hpp"
+#include "vessel_import/swc_writer.hpp"
+#include "reference_mesh_analysis.hpp"
 
 namespace {
 
@@ -49,22 +71,16 @@ const std::string& sparse_tree_text() {
   return text;
 }
 
-// Parse + smooth + control mesh + subdivision, timed as one.
-void pipeline(benchmark::State& state, const std::string& text, int ring_points,
-              LimitMethod method = LimitMethod::kMasks) {
-  MeshOptions options;
-  options.ring_points = ring_points;
+// Parse + smooth + control mesh + subdivision + junction fit (build_vessel_surface), timed as one.
+void pipeline(benchmark::State& state, const std::string& text, MeshOptions options) {
   std::size_t triangles = 0, vertices = 0, control_faces = 0, segments = 0, points = 0;
   for (auto _ : state) {
     const HclmReadResult read = read_hclm(text);
-    const VesselGraph graph(read.model);
-    const VesselModel smoothed = smooth_centerlines(read.model, graph, options.smoothing_passes);
-    const ControlMeshResult control = build_control_mesh(smoothed, graph, options);
-    const SurfaceMeshResult surface = subdivide(control.mesh, options.subdivision_level, method);
-    if (!read.ok() || !control.ok() || !surface.ok()) state.SkipWithError("pipeline failed");
+    const VesselSurface surface = build_vessel_surface(read.model, options);
+    if (!read.ok() || !surface.ok()) state.SkipWithError("pipeline failed");
     triangles = surface.mesh.triangle_count();
     vertices = surface.mesh.vertex_count();
-    control_faces = control.mesh.face_count();
+    control_faces = surface.control.face_count();
     segments = read.model.segments.size();
     points = read.model.point_count();
     benchmark::DoNotOptimize(surface.mesh.positions_mm.data());
@@ -74,6 +90,13 @@ void pipeline(benchmark::State& state, const std::string& text, int ring_points,
   state.counters["control_faces"] = static_cast<double>(control_faces);
   state.counters["vertices"] = static_cast<double>(vertices);
   state.counters["triangles"] = static_cast<double>(triangles);
+}
+
+MeshOptions ring(int ring_points, LimitMethod method = LimitMethod::kMasks) {
+  MeshOptions options;
+  options.ring_points = ring_points;
+  options.limit_method = method;
+  return options;
 }
 
 // The stages separately (state.range(0): 0 parse, 1 smooth, 2 control mesh, 3 subdivision).
@@ -93,18 +116,221 @@ void stage(benchmark::State& state, const std::string& text) {
   }
 }
 
-void BM_NeuroPipeline(benchmark::State& state) { pipeline(state, neuro_text(), static_cast<int>(state.range(0))); }
-void BM_Tree100Pipeline(benchmark::State& state) { pipeline(state, tree_text(), static_cast<int>(state.range(0))); }
+void BM_NeuroPipeline(benchmark::State& state) { pipeline(state, neuro_text(), ring(static_cast<int>(state.range(0)))); }
+void BM_Tree100Pipeline(benchmark::State& state) { pipeline(state, tree_text(), ring(static_cast<int>(state.range(0)))); }
 // Peer: the same pipeline with OpenSubdiv's own PrimvarRefiner::Limit (full last-level topology).
 void BM_Tree100PipelineOsdLimit(benchmark::State& state) {
-  pipeline(state, tree_text(), static_cast<int>(state.range(0)), LimitMethod::kOpenSubdiv);
+  pipeline(state, tree_text(), ring(static_cast<int>(state.range(0)), LimitMethod::kOpenSubdiv));
 }
 // Peer: OpenSubdiv refines level L (faces only) and PrimvarRefiner interpolates it, then the masks.
 void BM_Tree100PipelineOsdLevel2(benchmark::State& state) {
-  pipeline(state, tree_text(), static_cast<int>(state.range(0)), LimitMethod::kMasksOnRefinedLevel);
+  pipeline(state, tree_text(), ring(static_cast<int>(state.range(0)), LimitMethod::kMasksOnRefinedLevel));
+}
+// Peer: the thesis' geometry as the pipeline had it before issue 17.
+void BM_Tree100PipelineThesis(benchmark::State& state) {
+  MeshOptions options = ring(static_cast<int>(state.range(0)));
+  options.smoothing = SmoothingMethod::kMovingAverage;
+  options.ring_placement = RingPlacement::kPerPoint;
+  options.fit_junctions = false;
+  pipeline(state, tree_text(), options);
 }
 void BM_SparseTree100Pipeline(benchmark::State& state) {
-  pipeline(state, sparse_tree_text(), static_cast<int>(state.range(0)));
+  pipeline(state, sparse_tree_text(), ring(static_cast<int>(state.range(0))));
+}
+
+// ---- end to end ------------------------------------------------------------------------------
+
+// A random tree of `segments` segments as an HCLM file in a scratch folder (made once).
+std::filesystem::path scratch_dir() {
+  return std::filesystem::temp_directory_path() / ("cathbox_bench_vessel_" + std::to_string(getpid()));
+}
+
+const std::string& tree_file(int segments) {
+  static std::map<int, std::string> files;
+  auto& path = files[segments];
+  if (path.empty()) {
+    const std::filesystem::path dir = scratch_dir();
+    std::filesystem::create_directories(dir);
+    RandomTreeOptions options;
+    options.segments = segments;
+    path = (dir / ("tree_" + std::to_string(segments) + ".hclm")).string();
+    (void)save_hclm(CaseGenerator::random_tree(1, options), path);
+  }
+  return path;
+}
+
+struct Run {
+  double wall_s = 0.0;
+  double cpu_s = 0.0;
+  double peak_bytes = 0.0;
+  std::string out;
+  bool ok = false;
+};
+
+// Commands run from a small process forked before the benchmarks allocate anything: a child's
+// peak memory (ru_maxrss) counts what it inherited at fork, so forking the benchmark process
+// itself would add its own hundred megabytes to every figure. Requests and answers go through
+// two pipes: argv joined by '\n' and terminated by "\n\n"; back a fixed Result.
+class Spawner {
+ public:
+  struct Result {
+    double wall_s, cpu_s, peak_bytes;
+    int ok;
+  };
+  void start() {
+    int to_child[2], from_child[2];
+    if (pipe(to_child) != 0 || pipe(from_child) != 0) return;
+    pid_ = fork();
+    if (pid_ == 0) {
+      close(to_child[1]);
+      close(from_child[0]);
+      serve(to_child[0], from_child[1]);
+      _exit(0);
+    }
+    close(to_child[0]);
+    close(from_child[1]);
+    request_ = to_child[1];
+    answer_ = from_child[0];
+  }
+  Run run(const std::vector<std::string>& argv, const std::string& stdout_path) {
+    Run run;
+    std::string message = stdout_path + "\n";
+    for (const std::string& a : argv) message += a + "\n";
+    message += "\n";
+    Result r{};
+    if (request_ < 0 || write(request_, message.data(), message.size()) != static_cast<ssize_t>(message.size()) ||
+        read(answer_, &r, sizeof r) != static_cast<ssize_t>(sizeof r)) {
+      return run;
+    }
+    run.wall_s = r.wall_s;
+    run.cpu_s = r.cpu_s;
+    run.peak_bytes = r.peak_bytes;
+    run.ok = r.ok != 0;
+    std::ifstream in(stdout_path);
+    std::getline(in, run.out);
+    return run;
+  }
+
+ private:
+  static void serve(int in, int out) {
+    std::string buffer;
+    char chunk[4096];
+    for (;;) {
+      const std::size_t end = buffer.find("\n\n");
+      if (end == std::string::npos) {
+        const ssize_t n = read(in, chunk, sizeof chunk);
+        if (n <= 0) return;
+        buffer.append(chunk, static_cast<std::size_t>(n));
+        continue;
+      }
+      std::vector<std::string> fields;
+      std::istringstream lines(buffer.substr(0, end));
+      for (std::string line; std::getline(lines, line);) fields.push_back(line);
+      buffer.erase(0, end + 2);
+      Result r{};
+      const auto start = std::chrono::steady_clock::now();
+      const pid_t pid = fork();
+      if (pid == 0) {
+        const int fd = open(fields[0].c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (fd >= 0) dup2(fd, 1);
+        std::vector<char*> args;
+        for (std::size_t i = 1; i < fields.size(); ++i) args.push_back(fields[i].data());
+        args.push_back(nullptr);
+        execv(args[0], args.data());
+        _exit(127);
+      }
+      int status = 0;
+      rusage usage{};
+      if (pid > 0 && wait4(pid, &status, 0, &usage) == pid) {
+        r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.cpu_s = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                  1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+        r.peak_bytes = 1024.0 * static_cast<double>(usage.ru_maxrss);
+        r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 ? 1 : 0;
+      }
+      if (write(out, &r, sizeof r) != static_cast<ssize_t>(sizeof r)) return;
+    }
+  }
+
+  pid_t pid_ = -1;
+  int request_ = -1;
+  int answer_ = -1;
+};
+
+Spawner& spawner() {
+  static Spawner s;
+  return s;
+}
+
+std::string cathbox_binary() {
+  return (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "cathbox").string();
+}
+
+// `cathbox vessel mesh tree.hclm -o out.ply`, a fresh output file each time (wall time).
+void BM_MeshCommand(benchmark::State& state) {
+  const std::string input = tree_file(static_cast<int>(state.range(0)));
+  const std::string output = input + ".ply";
+  double triangles = 0.0, cpu_s = 0.0, peak = 0.0, wall_s = 0.0;
+  for (auto _ : state) {
+    std::filesystem::remove(output);
+    const Run run = spawner().run({cathbox_binary(), "vessel", "mesh", input, "-o", output}, input + ".stdout");
+    if (!run.ok) {
+      state.SkipWithError(("cathbox vessel mesh failed: " + run.out).c_str());
+      break;
+    }
+    state.SetIterationTime(run.wall_s);
+    const std::size_t at = run.out.find(" vertices ", run.out.find("surface"));
+    triangles = at == std::string::npos ? 0.0 : std::atof(run.out.c_str() + at + 10);
+    cpu_s = run.cpu_s;
+    wall_s = run.wall_s;
+    peak = std::max(peak, run.peak_bytes);
+  }
+  state.counters["triangles"] = triangles;
+  state.counters["cpu_ms"] = 1e3 * cpu_s;
+  state.counters["ns_per_triangle"] = triangles > 0.0 ? 1e9 * wall_s / triangles : 0.0;
+  state.counters["cpu_ns_per_triangle"] = triangles > 0.0 ? 1e9 * cpu_s / triangles : 0.0;
+  state.counters["peak_MB"] = peak / 1e6;
+  state.counters["bytes_per_triangle"] = triangles > 0.0 ? peak / triangles : 0.0;
+}
+
+// The mesh check on the 300-segment tree's surface: ours, and the hash-map version it replaced.
+const SurfaceMesh& tree300_mesh() {
+  static const SurfaceMesh mesh = [] {
+    RandomTreeOptions options;
+    options.segments = 300;
+    return build_vessel_surface(CaseGenerator::random_tree(1, options)).mesh;
+  }();
+  return mesh;
+}
+void BM_CheckMesh(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(analyze_mesh(tree300_mesh()).edges);
+  state.counters["triangles"] = static_cast<double>(tree300_mesh().triangle_count());
+}
+void BM_CheckMeshReference(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(test::reference_analysis(tree300_mesh()).edges);
+  state.counters["triangles"] = static_cast<double>(tree300_mesh().triangle_count());
+}
+
+// Import (parse, network, radius filter) + mesh of a binary tree of 200 branches under its root,
+// from SWC text in memory.
+void BM_ImportSwc200(benchmark::State& state) {
+  static const std::string swc = [] {
+    RandomTreeOptions options;
+    options.segments = 201;
+    options.trifurcation_chance = 0.0;
+    return cathbox::vessel_import::write_swc(CaseGenerator::random_tree(7, options)).text;
+  }();
+  std::size_t triangles = 0, segments = 0;
+  for (auto _ : state) {
+    const auto imported = cathbox::vessel_import::import_centerlines_text(swc, "tree.swc", cathbox::vessel_import::Format::kSwc);
+    const VesselSurface surface = build_vessel_surface(imported.model);
+    if (!imported.ok() || !surface.ok()) state.SkipWithError("import or mesh failed");
+    triangles = surface.mesh.triangle_count();
+    segments = imported.model.segments.size();
+    benchmark::DoNotOptimize(surface.mesh.positions_mm.data());
+  }
+  state.counters["segments"] = static_cast<double>(segments);
+  state.counters["triangles"] = static_cast<double>(triangles);
 }
 void BM_Tree100Stage(benchmark::State& state) { stage(state, tree_text()); }
 void BM_NeuroStage(benchmark::State& state) { stage(state, neuro_text()); }
@@ -112,11 +338,25 @@ void BM_NeuroStage(benchmark::State& state) { stage(state, neuro_text()); }
 BENCHMARK(BM_Tree100Pipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100PipelineOsdLimit)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100PipelineOsdLevel2)->Arg(8)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Tree100PipelineThesis)->Arg(8)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SparseTree100Pipeline)->Arg(8)->Arg(4)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroPipeline)->Arg(8)->Arg(4)->Arg(16)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Tree100Stage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_NeuroStage)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ImportSwc200)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CheckMesh)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CheckMeshReference)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_MeshCommand)->Arg(100)->Arg(300)->Arg(1000)->Arg(3000)->UseManualTime()->Iterations(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  spawner().start();  // before anything is allocated (see Spawner)
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  std::error_code ec;
+  std::filesystem::remove_all(scratch_dir(), ec);  // the trees and meshes of BM_MeshCommand
+  return 0;
+}

@@ -88,13 +88,9 @@ void EmuServer::accept_all() {
       ::close(fd);  // nothing enumerates, or too many programs have the box open
       continue;
     }
-    const uint8_t hello[4] = {static_cast<uint8_t>(vid), static_cast<uint8_t>(vid >> 8), static_cast<uint8_t>(pid),
-                              static_cast<uint8_t>(pid >> 8)};
-    cbx_emu_frame frame{};
-    frame.kind = CBX_EMU_HELLO;
-    frame.data = hello;
-    frame.data_length = sizeof hello;
-    if (!send_frame(fd, frame)) {
+    const cbx_emu_hello hello{vid, pid};
+    const int n = cbx_emu_hello_encode(&hello, tx_.data(), tx_.size());
+    if (n < 0 || ::send(fd, tx_.data(), static_cast<size_t>(n), MSG_DONTWAIT | MSG_NOSIGNAL) != n) {
       ::close(fd);
       continue;
     }

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <optional>
 
 #include "firmware/cbx_core.h"
 #include "protocol/cbx_crc16.h"
+#include "protocol/cbx_image_info.h"
 #include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::emu {
@@ -20,8 +23,9 @@ namespace {
 // Gray-code order of the A/B lines (bit 0 = A, bit 1 = B) for increasing counts.
 constexpr std::array<uint8_t, 4> kQuadrature = {0b00, 0b01, 0b11, 0b10};
 
-// A small factory image: a vector table (stack at the top of SRAM, reset handler in flash)
-// followed by filler, so the ROM sees a bootable application.
+// A small factory image: a vector table (stack at the top of SRAM, reset handler in flash),
+// the image info block of this firmware core's version, and filler, so the ROM sees a bootable
+// application and `cathbox info` the version the board left the factory with.
 void factory_image(FlashMemory& flash) {
   std::vector<uint8_t> image(1024, 0x00);
   const uint32_t sp = 0x20020000u;
@@ -30,6 +34,15 @@ void factory_image(FlashMemory& flash) {
     image[static_cast<size_t>(i)] = static_cast<uint8_t>(sp >> (8 * i));
     image[static_cast<size_t>(4 + i)] = static_cast<uint8_t>(reset >> (8 * i));
   }
+  cbx_image_info info{};
+  info.fw_major = CBX_FW_MAJOR;
+  info.fw_minor = CBX_FW_MINOR;
+  info.fw_patch = CBX_FW_PATCH;
+  info.protocol_minor = CBX_PROTOCOL_MINOR;
+  std::snprintf(info.board, sizeof info.board, "cathbox-emu");
+  std::snprintf(info.build, sizeof info.build, "factory");
+  info.image_size = static_cast<uint32_t>(image.size());
+  if (cbx_image_info_encode(&info, image.data() + CBX_IMAGE_INFO_OFFSET) != CBX_OK) std::abort();
   flash.load(FlashMemory::kBase, image);
 }
 
@@ -90,8 +103,21 @@ void Emulator::boot(bool to_bootloader) {
     mode_ = BoardMode::kNoFirmware;  // the ROM jumps into garbage: nothing enumerates
     return;
   }
+  // The emulator runs this firmware core for any image that says what it is; an image without
+  // a valid info block is not one it can run: the board stays in the ROM bootloader, reachable
+  // for a good image (as a bootloader that checks the image before starting it).
+  const std::optional<cbx_image_info> image = flash_.image_info();
+  if (!image) {
+    mode_ = BoardMode::kBootloader;
+    bootloader_.reset();
+    return;
+  }
   mode_ = BoardMode::kApplication;
   cbx_core_config config{};
+  config.fw_version[0] = image->fw_major;
+  config.fw_version[1] = image->fw_minor;
+  config.fw_version[2] = image->fw_patch;
+  std::snprintf(config.build, sizeof config.build, "%s", image->build);
   std::snprintf(config.serial, sizeof config.serial, "%s", options_.serial.c_str());
   std::snprintf(config.board, sizeof config.board, "cathbox-emu");
   for (int a = 0; a < 2; ++a) {

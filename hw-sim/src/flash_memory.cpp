@@ -59,6 +59,15 @@ bool FlashMemory::application_valid() const {
   return sp_ok && reset_ok;
 }
 
+std::optional<cbx_image_info> FlashMemory::image_info() const {
+  if (bytes_.size() < CBX_IMAGE_INFO_OFFSET + CBX_IMAGE_INFO_SIZE) return std::nullopt;
+  cbx_image_info info;
+  if (cbx_image_info_decode(bytes_.data() + CBX_IMAGE_INFO_OFFSET, CBX_IMAGE_INFO_SIZE, &info) != CBX_OK) {
+    return std::nullopt;
+  }
+  return info;
+}
+
 void FlashMemory::load(uint32_t address, std::span<const uint8_t> data) {
   if (contains(address, data.size())) std::copy(data.begin(), data.end(), bytes_.begin() + (address - kBase));
 }

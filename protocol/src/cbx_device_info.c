@@ -1,33 +1,15 @@
 #include "cbx_bytes.h"
 #include "cbx_codec.h"
+#include "cbx_text.h"
 #include "protocol/cbx_feature_reports.h"
-
-/* Printable ASCII, then only NULs. */
-static int text_valid(const char* text) {
-  size_t i = 0;
-  for (; i < CBX_TEXT_FIELD && text[i] != '\0'; ++i) {
-    if (text[i] < 0x20 || text[i] > 0x7E) return 0;
-  }
-  return 1;
-}
-
-/* Copies the field; bytes after the padding starts make it invalid (first byte 0x01). */
-static void get_text(const uint8_t* p, char* text) {
-  int ended = 0, stray = 0;
-  for (size_t i = 0; i < CBX_TEXT_FIELD; ++i) {
-    if (p[i] == 0) ended = 1;
-    else if (ended) stray = 1;
-    text[i] = ended ? '\0' : (char)p[i];
-  }
-  text[CBX_TEXT_FIELD] = '\0';
-  if (stray) text[0] = (char)0x01;
-}
 
 static cbx_status info_valid(const void* value) {
   const cbx_device_info* v = value;
   if (v->insertion_actuator > CBX_ACTUATOR_MOTOR || v->rotation_actuator > CBX_ACTUATOR_MOTOR)
     return CBX_ERR_RANGE;
-  if (!text_valid(v->serial) || !text_valid(v->board)) return CBX_ERR_RANGE;
+  if (!cbx_text_valid(v->serial, CBX_TEXT_FIELD) || !cbx_text_valid(v->board, CBX_TEXT_FIELD) ||
+      !cbx_text_valid(v->build, CBX_BUILD_FIELD))
+    return CBX_ERR_RANGE;
   return CBX_OK;
 }
 
@@ -43,6 +25,7 @@ static void info_put(uint8_t* out, const void* value) {
   cbx_put_u8(out + 45, v->rotation_actuator);
   cbx_put_u32(out + 46, v->insertion_encoder_cpr);
   cbx_put_u32(out + 50, v->rotation_encoder_cpr);
+  cbx_put_text(out + 54, v->build, CBX_BUILD_FIELD);
 }
 
 static void info_get(const uint8_t* in, void* value) {
@@ -51,12 +34,13 @@ static void info_get(const uint8_t* in, void* value) {
   v->fw_minor = cbx_get_u8(in + 9);
   v->fw_patch = cbx_get_u8(in + 10);
   v->protocol_minor = cbx_get_u8(in + 11);
-  get_text(in + 12, v->serial);
-  get_text(in + 28, v->board);
+  cbx_text_get(in + 12, v->serial, CBX_TEXT_FIELD);
+  cbx_text_get(in + 28, v->board, CBX_TEXT_FIELD);
   v->insertion_actuator = cbx_get_u8(in + 44);
   v->rotation_actuator = cbx_get_u8(in + 45);
   v->insertion_encoder_cpr = cbx_get_u32(in + 46);
   v->rotation_encoder_cpr = cbx_get_u32(in + 50);
+  cbx_text_get(in + 54, v->build, CBX_BUILD_FIELD);
 }
 
 static const cbx_codec kInfoCodec = {CBX_ID_DEVICE_INFO, sizeof(cbx_device_info), info_valid,

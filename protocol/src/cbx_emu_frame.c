@@ -4,8 +4,6 @@
 
 #include "cbx_bytes.h"
 
-#define CBX_EMU_HELLO_SIZE 4u
-
 /* Expected payload size of a frame kind after its header (and SETUP, for control requests);
  * returns -1 when any size up to CBX_EMU_CONTROL_DATA_MAX is allowed. */
 static int cbx_emu_fixed_size(uint8_t kind) {
@@ -82,5 +80,26 @@ cbx_status cbx_emu_frame_decode(const uint8_t* in, size_t length, cbx_emu_frame*
   f.data_length = length - offset;
   if (f.data_length == 0u) f.data = NULL;
   *frame = f;
+  return CBX_OK;
+}
+
+int cbx_emu_hello_encode(const cbx_emu_hello* hello, uint8_t* out, size_t capacity) {
+  if (hello == NULL) return CBX_ERR_LENGTH;
+  uint8_t body[CBX_EMU_HELLO_SIZE];
+  cbx_put_u16(body, hello->vid);
+  cbx_put_u16(body + 2, hello->pid);
+  cbx_emu_frame frame;
+  memset(&frame, 0, sizeof frame);
+  frame.kind = CBX_EMU_HELLO;
+  frame.data = body;
+  frame.data_length = sizeof body;
+  return cbx_emu_frame_encode(&frame, out, capacity);
+}
+
+cbx_status cbx_emu_hello_decode(const cbx_emu_frame* frame, cbx_emu_hello* hello) {
+  if (frame == NULL || hello == NULL || frame->kind != CBX_EMU_HELLO) return CBX_ERR_RANGE;
+  if (frame->data == NULL || frame->data_length != CBX_EMU_HELLO_SIZE) return CBX_ERR_LENGTH;
+  hello->vid = cbx_get_u16(frame->data);
+  hello->pid = cbx_get_u16(frame->data + 2);
   return CBX_OK;
 }

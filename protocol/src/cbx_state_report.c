@@ -8,6 +8,7 @@ static cbx_status state_valid(const void* value) {
   if ((s->status & ~CBX_STATUS_ALL) != 0u) return CBX_ERR_RANGE;
   if ((s->faults & ~CBX_FAULT_ALL) != 0u) return CBX_ERR_RANGE;
   if (s->mode > CBX_MODE_MOTOR) return CBX_ERR_RANGE;
+  if ((s->board_faults & ~CBX_BOARD_FAULT_ALL) != 0u) return CBX_ERR_RANGE;
   return CBX_OK;
 }
 
@@ -27,6 +28,8 @@ static void state_put(uint8_t* out, const void* value) {
   cbx_put_u16(out + 42, s->encoder_errors);
   cbx_put_u16(out + 44, s->rx_errors);
   cbx_put_u8(out + 46, s->mode);
+  cbx_put_u8(out + 47, s->board_faults);
+  cbx_put_u16(out + 48, s->in_dropped);
 }
 
 static void state_get(const uint8_t* in, void* value) {
@@ -45,6 +48,8 @@ static void state_get(const uint8_t* in, void* value) {
   d->encoder_errors = cbx_get_u16(in + 42);
   d->rx_errors = cbx_get_u16(in + 44);
   d->mode = cbx_get_u8(in + 46);
+  d->board_faults = cbx_get_u8(in + 47);
+  d->in_dropped = cbx_get_u16(in + 48);
 }
 
 static const cbx_codec kStateCodec = {CBX_ID_STATE, sizeof(cbx_state_report), state_valid,

@@ -5,6 +5,7 @@
  * must be rejected by the decoder named in `kind` with status `expect`. */
 #include "protocol/cbx_command_report.h"
 #include "protocol/cbx_feature_reports.h"
+#include "protocol/cbx_image_info.h"
 #include "protocol/cbx_state_report.h"
 
 #ifdef __cplusplus
@@ -32,6 +33,18 @@ typedef struct {
 
 extern const cbx_vector cbx_vectors[];
 extern const size_t cbx_vector_count;
+
+/* Firmware image info blocks: good ones (expect == CBX_OK) decode to `value` and encode to
+ * `bytes`; bad ones are refused by cbx_image_info_decode with `expect`. */
+typedef struct {
+  const char* name;
+  cbx_status expect;
+  uint8_t bytes[CBX_IMAGE_INFO_SIZE];
+  cbx_image_info value;
+} cbx_image_info_vector;
+
+extern const cbx_image_info_vector cbx_image_info_vectors[];
+extern const size_t cbx_image_info_vector_count;
 
 /* Decodes `bytes` with the decoder for `kind` into `out` (a union member of the right kind). */
 cbx_status cbx_vector_decode(const cbx_vector* vector, void* out);

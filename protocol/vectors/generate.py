@@ -28,7 +28,8 @@ LAYOUTS = {
         ("insertion_force_mN", "<i", 24), ("rotation_torque_uNm", "<i", 28),
         ("insertion_current_mA", "<h", 32), ("rotation_current_mA", "<h", 34),
         ("status", "<H", 36), ("faults", "<H", 38), ("command_seq_echo", "<H", 40),
-        ("encoder_errors", "<H", 42), ("rx_errors", "<H", 44), ("mode", "<B", 46)]),
+        ("encoder_errors", "<H", 42), ("rx_errors", "<H", 44), ("mode", "<B", 46),
+        ("board_faults", "<B", 47), ("in_dropped", "<H", 48)]),
     "command": (0x02, "cbx_command_report", [("mode", "<B", 8), ("flags", "<B", 9)]
                 + [("insertion." + n, f, 12 + o) for n, f, o in LAW]
                 + [("rotation." + n, f, 36 + o) for n, f, o in LAW]),
@@ -36,7 +37,8 @@ LAYOUTS = {
         ("fw_major", "<B", 8), ("fw_minor", "<B", 9), ("fw_patch", "<B", 10),
         ("protocol_minor", "<B", 11), ("serial", "16s", 12), ("board", "16s", 28),
         ("insertion_actuator", "<B", 44), ("rotation_actuator", "<B", 45),
-        ("insertion_encoder_cpr", "<I", 46), ("rotation_encoder_cpr", "<I", 50)]),
+        ("insertion_encoder_cpr", "<I", 46), ("rotation_encoder_cpr", "<I", 50),
+        ("build", "8s", 54)]),
     "calibration": (0x11, "cbx_calibration", [
         ("insertion_counts_per_m", "<I", 8), ("rotation_counts_per_rev", "<I", 12),
         ("insertion_full_scale_mN", "<I", 16), ("rotation_full_scale_uNm", "<I", 20)]
@@ -63,10 +65,28 @@ def encode(kind, values):
     out[1] = 1
     for name, fmt, off in HEADER + fields:
         v = values.get(name, 0)
-        if fmt == "16s":
+        if fmt.endswith("s"):
             v = v.encode("ascii")
         struct.pack_into(fmt, out, off, v)
     struct.pack_into("<H", out, 62, crc16(out[:62]))
+    return bytes(out)
+
+
+# The firmware image info block (64 bytes at image offset 0x200; not a report: no ID, version
+# byte or CRC).
+IMAGE_INFO = [("fw_major", "<B", 6), ("fw_minor", "<B", 7), ("fw_patch", "<B", 8),
+              ("protocol_minor", "<B", 9), ("board", "16s", 12), ("build", "8s", 28),
+              ("image_size", "<I", 60)]
+
+
+def encode_image_info(values, magic=0x49584243, layout=1, size=64):
+    out = bytearray(64)
+    struct.pack_into("<IBB", out, 0, magic, layout, size)
+    for name, fmt, off in IMAGE_INFO:
+        v = values.get(name, 0)
+        if fmt.endswith("s"):
+            v = v.encode("ascii")
+        struct.pack_into(fmt, out, off, v)
     return bytes(out)
 
 
@@ -90,13 +110,14 @@ GOOD = [
         "rotation_count": -2048, "insertion_vel_cps": 4000, "rotation_vel_cps": -512,
         "insertion_force_mN": -350, "rotation_torque_uNm": 1200, "insertion_current_mA": 410,
         "rotation_current_mA": -35, "status": 0x0B, "faults": 0, "command_seq_echo": 0x1234,
-        "encoder_errors": 3, "rx_errors": 1, "mode": 1},
+        "encoder_errors": 3, "rx_errors": 1, "mode": 1, "in_dropped": 2},
      "brake mode, wire being pushed in while twisted back, 350 mN resisting"),
     ("state_faults", "state", {
         "header.seq": 0, "header.time_us": 0x80000000, "insertion_count": -1,
         "rotation_count": 2147483647, "status": 0x04, "faults": 0x3F, "command_seq_echo": 0xFFFF,
-        "encoder_errors": 65535, "rx_errors": 65535, "mode": 0},
-     "every fault latched, E-stop pressed, counters saturated"),
+        "encoder_errors": 65535, "rx_errors": 65535, "mode": 0, "board_faults": 0x01,
+        "in_dropped": 65535},
+     "every fault latched, the crystal failed, E-stop pressed, counters saturated"),
     ("command_brake_law", "command", {
         "header.seq": 0x1234, "header.time_us": 5000000, "mode": 1, "flags": 0,
         "insertion.offset": -200, "insertion.pos0": 250000, "insertion.stiffness": 400000,
@@ -114,9 +135,10 @@ GOOD = [
      "motor mode, constant 1.5 N push and -300 uNm twist; sequence and time about to wrap"),
     ("device_info", "device_info", {
         "header.seq": 1, "header.time_us": 250, "fw_major": 1, "fw_minor": 2, "fw_patch": 3,
-        "protocol_minor": 0, "serial": "CBX-0001", "board": "stm32f411-bp",
+        "protocol_minor": 1, "serial": "CBX-0001", "board": "stm32f411-bp",
         "insertion_actuator": 1, "rotation_actuator": 1, "insertion_encoder_cpr": 2400,
-        "rotation_encoder_cpr": 4096}, "a brake box with a 600-line and a 1024-line encoder"),
+        "rotation_encoder_cpr": 4096, "build": "4cff6b7"},
+     "a brake box with a 600-line and a 1024-line encoder, firmware built from commit 4cff6b7"),
     ("calibration_identity", "calibration", dict({
         "header.seq": 2, "header.time_us": 500, "insertion_counts_per_m": 38197,
         "rotation_counts_per_rev": 4096, "insertion_full_scale_mN": 8000,
@@ -189,6 +211,27 @@ BAD = [
     ("bad_bootloader_magic", "enter_bootloader",
      mutate(by_name["enter_bootloader"], set=[(8, 0)], fix_crc=True), "CBX_ERR_RANGE",
      "a wrong magic word must not reboot the box"),
+    ("bad_board_faults", "state", mutate(by_name["state_idle"], set=[(47, 0x02)], fix_crc=True),
+     "CBX_ERR_RANGE", "undefined board fault bit 1"),
+    ("bad_build_padding", "device_info",
+     mutate(by_name["device_info"], set=[(60, 0x00), (61, 0x41)], fix_crc=True), "CBX_ERR_RANGE",
+     "text after the build identifier's NUL padding"),
+]
+
+IMAGE_1_1 = {"fw_major": 1, "fw_minor": 1, "fw_patch": 0, "protocol_minor": 1,
+             "board": "stm32f411-bp", "build": "4cff6b7", "image_size": 17024}
+# Image info vectors: (name, bytes, expected status, values, description)
+IMAGE_VECTORS = [
+    ("image_info_1_1_0", encode_image_info(IMAGE_1_1), "CBX_OK", IMAGE_1_1,
+     "firmware 1.1.0 for the Black Pill, 17024 bytes, built from commit 4cff6b7"),
+    ("image_info_bad_magic", encode_image_info(IMAGE_1_1, magic=0xFFFFFFFF), "CBX_ERR_REPORT_ID",
+     None, "erased flash where the block should be: no info block"),
+    ("image_info_bad_layout", encode_image_info(IMAGE_1_1, layout=2), "CBX_ERR_VERSION", None,
+     "a block layout this reader does not know"),
+    ("image_info_bad_size", encode_image_info(dict(IMAGE_1_1, image_size=0x200)), "CBX_ERR_RANGE",
+     None, "an image that ends before its own info block"),
+    ("image_info_no_board", encode_image_info(dict(IMAGE_1_1, board="")), "CBX_ERR_RANGE", None,
+     "no board name"),
 ]
 
 
@@ -204,10 +247,18 @@ def c_value(kind, values):
     parts = [f".header = {{1, {values.get('header.seq', 0)}u, {values.get('header.time_us', 0)}u}}"]
     for name, fmt, _ in fields:
         v = values.get(name, 0)
-        if fmt == "16s":
+        if fmt.endswith("s"):
             parts.append(f'.{name} = "{v}"')
         else:
             parts.append(f".{name} = {v}")
+    return ", ".join(parts)
+
+
+def c_image_value(values):
+    parts = []
+    for name, fmt, _ in IMAGE_INFO:
+        v = values.get(name, 0)
+        parts.append(f'.{name} = "{v}"' if fmt.endswith("s") else f".{name} = {v}u")
     return ", ".join(parts)
 
 
@@ -232,7 +283,7 @@ def main():
         for fname, fmt, off in fields:
             size = struct.calcsize(fmt)
             v = values.get(fname, 0)
-            shown = f'"{v}"' if fmt == "16s" else (f"{v} (0x{v & 0xFFFFFFFF:X})" if isinstance(v, int) and (v < 0 or v > 9) else str(v))
+            shown = f'"{v}"' if fmt.endswith("s") else (f"{v} (0x{v & 0xFFFFFFFF:X})" if isinstance(v, int) and (v < 0 or v > 9) else str(v))
             md.append(f"| {fname} | {off}..{off + size - 1} | {shown} |")
         md.append(f"| crc | 62..63 | 0x{struct.unpack_from('<H', data, 62)[0]:04X} |")
         md.append("")
@@ -243,6 +294,26 @@ def main():
         md += [f"{i:02d}: " + " ".join(f"{b:02X}" for b in data[i:i + 16]) for i in range(0, len(data), 16)]
         md += ["```", ""]
     c += ["};", "", "const size_t cbx_vector_count = sizeof cbx_vectors / sizeof cbx_vectors[0];", ""]
+    c += ["const cbx_image_info_vector cbx_image_info_vectors[] = {"]
+    md += ["# Firmware image info block", "",
+           "64 bytes at image offset 0x200 (`cbx_image_info_decode`); no report ID, version byte or CRC.", ""]
+    for name, data, status, values, desc in IMAGE_VECTORS:
+        value = f"{{{c_image_value(values)}}}" if values else "{0}"
+        c.append(f"  {{\"{name}\", {status}, {{\n{c_bytes(data)}\n    }}, {value}}},")
+        md += [f"## {name} → {status}: {desc}", "", "```"]
+        md += [f"{i:02d}: " + " ".join(f"{b:02X}" for b in data[i:i + 16]) for i in range(0, 64, 16)]
+        md += ["```", ""]
+        if values:
+            md += ["| field | bytes | value |", "|---|---|---|", "| magic | 0..3 | \"CBXI\" (0x49584243) |",
+                   "| layout | 4 | 1 |", "| size | 5 | 64 |"]
+            for fname, fmt, off in IMAGE_INFO:
+                size = struct.calcsize(fmt)
+                v = values.get(fname, 0)
+                md.append(f"| {fname} | {off}..{off + size - 1} | " + (f'"{v}"' if fmt.endswith("s") else str(v)) + " |")
+            md.append("")
+    c += ["};", "",
+          "const size_t cbx_image_info_vector_count = sizeof cbx_image_info_vectors / sizeof cbx_image_info_vectors[0];",
+          ""]
     with open(os.path.join(HERE, "cbx_vectors.c"), "w") as f:
         f.write("\n".join(c))
     with open(os.path.join(HERE, "VECTORS.md"), "w") as f:
@@ -253,6 +324,8 @@ def main():
     for name, kind, values, _ in GOOD:
         open(os.path.join(raw, name + ".bin"), "wb").write(encode(kind, values))
     for name, _, data, _, _ in BAD:
+        open(os.path.join(raw, name + ".bin"), "wb").write(data)
+    for name, data, _, _, _ in IMAGE_VECTORS:
         open(os.path.join(raw, name + ".bin"), "wb").write(data)
 
 

@@ -45,6 +45,10 @@ cbx_core_config cbx_fake_config(cbx_encoder_source source, cbx_actuator actuator
   memset(&c, 0, sizeof c);
   strcpy(c.serial, "CBX-0001");
   strcpy(c.board, "fake");
+  c.fw_version[0] = CBX_FW_MAJOR;
+  c.fw_version[1] = CBX_FW_MINOR;
+  c.fw_version[2] = CBX_FW_PATCH;
+  strcpy(c.build, "test");
   for (int i = 0; i < CBX_AXIS_COUNT; ++i) {
     c.axis[i].encoder_source = (uint8_t)source;
     c.axis[i].counter_bits = 16u;

@@ -146,6 +146,7 @@ static void device_info_describes_the_board(void) {
   CBX_CHECK(strcmp(info.board, "fake") == 0);
   CBX_CHECK_EQ(info.fw_major, CBX_FW_MAJOR);
   CBX_CHECK_EQ(info.protocol_minor, CBX_PROTOCOL_MINOR);
+  CBX_CHECK(strcmp(info.build, "test") == 0);
   CBX_CHECK_EQ(info.insertion_actuator, CBX_ACTUATOR_MOTOR);
   CBX_CHECK_EQ(info.rotation_encoder_cpr, 2400);
   /* Set-only and unknown reports cannot be read. */
@@ -154,6 +155,93 @@ static void device_info_describes_the_board(void) {
   CBX_CHECK_EQ(cbx_core_usb_feature_get(&core, 0x7Fu, out), CBX_ERR_REPORT_ID);
   /* The state can be read on the control endpoint too. */
   CBX_CHECK_EQ(cbx_core_usb_feature_get(&core, CBX_ID_STATE, out), CBX_OK);
+}
+
+/* The version and build are the running image's (the port reads them from its image info
+ * block), not constants of the core. */
+static void device_info_reports_the_image(void) {
+  cbx_fake_reset();
+  cbx_core_config config = cbx_fake_config(CBX_ENCODER_COUNTER, CBX_ACTUATOR_BRAKE);
+  config.fw_version[0] = 1u;
+  config.fw_version[1] = 7u;
+  config.fw_version[2] = 3u;
+  strcpy(config.build, "abc1234");
+  cbx_core_init(&core, &config);
+  uint8_t out[CBX_REPORT_SIZE];
+  CBX_CHECK_EQ(cbx_core_usb_feature_get(&core, CBX_ID_DEVICE_INFO, out), CBX_OK);
+  cbx_device_info info;
+  CBX_CHECK_EQ(cbx_device_info_decode(out, sizeof out, &info), CBX_OK);
+  CBX_CHECK_EQ(info.fw_minor, 7);
+  CBX_CHECK_EQ(info.fw_patch, 3);
+  CBX_CHECK(strcmp(info.build, "abc1234") == 0);
+}
+
+/* A board fault (the crystal did not start) is in every state report from the first one on,
+ * is not cleared by ACK_FAULTS, and does not block the output. */
+static void board_fault_is_reported_not_latched_not_blocking(void) {
+  cbx_fake_reset();
+  cbx_core_config config = cbx_fake_config(CBX_ENCODER_COUNTER, CBX_ACTUATOR_MOTOR);
+  config.board_faults = CBX_BOARD_FAULT_HSE;
+  cbx_core_init(&core, &config);
+  CBX_CHECK_EQ(cbx_fake_state(&core).board_faults, CBX_BOARD_FAULT_HSE);
+  cbx_fake_calibrate(&core);
+  const cbx_force_law push = cbx_fake_constant_law(1000, 5000);
+  for (int ms = 0; ms < 20; ++ms) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, CBX_CMD_ACK_FAULTS, &push, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  const cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK(s.status & CBX_STATUS_OUTPUT_ENABLED);
+  CBX_CHECK_EQ(s.faults, 0);
+  CBX_CHECK_EQ(s.board_faults, CBX_BOARD_FAULT_HSE);
+  CBX_CHECK(cbx_fake.drive[CBX_AXIS_INSERTION] > 0);
+}
+
+/* The port could not send reports: counted in the next ones (IN and GET_REPORT), saturating. */
+static void dropped_in_reports_are_counted(void) {
+  setup();
+  uint8_t out[CBX_REPORT_SIZE];
+  cbx_state_report r;
+  cbx_fake_run_us(&core, 1000u);
+  CBX_CHECK(cbx_core_usb_in_report(&core, out));
+  cbx_core_usb_in_dropped(&core);
+  cbx_fake_run_us(&core, 1000u);
+  CBX_CHECK(cbx_core_usb_in_report(&core, out));
+  cbx_core_usb_in_dropped(&core);
+  cbx_fake_run_us(&core, 1000u);
+  CBX_CHECK(cbx_core_usb_in_report(&core, out));
+  CBX_CHECK_EQ(cbx_state_decode(out, sizeof out, &r), CBX_OK);
+  CBX_CHECK_EQ(r.in_dropped, 2);
+  for (int i = 0; i < 70000; ++i) cbx_core_usb_in_dropped(&core);
+  CBX_CHECK_EQ(cbx_core_usb_feature_get(&core, CBX_ID_STATE, out), CBX_OK);
+  CBX_CHECK_EQ(cbx_state_decode(out, sizeof out, &r), CBX_OK);
+  CBX_CHECK_EQ(r.in_dropped, 0xFFFF);
+}
+
+/* USB reset or suspend: zero in the next tick, no fault, the echo of the host's last command
+ * kept; the next command renders again. */
+static void usb_reset_stops_rendering_in_the_next_tick(void) {
+  setup();
+  cbx_fake_calibrate(&core);
+  const cbx_force_law push = cbx_fake_constant_law(1500, 5000);
+  for (int ms = 0; ms < 10; ++ms) {
+    CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0u, &push, NULL), CBX_OK);
+    cbx_fake_run_us(&core, 1000u);
+  }
+  CBX_CHECK(cbx_fake.drive[CBX_AXIS_INSERTION] > 0);
+  const uint16_t echo = cbx_fake_state(&core).command_seq_echo;
+  cbx_core_usb_reset(&core);
+  cbx_fake_tick(&core);
+  CBX_CHECK_EQ(cbx_fake.drive[CBX_AXIS_INSERTION], 0);
+  cbx_fake_run_us(&core, 100000u); /* twice the watchdog timeout */
+  const cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_EQ(s.mode, CBX_MODE_OFF);
+  CBX_CHECK_EQ(s.faults, 0);
+  CBX_CHECK_EQ(s.command_seq_echo, echo);
+  CBX_CHECK_EQ(cbx_fake.drive[CBX_AXIS_INSERTION], 0);
+  CBX_CHECK_EQ(cbx_fake_command(&core, CBX_MODE_MOTOR, 0u, &push, NULL), CBX_OK);
+  cbx_fake_run_us(&core, 2000u);
+  CBX_CHECK(cbx_fake.drive[CBX_AXIS_INSERTION] > 0);
 }
 
 static void reset_counters_zeroes_what_it_names(void) {
@@ -318,6 +406,10 @@ const cbx_test_case cbx_tests_protocol[] = {
     {"bad_vectors_rejected_and_counted", bad_vectors_rejected_and_counted},
     {"calibration_and_limits_round_trip", calibration_and_limits_round_trip},
     {"device_info_describes_the_board", device_info_describes_the_board},
+    {"device_info_reports_the_image", device_info_reports_the_image},
+    {"board_fault_is_reported_not_latched_not_blocking", board_fault_is_reported_not_latched_not_blocking},
+    {"dropped_in_reports_are_counted", dropped_in_reports_are_counted},
+    {"usb_reset_stops_rendering_in_the_next_tick", usb_reset_stops_rendering_in_the_next_tick},
     {"reset_counters_zeroes_what_it_names", reset_counters_zeroes_what_it_names},
     {"enter_bootloader_cuts_outputs", enter_bootloader_cuts_outputs},
     {"selftest_reports_its_checks", selftest_reports_its_checks},

@@ -21,14 +21,103 @@ void run(BoxModel& model, double seconds, std::array<int16_t, 2> drive, uint64_t
 
 TEST(BoxModel, ConstantHandForceAcceleratesAsForceOverMassWithFriction) {
   BoxModel model;
-  model.params(0).friction_damping = 0;
+  model.params(0).friction_damping = 0;  // only the Coulomb part: (F - Fc) / (m_mechanism + m_tool)
   model.set_script(0, HandScript({{1'000'000, HandMode::kForce, 0.5}}), 0);
   uint64_t t = 0;
   run(model, 0.1, {0, 0}, t);
-  const double m = model.params(0).mass;
-  EXPECT_NEAR(model.state(0).vel, 0.5 / m * 0.1, 1e-3);
-  EXPECT_NEAR(model.state(0).pos, 0.5 * 0.5 / m * 0.01, 1e-4);
+  const double m = model.params(0).mass + model.params(0).tool_mass;
+  const double a = (0.5 - model.params(0).friction_coulomb) / m;
+  EXPECT_NEAR(model.state(0).vel, a * 0.1, 1e-3);
+  EXPECT_NEAR(model.state(0).pos, 0.5 * a * 0.01, 1e-4);
   EXPECT_EQ(model.state(0).count, static_cast<int64_t>(std::floor(model.state(0).pos * model.params(0).counts_per_unit)));
+}
+
+// The rollers' and the collet's friction (hw-sim/README.md): a hand force below it does not move
+// the tool; above it, the tool moves.
+TEST(BoxModel, RollerAndColletFrictionHoldUntilTheHandOvercomesThem) {
+  BoxModel model;
+  ASSERT_GE(model.params(0).friction_coulomb, 0.2);
+  ASSERT_GE(model.params(1).friction_coulomb, 0.5e-3);
+  model.set_script(0, HandScript({{500'000, HandMode::kForce, 0.8 * model.params(0).friction_coulomb},
+                                  {500'000, HandMode::kForce, 1.5 * model.params(0).friction_coulomb}}), 0);
+  model.set_script(1, HandScript({{500'000, HandMode::kForce, 0.8 * model.params(1).friction_coulomb},
+                                  {500'000, HandMode::kForce, 1.5 * model.params(1).friction_coulomb}}), 0);
+  uint64_t t = 0;
+  run(model, 0.49, {0, 0}, t);
+  EXPECT_EQ(model.state(0).count, 0);
+  EXPECT_EQ(model.state(1).count, 0);
+  EXPECT_EQ(model.state(0).vel, 0.0);
+  EXPECT_EQ(model.state(1).vel, 0.0);
+  run(model, 0.5, {0, 0}, t);
+  EXPECT_GT(model.state(0).count, 100);
+  EXPECT_GT(model.state(1).count, 20);
+}
+
+// `cathbox-emu --motor --hand-insertion v:0.03:9s,f:-2:6s`: in at 30 mm/s for 9 s (270 mm), then
+// pulled out with 2 N. The tool leaves the rollers at its start: the encoder stops near 0 mm
+// (the rollers coast to rest) instead of following the hand metres further.
+TEST(BoxModel, AToolWithdrawnPastItsStartLeavesTheRollers) {
+  BoxModel model;
+  model.params(0).motor = true;
+  model.set_script(0, HandScript({{9'000'000, HandMode::kVelocity, 0.03}, {6'000'000, HandMode::kForce, -2.0}}), 0);
+  uint64_t t = 0;
+  run(model, 9.0, {0, 0}, t);
+  EXPECT_NEAR(model.state(0).pos, 0.27, 0.002);
+  EXPECT_TRUE(model.engaged());
+  run(model, 6.0, {0, 0}, t);
+  EXPECT_FALSE(model.engaged());
+  EXPECT_LT(model.state(0).tool_pos, 0.0);
+  const double reading_mm = model.state(0).count / model.params(0).counts_per_unit * 1e3;
+  EXPECT_GT(reading_mm, -20.0);  // the rollers' coast after the tool left (0 before: -5658 mm)
+  EXPECT_LE(reading_mm, 0.0);
+  EXPECT_EQ(model.state(0).vel, 0.0);  // friction stopped them
+}
+
+// Pulled out briefly, then pushed back in: the rollers take the tool up again and count.
+TEST(BoxModel, AToolPushedBackInIsTakenUpByTheRollers) {
+  BoxModel model;
+  model.set_script(0, HandScript({{1'000'000, HandMode::kVelocity, 0.05}, {300'000, HandMode::kForce, -2.0},
+                                  {5'000'000, HandMode::kVelocity, 0.0}}), 0);
+  uint64_t t = 0;
+  run(model, 1.3, {0, 0}, t);
+  ASSERT_FALSE(model.engaged());
+  const double out_m = model.state(0).tool_pos;
+  ASSERT_LT(out_m, -0.05);
+  model.set_script(0, HandScript({{3'000'000, HandMode::kVelocity, 0.1}}), t);
+  const int64_t before = model.state(0).count;
+  run(model, 2.9, {0, 0}, t);
+  EXPECT_TRUE(model.engaged());
+  // Counted: the part of 0.29 m travelled between the rollers.
+  const double counted_m = (model.state(0).count - before) / model.params(0).counts_per_unit;
+  EXPECT_NEAR(counted_m, model.state(0).tool_pos, 0.005);
+  EXPECT_GT(counted_m, 0.29 + out_m - 0.01);
+}
+
+// Insertion stops at the tool's length: its hub reaches the rollers, the hand pushes on.
+TEST(BoxModel, InsertionIsBoundedByTheToolsLength) {
+  BoxModel model;
+  model.set_script(0, HandScript({{5'000'000, HandMode::kVelocity, 0.5}}), 0);
+  uint64_t t = 0;
+  run(model, 4.0, {0, 0}, t);
+  EXPECT_NEAR(model.state(0).tool_pos, model.params(0).travel, 1e-9);
+  EXPECT_NEAR(model.state(0).pos, BoxModel::kToolLength, 1e-6);
+  EXPECT_EQ(model.state(0).vel, 0.0);
+  EXPECT_GT(model.state(0).hand_force, 50.0);  // the grip compressed against the hub
+}
+
+// A motor spinning rollers that hold no tool: the encoder counts the rollers, the tool is gone.
+TEST(BoxModel, AMotorSpinsTheRollersAloneOnceTheToolIsOut) {
+  BoxModel model;
+  model.params(0).motor = true;
+  model.set_script(0, HandScript({{100'000, HandMode::kVelocity, -0.1}}), 0);
+  uint64_t t = 0;
+  run(model, 0.1, {0, 0}, t);
+  ASSERT_FALSE(model.engaged());
+  run(model, 0.2, {400, 0}, t);  // 2 N inward on the rollers alone
+  EXPECT_GT(model.state(0).vel, 0.5);
+  EXPECT_GT(model.state(0).count, 0.05 * model.params(0).counts_per_unit);
+  EXPECT_LT(model.state(0).tool_pos, 0.0);  // the tool stays out: the rollers do not pull it in
+  EXPECT_FALSE(model.engaged());
 }
 
 TEST(BoxModel, BrakeHoldsAgainstAWeakerHandAndSlipsUnderAStrongerOne) {

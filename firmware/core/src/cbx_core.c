@@ -25,15 +25,25 @@ void cbx_core_default_settings(cbx_settings* settings) {
   l->torque_slew_uNm_per_ms = 1000u;
 }
 
-void cbx_core_apply_settings(cbx_core* core) {
-  const cbx_calibration* c = &core->settings.calibration;
-  const cbx_limits* l = &core->settings.limits;
-  cbx_axis_scale_set(&core->scale[CBX_AXIS_INSERTION], c->insertion_counts_per_m, UM_PER_M,
+void cbx_core_scales(const cbx_settings* s, cbx_axis_scale scale[CBX_AXIS_COUNT]) {
+  const cbx_calibration* c = &s->calibration;
+  const cbx_limits* l = &s->limits;
+  cbx_axis_scale_set(&scale[CBX_AXIS_INSERTION], c->insertion_counts_per_m, UM_PER_M,
                      c->insertion_full_scale_mN, c->insertion_curve, l->max_force_mN,
                      l->force_slew_mN_per_ms);
-  cbx_axis_scale_set(&core->scale[CBX_AXIS_ROTATION], c->rotation_counts_per_rev, URAD_PER_REV,
+  cbx_axis_scale_set(&scale[CBX_AXIS_ROTATION], c->rotation_counts_per_rev, URAD_PER_REV,
                      c->rotation_full_scale_uNm, c->rotation_curve, l->max_torque_uNm,
                      l->torque_slew_uNm_per_ms);
+}
+
+/* Takes the published settings and their scales (a copy, no divisions), pointing the curves
+ * at the copy in force. */
+static void take_settings(cbx_core* core, uint8_t slot) {
+  core->settings = core->settings_slot[slot];
+  core->scale[CBX_AXIS_INSERTION] = core->scale_slot[slot][CBX_AXIS_INSERTION];
+  core->scale[CBX_AXIS_ROTATION] = core->scale_slot[slot][CBX_AXIS_ROTATION];
+  core->scale[CBX_AXIS_INSERTION].curve = core->settings.calibration.insertion_curve;
+  core->scale[CBX_AXIS_ROTATION].curve = core->settings.calibration.rotation_curve;
 }
 
 /* The persisted block: the calibration and limits reports as on the wire (CRC-protected and
@@ -55,8 +65,9 @@ void cbx_core_init(cbx_core* core, const cbx_core_config* config) {
   core->config = *config;
   load_settings(&core->settings);
   core->settings_slot[0] = core->settings;
+  cbx_core_scales(&core->settings_slot[0], core->scale_slot[0]);
   core->command_slot[0].mode = CBX_MODE_OFF;
-  cbx_core_apply_settings(core);
+  take_settings(core, 0u);
   const uint32_t now = cbx_hal_time_us();
   for (int i = 0; i < CBX_AXIS_COUNT; ++i) {
     const cbx_axis_config* a = &config->axis[i];
@@ -69,6 +80,7 @@ void cbx_core_init(cbx_core* core, const cbx_core_config* config) {
   core->last_tick_us = now;
   core->snapshot.status = core->scale[0].valid && core->scale[1].valid ? CBX_STATUS_CALIBRATED : 0u;
   core->snapshot.faults = cbx_safety_faults(&core->safety, core->snapshot.status != 0u);
+  core->snapshot.board_faults = config->board_faults;
 }
 
 void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab) {
@@ -79,8 +91,7 @@ void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab) {
 static void apply_mailboxes(cbx_core* core, uint32_t now, const cbx_safety_inputs* in) {
   if (core->settings_generation != core->applied_settings_generation) {
     core->applied_settings_generation = core->settings_generation;
-    core->settings = core->settings_slot[core->settings_published];
-    cbx_core_apply_settings(core);
+    take_settings(core, core->settings_published);
   }
   if (core->reset_generation != core->applied_reset_generation) {
     core->applied_reset_generation = core->reset_generation;
@@ -202,6 +213,7 @@ static void publish_snapshot(cbx_core* core, uint32_t now, uint32_t dt, cbx_gate
   r->command_seq_echo = core->command_seq_echo;
   r->encoder_errors = core->encoder_errors_seen > 0xFFFFu ? 0xFFFFu : (uint16_t)core->encoder_errors_seen;
   r->rx_errors = core->rx_errors > 0xFFFFu ? 0xFFFFu : (uint16_t)core->rx_errors;
+  r->board_faults = core->config.board_faults;
   uint8_t mode = core->safety.mode;
   if (mode == CBX_MODE_MOTOR && core->config.axis[CBX_AXIS_INSERTION].actuator == CBX_ACTUATOR_BRAKE &&
       core->config.axis[CBX_AXIS_ROTATION].actuator == CBX_ACTUATOR_BRAKE)

@@ -9,8 +9,9 @@
 #define CBX_SELFTEST_PHASE_US 20000u
 #define CBX_SELFTEST_MIN_CURRENT_MA 20
 
-/* Rebuilds the per-axis scales from the settings in force. */
-void cbx_core_apply_settings(cbx_core* core);
+/* The per-axis scales for a set of settings (64-bit divisions: computed by whoever publishes
+ * the settings, never by the tick). The curves point into `s`. */
+void cbx_core_scales(const cbx_settings* s, cbx_axis_scale scale[CBX_AXIS_COUNT]);
 /* Self-test step for one tick; returns true while the test owns the actuators. */
 bool cbx_selftest_tick(cbx_core* core, uint32_t now_us, bool estop_pressed,
                        const int16_t current_mA[CBX_AXIS_COUNT]);

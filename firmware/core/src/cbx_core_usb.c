@@ -33,14 +33,38 @@ cbx_status cbx_core_usb_out_report(cbx_core* core, const uint8_t* data, size_t l
   return CBX_OK;
 }
 
+void cbx_core_usb_reset(cbx_core* core) {
+  const uint8_t slot = (uint8_t)(core->command_published ^ 1u);
+  cbx_command_report* c = &core->command_slot[slot];
+  /* Not a command of the host: the seq echoed stays that of its last one. */
+  const uint16_t seq = core->command_slot[core->command_published].header.seq;
+  memset(c, 0, sizeof *c);
+  c->header.version = CBX_PROTOCOL_VERSION;
+  c->header.seq = seq;
+  c->mode = CBX_MODE_OFF;
+  CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
+  core->command_published = slot;
+  core->command_generation++;
+}
+
+void cbx_core_usb_in_dropped(cbx_core* core) {
+  if (core->in_dropped != UINT32_MAX) core->in_dropped++;
+}
+
+/* The next state report: the tick's snapshot plus what the USB context counts. */
+static cbx_status state_report(cbx_core* core, uint8_t out[CBX_REPORT_SIZE]) {
+  cbx_state_report r;
+  cbx_core_state(core, &r);
+  r.header.seq = ++core->in_seq;
+  r.in_dropped = core->in_dropped > 0xFFFFu ? 0xFFFFu : (uint16_t)core->in_dropped;
+  return cbx_state_encode(&r, out);
+}
+
 bool cbx_core_usb_in_report(cbx_core* core, uint8_t out[CBX_REPORT_SIZE]) {
   const uint32_t ms = core->snapshot_ms;
   if (ms == core->reported_ms) return false;
   core->reported_ms = ms;
-  cbx_state_report r;
-  cbx_core_state(core, &r);
-  r.header.seq = ++core->in_seq;
-  return cbx_state_encode(&r, out) == CBX_OK;
+  return state_report(core, out) == CBX_OK;
 }
 
 static void current_settings(cbx_core* core, cbx_settings* s) {
@@ -50,6 +74,7 @@ static void current_settings(cbx_core* core, cbx_settings* s) {
 static void publish_settings(cbx_core* core, const cbx_settings* s) {
   const uint8_t slot = (uint8_t)(core->settings_published ^ 1u);
   core->settings_slot[slot] = *s;
+  cbx_core_scales(&core->settings_slot[slot], core->scale_slot[slot]);
   CBX_COMPILER_BARRIER(); /* the slot is complete before it is published */
   core->settings_published = slot;
   core->settings_generation++;
@@ -60,13 +85,14 @@ static cbx_status device_info(cbx_core* core, uint8_t out[CBX_REPORT_SIZE]) {
   cbx_device_info v;
   memset(&v, 0, sizeof v);
   v.header = next_header(&core->feature_seq);
-  v.fw_major = CBX_FW_MAJOR;
-  v.fw_minor = CBX_FW_MINOR;
-  v.fw_patch = CBX_FW_PATCH;
+  v.fw_major = core->config.fw_version[0];
+  v.fw_minor = core->config.fw_version[1];
+  v.fw_patch = core->config.fw_version[2];
   v.protocol_minor = CBX_PROTOCOL_MINOR;
   memcpy(v.serial, core->config.serial, sizeof v.serial);
   memcpy(v.board, core->config.board, sizeof v.board);
-  v.serial[CBX_TEXT_FIELD] = v.board[CBX_TEXT_FIELD] = '\0';
+  memcpy(v.build, core->config.build, sizeof v.build);
+  v.serial[CBX_TEXT_FIELD] = v.board[CBX_TEXT_FIELD] = v.build[CBX_BUILD_FIELD] = '\0';
   v.insertion_actuator = core->config.axis[CBX_AXIS_INSERTION].actuator;
   v.rotation_actuator = core->config.axis[CBX_AXIS_ROTATION].actuator;
   v.insertion_encoder_cpr = core->config.axis[CBX_AXIS_INSERTION].encoder_cpr;
@@ -77,12 +103,8 @@ static cbx_status device_info(cbx_core* core, uint8_t out[CBX_REPORT_SIZE]) {
 cbx_status cbx_core_usb_feature_get(cbx_core* core, uint8_t id, uint8_t out[CBX_REPORT_SIZE]) {
   cbx_settings s;
   switch (id) {
-    case CBX_ID_STATE: {
-      cbx_state_report r;
-      cbx_core_state(core, &r);
-      r.header.seq = ++core->in_seq;
-      return cbx_state_encode(&r, out);
-    }
+    case CBX_ID_STATE:
+      return state_report(core, out);
     case CBX_ID_DEVICE_INFO:
       return device_info(core, out);
     case CBX_ID_CALIBRATION:

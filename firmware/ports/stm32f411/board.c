@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "cbx_build_id.h"
 #include "firmware/cbx_hal.h"
 #include "stm32f411_regs.h"
 
@@ -162,6 +163,21 @@ void board_serial(char out[CBX_TEXT_FIELD + 1]) {
   memcpy(out, "CBX-", 4);
   for (unsigned i = 0; i < 12u; ++i) out[4u + i] = hex[(id >> (44u - 4u * i)) & 0xFu];
   out[16] = '\0';
+}
+
+void board_core_config(cbx_core_config* config, bool hse_started) {
+  memset(config, 0, sizeof *config);
+  board_serial(config->serial);
+  strcpy(config->board, CBX_BOARD_NAME);
+  config->axis[CBX_AXIS_INSERTION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 32u, CBX_BOARD_ACTUATOR,
+                                                       CBX_BOARD_INSERTION_CPR};
+  config->axis[CBX_AXIS_ROTATION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 16u, CBX_BOARD_ACTUATOR,
+                                                      CBX_BOARD_ROTATION_CPR};
+  config->fw_version[0] = CBX_FW_MAJOR;
+  config->fw_version[1] = CBX_FW_MINOR;
+  config->fw_version[2] = CBX_FW_PATCH;
+  strcpy(config->build, CBX_BUILD_ID);
+  config->board_faults = hse_started ? 0u : CBX_BOARD_FAULT_HSE;
 }
 
 void EXTI9_5_IRQHandler(void);

@@ -36,6 +36,10 @@ void board_init(void);
 void board_adc_cycle(void);
 /* The serial number from the chip's unique ID ("CBX-" + 12 hex digits). */
 void board_serial(char out[CBX_TEXT_FIELD + 1]);
+/* The core's view of this board: serial, name, encoders and actuators, the image's version and
+ * build (those of image_info.c), and the board faults found at start-up (`hse_started` false:
+ * CBX_BOARD_FAULT_HSE). */
+void board_core_config(cbx_core_config* config, bool hse_started);
 /* True once cbx_hal_bootloader_request() was called. */
 bool board_bootloader_requested(void);
 /* Reset into the ROM DFU bootloader (never returns). */

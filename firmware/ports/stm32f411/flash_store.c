@@ -7,7 +7,7 @@
 #include "firmware/cbx_hal.h"
 #include "stm32f411_regs.h"
 
-#define STORE_ADDR 0x08020000u
+#define STORE_ADDR (CBX_FLASH_BASE + 0x20000u) /* sector 5 */
 #define STORE_SECTOR 5u
 #define STORE_MAGIC 0xCB5E7701u
 #define STORE_MAX 256u

@@ -1,7 +1,5 @@
 /* STM32F411 firmware entry: clocks, board, the core, USB, the 10 kHz control tick (SysTick,
  * highest priority) and the main loop (settings storage, LED, bootloader entry). */
-#include <string.h>
-
 #include "board.h"
 #include "firmware/cbx_core.h"
 #include "stm32f411_regs.h"
@@ -16,17 +14,13 @@ void SysTick_Handler(void) {
 }
 
 int main(void) {
-  (void)board_clock_init();
+  /* No crystal: the box runs on HSI, USB timing out of spec; every state report says so
+   * (board fault HSE) and `cathbox info` / `monitor` print it. */
+  const bool hse_started = board_clock_init();
   board_init();
 
   cbx_core_config config;
-  memset(&config, 0, sizeof config);
-  board_serial(config.serial);
-  strcpy(config.board, CBX_BOARD_NAME);
-  config.axis[CBX_AXIS_INSERTION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 32u, CBX_BOARD_ACTUATOR,
-                                                      CBX_BOARD_INSERTION_CPR};
-  config.axis[CBX_AXIS_ROTATION] = (cbx_axis_config){CBX_ENCODER_COUNTER, 16u, CBX_BOARD_ACTUATOR,
-                                                     CBX_BOARD_ROTATION_CPR};
+  board_core_config(&config, hse_started);
   cbx_core_init(&core, &config);
 
   /* Control tick: SysTick at 10 kHz, priority 0 (above USB). */

@@ -4,20 +4,42 @@
  * from the reference manual (RM0383) and the Cortex-M4 generic user guide. Only what is used. */
 #include <stdint.h>
 
+/* Where the register blocks are. On the chip these are the RM0383 addresses. A build may place
+ * them elsewhere to run the same port code against register blocks in RAM: the tick-cost
+ * measurement on QEMU (firmware/qemu: -DCBX_PERIPH_BASE=... with constant addresses, so the
+ * compiled instructions are those of the image) and the host tests of the OTG FS driver
+ * (tests/firmware/ports/stm32f411). */
+#ifndef CBX_PERIPH_BASE
+#define CBX_PERIPH_BASE 0x40000000u /* APB1, APB2, AHB1: 0x40000000..0x40023FFF */
+#endif
+#ifndef CBX_OTG_BASE
+#define CBX_OTG_BASE 0x50000000u    /* AHB2: USB OTG FS, registers and FIFO windows */
+#endif
+#ifndef CBX_SCS_BASE
+#define CBX_SCS_BASE 0xE000E000u    /* Cortex-M4 system control space: SysTick, NVIC, SCB */
+#endif
+#ifndef CBX_FLASH_BASE
+#define CBX_FLASH_BASE 0x08000000u  /* main flash (the settings store lives in sector 5) */
+#endif
+#ifndef CBX_SYSMEM_BASE
+#define CBX_SYSMEM_BASE 0x1FFF0000u /* system memory: ROM bootloader, unique device ID */
+#endif
+#define CBX_PERIPH(offset) (CBX_PERIPH_BASE + (offset))
+
 #define CBX_REG(addr) (*(volatile uint32_t*)(addr))
 
 /* ---- Cortex-M4 core ---- */
-#define SCB_VTOR CBX_REG(0xE000ED08u)
-#define SCB_AIRCR CBX_REG(0xE000ED0Cu)
-#define SCB_SHPR3 CBX_REG(0xE000ED20u)   /* bits 31:24 SysTick priority */
-#define SCB_CPACR CBX_REG(0xE000ED88u)
-#define SYST_CSR CBX_REG(0xE000E010u)
-#define SYST_RVR CBX_REG(0xE000E014u)
-#define SYST_CVR CBX_REG(0xE000E018u)
-#define NVIC_ISER(n) CBX_REG(0xE000E100u + 4u * (n))
-#define NVIC_ICER(n) CBX_REG(0xE000E180u + 4u * (n))
-#define NVIC_ICPR(n) CBX_REG(0xE000E280u + 4u * (n))
-#define NVIC_IPR8(irq) (*(volatile uint8_t*)(0xE000E400u + (irq)))
+#define SCB_VTOR CBX_REG(CBX_SCS_BASE + 0xD08u)
+#define SCB_AIRCR CBX_REG(CBX_SCS_BASE + 0xD0Cu)
+#define SCB_SHPR3 CBX_REG(CBX_SCS_BASE + 0xD20u)   /* bits 31:24 SysTick priority */
+#define SCB_CPACR CBX_REG(CBX_SCS_BASE + 0xD88u)
+#define SYST_CSR CBX_REG(CBX_SCS_BASE + 0x010u)
+#define SYST_RVR CBX_REG(CBX_SCS_BASE + 0x014u)
+#define SYST_CVR CBX_REG(CBX_SCS_BASE + 0x018u)
+#define NVIC_ISER(n) CBX_REG(CBX_SCS_BASE + 0x100u + 4u * (n))
+#define NVIC_ICER(n) CBX_REG(CBX_SCS_BASE + 0x180u + 4u * (n))
+#define NVIC_ICPR(n) CBX_REG(CBX_SCS_BASE + 0x280u + 4u * (n))
+#define NVIC_IPR8(irq) (*(volatile uint8_t*)(CBX_SCS_BASE + 0x400u + (irq)))
 #define AIRCR_VECTKEY (0x05FAu << 16)
 #define AIRCR_SYSRESETREQ (1u << 2)
 #define DBGMCU_APB1_FZ CBX_REG(0xE0042008u)
@@ -29,7 +51,7 @@
 #define IRQ_COUNT 86u
 
 /* ---- RCC ---- */
-#define RCC_BASE 0x40023800u
+#define RCC_BASE CBX_PERIPH(0x23800u)
 #define RCC_CR CBX_REG(RCC_BASE + 0x00u)
 #define RCC_PLLCFGR CBX_REG(RCC_BASE + 0x04u)
 #define RCC_CFGR CBX_REG(RCC_BASE + 0x08u)
@@ -61,9 +83,9 @@
 #define RCC_APB2ENR_SYSCFG (1u << 14)
 
 /* ---- PWR, FLASH ---- */
-#define PWR_CR CBX_REG(0x40007000u)
+#define PWR_CR CBX_REG(CBX_PERIPH(0x7000u))
 #define PWR_CR_VOS_SCALE1 (3u << 14)
-#define FLASH_BASE_REG 0x40023C00u
+#define FLASH_BASE_REG CBX_PERIPH(0x23C00u)
 #define FLASH_ACR CBX_REG(FLASH_BASE_REG + 0x00u)
 #define FLASH_KEYR CBX_REG(FLASH_BASE_REG + 0x04u)
 #define FLASH_SR CBX_REG(FLASH_BASE_REG + 0x0Cu)
@@ -87,9 +109,9 @@
 typedef struct {
   volatile uint32_t MODER, OTYPER, OSPEEDR, PUPDR, IDR, ODR, BSRR, LCKR, AFR[2];
 } cbx_gpio_regs;
-#define GPIOA ((cbx_gpio_regs*)0x40020000u)
-#define GPIOB ((cbx_gpio_regs*)0x40020400u)
-#define GPIOC ((cbx_gpio_regs*)0x40020800u)
+#define GPIOA ((cbx_gpio_regs*)CBX_PERIPH(0x20000u))
+#define GPIOB ((cbx_gpio_regs*)CBX_PERIPH(0x20400u))
+#define GPIOC ((cbx_gpio_regs*)CBX_PERIPH(0x20800u))
 #define GPIO_MODE_INPUT 0u
 #define GPIO_MODE_OUTPUT 1u
 #define GPIO_MODE_AF 2u
@@ -102,10 +124,10 @@ typedef struct {
   volatile uint32_t CR1, CR2, SMCR, DIER, SR, EGR, CCMR1, CCMR2, CCER, CNT, PSC, ARR, RCR, CCR1,
       CCR2, CCR3, CCR4, BDTR, DCR, DMAR, OR;
 } cbx_tim_regs;
-#define TIM2 ((cbx_tim_regs*)0x40000000u)
-#define TIM3 ((cbx_tim_regs*)0x40000400u)
-#define TIM4 ((cbx_tim_regs*)0x40000800u)
-#define TIM5 ((cbx_tim_regs*)0x40000C00u)
+#define TIM2 ((cbx_tim_regs*)CBX_PERIPH(0x0000u))
+#define TIM3 ((cbx_tim_regs*)CBX_PERIPH(0x0400u))
+#define TIM4 ((cbx_tim_regs*)CBX_PERIPH(0x0800u))
+#define TIM5 ((cbx_tim_regs*)CBX_PERIPH(0x0C00u))
 #define TIM_CR1_CEN (1u << 0)
 #define TIM_CR1_ARPE (1u << 7)
 #define TIM_SMCR_SMS_ENCODER3 3u          /* count on both edges of TI1 and TI2 (x4) */
@@ -122,14 +144,14 @@ typedef struct {
 #define TIM_EGR_UG (1u << 0)
 
 /* ---- ADC1 ---- */
-#define ADC1_BASE 0x40012000u
+#define ADC1_BASE CBX_PERIPH(0x12000u)
 #define ADC1_SR CBX_REG(ADC1_BASE + 0x00u)
 #define ADC1_CR1 CBX_REG(ADC1_BASE + 0x04u)
 #define ADC1_CR2 CBX_REG(ADC1_BASE + 0x08u)
 #define ADC1_SMPR2 CBX_REG(ADC1_BASE + 0x10u)
 #define ADC1_JSQR CBX_REG(ADC1_BASE + 0x38u)
 #define ADC1_JDR(n) CBX_REG(ADC1_BASE + 0x3Cu + 4u * ((n) - 1u))
-#define ADC_CCR CBX_REG(0x40012304u)
+#define ADC_CCR CBX_REG(CBX_PERIPH(0x12304u))
 #define ADC_SR_JEOC (1u << 2)
 #define ADC_CR1_SCAN (1u << 8)
 #define ADC_CR2_ADON (1u << 0)
@@ -137,27 +159,27 @@ typedef struct {
 #define ADC_CCR_ADCPRE_DIV4 (1u << 16)
 
 /* ---- IWDG, EXTI, SYSCFG ---- */
-#define IWDG_KR CBX_REG(0x40003000u)
-#define IWDG_PR CBX_REG(0x40003004u)
-#define IWDG_RLR CBX_REG(0x40003008u)
-#define IWDG_SR CBX_REG(0x4000300Cu)
+#define IWDG_KR CBX_REG(CBX_PERIPH(0x3000u))
+#define IWDG_PR CBX_REG(CBX_PERIPH(0x3004u))
+#define IWDG_RLR CBX_REG(CBX_PERIPH(0x3008u))
+#define IWDG_SR CBX_REG(CBX_PERIPH(0x300Cu))
 #define IWDG_KEY_RELOAD 0xAAAAu
 #define IWDG_KEY_UNLOCK 0x5555u
 #define IWDG_KEY_START 0xCCCCu
-#define EXTI_IMR CBX_REG(0x40013C00u)
-#define EXTI_RTSR CBX_REG(0x40013C08u)
-#define EXTI_FTSR CBX_REG(0x40013C0Cu)
-#define EXTI_PR CBX_REG(0x40013C14u)
-#define SYSCFG_MEMRMP CBX_REG(0x40013800u)
-#define SYSCFG_EXTICR(n) CBX_REG(0x40013808u + 4u * (n)) /* n = 0..3, 4 lines each */
+#define EXTI_IMR CBX_REG(CBX_PERIPH(0x13C00u))
+#define EXTI_RTSR CBX_REG(CBX_PERIPH(0x13C08u))
+#define EXTI_FTSR CBX_REG(CBX_PERIPH(0x13C0Cu))
+#define EXTI_PR CBX_REG(CBX_PERIPH(0x13C14u))
+#define SYSCFG_MEMRMP CBX_REG(CBX_PERIPH(0x13800u))
+#define SYSCFG_EXTICR(n) CBX_REG(CBX_PERIPH(0x13808u) + 4u * (n)) /* n = 0..3, 4 lines each */
 #define SYSCFG_MEMRMP_SYSTEM 1u
 
 /* ---- Unique device ID, system memory (ROM bootloader) ---- */
-#define UID_BASE 0x1FFF7A10u
-#define SYSTEM_MEMORY_BASE 0x1FFF0000u
+#define UID_BASE (CBX_SYSMEM_BASE + 0x7A10u)
+#define SYSTEM_MEMORY_BASE CBX_SYSMEM_BASE
 
 /* ---- USB OTG full speed (device mode) ---- */
-#define OTG_BASE 0x50000000u
+#define OTG_BASE CBX_OTG_BASE
 #define OTG_REG(off) CBX_REG(OTG_BASE + (off))
 #define OTG_GOTGCTL OTG_REG(0x000u)
 #define OTG_GAHBCFG OTG_REG(0x008u)

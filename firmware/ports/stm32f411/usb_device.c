@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "board.h"
 #include "firmware/cbx_core.h"
 #include "protocol/cbx_hid_descriptor.h"
 #include "usb_otgfs.h"
@@ -82,16 +83,29 @@ static uint16_t string_descriptor(uint8_t index, uint8_t out[USB_EP0_BUFFER]) {
   return (uint16_t)(2u + 2u * n);
 }
 
+void usb_device_bind(cbx_core* c) { core = c; }
+
 void usb_device_start(cbx_core* c) {
-  core = c;
+  usb_device_bind(c);
   usb_otgfs_init();
+}
+
+/* The host is gone (bus reset, suspend): the core stops rendering, and the outputs go off
+ * now, not after the command watchdog's 50 ms. The core first, so that a control tick
+ * preempting this interrupt renders zero too. */
+static void host_gone(void) {
+  if (core) cbx_core_usb_reset(core);
+  board_outputs_off();
 }
 
 void usb_device_reset(void) {
   configuration = 0u;
   idle_rate = 0u;
   protocol_mode = 1u;
+  host_gone();
 }
+
+void usb_device_suspend(void) { host_gone(); }
 
 static bool get_descriptor(const usb_setup* s) {
   uint8_t buffer[USB_EP0_BUFFER];
@@ -260,11 +274,13 @@ void usb_device_ep1_out(const uint8_t* data, uint16_t length) {
 
 /* One state report per frame. The core marks one report due per millisecond of its own clock;
  * when the frame and that millisecond are out of phase (no new one since the last frame), the
- * current state is sent anyway, so the host never misses a frame. */
+ * current state is sent anyway, so the host never misses a frame. A report the endpoint's TX
+ * FIFO has no room for is counted (state report in_dropped), not queued: the next frame's
+ * report carries the newest state, the seq echo of the last command included. */
 void usb_device_sof(void) {
   if (configuration != 1u || usb_ep1_in_busy() || usb_ep1_stalled(true)) return;
   if (!cbx_core_usb_in_report(core, in_report) &&
       cbx_core_usb_feature_get(core, CBX_ID_STATE, in_report) != CBX_OK)
     return;
-  usb_ep1_in_send(in_report, CBX_REPORT_SIZE);
+  if (!usb_ep1_in_send(in_report, CBX_REPORT_SIZE)) cbx_core_usb_in_dropped(core);
 }

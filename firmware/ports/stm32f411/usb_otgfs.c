@@ -29,19 +29,25 @@ static uint8_t ep1_out_buffer[USB_EP1_SIZE];
 static uint16_t ep1_out_received;
 static volatile bool ep1_in_pending;
 
-static void wait_ahb_idle(void) {
-  while (!(OTG_GRSTCTL & GRSTCTL_AHBIDL)) {
+/* The core's own operations (AHB idle, FIFO flush, soft reset) end within a few dozen AHB
+ * cycles (RM0383 22.17.3). The waits are bounded all the same: a core that never answers must
+ * not hang the USB interrupt forever while the control tick, which preempts it, keeps the
+ * watchdog from resetting the chip. */
+#define OTG_WAIT_LOOPS 100000u
+
+static void wait_while(volatile uint32_t* reg, uint32_t mask, uint32_t value) {
+  for (uint32_t i = 0; i < OTG_WAIT_LOOPS && (*reg & mask) == value; ++i) {
   }
 }
+
+static void wait_ahb_idle(void) { wait_while(&OTG_GRSTCTL, GRSTCTL_AHBIDL, 0u); }
 
 static void flush_fifos(void) {
   wait_ahb_idle();
   OTG_GRSTCTL = GRSTCTL_TXFFLSH | GRSTCTL_TXFNUM_ALL;
-  while (OTG_GRSTCTL & GRSTCTL_TXFFLSH) {
-  }
+  wait_while(&OTG_GRSTCTL, GRSTCTL_TXFFLSH, GRSTCTL_TXFFLSH);
   OTG_GRSTCTL = GRSTCTL_RXFFLSH;
-  while (OTG_GRSTCTL & GRSTCTL_RXFFLSH) {
-  }
+  wait_while(&OTG_GRSTCTL, GRSTCTL_RXFFLSH, GRSTCTL_RXFFLSH);
 }
 
 void usb_otgfs_init(void) {
@@ -58,8 +64,7 @@ void usb_otgfs_init(void) {
   OTG_GUSBCFG |= GUSBCFG_PHYSEL;
   wait_ahb_idle();
   OTG_GRSTCTL = GRSTCTL_CSRST;
-  while (OTG_GRSTCTL & GRSTCTL_CSRST) {
-  }
+  wait_while(&OTG_GRSTCTL, GRSTCTL_CSRST, GRSTCTL_CSRST);
   wait_ahb_idle();
   board_delay_us(10u);
 
@@ -208,10 +213,11 @@ void usb_ep1_configure(bool enable) {
 
 bool usb_ep1_in_busy(void) { return ep1_in_pending; }
 
-void usb_ep1_in_send(const uint8_t* data, uint16_t length) {
-  if (OTG_DTXFSTS(1) < (uint32_t)(length + 3u) / 4u) return;
+bool usb_ep1_in_send(const uint8_t* data, uint16_t length) {
+  if (OTG_DTXFSTS(1) < (uint32_t)(length + 3u) / 4u) return false;
   ep1_in_pending = true;
   ep_in_start(1u, data, length);
+  return true;
 }
 
 void usb_ep1_stall(bool in, bool stall) {
@@ -357,5 +363,8 @@ void OTG_FS_IRQHandler(void) {
     OTG_GINTSTS = GINT_SOF;
     usb_device_sof();
   }
-  if (status & (GINT_USBSUSP | GINT_WKUPINT)) OTG_GINTSTS = status & (GINT_USBSUSP | GINT_WKUPINT);
+  if (status & (GINT_USBSUSP | GINT_WKUPINT)) {
+    OTG_GINTSTS = status & (GINT_USBSUSP | GINT_WKUPINT);
+    if ((status & GINT_USBSUSP) && !(status & GINT_WKUPINT)) usb_device_suspend();
+  }
 }

@@ -32,12 +32,13 @@ void usb_set_address(uint8_t address);
 /* Endpoint 1 (interrupt IN 0x81 and OUT 0x01). */
 void usb_ep1_configure(bool enable);
 bool usb_ep1_in_busy(void);
-void usb_ep1_in_send(const uint8_t* data, uint16_t length);
+bool usb_ep1_in_send(const uint8_t* data, uint16_t length); /* false: no room in its TX FIFO, not sent */
 void usb_ep1_stall(bool in, bool stall);
 bool usb_ep1_stalled(bool in);
 
 /* Implemented by usb_device.c, called from the USB interrupt. */
-void usb_device_reset(void);
+void usb_device_reset(void);                            /* bus reset */
+void usb_device_suspend(void);                          /* the bus went idle (suspend) */
 bool usb_device_setup(const usb_setup* setup);          /* false: stall */
 bool usb_device_ep0_out(const uint8_t* data, uint16_t length); /* data stage done; false: stall */
 void usb_device_ep1_out(const uint8_t* data, uint16_t length);

@@ -1,47 +1,29 @@
 #include "app/trainer_app.hpp"
 
-#include <time.h>
-
 #include <algorithm>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 
-#include <glm/gtc/type_ptr.hpp>
-
-#include "app/clock.hpp"
-#include "app/frame_capture.hpp"
+#include "app/bench_report.hpp"
 #include "app/frame_stats.hpp"
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
-#include "app/png_writer.hpp"
-#include "app/thread_priority.hpp"
+#include "app/replay_panel.hpp"
+#include "app/screenshot_writer.hpp"
+#include "app/trainer_launch.hpp"
 #include "app/trainer_ui.hpp"
+#include "session/exit_codes.hpp"
+#include "session/records_dir.hpp"
+#include "session/thread_priority.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::app {
 namespace {
-
-std::int64_t cpu_time_us(clockid_t which) {
-  timespec ts{};
-  clock_gettime(which, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000 + ts.tv_nsec / 1000;
-}
-
-const std::vector<std::string> kCaseExtensions = {".case", ".hclm"};
-constexpr const char* kDefaultCase = "neuro_right_ica.case";
-constexpr const char* kPreferredCase = "neuro";
-
-void print_matrix(std::ofstream& out, const char* name, const glm::mat4& m) {
-  out << name;
-  const float* v = glm::value_ptr(m);
-  for (int i = 0; i < 16; ++i) out << ' ' << v[i];
-  out << '\n';
-}
-
-void print_rect(std::ofstream& out, const char* name, const Viewport& v) {
-  out << name << ' ' << v.x << ' ' << v.y << ' ' << v.width << ' ' << v.height << '\n';
-}
-
+// Above this the global view gets a coarser surface (level L-1, 4-point rings): it shows the
+// vessels at ~0.3 mm per pixel, and every triangle costs a software rasteriser the same.
+constexpr std::size_t kOverviewTriangles = 40'000;
+constexpr int kWarmupFrames = 20;
+constexpr std::int64_t kReplayBudgetUs = 25'000;  // CPU per frame a replay may spend catching up
 }  // namespace
 
 TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
@@ -50,109 +32,83 @@ TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
 }
 
 TrainerApp::~TrainerApp() {
-  if (session_) session_->stop();
-  session_.reset();
+  live_.reset();  // stops the haptic thread and closes the record
+  replay_.reset();
+  replay_panel_.reset();
   ui_.reset();
   renderer_.reset();
   window_.reset();
 }
 
-std::string TrainerApp::resolve_case(std::string& error) {
-  std::string dir = options_.cases_dir;
-  if (dir.empty()) {
-    for (const std::string& candidate :
-         {std::string(CATHBOX_CASES_DIR), program_dir_ + "/../../../cases", std::string("cases")}) {
-      if (std::filesystem::is_directory(candidate)) {
-        dir = candidate;
-        break;
-      }
-    }
+session::Session& TrainerApp::current() { return replay_ ? replay_->session() : *live_; }
+
+bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
+  live_.reset();
+  replay_.reset();
+  LiveSession live = open_live_session(options_, program_dir_, case_path, scripted_, keyboard_);
+  if (!live.session) {
+    error = live.error;
+    return false;
   }
-  std::string scan_error;
-  catalog_ = CaseCatalog::scan(dir, kCaseExtensions, scan_error);
-  if (!options_.case_path.empty()) {
-    const std::string name = std::filesystem::path(options_.case_path).filename().string();
-    current_case_ = -1;
-    for (std::size_t i = 0; i < catalog_.entries().size(); ++i) {
-      if (catalog_.entries()[i].name == name) current_case_ = static_cast<int>(i);
-    }
-    return options_.case_path;
-  }
-  // The default: the single-wire neuro case with a target (the scripted hand reaches it), else
-  // another neuro case file, else the neuro vessel file itself.
-  current_case_ = -1;
-  for (std::size_t i = 0; i < catalog_.entries().size(); ++i) {
-    if (catalog_.entries()[i].name == kDefaultCase) current_case_ = static_cast<int>(i);
-  }
-  if (current_case_ < 0) current_case_ = catalog_.default_index(kPreferredCase, ".case");
-  if (current_case_ < 0) {
-    error = scan_error.empty() ? dir + ": no case files (.case, .hclm)" : scan_error;
-    return {};
-  }
-  return catalog_.entries()[static_cast<std::size_t>(current_case_)].path;
+  live_ = std::move(live.session);
+  record_path_ = live.record_path;
+  case_path_ = case_path;
+  if (!live.note.empty()) std::fprintf(stderr, "cathbox-trainer: %s\n", live.note.c_str());
+  return true;
 }
 
-bool TrainerApp::open_session(const std::string& case_path, bool scripted, std::string& error) {
-  if (session_) session_->stop();
-  session_.reset();
-  SessionConfig config;
-  config.case_path = case_path;
-  config.box = scripted ? BoxChoice::kNone : options_.box;
-  config.emu_socket = options_.emu_socket;
-  config.scripted_hand = scripted;
-  config.emu_program = program_dir_ + "/cathbox-emu";
-  session_ = TrainerSession::open(config, error);
-  return session_ != nullptr;
+bool TrainerApp::open_replay(const std::string& path, std::string& error) {
+  live_.reset();  // a run being recorded is closed first
+  auto player = session::ReplayPlayer::open(path, error);
+  if (!player) return false;
+  if (player->session().scene().mesh() == nullptr) {
+    error = path + ": the record's case has no vessel surface to show";
+    return false;
+  }
+  replay_ = std::move(player);
+  record_path_ = path;
+  return true;
 }
 
 int TrainerApp::run() {
   if (options_.help) {
     std::fputs(trainer_usage(), stdout);
-    return 0;
+    return session::kExitOk;
   }
+  scripted_ = options_.headless || options_.bench_seconds > 0.0;
   if (options_.headless && options_.frames == 0 && options_.bench_seconds <= 0.0) {
-    return run_headless_summary();
+    return options_.replay.empty() ? run_headless_summary() : run_headless_replay();
   }
   return run_window();
 }
 
-int TrainerApp::run_headless_summary() {
-  std::string error;
-  const std::string case_path = resolve_case(error);
-  if (case_path.empty() || !open_session(case_path, true, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return 2;
-  }
-  std::printf("cathbox-trainer: headless run of %s with the scripted hand (virtual time)\n",
-              session_->case_name().c_str());
-  const std::int64_t limit_ticks =
-      options_.max_seconds > 0.0 ? static_cast<std::int64_t>(options_.max_seconds * 1000.0) : -1;
-  LogEvent e;
-  while (!session_->over() && (limit_ticks < 0 || session_->haptic_ticks() < limit_ticks)) {
-    session_->step_virtual(100);
-    while (session_->events().pop(e)) {
-      std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
+void TrainerApp::load_scene() {
+  const session::SessionCase& scene = current().scene();
+  const vessel::SurfaceMesh& mesh = *scene.mesh();
+  vessel::SurfaceMesh overview;
+  const vessel::MeshOptions options;
+  if (mesh.triangle_count() > kOverviewTriangles && options.subdivision_level > 0) {
+    const vessel::HclmReadResult read = vessel::read_hclm(scene.vessel_text, scene.vessel_file);
+    vessel::MeshOptions coarse = options;
+    coarse.subdivision_level = options.subdivision_level - 1;
+    coarse.ring_points = 4;
+    if (read.ok()) {
+      vessel::VesselSurface o = vessel::build_vessel_surface(read.model, coarse);
+      if (o.ok()) overview = std::move(o.mesh);
     }
   }
-  session_->end_run();
-  std::printf("end of run\n%s", RunMetrics::format(session_->summary()).c_str());
-  return 0;
-}
-
-void TrainerApp::load_scene() {
-  const vessel::SurfaceMesh& mesh = session_->vessel_mesh();
-  const vessel::SurfaceMesh& overview = session_->overview_mesh();
   renderer_->set_vessel({mesh.positions_mm, mesh.normals, mesh.triangles},
                         {overview.positions_mm, overview.normals, overview.triangles});
-  renderer_->set_target(session_->target_mm(), session_->target_radius_mm());
+  renderer_->set_target(scene.target_mm, scene.target_radius_mm);
   frame_camera();
-  ui_->add_line("case " + session_->case_name() + ": " + std::to_string(renderer_->detail_triangles()) +
-                " triangles (global view " + std::to_string(renderer_->overview_triangles()) +
-                "); hand: " + session_->device_status());
+  ui_->add_line("case " + scene.name + ": " + std::to_string(renderer_->detail_triangles()) + " triangles (global view " +
+                std::to_string(renderer_->overview_triangles()) + "); " + (replay_ ? "replay: " : "hand: ") +
+                current().hand_description());
+  if (!record_path_.empty()) ui_->add_line((replay_ ? "playing " : "recording to ") + record_path_);
 }
 
 void TrainerApp::frame_camera() {
-  const vessel::SurfaceMesh& mesh = session_->vessel_mesh();
+  const vessel::SurfaceMesh& mesh = *current().scene().mesh();
   glm::vec3 lo(1e30F);
   glm::vec3 hi(-1e30F);
   for (const glm::vec3& p : mesh.positions_mm) {
@@ -163,103 +119,18 @@ void TrainerApp::frame_camera() {
   camera_.frame(lo, hi);
 }
 
-void TrainerApp::handle_input(const ScreenLayout& layout) {
-  GLFWwindow* w = window_->handle();
-  if (!ui_->wants_mouse()) {
-    double mx = 0.0;
-    double my = 0.0;
-    glfwGetCursorPos(w, &mx, &my);
-    const auto dx = static_cast<float>(mx - last_mouse_x_);
-    const auto dy = static_cast<float>(my - last_mouse_y_);
-    last_mouse_x_ = mx;
-    last_mouse_y_ = my;
-    if (layout.global.contains(static_cast<float>(mx), static_cast<float>(my))) {
-      camera_.zoom(ui_->mouse_wheel());
-      // Double click on a vessel: orbit around that point from now on.
-      const bool pressed = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-      if (pressed && !left_down_) {
-        const double t = glfwGetTime();
-        if (t - last_click_s_ < 0.35) {
-          const glm::vec3 dir = camera_.ray_through(static_cast<float>(mx) - static_cast<float>(layout.global.x),
-                                                    static_cast<float>(my) - static_cast<float>(layout.global.y),
-                                                    static_cast<float>(layout.global.width),
-                                                    static_cast<float>(layout.global.height));
-          if (const auto hit = session_->pick(camera_.eye_mm(), dir)) camera_.target_mm = *hit;
-        }
-        last_click_s_ = t;
-      }
-      left_down_ = pressed;
-      if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) camera_.orbit(dx, dy);
-      if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
-          glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) {
-        camera_.pan(dx, dy, static_cast<float>(layout.global.height));
-      }
-    }
-  }
-  double insert = 0.0;
-  double twist = 0.0;
-  if (!ui_->wants_keyboard()) {
-    auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
-    const double fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0;
-    if (down(GLFW_KEY_UP) || down(GLFW_KEY_W)) insert += 10.0 * fast;
-    if (down(GLFW_KEY_DOWN) || down(GLFW_KEY_S)) insert -= 10.0 * fast;
-    if (down(GLFW_KEY_LEFT) || down(GLFW_KEY_A)) twist += 1.5 * fast;
-    if (down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D)) twist -= 1.5 * fast;
-    const bool tab = down(GLFW_KEY_TAB);
-    if (tab && !tab_down_) session_->keyboard().request_tool_switch();
-    tab_down_ = tab;
-    const bool f = down(GLFW_KEY_F);
-    if (f && !f_down_) settings_.wireframe = !settings_.wireframe;
-    f_down_ = f;
-    const bool c = down(GLFW_KEY_C);
-    if (c && !c_down_) frame_camera();
-    c_down_ = c;
-    if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);
-  }
-  session_->keyboard().set_speeds(insert, twist);
-}
-
-bool TrainerApp::write_screenshot(const ScreenLayout& layout, const SceneSnapshot& s, int fb_width,
-                                  int fb_height) {
-  const Image img = FrameCapture::read_back_buffer(fb_width, fb_height);
-  std::string error;
-  if (!PngWriter::write_file(options_.screenshot, img, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return false;
-  }
-  // The camera and what was drawn, so a test can project known points onto the image.
-  std::ofstream out(options_.screenshot + ".txt");
-  out << "size " << fb_width << ' ' << fb_height << '\n';
-  out << "vessel_file " << session_->vessel_file() << '\n';
-  print_rect(out, "global", layout.global);
-  print_rect(out, "local", layout.local);
-  print_rect(out, "hud", ui_->hud_rect());
-  print_matrix(out, "view", camera_.view());
-  print_matrix(out, "proj", camera_.projection(layout.global.aspect()));
-  if (const auto t = session_->target_mm()) {
-    out << "target " << t->x << ' ' << t->y << ' ' << t->z << ' ' << session_->target_radius_mm() << '\n';
-  }
-  for (int i = 0; i < s.tool_count; ++i) {
-    for (const glm::vec3& p : s.tools[static_cast<std::size_t>(i)].nodes_mm) {
-      out << "node " << i << ' ' << p.x << ' ' << p.y << ' ' << p.z << '\n';
-    }
-  }
-  out << "tip " << s.tip_mm.x << ' ' << s.tip_mm.y << ' ' << s.tip_mm.z << '\n';
-  out << "sim_time_us " << s.sim_time_us << '\n';
-  return static_cast<bool>(out);
-}
-
 int TrainerApp::run_window() {
-  std::string error;
-  const std::string case_path = resolve_case(error);
-  if (case_path.empty()) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return 2;
+  const CaseChoice choice = choose_case(options_, program_dir_, catalog_);
+  current_case_ = choice.catalog_index;
+  if (options_.replay.empty() && choice.path.empty()) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
+    return session::kExitBadInput;
   }
+  std::string error;
   window_ = GlWindow::create(options_.width, options_.height, "Cathbox trainer", !options_.headless, error);
   if (!window_) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return 3;
+    return session::kExitNoDisplay;
   }
   const bool timed = options_.bench_seconds > 0.0;
   window_->set_vsync(!options_.headless && !timed);
@@ -267,40 +138,38 @@ int TrainerApp::run_window() {
   ui_ = std::make_unique<TrainerUi>();
   if (!renderer_->init(error) || !ui_->init(window_->handle())) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());
-    return 3;
+    return session::kExitNoDisplay;
   }
-  // Headless or benchmarking, nobody is at the keyboard: the scripted hand drives the tool.
-  const bool scripted = options_.headless || timed;
-  if (!open_session(case_path, scripted, error)) {
+  const std::string records = options_.records_dir.empty() ? session::records_dir() : options_.records_dir;
+  replay_panel_ = std::make_unique<ReplayPanel>(records);
+  const bool opened = options_.replay.empty() ? open_live(choice.path, error) : open_replay(options_.replay, error);
+  if (!opened) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return 2;
+    return session::kExitBadInput;
   }
   load_scene();
-  std::printf("cathbox-trainer: %s, hand: %s\n", session_->case_name().c_str(),
-              session_->device_status().c_str());
+  std::printf("cathbox-trainer: %s, %s: %s\n", current().scene().name.c_str(), replay_ ? "replay" : "hand",
+              current().hand_description().c_str());
   std::fflush(stdout);
   const bool virtual_time = options_.frames > 0;
-  if (!virtual_time) session_->start();
+  if (live_ && !virtual_time) live_->start();
+  if (replay_) replay_->play();
   // The software rasteriser's workers yield to the haptic thread (no effect on a GPU driver).
-  (void)ThreadPriority::lower_threads_named("llvmpipe", 10);
+  (void)session::ThreadPriority::lower_threads_named("llvmpipe", 10);
 
-  SteadyClock clock;
+  session::SteadyClock clock;
   const std::int64_t start_us = clock.now_us();
   FrameStats stats;
+  FrameStats work;
   std::int64_t last_us = clock.now_us();
-  std::int64_t bench_start_us = -1;
-  std::int64_t bench_start_ticks = 0;
-  std::int64_t bench_start_process_cpu_us = 0;
-  std::int64_t bench_start_render_cpu_us = 0;
-  std::int64_t bench_start_haptic_cpu_us = 0;
+  BenchPoint bench_start;
   double fps = 0.0;
   int frame = 0;
-  constexpr int kWarmupFrames = 20;
   // Without vsync (Xvfb, bench) frames are paced as a display would; headless frames are not.
   const std::int64_t frame_period_us =
       (options_.headless || timed) && options_.fps_cap > 0 && !virtual_time ? 1'000'000 / options_.fps_cap : 0;
   std::int64_t next_frame_us = clock.now_us();
-  FrameStats work;
+  std::int64_t frame_dt_us = 0;
   while (!window_->should_close()) {
     if (frame_period_us > 0) {
       clock.sleep_until_us(next_frame_us);
@@ -308,106 +177,112 @@ int TrainerApp::run_window() {
     }
     const std::int64_t frame_start_us = clock.now_us();
     glfwPollEvents();
-    if (virtual_time) session_->step_virtual(options_.sim_ms_per_frame);
-    session_->snapshots().acquire();
-    const SceneSnapshot& snap = session_->snapshots().read_slot();
-    ui_->drain(session_->events());
+    if (live_ && virtual_time) live_->step_virtual(options_.sim_ms_per_frame);
+    if (replay_) {
+      const bool ok = virtual_time ? replay_->advance(options_.sim_ms_per_frame * 1000LL, -1)
+                                   : replay_->advance(frame_dt_us, kReplayBudgetUs);
+      if (!ok) {
+        std::fprintf(stderr, "cathbox-trainer: %s\n", replay_->error().c_str());
+        return session::kExitBadInput;
+      }
+    }
+    session::Session& s = current();
+    s.snapshots().acquire();
+    const session::SceneSnapshot& snap = s.snapshots().read_slot();
+    ui_->drain(s.events());
 
     int fw = 0;
     int fh = 0;
     window_->framebuffer_size(fw, fh);
     const ScreenLayout layout = ScreenLayout::for_window(fw, fh);
     ui_->begin_frame();
-    handle_input(layout);
+    const InputController::Pick pick = [&s](const glm::vec3& o, const glm::vec3& d) { return s.scene().pick(o, d); };
+    const InputActions input = input_.handle(window_->handle(), *ui_, layout, camera_, settings_, pick,
+                                             replay_ ? nullptr : &keyboard_);
+    if (input.frame_camera) frame_camera();
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
-    renderer_->render_global(layout.global, fh, camera_.view(),
-                             camera_.projection(layout.global.aspect()), settings_);
+    renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
     renderer_->render_local(layout.local, fh, snap);
-    const UiStatus status{fps, session_->device_status(), session_->case_name(),
-                          session_->active_tool_name()};
+    const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
+                          record_path_};
     const UiActions act = ui_->draw(layout, snap, status, catalog_, current_case_, settings_);
+    ReplayPanelActions replay_act;
+    if (replay_) replay_act = replay_panel_->draw(layout.global, *replay_);
     ui_->end_frame();
     ++frame;
     const bool last_frame = options_.frames > 0 && frame >= options_.frames;
-    if (last_frame && !options_.screenshot.empty() && !write_screenshot(layout, snap, fw, fh)) return 1;
+    if (last_frame && !options_.screenshot.empty()) {
+      const ScreenshotScene shot{layout, ui_->hud_rect(), camera_.view(), camera_.projection(layout.global.aspect()),
+                                 s.scene().vessel_file, s.scene().target_mm, s.scene().target_radius_mm};
+      if (!write_screenshot(options_.screenshot, shot, snap, fw, fh, error)) {
+        std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+        return session::kExitFailure;
+      }
+    }
     window_->swap_buffers();
 
     const std::int64_t now = clock.now_us();
-    const std::int64_t dt = now - last_us;
+    frame_dt_us = now - last_us;
     last_us = now;
-    fps = dt > 0 ? 0.9 * fps + 0.1 * 1e6 / static_cast<double>(dt) : fps;
+    fps = frame_dt_us > 0 ? 0.9 * fps + 0.1 * 1e6 / static_cast<double>(frame_dt_us) : fps;
     if (timed && frame == kWarmupFrames) {
-      bench_start_us = now;
-      bench_start_ticks = session_->haptic_ticks();
-      bench_start_process_cpu_us = cpu_time_us(CLOCK_PROCESS_CPUTIME_ID);
-      bench_start_render_cpu_us = cpu_time_us(CLOCK_THREAD_CPUTIME_ID);
-      bench_start_haptic_cpu_us = session_->haptic_cpu_time_us();
+      bench_start = BenchPoint::now(now, s.ticks(), s.haptic_cpu_time_us());
     } else if (timed && frame > kWarmupFrames) {
-      stats.add(dt);
+      stats.add(frame_dt_us);
       work.add(now - frame_start_us);
-      if (static_cast<double>(now - bench_start_us) >= options_.bench_seconds * 1e6) break;
+      if (static_cast<double>(now - bench_start.time_us) >= options_.bench_seconds * 1e6) break;
     }
     if (last_frame) break;
-    if (!timed && options_.max_seconds > 0.0 &&
-        static_cast<double>(now - start_us) >= options_.max_seconds * 1e6) {
-      break;
-    }
+    if (!timed && options_.max_seconds > 0.0 && static_cast<double>(now - start_us) >= options_.max_seconds * 1e6) break;
 
-    if (act.end_run) session_->end_run();
-    if (act.switch_tool) session_->keyboard().request_tool_switch();
-    if (act.restart || act.pick_case >= 0) {
-      const int pick = act.pick_case >= 0 ? act.pick_case : current_case_;
-      const std::string path = pick >= 0 ? catalog_.entries()[static_cast<std::size_t>(pick)].path : case_path;
-      if (open_session(path, scripted, error)) {
-        current_case_ = pick;
+    // What the trainee asked for (the session may be replaced: nothing of `s` is used after).
+    if (live_ && act.end_run) live_->end_run();
+    if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
+    std::string next_replay = replay_act.open;
+    if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
+    if (!next_replay.empty()) {
+      if (open_replay(next_replay, error)) {
         load_scene();
-        session_->start();
+        replay_->play();
+      } else {
+        ui_->add_line("cannot replay " + next_replay + ": " + error);
+        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_, error)) return session::kExitBadInput;
+      }
+    } else if (replay_act.back_to_live || (live_ && (act.restart || act.pick_case >= 0))) {
+      const int pick_index = act.pick_case >= 0 ? act.pick_case : current_case_;
+      const std::string fallback = case_path_.empty() ? choice.path : case_path_;
+      const std::string path = pick_index >= 0 ? catalog_.entries()[static_cast<std::size_t>(pick_index)].path : fallback;
+      if (open_live(path, error)) {
+        current_case_ = pick_index;
       } else {
         ui_->add_line("cannot open " + path + ": " + error);
-        if (!open_session(case_path, scripted, error)) return 2;
-        load_scene();
-        session_->start();
+        if (!open_live(fallback, error)) return session::kExitBadInput;
       }
+      load_scene();
+      if (!virtual_time) live_->start();
     }
   }
-  const std::int64_t end_us = clock.now_us();
-  const std::int64_t end_ticks = session_->haptic_ticks();
-  const std::int64_t end_process_cpu_us = cpu_time_us(CLOCK_PROCESS_CPUTIME_ID);
-  const std::int64_t end_render_cpu_us = cpu_time_us(CLOCK_THREAD_CPUTIME_ID);
-  const std::int64_t end_haptic_cpu_us = session_->haptic_cpu_time_us();
-  session_->stop();
+  const BenchPoint bench_end = BenchPoint::now(clock.now_us(), current().ticks(), current().haptic_cpu_time_us());
+  current().stop();
   if (timed) {
-    const double seconds = static_cast<double>(end_us - bench_start_us) * 1e-6;
-    std::printf("bench: %dx%d, %s: %zu triangles (global view %zu), renderer %s\n", options_.width,
-                options_.height, session_->case_name().c_str(), renderer_->detail_triangles(),
-                renderer_->overview_triangles(), reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
-    std::printf("frames: %zu in %.2f s (%s): %.1f fps, frame interval median %.2f ms, p99 %.2f ms\n",
-                stats.count(), seconds,
-                frame_period_us > 0 ? ("paced at " + std::to_string(options_.fps_cap) + " Hz").c_str() : "uncapped",
-                stats.mean_fps(), stats.percentile_us(50) * 1e-3, stats.percentile_us(99) * 1e-3);
-    std::printf("frame time (render work, poll to swap): median %.2f ms, p99 %.2f ms -> %.0f fps possible\n",
-                work.percentile_us(50) * 1e-3, work.percentile_us(99) * 1e-3,
-                work.percentile_us(50) > 0 ? 1e6 / work.percentile_us(50) : 0.0);
-    // CPU time per frame is what the machine's load does not change: the render thread's own,
-    // and the whole process's less the haptic thread's (so including Mesa's rasteriser threads).
-    const double frames = static_cast<double>(std::max<std::size_t>(1, stats.count()));
-    const double haptic_cpu_ms = static_cast<double>(end_haptic_cpu_us - bench_start_haptic_cpu_us) * 1e-3;
-    std::printf("CPU per frame: render thread %.2f ms, all rendering threads %.2f ms; haptic thread %.1f %% of a core\n",
-                static_cast<double>(end_render_cpu_us - bench_start_render_cpu_us) * 1e-3 / frames,
-                (static_cast<double>(end_process_cpu_us - bench_start_process_cpu_us) * 1e-3 - haptic_cpu_ms) / frames,
-                100.0 * haptic_cpu_ms / (seconds * 1e3));
-    std::printf("triangles submitted per frame: global view %zu, local view %zu\n",
-                renderer_->last_global_triangles(), renderer_->last_local_triangles());
-    std::printf("haptic: %.1f Hz over the same window (%lld ticks, %lld dropped in the run), thread %s\n",
-                static_cast<double>(end_ticks - bench_start_ticks) / seconds,
-                static_cast<long long>(end_ticks - bench_start_ticks),
-                static_cast<long long>(session_->snapshots().read_slot().dropped_ticks),
-                session_->haptic_scheduling().c_str());
-  } else if (!options_.headless) {
-    std::printf("end of run\n%s", RunMetrics::format(session_->summary()).c_str());
+    BenchContext c;
+    c.width = options_.width;
+    c.height = options_.height;
+    c.case_name = current().scene().name;
+    c.detail_triangles = renderer_->detail_triangles();
+    c.overview_triangles = renderer_->overview_triangles();
+    c.renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+    c.fps_cap = frame_period_us > 0 ? options_.fps_cap : 0;
+    c.global_triangles = renderer_->last_global_triangles();
+    c.local_triangles = renderer_->last_local_triangles();
+    c.dropped_ticks = current().dropped_ticks();
+    c.scheduling = current().haptic_scheduling();
+    print_bench(c, stats, work, bench_start, bench_end);
+  } else if (!options_.headless && live_) {
+    std::printf("end of run\n%s", session::MetricsCollector::format(live_->metrics()).c_str());
   }
-  return 0;
+  return session::kExitOk;
 }
 
 }  // namespace cathbox::app

@@ -49,6 +49,10 @@ const char* trainer_usage() {
          "                       (default 60, as a display would; 0: as fast as possible)\n"
          "  --seconds S          stop after S seconds (headless: simulated seconds)\n"
          "  --wireframe          start with the vessel in wireframe\n"
+         "  --replay FILE        open a record (*.cbxrec) in Replay mode: play, pause, seek, speed\n"
+         "  --records DIR        record every run into DIR (default:\n"
+         "                       $XDG_DATA_HOME/cathbox/records, else ~/.local/share/cathbox/records)\n"
+         "  --no-record          do not record runs\n"
          "  --help               this text\n";
 }
 
@@ -111,6 +115,14 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
         return fail("--seconds needs simulated seconds (0 < s <= 86400)");
     } else if (a == "--wireframe") {
       o.wireframe = true;
+    } else if (a == "--replay") {
+      if (!value(v) || v.empty()) return fail("--replay needs a record file");
+      o.replay = v;
+    } else if (a == "--records") {
+      if (!value(v) || v.empty()) return fail("--records needs a folder");
+      o.records_dir = v;
+    } else if (a == "--no-record") {
+      o.record = false;
     } else {
       return fail("unknown option '" + printable(a) + "' (see --help)");
     }
@@ -118,6 +130,9 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
   if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");
   if (o.frames > 0 && !o.headless) return fail("--frames needs --headless");
   if (o.bench_seconds > 0.0 && o.frames > 0) return fail("--bench and --frames exclude each other");
+  if (!o.replay.empty() && (o.bench_seconds > 0.0 || !o.case_path.empty())) {
+    return fail("--replay excludes --bench and --case (the record holds its case)");
+  }
   r.options = o;
   return r;
 }

@@ -6,6 +6,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
+#include "app/end_of_run_panel.hpp"
 #include "app/gl.hpp"
 
 namespace cathbox::app {
@@ -53,8 +54,8 @@ void TrainerUi::add_line(std::string line) {
   scroll_to_bottom_ = true;
 }
 
-void TrainerUi::drain(EventLog& log) {
-  LogEvent e;
+void TrainerUi::drain(session::EventLog& log) {
+  session::LogEvent e;
   char buf[160];
   while (log.pop(e)) {
     std::snprintf(buf, sizeof buf, "%8.3f s  %s", static_cast<double>(e.time_us) * 1e-6, e.text.data());
@@ -66,7 +67,7 @@ bool TrainerUi::wants_mouse() const { return ready_ && ImGui::GetIO().WantCaptur
 bool TrainerUi::wants_keyboard() const { return ready_ && ImGui::GetIO().WantCaptureKeyboard; }
 float TrainerUi::mouse_wheel() const { return ready_ ? ImGui::GetIO().MouseWheel : 0.0F; }
 
-UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, const UiStatus& status,
+UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapshot& s, const UiStatus& status,
                           const CaseCatalog& catalog, int current_case, RenderSettings& settings) {
   UiActions act;
   constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
@@ -86,30 +87,32 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, co
     ImGui::Separator();
     ImGui::Text("haptic    %8.0f Hz (%lld dropped)", s.haptic_rate_hz, static_cast<long long>(s.dropped_ticks));
     ImGui::Text("display   %8.1f fps", status.fps);
-    ImGui::Text("box       %s", status.device.c_str());
+    ImGui::Text("%s %s", status.replay ? "replay   " : "hand     ", status.device.c_str());
     ImGui::Text("time      %8.1f s", static_cast<double>(s.sim_time_us) * 1e-6);
     ImGui::Separator();
     ImGui::Checkbox("wireframe", &settings.wireframe);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(110.0F);
     ImGui::SliderFloat("opacity", &settings.vessel_alpha, 0.05F, 1.0F, "%.2f");
-    if (!catalog.entries().empty()) {
-      const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
-      ImGui::SetNextItemWidth(220.0F);
-      if (ImGui::BeginCombo("case", current)) {
-        for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
-          const bool selected = static_cast<int>(i) == current_case;
-          if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
+    if (!status.replay) {
+      if (!catalog.entries().empty()) {
+        const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
+        ImGui::SetNextItemWidth(220.0F);
+        if (ImGui::BeginCombo("case", current)) {
+          for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
+            const bool selected = static_cast<int>(i) == current_case;
+            if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
+          }
+          ImGui::EndCombo();
         }
-        ImGui::EndCombo();
       }
+      if (ImGui::Button("restart")) act.restart = true;
+      ImGui::SameLine();
+      if (ImGui::Button("end run")) act.end_run = true;
+      ImGui::SameLine();
+      if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
+      ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
     }
-    if (ImGui::Button("restart")) act.restart = true;
-    ImGui::SameLine();
-    if (ImGui::Button("end run")) act.end_run = true;
-    ImGui::SameLine();
-    if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
-    ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
     ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");
     const ImVec2 p = ImGui::GetWindowPos();
@@ -130,27 +133,9 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const SceneSnapshot& s, co
 
   // End of run, centred on the global view.
   if (s.run_over) {
-    const RunSummary& r = s.summary;
-    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(layout.global.x + layout.global.width / 2),
-                                   static_cast<float>(layout.global.y + layout.global.height / 2)),
-                            ImGuiCond_Always, ImVec2(0.5F, 0.5F));
-    if (ImGui::Begin("End of run", nullptr, kFixed | ImGuiWindowFlags_AlwaysAutoResize)) {
-      if (r.closest_to_target_mm < 0.0) {
-        ImGui::Text("No target in this case");
-      } else if (r.reached_target) {
-        ImGui::Text("Target reached at %.2f s", static_cast<double>(r.reached_at_us) * 1e-6);
-      } else {
-        ImGui::Text("Target not reached (closest %.1f mm)", r.closest_to_target_mm);
-      }
-      ImGui::Separator();
-      ImGui::Text("time             %8.2f s", static_cast<double>(r.elapsed_us) * 1e-6);
-      ImGui::Text("path length      %8.1f mm", r.path_length_mm);
-      ImGui::Text("wall contacts    %8d", r.wall_contacts);
-      ImGui::Text("peak wall force  %8.1f mN", r.peak_wall_force_mN);
-      ImGui::Text("peak hand force  %8.1f mN", r.peak_hand_force_mN);
-      if (ImGui::Button("again")) act.restart = true;
-    }
-    ImGui::End();
+    const EndOfRunActions end = draw_end_of_run(layout.global, s.metrics, status.record, status.replay);
+    act.restart = act.restart || end.again;
+    act.replay_this_run = end.replay;
   }
   return act;
 }

@@ -78,10 +78,16 @@ SocketTransport::Rx SocketTransport::receive() {
       continue;
     }
     switch (frame.kind) {
-      case CBX_EMU_HELLO:
-        vid_ = static_cast<uint16_t>(frame.data[0] | (frame.data[1] << 8));
-        pid_ = static_cast<uint16_t>(frame.data[2] | (frame.data[3] << 8));
+      case CBX_EMU_HELLO: {
+        cbx_emu_hello hello;
+        if (cbx_emu_hello_decode(&frame, &hello) != CBX_OK) {
+          ++malformed_;
+          continue;
+        }
+        vid_ = hello.vid;
+        pid_ = hello.pid;
         return Rx::kHello;
+      }
       case CBX_EMU_IN:
         std::copy_n(frame.data, kReportSize, last_in_.begin());
         return Rx::kIn;

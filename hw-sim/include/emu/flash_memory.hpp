@@ -3,9 +3,12 @@
 // 1 x 64 KiB and 3 x 128 KiB at 0x08000000. Erased bytes read 0xFF; programming needs erased
 // bytes (a write over programmed bytes fails, as the flash controller's sequence check does).
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "protocol/cbx_image_info.h"
 
 namespace cathbox::emu {
 
@@ -36,6 +39,9 @@ class FlashMemory {
   // True when the vector table looks bootable: stack pointer in SRAM, reset vector a Thumb
   // address in flash.
   [[nodiscard]] bool application_valid() const;
+  // The image info block of the application (protocol/cbx_image_info.h, at
+  // CBX_IMAGE_INFO_OFFSET), when there is a valid one.
+  [[nodiscard]] std::optional<cbx_image_info> image_info() const;
   // Writes bytes directly (factory programming, tests).
   void load(uint32_t address, std::span<const uint8_t> data);
 

@@ -15,6 +15,8 @@ extern "C" {
 #define CBX_EMU_SETUP_SIZE 8u          /* USB SETUP packet */
 #define CBX_EMU_CONTROL_DATA_MAX 4096u /* largest data stage carried */
 #define CBX_EMU_FRAME_MAX (CBX_EMU_FRAME_HEADER + CBX_EMU_SETUP_SIZE + CBX_EMU_CONTROL_DATA_MAX)
+#define CBX_EMU_HELLO_SIZE 4u          /* HELLO payload: u16 vid, u16 pid (little-endian) */
+#define CBX_EMU_HELLO_FRAME (CBX_EMU_FRAME_HEADER + CBX_EMU_HELLO_SIZE)
 
 typedef enum {
   CBX_EMU_HELLO = 0x01,        /* emu -> host on connect: u16 vid, u16 pid of what is attached */
@@ -59,6 +61,19 @@ int cbx_emu_frame_encode(const cbx_emu_frame* frame, uint8_t* out, size_t capaci
 /* Parses one datagram. CBX_ERR_LENGTH: shorter than the header or the payload has the wrong
  * size for its kind; CBX_ERR_RANGE: unknown kind or status. frame is written only on success. */
 cbx_status cbx_emu_frame_decode(const uint8_t* in, size_t length, cbx_emu_frame* frame);
+
+/* The HELLO the emulator sends first on every connection: which USB device is attached. */
+typedef struct {
+  uint16_t vid;
+  uint16_t pid;
+} cbx_emu_hello;
+
+/* Writes the whole HELLO datagram (header + payload) into out; returns its length
+ * (CBX_EMU_HELLO_FRAME) or CBX_ERR_LENGTH when out is too small. */
+int cbx_emu_hello_encode(const cbx_emu_hello* hello, uint8_t* out, size_t capacity);
+/* Reads the HELLO body of a decoded frame. CBX_ERR_RANGE: the frame is not a HELLO;
+ * CBX_ERR_LENGTH: its payload is not CBX_EMU_HELLO_SIZE bytes. hello is written only on success. */
+cbx_status cbx_emu_hello_decode(const cbx_emu_frame* frame, cbx_emu_hello* hello);
 
 #ifdef __cplusplus
 }

@@ -9,6 +9,7 @@ extern "C" {
 #endif
 
 #define CBX_TEXT_FIELD 16u          /* serial and board: ASCII 0x20..0x7E, NUL-padded */
+#define CBX_BUILD_FIELD 8u          /* build identifier: ASCII 0x20..0x7E, NUL-padded */
 #define CBX_CURVE_POINTS 4u
 #define CBX_PERMILLE_MAX 1000u
 #define CBX_BOOTLOADER_MAGIC 0xB00710ADu
@@ -26,6 +27,8 @@ typedef struct {
   uint8_t rotation_actuator;
   uint32_t insertion_encoder_cpr;  /* encoder counts per encoder revolution (x4 decoding) */
   uint32_t rotation_encoder_cpr;
+  char build[CBX_BUILD_FIELD + 1]; /* build identifier of the running image (protocol minor 1),
+                                      e.g. the short commit; NUL-terminated after decode */
 } cbx_device_info;
 
 /* One point of an output curve: requested |output| -> actuator drive, both in per mille of

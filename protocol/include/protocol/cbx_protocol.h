@@ -12,7 +12,7 @@ extern "C" {
 #endif
 
 #define CBX_PROTOCOL_VERSION 1u       /* major: byte 1 of every report; a mismatch is incompatible */
-#define CBX_PROTOCOL_MINOR 0u         /* minor: in the device info report; additions only */
+#define CBX_PROTOCOL_MINOR 1u         /* minor: in the device info report; additions only */
 #define CBX_REPORT_SIZE 64u           /* report ID + 63-byte payload */
 #define CBX_HEADER_SIZE 8u            /* id, version, seq (2), time_us (4) */
 #define CBX_CRC_OFFSET 62u            /* CRC-16/CCITT-FALSE over bytes 0..61, little-endian */

@@ -29,6 +29,15 @@ enum {
   CBX_FAULT_ALL = 0x3Fu
 };
 
+/* Board faults (protocol minor 1): conditions of the board found by the firmware, reported as
+ * long as they last, never latched, and not blocking the output. In their own byte, so that
+ * protocol 1.0 hosts (which range-check `faults`) still decode the report. */
+enum {
+  CBX_BOARD_FAULT_HSE = 1u << 0, /* the crystal (HSE) did not start: running on the internal
+                                    oscillator, USB timing out of spec */
+  CBX_BOARD_FAULT_ALL = 0x01u
+};
+
 /* Actuation mode, shared by the command and state reports. */
 typedef enum {
   CBX_MODE_OFF = 0,   /* outputs disabled */
@@ -52,6 +61,9 @@ typedef struct {
   uint16_t encoder_errors;      /* illegal transitions, both axes, saturating at 65535 */
   uint16_t rx_errors;           /* rejected OUT/feature reports, saturating at 65535 */
   uint8_t mode;                 /* cbx_mode in force */
+  uint8_t board_faults;         /* CBX_BOARD_FAULT_* (protocol minor 1) */
+  uint16_t in_dropped;          /* IN reports the box could not send (endpoint FIFO full),
+                                   saturating at 65535 (protocol minor 1) */
 } cbx_state_report;
 
 cbx_status cbx_state_encode(const cbx_state_report* state, uint8_t out[CBX_REPORT_SIZE]);

@@ -45,11 +45,44 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
       if (w.size() != 2) return fail("end: takes no arguments");
       a.kind = ActionKind::kEnd;
       ended = true;
+    } else if (verb == "fluoro" || verb == "roadmap") {
+      a.kind = verb == "fluoro" ? ActionKind::kFluoro : ActionKind::kRoadmap;
+      const bool roadmap = a.kind == ActionKind::kRoadmap;
+      if (roadmap && w.size() == 2) {
+        a.value = 1.0;
+      } else if (w.size() == 3 && (w[2] == "on" || w[2] == "off")) {
+        a.value = w[2] == "on" ? 1.0 : 0.0;
+      } else {
+        return fail(std::string(verb) + (roadmap ? ": expected nothing, 'on' or 'off'" : ": expected 'on' or 'off'"));
+      }
+    } else if (verb == "inject") {
+      a.kind = ActionKind::kInject;
+      if (w.size() != 3 && w.size() != 5) return fail("inject: expected VOLUME_ML [at RATE_ML_PER_S]");
+      const std::optional<double> v = parse_number(w[2]);
+      if (!v || *v <= 0.0 || *v > 100.0) return fail("inject: volume must be in (0, 100] mL");
+      a.value = *v;
+      a.speed = kDefaultInjectRate_ml_s;
+      if (w.size() == 5) {
+        if (w[3] != "at") return fail("inject: expected 'at RATE', got '" + std::string(w[3]) + "'");
+        const std::optional<double> r = parse_number(w[4]);
+        if (!r || *r <= 0.0 || *r > 30.0) return fail("inject: rate must be in (0, 30] mL/s");
+        a.speed = *r;
+      }
+    } else if (verb == "carm") {
+      a.kind = ActionKind::kCArm;
+      if (w.size() != 4) return fail("carm: expected LAO_DEG CRANIAL_DEG (negative for RAO / caudal)");
+      const std::optional<double> l = parse_number(w[2]);
+      const std::optional<double> c = parse_number(w[3]);
+      if (!l || std::abs(*l) > 120.0) return fail("carm: LAO/RAO angle must be within +-120 degrees");
+      if (!c || std::abs(*c) > 60.0) return fail("carm: cranial/caudal angle must be within +-60 degrees");
+      a.value = *l;
+      a.value2 = *c;
     } else {
       const bool insert = verb == "insert_to" || verb == "insert_by";
       const bool rotate = verb == "rotate_to" || verb == "rotate_by";
       if (!insert && !rotate) {
-        return fail("unknown verb '" + std::string(verb) + "' (known: select insert_to insert_by rotate_to rotate_by end)");
+        return fail("unknown verb '" + std::string(verb) +
+                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap)");
       }
       a.kind = verb == "insert_to" ? ActionKind::kInsertTo
                : verb == "insert_by" ? ActionKind::kInsertBy

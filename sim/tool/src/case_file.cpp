@@ -12,11 +12,13 @@ namespace cathbox::tool {
 namespace {
 
 constexpr std::size_t kMaxCaseBytes = 16u << 20;
-constexpr std::size_t kMaxTools = 4;
+constexpr std::size_t kMaxTools = ToolLimits::kMaxTools;
 constexpr std::size_t kMaxTubes = 200000;
-constexpr std::size_t kMaxSections = 64;
-constexpr double kMaxToolLength_mm = 4000.0;
-constexpr double kMaxNodes = 6000.0;
+constexpr std::size_t kMaxSections = ToolLimits::kMaxSections;
+constexpr double kMaxToolLength_mm = ToolLimits::kMaxLength_mm;
+constexpr double kMaxNodes = ToolLimits::kMaxNodes;
+constexpr std::size_t kMaxFlowSettings = 100000;
+constexpr std::size_t kMaxViews = 16;
 
 class CaseParser {
  public:
@@ -26,7 +28,8 @@ class CaseParser {
     CaseParse out;
     Case c;
     std::vector<std::string_view> w;
-    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false;
+    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false,
+         seen_threshold = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
     std::vector<std::size_t> tool_lines;
@@ -76,6 +79,11 @@ class CaseParser {
         if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return fail_here("target: segment id must be an integer >= 0");
         if (v[1] < 0.0 || v[1] > 1.0) return fail_here("target: fraction must be in [0, 1]");
         c.target = CaseTarget{static_cast<std::int32_t>(v[0]), v[1]};
+      } else if (key == "wall_force_threshold") {
+        double v[1];
+        if (!expect_args(w, 1) || !once(seen_threshold, key) || !numbers(w, 1, v, 1)) return fail();
+        if (!(v[0] > 0.0) || v[0] > 1e6) return fail_here("wall_force_threshold: mN must be in (0, 1e6]");
+        c.wall_force_threshold_mN = v[0];
       } else if (key == "tool") {
         if (!expect_args(w, 2)) return fail();
         if (c.tools.size() >= kMaxTools) return fail_here("too many tools (at most 4)");
@@ -96,6 +104,21 @@ class CaseParser {
         tool = &c.tools.back();
         tool_line = lines_.line();
         tool_lines.push_back(tool_line);
+      } else if (key == "view") {
+        double v[2];
+        if (!expect_args(w, 3) || !numbers(w, 2, v, 2)) return fail();
+        if (c.views.size() >= kMaxViews) return fail_here("too many views (at most 16)");
+        for (const flow::NamedProjection& other : c.views) {
+          if (other.name == w[1]) return fail_here("view '" + std::string(w[1]) + "' defined twice");
+        }
+        if (std::abs(v[0]) > 120.0) return fail_here("view: LAO/RAO angle must be within +-120 degrees");
+        if (std::abs(v[1]) > 60.0) return fail_here("view: cranial/caudal angle must be within +-60 degrees");
+        c.views.push_back(flow::NamedProjection{std::string(w[1]), v[0], v[1]});
+      } else if (key == "realistic") {
+        if (!expect_args(w, 0) || !once(seen_realistic, key)) return fail();
+        c.realistic = true;
+      } else if (key == "flow") {
+        if (!flow_statement(c.flow, w)) return fail();
       } else if (key == "end") {
         return fail_here("'end' without a tool");
       } else {
@@ -122,6 +145,7 @@ class CaseParser {
       }
     }
     if (c.tools.empty()) c.tools.push_back(default_guidewire());
+    c.flow.source = std::string(file_);
     out.value = std::move(c);
     return out;
   }
@@ -204,6 +228,93 @@ class CaseParser {
     return true;
   }
 
+  // `flow KEY VALUES...`: the blood-flow model's settings (sim/flow/README.md). Segment ids are
+  // checked against the vessel model when the flow network is built, naming this line.
+  bool flow_statement(flow::FlowSettings& f, const std::vector<std::string_view>& w) {
+    if (w.size() < 2) return error_here("flow: missing setting (viscosity cardiac_output cerebral_fraction pressure "
+                                        "wall_shear_stress dispersion pulsatile terminals inflow outlet closed)");
+    const std::string_view key = w[1];
+    const std::string what = "flow " + std::string(key);
+    const auto args = [&](std::size_t lo, std::size_t hi) {
+      const std::size_t n = w.size() - 2;
+      if (n >= lo && n <= hi) return true;
+      return error_here(what + ": expected " + std::to_string(lo) + (hi > lo ? " or " + std::to_string(hi) : "") +
+                        " value" + (hi == 1 ? "" : "s") + ", got " + std::to_string(n));
+    };
+    const auto value_in = [&](std::size_t i, double lo, double hi, bool lo_open, const char* range, double& out) {
+      if (!number(w[i], what, out)) return false;
+      if ((lo_open ? out <= lo : out < lo) || out > hi) return error_here(what + ": " + std::string(w[i]) + " is not in " + range);
+      return true;
+    };
+    const auto scalar = [&](double& field, double lo, double hi, bool lo_open, const char* range) {
+      if (!args(1, 1) || !once_flow(key)) return false;
+      return value_in(2, lo, hi, lo_open, range, field);
+    };
+    const auto segment_setting = [&](std::vector<flow::SegmentSetting>& list, double value) {
+      double id = 0.0;
+      if (!number(w[2], what, id)) return false;
+      if (id != std::floor(id) || id < -2147483648.0 || id > 2147483647.0) return error_here(what + ": segment id must be a 32-bit integer");
+      const auto seg = static_cast<std::int32_t>(id);
+      for (const auto* other : {&f.inflows, &f.outlets, &f.closed}) {
+        for (const flow::SegmentSetting& o : *other) {
+          const bool same_list = other == &list;
+          const bool clash = same_list || (other != &f.inflows && &list != &f.inflows);
+          if (o.segment_id == seg && clash) {
+            return error_here(what + ": segment " + std::to_string(seg) + " already given on line " + std::to_string(o.line));
+          }
+        }
+      }
+      if (f.inflows.size() + f.outlets.size() + f.closed.size() >= kMaxFlowSettings) return error_here("too many flow settings");
+      list.push_back(flow::SegmentSetting{seg, value, lines_.line()});
+      return true;
+    };
+    if (key == "viscosity") return scalar(f.viscosity_mPa_s, 0.5, 20.0, false, "[0.5, 20] mPa.s");
+    if (key == "cardiac_output") return scalar(f.cardiac_output_ml_min, 500.0, 40000.0, false, "[500, 40000] mL/min");
+    if (key == "cerebral_fraction") return scalar(f.cerebral_fraction, 0.0, 0.5, true, "(0, 0.5]");
+    if (key == "wall_shear_stress") return scalar(f.wall_shear_stress_Pa, 0.0, 20.0, true, "(0, 20] Pa");
+    if (key == "dispersion") return scalar(f.dispersion_radii, 0.0, 20.0, false, "[0, 20] radii");
+    if (key == "pressure") {
+      if (!args(2, 2) || !once_flow(key) || !value_in(2, 20.0, 250.0, false, "[20, 250] mmHg", f.arterial_pressure_mmHg) ||
+          !value_in(3, 0.0, 50.0, false, "[0, 50] mmHg", f.venous_pressure_mmHg)) {
+        return false;
+      }
+      if (f.venous_pressure_mmHg >= f.arterial_pressure_mmHg) return error_here(what + ": venous must be below arterial pressure");
+      return true;
+    }
+    if (key == "pulsatile") {
+      return args(2, 2) && once_flow(key) && value_in(2, 0.0, 300.0, true, "(0, 300] bpm", f.heart_rate_bpm) &&
+             value_in(3, 0.0, 2.0, false, "[0, 2]", f.pulsatility_index);
+    }
+    if (key == "terminals") {
+      if (!args(1, 1) || !once_flow(key)) return false;
+      if (w[2] != "calibrated" && w[2] != "fixed") return error_here(what + ": expected 'calibrated' or 'fixed', not '" + std::string(w[2]) + "'");
+      f.calibrate_terminals = w[2] == "calibrated";
+      return true;
+    }
+    double v = 0.0;
+    if (key == "inflow" || key == "outlet") {
+      if (!args(2, 2) || !value_in(3, 0.0, 40000.0, key == "outlet", key == "outlet" ? "(0, 40000] mL/min" : "[0, 40000] mL/min", v)) {
+        return false;
+      }
+      return segment_setting(key == "inflow" ? f.inflows : f.outlets, v);
+    }
+    if (key == "closed") {
+      v = f.sac_exchange_fraction;
+      if (!args(1, 2) || (w.size() == 4 && !value_in(3, 0.0, 1.0, false, "[0, 1]", v))) return false;
+      return segment_setting(f.closed, v);
+    }
+    return error_here("flow: unknown setting '" + std::string(key) +
+                      "' (known: viscosity cardiac_output cerebral_fraction pressure wall_shear_stress dispersion "
+                      "pulsatile terminals inflow outlet closed)");
+  }
+  bool once_flow(std::string_view key) {
+    for (const std::string& k : flow_keys_) {
+      if (k == key) return error_here("flow " + std::string(key) + " given twice");
+    }
+    flow_keys_.emplace_back(key);
+    return true;
+  }
+
   bool check_tool(const ToolSpec& t, std::size_t line) {
     const double len = t.length_mm();
     if (len > kMaxToolLength_mm) return error_at(line, "tool '" + t.name + "' is longer than 4000 mm");
@@ -257,6 +368,7 @@ class CaseParser {
   TextLines lines_;
   std::string_view file_;
   std::string error_;
+  std::vector<std::string> flow_keys_;
 };
 
 }  // namespace

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include <glm/geometric.hpp>
 
@@ -9,6 +11,7 @@
 #if defined(CATHBOX_TOOL_HAS_VESSEL)
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
+#include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
 #endif
 
@@ -36,6 +39,15 @@ glm::dvec3 along(const vessel::Segment& s, double fraction) {
 #endif
 
 WorldBuild build_world(const Case& c) {
+  if (!c.tubes.empty()) return build_world(c, {});
+  std::ifstream in(c.vessel_path, std::ios::binary);
+  if (!in) return WorldBuild{nullptr, c.vessel_path + ":0: cannot open file"};
+  std::ostringstream text;
+  text << in.rdbuf();
+  return build_world(c, text.str());
+}
+
+WorldBuild build_world(const Case& c, std::string_view vessel_text) {
   WorldBuild out;
   if (!c.tubes.empty()) {
     auto wall = std::make_unique<TubeNetworkWall>(c.tubes);
@@ -43,9 +55,14 @@ WorldBuild build_world(const Case& c) {
     return out;
   }
 #if defined(CATHBOX_TOOL_HAS_VESSEL)
-  vessel::VesselSurface surface = vessel::load_vessel_surface(c.vessel_path);
+  const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
+  if (!read.ok()) {
+    out.error = read.errors.front().to_string();
+    return out;
+  }
+  vessel::VesselSurface surface = vessel::build_vessel_surface(read.model);
   if (!surface.ok()) {
-    out.error = surface.error;
+    out.error = c.vessel_path + ": " + surface.error;
     return out;
   }
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
@@ -85,9 +102,11 @@ WorldBuild build_world(const Case& c) {
       if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));
     }
   }
+  world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
   out.world = std::move(world);
   return out;
 #else
+  (void)vessel_text;
   out.error = c.vessel_path + ":0: vessel files need the vessel and collision modules, which this build lacks";
   return out;
 #endif

@@ -1,6 +1,27 @@
 #include "vessel/centerline_smoother.hpp"
 
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
 namespace cathbox::vessel {
+namespace {
+
+// v_l += factor * L(v)_l for the inner points, all from the values before the step. The radius
+// step is weighted by radius_weight() of the point.
+void umbrella_step(std::vector<CenterlinePoint>& points, const std::vector<double>& radius_weight, double factor) {
+  CenterlinePoint previous = points.front();  // v_{l-1} before this step
+  for (std::size_t l = 1; l + 1 < points.size(); ++l) {
+    const CenterlinePoint current = points[l];
+    const CenterlinePoint& next = points[l + 1];
+    points[l].pos_mm += factor * (0.5 * (previous.pos_mm + next.pos_mm) - current.pos_mm);
+    points[l].radius_mm +=
+        factor * radius_weight[l] * (0.5 * (previous.radius_mm + next.radius_mm) - current.radius_mm);
+    previous = current;
+  }
+}
+
+}  // namespace
 
 void smooth_polyline(std::vector<CenterlinePoint>& points) {
   if (points.size() < 3) return;
@@ -14,7 +35,23 @@ void smooth_polyline(std::vector<CenterlinePoint>& points) {
   }
 }
 
-VesselModel smooth_centerlines(const VesselModel& model, const VesselGraph& graph, int passes, bool snap_junctions) {
+void taubin_polyline(std::vector<CenterlinePoint>& points) {
+  if (points.size() < 3) return;
+  // Radius: full weight where points are at most kRadiusSmoothingSpacing radii apart, falling
+  // off with the square of the spacing beyond.
+  std::vector<double> weight(points.size(), 0.0);
+  for (std::size_t l = 1; l + 1 < points.size(); ++l) {
+    const double h = 0.5 * (glm::length(points[l + 1].pos_mm - points[l].pos_mm) +
+                            glm::length(points[l].pos_mm - points[l - 1].pos_mm));
+    const double q = h > 0.0 ? kRadiusSmoothingSpacing * points[l].radius_mm / h : 1.0;
+    weight[l] = std::min(1.0, q * q);
+  }
+  umbrella_step(points, weight, kTaubinLambda);
+  umbrella_step(points, weight, kTaubinMu);
+}
+
+VesselModel smooth_centerlines(const VesselModel& model, const VesselGraph& graph, int passes, bool snap_junctions,
+                               SmoothingMethod method) {
   VesselModel out = model;
   for (std::size_t j = 0; snap_junctions && j < graph.junctions().size(); ++j) {
     const Junction& junction = graph.junctions()[j];
@@ -25,7 +62,10 @@ VesselModel smooth_centerlines(const VesselModel& model, const VesselGraph& grap
     }
   }
   for (Segment& s : out.segments) {
-    for (int pass = 0; pass < passes; ++pass) smooth_polyline(s.points);
+    for (int pass = 0; pass < passes; ++pass) {
+      if (method == SmoothingMethod::kTaubin) taubin_polyline(s.points);
+      else smooth_polyline(s.points);
+    }
   }
   return out;
 }

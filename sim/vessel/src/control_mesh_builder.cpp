@@ -6,11 +6,18 @@
 
 #include <glm/geometric.hpp>
 
+#include "centerline_polyline.hpp"
 #include "junction_patch.hpp"
 #include "vessel/rotation_minimizing_frame.hpp"
 
 namespace cathbox::vessel {
 namespace {
+
+using detail::Polyline;
+using detail::Sample;
+using detail::make_polyline;
+using detail::sample;
+using detail::sample_radius;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInitialTrimRadii = 1.0;   // first guess of a junction ring's distance, in radii
@@ -18,78 +25,35 @@ constexpr double kTrimStepRadii = 0.2;      // step when rings still overlap
 constexpr double kPlaneMarginRadii = 0.15;  // how far behind another ring's plane a ring must be
 constexpr double kCapOffsetRadii = 0.5;     // cap ring distance beyond the free end
 constexpr double kCapRingScale = 0.6;       // cap ring radius / end ring radius
-constexpr int kAxialIterations = 4;         // Jacobi steps of the along-the-segment correction
+constexpr double kEndGapSpacing = 0.35;     // HCLM points closer to a trimmed end (in spacings) get no ring
+constexpr double kRadiusStep = 0.1;         // largest radius change between adaptive rings, of the radius
+constexpr int kMaxRingsPerSpan = 16;        // adaptive rings between two HCLM points, at most
+constexpr double kMinControlRadius = 0.25;  // solved control radius, at least this of the target
 
-// The smoothed centerline of one segment with arc length and bisected vertex tangents.
-struct Polyline {
-  std::vector<glm::dvec3> pos;
-  std::vector<double> radius;
-  std::vector<double> arc;
-  std::vector<glm::dvec3> tangent;  // thesis: end points use the end edge, inner points bisect
-  std::vector<glm::dvec3> edge_dir;
-  double length = 0.0;
-};
-
-struct Sample {
-  glm::dvec3 pos{0.0};
-  glm::dvec3 tangent{0.0, 0.0, 1.0};
-  double radius = 0.0;
-};
-
-[[nodiscard]] Polyline make_polyline(const Segment& s) {
-  Polyline pl;
-  const std::size_t n = s.points.size();
-  for (const CenterlinePoint& p : s.points) {
-    pl.pos.push_back(p.pos_mm);
-    pl.radius.push_back(p.radius_mm);
+// c with c[0] = t[0], c[n-1] = t[n-1] and (c[j-1] + 4 c[j] + c[j+1]) / 6 = t[j] inside
+// (Thomas algorithm; the system is diagonally dominant, so no pivoting is needed).
+template <class T>
+void solve_bspline_average(const std::vector<T>& t, std::vector<T>& c) {
+  const std::size_t n = t.size();
+  c = t;
+  if (n < 3) return;
+  std::vector<double> upper(n, 0.0);  // modified super-diagonal
+  // Rows j = 1..n-2: (1/6) c[j-1] + (4/6) c[j] + (1/6) c[j+1] = t[j].
+  T rhs_prev{};
+  double upper_prev = 0.0;
+  for (std::size_t j = 1; j + 1 < n; ++j) {
+    T rhs = 6.0 * t[j];
+    if (j == 1) rhs -= t[0];
+    if (j + 2 == n) rhs -= t[n - 1];
+    const double lower = j == 1 ? 0.0 : 1.0;
+    const double denom = 4.0 - lower * upper_prev;
+    upper[j] = (j + 2 == n) ? 0.0 : 1.0 / denom;
+    rhs = (rhs - lower * rhs_prev) / denom;
+    c[j] = rhs;
+    rhs_prev = rhs;
+    upper_prev = upper[j];
   }
-  pl.arc.assign(n, 0.0);
-  pl.edge_dir.assign(n > 1 ? n - 1 : 0, glm::dvec3(0.0));
-  for (std::size_t j = 0; j + 1 < n; ++j) {
-    const glm::dvec3 d = pl.pos[j + 1] - pl.pos[j];
-    const double len = glm::length(d);
-    pl.arc[j + 1] = pl.arc[j] + len;
-    if (len > 1e-12) pl.edge_dir[j] = d / len;
-  }
-  pl.length = n > 0 ? pl.arc.back() : 0.0;
-  // Zero-length edges borrow a neighbour's direction.
-  for (std::size_t j = 1; j < pl.edge_dir.size(); ++j) {
-    if (glm::length(pl.edge_dir[j]) == 0.0) pl.edge_dir[j] = pl.edge_dir[j - 1];
-  }
-  for (std::size_t j = pl.edge_dir.size(); j-- > 1;) {
-    if (glm::length(pl.edge_dir[j - 1]) == 0.0) pl.edge_dir[j - 1] = pl.edge_dir[j];
-  }
-  pl.tangent.assign(n, glm::dvec3(0.0, 0.0, 1.0));
-  for (std::size_t j = 0; j < n && !pl.edge_dir.empty(); ++j) {
-    const glm::dvec3 in = pl.edge_dir[j == 0 ? 0 : j - 1];
-    const glm::dvec3 out = pl.edge_dir[std::min(j, pl.edge_dir.size() - 1)];
-    const glm::dvec3 sum = in + out;
-    pl.tangent[j] = glm::length(sum) > 1e-9 ? glm::normalize(sum) : out;
-  }
-  return pl;
-}
-
-[[nodiscard]] Sample sample(const Polyline& pl, double t) {
-  t = std::clamp(t, 0.0, pl.length);
-  const auto it = std::upper_bound(pl.arc.begin(), pl.arc.end(), t);
-  std::size_t j = it == pl.arc.begin() ? 0 : static_cast<std::size_t>(it - pl.arc.begin()) - 1;
-  j = std::min(j, pl.arc.size() - 2);
-  const double span = pl.arc[j + 1] - pl.arc[j];
-  const double a = span > 0.0 ? std::clamp((t - pl.arc[j]) / span, 0.0, 1.0) : 0.0;
-  Sample s;
-  // Between points the centre follows a Catmull-Rom curve, so rings placed between the points
-  // (trimmed segments) sit on a smooth curve through them rather than on its chords.
-  const std::size_t n = pl.pos.size();
-  const glm::dvec3 p0 = j > 0 ? pl.pos[j - 1] : 2.0 * pl.pos[0] - pl.pos[1];
-  const glm::dvec3 p3 = j + 2 < n ? pl.pos[j + 2] : 2.0 * pl.pos[n - 1] - pl.pos[n - 2];
-  const glm::dvec3& p1 = pl.pos[j];
-  const glm::dvec3& p2 = pl.pos[j + 1];
-  s.pos = 0.5 * (2.0 * p1 + (p2 - p0) * a + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * a * a +
-                 (3.0 * p1 - p0 - 3.0 * p2 + p3) * a * a * a);
-  s.radius = pl.radius[j] + a * (pl.radius[j + 1] - pl.radius[j]);
-  const glm::dvec3 tan = pl.tangent[j] + a * (pl.tangent[j + 1] - pl.tangent[j]);
-  s.tangent = glm::length(tan) > 1e-9 ? glm::normalize(tan) : pl.edge_dir[j];
-  return s;
+  for (std::size_t j = n - 2; j-- > 1;) c[j] -= upper[j] * c[j + 1];
 }
 
 [[nodiscard]] std::string junction_name(const VesselModel& model, const Junction& junction, std::size_t index) {
@@ -228,13 +192,12 @@ class Builder {
   }
 
   void place_rings() {
+    std::vector<double> arcs;
     for (std::size_t s = 0; s < model_.segments.size(); ++s) {
       const Polyline& pl = polylines_[s];
       mesh_.segment_first_ring.push_back(static_cast<std::uint32_t>(mesh_.rings.size()));
-      const double a = trims_[2 * s];
-      const double b = pl.length - trims_[2 * s + 1];
-      for (double arc : pl.arc) {
-        const double t = a + (arc / pl.length) * (b - a);
+      ring_arcs(pl, trims_[2 * s], pl.length - trims_[2 * s + 1], arcs);
+      for (double t : arcs) {
         const Sample smp = sample(pl, t);
         Ring ring;
         ring.segment = static_cast<std::uint32_t>(s);
@@ -250,39 +213,60 @@ class Builder {
     mesh_.segment_first_ring.push_back(static_cast<std::uint32_t>(mesh_.rings.size()));
   }
 
+  // The arc positions of a segment's rings between the trimmed ends a and b (see RingPlacement).
+  void ring_arcs(const Polyline& pl, double a, double b, std::vector<double>& arcs) const {
+    arcs.clear();
+    if (options_.ring_placement == RingPlacement::kPerPoint) {
+      for (double arc : pl.arc) arcs.push_back(a + (arc / pl.length) * (b - a));
+      return;
+    }
+    // Every HCLM point strictly inside (a, b), except one closer to a trimmed end than a third of
+    // its spacing to the next point (the end ring stands for it).
+    arcs.push_back(a);
+    const std::size_t n = pl.arc.size();
+    for (std::size_t i = 1; i + 1 < n; ++i) {
+      const double t = pl.arc[i];
+      if (t - a < kEndGapSpacing * (pl.arc[i + 1] - t) || b - t < kEndGapSpacing * (t - pl.arc[i - 1])) continue;
+      arcs.push_back(t);
+    }
+    arcs.push_back(b);
+    // Between two of them the radius is linear; where it changes by more than kRadiusStep of
+    // itself, rings are added evenly so that every step is below that.
+    const std::size_t base = arcs.size();
+    for (std::size_t i = 0; i + 1 < base; ++i) {
+      const double r0 = sample_radius(pl, arcs[i]);
+      const double r1 = sample_radius(pl, arcs[i + 1]);
+      const double steps = std::ceil(std::abs(r1 - r0) / (kRadiusStep * std::max(r0, r1)) - 1e-9);
+      const int extra = static_cast<int>(std::min(steps, static_cast<double>(kMaxRingsPerSpan))) - 1;
+      for (int k = 1; k <= extra; ++k) arcs.push_back(arcs[i] + (arcs[i + 1] - arcs[i]) * k / (extra + 1));
+    }
+    if (arcs.size() > base) std::sort(arcs.begin(), arcs.end());
+  }
+
   // Along the segment, Catmull-Clark converges to the cubic B-spline of the ring sequence, whose
-  // value at ring j is (c[j-1] + 4 c[j] + c[j+1]) / 6: bends would cut inward and radius peaks
-  // flatten. A few Jacobi steps move the inner rings' centres and radii so that these averages
-  // hit the targets (the end rings stay where they are).
+  // value at ring j is (c[j-1] + 4 c[j] + c[j+1]) / 6: bends would cut inward and radius changes
+  // flatten. The inner rings' centres and radii are solved for exactly (a tridiagonal system,
+  // end rings fixed) so that these averages hit the targets.
   void correct_axial_shrink(std::size_t begin, std::size_t end) {
-    if (end - begin < 3) return;
-    std::vector<glm::dvec3> target_c;
-    std::vector<double> target_r;
-    for (std::size_t j = begin; j < end; ++j) {
-      target_c.push_back(mesh_.rings[j].center_mm);
-      target_r.push_back(mesh_.rings[j].control_radius_mm);
+    const std::size_t n = end - begin;
+    if (n < 3) return;
+    target_c_.resize(n);
+    target_r_.resize(n);
+    for (std::size_t j = 0; j < n; ++j) {
+      target_c_[j] = mesh_.rings[begin + j].center_mm;
+      target_r_[j] = mesh_.rings[begin + j].control_radius_mm;
     }
-    std::vector<glm::dvec3> c = target_c;
-    std::vector<double> r = target_r;
-    const std::size_t n = c.size();
-    for (int iteration = 0; iteration < kAxialIterations; ++iteration) {
-      std::vector<glm::dvec3> next_c = c;
-      std::vector<double> next_r = r;
-      for (std::size_t j = 1; j + 1 < n; ++j) {
-        next_c[j] = c[j] + target_c[j] - (c[j - 1] + 4.0 * c[j] + c[j + 1]) / 6.0;
-        next_r[j] = std::max(0.5 * target_r[j], r[j] + target_r[j] - (r[j - 1] + 4.0 * r[j] + r[j + 1]) / 6.0);
-      }
-      c.swap(next_c);
-      r.swap(next_r);
-    }
+    solve_bspline_average(target_c_, solved_c_);
+    solve_bspline_average(target_r_, solved_r_);
     for (std::size_t j = 1; j + 1 < n; ++j) {
       // In a bend each ring point is pulled towards the centre of curvature by its own distance
       // from it times alpha^2 / 6 (alpha: turning angle per ring); moving the centre makes up for
       // the centre's share only, so the radius gets the rest.
       const double cos_2a = std::clamp(glm::dot(mesh_.rings[begin + j - 1].tangent, mesh_.rings[begin + j + 1].tangent), -1.0, 1.0);
       const double alpha = 0.5 * std::acos(cos_2a);
-      mesh_.rings[begin + j].center_mm = c[j];
-      mesh_.rings[begin + j].control_radius_mm = r[j] * (1.0 + alpha * alpha / 6.0);
+      mesh_.rings[begin + j].center_mm = solved_c_[j];
+      mesh_.rings[begin + j].control_radius_mm =
+          std::max(kMinControlRadius * target_r_[j], solved_r_[j]) * (1.0 + alpha * alpha / 6.0);
     }
   }
 
@@ -444,6 +428,8 @@ class Builder {
   std::vector<Polyline> polylines_;
   std::vector<double> trims_;
   std::vector<double> ring_cos_, ring_sin_;  // cos / sin(2 pi m / M)
+  std::vector<glm::dvec3> target_c_, solved_c_;  // scratch of the axial correction
+  std::vector<double> target_r_, solved_r_;
   ControlMesh mesh_;
 };
 

@@ -12,8 +12,16 @@
 
 #include <glm/geometric.hpp>
 
+#include "vessel/text_tokens.hpp"
+
 namespace cathbox::vessel {
 namespace {
+
+using text::parse_double;
+using text::parse_integer;
+using text::quoted;
+using text::split_tokens;
+using text::trim;
 
 constexpr std::size_t kMaxErrors = 100;
 
@@ -37,59 +45,6 @@ class ErrorSink {
   std::string_view file_;
   std::vector<Diagnostic>& out_;
 };
-
-[[nodiscard]] bool is_space(char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f'; }
-
-[[nodiscard]] std::string_view trim(std::string_view s) {
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
-
-[[nodiscard]] std::vector<std::string_view> split_tokens(std::string_view s) {
-  std::vector<std::string_view> tokens;
-  std::size_t i = 0;
-  while (i < s.size()) {
-    while (i < s.size() && is_space(s[i])) ++i;
-    const std::size_t start = i;
-    while (i < s.size() && !is_space(s[i])) ++i;
-    if (i > start) tokens.push_back(s.substr(start, i - start));
-  }
-  return tokens;
-}
-
-[[nodiscard]] std::string quoted(std::string_view token) {
-  std::string out = "'";
-  for (char ch : token.substr(0, 40)) {
-    const auto uch = static_cast<unsigned char>(ch);
-    if (uch < 0x20 || uch >= 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", uch);
-      out += buf;
-    } else {
-      out += ch;
-    }
-  }
-  if (token.size() > 40) out += "...";
-  out += "'";
-  return out;
-}
-
-[[nodiscard]] std::optional<double> parse_double(std::string_view token) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (ec != std::errc() || ptr != token.data() + token.size()) return std::nullopt;
-  return value;
-}
-
-[[nodiscard]] std::optional<std::int64_t> parse_integer(std::string_view token) {
-  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
-  std::int64_t value = 0;
-  const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-  if (ec != std::errc() || ptr != token.data() + token.size()) return std::nullopt;
-  return value;
-}
 
 std::string format_double(double value) {
   char buf[64];

@@ -40,67 +40,110 @@ MeshAnalysis analyze_mesh(const SurfaceMesh& mesh) {
   MeshAnalysis out;
   out.vertices = mesh.vertex_count();
   out.triangles = mesh.triangle_count();
-  std::unordered_map<std::uint64_t, std::uint32_t> directed;  // directed edge -> uses
-  directed.reserve(mesh.triangles.size() * 2);
   const auto& t = mesh.triangles;
+  const std::size_t nv = mesh.vertex_count();
+  // Geometry, and each triangle's half-edges a -> b (with the third corner c) grouped by their
+  // source a (counting sort): a vertex's outgoing half-edges are its link edges b -> c.
+  std::vector<std::uint32_t> first(nv + 1, 0);
   for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
+    const bool in_range = t[f] < nv && t[f + 1] < nv && t[f + 2] < nv;
+    if (!in_range) {
+      ++out.degenerate_triangles;
+      continue;
+    }
     const glm::dvec3 a(mesh.positions_mm[t[f]]);
     const glm::dvec3 b(mesh.positions_mm[t[f + 1]]);
     const glm::dvec3 c(mesh.positions_mm[t[f + 2]]);
     const glm::dvec3 n = glm::cross(b - a, c - a);
-    out.area_mm2 += 0.5 * glm::length(n);
+    const double twice_area = glm::length(n);
+    out.area_mm2 += 0.5 * twice_area;
     out.signed_volume_mm3 += glm::dot(a, glm::cross(b, c)) / 6.0;
-    if (t[f] == t[f + 1] || t[f + 1] == t[f + 2] || t[f] == t[f + 2] || glm::length(n) == 0.0) {
-      ++out.degenerate_triangles;
-    }
-    for (int e = 0; e < 3; ++e) ++directed[key(t[f + e], t[f + (e + 1) % 3])];
+    if (t[f] == t[f + 1] || t[f + 1] == t[f + 2] || t[f] == t[f + 2] || twice_area == 0.0) ++out.degenerate_triangles;
+    for (std::size_t k = 0; k < 3; ++k) ++first[t[f + k] + 1];
   }
-  for (const auto& [k, uses] : directed) {
-    const auto a = static_cast<std::uint32_t>(k >> 32);
-    const auto b = static_cast<std::uint32_t>(k & 0xffffffffu);
-    const auto rev = directed.find(key(b, a));
-    const std::uint32_t back = rev == directed.end() ? 0 : rev->second;
-    if (uses > 1) ++out.misoriented_edges;
-    if (a > b && back > 0) continue;  // count each undirected edge once (from a < b or lone)
-    ++out.edges;
-    const std::uint32_t total = uses + back;
-    if (total == 1) ++out.boundary_edges;
-    else if (total > 2) ++out.nonmanifold_edges;
-  }
-  // Vertex fans: the link of each vertex (edges opposite to it) must be one path or cycle.
-  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> link(mesh.vertex_count());
-  for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
-    for (int k = 0; k < 3; ++k) {
-      link[t[f + k]].emplace_back(t[f + (k + 1) % 3], t[f + (k + 2) % 3]);
+  for (std::size_t v = 0; v < nv; ++v) first[v + 1] += first[v];
+  struct HalfEdge {
+    std::uint32_t target;  // b
+    std::uint32_t third;   // c
+  };
+  std::vector<HalfEdge> out_edges(first[nv]);
+  {
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::size_t f = 0; f + 2 < t.size(); f += 3) {
+      if (t[f] >= nv || t[f + 1] >= nv || t[f + 2] >= nv) continue;
+      for (std::size_t k = 0; k < 3; ++k) {
+        out_edges[fill[t[f + k]]++] = {t[f + (k + 1) % 3], t[f + (k + 2) % 3]};
+      }
     }
   }
-  std::unordered_map<std::uint32_t, std::uint32_t> next;
-  for (std::size_t v = 0; v < link.size(); ++v) {
-    const auto& edges = link[v];
-    if (edges.empty()) continue;
-    next.clear();
-    bool bad = false;
-    for (const auto& [a, b] : edges) {
-      if (!next.emplace(a, b).second) bad = true;
+  for (std::uint32_t a = 0; a < nv; ++a) {
+    const std::uint32_t begin = first[a];
+    const std::uint32_t end = first[a + 1];
+    if (begin == end) continue;
+    // The common case first: a's link is one closed cycle through all its corners (an interior
+    // vertex of a closed, consistently oriented manifold). Then every a -> b is used once and
+    // b -> a once, so each edge is a proper interior edge, counted from its smaller end.
+    if (end - begin <= 32) {
+      std::uint32_t visited = 0;
+      std::uint32_t cur = out_edges[begin].target;
+      std::uint32_t steps = 0;
+      for (; steps < end - begin; ++steps) {
+        std::uint32_t j = begin;
+        while (j < end && out_edges[j].target != cur) ++j;
+        if (j == end || (visited >> (j - begin) & 1u) || cur == a) break;
+        visited |= 1u << (j - begin);
+        cur = out_edges[j].third;
+      }
+      if (steps == end - begin && cur == out_edges[begin].target) {
+        for (std::uint32_t i = begin; i < end; ++i) out.edges += out_edges[i].target > a ? 1u : 0u;
+        continue;
+      }
+    }
+    bool bad = false;  // the link of a (its edges b -> c) is not one path or cycle
+    for (std::uint32_t i = begin; i < end; ++i) {
+      const std::uint32_t b = out_edges[i].target;
+      bool seen = false;
+      for (std::uint32_t j = begin; j < i && !seen; ++j) seen = out_edges[j].target == b;
+      if (seen) {  // a second a -> b: counted with the first
+        bad = true;
+        continue;
+      }
+      // Half-edges a -> b, and b -> a: in a triangle (a, b, c) the half-edge into a is c -> a, so
+      // a's own corners hold every half-edge into it as their third vertex.
+      std::uint32_t forward = 0;
+      std::uint32_t back = 0;
+      for (std::uint32_t j = begin; j < end; ++j) {
+        forward += out_edges[j].target == b ? 1u : 0u;
+        back += out_edges[j].third == b ? 1u : 0u;
+      }
+      // Each directed edge once; each undirected edge once (from a < b, or alone).
+      if (forward > 1) ++out.misoriented_edges;
+      if (a > b && back > 0) continue;
+      ++out.edges;
+      const std::uint32_t total = forward + back;
+      if (total == 1) ++out.boundary_edges;
+      else if (total > 2) ++out.nonmanifold_edges;
     }
     if (!bad) {
-      // Walk from a start that has no predecessor (open fan) or anywhere (closed fan).
-      std::unordered_map<std::uint32_t, int> has_pred;
-      for (const auto& [a, b] : edges) has_pred[b] = 1;
-      std::uint32_t start = edges.front().first;
-      for (const auto& [a, b] : edges) {
-        if (!has_pred.count(a)) start = a;
+      // Walk the link from a start without predecessor (an open fan) or from its first edge.
+      std::uint32_t start = out_edges[begin].target;
+      for (std::uint32_t i = begin; i < end; ++i) {
+        bool has_predecessor = false;
+        for (std::uint32_t j = begin; j < end && !has_predecessor; ++j) has_predecessor = out_edges[j].third == out_edges[i].target;
+        if (!has_predecessor) start = out_edges[i].target;
       }
       std::size_t steps = 0;
       std::uint32_t cur = start;
-      while (steps <= edges.size()) {
-        const auto it = next.find(cur);
-        if (it == next.end()) break;
-        cur = it->second;
+      const std::size_t n = end - begin;
+      while (steps <= n) {
+        std::uint32_t next = begin;
+        while (next < end && out_edges[next].target != cur) ++next;
+        if (next == end) break;
+        cur = out_edges[next].third;
         ++steps;
         if (cur == start) break;
       }
-      bad = steps != edges.size();
+      bad = steps != n;
     }
     if (bad) ++out.nonmanifold_vertices;
   }

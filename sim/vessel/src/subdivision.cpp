@@ -485,9 +485,32 @@ SurfaceMeshResult control_mesh_as_surface(const ControlMesh& control) {
   return result;
 }
 
+// A refiner level and its points for a LevelAdjuster.
+class LevelView final : public RefinedLevel {
+ public:
+  LevelView(const Far::TopologyLevel& topology, int level, Point* points)
+      : topology_(topology), level_(level), points_(points) {}
+  [[nodiscard]] int level() const override { return level_; }
+  [[nodiscard]] int face_count() const override { return topology_.GetNumFaces(); }
+  [[nodiscard]] int vertex_count() const override { return topology_.GetNumVertices(); }
+  [[nodiscard]] std::span<const int> face_vertices(int face) const override {
+    const auto fv = topology_.GetFaceVertices(face);
+    return {fv.begin(), static_cast<std::size_t>(fv.size())};
+  }
+  [[nodiscard]] int vertex_face_count(int vertex) const override { return topology_.GetVertexFaces(vertex).size(); }
+  [[nodiscard]] bool boundary_vertex(int vertex) const override { return topology_.IsVertexBoundary(vertex); }
+  [[nodiscard]] glm::vec3 point(int vertex) const override { return points_[vertex].p; }
+  void set_point(int vertex, const glm::vec3& p_mm) override { points_[vertex].p = p_mm; }
+
+ private:
+  const Far::TopologyLevel& topology_;
+  int level_;
+  Point* points_;
+};
+
 }  // namespace
 
-SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method) {
+SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method, const LevelAdjuster& before_last_step) {
   SurfaceMeshResult result;
   if (level < 0 || level > 6) {
     result.error = "subdivision level must be between 0 and 6, got " + std::to_string(level);
@@ -536,11 +559,18 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   for (std::size_t i = 0; i < control.vertex_count(); ++i) verts[i].p = glm::vec3(control.positions_mm[i]);
   Far::PrimvarRefinerReal<float> primvar(*refiner);
   Point* src = verts.get();
+  const auto adjust = [&](int parent_level, Point* points) {
+    if (!before_last_step) return;
+    LevelView view(refiner->GetLevel(parent_level), parent_level, points);
+    before_last_step(view);
+  };
   for (int l = 1; l <= osd_levels; ++l) {
+    if (l == level) adjust(l - 1, src);
     Point* dst = src + refiner->GetLevel(l - 1).GetNumVertices();
     primvar.Interpolate(l, src, dst);
     src = dst;
   }
+  if (osd_levels < level) adjust(level - 1, src);
   SurfaceMesh& out = result.mesh;
   const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
   if (method == LimitMethod::kMasks) {

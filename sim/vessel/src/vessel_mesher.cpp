@@ -1,5 +1,8 @@
 #include "vessel/vessel_mesher.hpp"
 
+#include <optional>
+
+#include "junction_fit.hpp"
 #include "vessel/centerline_smoother.hpp"
 #include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
@@ -20,14 +23,20 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
   }
   const VesselGraph graph(model);
   out.euler_characteristic = graph.surface_euler_characteristic();
-  out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions);
+  out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing);
   ControlMeshResult control = build_control_mesh(out.smoothed, graph, options);
   if (!control.ok()) {
     out.error = control.error;
     return out;
   }
   out.control = std::move(control.mesh);
-  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level);
+  std::optional<detail::JunctionFit> fit;
+  LevelAdjuster adjust;
+  if (options.fit_junctions && options.subdivision_level > 0) {
+    fit.emplace(out.smoothed, graph, out.control);
+    if (!fit->empty()) adjust = [&fit](RefinedLevel& level) { fit->apply(level); };
+  }
+  SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level, options.limit_method, adjust);
   if (!surface.ok()) {
     out.error = surface.error;
     return out;

@@ -1,4 +1,4 @@
-// Small parts of the trainer: case catalog, frame statistics, screen layout, keyboard hand.
+// Small parts of the trainer: case catalog, frame statistics, screen layout.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -6,7 +6,6 @@
 
 #include "app/case_catalog.hpp"
 #include "app/frame_stats.hpp"
-#include "app/keyboard_hand.hpp"
 #include "app/screen_layout.hpp"
 
 namespace cathbox::app {
@@ -61,21 +60,6 @@ TEST(ScreenLayout, ThreeAreasTileTheWindow) {
     EXPECT_EQ(l.global.height, h);
     EXPECT_GE(l.global.width, w * 3 / 5);
   }
-}
-
-TEST(KeyboardHand, IntegratesSpeedsWithinLimits) {
-  KeyboardHand k;
-  k.set_speeds(20.0, 1.0);
-  for (int i = 0; i < 500; ++i) k.advance(0.001, 0.0, 8.0);
-  EXPECT_DOUBLE_EQ(k.insertion_mm(), 8.0);  // clamped
-  EXPECT_NEAR(k.rotation_rad(), 0.5, 1e-9);
-  k.set_speeds(-20.0, 0.0);
-  for (int i = 0; i < 1000; ++i) k.advance(0.001, 0.0, 8.0);
-  EXPECT_DOUBLE_EQ(k.insertion_mm(), 0.0);
-  k.request_tool_switch();
-  k.request_tool_switch();
-  EXPECT_EQ(k.take_tool_switches(), 2);
-  EXPECT_EQ(k.take_tool_switches(), 0);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -81,7 +82,7 @@ class TrainerScreenshot : public ::testing::Test {
     shot_ = std::string(CATHBOX_TEST_OUT) + "/trainer_screenshot.png";
     std::remove(shot_.c_str());
     const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " +
-                            CATHBOX_TRAINER + " --headless --frames 40 --ms-per-frame 50 --size 1280x720 --screenshot " +
+                            CATHBOX_TRAINER + " --headless --no-record --frames 40 --ms-per-frame 50 --size 1280x720 --screenshot " +
                             shot_ + " > " + shot_ + ".log 2>&1";
     status_ = std::system(cmd.c_str());
   }
@@ -117,7 +118,7 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
   ASSERT_TRUE(read_sidecar(shot_ + ".txt", s));
   ASSERT_EQ(img->width, 1280);
   ASSERT_EQ(img->height, 720);
-  EXPECT_EQ(s.sim_time_us, 40 * 50 * 1000 - 1000);  // 40 frames of 50 ms of virtual time
+  EXPECT_EQ(s.sim_time_us, 40 * 50 * 1000);  // 40 frames of 50 ms of virtual time
 
   // The tool: inserted, inside the vessel, and drawn where its nodes project.
   const vessel::VesselSurface surface = vessel::load_vessel_surface(s.vessel_file);
@@ -188,13 +189,18 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
 namespace cathbox::app {
 namespace {
 
-std::string run_headless(const std::string& out) {
-  const std::string cmd = std::string(CATHBOX_TRAINER) + " --headless > " + out + " 2>&1";
-  if (std::system(cmd.c_str()) != 0) return {};
-  std::ifstream in(out);
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+// The trainer with `args`; its stdout (stderr goes beside it), empty when it failed.
+std::string run_trainer(const std::string& args, const std::string& out) {
+  const std::string cmd = std::string(CATHBOX_TRAINER) + " " + args + " > " + out + " 2> " + out + ".err";
+  if (std::system(cmd.c_str()) != 0) return {};
+  return read_text(out);
 }
 
 std::size_t count_of(const std::string& text, const std::string& what) {
@@ -203,22 +209,46 @@ std::size_t count_of(const std::string& text, const std::string& what) {
   return n;
 }
 
+std::string only_record_in(const std::string& dir) {
+  std::string found;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().extension() == ".cbxrec") found = found.empty() ? e.path().string() : "more than one";
+  }
+  return found;
+}
+
 // Without a display: the default case run by the scripted hand in virtual time until the tip
-// reaches the case's target, the end-of-run summary on stdout, the same output on every run.
-TEST(TrainerHeadless, ScriptedRunReachesTheTargetPrintsTheSummaryAndIsDeterministic) {
+// reaches the case's target, the end-of-run summary on stdout, the same output on every run;
+// the run is recorded, and the record replays (hash-checked) to the same figures.
+TEST(TrainerHeadless, ScriptedRunReachesTheTargetPrintsTheSummaryIsDeterministicAndReplays) {
   const std::string dir = CATHBOX_TEST_OUT;
-  const std::string a = run_headless(dir + "/headless_a.txt");
-  const std::string b = run_headless(dir + "/headless_b.txt");
+  for (const char* sub : {"/records_a", "/records_b"}) {
+    std::filesystem::remove_all(dir + sub);
+    std::filesystem::create_directories(dir + sub);
+  }
+  const std::string a = run_trainer("--headless --records " + dir + "/records_a", dir + "/headless_a.txt");
+  const std::string b = run_trainer("--headless --records " + dir + "/records_b", dir + "/headless_b.txt");
   ASSERT_FALSE(a.empty()) << "see " << dir << "/headless_a.txt";
   EXPECT_EQ(a, b);
-  for (const char* line : {"end of run", "time  ", "path length", "wall contacts", "peak wall force",
-                           "peak hand force", "target          reached at"}) {
+  for (const char* line : {"end of run", "procedure time", "tip path length", "wall contacts", "peak wall force",
+                           "time above 100", "wrong-branch entries", "retractions", "peak insertion speed",
+                           "tool changes", "peak hand force", "target                reached at", "path efficiency",
+                           "fluoroscopy time      n/a"}) {
     EXPECT_NE(a.find(line), std::string::npos) << line << " missing in:\n" << a;
   }
   EXPECT_EQ(count_of(a, "target reached:"), 1U) << a;  // the run ends there
-  const std::size_t at = a.find("path length");
+  const std::size_t at = a.find("tip path length");
   ASSERT_NE(at, std::string::npos);
-  EXPECT_GT(std::atof(a.c_str() + at + 11), 100.0);  // the tip travelled up to the neck
+  EXPECT_GT(std::atof(a.c_str() + at + 15), 100.0);  // the tip travelled up to the neck
+
+  const std::string record = only_record_in(dir + "/records_a");
+  ASSERT_NE(record.find(".cbxrec"), std::string::npos) << record;
+  const std::string replayed = run_trainer("--headless --replay " + record, dir + "/headless_replay.txt");
+  ASSERT_FALSE(replayed.empty()) << "see " << dir << "/headless_replay.txt";
+  EXPECT_NE(replayed.find("state hashes checked"), std::string::npos) << replayed;
+  EXPECT_EQ(replayed.find("MISMATCH"), std::string::npos) << replayed;
+  // The same figures, replayed from the record.
+  EXPECT_EQ(replayed.substr(replayed.find("procedure time")), a.substr(a.find("procedure time")));
 }
 
 }  // namespace

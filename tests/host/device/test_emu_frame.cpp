@@ -17,6 +17,48 @@ std::vector<uint8_t> encode(const cbx_emu_frame& frame) {
   return out;
 }
 
+// The HELLO vectors of protocol/README.md ("Emulator socket transport"): the application
+// (1209:CB01) and the ROM bootloader (0483:DF11).
+TEST(EmuFrame, HelloVectorsEncodeAndDecodeExactly) {
+  struct Vector {
+    cbx_emu_hello hello;
+    std::array<uint8_t, CBX_EMU_HELLO_FRAME> bytes;
+  };
+  const Vector vectors[] = {{{0x1209, 0xCB01}, {0x01, 0x00, 0x00, 0x00, 0x09, 0x12, 0x01, 0xCB}},
+                            {{0x0483, 0xDF11}, {0x01, 0x00, 0x00, 0x00, 0x83, 0x04, 0x11, 0xDF}}};
+  for (const Vector& v : vectors) {
+    std::array<uint8_t, CBX_EMU_FRAME_MAX> out{};
+    ASSERT_EQ(cbx_emu_hello_encode(&v.hello, out.data(), out.size()), static_cast<int>(CBX_EMU_HELLO_FRAME));
+    EXPECT_TRUE(std::equal(v.bytes.begin(), v.bytes.end(), out.begin()));
+    cbx_emu_frame frame{};
+    ASSERT_EQ(cbx_emu_frame_decode(v.bytes.data(), v.bytes.size(), &frame), CBX_OK);
+    cbx_emu_hello back{0, 0};
+    ASSERT_EQ(cbx_emu_hello_decode(&frame, &back), CBX_OK);
+    EXPECT_EQ(back.vid, v.hello.vid);
+    EXPECT_EQ(back.pid, v.hello.pid);
+  }
+}
+
+TEST(EmuFrame, HelloRefusesOtherKindsSizesAndSmallBuffers) {
+  const cbx_emu_hello hello{0x1209, 0xCB01};
+  std::array<uint8_t, CBX_EMU_HELLO_FRAME - 1> small{};
+  EXPECT_EQ(cbx_emu_hello_encode(&hello, small.data(), small.size()), CBX_ERR_LENGTH);
+  std::array<uint8_t, CBX_REPORT_SIZE> report{};
+  cbx_emu_frame in{};
+  in.kind = CBX_EMU_IN;
+  in.data = report.data();
+  in.data_length = report.size();
+  cbx_emu_hello out{7, 7};
+  EXPECT_EQ(cbx_emu_hello_decode(&in, &out), CBX_ERR_RANGE);
+  cbx_emu_frame short_hello{};
+  short_hello.kind = CBX_EMU_HELLO;
+  short_hello.data = report.data();
+  short_hello.data_length = 2;
+  EXPECT_EQ(cbx_emu_hello_decode(&short_hello, &out), CBX_ERR_LENGTH);
+  EXPECT_EQ(out.vid, 7);
+  EXPECT_EQ(out.pid, 7);
+}
+
 TEST(EmuFrame, InterruptReportRoundTrip) {
   std::array<uint8_t, CBX_REPORT_SIZE> report{};
   for (size_t i = 0; i < report.size(); ++i) report[i] = static_cast<uint8_t>(i * 7);

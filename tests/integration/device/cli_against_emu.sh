@@ -78,16 +78,26 @@ expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --d
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration 1e300
 expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --timeout -5
 
-# A firmware binary: vector table (SP in SRAM, Thumb reset vector in flash) and a body.
-{ printf '\x00\x80\x00\x20\x01\x02\x00\x08'; head -c 24576 /dev/urandom; } > "$dir/fw.bin"
-expect 0 "packed" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.0
+# A firmware binary of version 1.1: vector table (SP in SRAM, Thumb reset vector in flash), the
+# image info block at 0x200 (protocol/README.md: magic CBXI, layout 1, 64 bytes, 1.1.0 protocol
+# minor 1, board, build, image size 0x6000) and a body.
+{
+  printf '\x00\x80\x00\x20\x01\x02\x00\x08'
+  head -c $((0x200 - 8)) /dev/zero
+  printf 'CBXI\x01\x40\x01\x01\x00\x01\x00\x00'
+  printf 'cathbox-emu\0\0\0\0\0'
+  printf 'cli-1.1'; head -c 25 /dev/zero
+  printf '\x00\x60\x00\x00'
+  head -c $((0x6000 - 0x240)) /dev/urandom
+} > "$dir/fw.bin"
+expect 0 "packed" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.1
 expect 2 "speaks protocol v2" -- "$cb" flash pack "$dir/fw.bin" "$dir/v2.dfu" --version 2.0
 expect 0 "box is back" -- "$cb" flash "$dir/fw.dfu" --emu "$sock"
 cp "$dir/fw.dfu" "$dir/corrupt.dfu"
 printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
 expect 2 "does not match the content" -- "$cb" flash "$dir/corrupt.dfu" --emu "$sock"
 expect 2 "cannot be combined" -- "$cb" flash "$dir/fw.dfu" --emu "$sock" --recover-gpio gpiochip0:17:27
-expect 0 "firmware     1.0.0" -- "$cb" info --emu "$sock"
+expect 0 "firmware     1.1.0" -- "$cb" info --emu "$sock"
 
 # The emulator process killed (SIGKILL, stale socket file left behind) and restarted while
 # `cathbox monitor` runs: monitor's BoxClient reports the link down, then up again.

@@ -8,6 +8,7 @@
 #include "device/dfu_file.hpp"
 #include "device/flasher.hpp"
 #include "device/socket_transport.hpp"
+#include "protocol/cbx_image_info.h"
 #include "protocol/cbx_usb_requests.h"
 #include "emu_world.hpp"
 
@@ -18,7 +19,8 @@ using device::DfuImage;
 using device::Errc;
 using device::Flasher;
 
-DfuImage make_image(size_t size, uint16_t version = 0x0100, const char* target = "cathbox stm32f411") {
+DfuImage make_image(size_t size, uint16_t version = 0x0100, const char* target = "cathbox stm32f411",
+                    bool with_info = true) {
   DfuImage image;
   image.bcd_device = version;
   image.vid = CBX_DFU_VID;
@@ -34,6 +36,18 @@ DfuImage make_image(size_t size, uint16_t version = 0x0100, const char* target =
   for (int i = 0; i < 4; ++i) {
     e.data[static_cast<size_t>(i)] = static_cast<uint8_t>(sp >> (8 * i));
     e.data[static_cast<size_t>(4 + i)] = static_cast<uint8_t>(reset >> (8 * i));
+  }
+  // The image info block (protocol/cbx_image_info.h) of the version being packed.
+  if (with_info && size >= CBX_IMAGE_INFO_OFFSET + CBX_IMAGE_INFO_SIZE) {
+    cbx_image_info info{};
+    info.fw_major = static_cast<uint8_t>(version >> 8);
+    info.fw_minor = static_cast<uint8_t>(version & 0xFF);
+    info.fw_patch = 0;
+    info.protocol_minor = CBX_PROTOCOL_MINOR;
+    std::snprintf(info.board, sizeof info.board, "cathbox-emu");
+    std::snprintf(info.build, sizeof info.build, "t-%04x", version);
+    info.image_size = static_cast<uint32_t>(size);
+    EXPECT_EQ(cbx_image_info_encode(&info, e.data.data() + CBX_IMAGE_INFO_OFFSET), CBX_OK);
   }
   image.elements.push_back(std::move(e));
   return image;
@@ -57,6 +71,20 @@ std::unique_ptr<device::SocketTransport> enter_bootloader(EmuWorld& world) {
   }
   EXPECT_EQ(dfu.value()->pid(), CBX_DFU_PID);
   return std::move(dfu.value());
+}
+
+// After a failed or refused image: the board is in the ROM bootloader and enumerates as it;
+// returns a transport to it.
+std::unique_ptr<device::SocketTransport> still_in_bootloader(EmuWorld& world) {
+  world.advance(5000);
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kBootloader);
+  auto again = device::SocketTransport::open(world.path(), world);
+  if (!again) {
+    ADD_FAILURE() << again.error().message;
+    return nullptr;
+  }
+  EXPECT_EQ(again.value()->pid(), CBX_DFU_PID);
+  return std::move(again.value());
 }
 
 // A cable that is pulled after `budget` control transfers.
@@ -205,14 +233,11 @@ TEST(Flash, TruncatedTransferFailsSafelyAndTheBootloaderStaysReachable) {
   ASSERT_FALSE(broken.ok());
   EXPECT_EQ(broken.error().code, Errc::kDisconnected);
   dfu.reset();
-  world.advance(5000);
   // Still the bootloader: it enumerates again and a second attempt completes.
-  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kBootloader);
-  auto again = device::SocketTransport::open(world.path(), world);
-  ASSERT_TRUE(again.ok());
-  EXPECT_EQ(again.value()->pid(), CBX_DFU_PID);
+  auto again = still_in_bootloader(world);
+  ASSERT_TRUE(again);
   std::printf("bootloader state after the pull: %d\n", world.emu().bootloader_state());
-  auto done = Flasher::flash(*again.value(), image, {}, {});
+  auto done = Flasher::flash(*again, image, {}, {});
   ASSERT_TRUE(done.ok()) << done.error().message;
   EXPECT_EQ(flash_bytes(world.emu(), image.total_bytes()), image.elements[0].data);
 }
@@ -233,6 +258,43 @@ TEST(Flash, BrokenImageNeedsTheBootStrapAndRecoversThroughIt) {
   ASSERT_TRUE(Flasher::flash(*dfu.value(), make_image(2048), {}, {}).ok());
   world.emu().set_boot0(false);
   world.emu().reset();
+  EXPECT_EQ(world.emu().mode(), emu::BoardMode::kApplication);
+}
+
+TEST(Flash, TheBoxReportsTheVersionOfTheImageItRuns) {
+  // The factory image says 1.0.0; after flashing 1.1 the box says 1.1.0 and the build of the
+  // image (the emulated flash holds the image; the version is read from its info block).
+  EmuWorld world;
+  {
+    auto before = world.connect();
+    EXPECT_EQ(before->device_info().fw_major, 1);
+    EXPECT_EQ(before->device_info().fw_minor, 0);
+    EXPECT_STREQ(before->device_info().build, "factory");
+  }
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  ASSERT_TRUE(Flasher::flash(*dfu, make_image(4096, 0x0101), {}, {}).ok());
+  dfu.reset();
+  world.advance(5000);
+  ASSERT_EQ(world.emu().mode(), emu::BoardMode::kApplication);
+  auto after = world.connect();
+  EXPECT_EQ(after->device_info().fw_major, 1);
+  EXPECT_EQ(after->device_info().fw_minor, 1);
+  EXPECT_EQ(after->device_info().fw_patch, 0);
+  EXPECT_STREQ(after->device_info().build, "t-0101");
+}
+
+TEST(Flash, AnImageWithoutAnInfoBlockLeavesTheBoxInTheBootloader) {
+  EmuWorld world;
+  auto dfu = enter_bootloader(world);
+  ASSERT_TRUE(dfu);
+  ASSERT_TRUE(Flasher::flash(*dfu, make_image(4096, 0x0101, "cathbox stm32f411", false), {}, {}).ok());
+  dfu.reset();
+  auto again = still_in_bootloader(world);
+  ASSERT_TRUE(again);
+  // A good image still goes in and starts.
+  ASSERT_TRUE(Flasher::flash(*again, make_image(4096), {}, {}).ok());
+  world.advance(5000);
   EXPECT_EQ(world.emu().mode(), emu::BoardMode::kApplication);
 }
 

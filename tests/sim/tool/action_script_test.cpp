@@ -25,6 +25,32 @@ TEST(ActionScript, ParsesVerbsSpeedsAndDefaults) {
   EXPECT_EQ(a[5].time_ms, 3000);
 }
 
+TEST(ActionScript, ParsesImagingVerbs) {
+  const ScriptParse p = parse_script(
+      "0 fluoro on\n100 inject 6 at 3\n150 inject 2.5\n4000 fluoro off\n4100 roadmap\n5000 carm -20 15\n"
+      "5100 roadmap off\n5200 roadmap on\n",
+      "img.actions");
+  ASSERT_TRUE(p.value) << p.error;
+  const auto& a = p.value->actions;
+  ASSERT_EQ(a.size(), 8u);
+  EXPECT_EQ(a[0].kind, ActionKind::kFluoro);
+  EXPECT_EQ(a[0].value, 1.0);
+  EXPECT_EQ(a[1].kind, ActionKind::kInject);
+  EXPECT_EQ(a[1].value, 6.0);
+  EXPECT_EQ(a[1].speed, 3.0);
+  EXPECT_EQ(a[2].speed, kDefaultInjectRate_ml_s);
+  EXPECT_EQ(a[3].value, 0.0);
+  EXPECT_EQ(a[4].kind, ActionKind::kRoadmap);
+  EXPECT_EQ(a[4].value, 1.0);
+  EXPECT_EQ(a[5].kind, ActionKind::kCArm);
+  EXPECT_EQ(a[5].value, -20.0);
+  EXPECT_EQ(a[5].value2, 15.0);
+  EXPECT_EQ(a[6].value, 0.0);
+  EXPECT_EQ(a[7].value, 1.0);
+  for (const Action& action : a) EXPECT_TRUE(is_imaging(action.kind));
+  EXPECT_FALSE(is_imaging(ActionKind::kInsertTo));
+}
+
 struct BadScript {
   const char* text;
   const char* error;
@@ -41,7 +67,15 @@ TEST_P(ActionScriptErrors, NameFileAndLine) {
 INSTANTIATE_TEST_SUITE_P(
     Bad, ActionScriptErrors,
     ::testing::Values(
-        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end)"},
+        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap)"},
+        BadScript{"0 fluoro maybe\n", "s.actions:1: fluoro: expected 'on' or 'off'"},
+        BadScript{"0 roadmap now\n", "s.actions:1: roadmap: expected nothing, 'on' or 'off'"},
+        BadScript{"0 inject 0\n", "s.actions:1: inject: volume must be in (0, 100] mL"},
+        BadScript{"0 inject 6 by 3\n", "s.actions:1: inject: expected 'at RATE', got 'by'"},
+        BadScript{"0 inject 6 at 50\n", "s.actions:1: inject: rate must be in (0, 30] mL/s"},
+        BadScript{"0 carm 30\n", "s.actions:1: carm: expected LAO_DEG CRANIAL_DEG (negative for RAO / caudal)"},
+        BadScript{"0 carm 130 0\n", "s.actions:1: carm: LAO/RAO angle must be within +-120 degrees"},
+        BadScript{"0 carm 30 -70\n", "s.actions:1: carm: cranial/caudal angle must be within +-60 degrees"},
         BadScript{"10 insert_to 5\n5 insert_to 6\n", "s.actions:2: time 5 ms is before the previous action"},
         BadScript{"-1 end\n", "s.actions:1: time '-1' must be a whole number of milliseconds in [0, 3600000]"},
         BadScript{"1.5 end\n", "s.actions:1: time '1.5' must be a whole number of milliseconds in [0, 3600000]"},

@@ -56,6 +56,61 @@ TEST(CaseFile, VesselPathIsRelativeToTheCaseFile) {
   EXPECT_EQ(p.value->tools[0].name, "guidewire");
 }
 
+TEST(CaseFile, ParsesFlowSettings) {
+  const CaseParse p = parse_case(
+      "vessel neuro.hclm\n"
+      "flow viscosity 4\n"
+      "flow cardiac_output 5500\n"
+      "flow cerebral_fraction 0.14\n"
+      "flow pressure 100 6\n"
+      "flow wall_shear_stress 1.5\n"
+      "flow dispersion 0.5\n"
+      "flow pulsatile 72 1.1\n"
+      "flow terminals fixed\n"
+      "flow inflow 1 5200\n"
+      "flow outlet 16 90\n"
+      "flow closed 17 0.2\n"
+      "flow closed 24\n",
+      "cases/x.case");
+  ASSERT_TRUE(p.value) << p.error;
+  const flow::FlowSettings& f = p.value->flow;
+  EXPECT_DOUBLE_EQ(f.viscosity_mPa_s, 4.0);
+  EXPECT_DOUBLE_EQ(f.cardiac_output_ml_min, 5500.0);
+  EXPECT_DOUBLE_EQ(f.cerebral_fraction, 0.14);
+  EXPECT_DOUBLE_EQ(f.arterial_pressure_mmHg, 100.0);
+  EXPECT_DOUBLE_EQ(f.venous_pressure_mmHg, 6.0);
+  EXPECT_DOUBLE_EQ(f.wall_shear_stress_Pa, 1.5);
+  EXPECT_DOUBLE_EQ(f.dispersion_radii, 0.5);
+  EXPECT_DOUBLE_EQ(f.heart_rate_bpm, 72.0);
+  EXPECT_DOUBLE_EQ(f.pulsatility_index, 1.1);
+  EXPECT_FALSE(f.calibrate_terminals);
+  ASSERT_EQ(f.inflows.size(), 1u);
+  EXPECT_EQ(f.inflows[0], (flow::SegmentSetting{1, 5200.0, 10}));
+  ASSERT_EQ(f.outlets.size(), 1u);
+  EXPECT_EQ(f.outlets[0], (flow::SegmentSetting{16, 90.0, 11}));
+  ASSERT_EQ(f.closed.size(), 2u);
+  EXPECT_EQ(f.closed[0], (flow::SegmentSetting{17, 0.2, 12}));
+  EXPECT_DOUBLE_EQ(f.closed[1].value, flow::FlowSettings{}.sac_exchange_fraction);
+  EXPECT_EQ(f.source, "cases/x.case");
+  // Without flow lines: the defaults.
+  const CaseParse d = parse_case("vessel neuro.hclm\n", "cases/y.case");
+  ASSERT_TRUE(d.value);
+  flow::FlowSettings defaults;
+  defaults.source = "cases/y.case";
+  EXPECT_EQ(d.value->flow, defaults);
+}
+
+TEST(CaseFile, ParsesViewsAndRealisticMode) {
+  const CaseParse p = parse_case("vessel neuro.hclm\nview right_working -25 15\nview towne 0 30\nrealistic\n", "x.case");
+  ASSERT_TRUE(p.value) << p.error;
+  ASSERT_EQ(p.value->views.size(), 2u);
+  EXPECT_EQ(p.value->views[0].name, "right_working");
+  EXPECT_EQ(p.value->views[0].lao_deg, -25.0);
+  EXPECT_EQ(p.value->views[0].cranial_deg, 15.0);
+  EXPECT_TRUE(p.value->realistic);
+  EXPECT_FALSE(parse_case("vessel neuro.hclm\n", "x.case").value->realistic);
+}
+
 struct BadCase {
   const char* text;
   const char* error;
@@ -95,7 +150,37 @@ INSTANTIATE_TEST_SUITE_P(
                 "x.case:6: tool 'w' (od 0.360000 mm) does not fit in 'c'"},
         BadCase{"end\n", "x.case:1: 'end' without a tool"},
         BadCase{"name\n", "x.case:1: name: missing value"},
-        BadCase{"", "x.case:0: no vessel: give 'vessel FILE' or 'tube' lines"}));
+        BadCase{"", "x.case:0: no vessel: give 'vessel FILE' or 'tube' lines"},
+        BadCase{"vessel a.hclm\nflow\n",
+                "x.case:2: flow: missing setting (viscosity cardiac_output cerebral_fraction pressure wall_shear_stress "
+                "dispersion pulsatile terminals inflow outlet closed)"},
+        BadCase{"vessel a.hclm\nflow speed 3\n",
+                "x.case:2: flow: unknown setting 'speed' (known: viscosity cardiac_output cerebral_fraction pressure "
+                "wall_shear_stress dispersion pulsatile terminals inflow outlet closed)"},
+        BadCase{"vessel a.hclm\nflow viscosity 0.1\n", "x.case:2: flow viscosity: 0.1 is not in [0.5, 20] mPa.s"},
+        BadCase{"vessel a.hclm\nflow viscosity x\n", "x.case:2: flow viscosity: 'x' is not a finite number"},
+        BadCase{"vessel a.hclm\nflow viscosity 3 4\n", "x.case:2: flow viscosity: expected 1 value, got 2"},
+        BadCase{"vessel a.hclm\nflow viscosity 3\nflow viscosity 4\n", "x.case:3: flow viscosity given twice"},
+        BadCase{"vessel a.hclm\nflow pressure 80 90\n", "x.case:2: flow pressure: 90 is not in [0, 50] mmHg"},
+        BadCase{"vessel a.hclm\nflow pressure 30 30\n", "x.case:2: flow pressure: venous must be below arterial pressure"},
+        BadCase{"vessel a.hclm\nflow pulsatile 70 3\n", "x.case:2: flow pulsatile: 3 is not in [0, 2]"},
+        BadCase{"vessel a.hclm\nflow cerebral_fraction 0\n", "x.case:2: flow cerebral_fraction: 0 is not in (0, 0.5]"},
+        BadCase{"vessel a.hclm\nflow terminals loose\n",
+                "x.case:2: flow terminals: expected 'calibrated' or 'fixed', not 'loose'"},
+        BadCase{"vessel a.hclm\nflow outlet 3.5 100\n", "x.case:2: flow outlet: segment id must be a 32-bit integer"},
+        BadCase{"vessel a.hclm\nflow outlet 3 0\n", "x.case:2: flow outlet: 0 is not in (0, 40000] mL/min"},
+        BadCase{"vessel a.hclm\nflow outlet 3\n", "x.case:2: flow outlet: expected 2 values, got 1"},
+        BadCase{"vessel a.hclm\nflow closed 3 2\n", "x.case:2: flow closed: 2 is not in [0, 1]"},
+        BadCase{"vessel a.hclm\nflow closed 3\nflow outlet 3 50\n",
+                "x.case:3: flow outlet: segment 3 already given on line 2"},
+        BadCase{"vessel a.hclm\nview a 10\n", "x.case:2: view: expected 3 values, got 2"},
+        BadCase{"vessel a.hclm\nview a 10 0\nview a 20 0\n", "x.case:3: view 'a' defined twice"},
+        BadCase{"vessel a.hclm\nview a 130 0\n", "x.case:2: view: LAO/RAO angle must be within +-120 degrees"},
+        BadCase{"vessel a.hclm\nview a 0 90\n", "x.case:2: view: cranial/caudal angle must be within +-60 degrees"},
+        BadCase{"vessel a.hclm\nrealistic yes\n", "x.case:2: realistic: expected 0 values, got 1"},
+        BadCase{"vessel a.hclm\nrealistic\nrealistic\n", "x.case:3: realistic given twice"},
+        BadCase{"vessel a.hclm\nflow inflow 3 50\nflow inflow 3 60\n",
+                "x.case:3: flow inflow: segment 3 already given on line 2"}));
 
 }  // namespace
 }  // namespace cathbox::tool

@@ -17,16 +17,18 @@ namespace {
 
 ControlMeshResult build(const VesselModel& model, const MeshOptions& options) {
   const VesselGraph graph(model);
-  return build_control_mesh(smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions),
-                            graph, options);
+  return build_control_mesh(
+      smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing), graph,
+      options);
 }
 
 // The thesis' count (3.2.3.2): m segments of k_i nodes and n bifurcations give 4 sum k_i points
-// and 4 sum (k_i - 1) + 7 n faces, with M = 4 and open ends.
+// and 4 sum (k_i - 1) + 7 n faces, with M = 4, open ends and a ring per HCLM point.
 void expect_thesis_counts(const VesselModel& model) {
   MeshOptions options;
   options.ring_points = 4;
   options.caps = false;
+  options.ring_placement = RingPlacement::kPerPoint;
   const ControlMeshResult built = build(model, options);
   ASSERT_TRUE(built.ok()) << built.error;
   const VesselGraph graph(model);
@@ -174,7 +176,9 @@ TEST(ControlMeshBuilder, RejectsBadRingSizes) {
 
 TEST(ControlMeshBuilder, TagsEveryFaceWithItsSegmentJunctionOrCap) {
   const VesselModel model = CaseGenerator::y_bifurcation();
-  const ControlMeshResult built = build(model, MeshOptions{});
+  MeshOptions options;
+  options.ring_placement = RingPlacement::kPerPoint;
+  const ControlMeshResult built = build(model, options);
   ASSERT_TRUE(built.ok());
   std::size_t segment = 0, junction = 0, cap = 0;
   for (const FaceRegion& r : built.mesh.face_regions) {

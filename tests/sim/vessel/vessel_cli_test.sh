@@ -1,23 +1,7 @@
 #!/usr/bin/env bash
 # Checks the `cathbox vessel` commands against the built tool: exit codes, one-line file:line
 # errors on bad input, and the files they write. Usage: vessel_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR
-set -u
-cathbox="$1"
-src="$2"
-work="$3"
-rm -rf "$work"
-mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# expect CODE CMD...: runs CMD, checks its exit code; stdout/stderr land in $work/out, $work/err.
-expect() {
-  local want="$1"
-  shift
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "exit $got (want $want): $* -- $(head -c 300 "$work/err")"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_check.sh"
 
 for c in neuro neuro_aneurysm neuro_stenosis y_bifurcation seed_catheter; do
   expect 0 "$cathbox" vessel validate "$src/cases/$c.hclm"
@@ -59,8 +43,13 @@ for ext in obj ply stl; do
 done
 head -c 3 "$work/y.ply" | grep -q ply || fail "ply header"
 grep -q "^g junction_0" "$work/y.obj" || fail "obj groups per region"
-expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/c.obj" --ring 4 --control-mesh --no-caps
+# The thesis' counts (4 sum k_i points, 4 sum (k_i - 1) + 7 faces) with a ring per HCLM point.
+expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/c.obj" --ring 4 --control-mesh --no-caps --rings per-point
 grep -q "control mesh 300 vertices 295 faces" "$work/out" || fail "control mesh counts: $(cat "$work/out")"
+expect 0 "$cathbox" vessel mesh "$src/cases/neuro_stenosis.hclm" -o "$work/s.ply" --smoothing moving-average --no-junction-fit
+grep -q "closed, manifold" "$work/out" || fail "mesh with the thesis smoothing: $(cat "$work/out")"
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --smoothing gaussian
+expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --rings every-mm
 
 # Generate: bundled cases reproduce the shipped files; random models validate.
 expect 0 "$cathbox" vessel generate --all "$work/cases"
@@ -73,8 +62,4 @@ expect 0 "$cathbox" vessel generate random-graph --seed 2 --cycles 2 -o "$work/g
 expect 0 "$cathbox" vessel info "$work/graph.hclm"
 grep -q "^cycles *2$" "$work/out" || fail "random graph cycles: $(cat "$work/out")"
 
-if [ "$failures" -ne 0 ]; then
-  echo "$failures failure(s)" >&2
-  exit 1
-fi
-echo "vessel cli: all checks passed"
+finish "vessel cli"

@@ -45,6 +45,9 @@ typedef struct {
   char serial[CBX_TEXT_FIELD + 1]; /* ASCII 0x20..0x7E */
   char board[CBX_TEXT_FIELD + 1];  /* e.g. "stm32f411-bp", "cathbox-emu" */
   cbx_axis_config axis[CBX_AXIS_COUNT];
+  uint8_t fw_version[3];           /* major, minor, patch of the running image (its info block) */
+  char build[CBX_BUILD_FIELD + 1]; /* build identifier of the running image, ASCII */
+  uint8_t board_faults;            /* CBX_BOARD_FAULT_* the port found at start-up (e.g. no HSE) */
 } cbx_core_config;
 
 /* Settings persisted through cbx_hal_store_*: calibration and limits. */
@@ -74,6 +77,7 @@ typedef struct {
   volatile uint32_t command_generation;
   volatile uint8_t ack_pending;        /* an ACK_FAULTS arrived since the tick last took one */
   cbx_settings settings_slot[2];
+  cbx_axis_scale scale_slot[2][CBX_AXIS_COUNT]; /* derived from settings_slot by the writer, so the tick has no divisions */
   volatile uint8_t settings_published;
   volatile uint32_t settings_generation;
   volatile uint8_t reset_mask;
@@ -110,6 +114,7 @@ typedef struct {
   uint32_t ms_accum_us;
   uint32_t reported_ms;                 /* USB context: ms of the last IN report */
   uint16_t in_seq, feature_seq;
+  uint32_t in_dropped;                  /* USB context: IN reports the port could not send */
 } cbx_core;
 
 /* Defaults for a board (not calibrated, default limits). */
@@ -137,6 +142,14 @@ bool cbx_core_usb_in_report(cbx_core* core, uint8_t out[CBX_REPORT_SIZE]);
 cbx_status cbx_core_usb_feature_get(cbx_core* core, uint8_t id, uint8_t out[CBX_REPORT_SIZE]);
 /* SET_REPORT of a feature report; any failure is counted as an rx error (the port stalls). */
 cbx_status cbx_core_usb_feature_set(cbx_core* core, const uint8_t* data, size_t length);
+
+/* The port could not send the IN report cbx_core_usb_in_report() gave it (its endpoint FIFO
+ * had no room): counted in the state reports' in_dropped. USB context. */
+void cbx_core_usb_in_dropped(cbx_core* core);
+/* The host is gone: USB bus reset, suspend or detach. Outputs go to zero in the next tick and
+ * stay off (as after a command with mode off: no fault, the watchdog stands down) until the
+ * host commands again. The port also cuts its outputs at once. USB context. */
+void cbx_core_usb_reset(cbx_core* core);
 
 /* A consistent copy of the latest state (what the next IN report carries, header aside). */
 void cbx_core_state(cbx_core* core, cbx_state_report* out);

@@ -13,12 +13,17 @@
 
 #include "app/gpu_mesh.hpp"
 #include "app/mesh_chunks.hpp"
-#include "app/scene_snapshot.hpp"
+#include "session/scene_snapshot.hpp"
 #include "app/shader_program.hpp"
 #include "app/tube_mesh.hpp"
 #include "app/viewport.hpp"
 
 namespace cathbox::app {
+
+// The renderer draws the session's snapshots.
+using session::SceneSnapshot;
+using session::ToolView;
+using session::ContactView;
 
 struct RenderSettings {
   bool wireframe = false;

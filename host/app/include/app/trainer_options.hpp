@@ -28,6 +28,9 @@ struct TrainerOptions {
   int fps_cap = 60;               // frame pacing without vsync (Xvfb, bench): 0 = as fast as possible
   double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
   bool wireframe = false;
+  std::string replay;             // --replay FILE: open in Replay mode on this record
+  std::string records_dir;        // where runs are recorded (empty: session::records_dir())
+  bool record = true;             // --no-record: do not record live runs
   bool help = false;
 };
 

@@ -1,16 +1,17 @@
 #pragma once
 // The trainer's Dear ImGui panels: the HUD over the global view (insertion, rotation, hand
 // force, haptic rate, frame rate, device status, view toggles, case picker), the output panel
-// (contacts, faults, device events) and the end-of-run panel.
+// (contacts, faults, device events), the end-of-run panel (end_of_run_panel.hpp) and, in Replay
+// mode, the replay controls (replay_panel.hpp).
 #include <deque>
 #include <string>
 #include <vector>
 
 #include "app/case_catalog.hpp"
-#include "app/event_log.hpp"
 #include "app/scene_renderer.hpp"
-#include "app/scene_snapshot.hpp"
 #include "app/screen_layout.hpp"
+#include "session/event_log.hpp"
+#include "session/scene_snapshot.hpp"
 
 struct GLFWwindow;
 
@@ -21,6 +22,8 @@ struct UiStatus {
   std::string device;      // e.g. "emulated box (socket /tmp/...)", "keyboard"
   std::string case_name;
   std::string tool_name;   // the active tool
+  bool replay = false;     // Replay mode: no case picker, no driving
+  std::string record;      // the record being written (live) or played (replay)
 };
 
 struct UiActions {
@@ -28,6 +31,7 @@ struct UiActions {
   bool restart = false;
   bool end_run = false;
   bool switch_tool = false;
+  bool replay_this_run = false;  // the end-of-run panel's "replay"
 };
 
 class TrainerUi {
@@ -41,14 +45,14 @@ class TrainerUi {
   [[nodiscard]] bool init(GLFWwindow* window);
   void begin_frame();
   // Draws every panel and returns what the trainee asked for.
-  [[nodiscard]] UiActions draw(const ScreenLayout& layout, const SceneSnapshot& snapshot,
+  [[nodiscard]] UiActions draw(const ScreenLayout& layout, const session::SceneSnapshot& snapshot,
                                const UiStatus& status, const CaseCatalog& catalog,
                                int current_case, RenderSettings& settings);
   void end_frame();
 
   // Output panel lines (kept to the last few hundred).
   void add_line(std::string line);
-  void drain(EventLog& log);
+  void drain(session::EventLog& log);
   [[nodiscard]] bool wants_mouse() const;
   [[nodiscard]] bool wants_keyboard() const;
   // Mouse wheel steps of this frame (the GLFW backend collects them).

@@ -1,10 +1,14 @@
 #pragma once
-// Exit codes of the `cathbox` command (documented in host/cli/README.md).
+// Exit codes of the `cathbox` command: the one set every Cathbox program uses, defined in
+// host/session/include/session/exit_codes.hpp (documented in host/session/README.md).
+#include "session/exit_codes.hpp"
+
 namespace cathbox::cli {
-inline constexpr int kExitOk = 0;            // success
-inline constexpr int kExitFailure = 1;       // the operation ran and failed (test failed, verify mismatch)
-inline constexpr int kExitBadInput = 2;      // bad command line, bad file, bad image: nothing was changed
-inline constexpr int kExitNoDevice = 3;      // no box / bootloader / emulator found or it went away
-inline constexpr int kExitIncompatible = 4;  // the box speaks an incompatible protocol version
-inline constexpr int kExitDeviceError = 5;   // the box answered with an error or a fault
+using session::kExitBadInput;
+using session::kExitDeviceError;
+using session::kExitFailure;
+using session::kExitIncompatible;
+using session::kExitNoDevice;
+using session::kExitNoDisplay;
+using session::kExitOk;
 }  // namespace cathbox::cli

@@ -7,6 +7,11 @@
 //   1500       rotate_by  90 at 180          # degrees, optional speed in deg/s (default 180)
 //   4000       insert_by  -5
 //   6000       end                           # optional: stop here
+//   # imaging (the session and the trainer act on these; `cathbox sim run` skips them)
+//   2000       fluoro     on                 # fluoroscopy pedal down (off: up)
+//   2500       inject     6 at 3             # mL of contrast at mL/s from the selected catheter's tip
+//   5000       carm       -20 15             # C-arm to LAO (+) / RAO (-) and cranial (+) / caudal (-) degrees
+//   5200       roadmap                       # the last run's peak frame as roadmap (off: remove it)
 //
 // Times are milliseconds of virtual time, non-decreasing. A motion moves the value towards
 // its target at the given speed; a new motion of the same tool and axis replaces the old one.
@@ -19,13 +24,25 @@
 
 namespace cathbox::tool {
 
-enum class ActionKind : std::uint8_t { kSelect, kInsertTo, kInsertBy, kRotateTo, kRotateBy, kEnd };
+enum class ActionKind : std::uint8_t {
+  kSelect, kInsertTo, kInsertBy, kRotateTo, kRotateBy, kEnd,
+  kFluoro,   // value 1: pedal down, 0: up
+  kInject,   // value mL, speed mL/s
+  kCArm,     // value LAO degrees, value2 cranial degrees
+  kRoadmap,  // value 1: capture, 0: remove
+};
+
+// True for the imaging verbs (fluoro, inject, carm, roadmap).
+[[nodiscard]] constexpr bool is_imaging(ActionKind k) {
+  return k == ActionKind::kFluoro || k == ActionKind::kInject || k == ActionKind::kCArm || k == ActionKind::kRoadmap;
+}
 
 struct Action {
   std::int64_t time_ms = 0;
   ActionKind kind = ActionKind::kEnd;
-  double value = 0.0;   // mm or degrees
-  double speed = 0.0;   // mm/s or deg/s
+  double value = 0.0;   // mm or degrees; fluoro/roadmap 1 or 0; inject mL; carm LAO degrees
+  double speed = 0.0;   // mm/s or deg/s; inject mL/s
+  double value2 = 0.0;  // carm cranial degrees
   std::string tool;     // kSelect
   std::size_t line = 0; // source line, for errors found later
 };
@@ -44,5 +61,6 @@ struct ScriptParse {
 
 inline constexpr double kDefaultInsertSpeed_mm_s = 20.0;
 inline constexpr double kDefaultRotateSpeed_deg_s = 180.0;
+inline constexpr double kDefaultInjectRate_ml_s = 3.0;
 
 }  // namespace cathbox::tool

@@ -9,6 +9,7 @@
 //   tube   SEG  X0 Y0 Z0 R0  X1 Y1 Z1 R1     # analytic lumen piece instead of a vessel file
 //   entry  X Y Z  DX DY DZ                  # optional: default is the start of the root segment
 //   target SEG FRACTION                     # fraction of the segment's length, 0..1
+//   wall_force_threshold MN                 # optional: the session's "time above" wall force
 //   tool   NAME guidewire|catheter
 //     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG]   # proximal first
 //     friction MU
@@ -18,6 +19,13 @@
 //     drag MN_S_PER_MM2
 //     axial_stiffness N
 //   end
+//   flow   KEY VALUES...                    # blood flow overrides (sim/flow), see the README:
+//          viscosity MPA_S | cardiac_output ML_PER_MIN | cerebral_fraction F |
+//          pressure ARTERIAL_MMHG VENOUS_MMHG | wall_shear_stress PA | dispersion RADII |
+//          pulsatile BPM PI | terminals calibrated|fixed | inflow SEG ML_PER_MIN | outlet SEG ML_PER_MIN |
+//          closed SEG [EXCHANGE_FRACTION]
+//   view   NAME LAO_DEG CRANIAL_DEG          # a working projection of the C-arm (RAO/caudal negative)
+//   realistic                               # fluoroscopy only: no 3D view for the trainee
 //
 // Bad input gives one line "file:line: message"; parsing never throws or crashes.
 #include <cstdint>
@@ -26,6 +34,8 @@
 #include <string_view>
 #include <vector>
 
+#include "flow/c_arm.hpp"
+#include "flow/flow_settings.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/tube_network_wall.hpp"
@@ -43,7 +53,11 @@ struct Case {
   std::vector<Tube> tubes;
   std::optional<Entry> entry;
   std::optional<CaseTarget> target;
+  std::optional<double> wall_force_threshold_mN;  // for the session's metrics (default there: 100 mN)
   std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
+  flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
+  std::vector<flow::NamedProjection> views;  // the case's working projections (besides AP, lateral)
+  bool realistic = false;        // the 3D view is off for the trainee (fluoroscopy only)
 };
 
 struct CaseParse {

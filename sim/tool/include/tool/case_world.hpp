@@ -5,9 +5,11 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "tool/case_file.hpp"
 #include "vessel/surface_mesh.hpp"
+#include "vessel/vessel_model.hpp"
 #include "tool/simulator.hpp"
 #include "tool/wall_model.hpp"
 
@@ -24,6 +26,10 @@ class CaseWorld {
   // The vessel surface the wall was built from (for rendering); empty for analytic tubes.
   [[nodiscard]] const vessel::SurfaceMesh* mesh() const { return mesh_ ? mesh_.get() : nullptr; }
   void set_mesh(std::shared_ptr<const vessel::SurfaceMesh> mesh) { mesh_ = std::move(mesh); }
+  // The smoothed vessel model the surface follows (centrelines, radii, segment graph); null for
+  // analytic tubes.
+  [[nodiscard]] const vessel::VesselModel* model() const { return model_ ? model_.get() : nullptr; }
+  void set_model(std::shared_ptr<const vessel::VesselModel> model) { model_ = std::move(model); }
   // Hands the wall over (the world is then empty).
   [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
@@ -32,6 +38,7 @@ class CaseWorld {
   Entry entry_;
   std::optional<glm::dvec3> target_;
   std::shared_ptr<const vessel::SurfaceMesh> mesh_;
+  std::shared_ptr<const vessel::VesselModel> model_;
 };
 
 struct WorldBuild {
@@ -40,5 +47,8 @@ struct WorldBuild {
 };
 
 [[nodiscard]] WorldBuild build_world(const Case& c);
+// The same from the vessel file's text (c.vessel_path only names it in errors): a record
+// replays the HCLM it carries, whatever the file on disk holds now.
+[[nodiscard]] WorldBuild build_world(const Case& c, std::string_view vessel_text);
 
 }  // namespace cathbox::tool

@@ -29,4 +29,8 @@ struct ScenarioResult {
 [[nodiscard]] ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options,
                                           std::ostream& csv);
 
+// The log's header line and one row for the selected tool (also `cathbox session replay --out`).
+void write_scenario_header(std::ostream& csv);
+void write_scenario_row(std::ostream& csv, const Simulator& sim, std::int64_t time_ms);
+
 }  // namespace cathbox::tool

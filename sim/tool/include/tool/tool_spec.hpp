@@ -5,6 +5,7 @@
 // Catheters have a lumen (the next tool runs in it); a coil is a pusher wire carrying a
 // detachable platinum coil at its distal end; a balloon catheter carries a balloon.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -69,5 +70,28 @@ struct ToolSpec {
     return od;
   }
 };
+
+// The limits a tool must keep (the case file checks them statement by statement).
+struct ToolLimits {
+  static constexpr std::size_t kMaxTools = 4;
+  static constexpr std::size_t kMaxSections = 64;
+  static constexpr double kMaxLength_mm = 4000.0;
+  static constexpr double kMaxNodes = 6000.0;
+  static constexpr double kMaxDiameter_mm = 20.0;
+  static constexpr double kMaxStiffness_Nmm2 = 1e6;
+  static constexpr double kMaxCurve_deg = 360.0;
+  static constexpr double kMaxFriction = 2.0;
+  static constexpr double kMaxSpacing_mm = 2.0;
+  static constexpr double kMinTipSpacing_mm = 0.1;
+  static constexpr double kMaxTipZone_mm = 500.0;
+  static constexpr double kMaxDrag = 10.0;
+  static constexpr double kMinAxialStiffness_N = 10.0;
+  static constexpr double kMaxAxialStiffness_N = 1e6;
+};
+
+// Checks a set of tools as a simulator takes them (every value in range, names unique, coaxial
+// tools inside a known catheter they fit in): "" when fine, else one line naming the tool and
+// the value. For tools that did not come from a case file (a session record).
+[[nodiscard]] std::string check_tools(std::span<const ToolSpec> tools);
 
 }  // namespace cathbox::tool

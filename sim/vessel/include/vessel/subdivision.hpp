@@ -3,9 +3,14 @@
 // refinement, Far::PrimvarRefiner for the refined positions, then limit positions and normals).
 // The result is the refined mesh's vertices moved to the limit surface, each quad split into two
 // triangles along its shorter diagonal.
+#include <functional>
+#include <span>
 #include <string>
 
+#include <glm/vec3.hpp>
+
 #include "vessel/control_mesh.hpp"
+#include "vessel/mesh_options.hpp"
 #include "vessel/surface_mesh.hpp"
 
 namespace cathbox::vessel {
@@ -16,19 +21,31 @@ struct SurfaceMeshResult {
   [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
-// How the refined vertices are moved to the limit surface:
-//  kMasks: the Catmull-Clark limit position and tangent masks (Halstead et al. 1993) applied to
-//          the last level. OpenSubdiv refines to level L-1; on a closed mesh without creases
-//          the last step is done with PrimvarRefiner's own smooth weights in the same order
-//          straight into the limit pass (so OpenSubdiv never builds level L), otherwise as
-//          kMasksOnRefinedLevel. Cross-checked against the other two in the tests.
-//  kMasksOnRefinedLevel: the same masks on level L as OpenSubdiv refines it (faces only) and
-//          PrimvarRefiner interpolates it; kMasks must give exactly this mesh.
-//  kOpenSubdiv: Far::PrimvarRefiner::Limit() with full topology in the last level.
-enum class LimitMethod { kMasks, kMasksOnRefinedLevel, kOpenSubdiv };
+// LimitMethod (how the refined vertices go to the limit surface) is in mesh_options.hpp.
+
+
+// One refinement level's vertices and faces, as a LevelAdjuster sees them. Uniform refinement
+// numbers faces by parent: at level k >= 1 a control face of n vertices has the n 4^(k-1)
+// consecutive faces after those of the control faces before it (level 0 is the control mesh).
+class RefinedLevel {
+ public:
+  virtual ~RefinedLevel() = default;
+  [[nodiscard]] virtual int level() const = 0;
+  [[nodiscard]] virtual int face_count() const = 0;
+  [[nodiscard]] virtual int vertex_count() const = 0;
+  // Counter-clockwise seen from outside; quads from level 1 on.
+  [[nodiscard]] virtual std::span<const int> face_vertices(int face) const = 0;
+  [[nodiscard]] virtual int vertex_face_count(int vertex) const = 0;
+  [[nodiscard]] virtual bool boundary_vertex(int vertex) const = 0;  // on an open edge
+  [[nodiscard]] virtual glm::vec3 point(int vertex) const = 0;
+  virtual void set_point(int vertex, const glm::vec3& p_mm) = 0;
+};
+// Called once with level L-1 just before the last refinement step (may move its points).
+using LevelAdjuster = std::function<void(RefinedLevel&)>;
 
 // level 0 returns the control mesh itself, triangulated (normals from the faces).
 [[nodiscard]] SurfaceMeshResult subdivide(const ControlMesh& control, int level,
-                                          LimitMethod method = LimitMethod::kMasks);
+                                          LimitMethod method = LimitMethod::kMasks,
+                                          const LevelAdjuster& before_last_step = {});
 
 }  // namespace cathbox::vessel

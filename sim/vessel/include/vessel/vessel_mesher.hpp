@@ -1,6 +1,7 @@
 #pragma once
 // The whole pipeline in one call: HCLM file or model -> validated graph -> smoothed centerline
-// -> control mesh -> Catmull-Clark limit surface (SurfaceMesh). This is the entry point the
+// -> control mesh -> Catmull-Clark limit surface, long junction patches fitted to their branches
+// on the way (SurfaceMesh). This is the entry point the
 // collision, tool and trainer modules use:
 //
 //   auto built = cathbox::vessel::load_surface_mesh("cases/neuro.hclm");

@@ -25,6 +25,7 @@ struct FakeDriver {
   bool ep1_busy = false;
   std::vector<uint8_t> ep1_in;
   bool halted[2] = {false, false};
+  int outputs_off = 0;
 };
 FakeDriver driver;
 
@@ -43,11 +44,13 @@ void usb_ep0_stall(void) { driver.stalls++; }
 void usb_set_address(uint8_t address) { driver.address = address; }
 void usb_ep1_configure(bool enable) { driver.ep1_enabled = enable; }
 bool usb_ep1_in_busy(void) { return driver.ep1_busy; }
-void usb_ep1_in_send(const uint8_t* data, uint16_t length) {
+bool usb_ep1_in_send(const uint8_t* data, uint16_t length) {
   driver.ep1_in.assign(data, data + length);
   driver.ep1_busy = true;
+  return true;
 }
 void usb_ep1_stall(bool in, bool stall) { driver.halted[in ? 1 : 0] = stall; }
+void board_outputs_off(void) { driver.outputs_off++; }
 bool usb_ep1_stalled(bool in) { return driver.halted[in ? 1 : 0]; }
 }
 

@@ -1,0 +1,201 @@
+// bench_session: what the session costs per 1 kHz tick on top of the simulation, and how fast a
+// record replays.
+//  - SessionTick/<case>: the same action script drives a Session (hand, mapping, record, state
+//    hashes, metrics, snapshot, events) and, in lockstep, a bare tool::Simulator given the
+//    session's inputs. Per tick: the session's tick, the bare step, and their difference (the
+//    session's overhead). Median and p99 of each as counters.
+//  - Recording: Recorder calls for one tick of a moving hand (two tools, a hash every 100 ticks),
+//    compression and writing on its own thread as in a run.
+//  - Replay/<minutes>: a record of a run made by an action script in virtual time is replayed
+//    with every state hash checked; counter x_real_time = recorded seconds / replay seconds.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "session/action_script_hand.hpp"
+#include "session/recorder.hpp"
+#include "session/replay.hpp"
+#include "session/session.hpp"
+#include "tool/case_file.hpp"
+#include "tool/simulator.hpp"
+
+namespace {
+
+using cathbox::session::ActionScriptHand;
+using cathbox::session::Session;
+using cathbox::session::SessionOptions;
+using cathbox::session::TickInput;
+using cathbox::session::TickObserver;
+using cathbox::session::TickView;
+using Clock = std::chrono::steady_clock;
+
+std::string scratch(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cathbox_bench_session";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
+}
+
+// Pushes in and pulls back with a full turn of the tip each way, for `minutes`.
+std::string write_script(const std::string& name, int minutes) {
+  const std::string path = scratch(name);
+  std::ofstream out(path);
+  for (int cycle = 0; cycle < minutes * 6; ++cycle) {
+    const int t0 = cycle * 10'000;
+    out << t0 << " insert_to 80 at 25\n" << t0 + 1000 << " rotate_by 360 at 180\n";
+    out << t0 + 5000 << " insert_to 30 at 25\n" << t0 + 6000 << " rotate_by -360 at 180\n";
+  }
+  out << minutes * 60'000 << " end\n";
+  return path;
+}
+
+std::unique_ptr<Session> open_session(const std::string& case_path, const std::string& script, std::string& error) {
+  auto scene = cathbox::session::load_session_case(case_path);
+  if (!scene.value) {
+    error = scene.error;
+    return nullptr;
+  }
+  auto hand = ActionScriptHand::load(script, *scene.value, error);
+  if (!hand) return nullptr;
+  return std::make_unique<Session>(std::move(scene.value), std::move(hand), SessionOptions{});
+}
+
+// Copies the inputs the session gave its simulator at each tick.
+struct InputTap final : TickObserver {
+  TickInput input;
+  void observe(const TickView& view) override { input = view.input; }
+};
+
+void SessionTick(benchmark::State& state, const std::string& case_name) {
+  const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name + ".case";
+  const std::string script = write_script("tick.actions", 1);
+  std::string error;
+  auto session = open_session(case_path, script, error);
+  auto bare_scene = cathbox::session::load_session_case(case_path);
+  if (!session || !bare_scene.value) {
+    state.SkipWithError((error.empty() ? bare_scene.error : error).c_str());
+    return;
+  }
+  if (!session->record_to(scratch("tick.cbxrec"), error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  cathbox::tool::Simulator bare(bare_scene.value->world->wall(), bare_scene.value->spec.tools, bare_scene.value->entry);
+  InputTap tap;
+  session->add_observer(tap);
+  constexpr double kDt = 1e-3;
+  std::vector<double> tick_us;
+  std::vector<double> step_us;
+  std::vector<double> overhead_us;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    session->step_virtual(1);
+    const auto t1 = Clock::now();
+    for (std::size_t t = 0; t < tap.input.tool_count; ++t) {
+      bare.set_insertion(t, static_cast<double>(tap.input.tools[t].insertion_um) * 1e-3);
+      bare.set_rotation(t, static_cast<double>(tap.input.tools[t].rotation_urad) * 1e-6);
+    }
+    bare.step(kDt);
+    const auto t2 = Clock::now();
+    const double a = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    const double b = std::chrono::duration<double, std::micro>(t2 - t1).count();
+    tick_us.push_back(a);
+    step_us.push_back(b);
+    overhead_us.push_back(a - b);
+    if (session->over()) break;
+  }
+  session->stop();
+  state.counters["tick_median_us"] = percentile(tick_us, 0.5);
+  state.counters["tick_p99_us"] = percentile(tick_us, 0.99);
+  state.counters["sim_step_median_us"] = percentile(step_us, 0.5);
+  state.counters["sim_step_p99_us"] = percentile(step_us, 0.99);
+  state.counters["overhead_median_us"] = percentile(overhead_us, 0.5);
+  state.counters["overhead_p99_us"] = percentile(overhead_us, 0.99);
+}
+BENCHMARK_CAPTURE(SessionTick, y_bifurcation, std::string("y_bifurcation"))->Iterations(20'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(SessionTick, neuro, std::string("neuro"))->Iterations(20'000)->Unit(benchmark::kMicrosecond);
+
+void Recording(benchmark::State& state) {
+  cathbox::session::RecordHeader header;
+  header.case_name = "bench";
+  header.tools = {cathbox::tool::default_catheter(), cathbox::tool::default_guidewire()};
+  std::string error;
+  auto rec = cathbox::session::Recorder::create(scratch("recording.cbxrec"), header, error);
+  if (!rec) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  TickInput in;
+  in.tool_count = 2;
+  std::int64_t tick = 0;
+  std::vector<double> samples_us;
+  samples_us.reserve(1 << 20);
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    rec->begin_tick(tick, tick * 1000);
+    in.tools[1].insertion_um += 9 + (tick % 3);
+    in.tools[1].rotation_urad -= (tick % 50 == 0) ? 1534 : 0;
+    if (tick % 7 == 0) in.tools[0].insertion_um += 9;
+    rec->tools(in);
+    rec->box({true, true, 0});
+    if ((tick + 1) % 100 == 0) rec->state_hash(0x9e3779b97f4a7c15ULL * static_cast<std::uint64_t>(tick));
+    rec->end_tick();
+    samples_us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    ++tick;
+  }
+  rec->finish(cathbox::session::record::EndReason::kEndedByUser, "bench", tick, 0);
+  if (!rec->close()) state.SkipWithError(rec->error().c_str());
+  state.counters["median_us"] = percentile(samples_us, 0.5);
+  state.counters["p99_us"] = percentile(samples_us, 0.99);
+  state.counters["bytes_per_tick"] = static_cast<double>(rec->bytes_written()) / static_cast<double>(std::max<std::int64_t>(tick, 1));
+}
+BENCHMARK(Recording)->Iterations(600'000)->Unit(benchmark::kMicrosecond);
+
+void Replay(benchmark::State& state) {
+  const int minutes = static_cast<int>(state.range(0));
+  const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case";
+  const std::string script = write_script("replay.actions", minutes);
+  const std::string record = scratch("replay.cbxrec");
+  std::string error;
+  auto session = open_session(case_path, script, error);
+  if (!session || !session->record_to(record, error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  while (!session->over()) session->step_virtual(10'000);
+  if (!session->recorder()->close()) {
+    state.SkipWithError(session->recorder()->error().c_str());
+    return;
+  }
+  const double recorded_s = static_cast<double>(session->ticks()) * 1e-3;
+  double replay_s = 0.0;
+  for (auto _ : state) {
+    const auto t0 = Clock::now();
+    const cathbox::session::ReplayResult r = cathbox::session::replay_record(record);
+    replay_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    if (!r.matched()) {
+      state.SkipWithError(r.error.empty() ? "a state hash differs" : r.error.c_str());
+      return;
+    }
+  }
+  state.counters["recorded_s"] = recorded_s;
+  state.counters["replay_s"] = replay_s;
+  state.counters["x_real_time"] = recorded_s / replay_s;
+  state.counters["record_bytes"] = static_cast<double>(std::filesystem::file_size(record));
+}
+BENCHMARK(Replay)->Arg(10)->Iterations(1)->Unit(benchmark::kSecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

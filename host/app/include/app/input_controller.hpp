@@ -1,0 +1,46 @@
+#pragma once
+// Mouse and keyboard in the trainer's window, once per frame: orbit / pan / zoom the global
+// view, double-click a vessel to orbit around it, F wireframe, C re-frame, Esc quit; and the
+// keyboard hand: Up/Down (W/S) push and pull at 10 mm/s, Left/Right (A/D) twist at 1.5 rad/s,
+// Shift x4, Tab takes the other tool.
+#include <functional>
+#include <optional>
+
+#include <glm/vec3.hpp>
+
+#include "app/orbit_camera.hpp"
+#include "app/scene_renderer.hpp"
+#include "app/screen_layout.hpp"
+#include "session/keyboard_input.hpp"
+
+struct GLFWwindow;
+
+namespace cathbox::app {
+
+class TrainerUi;
+
+struct InputActions {
+  bool switch_tool = false;
+  bool frame_camera = false;
+};
+
+class InputController {
+ public:
+  using Pick = std::function<std::optional<glm::vec3>(const glm::vec3& origin_mm, const glm::vec3& direction)>;
+
+  // `keyboard` is null in Replay mode (nothing to drive).
+  [[nodiscard]] InputActions handle(GLFWwindow* window, const TrainerUi& ui, const ScreenLayout& layout,
+                                    OrbitCamera& camera, RenderSettings& settings, const Pick& pick,
+                                    session::KeyboardInput* keyboard);
+
+ private:
+  double last_mouse_x_ = 0.0;
+  double last_mouse_y_ = 0.0;
+  bool tab_down_ = false;
+  bool left_down_ = false;
+  double last_click_s_ = -1.0;
+  bool f_down_ = false;
+  bool c_down_ = false;
+};
+
+}  // namespace cathbox::app

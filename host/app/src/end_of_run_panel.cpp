@@ -1,0 +1,82 @@
+#include "app/end_of_run_panel.hpp"
+
+#include <imgui.h>
+
+#include <cstdio>
+
+namespace cathbox::app {
+namespace {
+
+void optional_row(const char* name, const std::optional<double>& v, const char* unit) {
+  if (v) {
+    ImGui::Text("%-22s %8.2f %s", name, *v, unit);
+  } else {
+    ImGui::Text("%-22s      n/a", name);
+  }
+}
+
+}  // namespace
+
+EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m, const std::string& record_path,
+                                bool replaying) {
+  EndOfRunActions act;
+  constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize;
+  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(area.x + area.width / 2), static_cast<float>(area.y + area.height / 2)),
+                          ImGuiCond_Always, ImVec2(0.5F, 0.5F));
+  if (ImGui::Begin(replaying ? "End of the recorded run" : "End of run", nullptr, kFixed)) {
+    if (!m.has_target) {
+      ImGui::Text("No target in this case");
+    } else if (m.target_reached) {
+      ImGui::Text("Target reached at %.2f s", static_cast<double>(m.time_to_target_us) * 1e-6);
+    } else {
+      ImGui::Text("Target not reached (closest %.1f mm)", m.closest_to_target_mm);
+    }
+    ImGui::Separator();
+    ImGui::Text("%-22s %8.2f s", "procedure time", static_cast<double>(m.procedure_time_us) * 1e-6);
+    ImGui::Text("%-22s %8.1f mm", "tip path length", m.tip_path_mm);
+    if (m.path_efficiency > 0.0) {
+      ImGui::Text("%-22s %8.2f (route %.0f mm)", "path efficiency", m.path_efficiency, m.route_length_mm);
+    } else {
+      ImGui::Text("%-22s      n/a", "path efficiency");
+    }
+    ImGui::Text("%-22s %8d", "wall contacts", m.wall_contacts);
+    ImGui::Text("%-22s %8.1f mN", "peak wall force", m.peak_wall_force_mN);
+    char above[32];
+    std::snprintf(above, sizeof above, "time above %.0f mN", m.wall_force_threshold_mN);
+    ImGui::Text("%-22s %8.2f s", above, static_cast<double>(m.time_above_threshold_us) * 1e-6);
+    if (m.wrong_branch_entries >= 0) {
+      ImGui::Text("%-22s %8d", "wrong-branch entries", m.wrong_branch_entries);
+    } else {
+      ImGui::Text("%-22s      n/a", "wrong-branch entries");
+    }
+    ImGui::Text("%-22s %8d", "retractions", m.retractions);
+    ImGui::Text("%-22s %8.1f mm/s", "peak insertion speed", m.peak_insertion_speed_mm_s);
+    ImGui::Text("%-22s %8d", "tool changes", m.tool_changes);
+    ImGui::Text("%-22s %8.1f mN", "peak hand force", m.peak_hand_force_mN);
+    ImGui::Separator();
+    optional_row("fluoroscopy time", m.fluoroscopy_time_s, "s");
+    optional_row("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");
+    if (m.fluoroscopy_runs) {
+      ImGui::Text("%-22s %8d", "fluoroscopy runs", *m.fluoroscopy_runs);
+    } else {
+      ImGui::Text("%-22s      n/a", "fluoroscopy runs");
+    }
+    optional_row("contrast volume", m.contrast_volume_ml, "ml");
+    if (!record_path.empty()) {
+      ImGui::Separator();
+      ImGui::TextDisabled("record: %s", record_path.c_str());
+    }
+    if (!replaying) {
+      if (ImGui::Button("again")) act.again = true;
+      if (!record_path.empty()) {
+        ImGui::SameLine();
+        if (ImGui::Button("replay this run")) act.replay = true;
+      }
+    }
+  }
+  ImGui::End();
+  return act;
+}
+
+}  // namespace cathbox::app

@@ -1,0 +1,67 @@
+#include "app/input_controller.hpp"
+
+#include "app/gl.hpp"
+#include "app/trainer_ui.hpp"
+
+namespace cathbox::app {
+
+InputActions InputController::handle(GLFWwindow* w, const TrainerUi& ui, const ScreenLayout& layout,
+                                     OrbitCamera& camera, RenderSettings& settings, const Pick& pick,
+                                     session::KeyboardInput* keyboard) {
+  InputActions act;
+  if (!ui.wants_mouse()) {
+    double mx = 0.0;
+    double my = 0.0;
+    glfwGetCursorPos(w, &mx, &my);
+    const auto dx = static_cast<float>(mx - last_mouse_x_);
+    const auto dy = static_cast<float>(my - last_mouse_y_);
+    last_mouse_x_ = mx;
+    last_mouse_y_ = my;
+    if (layout.global.contains(static_cast<float>(mx), static_cast<float>(my))) {
+      camera.zoom(ui.mouse_wheel());
+      // Double click on a vessel: orbit around that point from now on.
+      const bool pressed = glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+      if (pressed && !left_down_) {
+        const double t = glfwGetTime();
+        if (t - last_click_s_ < 0.35) {
+          const glm::vec3 dir = camera.ray_through(static_cast<float>(mx) - static_cast<float>(layout.global.x),
+                                                   static_cast<float>(my) - static_cast<float>(layout.global.y),
+                                                   static_cast<float>(layout.global.width),
+                                                   static_cast<float>(layout.global.height));
+          if (const auto hit = pick(camera.eye_mm(), dir)) camera.target_mm = *hit;
+        }
+        last_click_s_ = t;
+      }
+      left_down_ = pressed;
+      if (pressed) camera.orbit(dx, dy);
+      if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+          glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) {
+        camera.pan(dx, dy, static_cast<float>(layout.global.height));
+      }
+    }
+  }
+  double insert = 0.0;
+  double twist = 0.0;
+  if (!ui.wants_keyboard()) {
+    auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
+    const double fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0;
+    if (down(GLFW_KEY_UP) || down(GLFW_KEY_W)) insert += 10.0 * fast;
+    if (down(GLFW_KEY_DOWN) || down(GLFW_KEY_S)) insert -= 10.0 * fast;
+    if (down(GLFW_KEY_LEFT) || down(GLFW_KEY_A)) twist += 1.5 * fast;
+    if (down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D)) twist -= 1.5 * fast;
+    const bool tab = down(GLFW_KEY_TAB);
+    act.switch_tool = tab && !tab_down_;
+    tab_down_ = tab;
+    const bool f = down(GLFW_KEY_F);
+    if (f && !f_down_) settings.wireframe = !settings.wireframe;
+    f_down_ = f;
+    const bool c = down(GLFW_KEY_C);
+    act.frame_camera = c && !c_down_;
+    c_down_ = c;
+    if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);
+  }
+  if (keyboard != nullptr) keyboard->set_speeds(insert, twist);
+  return act;
+}
+
+}  // namespace cathbox::app

@@ -1,0 +1,49 @@
+// cathbox-trainer without a window: a run of the default case by the scripted hand in virtual
+// time, or the replay of a record, each printing its events and the end-of-run figures.
+#include <cstdio>
+
+#include "app/trainer_app.hpp"
+#include "app/trainer_launch.hpp"
+#include "session/exit_codes.hpp"
+
+namespace cathbox::app {
+
+int TrainerApp::run_headless_summary() {
+  const CaseChoice choice = choose_case(options_, program_dir_, catalog_);
+  std::string error = choice.error;
+  if (choice.path.empty() || !open_live(choice.path, error)) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+    return session::kExitBadInput;
+  }
+  std::printf("cathbox-trainer: headless run of %s with the scripted hand (virtual time)\n", live_->scene().name.c_str());
+  if (!record_path_.empty()) std::fprintf(stderr, "cathbox-trainer: recording to %s\n", record_path_.c_str());
+  const std::int64_t limit_ticks =
+      options_.max_seconds > 0.0 ? static_cast<std::int64_t>(options_.max_seconds * 1000.0) : -1;
+  session::LogEvent e;
+  while (!live_->over() && (limit_ticks < 0 || live_->ticks() < limit_ticks)) {
+    live_->step_virtual(100);
+    while (live_->events().pop(e)) std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
+  }
+  live_->end_run();
+  live_->step_virtual(1);
+  std::printf("end of run\n%s", session::MetricsCollector::format(live_->metrics()).c_str());
+  return session::kExitOk;
+}
+
+int TrainerApp::run_headless_replay() {
+  std::string error;
+  if (!open_replay(options_.replay, error)) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+    return session::kExitBadInput;
+  }
+  std::printf("cathbox-trainer: replay of %s (%s)\n", options_.replay.c_str(), replay_->header().case_name.c_str());
+  replay_->seek(replay_->total_ticks());
+  (void)replay_->advance(0, -1);
+  const session::ReplayResult r = replay_->replay().result();
+  std::printf("end of replay: %lld ticks, %lld state hashes checked%s\n%s", static_cast<long long>(r.ticks),
+              static_cast<long long>(r.hashes_checked), r.mismatch ? ", MISMATCH" : "",
+              session::MetricsCollector::format(r.metrics).c_str());
+  return r.mismatch ? session::kExitFailure : session::kExitOk;
+}
+
+}  // namespace cathbox::app

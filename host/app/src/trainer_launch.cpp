@@ -1,0 +1,105 @@
+#include "app/trainer_launch.hpp"
+
+#include <filesystem>
+
+#include "session/box_hand.hpp"
+#include "session/keyboard_hand.hpp"
+#include "session/records_dir.hpp"
+#include "session/scripted_hand.hpp"
+
+namespace cathbox::app {
+namespace {
+
+const std::vector<std::string> kCaseExtensions = {".case", ".hclm"};
+constexpr const char* kDefaultCase = "neuro_right_ica.case";
+constexpr const char* kPreferredCase = "neuro";
+
+}  // namespace
+
+CaseChoice choose_case(const TrainerOptions& options, const std::string& program_dir, CaseCatalog& catalog) {
+  CaseChoice c;
+  std::string dir = options.cases_dir;
+  if (dir.empty()) {
+    for (const std::string& candidate :
+         {std::string(CATHBOX_CASES_DIR), program_dir + "/../../../cases", std::string("cases")}) {
+      if (std::filesystem::is_directory(candidate)) {
+        dir = candidate;
+        break;
+      }
+    }
+  }
+  std::string scan_error;
+  catalog = CaseCatalog::scan(dir, kCaseExtensions, scan_error);
+  if (!options.case_path.empty()) {
+    const std::string name = std::filesystem::path(options.case_path).filename().string();
+    for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
+      if (catalog.entries()[i].name == name) c.catalog_index = static_cast<int>(i);
+    }
+    c.path = options.case_path;
+    return c;
+  }
+  // The default: the single-wire neuro case with a target (the scripted hand reaches it), else
+  // another neuro case file, else the neuro vessel file itself.
+  for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
+    if (catalog.entries()[i].name == kDefaultCase) c.catalog_index = static_cast<int>(i);
+  }
+  if (c.catalog_index < 0) c.catalog_index = catalog.default_index(kPreferredCase, ".case");
+  if (c.catalog_index < 0) {
+    c.error = scan_error.empty() ? dir + ": no case files (.case, .hclm)" : scan_error;
+    return c;
+  }
+  c.path = catalog.entries()[static_cast<std::size_t>(c.catalog_index)].path;
+  return c;
+}
+
+LiveSession open_live_session(const TrainerOptions& options, const std::string& program_dir,
+                              const std::string& case_path, bool scripted, session::KeyboardInput& keyboard) {
+  LiveSession live;
+  session::SessionCaseLoad scene = session::load_session_case(case_path);
+  if (!scene.value) {
+    live.error = scene.error;
+    return live;
+  }
+  if (scene.value->mesh() == nullptr) {
+    live.error = case_path + ": the trainer needs a case with a vessel file (analytic tubes have no surface to show)";
+    return live;
+  }
+  const session::SessionOptions session_options;
+  const double dt_s = static_cast<double>(session_options.period_us) * 1e-6;
+  std::unique_ptr<session::Hand> hand;
+  if (scripted) {
+    // Its insertion limit follows the held tool's (TickInput::max_insertion_um).
+    session::ScriptedHandSettings autopilot_settings;
+    autopilot_settings.end_margin_mm = scene.value->target_mm ? 0.0 : 1.0;
+    auto autopilot = std::make_unique<session::ScriptedHand>(
+        scene.value->route_mm, scene.value->spec.tools.front().length_mm(), autopilot_settings);
+    autopilot->set_tick_s(dt_s);
+    hand = std::move(autopilot);
+  } else if (options.box == BoxChoice::kNone) {
+    hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (no box)");
+  } else {
+    session::BoxHandOptions box;
+    box.source = options.box == BoxChoice::kAuto ? session::BoxSource::kAuto : session::BoxSource::kEmulator;
+    box.emu_socket = options.emu_socket;
+    box.emu_program = program_dir + "/cathbox-emu";
+    box.keyboard = &keyboard;
+    box.dt_s = dt_s;
+    std::string box_error;
+    hand = session::BoxHand::connect(box, box_error);
+    if (!hand) hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (box: " + box_error + ")");
+  }
+  live.session = std::make_unique<session::Session>(std::move(scene.value), std::move(hand), session_options);
+  if (options.record) {
+    std::string error;
+    const std::string dir = options.records_dir.empty() ? session::records_dir() : options.records_dir;
+    const std::string path = session::new_record_path(dir, live.session->scene().name, error);
+    if (!path.empty() && live.session->record_to(path, error)) {
+      live.record_path = path;
+    } else {
+      live.note = "not recording: " + error;
+    }
+  }
+  return live;
+}
+
+}  // namespace cathbox::app

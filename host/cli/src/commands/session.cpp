@@ -1,0 +1,177 @@
+// `cathbox session`: a haptic session without the trainer's window (host/session), and what a
+// record holds (host/cli/README.md documents the --json shapes).
+//   cathbox session run --case FILE (--script ACTIONS | --emu [PATH]) --record OUT.cbxrec [--seconds S] [--virtual]
+//   cathbox session replay REC [--check] [--out LOG.csv [--every MS]]
+//   cathbox session metrics REC [--json]
+//   cathbox session info REC [--json]
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "cli/args.hpp"
+#include "cli/exit_codes.hpp"
+#include "cli/registry.hpp"
+#include "session_json.hpp"
+#include "session_run.hpp"
+#include "session/record_reader.hpp"
+#include "session/replay.hpp"
+#include "tool/scenario_runner.hpp"
+
+namespace cathbox::cli {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: cathbox session run --case FILE (--script ACTIONS | --emu [PATH]) --record OUT.cbxrec\n"
+    "                           [--seconds S] [--virtual] [--progress]\n"
+    "       cathbox session replay REC [--check] [--out LOG.csv [--every MS]]\n"
+    "       cathbox session metrics REC [--json]\n"
+    "       cathbox session info REC [--json]\n";
+
+int usage_error(const std::string& what) {
+  std::fprintf(stderr, "cathbox session: %s\n%s", what.c_str(), kUsage);
+  return kExitBadInput;
+}
+
+// `cathbox session replay --out`: the `cathbox sim run` log of the held tool every MS ms.
+class CsvLog final : public session::TickObserver {
+ public:
+  CsvLog(std::ostream& out, std::int64_t every_ms, std::int64_t period_us) : out_(out), every_(every_ms), period_us_(period_us) {
+    tool::write_scenario_header(out_);
+  }
+  void observe(const session::TickView& v) override {
+    const std::int64_t time_us = (v.tick + 1) * period_us_;
+    if (time_us % 1000 != 0) return;
+    const std::int64_t ms = time_us / 1000;
+    if (ms % every_ == 0) tool::write_scenario_row(out_, v.sim, ms);
+  }
+
+ private:
+  std::ostream& out_;
+  std::int64_t every_;
+  std::int64_t period_us_;
+};
+
+int run_replay(std::span<const std::string> argv) {
+  Args args(argv, {"out", "every"}, {"check"});
+  if (!args.ok()) return usage_error(args.error());
+  if (args.positionals().size() != 1) return usage_error("replay takes one record file");
+  long long every = 1;
+  if (args.value("every")) {
+    const auto v = args.integer("every");
+    if (!v || *v < 1 || *v > 3'600'000) return usage_error("--every must be a whole number of milliseconds >= 1");
+    every = *v;
+  }
+  if (args.value("every") && !args.value("out")) return usage_error("--every needs --out");
+  const std::string& path = args.positionals()[0];
+  const bool check = args.flag("check");
+  std::string error;
+  std::unique_ptr<session::Replay> replay = session::Replay::open(path, error, check);
+  if (!replay) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return kExitBadInput;
+  }
+  std::ofstream csv;
+  std::unique_ptr<CsvLog> log;
+  if (const auto out = args.value("out")) {
+    csv.open(*out, std::ios::binary | std::ios::trunc);
+    if (!csv) {
+      std::fprintf(stderr, "%s: cannot open for writing\n", out->c_str());
+      return kExitBadInput;
+    }
+    log = std::make_unique<CsvLog>(csv, every, replay->header().period_us);
+    replay->session().add_observer(*log);
+  }
+  replay->step(-1);
+  const session::ReplayResult r = replay->result();
+  if (csv.is_open()) {
+    csv.close();
+    if (!csv) {
+      std::fprintf(stderr, "%s: write failed\n", args.value("out")->c_str());
+      return kExitFailure;
+    }
+  }
+  std::printf("%s: replayed %lld of %lld recorded ticks, %lld state hashes checked\n", path.c_str(),
+              static_cast<long long>(r.ticks), static_cast<long long>(r.recorded_ticks),
+              static_cast<long long>(r.hashes_checked));
+  if (!r.end && r.error.empty()) std::printf("the record has no end block: the recording process stopped (killed?)\n");
+  if (r.mismatch) {
+    std::printf("state hash differs at tick %lld (%.3f s): recorded %016llx, replayed %016llx\n",
+                static_cast<long long>(r.mismatch->tick),
+                static_cast<double>((r.mismatch->tick + 1) * replay->header().period_us) * 1e-6,
+                static_cast<unsigned long long>(r.mismatch->recorded), static_cast<unsigned long long>(r.mismatch->replayed));
+  }
+  if (!r.error.empty()) {
+    std::fprintf(stderr, "%s\n", r.error.c_str());
+    return kExitBadInput;
+  }
+  if (r.mismatch) return check ? kExitFailure : kExitOk;
+  if (check) std::printf("every state hash matches\n");
+  return kExitOk;
+}
+
+int run_metrics(std::span<const std::string> argv) {
+  Args args(argv, {}, {"json"});
+  if (!args.ok()) return usage_error(args.error());
+  if (args.positionals().size() != 1) return usage_error("metrics takes one record file");
+  const std::string& path = args.positionals()[0];
+  const session::ReplayResult r = session::replay_record(path);
+  if (!r.error.empty()) {
+    std::fprintf(stderr, "%s\n", r.error.c_str());
+    return kExitBadInput;
+  }
+  if (r.mismatch) {
+    std::fprintf(stderr, "%s: the record does not replay (state hash differs at tick %lld): no metrics\n", path.c_str(),
+                 static_cast<long long>(r.mismatch->tick));
+    return kExitFailure;
+  }
+  if (args.flag("json")) {
+    std::printf("%s\n", metrics_json(r).dump(2).c_str());
+  } else {
+    std::printf("%s", session::MetricsCollector::format(r.metrics).c_str());
+  }
+  return kExitOk;
+}
+
+int run_info(std::span<const std::string> argv) {
+  Args args(argv, {}, {"json"});
+  if (!args.ok()) return usage_error(args.error());
+  if (args.positionals().size() != 1) return usage_error("info takes one record file");
+  const std::string& path = args.positionals()[0];
+  std::string error;
+  std::unique_ptr<session::RecordReader> reader = session::RecordReader::open(path, error);
+  if (!reader) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return kExitBadInput;
+  }
+  const RecordSummary summary = summarise(*reader);
+  if (args.flag("json")) {
+    std::printf("%s\n", info_json(path, *reader, summary).dump(2).c_str());
+  } else {
+    std::printf("%s", info_text(path, *reader, summary).c_str());
+  }
+  if (!reader->error().empty()) {
+    std::fprintf(stderr, "%s\n", reader->error().c_str());
+    return kExitBadInput;
+  }
+  return kExitOk;
+}
+
+int run_session(std::span<const std::string> args) {
+  if (args.empty() || args[0] == "help" || args[0] == "--help") {
+    std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
+    return args.empty() ? kExitBadInput : kExitOk;
+  }
+  const std::string& sub = args[0];
+  if (sub == "run") return run_run(args.subspan(1), kUsage);
+  if (sub == "replay") return run_replay(args.subspan(1));
+  if (sub == "metrics") return run_metrics(args.subspan(1));
+  if (sub == "info") return run_info(args.subspan(1));
+  return usage_error("unknown subcommand '" + sub + "'");
+}
+
+const Registrar registrar({"session", "headless sessions and their records (session run|replay|metrics|info)", run_session});
+
+}  // namespace
+}  // namespace cathbox::cli

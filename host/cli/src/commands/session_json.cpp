@@ -1,0 +1,160 @@
+#include "session_json.hpp"
+
+#include <cstdio>
+
+#include "session/control.hpp"
+
+namespace cathbox::cli {
+namespace {
+
+using json = nlohmann::ordered_json;
+
+json optional_number(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+std::string control_name(std::uint16_t kind) {
+  if (kind == static_cast<std::uint16_t>(session::ControlKind::kSelectTool)) return "select_tool";
+  return "kind_" + std::to_string(kind);
+}
+
+}  // namespace
+
+RecordSummary summarise(session::RecordReader& reader) {
+  RecordSummary s;
+  session::TickRecord t;
+  while (reader.next(t)) {
+    if (t.state_hash) ++s.hashes;
+    if (t.box_changed) ++s.box_changes;
+    for (std::size_t i = 0; i < t.control_count; ++i) ++s.controls[t.controls[i].kind];
+    for (std::size_t i = 0; i < t.event_count; ++i) {
+      if (t.events[i] == session::record::EventCode::kTargetReached && s.target_reached_tick < 0) s.target_reached_tick = t.tick;
+    }
+  }
+  s.ticks = reader.ticks_read();
+  return s;
+}
+
+json info_json(const std::string& path, const session::RecordReader& reader, const RecordSummary& s) {
+  const session::RecordHeader& h = reader.header();
+  json tools = json::array();
+  for (const tool::ToolSpec& t : h.tools) {
+    tools.push_back({{"name", t.name},
+                     {"kind", t.kind == tool::ToolKind::kCatheter ? "catheter" : "guidewire"},
+                     {"length_mm", t.length_mm()},
+                     {"sections", t.sections.size()},
+                     {"inside", t.inside}});
+  }
+  json device = nullptr;
+  if (h.device) {
+    const session::DeviceRecord& d = *h.device;
+    device = {{"description", d.description},
+              {"serial", d.serial},
+              {"board", d.board},
+              {"firmware", d.firmware},
+              {"insertion_counts_per_m", d.insertion_counts_per_m},
+              {"rotation_counts_per_rev", d.rotation_counts_per_rev},
+              {"insertion_full_scale_mN", d.insertion_full_scale_mN},
+              {"rotation_full_scale_uNm", d.rotation_full_scale_uNm},
+              {"insertion_actuator", d.insertion_actuator},
+              {"rotation_actuator", d.rotation_actuator}};
+  }
+  json controls = json::object();
+  for (const auto& [kind, n] : s.controls) controls[control_name(kind)] = n;
+  json end = nullptr;
+  if (reader.end()) {
+    end = {{"reason", session::record::end_reason_name(reader.end()->reason)},
+           {"text", reader.end()->text},
+           {"end_unix_us", reader.end()->end_unix_us}};
+  }
+  return {{"file", path},
+          {"bytes", reader.bytes_read()},
+          {"blocks", reader.blocks_read()},
+          {"software_version", h.software_version},
+          {"start_unix_us", h.start_unix_us},
+          {"case", {{"name", h.case_name}, {"file", h.case_file}, {"bytes", h.case_text.size()}}},
+          {"vessel", {{"file", h.vessel_file}, {"bytes", h.vessel_text.size()}}},
+          {"tools", tools},
+          {"entry", {{"point_mm", {h.entry.point_mm.x, h.entry.point_mm.y, h.entry.point_mm.z}},
+                     {"direction", {h.entry.direction.x, h.entry.direction.y, h.entry.direction.z}}}},
+          {"held_tool", h.held_tool},
+          {"hand", {{"kind", session::hand_kind_name(h.hand)}, {"description", h.hand_description}}},
+          {"device", device},
+          {"period_us", h.period_us},
+          {"hash_every", h.hash_every},
+          {"ticks", s.ticks},
+          {"duration_s", static_cast<double>(s.ticks * h.period_us) * 1e-6},
+          {"state_hashes", s.hashes},
+          {"controls", controls},
+          {"box_status_changes", s.box_changes},
+          {"target_reached_tick", s.target_reached_tick >= 0 ? json(s.target_reached_tick) : json(nullptr)},
+          {"finished", reader.end().has_value()},
+          {"end", end},
+          {"error", reader.error().empty() ? json(nullptr) : json(reader.error())}};
+}
+
+std::string info_text(const std::string& path, const session::RecordReader& reader, const RecordSummary& s) {
+  const session::RecordHeader& h = reader.header();
+  std::string out;
+  char line[512];
+  auto add = [&](const char* name, const std::string& value) {
+    std::snprintf(line, sizeof line, "%-16s %s\n", name, value.c_str());
+    out += line;
+  };
+  add("record", path + " (" + std::to_string(reader.bytes_read()) + " bytes, " + std::to_string(reader.blocks_read()) + " blocks)");
+  add("software", h.software_version);
+  add("case", h.case_name + (h.case_file.empty() ? "" : " (" + h.case_file + ")"));
+  add("vessel", h.vessel_file.empty() ? "analytic tubes" : h.vessel_file + " (" + std::to_string(h.vessel_text.size()) + " bytes)");
+  std::string tools;
+  for (const tool::ToolSpec& t : h.tools) tools += (tools.empty() ? "" : ", ") + t.name;
+  add("tools", tools + " (held: " + h.tools[h.held_tool].name + ")");
+  add("hand", std::string(session::hand_kind_name(h.hand)) + ": " + h.hand_description);
+  if (h.device) {
+    add("box", h.device->description + ", serial " + h.device->serial + ", firmware " + h.device->firmware + ", " +
+                   std::to_string(h.device->insertion_counts_per_m) + " counts/m, " +
+                   std::to_string(h.device->rotation_counts_per_rev) + " counts/rev");
+  }
+  std::snprintf(line, sizeof line, "%lld ticks of %lld us (%.3f s), %lld state hashes", static_cast<long long>(s.ticks),
+                static_cast<long long>(h.period_us), static_cast<double>(s.ticks * h.period_us) * 1e-6,
+                static_cast<long long>(s.hashes));
+  add("length", line);
+  std::string controls;
+  for (const auto& [kind, n] : s.controls) controls += (controls.empty() ? "" : ", ") + control_name(kind) + " " + std::to_string(n);
+  add("controls", controls.empty() ? "none" : controls);
+  if (s.target_reached_tick >= 0) add("target", "reached at tick " + std::to_string(s.target_reached_tick));
+  if (reader.end()) {
+    add("end", std::string(session::record::end_reason_name(reader.end()->reason)) +
+                   (reader.end()->text.empty() ? "" : ": " + reader.end()->text));
+  } else {
+    add("end", "none: the recording process stopped (killed?); readable to its last complete block");
+  }
+  return out;
+}
+
+json metrics_json(const session::ReplayResult& r) {
+  const session::Metrics& m = r.metrics;
+  auto or_null = [](bool present, double v) { return present ? json(v) : json(nullptr); };
+  return {{"ticks", r.ticks},
+          {"hashes_checked", r.hashes_checked},
+          {"procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6},
+          {"has_target", m.has_target},
+          {"target_reached", m.target_reached},
+          {"time_to_target_s", or_null(m.target_reached, static_cast<double>(m.time_to_target_us) * 1e-6)},
+          {"closest_to_target_mm", or_null(m.has_target, m.closest_to_target_mm)},
+          {"tip_path_mm", m.tip_path_mm},
+          {"route_length_mm", or_null(m.route_length_mm >= 0.0, m.route_length_mm)},
+          {"path_efficiency", or_null(m.path_efficiency > 0.0, m.path_efficiency)},
+          {"wall_contacts", m.wall_contacts},
+          {"peak_wall_force_mN", m.peak_wall_force_mN},
+          {"wall_force_threshold_mN", m.wall_force_threshold_mN},
+          {"time_above_threshold_s", static_cast<double>(m.time_above_threshold_us) * 1e-6},
+          {"wrong_branch_entries", m.wrong_branch_entries >= 0 ? json(m.wrong_branch_entries) : json(nullptr)},
+          {"retractions", m.retractions},
+          {"peak_insertion_speed_mm_s", m.peak_insertion_speed_mm_s},
+          {"tool_changes", m.tool_changes},
+          {"peak_hand_force_mN", m.peak_hand_force_mN},
+          {"fluoroscopy_time_s", optional_number(m.fluoroscopy_time_s)},
+          {"dose_area_product_mGy_cm2", optional_number(m.dose_area_product_mGy_cm2)},
+          {"fluoroscopy_runs", m.fluoroscopy_runs ? json(*m.fluoroscopy_runs) : json(nullptr)},
+          {"contrast_volume_ml", optional_number(m.contrast_volume_ml)}};
+}
+
+}  // namespace cathbox::cli

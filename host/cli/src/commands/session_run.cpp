@@ -1,0 +1,139 @@
+#include "session_run.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <thread>
+#include <vector>
+
+#include "cli/args.hpp"
+#include "cli/exit_codes.hpp"
+#include "session/action_script_hand.hpp"
+#include "session/box_hand.hpp"
+#include "session/session.hpp"
+
+namespace cathbox::cli {
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_signal(int) { g_interrupted.store(true); }
+
+void print_events(session::Session& s) {
+  session::LogEvent e;
+  while (s.events().pop(e)) std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
+}
+
+std::string program_dir() {
+  std::error_code ec;
+  const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string(".") : exe.parent_path().string();
+}
+
+}  // namespace
+
+int run_run(std::span<const std::string> raw, const char* usage) {
+  // --emu takes an optional path: a bare --emu starts an emulator of its own.
+  std::vector<std::string> argv;
+  for (std::size_t i = 0; i < raw.size(); ++i) {
+    if (raw[i] == "--emu" && (i + 1 >= raw.size() || raw[i + 1].rfind("--", 0) == 0)) {
+      argv.push_back("--emu=");
+    } else {
+      argv.push_back(raw[i]);
+    }
+  }
+  Args args(argv, {"case", "script", "emu", "record", "seconds"}, {"virtual", "progress"});
+  auto bad = [&](const std::string& what) {
+    std::fprintf(stderr, "cathbox session run: %s\n%s", what.c_str(), usage);
+    return kExitBadInput;
+  };
+  const auto seconds = args.number("seconds");
+  if (!args.ok()) return bad(args.error());
+  if (!args.positionals().empty()) return bad("unexpected argument '" + args.positionals()[0] + "'");
+  const auto case_path = args.value("case");
+  const auto script = args.value("script");
+  const auto emu = args.value("emu");
+  const auto record = args.value("record");
+  if (!case_path || !record) return bad("--case and --record are required");
+  if (script.has_value() == emu.has_value()) return bad("give one of --script ACTIONS and --emu [PATH]");
+  if (seconds && (*seconds <= 0.0 || *seconds > 86'400.0)) return bad("--seconds must be in (0, 86400]");
+  if (emu && args.flag("virtual")) {
+    return bad("--virtual runs an action script; the emulated box runs in real time (use --script for virtual time)");
+  }
+
+  session::SessionCaseLoad scene = session::load_session_case(*case_path);
+  if (!scene.value) {
+    std::fprintf(stderr, "%s\n", scene.error.c_str());
+    return kExitBadInput;
+  }
+  session::SessionOptions options;
+  if (seconds) options.max_ticks = static_cast<std::int64_t>(*seconds * 1e6 / static_cast<double>(options.period_us));
+  std::string error;
+  std::unique_ptr<session::Hand> hand;
+  if (script) {
+    hand = session::ActionScriptHand::load(*script, *scene.value, error);
+    if (!hand) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      return kExitBadInput;
+    }
+  } else {
+    session::BoxHandOptions box;
+    box.source = session::BoxSource::kEmulator;
+    box.emu_socket = *emu;
+    box.emu_program = program_dir() + "/cathbox-emu";
+    box.dt_s = static_cast<double>(options.period_us) * 1e-6;
+    hand = session::BoxHand::connect(box, error);
+    if (!hand) {
+      std::fprintf(stderr, "cathbox session run: %s\n", error.c_str());
+      return kExitNoDevice;
+    }
+  }
+  session::Session s(std::move(scene.value), std::move(hand), options);
+  if (!s.record_to(*record, error)) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return kExitBadInput;
+  }
+  if (args.flag("progress")) {
+    s.recorder()->on_block_written([](std::int64_t ticks, std::uint64_t bytes) {
+      std::printf("recorded %lld ticks, %llu bytes\n", static_cast<long long>(ticks), static_cast<unsigned long long>(bytes));
+      std::fflush(stdout);
+    });
+  }
+  std::printf("cathbox session: %s, %s, %s -> %s\n", s.scene().name.c_str(), s.hand_description().c_str(),
+              script ? "virtual time" : "real time", record->c_str());
+  std::fflush(stdout);
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  if (script) {
+    while (!s.over()) {
+      s.step_virtual(1000);
+      print_events(s);
+      if (g_interrupted.load()) s.end_run();
+    }
+  } else {
+    s.start();
+    while (!s.over()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      print_events(s);
+      if (g_interrupted.load()) s.end_run();
+    }
+    s.stop();
+  }
+  print_events(s);
+  session::Recorder& rec = *s.recorder();
+  const bool written = rec.close();
+  std::printf("end of run (%s): %lld ticks, %.3f s; record %s: %llu bytes\n%s",
+              session::record::end_reason_name(s.end_reason()), static_cast<long long>(s.ticks()),
+              static_cast<double>(s.ticks() * options.period_us) * 1e-6, record->c_str(),
+              static_cast<unsigned long long>(rec.bytes_written()), session::MetricsCollector::format(s.metrics()).c_str());
+  if (!written) {
+    std::fprintf(stderr, "%s\n", rec.error().c_str());
+    return kExitFailure;
+  }
+  return kExitOk;
+}
+
+}  // namespace cathbox::cli

@@ -1,0 +1,85 @@
+#pragma once
+// HTTP/1.1 and WebSocket for the API (Boost.Beast; the header keeps Beast out of its users).
+//
+// Threads: io_threads run the sockets; API handlers (which wait on the database and Argon2)
+// run on api_threads; case and record uploads (meshing, replaying) on heavy_threads with at most
+// max_heavy_queued waiting, beyond which the answer is 503 + Retry-After.
+//
+// Limits: a header over max_header_bytes is 431; a body over the route's limit
+// (Api::body_limit) is 413 before it is read; an idle connection closes after
+// idle_timeout_s; a WebSocket message over the live schema's limit closes that socket.
+//
+// Static files: every path outside /api/ is looked up in the mounts (longest prefix wins),
+// without a token: "/" is host/server/web/, "/lib/three/" and "/lib/chart.js/" are Debian's
+// /usr/share/javascript/{three,chart.js}/. Paths with "..", hidden names or control
+// characters are 404.
+//
+// WebSockets (bearer token in the Authorization header, or ?token= for browsers):
+//   /api/v1/live/rigs/{rig}/stream?case=NAME[&version=N][&assignment=ID]   a rig streams
+//   /api/v1/live/watch[?rigs=a,b]                                          a watcher
+// Each watcher has a queue of watcher_queue messages; when a slow watcher falls behind, the
+// oldest queued frames are dropped (a live view wants the newest).
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/api.hpp"
+#include "server/live_hub.hpp"
+#include "server/result.hpp"
+
+namespace cathbox::server {
+
+struct StaticMount {
+  std::string url_prefix;  // "/", "/lib/three/"
+  std::string folder;
+};
+
+struct HttpServerOptions {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 8080;  // 0: any free port (start() answers which)
+  int io_threads = 2;
+  int api_threads = 4;
+  int heavy_threads = 1;
+  int max_heavy_queued = 32;
+  std::vector<StaticMount> mounts;
+  std::size_t max_header_bytes = 16 * 1024;
+  int idle_timeout_s = 60;
+  int body_timeout_s = 600;
+  std::size_t max_connections = 4096;
+  std::size_t watcher_queue = 64;
+};
+
+struct HttpServerStats {
+  std::uint64_t connections = 0;
+  std::uint64_t requests = 0;
+  std::uint64_t publishers = 0;
+  std::uint64_t watchers = 0;
+  std::uint64_t frames_in = 0;
+  std::uint64_t frames_out = 0;
+  std::uint64_t frames_dropped = 0;  // slow watchers
+};
+
+class HttpServer {
+ public:
+  HttpServer(Api& api, LiveHub& hub, HttpServerOptions options);
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+
+  // Binds, listens and starts the threads; the bound port.
+  [[nodiscard]] Result<std::uint16_t> start();
+  // Stops accepting, closes every connection, joins the threads (idempotent).
+  void stop();
+  [[nodiscard]] HttpServerStats stats() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// The mounts for a web root and Debian's JavaScript libraries.
+[[nodiscard]] std::vector<StaticMount> default_mounts(const std::string& web_root);
+
+}  // namespace cathbox::server

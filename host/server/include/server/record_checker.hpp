@@ -1,0 +1,33 @@
+#pragma once
+// What the server needs from a session record: the check that it replays exactly (every state
+// hash matches), what case it ran, when, and its metrics. Implemented over host/session.
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "server/case_bundle.hpp"
+#include "server/result.hpp"
+#include "server/store.hpp"
+
+namespace cathbox::server {
+
+struct CheckedRecord {
+  CaseBundle case_files;  // the case and HCLM files the record carries verbatim
+  std::string case_title; // the case file's `name` line
+  std::int64_t started_us = 0;
+  std::int64_t duration_ms = 0;
+  std::vector<MetricValue> metrics;
+};
+
+class RecordChecker {
+ public:
+  virtual ~RecordChecker() = default;
+  // 422 with one line ("record: byte 4711: block CRC mismatch", "record: tick 12300: state
+  // hash differs (tampered or broken)") when the record is refused.
+  [[nodiscard]] virtual Result<CheckedRecord> check(std::string_view record_bytes) = 0;
+  // The metric names records carry (pass criteria may name only these).
+  [[nodiscard]] virtual std::vector<std::string> metric_names() const = 0;
+};
+
+}  // namespace cathbox::server

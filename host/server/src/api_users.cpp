@@ -1,0 +1,101 @@
+// POST /login, /logout, GET /me, POST /me/password, GET /users, POST /users, PATCH /users/{name}
+#include "api_call.hpp"
+#include "server/iso_time.hpp"
+#include "server/json_input.hpp"
+
+namespace cathbox::server::api {
+
+Reply login(Call& call) {
+  Result<nlohmann::json> body = call.json_body();
+  if (!body) return body.error();
+  FieldReader f(body.value());
+  const std::string name = f.string("name", 64);
+  const std::string password = f.string("password", 256);
+  f.only({"name", "password"});
+  if (!f.ok()) return f.error();
+  Result<LoginGrant> grant = call.c.auth.login(name, password, call.request.remote_address);
+  if (!grant) return grant.error();
+  return json_response(200, {{"token", grant.value().token},
+                             {"expires_at", iso_time(grant.value().expires_us)},
+                             {"user", user_json(grant.value().user)}});
+}
+
+Reply logout(Call& call) {
+  call.c.auth.logout(call.caller);
+  return no_content();
+}
+
+Reply me(Call& call) {
+  const std::optional<User> u = call.c.store.user_by_id(call.caller.user_id);
+  if (!u) return make_error(401, "authorization: account gone");
+  return json_response(200, user_json(*u));
+}
+
+Reply change_password(Call& call) {
+  Result<nlohmann::json> body = call.json_body();
+  if (!body) return body.error();
+  FieldReader f(body.value());
+  const std::string old_password = f.string("old_password", 256);
+  const std::string new_password = f.string("new_password", 256);
+  f.only({"old_password", "new_password"});
+  if (!f.ok()) return f.error();
+  const std::optional<User> u = call.c.store.user_by_id(call.caller.user_id);
+  if (!u || !call.c.auth.hasher().verify(u->password_hash, old_password)) return make_error(403, "field 'old_password': wrong password");
+  if (Status s = call.c.auth.set_password(u->id, new_password); !s) return s.error();
+  return no_content();
+}
+
+Reply list_users(Call& call) {
+  if (Status s = call.require_supervisor("listing users"); !s) return s.error();
+  nlohmann::json users = nlohmann::json::array();
+  for (const User& u : call.c.store.list_users()) users.push_back(user_json(u));
+  return json_response(200, {{"users", std::move(users)}});
+}
+
+Reply create_user(Call& call) {
+  if (Status s = call.require_admin("creating users"); !s) return s.error();
+  Result<nlohmann::json> body = call.json_body();
+  if (!body) return body.error();
+  FieldReader f(body.value());
+  const std::string name = f.string("name", 64);
+  const std::string role_text = f.string("role", 16);
+  const std::string password = f.string("password", 256);
+  f.only({"name", "role", "password"});
+  if (!f.ok()) return f.error();
+  const std::optional<Role> role = parse_role(role_text);
+  if (!role) return make_error(400, "field 'role': expected trainee, instructor or admin");
+  Result<User> user = call.c.auth.create_user(name, *role, password);
+  if (!user) return user.error();
+  ApiResponse r = json_response(201, user_json(user.value()));
+  r.headers.emplace_back("Location", "/api/v1/users/" + name);
+  return r;
+}
+
+Reply update_user(Call& call) {
+  if (Status s = call.require_admin("changing users"); !s) return s.error();
+  Result<nlohmann::json> body = call.json_body();
+  if (!body) return body.error();
+  FieldReader f(body.value());
+  const std::optional<std::string> role_text = f.optional_string("role", 16);
+  const std::optional<std::string> password = f.optional_string("password", 256);
+  const std::optional<bool> disabled = f.optional_boolean("disabled");
+  f.only({"role", "password", "disabled"});
+  if (!f.ok()) return f.error();
+  std::optional<Role> role;
+  if (role_text) {
+    role = parse_role(*role_text);
+    if (!role) return make_error(400, "field 'role': expected trainee, instructor or admin");
+  }
+  const std::optional<User> u = call.c.store.user_by_name(call.params[0]);
+  if (!u) return make_error(404, "no user '" + call.params[0] + "'");
+  const bool loses_admin = u->role == Role::kAdmin && !u->disabled && ((role && *role != Role::kAdmin) || disabled.value_or(false));
+  if (loses_admin && call.c.store.count_admins() <= 1) return make_error(409, "'" + u->name + "' is the last admin");
+  if (password) {
+    if (Status s = call.c.auth.set_password(u->id, *password); !s) return s.error();
+  }
+  (void)call.c.store.update_user(u->id, role, std::nullopt, disabled);
+  if (disabled.value_or(false)) call.c.store.delete_user_tokens(u->id);
+  return json_response(200, user_json(*call.c.store.user_by_id(u->id)));
+}
+
+}  // namespace cathbox::server::api

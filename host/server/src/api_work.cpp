@@ -1,0 +1,311 @@
+// Assignments and results: GET/POST /assignments, GET/DELETE /assignments/{id},
+// POST /results, GET /results, GET /results/{id}[/record], GET /metrics
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+#include "api_call.hpp"
+#include "server/iso_time.hpp"
+#include "server/json_input.hpp"
+#include "server/pass_criteria.hpp"
+#include "server/sha256.hpp"
+
+namespace cathbox::server::api {
+
+namespace {
+
+Result<std::int64_t> id_param(const std::string& text) {
+  std::int64_t id = 0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), id);
+  if (text.empty() || ec != std::errc() || end != text.data() + text.size() || id < 1) {
+    return make_error(400, "path: '" + text.substr(0, 32) + "' is not an id");
+  }
+  return id;
+}
+
+// The assignment, if the caller may see it (trainees: their own); 404 otherwise.
+Result<Assignment> visible_assignment(Call& call, std::int64_t id) {
+  std::optional<Assignment> a = call.c.store.assignment(id);
+  if (!a || (!can_supervise(call.caller.role) && a->trainee_id != call.caller.user_id)) {
+    return make_error(404, "no assignment " + std::to_string(id));
+  }
+  return *a;
+}
+
+Result<ResultRow> visible_result(Call& call) {
+  Result<std::int64_t> id = id_param(call.params[0]);
+  if (!id) return id.error();
+  std::optional<ResultRow> r = call.c.store.result(id.value());
+  if (!r) return make_error(404, "no result " + call.params[0]);
+  if (!can_supervise(call.caller.role) && r->user_id != call.caller.user_id) {
+    return make_error(403, "result " + call.params[0] + " belongs to another trainee");
+  }
+  return *r;
+}
+
+std::map<std::string, double> metric_map(const std::vector<MetricValue>& metrics) {
+  std::map<std::string, double> m;
+  for (const MetricValue& v : metrics) m[v.name] = v.value;
+  return m;
+}
+
+}  // namespace
+
+nlohmann::json assignment_json(const Assignment& a) {
+  nlohmann::json criteria = nlohmann::json::array();
+  if (Result<PassCriteria> parsed = PassCriteria::parse_text(a.criteria_json)) criteria = parsed.value().to_json();
+  nlohmann::json j = {{"id", a.id},
+                      {"trainee", a.trainee},
+                      {"case", a.case_name},
+                      {"case_version", a.case_version == 0 ? nlohmann::json("latest") : nlohmann::json(a.case_version)},
+                      {"criteria", std::move(criteria)},
+                      {"note", a.note},
+                      {"created_at", iso_time(a.created_us)}};
+  j["due_at"] = a.due_us ? nlohmann::json(iso_time(*a.due_us)) : nlohmann::json(nullptr);
+  return j;
+}
+
+nlohmann::json result_json(const ResultRow& r) {
+  nlohmann::json metrics = nlohmann::json::object();
+  if (Result<nlohmann::json> parsed = parse_json(r.metrics_json, "metrics")) metrics = parsed.value();
+  nlohmann::json j = {{"id", r.id},
+                      {"content_hash", r.content_hash},
+                      {"trainee", r.user},
+                      {"case", r.case_name},
+                      {"started_at", iso_time(r.started_us)},
+                      {"duration_s", static_cast<double>(r.duration_ms) / 1000.0},
+                      {"uploaded_at", iso_time(r.uploaded_us)},
+                      {"record_bytes", r.record_bytes},
+                      {"metrics", std::move(metrics)},
+                      {"record_url", "/api/v1/results/" + std::to_string(r.id) + "/record"}};
+  j["assignment"] = r.assignment_id ? nlohmann::json(*r.assignment_id) : nlohmann::json(nullptr);
+  j["passed"] = r.passed ? nlohmann::json(*r.passed) : nlohmann::json(nullptr);
+  return j;
+}
+
+Reply list_assignments(Call& call) {
+  std::optional<std::int64_t> trainee;
+  if (!can_supervise(call.caller.role)) {
+    trainee = call.caller.user_id;
+  } else if (const std::optional<std::string> name = call.query("trainee")) {
+    const std::optional<User> u = call.c.store.user_by_name(*name);
+    if (!u) return make_error(404, "query 'trainee': no user '" + name->substr(0, 64) + "'");
+    trainee = u->id;
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (const Assignment& a : call.c.store.list_assignments(trainee)) list.push_back(assignment_json(a));
+  return json_response(200, {{"assignments", std::move(list)}});
+}
+
+Reply create_assignment(Call& call) {
+  if (Status s = call.require_supervisor("assigning cases"); !s) return s.error();
+  Result<nlohmann::json> body = call.json_body();
+  if (!body) return body.error();
+  FieldReader f(body.value());
+  const std::string trainee = f.string("trainee", 64);
+  Assignment a;
+  a.case_name = f.string("case", 64);
+  a.case_version = static_cast<int>(f.optional_integer("case_version", 1, 1'000'000).value_or(0));
+  a.note = f.optional_string("note", 2000).value_or("");
+  const std::optional<std::string> due = f.optional_string("due_at", 40);
+  const auto criteria_it = body.value().find("criteria");
+  f.only({"trainee", "case", "case_version", "criteria", "note", "due_at"});
+  if (!f.ok()) return f.error();
+  const std::vector<std::string> known = call.c.checker != nullptr ? call.c.checker->metric_names() : std::vector<std::string>{};
+  Result<PassCriteria> criteria =
+      criteria_it == body.value().end() ? PassCriteria::parse(nlohmann::json::array(), known) : PassCriteria::parse(*criteria_it, known);
+  if (!criteria) return criteria.error();
+  a.criteria_json = criteria.value().to_json().dump();
+  if (due) {
+    a.due_us = parse_iso_time(*due);
+    if (!a.due_us) return make_error(400, "field 'due_at': expected YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ");
+  }
+  const std::optional<User> u = call.c.store.user_by_name(trainee);
+  if (!u) return make_error(404, "field 'trainee': no user '" + trainee + "'");
+  a.trainee_id = u->id;
+  if (!call.c.store.case_version(a.case_name, a.case_version)) {
+    return make_error(404, "field 'case': no case '" + a.case_name + "'" +
+                               (a.case_version != 0 ? " version " + std::to_string(a.case_version) : std::string()));
+  }
+  a.assigned_by = call.caller.user_id;
+  const std::optional<Assignment> made = call.c.store.insert_assignment(a, call.c.clock.now_us());
+  if (!made) return make_error(404, "field 'case': no case '" + a.case_name + "'");
+  ApiResponse r = json_response(201, assignment_json(*made));
+  r.headers.emplace_back("Location", "/api/v1/assignments/" + std::to_string(made->id));
+  return r;
+}
+
+Reply get_assignment(Call& call) {
+  Result<std::int64_t> id = id_param(call.params[0]);
+  if (!id) return id.error();
+  Result<Assignment> a = visible_assignment(call, id.value());
+  if (!a) return a.error();
+  nlohmann::json j = assignment_json(a.value());
+  ResultFilter f;
+  f.assignment_id = a.value().id;
+  f.limit = 1000;
+  nlohmann::json results = nlohmann::json::array();
+  for (const ResultRow& r : call.c.store.list_results(f)) {
+    results.push_back({{"id", r.id}, {"uploaded_at", iso_time(r.uploaded_us)}, {"passed", r.passed.value_or(false)}});
+  }
+  j["results"] = std::move(results);
+  return json_response(200, j);
+}
+
+Reply delete_assignment(Call& call) {
+  if (Status s = call.require_supervisor("deleting assignments"); !s) return s.error();
+  Result<std::int64_t> id = id_param(call.params[0]);
+  if (!id) return id.error();
+  if (!call.c.store.delete_assignment(id.value())) return make_error(404, "no assignment " + call.params[0]);
+  return no_content();
+}
+
+Reply upload_result(Call& call) {
+  const std::string& record = call.request.body;
+  if (record.empty()) return make_error(400, "body: empty (send the record's bytes as application/octet-stream)");
+  Result<std::optional<std::int64_t>> assignment_id = call.query_integer("assignment", 1, INT64_MAX);
+  if (!assignment_id) return assignment_id.error();
+  const std::string hash = sha256_hex(record);
+  // Idempotent: the same bytes again answer the stored result without checking them again.
+  if (std::optional<ResultRow> existing = call.c.store.result_by_hash(hash)) {
+    if (existing->user_id != call.caller.user_id && !can_supervise(call.caller.role)) {
+      return make_error(409, "record: this record was uploaded by another user");
+    }
+    nlohmann::json j = result_json(*existing);
+    j["created"] = false;
+    return json_response(200, j);
+  }
+  std::optional<Assignment> assignment;
+  if (assignment_id.value()) {
+    std::optional<Assignment> a = call.c.store.assignment(*assignment_id.value());
+    if (!a || a->trainee_id != call.caller.user_id) {
+      return make_error(404, "query 'assignment': no assignment " + std::to_string(*assignment_id.value()) + " for you");
+    }
+    assignment = std::move(a);
+  }
+  if (call.c.checker == nullptr) return make_error(503, "record checking is not available on this server");
+  Result<CheckedRecord> checked = call.c.checker->check(record);
+  if (!checked) return checked.error();
+  const CheckedRecord& rec = checked.value();
+
+  ResultRow row;
+  row.content_hash = hash;
+  row.user_id = call.caller.user_id;
+  row.started_us = rec.started_us;
+  row.duration_ms = rec.duration_ms;
+  row.uploaded_us = call.c.clock.now_us();
+  row.record_bytes = static_cast<std::int64_t>(record.size());
+  // The record's case is named after the library version it matches, else after its file.
+  const std::optional<CaseVersion> library = call.c.store.case_version_by_hash(sha256_hex(bundle_json(rec.case_files)));
+  if (library) {
+    row.case_name = library->name;
+    row.case_version_id = library->id;
+  } else {
+    std::string stem = rec.case_files.case_file.substr(0, rec.case_files.case_file.rfind('.'));
+    row.case_name = check_slug(stem).empty() ? stem : "unnamed";
+  }
+  nlohmann::json metrics = nlohmann::json::object();
+  for (const MetricValue& m : rec.metrics) metrics[m.name] = m.value;
+  row.metrics_json = metrics.dump();
+  if (assignment) {
+    if (row.case_name != assignment->case_name) {
+      return make_error(422, "record: case '" + row.case_name + "' is not the assignment's case '" + assignment->case_name + "'");
+    }
+    row.assignment_id = assignment->id;
+    Result<PassCriteria> criteria = PassCriteria::parse_text(assignment->criteria_json);
+    row.passed = criteria && criteria.value().evaluate(metric_map(rec.metrics)).passed;
+  }
+  const ResultInsert stored = call.c.store.insert_result(row, rec.metrics, record);
+  nlohmann::json j = result_json(stored.row);
+  j["created"] = stored.created;
+  ApiResponse r = json_response(stored.created ? 201 : 200, j);
+  r.headers.emplace_back("Location", "/api/v1/results/" + std::to_string(stored.row.id));
+  return r;
+}
+
+Reply list_results(Call& call) {
+  ResultFilter f;
+  if (const std::optional<std::string> name = call.query("trainee")) {
+    const std::optional<User> u = call.c.store.user_by_name(*name);
+    if (!u) return make_error(404, "query 'trainee': no user '" + name->substr(0, 64) + "'");
+    f.user_id = u->id;
+  }
+  if (!can_supervise(call.caller.role)) {
+    if (f.user_id && *f.user_id != call.caller.user_id) return make_error(403, "query 'trainee': trainees see only their own results");
+    f.user_id = call.caller.user_id;
+  }
+  for (const auto& [key, value] : call.target.query) {
+    if (key == "trainee") continue;
+    if (key == "case") {
+      f.case_name = value;
+    } else if (key == "assignment") {
+      Result<std::optional<std::int64_t>> id = call.query_integer(key, 1, INT64_MAX);
+      if (!id) return id.error();
+      f.assignment_id = *id.value();
+    } else if (key == "since" || key == "until") {
+      const std::optional<std::int64_t> t = parse_iso_time(value);
+      if (!t) return make_error(400, "query '" + key + "': expected YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ");
+      (key == "since" ? f.since_us : f.until_us) = t;
+    } else if (key == "passed") {
+      if (value != "true" && value != "false") return make_error(400, "query 'passed': expected true or false");
+      f.passed = value == "true";
+    } else if (key == "limit" || key == "offset") {
+      Result<std::optional<std::int64_t>> n = call.query_integer(key, key == "limit" ? 1 : 0, key == "limit" ? 1000 : 1'000'000);
+      if (!n) return n.error();
+      (key == "limit" ? f.limit : f.offset) = static_cast<int>(*n.value());
+    } else if (key.rfind("min.", 0) == 0 || key.rfind("max.", 0) == 0) {
+      const std::string metric = key.substr(4);
+      double v = 0;
+      const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+      if (metric.empty() || value.empty() || ec != std::errc() || end != value.data() + value.size() || !std::isfinite(v)) {
+        return make_error(400, "query '" + key.substr(0, 72) + "': expected a number");
+      }
+      auto it = std::find_if(f.metrics.begin(), f.metrics.end(), [&](const MetricRange& m) { return m.name == metric; });
+      if (it == f.metrics.end()) it = f.metrics.insert(f.metrics.end(), MetricRange{metric, std::nullopt, std::nullopt});
+      (key[1] == 'i' ? it->min : it->max) = v;
+      if (f.metrics.size() > 16) return make_error(400, "query: at most 16 metric ranges");
+    } else {
+      return make_error(400, "query '" + key.substr(0, 64) +
+                                 "': unknown (use trainee, case, assignment, since, until, passed, min.METRIC, max.METRIC, limit, offset)");
+    }
+  }
+  nlohmann::json list = nlohmann::json::array();
+  for (const ResultRow& r : call.c.store.list_results(f)) list.push_back(result_json(r));
+  return json_response(200, {{"results", std::move(list)}, {"limit", f.limit}, {"offset", f.offset}});
+}
+
+Reply get_result(Call& call) {
+  Result<ResultRow> r = visible_result(call);
+  if (!r) return r.error();
+  nlohmann::json j = result_json(r.value());
+  if (r.value().assignment_id) {
+    if (const std::optional<Assignment> a = call.c.store.assignment(*r.value().assignment_id)) {
+      Result<PassCriteria> criteria = PassCriteria::parse_text(a->criteria_json);
+      if (criteria) j["evaluation"] = evaluation_json(criteria.value().evaluate(metric_map(call.c.store.result_metrics(r.value().id))));
+    }
+  }
+  return json_response(200, j);
+}
+
+Reply get_result_record(Call& call) {
+  Result<ResultRow> r = visible_result(call);
+  if (!r) return r.error();
+  std::optional<std::string> bytes = call.c.store.result_record(r.value().id);
+  if (!bytes) return make_error(404, "record missing");
+  ApiResponse out;
+  out.content_type = "application/octet-stream";
+  out.body = std::move(*bytes);
+  out.headers.emplace_back("Content-Disposition", "attachment; filename=\"result-" + std::to_string(r.value().id) + ".cbxrec\"");
+  out.headers.emplace_back("ETag", "\"" + r.value().content_hash + "\"");
+  return out;
+}
+
+Reply list_metrics(Call& call) {
+  nlohmann::json names = nlohmann::json::array();
+  if (call.c.checker != nullptr) {
+    for (const std::string& n : call.c.checker->metric_names()) names.push_back(n);
+  }
+  return json_response(200, {{"metrics", std::move(names)}});
+}
+
+}  // namespace cathbox::server::api

@@ -1,0 +1,577 @@
+#include "server/http_server.hpp"
+
+#include <atomic>
+#include <charconv>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+#include <thread>
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/asio/strand.hpp>
+#include <boost/asio/thread_pool.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+#include "api_call.hpp"
+#include "server/json_input.hpp"
+#include "server/live_schema.hpp"
+
+namespace cathbox::server {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+struct HttpServer::Impl {
+  Api& api;
+  LiveHub& hub;
+  HttpServerOptions options;
+  net::io_context ioc;
+  tcp::acceptor acceptor;
+  net::thread_pool api_pool;
+  net::thread_pool heavy_pool;
+  std::vector<std::thread> threads;
+  std::atomic<int> heavy_queued{0};
+  std::atomic<std::size_t> open_connections{0};
+  bool started = false;
+  bool stopped = false;
+  std::mutex stop_mutex;
+
+  std::atomic<std::uint64_t> connections{0}, requests{0}, publishers{0}, watchers{0}, frames_in{0}, frames_out{0}, frames_dropped{0};
+
+  Impl(Api& a, LiveHub& h, HttpServerOptions o)
+      : api(a),
+        hub(h),
+        options(std::move(o)),
+        ioc(std::max(1, options.io_threads)),
+        acceptor(net::make_strand(ioc)),
+        api_pool(static_cast<std::size_t>(std::max(1, options.api_threads))),
+        heavy_pool(static_cast<std::size_t>(std::max(1, options.heavy_threads))) {}
+
+  void accept();
+};
+
+namespace {
+
+std::string_view sv(beast::string_view s) { return {s.data(), s.size()}; }
+
+// Counts a connection for as long as it lives.
+struct ConnectionSlot {
+  std::atomic<std::size_t>* counter;
+  explicit ConnectionSlot(std::atomic<std::size_t>& c) : counter(&c) { ++c; }
+  ConnectionSlot(const ConnectionSlot&) = delete;
+  ConnectionSlot& operator=(const ConnectionSlot&) = delete;
+  ~ConnectionSlot() { --*counter; }
+};
+
+std::string content_type_for(const std::filesystem::path& p) {
+  const std::string ext = p.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".json") return "application/json";
+  if (ext == ".svg") return "image/svg+xml";
+  if (ext == ".png") return "image/png";
+  if (ext == ".jpg" || ext == ".jpeg") return "image/jpeg";
+  if (ext == ".ico") return "image/x-icon";
+  if (ext == ".wasm") return "application/wasm";
+  if (ext == ".txt" || ext == ".md") return "text/plain; charset=utf-8";
+  return "application/octet-stream";
+}
+
+ApiRequest to_api_request(const http::request<http::string_body>& req, const std::string& remote) {
+  ApiRequest r;
+  r.method = std::string(req.method_string());
+  r.target = std::string(req.target());
+  r.authorization = std::string(req[http::field::authorization]);
+  r.content_type = std::string(req[http::field::content_type]);
+  r.accept_encoding = std::string(req[http::field::accept_encoding]);
+  r.if_none_match = std::string(req[http::field::if_none_match]);
+  r.body = req.body();
+  r.remote_address = remote;
+  return r;
+}
+
+// ---- WebSocket ------------------------------------------------------------------------------
+
+class WsSession final : public LiveSubscriber, public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(HttpServer::Impl& s, beast::tcp_stream&& stream, Caller caller, std::optional<Publisher> publisher,
+            std::vector<std::string> watching, std::string first_message)
+      : s_(s),
+        ws_(std::move(stream)),
+        caller_(std::move(caller)),
+        publisher_(std::move(publisher)),
+        watching_(std::move(watching)),
+        first_message_(std::move(first_message)) {}
+
+  void start(http::request<http::string_body> req) {
+    beast::get_lowest_layer(ws_).expires_never();
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.set_option(websocket::stream_base::decorator(
+        [](websocket::response_type& res) { res.set(http::field::server, "cathbox-server"); }));
+    ws_.read_message_max(publisher_ ? kMaxFrameBytes : kMaxWatcherMessageBytes);
+    auto self = shared_from_this();
+    ws_.async_accept(req, [self](beast::error_code ec) { self->on_accept(ec); });
+  }
+
+  void deliver(const LiveMessage& message) override {
+    net::post(ws_.get_executor(), [self = shared_from_this(), message] { self->enqueue(message); });
+  }
+
+ private:
+  void on_accept(beast::error_code ec) {
+    if (ec) return finish();
+    if (publisher_) {
+      ++s_.publishers;
+    } else {
+      ++s_.watchers;
+      if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
+      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this());
+      enqueue(std::make_shared<const std::string>(first_message_));
+    }
+    read();
+  }
+
+  void read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+  }
+
+  void on_read(beast::error_code ec) {
+    if (ec) return finish();
+    if (!ws_.got_text()) {
+      buffer_.consume(buffer_.size());
+      send_error("message: expected text (JSON), got binary");
+      return read();
+    }
+    const std::string text = beast::buffers_to_string(buffer_.data());
+    buffer_.consume(buffer_.size());
+    if (publisher_) {
+      ++s_.frames_in;
+      const Status st = s_.api.context().live.message(*publisher_, text);
+      if (!st) send_error(st.error().message);
+      if (publisher_->ended) {
+        finish();
+        ws_.async_close(websocket::close_code::normal, [self = shared_from_this()](beast::error_code) {});
+        return;
+      }
+      if (s_.api.context().live.touch_due(*publisher_)) {
+        net::post(s_.api_pool, [self = shared_from_this(), p = *publisher_] {
+          try {
+            self->s_.api.context().live.touch(p);
+          } catch (const std::exception&) {
+            // The database is away: the rig shows as stale until the next touch succeeds.
+          }
+        });
+      }
+      return read();
+    }
+    Result<std::vector<std::string>> wanted = parse_watch_message(text);
+    if (!wanted) {
+      send_error(wanted.error().message);
+      return read();
+    }
+    // Trainees' requests need the store (is this rig theirs?): off the I/O thread.
+    net::post(s_.api_pool, [self = shared_from_this(), rigs = std::move(wanted.value())] {
+      Result<std::vector<std::string>> ok = make_error(503, "database unavailable, retry");
+      try {
+        ok = self->s_.api.context().live.allowed(self->caller_, rigs);
+      } catch (const std::exception&) {
+      }
+      net::post(self->ws_.get_executor(), [self, ok = std::move(ok)]() mutable {
+        if (!ok) {
+          self->send_error(ok.error().message);
+        } else {
+          for (const std::string& rig : self->watching_) self->s_.hub.unsubscribe(rig, self.get());
+          self->watching_ = std::move(ok.value());
+          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self);
+        }
+        self->read();
+      });
+    });
+  }
+
+  void send_error(const std::string& line) {
+    const nlohmann::json j = {{"type", "error"}, {"error", line}};
+    enqueue(std::make_shared<const std::string>(safe_dump(j)));
+  }
+
+  void enqueue(const LiveMessage& message) {
+    if (finished_) return;
+    if (queue_.size() >= s_.options.watcher_queue) {
+      // Drop the oldest message not being written now.
+      queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
+      ++s_.frames_dropped;
+    }
+    queue_.push_back(message);
+    if (!writing_) write_next();
+  }
+
+  void write_next() {
+    writing_ = true;
+    ws_.text(true);
+    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->queue_.pop_front();
+      if (ec) {
+        self->writing_ = false;
+        return self->finish();
+      }
+      ++self->s_.frames_out;
+      if (self->queue_.empty() || self->finished_) {
+        self->writing_ = false;
+      } else {
+        self->write_next();
+      }
+    });
+  }
+
+  void finish() {
+    if (finished_) return;
+    finished_ = true;
+    s_.hub.unsubscribe_all(this);
+    if (publisher_) {
+      net::post(s_.api_pool, [self = shared_from_this()] {
+        try {
+          self->s_.api.context().live.finish(*self->publisher_);
+        } catch (const std::exception&) {
+          // The database is away: the claim goes stale by itself.
+        }
+      });
+    }
+  }
+
+  HttpServer::Impl& s_;
+  ConnectionSlot slot_{s_.open_connections};
+  websocket::stream<beast::tcp_stream> ws_;
+  beast::flat_buffer buffer_;
+  Caller caller_;
+  std::optional<Publisher> publisher_;
+  std::vector<std::string> watching_;
+  std::string first_message_;
+  std::deque<LiveMessage> queue_;
+  bool writing_ = false;
+  bool finished_ = false;
+};
+
+// ---- HTTP -----------------------------------------------------------------------------------
+
+class HttpSession final : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(HttpServer::Impl& s, tcp::socket&& socket) : s_(s), stream_(std::move(socket)) {
+    beast::error_code ec;
+    const tcp::endpoint peer = stream_.socket().remote_endpoint(ec);
+    remote_ = ec ? "unknown" : peer.address().to_string();
+  }
+
+  void run() {
+    net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
+  }
+
+ private:
+  void read_header() {
+    parser_.emplace();
+    parser_->header_limit(static_cast<std::uint32_t>(s_.options.max_header_bytes));
+    // The route's own limit is set once the header is in (a larger one here only lets the
+    // header through; no body byte is read before on_header checks it).
+    parser_->body_limit(std::max({kMaxJsonBodyBytes, kMaxCaseUploadBytes, kMaxRecordBytes}));
+    stream_.expires_after(std::chrono::seconds(s_.options.idle_timeout_s));
+    http::async_read_header(stream_, buffer_, *parser_,
+                            [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_header(ec); });
+  }
+
+  static bool quiet_end(const beast::error_code& ec) {
+    return ec == http::error::end_of_stream || ec == net::error::eof || ec == beast::error::timeout ||
+           ec == net::error::connection_reset || ec == net::error::operation_aborted || ec == net::error::broken_pipe;
+  }
+
+  void on_header(beast::error_code ec) {
+    if (quiet_end(ec) && buffer_.size() == 0) return close();
+    if (ec) return answer_error(ec == http::error::header_limit ? 431 : 400, "request: " + ec.message(), false, 11);
+    const auto& req = parser_->get();
+    const std::size_t limit = Api::body_limit(sv(req.method_string()), sv(req.target()));
+    const auto length = parser_->content_length();
+    if (length && *length > limit) {
+      return answer_error(413, "body: " + std::to_string(*length) + " bytes is over the limit of " + std::to_string(limit) + " for " +
+                                   std::string(req.method_string()) + " " + std::string(req.target().substr(0, req.target().find('?'))),
+                          false, req.version());
+    }
+    parser_->body_limit(limit);
+    if (parser_->is_done()) return on_request();
+    stream_.expires_after(std::chrono::seconds(s_.options.body_timeout_s));
+    if (beast::iequals(req[http::field::expect], "100-continue")) {
+      auto cont = std::make_shared<http::response<http::empty_body>>(http::status::continue_, req.version());
+      return http::async_write(stream_, *cont, [self = shared_from_this(), cont](beast::error_code wec, std::size_t) {
+        if (wec) return self->close();
+        self->read_body();
+      });
+    }
+    read_body();
+  }
+
+  void read_body() {
+    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec == http::error::body_limit) {
+        return self->answer_error(413, "body: over the limit of this endpoint", false, self->parser_->get().version());
+      }
+      if (quiet_end(ec)) return self->close();
+      if (ec) return self->answer_error(400, "request: " + ec.message(), false, 11);
+      self->on_request();
+    });
+  }
+
+  void on_request() {
+    ++s_.requests;
+    http::request<http::string_body> req = parser_->release();
+    const std::string_view target(req.target().data(), req.target().size());
+    if (websocket::is_upgrade(req)) return upgrade(std::move(req));
+    if (target.rfind("/api/", 0) == 0 || target == "/api") return call_api(std::move(req));
+    serve_static(req);
+  }
+
+  void call_api(http::request<http::string_body> req) {
+    const bool heavy = Api::is_heavy(sv(req.method_string()), sv(req.target()));
+    const bool keep_alive = req.keep_alive();
+    const unsigned version = req.version();
+    if (heavy && s_.heavy_queued.load() >= s_.options.max_heavy_queued) {
+      return answer(error_response(make_error(503, "server busy checking uploads; retry")), keep_alive, version);
+    }
+    ApiRequest ar = to_api_request(req, remote_);
+    if (heavy) ++s_.heavy_queued;
+    net::post(heavy ? s_.heavy_pool : s_.api_pool, [self = shared_from_this(), ar = std::move(ar), heavy, keep_alive, version]() mutable {
+      ApiResponse r = self->s_.api.handle(ar);
+      if (heavy) --self->s_.heavy_queued;
+      net::post(self->stream_.get_executor(),
+                [self, r = std::move(r), keep_alive, version]() mutable { self->answer(std::move(r), keep_alive, version); });
+    });
+  }
+
+  void answer_error(int status, const std::string& line, bool keep_alive, unsigned version) {
+    answer(error_response(make_error(status, line)), keep_alive, version);
+  }
+
+  void answer(ApiResponse r, bool keep_alive, unsigned version) {
+    auto res = std::make_shared<http::response<http::string_body>>();
+    res->version(version == 10 ? 10 : 11);
+    res->result(static_cast<unsigned>(r.status));
+    res->set(http::field::server, "cathbox-server");
+    if (!r.content_type.empty()) res->set(http::field::content_type, r.content_type);
+    for (const auto& [name, value] : r.headers) res->set(name, value);
+    if (!res->has_content_length() && res->find(http::field::cache_control) == res->end()) res->set(http::field::cache_control, "no-store");
+    res->body() = std::move(r.body);
+    res->keep_alive(keep_alive);
+    res->prepare_payload();
+    http::async_write(stream_, *res, [self = shared_from_this(), res, keep_alive](beast::error_code ec, std::size_t) {
+      if (ec || !keep_alive) return self->close();
+      self->read_header();
+    });
+  }
+
+  void serve_static(const http::request<http::string_body>& req) {
+    const bool keep_alive = req.keep_alive();
+    if (req.method() != http::verb::get && req.method() != http::verb::head) {
+      return answer_error(405, std::string(req.method_string()) + " is not allowed on static files", keep_alive, req.version());
+    }
+    Result<api::Target> target = api::parse_target(std::string_view(req.target().data(), req.target().size()));
+    if (!target) return answer(error_response(target.error()), keep_alive, req.version());
+    const std::string& path = target.value().path;
+    const StaticMount* mount = nullptr;
+    for (const StaticMount& m : s_.options.mounts) {
+      if (path.rfind(m.url_prefix, 0) == 0 && (mount == nullptr || m.url_prefix.size() > mount->url_prefix.size())) mount = &m;
+    }
+    const std::string missing = "no file " + path.substr(0, 200);
+    if (mount == nullptr) return answer_error(404, missing, keep_alive, req.version());
+    // The segments after the mount's prefix, each a plain name.
+    std::filesystem::path file(mount->folder);
+    const std::size_t skip = static_cast<std::size_t>(std::count(mount->url_prefix.begin(), mount->url_prefix.end(), '/')) - 1;
+    for (std::size_t i = skip; i < target.value().segments.size(); ++i) {
+      const std::string& seg = target.value().segments[i];
+      if (seg.empty() || seg[0] == '.' || seg.find('/') != std::string::npos || seg.find('\\') != std::string::npos) {
+        return answer_error(404, missing, keep_alive, req.version());
+      }
+      file /= seg;
+    }
+    std::error_code ec;
+    if (std::filesystem::is_directory(file, ec)) file /= "index.html";
+    if (!std::filesystem::is_regular_file(file, ec)) return answer_error(404, missing, keep_alive, req.version());
+    const auto size = std::filesystem::file_size(file, ec);
+    if (ec || size > 64 * 1024 * 1024) return answer_error(404, missing, keep_alive, req.version());
+    std::ifstream in(file, std::ios::binary);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    ApiResponse r;
+    r.content_type = content_type_for(file);
+    r.body = req.method() == http::verb::head ? std::string() : bytes.str();
+    r.headers.emplace_back("Cache-Control", "no-cache");
+    answer(std::move(r), keep_alive, req.version());
+  }
+
+  void upgrade(http::request<http::string_body> req) {
+    const bool keep_alive = false;
+    Result<api::Target> parsed = api::parse_target(std::string_view(req.target().data(), req.target().size()));
+    if (!parsed) return answer(error_response(parsed.error()), keep_alive, req.version());
+    const api::Target& t = parsed.value();
+    const auto& seg = t.segments;
+    const bool publisher = seg.size() == 6 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "rigs" && seg[5] == "stream";
+    const bool watcher = seg.size() == 4 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "watch";
+    if (!publisher && !watcher) return answer_error(404, "no WebSocket endpoint " + t.path, keep_alive, req.version());
+    std::string token(req[http::field::authorization]);
+    if (token.empty()) {
+      const auto it = t.query.find("token");
+      if (it != t.query.end()) token = it->second;
+    }
+    // Everything that needs the store happens on the API threads, before the upgrade.
+    net::post(s_.api_pool, [self = shared_from_this(), req = std::move(req), t, token, publisher]() mutable {
+      ApiResponse refusal;
+      std::optional<Caller> caller;
+      std::optional<Publisher> pub;
+      std::vector<std::string> rigs;
+      std::string first;
+      try {
+        Result<Caller> who = self->s_.api.context().auth.authenticate(token);
+        if (!who) {
+          refusal = error_response(who.error());
+        } else if (publisher) {
+          const auto q = [&](const char* k) { const auto it = t.query.find(k); return it == t.query.end() ? std::string() : it->second; };
+          const std::string version = q("version");
+          const std::string assignment = q("assignment");
+          std::int64_t v = 0, a = 0;
+          const bool v_ok = version.empty() || (std::from_chars(version.data(), version.data() + version.size(), v).ec == std::errc() && v >= 0 && v < 1'000'000);
+          const bool a_ok = assignment.empty() || (std::from_chars(assignment.data(), assignment.data() + assignment.size(), a).ec == std::errc() && a > 0);
+          if (!v_ok || !a_ok) {
+            refusal = error_response(make_error(400, !v_ok ? "query 'version': expected a number" : "query 'assignment': expected an id"));
+          } else {
+            Result<Publisher> started = self->s_.api.context().live.start(
+                who.value(), t.segments[4], q("case"), static_cast<int>(v), assignment.empty() ? std::nullopt : std::optional<std::int64_t>(a));
+            if (!started) {
+              refusal = error_response(started.error());
+            } else {
+              pub = std::move(started.value());
+              caller = who.value();
+            }
+          }
+        } else {
+          const auto it = t.query.find("rigs");
+          std::string list = it == t.query.end() ? std::string() : it->second;
+          nlohmann::json wanted = nlohmann::json::array();
+          for (std::size_t at = 0; at < list.size();) {
+            const std::size_t comma = std::min(list.find(',', at), list.size());
+            if (comma > at) wanted.push_back(list.substr(at, comma - at));
+            at = comma + 1;
+          }
+          Result<std::vector<std::string>> parsed_rigs = parse_watch_message(safe_dump(nlohmann::json{{"type", "watch"}, {"rigs", wanted}}));
+          Result<std::vector<std::string>> ok =
+              parsed_rigs ? self->s_.api.context().live.allowed(who.value(), parsed_rigs.value()) : parsed_rigs;
+          if (!ok) {
+            refusal = error_response(ok.error());
+          } else {
+            rigs = std::move(ok.value());
+            caller = who.value();
+            first = self->s_.api.context().live.rigs_message(who.value()).dump();
+          }
+        }
+      } catch (const StoreError& e) {
+        refusal = error_response(make_error(503, std::string("database unavailable, retry: ") + e.what()));
+      } catch (const std::exception& e) {
+        refusal = error_response(make_error(500, std::string("internal error: ") + e.what()));
+      }
+      net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
+                                               pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
+        if (!caller) return self->answer(std::move(refusal), false, req.version());
+        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->stream_), std::move(*caller), std::move(pub), std::move(rigs),
+                                              std::move(first));
+        ws->start(std::move(req));
+      });
+    });
+  }
+
+  void close() {
+    beast::error_code ec;
+    stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+  }
+
+  HttpServer::Impl& s_;
+  ConnectionSlot slot_{s_.open_connections};
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+  std::string remote_;
+};
+
+}  // namespace
+
+void HttpServer::Impl::accept() {
+  acceptor.async_accept(net::make_strand(ioc), [this](beast::error_code ec, tcp::socket socket) {
+    if (ec == net::error::operation_aborted || !acceptor.is_open()) return;
+    if (!ec) {
+      ++connections;
+      if (open_connections.load() >= options.max_connections) {
+        beast::error_code ignored;
+        socket.close(ignored);
+      } else {
+        std::make_shared<HttpSession>(*this, std::move(socket))->run();
+      }
+    }
+    accept();
+  });
+}
+
+HttpServer::HttpServer(Api& api, LiveHub& hub, HttpServerOptions options)
+    : impl_(std::make_unique<Impl>(api, hub, std::move(options))) {}
+
+HttpServer::~HttpServer() { stop(); }
+
+Result<std::uint16_t> HttpServer::start() {
+  Impl& s = *impl_;
+  beast::error_code ec;
+  const net::ip::address address = net::ip::make_address(s.options.host, ec);
+  if (ec) return make_error(400, "--listen: '" + s.options.host + "' is not an IP address");
+  const tcp::endpoint endpoint(address, s.options.port);
+  s.acceptor.open(endpoint.protocol(), ec);
+  if (!ec) s.acceptor.set_option(net::socket_base::reuse_address(true), ec);
+  if (!ec) s.acceptor.bind(endpoint, ec);
+  if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
+  if (ec) return make_error(400, "--listen " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
+  const std::uint16_t port = s.acceptor.local_endpoint().port();
+  s.accept();
+  s.started = true;
+  for (int i = 0; i < std::max(1, s.options.io_threads); ++i) s.threads.emplace_back([&s] { s.ioc.run(); });
+  return port;
+}
+
+void HttpServer::stop() {
+  Impl& s = *impl_;
+  std::lock_guard lock(s.stop_mutex);
+  if (s.stopped) return;
+  s.stopped = true;
+  net::post(s.acceptor.get_executor(), [&s] {
+    beast::error_code ec;
+    s.acceptor.close(ec);
+  });
+  s.ioc.stop();
+  for (std::thread& t : s.threads) t.join();
+  s.threads.clear();
+  s.heavy_pool.stop();
+  s.api_pool.stop();
+  s.heavy_pool.join();
+  s.api_pool.join();
+}
+
+HttpServerStats HttpServer::stats() const {
+  const Impl& s = *impl_;
+  return HttpServerStats{s.connections.load(), s.requests.load(), s.publishers.load(), s.watchers.load(),
+                         s.frames_in.load(),   s.frames_out.load(), s.frames_dropped.load()};
+}
+
+std::vector<StaticMount> default_mounts(const std::string& web_root) {
+  return {{"/", web_root}, {"/lib/three/", "/usr/share/javascript/three"}, {"/lib/chart.js/", "/usr/share/javascript/chart.js"}};
+}
+
+}  // namespace cathbox::server

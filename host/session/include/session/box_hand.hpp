@@ -1,0 +1,72 @@
+#pragma once
+// The trainee's hand as the box measures it, through BoxClient: a real box over hidapi, or the
+// emulated box (cathbox-emu, started here when asked to and stopped with the hand). Connecting
+// and reading the calibration are feature reports (before the run); then, on the haptic
+// thread, read() polls the newest state (counts -> the held tool's position, HandMapping) and
+// feel() sends the held tool's local force law (HandMapping -> device::force_law_command).
+// The keyboard can move the held tool on top of the box (KeyboardInput).
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "device/box_client.hpp"
+#include "device/clock.hpp"
+#include "session/emulator_process.hpp"
+#include "session/hand.hpp"
+#include "session/hand_mapping.hpp"
+#include "session/keyboard_input.hpp"
+
+namespace cathbox::session {
+
+enum class BoxSource {
+  kAuto,      // a real box if one is found, else the emulator
+  kEmulator,  // the emulator (at `emu_socket`, or started on a socket of its own)
+};
+
+struct BoxHandOptions {
+  BoxSource source = BoxSource::kAuto;
+  std::string emu_socket;              // connect to the emulator here; empty: start emu_program
+  std::string emu_program;             // the cathbox-emu executable
+  std::vector<std::string> emu_args;   // extra arguments when starting it (e.g. hand scripts)
+  KeyboardInput* keyboard = nullptr;   // the keyboard on top of the box (optional)
+  double dt_s = 1e-3;                  // the tick
+};
+
+class BoxHand final : public Hand {
+ public:
+  // Finds the box as `options` say; null with one line in `error`.
+  [[nodiscard]] static std::unique_ptr<BoxHand> connect(const BoxHandOptions& options, std::string& error);
+  // Over a client connected elsewhere on `clock` (tests: the emulator in-process, virtual time).
+  [[nodiscard]] static std::unique_ptr<BoxHand> attach(std::unique_ptr<device::BoxClient> client,
+                                                       const BoxHandOptions& options, std::string& error);
+  ~BoxHand() override;
+
+  [[nodiscard]] HandKind kind() const override { return HandKind::kBox; }
+  [[nodiscard]] std::string describe() const override;
+  [[nodiscard]] std::optional<DeviceRecord> device() const override;
+  void hold(std::size_t tool, const ToolCommand& at) override { mapping_.hold(tool, at); }
+  void read(std::int64_t tick, TickInput& input) override;
+  void feel(const HandFeedback& feedback) override;
+  void release() override;
+
+  [[nodiscard]] const HandMapping& mapping() const { return mapping_; }
+  [[nodiscard]] const device::BoxClient& client() const { return *client_; }
+
+ private:
+  BoxHand() = default;
+  [[nodiscard]] bool init(std::string& error);
+
+  device::SystemClock clock_;                    // for a client this hand connects
+  std::unique_ptr<EmulatorProcess> emulator_;    // before the client: destroyed after it
+  std::unique_ptr<device::BoxClient> client_;
+  device::BoxState state_;
+  cbx_calibration calibration_{};
+  HandMapping mapping_;
+  std::uint8_t mode_ = 0;
+  KeyboardInput* keyboard_ = nullptr;
+  double dt_s_ = 1e-3;
+  std::string kind_;
+};
+
+}  // namespace cathbox::session

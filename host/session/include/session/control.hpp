@@ -1,0 +1,93 @@
+#pragma once
+// Discrete controls: things a trainee does at one instant rather than continuously (take the
+// other tool in the hand; later: press the fluoroscopy pedal, inject contrast, turn the C-arm,
+// detach a coil, inflate a balloon). Any thread posts them (the UI), the haptic thread applies
+// them at the start of its next tick, and the record stores each applied control in that
+// tick, so a replay applies the same controls at the same ticks.
+//
+// A control is a kind (a number from the table below) and up to 32 bytes of payload, encoded
+// with explicit byte order by whoever defines the kind. Adding a kind (host/session/README.md,
+// "Adding a control kind"): pick a number in your module's range, add it to ControlKind and to
+// known_control_kind(), write a ControlHandler, and register it with Session::add_control_handler
+// in every front end that runs your module. A record holding a kind an older reader does not
+// know is refused with "unknown kind N at byte X", never misread.
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <mutex>
+#include <span>
+
+#include "session/spsc_ring.hpp"
+
+namespace cathbox::tool {
+class Simulator;
+}
+
+namespace cathbox::session {
+
+class Hand;
+class EventLog;
+struct TickInput;
+
+// Control kinds. Ranges: 16..31 the session itself; 32..63 fluoroscopy (pedal, injection,
+// C-arm, roadmap); 64..95 devices (coil detach, balloon inflate, ...); 96..127 free. The numbers
+// share one space with the record's per-tick entry kinds (record_format.hpp), 0..15.
+enum class ControlKind : std::uint16_t {
+  kSelectTool = 16,  // payload: u8 tool index, or 0xFF for "the next tool"
+};
+
+// True for the kinds this build knows how to replay.
+[[nodiscard]] bool known_control_kind(std::uint16_t kind);
+
+struct Control {
+  static constexpr std::size_t kMaxPayload = 32;
+  std::uint16_t kind = 0;
+  std::uint8_t size = 0;
+  std::array<std::uint8_t, kMaxPayload> payload{};
+
+  [[nodiscard]] std::span<const std::uint8_t> bytes() const { return {payload.data(), size}; }
+  // A control of `kind` with `bytes` (at most kMaxPayload) as payload.
+  [[nodiscard]] static Control make(std::uint16_t kind, std::span<const std::uint8_t> bytes);
+  [[nodiscard]] static Control select_tool(std::size_t tool);
+  [[nodiscard]] static Control select_next_tool();
+};
+
+// What a handler may touch while it applies a control (haptic thread, between two ticks).
+struct ControlContext {
+  std::int64_t tick = 0;
+  std::int64_t time_us = 0;
+  tool::Simulator& sim;
+  Hand& hand;
+  EventLog& events;
+  const TickInput& input;  // the tools' commands as of the last tick
+};
+
+class ControlHandler {
+ public:
+  virtual ~ControlHandler() = default;
+  // Applies `control` at a tick boundary. It may rewrite the control into the form to record
+  // (e.g. "next tool" becomes the tool's index); false drops it: not applied, not recorded.
+  // Runs on the haptic thread: no blocking, no allocation.
+  [[nodiscard]] virtual bool apply(Control& control, ControlContext& context) = 0;
+};
+
+// Many producers (any thread; they take a mutex among themselves), one consumer (the haptic
+// thread, which never waits). Bounded: post() on a full queue returns false.
+class ControlQueue {
+ public:
+  static constexpr std::size_t kCapacity = 64;
+
+  bool post(const Control& control);
+  // Consumer only.
+  bool pop(Control& out);
+  // After close() every post() fails (a replay takes its controls from the record only).
+  void close() { closed_.store(true, std::memory_order_release); }
+
+ private:
+  SpscRing<Control, kCapacity> ring_;
+  std::mutex producers_;
+  std::atomic<bool> closed_{false};
+};
+
+}  // namespace cathbox::session

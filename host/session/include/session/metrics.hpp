@@ -1,0 +1,133 @@
+#pragma once
+// The skill metrics of one run, accumulated tick by tick (on the haptic thread, or from a
+// replay). Definitions (host/session/README.md, "Metrics"):
+//
+//   procedure time        from the first tick to the last observed
+//   time to target        when the held tool's tip first came within the target radius
+//   tip path length       distance travelled by the tip of the tool in the hand, summed over
+//                         ticks (taking another tool is not travel)
+//   path efficiency       centreline length from the entry to the target ÷ the tip path length
+//                         when the target was reached (none before, or without a target)
+//   wall contacts         episodes of the tip touching the wall, separated by ≥ 20 ms without
+//   peak wall force       largest normal force of any contact of any tool
+//   time above threshold  time with a contact force above the case's threshold (100 mN default)
+//   wrong-branch entries  the tip enters a vessel segment off the centreline route from the
+//                         entry to the target, counted once per entry (junctions ignored)
+//   retractions           pull-backs of the held tool by ≥ 2 mm from its furthest point since
+//                         the last retraction (hysteresis: the next counts after it advances
+//                         2 mm from its lowest point)
+//   peak insertion speed  largest |Δ insertion| of the held tool over any 50 ms window ÷ 50 ms
+//   tool changes          times the trainee took another tool
+//   target reached        and the closest approach otherwise
+// plus room for the fluoroscopy module: fluoroscopy time, dose-area product, runs, contrast.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace cathbox::session {
+
+struct Metrics {
+  std::int64_t procedure_time_us = 0;
+  bool has_target = false;
+  bool target_reached = false;
+  std::int64_t time_to_target_us = -1;     // -1: not reached
+  double closest_to_target_mm = -1.0;      // -1: no target
+  double tip_path_mm = 0.0;
+  double route_length_mm = -1.0;           // centreline entry -> target; -1: no target
+  double path_efficiency = -1.0;           // -1: target not reached
+  int wall_contacts = 0;
+  double peak_wall_force_mN = 0.0;
+  double wall_force_threshold_mN = 100.0;
+  std::int64_t time_above_threshold_us = 0;
+  int wrong_branch_entries = -1;           // -1: no route (no target)
+  int retractions = 0;
+  double peak_insertion_speed_mm_s = 0.0;
+  int tool_changes = 0;
+  double peak_hand_force_mN = 0.0;
+  // Filled by the fluoroscopy module; empty (nullopt) until it runs.
+  std::optional<double> fluoroscopy_time_s;
+  std::optional<double> dose_area_product_mGy_cm2;
+  std::optional<int> fluoroscopy_runs;
+  std::optional<double> contrast_volume_ml;
+};
+
+// What the metrics look at in one tick.
+struct MetricsTick {
+  std::int64_t time_us = 0;
+  std::size_t held = 0;                // the tool in the hand
+  bool tool_changed = false;           // the trainee took it at this tick
+  double held_insertion_mm = 0.0;      // its commanded insertion
+  glm::vec3 tip_mm{0.0F};              // its tip
+  std::int32_t tip_segment = -1;       // vessel segment id holding the tip (-1 none, -2 junction)
+  bool tip_in_contact = false;
+  double wall_force_mN = 0.0;          // largest normal force of this tick's contacts (all tools)
+  double hand_force_mN = 0.0;          // magnitude of the axial force at the hand
+};
+
+struct MetricsSettings {
+  std::optional<glm::vec3> target_mm;
+  double target_radius_mm = 2.0;
+  double route_length_mm = -1.0;             // < 0: none
+  std::vector<std::int32_t> route_segments;  // segment ids from the entry to the target
+  double wall_force_threshold_mN = 100.0;
+  std::int64_t contact_gap_us = 20'000;
+  double retraction_mm = 2.0;
+  std::int64_t speed_window_us = 50'000;
+};
+
+// The metrics as named numbers (booleans 0/1), only those the run has (no target: no time to
+// target; no fluoroscopy: none of its figures): what the server indexes and pass criteria name.
+struct NamedMetric {
+  std::string name;
+  double value = 0.0;
+};
+[[nodiscard]] std::vector<NamedMetric> named_metrics(const Metrics& m);
+// Every name named_metrics can give.
+[[nodiscard]] std::vector<std::string> metric_names();
+
+class MetricsCollector {
+ public:
+  explicit MetricsCollector(MetricsSettings settings = {});
+
+  void observe(const MetricsTick& tick);
+  [[nodiscard]] const Metrics& metrics() const { return m_; }
+  // Events of the last observe(), for the output panel.
+  [[nodiscard]] bool contact_began() const { return contact_began_; }
+  [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }
+
+  // One line per figure, for stdout and the log.
+  [[nodiscard]] static std::string format(const Metrics& m);
+
+ private:
+  struct Sample {
+    std::int64_t time_us = 0;
+    double insertion_mm = 0.0;
+  };
+  void reset_held(const MetricsTick& tick);
+
+  MetricsSettings s_;
+  Metrics m_;
+  bool started_ = false;
+  std::int64_t start_us_ = 0;
+  std::int64_t last_us_ = 0;
+  glm::vec3 last_tip_mm_{0.0F};
+  bool in_contact_ = false;
+  std::int64_t last_contact_us_ = -1;
+  std::int32_t last_segment_ = -1;
+  // Retractions of the held tool (hysteresis).
+  bool retracting_ = false;
+  double extreme_mm_ = 0.0;  // furthest while advancing, lowest while retracting
+  // Insertion speed over a window.
+  static constexpr std::size_t kSamples = 256;
+  std::array<Sample, kSamples> samples_{};
+  std::size_t sample_count_ = 0;
+  std::size_t sample_head_ = 0;
+  bool contact_began_ = false;
+  bool target_just_reached_ = false;
+};
+
+}  // namespace cathbox::session

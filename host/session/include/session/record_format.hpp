@@ -1,0 +1,119 @@
+#pragma once
+// The session record's byte layout (documented byte by byte in host/session/README.md,
+// "Record format"): constants, and the explicit-byte-order writer and reader every part of
+// the record is encoded with. All integers are little-endian; varints are LEB128 (unsigned)
+// and zigzag LEB128 (signed); doubles are their IEEE-754 binary64 bits as a u64.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cathbox::session::record {
+
+inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 'C', '\r', '\n'};
+inline constexpr std::uint16_t kFormatVersion = 1;
+inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
+inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
+inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
+inline constexpr std::size_t kTicksPerBlock = 1000;         // and at least one block per second
+inline constexpr std::int64_t kBlockSpanUs = 1'000'000;
+
+enum class BlockType : std::uint8_t { kHeader = 'H', kTicks = 'T', kEnd = 'E' };
+enum class Compression : std::uint8_t { kNone = 0, kZstd = 1 };
+
+// Per-tick entry kinds 0..15. Controls (control.hpp, kinds 16..127) are entries too: their
+// payload is the control's.
+enum class EntryKind : std::uint16_t {
+  kEndOfTick = 0,  // no length, no payload: the tick is complete
+  kTools = 1,      // u8 changed mask (bit 2t: tool t's insertion, 2t+1: its rotation), then one
+                   // zigzag varint delta (µm or µrad) per set bit, in bit order
+  kStateHash = 2,  // u64 XXH3-64 of the simulation state after this tick's step
+  kBoxStatus = 3,  // u8 flags (bit 0 present, bit 1 link up), u16 faults
+  kEvent = 4,      // u8 event code (EventCode)
+};
+
+enum class EventCode : std::uint8_t {
+  kTargetReached = 1,
+};
+
+// Why a run ended (the end block).
+enum class EndReason : std::uint8_t {
+  kStopped = 0,        // the program stopped the session (window closed, restart, destructor)
+  kTargetReached = 1,
+  kHandFinished = 2,   // the script ended, the autopilot finished, the record replayed
+  kEndedByUser = 3,
+  kTimeLimit = 4,
+};
+[[nodiscard]] const char* end_reason_name(EndReason reason);
+
+// Header fields (tags). Tags 64..127 are informational: a reader skips those it does not know;
+// any other unknown tag is an error.
+enum class HeaderTag : std::uint32_t {
+  kSoftwareVersion = 1, kStartUnixUs = 2, kCaseName = 3, kCaseFile = 4, kCaseText = 5,
+  kVesselFile = 6, kVesselText = 7, kTool = 8, kEntry = 9, kHeldTool = 10, kHandKind = 11,
+  kHandDescription = 12, kDevice = 13, kPeriodUs = 14, kHashEvery = 15,
+};
+enum class ToolTag : std::uint32_t {
+  kName = 1, kKind = 2, kSection = 3, kFriction = 4, kInnerDiameter = 5, kAxialStiffness = 6,
+  kDrag = 7, kMaxSpacing = 8, kTipSpacing = 9, kTipZone = 10, kInside = 11,
+};
+enum class DeviceTag : std::uint32_t {
+  kDescription = 1, kSerial = 2, kBoard = 3, kFirmware = 4, kInsertionCountsPerM = 5,
+  kRotationCountsPerRev = 6, kInsertionFullScaleMn = 7, kRotationFullScaleUnm = 8,
+  kInsertionActuator = 9, kRotationActuator = 10,
+};
+enum class EndTag : std::uint32_t { kReason = 1, kReasonText = 2, kTicks = 3, kEndUnixUs = 4 };
+
+[[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b = {});
+
+// Appends to a byte vector (which the caller may reserve).
+class ByteWriter {
+ public:
+  explicit ByteWriter(std::vector<std::uint8_t>& out) : out_(out) {}
+  void u8(std::uint8_t v) { out_.push_back(v); }
+  void u16(std::uint16_t v);
+  void u32(std::uint32_t v);
+  void u64(std::uint64_t v);
+  void f64(double v);
+  void varint(std::uint64_t v);
+  void zigzag(std::int64_t v) { varint((static_cast<std::uint64_t>(v) << 1) ^ static_cast<std::uint64_t>(v >> 63)); }
+  void bytes(std::span<const std::uint8_t> b) { out_.insert(out_.end(), b.begin(), b.end()); }
+  void text(std::string_view s) { bytes({reinterpret_cast<const std::uint8_t*>(s.data()), s.size()}); }
+  // A tagged field: varint tag, varint length, the bytes.
+  void field(std::uint32_t tag, std::span<const std::uint8_t> b);
+  void field_text(std::uint32_t tag, std::string_view s);
+  void field_u64(std::uint32_t tag, std::uint64_t v);
+  void field_f64(std::uint32_t tag, double v);
+  [[nodiscard]] std::size_t size() const { return out_.size(); }
+
+ private:
+  std::vector<std::uint8_t>& out_;
+};
+
+// Reads from a byte span; every read checks the bounds and fails (returns false) past the end.
+class ByteReader {
+ public:
+  explicit ByteReader(std::span<const std::uint8_t> in) : in_(in) {}
+  [[nodiscard]] bool u8(std::uint8_t& v);
+  [[nodiscard]] bool u16(std::uint16_t& v);
+  [[nodiscard]] bool u32(std::uint32_t& v);
+  [[nodiscard]] bool u64(std::uint64_t& v);
+  [[nodiscard]] bool f64(double& v);
+  [[nodiscard]] bool varint(std::uint64_t& v);
+  [[nodiscard]] bool zigzag(std::int64_t& v);
+  [[nodiscard]] bool bytes(std::size_t n, std::span<const std::uint8_t>& out);
+  [[nodiscard]] std::size_t position() const { return pos_; }
+  [[nodiscard]] std::size_t left() const { return in_.size() - pos_; }
+  [[nodiscard]] bool done() const { return pos_ == in_.size(); }
+
+ private:
+  template <class T>
+  [[nodiscard]] bool fixed(T& v);
+  std::span<const std::uint8_t> in_;
+  std::size_t pos_ = 0;
+};
+
+}  // namespace cathbox::session::record

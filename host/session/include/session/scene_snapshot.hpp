@@ -1,0 +1,61 @@
+#pragma once
+// What a renderer needs from one haptic tick, copied by the haptic thread into a slot of
+// a SnapshotExchange. The vectors are reserved up front so publishing does not allocate.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "session/hand.hpp"
+#include "session/metrics.hpp"
+
+namespace cathbox::session {
+
+struct ToolView {
+  std::vector<glm::vec3> nodes_mm;  // proximal (entry) to distal (tip)
+  std::vector<glm::vec3> frames;    // one normal direction per node (may be empty)
+  float radius_mm = 0.2F;
+  bool active = false;              // the tool in the trainee's hand
+};
+
+struct ContactView {
+  glm::vec3 point_mm{0.0F};
+  float force_mN = 0.0F;
+};
+
+struct SceneSnapshot {
+  static constexpr int kMaxTools = static_cast<int>(session::kMaxTools);
+  static constexpr std::size_t kMaxContacts = 64;
+
+  std::int64_t sim_time_us = 0;
+  std::int64_t tick = 0;              // ticks run so far
+  std::size_t held_tool = 0;
+  std::array<ToolView, kMaxTools> tools;
+  int tool_count = 0;
+  glm::vec3 tip_mm{0.0F};
+  glm::vec3 tip_direction{1.0F, 0.0F, 0.0F};
+  glm::vec3 tip_up{0.0F, 0.0F, 1.0F};
+  std::vector<ContactView> contacts;
+
+  double insertion_mm = 0.0;
+  double rotation_rad = 0.0;
+  double hand_force_mN = 0.0;
+  double hand_torque_mNmm = 0.0;
+  double haptic_rate_hz = 0.0;
+  std::int64_t haptic_ticks = 0;
+  std::int64_t dropped_ticks = 0;
+  Metrics metrics;
+  bool run_over = false;  // target reached, the hand finished, or the run was ended
+
+  // Lets the vectors hold `nodes_per_tool` nodes per tool without allocating.
+  void reserve(std::size_t nodes_per_tool) {
+    for (ToolView& t : tools) {
+      t.nodes_mm.reserve(nodes_per_tool);
+      t.frames.reserve(nodes_per_tool);
+    }
+    contacts.reserve(kMaxContacts);
+  }
+};
+
+}  // namespace cathbox::session

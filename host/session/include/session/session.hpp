@@ -1,0 +1,165 @@
+#pragma once
+// One run of one case: the simulator, the hand, the haptic tick, the clocks and threads, the
+// snapshots for renderers, the event log, the metrics and the recorder. The trainer, `cathbox
+// session run|replay|metrics` and the server's checks all run a case through this class.
+//
+//   auto loaded = session::load_session_case("cases/neuro.case");
+//   session::Session s(std::move(loaded.value), std::move(hand));
+//   s.record_to("run.cbxrec", error);          // optional, before the first tick
+//   s.step_virtual(1000);                       // virtual time on this thread, or
+//   s.start(); ... s.stop();                    // the real-time 1 kHz haptic thread
+//
+// The tick (haptic thread): the controls posted since the last tick and the hand's own are
+// applied; the hand says where the tools are (integers: µm, µrad; clamped to each tool's
+// range); the record gets the tick's inputs; the simulator steps; the hand feels the force
+// law; metrics, events, observers and the snapshot follow; every `hash_every` ticks the state
+// hash goes into the record. Nothing in the tick blocks or allocates once running.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "session/clock.hpp"
+#include "session/control.hpp"
+#include "session/event_log.hpp"
+#include "session/hand.hpp"
+#include "session/haptic_thread.hpp"
+#include "session/metrics.hpp"
+#include "session/record_format.hpp"
+#include "session/record_header.hpp"
+#include "session/recorder.hpp"
+#include "session/scene_snapshot.hpp"
+#include "session/session_case.hpp"
+#include "session/snapshot_exchange.hpp"
+#include "tool/simulator.hpp"
+#include "tool/snapshot.hpp"
+
+namespace cathbox::session {
+
+struct SessionOptions {
+  std::int64_t period_us = 1000;      // the tick (1 kHz)
+  std::int64_t hash_every = 100;      // a state hash every this many ticks
+  std::int64_t max_ticks = -1;        // the run ends after this many ticks (< 0: no limit)
+  bool end_at_target = true;          // the run ends when the tip reaches the target
+  std::optional<std::size_t> held_tool;  // the tool in the hand at the start (default: the simulator's)
+  std::size_t max_nodes_per_tool = 2048;  // snapshot capacity (nodes beyond are not drawn)
+};
+
+// What observers see after each tick (haptic thread; keep it short, no blocking).
+struct TickView {
+  std::int64_t tick = 0;
+  std::int64_t time_us = 0;
+  const tool::Simulator& sim;
+  const tool::Snapshot& snapshot;
+  const TickInput& input;
+  std::span<const Control> controls;  // applied at this tick
+  const Metrics& metrics;
+};
+
+class TickObserver {
+ public:
+  virtual ~TickObserver() = default;
+  virtual void observe(const TickView& view) = 0;
+};
+
+class Session {
+ public:
+  Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand, SessionOptions options = {});
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Before the first tick: record the run (the header from the case and the hand).
+  [[nodiscard]] bool record_to(const std::string& path, std::string& error);
+  [[nodiscard]] Recorder* recorder() { return recorder_.get(); }
+  // A handler for a control kind (kept by reference; must outlive the session).
+  void add_control_handler(std::uint16_t kind, ControlHandler& handler);
+  void add_observer(TickObserver& observer);
+
+  // Any thread: a control for the next tick. False when the queue is full or closed (replay).
+  bool post(const Control& control) { return controls_.post(control); }
+  // The run ends at the next tick (reason: ended by the trainee).
+  void end_run() { end_requested_.store(true, std::memory_order_release); }
+
+  // Real time: the haptic thread against the steady clock.
+  void start();
+  void stop();
+  // Virtual time on the calling thread: runs up to `ticks` more ticks; returns how many ran.
+  std::int64_t step_virtual(std::int64_t ticks);
+
+  // Any thread.
+  [[nodiscard]] bool over() const { return over_.load(std::memory_order_acquire); }
+  [[nodiscard]] std::int64_t ticks() const { return ticks_.load(std::memory_order_acquire); }
+  [[nodiscard]] std::size_t held_tool() const { return held_.load(std::memory_order_relaxed); }
+  [[nodiscard]] double haptic_rate_hz() const;
+  [[nodiscard]] std::int64_t dropped_ticks() const;
+  [[nodiscard]] std::int64_t haptic_cpu_time_us() const;
+  [[nodiscard]] std::string haptic_scheduling() const;
+  [[nodiscard]] SnapshotExchange<SceneSnapshot>& snapshots() { return exchange_; }
+  [[nodiscard]] EventLog& events() { return events_; }
+
+  // Fixed for the life of the session.
+  [[nodiscard]] const SessionCase& scene() const { return *scene_; }
+  [[nodiscard]] const std::vector<std::string>& tool_names() const { return tool_names_; }
+  [[nodiscard]] const std::string& hand_description() const { return hand_description_; }
+  [[nodiscard]] HandKind hand_kind() const { return hand_->kind(); }
+  [[nodiscard]] const SessionOptions& options() const { return options_; }
+  // The header a record of this session gets.
+  [[nodiscard]] RecordHeader record_header() const;
+
+  // Once the run is over or the threads are stopped (not while a tick may run).
+  [[nodiscard]] const Metrics& metrics() const { return metrics_.metrics(); }
+  [[nodiscard]] Hand& hand() { return *hand_; }
+  [[nodiscard]] const tool::Simulator& simulator() const { return *sim_; }
+  [[nodiscard]] record::EndReason end_reason() const { return end_reason_; }
+  [[nodiscard]] const std::string& end_text() const { return end_text_; }
+
+ private:
+  class Sink;
+  class SelectTool;
+  bool tick();
+  void apply(Control control);
+  void end(record::EndReason reason, std::string text);
+  void publish();
+  [[nodiscard]] const HapticThread* active_thread() const;
+  [[nodiscard]] std::int64_t clock_now_us();
+  void log(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+
+  std::unique_ptr<SessionCase> scene_;
+  std::unique_ptr<Hand> hand_;
+  SessionOptions options_;
+  std::string hand_description_;
+  std::vector<std::string> tool_names_;
+  std::unique_ptr<tool::Simulator> sim_;
+  tool::Snapshot snap_;
+  TickInput input_;
+  std::int64_t tick_ = 0;  // the next tick
+  std::atomic<std::int64_t> ticks_{0};
+  std::atomic<std::size_t> held_{0};
+  MetricsCollector metrics_;
+  SnapshotExchange<SceneSnapshot> exchange_;
+  EventLog events_;
+  ControlQueue controls_;
+  std::array<ControlHandler*, 128> handlers_{};
+  std::unique_ptr<SelectTool> select_tool_;
+  std::unique_ptr<Sink> sink_;
+  std::array<Control, 64> applied_{};
+  std::size_t applied_count_ = 0;
+  bool tool_changed_ = false;
+  std::vector<TickObserver*> observers_;
+  std::unique_ptr<Recorder> recorder_;
+  SteadyClock steady_;
+  VirtualClock virtual_clock_;
+  std::unique_ptr<HapticThread> real_thread_;
+  std::unique_ptr<HapticThread> virtual_thread_;
+  std::atomic<bool> over_{false};
+  std::atomic<bool> end_requested_{false};
+  record::EndReason end_reason_ = record::EndReason::kStopped;
+  std::string end_text_;
+  BoxStatus last_box_{};
+};
+
+}  // namespace cathbox::session

@@ -1,0 +1,67 @@
+#include "session/action_script_hand.hpp"
+
+#include <cmath>
+
+#include "session/control.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::session {
+namespace {
+constexpr std::int64_t kSettleMs = 100;  // as `cathbox sim run` (tool::ScenarioOptions)
+}  // namespace
+
+std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path,
+                                                         const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
+                                                         std::size_t held, std::string& error) {
+  tool::ScriptParse parsed = tool::load_script(path);
+  if (!parsed.value) {
+    error = parsed.error;
+    return nullptr;
+  }
+  return make(*parsed.value, path, tools, held, error);
+}
+
+std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
+  std::vector<tool::ScriptPlayer::ToolInfo> out;
+  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back({spec.name, tool::Rod(spec).max_insertion_mm()});
+  return out;
+}
+
+std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path, const SessionCase& scene,
+                                                         std::string& error) {
+  return load(path, tool_infos(scene), 0, error);
+}
+
+std::unique_ptr<ActionScriptHand> ActionScriptHand::make(const tool::Script& script, const std::string& name,
+                                                         const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
+                                                         std::size_t held, std::string& error) {
+  std::optional<tool::ScriptPlayer> player = tool::ScriptPlayer::make(script, tools, held, name, error);
+  if (!player) return nullptr;
+  return std::unique_ptr<ActionScriptHand>(new ActionScriptHand(std::move(*player), name));
+}
+
+void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
+  if (finished_) return;
+  // The player applies the actions due at this millisecond and moves its motions by one.
+  const tool::ScriptPlayer::Step step = player_.advance(tick);
+  if (step.selected) sink.push(Control::select_tool(*step.selected));
+  if (step.ended) {
+    ended_ = true;
+    finished_ = true;
+  }
+}
+
+void ActionScriptHand::read(std::int64_t tick, TickInput& in) {
+  if (ended_) return;  // `end`: the tools stay where they are
+  for (std::size_t t = 0; t < in.tool_count; ++t) {
+    in.tools[t] = {std::llround(player_.insertion_mm(t) * 1e3), std::llround(player_.rotation_rad(t) * 1e6)};
+  }
+  // As `cathbox sim run`: once everything is done, stop after the tools have settled.
+  if (player_.settled(tick, kSettleMs)) finished_ = true;
+}
+
+std::string ActionScriptHand::finish_reason() const {
+  return ended_ ? "action script: end" : "action script: done (all motions ended " + std::to_string(kSettleMs) + " ms ago)";
+}
+
+}  // namespace cathbox::session

@@ -1,0 +1,130 @@
+#include "session/box_hand.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <thread>
+
+#include "device/box_opener.hpp"
+#include "device/force_law_command.hpp"
+
+namespace cathbox::session {
+
+std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::string& error) {
+  std::unique_ptr<BoxHand> hand(new BoxHand());
+  hand->keyboard_ = options.keyboard;
+  hand->dt_s_ = options.dt_s;
+  if (options.source == BoxSource::kAuto) {
+    auto real = device::BoxClient::connect(device::box_opener(std::nullopt, hand->clock_), hand->clock_);
+    if (real) {
+      hand->client_ = std::move(real.value());
+      hand->kind_ = "box";
+    }
+  }
+  if (!hand->client_) {
+    std::string socket = options.emu_socket;
+    if (socket.empty()) {
+      static int counter = 0;
+      socket = "/tmp/cathbox-session-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".sock";
+      hand->emulator_ = EmulatorProcess::start(options.emu_program, socket, options.emu_args, error);
+      if (!hand->emulator_) return nullptr;
+    }
+    // A starting emulator needs a moment to bind its socket: retry for up to 3 s.
+    std::string last;
+    for (int attempt = 0; attempt < 60 && !hand->client_; ++attempt) {
+      auto c = device::BoxClient::connect(device::box_opener(socket, hand->clock_), hand->clock_);
+      if (c) {
+        hand->client_ = std::move(c.value());
+      } else {
+        last = c.error().message;
+        if (!hand->emulator_ || !hand->emulator_->running()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    }
+    if (!hand->client_) {
+      error = "emulated box at " + socket + ": " + last;
+      return nullptr;
+    }
+    hand->kind_ = hand->emulator_ ? "emulated box (started)" : "emulated box";
+  }
+  if (!hand->init(error)) return nullptr;
+  return hand;
+}
+
+std::unique_ptr<BoxHand> BoxHand::attach(std::unique_ptr<device::BoxClient> client, const BoxHandOptions& options,
+                                         std::string& error) {
+  std::unique_ptr<BoxHand> hand(new BoxHand());
+  hand->client_ = std::move(client);
+  hand->keyboard_ = options.keyboard;
+  hand->dt_s_ = options.dt_s;
+  hand->kind_ = "box";
+  if (!hand->init(error)) return nullptr;
+  return hand;
+}
+
+bool BoxHand::init(std::string& error) {
+  auto cal = client_->calibration();
+  if (!cal) {
+    error = cal.error().message;
+    return false;
+  }
+  calibration_ = cal.value();
+  const EncoderCalibration encoders{calibration_.insertion_counts_per_m, calibration_.rotation_counts_per_rev};
+  if (!encoders.valid()) {
+    error = client_->describe() + " is not calibrated (run 'cathbox calibrate')";
+    return false;
+  }
+  mapping_ = HandMapping(encoders);
+  const cbx_device_info& info = client_->device_info();
+  mode_ = info.insertion_actuator == CBX_ACTUATOR_MOTOR ? CBX_MODE_MOTOR : CBX_MODE_BRAKE;
+  return true;
+}
+
+BoxHand::~BoxHand() {
+  if (client_) release();
+  client_.reset();  // before the emulator goes
+}
+
+std::string BoxHand::describe() const { return kind_ + ": " + client_->describe(); }
+
+std::optional<DeviceRecord> BoxHand::device() const {
+  const cbx_device_info& info = client_->device_info();
+  DeviceRecord d;
+  d.description = describe();
+  d.serial.assign(info.serial, strnlen(info.serial, sizeof info.serial));
+  d.board.assign(info.board, strnlen(info.board, sizeof info.board));
+  char fw[32];
+  std::snprintf(fw, sizeof fw, "%u.%u.%u", info.fw_major, info.fw_minor, info.fw_patch);
+  d.firmware = fw;
+  d.insertion_counts_per_m = calibration_.insertion_counts_per_m;
+  d.rotation_counts_per_rev = calibration_.rotation_counts_per_rev;
+  d.insertion_full_scale_mN = calibration_.insertion_full_scale_mN;
+  d.rotation_full_scale_uNm = calibration_.rotation_full_scale_uNm;
+  d.insertion_actuator = info.insertion_actuator;
+  d.rotation_actuator = info.rotation_actuator;
+  return d;
+}
+
+void BoxHand::read(std::int64_t, TickInput& in) {
+  const bool fresh = client_->poll(state_);
+  const cbx_state_report& s = state_.report;
+  if (fresh && !mapping_.has_count_origin()) mapping_.set_count_origin({s.insertion_count, s.rotation_count});
+  const HandPosition hand = mapping_.hand_from_counts({s.insertion_count, s.rotation_count});
+  if (keyboard_ != nullptr) {
+    const KeyboardInput::Motion m = keyboard_->take(dt_s_);
+    mapping_.nudge(m.insertion_um, m.rotation_urad, in.max_insertion_um[in.held]);
+  }
+  in.tools[in.held] = mapping_.command(hand);
+  in.box = {true, client_->link() == device::Link::kUp, s.faults};
+}
+
+void BoxHand::feel(const HandFeedback& fb) {
+  if (fb.tick < 0) return;
+  (void)client_->send(device::force_law_command(mapping_.law_to_box(fb.law), mode_));
+}
+
+void BoxHand::release() { (void)client_->send(device::outputs_off_command()); }
+
+}  // namespace cathbox::session

@@ -1,0 +1,37 @@
+#include "session/control.hpp"
+
+#include <algorithm>
+#include <cassert>
+
+namespace cathbox::session {
+
+bool known_control_kind(std::uint16_t kind) { return kind == static_cast<std::uint16_t>(ControlKind::kSelectTool); }
+
+Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
+  assert(bytes.size() <= kMaxPayload);
+  Control c;
+  c.kind = kind;
+  c.size = static_cast<std::uint8_t>(std::min(bytes.size(), kMaxPayload));
+  std::copy_n(bytes.begin(), c.size, c.payload.begin());
+  return c;
+}
+
+Control Control::select_tool(std::size_t tool) {
+  const std::uint8_t b = static_cast<std::uint8_t>(std::min<std::size_t>(tool, 0xFE));
+  return make(static_cast<std::uint16_t>(ControlKind::kSelectTool), std::span(&b, 1));
+}
+
+Control Control::select_next_tool() {
+  const std::uint8_t b = 0xFF;
+  return make(static_cast<std::uint16_t>(ControlKind::kSelectTool), std::span(&b, 1));
+}
+
+bool ControlQueue::post(const Control& control) {
+  if (closed_.load(std::memory_order_acquire)) return false;
+  const std::lock_guard lock(producers_);
+  return ring_.push(control);
+}
+
+bool ControlQueue::pop(Control& out) { return ring_.pop(out); }
+
+}  // namespace cathbox::session

@@ -1,0 +1,49 @@
+#include "session/haptic_thread.hpp"
+
+#include <utility>
+
+namespace cathbox::session {
+
+HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick)
+    : clock_(clock), period_us_(period_us), tick_(std::move(tick)) {}
+
+HapticThread::~HapticThread() { stop(); }
+
+void HapticThread::start() {
+  if (thread_.joinable()) return;
+  thread_ = std::jthread([this](std::stop_token stop) {
+    scheduling_.store(ThreadPriority::favour_calling_thread(), std::memory_order_relaxed);
+    run(std::move(stop));
+  });
+}
+
+void HapticThread::stop() {
+  if (!thread_.joinable()) return;
+  thread_.request_stop();
+  thread_.join();
+}
+
+void HapticThread::run(std::stop_token stop, std::int64_t max_ticks) {
+  if (!pacer_) pacer_.emplace(period_us_, clock_.now_us());
+  HapticPacer& pacer = *pacer_;
+  RateMeter& meter = meter_;
+  std::int64_t n = ticks_.load(std::memory_order_relaxed);
+  bool go_on = true;
+  while (go_on && !stop.stop_requested() && (max_ticks < 0 || n < max_ticks)) {
+    const std::int64_t now = clock_.now_us();
+    const HapticPacer::Due due = pacer.due(now);
+    if (due.dropped > 0) dropped_.fetch_add(due.dropped, std::memory_order_relaxed);
+    for (int i = 0; i < due.ticks && go_on && (max_ticks < 0 || n < max_ticks); ++i) {
+      go_on = tick_(n * period_us_);
+      ++n;
+      ticks_.store(n, std::memory_order_relaxed);
+      meter.tick(now);
+    }
+    rate_hz_.store(meter.rate_hz(), std::memory_order_relaxed);
+    if (n % 100 < static_cast<std::int64_t>(due.ticks)) cpu_us_.store(thread_cpu_time_us(), std::memory_order_relaxed);
+    if (due.ticks == 0) clock_.sleep_until_us(pacer.next_deadline_us());
+  }
+  finished_.store(true, std::memory_order_release);
+}
+
+}  // namespace cathbox::session

@@ -1,0 +1,208 @@
+#include "session/metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::session {
+
+MetricsCollector::MetricsCollector(MetricsSettings settings) : s_(std::move(settings)) {
+  m_.has_target = s_.target_mm.has_value();
+  m_.route_length_mm = s_.target_mm ? s_.route_length_mm : -1.0;
+  m_.wall_force_threshold_mN = s_.wall_force_threshold_mN;
+  if (!s_.route_segments.empty()) m_.wrong_branch_entries = 0;
+}
+
+void MetricsCollector::reset_held(const MetricsTick& t) {
+  retracting_ = false;
+  extreme_mm_ = t.held_insertion_mm;
+  sample_count_ = 0;
+}
+
+void MetricsCollector::observe(const MetricsTick& t) {
+  contact_began_ = false;
+  target_just_reached_ = false;
+  std::int64_t dt_us = 0;
+  if (!started_) {
+    started_ = true;
+    start_us_ = t.time_us;
+    last_tip_mm_ = t.tip_mm;
+    reset_held(t);
+  } else {
+    dt_us = t.time_us - last_us_;
+    if (t.tool_changed) {
+      ++m_.tool_changes;
+      reset_held(t);
+      last_tip_mm_ = t.tip_mm;  // another tool's tip: not travel
+    }
+  }
+  last_us_ = t.time_us;
+  m_.procedure_time_us = t.time_us - start_us_;
+  m_.tip_path_mm += static_cast<double>(glm::distance(t.tip_mm, last_tip_mm_));
+  last_tip_mm_ = t.tip_mm;
+
+  // Contact episodes.
+  if (t.tip_in_contact) {
+    const bool new_episode = !in_contact_ && (last_contact_us_ < 0 || t.time_us - last_contact_us_ >= s_.contact_gap_us);
+    if (new_episode) {
+      ++m_.wall_contacts;
+      contact_began_ = true;
+    }
+    in_contact_ = true;
+    last_contact_us_ = t.time_us;
+  } else {
+    in_contact_ = false;
+  }
+  m_.peak_wall_force_mN = std::max(m_.peak_wall_force_mN, t.wall_force_mN);
+  if (t.wall_force_mN > s_.wall_force_threshold_mN) m_.time_above_threshold_us += dt_us;
+  m_.peak_hand_force_mN = std::max(m_.peak_hand_force_mN, t.hand_force_mN);
+
+  // Target.
+  if (s_.target_mm) {
+    const double d = static_cast<double>(glm::distance(t.tip_mm, *s_.target_mm));
+    if (m_.closest_to_target_mm < 0.0 || d < m_.closest_to_target_mm) m_.closest_to_target_mm = d;
+    if (!m_.target_reached && d <= s_.target_radius_mm) {
+      m_.target_reached = true;
+      target_just_reached_ = true;
+      m_.time_to_target_us = t.time_us - start_us_;
+      if (s_.route_length_mm > 0.0 && m_.tip_path_mm > 0.0) m_.path_efficiency = s_.route_length_mm / m_.tip_path_mm;
+    }
+  }
+
+  // Wrong branches: a change of the tip's segment (junctions and "none" do not count).
+  if (!s_.route_segments.empty() && t.tip_segment >= 0 && t.tip_segment != last_segment_) {
+    last_segment_ = t.tip_segment;
+    if (std::find(s_.route_segments.begin(), s_.route_segments.end(), t.tip_segment) == s_.route_segments.end()) {
+      ++m_.wrong_branch_entries;
+    }
+  }
+
+  // Retractions of the held tool.
+  const double x = t.held_insertion_mm;
+  if (!retracting_) {
+    extreme_mm_ = std::max(extreme_mm_, x);
+    if (x <= extreme_mm_ - s_.retraction_mm) {
+      ++m_.retractions;
+      retracting_ = true;
+      extreme_mm_ = x;
+    }
+  } else {
+    extreme_mm_ = std::min(extreme_mm_, x);
+    if (x >= extreme_mm_ + s_.retraction_mm) {
+      retracting_ = false;
+      extreme_mm_ = x;
+    }
+  }
+
+  // Insertion speed over the window: against the newest sample at least a window old.
+  samples_[sample_head_] = {t.time_us, x};
+  sample_head_ = (sample_head_ + 1) % kSamples;
+  sample_count_ = std::min(sample_count_ + 1, kSamples);
+  for (std::size_t k = 1; k < sample_count_; ++k) {
+    const Sample& old = samples_[(sample_head_ + kSamples - 1 - k) % kSamples];
+    const std::int64_t span = t.time_us - old.time_us;
+    if (span >= s_.speed_window_us) {
+      const double speed = std::abs(x - old.insertion_mm) * 1e6 / static_cast<double>(span);
+      m_.peak_insertion_speed_mm_s = std::max(m_.peak_insertion_speed_mm_s, speed);
+      break;
+    }
+  }
+}
+
+namespace {
+
+void appendf(std::string& out, const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string& out, const char* fmt, ...) {
+  char buf[160];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  out += buf;
+}
+
+}  // namespace
+
+std::string MetricsCollector::format(const Metrics& m) {
+  std::string out;
+  appendf(out, "procedure time        %.2f s\n", static_cast<double>(m.procedure_time_us) * 1e-6);
+  appendf(out, "tip path length       %.1f mm\n", m.tip_path_mm);
+  appendf(out, "wall contacts         %d\n", m.wall_contacts);
+  appendf(out, "peak wall force       %.1f mN\n", m.peak_wall_force_mN);
+  char above[32];
+  std::snprintf(above, sizeof above, "time above %.0f mN", m.wall_force_threshold_mN);
+  appendf(out, "%-21s %.2f s\n", above, static_cast<double>(m.time_above_threshold_us) * 1e-6);
+  if (m.wrong_branch_entries >= 0) {
+    appendf(out, "wrong-branch entries  %d\n", m.wrong_branch_entries);
+  } else {
+    appendf(out, "wrong-branch entries  n/a (no target)\n");
+  }
+  appendf(out, "retractions           %d\n", m.retractions);
+  appendf(out, "peak insertion speed  %.1f mm/s\n", m.peak_insertion_speed_mm_s);
+  appendf(out, "tool changes          %d\n", m.tool_changes);
+  appendf(out, "peak hand force       %.1f mN\n", m.peak_hand_force_mN);
+  if (!m.has_target) {
+    appendf(out, "target                none in this case\n");
+  } else if (m.target_reached) {
+    appendf(out, "target                reached at %.2f s\n", static_cast<double>(m.time_to_target_us) * 1e-6);
+  } else {
+    appendf(out, "target                not reached (closest %.1f mm)\n", m.closest_to_target_mm);
+  }
+  if (m.path_efficiency > 0.0) {
+    appendf(out, "path efficiency       %.2f (route %.1f mm)\n", m.path_efficiency, m.route_length_mm);
+  } else {
+    appendf(out, "path efficiency       n/a\n");
+  }
+  auto optional_figure = [&out](const char* name, const std::optional<double>& v, const char* unit) {
+    if (v) {
+      appendf(out, "%-21s %.2f %s\n", name, *v, unit);
+    } else {
+      appendf(out, "%-21s n/a\n", name);
+    }
+  };
+  optional_figure("fluoroscopy time", m.fluoroscopy_time_s, "s");
+  optional_figure("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");
+  const std::optional<double> runs = m.fluoroscopy_runs ? std::optional<double>(*m.fluoroscopy_runs) : std::nullopt;
+  optional_figure("fluoroscopy runs", runs, "");
+  optional_figure("contrast volume", m.contrast_volume_ml, "ml");
+  return out;
+}
+
+std::vector<NamedMetric> named_metrics(const Metrics& m) {
+  std::vector<NamedMetric> out;
+  auto add = [&out](const char* name, double v) { out.push_back({name, v}); };
+  add("procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6);
+  if (m.has_target) {
+    add("target_reached", m.target_reached ? 1.0 : 0.0);
+    if (m.target_reached) add("time_to_target_s", static_cast<double>(m.time_to_target_us) * 1e-6);
+    add("closest_to_target_mm", m.closest_to_target_mm);
+  }
+  add("tip_path_mm", m.tip_path_mm);
+  if (m.path_efficiency > 0.0) add("path_efficiency", m.path_efficiency);
+  add("wall_contacts", m.wall_contacts);
+  add("peak_wall_force_mN", m.peak_wall_force_mN);
+  add("time_above_threshold_s", static_cast<double>(m.time_above_threshold_us) * 1e-6);
+  if (m.wrong_branch_entries >= 0) add("wrong_branch_entries", m.wrong_branch_entries);
+  add("retractions", m.retractions);
+  add("peak_insertion_speed_mm_s", m.peak_insertion_speed_mm_s);
+  add("tool_changes", m.tool_changes);
+  add("peak_hand_force_mN", m.peak_hand_force_mN);
+  if (m.fluoroscopy_time_s) add("fluoroscopy_time_s", *m.fluoroscopy_time_s);
+  if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
+  if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
+  if (m.contrast_volume_ml) add("contrast_volume_ml", *m.contrast_volume_ml);
+  return out;
+}
+
+std::vector<std::string> metric_names() {
+  return {"procedure_time_s", "target_reached", "time_to_target_s", "closest_to_target_mm", "tip_path_mm",
+          "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
+          "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
+          "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
+          "contrast_volume_ml"};
+}
+
+}  // namespace cathbox::session

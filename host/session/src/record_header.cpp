@@ -1,0 +1,310 @@
+#include "session/record_header.hpp"
+
+#include <cmath>
+
+#include "session/record_format.hpp"
+
+namespace cathbox::session {
+namespace {
+
+using record::ByteReader;
+using record::ByteWriter;
+
+constexpr std::size_t kMaxText = 64u << 20;  // a header field (the HCLM text is the largest)
+
+template <class Tag>
+std::uint32_t t(Tag tag) {
+  return static_cast<std::uint32_t>(tag);
+}
+
+std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
+  std::vector<std::uint8_t> out;
+  ByteWriter w(out);
+  using record::ToolTag;
+  w.field_text(t(ToolTag::kName), spec.name);
+  const std::uint8_t kind = static_cast<std::uint8_t>(spec.kind);
+  w.field(t(ToolTag::kKind), std::span(&kind, 1));
+  for (const tool::ToolSection& s : spec.sections) {
+    std::vector<std::uint8_t> sec;
+    ByteWriter ws(sec);
+    ws.f64(s.length_mm);
+    ws.f64(s.outer_diameter_mm);
+    ws.f64(s.bending_stiffness_Nmm2);
+    ws.f64(s.torsion_stiffness_Nmm2);
+    ws.f64(s.curve_deg);
+    w.field(t(ToolTag::kSection), sec);
+  }
+  w.field_f64(t(ToolTag::kFriction), spec.friction);
+  w.field_f64(t(ToolTag::kInnerDiameter), spec.inner_diameter_mm);
+  w.field_f64(t(ToolTag::kAxialStiffness), spec.axial_stiffness_N);
+  w.field_f64(t(ToolTag::kDrag), spec.drag_mN_s_per_mm2);
+  w.field_f64(t(ToolTag::kMaxSpacing), spec.max_spacing_mm);
+  w.field_f64(t(ToolTag::kTipSpacing), spec.tip_spacing_mm);
+  w.field_f64(t(ToolTag::kTipZone), spec.tip_zone_mm);
+  if (!spec.inside.empty()) w.field_text(t(ToolTag::kInside), spec.inside);
+  return out;
+}
+
+std::vector<std::uint8_t> encode_device(const DeviceRecord& d) {
+  std::vector<std::uint8_t> out;
+  ByteWriter w(out);
+  using record::DeviceTag;
+  w.field_text(t(DeviceTag::kDescription), d.description);
+  w.field_text(t(DeviceTag::kSerial), d.serial);
+  w.field_text(t(DeviceTag::kBoard), d.board);
+  w.field_text(t(DeviceTag::kFirmware), d.firmware);
+  w.field_u64(t(DeviceTag::kInsertionCountsPerM), d.insertion_counts_per_m);
+  w.field_u64(t(DeviceTag::kRotationCountsPerRev), d.rotation_counts_per_rev);
+  w.field_u64(t(DeviceTag::kInsertionFullScaleMn), d.insertion_full_scale_mN);
+  w.field_u64(t(DeviceTag::kRotationFullScaleUnm), d.rotation_full_scale_uNm);
+  w.field_u64(t(DeviceTag::kInsertionActuator), d.insertion_actuator);
+  w.field_u64(t(DeviceTag::kRotationActuator), d.rotation_actuator);
+  return out;
+}
+
+// Walks the tagged fields of `data`, calling on_field(tag, value reader) for each; reports
+// malformed fields and unknown ones (see record_format.hpp: tags 64..127 are skipped).
+class Fields {
+ public:
+  Fields(std::span<const std::uint8_t> data, std::size_t base) : r_(data), base_(base) {}
+
+  template <class Fn>
+  bool each(const char* what, Fn&& on_field) {
+    while (!r_.done()) {
+      const std::size_t at = r_.position();
+      std::uint64_t tag = 0;
+      std::uint64_t length = 0;
+      std::span<const std::uint8_t> value;
+      if (!r_.varint(tag) || !r_.varint(length) || length > r_.left() || !r_.bytes(length, value)) {
+        return fail(at, std::string(what) + ": a field runs past its end");
+      }
+      const int known = on_field(tag, value, base_ + at);
+      if (known < 0) return false;  // on_field set the error
+      if (known == 0 && !(tag >= 64 && tag < 128)) {
+        return fail(at, std::string(what) + ": unknown field " + std::to_string(tag));
+      }
+    }
+    return true;
+  }
+  bool fail(std::size_t at, std::string what) {
+    what_ = std::move(what);
+    offset_ = base_ + at;
+    return false;
+  }
+  std::string what_;
+  std::size_t offset_ = 0;
+
+ private:
+  ByteReader r_;
+  std::size_t base_;
+};
+
+bool get_f64(std::span<const std::uint8_t> v, double& out) {
+  ByteReader r(v);
+  return v.size() == 8 && r.f64(out) && std::isfinite(out);
+}
+
+bool get_u64(std::span<const std::uint8_t> v, std::uint64_t& out) {
+  ByteReader r(v);
+  return v.size() == 8 && r.u64(out);
+}
+
+std::string text_of(std::span<const std::uint8_t> v) { return {reinterpret_cast<const char*>(v.data()), v.size()}; }
+
+}  // namespace
+
+std::vector<std::uint8_t> encode_header(const RecordHeader& h) {
+  std::vector<std::uint8_t> out;
+  ByteWriter w(out);
+  using record::HeaderTag;
+  w.field_text(t(HeaderTag::kSoftwareVersion), h.software_version);
+  w.field_u64(t(HeaderTag::kStartUnixUs), static_cast<std::uint64_t>(h.start_unix_us));
+  w.field_text(t(HeaderTag::kCaseName), h.case_name);
+  w.field_text(t(HeaderTag::kCaseFile), h.case_file);
+  w.field_text(t(HeaderTag::kCaseText), h.case_text);
+  w.field_text(t(HeaderTag::kVesselFile), h.vessel_file);
+  w.field_text(t(HeaderTag::kVesselText), h.vessel_text);
+  for (const tool::ToolSpec& spec : h.tools) w.field(t(HeaderTag::kTool), encode_tool(spec));
+  std::vector<std::uint8_t> entry;
+  ByteWriter we(entry);
+  for (int i = 0; i < 3; ++i) we.f64(h.entry.point_mm[i]);
+  for (int i = 0; i < 3; ++i) we.f64(h.entry.direction[i]);
+  w.field(t(HeaderTag::kEntry), entry);
+  w.field_u64(t(HeaderTag::kHeldTool), h.held_tool);
+  w.field_u64(t(HeaderTag::kHandKind), static_cast<std::uint64_t>(h.hand));
+  w.field_text(t(HeaderTag::kHandDescription), h.hand_description);
+  if (h.device) w.field(t(HeaderTag::kDevice), encode_device(*h.device));
+  w.field_u64(t(HeaderTag::kPeriodUs), static_cast<std::uint64_t>(h.period_us));
+  w.field_u64(t(HeaderTag::kHashEvery), static_cast<std::uint64_t>(h.hash_every));
+  return out;
+}
+
+bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::string& what, std::size_t& offset) {
+  using record::DeviceTag;
+  using record::HeaderTag;
+  using record::ToolTag;
+  RecordHeader h;
+  h.period_us = 0;
+  h.hash_every = 0;
+  bool have_entry = false;
+  bool have_held = false;
+  bool have_hand = false;
+  Fields top(data, 0);
+  std::string inner_what;
+  std::size_t inner_at = 0;
+  // A field with a bad value: its offset and what.
+  auto bad = [&](std::size_t at, const std::string& msg) {
+    inner_what = msg;
+    inner_at = at;
+    return -1;
+  };
+  const bool ok = top.each("header", [&](std::uint64_t tag, std::span<const std::uint8_t> v, std::size_t at) -> int {
+    std::uint64_t u = 0;
+    switch (static_cast<HeaderTag>(tag)) {
+      case HeaderTag::kSoftwareVersion: h.software_version = text_of(v); return 1;
+      case HeaderTag::kStartUnixUs:
+        if (!get_u64(v, u)) return bad(at, "header: start time is not 8 bytes");
+        h.start_unix_us = static_cast<std::int64_t>(u);
+        return 1;
+      case HeaderTag::kCaseName: h.case_name = text_of(v); return 1;
+      case HeaderTag::kCaseFile: h.case_file = text_of(v); return 1;
+      case HeaderTag::kCaseText:
+        if (v.size() > kMaxText) return bad(at, "header: case text too long");
+        h.case_text = text_of(v);
+        return 1;
+      case HeaderTag::kVesselFile: h.vessel_file = text_of(v); return 1;
+      case HeaderTag::kVesselText:
+        if (v.size() > kMaxText) return bad(at, "header: vessel text too long");
+        h.vessel_text = text_of(v);
+        return 1;
+      case HeaderTag::kTool: {
+        if (h.tools.size() >= kMaxTools) return bad(at, "header: more than 4 tools");
+        tool::ToolSpec spec;
+        spec.sections.clear();
+        Fields f(v, at);
+        const bool tool_ok = f.each("tool", [&](std::uint64_t tt, std::span<const std::uint8_t> tv, std::size_t tat) -> int {
+          double d = 0.0;
+          switch (static_cast<ToolTag>(tt)) {
+            case ToolTag::kName: spec.name = text_of(tv); return 1;
+            case ToolTag::kKind:
+              if (tv.size() != 1 || tv[0] > 1) return bad(tat, "tool: kind must be 0 or 1");
+              spec.kind = static_cast<tool::ToolKind>(tv[0]);
+              return 1;
+            case ToolTag::kSection: {
+              if (spec.sections.size() >= tool::ToolLimits::kMaxSections) return bad(tat, "tool: more than 64 sections");
+              ByteReader r(tv);
+              tool::ToolSection s;
+              if (tv.size() != 40 || !r.f64(s.length_mm) || !r.f64(s.outer_diameter_mm) ||
+                  !r.f64(s.bending_stiffness_Nmm2) || !r.f64(s.torsion_stiffness_Nmm2) || !r.f64(s.curve_deg)) {
+                return bad(tat, "tool: a section is not 5 doubles");
+              }
+              spec.sections.push_back(s);
+              return 1;
+            }
+            case ToolTag::kInside: spec.inside = text_of(tv); return 1;
+            default: break;
+          }
+          double* target = nullptr;
+          switch (static_cast<ToolTag>(tt)) {
+            case ToolTag::kFriction: target = &spec.friction; break;
+            case ToolTag::kInnerDiameter: target = &spec.inner_diameter_mm; break;
+            case ToolTag::kAxialStiffness: target = &spec.axial_stiffness_N; break;
+            case ToolTag::kDrag: target = &spec.drag_mN_s_per_mm2; break;
+            case ToolTag::kMaxSpacing: target = &spec.max_spacing_mm; break;
+            case ToolTag::kTipSpacing: target = &spec.tip_spacing_mm; break;
+            case ToolTag::kTipZone: target = &spec.tip_zone_mm; break;
+            default: return 0;
+          }
+          if (!get_f64(tv, d)) return bad(tat, "tool: field " + std::to_string(tt) + " is not a finite double");
+          *target = d;
+          return 1;
+        });
+        if (!tool_ok) {
+          if (inner_what.empty()) return bad(f.offset_, f.what_);
+          return -1;
+        }
+        h.tools.push_back(std::move(spec));
+        return 1;
+      }
+      case HeaderTag::kEntry: {
+        ByteReader r(v);
+        double x[6];
+        for (double& c : x) {
+          if (v.size() != 48 || !r.f64(c) || !std::isfinite(c)) return bad(at, "header: entry is not 6 finite doubles");
+        }
+        h.entry.point_mm = {x[0], x[1], x[2]};
+        h.entry.direction = {x[3], x[4], x[5]};
+        have_entry = true;
+        return 1;
+      }
+      case HeaderTag::kHeldTool:
+        if (!get_u64(v, u) || u >= kMaxTools) return bad(at, "header: held tool out of range");
+        h.held_tool = static_cast<std::size_t>(u);
+        have_held = true;
+        return 1;
+      case HeaderTag::kHandKind:
+        if (!get_u64(v, u) || u < 1 || u > 5) return bad(at, "header: unknown hand kind");
+        h.hand = static_cast<HandKind>(u);
+        have_hand = true;
+        return 1;
+      case HeaderTag::kHandDescription: h.hand_description = text_of(v); return 1;
+      case HeaderTag::kDevice: {
+        DeviceRecord d;
+        Fields f(v, at);
+        const bool dev_ok = f.each("device", [&](std::uint64_t dt, std::span<const std::uint8_t> dv, std::size_t dat) -> int {
+          std::uint64_t n = 0;
+          switch (static_cast<DeviceTag>(dt)) {
+            case DeviceTag::kDescription: d.description = text_of(dv); return 1;
+            case DeviceTag::kSerial: d.serial = text_of(dv); return 1;
+            case DeviceTag::kBoard: d.board = text_of(dv); return 1;
+            case DeviceTag::kFirmware: d.firmware = text_of(dv); return 1;
+            default: break;
+          }
+          if (dt < t(DeviceTag::kInsertionCountsPerM) || dt > t(DeviceTag::kRotationActuator)) return 0;
+          if (!get_u64(dv, n) || n > UINT32_MAX) return bad(dat, "device: field " + std::to_string(dt) + " out of range");
+          const auto v32 = static_cast<std::uint32_t>(n);
+          switch (static_cast<DeviceTag>(dt)) {
+            case DeviceTag::kInsertionCountsPerM: d.insertion_counts_per_m = v32; break;
+            case DeviceTag::kRotationCountsPerRev: d.rotation_counts_per_rev = v32; break;
+            case DeviceTag::kInsertionFullScaleMn: d.insertion_full_scale_mN = v32; break;
+            case DeviceTag::kRotationFullScaleUnm: d.rotation_full_scale_uNm = v32; break;
+            case DeviceTag::kInsertionActuator: d.insertion_actuator = static_cast<std::uint8_t>(v32); break;
+            default: d.rotation_actuator = static_cast<std::uint8_t>(v32); break;
+          }
+          return 1;
+        });
+        if (!dev_ok) {
+          if (inner_what.empty()) return bad(f.offset_, f.what_);
+          return -1;
+        }
+        h.device = std::move(d);
+        return 1;
+      }
+      case HeaderTag::kPeriodUs:
+        if (!get_u64(v, u) || u < 100 || u > 100'000) return bad(at, "header: tick period must be 100..100000 us");
+        h.period_us = static_cast<std::int64_t>(u);
+        return 1;
+      case HeaderTag::kHashEvery:
+        if (!get_u64(v, u) || u < 1 || u > 1'000'000) return bad(at, "header: hash interval must be 1..1000000 ticks");
+        h.hash_every = static_cast<std::int64_t>(u);
+        return 1;
+    }
+    return 0;
+  });
+  if (!ok) {
+    what = inner_what.empty() ? top.what_ : inner_what;
+    offset = inner_what.empty() ? top.offset_ : inner_at;
+    return false;
+  }
+  offset = data.size();
+  if (h.tools.empty()) return what = "header: no tools", false;
+  if (!have_entry || !have_held || !have_hand || h.period_us == 0 || h.hash_every == 0) {
+    return what = "header: a required field is missing (entry, held tool, hand, period, hash interval)", false;
+  }
+  if (h.held_tool >= h.tools.size()) return what = "header: held tool beyond the tools", false;
+  if (const std::string e = tool::check_tools(h.tools); !e.empty()) return what = "header: " + e, false;
+  out = std::move(h);
+  return true;
+}
+
+}  // namespace cathbox::session

@@ -1,0 +1,64 @@
+#include "session/replay.hpp"
+
+namespace cathbox::session {
+
+std::unique_ptr<Replay> Replay::open(const std::string& path, std::string& error, bool stop_at_mismatch) {
+  std::unique_ptr<RecordReader> reader = RecordReader::open(path, error);
+  if (!reader) return nullptr;
+  return open(std::move(reader), error, stop_at_mismatch);
+}
+
+std::unique_ptr<Replay> Replay::open(std::unique_ptr<RecordReader> reader, std::string& error, bool stop_at_mismatch) {
+  const RecordHeader& h = reader->header();
+  SessionCaseLoad scene = session_case_from_record(h);
+  if (!scene.value) {
+    error = scene.error;
+    return nullptr;
+  }
+  SessionOptions options;
+  options.period_us = h.period_us;
+  options.hash_every = h.hash_every;
+  options.held_tool = h.held_tool;
+  options.end_at_target = false;  // a replay runs every recorded tick
+  std::unique_ptr<Replay> r(new Replay());
+  auto hand = std::make_unique<ReplayHand>(std::move(reader), stop_at_mismatch);
+  r->hand_ = hand.get();
+  r->session_ = std::make_unique<Session>(std::move(scene.value), std::move(hand), options);
+  return r;
+}
+
+std::int64_t Replay::step(std::int64_t ticks) {
+  if (ticks < 0) {
+    std::int64_t total = 0;
+    while (!session_->over()) total += session_->step_virtual(10'000);
+    return total;
+  }
+  return session_->step_virtual(ticks);
+}
+
+ReplayResult Replay::result() const {
+  ReplayResult r;
+  r.error = hand_->error();
+  r.ticks = session_->ticks();
+  r.recorded_ticks = hand_->reader().ticks_read();
+  r.hashes_checked = hand_->hashes_checked();
+  r.mismatch = hand_->first_mismatch();
+  r.end = hand_->reader().end();
+  r.metrics = session_->metrics();
+  return r;
+}
+
+ReplayResult replay_record(const std::string& path, TickObserver* observer) {
+  std::string error;
+  std::unique_ptr<Replay> replay = Replay::open(path, error);
+  if (!replay) {
+    ReplayResult r;
+    r.error = error;
+    return r;
+  }
+  if (observer != nullptr) replay->session().add_observer(*observer);
+  replay->step(-1);
+  return replay->result();
+}
+
+}  // namespace cathbox::session

@@ -1,0 +1,360 @@
+#include "session/session.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+
+#include "session/state_hash.hpp"
+
+#ifndef CATHBOX_VERSION
+#define CATHBOX_VERSION "0.0.0"
+#endif
+
+namespace cathbox::session {
+namespace {
+
+glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
+
+std::int64_t unix_now_us() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+// Controls the hand issues go straight to the session's apply().
+class Session::Sink final : public ControlSink {
+ public:
+  explicit Sink(Session& s) : s_(s) {}
+  void push(const Control& control) override { s_.apply(control); }
+
+ private:
+  Session& s_;
+};
+
+// kSelectTool: the hand takes another tool (payload: its index, or 0xFF for the next one).
+class Session::SelectTool final : public ControlHandler {
+ public:
+  explicit SelectTool(Session& s) : s_(s) {}
+  bool apply(Control& c, ControlContext& ctx) override {
+    if (c.size != 1) return false;
+    const std::size_t count = ctx.sim.tool_count();
+    std::size_t next = c.payload[0];
+    if (next == 0xFF) next = (ctx.sim.active_tool() + 1) % count;
+    if (next >= count || next == ctx.sim.active_tool()) return false;
+    ctx.sim.select(next);
+    ctx.hand.hold(next, ctx.input.tools[next]);
+    c.payload[0] = static_cast<std::uint8_t>(next);  // recorded as the tool it became
+    s_.tool_changed_ = true;
+    s_.held_.store(next, std::memory_order_relaxed);
+    s_.log("now holding the %s", s_.tool_names_[next].c_str());
+    return true;
+  }
+
+ private:
+  Session& s_;
+};
+
+Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand, SessionOptions options)
+    : scene_(std::move(scene)), hand_(std::move(hand)), options_(options) {
+  hand_description_ = hand_->describe();
+  const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
+  for (const tool::ToolSpec& t : tools) tool_names_.push_back(t.name);
+  sim_ = std::make_unique<tool::Simulator>(scene_->world->wall(), tools, scene_->entry);
+  input_.tool_count = std::min(tools.size(), kMaxTools);
+  for (std::size_t t = 0; t < input_.tool_count; ++t) {
+    input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(sim_->rod(t).max_insertion_mm() * 1e3));
+  }
+  if (options_.held_tool && *options_.held_tool < input_.tool_count) sim_->select(*options_.held_tool);
+  input_.held = sim_->active_tool();
+  held_.store(input_.held, std::memory_order_relaxed);
+  hand_->hold(input_.held, input_.tools[input_.held]);
+
+  MetricsSettings ms;
+  ms.target_mm = scene_->target_mm;
+  ms.target_radius_mm = scene_->target_radius_mm;
+  ms.route_length_mm = scene_->route_length_mm;
+  ms.route_segments = scene_->route_segment_ids;
+  ms.wall_force_threshold_mN = scene_->wall_force_threshold_mN;
+  metrics_ = MetricsCollector(std::move(ms));
+
+  select_tool_ = std::make_unique<SelectTool>(*this);
+  sink_ = std::make_unique<Sink>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kSelectTool), *select_tool_);
+  if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
+
+  const std::size_t nodes = options_.max_nodes_per_tool;
+  exchange_.prepare_slots([nodes](SceneSnapshot& s) { s.reserve(nodes); });
+  sim_->copy_snapshot(snap_);
+  // The hand sees where the tool starts before the first tick.
+  HandFeedback fb;
+  fb.tick = -1;
+  fb.held = input_.held;
+  const tool::ToolSnapshot& held = snap_.tools[input_.held];
+  fb.tip_mm = to_f(held.tip.position_mm);
+  fb.tip_direction = to_f(held.tip.direction);
+  fb.tip_bend = to_f(held.tip.normal);
+  hand_->feel(fb);
+  publish();
+}
+
+Session::~Session() {
+  stop();
+  if (!over_.load(std::memory_order_acquire)) end(record::EndReason::kStopped, "stopped");
+  if (recorder_) (void)recorder_->close();
+}
+
+RecordHeader Session::record_header() const {
+  RecordHeader h;
+  h.software_version = CATHBOX_VERSION;
+  h.start_unix_us = unix_now_us();
+  h.case_name = scene_->name;
+  h.case_file = scene_->case_file;
+  h.case_text = scene_->case_text;
+  h.vessel_file = scene_->vessel_file;
+  h.vessel_text = scene_->vessel_text;
+  h.tools = scene_->spec.tools;
+  h.entry = scene_->entry;
+  h.held_tool = input_.held;
+  h.hand = hand_->kind();
+  h.hand_description = hand_description_;
+  h.device = hand_->device();
+  h.period_us = options_.period_us;
+  h.hash_every = options_.hash_every;
+  return h;
+}
+
+bool Session::record_to(const std::string& path, std::string& error) {
+  if (tick_ > 0) {
+    error = path + ": a session records from its first tick";
+    return false;
+  }
+  recorder_ = Recorder::create(path, record_header(), error);
+  return recorder_ != nullptr;
+}
+
+void Session::add_control_handler(std::uint16_t kind, ControlHandler& handler) {
+  if (kind < handlers_.size()) handlers_[kind] = &handler;
+}
+
+void Session::add_observer(TickObserver& observer) { observers_.push_back(&observer); }
+
+void Session::log(const char* fmt, ...) {
+  char buf[112];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  (void)events_.push(tick_ * options_.period_us, buf);
+}
+
+void Session::apply(Control control) {
+  ControlHandler* handler = control.kind < handlers_.size() ? handlers_[control.kind] : nullptr;
+  if (handler == nullptr) {
+    log("control kind %u has no handler here: ignored", static_cast<unsigned>(control.kind));
+    return;
+  }
+  if (applied_count_ == applied_.size()) {
+    log("more than %zu controls in one tick: ignored", applied_.size());
+    return;
+  }
+  ControlContext ctx{tick_, tick_ * options_.period_us, *sim_, *hand_, events_, input_};
+  if (handler->apply(control, ctx)) applied_[applied_count_++] = control;
+}
+
+std::int64_t Session::clock_now_us() {
+  return real_thread_ ? steady_.now_us() : tick_ * options_.period_us;
+}
+
+void Session::end(record::EndReason reason, std::string text) {
+  if (over_.load(std::memory_order_acquire)) return;
+  end_reason_ = reason;
+  end_text_ = std::move(text);
+  hand_->release();
+  log("%s", end_text_.c_str());
+  if (recorder_) recorder_->finish(reason, end_text_, tick_, unix_now_us());
+  over_.store(true, std::memory_order_release);
+  publish();
+}
+
+bool Session::tick() {
+  if (over_.load(std::memory_order_acquire)) return false;  // a finished run stays as it ended
+  const std::int64_t n = tick_;
+  if (options_.max_ticks >= 0 && n >= options_.max_ticks) {
+    char text[64];
+    std::snprintf(text, sizeof text, "time limit of %.3f s", static_cast<double>(n * options_.period_us) * 1e-6);
+    end(record::EndReason::kTimeLimit, text);
+    return false;
+  }
+  if (end_requested_.load(std::memory_order_acquire)) {
+    end(record::EndReason::kEndedByUser, "run ended by the trainee");
+    return false;
+  }
+  // 1. Controls: the UI's, then the hand's own.
+  applied_count_ = 0;
+  tool_changed_ = false;
+  Control c;
+  for (int i = 0; i < 32 && controls_.pop(c); ++i) apply(c);
+  hand_->controls(n, *sink_);
+  if (hand_->finished()) {  // e.g. an action script's `end`: stop before stepping
+    end(record::EndReason::kHandFinished, hand_->finish_reason());
+    return false;
+  }
+  // 2. The hand: where the tools are, clamped to their range.
+  input_.held = sim_->active_tool();
+  hand_->read(n, input_);
+  for (std::size_t t = 0; t < input_.tool_count; ++t) {
+    input_.tools[t].insertion_um = std::clamp(input_.tools[t].insertion_um, std::int64_t{0}, input_.max_insertion_um[t]);
+  }
+  if (recorder_) {
+    recorder_->begin_tick(n, clock_now_us());
+    for (std::size_t i = 0; i < applied_count_; ++i) recorder_->control(applied_[i]);
+    recorder_->tools(input_);
+    recorder_->box(input_.box);
+  }
+  // 3. The simulation.
+  for (std::size_t t = 0; t < input_.tool_count; ++t) {
+    sim_->set_insertion(t, static_cast<double>(input_.tools[t].insertion_um) * 1e-3);
+    sim_->set_rotation(t, static_cast<double>(input_.tools[t].rotation_urad) * 1e-6);
+  }
+  sim_->step(static_cast<double>(options_.period_us) * 1e-6);
+  sim_->copy_snapshot(snap_);
+  // 4. What the hand feels.
+  const std::size_t held_index = input_.held;
+  const tool::ToolSnapshot& held = snap_.tools[held_index];
+  HandFeedback fb;
+  fb.tick = n;
+  fb.held = held_index;
+  fb.law = sim_->force_law(held_index);
+  fb.tip_mm = to_f(held.tip.position_mm);
+  fb.tip_direction = to_f(held.tip.direction);
+  fb.tip_bend = to_f(held.tip.normal);
+  fb.hand_force_mN = held.hand_force_mN;
+  if ((n + 1) % options_.hash_every == 0) fb.state_hash = state_hash(snap_);
+  hand_->feel(fb);
+  if (recorder_ && fb.state_hash) recorder_->state_hash(*fb.state_hash);
+  // 5. Metrics and events.
+  MetricsTick mt;
+  mt.time_us = n * options_.period_us;
+  mt.held = held_index;
+  mt.tool_changed = tool_changed_;
+  mt.held_insertion_mm = static_cast<double>(input_.tools[held_index].insertion_um) * 1e-3;
+  mt.tip_mm = fb.tip_mm;
+  mt.tip_segment = held.tip_segment;
+  mt.hand_force_mN = std::abs(held.hand_force_mN);
+  for (const tool::ToolSnapshot& t : snap_.tools) {
+    for (const tool::RodContact& k : t.contacts) mt.wall_force_mN = std::max(mt.wall_force_mN, k.normal_force_mN);
+  }
+  for (const tool::RodContact& k : held.contacts) {
+    // The distal few nodes: the rod's node numbering ends at the tip.
+    if (k.node + 3 >= sim_->rod(held_index).node_total()) mt.tip_in_contact = true;
+  }
+  metrics_.observe(mt);
+  if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.wall_force_mN);
+  if (metrics_.target_just_reached()) {
+    log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);
+    if (recorder_) recorder_->event(record::EventCode::kTargetReached);
+  }
+  if (input_.box.present && input_.box != last_box_) {
+    if (input_.box.link_up != last_box_.link_up) log("box link %s", input_.box.link_up ? "up" : "down");
+    if (input_.box.faults != last_box_.faults) log("box faults 0x%02x", static_cast<unsigned>(input_.box.faults));
+  }
+  last_box_ = input_.box;
+  if (!observers_.empty()) {
+    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics()};
+    for (TickObserver* o : observers_) o->observe(view);
+  }
+  if (recorder_) recorder_->end_tick();
+  tick_ = n + 1;
+  ticks_.store(tick_, std::memory_order_release);
+  // 6. The end of the run?
+  if (options_.end_at_target && metrics_.target_just_reached()) {
+    end(record::EndReason::kTargetReached, "target reached");
+  } else if (hand_->finished()) {
+    end(record::EndReason::kHandFinished, hand_->finish_reason());
+  }
+  if (over_.load(std::memory_order_relaxed)) return false;
+  publish();
+  return true;
+}
+
+void Session::publish() {
+  SceneSnapshot& s = exchange_.write_slot();
+  s.sim_time_us = tick_ * options_.period_us;
+  s.tick = tick_;
+  const std::size_t active = sim_->active_tool();
+  s.held_tool = active;
+  s.tool_count = static_cast<int>(std::min<std::size_t>(snap_.tools.size(), SceneSnapshot::kMaxTools));
+  s.contacts.clear();
+  for (int i = 0; i < s.tool_count; ++i) {
+    const tool::ToolSnapshot& t = snap_.tools[static_cast<std::size_t>(i)];
+    ToolView& tv = s.tools[static_cast<std::size_t>(i)];
+    tv.active = static_cast<std::size_t>(i) == active;
+    tv.nodes_mm.clear();
+    tv.frames.clear();
+    const std::size_t n = std::min(t.positions_mm.size(), tv.nodes_mm.capacity());  // never allocate here
+    for (std::size_t k = 0; k < n; ++k) {
+      tv.nodes_mm.push_back(to_f(t.positions_mm[k]));
+      tv.frames.push_back(k < t.normals.size() ? to_f(t.normals[k]) : glm::vec3(0.0F));
+    }
+    tv.radius_mm = t.radii_mm.empty() ? 0.2F : *std::max_element(t.radii_mm.begin(), t.radii_mm.end());
+    for (const tool::RodContact& c : t.contacts) {
+      if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
+      s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});
+    }
+  }
+  if (active < snap_.tools.size()) {
+    const tool::ToolSnapshot& held = snap_.tools[active];
+    s.tip_mm = to_f(held.tip.position_mm);
+    s.tip_direction = to_f(held.tip.direction);
+    s.tip_up = to_f(held.tip.normal);
+    s.insertion_mm = held.insertion_mm;
+    s.rotation_rad = held.rotation_rad;
+    s.hand_force_mN = held.hand_force_mN;
+    s.hand_torque_mNmm = held.hand_torque_mNmm;
+  }
+  const HapticThread* t = active_thread();
+  s.haptic_rate_hz = t ? t->rate_hz() : 0.0;
+  s.haptic_ticks = tick_;
+  s.dropped_ticks = t ? t->dropped() : 0;
+  s.metrics = metrics_.metrics();
+  s.run_over = over_.load(std::memory_order_relaxed);
+  exchange_.publish();
+}
+
+const HapticThread* Session::active_thread() const {
+  return real_thread_ ? real_thread_.get() : virtual_thread_.get();
+}
+
+void Session::start() {
+  if (!real_thread_) {
+    real_thread_ = std::make_unique<HapticThread>(steady_, options_.period_us, [this](std::int64_t) { return tick(); });
+  }
+  real_thread_->start();
+}
+
+void Session::stop() {
+  if (real_thread_) real_thread_->stop();
+}
+
+std::int64_t Session::step_virtual(std::int64_t ticks) {
+  if (!virtual_thread_) {
+    virtual_thread_ =
+        std::make_unique<HapticThread>(virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); });
+  }
+  const std::int64_t before = tick_;
+  virtual_thread_->run(std::stop_token{}, virtual_thread_->ticks() + ticks);
+  return tick_ - before;
+}
+
+double Session::haptic_rate_hz() const { return active_thread() ? active_thread()->rate_hz() : 0.0; }
+std::int64_t Session::dropped_ticks() const { return active_thread() ? active_thread()->dropped() : 0; }
+std::int64_t Session::haptic_cpu_time_us() const { return active_thread() ? active_thread()->cpu_time_us() : 0; }
+
+std::string Session::haptic_scheduling() const {
+  return real_thread_ ? ThreadPriority::name(real_thread_->scheduling()) : "virtual time";
+}
+
+}  // namespace cathbox::session

@@ -1,0 +1,177 @@
+#include "session/session_case.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "tool/mesh_wall.hpp"
+
+namespace cathbox::session {
+namespace {
+
+constexpr std::uintmax_t kMaxCaseBytes = 16u << 20;
+constexpr std::uintmax_t kMaxVesselBytes = 64u << 20;
+
+bool read_file(const std::string& path, std::uintmax_t limit, std::string& out, std::string& error) {
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) {
+    error = path + ":0: cannot open file";
+    return false;
+  }
+  if (size > limit) {
+    error = path + ":0: file of " + std::to_string(size) + " bytes is too large";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    error = path + ":0: cannot open file";
+    return false;
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  out = buffer.str();
+  return true;
+}
+
+std::vector<PathSegment> path_segments(const vessel::VesselModel& model) {
+  std::vector<PathSegment> out(model.segments.size());
+  for (std::size_t i = 0; i < model.segments.size(); ++i) {
+    const vessel::Segment& s = model.segments[i];
+    for (const vessel::CenterlinePoint& p : s.points) out[i].points_mm.push_back(glm::vec3(p.pos_mm));
+    for (std::int32_t id : s.parents) {
+      if (const auto k = model.index_of(id)) out[i].parents.push_back(*k);
+    }
+    for (std::int32_t id : s.children) {
+      if (const auto k = model.index_of(id)) out[i].children.push_back(*k);
+    }
+  }
+  return out;
+}
+
+double radius_near(const vessel::VesselModel& model, const glm::vec3& p) {
+  double best_d = 1e300;
+  double r = 1.0;
+  for (const vessel::Segment& s : model.segments) {
+    for (const vessel::CenterlinePoint& q : s.points) {
+      const double d = static_cast<double>(glm::distance(glm::vec3(q.pos_mm), p));
+      if (d < best_d) {
+        best_d = d;
+        r = q.radius_mm;
+      }
+    }
+  }
+  return r;
+}
+
+// What the session derives from the built world.
+SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source) {
+  SessionCaseLoad out;
+  tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text);
+  if (!built.world) {
+    out.error = built.error;
+    return out;
+  }
+  c->world = std::move(built.world);
+  c->entry = c->world->entry();
+  if (c->name.empty()) c->name = c->spec.name.empty() ? std::filesystem::path(source).filename().string() : c->spec.name;
+  c->wall_force_threshold_mN = c->spec.wall_force_threshold_mN.value_or(100.0);
+  const vessel::VesselModel* model = c->world->model();
+  if (model == nullptr) {  // analytic tubes: no centreline graph
+    if (c->world->target()) c->target_mm = glm::vec3(*c->world->target());
+    out.value = std::move(c);
+    return out;
+  }
+  c->segments = path_segments(*model);
+  const PathPoint from = CenterlinePath::nearest(c->segments, glm::vec3(c->entry.point_mm));
+  std::optional<PathPoint> goal;
+  if (c->spec.target) {
+    const auto index = model->index_of(c->spec.target->segment);
+    if (!index) {
+      out.error = source + ": target segment " + std::to_string(c->spec.target->segment) + " is not in " + c->vessel_file;
+      return out;
+    }
+    goal = PathPoint{*index, c->spec.target->fraction};
+    c->target_mm = CenterlinePath::point_at(c->segments[*index], c->spec.target->fraction);
+    c->target_radius_mm = static_cast<float>(std::clamp(radius_near(*model, *c->target_mm), 1.5, 4.0));
+  } else {
+    goal = CenterlinePath::farthest_leaf(c->segments, from);
+  }
+  if (goal) {
+    std::vector<std::size_t> along;
+    c->route_mm = CenterlinePath::between(c->segments, from, *goal, &along);
+    if (c->spec.target && !c->route_mm.empty()) {
+      c->route_length_mm = CenterlinePath::length_mm(c->route_mm);
+      for (const std::size_t i : along) c->route_segment_ids.push_back(model->segments[i].id);
+    }
+  }
+  out.value = std::move(c);
+  return out;
+}
+
+}  // namespace
+
+std::optional<glm::vec3> SessionCase::pick(const glm::vec3& origin_mm, const glm::vec3& direction) const {
+  const auto* wall = world ? dynamic_cast<const tool::MeshWall*>(&world->wall()) : nullptr;
+  if (wall == nullptr) return std::nullopt;
+  const auto hit = wall->tree().ray_cast(glm::dvec3(origin_mm), glm::dvec3(direction));
+  if (!hit) return std::nullopt;
+  return glm::vec3(hit->point_mm);
+}
+
+SessionCaseLoad load_session_case(const std::string& path) {
+  auto c = std::make_unique<SessionCase>();
+  SessionCaseLoad out;
+  if (std::filesystem::path(path).extension() == ".hclm") {
+    // A bare vessel file: the default guidewire from the start of the root segment.
+    c->spec.name = std::filesystem::path(path).stem().string();
+    c->spec.vessel_path = path;
+    c->spec.tools = {tool::default_guidewire()};
+  } else {
+    if (!read_file(path, kMaxCaseBytes, c->case_text, out.error)) return out;
+    tool::CaseParse parsed = tool::parse_case(c->case_text, path);
+    if (!parsed.value) {
+      out.error = parsed.error;
+      return out;
+    }
+    c->case_file = path;
+    c->spec = std::move(*parsed.value);
+  }
+  c->vessel_file = c->spec.vessel_path;
+  if (!c->vessel_file.empty() && !read_file(c->vessel_file, kMaxVesselBytes, c->vessel_text, out.error)) return out;
+  return finish(std::move(c), path);
+}
+
+SessionCaseLoad session_case_from_record(const RecordHeader& h) {
+  auto c = std::make_unique<SessionCase>();
+  SessionCaseLoad out;
+  if (!h.case_text.empty()) {
+    tool::CaseParse parsed = tool::parse_case(h.case_text, h.case_file);
+    if (!parsed.value) {
+      out.error = "the record's case: " + parsed.error;
+      return out;
+    }
+    c->spec = std::move(*parsed.value);
+    c->case_file = h.case_file;
+    c->case_text = h.case_text;
+  } else {
+    c->spec.name = h.case_name;
+  }
+  // The vessel, the tools and the entry as recorded.
+  c->spec.vessel_path = h.vessel_file;
+  c->spec.tools = h.tools;
+  c->spec.entry = h.entry;
+  c->name = h.case_name;
+  c->vessel_file = h.vessel_file;
+  c->vessel_text = h.vessel_text;
+  if (c->spec.vessel_path.empty() && c->spec.tubes.empty()) {
+    out.error = "the record carries neither a vessel file nor analytic tubes";
+    return out;
+  }
+  return finish(std::move(c), h.case_file.empty() ? h.vessel_file : h.case_file);
+}
+
+}  // namespace cathbox::session

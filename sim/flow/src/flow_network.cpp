@@ -1,0 +1,424 @@
+#include "flow/flow_network.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <tuple>
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "lumen.hpp"
+#include "vessel/vessel_graph.hpp"
+
+namespace cathbox::flow {
+namespace {
+
+constexpr double kBloodDensity_kg_m3 = 1060.0;
+constexpr double kMinResistance = 1e-12;  // a zero-length segment still conducts finitely
+
+class NodeSets {
+ public:
+  explicit NodeSets(std::size_t n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0u); }
+  std::size_t find(std::size_t x) {
+    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+    return x;
+  }
+  void unite(std::size_t a, std::size_t b) { parent_[find(a)] = find(b); }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+std::string located_error(const FlowSettings& s, std::size_t line, const std::string& message) {
+  if (s.source.empty()) return "flow: " + message;
+  return s.source + ":" + std::to_string(line) + ": " + message;
+}
+
+std::string check_settings(const FlowSettings& s) {
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (!positive(s.viscosity_mPa_s)) return "flow: viscosity must be > 0";
+  if (!positive(s.cardiac_output_ml_min)) return "flow: cardiac output must be > 0";
+  if (!(s.cerebral_fraction > 0.0 && s.cerebral_fraction < 1.0)) return "flow: cerebral fraction must be in (0, 1)";
+  if (!(std::isfinite(s.arterial_pressure_mmHg) && std::isfinite(s.venous_pressure_mmHg) &&
+        s.arterial_pressure_mmHg > s.venous_pressure_mmHg)) {
+    return "flow: arterial pressure must be finite and above the venous pressure";
+  }
+  if (!positive(s.wall_shear_stress_Pa)) return "flow: wall shear stress must be > 0";
+  if (!(std::isfinite(s.dispersion_radii) && s.dispersion_radii >= 0.0)) return "flow: dispersion must be >= 0";
+  if (!(std::isfinite(s.sac_exchange_fraction) && s.sac_exchange_fraction >= 0.0 && s.sac_exchange_fraction <= 1.0)) {
+    return "flow: sac exchange fraction must be in [0, 1]";
+  }
+  if (!(std::isfinite(s.heart_rate_bpm) && s.heart_rate_bpm >= 0.0 && s.heart_rate_bpm <= 300.0)) {
+    return "flow: heart rate must be in [0, 300] bpm";
+  }
+  if (!(std::isfinite(s.pulsatility_index) && s.pulsatility_index >= 0.0 && s.pulsatility_index <= 2.0)) {
+    return "flow: pulsatility index must be in [0, 2]";
+  }
+  return {};
+}
+
+double end_radius(const vessel::Segment& s, bool at_end) {
+  return (at_end ? s.points.back() : s.points.front()).radius_mm;
+}
+
+}  // namespace
+
+FlowBuild FlowNetwork::build(const vessel::VesselModel& model, const FlowSettings& settings) {
+  FlowBuild out;
+  if (std::string e = check_settings(settings); !e.empty()) {
+    out.error = std::move(e);
+    return out;
+  }
+  for (const vessel::Segment& s : model.segments) {
+    if (s.points.size() < 2) {
+      out.error = "flow: segment " + std::to_string(s.id) + " has fewer than 2 points";
+      return out;
+    }
+  }
+  std::unique_ptr<FlowNetwork> net(new FlowNetwork());
+  net->model_ = model;
+  net->settings_ = settings;
+  if (std::string e = net->solve(); !e.empty()) {
+    out.error = std::move(e);
+    return out;
+  }
+  out.network = std::move(net);
+  return out;
+}
+
+std::string FlowNetwork::solve() {
+  const vessel::VesselModel& model = model_;
+  const FlowSettings& set = settings_;
+  const vessel::VesselGraph graph(model);
+  const std::size_t n_seg = model.segments.size();
+  const std::size_t n_junctions = graph.junctions().size();
+  const std::size_t n_nodes = n_junctions + graph.free_ends().size();
+  const double mu = set.viscosity_mPa_s * 1e-3;
+
+  // Node of each segment end: junctions first, then free ends in the graph's order.
+  std::vector<int> free_end_index(2 * n_seg, -1);
+  for (std::size_t k = 0; k < graph.free_ends().size(); ++k) {
+    const vessel::SegmentEnd& e = graph.free_ends()[k];
+    free_end_index[2 * e.segment + (e.at_end ? 1 : 0)] = static_cast<int>(k);
+  }
+  const auto node_of = [&](std::size_t seg, bool at_end) {
+    const int j = graph.junction_of(static_cast<std::uint32_t>(seg), at_end);
+    return j >= 0 ? j : static_cast<int>(n_junctions) + free_end_index[2 * seg + (at_end ? 1 : 0)];
+  };
+
+  // Segment geometry and resistance.
+  segments_.assign(n_seg, SegmentFlow{});
+  for (std::size_t i = 0; i < n_seg; ++i) {
+    const vessel::Segment& s = model.segments[i];
+    SegmentFlow& f = segments_[i];
+    f.min_radius_mm = s.points.front().radius_mm;
+    for (std::size_t p = 1; p < s.points.size(); ++p) {
+      const double r0 = s.points[p - 1].radius_mm;
+      const double r1 = s.points[p].radius_mm;
+      const double len = glm::length(s.points[p].pos_mm - s.points[p - 1].pos_mm);
+      f.length_mm += len;
+      f.volume_mm3 += cone_volume_mm3(r0, r1, len);
+      f.resistance_Pa_s_per_mm3 += cone_resistance(r0, r1, len, mu);
+      f.min_radius_mm = std::min(f.min_radius_mm, r1);
+    }
+    f.resistance_Pa_s_per_mm3 = std::max(f.resistance_Pa_s_per_mm3, kMinResistance);
+    f.start_node = node_of(i, false);
+    f.end_node = node_of(i, true);
+  }
+
+  // Components of the node graph.
+  NodeSets sets(n_nodes);
+  for (const SegmentFlow& f : segments_) sets.unite(static_cast<std::size_t>(f.start_node), static_cast<std::size_t>(f.end_node));
+  std::vector<std::size_t> component(n_nodes);
+  for (std::size_t v = 0; v < n_nodes; ++v) component[v] = sets.find(v);
+
+  // Terminals: free starts are inlets, free ends outlets, blind sacs closed.
+  terminals_.clear();
+  for (const vessel::SegmentEnd& e : graph.free_ends()) {
+    Terminal t;
+    t.segment = e.segment;
+    t.at_end = e.at_end;
+    t.node = node_of(e.segment, e.at_end);
+    const vessel::Segment& s = model.segments[e.segment];
+    if (!e.at_end) {
+      t.role = EndRole::kInlet;
+    } else if (is_sac_name(s.name)) {
+      t.role = EndRole::kClosed;
+      t.target_ml_min = set.sac_exchange_fraction;
+    } else {
+      t.role = EndRole::kOutlet;
+      t.territory = territory_of(s.name);
+    }
+    terminals_.push_back(t);
+  }
+  const auto find_terminal = [&](std::int32_t id, bool at_end) -> int {
+    const std::optional<std::size_t> idx = model.index_of(id);
+    if (!idx) return -2;
+    for (std::size_t k = 0; k < terminals_.size(); ++k) {
+      if (terminals_[k].segment == *idx && terminals_[k].at_end == at_end) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  const auto lookup = [&](const SegmentSetting& o, bool at_end, const char* what, int& k) -> std::string {
+    k = find_terminal(o.segment_id, at_end);
+    if (k == -2) return located_error(set, o.line, std::string(what) + ": no segment " + std::to_string(o.segment_id) + " in the vessel model");
+    if (k == -1) {
+      return located_error(set, o.line, std::string(what) + ": segment " + std::to_string(o.segment_id) + "'s " +
+                                            (at_end ? "distal" : "proximal") + " end is not a free end");
+    }
+    return {};
+  };
+  for (const SegmentSetting& o : set.closed) {
+    int k = 0;
+    if (std::string e = lookup(o, true, "flow closed", k); !e.empty()) return e;
+    terminals_[static_cast<std::size_t>(k)].role = EndRole::kClosed;
+    terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
+    terminals_[static_cast<std::size_t>(k)].overridden = true;
+  }
+  for (const SegmentSetting& o : set.outlets) {
+    int k = 0;
+    if (std::string e = lookup(o, true, "flow outlet", k); !e.empty()) return e;
+    Terminal& t = terminals_[static_cast<std::size_t>(k)];
+    if (t.role == EndRole::kClosed && t.overridden) {
+      return located_error(set, o.line, "flow outlet: segment " + std::to_string(o.segment_id) + " is also given as closed");
+    }
+    t.role = EndRole::kOutlet;
+    t.territory = territory_of(model.segments[t.segment].name);
+    t.target_ml_min = o.value;
+    t.overridden = true;
+  }
+  for (const SegmentSetting& o : set.inflows) {
+    int k = 0;
+    if (std::string e = lookup(o, false, "flow inflow", k); !e.empty()) return e;
+    terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
+    terminals_[static_cast<std::size_t>(k)].overridden = true;
+  }
+
+  // A component without an inlet takes its widest open free end as one.
+  std::map<std::size_t, std::vector<std::size_t>> by_component;
+  for (std::size_t k = 0; k < terminals_.size(); ++k) by_component[component[static_cast<std::size_t>(terminals_[k].node)]].push_back(k);
+  for (auto& [comp, ks] : by_component) {
+    (void)comp;
+    const auto role_count = [&](EndRole r) {
+      return std::count_if(ks.begin(), ks.end(), [&](std::size_t k) { return terminals_[k].role == r; });
+    };
+    if (role_count(EndRole::kInlet) > 0 || role_count(EndRole::kOutlet) < 2) continue;
+    std::size_t widest = ks.front();
+    double r_max = -1.0;
+    for (std::size_t k : ks) {
+      const Terminal& t = terminals_[k];
+      if (t.role != EndRole::kOutlet || t.overridden) continue;
+      const double r = end_radius(model.segments[t.segment], t.at_end);
+      if (r > r_max) {
+        r_max = r;
+        widest = k;
+      }
+    }
+    if (r_max > 0.0) {
+      terminals_[widest].role = EndRole::kInlet;
+      terminals_[widest].territory = Territory::kNone;
+    }
+  }
+
+  // Outlet targets: overrides; territories (a side's share split among its outlets by r^3);
+  // the descending aorta takes the rest of the cardiac output; Murray's law otherwise.
+  for (auto& [comp, ks] : by_component) {
+    (void)comp;
+    std::map<std::pair<Territory, Side>, double> group_r3;
+    for (std::size_t k : ks) {
+      const Terminal& t = terminals_[k];
+      if (t.role != EndRole::kOutlet || t.overridden || t.territory == Territory::kNone) continue;
+      const double r = end_radius(model.segments[t.segment], t.at_end);
+      group_r3[{t.territory, side_of(model.segments[t.segment].name)}] += r * r * r;
+    }
+    double assigned = 0.0;
+    for (std::size_t k : ks) {
+      Terminal& t = terminals_[k];
+      if (t.role != EndRole::kOutlet) continue;
+      const vessel::Segment& s = model.segments[t.segment];
+      const double r = end_radius(s, t.at_end);
+      if (!t.overridden) {
+        if (t.territory == Territory::kNone) {
+          t.target_ml_min = murray_flow_ml_min(r, set);
+        } else if (t.territory != Territory::kDescendingAorta) {
+          const Side side = side_of(s.name);
+          const double total = territory_flow_per_side_ml_min(t.territory, set) * (side == Side::kNone ? 2.0 : 1.0);
+          t.target_ml_min = total * r * r * r / group_r3[{t.territory, side}];
+        }
+      }
+      if (t.overridden || t.territory != Territory::kDescendingAorta) assigned += t.target_ml_min;
+    }
+    const double rest = set.cardiac_output_ml_min - assigned;
+    double desc_total = 0.0;
+    for (const auto& [key, r3] : group_r3) {
+      if (key.first == Territory::kDescendingAorta) desc_total += r3;
+    }
+    for (std::size_t k : ks) {
+      Terminal& t = terminals_[k];
+      if (t.role != EndRole::kOutlet || t.overridden || t.territory != Territory::kDescendingAorta) continue;
+      const double r = end_radius(model.segments[t.segment], t.at_end);
+      t.target_ml_min = rest > 0.0 ? rest * r * r * r / desc_total : murray_flow_ml_min(r, set);
+    }
+    // Inflows: prescribed ones, the rest of the outlets' total shared by r^3.
+    double outflow = 0.0, fixed = 0.0, free_r3 = 0.0;
+    for (std::size_t k : ks) {
+      const Terminal& t = terminals_[k];
+      const double r = end_radius(model.segments[t.segment], t.at_end);
+      if (t.role == EndRole::kOutlet) outflow += t.target_ml_min;
+      if (t.role == EndRole::kInlet && t.overridden) fixed += t.target_ml_min;
+      if (t.role == EndRole::kInlet && !t.overridden) free_r3 += r * r * r;
+    }
+    for (std::size_t k : ks) {
+      Terminal& t = terminals_[k];
+      if (t.role != EndRole::kInlet || t.overridden) continue;
+      const double r = end_radius(model.segments[t.segment], t.at_end);
+      t.target_ml_min = std::max(0.0, outflow - fixed) * r * r * r / free_r3;
+    }
+  }
+
+  // Kirchhoff's current law in the node pressures (Pa above venous): the segments' Laplacian
+  // plus, per case, terminal conductances to ground and sources.
+  const double drop_Pa = (set.arterial_pressure_mmHg - set.venous_pressure_mmHg) * kPa_per_mmHg;
+  std::vector<Eigen::Triplet<double>> laplacian;
+  laplacian.reserve(4 * n_seg);
+  double g_max = 0.0;
+  for (const SegmentFlow& f : segments_) {
+    if (f.start_node == f.end_node) continue;
+    const double g = 1.0 / f.resistance_Pa_s_per_mm3;
+    g_max = std::max(g_max, g);
+    laplacian.emplace_back(f.start_node, f.start_node, g);
+    laplacian.emplace_back(f.end_node, f.end_node, g);
+    laplacian.emplace_back(f.start_node, f.end_node, -g);
+    laplacian.emplace_back(f.end_node, f.start_node, -g);
+  }
+  const auto solve_nodes = [&](std::vector<Eigen::Triplet<double>> triplets, const Eigen::VectorXd& b) -> std::optional<Eigen::VectorXd> {
+    Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(n_nodes), static_cast<Eigen::Index>(n_nodes));
+    a.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    solver.compute(a);
+    if (solver.info() != Eigen::Success) return std::nullopt;
+    Eigen::VectorXd x = solver.solve(b);
+    if (solver.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
+    return x;
+  };
+  struct ComponentFlows {
+    double in_mm3_s = 0.0, out_mm3_s = 0.0;
+    int pin = -1;  // an inlet node, held at the arterial pressure when calibrating
+  };
+  std::map<std::size_t, ComponentFlows> comps;
+  for (std::size_t v = 0; v < n_nodes; ++v) comps.emplace(component[v], ComponentFlows{});
+  for (Terminal& t : terminals_) {
+    ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
+    if (t.role == EndRole::kOutlet) {
+      if (!(t.target_ml_min > 0.0) || !std::isfinite(t.target_ml_min)) {
+        return "flow: outlet of segment " + std::to_string(model.segments[t.segment].id) + " has no positive target flow";
+      }
+      c.out_mm3_s += t.target_ml_min / 0.06;
+    } else if (t.role == EndRole::kInlet) {
+      c.in_mm3_s += t.target_ml_min / 0.06;
+      if (c.pin < 0) c.pin = t.node;
+    }
+  }
+  for (const Terminal& t : terminals_) {
+    if (t.role == EndRole::kInlet && t.target_ml_min > 0.0 && comps[component[static_cast<std::size_t>(t.node)]].out_mm3_s <= 0.0) {
+      return "flow: segment " + std::to_string(model.segments[t.segment].id) + " has an inflow but its network has no outlet";
+    }
+  }
+  // Terminal resistances: fixed, R_t = (P_arterial - P_venous) / Q_target; or calibrated, so
+  // that with the arterial pressure at the inlet every outlet drains its target (the outlets'
+  // targets scaled to the inflow): R_t = (p_outlet - P_venous) / Q_target.
+  for (Terminal& t : terminals_) {
+    if (t.role == EndRole::kOutlet) t.resistance_Pa_s_per_mm3 = drop_Pa / (t.target_ml_min / 0.06);
+  }
+  if (set.calibrate_terminals) {
+    std::vector<Eigen::Triplet<double>> triplets = laplacian;
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_nodes));
+    const double g_pin = g_max > 0.0 ? g_max : 1.0;
+    for (const auto& [comp, c] : comps) {
+      const bool flowing = c.pin >= 0 && c.in_mm3_s > 0.0 && c.out_mm3_s > 0.0;
+      const int pin = flowing ? c.pin : static_cast<int>(comp);
+      triplets.emplace_back(pin, pin, g_pin);
+      if (flowing) b[pin] += g_pin * drop_Pa;  // no net flow through the pin: it holds the pressure exactly
+    }
+    for (const Terminal& t : terminals_) {
+      const ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
+      if (c.pin < 0 || c.in_mm3_s <= 0.0 || c.out_mm3_s <= 0.0) continue;
+      if (t.role == EndRole::kInlet) b[t.node] += t.target_ml_min / 0.06;
+      if (t.role == EndRole::kOutlet) b[t.node] -= t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s;
+    }
+    const std::optional<Eigen::VectorXd> pc = solve_nodes(std::move(triplets), b);
+    if (!pc) return "flow: the network's pressure system could not be solved";
+    for (Terminal& t : terminals_) {
+      const ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
+      if (t.role != EndRole::kOutlet || c.pin < 0 || c.in_mm3_s <= 0.0) continue;
+      const double p_out = (*pc)[t.node];
+      if (!(p_out > 0.0)) {
+        return "flow: the vessels upstream of segment " + std::to_string(model.segments[t.segment].id) +
+               "'s outlet drop the arterial pressure below the venous pressure at the target flows";
+      }
+      t.resistance_Pa_s_per_mm3 = p_out / (t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s);
+    }
+  }
+  std::vector<Eigen::Triplet<double>> triplets = laplacian;
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_nodes));
+  for (const Terminal& t : terminals_) {
+    if (t.role == EndRole::kOutlet) triplets.emplace_back(t.node, t.node, 1.0 / t.resistance_Pa_s_per_mm3);
+    if (t.role == EndRole::kInlet) rhs[t.node] += t.target_ml_min / 0.06;
+  }
+  for (const auto& [comp, c] : comps) {
+    if (c.out_mm3_s <= 0.0) triplets.emplace_back(static_cast<int>(comp), static_cast<int>(comp), 1.0);  // no flow: pin
+  }
+  const std::optional<Eigen::VectorXd> solved = solve_nodes(std::move(triplets), rhs);
+  if (!solved) return "flow: the network's pressure system could not be solved";
+  const Eigen::VectorXd& p = *solved;
+  pressure_Pa_.assign(p.data(), p.data() + p.size());
+
+  for (SegmentFlow& f : segments_) {
+    f.flow_mm3_s = f.start_node == f.end_node ? 0.0 : (p[f.start_node] - p[f.end_node]) / f.resistance_Pa_s_per_mm3;
+    const double area = f.length_mm > 0.0 ? f.volume_mm3 / f.length_mm : kPi * f.min_radius_mm * f.min_radius_mm;
+    f.mean_velocity_mm_s = std::abs(f.flow_mm3_s) / area;
+    f.peak_velocity_mm_s = std::abs(f.flow_mm3_s) / (kPi * f.min_radius_mm * f.min_radius_mm);
+    const double d_mm = 2.0 * std::sqrt(area / kPi);
+    f.reynolds = kBloodDensity_kg_m3 * f.mean_velocity_mm_s * 1e-3 * d_mm * 1e-3 / mu;
+  }
+  for (Terminal& t : terminals_) {
+    const double q = segments_[t.segment].flow_ml_min();
+    const double out = t.at_end ? q : -q;  // out of the network through this end
+    t.flow_ml_min = t.role == EndRole::kClosed ? 0.0 : (t.role == EndRole::kInlet ? -out : out);
+  }
+  return {};
+}
+
+double FlowNetwork::node_pressure_mmHg(int node) const {
+  return settings_.venous_pressure_mmHg + node_pressure_Pa(node) / kPa_per_mmHg;
+}
+
+double FlowNetwork::total_inflow_ml_min() const {
+  double q = 0.0;
+  for (const Terminal& t : terminals_) {
+    if (t.role == EndRole::kInlet) q += t.flow_ml_min;
+  }
+  return q;
+}
+
+int FlowNetwork::closed_terminal_of(std::uint32_t segment) const {
+  for (std::size_t k = 0; k < terminals_.size(); ++k) {
+    if (terminals_[k].segment == segment && terminals_[k].role == EndRole::kClosed) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+double FlowNetwork::flow_scale(double time_s) const {
+  if (settings_.heart_rate_bpm <= 0.0 || settings_.pulsatility_index <= 0.0) return 1.0;
+  return 1.0 + 0.5 * settings_.pulsatility_index * std::sin(2.0 * kPi * time_s * settings_.heart_rate_bpm / 60.0);
+}
+
+double FlowNetwork::max_flow_scale() const {
+  if (settings_.heart_rate_bpm <= 0.0) return 1.0;
+  return 1.0 + 0.5 * settings_.pulsatility_index;
+}
+
+}  // namespace cathbox::flow

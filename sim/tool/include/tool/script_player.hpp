@@ -1,0 +1,66 @@
+#pragma once
+// Plays an action script (action_script.hpp) one millisecond at a time: which tool is selected,
+// and where each tool's insertion and rotation are after each step. The headless scenario runner
+// (`cathbox sim run`) and the session's action-script hand (`cathbox session run --script`) both
+// move their tools with it, so a script means the same thing to both.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tool/action_script.hpp"
+
+namespace cathbox::tool {
+
+class ScriptPlayer {
+ public:
+  struct ToolInfo {
+    std::string name;
+    double max_insertion_mm = 0.0;
+  };
+
+  // Checks that every tool the script selects exists; on failure returns null with
+  // "file:line: select: the case has no tool 'x' (tools: a b)" in `error`.
+  [[nodiscard]] static std::optional<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
+                                                        std::size_t selected, const std::string& script_name,
+                                                        std::string& error);
+
+  struct Step {
+    std::optional<std::size_t> selected;  // a `select` took effect at this step
+    bool ended = false;                   // an `end` action is due: stop before stepping
+  };
+  // Applies the actions due at `now_ms` (0, 1, 2, ... in turn), then, unless the script ended,
+  // moves every running motion by one millisecond.
+  Step advance(std::int64_t now_ms);
+
+  [[nodiscard]] double insertion_mm(std::size_t tool) const { return insertion_[tool]; }
+  [[nodiscard]] double rotation_rad(std::size_t tool) const { return rotation_[tool]; }
+  [[nodiscard]] std::size_t selected() const { return selected_; }
+  // Called once after each step that advance(now_ms) moved: true once every action is done
+  // and no motion has run for `settle_ms` (never for a script with `end`, which stops there).
+  [[nodiscard]] bool settled(std::int64_t now_ms, std::int64_t settle_ms);
+
+ private:
+  struct Motion {
+    bool active = false;
+    double target = 0.0;
+    double speed_per_ms = 0.0;
+  };
+  ScriptPlayer(const Script& script, std::span<const ToolInfo> tools, std::size_t selected);
+
+  std::vector<Action> actions_;
+  std::vector<std::string> names_;
+  std::vector<double> max_insertion_mm_;
+  std::vector<Motion> insert_, rotate_;
+  std::vector<double> insertion_, rotation_;
+  std::size_t next_ = 0;
+  std::size_t selected_ = 0;
+  std::int64_t last_action_ms_ = 0;
+  std::int64_t idle_since_ms_ = -1;
+  bool has_end_ = false;
+  bool moving_ = false;
+};
+
+}  // namespace cathbox::tool

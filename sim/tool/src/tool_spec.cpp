@@ -1,0 +1,63 @@
+#include "tool/tool_spec.hpp"
+
+#include <cmath>
+
+namespace cathbox::tool {
+namespace {
+
+bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+bool positive_up_to(double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; }
+
+std::string check_tool(const ToolSpec& t) {
+  using L = ToolLimits;
+  const std::string who = "tool '" + t.name + "': ";
+  if (t.name.empty()) return "a tool has no name";
+  if (t.kind != ToolKind::kGuidewire && t.kind != ToolKind::kCatheter) return who + "unknown kind";
+  if (t.sections.empty() || t.sections.size() > L::kMaxSections) return who + "needs 1 to 64 sections";
+  for (const ToolSection& s : t.sections) {
+    if (!positive_up_to(s.length_mm, L::kMaxLength_mm)) return who + "section length out of range";
+    if (!positive_up_to(s.outer_diameter_mm, L::kMaxDiameter_mm)) return who + "od must be in (0, 20] mm";
+    if (!positive_up_to(s.bending_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) return who + "ei must be in (0, 1e6] N.mm2";
+    if (!positive_up_to(s.torsion_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) return who + "gj must be in (0, 1e6] N.mm2";
+    if (!in(s.curve_deg, -L::kMaxCurve_deg, L::kMaxCurve_deg)) return who + "curve must be within +-360 degrees";
+  }
+  if (!in(t.friction, 0.0, L::kMaxFriction)) return who + "friction must be in [0, 2]";
+  if (!in(t.inner_diameter_mm, 0.0, L::kMaxDiameter_mm)) return who + "inner_diameter must be in [0, 20] mm";
+  if (!positive_up_to(t.max_spacing_mm, L::kMaxSpacing_mm)) return who + "node spacing must be in (0, 2] mm";
+  if (!in(t.tip_spacing_mm, L::kMinTipSpacing_mm, t.max_spacing_mm)) return who + "tip spacing must be in [0.1, spacing] mm";
+  if (!in(t.tip_zone_mm, 0.0, L::kMaxTipZone_mm)) return who + "tip zone must be in [0, 500] mm";
+  if (!in(t.drag_mN_s_per_mm2, 0.0, L::kMaxDrag)) return who + "drag must be in [0, 10] mN.s/mm2";
+  if (!in(t.axial_stiffness_N, L::kMinAxialStiffness_N, L::kMaxAxialStiffness_N)) return who + "axial_stiffness must be in [10, 1e6] N";
+  const double len = t.length_mm();
+  if (len > L::kMaxLength_mm) return who + "longer than 4000 mm";
+  if (len < 4.0 * t.max_spacing_mm) return who + "shorter than 4 node spacings";
+  if (t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm > L::kMaxNodes) return who + "needs more than 6000 nodes";
+  return {};
+}
+
+}  // namespace
+
+std::string check_tools(std::span<const ToolSpec> tools) {
+  if (tools.empty() || tools.size() > ToolLimits::kMaxTools) return "a case has 1 to 4 tools";
+  for (const ToolSpec& t : tools) {
+    if (std::string e = check_tool(t); !e.empty()) return e;
+  }
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (tools[i].name == tools[j].name) return "tool '" + tools[i].name + "' defined twice";
+    }
+    const ToolSpec& t = tools[i];
+    if (t.inside.empty()) continue;
+    const ToolSpec* outer = nullptr;
+    for (const ToolSpec& o : tools) if (o.name == t.inside) outer = &o;
+    if (outer == nullptr) return "tool '" + t.name + "': inside unknown tool '" + t.inside + "'";
+    if (outer == &t) return "tool '" + t.name + "' cannot be inside itself";
+    if (!outer->inside.empty()) return "tool '" + t.name + "': only one level of nesting";
+    double od = 0.0;
+    for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
+    if (outer->inner_diameter_mm <= od) return "tool '" + t.name + "' does not fit in '" + outer->name + "'";
+  }
+  return {};
+}
+
+}  // namespace cathbox::tool

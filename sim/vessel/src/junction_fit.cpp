@@ -1,0 +1,362 @@
+#include "junction_fit.hpp"
+
+#include <algorithm>
+#include <span>
+#include <cmath>
+#include <limits>
+#include <array>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+#include "centerline_polyline.hpp"
+#include "vessel/control_mesh_builder.hpp"
+
+namespace cathbox::vessel::detail {
+namespace {
+
+constexpr double kAxisReachRadii = 2.0;  // a branch's axis is kept this far beyond its ring
+constexpr double kAxisStepRadii = 0.5;   // axis sample spacing, in radii
+
+struct Nearest {
+  double signed_distance = std::numeric_limits<double>::infinity();  // to the (scaled) tube, < 0 inside
+  glm::dvec3 direction{0.0};                                          // from the axis to the point
+  double radius = 0.0;                                                // the tube's (scaled) radius there
+  double arc = 0.0;                                                   // of the foot, from the junction end
+};
+
+// The nearest point of the axis polyline: the nearest sample (every kCoarseStride-th sample,
+// then those around the best of them; the axis is a smooth curve a few radii long sampled every
+// half radius, so its distance to a point has one minimum within that window), then the two
+// pieces beside it.
+[[nodiscard]] Nearest nearest_on(const JunctionFit::Axis& axis, const glm::dvec3& p, double scale) {
+  constexpr std::size_t kCoarseStride = 3;
+  const std::size_t n = axis.pos.size();
+  std::size_t near = 0;
+  double near_d2 = std::numeric_limits<double>::infinity();
+  const auto consider = [&](std::size_t i) {
+    const glm::dvec3 d = p - axis.pos[i];
+    const double d2 = glm::dot(d, d);
+    if (d2 < near_d2) {
+      near_d2 = d2;
+      near = i;
+    }
+  };
+  for (std::size_t i = 0; i < n; i += kCoarseStride) consider(i);
+  consider(n - 1);
+  const std::size_t coarse = near;
+  for (std::size_t i = coarse > kCoarseStride ? coarse - kCoarseStride : 0; i <= std::min(n - 1, coarse + kCoarseStride); ++i) consider(i);
+  Nearest best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  glm::dvec3 best_foot = axis.pos[near];
+  const std::size_t from = near > 0 ? near - 1 : 0;
+  const std::size_t to = std::min(near + 1, n - 1);
+  for (std::size_t i = from; i < to; ++i) {
+    const glm::dvec3 a = axis.pos[i];
+    const glm::dvec3 d = axis.pos[i + 1] - a;
+    const double len2 = glm::dot(d, d);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+    const glm::dvec3 foot = a + t * d;
+    const double d2 = glm::dot(p - foot, p - foot);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best_foot = foot;
+      best.radius = scale * (axis.radius[i] + t * (axis.radius[i + 1] - axis.radius[i]));
+      best.arc = axis.step * (static_cast<double>(i) + t);
+    }
+  }
+  if (n == 1) best.radius = scale * axis.radius[0];
+  const double dist = std::sqrt(std::min(best_d2, near_d2));
+  if (dist > 0.0) best.direction = (p - best_foot) / dist;
+  best.signed_distance = dist - best.radius;
+  return best;
+}
+
+[[nodiscard]] double smoothstep(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x * x * (3.0 - 2.0 * x);
+}
+
+}  // namespace
+
+JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, const ControlMesh& control)
+    : control_(control) {
+  std::vector<std::uint32_t> first_tube_face;  // per segment index, filled on first use
+  std::vector<int> slot(graph.junctions().size(), -1);  // junction -> its entry in junctions_
+  for (std::size_t j = 0; j < graph.junctions().size(); ++j) {
+    const Junction& junction = graph.junctions()[j];
+    bool long_patch = false;
+    FittedJunction fitted;
+    for (const SegmentEnd& e : junction.ends) {
+      const Polyline pl = make_polyline(smoothed.segments[e.segment]);
+      if (pl.pos.size() < 2 || !(pl.length > 0.0)) return;
+      const std::uint32_t first_ring = control.segment_first_ring[e.segment];
+      const std::uint32_t last_ring = control.segment_first_ring[e.segment + 1] - 1;
+      const Ring& ring = control.rings[e.at_end ? last_ring : first_ring];
+      Axis axis;
+      axis.trim = e.at_end ? pl.length - ring.arc_mm : ring.arc_mm;
+      axis.ring_radius = ring.radius_mm;
+      long_patch = long_patch || axis.trim > kFitTrimRadii * ring.radius_mm;
+      const double reach = std::min(pl.length, axis.trim + kAxisReachRadii * ring.radius_mm);
+      const int steps = std::clamp(static_cast<int>(std::ceil(reach / (kAxisStepRadii * ring.radius_mm))), 1, 256);
+      axis.step = reach / steps;
+      glm::dvec3 lo(std::numeric_limits<double>::infinity());
+      glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+      for (int k = 0; k <= steps; ++k) {
+        const double from_end = axis.step * k;
+        const Sample s = sample(pl, e.at_end ? pl.length - from_end : from_end);
+        axis.pos.push_back(s.pos);
+        axis.radius.push_back(s.radius);
+        lo = glm::min(lo, s.pos);
+        hi = glm::max(hi, s.pos);
+        axis.max_radius = std::max(axis.max_radius, s.radius);
+      }
+      axis.bound_center = 0.5 * (lo + hi);
+      axis.bound_radius = 0.5 * glm::length(hi - lo);
+      fitted.axes.push_back(std::move(axis));
+    }
+    if (!long_patch) continue;
+    if (first_tube_face.empty()) {
+      // Tube faces come first in the control mesh, segment by segment, M per band.
+      std::uint32_t face = 0;
+      for (std::size_t s = 0; s + 1 < control.segment_first_ring.size(); ++s) {
+        first_tube_face.push_back(face);
+        face += static_cast<std::uint32_t>(control.ring_points) * (control.segment_first_ring[s + 1] - control.segment_first_ring[s] - 1);
+      }
+    }
+    for (std::size_t b = 0; b < junction.ends.size(); ++b) {
+      const SegmentEnd& e = junction.ends[b];
+      Axis& axis = fitted.axes[b];
+      const std::uint32_t first_ring = control.segment_first_ring[e.segment];
+      const std::uint32_t bands = control.segment_first_ring[e.segment + 1] - first_ring - 1;
+      const double ring_arc = control.rings[e.at_end ? first_ring + bands : first_ring].arc_mm;
+      for (std::uint32_t k = 0; k < bands; ++k) {
+        const std::uint32_t band = e.at_end ? bands - 1 - k : k;
+        const std::uint32_t near_ring = e.at_end ? first_ring + band + 1 : first_ring + band;
+        if (std::abs(control.rings[near_ring].arc_mm - ring_arc) >= kFitTubeFadeRadii * axis.ring_radius) break;
+        for (int m = 0; m < control.ring_points; ++m) {
+          axis.fade_faces.push_back(first_tube_face[e.segment] + band * static_cast<std::uint32_t>(control.ring_points) +
+                                    static_cast<std::uint32_t>(m));
+        }
+      }
+    }
+    slot[j] = static_cast<int>(junctions_.size());
+    junctions_.push_back(std::move(fitted));
+  }
+  if (junctions_.empty()) return;
+  for (std::size_t f = 0; f < control.face_regions.size(); ++f) {
+    const FaceRegion region = control.face_regions[f];
+    if (region.kind != RegionKind::kJunction || region.id < 0 || static_cast<std::size_t>(region.id) >= slot.size()) continue;
+    const int s = slot[static_cast<std::size_t>(region.id)];
+    if (s >= 0) junctions_[static_cast<std::size_t>(s)].patch_faces.push_back(static_cast<std::uint32_t>(f));
+  }
+}
+
+void JunctionFit::apply(RefinedLevel& level) {
+  const int k = level.level();
+  if (k == 0) return;  // the control mesh: the patch has no vertices of its own to move
+  // The first face of every control face's descendants at this level.
+  std::vector<std::uint32_t> first_child(control_.face_sizes.size() + 1, 0);
+  for (std::size_t f = 0; f < control_.face_sizes.size(); ++f) {
+    first_child[f + 1] = first_child[f] + (static_cast<std::uint32_t>(control_.face_sizes[f]) << (2 * (k - 1)));
+  }
+  if (first_child.back() != static_cast<std::uint32_t>(level.face_count())) return;  // not uniform refinement
+
+  // The vertices of the marked faces (local numbering), each with its junction and branch (-1:
+  // the patch, preferred; b: the tube of branch b beyond its ring), and every face corner as
+  // (vertex, next, diagonal, previous) in local numbers.
+  struct Local {
+    int vertex;
+    int junction;
+    int branch;
+    int faces = 0;
+  };
+  std::vector<Local> locals;
+  std::vector<std::array<int, 4>> corners;
+  std::vector<int> local_of(static_cast<std::size_t>(level.vertex_count()), -1);
+  bool quads = true;
+  const auto mark_faces = [&](const std::vector<std::uint32_t>& faces, int junction, int branch) {
+    for (std::uint32_t f : faces) {
+      for (std::uint32_t child = first_child[f]; child < first_child[f + 1]; ++child) {
+        const std::span<const int> q = level.face_vertices(static_cast<int>(child));
+        if (q.size() != 4) {
+          quads = false;
+          return;
+        }
+        std::array<int, 4> l{};
+        for (std::size_t i = 0; i < 4; ++i) {
+          int& slot = local_of[static_cast<std::size_t>(q[i])];
+          if (slot < 0) {
+            slot = static_cast<int>(locals.size());
+            locals.push_back({q[i], junction, branch});
+          } else if (branch < 0) {
+            locals[static_cast<std::size_t>(slot)].junction = junction;
+            locals[static_cast<std::size_t>(slot)].branch = branch;
+          }
+          l[i] = slot;
+        }
+        for (std::size_t i = 0; i < 4; ++i) {
+          corners.push_back({l[i], l[(i + 1) & 3], l[(i + 2) & 3], l[(i + 3) & 3]});
+          ++locals[static_cast<std::size_t>(l[i])].faces;
+        }
+      }
+    }
+  };
+  for (std::size_t j = 0; j < junctions_.size() && quads; ++j) {
+    for (std::size_t b = 0; b < junctions_[j].axes.size(); ++b) {
+      mark_faces(junctions_[j].axes[b].fade_faces, static_cast<int>(j), static_cast<int>(b));
+    }
+    mark_faces(junctions_[j].patch_faces, static_cast<int>(j), -1);
+  }
+  if (!quads) return;
+  // Corners grouped by vertex (counting sort) and the positions, gathered once.
+  std::vector<std::size_t> first_corner(locals.size() + 1, 0);
+  for (const Local& l : locals) first_corner[&l - locals.data() + 1] = static_cast<std::size_t>(l.faces);
+  for (std::size_t i = 0; i < locals.size(); ++i) first_corner[i + 1] += first_corner[i];
+  std::vector<std::array<int, 3>> around(corners.size());  // (next, diagonal, previous) per corner
+  {
+    std::vector<std::size_t> fill(first_corner.begin(), first_corner.end() - 1);
+    for (const auto& c : corners) around[fill[static_cast<std::size_t>(c[0])]++] = {c[1], c[2], c[3]};
+  }
+  std::vector<glm::dvec3> pos(locals.size());
+  for (std::size_t i = 0; i < locals.size(); ++i) pos[i] = glm::dvec3(level.point(locals[i].vertex));
+  // Catmull-Clark limit of an interior quad-mesh vertex of valence n:
+  // (n^2 v + 4 sum(edge neighbours) + sum(diagonals)) / (n (n + 5)); each edge neighbour is in two
+  // of the vertex's faces, so 4 sum(e) = 2 sum over faces of (next + previous).
+  const auto limit_of = [&](std::size_t i) {
+    glm::dvec3 sum(0.0);
+    for (std::size_t c = first_corner[i]; c < first_corner[i + 1]; ++c) {
+      const auto& a = around[c];
+      sum += 2.0 * (pos[static_cast<std::size_t>(a[0])] + pos[static_cast<std::size_t>(a[2])]) + pos[static_cast<std::size_t>(a[1])];
+    }
+    const double n = static_cast<double>(first_corner[i + 1] - first_corner[i]);
+    return (n * n * pos[i] + sum) / (n * (n + 5.0));
+  };
+
+  // Every vertex whose faces are all marked (so its limit stencil is known) gets a displacement
+  // of its limit position: onto the nearest tube, by the weight (0 where it does not apply).
+  std::vector<std::size_t> interior;
+  std::vector<glm::dvec3> start_limit, displacement;
+  std::vector<int> interior_of(locals.size(), -1);
+  std::vector<Nearest> nearest;
+  std::vector<std::pair<double, std::size_t>> order;
+  std::vector<char> touched(junctions_.size(), 0);
+  for (std::size_t i = 0; i < locals.size(); ++i) {
+    const Local& l = locals[i];
+    if (l.faces != level.vertex_face_count(l.vertex) || level.boundary_vertex(l.vertex)) continue;
+    interior_of[i] = static_cast<int>(interior.size());
+    interior.push_back(i);
+    const glm::dvec3 at = limit_of(i);
+    start_limit.push_back(at);
+    displacement.emplace_back(0.0);
+    const std::vector<Axis>& axes = junctions_[static_cast<std::size_t>(l.junction)].axes;
+    // The nearest and second nearest tube surfaces (by distance, inside or out).
+    std::array<Nearest, 2> best;
+    Nearest own;
+    bool inside_other = false;
+    // Axes in order of a lower bound of their distance; one whose tube is certainly further than
+    // the nearest so far plus the blend width (and cannot hold the point) changes nothing below
+    // and is skipped (its distance stays infinite).
+    order.clear();
+    double largest_radius = 0.0;
+    for (std::size_t b = 0; b < axes.size(); ++b) {
+      order.emplace_back(std::max(0.0, glm::length(at - axes[b].bound_center) - axes[b].bound_radius), b);
+      largest_radius = std::max(largest_radius, axes[b].max_radius);
+    }
+    std::sort(order.begin(), order.end());
+    nearest.assign(axes.size(), Nearest{});
+    double nearest_abs = std::numeric_limits<double>::infinity();
+    for (const auto& [lower_bound, b] : order) {
+      const bool needed = static_cast<int>(b) == l.branch || lower_bound <= axes[b].max_radius ||
+                          lower_bound - axes[b].max_radius < nearest_abs + kFitBlendRadii * largest_radius;
+      if (!needed) continue;
+      nearest[b] = nearest_on(axes[b], at, 1.0);
+      nearest_abs = std::min(nearest_abs, std::abs(nearest[b].signed_distance));
+    }
+    std::size_t first_index = 0;
+    for (std::size_t b = 0; b < nearest.size(); ++b) {
+      if (static_cast<int>(b) == l.branch) own = nearest[b];
+      if (std::abs(nearest[b].signed_distance) < std::abs(nearest[first_index].signed_distance)) first_index = b;
+    }
+    best[0] = nearest[first_index];
+    for (std::size_t b = 0; b < nearest.size(); ++b) {
+      if (b == first_index) continue;
+      if (std::abs(nearest[b].signed_distance) < std::abs(best[1].signed_distance)) best[1] = nearest[b];
+      inside_other = inside_other || nearest[b].signed_distance < -kFitInsideRadii * nearest[b].radius;
+    }
+    const Nearest& first = best[0];
+    const Nearest& second = best[1];
+    // A point inside another branch's tube is inside the lumen the branches share: left alone.
+    if (inside_other || !(first.radius > 0.0) || glm::dot(first.direction, first.direction) == 0.0) continue;
+    const bool outside_both = first.signed_distance > -kFitInsideRadii * first.radius &&
+                              second.signed_distance > -kFitInsideRadii * second.radius;
+    const double side = std::max(
+        smoothstep((std::abs(second.signed_distance) - std::abs(first.signed_distance)) / (kFitBlendRadii * first.radius)),
+        outside_both ? smoothstep((glm::dot(first.direction, second.direction) - kFitSameSide) / (1.0 - kFitSameSide)) : 0.0);
+    const double near = 1.0 - smoothstep((std::abs(first.signed_distance) - kFitFullRadii * first.radius) /
+                                         ((kFitMaxMoveRadii - kFitFullRadii) * first.radius));
+    double w = side * near;
+    if (l.branch >= 0) {
+      const Axis& axis = axes[static_cast<std::size_t>(l.branch)];
+      w *= 1.0 - smoothstep((own.arc - axis.trim) / (kFitTubeFadeRadii * axis.ring_radius));
+    }
+    if (w <= 0.0) continue;
+    const double move = -w * first.signed_distance;
+    displacement.back() = move * first.direction;
+    report_.max_move_mm = std::max(report_.max_move_mm, std::abs(move));
+    touched[static_cast<std::size_t>(l.junction)] = 1;
+  }
+  // Move the vertices until their limit positions reach start + displacement (Richardson
+  // iteration v += target - limit(v), all at once per step; the limit stencil is a smoothing,
+  // so smooth differences settle in a few steps).
+  // Only vertices with a displacement move; the others keep their positions.
+  std::vector<std::size_t> moving;
+  for (std::size_t q = 0; q < interior.size(); ++q) {
+    if (glm::dot(displacement[q], displacement[q]) > 0.0) moving.push_back(q);
+  }
+  std::vector<glm::dvec3> step(moving.size());
+  for (int iteration = 0; iteration < kFitIterations; ++iteration) {
+    for (std::size_t m = 0; m < moving.size(); ++m) {
+      const std::size_t q = moving[m];
+      step[m] = start_limit[q] + displacement[q] - limit_of(interior[q]);
+    }
+    for (std::size_t m = 0; m < moving.size(); ++m) pos[interior[moving[m]]] += step[m];
+  }
+  // Where a vertex's neighbours stay (the weight falls off next to it) its limit can only follow
+  // by the vertex moving ~2.25 times as far, which may fold the faces around it: a marked face that
+  // turned by more than kFitMaxTurnDeg has its vertices' moves halved, up to kFitUnfoldSteps times.
+  const double cos_max_turn = std::cos(kFitMaxTurnDeg * 3.14159265358979323846 / 180.0);
+  const auto quad_normal = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    return glm::cross(c - a, d - b);
+  };
+  std::vector<glm::dvec3> before(locals.size());
+  for (std::size_t i = 0; i < locals.size(); ++i) before[i] = glm::dvec3(level.point(locals[i].vertex));
+  std::vector<char> halve(locals.size(), 0);
+  for (int unfold = 0; unfold < kFitUnfoldSteps; ++unfold) {
+    bool any_turned = false;
+    for (std::size_t c = 0; c < corners.size(); c += 4) {  // each face's four corners, in order
+      const auto& f = corners[c];
+      const auto at = [&](const std::vector<glm::dvec3>& p, std::size_t corner) { return p[static_cast<std::size_t>(f[corner])]; };
+      const glm::dvec3 n0 = quad_normal(at(before, 0), at(before, 1), at(before, 2), at(before, 3));
+      const glm::dvec3 n1 = quad_normal(at(pos, 0), at(pos, 1), at(pos, 2), at(pos, 3));
+      if (glm::dot(n0, n1) >= cos_max_turn * glm::length(n0) * glm::length(n1)) continue;
+      any_turned = true;
+      for (int v : f) halve[static_cast<std::size_t>(v)] = 1;
+    }
+    if (!any_turned) break;
+    for (std::size_t i = 0; i < locals.size(); ++i) {
+      if (halve[i]) pos[i] = 0.5 * (pos[i] + before[i]);
+      halve[i] = 0;
+    }
+  }
+  std::size_t moved = 0;
+  for (std::size_t q = 0; q < interior.size(); ++q) {
+    if (glm::dot(displacement[q], displacement[q]) == 0.0) continue;
+    level.set_point(locals[interior[q]].vertex, glm::vec3(pos[interior[q]]));
+    ++moved;
+  }
+  report_.vertices = moved;
+  report_.junctions = static_cast<std::size_t>(std::count(touched.begin(), touched.end(), 1));
+}
+
+}  // namespace cathbox::vessel::detail

@@ -1,0 +1,76 @@
+#pragma once
+// From centreline polylines to a vessel network (VesselModel): segments between junctions and
+// free ends, parents and children, ready for HCLM.
+//
+// Polylines given by geometry (VTK, Slicer curves) are inserted one after the other into a
+// growing network. A point of a new polyline lies on the network when it is within
+// kOverlapRadii of its own radius of the network's polylines. The run of such points at the
+// polyline's start (and at its end) is shared with the network: VMTK gives one centreline per
+// outlet, each running from the inlet and sharing the trunk point for point or nearly so, and
+// vmtkbranchextractor splits them where they part; here the shared run is dropped and the rest
+// is attached where the run ends, splitting the network's polyline there (or joining its end
+// node when that is within kSnapRadii). A polyline whose start touches the network (an
+// already-split network: one polyline per branch, sharing end points) is attached the same way;
+// one lying entirely on the network is a duplicate and adds nothing.
+//
+// Polylines with their topology given (SWC: every branching sample is a node) skip that step.
+// Both then go through the same clean-up: repeated points removed, branches shorter than
+// kContractRadii between two junctions contracted into one junction (the mesher needs room
+// between junctions), chains through nodes with exactly two branches joined into one segment, a
+// branch that returns to its own start split in two. Each connected piece is then oriented from
+// its widest free end (or, without free ends, from a node on a cycle) by a depth-first walk:
+// branches point away from the root, branches closing a cycle point back up it, so every junction
+// has a segment ending there and one starting there, as HCLM's parent/child relation needs.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vessel/vessel_model.hpp"
+
+namespace cathbox::vessel_import {
+
+constexpr double kOverlapRadii = 0.25;  // a point this near the network (in its radii) lies on it
+constexpr double kSnapRadii = 1.0;      // attaching this near a node (along the network) joins the node
+constexpr double kContractRadii = 1.0;  // a branch this short between two junctions is contracted
+
+struct Polyline {
+  std::vector<vessel::CenterlinePoint> points;  // mm
+  std::string name;                             // becomes the segment's name
+  std::string where;                            // for messages: "cell 3", "curve 'Centerline curve (1)'"
+};
+
+// A polyline between two given nodes (explicit topology).
+struct Branch {
+  Polyline line;
+  std::size_t from = 0;  // node ids, shared between branches that meet
+  std::size_t to = 0;
+};
+
+struct NetworkStats {
+  std::size_t polylines = 0;         // polylines given
+  std::size_t overlapping = 0;       // that shared a run of points with the network
+  std::size_t shared_points = 0;     // points dropped as shared
+  std::size_t duplicates = 0;        // polylines lying entirely on the network
+  std::size_t contracted = 0;        // short branches between junctions contracted
+  std::size_t joined = 0;            // two-branch nodes joined through
+  std::size_t junctions = 0;
+  std::size_t free_ends = 0;
+  std::size_t components = 0;
+  std::size_t cycles = 0;
+};
+
+struct NetworkBuild {
+  vessel::VesselModel model;  // segment ids 1..n, the root's first segment first
+  NetworkStats stats;
+  std::string error;          // empty on success
+  [[nodiscard]] bool ok() const { return error.empty(); }
+};
+
+// Polylines given by geometry, in the order given (overlap is with the earlier ones).
+[[nodiscard]] NetworkBuild build_network(const std::vector<Polyline>& polylines);
+
+// Branches with their nodes given; node ids need not be dense.
+[[nodiscard]] NetworkBuild build_network(const std::vector<Branch>& branches);
+
+}  // namespace cathbox::vessel_import

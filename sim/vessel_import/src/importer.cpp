@@ -1,0 +1,216 @@
+#include "vessel_import/importer.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "vessel/hclm.hpp"
+#include "vessel/vessel_graph.hpp"
+#include "vessel/vessel_mesher.hpp"
+#include "vessel_import/slicer_markups_reader.hpp"
+#include "vessel_import/swc_reader.hpp"
+#include "vessel_import/vtk_centerlines.hpp"
+
+namespace cathbox::vessel_import {
+namespace {
+
+[[nodiscard]] std::string lower(std::string_view s) {
+  std::string out(s);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+[[nodiscard]] bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// The network, the radius filter and the final check, shared by every format.
+void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::string_view file,
+            const ImportOptions& options, ImportResult& result) {
+  NetworkBuild built = branches.empty() ? build_network(polylines) : build_network(branches);
+  if (!built.ok()) {
+    result.errors.push_back({std::string(file), 0, 0, built.error});
+    return;
+  }
+  result.model = std::move(built.model);
+  result.network = built.stats;
+  if (options.filter_radii) {
+    result.filter = vessel::filter_radii(result.model);
+    result.filtered = true;
+    if (result.filter.unusable_segments > 0) {
+      result.errors.push_back({std::string(file), 0, 0,
+                               std::to_string(result.filter.unusable_segments) +
+                                   " vessel(s) without a single positive radius"});
+      return;
+    }
+  }
+  if (const auto problems = vessel::validate_model(result.model, file); !problems.empty()) {
+    std::string message = problems.front().message;
+    if (!options.filter_radii && message.find("radius") != std::string::npos) message += " (the radius filter is off)";
+    result.errors.push_back({std::string(file), 0, 0, "the imported network is not valid: " + message});
+    return;
+  }
+  // A valid network may still have a junction the mesher cannot give room (branches a few degrees
+  // apart and shorter than the ~10 radii they need to part): the control mesh says so in a few
+  // milliseconds (the default options, without subdivision), and the summary passes it on.
+  vessel::MeshOptions coarse;
+  coarse.subdivision_level = 0;
+  coarse.fit_junctions = false;
+  const vessel::VesselSurface check = vessel::build_vessel_surface(result.model, coarse);
+  if (!check.ok()) result.notes.push_back("WARNING: the surface cannot be built: " + check.error);
+}
+
+[[nodiscard]] std::string read_text(const std::string& path, bool& ok) {
+  std::ifstream in(path, std::ios::binary);
+  ok = static_cast<bool>(in);
+  std::ostringstream buffer;
+  if (ok) buffer << in.rdbuf();
+  return buffer.str();
+}
+
+}  // namespace
+
+std::optional<Format> format_from_name(std::string_view name) {
+  const std::string n = lower(name);
+  if (n == "vtk") return Format::kVtkLegacy;
+  if (n == "vtp") return Format::kVtkXml;
+  if (n == "slicer" || n == "mrk.json" || n == "json") return Format::kSlicerMarkups;
+  if (n == "swc") return Format::kSwc;
+  return std::nullopt;
+}
+
+std::optional<Format> format_from_path(std::string_view path) {
+  const std::string p = lower(path);
+  if (ends_with(p, ".vtk")) return Format::kVtkLegacy;
+  if (ends_with(p, ".vtp")) return Format::kVtkXml;
+  if (ends_with(p, ".json")) return Format::kSlicerMarkups;
+  if (ends_with(p, ".swc")) return Format::kSwc;
+  return std::nullopt;
+}
+
+const char* format_name(Format format) {
+  switch (format) {
+    case Format::kVtkLegacy: return "VTK legacy polydata";
+    case Format::kVtkXml: return "VTK XML polydata";
+    case Format::kSlicerMarkups: return "Slicer markups";
+    case Format::kSwc: return "SWC";
+  }
+  return "?";
+}
+
+std::optional<double> unit_to_mm(std::string_view unit) {
+  if (unit == "mm") return 1.0;
+  if (unit == "cm") return 10.0;
+  if (unit == "m") return 1000.0;
+  if (unit == "um") return 1e-3;
+  return std::nullopt;
+}
+
+std::string ImportResult::summary() const {
+  double r_min = std::numeric_limits<double>::infinity();
+  double r_max = 0.0;
+  for (const vessel::Segment& s : model.segments) {
+    for (const vessel::CenterlinePoint& p : s.points) {
+      r_min = std::min(r_min, p.radius_mm);
+      r_max = std::max(r_max, p.radius_mm);
+    }
+  }
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "%s, %zu polylines: %zu segments, %zu junctions, %zu free ends, %zu cycles, %zu components, radius %.3g..%.3g mm",
+                format_name(format), polylines, model.segments.size(), network.junctions, network.free_ends,
+                network.cycles, network.components, r_min, r_max);
+  std::string out = buf;
+  if (network.overlapping > 0) {
+    out += "; " + std::to_string(network.overlapping) + " overlapping polylines split off a shared trunk (" +
+           std::to_string(network.shared_points) + " shared points dropped)";
+  }
+  if (network.duplicates > 0) out += "; " + std::to_string(network.duplicates) + " duplicate polylines dropped";
+  if (network.contracted > 0) out += "; " + std::to_string(network.contracted) + " short branches between junctions contracted";
+  if (network.joined > 0) out += "; " + std::to_string(network.joined) + " pass-through nodes joined";
+  out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
+  for (const std::string& note : notes) out += "; " + note;
+  return out;
+}
+
+ImportResult import_centerlines_text(std::string_view text, std::string_view file, Format format,
+                                     const ImportOptions& options) {
+  ImportResult result;
+  result.format = format;
+  const double unit = options.unit_mm > 0.0 ? options.unit_mm : 1.0;
+  if (format == Format::kSwc) {
+    SwcRead read = parse_swc(text, file);
+    if (!read.ok()) {
+      result.errors = std::move(read.errors);
+      return result;
+    }
+    SwcBranches branches = swc_branches(read.samples, unit);
+    result.polylines = branches.branches.size();
+    if (branches.lone_samples > 0) result.notes.push_back(std::to_string(branches.lone_samples) + " lone root samples skipped");
+    if (branches.branches.empty()) {
+      result.errors.push_back({std::string(file), 0, 0, "no branch: every sample is a lone root"});
+      return result;
+    }
+    finish({}, std::move(branches.branches), file, options, result);
+    return result;
+  }
+  if (format == Format::kSlicerMarkups) {
+    SlicerRead read = parse_slicer_markups(text, file, options.radius_array.empty() ? "Radius" : options.radius_array,
+                                           options.unit_mm);
+    if (!read.ok()) {
+      result.errors = std::move(read.errors);
+      return result;
+    }
+    result.polylines = read.curves.size();
+    if (read.skipped_markups > 0) result.notes.push_back(std::to_string(read.skipped_markups) + " markups that are not curves skipped");
+    if (read.skipped_points > 0) result.notes.push_back(std::to_string(read.skipped_points) + " undefined control points skipped");
+    if (read.coordinate_system == "RAS") result.notes.push_back("RAS coordinates turned to LPS");
+    finish(std::move(read.curves), {}, file, options, result);
+    return result;
+  }
+  result.errors.push_back({std::string(file), 0, 0, "VTK files are read from disk (import_centerlines)"});
+  return result;
+}
+
+ImportResult import_centerlines(const std::string& path, const ImportOptions& options) {
+  const std::optional<Format> format = options.format ? options.format : format_from_path(path);
+  if (!format) {
+    ImportResult result;
+    result.errors.push_back({path, 0, 0, "unknown format (use .vtk, .vtp, .mrk.json or .swc, or --format)"});
+    return result;
+  }
+  if (*format == Format::kVtkLegacy || *format == Format::kVtkXml) {
+    ImportResult result;
+    result.format = *format;
+    VtkRead read = read_vtk_centerlines(path, options.radius_array, *format == Format::kVtkXml);
+    if (!read.ok()) {
+      result.errors = std::move(read.errors);
+      return result;
+    }
+    PolylinesRead lines = centerline_polylines(read.arrays, path, options.unit_mm > 0.0 ? options.unit_mm : 1.0);
+    if (!lines.ok()) {
+      result.errors = std::move(lines.errors);
+      return result;
+    }
+    result.polylines = lines.polylines.size();
+    result.notes.push_back("radius from '" + read.arrays.radius_array + "'");
+    if (lines.regrouped_tracts > 0) {
+      result.notes.push_back(std::to_string(lines.regrouped_tracts) + " tracts (CenterlineIds, TractIds) rejoined into " +
+                             std::to_string(lines.polylines.size()) + " centrelines");
+    }
+    finish(std::move(lines.polylines), {}, path, options, result);
+    return result;
+  }
+  bool ok = false;
+  const std::string text = read_text(path, ok);
+  if (!ok) {
+    ImportResult result;
+    result.errors.push_back({path, 0, 0, "cannot open file"});
+    return result;
+  }
+  return import_centerlines_text(text, path, *format, options);
+}
+
+}  // namespace cathbox::vessel_import

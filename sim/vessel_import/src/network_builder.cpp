@@ -1,0 +1,485 @@
+#include "vessel_import/network_builder.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::vessel_import {
+namespace {
+
+using vessel::CenterlinePoint;
+
+constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+
+struct Edge {
+  std::vector<CenterlinePoint> points;  // first and last at their nodes' positions
+  std::size_t a = 0;                    // node at points.front()
+  std::size_t b = 0;                    // node at points.back()
+  std::string name;
+  bool alive = true;
+};
+
+// Where a point is nearest to the network: edge, piece k (points k, k + 1), fraction t.
+struct Location {
+  std::size_t edge = kNone;
+  std::size_t piece = 0;
+  double t = 0.0;
+  double distance = std::numeric_limits<double>::infinity();
+};
+
+class Graph {
+ public:
+  std::size_t add_node(const glm::dvec3& p) {
+    nodes_.push_back(p);
+    return nodes_.size() - 1;
+  }
+  std::size_t add_edge(std::vector<CenterlinePoint> points, std::size_t a, std::size_t b, std::string name) {
+    points.front().pos_mm = nodes_[a];
+    points.back().pos_mm = nodes_[b];
+    edges_.push_back({std::move(points), a, b, std::move(name), true});
+    return edges_.size() - 1;
+  }
+  [[nodiscard]] const glm::dvec3& node(std::size_t n) const { return nodes_[n]; }
+  [[nodiscard]] std::size_t node_count() const { return nodes_.size(); }
+  std::vector<Edge>& edges() { return edges_; }
+  [[nodiscard]] const std::vector<Edge>& edges() const { return edges_; }
+
+  [[nodiscard]] Location nearest(const glm::dvec3& p) const {
+    Location best;
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      const Edge& edge = edges_[e];
+      if (!edge.alive) continue;
+      for (std::size_t k = 0; k + 1 < edge.points.size(); ++k) {
+        const glm::dvec3 a = edge.points[k].pos_mm;
+        const glm::dvec3 d = edge.points[k + 1].pos_mm - a;
+        const double len2 = glm::dot(d, d);
+        const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
+        const double dist = glm::length(p - (a + t * d));
+        if (dist < best.distance) best = {e, k, t, dist};
+      }
+    }
+    return best;
+  }
+
+  // The node at `at` (an existing end node when within kSnapRadii of it along the edge, else a
+  // new node splitting the edge there).
+  std::size_t attach(const Location& at, double radius_mm) {
+    Edge& edge = edges_[at.edge];
+    double arc = 0.0;
+    double length = 0.0;
+    for (std::size_t k = 0; k + 1 < edge.points.size(); ++k) {
+      const double len = glm::length(edge.points[k + 1].pos_mm - edge.points[k].pos_mm);
+      if (k < at.piece) arc += len;
+      if (k == at.piece) arc += at.t * len;
+      length += len;
+    }
+    const double to_b = length - arc;
+    if (std::min(arc, to_b) <= kSnapRadii * radius_mm) return arc <= to_b ? edge.a : edge.b;
+    // Split: the new node at the location, radius interpolated.
+    const CenterlinePoint& p0 = edge.points[at.piece];
+    const CenterlinePoint& p1 = edge.points[at.piece + 1];
+    CenterlinePoint mid;
+    mid.pos_mm = p0.pos_mm + at.t * (p1.pos_mm - p0.pos_mm);
+    mid.radius_mm = p0.radius_mm + at.t * (p1.radius_mm - p0.radius_mm);
+    const std::size_t node = add_node(mid.pos_mm);
+    std::vector<CenterlinePoint> first(edge.points.begin(), edge.points.begin() + static_cast<std::ptrdiff_t>(at.piece + 1));
+    std::vector<CenterlinePoint> second(edge.points.begin() + static_cast<std::ptrdiff_t>(at.piece + 1), edge.points.end());
+    if (glm::length(first.back().pos_mm - mid.pos_mm) > 0.0) first.push_back(mid);
+    if (glm::length(second.front().pos_mm - mid.pos_mm) > 0.0) second.insert(second.begin(), mid);
+    if (first.size() < 2) first.insert(first.begin(), edge.points.front());
+    if (second.size() < 2) second.push_back(edge.points.back());
+    // At the new junction each half keeps its own radius (its sample next to the junction): the
+    // sample there may be where one tract ended and the next began, with the former's radius.
+    first.back().radius_mm = first[first.size() - 2].radius_mm;
+    second.front().radius_mm = second[1].radius_mm;
+    const std::size_t b = edge.b;
+    const std::string name = edge.name;
+    edge.points = std::move(first);
+    edge.b = node;
+    edge.points.back().pos_mm = nodes_[node];
+    add_edge(std::move(second), node, b, name);  // may reallocate edges_: `edge` is not used after
+    return node;
+  }
+
+  // Incident edge ends per node (an edge with both ends at a node appears twice).
+  [[nodiscard]] std::vector<std::vector<std::size_t>> incidence() const {
+    std::vector<std::vector<std::size_t>> out(nodes_.size());
+    for (std::size_t e = 0; e < edges_.size(); ++e) {
+      if (!edges_[e].alive) continue;
+      out[edges_[e].a].push_back(e);
+      out[edges_[e].b].push_back(e);
+    }
+    return out;
+  }
+
+  void move_node(std::size_t n, const glm::dvec3& p) {
+    nodes_[n] = p;
+    for (Edge& e : edges_) {
+      if (!e.alive) continue;
+      if (e.a == n) e.points.front().pos_mm = p;
+      if (e.b == n) e.points.back().pos_mm = p;
+    }
+  }
+
+ private:
+  std::vector<glm::dvec3> nodes_;
+  std::vector<Edge> edges_;
+};
+
+[[nodiscard]] double length_of(const std::vector<CenterlinePoint>& points) {
+  double length = 0.0;
+  for (std::size_t k = 0; k + 1 < points.size(); ++k) length += glm::length(points[k + 1].pos_mm - points[k].pos_mm);
+  return length;
+}
+
+[[nodiscard]] std::string clean_name(const std::string& name) {
+  std::string out;
+  for (char ch : name) out += static_cast<unsigned char>(ch) < 0x20 ? ' ' : ch;
+  const auto first = out.find_first_not_of(' ');
+  if (first == std::string::npos) return {};
+  return out.substr(first, out.find_last_not_of(' ') - first + 1);
+}
+
+// Consecutive points closer than a millionth of their radius are one point.
+void drop_repeated_points(Edge& e) {
+  std::vector<CenterlinePoint> kept;
+  for (std::size_t i = 0; i < e.points.size(); ++i) {
+    const CenterlinePoint& p = e.points[i];
+    if (!kept.empty() && glm::length(p.pos_mm - kept.back().pos_mm) <= 1e-6 * std::max(p.radius_mm, 1e-3)) {
+      if (i + 1 == e.points.size()) kept.back() = p;  // keep the node's own point at the end
+      continue;
+    }
+    kept.push_back(p);
+  }
+  e.points = std::move(kept);
+}
+
+// The representative radius of a node: the widest incident end.
+[[nodiscard]] double node_radius(const Graph& g, const std::vector<std::size_t>& incident, std::size_t n) {
+  double r = 0.0;
+  for (std::size_t e : incident) {
+    const Edge& edge = g.edges()[e];
+    if (edge.a == n) r = std::max(r, edge.points.front().radius_mm);
+    if (edge.b == n) r = std::max(r, edge.points.back().radius_mm);
+  }
+  return r;
+}
+
+// Clean-up, orientation and HCLM segments (see the header).
+NetworkBuild finish(Graph& g, NetworkStats stats) {
+  NetworkBuild out;
+  for (Edge& e : g.edges()) {
+    if (e.alive) drop_repeated_points(e);
+  }
+  // Branches that collapsed to a point merge their two nodes.
+  for (std::size_t e = 0; e < g.edges().size(); ++e) {
+    Edge& edge = g.edges()[e];
+    if (!edge.alive || edge.points.size() >= 2) continue;
+    edge.alive = false;
+    if (edge.a != edge.b) {
+      const std::size_t from = edge.b;
+      const std::size_t to = edge.a;
+      for (Edge& other : g.edges()) {
+        if (!other.alive) continue;
+        if (other.a == from) other.a = to;
+        if (other.b == from) other.b = to;
+      }
+    }
+  }
+  // Short branches between two junctions: contracted into one junction at their middle.
+  for (bool changed = true; changed;) {
+    changed = false;
+    const auto incident = g.incidence();
+    for (std::size_t e = 0; e < g.edges().size() && !changed; ++e) {
+      const Edge& edge = g.edges()[e];
+      if (!edge.alive || edge.a == edge.b) continue;
+      if (incident[edge.a].size() < 3 || incident[edge.b].size() < 3) continue;
+      const double r = std::max(node_radius(g, incident[edge.a], edge.a), node_radius(g, incident[edge.b], edge.b));
+      if (length_of(edge.points) >= kContractRadii * r) continue;
+      // Not when another branch joins the same two nodes (it would become a loop on one node).
+      bool parallel = false;
+      for (std::size_t other : incident[edge.a]) {
+        const Edge& o = g.edges()[other];
+        parallel = parallel || (other != e && ((o.a == edge.a && o.b == edge.b) || (o.a == edge.b && o.b == edge.a)));
+      }
+      if (parallel) continue;
+      const std::size_t keep = edge.a;
+      const std::size_t gone = edge.b;
+      const glm::dvec3 middle = 0.5 * (g.node(keep) + g.node(gone));
+      g.edges()[e].alive = false;
+      for (Edge& other : g.edges()) {
+        if (!other.alive) continue;
+        if (other.a == gone) other.a = keep;
+        if (other.b == gone) other.b = keep;
+      }
+      g.move_node(keep, middle);
+      ++stats.contracted;
+      changed = true;
+    }
+  }
+  // A branch from a node back to itself: split in two at its middle point.
+  for (std::size_t e = 0; e < g.edges().size(); ++e) {
+    Edge& edge = g.edges()[e];
+    if (!edge.alive || edge.a != edge.b) continue;
+    if (edge.points.size() < 3) {
+      edge.alive = false;
+      continue;
+    }
+    const std::size_t mid = edge.points.size() / 2;
+    const std::size_t node = g.add_node(edge.points[mid].pos_mm);
+    std::vector<CenterlinePoint> second(edge.points.begin() + static_cast<std::ptrdiff_t>(mid), edge.points.end());
+    edge.points.resize(mid + 1);
+    const std::size_t end = edge.b;
+    edge.b = node;
+    const std::string name = edge.name;
+    g.add_edge(std::move(second), node, end, name);
+  }
+  // Chains through nodes with exactly two branch ends (of two different branches): one segment.
+  for (bool changed = true; changed;) {
+    changed = false;
+    const auto incident = g.incidence();
+    for (std::size_t n = 0; n < incident.size() && !changed; ++n) {
+      if (incident[n].size() != 2 || incident[n][0] == incident[n][1]) continue;
+      const std::size_t e1 = incident[n][0];
+      const std::size_t e2 = incident[n][1];
+      Edge first = g.edges()[e1];
+      Edge second = g.edges()[e2];
+      if (first.b != n) {
+        std::reverse(first.points.begin(), first.points.end());
+        std::swap(first.a, first.b);
+      }
+      if (second.a != n) {
+        std::reverse(second.points.begin(), second.points.end());
+        std::swap(second.a, second.b);
+      }
+      if (first.a == n || second.b == n) continue;
+      if (first.a == second.b) continue;  // joining would close a branch on itself: keep this node
+      first.points.insert(first.points.end(), second.points.begin() + 1, second.points.end());
+      first.b = second.b;
+      if (first.name.empty()) first.name = second.name;
+      g.edges()[e1] = std::move(first);
+      g.edges()[e2].alive = false;
+      ++stats.joined;
+      changed = true;
+    }
+  }
+  for (Edge& e : g.edges()) {
+    if (e.alive && (e.points.size() < 2 || !(length_of(e.points) > 0.0))) e.alive = false;
+  }
+
+  // Orientation: depth-first from each component's root.
+  const auto incident = g.incidence();
+  const std::size_t n_nodes = g.node_count();
+  std::vector<int> state(n_nodes, 0);  // 0 unseen, 1 on the stack, 2 done
+  std::vector<std::size_t> order;      // edges in discovery order
+  std::vector<char> forward(g.edges().size(), 1);  // points run a -> b (else reversed)
+  std::vector<char> used(g.edges().size(), 0);
+  const auto other_end = [&](std::size_t e, std::size_t n) { return g.edges()[e].a == n ? g.edges()[e].b : g.edges()[e].a; };
+  // Iterative DFS from `root`; edges to a node on the stack (back edges) point to it.
+  const auto walk = [&](std::size_t root, bool record) -> std::size_t {
+    std::size_t cycle_node = kNone;
+    struct Frame {
+      std::size_t node;
+      std::size_t next = 0;
+    };
+    std::vector<Frame> stack{{root}};
+    state[root] = 1;
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      if (f.next == incident[f.node].size()) {
+        state[f.node] = 2;
+        stack.pop_back();
+        continue;
+      }
+      const std::size_t e = incident[f.node][f.next++];
+      if (used[e]) continue;
+      used[e] = 1;
+      const std::size_t to = other_end(e, f.node);
+      const Edge& edge = g.edges()[e];
+      if (state[to] == 0) {  // tree edge: from f.node to `to`
+        if (record) {
+          forward[e] = edge.a == f.node ? 1 : 0;
+          order.push_back(e);
+        }
+        state[to] = 1;
+        stack.push_back({to});
+      } else {  // back edge (an ancestor on the stack): from f.node up to `to`
+        if (cycle_node == kNone) cycle_node = to;
+        if (record) {
+          forward[e] = edge.a == f.node ? 1 : 0;
+          order.push_back(e);
+        }
+      }
+    }
+    return cycle_node;
+  };
+  for (std::size_t start = 0; start < n_nodes; ++start) {
+    if (state[start] != 0 || incident[start].empty()) continue;
+    // The component's nodes, to choose its root.
+    std::vector<std::size_t> members;
+    {
+      std::vector<std::size_t> stack{start};
+      std::vector<char> seen(n_nodes, 0);
+      seen[start] = 1;
+      while (!stack.empty()) {
+        const std::size_t n = stack.back();
+        stack.pop_back();
+        members.push_back(n);
+        for (std::size_t e : incident[n]) {
+          const std::size_t to = other_end(e, n);
+          if (!seen[to]) {
+            seen[to] = 1;
+            stack.push_back(to);
+          }
+        }
+      }
+    }
+    std::size_t root = kNone;
+    double widest = -1.0;
+    for (std::size_t n : members) {
+      if (incident[n].size() != 1) continue;
+      const double r = node_radius(g, incident[n], n);
+      if (r > widest) {
+        widest = r;
+        root = n;
+      }
+    }
+    if (root == kNone) {
+      // No free end: a first walk finds a node on a cycle, the real one starts there.
+      const std::size_t on_cycle = walk(start, false);
+      for (std::size_t n : members) state[n] = 0;
+      for (std::size_t n : members) {
+        for (std::size_t e : incident[n]) used[e] = 0;
+      }
+      root = on_cycle == kNone ? start : on_cycle;
+    }
+    walk(root, true);
+    ++stats.components;
+  }
+
+  // Segments in discovery order, with their end nodes after orientation.
+  std::vector<std::size_t> start_node, end_node;
+  for (std::size_t e : order) {
+    Edge& edge = g.edges()[e];
+    vessel::Segment s;
+    s.id = static_cast<std::int32_t>(out.model.segments.size() + 1);
+    s.name = clean_name(edge.name);
+    s.points = edge.points;
+    if (!forward[e]) std::reverse(s.points.begin(), s.points.end());
+    start_node.push_back(forward[e] ? edge.a : edge.b);
+    end_node.push_back(forward[e] ? edge.b : edge.a);
+    out.model.segments.push_back(std::move(s));
+  }
+  std::vector<std::vector<std::size_t>> ending(n_nodes), starting(n_nodes);
+  for (std::size_t i = 0; i < out.model.segments.size(); ++i) {
+    ending[end_node[i]].push_back(i);
+    starting[start_node[i]].push_back(i);
+  }
+  for (std::size_t n = 0; n < n_nodes; ++n) {
+    const std::size_t ends = ending[n].size() + starting[n].size();
+    if (ends == 0) continue;
+    if (ends == 1) {
+      ++stats.free_ends;
+      continue;
+    }
+    ++stats.junctions;
+    if (ending[n].empty() || starting[n].empty()) {
+      out.error = "internal: junction without a segment ending or starting there";
+      return out;
+    }
+    for (std::size_t in : ending[n]) {
+      for (std::size_t o : starting[n]) {
+        out.model.segments[in].children.push_back(out.model.segments[o].id);
+        out.model.segments[o].parents.push_back(out.model.segments[in].id);
+      }
+    }
+  }
+  stats.cycles = out.model.segments.size() + stats.components;
+  std::size_t used_nodes = 0;
+  for (std::size_t n = 0; n < n_nodes; ++n) used_nodes += (ending[n].size() + starting[n].size()) > 0 ? 1 : 0;
+  stats.cycles -= used_nodes;
+  if (out.model.segments.empty()) out.error = "no vessel left: every polyline was a single point";
+  out.stats = stats;
+  return out;
+}
+
+}  // namespace
+
+NetworkBuild build_network(const std::vector<Polyline>& polylines) {
+  Graph g;
+  NetworkStats stats;
+  stats.polylines = polylines.size();
+  for (const Polyline& line : polylines) {
+    const auto& p = line.points;
+    if (p.size() < 2) continue;
+    const auto on_network = [&](std::size_t i) {
+      if (g.edges().empty()) return false;
+      return g.nearest(p[i].pos_mm).distance <= kOverlapRadii * p[i].radius_mm;
+    };
+    const std::size_t n = p.size();
+    std::size_t lead = 0;  // points at the start lying on the network
+    while (lead < n && on_network(lead)) ++lead;
+    if (lead == n) {
+      ++stats.duplicates;
+      stats.shared_points += n;
+      continue;
+    }
+    std::size_t trail = 0;  // ... and at the end
+    while (trail < n - lead && on_network(n - 1 - trail)) ++trail;
+    if (lead > 1 || trail > 1) ++stats.overlapping;
+    stats.shared_points += (lead > 1 ? lead - 1 : 0) + (trail > 1 ? trail - 1 : 0);
+    // The new branch: from the last shared point's place on the network (or a new free end) to
+    // the first shared point's place at the end (or a new free end).
+    std::vector<CenterlinePoint> points;
+    std::size_t from = kNone;
+    if (lead > 0) {
+      const Location at = g.nearest(p[lead - 1].pos_mm);
+      from = g.attach(at, p[lead - 1].radius_mm);
+      points.push_back({g.node(from), p[lead].radius_mm});  // with the branch's own radius
+    } else {
+      from = g.add_node(p[0].pos_mm);
+      points.push_back(p[0]);
+    }
+    const std::size_t last_new = trail > 0 ? n - trail : n;  // one past the last point of our own
+    for (std::size_t i = lead == 0 ? 1 : lead; i < last_new; ++i) points.push_back(p[i]);
+    std::size_t to = kNone;
+    if (trail > 0) {
+      const Location at = g.nearest(p[n - trail].pos_mm);
+      to = g.attach(at, p[n - trail].radius_mm);
+      points.push_back({g.node(to), p[n - trail - 1].radius_mm});
+    } else if (glm::length(points.back().pos_mm - g.node(from)) <= kOverlapRadii * points.back().radius_mm) {
+      to = from;  // a closed curve: back to its own start
+    } else {
+      to = g.add_node(points.back().pos_mm);
+    }
+    if (points.size() < 2 || (from == to && points.size() < 3)) continue;
+    g.add_edge(std::move(points), from, to, line.name);
+  }
+  return finish(g, stats);
+}
+
+NetworkBuild build_network(const std::vector<Branch>& branches) {
+  Graph g;
+  NetworkStats stats;
+  stats.polylines = branches.size();
+  std::map<std::size_t, std::size_t> node_of;  // given id -> graph node
+  const auto node = [&](std::size_t id, const glm::dvec3& p) {
+    const auto [it, inserted] = node_of.try_emplace(id, 0);
+    if (inserted) it->second = g.add_node(p);
+    return it->second;
+  };
+  for (const Branch& branch : branches) {
+    if (branch.line.points.size() < 2) continue;
+    const std::size_t a = node(branch.from, branch.line.points.front().pos_mm);
+    const std::size_t b = node(branch.to, branch.line.points.back().pos_mm);
+    g.add_edge(branch.line.points, a, b, branch.line.name);
+  }
+  return finish(g, stats);
+}
+
+}  // namespace cathbox::vessel_import

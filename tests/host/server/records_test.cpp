@@ -1,0 +1,92 @@
+// Results with real session records: the server's record checker replays each upload through
+// host/session. A record made by an action script on the bundled y-bifurcation is accepted and
+// indexed with the metrics its replay measured; the same bytes again are the same result; a
+// record whose inputs were changed by 1 um from tick 3000 is refused at the first hash after the
+// change; a cut or foreign record is refused with the reader's line.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "session/action_script_hand.hpp"
+#include "session/session.hpp"
+#include "support/api_fixture.hpp"
+#include "record_tamper.hpp"
+
+namespace cathbox::server::test {
+namespace {
+
+using nlohmann::json;
+
+std::string scratch(const std::string& name) {
+  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "server_records_test";
+  std::filesystem::create_directories(dir);
+  return (dir / name).string();
+}
+
+std::string read_all(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The y-bifurcation's left branch by action script, recorded in virtual time.
+std::string record_left_branch() {
+  const std::string path = scratch("left.cbxrec");
+  auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
+  EXPECT_TRUE(scene.value) << scene.error;
+  std::string error;
+  auto hand = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
+                                              *scene.value, error);
+  EXPECT_TRUE(hand) << error;
+  session::Session s(std::move(scene.value), std::move(hand));
+  EXPECT_TRUE(s.record_to(path, error)) << error;
+  while (!s.over()) s.step_virtual(1000);
+  EXPECT_TRUE(s.recorder()->close());
+  return path;
+}
+
+// The record rewritten with the held tool's insertion 1 um further from `from_tick` on.
+std::string tampered(const std::string& path, std::int64_t from_tick) {
+  const std::string out_path = scratch("tampered.cbxrec");
+  session::testing::tamper_record(path, out_path, from_tick);
+  return read_all(out_path);
+}
+
+class RecordsTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(RecordsTest, RealRecordsAreReplayedBeforeTheyCount) {
+  ApiFixture f(GetParam(), make_session_checker());
+  const std::string teacher = f.user("teacher", Role::kInstructor);
+  const std::string alice = f.user("alice", Role::kTrainee);
+  ASSERT_EQ(f.upload_bundled_case("y_bifurcation", "ybif", teacher).status, 201);
+  const json a = f.call_json("POST", "/api/v1/assignments",
+                             {{"trainee", "alice"}, {"case", "ybif"},
+                              {"criteria", json::array({{{"metric", "peak_wall_force_mN"}, {"op", "<="}, {"value", 200}},
+                                                        {{"metric", "tip_path_mm"}, {"op", ">="}, {"value", 50}}})}},
+                             teacher, 201);
+  const std::string target = "/api/v1/results?assignment=" + std::to_string(a["id"].get<int>());
+  const std::string path = record_left_branch();
+  const std::string good = read_all(path);
+  const ApiResponse stored = f.call("POST", target, good, alice);
+  ASSERT_EQ(stored.status, 201) << stored.body;
+  const json r = json::parse(stored.body);
+  EXPECT_EQ(r["case"], "ybif");
+  EXPECT_EQ(r["passed"], true);
+  const json detail = f.call_json("GET", "/api/v1/results/" + std::to_string(r["id"].get<int>()), nullptr, teacher, 200);
+  EXPECT_GT(detail["evaluation"]["criteria"][1]["actual"].get<double>(), 50.0);
+  EXPECT_EQ(f.call("POST", target, good, alice).status, 200);  // the same bytes: the same result
+
+  const ApiResponse changed = f.call("POST", target, tampered(path, 3000), alice);
+  EXPECT_EQ(changed.status, 422);
+  EXPECT_EQ(error_of(changed), "record: tick 3099: state hash differs (tampered or broken)");
+  const ApiResponse cut = f.call("POST", target, good.substr(0, 40), alice);
+  EXPECT_EQ(cut.status, 422);
+  EXPECT_EQ(error_of(cut).rfind("record: byte ", 0), 0U) << error_of(cut);
+  const ApiResponse foreign = f.call("POST", target, "not a record", alice);
+  EXPECT_EQ(foreign.status, 422);
+  EXPECT_EQ(error_of(foreign), "record: byte 12: not a cathbox record: 12 bytes, shorter than the 16-byte file header");
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, RecordsTest, ::testing::ValuesIn(kBackends), BackendName());
+
+}  // namespace
+}  // namespace cathbox::server::test

@@ -1,0 +1,38 @@
+#pragma once
+// A real cathbox-server in this process (ServerApp on a free loopback port) over one backend,
+// with light Argon2 parameters and the FakeRecords checker, plus helpers to talk to it.
+#include <memory>
+#include <string>
+
+#include "server/client.hpp"
+#include "server/server_app.hpp"
+#include "support/api_fixture.hpp"
+
+namespace cathbox::server::test {
+
+struct ServerOptions {
+  std::string web_root;              // default: a temporary folder with an index.html
+  std::string db_url;                // default: a fresh database of the backend
+  std::string instance;
+  std::size_t watcher_queue = 64;
+};
+
+class RunningServer {
+ public:
+  RunningServer(const std::string& backend, ServerOptions options = {});
+  ~RunningServer();
+  [[nodiscard]] std::string base_url() const;
+  [[nodiscard]] std::uint16_t port() const { return app->port(); }
+  // Creates an account (if new) and answers a token.
+  std::string token_for(const std::string& name, Role role, const std::string& password = "password-123");
+
+  std::string db_url;
+  std::string web_root;
+  std::unique_ptr<ServerApp> app;
+};
+
+// Sends raw bytes on a new TCP connection to 127.0.0.1:port and answers what comes back until
+// the server closes or timeout_ms passes.
+[[nodiscard]] std::string raw_exchange(std::uint16_t port, const std::string& bytes, int timeout_ms = 5000);
+
+}  // namespace cathbox::server::test

@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# `cathbox session run|replay|metrics|info` end to end, for every bundled case:
+#  - driven by an action script in virtual time, then replayed with every state hash checked;
+#  - against a real `cathbox-emu` process in real time (its scripted hand pushes and twists the
+#    wire), then replayed the same way;
+#  - a run killed with SIGKILL mid-way leaves a record that reads and replays to its last block;
+#  - a changed, truncated or foreign record is one line and exit 2 (replay --check: exit 1 with
+#    the first differing tick when the inputs no longer give the recorded states).
+# No sleeps: the emulator is awaited by its "listening" line, the killed run by its "recorded"
+# progress lines; no timing is asserted.
+# Usage: session_cli_test.sh BIN_DIR CASES_DIR [quick]
+set -u
+bin="$1"
+cases="$2"
+quick="${3:-}"
+cb="$bin/cathbox"
+work=$(mktemp -d)
+emu_pid=""
+run_pid=""
+trap 'kill $emu_pid $run_pid 2>/dev/null; rm -rf "$work"' EXIT
+failures=0
+fail() {
+  echo "FAIL: $*"
+  failures=$((failures + 1))
+}
+
+# expect RC COMMAND...: the exit code must be RC; output kept in $work/out.
+expect() {
+  local want=$1
+  shift
+  "$@" >"$work/out" 2>&1
+  local rc=$?
+  if [ "$rc" -ne "$want" ]; then
+    fail "$* -> rc $rc (want $want): $(head -5 "$work/out")"
+    return 1
+  fi
+  echo "ok:   $* -> rc $rc"
+}
+
+# A push, a full turn of the tip and a further push: every case's wire meets a wall and a branch.
+cat >"$work/push.actions" <<'EOF'
+0     insert_to 40 at 30
+1400  rotate_to 360 at 180
+2500  insert_to 90 at 20
+5000  end
+EOF
+
+for c in "$cases"/*.case; do
+  name=$(basename "$c" .case)
+  rec="$work/$name.cbxrec"
+  expect 0 "$cb" session run --case "$c" --script "$work/push.actions" --virtual --record "$rec" || continue
+  grep -q "end of run" "$work/out" || fail "$name: no end-of-run line"
+  expect 0 "$cb" session replay "$rec" --check
+  grep -q "match" "$work/out" || fail "$name: replay --check said: $(cat "$work/out")"
+  expect 0 "$cb" session metrics "$rec" --json
+  jq -e '.tip_path_mm > 10' "$work/out" >/dev/null || fail "$name: metrics: $(head -c 300 "$work/out")"
+  expect 0 "$cb" session info "$rec" --json
+  jq -e '.case.bytes > 0 and .ticks > 0' "$work/out" >/dev/null || fail "$name: info: $(head -c 300 "$work/out")"
+done
+
+# The same record replayed twice gives the same CSV log, byte for byte.
+rec="$work/y_bifurcation.cbxrec"
+expect 0 "$cb" session replay "$rec" --out "$work/a.csv" --every 10
+expect 0 "$cb" session replay "$rec" --out "$work/b.csv" --every 10
+cmp -s "$work/a.csv" "$work/b.csv" || fail "two replays of one record differ"
+[ "$(wc -l <"$work/a.csv")" -gt 100 ] || fail "replay log too short: $(wc -l <"$work/a.csv") lines"
+
+# Bad records: one line naming the file and the byte, exit 2; nothing written.
+head -c 100 "$rec" >"$work/cut.cbxrec"
+expect 2 "$cb" session replay "$work/cut.cbxrec" --check
+[ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "cut.cbxrec: byte" "$work/out" || fail "truncated header: $(cat "$work/out")"
+printf 'not a record at all' >"$work/foreign.cbxrec"
+expect 2 "$cb" session info "$work/foreign.cbxrec"
+[ "$(wc -l <"$work/out")" -eq 1 ] || fail "foreign file: $(cat "$work/out")"
+expect 2 "$cb" session metrics "$work/missing.cbxrec"
+# A flipped byte in the last block: its CRC catches it.
+size=$(stat -c %s "$rec")
+cp "$rec" "$work/flip.cbxrec"
+printf '\xff' | dd of="$work/flip.cbxrec" bs=1 seek=$((size - 20)) conv=notrunc status=none
+expect 2 "$cb" session replay "$work/flip.cbxrec" --check
+grep -q "byte" "$work/out" || fail "flipped byte: $(cat "$work/out")"
+
+# Against the emulated box in real time: its hand pushes at 20 mm/s for 1.5 s and twists.
+exec 3< <(exec "$bin/cathbox-emu" --socket "$work/emu.sock" --duration 120 \
+  --hand-insertion v:0.02:1500ms,free:60s --hand-rotation v:2:1s,free:60s 2>&1)
+emu_pid=$!
+read -r line <&3
+case "$line" in *listening*) ;; *) fail "emulator did not start: $line" ;; esac
+if [ -n "$quick" ]; then
+  emu_cases="$cases/y_bifurcation.case"
+else
+  emu_cases=$(ls "$cases"/*.case)
+fi
+for c in $emu_cases; do
+  name=$(basename "$c" .case)
+  rec="$work/emu_$name.cbxrec"
+  expect 0 "$cb" session run --case "$c" --emu "$work/emu.sock" --seconds 2 --record "$rec" || continue
+  expect 0 "$cb" session replay "$rec" --check
+  expect 0 "$cb" session info "$rec" --json
+  jq -e '.device.board == "cathbox-emu"' "$work/out" >/dev/null || fail "$name: no box in the header: $(head -c 300 "$work/out")"
+done
+
+# SIGKILL mid-run: the record reads and replays up to its last complete block.
+rec="$work/killed.cbxrec"
+exec 4< <(exec "$cb" session run --case "$cases/y_bifurcation.case" --emu "$work/emu.sock" --seconds 60 \
+  --record "$rec" --progress 2>&1)
+run_pid=$!
+blocks=0
+while read -r line <&4; do
+  case "$line" in recorded*) blocks=$((blocks + 1)) ;; esac
+  [ "$blocks" -ge 2 ] && break
+done
+kill -KILL "$run_pid" 2>/dev/null
+wait "$run_pid" 2>/dev/null
+run_pid=""
+[ "$blocks" -ge 2 ] || fail "the run wrote no blocks before it was killed"
+expect 0 "$cb" session replay "$rec" --check
+grep -q "match" "$work/out" || fail "killed record: $(cat "$work/out")"
+expect 0 "$cb" session info "$rec" --json
+jq -e '.ticks > 0' "$work/out" >/dev/null || fail "killed record: no ticks: $(head -c 300 "$work/out")"
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "all passed"

@@ -1,0 +1,192 @@
+#pragma once
+// Measures the lumen of a surface against the INPUT centreline (not the smoothed one): the
+// surface is cut by the plane normal to the input centreline at an arc position, and the cut's
+// distance from the centreline point is compared with the input radius there.
+//
+// The input centreline of a segment is its points joined by a Catmull-Rom curve (8 steps per
+// span, as the mesher places its ring centres), the radius linear between points. A cut keeps
+// the triangle edges crossing the plane within `reach` input radii of the centre; its radius is
+// the length-weighted mean distance of the cut from the centre (exact for a circle), with the
+// smallest and largest distances and how many of 16 directions around the centre it covers.
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "vessel/surface_mesh.hpp"
+#include "vessel/vessel_mesher.hpp"
+#include "vessel/vessel_model.hpp"
+
+namespace cathbox::vessel::test {
+
+struct AxisSample {
+  glm::dvec3 pos{0.0};
+  glm::dvec3 tangent{0.0, 0.0, 1.0};
+  double radius = 0.0;
+  double arc = 0.0;  // along the refined input curve from the segment's first point
+};
+
+// The refined input centreline of one segment.
+inline std::vector<AxisSample> input_axis(const Segment& s, int steps = 8) {
+  const auto& p = s.points;
+  std::vector<AxisSample> out;
+  for (std::size_t i = 0; i + 1 < p.size(); ++i) {
+    const glm::dvec3 p0 = i == 0 ? 2.0 * p[0].pos_mm - p[1].pos_mm : p[i - 1].pos_mm;
+    const glm::dvec3 p3 = i + 2 < p.size() ? p[i + 2].pos_mm : 2.0 * p[i + 1].pos_mm - p[i].pos_mm;
+    const glm::dvec3& p1 = p[i].pos_mm;
+    const glm::dvec3& p2 = p[i + 1].pos_mm;
+    for (int k = 0; k < steps; ++k) {
+      const double t = static_cast<double>(k) / steps;
+      AxisSample a;
+      a.pos = 0.5 * ((2.0 * p1) + (p2 - p0) * t + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t * t +
+                     (3.0 * p1 - p0 - 3.0 * p2 + p3) * t * t * t);
+      a.radius = p[i].radius_mm + t * (p[i + 1].radius_mm - p[i].radius_mm);
+      out.push_back(a);
+    }
+  }
+  AxisSample last;
+  last.pos = p.back().pos_mm;
+  last.radius = p.back().radius_mm;
+  out.push_back(last);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const glm::dvec3 d = out[std::min(i + 1, out.size() - 1)].pos - out[i > 0 ? i - 1 : 0].pos;
+    out[i].tangent = glm::length(d) > 0.0 ? glm::normalize(d) : glm::dvec3(0.0, 0.0, 1.0);
+    if (i > 0) out[i].arc = out[i - 1].arc + glm::length(out[i].pos - out[i - 1].pos);
+  }
+  return out;
+}
+
+struct Cut {
+  double mean = 0.0;  // length-weighted mean distance of the cut from the centre (mm)
+  double min = std::numeric_limits<double>::infinity();
+  double max = 0.0;
+  int directions = 0;  // of 16 sectors around the centre, how many the cut reaches
+  double length = 0.0;
+  [[nodiscard]] bool closed() const { return directions == 16; }
+};
+
+// The cut of `mesh` by the plane through `center` normal to `normal`, within `reach` mm.
+// `keep` (optional) limits the cut to directions d (unit, in the plane) with keep(d) true.
+template <class Keep>
+Cut cut_surface(const SurfaceMesh& mesh, const glm::dvec3& center, const glm::dvec3& normal, double reach, Keep keep) {
+  Cut cut;
+  const glm::dvec3 n = glm::normalize(normal);
+  const glm::dvec3 u = glm::normalize(std::abs(n.x) < 0.9 ? glm::cross(n, glm::dvec3(1, 0, 0)) : glm::cross(n, glm::dvec3(0, 1, 0)));
+  const glm::dvec3 v = glm::cross(n, u);
+  std::array<char, 16> sectors{};
+  double weighted = 0.0;
+  const double reach2 = reach * reach;
+  for (std::size_t f = 0; f + 2 < mesh.triangles.size(); f += 3) {
+    std::array<glm::dvec3, 3> p;
+    std::array<double, 3> d;
+    bool near = false;
+    for (int k = 0; k < 3; ++k) {
+      p[static_cast<std::size_t>(k)] = glm::dvec3(mesh.positions_mm[mesh.triangles[f + static_cast<std::size_t>(k)]]);
+      const glm::dvec3 rel = p[static_cast<std::size_t>(k)] - center;
+      near = near || glm::dot(rel, rel) < reach2;
+      d[static_cast<std::size_t>(k)] = glm::dot(rel, n);
+    }
+    if (!near) continue;
+    glm::dvec3 hit[2];
+    int hits = 0;
+    for (int k = 0; k < 3 && hits < 2; ++k) {
+      const auto a = static_cast<std::size_t>(k);
+      const auto b = static_cast<std::size_t>((k + 1) % 3);
+      if ((d[a] < 0.0) == (d[b] < 0.0)) continue;
+      const double t = d[a] / (d[a] - d[b]);
+      hit[hits++] = p[a] + t * (p[b] - p[a]);
+    }
+    if (hits != 2) continue;
+    const glm::dvec3 mid = 0.5 * (hit[0] + hit[1]);
+    if (glm::length(mid - center) > reach) continue;
+    const glm::dvec3 dir = glm::normalize(mid - center);
+    if (!keep(dir)) continue;
+    const double len = glm::length(hit[1] - hit[0]);
+    for (const glm::dvec3& h : {hit[0], hit[1], mid}) {
+      const double r = glm::length(h - center);
+      cut.min = std::min(cut.min, r);
+      cut.max = std::max(cut.max, r);
+    }
+    weighted += len * glm::length(mid - center);
+    cut.length += len;
+    const double angle = std::atan2(glm::dot(dir, v), glm::dot(dir, u));
+    const int sector = std::clamp(static_cast<int>(std::floor((angle + 3.14159265358979) / (2.0 * 3.14159265358979) * 16.0)), 0, 15);
+    sectors[static_cast<std::size_t>(sector)] = 1;
+  }
+  cut.mean = cut.length > 0.0 ? weighted / cut.length : 0.0;
+  for (char c : sectors) cut.directions += c;
+  return cut;
+}
+
+inline Cut cut_surface(const SurfaceMesh& mesh, const glm::dvec3& center, const glm::dvec3& normal, double reach) {
+  return cut_surface(mesh, center, normal, reach, [](const glm::dvec3&) { return true; });
+}
+
+// The mesh's triangles of one region only (positions shared), for cuts along one segment.
+inline SurfaceMesh region_only(const SurfaceMesh& mesh, FaceRegion region) {
+  SurfaceMesh out;
+  out.positions_mm = mesh.positions_mm;
+  for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+    if (!(mesh.triangle_regions[f] == region)) continue;
+    out.triangles.insert(out.triangles.end(), mesh.triangles.begin() + static_cast<std::ptrdiff_t>(3 * f),
+                         mesh.triangles.begin() + static_cast<std::ptrdiff_t>(3 * f + 3));
+    out.triangle_regions.push_back(region);
+  }
+  return out;
+}
+
+// The relative error (surface / input - 1) of the mean cut radius at every refined axis sample
+// of segment `s` whose arc lies in [from, to]; samples whose cut is not closed are skipped.
+struct ProfileError {
+  double worst = 0.0;         // largest |error|
+  double worst_arc = 0.0;
+  double worst_surface = 0.0;
+  double worst_input = 0.0;
+  int samples = 0;
+};
+
+inline ProfileError profile_error(const SurfaceMesh& mesh, const Segment& s, double from, double to,
+                                  double reach_radii = 1.8) {
+  ProfileError out;
+  for (const AxisSample& a : input_axis(s)) {
+    if (a.arc < from || a.arc > to) continue;
+    const Cut cut = cut_surface(mesh, a.pos, a.tangent, reach_radii * a.radius);
+    if (!cut.closed()) continue;
+    ++out.samples;
+    const double e = cut.mean / a.radius - 1.0;
+    if (std::abs(e) > std::abs(out.worst)) {
+      out.worst = e;
+      out.worst_arc = a.arc;
+      out.worst_surface = cut.mean;
+      out.worst_input = a.radius;
+    }
+  }
+  return out;
+}
+
+// Every segment's lumen, from one input radius beyond its first ring to one before its last,
+// against the input centreline: the worst relative error over all segments.
+inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
+  ProfileError worst;
+  for (std::size_t s = 0; s < model.segments.size(); ++s) {
+    const Segment& segment = model.segments[s];
+    const Ring& first = surface.control.rings[surface.control.segment_first_ring[s]];
+    const Ring& last = surface.control.rings[surface.control.segment_first_ring[s + 1] - 1];
+    const SurfaceMesh own = region_only(surface.mesh, {RegionKind::kSegment, segment.id});
+    const ProfileError e = profile_error(own, segment, first.arc_mm + segment.points.front().radius_mm,
+                                                     last.arc_mm - segment.points.back().radius_mm);
+    worst.samples += e.samples;
+    if (std::abs(e.worst) > std::abs(worst.worst)) {
+      const int samples = worst.samples;
+      worst = e;
+      worst.samples = samples;
+    }
+  }
+  return worst;
+}
+
+}  // namespace cathbox::vessel::test

@@ -1,0 +1,103 @@
+// Every format imported, meshed and measured: the surface of each bundled example must be a
+// closed manifold and follow the imported centreline's radius (the importer's output is the
+// mesher's input) within 3 % along its segments.
+#include "vessel_import/importer.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "radius_probe.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/mesh_analysis.hpp"
+#include "vessel/vessel_mesher.hpp"
+#include "vessel/case_generator.hpp"
+#include "vessel/vessel_graph.hpp"
+#include "vessel_import/swc_writer.hpp"
+
+namespace cathbox::vessel_import {
+namespace {
+
+std::string example(const std::string& name) { return std::string(CATHBOX_SOURCE_DIR) + "/sim/vessel_import/examples/" + name; }
+
+class ImportedExample : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(ImportedExample, MeshesClosedAndFollowsItsCentreline) {
+  const ImportResult r = import_centerlines(example(GetParam()));
+  ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
+  ASSERT_TRUE(vessel::validate_model(r.model).empty());
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
+  EXPECT_TRUE(a.closed() && a.manifold() && a.consistently_oriented());
+  EXPECT_EQ(a.euler_characteristic, surface.euler_characteristic);
+  EXPECT_GT(a.signed_volume_mm3, 0.0);
+  const vessel::test::ProfileError e = vessel::test::worst_along_segments(r.model, surface);
+  EXPECT_GT(e.samples, 100);
+  EXPECT_LT(std::abs(e.worst), 0.03) << e.worst_surface << " mm for " << e.worst_input << " at arc " << e.worst_arc;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, ImportedExample,
+                         ::testing::Values("carotid_bifurcation_centerlines.vtp", "vertebrobasilar_tracts.vtk",
+                                           "mca_bifurcation.mrk.json", "cortical_tree.swc"),
+                         [](const ::testing::TestParamInfo<const char*>& p) {
+                           std::string name = p.param;
+                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return name;
+                         });
+
+TEST(Importer, FormatsUnitsAndTheFilterSwitch) {
+  EXPECT_EQ(format_from_path("a/b/Centerline curve (1).mrk.json"), Format::kSlicerMarkups);
+  EXPECT_EQ(format_from_path("x.VTP"), Format::kVtkXml);
+  EXPECT_FALSE(format_from_path("x.stl"));
+  EXPECT_EQ(format_from_name("swc"), Format::kSwc);
+  EXPECT_DOUBLE_EQ(*unit_to_mm("cm"), 10.0);
+  EXPECT_FALSE(unit_to_mm("inch"));
+  // Centimetres: every length ten times the millimetre import's.
+  const std::string text = "1 0 0 0 0 0.3 -1\n2 0 0 0 1 0.3 1\n3 0 0 0 2 0.3 2\n";
+  ImportOptions cm;
+  cm.unit_mm = 10.0;
+  const ImportResult in_cm = import_centerlines_text(text, "t.swc", Format::kSwc, cm);
+  ASSERT_TRUE(in_cm.ok());
+  EXPECT_DOUBLE_EQ(in_cm.model.segments[0].points.back().pos_mm.z, 20.0);
+  EXPECT_DOUBLE_EQ(in_cm.model.segments[0].points.back().radius_mm, 3.0);
+  // A zero radius: replaced by the filter (and reported), an error without it.
+  const std::string zero = "1 0 0 0 0 1 -1\n2 0 0 0 1 1 1\n3 0 0 0 2 0 2\n4 0 0 0 3 1 3\n5 0 0 0 4 1 4\n";
+  const ImportResult filtered = import_centerlines_text(zero, "z.swc", Format::kSwc);
+  ASSERT_TRUE(filtered.ok()) << filtered.errors.front().to_string();
+  EXPECT_EQ(filtered.filter.changed, 1u);
+  EXPECT_NE(filtered.summary().find("radius filter changed 1 of 5 radii"), std::string::npos) << filtered.summary();
+  ImportOptions raw;
+  raw.filter_radii = false;
+  const ImportResult unfiltered = import_centerlines_text(zero, "z.swc", Format::kSwc, raw);
+  ASSERT_FALSE(unfiltered.ok());
+  EXPECT_NE(unfiltered.errors.front().message.find("radius filter is off"), std::string::npos) << unfiltered.errors.front().message;
+}
+
+TEST(Importer, TwoHundredBranchSwcTreeRoundTrip) {
+  // A generated binary tree of 200 branches under its root written as SWC and imported back: the
+  // same segments, junctions and points (the benchmark's BM_ImportSwc200 input).
+  vessel::RandomTreeOptions options;
+  options.segments = 201;
+  options.trifurcation_chance = 0.0;
+  const vessel::VesselModel tree = vessel::CaseGenerator::random_tree(7, options);
+  const SwcWrite swc = write_swc(tree);
+  ASSERT_TRUE(swc.ok()) << swc.error;
+  const ImportResult r = import_centerlines_text(swc.text, "tree.swc", Format::kSwc);
+  ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
+  EXPECT_EQ(r.polylines, 201u);
+  EXPECT_EQ(r.model.segments.size(), 201u);
+  EXPECT_EQ(r.model.point_count(), tree.point_count());
+  EXPECT_EQ(r.network.junctions, vessel::VesselGraph(tree).junctions().size());
+  EXPECT_EQ(r.filter.changed, 0u);
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
+  EXPECT_TRUE(a.closed() && a.manifold());
+  EXPECT_EQ(a.euler_characteristic, 2);
+  // Networks with a confluence or a cycle are not trees.
+  EXPECT_FALSE(write_swc(vessel::CaseGenerator::neuro()).ok());
+}
+
+}  // namespace
+}  // namespace cathbox::vessel_import
