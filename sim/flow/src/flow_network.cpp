@@ -200,8 +200,8 @@ std::string FlowNetwork::solve() {
   // A component without an inlet takes its widest open free end as one.
   std::map<std::size_t, std::vector<std::size_t>> by_component;
   for (std::size_t k = 0; k < terminals_.size(); ++k) by_component[component[static_cast<std::size_t>(terminals_[k].node)]].push_back(k);
-  for (auto& [comp, ks] : by_component) {
-    (void)comp;
+  for (auto& entry : by_component) {
+    std::vector<std::size_t>& ks = entry.second;  // (a structured binding cannot be captured in C++20 by clang 14)
     const auto role_count = [&](EndRole r) {
       return std::count_if(ks.begin(), ks.end(), [&](std::size_t k) { return terminals_[k].role == r; });
     };
