@@ -5,8 +5,9 @@
 //    the case + HCLM text) against the level-2 mesh the trainer builds from it; the thesis's
 //    Table 1 (its model files before/after compression, 7-15x) is printed beside.
 //  - Centre/<store>: 50 rigs streaming at 30 Hz to cathbox-server on loopback, 10 instructors
-//    each watching 10 rigs and calling the API 5 times a second, 4 uploads a second; warm-up
-//    3 s, then 20 s measured (CATHBOX_BENCH_SECONDS). API p50/p99, stream delivery p50/p99 (push
+//    each watching 10 rigs and calling the API 5 times a second, 4 session records uploaded a
+//    second by trainees (each replayed by the server before it is stored); warm-up 3 s, then
+//    20 s measured (CATHBOX_BENCH_SECONDS). API p50/p99, stream delivery p50/p99 (push
 //    on the rig to arrival at the watcher), uploads acknowledged vs found afterwards, the
 //    server's resident memory after warm-up, at its peak and at the end.
 //    "postgresql-2" runs the rigs on instance A and the instructors on instance B.
@@ -142,7 +143,7 @@ void print_summary() {
   std::printf("thesis Table 1 (model file before -> after compression): aneurysm 362->50 KB 7.2x, abdomen 257->41 KB 6.3x,\n"
               "  heart 30->4 KB 7.5x, phantom 151->20 KB 7.6x, human body 2 MB->135 KB 15.2x\n");
   if (g_loads.empty()) return;
-  std::printf("\nCentre load: 50 rigs x 30 Hz, 10 instructors x 10 rigs watched + 5 API calls/s, 4 uploads/s\n");
+  std::printf("\nCentre load: 50 rigs x 30 Hz, 10 instructors x 10 rigs watched + 5 API calls/s, 4 record uploads/s\n");
   std::printf("%-14s %9s %9s %11s %11s %10s %10s %9s %8s %9s %9s %9s\n", "store", "api p50", "api p99", "stream p50", "stream p99",
               "frames in", "frames out", "uploads", "lost", "RSS warm", "RSS peak", "RSS end");
   for (const auto& [name, f] : g_loads) {

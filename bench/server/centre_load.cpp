@@ -4,6 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <unistd.h>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -17,7 +19,11 @@
 #include "server/client.hpp"
 #include "server/migrations.hpp"
 #include "server/password_hasher.hpp"
+#include "server/sha256.hpp"
 #include "server/testing/server_process.hpp"
+#include "session/scripted_hand.hpp"
+#include "session/session.hpp"
+#include "session/session_case.hpp"
 
 namespace cathbox::server::bench {
 
@@ -44,6 +50,32 @@ std::int64_t rss_kb(int pid, const char* field) {
     if (line.rfind(field, 0) == 0) return std::stoll(line.substr(std::string(field).size()));
   }
   return 0;
+}
+
+// Session records of the y-bifurcation case driven by the scripted hand, as trainers upload
+// them: `count` different runs (1.0 s to ~2.5 s of simulated time), each the bytes of a
+// closed *.cbxrec file.
+std::vector<std::string> make_records(int count) {
+  const std::string folder = std::filesystem::temp_directory_path() / ("cathbox-bench-records-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(folder);
+  std::vector<std::string> out;
+  for (int i = 0; i < count; ++i) {
+    auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
+    if (!scene.value) throw std::runtime_error(scene.error);
+    auto hand = std::make_unique<session::ScriptedHand>(scene.value->route_mm, scene.value->spec.tools.front().length_mm());
+    hand->set_tick_s(1e-3);
+    session::Session run(std::move(scene.value), std::move(hand));
+    const std::string path = folder + "/run" + std::to_string(i) + ".cbxrec";
+    std::string error;
+    if (!run.record_to(path, error)) throw std::runtime_error(error);
+    run.step_virtual(1000 + 31 * i);
+    run.end_run();
+    run.step_virtual(1);
+    if (!run.recorder()->close()) throw std::runtime_error(path + ": cannot close the record");
+    out.push_back(read_text(path));
+  }
+  std::filesystem::remove_all(folder);
+  return out;
 }
 
 // A frame as a trainer sends it: two tools of `nodes` points, tip, forces, contacts, metrics.
@@ -220,31 +252,32 @@ LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const
       s.figures.api_errors += errors;
     });
   }
-  // Uploads from the rigs (the case library's uploads until records arrive), retried until
-  // acknowledged; each is checked in the database afterwards.
-  const std::string base_case = read_text(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-  const std::string hclm = read_text(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.hclm");
+  // Session records uploaded by trainees (each replayed by the server before it is stored),
+  // retried until acknowledged; each is checked in the database afterwards.
+  const int record_count = static_cast<int>(std::ceil(o.uploaders * o.uploads_per_uploader_hz * (o.warmup_s + o.measure_s + 2)));
+  const std::vector<std::string> records = make_records(record_count);
+  std::atomic<int> next_record{0};
   for (int u = 0; u < o.uploaders; ++u) {
     threads.emplace_back([&, u] {
-      HttpClient http(a.base_url(), 30000);
-      http.set_token(teacher_tokens[static_cast<std::size_t>(u % o.watchers)]);
+      ServerClient client(a.base_url(), 30000);
+      client.set_token(token(a.base_url(), "trainee" + std::to_string(u % o.rigs)));
       const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / o.uploads_per_uploader_hz));
       auto next = Clock::now();
       std::int64_t attempted = 0;
-      for (int i = 0; !s.stop; ++i) {
+      while (!s.stop) {
         sleep_until(next, s);
         next += period;
-        const std::string name = "up" + std::to_string(u) + "-" + std::to_string(i);
-        const std::string body = json{{"name", name}, {"case_file", "y.case"}, {"case", base_case + "\n# " + name + "\n"},
-                                      {"hclm_file", "y_bifurcation.hclm"}, {"hclm", hclm}}.dump();
+        const int i = next_record++;
+        if (s.stop || i >= static_cast<int>(records.size())) break;
         ++attempted;
         for (int attempt = 0; attempt < 5 && !s.stop; ++attempt) {
-          const HttpAnswer r = http.post_json("/api/v1/cases", body);
-          if (r.status == 200 || r.status == 201) {
+          const UploadOutcome r = client.upload_record(records[static_cast<std::size_t>(i)], std::nullopt);
+          if (r.verdict == UploadVerdict::kStored || r.verdict == UploadVerdict::kDuplicate) {
             std::lock_guard lock(s.mutex);
-            s.acknowledged[name] = json::parse(r.body)["content_hash"].get<std::string>();
+            s.acknowledged["record" + std::to_string(i)] = sha256_hex(records[static_cast<std::size_t>(i)]);
             break;
           }
+          if (r.verdict == UploadVerdict::kRefused) throw std::runtime_error("record " + std::to_string(i) + " refused: " + r.message);
         }
       }
       std::lock_guard lock(s.mutex);
@@ -273,8 +306,7 @@ LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const
   Store store(std::move(opened.db));
   s.figures.uploads_acknowledged = static_cast<std::int64_t>(s.acknowledged.size());
   for (const auto& [name, hash] : s.acknowledged) {
-    const auto v = store.case_version(name, 0);
-    if (v && v->content_hash == hash) ++s.figures.uploads_verified;
+    if (store.result_by_hash(hash)) ++s.figures.uploads_verified;
   }
   return s.figures;
 }

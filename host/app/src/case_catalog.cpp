@@ -26,6 +26,18 @@ CaseCatalog CaseCatalog::scan(const std::string& dir, std::span<const std::strin
   return c;
 }
 
+void CaseCatalog::prepend(std::vector<CaseEntry> first) {
+  first.insert(first.end(), entries_.begin(), entries_.end());
+  entries_ = std::move(first);
+}
+
+int CaseCatalog::index_of_path(const std::string& path) const {
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (entries_[i].path == path) return static_cast<int>(i);
+  }
+  return -1;
+}
+
 int CaseCatalog::default_index(const std::string& preferred, const std::string& preferred_extension) const {
   if (entries_.empty()) return -1;
   int fallback = -1;

@@ -9,7 +9,9 @@
 #include "app/gl_window.hpp"
 #include "app/replay_panel.hpp"
 #include "app/screenshot_writer.hpp"
+#include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
+#include "app/trainer_settings.hpp"
 #include "app/trainer_ui.hpp"
 #include "session/exit_codes.hpp"
 #include "session/records_dir.hpp"
@@ -32,7 +34,8 @@ TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
 }
 
 TrainerApp::~TrainerApp() {
-  live_.reset();  // stops the haptic thread and closes the record
+  close_live();  // stops the haptic thread, closes the record and queues it for the server
+  link_.reset();  // finishes the upload in progress (bounded by its timeout)
   replay_.reset();
   replay_panel_.reset();
   ui_.reset();
@@ -42,8 +45,76 @@ TrainerApp::~TrainerApp() {
 
 session::Session& TrainerApp::current() { return replay_ ? replay_->session() : *live_; }
 
-bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
+void TrainerApp::close_live(bool background_upload) {
+  if (!live_) return;
   live_.reset();
+  if (link_) {
+    const std::string problem = link_->end_run(options_.record ? record_path_ : std::string(), live_assignment_, background_upload);
+    if (!problem.empty()) std::fprintf(stderr, "cathbox-trainer: %s (the record stays in %s)\n", problem.c_str(), record_path_.c_str());
+  }
+  live_assignment_.reset();
+}
+
+int TrainerApp::open_server_link() {
+  std::string error;
+  if (!apply_trainer_settings(options_, error)) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+    return session::kExitBadInput;
+  }
+  if (options_.server_url.empty()) {
+    if (options_.assignment) {
+      std::fprintf(stderr, "cathbox-trainer: --assignment needs --server (or \"server\" in the settings file)\n");
+      return session::kExitBadInput;
+    }
+    return -1;
+  }
+  ServerLinkOptions link_options;
+  if (!server_link_options(options_, link_options, error)) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+    return session::kExitBadInput;
+  }
+  std::string note;
+  link_ = ServerLink::open(link_options, note);
+  if (!note.empty()) std::fprintf(stderr, "cathbox-trainer: %s\n", note.c_str());
+  std::printf("cathbox-trainer: %s\n", link_->status_line().c_str());
+  for (const AssignedCase& a : link_->assigned()) {
+    std::printf("  assignment %lld: %s%s%s\n", static_cast<long long>(a.info.id), a.info.case_name.c_str(),
+                a.info.due_at.empty() ? "" : (", due " + a.info.due_at).c_str(), a.info.note.empty() ? "" : (" - " + a.info.note).c_str());
+  }
+  std::fflush(stdout);
+  if (options_.assignment) {
+    const auto& list = link_->assigned();
+    const bool known = std::any_of(list.begin(), list.end(), [&](const AssignedCase& a) { return a.info.id == *options_.assignment; });
+    if (!known) {
+      std::fprintf(stderr, "cathbox-trainer: --assignment %lld: not among this trainee's assignments%s\n",
+                   static_cast<long long>(*options_.assignment), link_->online() ? "" : " (offline: none cached)");
+      return session::kExitBadInput;
+    }
+  }
+  return -1;
+}
+
+CaseChoice TrainerApp::choose() {
+  std::vector<CaseEntry> assigned;
+  std::string assigned_path;
+  if (link_) {
+    for (const AssignedCase& a : link_->assigned()) {
+      assigned.push_back({"assigned " + std::to_string(a.info.id) + ": " + a.info.case_name, a.case_path});
+      if (assigned_path.empty() && (!options_.assignment || *options_.assignment == a.info.id)) assigned_path = a.case_path;
+    }
+  }
+  TrainerOptions o = options_;
+  if (o.case_path.empty()) o.case_path = assigned_path;
+  CaseChoice c = choose_case(o, program_dir_, catalog_);
+  if (!assigned.empty()) {
+    catalog_.prepend(std::move(assigned));
+    c.catalog_index = catalog_.index_of_path(c.path) >= 0 ? catalog_.index_of_path(c.path) : c.catalog_index;
+  }
+  return c;
+}
+
+bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
+  close_live();
   replay_.reset();
   LiveSession live = open_live_session(options_, program_dir_, case_path, scripted_, keyboard_);
   if (!live.session) {
@@ -53,12 +124,18 @@ bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
   live_ = std::move(live.session);
   record_path_ = live.record_path;
   case_path_ = case_path;
+  if (link_) {
+    live_assignment_ = options_.assignment && link_->assignment_for(case_path) == options_.assignment
+                           ? options_.assignment
+                           : link_->assignment_for(case_path);
+    link_->begin_run(live_->scene().name, live_assignment_, live_->tool_names());
+  }
   if (!live.note.empty()) std::fprintf(stderr, "cathbox-trainer: %s\n", live.note.c_str());
   return true;
 }
 
 bool TrainerApp::open_replay(const std::string& path, std::string& error) {
-  live_.reset();  // a run being recorded is closed first
+  close_live();  // a run being recorded is closed first (and queued for the server)
   auto player = session::ReplayPlayer::open(path, error);
   if (!player) return false;
   if (player->session().scene().mesh() == nullptr) {
@@ -76,6 +153,9 @@ int TrainerApp::run() {
     return session::kExitOk;
   }
   scripted_ = options_.headless || options_.bench_seconds > 0.0;
+  if (options_.replay.empty() && options_.bench_seconds <= 0.0) {
+    if (const int code = open_server_link(); code >= 0) return code;
+  }
   if (options_.headless && options_.frames == 0 && options_.bench_seconds <= 0.0) {
     return options_.replay.empty() ? run_headless_summary() : run_headless_replay();
   }
@@ -105,6 +185,7 @@ void TrainerApp::load_scene() {
                 std::to_string(renderer_->overview_triangles()) + "); " + (replay_ ? "replay: " : "hand: ") +
                 current().hand_description());
   if (!record_path_.empty()) ui_->add_line((replay_ ? "playing " : "recording to ") + record_path_);
+  if (link_) ui_->add_line(link_->status_line() + (live_assignment_ ? ", this run counts for assignment " + std::to_string(*live_assignment_) : ""));
 }
 
 void TrainerApp::frame_camera() {
@@ -120,7 +201,7 @@ void TrainerApp::frame_camera() {
 }
 
 int TrainerApp::run_window() {
-  const CaseChoice choice = choose_case(options_, program_dir_, catalog_);
+  const CaseChoice choice = choose();
   current_case_ = choice.catalog_index;
   if (options_.replay.empty() && choice.path.empty()) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
@@ -190,6 +271,7 @@ int TrainerApp::run_window() {
     s.snapshots().acquire();
     const session::SceneSnapshot& snap = s.snapshots().read_slot();
     ui_->drain(s.events());
+    if (link_ && live_) link_->publish(snap);
 
     int fw = 0;
     int fh = 0;

@@ -3,13 +3,17 @@
 #include <cstdio>
 
 #include "app/trainer_app.hpp"
+#include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
 #include "session/exit_codes.hpp"
 
 namespace cathbox::app {
+namespace {
+constexpr int kStreamConnectMs = 5000;
+}  // namespace
 
 int TrainerApp::run_headless_summary() {
-  const CaseChoice choice = choose_case(options_, program_dir_, catalog_);
+  const CaseChoice choice = choose();
   std::string error = choice.error;
   if (choice.path.empty() || !open_live(choice.path, error)) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
@@ -17,16 +21,33 @@ int TrainerApp::run_headless_summary() {
   }
   std::printf("cathbox-trainer: headless run of %s with the scripted hand (virtual time)\n", live_->scene().name.c_str());
   if (!record_path_.empty()) std::fprintf(stderr, "cathbox-trainer: recording to %s\n", record_path_.c_str());
+  if (link_) {
+    // Instructors should see the run at all: it runs in virtual time, faster than real time.
+    const bool streaming = link_->wait_streaming(kStreamConnectMs);
+    std::printf("cathbox-trainer: %s live%s\n", streaming ? "streaming" : "not streaming",
+                live_assignment_ ? (" (assignment " + std::to_string(*live_assignment_) + ")").c_str() : "");
+  }
   const std::int64_t limit_ticks =
       options_.max_seconds > 0.0 ? static_cast<std::int64_t>(options_.max_seconds * 1000.0) : -1;
   session::LogEvent e;
+  // Steps of one live frame (33 ticks: ~30 frames per simulated second).
   while (!live_->over() && (limit_ticks < 0 || live_->ticks() < limit_ticks)) {
-    live_->step_virtual(100);
+    live_->step_virtual(33);
     while (live_->events().pop(e)) std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
+    if (link_) {
+      live_->snapshots().acquire();
+      link_->publish(live_->snapshots().read_slot());
+    }
   }
   live_->end_run();
   live_->step_virtual(1);
   std::printf("end of run\n%s", session::MetricsCollector::format(live_->metrics()).c_str());
+  if (link_) {
+    close_live(false);
+    const server::FlushReport u = link_->flush_now();
+    std::printf("upload: %d stored, %d already on the server, %d refused, %d queued%s%s\n", u.stored, u.duplicates, u.refused,
+                u.left, u.stopped_by.empty() ? "" : ": ", u.stopped_by.c_str());
+  }
   return session::kExitOk;
 }
 

@@ -53,6 +53,15 @@ const char* trainer_usage() {
          "  --records DIR        record every run into DIR (default:\n"
          "                       $XDG_DATA_HOME/cathbox/records, else ~/.local/share/cathbox/records)\n"
          "  --no-record          do not record runs\n"
+         "  --server URL         join a cathbox-server (http://HOST:PORT): log in, run the assigned\n"
+         "                       cases, stream the run live, upload its record (queued on disk\n"
+         "                       while the server is unreachable)\n"
+         "  --user NAME          the trainee's account on the server\n"
+         "  --password-file FILE the password (first line); default: $CATHBOX_PASSWORD\n"
+         "  --rig NAME           the rig's name instructors see (default: the host name)\n"
+         "  --assignment ID      run this assignment's case (default: the first assigned)\n"
+         "  --settings FILE      settings (JSON: server, user, password_file, rig); default:\n"
+         "                       $XDG_CONFIG_HOME/cathbox/trainer.json, else ~/.config/...\n"
          "  --help               this text\n";
 }
 
@@ -123,6 +132,25 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
       o.records_dir = v;
     } else if (a == "--no-record") {
       o.record = false;
+    } else if (a == "--server") {
+      if (!value(v) || !v.starts_with("http://")) return fail("--server needs a URL http://HOST:PORT");
+      o.server_url = v;
+    } else if (a == "--user") {
+      if (!value(v) || v.empty()) return fail("--user needs a name");
+      o.server_user = v;
+    } else if (a == "--password-file") {
+      if (!value(v) || v.empty()) return fail("--password-file needs a file");
+      o.password_file = v;
+    } else if (a == "--rig") {
+      if (!value(v) || v.empty()) return fail("--rig needs a name");
+      o.rig = v;
+    } else if (a == "--assignment") {
+      std::int64_t id = 0;
+      if (!value(v) || !parse_number(v, id) || id < 1) return fail("--assignment needs an assignment id (1 or more)");
+      o.assignment = id;
+    } else if (a == "--settings") {
+      if (!value(v) || v.empty()) return fail("--settings needs a file");
+      o.settings_file = v;
     } else {
       return fail("unknown option '" + printable(a) + "' (see --help)");
     }

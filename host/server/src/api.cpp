@@ -229,8 +229,10 @@ ApiResponse error_response(const Error& error) {
     if (ch == '\n' || ch == '\r') ch = ' ';
   }
   ApiResponse r = api::json_response(error.status, {{"error", line}});
-  if (error.status == 503) r.headers.emplace_back("Retry-After", "1");
-  if (error.status == 429) r.headers.emplace_back("Retry-After", "60");
+  if (error.status == 503 || error.status == 429) {
+    const int default_s = error.status == 503 ? 1 : 60;
+    r.headers.emplace_back("Retry-After", std::to_string(error.retry_after_s > 0 ? error.retry_after_s : default_s));
+  }
   return r;
 }
 

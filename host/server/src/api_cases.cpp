@@ -122,6 +122,8 @@ Reply case_bundle(Call& call) {
   r.headers.emplace_back("X-Cathbox-Case", v.value().name);
   r.headers.emplace_back("X-Cathbox-Case-Version", std::to_string(v.value().version));
   r.headers.emplace_back("Vary", "Accept-Encoding");
+  // Only for this user's cache, and asked again each time (a 304 when unchanged).
+  r.headers.emplace_back("Cache-Control", "private, no-cache");
   if (call.request.if_none_match == etag) {
     r.status = 304;
     r.content_type.clear();

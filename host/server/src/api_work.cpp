@@ -171,6 +171,13 @@ Reply upload_result(Call& call) {
     if (existing->user_id != call.caller.user_id && !can_supervise(call.caller.role)) {
       return make_error(409, "record: this record was uploaded by another user");
     }
+    // One run counts once: the same record for another assignment is a conflict, not a copy.
+    if (assignment_id.value() && existing->assignment_id != assignment_id.value()) {
+      return make_error(409, "record: already stored as result " + std::to_string(existing->id) +
+                                 (existing->assignment_id ? " for assignment " + std::to_string(*existing->assignment_id)
+                                                          : std::string(" without an assignment")) +
+                                 "; a run counts for one assignment");
+    }
     nlohmann::json j = result_json(*existing);
     j["created"] = false;
     return json_response(200, j);

@@ -30,8 +30,10 @@ Result<LoginGrant> Auth::login(const std::string& name, const std::string& passw
   }
   const std::int64_t window_start = now - options_.failure_window_us;
   if (store_.login_failures_since(name, window_start) >= options_.max_failures) {
-    return make_error(429, "login: too many failed attempts for this account; try again in " +
-                               std::to_string(options_.failure_window_us / 60'000'000) + " minutes");
+    Error e = make_error(429, "login: too many failed attempts for this account; try again in " +
+                                  std::to_string(options_.failure_window_us / 60'000'000) + " minutes");
+    e.retry_after_s = static_cast<int>(options_.failure_window_us / 1'000'000);
+    return e;
   }
   const std::optional<User> user = store_.user_by_name(name);
   const bool good = user ? hasher_.verify(user->password_hash, password) : (void(hasher_.verify(dummy_hash_, password)), false);

@@ -20,8 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Writes `bytes` to `path` durably: a temporary file in the same folder, fsync, rename, fsync
-// of the folder.
 Status write_durably(const fs::path& path, const std::string& bytes) {
   const fs::path tmp = path.parent_path() / (".tmp-" + path.filename().string());
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
@@ -145,6 +143,13 @@ FlushReport UploadQueue::flush(ServerClient& client) {
   }
   report.left = static_cast<int>(pending().size());
   return report;
+}
+
+Status write_file_durably(const std::string& path, const std::string& bytes) {
+  std::error_code ec;
+  fs::create_directories(fs::path(path).parent_path(), ec);
+  if (ec) return make_error(500, fs::path(path).parent_path().string() + ": " + ec.message());
+  return write_durably(path, bytes);
 }
 
 std::string default_upload_queue_folder() {

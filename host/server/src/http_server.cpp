@@ -364,7 +364,8 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     res->set(http::field::server, "cathbox-server");
     if (!r.content_type.empty()) res->set(http::field::content_type, r.content_type);
     for (const auto& [name, value] : r.headers) res->set(name, value);
-    if (!res->has_content_length() && res->find(http::field::cache_control) == res->end()) res->set(http::field::cache_control, "no-store");
+    // API answers are not cached unless they say so (case bundles: revalidated by their ETag).
+    if (res->find(http::field::cache_control) == res->end()) res->set(http::field::cache_control, "no-store");
     res->body() = std::move(r.body);
     res->keep_alive(keep_alive);
     res->prepare_payload();

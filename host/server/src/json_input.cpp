@@ -279,6 +279,17 @@ std::string safe_dump(const nlohmann::json& value) {
 }
 
 std::string check_slug(std::string_view text) { return check_name(text, true, "name"); }
+std::string to_slug(std::string_view text, std::string_view fallback) {
+  std::string out;
+  for (const char c : text) {
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    if (out.empty() && !alnum) continue;
+    out += alnum || c == '.' || c == '_' || c == '-' ? c : '-';
+    if (out.size() == 64) break;
+  }
+  return out.empty() ? std::string(fallback) : out;
+}
+
 std::string check_user_name(std::string_view text) { return check_name(text, false, "user name"); }
 
 }  // namespace cathbox::server

@@ -39,6 +39,18 @@ TEST(TrainerOptions, EmuTakesAnOptionalSocketPath) {
   EXPECT_DOUBLE_EQ(r.options->bench_seconds, 2.5);
 }
 
+TEST(TrainerOptions, ParsesTheServerOptions) {
+  const OptionsResult r = parse({"--server", "http://127.0.0.1:8080", "--user", "ann", "--password-file", "/etc/pw",
+                                 "--rig", "rig-07", "--assignment", "12", "--settings", "/etc/t.json"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_EQ(r.options->server_url, "http://127.0.0.1:8080");
+  EXPECT_EQ(r.options->server_user, "ann");
+  EXPECT_EQ(r.options->password_file, "/etc/pw");
+  EXPECT_EQ(r.options->rig, "rig-07");
+  EXPECT_EQ(r.options->assignment, 12);
+  EXPECT_EQ(r.options->settings_file, "/etc/t.json");
+}
+
 TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
   const std::vector<std::pair<std::vector<const char*>, const char*>> bad = {
       {{"--frames"}, "--frames"},
@@ -51,6 +63,12 @@ TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
       {{"--frames", "3"}, "--headless"},
       {{"--colour"}, "--colour"},
       {{"-\n"}, "-\\x0A"},
+      {{"--server", "ftp://x"}, "--server"},
+      {{"--server"}, "--server"},
+      {{"--user", ""}, "--user"},
+      {{"--assignment", "0"}, "--assignment"},
+      {{"--assignment", "7a"}, "--assignment"},
+      {{"--password-file"}, "--password-file"},
   };
   for (const auto& [args, name] : bad) {
     const OptionsResult r = parse(args);

@@ -43,6 +43,12 @@ TEST_P(ApiTest, RepeatedFailedLoginsAreThrottledPerAccountUntilTheWindowPasses) 
   const ApiResponse throttled = f_->call("POST", "/api/v1/login", R"({"name":"alice","password":"password-123"})", "", "10.9.9.9");
   EXPECT_EQ(throttled.status, 429);
   EXPECT_NE(error_of(throttled).find("too many failed attempts"), std::string::npos);
+  // Retry-After says the same as the line: the account's window, not the address's minute.
+  std::string retry_after;
+  for (const auto& [name, value] : throttled.headers) {
+    if (name == "Retry-After") retry_after = value;
+  }
+  EXPECT_EQ(retry_after, std::to_string(f_->auth->options().failure_window_us / 1'000'000));
   // Other accounts are not affected.
   EXPECT_EQ(f_->call("POST", "/api/v1/login", R"({"name":"bob","password":"password-123"})", "", "10.9.9.8").status, 200);
   f_->clock.advance_us(f_->auth->options().failure_window_us + 1);

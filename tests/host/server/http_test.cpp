@@ -122,6 +122,24 @@ TEST_P(HttpTest, OneConnectionCarriesManyRequests) {
   EXPECT_LE(server_->app->http().stats().connections, 3U);  // the login's, and this one
 }
 
+TEST_P(HttpTest, ApiAnswersAreNotCachedButCaseBundlesAreRevalidatedByTheirEtag) {
+  HttpClient http(server_->base_url());
+  http.set_token(server_->token_for("teacher", Role::kInstructor));
+  const nlohmann::json body = {{"name", "ybif"}, {"case_file", "y_bifurcation.case"},
+                               {"case", test::source_file("cases/y_bifurcation.case")}, {"hclm_file", "y_bifurcation.hclm"},
+                               {"hclm", test::source_file("cases/y_bifurcation.hclm")}};
+  ASSERT_EQ(http.post_json("/api/v1/cases", body.dump()).status, 201);
+  EXPECT_EQ(http.get("/api/v1/cases").header("cache-control"), "no-store");
+  const HttpAnswer bundle = http.get("/api/v1/cases/ybif/versions/1/bundle");
+  ASSERT_EQ(bundle.status, 200);
+  EXPECT_EQ(bundle.header("cache-control"), "private, no-cache");
+  const std::string etag = bundle.header("etag");
+  ASSERT_FALSE(etag.empty());
+  const HttpAnswer again = http.request("GET", "/api/v1/cases/ybif/versions/1/bundle", {}, {{"If-None-Match", etag}});
+  EXPECT_EQ(again.status, 304);
+  EXPECT_TRUE(again.body.empty());
+}
+
 TEST_P(HttpTest, FramesFromARigReachItsWatchers) {
   const std::string teacher = server_->token_for("teacher", Role::kInstructor);
   const std::string alice = server_->token_for("alice", Role::kTrainee);

@@ -74,6 +74,13 @@ TEST_P(RecordsTest, RealRecordsAreReplayedBeforeTheyCount) {
   const json detail = f.call_json("GET", "/api/v1/results/" + std::to_string(r["id"].get<int>()), nullptr, teacher, 200);
   EXPECT_GT(detail["evaluation"]["criteria"][1]["actual"].get<double>(), 50.0);
   EXPECT_EQ(f.call("POST", target, good, alice).status, 200);  // the same bytes: the same result
+  EXPECT_EQ(f.call("POST", "/api/v1/results", good, alice).status, 200);  // without an assignment: the same
+  // ... but not a second time for another assignment.
+  const json b = f.call_json("POST", "/api/v1/assignments", {{"trainee", "alice"}, {"case", "ybif"}}, teacher, 201);
+  const ApiResponse other = f.call("POST", "/api/v1/results?assignment=" + std::to_string(b["id"].get<int>()), good, alice);
+  EXPECT_EQ(other.status, 409);
+  EXPECT_EQ(error_of(other), "record: already stored as result " + std::to_string(r["id"].get<int>()) + " for assignment " +
+                                 std::to_string(a["id"].get<int>()) + "; a run counts for one assignment");
 
   const ApiResponse changed = f.call("POST", target, tampered(path, 3000), alice);
   EXPECT_EQ(changed.status, 422);

@@ -21,6 +21,10 @@ class CaseCatalog {
                                         std::string& error);
 
   [[nodiscard]] const std::vector<CaseEntry>& entries() const { return entries_; }
+  // Puts `first` before the scanned entries (the server's assigned cases).
+  void prepend(std::vector<CaseEntry> first);
+  // Index of the entry at `path`, or -1.
+  [[nodiscard]] int index_of_path(const std::string& path) const;
   // Index of the default case, or -1 when the catalog is empty.
   [[nodiscard]] int default_index(const std::string& preferred, const std::string& preferred_extension = "") const;
 

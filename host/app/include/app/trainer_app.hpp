@@ -3,13 +3,16 @@
 // screenshot, headless run with the scripted hand, benchmark, Replay mode), owns the window,
 // renderer and panels, and either a live session (host/session) or a replay player, and runs
 // the render loop over whichever it has: the same views draw both.
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app/case_catalog.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
 #include "app/scene_renderer.hpp"
+#include "app/trainer_launch.hpp"
 #include "app/trainer_options.hpp"
 #include "session/keyboard_input.hpp"
 #include "session/replay_player.hpp"
@@ -18,6 +21,7 @@
 namespace cathbox::app {
 
 class GlWindow;
+class ServerLink;
 class TrainerUi;
 class ReplayPanel;
 
@@ -38,6 +42,12 @@ class TrainerApp {
   [[nodiscard]] int run_window();
   [[nodiscard]] bool open_live(const std::string& case_path, std::string& error);
   [[nodiscard]] bool open_replay(const std::string& path, std::string& error);
+  // Closes the live run (its record) and hands the record to the server link.
+  void close_live(bool background_upload = true);
+  // --server or the settings file: the link (exit code, or -1 to go on).
+  [[nodiscard]] int open_server_link();
+  // The case to open: the assigned one when joined to a server, else choose_case().
+  [[nodiscard]] CaseChoice choose();
   [[nodiscard]] session::Session& current();
   void load_scene();
   void frame_camera();
@@ -50,6 +60,8 @@ class TrainerApp {
   bool scripted_ = false;  // nobody at the keyboard (headless, bench): the autopilot drives
   session::KeyboardInput keyboard_;
   std::unique_ptr<session::Session> live_;
+  std::unique_ptr<ServerLink> link_;
+  std::optional<std::int64_t> live_assignment_;
   std::string record_path_;
   std::unique_ptr<session::ReplayPlayer> replay_;
   std::unique_ptr<GlWindow> window_;

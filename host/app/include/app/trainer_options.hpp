@@ -1,6 +1,7 @@
 #pragma once
 // The command line of cathbox-trainer. Parsing never exits or throws: errors come back as one
 // line naming the option.
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -31,6 +32,13 @@ struct TrainerOptions {
   std::string replay;             // --replay FILE: open in Replay mode on this record
   std::string records_dir;        // where runs are recorded (empty: session::records_dir())
   bool record = true;             // --no-record: do not record live runs
+  // cathbox-server (host/app/server_link.hpp); also from the settings file.
+  std::string server_url;         // --server URL: empty = no server
+  std::string server_user;        // --user NAME
+  std::string password_file;      // --password-file FILE (else $CATHBOX_PASSWORD)
+  std::string rig;                // --rig NAME (default: the host name)
+  std::optional<std::int64_t> assignment;  // --assignment ID: run this assignment's case
+  std::string settings_file;      // --settings FILE (default: trainer_settings_path())
   bool help = false;
 };
 

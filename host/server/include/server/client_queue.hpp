@@ -49,6 +49,10 @@ class UploadQueue {
   std::string folder_;
 };
 
+// Writes `bytes` to `path` durably: a temporary file in the same folder, fsync, rename, fsync of
+// the folder (which is created when missing).
+[[nodiscard]] Status write_file_durably(const std::string& path, const std::string& bytes);
+
 // Where the trainer keeps its queue: $XDG_DATA_HOME/cathbox/upload-queue (or ~/.local/share/...).
 [[nodiscard]] std::string default_upload_queue_folder();
 

@@ -64,6 +64,9 @@ class FieldReader {
 // A name for things in the library and on the wire (cases, rigs): 1-64 characters of
 // [A-Za-z0-9._-], starting with a letter or digit. Empty string when fine, else why not.
 [[nodiscard]] std::string check_slug(std::string_view text);
+// `text` made into a slug check_slug accepts: other characters become '-', leading ones that
+// may not start a slug are dropped, cut at 64; `fallback` when nothing is left.
+[[nodiscard]] std::string to_slug(std::string_view text, std::string_view fallback);
 // A user name: 1-64 characters of [a-z0-9._-], starting with a letter or digit.
 [[nodiscard]] std::string check_user_name(std::string_view text);
 

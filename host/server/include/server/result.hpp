@@ -11,6 +11,7 @@ namespace cathbox::server {
 struct Error {
   int status = 400;     // 400 bad input, 401, 403, 404, 409, 413, 422, 429, 503
   std::string message;  // one line: "field 'name': expected a string", "neuro.hclm:12: ..."
+  int retry_after_s = 0;  // 429/503: when to try again (0: the answer's default)
 };
 
 struct Ok {};

@@ -1,0 +1,76 @@
+#include "app/trainer_settings.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "server/json_input.hpp"
+
+namespace cathbox::app {
+
+std::string trainer_settings_path() {
+  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/trainer.json";
+  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] != '\0') return std::string(home) + "/.config/cathbox/trainer.json";
+  return {};
+}
+
+bool apply_trainer_settings(TrainerOptions& options, std::string& error) {
+  const bool explicit_file = !options.settings_file.empty();
+  const std::string path = explicit_file ? options.settings_file : trainer_settings_path();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    if (!explicit_file) return true;  // no settings: the command line alone
+    error = path + ": cannot read the settings file";
+    return false;
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  server::Result<nlohmann::json> parsed = server::parse_json_object(text.str(), path);
+  if (!parsed) {
+    error = parsed.error().message;
+    return false;
+  }
+  server::FieldReader f(parsed.value());
+  f.only({"server", "user", "password_file", "rig"});
+  const std::optional<std::string> url = f.optional_string("server", 256);
+  const std::optional<std::string> user = f.optional_string("user", 64);
+  const std::optional<std::string> password_file = f.optional_string("password_file", 4096);
+  const std::optional<std::string> rig = f.optional_string("rig", 64);
+  if (f.ok() && url && !url->starts_with("http://")) f.fail("server", "expected a URL http://HOST:PORT");
+  if (!f.ok()) {
+    error = path + ": " + f.error().message;
+    return false;
+  }
+  if (options.server_url.empty() && url) options.server_url = *url;
+  if (options.server_user.empty() && user) options.server_user = *user;
+  if (options.password_file.empty() && password_file) options.password_file = *password_file;
+  if (options.rig.empty() && rig) options.rig = *rig;
+  return true;
+}
+
+bool server_link_options(const TrainerOptions& options, ServerLinkOptions& out, std::string& error) {
+  out.url = options.server_url;
+  out.user = options.server_user;
+  out.rig = options.rig;
+  if (out.user.empty()) {
+    error = "--server needs --user NAME (or \"user\" in the settings file)";
+    return false;
+  }
+  if (!options.password_file.empty()) {
+    std::ifstream in(options.password_file);
+    if (!in || !std::getline(in, out.password)) {
+      error = options.password_file + ": cannot read the password";
+      return false;
+    }
+    if (!out.password.empty() && out.password.back() == '\r') out.password.pop_back();
+  } else if (const char* env = std::getenv("CATHBOX_PASSWORD"); env != nullptr) {
+    out.password = env;
+  }
+  if (out.password.empty()) {
+    error = "--server needs a password: --password-file FILE or $CATHBOX_PASSWORD";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace cathbox::app
