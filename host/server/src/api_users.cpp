@@ -40,7 +40,8 @@ Reply change_password(Call& call) {
   f.only({"old_password", "new_password"});
   if (!f.ok()) return f.error();
   const std::optional<User> u = call.c.store.user_by_id(call.caller.user_id);
-  if (!u || !call.c.auth.hasher().verify(u->password_hash, old_password)) return make_error(403, "field 'old_password': wrong password");
+  if (!u) return make_error(401, "authorization: account gone");
+  if (Status s = call.c.auth.verify_current_password(*u, old_password); !s) return s.error();
   if (Status s = call.c.auth.set_password(u->id, new_password); !s) return s.error();
   return no_content();
 }

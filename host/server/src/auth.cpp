@@ -23,18 +23,30 @@ bool Auth::take_address_attempt(const std::string& address, std::int64_t now_us)
   return true;
 }
 
+std::optional<Error> Auth::account_throttled(const std::string& name, std::int64_t now_us) {
+  if (store_.login_failures_since(name, now_us - options_.failure_window_us) < options_.max_failures) return std::nullopt;
+  Error e = make_error(429, "login: too many failed attempts for this account; try again in " +
+                                std::to_string(options_.failure_window_us / 60'000'000) + " minutes");
+  e.retry_after_s = static_cast<int>(options_.failure_window_us / 1'000'000);
+  return e;
+}
+
+Status Auth::verify_current_password(const User& user, const std::string& password) {
+  const std::int64_t now = clock_.now_us();
+  if (std::optional<Error> throttled = account_throttled(user.name, now)) return *throttled;
+  if (!hasher_.verify(user.password_hash, password)) {
+    store_.record_login_failure(user.name, now);
+    return make_error(403, "field 'old_password': wrong password");
+  }
+  return Ok{};
+}
+
 Result<LoginGrant> Auth::login(const std::string& name, const std::string& password, const std::string& address) {
   const std::int64_t now = clock_.now_us();
   if (!take_address_attempt(address, now)) {
     return make_error(429, "login: too many attempts from " + address + "; wait a minute");
   }
-  const std::int64_t window_start = now - options_.failure_window_us;
-  if (store_.login_failures_since(name, window_start) >= options_.max_failures) {
-    Error e = make_error(429, "login: too many failed attempts for this account; try again in " +
-                                  std::to_string(options_.failure_window_us / 60'000'000) + " minutes");
-    e.retry_after_s = static_cast<int>(options_.failure_window_us / 1'000'000);
-    return e;
-  }
+  if (std::optional<Error> throttled = account_throttled(name, now)) return *throttled;
   const std::optional<User> user = store_.user_by_name(name);
   const bool good = user ? hasher_.verify(user->password_hash, password) : (void(hasher_.verify(dummy_hash_, password)), false);
   if (!good || user->disabled) {

@@ -102,6 +102,19 @@ TEST_P(ApiTest, ChangingOnesPasswordNeedsTheOldOneAndEndsOtherSessions) {
   EXPECT_FALSE(f_->login("alice", "new-password").empty());
 }
 
+TEST_P(ApiTest, GuessingTheOldPasswordWithATokenIsThrottledLikeLogins) {
+  const std::string wrong = R"({"old_password":"wrong-wrong","new_password":"new-password"})";
+  for (int i = 0; i < f_->auth->options().max_failures; ++i) {
+    EXPECT_EQ(f_->call("POST", "/api/v1/me/password", wrong, alice_).status, 403);
+  }
+  // Now even the right one waits for the window, and so do logins to the account.
+  const std::string right = R"({"old_password":"password-123","new_password":"new-password"})";
+  EXPECT_EQ(f_->call("POST", "/api/v1/me/password", right, alice_).status, 429);
+  EXPECT_EQ(f_->call("POST", "/api/v1/login", R"({"name":"alice","password":"password-123"})", "", "10.1.2.3").status, 429);
+  f_->clock.advance_us(f_->auth->options().failure_window_us + 1);
+  EXPECT_EQ(f_->call("POST", "/api/v1/me/password", right, alice_).status, 204);
+}
+
 TEST_P(ApiTest, CasesUploadValidateVersionAndDownloadCompressed) {
   const ApiResponse first = f_->upload_bundled_case("y_bifurcation", "ybif", teacher_);
   ASSERT_EQ(first.status, 201) << first.body;

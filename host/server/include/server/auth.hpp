@@ -13,6 +13,7 @@
 //    address_per_minute).
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -58,6 +59,9 @@ class Auth {
   // Accounts (the admin endpoints and `cathbox-server admin`).
   [[nodiscard]] Result<User> create_user(const std::string& name, Role role, const std::string& password);
   [[nodiscard]] Status set_password(std::int64_t user_id, const std::string& password);
+  // The account's current password, asked again before it is changed: wrong ones count as
+  // failed logins (403), and a throttled account is answered 429 without checking.
+  [[nodiscard]] Status verify_current_password(const User& user, const std::string& password);
   [[nodiscard]] static std::string check_password(const std::string& password);
 
   [[nodiscard]] const AuthOptions& options() const { return options_; }
@@ -65,6 +69,8 @@ class Auth {
 
  private:
   bool take_address_attempt(const std::string& address, std::int64_t now_us);
+  // The account's throttle: the 429 when it has too many recent failures.
+  [[nodiscard]] std::optional<Error> account_throttled(const std::string& name, std::int64_t now_us);
 
   Store& store_;
   Clock& clock_;
