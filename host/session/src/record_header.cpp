@@ -37,7 +37,9 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
   w.field_f64(t(ToolTag::kFriction), spec.friction);
   w.field_f64(t(ToolTag::kInnerDiameter), spec.inner_diameter_mm);
   w.field_f64(t(ToolTag::kAxialStiffness), spec.axial_stiffness_N);
-  w.field_f64(t(ToolTag::kDrag), spec.drag_mN_s_per_mm2);
+  if (spec.drag_mN_s_per_mm2) w.field_f64(t(ToolTag::kDrag), *spec.drag_mN_s_per_mm2);
+  w.field_f64(t(ToolTag::kBloodViscosity), spec.blood_viscosity_mPa_s);
+  if (spec.valve_friction_mN) w.field_f64(t(ToolTag::kValveFriction), *spec.valve_friction_mN);
   w.field_f64(t(ToolTag::kMaxSpacing), spec.max_spacing_mm);
   w.field_f64(t(ToolTag::kTipSpacing), spec.tip_spacing_mm);
   w.field_f64(t(ToolTag::kTipZone), spec.tip_zone_mm);
@@ -204,12 +206,17 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
             case ToolTag::kInside: spec.inside = text_of(tv); return 1;
             default: break;
           }
+          if (tt == t(ToolTag::kDrag) || tt == t(ToolTag::kValveFriction)) {
+            if (!get_f64(tv, d)) return bad(tat, "tool: field " + std::to_string(tt) + " is not a finite double");
+            (tt == t(ToolTag::kDrag) ? spec.drag_mN_s_per_mm2 : spec.valve_friction_mN) = d;
+            return 1;
+          }
           double* target = nullptr;
           switch (static_cast<ToolTag>(tt)) {
             case ToolTag::kFriction: target = &spec.friction; break;
             case ToolTag::kInnerDiameter: target = &spec.inner_diameter_mm; break;
             case ToolTag::kAxialStiffness: target = &spec.axial_stiffness_N; break;
-            case ToolTag::kDrag: target = &spec.drag_mN_s_per_mm2; break;
+            case ToolTag::kBloodViscosity: target = &spec.blood_viscosity_mPa_s; break;
             case ToolTag::kMaxSpacing: target = &spec.max_spacing_mm; break;
             case ToolTag::kTipSpacing: target = &spec.tip_spacing_mm; break;
             case ToolTag::kTipZone: target = &spec.tip_zone_mm; break;

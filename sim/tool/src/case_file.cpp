@@ -28,7 +28,7 @@ class CaseParser {
     CaseParse out;
     Case c;
     std::vector<std::string_view> w;
-    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false,
+    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false, seen_valve = false,
          seen_threshold = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
@@ -114,6 +114,11 @@ class CaseParser {
         if (std::abs(v[0]) > 120.0) return fail_here("view: LAO/RAO angle must be within +-120 degrees");
         if (std::abs(v[1]) > 60.0) return fail_here("view: cranial/caudal angle must be within +-60 degrees");
         c.views.push_back(flow::NamedProjection{std::string(w[1]), v[0], v[1]});
+      } else if (key == "valve_friction") {
+        double v[1];
+        if (!expect_args(w, 1) || !once(seen_valve, key) || !numbers(w, 1, v, 1)) return fail();
+        if (v[0] < 0.0 || v[0] > ToolLimits::kMaxValveFriction_mN) return fail_here("valve_friction must be in [0, 2000] mN");
+        c.valve_friction_mN = v[0];
       } else if (key == "realistic") {
         if (!expect_args(w, 0) || !once(seen_realistic, key)) return fail();
         c.realistic = true;
@@ -145,6 +150,12 @@ class CaseParser {
       }
     }
     if (c.tools.empty()) c.tools.push_back(default_guidewire());
+    // One blood and one sheath for the whole case: the tools' drag follows the flow model's
+    // viscosity; the case's valve friction is the default of every tool that gives none.
+    for (ToolSpec& t : c.tools) {
+      t.blood_viscosity_mPa_s = c.flow.viscosity_mPa_s;
+      if (!t.valve_friction_mN && c.valve_friction_mN) t.valve_friction_mN = c.valve_friction_mN;
+    }
     c.flow.source = std::string(file_);
     out.value = std::move(c);
     return out;
@@ -218,6 +229,10 @@ class CaseParser {
       if (!expect_args(w, 1) || !number(w[1], "drag", v)) return false;
       if (v < 0.0 || v > 10.0) return error_here("drag must be in [0, 10] mN.s/mm2");
       t.drag_mN_s_per_mm2 = v;
+    } else if (key == "valve_friction") {
+      if (!expect_args(w, 1) || !number(w[1], "valve_friction", v)) return false;
+      if (v < 0.0 || v > ToolLimits::kMaxValveFriction_mN) return error_here("valve_friction must be in [0, 2000] mN");
+      t.valve_friction_mN = v;
     } else if (key == "axial_stiffness") {
       if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
       if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");

@@ -109,7 +109,7 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
   kturn1_.assign(n, 0.0);
   kturn2_.assign(n, 0.0);
   voronoi_.resize(n);
-  drag_.resize(n);
+  drag_per_mm_.resize(n);
   rest_.assign(n - 1, 0.0);
   for (std::size_t k = 0; k + 1 < n; ++k) rest_[k] = from_tip_[k] - from_tip_[k + 1];
   for (std::size_t k = 0; k < n; ++k) {
@@ -138,7 +138,7 @@ Rod::Rod(const ToolSpec& spec, const RodSettings& settings) : spec_(spec), setti
         set_rest_shape(k, sec->curve_deg * (M_PI / 180.0) / sec->length_mm, 0.0);
       }
     }
-    drag_[k] = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
+    drag_per_mm_[k] = spec_.drag_at(radius_[k]);
   }
 
   x_.assign(n, glm::dvec3(0.0));
@@ -699,7 +699,7 @@ void Rod::assemble(double dt_s, bool hessian) {
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
-    const double c = drag_[k] / dt_s;
+    const double c = solver_drag(k) / dt_s;
     const glm::dvec3 moved = x_[k] - x_start_[k];
     const glm::dvec3 load = load_[k] + coupling_[k];
     add_grad(k, moved * c - load);
@@ -778,7 +778,7 @@ double Rod::energy(double dt_s) const {
   }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    e += 0.5 * drag_[k] / dt_s * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
+    e += 0.5 * solver_drag(k) / dt_s * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
     if (grip_limit_[k] > 0.0) {
       const double len = glm::length(x_[k] - grip_anchor_[k]);
       const double limit = grip_limit_[k];
@@ -866,7 +866,7 @@ void Rod::solve_twist(double dt_s) {
       for (std::size_t j = 0; j < m; ++j) {
         const std::size_t e = ef + j;
         const double r = radius_[e + 1];
-        const double c = drag_[e + 1] * r * r / dt_s + 1e-9;
+        const double c = solver_drag(e + 1) * r * r / dt_s + 1e-9;
         tw_diag_[j] = c;
         tw_off_[j] = 0.0;
         tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
@@ -947,7 +947,14 @@ void Rod::solve_twist(double dt_s) {
     for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
     law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
     const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
-    hand_torque_mNmm_ = -c0 * tau0;
+    // As for the force: the solver's twist damping above the physical drag stays out of the hand.
+    double numerical = 0.0;
+    for (std::size_t j = 0; j < m; ++j) {
+      const std::size_t e = ef + j;
+      const double r = radius_[e + 1];
+      numerical += (solver_drag(e + 1) - drag_per_mm_[e + 1] * voronoi_[e + 1]) * r * r / dt_s * (theta_[e] - theta_start_[e]);
+    }
+    hand_torque_mNmm_ = -c0 * tau0 - numerical;
   } else {
     law_.torsion_stiffness_mNmm_per_rad = 0.0;
     hand_torque_mNmm_ = 0.0;
@@ -1104,7 +1111,7 @@ Rod Rod::split_distal(double length_mm) {
   coil.ei_extra_.assign(n - k0, 0.0);
   coil.gj_ = tail(gj_, k0);
   coil.voronoi_ = tail(voronoi_, k0);
-  coil.drag_ = tail(drag_, k0);
+  coil.drag_per_mm_ = tail(drag_per_mm_, k0);
   coil.kbar1_ = tail(kbar1_, k0);
   coil.kbar2_ = tail(kbar2_, k0);
   coil.kturn1_ = tail(kturn1_, k0);
@@ -1127,7 +1134,6 @@ Rod Rod::split_distal(double length_mm) {
   coil.m2_ = tail(m2_, k0);
   // The new ends: half an edge each, no bending at the end vertex.
   coil.voronoi_.front() = 0.5 * coil.rest_.front();
-  coil.drag_.front() = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * coil.voronoi_.front();
   coil.kbar1_.front() = coil.kbar2_.front() = coil.kturn1_.front() = coil.kturn2_.front() = 0.0;
   coil.insertion_mm_ = insertion_mm_;
   coil.rotation_rad_ = rotation_rad_;
@@ -1140,7 +1146,7 @@ Rod Rod::split_distal(double length_mm) {
   // This rod keeps nodes [0, k0]: its tip is now the detachment node.
   const std::size_t m = k0 + 1;
   const auto head = [&](auto& v, std::size_t count) { v.resize(count); };
-  for (auto* v : {&from_tip_, &radius_, &inner_radius_, &ei_, &ei_extra_, &gj_, &voronoi_, &drag_, &kbar1_, &kbar2_,
+  for (auto* v : {&from_tip_, &radius_, &inner_radius_, &ei_, &ei_extra_, &gj_, &voronoi_, &drag_per_mm_, &kbar1_, &kbar2_,
                   &kturn1_, &kturn2_}) head(*v, m);
   for (auto* v : {&x_, &x_start_, &x_pred_, &load_, &coupling_, &grip_anchor_}) head(*v, m);
   head(grip_limit_, m);
@@ -1150,7 +1156,6 @@ Rod Rod::split_distal(double length_mm) {
   for (auto* v : {&t_, &d1_, &m1_, &m2_}) head(*v, m - 1);
   for (double& d : from_tip_) d -= length_mm;
   voronoi_.back() = 0.5 * rest_.back();
-  drag_.back() = std::max(spec_.drag_mN_s_per_mm2, settings_.min_drag_mN_s_per_mm2) * voronoi_.back();
   kbar1_.back() = kbar2_.back() = kturn1_.back() = kturn2_.back() = 0.0;
   insertion_mm_ = std::max(0.0, insertion_mm_ - length_mm);
   stepped_insertion_mm_ = std::max(0.0, stepped_insertion_mm_ - length_mm);
@@ -1177,14 +1182,21 @@ void Rod::compute_force_law(double dt_s) {
   const std::size_t n = x_.size();
   law_.insertion0_mm = insertion_mm_;
   law_.rotation0_rad = rotation_rad_;
-  double drag_total = 0.0;
-  double rot_drag_total = 0.0;
+  // The hand feels the physical drag only: the solver's floor above it (numerical damping) is
+  // taken back out of the force below, and the law renders the physical damping.
+  double drag_total = 0.0;       // what the solver used
+  double physical_total = 0.0;
+  double rot_physical_total = 0.0;
+  glm::dvec3 numerical_drag(0.0);
   for (std::size_t k = first_free_; k < n; ++k) {
-    drag_total += drag_[k];
-    rot_drag_total += drag_[k] * radius_[k] * radius_[k];
+    const double physical = drag_per_mm_[k] * voronoi_[k];
+    drag_total += solver_drag(k);
+    physical_total += physical;
+    rot_physical_total += physical * radius_[k] * radius_[k];
+    numerical_drag += (solver_drag(k) - physical) / dt_s * (x_[k] - x_start_[k]);
   }
-  law_.damping_mN_s_per_mm = drag_total;
-  law_.torsion_damping_mNmm_s_per_rad = rot_drag_total;
+  law_.damping_mN_s_per_mm = physical_total;
+  law_.torsion_damping_mNmm_s_per_rad = rot_physical_total;
   law_.torque0_mNmm = hand_torque_mNmm_;
   clamp_force_ = glm::dvec3(0.0);
   if (first_free_ >= n || free_) {
@@ -1198,7 +1210,8 @@ void Rod::compute_force_law(double dt_s) {
     const std::size_t d = 3 * (k - first_);
     clamp_force_ += glm::dvec3(grad_[d], grad_[d + 1], grad_[d + 2]);
   }
-  const double force = glm::dot(clamp_force_, dir_);
+  // The numerical damping on the free nodes reaches the clamp through the rod: out of the hand.
+  const double force = glm::dot(clamp_force_, dir_) - glm::dot(numerical_drag, dir_);
   hand_force_mN_ = force;
   law_.force0_mN = force;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.

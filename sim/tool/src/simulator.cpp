@@ -81,6 +81,8 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   sheath_result_.assign(n, SheathFriction::Result{});
   hand_force_.assign(n, 0.0);
   hand_torque_.assign(n, 0.0);
+  valve_.assign(n, ValveFriction{});
+  valve_result_.assign(n, ValveFriction::Result{});
   coupling_next_.resize(n);
   for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
   balloons_.resize(n);
@@ -324,6 +326,23 @@ void Simulator::step(double dt_s) {
       hand_torque_[t] = rods_[t].hand_torque_mNmm();
     }
   }
+  // The haemostatic valves: each tool's, moving with what it slides through (the patient, or
+  // the hub of its catheter, which feels the reaction).
+  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  for (std::size_t t = 0; t < n; ++t) {
+    const std::size_t o = outer_of_[t];
+    const double through = insertion_[t] - (o < n ? insertion_[o] : 0.0);
+    const double turn = rotation_[t] - (o < n ? rotation_[o] : 0.0);
+    const Rod& rod = rods_[t];
+    const double radius = rod.radius_at_mm(std::clamp(insertion_[t], 0.0, rod.length_mm()));
+    valve_result_[t] = valve_[t].update(through, turn, insertion_[t] > 0.0, rod.spec().valve_friction(), radius, k_anchor);
+    hand_force_[t] += valve_result_[t].force_mN;
+    hand_torque_[t] += valve_result_[t].torque_mNmm;
+    if (o < n) {
+      hand_force_[o] -= valve_result_[t].force_mN;
+      hand_torque_[o] -= valve_result_[t].torque_mNmm;
+    }
+  }
   for (std::size_t t = 0; t < n; ++t) {
     stepped_depth_[t] = tip_depth_mm(t);
     stepped_rotation_[t] = rotation_[t];
@@ -412,20 +431,23 @@ double Simulator::hand_torque_mNmm(std::size_t tool) const { return hand_torque_
 
 ForceLaw Simulator::force_law(std::size_t tool) const {
   ForceLaw law = rods_[tool].force_law();
-  // The inner tool's law is expressed in its own insertion, not its protrusion, and carries
-  // the friction of the lumens around it.
+  // The inner tool's law is expressed in its own insertion, not its protrusion; every law
+  // carries the friction of the lumens and the valve around the tool.
   law.insertion0_mm = insertion_[tool];
+  law.force0_mN = hand_force_[tool];
+  law.torque0_mNmm = hand_torque_[tool];
+  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double radius = rods_[tool].radius_at_mm(0.0);
   if (outer_of_[tool] < rods_.size()) {
     const SheathFriction::Result& r = sheath_result_[tool];
-    const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
-    law.force0_mN = hand_force_[tool];
-    law.torque0_mNmm = hand_torque_[tool];
     if (r.sticking && (r.force_limit_fwd_mN > 0.0 || r.force_limit_back_mN < 0.0)) law.stiffness_mN_per_mm += k_anchor;
-    const double radius = rods_[tool].radius_at_mm(0.0);
     if (r.twist_sticking && r.torque_limit_mNmm > 0.0) {
       law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
     }
   }
+  const ValveFriction::Result& v = valve_result_[tool];
+  if (v.sticking && insertion_[tool] > 0.0) law.stiffness_mN_per_mm += k_anchor;
+  if (v.twist_sticking && insertion_[tool] > 0.0) law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
   return law;
 }
 

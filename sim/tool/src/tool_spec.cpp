@@ -1,5 +1,6 @@
 #include "tool/tool_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cathbox::tool {
@@ -26,7 +27,9 @@ std::string check_tool(const ToolSpec& t) {
   if (!positive_up_to(t.max_spacing_mm, L::kMaxSpacing_mm)) return who + "node spacing must be in (0, 2] mm";
   if (!in(t.tip_spacing_mm, L::kMinTipSpacing_mm, t.max_spacing_mm)) return who + "tip spacing must be in [0.1, spacing] mm";
   if (!in(t.tip_zone_mm, 0.0, L::kMaxTipZone_mm)) return who + "tip zone must be in [0, 500] mm";
-  if (!in(t.drag_mN_s_per_mm2, 0.0, L::kMaxDrag)) return who + "drag must be in [0, 10] mN.s/mm2";
+  if (t.drag_mN_s_per_mm2 && !in(*t.drag_mN_s_per_mm2, 0.0, L::kMaxDrag)) return who + "drag must be in [0, 10] mN.s/mm2";
+  if (!in(t.blood_viscosity_mPa_s, L::kMinViscosity_mPa_s, L::kMaxViscosity_mPa_s)) return who + "blood viscosity must be in [0.5, 20] mPa.s";
+  if (t.valve_friction_mN && !in(*t.valve_friction_mN, 0.0, L::kMaxValveFriction_mN)) return who + "valve_friction must be in [0, 2000] mN";
   if (!in(t.axial_stiffness_N, L::kMinAxialStiffness_N, L::kMaxAxialStiffness_N)) return who + "axial_stiffness must be in [10, 1e6] N";
   const double len = t.length_mm();
   if (len > L::kMaxLength_mm) return who + "longer than 4000 mm";
@@ -36,6 +39,19 @@ std::string check_tool(const ToolSpec& t) {
 }
 
 }  // namespace
+
+double blood_drag_mN_s_per_mm2(double radius_mm, double viscosity_mPa_s, double lumen_radius_mm) {
+  constexpr double kMilliPascalSecond = 1e-6;  // 1 mPa.s = 1e-3 N.s/m2 = 1e-6 mN.s/mm2
+  // A tool nearly as wide as the lumen: the gap flow, capped at R/a = 1.5 (ln = 0.41).
+  const double ratio = std::max(lumen_radius_mm / std::max(radius_mm, 1e-3), 1.5);
+  return 2.0 * M_PI * viscosity_mPa_s * kMilliPascalSecond / std::log(ratio);
+}
+
+double ToolSpec::drag_at(double radius_mm) const {
+  return drag_mN_s_per_mm2 ? *drag_mN_s_per_mm2 : blood_drag_mN_s_per_mm2(radius_mm, blood_viscosity_mPa_s);
+}
+
+double ToolSpec::valve_friction() const { return valve_friction_mN.value_or(kDefaultValveFriction_mN); }
 
 std::string check_tools(std::span<const ToolSpec> tools) {
   if (tools.empty() || tools.size() > ToolLimits::kMaxTools) return "a case has 1 to 4 tools";

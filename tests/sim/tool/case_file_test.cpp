@@ -48,6 +48,32 @@ TEST(CaseFile, ParsesEveryStatement) {
   EXPECT_DOUBLE_EQ(c.tools[1].axial_stiffness_N, 3000.0);
 }
 
+TEST(CaseFile, ValveFrictionAndBloodForEveryToolFromTheCase) {
+  const std::string text = std::string(kGood) + "valve_friction 35\nflow viscosity 4.2\n";
+  CaseParse p = parse_case(text, "cases/demo.case");
+  ASSERT_TRUE(p.value) << p.error;
+  for (const ToolSpec& t : p.value->tools) {
+    EXPECT_DOUBLE_EQ(t.valve_friction(), 35.0) << t.name;
+    EXPECT_DOUBLE_EQ(t.blood_viscosity_mPa_s, 4.2) << t.name;
+  }
+  EXPECT_DOUBLE_EQ(*p.value->tools[1].drag_mN_s_per_mm2, 0.02);  // its own
+  EXPECT_FALSE(p.value->tools[0].drag_mN_s_per_mm2);             // blood's
+  EXPECT_NEAR(p.value->tools[0].drag_at(0.5), blood_drag_mN_s_per_mm2(0.5, 4.2), 1e-15);
+  // A tool's own line wins; bad values name the line.
+  std::string own = kGood;
+  own.replace(own.find("  inside cath"), 0, "  valve_friction 5\n");
+  p = parse_case(own + "valve_friction 35\n", "demo.case");
+  ASSERT_TRUE(p.value) << p.error;
+  EXPECT_DOUBLE_EQ(p.value->tools[1].valve_friction(), 5.0);
+  EXPECT_DOUBLE_EQ(p.value->tools[0].valve_friction(), 35.0);
+  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction -1\n", "demo.case").error,
+            "demo.case:21: valve_friction must be in [0, 2000] mN");
+  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction 1\nvalve_friction 2\n", "demo.case").error.substr(0, 13), "demo.case:22:");
+  // Without a case line, the default.
+  p = parse_case(kGood, "demo.case");
+  EXPECT_DOUBLE_EQ(p.value->tools[0].valve_friction(), kDefaultValveFriction_mN);
+}
+
 TEST(CaseFile, VesselPathIsRelativeToTheCaseFile) {
   const CaseParse p = parse_case("vessel neuro.hclm\r\n", "cases/neuro.case");
   ASSERT_TRUE(p.value) << p.error;

@@ -22,6 +22,7 @@ ToolSpec catheter(const std::string& name, double od, double id, double ei, doub
   s.lumen_friction = mu_lumen;
   s.friction = 0.0;
   s.drag_mN_s_per_mm2 = 0.0;
+  s.valve_friction_mN = 0.0;  // the lumens' friction alone
   s.max_spacing_mm = 0.5;
   return s;
 }
@@ -32,6 +33,7 @@ ToolSpec wire(const std::string& name, double od, double ei) {
   s.sections = {ToolSection{700.0, od, ei, 0.75 * ei, 0.0}};
   s.friction = 0.0;
   s.drag_mN_s_per_mm2 = 0.0;
+  s.valve_friction_mN = 0.0;  // the lumens' friction alone
   s.max_spacing_mm = 0.5;
   return s;
 }

@@ -58,7 +58,8 @@ enum class HeaderTag : std::uint32_t {
 };
 enum class ToolTag : std::uint32_t {
   kName = 1, kKind = 2, kSection = 3, kFriction = 4, kInnerDiameter = 5, kAxialStiffness = 6,
-  kDrag = 7, kMaxSpacing = 8, kTipSpacing = 9, kTipZone = 10, kInside = 11,
+  kDrag = 7, kMaxSpacing = 8, kTipSpacing = 9, kTipZone = 10, kInside = 11, kBloodViscosity = 12,
+  kValveFriction = 13,
 };
 enum class DeviceTag : std::uint32_t {
   kDescription = 1, kSerial = 2, kBoard = 3, kFirmware = 4, kInsertionCountsPerM = 5,

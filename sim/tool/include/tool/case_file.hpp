@@ -10,13 +10,16 @@
 //   entry  X Y Z  DX DY DZ                  # optional: default is the start of the root segment
 //   target SEG FRACTION                     # fraction of the segment's length, 0..1
 //   wall_force_threshold MN                 # optional: the session's "time above" wall force
+//   valve_friction MN                       # optional: haemostatic valve friction of every tool
+//                                           # (default 20 mN; a tool's own line overrides it)
 //   tool   NAME guidewire|catheter
 //     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG]   # proximal first
 //     friction MU
 //     inner_diameter MM                     # catheters
 //     inside NAME                           # coaxial: the catheter this tool runs in
 //     spacing MAX_MM TIP_MM [TIP_ZONE_MM]
-//     drag MN_S_PER_MM2
+//     drag MN_S_PER_MM2                     # default: blood's (flow viscosity), from physics
+//     valve_friction MN
 //     axial_stiffness N
 //   end
 //   flow   KEY VALUES...                    # blood flow overrides (sim/flow), see the README:
@@ -54,6 +57,7 @@ struct Case {
   std::optional<Entry> entry;
   std::optional<CaseTarget> target;
   std::optional<double> wall_force_threshold_mN;  // for the session's metrics (default there: 100 mN)
+  std::optional<double> valve_friction_mN;        // every tool's valve unless it names its own
   std::vector<ToolSpec> tools;   // the defaults (a guidewire) when the file names none
   flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
   std::vector<flow::NamedProjection> views;  // the case's working projections (besides AP, lateral)

@@ -12,6 +12,7 @@
 // body at the entry point along the entry direction: nodes not yet past the entry sit on the
 // entry line, the last two of them clamp the rod (position, direction and rotation); further
 // proximal ones are not simulated, so nodes join and leave the simulation at the entry.
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -173,6 +174,10 @@ class Rod {
   [[nodiscard]] glm::dvec3 reference_director(std::size_t edge) const { return d1_[edge]; }
 
  private:
+  // The drag the solver applies at node k: the physical one, never below the numerical floor.
+  [[nodiscard]] double solver_drag(std::size_t k) const {
+    return std::max(drag_per_mm_[k], settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
+  }
   struct NodeContact;
   struct BendTerm {  // unit tangents around a vertex and the bending residual
     glm::dvec3 ta{0.0}, tb{0.0}, r{0.0};
@@ -219,7 +224,7 @@ class Rod {
   bool free_ = false;           // detached: every node free, no clamp
 
   // Per node.
-  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_;
+  std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;
   // Rest curvature towards m1 and m2: 2 tan(phi/2) for the twist coupling, 2 sin(phi/2) for
   // the bending residual (phi = the rest turning angle at the node).
   std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;

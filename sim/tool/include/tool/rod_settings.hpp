@@ -12,7 +12,9 @@ struct RodSettings {
   double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
   double max_node_step_mm = 0.2;           // largest position update of one iteration
-  double min_drag_mN_s_per_mm2 = 1.0e-3;   // numerical floor of the viscous drag
+  // Numerical damping: the solver never damps a node less than this (blood's drag is ~1e-5);
+  // the excess is taken back out of the force and torque the hand feels.
+  double min_drag_mN_s_per_mm2 = 1.0e-2;
   double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
   double trust_step_mm = 0.01;             // updates below this skip the line search

@@ -27,6 +27,7 @@
 #include "tool/rod_contact_field.hpp"
 #include "tool/sheath_friction.hpp"
 #include "tool/snapshot.hpp"
+#include "tool/valve_friction.hpp"
 #include "tool/wall_model.hpp"
 
 namespace cathbox::tool {
@@ -91,6 +92,8 @@ class Simulator {
   [[nodiscard]] double free_start_mm(std::size_t tool) const { return free_start_[tool]; }
   // Friction of the catheters around a tool in the last step (zero for a tool in the vessel).
   [[nodiscard]] const SheathFriction::Result& sheath(std::size_t tool) const { return sheath_result_[tool]; }
+  // Friction of the haemostatic valve the tool slides through, last step (in hand_force_mN).
+  [[nodiscard]] const ValveFriction::Result& valve(std::size_t tool) const { return valve_result_[tool]; }
   // Inserted node positions of a tool, entry to tip, the part inside catheters included.
   void inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const;
 
@@ -147,6 +150,8 @@ class Simulator {
   std::vector<SheathVertex> path_;     // scratch
   std::vector<std::vector<glm::dvec3>> coupling_next_;  // loads for the next step, per tool node
   std::vector<double> hand_force_, hand_torque_;
+  std::vector<ValveFriction> valve_;
+  std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
   std::vector<Rod> detached_;
   RodContactField contacts_;

@@ -6,6 +6,7 @@
 // detachable platinum coil at its distal end; a balloon catheter carries a balloon.
 #include <cstdint>
 #include <span>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,13 +52,24 @@ struct ToolSpec {
   double inner_diameter_mm = 0.0;          // catheters: lumen diameter (0 for a guidewire)
   double lumen_friction = 0.05;            // catheters: Coulomb coefficient of the lumen liner
   double axial_stiffness_N = 5000.0;       // EA; large, the tool is nearly inextensible
-  double drag_mN_s_per_mm2 = 0.01;         // viscous drag per mm of tool per mm/s (blood, sheath)
+  // Viscous drag per mm of tool per mm/s. Default (none set): blood's, from its viscosity
+  // (blood_drag_mN_s_per_mm2); a value here replaces it (e.g. a bench model in glycerol).
+  std::optional<double> drag_mN_s_per_mm2;
+  double blood_viscosity_mPa_s = 3.5;      // the case's blood (sim/flow's `viscosity`)
+  // Coulomb friction of the haemostatic valve the tool slides through (the sheath's for a tool
+  // in the vessel, the catheter hub's for a coaxial one), felt at the hand as a constant force
+  // against the motion (stick, then slip). Default (none set): kDefaultValveFriction_mN.
+  std::optional<double> valve_friction_mN;
   double max_spacing_mm = 2.0;             // node spacing along the shaft
   double tip_spacing_mm = 0.5;             // node spacing over the distal tip_zone_mm
   double tip_zone_mm = 10.0;
   std::string inside;                      // name of the catheter this one runs in, or ""
   double detach_mm = 0.0;                  // coils: length of the detachable coil at the tip
   BalloonSpec balloon;                     // balloon catheters
+
+  // The drag coefficient (mN.s/mm2) at a station of this outer radius.
+  [[nodiscard]] double drag_at(double radius_mm) const;
+  [[nodiscard]] double valve_friction() const;
 
   [[nodiscard]] double length_mm() const {
     double total = 0.0;
@@ -70,6 +82,18 @@ struct ToolSpec {
     return od;
   }
 };
+
+// A haemostatic valve's friction on a tool, when the case does not say (an estimate: a slit
+// or Tuohy-Borst valve opened for the wire holds it with some tens of mN; calibrate per rig).
+inline constexpr double kDefaultValveFriction_mN = 20.0;
+// The lumen around a tool in the vessel for its drag (carotid and cerebral arteries: 1-3 mm).
+inline constexpr double kNominalLumenRadius_mm = 2.0;
+
+// Viscous drag of blood on a cylinder of radius a sliding axially at the centre of a tube of
+// radius R (steady annular Couette flow): F / (L v) = 2 pi mu / ln(R / a). For a 0.36 mm wire
+// in blood (3.5 mPa.s) in a 2 mm lumen: 9.1e-6 mN.s/mm2, i.e. 0.03 mN for 180 mm at 20 mm/s.
+[[nodiscard]] double blood_drag_mN_s_per_mm2(double radius_mm, double viscosity_mPa_s,
+                                             double lumen_radius_mm = kNominalLumenRadius_mm);
 
 // The limits a tool must keep (the case file checks them statement by statement).
 struct ToolLimits {
@@ -85,6 +109,9 @@ struct ToolLimits {
   static constexpr double kMinTipSpacing_mm = 0.1;
   static constexpr double kMaxTipZone_mm = 500.0;
   static constexpr double kMaxDrag = 10.0;
+  static constexpr double kMaxValveFriction_mN = 2000.0;
+  static constexpr double kMinViscosity_mPa_s = 0.5;
+  static constexpr double kMaxViscosity_mPa_s = 20.0;
   static constexpr double kMinAxialStiffness_N = 10.0;
   static constexpr double kMaxAxialStiffness_N = 1e6;
 };
