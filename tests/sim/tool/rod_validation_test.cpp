@@ -160,6 +160,54 @@ TEST(RodValidation, TorqueTransmissionPlanarBend) {
   check_torque_transmission(wall, 80.0);
 }
 
+// Torque against uniform wall friction: a wire pressed onto the wall of a straight tube by a
+// uniform load q per mm feels a friction torque t = mu q r per mm while it turns. Turned at the
+// hand, it winds up from the proximal end: the tip starts turning only when the whole length
+// slips, at a proximal twist of t L^2 / (2 GJ), and then lags by that angle with t L at the hand.
+TEST(RodValidation, TorqueWindUpAgainstUniformWallFrictionMatchesTheAnalyticLag) {
+  const double L = 100.0;   // inserted length, all on the wall
+  const double gj = 1.0;    // N mm^2: a soft shaft, so the wind-up is large enough to measure
+  const double mu = 0.3;
+  const double q = 1.0;     // mN per mm, pressing it onto the wall (+x)
+  const double r = 0.18;
+  const TubeNetworkWall wall = testing::straight_tube(0.5, -5.0, 200.0);
+  Rod rod(uniform_tool(L + 30.0, 2.0 * r, 2.0, gj, 1.0, mu), static_settings());
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, L, 0.5);
+  for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
+    const std::size_t n = rod.node_total();
+    const double left = k > rod.first_free_node() ? glm::length(rod.positions()[k] - rod.positions()[k - 1]) : 0.0;
+    const double right = k + 1 < n ? glm::length(rod.positions()[k + 1] - rod.positions()[k]) : 0.0;
+    rod.set_node_load(k, {q * 0.5 * (left + right), 0, 0});
+  }
+  for (int i = 0; i < 50; ++i) rod.step(1e-3, wall);
+  const double t = mu * q * r;                       // mN.mm per mm
+  const double breakaway = t * L * L / (2.0 * gj * 1000.0);  // rad (GJ in mN.mm^2)
+  ASSERT_GT(breakaway, 0.2);  // 0.27 rad: measurable
+  double accumulated = 0.0;
+  glm::dvec3 previous = rod.tip().normal;
+  const double per_step = 0.25 * M_PI / 180.0;
+  double rotation = 0.0;
+  double tip_at_half = 0.0;
+  while (rotation < 3.0 * breakaway) {
+    rotation += per_step;
+    rod.set_boundary(L, rotation);
+    for (int s = 0; s < 3; ++s) rod.step(1e-3, wall);
+    const TipPose tip = rod.tip();
+    accumulated += angle_about(previous, tip.normal, tip.direction);
+    previous = tip.normal;
+    if (rotation <= 0.5 * breakaway) tip_at_half = accumulated;
+  }
+  // Half-way to breakaway the tip has (nearly) not turned: only the friction's stick compliance.
+  EXPECT_LT(std::abs(tip_at_half), 0.1 * breakaway) << tip_at_half;
+  // Slipping everywhere: the lag and the hand torque of the analytic wind-up.
+  const double lag = rotation - accumulated;
+  std::printf("wind-up: lag %.3f rad (analytic %.3f), hand torque %.2f mN.mm (analytic %.2f)\n", lag, breakaway,
+              rod.hand_torque_mNmm(), t * L);
+  EXPECT_NEAR(lag, breakaway, 0.2 * breakaway);
+  EXPECT_NEAR(rod.hand_torque_mNmm(), t * L, 0.15 * t * L);
+}
+
 ToolSpec angled_tip_wire() {
   ToolSpec spec;
   spec.name = "angled";
@@ -170,6 +218,53 @@ ToolSpec angled_tip_wire() {
   spec.tip_spacing_mm = 0.5;
   spec.max_spacing_mm = 2.0;
   return spec;
+}
+
+// Whip: in a tortuous vessel with wall friction, a curved-tip wire turned steadily at the hand
+// stores twist while its tip is held (by friction, and by its curve lying in the bends), then
+// releases it in a jump. It must emerge from the mechanics (not be smoothed away) and stay
+// bounded: the tip lags by less than a turn and never jumps by more than half a turn per step.
+TEST(RodValidation, CurvedTipInATortuousVesselLagsThenWhipsBoundedly) {
+  // Two opposite 90 degree bends (an S) in a 1 mm lumen: the carotid siphon's kind of path.
+  std::vector<glm::dvec3> path = testing::bend_points(15.0, M_PI / 2.0, 5.0, 0.0);
+  const glm::dvec3 corner = path.back();
+  for (int i = 1; i <= 90; ++i) {  // back the other way: centre at corner + (0, 0, 15)
+    const double a = (M_PI / 2.0) * i / 90.0;
+    path.push_back(corner + glm::dvec3{15.0 * std::sin(a), 0.0, 15.0 - 15.0 * std::cos(a)});
+  }
+  path.push_back(path.back() + glm::dvec3{0, 0, 60.0});
+  TubeNetworkWall wall;
+  wall.add_polyline(path, 0.5, 0);
+  wall.build();
+  ToolSpec wire = angled_tip_wire();
+  wire.friction = 0.15;
+  wire.sections[0].torsion_stiffness_Nmm2 = 2.0;  // a soft shaft: the twist it stores shows
+  Rod rod(wire, static_settings());
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  insert_to(rod, wall, 70.0, 0.5);
+  double accumulated = 0.0;
+  glm::dvec3 previous = rod.tip().normal;
+  const double per_step = 1.0 * M_PI / 180.0;
+  double max_lag = 0.0;
+  double max_jump = 0.0;
+  for (int i = 1; i <= 720; ++i) {  // two turns at the hand
+    const double rotation = i * per_step;
+    rod.set_boundary(70.0, rotation);
+    for (int s = 0; s < 3; ++s) rod.step(1e-3, wall);
+    const TipPose tip = rod.tip();
+    const double d = angle_about(previous, tip.normal, tip.direction);
+    previous = tip.normal;
+    accumulated += d;
+    max_lag = std::max(max_lag, rotation - accumulated);
+    max_jump = std::max(max_jump, d);
+  }
+  std::printf("whip: tip turned %.2f rad for %.2f at the hand, largest lag %.2f rad, largest jump %.2f rad in one step (hand: %.3f)\n",
+              accumulated, 720 * per_step, max_lag, max_jump, per_step);
+  EXPECT_GT(max_lag, 0.3);               // the tip lags...
+  EXPECT_GT(max_jump, 5.0 * per_step);   // ... and whips: a jump much faster than the hand
+  EXPECT_LT(max_lag, 2.0 * M_PI);        // bounded: less than a turn behind
+  EXPECT_LT(max_jump, M_PI / 2.0);       // and no flip in one step
+  EXPECT_NEAR(accumulated, 720 * per_step, 2.0 * M_PI);  // it follows the hand on the whole
 }
 
 TEST(RodValidation, SteeringAngledTipEntersEachChildOfAY) {
