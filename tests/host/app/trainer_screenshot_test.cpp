@@ -127,13 +127,37 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
   for (const vessel::Segment& seg : surface.smoothed.segments) {
     for (const vessel::CenterlinePoint& p : seg.points) axis.emplace_back(glm::vec3(p.pos_mm), static_cast<float>(p.radius_mm));
   }
+  // How far a point is outside the lumen: the smallest (distance to a centreline piece minus the
+  // radius there, interpolated along the piece), over every piece of every segment.
+  const auto outside_mm = [&surface](const glm::vec3& x) {
+    float best = 1e9F;
+    for (const vessel::Segment& seg : surface.smoothed.segments) {
+      for (std::size_t i = 0; i + 1 < seg.points.size(); ++i) {
+        const glm::vec3 a(seg.points[i].pos_mm);
+        const glm::vec3 b(seg.points[i + 1].pos_mm);
+        const glm::vec3 ab = b - a;
+        const float len2 = glm::dot(ab, ab);
+        const float t = len2 > 0.0F ? std::clamp(glm::dot(x - a, ab) / len2, 0.0F, 1.0F) : 0.0F;
+        const float r = static_cast<float>(seg.points[i].radius_mm) * (1.0F - t) + static_cast<float>(seg.points[i + 1].radius_mm) * t;
+        best = std::min(best, glm::distance(x, a + t * ab) - r);
+      }
+    }
+    return best;
+  };
   ASSERT_GE(s.nodes.size(), 5U);
+  // Margins, from what the renderer and the solver achieve on this case (measured: every node's
+  // surface inside the lumen, 40 of 41 probed nodes on tool pixels, 800 of 805 centreline
+  // points on vessel pixels, the whole local view reddish):
+  //   - a node's surface (0.18 mm wire) at most 10% of its radius past the wall (the solver's
+  //     own penetration bound in the stability test);
+  //   - >= 95% of the probed tool nodes on tool pixels (a node hidden behind a nearer wall
+  //     fold of the translucent vessel may take its colour);
+  //   - >= 98% of the unobstructed centreline points on vessel pixels; >= 99% reddish local view.
+  constexpr float kToolRadius_mm = 0.18F;
   int tool_seen = 0;
   int tool_probed = 0;
   for (const glm::vec3& n : s.nodes) {
-    float best = 1e9F;
-    for (const auto& [c, r] : axis) best = std::min(best, glm::distance(n, c) - r);
-    EXPECT_LT(best, 1.0F) << "tool node outside the vessel";
+    EXPECT_LT(outside_mm(n) + kToolRadius_mm, 0.1F * kToolRadius_mm) << "tool node outside the vessel";
     bool front = false;
     const glm::vec2 px = project(s, n, &front);
     if (!front || !usable(s, px)) continue;
@@ -142,7 +166,7 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
     tool_seen += (c.g > c.r + 30 && c.g > c.b + 30) ? 1 : 0;
   }
   ASSERT_GE(tool_probed, 5);
-  EXPECT_GE(tool_seen * 10, tool_probed * 7) << tool_seen << " of " << tool_probed << " tool nodes";
+  EXPECT_GE(tool_seen * 100, tool_probed * 95) << tool_seen << " of " << tool_probed << " tool nodes";
 
   // The vessel: centerline points away from the tool show vessel colour.
   int vessel_seen = 0;
@@ -158,7 +182,7 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
     vessel_seen += (p.r > p.g + 25 && p.r > p.b + 25) ? 1 : 0;
   }
   ASSERT_GE(vessel_probed, 50);
-  EXPECT_GE(vessel_seen * 10, vessel_probed * 8) << vessel_seen << " of " << vessel_probed;
+  EXPECT_GE(vessel_seen * 100, vessel_probed * 98) << vessel_seen << " of " << vessel_probed;
 
   // Background in the lower corners of the global view.
   const glm::vec3 bg = 255.0F * SceneColors::kBackground;
@@ -180,7 +204,7 @@ TEST_F(TrainerScreenshot, ShowsTheVesselAndTheToolWhereTheyShouldBe) {
       reddish += p.r > p.b ? 1 : 0;
     }
   }
-  EXPECT_GE(reddish * 10, total * 9);
+  EXPECT_GE(reddish * 100, total * 99) << reddish << " of " << total;
 }
 
 }  // namespace
