@@ -69,6 +69,7 @@ class ServerCore {
   std::unique_ptr<PgLiveBus> pg_bus_;
   std::unique_ptr<LiveService> live_;
   std::unique_ptr<RecordChecker> checker_;
+  ArtifactCache cache_;  // browser meshes, debrief traces
   std::unique_ptr<Api> api_;
 };
 
