@@ -15,6 +15,9 @@ namespace cathbox::server::api {
 
 namespace {
 
+// A trace is a pure function of the record's bytes: cached under their hash.
+std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
+
 Result<std::int64_t> id_param(const std::string& text) {
   std::int64_t id = 0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), id);
@@ -195,6 +198,8 @@ Reply upload_result(Call& call) {
   Result<CheckedRecord> checked = call.c.checker->check(record);
   if (!checked) return checked.error();
   const CheckedRecord& rec = checked.value();
+  // The replay that checked the record also traced it: a first debrief needs no second replay.
+  if (call.c.cache != nullptr && !rec.trace.empty()) call.c.cache->put(trace_cache_key(hash), rec.trace);
 
   ResultRow row;
   row.content_hash = hash;
@@ -310,9 +315,8 @@ Reply get_result_trace(Call& call) {
   if (call.c.checker == nullptr) return make_error(503, "trace: this server cannot replay records");
   const auto started = std::chrono::steady_clock::now();
   bool hit = false;
-  // A trace is a pure function of the record's bytes: cached under their hash.
   Result<std::shared_ptr<const std::string>> trace = cached(
-      call, "trace1:" + r.value().content_hash,
+      call, trace_cache_key(r.value().content_hash),
       [&]() -> Result<std::string> {
         std::optional<std::string> bytes = call.c.store.result_record(r.value().id);
         if (!bytes) return make_error(404, "record missing");

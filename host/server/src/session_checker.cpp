@@ -36,7 +36,7 @@ class TraceObserver final : public session::TickObserver {
     double hand_mN = 0.0;
     double wall_peak_mN = 0.0;
     bool fluoro = false;
-    std::vector<float> nodes;  // x, y, z of up to kTraceNodes nodes
+    std::vector<double> nodes;  // x, y, z of up to kTraceNodes nodes (to 0.01 mm: short in JSON)
   };
   struct Event {
     std::int64_t t_us = 0;
@@ -134,7 +134,7 @@ class TraceObserver final : public session::TickObserver {
 
  private:
   static void push_node(Sample& s, const glm::dvec3& p) {
-    for (int a = 0; a < 3; ++a) s.nodes.push_back(static_cast<float>(r2(p[a])));
+    for (int a = 0; a < 3; ++a) s.nodes.push_back(r2(p[a]));
   }
   void event(std::int64_t t_us, const char* kind) {
     if (events_.size() < kMaxTraceEvents) events_.push_back({t_us, kind});
@@ -160,6 +160,8 @@ class SessionChecker final : public RecordChecker {
     if (!reader) return make_error(422, error);
     auto replay = session::Replay::open(std::move(reader), error);
     if (!replay) return make_error(422, error);
+    TraceObserver observer;  // the debrief's trace comes from this same replay
+    replay->session().add_observer(observer);
     replay->step(-1);
     const session::ReplayResult r = replay->result();
     if (!r.error.empty()) return make_error(422, r.error);
@@ -180,6 +182,7 @@ class SessionChecker final : public RecordChecker {
     out.started_us = h.start_unix_us;
     out.duration_ms = r.ticks * h.period_us / 1000;
     for (const session::NamedMetric& m : session::named_metrics(r.metrics)) out.metrics.push_back({m.name, m.value});
+    out.trace = observer.json(replay->session().scene());
     return out;
   }
 

@@ -52,6 +52,11 @@ class ArtifactCache {
     return value;
   }
 
+  // Stores a value built elsewhere (a trace made by the replay that checked an upload).
+  void put(const std::string& key, std::string value) {
+    (void)get_or_build(key, [&]() -> Result<std::string> { return std::move(value); });
+  }
+
   [[nodiscard]] std::size_t bytes() const {
     std::lock_guard lock(mutex_);
     return bytes_;

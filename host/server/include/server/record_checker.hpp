@@ -18,6 +18,7 @@ struct CheckedRecord {
   std::int64_t started_us = 0;
   std::int64_t duration_ms = 0;
   std::vector<MetricValue> metrics;
+  std::string trace;      // the debrief's trace from the same replay (see trace()); may be empty
 };
 
 class RecordChecker {
