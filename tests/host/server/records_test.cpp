@@ -180,6 +180,39 @@ TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
   EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh", "").status, 401);
 }
 
+// The cache of meshes and traces: least recently used out first; with a folder, a second
+// cache (a restarted server) finds what the first built without building it again.
+TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
+  ArtifactCache small(10);
+  const auto value = [](std::string v) { return [v]() -> Result<std::string> { return v; }; };
+  const auto never = []() -> Result<std::string> { return make_error(500, "built again"); };
+  bool hit = true;
+  ASSERT_EQ(*small.get_or_build("a", value("12345"), &hit).value(), "12345");
+  EXPECT_FALSE(hit);
+  ASSERT_TRUE(small.get_or_build("b", value("6789"), &hit));
+  ASSERT_TRUE(small.get_or_build("a", never, &hit));  // a used last: b leaves for c
+  EXPECT_TRUE(hit);
+  ASSERT_TRUE(small.get_or_build("c", value("xy"), &hit));
+  EXPECT_EQ(small.bytes(), 7U);
+  EXPECT_FALSE(small.get_or_build("b", never, &hit));
+  EXPECT_EQ(small.get_or_build("x", []() -> Result<std::string> { return make_error(422, "refused"); }).error().message, "refused");
+
+  const std::string folder = scratch("artifacts");
+  std::filesystem::remove_all(folder);
+  {
+    ArtifactCache first;
+    first.keep_on_disk(folder);
+    first.put("trace1:abc", std::string(100000, 't'));
+  }
+  ArtifactCache second;
+  second.keep_on_disk(folder);
+  const Result<std::shared_ptr<const std::string>> again = second.get_or_build("trace1:abc", never, &hit);
+  ASSERT_TRUE(again) << again.error().message;
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(*again.value(), std::string(100000, 't'));
+  EXPECT_LT(std::filesystem::file_size(std::filesystem::path(folder) / "trace1-abc.zst"), 1000U);
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, RecordsTest, ::testing::ValuesIn(kBackends), BackendName());
 
 }  // namespace
