@@ -40,9 +40,10 @@ function connect() {
       else if (panels.has(m.rig.rig)) panels.get(m.rig.rig).title.textContent = m.rig.rig + ' — ' + m.rig.user + ', ' + m.rig.case;
       drawRigs();
     } else if (m.type === 'ended') {
+      const was = rigs.get(m.rig);
       rigs.delete(m.rig);
       const p = panels.get(m.rig);
-      if (p) p.title.textContent = m.rig + ' — ended';
+      if (p) p.title.textContent = m.rig + (was ? ' — ' + was.user + ', ' + was.case : '') + ' (ended)';
       drawRigs();
     } else if (m.type === 'frame') {
       const p = panels.get(m.rig);
