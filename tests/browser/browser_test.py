@@ -400,7 +400,11 @@ def test_debrief(b, centre, report):
     tip1 = b.driver.find_element(By.ID, "now-tip").text
     check(tip0 != tip1, "seeking did not move the tip (%s)" % tip0)
     report["debrief_seek"] = "sample 0 tip %s -> sample %d tip %s" % (tip0, samples * 2 // 3, tip1)
+    # The plot's window: 10 s around the cursor.
+    b.js("const w = document.getElementById('window'); w.value = '10'; w.dispatchEvent(new Event('change'));")
+    b.wait_js("const x = window.cathboxDebrief.chart.scales.x; return x.max - x.min <= 10.001", "the plot's 10 s window")
     b.shot("debrief")
+    b.js("const w = document.getElementById('window'); w.value = '0'; w.dispatchEvent(new Event('change'));")
     # The same on a tablet (portrait, 820x1180): one column.
     b.viewport(820, 1180, mobile=True)
     b.wait_js("return document.querySelector('#view3d canvas').width <= 820", "the tablet layout")

@@ -70,7 +70,21 @@ function seek(i) {
     el('div', {}, 'hand ', el('b', {}, fmt(tr.hand_mN[k]) + ' mN')),
     el('div', {}, 'wall ', el('b', {}, fmt(tr.wall_peak_mN[k]) + ' mN')),
     el('div', {}, 'fluoro ', tr.fluoro[k] ? el('span', { class: 'fluoro-on' }, 'ON') : el('b', {}, 'off')));
-  if (chart) chart.draw();
+  if (chart) {
+    // The plot's window follows the cursor when it shows less than the whole run.
+    const span = Number($('window').value);
+    const now = tr.t_ms[k] / 1000;
+    const end = tr.t_ms[tr.samples - 1] / 1000;
+    const min = span ? Math.max(0, Math.min(now - span / 2, end - span)) : undefined;
+    const max = span ? min + span : undefined;
+    if (chart.options.scales.x.min !== min || chart.options.scales.x.max !== max) {
+      chart.options.scales.x.min = min;
+      chart.options.scales.x.max = max;
+      chart.update('none');
+    } else {
+      chart.draw();
+    }
+  }
 }
 
 function drawChart(tr) {
@@ -166,11 +180,15 @@ if (requireUser()) guarded(async () => {
     $('play').textContent = state.playing ? 'Pause' : 'Play';
   });
   $('speed').addEventListener('change', () => { state.speed = Number($('speed').value); });
+  $('window').addEventListener('change', () => seek(state.index));
+  // A long run opens on a minute around the cursor: the whole of it is a blur of events.
+  if (tr.t_ms[tr.samples - 1] > 10 * 60 * 1000) $('window').value = '60';
   $('criteria').replaceChildren(...criteriaTable(r));
   drawChart(tr);
   drawMarks(tr);
   seek(0);
   view.render();
+  state.chart = chart;
   state.openMs = performance.now() - t0;
   state.ready = true;
 }).then(() => { if (!state.ready) showError(document.getElementById('error').textContent || 'debrief failed'); });
