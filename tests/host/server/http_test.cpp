@@ -138,7 +138,7 @@ TEST_P(HttpTest, ASlowHeavyAnswerArrivesWhole) {
   const HttpAnswer trace = http.get("/api/v1/results/" + std::to_string(json::parse(up.body)["id"].get<int>()) + "/trace");
   ASSERT_EQ(trace.status, 200) << trace.problem();
   const json t = json::parse(trace.body);
-  EXPECT_EQ(t["trace"]["pad"].get<std::string>().size(), 2U * 1024U * 1024U);
+  EXPECT_EQ(t["trace"]["pad"].get<std::string>().size(), 32U * 1024U * 1024U);
   EXPECT_EQ(trace.header("x-cathbox-trace").rfind("replayed; ", 0), 0U);
 }
 

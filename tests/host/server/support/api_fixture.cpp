@@ -22,7 +22,7 @@ Result<std::string> FakeRecords::trace(std::string_view bytes) {
   Result<nlohmann::json> j = parse_json_object(bytes, "record");
   if (!j) return make_error(422, "record: byte 0: not a record");
   std::this_thread::sleep_for(std::chrono::milliseconds(j.value().value("trace_delay_ms", 0)));
-  return nlohmann::json{{"format", "fake-trace"}, {"pad", std::string(2 * 1024 * 1024, 'x')}}.dump();
+  return nlohmann::json{{"format", "fake-trace"}, {"pad", std::string(32 * 1024 * 1024, 'x')}}.dump();
 }
 
 Result<CheckedRecord> FakeRecords::check(std::string_view bytes) {
