@@ -119,6 +119,15 @@ ApiResponse json_response(int status, const nlohmann::json& body) {
   return r;
 }
 
+Result<std::shared_ptr<const std::string>> cached(Call& call, const std::string& key,
+                                                  const std::function<Result<std::string>()>& build, bool* hit) {
+  if (call.c.cache != nullptr) return call.c.cache->get_or_build(key, build, hit);
+  if (hit != nullptr) *hit = false;
+  Result<std::string> built = build();
+  if (!built) return built.error();
+  return std::make_shared<const std::string>(std::move(built.value()));
+}
+
 ApiResponse no_content() {
   ApiResponse r;
   r.status = 204;
@@ -155,6 +164,7 @@ const std::vector<Route>& routes() {
       {"GET", {"cases", ":name"}, case_versions, true},
       {"GET", {"cases", ":name", "versions", ":version"}, case_version, true},
       {"GET", {"cases", ":name", "versions", ":version", "bundle"}, case_bundle, true},
+      {"GET", {"cases", ":name", "versions", ":version", "mesh"}, case_mesh, true},
       {"GET", {"assignments"}, list_assignments, true},
       {"POST", {"assignments"}, create_assignment, true},
       {"GET", {"assignments", ":id"}, get_assignment, true},
@@ -163,6 +173,7 @@ const std::vector<Route>& routes() {
       {"POST", {"results"}, upload_result, true},
       {"GET", {"results", ":id"}, get_result, true},
       {"GET", {"results", ":id", "record"}, get_result_record, true},
+      {"GET", {"results", ":id", "trace"}, get_result_trace, true},
       {"GET", {"metrics"}, list_metrics, true},
       {"GET", {"live", "rigs"}, live_rigs, true},
   };
@@ -256,6 +267,8 @@ std::size_t Api::body_limit(std::string_view method, std::string_view target) {
 
 bool Api::is_heavy(std::string_view method, std::string_view target) {
   const std::string_view path = target.substr(0, target.find('?'));
+  const auto ends_with = [path](std::string_view tail) { return path.size() > tail.size() && path.substr(path.size() - tail.size()) == tail; };
+  if (method == "GET" && path.rfind("/api/v1/", 0) == 0 && (ends_with("/trace") || ends_with("/mesh"))) return true;
   return method == "POST" && (path == "/api/v1/results" || path == "/api/v1/cases");
 }
 

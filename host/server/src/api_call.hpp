@@ -1,7 +1,9 @@
 #pragma once
 // Internal to the API: the parsed request a handler sees, query helpers, JSON answers, and
 // the handlers themselves (one file per resource: api_users, api_cases, api_work, api_live).
+#include <functional>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -54,6 +56,7 @@ Reply upload_case(Call& call);
 Reply case_versions(Call& call);
 Reply case_version(Call& call);
 Reply case_bundle(Call& call);
+Reply case_mesh(Call& call);
 
 Reply list_assignments(Call& call);
 Reply create_assignment(Call& call);
@@ -63,9 +66,15 @@ Reply upload_result(Call& call);
 Reply list_results(Call& call);
 Reply get_result(Call& call);
 Reply get_result_record(Call& call);
+Reply get_result_trace(Call& call);
 Reply list_metrics(Call& call);
 
 Reply live_rigs(Call& call);
+
+// The cached value (ApiContext::cache) of `key`, else build() now.
+[[nodiscard]] Result<std::shared_ptr<const std::string>> cached(Call& call, const std::string& key,
+                                                                const std::function<Result<std::string>()>& build,
+                                                                bool* hit = nullptr);
 
 // JSON shapes shared by several handlers.
 [[nodiscard]] nlohmann::json user_json(const User& u);

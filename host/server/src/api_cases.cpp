@@ -51,6 +51,16 @@ Result<CaseVersion> find_version(Call& call) {
   return *found;
 }
 
+// The stored bundle of a version: its zstd bytes, or the JSON text when `decompress`.
+Result<std::string> stored_bundle(Call& call, const CaseVersion& v, bool decompress) {
+  std::optional<std::string> wire = call.c.store.case_bundle(v.id);
+  if (!wire) return make_error(404, "case bundle missing");
+  if (!decompress) return std::move(*wire);
+  Result<std::string> plain = zstd_decompress(*wire, kMaxBundleBytes * 2);
+  if (!plain) return make_error(500, "stored bundle unreadable: " + plain.error().message);
+  return plain;
+}
+
 }  // namespace
 
 nlohmann::json case_json(const CaseVersion& v) {
@@ -129,16 +139,31 @@ Reply case_bundle(Call& call) {
     r.content_type.clear();
     return r;
   }
-  std::optional<std::string> wire = call.c.store.case_bundle(v.value().id);
-  if (!wire) return make_error(404, "case bundle missing");
-  if (accepts(call.request.accept_encoding, "zstd")) {
-    r.headers.emplace_back("Content-Encoding", "zstd");
-    r.body = std::move(*wire);
-  } else {
-    Result<std::string> plain = zstd_decompress(*wire, kMaxBundleBytes * 2);
-    if (!plain) return make_error(500, "stored bundle unreadable: " + plain.error().message);
-    r.body = std::move(plain.value());
-  }
+  const bool zstd = accepts(call.request.accept_encoding, "zstd");
+  Result<std::string> body = stored_bundle(call, v.value(), !zstd);
+  if (!body) return body.error();
+  if (zstd) r.headers.emplace_back("Content-Encoding", "zstd");
+  r.body = std::move(body.value());
+  return r;
+}
+
+Reply case_mesh(Call& call) {
+  Result<CaseVersion> v = find_version(call);
+  if (!v) return v.error();
+  // Meshed once per content (the cache key is the bundle's hash), on first request.
+  Result<std::shared_ptr<const std::string>> mesh = cached(call, "mesh1:" + v.value().content_hash, [&]() -> Result<std::string> {
+    Result<std::string> json = stored_bundle(call, v.value(), true);
+    if (!json) return json.error();
+    Result<CaseBundle> bundle = parse_bundle_json(json.value());
+    if (!bundle) return bundle.error();
+    return browser_mesh(bundle.value());
+  });
+  if (!mesh) return mesh.error();
+  ApiResponse r;
+  r.content_type = "application/octet-stream";
+  r.body = *mesh.value();
+  r.headers.emplace_back("X-Cathbox-Case", v.value().name);
+  r.headers.emplace_back("X-Cathbox-Case-Version", std::to_string(v.value().version));
   return r;
 }
 

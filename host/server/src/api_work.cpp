@@ -1,7 +1,8 @@
 // Assignments and results: GET/POST /assignments, GET/DELETE /assignments/{id},
-// POST /results, GET /results, GET /results/{id}[/record], GET /metrics
+// POST /results, GET /results, GET /results/{id}[/record|/trace], GET /metrics
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 
 #include "api_call.hpp"
@@ -13,6 +14,9 @@
 namespace cathbox::server::api {
 
 namespace {
+
+// A trace is a pure function of the record's bytes: cached under their hash.
+std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
 
 Result<std::int64_t> id_param(const std::string& text) {
   std::int64_t id = 0;
@@ -194,6 +198,8 @@ Reply upload_result(Call& call) {
   Result<CheckedRecord> checked = call.c.checker->check(record);
   if (!checked) return checked.error();
   const CheckedRecord& rec = checked.value();
+  // The replay that checked the record also traced it: a first debrief needs no second replay.
+  if (call.c.cache != nullptr && !rec.trace.empty()) call.c.cache->put(trace_cache_key(hash), rec.trace);
 
   ResultRow row;
   row.content_hash = hash;
@@ -281,17 +287,57 @@ Reply list_results(Call& call) {
   return json_response(200, {{"results", std::move(list)}, {"limit", f.limit}, {"offset", f.offset}});
 }
 
+namespace {
+
+// The result and, under an assignment, each criterion against what was measured.
+nlohmann::json evaluated_result_json(Call& call, const ResultRow& r) {
+  nlohmann::json j = result_json(r);
+  if (r.assignment_id) {
+    if (const std::optional<Assignment> a = call.c.store.assignment(*r.assignment_id)) {
+      Result<PassCriteria> criteria = PassCriteria::parse_text(a->criteria_json);
+      if (criteria) j["evaluation"] = evaluation_json(criteria.value().evaluate(metric_map(call.c.store.result_metrics(r.id))));
+    }
+  }
+  return j;
+}
+
+}  // namespace
+
 Reply get_result(Call& call) {
   Result<ResultRow> r = visible_result(call);
   if (!r) return r.error();
-  nlohmann::json j = result_json(r.value());
-  if (r.value().assignment_id) {
-    if (const std::optional<Assignment> a = call.c.store.assignment(*r.value().assignment_id)) {
-      Result<PassCriteria> criteria = PassCriteria::parse_text(a->criteria_json);
-      if (criteria) j["evaluation"] = evaluation_json(criteria.value().evaluate(metric_map(call.c.store.result_metrics(r.value().id))));
+  return json_response(200, evaluated_result_json(call, r.value()));
+}
+
+Reply get_result_trace(Call& call) {
+  Result<ResultRow> r = visible_result(call);
+  if (!r) return r.error();
+  if (call.c.checker == nullptr) return make_error(503, "trace: this server cannot replay records");
+  const auto started = std::chrono::steady_clock::now();
+  bool hit = false;
+  Result<std::shared_ptr<const std::string>> trace = cached(
+      call, trace_cache_key(r.value().content_hash),
+      [&]() -> Result<std::string> {
+        std::optional<std::string> bytes = call.c.store.result_record(r.value().id);
+        if (!bytes) return make_error(404, "record missing");
+        return call.c.checker->trace(*bytes);
+      },
+      &hit);
+  if (!trace) return trace.error();
+  // {"mesh_url", "result": GET /results/{id}, "trace": the replay sampled}; spliced, the trace is not re-parsed.
+  ApiResponse out;
+  // The library version the record ran (its vessel for the 3D view).
+  nlohmann::json mesh_url = nullptr;
+  for (const CaseVersion& v : call.c.store.case_versions(r.value().case_name)) {
+    if (r.value().case_version_id && v.id == *r.value().case_version_id) {
+      mesh_url = "/api/v1/cases/" + v.name + "/versions/" + std::to_string(v.version) + "/mesh";
     }
   }
-  return json_response(200, j);
+  out.body = "{\"mesh_url\":" + safe_dump(mesh_url) + ",\"result\":" + safe_dump(evaluated_result_json(call, r.value())) +
+             ",\"trace\":" + *trace.value() + "}";
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started).count();
+  out.headers.emplace_back("X-Cathbox-Trace", std::string(hit ? "cached" : "replayed") + "; " + std::to_string(ms) + " ms");
+  return out;
 }
 
 Reply get_result_record(Call& call) {

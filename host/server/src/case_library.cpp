@@ -1,5 +1,6 @@
 #include "server/case_library.hpp"
 
+#include <bit>
 #include <filesystem>
 #include <sstream>
 
@@ -85,6 +86,30 @@ Result<CaseCheck> check_case(const CaseBundle& b) {
   out.mesh_vertices = static_cast<std::int64_t>(surface.mesh.vertex_count());
   out.mesh_triangles = static_cast<std::int64_t>(surface.mesh.triangle_count());
   out.mesh_bytes = out.mesh_vertices * 24 + out.mesh_triangles * 12;
+  return out;
+}
+
+Result<std::string> browser_mesh(const CaseBundle& b) {
+  if (b.hclm_text.empty()) return make_error(404, b.case_file + ": the case names no vessel (made of 'tube' lines): no mesh");
+  const vessel::HclmReadResult model = vessel::read_hclm(b.hclm_text, b.hclm_file);
+  if (!model.ok()) return make_error(422, model.errors.front().to_string());
+  vessel::MeshOptions coarse;
+  coarse.subdivision_level = kBrowserMeshLevel;
+  coarse.ring_points = kBrowserMeshRingPoints;
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(model.model, coarse);
+  if (!surface.ok()) return make_error(422, surface.error);
+  const vessel::SurfaceMesh& m = surface.mesh;
+  static_assert(sizeof(glm::vec3) == 12 && std::endian::native == std::endian::little);
+  const auto vertices = static_cast<std::uint32_t>(m.vertex_count());
+  const auto triangles = static_cast<std::uint32_t>(m.triangle_count());
+  std::string out = "CBXMESH1";
+  const auto put = [&out](const void* data, std::size_t n) { out.append(static_cast<const char*>(data), n); };
+  out.reserve(16 + std::size_t{vertices} * 24 + std::size_t{triangles} * 12);
+  put(&vertices, 4);
+  put(&triangles, 4);
+  put(m.positions_mm.data(), m.positions_mm.size() * 12);
+  put(m.normals.data(), m.normals.size() * 12);
+  put(m.triangles.data(), m.triangles.size() * 4);
   return out;
 }
 

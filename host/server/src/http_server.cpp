@@ -369,6 +369,9 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     res->body() = std::move(r.body);
     res->keep_alive(keep_alive);
     res->prepare_payload();
+    // A fresh deadline for the write: the one set when the request was read may have passed while
+    // a heavy handler (a replay of a long record) ran, which cut the answer short.
+    stream_.expires_after(std::chrono::seconds(s_.options.body_timeout_s));
     http::async_write(stream_, *res, [self = shared_from_this(), res, keep_alive](beast::error_code ec, std::size_t) {
       if (ec || !keep_alive) return self->close();
       self->read_header();

@@ -82,6 +82,7 @@ std::unique_ptr<Store> open_store(const std::string& url, int& code) {
 
 struct ServeOptions {
   std::string web;
+  std::string cache;  // DATA/cache: browser meshes and debrief traces (zstd), rebuilt when missing
   std::string instance;
   int io_threads = 2;
   int api_threads = 4;
@@ -117,6 +118,7 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
   config.auth.address_burst = so.login_burst;
   config.auth.address_per_minute = so.logins_per_minute;
   config.instance = so.instance;
+  config.cache_dir = so.cache;
 
   // The signals that stop the server are taken by this thread only (sigwait below).
   sigset_t stop_signals;
@@ -241,6 +243,7 @@ int main(int argc, char** argv) {
     return rc == 0 ? kOk : kBadInput;
   }
   const std::string url = db_url(db, data);
+  so.cache = data + "/cache";
   if (!admin->parsed()) return serve(url, listen, so);
 
   int code = kOk;

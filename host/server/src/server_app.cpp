@@ -35,7 +35,8 @@ Result<std::unique_ptr<ServerCore>> ServerCore::open(ServerConfig& config) {
   }
   core->live_ = std::make_unique<LiveService>(*core->store_, *core->clock_, *bus, core->instance_, config.live);
   core->checker_ = config.checker ? std::move(config.checker) : make_session_checker();
-  core->api_ = std::make_unique<Api>(ApiContext{*core->store_, *core->clock_, *core->auth_, *core->cases_, *core->live_, core->checker_.get()});
+  if (!config.cache_dir.empty()) core->cache_.keep_on_disk(config.cache_dir);
+  core->api_ = std::make_unique<Api>(ApiContext{*core->store_, *core->clock_, *core->auth_, *core->cases_, *core->live_, core->checker_.get(), &core->cache_});
   return core;
 }
 

@@ -1,8 +1,12 @@
 // The record checker over host/session: a record is accepted only if it replays exactly (every
 // state hash matches) on the case it carries; its metrics are what the replay measured, not
 // anything the uploader claims.
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "server/server_app.hpp"
 #include "session/record_reader.hpp"
@@ -12,6 +16,142 @@
 namespace cathbox::server {
 namespace {
 
+constexpr std::int64_t kTracePeriodUs = 50'000;  // one sample every 50 ms of the run
+constexpr std::size_t kMaxTraceSamples = 9'000;  // longer runs: every k-th sample (wall force: the peak of the k)
+constexpr std::size_t kTraceNodes = 24;          // the held tool's shape: at most this many nodes, the tip always
+constexpr std::size_t kMaxTraceEvents = 5'000;
+
+// To 0.01 (mm, mN, degrees): a trace is drawn, not replayed.
+double r2(double v) { return std::round(v * 100.0) / 100.0; }
+
+// Samples every tick the replay runs: the held tool, forces, and the metrics' counters turning
+// into events (a wall contact starting, a wrong-branch entry, the target reached, an injection).
+class TraceObserver final : public session::TickObserver {
+ public:
+  struct Sample {
+    std::int64_t t_us = 0;
+    glm::dvec3 tip{0.0};
+    double insertion_mm = 0.0;
+    double rotation_deg = 0.0;
+    double hand_mN = 0.0;
+    double wall_peak_mN = 0.0;
+    bool fluoro = false;
+    std::vector<double> nodes;  // x, y, z of up to kTraceNodes nodes (to 0.01 mm: short in JSON)
+  };
+  struct Event {
+    std::int64_t t_us = 0;
+    const char* kind = "";
+  };
+
+  void observe(const session::TickView& v) override {
+    double wall = 0.0;
+    for (const tool::ToolSnapshot& t : v.snapshot.tools) {
+      for (const tool::RodContact& c : t.contacts) wall = std::max(wall, c.normal_force_mN);
+    }
+    interval_wall_ = std::max(interval_wall_, wall);
+    const session::Metrics& m = v.metrics;
+    if (started_) {
+      if (m.wall_contacts > last_.wall_contacts) event(v.time_us, "wall_contact");
+      if (m.wrong_branch_entries > last_.wrong_branch_entries) event(v.time_us, "wrong_branch");
+      if (m.target_reached && !last_.target_reached) event(v.time_us, "target_reached");
+      if (m.tool_changes > last_.tool_changes) event(v.time_us, "tool_change");
+      if (m.fluoroscopy_runs.value_or(0) > last_.fluoroscopy_runs.value_or(0)) event(v.time_us, "fluoroscopy");
+      const bool injecting = m.contrast_volume_ml.value_or(0.0) > last_.contrast_volume_ml.value_or(0.0);
+      if (injecting && !injecting_) event(v.time_us, "injection");
+      injecting_ = injecting;
+      fluoro_ = m.fluoroscopy_time_s.value_or(0.0) > last_.fluoroscopy_time_s.value_or(0.0);
+    }
+    if (!started_) {
+      for (const tool::ToolSnapshot& t : v.snapshot.tools) tools_.push_back(t.name);
+    }
+    started_ = true;
+    last_ = m;
+    if (!samples_.empty() && v.time_us - samples_.back().t_us < kTracePeriodUs) return;
+    Sample s;
+    s.t_us = v.time_us;
+    s.wall_peak_mN = interval_wall_;
+    s.fluoro = fluoro_;
+    interval_wall_ = 0.0;
+    if (v.snapshot.active_tool < v.snapshot.tools.size()) {
+      const tool::ToolSnapshot& t = v.snapshot.tools[v.snapshot.active_tool];
+      s.tip = t.tip.position_mm;
+      s.insertion_mm = t.insertion_mm;
+      s.rotation_deg = t.rotation_rad * 180.0 / 3.14159265358979323846;
+      s.hand_mN = t.hand_force_mN;
+      const std::size_t n = t.positions_mm.size();
+      const std::size_t step = std::max<std::size_t>(1, (n + kTraceNodes - 2) / (kTraceNodes - 1));
+      for (std::size_t i = 0; i < n; i += step) push_node(s, t.positions_mm[i]);
+      if (n > 0 && (n - 1) % step != 0) push_node(s, t.positions_mm[n - 1]);
+    }
+    samples_.push_back(std::move(s));
+  }
+
+  // {"format","period_ms","tools","target_mm","t_ms","tip_mm","insertion_mm","rotation_deg",
+  //  "hand_mN","wall_peak_mN","fluoro","nodes_mm","events"}: columns, one entry per sample
+  // (tip_mm flat x,y,z; nodes_mm one flat array per sample).
+  [[nodiscard]] std::string json(const session::SessionCase& scene) const {
+    const std::size_t k = (samples_.size() + kMaxTraceSamples - 1) / kMaxTraceSamples;
+    const std::size_t stride = std::max<std::size_t>(k, 1);
+    nlohmann::json t_ms = nlohmann::json::array(), tip = nlohmann::json::array(), ins = nlohmann::json::array(),
+                   rot = nlohmann::json::array(), hand = nlohmann::json::array(), wall = nlohmann::json::array(),
+                   fluoro = nlohmann::json::array(), nodes = nlohmann::json::array();
+    for (std::size_t i = 0; i < samples_.size(); i += stride) {
+      const Sample& s = samples_[i];
+      double peak = 0.0;
+      for (std::size_t j = i; j < std::min(i + stride, samples_.size()); ++j) peak = std::max(peak, samples_[j].wall_peak_mN);
+      t_ms.push_back(static_cast<double>(s.t_us) / 1000.0);
+      for (int a = 0; a < 3; ++a) tip.push_back(r2(s.tip[a]));
+      ins.push_back(r2(s.insertion_mm));
+      rot.push_back(r2(s.rotation_deg));
+      hand.push_back(r2(s.hand_mN));
+      wall.push_back(r2(peak));
+      fluoro.push_back(s.fluoro ? 1 : 0);
+      nodes.push_back(s.nodes);
+    }
+    nlohmann::json events = nlohmann::json::array();
+    for (const Event& e : events_) events.push_back({{"t_ms", static_cast<double>(e.t_us) / 1000.0}, {"kind", e.kind}});
+    nlohmann::json tools = nlohmann::json::array();
+    for (const std::string& name : tools_) tools.push_back(name);
+    nlohmann::json out = {{"format", "cathbox-trace 1"},
+                          {"period_ms", static_cast<double>(kTracePeriodUs * static_cast<std::int64_t>(stride)) / 1000.0},
+                          {"samples", t_ms.size()},
+                          {"tools", std::move(tools)},
+                          {"target_mm", nullptr},
+                          {"target_radius_mm", scene.target_radius_mm},
+                          {"t_ms", std::move(t_ms)},
+                          {"tip_mm", std::move(tip)},
+                          {"insertion_mm", std::move(ins)},
+                          {"rotation_deg", std::move(rot)},
+                          {"hand_mN", std::move(hand)},
+                          {"wall_peak_mN", std::move(wall)},
+                          {"fluoro", std::move(fluoro)},
+                          {"nodes_mm", std::move(nodes)},
+                          {"events", std::move(events)},
+                          {"events_dropped", events_dropped_}};
+    if (scene.target_mm) out["target_mm"] = {r2(scene.target_mm->x), r2(scene.target_mm->y), r2(scene.target_mm->z)};
+    return out.dump();
+  }
+
+ private:
+  static void push_node(Sample& s, const glm::dvec3& p) {
+    for (int a = 0; a < 3; ++a) s.nodes.push_back(r2(p[a]));
+  }
+  void event(std::int64_t t_us, const char* kind) {
+    if (events_.size() < kMaxTraceEvents) events_.push_back({t_us, kind});
+    else ++events_dropped_;
+  }
+
+  std::vector<Sample> samples_;
+  std::vector<Event> events_;
+  std::vector<std::string> tools_;
+  std::int64_t events_dropped_ = 0;
+  session::Metrics last_;
+  bool started_ = false;
+  bool injecting_ = false;
+  bool fluoro_ = false;
+  double interval_wall_ = 0.0;
+};
+
 class SessionChecker final : public RecordChecker {
  public:
   Result<CheckedRecord> check(std::string_view bytes) override {
@@ -20,6 +160,8 @@ class SessionChecker final : public RecordChecker {
     if (!reader) return make_error(422, error);
     auto replay = session::Replay::open(std::move(reader), error);
     if (!replay) return make_error(422, error);
+    TraceObserver observer;  // the debrief's trace comes from this same replay
+    replay->session().add_observer(observer);
     replay->step(-1);
     const session::ReplayResult r = replay->result();
     if (!r.error.empty()) return make_error(422, r.error);
@@ -40,7 +182,22 @@ class SessionChecker final : public RecordChecker {
     out.started_us = h.start_unix_us;
     out.duration_ms = r.ticks * h.period_us / 1000;
     for (const session::NamedMetric& m : session::named_metrics(r.metrics)) out.metrics.push_back({m.name, m.value});
+    out.trace = observer.json(replay->session().scene());
     return out;
+  }
+
+  Result<std::string> trace(std::string_view bytes) override {
+    std::string error;
+    auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record", error);
+    if (!reader) return make_error(422, error);
+    auto replay = session::Replay::open(std::move(reader), error);
+    if (!replay) return make_error(422, error);
+    TraceObserver observer;
+    replay->session().add_observer(observer);
+    replay->step(-1);
+    const session::ReplayResult r = replay->result();
+    if (!r.matched()) return make_error(422, r.error.empty() ? "record: state hash differs on replay" : r.error);
+    return observer.json(replay->session().scene());
   }
 
   [[nodiscard]] std::vector<std::string> metric_names() const override { return session::metric_names(); }

@@ -122,6 +122,26 @@ TEST_P(HttpTest, OneConnectionCarriesManyRequests) {
   EXPECT_LE(server_->app->http().stats().connections, 3U);  // the login's, and this one
 }
 
+// A heavy answer (a debrief trace replaying a long record) that takes longer than the idle
+// timeout still arrives whole: the write gets its own deadline.
+TEST_P(HttpTest, ASlowHeavyAnswerArrivesWhole) {
+  server_.reset();
+  test::ServerOptions o;
+  o.idle_timeout_s = 1;
+  server_ = std::make_unique<RunningServer>(GetParam(), o);
+  HttpClient http(server_->base_url());
+  http.set_token(server_->token_for("alice", Role::kTrainee));
+  json record = json::parse(test::FakeRecords::make("y_bifurcation", {{"tip_path_mm", 10}}));
+  record["trace_delay_ms"] = 2500;
+  const HttpAnswer up = http.request("POST", "/api/v1/results", record.dump(), {{"Content-Type", "application/octet-stream"}});
+  ASSERT_EQ(up.status, 201) << up.body;
+  const HttpAnswer trace = http.get("/api/v1/results/" + std::to_string(json::parse(up.body)["id"].get<int>()) + "/trace");
+  ASSERT_EQ(trace.status, 200) << trace.problem();
+  const json t = json::parse(trace.body);
+  EXPECT_EQ(t["trace"]["pad"].get<std::string>().size(), 32U * 1024U * 1024U);
+  EXPECT_EQ(trace.header("x-cathbox-trace").rfind("replayed; ", 0), 0U);
+}
+
 TEST_P(HttpTest, ApiAnswersAreNotCachedButCaseBundlesAreRevalidatedByTheirEtag) {
   HttpClient http(server_->base_url());
   http.set_token(server_->token_for("teacher", Role::kInstructor));

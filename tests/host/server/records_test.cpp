@@ -3,6 +3,8 @@
 // indexed with the metrics its replay measured; the same bytes again are the same result; a
 // record whose inputs were changed by 1 um from tick 3000 is refused at the first hash after the
 // change; a cut or foreign record is refused with the reader's line.
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -91,6 +93,124 @@ TEST_P(RecordsTest, RealRecordsAreReplayedBeforeTheyCount) {
   const ApiResponse foreign = f.call("POST", target, "not a record", alice);
   EXPECT_EQ(foreign.status, 422);
   EXPECT_EQ(error_of(foreign), "record: byte 12: not a cathbox record: 12 bytes, shorter than the 16-byte file header");
+}
+
+std::string header(const ApiResponse& r, const std::string& name) {
+  for (const auto& [k, v] : r.headers) {
+    if (k == name) return v;
+  }
+  return {};
+}
+
+// The debrief's trace: the record replayed and sampled every 50 ms, the events the metrics
+// counted, the result and its evaluation; made by the replay that checked the upload (so even
+// the first request is served from the cache), the same as a replay of its own. Same visibility
+// as the result. And the browser's mesh of the case (CBXMESH1), coarser than the trainer's.
+TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
+  ApiFixture f(GetParam(), make_session_checker());
+  const std::string teacher = f.user("teacher", Role::kInstructor);
+  const std::string alice = f.user("alice", Role::kTrainee);
+  const std::string bob = f.user("bob", Role::kTrainee);
+  const ApiResponse up = f.upload_bundled_case("y_bifurcation", "ybif", teacher);
+  ASSERT_EQ(up.status, 201);
+  const std::string bytes = read_all(record_left_branch());
+  const ApiResponse stored = f.call("POST", "/api/v1/results", bytes, alice);
+  ASSERT_EQ(stored.status, 201) << stored.body;
+  const json r = json::parse(stored.body);
+  const std::string url = "/api/v1/results/" + std::to_string(r["id"].get<int>()) + "/trace";
+
+  const ApiResponse first = f.call("GET", url, "", teacher);
+  ASSERT_EQ(first.status, 200) << first.body;
+  EXPECT_EQ(header(first, "X-Cathbox-Trace").rfind("cached; ", 0), 0U) << header(first, "X-Cathbox-Trace");
+  const json d = json::parse(first.body);
+  EXPECT_EQ(d["mesh_url"], "/api/v1/cases/ybif/versions/1/mesh");
+  EXPECT_EQ(d["result"]["id"], r["id"]);
+  const json& t = d["trace"];
+  EXPECT_EQ(t["format"], "cathbox-trace 1");
+  EXPECT_EQ(t["period_ms"], 50.0);
+  const std::size_t n = t["samples"].get<std::size_t>();
+  EXPECT_NEAR(static_cast<double>(n), r["duration_s"].get<double>() * 20.0, 2.0);
+  EXPECT_EQ(t["t_ms"].size(), n);
+  EXPECT_EQ(t["tip_mm"].size(), 3 * n);
+  for (const char* column : {"insertion_mm", "rotation_deg", "hand_mN", "wall_peak_mN", "fluoro", "nodes_mm"}) {
+    EXPECT_EQ(t[column].size(), n) << column;
+  }
+  for (const json& nodes : t["nodes_mm"]) {
+    EXPECT_EQ(nodes.size() % 3, 0U);
+    EXPECT_LE(nodes.size(), 24U * 3U);
+  }
+  // The script inserts to 95 mm: the trace's insertion gets there, time only grows.
+  EXPECT_NEAR(t["insertion_mm"].back().get<double>(), 95.0, 1.0);
+  EXPECT_TRUE(std::is_sorted(t["t_ms"].begin(), t["t_ms"].end()));
+  int contacts = 0;
+  for (const json& e : t["events"]) contacts += e["kind"] == "wall_contact" ? 1 : 0;
+  EXPECT_EQ(contacts, r["metrics"]["wall_contacts"].get<double>());
+  EXPECT_EQ(t["target_mm"].size(), 3U);
+
+  const Result<std::string> replayed = make_session_checker()->trace(bytes);
+  ASSERT_TRUE(replayed) << replayed.error().message;
+  EXPECT_EQ(json::parse(replayed.value()), t);  // deterministic: a replay of its own gives the same
+  const ApiResponse again = f.call("GET", url, "", alice);
+  ASSERT_EQ(again.status, 200);
+  EXPECT_EQ(json::parse(again.body)["trace"], t);
+  EXPECT_EQ(f.call("GET", url, "", bob).status, 403);
+  EXPECT_EQ(f.call("GET", url, "").status, 401);
+  EXPECT_EQ(f.call("GET", "/api/v1/results/999/trace", "", teacher).status, 404);
+
+  const ApiResponse mesh = f.call("GET", "/api/v1/cases/ybif/versions/latest/mesh", "", alice);
+  ASSERT_EQ(mesh.status, 200) << mesh.body;
+  EXPECT_EQ(mesh.content_type, "application/octet-stream");
+  ASSERT_GE(mesh.body.size(), 16U);
+  EXPECT_EQ(mesh.body.substr(0, 8), "CBXMESH1");
+  std::uint32_t vertices = 0, triangles = 0;
+  std::memcpy(&vertices, mesh.body.data() + 8, 4);
+  std::memcpy(&triangles, mesh.body.data() + 12, 4);
+  EXPECT_GT(triangles, 100U);
+  EXPECT_LT(triangles, json::parse(up.body)["sizes"]["mesh_triangles"].get<std::uint32_t>());
+  ASSERT_EQ(mesh.body.size(), 16U + 24U * vertices + 12U * triangles);
+  std::uint32_t largest = 0;
+  for (std::uint32_t i = 0; i < 3 * triangles; ++i) {
+    std::uint32_t index = 0;
+    std::memcpy(&index, mesh.body.data() + 16 + 24 * vertices + 4 * i, 4);
+    largest = std::max(largest, index);
+  }
+  EXPECT_EQ(largest + 1, vertices);
+  EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh", "", teacher).body, mesh.body);
+  EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/2/mesh", "", teacher).status, 404);
+  EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh", "").status, 401);
+}
+
+// The cache of meshes and traces: least recently used out first; with a folder, a second
+// cache (a restarted server) finds what the first built without building it again.
+TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
+  ArtifactCache small(10);
+  const auto value = [](std::string v) { return [v]() -> Result<std::string> { return v; }; };
+  const auto never = []() -> Result<std::string> { return make_error(500, "built again"); };
+  bool hit = true;
+  ASSERT_EQ(*small.get_or_build("a", value("12345"), &hit).value(), "12345");
+  EXPECT_FALSE(hit);
+  ASSERT_TRUE(small.get_or_build("b", value("6789"), &hit));
+  ASSERT_TRUE(small.get_or_build("a", never, &hit));  // a used last: b leaves for c
+  EXPECT_TRUE(hit);
+  ASSERT_TRUE(small.get_or_build("c", value("xy"), &hit));
+  EXPECT_EQ(small.bytes(), 7U);
+  EXPECT_FALSE(small.get_or_build("b", never, &hit));
+  EXPECT_EQ(small.get_or_build("x", []() -> Result<std::string> { return make_error(422, "refused"); }).error().message, "refused");
+
+  const std::string folder = scratch("artifacts");
+  std::filesystem::remove_all(folder);
+  {
+    ArtifactCache first;
+    first.keep_on_disk(folder);
+    first.put("trace1:abc", std::string(100000, 't'));
+  }
+  ArtifactCache second;
+  second.keep_on_disk(folder);
+  const Result<std::shared_ptr<const std::string>> again = second.get_or_build("trace1:abc", never, &hit);
+  ASSERT_TRUE(again) << again.error().message;
+  EXPECT_TRUE(hit);
+  EXPECT_EQ(*again.value(), std::string(100000, 't'));
+  EXPECT_LT(std::filesystem::file_size(std::filesystem::path(folder) / "trace1-abc.zst"), 1000U);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RecordsTest, ::testing::ValuesIn(kBackends), BackendName());

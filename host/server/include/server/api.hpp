@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "server/artifact_cache.hpp"
 #include "server/auth.hpp"
 #include "server/case_library.hpp"
 #include "server/clock.hpp"
@@ -50,6 +51,7 @@ struct ApiContext {
   CaseLibrary& cases;
   LiveService& live;
   RecordChecker* checker = nullptr;  // null: record uploads answer 503
+  ArtifactCache* cache = nullptr;    // meshes and traces; null: built on every request
 };
 
 inline constexpr std::size_t kMaxJsonBodyBytes = 64 * 1024;

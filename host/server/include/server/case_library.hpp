@@ -34,6 +34,16 @@ struct CaseCheck {
 // Validates a case and its HCLM (text in memory) and meshes the vessel at level 2.
 [[nodiscard]] Result<CaseCheck> check_case(const CaseBundle& bundle);
 
+// The vessel surface for a browser (GET /cases/{name}/versions/{v}/mesh): the coarse level the
+// trainer's global view draws (subdivision level 1, 4 points a ring), little-endian binary:
+//   "CBXMESH1" (8 bytes), u32 vertex count V, u32 triangle count T,
+//   f32 positions[3V] (mm), f32 normals[3V] (unit, outward), u32 indices[3T] (counter-clockwise
+//   seen from outside).
+// A case of 'tube' lines (no HCLM) has no mesh: 404.
+inline constexpr int kBrowserMeshLevel = 1;
+inline constexpr int kBrowserMeshRingPoints = 4;
+[[nodiscard]] Result<std::string> browser_mesh(const CaseBundle& bundle);
+
 struct CaseUploadOutcome {
   CaseVersion version;
   bool created = false;

@@ -18,6 +18,7 @@ struct CheckedRecord {
   std::int64_t started_us = 0;
   std::int64_t duration_ms = 0;
   std::vector<MetricValue> metrics;
+  std::string trace;      // the debrief's trace from the same replay (see trace()); may be empty
 };
 
 class RecordChecker {
@@ -26,6 +27,12 @@ class RecordChecker {
   // 422 with one line ("record: byte 4711: block CRC mismatch", "record: tick 12300: state
   // hash differs (tampered or broken)") when the record is refused.
   [[nodiscard]] virtual Result<CheckedRecord> check(std::string_view record_bytes) = 0;
+  // The run for a debrief (GET /results/{id}/trace): the record replayed and sampled, as JSON
+  // text (the format is in host/server/README.md, "Debrief trace"). Deterministic.
+  [[nodiscard]] virtual Result<std::string> trace(std::string_view record_bytes) {
+    (void)record_bytes;
+    return make_error(503, "trace: this server cannot replay records");
+  }
   // The metric names records carry (pass criteria may name only these).
   [[nodiscard]] virtual std::vector<std::string> metric_names() const = 0;
 };

@@ -32,6 +32,7 @@ struct ServerConfig {
   std::string instance;             // empty: a random name
   Clock* clock = nullptr;           // null: the system clock
   std::unique_ptr<RecordChecker> checker;  // null: the session-replay checker when built
+  std::string cache_dir;            // meshes and traces kept on disk too; empty: in memory only
   int maintenance_every_s = 60;     // purge expired tokens and old login failures
 };
 
@@ -69,6 +70,7 @@ class ServerCore {
   std::unique_ptr<PgLiveBus> pg_bus_;
   std::unique_ptr<LiveService> live_;
   std::unique_ptr<RecordChecker> checker_;
+  ArtifactCache cache_;  // browser meshes, debrief traces
   std::unique_ptr<Api> api_;
 };
 

@@ -1,7 +1,9 @@
 #include "support/api_fixture.hpp"
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "server/json_input.hpp"
 #include "tool/case_file.hpp"
@@ -14,6 +16,13 @@ std::string source_file(const std::string& relative) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return ss.str();
+}
+
+Result<std::string> FakeRecords::trace(std::string_view bytes) {
+  Result<nlohmann::json> j = parse_json_object(bytes, "record");
+  if (!j) return make_error(422, "record: byte 0: not a record");
+  std::this_thread::sleep_for(std::chrono::milliseconds(j.value().value("trace_delay_ms", 0)));
+  return nlohmann::json{{"format", "fake-trace"}, {"pad", std::string(32 * 1024 * 1024, 'x')}}.dump();
 }
 
 Result<CheckedRecord> FakeRecords::check(std::string_view bytes) {

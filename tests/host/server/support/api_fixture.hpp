@@ -22,6 +22,8 @@ namespace cathbox::server::test {
 class FakeRecords final : public RecordChecker {
  public:
   Result<CheckedRecord> check(std::string_view bytes) override;
+  // {"format": "fake-trace", "pad": 32 MB}, after the record's "trace_delay_ms" (a slow replay).
+  Result<std::string> trace(std::string_view bytes) override;
   std::vector<std::string> metric_names() const override;
   static std::string make(const std::string& case_stem, const std::map<std::string, double>& metrics, bool tampered = false,
                           const std::string& salt = "");

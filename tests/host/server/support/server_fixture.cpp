@@ -24,6 +24,7 @@ RunningServer::RunningServer(const std::string& backend, ServerOptions options) 
   config.http.port = 0;
   config.http.mounts = default_mounts(web_root);
   config.http.watcher_queue = options.watcher_queue;
+  if (options.idle_timeout_s > 0) config.http.idle_timeout_s = options.idle_timeout_s;
   config.argon2 = test_argon2_params();
   config.instance = options.instance;
   config.checker = std::make_unique<FakeRecords>();

@@ -15,6 +15,7 @@ struct ServerOptions {
   std::string db_url;                // default: a fresh database of the backend
   std::string instance;
   std::size_t watcher_queue = 64;
+  int idle_timeout_s = 0;            // 0: the server's default
 };
 
 class RunningServer {

@@ -1,0 +1,595 @@
+#!/usr/bin/python3
+"""The training centre's pages in a real browser (issue 15).
+
+Headless Chromium (Debian's chromium + chromium-driver, driven by python3-selenium) against a
+cathbox-server started here on a free loopback port with a fresh SQLite store, seeded with real
+sessions recorded by `cathbox session run` and uploaded through the API:
+
+  - an instructor logs in, sees a rig streamed by a headless cathbox-trainer appear live and its
+    tip move; the live view's frame rate is measured against a steady 30 Hz stream;
+  - a debrief opens and seeks (the time it takes is measured, first and cached);
+  - a learning-curve plot has one point per attempt;
+  - a trainee sees their own page, is refused the instructor pages and the API behind them.
+
+Any SEVERE message on the browser console fails the test. Screenshots of every page go to
+--out (the build folder). Every wait is bounded; nothing sleeps blindly.
+
+  tests/browser/browser_test.py --bin build/release/bin --source . --out build/release/browser
+"""
+import argparse
+import base64
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import traceback
+import urllib.error
+import urllib.request
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support import expected_conditions as EC
+from selenium.webdriver.support.ui import WebDriverWait
+
+PASSWORD = "browser-pass-1"
+WAIT_S = 30
+
+
+class Failure(Exception):
+    pass
+
+
+def check(cond, message):
+    if not cond:
+        raise Failure(message)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_until(predicate, what, timeout=WAIT_S, every=0.05):
+    """Polls predicate() until it returns something truthy; fails naming `what` after timeout."""
+    deadline = time.monotonic() + timeout
+    while True:
+        value = predicate()
+        if value:
+            return value
+        if time.monotonic() > deadline:
+            raise Failure("timed out after %.0f s waiting for %s" % (timeout, what))
+        time.sleep(every)
+
+
+class Api:
+    """The REST API over urllib, as one user."""
+
+    def __init__(self, base):
+        self.base = base
+        self.token = None
+
+    def call(self, method, path, body=None, raw=None, expect=(200, 201, 204)):
+        headers = {}
+        data = None
+        if self.token:
+            headers["Authorization"] = "Bearer " + self.token
+        if raw is not None:
+            headers["Content-Type"] = "application/octet-stream"
+            data = raw
+        elif body is not None:
+            headers["Content-Type"] = "application/json"
+            data = json.dumps(body).encode()
+        req = urllib.request.Request(self.base + "/api/v1" + path, data=data, headers=headers, method=method)
+        try:
+            with urllib.request.urlopen(req, timeout=900) as res:
+                status, payload, head = res.status, res.read(), dict(res.headers)
+        except urllib.error.HTTPError as e:
+            status, payload, head = e.code, e.read(), dict(e.headers)
+        if status not in expect:
+            raise Failure("%s %s: %d %s" % (method, path, status, payload[:300]))
+        return status, payload, head
+
+    def json(self, method, path, body=None, raw=None, expect=(200, 201, 204)):
+        status, payload, _ = self.call(method, path, body=body, raw=raw, expect=expect)
+        return status, (json.loads(payload) if payload else None)
+
+    def login(self, name):
+        _, r = self.json("POST", "/login", {"name": name, "password": PASSWORD})
+        self.token = r["token"]
+        return self
+
+
+def ws_publisher(base, path, token):
+    """A minimal WebSocket client (RFC 6455, text frames, masked) for a publishing rig."""
+    host, port = base.split("//")[1].split(":")
+    sock = socket.create_connection((host, int(port)), timeout=10)
+    key = base64.b64encode(os.urandom(16)).decode()
+    sock.sendall(("GET %s HTTP/1.1\r\nHost: %s:%s\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                  "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\nAuthorization: Bearer %s\r\n\r\n"
+                  % (path, host, port, key, token)).encode())
+    answer = b""
+    while b"\r\n\r\n" not in answer:
+        chunk = sock.recv(4096)
+        if not chunk:
+            break
+        answer += chunk
+    check(answer.startswith(b"HTTP/1.1 101"), "publisher upgrade refused: %r" % answer[:200])
+
+    def send(text):
+        data = text.encode()
+        mask = os.urandom(4)
+        head = bytearray([0x81])
+        n = len(data)
+        if n < 126:
+            head.append(0x80 | n)
+        elif n < 65536:
+            head += bytes([0x80 | 126]) + n.to_bytes(2, "big")
+        else:
+            head += bytes([0x80 | 127]) + n.to_bytes(8, "big")
+        sock.sendall(bytes(head) + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
+
+    return sock, send
+
+
+class Centre:
+    """cathbox-server on a fresh SQLite store, with accounts, a case, an assignment, results."""
+
+    def __init__(self, args, tmp):
+        self.args = args
+        self.tmp = tmp
+        self.bin = args.bin
+        self.db = "sqlite:" + os.path.join(tmp, "server.db")
+        self.env = dict(os.environ, CATHBOX_PASSWORD=PASSWORD, XDG_DATA_HOME=os.path.join(tmp, "data"),
+                        XDG_CACHE_HOME=os.path.join(tmp, "cache"), XDG_CONFIG_HOME=os.path.join(tmp, "config"))
+        self.processes = []
+        self.port = free_port()
+        self.base = "http://127.0.0.1:%d" % self.port
+
+    def program(self, name):
+        return os.path.join(self.bin, name)
+
+    def run(self, argv, what, timeout=300):
+        r = subprocess.run(argv, env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
+        check(r.returncode == 0, "%s failed (%d): %s" % (what, r.returncode, r.stdout.decode()[-2000:]))
+        return r.stdout.decode()
+
+    def start(self):
+        for name, role in [("root", "admin"), ("teacher", "instructor"), ("ann", "trainee"), ("bob", "trainee")]:
+            self.run([self.program("cathbox-server"), "--db", self.db, "admin", "create-user", name, "--role", role], "create-user " + name)
+        self.launch()
+
+    def restart(self, forget=False):
+        """The server again on the same store and port: its memory cache empty, and with `forget`
+        its disk cache (meshes, traces) too."""
+        self.server.terminate()
+        self.server.wait(timeout=30)
+        if forget:
+            shutil.rmtree(os.path.join(self.tmp, "data", "cache"), ignore_errors=True)
+        self.launch()
+
+    def launch(self):
+        log = open(os.path.join(self.tmp, "server.log"), "a")
+        self.server = subprocess.Popen([self.program("cathbox-server"), "--db", self.db, "--listen", "127.0.0.1:%d" % self.port,
+                                        "--data", os.path.join(self.tmp, "data"), "--web", os.path.join(self.args.source, "host/server/web")],
+                                       env=self.env, stdout=log, stderr=subprocess.STDOUT)
+        self.processes.append(self.server)
+
+        def up():
+            check(self.server.poll() is None, "cathbox-server exited: " + open(log.name).read()[-2000:])
+            try:
+                with urllib.request.urlopen(self.base + "/", timeout=2) as r:
+                    return r.status == 200
+            except (urllib.error.URLError, ConnectionError):
+                return False
+        wait_until(up, "cathbox-server to listen")
+
+    def seed(self):
+        teacher = Api(self.base).login("teacher")
+        cases = os.path.join(self.args.source, "cases")
+        _, c = teacher.json("POST", "/cases", {
+            "name": "ybif", "case_file": "y_bifurcation.case", "case": open(os.path.join(cases, "y_bifurcation.case")).read(),
+            "hclm_file": "y_bifurcation.hclm", "hclm": open(os.path.join(cases, "y_bifurcation.hclm")).read()})
+        check(c["version"] == 1, "case upload: %s" % c)
+        _, a = teacher.json("POST", "/assignments", {
+            "trainee": "ann", "case": "ybif", "note": "Left branch, gently.",
+            "criteria": [{"metric": "peak_wall_force_mN", "op": "<=", "value": 200}, {"metric": "tip_path_mm", "op": ">=", "value": 80}]})
+        self.assignment = a["id"]
+        ann = Api(self.base).login("ann")
+        # Three attempts, each a real session record: cut at 3.5 s, 4.5 s, then the whole script.
+        self.results = []
+        for i, seconds in enumerate(["3.5", "4.5", "6"]):
+            rec = os.path.join(self.tmp, "ann-%d.cbxrec" % i)
+            self.run([self.program("cathbox"), "session", "run", "--case", os.path.join(cases, "y_bifurcation.case"),
+                      "--script", os.path.join(cases, "y_bifurcation_left.actions"), "--record", rec, "--virtual",
+                      "--seconds", seconds], "session run")
+            _, r = ann.json("POST", "/results?assignment=%d" % self.assignment, raw=open(rec, "rb").read())
+            self.results.append(r)
+        return teacher, ann
+
+    def stop(self):
+        for p in reversed(self.processes):
+            if p.poll() is None:
+                p.terminate()
+                try:
+                    p.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+                    p.wait(timeout=10)
+
+
+class Browser:
+    def __init__(self, out):
+        self.out = out
+        options = webdriver.ChromeOptions()
+        options.binary_location = "/usr/bin/chromium"
+        for a in ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1280,720",
+                  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-vsync",
+                  "--hide-scrollbars", "--mute-audio", "--no-first-run", "--disable-extensions"]:
+            options.add_argument(a)
+        options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+        self.driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+        self.viewport(1280, 720)
+        self.driver.set_page_load_timeout(WAIT_S)
+        self.driver.set_script_timeout(WAIT_S)
+        self.console = []
+
+    def viewport(self, width, height, mobile=False):
+        """The page's size (a 1280x720 screen; a tablet)."""
+        self.driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                                    {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": mobile})
+
+    def drain_console(self, expected=()):
+        """Fails on any SEVERE console message since the last call, but for the network lines of
+        the `expected` refusals (a URL part and its status, e.g. ("/api/v1/cases", 422))."""
+        entries = self.driver.get_log("browser")
+        self.console += entries
+
+        def wanted(e):
+            return e.get("source") == "network" and any(url in e["message"] and "status of %d" % status in e["message"] for url, status in expected)
+        severe = [e for e in entries if e.get("level") == "SEVERE" and not wanted(e)]
+        check(not severe, "browser console errors: %s" % json.dumps(severe, indent=1))
+
+    def wait(self, condition, what, timeout=WAIT_S):
+        try:
+            return WebDriverWait(self.driver, timeout, poll_frequency=0.05).until(condition)
+        except Exception as e:
+            self.shot("failed")
+            raise Failure("timed out waiting for %s (%s)" % (what, type(e).__name__)) from None
+
+    def js(self, script, *args):
+        return self.driver.execute_script(script, *args)
+
+    def wait_js(self, script, what, timeout=WAIT_S):
+        return self.wait(lambda d: d.execute_script(script), what, timeout)
+
+    def shot(self, name):
+        path = os.path.join(self.out, name + ".png")
+        self.driver.save_screenshot(path)
+        return path
+
+    def open(self, path):
+        self.driver.get(self.base + path)
+
+    def login(self, name):
+        self.open("/")
+        self.js("sessionStorage.clear()")
+        self.open("/")
+        self.wait(EC.visibility_of_element_located((By.ID, "name")), "the login form")
+        self.driver.find_element(By.ID, "name").send_keys(name)
+        self.driver.find_element(By.ID, "password").send_keys(PASSWORD)
+        self.driver.find_element(By.ID, "login-button").click()
+        self.wait(EC.visibility_of_element_located((By.ID, "home")), "the home page of " + name)
+
+    def quit(self):
+        self.driver.quit()
+
+
+def test_live(b, centre, args, report):
+    """A rig streamed by a headless trainer appears live and its tip moves; then a steady 30 Hz
+    stream for the frame rate."""
+    # The page is open before the rig starts; the address names the rig, so its panel opens
+    # (and its frames flow) as soon as it starts.
+    b.open("/live.html?rigs=rig-07")
+    b.wait_js("return document.getElementById('status').textContent === '(connected)'", "the watcher socket")
+    rig_home = os.path.join(centre.tmp, "rig")
+    os.makedirs(rig_home, exist_ok=True)
+    password_file = os.path.join(rig_home, "password")
+    open(password_file, "w").write(PASSWORD + "\n")
+    env = dict(centre.env, XDG_DATA_HOME=rig_home + "/data", XDG_CACHE_HOME=rig_home + "/cache", XDG_CONFIG_HOME=rig_home + "/config")
+    trainer = subprocess.Popen([centre.program("cathbox-trainer"), "--headless", "--no-box", "--server", centre.base, "--user", "ann",
+                                "--password-file", password_file, "--rig", "rig-07", "--no-record"],
+                               env=env, stdout=open(os.path.join(rig_home, "trainer.log"), "w"), stderr=subprocess.STDOUT)
+    centre.processes.append(trainer)
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "button[data-rig='rig-07']")), "rig-07 to appear live")
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "section[data-rig='rig-07']")), "rig-07's panel")
+    # The tip as the panel shows it: it must change while the run goes on.
+    tip_js = "const e = document.querySelector(\"section[data-rig='rig-07'] [data-stat='tip']\"); return e ? e.textContent : null;"
+    first = b.wait_js(tip_js, "the first frame of rig-07")
+    b.wait_js("const e = document.querySelector(\"section[data-rig='rig-07'] [data-stat='tip']\"); return e && e.textContent !== %s;"
+              % json.dumps(first), "rig-07's tip to move")
+    second = b.js(tip_js)
+    b.shot("live-trainer")
+    report["live_tip_moved"] = "%s -> %s" % (first, second)
+    b.wait_js("const c = document.querySelector(\"section[data-rig='rig-07'] canvas\"); return c && c.width > 100;", "the 3D view")
+    trainer.wait(timeout=120)
+
+    # A second rig streaming at a steady 30 Hz of wall time (frames from a recorded run's trace)
+    # for 6 s: the page must draw at >= 30 fps and apply the frames as they come.
+    teacher = Api(centre.base).login("teacher")
+    _, t = teacher.json("GET", "/results/%d/trace" % centre.results[-1]["id"])
+    tr = t["trace"]
+    bob = Api(centre.base).login("bob")
+    sock, send = ws_publisher(centre.base, "/api/v1/live/rigs/rig-12/stream?case=ybif", bob.token)
+    stop = threading.Event()
+
+    def stream():
+        n = tr["samples"]
+        start = time.monotonic()
+        k = 0
+        while not stop.is_set():
+            i = (k * 2) % n  # trace samples are 50 ms apart: every 2nd at 30 Hz plays ~3x speed
+            frame = {"type": "frame", "seq": k + 1, "t_ms": tr["t_ms"][i],
+                     "tools": [{"name": "guidewire", "nodes_mm": [tr["nodes_mm"][i][j:j + 3] for j in range(0, len(tr["nodes_mm"][i]), 3)]}],
+                     "tip_mm": tr["tip_mm"][3 * i:3 * i + 3],
+                     "forces": {"hand_mN": tr["hand_mN"][i], "wall_peak_mN": tr["wall_peak_mN"][i]},
+                     "contacts": [{"p_mm": tr["tip_mm"][3 * i:3 * i + 3], "f_mN": tr["wall_peak_mN"][i]}] if tr["wall_peak_mN"][i] > 0 else [],
+                     "fluoro": {"on": k % 90 < 45, "time_s": k / 60.0},
+                     "metrics": {"procedure_time_s": k / 30.0, "tip_path_mm": tr["insertion_mm"][i], "wall_contacts": k // 30}}
+            send(json.dumps(frame))
+            k += 1
+            delay = start + k / 30.0 - time.monotonic()
+            if delay > 0:
+                stop.wait(delay)
+    streamer = threading.Thread(target=stream, daemon=True)
+    streamer.start()
+    try:
+        chip = b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button[data-rig='rig-12']")), "rig-12 to appear live")
+        chip.click()
+        b.wait_js("return window.cathboxLive.frameRate > 20", "rig-12's frames to be drawn")
+        samples = []
+        deadline = time.monotonic() + 5
+        while time.monotonic() < deadline:
+            b.wait_js("return window.cathboxLive.renders > %d" % (b.js("return window.cathboxLive.renders") + 30), "30 more renders", 10)
+            samples.append(b.js("return [window.cathboxLive.fps, window.cathboxLive.frameRate]"))
+        report["live_webgl_draws"] = b.js("return window.cathboxLive.draws")
+        report["live_fps_samples"] = samples
+        fps = min(s[0] for s in samples[1:]) if len(samples) > 1 else samples[0][0]
+        rate = min(s[1] for s in samples[1:]) if len(samples) > 1 else samples[0][1]
+        report["live_fps_min"] = round(fps, 1)
+        report["live_frames_applied_per_s_min"] = round(rate, 1)
+        b.shot("live")
+        check(fps >= 30, "live view draws %.1f fps with a 30 Hz stream (>= 30 wanted)" % fps)
+        check(rate >= 25, "live view applied %.1f frames a second of a 30 Hz stream" % rate)
+    finally:
+        stop.set()
+        streamer.join(timeout=5)
+        try:
+            send(json.dumps({"type": "end"}))
+        except OSError:
+            pass
+        sock.close()
+    b.drain_console()
+
+
+def open_debrief(b, result_id, what):
+    b.open("/debrief.html?id=%d" % result_id)
+    b.wait_js("return window.cathboxDebrief && window.cathboxDebrief.ready", what, timeout=600)
+    return b.js("return window.cathboxDebrief.openMs")
+
+
+def test_debrief(b, centre, report):
+    rid = centre.results[-1]["id"]
+    report["debrief_open_ms_first"] = round(open_debrief(b, rid, "the debrief"), 1)
+    report["debrief_open_ms_cached"] = round(open_debrief(b, rid, "the debrief again"), 1)
+    samples = b.js("return window.cathboxDebrief.trace.samples")
+    check(samples > 50, "debrief trace has %d samples" % samples)
+    check(b.js("return document.querySelectorAll('#marks span').length") >= 1, "no event marked on the time line")
+    tip0 = b.driver.find_element(By.ID, "now-tip").text
+    # Seek with the slider (as a user drags it) to the middle, then play a little.
+    slider = b.driver.find_element(By.ID, "slider")
+    b.js("arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('input'));", slider, samples * 2 // 3)
+    b.wait_js("return window.cathboxDebrief.index === %d" % (samples * 2 // 3), "the seek")
+    tip1 = b.driver.find_element(By.ID, "now-tip").text
+    check(tip0 != tip1, "seeking did not move the tip (%s)" % tip0)
+    report["debrief_seek"] = "sample 0 tip %s -> sample %d tip %s" % (tip0, samples * 2 // 3, tip1)
+    # The plot's window: 10 s around the cursor.
+    b.js("const w = document.getElementById('window'); w.value = '10'; w.dispatchEvent(new Event('change'));")
+    b.wait_js("const x = window.cathboxDebrief.chart.scales.x; return x.max - x.min <= 10.001", "the plot's 10 s window")
+    b.shot("debrief")
+    b.js("const w = document.getElementById('window'); w.value = '0'; w.dispatchEvent(new Event('change'));")
+    # The same on a tablet (portrait, 820x1180): one column.
+    b.viewport(820, 1180, mobile=True)
+    b.wait_js("return document.querySelector('#view3d canvas').width <= 820", "the tablet layout")
+    b.shot("debrief-tablet")
+    b.viewport(1280, 720)
+    b.driver.find_element(By.ID, "play").click()
+    at = b.js("return window.cathboxDebrief.index")
+    b.wait_js("return window.cathboxDebrief.index > %d" % at, "playback to advance")
+    b.driver.find_element(By.ID, "play").click()
+    b.drain_console()
+
+
+def test_results(b, centre, report):
+    b.open("/results.html")
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "#results-table tbody tr")), "the results table")
+    rows = len(b.driver.find_elements(By.CSS_SELECTOR, "#results-table tbody tr"))
+    check(rows == len(centre.results), "results table has %d rows, %d uploaded" % (rows, len(centre.results)))
+    # Sort by tip path (a click on its header), then filter on ann: learning curves appear.
+    b.driver.find_element(By.CSS_SELECTOR, "th[data-key='m.tip_path_mm']").click()
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "th.sorted-desc[data-key='m.tip_path_mm']")), "sorting")
+    b.shot("results")
+    b.js("const s = document.getElementById('f-trainee'); s.value = 'ann'; s.dispatchEvent(new Event('change'));")
+    b.wait_js("return window.cathboxCharts && window.cathboxCharts.length > 0", "the learning curves")
+    counts = b.js("return window.cathboxCharts.map(c => [c.cathboxMetric, c.data.datasets[0].data.length])")
+    report["learning_curve_points"] = counts
+    for metric, n in counts:
+        check(n == len(centre.results), "learning curve of %s has %d points for %d attempts" % (metric, n, len(centre.results)))
+    b.js("document.getElementById('curves-title').scrollIntoView()")
+    b.shot("learning-curves")
+    csv = b.js("return window.cathboxResults.csv()").strip().split("\n")
+    check(len(csv) == 1 + len(centre.results) and csv[0].startswith("id,trainee,case"), "CSV export: %s" % csv[:2])
+    report["csv_header"] = csv[0]
+    b.drain_console()
+
+
+def test_trainee(b, centre, report):
+    b.login("ann")
+    b.shot("home-trainee")
+    b.open("/trainee.html")
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "#results-table tbody tr")), "the trainee's results")
+    b.wait_js("return window.cathboxCharts && window.cathboxCharts.length > 0", "the trainee's learning curves")
+    b.shot("trainee")
+    for page in ["/live.html", "/results.html", "/admin.html"]:
+        b.open(page)
+        b.wait(EC.presence_of_element_located((By.ID, "refused")), "the refusal on " + page)
+    b.shot("trainee-refused")
+    b.drain_console()
+    # The API behind those pages refuses too.
+    ann = Api(centre.base).login("ann")
+    for method, path, status in [("GET", "/users", 403), ("POST", "/cases", 403), ("GET", "/results?trainee=bob", 403),
+                                 ("GET", "/results", 200), ("GET", "/assignments?trainee=bob", 200)]:
+        got, payload, _ = ann.call(method, path, body={} if method == "POST" else None, expect=(status,))
+        if method == "GET" and status == 200:
+            body = json.loads(payload)
+            items = body.get("results", body.get("assignments", []))
+            check(all(i.get("trainee") == "ann" for i in items), "a trainee saw someone else's %s" % path)
+    bob = Api(centre.base).login("bob")
+    bob.call("GET", "/results/%d/trace" % centre.results[0]["id"], expect=(403,))
+    _, payload, _ = Api(centre.base).call("GET", "/results/1/trace", expect=(401,))
+    report["trainee_refused"] = ("pages live/results/admin refused in the page; API: /users 403, POST /cases 403, "
+                                "/results?trainee=bob 403, bob's view of ann's trace 403")
+
+
+def test_admin(b, centre, report):
+    b.login("root")
+    b.open("/admin.html")
+    b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "select[data-user='ann']")), "the users table")
+    # A case the validator refuses: its file:line line on the page, as the server wrote it.
+    cases = os.path.join(centre.args.source, "cases")
+    broken = os.path.join(centre.tmp, "broken")
+    os.makedirs(broken, exist_ok=True)
+    text = open(os.path.join(cases, "y_bifurcation.case")).read().replace("vessel y_bifurcation.hclm", "vessel other.hclm")
+    open(os.path.join(broken, "y_bifurcation.case"), "w").write(text)
+    shutil.copy(os.path.join(cases, "y_bifurcation.hclm"), broken)
+    b.driver.find_element(By.ID, "c-name").send_keys("broken")
+    b.driver.find_element(By.ID, "c-case").send_keys(os.path.join(broken, "y_bifurcation.case"))
+    b.driver.find_element(By.ID, "c-hclm").send_keys(os.path.join(broken, "y_bifurcation.hclm"))
+    b.driver.find_element(By.CSS_SELECTOR, "#upload button[type=submit]").click()
+    line = b.wait(lambda d: d.find_element(By.ID, "error").text, "the validator's line")
+    check(line.startswith("y_bifurcation.case:") and "other.hclm" in line, "upload error shown: %r" % line)
+    report["admin_upload_error"] = line
+    b.shot("admin")
+    b.drain_console(expected=[("/api/v1/cases", 422)])
+
+
+def measure_long(centre, args, report):
+    """A 30-minute record: first and cached trace times (server side and in the browser)."""
+    rec = os.path.join(centre.tmp, "long.cbxrec")
+    script = os.path.join(centre.tmp, "long.actions")
+    with open(script, "w") as f:
+        t = 0
+        f.write("0 select guidewire\n")
+        while t < 1800_000:
+            f.write("%d insert_to 90 at 20\n%d rotate_to %d at 90\n%d insert_to 30 at 20\n" % (t, t + 4000, (t // 1000) % 720, t + 6000))
+            t += 10_000
+        f.write("%d end\n" % 1800_000)
+    started = time.monotonic()
+    centre.run([centre.program("cathbox"), "session", "run", "--case", os.path.join(args.source, "cases/y_bifurcation.case"),
+                "--script", script, "--record", rec, "--virtual", "--seconds", "1800"], "30-minute session run", timeout=3600)
+    report["long_record_bytes"] = os.path.getsize(rec)
+    report["long_record_run_s"] = round(time.monotonic() - started, 1)
+    ann = Api(centre.base).login("ann")
+    started = time.monotonic()
+    _, r = ann.json("POST", "/results", raw=open(rec, "rb").read())
+    report["long_upload_check_s"] = round(time.monotonic() - started, 1)
+    # The upload's replay cached the trace (memory and disk): without both, the server replays.
+    centre.restart(forget=True)
+    return r["id"]
+
+
+def measure_long_trace(centre, rid, report):
+    """The 30-minute trace as the API sends it (after the browser opened it: cached)."""
+    teacher = Api(centre.base).login("teacher")
+    started = time.monotonic()
+    _, payload, head = teacher.call("GET", "/results/%d/trace" % rid)
+    report["long_trace_api_s"] = round(time.monotonic() - started, 3)
+    report["long_trace_header"] = head.get("X-Cathbox-Trace")
+    report["long_trace_bytes"] = len(payload)
+    report["long_trace_samples"] = json.loads(payload)["trace"]["samples"]
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--bin", required=True)
+    parser.add_argument("--source", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--long", action="store_true", help="also measure a 30-minute record's debrief")
+    parser.add_argument("--keep", action="store_true", help="keep the temporary folder")
+    args = parser.parse_args()
+    # A CTest timeout (SIGTERM) still stops the server, the trainer and the browser.
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    os.makedirs(args.out, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix="cathbox-browser-")
+    centre = Centre(args, tmp)
+    browser = None
+    report = {}
+    ok = False
+    try:
+        centre.start()
+        centre.seed()
+        browser = Browser(args.out)
+        browser.base = centre.base
+        browser.login("teacher")
+        browser.shot("home-instructor")
+        browser.drain_console()
+        test_live(browser, centre, args, report)
+        test_debrief(browser, centre, report)
+        test_results(browser, centre, report)
+        test_admin(browser, centre, report)
+        test_trainee(browser, centre, report)
+        if args.long:
+            rid = measure_long(centre, args, report)
+            browser.login("teacher")
+            # First: the server replays the record; then from its memory; then, restarted, from disk.
+            for label in ["first", "cached"]:
+                report["long_debrief_open_ms_%s" % label] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
+            centre.restart()
+            report["long_debrief_open_ms_after_restart"] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
+            browser.shot("debrief-30min")
+            measure_long_trace(centre, rid, report)
+            browser.drain_console()
+        ok = True
+    except Failure as e:
+        print("FAIL:", e)
+    except Exception:
+        traceback.print_exc()
+    finally:
+        if browser is not None:
+            try:
+                browser.drain_console()
+            except Failure as e:
+                print("FAIL:", e)
+                ok = False
+            browser.quit()
+        centre.stop()
+        print(json.dumps(report, indent=1))
+        with open(os.path.join(args.out, "report.json"), "w") as f:
+            json.dump(report, f, indent=1)
+        if args.keep or not ok:
+            print("kept", tmp)
+        else:
+            shutil.rmtree(tmp, ignore_errors=True)
+    print("browser test:", "passed" if ok else "FAILED", "(screenshots in %s)" % args.out)
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
