@@ -150,6 +150,19 @@ Reply case_bundle(Call& call) {
 Reply case_mesh(Call& call) {
   Result<CaseVersion> v = find_version(call);
   if (!v) return v.error();
+  // A version's mesh never changes: browsers keep it and ask again with its ETag (304).
+  const std::string etag = "\"mesh1-" + v.value().content_hash + "\"";
+  const auto validators = [&](ApiResponse& r) {
+    r.headers.emplace_back("ETag", etag);
+    r.headers.emplace_back("Cache-Control", "private, no-cache");
+  };
+  if (call.request.if_none_match == etag) {
+    ApiResponse r;
+    r.status = 304;
+    r.content_type.clear();
+    validators(r);
+    return r;
+  }
   // Meshed once per content (the cache key is the bundle's hash), on first request.
   Result<std::shared_ptr<const std::string>> mesh = cached(call, "mesh1:" + v.value().content_hash, [&]() -> Result<std::string> {
     Result<std::string> json = stored_bundle(call, v.value(), true);
@@ -164,6 +177,7 @@ Reply case_mesh(Call& call) {
   r.body = *mesh.value();
   r.headers.emplace_back("X-Cathbox-Case", v.value().name);
   r.headers.emplace_back("X-Cathbox-Case-Version", std::to_string(v.value().version));
+  validators(r);
   return r;
 }
 

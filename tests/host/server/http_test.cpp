@@ -158,6 +158,15 @@ TEST_P(HttpTest, ApiAnswersAreNotCachedButCaseBundlesAreRevalidatedByTheirEtag) 
   const HttpAnswer again = http.request("GET", "/api/v1/cases/ybif/versions/1/bundle", {}, {{"If-None-Match", etag}});
   EXPECT_EQ(again.status, 304);
   EXPECT_TRUE(again.body.empty());
+  // The browser's mesh too.
+  const HttpAnswer mesh = http.get("/api/v1/cases/ybif/versions/1/mesh");
+  ASSERT_EQ(mesh.status, 200);
+  EXPECT_EQ(mesh.header("cache-control"), "private, no-cache");
+  ASSERT_FALSE(mesh.header("etag").empty());
+  EXPECT_NE(mesh.header("etag"), etag);
+  const HttpAnswer mesh_again = http.request("GET", "/api/v1/cases/ybif/versions/1/mesh", {}, {{"If-None-Match", mesh.header("etag")}});
+  EXPECT_EQ(mesh_again.status, 304);
+  EXPECT_TRUE(mesh_again.body.empty());
 }
 
 TEST_P(HttpTest, FramesFromARigReachItsWatchers) {
