@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
@@ -18,8 +17,7 @@
 #include "server/client.hpp"
 #include "server/client_queue.hpp"
 #include "server/json_input.hpp"
-#include "server/live_schema.hpp"
-#include "session/metrics.hpp"
+#include "session/records_dir.hpp"
 
 namespace cathbox::app {
 
@@ -30,18 +28,10 @@ namespace {
 
 constexpr std::int64_t kFramePeriodUs = 1'000'000 / 30;
 
-// Millimetres to 0.01 mm: a frame is read by people and drawn on screens, not replayed.
-double mm(double v) { return std::round(v * 100.0) / 100.0; }
-json vec(const glm::vec3& p) { return json::array({mm(p.x), mm(p.y), mm(p.z)}); }
-
 std::string host_name() {
   char buf[256] = {};
   if (::gethostname(buf, sizeof buf - 1) != 0) buf[0] = '\0';
   return server::to_slug(buf, "rig");
-}
-
-std::int64_t unix_now_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 // The assignment list this rig last saw, so a run started offline still counts for its
@@ -156,7 +146,7 @@ std::unique_ptr<ServerLink> ServerLink::open(const ServerLinkOptions& options, s
   ServerLinkOptions o = options;
   if (o.rig.empty()) o.rig = host_name();
   if (o.cache_dir.empty()) o.cache_dir = default_server_cache_dir();
-  if (o.queue_dir.empty()) o.queue_dir = server::default_upload_queue_folder();
+  if (o.queue_dir.empty()) o.queue_dir = session::user_dir(session::UserDir::kData, "upload-queue");
   std::unique_ptr<ServerLink> link(new ServerLink(o));
   Impl& im = *link->impl_;
   im.user = o.user;
@@ -301,51 +291,6 @@ std::string ServerLink::status_line() const {
   return out.str();
 }
 
-std::string ServerLink::frame_json(const session::SceneSnapshot& snap, std::uint64_t seq,
-                                   const std::vector<std::string>& tool_names) {
-  json tools = json::array();
-  for (int t = 0; t < snap.tool_count && t < static_cast<int>(server::kMaxToolsPerFrame); ++t) {
-    const session::ToolView& v = snap.tools[static_cast<std::size_t>(t)];
-    json nodes = json::array();
-    // At most kMaxNodesPerTool nodes: every k-th, and always the tip.
-    const std::size_t n = v.nodes_mm.size();
-    const std::size_t step = (n + server::kMaxNodesPerTool - 1) / server::kMaxNodesPerTool;
-    for (std::size_t i = 0; i < n; i += std::max<std::size_t>(step, 1)) {
-      if (i + 1 < n || step <= 1) nodes.push_back(vec(v.nodes_mm[i]));
-    }
-    if (step > 1 && n > 0) nodes.push_back(vec(v.nodes_mm[n - 1]));
-    const std::size_t ti = static_cast<std::size_t>(t);
-    tools.push_back({{"name", ti < tool_names.size() ? tool_names[ti] : "tool" + std::to_string(t)}, {"active", v.active}, {"nodes_mm", std::move(nodes)}});
-  }
-  json contacts = json::array();
-  double wall_peak = 0.0;
-  for (const session::ContactView& c : snap.contacts) {
-    wall_peak = std::max(wall_peak, static_cast<double>(c.force_mN));
-    if (contacts.size() < server::kMaxContactsPerFrame) contacts.push_back({{"p_mm", vec(c.point_mm)}, {"f_mN", mm(c.force_mN)}});
-  }
-  json metrics = json::object();
-  for (const session::NamedMetric& m : session::named_metrics(snap.metrics)) {
-    if (metrics.size() < server::kMaxMetricsPerFrame) metrics[m.name] = m.value;
-  }
-  json frame = {{"type", "frame"},
-                {"seq", seq},
-                {"t_ms", static_cast<double>(snap.sim_time_us) / 1000.0},
-                {"tools", std::move(tools)},
-                {"tip_mm", vec(snap.tip_mm)},
-                {"forces", {{"hand_mN", mm(snap.hand_force_mN)}, {"wall_peak_mN", mm(wall_peak)}}},
-                {"contacts", std::move(contacts)},
-                {"metrics", std::move(metrics)},
-                {"sent_us", unix_now_us()}};
-  if (snap.metrics.fluoroscopy_time_s) {
-    frame["fluoro"] = {{"time_s", *snap.metrics.fluoroscopy_time_s}};
-  }
-  return frame.dump();
-}
-
-std::string default_server_cache_dir() {
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/server";
-  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] != '\0') return std::string(home) + "/.cache/cathbox/server";
-  return "cathbox-server-cache";
-}
+std::string default_server_cache_dir() { return session::user_dir(session::UserDir::kCache, "server"); }
 
 }  // namespace cathbox::app

@@ -5,14 +5,11 @@
 #include <sstream>
 
 #include "server/json_input.hpp"
+#include "session/records_dir.hpp"
 
 namespace cathbox::app {
 
-std::string trainer_settings_path() {
-  if (const char* xdg = std::getenv("XDG_CONFIG_HOME"); xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/trainer.json";
-  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] != '\0') return std::string(home) + "/.config/cathbox/trainer.json";
-  return {};
-}
+std::string trainer_settings_path() { return session::user_dir(session::UserDir::kConfig, "trainer.json"); }
 
 bool apply_trainer_settings(TrainerOptions& options, std::string& error) {
   const bool explicit_file = !options.settings_file.empty();

@@ -152,10 +152,4 @@ Status write_file_durably(const std::string& path, const std::string& bytes) {
   return write_durably(path, bytes);
 }
 
-std::string default_upload_queue_folder() {
-  if (const char* xdg = std::getenv("XDG_DATA_HOME"); xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/upload-queue";
-  if (const char* home = std::getenv("HOME"); home != nullptr && home[0] != '\0') return std::string(home) + "/.local/share/cathbox/upload-queue";
-  return "cathbox-upload-queue";
-}
-
 }  // namespace cathbox::server

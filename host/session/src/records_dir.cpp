@@ -7,12 +7,16 @@
 
 namespace cathbox::session {
 
-std::string records_dir() {
-  const char* xdg = std::getenv("XDG_DATA_HOME");
-  if (xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/records";
+std::string user_dir(UserDir kind, const std::string& relative) {
+  const char* variable = kind == UserDir::kData ? "XDG_DATA_HOME" : kind == UserDir::kCache ? "XDG_CACHE_HOME" : "XDG_CONFIG_HOME";
+  const char* fallback = kind == UserDir::kData ? "/.local/share" : kind == UserDir::kCache ? "/.cache" : "/.config";
+  const char* xdg = std::getenv(variable);
+  if (xdg != nullptr && xdg[0] == '/') return std::string(xdg) + "/cathbox/" + relative;
   const char* home = std::getenv("HOME");
-  return std::string(home != nullptr && home[0] != '\0' ? home : ".") + "/.local/share/cathbox/records";
+  return std::string(home != nullptr && home[0] != '\0' ? home : ".") + fallback + "/cathbox/" + relative;
 }
+
+std::string records_dir() { return user_dir(UserDir::kData, "records"); }
 
 std::string new_record_path(const std::string& dir, const std::string& case_name, std::string& error) {
   std::error_code ec;

@@ -26,8 +26,8 @@ struct ServerLinkOptions {
   std::string user;
   std::string password;
   std::string rig;        // the name instructors see; default: the host name
-  std::string cache_dir;  // downloaded cases and the last assignment list
-  std::string queue_dir;  // the upload queue
+  std::string cache_dir;  // downloaded cases and the last assignment list (default: default_server_cache_dir())
+  std::string queue_dir;  // the upload queue (default: $XDG_DATA_HOME/cathbox/upload-queue)
   int timeout_ms = 10'000;
 };
 

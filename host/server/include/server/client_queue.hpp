@@ -53,7 +53,4 @@ class UploadQueue {
 // the folder (which is created when missing).
 [[nodiscard]] Status write_file_durably(const std::string& path, const std::string& bytes);
 
-// Where the trainer keeps its queue: $XDG_DATA_HOME/cathbox/upload-queue (or ~/.local/share/...).
-[[nodiscard]] std::string default_upload_queue_folder();
-
 }  // namespace cathbox::server
