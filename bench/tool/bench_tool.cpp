@@ -162,7 +162,7 @@ void run(benchmark::State& state, bool coaxial) {
     }
   }
   const double rot0 = sim.rotation_rad(0), rot1 = sim.rotation_rad(1);
-  std::vector<double> samples, cpu_samples;
+  std::vector<double> samples, cpu_samples, converged_samples;
   samples.reserve(1 << 16);
   cpu_samples.reserve(1 << 16);
   double iterations = 0.0;
@@ -174,6 +174,8 @@ void run(benchmark::State& state, bool coaxial) {
   };
   std::uint64_t i = 0;
   std::size_t contacts = 0;
+  std::uint64_t capped = 0;  // steps where a rod used every Newton iteration it may
+  const int cap = RodSettings{}.newton_iterations;
   for (auto _ : state) {
     // A hand that pushes and pulls 1 mm and twists a little, as during navigation.
     const double phase = static_cast<double>(i++) * 1e-3;
@@ -188,11 +190,17 @@ void run(benchmark::State& state, bool coaxial) {
     cpu_samples.push_back(thread_cpu_us() - c0);
     samples.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
     iterations += sim.rod(0).last_iterations() + sim.rod(1).last_iterations();
+    if (sim.rod(0).last_iterations() >= cap || sim.rod(1).last_iterations() >= cap) {
+      ++capped;
+    } else {
+      converged_samples.push_back(samples.back());
+    }
     its0 += sim.rod(0).last_iterations();
     contacts += sim.rod(0).contacts().size() + sim.rod(1).contacts().size();
   }
   std::sort(samples.begin(), samples.end());
   std::sort(cpu_samples.begin(), cpu_samples.end());
+  std::sort(converged_samples.begin(), converged_samples.end());
   const auto pick_of = [](const std::vector<double>& v, double q) {
     return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
   };
@@ -206,6 +214,9 @@ void run(benchmark::State& state, bool coaxial) {
   state.counters["p99_us"] = pick(0.99);
   state.counters["cpu_median_us"] = pick_of(cpu_samples, 0.5);
   state.counters["cpu_p99_us"] = pick_of(cpu_samples, 0.99);
+  // Where the tail comes from: the steps in which a rod ran out of Newton iterations.
+  state.counters["capped_pct"] = 100.0 * static_cast<double>(capped) / static_cast<double>(std::max<std::uint64_t>(1, i));
+  if (!converged_samples.empty()) state.counters["p99_converged_us"] = pick_of(converged_samples, 0.99);
   state.counters["cath_its"] = its0 / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["newton_its"] = iterations / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["cath_nodes"] = static_cast<double>(solved(0));

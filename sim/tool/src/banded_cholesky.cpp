@@ -1,67 +1,169 @@
-#include "banded_cholesky.hpp"
+#include "tool/banded_cholesky.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace cathbox::tool {
+namespace {
 
-void BandedCholesky::reset(std::size_t n) {
-  n_ = n;
-  std::fill(a_.begin(), a_.begin() + static_cast<std::ptrdiff_t>(n * (band_ + 1)), 0.0);
+// Blocks are column-major: entry (row r, column c) is v[3 c + r].
+constexpr int at(int r, int c) { return 3 * c + r; }
+
+// Lower-triangular Cholesky factor of the symmetric s (its lower triangle), inverted.
+// A pivot that is not positive is clamped to 1e-12 and reported.
+void inverse_cholesky(const double* s, double* inv, bool& ok) {
+  const auto pivot = [&ok](double v) {
+    if (!(v > 1e-300)) {
+      ok = false;
+      v = 1e-12;
+    }
+    return std::sqrt(v);
+  };
+  const double l00 = pivot(s[at(0, 0)]);
+  const double l10 = s[at(1, 0)] / l00;
+  const double l20 = s[at(2, 0)] / l00;
+  const double l11 = pivot(s[at(1, 1)] - l10 * l10);
+  const double l21 = (s[at(2, 1)] - l20 * l10) / l11;
+  const double l22 = pivot(s[at(2, 2)] - l20 * l20 - l21 * l21);
+  // The inverse of a lower-triangular matrix is lower triangular.
+  const double i00 = 1.0 / l00;
+  const double i11 = 1.0 / l11;
+  const double i22 = 1.0 / l22;
+  const double i10 = -l10 * i00 * i11;
+  const double i21 = -l21 * i11 * i22;
+  const double i20 = -(l20 * i00 + l21 * i10) * i22;
+  inv[at(0, 0)] = i00;
+  inv[at(1, 0)] = i10;
+  inv[at(2, 0)] = i20;
+  inv[at(0, 1)] = 0.0;
+  inv[at(1, 1)] = i11;
+  inv[at(2, 1)] = i21;
+  inv[at(0, 2)] = 0.0;
+  inv[at(1, 2)] = 0.0;
+  inv[at(2, 2)] = i22;
+}
+
+// out = x M^T for a lower-triangular M.
+void times_lower_transposed(const double* x, const double* m, double* out) {
+#pragma GCC unroll 3
+  for (int r = 0; r < 3; ++r) {
+    out[at(r, 0)] = x[at(r, 0)] * m[at(0, 0)];
+    out[at(r, 1)] = x[at(r, 0)] * m[at(1, 0)] + x[at(r, 1)] * m[at(1, 1)];
+    out[at(r, 2)] = x[at(r, 0)] * m[at(2, 0)] + x[at(r, 1)] * m[at(2, 1)] + x[at(r, 2)] * m[at(2, 2)];
+  }
+}
+
+// x -= y z^T.
+void subtract_product_transposed(double* x, const double* y, const double* z) {
+#pragma GCC unroll 3
+  for (int c = 0; c < 3; ++c) {
+#pragma GCC unroll 3
+    for (int r = 0; r < 3; ++r) {
+      x[at(r, c)] -= y[at(r, 0)] * z[at(c, 0)] + y[at(r, 1)] * z[at(c, 1)] + y[at(r, 2)] * z[at(c, 2)];
+    }
+  }
+}
+
+// s -= x x^T on the lower triangle of s (the upper one is not read).
+void subtract_gram_lower(double* s, const double* x) {
+#pragma GCC unroll 3
+  for (int c = 0; c < 3; ++c) {
+#pragma GCC unroll 3
+    for (int r = c; r < 3; ++r) {
+      s[at(r, c)] -= x[at(r, 0)] * x[at(c, 0)] + x[at(r, 1)] * x[at(c, 1)] + x[at(r, 2)] * x[at(c, 2)];
+    }
+  }
+}
+
+// v -= m u.
+void subtract_times(double* v, const double* m, const double* u) {
+#pragma GCC unroll 3
+  for (int r = 0; r < 3; ++r) v[r] -= m[at(r, 0)] * u[0] + m[at(r, 1)] * u[1] + m[at(r, 2)] * u[2];
+}
+
+// v -= m^T u.
+void subtract_transposed_times(double* v, const double* m, const double* u) {
+#pragma GCC unroll 3
+  for (int c = 0; c < 3; ++c) v[c] -= m[at(0, c)] * u[0] + m[at(1, c)] * u[1] + m[at(2, c)] * u[2];
+}
+
+}  // namespace
+
+BandedCholesky::BandedCholesky(std::size_t max_nodes)
+    : a_(max_nodes * (kBlockBand + 1), Block{}),
+      l1_(max_nodes, Block{}),
+      l2_(max_nodes, Block{}),
+      dinv_(max_nodes, Block{}) {}
+
+double BandedCholesky::get(std::size_t i, std::size_t j) const {
+  if (i < j) std::swap(i, j);
+  const std::size_t a = i / 3;
+  const std::size_t b = j / 3;
+  if (a - b > kBlockBand) return 0.0;
+  return block(a, b).v[at(static_cast<int>(i % 3), static_cast<int>(j % 3))];
 }
 
 void BandedCholesky::multiply_add(const double* x, double* y, std::size_t row_first,
                                   std::size_t row_last, std::size_t col_first,
                                   std::size_t col_last) const {
+  constexpr std::size_t kBand = 3 * kBlockBand + 2;  // widest reach of a row, in unknowns
   for (std::size_t i = row_first; i < row_last; ++i) {
-    const std::size_t lo = std::max(col_first, i > band_ ? i - band_ : 0);
-    const std::size_t hi = std::min(col_last, i + band_ + 1);
+    const std::size_t lo = std::max(col_first, i > kBand ? i - kBand : 0);
+    const std::size_t hi = std::min(col_last, i + kBand + 1);
     double sum = 0.0;
     for (std::size_t j = lo; j < hi; ++j) sum += get(i, j) * x[j];
     y[i] += sum;
   }
 }
 
-bool BandedCholesky::factor(std::size_t first) {
-  first_ = first;
+bool BandedCholesky::factor(std::size_t first_node) {
+  first_ = first_node;
   bool ok = true;
-  const std::size_t w = band_ + 1;
-  for (std::size_t i = first; i < n_; ++i) {
-    const std::size_t j0 = std::max(first, i > band_ ? i - band_ : 0);
-    double* row_i = &a_[i * w];
-    for (std::size_t j = j0; j <= i; ++j) {
-      const double* row_j = &a_[j * w];
-      double sum = row_i[i - j];
-      const std::size_t k0 = std::max(j0, j > band_ ? j - band_ : 0);
-      for (std::size_t k = k0; k < j; ++k) sum -= row_i[i - k] * row_j[j - k];
-      if (j == i) {
-        if (!(sum > 1e-300)) {
-          ok = false;
-          sum = 1e-12;
-        }
-        row_i[0] = std::sqrt(sum);
-        inv_diag_[i] = 1.0 / row_i[0];
-      } else {
-        row_i[i - j] = sum * inv_diag_[j];
-      }
+  for (std::size_t i = first_node; i < n_; ++i) {
+    // L(i, i-2) = A(i, i-2) L(i-2, i-2)^-T
+    // L(i, i-1) = (A(i, i-1) - L(i, i-2) L(i-1, i-2)^T) L(i-1, i-1)^-T
+    // L(i, i) L(i, i)^T = A(i, i) - L(i, i-2) L(i, i-2)^T - L(i, i-1) L(i, i-1)^T
+    Block s = block(i, i);
+    Block& c = l2_[i];
+    Block& b = l1_[i];
+    c = Block{};
+    b = Block{};
+    if (i >= first_node + 2) {
+      times_lower_transposed(block(i, i - 2).v, dinv_[i - 2].v, c.v);
+      subtract_gram_lower(s.v, c.v);
     }
+    if (i >= first_node + 1) {
+      Block t = block(i, i - 1);
+      if (i >= first_node + 2) subtract_product_transposed(t.v, c.v, l1_[i - 1].v);
+      times_lower_transposed(t.v, dinv_[i - 1].v, b.v);
+      subtract_gram_lower(s.v, b.v);
+    }
+    inverse_cholesky(s.v, dinv_[i].v, ok);
   }
   return ok;
 }
 
-void BandedCholesky::solve(double* b) const {
-  const std::size_t w = band_ + 1;
+void BandedCholesky::solve(double* v) const {
+  // Forward: L y = v.
   for (std::size_t i = first_; i < n_; ++i) {
-    const std::size_t j0 = std::max(first_, i > band_ ? i - band_ : 0);
-    double sum = b[i];
-    for (std::size_t j = j0; j < i; ++j) sum -= a_[i * w + (i - j)] * b[j];
-    b[i] = sum * inv_diag_[i];
+    double r[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+    if (i >= first_ + 1) subtract_times(r, l1_[i].v, v + 3 * (i - 1));
+    if (i >= first_ + 2) subtract_times(r, l2_[i].v, v + 3 * (i - 2));
+    const double* m = dinv_[i].v;  // lower triangular
+    v[3 * i] = m[at(0, 0)] * r[0];
+    v[3 * i + 1] = m[at(1, 0)] * r[0] + m[at(1, 1)] * r[1];
+    v[3 * i + 2] = m[at(2, 0)] * r[0] + m[at(2, 1)] * r[1] + m[at(2, 2)] * r[2];
   }
-  for (std::size_t ii = n_; ii-- > first_;) {
-    double sum = b[ii];
-    const std::size_t j1 = std::min(n_, ii + band_ + 1);
-    for (std::size_t j = ii + 1; j < j1; ++j) sum -= a_[j * w + (j - ii)] * b[j];
-    b[ii] = sum * inv_diag_[ii];
+  // Backward: L^T x = y.
+  for (std::size_t i = n_; i-- > first_;) {
+    double r[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
+    if (i + 1 < n_) subtract_transposed_times(r, l1_[i + 1].v, v + 3 * (i + 1));
+    if (i + 2 < n_) subtract_transposed_times(r, l2_[i + 2].v, v + 3 * (i + 2));
+    const double* m = dinv_[i].v;  // L(i, i)^-T is upper triangular
+    v[3 * i] = m[at(0, 0)] * r[0] + m[at(1, 0)] * r[1] + m[at(2, 0)] * r[2];
+    v[3 * i + 1] = m[at(1, 1)] * r[1] + m[at(2, 1)] * r[2];
+    v[3 * i + 2] = m[at(2, 2)] * r[2];
   }
 }
 

@@ -8,7 +8,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
-#include "banded_cholesky.hpp"
+#include "tool/banded_cholesky.hpp"
 #include "tool/coil_shape.hpp"
 
 namespace cathbox::tool {
@@ -16,7 +16,6 @@ namespace cathbox::tool {
 namespace {
 
 constexpr double kMilli = 1000.0;  // N -> mN
-constexpr std::size_t kHalfBand = 8;  // node coupling +-2 (bending stencil), 3 dofs per node
 
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
 glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
@@ -42,10 +41,10 @@ struct BlockAdder {
   void operator()(std::size_t a, std::size_t b, const glm::dmat3& block) const {
     if (!enabled) return;
     if (a < b) {
-      m.add_block(b - first, a - first, &glm::transpose(block)[0][0]);
+      m.add_block(b - first, a - first, glm::transpose(block));
       return;
     }
-    m.add_block(a - first, b - first, &block[0][0]);
+    m.add_block(a - first, b - first, block);
   }
 };
 
@@ -176,7 +175,12 @@ void Rod::size_scratch() {
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
   gathered_at_.assign(n, glm::dvec3(0.0));
-  matrix_ = std::make_unique<BandedCholesky>(3 * n, kHalfBand);
+  stretch_h_.assign(n, glm::dmat3(0.0));
+  bend_aa_.assign(n, glm::dmat3(0.0));
+  bend_bb_.assign(n, glm::dmat3(0.0));
+  bend_ba_.assign(n, glm::dmat3(0.0));
+  nodal_h_.assign(n, glm::dmat3(0.0));
+  matrix_ = std::make_unique<BandedCholesky>(n);
 }
 
 void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {
@@ -447,8 +451,8 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     bool rejoin = false;
     for (int it = 0; it < iterations; ++it) {
       if (rejoin) {
-        // Amend the saved assembly with the wall terms of the nodes that joined.
-        matrix_->restore();
+        // Amend the assembly (the factorisation leaves it intact) with the wall terms of the
+        // nodes that joined.
         const BlockAdder add{*matrix_, first_, true};
         const double kc = settings_.contact_stiffness_mN_per_mm;
         for (std::size_t k = first_free_; k < n; ++k) {
@@ -472,10 +476,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         assemble(dt_s, refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
-      if (refactor) {
-        matrix_->save();
-        matrix_->factor(free0);
-      }
+      if (refactor) matrix_->factor(first_free_ - first_);
       const bool fresh = refactor;
       refactor = !settings_.reuse_hessian;
       for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
@@ -610,12 +611,12 @@ Rod::BendTerm Rod::bend_term(std::size_t i) const {
 }
 
 void Rod::assemble(double dt_s, bool hessian) {
+  // Gradient and energy term by term; the Hessian's blocks are gathered per node and written
+  // once per block row at the end (no read-modify-write of the band per term).
   const std::size_t n = x_.size();
   const std::size_t dofs = 3 * (n - first_);
-  if (hessian) matrix_->reset(dofs);
   std::fill(grad_.begin(), grad_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
   energy_ = 0.0;
-  const BlockAdder add{*matrix_, first_, hessian};
   auto add_grad = [&](std::size_t k, const glm::dvec3& g) {
     const std::size_t d = 3 * (k - first_);
     grad_[d] += g.x;
@@ -624,7 +625,7 @@ void Rod::assemble(double dt_s, bool hessian) {
   };
   const glm::dmat3 identity(1.0);
 
-  // Stretching.
+  // Stretching: edge k couples nodes k and k + 1 with h_k.
   const double ea = spec_.axial_stiffness_N * kMilli;
   for (std::size_t k = first_; k + 1 < n; ++k) {
     const glm::dvec3 e = x_[k + 1] - x_[k];
@@ -633,55 +634,136 @@ void Rod::assemble(double dt_s, bool hessian) {
     const double ks = ea / rest_[k];
     const glm::dvec3 f = u * (ks * (len - rest_[k]));
     energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
-    if (!hessian) {
-      add_grad(k + 1, f);
-      add_grad(k, -f);
-      continue;
-    }
     add_grad(k + 1, f);
     add_grad(k, -f);
+    if (!hessian) continue;
     const glm::dmat3 uu = glm::outerProduct(u, u);
-    const glm::dmat3 h = ks * uu + (ks * std::max(0.0, 1.0 - rest_[k] / len)) * (identity - uu);
-    add(k, k, h);
-    add(k + 1, k + 1, h);
-    add(k + 1, k, -h);
+    stretch_h_[k] = ks * uu + (ks * std::max(0.0, 1.0 - rest_[k] / len)) * (identity - uu);
   }
 
-  // Bending (discrete curvature binormal), Gauss-Newton on r = kb - kb_rest.
+  // Bending (discrete curvature binormal), Gauss-Newton on r = kb - kb_rest, at the vertices
+  // first_ + 1 .. n - 2.
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
     const BendTerm bt = bend_term(i);
     const glm::dvec3& r = bt.r;
     const double w = bt.w;
-    const glm::dmat3 identity3(1.0);
-    const glm::dmat3 ja = -(identity3 - glm::outerProduct(bt.ta, bt.ta)) / bt.la;
-    const glm::dmat3 jb = (identity3 - glm::outerProduct(bt.tb, bt.tb)) / bt.lb;
-    // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1; three products give every block of w J^T J.
-    const glm::dmat3 jat = glm::transpose(ja) * w;
-    const glm::dmat3 jbt = glm::transpose(jb) * w;
-    const glm::dvec3 ga = jat * r;
-    const glm::dvec3 gb = jbt * r;
+    // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1 with ja = -Pa / la, jb = Pb / lb and the
+    // projections P = I - t t^T (symmetric, idempotent): w J^T J in closed form.
+    const double ca = w / bt.la;
+    const double cb = w / bt.lb;
+    const glm::dvec3 ga = (bt.ta * glm::dot(bt.ta, r) - r) * ca;  // w ja^T r
+    const glm::dvec3 gb = (r - bt.tb * glm::dot(bt.tb, r)) * cb;  // w jb^T r
     add_grad(i - 1, -ga);
     add_grad(i, ga - gb);
     add_grad(i + 1, gb);
     energy_ += 0.5 * w * glm::dot(r, r);
     if (!hessian) continue;
-    const glm::dmat3 aa = jat * ja;
-    const glm::dmat3 ab = jat * jb;
-    const glm::dmat3 ba = glm::transpose(ab);
-    const glm::dmat3 bb = jbt * jb;
-    add(i - 1, i - 1, aa);
-    add(i, i, aa - ab - ba + bb);
-    add(i + 1, i + 1, bb);
-    add(i, i - 1, ba - aa);
-    add(i + 1, i - 1, -ba);
-    add(i + 1, i, ba - bb);
+    const glm::dmat3 tata = glm::outerProduct(bt.ta, bt.ta);
+    const glm::dmat3 tbtb = glm::outerProduct(bt.tb, bt.tb);
+    bend_aa_[i] = (identity - tata) * (ca / bt.la);  // w Pa / la^2
+    bend_bb_[i] = (identity - tbtb) * (cb / bt.lb);  // w Pb / lb^2
+    // w jb^T ja = -(w / (la lb)) Pb Pa, Pb Pa = I - ta ta^T - tb tb^T + (ta . tb) tb ta^T
+    bend_ba_[i] =
+        (identity - tata - tbtb + glm::outerProduct(bt.tb, bt.ta) * glm::dot(bt.ta, bt.tb)) * (-ca / bt.lb);
+  }
+
+  // Wall contacts, friction, drag and loads on the free nodes: one block on the diagonal.
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const double c = solver_drag(k) / dt_s;
+    const glm::dvec3 moved = x_[k] - x_start_[k];
+    const glm::dvec3 load = load_[k] + coupling_[k];
+    add_grad(k, moved * c - load);
+    glm::dmat3 h = identity * c;
+    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load, x_[k]);
+    if (grip_limit_[k] > 0.0) {
+      const double kg = kc * settings_.stick_stiffness_ratio;
+      const glm::dvec3 rel = x_[k] - grip_anchor_[k];
+      const double len = glm::length(rel);
+      const double limit = grip_limit_[k];
+      if (kg * len <= limit) {
+        add_grad(k, rel * kg);
+        h += identity * kg;
+        energy_ += 0.5 * kg * len * len;
+      } else {
+        const glm::dvec3 u = rel / len;
+        add_grad(k, u * limit);
+        h += (limit / len) * (identity - glm::outerProduct(u, u));
+        energy_ += limit * len - 0.5 * limit * limit / kg;
+      }
+    }
+    friction_limit_[k] = 0.0;
+    NodeContact& nc = node_contacts_[k];
+    if (nc.has_plane && nc.active2) {
+      const double phi2 = second_gap(k);
+      add_grad(k, nc.normal2 * (kc * phi2));
+      h += kc * glm::outerProduct(nc.normal2, nc.normal2);
+      energy_ += 0.5 * kc * phi2 * phi2;
+    }
+    if (nc.has_plane && nc.active) {
+      const double phi = plane_gap(k);
+      const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
+      add_grad(k, nc.normal * (kc * phi));
+      h += kc * nn;
+      energy_ += 0.5 * kc * phi * phi;
+      if (spec_.friction > 0.0) {
+        const glm::dmat3 pt = identity - nn;
+        const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+        const double slip_len = glm::length(slip);
+        // The slip limit uses the normal force of the previous step, so within a step friction
+        // is a fixed convex potential and the iterations converge.
+        const double limit = spec_.friction * nc.normal_force;
+        friction_limit_[k] = limit;
+        if (kt * slip_len <= limit) {
+          add_grad(k, slip * kt);
+          h += kt * pt;
+          energy_ += 0.5 * kt * slip_len * slip_len;
+        } else {
+          energy_ += limit * slip_len - 0.5 * limit * limit / kt;
+          const glm::dvec3 sd = slip / slip_len;
+          add_grad(k, sd * limit);
+          h += (limit / slip_len) * (pt - glm::outerProduct(sd, sd));
+        }
+      }
+    }
+    if (hessian) nodal_h_[k] = h;
+  }
+
+  if (hessian) {
+    // Block row k: the diagonal and the blocks (k, k-1), (k, k-2) from the terms above.
+    matrix_->resize(n - first_);
+    const glm::dmat3 zero(0.0);
+    const auto vertex = [&](std::size_t i) { return i >= first_ + 1 && i + 1 < n; };
+    for (std::size_t k = first_; k < n; ++k) {
+      glm::dmat3 diag = k >= first_free_ ? nodal_h_[k] : zero;
+      glm::dmat3 sub1 = zero;
+      glm::dmat3 sub2 = zero;
+      if (k + 1 < n) diag += stretch_h_[k];
+      if (k > first_) {
+        diag += stretch_h_[k - 1];
+        sub1 -= stretch_h_[k - 1];
+      }
+      if (vertex(k + 1)) diag += bend_aa_[k + 1];
+      if (vertex(k)) {
+        const glm::dmat3& ba = bend_ba_[k];
+        diag += bend_aa_[k] + bend_bb_[k] - ba - glm::transpose(ba);
+        sub1 += ba - bend_aa_[k];
+      }
+      if (vertex(k - 1)) {
+        diag += bend_bb_[k - 1];
+        sub1 += bend_ba_[k - 1] - bend_bb_[k - 1];
+        sub2 -= bend_ba_[k - 1];
+      }
+      matrix_->set_row(k - first_, diag, sub1, sub2);
+    }
   }
 
   // Other rods (and the rod's own far parts): one-sided penalty on the gathered planes.
+  const BlockAdder add{*matrix_, first_, hessian};
   for (const EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     if (phi <= 0.0) continue;
-    const double kc = settings_.contact_stiffness_mN_per_mm;
     const std::size_t a = ec.edge;
     const double wa = 1.0 - ec.s;
     const double wb = ec.s;
@@ -693,67 +775,6 @@ void Rod::assemble(double dt_s, bool hessian) {
     if (a >= first_free_) add(a, a, nn * (wa * wa));
     if (a + 1 >= first_free_) add(a + 1, a + 1, nn * (wb * wb));
     if (a >= first_free_) add(a + 1, a, nn * (wa * wb));
-  }
-
-  // Wall contacts, friction, drag and loads on the free nodes.
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  const double kt = kc * settings_.stick_stiffness_ratio;
-  for (std::size_t k = first_free_; k < n; ++k) {
-    const double c = solver_drag(k) / dt_s;
-    const glm::dvec3 moved = x_[k] - x_start_[k];
-    const glm::dvec3 load = load_[k] + coupling_[k];
-    add_grad(k, moved * c - load);
-    add(k, k, identity * c);
-    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load, x_[k]);
-    if (grip_limit_[k] > 0.0) {
-      const double kg = kc * settings_.stick_stiffness_ratio;
-      const glm::dvec3 rel = x_[k] - grip_anchor_[k];
-      const double len = glm::length(rel);
-      const double limit = grip_limit_[k];
-      if (kg * len <= limit) {
-        add_grad(k, rel * kg);
-        add(k, k, identity * kg);
-        energy_ += 0.5 * kg * len * len;
-      } else {
-        const glm::dvec3 u = rel / len;
-        add_grad(k, u * limit);
-        add(k, k, (limit / len) * (identity - glm::outerProduct(u, u)));
-        energy_ += limit * len - 0.5 * limit * limit / kg;
-      }
-    }
-    friction_limit_[k] = 0.0;
-    NodeContact& nc = node_contacts_[k];
-    if (!nc.has_plane) continue;
-    if (nc.active2) {
-      const double phi2 = second_gap(k);
-      add_grad(k, nc.normal2 * (kc * phi2));
-      add(k, k, kc * glm::outerProduct(nc.normal2, nc.normal2));
-      energy_ += 0.5 * kc * phi2 * phi2;
-    }
-    const double phi = plane_gap(k);
-    if (!nc.active) continue;
-    const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
-    add_grad(k, nc.normal * (kc * phi));
-    add(k, k, kc * nn);
-    energy_ += 0.5 * kc * phi * phi;
-    if (spec_.friction <= 0.0) continue;
-    const glm::dmat3 pt = identity - nn;
-    const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
-    const double slip_len = glm::length(slip);
-    // The slip limit uses the normal force of the previous step, so within a step friction is
-    // a fixed convex potential and the iterations converge.
-    const double limit = spec_.friction * nc.normal_force;
-    friction_limit_[k] = limit;
-    if (kt * slip_len <= limit) {
-      add_grad(k, slip * kt);
-      add(k, k, kt * pt);
-      energy_ += 0.5 * kt * slip_len * slip_len;
-    } else {
-      energy_ += limit * slip_len - 0.5 * limit * limit / kt;
-      const glm::dvec3 s = slip / slip_len;
-      add_grad(k, s * limit);
-      add(k, k, (limit / slip_len) * (pt - glm::outerProduct(s, s)));
-    }
   }
 }
 

@@ -19,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "tool/force_law.hpp"
@@ -239,6 +240,9 @@ class Rod {
   std::vector<double> grad_, delta_, work_, friction_limit_;
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
+  // Hessian terms gathered per edge (stretch), per vertex (bending: w Pa/la^2, w Pb/lb^2,
+  // w jb^T ja) and per node (drag, grip, wall, friction) before the band is written.
+  std::vector<glm::dmat3> stretch_h_, bend_aa_, bend_bb_, bend_ba_, nodal_h_;
   std::unique_ptr<BandedCholesky> matrix_;
 
   std::vector<RodContact> contacts_;

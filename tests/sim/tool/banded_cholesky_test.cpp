@@ -1,0 +1,133 @@
+// The rod's block-band solver against a dense Cholesky solve of the same matrix.
+#include <cmath>
+#include <cstddef>
+#include <random>
+#include <vector>
+
+#include <glm/mat3x3.hpp>
+#include <gtest/gtest.h>
+
+#include "tool/banded_cholesky.hpp"
+
+namespace {
+
+using cathbox::tool::BandedCholesky;
+
+struct Dense {
+  std::size_t n;
+  std::vector<double> a;  // row-major n x n
+  double& at(std::size_t i, std::size_t j) { return a[i * n + j]; }
+};
+
+glm::dmat3 random_block(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  glm::dmat3 m;
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) m[c][r] = u(rng);
+  }
+  return m;
+}
+
+// A random symmetric positive definite matrix with blocks coupling nodes at most two apart,
+// assembled into both the band solver (as the rod does: set_row, then add_block) and a dense copy.
+Dense build(BandedCholesky& band, std::size_t nodes, std::mt19937& rng) {
+  Dense d{3 * nodes, std::vector<double>(9 * nodes * nodes, 0.0)};
+  std::vector<glm::dmat3> sub1(nodes, glm::dmat3(0.0)), sub2(nodes, glm::dmat3(0.0)), diag(nodes);
+  for (std::size_t k = 0; k < nodes; ++k) {
+    if (k >= 1) sub1[k] = random_block(rng);
+    if (k >= 2) sub2[k] = random_block(rng);
+  }
+  for (std::size_t k = 0; k < nodes; ++k) {
+    const glm::dmat3 s = random_block(rng);
+    diag[k] = s + glm::transpose(s) + glm::dmat3(20.0);  // diagonally dominant: SPD
+  }
+  band.resize(nodes);
+  for (std::size_t k = 0; k < nodes; ++k) band.set_row(k, diag[k] * 0.5, sub1[k], sub2[k]);
+  for (std::size_t k = 0; k < nodes; ++k) band.add_block(k, k, diag[k] * 0.5);
+  for (std::size_t k = 0; k < nodes; ++k) {
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r < 3; ++r) {
+        d.at(3 * k + r, 3 * k + c) = diag[k][c][r];
+        if (k >= 1) d.at(3 * k + r, 3 * (k - 1) + c) = d.at(3 * (k - 1) + c, 3 * k + r) = sub1[k][c][r];
+        if (k >= 2) d.at(3 * k + r, 3 * (k - 2) + c) = d.at(3 * (k - 2) + c, 3 * k + r) = sub2[k][c][r];
+      }
+    }
+  }
+  return d;
+}
+
+// Solves the trailing block [f, n) of the dense matrix by Gaussian elimination.
+std::vector<double> dense_solve(Dense d, std::size_t f, std::vector<double> b) {
+  const std::size_t n = d.n;
+  for (std::size_t p = f; p < n; ++p) {
+    for (std::size_t r = p + 1; r < n; ++r) {
+      const double m = d.at(r, p) / d.at(p, p);
+      for (std::size_t c = p; c < n; ++c) d.at(r, c) -= m * d.at(p, c);
+      b[r] -= m * b[p];
+    }
+  }
+  for (std::size_t p = n; p-- > f;) {
+    double s = b[p];
+    for (std::size_t c = p + 1; c < n; ++c) s -= d.at(p, c) * b[c];
+    b[p] = s / d.at(p, p);
+  }
+  return b;
+}
+
+TEST(BandedCholesky, SolvesTheTrailingBlockLikeADenseSolve) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-5.0, 5.0);
+  for (const std::size_t nodes : {1U, 2U, 3U, 8U, 40U}) {
+    for (std::size_t first = 0; first < std::min<std::size_t>(nodes, 4); ++first) {
+      BandedCholesky band(nodes + 3);
+      const Dense d = build(band, nodes, rng);
+      std::vector<double> b(3 * nodes);
+      for (double& v : b) v = u(rng);
+      const std::vector<double> want = dense_solve(d, 3 * first, b);
+      ASSERT_TRUE(band.factor(first));
+      std::vector<double> got = b;
+      band.solve(got.data());
+      for (std::size_t i = 3 * first; i < 3 * nodes; ++i) {
+        EXPECT_NEAR(got[i], want[i], 1e-10 * (1.0 + std::abs(want[i]))) << nodes << " nodes, first " << first << ", unknown " << i;
+      }
+      for (std::size_t i = 0; i < 3 * first; ++i) EXPECT_EQ(got[i], b[i]) << "prescribed unknowns untouched";
+      // The factorisation leaves the assembled matrix intact.
+      for (std::size_t i = 0; i < d.n; ++i) {
+        for (std::size_t j = 0; j < d.n; ++j) ASSERT_EQ(band.get(i, j), d.a[i * d.n + j]) << i << "," << j;
+      }
+    }
+  }
+}
+
+TEST(BandedCholesky, MultiplyAddOverABlockOfRowsAndColumns) {
+  std::mt19937 rng(11);
+  const std::size_t nodes = 12;
+  BandedCholesky band(nodes);
+  const Dense d = build(band, nodes, rng);
+  std::vector<double> x(d.n);
+  for (std::size_t i = 0; i < d.n; ++i) x[i] = std::sin(static_cast<double>(i));
+  std::vector<double> y(d.n, 1.0);
+  band.multiply_add(x.data(), y.data(), 4, 20, 9, 30);
+  for (std::size_t i = 0; i < d.n; ++i) {
+    double want = 1.0;
+    if (i >= 4 && i < 20) {
+      for (std::size_t j = 9; j < 30; ++j) want += d.a[i * d.n + j] * x[j];
+    }
+    EXPECT_NEAR(y[i], want, 1e-12) << i;
+  }
+}
+
+TEST(BandedCholesky, ReportsAClampedPivot) {
+  BandedCholesky band(2);
+  band.resize(2);
+  band.set_row(0, glm::dmat3(1.0), glm::dmat3(0.0), glm::dmat3(0.0));
+  glm::dmat3 singular(1.0);
+  singular[1][1] = 0.0;
+  band.set_row(1, singular, glm::dmat3(0.0), glm::dmat3(0.0));
+  EXPECT_FALSE(band.factor(0));
+  std::vector<double> b{1, 2, 3, 4, 5, 6};
+  band.solve(b.data());
+  for (const double v : b) EXPECT_TRUE(std::isfinite(v));
+}
+
+}  // namespace
