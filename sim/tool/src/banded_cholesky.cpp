@@ -108,6 +108,9 @@ void BandedCholesky::multiply_add(const double* x, double* y, std::size_t row_fi
                                   std::size_t row_last, std::size_t col_first,
                                   std::size_t col_last) const {
   constexpr std::size_t kBand = 3 * kBlockBand + 2;  // widest reach of a row, in unknowns
+  // Only rows within the band of the columns can meet them.
+  row_first = std::max(row_first, col_first > kBand ? col_first - kBand : 0);
+  row_last = std::min(row_last, col_last + kBand);
   for (std::size_t i = row_first; i < row_last; ++i) {
     const std::size_t lo = std::max(col_first, i > kBand ? i - kBand : 0);
     const std::size_t hi = std::min(col_last, i + kBand + 1);

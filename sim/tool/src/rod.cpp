@@ -232,9 +232,17 @@ void Rod::set_node_load(std::size_t node, const glm::dvec3& force_mN) {
 
 void Rod::clear_node_loads() { std::fill(load_.begin(), load_.end(), glm::dvec3(0.0)); }
 
-void Rod::set_extra_bending(std::span<const double> ei_Nmm2_by_node) {
-  for (std::size_t k = 0; k < ei_extra_.size(); ++k) {
-    ei_extra_[k] = k < ei_Nmm2_by_node.size() ? std::max(0.0, ei_Nmm2_by_node[k]) * kMilli : 0.0;
+void Rod::set_extra_bending(std::size_t first, std::span<const double> ei_Nmm2) {
+  const std::size_t size = ei_extra_.size();
+  const std::size_t begin = std::min(first, size);
+  const std::size_t end = std::min(size, begin + ei_Nmm2.size());
+  for (std::size_t k = extra_set_.begin_in(size); k < extra_set_.end_in(size); ++k) {
+    if (k < begin || k >= end) ei_extra_[k] = 0.0;
+  }
+  extra_set_.clear();
+  for (std::size_t k = begin; k < end; ++k) {
+    ei_extra_[k] = std::max(0.0, ei_Nmm2[k - begin]) * kMilli;
+    extra_set_.add(k);
   }
 }
 
@@ -249,7 +257,31 @@ std::size_t station_at(const std::vector<double>& from_tip, double d) {
   }
   return lo;
 }
+
+// station_at by a walk from `hint` (updated; kNoStation: search): the last index <= size - 2
+// whose distance is >= d, or 0 (stations descend strictly).
+std::size_t station_near(const std::vector<double>& from_tip, double d, std::size_t& hint) {
+  if (hint == Rod::kNoStation) {
+    hint = station_at(from_tip, d);
+    return hint;
+  }
+  std::size_t k = std::min(hint, from_tip.size() - 2);
+  while (k > 0 && from_tip[k] < d) --k;
+  while (k + 2 < from_tip.size() && from_tip[k + 1] >= d) ++k;
+  hint = k;
+  return k;
+}
 }  // namespace
+
+double Rod::radius_at_mm(double from_tip_mm, std::size_t& station) const {
+  return radius_[station_near(from_tip_, from_tip_mm, station)];
+}
+double Rod::bending_at_Nmm2(double from_tip_mm, std::size_t& station) const {
+  return ei_[station_near(from_tip_, from_tip_mm, station)] / kMilli;
+}
+double Rod::inner_radius_at_mm(double from_tip_mm, std::size_t& station) const {
+  return inner_radius_[station_near(from_tip_, from_tip_mm, station)];
+}
 
 double Rod::radius_at_mm(double from_tip_mm) const { return radius_[station_at(from_tip_, from_tip_mm)]; }
 double Rod::bending_at_Nmm2(double from_tip_mm) const {
@@ -1077,7 +1109,10 @@ void Rod::finish_edge_contacts() {
 }
 
 void Rod::add_coupling_load(std::size_t node, const glm::dvec3& force_mN) {
-  if (node < coupling_.size() && std::isfinite(force_mN.x + force_mN.y + force_mN.z)) coupling_[node] += force_mN;
+  if (node < coupling_.size() && std::isfinite(force_mN.x + force_mN.y + force_mN.z)) {
+    coupling_[node] += force_mN;
+    coupling_set_.add(node);
+  }
 }
 
 void Rod::set_grip(std::size_t node, double limit_mN) {
@@ -1087,7 +1122,12 @@ void Rod::set_grip(std::size_t node, double limit_mN) {
   grip_limit_[node] = limit;
 }
 
-void Rod::clear_coupling_loads() { std::fill(coupling_.begin(), coupling_.end(), glm::dvec3(0.0)); }
+void Rod::clear_coupling_loads() {
+  const std::size_t size = coupling_.size();
+  std::fill(coupling_.begin() + static_cast<std::ptrdiff_t>(coupling_set_.begin_in(size)),
+            coupling_.begin() + static_cast<std::ptrdiff_t>(coupling_set_.end_in(size)), glm::dvec3(0.0));
+  coupling_set_.clear();
+}
 
 glm::dvec3 Rod::clamp_force_mN() const { return clamp_force_; }
 

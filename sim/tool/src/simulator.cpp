@@ -84,6 +84,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   valve_.assign(n, ValveFriction{});
   valve_result_.assign(n, ValveFriction::Result{});
   coupling_next_.resize(n);
+  coupling_set_.assign(n, IndexRange{});
   for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
   balloons_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -190,7 +191,8 @@ void Simulator::prepare(std::size_t t) {
 
   // Composite stiffness: every tool inside this one, where it lies on this one's free part.
   const std::size_t nodes = rod.node_total();
-  std::fill(extra_ei_.begin(), extra_ei_.begin() + static_cast<std::ptrdiff_t>(nodes), 0.0);
+  const std::size_t window = std::min(rod.first_node(), nodes);
+  std::fill(extra_ei_.begin() + static_cast<std::ptrdiff_t>(window), extra_ei_.begin() + static_cast<std::ptrdiff_t>(nodes), 0.0);
   bool any = false;
   const Rod* leader = nullptr;
   double leader_insertion = 0.0;
@@ -198,9 +200,10 @@ void Simulator::prepare(std::size_t t) {
     if (u == t || !nested_in(u, t)) continue;
     any = true;
     const double tip_u = tip_depth_mm(u);
-    for (std::size_t k = rod.first_node(); k < nodes; ++k) {
+    std::size_t station = Rod::kNoStation;  // the stations walk monotonically along this one's nodes
+    for (std::size_t k = window; k < nodes; ++k) {
       const double depth = free_start_[t] + rod.node_depth_mm(k);
-      if (depth > 0.0 && depth <= tip_u) extra_ei_[k] += rods_[u].bending_at_Nmm2(tip_u - depth);
+      if (depth > 0.0 && depth <= tip_u) extra_ei_[k] += rods_[u].bending_at_Nmm2(tip_u - depth, station);
     }
     // A catheter advanced over a tool whose own part starts at this one's tip follows it.
     if (carrier_[u] == t && tip_u > free_start_[u] && leader == nullptr) {
@@ -208,13 +211,14 @@ void Simulator::prepare(std::size_t t) {
       leader_insertion = tip_u - free_start_[t];
     }
   }
-  if (any) rod.set_extra_bending(std::span<const double>(extra_ei_.data(), nodes));
+  if (any) rod.set_extra_bending(window, std::span<const double>(extra_ei_.data() + window, nodes - window));
   rod.set_leader(leader, leader_insertion);
 
   // Loads from the tools inside (their friction and their push on the bends).
   rod.clear_coupling_loads();
   const std::vector<glm::dvec3>& loads = coupling_next_[t];
-  for (std::size_t k = 0; k < loads.size() && k < nodes; ++k) {
+  const IndexRange& loaded = coupling_set_[t];
+  for (std::size_t k = loaded.begin_in(loads.size()); k < loaded.end_in(loads.size()) && k < nodes; ++k) {
     if (loads[k] != glm::dvec3(0.0)) rod.add_coupling_load(k, loads[k]);
   }
 }
@@ -316,7 +320,10 @@ void Simulator::step(double dt_s) {
   }
   // Friction in the lumens, felt at the hands, and its reaction on the catheters.
   for (std::size_t t = 0; t < n; ++t) {
-    for (glm::dvec3& f : coupling_next_[t]) f *= 1.0 - kCouplingRelaxation;
+    std::vector<glm::dvec3>& next = coupling_next_[t];
+    for (std::size_t k = coupling_set_[t].begin_in(next.size()); k < coupling_set_[t].end_in(next.size()); ++k) {
+      next[k] *= 1.0 - kCouplingRelaxation;
+    }
   }
   for (const std::size_t t : order_) {
     if (outer_of_[t] < n) {
@@ -360,16 +367,20 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   const double tip_u = tip_depth_mm(u);
   const double end = std::min(tip_u, free_start_[u]);
   if (end <= 0.0) return;
+  // The vertices run from the distal end to the entry: station lookups walk from the last one.
+  std::size_t inner_station = Rod::kNoStation;
+  std::size_t holder_station = Rod::kNoStation;
   const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth) {
     SheathVertex v;
     v.point_mm = p;
     v.holder = static_cast<std::uint32_t>(holder);
     v.node = static_cast<std::uint32_t>(node);
     const double from_tip = tip_u - depth;
-    v.inner_ei_Nmm2 = inner.bending_at_Nmm2(from_tip);
-    v.inner_radius_mm = inner.radius_at_mm(from_tip);
+    v.inner_ei_Nmm2 = inner.bending_at_Nmm2(from_tip, inner_station);
+    v.inner_radius_mm = inner.radius_at_mm(from_tip, inner_station);
     const Rod& h = rods_[holder];
-    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(h.insertion_mm() - (depth - free_start_[holder])) - v.inner_radius_mm);
+    const double holder_from_tip = h.insertion_mm() - (depth - free_start_[holder]);
+    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, holder_station) - v.inner_radius_mm);
     v.mu = h.spec().lumen_friction;
     path.push_back(v);
   };
@@ -423,6 +434,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
     if (v.holder >= n || v.node >= coupling_next_[v.holder].size()) continue;
     if (v.node < rods_[v.holder].first_free_node()) continue;
     coupling_next_[v.holder][v.node] += reaction[j] * kCouplingRelaxation;
+    coupling_set_[v.holder].add(v.node);
   }
 }
 

@@ -23,6 +23,7 @@
 #include <glm/vec3.hpp>
 
 #include "tool/force_law.hpp"
+#include "tool/index_range.hpp"
 #include "tool/rod_settings.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/wall_model.hpp"
@@ -119,7 +120,8 @@ class Rod {
   // Holds node k where it is now with an elastic-plastic anchor that slips beyond limit_mN
   // (an inflated balloon gripping the wall); 0 releases it.
   void set_grip(std::size_t node, double limit_mN);
-  void set_extra_bending(std::span<const double> ei_Nmm2_by_node);  // added EI (coaxial inner tool)
+  // Added EI (a coaxial inner tool) on the nodes first .. first + size - 1; 0 on the others.
+  void set_extra_bending(std::size_t first, std::span<const double> ei_Nmm2);
   void set_friction(double mu) { spec_.friction = mu > 0.0 ? mu : 0.0; }
   RodSettings& settings() { return settings_; }
 
@@ -127,6 +129,12 @@ class Rod {
   [[nodiscard]] double radius_at_mm(double from_tip_mm) const;
   [[nodiscard]] double bending_at_Nmm2(double from_tip_mm) const;
   [[nodiscard]] double inner_radius_at_mm(double from_tip_mm) const;
+  // The same at a station found by walking from `station` (updated; start with kNoStation), for
+  // callers that look up monotonic sequences of distances: the same answers without a search each.
+  static constexpr std::size_t kNoStation = std::numeric_limits<std::size_t>::max();
+  [[nodiscard]] double radius_at_mm(double from_tip_mm, std::size_t& station) const;
+  [[nodiscard]] double bending_at_Nmm2(double from_tip_mm, std::size_t& station) const;
+  [[nodiscard]] double inner_radius_at_mm(double from_tip_mm, std::size_t& station) const;
 
   [[nodiscard]] const ToolSpec& spec() const { return spec_; }
   [[nodiscard]] double insertion_mm() const { return insertion_mm_; }
@@ -230,6 +238,8 @@ class Rod {
   // the bending residual (phi = the rest turning angle at the node).
   std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;
   std::vector<glm::dvec3> x_, x_start_, x_pred_, load_, coupling_, grip_anchor_;
+  IndexRange coupling_set_;  // nodes coupling_ may be non-zero at
+  IndexRange extra_set_;     // nodes ei_extra_ may be non-zero at
   std::vector<double> grip_limit_;
   std::vector<NodeContact> node_contacts_;
   // Per edge (k: node k -> k+1).

@@ -149,6 +149,7 @@ class Simulator {
   std::vector<SheathFriction::Result> sheath_result_;
   std::vector<SheathVertex> path_;     // scratch
   std::vector<std::vector<glm::dvec3>> coupling_next_;  // loads for the next step, per tool node
+  std::vector<IndexRange> coupling_set_;                 // nodes of each coupling_next_ ever loaded
   std::vector<double> hand_force_, hand_torque_;
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
