@@ -1,6 +1,7 @@
 #pragma once
-// A small command-line parser shared by all command groups: positionals, `--flag`,
-// `--option VALUE` and `--option=VALUE`. Unknown options are errors.
+// The command line of one command group, parsed by CLI11: positionals, `--flag`,
+// `--option VALUE` and `--option=VALUE`; `--` ends the options. Unknown options, a value given
+// to a flag and an option without its value are errors (one line, in error()).
 #include <optional>
 #include <span>
 #include <string>
@@ -11,9 +12,10 @@ namespace cathbox::cli {
 
 class Args {
  public:
-  // value_options: options that take a value; flags: options that take none.
+  // value_options: options that take a value; flags: options that take none;
+  // optional_value_options: options whose value may be left out (`--emu` alone: value "").
   Args(std::span<const std::string> argv, std::vector<std::string> value_options,
-       std::vector<std::string> flags);
+       std::vector<std::string> flags, std::vector<std::string> optional_value_options = {});
 
   [[nodiscard]] bool ok() const { return error_.empty(); }
   [[nodiscard]] const std::string& error() const { return error_; }
