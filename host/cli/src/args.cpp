@@ -18,17 +18,23 @@ Args::Args(std::span<const std::string> argv, std::vector<std::string> value_opt
            std::vector<std::string> flags, std::vector<std::string> optional_value_options) {
   // CLI11 recognises the options; words it does not know come back in order, as positionals,
   // unknown options (the first is the error) and the `--` that ends the options.
-  CLI::App app;
-  app.set_help_flag();
+  CLI::App app("", "cathbox");
+  app.set_help_flag("--help", "this text");
   app.allow_extras();
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   value_options.insert(value_options.end(), optional_value_options.begin(), optional_value_options.end());
   std::vector<std::pair<std::string, CLI::Option*>> values;
-  for (const std::string& name : value_options) values.emplace_back(name, app.add_option("--" + name)->expected(0, 1));
+  for (const std::string& name : value_options) {
+    const bool optional = contains(optional_value_options, name);
+    values.emplace_back(name, app.add_option("--" + name)->expected(0, 1)->type_name(optional ? "[VALUE]" : "VALUE"));
+  }
   std::vector<std::pair<std::string, CLI::Option*>> switches;
   for (const std::string& name : flags) switches.emplace_back(name, app.add_flag("--" + name)->disable_flag_override());
   try {
     app.parse(std::vector<std::string>(argv.rbegin(), argv.rend()));
+  } catch (const CLI::CallForHelp&) {
+    const std::string text = app.help();  // from "Options:" on (the command's usage is the summary)
+    throw HelpRequested(text.substr(std::min(text.find("Options:"), text.size())));
   } catch (const CLI::ParseError&) {
     // The one error CLI11 raises here: a value given to a flag (`--json=1`).
     const auto given = std::find_if(argv.begin(), argv.end(), [&](const std::string& word) {

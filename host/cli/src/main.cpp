@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
 
@@ -32,6 +33,10 @@ int main(int argc, char** argv) {
     if (command.name == name) {
       try {
         return command.run(args);
+      } catch (const cathbox::cli::HelpRequested& help) {
+        std::printf("cathbox %s: %.*s\n%s", name.c_str(), static_cast<int>(command.summary.size()),
+                    command.summary.data(), help.what());
+        return cathbox::cli::kExitOk;
       } catch (const std::exception& e) {
         std::fprintf(stderr, "cathbox %s: %s\n", name.c_str(), e.what());
         return cathbox::cli::kExitFailure;
