@@ -1,4 +1,5 @@
 // cathbox-emu: the emulated box, served in real time on a Unix-domain socket.
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdint>
@@ -11,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <CLI/CLI.hpp>
+
 #include "emu/emulator.hpp"
 #include "emu/real_time_loop.hpp"
 #include "protocol/cbx_emu_frame.h"
@@ -20,31 +23,10 @@ namespace {
 std::atomic<bool> stop_requested{false};  // lock-free: safe to set from a signal handler
 void on_signal(int) { stop_requested.store(true); }
 
-void usage() {
-  std::printf(
-      "usage: cathbox-emu [OPTIONS]\n"
-      "Runs the emulated Cathbox (firmware core on a simulated board) in real time and serves it\n"
-      "on a Unix-domain socket, as `cathbox --emu PATH` and the trainer expect.\n\n"
-      "  --socket PATH          socket path (default $CATHBOX_EMU_SOCKET, $XDG_RUNTIME_DIR/cathbox-emu.sock,\n"
-      "                         or /tmp/cathbox-emu.sock)\n"
-      "  --motor                DC motors on both axes (default: magnetic-particle brakes)\n"
-      "  --uncalibrated         start with an empty settings store\n"
-      "  --serial TEXT          serial number reported in device info (default EMU-0001)\n"
-      "  --hand-insertion S     scripted hand on the insertion axis, e.g. v:0.02:2s,f:-1.5:500ms,free:1s\n"
-      "  --hand-rotation S      same for rotation (rad/s, N*m)\n"
-      "  --drop P --duplicate P --corrupt P   fault probabilities for reports in both directions\n"
-      "  --delay P:US           hold a report back US microseconds with probability P\n"
-      "  --encoder-bounce P     encoder line chatter per transition\n"
-      "  --estop-after MS       press the E-stop after MS milliseconds\n"
-      "  --seed N               seed of the fault injection (default 1)\n"
-      "  --wire-version N       send reports with protocol major N (tests the host's version check)\n"
-      "  --duration S           exit after S seconds (default: run until SIGINT/SIGTERM)\n");
-}
-
-bool parse_probability(const char* text, double& out) {
+bool parse_probability(const std::string& text, double& out) {
   char* end = nullptr;
-  out = std::strtod(text, &end);
-  return end != text && *end == '\0' && out >= 0 && out <= 1;
+  out = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0' && out >= 0 && out <= 1;
 }
 
 // A whole decimal number in [0, max]: no sign, no trailing characters, no overflow.
@@ -57,10 +39,130 @@ bool parse_count(const char* text, unsigned long long max, unsigned long long& o
 }
 
 // Seconds in (0, one year].
-bool parse_seconds(const char* text, double& out) {
+bool parse_seconds(const std::string& text, double& out) {
   char* end = nullptr;
-  out = std::strtod(text, &end);
-  return end != text && *end == '\0' && std::isfinite(out) && out > 0 && out <= 365.0 * 86400.0;
+  out = std::strtod(text.c_str(), &end);
+  return end != text.c_str() && *end == '\0' && std::isfinite(out) && out > 0 && out <= 365.0 * 86400.0;
+}
+
+// What the command line sets.
+struct Settings {
+  cathbox::emu::EmuOptions options;
+  std::string path;
+  std::string hand[2];
+  double drop = 0, duplicate = 0, corrupt = 0, delay_p = 0, bounce = 0;
+  uint64_t delay_us = 0;
+  long long estop_after_ms = -1;
+  int wire_version = CBX_PROTOCOL_VERSION;
+  double duration_s = 0;
+  bool help = false;
+};
+
+// An option with a value: its help line and how the value is checked and kept (false: a bad
+// value).
+struct ValueOption {
+  const char* name;
+  const char* value_name;
+  const char* help;
+  bool (*apply)(const std::string& value, Settings& s);
+};
+
+const ValueOption kValueOptions[] = {
+    {"--socket", "PATH",
+     "socket path (default $CATHBOX_EMU_SOCKET, $XDG_RUNTIME_DIR/cathbox-emu.sock, or /tmp/cathbox-emu.sock)",
+     [](const std::string& v, Settings& s) { s.path = v; return true; }},
+    {"--serial", "TEXT", "serial number reported in device info (default EMU-0001)",
+     [](const std::string& v, Settings& s) { s.options.serial = v; return true; }},
+    {"--hand-insertion", "S", "scripted hand on the insertion axis, e.g. v:0.02:2s,f:-1.5:500ms,free:1s",
+     [](const std::string& v, Settings& s) { s.hand[0] = v; return true; }},
+    {"--hand-rotation", "S", "same for rotation (rad/s, N*m)",
+     [](const std::string& v, Settings& s) { s.hand[1] = v; return true; }},
+    {"--drop", "P", "probability of dropping a report (both directions)",
+     [](const std::string& v, Settings& s) { return parse_probability(v, s.drop); }},
+    {"--duplicate", "P", "probability of sending a report twice (both directions)",
+     [](const std::string& v, Settings& s) { return parse_probability(v, s.duplicate); }},
+    {"--corrupt", "P", "probability of corrupting a report (both directions)",
+     [](const std::string& v, Settings& s) { return parse_probability(v, s.corrupt); }},
+    {"--delay", "P:US", "hold a report back US microseconds with probability P",
+     [](const std::string& v, Settings& s) {
+       const size_t colon = v.find(':');
+       unsigned long long us = 0;
+       const bool ok = colon != std::string::npos && parse_probability(v.substr(0, colon), s.delay_p) &&
+                       parse_count(v.c_str() + colon + 1, 10'000'000ull, us);
+       s.delay_us = us;
+       return ok;
+     }},
+    {"--encoder-bounce", "P", "encoder line chatter per transition",
+     [](const std::string& v, Settings& s) { return parse_probability(v, s.bounce); }},
+    {"--estop-after", "MS", "press the E-stop after MS milliseconds",
+     [](const std::string& v, Settings& s) {
+       unsigned long long ms = 0;
+       const bool ok = parse_count(v.c_str(), 365ull * 86'400'000ull, ms);
+       s.estop_after_ms = static_cast<long long>(ms);
+       return ok;
+     }},
+    {"--seed", "N", "seed of the fault injection (default 1)",
+     [](const std::string& v, Settings& s) {
+       unsigned long long seed = 0;
+       const bool ok = parse_count(v.c_str(), UINT64_MAX, seed);
+       s.options.seed = seed;
+       return ok;
+     }},
+    {"--wire-version", "N", "send reports with protocol major N (tests the host's version check)",
+     [](const std::string& v, Settings& s) {
+       unsigned long long version = 0;
+       const bool ok = parse_count(v.c_str(), 255, version);
+       s.wire_version = static_cast<int>(version);
+       return ok;
+     }},
+    {"--duration", "S", "exit after S seconds (default: run until SIGINT/SIGTERM)",
+     [](const std::string& v, Settings& s) { return parse_seconds(v, s.duration_s); }},
+};
+
+// Parses the command line with CLI11; on bad usage prints one line and returns false.
+bool parse_command_line(int argc, char** argv, Settings& s) {
+  CLI::App app("Runs the emulated Cathbox (firmware core on a simulated board) in real time and serves it on a "
+               "Unix-domain socket, as `cathbox --emu PATH` and the trainer expect.",
+               "cathbox-emu");
+  app.set_help_flag("-h,--help", "this text");
+  app.allow_extras();
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.get_formatter()->column_width(24);
+  CLI::Option* motor = app.add_flag("--motor")->description("DC motors on both axes (default: magnetic-particle brakes)");
+  CLI::Option* uncalibrated = app.add_flag("--uncalibrated")->description("start with an empty settings store");
+  for (CLI::Option* flag : {motor, uncalibrated}) flag->disable_flag_override();
+  std::vector<CLI::Option*> values;
+  for (const ValueOption& v : kValueOptions) {
+    values.push_back(app.add_option(v.name)->expected(0, 1)->type_name(v.value_name)->description(v.help));
+  }
+  auto incomplete = [](const std::string& word) {
+    std::fprintf(stderr, "cathbox-emu: bad or incomplete option '%s' (see --help)\n", word.c_str());
+    return false;
+  };
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::fputs(app.help().c_str(), stdout);
+    s.help = true;
+    return true;
+  } catch (const CLI::Error&) {  // a value given to a flag (`--motor=1`)
+    char** const end = argv + argc;
+    char** const given = std::find_if(argv + 1, end, [](const char* a) { return std::strchr(a, '=') != nullptr; });
+    return incomplete(given == end ? "" : *given);
+  }
+  if (const std::vector<std::string> extra = app.remaining(); !extra.empty()) return incomplete(extra.front());
+  s.options.motor = motor->count() > 0;
+  s.options.calibrated = uncalibrated->count() == 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (values[i]->count() == 0) continue;
+    const std::string value = values[i]->as<std::string>();
+    if (value.empty()) return incomplete(kValueOptions[i].name);
+    if (!kValueOptions[i].apply(value, s)) {
+      std::fprintf(stderr, "cathbox-emu: option %s: bad value '%s' (see --help)\n", kValueOptions[i].name, value.c_str());
+      return false;
+    }
+  }
+  return true;
 }
 
 uint64_t wall_us() {
@@ -73,77 +175,10 @@ uint64_t wall_us() {
 
 int main(int argc, char** argv) {
   using cathbox::emu::Emulator;
-  cathbox::emu::EmuOptions options;
-  std::string path;
-  std::string hand[2];
-  double drop = 0, duplicate = 0, corrupt = 0, delay_p = 0, bounce = 0;
-  uint64_t delay_us = 0;
-  long long estop_after_ms = -1;
-  int wire_version = CBX_PROTOCOL_VERSION;
-  double duration_s = 0;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto value = [&]() -> const char* { return argv[++i]; };
-    bool ok = true;
-    if (arg == "--help" || arg == "-h") {
-      usage();
-      return 0;
-    } else if (arg == "--motor") {
-      options.motor = true;
-    } else if (arg == "--uncalibrated") {
-      options.calibrated = false;
-    } else if (!has_value) {
-      ok = false;
-    } else if (arg == "--socket") {
-      path = value();
-    } else if (arg == "--serial") {
-      options.serial = value();
-    } else if (arg == "--hand-insertion") {
-      hand[0] = value();
-    } else if (arg == "--hand-rotation") {
-      hand[1] = value();
-    } else if (arg == "--drop") {
-      ok = parse_probability(value(), drop);
-    } else if (arg == "--duplicate") {
-      ok = parse_probability(value(), duplicate);
-    } else if (arg == "--corrupt") {
-      ok = parse_probability(value(), corrupt);
-    } else if (arg == "--encoder-bounce") {
-      ok = parse_probability(value(), bounce);
-    } else if (arg == "--delay") {
-      const std::string v = value();
-      const size_t colon = v.find(':');
-      unsigned long long us = 0;
-      ok = colon != std::string::npos && parse_probability(v.substr(0, colon).c_str(), delay_p) &&
-           parse_count(v.c_str() + colon + 1, 10'000'000ull, us);
-      delay_us = us;
-    } else if (arg == "--estop-after") {
-      unsigned long long ms = 0;
-      ok = parse_count(value(), 365ull * 86'400'000ull, ms);
-      estop_after_ms = static_cast<long long>(ms);
-    } else if (arg == "--wire-version") {
-      unsigned long long version = 0;
-      ok = parse_count(value(), 255, version);
-      wire_version = static_cast<int>(version);
-    } else if (arg == "--seed") {
-      unsigned long long seed = 0;
-      ok = parse_count(value(), UINT64_MAX, seed);
-      options.seed = seed;
-    } else if (arg == "--duration") {
-      ok = parse_seconds(value(), duration_s);
-    } else {
-      ok = false;
-    }
-    if (!ok) {
-      if (has_value && arg != argv[i]) {
-        std::fprintf(stderr, "cathbox-emu: option %s: bad value '%s' (see --help)\n", arg.c_str(), argv[i]);
-      } else {
-        std::fprintf(stderr, "cathbox-emu: bad or incomplete option '%s' (see --help)\n", arg.c_str());
-      }
-      return 2;
-    }
-  }
+  Settings settings;
+  if (!parse_command_line(argc, argv, settings)) return 2;
+  if (settings.help) return 0;
+  std::string& path = settings.path;
   if (path.empty()) {
     char buffer[108];
     if (cbx_emu_default_socket_path(buffer, sizeof buffer) != CBX_OK) {
@@ -153,10 +188,10 @@ int main(int argc, char** argv) {
     path = buffer;
   }
 
-  Emulator emu(options);
+  Emulator emu(settings.options);
   for (int a = 0; a < 2; ++a) {
-    if (hand[a].empty()) continue;
-    auto script = cathbox::emu::HandScript::parse(hand[a]);
+    if (settings.hand[a].empty()) continue;
+    auto script = cathbox::emu::HandScript::parse(settings.hand[a]);
     if (!script) {
       std::fprintf(stderr, "cathbox-emu: %s\n", script.error().message.c_str());
       return 2;
@@ -164,14 +199,14 @@ int main(int argc, char** argv) {
     emu.set_hand(a, script.value());
   }
   for (auto* link : {&emu.faults().in, &emu.faults().out}) {
-    link->drop = drop;
-    link->duplicate = duplicate;
-    link->corrupt = corrupt;
-    link->delay = delay_p;
-    link->delay_us = delay_us;
+    link->drop = settings.drop;
+    link->duplicate = settings.duplicate;
+    link->corrupt = settings.corrupt;
+    link->delay = settings.delay_p;
+    link->delay_us = settings.delay_us;
   }
-  emu.faults().encoder.bounce = bounce;
-  emu.set_wire_version(static_cast<uint8_t>(wire_version));
+  emu.faults().encoder.bounce = settings.bounce;
+  emu.set_wire_version(static_cast<uint8_t>(settings.wire_version));
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;
@@ -183,8 +218,9 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   const uint64_t start = wall_us();
-  const uint64_t estop_at_us = estop_after_ms >= 0 ? static_cast<uint64_t>(estop_after_ms) * 1000u : UINT64_MAX;
-  cathbox::emu::RealTimeLoop::run(emu, stop_requested, duration_s > 0 ? static_cast<uint64_t>(duration_s * 1e6) : 0,
+  const uint64_t estop_at_us =
+      settings.estop_after_ms >= 0 ? static_cast<uint64_t>(settings.estop_after_ms) * 1000u : UINT64_MAX;
+  cathbox::emu::RealTimeLoop::run(emu, stop_requested, settings.duration_s > 0 ? static_cast<uint64_t>(settings.duration_s * 1e6) : 0,
                                   [&](uint64_t now_us) {
                                     if (now_us >= estop_at_us) emu.set_estop(true);
                                   });

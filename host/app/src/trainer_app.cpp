@@ -80,7 +80,7 @@ bool TrainerApp::open_replay(const std::string& path, std::string& error) {
 
 int TrainerApp::run() {
   if (options_.help) {
-    std::fputs(trainer_usage(), stdout);
+    std::fputs(trainer_usage().c_str(), stdout);
     return session::kExitOk;
   }
   scripted_ = options_.headless || options_.bench_seconds > 0.0;

@@ -1,8 +1,14 @@
 #include "app/trainer_options.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <functional>
 #include <string_view>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 namespace cathbox::app {
 namespace {
@@ -30,40 +36,133 @@ bool parse_number(std::string_view text, T& out) {
   return ec == std::errc() && p == text.data() + text.size();
 }
 
+// One option with a value: its help line, and how its value is checked and kept (false: the
+// option's one-line error). A value left out comes as "".
+struct ValueOption {
+  const char* name;
+  const char* value_name;
+  const char* help;
+  const char* error;
+  std::function<bool(std::string_view, TrainerOptions&)> apply;
+};
+
+bool text(std::string_view v, std::string& out) {
+  out = v;
+  return !v.empty();
+}
+
+std::vector<ValueOption> value_options() {
+  return {
+      {"--case", "FILE", "case to open (default: the default case in the cases folder)", "--case needs a file",
+       [](std::string_view v, TrainerOptions& o) { return text(v, o.case_path); }},
+      {"--cases", "DIR", "cases folder for the picker (default: the project's cases/)", "--cases needs a folder",
+       [](std::string_view v, TrainerOptions& o) { return text(v, o.cases_dir); }},
+      {"--frames", "N", "headless: render N frames in a hidden window (needs X, e.g. Xvfb)",
+       "--frames needs a count from 1 to 1000000",
+       [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.frames) && o.frames >= 1 && o.frames <= 1'000'000; }},
+      {"--ms-per-frame", "MS", "headless frames: simulated milliseconds per frame (default 16)",
+       "--ms-per-frame needs milliseconds from 0 to 10000",
+       [](std::string_view v, TrainerOptions& o) {
+         return parse_number(v, o.sim_ms_per_frame) && o.sim_ms_per_frame >= 0 && o.sim_ms_per_frame <= 10'000;
+       }},
+      {"--screenshot", "OUT.png", "write the last frame as PNG (and OUT.png.txt with the camera)",
+       "--screenshot needs a file name", [](std::string_view v, TrainerOptions& o) { return text(v, o.screenshot); }},
+      {"--size", "WxH", "window size (default 1280x720)", "--size needs WxH, each from 64 to 8192",
+       [](std::string_view v, TrainerOptions& o) {
+         const std::size_t x = v.find('x');
+         return x != std::string_view::npos && parse_number(v.substr(0, x), o.width) &&
+                parse_number(v.substr(x + 1), o.height) && o.width >= 64 && o.height >= 64 && o.width <= 8192 &&
+                o.height <= 8192;
+       }},
+      {"--bench", "SECONDS", "measure frame time and haptic rate for SECONDS, print them, exit",
+       "--bench needs seconds (0 < s <= 3600)",
+       [](std::string_view v, TrainerOptions& o) {
+         return parse_number(v, o.bench_seconds) && o.bench_seconds > 0.0 && o.bench_seconds <= 3600.0;
+       }},
+      {"--fps", "N",
+       "without vsync (Xvfb, --bench), pace frames at N per second (default 60, as a display would; 0: as fast as "
+       "possible)",
+       "--fps needs frames per second from 0 to 1000",
+       [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.fps_cap) && o.fps_cap >= 0 && o.fps_cap <= 1000; }},
+      {"--seconds", "S", "stop after S seconds (headless: simulated seconds)",
+       "--seconds needs simulated seconds (0 < s <= 86400)",
+       [](std::string_view v, TrainerOptions& o) {
+         return parse_number(v, o.max_seconds) && o.max_seconds > 0.0 && o.max_seconds <= 86400.0;
+       }},
+      {"--replay", "FILE", "open a record (*.cbxrec) in Replay mode: play, pause, seek, speed",
+       "--replay needs a record file", [](std::string_view v, TrainerOptions& o) { return text(v, o.replay); }},
+      {"--records", "DIR",
+       "record every run into DIR (default: $XDG_DATA_HOME/cathbox/records, else ~/.local/share/cathbox/records)",
+       "--records needs a folder", [](std::string_view v, TrainerOptions& o) { return text(v, o.records_dir); }},
+      {"--server", "URL",
+       "join a cathbox-server (http://HOST:PORT): log in, run the assigned cases, stream the run live, upload its "
+       "record (queued on disk while the server is unreachable)",
+       "--server needs a URL http://HOST:PORT",
+       [](std::string_view v, TrainerOptions& o) { return v.starts_with("http://") && text(v, o.server_url); }},
+      {"--user", "NAME", "the trainee's account on the server", "--user needs a name",
+       [](std::string_view v, TrainerOptions& o) { return text(v, o.server_user); }},
+      {"--password-file", "FILE", "the password (first line); default: $CATHBOX_PASSWORD",
+       "--password-file needs a file", [](std::string_view v, TrainerOptions& o) { return text(v, o.password_file); }},
+      {"--rig", "NAME", "the rig's name instructors see (default: the host name)", "--rig needs a name",
+       [](std::string_view v, TrainerOptions& o) { return text(v, o.rig); }},
+      {"--assignment", "ID", "run this assignment's case (default: the first assigned)",
+       "--assignment needs an assignment id (1 or more)",
+       [](std::string_view v, TrainerOptions& o) {
+         std::int64_t id = 0;
+         if (!parse_number(v, id) || id < 1) return false;
+         o.assignment = id;
+         return true;
+       }},
+      {"--settings", "FILE",
+       "settings (JSON: server, user, password_file, rig); default: $XDG_CONFIG_HOME/cathbox/trainer.json, else "
+       "~/.config/cathbox/trainer.json",
+       "--settings needs a file", [](std::string_view v, TrainerOptions& o) { return text(v, o.settings_file); }},
+  };
+}
+
+// The options as CLI11 knows them: the value options, the flags and --emu [PATH]; the values
+// are checked after parsing, in the order the options were given.
+struct Parser {
+  CLI::App app{"cathbox-trainer: the trainee's application (host/app/README.md)", "cathbox-trainer"};
+  std::vector<ValueOption> values = value_options();
+  std::vector<CLI::Option*> value_ptrs;
+  CLI::Option* emu = nullptr;
+  CLI::Option* no_box = nullptr;
+  CLI::Option* headless = nullptr;
+  CLI::Option* wireframe = nullptr;
+  CLI::Option* no_record = nullptr;
+
+  Parser() {
+    app.set_help_flag("-h,--help", "this text");
+    app.allow_extras();
+    app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    app.get_formatter()->column_width(26);
+    auto flag = [&](const char* name, const char* help) {
+      return app.add_flag(name)->description(help)->disable_flag_override();
+    };
+    // In the order --help lists them.
+    for (const ValueOption& v : values) {
+      const std::string_view name = v.name;
+      if (name == "--frames") {
+        emu = app.add_option("--emu")->expected(0, 1)->type_name("[PATH]")->description(
+            "use the emulated box (cathbox-emu), at PATH if given");
+        no_box = flag("--no-box", "no box: keyboard and mouse (or the scripted hand when headless)");
+        headless = flag("--headless",
+                        "no visible window; without --frames, run the case with the scripted hand in virtual time "
+                        "and print the end-of-run summary");
+      } else if (name == "--replay") {
+        wireframe = flag("--wireframe", "start with the vessel in wireframe");
+      } else if (name == "--server") {
+        no_record = flag("--no-record", "do not record runs");
+      }
+      value_ptrs.push_back(app.add_option(v.name)->expected(0, 1)->type_name(v.value_name)->description(v.help));
+    }
+  }
+};
+
 }  // namespace
 
-const char* trainer_usage() {
-  return "usage: cathbox-trainer [options]\n"
-         "  --case FILE          case to open (default: the default case in the cases folder)\n"
-         "  --cases DIR          cases folder for the picker (default: the project's cases/)\n"
-         "  --emu [PATH]         use the emulated box (cathbox-emu), at PATH if given\n"
-         "  --no-box             no box: keyboard and mouse (or the scripted hand when headless)\n"
-         "  --headless           no visible window; without --frames, run the case with the\n"
-         "                       scripted hand in virtual time and print the end-of-run summary\n"
-         "  --frames N           headless: render N frames in a hidden window (needs X, e.g. Xvfb)\n"
-         "  --ms-per-frame MS    headless frames: simulated milliseconds per frame (default 16)\n"
-         "  --screenshot OUT.png write the last frame as PNG (and OUT.png.txt with the camera)\n"
-         "  --size WxH           window size (default 1280x720)\n"
-         "  --bench SECONDS      measure frame time and haptic rate for SECONDS, print them, exit\n"
-         "  --fps N              without vsync (Xvfb, --bench), pace frames at N per second\n"
-         "                       (default 60, as a display would; 0: as fast as possible)\n"
-         "  --seconds S          stop after S seconds (headless: simulated seconds)\n"
-         "  --wireframe          start with the vessel in wireframe\n"
-         "  --replay FILE        open a record (*.cbxrec) in Replay mode: play, pause, seek, speed\n"
-         "  --records DIR        record every run into DIR (default:\n"
-         "                       $XDG_DATA_HOME/cathbox/records, else ~/.local/share/cathbox/records)\n"
-         "  --no-record          do not record runs\n"
-         "  --server URL         join a cathbox-server (http://HOST:PORT): log in, run the assigned\n"
-         "                       cases, stream the run live, upload its record (queued on disk\n"
-         "                       while the server is unreachable)\n"
-         "  --user NAME          the trainee's account on the server\n"
-         "  --password-file FILE the password (first line); default: $CATHBOX_PASSWORD\n"
-         "  --rig NAME           the rig's name instructors see (default: the host name)\n"
-         "  --assignment ID      run this assignment's case (default: the first assigned)\n"
-         "  --settings FILE      settings (JSON: server, user, password_file, rig); default:\n"
-         "                       $XDG_CONFIG_HOME/cathbox/trainer.json, else ~/.config/...\n"
-         "  --help               this text\n";
-}
+std::string trainer_usage() { return Parser().app.help(); }
 
 OptionsResult parse_trainer_options(std::span<const char* const> args) {
   TrainerOptions o;
@@ -72,89 +171,38 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
     r.error = msg;
     return r;
   };
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string_view a = args[i];
-    auto value = [&](std::string_view& out) {
-      if (i + 1 >= args.size()) return false;
-      out = args[++i];
-      return true;
-    };
-    std::string_view v;
-    if (a == "--help" || a == "-h") {
-      o.help = true;
-    } else if (a == "--case") {
-      if (!value(v)) return fail("--case needs a file");
-      o.case_path = v;
-    } else if (a == "--cases") {
-      if (!value(v)) return fail("--cases needs a folder");
-      o.cases_dir = v;
-    } else if (a == "--emu") {
-      o.box = BoxChoice::kEmulator;
-      if (i + 1 < args.size() && std::string_view(args[i + 1]).substr(0, 2) != "--") o.emu_socket = args[++i];
-    } else if (a == "--no-box") {
-      o.box = BoxChoice::kNone;
-    } else if (a == "--headless") {
-      o.headless = true;
-    } else if (a == "--frames") {
-      if (!value(v) || !parse_number(v, o.frames) || o.frames < 1 || o.frames > 1'000'000)
-        return fail("--frames needs a count from 1 to 1000000");
-    } else if (a == "--ms-per-frame") {
-      if (!value(v) || !parse_number(v, o.sim_ms_per_frame) || o.sim_ms_per_frame < 0 ||
-          o.sim_ms_per_frame > 10'000)
-        return fail("--ms-per-frame needs milliseconds from 0 to 10000");
-    } else if (a == "--screenshot") {
-      if (!value(v) || v.empty()) return fail("--screenshot needs a file name");
-      o.screenshot = v;
-    } else if (a == "--size") {
-      const std::size_t x = value(v) ? v.find('x') : std::string_view::npos;
-      if (x == std::string_view::npos || !parse_number(v.substr(0, x), o.width) ||
-          !parse_number(v.substr(x + 1), o.height) || o.width < 64 || o.height < 64 ||
-          o.width > 8192 || o.height > 8192)
-        return fail("--size needs WxH, each from 64 to 8192");
-    } else if (a == "--bench") {
-      if (!value(v) || !parse_number(v, o.bench_seconds) || !(o.bench_seconds > 0.0) ||
-          o.bench_seconds > 3600.0)
-        return fail("--bench needs seconds (0 < s <= 3600)");
-    } else if (a == "--fps") {
-      if (!value(v) || !parse_number(v, o.fps_cap) || o.fps_cap < 0 || o.fps_cap > 1000)
-        return fail("--fps needs frames per second from 0 to 1000");
-    } else if (a == "--seconds") {
-      if (!value(v) || !parse_number(v, o.max_seconds) || !(o.max_seconds > 0.0) ||
-          o.max_seconds > 86400.0)
-        return fail("--seconds needs simulated seconds (0 < s <= 86400)");
-    } else if (a == "--wireframe") {
-      o.wireframe = true;
-    } else if (a == "--replay") {
-      if (!value(v) || v.empty()) return fail("--replay needs a record file");
-      o.replay = v;
-    } else if (a == "--records") {
-      if (!value(v) || v.empty()) return fail("--records needs a folder");
-      o.records_dir = v;
-    } else if (a == "--no-record") {
-      o.record = false;
-    } else if (a == "--server") {
-      if (!value(v) || !v.starts_with("http://")) return fail("--server needs a URL http://HOST:PORT");
-      o.server_url = v;
-    } else if (a == "--user") {
-      if (!value(v) || v.empty()) return fail("--user needs a name");
-      o.server_user = v;
-    } else if (a == "--password-file") {
-      if (!value(v) || v.empty()) return fail("--password-file needs a file");
-      o.password_file = v;
-    } else if (a == "--rig") {
-      if (!value(v) || v.empty()) return fail("--rig needs a name");
-      o.rig = v;
-    } else if (a == "--assignment") {
-      std::int64_t id = 0;
-      if (!value(v) || !parse_number(v, id) || id < 1) return fail("--assignment needs an assignment id (1 or more)");
-      o.assignment = id;
-    } else if (a == "--settings") {
-      if (!value(v) || v.empty()) return fail("--settings needs a file");
-      o.settings_file = v;
-    } else {
-      return fail("unknown option '" + printable(a) + "' (see --help)");
+  Parser p;
+  std::vector<std::string> reversed;
+  for (auto it = args.rbegin(); it != args.rend(); ++it) reversed.emplace_back(*it);
+  try {
+    p.app.parse(reversed);
+  } catch (const CLI::CallForHelp&) {
+    o.help = true;
+    r.options = o;
+    return r;
+  } catch (const CLI::Error&) {
+    // The one error CLI11 raises here: a value given to a flag (`--headless=1`).
+    const auto given = std::find_if(args.begin(), args.end(), [](const char* a) {
+      return std::string_view(a).starts_with("--") && std::string_view(a).find('=') != std::string_view::npos;
+    });
+    return fail("unknown option '" + printable(given == args.end() ? "" : *given) + "' (see --help)");
+  }
+  if (const std::vector<std::string> extra = p.app.remaining(); !extra.empty()) {
+    return fail("unknown option '" + printable(extra.front()) + "' (see --help)");
+  }
+  for (std::size_t i = 0; i < p.values.size(); ++i) {
+    if (p.value_ptrs[i]->count() > 0 && !p.values[i].apply(p.value_ptrs[i]->as<std::string>(), o)) {
+      return fail(p.values[i].error);
     }
   }
+  if (p.emu->count() > 0) {
+    o.box = BoxChoice::kEmulator;
+    o.emu_socket = p.emu->as<std::string>();
+  }
+  if (p.no_box->count() > 0) o.box = BoxChoice::kNone;
+  o.headless = p.headless->count() > 0;
+  o.wireframe = p.wireframe->count() > 0;
+  o.record = p.no_record->count() == 0;
   if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");
   if (o.frames > 0 && !o.headless) return fail("--frames needs --headless");
   if (o.bench_seconds > 0.0 && o.frames > 0) return fail("--bench and --frames exclude each other");

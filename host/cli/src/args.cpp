@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <CLI/CLI.hpp>
+
 namespace cathbox::cli {
 namespace {
 bool contains(const std::vector<std::string>& list, std::string_view name) {
@@ -13,42 +15,56 @@ bool contains(const std::vector<std::string>& list, std::string_view name) {
 }  // namespace
 
 Args::Args(std::span<const std::string> argv, std::vector<std::string> value_options,
-           std::vector<std::string> flags) {
-  bool only_positionals = false;
-  for (size_t i = 0; i < argv.size(); ++i) {
-    const std::string& word = argv[i];
-    if (only_positionals || word.size() < 2 || word.rfind("--", 0) != 0) {
-      if (word == "--") {
-        only_positionals = true;
-        continue;
-      }
-      positionals_.push_back(word);
-      continue;
-    }
-    std::string name = word.substr(2);
-    std::optional<std::string> inline_value;
-    if (const auto eq = name.find('='); eq != std::string::npos) {
-      inline_value = name.substr(eq + 1);
-      name.resize(eq);
-    }
-    if (contains(flags, name)) {
-      if (inline_value) {
-        error_ = "option --" + name + " takes no value";
+           std::vector<std::string> flags, std::vector<std::string> optional_value_options) {
+  // CLI11 recognises the options; words it does not know come back in order, as positionals,
+  // unknown options (the first is the error) and the `--` that ends the options.
+  CLI::App app("", "cathbox");
+  app.set_help_flag("--help", "this text");
+  app.allow_extras();
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  value_options.insert(value_options.end(), optional_value_options.begin(), optional_value_options.end());
+  std::vector<std::pair<std::string, CLI::Option*>> values;
+  for (const std::string& name : value_options) {
+    const bool optional = contains(optional_value_options, name);
+    values.emplace_back(name, app.add_option("--" + name)->expected(0, 1)->type_name(optional ? "[VALUE]" : "VALUE"));
+  }
+  std::vector<std::pair<std::string, CLI::Option*>> switches;
+  for (const std::string& name : flags) switches.emplace_back(name, app.add_flag("--" + name)->disable_flag_override());
+  try {
+    app.parse(std::vector<std::string>(argv.rbegin(), argv.rend()));
+  } catch (const CLI::CallForHelp&) {
+    const std::string text = app.help();  // from "Options:" on (the command's usage is the summary)
+    throw HelpRequested(text.substr(std::min(text.find("Options:"), text.size())));
+  } catch (const CLI::ParseError&) {
+    // The one error CLI11 raises here: a value given to a flag (`--json=1`).
+    const auto given = std::find_if(argv.begin(), argv.end(), [&](const std::string& word) {
+      const auto eq = word.find('=');
+      return word.rfind("--", 0) == 0 && eq != std::string::npos && contains(flags, word.substr(2, eq - 2));
+    });
+    error_ = "option " + (given == argv.end() ? std::string("--") : given->substr(0, given->find('='))) + " takes no value";
+    return;
+  }
+  for (const auto& [name, option] : values) {
+    for (const std::string& value : option->results()) {
+      if (value.empty() && !contains(optional_value_options, name)) {
+        error_ = "option --" + name + " needs a value";
         return;
       }
-      flags_set_.push_back(name);
-    } else if (contains(value_options, name)) {
-      if (!inline_value) {
-        if (i + 1 >= argv.size()) {
-          error_ = "option --" + name + " needs a value";
-          return;
-        }
-        inline_value = argv[++i];
-      }
-      options_.emplace_back(name, *inline_value);
-    } else {
-      error_ = "unknown option --" + name;
+      options_.emplace_back(name, value);
+    }
+  }
+  for (const auto& [name, option] : switches) {
+    if (option->count() > 0) flags_set_.push_back(name);
+  }
+  bool only_positionals = false;
+  for (const std::string& word : app.remaining()) {
+    if (!only_positionals && word == "--") {
+      only_positionals = true;
+    } else if (!only_positionals && word.size() >= 2 && word.rfind("--", 0) == 0) {
+      error_ = "unknown option --" + word.substr(2, word.find('=') - 2);
       return;
+    } else {
+      positionals_.push_back(word);
     }
   }
 }

@@ -1,6 +1,6 @@
 #pragma once
-// Test helper: decodes the PNGs the trainer writes (8-bit RGB/RGBA, stored deflate blocks,
-// filter 0), checking every CRC, the zlib header and the Adler-32. Anything else is refused.
+// Test helper: decodes the PNGs the trainer writes through libpng (checks every CRC and the
+// zlib stream); 8-bit RGB or RGBA comes back as it was written, anything else is refused.
 #include <optional>
 #include <string>
 #include <vector>

@@ -37,6 +37,9 @@ expect() {
   echo "ok:   $* -> rc $rc"
 }
 
+# shape NAME: $work/out is the documented --json shape NAME (tests/host/cli/json_shape.cpp).
+shape() { "$bin/cli_json_shape" "$1" <"$work/out" || fail "--json shape $1: $(head -c 300 "$work/out")"; }
+
 # A push, a full turn of the tip and a further push: every case's wire meets a wall and a branch.
 cat >"$work/push.actions" <<'EOF'
 0     insert_to 40 at 30
@@ -53,8 +56,10 @@ for c in "$cases"/*.case; do
   expect 0 "$cb" session replay "$rec" --check
   grep -q "match" "$work/out" || fail "$name: replay --check said: $(cat "$work/out")"
   expect 0 "$cb" session metrics "$rec" --json
+  shape session-metrics
   jq -e '.tip_path_mm > 10' "$work/out" >/dev/null || fail "$name: metrics: $(head -c 300 "$work/out")"
   expect 0 "$cb" session info "$rec" --json
+  shape session-info
   jq -e '.case.bytes > 0 and .ticks > 0' "$work/out" >/dev/null || fail "$name: info: $(head -c 300 "$work/out")"
 done
 
@@ -97,6 +102,7 @@ for c in $emu_cases; do
   expect 0 "$cb" session run --case "$c" --emu "$work/emu.sock" --seconds 2 --record "$rec" || continue
   expect 0 "$cb" session replay "$rec" --check
   expect 0 "$cb" session info "$rec" --json
+  shape session-info
   jq -e '.device.board == "cathbox-emu"' "$work/out" >/dev/null || fail "$name: no box in the header: $(head -c 300 "$work/out")"
 done
 
@@ -117,6 +123,7 @@ run_pid=""
 expect 0 "$cb" session replay "$rec" --check
 grep -q "match" "$work/out" || fail "killed record: $(cat "$work/out")"
 expect 0 "$cb" session info "$rec" --json
+shape session-info
 jq -e '.ticks > 0' "$work/out" >/dev/null || fail "killed record: no ticks: $(head -c 300 "$work/out")"
 
 if [ "$failures" -ne 0 ]; then

@@ -9,9 +9,10 @@ sock="$dir/emu.sock"
 failures=0
 v2_pid=""
 mon_pid=""
+cal_pid=""
 exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
 emu_pid=$!
-trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&3
 case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
 
@@ -33,27 +34,33 @@ expect() {
 
 cb="$bin/cathbox"
 
-# expect_json COMMAND...: exit code 0 and stdout is nothing but valid JSON (parsed by jq).
+# expect_json SHAPE COMMAND...: exit code 0 and stdout is nothing but valid JSON (parsed by jq) in
+# the documented shape SHAPE (host/cli/README.md, checked by tests/host/cli/json_shape.cpp).
 expect_json() {
-  local out rc
+  local shape=$1 out rc
+  shift
   out=$("$@" 2>/dev/null)
   rc=$?
   if [ "$rc" -ne 0 ] || [ -z "$out" ] || ! jq -e . >/dev/null 2>&1 <<<"$out"; then
     echo "FAIL: $* -> rc $rc, not valid JSON:"
     echo "$out" | head -5
     failures=$((failures + 1))
+  elif ! "$bin/cli_json_shape" "$shape" <<<"$out"; then
+    echo "FAIL: $* -> not the documented --json shape '$shape'"
+    failures=$((failures + 1))
   else
-    echo "ok:   $* -> valid JSON"
+    echo "ok:   $* -> valid JSON, shape $shape"
   fi
 }
+
 expect 0 "emulator" -- "$cb" list --emu "$sock"
 expect 0 '"board":"cathbox-emu"' -- "$cb" info --emu "$sock" --json
 expect 0 "calibration  108650 counts/m" -- "$cb" info --emu "$sock"
 expect 0 '"report_rate_hz"' -- "$cb" monitor --emu "$sock" --json --duration 0.5 --rate 4
 expect 0 '"result":"passed"' -- "$cb" selftest --emu "$sock" --json
-expect_json "$cb" list --emu "$sock" --json
-expect_json "$cb" info --emu "$sock" --json
-expect_json "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
+expect_json list "$cb" list --emu "$sock" --json
+expect_json info "$cb" info --emu "$sock" --json
+expect_json monitor "$cb" monitor --emu "$sock" --json --duration 0.3 --rate 10
 # One line per period and the last at the end of --duration, even when it is shorter than a period
 # (counted on stdout and stderr: on a loaded machine a slot may say "no state from the box").
 lines=$("$cb" monitor --emu "$sock" --json --duration 1 --rate 4 2>&1 | wc -l)
@@ -64,7 +71,24 @@ else
   echo "FAIL: monitor printed $lines lines in 1 s at 4 Hz (want 4), $short in 0.05 s (want 1)"
   failures=$((failures + 1))
 fi
-expect_json "$cb" selftest --emu "$sock" --json
+expect_json selftest "$cb" selftest --emu "$sock" --json
+# calibrate --json against a second emulator whose scripted hand pushes (5 mm/s) and turns
+# (1 rad/s) the tool: stdout is the documented shape (the guide goes to stderr). The guide's Enter presses come
+# half a second apart so the tool travels past the minimum counts; nothing timed is asserted.
+exec 6< <(exec "$bin/cathbox-emu" --socket "$dir/cal.sock" --duration 30 \
+  --hand-insertion v:0.005:30s --hand-rotation v:1:30s 2>&1)
+cal_pid=$!
+read -r line <&6
+out=$({ echo; sleep 0.5; echo; sleep 0.5; echo; } | "$cb" calibrate --emu "$dir/cal.sock" --json 2>/dev/null)
+rc=$?
+if [ "$rc" -ne 0 ] || ! "$bin/cli_json_shape" calibrate <<<"$out"; then
+  echo "FAIL: calibrate --json -> rc $rc, output:"
+  echo "$out" | tail -5
+  failures=$((failures + 1))
+else
+  echo "ok:   calibrate --json -> shape calibrate"
+fi
+kill "$cal_pid" 2>/dev/null
 expect 3 "no emulator at" -- "$cb" info --emu "$dir/none.sock"
 expect 2 "unknown option --bogus" -- "$cb" info --bogus
 # cathbox-emu refuses a bad option value with one line instead of running with 0 (an E-stop at
@@ -129,7 +153,7 @@ expect 0 "emulator" -- "$cb" list --emu "$sock"
 # A box from the future: the one-line message and exit code 4.
 exec 4< <(exec "$bin/cathbox-emu" --socket "$dir/v2.sock" --wire-version 2 --duration 60 2>&1)
 v2_pid=$!
-trap 'kill "$emu_pid" $v2_pid $mon_pid 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&4
 expect 4 "cathbox: the box speaks protocol v2, this host speaks v1: update the host tools (or flash firmware 1.x)" -- "$cb" info --emu "$dir/v2.sock"
 expect 4 "speaks protocol v2" -- "$cb" monitor --emu "$dir/v2.sock" --duration 0.1

@@ -23,6 +23,7 @@ for f in "$src"/cases/*.hclm "$src"/cases/*.case; do
   grep -q "^inflow" "$work/out" || fail "info $f: $(head -5 "$work/out")"
   expect 0 "$cathbox" flow info "$f" --json
   jq -e '.segments | length > 0' "$work/out" >/dev/null || fail "json $f"
+  "$(dirname "$cathbox")/cli_json_shape" flow-info <"$work/out" || fail "--json shape $f"
   # Inflow equals the outlets' total.
   jq -e '([.terminals[] | select(.role == "outlet") | .flow_ml_min] | add) as $out
          | (.total_inflow_ml_min - $out) | fabs < 1e-6 * (1 + $out)' "$work/out" >/dev/null || fail "balance $f"

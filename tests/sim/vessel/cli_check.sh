@@ -2,6 +2,8 @@
 # arguments, a fresh $work, and the helpers
 #   fail MESSAGE          counts a failure
 #   expect CODE CMD...    runs CMD, checks its exit code; stdout/stderr land in $work/out, $work/err
+#   json_shape SHAPE      checks $work/out against a documented --json shape (cli_json_shape,
+#                         beside the cathbox executable; tests/host/cli/json_shape.cpp)
 #   finish NAME           prints the verdict and exits 1 on failures
 set -u
 cathbox="$1"
@@ -18,6 +20,11 @@ expect() {
   "$@" >"$work/out" 2>"$work/err"
   local got=$?
   [ "$got" -eq "$want" ] || fail "exit $got (want $want): $* -- $(head -c 300 "$work/err")"
+}
+
+json_shape() {
+  "$(dirname "$cathbox")/cli_json_shape" "$1" <"$work/out" 2>"$work/shape" ||
+    fail "--json shape $1: $(head -c 300 "$work/shape")"
 }
 
 finish() {

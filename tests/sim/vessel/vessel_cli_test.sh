@@ -11,8 +11,9 @@ done
 expect 0 "$cathbox" vessel info "$src/cases/neuro.hclm"
 grep -q "^cycles *4$" "$work/out" || fail "info neuro: $(cat "$work/out")"
 expect 0 "$cathbox" vessel info "$src/cases/neuro.hclm" --json
-grep -q '"cycles": 4' "$work/out" || fail "info --json: $(cat "$work/out")"
-grep -q '"confluence": 4' "$work/out" || fail "info --json kinds: $(cat "$work/out")"
+json_shape vessel-info
+jq -e '.cycles == 4' "$work/out" >/dev/null || fail "info --json: $(cat "$work/out")"
+jq -e '.junction_kinds.confluence == 4' "$work/out" >/dev/null || fail "info --json kinds: $(cat "$work/out")"
 
 # Bad files: exit 2, exactly one stderr line naming file:line.
 printf 's 1\ng 1\np 0\nc 0\nn 3\nv 0 0 0 1\nv 0 0 1 0\nv 0 0 2 1\n' >"$work/bad_radius.hclm"

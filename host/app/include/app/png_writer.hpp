@@ -1,8 +1,6 @@
 #pragma once
-// A small PNG encoder for screenshots: 8-bit RGB or RGBA, one IDAT of stored (uncompressed)
-// deflate blocks, so it needs no compression library. CRC-32 and Adler-32 are computed here.
+// The PNG encoder for screenshots: 8-bit RGB or RGBA, through libpng.
 #include <cstdint>
-#include <span>
 #include <string>
 #include <vector>
 
@@ -26,10 +24,6 @@ class PngWriter {
   [[nodiscard]] static std::vector<std::uint8_t> encode(const Image& image);
   // Writes the file; on failure returns false and sets `error` to one line.
   [[nodiscard]] static bool write_file(const std::string& path, const Image& image, std::string& error);
-
-  [[nodiscard]] static std::uint32_t crc32(std::span<const std::uint8_t> bytes,
-                                           std::uint32_t crc = 0);
-  [[nodiscard]] static std::uint32_t adler32(std::span<const std::uint8_t> bytes);
 };
 
 }  // namespace cathbox::app

@@ -1,6 +1,5 @@
 #include "box_session.hpp"
 
-#include <cmath>
 #include <cstdio>
 
 #include "cli/exit_codes.hpp"
@@ -55,70 +54,9 @@ std::unique_ptr<BoxSession> open_box(const char* group, const Args& args, int& c
   return session;
 }
 
-std::string Json::quote(const std::string& text) {
-  std::string out = "\"";
-  for (const char c : text) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20) {
-      char esc[8];
-      std::snprintf(esc, sizeof esc, "\\u%04x", c);
-      out += esc;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string Json::array(const std::vector<std::string>& items) {
-  std::string out = "[";
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + items[i];
-  return out + "]";
-}
-
-void Json::key(const std::string& k) {
-  if (!body_.empty()) body_ += ',';
-  body_ += quote(k) + ':';
-}
-
-Json& Json::field(const std::string& k, const std::string& text) {
-  key(k);
-  body_ += quote(text);
-  return *this;
-}
-
-Json& Json::field(const std::string& k, double value) {
-  key(k);
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", std::isfinite(value) ? value : 0.0);
-  body_ += text;
-  return *this;
-}
-
-Json& Json::field(const std::string& k, int64_t value) {
-  key(k);
-  body_ += std::to_string(value);
-  return *this;
-}
-
-Json& Json::field(const std::string& k, uint64_t value) {
-  key(k);
-  body_ += std::to_string(value);
-  return *this;
-}
-
-Json& Json::field(const std::string& k, bool value) {
-  key(k);
-  body_ += value ? "true" : "false";
-  return *this;
-}
-
-Json& Json::raw(const std::string& k, const std::string& json) {
-  key(k);
-  body_ += json;
-  return *this;
+void print_json(const Json& value) {
+  // Text from the box is not trusted to be UTF-8: bad bytes print as U+FFFD, never throw.
+  std::printf("%s\n", value.dump(-1, ' ', false, Json::error_handler_t::replace).c_str());
 }
 
 namespace {

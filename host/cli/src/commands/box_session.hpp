@@ -1,12 +1,15 @@
 #pragma once
 // Shared by the device command groups (list, info, monitor, calibrate, selftest, flash):
-// opening the box (--emu PATH or the first real box), mapping errors to exit codes, and a
-// small JSON writer for --json.
+// opening the box (--emu PATH or the first real box), mapping errors to exit codes, and
+// printing --json.
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "cli/args.hpp"
 #include "device/box_client.hpp"
@@ -35,26 +38,13 @@ struct BoxSession {
 // exit code through `code`.
 [[nodiscard]] std::unique_ptr<BoxSession> open_box(const char* group, const Args& args, int& code);
 
-// Minimal JSON: objects and arrays built as text, keys in insertion order.
-class Json {
- public:
-  Json& field(const std::string& key, const std::string& text);
-  Json& field(const std::string& key, const char* text) { return field(key, std::string(text)); }
-  Json& field(const std::string& key, double value);
-  Json& field(const std::string& key, int64_t value);
-  Json& field(const std::string& key, uint64_t value);
-  Json& field(const std::string& key, int value) { return field(key, static_cast<int64_t>(value)); }
-  Json& field(const std::string& key, unsigned value) { return field(key, static_cast<uint64_t>(value)); }
-  Json& field(const std::string& key, bool value);
-  Json& raw(const std::string& key, const std::string& json);  // an object or array built elsewhere
-  [[nodiscard]] std::string str() const { return "{" + body_ + "}"; }
-  [[nodiscard]] static std::string quote(const std::string& text);
-  [[nodiscard]] static std::string array(const std::vector<std::string>& items);
-
- private:
-  void key(const std::string& k);
-  std::string body_;
-};
+// --json output: nlohmann-json objects with keys in insertion order, printed on one line
+// (shapes: host/cli/README.md, checked by tests/host/cli/json_shape.cpp).
+using Json = nlohmann::ordered_json;
+// A figure for --json: non-finite values print as 0, so every field keeps its type.
+[[nodiscard]] inline double json_number(double value) { return std::isfinite(value) ? value : 0.0; }
+// Prints the value on one line of stdout.
+void print_json(const Json& value);
 
 // Decoded-state helpers shared by info and monitor.
 [[nodiscard]] std::string fault_names(uint16_t faults);

@@ -14,10 +14,11 @@
 namespace cathbox::cli {
 namespace {
 
-// Waits for Enter; false when the input ended (aborts without writing anything).
-bool wait_enter(const char* prompt) {
-  std::printf("%s [Enter] ", prompt);
-  std::fflush(stdout);
+// Prints the guide's prompt on `guide` and waits for Enter; false when the input ended (aborts
+// without writing anything).
+bool wait_enter(std::FILE* guide, const char* prompt) {
+  std::fprintf(guide, "%s [Enter] ", prompt);
+  std::fflush(guide);
   std::string line;
   return static_cast<bool>(std::getline(std::cin, line));
 }
@@ -57,17 +58,19 @@ int run_calibrate(std::span<const std::string> argv) {
   if (!current) return fail("calibrate", current.error());
   cbx_calibration cal = current.value();
 
-  std::printf("Calibrating %s\n", box.describe().c_str());
-  if (!wait_enter("1/3  Put the tool at the start mark and hold it still.")) return fail_usage("calibrate", "input ended; nothing written");
+  // With --json the guide goes to stderr, so stdout is the one JSON object.
+  std::FILE* guide = args.flag("json") ? stderr : stdout;
+  std::fprintf(guide, "Calibrating %s\n", box.describe().c_str());
+  if (!wait_enter(guide, "1/3  Put the tool at the start mark and hold it still.")) return fail_usage("calibrate", "input ended; nothing written");
   if (auto reset = box.reset_counters(CBX_RESET_INSERTION_COUNT | CBX_RESET_ROTATION_COUNT); !reset) return fail("calibrate", reset.error());
   device::BoxState state;
   char prompt[160];
   std::snprintf(prompt, sizeof prompt, "2/3  Push the tool exactly %.1f mm (to the end mark) without turning it.", travel);
-  if (!wait_enter(prompt)) return fail_usage("calibrate", "input ended; nothing written");
+  if (!wait_enter(guide, prompt)) return fail_usage("calibrate", "input ended; nothing written");
   if (!read_state(*session, state)) return fail("calibrate", device::make_error(device::Errc::kTimeout, "no state from the box"));
   const int32_t insertion_counts = state.report.insertion_count;
   std::snprintf(prompt, sizeof prompt, "3/3  Turn the tool exactly %.2f turn(s) in one direction.", revs);
-  if (!wait_enter(prompt)) return fail_usage("calibrate", "input ended; nothing written");
+  if (!wait_enter(guide, prompt)) return fail_usage("calibrate", "input ended; nothing written");
   if (!read_state(*session, state)) return fail("calibrate", device::make_error(device::Errc::kTimeout, "no state from the box"));
   const int32_t rotation_counts = state.report.rotation_count;
 
@@ -103,13 +106,10 @@ int run_calibrate(std::span<const std::string> argv) {
     return fail("calibrate", device::make_error(device::Errc::kDeviceError, "the box did not keep the calibration"));
   }
   if (args.flag("json")) {
-    std::printf("%s\n", Json()
-                            .field("insertion_counts", int64_t{insertion_counts})
-                            .field("rotation_counts", int64_t{rotation_counts})
-                            .field("insertion_counts_per_m", cal.insertion_counts_per_m)
-                            .field("rotation_counts_per_rev", cal.rotation_counts_per_rev)
-                            .str()
-                            .c_str());
+    print_json(Json{{"insertion_counts", int64_t{insertion_counts}},
+                    {"rotation_counts", int64_t{rotation_counts}},
+                    {"insertion_counts_per_m", cal.insertion_counts_per_m},
+                    {"rotation_counts_per_rev", cal.rotation_counts_per_rev}});
   } else {
     std::printf("written: %u counts/m (%.3f counts/mm), %u counts/rev\n", cal.insertion_counts_per_m,
                 cal.insertion_counts_per_m / 1000.0, cal.rotation_counts_per_rev);

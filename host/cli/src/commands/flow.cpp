@@ -84,7 +84,7 @@ int run_info(const cli::Args& args) {
   const vessel::VesselModel& model = net.model();
   const flow::FlowSettings& s = net.settings();
   if (args.flag("json")) {
-    nlohmann::json j;
+    nlohmann::ordered_json j;
     j["file"] = path;
     j["settings"] = {{"viscosity_mPa_s", s.viscosity_mPa_s},
                      {"cardiac_output_ml_min", s.cardiac_output_ml_min},
@@ -97,7 +97,7 @@ int run_info(const cli::Args& args) {
                      {"heart_rate_bpm", s.heart_rate_bpm},
                      {"pulsatility_index", s.pulsatility_index}};
     j["total_inflow_ml_min"] = net.total_inflow_ml_min();
-    j["segments"] = nlohmann::json::array();
+    j["segments"] = nlohmann::ordered_json::array();
     for (std::size_t i = 0; i < model.segments.size(); ++i) {
       const flow::SegmentFlow& f = net.segments()[i];
       j["segments"].push_back({{"id", model.segments[i].id},
@@ -112,7 +112,7 @@ int run_info(const cli::Args& args) {
                                {"pressure_start_mmHg", net.node_pressure_mmHg(f.start_node)},
                                {"pressure_end_mmHg", net.node_pressure_mmHg(f.end_node)}});
     }
-    j["terminals"] = nlohmann::json::array();
+    j["terminals"] = nlohmann::ordered_json::array();
     for (const flow::Terminal& t : net.terminals()) {
       j["terminals"].push_back({{"segment_id", model.segments[t.segment].id},
                                 {"end", t.at_end ? "distal" : "proximal"},

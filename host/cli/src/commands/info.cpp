@@ -39,28 +39,30 @@ int run_info(std::span<const std::string> argv) {
   std::snprintf(fw, sizeof fw, "%u.%u.%u", d.fw_major, d.fw_minor, d.fw_patch);
   if (args.flag("json")) {
     Json j;
-    j.field("transport", box.describe()).field("firmware", fw).field("protocol", std::to_string(CBX_PROTOCOL_VERSION) + "." + std::to_string(d.protocol_minor));
-    j.field("serial", d.serial).field("board", d.board);
-    j.field("insertion_actuator", actuator_name(d.insertion_actuator)).field("rotation_actuator", actuator_name(d.rotation_actuator));
-    j.field("insertion_encoder_cpr", d.insertion_encoder_cpr).field("rotation_encoder_cpr", d.rotation_encoder_cpr);
-    j.raw("calibration", Json()
-                             .field("insertion_counts_per_m", c.insertion_counts_per_m)
-                             .field("rotation_counts_per_rev", c.rotation_counts_per_rev)
-                             .field("insertion_full_scale_mN", c.insertion_full_scale_mN)
-                             .field("rotation_full_scale_uNm", c.rotation_full_scale_uNm)
-                             .str());
-    j.raw("limits", Json()
-                        .field("max_force_mN", l.max_force_mN)
-                        .field("max_torque_uNm", l.max_torque_uNm)
-                        .field("watchdog_timeout_ms", unsigned{l.watchdog_timeout_ms})
-                        .field("insertion_max_current_mA", unsigned{l.insertion_max_current_mA})
-                        .field("rotation_max_current_mA", unsigned{l.rotation_max_current_mA})
-                        .field("force_slew_mN_per_ms", unsigned{l.force_slew_mN_per_ms})
-                        .field("torque_slew_uNm_per_ms", unsigned{l.torque_slew_uNm_per_ms})
-                        .str());
-    j.field("status", status_names(state.report.status)).field("faults", fault_names(state.report.faults));
-    j.field("mode", mode_name(state.report.mode));
-    std::printf("%s\n", j.str().c_str());
+    j["transport"] = box.describe();
+    j["firmware"] = fw;
+    j["protocol"] = std::to_string(CBX_PROTOCOL_VERSION) + "." + std::to_string(d.protocol_minor);
+    j["serial"] = d.serial;
+    j["board"] = d.board;
+    j["insertion_actuator"] = actuator_name(d.insertion_actuator);
+    j["rotation_actuator"] = actuator_name(d.rotation_actuator);
+    j["insertion_encoder_cpr"] = d.insertion_encoder_cpr;
+    j["rotation_encoder_cpr"] = d.rotation_encoder_cpr;
+    j["calibration"] = {{"insertion_counts_per_m", c.insertion_counts_per_m},
+                        {"rotation_counts_per_rev", c.rotation_counts_per_rev},
+                        {"insertion_full_scale_mN", c.insertion_full_scale_mN},
+                        {"rotation_full_scale_uNm", c.rotation_full_scale_uNm}};
+    j["limits"] = {{"max_force_mN", l.max_force_mN},
+                   {"max_torque_uNm", l.max_torque_uNm},
+                   {"watchdog_timeout_ms", unsigned{l.watchdog_timeout_ms}},
+                   {"insertion_max_current_mA", unsigned{l.insertion_max_current_mA}},
+                   {"rotation_max_current_mA", unsigned{l.rotation_max_current_mA}},
+                   {"force_slew_mN_per_ms", unsigned{l.force_slew_mN_per_ms}},
+                   {"torque_slew_uNm_per_ms", unsigned{l.torque_slew_uNm_per_ms}}};
+    j["status"] = status_names(state.report.status);
+    j["faults"] = fault_names(state.report.faults);
+    j["mode"] = mode_name(state.report.mode);
+    print_json(j);
     return kExitOk;
   }
   std::printf("box          %s\n", box.describe().c_str());

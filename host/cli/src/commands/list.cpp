@@ -17,17 +17,17 @@ int run_list(std::span<const std::string> argv) {
   Args args(argv, {"emu"}, {"json"});
   if (!args.ok()) return fail_usage("list", args.error());
   if (!args.positionals().empty()) return fail_usage("list", "takes no arguments");
-  std::vector<std::string> items;
+  Json items = Json::array();
   std::vector<std::string> lines;
   if (auto boxes = device::HidapiTransport::enumerate(); boxes) {
     for (const auto& b : boxes.value()) {
-      items.push_back(Json().field("kind", "box").field("path", b.path).field("serial", b.serial).str());
+      items.push_back({{"kind", "box"}, {"path", b.path}, {"serial", b.serial}});
       lines.push_back("box         " + b.path + "  serial " + b.serial + "  (" + b.product + ")");
     }
   }
   if (auto loaders = device::LibusbControl::list(); loaders) {
     for (const auto& where : loaders.value()) {
-      items.push_back(Json().field("kind", "bootloader").field("usb", where).str());
+      items.push_back({{"kind", "bootloader"}, {"usb", where}});
       lines.push_back("bootloader  usb " + where + "  (STM32 ROM DFU, 0483:df11)");
     }
   }
@@ -35,11 +35,11 @@ int run_list(std::span<const std::string> argv) {
   const std::string path = args.value("emu").value_or(device::SocketTransport::default_path());
   if (auto emu = device::SocketTransport::open(path, clock); emu) {
     const bool app = emu.value()->pid() == CBX_USB_PID;
-    items.push_back(Json().field("kind", app ? "emulator" : "emulator-bootloader").field("socket", path).str());
+    items.push_back({{"kind", app ? "emulator" : "emulator-bootloader"}, {"socket", path}});
     lines.push_back(std::string(app ? "emulator    " : "emulator    (in DFU bootloader) ") + path);
   }
   if (args.flag("json")) {
-    std::printf("%s\n", Json::array(items).c_str());
+    print_json(items);
   } else if (lines.empty()) {
     std::printf("no box found (no hidraw 1209:cb01, no bootloader 0483:df11, no emulator at %s)\n", path.c_str());
   } else {

@@ -76,16 +76,25 @@ int run_monitor(std::span<const std::string> argv) {
     const double deg = counts_per_deg > 0 ? r.rotation_count / counts_per_deg : 0;
     const double deg_s = counts_per_deg > 0 ? r.rotation_vel_cps / counts_per_deg : 0;
     if (json) {
-      Json j;
-      j.field("t_s", (now - start) * 1e-6).field("insertion_count", int64_t{r.insertion_count}).field("insertion_mm", mm);
-      j.field("insertion_mm_s", mm_s).field("insertion_force_mN", int64_t{r.insertion_force_mN});
-      j.field("rotation_count", int64_t{r.rotation_count}).field("rotation_deg", deg).field("rotation_deg_s", deg_s);
-      j.field("rotation_torque_uNm", int64_t{r.rotation_torque_uNm});
-      j.field("insertion_current_mA", int64_t{r.insertion_current_mA}).field("rotation_current_mA", int64_t{r.rotation_current_mA});
-      j.field("mode", mode_name(r.mode)).field("status", status_names(r.status)).field("faults", fault_names(r.faults));
-      j.field("encoder_errors", unsigned{r.encoder_errors}).field("rx_errors", unsigned{r.rx_errors});
-      j.field("report_rate_hz", hz).field("host_rejected", box.stats().rejected()).field("link_up", box.link() == device::Link::kUp);
-      std::printf("%s\n", j.str().c_str());
+      print_json(Json{{"t_s", json_number((now - start) * 1e-6)},
+                      {"insertion_count", int64_t{r.insertion_count}},
+                      {"insertion_mm", json_number(mm)},
+                      {"insertion_mm_s", json_number(mm_s)},
+                      {"insertion_force_mN", int64_t{r.insertion_force_mN}},
+                      {"rotation_count", int64_t{r.rotation_count}},
+                      {"rotation_deg", json_number(deg)},
+                      {"rotation_deg_s", json_number(deg_s)},
+                      {"rotation_torque_uNm", int64_t{r.rotation_torque_uNm}},
+                      {"insertion_current_mA", int64_t{r.insertion_current_mA}},
+                      {"rotation_current_mA", int64_t{r.rotation_current_mA}},
+                      {"mode", mode_name(r.mode)},
+                      {"status", status_names(r.status)},
+                      {"faults", fault_names(r.faults)},
+                      {"encoder_errors", unsigned{r.encoder_errors}},
+                      {"rx_errors", unsigned{r.rx_errors}},
+                      {"report_rate_hz", json_number(hz)},
+                      {"host_rejected", box.stats().rejected()},
+                      {"link_up", box.link() == device::Link::kUp}});
     } else {
       std::printf("%7.2f  %10d %9.2f %9.1f %7d  %10d %9.1f %9.1f %9d  %6d %6d  %-28s %-12s %6.0f%s\n", (now - start) * 1e-6,
                   r.insertion_count, mm, mm_s, r.insertion_force_mN, r.rotation_count, deg, deg_s, r.rotation_torque_uNm,

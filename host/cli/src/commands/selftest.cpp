@@ -57,14 +57,11 @@ int run_selftest(std::span<const std::string> argv) {
   const cbx_selftest result = got.value();
   const bool passed = result.state == CBX_SELFTEST_PASSED;
   if (json) {
-    std::printf("%s\n", Json()
-                            .field("result", passed ? "passed" : (result.state == CBX_SELFTEST_FAILED ? "failed" : "never-run"))
-                            .field("failed_checks", failed_names(result.failed_checks))
-                            .field("insertion_current_mA", int64_t{result.insertion_current_mA})
-                            .field("rotation_current_mA", int64_t{result.rotation_current_mA})
-                            .field("supply_mV", unsigned{result.supply_mV})
-                            .str()
-                            .c_str());
+    print_json(Json{{"result", passed ? "passed" : (result.state == CBX_SELFTEST_FAILED ? "failed" : "never-run")},
+                    {"failed_checks", failed_names(result.failed_checks)},
+                    {"insertion_current_mA", int64_t{result.insertion_current_mA}},
+                    {"rotation_current_mA", int64_t{result.rotation_current_mA}},
+                    {"supply_mV", unsigned{result.supply_mV}}});
   } else {
     std::printf("self-test %s\n", passed ? "PASSED" : "FAILED");
     if (!passed) std::printf("failed checks   %s\n", failed_names(result.failed_checks).c_str());

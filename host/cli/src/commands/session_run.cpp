@@ -35,17 +35,9 @@ std::string program_dir() {
 
 }  // namespace
 
-int run_run(std::span<const std::string> raw, const char* usage) {
+int run_run(std::span<const std::string> argv, const char* usage) {
   // --emu takes an optional path: a bare --emu starts an emulator of its own.
-  std::vector<std::string> argv;
-  for (std::size_t i = 0; i < raw.size(); ++i) {
-    if (raw[i] == "--emu" && (i + 1 >= raw.size() || raw[i + 1].rfind("--", 0) == 0)) {
-      argv.push_back("--emu=");
-    } else {
-      argv.push_back(raw[i]);
-    }
-  }
-  Args args(argv, {"case", "script", "emu", "record", "seconds"}, {"virtual", "progress"});
+  Args args(argv, {"case", "script", "record", "seconds"}, {"virtual", "progress"}, {"emu"});
   auto bad = [&](const std::string& what) {
     std::fprintf(stderr, "cathbox session run: %s\n%s", what.c_str(), usage);
     return kExitBadInput;

@@ -1,5 +1,6 @@
 // `cathbox vessel validate|info|mesh|import|generate`: the vessel model (HCLM) from the command line.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -7,6 +8,8 @@
 #include <vector>
 
 #include <malloc.h>
+
+#include <nlohmann/json.hpp>
 
 #include <glm/geometric.hpp>
 
@@ -108,14 +111,20 @@ int run_info(const cli::Args& args) {
     else ++it->second;
   }
   if (args.flag("json")) {
-    std::printf("{\"file\": \"%s\", \"segments\": %zu, \"points\": %zu, \"junctions\": %zu, \"junction_kinds\": {",
-                path.c_str(), model->segments.size(), model->point_count(), graph.junctions().size());
-    for (std::size_t i = 0; i < kinds.size(); ++i) {
-      std::printf("%s\"%s\": %d", i ? ", " : "", kinds[i].first.c_str(), kinds[i].second);
-    }
-    std::printf("}, \"free_ends\": %zu, \"components\": %d, \"cycles\": %d, \"total_length_mm\": %.3f, "
-                "\"radius_min_mm\": %.4g, \"radius_max_mm\": %.4g}\n",
-                graph.free_ends().size(), graph.component_count(), graph.cycle_count(), length_mm, r_min, r_max);
+    nlohmann::ordered_json j;
+    j["file"] = path;
+    j["segments"] = model->segments.size();
+    j["points"] = model->point_count();
+    j["junctions"] = graph.junctions().size();
+    j["junction_kinds"] = nlohmann::ordered_json::object();
+    for (const auto& [kind, count] : kinds) j["junction_kinds"][kind] = count;
+    j["free_ends"] = graph.free_ends().size();
+    j["components"] = graph.component_count();
+    j["cycles"] = graph.cycle_count();
+    j["total_length_mm"] = length_mm;
+    j["radius_min_mm"] = std::isfinite(r_min) ? r_min : 0.0;  // 0 for a model without points
+    j["radius_max_mm"] = std::isfinite(r_max) ? r_max : 0.0;
+    std::printf("%s\n", j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace).c_str());
     return cli::kExitOk;
   }
   std::printf("file          %s\n", path.c_str());
