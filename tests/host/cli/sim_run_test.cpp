@@ -14,7 +14,7 @@ namespace {
 
 const std::string kBin = std::string(CATHBOX_BINARY_DIR) + "/bin/cathbox";
 const std::string kData = std::string(CATHBOX_SOURCE_DIR) + "/tests/sim/tool/data/";
-const std::string kTmp = std::string(CATHBOX_BINARY_DIR) + "/tests/sim/tool/";
+const std::string kTmp = std::string(CATHBOX_BINARY_DIR) + "/tests/host/cli/";
 
 int run(const std::string& args, const std::string& err_file) {
   const int status = std::system((kBin + " " + args + " >/dev/null 2>" + err_file).c_str());

@@ -4,7 +4,7 @@
 # stderr line naming file and line (or byte) and exit 2; bad options exit 2.
 # With the trainer given, it runs the imported carotid bifurcation headless with the scripted hand.
 # Usage: vessel_import_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR [TRAINER]
-source "$(dirname "${BASH_SOURCE[0]}")/../vessel/cli_check.sh"
+source "$(dirname "${BASH_SOURCE[0]}")/cli_check.sh"
 examples="$src/sim/vessel_import/examples"
 
 # Every format: a summary line, an HCLM that validates, meshes closed and manifold.

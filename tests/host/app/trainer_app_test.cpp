@@ -1,0 +1,79 @@
+// The trainer application without a window: the headless summary run (the scripted hand in
+// virtual time, recorded) and the refusals that happen before any window opens.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "app/trainer_app.hpp"
+#include "session/exit_codes.hpp"
+
+namespace cathbox::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TrainerAppTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    home_ = fs::temp_directory_path() / ("cathbox_trainer_app_" + std::to_string(::getpid()));
+    fs::remove_all(home_);
+    for (const char* v : {"XDG_CONFIG_HOME", "XDG_DATA_HOME", "XDG_CACHE_HOME"}) {
+      const fs::path dir = home_ / v;
+      fs::create_directories(dir);
+      ::setenv(v, dir.c_str(), 1);
+    }
+    ::unsetenv("CATHBOX_PASSWORD");
+  }
+  void TearDown() override { fs::remove_all(home_); }
+
+  [[nodiscard]] TrainerOptions headless() const {
+    TrainerOptions o;
+    o.headless = true;
+    o.box = BoxChoice::kNone;
+    o.case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_right_ica.case";
+    o.records_dir = (home_ / "records").string();
+    o.max_seconds = 0.3;
+    return o;
+  }
+
+  fs::path home_;
+};
+
+TEST_F(TrainerAppTest, HeadlessRunIsRecorded) {
+  TrainerApp app(headless(), ".");
+  EXPECT_EQ(app.run(), session::kExitOk);
+  std::size_t records = 0;
+  for (const auto& entry : fs::directory_iterator(home_ / "records")) records += entry.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(records, 1u);
+}
+
+TEST_F(TrainerAppTest, AssignmentWithoutServerIsRefused) {
+  TrainerOptions o = headless();
+  o.assignment = 3;
+  TrainerApp app(o, ".");
+  EXPECT_EQ(app.run(), session::kExitBadInput);
+  EXPECT_FALSE(fs::exists(home_ / "records"));
+}
+
+TEST_F(TrainerAppTest, DamagedSettingsFileIsRefused) {
+  TrainerOptions o = headless();
+  o.settings_file = (home_ / "trainer.json").string();
+  std::ofstream(o.settings_file) << R"({"usr": "trainee"})";
+  TrainerApp app(o, ".");
+  EXPECT_EQ(app.run(), session::kExitBadInput);
+}
+
+TEST_F(TrainerAppTest, MissingCaseIsRefused) {
+  TrainerOptions o = headless();
+  o.case_path = (home_ / "missing.case").string();
+  TrainerApp app(o, ".");
+  EXPECT_EQ(app.run(), session::kExitBadInput);
+}
+
+}  // namespace
+}  // namespace cathbox::app

@@ -1,0 +1,98 @@
+// How the trainer starts a run, without a window: the case it opens and the hand and record it
+// gives the session.
+#include <filesystem>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "app/trainer_launch.hpp"
+
+namespace cathbox::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kCases = std::string(CATHBOX_SOURCE_DIR) + "/cases";
+
+struct TempDir {
+  fs::path path;
+  TempDir() : path(fs::temp_directory_path() / ("cathbox_launch_" + std::to_string(::getpid()))) {
+    fs::remove_all(path);
+    fs::create_directories(path);
+  }
+  ~TempDir() { fs::remove_all(path); }
+};
+
+TEST(TrainerLaunch, DefaultCaseOfTheCasesFolderIsTheSingleWireNeuroCase) {
+  TrainerOptions options;
+  options.cases_dir = kCases;
+  CaseCatalog catalog;
+  const CaseChoice c = choose_case(options, ".", catalog);
+  ASSERT_TRUE(c.error.empty()) << c.error;
+  EXPECT_EQ(fs::path(c.path).filename(), "neuro_right_ica.case");
+  ASSERT_GE(c.catalog_index, 0);
+  EXPECT_EQ(catalog.entries()[static_cast<std::size_t>(c.catalog_index)].name, "neuro_right_ica.case");
+}
+
+TEST(TrainerLaunch, AskedCaseIsOpenedAndMarkedInThePicker) {
+  TrainerOptions options;
+  options.cases_dir = kCases;
+  options.case_path = kCases + "/y_bifurcation.case";
+  CaseCatalog catalog;
+  const CaseChoice c = choose_case(options, ".", catalog);
+  EXPECT_EQ(c.path, options.case_path);
+  ASSERT_GE(c.catalog_index, 0);
+  EXPECT_EQ(catalog.entries()[static_cast<std::size_t>(c.catalog_index)].name, "y_bifurcation.case");
+}
+
+TEST(TrainerLaunch, AFolderWithoutCasesIsOneLine) {
+  TempDir empty;
+  TrainerOptions options;
+  options.cases_dir = empty.path.string();
+  CaseCatalog catalog;
+  const CaseChoice c = choose_case(options, ".", catalog);
+  EXPECT_TRUE(c.path.empty());
+  EXPECT_NE(c.error.find("no case files"), std::string::npos) << c.error;
+  EXPECT_EQ(c.error.find('\n'), std::string::npos);
+}
+
+TEST(TrainerLaunch, ScriptedRunIsRecordedIntoTheRecordsFolder) {
+  TempDir records;
+  TrainerOptions options;
+  options.box = BoxChoice::kNone;
+  options.records_dir = records.path.string();
+  session::KeyboardInput keyboard;
+  LiveSession live = open_live_session(options, ".", kCases + "/neuro_right_ica.case", true, keyboard);
+  ASSERT_NE(live.session, nullptr) << live.error;
+  EXPECT_TRUE(live.error.empty());
+  ASSERT_FALSE(live.record_path.empty()) << live.note;
+  EXPECT_EQ(fs::path(live.record_path).parent_path(), records.path);
+  EXPECT_TRUE(fs::exists(live.record_path));
+}
+
+TEST(TrainerLaunch, KeyboardRunWithoutRecordAndBadCasesAreRefused) {
+  TrainerOptions options;
+  options.box = BoxChoice::kNone;
+  options.record = false;
+  session::KeyboardInput keyboard;
+  LiveSession live = open_live_session(options, ".", kCases + "/neuro_right_ica.case", false, keyboard);
+  ASSERT_NE(live.session, nullptr) << live.error;
+  EXPECT_TRUE(live.record_path.empty());
+  // A case without a vessel surface (analytic tubes) and a missing file: no session, one line.
+  const std::string analytic = std::string(CATHBOX_SOURCE_DIR) + "/tests/sim/tool/data/y_analytic.case";
+  LiveSession tubes = open_live_session(options, ".", analytic, false, keyboard);
+  EXPECT_EQ(tubes.session, nullptr);
+  EXPECT_NE(tubes.error.find("needs a case with a vessel file"), std::string::npos) << tubes.error;
+  TempDir dir;
+  for (const std::string& path : {(dir.path / "missing.case").string(), std::string(CATHBOX_SOURCE_DIR) + "/README.md"}) {
+    LiveSession bad = open_live_session(options, ".", path, false, keyboard);
+    EXPECT_EQ(bad.session, nullptr) << path;
+    EXPECT_FALSE(bad.error.empty()) << path;
+    EXPECT_EQ(bad.error.find('\n'), std::string::npos) << bad.error;
+  }
+}
+
+}  // namespace
+}  // namespace cathbox::app
