@@ -2,28 +2,14 @@
 # Checks `cathbox flow info` against the built tool: every bundled case, the JSON (parsed by
 # jq), flows that balance, and one-line file:line errors with exit code 2.
 # Usage: flow_cli_test.sh CATHBOX SOURCE_DIR WORK_DIR
-set -u
-cathbox="$1"
-src="$2"
-work="$3"
-rm -rf "$work"
-mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-expect() {
-  local want="$1"
-  shift
-  "$@" >"$work/out" 2>"$work/err"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "exit $got (want $want): $* -- $(head -c 300 "$work/err")"
-}
+source "$(dirname "${BASH_SOURCE[0]}")/cli_check.sh"
 
 for f in "$src"/cases/*.hclm "$src"/cases/*.case; do
   expect 0 "$cathbox" flow info "$f"
   grep -q "^inflow" "$work/out" || fail "info $f: $(head -5 "$work/out")"
   expect 0 "$cathbox" flow info "$f" --json
   jq -e '.segments | length > 0' "$work/out" >/dev/null || fail "json $f"
-  "$(dirname "$cathbox")/cli_json_shape" flow-info <"$work/out" || fail "--json shape $f"
+  json_shape flow-info
   # Inflow equals the outlets' total.
   jq -e '([.terminals[] | select(.role == "outlet") | .flow_ml_min] | add) as $out
          | (.total_inflow_ml_min - $out) | fabs < 1e-6 * (1 + $out)' "$work/out" >/dev/null || fail "balance $f"
@@ -56,5 +42,4 @@ expect 2 "$cathbox" flow info
 expect 2 "$cathbox" flow frobnicate
 expect 0 "$cathbox" flow help
 
-[ "$failures" -eq 0 ] || { echo "$failures failure(s)" >&2; exit 1; }
-echo "flow cli: ok"
+finish "flow cli"
