@@ -54,9 +54,9 @@ TEST(FlowNetwork, KirchhoffOnEveryBundledCase) {
       model = load_model("cases/" + entry.path().filename().string());
     } else if (entry.path().extension() == ".case") {
       const tool::CaseParse c = tool::load_case(path);
-      ASSERT_TRUE(c.value) << c.error;
-      model = load_model("cases/" + std::filesystem::path(c.value->vessel_path).filename().string());
-      settings = c.value->flow;
+      ASSERT_TRUE(c) << c.error().message;
+      model = load_model("cases/" + std::filesystem::path(c->vessel_path).filename().string());
+      settings = c->flow;
     } else {
       continue;
     }
@@ -258,8 +258,8 @@ class FlowOverrideErrors : public ::testing::TestWithParam<BadOverride> {};
 
 TEST_P(FlowOverrideErrors, NameTheCaseLine) {
   const tool::CaseParse c = tool::parse_case(GetParam().text, "x.case");
-  ASSERT_TRUE(c.value) << c.error;
-  const FlowBuild b = FlowNetwork::build(load_model("cases/neuro.hclm"), c.value->flow);
+  ASSERT_TRUE(c) << c.error().message;
+  const FlowBuild b = FlowNetwork::build(load_model("cases/neuro.hclm"), c->flow);
   EXPECT_FALSE(b.network);
   EXPECT_EQ(b.error, GetParam().error);
 }
