@@ -8,16 +8,13 @@
 #include <glm/geometric.hpp>
 
 #include "tool/tube_network_wall.hpp"
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
-#endif
 
 namespace cathbox::tool {
 
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 namespace {
 
 // Point at a fraction of a segment's length along its centreline.
@@ -36,7 +33,6 @@ glm::dvec3 along(const vessel::Segment& s, double fraction) {
 }
 
 }  // namespace
-#endif
 
 WorldBuild build_world(const Case& c) {
   if (!c.tubes.empty()) return build_world(c, {});
@@ -54,7 +50,6 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     out.world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
     return out;
   }
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
   if (!read.ok()) {
     out.error = read.errors.front().to_string();
@@ -105,11 +100,6 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
   world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
   out.world = std::move(world);
   return out;
-#else
-  (void)vessel_text;
-  out.error = c.vessel_path + ":0: vessel files need the vessel and collision modules, which this build lacks";
-  return out;
-#endif
 }
 
 }  // namespace cathbox::tool
