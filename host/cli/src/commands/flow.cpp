@@ -76,11 +76,11 @@ int run_info(const cli::Args& args) {
   const auto loaded = load(path);
   if (!loaded) return cli::kExitBadInput;
   const flow::FlowBuild built = flow::FlowNetwork::build(loaded->first, loaded->second);
-  if (!built.network) {
-    std::fprintf(stderr, "%s\n", built.error.c_str());
+  if (!built) {
+    std::fprintf(stderr, "%s\n", built.error().message.c_str());
     return cli::kExitBadInput;
   }
-  const flow::FlowNetwork& net = *built.network;
+  const flow::FlowNetwork& net = **built;
   const vessel::VesselModel& model = net.model();
   const flow::FlowSettings& s = net.settings();
   if (args.flag("json")) {
