@@ -75,11 +75,11 @@ std::unique_ptr<Case> make_case(std::string name, cathbox::vessel::SurfaceMesh m
     c->walks.push_back(nodes);
   }
   auto built = cb::ObbTree::build(c->mesh);
-  if (!built.tree) {
-    std::fprintf(stderr, "bench_collision: %s: %s\n", c->name.c_str(), built.error.c_str());
+  if (!built) {
+    std::fprintf(stderr, "bench_collision: %s: %s\n", c->name.c_str(), built.error().message.c_str());
     std::exit(1);
   }
-  c->tree = std::move(built.tree);
+  c->tree = std::move(*built);
   c->embree = cb::bench::make_embree(c->mesh);
   c->fcl = cb::bench::make_fcl(c->mesh);
   return c;
@@ -178,7 +178,7 @@ void register_case(Case& c) {
   benchmark::RegisterBenchmark((n + "build/ours").c_str(), [&c](benchmark::State& state) {
     for (auto _ : state) {
       auto b = cb::ObbTree::build(c.mesh);
-      benchmark::DoNotOptimize(b.tree);
+      benchmark::DoNotOptimize(b);
     }
   })->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5);
 

@@ -103,8 +103,8 @@ World make_world() {
     tri(c1, idx(last, j), idx(last, j + 1));
   }
   cathbox::collision::TreeBuild tree = cathbox::collision::ObbTree::build(mesh);
-  if (tree.tree) {
-    w.wall = std::make_unique<MeshWall>(*tree.tree);
+  if (tree) {
+    w.wall = std::make_unique<MeshWall>(*tree);
     w.entry = Entry{axis[2], glm::normalize(axis[3] - axis[2])};
     w.name = "tortuous tube mesh";
     return w;

@@ -61,8 +61,8 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     return out;
   }
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
-  if (!tree.tree) {
-    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error;
+  if (!tree) {
+    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message;
     return out;
   }
   // Default entry: the start of the root segment (the first without parents), along it.
@@ -82,7 +82,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     // The root's first point lies on its end cap: step in until well inside the lumen.
     const double inside = 0.5 * root->points[0].radius_mm;
     for (int i = 0; i < 40; ++i) {
-      const std::optional<double> d = tree.tree->signed_distance(entry.point_mm);
+      const std::optional<double> d = tree->signed_distance(entry.point_mm);
       if (d && *d < -inside) break;
       entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
     }
@@ -90,7 +90,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     out.error = c.vessel_path + ":0: the vessel has no root segment to enter";
     return out;
   }
-  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree.tree), entry);
+  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
   world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
   if (c.target) {
     for (const vessel::Segment& s : surface.smoothed.segments) {

@@ -14,8 +14,8 @@ namespace {
 TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
   const std::vector<glm::dvec3> axis{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
   collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 48, 7));
-  ASSERT_TRUE(build.tree) << build.error;
-  const MeshWall wall(*build.tree);
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build);
   WallHint hint;
   WallContact c;
   WallProbe probe;
@@ -37,8 +37,8 @@ TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
 TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
   const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
   collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 24));
-  ASSERT_TRUE(build.tree) << build.error;
-  const MeshWall wall(*build.tree);
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build);
   ToolSpec spec;
   spec.sections = {ToolSection{200.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{10.0, 0.36, 1.0, 0.8, 0.0}};
   Rod rod(spec);
