@@ -31,7 +31,7 @@ namespace {
 constexpr int kPoints = 10000;
 constexpr int kNodes = 350;
 constexpr int kSteps = 30;
-constexpr double kMaxStepMm = 0.1;
+constexpr double kMaxStep_mm = 0.1;
 
 struct Case {
   std::string name;
@@ -68,18 +68,18 @@ std::unique_ptr<Case> make_case(std::string name, cathbox::vessel::SurfaceMesh m
   std::mt19937 rng(2024);
   std::uniform_real_distribution<double> within(0.0, 2.0);
   for (int i = 0; i < kPoints; ++i) c->points.push_back(surface_point(c->mesh, rng) + within(rng) * random_unit(rng));
-  std::uniform_real_distribution<double> step(0.0, kMaxStepMm);
+  std::uniform_real_distribution<double> step(0.0, kMaxStep_mm);
   std::vector<glm::dvec3> nodes(c->points.begin(), c->points.begin() + kNodes);
   for (int s = 0; s < kSteps; ++s) {
     for (auto& p : nodes) p += step(rng) * random_unit(rng);
     c->walks.push_back(nodes);
   }
   auto built = cb::ObbTree::build(c->mesh);
-  if (!built.tree) {
-    std::fprintf(stderr, "bench_collision: %s: %s\n", c->name.c_str(), built.error.c_str());
+  if (!built) {
+    std::fprintf(stderr, "bench_collision: %s: %s\n", c->name.c_str(), built.error().message.c_str());
     std::exit(1);
   }
-  c->tree = std::move(built.tree);
+  c->tree = std::move(*built);
   c->embree = cb::bench::make_embree(c->mesh);
   c->fcl = cb::bench::make_fcl(c->mesh);
   return c;
@@ -178,7 +178,7 @@ void register_case(Case& c) {
   benchmark::RegisterBenchmark((n + "build/ours").c_str(), [&c](benchmark::State& state) {
     for (auto _ : state) {
       auto b = cb::ObbTree::build(c.mesh);
-      benchmark::DoNotOptimize(b.tree);
+      benchmark::DoNotOptimize(b);
     }
   })->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5);
 

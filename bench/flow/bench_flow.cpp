@@ -73,7 +73,7 @@ void BM_FlowSolve(benchmark::State& state) {
   for (auto _ : state) {
     s.time([&] {
       flow::FlowBuild b = flow::FlowNetwork::build(model);
-      inflow = b.network ? b.network->total_inflow_ml_min() : -1.0;
+      inflow = b ? (*b)->total_inflow_ml_min() : -1.0;
       benchmark::DoNotOptimize(b);
     });
   }
@@ -92,10 +92,11 @@ void BM_ContrastStep(benchmark::State& state) {
     settings.pulsatility_index = 1.0;
   }
   const flow::FlowBuild b = flow::FlowNetwork::build(model_named("neuro"), settings);
-  flow::ContrastTransport t(*b.network);
+  const flow::FlowNetwork& network = **b;
+  flow::ContrastTransport t(network);
   std::uint32_t ica = 0;
-  for (std::uint32_t i = 0; i < b.network->model().segments.size(); ++i) {
-    if (b.network->model().segments[i].name == "right_internal_carotid") ica = i;
+  for (std::uint32_t i = 0; i < network.model().segments.size(); ++i) {
+    if (network.model().segments[i].name == "right_internal_carotid") ica = i;
   }
   const flow::Injection injection{mode == 1 ? 6.0 : 400.0, 6.0, 300.0};
   if (!t.inject({ica, 0.4 * t.locator().length_mm(ica), 0.0}, injection).empty()) state.SkipWithError("inject");

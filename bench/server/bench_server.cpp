@@ -50,8 +50,8 @@ void CaseSizes(benchmark::State& state, const std::string& stem) {
   b.case_file = stem + ".case";
   b.case_text = read_text(std::string(CATHBOX_SOURCE_DIR) + "/cases/" + b.case_file);
   const cathbox::tool::CaseParse parsed = cathbox::tool::parse_case(b.case_text, b.case_file);
-  if (parsed.value && !parsed.value->vessel_path.empty()) {
-    b.hclm_file = parsed.value->vessel_path;
+  if (parsed && !parsed->vessel_path.empty()) {
+    b.hclm_file = parsed->vessel_path;
     b.hclm_text = read_text(std::string(CATHBOX_SOURCE_DIR) + "/cases/" + b.hclm_file);
   }
   const Result<CaseCheck> check = check_case(b);

@@ -22,13 +22,9 @@
 #include "tool/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
-#if defined(CATHBOX_TOOL_HAS_COLLISION)
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
-#endif
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 #include "tool/case_world.hpp"
-#endif
 
 namespace {
 
@@ -56,10 +52,9 @@ std::vector<glm::dvec3> tortuous_axis() {
 
 World make_world() {
   World w;
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
   const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
-  if (c.value) {
-    WorldBuild built = build_world(*c.value);
+  if (c) {
+    WorldBuild built = build_world(*c);
     if (built.world) {
       w.entry = built.world->entry();
       w.wall = built.world->release_wall();
@@ -67,9 +62,7 @@ World make_world() {
       return w;
     }
   }
-#endif
   const std::vector<glm::dvec3> axis = tortuous_axis();
-#if defined(CATHBOX_TOOL_HAS_COLLISION)
   // Meshed tube, radius from 3 mm down to 1.5 mm, through the collision tree.
   cathbox::vessel::SurfaceMesh mesh;
   const int m = 16;
@@ -110,13 +103,12 @@ World make_world() {
     tri(c1, idx(last, j), idx(last, j + 1));
   }
   cathbox::collision::TreeBuild tree = cathbox::collision::ObbTree::build(mesh);
-  if (tree.tree) {
-    w.wall = std::make_unique<MeshWall>(*tree.tree);
+  if (tree) {
+    w.wall = std::make_unique<MeshWall>(*tree);
     w.entry = Entry{axis[2], glm::normalize(axis[3] - axis[2])};
     w.name = "tortuous tube mesh";
     return w;
   }
-#endif
   auto tubes = std::make_unique<TubeNetworkWall>();
   tubes->add_polyline(axis, 2.0, 0);
   tubes->build();

@@ -1,16 +1,12 @@
 #include "emu/dfu_bootloader.hpp"
 
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::emu {
 namespace {
 
-uint32_t get32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
-         (static_cast<uint32_t>(p[3]) << 24);
-}
-
-constexpr uint32_t kProgramMsPerBlock = 9;  // 2 KiB at ~16 us per 32-bit word, rounded up
+constexpr uint32_t kProgramPerBlock_ms = 9;  // 2 KiB at ~16 us per 32-bit word, rounded up
 constexpr uint8_t kStringIndexAlt0 = 4;     // iInterface of alternate setting 0
 
 }  // namespace
@@ -110,8 +106,8 @@ void DfuBootloader::get_status(uint64_t now_us, std::vector<uint8_t>& reply) {
     state_ = CBX_DFU_MANIFEST;
     leave_ = true;  // the ROM resets into the application after this status
   }
-  reply = {status_, static_cast<uint8_t>(poll_ms), static_cast<uint8_t>(poll_ms >> 8),
-           static_cast<uint8_t>(poll_ms >> 16), state_, 0};
+  reply = {status_, 0, 0, 0, state_, 0};
+  cbx_put_u24(reply.data() + 1, poll_ms);
 }
 
 bool DfuBootloader::dnload(uint16_t block, std::span<const uint8_t> data) {
@@ -130,7 +126,7 @@ bool DfuBootloader::dnload(uint16_t block, std::span<const uint8_t> data) {
     } else {
       return false;  // mass erase, read unprotect, unknown: not emulated
     }
-    op_address_ = get32(data.data() + 1);
+    op_address_ = cbx_get_u32(data.data() + 1);
   } else if (block >= 2 && data.size() <= kTransferSize) {
     op_ = Op::kWrite;
     op_address_ = pointer_ + static_cast<uint32_t>(block - 2u) * kTransferSize;
@@ -171,7 +167,7 @@ uint32_t DfuBootloader::execute() {
         fail(CBX_DFU_ERR_WRITE);  // target not erased
         return 0;
       }
-      return kProgramMsPerBlock;
+      return kProgramPerBlock_ms;
     case Op::kLeave:
     case Op::kNone:
       return 0;

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "firmware/cbx_core.h"
-#include "protocol/cbx_crc16.h"
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_image_info.h"
 #include "protocol/cbx_usb_requests.h"
 
@@ -30,10 +30,8 @@ void factory_image(FlashMemory& flash) {
   std::vector<uint8_t> image(1024, 0x00);
   const uint32_t sp = 0x20020000u;
   const uint32_t reset = 0x08000199u;
-  for (int i = 0; i < 4; ++i) {
-    image[static_cast<size_t>(i)] = static_cast<uint8_t>(sp >> (8 * i));
-    image[static_cast<size_t>(4 + i)] = static_cast<uint8_t>(reset >> (8 * i));
-  }
+  cbx_put_u32(image.data(), sp);
+  cbx_put_u32(image.data() + 4, reset);
   cbx_image_info info{};
   info.fw_major = CBX_FW_MAJOR;
   info.fw_minor = CBX_FW_MINOR;
@@ -130,8 +128,9 @@ void Emulator::boot(bool to_bootloader) {
   SimBoard::Current current(board_);
   cbx_core_init(&core_->c, &config);
   // The core starts from count 0: feed it the lines' present phase without counting.
-  for (int a = 0; a < 2; ++a) core_->c.encoder[a].ab = kQuadrature[edge_phase_[static_cast<size_t>(a)]];
-  ++boots_;
+  for (int a = 0; a < 2; ++a) {
+    cbx_core_encoder_rest(&core_->c, static_cast<cbx_axis>(a), kQuadrature[edge_phase_[static_cast<size_t>(a)]]);
+  }
 }
 
 void Emulator::reset() { boot(false); }
@@ -192,10 +191,10 @@ void Emulator::physics_step() {
   std::array<int16_t, 2> drive = mode_ == BoardMode::kApplication ? board_.drive_permille : std::array<int16_t, 2>{0, 0};
   if (board_.estop_pressed) drive = {0, 0};  // the E-stop loop also cuts actuator power
   std::array<int64_t, 2> steps{};
-  model_.step(kPhysicsStepUs * 1e-6, now_us_, drive, steps);
+  model_.step(kPhysicsStep_us * 1e-6, now_us_, drive, steps);
   for (int a = 0; a < 2; ++a) {
     const auto i = static_cast<size_t>(a);
-    board_.current_mA[i] = static_cast<int16_t>(model_.current_mA(a, drive[i]) + current_offset_mA_[i]);
+    board_.current_mA[i] = static_cast<int16_t>(model_.current_mA(a, drive[i]));
     if (mode_ == BoardMode::kApplication && steps[i] != 0) feed_edges(a, steps[i]);
   }
 }
@@ -204,11 +203,11 @@ void Emulator::advance(uint64_t us) {
   SimBoard::Current current(board_);
   const uint64_t end = now_us_ + us;
   while (now_us_ < end) {
-    now_us_ += kPhysicsStepUs;
+    now_us_ += kPhysicsStep_us;
     board_.time_us = now_us_;
     physics_step();
-    if (now_us_ % kTickUs == 0 && mode_ == BoardMode::kApplication) cbx_core_control_tick(&core_->c);
-    if (now_us_ % kFrameUs == 0) usb_frame();
+    if (now_us_ % kTick_us == 0 && mode_ == BoardMode::kApplication) cbx_core_control_tick(&core_->c);
+    if (now_us_ % kFrame_us == 0) usb_frame();
   }
 }
 
@@ -239,9 +238,7 @@ void Emulator::usb_frame() {
 void Emulator::rewrite_version(std::span<uint8_t> report) const {
   if (wire_version_ == CBX_PROTOCOL_VERSION || report.size() != CBX_REPORT_SIZE) return;
   report[1] = wire_version_;
-  const uint16_t crc = cbx_crc16(report.data(), CBX_CRC_OFFSET);
-  report[CBX_CRC_OFFSET] = static_cast<uint8_t>(crc);
-  report[CBX_CRC_OFFSET + 1] = static_cast<uint8_t>(crc >> 8);
+  cbx_report_finish(report.data());
 }
 
 void Emulator::send_in(std::array<uint8_t, 64> report) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "protocol/cbx_bytes.h"
 namespace cathbox::emu {
 
 FlashMemory::FlashMemory() {
@@ -48,12 +49,8 @@ bool FlashMemory::read(uint32_t address, std::span<uint8_t> out) const {
 }
 
 bool FlashMemory::application_valid() const {
-  const auto word = [&](size_t at) {
-    return static_cast<uint32_t>(bytes_[at]) | (static_cast<uint32_t>(bytes_[at + 1]) << 8) |
-           (static_cast<uint32_t>(bytes_[at + 2]) << 16) | (static_cast<uint32_t>(bytes_[at + 3]) << 24);
-  };
-  const uint32_t sp = word(0);
-  const uint32_t reset = word(4);
+  const uint32_t sp = cbx_get_u32(bytes_.data());
+  const uint32_t reset = cbx_get_u32(bytes_.data() + 4);
   const bool sp_ok = sp > 0x20000000u && sp <= 0x20020000u;
   const bool reset_ok = (reset & 1u) != 0u && contains(reset & ~1u, 2);
   return sp_ok && reset_ok;

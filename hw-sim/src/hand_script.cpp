@@ -19,12 +19,34 @@ bool parse_duration(const std::string& text, uint64_t& us) {
   return true;
 }
 
+// A value with its unit, in the project's units (mm and mN; rad): "20mm/s", "-1500mN",
+// "3.14rad/s", "5mNmm". Converted to the model's SI units (m/s, N; rad/s, N*m). An old script
+// in bare SI numbers ("v:0.02:2s") has no unit and is refused, never misread.
+struct Unit {
+  const char* name;
+  HandMode mode;
+  int axis;  // 0 insertion, 1 rotation
+  double to_si;
+};
+constexpr Unit kUnits[] = {{"mm/s", HandMode::kVelocity, 0, 1e-3},
+                           {"rad/s", HandMode::kVelocity, 1, 1.0},
+                           {"mN", HandMode::kForce, 0, 1e-3},
+                           {"mNmm", HandMode::kForce, 1, 1e-6}};
+
+const char* unit_hint(HandMode mode) {
+  return mode == HandMode::kVelocity ? "give a velocity in mm/s (insertion) or rad/s (rotation), e.g. v:20mm/s:2s"
+                                     : "give a force in mN (insertion) or a torque in mNmm (rotation), e.g. f:-1500mN:1s";
+}
+
 }  // namespace
 
-Result<HandScript> HandScript::parse(const std::string& text) {
+Result<HandScript> HandScript::parse(const std::string& text) { return parse(text, -1); }
+
+Result<HandScript> HandScript::parse(const std::string& text, int axis) {
   std::vector<HandSegment> segments;
   size_t start = 0;
   int index = 1;
+  int script_axis = -1;  // the axis its units name, once a value has been read
   while (start <= text.size() && !text.empty()) {
     const size_t comma = text.find(',', start);
     const std::string item = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
@@ -39,8 +61,24 @@ Result<HandScript> HandScript::parse(const std::string& text) {
       s.mode = mode == "v" ? HandMode::kVelocity : HandMode::kForce;
       char* end = nullptr;
       const std::string value = item.substr(a + 1, b - a - 1);
-      s.value = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !std::isfinite(s.value)) return Error{where + ": bad value"};
+      const double number = std::strtod(value.c_str(), &end);
+      if (value.empty() || end == value.c_str() || !std::isfinite(number)) return Error{where + ": bad value"};
+      const std::string unit_name(end);
+      const Unit* unit = nullptr;
+      for (const Unit& u : kUnits) {
+        if (u.mode == s.mode && unit_name == u.name) unit = &u;
+      }
+      if (unit == nullptr) {
+        return Error{where + ": " + (unit_name.empty() ? "the value has no unit" : "unit '" + unit_name + "' unknown") +
+                     ": " + unit_hint(s.mode)};
+      }
+      if (axis >= 0 && unit->axis != axis) {
+        return Error{where + ": " + unit->name + " is a " + (unit->axis == 0 ? "insertion" : "rotation") +
+                     " unit, this script drives the " + (axis == 0 ? "insertion" : "rotation") + " axis"};
+      }
+      if (script_axis >= 0 && unit->axis != script_axis) return Error{where + ": mixes insertion and rotation units"};
+      script_axis = unit->axis;
+      s.value = number * unit->to_si;
       if (!parse_duration(item.substr(b + 1), s.duration_us)) return Error{where + ": bad duration (e.g. 500ms, 2s)"};
     } else {
       return Error{where + ": expected v:VALUE:DURATION, f:VALUE:DURATION or free:DURATION"};

@@ -25,9 +25,9 @@ void RealTimeLoop::run(Emulator& emu, const std::atomic<bool>& stop, uint64_t du
     if (now >= end) break;
     if (each) each(emu.now_us());
     // Catch up with the wall clock in whole physics steps (at most 100 ms at a time).
-    if (now >= emu.now_us() + Emulator::kPhysicsStepUs) {
+    if (now >= emu.now_us() + Emulator::kPhysicsStep_us) {
       const uint64_t behind = now - emu.now_us();
-      emu.advance(std::min<uint64_t>(behind - behind % Emulator::kPhysicsStepUs, 100'000));
+      emu.advance(std::min<uint64_t>(behind - behind % Emulator::kPhysicsStep_us, 100'000));
       continue;
     }
     // Sleep until the next physics step is due or socket input arrives.
@@ -35,9 +35,9 @@ void RealTimeLoop::run(Emulator& emu, const std::atomic<bool>& stop, uint64_t du
     if (emu.server() != nullptr) {
       for (const int fd : emu.server()->fds()) fds.push_back({fd, POLLIN, 0});
     }
-    const uint64_t due = emu.now_us() + Emulator::kPhysicsStepUs;
-    const uint64_t next_frame = (emu.now_us() / Emulator::kFrameUs + 1) * Emulator::kFrameUs;
-    const uint64_t wake = std::max(due, std::min(next_frame, due + Emulator::kFrameUs));
+    const uint64_t due = emu.now_us() + Emulator::kPhysicsStep_us;
+    const uint64_t next_frame = (emu.now_us() / Emulator::kFrame_us + 1) * Emulator::kFrame_us;
+    const uint64_t wake = std::max(due, std::min(next_frame, due + Emulator::kFrame_us));
     const uint64_t wait_us = wake > now ? wake - now : 0;
     timespec timeout{0, static_cast<long>(wait_us * 1000)};
     if (::ppoll(fds.data(), fds.size(), &timeout, nullptr) > 0) emu.service();

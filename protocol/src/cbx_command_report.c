@@ -1,6 +1,6 @@
 #include "protocol/cbx_command_report.h"
 
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "cbx_codec.h"
 
 cbx_status cbx_force_law_check(const cbx_force_law* law) {

@@ -1,5 +1,5 @@
 /* Limits, reset counters, enter bootloader and self-test feature reports. */
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "cbx_codec.h"
 #include "protocol/cbx_feature_reports.h"
 

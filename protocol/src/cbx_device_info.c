@@ -1,4 +1,4 @@
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "cbx_codec.h"
 #include "cbx_text.h"
 #include "protocol/cbx_feature_reports.h"

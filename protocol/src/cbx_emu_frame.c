@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 
 /* Expected payload size of a frame kind after its header (and SETUP, for control requests);
  * returns -1 when any size up to CBX_EMU_CONTROL_DATA_MAX is allowed. */

@@ -2,7 +2,7 @@
 
 #include <string.h>
 
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "cbx_text.h"
 
 /* Offsets in the block. */

@@ -1,6 +1,6 @@
 #include <string.h>
 
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_crc16.h"
 #include "protocol/cbx_protocol.h"
 

@@ -1,6 +1,6 @@
 #include "protocol/cbx_state_report.h"
 
-#include "cbx_bytes.h"
+#include "protocol/cbx_bytes.h"
 #include "cbx_codec.h"
 
 static cbx_status state_valid(const void* value) {

@@ -53,7 +53,7 @@ TEST(BoxModel, RollerAndColletFrictionHoldUntilTheHandOvercomesThem) {
   EXPECT_GT(model.state(1).count, 20);
 }
 
-// `cathbox-emu --motor --hand-insertion v:0.03:9s,f:-2:6s`: in at 30 mm/s for 9 s (270 mm), then
+// `cathbox-emu --motor --hand-insertion v:30mm/s:9s,f:-2000mN:6s`: in at 30 mm/s for 9 s (270 mm), then
 // pulled out with 2 N. The tool leaves the rollers at its start: the encoder stops near 0 mm
 // (the rollers coast to rest) instead of following the hand metres further.
 TEST(BoxModel, AToolWithdrawnPastItsStartLeavesTheRollers) {
@@ -152,7 +152,7 @@ TEST(BoxModel, HandFollowsAVelocityScript) {
 }
 
 TEST(HandScript, ParsesSegmentsAndRefusesBadOnes) {
-  auto s = HandScript::parse("v:0.02:2s,f:-1.5:500ms,free:100us");
+  auto s = HandScript::parse("v:20mm/s:2s,f:-1500mN:500ms,free:100us");
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_EQ(s.value().at(0).mode, HandMode::kVelocity);
   EXPECT_DOUBLE_EQ(s.value().at(1'999'999).value, 0.02);
@@ -160,14 +160,32 @@ TEST(HandScript, ParsesSegmentsAndRefusesBadOnes) {
   EXPECT_DOUBLE_EQ(s.value().at(2'400'000).value, -1.5);
   EXPECT_EQ(s.value().at(2'500'050).mode, HandMode::kFree);
   EXPECT_EQ(s.value().at(9'000'000).mode, HandMode::kFree);
-  for (const char* bad : {"v:1", "x:1:1s", "v:abc:1s", "v:1:1", "v:1:-1s", "free:1s:2", "f:nan:1s"}) {
+  for (const char* bad : {"v:1mm/s", "x:1mm/s:1s", "v:abcmm/s:1s", "v:1mm/s:1", "v:1mm/s:-1s", "free:1s:2", "f:nanmN:1s"}) {
     auto parsed = HandScript::parse(bad);
     ASSERT_FALSE(parsed.ok()) << bad;
     EXPECT_NE(parsed.error().message.find("segment 1"), std::string::npos) << parsed.error().message;
   }
-  auto second = HandScript::parse("v:1:1s,zz");
+  auto second = HandScript::parse("v:1mm/s:1s,zz");
   ASSERT_FALSE(second.ok());
   EXPECT_NE(second.error().message.find("segment 2"), std::string::npos);
+}
+
+// Values carry the project's units (mm/s, mN; rad/s, mNmm), converted to the model's SI. The
+// old scripts in bare m/s and N are refused with one line, never read as mm/s or mN.
+TEST(HandScript, ValuesCarryTheirUnitsAndOldScriptsAreRefused) {
+  auto rot = HandScript::parse("v:3.14rad/s:2s,f:5mNmm:1s", 1);
+  ASSERT_TRUE(rot.ok()) << rot.error().message;
+  EXPECT_DOUBLE_EQ(rot.value().at(0).value, 3.14);
+  EXPECT_DOUBLE_EQ(rot.value().at(2'000'000).value, 5e-6);
+  for (const char* old : {"v:0.03:9s,f:-2:6s", "f:1.0:10s", "v:0.02m/s:1s", "f:2N:1s"}) {
+    auto parsed = HandScript::parse(old);
+    ASSERT_FALSE(parsed.ok()) << old;
+    EXPECT_NE(parsed.error().message.find("segment 1"), std::string::npos) << parsed.error().message;
+    EXPECT_NE(parsed.error().message.find("unit"), std::string::npos) << parsed.error().message;
+    EXPECT_EQ(parsed.error().message.find('\n'), std::string::npos);
+  }
+  EXPECT_FALSE(HandScript::parse("v:20mm/s:1s", 1).ok());          // an insertion unit on rotation
+  EXPECT_FALSE(HandScript::parse("v:20mm/s:1s,f:5mNmm:1s").ok());  // two axes in one script
 }
 
 }  // namespace

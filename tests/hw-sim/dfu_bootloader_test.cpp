@@ -5,6 +5,7 @@
 #include <array>
 
 #include "emu/dfu_bootloader.hpp"
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::emu {
@@ -29,7 +30,7 @@ class Rom : public ::testing::Test {
   std::array<uint32_t, 3> status() {
     EXPECT_TRUE(in(CBX_DFU_GETSTATUS, 0, 6));
     EXPECT_EQ(reply.size(), 6u);
-    return {reply[0], reply[4], static_cast<uint32_t>(reply[1] | (reply[2] << 8) | (reply[3] << 16))};
+    return {reply[0], reply[4], cbx_get_u24(reply.data() + 1)};
   }
   // Runs a DNLOAD to completion, honouring bwPollTimeout.
   std::array<uint32_t, 3> finish() {
@@ -41,8 +42,9 @@ class Rom : public ::testing::Test {
     return s;
   }
   static std::vector<uint8_t> command(uint8_t code, uint32_t address) {
-    return {code, static_cast<uint8_t>(address), static_cast<uint8_t>(address >> 8), static_cast<uint8_t>(address >> 16),
-            static_cast<uint8_t>(address >> 24)};
+    std::vector<uint8_t> cmd{code, 0, 0, 0, 0};
+    cbx_put_u32(cmd.data() + 1, address);
+    return cmd;
   }
 };
 

@@ -87,6 +87,10 @@ void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab) {
   if ((unsigned)axis < CBX_AXIS_COUNT) cbx_encoder_edge(&core->encoder[axis], ab);
 }
 
+void cbx_core_encoder_rest(cbx_core* core, cbx_axis axis, uint8_t ab) {
+  if ((unsigned)axis < CBX_AXIS_COUNT) cbx_encoder_rest(&core->encoder[axis], ab);
+}
+
 /* Takes what the USB context published since the last tick. */
 static void apply_mailboxes(cbx_core* core, uint32_t now, const cbx_safety_inputs* in) {
   if (core->settings_generation != core->applied_settings_generation) {

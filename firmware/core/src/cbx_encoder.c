@@ -98,6 +98,8 @@ void cbx_encoder_update(cbx_encoder* e, uint32_t raw, uint32_t now_us) {
   }
 }
 
+void cbx_encoder_rest(cbx_encoder* e, uint8_t ab) { e->ab = (uint8_t)(ab & 3u); }
+
 void cbx_encoder_zero(cbx_encoder* e) {
   const int32_t offset = e->count;
   e->count = 0;

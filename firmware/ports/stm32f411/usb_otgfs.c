@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "board.h"
+#include "protocol/cbx_bytes.h"
 #include "stm32f411_regs.h"
 
 /* FIFO RAM: 320 words. RX 128 words, EP0 TX 32 words, EP1 TX 32 words. */
@@ -282,9 +283,9 @@ static void setup_stage(void) {
   usb_setup s;
   s.bmRequestType = ep0.setup_raw[0];
   s.bRequest = ep0.setup_raw[1];
-  s.wValue = (uint16_t)(ep0.setup_raw[2] | (ep0.setup_raw[3] << 8));
-  s.wIndex = (uint16_t)(ep0.setup_raw[4] | (ep0.setup_raw[5] << 8));
-  s.wLength = (uint16_t)(ep0.setup_raw[6] | (ep0.setup_raw[7] << 8));
+  s.wValue = cbx_get_u16(&ep0.setup_raw[2]);
+  s.wIndex = cbx_get_u16(&ep0.setup_raw[4]);
+  s.wLength = cbx_get_u16(&ep0.setup_raw[6]);
   ep0.stage = EP0_IDLE;
   if (!usb_device_setup(&s)) usb_ep0_stall();
 }

@@ -46,8 +46,8 @@ void main() {
 }
 )";
 
-constexpr float kChunkCellMm = 12.0F;
-constexpr float kLocalFogMm = 40.0F;  // the local view fades to the fog colour at this distance
+constexpr float kChunkCell_mm = 12.0F;
+constexpr float kLocalFog_mm = 40.0F;  // the local view fades to the fog colour at this distance
 
 void set_viewport(const Viewport& vp, int framebuffer_height) {
   glViewport(vp.x, framebuffer_height - vp.y - vp.height, vp.width, vp.height);
@@ -87,7 +87,7 @@ bool SceneRenderer::init(std::string& error) {
 }
 
 void SceneRenderer::ChunkedGpuMesh::upload(const MeshView& m) {
-  ChunkedMesh chunked = ChunkedMesh::build(m.positions_mm, m.triangles, kChunkCellMm);
+  ChunkedMesh chunked = ChunkedMesh::build(m.positions_mm, m.triangles, kChunkCell_mm);
   gpu.upload(m.positions_mm, m.normals, chunked.triangles, false);
   chunks = std::move(chunked.chunks);
 }
@@ -224,7 +224,7 @@ void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_heigh
   const glm::mat4 projection = EndoCamera::projection(viewport.aspect());
   shader_.set("u_view", view);
   shader_.set("u_proj", projection);
-  shader_.set("u_fog", glm::vec4(kFog, kLocalFogMm));
+  shader_.set("u_fog", glm::vec4(kFog, kLocalFog_mm));
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
   // Inside the lumen every wall in sight faces away (the normals point out of the vessel).
@@ -232,7 +232,7 @@ void SceneRenderer::render_local(const Viewport& viewport, int framebuffer_heigh
   glCullFace(GL_FRONT);
   shader_.set("u_color", glm::vec4(0.95F, 0.55F, 0.50F, 1.0F));
   const glm::vec3 eye = glm::vec3(glm::inverse(view)[3]);
-  last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFogMm, ranges_);
+  last_local_triangles_ = detail_.draw_visible(projection * view, eye, kLocalFog_mm, ranges_);
   glDisable(GL_CULL_FACE);
   draw_tools(true);
   // The target marker, unless the eye is inside it (the tip has arrived).

@@ -26,7 +26,7 @@ using nlohmann::json;
 
 namespace {
 
-constexpr std::int64_t kFramePeriodUs = 1'000'000 / 30;
+constexpr std::int64_t kFramePeriod_us = 1'000'000 / 30;
 
 std::string host_name() {
   char buf[256] = {};
@@ -249,7 +249,7 @@ bool ServerLink::wait_streaming(int timeout_ms) {
 
 void ServerLink::publish(const session::SceneSnapshot& snap) {
   if (!impl_->stream) return;
-  if (impl_->last_frame_us >= 0 && snap.sim_time_us - impl_->last_frame_us < kFramePeriodUs && !snap.run_over) return;
+  if (impl_->last_frame_us >= 0 && snap.sim_time_us - impl_->last_frame_us < kFramePeriod_us && !snap.run_over) return;
   impl_->last_frame_us = snap.sim_time_us;
   impl_->stream->push(frame_json(snap, ++impl_->seq, impl_->tool_names));
 }

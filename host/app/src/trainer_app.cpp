@@ -24,7 +24,7 @@ namespace {
 // vessels at ~0.3 mm per pixel, and every triangle costs a software rasteriser the same.
 constexpr std::size_t kOverviewTriangles = 40'000;
 constexpr int kWarmupFrames = 20;
-constexpr std::int64_t kReplayBudgetUs = 25'000;  // CPU per frame a replay may spend catching up
+constexpr std::int64_t kReplayBudget_us = 25'000;  // CPU per frame a replay may spend catching up
 }  // namespace
 
 TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
@@ -169,7 +169,7 @@ int TrainerApp::run_window() {
   // The software rasteriser's workers yield to the haptic thread (no effect on a GPU driver).
   (void)session::ThreadPriority::lower_threads_named("llvmpipe", 10);
 
-  session::SteadyClock clock;
+  device::SystemClock clock;
   const std::int64_t start_us = clock.now_us();
   FrameStats stats;
   FrameStats work;
@@ -192,7 +192,7 @@ int TrainerApp::run_window() {
     if (live_ && virtual_time) live_->step_virtual(options_.sim_ms_per_frame);
     if (replay_) {
       const bool ok = virtual_time ? replay_->advance(options_.sim_ms_per_frame * 1000LL, -1)
-                                   : replay_->advance(frame_dt_us, kReplayBudgetUs);
+                                   : replay_->advance(frame_dt_us, kReplayBudget_us);
       if (!ok) {
         std::fprintf(stderr, "cathbox-trainer: %s\n", replay_->error().c_str());
         return session::kExitBadInput;

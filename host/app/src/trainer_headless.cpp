@@ -9,7 +9,7 @@
 
 namespace cathbox::app {
 namespace {
-constexpr int kStreamConnectMs = 5000;
+constexpr int kStreamConnect_ms = 5000;
 }  // namespace
 
 int TrainerApp::run_headless_summary() {
@@ -23,7 +23,7 @@ int TrainerApp::run_headless_summary() {
   if (!record_path_.empty()) std::fprintf(stderr, "cathbox-trainer: recording to %s\n", record_path_.c_str());
   if (link_) {
     // Instructors should see the run at all: it runs in virtual time, faster than real time.
-    const bool streaming = link_->wait_streaming(kStreamConnectMs);
+    const bool streaming = link_->wait_streaming(kStreamConnect_ms);
     std::printf("cathbox-trainer: %s live%s\n", streaming ? "streaming" : "not streaming",
                 live_assignment_ ? (" (assignment " + std::to_string(*live_assignment_) + ")").c_str() : "");
   }

@@ -5,9 +5,9 @@ namespace {
 
 Status pulse_reset(BootPins& pins) {
   if (auto held = pins.set_reset(true); !held) return held;
-  pins.delay(BootRecovery::kResetPulseUs);
+  pins.delay(BootRecovery::kResetPulse_us);
   if (auto released = pins.set_reset(false); !released) return released;
-  pins.delay(BootRecovery::kBootWaitUs);
+  pins.delay(BootRecovery::kBootWait_us);
   return Ok{};
 }
 

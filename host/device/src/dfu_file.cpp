@@ -6,6 +6,8 @@
 #include <fstream>
 #include <iterator>
 
+#include "protocol/cbx_bytes.h"
+
 namespace cathbox::device {
 namespace {
 
@@ -15,20 +17,13 @@ constexpr size_t kTargetNameSize = 255;
 constexpr size_t kElementHeaderSize = 8;
 constexpr size_t kSuffixSize = 16;
 
-uint16_t get16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
-uint32_t get32(const uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
-         (static_cast<uint32_t>(p[3]) << 24);
-}
-void put16(std::vector<uint8_t>& out, uint16_t v) {
-  out.push_back(static_cast<uint8_t>(v));
-  out.push_back(static_cast<uint8_t>(v >> 8));
+// Grows out by n bytes and returns where they start, for the cbx_put_* writers.
+uint8_t* grow(std::vector<uint8_t>& out, size_t n) {
+  out.resize(out.size() + n);
+  return out.data() + out.size() - n;
 }
 void put_text(std::vector<uint8_t>& out, const char* text, size_t n) {
   for (size_t i = 0; i < n; ++i) out.push_back(static_cast<uint8_t>(text[i]));
-}
-void put32(std::vector<uint8_t>& out, uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<uint8_t>(v >> (8 * i)));
 }
 
 Error bad(const std::string& name, size_t offset, const std::string& what) {
@@ -61,7 +56,7 @@ Result<DfuImage> DfuFile::parse(std::span<const uint8_t> bytes, const std::strin
   if (std::memcmp(suffix + 8, "UFD", 3) != 0 || suffix[11] != kSuffixSize) {
     return bad(name, suffix_at + 8, "no DFU suffix (signature 'UFD', length 16): truncated or not a .dfu file");
   }
-  const uint32_t stored_crc = get32(suffix + 12);
+  const uint32_t stored_crc = cbx_get_u32(suffix + 12);
   const uint32_t crc = crc32(bytes.first(bytes.size() - 4));
   if (stored_crc != crc) {
     char text[96];
@@ -69,14 +64,14 @@ Result<DfuImage> DfuFile::parse(std::span<const uint8_t> bytes, const std::strin
     return bad(name, suffix_at + 12, text);
   }
   DfuImage image;
-  image.bcd_device = get16(suffix);
-  image.pid = get16(suffix + 2);
-  image.vid = get16(suffix + 4);
-  if (get16(suffix + 6) != 0x011A) return bad(name, suffix_at + 6, "bcdDFU is not 0x011A (DfuSe)");
+  image.bcd_device = cbx_get_u16(suffix);
+  image.pid = cbx_get_u16(suffix + 2);
+  image.vid = cbx_get_u16(suffix + 4);
+  if (cbx_get_u16(suffix + 6) != 0x011A) return bad(name, suffix_at + 6, "bcdDFU is not 0x011A (DfuSe)");
 
   const uint8_t* p = bytes.data();
   if (std::memcmp(p, "DfuSe", 5) != 0 || p[5] != 0x01) return bad(name, 0, "prefix is not 'DfuSe' version 1");
-  const uint32_t image_size = get32(p + 6);
+  const uint32_t image_size = cbx_get_u32(p + 6);
   if (image_size != suffix_at) {
     return bad(name, 6, "DFUImageSize " + std::to_string(image_size) + " but the body is " + std::to_string(suffix_at) + " bytes");
   }
@@ -89,8 +84,8 @@ Result<DfuImage> DfuFile::parse(std::span<const uint8_t> bytes, const std::strin
   image.alt_setting = t[6];
   const char* raw_name = reinterpret_cast<const char*>(t + 11);
   image.target_name.assign(raw_name, strnlen(raw_name, kTargetNameSize));
-  const uint32_t target_size = get32(t + 266);
-  const uint32_t elements = get32(t + 270);
+  const uint32_t target_size = cbx_get_u32(t + 266);
+  const uint32_t elements = cbx_get_u32(t + 270);
   at += kTargetPrefixSize;
   if (target_size != suffix_at - at) {
     return bad(name, at - 8, "dwTargetSize " + std::to_string(target_size) + " does not match the " +
@@ -100,8 +95,8 @@ Result<DfuImage> DfuFile::parse(std::span<const uint8_t> bytes, const std::strin
   for (uint32_t i = 0; i < elements; ++i) {
     if (at + kElementHeaderSize > suffix_at) return bad(name, at, "element " + std::to_string(i) + " header runs past the end");
     DfuElement element;
-    element.address = get32(p + at);
-    const uint32_t size = get32(p + at + 4);
+    element.address = cbx_get_u32(p + at);
+    const uint32_t size = cbx_get_u32(p + at + 4);
     at += kElementHeaderSize;
     if (size > suffix_at - at) return bad(name, at - 4, "element " + std::to_string(i) + " size runs past the end");
     element.data.assign(p + at, p + at + size);
@@ -123,32 +118,33 @@ std::vector<uint8_t> DfuFile::write(const DfuImage& image) {
   std::vector<uint8_t> out;
   put_text(out, "DfuSe", 5);
   out.push_back(0x01);
-  put32(out, 0);  // DFUImageSize, patched below
+  cbx_put_u32(grow(out, 4), 0);  // DFUImageSize, patched below
   out.push_back(1);
   put_text(out, "Target", 6);
   out.push_back(image.alt_setting);
-  put32(out, image.target_name.empty() ? 0u : 1u);
+  cbx_put_u32(grow(out, 4), image.target_name.empty() ? 0u : 1u);
   const size_t name_length = std::min(image.target_name.size(), kTargetNameSize - 1);
   put_text(out, image.target_name.data(), name_length);
   out.resize(out.size() + kTargetNameSize - name_length, 0);
   size_t target_size = 0;
   for (const auto& e : image.elements) target_size += kElementHeaderSize + e.data.size();
-  put32(out, static_cast<uint32_t>(target_size));
-  put32(out, static_cast<uint32_t>(image.elements.size()));
+  cbx_put_u32(grow(out, 4), static_cast<uint32_t>(target_size));
+  cbx_put_u32(grow(out, 4), static_cast<uint32_t>(image.elements.size()));
   for (const auto& e : image.elements) {
-    put32(out, e.address);
-    put32(out, static_cast<uint32_t>(e.data.size()));
+    cbx_put_u32(grow(out, 4), e.address);
+    cbx_put_u32(grow(out, 4), static_cast<uint32_t>(e.data.size()));
     out.insert(out.end(), e.data.begin(), e.data.end());
   }
   const uint32_t body = static_cast<uint32_t>(out.size());
-  for (int i = 0; i < 4; ++i) out[6 + i] = static_cast<uint8_t>(body >> (8 * i));
-  put16(out, image.bcd_device);
-  put16(out, image.pid);
-  put16(out, image.vid);
-  put16(out, 0x011A);
+  cbx_put_u32(out.data() + 6, body);
+  cbx_put_u16(grow(out, 2), image.bcd_device);
+  cbx_put_u16(grow(out, 2), image.pid);
+  cbx_put_u16(grow(out, 2), image.vid);
+  cbx_put_u16(grow(out, 2), 0x011A);
   put_text(out, "UFD", 3);
   out.push_back(static_cast<uint8_t>(kSuffixSize));
-  put32(out, crc32(out));
+  const uint32_t crc = crc32(out);  // over everything before it
+  cbx_put_u32(grow(out, 4), crc);
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::device {
@@ -37,7 +38,7 @@ Result<DfuStatus> DfuseClient::get_status() {
   if (got.value() != raw.size()) return make_error(Errc::kDeviceError, "DFU GETSTATUS returned " + std::to_string(got.value()) + " bytes, not 6");
   DfuStatus s;
   s.status = raw[0];
-  s.poll_timeout_ms = static_cast<uint32_t>(raw[1] | (raw[2] << 8) | (raw[3] << 16));
+  s.poll_timeout_ms = cbx_get_u24(raw.data() + 1);
   s.state = raw[4];
   return s;
 }
@@ -88,8 +89,8 @@ Status DfuseClient::dnload(uint16_t block, std::span<const uint8_t> data) {
 }
 
 Status DfuseClient::command(uint8_t code, uint32_t address, const char* what) {
-  const std::array<uint8_t, 5> cmd{code, static_cast<uint8_t>(address), static_cast<uint8_t>(address >> 8),
-                                   static_cast<uint8_t>(address >> 16), static_cast<uint8_t>(address >> 24)};
+  std::array<uint8_t, 5> cmd{code};
+  cbx_put_u32(cmd.data() + 1, address);
   auto sent = dnload(0, cmd);
   if (!sent) return make_error(sent.error().code, std::string(what) + " " + hex(address) + ": " + sent.error().message);
   return wait_state(CBX_DFU_DNLOAD_IDLE, (std::string(what) + " " + hex(address)).c_str());

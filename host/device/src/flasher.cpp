@@ -6,6 +6,7 @@
 
 #include "device/dfuse_client.hpp"
 #include "device/dfuse_layout.hpp"
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_protocol.h"
 
 namespace cathbox::device {
@@ -15,11 +16,6 @@ std::string hex(uint32_t v) {
   char text[16];
   std::snprintf(text, sizeof text, "0x%08x", v);
   return text;
-}
-
-uint32_t word_at(const DfuElement& e, size_t offset) {
-  return static_cast<uint32_t>(e.data[offset]) | (static_cast<uint32_t>(e.data[offset + 1]) << 8) |
-         (static_cast<uint32_t>(e.data[offset + 2]) << 16) | (static_cast<uint32_t>(e.data[offset + 3]) << 24);
 }
 
 Error refuse(const std::string& what) { return make_error(Errc::kBadImage, "image refused, nothing erased: " + what); }
@@ -73,8 +69,8 @@ Status Flasher::check_image(const DfuImage& image, const FirmwareTarget& target)
   if (vectors == image.elements.end() || vectors->data.size() < 8) {
     return refuse("no vector table at " + hex(target.flash_base));
   }
-  const uint32_t sp = word_at(*vectors, 0);
-  const uint32_t reset = word_at(*vectors, 4);
+  const uint32_t sp = cbx_get_u32(vectors->data.data());
+  const uint32_t reset = cbx_get_u32(vectors->data.data() + 4);
   if (sp <= target.ram_base || sp > target.ram_base + target.ram_size) {
     return refuse("initial stack pointer " + hex(sp) + " is not in this MCU's RAM (wrong target?)");
   }

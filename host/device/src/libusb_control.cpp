@@ -10,7 +10,7 @@
 namespace cathbox::device {
 namespace {
 
-constexpr unsigned kTimeoutMs = 5000;
+constexpr unsigned kTimeout_ms = 5000;
 
 Error usb_error(const std::string& what, int code) {
   const Errc errc = code == LIBUSB_ERROR_NO_DEVICE ? Errc::kDisconnected
@@ -81,14 +81,14 @@ LibusbControl::~LibusbControl() {
 Status LibusbControl::control_out(const UsbSetup& setup, std::span<const uint8_t> data) {
   const int rc = libusb_control_transfer(handle_, setup.request_type, setup.request, setup.value, setup.index,
                                          const_cast<unsigned char*>(data.data()), static_cast<uint16_t>(data.size()),
-                                         kTimeoutMs);
+                                         kTimeout_ms);
   if (rc < 0) return usb_error("control request " + std::to_string(setup.request), rc);
   return Ok{};
 }
 
 Result<size_t> LibusbControl::control_in(const UsbSetup& setup, std::span<uint8_t> in) {
   const int rc = libusb_control_transfer(handle_, setup.request_type, setup.request, setup.value, setup.index,
-                                         in.data(), static_cast<uint16_t>(in.size()), kTimeoutMs);
+                                         in.data(), static_cast<uint16_t>(in.size()), kTimeout_ms);
   if (rc < 0) return usb_error("control request " + std::to_string(setup.request), rc);
   return static_cast<size_t>(rc);
 }

@@ -40,7 +40,7 @@ Result<std::unique_ptr<SocketTransport>> SocketTransport::open(const std::string
     return make_error(Errc::kNoDevice, "no emulator at " + path + ": " + std::strerror(err));
   }
   std::unique_ptr<SocketTransport> t(new SocketTransport(fd, path, clock, timeout_us));
-  const uint64_t deadline = clock.now_us() + timeout_us;
+  const std::int64_t deadline = clock.now_us() + static_cast<std::int64_t>(timeout_us);
   for (;;) {
     const Rx rx = t->receive();
     if (rx == Rx::kHello) return t;
@@ -73,17 +73,11 @@ SocketTransport::Rx SocketTransport::receive() {
       return Rx::kClosed;
     }
     cbx_emu_frame frame;
-    if (cbx_emu_frame_decode(rx_.data(), static_cast<size_t>(n), &frame) != CBX_OK) {
-      ++malformed_;
-      continue;
-    }
+    if (cbx_emu_frame_decode(rx_.data(), static_cast<size_t>(n), &frame) != CBX_OK) continue;  // not a frame
     switch (frame.kind) {
       case CBX_EMU_HELLO: {
         cbx_emu_hello hello;
-        if (cbx_emu_hello_decode(&frame, &hello) != CBX_OK) {
-          ++malformed_;
-          continue;
-        }
+        if (cbx_emu_hello_decode(&frame, &hello) != CBX_OK) continue;
         vid_ = hello.vid;
         pid_ = hello.pid;
         return Rx::kHello;
@@ -96,8 +90,7 @@ SocketTransport::Rx SocketTransport::receive() {
         reply_tag_ = frame.tag;
         reply_data_.assign(frame.data, frame.data + frame.data_length);
         return Rx::kReply;
-      default:  // host-bound kinds only; anything else is a peer bug
-        ++malformed_;
+      default:  // host-bound kinds only; anything else is a peer bug, dropped
         continue;
     }
   }
@@ -114,7 +107,7 @@ IoStatus SocketTransport::read_in(Report& report) {
       case Rx::kIn: report = last_in_; return IoStatus::kOk;
       case Rx::kNone: return IoStatus::kEmpty;
       case Rx::kClosed: return IoStatus::kDisconnected;
-      case Rx::kReply: ++malformed_; continue;  // a reply that arrived after its timeout
+      case Rx::kReply: continue;  // a reply that arrived after its timeout
       case Rx::kHello: continue;
     }
   }
@@ -157,15 +150,12 @@ Result<size_t> SocketTransport::transfer(const UsbSetup& setup, uint16_t length,
     closed_ = true;
     return make_error(Errc::kDisconnected, "emulator at " + path_ + ": send: " + std::strerror(errno));
   }
-  const uint64_t deadline = clock_.now_us() + timeout_us_;
+  const std::int64_t deadline = clock_.now_us() + static_cast<std::int64_t>(timeout_us_);
   for (;;) {
     const Rx rx = receive();
     switch (rx) {
       case Rx::kReply:
-        if (reply_tag_ != frame.tag) {
-          ++malformed_;  // stale reply to an earlier, timed-out request
-          continue;
-        }
+        if (reply_tag_ != frame.tag) continue;  // stale reply to an earlier, timed-out request
         if (reply_status_ != CBX_EMU_STATUS_OK) {
           return make_error(Errc::kStall, "device stalled request 0x" + std::to_string(setup.request));
         }
@@ -180,7 +170,7 @@ Result<size_t> SocketTransport::transfer(const UsbSetup& setup, uint16_t length,
       case Rx::kClosed: return make_error(Errc::kDisconnected, "emulator at " + path_ + " closed the connection");
       case Rx::kNone: break;
     }
-    const uint64_t now = clock_.now_us();
+    const std::int64_t now = clock_.now_us();
     if (now >= deadline) return make_error(Errc::kTimeout, "emulator at " + path_ + ": no reply to a control request");
     clock_.wait(fd_, deadline - now);
   }
@@ -228,8 +218,8 @@ Result<std::string> SocketTransport::alt_name(uint8_t alt) {
 }
 
 void SocketTransport::delay(uint64_t max_us) {
-  const uint64_t deadline = clock_.now_us() + max_us;
-  for (uint64_t now = clock_.now_us(); now < deadline; now = clock_.now_us()) clock_.wait(-1, deadline - now);
+  const std::int64_t deadline = clock_.now_us() + static_cast<std::int64_t>(max_us);
+  for (std::int64_t now = clock_.now_us(); now < deadline; now = clock_.now_us()) clock_.wait(-1, deadline - now);
 }
 
 std::string SocketTransport::describe() const {

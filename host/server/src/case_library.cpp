@@ -42,8 +42,8 @@ Result<CaseCheck> check_case(const CaseBundle& b) {
   if (b.hclm_text.size() > kMaxHclmBytes) return make_error(413, b.hclm_file + ": larger than " + std::to_string(kMaxHclmBytes) + " bytes");
 
   const tool::CaseParse parsed = tool::parse_case(b.case_text, b.case_file);
-  if (!parsed.value) return make_error(422, parsed.error);
-  const tool::Case& c = *parsed.value;
+  if (!parsed) return make_error(422, parsed.error().message);
+  const tool::Case& c = *parsed;
   CaseCheck out;
   out.bundle = b;
   out.title = c.name;

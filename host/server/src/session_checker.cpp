@@ -16,7 +16,7 @@
 namespace cathbox::server {
 namespace {
 
-constexpr std::int64_t kTracePeriodUs = 50'000;  // one sample every 50 ms of the run
+constexpr std::int64_t kTracePeriod_us = 50'000;  // one sample every 50 ms of the run
 constexpr std::size_t kMaxTraceSamples = 9'000;  // longer runs: every k-th sample (wall force: the peak of the k)
 constexpr std::size_t kTraceNodes = 24;          // the held tool's shape: at most this many nodes, the tip always
 constexpr std::size_t kMaxTraceEvents = 5'000;
@@ -66,7 +66,7 @@ class TraceObserver final : public session::TickObserver {
     }
     started_ = true;
     last_ = m;
-    if (!samples_.empty() && v.time_us - samples_.back().t_us < kTracePeriodUs) return;
+    if (!samples_.empty() && v.time_us - samples_.back().t_us < kTracePeriod_us) return;
     Sample s;
     s.t_us = v.time_us;
     s.wall_peak_mN = interval_wall_;
@@ -113,7 +113,7 @@ class TraceObserver final : public session::TickObserver {
     nlohmann::json tools = nlohmann::json::array();
     for (const std::string& name : tools_) tools.push_back(name);
     nlohmann::json out = {{"format", "cathbox-trace 1"},
-                          {"period_ms", static_cast<double>(kTracePeriodUs * static_cast<std::int64_t>(stride)) / 1000.0},
+                          {"period_ms", static_cast<double>(kTracePeriod_us * static_cast<std::int64_t>(stride)) / 1000.0},
                           {"samples", t_ms.size()},
                           {"tools", std::move(tools)},
                           {"target_mm", nullptr},

@@ -7,18 +7,18 @@
 
 namespace cathbox::session {
 namespace {
-constexpr std::int64_t kSettleMs = 100;  // as `cathbox sim run` (tool::ScenarioOptions)
+constexpr std::int64_t kSettle_ms = 100;  // as `cathbox sim run` (tool::ScenarioOptions)
 }  // namespace
 
 std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path,
                                                          const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
                                                          std::size_t held, std::string& error) {
   tool::ScriptParse parsed = tool::load_script(path);
-  if (!parsed.value) {
-    error = parsed.error;
+  if (!parsed) {
+    error = parsed.error().message;
     return nullptr;
   }
-  return make(*parsed.value, path, tools, held, error);
+  return make(*parsed, path, tools, held, error);
 }
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
@@ -57,11 +57,11 @@ void ActionScriptHand::read(std::int64_t tick, TickInput& in) {
     in.tools[t] = {std::llround(player_.insertion_mm(t) * 1e3), std::llround(player_.rotation_rad(t) * 1e6)};
   }
   // As `cathbox sim run`: once everything is done, stop after the tools have settled.
-  if (player_.settled(tick, kSettleMs)) finished_ = true;
+  if (player_.settled(tick, kSettle_ms)) finished_ = true;
 }
 
 std::string ActionScriptHand::finish_reason() const {
-  return ended_ ? "action script: end" : "action script: done (all motions ended " + std::to_string(kSettleMs) + " ms ago)";
+  return ended_ ? "action script: end" : "action script: done (all motions ended " + std::to_string(kSettle_ms) + " ms ago)";
 }
 
 }  // namespace cathbox::session

@@ -2,26 +2,8 @@
 
 #include <time.h>
 
-#include <chrono>
-#include <thread>
 
 namespace cathbox::session {
-
-std::int64_t SteadyClock::now_us() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-void SteadyClock::sleep_until_us(std::int64_t deadline_us) {
-  // The kernel's timer slack is ~50 us; sleep to just before the deadline, then yield-spin.
-  constexpr std::int64_t kSpinUs = 80;
-  const std::int64_t now = now_us();
-  if (deadline_us - now > kSpinUs) {
-    std::this_thread::sleep_for(std::chrono::microseconds(deadline_us - now - kSpinUs));
-  }
-  while (now_us() < deadline_us) std::this_thread::yield();
-}
 
 void VirtualClock::sleep_until_us(std::int64_t deadline_us) {
   std::int64_t now = now_.load(std::memory_order_acquire);

@@ -40,6 +40,16 @@ std::int64_t HandMapping::rotation_counts_from_urad(std::int64_t urad) const {
   return std::llround(static_cast<double>(urad) * 1e-6 / kTwoPi * calibration_.rotation_counts_per_rev);
 }
 
+double HandMapping::insertion_mm_from_counts(double counts) const {
+  if (calibration_.insertion_counts_per_m == 0) return 0.0;
+  return counts / (calibration_.insertion_counts_per_m / 1000.0);
+}
+
+double HandMapping::rotation_rad_from_counts(double counts) const {
+  if (calibration_.rotation_counts_per_rev == 0) return 0.0;
+  return counts * kTwoPi / calibration_.rotation_counts_per_rev;
+}
+
 std::int64_t HandMapping::origin_insertion_um() const { return insertion_um_from_counts(origin_.insertion); }
 std::int64_t HandMapping::origin_rotation_urad() const { return rotation_urad_from_counts(origin_.rotation); }
 

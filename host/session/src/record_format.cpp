@@ -5,6 +5,8 @@
 #include <bit>
 #include <cstring>
 
+#include "protocol/cbx_bytes.h"
+
 namespace cathbox::session::record {
 
 const char* end_reason_name(EndReason reason) {
@@ -28,23 +30,17 @@ std::uint32_t crc32(std::span<const std::uint8_t> a, std::span<const std::uint8_
 
 namespace {
 
-template <class T>
-void put_le(std::vector<std::uint8_t>& out, T v) {
-  for (std::size_t i = 0; i < sizeof(T); ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
-}
-
-template <class T>
-T get_le(std::span<const std::uint8_t> in, std::size_t at) {
-  T v = 0;
-  for (std::size_t i = 0; i < sizeof(T); ++i) v = static_cast<T>(v | (static_cast<T>(in[at + i]) << (8 * i)));
-  return v;
+// Appends n bytes to out and returns where they start, for the cbx_put_* writers.
+std::uint8_t* grow(std::vector<std::uint8_t>& out, std::size_t n) {
+  out.resize(out.size() + n);
+  return out.data() + out.size() - n;
 }
 
 }  // namespace
 
-void ByteWriter::u16(std::uint16_t v) { put_le(out_, v); }
-void ByteWriter::u32(std::uint32_t v) { put_le(out_, v); }
-void ByteWriter::u64(std::uint64_t v) { put_le(out_, v); }
+void ByteWriter::u16(std::uint16_t v) { cbx_put_u16(grow(out_, 2), v); }
+void ByteWriter::u32(std::uint32_t v) { cbx_put_u32(grow(out_, 4), v); }
+void ByteWriter::u64(std::uint64_t v) { cbx_put_u64(grow(out_, 8), v); }
 
 void ByteWriter::f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
 
@@ -83,7 +79,14 @@ bool ByteReader::u8(std::uint8_t& v) {
 template <class T>
 bool ByteReader::fixed(T& v) {
   if (left() < sizeof(T)) return false;
-  v = get_le<T>(in_, pos_);
+  const std::uint8_t* p = in_.data() + pos_;
+  if constexpr (sizeof(T) == 2) {
+    v = cbx_get_u16(p);
+  } else if constexpr (sizeof(T) == 4) {
+    v = cbx_get_u32(p);
+  } else {
+    v = cbx_get_u64(p);
+  }
   pos_ += sizeof(T);
   return true;
 }

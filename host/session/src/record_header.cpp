@@ -120,7 +120,7 @@ std::vector<std::uint8_t> encode_header(const RecordHeader& h) {
   ByteWriter w(out);
   using record::HeaderTag;
   w.field_text(t(HeaderTag::kSoftwareVersion), h.software_version);
-  w.field_u64(t(HeaderTag::kStartUnixUs), static_cast<std::uint64_t>(h.start_unix_us));
+  w.field_u64(t(HeaderTag::kStartUnix_us), static_cast<std::uint64_t>(h.start_unix_us));
   w.field_text(t(HeaderTag::kCaseName), h.case_name);
   w.field_text(t(HeaderTag::kCaseFile), h.case_file);
   w.field_text(t(HeaderTag::kCaseText), h.case_text);
@@ -136,7 +136,7 @@ std::vector<std::uint8_t> encode_header(const RecordHeader& h) {
   w.field_u64(t(HeaderTag::kHandKind), static_cast<std::uint64_t>(h.hand));
   w.field_text(t(HeaderTag::kHandDescription), h.hand_description);
   if (h.device) w.field(t(HeaderTag::kDevice), encode_device(*h.device));
-  w.field_u64(t(HeaderTag::kPeriodUs), static_cast<std::uint64_t>(h.period_us));
+  w.field_u64(t(HeaderTag::kPeriod_us), static_cast<std::uint64_t>(h.period_us));
   w.field_u64(t(HeaderTag::kHashEvery), static_cast<std::uint64_t>(h.hash_every));
   return out;
 }
@@ -164,7 +164,7 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
     std::uint64_t u = 0;
     switch (static_cast<HeaderTag>(tag)) {
       case HeaderTag::kSoftwareVersion: h.software_version = text_of(v); return 1;
-      case HeaderTag::kStartUnixUs:
+      case HeaderTag::kStartUnix_us:
         if (!get_u64(v, u)) return bad(at, "header: start time is not 8 bytes");
         h.start_unix_us = static_cast<std::int64_t>(u);
         return 1;
@@ -287,7 +287,7 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
         h.device = std::move(d);
         return 1;
       }
-      case HeaderTag::kPeriodUs:
+      case HeaderTag::kPeriod_us:
         if (!get_u64(v, u) || u < 100 || u > 100'000) return bad(at, "header: tick period must be 100..100000 us");
         h.period_us = static_cast<std::int64_t>(u);
         return 1;

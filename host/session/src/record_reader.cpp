@@ -188,7 +188,7 @@ bool RecordReader::parse_end(std::uint64_t at) {
         if (v.size() != 8 || !fv.u64(u)) return fail(at, "end block: tick count is not 8 bytes");
         e.ticks = static_cast<std::int64_t>(u);
         break;
-      case record::EndTag::kEndUnixUs:
+      case record::EndTag::kEndUnix_us:
         if (v.size() != 8 || !fv.u64(u)) return fail(at, "end block: end time is not 8 bytes");
         e.end_unix_us = static_cast<std::int64_t>(u);
         break;

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "protocol/cbx_bytes.h"
+
 namespace cathbox::session {
 namespace {
 
@@ -231,7 +233,7 @@ void Recorder::end_tick() {
   ++block_ticks_;
   ticks_recorded_ = tick_ + 1;
   if (block_ticks_ >= static_cast<std::int64_t>(record::kTicksPerBlock) ||
-      clock_us_ - block_start_clock_us_ >= record::kBlockSpanUs || current_->data.size() >= kBlockSealBytes) {
+      clock_us_ - block_start_clock_us_ >= record::kBlockSpan_us || current_->data.size() >= kBlockSealBytes) {
     seal();
   }
 }
@@ -251,7 +253,7 @@ void Recorder::seal(bool force) {
   }
   // Patch the tick count (bytes 8..11 of the block's data).
   const auto n = static_cast<std::uint32_t>(block_ticks_);
-  for (int i = 0; i < 4; ++i) current_->data[8 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(n >> (8 * i));
+  cbx_put_u32(current_->data.data() + 8, n);
   current_->type = BlockType::kTicks;
   current_->end_tick = block_first_tick_ + block_ticks_;
   (void)full_.push(current_);
@@ -273,7 +275,7 @@ void Recorder::finish(record::EndReason reason, std::string_view text, std::int6
   w.field(static_cast<std::uint32_t>(record::EndTag::kReason), std::span(&code, 1));
   w.field_text(static_cast<std::uint32_t>(record::EndTag::kReasonText), text);
   w.field_u64(static_cast<std::uint32_t>(record::EndTag::kTicks), static_cast<std::uint64_t>(ticks));
-  w.field_u64(static_cast<std::uint32_t>(record::EndTag::kEndUnixUs), static_cast<std::uint64_t>(end_unix_us));
+  w.field_u64(static_cast<std::uint32_t>(record::EndTag::kEndUnix_us), static_cast<std::uint64_t>(end_unix_us));
   if (full_.push(end.get())) pool_.push_back(std::move(end));
   finished_ = true;
   done_.store(true, std::memory_order_release);

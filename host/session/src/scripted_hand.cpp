@@ -8,7 +8,7 @@
 
 namespace cathbox::session {
 namespace {
-constexpr double kTrackWindowMm = 3.0;
+constexpr double kTrackWindow_mm = 3.0;
 }  // namespace
 
 ScriptedHand::ScriptedHand(std::vector<glm::vec3> path_mm, double max_insertion_mm,
@@ -38,7 +38,7 @@ double ScriptedHand::closest_arc(const glm::vec3& p) const {
   // Closest point on the polyline. After the first call it is searched within a few
   // millimetres of the last progress (the tip moves ~0.02 mm per tick), so that a path that
   // passes close to itself (the carotid siphon, a loop) cannot make the hand jump ahead.
-  const double window = started_ ? kTrackWindowMm : 1e300;
+  const double window = started_ ? kTrackWindow_mm : 1e300;
   double best_d2 = 1e300;
   double best_s = progress_mm_;
   for (std::size_t i = 0; i + 1 < path_.size(); ++i) {

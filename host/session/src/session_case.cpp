@@ -133,12 +133,12 @@ SessionCaseLoad load_session_case(const std::string& path) {
   } else {
     if (!read_file(path, kMaxCaseBytes, c->case_text, out.error)) return out;
     tool::CaseParse parsed = tool::parse_case(c->case_text, path);
-    if (!parsed.value) {
-      out.error = parsed.error;
+    if (!parsed) {
+      out.error = parsed.error().message;
       return out;
     }
     c->case_file = path;
-    c->spec = std::move(*parsed.value);
+    c->spec = std::move(*parsed);
   }
   c->vessel_file = c->spec.vessel_path;
   if (!c->vessel_file.empty() && !read_file(c->vessel_file, kMaxVesselBytes, c->vessel_text, out.error)) return out;
@@ -150,11 +150,11 @@ SessionCaseLoad session_case_from_record(const RecordHeader& h) {
   SessionCaseLoad out;
   if (!h.case_text.empty()) {
     tool::CaseParse parsed = tool::parse_case(h.case_text, h.case_file);
-    if (!parsed.value) {
-      out.error = "the record's case: " + parsed.error;
+    if (!parsed) {
+      out.error = "the record's case: " + parsed.error().message;
       return out;
     }
-    c->spec = std::move(*parsed.value);
+    c->spec = std::move(*parsed);
     c->case_file = h.case_file;
     c->case_text = h.case_text;
   } else {

@@ -38,9 +38,9 @@ enum class BoardMode { kApplication, kBootloader, kNoFirmware };
 
 class Emulator final : public EmuServer::Handler {
  public:
-  static constexpr uint64_t kPhysicsStepUs = 10;
-  static constexpr uint64_t kTickUs = 100;
-  static constexpr uint64_t kFrameUs = 1000;
+  static constexpr uint64_t kPhysicsStep_us = 10;
+  static constexpr uint64_t kTick_us = 100;
+  static constexpr uint64_t kFrame_us = 1000;
 
   explicit Emulator(EmuOptions options = {});
   ~Emulator() override;
@@ -49,8 +49,6 @@ class Emulator final : public EmuServer::Handler {
 
   // Serves the box on a socket (see EmuServer).
   [[nodiscard]] Result<bool> listen(const std::string& path);
-  // Stops serving and closes the socket (the emulator process "killed").
-  void stop_listening() { server_.reset(); }
   // Runs the box for `us` microseconds of simulated time.
   void advance(uint64_t us);
   // Handles pending socket input now, without advancing time (real-time main loop).
@@ -70,8 +68,6 @@ class Emulator final : public EmuServer::Handler {
   void set_wire_version(uint8_t version) { wire_version_ = version; }
   // Unplugs the box (all connections close, new ones are refused) for duration_us.
   void unplug(uint64_t duration_us);
-  // Injects an extra current on an axis's sense input (over-current tests).
-  void set_current_offset(int axis, int16_t mA) { current_offset_mA_[static_cast<size_t>(axis)] = mA; }
   // The recovery straps: BOOT0 level and a reset (as the lab rig's GPIO drives them).
   void set_boot0(bool high) { boot0_ = high; }
   void reset();
@@ -84,7 +80,6 @@ class Emulator final : public EmuServer::Handler {
   [[nodiscard]] int64_t true_count(int axis) const { return model_.state(axis).count; }
   [[nodiscard]] uint64_t in_reports_sent() const { return in_reports_; }
   [[nodiscard]] uint64_t out_reports_delivered() const { return out_delivered_; }
-  [[nodiscard]] uint64_t boots() const { return boots_; }
   // Quadrature transitions fed to the core (both axes, noise included).
   [[nodiscard]] uint64_t edges_fed() const { return edges_fed_; }
 
@@ -122,13 +117,11 @@ class Emulator final : public EmuServer::Handler {
   bool boot0_ = false;
   uint64_t now_us_ = 0;
   uint64_t unplugged_until_us_ = 0;
-  std::array<int16_t, 2> current_offset_mA_{};
   std::array<uint8_t, 2> edge_phase_{};  // quadrature phase fed to the core, 0..3
   std::deque<Pending> out_queue_;        // delayed OUT reports
   std::deque<Pending> in_queue_;         // delayed IN reports
   uint64_t in_reports_ = 0;
   uint64_t out_delivered_ = 0;
-  uint64_t boots_ = 0;
   uint64_t edges_fed_ = 0;
   uint8_t wire_version_ = CBX_PROTOCOL_VERSION;
 };

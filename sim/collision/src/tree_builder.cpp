@@ -600,25 +600,16 @@ class Builder {
 }  // namespace
 
 TreeBuild TreeBuilder::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options) {
-  TreeBuild result;
-  if (std::string error = validate(mesh); !error.empty()) {
-    result.error = std::move(error);
-    return result;
-  }
+  if (std::string error = validate(mesh); !error.empty()) return base::Error{std::move(error)};
   if (!(options.coherence_margin_mm >= 0.0) || !std::isfinite(options.coherence_margin_mm)) {
-    result.error = "build_options.coherence_margin_mm: must be finite and >= 0";
-    return result;
+    return base::Error{"build_options.coherence_margin_mm: must be finite and >= 0"};
   }
   auto data = std::make_shared<TreeData>();
   data->id = g_next_tree_id.fetch_add(1);
   data->coherence_margin_mm = options.coherence_margin_mm;
   Builder builder(mesh, *data);
-  if (std::string error = builder.run(); !error.empty()) {
-    result.error = std::move(error);
-    return result;
-  }
-  result.tree = ObbTree(std::move(data));
-  return result;
+  if (std::string error = builder.run(); !error.empty()) return base::Error{std::move(error)};
+  return ObbTree(std::move(data));
 }
 
 TreeBuild ObbTree::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options) {

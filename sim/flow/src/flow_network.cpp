@@ -67,26 +67,15 @@ double end_radius(const vessel::Segment& s, bool at_end) {
 }  // namespace
 
 FlowBuild FlowNetwork::build(const vessel::VesselModel& model, const FlowSettings& settings) {
-  FlowBuild out;
-  if (std::string e = check_settings(settings); !e.empty()) {
-    out.error = std::move(e);
-    return out;
-  }
+  if (std::string e = check_settings(settings); !e.empty()) return base::Error{std::move(e)};
   for (const vessel::Segment& s : model.segments) {
-    if (s.points.size() < 2) {
-      out.error = "flow: segment " + std::to_string(s.id) + " has fewer than 2 points";
-      return out;
-    }
+    if (s.points.size() < 2) return base::Error{"flow: segment " + std::to_string(s.id) + " has fewer than 2 points"};
   }
   std::unique_ptr<FlowNetwork> net(new FlowNetwork());
   net->model_ = model;
   net->settings_ = settings;
-  if (std::string e = net->solve(); !e.empty()) {
-    out.error = std::move(e);
-    return out;
-  }
-  out.network = std::move(net);
-  return out;
+  if (std::string e = net->solve(); !e.empty()) return base::Error{std::move(e)};
+  return FlowBuild(std::move(net));
 }
 
 std::string FlowNetwork::solve() {

@@ -13,15 +13,13 @@ constexpr double kMaxTime_ms = 3.6e6;  // one hour of virtual time
 }  // namespace
 
 ScriptParse parse_script(std::string_view text, std::string_view file_name) {
-  ScriptParse out;
   Script script;
   TextLines lines(text);
   std::vector<std::string_view> w;
   std::int64_t last_time = 0;
   bool ended = false;
-  auto fail = [&](const std::string& message) {
-    out.error = located(file_name, lines.line(), message);
-    return out;
+  auto fail = [&](const std::string& message) -> ScriptParse {
+    return base::Error{located(file_name, lines.line(), message)};
   };
   while (lines.next(w)) {
     if (ended) return fail("action after 'end'");
@@ -109,17 +107,12 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
     }
     script.actions.push_back(std::move(a));
   }
-  out.value = std::move(script);
-  return out;
+  return script;
 }
 
 ScriptParse load_script(const std::string& path) {
   const std::optional<std::string> text = read_text_file(path, kMaxScriptBytes);
-  if (!text) {
-    ScriptParse out;
-    out.error = path + ":0: cannot read the file (missing, unreadable or larger than 8 MiB)";
-    return out;
-  }
+  if (!text) return base::Error{path + ":0: cannot read the file (missing, unreadable or larger than 8 MiB)"};
   return parse_script(*text, path);
 }
 

@@ -25,7 +25,6 @@ class CaseParser {
   CaseParser(std::string_view text, std::string_view file) : lines_(text), file_(file) {}
 
   CaseParse run() {
-    CaseParse out;
     Case c;
     std::vector<std::string_view> w;
     bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false, seen_valve = false,
@@ -157,8 +156,7 @@ class CaseParser {
       if (!t.valve_friction_mN && c.valve_friction_mN) t.valve_friction_mN = c.valve_friction_mN;
     }
     c.flow.source = std::string(file_);
-    out.value = std::move(c);
-    return out;
+    return c;
   }
 
  private:
@@ -366,11 +364,7 @@ class CaseParser {
     error_ = located(file_, line, message);
     return false;
   }
-  CaseParse fail() {
-    CaseParse out;
-    out.error = error_;
-    return out;
-  }
+  CaseParse fail() { return base::Error{error_}; }
   CaseParse fail_here(const std::string& message) {
     error_here(message);
     return fail();
@@ -394,11 +388,7 @@ CaseParse parse_case(std::string_view text, std::string_view file_name) {
 
 CaseParse load_case(const std::string& path) {
   const std::optional<std::string> text = read_text_file(path, kMaxCaseBytes);
-  if (!text) {
-    CaseParse out;
-    out.error = path + ":0: cannot read the file (missing, unreadable or larger than 16 MiB)";
-    return out;
-  }
+  if (!text) return base::Error{path + ":0: cannot read the file (missing, unreadable or larger than 16 MiB)"};
   return parse_case(*text, path);
 }
 

@@ -8,16 +8,13 @@
 #include <glm/geometric.hpp>
 
 #include "tool/tube_network_wall.hpp"
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
-#endif
 
 namespace cathbox::tool {
 
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 namespace {
 
 // Point at a fraction of a segment's length along its centreline.
@@ -36,7 +33,6 @@ glm::dvec3 along(const vessel::Segment& s, double fraction) {
 }
 
 }  // namespace
-#endif
 
 WorldBuild build_world(const Case& c) {
   if (!c.tubes.empty()) return build_world(c, {});
@@ -54,7 +50,6 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     out.world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
     return out;
   }
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
   if (!read.ok()) {
     out.error = read.errors.front().to_string();
@@ -66,8 +61,8 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     return out;
   }
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
-  if (!tree.tree) {
-    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error;
+  if (!tree) {
+    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message;
     return out;
   }
   // Default entry: the start of the root segment (the first without parents), along it.
@@ -87,7 +82,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     // The root's first point lies on its end cap: step in until well inside the lumen.
     const double inside = 0.5 * root->points[0].radius_mm;
     for (int i = 0; i < 40; ++i) {
-      const std::optional<double> d = tree.tree->signed_distance(entry.point_mm);
+      const std::optional<double> d = tree->signed_distance(entry.point_mm);
       if (d && *d < -inside) break;
       entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
     }
@@ -95,7 +90,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     out.error = c.vessel_path + ":0: the vessel has no root segment to enter";
     return out;
   }
-  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree.tree), entry);
+  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
   world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
   if (c.target) {
     for (const vessel::Segment& s : surface.smoothed.segments) {
@@ -105,11 +100,6 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
   world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
   out.world = std::move(world);
   return out;
-#else
-  (void)vessel_text;
-  out.error = c.vessel_path + ":0: vessel files need the vessel and collision modules, which this build lacks";
-  return out;
-#endif
 }
 
 }  // namespace cathbox::tool

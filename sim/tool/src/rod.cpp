@@ -587,7 +587,6 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
       }
       last_iterations_ = it + 1;
-      last_update_mm_ = largest * scale;
       if (largest * scale < settings_.convergence_mm) break;
     }
     refresh_contacts(wall, true);

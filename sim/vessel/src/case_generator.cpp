@@ -120,9 +120,6 @@ class Network {
   [[nodiscard]] glm::dvec3 end(std::int32_t id) const {
     return model_.segments[static_cast<std::size_t>(*model_.index_of(id))].points.back().pos_mm;
   }
-  [[nodiscard]] double end_radius(std::int32_t id) const {
-    return model_.segments[static_cast<std::size_t>(*model_.index_of(id))].points.back().radius_mm;
-  }
   [[nodiscard]] VesselModel take() { return std::move(model_); }
 
  private:

@@ -324,8 +324,8 @@ void JunctionFit::apply(RefinedLevel& level) {
   }
   // Where a vertex's neighbours stay (the weight falls off next to it) its limit can only follow
   // by the vertex moving ~2.25 times as far, which may fold the faces around it: a marked face that
-  // turned by more than kFitMaxTurnDeg has its vertices' moves halved, up to kFitUnfoldSteps times.
-  const double cos_max_turn = std::cos(kFitMaxTurnDeg * 3.14159265358979323846 / 180.0);
+  // turned by more than kFitMaxTurn_deg has its vertices' moves halved, up to kFitUnfoldSteps times.
+  const double cos_max_turn = std::cos(kFitMaxTurn_deg * 3.14159265358979323846 / 180.0);
   const auto quad_normal = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
     return glm::cross(c - a, d - b);
   };

@@ -22,7 +22,7 @@
 // (kFitIterations Richardson steps, v += target - limit(v)) until their limit positions reach
 // the targets. Where the weight falls off next to a vertex its limit can only follow by the
 // vertex moving ~2.25 times as far, which may fold the faces around it: the vertices of a face
-// that turned by more than kFitMaxTurnDeg have their moves halved (up to kFitUnfoldSteps times). Doing this one level before the last keeps the limit surface smooth and its
+// that turned by more than kFitMaxTurn_deg have their moves halved (up to kFitUnfoldSteps times). Doing this one level before the last keeps the limit surface smooth and its
 // normals exact, at a quarter of the vertices of the last level.
 #include <cstddef>
 #include <cstdint>
@@ -45,7 +45,7 @@ constexpr double kFitTubeFadeRadii = 1.5;  // beyond the ring, the tube's vertic
 constexpr double kFitSameSide = 0.5;       // cosine above which two tubes' directions count as the same side
 constexpr double kFitInsideRadii = 0.1;    // deeper than this inside another branch's tube: not moved
 constexpr int kFitIterations = 4;          // steps moving the vertices until their limits reach the targets
-constexpr double kFitMaxTurnDeg = 45.0;    // a level L-1 face turned further than this by the fit ...
+constexpr double kFitMaxTurn_deg = 45.0;    // a level L-1 face turned further than this by the fit ...
 constexpr int kFitUnfoldSteps = 4;         // ... has its vertices' moves halved, at most this often
 
 struct JunctionFitReport {

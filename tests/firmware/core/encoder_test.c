@@ -63,6 +63,17 @@ static void edges_illegal_at_rest_keeps_count(void) {
   CBX_CHECK_EQ(e.errors, 1);
 }
 
+static void edges_start_from_the_resting_lines(void) {
+  cbx_encoder e;
+  cbx_encoder_init(&e, CBX_ENCODER_EDGES, 0, 0u, 0u);
+  cbx_encoder_rest(&e, 3u); /* lines rest at 11: no count, no error */
+  CBX_CHECK_EQ(e.count, 0);
+  CBX_CHECK_EQ(e.errors, 0);
+  cbx_encoder_edge(&e, 2u); /* 11 -> 10: one count forward */
+  CBX_CHECK_EQ(e.count, 1);
+  CBX_CHECK_EQ(e.errors, 0);
+}
+
 static void edges_noisy_stream_tracks_position(void) {
   /* 400 forward steps with a bounce after every 7th edge and a missed edge every 50th:
    * the count ends where the shaft is and every miss is counted. */
@@ -210,6 +221,7 @@ const cbx_test_case cbx_tests_encoder[] = {
     {"edges_bounce_is_not_motion", edges_bounce_is_not_motion},
     {"edges_missed_edge_counted_and_bridged", edges_missed_edge_counted_and_bridged},
     {"edges_illegal_at_rest_keeps_count", edges_illegal_at_rest_keeps_count},
+    {"edges_start_from_the_resting_lines", edges_start_from_the_resting_lines},
     {"edges_noisy_stream_tracks_position", edges_noisy_stream_tracks_position},
     {"counter_16bit_extends_across_wrap", counter_16bit_extends_across_wrap},
     {"counter_32bit_wraps_as_int32", counter_32bit_wraps_as_int32},

@@ -201,6 +201,18 @@ static void overcurrent_folds_back_then_faults(void) {
   CBX_CHECK_EQ(cbx_fake_state(&core).faults, 0);
 }
 
+static void encoder_rest_is_not_a_move_or_a_fault(void) {
+  setup(CBX_ENCODER_EDGES, CBX_ACTUATOR_MOTOR, true);
+  cbx_core_encoder_rest(&core, CBX_AXIS_INSERTION, 3u); /* lines resting at 11 */
+  cbx_core_encoder_edge(&core, CBX_AXIS_INSERTION, 3u); /* unchanged: nothing */
+  cbx_core_encoder_edge(&core, CBX_AXIS_INSERTION, 1u); /* 11 -> 01: one count back */
+  stream(2, CBX_MODE_MOTOR, 0, 0, 0);
+  const cbx_state_report s = cbx_fake_state(&core);
+  CBX_CHECK_EQ(s.insertion_count, -1);
+  CBX_CHECK_EQ(s.encoder_errors, 0);
+  CBX_CHECK((s.faults & CBX_FAULT_ENCODER) == 0);
+}
+
 static void encoder_fault_ramps_down(void) {
   setup(CBX_ENCODER_EDGES, CBX_ACTUATOR_MOTOR, true);
   stream(30, CBX_MODE_MOTOR, 0, 1000, 0);
@@ -467,6 +479,7 @@ const cbx_test_case cbx_tests_safety[] = {
     {"mode_off_stands_the_watchdog_down", mode_off_stands_the_watchdog_down},
     {"estop_cuts_at_once_and_latches", estop_cuts_at_once_and_latches},
     {"overcurrent_folds_back_then_faults", overcurrent_folds_back_then_faults},
+    {"encoder_rest_is_not_a_move_or_a_fault", encoder_rest_is_not_a_move_or_a_fault},
     {"encoder_fault_ramps_down", encoder_fault_ramps_down},
     {"bad_command_latches", bad_command_latches},
     {"clamps_whatever_the_command", clamps_whatever_the_command},

@@ -45,8 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     mesh.triangle_regions.push_back({static_cast<vessel::RegionKind>(r % 3), r / 3});
   }
   const collision::TreeBuild built = collision::ObbTree::build(mesh);
-  if (!built.tree) return 0;
-  const collision::ObbTree& tree = *built.tree;
+  if (!built) return 0;
+  const collision::ObbTree& tree = *built;
   collision::QueryHint hint;
   std::array<collision::Contact, 8> contacts{};
   while (in.more()) {

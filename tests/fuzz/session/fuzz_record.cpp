@@ -9,31 +9,22 @@
 #include <string>
 #include <vector>
 
+#include "protocol/cbx_bytes.h"
 #include "session/record_format.hpp"
 #include "session/record_reader.hpp"
 
 namespace {
 
-void put_u32(std::vector<uint8_t>& b, size_t at, uint32_t v) {
-  for (int i = 0; i < 4; ++i) b[at + static_cast<size_t>(i)] = static_cast<uint8_t>(v >> (8 * i));
-}
-
-uint32_t get_u32(const std::vector<uint8_t>& b, size_t at) {
-  uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= static_cast<uint32_t>(b[at + static_cast<size_t>(i)]) << (8 * i);
-  return v;
-}
-
 void fix_crcs(std::vector<uint8_t>& b) {
   using namespace cathbox::session::record;
   if (b.size() < kFileHeaderSize) return;
-  put_u32(b, 12, crc32(std::span<const uint8_t>(b).first(12)));
+  cbx_put_u32(b.data() + 12, crc32(std::span<const uint8_t>(b).first(12)));
   size_t pos = kFileHeaderSize;
   while (pos + kBlockHeaderSize <= b.size()) {
-    const uint32_t stored = get_u32(b, pos + 4);
+    const uint32_t stored = cbx_get_u32(b.data() + pos + 4);
     if (stored > b.size() - pos - kBlockHeaderSize) break;
     const std::span<const uint8_t> all(b);
-    put_u32(b, pos + 12, crc32(all.subspan(pos, 12), all.subspan(pos + kBlockHeaderSize, stored)));
+    cbx_put_u32(b.data() + pos + 12, crc32(all.subspan(pos, 12), all.subspan(pos + kBlockHeaderSize, stored)));
     pos += kBlockHeaderSize + stored;
   }
 }

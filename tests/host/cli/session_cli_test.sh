@@ -87,7 +87,7 @@ grep -q "byte" "$work/out" || fail "flipped byte: $(cat "$work/out")"
 
 # Against the emulated box in real time: its hand pushes at 20 mm/s for 1.5 s and twists.
 exec 3< <(exec "$bin/cathbox-emu" --socket "$work/emu.sock" --duration 120 \
-  --hand-insertion v:0.02:1500ms,free:60s --hand-rotation v:2:1s,free:60s 2>&1)
+  --hand-insertion v:20mm/s:1500ms,free:60s --hand-rotation v:2rad/s:1s,free:60s 2>&1)
 emu_pid=$!
 read -r line <&3
 case "$line" in *listening*) ;; *) fail "emulator did not start: $line" ;; esac

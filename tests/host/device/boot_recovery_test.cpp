@@ -32,7 +32,7 @@ TEST(BootRecovery, EnterBootloaderStrapsBoot0AcrossAResetPulse) {
   ASSERT_TRUE(BootRecovery::enter_bootloader(pins).ok());
   const std::vector<std::string> expected = {"0 boot0=1", "0 nrst=low", "10000 nrst=released"};
   EXPECT_EQ(pins.log, expected);
-  EXPECT_EQ(pins.now_us, BootRecovery::kResetPulseUs + BootRecovery::kBootWaitUs);
+  EXPECT_EQ(pins.now_us, BootRecovery::kResetPulse_us + BootRecovery::kBootWait_us);
 }
 
 TEST(BootRecovery, RunApplicationReleasesBoot0BeforeTheReset) {

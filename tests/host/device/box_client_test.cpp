@@ -5,16 +5,15 @@
 #include <deque>
 
 #include "device/box_client.hpp"
-#include "protocol/cbx_crc16.h"
 
 namespace cathbox::device {
 namespace {
 
 class FakeClock final : public Clock {
  public:
-  uint64_t t = 0;
-  uint64_t now_us() override { return t; }
-  void wait(int, uint64_t us) override { t += us; }
+  std::int64_t t = 0;
+  std::int64_t now_us() override { return t; }
+  void wait(int, std::int64_t us) override { t += us; }
 };
 
 Report state_report(uint16_t seq, int32_t count) {
@@ -59,9 +58,7 @@ class FakeTransport final : public Transport {
     EXPECT_EQ(cbx_device_info_encode(&d, r.data()), CBX_OK);
     if (box_.info_version != 1) {  // a future box: other major version, valid CRC
       r[1] = static_cast<uint8_t>(box_.info_version);
-      const uint16_t crc = cbx_crc16(r.data(), CBX_CRC_OFFSET);
-      r[62] = static_cast<uint8_t>(crc);
-      r[63] = static_cast<uint8_t>(crc >> 8);
+      cbx_report_finish(r.data());
     }
     return Ok{};
   }

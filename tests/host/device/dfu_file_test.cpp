@@ -3,6 +3,7 @@
 
 #include "device/dfu_file.hpp"
 #include "device/dfuse_layout.hpp"
+#include "protocol/cbx_bytes.h"
 
 namespace cathbox::device {
 namespace {
@@ -54,7 +55,7 @@ TEST(DfuFile, EveryByteFlipIsCaughtByTheSuffixCrc) {
 // Rewrites the suffix CRC so that a structural error behind it is reached.
 std::vector<uint8_t> with_crc(std::vector<uint8_t> bytes) {
   const uint32_t crc = DfuFile::crc32({bytes.data(), bytes.size() - 4});
-  for (int i = 0; i < 4; ++i) bytes[bytes.size() - 4 + static_cast<size_t>(i)] = static_cast<uint8_t>(crc >> (8 * i));
+  cbx_put_u32(bytes.data() + bytes.size() - 4, crc);
   return bytes;
 }
 

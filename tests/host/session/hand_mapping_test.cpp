@@ -24,6 +24,21 @@ TEST(HandMapping, CountsToMicrometresAndBackRoundTripForEveryCount) {
   EXPECT_EQ(m.rotation_urad_from_counts(4096), std::llround(2.0 * M_PI * 1e6));
 }
 
+// What `cathbox monitor` shows: unrounded mm and rad (and per second) that agree with the
+// rounded micrometres / microradians, and 0 without a calibration.
+TEST(HandMapping, DisplayUnitsAgreeWithTheRoundedOnes) {
+  const HandMapping m(kEmu);
+  EXPECT_DOUBLE_EQ(m.insertion_mm_from_counts(108'650), 1000.0);
+  EXPECT_DOUBLE_EQ(m.rotation_rad_from_counts(-2048), -M_PI);
+  for (std::int64_t c = -50'000; c <= 50'000; c += 313) {
+    EXPECT_NEAR(m.insertion_mm_from_counts(static_cast<double>(c)) * 1000.0, m.insertion_um_from_counts(c), 0.5) << c;
+    EXPECT_NEAR(m.rotation_rad_from_counts(static_cast<double>(c)) * 1e6, m.rotation_urad_from_counts(c), 0.5) << c;
+  }
+  const HandMapping none;
+  EXPECT_EQ(none.insertion_mm_from_counts(1000), 0.0);
+  EXPECT_EQ(none.rotation_rad_from_counts(1000), 0.0);
+}
+
 TEST(HandMapping, HandPositionsCountFromTheOriginAndRoundTrip) {
   HandMapping m(kEmu);
   EXPECT_EQ(m.hand_from_counts({5000, 300}), (HandPosition{0, 0}));  // no origin yet: still

@@ -11,6 +11,7 @@
 #include <iterator>
 #include <random>
 
+#include "protocol/cbx_bytes.h"
 #include "session/record_format.hpp"
 #include "session/record_reader.hpp"
 #include "session/recorder.hpp"
@@ -227,7 +228,7 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
   bytes[8] = 2;  // format version 2, CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
-  for (int i = 0; i < 4; ++i) bytes[12 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(crc >> (8 * i));
+  cbx_put_u32(bytes.data() + 12, crc);
   EXPECT_FALSE(RecordReader::from_bytes(bytes, "v2.cbxrec", error));
   EXPECT_EQ(error, "v2.cbxrec: byte 8: record format version 2, this build reads version 1");
   EXPECT_FALSE(RecordReader::open("/no/such/record.cbxrec", error));

@@ -34,9 +34,9 @@ std::unique_ptr<SessionCase> load(const std::string& file) {
 
 std::unique_ptr<Hand> script_hand(const SessionCase& scene, const std::string& text) {
   const tool::ScriptParse parsed = tool::parse_script(text, "test.actions");
-  EXPECT_TRUE(parsed.value) << parsed.error;
+  EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
   std::string error;
-  auto hand = ActionScriptHand::make(*parsed.value, "test.actions", ActionScriptHand::tool_infos(scene), 0, error);
+  auto hand = ActionScriptHand::make(*parsed, "test.actions", ActionScriptHand::tool_infos(scene), 0, error);
   EXPECT_TRUE(hand) << error;
   return hand;
 }
@@ -181,8 +181,8 @@ TEST(Session, ABadCaseOrScriptIsOneLineNamingTheFile) {
   auto scene = load("y_bifurcation.case");
   std::string error;
   const tool::ScriptParse parsed = tool::parse_script("0 select catheter\n", "bad.actions");
-  ASSERT_TRUE(parsed.value);
-  EXPECT_FALSE(ActionScriptHand::make(*parsed.value, "bad.actions", ActionScriptHand::tool_infos(*scene), 0, error));
+  ASSERT_TRUE(parsed);
+  EXPECT_FALSE(ActionScriptHand::make(*parsed, "bad.actions", ActionScriptHand::tool_infos(*scene), 0, error));
   EXPECT_EQ(error, "bad.actions:1: select: the case has no tool 'catheter' (tools: guidewire)");
 }
 

@@ -13,7 +13,7 @@ TEST(ClosedLoop, SixtySecondsAtOneKilohertzWithSequenceEcho) {
   EmuWorld world;
   // The hand advances the tool at 10 mm/s for 3 s (into the wall at 20 mm), then leans on
   // it with 1 N for the rest of the minute.
-  world.emu().set_hand(0, emu::HandScript::parse("v:0.01:3s,f:1.0:57s").value());
+  world.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:3s,f:1000mN:57s").value());
   auto client = world.connect();
   const auto command = wall_command(20'000, 2'000'000);  // 2000 N/m
 

@@ -4,6 +4,7 @@
 // the emulator, so everything is deterministic and nothing sleeps.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 #include <string>
@@ -42,10 +43,10 @@ class EmuWorld final : public device::Clock {
     if (emu_) emu_->advance(us);
   }
 
-  [[nodiscard]] uint64_t now_us() override { return now_; }
-  void wait(int /*fd*/, uint64_t max_us) override {
-    const uint64_t step = emu::Emulator::kPhysicsStepUs;
-    uint64_t us = std::min<uint64_t>(max_us, 100);
+  [[nodiscard]] std::int64_t now_us() override { return static_cast<std::int64_t>(now_); }
+  void wait(int /*fd*/, std::int64_t max_us) override {
+    const uint64_t step = emu::Emulator::kPhysicsStep_us;
+    uint64_t us = static_cast<uint64_t>(std::clamp<std::int64_t>(max_us, 0, 100));
     us = std::max<uint64_t>(step, (us + step - 1) / step * step);
     advance(us);
   }

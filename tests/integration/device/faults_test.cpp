@@ -116,10 +116,10 @@ TEST(Faults, EncoderNoiseOverAMillionTransitionsKeepsPositionWithinOneCount) {
   // Back and forth at 2 m/s (about 2 transitions per 10 us sample, so samples do miss edges),
   // then rest.
   std::string script;
-  for (int i = 0; i < 5; ++i) script += "v:2:450ms,v:-2:450ms,";
+  for (int i = 0; i < 5; ++i) script += "v:2000mm/s:450ms,v:-2000mm/s:450ms,";
   script += "free:100ms";
   world.emu().set_hand(0, emu::HandScript::parse(script).value());
-  world.emu().set_hand(1, emu::HandScript::parse("v:60:2s,v:-60:2s,free:500ms").value());
+  world.emu().set_hand(1, emu::HandScript::parse("v:60rad/s:2s,v:-60rad/s:2s,free:500ms").value());
   world.advance(5'000'000);
   const auto state = world.emu().core_state();
   const auto& counts = world.emu().faults().counts();

@@ -8,6 +8,7 @@
 #include "device/dfu_file.hpp"
 #include "device/flasher.hpp"
 #include "device/socket_transport.hpp"
+#include "protocol/cbx_bytes.h"
 #include "protocol/cbx_image_info.h"
 #include "protocol/cbx_usb_requests.h"
 #include "emu_world.hpp"
@@ -33,10 +34,8 @@ DfuImage make_image(size_t size, uint16_t version = 0x0100, const char* target =
   for (auto& b : e.data) b = static_cast<uint8_t>(rng());
   const uint32_t sp = 0x20008000u;
   const uint32_t reset = 0x08000201u;
-  for (int i = 0; i < 4; ++i) {
-    e.data[static_cast<size_t>(i)] = static_cast<uint8_t>(sp >> (8 * i));
-    e.data[static_cast<size_t>(4 + i)] = static_cast<uint8_t>(reset >> (8 * i));
-  }
+  cbx_put_u32(e.data.data(), sp);
+  cbx_put_u32(e.data.data() + 4, reset);
   // The image info block (protocol/cbx_image_info.h) of the version being packed.
   if (with_info && size >= CBX_IMAGE_INFO_OFFSET + CBX_IMAGE_INFO_SIZE) {
     cbx_image_info info{};
@@ -120,7 +119,7 @@ class PollTimeoutWatch final : public device::ControlTransfer {
     if (s.request != CBX_DFU_GETSTATUS || !got || got.value() != CBX_DFU_STATUS_SIZE) return got;
     ++statuses;
     if (asked_us < not_before_us) ++early;
-    const uint32_t poll_ms = static_cast<uint32_t>(in[1] | (in[2] << 8) | (in[3] << 16));
+    const uint32_t poll_ms = cbx_get_u24(in.data() + 1);
     busy_ms += in[4] == CBX_DFU_DNBUSY ? poll_ms : 0u;
     not_before_us = in[4] == CBX_DFU_DNBUSY ? clock_.now_us() + uint64_t{poll_ms} * 1000u : 0u;
     return got;

@@ -34,7 +34,7 @@ namespace {
 
 TEST(HapticTick, PollAndSendAllocateNothing) {
   EmuWorld world;
-  world.emu().set_hand(0, emu::HandScript::parse("v:0.01:5s").value());
+  world.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:5s").value());
   auto client = world.connect();
   const auto command = wall_command(20'000, 1'000'000);
   device::BoxState state;

@@ -21,7 +21,7 @@ void run(EmuWorld& world, device::BoxClient& client, const cbx_command_report& c
 
 TEST(Watchdog, HostStopsMidPushOutputRampsToZeroAndFaultIsSeenAfterReconnect) {
   EmuWorld world;
-  world.emu().set_hand(0, emu::HandScript::parse("v:0.01:4s,f:1.0:10s").value());
+  world.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:4s,f:1000mN:10s").value());
   auto client = world.connect();
   const auto command = wall_command(15'000, 2'000'000);
   device::BoxState state;
@@ -66,7 +66,7 @@ TEST(Watchdog, HostStopsMidPushOutputRampsToZeroAndFaultIsSeenAfterReconnect) {
 
 TEST(EStop, CutsOutputAtOnceLatchesAndClearsOnlyWhenReleasedAndAcknowledged) {
   EmuWorld world;
-  world.emu().set_hand(0, emu::HandScript::parse("v:0.01:3s,f:1.0:10s").value());
+  world.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:3s,f:1000mN:10s").value());
   auto client = world.connect();
   const auto command = wall_command(15'000, 2'000'000);
   device::BoxState state;

@@ -20,9 +20,9 @@ vessel::SurfaceMesh one_triangle() {
 
 void expect_rejected(const vessel::SurfaceMesh& m, const std::string& field) {
   const TreeBuild b = ObbTree::build(m);
-  EXPECT_FALSE(b.tree.has_value());
-  EXPECT_NE(b.error.find(field), std::string::npos) << b.error;
-  EXPECT_EQ(b.error.find('\n'), std::string::npos);
+  EXPECT_FALSE(b.ok());
+  EXPECT_NE(b.error().message.find(field), std::string::npos) << b.error().message;
+  EXPECT_EQ(b.error().message.find('\n'), std::string::npos);
 }
 
 TEST(ObbTreeBuild, RejectsEmptyMesh) { expect_rejected(vessel::SurfaceMesh{}, "surface_mesh.triangles"); }
@@ -63,16 +63,16 @@ TEST(ObbTreeBuild, RejectsBadMargin) {
   BuildOptions o;
   o.coherence_margin_mm = std::nan("");
   const TreeBuild b = ObbTree::build(one_triangle(), o);
-  EXPECT_FALSE(b.tree);
-  EXPECT_NE(b.error.find("coherence_margin_mm"), std::string::npos);
+  EXPECT_FALSE(b);
+  EXPECT_NE(b.error().message.find("coherence_margin_mm"), std::string::npos);
 }
 
 TEST(ObbTreeBuild, SingleTriangle) {
   const TreeBuild b = ObbTree::build(one_triangle());
-  ASSERT_TRUE(b.tree) << b.error;
-  EXPECT_EQ(b.tree->stats().triangles, 1u);
-  EXPECT_FALSE(b.tree->stats().closed);
-  const auto c = b.tree->closest_point({0.25, 0.25, 2.0});
+  ASSERT_TRUE(b) << b.error().message;
+  EXPECT_EQ(b->stats().triangles, 1u);
+  EXPECT_FALSE(b->stats().closed);
+  const auto c = b->closest_point({0.25, 0.25, 2.0});
   ASSERT_TRUE(c);
   EXPECT_DOUBLE_EQ(c->distance_mm, 2.0);
   EXPECT_EQ(c->feature, FeatureKind::kFace);
@@ -81,8 +81,8 @@ TEST(ObbTreeBuild, SingleTriangle) {
 TEST(ObbTreeBuild, ClosedTubeStats) {
   const auto m = testing::make_knot_tube(200, 12);
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
-  const TreeStats& s = b.tree->stats();
+  ASSERT_TRUE(b) << b.error().message;
+  const TreeStats& s = b->stats();
   EXPECT_TRUE(s.closed);
   EXPECT_TRUE(s.consistently_oriented);
   EXPECT_EQ(s.triangles, m.triangle_count());
@@ -95,10 +95,10 @@ TEST(ObbTreeBuild, ClosedTubeStats) {
 TEST(ObbTreeBuild, DropsDegenerateTriangles) {
   const auto m = testing::make_soup(300, 3);
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
+  ASSERT_TRUE(b) << b.error().message;
   // Every 29th (coincident corners) and 31st (collinear) triangle has no area.
-  EXPECT_GE(b.tree->stats().degenerate_dropped, 300u / 31u);
-  EXPECT_EQ(b.tree->stats().triangles + b.tree->stats().degenerate_dropped, 300u);
+  EXPECT_GE(b->stats().degenerate_dropped, 300u / 31u);
+  EXPECT_EQ(b->stats().triangles + b->stats().degenerate_dropped, 300u);
 }
 
 }  // namespace

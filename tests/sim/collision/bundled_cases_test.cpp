@@ -29,8 +29,8 @@ class BundledCaseTest : public ::testing::TestWithParam<BundledCase> {
     ASSERT_TRUE(loaded.ok()) << loaded.error;
     mesh_ = std::move(loaded.mesh);
     TreeBuild b = ObbTree::build(mesh_);
-    ASSERT_TRUE(b.tree) << b.error;
-    tree_.emplace(std::move(*b.tree));
+    ASSERT_TRUE(b) << b.error().message;
+    tree_.emplace(std::move(*b));
   }
   vessel::SurfaceMesh mesh_;
   std::optional<ObbTree> tree_;

@@ -27,10 +27,10 @@ std::vector<testing::NamedMesh>* ClosestPointTest::meshes_ = nullptr;
 TEST_P(ClosestPointTest, EqualsBruteForceNearAndFar) {
   const auto& m = named().mesh;
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
+  ASSERT_TRUE(b) << b.error().message;
   for (const glm::dvec3& p : testing::query_points(m, 400, 2.0, 21)) {
     const testing::BruteNearest want = testing::nearest(m, p);
-    const auto got = b.tree->closest_point(p);
+    const auto got = b->closest_point(p);
     ASSERT_TRUE(got);
     ASSERT_TRUE(near_rel(got->distance_mm, want.distance)) << named().name << " " << got->distance_mm << " vs " << want.distance;
     // The point lies on the reported face, at the reported distance.
@@ -48,13 +48,13 @@ TEST_P(ClosestPointTest, EqualsBruteForceNearAndFar) {
 TEST_P(ClosestPointTest, MaxDistanceIsInclusiveAndExact) {
   const auto& m = named().mesh;
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
+  ASSERT_TRUE(b) << b.error().message;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> frac(0.5, 1.5);
   for (const glm::dvec3& p : testing::query_points(m, 200, 1.0, 22)) {
     const double want = testing::nearest(m, p).distance;
     const double limit = want * frac(rng);
-    const auto got = b.tree->closest_point(p, limit);
+    const auto got = b->closest_point(p, limit);
     if (want <= limit * (1.0 - 1e-9)) {
       ASSERT_TRUE(got);
       EXPECT_TRUE(near_rel(got->distance_mm, want));
@@ -71,15 +71,15 @@ TEST_P(ClosedMeshSignTest, SignMatchesRayParity) {
   ASSERT_TRUE(named().closed) << named().name;
   const auto& m = named().mesh;
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
+  ASSERT_TRUE(b) << b.error().message;
   int inside = 0;
   for (const glm::dvec3& p : testing::query_points(m, 300, 1.0, 23)) {
-    const auto s = b.tree->signed_distance(p);
+    const auto s = b->signed_distance(p);
     ASSERT_TRUE(s);
     if (std::abs(*s) < 1e-6) continue;  // parity is ill-posed on the wall
     const bool want = testing::inside_by_parity(m, p);
     EXPECT_EQ(*s < 0.0, want) << named().name << " sd " << *s;
-    EXPECT_EQ(*b.tree->contains(p), want);
+    EXPECT_EQ(*b->contains(p), want);
     inside += want;
   }
   EXPECT_GT(inside, 30);
@@ -91,10 +91,10 @@ TEST_P(ClosedMeshSignTest, SignIsRobustNextToVerticesAndEdges) {
   ASSERT_TRUE(named().closed) << named().name;
   const auto& m = named().mesh;
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree) << b.error;
+  ASSERT_TRUE(b) << b.error().message;
   int checked = 0;
   auto check = [&](const glm::dvec3& p) {
-    const double sd = *b.tree->signed_distance(p);
+    const double sd = *b->signed_distance(p);
     if (std::abs(sd) < 1e-9) return;
     EXPECT_EQ(sd < 0.0, testing::inside_by_parity(m, p)) << named().name << " sd " << sd;
     ++checked;
@@ -106,7 +106,7 @@ TEST_P(ClosedMeshSignTest, SignIsRobustNextToVerticesAndEdges) {
       check(p - eps * n);
       check(p + eps * n);
     }
-    const auto on = b.tree->closest_point(p);
+    const auto on = b->closest_point(p);
     ASSERT_TRUE(on);
     EXPECT_LT(on->distance_mm, 1e-12);
     EXPECT_EQ(on->feature, FeatureKind::kVertex);
@@ -131,22 +131,22 @@ INSTANTIATE_TEST_SUITE_P(ClosedMeshes, ClosedMeshSignTest, ::testing::Values(1, 
 
 TEST(ClosestPointBadInput, NanAndNegativeGiveEmpty) {
   const TreeBuild b = ObbTree::build(testing::make_bumpy_sphere(10, 12, 3.0, 0.0, 1));
-  ASSERT_TRUE(b.tree);
+  ASSERT_TRUE(b);
   const double nan = testing::kNaN;
   const double inf = testing::kInf;
-  EXPECT_FALSE(b.tree->closest_point({nan, 0, 0}));
-  EXPECT_FALSE(b.tree->closest_point({0, inf, 0}));
-  EXPECT_FALSE(b.tree->closest_point({0, 0, 0}, nan));
-  EXPECT_FALSE(b.tree->closest_point({0, 0, 0}, -1.0));
-  EXPECT_FALSE(b.tree->signed_distance({0, 0, nan}));
-  EXPECT_FALSE(b.tree->contains({nan, nan, nan}));
+  EXPECT_FALSE(b->closest_point({nan, 0, 0}));
+  EXPECT_FALSE(b->closest_point({0, inf, 0}));
+  EXPECT_FALSE(b->closest_point({0, 0, 0}, nan));
+  EXPECT_FALSE(b->closest_point({0, 0, 0}, -1.0));
+  EXPECT_FALSE(b->signed_distance({0, 0, nan}));
+  EXPECT_FALSE(b->contains({nan, nan, nan}));
   QueryHint hint;
-  EXPECT_FALSE(b.tree->closest_point({nan, 0, 0}, inf, hint));
+  EXPECT_FALSE(b->closest_point({nan, 0, 0}, inf, hint));
   // Far away still works (no overflow in the float bounds).
-  const auto far = b.tree->closest_point({1e12, -3e11, 5e10});
+  const auto far = b->closest_point({1e12, -3e11, 5e10});
   ASSERT_TRUE(far);
   EXPECT_GT(far->signed_distance_mm, 0.0);
-  EXPECT_TRUE(*b.tree->contains({0, 0, 0}));
+  EXPECT_TRUE(*b->contains({0, 0, 0}));
 }
 
 }  // namespace

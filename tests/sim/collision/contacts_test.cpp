@@ -15,14 +15,14 @@ TEST(SphereContacts, DeepestEqualsBruteForceOnEveryMesh) {
   for (const auto& named : testing::exactness_meshes()) {
     const auto& m = named.mesh;
     const TreeBuild b = ObbTree::build(m);
-    ASSERT_TRUE(b.tree) << b.error;
+    ASSERT_TRUE(b) << b.error().message;
     std::mt19937 rng(31);
     std::uniform_real_distribution<double> radius(0.05, 1.0);
     int touching = 0;
     for (const glm::dvec3& c : testing::query_points(m, 250, 1.5, 32)) {
       const double r = radius(rng);
       std::array<Contact, 16> out{};
-      const std::size_t n = b.tree->sphere_contacts(c, r, out);
+      const std::size_t n = b->sphere_contacts(c, r, out);
       const double want = testing::nearest(m, c).distance;
       if (want >= r * (1.0 + 1e-9)) {
         EXPECT_EQ(n, 0u) << named.name;
@@ -78,15 +78,15 @@ TEST(SphereContacts, ReportsEveryLocalMinimum) {
   spec.sides = 8;
   const auto m = testing::make_tube(spec);
   const TreeBuild b = ObbTree::build(m);
-  ASSERT_TRUE(b.tree);
+  ASSERT_TRUE(b);
   // Off-centre towards +x: touches only the +x side.
   std::array<Contact, 32> out{};
-  std::size_t n = b.tree->sphere_contacts({0.6, 0.0, 10.25}, 0.5, out);
+  std::size_t n = b->sphere_contacts({0.6, 0.0, 10.25}, 0.5, out);
   ASSERT_GE(n, 1u);
   for (std::size_t i = 0; i < n; ++i) EXPECT_GT(out[i].wall_point_mm.x, 0.5);
   EXPECT_LT(out[0].normal.x, -0.9);  // pushes back towards the axis
   // Centred with a radius larger than the wall distance: contacts on all 8 sides.
-  n = b.tree->sphere_contacts({0.0, 0.0, 10.25}, 1.0, out);
+  n = b->sphere_contacts({0.0, 0.0, 10.25}, 1.0, out);
   ASSERT_GE(n, 8u);
   int sides_hit[8] = {};
   for (std::size_t i = 0; i < n; ++i) {
@@ -99,14 +99,14 @@ TEST(SphereContacts, ReportsEveryLocalMinimum) {
   for (int s : sides_hit) total += s;
   EXPECT_GE(total, 7);
   // A span of one keeps the deepest only.
-  EXPECT_EQ(b.tree->sphere_contacts({0.0, 0.0, 10.25}, 1.0, std::span<Contact>(out.data(), 1)), 1u);
+  EXPECT_EQ(b->sphere_contacts({0.0, 0.0, 10.25}, 1.0, std::span<Contact>(out.data(), 1)), 1u);
 }
 
 TEST(CapsuleContacts, DeepestEqualsBruteForce) {
   for (const auto& named : testing::exactness_meshes()) {
     const auto& m = named.mesh;
     const TreeBuild b = ObbTree::build(m);
-    ASSERT_TRUE(b.tree) << b.error;
+    ASSERT_TRUE(b) << b.error().message;
     std::mt19937 rng(41);
     std::uniform_real_distribution<double> radius(0.05, 0.6);
     std::uniform_real_distribution<double> length(0.0, 2.0);
@@ -115,7 +115,7 @@ TEST(CapsuleContacts, DeepestEqualsBruteForce) {
       const double r = radius(rng);
       const glm::dvec3 q = p + length(rng) * testing::random_unit(rng);
       std::array<Contact, 16> out{};
-      const std::size_t n = b.tree->capsule_contacts(p, q, r, out);
+      const std::size_t n = b->capsule_contacts(p, q, r, out);
       const double want = testing::segment_distance(m, p, q);
       if (want >= r * (1.0 + 1e-6)) {
         EXPECT_EQ(n, 0u);
@@ -141,21 +141,21 @@ TEST(CapsuleContacts, DeepestEqualsBruteForce) {
 
 TEST(Contacts, BadInputGivesNothing) {
   const TreeBuild b = ObbTree::build(testing::make_bumpy_sphere(10, 12, 3.0, 0.0, 1));
-  ASSERT_TRUE(b.tree);
+  ASSERT_TRUE(b);
   const double nan = testing::kNaN;
   const double inf = testing::kInf;
   std::array<Contact, 4> out{};
   QueryHint hint;
-  EXPECT_EQ(b.tree->sphere_contacts({nan, 0, 0}, 1.0, out), 0u);
-  EXPECT_EQ(b.tree->sphere_contacts({0, 0, 0}, nan, out), 0u);
-  EXPECT_EQ(b.tree->sphere_contacts({0, 0, 0}, -1.0, out), 0u);
-  EXPECT_EQ(b.tree->sphere_contacts({0, 0, 0}, inf, out), 0u);
-  EXPECT_EQ(b.tree->sphere_contacts({0, 0, 2.9}, 1.0, std::span<Contact>{}), 0u);
-  EXPECT_EQ(b.tree->capsule_contacts({0, 0, 0}, {inf, 0, 0}, 1.0, out), 0u);
-  EXPECT_EQ(b.tree->capsule_contacts({0, 0, 0}, {1, 0, 0}, nan, out, hint), 0u);
-  EXPECT_EQ(b.tree->sphere_contacts({nan, 0, 0}, 1.0, out, hint), 0u);
+  EXPECT_EQ(b->sphere_contacts({nan, 0, 0}, 1.0, out), 0u);
+  EXPECT_EQ(b->sphere_contacts({0, 0, 0}, nan, out), 0u);
+  EXPECT_EQ(b->sphere_contacts({0, 0, 0}, -1.0, out), 0u);
+  EXPECT_EQ(b->sphere_contacts({0, 0, 0}, inf, out), 0u);
+  EXPECT_EQ(b->sphere_contacts({0, 0, 2.9}, 1.0, std::span<Contact>{}), 0u);
+  EXPECT_EQ(b->capsule_contacts({0, 0, 0}, {inf, 0, 0}, 1.0, out), 0u);
+  EXPECT_EQ(b->capsule_contacts({0, 0, 0}, {1, 0, 0}, nan, out, hint), 0u);
+  EXPECT_EQ(b->sphere_contacts({nan, 0, 0}, 1.0, out, hint), 0u);
   // A huge sphere touching everything still answers (with at least the deepest contact).
-  EXPECT_GE(b.tree->sphere_contacts({0, 0, 0}, 100.0, out), 1u);
+  EXPECT_GE(b->sphere_contacts({0, 0, 0}, 100.0, out), 1u);
 }
 
 }  // namespace

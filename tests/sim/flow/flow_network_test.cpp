@@ -54,9 +54,9 @@ TEST(FlowNetwork, KirchhoffOnEveryBundledCase) {
       model = load_model("cases/" + entry.path().filename().string());
     } else if (entry.path().extension() == ".case") {
       const tool::CaseParse c = tool::load_case(path);
-      ASSERT_TRUE(c.value) << c.error;
-      model = load_model("cases/" + std::filesystem::path(c.value->vessel_path).filename().string());
-      settings = c.value->flow;
+      ASSERT_TRUE(c) << c.error().message;
+      model = load_model("cases/" + std::filesystem::path(c->vessel_path).filename().string());
+      settings = c->flow;
     } else {
       continue;
     }
@@ -258,10 +258,10 @@ class FlowOverrideErrors : public ::testing::TestWithParam<BadOverride> {};
 
 TEST_P(FlowOverrideErrors, NameTheCaseLine) {
   const tool::CaseParse c = tool::parse_case(GetParam().text, "x.case");
-  ASSERT_TRUE(c.value) << c.error;
-  const FlowBuild b = FlowNetwork::build(load_model("cases/neuro.hclm"), c.value->flow);
-  EXPECT_FALSE(b.network);
-  EXPECT_EQ(b.error, GetParam().error);
+  ASSERT_TRUE(c) << c.error().message;
+  const FlowBuild b = FlowNetwork::build(load_model("cases/neuro.hclm"), c->flow);
+  ASSERT_FALSE(b);
+  EXPECT_EQ(b.error().message, GetParam().error);
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -279,8 +279,8 @@ TEST(FlowNetwork, InflowWithoutOutletIsAnError) {
   s.closed = {{1, 0.1, 4}};
   s.inflows = {{1, 100.0, 5}};
   const FlowBuild b = FlowNetwork::build(m, s);
-  EXPECT_FALSE(b.network);
-  EXPECT_EQ(b.error, "flow: segment 1 has an inflow but its network has no outlet");
+  ASSERT_FALSE(b);
+  EXPECT_EQ(b.error().message, "flow: segment 1 has an inflow but its network has no outlet");
   // Without a prescribed inflow the sealed vessel simply has no flow.
   s.inflows.clear();
   const auto still = build_or_fail(m, s);
@@ -352,13 +352,13 @@ TEST(FlowNetwork, BadSettingsAreErrors) {
   const vessel::VesselModel m = load_model("cases/y_bifurcation.hclm");
   FlowSettings s;
   s.viscosity_mPa_s = 0.0;
-  EXPECT_EQ(FlowNetwork::build(m, s).error, "flow: viscosity must be > 0");
+  EXPECT_EQ(FlowNetwork::build(m, s).error().message, "flow: viscosity must be > 0");
   s = {};
   s.venous_pressure_mmHg = 100.0;
-  EXPECT_FALSE(FlowNetwork::build(m, s).network);
+  EXPECT_FALSE(FlowNetwork::build(m, s));
   s = {};
   s.pulsatility_index = 3.0;
-  EXPECT_FALSE(FlowNetwork::build(m, s).network);
+  EXPECT_FALSE(FlowNetwork::build(m, s));
 }
 
 TEST(FlowNetwork, SameInputSameNumbers) {

@@ -26,8 +26,8 @@ inline vessel::VesselModel load_model(const std::string& relative) {
 
 inline std::unique_ptr<FlowNetwork> build_or_fail(const vessel::VesselModel& model, const FlowSettings& settings = {}) {
   FlowBuild b = FlowNetwork::build(model, settings);
-  EXPECT_TRUE(b.network) << b.error;
-  return std::move(b.network);
+  EXPECT_TRUE(b) << (b ? "" : b.error().message);
+  return b ? std::move(*b) : nullptr;
 }
 
 // A straight segment from `a` to `b` with constant radius, sampled every ~2 mm.

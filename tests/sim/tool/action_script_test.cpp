@@ -10,8 +10,8 @@ TEST(ActionScript, ParsesVerbsSpeedsAndDefaults) {
       "# demo\n0 select wire\n0 insert_to 120 at 25\n\n1500 rotate_by -90\t# turn\r\n2000 insert_by -5 at 2\n"
       "2500 rotate_to 45 at 90\n3000 end\n",
       "demo.actions");
-  ASSERT_TRUE(p.value) << p.error;
-  const auto& a = p.value->actions;
+  ASSERT_TRUE(p) << p.error().message;
+  const auto& a = p->actions;
   ASSERT_EQ(a.size(), 6u);
   EXPECT_EQ(a[0].kind, ActionKind::kSelect);
   EXPECT_EQ(a[0].tool, "wire");
@@ -30,8 +30,8 @@ TEST(ActionScript, ParsesImagingVerbs) {
       "0 fluoro on\n100 inject 6 at 3\n150 inject 2.5\n4000 fluoro off\n4100 roadmap\n5000 carm -20 15\n"
       "5100 roadmap off\n5200 roadmap on\n",
       "img.actions");
-  ASSERT_TRUE(p.value) << p.error;
-  const auto& a = p.value->actions;
+  ASSERT_TRUE(p) << p.error().message;
+  const auto& a = p->actions;
   ASSERT_EQ(a.size(), 8u);
   EXPECT_EQ(a[0].kind, ActionKind::kFluoro);
   EXPECT_EQ(a[0].value, 1.0);
@@ -60,8 +60,8 @@ class ActionScriptErrors : public ::testing::TestWithParam<BadScript> {};
 
 TEST_P(ActionScriptErrors, NameFileAndLine) {
   const ScriptParse p = parse_script(GetParam().text, "s.actions");
-  EXPECT_FALSE(p.value);
-  EXPECT_EQ(p.error, GetParam().error);
+  ASSERT_FALSE(p);
+  EXPECT_EQ(p.error().message, GetParam().error);
 }
 
 INSTANTIATE_TEST_SUITE_P(

@@ -29,8 +29,8 @@ end
 
 TEST(CaseFile, ParsesEveryStatement) {
   const CaseParse p = parse_case(kGood, "cases/demo.case");
-  ASSERT_TRUE(p.value) << p.error;
-  const Case& c = *p.value;
+  ASSERT_TRUE(p) << p.error().message;
+  const Case& c = *p;
   EXPECT_EQ(c.name, "demo case");
   ASSERT_EQ(c.tubes.size(), 2u);
   EXPECT_EQ(c.tubes[1].segment, 1);
@@ -51,35 +51,35 @@ TEST(CaseFile, ParsesEveryStatement) {
 TEST(CaseFile, ValveFrictionAndBloodForEveryToolFromTheCase) {
   const std::string text = std::string(kGood) + "valve_friction 35\nflow viscosity 4.2\n";
   CaseParse p = parse_case(text, "cases/demo.case");
-  ASSERT_TRUE(p.value) << p.error;
-  for (const ToolSpec& t : p.value->tools) {
+  ASSERT_TRUE(p) << p.error().message;
+  for (const ToolSpec& t : p->tools) {
     EXPECT_DOUBLE_EQ(t.valve_friction(), 35.0) << t.name;
     EXPECT_DOUBLE_EQ(t.blood_viscosity_mPa_s, 4.2) << t.name;
   }
-  EXPECT_DOUBLE_EQ(*p.value->tools[1].drag_mN_s_per_mm2, 0.02);  // its own
-  EXPECT_FALSE(p.value->tools[0].drag_mN_s_per_mm2);             // blood's
-  EXPECT_NEAR(p.value->tools[0].drag_at(0.5), blood_drag_mN_s_per_mm2(0.5, 4.2), 1e-15);
+  EXPECT_DOUBLE_EQ(*p->tools[1].drag_mN_s_per_mm2, 0.02);  // its own
+  EXPECT_FALSE(p->tools[0].drag_mN_s_per_mm2);             // blood's
+  EXPECT_NEAR(p->tools[0].drag_at(0.5), blood_drag_mN_s_per_mm2(0.5, 4.2), 1e-15);
   // A tool's own line wins; bad values name the line.
   std::string own = kGood;
   own.replace(own.find("  inside cath"), 0, "  valve_friction 5\n");
   p = parse_case(own + "valve_friction 35\n", "demo.case");
-  ASSERT_TRUE(p.value) << p.error;
-  EXPECT_DOUBLE_EQ(p.value->tools[1].valve_friction(), 5.0);
-  EXPECT_DOUBLE_EQ(p.value->tools[0].valve_friction(), 35.0);
-  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction -1\n", "demo.case").error,
+  ASSERT_TRUE(p) << p.error().message;
+  EXPECT_DOUBLE_EQ(p->tools[1].valve_friction(), 5.0);
+  EXPECT_DOUBLE_EQ(p->tools[0].valve_friction(), 35.0);
+  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction -1\n", "demo.case").error().message,
             "demo.case:21: valve_friction must be in [0, 2000] mN");
-  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction 1\nvalve_friction 2\n", "demo.case").error.substr(0, 13), "demo.case:22:");
+  EXPECT_EQ(parse_case(std::string(kGood) + "valve_friction 1\nvalve_friction 2\n", "demo.case").error().message.substr(0, 13), "demo.case:22:");
   // Without a case line, the default.
   p = parse_case(kGood, "demo.case");
-  EXPECT_DOUBLE_EQ(p.value->tools[0].valve_friction(), kDefaultValveFriction_mN);
+  EXPECT_DOUBLE_EQ(p->tools[0].valve_friction(), kDefaultValveFriction_mN);
 }
 
 TEST(CaseFile, VesselPathIsRelativeToTheCaseFile) {
   const CaseParse p = parse_case("vessel neuro.hclm\r\n", "cases/neuro.case");
-  ASSERT_TRUE(p.value) << p.error;
-  EXPECT_EQ(p.value->vessel_path, "cases/neuro.hclm");
-  ASSERT_EQ(p.value->tools.size(), 1u);  // the default guidewire
-  EXPECT_EQ(p.value->tools[0].name, "guidewire");
+  ASSERT_TRUE(p) << p.error().message;
+  EXPECT_EQ(p->vessel_path, "cases/neuro.hclm");
+  ASSERT_EQ(p->tools.size(), 1u);  // the default guidewire
+  EXPECT_EQ(p->tools[0].name, "guidewire");
 }
 
 TEST(CaseFile, ParsesFlowSettings) {
@@ -98,8 +98,8 @@ TEST(CaseFile, ParsesFlowSettings) {
       "flow closed 17 0.2\n"
       "flow closed 24\n",
       "cases/x.case");
-  ASSERT_TRUE(p.value) << p.error;
-  const flow::FlowSettings& f = p.value->flow;
+  ASSERT_TRUE(p) << p.error().message;
+  const flow::FlowSettings& f = p->flow;
   EXPECT_DOUBLE_EQ(f.viscosity_mPa_s, 4.0);
   EXPECT_DOUBLE_EQ(f.cardiac_output_ml_min, 5500.0);
   EXPECT_DOUBLE_EQ(f.cerebral_fraction, 0.14);
@@ -120,21 +120,21 @@ TEST(CaseFile, ParsesFlowSettings) {
   EXPECT_EQ(f.source, "cases/x.case");
   // Without flow lines: the defaults.
   const CaseParse d = parse_case("vessel neuro.hclm\n", "cases/y.case");
-  ASSERT_TRUE(d.value);
+  ASSERT_TRUE(d);
   flow::FlowSettings defaults;
   defaults.source = "cases/y.case";
-  EXPECT_EQ(d.value->flow, defaults);
+  EXPECT_EQ(d->flow, defaults);
 }
 
 TEST(CaseFile, ParsesViewsAndRealisticMode) {
   const CaseParse p = parse_case("vessel neuro.hclm\nview right_working -25 15\nview towne 0 30\nrealistic\n", "x.case");
-  ASSERT_TRUE(p.value) << p.error;
-  ASSERT_EQ(p.value->views.size(), 2u);
-  EXPECT_EQ(p.value->views[0].name, "right_working");
-  EXPECT_EQ(p.value->views[0].lao_deg, -25.0);
-  EXPECT_EQ(p.value->views[0].cranial_deg, 15.0);
-  EXPECT_TRUE(p.value->realistic);
-  EXPECT_FALSE(parse_case("vessel neuro.hclm\n", "x.case").value->realistic);
+  ASSERT_TRUE(p) << p.error().message;
+  ASSERT_EQ(p->views.size(), 2u);
+  EXPECT_EQ(p->views[0].name, "right_working");
+  EXPECT_EQ(p->views[0].lao_deg, -25.0);
+  EXPECT_EQ(p->views[0].cranial_deg, 15.0);
+  EXPECT_TRUE(p->realistic);
+  EXPECT_FALSE(parse_case("vessel neuro.hclm\n", "x.case")->realistic);
 }
 
 struct BadCase {
@@ -146,8 +146,8 @@ class CaseFileErrors : public ::testing::TestWithParam<BadCase> {};
 
 TEST_P(CaseFileErrors, NameFileAndLine) {
   const CaseParse p = parse_case(GetParam().text, "x.case");
-  EXPECT_FALSE(p.value);
-  EXPECT_EQ(p.error, GetParam().error);
+  ASSERT_FALSE(p);
+  EXPECT_EQ(p.error().message, GetParam().error);
 }
 
 INSTANTIATE_TEST_SUITE_P(

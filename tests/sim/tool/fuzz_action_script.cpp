@@ -8,6 +8,6 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
   const cathbox::tool::ScriptParse p = cathbox::tool::parse_script(text, "fuzz.actions");
-  if (!p.value && p.error.empty()) __builtin_trap();  // every failure names its cause
+  if (!p && p.error().message.empty()) __builtin_trap();  // every failure names its cause
   return 0;
 }

@@ -14,8 +14,8 @@ namespace {
 TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
   const std::vector<glm::dvec3> axis{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
   collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 48, 7));
-  ASSERT_TRUE(build.tree) << build.error;
-  const MeshWall wall(*build.tree);
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build);
   WallHint hint;
   WallContact c;
   WallProbe probe;
@@ -37,8 +37,8 @@ TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
 TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
   const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
   collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 24));
-  ASSERT_TRUE(build.tree) << build.error;
-  const MeshWall wall(*build.tree);
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build);
   ToolSpec spec;
   spec.sections = {ToolSection{200.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{10.0, 0.36, 1.0, 0.8, 0.0}};
   Rod rod(spec);
@@ -62,7 +62,6 @@ TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
 }  // namespace
 }  // namespace cathbox::tool
 
-#if defined(CATHBOX_TOOL_HAS_VESSEL)
 #include "tool/case_file.hpp"
 #include "tool/case_world.hpp"
 #include "tool/simulator.hpp"
@@ -74,14 +73,14 @@ namespace {
 // towards +x enters the left branch (segment 2), turned half a turn the right one (3).
 TEST(MeshWall, SteeringOnTheBundledYBifurcation) {
   const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-  ASSERT_TRUE(c.value) << c.error;
-  WorldBuild world = build_world(*c.value);
+  ASSERT_TRUE(c) << c.error().message;
+  WorldBuild world = build_world(*c);
   ASSERT_TRUE(world.world) << world.error;
   ASSERT_TRUE(world.world->target().has_value());
   ASSERT_NE(world.world->mesh(), nullptr);
   EXPECT_GT(world.world->mesh()->triangle_count(), 1000u);
   for (const auto& [rotation, branch] : {std::pair{0.0, 2}, std::pair{M_PI, 3}}) {
-    Simulator sim(world.world->wall(), c.value->tools, world.world->entry());
+    Simulator sim(world.world->wall(), c->tools, world.world->entry());
     for (int i = 1; i <= 1300; ++i) {
       sim.set_insertion(0, 0.03 * i);
       sim.set_rotation(0, rotation * std::min(1.0, i / 1000.0));
@@ -98,4 +97,3 @@ TEST(MeshWall, SteeringOnTheBundledYBifurcation) {
 
 }  // namespace
 }  // namespace cathbox::tool
-#endif

@@ -22,18 +22,18 @@ struct RunOutput {
 
 RunOutput run(const std::string& script_text, std::int64_t every) {
   const CaseParse c = load_case(kData + "y_analytic.case");
-  EXPECT_TRUE(c.value) << c.error;
+  EXPECT_TRUE(c) << c.error().message;
   const ScriptParse s = parse_script(script_text, "test.actions");
-  EXPECT_TRUE(s.value) << s.error;
-  WorldBuild world = build_world(*c.value);
+  EXPECT_TRUE(s) << (s ? "" : s.error().message);
+  WorldBuild world = build_world(*c);
   EXPECT_TRUE(world.world) << world.error;
-  Simulator sim(world.world->wall(), c.value->tools, world.world->entry());
+  Simulator sim(world.world->wall(), c->tools, world.world->entry());
   ScenarioOptions options;
   options.every_ms = every;
   options.script_name = "test.actions";
   std::ostringstream csv;
   RunOutput r;
-  r.result = run_scenario(sim, *s.value, options, csv);
+  r.result = run_scenario(sim, *s, options, csv);
   r.csv = csv.str();
   r.wire_tip_segment = sim.tip_segment(sim.find_tool("wire"));
   return r;
@@ -41,7 +41,7 @@ RunOutput run(const std::string& script_text, std::int64_t every) {
 
 std::string steer_script() {
   const ScriptParse s = load_script(kData + "y_steer.actions");
-  EXPECT_TRUE(s.value) << s.error;
+  EXPECT_TRUE(s) << (s ? "" : s.error().message);
   std::ifstream in(kData + "y_steer.actions");
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }

@@ -27,12 +27,12 @@ class Stability : public ::testing::TestWithParam<StabilityCase> {};
 TEST_P(Stability, RandomInputsKeepEveryNodeInTheLumen) {
   const std::string path = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + GetParam().file;
   const CaseParse c = load_case(path);
-  ASSERT_TRUE(c.value) << c.error;
-  WorldBuild world = build_world(*c.value);
+  ASSERT_TRUE(c) << c.error().message;
+  WorldBuild world = build_world(*c);
   ASSERT_TRUE(world.world) << world.error;
   const auto* mesh = dynamic_cast<const MeshWall*>(&world.world->wall());
   ASSERT_NE(mesh, nullptr);
-  Simulator sim(world.world->wall(), c.value->tools, world.world->entry());
+  Simulator sim(world.world->wall(), c->tools, world.world->entry());
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> speed(-40.0, 80.0);     // mm/s, forward on average
   std::uniform_real_distribution<double> spin(-6.0, 6.0);        // rad/s

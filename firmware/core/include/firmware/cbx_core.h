@@ -126,8 +126,11 @@ void cbx_core_init(cbx_core* core, const cbx_core_config* config);
 void cbx_core_control_tick(cbx_core* core);
 /* One A/B sample of an edge-source encoder: bit 0 = A, bit 1 = B. Decoding starts from
  * A/B = 00 at cbx_core_init(); a source whose lines rest elsewhere then reads as a move (or
- * an illegal transition) on its first sample. */
+ * an illegal transition) on its first sample, unless cbx_core_encoder_rest() gave it first. */
 void cbx_core_encoder_edge(cbx_core* core, cbx_axis axis, uint8_t ab);
+/* The present A/B state of an edge-source encoder's lines, taken without counting (after
+ * cbx_core_init(), for lines that do not rest at 00). */
+void cbx_core_encoder_rest(cbx_core* core, cbx_axis axis, uint8_t ab);
 /* Main loop work: persists changed settings while outputs are off, drives the LED. */
 void cbx_core_background(cbx_core* core);
 

@@ -39,6 +39,9 @@ void cbx_encoder_init(cbx_encoder* e, cbx_encoder_source source, uint8_t counter
 /* One A/B sample (edge source). Unchanged lines: nothing; one line changed: one count;
  * both changed (a missed edge or noise): an error, and two counts in the last direction. */
 void cbx_encoder_edge(cbx_encoder* e, uint8_t ab);
+/* The lines' present A/B state (edge source), taken without counting: for lines that do not
+ * rest at 00 when decoding starts. */
+void cbx_encoder_rest(cbx_encoder* e, uint8_t ab);
 /* Once per control tick: takes the counter reading (ignored for the edge source) and updates
  * the velocity estimate. */
 void cbx_encoder_update(cbx_encoder* e, uint32_t raw, uint32_t now_us);

@@ -20,7 +20,7 @@
 namespace cathbox::cli {
 namespace {
 
-constexpr uint64_t kEnumerateTimeoutUs = 5'000'000;
+constexpr std::int64_t kEnumerateTimeout_us = 5'000'000;
 
 // Parses "MAJOR.MINOR" into BCD (0xMMmm).
 bool parse_version(const std::string& text, uint16_t& bcd) {
@@ -72,7 +72,7 @@ device::Result<std::unique_ptr<device::SocketTransport>> emulated_bootloader(con
   std::printf("box %s: firmware %u.%u.%u, entering the bootloader\n", box.value()->describe().c_str(),
               box.value()->device_info().fw_major, box.value()->device_info().fw_minor, box.value()->device_info().fw_patch);
   if (auto entered = box.value()->enter_bootloader(); !entered) return entered.error();
-  const uint64_t deadline = clock.now_us() + kEnumerateTimeoutUs;
+  const std::int64_t deadline = clock.now_us() + kEnumerateTimeout_us;
   while (clock.now_us() < deadline) {
     auto dfu = device::SocketTransport::open(path, clock);
     if (dfu && dfu.value()->pid() == CBX_DFU_PID) return std::move(dfu.value());
@@ -151,7 +151,7 @@ int run_flash(std::span<const std::string> argv) {
     if (auto app = device::BootRecovery::run_application(*pins); !app) return fail("flash", app.error());
   }
   // The new firmware enumerates again.
-  const uint64_t deadline = clock.now_us() + kEnumerateTimeoutUs;
+  const std::int64_t deadline = clock.now_us() + kEnumerateTimeout_us;
   for (;;) {
     auto box = device::BoxClient::connect(device::box_opener(args.value("emu"), clock), clock);
     if (box) {

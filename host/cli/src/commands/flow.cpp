@@ -49,16 +49,16 @@ std::optional<std::pair<vessel::VesselModel, flow::FlowSettings>> load(const std
   flow::FlowSettings settings;
   if (!ends_with(path, ".hclm")) {
     cathbox::tool::CaseParse parsed = cathbox::tool::load_case(path);
-    if (!parsed.value) {
-      std::fprintf(stderr, "%s\n", parsed.error.c_str());
+    if (!parsed) {
+      std::fprintf(stderr, "%s\n", parsed.error().message.c_str());
       return std::nullopt;
     }
-    if (parsed.value->vessel_path.empty()) {
+    if (parsed->vessel_path.empty()) {
       std::fprintf(stderr, "%s:0: the case has analytic tubes, not a vessel model: no flow network\n", path.c_str());
       return std::nullopt;
     }
-    hclm_path = parsed.value->vessel_path;
-    settings = parsed.value->flow;
+    hclm_path = parsed->vessel_path;
+    settings = parsed->flow;
   }
   vessel::HclmReadResult read = vessel::load_hclm(hclm_path);
   if (!read.ok()) {
@@ -76,11 +76,11 @@ int run_info(const cli::Args& args) {
   const auto loaded = load(path);
   if (!loaded) return cli::kExitBadInput;
   const flow::FlowBuild built = flow::FlowNetwork::build(loaded->first, loaded->second);
-  if (!built.network) {
-    std::fprintf(stderr, "%s\n", built.error.c_str());
+  if (!built) {
+    std::fprintf(stderr, "%s\n", built.error().message.c_str());
     return cli::kExitBadInput;
   }
-  const flow::FlowNetwork& net = *built.network;
+  const flow::FlowNetwork& net = **built;
   const vessel::VesselModel& model = net.model();
   const flow::FlowSettings& s = net.settings();
   if (args.flag("json")) {

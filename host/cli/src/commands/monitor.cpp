@@ -7,6 +7,7 @@
 #include "box_session.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "session/hand_mapping.hpp"
 
 namespace cathbox::cli {
 namespace {
@@ -32,8 +33,8 @@ int run_monitor(std::span<const std::string> argv) {
   auto& clock = session->clock;
   auto cal = box.calibration();
   if (!cal) return fail("monitor", cal.error());
-  const double counts_per_mm = cal.value().insertion_counts_per_m / 1000.0;
-  const double counts_per_deg = cal.value().rotation_counts_per_rev / 360.0;
+  const session::HandMapping mapping({cal.value().insertion_counts_per_m, cal.value().rotation_counts_per_rev});
+  constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
   const bool json = args.flag("json");
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -71,10 +72,10 @@ int run_monitor(std::span<const std::string> argv) {
       continue;
     }
     const auto& r = state.report;
-    const double mm = counts_per_mm > 0 ? r.insertion_count / counts_per_mm : 0;
-    const double mm_s = counts_per_mm > 0 ? r.insertion_vel_cps / counts_per_mm : 0;
-    const double deg = counts_per_deg > 0 ? r.rotation_count / counts_per_deg : 0;
-    const double deg_s = counts_per_deg > 0 ? r.rotation_vel_cps / counts_per_deg : 0;
+    const double mm = mapping.insertion_mm_from_counts(r.insertion_count);
+    const double mm_s = mapping.insertion_mm_from_counts(r.insertion_vel_cps);
+    const double deg = mapping.rotation_rad_from_counts(r.rotation_count) * kDegPerRad;
+    const double deg_s = mapping.rotation_rad_from_counts(r.rotation_vel_cps) * kDegPerRad;
     if (json) {
       print_json(Json{{"t_s", json_number((now - start) * 1e-6)},
                       {"insertion_count", int64_t{r.insertion_count}},

@@ -34,7 +34,7 @@ int run_selftest(std::span<const std::string> argv) {
   if (auto started = box.start_selftest(); !started) return fail("selftest", started.error());
   const bool json = args.flag("json");
   if (!json) std::printf("self-test running (keep hands off the tool)...\n");
-  const uint64_t deadline = session->clock.now_us() + static_cast<uint64_t>(timeout_s.value_or(10.0) * 1e6);
+  const std::int64_t deadline = session->clock.now_us() + static_cast<std::int64_t>(timeout_s.value_or(10.0) * 1e6);
   // The box starts the test at its next control tick and flags it in every state report while
   // it runs: wait for the flag to appear and to clear, then read the result (a read right after
   // the start could still return the previous run's result).

@@ -56,15 +56,15 @@ int run_run(std::span<const std::string> argv) {
     scenario_case.tools.push_back(cathbox::tool::default_guidewire());
   } else {
     cathbox::tool::CaseParse parsed = cathbox::tool::load_case(*case_path);
-    if (!parsed.value) {
-      std::fprintf(stderr, "%s\n", parsed.error.c_str());
+    if (!parsed) {
+      std::fprintf(stderr, "%s\n", parsed.error().message.c_str());
       return kExitBadInput;
     }
-    scenario_case = std::move(*parsed.value);
+    scenario_case = std::move(*parsed);
   }
   const cathbox::tool::ScriptParse script = cathbox::tool::load_script(*script_path);
-  if (!script.value) {
-    std::fprintf(stderr, "%s\n", script.error.c_str());
+  if (!script) {
+    std::fprintf(stderr, "%s\n", script.error().message.c_str());
     return kExitBadInput;
   }
   cathbox::tool::WorldBuild world = cathbox::tool::build_world(scenario_case);
@@ -81,7 +81,7 @@ int run_run(std::span<const std::string> argv) {
   cathbox::tool::ScenarioOptions options;
   options.every_ms = every;
   options.script_name = *script_path;
-  const cathbox::tool::ScenarioResult result = cathbox::tool::run_scenario(sim, *script.value, options, out);
+  const cathbox::tool::ScenarioResult result = cathbox::tool::run_scenario(sim, *script, options, out);
   if (!result.ok) {
     std::fprintf(stderr, "%s\n", result.error.c_str());
     out.close();

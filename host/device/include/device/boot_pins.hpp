@@ -26,8 +26,8 @@ class BootRecovery {
   [[nodiscard]] static Status enter_bootloader(BootPins& pins);
   // BOOT0 low, reset pulse: the MCU starts the application from flash.
   [[nodiscard]] static Status run_application(BootPins& pins);
-  static constexpr uint64_t kResetPulseUs = 10'000;   // NRST low
-  static constexpr uint64_t kBootWaitUs = 100'000;    // after release, before USB is expected
+  static constexpr uint64_t kResetPulse_us = 10'000;   // NRST low
+  static constexpr uint64_t kBootWait_us = 100'000;    // after release, before USB is expected
 };
 
 }  // namespace cathbox::device

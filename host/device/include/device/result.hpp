@@ -1,8 +1,10 @@
 #pragma once
-// Result values of host/device: an error code plus one clear line. No exceptions below the CLI.
+// Result values of host/device (base::Result): an error code plus one clear line. No exceptions
+// below the CLI.
 #include <string>
 #include <utility>
-#include <variant>
+
+#include "base/result.hpp"
 
 namespace cathbox::device {
 
@@ -25,22 +27,10 @@ struct Error {
   std::string message;  // one line, names the device / file / field
 };
 
-struct Ok {};
+using base::Ok;
 
 template <class T>
-class [[nodiscard]] Result {
- public:
-  Result(T value) : v_(std::move(value)) {}  // NOLINT: implicit on purpose
-  Result(Error error) : v_(std::move(error)) {}  // NOLINT
-  [[nodiscard]] bool ok() const { return v_.index() == 0; }
-  explicit operator bool() const { return ok(); }
-  [[nodiscard]] T& value() { return std::get<0>(v_); }
-  [[nodiscard]] const T& value() const { return std::get<0>(v_); }
-  [[nodiscard]] const Error& error() const { return std::get<1>(v_); }
-
- private:
-  std::variant<T, Error> v_;
-};
+using Result = base::Result<T, Error>;
 
 using Status = Result<Ok>;
 

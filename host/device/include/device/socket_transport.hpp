@@ -28,8 +28,6 @@ class SocketTransport final : public Transport, public ControlTransfer {
   [[nodiscard]] uint16_t vid() const { return vid_; }
   [[nodiscard]] uint16_t pid() const { return pid_; }
   [[nodiscard]] int fd() const { return fd_; }
-  // Datagrams that were not valid frames, and control replies nobody waited for.
-  [[nodiscard]] uint32_t malformed_frames() const { return malformed_; }
 
   [[nodiscard]] IoStatus read_in(Report& report) override;
   [[nodiscard]] IoStatus write_out(const Report& report) override;
@@ -58,7 +56,6 @@ class SocketTransport final : public Transport, public ControlTransfer {
   uint16_t pid_ = 0;
   uint16_t next_tag_ = 1;
   bool closed_ = false;
-  uint32_t malformed_ = 0;
   // The newest IN report seen while waiting for a control reply (kept for read_in).
   Report pending_in_{};
   bool has_pending_in_ = false;

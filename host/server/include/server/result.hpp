@@ -1,10 +1,11 @@
 #pragma once
-// Result values of host/server: a status (the HTTP status the API answers with) plus one clear
-// line naming what and where. Services return these; only the request boundary turns database
-// exceptions into them.
+// Result values of host/server (base::Result): a status (the HTTP status the API answers with)
+// plus one clear line naming what and where. Services return these; only the request boundary
+// turns database exceptions into them.
 #include <string>
 #include <utility>
-#include <variant>
+
+#include "base/result.hpp"
 
 namespace cathbox::server {
 
@@ -14,22 +15,10 @@ struct Error {
   int retry_after_s = 0;  // 429/503: when to try again (0: the answer's default)
 };
 
-struct Ok {};
+using base::Ok;
 
 template <class T>
-class [[nodiscard]] Result {
- public:
-  Result(T value) : v_(std::move(value)) {}      // NOLINT: implicit on purpose
-  Result(Error error) : v_(std::move(error)) {}  // NOLINT
-  [[nodiscard]] bool ok() const { return v_.index() == 0; }
-  explicit operator bool() const { return ok(); }
-  [[nodiscard]] T& value() { return std::get<0>(v_); }
-  [[nodiscard]] const T& value() const { return std::get<0>(v_); }
-  [[nodiscard]] const Error& error() const { return std::get<1>(v_); }
-
- private:
-  std::variant<T, Error> v_;
-};
+using Result = base::Result<T, Error>;
 
 using Status = Result<Ok>;
 

@@ -52,6 +52,10 @@ class HandMapping {
   [[nodiscard]] std::int64_t rotation_urad_from_counts(std::int64_t counts) const;
   [[nodiscard]] std::int64_t insertion_counts_from_um(std::int64_t um) const;
   [[nodiscard]] std::int64_t rotation_counts_from_urad(std::int64_t urad) const;
+  // Counts (or counts per second) -> calibrated millimetres (per second) / radians (per second)
+  // of the box, unrounded, for display (`cathbox monitor`); 0 without a calibration.
+  [[nodiscard]] double insertion_mm_from_counts(double counts) const;
+  [[nodiscard]] double rotation_rad_from_counts(double counts) const;
 
   // The box's counts when the session started (its first state); until then positions are 0.
   void set_count_origin(BoxCounts origin) {

@@ -19,7 +19,7 @@ inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
 inline constexpr std::size_t kTicksPerBlock = 1000;         // and at least one block per second
-inline constexpr std::int64_t kBlockSpanUs = 1'000'000;
+inline constexpr std::int64_t kBlockSpan_us = 1'000'000;
 
 enum class BlockType : std::uint8_t { kHeader = 'H', kTicks = 'T', kEnd = 'E' };
 enum class Compression : std::uint8_t { kNone = 0, kZstd = 1 };
@@ -52,9 +52,9 @@ enum class EndReason : std::uint8_t {
 // Header fields (tags). Tags 64..127 are informational: a reader skips those it does not know;
 // any other unknown tag is an error.
 enum class HeaderTag : std::uint32_t {
-  kSoftwareVersion = 1, kStartUnixUs = 2, kCaseName = 3, kCaseFile = 4, kCaseText = 5,
+  kSoftwareVersion = 1, kStartUnix_us = 2, kCaseName = 3, kCaseFile = 4, kCaseText = 5,
   kVesselFile = 6, kVesselText = 7, kTool = 8, kEntry = 9, kHeldTool = 10, kHandKind = 11,
-  kHandDescription = 12, kDevice = 13, kPeriodUs = 14, kHashEvery = 15,
+  kHandDescription = 12, kDevice = 13, kPeriod_us = 14, kHashEvery = 15,
 };
 enum class ToolTag : std::uint32_t {
   kName = 1, kKind = 2, kSection = 3, kFriction = 4, kInnerDiameter = 5, kAxialStiffness = 6,
@@ -66,7 +66,7 @@ enum class DeviceTag : std::uint32_t {
   kRotationCountsPerRev = 6, kInsertionFullScaleMn = 7, kRotationFullScaleUnm = 8,
   kInsertionActuator = 9, kRotationActuator = 10,
 };
-enum class EndTag : std::uint32_t { kReason = 1, kReasonText = 2, kTicks = 3, kEndUnixUs = 4 };
+enum class EndTag : std::uint32_t { kReason = 1, kReasonText = 2, kTicks = 3, kEndUnix_us = 4 };
 
 [[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b = {});
 

@@ -151,7 +151,7 @@ class Session {
   bool tool_changed_ = false;
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;
-  SteadyClock steady_;
+  device::SystemClock steady_;
   VirtualClock virtual_clock_;
   std::unique_ptr<HapticThread> real_thread_;
   std::unique_ptr<HapticThread> virtual_thread_;

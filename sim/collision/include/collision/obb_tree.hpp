@@ -21,6 +21,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "base/result.hpp"
 #include "collision/closest_point.hpp"
 #include "collision/contact.hpp"
 #include "collision/query_hint.hpp"
@@ -50,7 +51,9 @@ struct TreeStats {
   bool consistently_oriented = false;  // neighbours traverse shared edges in opposite directions
 };
 
-struct TreeBuild;
+class ObbTree;
+// The tree, or one line naming the field and index at fault.
+using TreeBuild = base::Result<ObbTree>;
 
 class ObbTree {
  public:
@@ -101,9 +104,5 @@ class ObbTree {
   std::shared_ptr<const detail::TreeData> data_;
 };
 
-struct TreeBuild {
-  std::optional<ObbTree> tree;  // empty when the mesh was rejected
-  std::string error;            // one line naming the field and index at fault
-};
 
 }  // namespace cathbox::collision

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "flow/flow_settings.hpp"
 #include "flow/territory.hpp"
 #include "vessel/vessel_model.hpp"
@@ -64,10 +65,8 @@ struct SegmentFlow {
 
 class FlowNetwork;
 
-struct FlowBuild {
-  std::unique_ptr<FlowNetwork> network;
-  std::string error;  // one line ("file:line: message" for a case override) when network is null
-};
+// The solved network, or one line ("file:line: message" for a case override).
+using FlowBuild = base::Result<std::unique_ptr<FlowNetwork>>;
 
 class FlowNetwork {
  public:

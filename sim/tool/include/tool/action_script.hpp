@@ -22,6 +22,8 @@
 #include <string_view>
 #include <vector>
 
+#include "base/result.hpp"
+
 namespace cathbox::tool {
 
 enum class ActionKind : std::uint8_t {
@@ -51,10 +53,8 @@ struct Script {
   std::vector<Action> actions;
 };
 
-struct ScriptParse {
-  std::optional<Script> value;
-  std::string error;  // "file:line: message" when value is empty
-};
+// The script, or one line "file:line: message".
+using ScriptParse = base::Result<Script>;
 
 [[nodiscard]] ScriptParse parse_script(std::string_view text, std::string_view file_name);
 [[nodiscard]] ScriptParse load_script(const std::string& path);

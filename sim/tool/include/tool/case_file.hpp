@@ -37,6 +37,7 @@
 #include <string_view>
 #include <vector>
 
+#include "base/result.hpp"
 #include "flow/c_arm.hpp"
 #include "flow/flow_settings.hpp"
 #include "tool/simulator.hpp"
@@ -64,10 +65,8 @@ struct Case {
   bool realistic = false;        // the 3D view is off for the trainee (fluoroscopy only)
 };
 
-struct CaseParse {
-  std::optional<Case> value;
-  std::string error;  // "file:line: message" when value is empty
-};
+// The case, or one line "file:line: message".
+using CaseParse = base::Result<Case>;
 
 // Parses case text; `file_name` names the source in errors and anchors relative paths.
 [[nodiscard]] CaseParse parse_case(std::string_view text, std::string_view file_name);

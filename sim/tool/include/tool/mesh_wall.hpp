@@ -1,7 +1,7 @@
 #pragma once
 // The vessel wall as a triangle mesh, queried through the collision module's OBB tree with one
 // coherent hint per tool node. Not thread-safe (the hints are per simulator); the tree itself
-// is shared and immutable. Only built with the collision module (CATHBOX_TOOL_HAS_COLLISION).
+// is shared and immutable.
 #include <cstddef>
 #include <cstdint>
 #include <vector>

@@ -155,7 +155,6 @@ class Rod {
   [[nodiscard]] double node_radius_mm(std::size_t k) const { return radius_[k]; }
   [[nodiscard]] double node_depth_mm(std::size_t k) const { return insertion_mm_ - from_tip_[k]; }
   [[nodiscard]] double node_from_tip_mm(std::size_t k) const { return from_tip_[k]; }
-  [[nodiscard]] double edge_angle_rad(std::size_t k) const { return theta_[k]; }
   [[nodiscard]] TipPose tip() const;
   [[nodiscard]] std::span<const RodContact> contacts() const { return contacts_; }
   // Contacts with other rods (and itself) held in the last step, with their forces.
@@ -169,9 +168,8 @@ class Rod {
   [[nodiscard]] double hand_force_mN() const { return hand_force_mN_; }
   [[nodiscard]] double hand_torque_mNmm() const { return hand_torque_mNmm_; }
   [[nodiscard]] const ForceLaw& force_law() const { return law_; }
-  // Solver diagnostics of the last step: iterations used and the last position update.
+  // Solver diagnostics of the last step: iterations used.
   [[nodiscard]] int last_iterations() const { return last_iterations_; }
-  [[nodiscard]] double last_update_mm() const { return last_update_mm_; }
   // Point on the tool's centreline at a depth past the entry (clamped to the tool), its
   // tangent and the index of the node just proximal to it.
   [[nodiscard]] glm::dvec3 point_at_depth(double depth_mm, glm::dvec3* tangent, std::size_t* node) const;
@@ -179,7 +177,6 @@ class Rod {
   // when it is outside the simulated window).
   [[nodiscard]] glm::dvec3 point_at_from_tip(double from_tip_mm) const;
   [[nodiscard]] const glm::dvec3& entry_point() const { return entry_; }
-  [[nodiscard]] const glm::dvec3& entry_direction() const { return dir_; }
   [[nodiscard]] glm::dvec3 reference_director(std::size_t edge) const { return d1_[edge]; }
 
  private:
@@ -264,7 +261,6 @@ class Rod {
   ForceLaw law_;
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
-  double last_update_mm_ = 0.0;
 };
 
 }  // namespace cathbox::tool

@@ -48,7 +48,7 @@ std::string FakeRecords::make(const std::string& case_stem, const std::map<std::
                               const std::string& salt) {
   const std::string case_text = source_file("cases/" + case_stem + ".case");
   const tool::CaseParse parsed = tool::parse_case(case_text, case_stem + ".case");
-  const std::string hclm = parsed.value && !parsed.value->vessel_path.empty() ? parsed.value->vessel_path : "";
+  const std::string hclm = parsed && !parsed->vessel_path.empty() ? parsed->vessel_path : "";
   nlohmann::json j = {{"case_file", case_stem + ".case"},
                       {"case", case_text},
                       {"hclm_file", hclm},
@@ -112,9 +112,9 @@ ApiResponse ApiFixture::upload_bundled_case(const std::string& stem, const std::
   const std::string case_text = source_file("cases/" + stem + ".case");
   const tool::CaseParse parsed = tool::parse_case(case_text, stem + ".case");
   nlohmann::json body = {{"name", name}, {"case_file", stem + ".case"}, {"case", case_text}};
-  if (parsed.value && !parsed.value->vessel_path.empty()) {
-    body["hclm_file"] = parsed.value->vessel_path;
-    body["hclm"] = source_file("cases/" + parsed.value->vessel_path);
+  if (parsed && !parsed->vessel_path.empty()) {
+    body["hclm_file"] = parsed->vessel_path;
+    body["hclm"] = source_file("cases/" + parsed->vessel_path);
   }
   return call("POST", "/api/v1/cases", body.dump(), token);
 }
