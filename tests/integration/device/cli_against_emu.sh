@@ -76,7 +76,7 @@ expect_json selftest "$cb" selftest --emu "$sock" --json
 # (1 rad/s) the tool: stdout is the documented shape (the guide goes to stderr). The guide's Enter presses come
 # half a second apart so the tool travels past the minimum counts; nothing timed is asserted.
 exec 6< <(exec "$bin/cathbox-emu" --socket "$dir/cal.sock" --duration 30 \
-  --hand-insertion v:0.005:30s --hand-rotation v:1:30s 2>&1)
+  --hand-insertion v:5mm/s:30s --hand-rotation v:1rad/s:30s 2>&1)
 cal_pid=$!
 read -r line <&6
 out=$({ echo; sleep 0.5; echo; sleep 0.5; echo; } | "$cb" calibrate --emu "$dir/cal.sock" --json 2>/dev/null)
