@@ -73,7 +73,7 @@ Result<HandScript> HandScript::parse(const std::string& text, int axis) {
                      ": " + unit_hint(s.mode)};
       }
       if (axis >= 0 && unit->axis != axis) {
-        return Error{where + ": " + unit->name + " is a " + (unit->axis == 0 ? "insertion" : "rotation") +
+        return Error{where + ": " + unit->name + " is " + (unit->axis == 0 ? "an insertion" : "a rotation") +
                      " unit, this script drives the " + (axis == 0 ? "insertion" : "rotation") + " axis"};
       }
       if (script_axis >= 0 && unit->axis != script_axis) return Error{where + ": mixes insertion and rotation units"};

@@ -73,9 +73,9 @@ const ValueOption kValueOptions[] = {
      [](const std::string& v, Settings& s) { s.path = v; return true; }},
     {"--serial", "TEXT", "serial number reported in device info (default EMU-0001)",
      [](const std::string& v, Settings& s) { s.options.serial = v; return true; }},
-    {"--hand-insertion", "S", "scripted hand on the insertion axis, e.g. v:0.02:2s,f:-1.5:500ms,free:1s",
+    {"--hand-insertion", "S", "scripted hand on the insertion axis, e.g. v:20mm/s:2s,f:-1500mN:500ms,free:1s",
      [](const std::string& v, Settings& s) { s.hand[0] = v; return true; }},
-    {"--hand-rotation", "S", "same for rotation (rad/s, N*m)",
+    {"--hand-rotation", "S", "same for rotation (rad/s, mNmm)",
      [](const std::string& v, Settings& s) { s.hand[1] = v; return true; }},
     {"--drop", "P", "probability of dropping a report (both directions)",
      [](const std::string& v, Settings& s) { return parse_probability(v, s.drop); }},
@@ -191,7 +191,7 @@ int main(int argc, char** argv) {
   Emulator emu(settings.options);
   for (int a = 0; a < 2; ++a) {
     if (settings.hand[a].empty()) continue;
-    auto script = cathbox::emu::HandScript::parse(settings.hand[a]);
+    auto script = cathbox::emu::HandScript::parse(settings.hand[a], a);
     if (!script) {
       std::fprintf(stderr, "cathbox-emu: %s\n", script.error().message.c_str());
       return 2;

@@ -98,6 +98,9 @@ expect 2 "option --seed: bad value '12x'" -- "$bin/cathbox-emu" --socket "$dir/b
 expect 2 "option --delay: bad value '0.1:2ms'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --delay 0.1:2ms --duration 0.01
 expect 2 "option --wire-version: bad value '2b'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --wire-version 2b --duration 0.01
 expect 2 "option --duration: bad value 'abc'" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --duration abc
+# A hand script in the other axis's units (or the old bare SI numbers) is refused, not misread.
+expect 2 "mm/s is an insertion unit, this script drives the rotation axis" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --hand-rotation v:30mm/s:1s --duration 0.01
+expect 2 "the value has no unit" -- "$bin/cathbox-emu" --socket "$dir/bad.sock" --hand-insertion v:0.03:9s --duration 0.01
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration -1
 expect 2 "--duration must be in (0, 86400] s" -- "$cb" monitor --emu "$sock" --duration 1e300
 expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --timeout -5
