@@ -307,10 +307,10 @@ int main(int argc, char** argv) {
     options.subdivision_level = level;
     auto loaded = cathbox::vessel::load_surface_mesh(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm", options);
     if (!loaded.ok()) {
-      std::fprintf(stderr, "bench_collision: %s\n", loaded.error.c_str());
+      std::fprintf(stderr, "bench_collision: %s\n", loaded.error().message.c_str());
       return 1;
     }
-    cases.push_back(make_case("neuro_L" + std::to_string(level), std::move(loaded.mesh)));
+    cases.push_back(make_case("neuro_L" + std::to_string(level), std::move(*loaded)));
   }
   cases.push_back(make_case("tube_100k", cb::testing::make_knot_tube(1563, 32)));
   for (auto& c : cases) check_agreement(*c, perturb);

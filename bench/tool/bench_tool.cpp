@@ -55,9 +55,9 @@ World make_world() {
   const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
   if (c) {
     WorldBuild built = build_world(*c);
-    if (built.world) {
-      w.entry = built.world->entry();
-      w.wall = built.world->release_wall();
+    if (built) {
+      w.entry = (*built)->entry();
+      w.wall = (*built)->release_wall();
       w.name = "neuro case";
       return w;
     }

@@ -110,8 +110,8 @@ void stage(benchmark::State& state, const std::string& text) {
     switch (state.range(0)) {
       case 0: benchmark::DoNotOptimize(read_hclm(text).model.segments.data()); break;
       case 1: benchmark::DoNotOptimize(smooth_centerlines(read.model, graph, options.smoothing_passes).segments.data()); break;
-      case 2: benchmark::DoNotOptimize(build_control_mesh(smoothed, graph, options).mesh.positions_mm.data()); break;
-      default: benchmark::DoNotOptimize(subdivide(control.mesh, options.subdivision_level).mesh.positions_mm.data()); break;
+      case 2: benchmark::DoNotOptimize(build_control_mesh(smoothed, graph, options)->positions_mm.data()); break;
+      default: benchmark::DoNotOptimize(subdivide(*control, options.subdivision_level)->positions_mm.data()); break;
     }
   }
 }

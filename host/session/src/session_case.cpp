@@ -71,11 +71,11 @@ double radius_near(const vessel::VesselModel& model, const glm::vec3& p) {
 SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source) {
   SessionCaseLoad out;
   tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text);
-  if (!built.world) {
-    out.error = built.error;
+  if (!built) {
+    out.error = built.error().message;
     return out;
   }
-  c->world = std::move(built.world);
+  c->world = std::move(*built);
   c->entry = c->world->entry();
   if (c->name.empty()) c->name = c->spec.name.empty() ? std::filesystem::path(source).filename().string() : c->spec.name;
   c->wall_force_threshold_mN = c->spec.wall_force_threshold_mN.value_or(100.0);

@@ -37,34 +37,23 @@ glm::dvec3 along(const vessel::Segment& s, double fraction) {
 WorldBuild build_world(const Case& c) {
   if (!c.tubes.empty()) return build_world(c, {});
   std::ifstream in(c.vessel_path, std::ios::binary);
-  if (!in) return WorldBuild{nullptr, c.vessel_path + ":0: cannot open file"};
+  if (!in) return base::Error{c.vessel_path + ":0: cannot open file"};
   std::ostringstream text;
   text << in.rdbuf();
   return build_world(c, text.str());
 }
 
 WorldBuild build_world(const Case& c, std::string_view vessel_text) {
-  WorldBuild out;
   if (!c.tubes.empty()) {
     auto wall = std::make_unique<TubeNetworkWall>(c.tubes);
-    out.world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
-    return out;
+    return WorldBuild(std::make_unique<CaseWorld>(std::move(wall), *c.entry));
   }
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
-  if (!read.ok()) {
-    out.error = read.errors.front().to_string();
-    return out;
-  }
+  if (!read.ok()) return base::Error{read.errors.front().to_string()};
   vessel::VesselSurface surface = vessel::build_vessel_surface(read.model);
-  if (!surface.ok()) {
-    out.error = c.vessel_path + ": " + surface.error;
-    return out;
-  }
+  if (!surface.ok()) return base::Error{c.vessel_path + ": " + surface.error};
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
-  if (!tree) {
-    out.error = c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message;
-    return out;
-  }
+  if (!tree) return base::Error{c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message};
   // Default entry: the start of the root segment (the first without parents), along it.
   const vessel::Segment* root = nullptr;
   for (const vessel::Segment& s : surface.smoothed.segments) {
@@ -87,8 +76,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
       entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
     }
   } else {
-    out.error = c.vessel_path + ":0: the vessel has no root segment to enter";
-    return out;
+    return base::Error{c.vessel_path + ":0: the vessel has no root segment to enter"};
   }
   auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
   world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
@@ -98,8 +86,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     }
   }
   world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
-  out.world = std::move(world);
-  return out;
+  return WorldBuild(std::move(world));
 }
 
 }  // namespace cathbox::tool

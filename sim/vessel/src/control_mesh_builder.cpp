@@ -68,21 +68,13 @@ class Builder {
       : model_(model), graph_(graph), options_(options), m_(options.ring_points) {}
 
   ControlMeshResult run() {
-    ControlMeshResult result;
-    if (m_ < 3 || m_ > 256) {
-      result.error = "ring size must be between 3 and 256, got " + std::to_string(m_);
-      return result;
-    }
-    if (options_.smoothing_passes < 0) {
-      result.error = "smoothing passes must be >= 0";
-      return result;
-    }
+    if (m_ < 3 || m_ > 256) return base::Error{"ring size must be between 3 and 256, got " + std::to_string(m_)};
+    if (options_.smoothing_passes < 0) return base::Error{"smoothing passes must be >= 0"};
     ratio_ = options_.compensate_shrink ? tube_shrink_ratio(m_) : 1.0;
     for (const Segment& s : model_.segments) {
       polylines_.push_back(make_polyline(s));
       if (s.points.size() < 2 || !(polylines_.back().length > 0.0)) {
-        result.error = "segment " + std::to_string(s.id) + " has zero length";
-        return result;
+        return base::Error{"segment " + std::to_string(s.id) + " has zero length"};
       }
     }
     trims_.assign(2 * model_.segments.size(), 0.0);
@@ -93,9 +85,8 @@ class Builder {
     emit_vertices();
     emit_tubes();
     if (options_.caps) emit_caps();
-    result.error = emit_junctions();
-    result.mesh = std::move(mesh_);
-    return result;
+    if (std::string e = emit_junctions(); !e.empty()) return base::Error{std::move(e)};
+    return ControlMeshResult(std::move(mesh_));
   }
 
  private:

@@ -458,9 +458,8 @@ void limit_by_opensubdiv(const Far::PrimvarRefinerReal<float>& primvar, const Po
   }
 }
 
-SurfaceMeshResult control_mesh_as_surface(const ControlMesh& control) {
-  SurfaceMeshResult result;
-  SurfaceMesh& out = result.mesh;
+SurfaceMesh control_mesh_as_surface(const ControlMesh& control) {
+  SurfaceMesh out;
   out.positions_mm.reserve(control.vertex_count());
   for (const glm::dvec3& p : control.positions_mm) out.positions_mm.emplace_back(p);
   std::size_t offset = 0;
@@ -482,7 +481,7 @@ SurfaceMeshResult control_mesh_as_surface(const ControlMesh& control) {
   }
   out.normals.resize(control.vertex_count());
   for (std::size_t i = 0; i < acc.size(); ++i) out.normals[i] = oriented_normal(acc[i], acc[i]);
-  return result;
+  return out;
 }
 
 // A refiner level and its points for a LevelAdjuster.
@@ -511,15 +510,8 @@ class LevelView final : public RefinedLevel {
 }  // namespace
 
 SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method, const LevelAdjuster& before_last_step) {
-  SurfaceMeshResult result;
-  if (level < 0 || level > 6) {
-    result.error = "subdivision level must be between 0 and 6, got " + std::to_string(level);
-    return result;
-  }
-  if (control.face_count() == 0) {
-    result.error = "the control mesh has no faces";
-    return result;
-  }
+  if (level < 0 || level > 6) return base::Error{"subdivision level must be between 0 and 6, got " + std::to_string(level)};
+  if (control.face_count() == 0) return base::Error{"the control mesh has no faces"};
   if (level == 0) return control_mesh_as_surface(control);
 
   Far::TopologyDescriptor desc;
@@ -532,10 +524,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
   std::unique_ptr<Far::TopologyRefiner> refiner(
       Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc_options)));
-  if (!refiner) {
-    result.error = "OpenSubdiv rejected the control mesh topology";
-    return result;
-  }
+  if (!refiner) return base::Error{"OpenSubdiv rejected the control mesh topology"};
   // The limit masks read each vertex's neighbourhood off the previous level, which needs a
   // manifold mesh (the control mesh builder makes one); anything else goes to OpenSubdiv's Limit.
   if (method != LimitMethod::kOpenSubdiv && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
@@ -571,7 +560,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     src = dst;
   }
   if (osd_levels < level) adjust(level - 1, src);
-  SurfaceMesh& out = result.mesh;
+  SurfaceMesh out;
   const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
   if (method == LimitMethod::kMasks) {
     const UniformChildren children(parent);
@@ -585,7 +574,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     prefault(out.normals.data(), nfine * sizeof(glm::vec3));
     LimitMasks<UniformChildren>(parent, children, fine.get(), out).run();
     emit_child_quads(*refiner, level - 1, children, control.face_regions, out);
-    return result;
+    return SurfaceMeshResult(std::move(out));
   }
 
   const Far::TopologyLevel& last = refiner->GetLevel(level);
@@ -593,10 +582,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
   // Catmull-Clark faces after one step are quads, stored one after the other.
   const int* quads = last.GetFaceVertices(0).begin();
-  if (last.GetNumFaceVertices() != static_cast<int>(4 * nfaces)) {
-    result.error = "refined face is not a quad";
-    return result;
-  }
+  if (last.GetNumFaceVertices() != static_cast<int>(4 * nfaces)) return base::Error{"refined face is not a quad"};
   if (method == LimitMethod::kOpenSubdiv) {
     limit_by_opensubdiv(primvar, src, quads, nfaces, nverts, out);
   } else {
@@ -614,7 +600,7 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     split_quad(out.positions_mm, quads + 4 * f, out.triangles.data() + 6 * f);
     out.triangle_regions[2 * f] = out.triangle_regions[2 * f + 1] = control.face_regions[static_cast<std::size_t>(face)];
   }
-  return result;
+  return SurfaceMeshResult(std::move(out));
 }
 
 }  // namespace cathbox::vessel

@@ -26,10 +26,10 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
   out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing);
   ControlMeshResult control = build_control_mesh(out.smoothed, graph, options);
   if (!control.ok()) {
-    out.error = control.error;
+    out.error = control.error().message;
     return out;
   }
-  out.control = std::move(control.mesh);
+  out.control = std::move(*control);
   std::optional<detail::JunctionFit> fit;
   LevelAdjuster adjust;
   if (options.fit_junctions && options.subdivision_level > 0) {
@@ -38,10 +38,10 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
   }
   SurfaceMeshResult surface = subdivide(out.control, options.subdivision_level, options.limit_method, adjust);
   if (!surface.ok()) {
-    out.error = surface.error;
+    out.error = surface.error().message;
     return out;
   }
-  out.mesh = std::move(surface.mesh);
+  out.mesh = std::move(*surface);
   if (!options.caps) out.euler_characteristic -= static_cast<int>(graph.free_ends().size());
   return out;
 }
@@ -60,7 +60,8 @@ VesselSurface load_vessel_surface(const std::string& hclm_path, const MeshOption
 
 SurfaceMeshLoad load_surface_mesh(const std::string& hclm_path, const MeshOptions& options) {
   VesselSurface surface = load_vessel_surface(hclm_path, options);
-  return {std::move(surface.mesh), std::move(surface.error)};
+  if (!surface.ok()) return base::Error{std::move(surface.error)};
+  return SurfaceMeshLoad(std::move(surface.mesh));
 }
 
 }  // namespace cathbox::vessel

@@ -26,8 +26,8 @@ class BundledCaseTest : public ::testing::TestWithParam<BundledCase> {
     vessel::MeshOptions options;
     options.subdivision_level = GetParam().level;
     auto loaded = vessel::load_surface_mesh(std::string(CATHBOX_SOURCE_DIR) + "/cases/" + GetParam().file, options);
-    ASSERT_TRUE(loaded.ok()) << loaded.error;
-    mesh_ = std::move(loaded.mesh);
+    ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+    mesh_ = std::move(*loaded);
     TreeBuild b = ObbTree::build(mesh_);
     ASSERT_TRUE(b) << b.error().message;
     tree_.emplace(std::move(*b));

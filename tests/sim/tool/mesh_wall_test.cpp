@@ -75,12 +75,12 @@ TEST(MeshWall, SteeringOnTheBundledYBifurcation) {
   const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
   ASSERT_TRUE(c) << c.error().message;
   WorldBuild world = build_world(*c);
-  ASSERT_TRUE(world.world) << world.error;
-  ASSERT_TRUE(world.world->target().has_value());
-  ASSERT_NE(world.world->mesh(), nullptr);
-  EXPECT_GT(world.world->mesh()->triangle_count(), 1000u);
+  ASSERT_TRUE(world.ok()) << world.error().message;
+  ASSERT_TRUE((*world)->target().has_value());
+  ASSERT_NE((*world)->mesh(), nullptr);
+  EXPECT_GT((*world)->mesh()->triangle_count(), 1000u);
   for (const auto& [rotation, branch] : {std::pair{0.0, 2}, std::pair{M_PI, 3}}) {
-    Simulator sim(world.world->wall(), c->tools, world.world->entry());
+    Simulator sim((*world)->wall(), c->tools, (*world)->entry());
     for (int i = 1; i <= 1300; ++i) {
       sim.set_insertion(0, 0.03 * i);
       sim.set_rotation(0, rotation * std::min(1.0, i / 1000.0));

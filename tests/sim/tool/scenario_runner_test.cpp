@@ -26,8 +26,8 @@ RunOutput run(const std::string& script_text, std::int64_t every) {
   const ScriptParse s = parse_script(script_text, "test.actions");
   EXPECT_TRUE(s) << (s ? "" : s.error().message);
   WorldBuild world = build_world(*c);
-  EXPECT_TRUE(world.world) << world.error;
-  Simulator sim(world.world->wall(), c->tools, world.world->entry());
+  EXPECT_TRUE(world.ok()) << world.error().message;
+  Simulator sim((*world)->wall(), c->tools, (*world)->entry());
   ScenarioOptions options;
   options.every_ms = every;
   options.script_name = "test.actions";

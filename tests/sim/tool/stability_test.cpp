@@ -29,10 +29,10 @@ TEST_P(Stability, RandomInputsKeepEveryNodeInTheLumen) {
   const CaseParse c = load_case(path);
   ASSERT_TRUE(c) << c.error().message;
   WorldBuild world = build_world(*c);
-  ASSERT_TRUE(world.world) << world.error;
-  const auto* mesh = dynamic_cast<const MeshWall*>(&world.world->wall());
+  ASSERT_TRUE(world.ok()) << world.error().message;
+  const auto* mesh = dynamic_cast<const MeshWall*>(&(*world)->wall());
   ASSERT_NE(mesh, nullptr);
-  Simulator sim(world.world->wall(), c->tools, world.world->entry());
+  Simulator sim((*world)->wall(), c->tools, (*world)->entry());
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> speed(-40.0, 80.0);     // mm/s, forward on average
   std::uniform_real_distribution<double> spin(-6.0, 6.0);        // rad/s

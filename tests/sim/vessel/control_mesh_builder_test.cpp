@@ -30,7 +30,7 @@ void expect_thesis_counts(const VesselModel& model) {
   options.caps = false;
   options.ring_placement = RingPlacement::kPerPoint;
   const ControlMeshResult built = build(model, options);
-  ASSERT_TRUE(built.ok()) << built.error;
+  ASSERT_TRUE(built.ok()) << built.error().message;
   const VesselGraph graph(model);
   std::size_t sum_k = 0;
   std::size_t sum_k1 = 0;
@@ -43,9 +43,9 @@ void expect_thesis_counts(const VesselModel& model) {
     ASSERT_EQ(j.ends.size(), 3u) << "not a plain bifurcation model";
     ++bifurcations;
   }
-  EXPECT_EQ(built.mesh.vertex_count(), 4 * sum_k);
-  EXPECT_EQ(built.mesh.face_count(), 4 * sum_k1 + 7 * bifurcations);
-  for (int size : built.mesh.face_sizes) EXPECT_EQ(size, 4);  // all quads, as in the thesis
+  EXPECT_EQ(built->vertex_count(), 4 * sum_k);
+  EXPECT_EQ(built->face_count(), 4 * sum_k1 + 7 * bifurcations);
+  for (int size : built->face_sizes) EXPECT_EQ(size, 4);  // all quads, as in the thesis
 }
 
 TEST(ControlMeshBuilder, ReproducesTheThesisCountsForAYBifurcation) {
@@ -76,20 +76,20 @@ TEST(ControlMeshBuilder, WithoutTrimmingRingsSitAtEveryHclmPointAsInTheThesis) {
   options.compensate_shrink = false;
   options.smoothing_passes = 0;
   const ControlMeshResult built = build(model, options);
-  ASSERT_TRUE(built.ok()) << built.error;
+  ASSERT_TRUE(built.ok()) << built.error().message;
   std::size_t ring = 0;
   for (const Segment& s : model.segments) {
     for (const CenterlinePoint& p : s.points) {
-      EXPECT_NEAR(glm::length(built.mesh.rings[ring].center_mm - p.pos_mm), 0.0, 1e-9);
-      EXPECT_NEAR(built.mesh.rings[ring].control_radius_mm, p.radius_mm, 1e-12);
+      EXPECT_NEAR(glm::length(built->rings[ring].center_mm - p.pos_mm), 0.0, 1e-9);
+      EXPECT_NEAR(built->rings[ring].control_radius_mm, p.radius_mm, 1e-12);
       ++ring;
     }
   }
-  EXPECT_EQ(built.mesh.face_count(), 4 * (model.point_count() - 3) + 7);
+  EXPECT_EQ(built->face_count(), 4 * (model.point_count() - 3) + 7);
   // Children starting exactly at the parent's end leave no room: a clean error.
   const ControlMeshResult crowded = build(CaseGenerator::y_bifurcation(), options);
   EXPECT_FALSE(crowded.ok());
-  EXPECT_NE(crowded.error.find("junction 0"), std::string::npos) << crowded.error;
+  EXPECT_NE(crowded.error().message.find("junction 0"), std::string::npos) << crowded.error().message;
 }
 
 TEST(ControlMeshBuilder, RingsFollowTheCenterlineWithCompensatedRadius) {
@@ -98,11 +98,11 @@ TEST(ControlMeshBuilder, RingsFollowTheCenterlineWithCompensatedRadius) {
     MeshOptions options;
     options.ring_points = m;
     const ControlMeshResult built = build(model, options);
-    ASSERT_TRUE(built.ok()) << built.error;
-    for (const Ring& ring : built.mesh.rings) {
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    for (const Ring& ring : built->rings) {
       EXPECT_NEAR(ring.control_radius_mm * tube_shrink_ratio(m), ring.radius_mm, 1e-12);
       for (int k = 0; k < m; ++k) {
-        const glm::dvec3 p = built.mesh.positions_mm[ring.first_vertex + static_cast<std::uint32_t>(k)];
+        const glm::dvec3 p = built->positions_mm[ring.first_vertex + static_cast<std::uint32_t>(k)];
         EXPECT_NEAR(glm::length(p - ring.center_mm), ring.control_radius_mm, 1e-9);
         EXPECT_NEAR(glm::dot(p - ring.center_mm, ring.tangent), 0.0, 1e-9);
       }
@@ -140,17 +140,17 @@ TEST(ControlMeshBuilder, JunctionTemplateHandlesAnyNumberOfBranches) {
       MeshOptions options;
       options.ring_points = m;
       const ControlMeshResult built = build(read.model, options);
-      ASSERT_TRUE(built.ok()) << children << " children, M " << m << ": " << built.error;
-      const SurfaceMeshResult flat = subdivide(built.mesh, 0);
+      ASSERT_TRUE(built.ok()) << children << " children, M " << m << ": " << built.error().message;
+      const SurfaceMeshResult flat = subdivide(*built, 0);
       ASSERT_TRUE(flat.ok());
-      const MeshAnalysis a = analyze_mesh(flat.mesh);
+      const MeshAnalysis a = analyze_mesh(*flat);
       EXPECT_TRUE(a.closed() && a.manifold() && a.consistently_oriented()) << children << " children, M " << m;
       EXPECT_EQ(a.euler_characteristic, 2);
       EXPECT_GT(a.signed_volume_mm3, 0.0);
       // Junction faces: quads where a perfect pairing exists, at most a few triangles otherwise.
       std::size_t junction_triangles = 0;
-      for (std::size_t f = 0; f < built.mesh.face_count(); ++f) {
-        if (built.mesh.face_regions[f].kind == RegionKind::kJunction && built.mesh.face_sizes[f] == 3) ++junction_triangles;
+      for (std::size_t f = 0; f < built->face_count(); ++f) {
+        if (built->face_regions[f].kind == RegionKind::kJunction && built->face_sizes[f] == 3) ++junction_triangles;
       }
       EXPECT_LE(junction_triangles, 2u) << children << " children, M " << m;
     }
@@ -165,7 +165,7 @@ TEST(ControlMeshBuilder, OverlappingBranchesAreAnErrorNotACrash) {
   ASSERT_TRUE(read.ok()) << read.errors.front().to_string();
   const ControlMeshResult built = build(read.model, MeshOptions{});
   EXPECT_FALSE(built.ok());
-  EXPECT_NE(built.error.find("junction 0 (segments 1 2)"), std::string::npos) << built.error;
+  EXPECT_NE(built.error().message.find("junction 0 (segments 1 2)"), std::string::npos) << built.error().message;
 }
 
 TEST(ControlMeshBuilder, RejectsBadRingSizes) {
@@ -181,7 +181,7 @@ TEST(ControlMeshBuilder, TagsEveryFaceWithItsSegmentJunctionOrCap) {
   const ControlMeshResult built = build(model, options);
   ASSERT_TRUE(built.ok());
   std::size_t segment = 0, junction = 0, cap = 0;
-  for (const FaceRegion& r : built.mesh.face_regions) {
+  for (const FaceRegion& r : built->face_regions) {
     if (r.kind == RegionKind::kSegment) ++segment;
     if (r.kind == RegionKind::kJunction) ++junction;
     if (r.kind == RegionKind::kCap) ++cap;

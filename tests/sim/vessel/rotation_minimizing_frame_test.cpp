@@ -42,8 +42,8 @@ TEST(RotationMinimizingFrame, HelixRingsDoNotTwist) {
     const VesselGraph graph(helix);
     const VesselModel smoothed = smooth_centerlines(helix, graph, 3);
     const ControlMeshResult built = build_control_mesh(smoothed, graph, MeshOptions{});
-    ASSERT_TRUE(built.ok()) << built.error;
-    const auto& rings = built.mesh.rings;
+    ASSERT_TRUE(built.ok()) << built.error().message;
+    const auto& rings = built->rings;
     double worst = 0.0;
     double total = 0.0;
     for (std::size_t i = 0; i + 1 < rings.size(); ++i) {
@@ -67,8 +67,8 @@ TEST(RotationMinimizingFrame, FramesCrossJunctionsWithoutTwist) {
   const VesselModel y = CaseGenerator::y_bifurcation();
   const VesselGraph graph(y);
   const ControlMeshResult built = build_control_mesh(smooth_centerlines(y, graph, 3), graph, MeshOptions{});
-  ASSERT_TRUE(built.ok()) << built.error;
-  const ControlMesh& m = built.mesh;
+  ASSERT_TRUE(built.ok()) << built.error().message;
+  const ControlMesh& m = *built;
   const Ring& parent_last = m.rings[m.segment_first_ring[1] - 1];
   for (std::uint32_t child : {1u, 2u}) {
     const Ring& first = m.rings[m.segment_first_ring[child]];

@@ -276,13 +276,13 @@ TEST(SurfaceProperties, InvalidModelsGiveAnErrorNotACrash) {
   EXPECT_FALSE(build_vessel_surface(VesselModel{}).ok());
   const SurfaceMeshLoad missing = load_surface_mesh("/nonexistent.hclm");
   EXPECT_FALSE(missing.ok());
-  EXPECT_NE(missing.error.find("/nonexistent.hclm"), std::string::npos);
+  EXPECT_NE(missing.error().message.find("/nonexistent.hclm"), std::string::npos);
 }
 
 TEST(SurfaceProperties, LoadSurfaceMeshReadsABundledCase) {
   const SurfaceMeshLoad loaded = load_surface_mesh(test::case_path("y_bifurcation"));
-  ASSERT_TRUE(loaded.ok()) << loaded.error;
-  EXPECT_GT(loaded.mesh.triangle_count(), 1000u);
+  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  EXPECT_GT(loaded->triangle_count(), 1000u);
 }
 
 }  // namespace
@@ -305,14 +305,14 @@ TEST(SurfaceProperties, LimitMasksAgreeWithOpenSubdivLimit) {
       const SurfaceMeshResult masks = subdivide(base.control, level, LimitMethod::kMasks);
       const SurfaceMeshResult reference = subdivide(base.control, level, LimitMethod::kOpenSubdiv);
       ASSERT_TRUE(masks.ok() && reference.ok());
-      ASSERT_EQ(masks.mesh.vertex_count(), reference.mesh.vertex_count());
-      ASSERT_EQ(masks.mesh.triangles.size(), reference.mesh.triangles.size());  // diagonals may differ on ties
-      ASSERT_EQ(masks.mesh.triangle_regions, reference.mesh.triangle_regions);
+      ASSERT_EQ(masks->vertex_count(), reference->vertex_count());
+      ASSERT_EQ(masks->triangles.size(), reference->triangles.size());  // diagonals may differ on ties
+      ASSERT_EQ(masks->triangle_regions, reference->triangle_regions);
       double worst_pos = 0.0;
       double worst_dot = 1.0;
-      for (std::size_t i = 0; i < masks.mesh.vertex_count(); ++i) {
-        worst_pos = std::max(worst_pos, static_cast<double>(glm::length(masks.mesh.positions_mm[i] - reference.mesh.positions_mm[i])));
-        worst_dot = std::min(worst_dot, static_cast<double>(glm::dot(masks.mesh.normals[i], reference.mesh.normals[i])));
+      for (std::size_t i = 0; i < masks->vertex_count(); ++i) {
+        worst_pos = std::max(worst_pos, static_cast<double>(glm::length(masks->positions_mm[i] - reference->positions_mm[i])));
+        worst_dot = std::min(worst_dot, static_cast<double>(glm::dot(masks->normals[i], reference->normals[i])));
       }
       EXPECT_LT(worst_pos, 1e-4) << "level " << level;
       EXPECT_GT(worst_dot, 0.9999) << "level " << level;
@@ -343,10 +343,10 @@ TEST(SurfaceProperties, LastStepByHandEqualsOpenSubdivRefinedLevel) {
       const SurfaceMeshResult fast = subdivide(base.control, level, LimitMethod::kMasks);
       const SurfaceMeshResult reference = subdivide(base.control, level, LimitMethod::kMasksOnRefinedLevel);
       ASSERT_TRUE(fast.ok() && reference.ok());
-      EXPECT_EQ(fast.mesh.triangles, reference.mesh.triangles) << "M " << c.ring_points << " level " << level;
-      EXPECT_EQ(fast.mesh.triangle_regions, reference.mesh.triangle_regions);
-      EXPECT_EQ(fast.mesh.positions_mm, reference.mesh.positions_mm);
-      EXPECT_EQ(fast.mesh.normals, reference.mesh.normals);
+      EXPECT_EQ(fast->triangles, reference->triangles) << "M " << c.ring_points << " level " << level;
+      EXPECT_EQ(fast->triangle_regions, reference->triangle_regions);
+      EXPECT_EQ(fast->positions_mm, reference->positions_mm);
+      EXPECT_EQ(fast->normals, reference->normals);
     }
   }
 }
@@ -362,13 +362,13 @@ TEST(SurfaceProperties, NonManifoldControlMeshFallsBackToOpenSubdivLimit) {
   bowtie.face_regions = {FaceRegion{RegionKind::kSegment, 1}, FaceRegion{RegionKind::kSegment, 2}};
   const SurfaceMeshResult masks = subdivide(bowtie, 2, LimitMethod::kMasks);
   const SurfaceMeshResult reference = subdivide(bowtie, 2, LimitMethod::kOpenSubdiv);
-  ASSERT_TRUE(masks.ok()) << masks.error;
-  ASSERT_TRUE(reference.ok()) << reference.error;
-  EXPECT_EQ(masks.mesh.triangle_count(), 64u);  // 2 quads x 16 x 2
-  EXPECT_EQ(masks.mesh.positions_mm, reference.mesh.positions_mm);
-  EXPECT_EQ(masks.mesh.normals, reference.mesh.normals);
-  EXPECT_EQ(masks.mesh.triangles, reference.mesh.triangles);
-  for (const glm::vec3& n : masks.mesh.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
+  ASSERT_TRUE(masks.ok()) << masks.error().message;
+  ASSERT_TRUE(reference.ok()) << reference.error().message;
+  EXPECT_EQ(masks->triangle_count(), 64u);  // 2 quads x 16 x 2
+  EXPECT_EQ(masks->positions_mm, reference->positions_mm);
+  EXPECT_EQ(masks->normals, reference->normals);
+  EXPECT_EQ(masks->triangles, reference->triangles);
+  for (const glm::vec3& n : masks->normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-5f);
 }
 
 }  // namespace

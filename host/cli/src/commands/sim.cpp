@@ -68,11 +68,11 @@ int run_run(std::span<const std::string> argv) {
     return kExitBadInput;
   }
   cathbox::tool::WorldBuild world = cathbox::tool::build_world(scenario_case);
-  if (!world.world) {
-    std::fprintf(stderr, "%s\n", world.error.c_str());
+  if (!world) {
+    std::fprintf(stderr, "%s\n", world.error().message.c_str());
     return kExitBadInput;
   }
-  cathbox::tool::Simulator sim(world.world->wall(), scenario_case.tools, world.world->entry());
+  cathbox::tool::Simulator sim((*world)->wall(), scenario_case.tools, (*world)->entry());
   std::ofstream out(*out_path, std::ios::binary | std::ios::trunc);
   if (!out) {
     std::fprintf(stderr, "%s: cannot open for writing\n", out_path->c_str());

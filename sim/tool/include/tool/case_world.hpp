@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "base/result.hpp"
 #include "tool/case_file.hpp"
 #include "vessel/surface_mesh.hpp"
 #include "vessel/vessel_model.hpp"
@@ -41,10 +42,8 @@ class CaseWorld {
   std::shared_ptr<const vessel::VesselModel> model_;
 };
 
-struct WorldBuild {
-  std::unique_ptr<CaseWorld> world;
-  std::string error;  // one line naming the file and what went wrong
-};
+// The world, or one line naming the file and what went wrong.
+using WorldBuild = base::Result<std::unique_ptr<CaseWorld>>;
 
 [[nodiscard]] WorldBuild build_world(const Case& c);
 // The same from the vessel file's text (c.vessel_path only names it in errors): a record

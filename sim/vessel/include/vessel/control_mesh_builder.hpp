@@ -14,6 +14,7 @@
 // B-spline through a regular M-gon, the curve a Catmull-Clark tube converges to.
 #include <string>
 
+#include "base/result.hpp"
 #include "vessel/control_mesh.hpp"
 #include "vessel/mesh_options.hpp"
 #include "vessel/vessel_graph.hpp"
@@ -21,11 +22,8 @@
 
 namespace cathbox::vessel {
 
-struct ControlMeshResult {
-  ControlMesh mesh;
-  std::string error;  // empty on success, else what could not be built (names the junction/segment)
-  [[nodiscard]] bool ok() const { return error.empty(); }
-};
+// The control mesh, or what could not be built (one line naming the junction / segment).
+using ControlMeshResult = base::Result<ControlMesh>;
 
 // `smoothed` is the output of smooth_centerlines() for `graph`'s model.
 [[nodiscard]] ControlMeshResult build_control_mesh(const VesselModel& smoothed, const VesselGraph& graph,

@@ -9,17 +9,15 @@
 
 #include <glm/vec3.hpp>
 
+#include "base/result.hpp"
 #include "vessel/control_mesh.hpp"
 #include "vessel/mesh_options.hpp"
 #include "vessel/surface_mesh.hpp"
 
 namespace cathbox::vessel {
 
-struct SurfaceMeshResult {
-  SurfaceMesh mesh;
-  std::string error;  // empty on success
-  [[nodiscard]] bool ok() const { return error.empty(); }
-};
+// The subdivided surface, or one line saying why there is none.
+using SurfaceMeshResult = base::Result<SurfaceMesh>;
 
 // LimitMethod (how the refined vertices go to the limit surface) is in mesh_options.hpp.
 

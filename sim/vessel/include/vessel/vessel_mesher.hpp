@@ -5,10 +5,11 @@
 // collision, tool and trainer modules use:
 //
 //   auto built = cathbox::vessel::load_surface_mesh("cases/neuro.hclm");
-//   if (!built.ok()) { report(built.error); }  // "cases/neuro.hclm:12: radius ..." etc.
-//   const SurfaceMesh& mesh = built.mesh;
+//   if (!built.ok()) { report(built.error().message); }  // "cases/neuro.hclm:12: radius ..." etc.
+//   const SurfaceMesh& mesh = *built;
 #include <string>
 
+#include "base/result.hpp"
 #include "vessel/control_mesh.hpp"
 #include "vessel/mesh_options.hpp"
 #include "vessel/surface_mesh.hpp"
@@ -31,11 +32,8 @@ struct VesselSurface {
 // Reads, validates and meshes an HCLM file.
 [[nodiscard]] VesselSurface load_vessel_surface(const std::string& hclm_path, const MeshOptions& options = {});
 
-struct SurfaceMeshLoad {
-  SurfaceMesh mesh;
-  std::string error;
-  [[nodiscard]] bool ok() const { return error.empty(); }
-};
+// The mesh, or the one line load_vessel_surface() would give.
+using SurfaceMeshLoad = base::Result<SurfaceMesh>;
 // Shorthand for load_vessel_surface() keeping only the mesh.
 [[nodiscard]] SurfaceMeshLoad load_surface_mesh(const std::string& hclm_path, const MeshOptions& options = {});
 
