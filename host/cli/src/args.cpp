@@ -14,22 +14,43 @@ bool contains(const std::vector<std::string>& list, std::string_view name) {
 }
 }  // namespace
 
+namespace {
+std::vector<OptionSpec> specs(const std::vector<std::string>& value_options, const std::vector<std::string>& flags,
+                              const std::vector<std::string>& optional_value_options) {
+  std::vector<OptionSpec> out;
+  for (const std::string& name : value_options) out.push_back({.name = name, .value = "VALUE"});
+  for (const std::string& name : optional_value_options) out.push_back({.name = name, .value = "[VALUE]"});
+  for (const std::string& name : flags) out.push_back({.name = name});
+  return out;
+}
+}  // namespace
+
 Args::Args(std::span<const std::string> argv, std::vector<std::string> value_options,
-           std::vector<std::string> flags, std::vector<std::string> optional_value_options) {
+           std::vector<std::string> flags, std::vector<std::string> optional_value_options)
+    : Args(argv, specs(value_options, flags, optional_value_options)) {}
+
+Args::Args(std::span<const std::string> argv_in, std::span<const OptionSpec> options) {
   // CLI11 recognises the options; words it does not know come back in order, as positionals,
   // unknown options (the first is the error) and the `--` that ends the options.
   CLI::App app("", "cathbox");
   app.set_help_flag("--help", "this text");
   app.allow_extras();
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  value_options.insert(value_options.end(), optional_value_options.begin(), optional_value_options.end());
+  std::vector<std::string> flags;
+  std::vector<std::string> optional_value_options;
   std::vector<std::pair<std::string, CLI::Option*>> values;
-  for (const std::string& name : value_options) {
-    const bool optional = contains(optional_value_options, name);
-    values.emplace_back(name, app.add_option("--" + name)->expected(0, 1)->type_name(optional ? "[VALUE]" : "VALUE"));
-  }
   std::vector<std::pair<std::string, CLI::Option*>> switches;
-  for (const std::string& name : flags) switches.emplace_back(name, app.add_flag("--" + name)->disable_flag_override());
+  std::vector<std::string> argv(argv_in.begin(), argv_in.end());
+  for (const OptionSpec& o : options) {
+    if (o.short_name != 0) std::replace(argv.begin(), argv.end(), std::string("-") + o.short_name, "--" + o.name);  // `-o` is `--output`
+    if (o.flag()) {
+      flags.push_back(o.name);
+      switches.emplace_back(o.name, app.add_flag("--" + o.name, o.help)->disable_flag_override());
+      continue;
+    }
+    if (o.optional_value()) optional_value_options.push_back(o.name);
+    values.emplace_back(o.name, app.add_option("--" + o.name, o.help)->expected(0, 1)->type_name(o.value));
+  }
   try {
     app.parse(std::vector<std::string>(argv.rbegin(), argv.rend()));
   } catch (const CLI::CallForHelp&) {

@@ -34,6 +34,14 @@ expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.xyz"
 expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --ring 2
 expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --level nine
 expect 2 "$cathbox" vessel frobnicate
+grep -q "^usage: cathbox vessel validate FILE$" "$work/err" || fail "usage after an error: $(cat "$work/err")"
+# help, --help and the usage after an error come from one description (host/cli/include/cli/usage.hpp)
+expect 0 "$cathbox" vessel help
+cp "$work/out" "$work/help.txt"
+grep -q "^       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl \[--ring M\]" "$work/help.txt" || fail "help synopsis: $(cat "$work/help.txt")"
+grep -q -- "--radius-array NAME *the point array holding the radius" "$work/help.txt" || fail "help options: $(cat "$work/help.txt")"
+expect 0 "$cathbox" vessel --help
+cmp -s "$work/out" "$work/help.txt" || fail "vessel --help differs from vessel help"
 expect 2 "$cathbox" vessel generate no_such_case -o "$work/x.hclm"
 
 # Meshing: every format, control mesh, open ends.

@@ -12,6 +12,7 @@
 #include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "cli/usage.hpp"
 #include "flow/flow_network.hpp"
 #include "tool/case_file.hpp"
 #include "vessel/hclm.hpp"
@@ -22,12 +23,20 @@ namespace cli = cathbox::cli;
 namespace flow = cathbox::flow;
 namespace vessel = cathbox::vessel;
 
-constexpr const char* kUsage = "usage: cathbox flow info CASE [--json]      CASE: a .case or .hclm file\n";
-
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "cathbox flow: %s\n%s", message.c_str(), kUsage);
-  return cli::kExitBadInput;
+// The group's command line, described once: parsing, help and the usage after an error.
+const cli::GroupSpec& spec() {
+  static const cli::GroupSpec group{
+      .name = "flow",
+      .summary = "blood flow network of a case: info (flow and velocity per segment)",
+      .subcommands = {{.name = "info",
+                       .positionals = "CASE",
+                       .help = "flow, velocities, Reynolds number and pressures per segment; each free end's role (CASE: a .case or .hclm file)",
+                       .options = {{.name = "json", .help = "print JSON (host/cli/README.md)"}}}},
+  };
+  return group;
 }
+
+int usage_error(const std::string& message) { return cli::usage_error(spec(), message); }
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -148,21 +157,10 @@ int run_info(const cli::Args& args) {
   return cli::kExitOk;
 }
 
-int run_flow(std::span<const std::string> raw) {
-  if (raw.empty()) return usage_error("missing subcommand");
-  const std::string& sub = raw[0];
-  if (sub == "info") {
-    cli::Args args(raw.subspan(1), {}, {"json"});
-    if (!args.ok()) return usage_error(args.error());
-    return run_info(args);
-  }
-  if (sub == "help" || sub == "--help") {
-    std::printf("%s", kUsage);
-    return cli::kExitOk;
-  }
-  return usage_error("unknown subcommand '" + sub + "'");
+int run_flow(std::span<const std::string> argv) {
+  return cli::run_group(spec(), argv, [](std::string_view, cli::Args& args) { return run_info(args); });
 }
 
-const cli::Registrar registrar({"flow", "blood flow network of a case: info (flow and velocity per segment)", run_flow});
+const cli::Registrar registrar({spec().name, spec().summary, run_flow});
 
 }  // namespace

@@ -1,9 +1,5 @@
 // `cathbox session`: a haptic session without the trainer's window (host/session), and what a
-// record holds (host/cli/README.md documents the --json shapes).
-//   cathbox session run --case FILE (--script ACTIONS | --emu [PATH]) --record OUT.cbxrec [--seconds S] [--virtual]
-//   cathbox session replay REC [--check] [--out LOG.csv [--every MS]]
-//   cathbox session metrics REC [--json]
-//   cathbox session info REC [--json]
+// record holds (host/cli/README.md documents the --json shapes). The command line is spec() below.
 #include <csignal>
 #include <cstdio>
 #include <fstream>
@@ -13,6 +9,7 @@
 #include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "cli/usage.hpp"
 #include "session_json.hpp"
 #include "session_run.hpp"
 #include "session/record_reader.hpp"
@@ -22,17 +19,35 @@
 namespace cathbox::cli {
 namespace {
 
-constexpr const char* kUsage =
-    "usage: cathbox session run --case FILE (--script ACTIONS | --emu [PATH]) --record OUT.cbxrec\n"
-    "                           [--seconds S] [--virtual] [--progress]\n"
-    "       cathbox session replay REC [--check] [--out LOG.csv [--every MS]]\n"
-    "       cathbox session metrics REC [--json]\n"
-    "       cathbox session info REC [--json]\n";
-
-int usage_error(const std::string& what) {
-  std::fprintf(stderr, "cathbox session: %s\n%s", what.c_str(), kUsage);
-  return kExitBadInput;
+// The group's command line, described once: parsing, help and the usage after an error.
+const GroupSpec& spec() {
+  const OptionSpec json{.name = "json", .help = "print JSON (host/cli/README.md)"};
+  static const GroupSpec group{
+      .name = "session",
+      .summary = "headless sessions and their records (session run|replay|metrics|info)",
+      .subcommands =
+          {{.name = "run",
+            .help = "a headless session, recorded; driven by an action script (virtual time) or the emulated box",
+            .options = {{.name = "case", .value = "FILE", .help = "the case (.case or .hclm)", .required = true},
+                        {.name = "script", .value = "ACTIONS", .help = "drive it with an action script (or --emu)"},
+                        {.name = "emu", .value = "[PATH]", .help = "drive it with cathbox-emu at PATH; alone: start one (or --script)"},
+                        {.name = "record", .value = "OUT.cbxrec", .help = "the record to write", .required = true},
+                        {.name = "seconds", .value = "S", .help = "end after S seconds, (0, 86400]"},
+                        {.name = "virtual", .help = "virtual time (--script's only mode)"},
+                        {.name = "progress", .help = "a line per block written"}}},
+           {.name = "replay",
+            .positionals = "REC",
+            .help = "replays the record on a fresh simulator",
+            .options = {{.name = "check", .help = "exit 1 at the first state hash that differs"},
+                        {.name = "out", .value = "LOG.csv", .help = "log the held tool in cathbox sim run's columns"},
+                        {.name = "every", .value = "MS", .help = "with --out: a row every MS ms"}}},
+           {.name = "metrics", .positionals = "REC", .help = "replays (hash-checked) and prints every metric", .options = {json}},
+           {.name = "info", .positionals = "REC", .help = "the record's header and what its ticks hold", .options = {json}}},
+  };
+  return group;
 }
+
+int usage_error(const std::string& what) { return cli::usage_error(spec(), what); }
 
 // `cathbox session replay --out`: the `cathbox sim run` log of the held tool every MS ms.
 class CsvLog final : public session::TickObserver {
@@ -53,9 +68,7 @@ class CsvLog final : public session::TickObserver {
   std::int64_t period_us_;
 };
 
-int run_replay(std::span<const std::string> argv) {
-  Args args(argv, {"out", "every"}, {"check"});
-  if (!args.ok()) return usage_error(args.error());
+int run_replay(Args& args) {
   if (args.positionals().size() != 1) return usage_error("replay takes one record file");
   long long every = 1;
   if (args.value("every")) {
@@ -111,9 +124,7 @@ int run_replay(std::span<const std::string> argv) {
   return kExitOk;
 }
 
-int run_metrics(std::span<const std::string> argv) {
-  Args args(argv, {}, {"json"});
-  if (!args.ok()) return usage_error(args.error());
+int run_metrics(const Args& args) {
   if (args.positionals().size() != 1) return usage_error("metrics takes one record file");
   const std::string& path = args.positionals()[0];
   const session::ReplayResult r = session::replay_record(path);
@@ -134,9 +145,7 @@ int run_metrics(std::span<const std::string> argv) {
   return kExitOk;
 }
 
-int run_info(std::span<const std::string> argv) {
-  Args args(argv, {}, {"json"});
-  if (!args.ok()) return usage_error(args.error());
+int run_info(const Args& args) {
   if (args.positionals().size() != 1) return usage_error("info takes one record file");
   const std::string& path = args.positionals()[0];
   std::string error;
@@ -158,20 +167,16 @@ int run_info(std::span<const std::string> argv) {
   return kExitOk;
 }
 
-int run_session(std::span<const std::string> args) {
-  if (args.empty() || args[0] == "help" || args[0] == "--help") {
-    std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
-    return args.empty() ? kExitBadInput : kExitOk;
-  }
-  const std::string& sub = args[0];
-  if (sub == "run") return run_run(args.subspan(1), kUsage);
-  if (sub == "replay") return run_replay(args.subspan(1));
-  if (sub == "metrics") return run_metrics(args.subspan(1));
-  if (sub == "info") return run_info(args.subspan(1));
-  return usage_error("unknown subcommand '" + sub + "'");
+int run_session(std::span<const std::string> argv) {
+  return run_group(spec(), argv, [](std::string_view sub, Args& args) {
+    if (sub == "run") return run_run(args, spec());
+    if (sub == "replay") return run_replay(args);
+    if (sub == "metrics") return run_metrics(args);
+    return run_info(args);
+  });
 }
 
-const Registrar registrar({"session", "headless sessions and their records (session run|replay|metrics|info)", run_session});
+const Registrar registrar({spec().name, spec().summary, run_session});
 
 }  // namespace
 }  // namespace cathbox::cli

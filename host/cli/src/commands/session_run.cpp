@@ -35,13 +35,9 @@ std::string program_dir() {
 
 }  // namespace
 
-int run_run(std::span<const std::string> argv, const char* usage) {
+int run_run(Args& args, const GroupSpec& group) {
   // --emu takes an optional path: a bare --emu starts an emulator of its own.
-  Args args(argv, {"case", "script", "record", "seconds"}, {"virtual", "progress"}, {"emu"});
-  auto bad = [&](const std::string& what) {
-    std::fprintf(stderr, "cathbox session run: %s\n%s", what.c_str(), usage);
-    return kExitBadInput;
-  };
+  auto bad = [&](const std::string& what) { return usage_error(group, what, "session run"); };
   const auto seconds = args.number("seconds");
   if (!args.ok()) return bad(args.error());
   if (!args.positionals().empty()) return bad("unexpected argument '" + args.positionals()[0] + "'");

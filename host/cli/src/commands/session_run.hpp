@@ -5,6 +5,9 @@
 
 namespace cathbox::cli {
 
-int run_run(std::span<const std::string> argv, const char* usage);
+class Args;
+struct GroupSpec;
+// `args`: the run subcommand's options, parsed; errors print `group`'s synopsis.
+int run_run(Args& args, const GroupSpec& group);
 
 }  // namespace cathbox::cli

@@ -1,5 +1,4 @@
-// `cathbox sim`: the tool simulator without GUI and without a box.
-//   cathbox sim run --case FILE --script ACTIONS --out LOG.csv [--every MS]
+// `cathbox sim`: the tool simulator without GUI and without a box (command line: spec() below).
 // FILE is a case file (sim/tool/README.md) or an HCLM vessel (entry at the start of the root
 // segment, default guidewire). Bad input: one line with file:line on stderr, exit code 2.
 #include <cstdio>
@@ -9,6 +8,7 @@
 #include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "cli/usage.hpp"
 #include "tool/action_script.hpp"
 #include "tool/case_file.hpp"
 #include "tool/case_world.hpp"
@@ -21,26 +21,33 @@ using cathbox::cli::kExitBadInput;
 using cathbox::cli::kExitFailure;
 using cathbox::cli::kExitOk;
 
-constexpr const char* kUsage =
-    "usage: cathbox sim run --case FILE --script ACTIONS --out LOG.csv [--every MS]\n";
+// The group's command line, described once: parsing, help and the usage after an error.
+const cathbox::cli::GroupSpec& spec() {
+  static const cathbox::cli::GroupSpec group{
+      .name = "sim",
+      .summary = "run tool scenarios headless (sim run)",
+      .subcommands = {{.name = "run",
+                       .help = "a tool scenario in virtual time, logged per step (tip, force, torque)",
+                       .options = {{.name = "case", .value = "FILE", .help = "a case file or an HCLM vessel", .required = true},
+                                   {.name = "script", .value = "ACTIONS", .help = "the action script", .required = true},
+                                   {.name = "out", .value = "LOG.csv", .help = "the log to write", .required = true},
+                                   {.name = "every", .value = "MS", .help = "a row every MS ms (default 1)"}}}},
+  };
+  return group;
+}
+
+int usage_error(const std::string& message) { return cathbox::cli::usage_error(spec(), message, "sim run"); }
 
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-int run_run(std::span<const std::string> argv) {
-  cathbox::cli::Args args(argv, {"case", "script", "out", "every"}, {});
-  if (!args.ok() || !args.positionals().empty()) {
-    std::fprintf(stderr, "cathbox sim run: %s\n%s", args.ok() ? "unexpected argument" : args.error().c_str(), kUsage);
-    return kExitBadInput;
-  }
+int run_run(cathbox::cli::Args& args) {
+  if (!args.positionals().empty()) return usage_error("unexpected argument");
   const auto case_path = args.value("case");
   const auto script_path = args.value("script");
   const auto out_path = args.value("out");
-  if (!case_path || !script_path || !out_path) {
-    std::fprintf(stderr, "cathbox sim run: --case, --script and --out are required\n%s", kUsage);
-    return kExitBadInput;
-  }
+  if (!case_path || !script_path || !out_path) return usage_error("--case, --script and --out are required");
   long long every = 1;
   if (args.value("every")) {
     const auto v = args.integer("every");
@@ -98,16 +105,10 @@ int run_run(std::span<const std::string> argv) {
   return kExitOk;
 }
 
-int run_sim(std::span<const std::string> args) {
-  if (args.empty() || args[0] == "help" || args[0] == "--help") {
-    std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
-    return args.empty() ? kExitBadInput : kExitOk;
-  }
-  if (args[0] == "run") return run_run(args.subspan(1));
-  std::fprintf(stderr, "cathbox sim: unknown subcommand '%s'\n%s", args[0].c_str(), kUsage);
-  return kExitBadInput;
+int run_sim(std::span<const std::string> argv) {
+  return cathbox::cli::run_group(spec(), argv, [](std::string_view, cathbox::cli::Args& args) { return run_run(args); });
 }
 
-const cathbox::cli::Registrar registrar({"sim", "run tool scenarios headless (sim run)", run_sim});
+const cathbox::cli::Registrar registrar({spec().name, spec().summary, run_sim});
 
 }  // namespace

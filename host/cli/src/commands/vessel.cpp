@@ -16,6 +16,7 @@
 #include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "cli/usage.hpp"
 #include "vessel/case_generator.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/mesh_analysis.hpp"
@@ -30,31 +31,54 @@ namespace cli = cathbox::cli;
 namespace vessel = cathbox::vessel;
 namespace vessel_import = cathbox::vessel_import;
 
-constexpr const char* kUsage =
-    "usage: cathbox vessel validate FILE\n"
-    "       cathbox vessel info FILE [--json]\n"
-    "       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl [--ring M] [--level L] [--control-mesh]\n"
-    "                           [--no-caps] [--no-trim] [--smooth N] [--smoothing taubin|moving-average]\n"
-    "                           [--rings adaptive|per-point] [--no-junction-fit]\n"
-    "       cathbox vessel import IN -o OUT.hclm [--format vtk|vtp|slicer|swc] [--units mm|cm|m|um]\n"
-    "                           [--radius-array NAME] [--no-radius-filter]\n"
-    "       cathbox vessel generate NAME -o OUT.hclm      NAME: neuro, neuro_aneurysm, neuro_stenosis,\n"
-    "                                                    y_bifurcation\n"
-    "       cathbox vessel generate --all DIR            all bundled cases into DIR\n"
-    "       cathbox vessel generate random-tree  [--seed S] [--segments N] -o OUT.hclm\n"
-    "       cathbox vessel generate random-graph [--seed S] [--cycles C] -o OUT.hclm\n";
-
-int usage_error(const std::string& message) {
-  std::fprintf(stderr, "cathbox vessel: %s\n%s", message.c_str(), kUsage);
-  return cli::kExitBadInput;
+// The group's command line, described once: parsing, help and the usage after an error.
+const cli::GroupSpec& spec() {
+  static const cli::GroupSpec group{
+      .name = "vessel",
+      .summary = "vessel models: validate, info, mesh, import, generate (HCLM)",
+      .subcommands =
+          {{.name = "validate", .positionals = "FILE", .help = "reads and validates an HCLM file"},
+           {.name = "info",
+            .positionals = "FILE",
+            .help = "segments, points, junctions, cycles, length and radii",
+            .options = {{.name = "json", .help = "print JSON (host/cli/README.md)"}}},
+           {.name = "mesh",
+            .positionals = "FILE",
+            .help = "meshes the vessel surface to .obj, .ply or .stl",
+            .options = {{.name = "output", .value = "OUT.obj|.ply|.stl", .help = "the mesh file", .required = true, .short_name = 'o'},
+                        {.name = "ring", .value = "M", .help = "points per ring, 3..64"},
+                        {.name = "level", .value = "L", .help = "subdivision level, 0..5"},
+                        {.name = "control-mesh", .help = "write the control mesh (level 0)"},
+                        {.name = "no-caps", .help = "leave the free ends open"},
+                        {.name = "no-trim", .help = "do not pull rings back at junctions"},
+                        {.name = "smooth", .value = "N", .help = "smoothing passes, 0..100"},
+                        {.name = "smoothing", .value = "taubin|moving-average", .help = "smoothing method"},
+                        {.name = "rings", .value = "adaptive|per-point", .help = "ring placement"},
+                        {.name = "no-junction-fit", .help = "do not fit junction patches to their branches"}}},
+           {.name = "import",
+            .positionals = "IN",
+            .help = "centrelines from VMTK, 3D Slicer or SWC to HCLM",
+            .options = {{.name = "output", .value = "OUT.hclm", .help = "the HCLM file", .required = true, .short_name = 'o'},
+                        {.name = "format", .value = "vtk|vtp|slicer|swc", .help = "input format (default: from the name)"},
+                        {.name = "units", .value = "mm|cm|m|um", .help = "the input's length unit"},
+                        {.name = "radius-array", .value = "NAME", .help = "the point array holding the radius"},
+                        {.name = "no-radius-filter", .help = "keep radii as read"}}},
+           {.name = "generate",
+            .positionals = "NAME",
+            .help = "a bundled or random case (NAME: neuro, neuro_aneurysm, neuro_stenosis, y_bifurcation, "
+                    "random-tree, random-graph)",
+            .options = {{.name = "output", .value = "OUT.hclm", .help = "the HCLM file", .required = true, .short_name = 'o'},
+                        {.name = "all", .value = "DIR", .help = "all bundled cases into DIR (instead of NAME and -o)"},
+                        {.name = "seed", .value = "S", .help = "random-tree / random-graph seed"},
+                        {.name = "segments", .value = "N", .help = "random-tree segments, 1..100000"},
+                        {.name = "cycles", .value = "C", .help = "random-graph cycles, 1..8"}}}},
+      .notes = "generate: NAME -o OUT.hclm, or --all DIR alone; --seed and --segments for random-tree, --seed and "
+               "--cycles for random-graph",
+  };
+  return group;
 }
 
-// `-o X` is spelled `--output X` for the shared parser.
-std::vector<std::string> normalize(std::span<const std::string> args) {
-  std::vector<std::string> out;
-  for (const std::string& a : args) out.push_back(a == "-o" ? "--output" : a);
-  return out;
-}
+int usage_error(const std::string& message) { return cli::usage_error(spec(), message); }
 
 // Reads and validates; on bad input prints one line: the first problem (and how many more).
 std::optional<vessel::VesselModel> read_model(const std::string& path) {
@@ -279,43 +303,16 @@ int run_generate(cli::Args& args) {
   return save(model, *output);
 }
 
-int run_vessel(std::span<const std::string> raw) {
-  if (raw.empty()) return usage_error("missing subcommand");
-  const std::string sub = raw[0];
-  const std::vector<std::string> rest = normalize(raw.subspan(1));
-  if (sub == "validate") {
-    cli::Args args(rest, {}, {});
-    if (!args.ok()) return usage_error(args.error());
-    return run_validate(args);
-  }
-  if (sub == "info") {
-    cli::Args args(rest, {}, {"json"});
-    if (!args.ok()) return usage_error(args.error());
-    return run_info(args);
-  }
-  if (sub == "mesh") {
-    cli::Args args(rest, {"output", "ring", "level", "smooth", "smoothing", "rings"},
-                   {"control-mesh", "no-caps", "no-trim", "no-junction-fit"});
-    if (!args.ok()) return usage_error(args.error());
-    return run_mesh(args);
-  }
-  if (sub == "import") {
-    cli::Args args(rest, {"output", "format", "units", "radius-array"}, {"no-radius-filter"});
-    if (!args.ok()) return usage_error(args.error());
-    return run_import(args);
-  }
-  if (sub == "generate") {
-    cli::Args args(rest, {"output", "all", "seed", "segments", "cycles"}, {});
-    if (!args.ok()) return usage_error(args.error());
+int run_vessel(std::span<const std::string> argv) {
+  return cli::run_group(spec(), argv, [](std::string_view sub, cli::Args& args) {
+    if (sub == "validate") return run_validate(args);
+    if (sub == "info") return run_info(args);
+    if (sub == "mesh") return run_mesh(args);
+    if (sub == "import") return run_import(args);
     return run_generate(args);
-  }
-  if (sub == "help" || sub == "--help") {
-    std::printf("%s", kUsage);
-    return cli::kExitOk;
-  }
-  return usage_error("unknown subcommand '" + sub + "'");
+  });
 }
 
-const cli::Registrar registrar({"vessel", "vessel models: validate, info, mesh, import, generate (HCLM)", run_vessel});
+const cli::Registrar registrar({spec().name, spec().summary, run_vessel});
 
 }  // namespace
