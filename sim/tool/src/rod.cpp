@@ -283,12 +283,18 @@ double Rod::inner_radius_at_mm(double from_tip_mm, std::size_t& station) const {
   return inner_radius_[station_near(from_tip_, from_tip_mm, station)];
 }
 
-double Rod::radius_at_mm(double from_tip_mm) const { return radius_[station_at(from_tip_, from_tip_mm)]; }
+// One look-up each: a walk that starts with a search.
+double Rod::radius_at_mm(double from_tip_mm) const {
+  std::size_t station = kNoStation;
+  return radius_at_mm(from_tip_mm, station);
+}
 double Rod::bending_at_Nmm2(double from_tip_mm) const {
-  return ei_[station_at(from_tip_, from_tip_mm)] / kMilli;
+  std::size_t station = kNoStation;
+  return bending_at_Nmm2(from_tip_mm, station);
 }
 double Rod::inner_radius_at_mm(double from_tip_mm) const {
-  return inner_radius_[station_at(from_tip_, from_tip_mm)];
+  std::size_t station = kNoStation;
+  return inner_radius_at_mm(from_tip_mm, station);
 }
 
 void Rod::place_outside(std::size_t k) {
