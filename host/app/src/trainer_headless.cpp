@@ -4,6 +4,7 @@
 
 #include "app/trainer_app.hpp"
 #include "app/server_link.hpp"
+#include "device/clock.hpp"
 #include "app/trainer_launch.hpp"
 #include "session/exit_codes.hpp"
 
@@ -30,9 +31,14 @@ int TrainerApp::run_headless_summary() {
   const std::int64_t limit_ticks =
       options_.max_seconds > 0.0 ? static_cast<std::int64_t>(options_.max_seconds * 1000.0) : -1;
   session::LogEvent e;
+  // --speed: each frame waits for its wall time, so watchers see the run as a rig streams it.
+  device::SystemClock clock;
+  const std::int64_t start_us = clock.now_us();
   // Steps of one live frame (33 ticks: ~30 frames per simulated second).
   while (!live_->over() && (limit_ticks < 0 || live_->ticks() < limit_ticks)) {
     live_->step_virtual(33);
+    if (options_.speed > 0.0)
+      clock.sleep_until_us(start_us + static_cast<std::int64_t>(static_cast<double>(live_->ticks()) * 1000.0 / options_.speed));
     while (live_->events().pop(e)) std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
     if (link_) {
       live_->snapshots().acquire();

@@ -89,6 +89,11 @@ std::vector<ValueOption> value_options() {
        [](std::string_view v, TrainerOptions& o) {
          return parse_number(v, o.max_seconds) && o.max_seconds > 0.0 && o.max_seconds <= 86400.0;
        }},
+      {"--speed", "X",
+       "headless run: X simulated seconds per second of wall time, as a rig streams (default 0: as fast as "
+       "possible)",
+       "--speed needs a factor (0 <= x <= 1000)",
+       [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.speed) && o.speed >= 0.0 && o.speed <= 1000.0; }},
       {"--replay", "FILE", "open a record (*.cbxrec) in Replay mode: play, pause, seek, speed",
        "--replay needs a record file", [](std::string_view v, TrainerOptions& o) { return text(v, o.replay); }},
       {"--records", "DIR",
@@ -205,6 +210,7 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
   o.record = p.no_record->count() == 0;
   if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");
   if (o.frames > 0 && !o.headless) return fail("--frames needs --headless");
+  if (o.speed > 0.0 && (!o.headless || o.frames > 0)) return fail("--speed needs --headless (without --frames)");
   if (o.bench_seconds > 0.0 && o.frames > 0) return fail("--bench and --frames exclude each other");
   if (!o.replay.empty() && (o.bench_seconds > 0.0 || !o.case_path.empty())) {
     return fail("--replay excludes --bench and --case (the record holds its case)");

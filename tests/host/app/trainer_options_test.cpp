@@ -39,6 +39,14 @@ TEST(TrainerOptions, EmuTakesAnOptionalSocketPath) {
   EXPECT_DOUBLE_EQ(r.options->bench_seconds, 2.5);
 }
 
+TEST(TrainerOptions, SpeedPacesTheHeadlessRun) {
+  const OptionsResult r = parse({"--headless", "--speed", "1", "--seconds", "8"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_DOUBLE_EQ(r.options->speed, 1.0);
+  EXPECT_DOUBLE_EQ(r.options->max_seconds, 8.0);
+  EXPECT_DOUBLE_EQ(parse({"--headless"}).options->speed, 0.0);
+}
+
 TEST(TrainerOptions, ParsesTheServerOptions) {
   const OptionsResult r = parse({"--server", "http://127.0.0.1:8080", "--user", "ann", "--password-file", "/etc/pw",
                                  "--rig", "rig-07", "--assignment", "12", "--settings", "/etc/t.json"});
@@ -69,6 +77,10 @@ TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
       {{"--assignment", "0"}, "--assignment"},
       {{"--assignment", "7a"}, "--assignment"},
       {{"--password-file"}, "--password-file"},
+      {{"--headless", "--speed", "-1"}, "--speed"},
+      {{"--headless", "--speed", "fast"}, "--speed"},
+      {{"--speed", "1"}, "--speed"},
+      {{"--headless", "--frames", "2", "--speed", "1"}, "--speed"},
   };
   for (const auto& [args, name] : bad) {
     const OptionsResult r = parse(args);

@@ -28,6 +28,7 @@ struct TrainerOptions {
   double bench_seconds = 0.0;     // > 0: benchmark run (real time), prints frame and haptic rates
   int fps_cap = 60;               // frame pacing without vsync (Xvfb, bench): 0 = as fast as possible
   double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
+  double speed = 0.0;             // headless run: simulated seconds per wall second; 0: as fast as possible
   bool wireframe = false;
   std::string replay;             // --replay FILE: open in Replay mode on this record
   std::string records_dir;        // where runs are recorded (empty: session::records_dir())

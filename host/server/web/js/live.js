@@ -8,8 +8,10 @@ import { VesselView, loadMesh } from './scene.js';
 const rigs = new Map();     // rig name -> the rig as the server describes it
 const panels = new Map();   // rig name -> {view, stats, frame, applied, ...}
 // renders: animation frames run; fps: their rate; frameRate: stream frames drawn a second (all
-// panels); draws: WebGL draws (a panel draws only when its frame or camera changed).
-const stats = { renders: 0, frames: 0, fps: 0, frameRate: 0, draws: 0, lastTip: null };
+// panels); frames: frames received; applied: frames drawn (only the newest is drawn when several
+// arrive between two animation frames), lastSeq: the seq of the last one drawn; draws: WebGL
+// draws (a panel draws only when its frame or camera changed).
+const stats = { renders: 0, frames: 0, applied: 0, fps: 0, frameRate: 0, draws: 0, lastTip: null, lastSeq: null };
 window.cathboxLive = stats; // for the browser test and the curious
 let socket = null;
 let wanted = '';  // the rigs the address names
@@ -117,6 +119,8 @@ function apply(p) {
   p.view.setTip(f.tip_mm);
   p.view.setContacts(f.contacts || []);
   stats.lastTip = f.tip_mm;
+  stats.lastSeq = f.seq === undefined ? null : f.seq;
+  stats.applied++;
   const fluoroTime = f.fluoro ? f.fluoro.time_s : null;
   const fluoroOn = f.fluoro && (f.fluoro.on || (p.fluoroTime !== null && fluoroTime > p.fluoroTime));
   p.fluoroTime = fluoroTime;
