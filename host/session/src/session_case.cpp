@@ -85,6 +85,14 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
     out.value = std::move(c);
     return out;
   }
+  // The blood flow over the vessel network (the case's `flow` overrides): the fluoroscopy
+  // unit's contrast rides on it. A bad override names the case file's line.
+  flow::FlowBuild network = flow::FlowNetwork::build(*model, c->spec.flow);
+  if (!network) {
+    out.error = network.error().message;
+    return out;
+  }
+  c->flow = std::move(*network);
   c->segments = path_segments(*model);
   const PathPoint from = CenterlinePath::nearest(c->segments, glm::vec3(c->entry.point_mm));
   std::optional<PathPoint> goal;
