@@ -53,6 +53,7 @@ bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
     return false;
   }
   live_ = std::move(live.session);
+  fluoro_switches_ = session::FluoroSwitches();  // a new run starts with the pedal up
   record_path_ = live.record_path;
   case_path_ = case_path;
   if (link_) {
@@ -252,6 +253,10 @@ int TrainerApp::run_window() {
     // What the trainee asked for (the session may be replaced: nothing of `s` is used after).
     if (live_ && act.end_run) live_->end_run();
     if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
+    if (live_) {
+      fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now),
+                              [this](const session::Control& c) { return live_->post(c); });
+    }
     std::string next_replay = replay_act.open;
     if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
     if (!next_replay.empty()) {

@@ -87,6 +87,8 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
     fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool);
     for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
     fluoro_->fill(metrics_);
+  } else if (!scene_->flow_error.empty()) {
+    log("no fluoroscopy: %s", scene_->flow_error.c_str());
   }
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 

@@ -86,13 +86,17 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
     return out;
   }
   // The blood flow over the vessel network (the case's `flow` overrides): the fluoroscopy
-  // unit's contrast rides on it. A bad override names the case file's line.
+  // unit's contrast rides on it. A case file the flow model refuses is bad input (a bad override
+  // names its line); a bare vessel file it cannot solve runs without fluoroscopy, saying why.
   flow::FlowBuild network = flow::FlowNetwork::build(*model, c->spec.flow);
-  if (!network) {
+  if (network) {
+    c->flow = std::move(*network);
+  } else if (!c->case_file.empty()) {
     out.error = network.error().message;
     return out;
+  } else {
+    c->flow_error = network.error().message;
   }
-  c->flow = std::move(*network);
   c->segments = path_segments(*model);
   const PathPoint from = CenterlinePath::nearest(c->segments, glm::vec3(c->entry.point_mm));
   std::optional<PathPoint> goal;

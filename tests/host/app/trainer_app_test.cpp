@@ -8,7 +8,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "app/server_link.hpp"
 #include "app/trainer_app.hpp"
 #include "session/exit_codes.hpp"
 
@@ -73,6 +75,18 @@ TEST_F(TrainerAppTest, MissingCaseIsRefused) {
   o.case_path = (home_ / "missing.case").string();
   TrainerApp app(o, ".");
   EXPECT_EQ(app.run(), session::kExitBadInput);
+}
+
+// The live frame carries the fluoroscopy unit's pedal and time when the case has one.
+TEST(LiveFrame, CarriesFluoroscopyOnAndTime) {
+  session::SceneSnapshot snap;
+  auto frame = nlohmann::json::parse(ServerLink::frame_json(snap, 1, {}));
+  EXPECT_FALSE(frame.contains("fluoro"));  // no vessel network: no unit
+  snap.fluoro.available = true;
+  snap.fluoro.image.beam_on = true;
+  snap.fluoro.exposure.fluoro_time_s = 1.5;
+  frame = nlohmann::json::parse(ServerLink::frame_json(snap, 2, {}));
+  EXPECT_EQ(frame["fluoro"], (nlohmann::json{{"on", true}, {"time_s", 1.5}}));
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 #include "app/scene_renderer.hpp"
 #include "app/trainer_launch.hpp"
 #include "app/trainer_options.hpp"
+#include "session/fluoro_switches.hpp"
 #include "session/keyboard_input.hpp"
 #include "session/replay_player.hpp"
 #include "session/session.hpp"
@@ -59,6 +60,7 @@ class TrainerApp {
   std::string case_path_;
   bool scripted_ = false;  // nobody at the keyboard (headless, bench): the autopilot drives
   session::KeyboardInput keyboard_;
+  session::FluoroSwitches fluoro_switches_;  // Space / I / R / X into fluoroscopy controls
   std::unique_ptr<session::Session> live_;
   std::unique_ptr<ServerLink> link_;
   std::optional<std::int64_t> live_assignment_;

@@ -35,6 +35,7 @@ struct SessionCase {
 
   // From the vessel (empty for analytic tubes).
   std::unique_ptr<flow::FlowNetwork> flow;  // the steady blood flow (sim/flow), solved at load
+  std::string flow_error;                   // why a bare vessel file has none (no fluoroscopy)
   std::vector<PathSegment> segments;        // the centreline graph
   std::vector<glm::vec3> route_mm;          // entry -> target (or the farthest leaf)
   std::vector<std::int32_t> route_segment_ids;  // segment ids along route_mm (with a target)
