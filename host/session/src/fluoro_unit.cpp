@@ -175,8 +175,11 @@ bool FluoroUnit::inject(double volume_ml, double rate_ml_s, ControlContext& ctx)
 }
 
 void FluoroUnit::tick(std::int64_t now_us) {
+  // Before the first injection the vessels hold no contrast and, with steady flow, a step would
+  // change nothing: the transport rests (its clock only matters to pulsatile flow).
+  const bool rest = transport_.injected_mg() == 0.0 && !transport_.injecting() && network_.max_flow_scale() == 1.0;
   while ((transport_steps_ + 1) * transport_step_us_ <= now_us) {
-    transport_.step();
+    if (!rest) transport_.step();
     ++transport_steps_;
   }
   const flow::FluoroTick t = scope_.tick(now_us, transport_.injecting());

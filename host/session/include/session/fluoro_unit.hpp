@@ -5,7 +5,8 @@
 // fluoro_controls.hpp). Every case with a vessel network has one (SessionCase::flow).
 //
 // - Time: tick(now_us) after the simulator's step; the transport steps at its own fixed
-//   10 ms (100 Hz) whenever a whole step fits before now, on the haptic thread: a step of the
+//   10 ms (100 Hz) whenever a whole step fits before now (resting, with steady flow, until the
+//   first injection), on the haptic thread: a step of the
 //   neuro graph costs ~25 µs median, ~37 µs p99 (sim/flow/README.md), within the 1 ms tick
 //   (bench_session measures the tick with contrast flowing). Deterministic: a replay applying
 //   the same controls at the same ticks reproduces every number.
