@@ -77,6 +77,17 @@ TEST_F(TrainerAppTest, MissingCaseIsRefused) {
   EXPECT_EQ(app.run(), session::kExitBadInput);
 }
 
+// --pedal-gpio: a bad value is bad input (2), a chip that is not there no device (3); both
+// before any window opens.
+TEST_F(TrainerAppTest, ABadOrMissingFootPedalIsRefused) {
+  TrainerOptions o = headless();
+  o.frames = 1;  // the windowed path, where the pedal is used
+  o.pedal_gpio = "gpiochip0";
+  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitBadInput);
+  o.pedal_gpio = "no_such_gpiochip:22";
+  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitNoDevice);
+}
+
 // The live frame carries the fluoroscopy unit's pedal and time when the case has one.
 TEST(LiveFrame, CarriesFluoroscopyOnAndTime) {
   session::SceneSnapshot snap;
