@@ -105,6 +105,17 @@ TEST(FluoroSession, AScriptedAngiogramCountsPedalTimeContrastAndOneRun) {
   const FluoroUnit& again = *replay->session().fluoro();
   EXPECT_EQ(again.hash(0), s.fluoro()->hash(0));
   EXPECT_EQ(again.fluoroscope().image().roadmap_pulse, scope.image().roadmap_pulse);
+  // The images' inputs a renderer gets are the same, number for number.
+  SnapshotExchange<SceneSnapshot>& rx = replay->session().snapshots();
+  (void)rx.acquire();
+  const FluoroView& rv = rx.read_slot().fluoro;
+  EXPECT_EQ(rv.image.pulse, v.image.pulse);
+  EXPECT_EQ(rv.iodine_mgI_ml, v.iodine_mgI_ml);
+  EXPECT_EQ(rv.mask_iodine_mgI_ml, v.mask_iodine_mgI_ml);
+  EXPECT_EQ(rv.roadmap_iodine_mgI_ml, v.roadmap_iodine_mgI_ml);
+  EXPECT_EQ(rv.roadmap_mask_iodine_mgI_ml, v.roadmap_mask_iodine_mgI_ml);
+  EXPECT_EQ(rv.pulse_tool_nodes_mm[0], v.pulse_tool_nodes_mm[0]);
+  EXPECT_EQ(rv.pulse_tool_nodes_mm[1], v.pulse_tool_nodes_mm[1]);
 }
 
 // The hashes of two records of the same motions, one with the pedal pressed at tick 150.
