@@ -5,6 +5,7 @@
 //    session's inputs. Per tick: the session's tick, the bare step, and their difference (the
 //    session's overhead). Median and p99 of each as counters. SessionTick/neuro_contrast: the same
 //    under fluoroscopy with contrast injected (the fluoroscopy unit and its 100 Hz transport).
+//    tick_cpu_*: the tick's thread CPU time (less sensitive to other processes than wall time).
 //  - Recording: Recorder calls for one tick of a moving hand (two tools, a hash every 100 ticks),
 //    compression and writing on its own thread as in a run.
 //  - Replay/<minutes>: a record of a run made by an action script in virtual time is replayed
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -40,6 +42,13 @@ std::string scratch(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "cathbox_bench_session";
   std::filesystem::create_directories(dir);
   return (dir / name).string();
+}
+
+// CPU time of the calling thread, µs.
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
 }
 
 double percentile(std::vector<double> v, double p) {
@@ -103,12 +112,15 @@ void SessionTick(benchmark::State& state, const std::string& case_name, bool con
   session->add_observer(tap);
   constexpr double kDt = 1e-3;
   std::vector<double> tick_us;
+  std::vector<double> tick_cpu_us;
   std::vector<double> step_us;
   std::vector<double> overhead_us;
   for (auto _ : state) {
+    const double c0 = thread_cpu_us();
     const auto t0 = Clock::now();
     session->step_virtual(1);
     const auto t1 = Clock::now();
+    tick_cpu_us.push_back(thread_cpu_us() - c0);
     for (std::size_t t = 0; t < tap.input.tool_count; ++t) {
       bare.set_insertion(t, static_cast<double>(tap.input.tools[t].insertion_um) * 1e-3);
       bare.set_rotation(t, static_cast<double>(tap.input.tools[t].rotation_urad) * 1e-6);
@@ -130,6 +142,9 @@ void SessionTick(benchmark::State& state, const std::string& case_name, bool con
   state.counters["overhead_median_us"] = percentile(overhead_us, 0.5);
   state.counters["overhead_p99_us"] = percentile(overhead_us, 0.99);
   state.counters["tick_max_us"] = percentile(tick_us, 1.0);
+  // The tick's own CPU time: what the figures are without the other processes' preemption.
+  state.counters["tick_cpu_median_us"] = percentile(tick_cpu_us, 0.5);
+  state.counters["tick_cpu_p99_us"] = percentile(tick_cpu_us, 0.99);
   if (const auto* fluoro = session->fluoro(); contrast && fluoro != nullptr) {
     state.counters["contrast_ml"] = fluoro->transport().injected_volume_ml();
     state.counters["pulses"] = static_cast<double>(fluoro->fluoroscope().metrics().pulses);
