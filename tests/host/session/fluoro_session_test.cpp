@@ -210,6 +210,20 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   EXPECT_EQ(replay->session().fluoro()->hash(0), u.hash(0));
 }
 
+TEST(FluoroSession, AnInjectionGoesThroughTheCatheterOfTheHeldWire) {
+  auto scene = load("neuro.case");  // the guidewire runs inside the catheter
+  Session s(std::move(scene), script_hand(*load("neuro.case"), "0 select catheter\n0 insert_to 40 at 100\n"
+                                                               "500 select guidewire\n500 insert_to 60 at 100\n"
+                                                               "1200 inject 1 at 5\n1500 end\n"));
+  while (!s.over()) s.step_virtual(1000);
+  EXPECT_EQ(s.held_tool(), 1U);
+  EXPECT_NEAR(*s.metrics().contrast_volume_ml, 1.0, 1e-9);
+  const std::vector<std::string> events = drain(s.events());
+  EXPECT_NE(std::find_if(events.begin(), events.end(),
+                         [](const std::string& e) { return e.starts_with("inject 1.0 mL at 5.0 mL/s from the catheter's tip"); }),
+            events.end());
+}
+
 TEST(FluoroSession, AnInjectionNeedsACatheter) {
   auto scene = load("y_bifurcation.case");  // a guidewire only
   Session s(std::move(scene), script_hand(*load("y_bifurcation.case"), "0 insert_to 10 at 50\n100 inject 5\n300 end\n"));
