@@ -66,15 +66,22 @@ void FluoroUnit::log(ControlContext& ctx, const char* fmt, ...) {
 
 bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
   bool applied = false;
+  bool decoded = true;  // the payload has its kind's size and finite values
   switch (static_cast<ControlKind>(c.kind)) {
     case ControlKind::kFluoroPedal:
       if (const auto on = fluoro_control::read_flag(c)) {
         scope_.set_pedal(*on);
         applied = true;
+      } else {
+        decoded = false;
       }
       break;
     case ControlKind::kInject:
-      if (const auto p = fluoro_control::read_inject(c)) applied = inject(p->volume_ml, p->rate_ml_s, ctx);
+      if (const auto p = fluoro_control::read_inject(c)) {
+        applied = inject(p->volume_ml, p->rate_ml_s, ctx);
+      } else {
+        decoded = false;
+      }
       break;
     case ControlKind::kCArmAngles:
       if (const auto a = fluoro_control::read_angles(c)) {
@@ -82,6 +89,8 @@ bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
         pose.lao_deg = a->lao_deg;
         pose.cranial_deg = a->cranial_deg;
         applied = move_carm(pose, ctx);
+      } else {
+        decoded = false;
       }
       break;
     case ControlKind::kCArmGeometry:
@@ -92,6 +101,8 @@ bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
         pose.fov_mm = g->fov_mm;
         pose.collimation = g->collimation;
         applied = move_carm(pose, ctx);
+      } else {
+        decoded = false;
       }
       break;
     case ControlKind::kPulseRate:
@@ -101,6 +112,8 @@ bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
         } else {
           applied = true;
         }
+      } else {
+        decoded = false;
       }
       break;
     case ControlKind::kRoadmap:
@@ -117,10 +130,14 @@ bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
           log(ctx, "roadmap: no contrast run in this C-arm pose to take it from");
         }
         if (applied) ++inputs_version_;
+      } else {
+        decoded = false;
       }
       break;
-    default: break;
+    default: decoded = false; break;
   }
+  if (!decoded) log(ctx, "fluoroscopy control kind %u: bad payload of %u bytes", static_cast<unsigned>(c.kind),
+                       static_cast<unsigned>(c.size));
   used_ = used_ || applied;
   return applied;
 }

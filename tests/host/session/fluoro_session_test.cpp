@@ -175,6 +175,7 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   ASSERT_TRUE(s.post(fluoro_control::carm_angles(0.0, 80.0)));    // out of range: refused
   ASSERT_TRUE(s.post(fluoro_control::pulse_rate(12.0)));           // not a rate of the unit: refused
   ASSERT_TRUE(s.post(fluoro_control::roadmap(true)));              // no run in this pose: refused
+  ASSERT_TRUE(s.post(Control::make(static_cast<std::uint16_t>(ControlKind::kInject), std::vector<std::uint8_t>{6})));
   s.step_virtual(10);
   const flow::CArmPose& pose = u.fluoroscope().carm().pose();
   EXPECT_EQ(pose.lao_deg, -35.0);
@@ -193,6 +194,7 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   EXPECT_TRUE(has("C-arm: "));
   EXPECT_TRUE(has("fluoroscopy: pulse rate must be 7.5, 15 or 30"));
   EXPECT_TRUE(has("roadmap: no contrast run in this C-arm pose"));
+  EXPECT_TRUE(has("fluoroscopy control kind 33: bad payload of 1 bytes"));
   s.end_run();
   s.step_virtual(1);
   ASSERT_TRUE(s.recorder()->close());
