@@ -3,7 +3,9 @@
 //  - SessionTick/<case>: the same action script drives a Session (hand, mapping, record, state
 //    hashes, metrics, snapshot, events) and, in lockstep, a bare tool::Simulator given the
 //    session's inputs. Per tick: the session's tick, the bare step, and their difference (the
-//    session's overhead). Median and p99 of each as counters.
+//    session's overhead). Median and p99 of each as counters. SessionTick/neuro_contrast: the same
+//    under fluoroscopy with contrast injected (the fluoroscopy unit and its 100 Hz transport).
+//    tick_cpu_*: the tick's thread CPU time (less sensitive to other processes than wall time).
 //  - Recording: Recorder calls for one tick of a moving hand (two tools, a hash every 100 ticks),
 //    compression and writing on its own thread as in a run.
 //  - Replay/<minutes>: a record of a run made by an action script in virtual time is replayed
@@ -12,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,20 +44,33 @@ std::string scratch(const std::string& name) {
   return (dir / name).string();
 }
 
+// CPU time of the calling thread, µs.
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
 }
 
-// Pushes in and pulls back with a full turn of the tip each way, for `minutes`.
-std::string write_script(const std::string& name, int minutes) {
+// Pushes in and pulls back with a full turn of the tip each way, for `minutes`. With `contrast`,
+// every 10 s cycle also has the pedal down from 0.5 to 8 s and 6 mL injected at 6 mL/s at 1 s
+// (from the first tool, the catheter in neuro), so contrast flows most of the time.
+std::string write_script(const std::string& name, int minutes, bool contrast = false) {
   const std::string path = scratch(name);
   std::ofstream out(path);
   for (int cycle = 0; cycle < minutes * 6; ++cycle) {
     const int t0 = cycle * 10'000;
-    out << t0 << " insert_to 80 at 25\n" << t0 + 1000 << " rotate_by 360 at 180\n";
+    out << t0 << " insert_to 80 at 25\n";
+    if (contrast) out << t0 + 500 << " fluoro on\n";
+    out << t0 + 1000 << " rotate_by 360 at 180\n";
+    if (contrast) out << t0 + 1000 << " inject 6 at 6\n";
     out << t0 + 5000 << " insert_to 30 at 25\n" << t0 + 6000 << " rotate_by -360 at 180\n";
+    if (contrast) out << t0 + 8000 << " fluoro off\n";
   }
   out << minutes * 60'000 << " end\n";
   return path;
@@ -77,9 +93,9 @@ struct InputTap final : TickObserver {
   void observe(const TickView& view) override { input = view.input; }
 };
 
-void SessionTick(benchmark::State& state, const std::string& case_name) {
+void SessionTick(benchmark::State& state, const std::string& case_name, bool contrast) {
   const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name + ".case";
-  const std::string script = write_script("tick.actions", 1);
+  const std::string script = write_script("tick.actions", 1, contrast);
   std::string error;
   auto session = open_session(case_path, script, error);
   auto bare_scene = cathbox::session::load_session_case(case_path);
@@ -96,12 +112,15 @@ void SessionTick(benchmark::State& state, const std::string& case_name) {
   session->add_observer(tap);
   constexpr double kDt = 1e-3;
   std::vector<double> tick_us;
+  std::vector<double> tick_cpu_us;
   std::vector<double> step_us;
   std::vector<double> overhead_us;
   for (auto _ : state) {
+    const double c0 = thread_cpu_us();
     const auto t0 = Clock::now();
     session->step_virtual(1);
     const auto t1 = Clock::now();
+    tick_cpu_us.push_back(thread_cpu_us() - c0);
     for (std::size_t t = 0; t < tap.input.tool_count; ++t) {
       bare.set_insertion(t, static_cast<double>(tap.input.tools[t].insertion_um) * 1e-3);
       bare.set_rotation(t, static_cast<double>(tap.input.tools[t].rotation_urad) * 1e-6);
@@ -122,9 +141,20 @@ void SessionTick(benchmark::State& state, const std::string& case_name) {
   state.counters["sim_step_p99_us"] = percentile(step_us, 0.99);
   state.counters["overhead_median_us"] = percentile(overhead_us, 0.5);
   state.counters["overhead_p99_us"] = percentile(overhead_us, 0.99);
+  state.counters["tick_max_us"] = percentile(tick_us, 1.0);
+  // The tick's own CPU time: what the figures are without the other processes' preemption.
+  state.counters["tick_cpu_median_us"] = percentile(tick_cpu_us, 0.5);
+  state.counters["tick_cpu_p99_us"] = percentile(tick_cpu_us, 0.99);
+  if (const auto* fluoro = session->fluoro(); contrast && fluoro != nullptr) {
+    state.counters["contrast_ml"] = fluoro->transport().injected_volume_ml();
+    state.counters["pulses"] = static_cast<double>(fluoro->fluoroscope().metrics().pulses);
+  }
 }
-BENCHMARK_CAPTURE(SessionTick, y_bifurcation, std::string("y_bifurcation"))->Iterations(20'000)->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(SessionTick, neuro, std::string("neuro"))->Iterations(20'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(SessionTick, y_bifurcation, std::string("y_bifurcation"), false)->Iterations(20'000)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(SessionTick, neuro, std::string("neuro"), false)->Iterations(20'000)->Unit(benchmark::kMicrosecond);
+// The same with the pedal down and contrast flowing: the fluoroscopy unit and the 100 Hz
+// transport step on the haptic thread.
+BENCHMARK_CAPTURE(SessionTick, neuro_contrast, std::string("neuro"), true)->Iterations(20'000)->Unit(benchmark::kMicrosecond);
 
 void Recording(benchmark::State& state) {
   cathbox::session::RecordHeader header;

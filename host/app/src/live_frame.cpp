@@ -1,5 +1,6 @@
 // The live frame a run sends to cathbox-server (host/server/include/server/live_schema.hpp):
-// the snapshot's tools, tip, forces, contacts and named metrics, millimetres to 0.01 mm.
+// the snapshot's tools, tip, forces, contacts and named metrics, millimetres to 0.01 mm, and
+// "fluoro": {"on": the pedal is down, "time_s": fluoroscopy time so far} when the case has one.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -61,8 +62,8 @@ std::string ServerLink::frame_json(const session::SceneSnapshot& snap, std::uint
                 {"contacts", std::move(contacts)},
                 {"metrics", std::move(metrics)},
                 {"sent_us", unix_now_us()}};
-  if (snap.metrics.fluoroscopy_time_s) {
-    frame["fluoro"] = {{"time_s", *snap.metrics.fluoroscopy_time_s}};
+  if (snap.fluoro.available) {  // the fluoroscopy unit: the pedal (beam) and the time so far
+    frame["fluoro"] = {{"on", snap.fluoro.image.beam_on}, {"time_s", snap.fluoro.exposure.fluoro_time_s}};
   }
   return frame.dump();
 }

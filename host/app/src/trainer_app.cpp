@@ -11,6 +11,7 @@
 #include "app/screenshot_writer.hpp"
 #include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
+#include "device/gpiod_foot_pedal.hpp"
 #include "app/trainer_ui.hpp"
 #include "session/exit_codes.hpp"
 #include "session/records_dir.hpp"
@@ -53,6 +54,7 @@ bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
     return false;
   }
   live_ = std::move(live.session);
+  fluoro_switches_ = session::FluoroSwitches(foot_pedal_.get());  // a new run starts with the pedal up
   record_path_ = live.record_path;
   case_path_ = case_path;
   if (link_) {
@@ -90,6 +92,7 @@ int TrainerApp::run() {
   if (options_.headless && options_.frames == 0 && options_.bench_seconds <= 0.0) {
     return options_.replay.empty() ? run_headless_summary() : run_headless_replay();
   }
+  if (const int code = open_foot_pedal(); code >= 0) return code;
   return run_window();
 }
 
@@ -129,6 +132,22 @@ void TrainerApp::frame_camera() {
   }
   if (mesh.positions_mm.empty()) lo = hi = glm::vec3(0.0F);
   camera_.frame(lo, hi);
+}
+
+int TrainerApp::open_foot_pedal() {
+  if (options_.pedal_gpio.empty()) return -1;
+  const device::Result<device::PedalConfig> config = device::PedalConfig::parse(options_.pedal_gpio);
+  if (!config) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", config.error().message.c_str());
+    return session::kExitBadInput;
+  }
+  auto pedal = device::GpiodFootPedal::open(*config);
+  if (!pedal) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", pedal.error().message.c_str());
+    return session::kExitNoDevice;
+  }
+  foot_pedal_ = std::move(*pedal);
+  return -1;
 }
 
 int TrainerApp::run_window() {
@@ -252,6 +271,10 @@ int TrainerApp::run_window() {
     // What the trainee asked for (the session may be replaced: nothing of `s` is used after).
     if (live_ && act.end_run) live_->end_run();
     if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
+    if (live_) {
+      fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now),
+                              [this](const session::Control& c) { return live_->post(c); });
+    }
     std::string next_replay = replay_act.open;
     if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
     if (!next_replay.empty()) {

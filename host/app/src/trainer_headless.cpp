@@ -20,7 +20,8 @@ int TrainerApp::run_headless_summary() {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
     return session::kExitBadInput;
   }
-  std::printf("cathbox-trainer: headless run of %s with the scripted hand (virtual time)\n", live_->scene().name.c_str());
+  std::printf("cathbox-trainer: headless run of %s with the %s (virtual time)\n", live_->scene().name.c_str(),
+              options_.script.empty() ? "scripted hand" : live_->hand_description().c_str());
   if (!record_path_.empty()) std::fprintf(stderr, "cathbox-trainer: recording to %s\n", record_path_.c_str());
   if (link_) {
     // Instructors should see the run at all: it runs in virtual time, faster than real time.

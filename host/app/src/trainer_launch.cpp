@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "session/action_script_hand.hpp"
 #include "session/box_hand.hpp"
 #include "session/multi_box_hand.hpp"
 #include "session/keyboard_hand.hpp"
@@ -68,7 +69,15 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   const session::SessionOptions session_options;
   const double dt_s = static_cast<double>(session_options.period_us) * 1e-6;
   std::unique_ptr<session::Hand> hand;
-  if (scripted) {
+  if (!options.script.empty()) {
+    // The same script player as `cathbox session run --script`, imaging verbs included.
+    std::string error;
+    hand = session::ActionScriptHand::load(options.script, *scene.value, error);
+    if (!hand) {
+      live.error = error;
+      return live;
+    }
+  } else if (scripted) {
     // Its insertion limit follows the held tool's (TickInput::max_insertion_um).
     session::ScriptedHandSettings autopilot_settings;
     autopilot_settings.end_margin_mm = scene.value->target_mm ? 0.0 : 1.0;

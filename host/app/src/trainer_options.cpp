@@ -132,6 +132,14 @@ std::vector<ValueOption> value_options() {
        "settings (JSON: server, user, password_file, rig); default: $XDG_CONFIG_HOME/cathbox/trainer.json, else "
        "~/.config/cathbox/trainer.json",
        "--settings needs a file", [](std::string_view v, TrainerOptions& o) { return text(v, o.settings_file); }},
+      {"--script", "ACTIONS",
+       "an action script (*.actions) drives the run instead of the hand: tools, pedal, injections, C-arm, roadmap "
+       "(with --headless, in virtual time)",
+       "--script needs an action script file", [](std::string_view v, TrainerOptions& o) { return text(v, o.script); }},
+      {"--pedal-gpio", "CHIP:LINE",
+       "the fluoroscopy foot pedal on a GPIO line, e.g. gpiochip0:22 (add :active-high for a switch to 3.3 V; "
+       "default active-low with the pull-up); the Space key works too",
+       "--pedal-gpio needs CHIP:LINE", [](std::string_view v, TrainerOptions& o) { return text(v, o.pedal_gpio); }},
   };
 }
 

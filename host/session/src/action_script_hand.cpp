@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "session/control.hpp"
+#include "session/fluoro_controls.hpp"
 #include "tool/rod.hpp"
 
 namespace cathbox::session {
@@ -45,6 +46,10 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
   // The player applies the actions due at this millisecond and moves its motions by one.
   const tool::ScriptPlayer::Step step = player_.advance(tick);
   if (step.selected) sink.push(Control::select_tool(*step.selected));
+  // The imaging verbs become the fluoroscopy unit's controls, recorded like a trainee's.
+  for (const tool::Action& a : step.due) {
+    if (const std::optional<Control> c = fluoro_control::from_action(a)) sink.push(*c);
+  }
   if (step.ended) {
     ended_ = true;
     finished_ = true;

@@ -5,7 +5,22 @@
 
 namespace cathbox::session {
 
-bool known_control_kind(std::uint16_t kind) { return kind == static_cast<std::uint16_t>(ControlKind::kSelectTool); }
+const char* control_kind_name(std::uint16_t kind) {
+  switch (static_cast<ControlKind>(kind)) {
+    case ControlKind::kSelectTool: return "select_tool";
+    case ControlKind::kFluoroPedal: return "fluoro_pedal";
+    case ControlKind::kInject: return "inject";
+    case ControlKind::kCArmAngles: return "carm_angles";
+    case ControlKind::kCArmGeometry: return "carm_geometry";
+    case ControlKind::kPulseRate: return "pulse_rate";
+    case ControlKind::kRoadmap: return "roadmap";
+  }
+  return nullptr;
+}
+
+bool known_control_kind(std::uint16_t kind) { return control_kind_name(kind) != nullptr; }
+
+const char* known_control_kinds() { return "16, 32-37"; }
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);

@@ -165,8 +165,11 @@ std::string MetricsCollector::format(const Metrics& m) {
   };
   optional_figure("fluoroscopy time", m.fluoroscopy_time_s, "s");
   optional_figure("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");
-  const std::optional<double> runs = m.fluoroscopy_runs ? std::optional<double>(*m.fluoroscopy_runs) : std::nullopt;
-  optional_figure("fluoroscopy runs", runs, "");
+  if (m.fluoroscopy_runs) {
+    appendf(out, "%-21s %d\n", "fluoroscopy runs", *m.fluoroscopy_runs);
+  } else {
+    appendf(out, "%-21s n/a\n", "fluoroscopy runs");
+  }
   optional_figure("contrast volume", m.contrast_volume_ml, "ml");
   return out;
 }
@@ -203,6 +206,14 @@ std::vector<std::string> metric_names() {
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml"};
+}
+
+void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,
+                                       double contrast_volume_ml) {
+  m_.fluoroscopy_time_s = time_s;
+  m_.dose_area_product_mGy_cm2 = dose_area_product_mGy_cm2;
+  m_.fluoroscopy_runs = runs;
+  m_.contrast_volume_ml = contrast_volume_ml;
 }
 
 }  // namespace cathbox::session

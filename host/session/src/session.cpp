@@ -83,10 +83,21 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   select_tool_ = std::make_unique<SelectTool>(*this);
   sink_ = std::make_unique<Sink>(*this);
   add_control_handler(static_cast<std::uint16_t>(ControlKind::kSelectTool), *select_tool_);
+  if (scene_->flow) {
+    fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool);
+    for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
+    fluoro_->fill(metrics_);
+  } else if (!scene_->flow_error.empty()) {
+    log("no fluoroscopy: %s", scene_->flow_error.c_str());
+  }
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 
   const std::size_t nodes = options_.max_nodes_per_tool;
-  exchange_.prepare_slots([nodes](SceneSnapshot& s) { s.reserve(nodes); });
+  const std::size_t cells = fluoro_ ? fluoro_->cells().size() : 0;
+  exchange_.prepare_slots([nodes, cells](SceneSnapshot& s) {
+    s.reserve(nodes);
+    s.fluoro.reserve(cells, nodes);
+  });
   sim_->copy_snapshot(snap_);
   // The hand sees where the tool starts before the first tick.
   HandFeedback fb;
@@ -221,6 +232,8 @@ bool Session::tick() {
   }
   sim_->step(static_cast<double>(options_.period_us) * 1e-6);
   sim_->copy_snapshot(snap_);
+  // The fluoroscopy unit and the contrast, to the end of this tick.
+  if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
   // 4. What the hand feels.
   const std::size_t held_index = input_.held;
   const tool::ToolSnapshot& held = snap_.tools[held_index];
@@ -234,7 +247,11 @@ bool Session::tick() {
   fb.tip_direction = to_f(held.tip.direction);
   fb.tip_bend = to_f(held.tip.normal);
   fb.hand_force_mN = held.hand_force_mN;
-  if ((n + 1) % options_.hash_every == 0) fb.state_hash = state_hash(snap_);
+  if ((n + 1) % options_.hash_every == 0) {
+    // The fluoroscopy unit's state joins the hash once it has been used (older records keep theirs).
+    const std::uint64_t h = state_hash(snap_);
+    fb.state_hash = fluoro_ && fluoro_->used() ? fluoro_->hash(h) : h;
+  }
   hand_->feel(fb);
   if (recorder_ && fb.state_hash) recorder_->state_hash(*fb.state_hash);
   // 5. Metrics and events.
@@ -254,6 +271,7 @@ bool Session::tick() {
     if (k.node + 3 >= sim_->rod(held_index).node_total()) mt.tip_in_contact = true;
   }
   metrics_.observe(mt);
+  if (fluoro_) fluoro_->fill(metrics_);
   if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.wall_force_mN);
   if (metrics_.target_just_reached()) {
     log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);
@@ -322,8 +340,14 @@ void Session::publish() {
   s.haptic_ticks = tick_;
   s.dropped_ticks = t ? t->dropped() : 0;
   s.metrics = metrics_.metrics();
+  if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   exchange_.publish();
+}
+
+const std::vector<FluoroCell>& Session::fluoro_cells() const {
+  static const std::vector<FluoroCell> kNone;
+  return fluoro_ ? fluoro_->cells() : kNone;
 }
 
 const HapticThread* Session::active_thread() const {

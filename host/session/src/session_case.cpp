@@ -85,6 +85,18 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
     out.value = std::move(c);
     return out;
   }
+  // The blood flow over the vessel network (the case's `flow` overrides): the fluoroscopy
+  // unit's contrast rides on it. A case file the flow model refuses is bad input (a bad override
+  // names its line); a bare vessel file it cannot solve runs without fluoroscopy, saying why.
+  flow::FlowBuild network = flow::FlowNetwork::build(*model, c->spec.flow);
+  if (network) {
+    c->flow = std::move(*network);
+  } else if (!c->case_file.empty()) {
+    out.error = network.error().message;
+    return out;
+  } else {
+    c->flow_error = network.error().message;
+  }
   c->segments = path_segments(*model);
   const PathPoint from = CenterlinePath::nearest(c->segments, glm::vec3(c->entry.point_mm));
   std::optional<PathPoint> goal;

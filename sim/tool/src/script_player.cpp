@@ -57,6 +57,7 @@ ScriptPlayer::ScriptPlayer(const Script& script, std::span<const ToolInfo> tools
 
 ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
   Step step;
+  const std::size_t first = next_;
   for (; next_ < actions_.size() && actions_[next_].time_ms <= now_ms; ++next_) {
     const Action& a = actions_[next_];
     const std::size_t t = selected_;
@@ -83,9 +84,10 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
       case ActionKind::kInject:
       case ActionKind::kCArm:
       case ActionKind::kRoadmap:
-        break;  // imaging: acted on by the fluoroscopy unit, not by the tools
+        break;  // imaging: acted on by the fluoroscopy unit (step.due), not by the tools
     }
   }
+  step.due = std::span<const Action>(actions_).subspan(first, next_ - first);
   if (step.ended) return step;
   moving_ = false;
   for (std::size_t t = 0; t < insertion_.size(); ++t) {

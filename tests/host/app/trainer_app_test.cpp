@@ -8,7 +8,9 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "app/server_link.hpp"
 #include "app/trainer_app.hpp"
 #include "session/exit_codes.hpp"
 
@@ -73,6 +75,29 @@ TEST_F(TrainerAppTest, MissingCaseIsRefused) {
   o.case_path = (home_ / "missing.case").string();
   TrainerApp app(o, ".");
   EXPECT_EQ(app.run(), session::kExitBadInput);
+}
+
+// --pedal-gpio: a bad value is bad input (2), a chip that is not there no device (3); both
+// before any window opens.
+TEST_F(TrainerAppTest, ABadOrMissingFootPedalIsRefused) {
+  TrainerOptions o = headless();
+  o.frames = 1;  // the windowed path, where the pedal is used
+  o.pedal_gpio = "gpiochip0";
+  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitBadInput);
+  o.pedal_gpio = "no_such_gpiochip:22";
+  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitNoDevice);
+}
+
+// The live frame carries the fluoroscopy unit's pedal and time when the case has one.
+TEST(LiveFrame, CarriesFluoroscopyOnAndTime) {
+  session::SceneSnapshot snap;
+  auto frame = nlohmann::json::parse(ServerLink::frame_json(snap, 1, {}));
+  EXPECT_FALSE(frame.contains("fluoro"));  // no vessel network: no unit
+  snap.fluoro.available = true;
+  snap.fluoro.image.beam_on = true;
+  snap.fluoro.exposure.fluoro_time_s = 1.5;
+  frame = nlohmann::json::parse(ServerLink::frame_json(snap, 2, {}));
+  EXPECT_EQ(frame["fluoro"], (nlohmann::json{{"on", true}, {"time_s", 1.5}}));
 }
 
 }  // namespace

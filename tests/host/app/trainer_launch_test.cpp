@@ -1,6 +1,7 @@
 // How the trainer starts a run, without a window: the case it opens and the hand and record it
 // gives the session.
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <unistd.h>
@@ -113,6 +114,30 @@ TEST(TrainerLaunch, ABoxPerToolOrTheKeyboardSayingWhy) {
   ASSERT_NE(bad.session, nullptr) << bad.error;
   EXPECT_EQ(bad.session->hand_description(),
             "keyboard (boxes: --box 'coil=emu': the case has no tool 'coil' (its tools: catheter, guidewire))");
+}
+
+// --script: the action script drives the run, its imaging verbs included; a bad one is one line
+// naming its file and line.
+TEST(TrainerLaunch, AScriptDrivesTheRunWithItsImagingVerbs) {
+  TempDir dir;
+  const std::string script = (dir.path / "angio.actions").string();
+  std::ofstream(script) << "0 select catheter\n0 insert_to 60 at 100\n100 fluoro on\n300 inject 2 at 4\n1000 fluoro off\n1100 end\n";
+  TrainerOptions options;
+  options.record = false;
+  options.script = script;
+  session::KeyboardInput keyboard;
+  LiveSession live = open_live_session(options, ".", kCases + "/neuro.case", true, keyboard);
+  ASSERT_NE(live.session, nullptr) << live.error;
+  EXPECT_EQ(live.session->hand_kind(), session::HandKind::kActionScript);
+  while (!live.session->over()) live.session->step_virtual(1000);
+  const session::Metrics& m = live.session->metrics();
+  EXPECT_NEAR(*m.fluoroscopy_time_s, 0.9, 1e-9);
+  EXPECT_NEAR(*m.contrast_volume_ml, 2.0, 1e-9);
+  EXPECT_EQ(m.fluoroscopy_runs, 1);
+  std::ofstream(script) << "0 carm 200 0\n";
+  live = open_live_session(options, ".", kCases + "/neuro.case", true, keyboard);
+  EXPECT_EQ(live.session, nullptr);
+  EXPECT_EQ(live.error, script + ":1: carm: LAO/RAO angle must be within +-120 degrees");
 }
 
 }  // namespace

@@ -65,6 +65,13 @@ TEST(TrainerOptions, ParsesTheServerOptions) {
   EXPECT_EQ(r.options->settings_file, "/etc/t.json");
 }
 
+TEST(TrainerOptions, TakesAFootPedalLine) {
+  const OptionsResult r = parse({"--pedal-gpio", "gpiochip0:22"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_EQ(r.options->pedal_gpio, "gpiochip0:22");
+  EXPECT_TRUE(parse({}).options->pedal_gpio.empty());
+}
+
 TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
   const std::vector<std::pair<std::vector<const char*>, const char*>> bad = {
       {{"--frames"}, "--frames"},

@@ -4,6 +4,8 @@
 #  - against a real `cathbox-emu` process in real time (its scripted hand pushes and twists the
 #    wire), then replayed the same way;
 #  - a run killed with SIGKILL mid-way leaves a record that reads and replays to its last block;
+#  - neuro under fluoroscopy by script (pedal, injection, roadmap): the figures printed, in the
+#    JSON and replayed; a bad imaging verb or value is one line with file:line, exit 2;
 #  - a changed, truncated or foreign record is one line and exit 2 (replay --check: exit 1 with
 #    the first differing tick when the inputs no longer give the recorded states).
 # No sleeps: the emulator is awaited by its "listening" line, the killed run by its "recorded"
@@ -62,6 +64,45 @@ for c in "$cases"/*.case; do
   shape session-info
   jq -e '.case.bytes > 0 and .ticks > 0' "$work/out" >/dev/null || fail "$name: info: $(head -c 300 "$work/out")"
 done
+
+# Fluoroscopy by action script (neuro: a catheter): the pedal down 4 s, 6 mL injected during it,
+# the roadmap taken with the pedal up. The figures are printed, in the JSON, and replayed.
+cat >"$work/angio.actions" <<'EOF'
+0     select catheter
+0     insert_to 100 at 100
+1000  fluoro on
+2500  inject 6 at 3
+5000  fluoro off
+5100  roadmap
+5300  end
+EOF
+rec="$work/angio.cbxrec"
+if expect 0 "$cb" session run --case "$cases/neuro.case" --script "$work/angio.actions" --record "$rec"; then
+  for line in "fluoroscopy time *4.00 s" "fluoroscopy runs *1$" "contrast volume *6.00 ml" "dose-area product"; do
+    grep -q "$line" "$work/out" || fail "angio: no '$line' in: $(cat "$work/out")"
+  done
+  grep -q "inject 6.0 mL at 3.0 mL/s from the catheter's tip" "$work/out" || fail "angio: no injection event"
+  expect 0 "$cb" session metrics "$rec" --json
+  shape session-metrics
+  jq -e '(.fluoroscopy_time_s - 4 | fabs) < 1e-6 and (.contrast_volume_ml - 6 | fabs) < 1e-6
+         and .fluoroscopy_runs == 1 and .dose_area_product_mGy_cm2 > 0' "$work/out" >/dev/null ||
+    fail "angio metrics: $(head -c 600 "$work/out")"
+  expect 0 "$cb" session info "$rec" --json
+  shape session-info
+  jq -e '.controls == {"fluoro_pedal": 2, "inject": 1, "roadmap": 1}' "$work/out" >/dev/null ||
+    fail "angio controls: $(jq -c .controls "$work/out")"
+  expect 0 "$cb" session replay "$rec" --check
+  grep -q "match" "$work/out" || fail "angio replay: $(cat "$work/out")"
+fi
+# A bad imaging verb or value: one line naming the script's line, exit 2.
+printf '0 select catheter\n100 fluoro maybe\n' >"$work/bad_verb.actions"
+expect 2 "$cb" session run --case "$cases/neuro.case" --script "$work/bad_verb.actions" --record "$work/bad.cbxrec"
+[ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "bad_verb.actions:2: fluoro: expected 'on' or 'off'" "$work/out" ||
+  fail "bad verb: $(cat "$work/out")"
+printf '0 inject 6 at 50\n' >"$work/bad_rate.actions"
+expect 2 "$cb" session run --case "$cases/neuro.case" --script "$work/bad_rate.actions" --record "$work/bad.cbxrec"
+[ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "bad_rate.actions:1: inject: rate must be in (0, 30\] mL/s" "$work/out" ||
+  fail "bad rate: $(cat "$work/out")"
 
 # The same record replayed twice gives the same CSV log, byte for byte.
 rec="$work/y_bifurcation.cbxrec"

@@ -235,8 +235,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   EXPECT_NE(error.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
 }
 
-// A block written by hand: a newer writer's entry kind 99 in tick 0.
-TEST(Record, AnUnknownKindIsRefusedNotMisread) {
+// A block written by hand: a newer writer's entry kind (99, or 38: the fluoroscopy range's first
+// unused number) in tick 0.
+class UnknownKind : public ::testing::TestWithParam<int> {};
+
+TEST_P(UnknownKind, IsRefusedNotMisread) {
+  const int kind = GetParam();
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("kind.cbxrec", 5, false));
   // Cut the ticks block off, keep the file header and the header block.
   std::string error;
@@ -247,7 +251,7 @@ TEST(Record, AnUnknownKindIsRefusedNotMisread) {
   record::ByteWriter w(raw);
   w.u64(0);
   w.u32(1);
-  w.varint(99);  // kind
+  w.varint(static_cast<std::uint64_t>(kind));
   w.varint(2);
   w.u16(0xBEEF);
   w.u8(0);  // end of tick
@@ -267,9 +271,11 @@ TEST(Record, AnUnknownKindIsRefusedNotMisread) {
   TickRecord t;
   EXPECT_FALSE(r->next(t));
   EXPECT_EQ(r->error(), "new.cbxrec: byte " + std::to_string(block_at) +
-                            ": tick 0, offset 12 of the block's data: unknown kind 99 (a newer record? this build "
-                            "knows 1-4 and controls 16)");
+                            ": tick 0, offset 12 of the block's data: unknown kind " + std::to_string(kind) +
+                            " (a newer record? this build knows 1-4 and controls 16, 32-37)");
 }
+
+INSTANTIATE_TEST_SUITE_P(Record, UnknownKind, ::testing::Values(99, 38));
 
 TEST(Record, ControlsCarryTheirKindAndPayload) {
   const Control c = Control::make(static_cast<std::uint16_t>(ControlKind::kSelectTool), std::vector<std::uint8_t>{3});

@@ -14,32 +14,15 @@
 #include "session/session.hpp"
 #include "tool/action_script.hpp"
 #include "record_tamper.hpp"
+#include "session_fixtures.hpp"
 
 namespace cathbox::session {
 namespace {
 
-std::string temp_path(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "session_test";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
+using fixtures::load;
+using fixtures::script_hand;
 
-std::string cases(const std::string& file) { return std::string(CATHBOX_SOURCE_DIR) + "/cases/" + file; }
-
-std::unique_ptr<SessionCase> load(const std::string& file) {
-  SessionCaseLoad loaded = load_session_case(cases(file));
-  EXPECT_TRUE(loaded.value) << loaded.error;
-  return std::move(loaded.value);
-}
-
-std::unique_ptr<Hand> script_hand(const SessionCase& scene, const std::string& text) {
-  const tool::ScriptParse parsed = tool::parse_script(text, "test.actions");
-  EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
-  std::string error;
-  auto hand = ActionScriptHand::make(*parsed, "test.actions", ActionScriptHand::tool_infos(scene), 0, error);
-  EXPECT_TRUE(hand) << error;
-  return hand;
-}
+std::string temp_path(const std::string& name) { return fixtures::temp_path("session_test", name); }
 
 constexpr const char* kLeftBranch =
     "0 select guidewire\n0 insert_to 40 at 30\n1400 rotate_to 360 at 180\n2500 insert_to 95 at 20\n5500 end\n";

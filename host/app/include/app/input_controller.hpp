@@ -2,7 +2,8 @@
 // Mouse and keyboard in the trainer's window, once per frame: orbit / pan / zoom the global
 // view, double-click a vessel to orbit around it, F wireframe, C re-frame, Esc quit; and the
 // keyboard hand: Up/Down (W/S) push and pull at 10 mm/s, Left/Right (A/D) twist at 1.5 rad/s,
-// Shift x4, Tab takes the other tool.
+// Shift x4, Tab takes the other tool; fluoroscopy: Space the pedal (held), I inject, R the
+// roadmap, X clears it (session::FluoroSwitches turns them into controls).
 #include <functional>
 #include <optional>
 
@@ -11,6 +12,7 @@
 #include "app/orbit_camera.hpp"
 #include "app/scene_renderer.hpp"
 #include "app/screen_layout.hpp"
+#include "session/fluoro_switches.hpp"
 #include "session/keyboard_input.hpp"
 
 struct GLFWwindow;
@@ -22,6 +24,7 @@ class TrainerUi;
 struct InputActions {
   bool switch_tool = false;
   bool frame_camera = false;
+  session::FluoroKeys fluoro;  // the fluoroscopy keys held now
 };
 
 class InputController {

@@ -14,6 +14,8 @@
 #include "app/scene_renderer.hpp"
 #include "app/trainer_launch.hpp"
 #include "app/trainer_options.hpp"
+#include "device/foot_pedal.hpp"
+#include "session/fluoro_switches.hpp"
 #include "session/keyboard_input.hpp"
 #include "session/replay_player.hpp"
 #include "session/session.hpp"
@@ -46,6 +48,8 @@ class TrainerApp {
   void close_live(bool background_upload = true);
   // --server or the settings file: the link (exit code, or -1 to go on).
   [[nodiscard]] int open_server_link();
+  // --pedal-gpio: the foot pedal opened (-1), else the exit code (bad option 2, no line 3).
+  [[nodiscard]] int open_foot_pedal();
   // The case to open: the assigned one when joined to a server, else choose_case().
   [[nodiscard]] CaseChoice choose();
   [[nodiscard]] session::Session& current();
@@ -59,6 +63,8 @@ class TrainerApp {
   std::string case_path_;
   bool scripted_ = false;  // nobody at the keyboard (headless, bench): the autopilot drives
   session::KeyboardInput keyboard_;
+  std::unique_ptr<device::FootPedal> foot_pedal_;  // --pedal-gpio
+  session::FluoroSwitches fluoro_switches_;  // Space / I / R / X and the foot pedal into fluoroscopy controls
   std::unique_ptr<session::Session> live_;
   std::unique_ptr<ServerLink> link_;
   std::optional<std::int64_t> live_assignment_;

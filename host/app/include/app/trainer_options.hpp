@@ -42,6 +42,8 @@ struct TrainerOptions {
   std::string rig;                // --rig NAME (default: the host name)
   std::optional<std::int64_t> assignment;  // --assignment ID: run this assignment's case
   std::string settings_file;      // --settings FILE (default: trainer_settings_path())
+  std::string script;             // --script ACTIONS: an action script drives the run (tools and fluoroscopy)
+  std::string pedal_gpio;         // --pedal-gpio CHIP:LINE[:active-high|active-low]: a GPIO foot pedal
   bool help = false;
 };
 

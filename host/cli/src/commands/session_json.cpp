@@ -12,7 +12,7 @@ using json = nlohmann::ordered_json;
 json optional_number(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
 
 std::string control_name(std::uint16_t kind) {
-  if (kind == static_cast<std::uint16_t>(session::ControlKind::kSelectTool)) return "select_tool";
+  if (const char* name = session::control_kind_name(kind)) return name;
   return "kind_" + std::to_string(kind);
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // An action script (*.actions, sim/tool/action_script.hpp) as the hand: the same parser and the
 // same player (tool::ScriptPlayer) as `cathbox sim run`, one millisecond per tick. `select`
-// becomes a select control (recorded like a trainee's); the motions move every tool. The
+// becomes a select control (recorded like a trainee's), the imaging verbs (`fluoro`, `inject`,
+// `carm`, `roadmap`) the fluoroscopy unit's controls (fluoro_controls.hpp); the motions move
+// every tool. The
 // hand finishes at `end`, or 100 ms after the last motion ended.
 #include <memory>
 #include <optional>

@@ -35,10 +35,22 @@ struct TickInput;
 // share one space with the record's per-tick entry kinds (record_format.hpp), 0..15.
 enum class ControlKind : std::uint16_t {
   kSelectTool = 16,  // payload: u8 tool index, or 0xFF for "the next tool"
+  // Fluoroscopy (session/fluoro_controls.hpp has the makers and payloads).
+  kFluoroPedal = 32,   // u8 1 pressed, 0 released
+  kInject = 33,        // f64 volume mL, f64 rate mL/s
+  kCArmAngles = 34,    // f64 LAO degrees (RAO negative), f64 cranial degrees (caudal negative)
+  kCArmGeometry = 35,  // f64 SID mm, f64 table height mm, f64 field of view mm, f64 collimation
+  kPulseRate = 36,     // u16 pulses per 10 s (75, 150, 300)
+  kRoadmap = 37,       // u8 1 capture, 0 clear
 };
 
 // True for the kinds this build knows how to replay.
 [[nodiscard]] bool known_control_kind(std::uint16_t kind);
+// A known kind's name ("select_tool", "fluoro_pedal", "inject", "carm_angles", "carm_geometry",
+// "pulse_rate", "roadmap"), null for others.
+[[nodiscard]] const char* control_kind_name(std::uint16_t kind);
+// The known kinds as text, for errors: "16, 32-37".
+[[nodiscard]] const char* known_control_kinds();
 
 struct Control {
   static constexpr std::size_t kMaxPayload = 32;

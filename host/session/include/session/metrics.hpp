@@ -94,6 +94,8 @@ class MetricsCollector {
   explicit MetricsCollector(MetricsSettings settings = {});
 
   void observe(const MetricsTick& tick);
+  // The fluoroscopy unit's figures (session/fluoro_unit.hpp), set after each tick it runs.
+  void set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs, double contrast_volume_ml);
   [[nodiscard]] const Metrics& metrics() const { return m_; }
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }

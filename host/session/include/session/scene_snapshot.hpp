@@ -7,6 +7,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "session/fluoro_view.hpp"
 #include "session/hand.hpp"
 #include "session/metrics.hpp"
 
@@ -47,6 +48,7 @@ struct SceneSnapshot {
   std::int64_t dropped_ticks = 0;
   Metrics metrics;
   bool run_over = false;  // target reached, the hand finished, or the run was ended
+  FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 
   // Lets the vectors hold `nodes_per_tool` nodes per tool without allocating.
   void reserve(std::size_t nodes_per_tool) {

@@ -25,6 +25,7 @@
 #include "session/clock.hpp"
 #include "session/control.hpp"
 #include "session/event_log.hpp"
+#include "session/fluoro_unit.hpp"
 #include "session/hand.hpp"
 #include "session/haptic_thread.hpp"
 #include "session/metrics.hpp"
@@ -107,6 +108,9 @@ class Session {
   [[nodiscard]] const std::string& hand_description() const { return hand_description_; }
   [[nodiscard]] HandKind hand_kind() const { return hand_->kind(); }
   [[nodiscard]] const SessionOptions& options() const { return options_; }
+  // The contrast cells a renderer draws SceneSnapshot::fluoro's iodine on (empty without a
+  // vessel network).
+  [[nodiscard]] const std::vector<FluoroCell>& fluoro_cells() const;
   // The header a record of this session gets.
   [[nodiscard]] RecordHeader record_header() const;
 
@@ -115,6 +119,8 @@ class Session {
   [[nodiscard]] Hand& hand() { return *hand_; }
   [[nodiscard]] const tool::Simulator& simulator() const { return *sim_; }
   [[nodiscard]] record::EndReason end_reason() const { return end_reason_; }
+  // The fluoroscopy unit (null without a vessel network).
+  [[nodiscard]] const FluoroUnit* fluoro() const { return fluoro_.get(); }
   [[nodiscard]] const std::string& end_text() const { return end_text_; }
 
  private:
@@ -145,6 +151,7 @@ class Session {
   ControlQueue controls_;
   std::array<ControlHandler*, 128> handlers_{};
   std::unique_ptr<SelectTool> select_tool_;
+  std::unique_ptr<FluoroUnit> fluoro_;
   std::unique_ptr<Sink> sink_;
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;

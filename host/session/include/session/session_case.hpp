@@ -3,7 +3,8 @@
 // through tool::load_case, or a bare HCLM file with the default guidewire from the start of the
 // root segment, then tool::build_world (the wall, the entry, the target, the surface). Keeps
 // the files' bytes verbatim for the record, and what the session derives from the vessel: the
-// centreline route from the entry to the target (metrics, autopilot), the target's radius.
+// centreline route from the entry to the target (metrics, autopilot), the target's radius,
+// the blood flow over the vessel network (the fluoroscopy unit's contrast).
 // A record rebuilds the same case from its header (the HCLM it carries, the tools and the
 // entry it recorded), whatever the files on disk hold now.
 #include <cstdint>
@@ -14,6 +15,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "flow/flow_network.hpp"
 #include "session/centerline_path.hpp"
 #include "session/record_header.hpp"
 #include "tool/case_file.hpp"
@@ -32,6 +34,8 @@ struct SessionCase {
   tool::Entry entry;        // where the tools enter (the case's, else the default)
 
   // From the vessel (empty for analytic tubes).
+  std::unique_ptr<flow::FlowNetwork> flow;  // the steady blood flow (sim/flow), solved at load
+  std::string flow_error;                   // why a bare vessel file has none (no fluoroscopy)
   std::vector<PathSegment> segments;        // the centreline graph
   std::vector<glm::vec3> route_mm;          // entry -> target (or the farthest leaf)
   std::vector<std::int32_t> route_segment_ids;  // segment ids along route_mm (with a target)

@@ -30,6 +30,8 @@ class ScriptPlayer {
   struct Step {
     std::optional<std::size_t> selected;  // a `select` took effect at this step
     bool ended = false;                   // an `end` action is due: stop before stepping
+    std::span<const Action> due;          // the actions applied at this step, in order (the
+                                          // imaging verbs are its owner's to act on)
   };
   // Applies the actions due at `now_ms` (0, 1, 2, ... in turn), then, unless the script ended,
   // moves every running motion by one millisecond.

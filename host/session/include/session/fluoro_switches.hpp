@@ -1,0 +1,49 @@
+#pragma once
+// The trainee's fluoroscopy switches as controls: the pedal (a key held, or a lab rig's GPIO
+// foot pedal through device::FootPedal, debounced on the caller's clock), the inject key and
+// the roadmap keys. A front end calls update() once per frame with what is held now; a control
+// is posted on each change only (pressing the pedal once, injecting once per key press), so
+// the session records presses, not frames. Front-end thread; the session's post() never blocks.
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "device/foot_pedal.hpp"
+#include "session/control.hpp"
+
+namespace cathbox::session {
+
+struct FluoroKeys {
+  bool pedal = false;          // the pedal key is held
+  bool inject = false;         // the inject key is down
+  bool roadmap = false;        // the roadmap key is down (capture)
+  bool clear_roadmap = false;  // the clear-roadmap key is down
+};
+
+class FluoroSwitches {
+ public:
+  using Post = std::function<bool(const Control&)>;
+  // `foot_pedal` (may be null) must outlive this object. Each key press injects `inject_ml` at
+  // `inject_rate_ml_s`.
+  explicit FluoroSwitches(device::FootPedal* foot_pedal = nullptr, double inject_ml = 6.0,
+                          double inject_rate_ml_s = 3.0);
+
+  // What is held at now_us (the caller's clock, non-decreasing): posts the controls for what
+  // changed. The pedal is down while the key or the foot pedal is.
+  void update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post);
+
+  [[nodiscard]] bool pedal_down() const { return pedal_; }
+  // The foot pedal's last read error (empty when it reads); its last good state is kept.
+  [[nodiscard]] const std::string& pedal_error() const { return pedal_error_; }
+
+ private:
+  device::FootPedal* foot_;
+  device::PedalDebouncer debouncer_;
+  double inject_ml_;
+  double inject_rate_ml_s_;
+  bool pedal_ = false;
+  FluoroKeys last_;
+  std::string pedal_error_;
+};
+
+}  // namespace cathbox::session
