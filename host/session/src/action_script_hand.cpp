@@ -23,7 +23,7 @@ std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
   std::vector<tool::ScriptPlayer::ToolInfo> out;
-  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back({spec.name, tool::Rod(spec).max_insertion_mm()});
+  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back(tool::tool_info(spec));
   return out;
 }
 
@@ -45,6 +45,7 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
   // The player applies the actions due at this millisecond and moves its motions by one.
   const tool::ScriptPlayer::Step step = player_.advance(tick);
   if (step.selected) sink.push(Control::select_tool(*step.selected));
+  if (step.detach) sink.push(Control::detach_coil(*step.detach));
   if (step.ended) {
     ended_ = true;
     finished_ = true;

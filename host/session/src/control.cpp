@@ -5,7 +5,9 @@
 
 namespace cathbox::session {
 
-bool known_control_kind(std::uint16_t kind) { return kind == static_cast<std::uint16_t>(ControlKind::kSelectTool); }
+bool known_control_kind(std::uint16_t kind) {
+  return kind == static_cast<std::uint16_t>(ControlKind::kSelectTool) || kind == static_cast<std::uint16_t>(ControlKind::kDetachCoil);
+}
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);
@@ -33,5 +35,10 @@ bool ControlQueue::post(const Control& control) {
 }
 
 bool ControlQueue::pop(Control& out) { return ring_.pop(out); }
+
+Control Control::detach_coil(std::size_t tool) {
+  const auto b = static_cast<std::uint8_t>(tool);
+  return make(static_cast<std::uint16_t>(ControlKind::kDetachCoil), std::span(&b, 1));
+}
 
 }  // namespace cathbox::session

@@ -316,7 +316,8 @@ bool RecordReader::decode_tick(TickRecord& out) {
       default: {
         if (kind > 0xFFFF || !known_control_kind(static_cast<std::uint16_t>(kind))) {
           return err(at, "unknown kind " + std::to_string(kind) + " (a newer record? this build knows 1-4 and controls " +
-                             std::to_string(static_cast<int>(ControlKind::kSelectTool)) + ")");
+                             std::to_string(static_cast<int>(ControlKind::kSelectTool)) + " and " +
+                             std::to_string(static_cast<int>(ControlKind::kDetachCoil)) + ")");
         }
         if (length > Control::kMaxPayload) return err(at, "control of " + std::to_string(length) + " bytes (at most 32)");
         if (out.control_count == TickRecord::kMaxControls) return err(at, "more than 64 controls in one tick");

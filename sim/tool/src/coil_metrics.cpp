@@ -66,8 +66,14 @@ void CoilMetrics::observe(const Simulator& sim) {
     herniated_now += herniated(coil, 0, coil.node_total(), coil.length_mm() + 1.0);
   }
   f_.packing_density = sac_.volume_mm3 > 0.0 ? f_.coil_volume_mm3 / sac_.volume_mm3 : 0.0;
-  herniation_began_ = herniated_now > 0 && f_.herniated_nodes == 0;
-  if (herniation_began_) ++f_.herniations;
+  // A new episode after a gap without herniated coil (a loop flickering across the plane is one).
+  herniation_began_ = false;
+  if (herniated_now > 0) {
+    herniation_began_ = f_.herniated_nodes == 0 && (f_.herniations == 0 || sim.time_s() - clear_since_s_ >= kHerniationGap_s);
+    if (herniation_began_) ++f_.herniations;
+  } else if (f_.herniated_nodes > 0) {
+    clear_since_s_ = sim.time_s();
+  }
   f_.herniated_nodes = herniated_now;
   f_.kick_back_mm = std::max(f_.kick_back_mm, f_.kick_back_now_mm);
 }

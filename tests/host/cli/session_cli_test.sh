@@ -63,6 +63,19 @@ for c in "$cases"/*.case; do
   jq -e '.case.bytes > 0 and .ticks > 0' "$work/out" >/dev/null || fail "$name: info: $(head -c 300 "$work/out")"
 done
 
+# Coiling: the bundled case's own script deploys and detaches its coil; the record replays it
+# (coil tool, shape and the detach_coil control) and its metrics carry the coiling figures.
+rec="$work/coiling.cbxrec"
+expect 0 "$cb" session run --case "$cases/neuro_coiling.case" --script "$cases/neuro_coiling.actions" --record "$rec"
+grep -q "coil of the coil detached" "$work/out" || fail "coiling: no detach: $(tail -5 "$work/out")"
+grep -q "^packing density" "$work/out" || fail "coiling: no packing density line"
+expect 0 "$cb" session metrics "$rec" --json
+shape session-metrics
+jq -e '.coil_length_mm >= 59 and .packing_density_pct > 1 and .packing_density_pct < 2 and .target_reached' \
+  "$work/out" >/dev/null || fail "coiling metrics: $(cat "$work/out")"
+expect 0 "$cb" session info "$rec" --json
+jq -e '.controls.detach_coil == 1 and .tools[3].kind == "coil"' "$work/out" >/dev/null || fail "coiling info: $(cat "$work/out")"
+
 # The same record replayed twice gives the same CSV log, byte for byte.
 rec="$work/y_bifurcation.cbxrec"
 expect 0 "$cb" session replay "$rec" --out "$work/a.csv" --every 10

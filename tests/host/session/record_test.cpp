@@ -268,7 +268,7 @@ TEST(Record, AnUnknownKindIsRefusedNotMisread) {
   EXPECT_FALSE(r->next(t));
   EXPECT_EQ(r->error(), "new.cbxrec: byte " + std::to_string(block_at) +
                             ": tick 0, offset 12 of the block's data: unknown kind 99 (a newer record? this build "
-                            "knows 1-4 and controls 16)");
+                            "knows 1-4 and controls 16 and 64)");
 }
 
 TEST(Record, ControlsCarryTheirKindAndPayload) {

@@ -35,6 +35,7 @@ struct TickInput;
 // share one space with the record's per-tick entry kinds (record_format.hpp), 0..15.
 enum class ControlKind : std::uint16_t {
   kSelectTool = 16,  // payload: u8 tool index, or 0xFF for "the next tool"
+  kDetachCoil = 64,  // payload: u8 index of the coil tool whose coil is released
 };
 
 // True for the kinds this build knows how to replay.
@@ -51,6 +52,7 @@ struct Control {
   [[nodiscard]] static Control make(std::uint16_t kind, std::span<const std::uint8_t> bytes);
   [[nodiscard]] static Control select_tool(std::size_t tool);
   [[nodiscard]] static Control select_next_tool();
+  [[nodiscard]] static Control detach_coil(std::size_t tool);
 };
 
 // What a handler may touch while it applies a control (haptic thread, between two ticks).

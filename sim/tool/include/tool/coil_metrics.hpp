@@ -9,7 +9,8 @@
 //   herniated nodes        nodes of deployed coil wholly on the parent artery's side of the neck
 //                          plane (deeper than their radius), not counting the last
 //                          kLeavingZone_mm of coil leaving the catheter tip
-//   herniations            episodes of herniated coil (from none to some): an error event
+//   herniations            episodes of herniated coil (from none to some, after at least
+//                          kHerniationGap_s without any): an error event
 //   kick-back              how far the microcatheter's tip was pushed back out of the sac along
 //                          the neck normal from where it was when its coil began to deploy
 //                          until the coil's release, less what its own hand withdrew it (peak, mm)
@@ -35,6 +36,7 @@ struct CoilFigures {
 class CoilMetrics {
  public:
   static constexpr double kLeavingZone_mm = 1.0;
+  static constexpr double kHerniationGap_s = 0.05;
 
   CoilMetrics(const Simulator& sim, const AneurysmSac& sac);
 
@@ -63,6 +65,7 @@ class CoilMetrics {
   std::vector<CoilTool> coils_;
   CoilFigures f_;
   bool herniation_began_ = false;
+  double clear_since_s_ = -1.0;  // simulated time since when no node has herniated (-1: never any)
 };
 
 }  // namespace cathbox::tool
