@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "session/box_hand.hpp"
+#include "session/multi_box_hand.hpp"
 #include "session/keyboard_hand.hpp"
 #include "session/records_dir.hpp"
 #include "session/scripted_hand.hpp"
@@ -75,6 +76,23 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
         scene.value->route_mm, scene.value->spec.tools.front().length_mm(), autopilot_settings);
     autopilot->set_tick_s(dt_s);
     hand = std::move(autopilot);
+  } else if (!options.boxes.empty()) {
+    // A box per tool; if one cannot be had, the keyboard, saying why (as for one box).
+    std::vector<session::BoxBinding> bindings;
+    std::string box_error;
+    for (const std::string& b : options.boxes) {
+      const std::optional<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value->spec.tools, box_error);
+      if (!parsed) break;
+      bindings.push_back(*parsed);
+    }
+    session::BoxHandOptions base;
+    base.emu_program = program_dir + "/cathbox-emu";
+    base.keyboard = &keyboard;
+    base.dt_s = dt_s;
+    if (bindings.size() == options.boxes.size()) {
+      hand = session::MultiBoxHand::connect(bindings, base, scene.value->spec.tools.size(), box_error);
+    }
+    if (!hand) hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (boxes: " + box_error + ")");
   } else if (options.box == BoxChoice::kNone) {
     hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (no box)");
   } else {

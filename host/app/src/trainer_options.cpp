@@ -94,6 +94,16 @@ std::vector<ValueOption> value_options() {
        "possible)",
        "--speed needs a factor (0 <= x <= 1000)",
        [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.speed) && o.speed >= 0.0 && o.speed <= 1000.0; }},
+      {"--box", "TOOL=WHERE",
+       "a box per tool, repeated (two or more): WHERE is a real box's serial, emu (start one) or emu:PATH; each "
+       "box drives and renders only its tool",
+       "--box needs TOOL=WHERE",
+       [](std::string_view v, TrainerOptions& o) {
+         const std::size_t eq = v.find('=');
+         if (eq == std::string_view::npos || eq == 0 || eq + 1 == v.size()) return false;
+         o.boxes.emplace_back(v);
+         return true;
+       }},
       {"--replay", "FILE", "open a record (*.cbxrec) in Replay mode: play, pause, seek, speed",
        "--replay needs a record file", [](std::string_view v, TrainerOptions& o) { return text(v, o.replay); }},
       {"--records", "DIR",
@@ -196,7 +206,13 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
     return fail("unknown option '" + printable(extra.front()) + "' (see --help)");
   }
   for (std::size_t i = 0; i < p.values.size(); ++i) {
-    if (p.value_ptrs[i]->count() > 0 && !p.values[i].apply(p.value_ptrs[i]->as<std::string>(), o)) {
+    if (p.value_ptrs[i]->count() == 0) continue;
+    if (std::string_view(p.values[i].name) == "--box") {
+      // Every --box, in the order given.
+      for (const std::string& v : p.value_ptrs[i]->results()) {
+        if (!p.values[i].apply(v, o)) return fail(p.values[i].error);
+      }
+    } else if (!p.values[i].apply(p.value_ptrs[i]->as<std::string>(), o)) {
       return fail(p.values[i].error);
     }
   }
@@ -208,6 +224,8 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
   o.headless = p.headless->count() > 0;
   o.wireframe = p.wireframe->count() > 0;
   o.record = p.no_record->count() == 0;
+  if (o.boxes.size() == 1) return fail("--box needs two boxes or more (one box: --emu, which switches between tools)");
+  if (!o.boxes.empty() && (p.emu->count() > 0 || o.box == BoxChoice::kNone)) return fail("--box excludes --emu and --no-box");
   if (!o.screenshot.empty() && o.frames == 0) return fail("--screenshot needs --frames N");
   if (o.frames > 0 && !o.headless) return fail("--frames needs --headless");
   if (o.speed > 0.0 && (!o.headless || o.frames > 0)) return fail("--speed needs --headless (without --frames)");

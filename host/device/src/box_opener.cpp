@@ -25,4 +25,26 @@ BoxClient::Opener box_opener(std::optional<std::string> emu_path, Clock& clock) 
   };
 }
 
+Result<std::string> path_of_serial(std::span<const HidDeviceInfo> boxes, const std::string& serial) {
+  std::string found;
+  for (const HidDeviceInfo& b : boxes) {
+    if (b.serial == serial) return b.path;
+    found += (found.empty() ? "" : ", ") + (b.serial.empty() ? std::string("(no serial) ") + b.path : b.serial);
+  }
+  return make_error(Errc::kNoDevice, "no box with serial '" + serial + "' (" +
+                                         (found.empty() ? std::string("no box found") : "found: " + found) + ")");
+}
+
+BoxClient::Opener box_opener_by_serial(std::string serial) {
+  return [serial = std::move(serial)]() -> Result<std::unique_ptr<Transport>> {
+    auto boxes = HidapiTransport::enumerate();
+    if (!boxes) return boxes.error();
+    auto path = path_of_serial(boxes.value(), serial);
+    if (!path) return path.error();
+    auto opened = HidapiTransport::open(path.value());
+    if (!opened) return opened.error();
+    return std::unique_ptr<Transport>(std::move(opened.value()));
+  };
+}
+
 }  // namespace cathbox::device

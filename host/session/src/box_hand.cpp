@@ -16,7 +16,16 @@ std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::st
   std::unique_ptr<BoxHand> hand(new BoxHand());
   hand->keyboard_ = options.keyboard;
   hand->dt_s_ = options.dt_s;
-  if (options.source == BoxSource::kAuto) {
+  hand->tool_ = options.tool;
+  if (options.source == BoxSource::kSerial) {
+    auto real = device::BoxClient::connect(device::box_opener_by_serial(options.serial), hand->clock_);
+    if (!real) {
+      error = real.error().message;
+      return nullptr;
+    }
+    hand->client_ = std::move(real.value());
+    hand->kind_ = "box";
+  } else if (options.source == BoxSource::kAuto) {
     auto real = device::BoxClient::connect(device::box_opener(std::nullopt, hand->clock_), hand->clock_);
     if (real) {
       hand->client_ = std::move(real.value());
@@ -59,6 +68,7 @@ std::unique_ptr<BoxHand> BoxHand::attach(std::unique_ptr<device::BoxClient> clie
   hand->client_ = std::move(client);
   hand->keyboard_ = options.keyboard;
   hand->dt_s_ = options.dt_s;
+  hand->tool_ = options.tool;
   hand->kind_ = "box";
   if (!hand->init(error)) return nullptr;
   return hand;
@@ -107,22 +117,42 @@ std::optional<DeviceRecord> BoxHand::device() const {
   return d;
 }
 
+void BoxHand::hold(std::size_t tool, const ToolCommand& at) {
+  if (!tool_) mapping_.hold(tool, at);  // a bound box keeps its tool whichever one is held
+}
+
 void BoxHand::read(std::int64_t, TickInput& in) {
   const bool fresh = client_->poll(state_);
   const cbx_state_report& s = state_.report;
   if (fresh && !mapping_.has_count_origin()) mapping_.set_count_origin({s.insertion_count, s.rotation_count});
   const HandPosition hand = mapping_.hand_from_counts({s.insertion_count, s.rotation_count});
-  if (keyboard_ != nullptr) {
-    const KeyboardInput::Motion m = keyboard_->take(dt_s_);
-    mapping_.nudge(m.insertion_um, m.rotation_urad, in.max_insertion_um[in.held]);
+  const std::size_t tool = tool_.value_or(in.held);
+  if (tool >= in.tool_count) {
+    in.box = status();
+    return;  // bound to a tool the case does not have: checked by MultiBoxHand, never driven
   }
-  in.tools[in.held] = mapping_.command(hand);
-  in.box = {true, client_->link() == device::Link::kUp, s.faults};
+  if (tool_ && !bound_started_) {
+    mapping_.hold(tool, in.tools[tool]);  // carry on from where the tool is
+    bound_started_ = true;
+  }
+  // The keyboard moves the held tool, so only the box that drives it takes the keys.
+  if (keyboard_ != nullptr && tool == in.held) {
+    const KeyboardInput::Motion m = keyboard_->take(dt_s_);
+    mapping_.nudge(m.insertion_um, m.rotation_urad, in.max_insertion_um[tool]);
+  }
+  in.tools[tool] = mapping_.command(hand);
+  in.box = status();
+}
+
+BoxStatus BoxHand::status() const {
+  return {true, client_->link() == device::Link::kUp, state_.report.faults};
 }
 
 void BoxHand::feel(const HandFeedback& fb) {
   if (fb.tick < 0) return;
-  (void)client_->send(device::force_law_command(mapping_.law_to_box(fb.law), mode_));
+  if (tool_ && *tool_ >= fb.tool_count) return;
+  const tool::ForceLaw& law = tool_ ? fb.laws[*tool_] : fb.law;
+  (void)client_->send(device::force_law_command(mapping_.law_to_box(law), mode_));
 }
 
 void BoxHand::release() { (void)client_->send(device::outputs_off_command()); }

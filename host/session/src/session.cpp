@@ -256,6 +256,8 @@ bool Session::tick() {
   fb.tick = n;
   fb.held = held_index;
   fb.law = sim_->force_law(held_index);
+  fb.tool_count = input_.tool_count;
+  for (std::size_t t = 0; t < input_.tool_count; ++t) fb.laws[t] = t == held_index ? fb.law : sim_->force_law(t);
   fb.tip_mm = to_f(held.tip.position_mm);
   fb.tip_direction = to_f(held.tip.direction);
   fb.tip_bend = to_f(held.tip.normal);

@@ -94,5 +94,26 @@ TEST(TrainerLaunch, KeyboardRunWithoutRecordAndBadCasesAreRefused) {
   }
 }
 
+TEST(TrainerLaunch, ABoxPerToolOrTheKeyboardSayingWhy) {
+  // Two emulators started for the run (real cathbox-emu processes beside the tests' programs).
+  TrainerOptions options;
+  options.record = false;
+  options.boxes = {"catheter=emu", "guidewire=emu"};
+  session::KeyboardInput keyboard;
+  const std::string bin = std::string(CATHBOX_BINARY_DIR) + "/bin";
+  LiveSession live = open_live_session(options, bin, kCases + "/neuro.case", false, keyboard);
+  ASSERT_NE(live.session, nullptr) << live.error;
+  const std::string hand = live.session->hand_description();
+  EXPECT_EQ(hand.rfind("2 boxes: catheter <- serial EMU-0001", 0), 0u) << hand;
+  EXPECT_NE(hand.find("guidewire <- serial EMU-0002"), std::string::npos) << hand;
+  live.session.reset();
+  // A tool the case does not have: the keyboard, and the reason in the hand's description.
+  options.boxes = {"coil=emu", "guidewire=emu"};
+  LiveSession bad = open_live_session(options, bin, kCases + "/neuro.case", false, keyboard);
+  ASSERT_NE(bad.session, nullptr) << bad.error;
+  EXPECT_EQ(bad.session->hand_description(),
+            "keyboard (boxes: --box 'coil=emu': the case has no tool 'coil' (its tools: catheter, guidewire))");
+}
+
 }  // namespace
 }  // namespace cathbox::app

@@ -47,6 +47,12 @@ TEST(TrainerOptions, SpeedPacesTheHeadlessRun) {
   EXPECT_DOUBLE_EQ(parse({"--headless"}).options->speed, 0.0);
 }
 
+TEST(TrainerOptions, BoxesAreKeptInTheOrderGiven) {
+  const OptionsResult r = parse({"--box", "catheter=emu", "--box", "guidewire=CBX-0042", "--box", "coil=emu:/tmp/c.sock"});
+  ASSERT_TRUE(r.options) << r.error;
+  EXPECT_EQ(r.options->boxes, (std::vector<std::string>{"catheter=emu", "guidewire=CBX-0042", "coil=emu:/tmp/c.sock"}));
+}
+
 TEST(TrainerOptions, ParsesTheServerOptions) {
   const OptionsResult r = parse({"--server", "http://127.0.0.1:8080", "--user", "ann", "--password-file", "/etc/pw",
                                  "--rig", "rig-07", "--assignment", "12", "--settings", "/etc/t.json"});
@@ -78,6 +84,11 @@ TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
       {{"--assignment", "7a"}, "--assignment"},
       {{"--password-file"}, "--password-file"},
       {{"--headless", "--speed", "-1"}, "--speed"},
+      {{"--box", "catheter"}, "--box"},
+      {{"--box", "=emu", "--box", "guidewire=emu"}, "--box"},
+      {{"--box", "catheter=emu"}, "--box"},
+      {{"--box", "catheter=emu", "--box", "guidewire=emu", "--no-box"}, "--box"},
+      {{"--box", "catheter=emu", "--box", "guidewire=emu", "--emu"}, "--box"},
       {{"--headless", "--speed", "fast"}, "--speed"},
       {{"--speed", "1"}, "--speed"},
       {{"--headless", "--frames", "2", "--speed", "1"}, "--speed"},

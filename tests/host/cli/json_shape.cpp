@@ -21,6 +21,7 @@ using nlohmann::ordered_json;
 const char* const kShapes = R"({
  "list": [{"kind": "string", "path": "string", "serial": "string"},
           {"kind": "string", "usb": "string"},
+          {"kind": "string", "socket": "string", "serial": "string"},
           {"kind": "string", "socket": "string"}],
  "info": {"transport": "string", "firmware": "string", "protocol": "string", "serial": "string",
           "board": "string", "insertion_actuator": "string", "rotation_actuator": "string",

@@ -4,15 +4,17 @@
 # the emulator's "listening" line; no timing is asserted.
 set -u
 bin="$1"
+src="${2:-$(dirname "$0")/../../..}"
 dir=$(mktemp -d)
 sock="$dir/emu.sock"
 failures=0
 v2_pid=""
 mon_pid=""
 cal_pid=""
+right_pid=""
 exec 3< <(exec "$bin/cathbox-emu" --socket "$sock" --duration 60 2>&1)
 emu_pid=$!
-trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid $right_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&3
 case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
 
@@ -156,10 +158,29 @@ expect 0 "emulator" -- "$cb" list --emu "$sock"
 # A box from the future: the one-line message and exit code 4.
 exec 4< <(exec "$bin/cathbox-emu" --socket "$dir/v2.sock" --wire-version 2 --duration 60 2>&1)
 v2_pid=$!
-trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid 2>/dev/null; rm -rf "$dir"' EXIT
+trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid $right_pid 2>/dev/null; rm -rf "$dir"' EXIT
 read -r line <&4
 expect 4 "cathbox: the box speaks protocol v2, this host speaks v1: update the host tools (or flash firmware 1.x)" -- "$cb" info --emu "$dir/v2.sock"
 expect 4 "speaks protocol v2" -- "$cb" monitor --emu "$dir/v2.sock" --duration 0.1
+
+# Two boxes on one rig: each listed by its serial; a session with a box per tool (two emulators
+# it starts, EMU-0001 for the catheter, EMU-0002 for the guidewire); bad bindings: one line, exit 2.
+exec 6< <(exec "$bin/cathbox-emu" --socket "$dir/right.sock" --serial EMU-RIGHT --duration 60 2>&1)
+right_pid=$!
+read -r line <&6
+expect 0 "emulator    $dir/right.sock  serial EMU-RIGHT" -- "$cb" list --emu "$sock" --emu "$dir/right.sock"
+expect 0 "emulator    $sock  serial EMU-0001" -- "$cb" list --emu "$sock" --emu "$dir/right.sock"
+expect_json list "$cb" list --emu "$sock" --emu "$dir/right.sock" --json
+expect 0 "2 boxes: catheter <- serial EMU-0001" -- "$cb" session run --case "$src/cases/neuro.case" --record "$dir/two.cbxrec" \
+  --box catheter=emu --box guidewire=emu --seconds 0.3
+expect 0 "guidewire <- serial EMU-RIGHT" -- "$cb" session run --case "$src/cases/neuro.case" --record "$dir/two2.cbxrec" \
+  --box catheter=emu:"$sock" --box guidewire=emu:"$dir/right.sock" --seconds 0.3
+expect 2 "--box: two boxes for 'catheter'" -- "$cb" session run --case "$src/cases/neuro.case" --record "$dir/x.cbxrec" \
+  --box catheter=emu --box catheter=emu
+expect 2 "the case has no tool 'coil' (its tools: catheter, guidewire)" -- "$cb" session run --case "$src/cases/neuro.case" \
+  --record "$dir/x.cbxrec" --box coil=emu --box guidewire=emu
+expect 3 "box for 'catheter': no box with serial 'CBX-9999'" -- "$cb" session run --case "$src/cases/neuro.case" \
+  --record "$dir/x.cbxrec" --box catheter=CBX-9999 --box guidewire=emu
 
 [ "$failures" -eq 0 ] || { echo "$failures check(s) failed"; exit 1; }
 echo "all cathbox CLI checks passed against cathbox-emu"

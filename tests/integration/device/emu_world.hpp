@@ -8,6 +8,7 @@
 #include <atomic>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "device/box_client.hpp"
 #include "device/box_opener.hpp"
@@ -18,29 +19,39 @@ namespace cathbox::testing {
 
 class EmuWorld final : public device::Clock {
  public:
-  explicit EmuWorld(emu::EmuOptions options = {}) : options_(std::move(options)) {
+  explicit EmuWorld(emu::EmuOptions options = {}) : EmuWorld(std::vector<emu::EmuOptions>{std::move(options)}) {}
+  // Several boxes on one rig (one emulator and socket each), all on the same clock.
+  explicit EmuWorld(std::vector<emu::EmuOptions> boxes) {
     static std::atomic<int> counter{0};
-    path_ = "/tmp/cathbox-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".sock";
-    start();
+    for (emu::EmuOptions& o : boxes) {
+      Box b;
+      b.options = std::move(o);
+      b.path = "/tmp/cathbox-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".sock";
+      boxes_.push_back(std::move(b));
+    }
+    for (std::size_t i = 0; i < boxes_.size(); ++i) start(i);
   }
 
   // (Re)starts the emulator process: a fresh box listening on the same path.
-  void start() {
-    emu_ = std::make_unique<emu::Emulator>(options_);
-    auto listening = emu_->listen(path_);
+  void start(std::size_t box = 0) {
+    Box& b = boxes_.at(box);
+    b.emu = std::make_unique<emu::Emulator>(b.options);
+    auto listening = b.emu->listen(b.path);
     if (!listening) throw std::runtime_error(listening.error().message);
   }
   // Kills the emulator process: its socket disappears with it.
-  void kill() { emu_.reset(); }
+  void kill(std::size_t box = 0) { boxes_.at(box).emu.reset(); }
 
-  [[nodiscard]] emu::Emulator& emu() { return *emu_; }
-  [[nodiscard]] bool running() const { return emu_ != nullptr; }
-  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] emu::Emulator& emu(std::size_t box = 0) { return *boxes_.at(box).emu; }
+  [[nodiscard]] bool running(std::size_t box = 0) const { return boxes_.at(box).emu != nullptr; }
+  [[nodiscard]] const std::string& path(std::size_t box = 0) const { return boxes_.at(box).path; }
 
-  // Advances the world (and the emulator, when running) by us (a multiple of 10 us).
+  // Advances the world (and the emulators that run) by us (a multiple of 10 us).
   void advance(uint64_t us) {
     now_ += us;
-    if (emu_) emu_->advance(us);
+    for (Box& b : boxes_) {
+      if (b.emu) b.emu->advance(us);
+    }
   }
 
   [[nodiscard]] std::int64_t now_us() override { return static_cast<std::int64_t>(now_); }
@@ -51,17 +62,20 @@ class EmuWorld final : public device::Clock {
     advance(us);
   }
 
-  [[nodiscard]] device::BoxClient::Opener opener() { return device::box_opener(path_, *this); }
-  [[nodiscard]] std::unique_ptr<device::BoxClient> connect() {
-    auto client = device::BoxClient::connect(opener(), *this);
+  [[nodiscard]] device::BoxClient::Opener opener(std::size_t box = 0) { return device::box_opener(path(box), *this); }
+  [[nodiscard]] std::unique_ptr<device::BoxClient> connect(std::size_t box = 0) {
+    auto client = device::BoxClient::connect(opener(box), *this);
     if (!client) throw std::runtime_error(client.error().message);
     return std::move(client.value());
   }
 
  private:
-  emu::EmuOptions options_;
-  std::string path_;
-  std::unique_ptr<emu::Emulator> emu_;
+  struct Box {
+    emu::EmuOptions options;
+    std::string path;
+    std::unique_ptr<emu::Emulator> emu;
+  };
+  std::vector<Box> boxes_;
   uint64_t now_ = 0;
 };
 

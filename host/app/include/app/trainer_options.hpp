@@ -5,6 +5,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace cathbox::app {
 
@@ -19,6 +20,7 @@ struct TrainerOptions {
   std::string cases_dir;          // empty: <source>/cases, or ./cases
   BoxChoice box = BoxChoice::kAuto;
   std::string emu_socket;         // --emu PATH
+  std::vector<std::string> boxes; // --box TOOL=WHERE, repeated: a box per tool (session/multi_box_hand.hpp)
   bool headless = false;          // no visible window (with --frames: hidden window, e.g. Xvfb)
   int frames = 0;                 // headless: render this many frames, then stop
   int sim_ms_per_frame = 16;      // headless frames: simulated time per frame (virtual time)

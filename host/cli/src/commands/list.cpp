@@ -1,10 +1,15 @@
 // `cathbox list`: every box the host can reach: real boxes (hidraw), STM32 ROM bootloaders
 // (USB 0483:DF11) and the emulator's socket.
 #include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
 
 #include "box_session.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
+#include "device/box_client.hpp"
+#include "device/box_opener.hpp"
 #include "device/hidapi_transport.hpp"
 #include "device/libusb_control.hpp"
 #include "device/socket_transport.hpp"
@@ -32,23 +37,39 @@ int run_list(std::span<const std::string> argv) {
     }
   }
   device::SystemClock clock;
-  const std::string path = args.value("emu").value_or(device::SocketTransport::default_path());
-  if (auto emu = device::SocketTransport::open(path, clock); emu) {
-    const bool app = emu.value()->pid() == CBX_USB_PID;
-    items.push_back({{"kind", app ? "emulator" : "emulator-bootloader"}, {"socket", path}});
-    lines.push_back(std::string(app ? "emulator    " : "emulator    (in DFU bootloader) ") + path);
+  // Every emulator asked for (--emu, repeated: one per box of a rig), else the default socket.
+  std::vector<std::string> paths = args.values("emu");
+  if (paths.empty()) paths.push_back(device::SocketTransport::default_path());
+  for (const std::string& path : paths) {
+    auto emu = device::SocketTransport::open(path, clock);
+    if (!emu) continue;
+    if (emu.value()->pid() != CBX_USB_PID) {
+      items.push_back({{"kind", "emulator-bootloader"}, {"socket", path}});
+      lines.push_back("emulator    (in DFU bootloader) " + path);
+      continue;
+    }
+    emu.value().reset();  // one connection at a time: the client opens its own
+    std::string serial;
+    if (auto client = device::BoxClient::connect(device::box_opener(path, clock), clock); client) {
+      const cbx_device_info& info = client.value()->device_info();
+      serial.assign(info.serial, strnlen(info.serial, sizeof info.serial));
+    }
+    items.push_back({{"kind", "emulator"}, {"socket", path}, {"serial", serial}});
+    lines.push_back("emulator    " + path + "  serial " + (serial.empty() ? "(unknown)" : serial));
   }
   if (args.flag("json")) {
     print_json(items);
   } else if (lines.empty()) {
-    std::printf("no box found (no hidraw 1209:cb01, no bootloader 0483:df11, no emulator at %s)\n", path.c_str());
+    std::string where;
+    for (const std::string& p : paths) where += (where.empty() ? "" : ", ") + p;
+    std::printf("no box found (no hidraw 1209:cb01, no bootloader 0483:df11, no emulator at %s)\n", where.c_str());
   } else {
     for (const auto& line : lines) std::printf("%s\n", line.c_str());
   }
   return items.empty() ? kExitNoDevice : kExitOk;
 }
 
-const Registrar registrar({"list", "list boxes, bootloaders and the emulator [--emu PATH] [--json]", run_list});
+const Registrar registrar({"list", "list boxes (with their serials), bootloaders and emulators [--emu PATH]... [--json]", run_list});
 
 }  // namespace
 }  // namespace cathbox::cli

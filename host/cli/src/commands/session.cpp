@@ -31,6 +31,8 @@ const GroupSpec& spec() {
             .options = {{.name = "case", .value = "FILE", .help = "the case (.case or .hclm)", .required = true},
                         {.name = "script", .value = "ACTIONS", .help = "drive it with an action script (or --emu)"},
                         {.name = "emu", .value = "[PATH]", .help = "drive it with cathbox-emu at PATH; alone: start one (or --script)"},
+                        {.name = "box", .value = "TOOL=WHERE",
+                         .help = "a box per tool, repeated (two or more): WHERE is a real box's serial, emu (start one) or emu:PATH"},
                         {.name = "record", .value = "OUT.cbxrec", .help = "the record to write", .required = true},
                         {.name = "seconds", .value = "S", .help = "end after S seconds, (0, 86400]"},
                         {.name = "virtual", .help = "virtual time (--script's only mode)"},

@@ -14,6 +14,7 @@
 #include "cli/exit_codes.hpp"
 #include "session/action_script_hand.hpp"
 #include "session/box_hand.hpp"
+#include "session/multi_box_hand.hpp"
 #include "session/session.hpp"
 
 namespace cathbox::cli {
@@ -44,11 +45,15 @@ int run_run(Args& args, const GroupSpec& group) {
   const auto case_path = args.value("case");
   const auto script = args.value("script");
   const auto emu = args.value("emu");
+  const std::vector<std::string> boxes = args.values("box");
   const auto record = args.value("record");
   if (!case_path || !record) return bad("--case and --record are required");
-  if (script.has_value() == emu.has_value()) return bad("give one of --script ACTIONS and --emu [PATH]");
+  if (static_cast<int>(script.has_value()) + static_cast<int>(emu.has_value()) + static_cast<int>(!boxes.empty()) != 1) {
+    return bad("give one of --script ACTIONS, --emu [PATH] and --box TOOL=WHERE (repeated)");
+  }
+  if (boxes.size() == 1) return bad("--box needs two boxes or more (one box: --emu, which switches between tools)");
   if (seconds && (*seconds <= 0.0 || *seconds > 86'400.0)) return bad("--seconds must be in (0, 86400]");
-  if (emu && args.flag("virtual")) {
+  if ((emu || !boxes.empty()) && args.flag("virtual")) {
     return bad("--virtual runs an action script; the emulated box runs in real time (use --script for virtual time)");
   }
 
@@ -67,13 +72,32 @@ int run_run(Args& args, const GroupSpec& group) {
       std::fprintf(stderr, "%s\n", error.c_str());
       return kExitBadInput;
     }
-  } else {
+  } else if (emu) {
     session::BoxHandOptions box;
     box.source = session::BoxSource::kEmulator;
     box.emu_socket = *emu;
     box.emu_program = program_dir() + "/cathbox-emu";
     box.dt_s = static_cast<double>(options.period_us) * 1e-6;
     hand = session::BoxHand::connect(box, error);
+    if (!hand) {
+      std::fprintf(stderr, "cathbox session run: %s\n", error.c_str());
+      return kExitNoDevice;
+    }
+  } else {
+    std::vector<session::BoxBinding> bindings;
+    for (const std::string& b : boxes) {
+      std::string why;
+      const std::optional<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value->spec.tools, why);
+      if (!parsed) return bad(why);
+      for (const session::BoxBinding& other : bindings) {
+        if (other.tool == parsed->tool) return bad("--box: two boxes for '" + parsed->tool_name + "'");
+      }
+      bindings.push_back(*parsed);
+    }
+    session::BoxHandOptions base;
+    base.emu_program = program_dir() + "/cathbox-emu";
+    base.dt_s = static_cast<double>(options.period_us) * 1e-6;
+    hand = session::MultiBoxHand::connect(bindings, base, scene.value->spec.tools.size(), error);
     if (!hand) {
       std::fprintf(stderr, "cathbox session run: %s\n", error.c_str());
       return kExitNoDevice;

@@ -22,6 +22,7 @@ namespace cathbox::session {
 enum class BoxSource {
   kAuto,      // a real box if one is found, else the emulator
   kEmulator,  // the emulator (at `emu_socket`, or started on a socket of its own)
+  kSerial,    // the real box whose serial is `serial`
 };
 
 struct BoxHandOptions {
@@ -29,7 +30,11 @@ struct BoxHandOptions {
   std::string emu_socket;              // connect to the emulator here; empty: start emu_program
   std::string emu_program;             // the cathbox-emu executable
   std::vector<std::string> emu_args;   // extra arguments when starting it (e.g. hand scripts)
+  std::string serial;                  // kSerial: which real box
   KeyboardInput* keyboard = nullptr;   // the keyboard on top of the box (optional)
+  // A rig with a box per tool: this box always drives `tool` and renders its force law; the
+  // tool in the trainee's other hand has a box of its own. None: the box drives the held tool.
+  std::optional<std::size_t> tool;
   double dt_s = 1e-3;                  // the tick
 };
 
@@ -45,12 +50,16 @@ class BoxHand final : public Hand {
   [[nodiscard]] HandKind kind() const override { return HandKind::kBox; }
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] std::optional<DeviceRecord> device() const override;
-  void hold(std::size_t tool, const ToolCommand& at) override { mapping_.hold(tool, at); }
+  void hold(std::size_t tool, const ToolCommand& at) override;
   void read(std::int64_t tick, TickInput& input) override;
   void feel(const HandFeedback& feedback) override;
   void release() override;
 
   [[nodiscard]] const HandMapping& mapping() const { return mapping_; }
+  // The tool this box is bound to (BoxHandOptions::tool), if any.
+  [[nodiscard]] std::optional<std::size_t> bound_tool() const { return tool_; }
+  // The box's link and faults, as TickInput::box reports them.
+  [[nodiscard]] BoxStatus status() const;
   [[nodiscard]] const device::BoxClient& client() const { return *client_; }
 
  private:
@@ -67,6 +76,8 @@ class BoxHand final : public Hand {
   KeyboardInput* keyboard_ = nullptr;
   double dt_s_ = 1e-3;
   std::string kind_;
+  std::optional<std::size_t> tool_;
+  bool bound_started_ = false;  // a bound box took its tool where it was
 };
 
 }  // namespace cathbox::session

@@ -55,6 +55,9 @@ struct HandFeedback {
   std::int64_t tick = 0;
   std::size_t held = 0;
   tool::ForceLaw law;           // the held tool's local force law, in the session's frame
+  // Every tool's force law (laws[held] == law), for hands with a box per tool.
+  std::size_t tool_count = 0;
+  std::array<tool::ForceLaw, kMaxTools> laws{};
   glm::vec3 tip_mm{0.0F};       // the held tool's tip
   glm::vec3 tip_direction{1.0F, 0.0F, 0.0F};
   glm::vec3 tip_bend{0.0F, 1.0F, 0.0F};
