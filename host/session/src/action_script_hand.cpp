@@ -24,7 +24,7 @@ std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
   std::vector<tool::ScriptPlayer::ToolInfo> out;
-  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back({spec.name, tool::Rod(spec).max_insertion_mm()});
+  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back(tool::tool_info(spec));
   return out;
 }
 
@@ -50,6 +50,7 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
   for (const tool::Action& a : step.due) {
     if (const std::optional<Control> c = fluoro_control::from_action(a)) sink.push(*c);
   }
+  if (step.detach) sink.push(Control::detach_coil(*step.detach));
   if (step.ended) {
     ended_ = true;
     finished_ = true;

@@ -14,13 +14,14 @@ const char* control_kind_name(std::uint16_t kind) {
     case ControlKind::kCArmGeometry: return "carm_geometry";
     case ControlKind::kPulseRate: return "pulse_rate";
     case ControlKind::kRoadmap: return "roadmap";
+    case ControlKind::kDetachCoil: return "detach_coil";
   }
   return nullptr;
 }
 
 bool known_control_kind(std::uint16_t kind) { return control_kind_name(kind) != nullptr; }
 
-const char* known_control_kinds() { return "16, 32-37"; }
+const char* known_control_kinds() { return "16, 32-37, 64"; }
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);
@@ -48,5 +49,10 @@ bool ControlQueue::post(const Control& control) {
 }
 
 bool ControlQueue::pop(Control& out) { return ring_.pop(out); }
+
+Control Control::detach_coil(std::size_t tool) {
+  const auto b = static_cast<std::uint8_t>(tool);
+  return make(static_cast<std::uint16_t>(ControlKind::kDetachCoil), std::span(&b, 1));
+}
 
 }  // namespace cathbox::session

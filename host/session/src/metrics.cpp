@@ -171,7 +171,21 @@ std::string MetricsCollector::format(const Metrics& m) {
     appendf(out, "%-21s n/a\n", "fluoroscopy runs");
   }
   optional_figure("contrast volume", m.contrast_volume_ml, "ml");
+  if (m.packing_density_pct) {  // a coiling case: its figures, else no lines at all
+    optional_figure("packing density", m.packing_density_pct, "%");
+    optional_figure("coil length deployed", m.coil_length_mm, "mm");
+    const std::optional<double> hern = m.coil_herniations ? std::optional<double>(*m.coil_herniations) : std::nullopt;
+    optional_figure("coil herniations", hern, "");
+    optional_figure("kick-back", m.kick_back_mm, "mm");
+  }
   return out;
+}
+
+void MetricsCollector::set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm) {
+  m_.packing_density_pct = packing_density_pct;
+  m_.coil_length_mm = coil_length_mm;
+  m_.coil_herniations = herniations;
+  m_.kick_back_mm = kick_back_mm;
 }
 
 std::vector<NamedMetric> named_metrics(const Metrics& m) {
@@ -197,6 +211,10 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
   if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
   if (m.contrast_volume_ml) add("contrast_volume_ml", *m.contrast_volume_ml);
+  if (m.packing_density_pct) add("packing_density_pct", *m.packing_density_pct);
+  if (m.coil_length_mm) add("coil_length_mm", *m.coil_length_mm);
+  if (m.coil_herniations) add("coil_herniations", *m.coil_herniations);
+  if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
   return out;
 }
 
@@ -205,7 +223,7 @@ std::vector<std::string> metric_names() {
           "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
-          "contrast_volume_ml"};
+          "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

@@ -32,6 +32,10 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
     ws.f64(s.bending_stiffness_Nmm2);
     ws.f64(s.torsion_stiffness_Nmm2);
     ws.f64(s.curve_deg);
+    if (s.shape != tool::CoilShape::kNone) {  // a coil's secondary shape: 7 doubles
+      ws.f64(static_cast<double>(s.shape));
+      ws.f64(s.loop_diameter_mm);
+    }
     w.field(t(ToolTag::kSection), sec);
   }
   w.field_f64(t(ToolTag::kFriction), spec.friction);
@@ -44,6 +48,7 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
   w.field_f64(t(ToolTag::kTipSpacing), spec.tip_spacing_mm);
   w.field_f64(t(ToolTag::kTipZone), spec.tip_zone_mm);
   if (!spec.inside.empty()) w.field_text(t(ToolTag::kInside), spec.inside);
+  if (spec.detach_mm > 0.0) w.field_f64(t(ToolTag::kDetach), spec.detach_mm);
   return out;
 }
 
@@ -189,17 +194,21 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
           switch (static_cast<ToolTag>(tt)) {
             case ToolTag::kName: spec.name = text_of(tv); return 1;
             case ToolTag::kKind:
-              if (tv.size() != 1 || tv[0] > 1) return bad(tat, "tool: kind must be 0 or 1");
+              if (tv.size() != 1 || tv[0] > 2) return bad(tat, "tool: kind must be 0, 1 or 2");
               spec.kind = static_cast<tool::ToolKind>(tv[0]);
               return 1;
             case ToolTag::kSection: {
               if (spec.sections.size() >= tool::ToolLimits::kMaxSections) return bad(tat, "tool: more than 64 sections");
               ByteReader r(tv);
               tool::ToolSection s;
-              if (tv.size() != 40 || !r.f64(s.length_mm) || !r.f64(s.outer_diameter_mm) ||
-                  !r.f64(s.bending_stiffness_Nmm2) || !r.f64(s.torsion_stiffness_Nmm2) || !r.f64(s.curve_deg)) {
-                return bad(tat, "tool: a section is not 5 doubles");
+              double shape = 0.0;
+              if ((tv.size() != 40 && tv.size() != 56) || !r.f64(s.length_mm) || !r.f64(s.outer_diameter_mm) ||
+                  !r.f64(s.bending_stiffness_Nmm2) || !r.f64(s.torsion_stiffness_Nmm2) || !r.f64(s.curve_deg) ||
+                  (tv.size() == 56 && (!r.f64(shape) || !r.f64(s.loop_diameter_mm)))) {
+                return bad(tat, "tool: a section is not 5 doubles (7 with a coil shape)");
               }
+              if (shape != 0.0 && shape != 1.0 && shape != 2.0) return bad(tat, "tool: coil shape must be 1 or 2");
+              s.shape = static_cast<tool::CoilShape>(static_cast<int>(shape));
               spec.sections.push_back(s);
               return 1;
             }
@@ -220,6 +229,7 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
             case ToolTag::kMaxSpacing: target = &spec.max_spacing_mm; break;
             case ToolTag::kTipSpacing: target = &spec.tip_spacing_mm; break;
             case ToolTag::kTipZone: target = &spec.tip_zone_mm; break;
+            case ToolTag::kDetach: target = &spec.detach_mm; break;
             default: return 0;
           }
           if (!get_f64(tv, d)) return bad(tat, "tool: field " + std::to_string(tt) + " is not a finite double");

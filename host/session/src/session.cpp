@@ -57,6 +57,26 @@ class Session::SelectTool final : public ControlHandler {
   Session& s_;
 };
 
+// kDetachCoil: release a coil tool's coil (payload: the tool's index). Refused (not applied,
+// not recorded) while the detachment zone is still in the catheter.
+class Session::DetachCoil final : public ControlHandler {
+ public:
+  explicit DetachCoil(Session& s) : s_(s) {}
+  bool apply(Control& c, ControlContext& ctx) override {
+    if (c.size != 1) return false;
+    const tool::DeviceError e = ctx.sim.detach(c.payload[0]);
+    if (e != tool::DeviceError::kNone) {
+      s_.log("detach refused: %s", tool::device_error_text(e));
+      return false;
+    }
+    s_.log("coil of the %s detached", s_.tool_names_[c.payload[0]].c_str());
+    return true;
+  }
+
+ private:
+  Session& s_;
+};
+
 Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand, SessionOptions options)
     : scene_(std::move(scene)), hand_(std::move(hand)), options_(options) {
   hand_description_ = hand_->describe();
@@ -90,6 +110,14 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   } else if (!scene_->flow_error.empty()) {
     log("no fluoroscopy: %s", scene_->flow_error.c_str());
   }
+  detach_coil_ = std::make_unique<DetachCoil>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kDetachCoil), *detach_coil_);
+  if (scene_->world->sac()) {
+    coil_metrics_.emplace(*sim_, *scene_->world->sac());
+    if (!coil_metrics_->has_coils()) coil_metrics_.reset();
+  }
+  // Coiling goes on at the target (the neck): the coil is deployed there.
+  if (coil_metrics_) options_.end_at_target = false;
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 
   const std::size_t nodes = options_.max_nodes_per_tool;
@@ -272,6 +300,12 @@ bool Session::tick() {
   }
   metrics_.observe(mt);
   if (fluoro_) fluoro_->fill(metrics_);
+  if (coil_metrics_) {
+    coil_metrics_->observe(*sim_);
+    const tool::CoilFigures& fig = coil_metrics_->figures();
+    metrics_.set_coiling(100.0 * fig.packing_density, fig.deployed_mm, fig.herniations, fig.kick_back_mm);
+    if (coil_metrics_->herniation_began()) log("coil herniating into the parent artery (%d nodes past the neck)", fig.herniated_nodes);
+  }
   if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.wall_force_mN);
   if (metrics_.target_just_reached()) {
     log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "tool/aneurysm_sac.hpp"
 #include "tool/text_lines.hpp"
 
 namespace cathbox::tool {
@@ -28,7 +29,7 @@ class CaseParser {
     Case c;
     std::vector<std::string_view> w;
     bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false, seen_valve = false,
-         seen_threshold = false;
+         seen_threshold = false, seen_aneurysm = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
     std::vector<std::size_t> tool_lines;
@@ -96,13 +97,21 @@ class CaseParser {
           spec.kind = ToolKind::kGuidewire;
         } else if (w[2] == "catheter") {
           spec.kind = ToolKind::kCatheter;
+        } else if (w[2] == "coil") {
+          spec.kind = ToolKind::kCoil;
         } else {
-          return fail_here("tool: kind must be 'guidewire' or 'catheter', not '" + std::string(w[2]) + "'");
+          return fail_here("tool: kind must be 'guidewire', 'catheter' or 'coil', not '" + std::string(w[2]) + "'");
         }
         c.tools.push_back(spec);
         tool = &c.tools.back();
         tool_line = lines_.line();
         tool_lines.push_back(tool_line);
+      } else if (key == "aneurysm") {
+        double v[7];
+        if (!expect_args(w, 7) || !once(seen_aneurysm, key) || !numbers(w, 1, v, 7)) return fail();
+        if (v[3] < 1.0 || v[3] > 15.0) return fail_here("aneurysm: dome radius must be in [1, 15] mm");
+        c.aneurysm = sphere_cap_sac({v[0], v[1], v[2]}, v[3], {v[4], v[5], v[6]});
+        if (!c.aneurysm) return fail_here("aneurysm: the neck centre must lie inside the dome sphere, off its centre");
       } else if (key == "view") {
         double v[2];
         if (!expect_args(w, 3) || !numbers(w, 2, v, 2)) return fail();
@@ -141,7 +150,8 @@ class CaseParser {
       for (const ToolSpec& o : c.tools) if (o.name == t.inside) outer = &o;
       if (outer == nullptr) return fail_at(tool_lines[i], "tool '" + t.name + "': inside unknown tool '" + t.inside + "'");
       if (outer == &t) return fail_at(tool_lines[i], "tool '" + t.name + "' cannot be inside itself");
-      if (!outer->inside.empty()) return fail_at(tool_lines[i], "tool '" + t.name + "': only one level of nesting");
+      if (nesting_cycle(c.tools, i)) return fail_at(tool_lines[i], "tool '" + t.name + "': the tools it runs in run inside it");
+      if (outer->kind != ToolKind::kCatheter) return fail_at(tool_lines[i], "tool '" + t.name + "': '" + outer->name + "' is not a catheter");
       double od = 0.0;
       for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
       if (outer->inner_diameter_mm <= od) {
@@ -175,9 +185,23 @@ class CaseParser {
         const std::size_t eq = w[i].find('=');
         if (eq == std::string_view::npos) return error_here("section: expected key=value, got '" + std::string(w[i]) + "'");
         const std::string_view k = w[i].substr(0, eq);
+        if (k == "shape") {
+          const std::string_view name = w[i].substr(eq + 1);
+          if (name == "helix") {
+            s.shape = CoilShape::kHelix;
+          } else if (name == "complex") {
+            s.shape = CoilShape::kComplex;
+          } else {
+            return error_here("section: shape must be 'helix' or 'complex', not '" + std::string(name) + "'");
+          }
+          continue;
+        }
         double v = 0.0;
         if (!number(w[i].substr(eq + 1), std::string(k), v)) return false;
-        if (k == "od") {
+        if (k == "loop") {
+          if (v < 2.0 || v > 20.0) return error_here("section: loop diameter must be in [2, 20] mm");
+          s.loop_diameter_mm = v;
+        } else if (k == "od") {
           if (v <= 0.0 || v > 20.0) return error_here("section: od must be in (0, 20] mm");
           s.outer_diameter_mm = v;
           od = true;
@@ -193,10 +217,12 @@ class CaseParser {
           if (std::abs(v) > 360.0) return error_here("section: curve must be within +-360 degrees");
           s.curve_deg = v;
         } else {
-          return error_here("section: unknown key '" + std::string(k) + "' (known: od ei gj curve)");
+          return error_here("section: unknown key '" + std::string(k) + "' (known: od ei gj curve shape loop)");
         }
       }
       if (!od || !ei || !gj) return error_here("section: od=, ei= and gj= are required");
+      if ((s.shape != CoilShape::kNone) != (s.loop_diameter_mm > 0.0)) return error_here("section: shape= and loop= go together");
+      if (s.shape != CoilShape::kNone && t.kind != ToolKind::kCoil) return error_here("section: shape= is for coil tools");
       t.sections.push_back(s);
       return true;
     }
@@ -231,6 +257,11 @@ class CaseParser {
       if (!expect_args(w, 1) || !number(w[1], "valve_friction", v)) return false;
       if (v < 0.0 || v > ToolLimits::kMaxValveFriction_mN) return error_here("valve_friction must be in [0, 2000] mN");
       t.valve_friction_mN = v;
+    } else if (key == "detach") {
+      if (!expect_args(w, 1) || !number(w[1], "detach", v)) return false;
+      if (t.kind != ToolKind::kCoil) return error_here("detach is for coil tools");
+      if (v <= 0.0 || v > 300.0) return error_here("detach: coil length must be in (0, 300] mm");
+      t.detach_mm = v;
     } else if (key == "axial_stiffness") {
       if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
       if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");
@@ -334,6 +365,9 @@ class CaseParser {
     if (len < 4.0 * t.max_spacing_mm) return error_at(line, "tool '" + t.name + "' is shorter than 4 node spacings");
     const double nodes = t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm;
     if (nodes > kMaxNodes) return error_at(line, "tool '" + t.name + "' needs more than 6000 nodes");
+    if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < len)) {
+      return error_at(line, "coil '" + t.name + "' needs 'detach MM' shorter than the tool");
+    }
     return true;
   }
 
@@ -412,6 +446,34 @@ ToolSpec default_catheter() {
                    ToolSection{10.0, 1.67, 20.0, 15.0, 30.0}};
   spec.friction = 0.15;
   spec.inner_diameter_mm = 1.0;
+  return spec;
+}
+
+ToolSpec default_microcatheter() {
+  ToolSpec spec;
+  spec.name = "microcatheter";
+  spec.kind = ToolKind::kCatheter;
+  spec.sections = {ToolSection{1500.0, 0.7, 2.0, 1.6, 0.0}};
+  spec.inner_diameter_mm = 0.45;
+  spec.friction = 0.1;
+  spec.max_spacing_mm = 1.0;
+  return spec;
+}
+
+ToolSpec default_coil(double length_mm, double loop_diameter_mm) {
+  ToolSpec spec;
+  spec.name = "coil";
+  spec.kind = ToolKind::kCoil;
+  ToolSection wind{length_mm, 0.25, 0.02, 0.016, 0.0};
+  wind.shape = CoilShape::kHelix;
+  wind.loop_diameter_mm = loop_diameter_mm;
+  spec.sections = {ToolSection{1800.0, 0.33, 10.0, 8.0, 0.0}, wind};
+  spec.detach_mm = length_mm;
+  spec.inside = "microcatheter";
+  spec.friction = 0.05;
+  spec.max_spacing_mm = 1.0;
+  spec.tip_spacing_mm = 0.5;
+  spec.tip_zone_mm = length_mm + 2.0;
   return spec;
 }
 

@@ -46,7 +46,9 @@ WorldBuild build_world(const Case& c) {
 WorldBuild build_world(const Case& c, std::string_view vessel_text) {
   if (!c.tubes.empty()) {
     auto wall = std::make_unique<TubeNetworkWall>(c.tubes);
-    return WorldBuild(std::make_unique<CaseWorld>(std::move(wall), *c.entry));
+    auto world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
+    world->set_sac(c.aneurysm);
+    return WorldBuild(std::move(world));
   }
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
   if (!read.ok()) return base::Error{read.errors.front().to_string()};
@@ -79,6 +81,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     return base::Error{c.vessel_path + ":0: the vessel has no root segment to enter"};
   }
   auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
+  world->set_sac(c.aneurysm ? c.aneurysm : find_sac(surface.smoothed, surface.mesh));
   world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
   if (c.target) {
     for (const vessel::Segment& s : surface.smoothed.segments) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "tool/script_player.hpp"
+#include "tool/text_lines.hpp"
 
 namespace cathbox::tool {
 
@@ -34,22 +35,30 @@ void write_scenario_row(std::ostream& csv, const Simulator& sim, std::int64_t ti
 ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options, std::ostream& csv) {
   ScenarioResult result;
   std::vector<ScriptPlayer::ToolInfo> tools;
-  for (std::size_t t = 0; t < sim.tool_count(); ++t) tools.push_back({sim.rod(t).spec().name, sim.rod(t).max_insertion_mm()});
+  for (std::size_t t = 0; t < sim.tool_count(); ++t) tools.push_back(tool_info(sim.rod(t).spec()));
   // Every tool a script names must exist before anything runs.
   std::optional<ScriptPlayer> player = ScriptPlayer::make(script, tools, sim.active_tool(), options.script_name, result.error);
   if (!player) return result;
   const std::int64_t every = std::max<std::int64_t>(1, options.every_ms);
+  std::optional<CoilMetrics> coils;
+  if (options.sac != nullptr) coils.emplace(sim, *options.sac);
+  if (coils && !coils->has_coils()) coils.reset();
   write_scenario_header(csv);
   for (std::int64_t now = 0; now < kMaxSteps; ++now) {
     const ScriptPlayer::Step step = player->advance(now);
     if (step.selected) sim.select(*step.selected);
     if (step.ended) break;
+    if (step.detach) {
+      const DeviceError e = sim.detach(*step.detach);
+      if (e != DeviceError::kNone) result.notes.push_back(located(options.script_name, step.detach_line, std::string("detach: ") + device_error_text(e)));
+    }
     for (std::size_t t = 0; t < sim.tool_count(); ++t) {
       sim.set_insertion(t, player->insertion_mm(t));
       sim.set_rotation(t, player->rotation_rad(t));
     }
     sim.step(1e-3);
     ++result.steps;
+    if (coils) coils->observe(sim);
     const std::int64_t time_ms = now + 1;
     if (time_ms % every == 0) {
       write_scenario_row(csv, sim, time_ms);
@@ -57,6 +66,7 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
     }
     if (player->settled(now, options.settle_ms)) break;
   }
+  if (coils) result.coils = coils->figures();
   result.ok = true;
   return result;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tool/rod.hpp"
 #include "tool/text_lines.hpp"
 
 namespace cathbox::tool {
@@ -37,6 +38,17 @@ std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<c
       return std::nullopt;
     }
   }
+  std::size_t held = selected;
+  for (const Action& a : script.actions) {
+    if (a.kind == ActionKind::kSelect) {
+      held = static_cast<std::size_t>(std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; }) -
+                                      tools.begin());
+    } else if (a.kind == ActionKind::kDetach && (held >= tools.size() || !tools[held].coil)) {
+      const std::string who = held < tools.size() ? tools[held].name : std::string("no tool");
+      error = located(script_name, a.line, "detach: '" + who + "' carries no coil");
+      return std::nullopt;
+    }
+  }
   return ScriptPlayer(script, tools, selected);
 }
 
@@ -67,6 +79,10 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
         step.selected = selected_;
         break;
       case ActionKind::kEnd: step.ended = true; break;
+      case ActionKind::kDetach:
+        step.detach = t;
+        step.detach_line = a.line;
+        break;
       case ActionKind::kInsertTo:
       case ActionKind::kInsertBy:
         insert_[t].active = true;
@@ -109,6 +125,10 @@ bool ScriptPlayer::settled(std::int64_t now_ms, std::int64_t settle_ms) {
     return false;
   }
   return now_ms - idle_since_ms_ >= settle_ms;
+}
+
+ScriptPlayer::ToolInfo tool_info(const ToolSpec& spec) {
+  return {spec.name, Rod(spec).max_insertion_mm(), spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0};
 }
 
 }  // namespace cathbox::tool

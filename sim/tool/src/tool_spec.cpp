@@ -13,7 +13,7 @@ std::string check_tool(const ToolSpec& t) {
   using L = ToolLimits;
   const std::string who = "tool '" + t.name + "': ";
   if (t.name.empty()) return "a tool has no name";
-  if (t.kind != ToolKind::kGuidewire && t.kind != ToolKind::kCatheter) return who + "unknown kind";
+  if (t.kind != ToolKind::kGuidewire && t.kind != ToolKind::kCatheter && t.kind != ToolKind::kCoil) return who + "unknown kind";
   if (t.sections.empty() || t.sections.size() > L::kMaxSections) return who + "needs 1 to 64 sections";
   for (const ToolSection& s : t.sections) {
     if (!positive_up_to(s.length_mm, L::kMaxLength_mm)) return who + "section length out of range";
@@ -21,7 +21,11 @@ std::string check_tool(const ToolSpec& t) {
     if (!positive_up_to(s.bending_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) return who + "ei must be in (0, 1e6] N.mm2";
     if (!positive_up_to(s.torsion_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) return who + "gj must be in (0, 1e6] N.mm2";
     if (!in(s.curve_deg, -L::kMaxCurve_deg, L::kMaxCurve_deg)) return who + "curve must be within +-360 degrees";
+    if (s.shape != CoilShape::kNone && (t.kind != ToolKind::kCoil || !in(s.loop_diameter_mm, 2.0, 20.0))) {
+      return who + "a coil shape needs a coil tool and a loop diameter in [2, 20] mm";
+    }
   }
+  if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < t.length_mm())) return who + "a coil needs a detach length shorter than the tool";
   if (!in(t.friction, 0.0, L::kMaxFriction)) return who + "friction must be in [0, 2]";
   if (!in(t.inner_diameter_mm, 0.0, L::kMaxDiameter_mm)) return who + "inner_diameter must be in [0, 20] mm";
   if (!positive_up_to(t.max_spacing_mm, L::kMaxSpacing_mm)) return who + "node spacing must be in (0, 2] mm";
@@ -53,6 +57,22 @@ double ToolSpec::drag_at(double radius_mm) const {
 
 double ToolSpec::valve_friction() const { return valve_friction_mN.value_or(kDefaultValveFriction_mN); }
 
+bool nesting_cycle(std::span<const ToolSpec> tools, std::size_t i) {
+  std::size_t at = i;
+  for (std::size_t steps = 0; steps <= tools.size(); ++steps) {
+    const std::string& outer = tools[at].inside;
+    if (outer.empty()) return false;
+    std::size_t next = tools.size();
+    for (std::size_t j = 0; j < tools.size(); ++j) {
+      if (tools[j].name == outer) next = j;
+    }
+    if (next == tools.size()) return false;  // an unknown name is reported on its own
+    if (next == i) return true;
+    at = next;
+  }
+  return true;
+}
+
 std::string check_tools(std::span<const ToolSpec> tools) {
   if (tools.empty() || tools.size() > ToolLimits::kMaxTools) return "a case has 1 to 4 tools";
   for (const ToolSpec& t : tools) {
@@ -68,7 +88,7 @@ std::string check_tools(std::span<const ToolSpec> tools) {
     for (const ToolSpec& o : tools) if (o.name == t.inside) outer = &o;
     if (outer == nullptr) return "tool '" + t.name + "': inside unknown tool '" + t.inside + "'";
     if (outer == &t) return "tool '" + t.name + "' cannot be inside itself";
-    if (!outer->inside.empty()) return "tool '" + t.name + "': only one level of nesting";
+    if (nesting_cycle(tools, i)) return "tool '" + t.name + "': the tools it runs in run inside it";
     double od = 0.0;
     for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
     if (outer->inner_diameter_mm <= od) return "tool '" + t.name + "' does not fit in '" + outer->name + "'";

@@ -90,7 +90,9 @@ const char* const kShapes = R"({
                      "peak_insertion_speed_mm_s": "number", "tool_changes": "integer",
                      "peak_hand_force_mN": "number", "fluoroscopy_time_s": "number|null",
                      "dose_area_product_mGy_cm2": "number|null", "fluoroscopy_runs": "integer|null",
-                     "contrast_volume_ml": "number|null"}
+                     "contrast_volume_ml": "number|null", "packing_density_pct": "number|null",
+                     "coil_length_mm": "number|null", "coil_herniations": "integer|null",
+                     "kick_back_mm": "number|null"}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

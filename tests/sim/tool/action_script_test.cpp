@@ -1,4 +1,5 @@
 #include "tool/action_script.hpp"
+#include "tool/script_player.hpp"
 
 #include <gtest/gtest.h>
 
@@ -58,6 +59,29 @@ struct BadScript {
 
 class ActionScriptErrors : public ::testing::TestWithParam<BadScript> {};
 
+// `detach` releases the selected tool's coil: the player reports it at its millisecond, and a
+// script that would detach a tool without a coil is refused before anything runs.
+TEST(ActionScript, DetachActsOnTheSelectedCoil) {
+  const ScriptParse s = parse_script("0 select coil\n5 detach\n", "d.actions");
+  ASSERT_TRUE(s) << s.error().message;
+  ASSERT_EQ(s->actions[1].kind, ActionKind::kDetach);
+  const std::vector<ScriptPlayer::ToolInfo> tools{{"micro", 100.0, false}, {"coil", 200.0, true}};
+  std::string error;
+  std::optional<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "d.actions", error);
+  ASSERT_TRUE(player) << error;
+  for (std::int64_t ms = 0; ms < 5; ++ms) EXPECT_FALSE(player->advance(ms).detach);
+  const ScriptPlayer::Step step = player->advance(5);
+  ASSERT_TRUE(step.detach);
+  EXPECT_EQ(*step.detach, 1u);
+  EXPECT_EQ(step.detach_line, 2u);
+  const ScriptParse wrong = parse_script("0 select micro\n5 detach\n", "d.actions");
+  ASSERT_TRUE(wrong);
+  EXPECT_FALSE(ScriptPlayer::make(*wrong, tools, 1, "d.actions", error));
+  EXPECT_EQ(error, "d.actions:2: detach: 'micro' carries no coil");
+  EXPECT_EQ(parse_script("0 detach now\n", "d.actions").error().message,
+            "d.actions:1: detach: takes no arguments (it releases the selected tool's coil)");
+}
+
 TEST_P(ActionScriptErrors, NameFileAndLine) {
   const ScriptParse p = parse_script(GetParam().text, "s.actions");
   ASSERT_FALSE(p);
@@ -67,7 +91,7 @@ TEST_P(ActionScriptErrors, NameFileAndLine) {
 INSTANTIATE_TEST_SUITE_P(
     Bad, ActionScriptErrors,
     ::testing::Values(
-        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap)"},
+        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach)"},
         BadScript{"0 fluoro maybe\n", "s.actions:1: fluoro: expected 'on' or 'off'"},
         BadScript{"0 roadmap now\n", "s.actions:1: roadmap: expected nothing, 'on' or 'off'"},
         BadScript{"0 inject 0\n", "s.actions:1: inject: volume must be in (0, 100] mL"},

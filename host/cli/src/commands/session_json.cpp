@@ -38,7 +38,7 @@ json info_json(const std::string& path, const session::RecordReader& reader, con
   json tools = json::array();
   for (const tool::ToolSpec& t : h.tools) {
     tools.push_back({{"name", t.name},
-                     {"kind", t.kind == tool::ToolKind::kCatheter ? "catheter" : "guidewire"},
+                     {"kind", t.kind == tool::ToolKind::kCatheter ? "catheter" : t.kind == tool::ToolKind::kCoil ? "coil" : "guidewire"},
                      {"length_mm", t.length_mm()},
                      {"sections", t.sections.size()},
                      {"inside", t.inside}});
@@ -154,7 +154,11 @@ json metrics_json(const session::ReplayResult& r) {
           {"fluoroscopy_time_s", optional_number(m.fluoroscopy_time_s)},
           {"dose_area_product_mGy_cm2", optional_number(m.dose_area_product_mGy_cm2)},
           {"fluoroscopy_runs", m.fluoroscopy_runs ? json(*m.fluoroscopy_runs) : json(nullptr)},
-          {"contrast_volume_ml", optional_number(m.contrast_volume_ml)}};
+          {"contrast_volume_ml", optional_number(m.contrast_volume_ml)},
+          {"packing_density_pct", optional_number(m.packing_density_pct)},
+          {"coil_length_mm", optional_number(m.coil_length_mm)},
+          {"coil_herniations", m.coil_herniations ? json(*m.coil_herniations) : json(nullptr)},
+          {"kick_back_mm", optional_number(m.kick_back_mm)}};
 }
 
 }  // namespace cathbox::cli

@@ -88,6 +88,7 @@ int run_run(cathbox::cli::Args& args) {
   cathbox::tool::ScenarioOptions options;
   options.every_ms = every;
   options.script_name = *script_path;
+  if ((*world)->sac()) options.sac = &*(*world)->sac();
   const cathbox::tool::ScenarioResult result = cathbox::tool::run_scenario(sim, *script, options, out);
   if (!result.ok) {
     std::fprintf(stderr, "%s\n", result.error.c_str());
@@ -102,6 +103,12 @@ int run_run(cathbox::cli::Args& args) {
   }
   std::printf("%llu steps, %llu rows -> %s\n", static_cast<unsigned long long>(result.steps),
               static_cast<unsigned long long>(result.rows), out_path->c_str());
+  for (const std::string& note : result.notes) std::fprintf(stderr, "%s\n", note.c_str());
+  if (result.coils) {
+    const cathbox::tool::CoilFigures& c = *result.coils;
+    std::printf("coil: %.1f mm deployed, packing density %.1f %% of a %.1f mm3 sac, %d herniations, kick-back %.2f mm\n",
+                c.deployed_mm, 100.0 * c.packing_density, options.sac->volume_mm3, c.herniations, c.kick_back_mm);
+  }
   return kExitOk;
 }
 

@@ -42,6 +42,7 @@ enum class ControlKind : std::uint16_t {
   kCArmGeometry = 35,  // f64 SID mm, f64 table height mm, f64 field of view mm, f64 collimation
   kPulseRate = 36,     // u16 pulses per 10 s (75, 150, 300)
   kRoadmap = 37,       // u8 1 capture, 0 clear
+  kDetachCoil = 64,  // payload: u8 index of the coil tool whose coil is released
 };
 
 // True for the kinds this build knows how to replay.
@@ -63,6 +64,7 @@ struct Control {
   [[nodiscard]] static Control make(std::uint16_t kind, std::span<const std::uint8_t> bytes);
   [[nodiscard]] static Control select_tool(std::size_t tool);
   [[nodiscard]] static Control select_next_tool();
+  [[nodiscard]] static Control detach_coil(std::size_t tool);
 };
 
 // What a handler may touch while it applies a control (haptic thread, between two ticks).

@@ -19,7 +19,11 @@
 //   peak insertion speed  largest |Δ insertion| of the held tool over any 50 ms window ÷ 50 ms
 //   tool changes          times the trainee took another tool
 //   target reached        and the closest approach otherwise
-// plus room for the fluoroscopy module: fluoroscopy time, dose-area product, runs, contrast.
+// plus room for the fluoroscopy module: fluoroscopy time, dose-area product, runs, contrast;
+// and, in a case with a coil tool and an aneurysm sac, the coiling figures of sim/tool's
+// CoilMetrics (coil_metrics.hpp): packing density (coil volume pi/4 d^2 L ÷ sac volume, %),
+// coil length deployed, herniations (episodes of coil in the parent artery past the neck
+// plane, an error) and microcatheter kick-back (peak, mm).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -53,6 +57,11 @@ struct Metrics {
   std::optional<double> dose_area_product_mGy_cm2;
   std::optional<int> fluoroscopy_runs;
   std::optional<double> contrast_volume_ml;
+  // Filled by the session when the case has a coil tool and an aneurysm sac.
+  std::optional<double> packing_density_pct;
+  std::optional<double> coil_length_mm;
+  std::optional<int> coil_herniations;
+  std::optional<double> kick_back_mm;
 };
 
 // What the metrics look at in one tick.
@@ -97,6 +106,8 @@ class MetricsCollector {
   // The fluoroscopy unit's figures (session/fluoro_unit.hpp), set after each tick it runs.
   void set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs, double contrast_volume_ml);
   [[nodiscard]] const Metrics& metrics() const { return m_; }
+  // The coiling figures, from the session's tool::CoilMetrics after each tick.
+  void set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm);
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }
   [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }

@@ -35,6 +35,7 @@
 #include "session/scene_snapshot.hpp"
 #include "session/session_case.hpp"
 #include "session/snapshot_exchange.hpp"
+#include "tool/coil_metrics.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
 
@@ -126,6 +127,7 @@ class Session {
  private:
   class Sink;
   class SelectTool;
+  class DetachCoil;
   bool tick();
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
@@ -152,6 +154,8 @@ class Session {
   std::array<ControlHandler*, 128> handlers_{};
   std::unique_ptr<SelectTool> select_tool_;
   std::unique_ptr<FluoroUnit> fluoro_;
+  std::unique_ptr<DetachCoil> detach_coil_;
+  std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac
   std::unique_ptr<Sink> sink_;
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;

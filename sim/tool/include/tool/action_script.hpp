@@ -12,6 +12,8 @@
 //   2500       inject     6 at 3             # mL of contrast at mL/s from the selected catheter's tip
 //   5000       carm       -20 15             # C-arm to LAO (+) / RAO (-) and cranial (+) / caudal (-) degrees
 //   5200       roadmap                       # the last run's peak frame as roadmap (off: remove it)
+//   # devices
+//   9000       detach                        # release the selected coil tool's coil
 //
 // Times are milliseconds of virtual time, non-decreasing. A motion moves the value towards
 // its target at the given speed; a new motion of the same tool and axis replaces the old one.
@@ -32,6 +34,7 @@ enum class ActionKind : std::uint8_t {
   kInject,   // value mL, speed mL/s
   kCArm,     // value LAO degrees, value2 cranial degrees
   kRoadmap,  // value 1: capture, 0: remove
+  kDetach,   // release the selected tool's coil
 };
 
 // True for the imaging verbs (fluoro, inject, carm, roadmap).

@@ -12,11 +12,15 @@
 //   wall_force_threshold MN                 # optional: the session's "time above" wall force
 //   valve_friction MN                       # optional: haemostatic valve friction of every tool
 //                                           # (default 20 mN; a tool's own line overrides it)
-//   tool   NAME guidewire|catheter
-//     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG]   # proximal first
+//   aneurysm DX DY DZ R  NX NY NZ            # optional: the sac as a dome sphere (centre, radius)
+//                                           # cut at its neck centre (default: found in the vessel)
+//   tool   NAME guidewire|catheter|coil
+//     section LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG] [shape=helix|complex loop=MM]
+//                                           # proximal first; shape/loop: a coil's secondary shape
 //     friction MU
 //     inner_diameter MM                     # catheters
-//     inside NAME                           # coaxial: the catheter this tool runs in
+//     inside NAME                           # coaxial: the catheter this tool runs in (any depth)
+//     detach MM                             # coils: the detachable coil's length at the tip
 //     spacing MAX_MM TIP_MM [TIP_ZONE_MM]
 //     drag MN_S_PER_MM2                     # default: blood's (flow viscosity), from physics
 //     valve_friction MN
@@ -40,6 +44,7 @@
 #include "base/result.hpp"
 #include "flow/c_arm.hpp"
 #include "flow/flow_settings.hpp"
+#include "tool/aneurysm_sac.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/tube_network_wall.hpp"
@@ -63,6 +68,8 @@ struct Case {
   flow::FlowSettings flow;       // physiological defaults plus the file's `flow` overrides
   std::vector<flow::NamedProjection> views;  // the case's working projections (besides AP, lateral)
   bool realistic = false;        // the 3D view is off for the trainee (fluoroscopy only)
+  // `aneurysm`: a declared sac (sphere cap); without it the world looks for one in the vessel.
+  std::optional<AneurysmSac> aneurysm;
 };
 
 // The case, or one line "file:line: message".
@@ -76,5 +83,11 @@ using CaseParse = base::Result<Case>;
 // A 0.014" guidewire with a soft distal tip and an angled tip, and a 5F catheter.
 [[nodiscard]] ToolSpec default_guidewire();
 [[nodiscard]] ToolSpec default_catheter();
+// A microcatheter with a 0.45 mm (0.018") lumen, and a 10-system detachable coil (0.25 mm
+// primary wind of EI 0.02 N.mm2, helical secondary shape of `loop_diameter_mm`) of
+// `length_mm` on a 0.33 mm pusher, running in the microcatheter ("microcatheter"), its nodes
+// 0.5 mm apart over the coil.
+[[nodiscard]] ToolSpec default_microcatheter();
+[[nodiscard]] ToolSpec default_coil(double length_mm, double loop_diameter_mm);
 
 }  // namespace cathbox::tool

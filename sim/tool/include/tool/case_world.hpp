@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "base/result.hpp"
+#include "tool/aneurysm_sac.hpp"
 #include "tool/case_file.hpp"
 #include "vessel/surface_mesh.hpp"
 #include "vessel/vessel_model.hpp"
@@ -31,6 +32,10 @@ class CaseWorld {
   // analytic tubes.
   [[nodiscard]] const vessel::VesselModel* model() const { return model_ ? model_.get() : nullptr; }
   void set_model(std::shared_ptr<const vessel::VesselModel> model) { model_ = std::move(model); }
+  // The aneurysm sac: the case's declared one, else the vessel's sac segment (aneurysm_sac.hpp);
+  // none when neither gives one.
+  [[nodiscard]] const std::optional<AneurysmSac>& sac() const { return sac_; }
+  void set_sac(std::optional<AneurysmSac> sac) { sac_ = sac; }
   // Hands the wall over (the world is then empty).
   [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
@@ -38,6 +43,7 @@ class CaseWorld {
   std::unique_ptr<WallModel> wall_;
   Entry entry_;
   std::optional<glm::dvec3> target_;
+  std::optional<AneurysmSac> sac_;
   std::shared_ptr<const vessel::SurfaceMesh> mesh_;
   std::shared_ptr<const vessel::VesselModel> model_;
 };

@@ -4,11 +4,14 @@
 //   time_ms,tool,insertion_mm,rotation_rad,tip_x_mm,tip_y_mm,tip_z_mm,force_mN,torque_mNmm,contacts,tip_segment
 // for the selected tool. The same inputs give byte-identical output.
 #include <cstdint>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tool/action_script.hpp"
+#include "tool/coil_metrics.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {
@@ -17,6 +20,7 @@ struct ScenarioOptions {
   std::int64_t every_ms = 1;        // log every this many steps
   std::string script_name = "script";  // for file:line errors
   std::int64_t settle_ms = 100;     // run on after the last motion ends (when there is no 'end')
+  const AneurysmSac* sac = nullptr; // with coil tools: their figures (coil_metrics.hpp) in the result
 };
 
 struct ScenarioResult {
@@ -24,6 +28,8 @@ struct ScenarioResult {
   std::string error;  // "file:line: message" for a script that does not fit the case
   std::uint64_t steps = 0;
   std::uint64_t rows = 0;
+  std::vector<std::string> notes;    // "file:line: detach: why it was refused" (the run goes on)
+  std::optional<CoilFigures> coils;  // with a sac and coil tools
 };
 
 [[nodiscard]] ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options,

@@ -14,15 +14,19 @@
 
 namespace cathbox::tool {
 
+struct ToolSpec;
+
 class ScriptPlayer {
  public:
   struct ToolInfo {
     std::string name;
     double max_insertion_mm = 0.0;
+    bool coil = false;  // carries a detachable coil (a `detach` may select it)
   };
 
-  // Checks that every tool the script selects exists; on failure returns null with
-  // "file:line: select: the case has no tool 'x' (tools: a b)" in `error`.
+  // Checks that every tool the script selects exists and that every `detach` finds a coil
+  // selected; on failure returns null with "file:line: select: the case has no tool 'x'
+  // (tools: a b)" or "file:line: detach: 'x' carries no coil" in `error`.
   [[nodiscard]] static std::optional<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
                                                         std::size_t selected, const std::string& script_name,
                                                         std::string& error);
@@ -32,6 +36,8 @@ class ScriptPlayer {
     bool ended = false;                   // an `end` action is due: stop before stepping
     std::span<const Action> due;          // the actions applied at this step, in order (the
                                           // imaging verbs are its owner's to act on)
+    std::optional<std::size_t> detach;    // a `detach` of this tool's coil is due
+    std::size_t detach_line = 0;          // ... from this script line
   };
   // Applies the actions due at `now_ms` (0, 1, 2, ... in turn), then, unless the script ended,
   // moves every running motion by one millisecond.
@@ -64,5 +70,8 @@ class ScriptPlayer {
   bool has_end_ = false;
   bool moving_ = false;
 };
+
+// What a player needs to know of a tool.
+[[nodiscard]] ScriptPlayer::ToolInfo tool_info(const ToolSpec& spec);
 
 }  // namespace cathbox::tool

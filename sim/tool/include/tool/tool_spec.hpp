@@ -116,6 +116,9 @@ struct ToolLimits {
   static constexpr double kMaxAxialStiffness_N = 1e6;
 };
 
+// True when following `inside` from tools[i] comes back to it (or never ends).
+[[nodiscard]] bool nesting_cycle(std::span<const ToolSpec> tools, std::size_t i);
+
 // Checks a set of tools as a simulator takes them (every value in range, names unique, coaxial
 // tools inside a known catheter they fit in): "" when fine, else one line naming the tool and
 // the value. For tools that did not come from a case file (a session record).

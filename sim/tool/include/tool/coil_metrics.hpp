@@ -1,0 +1,71 @@
+#pragma once
+// What the coils did to the aneurysm sac, watched step by step (after each Simulator::step):
+//   coil length deployed   coil out of the microcatheter's tip (the attached coil's length past
+//                          the furthest catheter tip around it, up to its detachment zone) plus
+//                          every released coil
+//   packing density        coil volume ÷ sac volume, the clinical figure (typically 20-35 %):
+//                          each coil counts as a solid cylinder of its primary wind,
+//                          pi/4 d^2 L for the deployed length L and outer diameter d
+//   herniated nodes        nodes of deployed coil wholly on the parent artery's side of the neck
+//                          plane (deeper than their radius), not counting the last
+//                          kLeavingZone_mm of coil leaving the catheter tip
+//   herniations            episodes of herniated coil (from none to some, after at least
+//                          kHerniationGap_s without any): an error event
+//   kick-back              how far the microcatheter's tip was pushed back out of the sac along
+//                          the neck normal from where it was when its coil began to deploy
+//                          until the coil's release, less what its own hand withdrew it (peak, mm)
+// Nothing allocates after construction.
+#include <cstddef>
+#include <vector>
+
+#include "tool/aneurysm_sac.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::tool {
+
+struct CoilFigures {
+  double deployed_mm = 0.0;
+  double coil_volume_mm3 = 0.0;
+  double packing_density = 0.0;   // fraction (0.25 = 25 %)
+  int herniated_nodes = 0;        // this step
+  int herniations = 0;            // episodes so far
+  double kick_back_mm = 0.0;      // peak so far
+  double kick_back_now_mm = 0.0;  // this step
+};
+
+class CoilMetrics {
+ public:
+  static constexpr double kLeavingZone_mm = 1.0;
+  static constexpr double kHerniationGap_s = 0.05;
+
+  CoilMetrics(const Simulator& sim, const AneurysmSac& sac);
+
+  // True when the simulator carries a coil tool (else every figure stays 0).
+  [[nodiscard]] bool has_coils() const { return !coils_.empty(); }
+  void observe(const Simulator& sim);
+  [[nodiscard]] const CoilFigures& figures() const { return f_; }
+  // Events of the last observe().
+  [[nodiscard]] bool herniation_began() const { return herniation_began_; }
+  [[nodiscard]] const AneurysmSac& sac() const { return sac_; }
+
+  // Deployed length of one coil tool's attached coil (0 once released).
+  [[nodiscard]] static double attached_deployed_mm(const Simulator& sim, std::size_t coil_tool);
+
+ private:
+  struct CoilTool {
+    std::size_t tool = 0;
+    std::size_t catheter = 0;   // the microcatheter it leaves (tool_count() if none)
+    bool deploying = false;     // its coil has begun to leave the catheter
+    double ref_depth_mm = 0.0;  // the catheter tip's depth in the sac then ...
+    double ref_insertion_mm = 0.0;  // ... and the catheter's insertion
+  };
+  [[nodiscard]] int herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm) const;
+
+  AneurysmSac sac_;
+  std::vector<CoilTool> coils_;
+  CoilFigures f_;
+  bool herniation_began_ = false;
+  double clear_since_s_ = -1.0;  // simulated time since when no node has herniated (-1: never any)
+};
+
+}  // namespace cathbox::tool

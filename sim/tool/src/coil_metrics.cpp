@@ -1,0 +1,81 @@
+#include "tool/coil_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace cathbox::tool {
+namespace {
+
+double cylinder_volume_mm3(double diameter_mm, double length_mm) { return M_PI / 4.0 * diameter_mm * diameter_mm * length_mm; }
+
+}  // namespace
+
+CoilMetrics::CoilMetrics(const Simulator& sim, const AneurysmSac& sac) : sac_(sac) {
+  for (std::size_t t = 0; t < sim.tool_count(); ++t) {
+    const ToolSpec& spec = sim.rod(t).spec();
+    if (spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0) coils_.push_back(CoilTool{t, sim.outer_of(t)});
+  }
+}
+
+double CoilMetrics::attached_deployed_mm(const Simulator& sim, std::size_t coil_tool) {
+  if (sim.released_mm(coil_tool) > 0.0) return 0.0;
+  const double past = sim.tip_depth_mm(coil_tool) - sim.free_start_mm(coil_tool);
+  return std::clamp(past, 0.0, sim.rod(coil_tool).spec().detach_mm);
+}
+
+int CoilMetrics::herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm) const {
+  int n = 0;
+  const std::span<const glm::dvec3> x = rod.positions();
+  for (std::size_t k = first; k < end; ++k) {
+    if (rod.node_from_tip_mm(k) > leaving_from_tip_mm) continue;
+    if (sac_.depth_mm(x[k]) < -rod.node_radius_mm(k)) ++n;
+  }
+  return n;
+}
+
+void CoilMetrics::observe(const Simulator& sim) {
+  f_.deployed_mm = 0.0;
+  f_.coil_volume_mm3 = 0.0;
+  f_.kick_back_now_mm = 0.0;
+  int herniated_now = 0;
+  for (CoilTool& c : coils_) {
+    const Rod& rod = sim.rod(c.tool);
+    const double out = attached_deployed_mm(sim, c.tool);
+    if (out > 0.0) {
+      f_.deployed_mm += out;
+      f_.coil_volume_mm3 += cylinder_volume_mm3(2.0 * rod.radius_at_mm(0.0), out);
+      herniated_now += herniated(rod, rod.first_free_node(), rod.node_total(), out - kLeavingZone_mm);
+    }
+    if (c.catheter >= sim.tool_count()) continue;
+    const double depth = sac_.depth_mm(sim.tip(c.catheter).position_mm);
+    const double insertion = sim.insertion_mm(c.catheter);
+    if (!c.deploying && (out > 0.0 || sim.released_mm(c.tool) > 0.0)) {
+      c.deploying = true;
+      c.ref_depth_mm = depth;
+      c.ref_insertion_mm = insertion;
+    }
+    if (c.deploying && sim.released_mm(c.tool) == 0.0) {  // until the coil is released
+      const double kick = (c.ref_depth_mm - depth) - (c.ref_insertion_mm - insertion);
+      f_.kick_back_now_mm = std::max(f_.kick_back_now_mm, kick);
+    }
+  }
+  for (std::size_t i = 0; i < sim.detached_count(); ++i) {
+    const Rod& coil = sim.detached(i);
+    f_.deployed_mm += coil.length_mm();
+    f_.coil_volume_mm3 += cylinder_volume_mm3(2.0 * coil.radius_at_mm(0.0), coil.length_mm());
+    herniated_now += herniated(coil, 0, coil.node_total(), coil.length_mm() + 1.0);
+  }
+  f_.packing_density = sac_.volume_mm3 > 0.0 ? f_.coil_volume_mm3 / sac_.volume_mm3 : 0.0;
+  // A new episode after a gap without herniated coil (a loop flickering across the plane is one).
+  herniation_began_ = false;
+  if (herniated_now > 0) {
+    herniation_began_ = f_.herniated_nodes == 0 && (f_.herniations == 0 || sim.time_s() - clear_since_s_ >= kHerniationGap_s);
+    if (herniation_began_) ++f_.herniations;
+  } else if (f_.herniated_nodes > 0) {
+    clear_since_s_ = sim.time_s();
+  }
+  f_.herniated_nodes = herniated_now;
+  f_.kick_back_mm = std::max(f_.kick_back_mm, f_.kick_back_now_mm);
+}
+
+}  // namespace cathbox::tool

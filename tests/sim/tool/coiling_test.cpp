@@ -1,0 +1,237 @@
+// Coils in an aneurysm, in virtual time: a coil released in a free sphere of the bundled sac's
+// size stays in it and forms loops of its rest diameter; the packing density against the
+// analytic coil volume; no loop passes into another over 10^4 random push/pull/rotate steps;
+// the triaxial stack of cases/neuro_coiling.case reaches the aneurysm neck by its action file
+// and deploys and detaches the coil.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "tool/aneurysm_sac.hpp"
+#include "tool/case_file.hpp"
+#include "tool/case_world.hpp"
+#include "tool/coil_metrics.hpp"
+#include "tool/script_player.hpp"
+#include "tool/simulator.hpp"
+#include "tool/tube_network_wall.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+// The bundled sac's size: the dome radius of the sphere of its volume is ~3.2 mm.
+constexpr double kSphereR = 3.2;
+constexpr double kNeckR = 1.0;
+const glm::dvec3 kCentre(0.0, 0.0, 20.0);
+constexpr double kCoilOd = 0.25;
+constexpr double kLoopD = 4.0;
+constexpr double kCoilLength = 40.0;
+
+// A parent artery (radius 1 mm along z) opening into a free sphere.
+TubeNetworkWall sphere_on_a_tube() {
+  TubeNetworkWall wall;
+  wall.add_tube(Tube{{0, 0, -5}, kCentre, kNeckR, kNeckR, 0});
+  wall.add_tube(Tube{kCentre, kCentre + glm::dvec3(0, 0, 1e-3), kSphereR, kSphereR, 1});
+  wall.build();
+  return wall;
+}
+
+std::vector<ToolSpec> micro_and_coil() { return {default_microcatheter(), default_coil(kCoilLength, kLoopD)}; }
+
+constexpr std::size_t kMicro = 0, kCoil = 1;
+const Entry kEntry{{0, 0, -3}, {0, 0, 1}};
+// The neck: where the sphere meets the parent tube.
+const double kNeckZ = kCentre.z - std::sqrt(kSphereR * kSphereR - kNeckR * kNeckR);
+
+void drive(Simulator& sim, std::size_t tool, double target, double per_step, CoilMetrics* metrics = nullptr) {
+  while (std::abs(sim.insertion_mm(tool) - target) > 1e-9) {
+    const double d = std::clamp(target - sim.insertion_mm(tool), -per_step, per_step);
+    sim.set_insertion(tool, sim.insertion_mm(tool) + d);
+    sim.step();
+    if (metrics != nullptr) metrics->observe(sim);
+  }
+}
+
+// The microcatheter's tip 1 mm into the sphere, the coil at its tip.
+double place_microcatheter(Simulator& sim) {
+  const double depth = kNeckZ + 1.0 - kEntry.point_mm.z;
+  drive(sim, kMicro, depth, 0.2);
+  drive(sim, kCoil, depth - 0.5, 0.2);
+  return depth;
+}
+
+// Mean diameter of the circle through nodes k - m, k, k + m along a coil.
+double mean_loop_diameter(std::span<const glm::dvec3> x, std::size_t first, std::size_t last, std::size_t m) {
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = first + m; k + m < last; ++k) {
+    const glm::dvec3 a = x[k - m] - x[k], b = x[k + m] - x[k], c = x[k + m] - x[k - m];
+    const double area2 = glm::length(glm::cross(a, b));
+    if (area2 < 1e-12) continue;
+    sum += glm::length(a) * glm::length(b) * glm::length(c) / area2;  // 2 R = abc / (2 area)
+    ++n;
+  }
+  return n > 0 ? sum / n : 0.0;
+}
+
+// The microcatheter's tip 1 mm into the free sphere, the coil at its tip, the sac's metrics.
+class CoilInSphere : public ::testing::Test {
+ protected:
+  TubeNetworkWall wall = sphere_on_a_tube();
+  std::vector<ToolSpec> tools = micro_and_coil();
+  Simulator sim{wall, tools, kEntry};
+  AneurysmSac sac = *sphere_cap_sac(kCentre, kSphereR, {0, 0, kNeckZ});
+  CoilMetrics metrics{sim, sac};
+  double micro = place_microcatheter(sim);
+};
+
+TEST_F(CoilInSphere, CoilReleasedInAFreeSphereStaysInsideAndFormsLoopsOfItsRestDiameter) {
+  // Push the whole coil out (its detachment zone 1 mm past the tip) at 20 mm/s, detach, and let
+  // it settle for 2 s (the soft coil relaxes against the solver's damping).
+  drive(sim, kCoil, micro + kCoilLength + 1.0, 0.02, &metrics);
+  ASSERT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  for (int i = 0; i < 2000; ++i) {
+    sim.step();
+    metrics.observe(sim);
+  }
+  ASSERT_EQ(sim.detached_count(), 1u);
+  const Rod& coil = sim.detached(0);
+  EXPECT_NEAR(coil.length_mm(), kCoilLength, 0.3);
+  // Inside: every node within the sphere (less 10 % of its radius of slack), none herniated.
+  const std::span<const glm::dvec3> x = coil.positions();
+  double worst = 0.0;
+  for (const glm::dvec3& p : x) {
+    ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+    worst = std::max(worst, glm::length(p - kCentre) + 0.5 * kCoilOd - kSphereR);
+    EXPECT_GT(sac.depth_mm(p), -0.5 * kCoilOd);
+  }
+  EXPECT_LT(worst, 0.1 * 0.5 * kCoilOd) << "a node is " << worst << " mm outside the sphere";
+  EXPECT_EQ(metrics.figures().herniations, 0);
+  // Loops of the rest diameter within 10 %: circles through nodes 3 mm apart along the coil.
+  const double d = mean_loop_diameter(x, 2, x.size() - 2, 6);
+  EXPECT_NEAR(d / kLoopD, 1.0, 0.10) << "mean loop diameter " << d << " mm";
+}
+
+TEST_F(CoilInSphere, PackingDensityIsTheAnalyticCoilVolumeOverTheSac) {
+  metrics.observe(sim);
+  EXPECT_EQ(metrics.figures().deployed_mm, 0.0);
+  // Half the coil out: the deployed length is the coil's advance past the catheter's tip.
+  const double start = sim.insertion_mm(kCoil);
+  drive(sim, kCoil, micro + 20.0, 0.02, &metrics);
+  const double analytic_half = M_PI / 4.0 * kCoilOd * kCoilOd * 20.0;
+  EXPECT_NEAR(metrics.figures().deployed_mm, 20.0, 0.5) << "pushed " << sim.insertion_mm(kCoil) - start;
+  EXPECT_NEAR(metrics.figures().coil_volume_mm3 / analytic_half, 1.0, 0.03);
+  // All of it, released: pi/4 d^2 L over the sphere cap's volume.
+  drive(sim, kCoil, micro + kCoilLength + 1.0, 0.02, &metrics);
+  ASSERT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  for (int i = 0; i < 50; ++i) {
+    sim.step();
+    metrics.observe(sim);
+  }
+  const double cap = sphere_cap_volume_mm3(kSphereR, kSphereR + (kCentre.z - kNeckZ));
+  const double analytic = M_PI / 4.0 * kCoilOd * kCoilOd * kCoilLength / cap;
+  EXPECT_NEAR(metrics.figures().packing_density / analytic, 1.0, 0.01);
+  EXPECT_NEAR(metrics.figures().deployed_mm, kCoilLength, 0.3);
+  // The coil's volume from its own centre line (edge lengths): it did not stretch.
+  const std::span<const glm::dvec3> x = sim.detached(0).positions();
+  double arc = 0.0;
+  for (std::size_t k = 1; k < x.size(); ++k) arc += glm::length(x[k] - x[k - 1]);
+  EXPECT_NEAR(arc / kCoilLength, 1.0, 0.02);
+  // The simulator refuses a second detach: the pusher alone stays.
+  EXPECT_EQ(sim.detach(kCoil), DeviceError::kNotACoil);
+}
+
+TEST_F(CoilInSphere, NoLoopPassesIntoAnotherOverRandomPushPullRotateSteps) {
+  drive(sim, kCoil, micro + 0.6 * kCoilLength, 0.02);
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<double> push(-0.05, 0.06), turn(-0.05, 0.05);
+  std::uniform_int_distribution<int> what(0, 2);
+  double worst = 0.0;
+  int worst_step = -1;
+  const double lo = micro + 0.2 * kCoilLength, hi = micro + 0.9 * kCoilLength;
+  for (int i = 0; i < 10000; ++i) {
+    const int w = what(rng);
+    if (w < 2) {
+      sim.set_insertion(kCoil, std::clamp(sim.insertion_mm(kCoil) + push(rng), lo, hi));
+    } else {
+      sim.set_rotation(kCoil, sim.rotation_rad(kCoil) + turn(rng));
+    }
+    sim.step();
+    const RodContactField::Overlap o = sim.worst_coil_overlap();
+    if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > worst) {
+      worst = o.depth_mm / o.diameter_mm;
+      worst_step = i;
+    }
+    ASSERT_TRUE(std::isfinite(sim.tip(kCoil).position_mm.x)) << "step " << i;
+  }
+  EXPECT_LT(worst, 0.10) << "deepest overlap " << 100.0 * worst << " % of the coil diameter at step " << worst_step;
+}
+
+// The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
+// run` drives it: the microcatheter reaches the neck of the left MCA aneurysm over the
+// microwire, the coil deploys into the sac and is detached there.
+TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
+  const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
+  CaseParse c = load_case(dir + "neuro_coiling.case");
+  ASSERT_TRUE(c) << c.error().message;
+  ScriptParse script = load_script(dir + "neuro_coiling.actions");
+  ASSERT_TRUE(script) << script.error().message;
+  WorldBuild world = build_world(*c);
+  ASSERT_TRUE(world) << world.error().message;
+  ASSERT_TRUE((*world)->sac());
+  const AneurysmSac& sac = *(*world)->sac();
+  Simulator sim((*world)->wall(), c->tools, (*world)->entry());
+  const std::size_t micro = sim.find_tool("microcatheter"), coil = sim.find_tool("coil");
+  ASSERT_LT(micro, sim.tool_count());
+  ASSERT_LT(coil, sim.tool_count());
+  ASSERT_EQ(sim.outer_of(micro), sim.find_tool("guide"));
+  ASSERT_EQ(sim.outer_of(sim.find_tool("microwire")), micro);
+  ASSERT_EQ(sim.outer_of(coil), micro);
+  EXPECT_EQ(c->tools[coil].sections.back().shape, CoilShape::kHelix);
+  EXPECT_EQ(c->tools[coil].sections.back().loop_diameter_mm, 5.0);
+  std::vector<ScriptPlayer::ToolInfo> infos;
+  for (const ToolSpec& t : c->tools) infos.push_back(tool_info(t));
+  std::string error;
+  std::optional<ScriptPlayer> player = ScriptPlayer::make(*script, infos, 0, "neuro_coiling.actions", error);
+  ASSERT_TRUE(player) << error;
+  CoilMetrics metrics(sim, sac);
+  double micro_best_depth = -1e9;
+  std::optional<double> depth_at_deploy;
+  bool detached = false;
+  for (std::int64_t now = 0; now < 200'000; ++now) {
+    const ScriptPlayer::Step step = player->advance(now);
+    if (step.selected) sim.select(*step.selected);
+    if (step.ended) break;
+    if (step.detach) {
+      ASSERT_EQ(sim.detach(*step.detach), DeviceError::kNone) << "at " << now << " ms";
+      detached = true;
+    }
+    for (std::size_t t = 0; t < sim.tool_count(); ++t) {
+      sim.set_insertion(t, player->insertion_mm(t));
+      sim.set_rotation(t, player->rotation_rad(t));
+    }
+    sim.step();
+    metrics.observe(sim);
+    const glm::dvec3 tip = sim.tip(micro).position_mm;
+    if (glm::length(tip - sac.neck_centre_mm) < sac.neck_radius_mm + sac.dome_radius_mm) {
+      micro_best_depth = std::max(micro_best_depth, sac.depth_mm(tip));
+    }
+    if (!depth_at_deploy && metrics.figures().deployed_mm > 0.0) depth_at_deploy = sac.depth_mm(tip);
+    if (player->settled(now, 100)) break;
+  }
+  // The microcatheter's tip came to the neck (within half a millimetre of its plane, or past it).
+  EXPECT_GT(micro_best_depth, -0.5) << "closest approach to the neck plane " << micro_best_depth << " mm";
+  ASSERT_TRUE(depth_at_deploy);
+  EXPECT_GT(*depth_at_deploy, -0.5);
+  EXPECT_TRUE(detached);
+  EXPECT_EQ(sim.detached_count(), 1u);
+  EXPECT_NEAR(metrics.figures().deployed_mm, c->tools[coil].detach_mm, 0.5);
+  EXPECT_GT(metrics.figures().packing_density, 0.0);
+  EXPECT_EQ(metrics.figures().herniations, 0);
+}
+
+}  // namespace
+}  // namespace cathbox::tool
