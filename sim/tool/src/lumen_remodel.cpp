@@ -174,10 +174,17 @@ bool LumenRemodel::apply(const BalloonPose& balloon) {
       changed |= std::abs(model_.segments[sp.segment].points[i].radius_mm - taken_[sp.segment][i]) > params_.min_change_mm;
     }
   };
-  if (pressing_) relax(last_span_);
+  Span span = inflated ? covered(balloon.axis_mm) : Span{};
+  if (pressing_ && inflated && span.segment == last_span_.segment) {
+    // One inflation presses every point it has covered (a gripping balloon hardly moves; a
+    // node jittering across a span end would otherwise let a point recoil and come back).
+    span.first = std::min(span.first, last_span_.first);
+    span.last = std::max(span.last, last_span_.last);
+  } else if (pressing_) {
+    relax(last_span_);
+  }
   pressing_ = inflated;
   if (!inflated) return changed;
-  const Span span = covered(balloon.axis_mm);
   last_span_ = span;
   const double rb = 0.5 * balloon.diameter_mm;
   for (std::size_t i = span.first; i <= span.last; ++i) {

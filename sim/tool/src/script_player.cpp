@@ -27,8 +27,17 @@ double advance_motion(Motion& m, double value) {
 std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<const ToolInfo> tools,
                                                std::size_t selected, const std::string& script_name,
                                                std::string& error) {
+  std::size_t current = selected;
   for (const Action& a : script.actions) {
+    if (is_balloon(a.kind) && (current >= tools.size() || !tools[current].balloon)) {
+      const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
+      const std::string name = current < tools.size() ? tools[current].name : "?";
+      error = located(script_name, a.line, verb + ": tool '" + name + "' has no balloon");
+      return std::nullopt;
+    }
     if (a.kind != ActionKind::kSelect) continue;
+    const auto found = std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
+    current = static_cast<std::size_t>(found - tools.begin());
     const bool known = std::any_of(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
     if (!known) {
       std::string names;
@@ -60,6 +69,7 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
   for (; next_ < actions_.size() && actions_[next_].time_ms <= now_ms; ++next_) {
     const Action& a = actions_[next_];
     const std::size_t t = selected_;
+    if (is_balloon(a.kind) && step.device_count == kMaxDeviceActions) break;
     switch (a.kind) {
       case ActionKind::kSelect:
         selected_ = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), a.tool) - names_.begin());
@@ -84,6 +94,11 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
       case ActionKind::kCArm:
       case ActionKind::kRoadmap:
         break;  // imaging: acted on by the fluoroscopy unit, not by the tools
+      case ActionKind::kInflatePressure:
+      case ActionKind::kInflateVolume:
+      case ActionKind::kDeflate:
+        step.devices[step.device_count++] = DeviceAction{a.kind, a.value, t, a.line};
+        break;
     }
   }
   if (step.ended) return step;

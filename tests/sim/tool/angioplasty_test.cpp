@@ -14,6 +14,9 @@
 
 #include "analytic_walls.hpp"
 #include "tool/balloon.hpp"
+#include "tool/case_file.hpp"
+#include "tool/case_world.hpp"
+#include "tool/scenario_runner.hpp"
 #include "vessel/hclm.hpp"
 
 namespace cathbox::tool {
@@ -243,6 +246,40 @@ TEST(Angioplasty, WidenedWallSwapsAtTheSameTickInBothModes) {
   }
   EXPECT_EQ(clearance[0][0], clearance[1][0]);
   EXPECT_EQ(clearance[0][1], clearance[1][1]);
+}
+
+// The bundled case played by its action script headless, as `cathbox sim run` plays it: the
+// case's pass criteria (cases/neuro_angioplasty.case).
+TEST(Angioplasty, TheBundledCaseMeetsItsPassCriteria) {
+  const CaseParse c = load_case(CATHBOX_SOURCE_DIR "/cases/neuro_angioplasty.case");
+  ASSERT_TRUE(c) << c.error().message;
+  const ScriptParse script = load_script(CATHBOX_SOURCE_DIR "/cases/neuro_angioplasty.actions");
+  ASSERT_TRUE(script) << script.error().message;
+  WorldBuild world = build_world(*c);
+  ASSERT_TRUE(world) << world.error().message;
+  ASSERT_NE((*world)->source_model(), nullptr);
+  Angioplasty angio(*(*world)->source_model(), (*world)->release_wall(), WallSwap::Mode::kSynchronous);
+  Simulator sim(angio.wall(), c->tools, (*world)->entry());
+  ScenarioOptions options;
+  options.every_ms = 1000;
+  options.angioplasty = &angio;
+  std::ostringstream csv;
+  const ScenarioResult r = run_scenario(sim, *script, options, csv);
+  ASSERT_TRUE(r.ok) << r.error;
+  ASSERT_TRUE(r.angioplasty.has_value());
+  const AngioplastyFigures& f = *r.angioplasty;
+  EXPECT_TRUE(f.lesion);
+  EXPECT_GT(f.stenosis_before_percent, 65.0);
+  EXPECT_LE(f.residual_stenosis_percent, 30.0);
+  EXPECT_EQ(f.rupture_risk_events, 0);
+  EXPECT_EQ(f.inflations, 1);
+  EXPECT_GT(f.inflated_time_s, 10.0);
+  EXPECT_NEAR(f.max_pressure_atm, 6.0, 1e-9);
+  EXPECT_GE(f.wall_swaps, 1u);
+  EXPECT_EQ(f.late_ticks, 0u);
+  EXPECT_EQ(sim.tip_segment(sim.find_tool("guidewire")), 20) << "the wire stays across the lesion in the left ICA";
+  RecordProperty("case_residual_stenosis_percent", std::to_string(f.residual_stenosis_percent));
+  RecordProperty("case_wall_swaps", std::to_string(f.wall_swaps));
 }
 
 }  // namespace
