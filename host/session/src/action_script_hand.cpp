@@ -23,7 +23,9 @@ std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
   std::vector<tool::ScriptPlayer::ToolInfo> out;
-  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back({spec.name, tool::Rod(spec).max_insertion_mm()});
+  for (const tool::ToolSpec& spec : scene.spec.tools) {
+    out.push_back({spec.name, tool::Rod(spec).max_insertion_mm(), spec.balloon.present()});
+  }
   return out;
 }
 
@@ -45,6 +47,13 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
   // The player applies the actions due at this millisecond and moves its motions by one.
   const tool::ScriptPlayer::Step step = player_.advance(tick);
   if (step.selected) sink.push(Control::select_tool(*step.selected));
+  for (std::size_t i = 0; i < step.device_count; ++i) {  // inflate / deflate: the balloon's controls
+    const tool::ScriptPlayer::DeviceAction& a = step.devices[i];
+    const BalloonOp op = a.kind == tool::ActionKind::kInflatePressure ? BalloonOp::kInflatePressure
+                         : a.kind == tool::ActionKind::kInflateVolume ? BalloonOp::kInflateVolume
+                                                                      : BalloonOp::kDeflate;
+    sink.push(Control::balloon(a.tool, op, a.value));
+  }
   if (step.ended) {
     ended_ = true;
     finished_ = true;

@@ -168,7 +168,25 @@ std::string MetricsCollector::format(const Metrics& m) {
   const std::optional<double> runs = m.fluoroscopy_runs ? std::optional<double>(*m.fluoroscopy_runs) : std::nullopt;
   optional_figure("fluoroscopy runs", runs, "");
   optional_figure("contrast volume", m.contrast_volume_ml, "ml");
+  if (m.balloon_inflations) {  // an angioplasty case: its figures, else no lines at all
+    optional_figure("stenosis before", m.stenosis_before_pct, "%");
+    optional_figure("residual stenosis", m.residual_stenosis_pct, "%");
+    optional_figure("balloon inflations", std::optional<double>(*m.balloon_inflations), "");
+    optional_figure("balloon inflated", m.balloon_inflated_s, "s");
+    const std::optional<double> risk = m.rupture_risk_events ? std::optional<double>(*m.rupture_risk_events) : std::nullopt;
+    optional_figure("rupture-risk events", risk, "");
+  }
   return out;
+}
+
+void MetricsCollector::set_angioplasty(const tool::AngioplastyFigures& f) {
+  if (f.lesion) {
+    m_.stenosis_before_pct = f.stenosis_before_percent;
+    m_.residual_stenosis_pct = f.residual_stenosis_percent;
+  }
+  m_.balloon_inflations = f.inflations;
+  m_.balloon_inflated_s = f.inflated_time_s;
+  m_.rupture_risk_events = f.rupture_risk_events;
 }
 
 std::vector<NamedMetric> named_metrics(const Metrics& m) {
@@ -194,6 +212,11 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
   if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
   if (m.contrast_volume_ml) add("contrast_volume_ml", *m.contrast_volume_ml);
+  if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
+  if (m.residual_stenosis_pct) add("residual_stenosis_pct", *m.residual_stenosis_pct);
+  if (m.balloon_inflations) add("balloon_inflations", *m.balloon_inflations);
+  if (m.balloon_inflated_s) add("balloon_inflated_s", *m.balloon_inflated_s);
+  if (m.rupture_risk_events) add("rupture_risk_events", *m.rupture_risk_events);
   return out;
 }
 
@@ -202,7 +225,8 @@ std::vector<std::string> metric_names() {
           "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
-          "contrast_volume_ml"};
+          "contrast_volume_ml", "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations",
+          "balloon_inflated_s", "rupture_risk_events"};
 }
 
 }  // namespace cathbox::session

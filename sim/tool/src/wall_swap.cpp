@@ -35,7 +35,10 @@ WallResult build_mesh_wall(const vessel::VesselModel& model) {
 WallSwap::WallSwap(std::unique_ptr<WallModel> initial, WallBuilder builder, Mode mode, std::int64_t latency_ticks)
     : current_(std::move(initial)), builder_(std::move(builder)), mode_(mode), latency_(std::max<std::int64_t>(0, latency_ticks)) {
   retired_.reserve(4);
-  if (mode_ == Mode::kWorker) worker_ = std::thread([this] { work(); });
+}
+
+void WallSwap::set_mode(Mode mode) {
+  if (!due_tick_) mode_ = mode;
 }
 
 WallSwap::~WallSwap() {
@@ -57,6 +60,7 @@ bool WallSwap::request(const vessel::VesselModel& model, std::int64_t now) {
     build_seconds_.push_back(seconds);
     return true;
   }
+  if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
   {
     const std::lock_guard lock(mutex_);
     job_ = model;
@@ -92,7 +96,7 @@ void WallSwap::work() {
 }
 
 void WallSwap::retire(std::unique_ptr<WallModel> old) {
-  if (mode_ == Mode::kSynchronous) return;  // `old` is destroyed here
+  if (!worker_.joinable()) return;  // synchronous so far: `old` is destroyed here
   {
     const std::lock_guard lock(mutex_);
     retired_.push_back(std::move(old));

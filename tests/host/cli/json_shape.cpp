@@ -89,7 +89,9 @@ const char* const kShapes = R"({
                      "peak_insertion_speed_mm_s": "number", "tool_changes": "integer",
                      "peak_hand_force_mN": "number", "fluoroscopy_time_s": "number|null",
                      "dose_area_product_mGy_cm2": "number|null", "fluoroscopy_runs": "integer|null",
-                     "contrast_volume_ml": "number|null"}
+                     "contrast_volume_ml": "number|null", "stenosis_before_pct": "number|null",
+                     "residual_stenosis_pct": "number|null", "balloon_inflations": "integer|null",
+                     "balloon_inflated_s": "number|null", "rupture_risk_events": "integer|null"}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

@@ -12,17 +12,14 @@
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
+#include "session_temp.hpp"
 #include "tool/action_script.hpp"
 #include "record_tamper.hpp"
 
 namespace cathbox::session {
 namespace {
 
-std::string temp_path(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "session_test";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
+using testing::temp_path;
 
 std::string cases(const std::string& file) { return std::string(CATHBOX_SOURCE_DIR) + "/cases/" + file; }
 

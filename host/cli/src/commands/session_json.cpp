@@ -154,7 +154,12 @@ json metrics_json(const session::ReplayResult& r) {
           {"fluoroscopy_time_s", optional_number(m.fluoroscopy_time_s)},
           {"dose_area_product_mGy_cm2", optional_number(m.dose_area_product_mGy_cm2)},
           {"fluoroscopy_runs", m.fluoroscopy_runs ? json(*m.fluoroscopy_runs) : json(nullptr)},
-          {"contrast_volume_ml", optional_number(m.contrast_volume_ml)}};
+          {"contrast_volume_ml", optional_number(m.contrast_volume_ml)},
+          {"stenosis_before_pct", optional_number(m.stenosis_before_pct)},
+          {"residual_stenosis_pct", optional_number(m.residual_stenosis_pct)},
+          {"balloon_inflations", m.balloon_inflations ? json(*m.balloon_inflations) : json(nullptr)},
+          {"balloon_inflated_s", optional_number(m.balloon_inflated_s)},
+          {"rupture_risk_events", m.rupture_risk_events ? json(*m.rupture_risk_events) : json(nullptr)}};
 }
 
 }  // namespace cathbox::cli

@@ -35,7 +35,11 @@ struct TickInput;
 // share one space with the record's per-tick entry kinds (record_format.hpp), 0..15.
 enum class ControlKind : std::uint16_t {
   kSelectTool = 16,  // payload: u8 tool index, or 0xFF for "the next tool"
+  kBalloon = 65,     // payload: u8 tool index, u8 BalloonOp, f64 value (atm or ml; 0 for deflate)
 };
+
+// What a kBalloon control asks of the inflation device.
+enum class BalloonOp : std::uint8_t { kInflatePressure = 0, kInflateVolume = 1, kDeflate = 2 };
 
 // True for the kinds this build knows how to replay.
 [[nodiscard]] bool known_control_kind(std::uint16_t kind);
@@ -51,6 +55,7 @@ struct Control {
   [[nodiscard]] static Control make(std::uint16_t kind, std::span<const std::uint8_t> bytes);
   [[nodiscard]] static Control select_tool(std::size_t tool);
   [[nodiscard]] static Control select_next_tool();
+  [[nodiscard]] static Control balloon(std::size_t tool, BalloonOp op, double value);
 };
 
 // What a handler may touch while it applies a control (haptic thread, between two ticks).

@@ -19,7 +19,11 @@
 //   peak insertion speed  largest |Δ insertion| of the held tool over any 50 ms window ÷ 50 ms
 //   tool changes          times the trainee took another tool
 //   target reached        and the closest approach otherwise
-// plus room for the fluoroscopy module: fluoroscopy time, dose-area product, runs, contrast.
+// plus room for the fluoroscopy module: fluoroscopy time, dose-area product, runs, contrast;
+// and, in a case with a balloon catheter in a meshed vessel, the angioplasty figures of sim/tool
+// (angioplasty.hpp): stenosis before and residual stenosis at the lesion (%, 1 - minimal lumen
+// diameter ÷ reference diameter), balloon inflations and inflated time, rupture-risk events
+// (inflations over 1.1x the reference diameter).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -27,6 +31,8 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+
+#include "tool/angioplasty.hpp"
 
 namespace cathbox::session {
 
@@ -53,6 +59,12 @@ struct Metrics {
   std::optional<double> dose_area_product_mGy_cm2;
   std::optional<int> fluoroscopy_runs;
   std::optional<double> contrast_volume_ml;
+  // Filled by the session when the case has a balloon catheter in a meshed vessel.
+  std::optional<double> stenosis_before_pct;     // with a lesion found in the vessel
+  std::optional<double> residual_stenosis_pct;
+  std::optional<int> balloon_inflations;
+  std::optional<double> balloon_inflated_s;
+  std::optional<int> rupture_risk_events;
 };
 
 // What the metrics look at in one tick.
@@ -95,6 +107,8 @@ class MetricsCollector {
 
   void observe(const MetricsTick& tick);
   [[nodiscard]] const Metrics& metrics() const { return m_; }
+  // The angioplasty figures, from the session's tool::Angioplasty after each tick.
+  void set_angioplasty(const tool::AngioplastyFigures& f);
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }
   [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }

@@ -60,6 +60,7 @@ enum class ToolTag : std::uint32_t {
   kName = 1, kKind = 2, kSection = 3, kFriction = 4, kInnerDiameter = 5, kAxialStiffness = 6,
   kDrag = 7, kMaxSpacing = 8, kTipSpacing = 9, kTipZone = 10, kInside = 11, kBloodViscosity = 12,
   kValveFriction = 13,
+  kBalloon = 15,  // f64 length, from_tip, nominal, rated burst, then (pressure, diameter) pairs
 };
 enum class DeviceTag : std::uint32_t {
   kDescription = 1, kSerial = 2, kBoard = 3, kFirmware = 4, kInsertionCountsPerM = 5,

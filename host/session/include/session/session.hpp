@@ -34,6 +34,7 @@
 #include "session/scene_snapshot.hpp"
 #include "session/session_case.hpp"
 #include "session/snapshot_exchange.hpp"
+#include "tool/angioplasty.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
 
@@ -120,6 +121,7 @@ class Session {
  private:
   class Sink;
   class SelectTool;
+  class BalloonControl;
   bool tick();
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
@@ -133,6 +135,10 @@ class Session {
   SessionOptions options_;
   std::string hand_description_;
   std::vector<std::string> tool_names_;
+  // A balloon catheter in a meshed vessel: the lumen it widens and the walls swapped into sim_
+  // (synchronous builds in virtual time, a worker thread in real time; sim/tool/README.md).
+  // Declared before sim_, which uses its wall.
+  std::unique_ptr<tool::Angioplasty> angioplasty_;
   std::unique_ptr<tool::Simulator> sim_;
   tool::Snapshot snap_;
   TickInput input_;
@@ -145,10 +151,12 @@ class Session {
   ControlQueue controls_;
   std::array<ControlHandler*, 128> handlers_{};
   std::unique_ptr<SelectTool> select_tool_;
+  std::unique_ptr<BalloonControl> balloon_control_;
   std::unique_ptr<Sink> sink_;
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;
   bool tool_changed_ = false;
+  int rupture_events_ = 0;  // rupture-risk events logged so far
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;
   device::SystemClock steady_;

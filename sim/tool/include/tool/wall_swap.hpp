@@ -47,6 +47,11 @@ class WallSwap {
   WallSwap(const WallSwap&) = delete;
   WallSwap& operator=(const WallSwap&) = delete;
 
+  // Switches between the modes (a session knows it only when it starts its clock); takes
+  // effect when no wall is pending. The worker thread starts with the first worker build.
+  void set_mode(Mode mode);
+  [[nodiscard]] Mode mode() const { return mode_; }
+
   // The wall the simulator uses now (give it to the Simulator's constructor).
   [[nodiscard]] const WallModel& wall() const { return *current_; }
   // Asks for a wall of `model` (copied), due at tick `now` + latency; false while one is pending.
