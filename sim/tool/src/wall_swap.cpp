@@ -63,7 +63,8 @@ bool WallSwap::request(const vessel::VesselModel& model, std::int64_t now) {
   if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
   {
     const std::lock_guard lock(mutex_);
-    job_ = model;
+    job_model_ = model;
+    has_job_ = true;
     busy_ = true;
   }
   wake_.notify_one();
@@ -73,17 +74,18 @@ bool WallSwap::request(const vessel::VesselModel& model, std::int64_t now) {
 void WallSwap::work() {
   std::unique_lock lock(mutex_);
   for (;;) {
-    wake_.wait(lock, [&] { return stop_ || job_ || !retired_.empty(); });
+    wake_.wait(lock, [&] { return stop_ || has_job_ || !retired_.empty(); });
     std::vector<std::unique_ptr<WallModel>> old;
     old.swap(retired_);
-    std::optional<vessel::VesselModel> job;
-    job.swap(job_);
+    const bool job = has_job_;
+    if (job) std::swap(job_model_, work_model_);
+    has_job_ = false;
     if (!job && stop_ && old.empty()) return;
     lock.unlock();
     old.clear();  // the replaced walls die here, off the haptic thread
     double seconds = 0.0;
     std::optional<WallResult> built;
-    if (job) built.emplace(timed_build(builder_, *job, seconds));
+    if (job) built.emplace(timed_build(builder_, work_model_, seconds));
     lock.lock();
     if (built) {
       done_ = std::move(built);

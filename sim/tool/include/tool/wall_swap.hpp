@@ -87,7 +87,10 @@ class WallSwap {
   // Shared with the builder thread (under mutex_).
   mutable std::mutex mutex_;
   std::condition_variable wake_, idle_;
-  std::optional<vessel::VesselModel> job_;
+  // The lumen to build: request() copies into job_model_ (reusing its storage: no allocation
+  // once the first request has shaped it), the worker swaps it with work_model_.
+  vessel::VesselModel job_model_, work_model_;
+  bool has_job_ = false;
   std::optional<base::Result<std::unique_ptr<WallModel>>> done_;
   std::vector<std::unique_ptr<WallModel>> retired_;
   std::vector<double> build_seconds_;
