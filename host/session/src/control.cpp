@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstring>
 
 namespace cathbox::session {
 
@@ -15,13 +16,14 @@ const char* control_kind_name(std::uint16_t kind) {
     case ControlKind::kPulseRate: return "pulse_rate";
     case ControlKind::kRoadmap: return "roadmap";
     case ControlKind::kDetachCoil: return "detach_coil";
+    case ControlKind::kBalloon: return "balloon";
   }
   return nullptr;
 }
 
 bool known_control_kind(std::uint16_t kind) { return control_kind_name(kind) != nullptr; }
 
-const char* known_control_kinds() { return "16, 32-37, 64"; }
+const char* known_control_kinds() { return "16, 32-37, 64-65"; }
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);
@@ -46,6 +48,14 @@ bool ControlQueue::post(const Control& control) {
   if (closed_.load(std::memory_order_acquire)) return false;
   const std::lock_guard lock(producers_);
   return ring_.push(control);
+}
+
+Control Control::balloon(std::size_t tool, BalloonOp op, double value) {
+  std::array<std::uint8_t, 10> b{static_cast<std::uint8_t>(tool), static_cast<std::uint8_t>(op)};
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &value, sizeof bits);
+  for (int i = 0; i < 8; ++i) b[2 + i] = static_cast<std::uint8_t>(bits >> (8 * i));  // little endian
+  return make(static_cast<std::uint16_t>(ControlKind::kBalloon), b);
 }
 
 bool ControlQueue::pop(Control& out) { return ring_.pop(out); }

@@ -178,6 +178,14 @@ std::string MetricsCollector::format(const Metrics& m) {
     optional_figure("coil herniations", hern, "");
     optional_figure("kick-back", m.kick_back_mm, "mm");
   }
+  if (m.balloon_inflations) {  // an angioplasty case: its figures, else no lines at all
+    optional_figure("stenosis before", m.stenosis_before_pct, "%");
+    optional_figure("residual stenosis", m.residual_stenosis_pct, "%");
+    optional_figure("balloon inflations", std::optional<double>(*m.balloon_inflations), "");
+    optional_figure("balloon inflated", m.balloon_inflated_s, "s");
+    const std::optional<double> risk = m.rupture_risk_events ? std::optional<double>(*m.rupture_risk_events) : std::nullopt;
+    optional_figure("rupture-risk events", risk, "");
+  }
   return out;
 }
 
@@ -186,6 +194,16 @@ void MetricsCollector::set_coiling(double packing_density_pct, double coil_lengt
   m_.coil_length_mm = coil_length_mm;
   m_.coil_herniations = herniations;
   m_.kick_back_mm = kick_back_mm;
+}
+
+void MetricsCollector::set_angioplasty(const tool::AngioplastyFigures& f) {
+  if (f.lesion) {
+    m_.stenosis_before_pct = f.stenosis_before_percent;
+    m_.residual_stenosis_pct = f.residual_stenosis_percent;
+  }
+  m_.balloon_inflations = f.inflations;
+  m_.balloon_inflated_s = f.inflated_time_s;
+  m_.rupture_risk_events = f.rupture_risk_events;
 }
 
 std::vector<NamedMetric> named_metrics(const Metrics& m) {
@@ -215,6 +233,11 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.coil_length_mm) add("coil_length_mm", *m.coil_length_mm);
   if (m.coil_herniations) add("coil_herniations", *m.coil_herniations);
   if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
+  if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
+  if (m.residual_stenosis_pct) add("residual_stenosis_pct", *m.residual_stenosis_pct);
+  if (m.balloon_inflations) add("balloon_inflations", *m.balloon_inflations);
+  if (m.balloon_inflated_s) add("balloon_inflated_s", *m.balloon_inflated_s);
+  if (m.rupture_risk_events) add("rupture_risk_events", *m.rupture_risk_events);
   return out;
 }
 
@@ -223,7 +246,9 @@ std::vector<std::string> metric_names() {
           "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
-          "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm"};
+          "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm",
+          "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
+          "rupture_risk_events"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

@@ -49,6 +49,16 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
   w.field_f64(t(ToolTag::kTipZone), spec.tip_zone_mm);
   if (!spec.inside.empty()) w.field_text(t(ToolTag::kInside), spec.inside);
   if (spec.detach_mm > 0.0) w.field_f64(t(ToolTag::kDetach), spec.detach_mm);
+  if (spec.balloon.present()) {
+    std::vector<std::uint8_t> b;
+    ByteWriter wb(b);
+    for (const double v : {spec.balloon.length_mm, spec.balloon.from_tip_mm, spec.balloon.nominal_atm, spec.balloon.rated_burst_atm}) wb.f64(v);
+    for (std::size_t i = 0; i < spec.balloon.pressure_atm.size(); ++i) {
+      wb.f64(spec.balloon.pressure_atm[i]);
+      wb.f64(spec.balloon.diameter_mm[i]);
+    }
+    w.field(t(ToolTag::kBalloon), b);
+  }
   return out;
 }
 
@@ -213,6 +223,21 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
               return 1;
             }
             case ToolTag::kInside: spec.inside = text_of(tv); return 1;
+            case ToolTag::kBalloon: {
+              ByteReader r(tv);
+              tool::BalloonSpec& b = spec.balloon;
+              if (tv.size() < 48 || tv.size() % 16 != 0 || !r.f64(b.length_mm) || !r.f64(b.from_tip_mm) ||
+                  !r.f64(b.nominal_atm) || !r.f64(b.rated_burst_atm)) {
+                return bad(tat, "tool: a balloon is not 4 doubles and (pressure, diameter) pairs");
+              }
+              for (std::size_t i = 32; i < tv.size(); i += 16) {
+                double p = 0.0, dia = 0.0;
+                if (!r.f64(p) || !r.f64(dia)) return bad(tat, "tool: a balloon is not 4 doubles and (pressure, diameter) pairs");
+                b.pressure_atm.push_back(p);
+                b.diameter_mm.push_back(dia);
+              }
+              return 1;
+            }
             default: break;
           }
           if (tt == t(ToolTag::kDrag) || tt == t(ToolTag::kValveFriction)) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
+#include <cstring>
 
 #include "session/state_hash.hpp"
 
@@ -77,12 +78,54 @@ class Session::DetachCoil final : public ControlHandler {
   Session& s_;
 };
 
+// kBalloon: the inflation device of a balloon tool (payload: tool, BalloonOp, f64 value). A
+// value the balloon does not take is refused (not applied, not recorded) with a log line.
+class Session::BalloonControl final : public ControlHandler {
+ public:
+  explicit BalloonControl(Session& s) : s_(s) {}
+  bool apply(Control& c, ControlContext& ctx) override {
+    if (c.size != 10 || c.payload[1] > 2) return false;
+    const std::size_t tool = c.payload[0];
+    std::uint64_t bits = 0;
+    for (int i = 0; i < 8; ++i) bits |= static_cast<std::uint64_t>(c.payload[2 + i]) << (8 * i);
+    double value = 0.0;
+    std::memcpy(&value, &bits, sizeof value);
+    const auto op = static_cast<BalloonOp>(c.payload[1]);
+    const tool::DeviceError e = op == BalloonOp::kInflatePressure ? ctx.sim.inflate_pressure(tool, value)
+                                : op == BalloonOp::kInflateVolume  ? ctx.sim.inflate_volume(tool, value)
+                                                                   : ctx.sim.deflate(tool);
+    if (e != tool::DeviceError::kNone) {
+      s_.log("balloon: refused (%s)", tool::device_error_text(e));
+      return false;
+    }
+    if (op == BalloonOp::kDeflate) {
+      s_.log("balloon of the %s: deflate", s_.tool_names_[tool].c_str());
+    } else {
+      s_.log("balloon of the %s: inflate to %.2f %s", s_.tool_names_[tool].c_str(), value,
+             op == BalloonOp::kInflatePressure ? "atm" : "ml");
+    }
+    return true;
+  }
+
+ private:
+  Session& s_;
+};
+
 Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand, SessionOptions options)
     : scene_(std::move(scene)), hand_(std::move(hand)), options_(options) {
   hand_description_ = hand_->describe();
   const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
   for (const tool::ToolSpec& t : tools) tool_names_.push_back(t.name);
-  sim_ = std::make_unique<tool::Simulator>(scene_->world->wall(), tools, scene_->entry);
+  const bool balloon = std::any_of(tools.begin(), tools.end(), [](const tool::ToolSpec& t) { return t.balloon.present(); });
+  if (balloon && scene_->world->source_model() != nullptr) {
+    // Its own first wall, the same as the world's (the world's stays for picking).
+    auto wall = tool::build_mesh_wall(*scene_->world->source_model());
+    if (wall) {
+      angioplasty_ = std::make_unique<tool::Angioplasty>(*scene_->world->source_model(), std::move(*wall),
+                                                         tool::WallSwap::Mode::kSynchronous);
+    }
+  }
+  sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
   input_.tool_count = std::min(tools.size(), kMaxTools);
   for (std::size_t t = 0; t < input_.tool_count; ++t) {
     input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(sim_->rod(t).max_insertion_mm() * 1e3));
@@ -118,6 +161,10 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   }
   // Coiling goes on at the target (the neck): the coil is deployed there.
   if (coil_metrics_) options_.end_at_target = false;
+  balloon_control_ = std::make_unique<BalloonControl>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kBalloon), *balloon_control_);
+  // Angioplasty goes on at the target (the lesion): the balloon is inflated there.
+  if (angioplasty_) options_.end_at_target = false;
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 
   const std::size_t nodes = options_.max_nodes_per_tool;
@@ -259,6 +306,13 @@ bool Session::tick() {
     sim_->set_rotation(t, static_cast<double>(input_.tools[t].rotation_urad) * 1e-6);
   }
   sim_->step(static_cast<double>(options_.period_us) * 1e-6);
+  if (angioplasty_) {
+    angioplasty_->after_step(*sim_);
+    const tool::AngioplastyFigures f = angioplasty_->figures(*sim_);
+    if (f.rupture_risk_events > rupture_events_) log("balloon over-sized: %.2fx the reference diameter (rupture risk)", f.max_oversize_ratio);
+    rupture_events_ = f.rupture_risk_events;
+    metrics_.set_angioplasty(f);
+  }
   sim_->copy_snapshot(snap_);
   // The fluoroscopy unit and the contrast, to the end of this tick.
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
@@ -389,6 +443,7 @@ const HapticThread* Session::active_thread() const {
 }
 
 void Session::start() {
+  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);  // never waits on the haptic thread
   if (!real_thread_) {
     real_thread_ = std::make_unique<HapticThread>(steady_, options_.period_us, [this](std::int64_t) { return tick(); });
   }
@@ -400,6 +455,7 @@ void Session::stop() {
 }
 
 std::int64_t Session::step_virtual(std::int64_t ticks) {
+  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kSynchronous);  // same walls at the same ticks
   if (!virtual_thread_) {
     virtual_thread_ =
         std::make_unique<HapticThread>(virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); });

@@ -69,6 +69,17 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
         if (!r || *r <= 0.0 || *r > 30.0) return fail("inject: rate must be in (0, 30] mL/s");
         a.speed = *r;
       }
+    } else if (verb == "inflate") {
+      if (w.size() != 4 || (w[3] != "atm" && w[3] != "ml")) return fail("inflate: expected VALUE atm or VALUE ml");
+      const bool atm = w[3] == "atm";
+      a.kind = atm ? ActionKind::kInflatePressure : ActionKind::kInflateVolume;
+      const std::optional<double> v = parse_number(w[2]);
+      if (atm && (!v || *v < 0.0 || *v > kMaxInflate_atm)) return fail("inflate: pressure must be in [0, 30] atm");
+      if (!atm && (!v || *v < 0.0 || *v > kMaxInflate_ml)) return fail("inflate: volume must be in [0, 20] ml");
+      a.value = *v;
+    } else if (verb == "deflate") {
+      if (w.size() != 2) return fail("deflate: takes no arguments");
+      a.kind = ActionKind::kDeflate;
     } else if (verb == "carm") {
       a.kind = ActionKind::kCArm;
       if (w.size() != 4) return fail("carm: expected LAO_DEG CRANIAL_DEG (negative for RAO / caudal)");
@@ -83,7 +94,7 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
       const bool rotate = verb == "rotate_to" || verb == "rotate_by";
       if (!insert && !rotate) {
         return fail("unknown verb '" + std::string(verb) +
-                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach)");
+                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach inflate deflate)");
       }
       a.kind = verb == "insert_to" ? ActionKind::kInsertTo
                : verb == "insert_by" ? ActionKind::kInsertBy

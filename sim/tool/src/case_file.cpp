@@ -262,6 +262,8 @@ class CaseParser {
       if (t.kind != ToolKind::kCoil) return error_here("detach is for coil tools");
       if (v <= 0.0 || v > 300.0) return error_here("detach: coil length must be in (0, 300] mm");
       t.detach_mm = v;
+    } else if (key == "balloon") {
+      return balloon_statement(t, w);
     } else if (key == "axial_stiffness") {
       if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
       if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");
@@ -269,6 +271,53 @@ class CaseParser {
     } else {
       return error_here("unknown tool keyword '" + std::string(key) + "'");
     }
+    return true;
+  }
+
+  // `balloon length=MM from_tip=MM nominal=ATM burst=ATM chart=P:D,P:D,...` on a catheter.
+  bool balloon_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (t.kind != ToolKind::kCatheter) return error_here("balloon: only a catheter carries a balloon");
+    if (t.balloon.present()) return error_here("balloon given twice");
+    BalloonSpec b;
+    bool length = false, chart = false;
+    for (std::size_t i = 1; i < w.size(); ++i) {
+      const std::size_t eq = w[i].find('=');
+      if (eq == std::string_view::npos) return error_here("balloon: expected key=value, got '" + std::string(w[i]) + "'");
+      const std::string_view k = w[i].substr(0, eq);
+      const std::string_view value = w[i].substr(eq + 1);
+      if (k == "chart") {
+        chart = true;
+        for (std::size_t at = 0; at <= value.size();) {
+          const std::size_t comma = std::min(value.find(',', at), value.size());
+          const std::string_view point = value.substr(at, comma - at);
+          const std::size_t colon = point.find(':');
+          if (colon == std::string_view::npos) return error_here("balloon: chart point '" + std::string(point) + "' is not PRESSURE:DIAMETER");
+          double p = 0.0, d = 0.0;
+          if (!number(point.substr(0, colon), "balloon chart pressure", p) || !number(point.substr(colon + 1), "balloon chart diameter", d)) return false;
+          b.pressure_atm.push_back(p);
+          b.diameter_mm.push_back(d);
+          at = comma + 1;
+        }
+        continue;
+      }
+      double v = 0.0;
+      if (!number(value, "balloon " + std::string(k), v)) return false;
+      if (k == "length") {
+        b.length_mm = v;
+        length = true;
+      } else if (k == "from_tip") {
+        b.from_tip_mm = v;
+      } else if (k == "nominal") {
+        b.nominal_atm = v;
+      } else if (k == "burst") {
+        b.rated_burst_atm = v;
+      } else {
+        return error_here("balloon: unknown key '" + std::string(k) + "' (known: length from_tip nominal burst chart)");
+      }
+    }
+    if (!length || !chart) return error_here("balloon: length= and chart= are required");
+    if (std::string e = check_balloon(b, t.length_mm()); !e.empty()) return error_here(e);
+    t.balloon = b;
     return true;
   }
 

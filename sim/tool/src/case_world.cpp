@@ -89,6 +89,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
     }
   }
   world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
+  world->set_source_model(std::make_shared<const vessel::VesselModel>(read.model));
   return WorldBuild(std::move(world));
 }
 

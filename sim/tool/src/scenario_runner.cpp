@@ -16,6 +16,23 @@ constexpr std::int64_t kMaxSteps = 3'700'000;  // the script's hour plus settlin
 
 }  // namespace
 
+std::string apply_device_action(Simulator& sim, const ScriptPlayer::DeviceAction& a, std::string_view script_name) {
+  DeviceError e = DeviceError::kNone;
+  if (a.kind == ActionKind::kInflatePressure) e = sim.inflate_pressure(a.tool, a.value);
+  if (a.kind == ActionKind::kInflateVolume) e = sim.inflate_volume(a.tool, a.value);
+  if (a.kind == ActionKind::kDeflate) e = sim.deflate(a.tool);
+  if (e == DeviceError::kNone) return {};
+  const char* verb = a.kind == ActionKind::kDeflate ? "deflate: " : "inflate: ";
+  const Balloon* b = sim.balloon(a.tool);
+  if (e == DeviceError::kOutOfRange && a.kind == ActionKind::kInflateVolume && b != nullptr) {
+    char what[160];
+    std::snprintf(what, sizeof what, "%g ml is more than the balloon holds at %g atm (%.3f ml)", a.value,
+                  Balloon::kMaxPressure_atm, b->volume_at(Balloon::kMaxPressure_atm));
+    return located(script_name, a.line, verb + std::string(what));
+  }
+  return located(script_name, a.line, verb + std::string(device_error_text(e)));
+}
+
 void write_scenario_header(std::ostream& csv) {
   csv << "time_ms,tool,insertion_mm,rotation_rad,tip_x_mm,tip_y_mm,tip_z_mm,force_mN,torque_mNmm,contacts,tip_segment\n";
 }
@@ -52,11 +69,18 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
       const DeviceError e = sim.detach(*step.detach);
       if (e != DeviceError::kNone) result.notes.push_back(located(options.script_name, step.detach_line, std::string("detach: ") + device_error_text(e)));
     }
+    for (std::size_t i = 0; i < step.device_count; ++i) {
+      if (std::string e = apply_device_action(sim, step.devices[i], options.script_name); !e.empty()) {
+        result.error = std::move(e);
+        return result;
+      }
+    }
     for (std::size_t t = 0; t < sim.tool_count(); ++t) {
       sim.set_insertion(t, player->insertion_mm(t));
       sim.set_rotation(t, player->rotation_rad(t));
     }
     sim.step(1e-3);
+    if (options.angioplasty != nullptr) options.angioplasty->after_step(sim);
     ++result.steps;
     if (coils) coils->observe(sim);
     const std::int64_t time_ms = now + 1;
@@ -67,6 +91,7 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
     if (player->settled(now, options.settle_ms)) break;
   }
   if (coils) result.coils = coils->figures();
+  if (options.angioplasty != nullptr) result.angioplasty = options.angioplasty->figures(sim);
   result.ok = true;
   return result;
 }

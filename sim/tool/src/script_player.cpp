@@ -28,24 +28,27 @@ double advance_motion(Motion& m, double value) {
 std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<const ToolInfo> tools,
                                                std::size_t selected, const std::string& script_name,
                                                std::string& error) {
+  std::size_t current = selected;
   for (const Action& a : script.actions) {
+    if (is_balloon(a.kind) && (current >= tools.size() || !tools[current].balloon)) {
+      const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
+      const std::string name = current < tools.size() ? tools[current].name : "?";
+      error = located(script_name, a.line, verb + ": tool '" + name + "' has no balloon");
+      return std::nullopt;
+    }
+    if (a.kind == ActionKind::kDetach && (current >= tools.size() || !tools[current].coil)) {
+      const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
+      error = located(script_name, a.line, "detach: '" + who + "' carries no coil");
+      return std::nullopt;
+    }
     if (a.kind != ActionKind::kSelect) continue;
+    const auto found = std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
+    current = static_cast<std::size_t>(found - tools.begin());
     const bool known = std::any_of(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
     if (!known) {
       std::string names;
       for (std::size_t i = 0; i < tools.size(); ++i) names += (i ? " " : "") + tools[i].name;
       error = located(script_name, a.line, "select: the case has no tool '" + a.tool + "' (tools: " + names + ")");
-      return std::nullopt;
-    }
-  }
-  std::size_t held = selected;
-  for (const Action& a : script.actions) {
-    if (a.kind == ActionKind::kSelect) {
-      held = static_cast<std::size_t>(std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; }) -
-                                      tools.begin());
-    } else if (a.kind == ActionKind::kDetach && (held >= tools.size() || !tools[held].coil)) {
-      const std::string who = held < tools.size() ? tools[held].name : std::string("no tool");
-      error = located(script_name, a.line, "detach: '" + who + "' carries no coil");
       return std::nullopt;
     }
   }
@@ -73,6 +76,7 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
   for (; next_ < actions_.size() && actions_[next_].time_ms <= now_ms; ++next_) {
     const Action& a = actions_[next_];
     const std::size_t t = selected_;
+    if (is_balloon(a.kind) && step.device_count == kMaxDeviceActions) break;
     switch (a.kind) {
       case ActionKind::kSelect:
         selected_ = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), a.tool) - names_.begin());
@@ -101,6 +105,11 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
       case ActionKind::kCArm:
       case ActionKind::kRoadmap:
         break;  // imaging: acted on by the fluoroscopy unit (step.due), not by the tools
+      case ActionKind::kInflatePressure:
+      case ActionKind::kInflateVolume:
+      case ActionKind::kDeflate:
+        step.devices[step.device_count++] = DeviceAction{a.kind, a.value, t, a.line};
+        break;
     }
   }
   step.due = std::span<const Action>(actions_).subspan(first, next_ - first);
@@ -128,7 +137,7 @@ bool ScriptPlayer::settled(std::int64_t now_ms, std::int64_t settle_ms) {
 }
 
 ScriptPlayer::ToolInfo tool_info(const ToolSpec& spec) {
-  return {spec.name, Rod(spec).max_insertion_mm(), spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0};
+  return {spec.name, Rod(spec).max_insertion_mm(), spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0, spec.balloon.present()};
 }
 
 }  // namespace cathbox::tool

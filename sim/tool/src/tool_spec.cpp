@@ -36,6 +36,9 @@ std::string check_tool(const ToolSpec& t) {
   if (t.valve_friction_mN && !in(*t.valve_friction_mN, 0.0, L::kMaxValveFriction_mN)) return who + "valve_friction must be in [0, 2000] mN";
   if (!in(t.axial_stiffness_N, L::kMinAxialStiffness_N, L::kMaxAxialStiffness_N)) return who + "axial_stiffness must be in [10, 1e6] N";
   const double len = t.length_mm();
+  if (t.balloon.present()) {
+    if (std::string e = check_balloon(t.balloon, len); !e.empty()) return who + e;
+  }
   if (len > L::kMaxLength_mm) return who + "longer than 4000 mm";
   if (len < 4.0 * t.max_spacing_mm) return who + "shorter than 4 node spacings";
   if (t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm > L::kMaxNodes) return who + "needs more than 6000 nodes";
@@ -43,6 +46,25 @@ std::string check_tool(const ToolSpec& t) {
 }
 
 }  // namespace
+
+std::string check_balloon(const BalloonSpec& b, double tool_length_mm) {
+  constexpr double kMaxAtm = 30.0;
+  if (!positive_up_to(b.length_mm, 100.0)) return "balloon: length must be in (0, 100] mm";
+  if (!in(b.from_tip_mm, 0.0, 100.0)) return "balloon: from_tip must be in [0, 100] mm";
+  if (b.from_tip_mm + b.length_mm > tool_length_mm) return "balloon: does not fit on the tool (from_tip + length > tool length)";
+  if (!positive_up_to(b.nominal_atm, kMaxAtm)) return "balloon: nominal must be in (0, 30] atm";
+  if (!in(b.rated_burst_atm, b.nominal_atm, kMaxAtm)) return "balloon: burst must be in [nominal, 30] atm";
+  if (b.pressure_atm.empty() || b.pressure_atm.size() > 16 || b.pressure_atm.size() != b.diameter_mm.size()) {
+    return "balloon: chart needs 1 to 16 PRESSURE:DIAMETER points";
+  }
+  for (std::size_t i = 0; i < b.pressure_atm.size(); ++i) {
+    if (!positive_up_to(b.pressure_atm[i], kMaxAtm)) return "balloon: chart pressures must be in (0, 30] atm";
+    if (!positive_up_to(b.diameter_mm[i], ToolLimits::kMaxDiameter_mm)) return "balloon: chart diameters must be in (0, 20] mm";
+    if (i > 0 && b.pressure_atm[i] <= b.pressure_atm[i - 1]) return "balloon: chart pressures must increase";
+    if (i > 0 && b.diameter_mm[i] < b.diameter_mm[i - 1]) return "balloon: chart diameters must not decrease";
+  }
+  return {};
+}
 
 double blood_drag_mN_s_per_mm2(double radius_mm, double viscosity_mPa_s, double lumen_radius_mm) {
   constexpr double kMilliPascalSecond = 1e-6;  // 1 mPa.s = 1e-3 N.s/m2 = 1e-6 mN.s/mm2

@@ -92,7 +92,9 @@ const char* const kShapes = R"({
                      "dose_area_product_mGy_cm2": "number|null", "fluoroscopy_runs": "integer|null",
                      "contrast_volume_ml": "number|null", "packing_density_pct": "number|null",
                      "coil_length_mm": "number|null", "coil_herniations": "integer|null",
-                     "kick_back_mm": "number|null"}
+                     "kick_back_mm": "number|null", "stenosis_before_pct": "number|null",
+                     "residual_stenosis_pct": "number|null", "balloon_inflations": "integer|null",
+                     "balloon_inflated_s": "number|null", "rupture_risk_events": "integer|null"}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

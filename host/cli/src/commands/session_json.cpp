@@ -158,7 +158,12 @@ json metrics_json(const session::ReplayResult& r) {
           {"packing_density_pct", optional_number(m.packing_density_pct)},
           {"coil_length_mm", optional_number(m.coil_length_mm)},
           {"coil_herniations", m.coil_herniations ? json(*m.coil_herniations) : json(nullptr)},
-          {"kick_back_mm", optional_number(m.kick_back_mm)}};
+          {"kick_back_mm", optional_number(m.kick_back_mm)},
+          {"stenosis_before_pct", optional_number(m.stenosis_before_pct)},
+          {"residual_stenosis_pct", optional_number(m.residual_stenosis_pct)},
+          {"balloon_inflations", m.balloon_inflations ? json(*m.balloon_inflations) : json(nullptr)},
+          {"balloon_inflated_s", optional_number(m.balloon_inflated_s)},
+          {"rupture_risk_events", m.rupture_risk_events ? json(*m.rupture_risk_events) : json(nullptr)}};
 }
 
 }  // namespace cathbox::cli

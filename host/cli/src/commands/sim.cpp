@@ -1,8 +1,10 @@
 // `cathbox sim`: the tool simulator without GUI and without a box (command line: spec() below).
 // FILE is a case file (sim/tool/README.md) or an HCLM vessel (entry at the start of the root
 // segment, default guidewire). Bad input: one line with file:line on stderr, exit code 2.
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "cli/args.hpp"
@@ -10,6 +12,7 @@
 #include "cli/registry.hpp"
 #include "cli/usage.hpp"
 #include "tool/action_script.hpp"
+#include "tool/angioplasty.hpp"
 #include "tool/case_file.hpp"
 #include "tool/case_world.hpp"
 #include "tool/scenario_runner.hpp"
@@ -34,6 +37,21 @@ const cathbox::cli::GroupSpec& spec() {
                                    {.name = "every", .value = "MS", .help = "a row every MS ms (default 1)"}}}},
   };
   return group;
+}
+
+// The balloon's figures, one per line (host/cli/README.md).
+void print_angioplasty(const cathbox::tool::AngioplastyFigures& f) {
+  if (f.lesion) {
+    std::printf("stenosis before: %.1f %%, residual stenosis: %.1f %% (reference %.2f mm)\n", f.stenosis_before_percent,
+                f.residual_stenosis_percent, f.reference_diameter_mm);
+  } else {
+    std::printf("stenosis: none found in the vessel\n");
+  }
+  std::printf("balloon: %d inflation(s), %.2f s inflated, max %.1f atm%s; rupture-risk events: %d (largest %.2fx reference)\n",
+              f.inflations, f.inflated_time_s, f.max_pressure_atm, f.over_rated_burst ? " (over rated burst)" : "",
+              f.rupture_risk_events, f.max_oversize_ratio);
+  std::printf("wall swaps: %llu, late ticks: %llu\n", static_cast<unsigned long long>(f.wall_swaps),
+              static_cast<unsigned long long>(f.late_ticks));
 }
 
 int usage_error(const std::string& message) { return cathbox::cli::usage_error(spec(), message, "sim run"); }
@@ -79,7 +97,15 @@ int run_run(cathbox::cli::Args& args) {
     std::fprintf(stderr, "%s\n", world.error().message.c_str());
     return kExitBadInput;
   }
-  cathbox::tool::Simulator sim((*world)->wall(), scenario_case.tools, (*world)->entry());
+  // A balloon catheter in a meshed vessel: the lumen it widens gets new walls (synchronous:
+  // headless runs give the same log on every machine).
+  std::optional<cathbox::tool::Angioplasty> angioplasty;
+  const bool balloon = std::any_of(scenario_case.tools.begin(), scenario_case.tools.end(),
+                                   [](const cathbox::tool::ToolSpec& t) { return t.balloon.present(); });
+  if (balloon && (*world)->source_model() != nullptr) {
+    angioplasty.emplace(*(*world)->source_model(), (*world)->release_wall(), cathbox::tool::WallSwap::Mode::kSynchronous);
+  }
+  cathbox::tool::Simulator sim(angioplasty ? angioplasty->wall() : (*world)->wall(), scenario_case.tools, (*world)->entry());
   std::ofstream out(*out_path, std::ios::binary | std::ios::trunc);
   if (!out) {
     std::fprintf(stderr, "%s: cannot open for writing\n", out_path->c_str());
@@ -89,6 +115,7 @@ int run_run(cathbox::cli::Args& args) {
   options.every_ms = every;
   options.script_name = *script_path;
   if ((*world)->sac()) options.sac = &*(*world)->sac();
+  options.angioplasty = angioplasty ? &*angioplasty : nullptr;
   const cathbox::tool::ScenarioResult result = cathbox::tool::run_scenario(sim, *script, options, out);
   if (!result.ok) {
     std::fprintf(stderr, "%s\n", result.error.c_str());
@@ -109,6 +136,7 @@ int run_run(cathbox::cli::Args& args) {
     std::printf("coil: %.1f mm deployed, packing density %.1f %% of a %.1f mm3 sac, %d herniations, kick-back %.2f mm\n",
                 c.deployed_mm, 100.0 * c.packing_density, options.sac->volume_mm3, c.herniations, c.kick_back_mm);
   }
+  if (result.angioplasty) print_angioplasty(*result.angioplasty);
   return kExitOk;
 }
 

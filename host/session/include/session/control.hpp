@@ -43,14 +43,18 @@ enum class ControlKind : std::uint16_t {
   kPulseRate = 36,     // u16 pulses per 10 s (75, 150, 300)
   kRoadmap = 37,       // u8 1 capture, 0 clear
   kDetachCoil = 64,  // payload: u8 index of the coil tool whose coil is released
+  kBalloon = 65,     // payload: u8 tool index, u8 BalloonOp, f64 value (atm or ml; 0 for deflate)
 };
+
+// What a kBalloon control asks of the inflation device.
+enum class BalloonOp : std::uint8_t { kInflatePressure = 0, kInflateVolume = 1, kDeflate = 2 };
 
 // True for the kinds this build knows how to replay.
 [[nodiscard]] bool known_control_kind(std::uint16_t kind);
 // A known kind's name ("select_tool", "fluoro_pedal", "inject", "carm_angles", "carm_geometry",
-// "pulse_rate", "roadmap"), null for others.
+// "pulse_rate", "roadmap", "detach_coil", "balloon"), null for others.
 [[nodiscard]] const char* control_kind_name(std::uint16_t kind);
-// The known kinds as text, for errors: "16, 32-37".
+// The known kinds as text, for errors: "16, 32-37, 64-65".
 [[nodiscard]] const char* known_control_kinds();
 
 struct Control {
@@ -65,6 +69,7 @@ struct Control {
   [[nodiscard]] static Control select_tool(std::size_t tool);
   [[nodiscard]] static Control select_next_tool();
   [[nodiscard]] static Control detach_coil(std::size_t tool);
+  [[nodiscard]] static Control balloon(std::size_t tool, BalloonOp op, double value);
 };
 
 // What a handler may touch while it applies a control (haptic thread, between two ticks).

@@ -24,6 +24,10 @@
 // CoilMetrics (coil_metrics.hpp): packing density (coil volume pi/4 d^2 L ÷ sac volume, %),
 // coil length deployed, herniations (episodes of coil in the parent artery past the neck
 // plane, an error) and microcatheter kick-back (peak, mm).
+// and, in a case with a balloon catheter in a meshed vessel, the angioplasty figures of sim/tool
+// (angioplasty.hpp): stenosis before and residual stenosis at the lesion (%, 1 - minimal lumen
+// diameter ÷ reference diameter), balloon inflations and inflated time, rupture-risk events
+// (inflations over 1.1x the reference diameter).
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -31,6 +35,8 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+
+#include "tool/angioplasty.hpp"
 
 namespace cathbox::session {
 
@@ -62,6 +68,12 @@ struct Metrics {
   std::optional<double> coil_length_mm;
   std::optional<int> coil_herniations;
   std::optional<double> kick_back_mm;
+  // Filled by the session when the case has a balloon catheter in a meshed vessel.
+  std::optional<double> stenosis_before_pct;     // with a lesion found in the vessel
+  std::optional<double> residual_stenosis_pct;
+  std::optional<int> balloon_inflations;
+  std::optional<double> balloon_inflated_s;
+  std::optional<int> rupture_risk_events;
 };
 
 // What the metrics look at in one tick.
@@ -108,6 +120,8 @@ class MetricsCollector {
   [[nodiscard]] const Metrics& metrics() const { return m_; }
   // The coiling figures, from the session's tool::CoilMetrics after each tick.
   void set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm);
+  // The angioplasty figures, from the session's tool::Angioplasty after each tick.
+  void set_angioplasty(const tool::AngioplastyFigures& f);
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }
   [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }

@@ -61,6 +61,7 @@ enum class ToolTag : std::uint32_t {
   kDrag = 7, kMaxSpacing = 8, kTipSpacing = 9, kTipZone = 10, kInside = 11, kBloodViscosity = 12,
   kValveFriction = 13,
   kDetach = 14,  // coils: f64, the detachable coil's length (mm)
+  kBalloon = 15,  // f64 length, from_tip, nominal, rated burst, then (pressure, diameter) pairs
 };
 enum class DeviceTag : std::uint32_t {
   kDescription = 1, kSerial = 2, kBoard = 3, kFirmware = 4, kInsertionCountsPerM = 5,

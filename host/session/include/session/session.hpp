@@ -36,6 +36,7 @@
 #include "session/session_case.hpp"
 #include "session/snapshot_exchange.hpp"
 #include "tool/coil_metrics.hpp"
+#include "tool/angioplasty.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
 
@@ -128,6 +129,7 @@ class Session {
   class Sink;
   class SelectTool;
   class DetachCoil;
+  class BalloonControl;
   bool tick();
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
@@ -141,6 +143,10 @@ class Session {
   SessionOptions options_;
   std::string hand_description_;
   std::vector<std::string> tool_names_;
+  // A balloon catheter in a meshed vessel: the lumen it widens and the walls swapped into sim_
+  // (synchronous builds in virtual time, a worker thread in real time; sim/tool/README.md).
+  // Declared before sim_, which uses its wall.
+  std::unique_ptr<tool::Angioplasty> angioplasty_;
   std::unique_ptr<tool::Simulator> sim_;
   tool::Snapshot snap_;
   TickInput input_;
@@ -156,10 +162,12 @@ class Session {
   std::unique_ptr<FluoroUnit> fluoro_;
   std::unique_ptr<DetachCoil> detach_coil_;
   std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac
+  std::unique_ptr<BalloonControl> balloon_control_;
   std::unique_ptr<Sink> sink_;
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;
   bool tool_changed_ = false;
+  int rupture_events_ = 0;  // rupture-risk events logged so far
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;
   device::SystemClock steady_;

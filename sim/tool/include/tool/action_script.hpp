@@ -12,8 +12,10 @@
 //   2500       inject     6 at 3             # mL of contrast at mL/s from the selected catheter's tip
 //   5000       carm       -20 15             # C-arm to LAO (+) / RAO (-) and cranial (+) / caudal (-) degrees
 //   5200       roadmap                       # the last run's peak frame as roadmap (off: remove it)
-//   # devices
-//   9000       detach                        # release the selected coil tool's coil
+//   # devices (the selected tool)
+//   7000       inflate    6 atm                # balloon: the inflation device to 6 atm (or `0.4 ml`)
+//   12000      deflate                       # balloon: vacuum
+//   13000      detach                        # coil: release the selected coil tool's coil
 //
 // Times are milliseconds of virtual time, non-decreasing. A motion moves the value towards
 // its target at the given speed; a new motion of the same tool and axis replaces the old one.
@@ -35,7 +37,15 @@ enum class ActionKind : std::uint8_t {
   kCArm,     // value LAO degrees, value2 cranial degrees
   kRoadmap,  // value 1: capture, 0: remove
   kDetach,   // release the selected tool's coil
+  kInflatePressure,  // value atm, the selected tool's balloon
+  kInflateVolume,    // value mL
+  kDeflate,
 };
+
+// True for the balloon verbs (inflate, deflate).
+[[nodiscard]] constexpr bool is_balloon(ActionKind k) {
+  return k == ActionKind::kInflatePressure || k == ActionKind::kInflateVolume || k == ActionKind::kDeflate;
+}
 
 // True for the imaging verbs (fluoro, inject, carm, roadmap).
 [[nodiscard]] constexpr bool is_imaging(ActionKind k) {
@@ -65,5 +75,7 @@ using ScriptParse = base::Result<Script>;
 inline constexpr double kDefaultInsertSpeed_mm_s = 20.0;
 inline constexpr double kDefaultRotateSpeed_deg_s = 180.0;
 inline constexpr double kDefaultInjectRate_ml_s = 3.0;
+inline constexpr double kMaxInflate_atm = 30.0;  // Balloon::kMaxPressure_atm
+inline constexpr double kMaxInflate_ml = 20.0;
 
 }  // namespace cathbox::tool

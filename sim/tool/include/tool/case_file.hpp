@@ -25,6 +25,7 @@
 //     drag MN_S_PER_MM2                     # default: blood's (flow viscosity), from physics
 //     valve_friction MN
 //     axial_stiffness N
+//     balloon length=MM from_tip=MM nominal=ATM burst=ATM chart=P:D,P:D,...   # catheters
 //   end
 //   flow   KEY VALUES...                    # blood flow overrides (sim/flow), see the README:
 //          viscosity MPA_S | cardiac_output ML_PER_MIN | cerebral_fraction F |

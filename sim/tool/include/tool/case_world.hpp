@@ -36,6 +36,10 @@ class CaseWorld {
   // none when neither gives one.
   [[nodiscard]] const std::optional<AneurysmSac>& sac() const { return sac_; }
   void set_sac(std::optional<AneurysmSac> sac) { sac_ = sac; }
+  // The vessel model as read (before smoothing), which the surface is meshed from: a widened
+  // lumen (angioplasty.hpp) is re-meshed from it. Null for analytic tubes.
+  [[nodiscard]] const vessel::VesselModel* source_model() const { return source_ ? source_.get() : nullptr; }
+  void set_source_model(std::shared_ptr<const vessel::VesselModel> model) { source_ = std::move(model); }
   // Hands the wall over (the world is then empty).
   [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
@@ -46,6 +50,7 @@ class CaseWorld {
   std::optional<AneurysmSac> sac_;
   std::shared_ptr<const vessel::SurfaceMesh> mesh_;
   std::shared_ptr<const vessel::VesselModel> model_;
+  std::shared_ptr<const vessel::VesselModel> source_;
 };
 
 // The world, or one line naming the file and what went wrong.

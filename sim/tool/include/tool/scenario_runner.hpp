@@ -10,8 +10,12 @@
 #include <string_view>
 #include <vector>
 
+#include <optional>
+
 #include "tool/action_script.hpp"
 #include "tool/coil_metrics.hpp"
+#include "tool/angioplasty.hpp"
+#include "tool/script_player.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {
@@ -21,6 +25,9 @@ struct ScenarioOptions {
   std::string script_name = "script";  // for file:line errors
   std::int64_t settle_ms = 100;     // run on after the last motion ends (when there is no 'end')
   const AneurysmSac* sac = nullptr; // with coil tools: their figures (coil_metrics.hpp) in the result
+  // With a balloon: the lumen it widens and the walls swapped in (after every step); its
+  // figures come back in the result. Not owned; the simulator must use its wall.
+  Angioplasty* angioplasty = nullptr;
 };
 
 struct ScenarioResult {
@@ -30,10 +37,16 @@ struct ScenarioResult {
   std::uint64_t rows = 0;
   std::vector<std::string> notes;    // "file:line: detach: why it was refused" (the run goes on)
   std::optional<CoilFigures> coils;  // with a sac and coil tools
+  std::optional<AngioplastyFigures> angioplasty;  // with options.angioplasty
 };
 
 [[nodiscard]] ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options,
                                           std::ostream& csv);
+
+// Applies a balloon action of the script to the simulator: empty, or one line
+// "file:line: inflate: <why it was refused>" (e.g. a volume the balloon cannot take).
+[[nodiscard]] std::string apply_device_action(Simulator& sim, const ScriptPlayer::DeviceAction& a,
+                                              std::string_view script_name);
 
 // The log's header line and one row for the selected tool (also `cathbox session replay --out`).
 void write_scenario_header(std::ostream& csv);

@@ -3,6 +3,7 @@
 // and where each tool's insertion and rotation are after each step. The headless scenario runner
 // (`cathbox sim run`) and the session's action-script hand (`cathbox session run --script`) both
 // move their tools with it, so a script means the same thing to both.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -21,16 +22,26 @@ class ScriptPlayer {
   struct ToolInfo {
     std::string name;
     double max_insertion_mm = 0.0;
-    bool coil = false;  // carries a detachable coil (a `detach` may select it)
+    bool coil = false;     // carries a detachable coil (a `detach` may select it)
+    bool balloon = false;  // carries a balloon (inflate / deflate may act on it)
   };
 
-  // Checks that every tool the script selects exists and that every `detach` finds a coil
-  // selected; on failure returns null with "file:line: select: the case has no tool 'x'
-  // (tools: a b)" or "file:line: detach: 'x' carries no coil" in `error`.
+  // Checks that every tool the script selects exists, that every `detach` finds a coil and
+  // every inflate / deflate a balloon on the tool selected then; on failure returns null with
+  // one line in `error`: "file:line: select: the case has no tool 'x' (tools: a b)",
+  // "file:line: detach: 'x' carries no coil" or "file:line: inflate: tool 'x' has no balloon".
   [[nodiscard]] static std::optional<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
                                                         std::size_t selected, const std::string& script_name,
                                                         std::string& error);
 
+  // A balloon action due at this step, on the tool selected when it came.
+  struct DeviceAction {
+    ActionKind kind = ActionKind::kDeflate;
+    double value = 0.0;
+    std::size_t tool = 0;
+    std::size_t line = 0;
+  };
+  static constexpr std::size_t kMaxDeviceActions = 4;  // per millisecond; later ones wait a step
   struct Step {
     std::optional<std::size_t> selected;  // a `select` took effect at this step
     bool ended = false;                   // an `end` action is due: stop before stepping
@@ -38,6 +49,8 @@ class ScriptPlayer {
                                           // imaging verbs are its owner's to act on)
     std::optional<std::size_t> detach;    // a `detach` of this tool's coil is due
     std::size_t detach_line = 0;          // ... from this script line
+    std::array<DeviceAction, kMaxDeviceActions> devices{};
+    std::size_t device_count = 0;
   };
   // Applies the actions due at `now_ms` (0, 1, 2, ... in turn), then, unless the script ended,
   // moves every running motion by one millisecond.

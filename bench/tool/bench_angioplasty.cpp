@@ -1,0 +1,168 @@
+// Balloon angioplasty's wall swap in the bundled neuro case (cases/neuro_angioplasty.case):
+//   BM_WallRebuild: the new wall of the widened lumen (re-mesh + OBB tree + MeshWall: what
+//     WallSwap's builder does after each lumen change, e.g. a deflation), median and p99 in ms,
+//     against the 300 ms at which the swap is due (WallSwap::kDefaultLatencyTicks).
+//   BM_StepWhileRebuilding: the haptic step (wire and balloon catheter across the lesion) while
+//     the worker rebuilds the wall without pause on the other core, beside BM_StepNoRebuild,
+//     the same steps without it. Wall and thread-CPU medians and p99 in us.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+#include <time.h>
+
+#include <benchmark/benchmark.h>
+
+#include "tool/angioplasty.hpp"
+#include "tool/case_file.hpp"
+#include "tool/case_world.hpp"
+#include "collision/obb_tree.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace {
+
+using namespace cathbox::tool;
+namespace vessel = cathbox::vessel;
+
+struct Scene {
+  Case c;
+  std::optional<vessel::VesselModel> source;
+  std::unique_ptr<WallModel> wall;
+  Entry entry;
+  vessel::VesselModel widened;  // the lumen after 6 atm with the case's balloon over the lesion
+};
+
+std::optional<Scene> load_scene() {
+  CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_angioplasty.case");
+  if (!c) return std::nullopt;
+  WorldBuild world = build_world(*c);
+  if (!world || (*world)->source_model() == nullptr) return std::nullopt;
+  Scene s;
+  s.c = *c;
+  s.source = *(*world)->source_model();
+  s.entry = (*world)->entry();
+  s.wall = (*world)->release_wall();
+  // The case's balloon (5.0 mm at 6 atm) along the lesion's centre line, inflated and deflated.
+  LumenRemodel lumen(*s.source);
+  const vessel::Segment& seg = s.source->segments[lumen.lesion().segment];
+  std::vector<glm::dvec3> axis;
+  const std::size_t w = lumen.lesion().worst;
+  for (std::size_t i = w >= 6 ? w - 6 : 0; i < std::min(seg.points.size(), w + 7); ++i) axis.push_back(seg.points[i].pos_mm);
+  lumen.apply({axis, 5.0, true});
+  lumen.apply({axis, 0.0, false});
+  s.widened = lumen.model();
+  return s;
+}
+
+double pick(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+}
+
+double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
+void BM_WallRebuild(benchmark::State& state) {
+  std::optional<Scene> scene = load_scene();
+  if (!scene) {
+    state.SkipWithError("cases/neuro_angioplasty.case did not load");
+    return;
+  }
+  std::vector<double> ms, cpu_ms, mesh_ms, tree_ms;
+  for (auto _ : state) {
+    const double c0 = thread_cpu_us();
+    const auto t0 = std::chrono::steady_clock::now();
+    auto wall = build_mesh_wall(scene->widened);
+    const auto t1 = std::chrono::steady_clock::now();
+    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    cpu_ms.push_back(1e-3 * (thread_cpu_us() - c0));
+    if (!wall) state.SkipWithError(wall.error().message.c_str());
+    benchmark::DoNotOptimize(wall);
+    // Its two parts: the surface, then the tree (thread CPU).
+    const double m0 = thread_cpu_us();
+    vessel::VesselSurface surface = vessel::build_vessel_surface(scene->widened);
+    const double m1 = thread_cpu_us();
+    auto tree = cathbox::collision::ObbTree::build(surface.mesh);
+    mesh_ms.push_back(1e-3 * (m1 - m0));
+    tree_ms.push_back(1e-3 * (thread_cpu_us() - m1));
+    benchmark::DoNotOptimize(tree);
+  }
+  state.counters["median_ms"] = pick(ms, 0.5);
+  state.counters["p99_ms"] = pick(ms, 0.99);
+  state.counters["cpu_median_ms"] = pick(cpu_ms, 0.5);
+  state.counters["cpu_p99_ms"] = pick(cpu_ms, 0.99);
+  state.counters["cpu_mesh_ms"] = pick(mesh_ms, 0.5);
+  state.counters["cpu_tree_ms"] = pick(tree_ms, 0.5);
+  state.counters["budget_ms"] = static_cast<double>(WallSwap::kDefaultLatencyTicks);
+}
+
+// Wire across the lesion, balloon catheter over it (the case's script, without inflating).
+void place_tools(Simulator& sim) {
+  const std::size_t wire = sim.find_tool("guidewire");
+  const std::size_t cath = sim.find_tool("balloon");
+  for (int i = 1; i <= 5000; ++i) {
+    sim.set_insertion(wire, 0.02 * i);
+    sim.step();
+  }
+  for (int i = 1; i <= 5800; ++i) {
+    sim.set_insertion(cath, 0.01 * i);
+    sim.step();
+  }
+}
+
+void step_bench(benchmark::State& state, bool rebuild) {
+  std::optional<Scene> scene = load_scene();
+  if (!scene) {
+    state.SkipWithError("cases/neuro_angioplasty.case did not load");
+    return;
+  }
+  WallSwap swap(std::move(scene->wall), build_mesh_wall, WallSwap::Mode::kWorker, 0);
+  Simulator sim(swap.wall(), scene->c.tools, scene->entry);
+  place_tools(sim);
+  const std::size_t wire = sim.find_tool("guidewire");
+  const double base = sim.insertion_mm(wire);
+  std::vector<double> wall_us, cpu_us;
+  wall_us.reserve(1 << 16);
+  cpu_us.reserve(1 << 16);
+  std::uint64_t i = 0, during = 0;
+  for (auto _ : state) {
+    const auto now = static_cast<std::int64_t>(sim.steps());
+    if (rebuild && !swap.pending()) swap.request(scene->widened, now);  // the builder never rests
+    const double phase = static_cast<double>(i++) * 1e-3;
+    sim.set_insertion(wire, base + std::sin(phase * 2.0 * M_PI) * 1.0);
+    const double c0 = thread_cpu_us();
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.step();
+    swap.poll(sim, now + 1);
+    const auto t1 = std::chrono::steady_clock::now();
+    cpu_us.push_back(thread_cpu_us() - c0);
+    wall_us.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    if (swap.pending()) ++during;
+  }
+  swap.drain();
+  state.counters["median_us"] = pick(wall_us, 0.5);
+  state.counters["p99_us"] = pick(wall_us, 0.99);
+  state.counters["cpu_median_us"] = pick(cpu_us, 0.5);
+  state.counters["cpu_p99_us"] = pick(cpu_us, 0.99);
+  state.counters["steps_during_rebuild"] = static_cast<double>(during);
+  state.counters["swaps"] = static_cast<double>(swap.swaps());
+  const std::vector<double> builds = swap.build_seconds();
+  if (!builds.empty()) state.counters["rebuild_median_ms"] = 1e3 * pick(builds, 0.5);
+}
+
+void BM_StepWhileRebuilding(benchmark::State& state) { step_bench(state, true); }
+void BM_StepNoRebuild(benchmark::State& state) { step_bench(state, false); }
+
+}  // namespace
+
+BENCHMARK(BM_WallRebuild)->Unit(benchmark::kMillisecond)->Iterations(15);
+BENCHMARK(BM_StepNoRebuild)->Unit(benchmark::kMicrosecond)->Iterations(3000);
+BENCHMARK(BM_StepWhileRebuilding)->Unit(benchmark::kMicrosecond)->Iterations(3000);
+BENCHMARK_MAIN();

@@ -1,0 +1,102 @@
+#pragma once
+// A new wall for a changed lumen, built beside the old one off the haptic thread and swapped
+// into the simulator between two ticks; the haptic loop never waits for it.
+//
+// request(model, tick) hands the lumen to the builder (re-mesh + collision tree + MeshWall:
+// WallBuilder) and schedules the swap for tick + latency_ticks, a time decided by the
+// simulation, so runs are the same in virtual time whatever the machine:
+//  - kSynchronous (headless, tests, replay): the wall is built inside request(); it is swapped
+//    in by poll() at the scheduled tick.
+//  - kWorker (the live haptic loop): a worker thread builds it; poll() swaps it in at the
+//    scheduled tick if it is ready, else at the first tick after it is (each tick run on the old
+//    wall past the scheduled one counts in late_ticks(); poll() only looks, it never blocks).
+//    The same lumen then gives the same wall at the same tick as the synchronous mode as long as
+//    the build takes less than the latency (bench_tool measures it against the 300 ms budget).
+// The old wall stays valid (owned here) until the swap, and is destroyed afterwards off the
+// haptic thread (by the worker; in synchronous mode at once). One wall is built at a time: a
+// request while one is pending is refused (the caller asks again after the swap).
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+#include <vector>
+
+#include "base/result.hpp"
+#include "tool/simulator.hpp"
+#include "tool/wall_model.hpp"
+#include "vessel/vessel_model.hpp"
+
+namespace cathbox::tool {
+
+// Builds the wall of a lumen (thread-safe: called on the worker).
+using WallBuilder = std::function<base::Result<std::unique_ptr<WallModel>>(const vessel::VesselModel&)>;
+// The vessel's wall as build_world() makes it: surface (vessel_mesher), OBB tree, MeshWall.
+[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model);
+
+class WallSwap {
+ public:
+  enum class Mode { kSynchronous, kWorker };
+  static constexpr std::int64_t kDefaultLatencyTicks = 300;  // 300 ms at 1 kHz
+
+  WallSwap(std::unique_ptr<WallModel> initial, WallBuilder builder, Mode mode,
+           std::int64_t latency_ticks = kDefaultLatencyTicks);
+  ~WallSwap();
+  WallSwap(const WallSwap&) = delete;
+  WallSwap& operator=(const WallSwap&) = delete;
+
+  // Switches between the modes (a session knows it only when it starts its clock); takes
+  // effect when no wall is pending. The worker thread starts with the first worker build.
+  void set_mode(Mode mode);
+  [[nodiscard]] Mode mode() const { return mode_; }
+
+  // The wall the simulator uses now (give it to the Simulator's constructor).
+  [[nodiscard]] const WallModel& wall() const { return *current_; }
+  // Asks for a wall of `model` (copied), due at tick `now` + latency; false while one is pending.
+  bool request(const vessel::VesselModel& model, std::int64_t now);
+  // Between two ticks, on the haptic thread: swaps a ready wall into `sim` when due. Returns
+  // true when it swapped. Never waits for the builder.
+  bool poll(Simulator& sim, std::int64_t now);
+  // Blocks until the builder is idle (tests, benches, the end of a run; never the haptic loop).
+  void drain();
+
+  [[nodiscard]] bool pending() const { return due_tick_.has_value(); }
+  [[nodiscard]] std::int64_t due_tick() const { return due_tick_.value_or(-1); }
+  [[nodiscard]] std::uint64_t requests() const { return requests_; }
+  [[nodiscard]] std::uint64_t swaps() const { return swaps_; }
+  [[nodiscard]] std::uint64_t late_ticks() const { return late_ticks_; }
+  [[nodiscard]] std::uint64_t failures() const { return failures_; }
+  [[nodiscard]] const std::string& last_error() const { return last_error_; }
+  // Seconds the builder took for each wall so far (measured on the builder's thread).
+  [[nodiscard]] std::vector<double> build_seconds() const;
+
+ private:
+  void work();
+  void retire(std::unique_ptr<WallModel> old);
+
+  std::unique_ptr<WallModel> current_;
+  WallBuilder builder_;
+  Mode mode_;
+  std::int64_t latency_;
+  std::optional<std::int64_t> due_tick_;
+  std::uint64_t requests_ = 0, swaps_ = 0, late_ticks_ = 0, failures_ = 0;
+  std::string last_error_;
+
+  // Shared with the builder thread (under mutex_).
+  mutable std::mutex mutex_;
+  std::condition_variable wake_, idle_;
+  // The lumen to build: request() copies into job_model_ (reusing its storage: no allocation
+  // once the first request has shaped it), the worker swaps it with work_model_.
+  vessel::VesselModel job_model_, work_model_;
+  bool has_job_ = false;
+  std::optional<base::Result<std::unique_ptr<WallModel>>> done_;
+  std::vector<std::unique_ptr<WallModel>> retired_;
+  std::vector<double> build_seconds_;
+  bool busy_ = false;
+  bool stop_ = false;
+  std::thread worker_;
+};
+
+}  // namespace cathbox::tool

@@ -1,0 +1,146 @@
+#include "tool/wall_swap.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include "collision/obb_tree.hpp"
+#include "tool/mesh_wall.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+using WallResult = base::Result<std::unique_ptr<WallModel>>;
+
+// Builds and times one wall.
+WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& model, double& seconds) {
+  const auto t0 = std::chrono::steady_clock::now();
+  WallResult wall = builder(model);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return wall;
+}
+
+}  // namespace
+
+WallResult build_mesh_wall(const vessel::VesselModel& model) {
+  vessel::VesselSurface surface = vessel::build_vessel_surface(model);
+  if (!surface.ok()) return base::Error{"widened vessel: " + surface.error};
+  collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
+  if (!tree) return base::Error{"widened vessel surface rejected by the collision tree: " + tree.error().message};
+  return WallResult(std::make_unique<MeshWall>(std::move(*tree)));
+}
+
+WallSwap::WallSwap(std::unique_ptr<WallModel> initial, WallBuilder builder, Mode mode, std::int64_t latency_ticks)
+    : current_(std::move(initial)), builder_(std::move(builder)), mode_(mode), latency_(std::max<std::int64_t>(0, latency_ticks)) {
+  retired_.reserve(4);
+}
+
+void WallSwap::set_mode(Mode mode) {
+  if (!due_tick_) mode_ = mode;
+}
+
+WallSwap::~WallSwap() {
+  {
+    const std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+bool WallSwap::request(const vessel::VesselModel& model, std::int64_t now) {
+  if (due_tick_) return false;
+  ++requests_;
+  due_tick_ = now + latency_;
+  if (mode_ == Mode::kSynchronous) {
+    double seconds = 0.0;
+    done_.emplace(timed_build(builder_, model, seconds));
+    build_seconds_.push_back(seconds);
+    return true;
+  }
+  if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
+  {
+    const std::lock_guard lock(mutex_);
+    job_model_ = model;
+    has_job_ = true;
+    busy_ = true;
+  }
+  wake_.notify_one();
+  return true;
+}
+
+void WallSwap::work() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [&] { return stop_ || has_job_ || !retired_.empty(); });
+    std::vector<std::unique_ptr<WallModel>> old;
+    old.swap(retired_);
+    const bool job = has_job_;
+    if (job) std::swap(job_model_, work_model_);
+    has_job_ = false;
+    if (!job && stop_ && old.empty()) return;
+    lock.unlock();
+    old.clear();  // the replaced walls die here, off the haptic thread
+    double seconds = 0.0;
+    std::optional<WallResult> built;
+    if (job) built.emplace(timed_build(builder_, work_model_, seconds));
+    lock.lock();
+    if (built) {
+      done_ = std::move(built);
+      build_seconds_.push_back(seconds);
+      busy_ = false;
+      idle_.notify_all();
+    }
+    retired_.reserve(4);
+  }
+}
+
+void WallSwap::retire(std::unique_ptr<WallModel> old) {
+  if (!worker_.joinable()) return;  // synchronous so far: `old` is destroyed here
+  {
+    const std::lock_guard lock(mutex_);
+    retired_.push_back(std::move(old));
+  }
+  wake_.notify_one();
+}
+
+bool WallSwap::poll(Simulator& sim, std::int64_t now) {
+  if (!due_tick_ || now < *due_tick_) return false;
+  std::optional<WallResult> built;
+  {
+    // try_lock: the builder holds the lock only to hand over pointers; if it has it, look again
+    // next tick rather than wait.
+    const std::unique_lock lock(mutex_, std::try_to_lock);
+    if (lock.owns_lock() && done_) built.swap(done_);
+  }
+  if (!built) {
+    ++late_ticks_;
+    return false;
+  }
+  due_tick_.reset();
+  if (!built->ok()) {
+    ++failures_;
+    last_error_ = built->error().message;
+    return false;
+  }
+  std::unique_ptr<WallModel> next = std::move(built->value());
+  sim.swap_wall(*next);
+  std::unique_ptr<WallModel> old = std::exchange(current_, std::move(next));
+  ++swaps_;
+  retire(std::move(old));
+  return true;
+}
+
+void WallSwap::drain() {
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [&] { return !busy_; });
+}
+
+std::vector<double> WallSwap::build_seconds() const {
+  const std::lock_guard lock(mutex_);
+  return build_seconds_;
+}
+
+}  // namespace cathbox::tool
