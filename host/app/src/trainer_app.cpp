@@ -8,6 +8,8 @@
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
 #include "app/replay_panel.hpp"
+#include "app/fluoro_frontend.hpp"
+#include "app/fluoro_renderer.hpp"
 #include "app/screenshot_writer.hpp"
 #include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
@@ -38,6 +40,7 @@ TrainerApp::~TrainerApp() {
   replay_.reset();
   replay_panel_.reset();
   ui_.reset();
+  fluoro_.reset();
   renderer_.reset();
   window_.reset();
 }
@@ -148,7 +151,11 @@ int TrainerApp::run_window() {
   window_->set_vsync(!options_.headless && !timed);
   renderer_ = std::make_unique<SceneRenderer>();
   ui_ = std::make_unique<TrainerUi>();
-  if (!renderer_->init(error) || !ui_->init(window_->handle())) {
+  if (options_.view == MainView::kFluoro) {
+    fluoro_ = std::make_unique<FluoroRenderer>();
+    fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
+  }
+  if (!renderer_->init(error) || (fluoro_ && !fluoro_->init(error)) || !ui_->init(window_->handle())) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());
     return session::kExitNoDisplay;
   }
@@ -215,7 +222,11 @@ int TrainerApp::run_window() {
     if (input.frame_camera) frame_camera();
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
-    renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
+    if (fluoro_) {
+      fluoro_->render(layout.global, fh, fluoro_inputs_from_snapshot(snap, fluoro_settings_));
+    } else {
+      renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
+    }
     renderer_->render_local(layout.local, fh, snap);
     const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
                           record_path_};

@@ -94,6 +94,13 @@ std::vector<ValueOption> value_options() {
        "possible)",
        "--speed needs a factor (0 <= x <= 1000)",
        [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.speed) && o.speed >= 0.0 && o.speed <= 1000.0; }},
+      {"--view", "fluoro|3d", "the main view: fluoro (the fluoroscopic image) or 3d (the vessel tree; default)",
+       "--view needs fluoro or 3d",
+       [](std::string_view v, TrainerOptions& o) {
+         if (v != "fluoro" && v != "3d") return false;
+         o.view = v == "fluoro" ? MainView::kFluoro : MainView::k3d;
+         return true;
+       }},
       {"--replay", "FILE", "open a record (*.cbxrec) in Replay mode: play, pause, seek, speed",
        "--replay needs a record file", [](std::string_view v, TrainerOptions& o) { return text(v, o.replay); }},
       {"--records", "DIR",

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/case_catalog.hpp"
+#include "app/fluoro_frontend.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
 #include "app/scene_renderer.hpp"
@@ -24,6 +25,7 @@ class GlWindow;
 class ServerLink;
 class TrainerUi;
 class ReplayPanel;
+class FluoroRenderer;
 
 class TrainerApp {
  public:
@@ -66,6 +68,8 @@ class TrainerApp {
   std::unique_ptr<session::ReplayPlayer> replay_;
   std::unique_ptr<GlWindow> window_;
   std::unique_ptr<SceneRenderer> renderer_;
+  std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
+  SnapshotFluoroSettings fluoro_settings_;
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;
   InputController input_;

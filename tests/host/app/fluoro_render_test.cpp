@@ -1,0 +1,385 @@
+// The fluoroscopic view (FluoroRenderer) under Xvfb (llvmpipe) on the bundled neuro case, fed
+// by sim/flow objects driven here directly: a FlowNetwork and a ContrastTransport with an
+// injection in the right internal carotid, the C-arm of c_arm.hpp, and a guidewire laid along
+// the right ICA. Positions are checked against the C-arm's own projection (CArm::project_px);
+// comparisons of two renders differ only in what is tested (noise off, or the same pulse).
+// Screenshots: fluoro_*.png in the build folder of this test.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "app/fluoro_renderer.hpp"
+#include "app/frame_capture.hpp"
+#include "app/gl_window.hpp"
+#include "app/png_writer.hpp"
+#include "flow/contrast_transport.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::app {
+namespace {
+
+constexpr int kSize = 512;
+
+struct Neuro {
+  vessel::VesselModel model;
+  vessel::SurfaceMesh mesh;
+  std::unique_ptr<flow::FlowNetwork> network;
+  std::unique_ptr<flow::ContrastTransport> transport;
+  FluoroVessel vessel;
+  std::uint32_t right_ica = 0;
+  std::uint32_t left_ica = 0;
+};
+
+class FluoroRenderTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    std::string error;
+    window_ = GlWindow::create(kSize, kSize, "cathbox fluoro test", false, error).release();
+    ASSERT_NE(window_, nullptr) << error;
+    neuro_ = new Neuro;
+    const vessel::HclmReadResult read = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm");
+    ASSERT_TRUE(read.ok());
+    neuro_->model = read.model;
+    vessel::VesselSurface surface = vessel::build_vessel_surface(neuro_->model);
+    ASSERT_TRUE(surface.ok()) << surface.error;
+    neuro_->mesh = std::move(surface.mesh);
+    flow::FlowBuild built = flow::FlowNetwork::build(neuro_->model);
+    ASSERT_TRUE(built);
+    neuro_->network = std::move(*built);
+    neuro_->transport = std::make_unique<flow::ContrastTransport>(*neuro_->network);
+    const vessel::VesselModel& m = neuro_->network->model();
+    for (std::uint32_t i = 0; i < m.segments.size(); ++i) {
+      if (m.segments[i].name == "right_internal_carotid") neuro_->right_ica = i;
+      if (m.segments[i].name == "left_internal_carotid") neuro_->left_ica = i;
+    }
+    neuro_->vessel = FluoroVessel::build(neuro_->mesh, *neuro_->transport);
+  }
+  static void TearDownTestSuite() {
+    delete neuro_;
+    delete window_;
+  }
+  void SetUp() override {
+    ASSERT_NE(window_, nullptr);
+    std::string error;
+    ASSERT_TRUE(renderer_.init(error)) << error;
+    renderer_.set_vessel(neuro_->vessel);
+  }
+
+  Image render(const FluoroInputs& in) {
+    renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in);
+    return FrameCapture::read_back_buffer(kSize, kSize);
+  }
+  static void save(const Image& img, const std::string& name) {
+    std::string error;
+    EXPECT_TRUE(PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img, error)) << error;
+  }
+
+  // Live fluoroscopy showing pulse `pulse` with the given iodine and tools.
+  static FluoroInputs live(std::int64_t pulse, std::vector<float> iodine, std::vector<FluoroTool> tools,
+                           const flow::CArmPose& pose = {}) {
+    FluoroInputs in;
+    in.pose = pose;
+    in.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(pose));
+    in.image.pulse = pulse;
+    in.image.beam_on = true;
+    in.shown = {pulse, flow::ExposureMode::kFluoroscopy, std::move(iodine), std::move(tools)};
+    return in;
+  }
+  static std::vector<float> no_contrast() { return std::vector<float>(neuro_->transport->cell_count(), 0.0F); }
+  // Centreline points of a segment between two fractions of its length.
+  static std::vector<glm::vec3> centreline(std::uint32_t segment, double from, double to, int n) {
+    const flow::CenterlineLocator& loc = neuro_->transport->locator();
+    std::vector<glm::vec3> out;
+    for (int i = 0; i <= n; ++i) {
+      const double f = from + (to - from) * i / n;
+      out.emplace_back(loc.point_at(segment, f * loc.length_mm(segment)));
+    }
+    return out;
+  }
+  static FluoroTool wire_in_right_ica() {
+    FluoroTool t;
+    t.nodes_mm = centreline(neuro_->right_ica, 0.05, 0.6, 60);
+    t.radius_mm = 0.18F;
+    t.markers.push_back({0.0, 3.0, flow::XrayMaterial::kPlatinum});  // a 3 mm platinum tip
+    return t;
+  }
+  static int grey(const Image& img, glm::dvec2 px) {
+    return img.pixel(static_cast<int>(px.x), static_cast<int>(px.y))[0];
+  }
+  // Mean of (b - a) over the pixels at the projected points.
+  static double mean_change(const Image& a, const Image& b, const flow::CArm& carm, const std::vector<glm::vec3>& pts) {
+    double s = 0.0;
+    int n = 0;
+    for (const glm::dvec2& px : in_image(carm, pts)) {
+      s += grey(b, px) - grey(a, px);
+      ++n;
+    }
+    EXPECT_GT(n, static_cast<int>(pts.size()) / 3) << "most points in the image";
+    return n > 0 ? s / n : 0.0;
+  }
+  // The projections of the points that fall inside the image (4 px from its edges).
+  static std::vector<glm::dvec2> in_image(const flow::CArm& carm, const std::vector<glm::vec3>& pts) {
+    std::vector<glm::dvec2> out;
+    for (const glm::vec3& p : pts) {
+      const glm::dvec2 px = carm.project_px(glm::dvec3(p), kSize, kSize);
+      if (px.x >= 4.0 && px.y >= 4.0 && px.x < kSize - 4.0 && px.y < kSize - 4.0) out.push_back(px);
+    }
+    return out;
+  }
+
+  static GlWindow* window_;
+  static Neuro* neuro_;
+  FluoroRenderer renderer_;
+};
+GlWindow* FluoroRenderTest::window_ = nullptr;
+Neuro* FluoroRenderTest::neuro_ = nullptr;
+
+double distance_to_polyline(glm::dvec2 p, const std::vector<glm::dvec2>& line) {
+  double best = 1e30;
+  for (std::size_t i = 0; i + 1 < line.size(); ++i) {
+    const glm::dvec2 ab = line[i + 1] - line[i];
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - line[i], ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, glm::length(line[i] + t * ab - p));
+  }
+  return best;
+}
+
+TEST_F(FluoroRenderTest, TheWireIsAThinDarkLineAtItsProjectedPositionWithADarkerPlatinumTip) {
+  renderer_.set_display({.noise = false});
+  const FluoroTool wire = wire_in_right_ica();
+  const Image without = render(live(3, no_contrast(), {}));
+  const Image with = render(live(3, no_contrast(), {wire}));
+  renderer_.set_display({});
+  save(render(live(3, no_contrast(), {wire})), "fluoro_wire.png");
+
+  const flow::CArm carm{flow::CArmPose{}};
+  std::vector<glm::dvec2> line;
+  for (const glm::vec3& n : wire.nodes_mm) line.push_back(carm.project_px(glm::dvec3(n), kSize, kSize));
+  // Every changed pixel lies on the projected wire; the wire's pixels are darker.
+  int changed = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      if (with.pixel(x, y)[0] == without.pixel(x, y)[0]) continue;
+      ++changed;
+      EXPECT_LT(distance_to_polyline({x + 0.5, y + 0.5}, line), 2.5) << "pixel " << x << "," << y << " changed";
+    }
+  }
+  EXPECT_GT(changed, 60);
+  int darker = 0;
+  int shaft_nodes = 0;
+  for (std::size_t i = 2; i + 6 < line.size(); ++i, ++shaft_nodes) darker += grey(with, line[i]) < grey(without, line[i]) - 3 ? 1 : 0;
+  EXPECT_GE(darker, shaft_nodes * 4 / 5) << "shaft pixels darker";
+  // The platinum tip is much darker than the nitinol shaft.
+  const double shaft = mean_change(without, with, carm, {wire.nodes_mm.begin() + 10, wire.nodes_mm.begin() + 40});
+  const double tip = mean_change(without, with, carm, {wire.nodes_mm.back() - 0.5F * (wire.nodes_mm.back() - wire.nodes_mm[wire.nodes_mm.size() - 2])});
+  EXPECT_LT(shaft, -5.0);
+  EXPECT_LT(tip, 2.0 * shaft) << "tip " << tip << " shaft " << shaft;
+}
+
+TEST_F(FluoroRenderTest, BeforeAnInjectionTheVesselsAreNotVisible) {
+  renderer_.set_display({.noise = false});
+  const Image with_vessel = render(live(1, no_contrast(), {}));
+  FluoroRenderer bare;
+  std::string error;
+  ASSERT_TRUE(bare.init(error)) << error;
+  bare.set_display({.noise = false});
+  bare.render(Viewport{0, 0, kSize, kSize}, kSize, live(1, no_contrast(), {}));
+  const Image no_vessel = FrameCapture::read_back_buffer(kSize, kSize);
+  EXPECT_EQ(with_vessel.pixels, no_vessel.pixels);
+  // The phantom is there: not a black or white field.
+  const flow::CArm carm{flow::CArmPose{}};
+  const glm::dvec2 c = carm.project_px(carm.isocenter_mm(), kSize, kSize);
+  EXPECT_GT(grey(with_vessel, c), 40);
+  EXPECT_LT(grey(with_vessel, c), 215);
+  renderer_.set_display({});
+  save(render(live(1, no_contrast(), {})), "fluoro_before_injection.png");
+}
+
+TEST_F(FluoroRenderTest, InjectingTheRightIcaDarkensItsTerritoryNotTheLeftIca) {
+  flow::ContrastTransport& t = *neuro_->transport;
+  t.reset();
+  const std::vector<float> before = cell_iodine(t);
+  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+  for (int i = 0; i < 150; ++i) t.step();  // 1.5 s
+  const std::vector<float> after = cell_iodine(t);
+  t.reset();
+
+  renderer_.set_display({.noise = false});
+  const Image pre = render(live(10, before, {}));
+  const Image post = render(live(10, after, {}));
+  const flow::CArm carm{flow::CArmPose{}};
+  const double right = mean_change(pre, post, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40));
+  const double left = mean_change(pre, post, carm, centreline(neuro_->left_ica, 0.05, 0.95, 60));
+  EXPECT_LT(right, -12.0) << "right ICA downstream of the tip darkens";
+  EXPECT_NEAR(left, 0.0, 0.5) << "left ICA unchanged";
+  // With noise the darkening still stands out of it.
+  renderer_.set_display({});
+  const Image noisy = render(live(10, after, {}));
+  const Image noisy_pre = render(live(10, before, {}));
+  EXPECT_LT(mean_change(noisy_pre, noisy, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40)), -10.0);
+  save(noisy, "fluoro_right_ica_injection.png");
+
+  // Digital subtraction: the run frame minus its contrast-free mask shows only the contrast.
+  FluoroInputs dsa = live(11, after, {});
+  dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.run = 1;
+  dsa.image.mask_pulse = 9;
+  dsa.mask = {9, flow::ExposureMode::kFluoroscopy, before, {}};
+  save(render(dsa), "fluoro_dsa.png");
+  renderer_.set_display({.noise = false});
+  const Image sub = render(dsa);
+  const int background = static_cast<int>(std::lround(255.0 * FluoroDisplay{}.dsa_background));
+  for (const glm::dvec2& px : in_image(carm, centreline(neuro_->right_ica, 0.4, 0.95, 40))) {
+    EXPECT_LT(grey(sub, px), background - 30) << px.x << "," << px.y;
+  }
+  for (const glm::dvec2& px : in_image(carm, centreline(neuro_->left_ica, 0.05, 0.95, 40))) {
+    EXPECT_NEAR(grey(sub, px), background, 1) << px.x << "," << px.y;
+  }
+}
+
+TEST_F(FluoroRenderTest, TheRoadmapShowsTheInjectedTerritoryWithThePedalOff) {
+  flow::ContrastTransport& t = *neuro_->transport;
+  t.reset();
+  const std::vector<float> mask = cell_iodine(t);
+  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+  for (int i = 0; i < 150; ++i) t.step();
+  const std::vector<float> peak = cell_iodine(t);
+  t.reset();
+
+  // The last image held (pedal up) with the wire in it; the run's peak as the roadmap.
+  FluoroInputs held = live(30, no_contrast(), {wire_in_right_ica()});
+  held.image.beam_on = false;
+  ASSERT_TRUE(held.image.last_image_hold());
+  const Image plain = render(held);
+  held.image.roadmap_pulse = 21;
+  held.roadmap = {21, flow::ExposureMode::kSubtractionRun, peak, {}};
+  held.roadmap_mask = {20, flow::ExposureMode::kFluoroscopy, mask, {}};
+  const Image road = render(held);
+  save(road, "fluoro_roadmap.png");
+  const flow::CArm carm{flow::CArmPose{}};
+  // Same pulse, same noise: the difference is the roadmap (and its own frames' noise).
+  EXPECT_GT(mean_change(plain, road, carm, centreline(neuro_->right_ica, 0.65, 0.95, 30)), 25.0) << "right ICA bright";
+  EXPECT_NEAR(mean_change(plain, road, carm, centreline(neuro_->left_ica, 0.05, 0.95, 60)), 0.0, 4.0);
+  // The wire stays a dark line inside the bright roadmap: darker than the roadmap without it.
+  held.shown.tools.clear();
+  const Image road_no_wire = render(held);
+  const FluoroTool wire = wire_in_right_ica();
+  int darker = 0;
+  int nodes = 0;
+  for (std::size_t i = 30; i + 6 < wire.nodes_mm.size(); ++i, ++nodes) {
+    const glm::dvec2 px = carm.project_px(glm::dvec3(wire.nodes_mm[i]), kSize, kSize);
+    darker += grey(road, px) < grey(road_no_wire, px) - 3 ? 1 : 0;
+  }
+  EXPECT_GE(darker, nodes * 3 / 4) << "wire darker inside the roadmap";
+  EXPECT_LT(mean_change(road_no_wire, road, carm, {wire.nodes_mm.begin() + 30, wire.nodes_mm.end() - 6}), -5.0);
+}
+
+TEST_F(FluoroRenderTest, ChangingTheCArmAngleMovesTheProjectionAsTheGeometryPredicts) {
+  renderer_.set_display({.noise = false});
+  // A short platinum marker 40 mm off the isocentre.
+  const glm::vec3 centre = glm::vec3(flow::CArm{}.isocenter_mm()) + glm::vec3(25.0F, 15.0F, 30.0F);
+  FluoroTool marker;
+  marker.radius_mm = 0.5F;
+  marker.material = flow::XrayMaterial::kPlatinum;
+  for (int i = 0; i <= 4; ++i) marker.nodes_mm.push_back(centre + glm::vec3(0.0F, 0.0F, -1.0F + 0.5F * static_cast<float>(i)));
+  std::vector<glm::dvec2> seen;
+  for (const auto& [lao, cranial] : {std::pair{0.0, 0.0}, std::pair{30.0, 0.0}, std::pair{-30.0, 20.0}, std::pair{90.0, 0.0}}) {
+    flow::CArmPose pose;
+    pose.lao_deg = lao;
+    pose.cranial_deg = cranial;
+    const Image a = render(live(5, no_contrast(), {}, pose));
+    const Image b = render(live(5, no_contrast(), {marker}, pose));
+    glm::dvec2 sum{0.0};
+    double weight = 0.0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const double d = a.pixel(x, y)[0] - b.pixel(x, y)[0];
+        if (d <= 0.0) continue;
+        sum += d * glm::dvec2(x + 0.5, y + 0.5);
+        weight += d;
+      }
+    }
+    ASSERT_GT(weight, 0.0) << "LAO " << lao;
+    const glm::dvec2 found = sum / weight;
+    const glm::dvec2 predicted = flow::CArm(pose).project_px(glm::dvec3(centre), kSize, kSize);
+    EXPECT_LT(glm::length(found - predicted), 1.0) << "LAO " << lao << " cranial " << cranial << ": found " << found.x << ","
+                                                   << found.y << " predicted " << predicted.x << "," << predicted.y;
+    seen.push_back(found);
+    if (lao == 30.0) save(render(live(5, no_contrast(), {marker, wire_in_right_ica()}, pose)), "fluoro_lao30.png");
+  }
+  EXPECT_GT(glm::length(seen[1] - seen[0]), 10.0) << "LAO 30 moved the marker";
+  EXPECT_GT(glm::length(seen[2] - seen[0]), 10.0);
+}
+
+TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
+  const Image a = render(live(7, no_contrast(), {}));
+  const Image b = render(live(7, no_contrast(), {}));
+  EXPECT_EQ(a.pixels, b.pixels);
+  EXPECT_EQ(renderer_.last_work().scenes_accumulated, 0) << "same inputs: nothing accumulated again";
+  const Image c = render(live(8, no_contrast(), {}));
+  EXPECT_NE(a.pixels, c.pixels);
+  // Last-image hold draws the held pulse: the same picture as when it was live.
+  FluoroInputs held = live(7, no_contrast(), {});
+  held.image.beam_on = false;
+  EXPECT_EQ(render(held).pixels, a.pixels);
+  // A subtraction-run frame (25x the dose of a fluoroscopy pulse) is less noisy than fluoroscopy.
+  renderer_.set_display({.noise = false});
+  const Image clean = render(live(7, no_contrast(), {}));
+  renderer_.set_display({});
+  FluoroInputs run = live(7, no_contrast(), {});
+  run.shown.mode = flow::ExposureMode::kSubtractionRun;
+  const Image run_img = render(run);
+  const auto rms = [&](const Image& img) {
+    double s = 0.0;
+    int n = 0;
+    for (int y = kSize / 4; y < 3 * kSize / 4; ++y) {
+      for (int x = kSize / 4; x < 3 * kSize / 4; ++x) {
+        const double d = img.pixel(x, y)[0] - clean.pixel(x, y)[0];
+        s += d * d;
+        ++n;
+      }
+    }
+    return std::sqrt(s / n);
+  };
+  // sigma: fluoroscopy 0.38 (temporal filter) / sqrt(40 nGy), a run frame 1 / sqrt(1000 nGy): 1.9x.
+  EXPECT_GT(rms(a), 1.5 * rms(run_img));
+  EXPECT_GT(rms(a), 1.0);
+  // Before the first pulse the monitor is black.
+  FluoroInputs none;
+  const Image black = render(none);
+  EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+}
+
+TEST_F(FluoroRenderTest, VertexIodineFollowsTheTransportCells) {
+  flow::ContrastTransport& t = *neuro_->transport;
+  t.reset();
+  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+  for (int i = 0; i < 100; ++i) t.step();
+  const std::vector<float> c = cell_iodine(t);
+  ASSERT_EQ(c.size(), t.cell_count());
+  // A vertex's concentration equals the transport's on the centreline at its nearest point.
+  const vessel::SurfaceMesh& mesh = neuro_->mesh;
+  int checked = 0;
+  for (std::size_t t_i = 0; t_i < mesh.triangle_count(); t_i += 97) {
+    const vessel::FaceRegion r = mesh.triangle_regions[t_i];
+    if (r.kind != vessel::RegionKind::kSegment) continue;
+    const std::uint32_t v = mesh.triangles[3 * t_i];
+    const flow::CenterlinePosition at = t.locate(glm::dvec3(mesh.positions_mm[v]));
+    if (static_cast<std::int32_t>(neuro_->network->model().segments[at.segment].id) != r.id) continue;  // nearest is another segment
+    EXPECT_NEAR(neuro_->vessel.concentration(v, c), t.concentration(at.segment, at.arc_mm), 1e-3 + 1e-3 * t.concentration(at.segment, at.arc_mm));
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+  t.reset();
+}
+
+}  // namespace
+}  // namespace cathbox::app
