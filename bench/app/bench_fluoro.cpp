@@ -6,7 +6,11 @@
 //   NewPulse/0  live fluoroscopy, a new pulse each frame: the wire moved, contrast filling the
 //               right ICA territory (the vessel and the tools accumulated again, the composite)
 //   NewPulse/1  the same without contrast (before an injection: tools only)
-//   Held/0      last-image hold with the roadmap: nothing accumulated, the composite only
+//   NewPulse/2  NewPulse/0 with the coarser surface the trainer's global view shows (level 1,
+//               4-point rings) instead of level 2
+//   DisplayAt60Hz/0,1  a 60 Hz monitor during 15 pulses/s fluoroscopy with contrast (level 2,
+//               coarse surface): the median display frame, and the new-pulse frames in p99
+//   Held        last-image hold with the roadmap: nothing accumulated or composed, a copy
 //   Subtracted  a run frame with its mask: two scenes accumulated, the subtraction
 // The C-arm stays still, so the phantom (projected on the CPU when the pose changes, ~4x its
 // 512^2 figure in sim/flow/README.md) is not in these figures; `PoseChange` measures it.
@@ -40,7 +44,9 @@ struct Rig {
   vessel::SurfaceMesh mesh;
   std::unique_ptr<flow::FlowNetwork> network;
   std::unique_ptr<flow::ContrastTransport> transport;
+  vessel::SurfaceMesh coarse_mesh;  // level 1, 4-point rings: the trainer's global-view surface
   app::FluoroRenderer renderer;
+  app::FluoroRenderer coarse;       // the same with the coarse surface
   std::vector<glm::vec3> wire;  // along the right ICA
   std::uint32_t right_ica = 0;
   std::string error;
@@ -61,13 +67,25 @@ struct Rig {
     for (std::uint32_t i = 0; i < network->model().segments.size(); ++i) {
       if (network->model().segments[i].name == "right_internal_carotid") right_ica = i;
     }
-    if (!renderer.init(error)) return false;
+    vessel::MeshOptions coarse_options;
+    coarse_options.subdivision_level = coarse_options.subdivision_level - 1;
+    coarse_options.ring_points = 4;
+    vessel::VesselSurface c = vessel::build_vessel_surface(model, coarse_options);
+    if (!c.ok()) return (error = c.error), false;
+    coarse_mesh = std::move(c.mesh);
+    if (!renderer.init(error) || !coarse.init(error)) return false;
     renderer.set_vessel(app::FluoroVessel::build(mesh, *transport));
+    coarse.set_vessel(app::FluoroVessel::build(coarse_mesh, *transport));
     const flow::CenterlineLocator& loc = transport->locator();
     for (int i = 0; i <= 200; ++i) wire.emplace_back(loc.point_at(right_ica, 0.6 * loc.length_mm(right_ica) * i / 200.0));
-    if (!transport->inject({right_ica, 0.3 * loc.length_mm(right_ica), 0.0}, {8.0, 4.0, 300.0}).empty()) {
-      return (error = "inject"), false;
-    }
+    return true;
+  }
+  // 8 mL at 4 mL/s into the right ICA, 0.6 s in: the bolus entering the territory.
+  bool start_injection() {
+    transport->reset();
+    const flow::CenterlineLocator& loc = transport->locator();
+    if (!transport->inject({right_ica, 0.3 * loc.length_mm(right_ica), 0.0}, {8.0, 4.0, 300.0}).empty()) return false;
+    for (int i = 0; i < 60; ++i) transport->step();
     return true;
   }
   app::FluoroInputs inputs(std::int64_t pulse, bool contrast) {
@@ -101,33 +119,62 @@ Rig* rig() {
 }
 
 // One frame's work: render() and glFinish() (llvmpipe's threads done).
-void render_and_finish(Rig& r, const app::FluoroInputs& in) {
-  r.renderer.render({0, 0, kSize, kSize}, kSize, in);
+void render_and_finish(app::FluoroRenderer& renderer, const app::FluoroInputs& in) {
+  renderer.render({0, 0, kSize, kSize}, kSize, in);
   glFinish();
 }
 
-void finish(benchmark::State& state, bench::Samples& s) {
+void finish(benchmark::State& state, bench::Samples& s, const app::FluoroRenderer& renderer, const vessel::SurfaceMesh& mesh) {
   s.report(state);
-  state.counters["vessel_triangles"] = static_cast<double>(rig()->mesh.triangle_count());
-  state.counters["scenes_per_frame"] = rig()->renderer.last_work().scenes_accumulated;
+  state.counters["vessel_triangles"] = static_cast<double>(mesh.triangle_count());
+  state.counters["scenes_per_frame"] = renderer.last_work().scenes_accumulated;
 }
 
 void BM_NewPulse(benchmark::State& state) {
   Rig& r = *rig();
   if (!r.window) return state.SkipWithError(r.error.c_str());
-  const bool contrast = state.range(0) == 0;
-  for (int i = 0; i < 60 && contrast; ++i) r.transport->step();  // the bolus in the territory
+  const bool contrast = state.range(0) != 1;
+  app::FluoroRenderer& renderer = state.range(0) == 2 ? r.coarse : r.renderer;
+  if (contrast && !r.start_injection()) return state.SkipWithError("inject");
   std::int64_t pulse = 0;
-  r.renderer.render({0, 0, kSize, kSize}, kSize, r.inputs(pulse++, contrast));  // the phantom for this pose
+  renderer.render({0, 0, kSize, kSize}, kSize, r.inputs(pulse++, contrast));  // the phantom for this pose
   bench::Samples s("ms");
   s.report_process_cpu();
   s.report_process_cpu();
   for (auto _ : state) {
     app::FluoroInputs in = r.inputs(pulse++, contrast);
-    s.time([&] { render_and_finish(r, in); });
+    s.time([&] { render_and_finish(renderer, in); });
   }
-  finish(state, s);
-  state.SetLabel(contrast ? "live, new pulse, contrast filling" : "live, new pulse, no contrast");
+  finish(state, s, renderer, state.range(0) == 2 ? r.coarse_mesh : r.mesh);
+  state.SetLabel(state.range(0) == 0   ? "live, new pulse, contrast filling"
+                 : state.range(0) == 1 ? "live, new pulse, no contrast"
+                                       : "live, new pulse, contrast filling, coarse surface (level 1, 4-point rings)");
+}
+
+// What a 60 Hz monitor shows during 15 pulses/s fluoroscopy with contrast filling: every
+// display frame renders the newest pulse's inputs; a new pulse (1 frame in 4) accumulates and
+// composes again, the frames between copy the composed image.
+void BM_DisplayAt60Hz(benchmark::State& state) {
+  Rig& r = *rig();
+  if (!r.window) return state.SkipWithError(r.error.c_str());
+  app::FluoroRenderer& renderer = state.range(0) == 1 ? r.coarse : r.renderer;
+  if (!r.start_injection()) return state.SkipWithError("inject");
+  bench::Samples s("ms");
+  s.report_process_cpu();
+  std::int64_t frame = 0;
+  std::int64_t shown = -1;
+  app::FluoroInputs in;
+  for (auto _ : state) {
+    const std::int64_t pulse = frame++ / 4;  // 60 Hz display, 15 pulses per second
+    if (pulse != shown) {
+      in = r.inputs(pulse, true);
+      shown = pulse;
+    }
+    s.time([&] { render_and_finish(renderer, in); });
+  }
+  finish(state, s, renderer, state.range(0) == 1 ? r.coarse_mesh : r.mesh);
+  state.SetLabel(state.range(0) == 1 ? "60 Hz display of 15 pulses/s with contrast, coarse surface"
+                                     : "60 Hz display of 15 pulses/s with contrast");
 }
 
 void BM_Held(benchmark::State& state) {
@@ -143,14 +190,15 @@ void BM_Held(benchmark::State& state) {
   bench::Samples s("ms");
   s.report_process_cpu();
   s.report_process_cpu();
-  for (auto _ : state) s.time([&] { render_and_finish(r, in); });
-  finish(state, s);
+  for (auto _ : state) s.time([&] { render_and_finish(r.renderer, in); });
+  finish(state, s, r.renderer, r.mesh);
   state.SetLabel("last-image hold with roadmap");
 }
 
 void BM_Subtracted(benchmark::State& state) {
   Rig& r = *rig();
   if (!r.window) return state.SkipWithError(r.error.c_str());
+  if (!r.start_injection()) return state.SkipWithError("inject");
   std::int64_t pulse = 2000;
   bench::Samples s("ms");
   s.report_process_cpu();
@@ -162,9 +210,9 @@ void BM_Subtracted(benchmark::State& state) {
     in.shown.mode = flow::ExposureMode::kSubtractionRun;
     in.mask = r.inputs(pulse - 1, false).shown;
     pulse += 2;
-    s.time([&] { render_and_finish(r, in); });
+    s.time([&] { render_and_finish(r.renderer, in); });
   }
-  finish(state, s);
+  finish(state, s, r.renderer, r.mesh);
   state.SetLabel("run frame and its mask, both new");
 }
 
@@ -179,13 +227,14 @@ void BM_PoseChange(benchmark::State& state) {
   for (auto _ : state) {
     lao += 1.0;
     in.pose.lao_deg = lao;
-    s.time([&] { render_and_finish(r, in); });
+    s.time([&] { render_and_finish(r.renderer, in); });
   }
-  finish(state, s);
+  finish(state, s, r.renderer, r.mesh);
   state.SetLabel("C-arm moved: phantom projected again");
 }
 
-BENCHMARK(BM_NewPulse)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(200);
+BENCHMARK(BM_NewPulse)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->Iterations(200);
+BENCHMARK(BM_DisplayAt60Hz)->DenseRange(0, 1)->Unit(benchmark::kMillisecond)->Iterations(400);
 BENCHMARK(BM_Held)->Unit(benchmark::kMillisecond)->Iterations(200);
 BENCHMARK(BM_Subtracted)->Unit(benchmark::kMillisecond)->Iterations(100);
 BENCHMARK(BM_PoseChange)->Unit(benchmark::kMillisecond)->Iterations(20);

@@ -52,7 +52,9 @@ void main() {
 }
 )";
 
-// Composite pass: a full-viewport triangle; the monitor's grey per pixel.
+// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled three times
+// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction): a software rasteriser
+// runs both sides of a branch.
 constexpr const char* kCompositeVertex = R"(#version 330 core
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -61,7 +63,7 @@ void main() {
 )";
 
 constexpr const char* kCompositeFragment = R"(#version 330 core
-uniform sampler2D u_phantom;   // R32F, row 0 = the image's top row
+uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's top row
 uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
 uniform sampler2D u_mask;
 uniform sampler2D u_road;
@@ -70,7 +72,7 @@ uniform vec4 u_view;           // viewport origin (GL, bottom left) and size
 uniform vec4 u_sigma;          // log-noise sigma at the reference transmission: live, mask, roadmap, roadmap mask
 uniform uvec4 u_seeds;         // noise seeds (pulse_seed): live, mask, roadmap, roadmap mask
 uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadmap gain
-uniform vec4 u_mode;           // y: 1 subtracted, z: 1 roadmap, w: L_ref
+uniform vec4 u_mode;           // w: L_ref
 uniform float u_field_half;    // half the collimated field, pixels
 uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
 out vec4 frag;
@@ -90,10 +92,10 @@ float noise(uvec2 p, uint seed) {
   uint bytes = (h & 0xFFu) + ((h >> 8u) & 0xFFu) + ((h >> 16u) & 0xFFu) + (h >> 24u);
   return (float(bytes) - 510.0) * 0.0067659;
 }
-// The log image's noise at a pixel of line integral L: sigma at the reference transmission
-// times sqrt(T_ref / T).
-float noise_at(ivec2 p, uint seed, float sigma, float L) {
-  return sigma == 0.0 ? 0.0 : sigma * exp(0.5 * (L - u_mode.w)) * noise(uvec2(p.x, int(u_view.w) - 1 - p.y), seed);
+// The log image's noise at a pixel: sigma at the reference transmission times
+// sqrt(T_ref / T) (`amp`, the phantom's transmission: contrast and tools are left out).
+float noise_at(ivec2 p, uint seed, float sigma, float amp) {
+  return sigma * amp * noise(uvec2(p.x, int(u_view.w) - 1 - p.y), seed);
 }
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy - u_view.xy);
@@ -102,23 +104,25 @@ void main() {
     frag = vec4(0.0, 0.0, 0.0, 1.0);
     return;
   }
-  float Lp = texelFetch(u_phantom, ivec2(p.x, int(u_view.w) - 1 - p.y), 0).r;
+  vec2 ph = texelFetch(u_phantom, ivec2(p.x, int(u_view.w) - 1 - p.y), 0).rg;
+  float Lp = ph.x;
+  float amp = ph.y;
   float L = Lp + scene_L(u_live, p);
   float g;
-  if (u_mode.y > 0.5) {
-    float Lm = Lp + scene_L(u_mask, p);
-    float d = (L - noise_at(p, u_seeds.x, u_sigma.x, L)) - (Lm - noise_at(p, u_seeds.y, u_sigma.y, Lm));
-    g = u_display.y - u_display.z * d;
-  } else {
-    float shown = u_mode.w + u_anatomy_gain * (Lp - u_mode.w) + (L - Lp);
-    g = 1.0 / (1.0 + exp(-u_display.x * (u_mode.w - shown + noise_at(p, u_seeds.x, u_sigma.x, L))));
-    if (u_mode.z > 0.5) {
-      float Lr = Lp + scene_L(u_road, p);
-      float Lrm = Lp + scene_L(u_road_mask, p);
-      float r = (Lr - noise_at(p, u_seeds.z, u_sigma.z, Lr)) - (Lrm - noise_at(p, u_seeds.w, u_sigma.w, Lrm));
-      g += (1.0 - clamp(g, 0.0, 1.0)) * (1.0 - exp(-u_display.w * r));
-    }
-  }
+#if MODE == 2
+  float Lm = Lp + scene_L(u_mask, p);
+  float d = (L - noise_at(p, u_seeds.x, u_sigma.x, amp)) - (Lm - noise_at(p, u_seeds.y, u_sigma.y, amp));
+  g = u_display.y - u_display.z * d;
+#else
+  float shown = u_mode.w + u_anatomy_gain * (Lp - u_mode.w) + (L - Lp);
+  g = 1.0 / (1.0 + exp(-u_display.x * (u_mode.w - shown + noise_at(p, u_seeds.x, u_sigma.x, amp))));
+#if MODE == 1
+  float Lr = Lp + scene_L(u_road, p);
+  float Lrm = Lp + scene_L(u_road_mask, p);
+  float r = (Lr - noise_at(p, u_seeds.z, u_sigma.z, amp)) - (Lrm - noise_at(p, u_seeds.w, u_sigma.w, amp));
+  g += (1.0 - clamp(g, 0.0, 1.0)) * (1.0 - exp(-u_display.w * r));
+#endif
+#endif
   frag = vec4(vec3(clamp(g, 0.0, 1.0)), 1.0);
 }
 )";
@@ -213,7 +217,11 @@ FluoroRenderer::~FluoroRenderer() {
 
 bool FluoroRenderer::init(std::string& error) {
   if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
-  if (!composite_shader_.build(kCompositeVertex, kCompositeFragment, error)) return false;
+  for (std::size_t mode = 0; mode < composite_shaders_.size(); ++mode) {
+    std::string source = kCompositeFragment;
+    source.insert(source.find('\n') + 1, "#define MODE " + std::to_string(mode) + "\n");
+    if (!composite_shaders_[mode].build(kCompositeVertex, source.c_str(), error)) return false;
+  }
   glGenVertexArrays(1, &empty_vao_);
 
   glGenTextures(1, &phantom_texture_);
@@ -284,19 +292,30 @@ void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
   ++generation_;
 }
 
-void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height) {
+void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
   Hasher k;
   hash_pose(k, carm.pose());
   k.value(width);
   k.value(height);
   k.value(generation_);
-  if (k.h == phantom_key_) return;
-  const std::vector<float> path = phantom_.project(carm, width, height);
+  if (k.h != phantom_key_) {
+    phantom_path_ = phantom_.project(carm, width, height);
+    phantom_key_ = k.h;
+    phantom_l_ref_ = -1.0;
+    work_.phantom_projected = true;
+  }
+  if (l_ref == phantom_l_ref_) return;
+  // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
+  phantom_rg_.resize(2 * phantom_path_.size());
+  for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
+    phantom_rg_[2 * i] = phantom_path_[i];
+    phantom_rg_[2 * i + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
+  }
+  phantom_l_ref_ = l_ref;
   glBindTexture(GL_TEXTURE_2D, phantom_texture_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_R32F, width, height, 0, GL_RED, GL_FLOAT, path.data());
-  phantom_key_ = k.h;
-  work_.phantom_projected = true;
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, width, height, 0, GL_RG, GL_FLOAT, phantom_rg_.data());
+  glBindTexture(GL_TEXTURE_2D, 0);
 }
 
 void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height) {
@@ -416,7 +435,8 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ensure_target(monitor_, w, h, GL_RGBA8, GL_UNSIGNED_BYTE);
   glBindFramebuffer(GL_FRAMEBUFFER, monitor_.fbo);
   glViewport(0, 0, w, h);
-  composite_shader_.use();
+  const ShaderProgram& shader = composite_shaders_[subtracted ? 2 : roadmap ? 1 : 0];
+  shader.use();
   const std::pair<const char*, unsigned> bindings[] = {{"u_phantom", phantom_texture_},
                                                        {"u_live", targets_[0].texture},
                                                        {"u_mask", targets_[1].texture},
@@ -425,22 +445,22 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, bindings[unit].second);
-    composite_shader_.set_int(bindings[unit].first, unit);
+    shader.set_int(bindings[unit].first, unit);
   }
   const flow::FluoroDose dose(in.dose);
   const double pixel_mm = carm.pixel_mm(w, h);
   const auto sigma = [&](const FluoroScene& s) {
     return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
   };
-  composite_shader_.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
-  composite_shader_.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
-  composite_shader_.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
+  shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
+  shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
+  shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
                                               pulse_seed(in.roadmap_mask.pulse)));
-  composite_shader_.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
+  shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
   const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
-  composite_shader_.set("u_mode", glm::vec4(0.0F, subtracted ? 1.0F : 0.0F, roadmap ? 1.0F : 0.0F, static_cast<float>(l_ref)));
-  composite_shader_.set("u_anatomy_gain", display_.anatomy_gain);
-  composite_shader_.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
+  shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
+  shader.set("u_anatomy_gain", display_.anatomy_gain);
+  shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
   glBindVertexArray(empty_vao_);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
@@ -478,7 +498,7 @@ void FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, co
     glClearColor(0.0F, 0.0F, 0.0F, 1.0F);
     glClear(GL_COLOR_BUFFER_BIT);
   } else {
-    project_phantom(carm, w, h);
+    project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)));
     accumulate(targets_[0], in.shown, carm, keV, w, h);
     if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
     if (roadmap) {
@@ -489,6 +509,7 @@ void FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, co
     // otherwise (last-image hold, frames between pulses) it is copied again.
     Hasher k;
     k.value(phantom_key_);
+    k.value(phantom_l_ref_);
     for (int i = 0; i < 4; ++i) {
       const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
       k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);

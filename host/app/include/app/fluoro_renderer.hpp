@@ -79,16 +79,19 @@ class FluoroRenderer {
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   void draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
-  void project_phantom(const flow::CArm& carm, int width, int height);
+  void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
 
   FluoroDisplay display_;
   flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
   std::uint64_t generation_ = 1;  // bumped by set_vessel / set_phantom: the targets are stale
   ShaderProgram scene_shader_;
-  ShaderProgram composite_shader_;
+  std::array<ShaderProgram, 3> composite_shaders_;  // fluoroscopy, with the roadmap, subtraction
   unsigned empty_vao_ = 0;
   unsigned phantom_texture_ = 0;
   std::uint64_t phantom_key_ = 0;
+  double phantom_l_ref_ = -1.0;
+  std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
+  std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
   // The vessel: positions and (cell a, cell b, weight) per vertex, and the cells' iodine.
