@@ -114,6 +114,12 @@ void TrainerApp::load_scene() {
   renderer_->set_vessel({mesh.positions_mm, mesh.normals, mesh.triangles},
                         {overview.positions_mm, overview.normals, overview.triangles});
   renderer_->set_target(scene.target_mm, scene.target_radius_mm);
+  if (fluoro_) {
+    // No C-arm controls yet: the isocentre on the case's target, where the navigation ends.
+    fluoro_settings_.pose = {};
+    if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
+    fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
+  }
   frame_camera();
   ui_->add_line("case " + scene.name + ": " + std::to_string(renderer_->detail_triangles()) + " triangles (global view " +
                 std::to_string(renderer_->overview_triangles()) + "); " + (replay_ ? "replay: " : "hand: ") +
@@ -153,7 +159,6 @@ int TrainerApp::run_window() {
   ui_ = std::make_unique<TrainerUi>();
   if (options_.view == MainView::kFluoro) {
     fluoro_ = std::make_unique<FluoroRenderer>();
-    fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
   }
   if (!renderer_->init(error) || (fluoro_ && !fluoro_->init(error)) || !ui_->init(window_->handle())) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());

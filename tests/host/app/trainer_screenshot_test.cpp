@@ -21,6 +21,7 @@
 #include <glm/vec4.hpp>
 
 #include "app/scene_renderer.hpp"
+#include "flow/c_arm.hpp"
 #include "app/viewport.hpp"
 #include "png_reader.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -39,6 +40,7 @@ struct Sidecar {
   glm::mat4 proj{1.0F};
   std::vector<glm::vec3> nodes;
   glm::vec3 tip{0.0F};
+  glm::vec3 target{0.0F};
   std::int64_t sim_time_us = 0;
 };
 
@@ -68,6 +70,7 @@ bool read_sidecar(const std::string& path, Sidecar& s) {
       s.nodes.push_back(p);
     } else if (key == "tip") ls >> s.tip.x >> s.tip.y >> s.tip.z;
     else if (key == "sim_time_us") ls >> s.sim_time_us;
+    else if (key == "target") ls >> s.target.x >> s.target.y >> s.target.z;
   }
   return s.width > 0 && !s.vessel_file.empty();
 }
@@ -244,6 +247,52 @@ std::string only_record_in(const std::string& dir) {
 // Without a display: the default case run by the scripted hand in virtual time until the tip
 // reaches the case's target, the end-of-run summary on stdout, the same output on every run;
 // the run is recorded, and the record replays (hash-checked) to the same figures.
+// --view fluoro: the main view is the fluoroscopic image (grey), the C-arm's isocentre on the
+// target, and the wire's platinum tip is dark where the C-arm projects it.
+TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
+  const std::string shot = std::string(CATHBOX_TEST_OUT) + "/trainer_fluoro.png";
+  std::remove(shot.c_str());
+  const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " + CATHBOX_TRAINER +
+                          " --headless --no-record --view fluoro --frames 150 --ms-per-frame 100 --size 1280x720 --screenshot " +
+                          shot + " > " + shot + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << shot << ".log";
+  std::string error;
+  const auto img = testing::read_png(shot, error);
+  ASSERT_TRUE(img) << error;
+  Sidecar s;
+  ASSERT_TRUE(read_sidecar(shot + ".txt", s));
+  const Viewport hud{s.hud.x - 3, s.hud.y - 3, s.hud.width + 6, s.hud.height + 6};
+  int distinct = 0;
+  int last = -1;
+  for (int y = s.global.y; y < s.global.y + s.global.height; y += 7) {
+    for (int x = s.global.x; x < s.global.x + s.global.width; x += 7) {
+      if (hud.contains(static_cast<float>(x), static_cast<float>(y))) continue;
+      const std::uint8_t* p = img->pixel(x, y);
+      ASSERT_TRUE(p[0] == p[1] && p[1] == p[2]) << "grey at " << x << "," << y;
+      distinct += p[0] != last ? 1 : 0;
+      last = p[0];
+    }
+  }
+  EXPECT_GT(distinct, 1000) << "an image, not a flat field";
+  flow::CArmPose pose;
+  pose.isocenter_mm = glm::dvec3(s.target);
+  const glm::dvec2 tip = flow::CArm(pose).project_px(glm::dvec3(s.tip), s.global.width, s.global.height) +
+                         glm::dvec2(s.global.x, s.global.y);
+  ASSERT_TRUE(s.global.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)) &&
+              !hud.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)))
+      << "the tip at " << tip.x << "," << tip.y << " in the field";
+  int darkest = 255;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) darkest = std::min<int>(darkest, img->pixel(static_cast<int>(tip.x) + dx, static_cast<int>(tip.y) + dy)[0]);
+  }
+  double ring = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 6.283185307 * k / 16.0;
+    ring += img->pixel(static_cast<int>(tip.x + 12.0 * std::cos(a)), static_cast<int>(tip.y + 12.0 * std::sin(a)))[0];
+  }
+  EXPECT_LT(darkest, ring / 16.0 - 20.0) << "the platinum tip darker than around it";
+}
+
 TEST(TrainerHeadless, ScriptedRunReachesTheTargetPrintsTheSummaryIsDeterministicAndReplays) {
   const std::string dir = CATHBOX_TEST_OUT;
   for (const char* sub : {"/records_a", "/records_b"}) {
