@@ -17,6 +17,7 @@
 // Target (issue #13): <= 10 ms median for a frame.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -120,7 +121,10 @@ Rig* rig() {
 
 // One frame's work: render() and glFinish() (llvmpipe's threads done).
 void render_and_finish(app::FluoroRenderer& renderer, const app::FluoroInputs& in) {
-  renderer.render({0, 0, kSize, kSize}, kSize, in);
+  if (const std::string e = renderer.render({0, 0, kSize, kSize}, kSize, in); !e.empty()) {
+    std::fprintf(stderr, "bench_fluoro: %s\n", e.c_str());
+    std::exit(1);
+  }
   glFinish();
 }
 
@@ -137,7 +141,7 @@ void BM_NewPulse(benchmark::State& state) {
   app::FluoroRenderer& renderer = state.range(0) == 2 ? r.coarse : r.renderer;
   if (contrast && !r.start_injection()) return state.SkipWithError("inject");
   std::int64_t pulse = 0;
-  renderer.render({0, 0, kSize, kSize}, kSize, r.inputs(pulse++, contrast));  // the phantom for this pose
+  render_and_finish(renderer, r.inputs(pulse++, contrast));  // the phantom for this pose
   bench::Samples s("ms");
   s.report_process_cpu();
   s.report_process_cpu();
@@ -186,7 +190,7 @@ void BM_Held(benchmark::State& state) {
   in.roadmap = in.shown;
   in.roadmap.pulse = 900;
   in.roadmap_mask = r.inputs(899, false).shown;
-  r.renderer.render({0, 0, kSize, kSize}, kSize, in);
+  render_and_finish(r.renderer, in);
   bench::Samples s("ms");
   s.report_process_cpu();
   s.report_process_cpu();

@@ -471,8 +471,9 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ++work_.composites;
 }
 
-void FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
+std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
   work_ = {};
+  std::string error = check_fluoro_inputs(in, vessel_indices_ > 0 ? cell_count_ : 0);
   const int w = viewport.width;
   const int h = viewport.height;
   const flow::CArm carm(in.pose);
@@ -488,7 +489,7 @@ void FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, co
   const int gl_y = framebuffer_height - viewport.y - h;
 
   const flow::FluoroImage& image = in.image;
-  const bool has_image = image.pulse >= 0 && in.shown.pulse >= 0;
+  const bool has_image = error.empty() && image.pulse >= 0 && in.shown.pulse >= 0;
   const bool subtracted = has_image && image.subtracted() && in.mask.pulse >= 0;
   const bool roadmap = has_image && !subtracted && image.roadmap_pulse >= 0 && in.roadmap.pulse >= 0 && in.roadmap_mask.pulse >= 0;
   if (!has_image) {  // before the first pulse the monitor is black
@@ -540,6 +541,7 @@ void FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, co
     glDisable(GL_SCISSOR_TEST);
   }
   if (depth == GL_TRUE) glEnable(GL_DEPTH_TEST);
+  return error;
 }
 
 }  // namespace cathbox::app

@@ -228,7 +228,11 @@ int TrainerApp::run_window() {
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
     if (fluoro_) {
-      fluoro_->render(layout.global, fh, fluoro_inputs_from_snapshot(snap, fluoro_settings_));
+      if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_from_snapshot(snap, fluoro_settings_));
+          !e.empty() && e != fluoro_error_) {
+        ui_->add_line("fluoroscopy: " + e);  // once per distinct error
+        fluoro_error_ = e;
+      }
     } else {
       renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
     }

@@ -72,7 +72,7 @@ class FluoroRenderTest : public ::testing::Test {
   }
 
   Image render(const FluoroInputs& in) {
-    renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in);
+    EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in), "");
     return FrameCapture::read_back_buffer(kSize, kSize);
   }
   static void save(const Image& img, const std::string& name) {
@@ -190,7 +190,7 @@ TEST_F(FluoroRenderTest, BeforeAnInjectionTheVesselsAreNotVisible) {
   std::string error;
   ASSERT_TRUE(bare.init(error)) << error;
   bare.set_display({.noise = false});
-  bare.render(Viewport{0, 0, kSize, kSize}, kSize, live(1, no_contrast(), {}));
+  EXPECT_EQ(bare.render(Viewport{0, 0, kSize, kSize}, kSize, live(1, no_contrast(), {})), "");
   const Image no_vessel = FrameCapture::read_back_buffer(kSize, kSize);
   EXPECT_EQ(with_vessel.pixels, no_vessel.pixels);
   // The phantom is there: not a black or white field.
@@ -356,6 +356,27 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   FluoroInputs none;
   const Image black = render(none);
   EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+}
+
+TEST_F(FluoroRenderTest, BadInputsAreOneLineAndABlackImage) {
+  FluoroInputs in = live(3, no_contrast(), {wire_in_right_ica()});
+  in.mask.cell_iodine_mgI_ml.assign(12, 0.0F);
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in),
+            "FluoroInputs.mask.cell_iodine_mgI_ml: 12 cells, the vessel has " + std::to_string(neuro_->transport->cell_count()));
+  const Image black = FrameCapture::read_back_buffer(kSize, kSize);
+  EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+  in = live(3, no_contrast(), {wire_in_right_ica()});
+  in.shown.tools[0].radius_mm = 0.0F;
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in), "FluoroInputs.shown.tools[0].radius_mm: must be in (0, 10)");
+  in = live(3, no_contrast(), {});
+  in.shown.cell_iodine_mgI_ml[7] = -1.0F;
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in), "FluoroInputs.shown.cell_iodine_mgI_ml[7]: must be finite and >= 0");
+  in = live(3, no_contrast(), {});
+  in.pose.lao_deg = 200.0;
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in).rfind("FluoroInputs.pose: ", 0), 0U);
+  in = live(3, no_contrast(), {});
+  in.patient_transmission = 0.0;
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in), "FluoroInputs.patient_transmission: must be in (0, 1]");
 }
 
 TEST_F(FluoroRenderTest, VertexIodineFollowsTheTransportCells) {

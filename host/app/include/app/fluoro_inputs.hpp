@@ -6,6 +6,7 @@
 // of those is a FluoroScene: the iodine per contrast cell (in sim/flow ContrastTransport's cell
 // order) and the radio-opaque tools at that pulse. No GL.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -50,5 +51,10 @@ struct FluoroInputs {
   FluoroScene roadmap;                     // image.roadmap_pulse (the peak of a run)
   FluoroScene roadmap_mask;                // that run's mask
 };
+
+// Empty when the inputs can be drawn for a vessel of `cell_count` contrast cells (0: no vessel,
+// whose iodine lists are then not drawn and their size not checked); else one line naming the first bad field, e.g. "FluoroInputs.mask.cell_iodine_mgI_ml: 12
+// cells, the vessel has 1309" or "FluoroInputs.shown.tools[0].radius_mm: must be > 0".
+[[nodiscard]] std::string check_fluoro_inputs(const FluoroInputs& inputs, std::size_t cell_count);
 
 }  // namespace cathbox::app

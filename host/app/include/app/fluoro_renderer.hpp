@@ -55,7 +55,8 @@ class FluoroRenderer {
 
   // Draws the monitor image into `viewport` of the bound framebuffer (the image is
   // viewport.width x viewport.height pixels, the detector field across the shorter side).
-  void render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& inputs);
+  // Inputs that check_fluoro_inputs() refuses draw a black image and return its one line.
+  [[nodiscard]] std::string render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& inputs);
 
   // What the last render() had to redo (for tests and the bench).
   struct Work {
