@@ -13,6 +13,7 @@
 namespace cathbox::app {
 namespace {
 
+constexpr int kToolSides = 8;  // sides of a tool's tube
 enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
 
 // Scene pass: every face of a closed mesh adds sign * mu * d (d: distance from the source less
@@ -323,12 +324,16 @@ void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm
   tool_indices_.clear();
   const double patient_pixel_mm = carm.pixel_mm(width, height) / carm.magnification(carm.isocenter_mm());
   const auto add_tube = [&](std::span<const glm::vec3> nodes, float radius_mm, float mu) {
-    tube_.build(nodes, {}, radius_mm);
+    tube_.build(nodes, {}, radius_mm, kToolSides);
     if (tube_.positions_mm.empty()) return;
-    // TubeMesh is open at its proximal end: close it with a cone, apex half a radius behind.
-    const glm::vec3 t0 = glm::normalize(nodes[1] - nodes[0]);
+    // TubeMesh is open at its proximal end: close it with a cone, apex half a radius behind
+    // (along the first piece of non-zero length).
+    glm::vec3 t0{0.0F};
+    for (std::size_t i = 1; i < nodes.size() && glm::length(t0) < 1e-6F; ++i) t0 = nodes[i] - nodes[0];
+    if (glm::length(t0) < 1e-6F) return;
+    t0 = glm::normalize(t0);
     const auto base = static_cast<std::uint32_t>(tool_vertices_.size() / 6);
-    const auto ring = static_cast<std::uint32_t>(8);
+    const auto ring = static_cast<std::uint32_t>(kToolSides);
     const auto apex = static_cast<std::uint32_t>(tube_.positions_mm.size());
     for (const glm::vec3& p : tube_.positions_mm) tool_vertices_.insert(tool_vertices_.end(), {p.x, p.y, p.z, mu, 0.0F, 0.0F});
     const glm::vec3 back = nodes[0] - 0.5F * radius_mm * t0;

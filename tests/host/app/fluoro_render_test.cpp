@@ -324,12 +324,20 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   const Image b = render(live(7, no_contrast(), {}));
   EXPECT_EQ(a.pixels, b.pixels);
   EXPECT_EQ(renderer_.last_work().scenes_accumulated, 0) << "same inputs: nothing accumulated again";
+  EXPECT_EQ(renderer_.last_work().composites, 0) << "nor composed: the image is copied";
   const Image c = render(live(8, no_contrast(), {}));
   EXPECT_NE(a.pixels, c.pixels);
   // Last-image hold draws the held pulse: the same picture as when it was live.
   FluoroInputs held = live(7, no_contrast(), {});
   held.image.beam_on = false;
   EXPECT_EQ(render(held).pixels, a.pixels);
+  // Without the image cache (another renderer, made fresh) the same pulse gives the same image.
+  FluoroRenderer fresh;
+  std::string error;
+  ASSERT_TRUE(fresh.init(error)) << error;
+  fresh.set_vessel(neuro_->vessel);
+  EXPECT_EQ(fresh.render(Viewport{0, 0, kSize, kSize}, kSize, held), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, a.pixels);
   // A subtraction-run frame (25x the dose of a fluoroscopy pulse) is less noisy than fluoroscopy.
   renderer_.set_display({.noise = false});
   const Image clean = render(live(7, no_contrast(), {}));

@@ -44,7 +44,7 @@ class FluoroRenderer {
   FluoroRenderer(const FluoroRenderer&) = delete;
   FluoroRenderer& operator=(const FluoroRenderer&) = delete;
 
-  // Compiles the shaders and makes the noise field; false with one line in `error`.
+  // Compiles the shaders and makes the buffers; false with the driver's log in `error`.
   [[nodiscard]] bool init(std::string& error);
   void set_phantom(flow::HeadPhantom phantom);  // default: HeadPhantom::neuro()
   // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the
