@@ -14,6 +14,7 @@ namespace cathbox::app {
 namespace {
 
 constexpr int kToolSides = 8;  // sides of a tool's tube
+constexpr std::size_t kBucketTriangles = 256;  // vessel triangles culled together by their cells
 enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
 
 // Scene pass: every face of a closed mesh adds sign * mu * d (d: distance from the source less
@@ -278,11 +279,40 @@ void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
     o[4] = static_cast<float>(c.b);
     o[5] = c.w;
   }
+  // Triangles sorted by the lowest contrast cell they read, in buckets that know the range of
+  // cells they read: a pulse draws only the buckets with iodine in their range (a face whose
+  // vertices have none adds nothing).
+  const std::size_t triangles = vessel.triangles.size() / 3;
+  std::vector<std::uint32_t> order(triangles);
+  std::vector<std::uint32_t> lo(triangles, 0xFFFFFFFFU);
+  std::vector<std::uint32_t> hi(triangles, 0);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    order[t] = static_cast<std::uint32_t>(t);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t vi = vessel.triangles[3 * t + k];
+      const VertexCells c = vi < vessel.cells.size() ? vessel.cells[vi] : VertexCells{};
+      lo[t] = std::min({lo[t], c.a, c.b});
+      hi[t] = std::max({hi[t], c.a, c.b});
+    }
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return lo[x] < lo[y]; });
+  std::vector<std::uint32_t> sorted;
+  sorted.reserve(vessel.triangles.size());
+  buckets_.clear();
+  for (std::size_t i = 0; i < triangles; ++i) {
+    const std::uint32_t t = order[i];
+    if (i % kBucketTriangles == 0) buckets_.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
+    Bucket& b = buckets_.back();
+    b.index_count += 3;
+    b.lo = std::min(b.lo, lo[t]);
+    b.hi = std::max(b.hi, hi[t]);
+    sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
+  }
   glBindVertexArray(vessel_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vessel_vbo_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(vessel.triangles.size() * sizeof(std::uint32_t)),
-               vessel.triangles.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)), sorted.data(),
+               GL_STATIC_DRAW);
   glBindVertexArray(0);
   vessel_indices_ = vessel.triangles.size();
   cell_count_ = vessel.cell_count;
@@ -424,9 +454,31 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
     glActiveTexture(GL_TEXTURE0);
     scene_shader_.set("u_tool", 0.0F);
     glBindVertexArray(vessel_vao_);
-    glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(vessel_indices_), GL_UNSIGNED_INT, nullptr);
+    // Cells with iodine before each cell, then the runs of buckets that read any.
+    nonzero_before_.assign(cell_count_ + 1, 0);
+    for (std::size_t i = 0; i < cell_count_; ++i) {
+      nonzero_before_[i + 1] = nonzero_before_[i] + (scene.cell_iodine_mgI_ml[i] > 0.0F ? 1U : 0U);
+    }
+    std::size_t run_first = 0;
+    std::size_t run_count = 0;
+    const auto flush = [&] {
+      if (run_count == 0) return;
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(run_count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(run_first * sizeof(std::uint32_t)));
+      work_.vessel_triangles += run_count / 3;
+      run_count = 0;
+    };
+    for (const Bucket& b : buckets_) {
+      const bool lit = b.hi < cell_count_ && nonzero_before_[b.hi + 1] > nonzero_before_[b.lo];
+      if (!lit) {
+        flush();
+        continue;
+      }
+      if (run_count == 0) run_first = b.first_index;
+      run_count += b.index_count;
+    }
+    flush();
     glBindVertexArray(0);
-    work_.vessel_triangles += vessel_indices_ / 3;
   }
   draw_tools(scene, carm, keV, width, height);
   glDisable(GL_BLEND);

@@ -63,7 +63,7 @@ class FluoroRenderer {
     bool phantom_projected = false;
     int scenes_accumulated = 0;
     int composites = 0;                // the monitor image made again (else copied)
-    std::size_t vessel_triangles = 0;  // drawn into scene targets
+    std::size_t vessel_triangles = 0;  // drawn into scene targets (those reading cells with iodine)
   };
   [[nodiscard]] const Work& last_work() const { return work_; }
 
@@ -100,6 +100,14 @@ class FluoroRenderer {
   unsigned vessel_vbo_ = 0;
   unsigned vessel_ebo_ = 0;
   std::size_t vessel_indices_ = 0;
+  struct Bucket {
+    std::uint32_t first_index = 0;
+    std::uint32_t index_count = 0;
+    std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
+    std::uint32_t hi = 0;
+  };
+  std::vector<Bucket> buckets_;              // the vessel's triangles, sorted by their lowest cell
+  std::vector<std::uint32_t> nonzero_before_;  // per pulse: cells with iodine before each cell
   std::size_t cell_count_ = 0;
   unsigned cells_buffer_ = 0;
   unsigned cells_texture_ = 0;
