@@ -390,6 +390,9 @@ TEST_F(FluoroRenderTest, IodineShowsMuTimesTheLumenChordAndABolusFrontStaysBound
   std::vector<float> filled = no_contrast();  // the right ICA only, so no other vessel overlaps it
   for (std::size_t i = 0; i < cells.size(); ++i) filled[first + i] = 100.0F;
   const Image full = subtracted(filled);
+  // Only the triangles reading a filled cell are drawn: the right ICA's, a small part of the tree.
+  EXPECT_GT(renderer_.last_work().vessel_triangles, 0U);
+  EXPECT_LT(renderer_.last_work().vessel_triangles, neuro_->mesh.triangle_count() / 4);
   const double length = t.locator().length_mm(ica);
   int checked = 0;
   for (double f = 0.3; f <= 0.8; f += 0.02) {
