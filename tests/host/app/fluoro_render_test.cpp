@@ -218,12 +218,22 @@ TEST_F(FluoroRenderTest, InjectingTheRightIcaDarkensItsTerritoryNotTheLeftIca) {
   const double right = mean_change(pre, post, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40));
   const double left = mean_change(pre, post, carm, centreline(neuro_->left_ica, 0.05, 0.95, 60));
   EXPECT_LT(right, -12.0) << "right ICA downstream of the tip darkens";
+  int brighter = 0;
+  for (std::size_t i = 0; i < pre.pixels.size(); i += 3) {
+    if (post.pixels[i] > pre.pixels[i] + 1) {
+      if (brighter++ < 5) ADD_FAILURE() << "contrast brightened pixel " << (i / 3) % kSize << "," << (i / 3) / kSize << ": " << int(pre.pixels[i]) << " -> " << int(post.pixels[i]);
+    }
+  }
+  EXPECT_EQ(brighter, 0) << "contrast only absorbs";
   EXPECT_NEAR(left, 0.0, 0.5) << "left ICA unchanged";
   // With noise the darkening still stands out of it.
   renderer_.set_display({});
   const Image noisy = render(live(10, after, {}));
   const Image noisy_pre = render(live(10, before, {}));
   EXPECT_LT(mean_change(noisy_pre, noisy, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40)), -10.0);
+  for (std::size_t i = 0; i < noisy.pixels.size(); i += 3) {
+    ASSERT_LE(noisy.pixels[i], noisy_pre.pixels[i] + 1) << "pixel " << (i / 3) % kSize << "," << (i / 3) / kSize;
+  }
   save(noisy, "fluoro_right_ica_injection.png");
 
   // Digital subtraction: the run frame minus its contrast-free mask shows only the contrast.
