@@ -1,8 +1,9 @@
 // The fluoroscopic view's render work (host/app FluoroRenderer) for a 1024 x 1024 frame, on the
 // neuro case at surface level 2, in a hidden GL 3.3 window (run it under Xvfb; on this project's
 // machines that is Mesa's llvmpipe). Each measured call is render() and glFinish(), the work a
-// frame costs on the render thread and llvmpipe's workers together (wall), and the render
-// thread's CPU time:
+// frame costs on the render thread and llvmpipe's workers together (wall), the render thread's
+// CPU time (cpu_*) and the whole process's (process_cpu_*: llvmpipe's workers included, which
+// other load on the machine does not inflate):
 //   NewPulse/0  live fluoroscopy, a new pulse each frame: the wire moved, contrast filling the
 //               right ICA territory (the vessel and the tools accumulated again, the composite)
 //   NewPulse/1  the same without contrast (before an injection: tools only)
