@@ -10,6 +10,7 @@
 #include "app/replay_panel.hpp"
 #include "app/fluoro_frontend.hpp"
 #include "app/fluoro_renderer.hpp"
+#include "tool/case_file.hpp"
 #include "app/screenshot_writer.hpp"
 #include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
@@ -114,18 +115,50 @@ void TrainerApp::load_scene() {
   renderer_->set_vessel({mesh.positions_mm, mesh.normals, mesh.triangles},
                         {overview.positions_mm, overview.normals, overview.triangles});
   renderer_->set_target(scene.target_mm, scene.target_radius_mm);
-  if (fluoro_) {
-    // No C-arm controls yet: the isocentre on the case's target, where the navigation ends.
-    fluoro_settings_.pose = {};
-    if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
-    fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
-  }
+  load_fluoro_view(scene);
   frame_camera();
   ui_->add_line("case " + scene.name + ": " + std::to_string(renderer_->detail_triangles()) + " triangles (global view " +
                 std::to_string(renderer_->overview_triangles()) + "); " + (replay_ ? "replay: " : "hand: ") +
                 current().hand_description());
   if (!record_path_.empty()) ui_->add_line((replay_ ? "playing " : "recording to ") + record_path_);
   if (link_) ui_->add_line(link_->status_line() + (live_assignment_ ? ", this run counts for assignment " + std::to_string(*live_assignment_) : ""));
+}
+
+void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
+  // The case's fluoroscopy statements: `realistic` (no 3D view) and its working projections.
+  bool realistic = false;
+  std::vector<flow::NamedProjection> views;
+  if (!scene.case_text.empty()) {
+    if (const tool::CaseParse c = tool::parse_case(scene.case_text, scene.case_file)) {
+      realistic = c->realistic;
+      views = c->views;
+    }
+  }
+  const bool fluoro = options_.view ? *options_.view == MainView::kFluoro : realistic;
+  if (!fluoro) {
+    fluoro_.reset();
+    return;
+  }
+  if (!fluoro_) {
+    fluoro_ = std::make_unique<FluoroRenderer>();
+    std::string error;
+    if (!fluoro_->init(error)) {
+      ui_->add_line("fluoroscopy: " + error + "; showing the 3D view");
+      fluoro_.reset();
+      return;
+    }
+  }
+  // No C-arm controls yet: the case's first working projection (else AP), the isocentre on the
+  // case's target, where the navigation ends.
+  fluoro_settings_.pose = {};
+  if (!views.empty()) {
+    fluoro_settings_.pose.lao_deg = views.front().lao_deg;
+    fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
+  }
+  if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
+  fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
+  ui_->add_line("fluoroscopy: " + (views.empty() ? std::string("AP") : views.front().name) +
+                (scene.target_mm ? ", isocentre on the target" : ""));
 }
 
 void TrainerApp::frame_camera() {
@@ -157,10 +190,7 @@ int TrainerApp::run_window() {
   window_->set_vsync(!options_.headless && !timed);
   renderer_ = std::make_unique<SceneRenderer>();
   ui_ = std::make_unique<TrainerUi>();
-  if (options_.view == MainView::kFluoro) {
-    fluoro_ = std::make_unique<FluoroRenderer>();
-  }
-  if (!renderer_->init(error) || (fluoro_ && !fluoro_->init(error)) || !ui_->init(window_->handle())) {
+  if (!renderer_->init(error) || !ui_->init(window_->handle())) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());
     return session::kExitNoDisplay;
   }

@@ -94,7 +94,9 @@ std::vector<ValueOption> value_options() {
        "possible)",
        "--speed needs a factor (0 <= x <= 1000)",
        [](std::string_view v, TrainerOptions& o) { return parse_number(v, o.speed) && o.speed >= 0.0 && o.speed <= 1000.0; }},
-      {"--view", "fluoro|3d", "the main view: fluoro (the fluoroscopic image) or 3d (the vessel tree; default)",
+      {"--view", "fluoro|3d",
+       "the main view: fluoro (the fluoroscopic image) or 3d (the vessel tree); default: fluoro for a `realistic` case, "
+       "else 3d",
        "--view needs fluoro or 3d",
        [](std::string_view v, TrainerOptions& o) {
          if (v != "fluoro" && v != "3d") return false;

@@ -52,6 +52,8 @@ class TrainerApp {
   [[nodiscard]] CaseChoice choose();
   [[nodiscard]] session::Session& current();
   void load_scene();
+  // --view, else the case's `realistic`: the fluoroscopic main view, its C-arm pose.
+  void load_fluoro_view(const session::SessionCase& scene);
   void frame_camera();
 
   TrainerOptions options_;
