@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "app/fluoro_frontend.hpp"
 #include "app/fluoro_renderer.hpp"
 #include "app/frame_capture.hpp"
 #include "app/gl_window.hpp"
@@ -475,6 +476,34 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   FluoroInputs none;
   const Image black = render(none);
   EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+}
+
+// The trainer's front end today: a snapshot's tools under continuous 15 pulses/s fluoroscopy.
+TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 2;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.tools[0].radius_mm = 0.18F;
+  snap.tools[1].nodes_mm = {{1, 0, 100}, {1, 0, 105}};
+  snap.tools[1].radius_mm = 0.6F;
+  SnapshotFluoroSettings settings;
+  settings.pose.lao_deg = 30.0;
+  for (const auto& [time_us, pulse] : {std::pair{0LL, 0LL}, std::pair{66'666LL, 0LL}, std::pair{66'667LL, 1LL}, std::pair{1'000'000LL, 15LL}}) {
+    snap.sim_time_us = time_us;
+    const FluoroInputs in = fluoro_inputs_from_snapshot(snap, settings);
+    EXPECT_EQ(in.image.pulse, pulse) << time_us;
+    EXPECT_EQ(in.shown.pulse, pulse);
+    EXPECT_TRUE(in.image.beam_on);
+    EXPECT_EQ(in.pose, settings.pose);
+  }
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, settings);
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.tools[1].nodes_mm);
+  EXPECT_EQ(in.shown.tools[1].radius_mm, 0.6F);
+  ASSERT_EQ(in.shown.tools[0].markers.size(), 1U);
+  EXPECT_EQ(in.shown.tools[0].markers[0].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(in.shown.tools[0].markers[0].length_mm, settings.tip_marker_mm);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
 }
 
 TEST_F(FluoroRenderTest, BadInputsAreOneLineAndABlackImage) {
