@@ -531,6 +531,7 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
 std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
   work_ = {};
   std::string error = check_fluoro_inputs(in, vessel_indices_ > 0 ? cell_count_ : 0);
+  if (viewport.width <= 0 || viewport.height <= 0) return error;  // a minimised window: nothing to draw
   const int w = viewport.width;
   const int h = viewport.height;
   const flow::CArm carm(in.pose);

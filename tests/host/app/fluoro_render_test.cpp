@@ -522,6 +522,7 @@ TEST_F(FluoroRenderTest, BadInputsAreOneLineAndABlackImage) {
   in = live(3, no_contrast(), {});
   in.pose.lao_deg = 200.0;
   EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in).rfind("FluoroInputs.pose: ", 0), 0U);
+  EXPECT_EQ(renderer_.render(Viewport{0, 0, 0, 0}, kSize, live(3, no_contrast(), {})), "") << "an empty viewport draws nothing";
   in = live(3, no_contrast(), {});
   in.patient_transmission = 0.0;
   EXPECT_EQ(renderer_.render(Viewport{0, 0, kSize, kSize}, kSize, in), "FluoroInputs.patient_transmission: must be in (0, 1]");
