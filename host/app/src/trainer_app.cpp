@@ -151,6 +151,7 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
   // No C-arm controls yet: the case's first working projection (else AP), the isocentre on the
   // case's target, where the navigation ends.
   fluoro_settings_.pose = {};
+  fluoro_inputs_ = {};
   if (!views.empty()) {
     fluoro_settings_.pose.lao_deg = views.front().lao_deg;
     fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
@@ -258,8 +259,12 @@ int TrainerApp::run_window() {
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
     if (fluoro_) {
-      if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_from_snapshot(snap, fluoro_settings_));
-          !e.empty() && e != fluoro_error_) {
+      // A pulse's image shows what was there when it fired: the inputs change with the pulse.
+      if (FluoroInputs next = fluoro_inputs_from_snapshot(snap, fluoro_settings_);
+          next.image.pulse != fluoro_inputs_.image.pulse || !(next.pose == fluoro_inputs_.pose)) {
+        fluoro_inputs_ = std::move(next);
+      }
+      if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_); !e.empty() && e != fluoro_error_) {
         ui_->add_line("fluoroscopy: " + e);  // once per distinct error
         fluoro_error_ = e;
       }

@@ -72,6 +72,7 @@ class TrainerApp {
   std::unique_ptr<SceneRenderer> renderer_;
   std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
   SnapshotFluoroSettings fluoro_settings_;
+  FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
   std::string fluoro_error_;  // the last one shown in the output panel
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;
