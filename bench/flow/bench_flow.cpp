@@ -7,14 +7,13 @@
 // Each prints the wall and thread-CPU median and p99 per call. The issue names no peer
 // program for these; the budgets are printed beside the figures.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include <time.h>
-
 #include <benchmark/benchmark.h>
+
+#include "../bench_samples.hpp"
 
 #include "flow/contrast_transport.hpp"
 #include "vessel/case_generator.hpp"
@@ -23,36 +22,6 @@
 namespace {
 
 using namespace cathbox;
-
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
-
-struct Samples {
-  std::vector<double> wall, cpu;
-  void report(benchmark::State& state) {
-    std::sort(wall.begin(), wall.end());
-    std::sort(cpu.begin(), cpu.end());
-    const auto pick = [](const std::vector<double>& v, double q) {
-      return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-    };
-    state.counters["median_us"] = pick(wall, 0.5);
-    state.counters["p99_us"] = pick(wall, 0.99);
-    state.counters["cpu_median_us"] = pick(cpu, 0.5);
-    state.counters["cpu_p99_us"] = pick(cpu, 0.99);
-  }
-  template <typename F>
-  void time(F&& f) {
-    const double c0 = thread_cpu_us();
-    const auto t0 = std::chrono::steady_clock::now();
-    f();
-    const auto t1 = std::chrono::steady_clock::now();
-    cpu.push_back(thread_cpu_us() - c0);
-    wall.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-  }
-};
 
 vessel::VesselModel model_named(const std::string& name) {
   if (name.rfind("random", 0) == 0) {
@@ -68,7 +37,7 @@ const char* kModels[] = {"neuro", "neuro_stenosis", "random_100", "random_1000"}
 
 void BM_FlowSolve(benchmark::State& state) {
   const vessel::VesselModel model = model_named(kModels[state.range(0)]);
-  Samples s;
+  bench::Samples s;
   double inflow = 0.0;
   for (auto _ : state) {
     s.time([&] {
@@ -101,7 +70,7 @@ void BM_ContrastStep(benchmark::State& state) {
   const flow::Injection injection{mode == 1 ? 6.0 : 400.0, 6.0, 300.0};
   if (!t.inject({ica, 0.4 * t.locator().length_mm(ica), 0.0}, injection).empty()) state.SkipWithError("inject");
   for (int i = 0; i < (mode == 1 ? 150 : 100); ++i) t.step();
-  Samples s;
+  bench::Samples s;
   for (auto _ : state) s.time([&] { t.step(); });
   s.report(state);
   state.counters["cells"] = static_cast<double>(t.cell_count());

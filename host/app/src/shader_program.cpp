@@ -67,5 +67,9 @@ void ShaderProgram::set(const char* name, const glm::vec4& v) const {
 void ShaderProgram::set(const char* name, float v) const {
   glUniform1f(glGetUniformLocation(id_, name), v);
 }
+void ShaderProgram::set(const char* name, const glm::uvec4& v) const {
+  glUniform4ui(glGetUniformLocation(id_, name), v.x, v.y, v.z, v.w);
+}
+void ShaderProgram::set_int(const char* name, int v) const { glUniform1i(glGetUniformLocation(id_, name), v); }
 
 }  // namespace cathbox::app

@@ -8,6 +8,9 @@
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
 #include "app/replay_panel.hpp"
+#include "app/fluoro_frontend.hpp"
+#include "app/fluoro_renderer.hpp"
+#include "tool/case_file.hpp"
 #include "app/screenshot_writer.hpp"
 #include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
@@ -39,6 +42,7 @@ TrainerApp::~TrainerApp() {
   replay_.reset();
   replay_panel_.reset();
   ui_.reset();
+  fluoro_.reset();
   renderer_.reset();
   window_.reset();
 }
@@ -114,12 +118,51 @@ void TrainerApp::load_scene() {
   renderer_->set_vessel({mesh.positions_mm, mesh.normals, mesh.triangles},
                         {overview.positions_mm, overview.normals, overview.triangles});
   renderer_->set_target(scene.target_mm, scene.target_radius_mm);
+  load_fluoro_view(scene);
   frame_camera();
   ui_->add_line("case " + scene.name + ": " + std::to_string(renderer_->detail_triangles()) + " triangles (global view " +
                 std::to_string(renderer_->overview_triangles()) + "); " + (replay_ ? "replay: " : "hand: ") +
                 current().hand_description());
   if (!record_path_.empty()) ui_->add_line((replay_ ? "playing " : "recording to ") + record_path_);
   if (link_) ui_->add_line(link_->status_line() + (live_assignment_ ? ", this run counts for assignment " + std::to_string(*live_assignment_) : ""));
+}
+
+void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
+  // The case's fluoroscopy statements: `realistic` (no 3D view) and its working projections.
+  bool realistic = false;
+  std::vector<flow::NamedProjection> views;
+  if (!scene.case_text.empty()) {
+    if (const tool::CaseParse c = tool::parse_case(scene.case_text, scene.case_file)) {
+      realistic = c->realistic;
+      views = c->views;
+    }
+  }
+  const bool fluoro = options_.view ? *options_.view == MainView::kFluoro : realistic;
+  if (!fluoro) {
+    fluoro_.reset();
+    return;
+  }
+  if (!fluoro_) {
+    fluoro_ = std::make_unique<FluoroRenderer>();
+    std::string error;
+    if (!fluoro_->init(error)) {
+      ui_->add_line("fluoroscopy: " + error + "; showing the 3D view");
+      fluoro_.reset();
+      return;
+    }
+  }
+  // No C-arm controls yet: the case's first working projection (else AP), the isocentre on the
+  // case's target, where the navigation ends.
+  fluoro_settings_.pose = {};
+  fluoro_inputs_ = {};
+  if (!views.empty()) {
+    fluoro_settings_.pose.lao_deg = views.front().lao_deg;
+    fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
+  }
+  if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
+  fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
+  ui_->add_line("fluoroscopy: " + (views.empty() ? std::string("AP") : views.front().name) +
+                (scene.target_mm ? ", isocentre on the target" : ""));
 }
 
 void TrainerApp::frame_camera() {
@@ -234,7 +277,19 @@ int TrainerApp::run_window() {
     if (input.frame_camera) frame_camera();
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
-    renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
+    if (fluoro_) {
+      // A pulse's image shows what was there when it fired: the inputs change with the pulse.
+      if (FluoroInputs next = fluoro_inputs_from_snapshot(snap, fluoro_settings_);
+          next.image.pulse != fluoro_inputs_.image.pulse || !(next.pose == fluoro_inputs_.pose)) {
+        fluoro_inputs_ = std::move(next);
+      }
+      if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_); !e.empty() && e != fluoro_error_) {
+        ui_->add_line("fluoroscopy: " + e);  // once per distinct error
+        fluoro_error_ = e;
+      }
+    } else {
+      renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
+    }
     renderer_->render_local(layout.local, fh, snap);
     const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
                           record_path_};

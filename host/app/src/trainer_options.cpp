@@ -104,6 +104,15 @@ std::vector<ValueOption> value_options() {
          o.boxes.emplace_back(v);
          return true;
        }},
+      {"--view", "fluoro|3d",
+       "the main view: fluoro (the fluoroscopic image) or 3d (the vessel tree); default: fluoro for a `realistic` case, "
+       "else 3d",
+       "--view needs fluoro or 3d",
+       [](std::string_view v, TrainerOptions& o) {
+         if (v != "fluoro" && v != "3d") return false;
+         o.view = v == "fluoro" ? MainView::kFluoro : MainView::k3d;
+         return true;
+       }},
       {"--replay", "FILE", "open a record (*.cbxrec) in Replay mode: play, pause, seek, speed",
        "--replay needs a record file", [](std::string_view v, TrainerOptions& o) { return text(v, o.replay); }},
       {"--records", "DIR",

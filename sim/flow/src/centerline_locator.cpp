@@ -16,21 +16,28 @@ CenterlineLocator::CenterlineLocator(const vessel::VesselModel& model) : model_(
 
 CenterlinePosition CenterlineLocator::nearest(const glm::dvec3& p) const {
   CenterlinePosition best;
+  best.distance_mm = std::numeric_limits<double>::infinity();
+  for (std::uint32_t si = 0; si < model_->segments.size(); ++si) {
+    if (const CenterlinePosition at = nearest_on(si, p); at.distance_mm < best.distance_mm) best = at;
+  }
+  return best;
+}
+
+CenterlinePosition CenterlineLocator::nearest_on(std::uint32_t segment, const glm::dvec3& p) const {
+  CenterlinePosition best;
+  best.segment = segment;
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::size_t si = 0; si < model_->segments.size(); ++si) {
-    const vessel::Segment& s = model_->segments[si];
-    for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
-      const glm::dvec3 a = s.points[i].pos_mm;
-      const glm::dvec3 ab = s.points[i + 1].pos_mm - a;
-      const double len2 = glm::dot(ab, ab);
-      const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-      const glm::dvec3 d = a + t * ab - p;
-      const double d2 = glm::dot(d, d);
-      if (d2 < best_d2) {
-        best_d2 = d2;
-        best.segment = static_cast<std::uint32_t>(si);
-        best.arc_mm = arcs_[si][i] + t * (arcs_[si][i + 1] - arcs_[si][i]);
-      }
+  const vessel::Segment& s = model_->segments[segment];
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+    const glm::dvec3 a = s.points[i].pos_mm;
+    const glm::dvec3 ab = s.points[i + 1].pos_mm - a;
+    const double len2 = glm::dot(ab, ab);
+    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const glm::dvec3 d = a + t * ab - p;
+    const double d2 = glm::dot(d, d);
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best.arc_mm = arcs_[segment][i] + t * (arcs_[segment][i + 1] - arcs_[segment][i]);
     }
   }
   best.distance_mm = std::sqrt(best_d2);

@@ -32,6 +32,17 @@ TEST(TrainerOptions, ParsesTheHeadlessScreenshotMode) {
   EXPECT_TRUE(r.options->emu_socket.empty());
 }
 
+TEST(TrainerOptions, ViewPicksTheFluoroscopicImageOrThe3dTree) {
+  EXPECT_FALSE(parse({}).options->view) << "the case decides";
+  EXPECT_EQ(parse({"--view", "fluoro"}).options->view, MainView::kFluoro);
+  EXPECT_EQ(parse({"--view=3d"}).options->view, MainView::k3d);
+  for (const char* bad : {"xray", ""}) {
+    const OptionsResult r = parse({"--view", bad});
+    EXPECT_FALSE(r.options);
+    EXPECT_EQ(r.error, "--view needs fluoro or 3d");
+  }
+}
+
 TEST(TrainerOptions, EmuTakesAnOptionalSocketPath) {
   const OptionsResult r = parse({"--emu", "/tmp/box.sock", "--bench", "2.5"});
   ASSERT_TRUE(r.options) << r.error;

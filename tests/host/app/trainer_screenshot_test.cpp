@@ -21,6 +21,8 @@
 #include <glm/vec4.hpp>
 
 #include "app/scene_renderer.hpp"
+#include "flow/c_arm.hpp"
+#include "tool/case_file.hpp"
 #include "app/viewport.hpp"
 #include "png_reader.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -39,6 +41,7 @@ struct Sidecar {
   glm::mat4 proj{1.0F};
   std::vector<glm::vec3> nodes;
   glm::vec3 tip{0.0F};
+  glm::vec3 target{0.0F};
   std::int64_t sim_time_us = 0;
 };
 
@@ -68,6 +71,7 @@ bool read_sidecar(const std::string& path, Sidecar& s) {
       s.nodes.push_back(p);
     } else if (key == "tip") ls >> s.tip.x >> s.tip.y >> s.tip.z;
     else if (key == "sim_time_us") ls >> s.sim_time_us;
+    else if (key == "target") ls >> s.target.x >> s.target.y >> s.target.z;
   }
   return s.width > 0 && !s.vessel_file.empty();
 }
@@ -244,6 +248,91 @@ std::string only_record_in(const std::string& dir) {
 // Without a display: the default case run by the scripted hand in virtual time until the tip
 // reaches the case's target, the end-of-run summary on stdout, the same output on every run;
 // the run is recorded, and the record replays (hash-checked) to the same figures.
+// --view fluoro: the main view is the fluoroscopic image (grey) in the case's first working
+// projection with the isocentre on the target, and the wire's platinum tip is dark where that
+// C-arm projects it.
+TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
+  const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_right_ica.case";
+  const tool::CaseParse the_case = tool::load_case(case_path);
+  ASSERT_TRUE(the_case);
+  ASSERT_FALSE(the_case->views.empty());
+  const std::string shot = std::string(CATHBOX_TEST_OUT) + "/trainer_fluoro.png";
+  std::remove(shot.c_str());
+  const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " + CATHBOX_TRAINER +
+                          " --headless --no-record --view fluoro --case " + case_path +
+                          " --frames 150 --ms-per-frame 100 --size 1280x720 --screenshot " + shot + " > " + shot + ".log 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << shot << ".log";
+  std::string error;
+  const auto img = testing::read_png(shot, error);
+  ASSERT_TRUE(img) << error;
+  Sidecar s;
+  ASSERT_TRUE(read_sidecar(shot + ".txt", s));
+  const Viewport hud{s.hud.x - 3, s.hud.y - 3, s.hud.width + 6, s.hud.height + 6};
+  int distinct = 0;
+  int last = -1;
+  for (int y = s.global.y; y < s.global.y + s.global.height; y += 7) {
+    for (int x = s.global.x; x < s.global.x + s.global.width; x += 7) {
+      if (hud.contains(static_cast<float>(x), static_cast<float>(y))) continue;
+      const std::uint8_t* p = img->pixel(x, y);
+      ASSERT_TRUE(p[0] == p[1] && p[1] == p[2]) << "grey at " << x << "," << y;
+      distinct += p[0] != last ? 1 : 0;
+      last = p[0];
+    }
+  }
+  EXPECT_GT(distinct, 1000) << "an image, not a flat field";
+  flow::CArmPose pose;
+  pose.lao_deg = the_case->views.front().lao_deg;
+  pose.cranial_deg = the_case->views.front().cranial_deg;
+  pose.isocenter_mm = glm::dvec3(s.target);
+  const glm::dvec2 tip = flow::CArm(pose).project_px(glm::dvec3(s.tip), s.global.width, s.global.height) +
+                         glm::dvec2(s.global.x, s.global.y);
+  ASSERT_TRUE(s.global.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)) &&
+              !hud.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)))
+      << "the tip at " << tip.x << "," << tip.y << " in the field";
+  int darkest = 255;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) darkest = std::min<int>(darkest, img->pixel(static_cast<int>(tip.x) + dx, static_cast<int>(tip.y) + dy)[0]);
+  }
+  double ring = 0.0;
+  for (int k = 0; k < 16; ++k) {
+    const double a = 6.283185307 * k / 16.0;
+    ring += img->pixel(static_cast<int>(tip.x + 12.0 * std::cos(a)), static_cast<int>(tip.y + 12.0 * std::sin(a)))[0];
+  }
+  EXPECT_LT(darkest, ring / 16.0 - 20.0) << "the platinum tip darker than around it";
+}
+
+// A `realistic` case opens in the fluoroscopic view without --view (and --view 3d overrides it).
+TEST(TrainerFluoroView, ARealisticCaseOpensInFluoroscopy) {
+  const std::string dir = std::string(CATHBOX_TEST_OUT) + "/realistic_case";
+  std::filesystem::create_directories(dir);
+  {
+    std::ifstream in(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_right_ica.case");
+    std::ofstream out(dir + "/realistic.case");
+    out << in.rdbuf() << "realistic\n";
+  }
+  std::filesystem::copy_file(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm", dir + "/neuro.hclm",
+                             std::filesystem::copy_options::overwrite_existing);
+  const auto grey_view = [&](const std::string& extra, const std::string& name) {
+    const std::string shot = dir + "/" + name + ".png";
+    const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " + CATHBOX_TRAINER +
+                            " --headless --no-record --case " + dir + "/realistic.case --frames 2 --size 1280x720 " + extra +
+                            " --screenshot " + shot + " > " + shot + ".log 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << "see " << shot << ".log";
+    std::string error;
+    const auto img = testing::read_png(shot, error);
+    Sidecar s;
+    if (!img || !read_sidecar(shot + ".txt", s)) return false;
+    // Below the HUD, across the main view.
+    for (int x = s.global.x + 10; x < s.global.x + s.global.width - 10; x += 37) {
+      const std::uint8_t* p = img->pixel(x, s.global.y + s.global.height - 20);
+      if (p[0] != p[1] || p[1] != p[2]) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(grey_view("", "default")) << "realistic: fluoroscopy";
+  EXPECT_FALSE(grey_view("--view 3d", "view3d")) << "--view 3d: the coloured 3D view";
+}
+
 TEST(TrainerHeadless, ScriptedRunReachesTheTargetPrintsTheSummaryIsDeterministicAndReplays) {
   const std::string dir = CATHBOX_TEST_OUT;
   for (const char* sub : {"/records_a", "/records_b"}) {

@@ -20,6 +20,8 @@ class ShaderProgram {
   void set(const char* name, const glm::mat4& m) const;
   void set(const char* name, const glm::vec4& v) const;
   void set(const char* name, float v) const;
+  void set_int(const char* name, int v) const;  // e.g. a sampler's texture unit
+  void set(const char* name, const glm::uvec4& v) const;
 
  private:
   unsigned id_ = 0;

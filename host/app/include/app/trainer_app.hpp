@@ -9,6 +9,7 @@
 #include <string>
 
 #include "app/case_catalog.hpp"
+#include "app/fluoro_frontend.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
 #include "app/scene_renderer.hpp"
@@ -26,6 +27,7 @@ class GlWindow;
 class ServerLink;
 class TrainerUi;
 class ReplayPanel;
+class FluoroRenderer;
 
 class TrainerApp {
  public:
@@ -54,6 +56,8 @@ class TrainerApp {
   [[nodiscard]] CaseChoice choose();
   [[nodiscard]] session::Session& current();
   void load_scene();
+  // --view, else the case's `realistic`: the fluoroscopic main view, its C-arm pose.
+  void load_fluoro_view(const session::SessionCase& scene);
   void frame_camera();
 
   TrainerOptions options_;
@@ -72,6 +76,10 @@ class TrainerApp {
   std::unique_ptr<session::ReplayPlayer> replay_;
   std::unique_ptr<GlWindow> window_;
   std::unique_ptr<SceneRenderer> renderer_;
+  std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
+  SnapshotFluoroSettings fluoro_settings_;
+  FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
+  std::string fluoro_error_;  // the last one shown in the output panel
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;
   InputController input_;

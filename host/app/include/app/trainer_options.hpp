@@ -15,6 +15,9 @@ enum class BoxChoice {
   kNone,      // no box: keyboard and mouse, or the scripted hand
 };
 
+// The main view: the 3D vessel tree (the training aid) or the fluoroscopic image.
+enum class MainView { k3d, kFluoro };
+
 struct TrainerOptions {
   std::string case_path;          // empty: the default case from cases_dir
   std::string cases_dir;          // empty: <source>/cases, or ./cases
@@ -32,6 +35,7 @@ struct TrainerOptions {
   double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
   double speed = 0.0;             // headless run: simulated seconds per wall second; 0: as fast as possible
   bool wireframe = false;
+  std::optional<MainView> view;   // --view fluoro|3d; unset: the case decides (fluoro when `realistic`)
   std::string replay;             // --replay FILE: open in Replay mode on this record
   std::string records_dir;        // where runs are recorded (empty: session::records_dir())
   bool record = true;             // --no-record: do not record live runs

@@ -23,6 +23,8 @@ class CenterlineLocator {
 
   // The model must have at least one segment.
   [[nodiscard]] CenterlinePosition nearest(const glm::dvec3& point_mm) const;
+  // The nearest place on one segment's centreline.
+  [[nodiscard]] CenterlinePosition nearest_on(std::uint32_t segment, const glm::dvec3& point_mm) const;
   // The centreline point and radius at an arc position (clamped to the segment).
   [[nodiscard]] glm::dvec3 point_at(std::uint32_t segment, double arc_mm) const;
   [[nodiscard]] double radius_at(std::uint32_t segment, double arc_mm) const;

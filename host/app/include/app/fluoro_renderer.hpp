@@ -1,0 +1,127 @@
+#pragma once
+// The fluoroscopic view: turns FluoroInputs into the grey image on the monitor of an
+// angiography suite (OpenGL 3.3 core, the trainer's context). host/app/README.md, "The
+// fluoroscopic view", describes the image model; in short:
+//
+// - Every pixel is a ray from the focal spot through the C-arm geometry (flow::CArm) and its
+//   Beer-Lambert exponent L = sum of mu * path: the head-and-neck phantom's (exact chords,
+//   projected on the CPU once per pose and size), plus the iodine in the lumen and the tools,
+//   accumulated on the GPU into a float target by front/back-face depth: each face of a closed
+//   mesh adds sign * mu * distance from the source (entering faces negative), so a ray's sum is
+//   mu times its path inside. The vessel's mu comes per vertex from the pulse's per-cell iodine
+//   (a buffer texture); the accumulation also keeps sum(sign mu), sum(sign d) and
+//   sum(sign d^2) so that mu varying between a chord's entry and exit integrates as the
+//   trapezoid. Tools are closed tubes of their material, thinner ones widened to a pixel with
+//   mu scaled to keep their attenuation across the line; marker bands are platinum.
+// - The monitor: log transmission through a sigmoid window around the dose control's reference
+//   transmission, plus quantum noise of the pulse's dose (flow::FluoroDose) from a hash of
+//   pixel and pulse number (deterministic per pulse, fluoro_image_model.hpp); digital
+//   subtraction (run frame minus its mask); the roadmap (peak subtraction frame) added onto live
+//   fluoroscopy; black outside the collimated field and before the first pulse.
+// - Each of the four scenes (shown, mask, roadmap, roadmap mask) is accumulated once and kept
+//   while its inputs, the pose and the size stay the same, and the composed monitor image is
+//   kept until one of them, a pulse number or the display changes: last-image hold and the
+//   display frames between pulses only copy it.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "app/fluoro_image_model.hpp"
+#include "app/fluoro_inputs.hpp"
+#include "app/fluoro_vessel.hpp"
+#include "app/shader_program.hpp"
+#include "app/tube_mesh.hpp"
+#include "app/viewport.hpp"
+#include "flow/head_phantom.hpp"
+
+namespace cathbox::app {
+
+class FluoroRenderer {
+ public:
+  FluoroRenderer() = default;
+  ~FluoroRenderer();
+  FluoroRenderer(const FluoroRenderer&) = delete;
+  FluoroRenderer& operator=(const FluoroRenderer&) = delete;
+
+  // Compiles the shaders and makes the buffers; false with the driver's log in `error`.
+  [[nodiscard]] bool init(std::string& error);
+  void set_phantom(flow::HeadPhantom phantom);  // default: HeadPhantom::neuro()
+  // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the
+  // scenes' cell_iodine come from). Without one, contrast is not drawn.
+  void set_vessel(const FluoroVessel& vessel);
+  void set_display(const FluoroDisplay& display) { display_ = display; }
+  [[nodiscard]] const FluoroDisplay& display() const { return display_; }
+
+  // Draws the monitor image into `viewport` of the bound framebuffer (the image is
+  // viewport.width x viewport.height pixels, the detector field across the shorter side).
+  // Inputs that check_fluoro_inputs() refuses draw a black image and return its one line.
+  [[nodiscard]] std::string render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& inputs);
+
+  // What the last render() had to redo (for tests and the bench).
+  struct Work {
+    bool phantom_projected = false;
+    int scenes_accumulated = 0;
+    int composites = 0;                // the monitor image made again (else copied)
+    std::size_t vessel_triangles = 0;  // drawn into scene targets (those reading cells with iodine)
+  };
+  [[nodiscard]] const Work& last_work() const { return work_; }
+
+ private:
+  struct Target {
+    unsigned texture = 0;
+    unsigned fbo = 0;
+    int width = 0;
+    int height = 0;
+    std::uint64_t key = 0;
+    bool valid = false;
+  };
+  static void ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type);
+  void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
+  void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  void draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
+
+  FluoroDisplay display_;
+  flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
+  std::uint64_t generation_ = 1;  // bumped by set_vessel / set_phantom: the targets are stale
+  ShaderProgram scene_shader_;
+  std::array<ShaderProgram, 3> composite_shaders_;  // fluoroscopy, with the roadmap, subtraction
+  unsigned empty_vao_ = 0;
+  unsigned phantom_texture_ = 0;
+  std::uint64_t phantom_key_ = 0;
+  double phantom_l_ref_ = -1.0;
+  std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
+  std::vector<float> phantom_rg_;
+  std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
+  Target monitor_;                   // the composed grey image (RGBA8)
+  // The vessel: positions and (cell a, cell b, weight) per vertex, and the cells' iodine.
+  unsigned vessel_vao_ = 0;
+  unsigned vessel_vbo_ = 0;
+  unsigned vessel_ebo_ = 0;
+  std::size_t vessel_indices_ = 0;
+  struct Bucket {
+    std::uint32_t first_index = 0;
+    std::uint32_t index_count = 0;
+    std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
+    std::uint32_t hi = 0;
+  };
+  std::vector<Bucket> buckets_;              // the vessel's triangles, sorted by their lowest cell
+  std::vector<std::uint32_t> nonzero_before_;  // per pulse: cells with iodine before each cell
+  std::size_t cell_count_ = 0;
+  unsigned cells_buffer_ = 0;
+  unsigned cells_texture_ = 0;
+  // The tools, rebuilt for each accumulated scene.
+  unsigned tools_vao_ = 0;
+  unsigned tools_vbo_ = 0;
+  unsigned tools_ebo_ = 0;
+  std::size_t tools_vbo_bytes_ = 0;
+  std::size_t tools_ebo_bytes_ = 0;
+  TubeMesh tube_;
+  std::vector<float> tool_vertices_;
+  std::vector<std::uint32_t> tool_indices_;
+  std::vector<glm::vec3> marker_nodes_;
+  Work work_;
+};
+
+}  // namespace cathbox::app

@@ -1,0 +1,43 @@
+#pragma once
+// The vessel surface prepared for the fluoroscopic view: every vertex tied to the contrast
+// cells it takes its iodine from (sim/flow ContrastTransport), so a renderer can colour the
+// lumen with a pulse's per-cell concentrations without touching the mesh. No GL.
+//
+// A vertex belongs to the segment of its triangles' region (segment or end cap; a junction's
+// vertices take the nearest centreline over all segments); its arc position is the nearest
+// point of that segment's centreline; its concentration is linear between the two nearest
+// cell centres, as ContrastTransport::concentration() reads the centreline.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "flow/contrast_transport.hpp"
+#include "vessel/surface_mesh.hpp"
+
+namespace cathbox::app {
+
+struct VertexCells {
+  std::uint32_t a = 0;  // cells in the transport's cell order (the flat cell index)
+  std::uint32_t b = 0;
+  float w = 0.0F;       // concentration = (1 - w) c[a] + w c[b]
+};
+
+struct FluoroVessel {
+  std::span<const glm::vec3> positions_mm;
+  std::span<const std::uint32_t> triangles;  // counter-clockwise seen from outside, closed
+  std::vector<VertexCells> cells;            // one per vertex
+  std::size_t cell_count = 0;                // the transport's cells
+
+  // `mesh` must be the closed surface of `transport.network().model()` (the same segments)
+  // and outlive the result.
+  [[nodiscard]] static FluoroVessel build(const vessel::SurfaceMesh& mesh, const flow::ContrastTransport& transport);
+  // The concentration at a vertex for per-cell concentrations (as a renderer interpolates them).
+  [[nodiscard]] float concentration(std::size_t vertex, std::span<const float> cell_mgI_ml) const;
+};
+
+// The transport's cell concentrations now, in its flat cell order, as FluoroScene wants them.
+[[nodiscard]] std::vector<float> cell_iodine(const flow::ContrastTransport& transport);
+
+}  // namespace cathbox::app

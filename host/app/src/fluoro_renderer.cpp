@@ -1,0 +1,605 @@
+#include "app/fluoro_renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "app/gl.hpp"
+#include "flow/xray_material.hpp"
+
+namespace cathbox::app {
+namespace {
+
+constexpr int kToolSides = 8;  // sides of a tool's tube
+constexpr std::size_t kBucketTriangles = 256;  // vessel triangles culled together by their cells
+enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
+
+// Scene pass: every face of a closed mesh adds sign * mu * d (d: distance from the source less
+// the isocentre's), entering (front) faces negative, so a ray sums mu times its path inside.
+// Vessel faces also add sign * mu, sign * d^2 and sign * d, for the trapezoid correction.
+constexpr const char* kSceneVertex = R"(#version 330 core
+layout(location = 0) in vec3 in_position;
+layout(location = 1) in vec3 in_attr;  // vessel: cell a, cell b, weight; tool: mu (1/mm), 0, 0
+uniform mat4 u_view_proj;
+uniform vec4 u_source;       // focal spot (mm), and the distance subtracted from every depth
+uniform float u_tool;        // 0: vessel, 1: tool
+uniform float u_iodine_mu;   // 1/mm per mgI/mL
+uniform samplerBuffer u_cells;
+out float v_mu;
+out float v_d;
+void main() {
+  if (u_tool < 0.5) {
+    float ca = texelFetch(u_cells, int(in_attr.x)).r;
+    float cb = texelFetch(u_cells, int(in_attr.y)).r;
+    v_mu = u_iodine_mu * mix(ca, cb, in_attr.z);
+  } else {
+    v_mu = in_attr.x;
+  }
+  v_d = distance(in_position, u_source.xyz) - u_source.w;
+  gl_Position = u_view_proj * vec4(in_position, 1.0);
+}
+)";
+
+constexpr const char* kSceneFragment = R"(#version 330 core
+in float v_mu;
+in float v_d;
+uniform float u_tool;
+out vec4 frag;
+void main() {
+  float s = gl_FrontFacing ? -1.0 : 1.0;
+  frag = u_tool < 0.5 ? vec4(s * v_mu * v_d, s * v_mu, s * v_d * v_d, s * v_d) : vec4(s * v_mu * v_d, 0.0, 0.0, 0.0);
+}
+)";
+
+// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled three times
+// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction): a software rasteriser
+// runs both sides of a branch.
+constexpr const char* kCompositeVertex = R"(#version 330 core
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
+}
+)";
+
+constexpr const char* kCompositeFragment = R"(#version 330 core
+uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's top row
+uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
+uniform sampler2D u_mask;
+uniform sampler2D u_road;
+uniform sampler2D u_road_mask;
+uniform vec4 u_view;           // viewport origin (GL, bottom left) and size
+uniform vec4 u_sigma;          // log-noise sigma at the reference transmission: live, mask, roadmap, roadmap mask
+uniform uvec4 u_seeds;         // noise seeds (pulse_seed): live, mask, roadmap, roadmap mask
+uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadmap gain
+uniform vec4 u_mode;           // w: L_ref
+uniform float u_field_half;    // half the collimated field, pixels
+uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
+out vec4 frag;
+
+float scene_L(sampler2D s, ivec2 p) {
+  vec4 v = texelFetch(s, p, 0);
+  return abs(v.a) > 1e-4 ? v.r - v.g * v.b / (2.0 * v.a) : v.r;
+}
+// pixel_noise() of fluoro_image_model.cpp: ~N(0, 1) from an integer hash of pixel and pulse.
+float noise(uvec2 p, uint seed) {
+  uint h = (p.x * 0x8DA6B343u) ^ (p.y * 0xD8163841u) ^ seed;
+  h ^= h >> 16u;
+  h *= 0x7FEB352Du;
+  h ^= h >> 15u;
+  h *= 0x846CA68Bu;
+  h ^= h >> 16u;
+  uint bytes = (h & 0xFFu) + ((h >> 8u) & 0xFFu) + ((h >> 16u) & 0xFFu) + (h >> 24u);
+  return (float(bytes) - 510.0) * 0.0067659;
+}
+// The log image's noise at a pixel: sigma at the reference transmission times
+// sqrt(T_ref / T) (`amp`, the phantom's transmission: contrast and tools are left out).
+float noise_at(ivec2 p, uint seed, float sigma, float amp) {
+  return sigma * amp * noise(uvec2(p.x, int(u_view.w) - 1 - p.y), seed);
+}
+void main() {
+  ivec2 p = ivec2(gl_FragCoord.xy - u_view.xy);
+  vec2 c = vec2(p) + 0.5 - 0.5 * u_view.zw;
+  if (max(abs(c.x), abs(c.y)) > u_field_half) {
+    frag = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  vec2 ph = texelFetch(u_phantom, ivec2(p.x, int(u_view.w) - 1 - p.y), 0).rg;
+  float Lp = ph.x;
+  float amp = ph.y;
+  float L = Lp + scene_L(u_live, p);
+  float g;
+#if MODE == 2
+  float Lm = Lp + scene_L(u_mask, p);
+  float d = (L - noise_at(p, u_seeds.x, u_sigma.x, amp)) - (Lm - noise_at(p, u_seeds.y, u_sigma.y, amp));
+  g = u_display.y - u_display.z * d;
+#else
+  float shown = u_mode.w + u_anatomy_gain * (Lp - u_mode.w) + (L - Lp);
+  g = 1.0 / (1.0 + exp(-u_display.x * (u_mode.w - shown + noise_at(p, u_seeds.x, u_sigma.x, amp))));
+#if MODE == 1
+  float Lr = Lp + scene_L(u_road, p);
+  float Lrm = Lp + scene_L(u_road_mask, p);
+  float r = (Lr - noise_at(p, u_seeds.z, u_sigma.z, amp)) - (Lrm - noise_at(p, u_seeds.w, u_sigma.w, amp));
+  g += (1.0 - clamp(g, 0.0, 1.0)) * (1.0 - exp(-u_display.w * r));
+#endif
+#endif
+  frag = vec4(vec3(clamp(g, 0.0, 1.0)), 1.0);
+}
+)";
+
+// FNV-1a over the bytes of what a scene target depends on.
+struct Hasher {
+  std::uint64_t h = 1469598103934665603ULL;
+  void bytes(const void* p, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ULL;
+  }
+  template <class T>
+  void value(const T& v) { bytes(&v, sizeof v); }
+};
+
+void hash_pose(Hasher& h, const flow::CArmPose& p) {
+  h.value(p.lao_deg);
+  h.value(p.cranial_deg);
+  h.value(p.sid_mm);
+  h.value(p.sod_mm);
+  h.value(p.table_height_mm);
+  h.value(p.isocenter_mm);
+  h.value(p.fov_mm);
+  h.value(p.collimation);
+}
+
+std::uint64_t scene_key(const FluoroScene& s, const flow::CArmPose& pose, double keV, int w, int h, std::uint64_t gen) {
+  Hasher k;
+  hash_pose(k, pose);
+  k.value(keV);
+  k.value(w);
+  k.value(h);
+  k.value(gen);
+  k.bytes(s.cell_iodine_mgI_ml.data(), s.cell_iodine_mgI_ml.size() * sizeof(float));
+  for (const FluoroTool& t : s.tools) {
+    k.bytes(t.nodes_mm.data(), t.nodes_mm.size() * sizeof(glm::vec3));
+    k.value(t.radius_mm);
+    k.value(t.material);
+    for (const FluoroMarker& m : t.markers) {
+      k.value(m.from_tip_mm);
+      k.value(m.length_mm);
+      k.value(m.material);
+    }
+    k.value(t.nodes_mm.size());
+  }
+  return k.h;
+}
+
+// The part of a polyline between two arc positions (mm from its first node).
+void sub_polyline(std::span<const glm::vec3> nodes, double from_mm, double to_mm, std::vector<glm::vec3>& out) {
+  out.clear();
+  double arc = 0.0;
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+    const double len = glm::length(nodes[i + 1] - nodes[i]);
+    const double a0 = arc;
+    const double a1 = arc + len;
+    arc = a1;
+    if (a1 <= from_mm || a0 >= to_mm || len <= 0.0) continue;
+    const auto at = [&](double a) { return nodes[i] + static_cast<float>((a - a0) / len) * (nodes[i + 1] - nodes[i]); };
+    if (out.empty()) out.push_back(at(std::max(a0, from_mm)));
+    out.push_back(at(std::min(a1, to_mm)));
+  }
+}
+
+double polyline_length(std::span<const glm::vec3> nodes) {
+  double s = 0.0;
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) s += glm::length(nodes[i + 1] - nodes[i]);
+  return s;
+}
+
+}  // namespace
+
+FluoroRenderer::~FluoroRenderer() {
+  if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
+  for (Target& t : targets_) {
+    if (t.fbo != 0) glDeleteFramebuffers(1, &t.fbo);
+    if (t.texture != 0) glDeleteTextures(1, &t.texture);
+  }
+  const unsigned textures[] = {phantom_texture_, cells_texture_, monitor_.texture};
+  for (const unsigned t : textures) {
+    if (t != 0) glDeleteTextures(1, &t);
+  }
+  const unsigned buffers[] = {vessel_vbo_, vessel_ebo_, cells_buffer_, tools_vbo_, tools_ebo_};
+  for (const unsigned b : buffers) {
+    if (b != 0) glDeleteBuffers(1, &b);
+  }
+  const unsigned arrays[] = {empty_vao_, vessel_vao_, tools_vao_};
+  for (const unsigned a : arrays) {
+    if (a != 0) glDeleteVertexArrays(1, &a);
+  }
+}
+
+bool FluoroRenderer::init(std::string& error) {
+  if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
+  for (std::size_t mode = 0; mode < composite_shaders_.size(); ++mode) {
+    std::string source = kCompositeFragment;
+    source.insert(source.find('\n') + 1, "#define MODE " + std::to_string(mode) + "\n");
+    if (!composite_shaders_[mode].build(kCompositeVertex, source.c_str(), error)) return false;
+  }
+  glGenVertexArrays(1, &empty_vao_);
+
+  glGenTextures(1, &phantom_texture_);
+  glBindTexture(GL_TEXTURE_2D, phantom_texture_);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+
+  // The cells' iodine, one float each, read by the vessel's vertices.
+  glGenBuffers(1, &cells_buffer_);
+  glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
+  const float zero = 0.0F;
+  glBufferData(GL_TEXTURE_BUFFER, sizeof zero, &zero, GL_STREAM_DRAW);
+  glGenTextures(1, &cells_texture_);
+  glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
+  glTexBuffer(GL_TEXTURE_BUFFER, GL_R32F, cells_buffer_);
+  glBindTexture(GL_TEXTURE_BUFFER, 0);
+  glBindBuffer(GL_TEXTURE_BUFFER, 0);
+
+  for (unsigned* vao : {&vessel_vao_, &tools_vao_}) {
+    unsigned& vbo = vao == &vessel_vao_ ? vessel_vbo_ : tools_vbo_;
+    unsigned& ebo = vao == &vessel_vao_ ? vessel_ebo_ : tools_ebo_;
+    glGenVertexArrays(1, vao);
+    glGenBuffers(1, &vbo);
+    glGenBuffers(1, &ebo);
+    glBindVertexArray(*vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
+    glBindVertexArray(0);
+  }
+  return true;
+}
+
+void FluoroRenderer::set_phantom(flow::HeadPhantom phantom) {
+  phantom_ = std::move(phantom);
+  ++generation_;
+  phantom_key_ = 0;
+}
+
+void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
+  std::vector<float> v(vessel.positions_mm.size() * 6);
+  for (std::size_t i = 0; i < vessel.positions_mm.size(); ++i) {
+    float* o = v.data() + 6 * i;
+    const glm::vec3& p = vessel.positions_mm[i];
+    const VertexCells c = i < vessel.cells.size() ? vessel.cells[i] : VertexCells{};
+    o[0] = p.x;
+    o[1] = p.y;
+    o[2] = p.z;
+    o[3] = static_cast<float>(c.a);
+    o[4] = static_cast<float>(c.b);
+    o[5] = c.w;
+  }
+  // Triangles sorted by the lowest contrast cell they read, in buckets that know the range of
+  // cells they read: a pulse draws only the buckets with iodine in their range (a face whose
+  // vertices have none adds nothing).
+  const std::size_t triangles = vessel.triangles.size() / 3;
+  std::vector<std::uint32_t> order(triangles);
+  std::vector<std::uint32_t> lo(triangles, 0xFFFFFFFFU);
+  std::vector<std::uint32_t> hi(triangles, 0);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    order[t] = static_cast<std::uint32_t>(t);
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t vi = vessel.triangles[3 * t + k];
+      const VertexCells c = vi < vessel.cells.size() ? vessel.cells[vi] : VertexCells{};
+      lo[t] = std::min({lo[t], c.a, c.b});
+      hi[t] = std::max({hi[t], c.a, c.b});
+    }
+  }
+  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return lo[x] < lo[y]; });
+  std::vector<std::uint32_t> sorted;
+  sorted.reserve(vessel.triangles.size());
+  buckets_.clear();
+  for (std::size_t i = 0; i < triangles; ++i) {
+    const std::uint32_t t = order[i];
+    if (i % kBucketTriangles == 0) buckets_.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
+    Bucket& b = buckets_.back();
+    b.index_count += 3;
+    b.lo = std::min(b.lo, lo[t]);
+    b.hi = std::max(b.hi, hi[t]);
+    sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
+  }
+  glBindVertexArray(vessel_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, vessel_vbo_);
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)), sorted.data(),
+               GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  vessel_indices_ = vessel.triangles.size();
+  cell_count_ = vessel.cell_count;
+  glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
+  glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(cell_count_, 1) * sizeof(float)), nullptr,
+               GL_STREAM_DRAW);
+  glBindBuffer(GL_TEXTURE_BUFFER, 0);
+  ++generation_;
+}
+
+void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
+  Hasher k;
+  hash_pose(k, carm.pose());
+  k.value(width);
+  k.value(height);
+  k.value(generation_);
+  if (k.h != phantom_key_) {
+    phantom_path_ = phantom_.project(carm, width, height);
+    phantom_key_ = k.h;
+    phantom_l_ref_ = -1.0;
+    work_.phantom_projected = true;
+  }
+  if (l_ref == phantom_l_ref_) return;
+  // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
+  phantom_rg_.resize(2 * phantom_path_.size());
+  for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
+    phantom_rg_[2 * i] = phantom_path_[i];
+    phantom_rg_[2 * i + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
+  }
+  phantom_l_ref_ = l_ref;
+  glBindTexture(GL_TEXTURE_2D, phantom_texture_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, width, height, 0, GL_RG, GL_FLOAT, phantom_rg_.data());
+  glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height) {
+  tool_vertices_.clear();
+  tool_indices_.clear();
+  const double patient_pixel_mm = carm.pixel_mm(width, height) / carm.magnification(carm.isocenter_mm());
+  const auto add_tube = [&](std::span<const glm::vec3> nodes, float radius_mm, float mu) {
+    tube_.build(nodes, {}, radius_mm, kToolSides);
+    if (tube_.positions_mm.empty()) return;
+    // TubeMesh is open at its proximal end: close it with a cone, apex half a radius behind
+    // (along the first piece of non-zero length).
+    glm::vec3 t0{0.0F};
+    for (std::size_t i = 1; i < nodes.size() && glm::length(t0) < 1e-6F; ++i) t0 = nodes[i] - nodes[0];
+    if (glm::length(t0) < 1e-6F) return;
+    t0 = glm::normalize(t0);
+    const auto base = static_cast<std::uint32_t>(tool_vertices_.size() / 6);
+    const auto ring = static_cast<std::uint32_t>(kToolSides);
+    const auto apex = static_cast<std::uint32_t>(tube_.positions_mm.size());
+    for (const glm::vec3& p : tube_.positions_mm) tool_vertices_.insert(tool_vertices_.end(), {p.x, p.y, p.z, mu, 0.0F, 0.0F});
+    const glm::vec3 back = nodes[0] - 0.5F * radius_mm * t0;
+    tool_vertices_.insert(tool_vertices_.end(), {back.x, back.y, back.z, mu, 0.0F, 0.0F});
+    for (const std::uint32_t i : tube_.triangles) tool_indices_.push_back(base + i);
+    for (std::uint32_t k = 0; k < ring; ++k) tool_indices_.insert(tool_indices_.end(), {base + (k + 1) % ring, base + k, base + apex});
+  };
+  for (const FluoroTool& tool : scene.tools) {
+    if (tool.nodes_mm.size() < 2) continue;
+    const ThinLine line = thin_line(tool.radius_mm, patient_pixel_mm);
+    const auto shaft_mu = static_cast<float>(flow::linear_attenuation_per_mm(tool.material, keV));
+    add_tube(tool.nodes_mm, line.radius_mm, shaft_mu * line.mu_scale);
+    const double length = polyline_length(tool.nodes_mm);
+    for (const FluoroMarker& m : tool.markers) {
+      sub_polyline(tool.nodes_mm, length - m.from_tip_mm - m.length_mm, length - m.from_tip_mm, marker_nodes_);
+      if (marker_nodes_.size() < 2) continue;
+      const auto mu = static_cast<float>(flow::linear_attenuation_per_mm(m.material, keV)) - shaft_mu;
+      add_tube(marker_nodes_, line.radius_mm, mu * line.mu_scale);
+    }
+  }
+  if (tool_indices_.empty()) return;
+  glBindVertexArray(tools_vao_);
+  glBindBuffer(GL_ARRAY_BUFFER, tools_vbo_);
+  const std::size_t vbytes = tool_vertices_.size() * sizeof(float);
+  const std::size_t ibytes = tool_indices_.size() * sizeof(std::uint32_t);
+  if (vbytes > tools_vbo_bytes_) {
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbytes), tool_vertices_.data(), GL_STREAM_DRAW);
+    tools_vbo_bytes_ = vbytes;
+  } else {
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vbytes), tool_vertices_.data());
+  }
+  if (ibytes > tools_ebo_bytes_) {
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(ibytes), tool_indices_.data(), GL_STREAM_DRAW);
+    tools_ebo_bytes_ = ibytes;
+  } else {
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(ibytes), tool_indices_.data());
+  }
+  scene_shader_.set("u_tool", 1.0F);
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(tool_indices_.size()), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+}
+
+void FluoroRenderer::ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type) {
+  if (t.texture != 0 && t.width == width && t.height == height) return;
+  if (t.texture == 0) {
+    glGenTextures(1, &t.texture);
+    glGenFramebuffers(1, &t.fbo);
+  }
+  glBindTexture(GL_TEXTURE_2D, t.texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(internal_format), width, height, 0, GL_RGBA, type, nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.texture, 0);
+  t.width = width;
+  t.height = height;
+  t.valid = false;
+}
+
+void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
+                                int height) {
+  const std::uint64_t key = scene_key(scene, carm.pose(), keV, width, height, generation_);
+  if (t.valid && t.key == key) return;
+  ensure_target(t, width, height, GL_RGBA32F, GL_FLOAT);
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
+  glViewport(0, 0, width, height);
+  glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glEnable(GL_BLEND);
+  glBlendEquation(GL_FUNC_ADD);
+  glBlendFunc(GL_ONE, GL_ONE);
+  scene_shader_.use();
+  const double sod = carm.depth_mm(carm.isocenter_mm());
+  const glm::mat4 vp = carm.projection_matrix(width, height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
+  scene_shader_.set("u_view_proj", vp);
+  scene_shader_.set("u_source", glm::vec4(glm::vec3(carm.source_mm()), static_cast<float>(sod)));
+  scene_shader_.set("u_iodine_mu", static_cast<float>(flow::iodine_per_mm_per_mgI_ml(keV)));
+  scene_shader_.set_int("u_cells", kCellsUnit);
+  const bool contrast = vessel_indices_ > 0 && scene.cell_iodine_mgI_ml.size() == cell_count_ &&
+                        std::any_of(scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end(), [](float c) { return c > 0.0F; });
+  if (contrast) {
+    glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
+    glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(cell_count_ * sizeof(float)), scene.cell_iodine_mgI_ml.data());
+    glBindBuffer(GL_TEXTURE_BUFFER, 0);
+    glActiveTexture(GL_TEXTURE0 + kCellsUnit);
+    glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
+    glActiveTexture(GL_TEXTURE0);
+    scene_shader_.set("u_tool", 0.0F);
+    glBindVertexArray(vessel_vao_);
+    // Cells with iodine before each cell, then the runs of buckets that read any.
+    nonzero_before_.assign(cell_count_ + 1, 0);
+    for (std::size_t i = 0; i < cell_count_; ++i) {
+      nonzero_before_[i + 1] = nonzero_before_[i] + (scene.cell_iodine_mgI_ml[i] > 0.0F ? 1U : 0U);
+    }
+    std::size_t run_first = 0;
+    std::size_t run_count = 0;
+    const auto flush = [&] {
+      if (run_count == 0) return;
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(run_count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(run_first * sizeof(std::uint32_t)));
+      work_.vessel_triangles += run_count / 3;
+      run_count = 0;
+    };
+    for (const Bucket& b : buckets_) {
+      const bool lit = b.hi < cell_count_ && nonzero_before_[b.hi + 1] > nonzero_before_[b.lo];
+      if (!lit) {
+        flush();
+        continue;
+      }
+      if (run_count == 0) run_first = b.first_index;
+      run_count += b.index_count;
+    }
+    flush();
+    glBindVertexArray(0);
+  }
+  draw_tools(scene, carm, keV, width, height);
+  glDisable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  t.key = key;
+  t.valid = true;
+  ++work_.scenes_accumulated;
+}
+
+void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int w, int h) {
+  ensure_target(monitor_, w, h, GL_RGBA8, GL_UNSIGNED_BYTE);
+  glBindFramebuffer(GL_FRAMEBUFFER, monitor_.fbo);
+  glViewport(0, 0, w, h);
+  const ShaderProgram& shader = composite_shaders_[subtracted ? 2 : roadmap ? 1 : 0];
+  shader.use();
+  const std::pair<const char*, unsigned> bindings[] = {{"u_phantom", phantom_texture_},
+                                                       {"u_live", targets_[0].texture},
+                                                       {"u_mask", targets_[1].texture},
+                                                       {"u_road", targets_[2].texture},
+                                                       {"u_road_mask", targets_[3].texture}};
+  for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    glBindTexture(GL_TEXTURE_2D, bindings[unit].second);
+    shader.set_int(bindings[unit].first, unit);
+  }
+  const flow::FluoroDose dose(in.dose);
+  const double pixel_mm = carm.pixel_mm(w, h);
+  const auto sigma = [&](const FluoroScene& s) {
+    return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
+  };
+  shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
+  shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
+  shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
+                                              pulse_seed(in.roadmap_mask.pulse)));
+  shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
+  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
+  shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
+  shader.set("u_anatomy_gain", display_.anatomy_gain);
+  shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  for (int unit = kRoadMaskUnit; unit >= kPhantomUnit; --unit) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
+  ++work_.composites;
+}
+
+std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
+  work_ = {};
+  std::string error = check_fluoro_inputs(in, vessel_indices_ > 0 ? cell_count_ : 0);
+  if (viewport.width <= 0 || viewport.height <= 0) return error;  // a minimised window: nothing to draw
+  const int w = viewport.width;
+  const int h = viewport.height;
+  const flow::CArm carm(in.pose);
+  const double keV = in.dose.effective_keV;
+  GLint previous_fbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
+  const GLboolean scissor = glIsEnabled(GL_SCISSOR_TEST);
+  const GLboolean depth = glIsEnabled(GL_DEPTH_TEST);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  const int gl_y = framebuffer_height - viewport.y - h;
+
+  const flow::FluoroImage& image = in.image;
+  const bool has_image = error.empty() && image.pulse >= 0 && in.shown.pulse >= 0;
+  const bool subtracted = has_image && image.subtracted() && in.mask.pulse >= 0;
+  const bool roadmap = has_image && !subtracted && image.roadmap_pulse >= 0 && in.roadmap.pulse >= 0 && in.roadmap_mask.pulse >= 0;
+  if (!has_image) {  // before the first pulse the monitor is black
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(viewport.x, gl_y, w, h);
+    glClearColor(0.0F, 0.0F, 0.0F, 1.0F);
+    glClear(GL_COLOR_BUFFER_BIT);
+  } else {
+    project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)));
+    accumulate(targets_[0], in.shown, carm, keV, w, h);
+    if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
+    if (roadmap) {
+      accumulate(targets_[2], in.roadmap, carm, keV, w, h);
+      accumulate(targets_[3], in.roadmap_mask, carm, keV, w, h);
+    }
+    // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
+    // otherwise (last-image hold, frames between pulses) it is copied again.
+    Hasher k;
+    k.value(phantom_key_);
+    k.value(phantom_l_ref_);
+    for (int i = 0; i < 4; ++i) {
+      const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
+      k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
+    }
+    for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
+      k.value(s->pulse);
+      k.value(s->mode);
+    }
+    k.value(subtracted);
+    k.value(roadmap);
+    k.value(in.patient_transmission);
+    k.bytes(&in.dose, sizeof in.dose);
+    k.bytes(&display_, sizeof display_);
+    if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
+      compose(in, carm, subtracted, roadmap, w, h);
+      monitor_.key = k.h;
+      monitor_.valid = true;
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+    glBlitFramebuffer(0, 0, w, h, viewport.x, gl_y, viewport.x + w, gl_y + h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+  }
+  glActiveTexture(GL_TEXTURE0);
+  if (scissor == GL_TRUE) {
+    glEnable(GL_SCISSOR_TEST);
+  } else {
+    glDisable(GL_SCISSOR_TEST);
+  }
+  if (depth == GL_TRUE) glEnable(GL_DEPTH_TEST);
+  return error;
+}
+
+}  // namespace cathbox::app
