@@ -3,10 +3,57 @@
 #include <algorithm>
 #include <cmath>
 
+#include "flow/head_phantom.hpp"
+
 namespace cathbox::app {
+
+namespace {
+
+std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const SnapshotFluoroSettings& settings,
+                                 const std::array<std::vector<glm::vec3>, session::kMaxTools>* at_pulse, int count) {
+  std::vector<FluoroTool> out;
+  const int tools = std::min(count, session::SceneSnapshot::kMaxTools);
+  for (int i = 0; i < tools; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    FluoroTool tool;
+    tool.nodes_mm = at_pulse != nullptr ? (*at_pulse)[k] : snapshot.tools[k].nodes_mm;
+    tool.radius_mm = snapshot.tools[k].radius_mm;
+    tool.markers.push_back({0.0, settings.tip_marker_mm, flow::XrayMaterial::kPlatinum});
+    if (tool.nodes_mm.size() >= 2) out.push_back(std::move(tool));
+  }
+  return out;
+}
+
+FluoroScene iodine_scene(std::int64_t pulse, const std::vector<float>& iodine) {
+  FluoroScene scene;
+  scene.pulse = pulse;
+  scene.cell_iodine_mgI_ml = iodine;
+  return scene;
+}
+
+}  // namespace
 
 FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot, const SnapshotFluoroSettings& settings) {
   FluoroInputs in;
+  if (const session::FluoroView& f = snapshot.fluoro; f.available) {
+    in.pose = f.pose;
+    in.image = f.image;
+    in.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(f.pose));
+    in.shown.pulse = f.image.pulse;
+    in.shown.mode = f.image.mode;
+    in.shown.cell_iodine_mgI_ml = f.iodine_mgI_ml;
+    in.shown.tools = tools_at(snapshot, settings, &f.pulse_tool_nodes_mm, f.pulse_tool_count);
+    if (f.image.subtracted()) {
+      in.mask = iodine_scene(f.image.mask_pulse, f.mask_iodine_mgI_ml);
+      in.mask.mode = flow::ExposureMode::kSubtractionRun;
+      in.mask.tools = in.shown.tools;  // subtraction removes the tools that did not move
+    }
+    if (f.image.roadmap_pulse >= 0) {
+      in.roadmap = iodine_scene(f.image.roadmap_pulse, f.roadmap_iodine_mgI_ml);
+      in.roadmap_mask = iodine_scene(f.image.roadmap_pulse, f.roadmap_mask_iodine_mgI_ml);
+    }
+    return in;
+  }
   in.pose = settings.pose;
   in.patient_transmission = settings.patient_transmission;
   // Pedal held since the run started: pulse k at k / rate seconds; the image shows the last.
@@ -15,15 +62,7 @@ FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot,
   in.image.pulse_time_us = std::llround(static_cast<double>(pulse) * 1e6 / settings.pulse_rate_hz);
   in.image.beam_on = true;
   in.shown.pulse = pulse;
-  const int tools = std::min(snapshot.tool_count, session::SceneSnapshot::kMaxTools);
-  for (int i = 0; i < tools; ++i) {
-    const session::ToolView& view = snapshot.tools[static_cast<std::size_t>(i)];
-    FluoroTool tool;
-    tool.nodes_mm = view.nodes_mm;
-    tool.radius_mm = view.radius_mm;
-    tool.markers.push_back({0.0, settings.tip_marker_mm, flow::XrayMaterial::kPlatinum});
-    in.shown.tools.push_back(std::move(tool));
-  }
+  in.shown.tools = tools_at(snapshot, settings, nullptr, snapshot.tool_count);
   return in;
 }
 

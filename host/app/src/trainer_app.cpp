@@ -8,6 +8,7 @@
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
 #include "app/replay_panel.hpp"
+#include "session/fluoro_controls.hpp"
 #include "app/fluoro_frontend.hpp"
 #include "app/fluoro_renderer.hpp"
 #include "tool/case_file.hpp"
@@ -160,9 +161,20 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
     fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
   }
   if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
+  // The session's contrast cells on this vessel surface: the lumen takes their iodine.
+  if (const session::FluoroUnit* unit = current().fluoro(); unit != nullptr && scene.mesh() != nullptr) {
+    fluoro_vessel_ = FluoroVessel::build(*scene.mesh(), unit->transport());
+    fluoro_->set_vessel(fluoro_vessel_);
+  }
   fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
   ui_->add_line("fluoroscopy: " + (views.empty() ? std::string("AP") : views.front().name) +
                 (scene.target_mm ? ", isocentre on the target" : ""));
+  // The autopilot (headless frames, bench) has no foot: it holds the pedal down, so the demo
+  // shows live fluoroscopy. A trainee presses it (Space, the GPIO pedal); a script says when.
+  if (scripted_ && options_.script.empty() && !replay_ && current().fluoro() != nullptr) {
+    (void)current().post(session::fluoro_control::pedal(true));
+    ui_->add_line("fluoroscopy: the autopilot holds the pedal down");
+  }
 }
 
 void TrainerApp::frame_camera() {
@@ -280,7 +292,8 @@ int TrainerApp::run_window() {
     if (fluoro_) {
       // A pulse's image shows what was there when it fired: the inputs change with the pulse.
       if (FluoroInputs next = fluoro_inputs_from_snapshot(snap, fluoro_settings_);
-          next.image.pulse != fluoro_inputs_.image.pulse || !(next.pose == fluoro_inputs_.pose)) {
+          next.image.pulse != fluoro_inputs_.image.pulse || next.image.beam_on != fluoro_inputs_.image.beam_on ||
+          next.image.roadmap_pulse != fluoro_inputs_.image.roadmap_pulse || !(next.pose == fluoro_inputs_.pose)) {
         fluoro_inputs_ = std::move(next);
       }
       if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_); !e.empty() && e != fluoro_error_) {

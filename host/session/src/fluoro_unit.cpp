@@ -36,8 +36,13 @@ class Hasher {
 }  // namespace
 
 FluoroUnit::FluoroUnit(const flow::FlowNetwork& network, const std::vector<tool::ToolSpec>& tools,
-                       const tool::Snapshot& snapshot, std::size_t max_nodes_per_tool)
-    : network_(network), tools_(tools), snap_(snapshot), transport_(network), field_(transport_) {
+                       const tool::Snapshot& snapshot, std::size_t max_nodes_per_tool, const flow::CArmPose& pose)
+    : network_(network),
+      tools_(tools),
+      snap_(snapshot),
+      transport_(network),
+      scope_(flow::HeadPhantom::neuro(), pose),
+      field_(transport_) {
   transport_step_us_ = std::llround(transport_.options().step_s * 1e6);
   const std::size_t segments = network.model().segments.size();
   for (std::uint32_t s = 0; s < segments; ++s) {

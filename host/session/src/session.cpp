@@ -147,7 +147,14 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   sink_ = std::make_unique<Sink>(*this);
   add_control_handler(static_cast<std::uint16_t>(ControlKind::kSelectTool), *select_tool_);
   if (scene_->flow) {
-    fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool);
+    // The C-arm starts in the case's first working projection (else AP), centred on its target.
+    flow::CArmPose pose;
+    if (!scene_->spec.views.empty()) {
+      pose.lao_deg = scene_->spec.views.front().lao_deg;
+      pose.cranial_deg = scene_->spec.views.front().cranial_deg;
+    }
+    if (scene_->target_mm) pose.isocenter_mm = glm::dvec3(*scene_->target_mm);
+    fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool, pose);
     for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
     fluoro_->fill(metrics_);
   } else if (!scene_->flow_error.empty()) {

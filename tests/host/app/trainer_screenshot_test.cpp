@@ -7,10 +7,12 @@
 // lumen.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -25,6 +27,7 @@
 #include "tool/case_file.hpp"
 #include "app/viewport.hpp"
 #include "png_reader.hpp"
+#include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::app {
@@ -245,6 +248,35 @@ std::string only_record_in(const std::string& dir) {
   return found;
 }
 
+// The trainer headless under Xvfb in the fluoroscopic view (`args`: case, frames, ...): its
+// screenshot, the sidecar and the HUD's rectangle with a margin; false when any is missing.
+struct FluoroShot {
+  std::optional<Image> img;
+  Sidecar s;
+  Viewport hud;
+};
+bool take_fluoro_shot(const std::string& args, const std::string& shot, FluoroShot& out) {
+  std::remove(shot.c_str());
+  const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " + CATHBOX_TRAINER +
+                          " --headless --no-record --view fluoro --size 1280x720 " + args + " --screenshot " + shot +
+                          " > " + shot + ".log 2>&1";
+  if (std::system(cmd.c_str()) != 0) return false;
+  std::string error;
+  out.img = testing::read_png(shot, error);
+  if (!out.img || !read_sidecar(shot + ".txt", out.s)) return false;
+  out.hud = Viewport{out.s.hud.x - 3, out.s.hud.y - 3, out.s.hud.width + 6, out.s.hud.height + 6};
+  return true;
+}
+
+// The case's first working projection with the isocentre on `target`, as the trainer starts.
+flow::CArm first_view_carm(const tool::Case& c, const glm::vec3& target) {
+  flow::CArmPose pose;
+  pose.lao_deg = c.views.front().lao_deg;
+  pose.cranial_deg = c.views.front().cranial_deg;
+  pose.isocenter_mm = glm::dvec3(target);
+  return flow::CArm(pose);
+}
+
 // Without a display: the default case run by the scripted hand in virtual time until the tip
 // reaches the case's target, the end-of-run summary on stdout, the same output on every run;
 // the run is recorded, and the record replays (hash-checked) to the same figures.
@@ -257,17 +289,11 @@ TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
   ASSERT_TRUE(the_case);
   ASSERT_FALSE(the_case->views.empty());
   const std::string shot = std::string(CATHBOX_TEST_OUT) + "/trainer_fluoro.png";
-  std::remove(shot.c_str());
-  const std::string cmd = std::string(CATHBOX_XVFB_RUN) + " -a -s '-screen 0 1280x800x24' " + CATHBOX_TRAINER +
-                          " --headless --no-record --view fluoro --case " + case_path +
-                          " --frames 150 --ms-per-frame 100 --size 1280x720 --screenshot " + shot + " > " + shot + ".log 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << "see " << shot << ".log";
-  std::string error;
-  const auto img = testing::read_png(shot, error);
-  ASSERT_TRUE(img) << error;
-  Sidecar s;
-  ASSERT_TRUE(read_sidecar(shot + ".txt", s));
-  const Viewport hud{s.hud.x - 3, s.hud.y - 3, s.hud.width + 6, s.hud.height + 6};
+  FluoroShot f;
+  ASSERT_TRUE(take_fluoro_shot("--case " + case_path + " --frames 150 --ms-per-frame 100", shot, f)) << "see " << shot << ".log";
+  const auto& img = f.img;
+  const Sidecar& s = f.s;
+  const Viewport& hud = f.hud;
   int distinct = 0;
   int last = -1;
   for (int y = s.global.y; y < s.global.y + s.global.height; y += 7) {
@@ -280,18 +306,16 @@ TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
     }
   }
   EXPECT_GT(distinct, 1000) << "an image, not a flat field";
-  flow::CArmPose pose;
-  pose.lao_deg = the_case->views.front().lao_deg;
-  pose.cranial_deg = the_case->views.front().cranial_deg;
-  pose.isocenter_mm = glm::dvec3(s.target);
-  const glm::dvec2 tip = flow::CArm(pose).project_px(glm::dvec3(s.tip), s.global.width, s.global.height) +
+  const glm::dvec2 tip = first_view_carm(*the_case, s.target).project_px(glm::dvec3(s.tip), s.global.width, s.global.height) +
                          glm::dvec2(s.global.x, s.global.y);
   ASSERT_TRUE(s.global.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)) &&
               !hud.contains(static_cast<float>(tip.x), static_cast<float>(tip.y)))
       << "the tip at " << tip.x << "," << tip.y << " in the field";
+  // The image shows the tools at the last pulse (15 a second, the autopilot holding the pedal),
+  // the sidecar the tip at the last frame: up to 67 ms of travel apart, about 1 mm, ~4 px.
   int darkest = 255;
-  for (int dy = -1; dy <= 1; ++dy) {
-    for (int dx = -1; dx <= 1; ++dx) darkest = std::min<int>(darkest, img->pixel(static_cast<int>(tip.x) + dx, static_cast<int>(tip.y) + dy)[0]);
+  for (int dy = -5; dy <= 5; ++dy) {
+    for (int dx = -5; dx <= 5; ++dx) darkest = std::min<int>(darkest, img->pixel(static_cast<int>(tip.x) + dx, static_cast<int>(tip.y) + dy)[0]);
   }
   double ring = 0.0;
   for (int k = 0; k < 16; ++k) {
@@ -299,6 +323,64 @@ TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
     ring += img->pixel(static_cast<int>(tip.x + 12.0 * std::cos(a)), static_cast<int>(tip.y + 12.0 * std::sin(a)))[0];
   }
   EXPECT_LT(darkest, ring / 16.0 - 20.0) << "the platinum tip darker than around it";
+}
+
+// The session's fluoroscopy unit drives the view: the coiling case's guide catheter sits in the
+// left ICA; with the pedal down, 6 mL injected from it make a contrast run, shown subtracted
+// (DSA: what did not change is background grey). The left ICA's projected centre line is dark,
+// the right ICA's (no flow from the left ICA reaches it) is background.
+TEST(TrainerFluoroView, AnInjectionFromTheGuideFillsTheLeftCarotidOnly) {
+  const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_coiling.case";
+  const tool::CaseParse the_case = tool::load_case(case_path);
+  ASSERT_TRUE(the_case);
+  ASSERT_FALSE(the_case->views.empty());
+  const vessel::HclmReadResult model = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_aneurysm.hclm");
+  ASSERT_TRUE(model.ok());
+  const std::string dir = std::string(CATHBOX_TEST_OUT) + "/fluoro_injection";
+  std::filesystem::create_directories(dir);
+  // Mean grey along a segment's projected centre line (points in the main view, off the HUD).
+  const auto run = [&](const std::string& name, bool inject, std::map<std::string, double>& grey, double& median) {
+    const std::string script = dir + "/" + name + ".actions";
+    std::ofstream(script) << "0 fluoro on\n" << (inject ? "300 inject 6 at 4\n" : "") << "3000 end\n";
+    const std::string shot = dir + "/" + name + ".png";
+    FluoroShot f;
+    ASSERT_TRUE(take_fluoro_shot("--case " + case_path + " --script " + script + " --frames 40 --ms-per-frame 50", shot, f))
+        << "see " << shot << ".log";
+    const auto& img = f.img;
+    const Sidecar& s = f.s;
+    const Viewport& hud = f.hud;
+    const flow::CArm carm = first_view_carm(*the_case, s.target);
+    std::vector<int> all;
+    for (int y = s.global.y; y < s.global.y + s.global.height; y += 5) {
+      for (int x = s.global.x; x < s.global.x + s.global.width; x += 5) {
+        if (!hud.contains(static_cast<float>(x), static_cast<float>(y))) all.push_back(img->pixel(x, y)[0]);
+      }
+    }
+    ASSERT_FALSE(all.empty());
+    std::nth_element(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(all.size() / 2), all.end());
+    median = all[all.size() / 2];
+    for (const vessel::Segment& seg : model.model.segments) {
+      if (seg.name != "left_internal_carotid" && seg.name != "right_internal_carotid") continue;
+      double sum = 0.0;
+      int n = 0;
+      for (const vessel::CenterlinePoint& c : seg.points) {
+        const glm::dvec2 px = carm.project_px(c.pos_mm, s.global.width, s.global.height) + glm::dvec2(s.global.x, s.global.y);
+        const auto x = static_cast<float>(px.x);
+        const auto y = static_cast<float>(px.y);
+        if (!s.global.contains(x, y) || hud.contains(x, y)) continue;
+        sum += img->pixel(static_cast<int>(px.x), static_cast<int>(px.y))[0];
+        ++n;
+      }
+      ASSERT_GT(n, 5) << seg.name << " in the field";
+      grey[seg.name] = sum / n;
+    }
+  };
+  std::map<std::string, double> injected;
+  double background = 0.0;
+  run("injected", true, injected, background);
+  ASSERT_EQ(injected.size(), 2u);
+  EXPECT_LT(injected["left_internal_carotid"], background - 25.0) << "the left ICA fills";
+  EXPECT_NEAR(injected["right_internal_carotid"], background, 8.0) << "the right ICA does not";
 }
 
 // A `realistic` case opens in the fluoroscopic view without --view (and --view 3d overrides it).

@@ -1,16 +1,17 @@
 #pragma once
-// Fills FluoroInputs for the trainer's fluoroscopic view from what it has. Today that is the
-// session's SceneSnapshot (the tools), without a fluoroscope or contrast in the session:
-// continuous fluoroscopy at 15 pulses per second of simulated time in the given pose. This is
-// where the session's fluoroscope snapshot (Fluoroscope image, pose, captured scenes: branch
-// fluoro-session) plugs in, replacing the assumptions below.
+// Fills FluoroInputs for the trainer's fluoroscopic view from the session's SceneSnapshot. With
+// the session's fluoroscopy unit (SceneSnapshot::fluoro, every case with a vessel network): its
+// C-arm pose, FluoroImage (pulse shown, hold, run and mask, roadmap) and the per-cell iodine it
+// captured at those pulses, the tools as they were at the shown pulse (mask and roadmap scenes
+// carry no tools: subtraction removes what did not move). Without it (analytic tubes):
+// continuous fluoroscopy at the settings' pulse rate in the settings' pose, no contrast.
 #include "app/fluoro_inputs.hpp"
 #include "session/scene_snapshot.hpp"
 
 namespace cathbox::app {
 
 struct SnapshotFluoroSettings {
-  flow::CArmPose pose;                 // the C-arm (AP by default)
+  flow::CArmPose pose;                 // the C-arm (AP by default) when the session has no unit
   double patient_transmission = 0.01;  // HeadPhantom::central_transmission for the pose
   double pulse_rate_hz = 15.0;
   double tip_marker_mm = 30.0;         // every tool's radio-opaque (platinum) distal part

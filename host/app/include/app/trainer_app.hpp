@@ -10,6 +10,7 @@
 
 #include "app/case_catalog.hpp"
 #include "app/fluoro_frontend.hpp"
+#include "app/fluoro_vessel.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
 #include "app/scene_renderer.hpp"
@@ -79,6 +80,7 @@ class TrainerApp {
   std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
   SnapshotFluoroSettings fluoro_settings_;
   FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
+  FluoroVessel fluoro_vessel_;  // the case's surface tied to the session's contrast cells
   std::string fluoro_error_;  // the last one shown in the output panel
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;

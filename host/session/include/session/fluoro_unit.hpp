@@ -36,8 +36,9 @@ namespace cathbox::session {
 class FluoroUnit final : public ControlHandler {
  public:
   // `network` and `snapshot` (the session's last tick) must outlive the unit.
+  // `pose`: the C-arm at the start (the case's first working projection, isocentre on its target).
   FluoroUnit(const flow::FlowNetwork& network, const std::vector<tool::ToolSpec>& tools,
-             const tool::Snapshot& snapshot, std::size_t max_nodes_per_tool);
+             const tool::Snapshot& snapshot, std::size_t max_nodes_per_tool, const flow::CArmPose& pose = {});
 
   // The control kinds this unit handles (register each with the session).
   static constexpr std::array<ControlKind, 6> kKinds{ControlKind::kFluoroPedal,  ControlKind::kInject,
