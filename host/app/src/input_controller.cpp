@@ -58,7 +58,8 @@ InputActions InputController::handle(GLFWwindow* w, const TrainerUi& ui, const S
     const bool c = down(GLFW_KEY_C);
     act.frame_camera = c && !c_down_;
     c_down_ = c;
-    act.fluoro = {down(GLFW_KEY_SPACE), down(GLFW_KEY_I), down(GLFW_KEY_R), down(GLFW_KEY_X)};
+    act.fluoro = {down(GLFW_KEY_SPACE), down(GLFW_KEY_I),           down(GLFW_KEY_R),     down(GLFW_KEY_X),
+                  down(GLFW_KEY_LEFT_BRACKET), down(GLFW_KEY_RIGHT_BRACKET), down(GLFW_KEY_MINUS), down(GLFW_KEY_EQUAL)};
     if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);
   }
   if (keyboard != nullptr) keyboard->set_speeds(insert, twist);

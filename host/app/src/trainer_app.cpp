@@ -341,7 +341,8 @@ int TrainerApp::run_window() {
     if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
     if (live_) {
       fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now),
-                              [this](const session::Control& c) { return live_->post(c); });
+                              [this](const session::Control& c) { return live_->post(c); },
+                              snap.fluoro.available ? &snap.fluoro.pose : nullptr);
     }
     std::string next_replay = replay_act.open;
     if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;

@@ -7,7 +7,7 @@ namespace cathbox::session {
 FluoroSwitches::FluoroSwitches(device::FootPedal* foot_pedal, double inject_ml, double inject_rate_ml_s)
     : foot_(foot_pedal), inject_ml_(inject_ml), inject_rate_ml_s_(inject_rate_ml_s) {}
 
-void FluoroSwitches::update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post) {
+void FluoroSwitches::update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post, const flow::CArmPose* carm) {
   bool foot = false;
   if (foot_ != nullptr) {
     const device::Result<bool> raw = foot_->read();
@@ -24,6 +24,15 @@ void FluoroSwitches::update(const FluoroKeys& keys, std::uint64_t now_us, const 
   if (keys.inject && !last_.inject) (void)post(fluoro_control::inject(inject_ml_, inject_rate_ml_s_));
   if (keys.roadmap && !last_.roadmap) (void)post(fluoro_control::roadmap(true));
   if (keys.clear_roadmap && !last_.clear_roadmap) (void)post(fluoro_control::roadmap(false));
+  if (carm != nullptr) {
+    // One step per press; out-of-range angles are refused (and logged) by the session.
+    const auto press = [&](bool now, bool before) { return now && !before ? 1.0 : 0.0; };
+    const double lao = press(keys.lao, last_.lao) - press(keys.rao, last_.rao);
+    const double cranial = press(keys.cranial, last_.cranial) - press(keys.caudal, last_.caudal);
+    if (lao != 0.0 || cranial != 0.0) {
+      (void)post(fluoro_control::carm_angles(carm->lao_deg + lao * kCArmStep_deg, carm->cranial_deg + cranial * kCArmStep_deg));
+    }
+  }
   last_ = keys;
 }
 

@@ -270,6 +270,31 @@ class FakeFootPedal final : public device::FootPedal {
   }
 };
 
+TEST(FluoroSwitches, TheCArmKeysTurnItAStepPerPressFromWhereItIs) {
+  FluoroSwitches sw;
+  std::vector<Control> posted;
+  auto post = [&posted](const Control& c) {
+    posted.push_back(c);
+    return true;
+  };
+  flow::CArmPose pose;
+  pose.lao_deg = -35.0;
+  pose.cranial_deg = 10.0;
+  std::uint64_t t = 0;
+  for (int i = 0; i < 10; ++i, t += 1000) sw.update({.lao = true}, t, post, &pose);  // held: one step
+  ASSERT_EQ(posted.size(), 1U);
+  EXPECT_EQ(posted[0].kind, static_cast<std::uint16_t>(ControlKind::kCArmAngles));
+  EXPECT_DOUBLE_EQ(fluoro_control::read_angles(posted[0])->lao_deg, -30.0);
+  EXPECT_DOUBLE_EQ(fluoro_control::read_angles(posted[0])->cranial_deg, 10.0);
+  sw.update({}, t += 1000, post, &pose);
+  sw.update({.caudal = true}, t += 1000, post, &pose);
+  ASSERT_EQ(posted.size(), 2U);
+  EXPECT_DOUBLE_EQ(fluoro_control::read_angles(posted[1])->cranial_deg, 5.0);
+  sw.update({}, t += 1000, post, &pose);
+  sw.update({.rao = true}, t += 1000, post, nullptr);  // no C-arm known: nothing
+  EXPECT_EQ(posted.size(), 2U);
+}
+
 TEST(FluoroSwitches, TheKeysAndTheFootPedalPostPressesNotFrames) {
   FakeFootPedal foot;
   FluoroSwitches sw(&foot, 4.0, 2.0);

@@ -3,7 +3,8 @@
 // view, double-click a vessel to orbit around it, F wireframe, C re-frame, Esc quit; and the
 // keyboard hand: Up/Down (W/S) push and pull at 10 mm/s, Left/Right (A/D) twist at 1.5 rad/s,
 // Shift x4, Tab takes the other tool; fluoroscopy: Space the pedal (held), I inject, R the
-// roadmap, X clears it (session::FluoroSwitches turns them into controls).
+// roadmap, X clears it, [ / ] the C-arm 5 degrees towards RAO / LAO, - / = caudal / cranial
+// (session::FluoroSwitches turns them into controls).
 #include <functional>
 #include <optional>
 

@@ -1,7 +1,8 @@
 #pragma once
 // The trainee's fluoroscopy switches as controls: the pedal (a key held, or a lab rig's GPIO
 // foot pedal through device::FootPedal, debounced on the caller's clock), the inject key and
-// the roadmap keys. A front end calls update() once per frame with what is held now; a control
+// the roadmap keys, and the C-arm keys (each press turns it by kCArmStep_deg from where it is).
+// A front end calls update() once per frame with what is held now; a control
 // is posted on each change only (pressing the pedal once, injecting once per key press), so
 // the session records presses, not frames. Front-end thread; the session's post() never blocks.
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <string>
 
 #include "device/foot_pedal.hpp"
+#include "flow/c_arm.hpp"
 #include "session/control.hpp"
 
 namespace cathbox::session {
@@ -18,19 +20,25 @@ struct FluoroKeys {
   bool inject = false;         // the inject key is down
   bool roadmap = false;        // the roadmap key is down (capture)
   bool clear_roadmap = false;  // the clear-roadmap key is down
+  bool rao = false;            // C-arm keys: towards RAO / LAO, caudal / cranial
+  bool lao = false;
+  bool caudal = false;
+  bool cranial = false;
 };
 
 class FluoroSwitches {
  public:
   using Post = std::function<bool(const Control&)>;
+  static constexpr double kCArmStep_deg = 5.0;
   // `foot_pedal` (may be null) must outlive this object. Each key press injects `inject_ml` at
   // `inject_rate_ml_s`.
   explicit FluoroSwitches(device::FootPedal* foot_pedal = nullptr, double inject_ml = 6.0,
                           double inject_rate_ml_s = 3.0);
 
   // What is held at now_us (the caller's clock, non-decreasing): posts the controls for what
-  // changed. The pedal is down while the key or the foot pedal is.
-  void update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post);
+  // changed. The pedal is down while the key or the foot pedal is. `carm`: the C-arm now (the
+  // session's snapshot); without it the C-arm keys do nothing.
+  void update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post, const flow::CArmPose* carm = nullptr);
 
   [[nodiscard]] bool pedal_down() const { return pedal_; }
   // The foot pedal's last read error (empty when it reads); its last good state is kept.
