@@ -4,34 +4,16 @@
 #include <cstdarg>
 #include <cstdio>
 
-#define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
-#include <xxhash.h>
-
 #include "session/event_log.hpp"
 #include "session/fluoro_controls.hpp"
 #include "tool/simulator.hpp"
+#include "xxh_hasher.hpp"
 
 namespace cathbox::session {
 namespace {
 
 constexpr double kContrast_mgI_ml = 300.0;  // iohexol 300, flow::Injection's default
 constexpr double kTipOutsideMarginMm = 1.0;  // a tip this far beyond the lumen radius is not in a vessel
-
-class Hasher {
- public:
-  explicit Hasher(std::uint64_t seed) {
-    XXH3_64bits_reset(&state_);
-    add(seed);
-  }
-  template <class T>
-  void add(const T& value) {
-    XXH3_64bits_update(&state_, &value, sizeof value);
-  }
-  [[nodiscard]] std::uint64_t digest() const { return XXH3_64bits_digest(&state_); }
-
- private:
-  XXH3_state_t state_{};
-};
 
 }  // namespace
 
@@ -237,7 +219,8 @@ void FluoroUnit::capture_pulse(const flow::FluoroTick& t) {
 }
 
 std::uint64_t FluoroUnit::hash(std::uint64_t seed) const {
-  Hasher h(seed);
+  XxhHasher h;
+  h.add(seed);
   const std::size_t segments = network_.model().segments.size();
   for (std::uint32_t s = 0; s < segments; ++s) {
     for (const double c : transport_.cell_concentrations(s)) h.add(c);

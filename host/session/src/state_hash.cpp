@@ -1,36 +1,13 @@
 #include "session/state_hash.hpp"
 
-#define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
-#include <xxhash.h>
-
 #include <cstring>
 
+#include "xxh_hasher.hpp"
+
 namespace cathbox::session {
-namespace {
-
-class Hasher {
- public:
-  Hasher() { XXH3_64bits_reset(&state_); }
-  template <class T>
-  void add(const T& value) {
-    XXH3_64bits_update(&state_, &value, sizeof value);
-  }
-  template <class T>
-  void add_all(const std::vector<T>& values) {
-    const std::uint64_t n = values.size();
-    add(n);
-    if (!values.empty()) XXH3_64bits_update(&state_, values.data(), values.size() * sizeof(T));
-  }
-  [[nodiscard]] std::uint64_t digest() { return XXH3_64bits_digest(&state_); }
-
- private:
-  XXH3_state_t state_{};
-};
-
-}  // namespace
 
 std::uint64_t state_hash(const tool::Snapshot& s) {
-  Hasher h;
+  XxhHasher h;
   const std::uint64_t tools = s.tools.size();
   h.add(tools);
   for (const tool::ToolSnapshot& t : s.tools) {
