@@ -114,6 +114,7 @@ class Session::BalloonControl final : public ControlHandler {
 Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand, SessionOptions options)
     : scene_(std::move(scene)), hand_(std::move(hand)), options_(options) {
   hand_description_ = hand_->describe();
+  every_law_ = hand_->feels_every_tool();
   const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
   for (const tool::ToolSpec& t : tools) tool_names_.push_back(t.name);
   const bool balloon = std::any_of(tools.begin(), tools.end(), [](const tool::ToolSpec& t) { return t.balloon.present(); });
@@ -330,8 +331,10 @@ bool Session::tick() {
   fb.tick = n;
   fb.held = held_index;
   fb.law = sim_->force_law(held_index);
-  fb.tool_count = input_.tool_count;
-  for (std::size_t t = 0; t < input_.tool_count; ++t) fb.laws[t] = t == held_index ? fb.law : sim_->force_law(t);
+  if (every_law_) {
+    fb.tool_count = input_.tool_count;
+    for (std::size_t t = 0; t < input_.tool_count; ++t) fb.laws[t] = t == held_index ? fb.law : sim_->force_law(t);
+  }
   fb.tip_mm = to_f(held.tip.position_mm);
   fb.tip_direction = to_f(held.tip.direction);
   fb.tip_bend = to_f(held.tip.normal);

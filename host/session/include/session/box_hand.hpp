@@ -53,6 +53,8 @@ class BoxHand final : public Hand {
   void hold(std::size_t tool, const ToolCommand& at) override;
   void read(std::int64_t tick, TickInput& input) override;
   void feel(const HandFeedback& feedback) override;
+  // A box bound to a tool renders that tool's law, held or not.
+  [[nodiscard]] bool feels_every_tool() const override { return tool_.has_value(); }
   void release() override;
 
   [[nodiscard]] const HandMapping& mapping() const { return mapping_; }

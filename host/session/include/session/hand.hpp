@@ -55,7 +55,8 @@ struct HandFeedback {
   std::int64_t tick = 0;
   std::size_t held = 0;
   tool::ForceLaw law;           // the held tool's local force law, in the session's frame
-  // Every tool's force law (laws[held] == law), for hands with a box per tool.
+  // Every tool's force law (laws[held] == law), filled only for hands that render every tool
+  // (Hand::feels_every_tool(): a box per tool); else tool_count is 0.
   std::size_t tool_count = 0;
   std::array<tool::ForceLaw, kMaxTools> laws{};
   glm::vec3 tip_mm{0.0F};       // the held tool's tip
@@ -93,6 +94,9 @@ class Hand {
   virtual void read(std::int64_t tick, TickInput& input) = 0;
   // Haptic thread, after the step.
   virtual void feel(const HandFeedback& feedback);
+  // True when feel() needs every tool's law (HandFeedback::laws), not only the held one's;
+  // asked once, when the session starts.
+  [[nodiscard]] virtual bool feels_every_tool() const { return false; }
   // Outputs off (end of run, shutdown).
   virtual void release();
 

@@ -53,6 +53,7 @@ class MultiBoxHand final : public Hand {
   void hold(std::size_t tool, const ToolCommand& at) override;
   void read(std::int64_t tick, TickInput& input) override;
   void feel(const HandFeedback& feedback) override;
+  [[nodiscard]] bool feels_every_tool() const override { return true; }
   void release() override;
 
   [[nodiscard]] std::size_t size() const { return boxes_.size(); }

@@ -159,6 +159,7 @@ class Session {
   ControlQueue controls_;
   std::array<ControlHandler*, 128> handlers_{};
   std::unique_ptr<SelectTool> select_tool_;
+  bool every_law_ = false;  // the hand feels every tool's law (a box per tool), not only the held one's
   std::unique_ptr<FluoroUnit> fluoro_;
   std::unique_ptr<DetachCoil> detach_coil_;
   std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac
