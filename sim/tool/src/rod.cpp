@@ -860,7 +860,13 @@ double Rod::energy(double dt_s) const {
 void Rod::seed_buckling() {
   // A perfectly straight rod pushed along its axis stays on the unstable straight branch;
   // real tools are never perfectly straight, so give the free nodes a tiny lateral offset.
+  // A rod already bent by more than the offset would give (by the vessel, its own shape or an
+  // earlier seed) needs none: seeding it again every compressed step only shakes it (and the
+  // shaken rod then spends Newton iterations taking the offset back out).
   const std::size_t n = x_.size();
+  for (std::size_t k = std::max(first_free_, std::size_t{1}); k + 1 < n; ++k) {
+    if (glm::length(t_[k] - t_[k - 1]) * rest_[k] > settings_.buckling_seed_mm) return;
+  }
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);
     const double a = 0.7 * static_cast<double>(k);
