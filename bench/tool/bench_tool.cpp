@@ -207,6 +207,7 @@ void run(benchmark::State& state, bool coaxial) {
   std::size_t contacts = 0;
   std::uint64_t capped = 0;  // steps where a rod used every Newton iteration it may
   const int cap = RodSettings{}.newton_iterations;
+  std::uint64_t capped_rod[2] = {0, 0};
   for (auto _ : state) {
     // A hand that pushes and pulls 1 mm and twists a little, as during navigation.
     const double phase = static_cast<double>(i++) * 1e-3;
@@ -222,6 +223,8 @@ void run(benchmark::State& state, bool coaxial) {
       converged_samples.push_back(times.last_wall_us());
     }
     its0 += sim.rod(0).last_iterations();
+    if (sim.rod(0).last_iterations() >= cap) ++capped_rod[0];
+    if (sim.rod(1).last_iterations() >= cap) ++capped_rod[1];
     contacts += sim.rod(0).contacts().size() + sim.rod(1).contacts().size();
   }
   const auto solved = [&](std::size_t t) { return sim.rod(t).node_total() - sim.rod(t).first_free_node(); };
@@ -233,6 +236,7 @@ void run(benchmark::State& state, bool coaxial) {
   // Where the tail comes from: the steps in which a rod ran out of Newton iterations.
   state.counters["capped_pct"] = 100.0 * static_cast<double>(capped) / static_cast<double>(std::max<std::uint64_t>(1, i));
   if (!converged_samples.empty()) state.counters["p99_converged_us"] = StepTimes::pick(converged_samples, 0.99);
+  state.counters["cath_capped_pct"] = 100.0 * static_cast<double>(capped_rod[0]) / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["cath_its"] = its0 / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["newton_its"] = iterations / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["cath_nodes"] = static_cast<double>(solved(0));
@@ -277,6 +281,7 @@ void BM_StepTriaxial(benchmark::State& state) {
   StepTimes times(1 << 16);
   std::uint64_t i = 0;
   double iterations = 0.0;
+  std::uint64_t capped = 0;  // steps where a rod used every Newton iteration it may
   std::size_t solved = 0;
   for (auto _ : state) {
     const double phase = static_cast<double>(i++) * 1e-3;
@@ -284,11 +289,17 @@ void BM_StepTriaxial(benchmark::State& state) {
     sim.set_rotation(2, targets[2] * 0.2 + std::sin(phase * 3.0) * 0.5);
     sim.set_insertion(1, targets[1] + std::sin(phase * 1.3) * 0.5);
     times.step(sim);
-    for (std::size_t t = 0; t < 3; ++t) iterations += sim.rod(t).last_iterations();
+    bool hit_cap = false;
+    for (std::size_t t = 0; t < 3; ++t) {
+      iterations += sim.rod(t).last_iterations();
+      hit_cap = hit_cap || sim.rod(t).last_iterations() >= RodSettings{}.newton_iterations;
+    }
+    if (hit_cap) ++capped;
   }
   for (std::size_t t = 0; t < 3; ++t) solved += sim.rod(t).node_total() - sim.rod(t).first_free_node();
   times.report(state);
   state.counters["newton_its"] = iterations / static_cast<double>(std::max<std::uint64_t>(1, i));
+  state.counters["capped_pct"] = 100.0 * static_cast<double>(capped) / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["solved_nodes"] = static_cast<double>(solved);
   state.counters["wire_depth_mm"] = sim.tip_depth_mm(2);
   state.SetLabel(world.name);

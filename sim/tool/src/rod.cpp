@@ -18,13 +18,19 @@ namespace {
 constexpr double kMilli = 1000.0;  // N -> mN
 
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
+// Rodrigues' formula with the unnormalised axis a = from x to (|a| = sin, 1 - cos = |a|^2 / (1 + cos)):
+// no square root or division by the sine, which the frames call twice per edge and step.
 glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
-  const glm::dvec3 axis = glm::cross(from, to);
-  const double s = glm::length(axis);
+  const glm::dvec3 a = glm::cross(from, to);
+  const double s2 = glm::dot(a, a);
   const double c = glm::dot(from, to);
-  if (s < 1e-14) return v;
-  const glm::dvec3 k = axis / s;
-  return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0 - c));
+  if (s2 < 1e-28) return v;
+  if (c < -0.5) {  // far from parallel: the normalised axis keeps 1 + cos away from a division
+    const double s = std::sqrt(s2);
+    const glm::dvec3 k = a / s;
+    return v * c + glm::cross(k, v) * s + k * (glm::dot(k, v) * (1.0 - c));
+  }
+  return v * c + glm::cross(a, v) + a * (glm::dot(a, v) / (1.0 + c));
 }
 
 glm::dvec3 perpendicular_unit(const glm::dvec3& t) {
@@ -860,7 +866,13 @@ double Rod::energy(double dt_s) const {
 void Rod::seed_buckling() {
   // A perfectly straight rod pushed along its axis stays on the unstable straight branch;
   // real tools are never perfectly straight, so give the free nodes a tiny lateral offset.
+  // A rod already bent by more than the offset would give (by the vessel, its own shape or an
+  // earlier seed) needs none: seeding it again every compressed step only shakes it (and the
+  // shaken rod then spends Newton iterations taking the offset back out).
   const std::size_t n = x_.size();
+  for (std::size_t k = std::max(first_free_, std::size_t{1}); k + 1 < n; ++k) {
+    if (glm::length(t_[k] - t_[k - 1]) * rest_[k] > settings_.buckling_seed_mm) return;
+  }
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);
     const double a = 0.7 * static_cast<double>(k);

@@ -318,6 +318,48 @@ TEST(RodBehaviour, PushIntoDeadEndStopsToolAndForceRisesThenPullBackFrees) {
   EXPECT_LT(rod.tip().position_mm.z, 21.0);
 }
 
+// Largest lateral offset of the inserted nodes from the z axis.
+double lateral_mm(const Rod& rod) {
+  double most = 0.0;
+  for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
+    const glm::dvec3 p = rod.positions()[k];
+    most = std::max(most, std::hypot(p.x, p.y));
+  }
+  return most;
+}
+
+TEST(RodBehaviour, StraightToolPushedIntoADeadEndBucklesFromTheSeedAndIsNotReseededOnceBent) {
+  // A straight tool in a straight tube, pushed into the closed end, buckles (the buckling seed
+  // takes it off the unstable straight branch). Once bent and jammed
+  // (Newtons at the hand, its edges compressed), held, it comes to rest: seeding it again every
+  // compressed step kept shaking it (0.27-0.32 mm a step at 8 Newton iterations, the cap).
+  const TubeNetworkWall wall = testing::straight_tube(0.6, -5.0, 30.0);  // closed end at z = 30.6
+  const ToolSpec spec = uniform_tool(120.0, 0.36, 2.0, 1.5, 1.0, 0.1);
+  for (const double pushed : {42.0, 45.0, 55.0}) {
+    Rod rod(spec);
+    rod.set_entry({0, 0, 0}, {0, 0, 1});
+    insert_to(rod, wall, 31.0, 0.1);
+    insert_to(rod, wall, pushed, 0.02);
+    EXPECT_GT(lateral_mm(rod), 0.3) << "the seeded tool buckles, pushed to " << pushed;
+    // Held 400 steps: over the last 200 no node moves 0.2 um in a step, no step runs out of
+    // iterations.
+    std::vector<glm::dvec3> before;
+    double moved = 0.0;
+    int iterations = 0;
+    for (int i = 0; i < 400; ++i) {
+      rod.step(1e-3, wall);
+      if (i >= 200) {
+        for (std::size_t k = 0; k < before.size(); ++k) moved = std::max(moved, glm::length(rod.positions()[k] - before[k]));
+        iterations = std::max(iterations, rod.last_iterations());
+      }
+      before.assign(rod.positions().begin(), rod.positions().end());
+    }
+    EXPECT_LT(moved, 2e-4) << "a bent, held tool comes to rest, pushed to " << pushed;
+    EXPECT_LT(iterations, RodSettings{}.newton_iterations) << "pushed to " << pushed;
+    EXPECT_GT(rod.hand_force_mN(), 100.0) << "and stays jammed, pushed to " << pushed;
+  }
+}
+
 TEST(RodBehaviour, TipMeetingWallAtAnAngleSlidesAlongIt) {
   // A tube with a 50 degree kink: the straight tool meets the far wall at an angle and follows it.
   const TubeNetworkWall wall({Tube{{0, 0, -5}, {0, 0, 20}, 1.0, 1.0, 0},
