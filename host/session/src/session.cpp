@@ -440,12 +440,18 @@ void Session::publish() {
   s.metrics = metrics_.metrics();
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
+  s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
   exchange_.publish();
 }
 
 const std::vector<FluoroCell>& Session::fluoro_cells() const {
   static const std::vector<FluoroCell> kNone;
   return fluoro_ ? fluoro_->cells() : kNone;
+}
+
+std::shared_ptr<const tool::WallSurface> Session::wall_surface() const {
+  if (!angioplasty_ || angioplasty_->swap().generation() == 0) return {};
+  return angioplasty_->swap().surface();
 }
 
 const HapticThread* Session::active_thread() const {

@@ -15,6 +15,11 @@
 // The old wall stays valid (owned here) until the swap, and is destroyed afterwards off the
 // haptic thread (by the worker; in synchronous mode at once). One wall is built at a time: a
 // request while one is pending is refused (the caller asks again after the swap).
+//
+// Renderers follow the walls through generation() (the swaps so far, 0 for the initial wall)
+// and surface() (the present wall's WallSurface: the widened model and its mesh), both readable
+// from any thread; the swap publishes the new surface before the generation.
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -66,6 +71,10 @@ class WallSwap {
   [[nodiscard]] std::int64_t due_tick() const { return due_tick_.value_or(-1); }
   [[nodiscard]] std::uint64_t requests() const { return requests_; }
   [[nodiscard]] std::uint64_t swaps() const { return swaps_; }
+  // Any thread: the walls swapped in so far, and the present wall's surface (empty for a wall
+  // without one).
+  [[nodiscard]] std::uint64_t generation() const { return generation_.load(std::memory_order_acquire); }
+  [[nodiscard]] std::shared_ptr<const WallSurface> surface() const;
   [[nodiscard]] std::uint64_t late_ticks() const { return late_ticks_; }
   [[nodiscard]] std::uint64_t failures() const { return failures_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
@@ -83,6 +92,8 @@ class WallSwap {
   std::optional<std::int64_t> due_tick_;
   std::uint64_t requests_ = 0, swaps_ = 0, late_ticks_ = 0, failures_ = 0;
   std::string last_error_;
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<std::shared_ptr<const WallSurface>> surface_;
 
   // Shared with the builder thread (under mutex_).
   mutable std::mutex mutex_;
