@@ -24,14 +24,20 @@ WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& mo
 
 }  // namespace
 
-WallResult build_mesh_wall(const vessel::VesselModel& model) {
+WallResult build_mesh_wall(const vessel::VesselModel& model, collision::TreeCache* cache) {
   vessel::VesselSurface surface = vessel::build_vessel_surface(model);
   if (!surface.ok()) return base::Error{"widened vessel: " + surface.error};
-  collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
+  collision::TreeBuild tree = cache != nullptr ? collision::ObbTree::build(surface.mesh, {}, *cache)
+                                               : collision::ObbTree::build(surface.mesh);
   if (!tree) return base::Error{"widened vessel surface rejected by the collision tree: " + tree.error().message};
   // The tree keeps its own copy of the mesh: the surface moves on to the renderers.
   auto drawn = std::make_shared<WallSurface>(WallSurface{model, std::move(surface.mesh)});
   return WallResult(std::make_unique<MeshWall>(std::move(*tree), MeshWall::kDefaultHintSlots, std::move(drawn)));
+}
+
+WallBuilder cached_mesh_wall_builder() {
+  auto cache = std::make_shared<collision::TreeCache>();
+  return [cache](const vessel::VesselModel& model) { return build_mesh_wall(model, cache.get()); };
 }
 
 WallSwap::WallSwap(std::unique_ptr<WallModel> initial, WallBuilder builder, Mode mode, std::int64_t latency_ticks)

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "base/result.hpp"
+#include "collision/obb_tree.hpp"
 #include "tool/simulator.hpp"
 #include "tool/wall_model.hpp"
 #include "vessel/vessel_model.hpp"
@@ -39,7 +40,14 @@ namespace cathbox::tool {
 // Builds the wall of a lumen (thread-safe: called on the worker).
 using WallBuilder = std::function<base::Result<std::unique_ptr<WallModel>>(const vessel::VesselModel&)>;
 // The vessel's wall as build_world() makes it: surface (vessel_mesher), OBB tree, MeshWall.
-[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model);
+// With a cache, the tree reuses the regions (segments, junctions, caps) whose surface is the
+// same as in the last wall built with it (collision::TreeCache): the same tree, built faster.
+[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model,
+                                                                       collision::TreeCache* cache = nullptr);
+// build_mesh_wall with one TreeCache carried from each wall to the next (copies share it; one
+// build at a time, as WallSwap builds). Build the first wall with it too, so that the first
+// rebuild already reuses the regions a balloon did not touch.
+[[nodiscard]] WallBuilder cached_mesh_wall_builder();
 
 class WallSwap {
  public:
