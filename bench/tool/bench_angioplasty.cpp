@@ -1,7 +1,9 @@
 // Balloon angioplasty's wall swap in the bundled neuro case (cases/neuro_angioplasty.case):
 //   BM_WallRebuild: the new wall of the widened lumen (re-mesh + OBB tree + MeshWall: what
 //     WallSwap's builder does after each lumen change, e.g. a deflation), median and p99 in ms,
-//     against the 300 ms at which the swap is due (WallSwap::kDefaultLatencyTicks).
+//     against the 300 ms at which the swap is due (WallSwap::kDefaultLatencyTicks); the tree
+//     reuses the regions the balloon left alone from the case's wall (the session's builder,
+//     cached_mesh_wall_builder). BM_WallRebuildFromScratch: the same without the cache.
 //   BM_StepWhileRebuilding: the haptic step (wire and balloon catheter across the lesion) while
 //     the worker rebuilds the wall without pause on the other core, beside BM_StepNoRebuild,
 //     the same steps without it. Wall and thread-CPU medians and p99 in us.
@@ -69,27 +71,40 @@ double thread_cpu_us() {
   return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
 }
 
-void BM_WallRebuild(benchmark::State& state) {
+// The new wall of the widened lumen; `reuse`: with the tree cache of the wall before it (the
+// case's), as the session's builder has it, else from scratch.
+void wall_rebuild(benchmark::State& state, bool reuse) {
   std::optional<Scene> scene = load_scene();
   if (!scene) {
     state.SkipWithError("cases/neuro_angioplasty.case did not load");
     return;
   }
   std::vector<double> ms, cpu_ms, mesh_ms, tree_ms;
+  std::size_t reused = 0, built = 0;
   for (auto _ : state) {
+    state.PauseTiming();
+    cathbox::collision::TreeCache cache;
+    if (reuse) benchmark::DoNotOptimize(build_mesh_wall(*scene->source, &cache));  // the wall before
+    state.ResumeTiming();
     const double c0 = thread_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
-    auto wall = build_mesh_wall(scene->widened);
+    auto wall = build_mesh_wall(scene->widened, reuse ? &cache : nullptr);
     const auto t1 = std::chrono::steady_clock::now();
     ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     cpu_ms.push_back(1e-3 * (thread_cpu_us() - c0));
     if (!wall) state.SkipWithError(wall.error().message.c_str());
+    reused = cache.reused_regions();
+    built = cache.built_regions();
     benchmark::DoNotOptimize(wall);
     // Its two parts: the surface, then the tree (thread CPU).
+    state.PauseTiming();
+    cathbox::collision::TreeCache again;
+    if (reuse) benchmark::DoNotOptimize(cathbox::collision::ObbTree::build(vessel::build_vessel_surface(*scene->source).mesh, {}, again));
+    state.ResumeTiming();
     const double m0 = thread_cpu_us();
     vessel::VesselSurface surface = vessel::build_vessel_surface(scene->widened);
     const double m1 = thread_cpu_us();
-    auto tree = cathbox::collision::ObbTree::build(surface.mesh);
+    auto tree = cathbox::collision::ObbTree::build(surface.mesh, {}, again);
     mesh_ms.push_back(1e-3 * (m1 - m0));
     tree_ms.push_back(1e-3 * (thread_cpu_us() - m1));
     benchmark::DoNotOptimize(tree);
@@ -101,7 +116,14 @@ void BM_WallRebuild(benchmark::State& state) {
   state.counters["cpu_mesh_ms"] = pick(mesh_ms, 0.5);
   state.counters["cpu_tree_ms"] = pick(tree_ms, 0.5);
   state.counters["budget_ms"] = static_cast<double>(WallSwap::kDefaultLatencyTicks);
+  if (reuse) {
+    state.counters["regions_reused"] = static_cast<double>(reused);
+    state.counters["regions_built"] = static_cast<double>(built);
+  }
 }
+
+void BM_WallRebuild(benchmark::State& state) { wall_rebuild(state, true); }
+void BM_WallRebuildFromScratch(benchmark::State& state) { wall_rebuild(state, false); }
 
 // Wire across the lesion, balloon catheter over it (the case's script, without inflating).
 void place_tools(Simulator& sim) {
@@ -123,7 +145,8 @@ void step_bench(benchmark::State& state, bool rebuild) {
     state.SkipWithError("cases/neuro_angioplasty.case did not load");
     return;
   }
-  WallSwap swap(std::move(scene->wall), build_mesh_wall, WallSwap::Mode::kWorker, 0);
+  // From scratch every time (no tree cache), so the worker keeps the other core busy.
+  WallSwap swap(std::move(scene->wall), [](const vessel::VesselModel& m) { return build_mesh_wall(m); }, WallSwap::Mode::kWorker, 0);
   Simulator sim(swap.wall(), scene->c.tools, scene->entry);
   place_tools(sim);
   const std::size_t wire = sim.find_tool("guidewire");
@@ -163,6 +186,7 @@ void BM_StepNoRebuild(benchmark::State& state) { step_bench(state, false); }
 }  // namespace
 
 BENCHMARK(BM_WallRebuild)->Unit(benchmark::kMillisecond)->Iterations(15);
+BENCHMARK(BM_WallRebuildFromScratch)->Unit(benchmark::kMillisecond)->Iterations(15);
 BENCHMARK(BM_StepNoRebuild)->Unit(benchmark::kMicrosecond)->Iterations(3000);
 BENCHMARK(BM_StepWhileRebuilding)->Unit(benchmark::kMicrosecond)->Iterations(3000);
 BENCHMARK_MAIN();

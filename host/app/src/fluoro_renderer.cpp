@@ -266,8 +266,12 @@ void FluoroRenderer::set_phantom(flow::HeadPhantom phantom) {
   phantom_key_ = 0;
 }
 
-void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
-  std::vector<float> v(vessel.positions_mm.size() * 6);
+void FluoroRenderer::set_vessel(const FluoroVessel& vessel) { upload_vessel(prepare_vessel(vessel)); }
+
+FluoroRenderer::VesselBuffers FluoroRenderer::prepare_vessel(const FluoroVessel& vessel) {
+  VesselBuffers out;
+  std::vector<float>& v = out.vertices;
+  v.resize(vessel.positions_mm.size() * 6);
   for (std::size_t i = 0; i < vessel.positions_mm.size(); ++i) {
     float* o = v.data() + 6 * i;
     const glm::vec3& p = vessel.positions_mm[i];
@@ -296,26 +300,33 @@ void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
     }
   }
   std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return lo[x] < lo[y]; });
-  std::vector<std::uint32_t> sorted;
+  std::vector<std::uint32_t>& sorted = out.indices;
   sorted.reserve(vessel.triangles.size());
-  buckets_.clear();
   for (std::size_t i = 0; i < triangles; ++i) {
     const std::uint32_t t = order[i];
-    if (i % kBucketTriangles == 0) buckets_.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
-    Bucket& b = buckets_.back();
+    if (i % kBucketTriangles == 0) out.buckets.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
+    Bucket& b = out.buckets.back();
     b.index_count += 3;
     b.lo = std::min(b.lo, lo[t]);
     b.hi = std::max(b.hi, hi[t]);
     sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
   }
+  out.cell_count = vessel.cell_count;
+  return out;
+}
+
+void FluoroRenderer::upload_vessel(VesselBuffers buffers) {
+  const std::vector<float>& v = buffers.vertices;
+  const std::vector<std::uint32_t>& sorted = buffers.indices;
   glBindVertexArray(vessel_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, vessel_vbo_);
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(v.size() * sizeof(float)), v.data(), GL_STATIC_DRAW);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(sorted.size() * sizeof(std::uint32_t)), sorted.data(),
                GL_STATIC_DRAW);
   glBindVertexArray(0);
-  vessel_indices_ = vessel.triangles.size();
-  cell_count_ = vessel.cell_count;
+  vessel_indices_ = sorted.size();
+  buckets_ = std::move(buffers.buckets);
+  cell_count_ = buffers.cell_count;
   glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
   glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(std::max<std::size_t>(cell_count_, 1) * sizeof(float)), nullptr,
                GL_STREAM_DRAW);

@@ -86,10 +86,13 @@ bool SceneRenderer::init(std::string& error) {
   return true;
 }
 
-void SceneRenderer::ChunkedGpuMesh::upload(const MeshView& m) {
-  ChunkedMesh chunked = ChunkedMesh::build(m.positions_mm, m.triangles, kChunkCell_mm);
+ChunkedMesh SceneRenderer::chunk(const MeshView& mesh) {
+  return ChunkedMesh::build(mesh.positions_mm, mesh.triangles, kChunkCell_mm);
+}
+
+void SceneRenderer::ChunkedGpuMesh::upload(const MeshView& m, const ChunkedMesh& chunked) {
   gpu.upload(m.positions_mm, m.normals, chunked.triangles, false);
-  chunks = std::move(chunked.chunks);
+  chunks = chunked.chunks;
 }
 
 std::size_t SceneRenderer::ChunkedGpuMesh::draw_visible(const glm::mat4& view_projection,
@@ -103,9 +106,13 @@ std::size_t SceneRenderer::ChunkedGpuMesh::draw_visible(const glm::mat4& view_pr
 }
 
 void SceneRenderer::set_vessel(const MeshView& detail, const MeshView& overview) {
-  detail_.upload(detail);
-  has_overview_ = !overview.triangles.empty();
-  if (has_overview_) overview_.upload(overview);
+  upload_vessel(PreparedVessel{detail, chunk(detail), overview, overview.triangles.empty() ? ChunkedMesh{} : chunk(overview)});
+}
+
+void SceneRenderer::upload_vessel(const PreparedVessel& vessel) {
+  detail_.upload(vessel.detail, vessel.detail_chunks);
+  has_overview_ = !vessel.overview.triangles.empty();
+  if (has_overview_) overview_.upload(vessel.overview, vessel.overview_chunks);
 }
 
 void SceneRenderer::set_target(std::optional<glm::vec3> target_mm, float radius_mm) {

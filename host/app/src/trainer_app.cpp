@@ -25,9 +25,6 @@
 
 namespace cathbox::app {
 namespace {
-// Above this the global view gets a coarser surface (level L-1, 4-point rings): it shows the
-// vessels at ~0.3 mm per pixel, and every triangle costs a software rasteriser the same.
-constexpr std::size_t kOverviewTriangles = 40'000;
 constexpr int kWarmupFrames = 20;
 constexpr std::int64_t kReplayBudget_us = 25'000;  // CPU per frame a replay may spend catching up
 }  // namespace
@@ -38,6 +35,7 @@ TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
 }
 
 TrainerApp::~TrainerApp() {
+  follower_.reset();  // a wall being prepared reads the session's contrast cells
   close_live();  // stops the haptic thread, closes the record and queues it for the server
   link_.reset();  // finishes the upload in progress (bounded by its timeout)
   replay_.reset();
@@ -51,6 +49,8 @@ TrainerApp::~TrainerApp() {
 session::Session& TrainerApp::current() { return replay_ ? replay_->session() : *live_; }
 
 bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
+  follower_.reset();
+  shown_wall_.reset();
   close_live();
   replay_.reset();
   LiveSession live = open_live_session(options_, program_dir_, case_path, scripted_, keyboard_);
@@ -74,6 +74,8 @@ bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
 
 bool TrainerApp::open_replay(const std::string& path, std::string& error) {
   close_live();  // a run being recorded is closed first (and queued for the server)
+  follower_.reset();
+  shown_wall_.reset();
   auto player = session::ReplayPlayer::open(path, error);
   if (!player) return false;
   if (player->session().scene().mesh() == nullptr) {
@@ -105,16 +107,9 @@ void TrainerApp::load_scene() {
   const session::SessionCase& scene = current().scene();
   const vessel::SurfaceMesh& mesh = *scene.mesh();
   vessel::SurfaceMesh overview;
-  const vessel::MeshOptions options;
-  if (mesh.triangle_count() > kOverviewTriangles && options.subdivision_level > 0) {
+  if (mesh.triangle_count() > kOverviewTriangles) {
     const vessel::HclmReadResult read = vessel::read_hclm(scene.vessel_text, scene.vessel_file);
-    vessel::MeshOptions coarse = options;
-    coarse.subdivision_level = options.subdivision_level - 1;
-    coarse.ring_points = 4;
-    if (read.ok()) {
-      vessel::VesselSurface o = vessel::build_vessel_surface(read.model, coarse);
-      if (o.ok()) overview = std::move(o.mesh);
-    }
+    if (read.ok()) overview = overview_mesh(read.model, mesh.triangle_count());
   }
   renderer_->set_vessel({mesh.positions_mm, mesh.normals, mesh.triangles},
                         {overview.positions_mm, overview.normals, overview.triangles});
@@ -175,6 +170,19 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
     (void)current().post(session::fluoro_control::pedal(true));
     ui_->add_line("fluoroscopy: the autopilot holds the pedal down");
   }
+}
+
+void TrainerApp::follow_wall(const session::Session& s, std::uint64_t generation, bool wait) {
+  const session::FluoroUnit* unit = fluoro_ ? s.fluoro() : nullptr;
+  std::optional<VesselFollower::Prepared> next = follower_.poll(generation, s, unit ? &unit->transport() : nullptr, wait);
+  if (!next) return;
+  renderer_->upload_vessel(next->scene);
+  if (fluoro_ && next->fluoro) {
+    fluoro_->upload_vessel(std::move(*next->fluoro));
+    fluoro_vessel_ = std::move(*next->fluoro_vessel);
+  }
+  shown_wall_ = std::make_unique<VesselFollower::Prepared>(std::move(*next));  // the views point into it
+  ui_->add_line("vessel wall " + std::to_string(shown_wall_->generation) + ": the widened lumen is shown");
 }
 
 void TrainerApp::frame_camera() {
@@ -275,6 +283,7 @@ int TrainerApp::run_window() {
     session::Session& s = current();
     s.snapshots().acquire();
     const session::SceneSnapshot& snap = s.snapshots().read_slot();
+    follow_wall(s, snap.wall_generation, virtual_time);
     ui_->drain(s.events());
     if (link_ && live_) link_->publish(snap);
 

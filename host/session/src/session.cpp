@@ -119,11 +119,14 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   for (const tool::ToolSpec& t : tools) tool_names_.push_back(t.name);
   const bool balloon = std::any_of(tools.begin(), tools.end(), [](const tool::ToolSpec& t) { return t.balloon.present(); });
   if (balloon && scene_->world->source_model() != nullptr) {
-    // Its own first wall, the same as the world's (the world's stays for picking).
-    auto wall = tool::build_mesh_wall(*scene_->world->source_model());
+    // Its own first wall, the same as the world's (the world's stays for picking), built by the
+    // builder of the next walls so that they reuse the regions the balloon leaves alone.
+    tool::WallBuilder builder = tool::cached_mesh_wall_builder();
+    auto wall = builder(*scene_->world->source_model());
     if (wall) {
       angioplasty_ = std::make_unique<tool::Angioplasty>(*scene_->world->source_model(), std::move(*wall),
-                                                         tool::WallSwap::Mode::kSynchronous);
+                                                         tool::WallSwap::Mode::kSynchronous, tool::LumenRemodelParams{},
+                                                         std::move(builder));
     }
   }
   sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
@@ -440,12 +443,18 @@ void Session::publish() {
   s.metrics = metrics_.metrics();
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
+  s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
   exchange_.publish();
 }
 
 const std::vector<FluoroCell>& Session::fluoro_cells() const {
   static const std::vector<FluoroCell> kNone;
   return fluoro_ ? fluoro_->cells() : kNone;
+}
+
+std::shared_ptr<const tool::WallSurface> Session::wall_surface() const {
+  if (!angioplasty_ || angioplasty_->swap().generation() == 0) return {};
+  return angioplasty_->swap().surface();
 }
 
 const HapticThread* Session::active_thread() const {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -51,11 +52,21 @@ std::string validate(const vessel::SurfaceMesh& mesh) {
   return {};
 }
 
+}  // namespace
+
+namespace detail {
+
 // Mean and covariance (xx, yy, zz, xy, xz, yz) of points, in one pass.
 struct Moments {
   glm::dvec3 mean{0.0};
   double cov[6] = {0, 0, 0, 0, 0, 0};
 };
+
+}  // namespace detail
+
+namespace {
+
+using detail::Moments;
 
 // Sums of points relative to the first one (shifted sums keep the precision), in Real.
 template <typename Real>
@@ -146,6 +157,10 @@ Obb box_around(const Moments& m, Points&& points, double scale_mm) {
   return box_in_frame(axes[0], axes[1], axes[2], m.mean, points, scale_mm);
 }
 
+}  // namespace
+
+namespace detail {
+
 struct BinaryNode {
   Obb box;                  // valid once has_box (only nodes that become wide-node children)
   Moments moments;          // of the centroids (region nodes)
@@ -159,9 +174,36 @@ struct BinaryNode {
   [[nodiscard]] bool leaf() const { return left < 0; }
 };
 
+// One region's part of a build, kept for the next one (TreeCache).
+struct CachedRegion {
+  vessel::FaceRegion region;
+  std::vector<glm::vec3> corners;    // 3 per kept triangle, in mesh order
+  std::vector<std::uint32_t> order;  // the triangles' final order, as indices into that order
+  std::int32_t node_first = 0;       // its subtree: RegionCache::nodes[node_first, node_end), preorder
+  std::int32_t node_end = 0;
+  std::uint32_t item_first = 0;      // the nodes' item ranges start here
+  std::size_t leaves = 0;
+};
+
+struct RegionCache {
+  double scale_mm = -1.0;  // boxes carry a margin from the mesh's scale: reuse needs the same
+  std::vector<CachedRegion> regions;
+  std::vector<BinaryNode> nodes;  // the last build's binary nodes, boxes fitted
+  std::size_t reused = 0;
+  std::size_t built = 0;
+};
+
+}  // namespace detail
+
+namespace {
+
+using detail::BinaryNode;
+using detail::CachedRegion;
+using detail::RegionCache;
+
 class Builder {
  public:
-  Builder(const vessel::SurfaceMesh& mesh, TreeData& data) : mesh_(mesh), d_(data) {}
+  Builder(const vessel::SurfaceMesh& mesh, TreeData& data, RegionCache* cache) : mesh_(mesh), d_(data), cache_(cache) {}
 
   std::string run() {
     copy_mesh();
@@ -182,6 +224,7 @@ class Builder {
     d_.stats.wide_nodes = d_.nodes.size();
     d_.stats.leaves = d_.blocks.size();
     d_.stats.depth = depth;
+    keep_regions();
     return {};
   }
 
@@ -314,16 +357,37 @@ class Builder {
     std::vector<std::uint32_t> first(counts.size() + 1, 0);
     for (std::size_t r = 0; r < counts.size(); ++r) first[r + 1] = first[r] + counts[r];
     items_.resize(kept_.size());
+    if (cache_ != nullptr) local_.assign(mesh_.triangle_count(), 0);
     std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       const std::uint32_t f = kept_[i];
       const glm::dvec3 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
+      if (cache_ != nullptr) local_[f] = fill[region_of[i]] - first[region_of[i]];  // its place in its region, mesh order
       items_[fill[region_of[i]]++] = {0.0f, glm::vec3(c), f};
     }
     bnodes_.reserve(2 * (kept_.size() / kLeafSize + counts.size()) + 8);
 
+    keys_.resize(counts.size());
+    for (const auto& [key, r] : index) {
+      keys_[r] = {static_cast<vessel::RegionKind>(key >> 32), static_cast<std::int32_t>(static_cast<std::uint32_t>(key))};
+    }
+    region_first_ = first;
+    region_corners_.assign(counts.size(), {});
+    region_node_first_.assign(counts.size(), 0);
+    region_node_end_.assign(counts.size(), 0);
+    region_leaves_.assign(counts.size(), 0);
+    region_reused_.assign(counts.size(), false);
     for (std::size_t r = 0; r < counts.size(); ++r) {
-      const std::int32_t root = build_region(first[r], first[r + 1]);
+      std::vector<glm::vec3>& corners = region_corners_[r];
+      corners.reserve(3 * std::size_t{counts[r]});
+      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i)
+        for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]]);
+      const std::size_t leaves_before = leaf_count_;
+      region_node_first_[r] = static_cast<std::int32_t>(bnodes_.size());
+      region_reused_[r] = reuse_region(r);
+      const std::int32_t root = region_reused_[r] ? region_node_first_[r] : build_region(first[r], first[r + 1]);
+      region_node_end_[r] = static_cast<std::int32_t>(bnodes_.size());
+      region_leaves_[r] = leaf_count_ - leaves_before;
       region_roots_.push_back(root);
       glm::dvec3 mean{0.0};
       for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) mean += glm::dvec3(items_[i].centroid);
@@ -448,6 +512,63 @@ class Builder {
     bnodes_[id].left = l;
     bnodes_[id].right = r;
     return id;
+  }
+
+  // Region r's subtree from the cache, when its triangles are the cached ones (same floats, same
+  // order): the items take the cached order and the nodes are appended with their boxes.
+  bool reuse_region(std::size_t r) {
+    if (cache_ == nullptr || cache_->scale_mm != d_.scale_mm) return false;
+    const CachedRegion* hit = nullptr;
+    for (const CachedRegion& c : cache_->regions) {
+      const std::vector<glm::vec3>& now = region_corners_[r];
+      if (c.region == keys_[r] && c.corners.size() == now.size() &&
+          std::memcmp(c.corners.data(), now.data(), now.size() * sizeof(glm::vec3)) == 0) {
+        hit = &c;
+      }
+    }
+    if (hit == nullptr) return false;
+    const std::uint32_t first = region_first_[r];
+    const std::uint32_t count = region_first_[r + 1] - first;
+    scratch_items_.assign(items_.begin() + first, items_.begin() + first + count);
+    for (std::uint32_t j = 0; j < count; ++j) items_[first + j] = scratch_items_[hit->order[j]];
+    const std::int32_t shift = static_cast<std::int32_t>(bnodes_.size()) - hit->node_first;
+    for (std::int32_t k = hit->node_first; k < hit->node_end; ++k) {
+      BinaryNode node = cache_->nodes[static_cast<std::size_t>(k)];
+      if (node.left >= 0) node.left += shift;
+      if (node.right >= 0) node.right += shift;
+      node.begin = node.begin - hit->item_first + first;
+      node.end = node.end - hit->item_first + first;
+      bnodes_.push_back(node);
+    }
+    leaf_count_ += hit->leaves;
+    return true;
+  }
+
+  // This build's regions into the cache (after the boxes are fitted), replacing the last's.
+  void keep_regions() {
+    if (cache_ == nullptr) return;
+    const std::size_t regions = keys_.size();
+    std::size_t reused = 0;
+    std::vector<CachedRegion> kept(regions);
+    for (std::size_t r = 0; r < regions; ++r) {
+      const std::uint32_t first = region_first_[r];
+      const std::uint32_t count = region_first_[r + 1] - first;
+      CachedRegion& c = kept[r];
+      c.region = keys_[r];
+      c.corners = std::move(region_corners_[r]);
+      c.node_first = region_node_first_[r];
+      c.node_end = region_node_end_[r];
+      c.item_first = first;
+      c.leaves = region_leaves_[r];
+      c.order.resize(count);
+      for (std::uint32_t i = 0; i < count; ++i) c.order[i] = local_[items_[first + i].face];
+      reused += region_reused_[r] ? 1 : 0;
+    }
+    cache_->regions = std::move(kept);
+    cache_->nodes = std::move(bnodes_);
+    cache_->scale_mm = d_.scale_mm;
+    cache_->reused = reused;
+    cache_->built = regions - reused;
   }
 
   // Regions [first, last) of region_roots_: split along the longest spread of their centres,
@@ -595,11 +716,29 @@ class Builder {
   std::vector<BinaryNode> bnodes_;
   std::vector<std::int32_t> region_roots_;
   std::vector<glm::dvec3> region_centres_;
+  // Per region (in order of first appearance): its key, first item, mesh-order corners, node
+  // range and leaves, and whether it came from the cache; per face, its place in its region.
+  RegionCache* cache_ = nullptr;
+  std::vector<vessel::FaceRegion> keys_;
+  std::vector<std::uint32_t> region_first_;
+  std::vector<std::vector<glm::vec3>> region_corners_;
+  std::vector<std::int32_t> region_node_first_, region_node_end_;
+  std::vector<std::size_t> region_leaves_;
+  std::vector<bool> region_reused_;
+  std::vector<std::uint32_t> local_;
+  std::vector<Item> scratch_items_;
 };
 
 }  // namespace
 
-TreeBuild TreeBuilder::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options) {
+TreeCache::TreeCache() : data_(std::make_unique<detail::RegionCache>()) {}
+TreeCache::~TreeCache() = default;
+TreeCache::TreeCache(TreeCache&&) noexcept = default;
+TreeCache& TreeCache::operator=(TreeCache&&) noexcept = default;
+std::size_t TreeCache::reused_regions() const { return data_ ? data_->reused : 0; }
+std::size_t TreeCache::built_regions() const { return data_ ? data_->built : 0; }
+
+TreeBuild TreeBuilder::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options, TreeCache* cache) {
   if (std::string error = validate(mesh); !error.empty()) return base::Error{std::move(error)};
   if (!(options.coherence_margin_mm >= 0.0) || !std::isfinite(options.coherence_margin_mm)) {
     return base::Error{"build_options.coherence_margin_mm: must be finite and >= 0"};
@@ -607,13 +746,18 @@ TreeBuild TreeBuilder::build(const vessel::SurfaceMesh& mesh, const BuildOptions
   auto data = std::make_shared<TreeData>();
   data->id = g_next_tree_id.fetch_add(1);
   data->coherence_margin_mm = options.coherence_margin_mm;
-  Builder builder(mesh, *data);
+  if (cache != nullptr && !cache->data_) cache->data_ = std::make_unique<detail::RegionCache>();
+  Builder builder(mesh, *data, cache != nullptr ? cache->data_.get() : nullptr);
   if (std::string error = builder.run(); !error.empty()) return base::Error{std::move(error)};
   return ObbTree(std::move(data));
 }
 
 TreeBuild ObbTree::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options) {
   return TreeBuilder::build(mesh, options);
+}
+
+TreeBuild ObbTree::build(const vessel::SurfaceMesh& mesh, const BuildOptions& options, TreeCache& cache) {
+  return TreeBuilder::build(mesh, options, &cache);
 }
 
 }  // namespace cathbox::collision

@@ -7,7 +7,8 @@ namespace cathbox::collision {
 
 class TreeBuilder {
  public:
-  [[nodiscard]] static TreeBuild build(const vessel::SurfaceMesh& mesh, const BuildOptions& options);
+  [[nodiscard]] static TreeBuild build(const vessel::SurfaceMesh& mesh, const BuildOptions& options,
+                                       TreeCache* cache = nullptr);
 };
 
 }  // namespace cathbox::collision

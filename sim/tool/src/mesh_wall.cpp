@@ -7,8 +7,8 @@
 
 namespace cathbox::tool {
 
-MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots)
-    : tree_(std::move(tree)), hints_(hint_slots) {}
+MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_ptr<const WallSurface> surface)
+    : tree_(std::move(tree)), hints_(hint_slots), surface_(std::move(surface)) {}
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
   const bool coherent = !hints_.empty();

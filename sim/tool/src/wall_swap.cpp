@@ -24,18 +24,29 @@ WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& mo
 
 }  // namespace
 
-WallResult build_mesh_wall(const vessel::VesselModel& model) {
+WallResult build_mesh_wall(const vessel::VesselModel& model, collision::TreeCache* cache) {
   vessel::VesselSurface surface = vessel::build_vessel_surface(model);
   if (!surface.ok()) return base::Error{"widened vessel: " + surface.error};
-  collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
+  collision::TreeBuild tree = cache != nullptr ? collision::ObbTree::build(surface.mesh, {}, *cache)
+                                               : collision::ObbTree::build(surface.mesh);
   if (!tree) return base::Error{"widened vessel surface rejected by the collision tree: " + tree.error().message};
-  return WallResult(std::make_unique<MeshWall>(std::move(*tree)));
+  // The tree keeps its own copy of the mesh: the surface moves on to the renderers.
+  auto drawn = std::make_shared<WallSurface>(WallSurface{model, std::move(surface.mesh)});
+  return WallResult(std::make_unique<MeshWall>(std::move(*tree), MeshWall::kDefaultHintSlots, std::move(drawn)));
+}
+
+WallBuilder cached_mesh_wall_builder() {
+  auto cache = std::make_shared<collision::TreeCache>();
+  return [cache](const vessel::VesselModel& model) { return build_mesh_wall(model, cache.get()); };
 }
 
 WallSwap::WallSwap(std::unique_ptr<WallModel> initial, WallBuilder builder, Mode mode, std::int64_t latency_ticks)
     : current_(std::move(initial)), builder_(std::move(builder)), mode_(mode), latency_(std::max<std::int64_t>(0, latency_ticks)) {
   retired_.reserve(4);
+  surface_.store(current_->surface());
 }
+
+std::shared_ptr<const WallSurface> WallSwap::surface() const { return surface_.load(std::memory_order_acquire); }
 
 void WallSwap::set_mode(Mode mode) {
   if (!due_tick_) mode_ = mode;
@@ -127,8 +138,12 @@ bool WallSwap::poll(Simulator& sim, std::int64_t now) {
   }
   std::unique_ptr<WallModel> next = std::move(built->value());
   sim.swap_wall(*next);
+  // Published before the old wall is retired: the old surface's last owner is then the retired
+  // wall (destroyed by the worker) or a renderer, never this thread.
+  surface_.store(next->surface(), std::memory_order_release);
   std::unique_ptr<WallModel> old = std::exchange(current_, std::move(next));
   ++swaps_;
+  generation_.store(swaps_, std::memory_order_release);
   retire(std::move(old));
   return true;
 }

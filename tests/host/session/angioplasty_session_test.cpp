@@ -25,17 +25,31 @@ double named(const Metrics& m, const std::string& name) {
   return it == all.end() ? -1.0 : it->value;
 }
 
-TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
+// The bundled angioplasty case with its action script as the hand (null when either fails).
+struct CaseAndHand {
+  std::unique_ptr<SessionCase> scene;
+  std::unique_ptr<Hand> hand;
+};
+CaseAndHand angioplasty_case() {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad loaded = load_session_case(dir + "neuro_angioplasty.case");
-  ASSERT_TRUE(loaded.value) << loaded.error;
+  EXPECT_TRUE(loaded.value) << loaded.error;
+  if (!loaded.value) return {};
   std::string error;
   auto hand = ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value, error);
-  ASSERT_TRUE(hand) << error;
+  EXPECT_TRUE(hand) << error;
+  if (!hand) return {};
+  return {std::move(loaded.value), std::move(hand)};
+}
+
+TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
+  auto [scene, hand] = angioplasty_case();
+  ASSERT_TRUE(scene && hand);
+  std::string error;
   const std::string path = temp_path("angioplasty.cbxrec");
   Metrics live;
   {
-    Session s(std::move(loaded.value), std::move(hand));
+    Session s(std::move(scene), std::move(hand));
     ASSERT_TRUE(s.record_to(path, error)) << error;
     while (!s.over()) s.step_virtual(1000);
     EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
@@ -65,6 +79,57 @@ TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
   EXPECT_GT(r.hashes_checked, 200);
   EXPECT_DOUBLE_EQ(*r.metrics.residual_stenosis_pct, *live.residual_stenosis_pct);
   EXPECT_EQ(*r.metrics.balloon_inflations, 1);
+}
+
+// The walls the simulator used at each tick, as observers see them.
+class WallSwapsSeen : public TickObserver {
+ public:
+  void observe(const TickView& view) override { swaps.push_back(view.sim.wall_swaps()); }
+  std::vector<std::uint64_t> swaps;  // per tick
+};
+
+TEST(AngioplastySession, TheSnapshotsWallGenerationChangesExactlyAtTheSwapTick) {
+  auto [scene, hand] = angioplasty_case();
+  ASSERT_TRUE(scene && hand);
+  Session s(std::move(scene), std::move(hand));
+  WallSwapsSeen seen;
+  s.add_observer(seen);
+  EXPECT_EQ(s.wall_surface(), nullptr) << "the case's own surface is the wall before any swap";
+  std::uint64_t generation = 0;
+  std::int64_t first_swap_tick = -1;
+  int changes = 0;
+  // One tick at a time up to two swaps: the snapshot after tick n carries the walls swapped in
+  // by tick n, no sooner, no later.
+  while (!s.over() && changes < 2) {
+    ASSERT_EQ(s.step_virtual(1), 1);
+    s.snapshots().acquire();
+    const SceneSnapshot& snap = s.snapshots().read_slot();
+    ASSERT_EQ(snap.tick, static_cast<std::int64_t>(seen.swaps.size()));
+    ASSERT_EQ(snap.wall_generation, seen.swaps.back()) << "tick " << snap.tick - 1;
+    if (snap.wall_generation != generation) {
+      EXPECT_EQ(snap.wall_generation, generation + 1);
+      generation = snap.wall_generation;
+      if (changes++ == 0) first_swap_tick = snap.tick - 1;
+      const std::shared_ptr<const tool::WallSurface> surface = s.wall_surface();
+      ASSERT_NE(surface, nullptr);
+      EXPECT_GT(surface->mesh.triangle_count(), 1000u);
+      ASSERT_EQ(surface->model.segments.size(), s.scene().world->source_model()->segments.size());
+    }
+  }
+  ASSERT_EQ(changes, 2) << "the inflation widens the lumen twice or more";
+  // The first wall is due 300 ticks after the balloon first moved the lumen, which is after the
+  // inflation starts (11.5 s in the script).
+  EXPECT_GT(first_swap_tick, 11'500 + 300);
+  // The widened model is wider than the case's at the lesion.
+  const std::shared_ptr<const tool::WallSurface> surface = s.wall_surface();
+  const vessel::VesselModel& before = *s.scene().world->source_model();
+  double widened_mm = 0.0;
+  for (std::size_t g = 0; g < before.segments.size(); ++g) {
+    for (std::size_t i = 0; i < before.segments[g].points.size(); ++i) {
+      widened_mm = std::max(widened_mm, surface->model.segments[g].points[i].radius_mm - before.segments[g].points[i].radius_mm);
+    }
+  }
+  EXPECT_GT(widened_mm, 0.3);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "test_meshes.hpp"
+#include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::collision {
@@ -135,6 +136,84 @@ INSTANTIATE_TEST_SUITE_P(Cases, BundledCaseTest,
                          ::testing::Values(BundledCase{"neuro.hclm", 1}, BundledCase{"neuro_aneurysm.hclm", 1},
                                            BundledCase{"y_bifurcation.hclm", 2}, BundledCase{"seed_catheter.hclm", 3}),
                          case_name);
+
+}  // namespace
+}  // namespace cathbox::collision
+
+namespace cathbox::collision {
+namespace {
+
+// A tree built with a TreeCache is the tree built afresh: the bundled stenosis case, then the
+// same model with one segment widened (as a balloon does): the regions whose triangles did not
+// change come from the cache, the others are built again, and every answer (closest point with
+// its face and feature, contacts, rays) equals the fresh tree's at random points; built again
+// with the cache, every region is reused.
+TEST(TreeCache, ReusedRegionsGiveTheTreeAFreshBuildGives) {
+  vessel::HclmReadResult read = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_stenosis.hclm");
+  ASSERT_TRUE(read.ok());
+  vessel::VesselModel widened = read.model;
+  ASSERT_GT(widened.segments.size(), 20u);
+  vessel::Segment& seg = widened.segments[19];
+  for (std::size_t i = 3; i + 3 < seg.points.size() && i < 12; ++i) seg.points[i].radius_mm = std::max(seg.points[i].radius_mm, 2.0);
+  vessel::VesselSurface before = vessel::build_vessel_surface(read.model);
+  vessel::VesselSurface after = vessel::build_vessel_surface(widened);
+  ASSERT_TRUE(before.ok() && after.ok());
+
+  TreeCache cache;
+  ASSERT_TRUE(ObbTree::build(before.mesh, {}, cache));
+  EXPECT_EQ(cache.reused_regions(), 0u);
+  TreeBuild cached = ObbTree::build(after.mesh, {}, cache);
+  ASSERT_TRUE(cached);
+  EXPECT_GT(cache.reused_regions(), 10u);
+  EXPECT_GT(cache.built_regions(), 0u);
+  TreeBuild fresh = ObbTree::build(after.mesh);
+  ASSERT_TRUE(fresh);
+  TreeBuild again = ObbTree::build(after.mesh, {}, cache);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(cache.built_regions(), 0u) << "the same mesh again: every region from the cache";
+
+  EXPECT_EQ(cached->stats().wide_nodes, fresh->stats().wide_nodes);
+  EXPECT_EQ(cached->stats().leaves, fresh->stats().leaves);
+  EXPECT_EQ(cached->stats().depth, fresh->stats().depth);
+  glm::vec3 lo(1e30F), hi(-1e30F);
+  for (const glm::vec3& p : after.mesh.positions_mm) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  std::mt19937 rng(16);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int i = 0; i < 3000; ++i) {
+    // Half the points near the wall (a vertex plus a small offset), half anywhere.
+    glm::dvec3 p;
+    if (i % 2 == 0) {
+      const glm::vec3 v = after.mesh.positions_mm[static_cast<std::size_t>(u(rng) * (after.mesh.positions_mm.size() - 1))];
+      p = glm::dvec3(v) + glm::dvec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+    } else {
+      p = glm::dvec3(lo) + glm::dvec3(u(rng), u(rng), u(rng)) * glm::dvec3(hi - lo);
+    }
+    for (const ObbTree* t : {&*cached, &*again}) {
+      const auto a = t->closest_point(p);
+      const auto b = fresh->closest_point(p);
+      ASSERT_EQ(a.has_value(), b.has_value());
+      ASSERT_EQ(a->face, b->face) << i;
+      ASSERT_EQ(a->point_mm, b->point_mm) << i;
+      ASSERT_EQ(a->signed_distance_mm, b->signed_distance_mm) << i;
+      ASSERT_EQ(a->normal, b->normal) << i;
+      ASSERT_EQ(a->feature, b->feature) << i;
+      std::array<Contact, 4> ca{}, cb{};
+      const std::size_t na = t->sphere_contacts(p, 0.8, ca);
+      ASSERT_EQ(na, fresh->sphere_contacts(p, 0.8, cb)) << i;
+      for (std::size_t k = 0; k < na; ++k) ASSERT_EQ(ca[k].wall_point_mm, cb[k].wall_point_mm) << i;
+      const glm::dvec3 dir(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+      const auto ra = t->ray_cast(p, dir, 50.0);
+      const auto rb = fresh->ray_cast(p, dir, 50.0);
+      ASSERT_EQ(ra.has_value(), rb.has_value()) << i;
+      if (ra) {
+        ASSERT_EQ(ra->t, rb->t) << i;
+      }
+    }
+  }
+}
 
 }  // namespace
 }  // namespace cathbox::collision

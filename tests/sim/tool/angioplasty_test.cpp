@@ -223,7 +223,7 @@ TEST(Angioplasty, WidenedWallSwapsAtTheSameTickInBothModes) {
     const int m = mode == WallSwap::Mode::kWorker ? 1 : 0;
     base::Result<std::unique_ptr<WallModel>> first = build_mesh_wall(model);
     ASSERT_TRUE(first) << first.error().message;
-    WallSwap swap(std::move(*first), build_mesh_wall, mode, 300);
+    WallSwap swap(std::move(*first), cached_mesh_wall_builder(), mode, 300);
     const std::vector<ToolSpec> tools{short_wire()};
     Simulator sim(swap.wall(), tools, Entry{{9.91, -28.32, -78}, {0, 0, 1}});
     const WallModel* old = &swap.wall();

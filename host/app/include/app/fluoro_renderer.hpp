@@ -50,6 +50,23 @@ class FluoroRenderer {
   // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the
   // scenes' cell_iodine come from). Without one, contrast is not drawn.
   void set_vessel(const FluoroVessel& vessel);
+  // set_vessel() in two steps, for a vessel that changes while it is shown (a balloon widened
+  // the lumen): prepare_vessel() does the CPU work without GL (any thread), upload_vessel()
+  // only hands the buffers to GL and marks the scenes stale (the render thread).
+  struct Bucket {
+    std::uint32_t first_index = 0;
+    std::uint32_t index_count = 0;
+    std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
+    std::uint32_t hi = 0;
+  };
+  struct VesselBuffers {
+    std::vector<float> vertices;         // x, y, z, cell a, cell b, weight per vertex
+    std::vector<std::uint32_t> indices;  // the triangles, sorted into buckets
+    std::vector<Bucket> buckets;
+    std::size_t cell_count = 0;
+  };
+  [[nodiscard]] static VesselBuffers prepare_vessel(const FluoroVessel& vessel);
+  void upload_vessel(VesselBuffers buffers);
   void set_display(const FluoroDisplay& display) { display_ = display; }
   [[nodiscard]] const FluoroDisplay& display() const { return display_; }
 
@@ -100,12 +117,6 @@ class FluoroRenderer {
   unsigned vessel_vbo_ = 0;
   unsigned vessel_ebo_ = 0;
   std::size_t vessel_indices_ = 0;
-  struct Bucket {
-    std::uint32_t first_index = 0;
-    std::uint32_t index_count = 0;
-    std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
-    std::uint32_t hi = 0;
-  };
   std::vector<Bucket> buckets_;              // the vessel's triangles, sorted by their lowest cell
   std::vector<std::uint32_t> nonzero_before_;  // per pulse: cells with iodine before each cell
   std::size_t cell_count_ = 0;

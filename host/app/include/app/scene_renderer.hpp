@@ -53,6 +53,17 @@ class SceneRenderer {
     std::span<const std::uint32_t> triangles;
   };
   void set_vessel(const MeshView& detail, const MeshView& overview = {});
+  // set_vessel() in two steps, for a vessel that changes while it is shown (a balloon widened
+  // the lumen): chunk() does the CPU work (any thread), set_vessel(PreparedVessel) only uploads
+  // (the render thread): upload_vessel(). The meshes must outlive the call.
+  struct PreparedVessel {
+    MeshView detail;
+    ChunkedMesh detail_chunks;
+    MeshView overview;  // empty: the global view draws the detail mesh
+    ChunkedMesh overview_chunks;
+  };
+  [[nodiscard]] static ChunkedMesh chunk(const MeshView& mesh);
+  void upload_vessel(const PreparedVessel& vessel);
   void set_target(std::optional<glm::vec3> target_mm, float radius_mm);
 
   // Clears the whole framebuffer to the background colour.
@@ -74,7 +85,7 @@ class SceneRenderer {
   struct ChunkedGpuMesh {
     GpuMesh gpu;
     std::vector<MeshChunk> chunks;
-    void upload(const MeshView& m);
+    void upload(const MeshView& m, const ChunkedMesh& chunked);
     std::size_t draw_visible(const glm::mat4& view_projection, const glm::vec3& eye_mm,
                              float max_distance_mm, std::vector<IndexRange>& scratch) const;
   };

@@ -16,6 +16,7 @@
 #include "app/scene_renderer.hpp"
 #include "app/trainer_launch.hpp"
 #include "app/trainer_options.hpp"
+#include "app/vessel_follower.hpp"
 #include "device/foot_pedal.hpp"
 #include "session/fluoro_switches.hpp"
 #include "session/keyboard_input.hpp"
@@ -60,6 +61,8 @@ class TrainerApp {
   // --view, else the case's `realistic`: the fluoroscopic main view, its C-arm pose.
   void load_fluoro_view(const session::SessionCase& scene);
   void frame_camera();
+  // The views follow the session's wall (a balloon widened the lumen): uploads a prepared one.
+  void follow_wall(const session::Session& s, std::uint64_t generation, bool wait);
 
   TrainerOptions options_;
   std::string program_dir_;
@@ -82,6 +85,8 @@ class TrainerApp {
   FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
   FluoroVessel fluoro_vessel_;  // the case's surface tied to the session's contrast cells
   std::string fluoro_error_;  // the last one shown in the output panel
+  VesselFollower follower_;  // prepares a widened vessel off the render thread
+  std::unique_ptr<VesselFollower::Prepared> shown_wall_;  // the widened vessel the views show
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;
   InputController input_;

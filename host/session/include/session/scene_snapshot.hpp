@@ -48,6 +48,9 @@ struct SceneSnapshot {
   std::int64_t dropped_ticks = 0;
   Metrics metrics;
   bool run_over = false;  // target reached, the hand finished, or the run was ended
+  // The vessel walls swapped in so far (a balloon widened the lumen; 0: the case's surface).
+  // When it changes, Session::wall_surface() has the new lumen's model and mesh to draw.
+  std::uint64_t wall_generation = 0;
   FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 
   // Lets the vectors hold `nodes_per_tool` nodes per tool without allocating.

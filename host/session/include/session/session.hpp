@@ -113,6 +113,10 @@ class Session {
   // The contrast cells a renderer draws SceneSnapshot::fluoro's iodine on (empty without a
   // vessel network).
   [[nodiscard]] const std::vector<FluoroCell>& fluoro_cells() const;
+  // Any thread: the vessel wall the simulation uses now, when a balloon has widened it
+  // (SceneSnapshot::wall_generation > 0): the widened model and its surface mesh. Empty while
+  // the case's own surface (scene().mesh()) is the wall, and in cases without a balloon.
+  [[nodiscard]] std::shared_ptr<const tool::WallSurface> wall_surface() const;
   // The header a record of this session gets.
   [[nodiscard]] RecordHeader record_header() const;
 

@@ -32,6 +32,7 @@ namespace cathbox::collision {
 
 namespace detail {
 struct TreeData;
+struct RegionCache;
 }
 
 struct BuildOptions {
@@ -51,6 +52,27 @@ struct TreeStats {
   bool consistently_oriented = false;  // neighbours traverse shared edges in opposite directions
 };
 
+// What one build leaves for the next build of a similar mesh: the same vessel with a few
+// regions changed (a balloon widened one segment). Per region (FaceRegion) it keeps the
+// triangles' corners and the region's subtree; a build given the cache reuses the subtree of
+// every region whose triangles are the same floats in the same order (and the same overall
+// coordinate scale), so the tree equals a fresh build's while only the changed regions are
+// split and fitted again, then refills the cache from itself. One build at a time.
+class TreeCache {
+ public:
+  TreeCache();
+  ~TreeCache();
+  TreeCache(TreeCache&&) noexcept;
+  TreeCache& operator=(TreeCache&&) noexcept;
+  // Regions of the last build taken from the cache, and built afresh.
+  [[nodiscard]] std::size_t reused_regions() const;
+  [[nodiscard]] std::size_t built_regions() const;
+
+ private:
+  friend class TreeBuilder;
+  std::unique_ptr<detail::RegionCache> data_;
+};
+
 class ObbTree;
 // The tree, or one line naming the field and index at fault.
 using TreeBuild = base::Result<ObbTree>;
@@ -62,6 +84,10 @@ class ObbTree {
   // Validates the mesh (finite positions, indices in range, one region per triangle) and builds.
   [[nodiscard]] static TreeBuild build(const vessel::SurfaceMesh& mesh,
                                        const BuildOptions& options = {});
+  // The same, reusing the unchanged regions of the build `cache` was last given to (if any),
+  // and leaving this build's regions in it.
+  [[nodiscard]] static TreeBuild build(const vessel::SurfaceMesh& mesh, const BuildOptions& options,
+                                       TreeCache& cache);
 
   [[nodiscard]] const TreeStats& stats() const;
 

@@ -39,7 +39,7 @@ struct AngioplastyFigures {
 class Angioplasty {
  public:
   Angioplasty(vessel::VesselModel source, std::unique_ptr<WallModel> wall, WallSwap::Mode mode,
-              const LumenRemodelParams& params = {}, WallBuilder builder = build_mesh_wall,
+              const LumenRemodelParams& params = {}, WallBuilder builder = cached_mesh_wall_builder(),
               std::int64_t latency_ticks = WallSwap::kDefaultLatencyTicks);
 
   [[nodiscard]] const WallModel& wall() const { return swap_.wall(); }

@@ -4,6 +4,7 @@
 // is shared and immutable.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "collision/obb_tree.hpp"
@@ -21,15 +22,18 @@ class MeshWall final : public WallModel {
   // slots are allocated here, never per step; a slot's ~4.4 KB cut of the tree is first
   // written when that slot is used. hint_slots = 0 gives cold queries.
   static constexpr std::size_t kDefaultHintSlots = 4096;
-  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots);
+  explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots,
+                    std::shared_ptr<const WallSurface> surface = {});
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   [[nodiscard]] const collision::ObbTree& tree() const { return tree_; }
+  [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return surface_; }
 
  private:
   collision::ObbTree tree_;
   mutable std::vector<collision::QueryHint> hints_;
   mutable std::uint32_t next_slot_ = 0;
+  std::shared_ptr<const WallSurface> surface_;
 };
 
 }  // namespace cathbox::tool

@@ -4,8 +4,12 @@
 // Analytic walls (tubes, bends, bifurcations) and the vessel mesh (through the collision tree)
 // implement it.
 #include <cstdint>
+#include <memory>
 
 #include <glm/vec3.hpp>
+
+#include "vessel/surface_mesh.hpp"
+#include "vessel/vessel_model.hpp"
 
 namespace cathbox::tool {
 
@@ -34,9 +38,18 @@ struct WallHint {
   std::uint32_t index = 0xffffffffu;
 };
 
+// What a meshed wall was built from, for those who draw it (renderers): the lumen's central-axis
+// model (the HCLM radii, widened by a balloon) and the surface meshed from it. Immutable; shared.
+struct WallSurface {
+  vessel::VesselModel model;
+  vessel::SurfaceMesh mesh;
+};
+
 class WallModel {
  public:
   virtual ~WallModel() = default;
+  // The surface this wall was built from; empty for analytic walls.
+  [[nodiscard]] virtual std::shared_ptr<const WallSurface> surface() const { return {}; }
   // Fills `out` and returns true when the wall is within probe.range_mm of the node surface
   // (or the node is outside the lumen); returns false otherwise.
   [[nodiscard]] virtual bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const = 0;

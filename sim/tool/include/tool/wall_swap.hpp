@@ -15,6 +15,11 @@
 // The old wall stays valid (owned here) until the swap, and is destroyed afterwards off the
 // haptic thread (by the worker; in synchronous mode at once). One wall is built at a time: a
 // request while one is pending is refused (the caller asks again after the swap).
+//
+// Renderers follow the walls through generation() (the swaps so far, 0 for the initial wall)
+// and surface() (the present wall's WallSurface: the widened model and its mesh), both readable
+// from any thread; the swap publishes the new surface before the generation.
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -25,6 +30,7 @@
 #include <vector>
 
 #include "base/result.hpp"
+#include "collision/obb_tree.hpp"
 #include "tool/simulator.hpp"
 #include "tool/wall_model.hpp"
 #include "vessel/vessel_model.hpp"
@@ -34,7 +40,14 @@ namespace cathbox::tool {
 // Builds the wall of a lumen (thread-safe: called on the worker).
 using WallBuilder = std::function<base::Result<std::unique_ptr<WallModel>>(const vessel::VesselModel&)>;
 // The vessel's wall as build_world() makes it: surface (vessel_mesher), OBB tree, MeshWall.
-[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model);
+// With a cache, the tree reuses the regions (segments, junctions, caps) whose surface is the
+// same as in the last wall built with it (collision::TreeCache): the same tree, built faster.
+[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model,
+                                                                       collision::TreeCache* cache = nullptr);
+// build_mesh_wall with one TreeCache carried from each wall to the next (copies share it; one
+// build at a time, as WallSwap builds). Build the first wall with it too, so that the first
+// rebuild already reuses the regions a balloon did not touch.
+[[nodiscard]] WallBuilder cached_mesh_wall_builder();
 
 class WallSwap {
  public:
@@ -66,6 +79,10 @@ class WallSwap {
   [[nodiscard]] std::int64_t due_tick() const { return due_tick_.value_or(-1); }
   [[nodiscard]] std::uint64_t requests() const { return requests_; }
   [[nodiscard]] std::uint64_t swaps() const { return swaps_; }
+  // Any thread: the walls swapped in so far, and the present wall's surface (empty for a wall
+  // without one).
+  [[nodiscard]] std::uint64_t generation() const { return generation_.load(std::memory_order_acquire); }
+  [[nodiscard]] std::shared_ptr<const WallSurface> surface() const;
   [[nodiscard]] std::uint64_t late_ticks() const { return late_ticks_; }
   [[nodiscard]] std::uint64_t failures() const { return failures_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
@@ -83,6 +100,8 @@ class WallSwap {
   std::optional<std::int64_t> due_tick_;
   std::uint64_t requests_ = 0, swaps_ = 0, late_ticks_ = 0, failures_ = 0;
   std::string last_error_;
+  std::atomic<std::uint64_t> generation_{0};
+  std::atomic<std::shared_ptr<const WallSurface>> surface_;
 
   // Shared with the builder thread (under mutex_).
   mutable std::mutex mutex_;
