@@ -7,10 +7,10 @@
 //   NewPulse/0  live fluoroscopy, a new pulse each frame: the wire moved, contrast filling the
 //               right ICA territory (the vessel and the tools accumulated again, the composite)
 //   NewPulse/1  the same without contrast (before an injection: tools only)
-//   NewPulse/2  NewPulse/0 with the coarser surface the trainer's global view shows (level 1,
-//               4-point rings) instead of level 2
+//   NewPulse/2  NewPulse/0 on the surface the trainer's fluoroscopic view draws
+//               (app::fluoro_surface_options(): level 1, 8-point rings) instead of level 2
 //   DisplayAt60Hz/0,1  a 60 Hz monitor during 15 pulses/s fluoroscopy with contrast (level 2,
-//               coarse surface): the median display frame, and the new-pulse frames in p99
+//               the trainer's surface): the median display frame, and the new-pulse frames in p99
 //   Held        last-image hold with the roadmap: nothing accumulated or composed, a copy
 //   Subtracted  a run frame with its mask: two scenes accumulated, the subtraction
 // The C-arm stays still, so the phantom (projected on the CPU when the pose changes, ~4x its
@@ -46,7 +46,7 @@ struct Rig {
   vessel::SurfaceMesh mesh;
   std::unique_ptr<flow::FlowNetwork> network;
   std::unique_ptr<flow::ContrastTransport> transport;
-  vessel::SurfaceMesh coarse_mesh;  // level 1, 4-point rings: the trainer's global-view surface
+  vessel::SurfaceMesh coarse_mesh;  // app::fluoro_surface_options(): the surface the trainer's fluoroscopic view draws
   app::FluoroRenderer renderer;
   app::FluoroRenderer coarse;       // the same with the coarse surface
   std::vector<glm::vec3> wire;  // along the right ICA
@@ -69,10 +69,7 @@ struct Rig {
     for (std::uint32_t i = 0; i < network->model().segments.size(); ++i) {
       if (network->model().segments[i].name == "right_internal_carotid") right_ica = i;
     }
-    vessel::MeshOptions coarse_options;
-    coarse_options.subdivision_level = coarse_options.subdivision_level - 1;
-    coarse_options.ring_points = 4;
-    vessel::VesselSurface c = vessel::build_vessel_surface(model, coarse_options);
+    vessel::VesselSurface c = vessel::build_vessel_surface(model, app::fluoro_surface_options());
     if (!c.ok()) return (error = c.error), false;
     coarse_mesh = std::move(c.mesh);
     if (!renderer.init(error) || !coarse.init(error)) return false;
@@ -153,7 +150,7 @@ void BM_NewPulse(benchmark::State& state) {
   finish(state, s, renderer, state.range(0) == 2 ? r.coarse_mesh : r.mesh);
   state.SetLabel(state.range(0) == 0   ? "live, new pulse, contrast filling"
                  : state.range(0) == 1 ? "live, new pulse, no contrast"
-                                       : "live, new pulse, contrast filling, coarse surface (level 1, 4-point rings)");
+                                       : "live, new pulse, contrast filling, the trainer's surface (level 1, 8-point rings)");
 }
 
 // What a 60 Hz monitor shows during 15 pulses/s fluoroscopy with contrast filling: every
@@ -178,7 +175,7 @@ void BM_DisplayAt60Hz(benchmark::State& state) {
     s.time([&] { render_and_finish(renderer, in); });
   }
   finish(state, s, renderer, state.range(0) == 1 ? r.coarse_mesh : r.mesh);
-  state.SetLabel(state.range(0) == 1 ? "60 Hz display of 15 pulses/s with contrast, coarse surface"
+  state.SetLabel(state.range(0) == 1 ? "60 Hz display of 15 pulses/s with contrast, the trainer's surface"
                                      : "60 Hz display of 15 pulses/s with contrast");
 }
 

@@ -54,9 +54,9 @@ void main() {
 }
 )";
 
-// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled three times
-// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction): a software rasteriser
-// runs both sides of a branch.
+// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled six times
+// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction; SCENE 1 reading the scene
+// targets, 0 not: drawn outside their box): a software rasteriser runs both sides of a branch.
 constexpr const char* kCompositeVertex = R"(#version 330 core
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -80,8 +80,12 @@ uniform float u_anatomy_gain;  // dynamic range compression of the phantom's par
 out vec4 frag;
 
 float scene_L(sampler2D s, ivec2 p) {
+#if SCENE
   vec4 v = texelFetch(s, p, 0);
   return abs(v.a) > 1e-4 ? v.r - v.g * v.b / (2.0 * v.a) : v.r;
+#else
+  return 0.0;  // outside every scene's box: no tool, no iodine
+#endif
 }
 // pixel_noise() of fluoro_image_model.cpp: ~N(0, 1) from an integer hash of pixel and pulse.
 float noise(uvec2 p, uint seed) {
@@ -197,6 +201,56 @@ double polyline_length(std::span<const glm::vec3> nodes) {
 
 }  // namespace
 
+// Bounding box on screen of what a scene draws, in GL pixels of a width x height target
+// (conservative: a pixel and a half of margin).
+class FluoroRenderer::ScreenBox {
+ public:
+  ScreenBox(const flow::CArm& carm, int width, int height)
+      : carm_(carm), width_(width), height_(height), px_per_mm_(1.0 / carm.pixel_mm(width, height)) {}
+  // A sphere: its centre's projection and its radius magnified at its depth.
+  void add_sphere(const glm::vec3& c, float radius_mm) {
+    const glm::dvec3 p(c);
+    add_point(carm_.project_px(p, width_, height_), radius_mm * carm_.magnification(p) * px_per_mm_);
+  }
+  // An axis-aligned box: the projections of its corners (a projection keeps convex hulls).
+  void add_box(const glm::vec3& lo, const glm::vec3& hi) {
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 p((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y, (k & 4) != 0 ? hi.z : lo.z);
+      add_point(carm_.project_px(p, width_, height_), 0.0);
+    }
+  }
+  [[nodiscard]] Rect rect() const {
+    if (lo_.x > hi_.x) return {};
+    constexpr double kMargin = 1.5;
+    // project_px: y down from the top edge; GL rows count up from the bottom.
+    Rect r{static_cast<int>(std::floor(lo_.x - kMargin)), static_cast<int>(std::floor(height_ - hi_.y - kMargin)),
+           static_cast<int>(std::ceil(hi_.x + kMargin)), static_cast<int>(std::ceil(height_ - lo_.y + kMargin))};
+    r.x0 = std::clamp(r.x0, 0, width_);
+    r.x1 = std::clamp(r.x1, 0, width_);
+    r.y0 = std::clamp(r.y0, 0, height_);
+    r.y1 = std::clamp(r.y1, 0, height_);
+    return r.empty() ? Rect{} : r;
+  }
+
+ private:
+  void add_point(glm::dvec2 p, double radius_px) {
+    lo_ = glm::min(lo_, p - radius_px);
+    hi_ = glm::max(hi_, p + radius_px);
+  }
+  const flow::CArm& carm_;
+  int width_;
+  int height_;
+  double px_per_mm_;
+  glm::dvec2 lo_{1e30};
+  glm::dvec2 hi_{-1e30};
+};
+
+FluoroRenderer::Rect FluoroRenderer::unite(const Rect& a, const Rect& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
+
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
   for (Target& t : targets_) {
@@ -219,10 +273,11 @@ FluoroRenderer::~FluoroRenderer() {
 
 bool FluoroRenderer::init(std::string& error) {
   if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
-  for (std::size_t mode = 0; mode < composite_shaders_.size(); ++mode) {
+  for (std::size_t i = 0; i < composite_shaders_.size(); ++i) {
     std::string source = kCompositeFragment;
-    source.insert(source.find('\n') + 1, "#define MODE " + std::to_string(mode) + "\n");
-    if (!composite_shaders_[mode].build(kCompositeVertex, source.c_str(), error)) return false;
+    source.insert(source.find('\n') + 1,
+                  "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
+    if (!composite_shaders_[i].build(kCompositeVertex, source.c_str(), error)) return false;
   }
   glGenVertexArrays(1, &empty_vao_);
 
@@ -301,11 +356,17 @@ void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
   buckets_.clear();
   for (std::size_t i = 0; i < triangles; ++i) {
     const std::uint32_t t = order[i];
-    if (i % kBucketTriangles == 0) buckets_.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
+    const glm::vec3& p0 = vessel.positions_mm[vessel.triangles[3 * t]];
+    if (i % kBucketTriangles == 0) buckets_.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t], p0, p0});
     Bucket& b = buckets_.back();
     b.index_count += 3;
     b.lo = std::min(b.lo, lo[t]);
     b.hi = std::max(b.hi, hi[t]);
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3& p = vessel.positions_mm[vessel.triangles[3 * t + k]];
+      b.box_min = glm::min(b.box_min, p);
+      b.box_max = glm::max(b.box_max, p);
+    }
     sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
   }
   glBindVertexArray(vessel_vao_);
@@ -349,10 +410,13 @@ void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int heig
   glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height) {
+FluoroRenderer::Rect FluoroRenderer::build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
+                                                 int height) {
   tool_vertices_.clear();
   tool_indices_.clear();
-  const double patient_pixel_mm = carm.pixel_mm(width, height) / carm.magnification(carm.isocenter_mm());
+  const double pixel_mm = carm.pixel_mm(width, height);
+  const double patient_pixel_mm = pixel_mm / carm.magnification(carm.isocenter_mm());
+  ScreenBox box(carm, width, height);
   const auto add_tube = [&](std::span<const glm::vec3> nodes, float radius_mm, float mu) {
     tube_.build(nodes, {}, radius_mm, kToolSides);
     if (tube_.positions_mm.empty()) return;
@@ -370,6 +434,8 @@ void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm
     tool_vertices_.insert(tool_vertices_.end(), {back.x, back.y, back.z, mu, 0.0F, 0.0F});
     for (const std::uint32_t i : tube_.triangles) tool_indices_.push_back(base + i);
     for (std::uint32_t k = 0; k < ring; ++k) tool_indices_.insert(tool_indices_.end(), {base + (k + 1) % ring, base + k, base + apex});
+    // Every vertex lies within radius_mm of a node (the tube's rings, the cone's apex).
+    for (const glm::vec3& n : nodes) box.add_sphere(n, radius_mm);
   };
   for (const FluoroTool& tool : scene.tools) {
     if (tool.nodes_mm.size() < 2) continue;
@@ -384,6 +450,10 @@ void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm
       add_tube(marker_nodes_, line.radius_mm, mu * line.mu_scale);
     }
   }
+  return box.rect();
+}
+
+void FluoroRenderer::draw_tools() {
   if (tool_indices_.empty()) return;
   glBindVertexArray(tools_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, tools_vbo_);
@@ -422,6 +492,8 @@ void FluoroRenderer::ensure_target(Target& t, int width, int height, unsigned in
   t.width = width;
   t.height = height;
   t.valid = false;
+  t.dirty = {0, 0, width, height};  // undefined contents
+  t.drawn = {};
 }
 
 void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
@@ -429,60 +501,73 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
   const std::uint64_t key = scene_key(scene, carm.pose(), keV, width, height, generation_);
   if (t.valid && t.key == key) return;
   ensure_target(t, width, height, GL_RGBA32F, GL_FLOAT);
-  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
-  glViewport(0, 0, width, height);
-  glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
-  scene_shader_.use();
-  const double sod = carm.depth_mm(carm.isocenter_mm());
-  const glm::mat4 vp = carm.projection_matrix(width, height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
-  scene_shader_.set("u_view_proj", vp);
-  scene_shader_.set("u_source", glm::vec4(glm::vec3(carm.source_mm()), static_cast<float>(sod)));
-  scene_shader_.set("u_iodine_mu", static_cast<float>(flow::iodine_per_mm_per_mgI_ml(keV)));
-  scene_shader_.set_int("u_cells", kCellsUnit);
   const bool contrast = vessel_indices_ > 0 && scene.cell_iodine_mgI_ml.size() == cell_count_ &&
                         std::any_of(scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end(), [](float c) { return c > 0.0F; });
+  // The runs of vessel buckets that read a cell with iodine, and the screen box of all that is drawn.
+  lit_runs_.clear();
+  ScreenBox box(carm, width, height);
   if (contrast) {
-    glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
-    glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(cell_count_ * sizeof(float)), scene.cell_iodine_mgI_ml.data());
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
-    glActiveTexture(GL_TEXTURE0 + kCellsUnit);
-    glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
-    glActiveTexture(GL_TEXTURE0);
-    scene_shader_.set("u_tool", 0.0F);
-    glBindVertexArray(vessel_vao_);
-    // Cells with iodine before each cell, then the runs of buckets that read any.
     nonzero_before_.assign(cell_count_ + 1, 0);
     for (std::size_t i = 0; i < cell_count_; ++i) {
       nonzero_before_[i + 1] = nonzero_before_[i] + (scene.cell_iodine_mgI_ml[i] > 0.0F ? 1U : 0U);
     }
-    std::size_t run_first = 0;
-    std::size_t run_count = 0;
-    const auto flush = [&] {
-      if (run_count == 0) return;
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(run_count), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(run_first * sizeof(std::uint32_t)));
-      work_.vessel_triangles += run_count / 3;
-      run_count = 0;
-    };
     for (const Bucket& b : buckets_) {
-      const bool lit = b.hi < cell_count_ && nonzero_before_[b.hi + 1] > nonzero_before_[b.lo];
-      if (!lit) {
-        flush();
-        continue;
+      if (b.hi >= cell_count_ || nonzero_before_[b.hi + 1] == nonzero_before_[b.lo]) continue;
+      box.add_box(b.box_min, b.box_max);
+      if (!lit_runs_.empty() && lit_runs_.back().first + lit_runs_.back().second == b.first_index) {
+        lit_runs_.back().second += b.index_count;
+      } else {
+        lit_runs_.emplace_back(b.first_index, b.index_count);
       }
-      if (run_count == 0) run_first = b.first_index;
-      run_count += b.index_count;
     }
-    flush();
-    glBindVertexArray(0);
   }
-  draw_tools(scene, carm, keV, width, height);
-  glDisable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  const Rect tools = build_tools(scene, carm, keV, width, height);
+  const Rect drawn = unite(box.rect(), tools);
+  // Clear what may be non-zero where this scene draws nothing, and where it draws.
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
+  glViewport(0, 0, width, height);
+  glEnable(GL_SCISSOR_TEST);
+  const Rect clear = unite(t.dirty, drawn);
+  if (!clear.empty()) {
+    glScissor(clear.x0, clear.y0, clear.x1 - clear.x0, clear.y1 - clear.y0);
+    glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
+  t.drawn = drawn;
+  t.dirty = drawn;
+  if (!drawn.empty()) {
+    glScissor(drawn.x0, drawn.y0, drawn.x1 - drawn.x0, drawn.y1 - drawn.y0);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE);
+    scene_shader_.use();
+    const double sod = carm.depth_mm(carm.isocenter_mm());
+    const glm::mat4 vp = carm.projection_matrix(width, height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
+    scene_shader_.set("u_view_proj", vp);
+    scene_shader_.set("u_source", glm::vec4(glm::vec3(carm.source_mm()), static_cast<float>(sod)));
+    scene_shader_.set("u_iodine_mu", static_cast<float>(flow::iodine_per_mm_per_mgI_ml(keV)));
+    scene_shader_.set_int("u_cells", kCellsUnit);
+    if (!lit_runs_.empty()) {
+      glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
+      glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(cell_count_ * sizeof(float)), scene.cell_iodine_mgI_ml.data());
+      glBindBuffer(GL_TEXTURE_BUFFER, 0);
+      glActiveTexture(GL_TEXTURE0 + kCellsUnit);
+      glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
+      glActiveTexture(GL_TEXTURE0);
+      scene_shader_.set("u_tool", 0.0F);
+      glBindVertexArray(vessel_vao_);
+      for (const auto& [first, count] : lit_runs_) {
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(static_cast<std::size_t>(first) * sizeof(std::uint32_t)));
+        work_.vessel_triangles += count / 3;
+      }
+      glBindVertexArray(0);
+    }
+    draw_tools();
+    glDisable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  }
+  glDisable(GL_SCISSOR_TEST);
   t.key = key;
   t.valid = true;
   ++work_.scenes_accumulated;
@@ -492,8 +577,17 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ensure_target(monitor_, w, h, GL_RGBA8, GL_UNSIGNED_BYTE);
   glBindFramebuffer(GL_FRAMEBUFFER, monitor_.fbo);
   glViewport(0, 0, w, h);
-  const ShaderProgram& shader = composite_shaders_[subtracted ? 2 : roadmap ? 1 : 0];
-  shader.use();
+  // The scenes' box: inside it the composite reads the scene targets, outside only the phantom.
+  Rect scenes = targets_[0].drawn;
+  if (subtracted) scenes = unite(scenes, targets_[1].drawn);
+  if (roadmap) scenes = unite(unite(scenes, targets_[2].drawn), targets_[3].drawn);
+  const int mode = subtracted ? 2 : roadmap ? 1 : 0;
+  const flow::FluoroDose dose(in.dose);
+  const double pixel_mm = carm.pixel_mm(w, h);
+  const auto sigma = [&](const FluoroScene& s) {
+    return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
+  };
+  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
   const std::pair<const char*, unsigned> bindings[] = {{"u_phantom", phantom_texture_},
                                                        {"u_live", targets_[0].texture},
                                                        {"u_mask", targets_[1].texture},
@@ -502,24 +596,36 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, bindings[unit].second);
-    shader.set_int(bindings[unit].first, unit);
   }
-  const flow::FluoroDose dose(in.dose);
-  const double pixel_mm = carm.pixel_mm(w, h);
-  const auto sigma = [&](const FluoroScene& s) {
-    return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
-  };
-  shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
-  shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
-  shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
-                                              pulse_seed(in.roadmap_mask.pulse)));
-  shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
-  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
-  shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
-  shader.set("u_anatomy_gain", display_.anatomy_gain);
-  shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
   glBindVertexArray(empty_vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEnable(GL_SCISSOR_TEST);
+  const auto draw = [&](const ShaderProgram& shader, const Rect& r) {
+    if (r.empty()) return;
+    shader.use();
+    for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) shader.set_int(bindings[unit].first, unit);
+    shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
+    shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
+    shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
+                                     pulse_seed(in.roadmap_mask.pulse)));
+    shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
+    shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
+    shader.set("u_anatomy_gain", display_.anatomy_gain);
+    shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
+    glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  };
+  draw(composite_shaders_[static_cast<std::size_t>(mode)], scenes);
+  // The rest of the image, as up to four bands around the scenes' box.
+  const ShaderProgram& outside = composite_shaders_[static_cast<std::size_t>(mode + 3)];
+  if (scenes.empty()) {
+    draw(outside, {0, 0, w, h});
+  } else {
+    draw(outside, {0, 0, w, scenes.y0});
+    draw(outside, {0, scenes.y1, w, h});
+    draw(outside, {0, scenes.y0, scenes.x0, scenes.y1});
+    draw(outside, {scenes.x1, scenes.y0, w, scenes.y1});
+  }
+  glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(0);
   for (int unit = kRoadMaskUnit; unit >= kPhantomUnit; --unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));

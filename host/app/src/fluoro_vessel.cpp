@@ -74,4 +74,9 @@ std::vector<float> cell_iodine(const flow::ContrastTransport& transport) {
   return out;
 }
 
+vessel::MeshOptions fluoro_surface_options(vessel::MeshOptions collision) {
+  collision.subdivision_level = std::max(0, collision.subdivision_level - 1);
+  return collision;
+}
+
 }  // namespace cathbox::app

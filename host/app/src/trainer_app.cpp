@@ -161,9 +161,16 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
     fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
   }
   if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
-  // The session's contrast cells on this vessel surface: the lumen takes their iodine.
+  // The session's contrast cells on the case's surface one level coarser than the collision
+  // surface (fluoro_surface_options): the lumen takes their iodine.
   if (const session::FluoroUnit* unit = current().fluoro(); unit != nullptr && scene.mesh() != nullptr) {
-    fluoro_vessel_ = FluoroVessel::build(*scene.mesh(), unit->transport());
+    fluoro_mesh_ = {};
+    if (scene.model() != nullptr) {
+      if (vessel::VesselSurface s = vessel::build_vessel_surface(*scene.model(), fluoro_surface_options()); s.ok()) {
+        fluoro_mesh_ = std::move(s.mesh);
+      }
+    }
+    fluoro_vessel_ = FluoroVessel::build(fluoro_mesh_.triangle_count() > 0 ? fluoro_mesh_ : *scene.mesh(), unit->transport());
     fluoro_->set_vessel(fluoro_vessel_);
   }
   fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));

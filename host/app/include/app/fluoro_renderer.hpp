@@ -22,6 +22,10 @@
 //   while its inputs, the pose and the size stay the same, and the composed monitor image is
 //   kept until one of them, a pulse number or the display changes: last-image hold and the
 //   display frames between pulses only copy it.
+// - Only the part of a scene target that its tools and iodine-filled vessel triangles can cover
+//   (their screen bounding box, from the tools' nodes and the vessel buckets' boxes) is cleared,
+//   drawn and read: the composite outside the scenes' box is a variant that reads the phantom
+//   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2).
 #include <array>
 #include <cstdint>
 #include <string>
@@ -68,7 +72,17 @@ class FluoroRenderer {
   [[nodiscard]] const Work& last_work() const { return work_; }
 
  private:
+  // A rectangle of a target in GL pixels (origin bottom left), [x0, x1) x [y0, y1).
+  struct Rect {
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = 0;
+    int y1 = 0;
+    [[nodiscard]] bool empty() const { return x1 <= x0 || y1 <= y0; }
+  };
   struct Target {
+    Rect drawn;  // where this scene's content may be non-zero (outside it: zero)
+    Rect dirty;  // where the texture may hold anything but zero
     unsigned texture = 0;
     unsigned fbo = 0;
     int width = 0;
@@ -76,17 +90,23 @@ class FluoroRenderer {
     std::uint64_t key = 0;
     bool valid = false;
   };
+  class ScreenBox;
+  static Rect unite(const Rect& a, const Rect& b);
   static void ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type);
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
-  void draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
+  Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  void draw_tools();
   void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
 
   FluoroDisplay display_;
   flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
   std::uint64_t generation_ = 1;  // bumped by set_vessel / set_phantom: the targets are stale
   ShaderProgram scene_shader_;
-  std::array<ShaderProgram, 3> composite_shaders_;  // fluoroscopy, with the roadmap, subtraction
+  // Fluoroscopy, with the roadmap, subtraction; then the same three reading the phantom alone
+  // (outside the scenes' box).
+  std::array<ShaderProgram, 6> composite_shaders_;
   unsigned empty_vao_ = 0;
   unsigned phantom_texture_ = 0;
   std::uint64_t phantom_key_ = 0;
@@ -105,9 +125,12 @@ class FluoroRenderer {
     std::uint32_t index_count = 0;
     std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
     std::uint32_t hi = 0;
+    glm::vec3 box_min{0.0F};  // its vertices' bounding box (mm)
+    glm::vec3 box_max{0.0F};
   };
   std::vector<Bucket> buckets_;              // the vessel's triangles, sorted by their lowest cell
   std::vector<std::uint32_t> nonzero_before_;  // per pulse: cells with iodine before each cell
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> lit_runs_;  // per scene: (first index, count) drawn
   std::size_t cell_count_ = 0;
   unsigned cells_buffer_ = 0;
   unsigned cells_texture_ = 0;

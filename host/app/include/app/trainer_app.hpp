@@ -80,7 +80,8 @@ class TrainerApp {
   std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
   SnapshotFluoroSettings fluoro_settings_;
   FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
-  FluoroVessel fluoro_vessel_;  // the case's surface tied to the session's contrast cells
+  vessel::SurfaceMesh fluoro_mesh_;  // the case's surface at fluoro_surface_options() (else the collision surface is used)
+  FluoroVessel fluoro_vessel_;  // that surface tied to the session's contrast cells
   std::string fluoro_error_;  // the last one shown in the output panel
   std::unique_ptr<TrainerUi> ui_;
   std::unique_ptr<ReplayPanel> replay_panel_;
