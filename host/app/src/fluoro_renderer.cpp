@@ -384,19 +384,38 @@ void FluoroRenderer::set_vessel(const FluoroVessel& vessel) {
   ++generation_;
 }
 
-void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
+bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
   Hasher k;
   hash_pose(k, carm.pose());
   k.value(width);
   k.value(height);
   k.value(generation_);
   if (k.h != phantom_key_) {
-    phantom_path_ = phantom_.project(carm, width, height);
+    const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+    // A last image of this size to show meanwhile: project on a worker thread.
+    const bool hold = background_ && monitor_.valid && monitor_.width == width && monitor_.height == height;
+    if (pending_ && pending_->key != k.h && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
+    if (pending_ && pending_->key == k.h && (ready(*pending_) || !hold)) {
+      phantom_path_ = pending_->path.get();
+      pending_.reset();
+    } else if (hold) {
+      // One projection at a time: a newer pose starts when the one under way is done.
+      if (!pending_) {
+        pending_ = Projection{k.h, std::async(std::launch::async, [phantom = phantom_, carm, width, height] {
+                                return phantom.project(carm, width, height);
+                              })};
+      }
+      work_.waiting_for_phantom = true;
+      return false;
+    } else {
+      pending_.reset();  // waits for a projection under way
+      phantom_path_ = phantom_.project(carm, width, height);
+    }
     phantom_key_ = k.h;
     phantom_l_ref_ = -1.0;
     work_.phantom_projected = true;
   }
-  if (l_ref == phantom_l_ref_) return;
+  if (l_ref == phantom_l_ref_) return true;
   // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
   phantom_rg_.resize(2 * phantom_path_.size());
   for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
@@ -408,6 +427,7 @@ void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int heig
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, width, height, 0, GL_RG, GL_FLOAT, phantom_rg_.data());
   glBindTexture(GL_TEXTURE_2D, 0);
+  return true;
 }
 
 FluoroRenderer::Rect FluoroRenderer::build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
@@ -663,35 +683,37 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
     glClearColor(0.0F, 0.0F, 0.0F, 1.0F);
     glClear(GL_COLOR_BUFFER_BIT);
   } else {
-    project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)));
-    accumulate(targets_[0], in.shown, carm, keV, w, h);
-    if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
-    if (roadmap) {
-      accumulate(targets_[2], in.roadmap, carm, keV, w, h);
-      accumulate(targets_[3], in.roadmap_mask, carm, keV, w, h);
-    }
-    // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
-    // otherwise (last-image hold, frames between pulses) it is copied again.
-    Hasher k;
-    k.value(phantom_key_);
-    k.value(phantom_l_ref_);
-    for (int i = 0; i < 4; ++i) {
-      const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
-      k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
-    }
-    for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
-      k.value(s->pulse);
-      k.value(s->mode);
-    }
-    k.value(subtracted);
-    k.value(roadmap);
-    k.value(in.patient_transmission);
-    k.bytes(&in.dose, sizeof in.dose);
-    k.bytes(&display_, sizeof display_);
-    if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
-      compose(in, carm, subtracted, roadmap, w, h);
-      monitor_.key = k.h;
-      monitor_.valid = true;
+    // While the phantom of a new pose is projected in the background the last image stays.
+    if (project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)))) {
+      accumulate(targets_[0], in.shown, carm, keV, w, h);
+      if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
+      if (roadmap) {
+        accumulate(targets_[2], in.roadmap, carm, keV, w, h);
+        accumulate(targets_[3], in.roadmap_mask, carm, keV, w, h);
+      }
+      // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
+      // otherwise (last-image hold, frames between pulses) it is copied again.
+      Hasher k;
+      k.value(phantom_key_);
+      k.value(phantom_l_ref_);
+      for (int i = 0; i < 4; ++i) {
+        const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
+        k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
+      }
+      for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
+        k.value(s->pulse);
+        k.value(s->mode);
+      }
+      k.value(subtracted);
+      k.value(roadmap);
+      k.value(in.patient_transmission);
+      k.bytes(&in.dose, sizeof in.dose);
+      k.bytes(&display_, sizeof display_);
+      if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
+        compose(in, carm, subtracted, roadmap, w, h);
+        monitor_.key = k.h;
+        monitor_.valid = true;
+      }
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));

@@ -152,6 +152,9 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
       fluoro_.reset();
       return;
     }
+    // A window a trainee looks at: a C-arm move shows the last image while the new view is
+    // projected; headless runs (screenshots) draw every frame from its own inputs.
+    fluoro_->set_background_projection(!options_.headless);
   }
   // No C-arm controls yet: the case's first working projection (else AP), the isocentre on the
   // case's target, where the navigation ends.

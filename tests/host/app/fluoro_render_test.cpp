@@ -541,6 +541,33 @@ TEST_F(FluoroRenderTest, AScenesBoxLeavesNothingOfThePreviousScene) {
   EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, again.pixels);
 }
 
+// With background projection (the interactive trainer) a C-arm move keeps the last image until
+// the new pose's phantom is projected, then shows exactly what projecting at once shows.
+TEST_F(FluoroRenderTest, ABackgroundProjectionHoldsTheLastImageUntilTheNewPoseIsReady) {
+  renderer_.set_display({.noise = false});
+  renderer_.set_background_projection(true);
+  flow::CArmPose lao30;
+  lao30.lao_deg = 30.0;
+  const Image ap = render(live(70, no_contrast(), {wire_in_right_ica()}));  // nothing shown yet: at once
+  EXPECT_TRUE(renderer_.last_work().phantom_projected);
+  const Image held = render(live(71, no_contrast(), {wire_in_right_ica()}, lao30));
+  EXPECT_TRUE(renderer_.last_work().waiting_for_phantom);
+  EXPECT_EQ(renderer_.last_work().scenes_accumulated, 0);
+  EXPECT_EQ(held.pixels, ap.pixels) << "the last image stays while the C-arm's new view is computed";
+  renderer_.finish_projection();
+  const Image moved = render(live(71, no_contrast(), {wire_in_right_ica()}, lao30));
+  EXPECT_FALSE(renderer_.last_work().waiting_for_phantom);
+  EXPECT_TRUE(renderer_.last_work().phantom_projected);
+  FluoroRenderer at_once;
+  std::string error;
+  ASSERT_TRUE(at_once.init(error)) << error;
+  at_once.set_vessel(neuro_->vessel);
+  at_once.set_display({.noise = false});
+  EXPECT_EQ(at_once.render(Viewport{0, 0, kSize, kSize}, kSize, live(71, no_contrast(), {wire_in_right_ica()}, lao30)), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, moved.pixels);
+  EXPECT_NE(moved.pixels, ap.pixels);
+}
+
 // The trainer's front end today: a snapshot's tools under continuous 15 pulses/s fluoroscopy.
 TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
   session::SceneSnapshot snap;

@@ -28,6 +28,8 @@
 //   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2).
 #include <array>
 #include <cstdint>
+#include <future>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,14 @@ class FluoroRenderer {
   // scenes' cell_iodine come from). Without one, contrast is not drawn.
   void set_vessel(const FluoroVessel& vessel);
   void set_display(const FluoroDisplay& display) { display_ = display; }
+  // On (the interactive trainer): when the C-arm moves, the phantom is projected on a worker
+  // thread and render() shows the last image until it is ready, so a move does not stall the
+  // frames (~150 ms of CPU at 1024^2). Off (the default: tests, headless runs): at once.
+  void set_background_projection(bool on) { background_ = on; }
+  // Blocks until the background projection under way (if any) is done; the next render() uses it.
+  void finish_projection() {
+    if (pending_) pending_->path.wait();
+  }
   [[nodiscard]] const FluoroDisplay& display() const { return display_; }
 
   // Draws the monitor image into `viewport` of the bound framebuffer (the image is
@@ -68,6 +78,7 @@ class FluoroRenderer {
     int scenes_accumulated = 0;
     int composites = 0;                // the monitor image made again (else copied)
     std::size_t vessel_triangles = 0;  // drawn into scene targets (those reading cells with iodine)
+    bool waiting_for_phantom = false;  // background projection under way: the last image shown
   };
   [[nodiscard]] const Work& last_work() const { return work_; }
 
@@ -98,7 +109,8 @@ class FluoroRenderer {
   // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
   Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   void draw_tools();
-  void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
+  // False while a background projection for this pose is under way (nothing to draw with yet).
+  bool project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
 
   FluoroDisplay display_;
   flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
@@ -112,6 +124,12 @@ class FluoroRenderer {
   std::uint64_t phantom_key_ = 0;
   double phantom_l_ref_ = -1.0;
   std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
+  bool background_ = false;
+  struct Projection {
+    std::uint64_t key = 0;
+    std::future<std::vector<float>> path;
+  };
+  std::optional<Projection> pending_;  // the background projection under way
   std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
