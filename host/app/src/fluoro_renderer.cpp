@@ -65,7 +65,7 @@ void main() {
 )";
 
 constexpr const char* kCompositeFragment = R"(#version 330 core
-uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's top row
+uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's bottom row
 uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
 uniform sampler2D u_mask;
 uniform sampler2D u_road;
@@ -77,7 +77,14 @@ uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadma
 uniform vec4 u_mode;           // w: L_ref
 uniform float u_field_half;    // half the collimated field, pixels
 uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
+#if FBFETCH
+// The phantom texture is the target's first colour attachment (the monitor image the second): its texel under this fragment is
+// read from the tile being drawn (llvmpipe: a load from the tile, not a texture fetch) and kept.
+layout(location = 0) inout vec4 fb_phantom;
+layout(location = 1) out vec4 frag;
+#else
 out vec4 frag;
+#endif
 
 float scene_L(sampler2D s, ivec2 p) {
 #if SCENE
@@ -110,7 +117,11 @@ void main() {
     frag = vec4(0.0, 0.0, 0.0, 1.0);
     return;
   }
-  vec2 ph = texelFetch(u_phantom, ivec2(p.x, int(u_view.w) - 1 - p.y), 0).rg;
+#if FBFETCH
+  vec2 ph = fb_phantom.rg;
+#else
+  vec2 ph = texelFetch(u_phantom, p, 0).rg;
+#endif
   float Lp = ph.x;
   float amp = ph.y;
   float L = Lp + scene_L(u_live, p);
@@ -253,6 +264,7 @@ FluoroRenderer::Rect FluoroRenderer::unite(const Rect& a, const Rect& b) {
 
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
+  if (compose_fbo_ != 0) glDeleteFramebuffers(1, &compose_fbo_);
   for (Target& t : targets_) {
     if (t.fbo != 0) glDeleteFramebuffers(1, &t.fbo);
     if (t.texture != 0) glDeleteTextures(1, &t.texture);
@@ -271,12 +283,21 @@ FluoroRenderer::~FluoroRenderer() {
   }
 }
 
-bool FluoroRenderer::init(std::string& error) {
+bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
+  framebuffer_fetch_wanted_ = framebuffer_fetch;
   if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
+  GLint extensions = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+  fbfetch_ = false;
+  for (GLint i = 0; i < extensions && framebuffer_fetch_wanted_; ++i) {
+    const auto* name = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+    if (name != nullptr && std::strcmp(name, "GL_EXT_shader_framebuffer_fetch") == 0) fbfetch_ = true;
+  }
   for (std::size_t i = 0; i < composite_shaders_.size(); ++i) {
     std::string source = kCompositeFragment;
     source.insert(source.find('\n') + 1,
-                  "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
+                  std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
+                      "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
     if (!composite_shaders_[i].build(kCompositeVertex, source.c_str(), error)) return false;
   }
   glGenVertexArrays(1, &empty_vao_);
@@ -417,10 +438,13 @@ bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int heig
   }
   if (l_ref == phantom_l_ref_) return true;
   // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
+  // Stored bottom row first, as the GL targets it is drawn with.
   phantom_rg_.resize(2 * phantom_path_.size());
   for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
-    phantom_rg_[2 * i] = phantom_path_[i];
-    phantom_rg_[2 * i + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
+    const std::size_t row = i / static_cast<std::size_t>(width);
+    const std::size_t o = 2 * ((static_cast<std::size_t>(height) - 1 - row) * static_cast<std::size_t>(width) + i % static_cast<std::size_t>(width));
+    phantom_rg_[o] = phantom_path_[i];
+    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
   }
   phantom_l_ref_ = l_ref;
   glBindTexture(GL_TEXTURE_2D, phantom_texture_);
@@ -597,6 +621,15 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ensure_target(monitor_, w, h, GL_RGBA8, GL_UNSIGNED_BYTE);
   glBindFramebuffer(GL_FRAMEBUFFER, monitor_.fbo);
   glViewport(0, 0, w, h);
+  if (fbfetch_) {
+    if (compose_fbo_ == 0) glGenFramebuffers(1, &compose_fbo_);
+    glBindFramebuffer(GL_FRAMEBUFFER, compose_fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, phantom_texture_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, monitor_.texture, 0);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, buffers);
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // read, never written
+  }
   // The scenes' box: inside it the composite reads the scene targets, outside only the phantom.
   Rect scenes = targets_[0].drawn;
   if (subtracted) scenes = unite(scenes, targets_[1].drawn);
@@ -615,7 +648,7 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
                                                        {"u_road_mask", targets_[3].texture}};
   for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
-    glBindTexture(GL_TEXTURE_2D, bindings[unit].second);
+    glBindTexture(GL_TEXTURE_2D, unit == kPhantomUnit && fbfetch_ ? 0 : bindings[unit].second);  // attached: not sampled
   }
   glBindVertexArray(empty_vao_);
   glEnable(GL_SCISSOR_TEST);
@@ -647,6 +680,10 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   }
   glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(0);
+  if (fbfetch_) {
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);  // free to be re-specified
+  }
   for (int unit = kRoadMaskUnit; unit >= kPhantomUnit; --unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, 0);

@@ -568,6 +568,38 @@ TEST_F(FluoroRenderTest, ABackgroundProjectionHoldsTheLastImageUntilTheNewPoseIs
   EXPECT_NE(moved.pixels, ap.pixels);
 }
 
+// Where the driver has GL_EXT_shader_framebuffer_fetch (llvmpipe does) the composite reads the
+// phantom from the target it draws; the images equal those that sample it as a texture, in all
+// three composites, over several frames (the phantom attachment is never written).
+TEST_F(FluoroRenderTest, ReadingThePhantomThroughTheFramebufferGivesTheSameImages) {
+  FluoroRenderer sampled;
+  std::string error;
+  ASSERT_TRUE(sampled.init(error, false)) << error;
+  EXPECT_FALSE(sampled.uses_framebuffer_fetch());
+  sampled.set_vessel(neuro_->vessel);
+  if (!renderer_.uses_framebuffer_fetch()) GTEST_SKIP() << "the driver has no GL_EXT_shader_framebuffer_fetch";
+  flow::ContrastTransport& t = *neuro_->transport;
+  t.reset();
+  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+  for (int i = 0; i < 120; ++i) t.step();
+  const std::vector<float> filled = cell_iodine(t);
+  t.reset();
+  FluoroInputs dsa = live(81, filled, {wire_in_right_ica()});
+  dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.run = 1;
+  dsa.image.mask_pulse = 80;
+  dsa.mask = {80, flow::ExposureMode::kFluoroscopy, no_contrast(), {}};
+  FluoroInputs road = live(90, no_contrast(), {wire_in_right_ica()});
+  road.image.roadmap_pulse = 81;
+  road.roadmap = dsa.shown;
+  road.roadmap_mask = dsa.mask;
+  for (const FluoroInputs& in : {live(79, filled, {wire_in_right_ica()}), dsa, road, live(91, filled, {})}) {
+    const Image fetched = render(in);
+    EXPECT_EQ(sampled.render(Viewport{0, 0, kSize, kSize}, kSize, in), "");
+    EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, fetched.pixels) << "pulse " << in.image.pulse;
+  }
+}
+
 // The trainer's front end today: a snapshot's tools under continuous 15 pulses/s fluoroscopy.
 TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
   session::SceneSnapshot snap;

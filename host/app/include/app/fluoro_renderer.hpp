@@ -25,7 +25,8 @@
 // - Only the part of a scene target that its tools and iodine-filled vessel triangles can cover
 //   (their screen bounding box, from the tools' nodes and the vessel buckets' boxes) is cleared,
 //   drawn and read: the composite outside the scenes' box is a variant that reads the phantom
-//   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2).
+//   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2);
+//   with GL_EXT_shader_framebuffer_fetch the phantom is read from the framebuffer instead.
 #include <array>
 #include <cstdint>
 #include <future>
@@ -51,7 +52,10 @@ class FluoroRenderer {
   FluoroRenderer& operator=(const FluoroRenderer&) = delete;
 
   // Compiles the shaders and makes the buffers; false with the driver's log in `error`.
-  [[nodiscard]] bool init(std::string& error);
+  // `framebuffer_fetch`: read the phantom in the composite through GL_EXT_shader_framebuffer_fetch
+  // when the driver has it (false: always as a texture; tests compare the two).
+  [[nodiscard]] bool init(std::string& error, bool framebuffer_fetch = true);
+  [[nodiscard]] bool uses_framebuffer_fetch() const { return fbfetch_; }
   void set_phantom(flow::HeadPhantom phantom);  // default: HeadPhantom::neuro()
   // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the
   // scenes' cell_iodine come from). Without one, contrast is not drawn.
@@ -125,6 +129,9 @@ class FluoroRenderer {
   double phantom_l_ref_ = -1.0;
   std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
   bool background_ = false;
+  bool framebuffer_fetch_wanted_ = true;
+  bool fbfetch_ = false;  // the composite reads the phantom as a colour attachment (compose_fbo_)
+  unsigned compose_fbo_ = 0;  // the phantom texture and the monitor image, attached 0 and 1
   struct Projection {
     std::uint64_t key = 0;
     std::future<std::vector<float>> path;
