@@ -93,6 +93,16 @@ class FluoroRenderTest : public ::testing::Test {
     return in;
   }
   static std::vector<float> no_contrast() { return std::vector<float>(neuro_->transport->cell_count(), 0.0F); }
+  // The cells' iodine `steps` transport steps after 6 mL at 3 mL/s into the right ICA (then reset).
+  static std::vector<float> right_ica_filled(int steps) {
+    flow::ContrastTransport& t = *neuro_->transport;
+    t.reset();
+    EXPECT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+    for (int i = 0; i < steps; ++i) t.step();
+    std::vector<float> c = cell_iodine(t);
+    t.reset();
+    return c;
+  }
   // Centreline points of a segment between two fractions of its length.
   static std::vector<glm::vec3> centreline(std::uint32_t segment, double from, double to, int n) {
     const flow::CenterlineLocator& loc = neuro_->transport->locator();
@@ -497,12 +507,7 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
 // renderer's; the box of a wire is a small part of the image.
 TEST_F(FluoroRenderTest, AScenesBoxLeavesNothingOfThePreviousScene) {
   renderer_.set_display({.noise = false});
-  flow::ContrastTransport& t = *neuro_->transport;
-  t.reset();
-  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
-  for (int i = 0; i < 150; ++i) t.step();
-  const std::vector<float> filled = cell_iodine(t);
-  t.reset();
+  const std::vector<float> filled = right_ica_filled(150);
   FluoroTool left;
   left.nodes_mm = centreline(neuro_->left_ica, 0.05, 0.6, 60);
   left.radius_mm = 0.18F;
@@ -578,12 +583,7 @@ TEST_F(FluoroRenderTest, ReadingThePhantomThroughTheFramebufferGivesTheSameImage
   EXPECT_FALSE(sampled.uses_framebuffer_fetch());
   sampled.set_vessel(neuro_->vessel);
   if (!renderer_.uses_framebuffer_fetch()) GTEST_SKIP() << "the driver has no GL_EXT_shader_framebuffer_fetch";
-  flow::ContrastTransport& t = *neuro_->transport;
-  t.reset();
-  ASSERT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
-  for (int i = 0; i < 120; ++i) t.step();
-  const std::vector<float> filled = cell_iodine(t);
-  t.reset();
+  const std::vector<float> filled = right_ica_filled(120);
   FluoroInputs dsa = live(81, filled, {wire_in_right_ica()});
   dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
   dsa.image.run = 1;
