@@ -21,7 +21,7 @@ struct CArmPanelActions {
 };
 
 // The panel's height at the ImGui default font (the caller reserves it above the output panel).
-inline constexpr int kCArmPanelHeight = 285;
+inline constexpr int kCArmPanelHeight = 300;
 
 // `area`: where to draw (window pixels, origin top left). `driving`: false in Replay mode (the
 // fields show the record's C-arm, nothing can be changed).
