@@ -54,9 +54,9 @@ void main() {
 }
 )";
 
-// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled three times
-// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction): a software rasteriser
-// runs both sides of a branch.
+// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled six times
+// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction; SCENE 1 reading the scene
+// targets, 0 not: drawn outside their box): a software rasteriser runs both sides of a branch.
 constexpr const char* kCompositeVertex = R"(#version 330 core
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -65,7 +65,7 @@ void main() {
 )";
 
 constexpr const char* kCompositeFragment = R"(#version 330 core
-uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's top row
+uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's bottom row
 uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
 uniform sampler2D u_mask;
 uniform sampler2D u_road;
@@ -77,11 +77,22 @@ uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadma
 uniform vec4 u_mode;           // w: L_ref
 uniform float u_field_half;    // half the collimated field, pixels
 uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
+#if FBFETCH
+// The phantom texture is the target's first colour attachment (the monitor image the second): its texel under this fragment is
+// read from the tile being drawn (llvmpipe: a load from the tile, not a texture fetch) and kept.
+layout(location = 0) inout vec4 fb_phantom;
+layout(location = 1) out vec4 frag;
+#else
 out vec4 frag;
+#endif
 
 float scene_L(sampler2D s, ivec2 p) {
+#if SCENE
   vec4 v = texelFetch(s, p, 0);
   return abs(v.a) > 1e-4 ? v.r - v.g * v.b / (2.0 * v.a) : v.r;
+#else
+  return 0.0;  // outside every scene's box: no tool, no iodine
+#endif
 }
 // pixel_noise() of fluoro_image_model.cpp: ~N(0, 1) from an integer hash of pixel and pulse.
 float noise(uvec2 p, uint seed) {
@@ -106,7 +117,11 @@ void main() {
     frag = vec4(0.0, 0.0, 0.0, 1.0);
     return;
   }
-  vec2 ph = texelFetch(u_phantom, ivec2(p.x, int(u_view.w) - 1 - p.y), 0).rg;
+#if FBFETCH
+  vec2 ph = fb_phantom.rg;
+#else
+  vec2 ph = texelFetch(u_phantom, p, 0).rg;
+#endif
   float Lp = ph.x;
   float amp = ph.y;
   float L = Lp + scene_L(u_live, p);
@@ -197,8 +212,59 @@ double polyline_length(std::span<const glm::vec3> nodes) {
 
 }  // namespace
 
+// Bounding box on screen of what a scene draws, in GL pixels of a width x height target
+// (conservative: a pixel and a half of margin).
+class FluoroRenderer::ScreenBox {
+ public:
+  ScreenBox(const flow::CArm& carm, int width, int height)
+      : carm_(carm), width_(width), height_(height), px_per_mm_(1.0 / carm.pixel_mm(width, height)) {}
+  // A sphere: its centre's projection and its radius magnified at its depth.
+  void add_sphere(const glm::vec3& c, float radius_mm) {
+    const glm::dvec3 p(c);
+    add_point(carm_.project_px(p, width_, height_), radius_mm * carm_.magnification(p) * px_per_mm_);
+  }
+  // An axis-aligned box: the projections of its corners (a projection keeps convex hulls).
+  void add_box(const glm::vec3& lo, const glm::vec3& hi) {
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec3 p((k & 1) != 0 ? hi.x : lo.x, (k & 2) != 0 ? hi.y : lo.y, (k & 4) != 0 ? hi.z : lo.z);
+      add_point(carm_.project_px(p, width_, height_), 0.0);
+    }
+  }
+  [[nodiscard]] Rect rect() const {
+    if (lo_.x > hi_.x) return {};
+    constexpr double kMargin = 1.5;
+    // project_px: y down from the top edge; GL rows count up from the bottom.
+    Rect r{static_cast<int>(std::floor(lo_.x - kMargin)), static_cast<int>(std::floor(height_ - hi_.y - kMargin)),
+           static_cast<int>(std::ceil(hi_.x + kMargin)), static_cast<int>(std::ceil(height_ - lo_.y + kMargin))};
+    r.x0 = std::clamp(r.x0, 0, width_);
+    r.x1 = std::clamp(r.x1, 0, width_);
+    r.y0 = std::clamp(r.y0, 0, height_);
+    r.y1 = std::clamp(r.y1, 0, height_);
+    return r.empty() ? Rect{} : r;
+  }
+
+ private:
+  void add_point(glm::dvec2 p, double radius_px) {
+    lo_ = glm::min(lo_, p - radius_px);
+    hi_ = glm::max(hi_, p + radius_px);
+  }
+  const flow::CArm& carm_;
+  int width_;
+  int height_;
+  double px_per_mm_;
+  glm::dvec2 lo_{1e30};
+  glm::dvec2 hi_{-1e30};
+};
+
+FluoroRenderer::Rect FluoroRenderer::unite(const Rect& a, const Rect& b) {
+  if (a.empty()) return b;
+  if (b.empty()) return a;
+  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
+}
+
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
+  if (compose_fbo_ != 0) glDeleteFramebuffers(1, &compose_fbo_);
   for (Target& t : targets_) {
     if (t.fbo != 0) glDeleteFramebuffers(1, &t.fbo);
     if (t.texture != 0) glDeleteTextures(1, &t.texture);
@@ -217,12 +283,22 @@ FluoroRenderer::~FluoroRenderer() {
   }
 }
 
-bool FluoroRenderer::init(std::string& error) {
+bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
+  framebuffer_fetch_wanted_ = framebuffer_fetch;
   if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
-  for (std::size_t mode = 0; mode < composite_shaders_.size(); ++mode) {
+  GLint extensions = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
+  fbfetch_ = false;
+  for (GLint i = 0; i < extensions && framebuffer_fetch_wanted_; ++i) {
+    const auto* name = reinterpret_cast<const char*>(glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(i)));
+    if (name != nullptr && std::strcmp(name, "GL_EXT_shader_framebuffer_fetch") == 0) fbfetch_ = true;
+  }
+  for (std::size_t i = 0; i < composite_shaders_.size(); ++i) {
     std::string source = kCompositeFragment;
-    source.insert(source.find('\n') + 1, "#define MODE " + std::to_string(mode) + "\n");
-    if (!composite_shaders_[mode].build(kCompositeVertex, source.c_str(), error)) return false;
+    source.insert(source.find('\n') + 1,
+                  std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
+                      "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
+    if (!composite_shaders_[i].build(kCompositeVertex, source.c_str(), error)) return false;
   }
   glGenVertexArrays(1, &empty_vao_);
 
@@ -304,11 +380,17 @@ FluoroRenderer::VesselBuffers FluoroRenderer::prepare_vessel(const FluoroVessel&
   sorted.reserve(vessel.triangles.size());
   for (std::size_t i = 0; i < triangles; ++i) {
     const std::uint32_t t = order[i];
-    if (i % kBucketTriangles == 0) out.buckets.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t]});
+    const glm::vec3& p0 = vessel.positions_mm[vessel.triangles[3 * t]];
+    if (i % kBucketTriangles == 0) out.buckets.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t], p0, p0});
     Bucket& b = out.buckets.back();
     b.index_count += 3;
     b.lo = std::min(b.lo, lo[t]);
     b.hi = std::max(b.hi, hi[t]);
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3& p = vessel.positions_mm[vessel.triangles[3 * t + k]];
+      b.box_min = glm::min(b.box_min, p);
+      b.box_max = glm::max(b.box_max, p);
+    }
     sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
   }
   out.cell_count = vessel.cell_count;
@@ -334,36 +416,62 @@ void FluoroRenderer::upload_vessel(VesselBuffers buffers) {
   ++generation_;
 }
 
-void FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
+bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
   Hasher k;
   hash_pose(k, carm.pose());
   k.value(width);
   k.value(height);
   k.value(generation_);
   if (k.h != phantom_key_) {
-    phantom_path_ = phantom_.project(carm, width, height);
+    const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+    // A last image of this size to show meanwhile: project on a worker thread.
+    const bool hold = background_ && monitor_.valid && monitor_.width == width && monitor_.height == height;
+    if (pending_ && pending_->key != k.h && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
+    if (pending_ && pending_->key == k.h && (ready(*pending_) || !hold)) {
+      phantom_path_ = pending_->path.get();
+      pending_.reset();
+    } else if (hold) {
+      // One projection at a time: a newer pose starts when the one under way is done.
+      if (!pending_) {
+        pending_ = Projection{k.h, std::async(std::launch::async, [phantom = phantom_, carm, width, height] {
+                                return phantom.project(carm, width, height);
+                              })};
+      }
+      work_.waiting_for_phantom = true;
+      return false;
+    } else {
+      pending_.reset();  // waits for a projection under way
+      phantom_path_ = phantom_.project(carm, width, height);
+    }
     phantom_key_ = k.h;
     phantom_l_ref_ = -1.0;
     work_.phantom_projected = true;
   }
-  if (l_ref == phantom_l_ref_) return;
+  if (l_ref == phantom_l_ref_) return true;
   // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
+  // Stored bottom row first, as the GL targets it is drawn with.
   phantom_rg_.resize(2 * phantom_path_.size());
   for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
-    phantom_rg_[2 * i] = phantom_path_[i];
-    phantom_rg_[2 * i + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
+    const std::size_t row = i / static_cast<std::size_t>(width);
+    const std::size_t o = 2 * ((static_cast<std::size_t>(height) - 1 - row) * static_cast<std::size_t>(width) + i % static_cast<std::size_t>(width));
+    phantom_rg_[o] = phantom_path_[i];
+    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
   }
   phantom_l_ref_ = l_ref;
   glBindTexture(GL_TEXTURE_2D, phantom_texture_);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RG32F, width, height, 0, GL_RG, GL_FLOAT, phantom_rg_.data());
   glBindTexture(GL_TEXTURE_2D, 0);
+  return true;
 }
 
-void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height) {
+FluoroRenderer::Rect FluoroRenderer::build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
+                                                 int height) {
   tool_vertices_.clear();
   tool_indices_.clear();
-  const double patient_pixel_mm = carm.pixel_mm(width, height) / carm.magnification(carm.isocenter_mm());
+  const double pixel_mm = carm.pixel_mm(width, height);
+  const double patient_pixel_mm = pixel_mm / carm.magnification(carm.isocenter_mm());
+  ScreenBox box(carm, width, height);
   const auto add_tube = [&](std::span<const glm::vec3> nodes, float radius_mm, float mu) {
     tube_.build(nodes, {}, radius_mm, kToolSides);
     if (tube_.positions_mm.empty()) return;
@@ -381,6 +489,8 @@ void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm
     tool_vertices_.insert(tool_vertices_.end(), {back.x, back.y, back.z, mu, 0.0F, 0.0F});
     for (const std::uint32_t i : tube_.triangles) tool_indices_.push_back(base + i);
     for (std::uint32_t k = 0; k < ring; ++k) tool_indices_.insert(tool_indices_.end(), {base + (k + 1) % ring, base + k, base + apex});
+    // Every vertex lies within radius_mm of a node (the tube's rings, the cone's apex).
+    for (const glm::vec3& n : nodes) box.add_sphere(n, radius_mm);
   };
   for (const FluoroTool& tool : scene.tools) {
     if (tool.nodes_mm.size() < 2) continue;
@@ -395,6 +505,10 @@ void FluoroRenderer::draw_tools(const FluoroScene& scene, const flow::CArm& carm
       add_tube(marker_nodes_, line.radius_mm, mu * line.mu_scale);
     }
   }
+  return box.rect();
+}
+
+void FluoroRenderer::draw_tools() {
   if (tool_indices_.empty()) return;
   glBindVertexArray(tools_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, tools_vbo_);
@@ -433,6 +547,8 @@ void FluoroRenderer::ensure_target(Target& t, int width, int height, unsigned in
   t.width = width;
   t.height = height;
   t.valid = false;
+  t.dirty = {0, 0, width, height};  // undefined contents
+  t.drawn = {};
 }
 
 void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
@@ -440,60 +556,73 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
   const std::uint64_t key = scene_key(scene, carm.pose(), keV, width, height, generation_);
   if (t.valid && t.key == key) return;
   ensure_target(t, width, height, GL_RGBA32F, GL_FLOAT);
-  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
-  glViewport(0, 0, width, height);
-  glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
-  glClear(GL_COLOR_BUFFER_BIT);
-  glEnable(GL_BLEND);
-  glBlendEquation(GL_FUNC_ADD);
-  glBlendFunc(GL_ONE, GL_ONE);
-  scene_shader_.use();
-  const double sod = carm.depth_mm(carm.isocenter_mm());
-  const glm::mat4 vp = carm.projection_matrix(width, height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
-  scene_shader_.set("u_view_proj", vp);
-  scene_shader_.set("u_source", glm::vec4(glm::vec3(carm.source_mm()), static_cast<float>(sod)));
-  scene_shader_.set("u_iodine_mu", static_cast<float>(flow::iodine_per_mm_per_mgI_ml(keV)));
-  scene_shader_.set_int("u_cells", kCellsUnit);
   const bool contrast = vessel_indices_ > 0 && scene.cell_iodine_mgI_ml.size() == cell_count_ &&
                         std::any_of(scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end(), [](float c) { return c > 0.0F; });
+  // The runs of vessel buckets that read a cell with iodine, and the screen box of all that is drawn.
+  lit_runs_.clear();
+  ScreenBox box(carm, width, height);
   if (contrast) {
-    glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
-    glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(cell_count_ * sizeof(float)), scene.cell_iodine_mgI_ml.data());
-    glBindBuffer(GL_TEXTURE_BUFFER, 0);
-    glActiveTexture(GL_TEXTURE0 + kCellsUnit);
-    glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
-    glActiveTexture(GL_TEXTURE0);
-    scene_shader_.set("u_tool", 0.0F);
-    glBindVertexArray(vessel_vao_);
-    // Cells with iodine before each cell, then the runs of buckets that read any.
     nonzero_before_.assign(cell_count_ + 1, 0);
     for (std::size_t i = 0; i < cell_count_; ++i) {
       nonzero_before_[i + 1] = nonzero_before_[i] + (scene.cell_iodine_mgI_ml[i] > 0.0F ? 1U : 0U);
     }
-    std::size_t run_first = 0;
-    std::size_t run_count = 0;
-    const auto flush = [&] {
-      if (run_count == 0) return;
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(run_count), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(run_first * sizeof(std::uint32_t)));
-      work_.vessel_triangles += run_count / 3;
-      run_count = 0;
-    };
     for (const Bucket& b : buckets_) {
-      const bool lit = b.hi < cell_count_ && nonzero_before_[b.hi + 1] > nonzero_before_[b.lo];
-      if (!lit) {
-        flush();
-        continue;
+      if (b.hi >= cell_count_ || nonzero_before_[b.hi + 1] == nonzero_before_[b.lo]) continue;
+      box.add_box(b.box_min, b.box_max);
+      if (!lit_runs_.empty() && lit_runs_.back().first + lit_runs_.back().second == b.first_index) {
+        lit_runs_.back().second += b.index_count;
+      } else {
+        lit_runs_.emplace_back(b.first_index, b.index_count);
       }
-      if (run_count == 0) run_first = b.first_index;
-      run_count += b.index_count;
     }
-    flush();
-    glBindVertexArray(0);
   }
-  draw_tools(scene, carm, keV, width, height);
-  glDisable(GL_BLEND);
-  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  const Rect tools = build_tools(scene, carm, keV, width, height);
+  const Rect drawn = unite(box.rect(), tools);
+  // Clear what may be non-zero where this scene draws nothing, and where it draws.
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
+  glViewport(0, 0, width, height);
+  glEnable(GL_SCISSOR_TEST);
+  const Rect clear = unite(t.dirty, drawn);
+  if (!clear.empty()) {
+    glScissor(clear.x0, clear.y0, clear.x1 - clear.x0, clear.y1 - clear.y0);
+    glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
+  t.drawn = drawn;
+  t.dirty = drawn;
+  if (!drawn.empty()) {
+    glScissor(drawn.x0, drawn.y0, drawn.x1 - drawn.x0, drawn.y1 - drawn.y0);
+    glEnable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ONE);
+    scene_shader_.use();
+    const double sod = carm.depth_mm(carm.isocenter_mm());
+    const glm::mat4 vp = carm.projection_matrix(width, height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
+    scene_shader_.set("u_view_proj", vp);
+    scene_shader_.set("u_source", glm::vec4(glm::vec3(carm.source_mm()), static_cast<float>(sod)));
+    scene_shader_.set("u_iodine_mu", static_cast<float>(flow::iodine_per_mm_per_mgI_ml(keV)));
+    scene_shader_.set_int("u_cells", kCellsUnit);
+    if (!lit_runs_.empty()) {
+      glBindBuffer(GL_TEXTURE_BUFFER, cells_buffer_);
+      glBufferSubData(GL_TEXTURE_BUFFER, 0, static_cast<GLsizeiptr>(cell_count_ * sizeof(float)), scene.cell_iodine_mgI_ml.data());
+      glBindBuffer(GL_TEXTURE_BUFFER, 0);
+      glActiveTexture(GL_TEXTURE0 + kCellsUnit);
+      glBindTexture(GL_TEXTURE_BUFFER, cells_texture_);
+      glActiveTexture(GL_TEXTURE0);
+      scene_shader_.set("u_tool", 0.0F);
+      glBindVertexArray(vessel_vao_);
+      for (const auto& [first, count] : lit_runs_) {
+        glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(static_cast<std::size_t>(first) * sizeof(std::uint32_t)));
+        work_.vessel_triangles += count / 3;
+      }
+      glBindVertexArray(0);
+    }
+    draw_tools();
+    glDisable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  }
+  glDisable(GL_SCISSOR_TEST);
   t.key = key;
   t.valid = true;
   ++work_.scenes_accumulated;
@@ -503,8 +632,26 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ensure_target(monitor_, w, h, GL_RGBA8, GL_UNSIGNED_BYTE);
   glBindFramebuffer(GL_FRAMEBUFFER, monitor_.fbo);
   glViewport(0, 0, w, h);
-  const ShaderProgram& shader = composite_shaders_[subtracted ? 2 : roadmap ? 1 : 0];
-  shader.use();
+  if (fbfetch_) {
+    if (compose_fbo_ == 0) glGenFramebuffers(1, &compose_fbo_);
+    glBindFramebuffer(GL_FRAMEBUFFER, compose_fbo_);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, phantom_texture_, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, monitor_.texture, 0);
+    const GLenum buffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, buffers);
+    glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // read, never written
+  }
+  // The scenes' box: inside it the composite reads the scene targets, outside only the phantom.
+  Rect scenes = targets_[0].drawn;
+  if (subtracted) scenes = unite(scenes, targets_[1].drawn);
+  if (roadmap) scenes = unite(unite(scenes, targets_[2].drawn), targets_[3].drawn);
+  const int mode = subtracted ? 2 : roadmap ? 1 : 0;
+  const flow::FluoroDose dose(in.dose);
+  const double pixel_mm = carm.pixel_mm(w, h);
+  const auto sigma = [&](const FluoroScene& s) {
+    return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
+  };
+  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
   const std::pair<const char*, unsigned> bindings[] = {{"u_phantom", phantom_texture_},
                                                        {"u_live", targets_[0].texture},
                                                        {"u_mask", targets_[1].texture},
@@ -512,26 +659,42 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
                                                        {"u_road_mask", targets_[3].texture}};
   for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
-    glBindTexture(GL_TEXTURE_2D, bindings[unit].second);
-    shader.set_int(bindings[unit].first, unit);
+    glBindTexture(GL_TEXTURE_2D, unit == kPhantomUnit && fbfetch_ ? 0 : bindings[unit].second);  // attached: not sampled
   }
-  const flow::FluoroDose dose(in.dose);
-  const double pixel_mm = carm.pixel_mm(w, h);
-  const auto sigma = [&](const FluoroScene& s) {
-    return display_.noise ? static_cast<float>(dose.log_noise_sigma(s.mode, pixel_mm)) : 0.0F;
-  };
-  shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
-  shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
-  shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
-                                              pulse_seed(in.roadmap_mask.pulse)));
-  shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
-  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
-  shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
-  shader.set("u_anatomy_gain", display_.anatomy_gain);
-  shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
   glBindVertexArray(empty_vao_);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glEnable(GL_SCISSOR_TEST);
+  const auto draw = [&](const ShaderProgram& shader, const Rect& r) {
+    if (r.empty()) return;
+    shader.use();
+    for (int unit = kPhantomUnit; unit <= kRoadMaskUnit; ++unit) shader.set_int(bindings[unit].first, unit);
+    shader.set("u_view", glm::vec4(0.0F, 0.0F, static_cast<float>(w), static_cast<float>(h)));
+    shader.set("u_sigma", glm::vec4(sigma(in.shown), sigma(in.mask), sigma(in.roadmap), sigma(in.roadmap_mask)));
+    shader.set("u_seeds", glm::uvec4(pulse_seed(in.shown.pulse), pulse_seed(in.mask.pulse), pulse_seed(in.roadmap.pulse),
+                                     pulse_seed(in.roadmap_mask.pulse)));
+    shader.set("u_display", glm::vec4(display_.fluoro_slope, display_.dsa_background, display_.dsa_gain, display_.roadmap_gain));
+    shader.set("u_mode", glm::vec4(0.0F, 0.0F, 0.0F, static_cast<float>(l_ref)));
+    shader.set("u_anatomy_gain", display_.anatomy_gain);
+    shader.set("u_field_half", static_cast<float>(0.5 * std::min(w, h) * in.pose.collimation));
+    glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  };
+  draw(composite_shaders_[static_cast<std::size_t>(mode)], scenes);
+  // The rest of the image, as up to four bands around the scenes' box.
+  const ShaderProgram& outside = composite_shaders_[static_cast<std::size_t>(mode + 3)];
+  if (scenes.empty()) {
+    draw(outside, {0, 0, w, h});
+  } else {
+    draw(outside, {0, 0, w, scenes.y0});
+    draw(outside, {0, scenes.y1, w, h});
+    draw(outside, {0, scenes.y0, scenes.x0, scenes.y1});
+    draw(outside, {scenes.x1, scenes.y0, w, scenes.y1});
+  }
+  glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(0);
+  if (fbfetch_) {
+    glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);  // free to be re-specified
+  }
   for (int unit = kRoadMaskUnit; unit >= kPhantomUnit; --unit) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, 0);
@@ -568,35 +731,37 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
     glClearColor(0.0F, 0.0F, 0.0F, 1.0F);
     glClear(GL_COLOR_BUFFER_BIT);
   } else {
-    project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)));
-    accumulate(targets_[0], in.shown, carm, keV, w, h);
-    if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
-    if (roadmap) {
-      accumulate(targets_[2], in.roadmap, carm, keV, w, h);
-      accumulate(targets_[3], in.roadmap_mask, carm, keV, w, h);
-    }
-    // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
-    // otherwise (last-image hold, frames between pulses) it is copied again.
-    Hasher k;
-    k.value(phantom_key_);
-    k.value(phantom_l_ref_);
-    for (int i = 0; i < 4; ++i) {
-      const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
-      k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
-    }
-    for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
-      k.value(s->pulse);
-      k.value(s->mode);
-    }
-    k.value(subtracted);
-    k.value(roadmap);
-    k.value(in.patient_transmission);
-    k.bytes(&in.dose, sizeof in.dose);
-    k.bytes(&display_, sizeof display_);
-    if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
-      compose(in, carm, subtracted, roadmap, w, h);
-      monitor_.key = k.h;
-      monitor_.valid = true;
+    // While the phantom of a new pose is projected in the background the last image stays.
+    if (project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)))) {
+      accumulate(targets_[0], in.shown, carm, keV, w, h);
+      if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
+      if (roadmap) {
+        accumulate(targets_[2], in.roadmap, carm, keV, w, h);
+        accumulate(targets_[3], in.roadmap_mask, carm, keV, w, h);
+      }
+      // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
+      // otherwise (last-image hold, frames between pulses) it is copied again.
+      Hasher k;
+      k.value(phantom_key_);
+      k.value(phantom_l_ref_);
+      for (int i = 0; i < 4; ++i) {
+        const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
+        k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
+      }
+      for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
+        k.value(s->pulse);
+        k.value(s->mode);
+      }
+      k.value(subtracted);
+      k.value(roadmap);
+      k.value(in.patient_transmission);
+      k.bytes(&in.dose, sizeof in.dose);
+      k.bytes(&display_, sizeof display_);
+      if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
+        compose(in, carm, subtracted, roadmap, w, h);
+        monitor_.key = k.h;
+        monitor_.valid = true;
+      }
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));

@@ -1,6 +1,9 @@
 #include "app/fluoro_vessel.hpp"
 
 #include <algorithm>
+#include <utility>
+
+#include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::app {
 namespace {
@@ -72,6 +75,16 @@ std::vector<float> cell_iodine(const flow::ContrastTransport& transport) {
     for (const double c : transport.cell_concentrations(s)) out.push_back(static_cast<float>(c));
   }
   return out;
+}
+
+vessel::MeshOptions fluoro_surface_options(vessel::MeshOptions collision) {
+  collision.subdivision_level = std::max(0, collision.subdivision_level - 1);
+  return collision;
+}
+
+vessel::SurfaceMesh fluoro_surface(const vessel::VesselModel& model) {
+  vessel::VesselSurface s = vessel::build_vessel_surface(model, fluoro_surface_options());
+  return s.ok() ? std::move(s.mesh) : vessel::SurfaceMesh{};
 }
 
 }  // namespace cathbox::app

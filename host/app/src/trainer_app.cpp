@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/bench_report.hpp"
+#include "app/carm_panel.hpp"
 #include "app/frame_stats.hpp"
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
@@ -146,19 +147,27 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
       fluoro_.reset();
       return;
     }
+    // A window a trainee looks at: a C-arm move shows the last image while the new view is
+    // projected; headless runs (screenshots) draw every frame from its own inputs.
+    fluoro_->set_background_projection(!options_.headless);
   }
   // No C-arm controls yet: the case's first working projection (else AP), the isocentre on the
   // case's target, where the navigation ends.
   fluoro_settings_.pose = {};
   fluoro_inputs_ = {};
+  const InjectionSettings injection = carm_panel_.injection();  // kept from case to case
+  carm_panel_ = CArmPanelModel(views);
+  (void)carm_panel_.set_injection(injection);
   if (!views.empty()) {
     fluoro_settings_.pose.lao_deg = views.front().lao_deg;
     fluoro_settings_.pose.cranial_deg = views.front().cranial_deg;
   }
   if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
-  // The session's contrast cells on this vessel surface: the lumen takes their iodine.
+  // The session's contrast cells on the case's surface one level coarser than the collision
+  // surface (fluoro_surface_options): the lumen takes their iodine.
   if (const session::FluoroUnit* unit = current().fluoro(); unit != nullptr && scene.mesh() != nullptr) {
-    fluoro_vessel_ = FluoroVessel::build(*scene.mesh(), unit->transport());
+    fluoro_mesh_ = scene.model() != nullptr ? fluoro_surface(*scene.model()) : vessel::SurfaceMesh{};
+    fluoro_vessel_ = FluoroVessel::build(fluoro_mesh_.triangle_count() > 0 ? fluoro_mesh_ : *scene.mesh(), unit->transport());
     fluoro_->set_vessel(fluoro_vessel_);
   }
   fluoro_settings_.patient_transmission = flow::HeadPhantom::neuro().central_transmission(flow::CArm(fluoro_settings_.pose));
@@ -315,7 +324,16 @@ int TrainerApp::run_window() {
     renderer_->render_local(layout.local, fh, snap);
     const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
                           record_path_};
-    const UiActions act = ui_->draw(layout, snap, status, catalog_, current_case_, settings_);
+    // The C-arm panel (fluoroscopic view) takes the top of the output panel's area.
+    ScreenLayout ui_layout = layout;
+    CArmPanelActions carm_act;
+    if (fluoro_ && snap.fluoro.available) {
+      const int ph = std::min(kCArmPanelHeight, layout.output.height / 2 + kCArmPanelHeight / 2);
+      carm_act = draw_carm_panel({layout.output.x, layout.output.y, layout.output.width, ph}, carm_panel_, snap.fluoro, live_ != nullptr);
+      ui_layout.output.y += ph;
+      ui_layout.output.height = std::max(1, ui_layout.output.height - ph);
+    }
+    const UiActions act = ui_->draw(ui_layout, snap, status, catalog_, current_case_, settings_);
     ReplayPanelActions replay_act;
     if (replay_) replay_act = replay_panel_->draw(layout.global, *replay_);
     ui_->end_frame();
@@ -349,6 +367,9 @@ int TrainerApp::run_window() {
     if (live_ && act.end_run) live_->end_run();
     if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
     if (live_) {
+      for (const session::Control& c : carm_act.controls) (void)live_->post(c);
+      const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says
+      fluoro_switches_.set_injection(inj.volume_ml, inj.rate_ml_s, inj.concentration_mgI_ml);
       fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now),
                               [this](const session::Control& c) { return live_->post(c); },
                               snap.fluoro.available ? &snap.fluoro.pose : nullptr);

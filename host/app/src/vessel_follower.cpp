@@ -33,7 +33,9 @@ VesselFollower::Prepared VesselFollower::prepare(std::uint64_t generation, std::
     p.scene.overview_chunks = SceneRenderer::chunk(p.scene.overview);
   }
   if (transport != nullptr) {
-    p.fluoro_vessel = FluoroVessel::build(mesh, *transport);
+    // The fluoroscopic view draws iodine on the surface one level coarser, as at case load.
+    p.fluoro_mesh = fluoro_surface(p.surface->model);
+    p.fluoro_vessel = FluoroVessel::build(p.fluoro_mesh.triangle_count() > 0 ? p.fluoro_mesh : mesh, *transport);
     p.fluoro = FluoroRenderer::prepare_vessel(*p.fluoro_vessel);
   }
   return p;

@@ -43,8 +43,9 @@ Control make_flag(ControlKind kind, bool on) {
 Control pedal(bool pressed) { return make_flag(ControlKind::kFluoroPedal, pressed); }
 Control roadmap(bool capture) { return make_flag(ControlKind::kRoadmap, capture); }
 
-Control inject(double volume_ml, double rate_ml_s) {
-  return make_f64(ControlKind::kInject, std::array{volume_ml, rate_ml_s});
+Control inject(double volume_ml, double rate_ml_s, double concentration_mgI_ml) {
+  if (concentration_mgI_ml == kDefaultContrast_mgI_ml) return make_f64(ControlKind::kInject, std::array{volume_ml, rate_ml_s});
+  return make_f64(ControlKind::kInject, std::array{volume_ml, rate_ml_s, concentration_mgI_ml});
 }
 
 Control carm_angles(double lao_deg, double cranial_deg) {
@@ -77,6 +78,7 @@ std::optional<bool> read_flag(const Control& c) {
 }
 
 std::optional<InjectPayload> read_inject(const Control& c) {
+  if (const auto v = read_f64<3>(c)) return InjectPayload{(*v)[0], (*v)[1], (*v)[2]};
   const auto v = read_f64<2>(c);
   if (!v) return std::nullopt;
   return InjectPayload{(*v)[0], (*v)[1]};

@@ -21,7 +21,7 @@ void FluoroSwitches::update(const FluoroKeys& keys, std::uint64_t now_us, const 
   }
   const bool pedal = keys.pedal || foot;
   if (pedal != pedal_ && post(fluoro_control::pedal(pedal))) pedal_ = pedal;
-  if (keys.inject && !last_.inject) (void)post(fluoro_control::inject(inject_ml_, inject_rate_ml_s_));
+  if (keys.inject && !last_.inject) (void)post(fluoro_control::inject(inject_ml_, inject_rate_ml_s_, inject_mgI_ml_));
   if (keys.roadmap && !last_.roadmap) (void)post(fluoro_control::roadmap(true));
   if (keys.clear_roadmap && !last_.clear_roadmap) (void)post(fluoro_control::roadmap(false));
   if (carm != nullptr) {

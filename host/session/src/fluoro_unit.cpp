@@ -12,7 +12,6 @@
 namespace cathbox::session {
 namespace {
 
-constexpr double kContrast_mgI_ml = 300.0;  // iohexol 300, flow::Injection's default
 constexpr double kTipOutsideMarginMm = 1.0;  // a tip this far beyond the lumen radius is not in a vessel
 
 }  // namespace
@@ -65,7 +64,7 @@ bool FluoroUnit::apply(Control& c, ControlContext& ctx) {
       break;
     case ControlKind::kInject:
       if (const auto p = fluoro_control::read_inject(c)) {
-        applied = inject(p->volume_ml, p->rate_ml_s, ctx);
+        applied = inject(*p, ctx);
       } else {
         decoded = false;
       }
@@ -142,7 +141,7 @@ bool FluoroUnit::move_carm(const flow::CArmPose& pose, ControlContext& ctx) {
   return true;
 }
 
-bool FluoroUnit::inject(double volume_ml, double rate_ml_s, ControlContext& ctx) {
+bool FluoroUnit::inject(const fluoro_control::InjectPayload& injection, ControlContext& ctx) {
   // The catheter the contrast goes through: the held tool, the one it runs in, the first one.
   const std::size_t held = ctx.sim.active_tool();
   auto is_catheter = [this](std::size_t t) { return t < tools_.size() && tools_[t].kind == tool::ToolKind::kCatheter; };
@@ -169,11 +168,11 @@ bool FluoroUnit::inject(double volume_ml, double rate_ml_s, ControlContext& ctx)
         at.distance_mm);
     return false;
   }
-  if (const std::string e = transport_.inject(at, {volume_ml, rate_ml_s, kContrast_mgI_ml}); !e.empty()) {
+  if (const std::string e = transport_.inject(at, {injection.volume_ml, injection.rate_ml_s, injection.concentration_mgI_ml}); !e.empty()) {
     log(ctx, "inject: %s", e.c_str());
     return false;
   }
-  log(ctx, "inject %.1f mL at %.1f mL/s from the %s's tip (segment %d)", volume_ml, rate_ml_s, tools_[cath].name.c_str(),
+  log(ctx, "inject %.1f mL at %.1f mL/s from the %s's tip (segment %d)", injection.volume_ml, injection.rate_ml_s, tools_[cath].name.c_str(),
       network_.model().segments[at.segment].id);
   return true;
 }

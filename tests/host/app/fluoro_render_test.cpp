@@ -93,6 +93,16 @@ class FluoroRenderTest : public ::testing::Test {
     return in;
   }
   static std::vector<float> no_contrast() { return std::vector<float>(neuro_->transport->cell_count(), 0.0F); }
+  // The cells' iodine `steps` transport steps after 6 mL at 3 mL/s into the right ICA (then reset).
+  static std::vector<float> right_ica_filled(int steps) {
+    flow::ContrastTransport& t = *neuro_->transport;
+    t.reset();
+    EXPECT_TRUE(t.inject({neuro_->right_ica, 0.3 * t.locator().length_mm(neuro_->right_ica), 0.0}, {6.0, 3.0, 300.0}).empty());
+    for (int i = 0; i < steps; ++i) t.step();
+    std::vector<float> c = cell_iodine(t);
+    t.reset();
+    return c;
+  }
   // Centreline points of a segment between two fractions of its length.
   static std::vector<glm::vec3> centreline(std::uint32_t segment, double from, double to, int n) {
     const flow::CenterlineLocator& loc = neuro_->transport->locator();
@@ -132,6 +142,61 @@ class FluoroRenderTest : public ::testing::Test {
       if (px.x >= 4.0 && px.y >= 4.0 && px.x < kSize - 4.0 && px.y < kSize - 4.0) out.push_back(px);
     }
     return out;
+  }
+
+  // Iodine in the right ICA drawn on `mesh` (set in renderer_): the subtraction shows mu times
+  // the lumen chord, and a bolus front stays bounded (the test below says why).
+  void expect_iodine_chords(const vessel::SurfaceMesh& mesh, const std::string& png) {
+    renderer_.set_display({.noise = false});
+    const flow::CArm carm{flow::CArmPose{}};
+    const FluoroDisplay display;
+    const flow::ContrastTransport& t = *neuro_->transport;
+    const double mu = 100.0 * flow::iodine_per_mm_per_mgI_ml();
+    const auto subtracted = [&](std::vector<float> iodine) {
+      FluoroInputs dsa = live(51, std::move(iodine), {});
+      dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+      dsa.image.run = 1;
+      dsa.image.mask_pulse = 50;
+      dsa.mask = {50, flow::ExposureMode::kFluoroscopy, no_contrast(), {}};
+      return render(dsa);
+    };
+    const auto delta_L = [&](const Image& img, glm::dvec2 px) {
+      return (255.0 * display.dsa_background - img.pixel(static_cast<int>(px.x), static_cast<int>(px.y))[0]) / (255.0 * display.dsa_gain);
+    };
+    const std::uint32_t ica = neuro_->right_ica;
+    const std::span<const double> cells = t.cell_concentrations(ica);
+    const auto first = static_cast<std::size_t>(cells.data() - t.cell_concentrations(0).data());
+    std::vector<float> filled = no_contrast();  // the right ICA only, so no other vessel overlaps it
+    for (std::size_t i = 0; i < cells.size(); ++i) filled[first + i] = 100.0F;
+    const Image full = subtracted(filled);
+    // Only the triangles reading a filled cell are drawn: the right ICA's, a small part of the tree.
+    EXPECT_GT(renderer_.last_work().vessel_triangles, 0U);
+    EXPECT_LT(renderer_.last_work().vessel_triangles, mesh.triangle_count() / 4);
+    const double length = t.locator().length_mm(ica);
+    int checked = 0;
+    for (double f = 0.3; f <= 0.8; f += 0.02) {
+      const glm::dvec3 p = t.locator().point_at(ica, f * length);
+      const glm::dvec3 axis = glm::normalize(t.locator().point_at(ica, f * length + 2.0) - t.locator().point_at(ica, f * length - 2.0));
+      const glm::dvec3 ray = glm::normalize(p - carm.source_mm());
+      const double chord = 2.0 * t.locator().radius_at(ica, f * length) / std::sqrt(1.0 - std::pow(glm::dot(axis, ray), 2.0));
+      EXPECT_NEAR(delta_L(full, carm.project_px(p, kSize, kSize)), mu * chord, 0.12 * mu * chord) << "at " << f << " of the right ICA";
+      ++checked;
+    }
+    EXPECT_GE(checked, 25);
+    // A bolus front: the right ICA's first cells filled, the rest empty.
+    std::vector<float> front = no_contrast();
+    for (std::size_t i = 0; i < cells.size() / 2; ++i) front[first + i] = 100.0F;
+    const Image bolus = subtracted(front);
+    double max_chord = 0.0;
+    for (double f = 0.0; f <= 1.0; f += 0.01) max_chord = std::max(max_chord, 2.0 * t.locator().radius_at(ica, f * length));
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const double d = delta_L(bolus, {x + 0.5, y + 0.5});
+        ASSERT_GT(d, -0.01) << x << "," << y;
+        ASSERT_LT(d, 3.0 * mu * max_chord) << x << "," << y;  // a foreshortened piece may be long, not unbounded
+      }
+    }
+    save(subtracted(front), png);
   }
 
   static GlWindow* window_;
@@ -379,56 +444,15 @@ TEST_F(FluoroRenderTest, ASubtractedRodShowsMuTimesItsChord) {
 // concentration (the first half of the right ICA's cells filled, a bolus front) nothing
 // overshoots or goes negative: the trapezoid correction for mu differing between entry and exit.
 TEST_F(FluoroRenderTest, IodineShowsMuTimesTheLumenChordAndABolusFrontStaysBounded) {
-  renderer_.set_display({.noise = false});
-  const flow::CArm carm{flow::CArmPose{}};
-  const FluoroDisplay display;
-  const flow::ContrastTransport& t = *neuro_->transport;
-  const double mu = 100.0 * flow::iodine_per_mm_per_mgI_ml();
-  const auto subtracted = [&](std::vector<float> iodine) {
-    FluoroInputs dsa = live(51, std::move(iodine), {});
-    dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
-    dsa.image.run = 1;
-    dsa.image.mask_pulse = 50;
-    dsa.mask = {50, flow::ExposureMode::kFluoroscopy, no_contrast(), {}};
-    return render(dsa);
-  };
-  const auto delta_L = [&](const Image& img, glm::dvec2 px) {
-    return (255.0 * display.dsa_background - img.pixel(static_cast<int>(px.x), static_cast<int>(px.y))[0]) / (255.0 * display.dsa_gain);
-  };
-  const std::uint32_t ica = neuro_->right_ica;
-  const std::span<const double> cells = t.cell_concentrations(ica);
-  const auto first = static_cast<std::size_t>(cells.data() - t.cell_concentrations(0).data());
-  std::vector<float> filled = no_contrast();  // the right ICA only, so no other vessel overlaps it
-  for (std::size_t i = 0; i < cells.size(); ++i) filled[first + i] = 100.0F;
-  const Image full = subtracted(filled);
-  // Only the triangles reading a filled cell are drawn: the right ICA's, a small part of the tree.
-  EXPECT_GT(renderer_.last_work().vessel_triangles, 0U);
-  EXPECT_LT(renderer_.last_work().vessel_triangles, neuro_->mesh.triangle_count() / 4);
-  const double length = t.locator().length_mm(ica);
-  int checked = 0;
-  for (double f = 0.3; f <= 0.8; f += 0.02) {
-    const glm::dvec3 p = t.locator().point_at(ica, f * length);
-    const glm::dvec3 axis = glm::normalize(t.locator().point_at(ica, f * length + 2.0) - t.locator().point_at(ica, f * length - 2.0));
-    const glm::dvec3 ray = glm::normalize(p - carm.source_mm());
-    const double chord = 2.0 * t.locator().radius_at(ica, f * length) / std::sqrt(1.0 - std::pow(glm::dot(axis, ray), 2.0));
-    EXPECT_NEAR(delta_L(full, carm.project_px(p, kSize, kSize)), mu * chord, 0.12 * mu * chord) << "at " << f << " of the right ICA";
-    ++checked;
-  }
-  EXPECT_GE(checked, 25);
-  // A bolus front: the right ICA's first cells filled, the rest empty.
-  std::vector<float> front = no_contrast();
-  for (std::size_t i = 0; i < cells.size() / 2; ++i) front[first + i] = 100.0F;
-  const Image bolus = subtracted(front);
-  double max_chord = 0.0;
-  for (double f = 0.0; f <= 1.0; f += 0.01) max_chord = std::max(max_chord, 2.0 * t.locator().radius_at(ica, f * length));
-  for (int y = 0; y < kSize; ++y) {
-    for (int x = 0; x < kSize; ++x) {
-      const double d = delta_L(bolus, {x + 0.5, y + 0.5});
-      ASSERT_GT(d, -0.01) << x << "," << y;
-      ASSERT_LT(d, 3.0 * mu * max_chord) << x << "," << y;  // a foreshortened piece may be long, not unbounded
-    }
-  }
-  save(subtracted(front), "fluoro_bolus_front_dsa.png");
+  expect_iodine_chords(neuro_->mesh, "fluoro_bolus_front_dsa.png");
+}
+
+TEST_F(FluoroRenderTest, OnTheCoarserFluoroSurfaceIodineShowsTheSameChords) {
+  const vessel::VesselSurface coarse = vessel::build_vessel_surface(neuro_->model, fluoro_surface_options());
+  ASSERT_TRUE(coarse.ok()) << coarse.error;
+  EXPECT_LT(coarse.mesh.triangle_count(), neuro_->mesh.triangle_count() / 3);
+  renderer_.set_vessel(FluoroVessel::build(coarse.mesh, *neuro_->transport));
+  expect_iodine_chords(coarse.mesh, "fluoro_bolus_front_dsa_fluoro_surface.png");
 }
 
 TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
@@ -476,6 +500,104 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   FluoroInputs none;
   const Image black = render(none);
   EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+}
+
+// Only the scenes' screen box is cleared, drawn and read: a scene drawn after another elsewhere
+// (the wire moved, contrast gone) leaves nothing of the first, and the image equals a fresh
+// renderer's; the box of a wire is a small part of the image.
+TEST_F(FluoroRenderTest, AScenesBoxLeavesNothingOfThePreviousScene) {
+  renderer_.set_display({.noise = false});
+  const std::vector<float> filled = right_ica_filled(150);
+  FluoroTool left;
+  left.nodes_mm = centreline(neuro_->left_ica, 0.05, 0.6, 60);
+  left.radius_mm = 0.18F;
+  (void)render(live(60, filled, {wire_in_right_ica()}));
+  const Image second = render(live(61, no_contrast(), {left}));
+  FluoroRenderer fresh;
+  std::string error;
+  ASSERT_TRUE(fresh.init(error)) << error;
+  fresh.set_vessel(neuro_->vessel);
+  fresh.set_display({.noise = false});
+  EXPECT_EQ(fresh.render(Viewport{0, 0, kSize, kSize}, kSize, live(61, no_contrast(), {left})), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, second.pixels);
+  // A subtraction reads both scenes inside both boxes: the live scene (the left wire) must be
+  // zero where the mask's box (the right wire) is, though it held the right wire before.
+  FluoroInputs dsa = live(64, no_contrast(), {left});
+  dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.run = 1;
+  dsa.image.mask_pulse = 63;
+  dsa.mask = {63, flow::ExposureMode::kFluoroscopy, no_contrast(), {wire_in_right_ica()}};
+  (void)render(live(63, no_contrast(), {wire_in_right_ica()}));
+  const Image sub = render(dsa);
+  FluoroRenderer fresh_dsa;
+  ASSERT_TRUE(fresh_dsa.init(error)) << error;
+  fresh_dsa.set_vessel(neuro_->vessel);
+  fresh_dsa.set_display({.noise = false});
+  EXPECT_EQ(fresh_dsa.render(Viewport{0, 0, kSize, kSize}, kSize, dsa), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, sub.pixels);
+  // The right wire shows in the subtraction (mask minus nothing: brighter than the background).
+  const flow::CArm carm{flow::CArmPose{}};
+  const FluoroTool right = wire_in_right_ica();
+  const int background = static_cast<int>(std::lround(255.0 * FluoroDisplay{}.dsa_background));
+  EXPECT_GT(grey(sub, carm.project_px(glm::dvec3(right.nodes_mm[30]), kSize, kSize)), background + 3);
+  // Back to the first scene: the same image as the first time.
+  const Image again = render(live(62, filled, {wire_in_right_ica()}));
+  EXPECT_EQ(fresh.render(Viewport{0, 0, kSize, kSize}, kSize, live(62, filled, {wire_in_right_ica()})), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, again.pixels);
+}
+
+// With background projection (the interactive trainer) a C-arm move keeps the last image until
+// the new pose's phantom is projected, then shows exactly what projecting at once shows.
+TEST_F(FluoroRenderTest, ABackgroundProjectionHoldsTheLastImageUntilTheNewPoseIsReady) {
+  renderer_.set_display({.noise = false});
+  renderer_.set_background_projection(true);
+  flow::CArmPose lao30;
+  lao30.lao_deg = 30.0;
+  const Image ap = render(live(70, no_contrast(), {wire_in_right_ica()}));  // nothing shown yet: at once
+  EXPECT_TRUE(renderer_.last_work().phantom_projected);
+  const Image held = render(live(71, no_contrast(), {wire_in_right_ica()}, lao30));
+  EXPECT_TRUE(renderer_.last_work().waiting_for_phantom);
+  EXPECT_EQ(renderer_.last_work().scenes_accumulated, 0);
+  EXPECT_EQ(held.pixels, ap.pixels) << "the last image stays while the C-arm's new view is computed";
+  renderer_.finish_projection();
+  const Image moved = render(live(71, no_contrast(), {wire_in_right_ica()}, lao30));
+  EXPECT_FALSE(renderer_.last_work().waiting_for_phantom);
+  EXPECT_TRUE(renderer_.last_work().phantom_projected);
+  FluoroRenderer at_once;
+  std::string error;
+  ASSERT_TRUE(at_once.init(error)) << error;
+  at_once.set_vessel(neuro_->vessel);
+  at_once.set_display({.noise = false});
+  EXPECT_EQ(at_once.render(Viewport{0, 0, kSize, kSize}, kSize, live(71, no_contrast(), {wire_in_right_ica()}, lao30)), "");
+  EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, moved.pixels);
+  EXPECT_NE(moved.pixels, ap.pixels);
+}
+
+// Where the driver has GL_EXT_shader_framebuffer_fetch (llvmpipe does) the composite reads the
+// phantom from the target it draws; the images equal those that sample it as a texture, in all
+// three composites, over several frames (the phantom attachment is never written).
+TEST_F(FluoroRenderTest, ReadingThePhantomThroughTheFramebufferGivesTheSameImages) {
+  FluoroRenderer sampled;
+  std::string error;
+  ASSERT_TRUE(sampled.init(error, false)) << error;
+  EXPECT_FALSE(sampled.uses_framebuffer_fetch());
+  sampled.set_vessel(neuro_->vessel);
+  if (!renderer_.uses_framebuffer_fetch()) GTEST_SKIP() << "the driver has no GL_EXT_shader_framebuffer_fetch";
+  const std::vector<float> filled = right_ica_filled(120);
+  FluoroInputs dsa = live(81, filled, {wire_in_right_ica()});
+  dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.run = 1;
+  dsa.image.mask_pulse = 80;
+  dsa.mask = {80, flow::ExposureMode::kFluoroscopy, no_contrast(), {}};
+  FluoroInputs road = live(90, no_contrast(), {wire_in_right_ica()});
+  road.image.roadmap_pulse = 81;
+  road.roadmap = dsa.shown;
+  road.roadmap_mask = dsa.mask;
+  for (const FluoroInputs& in : {live(79, filled, {wire_in_right_ica()}), dsa, road, live(91, filled, {})}) {
+    const Image fetched = render(in);
+    EXPECT_EQ(sampled.render(Viewport{0, 0, kSize, kSize}, kSize, in), "");
+    EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, fetched.pixels) << "pulse " << in.image.pulse;
+  }
 }
 
 // The trainer's front end today: a snapshot's tools under continuous 15 pulses/s fluoroscopy.

@@ -226,6 +226,30 @@ TEST(FluoroSession, AnInjectionGoesThroughTheCatheterOfTheHeldWire) {
             events.end());
 }
 
+// The inject control's concentration (the C-arm panel's): half the iodine for half the
+// concentration, the same volume.
+TEST(FluoroSession, AnInjectionCarriesItsConcentration) {
+  const auto iodine_after = [](double mgI_ml) {
+    KeyboardInput keys;
+    Session s(load("neuro.case"), std::make_unique<KeyboardHand>(keys, 1e-3));
+    keys.set_speeds(50.0, 0.0);
+    s.step_virtual(1000);  // the catheter 50 mm in
+    keys.set_speeds(0.0, 0.0);
+    EXPECT_TRUE(s.post(fluoro_control::inject(2.0, 4.0, mgI_ml)));
+    s.step_virtual(300);
+    double total = 0.0;
+    const flow::ContrastTransport& t = s.fluoro()->transport();
+    for (std::uint32_t seg = 0; seg < t.network().model().segments.size(); ++seg) {
+      for (const double c : t.cell_concentrations(seg)) total += c;
+    }
+    EXPECT_NEAR(*s.metrics().contrast_volume_ml, 1.2, 1e-9);  // 0.3 s at 4 mL/s so far
+    return total;
+  };
+  const double full = iodine_after(300.0);
+  EXPECT_GT(full, 0.0);
+  EXPECT_NEAR(iodine_after(150.0), 0.5 * full, 1e-6 * full);
+}
+
 TEST(FluoroSession, AnInjectionNeedsACatheter) {
   auto scene = load("y_bifurcation.case");  // a guidewire only
   Session s(std::move(scene), script_hand(*load("y_bifurcation.case"), "0 insert_to 10 at 50\n100 inject 5\n300 end\n"));
@@ -245,6 +269,13 @@ TEST(FluoroSession, ControlPayloadsRoundTrip) {
   ASSERT_TRUE(p);
   EXPECT_EQ(p->volume_ml, 6.0);
   EXPECT_EQ(p->rate_ml_s, 3.0);
+  EXPECT_EQ(p->concentration_mgI_ml, 300.0) << "16 bytes: the default contrast";
+  // Another concentration travels as a third f64.
+  const Control i350 = fluoro_control::inject(6.0, 3.0, 350.0);
+  EXPECT_EQ(i350.size, 24);
+  ASSERT_TRUE(fluoro_control::read_inject(i350));
+  EXPECT_EQ(fluoro_control::read_inject(i350)->concentration_mgI_ml, 350.0);
+  EXPECT_EQ(fluoro_control::inject(6.0, 3.0, 300.0).size, 16);
   const Control r = fluoro_control::pulse_rate(7.5);
   EXPECT_EQ(r.size, 2);
   EXPECT_EQ(r.payload[0], 75);

@@ -22,8 +22,15 @@
 //   while its inputs, the pose and the size stay the same, and the composed monitor image is
 //   kept until one of them, a pulse number or the display changes: last-image hold and the
 //   display frames between pulses only copy it.
+// - Only the part of a scene target that its tools and iodine-filled vessel triangles can cover
+//   (their screen bounding box, from the tools' nodes and the vessel buckets' boxes) is cleared,
+//   drawn and read: the composite outside the scenes' box is a variant that reads the phantom
+//   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2);
+//   with GL_EXT_shader_framebuffer_fetch the phantom is read from the framebuffer instead.
 #include <array>
 #include <cstdint>
+#include <future>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,7 +52,10 @@ class FluoroRenderer {
   FluoroRenderer& operator=(const FluoroRenderer&) = delete;
 
   // Compiles the shaders and makes the buffers; false with the driver's log in `error`.
-  [[nodiscard]] bool init(std::string& error);
+  // `framebuffer_fetch`: read the phantom in the composite through GL_EXT_shader_framebuffer_fetch
+  // when the driver has it (false: always as a texture; tests compare the two).
+  [[nodiscard]] bool init(std::string& error, bool framebuffer_fetch = true);
+  [[nodiscard]] bool uses_framebuffer_fetch() const { return fbfetch_; }
   void set_phantom(flow::HeadPhantom phantom);  // default: HeadPhantom::neuro()
   // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the
   // scenes' cell_iodine come from). Without one, contrast is not drawn.
@@ -58,6 +68,8 @@ class FluoroRenderer {
     std::uint32_t index_count = 0;
     std::uint32_t lo = 0;  // the lowest and highest contrast cell its vertices read
     std::uint32_t hi = 0;
+    glm::vec3 box_min{0.0F};  // its vertices' bounding box (mm)
+    glm::vec3 box_max{0.0F};
   };
   struct VesselBuffers {
     std::vector<float> vertices;         // x, y, z, cell a, cell b, weight per vertex
@@ -68,6 +80,14 @@ class FluoroRenderer {
   [[nodiscard]] static VesselBuffers prepare_vessel(const FluoroVessel& vessel);
   void upload_vessel(VesselBuffers buffers);
   void set_display(const FluoroDisplay& display) { display_ = display; }
+  // On (the interactive trainer): when the C-arm moves, the phantom is projected on a worker
+  // thread and render() shows the last image until it is ready, so a move does not stall the
+  // frames (~150 ms of CPU at 1024^2). Off (the default: tests, headless runs): at once.
+  void set_background_projection(bool on) { background_ = on; }
+  // Blocks until the background projection under way (if any) is done; the next render() uses it.
+  void finish_projection() {
+    if (pending_) pending_->path.wait();
+  }
   [[nodiscard]] const FluoroDisplay& display() const { return display_; }
 
   // Draws the monitor image into `viewport` of the bound framebuffer (the image is
@@ -81,11 +101,22 @@ class FluoroRenderer {
     int scenes_accumulated = 0;
     int composites = 0;                // the monitor image made again (else copied)
     std::size_t vessel_triangles = 0;  // drawn into scene targets (those reading cells with iodine)
+    bool waiting_for_phantom = false;  // background projection under way: the last image shown
   };
   [[nodiscard]] const Work& last_work() const { return work_; }
 
  private:
+  // A rectangle of a target in GL pixels (origin bottom left), [x0, x1) x [y0, y1).
+  struct Rect {
+    int x0 = 0;
+    int y0 = 0;
+    int x1 = 0;
+    int y1 = 0;
+    [[nodiscard]] bool empty() const { return x1 <= x0 || y1 <= y0; }
+  };
   struct Target {
+    Rect drawn;  // where this scene's content may be non-zero (outside it: zero)
+    Rect dirty;  // where the texture may hold anything but zero
     unsigned texture = 0;
     unsigned fbo = 0;
     int width = 0;
@@ -93,22 +124,38 @@ class FluoroRenderer {
     std::uint64_t key = 0;
     bool valid = false;
   };
+  class ScreenBox;
+  static Rect unite(const Rect& a, const Rect& b);
   static void ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type);
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
-  void draw_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
-  void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
+  // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
+  Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  void draw_tools();
+  // False while a background projection for this pose is under way (nothing to draw with yet).
+  bool project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
 
   FluoroDisplay display_;
   flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
   std::uint64_t generation_ = 1;  // bumped by set_vessel / set_phantom: the targets are stale
   ShaderProgram scene_shader_;
-  std::array<ShaderProgram, 3> composite_shaders_;  // fluoroscopy, with the roadmap, subtraction
+  // Fluoroscopy, with the roadmap, subtraction; then the same three reading the phantom alone
+  // (outside the scenes' box).
+  std::array<ShaderProgram, 6> composite_shaders_;
   unsigned empty_vao_ = 0;
   unsigned phantom_texture_ = 0;
   std::uint64_t phantom_key_ = 0;
   double phantom_l_ref_ = -1.0;
   std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
+  bool background_ = false;
+  bool framebuffer_fetch_wanted_ = true;
+  bool fbfetch_ = false;  // the composite reads the phantom as a colour attachment (compose_fbo_)
+  unsigned compose_fbo_ = 0;  // the phantom texture and the monitor image, attached 0 and 1
+  struct Projection {
+    std::uint64_t key = 0;
+    std::future<std::vector<float>> path;
+  };
+  std::optional<Projection> pending_;  // the background projection under way
   std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
@@ -119,6 +166,7 @@ class FluoroRenderer {
   std::size_t vessel_indices_ = 0;
   std::vector<Bucket> buckets_;              // the vessel's triangles, sorted by their lowest cell
   std::vector<std::uint32_t> nonzero_before_;  // per pulse: cells with iodine before each cell
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> lit_runs_;  // per scene: (first index, count) drawn
   std::size_t cell_count_ = 0;
   unsigned cells_buffer_ = 0;
   unsigned cells_texture_ = 0;

@@ -10,6 +10,7 @@
 
 #include "app/case_catalog.hpp"
 #include "app/fluoro_frontend.hpp"
+#include "app/carm_panel_model.hpp"
 #include "app/fluoro_vessel.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
@@ -83,7 +84,9 @@ class TrainerApp {
   std::unique_ptr<FluoroRenderer> fluoro_;  // --view fluoro: the main view
   SnapshotFluoroSettings fluoro_settings_;
   FluoroInputs fluoro_inputs_;  // the shown pulse's, kept until the next pulse
-  FluoroVessel fluoro_vessel_;  // the case's surface tied to the session's contrast cells
+  CArmPanelModel carm_panel_;  // the C-arm panel's fields (with the case's working views)
+  vessel::SurfaceMesh fluoro_mesh_;  // the case's surface at fluoro_surface_options() (else the collision surface is used)
+  FluoroVessel fluoro_vessel_;  // that surface tied to the session's contrast cells
   std::string fluoro_error_;  // the last one shown in the output panel
   VesselFollower follower_;  // prepares a widened vessel off the render thread
   std::unique_ptr<VesselFollower::Prepared> shown_wall_;  // the widened vessel the views show

@@ -42,6 +42,7 @@ class VesselFollower {
     std::shared_ptr<const tool::WallSurface> surface;
     vessel::SurfaceMesh overview;
     SceneRenderer::PreparedVessel scene;
+    vessel::SurfaceMesh fluoro_mesh;  // the widened model at fluoro_surface_options() (empty: the wall's mesh)
     std::optional<FluoroVessel> fluoro_vessel;                 // with a contrast transport
     std::optional<FluoroRenderer::VesselBuffers> fluoro;
   };

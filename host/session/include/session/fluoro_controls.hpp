@@ -12,7 +12,10 @@
 namespace cathbox::session::fluoro_control {
 
 [[nodiscard]] Control pedal(bool pressed);
-[[nodiscard]] Control inject(double volume_ml, double rate_ml_s);
+// The contrast's iodine concentration: 300 mgI/mL (iohexol 300) unless said; the payload
+// carries it only when it differs (16 bytes, else 24), so records without it read the same.
+inline constexpr double kDefaultContrast_mgI_ml = 300.0;
+[[nodiscard]] Control inject(double volume_ml, double rate_ml_s, double concentration_mgI_ml = kDefaultContrast_mgI_ml);
 [[nodiscard]] Control carm_angles(double lao_deg, double cranial_deg);
 [[nodiscard]] Control carm_geometry(double sid_mm, double table_height_mm, double fov_mm, double collimation);
 // 7.5, 15 or 30 pulses per second (stored as pulses per 10 s).
@@ -27,6 +30,7 @@ namespace cathbox::session::fluoro_control {
 struct InjectPayload {
   double volume_ml = 0.0;
   double rate_ml_s = 0.0;
+  double concentration_mgI_ml = kDefaultContrast_mgI_ml;
 };
 struct AnglesPayload {
   double lao_deg = 0.0;

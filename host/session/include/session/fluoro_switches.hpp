@@ -12,6 +12,7 @@
 #include "device/foot_pedal.hpp"
 #include "flow/c_arm.hpp"
 #include "session/control.hpp"
+#include "session/fluoro_controls.hpp"
 
 namespace cathbox::session {
 
@@ -40,6 +41,12 @@ class FluoroSwitches {
   // session's snapshot); without it the C-arm keys do nothing.
   void update(const FluoroKeys& keys, std::uint64_t now_us, const Post& post, const flow::CArmPose* carm = nullptr);
 
+  // What the inject key injects from now on (the trainer's C-arm panel sets it).
+  void set_injection(double volume_ml, double rate_ml_s, double concentration_mgI_ml) {
+    inject_ml_ = volume_ml;
+    inject_rate_ml_s_ = rate_ml_s;
+    inject_mgI_ml_ = concentration_mgI_ml;
+  }
   [[nodiscard]] bool pedal_down() const { return pedal_; }
   // The foot pedal's last read error (empty when it reads); its last good state is kept.
   [[nodiscard]] const std::string& pedal_error() const { return pedal_error_; }
@@ -49,6 +56,7 @@ class FluoroSwitches {
   device::PedalDebouncer debouncer_;
   double inject_ml_;
   double inject_rate_ml_s_;
+  double inject_mgI_ml_ = fluoro_control::kDefaultContrast_mgI_ml;
   bool pedal_ = false;
   FluoroKeys last_;
   std::string pedal_error_;

@@ -26,6 +26,7 @@
 #include "flow/contrast_transport.hpp"
 #include "flow/fluoroscope.hpp"
 #include "session/control.hpp"
+#include "session/fluoro_controls.hpp"
 #include "session/fluoro_view.hpp"
 #include "session/metrics.hpp"
 #include "tool/snapshot.hpp"
@@ -65,7 +66,7 @@ class FluoroUnit final : public ControlHandler {
   [[nodiscard]] const std::vector<FluoroCell>& cells() const { return cells_; }
 
  private:
-  bool inject(double volume_ml, double rate_ml_s, ControlContext& ctx);
+  bool inject(const fluoro_control::InjectPayload& injection, ControlContext& ctx);
   bool move_carm(const flow::CArmPose& pose, ControlContext& ctx);
   void capture_pulse(const flow::FluoroTick& t);
   void log(ControlContext& ctx, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
