@@ -16,6 +16,7 @@ namespace cathbox::tool {
 namespace {
 
 constexpr double kMilli = 1000.0;  // N -> mN
+constexpr int kProjectionRounds = 6;  // wall / rod-rod projections alternated after a solve
 
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
 glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
@@ -598,11 +599,22 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     refresh_contacts(wall, true);
     limit_penetration();
     finish_edge_contacts();
+    // A node held between the wall and another rod (a loop pressed on the sac by the next):
+    // the two projections alternate so that neither leaves the other's constraint far broken.
+    for (int round = 1; round < kProjectionRounds && !edge_contacts_.empty(); ++round) {
+      limit_penetration();
+      finish_edge_contacts();
+    }
     // The force on the clamp at the final state, to first order from the last assembly:
-    // g_p += K_pf (x - x_assembled).
+    // g_p += K_pf (x - x_assembled). A rod among other rods (a coil, the catheter it leaves)
+    // often ends its step before its contacts settle; its clamp takes the last Newton step
+    // whole instead (the free part at the linearised equilibrium: g_p - K_pf K_ff^-1 g_f), so
+    // the residual of its stiff axial springs and of the final projections stays out of the hand.
+    bool whole = obstacles != nullptr;
+    for (std::size_t i = free0; whole && i < dofs; ++i) whole = std::isfinite(delta_[i]);
     for (std::size_t k = first_free_; k < n; ++k) {
       const std::size_t d = 3 * (k - first_);
-      const glm::dvec3 moved = x_[k] - x_pred_[k];
+      const glm::dvec3 moved = whole ? glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) : x_[k] - x_pred_[k];
       work_[d] = moved.x;
       work_[d + 1] = moved.y;
       work_[d + 2] = moved.z;
