@@ -583,6 +583,17 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       }
       if (refresh_contacts(wall, true)) refactor = true;
       if (obstacles != nullptr) {
+        // A node the re-probe finds in the wall joins the active set now: among other rods
+        // (a coil in its sac) the joins of the iterations above are soon spent, and a node left
+        // out was carried deep into the wall and thrown back by the projection below.
+        for (std::size_t k = first_free_; k < n; ++k) {
+          NodeContact& nc = node_contacts_[k];
+          if (!nc.has_plane) continue;
+          if (!nc.active && plane_gap(k) > 0.0) nc.active = true, refactor = true;
+          if (nc.has_second && !nc.active2 && second_gap(k) > 0.0) nc.active2 = true, refactor = true;
+        }
+      }
+      if (obstacles != nullptr) {
         // Planes of other rods are taken again once a node has moved half the margin.
         const double limit = 0.5 * obstacles->margin_mm();
         for (std::size_t k = first_free_; k < n; ++k) {
@@ -598,12 +609,14 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     }
     refresh_contacts(wall, true);
     limit_penetration();
-    finish_edge_contacts();
-    // A node held between the wall and another rod (a loop pressed on the sac by the next):
-    // the two projections alternate so that neither leaves the other's constraint far broken.
-    for (int round = 1; round < kProjectionRounds && !edge_contacts_.empty(); ++round) {
-      limit_penetration();
-      finish_edge_contacts();
+    // Among other rods the wall and rod-rod projections alternate (a loop pressed on the sac by
+    // the next), each rod-rod round on planes gathered afresh: planes held from the iterations
+    // split a gap both sides have since moved across, and projecting on them pushed loops into
+    // the wall and into each other.
+    for (int round = 0; round < (obstacles != nullptr ? kProjectionRounds : 1); ++round) {
+      if (round > 0) limit_penetration();
+      if (obstacles != nullptr) gather_obstacles(*obstacles);
+      if (!finish_edge_contacts()) break;
     }
     // The force on the clamp at the final state, to first order from the last assembly:
     // g_p += K_pf (x - x_assembled). A rod among other rods (a coil, the catheter it leaves)
@@ -1102,13 +1115,15 @@ void Rod::gather_obstacles(const RodObstacles& obstacles) {
   });
 }
 
-void Rod::finish_edge_contacts() {
+bool Rod::finish_edge_contacts() {
   // Held to within the penetration limit, like the wall; the force is the penalty's.
   const double kc = settings_.contact_stiffness_mN_per_mm;
+  bool pushed = false;
   for (EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     const double allowed = settings_.max_penetration_ratio * radius_[ec.edge];
     if (phi > allowed) {
+      pushed = true;
       const glm::dvec3 push = ec.normal * (phi - allowed);
       if (ec.edge >= first_free_) x_[ec.edge] += push;
       if (ec.edge + 1 >= first_free_) x_[ec.edge + 1] += push;
@@ -1123,6 +1138,7 @@ void Rod::finish_edge_contacts() {
     const double len = glm::length(rel);
     if (kg * len > grip_limit_[k]) grip_anchor_[k] = x_[k] - rel * (grip_limit_[k] / (kg * len));
   }
+  return pushed;
 }
 
 void Rod::add_coupling_load(std::size_t node, const glm::dvec3& force_mN) {

@@ -171,41 +171,48 @@ TEST_F(CoilInSphere, NoLoopPassesIntoAnotherOverRandomPushPullRotateSteps) {
 }
 
 // A 150 mm coil (5 mm helical loops, the bench's) pushed whole out of the microcatheter into the
-// 6.4 mm sphere at 20 mm/s, every step checked in virtual time (7,500 steps).
+// 6.4 mm sphere at 20 mm/s, every step checked in virtual time (7,400 steps).
 // Bounds, argued: the coil is a soft spring (EI 0.02 N mm^2); the force of one of its loops bent
 // to the sphere is of the order EI / R^2 ~ 3 mN, and a clinician pushes coils with well under
 // 1 N. The pusher force the hand feels is the 20 mN valve, the drag and these loop forces: it
 // must stay below 200 mN (before the fix: 2.7e5 mN, the residual of the coil's stiff axial
-// springs in an unconverged step). No single wall contact may exceed 2 N (before: 16-35 N); that
-// is a regression bound on what the solver reaches (1.6 N), not yet the physical ~10 mN
-// (sim/tool/README.md, Limits).
-// Loops may not interpenetrate beyond 10 % of the coil diameter (issue 16; before: 11.7 %).
+// springs in an unconverged step). A wall contact of the coil may not exceed 250 mN, twice what
+// the coil's penalty gives at the 5 % penetration its projection allows (before: 16-35 N, loops
+// projected into the wall on stale planes); the microcatheter's (its tip pushed by the loops,
+// the default penalty) 1 N. Those two are regression bounds on what the solver reaches, not
+// yet the physical ~10 mN (sim/tool/README.md, Limits). Loops may not interpenetrate beyond 10 %
+// of the coil diameter (issue 16; before: 11.7 %).
 TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApart) {
   constexpr double kLongCoil = 150.0;
   const TubeNetworkWall wall = sphere_on_a_tube();
   const std::vector<ToolSpec> tools{default_microcatheter(), default_coil(kLongCoil, 5.0)};
   Simulator sim(wall, tools, kEntry);
   const double micro = place_microcatheter(sim);
-  double hand = 0.0, wall_force = 0.0, overlap = 0.0;
-  double hand_at = 0.0, wall_at = 0.0, overlap_at = 0.0;
+  struct Peak {
+    double value = 0.0, at_mm = 0.0;
+    void see(double v, double at) {
+      if (v > value) value = v, at_mm = at;
+    }
+  };
+  Peak hand, coil_wall, micro_wall, overlap;
   const double start = sim.insertion_mm(kCoil);
   while (sim.insertion_mm(kCoil) < micro + kLongCoil - 2.0) {
     sim.set_insertion(kCoil, sim.insertion_mm(kCoil) + 0.02);  // 20 mm/s at 1 kHz
     sim.step();
     const double pushed = sim.insertion_mm(kCoil) - start;
     ASSERT_TRUE(std::isfinite(sim.hand_force_mN(kCoil))) << "at " << pushed << " mm";
-    if (std::abs(sim.hand_force_mN(kCoil)) > hand) hand = std::abs(sim.hand_force_mN(kCoil)), hand_at = pushed;
-    for (std::size_t t : {kMicro, kCoil}) {
-      for (const RodContact& c : sim.rod(t).contacts()) {
-        if (c.normal_force_mN > wall_force) wall_force = c.normal_force_mN, wall_at = pushed;
-      }
-    }
+    hand.see(std::abs(sim.hand_force_mN(kCoil)), pushed);
+    for (const RodContact& c : sim.rod(kCoil).contacts()) coil_wall.see(c.normal_force_mN, pushed);
+    for (const RodContact& c : sim.rod(kMicro).contacts()) micro_wall.see(c.normal_force_mN, pushed);
     const RodContactField::Overlap o = sim.worst_coil_overlap();
-    if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > overlap) overlap = o.depth_mm / o.diameter_mm, overlap_at = pushed;
+    if (o.diameter_mm > 0.0) overlap.see(o.depth_mm / o.diameter_mm, pushed);
   }
-  EXPECT_LT(hand, 200.0) << "pusher force " << hand << " mN at " << hand_at << " mm deployed";
-  EXPECT_LT(wall_force, 2000.0) << "wall contact " << wall_force << " mN at " << wall_at << " mm deployed";
-  EXPECT_LT(overlap, 0.10) << "loop overlap " << 100.0 * overlap << " % of the coil diameter at " << overlap_at << " mm";
+  EXPECT_LT(hand.value, 200.0) << "pusher force " << hand.value << " mN at " << hand.at_mm << " mm deployed";
+  EXPECT_LT(coil_wall.value, 250.0) << "coil wall contact " << coil_wall.value << " mN at " << coil_wall.at_mm << " mm";
+  EXPECT_LT(micro_wall.value, 1000.0) << "microcatheter wall contact " << micro_wall.value << " mN at "
+                                      << micro_wall.at_mm << " mm";
+  EXPECT_LT(overlap.value, 0.10) << "loop overlap " << 100.0 * overlap.value << " % of the coil diameter at "
+                                 << overlap.at_mm << " mm";
 }
 
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
