@@ -48,6 +48,8 @@ class RodContactField final : public RodObstacles {
   struct Item {
     std::uint32_t member = 0;
     std::uint32_t edge = 0;
+    glm::dvec3 mid{0.0};  // the edge's middle and reach (half its length plus its radius)
+    double reach = 0.0;   // when the grid was built
   };
   void build_grid() const;
   [[nodiscard]] std::uint64_t cell_key(const glm::dvec3& p) const;
