@@ -1,7 +1,6 @@
 #include "tool/rod_contact_field.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -68,6 +67,7 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (scratch_.capacity() < items) scratch_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);
+  if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
 }
 
 std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -107,17 +107,17 @@ void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
   const auto cx = static_cast<std::int64_t>(c.x);
   const auto cy = static_cast<std::int64_t>(c.y);
   const auto cz = static_cast<std::int64_t>(c.z);
-  std::array<std::size_t, 27> seen{};
-  std::size_t count = 0;
+  // A bucket that several of the 27 cells hash to is visited once: it carries this query's stamp.
+  if (++query_ == 0) {
+    std::fill(seen_.begin(), seen_.end(), 0u);
+    query_ = 1;
+  }
   for (std::int64_t dz = -1; dz <= 1; ++dz)
     for (std::int64_t dy = -1; dy <= 1; ++dy)
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         const std::size_t b = bucket_of(cx + dx, cy + dy, cz + dz);
-        if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(count), b) !=
-            seen.begin() + static_cast<std::ptrdiff_t>(count)) {
-          continue;
-        }
-        seen[count++] = b;
+        if (seen_[b] == query_) continue;
+        seen_[b] = query_;
         for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(items_[i]);
       }
 }

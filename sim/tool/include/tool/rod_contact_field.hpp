@@ -68,6 +68,8 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<std::uint32_t> bucket_of_item_;
   mutable std::vector<Item> scratch_;
   mutable std::vector<std::uint32_t> fill_;
+  mutable std::vector<std::uint32_t> seen_;  // per bucket: the last query that visited it
+  mutable std::uint32_t query_ = 0;
   std::size_t bucket_mask_ = 0;
 };
 
