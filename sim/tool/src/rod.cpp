@@ -812,7 +812,7 @@ void Rod::assemble(double dt_s, bool hessian) {
         diag += bend_aa_[k] + bend_bb_[k] - ba - glm::transpose(ba);
         sub1 += ba - bend_aa_[k];
       }
-      if (vertex(k - 1)) {
+      if (k >= 1 && vertex(k - 1)) {  // k - 1 wraps at k = 0 (a free rod, first_ = 0)
         diag += bend_bb_[k - 1];
         sub1 += bend_ba_[k - 1] - bend_bb_[k - 1];
         sub2 -= bend_ba_[k - 1];

@@ -215,6 +215,68 @@ TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApar
                                  << overlap.at_mm << " mm";
 }
 
+// Later coils pack against earlier ones: two 40 mm coils (4 mm loops) through the same
+// microcatheter; the first is pushed out, detached and its pusher drawn back, then the second is
+// pushed out against it. The second stays in the sphere (no node more than 10 % of its radius
+// out, none herniated) and passes through neither the first nor itself (overlap < 10 % of the
+// coil diameter at every step).
+TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
+  const TubeNetworkWall wall = sphere_on_a_tube();
+  ToolSpec first = default_coil(kCoilLength, kLoopD), second = default_coil(kCoilLength, kLoopD);
+  first.name = "coil 1";
+  second.name = "coil 2";
+  const std::vector<ToolSpec> tools{default_microcatheter(), first, second};
+  constexpr std::size_t kFirst = 1, kSecond = 2;
+  Simulator sim(wall, tools, kEntry);
+  const double micro = kNeckZ + 1.0 - kEntry.point_mm.z;
+  drive(sim, kMicro, micro, 0.2);
+  drive(sim, kFirst, micro - 0.5, 0.2);
+  drive(sim, kSecond, micro - 20.0, 0.2);
+  const AneurysmSac sac = *sphere_cap_sac(kCentre, kSphereR, {0, 0, kNeckZ});
+  CoilMetrics metrics(sim, sac);
+  drive(sim, kFirst, micro + kCoilLength + 1.0, 0.02, &metrics);
+  ASSERT_EQ(sim.detach(kFirst), DeviceError::kNone);
+  drive(sim, kFirst, micro - 10.0, 0.2, &metrics);  // the pusher back, its end 10 mm inside the tip
+  drive(sim, kSecond, micro - 0.5, 0.2, &metrics);
+  double overlap = 0.0, overlap_at = 0.0;
+  const double start = sim.insertion_mm(kSecond);
+  while (sim.insertion_mm(kSecond) < micro + kCoilLength + 1.0) {
+    sim.set_insertion(kSecond, sim.insertion_mm(kSecond) + 0.02);
+    sim.step();
+    metrics.observe(sim);
+    const RodContactField::Overlap o = sim.worst_coil_overlap();
+    if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > overlap) {
+      overlap = o.depth_mm / o.diameter_mm, overlap_at = sim.insertion_mm(kSecond) - start;
+    }
+  }
+  ASSERT_EQ(sim.detach(kSecond), DeviceError::kNone);
+  for (int i = 0; i < 200; ++i) {
+    sim.step();
+    metrics.observe(sim);
+  }
+  ASSERT_EQ(sim.detached_count(), 2u);
+  double worst = -1e9;
+  for (std::size_t c = 0; c < 2; ++c) {
+    for (const glm::dvec3& p : sim.detached(c).positions()) {
+      ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      worst = std::max(worst, glm::length(p - kCentre) + 0.5 * kCoilOd - kSphereR);
+    }
+  }
+  EXPECT_LT(worst, 0.1 * 0.5 * kCoilOd) << "a node is " << worst << " mm outside the sphere";
+  EXPECT_EQ(metrics.figures().herniations, 0);
+  EXPECT_NEAR(metrics.figures().deployed_mm, 2.0 * kCoilLength, 0.6);
+  // Packed against it: the two coils touch (closest nodes within a diameter and half a node
+  // spacing), and each leaves the other room for its centre line.
+  double closest = 1e9;
+  for (const glm::dvec3& a : sim.detached(0).positions()) {
+    for (const glm::dvec3& b : sim.detached(1).positions()) closest = std::min(closest, glm::length(a - b));
+  }
+  EXPECT_LT(closest, kCoilOd + 0.25) << "the coils are " << closest << " mm apart";
+  EXPECT_GT(closest, 0.5 * kCoilOd) << "the coils are " << closest << " mm apart";
+  EXPECT_LT(overlap, 0.10) << "loop overlap " << 100.0 * overlap << " % of the coil diameter at " << overlap_at
+                           << " mm of the second coil";
+}
+
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
 // run` drives it: the microcatheter reaches the neck of the left MCA aneurysm over the
 // microwire, the coil deploys into the sac and is detached there.
