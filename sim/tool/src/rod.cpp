@@ -16,6 +16,7 @@ namespace cathbox::tool {
 namespace {
 
 constexpr double kMilli = 1000.0;  // N -> mN
+constexpr int kProjectionRounds = 6;  // wall / rod-rod projections alternated after a solve
 
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
 // Rodrigues' formula with the unnormalised axis a = from x to (|a| = sin, 1 - cos = |a|^2 / (1 + cos)):
@@ -588,6 +589,17 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       }
       if (refresh_contacts(wall, true)) refactor = true;
       if (obstacles != nullptr) {
+        // A node the re-probe finds in the wall joins the active set now: among other rods
+        // (a coil in its sac) the joins of the iterations above are soon spent, and a node left
+        // out was carried deep into the wall and thrown back by the projection below.
+        for (std::size_t k = first_free_; k < n; ++k) {
+          NodeContact& nc = node_contacts_[k];
+          if (!nc.has_plane) continue;
+          if (!nc.active && plane_gap(k) > 0.0) nc.active = true, refactor = true;
+          if (nc.has_second && !nc.active2 && second_gap(k) > 0.0) nc.active2 = true, refactor = true;
+        }
+      }
+      if (obstacles != nullptr) {
         // Planes of other rods are taken again once a node has moved half the margin.
         const double limit = 0.5 * obstacles->margin_mm();
         for (std::size_t k = first_free_; k < n; ++k) {
@@ -603,12 +615,25 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     }
     refresh_contacts(wall, true);
     limit_penetration();
-    finish_edge_contacts();
+    // Among other rods the wall and rod-rod projections alternate (a loop pressed on the sac by
+    // the next), each rod-rod round on planes gathered afresh: planes held from the iterations
+    // split a gap both sides have since moved across, and projecting on them pushed loops into
+    // the wall and into each other.
+    for (int round = 0; round < (obstacles != nullptr ? kProjectionRounds : 1); ++round) {
+      if (round > 0) limit_penetration();
+      if (obstacles != nullptr) gather_obstacles(*obstacles);
+      if (!finish_edge_contacts()) break;
+    }
     // The force on the clamp at the final state, to first order from the last assembly:
-    // g_p += K_pf (x - x_assembled).
+    // g_p += K_pf (x - x_assembled). A rod among other rods (a coil, the catheter it leaves)
+    // often ends its step before its contacts settle; its clamp takes the last Newton step
+    // whole instead (the free part at the linearised equilibrium: g_p - K_pf K_ff^-1 g_f), so
+    // the residual of its stiff axial springs and of the final projections stays out of the hand.
+    bool whole = obstacles != nullptr;
+    for (std::size_t i = free0; whole && i < dofs; ++i) whole = std::isfinite(delta_[i]);
     for (std::size_t k = first_free_; k < n; ++k) {
       const std::size_t d = 3 * (k - first_);
-      const glm::dvec3 moved = x_[k] - x_pred_[k];
+      const glm::dvec3 moved = whole ? glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) : x_[k] - x_pred_[k];
       work_[d] = moved.x;
       work_[d + 1] = moved.y;
       work_[d + 2] = moved.z;
@@ -793,7 +818,7 @@ void Rod::assemble(double dt_s, bool hessian) {
         diag += bend_aa_[k] + bend_bb_[k] - ba - glm::transpose(ba);
         sub1 += ba - bend_aa_[k];
       }
-      if (vertex(k - 1)) {
+      if (k >= 1 && vertex(k - 1)) {  // k - 1 wraps at k = 0 (a free rod, first_ = 0)
         diag += bend_bb_[k - 1];
         sub1 += bend_ba_[k - 1] - bend_bb_[k - 1];
         sub2 -= bend_ba_[k - 1];
@@ -1102,13 +1127,15 @@ void Rod::gather_obstacles(const RodObstacles& obstacles) {
   });
 }
 
-void Rod::finish_edge_contacts() {
+bool Rod::finish_edge_contacts() {
   // Held to within the penetration limit, like the wall; the force is the penalty's.
   const double kc = settings_.contact_stiffness_mN_per_mm;
+  bool pushed = false;
   for (EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     const double allowed = settings_.max_penetration_ratio * radius_[ec.edge];
     if (phi > allowed) {
+      pushed = true;
       const glm::dvec3 push = ec.normal * (phi - allowed);
       if (ec.edge >= first_free_) x_[ec.edge] += push;
       if (ec.edge + 1 >= first_free_) x_[ec.edge + 1] += push;
@@ -1123,6 +1150,7 @@ void Rod::finish_edge_contacts() {
     const double len = glm::length(rel);
     if (kg * len > grip_limit_[k]) grip_anchor_[k] = x_[k] - rel * (grip_limit_[k] / (kg * len));
   }
+  return pushed;
 }
 
 void Rod::add_coupling_load(std::size_t node, const glm::dvec3& force_mN) {

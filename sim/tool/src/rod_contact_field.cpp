@@ -1,7 +1,6 @@
 #include "tool/rod_contact_field.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -21,6 +20,19 @@ double arc_between(const Rod& rod, std::size_t a, std::size_t b) {
   return std::abs(rod.node_from_tip_mm(a) + rod.node_from_tip_mm(a + 1) - rod.node_from_tip_mm(b) -
                   rod.node_from_tip_mm(b + 1)) *
          0.5;
+}
+
+// Half the rest length of an edge, with room for a stretched one (edges stretch < 1 %).
+double edge_reach(const Rod& rod, std::size_t e) {
+  return 0.55 * (rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1)) + edge_radius(rod, e);
+}
+
+// Broad phase of a pair: edges whose spheres around their middles (half the length plus the
+// radius) are further apart than the margin cannot touch.
+bool apart(const glm::dvec3& mid_a, double reach_a, const glm::dvec3& mid_b, double reach_b, double margin) {
+  const glm::dvec3 d = mid_a - mid_b;
+  const double r = reach_a + reach_b + margin;
+  return glm::dot(d, d) > r * r;
 }
 
 glm::dvec3 any_perpendicular(const glm::dvec3& t) {
@@ -55,6 +67,7 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (scratch_.capacity() < items) scratch_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);
+  if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
 }
 
 std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -72,11 +85,12 @@ void RodContactField::build_grid() const {
   for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
     const Member& m = members_[mi];
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < m.rod->node_total(); ++e) {
-      const glm::dvec3 c = glm::floor(edge_mid(*m.rod, e) / cell_mm_);
+      const glm::dvec3 mid = edge_mid(*m.rod, e);
+      const glm::dvec3 c = glm::floor(mid / cell_mm_);
       const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
                                       static_cast<std::int64_t>(c.z));
       bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
-      items_.push_back(Item{mi, static_cast<std::uint32_t>(e)});
+      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), mid, edge_reach(*m.rod, e)});
       ++start_[b + 1];
     }
   }
@@ -93,17 +107,17 @@ void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
   const auto cx = static_cast<std::int64_t>(c.x);
   const auto cy = static_cast<std::int64_t>(c.y);
   const auto cz = static_cast<std::int64_t>(c.z);
-  std::array<std::size_t, 27> seen{};
-  std::size_t count = 0;
+  // A bucket that several of the 27 cells hash to is visited once: it carries this query's stamp.
+  if (++query_ == 0) {
+    std::fill(seen_.begin(), seen_.end(), 0u);
+    query_ = 1;
+  }
   for (std::int64_t dz = -1; dz <= 1; ++dz)
     for (std::int64_t dy = -1; dy <= 1; ++dy)
       for (std::int64_t dx = -1; dx <= 1; ++dx) {
         const std::size_t b = bucket_of(cx + dx, cy + dy, cz + dz);
-        if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(count), b) !=
-            seen.begin() + static_cast<std::ptrdiff_t>(count)) {
-          continue;
-        }
-        seen[count++] = b;
+        if (seen_[b] == query_) continue;
+        seen_[b] = query_;
         for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(items_[i]);
       }
 }
@@ -134,7 +148,10 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
     const double ra = edge_radius(rod, e);
-    for_neighbours(0.5 * (a0 + a1), [&](const Item& item) {
+    const glm::dvec3 mid = 0.5 * (a0 + a1);
+    const double reach = edge_reach(rod, e);
+    for_neighbours(mid, [&](const Item& item) {
+      if (apart(mid, reach, item.mid, item.reach, margin_)) return;
       const Member& other = members_[item.member];
       const std::size_t f = item.edge;
       if (other.rod == &rod && f == e) return;
@@ -174,13 +191,18 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
       const glm::dvec3& a0 = rod.positions()[e];
       const glm::dvec3& a1 = rod.positions()[e + 1];
       const double ra = edge_radius(rod, e);
-      for_neighbours(0.5 * (a0 + a1), [&](const Item& item) {
+      const glm::dvec3 mid = 0.5 * (a0 + a1);
+      const double reach = edge_reach(rod, e);
+      for_neighbours(mid, [&](const Item& item) {
         const Member& other = members_[item.member];
         const std::size_t f = item.edge;
         if (other.rod == &rod && f == e) return;
+        // Pairs apart by more than the margin do not overlap (only the deepest overlap counts).
+        if (apart(mid, reach, item.mid, item.reach, 0.0)) return;
         if (excluded(me, e, other, f)) return;
-        const collision::SegmentPair pair =
-            collision::closest_segment_segment(a0, a1, other.rod->positions()[f], other.rod->positions()[f + 1]);
+        const glm::dvec3& b0 = other.rod->positions()[f];
+        const glm::dvec3& b1 = other.rod->positions()[f + 1];
+        const collision::SegmentPair pair = collision::closest_segment_segment(a0, a1, b0, b1);
         const double rb = edge_radius(*other.rod, f);
         const double depth = ra + rb - std::sqrt(pair.distance_sq);
         if (depth > worst.depth_mm) {

@@ -13,6 +13,10 @@ constexpr double kTipProbeRange_mm = 20.0;
 // moves at most half of it per iteration, so no loop passes through another between gathers.
 constexpr double kRodContactMargin_mm = 0.1;
 constexpr double kRodContactStep_mm = 0.04;
+// A coil's wall and rod-rod penalty, a tenth of the default: a soft coil (EI 0.02 N mm^2, loop
+// forces of a few mN) ends steps with its contacts a few micrometres from settled; at 2e5 mN/mm
+// each micrometre read as 200 mN. Penetration stays held to 5 % of its radius by projection.
+constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
 constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
 constexpr double kBalloonGripFriction = 0.3;    // balloon on the intima (inflated)
 constexpr double kCouplingRelaxation = 0.5;     // loads from inner tools: new = r new + (1 - r) old
@@ -62,6 +66,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   for (std::size_t i = 0; i < n; ++i) {
     if (tools[i].kind != ToolKind::kCoil) continue;
     rods_[i].settings().max_node_step_mm = std::min(rods_[i].settings().max_node_step_mm, kRodContactStep_mm);
+    rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
     if (outer_of_[i] < n) {
       RodSettings& s = rods_[outer_of_[i]].settings();
       s.max_node_step_mm = std::min(s.max_node_step_mm, kRodContactStep_mm);

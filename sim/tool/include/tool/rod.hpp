@@ -209,7 +209,7 @@ class Rod {
   void update_frames();
   void solve_twist(double dt_s);
   void finish_contacts();
-  void finish_edge_contacts();
+  bool finish_edge_contacts();  // true when it had to push a node out
   void compute_force_law(double dt_s);
 
   ToolSpec spec_;

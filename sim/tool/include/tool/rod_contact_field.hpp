@@ -48,6 +48,8 @@ class RodContactField final : public RodObstacles {
   struct Item {
     std::uint32_t member = 0;
     std::uint32_t edge = 0;
+    glm::dvec3 mid{0.0};  // the edge's middle and reach (half its length plus its radius)
+    double reach = 0.0;   // when the grid was built
   };
   void build_grid() const;
   [[nodiscard]] std::uint64_t cell_key(const glm::dvec3& p) const;
@@ -66,6 +68,8 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<std::uint32_t> bucket_of_item_;
   mutable std::vector<Item> scratch_;
   mutable std::vector<std::uint32_t> fill_;
+  mutable std::vector<std::uint32_t> seen_;  // per bucket: the last query that visited it
+  mutable std::uint32_t query_ = 0;
   std::size_t bucket_mask_ = 0;
 };
 
