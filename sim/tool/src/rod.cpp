@@ -175,6 +175,7 @@ void Rod::size_scratch() {
   work_.assign(3 * n, 0.0);
   friction_limit_.assign(n, 0.0);
   joined_.assign(n, 0);
+  held_gap_.assign(n, 0.0);
   tw_diag_.assign(n, 0.0);
   tw_off_.assign(n, 0.0);
   tw_rhs_.assign(n, 0.0);
@@ -494,7 +495,9 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     // otherwise only the gradient is rebuilt (chord iterations).
     bool refactor = true;
     bool rejoin = false;
-    for (int it = 0; it < iterations; ++it) {
+    int rounds = iterations;
+    std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
+    for (int it = 0; it < rounds; ++it) {
       if (rejoin) {
         // Amend the assembly (the factorisation leaves it intact) with the wall terms of the
         // nodes that joined.
@@ -553,6 +556,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       }
       if (joined) {
         ++activations;
+        if (it + 1 == rounds && rounds < iterations + 2) ++rounds;  // solve with them held
         refactor = true;
         rejoin = true;
         continue;
@@ -575,17 +579,38 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         scale *= 0.5;
         if (!fresh) refactor = true;  // a stale Hessian gave a poor step
       }
-      // Nodes the wall would have to pull leave the active set.
+      // Nodes the wall would have to pull leave the active set; nodes the step carried into
+      // the wall (after the activation rounds ran out) join it for the next iteration.
+      // `entered`: one of them is deeper than a hundredth of the penetration limit (the
+      // convergence test does not stop on it: the end of the step might clamp it); `deep`: a
+      // held node is past the limit.
+      bool entered = false;
+      bool deep = false;
+      for (std::size_t k = first_free_; k < n; ++k) {
+        const NodeContact& nc = node_contacts_[k];
+        const std::size_t d = 3 * (k - first_);
+        const glm::dvec3 rest(delta_[d], delta_[d + 1], delta_[d + 2]);
+        held_gap_[k] = nc.active ? plane_gap(k) + (1.0 - scale) * glm::dot(nc.normal, rest)
+                                 : std::numeric_limits<double>::quiet_NaN();
+      }
+      const auto update = [&](bool& active, double phi, double allowed) {
+        if (active && phi < -1e-9) {
+          active = false;
+          refactor = true;
+        } else if (!active && phi > 0.0) {
+          active = true;
+          refactor = true;
+          entered = entered || phi > 0.01 * allowed;
+        } else {
+          deep = deep || (active && phi > allowed);
+        }
+      };
       for (std::size_t k = first_free_; k < n; ++k) {
         NodeContact& nc = node_contacts_[k];
-        if (nc.active && plane_gap(k) < -1e-9) {
-          nc.active = false;
-          refactor = true;
-        }
-        if (nc.active2 && second_gap(k) < -1e-9) {
-          nc.active2 = false;
-          refactor = true;
-        }
+        if (!nc.has_plane) continue;
+        const double allowed = settings_.max_penetration_ratio * radius_[k];
+        update(nc.active, plane_gap(k), allowed);
+        if (nc.has_second) update(nc.active2, second_gap(k), allowed);
       }
       if (refresh_contacts(wall, true)) refactor = true;
       if (obstacles != nullptr) {
@@ -611,7 +636,19 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
       }
       last_iterations_ = it + 1;
-      if (largest * scale < settings_.convergence_mm) break;
+      if (largest * scale < settings_.convergence_mm && !entered) break;
+      // A node left in the wall at the end would be clamped at the penetration limit, which
+      // reads as the contact cap: up to two more iterations hold it.
+      if ((entered || deep) && it + 1 == rounds && rounds < iterations + 2) ++rounds;
+    }
+    // A node held in the last iteration but past the limit (the step was cut to
+    // max_node_step_mm) goes where the full Newton step puts it along the wall normal: its
+    // force is the penalty's at the linearised equilibrium, not the clamp's cap.
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const NodeContact& nc = node_contacts_[k];
+      const double phi = nc.has_plane ? plane_gap(k) : 0.0;
+      const double allowed = settings_.max_penetration_ratio * radius_[k];
+      if (nc.active && phi > allowed && held_gap_[k] < allowed) x_[k] -= nc.normal * (phi - std::max(0.0, held_gap_[k]));
     }
     refresh_contacts(wall, true);
     limit_penetration();

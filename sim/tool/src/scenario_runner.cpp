@@ -81,6 +81,7 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
     }
     sim.step(1e-3);
     if (options.angioplasty != nullptr) options.angioplasty->after_step(sim);
+    if (options.after_step) options.after_step(sim);
     ++result.steps;
     if (coils) coils->observe(sim);
     const std::int64_t time_ms = now + 1;

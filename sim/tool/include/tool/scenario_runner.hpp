@@ -4,6 +4,7 @@
 //   time_ms,tool,insertion_mm,rotation_rad,tip_x_mm,tip_y_mm,tip_z_mm,force_mN,torque_mNmm,contacts,tip_segment
 // for the selected tool. The same inputs give byte-identical output.
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -28,6 +29,8 @@ struct ScenarioOptions {
   // With a balloon: the lumen it widens and the walls swapped in (after every step); its
   // figures come back in the result. Not owned; the simulator must use its wall.
   Angioplasty* angioplasty = nullptr;
+  // Called after every step (tests use it to watch per-tick state, e.g. contact forces).
+  std::function<void(const Simulator&)> after_step;
 };
 
 struct ScenarioResult {
