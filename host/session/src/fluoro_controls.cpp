@@ -65,7 +65,8 @@ Control pulse_rate(double per_s) {
 std::optional<Control> from_action(const tool::Action& a) {
   switch (a.kind) {
     case tool::ActionKind::kFluoro: return pedal(a.value != 0.0);
-    case tool::ActionKind::kInject: return inject(a.value, a.speed);
+    case tool::ActionKind::kInject:
+      return inject(a.value, a.speed, a.concentration_mgI_ml > 0.0 ? a.concentration_mgI_ml : kDefaultContrast_mgI_ml);
     case tool::ActionKind::kCArm: return carm_angles(a.value, a.value2);
     case tool::ActionKind::kRoadmap: return roadmap(a.value != 0.0);
     default: return std::nullopt;

@@ -58,16 +58,24 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
       }
     } else if (verb == "inject") {
       a.kind = ActionKind::kInject;
-      if (w.size() != 3 && w.size() != 5) return fail("inject: expected VOLUME_ML [at RATE_ML_PER_S]");
+      if (w.size() != 3 && w.size() != 5 && w.size() != 7) return fail("inject: expected VOLUME_ML [at RATE_ML_PER_S] [conc MGI_PER_ML]");
       const std::optional<double> v = parse_number(w[2]);
       if (!v || *v <= 0.0 || *v > 100.0) return fail("inject: volume must be in (0, 100] mL");
       a.value = *v;
       a.speed = kDefaultInjectRate_ml_s;
-      if (w.size() == 5) {
-        if (w[3] != "at") return fail("inject: expected 'at RATE', got '" + std::string(w[3]) + "'");
-        const std::optional<double> r = parse_number(w[4]);
-        if (!r || *r <= 0.0 || *r > 30.0) return fail("inject: rate must be in (0, 30] mL/s");
-        a.speed = *r;
+      bool rate_given = false;
+      for (std::size_t i = 3; i + 1 < w.size(); i += 2) {
+        const std::optional<double> x = parse_number(w[i + 1]);
+        if (w[i] == "at" && !rate_given && a.concentration_mgI_ml == 0.0) {
+          if (!x || *x <= 0.0 || *x > 30.0) return fail("inject: rate must be in (0, 30] mL/s");
+          a.speed = *x;
+          rate_given = true;
+        } else if (w[i] == "conc" && a.concentration_mgI_ml == 0.0) {
+          if (!x || *x <= 0.0 || *x > kMaxInjectConcentration_mgI_ml) return fail("inject: concentration must be in (0, 1000] mgI/mL");
+          a.concentration_mgI_ml = *x;
+        } else {
+          return fail("inject: expected 'at RATE' and/or 'conc MGI_PER_ML' (in that order, each once), got '" + std::string(w[i]) + "'");
+        }
       }
     } else if (verb == "inflate") {
       if (w.size() != 4 || (w[3] != "atm" && w[3] != "ml")) return fail("inflate: expected VALUE atm or VALUE ml");

@@ -276,6 +276,17 @@ TEST(FluoroSession, ControlPayloadsRoundTrip) {
   ASSERT_TRUE(fluoro_control::read_inject(i350));
   EXPECT_EQ(fluoro_control::read_inject(i350)->concentration_mgI_ml, 350.0);
   EXPECT_EQ(fluoro_control::inject(6.0, 3.0, 300.0).size, 16);
+  // An action script's `inject V at R [conc C]`: the concentration travels when given.
+  const auto script = tool::parse_script("0 inject 4 at 2 conc 240\n10 inject 5\n", "c.actions");
+  ASSERT_TRUE(script) << script.error().message;
+  const auto with_conc = fluoro_control::from_action(script->actions[0]);
+  ASSERT_TRUE(with_conc);
+  ASSERT_TRUE(fluoro_control::read_inject(*with_conc));
+  EXPECT_EQ(fluoro_control::read_inject(*with_conc)->rate_ml_s, 2.0);
+  EXPECT_EQ(fluoro_control::read_inject(*with_conc)->concentration_mgI_ml, 240.0);
+  const auto without = fluoro_control::from_action(script->actions[1]);
+  ASSERT_TRUE(without);
+  EXPECT_EQ(without->size, 16) << "no conc: the default contrast";
   const Control r = fluoro_control::pulse_rate(7.5);
   EXPECT_EQ(r.size, 2);
   EXPECT_EQ(r.payload[0], 75);

@@ -29,17 +29,23 @@ TEST(ActionScript, ParsesVerbsSpeedsAndDefaults) {
 TEST(ActionScript, ParsesImagingVerbs) {
   const ScriptParse p = parse_script(
       "0 fluoro on\n100 inject 6 at 3\n150 inject 2.5\n4000 fluoro off\n4100 roadmap\n5000 carm -20 15\n"
-      "5100 roadmap off\n5200 roadmap on\n",
+      "5100 roadmap off\n5200 roadmap on\n5300 inject 4 at 2 conc 240\n5400 inject 3 conc 140.5\n",
       "img.actions");
   ASSERT_TRUE(p) << p.error().message;
   const auto& a = p->actions;
-  ASSERT_EQ(a.size(), 8u);
+  ASSERT_EQ(a.size(), 10u);
   EXPECT_EQ(a[0].kind, ActionKind::kFluoro);
   EXPECT_EQ(a[0].value, 1.0);
   EXPECT_EQ(a[1].kind, ActionKind::kInject);
   EXPECT_EQ(a[1].value, 6.0);
   EXPECT_EQ(a[1].speed, 3.0);
   EXPECT_EQ(a[2].speed, kDefaultInjectRate_ml_s);
+  EXPECT_EQ(a[2].concentration_mgI_ml, 0.0);  // not given: the session's default
+  EXPECT_EQ(a[8].value, 4.0);
+  EXPECT_EQ(a[8].speed, 2.0);
+  EXPECT_EQ(a[8].concentration_mgI_ml, 240.0);
+  EXPECT_EQ(a[9].speed, kDefaultInjectRate_ml_s);
+  EXPECT_EQ(a[9].concentration_mgI_ml, 140.5);
   EXPECT_EQ(a[3].value, 0.0);
   EXPECT_EQ(a[4].kind, ActionKind::kRoadmap);
   EXPECT_EQ(a[4].value, 1.0);
@@ -95,7 +101,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadScript{"0 fluoro maybe\n", "s.actions:1: fluoro: expected 'on' or 'off'"},
         BadScript{"0 roadmap now\n", "s.actions:1: roadmap: expected nothing, 'on' or 'off'"},
         BadScript{"0 inject 0\n", "s.actions:1: inject: volume must be in (0, 100] mL"},
-        BadScript{"0 inject 6 by 3\n", "s.actions:1: inject: expected 'at RATE', got 'by'"},
+        BadScript{"0 inject 6 by 3\n", "s.actions:1: inject: expected 'at RATE' and/or 'conc MGI_PER_ML' (in that order, each once), got 'by'"},
+        BadScript{"0 inject 6 conc 300 at 3\n", "s.actions:1: inject: expected 'at RATE' and/or 'conc MGI_PER_ML' (in that order, each once), got 'at'"},
+        BadScript{"0 inject 6 at 3 at 4\n", "s.actions:1: inject: expected 'at RATE' and/or 'conc MGI_PER_ML' (in that order, each once), got 'at'"},
+        BadScript{"0 inject 6 conc 0\n", "s.actions:1: inject: concentration must be in (0, 1000] mgI/mL"},
+        BadScript{"0 inject 6 at 3 conc 1200\n", "s.actions:1: inject: concentration must be in (0, 1000] mgI/mL"},
+        BadScript{"0 inject 6 at 3 conc\n", "s.actions:1: inject: expected VOLUME_ML [at RATE_ML_PER_S] [conc MGI_PER_ML]"},
         BadScript{"0 inject 6 at 50\n", "s.actions:1: inject: rate must be in (0, 30] mL/s"},
         BadScript{"0 carm 30\n", "s.actions:1: carm: expected LAO_DEG CRANIAL_DEG (negative for RAO / caudal)"},
         BadScript{"0 carm 130 0\n", "s.actions:1: carm: LAO/RAO angle must be within +-120 degrees"},

@@ -10,6 +10,7 @@
 //   # imaging (the session and the trainer act on these; `cathbox sim run` skips them)
 //   2000       fluoro     on                 # fluoroscopy pedal down (off: up)
 //   2500       inject     6 at 3             # mL of contrast at mL/s from the selected catheter's tip
+//   2600       inject     4 at 2 conc 240    # ... of 240 mgI/mL (default: the session's, 300)
 //   5000       carm       -20 15             # C-arm to LAO (+) / RAO (-) and cranial (+) / caudal (-) degrees
 //   5200       roadmap                       # the last run's peak frame as roadmap (off: remove it)
 //   # devices (the selected tool)
@@ -58,6 +59,7 @@ struct Action {
   double value = 0.0;   // mm or degrees; fluoro/roadmap 1 or 0; inject mL; carm LAO degrees
   double speed = 0.0;   // mm/s or deg/s; inject mL/s
   double value2 = 0.0;  // carm cranial degrees
+  double concentration_mgI_ml = 0.0;  // inject `conc`; 0: not given (the session's default)
   std::string tool;     // kSelect
   std::size_t line = 0; // source line, for errors found later
 };
@@ -75,6 +77,7 @@ using ScriptParse = base::Result<Script>;
 inline constexpr double kDefaultInsertSpeed_mm_s = 20.0;
 inline constexpr double kDefaultRotateSpeed_deg_s = 180.0;
 inline constexpr double kDefaultInjectRate_ml_s = 3.0;
+inline constexpr double kMaxInjectConcentration_mgI_ml = 1000.0;  // flow::ContrastTransport's limit
 inline constexpr double kMaxInflate_atm = 30.0;  // Balloon::kMaxPressure_atm
 inline constexpr double kMaxInflate_ml = 20.0;
 
