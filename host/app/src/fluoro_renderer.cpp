@@ -8,141 +8,14 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "app/gl.hpp"
+#include "fluoro_shaders.hpp"
 #include "flow/xray_material.hpp"
 
 namespace cathbox::app {
 namespace {
 
 constexpr int kToolSides = 8;  // sides of a tool's tube
-constexpr std::size_t kBucketTriangles = 256;  // vessel triangles culled together by their cells
 enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
-
-// Scene pass: every face of a closed mesh adds sign * mu * d (d: distance from the source less
-// the isocentre's), entering (front) faces negative, so a ray sums mu times its path inside.
-// Vessel faces also add sign * mu, sign * d^2 and sign * d, for the trapezoid correction.
-constexpr const char* kSceneVertex = R"(#version 330 core
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_attr;  // vessel: cell a, cell b, weight; tool: mu (1/mm), 0, 0
-uniform mat4 u_view_proj;
-uniform vec4 u_source;       // focal spot (mm), and the distance subtracted from every depth
-uniform float u_tool;        // 0: vessel, 1: tool
-uniform float u_iodine_mu;   // 1/mm per mgI/mL
-uniform samplerBuffer u_cells;
-out float v_mu;
-out float v_d;
-void main() {
-  if (u_tool < 0.5) {
-    float ca = texelFetch(u_cells, int(in_attr.x)).r;
-    float cb = texelFetch(u_cells, int(in_attr.y)).r;
-    v_mu = u_iodine_mu * mix(ca, cb, in_attr.z);
-  } else {
-    v_mu = in_attr.x;
-  }
-  v_d = distance(in_position, u_source.xyz) - u_source.w;
-  gl_Position = u_view_proj * vec4(in_position, 1.0);
-}
-)";
-
-constexpr const char* kSceneFragment = R"(#version 330 core
-in float v_mu;
-in float v_d;
-uniform float u_tool;
-out vec4 frag;
-void main() {
-  float s = gl_FrontFacing ? -1.0 : 1.0;
-  frag = u_tool < 0.5 ? vec4(s * v_mu * v_d, s * v_mu, s * v_d * v_d, s * v_d) : vec4(s * v_mu * v_d, 0.0, 0.0, 0.0);
-}
-)";
-
-// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled six times
-// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction; SCENE 1 reading the scene
-// targets, 0 not: drawn outside their box): a software rasteriser runs both sides of a branch.
-constexpr const char* kCompositeVertex = R"(#version 330 core
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
-}
-)";
-
-constexpr const char* kCompositeFragment = R"(#version 330 core
-uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's bottom row
-uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
-uniform sampler2D u_mask;
-uniform sampler2D u_road;
-uniform sampler2D u_road_mask;
-uniform vec4 u_view;           // viewport origin (GL, bottom left) and size
-uniform vec4 u_sigma;          // log-noise sigma at the reference transmission: live, mask, roadmap, roadmap mask
-uniform uvec4 u_seeds;         // noise seeds (pulse_seed): live, mask, roadmap, roadmap mask
-uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadmap gain
-uniform vec4 u_mode;           // w: L_ref
-uniform float u_field_half;    // half the collimated field, pixels
-uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
-#if FBFETCH
-// The phantom texture is the target's first colour attachment (the monitor image the second): its texel under this fragment is
-// read from the tile being drawn (llvmpipe: a load from the tile, not a texture fetch) and kept.
-layout(location = 0) inout vec4 fb_phantom;
-layout(location = 1) out vec4 frag;
-#else
-out vec4 frag;
-#endif
-
-float scene_L(sampler2D s, ivec2 p) {
-#if SCENE
-  vec4 v = texelFetch(s, p, 0);
-  return abs(v.a) > 1e-4 ? v.r - v.g * v.b / (2.0 * v.a) : v.r;
-#else
-  return 0.0;  // outside every scene's box: no tool, no iodine
-#endif
-}
-// pixel_noise() of fluoro_image_model.cpp: ~N(0, 1) from an integer hash of pixel and pulse.
-float noise(uvec2 p, uint seed) {
-  uint h = (p.x * 0x8DA6B343u) ^ (p.y * 0xD8163841u) ^ seed;
-  h ^= h >> 16u;
-  h *= 0x7FEB352Du;
-  h ^= h >> 15u;
-  h *= 0x846CA68Bu;
-  h ^= h >> 16u;
-  uint bytes = (h & 0xFFu) + ((h >> 8u) & 0xFFu) + ((h >> 16u) & 0xFFu) + (h >> 24u);
-  return (float(bytes) - 510.0) * 0.0067659;
-}
-// The log image's noise at a pixel: sigma at the reference transmission times
-// sqrt(T_ref / T) (`amp`, the phantom's transmission: contrast and tools are left out).
-float noise_at(ivec2 p, uint seed, float sigma, float amp) {
-  return sigma * amp * noise(uvec2(p.x, int(u_view.w) - 1 - p.y), seed);
-}
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy - u_view.xy);
-  vec2 c = vec2(p) + 0.5 - 0.5 * u_view.zw;
-  if (max(abs(c.x), abs(c.y)) > u_field_half) {
-    frag = vec4(0.0, 0.0, 0.0, 1.0);
-    return;
-  }
-#if FBFETCH
-  vec2 ph = fb_phantom.rg;
-#else
-  vec2 ph = texelFetch(u_phantom, p, 0).rg;
-#endif
-  float Lp = ph.x;
-  float amp = ph.y;
-  float L = Lp + scene_L(u_live, p);
-  float g;
-#if MODE == 2
-  float Lm = Lp + scene_L(u_mask, p);
-  float d = (L - noise_at(p, u_seeds.x, u_sigma.x, amp)) - (Lm - noise_at(p, u_seeds.y, u_sigma.y, amp));
-  g = u_display.y - u_display.z * d;
-#else
-  float shown = u_mode.w + u_anatomy_gain * (Lp - u_mode.w) + (L - Lp);
-  g = 1.0 / (1.0 + exp(-u_display.x * (u_mode.w - shown + noise_at(p, u_seeds.x, u_sigma.x, amp))));
-#if MODE == 1
-  float Lr = Lp + scene_L(u_road, p);
-  float Lrm = Lp + scene_L(u_road_mask, p);
-  float r = (Lr - noise_at(p, u_seeds.z, u_sigma.z, amp)) - (Lrm - noise_at(p, u_seeds.w, u_sigma.w, amp));
-  g += (1.0 - clamp(g, 0.0, 1.0)) * (1.0 - exp(-u_display.w * r));
-#endif
-#endif
-  frag = vec4(vec3(clamp(g, 0.0, 1.0)), 1.0);
-}
-)";
 
 // FNV-1a over the bytes of what a scene target depends on.
 struct Hasher {
@@ -285,7 +158,7 @@ FluoroRenderer::~FluoroRenderer() {
 
 bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
   framebuffer_fetch_wanted_ = framebuffer_fetch;
-  if (!scene_shader_.build(kSceneVertex, kSceneFragment, error)) return false;
+  if (!scene_shader_.build(fluoro_glsl::kSceneVertex, fluoro_glsl::kSceneFragment, error)) return false;
   GLint extensions = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
   fbfetch_ = false;
@@ -294,11 +167,11 @@ bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
     if (name != nullptr && std::strcmp(name, "GL_EXT_shader_framebuffer_fetch") == 0) fbfetch_ = true;
   }
   for (std::size_t i = 0; i < composite_shaders_.size(); ++i) {
-    std::string source = kCompositeFragment;
+    std::string source = fluoro_glsl::kCompositeFragment;
     source.insert(source.find('\n') + 1,
                   std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
                       "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
-    if (!composite_shaders_[i].build(kCompositeVertex, source.c_str(), error)) return false;
+    if (!composite_shaders_[i].build(fluoro_glsl::kCompositeVertex, source.c_str(), error)) return false;
   }
   glGenVertexArrays(1, &empty_vao_);
 
@@ -343,59 +216,6 @@ void FluoroRenderer::set_phantom(flow::HeadPhantom phantom) {
 }
 
 void FluoroRenderer::set_vessel(const FluoroVessel& vessel) { upload_vessel(prepare_vessel(vessel)); }
-
-FluoroRenderer::VesselBuffers FluoroRenderer::prepare_vessel(const FluoroVessel& vessel) {
-  VesselBuffers out;
-  std::vector<float>& v = out.vertices;
-  v.resize(vessel.positions_mm.size() * 6);
-  for (std::size_t i = 0; i < vessel.positions_mm.size(); ++i) {
-    float* o = v.data() + 6 * i;
-    const glm::vec3& p = vessel.positions_mm[i];
-    const VertexCells c = i < vessel.cells.size() ? vessel.cells[i] : VertexCells{};
-    o[0] = p.x;
-    o[1] = p.y;
-    o[2] = p.z;
-    o[3] = static_cast<float>(c.a);
-    o[4] = static_cast<float>(c.b);
-    o[5] = c.w;
-  }
-  // Triangles sorted by the lowest contrast cell they read, in buckets that know the range of
-  // cells they read: a pulse draws only the buckets with iodine in their range (a face whose
-  // vertices have none adds nothing).
-  const std::size_t triangles = vessel.triangles.size() / 3;
-  std::vector<std::uint32_t> order(triangles);
-  std::vector<std::uint32_t> lo(triangles, 0xFFFFFFFFU);
-  std::vector<std::uint32_t> hi(triangles, 0);
-  for (std::size_t t = 0; t < triangles; ++t) {
-    order[t] = static_cast<std::uint32_t>(t);
-    for (std::size_t k = 0; k < 3; ++k) {
-      const std::uint32_t vi = vessel.triangles[3 * t + k];
-      const VertexCells c = vi < vessel.cells.size() ? vessel.cells[vi] : VertexCells{};
-      lo[t] = std::min({lo[t], c.a, c.b});
-      hi[t] = std::max({hi[t], c.a, c.b});
-    }
-  }
-  std::stable_sort(order.begin(), order.end(), [&](std::uint32_t x, std::uint32_t y) { return lo[x] < lo[y]; });
-  std::vector<std::uint32_t>& sorted = out.indices;
-  sorted.reserve(vessel.triangles.size());
-  for (std::size_t i = 0; i < triangles; ++i) {
-    const std::uint32_t t = order[i];
-    const glm::vec3& p0 = vessel.positions_mm[vessel.triangles[3 * t]];
-    if (i % kBucketTriangles == 0) out.buckets.push_back({static_cast<std::uint32_t>(3 * i), 0, lo[t], hi[t], p0, p0});
-    Bucket& b = out.buckets.back();
-    b.index_count += 3;
-    b.lo = std::min(b.lo, lo[t]);
-    b.hi = std::max(b.hi, hi[t]);
-    for (int k = 0; k < 3; ++k) {
-      const glm::vec3& p = vessel.positions_mm[vessel.triangles[3 * t + k]];
-      b.box_min = glm::min(b.box_min, p);
-      b.box_max = glm::max(b.box_max, p);
-    }
-    sorted.insert(sorted.end(), {vessel.triangles[3 * t], vessel.triangles[3 * t + 1], vessel.triangles[3 * t + 2]});
-  }
-  out.cell_count = vessel.cell_count;
-  return out;
-}
 
 void FluoroRenderer::upload_vessel(VesselBuffers buffers) {
   const std::vector<float>& v = buffers.vertices;
