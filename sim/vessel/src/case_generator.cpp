@@ -300,7 +300,7 @@ VesselModel build_neuro(Variant variant) {
             {m1}, 65.0);
     net.add(side + "middle_cerebral_m2_inferior", {{net.end(m1), 1.05}, {P(35, 13, 230), 1.0}, {P(44, 9, 222), 0.95}},
             {m1}, 65.0);
-    if (left && variant == Variant::kAneurysm) {
+    if (!left && variant == Variant::kAneurysm) {
       // [9] Saccular aneurysm at the MCA bifurcation, pointing along the M1 axis: 2.4 mm neck,
       // 6.4 mm dome, 10 mm deep, as a blind segment (free end, capped).
       const glm::dvec3 base = net.end(m1);

@@ -326,10 +326,10 @@ TEST(TrainerFluoroView, ShowsAGreyImageWithTheWireTipWhereTheCArmProjectsIt) {
 }
 
 // The session's fluoroscopy unit drives the view: the coiling case's guide catheter sits in the
-// left ICA; with the pedal down, 6 mL injected from it make a contrast run, shown subtracted
-// (DSA: what did not change is background grey). The left ICA's projected centre line is dark,
-// the right ICA's (no flow from the left ICA reaches it) is background.
-TEST(TrainerFluoroView, AnInjectionFromTheGuideFillsTheLeftCarotidOnly) {
+// right ICA; with the pedal down, 6 mL injected from it make a contrast run, shown subtracted
+// (DSA: what did not change is background grey). The right ICA's projected centre line is dark,
+// the left ICA's (no flow from the right ICA reaches it) is background.
+TEST(TrainerFluoroView, AnInjectionFromTheGuideFillsTheRightCarotidOnly) {
   const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_coiling.case";
   const tool::CaseParse the_case = tool::load_case(case_path);
   ASSERT_TRUE(the_case);
@@ -379,8 +379,8 @@ TEST(TrainerFluoroView, AnInjectionFromTheGuideFillsTheLeftCarotidOnly) {
   double background = 0.0;
   run("injected", true, injected, background);
   ASSERT_EQ(injected.size(), 2u);
-  EXPECT_LT(injected["left_internal_carotid"], background - 25.0) << "the left ICA fills";
-  EXPECT_NEAR(injected["right_internal_carotid"], background, 8.0) << "the right ICA does not";
+  EXPECT_LT(injected["right_internal_carotid"], background - 25.0) << "the right ICA fills";
+  EXPECT_NEAR(injected["left_internal_carotid"], background, 8.0) << "the left ICA does not";
 }
 
 // A `realistic` case opens in the fluoroscopic view without --view (and --view 3d overrides it).

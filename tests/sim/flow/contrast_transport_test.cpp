@@ -294,10 +294,10 @@ TEST(ContrastTransport, OneCarotidNeverOpacifiesWhatItDoesNotFeed) {
 TEST(ContrastTransport, AneurysmSacFillsAndEmptiesSlowly) {
   const auto net = build_or_fail(load_model("cases/neuro_aneurysm.hclm"));
   ASSERT_TRUE(net);
-  const std::uint32_t sac = segment_named(net->model(), "left_mca_aneurysm");
-  const std::uint32_t m2 = segment_named(net->model(), "left_middle_cerebral_m2_superior");
+  const std::uint32_t sac = segment_named(net->model(), "right_mca_aneurysm");
+  const std::uint32_t m2 = segment_named(net->model(), "right_middle_cerebral_m2_superior");
   ContrastTransport t(*net);
-  ASSERT_EQ(t.inject(at_fraction(t, segment_named(net->model(), "left_internal_carotid"), 0.4), Injection{6.0, 3.0, 300.0}), "");
+  ASSERT_EQ(t.inject(at_fraction(t, segment_named(net->model(), "right_internal_carotid"), 0.4), Injection{6.0, 3.0, 300.0}), "");
   double sac_peak = 0.0, m2_peak = 0.0;
   int sac_peak_step = 0, m2_peak_step = 0;
   for (int step = 0; step < 800; ++step) {

@@ -220,7 +220,7 @@ TEST(FlowNetwork, AneurysmSacIsClosed) {
   for (const Terminal& t : net->terminals()) {
     if (t.role != EndRole::kClosed) continue;
     ++closed;
-    EXPECT_EQ(net->model().segments[t.segment].name, "left_mca_aneurysm");
+    EXPECT_EQ(net->model().segments[t.segment].name, "right_mca_aneurysm");
     EXPECT_NEAR(net->segments()[t.segment].flow_mm3_s, 0.0, 1e-9);
     EXPECT_EQ(net->closed_terminal_of(t.segment), static_cast<int>(&t - net->terminals().data()));
   }

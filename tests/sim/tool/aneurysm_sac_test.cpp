@@ -1,5 +1,5 @@
 // The aneurysm sac: the sphere-cap volume against a finely triangulated cap closed at its neck
-// (fan_closed_volume_mm3), the case file's declared sac and its errors, and the bundled left
+// (fan_closed_volume_mm3), the case file's declared sac and its errors, and the bundled right
 // MCA aneurysm found in the vessel (neck at the M1 end, volume against its centre line).
 #include <cmath>
 #include <string>
@@ -82,7 +82,7 @@ TEST(AneurysmSac, DeclaredInTheCaseFile) {
   EXPECT_EQ(error_of("aneurysm 0 0 x 3 0 0 20\n"), "t.case:4: aneurysm: 'x' is not a finite number");
 }
 
-TEST(AneurysmSac, BundledLeftMcaAneurysmIsFoundInTheVessel) {
+TEST(AneurysmSac, BundledRightMcaAneurysmIsFoundInTheVessel) {
   CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_aneurysm.case");
   ASSERT_TRUE(c) << c.error().message;
   WorldBuild world = build_world(*c);
@@ -91,13 +91,14 @@ TEST(AneurysmSac, BundledLeftMcaAneurysmIsFoundInTheVessel) {
   ASSERT_TRUE(sac);
   const vessel::VesselModel& model = *(*world)->model();
   const vessel::Segment& seg = model.segments[*model.index_of(sac->segment)];
-  EXPECT_EQ(seg.name, "left_mca_aneurysm");
-  // The neck is the sac's ring at the end of the left M1 (31, 16, 239), the normal along the
-  // sac's axis, the dome beyond it.
-  EXPECT_LT(glm::length(sac->neck_centre_mm - glm::dvec3(31, 16, 239)), 0.5);
+  EXPECT_EQ(seg.name, "right_mca_aneurysm");
+  // The neck is the sac's ring at the end of the right M1 (-31, 16, 239), the normal along the
+  // sac's axis, the dome beyond it (further to the patient's right).
+  EXPECT_LT(glm::length(sac->neck_centre_mm - glm::dvec3(-31, 16, 239)), 0.5);
   EXPECT_NEAR(sac->neck_radius_mm, 1.2, 0.1);
   const glm::dvec3 axis = glm::normalize(seg.points.back().pos_mm - seg.points.front().pos_mm);
   EXPECT_GT(glm::dot(sac->neck_normal, axis), 0.8);
+  EXPECT_LT(sac->dome_centre_mm.x, sac->neck_centre_mm.x);
   EXPECT_GT(sac->depth_mm(sac->dome_centre_mm), 2.0);
   // The closed surface (with the frusta from the neck to its ring) against the centre line's
   // frusta alone: the same sac within 5 %.

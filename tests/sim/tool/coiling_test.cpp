@@ -278,8 +278,8 @@ TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
 }
 
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
-// run` drives it: the microcatheter reaches the neck of the left MCA aneurysm over the
-// microwire, the coil deploys into the sac and is detached there.
+// run` drives it: from the guide in the right ICA the microcatheter reaches the neck of the
+// right MCA aneurysm over the microwire, the coil deploys into the sac and is detached there.
 TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   CaseParse c = load_case(dir + "neuro_coiling.case");
@@ -290,6 +290,13 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   ASSERT_TRUE(world) << world.error().message;
   ASSERT_TRUE((*world)->sac());
   const AneurysmSac& sac = *(*world)->sac();
+  // The right side (the patient's right is -x): the sac, the case's target and the entry.
+  const vessel::VesselModel& model = *(*world)->model();
+  EXPECT_EQ(model.segments[*model.index_of(sac.segment)].name, "right_mca_aneurysm");
+  ASSERT_TRUE(c->target);
+  EXPECT_EQ(c->target->segment, sac.segment);
+  EXPECT_LT(sac.neck_centre_mm.x, -25.0);
+  EXPECT_LT((*world)->entry().point_mm.x, -20.0);
   Simulator sim((*world)->wall(), c->tools, (*world)->entry());
   const std::size_t micro = sim.find_tool("microcatheter"), coil = sim.find_tool("coil");
   ASSERT_LT(micro, sim.tool_count());

@@ -65,7 +65,7 @@ TEST(CaseGenerator, PathologicalVariants) {
   EXPECT_LT(min_radius(ica), 0.35 * ica.points.front().radius_mm);  // ~70 % diameter reduction
   EXPECT_GT(min_radius(named(healthy, "left_internal_carotid")), 1.9);
   const VesselModel aneurysm = CaseGenerator::neuro_aneurysm();
-  const Segment& sac = named(aneurysm, "left_mca_aneurysm");
+  const Segment& sac = named(aneurysm, "right_mca_aneurysm");
   double dome = 0.0;
   for (const auto& p : sac.points) dome = std::max(dome, p.radius_mm);
   EXPECT_NEAR(2.0 * dome, 6.4, 0.3);

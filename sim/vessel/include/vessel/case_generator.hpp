@@ -30,7 +30,7 @@ class CaseGenerator {
   [[nodiscard]] static VesselModel make_case(const std::string& name);
 
   [[nodiscard]] static VesselModel neuro();            // healthy arch-to-Willis network
-  [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the left MCA bifurcation
+  [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the right MCA bifurcation
   [[nodiscard]] static VesselModel neuro_stenosis();   // + 70 % stenosis at the left ICA origin
   [[nodiscard]] static VesselModel y_bifurcation();    // one parent, two children (steering tests)
 
