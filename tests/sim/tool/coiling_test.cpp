@@ -2,10 +2,11 @@
 // size stays in it and forms loops of its rest diameter; the packing density against the
 // analytic coil volume; no loop passes into another over 10^4 random push/pull/rotate steps;
 // the triaxial stack of cases/neuro_coiling.case reaches the aneurysm neck by its action file
-// and deploys and detaches the coil.
+// and deploys and detaches the coil; a second coil packs against the first in the bundled sac.
 #include <cmath>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -215,6 +216,44 @@ TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApar
                                  << overlap.at_mm << " mm";
 }
 
+// The deepest loop overlap while a coil was pushed, as a fraction of the coil diameter, and how
+// far it had been pushed then.
+struct WorstOverlap {
+  double fraction = 0.0;
+  double at_mm = 0.0;
+};
+
+// Pushes `tool` to `target` mm at `per_step` mm a step, watching the coils' overlap.
+WorstOverlap push_watching_overlap(Simulator& sim, std::size_t tool, double target, double per_step,
+                                   CoilMetrics& metrics) {
+  WorstOverlap worst;
+  const double start = sim.insertion_mm(tool);
+  while (sim.insertion_mm(tool) < target) {
+    sim.set_insertion(tool, sim.insertion_mm(tool) + per_step);
+    sim.step();
+    metrics.observe(sim);
+    const RodContactField::Overlap o = sim.worst_coil_overlap();
+    if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > worst.fraction) {
+      worst = {o.depth_mm / o.diameter_mm, sim.insertion_mm(tool) - start};
+    }
+  }
+  return worst;
+}
+
+// Two released coils packed against each other: they touch (closest nodes within a diameter
+// and half a node spacing), each leaves the other room for its centre line, and the second
+// passed through neither coil while it was pushed (overlap < 10 % of the coil diameter).
+void expect_packed_apart(const Simulator& sim, const WorstOverlap& overlap) {
+  double closest = 1e9;
+  for (const glm::dvec3& a : sim.detached(0).positions()) {
+    for (const glm::dvec3& b : sim.detached(1).positions()) closest = std::min(closest, glm::length(a - b));
+  }
+  EXPECT_LT(closest, kCoilOd + 0.25) << "the coils are " << closest << " mm apart";
+  EXPECT_GT(closest, 0.5 * kCoilOd) << "the coils are " << closest << " mm apart";
+  EXPECT_LT(overlap.fraction, 0.10) << "loop overlap " << 100.0 * overlap.fraction << " % of the coil diameter at "
+                                    << overlap.at_mm << " mm of the second coil";
+}
+
 // Later coils pack against earlier ones: two 40 mm coils (4 mm loops) through the same
 // microcatheter; the first is pushed out, detached and its pusher drawn back, then the second is
 // pushed out against it. The second stays in the sphere (no node more than 10 % of its radius
@@ -238,17 +277,7 @@ TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
   ASSERT_EQ(sim.detach(kFirst), DeviceError::kNone);
   drive(sim, kFirst, micro - 10.0, 0.2, &metrics);  // the pusher back, its end 10 mm inside the tip
   drive(sim, kSecond, micro - 0.5, 0.2, &metrics);
-  double overlap = 0.0, overlap_at = 0.0;
-  const double start = sim.insertion_mm(kSecond);
-  while (sim.insertion_mm(kSecond) < micro + kCoilLength + 1.0) {
-    sim.set_insertion(kSecond, sim.insertion_mm(kSecond) + 0.02);
-    sim.step();
-    metrics.observe(sim);
-    const RodContactField::Overlap o = sim.worst_coil_overlap();
-    if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > overlap) {
-      overlap = o.depth_mm / o.diameter_mm, overlap_at = sim.insertion_mm(kSecond) - start;
-    }
-  }
+  const WorstOverlap overlap = push_watching_overlap(sim, kSecond, micro + kCoilLength + 1.0, 0.02, metrics);
   ASSERT_EQ(sim.detach(kSecond), DeviceError::kNone);
   for (int i = 0; i < 200; ++i) {
     sim.step();
@@ -265,16 +294,7 @@ TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
   EXPECT_LT(worst, 0.1 * 0.5 * kCoilOd) << "a node is " << worst << " mm outside the sphere";
   EXPECT_EQ(metrics.figures().herniations, 0);
   EXPECT_NEAR(metrics.figures().deployed_mm, 2.0 * kCoilLength, 0.6);
-  // Packed against it: the two coils touch (closest nodes within a diameter and half a node
-  // spacing), and each leaves the other room for its centre line.
-  double closest = 1e9;
-  for (const glm::dvec3& a : sim.detached(0).positions()) {
-    for (const glm::dvec3& b : sim.detached(1).positions()) closest = std::min(closest, glm::length(a - b));
-  }
-  EXPECT_LT(closest, kCoilOd + 0.25) << "the coils are " << closest << " mm apart";
-  EXPECT_GT(closest, 0.5 * kCoilOd) << "the coils are " << closest << " mm apart";
-  EXPECT_LT(overlap, 0.10) << "loop overlap " << 100.0 * overlap << " % of the coil diameter at " << overlap_at
-                           << " mm of the second coil";
+  expect_packed_apart(sim, overlap);
 }
 
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
@@ -345,6 +365,74 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   EXPECT_NEAR(metrics.figures().deployed_mm, c->tools[coil].detach_mm, 0.5);
   EXPECT_GT(metrics.figures().packing_density, 0.0);
   EXPECT_EQ(metrics.figures().herniations, 0);
+}
+
+// Later coils pack against earlier ones in the bundled sac (the bundled coiling case holds 4
+// tools, its triaxial stack and one coil, so this runs beside it): the microcatheter parked in
+// the right M1 with its tip ~2 mm past the neck of right_mca_aneurysm, a 60 mm framing coil (5 mm
+// loops) pushed out at 8 mm/s and detached, its pusher drawn back, then a 40 mm filling coil (4
+// mm loops) pushed out against it and detached. Every node of both stays in the sac (none past
+// the neck plane into the M1, none out of the lumen by more than 10 % of its radius), no
+// herniation; the second touches the first without passing through it or itself.
+TEST(Coiling, SecondCoilPacksAgainstTheFirstInTheBundledSac) {
+  constexpr std::string_view kCase = R"(cathbox-case 1
+name two coils in the right MCA aneurysm, microcatheter parked in the M1
+vessel neuro_aneurysm.hclm
+entry -19.09 15.71 236.58  -0.981 0.038 0.189
+tool microcatheter catheter
+  section 1500 od=0.7 ei=1 gj=0.8
+  friction 0.1
+  inner_diameter 0.43
+  spacing 2 0.5 40
+end
+)";
+  // A 10-system coil on its pusher (as in cases/neuro_coiling.case), LENGTH mm of LOOP mm loops.
+  const auto coil = [](const std::string& name, int length, int loop) {
+    return "tool " + name + " coil\n  section 1800 od=0.33 ei=10 gj=8\n  section " + std::to_string(length) +
+           " od=0.25 ei=0.02 gj=0.016 shape=helix loop=" + std::to_string(loop) + "\n  friction 0.05\n  detach " +
+           std::to_string(length) + "\n  inside microcatheter\n  spacing 2 0.5 " + std::to_string(length + 2) + "\nend\n";
+  };
+  CaseParse c = parse_case(std::string(kCase) + coil("coil", 60, 5) + coil("coil2", 40, 4),
+                           std::string(CATHBOX_SOURCE_DIR) + "/cases/two_coils.case");
+  ASSERT_TRUE(c) << c.error().message;
+  WorldBuild world = build_world(*c);
+  ASSERT_TRUE(world) << world.error().message;
+  ASSERT_TRUE((*world)->sac());
+  const AneurysmSac& sac = *(*world)->sac();
+  Simulator sim((*world)->wall(), c->tools, (*world)->entry());
+  constexpr std::size_t kMicroTool = 0, kFirst = 1, kSecond = 2;
+  constexpr double kTip = 14.0;  // the microcatheter's tip ~1.8 mm past the neck
+  drive(sim, kMicroTool, kTip, 0.01);
+  ASSERT_GT(sac.depth_mm(sim.tip(kMicroTool).position_mm), 0.5);
+  drive(sim, kFirst, kTip - 4.0, 0.01);
+  drive(sim, kSecond, kTip - 9.0, 0.01);
+  CoilMetrics metrics(sim, sac);
+  drive(sim, kFirst, kTip + 61.5, 0.008, &metrics);  // 8 mm/s until the detachment zone is out
+  ASSERT_EQ(sim.detach(kFirst), DeviceError::kNone);
+  drive(sim, kFirst, 0.0, 0.04, &metrics);
+  drive(sim, kSecond, kTip - 4.0, 0.01, &metrics);
+  const WorstOverlap overlap = push_watching_overlap(sim, kSecond, kTip + 41.5, 0.008, metrics);
+  ASSERT_EQ(sim.detach(kSecond), DeviceError::kNone);
+  drive(sim, kSecond, 0.0, 0.04, &metrics);
+  ASSERT_EQ(sim.detached_count(), 2u);
+  const double r = 0.5 * kCoilOd;
+  double shallowest = 1e9, outside = -1e9;
+  for (std::size_t k = 0; k < 2; ++k) {
+    for (const glm::dvec3& p : sim.detached(k).positions()) {
+      ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      shallowest = std::min(shallowest, sac.depth_mm(p));
+      WallHint hint;
+      WallContact wall;
+      if ((*world)->wall().probe(WallProbe{p, r}, hint, wall)) outside = std::max(outside, r - wall.distance_mm);
+    }
+  }
+  EXPECT_GT(shallowest, -r) << "a coil node is " << -shallowest << " mm past the neck plane, in the M1";
+  EXPECT_LT(outside, 0.1 * r) << "a coil node is out of the lumen by " << outside << " mm";
+  EXPECT_EQ(metrics.figures().herniations, 0);
+  EXPECT_LT(metrics.figures().kick_back_mm, 2.0);
+  EXPECT_NEAR(metrics.figures().deployed_mm, 100.0, 0.6);
+  EXPECT_NEAR(metrics.figures().packing_density, 0.25 * std::acos(-1.0) * kCoilOd * kCoilOd * 100.0 / sac.volume_mm3, 1e-3);
+  expect_packed_apart(sim, overlap);
 }
 
 }  // namespace
