@@ -322,17 +322,12 @@ class Builder {
   void find_kept_faces() {
     const std::size_t n = mesh_.triangle_count();
     d_.face_normals.resize(n);
-    facts_.resize(n);
+    facts_.reserve(n);
     kept_.reserve(n);
     for (std::uint32_t f = 0; f < n; ++f) {
-      FaceFacts& facts = facts_[f];
-      if (!source_.empty() && source_[f] != nullptr) {
-        facts = *source_[f];
-      } else {
-        facts = face_facts(f);
-      }
-      d_.face_normals[f] = facts.normal;
-      if (facts.kept) kept_.push_back(f);
+      facts_.push_back(!source_.empty() && source_[f] != nullptr ? *source_[f] : face_facts(f));
+      d_.face_normals[f] = facts_.back().normal;
+      if (facts_.back().kept) kept_.push_back(f);
     }
   }
 
@@ -481,10 +476,14 @@ class Builder {
   // The corners of the items in their final order, so that fitting a box reads one contiguous
   // run instead of gathering vertices through the index array (the box fits read every corner
   // once per wide level; float copies: half the memory traffic, same values).
+  // Only the built regions' items: a reused subtree has its boxes.
   void gather_corners() {
     corners_.resize(3 * items_.size());
-    for (std::size_t i = 0; i < items_.size(); ++i)
-      for (std::uint32_t k = 0; k < 3; ++k) corners_[3 * i + k] = mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]];
+    for (std::size_t r = 0; r < keys_.size(); ++r) {
+      if (region_reused_[r]) continue;
+      for (std::size_t i = region_first_[r]; i < region_first_[r + 1]; ++i)
+        for (std::uint32_t k = 0; k < 3; ++k) corners_[3 * i + k] = mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]];
+    }
   }
 
   template <typename Fn>
