@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -171,14 +172,25 @@ struct BinaryNode {
   std::uint32_t end = 0;
   std::uint32_t count = 0;  // triangles below
   bool in_region = false;   // inside one region's subtree (including its root)
+  std::int32_t block = -1;  // a leaf's TriangleBlock in its tree (in the cache: the last tree's)
   [[nodiscard]] bool leaf() const { return left < 0; }
+};
+
+// What a triangle's corners alone decide: whether it is kept, its unit normal and its corner
+// angles (the pseudo-normal weights).
+struct FaceFacts {
+  glm::dvec3 normal{0.0};
+  double angle[3] = {0.0, 0.0, 0.0};
+  bool kept = false;
 };
 
 // One region's part of a build, kept for the next one (TreeCache).
 struct CachedRegion {
   vessel::FaceRegion region;
-  std::vector<glm::vec3> corners;    // 3 per kept triangle, in mesh order
-  std::vector<std::uint32_t> order;  // the triangles' final order, as indices into that order
+  std::vector<glm::vec3> corners;    // 3 per triangle (degenerate ones too), in mesh order
+  std::vector<FaceFacts> facts;      // per triangle, in mesh order
+  bool has_subtree = false;          // false: every triangle degenerate
+  std::vector<std::uint32_t> order;  // the kept triangles' final order, as indices into their mesh order
   std::int32_t node_first = 0;       // its subtree: RegionCache::nodes[node_first, node_end), preorder
   std::int32_t node_end = 0;
   std::uint32_t item_first = 0;      // the nodes' item ranges start here
@@ -189,6 +201,7 @@ struct RegionCache {
   double scale_mm = -1.0;  // boxes carry a margin from the mesh's scale: reuse needs the same
   std::vector<CachedRegion> regions;
   std::vector<BinaryNode> nodes;  // the last build's binary nodes, boxes fitted
+  std::shared_ptr<const TreeData> tree;  // the last build's tree (its leaf blocks)
   std::size_t reused = 0;
   std::size_t built = 0;
 };
@@ -199,7 +212,12 @@ namespace {
 
 using detail::BinaryNode;
 using detail::CachedRegion;
+using detail::FaceFacts;
 using detail::RegionCache;
+
+std::uint64_t region_key(const vessel::FaceRegion& r) {
+  return (static_cast<std::uint64_t>(r.kind) << 32) | static_cast<std::uint32_t>(r.id);
+}
 
 class Builder {
  public:
@@ -207,6 +225,7 @@ class Builder {
 
   std::string run() {
     copy_mesh();
+    match_cache();
     find_kept_faces();
     if (kept_.empty()) return "surface_mesh.triangles: every triangle is degenerate (zero area)";
     build_topology();
@@ -243,22 +262,105 @@ class Builder {
 
   glm::dvec3 corner(std::uint32_t face, int k) const { return d_.positions[d_.triangles[3 * face + k]]; }
 
+  // Faces with the cache: every region's triangles (degenerate ones too) in mesh order, and the
+  // cached region holding the same floats in the same order, if any; a face of such a region
+  // takes its FaceFacts from there.
+  void match_cache() {
+    if (cache_ == nullptr) return;
+    const std::size_t n = mesh_.triangle_count();
+    std::unordered_map<std::uint64_t, std::uint32_t> index;
+    std::vector<std::uint32_t> region_of(n);
+    std::vector<std::uint32_t> first(1, 0);
+    std::uint64_t last_key = ~0ull;
+    std::uint32_t last = 0;
+    for (std::size_t f = 0; f < n; ++f) {
+      const std::uint64_t key = region_key(d_.regions[f]);
+      if (key != last_key) {
+        auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(all_keys_.size()));
+        if (inserted) {
+          all_keys_.push_back(d_.regions[f]);
+          first.push_back(0);
+        }
+        last_key = key;
+        last = it->second;
+      }
+      region_of[f] = last;
+      ++first[last + 1];
+    }
+    for (std::size_t r = 0; r + 1 < first.size(); ++r) first[r + 1] += first[r];
+    std::vector<std::uint32_t> faces(n);
+    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
+    for (std::uint32_t f = 0; f < n; ++f) faces[fill[region_of[f]]++] = f;
+    all_corners_.assign(all_keys_.size(), {});
+    all_hit_.assign(all_keys_.size(), -1);
+    source_.assign(n, nullptr);
+    for (std::size_t r = 0; r < all_keys_.size(); ++r) {
+      std::vector<glm::vec3>& corners = all_corners_[r];
+      corners.reserve(3 * std::size_t{first[r + 1] - first[r]});
+      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i)
+        for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(mesh_.positions_mm[d_.triangles[3 * faces[i] + k]]);
+      for (std::size_t c = 0; c < cache_->regions.size(); ++c) {
+        const CachedRegion& cached = cache_->regions[c];
+        if (cached.region == all_keys_[r] && cached.corners.size() == corners.size() &&
+            std::memcmp(cached.corners.data(), corners.data(), corners.size() * sizeof(glm::vec3)) == 0) {
+          all_hit_[r] = static_cast<std::int32_t>(c);
+          break;
+        }
+      }
+      if (all_hit_[r] < 0) continue;
+      const std::vector<FaceFacts>& facts = cache_->regions[static_cast<std::size_t>(all_hit_[r])].facts;
+      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) source_[faces[i]] = &facts[i - first[r]];
+      hit_of_key_[region_key(all_keys_[r])] = all_hit_[r];
+    }
+    all_first_ = std::move(first);
+    all_faces_ = std::move(faces);
+  }
+
+  // Kept (non-degenerate) faces in mesh order, their unit normals and corner angles: computed,
+  // or taken from the cache for the faces of unchanged regions (the same values: they depend on
+  // the corners only).
   void find_kept_faces() {
     const std::size_t n = mesh_.triangle_count();
-    d_.face_normals.assign(n, glm::dvec3{0.0});
+    d_.face_normals.resize(n);
+    facts_.reserve(n);
     kept_.reserve(n);
     for (std::uint32_t f = 0; f < n; ++f) {
-      const glm::dvec3 a = corner(f, 0);
-      const glm::dvec3 b = corner(f, 1);
-      const glm::dvec3 c = corner(f, 2);
-      const glm::dvec3 cr = glm::cross(b - a, c - a);
-      const double area2 = glm::length(cr);
-      const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a),
-                                       glm::dot(c - b, c - b)});
-      if (!(area2 > 1e-12 * longest)) continue;
-      d_.face_normals[f] = cr / area2;
-      kept_.push_back(f);
+      facts_.push_back(!source_.empty() && source_[f] != nullptr ? *source_[f] : face_facts(f));
+      d_.face_normals[f] = facts_.back().normal;
+      if (facts_.back().kept) kept_.push_back(f);
     }
+  }
+
+  FaceFacts face_facts(std::uint32_t f) const {
+    FaceFacts facts;
+    const glm::dvec3 a = corner(f, 0);
+    const glm::dvec3 b = corner(f, 1);
+    const glm::dvec3 c = corner(f, 2);
+    const glm::dvec3 cr = glm::cross(b - a, c - a);
+    const double area2 = glm::length(cr);
+    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a),
+                                     glm::dot(c - b, c - b)});
+    if (!(area2 > 1e-12 * longest)) return facts;
+    facts.kept = true;
+    facts.normal = cr / area2;
+    const glm::dvec3 p[3] = {a, b, c};
+    const glm::dvec3 e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};  // e[k] leaves corner k
+    // The largest angle (opposite the longest edge) is pi minus the other two, which atan2
+    // gives accurately even for slivers; float precision is plenty for a weight.
+    double len[3];
+    for (int k = 0; k < 3; ++k) len[k] = glm::dot(e[k], e[k]);
+    const int longest_edge = len[0] >= len[1] && len[0] >= len[2] ? 0 : (len[1] >= len[2] ? 1 : 2);
+    const int big = (longest_edge + 2) % 3;  // the corner opposite the longest edge
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      if (k == big) continue;
+      const glm::dvec3 u = e[k];
+      const glm::dvec3 v = -e[(k + 2) % 3];
+      facts.angle[k] = std::atan2(static_cast<float>(glm::length(glm::cross(u, v))), static_cast<float>(glm::dot(u, v)));
+      sum += facts.angle[k];
+    }
+    facts.angle[big] = std::max(0.0, 3.14159265358979323846 - sum);
+    return facts;
   }
 
   // Vertex -> kept triangles, neighbours across edges, valences, pseudo-normals.
@@ -308,25 +410,7 @@ class Builder {
 
     d_.vertex_normals.assign(nv, glm::dvec3{0.0});
     for (std::uint32_t f : kept_) {
-      const glm::dvec3 p[3] = {corner(f, 0), corner(f, 1), corner(f, 2)};
-      const glm::dvec3 e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};  // e[k] leaves corner k
-      // The largest angle (opposite the longest edge) is pi minus the other two, which atan2
-      // gives accurately even for slivers; float precision is plenty for a weight.
-      double len[3];
-      for (int k = 0; k < 3; ++k) len[k] = glm::dot(e[k], e[k]);
-      const int longest = len[0] >= len[1] && len[0] >= len[2] ? 0 : (len[1] >= len[2] ? 1 : 2);
-      const int big = (longest + 2) % 3;  // the corner opposite the longest edge
-      double angle[3];
-      double sum = 0.0;
-      for (int k = 0; k < 3; ++k) {
-        if (k == big) continue;
-        const glm::dvec3 a = e[k];
-        const glm::dvec3 b = -e[(k + 2) % 3];
-        angle[k] = std::atan2(static_cast<float>(glm::length(glm::cross(a, b))), static_cast<float>(glm::dot(a, b)));
-        sum += angle[k];
-      }
-      angle[big] = std::max(0.0, 3.14159265358979323846 - sum);
-      for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += angle[k] * d_.face_normals[f];
+      for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += facts_[f].angle[k] * d_.face_normals[f];
     }
     for (glm::dvec3& n : d_.vertex_normals) {
       const double len = glm::length(n);
@@ -343,8 +427,7 @@ class Builder {
     std::uint32_t last = 0;
     for (std::size_t i = 0; i < kept_.size(); ++i) {
       const vessel::FaceRegion r = d_.regions[kept_[i]];
-      const std::uint64_t key = (static_cast<std::uint64_t>(r.kind) << 32) |
-                                static_cast<std::uint32_t>(r.id);
+      const std::uint64_t key = region_key(r);
       if (key != last_key) {  // neighbouring faces mostly share a region
         auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(counts.size()));
         if (inserted) counts.push_back(0);
@@ -372,16 +455,11 @@ class Builder {
       keys_[r] = {static_cast<vessel::RegionKind>(key >> 32), static_cast<std::int32_t>(static_cast<std::uint32_t>(key))};
     }
     region_first_ = first;
-    region_corners_.assign(counts.size(), {});
     region_node_first_.assign(counts.size(), 0);
     region_node_end_.assign(counts.size(), 0);
     region_leaves_.assign(counts.size(), 0);
     region_reused_.assign(counts.size(), false);
     for (std::size_t r = 0; r < counts.size(); ++r) {
-      std::vector<glm::vec3>& corners = region_corners_[r];
-      corners.reserve(3 * std::size_t{counts[r]});
-      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i)
-        for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]]);
       const std::size_t leaves_before = leaf_count_;
       region_node_first_[r] = static_cast<std::int32_t>(bnodes_.size());
       region_reused_[r] = reuse_region(r);
@@ -398,10 +476,14 @@ class Builder {
   // The corners of the items in their final order, so that fitting a box reads one contiguous
   // run instead of gathering vertices through the index array (the box fits read every corner
   // once per wide level; float copies: half the memory traffic, same values).
+  // Only the built regions' items: a reused subtree has its boxes.
   void gather_corners() {
     corners_.resize(3 * items_.size());
-    for (std::size_t i = 0; i < items_.size(); ++i)
-      for (std::uint32_t k = 0; k < 3; ++k) corners_[3 * i + k] = mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]];
+    for (std::size_t r = 0; r < keys_.size(); ++r) {
+      if (region_reused_[r]) continue;
+      for (std::size_t i = region_first_[r]; i < region_first_[r + 1]; ++i)
+        for (std::uint32_t k = 0; k < 3; ++k) corners_[3 * i + k] = mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]];
+    }
   }
 
   template <typename Fn>
@@ -518,15 +600,10 @@ class Builder {
   // order): the items take the cached order and the nodes are appended with their boxes.
   bool reuse_region(std::size_t r) {
     if (cache_ == nullptr || cache_->scale_mm != d_.scale_mm) return false;
-    const CachedRegion* hit = nullptr;
-    for (const CachedRegion& c : cache_->regions) {
-      const std::vector<glm::vec3>& now = region_corners_[r];
-      if (c.region == keys_[r] && c.corners.size() == now.size() &&
-          std::memcmp(c.corners.data(), now.data(), now.size() * sizeof(glm::vec3)) == 0) {
-        hit = &c;
-      }
-    }
-    if (hit == nullptr) return false;
+    const auto found = hit_of_key_.find(region_key(keys_[r]));
+    if (found == hit_of_key_.end()) return false;
+    const CachedRegion* hit = &cache_->regions[static_cast<std::size_t>(found->second)];
+    if (!hit->has_subtree) return false;
     const std::uint32_t first = region_first_[r];
     const std::uint32_t count = region_first_[r + 1] - first;
     scratch_items_.assign(items_.begin() + first, items_.begin() + first + count);
@@ -547,15 +624,29 @@ class Builder {
   // This build's regions into the cache (after the boxes are fitted), replacing the last's.
   void keep_regions() {
     if (cache_ == nullptr) return;
+    // Every region's triangles and facts (moved from the cache when it held them already) ...
+    std::vector<CachedRegion> kept(all_keys_.size());
+    std::unordered_map<std::uint64_t, std::size_t> slot;
+    for (std::size_t a = 0; a < all_keys_.size(); ++a) {
+      CachedRegion& c = kept[a];
+      c.region = all_keys_[a];
+      c.corners = std::move(all_corners_[a]);
+      if (all_hit_[a] >= 0) {
+        c.facts = std::move(cache_->regions[static_cast<std::size_t>(all_hit_[a])].facts);
+      } else {
+        c.facts.resize(all_first_[a + 1] - all_first_[a]);
+        for (std::uint32_t i = all_first_[a]; i < all_first_[a + 1]; ++i) c.facts[i - all_first_[a]] = facts_[all_faces_[i]];
+      }
+      slot[region_key(c.region)] = a;
+    }
+    // ... and the subtrees of those with kept triangles.
     const std::size_t regions = keys_.size();
     std::size_t reused = 0;
-    std::vector<CachedRegion> kept(regions);
     for (std::size_t r = 0; r < regions; ++r) {
       const std::uint32_t first = region_first_[r];
       const std::uint32_t count = region_first_[r + 1] - first;
-      CachedRegion& c = kept[r];
-      c.region = keys_[r];
-      c.corners = std::move(region_corners_[r]);
+      CachedRegion& c = kept[slot.at(region_key(keys_[r]))];
+      c.has_subtree = true;
       c.node_first = region_node_first_[r];
       c.node_end = region_node_end_[r];
       c.item_first = first;
@@ -643,7 +734,18 @@ class Builder {
     set_box_lane(lanes, lane, far);
   }
 
-  std::int32_t make_block(const BinaryNode& leaf) {
+  // A leaf's block: copied from the last tree for a leaf of a reused region (only the face
+  // numbers can differ), else written.
+  std::int32_t make_block(std::int32_t id) {
+    BinaryNode& leaf = bnodes_[id];
+    const std::int32_t old = leaf.block;
+    leaf.block = static_cast<std::int32_t>(d_.blocks.size());
+    if (old >= 0 && cache_ != nullptr && cache_->tree != nullptr) {
+      detail::TriangleBlock block = cache_->tree->blocks[static_cast<std::size_t>(old)];
+      for (std::uint32_t i = leaf.begin; i < leaf.end; ++i) block.face[i - leaf.begin] = static_cast<std::int32_t>(items_[i].face);
+      d_.blocks.push_back(block);
+      return leaf.block;
+    }
     detail::TriangleBlock block{};
     for (int lane = 0; lane < 4; ++lane) {
       const std::uint32_t i = leaf.begin + static_cast<std::uint32_t>(lane);
@@ -691,7 +793,7 @@ class Builder {
       std::int32_t child = detail::kEmptySlot;
       if (lane < count) {
         const BinaryNode& c = bnodes_[slots[lane]];
-        child = c.leaf() ? -1 - make_block(c) : make_wide(slots[lane], level + 1, depth);
+        child = c.leaf() ? -1 - make_block(slots[lane]) : make_wide(slots[lane], level + 1, depth);
         set_box_lane(d_.nodes[w].boxes, lane, ensure_box(slots[lane]));
       } else {
         set_empty_box_lane(d_.nodes[w].boxes, lane);
@@ -721,7 +823,16 @@ class Builder {
   RegionCache* cache_ = nullptr;
   std::vector<vessel::FaceRegion> keys_;
   std::vector<std::uint32_t> region_first_;
-  std::vector<std::vector<glm::vec3>> region_corners_;
+  // With the cache, per region of any triangle (in order of first appearance): its key, its
+  // triangles grouped (all_faces_[all_first_[a], all_first_[a + 1]), mesh order), their corners,
+  // the cached region holding the same ones (-1: none), and per face where its facts come from.
+  std::vector<vessel::FaceRegion> all_keys_;
+  std::vector<std::uint32_t> all_first_, all_faces_;
+  std::vector<std::vector<glm::vec3>> all_corners_;
+  std::vector<std::int32_t> all_hit_;
+  std::unordered_map<std::uint64_t, std::int32_t> hit_of_key_;
+  std::vector<const FaceFacts*> source_;
+  std::vector<FaceFacts> facts_;  // per face
   std::vector<std::int32_t> region_node_first_, region_node_end_;
   std::vector<std::size_t> region_leaves_;
   std::vector<bool> region_reused_;
@@ -749,6 +860,7 @@ TreeBuild TreeBuilder::build(const vessel::SurfaceMesh& mesh, const BuildOptions
   if (cache != nullptr && !cache->data_) cache->data_ = std::make_unique<detail::RegionCache>();
   Builder builder(mesh, *data, cache != nullptr ? cache->data_.get() : nullptr);
   if (std::string error = builder.run(); !error.empty()) return base::Error{std::move(error)};
+  if (cache != nullptr) cache->data_->tree = data;  // its blocks, for the next build's reused leaves
   return ObbTree(std::move(data));
 }
 

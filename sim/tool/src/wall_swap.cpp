@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <utility>
 
 #include "collision/obb_tree.hpp"
@@ -14,11 +15,20 @@ namespace {
 
 using WallResult = base::Result<std::unique_ptr<WallModel>>;
 
-// Builds and times one wall.
-WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& model, double& seconds) {
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Builds one wall, timing it in wall and in the building thread's CPU seconds.
+WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& model, double& seconds,
+                       double& cpu_seconds) {
+  const double c0 = thread_cpu_seconds();
   const auto t0 = std::chrono::steady_clock::now();
   WallResult wall = builder(model);
   seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  cpu_seconds = thread_cpu_seconds() - c0;
   return wall;
 }
 
@@ -66,9 +76,10 @@ bool WallSwap::request(const vessel::VesselModel& model, std::int64_t now) {
   ++requests_;
   due_tick_ = now + latency_;
   if (mode_ == Mode::kSynchronous) {
-    double seconds = 0.0;
-    done_.emplace(timed_build(builder_, model, seconds));
+    double seconds = 0.0, cpu_seconds = 0.0;
+    done_.emplace(timed_build(builder_, model, seconds, cpu_seconds));
     build_seconds_.push_back(seconds);
+    build_cpu_seconds_.push_back(cpu_seconds);
     return true;
   }
   if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
@@ -94,13 +105,14 @@ void WallSwap::work() {
     if (!job && stop_ && old.empty()) return;
     lock.unlock();
     old.clear();  // the replaced walls die here, off the haptic thread
-    double seconds = 0.0;
+    double seconds = 0.0, cpu_seconds = 0.0;
     std::optional<WallResult> built;
-    if (job) built.emplace(timed_build(builder_, work_model_, seconds));
+    if (job) built.emplace(timed_build(builder_, work_model_, seconds, cpu_seconds));
     lock.lock();
     if (built) {
       done_ = std::move(built);
       build_seconds_.push_back(seconds);
+      build_cpu_seconds_.push_back(cpu_seconds);
       busy_ = false;
       idle_.notify_all();
     }
@@ -156,6 +168,11 @@ void WallSwap::drain() {
 std::vector<double> WallSwap::build_seconds() const {
   const std::lock_guard lock(mutex_);
   return build_seconds_;
+}
+
+std::vector<double> WallSwap::build_cpu_seconds() const {
+  const std::lock_guard lock(mutex_);
+  return build_cpu_seconds_;
 }
 
 }  // namespace cathbox::tool

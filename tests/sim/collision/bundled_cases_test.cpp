@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <random>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -175,6 +176,11 @@ TEST(TreeCache, ReusedRegionsGiveTheTreeAFreshBuildGives) {
   EXPECT_EQ(cached->stats().wide_nodes, fresh->stats().wide_nodes);
   EXPECT_EQ(cached->stats().leaves, fresh->stats().leaves);
   EXPECT_EQ(cached->stats().depth, fresh->stats().depth);
+  // Bit for bit: nodes, leaf blocks (copied for the reused regions' leaves), face normals and
+  // corner angles (taken from the cache for their triangles), pseudo-normals, neighbours.
+  EXPECT_EQ(cached->content_hash(), fresh->content_hash());
+  EXPECT_EQ(again->content_hash(), fresh->content_hash());
+  EXPECT_NE(cached->content_hash(), ObbTree::build(before.mesh)->content_hash());
   glm::vec3 lo(1e30F), hi(-1e30F);
   for (const glm::vec3& p : after.mesh.positions_mm) {
     lo = glm::min(lo, p);
@@ -212,6 +218,46 @@ TEST(TreeCache, ReusedRegionsGiveTheTreeAFreshBuildGives) {
         ASSERT_EQ(ra->t, rb->t) << i;
       }
     }
+  }
+}
+
+// The incremental path never takes a changed region from the cache: one vertex moved by one
+// float step (every triangle around it changes by the least a float can) gives, built with the
+// cache, the tree a fresh build gives (bit for bit, and the same answers at that vertex), not
+// the last one; the regions of the triangles around it are built again and the others reused.
+TEST(TreeCache, ARegionWhoseTrianglesChangedByOneFloatStepIsBuiltAgain) {
+  vessel::HclmReadResult read = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_stenosis.hclm");
+  ASSERT_TRUE(read.ok());
+  vessel::VesselSurface before = vessel::build_vessel_surface(read.model);
+  ASSERT_TRUE(before.ok());
+  const vessel::SurfaceMesh& mesh = before.mesh;
+  for (const std::size_t pick : {mesh.triangles.size() / 3, mesh.triangles.size() / 2 + 1}) {
+    const std::uint32_t v = mesh.triangles[pick];
+    vessel::SurfaceMesh moved = mesh;
+    moved.positions_mm[v].x = std::nextafter(moved.positions_mm[v].x, 1e9F);
+    std::set<std::pair<int, std::int32_t>> touched;
+    for (std::size_t t = 0; t < mesh.triangle_count(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.triangles[3 * t + k] == v) touched.insert({static_cast<int>(mesh.triangle_regions[t].kind), mesh.triangle_regions[t].id});
+
+    TreeCache cache;
+    TreeBuild old = ObbTree::build(mesh, {}, cache);
+    ASSERT_TRUE(old);
+    const std::size_t regions = cache.built_regions();
+    TreeBuild cached = ObbTree::build(moved, {}, cache);
+    TreeBuild fresh = ObbTree::build(moved);
+    ASSERT_TRUE(cached && fresh);
+    EXPECT_EQ(cache.built_regions(), touched.size()) << "vertex " << v;
+    EXPECT_EQ(cache.reused_regions(), regions - touched.size()) << "vertex " << v;
+    EXPECT_EQ(cached->content_hash(), fresh->content_hash()) << "vertex " << v;
+    EXPECT_NE(cached->content_hash(), old->content_hash()) << "vertex " << v;
+    const glm::dvec3 at = glm::dvec3(moved.positions_mm[v]) + glm::dvec3(0.01, -0.02, 0.015);
+    const auto a = cached->closest_point(at);
+    const auto b = fresh->closest_point(at);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->point_mm, b->point_mm);
+    EXPECT_EQ(a->face, b->face);
+    EXPECT_EQ(a->normal, b->normal);
   }
 }
 

@@ -90,6 +90,9 @@ class ObbTree {
                                        TreeCache& cache);
 
   [[nodiscard]] const TreeStats& stats() const;
+  // A hash of everything the queries read (nodes, leaf blocks, the mesh copy, normals,
+  // neighbours; not the tree's id): equal for two trees that answer every query the same.
+  [[nodiscard]] std::uint64_t content_hash() const;
 
   // Nearest wall point within max_distance_mm (inclusive); empty if none or bad input.
   [[nodiscard]] std::optional<ClosestPoint> closest_point(const glm::dvec3& point_mm,

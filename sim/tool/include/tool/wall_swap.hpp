@@ -86,8 +86,10 @@ class WallSwap {
   [[nodiscard]] std::uint64_t late_ticks() const { return late_ticks_; }
   [[nodiscard]] std::uint64_t failures() const { return failures_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
-  // Seconds the builder took for each wall so far (measured on the builder's thread).
+  // Seconds the builder took for each wall so far (measured on the builder's thread), in wall
+  // time and in that thread's CPU time.
   [[nodiscard]] std::vector<double> build_seconds() const;
+  [[nodiscard]] std::vector<double> build_cpu_seconds() const;
 
  private:
   void work();
@@ -112,7 +114,7 @@ class WallSwap {
   bool has_job_ = false;
   std::optional<base::Result<std::unique_ptr<WallModel>>> done_;
   std::vector<std::unique_ptr<WallModel>> retired_;
-  std::vector<double> build_seconds_;
+  std::vector<double> build_seconds_, build_cpu_seconds_;
   bool busy_ = false;
   bool stop_ = false;
   std::thread worker_;
