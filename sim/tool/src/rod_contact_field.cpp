@@ -164,23 +164,34 @@ void RodContactField::build_list() const {
   for (const Item& item : items_) listed_mid_.push_back(item.mid);
   // Each item's candidates: the other items within reach plus margin plus skin, not excluded
   // for good (the same edge, neighbours along one rod, a rod with itself when it takes no
-  // self contact), in rising order.
-  pair_start_.clear();
-  pairs_.clear();
+  // self contact), in rising order. The relation is symmetric: each pair is tested once, from
+  // its lower item, and listed on both.
+  halves_.clear();
+  pair_start_.assign(n + 1, 0u);
   for (std::uint32_t i = 0; i < n; ++i) {
-    pair_start_.push_back(static_cast<std::uint32_t>(pairs_.size()));
+    const std::size_t from = halves_.size();
     const Item& a = items_[i];
     const Member& ma = members_[a.member];
     for_neighbours(a.mid, [&](std::uint32_t j) {
-      if (j == i) return;
+      if (j <= i) return;
       const Item& b = items_[j];
       if (apart(a.mid, a.reach, b.mid, b.reach, margin_ + skin_)) return;
       if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
-      pairs_.push_back(j);
+      halves_.push_back({i, j});
+      ++pair_start_[i + 1];
+      ++pair_start_[j + 1];
     });
-    std::sort(pairs_.begin() + pair_start_.back(), pairs_.end());
+    std::sort(halves_.begin() + static_cast<std::ptrdiff_t>(from), halves_.end());
   }
-  pair_start_.push_back(static_cast<std::uint32_t>(pairs_.size()));
+  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
+  // Item k receives its lower partners (while they are filled, in rising order) before its own
+  // higher ones: each list comes out sorted.
+  pairs_.resize(pair_start_[n]);
+  next_.assign(pair_start_.begin(), pair_start_.end() - 1);
+  for (const auto& [i, j] : halves_) {
+    pairs_[next_[i]++] = j;
+    pairs_[next_[j]++] = i;
+  }
   list_valid_ = true;
 }
 

@@ -11,6 +11,7 @@
 // Nothing allocates once the members are set and the list has reached its working size.
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "tool/rod.hpp"
@@ -85,6 +86,8 @@ class RodContactField final : public RodObstacles {
   // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
   mutable std::vector<std::uint32_t> pair_start_;
   mutable std::vector<std::uint32_t> pairs_;
+  mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> halves_;  // a build's pairs, lower item first
+  mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
   mutable std::vector<std::uint32_t> start_;
   mutable std::vector<std::uint32_t> grid_;
