@@ -13,8 +13,6 @@ namespace {
 
 double edge_radius(const Rod& rod, std::size_t e) { return 0.5 * (rod.node_radius_mm(e) + rod.node_radius_mm(e + 1)); }
 
-glm::dvec3 edge_mid(const Rod& rod, std::size_t e) { return 0.5 * (rod.positions()[e] + rod.positions()[e + 1]); }
-
 // Arc length between the middles of two edges of one rod.
 double arc_between(const Rod& rod, std::size_t a, std::size_t b) {
   return std::abs(rod.node_from_tip_mm(a) + rod.node_from_tip_mm(a + 1) - rod.node_from_tip_mm(b) -
@@ -107,10 +105,16 @@ bool RodContactField::update_mids() const {
   bool covered = list_valid_;
   for (std::size_t i = 0; i < items_.size(); ++i) {
     Item& item = items_[i];
-    item.mid = edge_mid(*members_[item.member].rod, item.edge);
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    const glm::dvec3& p0 = x[item.edge];
+    const glm::dvec3& p1 = x[item.edge + 1];
+    item.mid = 0.5 * (p0 + p1);
     if (covered) {
       const glm::dvec3 d = item.mid - listed_mid_[i];
       covered = glm::dot(d, d) <= limit_sq;
+      const glm::dvec3 d0 = p0 - listed_end_[2 * i];
+      const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
+      item.drift = std::sqrt(std::max(glm::dot(d0, d0), glm::dot(d1, d1)));
     }
   }
   return covered;
@@ -161,7 +165,14 @@ void RodContactField::build_list() const {
   build_grid();
   const std::size_t n = items_.size();
   listed_mid_.clear();
-  for (const Item& item : items_) listed_mid_.push_back(item.mid);
+  listed_end_.clear();
+  for (Item& item : items_) {
+    listed_mid_.push_back(item.mid);
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    listed_end_.push_back(x[item.edge]);
+    listed_end_.push_back(x[item.edge + 1]);
+    item.drift = 0.0;
+  }
   // Each item's candidates: the other items within reach plus margin plus skin, not excluded
   // for good (the same edge, neighbours along one rod, a rod with itself when it takes no
   // self contact), in rising order. The relation is symmetric: each pair is tested once, from
@@ -192,6 +203,7 @@ void RodContactField::build_list() const {
     pairs_[next_[i]++] = j;
     pairs_[next_[j]++] = i;
   }
+  last_gap_.assign(pairs_.size(), LastGap{});
   list_valid_ = true;
 }
 
@@ -219,7 +231,7 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
       if (apart(a.mid, a.reach, b.mid, b.reach, margin)) continue;
       const Member& other = members_[b.member];
       if (excluded_now(me, a.edge, other, b.edge)) continue;
-      fn(a, other, b);
+      fn(a, other, b, p);
     }
   }
 }
@@ -232,9 +244,16 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
   if (!update_mids()) build_list();
   const Member& me = members_[mi];
   const std::span<const glm::dvec3> x = rod.positions();
-  for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b) {
+  for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
     const std::size_t e = a.edge;
     const std::size_t f = b.edge;
+    const double rr = edge_radius(rod, e) + edge_radius(*other.rod, f);
+    // Two segments whose ends moved by at most m and n come no closer than their distance
+    // less m + n: a pair that was far enough apart when last tested and has not moved enough
+    // since (both measured from the listed positions) cannot be in reach; the segment test
+    // would reject it.
+    LastGap& last = last_gap_[slot];
+    if (last.gap_mm - last.drift_mm - a.drift - b.drift >= rr + margin_ + 1e-9) return;
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
     const glm::dvec3& b0 = other.rod->positions()[f];
@@ -244,8 +263,9 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     const double t = pair.t;
     const glm::dvec3 p = a0 + (a1 - a0) * s;
     const glm::dvec3 q = b0 + (b1 - b0) * t;
-    const double rr = edge_radius(rod, e) + edge_radius(*other.rod, f);
     const double d = glm::length(p - q);
+    last.gap_mm = d;
+    last.drift_mm = a.drift + b.drift;
     if (d >= rr + margin_) return;
     EdgeContact c;
     c.edge = static_cast<std::uint32_t>(e);
@@ -264,7 +284,7 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
   Overlap worst;
   if (members_.empty()) return worst;
   worst.depth_mm = -1e300;
-  const auto pair_depth = [&](const Item& a, const Member& other, const Item& b) {
+  const auto pair_depth = [&](const Item& a, const Member& other, const Item& b, std::uint32_t /*slot*/) {
     const Rod& rod = *members_[a.member].rod;
     const collision::SegmentPair pair =
         collision::closest_segment_segment(rod.positions()[a.edge], rod.positions()[a.edge + 1],
@@ -292,7 +312,7 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
         const Member& other = members_[b.member];
         if (j == i || apart(a.mid, a.reach, b.mid, b.reach, 0.0)) return;
         if (excluded_always(me, a.edge, other, b.edge) || excluded_now(me, a.edge, other, b.edge)) return;
-        pair_depth(a, other, b);
+        pair_depth(a, other, b, 0);
       });
     }
   }

@@ -170,10 +170,11 @@ TEST_F(CoilInSphere, NoLoopPassesIntoAnotherOverRandomPushPullRotateSteps) {
   EXPECT_LT(worst, 0.10) << "deepest overlap " << 100.0 * worst << " % of the coil diameter at step " << worst_step;
 }
 
-// The rod-rod candidate list (a Verlet list kept while the edges move less than half its skin)
-// gives exactly the contacts of a list built afresh at the present positions with no skin, for
-// every member rod and at every step of random pushes, pulls and turns; it is not rebuilt at
-// every step.
+// The rod-rod candidate list (a Verlet list kept while the edges move less than half its skin,
+// its pairs skipped while their last distance less what their ends moved since keeps them out
+// of reach) gives exactly the contacts of a list built afresh at the present positions with no
+// skin, for every member rod and at every step of random pushes, pulls and turns; it is not
+// rebuilt at every step.
 TEST_F(CoilInSphere, CandidateListGivesTheContactsOfAListBuiltAfresh) {
   drive(sim, kCoil, micro + 0.4 * kCoilLength, 0.02);
   std::mt19937 rng(7);

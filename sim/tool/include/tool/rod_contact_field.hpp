@@ -58,6 +58,7 @@ class RodContactField final : public RodObstacles {
     std::uint32_t edge = 0;
     glm::dvec3 mid{0.0};  // the edge's middle now and its reach (half its length plus its radius)
     double reach = 0.0;
+    double drift = 0.0;   // the farther end's distance from where it was when the list was built
   };
   // Sets the present middles of every item; false when the candidate list does not cover them.
   [[nodiscard]] bool update_mids() const;
@@ -81,11 +82,18 @@ class RodContactField final : public RodObstacles {
   // Items in member order, edges rising; their middles are updated at every gather.
   mutable std::vector<Item> items_;
   mutable std::vector<glm::dvec3> listed_mid_;  // the middles when the list was built
+  mutable std::vector<glm::dvec3> listed_end_;  // the ends (2 per item) when the list was built
   mutable bool list_valid_ = false;
   mutable std::uint64_t list_builds_ = 0;
   // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
   mutable std::vector<std::uint32_t> pair_start_;
   mutable std::vector<std::uint32_t> pairs_;
+  // Per slot: the pair's segment distance when last tested and the two items' drifts then.
+  struct LastGap {
+    double gap_mm = -1.0;  // not tested since the build
+    double drift_mm = 0.0;
+  };
+  mutable std::vector<LastGap> last_gap_;
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> halves_;  // a build's pairs, lower item first
   mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
