@@ -7,7 +7,9 @@
 // each take half of the gap. Candidate pairs come from a hash grid of the edges' midpoints
 // (O(edges)) and are kept as a Verlet list: pairs within the contact reach plus a skin are
 // listed, and the list serves every gather until an edge's middle has moved half the skin
-// from where it was listed or the members change. A gather then tests only the listed pairs.
+// from where it was listed or the members change. A gather then tests only the listed pairs,
+// and skips the segment test of a pair whose last tested distance, less what the ends of both
+// edges have moved since, keeps it out of reach. The contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
 #include <cstdint>
 #include <span>
