@@ -72,7 +72,7 @@ void RodContactField::set_members(std::span<const Member> members) {
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge = std::max(max_edge, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
       max_radius_mm_ = std::max({max_radius_mm_, rod.node_radius_mm(e), rod.node_radius_mm(e + 1)});
-      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), glm::dvec3(0.0), edge_reach(rod, e)});
+      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), glm::dvec3(0.0), edge_reach(rod, e), edge_radius(rod, e)});
     }
   }
   first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
@@ -247,7 +247,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
   for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
     const std::size_t e = a.edge;
     const std::size_t f = b.edge;
-    const double rr = edge_radius(rod, e) + edge_radius(*other.rod, f);
+    const double rr = a.radius + b.radius;
     // Two segments whose ends moved by at most m and n come no closer than their distance
     // less m + n: a pair that was far enough apart when last tested and has not moved enough
     // since (both measured from the listed positions) cannot be in reach; the segment test
@@ -289,8 +289,8 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
     const collision::SegmentPair pair =
         collision::closest_segment_segment(rod.positions()[a.edge], rod.positions()[a.edge + 1],
                                            other.rod->positions()[b.edge], other.rod->positions()[b.edge + 1]);
-    const double ra = edge_radius(rod, a.edge);
-    const double rb = edge_radius(*other.rod, b.edge);
+    const double ra = a.radius;
+    const double rb = b.radius;
     const double depth = ra + rb - std::sqrt(pair.distance_sq);
     if (depth > worst.depth_mm) {
       worst.depth_mm = depth;

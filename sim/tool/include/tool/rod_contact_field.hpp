@@ -60,6 +60,7 @@ class RodContactField final : public RodObstacles {
     std::uint32_t edge = 0;
     glm::dvec3 mid{0.0};  // the edge's middle now and its reach (half its length plus its radius)
     double reach = 0.0;
+    double radius = 0.0;  // the edge's (the mean of its nodes')
     double drift = 0.0;   // the farther end's distance from where it was when the list was built
   };
   // Sets the present middles of every item; false when the candidate list does not cover them.
