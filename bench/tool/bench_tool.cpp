@@ -330,10 +330,14 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   StepTimes times(1 << 16);
   double push = sim.insertion_mm(1);
   double overlap = 0.0;
+  double iterations = 0.0, micro_iterations = 0.0;
+  const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(1, push);
     times.step(sim);
+    iterations += sim.rod(1).last_iterations();
+    micro_iterations += sim.rod(0).last_iterations();
     const RodContactField::Overlap o = sim.worst_coil_overlap();
     if (o.diameter_mm > 0.0) overlap = std::max(overlap, o.depth_mm / o.diameter_mm);
   }
@@ -342,6 +346,11 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   state.counters["deployed_mm"] = metrics.figures().deployed_mm;
   state.counters["coil_nodes"] = static_cast<double>(sim.rod(1).node_total() - sim.rod(1).first_free_node());
   state.counters["worst_overlap_pct"] = 100.0 * overlap;
+  const auto steps = static_cast<double>(std::max<std::size_t>(1, times.count()));
+  state.counters["coil_newton_its"] = iterations / steps;
+  state.counters["micro_newton_its"] = micro_iterations / steps;
+  // Builds of the rod-rod candidate list per step (worst_coil_overlap above reads it too).
+  state.counters["list_builds"] = static_cast<double>(sim.coil_contacts().list_builds() - builds0) / steps;
   state.SetLabel("coil into a 6.4 mm sphere");
 }
 

@@ -13,8 +13,6 @@ namespace {
 
 double edge_radius(const Rod& rod, std::size_t e) { return 0.5 * (rod.node_radius_mm(e) + rod.node_radius_mm(e + 1)); }
 
-glm::dvec3 edge_mid(const Rod& rod, std::size_t e) { return 0.5 * (rod.positions()[e] + rod.positions()[e + 1]); }
-
 // Arc length between the middles of two edges of one rod.
 double arc_between(const Rod& rod, std::size_t a, std::size_t b) {
   return std::abs(rod.node_from_tip_mm(a) + rod.node_from_tip_mm(a + 1) - rod.node_from_tip_mm(b) -
@@ -44,28 +42,51 @@ glm::dvec3 any_perpendicular(const glm::dvec3& t) {
 
 }  // namespace
 
+namespace {
+
+bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
+  return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
+         a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm;
+}
+
+}  // namespace
+
 void RodContactField::set_members(std::span<const Member> members) {
+  bool same = members.size() == members_.size();
+  for (std::size_t i = 0; same && i < members.size(); ++i) {
+    same = same_member(members[i], members_[i]) && members[i].rod->node_total() == node_totals_[i];
+  }
+  if (same) return;
+  list_valid_ = false;
   members_.assign(members.begin(), members.end());
+  node_totals_.clear();
+  first_item_.clear();
   double max_edge = 0.0;
   max_radius_mm_ = 0.0;
-  std::size_t items = 0;
-  for (const Member& m : members_) {
+  items_.clear();
+  for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
+    const Member& m = members_[mi];
     const Rod& rod = *m.rod;
+    node_totals_.push_back(rod.node_total());
+    first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge = std::max(max_edge, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
       max_radius_mm_ = std::max({max_radius_mm_, rod.node_radius_mm(e), rod.node_radius_mm(e + 1)});
-      ++items;
+      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), glm::dvec3(0.0), edge_reach(rod, e), edge_radius(rod, e)});
     }
   }
-  // Edges that can touch have midpoints within one cell of each other.
-  cell_mm_ = std::max(0.05, max_edge + 2.0 * max_radius_mm_ + margin_);
+  first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
+  const std::size_t items = items_.size();
+  // Edges that can be listed have midpoints within one cell of each other.
+  cell_mm_ = std::max(0.05, max_edge + 2.0 * max_radius_mm_ + margin_ + skin_);
   std::size_t buckets = 64;
   while (buckets < 2 * items) buckets *= 2;
   bucket_mask_ = buckets - 1;
   if (start_.size() < buckets + 1) start_.assign(buckets + 1, 0);
-  if (items_.capacity() < items) items_.reserve(items);
+  if (grid_.capacity() < items) grid_.reserve(items);
+  if (listed_mid_.capacity() < items) listed_mid_.reserve(items);
+  if (pair_start_.capacity() < items + 1) pair_start_.reserve(items + 1);
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
-  if (scratch_.capacity() < items) scratch_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);
   if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
 }
@@ -77,28 +98,26 @@ std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, std::int6
   return static_cast<std::size_t>(h) & bucket_mask_;
 }
 
-void RodContactField::build_grid() const {
-  const std::size_t buckets = bucket_mask_ + 1;
-  std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
-  items_.clear();
-  bucket_of_item_.clear();
-  for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
-    const Member& m = members_[mi];
-    for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < m.rod->node_total(); ++e) {
-      const glm::dvec3 mid = edge_mid(*m.rod, e);
-      const glm::dvec3 c = glm::floor(mid / cell_mm_);
-      const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
-                                      static_cast<std::int64_t>(c.z));
-      bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
-      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), mid, edge_reach(*m.rod, e)});
-      ++start_[b + 1];
+bool RodContactField::update_mids() const {
+  // An edge's middle that moved less than half the skin since the list was built keeps every
+  // pair within the contact reach among the listed ones (two middles close by at most the skin).
+  const double limit_sq = 0.25 * skin_ * skin_;
+  bool covered = list_valid_;
+  for (std::size_t i = 0; i < items_.size(); ++i) {
+    Item& item = items_[i];
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    const glm::dvec3& p0 = x[item.edge];
+    const glm::dvec3& p1 = x[item.edge + 1];
+    item.mid = 0.5 * (p0 + p1);
+    if (covered) {
+      const glm::dvec3 d = item.mid - listed_mid_[i];
+      covered = glm::dot(d, d) <= limit_sq;
+      const glm::dvec3 d0 = p0 - listed_end_[2 * i];
+      const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
+      item.drift = std::sqrt(std::max(glm::dot(d0, d0), glm::dot(d1, d1)));
     }
   }
-  for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
-  // Counting sort of the items by bucket, in place through a second pass.
-  scratch_.assign(items_.begin(), items_.end());
-  fill_.assign(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets));
-  for (std::size_t i = 0; i < scratch_.size(); ++i) items_[fill_[bucket_of_item_[i]]++] = scratch_[i];
+  return covered;
 }
 
 template <typename Fn>
@@ -118,97 +137,182 @@ void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
         const std::size_t b = bucket_of(cx + dx, cy + dy, cz + dz);
         if (seen_[b] == query_) continue;
         seen_[b] = query_;
-        for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(items_[i]);
+        for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(grid_[i]);
       }
 }
 
-bool RodContactField::excluded(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
-  if (a.rod == b.rod) {
-    if (!a.self) return true;
-    const double h = std::max(a.rod->node_from_tip_mm(ea) - a.rod->node_from_tip_mm(ea + 1),
-                              a.rod->node_from_tip_mm(eb) - a.rod->node_from_tip_mm(eb + 1));
-    return arc_between(*a.rod, ea, eb) < 2.0 * (edge_radius(*a.rod, ea) + edge_radius(*a.rod, eb)) + h;
+void RodContactField::build_grid() const {
+  const std::size_t buckets = bucket_mask_ + 1;
+  const std::size_t n = items_.size();
+  std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
+  bucket_of_item_.clear();
+  for (const Item& item : items_) {
+    const glm::dvec3 c = glm::floor(item.mid / cell_mm_);
+    const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
+                                    static_cast<std::int64_t>(c.z));
+    bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
+    ++start_[b + 1];
   }
+  for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
+  // Counting sort of the item indices by bucket.
+  fill_.assign(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets));
+  grid_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) grid_[fill_[bucket_of_item_[i]]++] = i;
+}
+
+void RodContactField::build_list() const {
+  ++list_builds_;
+  build_grid();
+  const std::size_t n = items_.size();
+  listed_mid_.clear();
+  listed_end_.clear();
+  for (Item& item : items_) {
+    listed_mid_.push_back(item.mid);
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    listed_end_.push_back(x[item.edge]);
+    listed_end_.push_back(x[item.edge + 1]);
+    item.drift = 0.0;
+  }
+  // Each item's candidates: the other items within reach plus margin plus skin, not excluded
+  // for good (the same edge, neighbours along one rod, a rod with itself when it takes no
+  // self contact), in rising order. The relation is symmetric: each pair is tested once, from
+  // its lower item, and listed on both.
+  halves_.clear();
+  pair_start_.assign(n + 1, 0u);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::size_t from = halves_.size();
+    const Item& a = items_[i];
+    const Member& ma = members_[a.member];
+    for_neighbours(a.mid, [&](std::uint32_t j) {
+      if (j <= i) return;
+      const Item& b = items_[j];
+      if (apart(a.mid, a.reach, b.mid, b.reach, margin_ + skin_)) return;
+      if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
+      halves_.push_back({i, j});
+      ++pair_start_[i + 1];
+      ++pair_start_[j + 1];
+    });
+    std::sort(halves_.begin() + static_cast<std::ptrdiff_t>(from), halves_.end());
+  }
+  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
+  // Item k receives its lower partners (while they are filled, in rising order) before its own
+  // higher ones: each list comes out sorted.
+  pairs_.resize(pair_start_[n]);
+  next_.assign(pair_start_.begin(), pair_start_.end() - 1);
+  for (const auto& [i, j] : halves_) {
+    pairs_[next_[i]++] = j;
+    pairs_[next_[j]++] = i;
+  }
+  last_gap_.assign(pairs_.size(), LastGap{});
+  list_valid_ = true;
+}
+
+bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
+  if (a.rod != b.rod) return false;
+  if (!a.self) return true;
+  const double h = std::max(a.rod->node_from_tip_mm(ea) - a.rod->node_from_tip_mm(ea + 1),
+                            a.rod->node_from_tip_mm(eb) - a.rod->node_from_tip_mm(eb + 1));
+  return arc_between(*a.rod, ea, eb) < 2.0 * (edge_radius(*a.rod, ea) + edge_radius(*a.rod, eb)) + h;
+}
+
+bool RodContactField::excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
   // A coil still in (or just leaving) the lumen of the catheter it comes out of.
   if (a.hollow == b.rod && a.rod->node_depth_mm(ea) < a.hollow_depth_mm) return true;
   if (b.hollow == a.rod && b.rod->node_depth_mm(eb) < b.hollow_depth_mm) return true;
   return false;
 }
 
+template <typename Fn>
+void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const {
+  for (std::uint32_t i = first_item_[mi]; i < first_item_[mi + 1]; ++i) {
+    const Item& a = items_[i];
+    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
+      const Item& b = items_[pairs_[p]];
+      if (apart(a.mid, a.reach, b.mid, b.reach, margin)) continue;
+      const Member& other = members_[b.member];
+      if (excluded_now(me, a.edge, other, b.edge)) continue;
+      fn(a, other, b, p);
+    }
+  }
+}
+
 void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) const {
   out.clear();
-  const Member* me = nullptr;
-  for (const Member& m : members_) {
-    if (m.rod == &rod) me = &m;
-  }
-  if (me == nullptr || members_.empty()) return;
-  build_grid();
+  std::uint32_t mi = 0;
+  while (mi < members_.size() && members_[mi].rod != &rod) ++mi;
+  if (mi == members_.size()) return;
+  if (!update_mids()) build_list();
+  const Member& me = members_[mi];
   const std::span<const glm::dvec3> x = rod.positions();
-  for (std::size_t e = me->edge_first; e < me->edge_last && e + 1 < rod.node_total(); ++e) {
+  for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
+    const std::size_t e = a.edge;
+    const std::size_t f = b.edge;
+    const double rr = a.radius + b.radius;
+    // Two segments whose ends moved by at most m and n come no closer than their distance
+    // less m + n: a pair that was far enough apart when last tested and has not moved enough
+    // since (both measured from the listed positions) cannot be in reach; the segment test
+    // would reject it.
+    LastGap& last = last_gap_[slot];
+    if (last.gap_mm - last.drift_mm - a.drift - b.drift >= rr + margin_ + 1e-9) return;
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
-    const double ra = edge_radius(rod, e);
-    const glm::dvec3 mid = 0.5 * (a0 + a1);
-    const double reach = edge_reach(rod, e);
-    for_neighbours(mid, [&](const Item& item) {
-      if (apart(mid, reach, item.mid, item.reach, margin_)) return;
-      const Member& other = members_[item.member];
-      const std::size_t f = item.edge;
-      if (other.rod == &rod && f == e) return;
-      if (excluded(*me, e, other, f)) return;
-      const glm::dvec3& b0 = other.rod->positions()[f];
-      const glm::dvec3& b1 = other.rod->positions()[f + 1];
-      const collision::SegmentPair pair = collision::closest_segment_segment(a0, a1, b0, b1);
-      const double s = pair.s;
-      const double t = pair.t;
-      const glm::dvec3 p = a0 + (a1 - a0) * s;
-      const glm::dvec3 q = b0 + (b1 - b0) * t;
-      const double rr = ra + edge_radius(*other.rod, f);
-      const double d = glm::length(p - q);
-      if (d >= rr + margin_) return;
-      EdgeContact c;
-      c.edge = static_cast<std::uint32_t>(e);
-      c.s = s;
-      c.normal = d > 1e-9 ? (p - q) / d : any_perpendicular(glm::normalize(a1 - a0));
-      if (other.rod == &rod) {
-        c.offset_mm = glm::dot(c.normal, 0.5 * (p + q)) + 0.5 * rr;  // each side takes half
-      } else {
-        c.offset_mm = glm::dot(c.normal, q) + rr;
-      }
-      out.push_back(c);
-    });
-  }
+    const glm::dvec3& b0 = other.rod->positions()[f];
+    const glm::dvec3& b1 = other.rod->positions()[f + 1];
+    const collision::SegmentPair pair = collision::closest_segment_segment(a0, a1, b0, b1);
+    const double s = pair.s;
+    const double t = pair.t;
+    const glm::dvec3 p = a0 + (a1 - a0) * s;
+    const glm::dvec3 q = b0 + (b1 - b0) * t;
+    const double d = glm::length(p - q);
+    last.gap_mm = d;
+    last.drift_mm = a.drift + b.drift;
+    if (d >= rr + margin_) return;
+    EdgeContact c;
+    c.edge = static_cast<std::uint32_t>(e);
+    c.s = s;
+    c.normal = d > 1e-9 ? (p - q) / d : any_perpendicular(glm::normalize(a1 - a0));
+    if (other.rod == &rod) {
+      c.offset_mm = glm::dot(c.normal, 0.5 * (p + q)) + 0.5 * rr;  // each side takes half
+    } else {
+      c.offset_mm = glm::dot(c.normal, q) + rr;
+    }
+    out.push_back(c);
+  });
 }
 
 RodContactField::Overlap RodContactField::worst_overlap() const {
   Overlap worst;
   if (members_.empty()) return worst;
-  build_grid();
   worst.depth_mm = -1e300;
-  for (const Member& me : members_) {
-    const Rod& rod = *me.rod;
-    for (std::size_t e = me.edge_first; e < me.edge_last && e + 1 < rod.node_total(); ++e) {
-      const glm::dvec3& a0 = rod.positions()[e];
-      const glm::dvec3& a1 = rod.positions()[e + 1];
-      const double ra = edge_radius(rod, e);
-      const glm::dvec3 mid = 0.5 * (a0 + a1);
-      const double reach = edge_reach(rod, e);
-      for_neighbours(mid, [&](const Item& item) {
-        const Member& other = members_[item.member];
-        const std::size_t f = item.edge;
-        if (other.rod == &rod && f == e) return;
-        // Pairs apart by more than the margin do not overlap (only the deepest overlap counts).
-        if (apart(mid, reach, item.mid, item.reach, 0.0)) return;
-        if (excluded(me, e, other, f)) return;
-        const glm::dvec3& b0 = other.rod->positions()[f];
-        const glm::dvec3& b1 = other.rod->positions()[f + 1];
-        const collision::SegmentPair pair = collision::closest_segment_segment(a0, a1, b0, b1);
-        const double rb = edge_radius(*other.rod, f);
-        const double depth = ra + rb - std::sqrt(pair.distance_sq);
-        if (depth > worst.depth_mm) {
-          worst.depth_mm = depth;
-          worst.diameter_mm = 2.0 * std::min(ra, rb);
-        }
+  const auto pair_depth = [&](const Item& a, const Member& other, const Item& b, std::uint32_t /*slot*/) {
+    const Rod& rod = *members_[a.member].rod;
+    const collision::SegmentPair pair =
+        collision::closest_segment_segment(rod.positions()[a.edge], rod.positions()[a.edge + 1],
+                                           other.rod->positions()[b.edge], other.rod->positions()[b.edge + 1]);
+    const double ra = a.radius;
+    const double rb = b.radius;
+    const double depth = ra + rb - std::sqrt(pair.distance_sq);
+    if (depth > worst.depth_mm) {
+      worst.depth_mm = depth;
+      worst.diameter_mm = 2.0 * std::min(ra, rb);
+    }
+  };
+  // Pairs apart by more than the contact distance do not overlap. A list that no longer covers
+  // the present positions is left for the next gather to rebuild (a diagnostic does not move
+  // the solver's work): the pairs come from the grid instead.
+  if (update_mids()) {
+    for (std::uint32_t mi = 0; mi < members_.size(); ++mi) for_candidates(members_[mi], mi, 0.0, pair_depth);
+  } else {
+    build_grid();
+    for (std::uint32_t i = 0; i < items_.size(); ++i) {
+      const Item& a = items_[i];
+      const Member& me = members_[a.member];
+      for_neighbours(a.mid, [&](std::uint32_t j) {
+        const Item& b = items_[j];
+        const Member& other = members_[b.member];
+        if (j == i || apart(a.mid, a.reach, b.mid, b.reach, 0.0)) return;
+        if (excluded_always(me, a.edge, other, b.edge) || excluded_now(me, a.edge, other, b.edge)) return;
+        pair_depth(a, other, b, 0);
       });
     }
   }

@@ -4,10 +4,16 @@
 // (the segment between two nodes swept by the node radius); two edges closer than the sum of
 // their radii plus a margin give each side a contact plane (RodObstacles). Another rod is
 // frozen while one is solved, so its side of the gap is the plane; two parts of the same rod
-// each take half of the gap. Candidates come from a hash grid of the edges' midpoints, so a
-// gather is O(edges). Nothing allocates once the members are set.
+// each take half of the gap. Candidate pairs come from a hash grid of the edges' midpoints
+// (O(edges)) and are kept as a Verlet list: pairs within the contact reach plus a skin are
+// listed, and the list serves every gather until an edge's middle has moved half the skin
+// from where it was listed or the members change. A gather then tests only the listed pairs,
+// and skips the segment test of a pair whose last tested distance, less what the ends of both
+// edges have moved since, keeps it out of reach. The contacts are those of a fresh search.
+// Nothing allocates once the members are set and the list has reached its working size.
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "tool/rod.hpp"
@@ -27,9 +33,10 @@ class RodContactField final : public RodObstacles {
     const Rod* hollow = nullptr;
   };
 
-  explicit RodContactField(double margin_mm = 0.05) : margin_(margin_mm) {}
+  explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), skin_(skin_mm) {}
 
-  // The rods taking part in this step (positions are read at each gather).
+  // The rods taking part in this step (positions are read at each gather). Members equal to
+  // the present ones keep the candidate list.
   void set_members(std::span<const Member> members);
   [[nodiscard]] std::span<const Member> members() const { return members_; }
 
@@ -44,29 +51,58 @@ class RodContactField final : public RodObstacles {
   };
   [[nodiscard]] Overlap worst_overlap() const;
 
+  // Times the candidate list was built (diagnostics, benches).
+  [[nodiscard]] std::uint64_t list_builds() const { return list_builds_; }
+
  private:
   struct Item {
     std::uint32_t member = 0;
     std::uint32_t edge = 0;
-    glm::dvec3 mid{0.0};  // the edge's middle and reach (half its length plus its radius)
-    double reach = 0.0;   // when the grid was built
+    glm::dvec3 mid{0.0};  // the edge's middle now and its reach (half its length plus its radius)
+    double reach = 0.0;
+    double radius = 0.0;  // the edge's (the mean of its nodes')
+    double drift = 0.0;   // the farther end's distance from where it was when the list was built
   };
-  void build_grid() const;
-  [[nodiscard]] std::uint64_t cell_key(const glm::dvec3& p) const;
+  // Sets the present middles of every item; false when the candidate list does not cover them.
+  [[nodiscard]] bool update_mids() const;
+  void build_grid() const;  // the hash grid of the present middles
+  void build_list() const;
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
-  [[nodiscard]] bool excluded(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
+  [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
+  [[nodiscard]] bool excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
   template <typename Fn>
   void for_neighbours(const glm::dvec3& p, Fn&& fn) const;
+  template <typename Fn>
+  void for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const;
 
   double margin_;
+  double skin_;
   std::vector<Member> members_;
+  std::vector<std::uint32_t> first_item_;  // per member: index of its first item
+  std::vector<std::size_t> node_totals_;   // per member: the rod's node count when set
   double cell_mm_ = 1.0;
   double max_radius_mm_ = 0.0;
-  // Hash grid, rebuilt at every gather: bucket b holds items_[start_[b] .. start_[b + 1]).
-  mutable std::vector<std::uint32_t> start_;
+  // Items in member order, edges rising; their middles are updated at every gather.
   mutable std::vector<Item> items_;
+  mutable std::vector<glm::dvec3> listed_mid_;  // the middles when the list was built
+  mutable std::vector<glm::dvec3> listed_end_;  // the ends (2 per item) when the list was built
+  mutable bool list_valid_ = false;
+  mutable std::uint64_t list_builds_ = 0;
+  // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
+  mutable std::vector<std::uint32_t> pair_start_;
+  mutable std::vector<std::uint32_t> pairs_;
+  // Per slot: the pair's segment distance when last tested and the two items' drifts then.
+  struct LastGap {
+    double gap_mm = -1.0;  // not tested since the build
+    double drift_mm = 0.0;
+  };
+  mutable std::vector<LastGap> last_gap_;
+  mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> halves_;  // a build's pairs, lower item first
+  mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
+  // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
+  mutable std::vector<std::uint32_t> start_;
+  mutable std::vector<std::uint32_t> grid_;
   mutable std::vector<std::uint32_t> bucket_of_item_;
-  mutable std::vector<Item> scratch_;
   mutable std::vector<std::uint32_t> fill_;
   mutable std::vector<std::uint32_t> seen_;  // per bucket: the last query that visited it
   mutable std::uint32_t query_ = 0;

@@ -105,6 +105,8 @@ class Simulator {
   [[nodiscard]] double released_mm(std::size_t tool) const { return removed_mm_[tool]; }
   // Deepest overlap between coil loops (and coils and the microcatheter tip), last step.
   [[nodiscard]] RodContactField::Overlap worst_coil_overlap() const { return contacts_.worst_overlap(); }
+  // The rod-rod contact field (its candidate-list builds, for benches).
+  [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
 
   // Balloons: the inflation device drives the pressure towards the target at its rate.
   [[nodiscard]] DeviceError inflate_pressure(std::size_t tool, double pressure_atm);
