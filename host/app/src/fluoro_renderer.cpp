@@ -135,6 +135,55 @@ FluoroRenderer::Rect FluoroRenderer::unite(const Rect& a, const Rect& b) {
   return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
 }
 
+void FluoroRenderer::CellMask::reset(int w, int h, bool value) {
+  width = w;
+  height = h;
+  on.assign(static_cast<std::size_t>(((w + kCell - 1) / kCell) * ((h + kCell - 1) / kCell)), value ? 1 : 0);
+}
+
+void FluoroRenderer::CellMask::mark(const Rect& r) {
+  if (r.empty()) return;
+  const int columns = (width + kCell - 1) / kCell;
+  for (int cy = r.y0 / kCell; cy <= (r.y1 - 1) / kCell; ++cy) {
+    for (int cx = r.x0 / kCell; cx <= (r.x1 - 1) / kCell; ++cx) on[static_cast<std::size_t>(cy * columns + cx)] = 1;
+  }
+}
+
+void FluoroRenderer::CellMask::unite(const CellMask& other) {
+  for (std::size_t i = 0; i < on.size() && i < other.on.size(); ++i) on[i] = static_cast<unsigned char>(on[i] | other.on[i]);
+}
+
+FluoroRenderer::Rect FluoroRenderer::CellMask::bounds() const {
+  Rect b;
+  for (const Rect& r : runs(true)) b = FluoroRenderer::unite(b, r);
+  return b;
+}
+
+std::vector<FluoroRenderer::Rect> FluoroRenderer::CellMask::runs(bool value) const {
+  const int columns = (width + kCell - 1) / kCell;
+  const int rows = (height + kCell - 1) / kCell;
+  std::vector<Rect> out;
+  for (int cy = 0; cy < rows; ++cy) {
+    for (int cx = 0; cx < columns;) {
+      if ((on[static_cast<std::size_t>(cy * columns + cx)] != 0) != value) {
+        ++cx;
+        continue;
+      }
+      const int x0 = cx;
+      while (cx < columns && (on[static_cast<std::size_t>(cy * columns + cx)] != 0) == value) ++cx;
+      const Rect r{x0 * kCell, cy * kCell, std::min(cx * kCell, width), std::min((cy + 1) * kCell, height)};
+      // A rectangle of the same columns ending at this row: grow it instead.
+      const auto below = std::find_if(out.begin(), out.end(), [&](const Rect& o) { return o.x0 == r.x0 && o.x1 == r.x1 && o.y1 == r.y0; });
+      if (below != out.end()) {
+        below->y1 = r.y1;
+      } else {
+        out.push_back(r);
+      }
+    }
+  }
+  return out;
+}
+
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
   if (compose_fbo_ != 0) glDeleteFramebuffers(1, &compose_fbo_);
@@ -367,8 +416,8 @@ void FluoroRenderer::ensure_target(Target& t, int width, int height, unsigned in
   t.width = width;
   t.height = height;
   t.valid = false;
-  t.dirty = {0, 0, width, height};  // undefined contents
-  t.drawn = {};
+  t.dirty.reset(width, height, true);  // undefined contents
+  t.drawn.reset(width, height, false);
 }
 
 void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
@@ -380,7 +429,7 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
                         std::any_of(scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end(), [](float c) { return c > 0.0F; });
   // The runs of vessel buckets that read a cell with iodine, and the screen box of all that is drawn.
   lit_runs_.clear();
-  ScreenBox box(carm, width, height);
+  drawn_.reset(width, height, false);
   if (contrast) {
     nonzero_before_.assign(cell_count_ + 1, 0);
     for (std::size_t i = 0; i < cell_count_; ++i) {
@@ -388,7 +437,9 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
     }
     for (const Bucket& b : buckets_) {
       if (b.hi >= cell_count_ || nonzero_before_[b.hi + 1] == nonzero_before_[b.lo]) continue;
+      ScreenBox box(carm, width, height);
       box.add_box(b.box_min, b.box_max);
+      drawn_.mark(box.rect());
       if (!lit_runs_.empty() && lit_runs_.back().first + lit_runs_.back().second == b.first_index) {
         lit_runs_.back().second += b.index_count;
       } else {
@@ -396,20 +447,20 @@ void FluoroRenderer::accumulate(Target& t, const FluoroScene& scene, const flow:
       }
     }
   }
-  const Rect tools = build_tools(scene, carm, keV, width, height);
-  const Rect drawn = unite(box.rect(), tools);
+  drawn_.mark(build_tools(scene, carm, keV, width, height));
+  const Rect drawn = drawn_.bounds();
   // Clear what may be non-zero where this scene draws nothing, and where it draws.
   glBindFramebuffer(GL_FRAMEBUFFER, t.fbo);
   glViewport(0, 0, width, height);
   glEnable(GL_SCISSOR_TEST);
-  const Rect clear = unite(t.dirty, drawn);
-  if (!clear.empty()) {
+  t.dirty.unite(drawn_);
+  glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
+  for (const Rect& clear : t.dirty.runs(true)) {
     glScissor(clear.x0, clear.y0, clear.x1 - clear.x0, clear.y1 - clear.y0);
-    glClearColor(0.0F, 0.0F, 0.0F, 0.0F);
     glClear(GL_COLOR_BUFFER_BIT);
   }
-  t.drawn = drawn;
-  t.dirty = drawn;
+  t.drawn = drawn_;
+  t.dirty = drawn_;
   if (!drawn.empty()) {
     glScissor(drawn.x0, drawn.y0, drawn.x1 - drawn.x0, drawn.y1 - drawn.y0);
     glEnable(GL_BLEND);
@@ -462,9 +513,12 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
     glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // read, never written
   }
   // The scenes' box: inside it the composite reads the scene targets, outside only the phantom.
-  Rect scenes = targets_[0].drawn;
-  if (subtracted) scenes = unite(scenes, targets_[1].drawn);
-  if (roadmap) scenes = unite(unite(scenes, targets_[2].drawn), targets_[3].drawn);
+  scenes_ = targets_[0].drawn;
+  if (subtracted) scenes_.unite(targets_[1].drawn);
+  if (roadmap) {
+    scenes_.unite(targets_[2].drawn);
+    scenes_.unite(targets_[3].drawn);
+  }
   const int mode = subtracted ? 2 : roadmap ? 1 : 0;
   const flow::FluoroDose dose(in.dose);
   const double pixel_mm = carm.pixel_mm(w, h);
@@ -498,17 +552,9 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
     glScissor(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
     glDrawArrays(GL_TRIANGLES, 0, 3);
   };
-  draw(composite_shaders_[static_cast<std::size_t>(mode)], scenes);
-  // The rest of the image, as up to four bands around the scenes' box.
-  const ShaderProgram& outside = composite_shaders_[static_cast<std::size_t>(mode + 3)];
-  if (scenes.empty()) {
-    draw(outside, {0, 0, w, h});
-  } else {
-    draw(outside, {0, 0, w, scenes.y0});
-    draw(outside, {0, scenes.y1, w, h});
-    draw(outside, {0, scenes.y0, scenes.x0, scenes.y1});
-    draw(outside, {scenes.x1, scenes.y0, w, scenes.y1});
-  }
+  // Inside the scenes' cells the scene targets are read; the rest of the image reads the phantom alone.
+  for (const Rect& r : scenes_.runs(true)) draw(composite_shaders_[static_cast<std::size_t>(mode)], r);
+  for (const Rect& r : scenes_.runs(false)) draw(composite_shaders_[static_cast<std::size_t>(mode + 3)], r);
   glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(0);
   if (fbfetch_) {

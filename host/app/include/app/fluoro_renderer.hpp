@@ -23,8 +23,8 @@
 //   kept until one of them, a pulse number or the display changes: last-image hold and the
 //   display frames between pulses only copy it.
 // - Only the part of a scene target that its tools and iodine-filled vessel triangles can cover
-//   (their screen bounding box, from the tools' nodes and the vessel buckets' boxes) is cleared,
-//   drawn and read: the composite outside the scenes' box is a variant that reads the phantom
+//   (the 64-pixel cells their screen boxes touch, from the tools' nodes and each vessel bucket's
+//   box) is cleared, drawn and read: the composite outside the scenes' cells reads the phantom
 //   alone (on llvmpipe every texel fetch of a full-frame pass costs ~8 ms of CPU at 1024^2);
 //   with GL_EXT_shader_framebuffer_fetch the phantom is read from the framebuffer instead.
 #include <array>
@@ -114,9 +114,23 @@ class FluoroRenderer {
     int y1 = 0;
     [[nodiscard]] bool empty() const { return x1 <= x0 || y1 <= y0; }
   };
+  // Cells of 64 x 64 pixels (llvmpipe's tiles) of a target, each on or off.
+  struct CellMask {
+    static constexpr int kCell = 64;
+    int width = 0;
+    int height = 0;
+    std::vector<unsigned char> on;
+    void reset(int w, int h, bool value);
+    void mark(const Rect& r);  // every cell r touches
+    void unite(const CellMask& other);
+    [[nodiscard]] Rect bounds() const;
+    // The cells equal to `value` as rectangles (runs along rows, joined with identical runs of
+    // the rows above), clipped to the target.
+    [[nodiscard]] std::vector<Rect> runs(bool value) const;
+  };
   struct Target {
-    Rect drawn;  // where this scene's content may be non-zero (outside it: zero)
-    Rect dirty;  // where the texture may hold anything but zero
+    CellMask drawn;  // where this scene's content may be non-zero (outside it: zero)
+    CellMask dirty;  // where the texture may hold anything but zero
     unsigned texture = 0;
     unsigned fbo = 0;
     int width = 0;
@@ -131,6 +145,8 @@ class FluoroRenderer {
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
   Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
+  CellMask scenes_;  // compose: the union of the shown scenes' cells
+  CellMask drawn_;   // accumulate: the cells this scene draws in
   void draw_tools();
   // False while a background projection for this pose is under way (nothing to draw with yet).
   bool project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
