@@ -183,6 +183,8 @@ void Rod::size_scratch() {
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
   gathered_at_.assign(n, glm::dvec3(0.0));
+  solved_move_.assign(n, glm::dvec3(0.0));
+  warm_ok_ = false;
   stretch_h_.assign(n, glm::dmat3(0.0));
   bend_aa_.assign(n, glm::dmat3(0.0));
   bend_bb_.assign(n, glm::dmat3(0.0));
@@ -478,6 +480,16 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
   edge_contacts_.clear();
   if (first_free_ < n) {
     if (compressed_) seed_buckling();
+    // Warm start from the last converged step's motion (never after a compressed one: a
+    // jammed, buckled tool extrapolated keeps shaking). solved_move_ then keeps where this
+    // step's solve starts from (the advected position), until the step's own motion is known.
+    const bool warm = warm_ok_ && !compressed_ && settings_.warm_start != 0.0;
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const glm::dvec3 from = x_[k];
+      if (warm && k >= warm_first_) x_[k] += solved_move_[k] * settings_.warm_start;
+      solved_move_[k] = from;
+    }
+    warm_ok_ = false;
     refresh_contacts(wall, false);
     if (obstacles != nullptr) gather_obstacles(*obstacles);
     const std::size_t dofs = 3 * (n - first_);
@@ -636,7 +648,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
       }
       last_iterations_ = it + 1;
-      if (largest * scale < settings_.convergence_mm && !entered) break;
+      if (largest * scale < settings_.convergence_mm && !entered) {
+        warm_ok_ = true;
+        break;
+      }
       // A node left in the wall at the end would be clamped at the penetration limit, which
       // reads as the contact cap: up to two more iterations hold it.
       if ((entered || deep) && it + 1 == rounds && rounds < iterations + 2) ++rounds;
@@ -652,6 +667,8 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     }
     refresh_contacts(wall, true);
     limit_penetration();
+    for (std::size_t k = first_free_; k < n; ++k) solved_move_[k] = x_[k] - solved_move_[k];
+    warm_first_ = first_free_;
     // Among other rods the wall and rod-rod projections alternate (a loop pressed on the sac by
     // the next), each rod-rod round on planes gathered afresh: planes held from the iterations
     // split a gap both sides have since moved across, and projecting on them pushed loops into
