@@ -507,6 +507,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     // otherwise only the gradient is rebuilt (chord iterations).
     bool refactor = true;
     bool rejoin = false;
+    std::size_t rejoin_from = n;  // first node whose wall terms the rejoin amended
     int rounds = iterations;
     std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
     for (int it = 0; it < rounds; ++it) {
@@ -515,8 +516,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         // nodes that joined.
         const BlockAdder add{*matrix_, first_, true};
         const double kc = settings_.contact_stiffness_mN_per_mm;
+        rejoin_from = n;
         for (std::size_t k = first_free_; k < n; ++k) {
           if (!joined_[k]) continue;
+          rejoin_from = std::min(rejoin_from, k);
           const NodeContact& nc = node_contacts_[k];
           const std::size_t d = 3 * (k - first_);
           for (int j = 0; j < 2; ++j) {
@@ -536,7 +539,14 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         assemble(dt_s, refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
-      if (refactor) matrix_->factor(first_free_ - first_);
+      // After a join only the joined nodes' diagonal blocks changed: factor again from the
+      // first of them (the rows before it are the last factorisation's, bit for bit).
+      if (refactor && rejoin_from < n) {
+        matrix_->refactor_from(rejoin_from - first_);
+      } else if (refactor) {
+        matrix_->factor(first_free_ - first_);
+      }
+      rejoin_from = n;
       const bool fresh = refactor;
       refactor = !settings_.reuse_hessian;
       for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
