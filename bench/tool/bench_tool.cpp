@@ -17,8 +17,10 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <time.h>
 
 #include <benchmark/benchmark.h>
@@ -136,21 +138,66 @@ class StepTimes {
   explicit StepTimes(std::size_t steps) {
     wall_.reserve(steps);
     cpu_.reserve(steps);
+    its_.reserve(3 * steps);
+    switches_.reserve(steps);
+    faults_.reserve(steps);
   }
-  // Times one sim.step().
+  // Times one sim.step() and keeps each rod's Newton iterations in it.
   void step(Simulator& sim) {
+    rusage r0{};
+    getrusage(RUSAGE_THREAD, &r0);
     const double c0 = thread_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
     sim.step();
     const auto t1 = std::chrono::steady_clock::now();
     cpu_.push_back(thread_cpu_us() - c0);
     wall_.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    rusage r1{};
+    getrusage(RUSAGE_THREAD, &r1);
+    switches_.push_back(static_cast<int>(r1.ru_nivcsw - r0.ru_nivcsw));
+    faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
+    rods_ = sim.tool_count();
+    for (std::size_t t = 0; t < rods_; ++t) its_.push_back(sim.rod(t).last_iterations());
   }
   [[nodiscard]] double last_wall_us() const { return wall_.back(); }
   [[nodiscard]] std::size_t count() const { return wall_.size(); }
   static double pick(std::vector<double>& v, double q) {
     std::sort(v.begin(), v.end());
     return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+  }
+  // What the tail is made of: over the steps at or above the thread-CPU p99, each rod's mean
+  // Newton iterations (`tail_its_<name>`) beside its mean over all steps (`its_<name>`), the
+  // share of them the scheduler preempted (`tail_preempted_pct`, of all steps `preempted_pct`:
+  // another process ran on the core mid-step, and the step's thread CPU time carries the cache
+  // refill; a long step is likelier to be preempted, so under load the tail's share is high
+  // whatever made the step long) and their page faults. Call it before report(), which sorts
+  // the times.
+  void report_tail(benchmark::State& state, const std::vector<std::string>& names) const {
+    if (cpu_.empty() || rods_ == 0 || its_.size() != cpu_.size() * rods_) return;
+    std::vector<double> sorted = cpu_;
+    const double p99 = pick(sorted, 0.99);
+    std::size_t tail_steps = 0, preempted = 0, faults = 0, all_preempted = 0;
+    for (std::size_t k = 0; k < cpu_.size(); ++k) {
+      all_preempted += switches_[k] > 0 ? 1 : 0;
+      if (cpu_[k] < p99) continue;
+      ++tail_steps;
+      preempted += switches_[k] > 0 ? 1 : 0;
+      faults += static_cast<std::size_t>(faults_[k]);
+    }
+    const double tail_n = static_cast<double>(std::max<std::size_t>(1, tail_steps));
+    state.counters["preempted_pct"] = 100.0 * static_cast<double>(all_preempted) / static_cast<double>(cpu_.size());
+    state.counters["tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
+    state.counters["tail_faults"] = static_cast<double>(faults) / tail_n;
+    for (std::size_t t = 0; t < rods_ && t < names.size(); ++t) {
+      double all = 0.0, tail = 0.0;
+      for (std::size_t k = 0; k < cpu_.size(); ++k) {
+        const double its = its_[k * rods_ + t];
+        all += its;
+        if (cpu_[k] >= p99) tail += its;
+      }
+      state.counters["its_" + names[t]] = all / static_cast<double>(cpu_.size());
+      state.counters["tail_its_" + names[t]] = tail / tail_n;
+    }
   }
   void report(benchmark::State& state) {
     state.counters["median_us"] = pick(wall_, 0.5);
@@ -161,6 +208,9 @@ class StepTimes {
 
  private:
   std::vector<double> wall_, cpu_;
+  std::vector<int> its_;  // Newton iterations, rods_ per step
+  std::vector<int> switches_, faults_;  // involuntary context switches and page faults per step
+  std::size_t rods_ = 0;
 };
 
 // Insertion that puts `nodes` nodes of the tool past the entry.
@@ -232,6 +282,7 @@ void run(benchmark::State& state, bool coaxial) {
   for (std::size_t k = 0; k < sim.rod(1).node_total(); ++k) {
     if (sim.insertion_mm(1) - sim.rod(1).node_from_tip_mm(k) > 0.0) ++wire_inserted;
   }
+  times.report_tail(state, {"cath", "wire"});
   times.report(state);
   // Where the tail comes from: the steps in which a rod ran out of Newton iterations.
   state.counters["capped_pct"] = 100.0 * static_cast<double>(capped) / static_cast<double>(std::max<std::uint64_t>(1, i));
@@ -297,6 +348,7 @@ void BM_StepTriaxial(benchmark::State& state) {
     if (hit_cap) ++capped;
   }
   for (std::size_t t = 0; t < 3; ++t) solved += sim.rod(t).node_total() - sim.rod(t).first_free_node();
+  times.report_tail(state, {"guide", "micro", "wire"});
   times.report(state);
   state.counters["newton_its"] = iterations / static_cast<double>(std::max<std::uint64_t>(1, i));
   state.counters["capped_pct"] = 100.0 * static_cast<double>(capped) / static_cast<double>(std::max<std::uint64_t>(1, i));

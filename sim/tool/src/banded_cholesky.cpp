@@ -122,8 +122,15 @@ void BandedCholesky::multiply_add(const double* x, double* y, std::size_t row_fi
 
 bool BandedCholesky::factor(std::size_t first_node) {
   first_ = first_node;
+  return factor_rows(first_node);
+}
+
+bool BandedCholesky::refactor_from(std::size_t from) { return factor_rows(std::max(from, first_)); }
+
+bool BandedCholesky::factor_rows(std::size_t from) {
+  const std::size_t first_node = first_;
   bool ok = true;
-  for (std::size_t i = first_node; i < n_; ++i) {
+  for (std::size_t i = from; i < n_; ++i) {
     // L(i, i-2) = A(i, i-2) L(i-2, i-2)^-T
     // L(i, i-1) = (A(i, i-1) - L(i, i-2) L(i-1, i-2)^T) L(i-1, i-1)^-T
     // L(i, i) L(i, i)^T = A(i, i) - L(i, i-2) L(i, i-2)^T - L(i, i-1) L(i, i-1)^T

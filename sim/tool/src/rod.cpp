@@ -183,6 +183,8 @@ void Rod::size_scratch() {
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
   gathered_at_.assign(n, glm::dvec3(0.0));
+  solved_move_.assign(n, glm::dvec3(0.0));
+  warm_ok_ = false;
   stretch_h_.assign(n, glm::dmat3(0.0));
   bend_aa_.assign(n, glm::dmat3(0.0));
   bend_bb_.assign(n, glm::dmat3(0.0));
@@ -478,6 +480,16 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
   edge_contacts_.clear();
   if (first_free_ < n) {
     if (compressed_) seed_buckling();
+    // Warm start from the last converged step's motion (never after a compressed one: a
+    // jammed, buckled tool extrapolated keeps shaking). solved_move_ then keeps where this
+    // step's solve starts from (the advected position), until the step's own motion is known.
+    const bool warm = warm_ok_ && !compressed_ && settings_.warm_start != 0.0;
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const glm::dvec3 from = x_[k];
+      if (warm && k >= warm_first_) x_[k] += solved_move_[k] * settings_.warm_start;
+      solved_move_[k] = from;
+    }
+    warm_ok_ = false;
     refresh_contacts(wall, false);
     if (obstacles != nullptr) gather_obstacles(*obstacles);
     const std::size_t dofs = 3 * (n - first_);
@@ -495,6 +507,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     // otherwise only the gradient is rebuilt (chord iterations).
     bool refactor = true;
     bool rejoin = false;
+    std::size_t rejoin_from = n;  // first node whose wall terms the rejoin amended
     int rounds = iterations;
     std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
     for (int it = 0; it < rounds; ++it) {
@@ -503,8 +516,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         // nodes that joined.
         const BlockAdder add{*matrix_, first_, true};
         const double kc = settings_.contact_stiffness_mN_per_mm;
+        rejoin_from = n;
         for (std::size_t k = first_free_; k < n; ++k) {
           if (!joined_[k]) continue;
+          rejoin_from = std::min(rejoin_from, k);
           const NodeContact& nc = node_contacts_[k];
           const std::size_t d = 3 * (k - first_);
           for (int j = 0; j < 2; ++j) {
@@ -524,7 +539,14 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         assemble(dt_s, refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
-      if (refactor) matrix_->factor(first_free_ - first_);
+      // After a join only the joined nodes' diagonal blocks changed: factor again from the
+      // first of them (the rows before it are the last factorisation's, bit for bit).
+      if (refactor && rejoin_from < n) {
+        matrix_->refactor_from(rejoin_from - first_);
+      } else if (refactor) {
+        matrix_->factor(first_free_ - first_);
+      }
+      rejoin_from = n;
       const bool fresh = refactor;
       refactor = !settings_.reuse_hessian;
       for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
@@ -636,7 +658,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
       }
       last_iterations_ = it + 1;
-      if (largest * scale < settings_.convergence_mm && !entered) break;
+      if (largest * scale < settings_.convergence_mm && !entered) {
+        warm_ok_ = true;
+        break;
+      }
       // A node left in the wall at the end would be clamped at the penetration limit, which
       // reads as the contact cap: up to two more iterations hold it.
       if ((entered || deep) && it + 1 == rounds && rounds < iterations + 2) ++rounds;
@@ -652,6 +677,8 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     }
     refresh_contacts(wall, true);
     limit_penetration();
+    for (std::size_t k = first_free_; k < n; ++k) solved_move_[k] = x_[k] - solved_move_[k];
+    warm_first_ = first_free_;
     // Among other rods the wall and rod-rod projections alternate (a loop pressed on the sac by
     // the next), each rod-rod round on planes gathered afresh: planes held from the iterations
     // split a gap both sides have since moved across, and projecting on them pushed loops into

@@ -4,7 +4,9 @@
 #include <random>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 #include <gtest/gtest.h>
 
 #include "tool/banded_cholesky.hpp"
@@ -94,6 +96,33 @@ TEST(BandedCholesky, SolvesTheTrailingBlockLikeADenseSolve) {
       // The factorisation leaves the assembled matrix intact.
       for (std::size_t i = 0; i < d.n; ++i) {
         for (std::size_t j = 0; j < d.n; ++j) ASSERT_EQ(band.get(i, j), d.a[i * d.n + j]) << i << "," << j;
+      }
+    }
+  }
+}
+
+TEST(BandedCholesky, RefactoringFromAChangedDiagonalBlockEqualsAFullFactorisation) {
+  std::mt19937 rng(5);
+  for (const std::size_t nodes : {3U, 8U, 40U}) {
+    for (std::size_t first = 0; first < 3; ++first) {
+      for (std::size_t changed = first; changed < nodes; changed += 3) {
+        BandedCholesky band(nodes);
+        build(band, nodes, rng);
+        ASSERT_TRUE(band.factor(first));
+        // A contact joining at node `changed`: k n n^T on its diagonal block.
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(0.3, -0.8, 0.5));
+        band.add_block(changed, changed, 2.0e5 * glm::outerProduct(normal, normal));
+        std::vector<double> b(3 * nodes);
+        for (std::size_t i = 0; i < b.size(); ++i) b[i] = std::cos(0.7 * static_cast<double>(i));
+        std::vector<double> partial = b;
+        ASSERT_TRUE(band.refactor_from(changed));
+        band.solve(partial.data());
+        std::vector<double> full = b;
+        ASSERT_TRUE(band.factor(first));
+        band.solve(full.data());
+        for (std::size_t i = 0; i < b.size(); ++i) {
+          ASSERT_EQ(partial[i], full[i]) << nodes << " nodes, first " << first << ", changed " << changed << ", unknown " << i;
+        }
       }
     }
   }

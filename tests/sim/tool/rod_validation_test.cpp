@@ -378,5 +378,37 @@ TEST(RodBehaviour, TipMeetingWallAtAnAngleSlidesAlongIt) {
   EXPECT_LT(rod.hand_force_mN(), 50.0);
 }
 
+TEST(RodBehaviour, WarmStartMeetsTheSameMotionInFewerIterations) {
+  // A frictionless tool worked back and forth through a 90 degree bend at the haptic rate (3 mm
+  // push-pull at 1 Hz): starting each step from half the last step's motion (the default)
+  // takes fewer Newton iterations than starting from the advected positions (here 9,608 against
+  // 9,864; on bench_tool's coaxial stack 3.9 against 4.9 a step), and the tool ends where it
+  // does without it (both solves stop at the same convergence test).
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(10.0, M_PI / 2.0, 20.0, 30.0), 1.0, 0);
+  wall.build();
+  const ToolSpec spec = uniform_tool(150.0, 0.8, 20.0, 15.0, 1.0, 0.0);
+  const auto run = [&](double warm, int& iterations) {
+    RodSettings settings;
+    settings.warm_start = warm;
+    Rod rod(spec, settings);
+    rod.set_entry({0, 0, 0}, {0, 0, 1});
+    insert_to(rod, wall, 45.0, 0.05);
+    iterations = 0;
+    for (int i = 0; i < 2000; ++i) {
+      rod.set_boundary(45.0 + 3.0 * std::sin(i * 1e-3 * 2.0 * M_PI), 0.0);
+      rod.step(1e-3, wall);
+      iterations += rod.last_iterations();
+    }
+    return rod.tip().position_mm;
+  };
+  int cold = 0, warm = 0;
+  const glm::dvec3 tip_cold = run(0.0, cold);
+  const glm::dvec3 tip_warm = run(RodSettings{}.warm_start, warm);
+  EXPECT_GT(RodSettings{}.warm_start, 0.0);
+  EXPECT_LT(warm, cold);
+  EXPECT_LT(glm::length(tip_warm - tip_cold), 0.05);
+}
+
 }  // namespace
 }  // namespace cathbox::tool

@@ -49,6 +49,11 @@ class BandedCholesky {
   // Factors the block rows [first_node, n); the assembled matrix is left as it was.
   // Non-positive pivots are clamped (returns false then).
   bool factor(std::size_t first_node);
+  // Factors again from block row `from` on (>= the last factor's first node), when since that
+  // factorisation only blocks in rows `from` and later changed: rows before it depend on none
+  // of them, so the result is factor()'s bit for bit (a contact joining the active set changes
+  // one diagonal block). Returns false if a pivot from `from` on was clamped.
+  bool refactor_from(std::size_t from);
   // Solves the factored block for b, by unknown (entries [3 first_node, 3 n)), in place.
   void solve(double* b) const;
 
@@ -66,6 +71,8 @@ class BandedCholesky {
   [[nodiscard]] const Block& block(std::size_t a, std::size_t b) const {
     return a_[(kBlockBand + 1) * a + (a - b)];
   }
+
+  bool factor_rows(std::size_t from);
 
   std::size_t n_ = 0;
   std::size_t first_ = 0;

@@ -256,6 +256,11 @@ class Rod {
   std::vector<RodContact> contacts_;
   std::vector<EdgeContact> edge_contacts_;
   std::vector<glm::dvec3> gathered_at_;  // node positions when the edge contacts were gathered
+  // Warm start (RodSettings::warm_start): each free node's motion in the last step's solve
+  // (nodes [warm_first_, n)); warm_ok_ when that solve converged.
+  std::vector<glm::dvec3> solved_move_;
+  std::size_t warm_first_ = 0;
+  bool warm_ok_ = false;
   glm::dvec3 clamp_force_{0.0};
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;

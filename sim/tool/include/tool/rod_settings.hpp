@@ -18,6 +18,11 @@ struct RodSettings {
   double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
   double trust_step_mm = 0.01;             // updates below this skip the line search
+  // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
+  // iterations from the advected positions plus this fraction of each free node's motion in
+  // that step (the solve and the wall clamp), instead of from the advected positions alone. The
+  // equilibrium sought is the same; a tool still moving is met nearer it. 0 turns it off.
+  double warm_start = 0.5;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
