@@ -93,6 +93,7 @@ class Session::LoadCoil final : public ControlHandler {
     }
     const std::size_t t = c.payload[0];
     if (t < kMaxTools) s_.input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(ctx.sim.max_insertion_mm(t) * 1e3));
+    s_.coil_loaded_ = true;
     s_.log("next coil loaded on the %s", s_.tool_names_[t].c_str());
     return true;
   }
@@ -317,6 +318,7 @@ bool Session::tick() {
   // 1. Controls: the UI's, then the hand's own.
   applied_count_ = 0;
   tool_changed_ = false;
+  coil_loaded_ = false;
   Control c;
   for (int i = 0; i < 32 && controls_.pop(c); ++i) apply(c);
   hand_->controls(n, *sink_);
@@ -379,6 +381,7 @@ bool Session::tick() {
   mt.time_us = n * options_.period_us;
   mt.held = held_index;
   mt.tool_changed = tool_changed_;
+  mt.tool_replaced = coil_loaded_;
   mt.held_insertion_mm = static_cast<double>(input_.tools[held_index].insertion_um) * 1e-3;
   mt.tip_mm = fb.tip_mm;
   mt.tip_segment = held.tip_segment;

@@ -174,6 +174,7 @@ class Session {
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;
   bool tool_changed_ = false;
+  bool coil_loaded_ = false;  // a load_coil applied at this tick (metrics: the held tool replaced)
   int rupture_events_ = 0;  // rupture-risk events logged so far
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;
