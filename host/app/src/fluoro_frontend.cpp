@@ -24,6 +24,20 @@ std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const S
   return out;
 }
 
+// The released coils: platinum along their whole length (no marker bands), appended to `out`.
+void add_coils(const session::SceneSnapshot& snapshot, const std::array<std::vector<glm::vec3>, session::kMaxReleasedCoils>* at_pulse,
+               int count, std::vector<FluoroTool>& out) {
+  const int coils = std::min({count, snapshot.coil_count, session::SceneSnapshot::kMaxCoils});
+  for (int i = 0; i < coils; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    FluoroTool coil;
+    coil.nodes_mm = at_pulse != nullptr ? (*at_pulse)[k] : snapshot.coils[k].nodes_mm;
+    coil.radius_mm = snapshot.coils[k].radius_mm;
+    coil.material = flow::XrayMaterial::kPlatinum;
+    if (coil.nodes_mm.size() >= 2) out.push_back(std::move(coil));
+  }
+}
+
 FluoroScene iodine_scene(std::int64_t pulse, const std::vector<float>& iodine) {
   FluoroScene scene;
   scene.pulse = pulse;
@@ -43,6 +57,7 @@ FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot,
     in.shown.mode = f.image.mode;
     in.shown.cell_iodine_mgI_ml = f.iodine_mgI_ml;
     in.shown.tools = tools_at(snapshot, settings, &f.pulse_tool_nodes_mm, f.pulse_tool_count);
+    add_coils(snapshot, &f.pulse_coil_nodes_mm, f.pulse_coil_count, in.shown.tools);
     if (f.image.subtracted()) {
       in.mask = iodine_scene(f.image.mask_pulse, f.mask_iodine_mgI_ml);
       in.mask.mode = flow::ExposureMode::kSubtractionRun;
@@ -63,6 +78,7 @@ FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot,
   in.image.beam_on = true;
   in.shown.pulse = pulse;
   in.shown.tools = tools_at(snapshot, settings, nullptr, snapshot.tool_count);
+  add_coils(snapshot, nullptr, snapshot.coil_count, in.shown.tools);
   return in;
 }
 

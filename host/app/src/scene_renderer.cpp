@@ -137,11 +137,13 @@ void SceneRenderer::clear(int framebuffer_width, int framebuffer_height) const {
 }
 
 void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings) {
-  tool_count_ = std::min(snapshot.tool_count, SceneSnapshot::kMaxTools);
+  const int tools = std::min(snapshot.tool_count, SceneSnapshot::kMaxTools);
+  tool_count_ = tools + std::min(snapshot.coil_count, SceneSnapshot::kMaxCoils);
   for (int i = 0; i < tool_count_; ++i) {
-    const ToolView& tv = snapshot.tools[static_cast<std::size_t>(i)];
+    const bool coil = i >= tools;
+    const ToolView& tv = coil ? snapshot.coils[static_cast<std::size_t>(i - tools)] : snapshot.tools[static_cast<std::size_t>(i)];
     ToolDraw& td = tools_[static_cast<std::size_t>(i)];
-    td.color = tv.active ? SceneColors::kActiveTool : SceneColors::kOtherTool;
+    td.color = coil ? SceneColors::kReleasedCoil : tv.active ? SceneColors::kActiveTool : SceneColors::kOtherTool;
     tube_.build(tv.nodes_mm, tv.frames, std::max(tv.radius_mm, settings.min_tool_radius_mm));
     td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
     tube_.build(tv.nodes_mm, tv.frames, tv.radius_mm);

@@ -51,6 +51,7 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
     if (const std::optional<Control> c = fluoro_control::from_action(a)) sink.push(*c);
   }
   if (step.detach) sink.push(Control::detach_coil(*step.detach));
+  if (step.load_coil) sink.push(Control::load_coil(*step.load_coil));
   for (std::size_t i = 0; i < step.device_count; ++i) {  // inflate / deflate: the balloon's controls
     const tool::ScriptPlayer::DeviceAction& a = step.devices[i];
     const BalloonOp op = a.kind == tool::ActionKind::kInflatePressure ? BalloonOp::kInflatePressure

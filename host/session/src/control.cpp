@@ -17,13 +17,14 @@ const char* control_kind_name(std::uint16_t kind) {
     case ControlKind::kRoadmap: return "roadmap";
     case ControlKind::kDetachCoil: return "detach_coil";
     case ControlKind::kBalloon: return "balloon";
+    case ControlKind::kLoadCoil: return "load_coil";
   }
   return nullptr;
 }
 
 bool known_control_kind(std::uint16_t kind) { return control_kind_name(kind) != nullptr; }
 
-const char* known_control_kinds() { return "16, 32-37, 64-65"; }
+const char* known_control_kinds() { return "16, 32-37, 64-66"; }
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);
@@ -63,6 +64,11 @@ bool ControlQueue::pop(Control& out) { return ring_.pop(out); }
 Control Control::detach_coil(std::size_t tool) {
   const auto b = static_cast<std::uint8_t>(tool);
   return make(static_cast<std::uint16_t>(ControlKind::kDetachCoil), std::span(&b, 1));
+}
+
+Control Control::load_coil(std::size_t tool) {
+  const auto b = static_cast<std::uint8_t>(tool);
+  return make(static_cast<std::uint16_t>(ControlKind::kLoadCoil), std::span(&b, 1));
 }
 
 }  // namespace cathbox::session

@@ -39,6 +39,7 @@ FluoroUnit::FluoroUnit(const flow::FlowNetwork& network, const std::vector<tool:
     v->assign(cells_.size(), 0.0F);
   }
   for (std::vector<glm::vec3>& n : pulse_nodes_) n.reserve(max_nodes_per_tool);
+  for (std::vector<glm::vec3>& n : pulse_coil_nodes_) n.reserve(max_nodes_per_tool);
 }
 
 void FluoroUnit::log(ControlContext& ctx, const char* fmt, ...) {
@@ -206,13 +207,20 @@ void FluoroUnit::capture_pulse(const flow::FluoroTick& t) {
       peak_mask_ = run_mask_;
     }
   }
-  pulse_tool_count_ = static_cast<int>(std::min(snap_.tools.size(), kMaxTools));
-  for (int i = 0; i < pulse_tool_count_; ++i) {
-    const std::vector<glm::dvec3>& from = snap_.tools[static_cast<std::size_t>(i)].positions_mm;
-    std::vector<glm::vec3>& to = pulse_nodes_[static_cast<std::size_t>(i)];
+  // The snapshot lists the case's tools, then the released coils.
+  const auto copy = [](const std::vector<glm::dvec3>& from, std::vector<glm::vec3>& to) {
     to.clear();
     const std::size_t n = std::min(from.size(), to.capacity());  // never allocate here
     for (std::size_t j = 0; j < n; ++j) to.push_back(glm::vec3(from[j]));
+  };
+  const std::size_t tools = std::min(tools_.size(), snap_.tools.size());
+  pulse_tool_count_ = static_cast<int>(std::min(tools, kMaxTools));
+  for (int i = 0; i < pulse_tool_count_; ++i) {
+    copy(snap_.tools[static_cast<std::size_t>(i)].positions_mm, pulse_nodes_[static_cast<std::size_t>(i)]);
+  }
+  pulse_coil_count_ = static_cast<int>(std::min(snap_.tools.size() - tools, kMaxReleasedCoils));
+  for (int i = 0; i < pulse_coil_count_; ++i) {
+    copy(snap_.tools[tools + static_cast<std::size_t>(i)].positions_mm, pulse_coil_nodes_[static_cast<std::size_t>(i)]);
   }
   ++inputs_version_;
 }
@@ -273,6 +281,11 @@ void FluoroUnit::publish(FluoroView& v) const {
   for (int i = 0; i < pulse_tool_count_; ++i) {
     const auto k = static_cast<std::size_t>(i);
     v.pulse_tool_nodes_mm[k].assign(pulse_nodes_[k].begin(), pulse_nodes_[k].end());
+  }
+  v.pulse_coil_count = pulse_coil_count_;
+  for (int i = 0; i < pulse_coil_count_; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    v.pulse_coil_nodes_mm[k].assign(pulse_coil_nodes_[k].begin(), pulse_coil_nodes_[k].end());
   }
   v.inputs_version = inputs_version_;
 }

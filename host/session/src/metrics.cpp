@@ -37,6 +37,9 @@ void MetricsCollector::observe(const MetricsTick& t) {
       ++m_.tool_changes;
       reset_held(t);
       last_tip_mm_ = t.tip_mm;  // another tool's tip: not travel
+    } else if (t.tool_replaced) {
+      reset_held(t);
+      last_tip_mm_ = t.tip_mm;  // a new coil's tip at the hub: not travel
     }
   }
   last_us_ = t.time_us;

@@ -17,6 +17,21 @@ std::uint32_t t(Tag tag) {
   return static_cast<std::uint32_t>(tag);
 }
 
+std::vector<std::uint8_t> encode_section(const tool::ToolSection& s) {
+  std::vector<std::uint8_t> sec;
+  ByteWriter ws(sec);
+  ws.f64(s.length_mm);
+  ws.f64(s.outer_diameter_mm);
+  ws.f64(s.bending_stiffness_Nmm2);
+  ws.f64(s.torsion_stiffness_Nmm2);
+  ws.f64(s.curve_deg);
+  if (s.shape != tool::CoilShape::kNone) {  // a coil's secondary shape: 7 doubles
+    ws.f64(static_cast<double>(s.shape));
+    ws.f64(s.loop_diameter_mm);
+  }
+  return sec;
+}
+
 std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
   std::vector<std::uint8_t> out;
   ByteWriter w(out);
@@ -24,20 +39,8 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
   w.field_text(t(ToolTag::kName), spec.name);
   const std::uint8_t kind = static_cast<std::uint8_t>(spec.kind);
   w.field(t(ToolTag::kKind), std::span(&kind, 1));
-  for (const tool::ToolSection& s : spec.sections) {
-    std::vector<std::uint8_t> sec;
-    ByteWriter ws(sec);
-    ws.f64(s.length_mm);
-    ws.f64(s.outer_diameter_mm);
-    ws.f64(s.bending_stiffness_Nmm2);
-    ws.f64(s.torsion_stiffness_Nmm2);
-    ws.f64(s.curve_deg);
-    if (s.shape != tool::CoilShape::kNone) {  // a coil's secondary shape: 7 doubles
-      ws.f64(static_cast<double>(s.shape));
-      ws.f64(s.loop_diameter_mm);
-    }
-    w.field(t(ToolTag::kSection), sec);
-  }
+  for (const tool::ToolSection& s : spec.sections) w.field(t(ToolTag::kSection), encode_section(s));
+  for (const tool::ToolSection& s : spec.next_coils) w.field(t(ToolTag::kNextCoil), encode_section(s));
   w.field_f64(t(ToolTag::kFriction), spec.friction);
   w.field_f64(t(ToolTag::kInnerDiameter), spec.inner_diameter_mm);
   w.field_f64(t(ToolTag::kAxialStiffness), spec.axial_stiffness_N);
@@ -207,8 +210,12 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
               if (tv.size() != 1 || tv[0] > 2) return bad(tat, "tool: kind must be 0, 1 or 2");
               spec.kind = static_cast<tool::ToolKind>(tv[0]);
               return 1;
-            case ToolTag::kSection: {
-              if (spec.sections.size() >= tool::ToolLimits::kMaxSections) return bad(tat, "tool: more than 64 sections");
+            case ToolTag::kSection:
+            case ToolTag::kNextCoil: {
+              const bool next = tt == t(ToolTag::kNextCoil);
+              std::vector<tool::ToolSection>& list = next ? spec.next_coils : spec.sections;
+              if (!next && list.size() >= tool::ToolLimits::kMaxSections) return bad(tat, "tool: more than 64 sections");
+              if (next && list.size() >= tool::kMaxNextCoils) return bad(tat, "tool: more than 15 next coils");
               ByteReader r(tv);
               tool::ToolSection s;
               double shape = 0.0;
@@ -219,7 +226,7 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
               }
               if (shape != 0.0 && shape != 1.0 && shape != 2.0) return bad(tat, "tool: coil shape must be 1 or 2");
               s.shape = static_cast<tool::CoilShape>(static_cast<int>(shape));
-              spec.sections.push_back(s);
+              list.push_back(s);
               return 1;
             }
             case ToolTag::kInside: spec.inside = text_of(tv); return 1;

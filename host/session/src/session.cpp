@@ -78,6 +78,30 @@ class Session::DetachCoil final : public ControlHandler {
   Session& s_;
 };
 
+// kLoadCoil: the coil tool's old pusher withdrawn, its next coil fed at the hub (payload: the
+// tool's index). Refused (not applied, not recorded) before its coil is detached or when the
+// case lists no further coil.
+class Session::LoadCoil final : public ControlHandler {
+ public:
+  explicit LoadCoil(Session& s) : s_(s) {}
+  bool apply(Control& c, ControlContext& ctx) override {
+    if (c.size != 1) return false;
+    const tool::DeviceError e = ctx.sim.load_next_coil(c.payload[0]);
+    if (e != tool::DeviceError::kNone) {
+      s_.log("load_coil refused: %s", tool::device_error_text(e));
+      return false;
+    }
+    const std::size_t t = c.payload[0];
+    if (t < kMaxTools) s_.input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(ctx.sim.max_insertion_mm(t) * 1e3));
+    s_.coil_loaded_ = true;
+    s_.log("next coil loaded on the %s", s_.tool_names_[t].c_str());
+    return true;
+  }
+
+ private:
+  Session& s_;
+};
+
 // kBalloon: the inflation device of a balloon tool (payload: tool, BalloonOp, f64 value). A
 // value the balloon does not take is refused (not applied, not recorded) with a log line.
 class Session::BalloonControl final : public ControlHandler {
@@ -166,6 +190,8 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   }
   detach_coil_ = std::make_unique<DetachCoil>(*this);
   add_control_handler(static_cast<std::uint16_t>(ControlKind::kDetachCoil), *detach_coil_);
+  load_coil_ = std::make_unique<LoadCoil>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kLoadCoil), *load_coil_);
   if (scene_->world->sac()) {
     coil_metrics_.emplace(*sim_, *scene_->world->sac());
     if (!coil_metrics_->has_coils()) coil_metrics_.reset();
@@ -292,6 +318,7 @@ bool Session::tick() {
   // 1. Controls: the UI's, then the hand's own.
   applied_count_ = 0;
   tool_changed_ = false;
+  coil_loaded_ = false;
   Control c;
   for (int i = 0; i < 32 && controls_.pop(c); ++i) apply(c);
   hand_->controls(n, *sink_);
@@ -354,6 +381,7 @@ bool Session::tick() {
   mt.time_us = n * options_.period_us;
   mt.held = held_index;
   mt.tool_changed = tool_changed_;
+  mt.tool_replaced = coil_loaded_;
   mt.held_insertion_mm = static_cast<double>(input_.tools[held_index].insertion_um) * 1e-3;
   mt.tip_mm = fb.tip_mm;
   mt.tip_segment = held.tip_segment;
@@ -407,12 +435,9 @@ void Session::publish() {
   s.tick = tick_;
   const std::size_t active = sim_->active_tool();
   s.held_tool = active;
-  s.tool_count = static_cast<int>(std::min<std::size_t>(snap_.tools.size(), SceneSnapshot::kMaxTools));
-  s.contacts.clear();
-  for (int i = 0; i < s.tool_count; ++i) {
-    const tool::ToolSnapshot& t = snap_.tools[static_cast<std::size_t>(i)];
-    ToolView& tv = s.tools[static_cast<std::size_t>(i)];
-    tv.active = static_cast<std::size_t>(i) == active;
+  // The snapshot lists the case's tools, then the released coils (copied within the reserved
+  // capacity: publishing never allocates).
+  const auto copy_nodes = [](const tool::ToolSnapshot& t, ToolView& tv) {
     tv.nodes_mm.clear();
     tv.frames.clear();
     const std::size_t n = std::min(t.positions_mm.size(), tv.nodes_mm.capacity());  // never allocate here
@@ -421,10 +446,28 @@ void Session::publish() {
       tv.frames.push_back(k < t.normals.size() ? to_f(t.normals[k]) : glm::vec3(0.0F));
     }
     tv.radius_mm = t.radii_mm.empty() ? 0.2F : *std::max_element(t.radii_mm.begin(), t.radii_mm.end());
+  };
+  const std::size_t tools = std::min(sim_->tool_count(), snap_.tools.size());
+  s.tool_count = static_cast<int>(std::min<std::size_t>(tools, SceneSnapshot::kMaxTools));
+  s.contacts.clear();
+  for (int i = 0; i < s.tool_count; ++i) {
+    const tool::ToolSnapshot& t = snap_.tools[static_cast<std::size_t>(i)];
+    ToolView& tv = s.tools[static_cast<std::size_t>(i)];
+    tv.active = static_cast<std::size_t>(i) == active;
+    copy_nodes(t, tv);
     for (const tool::RodContact& c : t.contacts) {
       if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
       s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});
     }
+  }
+  s.coil_count = static_cast<int>(std::min<std::size_t>(snap_.tools.size() - tools, SceneSnapshot::kMaxCoils));
+  for (int i = 0; i < s.coil_count; ++i) {
+    ToolView& cv = s.coils[static_cast<std::size_t>(i)];
+    cv.active = false;
+    const tool::ToolSnapshot& coil = snap_.tools[tools + static_cast<std::size_t>(i)];
+    copy_nodes(coil, cv);
+    // The primary wind's radius: the node at the cut may carry the pusher's (a wider end node).
+    if (!coil.radii_mm.empty()) cv.radius_mm = coil.radii_mm[coil.radii_mm.size() / 2];
   }
   if (active < snap_.tools.size()) {
     const tool::ToolSnapshot& held = snap_.tools[active];

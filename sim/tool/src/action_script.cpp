@@ -46,6 +46,9 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
     } else if (verb == "detach") {
       if (w.size() != 2) return fail("detach: takes no arguments (it releases the selected tool's coil)");
       a.kind = ActionKind::kDetach;
+    } else if (verb == "load_coil") {
+      if (w.size() != 2) return fail("load_coil: takes no arguments (it loads the selected coil tool's next coil)");
+      a.kind = ActionKind::kLoadCoil;
     } else if (verb == "fluoro" || verb == "roadmap") {
       a.kind = verb == "fluoro" ? ActionKind::kFluoro : ActionKind::kRoadmap;
       const bool roadmap = a.kind == ActionKind::kRoadmap;
@@ -102,7 +105,7 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
       const bool rotate = verb == "rotate_to" || verb == "rotate_by";
       if (!insert && !rotate) {
         return fail("unknown verb '" + std::string(verb) +
-                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach inflate deflate)");
+                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate)");
       }
       a.kind = verb == "insert_to" ? ActionKind::kInsertTo
                : verb == "insert_by" ? ActionKind::kInsertBy

@@ -152,8 +152,7 @@ class CaseParser {
       if (outer == &t) return fail_at(tool_lines[i], "tool '" + t.name + "' cannot be inside itself");
       if (nesting_cycle(c.tools, i)) return fail_at(tool_lines[i], "tool '" + t.name + "': the tools it runs in run inside it");
       if (outer->kind != ToolKind::kCatheter) return fail_at(tool_lines[i], "tool '" + t.name + "': '" + outer->name + "' is not a catheter");
-      double od = 0.0;
-      for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
+      const double od = t.max_outer_diameter_mm();
       if (outer->inner_diameter_mm <= od) {
         return fail_at(tool_lines[i], "tool '" + t.name + "' (od " + std::to_string(od) + " mm) does not fit in '" + outer->name + "'");
       }
@@ -173,57 +172,20 @@ class CaseParser {
   bool tool_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
     const std::string_view key = w[0];
     if (key == "section") {
-      if (w.size() < 2) return error_here("section: missing length");
       if (t.sections.size() >= kMaxSections) return error_here("too many sections (at most 64)");
       ToolSection s;
-      double len = 0.0;
-      if (!number(w[1], "section length", len)) return false;
-      if (len <= 0.0) return error_here("section: length must be > 0");
-      s.length_mm = len;
-      bool od = false, ei = false, gj = false;
-      for (std::size_t i = 2; i < w.size(); ++i) {
-        const std::size_t eq = w[i].find('=');
-        if (eq == std::string_view::npos) return error_here("section: expected key=value, got '" + std::string(w[i]) + "'");
-        const std::string_view k = w[i].substr(0, eq);
-        if (k == "shape") {
-          const std::string_view name = w[i].substr(eq + 1);
-          if (name == "helix") {
-            s.shape = CoilShape::kHelix;
-          } else if (name == "complex") {
-            s.shape = CoilShape::kComplex;
-          } else {
-            return error_here("section: shape must be 'helix' or 'complex', not '" + std::string(name) + "'");
-          }
-          continue;
-        }
-        double v = 0.0;
-        if (!number(w[i].substr(eq + 1), std::string(k), v)) return false;
-        if (k == "loop") {
-          if (v < 2.0 || v > 20.0) return error_here("section: loop diameter must be in [2, 20] mm");
-          s.loop_diameter_mm = v;
-        } else if (k == "od") {
-          if (v <= 0.0 || v > 20.0) return error_here("section: od must be in (0, 20] mm");
-          s.outer_diameter_mm = v;
-          od = true;
-        } else if (k == "ei") {
-          if (v <= 0.0 || v > 1e6) return error_here("section: ei must be in (0, 1e6] N.mm2");
-          s.bending_stiffness_Nmm2 = v;
-          ei = true;
-        } else if (k == "gj") {
-          if (v <= 0.0 || v > 1e6) return error_here("section: gj must be in (0, 1e6] N.mm2");
-          s.torsion_stiffness_Nmm2 = v;
-          gj = true;
-        } else if (k == "curve") {
-          if (std::abs(v) > 360.0) return error_here("section: curve must be within +-360 degrees");
-          s.curve_deg = v;
-        } else {
-          return error_here("section: unknown key '" + std::string(k) + "' (known: od ei gj curve shape loop)");
-        }
-      }
-      if (!od || !ei || !gj) return error_here("section: od=, ei= and gj= are required");
-      if ((s.shape != CoilShape::kNone) != (s.loop_diameter_mm > 0.0)) return error_here("section: shape= and loop= go together");
-      if (s.shape != CoilShape::kNone && t.kind != ToolKind::kCoil) return error_here("section: shape= is for coil tools");
+      if (!section_words(w, t.kind, s)) return false;
       t.sections.push_back(s);
+      return true;
+    }
+    if (key == "next_coil") {
+      if (t.kind != ToolKind::kCoil) return error_here("next_coil is for coil tools");
+      if (t.next_coils.size() >= kMaxNextCoils) return error_here("too many next coils (at most 15)");
+      ToolSection s;
+      if (!section_words(w, t.kind, s)) return false;
+      if (s.length_mm > 300.0) return error_here("next_coil: coil length must be in (0, 300] mm");
+      if (s.shape == CoilShape::kNone) return error_here("next_coil: shape= and loop= are required");
+      t.next_coils.push_back(s);
       return true;
     }
     double v = 0.0;
@@ -271,6 +233,60 @@ class CaseParser {
     } else {
       return error_here("unknown tool keyword '" + std::string(key) + "'");
     }
+    return true;
+  }
+
+  // `section` and `next_coil`: LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG] [shape=... loop=MM].
+  bool section_words(const std::vector<std::string_view>& w, ToolKind kind, ToolSection& s) {
+    const std::string verb(w[0]);
+    if (w.size() < 2) return error_here(verb + ": missing length");
+    double len = 0.0;
+    if (!number(w[1], verb + " length", len)) return false;
+    if (len <= 0.0) return error_here(verb + ": length must be > 0");
+    s.length_mm = len;
+    bool od = false, ei = false, gj = false;
+    for (std::size_t i = 2; i < w.size(); ++i) {
+      const std::size_t eq = w[i].find('=');
+      if (eq == std::string_view::npos) return error_here(verb + ": expected key=value, got '" + std::string(w[i]) + "'");
+      const std::string_view k = w[i].substr(0, eq);
+      if (k == "shape") {
+        const std::string_view name = w[i].substr(eq + 1);
+        if (name == "helix") {
+          s.shape = CoilShape::kHelix;
+        } else if (name == "complex") {
+          s.shape = CoilShape::kComplex;
+        } else {
+          return error_here(verb + ": shape must be 'helix' or 'complex', not '" + std::string(name) + "'");
+        }
+        continue;
+      }
+      double v = 0.0;
+      if (!number(w[i].substr(eq + 1), std::string(k), v)) return false;
+      if (k == "loop") {
+        if (v < 2.0 || v > 20.0) return error_here(verb + ": loop diameter must be in [2, 20] mm");
+        s.loop_diameter_mm = v;
+      } else if (k == "od") {
+        if (v <= 0.0 || v > 20.0) return error_here(verb + ": od must be in (0, 20] mm");
+        s.outer_diameter_mm = v;
+        od = true;
+      } else if (k == "ei") {
+        if (v <= 0.0 || v > 1e6) return error_here(verb + ": ei must be in (0, 1e6] N.mm2");
+        s.bending_stiffness_Nmm2 = v;
+        ei = true;
+      } else if (k == "gj") {
+        if (v <= 0.0 || v > 1e6) return error_here(verb + ": gj must be in (0, 1e6] N.mm2");
+        s.torsion_stiffness_Nmm2 = v;
+        gj = true;
+      } else if (k == "curve") {
+        if (std::abs(v) > 360.0) return error_here(verb + ": curve must be within +-360 degrees");
+        s.curve_deg = v;
+      } else {
+        return error_here(verb + ": unknown key '" + std::string(k) + "' (known: od ei gj curve shape loop)");
+      }
+    }
+    if (!od || !ei || !gj) return error_here(verb + ": od=, ei= and gj= are required");
+    if ((s.shape != CoilShape::kNone) != (s.loop_diameter_mm > 0.0)) return error_here(verb + ": shape= and loop= go together");
+    if (s.shape != CoilShape::kNone && kind != ToolKind::kCoil) return error_here(verb + ": shape= is for coil tools");
     return true;
   }
 
@@ -416,6 +432,12 @@ class CaseParser {
     if (nodes > kMaxNodes) return error_at(line, "tool '" + t.name + "' needs more than 6000 nodes");
     if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < len)) {
       return error_at(line, "coil '" + t.name + "' needs 'detach MM' shorter than the tool");
+    }
+    for (std::size_t k = 0; k < t.next_coils.size(); ++k) {
+      const ToolSpec next = with_next_coil(t, k);
+      if (next.tip_zone_mm / next.tip_spacing_mm + next.length_mm() / next.max_spacing_mm > kMaxNodes) {
+        return error_at(line, "tool '" + t.name + "' with its next coil " + std::to_string(k + 1) + " needs more than 6000 nodes");
+      }
     }
     return true;
   }

@@ -40,6 +40,10 @@ void CoilMetrics::observe(const Simulator& sim) {
   int herniated_now = 0;
   for (CoilTool& c : coils_) {
     const Rod& rod = sim.rod(c.tool);
+    if (c.load != sim.coils_loaded(c.tool)) {  // the next coil loaded: its kick-back is its own
+      c.load = sim.coils_loaded(c.tool);
+      c.deploying = false;
+    }
     const double out = attached_deployed_mm(sim, c.tool);
     if (out > 0.0) {
       f_.deployed_mm += out;

@@ -69,6 +69,10 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
       const DeviceError e = sim.detach(*step.detach);
       if (e != DeviceError::kNone) result.notes.push_back(located(options.script_name, step.detach_line, std::string("detach: ") + device_error_text(e)));
     }
+    if (step.load_coil) {
+      const DeviceError e = sim.load_next_coil(*step.load_coil);
+      if (e != DeviceError::kNone) result.notes.push_back(located(options.script_name, step.load_coil_line, std::string("load_coil: ") + device_error_text(e)));
+    }
     for (std::size_t i = 0; i < step.device_count; ++i) {
       if (std::string e = apply_device_action(sim, step.devices[i], options.script_name); !e.empty()) {
         result.error = std::move(e);

@@ -29,7 +29,29 @@ std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<c
                                                std::size_t selected, const std::string& script_name,
                                                std::string& error) {
   std::size_t current = selected;
+  std::vector<std::size_t> loads(tools.size(), 0);
+  std::vector<bool> released(tools.size(), false);
   for (const Action& a : script.actions) {
+    if (a.kind == ActionKind::kDetach && current < tools.size()) released[current] = true;
+    if (a.kind == ActionKind::kLoadCoil) {
+      const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
+      if (current >= tools.size() || !tools[current].coil) {
+        error = located(script_name, a.line, "load_coil: '" + who + "' carries no coil");
+        return std::nullopt;
+      }
+      const std::size_t listed = tools[current].next_coil_max_insertion_mm.size();
+      if (loads[current] >= listed) {
+        error = located(script_name, a.line, "load_coil: '" + who + "' has no further coil (the case lists " +
+                                                  std::to_string(listed) + " after the first)");
+        return std::nullopt;
+      }
+      if (!released[current]) {
+        error = located(script_name, a.line, "load_coil: the coil of '" + who + "' is not detached yet");
+        return std::nullopt;
+      }
+      ++loads[current];
+      released[current] = false;
+    }
     if (is_balloon(a.kind) && (current >= tools.size() || !tools[current].balloon)) {
       const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
       const std::string name = current < tools.size() ? tools[current].name : "?";
@@ -65,7 +87,9 @@ ScriptPlayer::ScriptPlayer(const Script& script, std::span<const ToolInfo> tools
   for (const ToolInfo& t : tools) {
     names_.push_back(t.name);
     max_insertion_mm_.push_back(t.max_insertion_mm);
+    next_max_insertion_mm_.push_back(t.next_coil_max_insertion_mm);
   }
+  loaded_.assign(tools.size(), 0);
   last_action_ms_ = actions_.empty() ? 0 : actions_.back().time_ms;
   has_end_ = std::any_of(actions_.begin(), actions_.end(), [](const Action& a) { return a.kind == ActionKind::kEnd; });
 }
@@ -86,6 +110,16 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
       case ActionKind::kDetach:
         step.detach = t;
         step.detach_line = a.line;
+        break;
+      case ActionKind::kLoadCoil:
+        // The new pusher enters at the hub: insertion and rotation start again from 0.
+        step.load_coil = t;
+        step.load_coil_line = a.line;
+        if (loaded_[t] < next_max_insertion_mm_[t].size()) max_insertion_mm_[t] = next_max_insertion_mm_[t][loaded_[t]++];
+        insert_[t].active = false;
+        rotate_[t].active = false;
+        insertion_[t] = 0.0;
+        rotation_[t] = 0.0;
         break;
       case ActionKind::kInsertTo:
       case ActionKind::kInsertBy:
@@ -137,7 +171,10 @@ bool ScriptPlayer::settled(std::int64_t now_ms, std::int64_t settle_ms) {
 }
 
 ScriptPlayer::ToolInfo tool_info(const ToolSpec& spec) {
-  return {spec.name, Rod(spec).max_insertion_mm(), spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0, spec.balloon.present()};
+  ScriptPlayer::ToolInfo info{spec.name, Rod(spec).max_insertion_mm(), spec.kind == ToolKind::kCoil && spec.detach_mm > 0.0,
+                              spec.balloon.present(), {}};
+  for (std::size_t k = 0; k < spec.next_coils.size(); ++k) info.next_coil_max_insertion_mm.push_back(Rod(with_next_coil(spec, k)).max_insertion_mm());
+  return info;
 }
 
 }  // namespace cathbox::tool

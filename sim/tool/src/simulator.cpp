@@ -30,6 +30,8 @@ const char* device_error_text(DeviceError e) {
     case DeviceError::kCoilInCatheter: return "the coil's detachment zone is still inside the catheter";
     case DeviceError::kNotABalloon: return "the tool has no balloon";
     case DeviceError::kOutOfRange: return "pressure or volume out of range";
+    case DeviceError::kCoilAttached: return "the loaded coil is not detached yet";
+    case DeviceError::kNoNextCoil: return "the case lists no further coil for this tool";
   }
   return "unknown";
 }
@@ -64,14 +66,10 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return depth[a] < depth[b]; });
   // Coils and the catheters they leave move in small iterations (no loop through another).
   for (std::size_t i = 0; i < n; ++i) {
-    if (tools[i].kind != ToolKind::kCoil) continue;
-    rods_[i].settings().max_node_step_mm = std::min(rods_[i].settings().max_node_step_mm, kRodContactStep_mm);
-    rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
-    if (outer_of_[i] < n) {
-      RodSettings& s = rods_[outer_of_[i]].settings();
-      s.max_node_step_mm = std::min(s.max_node_step_mm, kRodContactStep_mm);
-    }
+    if (tools[i].kind == ToolKind::kCoil) apply_coil_settings(i);
   }
+  specs_.assign(tools.begin(), tools.end());
+  loaded_.assign(n, 0);
   insertion_.assign(n, 0.0);
   rotation_.assign(n, 0.0);
   stepped_depth_.assign(n, 0.0);
@@ -100,6 +98,15 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   }
   detached_.reserve(16);
   path_.reserve(max_nodes * 2);
+}
+
+void Simulator::apply_coil_settings(std::size_t i) {
+  rods_[i].settings().max_node_step_mm = std::min(rods_[i].settings().max_node_step_mm, kRodContactStep_mm);
+  rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
+  if (outer_of_[i] < rods_.size()) {
+    RodSettings& s = rods_[outer_of_[i]].settings();
+    s.max_node_step_mm = std::min(s.max_node_step_mm, kRodContactStep_mm);
+  }
 }
 
 std::size_t Simulator::find_tool(std::string_view name) const {
@@ -481,6 +488,37 @@ DeviceError Simulator::detach(std::size_t tool) {
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());
   detached_.push_back(std::move(coil));
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::load_next_coil(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (rods_[tool].spec().kind != ToolKind::kCoil) return DeviceError::kNotACoil;
+  if (!(removed_mm_[tool] > 0.0)) return DeviceError::kCoilAttached;
+  if (loaded_[tool] >= specs_[tool].next_coils.size()) return DeviceError::kNoNextCoil;
+  // The old pusher is out (withdrawn through the hub); the next coil enters at the hub.
+  const ToolSpec spec = with_next_coil(specs_[tool], loaded_[tool]);
+  ++loaded_[tool];
+  rods_[tool] = Rod(spec, settings_);
+  rods_[tool].set_entry(entry_.point_mm, entry_.direction);
+  apply_coil_settings(tool);
+  insertion_[tool] = 0.0;
+  rotation_[tool] = 0.0;
+  stepped_depth_[tool] = 0.0;
+  stepped_rotation_[tool] = 0.0;
+  removed_mm_[tool] = 0.0;
+  tip_segment_[tool] = -1;
+  tip_hint_[tool] = WallHint{};
+  sheath_[tool] = SheathFriction{};
+  sheath_result_[tool] = SheathFriction::Result{};
+  valve_[tool] = ValveFriction{};
+  valve_result_[tool] = ValveFriction::Result{};
+  hand_force_[tool] = 0.0;
+  hand_torque_[tool] = 0.0;
+  coupling_next_[tool].assign(rods_[tool].node_total(), glm::dvec3(0.0));
+  coupling_set_[tool] = IndexRange{};
+  if (extra_ei_.size() < rods_[tool].node_total()) extra_ei_.resize(rods_[tool].node_total(), 0.0);
+  update_chain();
   return DeviceError::kNone;
 }
 

@@ -26,6 +26,20 @@ std::string check_tool(const ToolSpec& t) {
     }
   }
   if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < t.length_mm())) return who + "a coil needs a detach length shorter than the tool";
+  if (!t.next_coils.empty()) {
+    if (t.kind != ToolKind::kCoil) return who + "next coils need a coil tool";
+    if (t.next_coils.size() > kMaxNextCoils) return who + "at most 15 next coils";
+    for (std::size_t k = 0; k < t.next_coils.size(); ++k) {
+      const ToolSection& c = t.next_coils[k];
+      if (!positive_up_to(c.length_mm, 300.0)) return who + "a next coil's length must be in (0, 300] mm";
+      if (!positive_up_to(c.outer_diameter_mm, L::kMaxDiameter_mm)) return who + "a next coil's od must be in (0, 20] mm";
+      if (!positive_up_to(c.bending_stiffness_Nmm2, L::kMaxStiffness_Nmm2) || !positive_up_to(c.torsion_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) {
+        return who + "a next coil's ei and gj must be in (0, 1e6] N.mm2";
+      }
+      if (c.shape == CoilShape::kNone || !in(c.loop_diameter_mm, 2.0, 20.0)) return who + "a next coil needs a shape and a loop diameter in [2, 20] mm";
+      if (std::string e = check_tool(with_next_coil(t, k)); !e.empty()) return e;
+    }
+  }
   if (!in(t.friction, 0.0, L::kMaxFriction)) return who + "friction must be in [0, 2]";
   if (!in(t.inner_diameter_mm, 0.0, L::kMaxDiameter_mm)) return who + "inner_diameter must be in [0, 20] mm";
   if (!positive_up_to(t.max_spacing_mm, L::kMaxSpacing_mm)) return who + "node spacing must be in (0, 2] mm";
@@ -46,6 +60,31 @@ std::string check_tool(const ToolSpec& t) {
 }
 
 }  // namespace
+
+ToolSpec with_next_coil(const ToolSpec& spec, std::size_t next) {
+  ToolSpec out = spec;
+  out.next_coils.clear();
+  if (next >= spec.next_coils.size()) return out;
+  // The pusher: the sections less the first coil's distal detach_mm.
+  double cut = spec.detach_mm;
+  while (!out.sections.empty() && cut > 0.0) {
+    ToolSection& last = out.sections.back();
+    if (last.length_mm > cut + 1e-9) {
+      last.length_mm -= cut;
+      last.shape = CoilShape::kNone;
+      last.loop_diameter_mm = 0.0;
+      cut = 0.0;
+    } else {
+      cut -= last.length_mm;
+      out.sections.pop_back();
+    }
+  }
+  const ToolSection& coil = spec.next_coils[next];
+  out.sections.push_back(coil);
+  out.detach_mm = coil.length_mm;
+  out.tip_zone_mm = std::max(0.0, spec.tip_zone_mm - spec.detach_mm) + coil.length_mm;
+  return out;
+}
 
 std::string check_balloon(const BalloonSpec& b, double tool_length_mm) {
   constexpr double kMaxAtm = 30.0;
@@ -111,8 +150,7 @@ std::string check_tools(std::span<const ToolSpec> tools) {
     if (outer == nullptr) return "tool '" + t.name + "': inside unknown tool '" + t.inside + "'";
     if (outer == &t) return "tool '" + t.name + "' cannot be inside itself";
     if (nesting_cycle(tools, i)) return "tool '" + t.name + "': the tools it runs in run inside it";
-    double od = 0.0;
-    for (const ToolSection& s : t.sections) od = std::max(od, s.outer_diameter_mm);
+    const double od = t.max_outer_diameter_mm();
     if (outer->inner_diameter_mm <= od) return "tool '" + t.name + "' does not fit in '" + outer->name + "'";
   }
   return {};

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -626,6 +627,96 @@ TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
   EXPECT_EQ(in.shown.tools[0].markers[0].material, flow::XrayMaterial::kPlatinum);
   EXPECT_EQ(in.shown.tools[0].markers[0].length_mm, settings.tip_marker_mm);
   EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
+// Released coils (SceneSnapshot::coils) reach the image as platinum tools after the case's
+// tools: live in continuous fluoroscopy, at the shown pulse with the session's unit.
+TEST(FluoroFrontend, ReleasedCoilsArePlatinumToolsAfterTheTools) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 1;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.coil_count = 1;
+  snap.coils[0].nodes_mm = {{2, 0, 100}, {3, 1, 100}, {2, 2, 100}};
+  snap.coils[0].radius_mm = 0.125F;
+  FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[0].material, flow::XrayMaterial::kNitinol);
+  EXPECT_EQ(in.shown.tools[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_TRUE(in.shown.tools[1].markers.empty());
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.coils[0].nodes_mm);
+  EXPECT_EQ(in.shown.tools[1].radius_mm, 0.125F);
+  // With the session's unit: the coil as it was at the shown pulse.
+  snap.fluoro.available = true;
+  snap.fluoro.pulse_tool_count = 1;
+  snap.fluoro.pulse_tool_nodes_mm[0] = snap.tools[0].nodes_mm;
+  snap.fluoro.pulse_coil_count = 1;
+  snap.fluoro.pulse_coil_nodes_mm[0] = {{5, 0, 100}, {6, 0, 100}};
+  in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.fluoro.pulse_coil_nodes_mm[0]);
+  EXPECT_EQ(in.shown.tools[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
+// A released coil in the image, through the trainer's path (SceneSnapshot -> FluoroInputs ->
+// renderer): a 4 mm loop of a 0.25 mm platinum coil at the right ICA darkens the pixels at its
+// projected nodes, changes no pixel away from them, and is much darker than a nitinol wire of
+// the same diameter laid on the same loop (platinum: mu/rho 6.95 cm2/g at 50 keV, 21.45 g/cm3,
+// the table in sim/flow/src/xray_material.cpp). Without the coil the pixels stay background.
+TEST_F(FluoroRenderTest, AReleasedCoilDarkensItsProjectedPixelsMuchMoreThanANitinolWire) {
+  renderer_.set_display({.noise = false});
+  const flow::CArm carm{flow::CArmPose{}};
+  const flow::CenterlineLocator& loc = neuro_->transport->locator();
+  const glm::dvec3 centre = loc.point_at(neuro_->right_ica, 0.5 * loc.length_mm(neuro_->right_ica));
+  // A loop facing the beam (in the plane across the source-to-centre ray).
+  const glm::dvec3 ray = glm::normalize(centre - carm.source_mm());
+  const glm::dvec3 u = glm::normalize(glm::cross(ray, std::abs(ray.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  const glm::dvec3 v = glm::cross(ray, u);
+  std::vector<glm::vec3> loop;
+  for (int i = 0; i <= 48; ++i) {
+    const double a = 2.0 * M_PI * i / 48.0;
+    loop.emplace_back(centre + 2.0 * (std::cos(a) * u + std::sin(a) * v));
+  }
+  session::SceneSnapshot snap;
+  snap.fluoro.available = true;
+  snap.fluoro.image.pulse = 3;
+  snap.fluoro.image.beam_on = true;
+  snap.fluoro.iodine_mgI_ml = no_contrast();
+  const Image background = render(fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{}));
+  snap.coil_count = 1;
+  snap.coils[0].radius_mm = 0.125F;
+  snap.coils[0].nodes_mm = loop;
+  snap.fluoro.pulse_coil_count = 1;
+  snap.fluoro.pulse_coil_nodes_mm[0] = loop;
+  const FluoroInputs with_coil = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  const Image coil = render(with_coil);
+  FluoroInputs with_wire = with_coil;
+  with_wire.shown.tools[0].material = flow::XrayMaterial::kNitinol;
+  const Image wire = render(with_wire);
+  snap.coil_count = 0;
+  snap.fluoro.pulse_coil_count = 0;
+  const Image again = render(fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{}));
+  renderer_.set_display({});
+  save(render(with_coil), "fluoro_released_coil.png");
+
+  std::vector<glm::dvec2> line;
+  for (const glm::vec3& n : loop) line.push_back(carm.project_px(glm::dvec3(n), kSize, kSize));
+  int changed = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      ASSERT_EQ(again.pixel(x, y)[0], background.pixel(x, y)[0]) << "without the coil, pixel " << x << "," << y;
+      if (coil.pixel(x, y)[0] == background.pixel(x, y)[0]) continue;
+      ++changed;
+      EXPECT_LT(distance_to_polyline({x + 0.5, y + 0.5}, line), 2.5) << "pixel " << x << "," << y << " changed";
+    }
+  }
+  EXPECT_GT(changed, 30);
+  const double platinum = mean_change(background, coil, carm, loop);
+  const double nitinol = mean_change(background, wire, carm, loop);
+  EXPECT_LT(platinum, -20.0) << "the coil darkens its pixels";
+  EXPECT_LT(platinum, 3.0 * nitinol) << "platinum " << platinum << ", nitinol " << nitinol;
+  std::printf("released coil: mean grey change %.1f at its nodes (a nitinol wire on the same loop: %.1f), %d pixels changed\n",
+              platinum, nitinol, changed);
 }
 
 TEST_F(FluoroRenderTest, BadInputsAreOneLineAndABlackImage) {

@@ -103,18 +103,19 @@ printf '0 inject 6 at 50\n' >"$work/bad_rate.actions"
 expect 2 "$cb" session run --case "$cases/neuro.case" --script "$work/bad_rate.actions" --record "$work/bad.cbxrec"
 [ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "bad_rate.actions:1: inject: rate must be in (0, 30\] mL/s" "$work/out" ||
   fail "bad rate: $(cat "$work/out")"
-# Coiling: the bundled case's own script deploys and detaches its coil; the record replays it
-# (coil tool, shape and the detach_coil control) and its metrics carry the coiling figures.
+# Coiling: the bundled case's own script deploys and detaches its two coils (the second loaded
+# with load_coil); the record replays them (coil tool, shape, next coil and the detach_coil and
+# load_coil controls) and its metrics carry the coiling figures.
 rec="$work/coiling.cbxrec"
 expect 0 "$cb" session run --case "$cases/neuro_coiling.case" --script "$cases/neuro_coiling.actions" --record "$rec"
 grep -q "coil of the coil detached" "$work/out" || fail "coiling: no detach: $(tail -5 "$work/out")"
 grep -q "^packing density" "$work/out" || fail "coiling: no packing density line"
 expect 0 "$cb" session metrics "$rec" --json
 shape session-metrics
-jq -e '.coil_length_mm >= 59 and .packing_density_pct > 1 and .packing_density_pct < 2 and .target_reached' \
+jq -e '.coil_length_mm >= 99 and .packing_density_pct > 2 and .packing_density_pct < 3 and .target_reached' \
   "$work/out" >/dev/null || fail "coiling metrics: $(cat "$work/out")"
 expect 0 "$cb" session info "$rec" --json
-jq -e '.controls.detach_coil == 1 and .tools[3].kind == "coil"' "$work/out" >/dev/null || fail "coiling info: $(cat "$work/out")"
+jq -e '.controls.detach_coil == 2 and .controls.load_coil == 1 and .tools[3].kind == "coil"' "$work/out" >/dev/null || fail "coiling info: $(cat "$work/out")"
 
 # The same record replayed twice gives the same CSV log, byte for byte.
 rec="$work/y_bifurcation.cbxrec"

@@ -88,6 +88,44 @@ TEST(ActionScript, DetachActsOnTheSelectedCoil) {
             "d.actions:1: detach: takes no arguments (it releases the selected tool's coil)");
 }
 
+// `load_coil` after a `detach` gives the selected coil tool its next coil: the player reports
+// it and starts that tool's insertion and rotation again from 0 (the new pusher at the hub),
+// clamped to the next coil's limit. Refused before anything runs: on a tool without coils, with
+// no further coil listed, before the present coil's detach; arguments refused by the parser.
+TEST(ActionScript, LoadCoilFeedsTheNextCoilFromTheHub) {
+  const ScriptParse s = parse_script("0 select coil\n0 insert_to 50 at 1000\n100 detach\n200 load_coil\n200 insert_to 900 at 1000\n",
+                                     "l.actions");
+  ASSERT_TRUE(s) << s.error().message;
+  ASSERT_EQ(s->actions[3].kind, ActionKind::kLoadCoil);
+  ScriptPlayer::ToolInfo coil{"coil", 2000.0, true, false, {700.0}};
+  const std::vector<ScriptPlayer::ToolInfo> tools{{"micro", 100.0, false}, coil};
+  std::string error;
+  std::optional<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "l.actions", error);
+  ASSERT_TRUE(player) << error;
+  for (std::int64_t ms = 0; ms < 200; ++ms) EXPECT_FALSE(player->advance(ms).load_coil);
+  EXPECT_EQ(player->insertion_mm(1), 50.0);
+  const ScriptPlayer::Step step = player->advance(200);
+  ASSERT_TRUE(step.load_coil);
+  EXPECT_EQ(*step.load_coil, 1u);
+  EXPECT_EQ(step.load_coil_line, 4u);
+  EXPECT_EQ(player->insertion_mm(1), 1.0) << "from 0 at the hub, one millisecond at 1000 mm/s";
+  for (std::int64_t ms = 201; ms < 2000; ++ms) player->advance(ms);
+  EXPECT_EQ(player->insertion_mm(1), 700.0) << "clamped to the next coil's limit";
+  // Refusals, each one line naming the script line.
+  const auto refused = [&](const char* text, std::vector<ScriptPlayer::ToolInfo> with) {
+    const ScriptParse p = parse_script(text, "l.actions");
+    EXPECT_TRUE(p) << p.error().message;
+    EXPECT_FALSE(ScriptPlayer::make(*p, with, 0, "l.actions", error));
+    return error;
+  };
+  EXPECT_EQ(refused("0 select micro\n5 load_coil\n", tools), "l.actions:2: load_coil: 'micro' carries no coil");
+  EXPECT_EQ(refused("0 select coil\n5 load_coil\n", tools), "l.actions:2: load_coil: the coil of 'coil' is not detached yet");
+  EXPECT_EQ(refused("0 select coil\n5 detach\n6 load_coil\n7 detach\n8 load_coil\n", tools),
+            "l.actions:5: load_coil: 'coil' has no further coil (the case lists 1 after the first)");
+  EXPECT_EQ(parse_script("0 load_coil 2\n", "l.actions").error().message,
+            "l.actions:1: load_coil: takes no arguments (it loads the selected coil tool's next coil)");
+}
+
 TEST_P(ActionScriptErrors, NameFileAndLine) {
   const ScriptParse p = parse_script(GetParam().text, "s.actions");
   ASSERT_FALSE(p);
@@ -97,7 +135,7 @@ TEST_P(ActionScriptErrors, NameFileAndLine) {
 INSTANTIATE_TEST_SUITE_P(
     Bad, ActionScriptErrors,
     ::testing::Values(
-        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach inflate deflate)"},
+        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate)"},
         BadScript{"0 fluoro maybe\n", "s.actions:1: fluoro: expected 'on' or 'off'"},
         BadScript{"0 roadmap now\n", "s.actions:1: roadmap: expected nothing, 'on' or 'off'"},
         BadScript{"0 inject 0\n", "s.actions:1: inject: volume must be in (0, 100] mL"},

@@ -192,6 +192,21 @@ INSTANTIATE_TEST_SUITE_P(
                 "x.case:2: coil 'k' needs 'detach MM' shorter than the tool"},
         BadCase{"vessel a.hclm\ntool k coil\n section 40 od=0.25 ei=0.02 gj=0.02\n detach 400\n",
                 "x.case:4: detach: coil length must be in (0, 300] mm"},
+        BadCase{"vessel a.hclm\ntool w guidewire\n section 40 od=0.25 ei=0.02 gj=0.02\n next_coil 10 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n",
+                "x.case:4: next_coil is for coil tools"},
+        BadCase{"vessel a.hclm\ntool k coil\n section 100 od=0.3 ei=1 gj=1\n section 40 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n detach 40\n"
+                " next_coil 400 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n",
+                "x.case:6: next_coil: coil length must be in (0, 300] mm"},
+        BadCase{"vessel a.hclm\ntool k coil\n section 100 od=0.3 ei=1 gj=1\n section 40 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n detach 40\n"
+                " next_coil 30 od=0.25 ei=0.02 gj=0.02\n",
+                "x.case:6: next_coil: shape= and loop= are required"},
+        BadCase{"vessel a.hclm\ntool k coil\n section 100 od=0.3 ei=1 gj=1\n section 40 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n detach 40\n"
+                " next_coil 30 od=0.25 ei=0.02 shape=helix loop=4\n",
+                "x.case:6: next_coil: od=, ei= and gj= are required"},
+        BadCase{"vessel a.hclm\ntool m catheter\n section 300 od=0.7 ei=2 gj=1.6\n inner_diameter 0.45\nend\ntool k coil\n section 100 od=0.3 ei=1 gj=1\n"
+                " section 40 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n detach 40\n next_coil 30 od=0.5 ei=0.02 gj=0.02 shape=helix loop=4\n"
+                " inside m\nend\n",
+                "x.case:6: tool 'k' (od 0.500000 mm) does not fit in 'm'"},
         BadCase{"name\n", "x.case:1: name: missing value"},
         BadCase{"", "x.case:0: no vessel: give 'vessel FILE' or 'tube' lines"},
         BadCase{"vessel a.hclm\nflow\n",

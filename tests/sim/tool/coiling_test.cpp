@@ -4,6 +4,7 @@
 // the triaxial stack of cases/neuro_coiling.case reaches the aneurysm neck by its action file
 // and deploys and detaches the coil; a second coil packs against the first in the bundled sac.
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <string>
 #include <string_view>
@@ -299,6 +300,24 @@ void expect_packed_apart(const Simulator& sim, const WorstOverlap& overlap) {
                                     << overlap.at_mm << " mm of the second coil";
 }
 
+// Every node of every released coil on the sac's side of the neck plane (less its radius) and
+// in the lumen (out by no more than 10 % of its radius).
+void expect_in_the_sac(const Simulator& sim, const AneurysmSac& sac, const WallModel& wall_model) {
+  const double r = 0.5 * kCoilOd;
+  double shallowest = 1e9, outside = -1e9;
+  for (std::size_t k = 0; k < sim.detached_count(); ++k) {
+    for (const glm::dvec3& p : sim.detached(k).positions()) {
+      ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
+      shallowest = std::min(shallowest, sac.depth_mm(p));
+      WallHint hint;
+      WallContact wall;
+      if (wall_model.probe(WallProbe{p, r}, hint, wall)) outside = std::max(outside, r - wall.distance_mm);
+    }
+  }
+  EXPECT_GT(shallowest, -r) << "a coil node is " << -shallowest << " mm past the neck plane, in the M1";
+  EXPECT_LT(outside, 0.1 * r) << "a coil node is out of the lumen by " << outside << " mm";
+}
+
 // Later coils pack against earlier ones: two 40 mm coils (4 mm loops) through the same
 // microcatheter; the first is pushed out, detached and its pusher drawn back, then the second is
 // pushed out against it. The second stays in the sphere (no node more than 10 % of its radius
@@ -344,7 +363,12 @@ TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
 
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
 // run` drives it: from the guide in the right ICA the microcatheter reaches the neck of the
-// right MCA aneurysm over the microwire, the coil deploys into the sac and is detached there.
+// right MCA aneurysm over the microwire, the framing coil deploys into the sac and is detached
+// there; `load_coil` then feeds the case's next coil (40 mm, 4 mm loops) into the same
+// microcatheter on a new pusher, and it packs against the first: every node of both in the sac
+// (none past the neck plane, none out of the lumen by more than 10 % of its radius), no
+// herniation, the coils touching without crossing, overlap <= 10 % of the coil diameter at
+// every step of the second coil, the packing density the sum of both coils' volumes.
 TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   CaseParse c = load_case(dir + "neuro_coiling.case");
@@ -371,6 +395,8 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   ASSERT_EQ(sim.outer_of(coil), micro);
   EXPECT_EQ(c->tools[coil].sections.back().shape, CoilShape::kHelix);
   EXPECT_EQ(c->tools[coil].sections.back().loop_diameter_mm, 5.0);
+  ASSERT_EQ(c->tools[coil].next_coils.size(), 1u);
+  const double second_mm = c->tools[coil].next_coils[0].length_mm;
   std::vector<ScriptPlayer::ToolInfo> infos;
   for (const ToolSpec& t : c->tools) infos.push_back(tool_info(t));
   std::string error;
@@ -380,6 +406,7 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   double micro_best_depth = -1e9;
   std::optional<double> depth_at_deploy;
   bool detached = false;
+  WorstOverlap second_overlap;  // while the second coil is out
   for (std::int64_t now = 0; now < 200'000; ++now) {
     const ScriptPlayer::Step step = player->advance(now);
     if (step.selected) sim.select(*step.selected);
@@ -387,6 +414,9 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
     if (step.detach) {
       ASSERT_EQ(sim.detach(*step.detach), DeviceError::kNone) << "at " << now << " ms";
       detached = true;
+    }
+    if (step.load_coil) {
+      ASSERT_EQ(sim.load_next_coil(*step.load_coil), DeviceError::kNone) << "at " << now << " ms";
     }
     for (std::size_t t = 0; t < sim.tool_count(); ++t) {
       sim.set_insertion(t, player->insertion_mm(t));
@@ -399,6 +429,12 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
       micro_best_depth = std::max(micro_best_depth, sac.depth_mm(tip));
     }
     if (!depth_at_deploy && metrics.figures().deployed_mm > 0.0) depth_at_deploy = sac.depth_mm(tip);
+    if (sim.coils_loaded(coil) == 1) {
+      const RodContactField::Overlap o = sim.worst_coil_overlap();
+      if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > second_overlap.fraction) {
+        second_overlap = {o.depth_mm / o.diameter_mm, metrics.figures().deployed_mm - c->tools[coil].detach_mm};
+      }
+    }
     if (player->settled(now, 100)) break;
   }
   // The microcatheter's tip came to the neck (within half a millimetre of its plane, or past it).
@@ -406,10 +442,20 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   ASSERT_TRUE(depth_at_deploy);
   EXPECT_GT(*depth_at_deploy, -0.5);
   EXPECT_TRUE(detached);
-  EXPECT_EQ(sim.detached_count(), 1u);
-  EXPECT_NEAR(metrics.figures().deployed_mm, c->tools[coil].detach_mm, 0.5);
-  EXPECT_GT(metrics.figures().packing_density, 0.0);
+  EXPECT_EQ(sim.coils_loaded(coil), 1u);
+  ASSERT_EQ(sim.detached_count(), 2u);
+  const double total = c->tools[coil].detach_mm + second_mm;
+  EXPECT_NEAR(metrics.figures().deployed_mm, total, 0.6);
+  // Packing density: the sum of both coils' analytic volumes over the sac.
+  EXPECT_NEAR(metrics.figures().packing_density, 0.25 * std::acos(-1.0) * kCoilOd * kCoilOd * total / sac.volume_mm3, 1e-3);
   EXPECT_EQ(metrics.figures().herniations, 0);
+  EXPECT_LT(metrics.figures().kick_back_mm, 2.0);
+  expect_in_the_sac(sim, sac, (*world)->wall());
+  expect_packed_apart(sim, second_overlap);
+  std::printf("two coils: %.1f mm deployed, packing %.2f %% of %.1f mm3, %d herniations, kick-back %.2f mm, "
+              "second coil's deepest overlap %.1f %% of the diameter\n",
+              metrics.figures().deployed_mm, 100.0 * metrics.figures().packing_density, sac.volume_mm3,
+              metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction);
 }
 
 // Later coils pack against earlier ones in the bundled sac (the bundled coiling case holds 4
@@ -460,19 +506,7 @@ end
   ASSERT_EQ(sim.detach(kSecond), DeviceError::kNone);
   drive(sim, kSecond, 0.0, 0.04, &metrics);
   ASSERT_EQ(sim.detached_count(), 2u);
-  const double r = 0.5 * kCoilOd;
-  double shallowest = 1e9, outside = -1e9;
-  for (std::size_t k = 0; k < 2; ++k) {
-    for (const glm::dvec3& p : sim.detached(k).positions()) {
-      ASSERT_TRUE(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z));
-      shallowest = std::min(shallowest, sac.depth_mm(p));
-      WallHint hint;
-      WallContact wall;
-      if ((*world)->wall().probe(WallProbe{p, r}, hint, wall)) outside = std::max(outside, r - wall.distance_mm);
-    }
-  }
-  EXPECT_GT(shallowest, -r) << "a coil node is " << -shallowest << " mm past the neck plane, in the M1";
-  EXPECT_LT(outside, 0.1 * r) << "a coil node is out of the lumen by " << outside << " mm";
+  expect_in_the_sac(sim, sac, (*world)->wall());
   EXPECT_EQ(metrics.figures().herniations, 0);
   EXPECT_LT(metrics.figures().kick_back_mm, 2.0);
   EXPECT_NEAR(metrics.figures().deployed_mm, 100.0, 0.6);

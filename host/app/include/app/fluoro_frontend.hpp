@@ -2,7 +2,8 @@
 // Fills FluoroInputs for the trainer's fluoroscopic view from the session's SceneSnapshot. With
 // the session's fluoroscopy unit (SceneSnapshot::fluoro, every case with a vessel network): its
 // C-arm pose, FluoroImage (pulse shown, hold, run and mask, roadmap) and the per-cell iodine it
-// captured at those pulses, the tools as they were at the shown pulse (mask and roadmap scenes
+// captured at those pulses, the tools and the released coils (platinum, SceneSnapshot::coils) as
+// they were at the shown pulse (mask and roadmap scenes
 // carry no tools: subtraction removes what did not move). Without it (analytic tubes):
 // continuous fluoroscopy at the settings' pulse rate in the settings' pose, no contrast.
 #include "app/fluoro_inputs.hpp"

@@ -37,6 +37,7 @@ struct SceneColors {
   static constexpr glm::vec3 kVessel{0.85F, 0.22F, 0.20F};
   static constexpr glm::vec3 kActiveTool{0.25F, 0.95F, 0.40F};
   static constexpr glm::vec3 kOtherTool{0.30F, 0.60F, 0.95F};
+  static constexpr glm::vec3 kReleasedCoil{0.85F, 0.80F, 0.70F};  // platinum
   static constexpr glm::vec3 kTarget{1.00F, 0.85F, 0.10F};
   static constexpr glm::vec3 kContact{1.00F, 0.45F, 0.00F};
 };
@@ -68,8 +69,8 @@ class SceneRenderer {
 
   // Clears the whole framebuffer to the background colour.
   void clear(int framebuffer_width, int framebuffer_height) const;
-  // Rebuilds the tool tubes and the wall-contact markers from the snapshot (once per frame,
-  // before the views).
+  // Rebuilds the tool tubes, the released coils' and the wall-contact markers from the snapshot
+  // (once per frame, before the views).
   void update_tools(const SceneSnapshot& snapshot, const RenderSettings& settings);
   void render_global(const Viewport& viewport, int framebuffer_height, const glm::mat4& view,
                      const glm::mat4& projection, const RenderSettings& settings);
@@ -113,8 +114,9 @@ class SceneRenderer {
     GpuMesh local;
     glm::vec3 color{1.0F};
   };
-  std::array<ToolDraw, SceneSnapshot::kMaxTools> tools_;
-  int tool_count_ = 0;
+  // The tools, then the released coils (SceneSnapshot::coils).
+  std::array<ToolDraw, SceneSnapshot::kMaxTools + SceneSnapshot::kMaxCoils> tools_;
+  int tool_count_ = 0;  // tools and coils drawn
   TubeMesh tube_;
 };
 

@@ -44,6 +44,7 @@ enum class ControlKind : std::uint16_t {
   kRoadmap = 37,       // u8 1 capture, 0 clear
   kDetachCoil = 64,  // payload: u8 index of the coil tool whose coil is released
   kBalloon = 65,     // payload: u8 tool index, u8 BalloonOp, f64 value (atm or ml; 0 for deflate)
+  kLoadCoil = 66,    // payload: u8 index of the coil tool that takes its next coil (old pusher out)
 };
 
 // What a kBalloon control asks of the inflation device.
@@ -52,9 +53,9 @@ enum class BalloonOp : std::uint8_t { kInflatePressure = 0, kInflateVolume = 1, 
 // True for the kinds this build knows how to replay.
 [[nodiscard]] bool known_control_kind(std::uint16_t kind);
 // A known kind's name ("select_tool", "fluoro_pedal", "inject", "carm_angles", "carm_geometry",
-// "pulse_rate", "roadmap", "detach_coil", "balloon"), null for others.
+// "pulse_rate", "roadmap", "detach_coil", "balloon", "load_coil"), null for others.
 [[nodiscard]] const char* control_kind_name(std::uint16_t kind);
-// The known kinds as text, for errors: "16, 32-37, 64-65".
+// The known kinds as text, for errors: "16, 32-37, 64-66".
 [[nodiscard]] const char* known_control_kinds();
 
 struct Control {
@@ -69,6 +70,7 @@ struct Control {
   [[nodiscard]] static Control select_tool(std::size_t tool);
   [[nodiscard]] static Control select_next_tool();
   [[nodiscard]] static Control detach_coil(std::size_t tool);
+  [[nodiscard]] static Control load_coil(std::size_t tool);
   [[nodiscard]] static Control balloon(std::size_t tool, BalloonOp op, double value);
 };
 

@@ -86,6 +86,8 @@ class FluoroUnit final : public ControlHandler {
   bool have_shown_ = false;
   std::array<std::vector<glm::vec3>, kMaxTools> pulse_nodes_;
   int pulse_tool_count_ = 0;
+  std::array<std::vector<glm::vec3>, kMaxReleasedCoils> pulse_coil_nodes_;  // released coils
+  int pulse_coil_count_ = 0;
   std::int64_t inputs_version_ = 0;
 };
 

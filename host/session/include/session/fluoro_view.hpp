@@ -47,6 +47,9 @@ struct FluoroView {
   // The tools as they were at image.pulse, proximal to distal (the live ones are SceneSnapshot::tools).
   std::array<std::vector<glm::vec3>, kMaxTools> pulse_tool_nodes_mm;
   int pulse_tool_count = 0;
+  // The released coils at image.pulse (the live ones are SceneSnapshot::coils).
+  std::array<std::vector<glm::vec3>, kMaxReleasedCoils> pulse_coil_nodes_mm;
+  int pulse_coil_count = 0;
 
   // Capacity so that publishing never allocates.
   void reserve(std::size_t cells, std::size_t nodes_per_tool) {
@@ -55,6 +58,7 @@ struct FluoroView {
     roadmap_iodine_mgI_ml.reserve(cells);
     roadmap_mask_iodine_mgI_ml.reserve(cells);
     for (std::vector<glm::vec3>& t : pulse_tool_nodes_mm) t.reserve(nodes_per_tool);
+    for (std::vector<glm::vec3>& c : pulse_coil_nodes_mm) c.reserve(nodes_per_tool);
   }
 };
 

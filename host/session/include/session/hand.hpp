@@ -24,6 +24,9 @@ struct Control;
 
 // A case has at most 4 tools (sim/tool/README.md).
 inline constexpr std::size_t kMaxTools = 4;
+// Released coils a scene snapshot carries (drawn in the 3D view and the fluoroscopy); coils
+// released beyond these are simulated but not drawn.
+inline constexpr std::size_t kMaxReleasedCoils = 16;
 
 // One tool's commanded position at the entry.
 struct ToolCommand {

@@ -81,6 +81,8 @@ struct MetricsTick {
   std::int64_t time_us = 0;
   std::size_t held = 0;                // the tool in the hand
   bool tool_changed = false;           // the trainee took it at this tick
+  bool tool_replaced = false;          // a new device on the held tool (a coil loaded at the hub):
+                                       // its insertion and tip start afresh, not travel or speed
   double held_insertion_mm = 0.0;      // its commanded insertion
   glm::vec3 tip_mm{0.0F};              // its tip
   std::int32_t tip_segment = -1;       // vessel segment id holding the tip (-1 none, -2 junction)

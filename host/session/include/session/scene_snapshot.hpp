@@ -27,13 +27,18 @@ struct ContactView {
 
 struct SceneSnapshot {
   static constexpr int kMaxTools = static_cast<int>(session::kMaxTools);
+  static constexpr int kMaxCoils = static_cast<int>(session::kMaxReleasedCoils);
   static constexpr std::size_t kMaxContacts = 64;
 
   std::int64_t sim_time_us = 0;
   std::int64_t tick = 0;              // ticks run so far
   std::size_t held_tool = 0;
   std::array<ToolView, kMaxTools> tools;
-  int tool_count = 0;
+  int tool_count = 0;                 // the case's tools (the simulator's, in case order)
+  // The coils released so far (sim::tool's Snapshot lists them after the tools), in the order
+  // they were detached: platinum, drawn in the 3D view and in the fluoroscopy.
+  std::array<ToolView, kMaxCoils> coils;
+  int coil_count = 0;
   glm::vec3 tip_mm{0.0F};
   glm::vec3 tip_direction{1.0F, 0.0F, 0.0F};
   glm::vec3 tip_up{0.0F, 0.0F, 1.0F};
@@ -53,11 +58,15 @@ struct SceneSnapshot {
   std::uint64_t wall_generation = 0;
   FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 
-  // Lets the vectors hold `nodes_per_tool` nodes per tool without allocating.
+  // Lets the vectors hold `nodes_per_tool` nodes per tool and per coil without allocating.
   void reserve(std::size_t nodes_per_tool) {
     for (ToolView& t : tools) {
       t.nodes_mm.reserve(nodes_per_tool);
       t.frames.reserve(nodes_per_tool);
+    }
+    for (ToolView& c : coils) {
+      c.nodes_mm.reserve(nodes_per_tool);
+      c.frames.reserve(nodes_per_tool);
     }
     contacts.reserve(kMaxContacts);
   }

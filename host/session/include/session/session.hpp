@@ -133,6 +133,7 @@ class Session {
   class Sink;
   class SelectTool;
   class DetachCoil;
+  class LoadCoil;
   class BalloonControl;
   bool tick();
   void apply(Control control);
@@ -166,12 +167,14 @@ class Session {
   bool every_law_ = false;  // the hand feels every tool's law (a box per tool), not only the held one's
   std::unique_ptr<FluoroUnit> fluoro_;
   std::unique_ptr<DetachCoil> detach_coil_;
+  std::unique_ptr<LoadCoil> load_coil_;
   std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac
   std::unique_ptr<BalloonControl> balloon_control_;
   std::unique_ptr<Sink> sink_;
   std::array<Control, 64> applied_{};
   std::size_t applied_count_ = 0;
   bool tool_changed_ = false;
+  bool coil_loaded_ = false;  // a load_coil applied at this tick (metrics: the held tool replaced)
   int rupture_events_ = 0;  // rupture-risk events logged so far
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;

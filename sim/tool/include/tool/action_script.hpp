@@ -17,6 +17,8 @@
 //   7000       inflate    6 atm                # balloon: the inflation device to 6 atm (or `0.4 ml`)
 //   12000      deflate                       # balloon: vacuum
 //   13000      detach                        # coil: release the selected coil tool's coil
+//   13100      load_coil                     # coil: withdraw the released coil's pusher and feed
+//                                            # the tool's next coil (the case's next_coil) at the hub
 //
 // Times are milliseconds of virtual time, non-decreasing. A motion moves the value towards
 // its target at the given speed; a new motion of the same tool and axis replaces the old one.
@@ -41,6 +43,7 @@ enum class ActionKind : std::uint8_t {
   kInflatePressure,  // value atm, the selected tool's balloon
   kInflateVolume,    // value mL
   kDeflate,
+  kLoadCoil,  // the selected coil tool's next coil, on a new pusher at the hub (insertion 0)
 };
 
 // True for the balloon verbs (inflate, deflate).

@@ -21,6 +21,8 @@
 //     inner_diameter MM                     # catheters
 //     inside NAME                           # coaxial: the catheter this tool runs in (any depth)
 //     detach MM                             # coils: the detachable coil's length at the tip
+//     next_coil LENGTH od=MM ei=N.mm2 gj=N.mm2 shape=helix|complex loop=MM
+//                                           # coils: the next coils (load_coil), in order, <= 15
 //     spacing MAX_MM TIP_MM [TIP_ZONE_MM]
 //     drag MN_S_PER_MM2                     # default: blood's (flow viscosity), from physics
 //     valve_friction MN

@@ -58,6 +58,7 @@ class CoilMetrics {
     bool deploying = false;     // its coil has begun to leave the catheter
     double ref_depth_mm = 0.0;  // the catheter tip's depth in the sac then ...
     double ref_insertion_mm = 0.0;  // ... and the catheter's insertion
+    std::size_t load = 0;       // the coil on the tool (Simulator::coils_loaded): a new one deploys afresh
   };
   [[nodiscard]] int herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm) const;
 

@@ -24,12 +24,17 @@ class ScriptPlayer {
     double max_insertion_mm = 0.0;
     bool coil = false;     // carries a detachable coil (a `detach` may select it)
     bool balloon = false;  // carries a balloon (inflate / deflate may act on it)
+    // Coil tools: the largest insertion with each next coil loaded (`load_coil`), in order.
+    std::vector<double> next_coil_max_insertion_mm{};
   };
 
   // Checks that every tool the script selects exists, that every `detach` finds a coil and
   // every inflate / deflate a balloon on the tool selected then; on failure returns null with
   // one line in `error`: "file:line: select: the case has no tool 'x' (tools: a b)",
-  // "file:line: detach: 'x' carries no coil" or "file:line: inflate: tool 'x' has no balloon".
+  // "file:line: detach: 'x' carries no coil" or "file:line: inflate: tool 'x' has no balloon";
+  // and that every `load_coil` finds a next coil on the selected tool and comes after a
+  // `detach` of its present coil ("file:line: load_coil: 'x' has no further coil (the case
+  // lists 1 after the first)", "file:line: load_coil: the coil of 'x' is not detached yet").
   [[nodiscard]] static std::optional<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
                                                         std::size_t selected, const std::string& script_name,
                                                         std::string& error);
@@ -49,6 +54,9 @@ class ScriptPlayer {
                                           // imaging verbs are its owner's to act on)
     std::optional<std::size_t> detach;    // a `detach` of this tool's coil is due
     std::size_t detach_line = 0;          // ... from this script line
+    std::optional<std::size_t> load_coil; // a `load_coil` of this tool is due (its insertion and
+                                          // rotation here are 0 from this step on)
+    std::size_t load_coil_line = 0;
     std::array<DeviceAction, kMaxDeviceActions> devices{};
     std::size_t device_count = 0;
   };
@@ -74,6 +82,8 @@ class ScriptPlayer {
   std::vector<Action> actions_;
   std::vector<std::string> names_;
   std::vector<double> max_insertion_mm_;
+  std::vector<std::vector<double>> next_max_insertion_mm_;  // per tool, per next coil
+  std::vector<std::size_t> loaded_;                         // next coils loaded per tool
   std::vector<Motion> insert_, rotate_;
   std::vector<double> insertion_, rotation_;
   std::size_t next_ = 0;

@@ -45,6 +45,8 @@ enum class DeviceError : std::uint8_t {
   kCoilInCatheter,    // detach while the detachment zone is still inside the catheter
   kNotABalloon,       // inflate/deflate on a tool without a balloon
   kOutOfRange,        // pressure or volume outside what the balloon takes
+  kCoilAttached,      // load_next_coil while the loaded coil is not released yet
+  kNoNextCoil,        // load_next_coil on a coil tool whose case lists no further coil
 };
 [[nodiscard]] const char* device_error_text(DeviceError e);
 
@@ -101,8 +103,14 @@ class Simulator {
   [[nodiscard]] DeviceError detach(std::size_t tool);
   [[nodiscard]] std::size_t detached_count() const { return detached_.size(); }
   [[nodiscard]] const Rod& detached(std::size_t i) const { return detached_[i]; }
-  // Length of coil released from `tool` so far (0 before detach).
+  // Length of coil released from `tool` (its present coil) so far (0 before detach).
   [[nodiscard]] double released_mm(std::size_t tool) const { return removed_mm_[tool]; }
+  // After detach: the old pusher is withdrawn and the tool's next coil (ToolSpec::next_coils,
+  // in order) is fed into the catheter's hub on a new pusher: the tool becomes that coil on its
+  // pusher at insertion 0 and rotation 0. Allocates (a new rod): an event, not every tick.
+  [[nodiscard]] DeviceError load_next_coil(std::size_t tool);
+  // Coils loaded after the first on `tool` so far.
+  [[nodiscard]] std::size_t coils_loaded(std::size_t tool) const { return loaded_[tool]; }
   // Deepest overlap between coil loops (and coils and the microcatheter tip), last step.
   [[nodiscard]] RodContactField::Overlap worst_coil_overlap() const { return contacts_.worst_overlap(); }
   // The rod-rod contact field (its candidate-list builds, for benches).
@@ -135,6 +143,7 @@ class Simulator {
   [[nodiscard]] glm::dvec3 path_point(std::size_t tool, double depth_mm) const;
   void fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const;
   void update_balloons(double dt_s);
+  void apply_coil_settings(std::size_t coil);
 
   const WallModel* wall_;
   Entry entry_;
@@ -157,6 +166,8 @@ class Simulator {
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
   std::vector<Rod> detached_;
+  std::vector<ToolSpec> specs_;        // the tools as the case gives them (next coils included)
+  std::vector<std::size_t> loaded_;    // next coils loaded per tool
   RodContactField contacts_;
   std::vector<RodContactField::Member> members_;  // scratch
   std::size_t active_ = 0;

@@ -65,6 +65,10 @@ struct ToolSpec {
   double tip_zone_mm = 10.0;
   std::string inside;                      // name of the catheter this one runs in, or ""
   double detach_mm = 0.0;                  // coils: length of the detachable coil at the tip
+  // Coils: the coils loaded after the first, in order, each on a new pusher like the first
+  // (the sections proximal of the first coil's detach_mm): one section each (length = the coil's
+  // length, its primary wind and secondary shape). Simulator::load_next_coil takes the next.
+  std::vector<ToolSection> next_coils;
   BalloonSpec balloon;                     // balloon catheters
 
   // The drag coefficient (mN.s/mm2) at a station of this outer radius.
@@ -76,9 +80,11 @@ struct ToolSpec {
     for (const ToolSection& s : sections) total += s.length_mm;
     return total;
   }
+  // The widest section, next coils included (what must fit the catheter around the tool).
   [[nodiscard]] double max_outer_diameter_mm() const {
     double od = 0.0;
     for (const ToolSection& s : sections) od = od > s.outer_diameter_mm ? od : s.outer_diameter_mm;
+    for (const ToolSection& s : next_coils) od = od > s.outer_diameter_mm ? od : s.outer_diameter_mm;
     return od;
   }
 };
@@ -115,6 +121,14 @@ struct ToolLimits {
   static constexpr double kMinAxialStiffness_N = 10.0;
   static constexpr double kMaxAxialStiffness_N = 1e6;
 };
+
+// Coils a coil tool may carry: the first and at most 15 loaded after it (`next_coil`).
+inline constexpr std::size_t kMaxNextCoils = 15;
+
+// The coil tool `spec` with its next coil `next` (spec.next_coils[next]) at its tip: the
+// pusher (the sections proximal of the first coil's detach_mm) carrying that coil, its
+// detach_mm the coil's length, the tip zone grown or shrunk with it; no further next coils.
+[[nodiscard]] ToolSpec with_next_coil(const ToolSpec& spec, std::size_t next);
 
 // True when following `inside` from tools[i] comes back to it (or never ends).
 [[nodiscard]] bool nesting_cycle(std::span<const ToolSpec> tools, std::size_t i);

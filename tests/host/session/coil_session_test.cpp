@@ -1,0 +1,133 @@
+// A released coil in the session's scene snapshot: after `detach` the coil leaves the coil
+// tool's nodes and SceneSnapshot::coils carries it, node for node where the simulator has it
+// (the trainer draws it from there in the 3D view and the fluoroscopy); `load_coil` then feeds
+// the case's next coil; the record (its header with the next coil, the detach_coil and
+// load_coil controls) replays with every state hash matching. A small analytic case (a 6.4 mm sphere on a 2 mm
+// artery, microcatheter and a 20 mm coil), in virtual time.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "session/record_reader.hpp"
+#include "session/replay.hpp"
+#include "session/session.hpp"
+#include "session_fixtures.hpp"
+
+namespace cathbox::session {
+namespace {
+
+constexpr const char* kCase = R"(cathbox-case 1
+name a coil in a free sphere
+tube 0  0 0 -5 1   0 0 20 1
+tube 1  0 0 20 3.2  0 0 20.001 3.2
+entry 0 0 -3  0 0 1
+aneurysm 0 0 20 3.2  0 0 16.96
+tool microcatheter catheter
+  section 1500 od=0.7 ei=2 gj=1.6
+  friction 0.1
+  inner_diameter 0.45
+  spacing 1 0.5 10
+end
+tool coil coil
+  section 1800 od=0.33 ei=10 gj=8
+  section 20 od=0.25 ei=0.02 gj=0.016 shape=helix loop=4
+  friction 0.05
+  detach 20
+  next_coil 15 od=0.25 ei=0.02 gj=0.016 shape=helix loop=3
+  inside microcatheter
+  spacing 1 0.5 22
+end
+)";
+
+// The microcatheter's tip 1 mm into the sphere, the coil pushed out until its detachment zone
+// is 1.5 mm past the tip, released at 2400 ms, the pusher drawn back; at 3000 ms the next coil
+// (15 mm) is loaded at the hub and pushed 10 mm into the catheters.
+constexpr const char* kScript = R"(0     select microcatheter
+0     insert_to 21 at 20
+0     select coil
+0     insert_to 20.5 at 20
+1200  insert_to 42.5 at 20
+2400  detach
+2500  insert_to 15 at 40
+3000  load_coil
+3000  insert_to 10 at 40
+3400  end
+)";
+
+std::unique_ptr<SessionCase> sphere_case() {
+  const std::string path = fixtures::temp_path("coil_session_test", "coil_in_sphere.case");
+  std::ofstream(path) << kCase;
+  SessionCaseLoad loaded = load_session_case(path);
+  EXPECT_TRUE(loaded.value) << loaded.error;
+  return std::move(loaded.value);
+}
+
+TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulatorHasIt) {
+  std::unique_ptr<SessionCase> scene = sphere_case();
+  ASSERT_TRUE(scene);
+  std::unique_ptr<Hand> hand = fixtures::script_hand(*scene, kScript);
+  ASSERT_TRUE(hand);
+  const std::string record = fixtures::temp_path("coil_session_test", "coil.cbxrec");
+  std::string error;
+  {
+    Session s(std::move(scene), std::move(hand));
+    ASSERT_TRUE(s.record_to(record, error)) << error;
+    // Before the release: two tools, no coil.
+    s.step_virtual(2400);
+    ASSERT_TRUE(s.snapshots().acquire());
+    EXPECT_EQ(s.snapshots().read_slot().tool_count, 2);
+    EXPECT_EQ(s.snapshots().read_slot().coil_count, 0);
+    ASSERT_EQ(s.simulator().detached_count(), 0u);
+    // The release and the pusher drawn back.
+    s.step_virtual(400);
+    ASSERT_EQ(s.simulator().detached_count(), 1u);
+    ASSERT_TRUE(s.snapshots().acquire());
+    const SceneSnapshot& snap = s.snapshots().read_slot();
+    EXPECT_EQ(snap.tool_count, 2) << "the released coil is not one of the tools";
+    ASSERT_EQ(snap.coil_count, 1);
+    const tool::Rod& coil = s.simulator().detached(0);
+    const ToolView& view = snap.coils[0];
+    ASSERT_EQ(view.nodes_mm.size(), coil.positions().size());
+    EXPECT_GT(view.nodes_mm.size(), 30u);  // 20 mm at 0.5 mm
+    double worst = 0.0;
+    for (std::size_t k = 0; k < view.nodes_mm.size(); ++k) {
+      worst = std::max(worst, static_cast<double>(glm::length(glm::dvec3(view.nodes_mm[k]) - coil.positions()[k])));
+    }
+    EXPECT_LT(worst, 1e-4) << "a snapshot node is " << worst << " mm from the simulator's";
+    EXPECT_NEAR(view.radius_mm, 0.125F, 1e-6F);
+    EXPECT_FALSE(view.active);
+    // Every node in the sphere: the coil stayed where it was released.
+    for (const glm::vec3& p : view.nodes_mm) EXPECT_LT(glm::length(p - glm::vec3(0, 0, 20)), 3.2F);
+    // The pusher (the coil tool) no longer carries the coil: its tip is back in the catheter.
+    EXPECT_LT(snap.tools[1].nodes_mm.back().z, 13.0F);
+    while (!s.over()) s.step_virtual(1000);
+    EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
+    EXPECT_EQ(s.simulator().coils_loaded(1), 1u);
+    EXPECT_EQ(s.simulator().rod(1).spec().detach_mm, 15.0) << "the tool carries the next coil";
+    EXPECT_NEAR(s.simulator().insertion_mm(1), 10.0, 1e-9) << "pushed from the hub";
+  }  // the record is closed
+  auto reader = RecordReader::open(record, error);
+  ASSERT_TRUE(reader) << error;
+  ASSERT_EQ(reader->header().tools.size(), 2u);
+  ASSERT_EQ(reader->header().tools[1].next_coils.size(), 1u) << "the next coil is in the record's header";
+  EXPECT_EQ(reader->header().tools[1].next_coils[0].length_mm, 15.0);
+  EXPECT_EQ(reader->header().tools[1].next_coils[0].loop_diameter_mm, 3.0);
+  int detaches = 0, loads = 0;
+  TickRecord t;
+  while (reader->next(t)) {
+    for (std::size_t i = 0; i < t.control_count; ++i) {
+      detaches += t.controls[i].kind == static_cast<std::uint16_t>(ControlKind::kDetachCoil) ? 1 : 0;
+      loads += t.controls[i].kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil) ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(detaches, 1);
+  EXPECT_EQ(loads, 1);
+  const ReplayResult r = replay_record(record);
+  ASSERT_TRUE(r.error.empty()) << r.error;
+  EXPECT_FALSE(r.mismatch);
+  EXPECT_GT(r.hashes_checked, 10);
+}
+
+}  // namespace
+}  // namespace cathbox::session
