@@ -693,7 +693,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     // often ends its step before its contacts settle; its clamp takes the last Newton step
     // whole instead (the free part at the linearised equilibrium: g_p - K_pf K_ff^-1 g_f), so
     // the residual of its stiff axial springs and of the final projections stays out of the hand.
-    bool whole = obstacles != nullptr;
+    bool whole = obstacles != nullptr || settings_.linearised_clamp;
     for (std::size_t i = free0; whole && i < dofs; ++i) whole = std::isfinite(delta_[i]);
     for (std::size_t k = first_free_; k < n; ++k) {
       const std::size_t d = 3 * (k - first_);

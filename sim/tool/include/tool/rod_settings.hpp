@@ -23,6 +23,11 @@ struct RodSettings {
   // that step (the solve and the wall clamp), instead of from the advected positions alone. The
   // equilibrium sought is the same; a tool still moving is met nearer it. 0 turns it off.
   double warm_start = 0.5;
+  // Read the clamp force at the linearised equilibrium of the last Newton step (its whole
+  // step) rather than at the final positions. Always so for a rod among other rods; a coil tool
+  // sets it for its whole life, since its stiff axial springs read 1 um of residual as newtons
+  // (its pusher too, once the coil is released and it leaves the contact field).
+  bool linearised_clamp = false;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
