@@ -49,15 +49,18 @@ InputActions InputController::handle(GLFWwindow* w, const TrainerUi& ui, const S
     if (down(GLFW_KEY_DOWN) || down(GLFW_KEY_S)) insert -= 10.0 * fast;
     if (down(GLFW_KEY_LEFT) || down(GLFW_KEY_A)) twist += 1.5 * fast;
     if (down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D)) twist -= 1.5 * fast;
-    const bool tab = down(GLFW_KEY_TAB);
-    act.switch_tool = tab && !tab_down_;
-    tab_down_ = tab;
-    const bool f = down(GLFW_KEY_F);
-    if (f && !f_down_) settings.wireframe = !settings.wireframe;
-    f_down_ = f;
-    const bool c = down(GLFW_KEY_C);
-    act.frame_camera = c && !c_down_;
-    c_down_ = c;
+    // A key's press, once (not while it is held).
+    auto pressed = [&](int key, bool& was_down) {
+      const bool now = down(key);
+      const bool edge = now && !was_down;
+      was_down = now;
+      return edge;
+    };
+    act.switch_tool = pressed(GLFW_KEY_TAB, tab_down_);
+    if (pressed(GLFW_KEY_F, f_down_)) settings.wireframe = !settings.wireframe;
+    act.frame_camera = pressed(GLFW_KEY_C, c_down_);
+    act.detach_coil = pressed(GLFW_KEY_K, k_down_);
+    act.load_coil = pressed(GLFW_KEY_L, l_down_);
     act.fluoro = {down(GLFW_KEY_SPACE), down(GLFW_KEY_I),           down(GLFW_KEY_R),     down(GLFW_KEY_X),
                   down(GLFW_KEY_LEFT_BRACKET), down(GLFW_KEY_RIGHT_BRACKET), down(GLFW_KEY_MINUS), down(GLFW_KEY_EQUAL)};
     if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);

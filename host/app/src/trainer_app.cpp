@@ -366,6 +366,9 @@ int TrainerApp::run_window() {
     // What the trainee asked for (the session may be replaced: nothing of `s` is used after).
     if (live_ && act.end_run) live_->end_run();
     if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
+    // The session refuses (and logs why) a detach or load on a tool that carries no coil.
+    if (live_ && input.detach_coil) (void)live_->post(session::Control::detach_coil(live_->held_tool()));
+    if (live_ && input.load_coil) (void)live_->post(session::Control::load_coil(live_->held_tool()));
     if (live_) {
       for (const session::Control& c : carm_act.controls) (void)live_->post(c);
       const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says

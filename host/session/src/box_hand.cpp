@@ -121,6 +121,10 @@ void BoxHand::hold(std::size_t tool, const ToolCommand& at) {
   if (!tool_) mapping_.hold(tool, at);  // a bound box keeps its tool whichever one is held
 }
 
+void BoxHand::restart(std::size_t tool, const ToolCommand& at) {
+  if (tool_.value_or(mapping_.held()) == tool) mapping_.hold(tool, at);
+}
+
 void BoxHand::read(std::int64_t, TickInput& in) {
   const bool fresh = client_->poll(state_);
   const cbx_state_report& s = state_.report;

@@ -18,6 +18,7 @@ const char* hand_kind_name(HandKind kind) {
 std::optional<DeviceRecord> Hand::device() const { return std::nullopt; }
 void Hand::controls(std::int64_t, ControlSink&) {}
 void Hand::hold(std::size_t, const ToolCommand&) {}
+void Hand::restart(std::size_t, const ToolCommand&) {}
 void Hand::feel(const HandFeedback&) {}
 void Hand::release() {}
 bool Hand::finished() const { return false; }

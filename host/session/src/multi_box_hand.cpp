@@ -110,6 +110,10 @@ void MultiBoxHand::hold(std::size_t tool, const ToolCommand& at) {
   for (Bound& b : boxes_) b.box->hold(tool, at);
 }
 
+void MultiBoxHand::restart(std::size_t tool, const ToolCommand& at) {
+  for (Bound& b : boxes_) b.box->restart(tool, at);
+}
+
 void MultiBoxHand::read(std::int64_t tick, TickInput& input) {
   BoxStatus all{true, true, 0};
   for (Bound& b : boxes_) {

@@ -89,11 +89,22 @@ class Session::LoadCoil final : public ControlHandler {
     const tool::DeviceError e = ctx.sim.load_next_coil(c.payload[0]);
     if (e != tool::DeviceError::kNone) {
       s_.log("load_coil refused: %s", tool::device_error_text(e));
+      if (ctx.hand.kind() == HandKind::kActionScript) {
+        // The script has already moved on to the next coil: its motions would drive the coil
+        // still attached from the hub (a pull of its whole length in one tick).
+        s_.log("the script's next coil is not loaded: run ended");
+        s_.end_run();
+      }
       return false;
     }
     const std::size_t t = c.payload[0];
-    if (t < kMaxTools) s_.input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(ctx.sim.max_insertion_mm(t) * 1e3));
-    s_.coil_loaded_ = true;
+    if (t < kMaxTools) {
+      s_.input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(ctx.sim.max_insertion_mm(t) * 1e3));
+      // The new pusher starts at the hub: every hand driving this tool carries on from 0.
+      s_.input_.tools[t] = ToolCommand{};
+      ctx.hand.restart(t, s_.input_.tools[t]);
+    }
+    s_.coil_loaded_ = t == ctx.sim.active_tool();  // the held tool's samples start again
     s_.log("next coil loaded on the %s", s_.tool_names_[t].c_str());
     return true;
   }

@@ -434,9 +434,9 @@ class CaseParser {
       return error_at(line, "coil '" + t.name + "' needs 'detach MM' shorter than the tool");
     }
     for (std::size_t k = 0; k < t.next_coils.size(); ++k) {
-      const ToolSpec next = with_next_coil(t, k);
-      if (next.tip_zone_mm / next.tip_spacing_mm + next.length_mm() / next.max_spacing_mm > kMaxNodes) {
-        return error_at(line, "tool '" + t.name + "' with its next coil " + std::to_string(k + 1) + " needs more than 6000 nodes");
+      // As a record's reader will check it: the tool each next coil makes once loaded.
+      if (std::string e = tool::check_tool(with_next_coil(t, k)); !e.empty()) {
+        return error_at(line, "with its next coil " + std::to_string(k + 1) + ": " + e);
       }
     }
     return true;

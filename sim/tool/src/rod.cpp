@@ -705,6 +705,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     matrix_->multiply_add(work_.data(), grad_.data(), 0, free0, free0, dofs);
   } else {
     hand_force_mN_ = 0.0;
+    warm_ok_ = false;  // all in the catheter: its last solved motion is no guide when it comes out
   }
   update_frames();
   solve_twist(dt_s);

@@ -85,6 +85,7 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (start_.size() < buckets + 1) start_.assign(buckets + 1, 0);
   if (grid_.capacity() < items) grid_.reserve(items);
   if (listed_mid_.capacity() < items) listed_mid_.reserve(items);
+  if (listed_end_.capacity() < 2 * items) listed_end_.reserve(2 * items);
   if (pair_start_.capacity() < items + 1) pair_start_.reserve(items + 1);
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);

@@ -71,7 +71,12 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
     }
     if (step.load_coil) {
       const DeviceError e = sim.load_next_coil(*step.load_coil);
-      if (e != DeviceError::kNone) result.notes.push_back(located(options.script_name, step.load_coil_line, std::string("load_coil: ") + device_error_text(e)));
+      if (e != DeviceError::kNone) {
+        // The player has moved on to the next coil: its motions would pull the coil still
+        // attached back to the hub. The run ends here.
+        result.error = located(options.script_name, step.load_coil_line, std::string("load_coil: ") + device_error_text(e));
+        return result;
+      }
     }
     for (std::size_t i = 0; i < step.device_count; ++i) {
       if (std::string e = apply_device_action(sim, step.devices[i], options.script_name); !e.empty()) {

@@ -489,6 +489,8 @@ DeviceError Simulator::detach(std::size_t tool) {
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());
   detached_.push_back(std::move(coil));
+  // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
+  update_contact_members();
   return DeviceError::kNone;
 }
 
@@ -520,6 +522,7 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   coupling_set_[tool] = IndexRange{};
   if (extra_ei_.size() < rods_[tool].node_total()) extra_ei_.resize(rods_[tool].node_total(), 0.0);
   update_chain();
+  update_contact_members();  // the field listed the old pusher's nodes
   return DeviceError::kNone;
 }
 

@@ -9,6 +9,8 @@ namespace {
 bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 bool positive_up_to(double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; }
 
+}  // namespace
+
 std::string check_tool(const ToolSpec& t) {
   using L = ToolLimits;
   const std::string who = "tool '" + t.name + "': ";
@@ -59,7 +61,6 @@ std::string check_tool(const ToolSpec& t) {
   return {};
 }
 
-}  // namespace
 
 ToolSpec with_next_coil(const ToolSpec& spec, std::size_t next) {
   ToolSpec out = spec;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <string>
 
+#include "session/keyboard_hand.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
@@ -127,6 +128,42 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
   ASSERT_TRUE(r.error.empty()) << r.error;
   EXPECT_FALSE(r.mismatch);
   EXPECT_GT(r.hashes_checked, 10);
+}
+
+// By keyboard (as by a box): K and L post detach_coil and load_coil for the held tool. After a
+// load the new pusher starts at the hub and the hand carries on from there, wherever the key
+// presses (or the box's slider) had left it; a load before a detach is refused.
+TEST(CoilSession, AfterLoadCoilTheKeyboardHandCarriesOnFromTheHub) {
+  std::unique_ptr<SessionCase> scene = sphere_case();
+  ASSERT_TRUE(scene);
+  KeyboardInput keys;
+  Session s(std::move(scene), std::make_unique<KeyboardHand>(keys, 1e-3));
+  keys.set_speeds(20.0, 0.0);
+  s.step_virtual(1050);  // the microcatheter 21 mm in
+  ASSERT_TRUE(s.post(Control::select_tool(1)));
+  s.step_virtual(1);
+  ASSERT_EQ(s.held_tool(), 1u);
+  s.step_virtual(2125);  // the coil 42.5 mm in: its detachment zone past the tip
+  keys.set_speeds(0.0, 0.0);
+  ASSERT_TRUE(s.post(Control::load_coil(1)));
+  s.step_virtual(2);
+  EXPECT_EQ(s.simulator().coils_loaded(1), 0u) << "no load before the detach";
+  ASSERT_TRUE(s.post(Control::detach_coil(1)));
+  s.step_virtual(2);
+  ASSERT_EQ(s.simulator().detached_count(), 1u);
+  keys.set_speeds(-40.0, 0.0);
+  s.step_virtual(600);  // the pusher drawn back 24 mm
+  keys.set_speeds(0.0, 0.0);
+  s.step_virtual(1);
+  const double drawn_back = s.simulator().insertion_mm(1);
+  EXPECT_GT(drawn_back, 5.0) << "the hand is well away from the hub";
+  ASSERT_TRUE(s.post(Control::load_coil(1)));
+  s.step_virtual(5);
+  ASSERT_EQ(s.simulator().coils_loaded(1), 1u);
+  EXPECT_NEAR(s.simulator().insertion_mm(1), 0.0, 1e-9) << "the next coil stays at the hub, not at the hand's old place";
+  keys.set_speeds(20.0, 0.0);
+  s.step_virtual(500);
+  EXPECT_NEAR(s.simulator().insertion_mm(1), 10.0, 0.05);
 }
 
 }  // namespace

@@ -207,6 +207,11 @@ INSTANTIATE_TEST_SUITE_P(
                 " section 40 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n detach 40\n next_coil 30 od=0.5 ei=0.02 gj=0.02 shape=helix loop=4\n"
                 " inside m\nend\n",
                 "x.case:6: tool 'k' (od 0.500000 mm) does not fit in 'm'"},
+        // Each next coil as the tool it makes once loaded, as a record's reader checks it: the
+        // tip zone grows by the next coil's length past its 500 mm limit.
+        BadCase{"vessel a.hclm\ntool k coil\n section 600 od=0.3 ei=1 gj=1\n section 20 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\n"
+                " detach 20\n spacing 2 0.5 480\n next_coil 300 od=0.25 ei=0.02 gj=0.02 shape=helix loop=4\nend\n",
+                "x.case:2: with its next coil 1: tool 'k': tip zone must be in [0, 500] mm"},
         BadCase{"name\n", "x.case:1: name: missing value"},
         BadCase{"", "x.case:0: no vessel: give 'vessel FILE' or 'tube' lines"},
         BadCase{"vessel a.hclm\nflow\n",

@@ -457,7 +457,7 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   // After a detach the pusher alone (the coil's stiff axial springs, out of the rod-contact
   // field) reads its hand force at the linearised equilibrium: 1 um of residual read as
   // 3·10^5-1.6·10^6 mN before. Until it is drawn back the scripted pusher still presses on the
-  // packed coil, ~20-31 N (README, Limits): the bound catches the reading, not that.
+  // packed coil, 17-31 N (README, Limits): the bound catches the reading, not that.
   EXPECT_LT(pusher_peak_mN, 5.0e4);
   std::printf("pusher after detach: peak %.0f mN\n", pusher_peak_mN);
   std::printf("two coils: %.1f mm deployed, packing %.2f %% of %.1f mm3, %d herniations, kick-back %.2f mm, "

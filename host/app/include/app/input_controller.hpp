@@ -2,7 +2,8 @@
 // Mouse and keyboard in the trainer's window, once per frame: orbit / pan / zoom the global
 // view, double-click a vessel to orbit around it, F wireframe, C re-frame, Esc quit; and the
 // keyboard hand: Up/Down (W/S) push and pull at 10 mm/s, Left/Right (A/D) twist at 1.5 rad/s,
-// Shift x4, Tab takes the other tool; fluoroscopy: Space the pedal (held), I inject, R the
+// Shift x4, Tab takes the other tool; coils: K detaches the held coil tool's coil, L loads its
+// next coil at the hub (after a detach; the case's next_coil lines); fluoroscopy: Space the pedal (held), I inject, R the
 // roadmap, X clears it, [ / ] the C-arm 5 degrees towards RAO / LAO, - / = caudal / cranial
 // (session::FluoroSwitches turns them into controls).
 #include <functional>
@@ -25,6 +26,8 @@ class TrainerUi;
 struct InputActions {
   bool switch_tool = false;
   bool frame_camera = false;
+  bool detach_coil = false;  // K pressed
+  bool load_coil = false;    // L pressed
   session::FluoroKeys fluoro;  // the fluoroscopy keys held now
 };
 
@@ -45,6 +48,8 @@ class InputController {
   double last_click_s_ = -1.0;
   bool f_down_ = false;
   bool c_down_ = false;
+  bool k_down_ = false;
+  bool l_down_ = false;
 };
 
 }  // namespace cathbox::app

@@ -51,6 +51,7 @@ class BoxHand final : public Hand {
   [[nodiscard]] std::string describe() const override;
   [[nodiscard]] std::optional<DeviceRecord> device() const override;
   void hold(std::size_t tool, const ToolCommand& at) override;
+  void restart(std::size_t tool, const ToolCommand& at) override;
   void read(std::int64_t tick, TickInput& input) override;
   void feel(const HandFeedback& feedback) override;
   // A box bound to a tool renders that tool's law, held or not.

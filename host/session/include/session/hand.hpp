@@ -93,6 +93,10 @@ class Hand {
   // Haptic thread. The held tool changed (a select control): single-tool hands carry on from
   // where that tool is.
   virtual void hold(std::size_t tool, const ToolCommand& at);
+  // Haptic thread. `tool` starts again at `at` (a coil loaded at the hub, load_coil): a hand
+  // driving it carries on from there, wherever the trainee's hand physically is. Scripts and
+  // replays move it themselves.
+  virtual void restart(std::size_t tool, const ToolCommand& at);
   // Haptic thread: where the tools are at `tick`.
   virtual void read(std::int64_t tick, TickInput& input) = 0;
   // Haptic thread, after the step.

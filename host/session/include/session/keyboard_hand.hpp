@@ -17,6 +17,9 @@ class KeyboardHand final : public Hand {
   [[nodiscard]] HandKind kind() const override { return HandKind::kKeyboard; }
   [[nodiscard]] std::string describe() const override { return description_; }
   void hold(std::size_t tool, const ToolCommand& at) override { mapping_.hold(tool, at); }
+  void restart(std::size_t tool, const ToolCommand& at) override {
+    if (tool == mapping_.held()) mapping_.hold(tool, at);
+  }
   void read(std::int64_t tick, TickInput& input) override;
 
  private:

@@ -51,6 +51,7 @@ class MultiBoxHand final : public Hand {
   // The first box (the record's header holds one device; describe() names them all).
   [[nodiscard]] std::optional<DeviceRecord> device() const override;
   void hold(std::size_t tool, const ToolCommand& at) override;
+  void restart(std::size_t tool, const ToolCommand& at) override;
   void read(std::int64_t tick, TickInput& input) override;
   void feel(const HandFeedback& feedback) override;
   [[nodiscard]] bool feels_every_tool() const override { return true; }

@@ -38,7 +38,8 @@ struct ScenarioResult {
   std::string error;  // "file:line: message" for a script that does not fit the case
   std::uint64_t steps = 0;
   std::uint64_t rows = 0;
-  std::vector<std::string> notes;    // "file:line: detach: why it was refused" (the run goes on)
+  std::vector<std::string> notes;    // "file:line: detach: why it was refused" (the run goes on;
+                                     // a refused load_coil ends it with `error`)
   std::optional<CoilFigures> coils;  // with a sac and coil tools
   std::optional<AngioplastyFigures> angioplasty;  // with options.angioplasty
 };

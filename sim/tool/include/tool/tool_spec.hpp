@@ -137,6 +137,9 @@ inline constexpr std::size_t kMaxNextCoils = 15;
 // tools inside a known catheter they fit in): "" when fine, else one line naming the tool and
 // the value. For tools that did not come from a case file (a session record).
 [[nodiscard]] std::string check_tools(std::span<const ToolSpec> tools);
+// One tool's values (the first part of check_tools; a coil's next coils each as the tool it
+// becomes once loaded).
+[[nodiscard]] std::string check_tool(const ToolSpec& t);
 // Why a balloon does not fit the limits (empty when it does): working length (0, 100] mm within
 // the tool, distal end [0, 100] mm from the tip, nominal (0, 30] atm, rated burst in
 // [nominal, 30] atm, a chart of 1..16 points with increasing pressures in (0, 30] atm and
