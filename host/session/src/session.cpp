@@ -65,11 +65,7 @@ class Session::DetachCoil final : public ControlHandler {
   explicit DetachCoil(Session& s) : s_(s) {}
   bool apply(Control& c, ControlContext& ctx) override {
     if (c.size != 1) return false;
-    const tool::DeviceError e = ctx.sim.detach(c.payload[0]);
-    if (e != tool::DeviceError::kNone) {
-      s_.log("detach refused: %s", tool::device_error_text(e));
-      return false;
-    }
+    if (!s_.device_done(ctx.sim.detach(c.payload[0]), "detach")) return false;
     s_.log("coil of the %s detached", s_.tool_names_[c.payload[0]].c_str());
     return true;
   }
@@ -86,9 +82,7 @@ class Session::LoadCoil final : public ControlHandler {
   explicit LoadCoil(Session& s) : s_(s) {}
   bool apply(Control& c, ControlContext& ctx) override {
     if (c.size != 1) return false;
-    const tool::DeviceError e = ctx.sim.load_next_coil(c.payload[0]);
-    if (e != tool::DeviceError::kNone) {
-      s_.log("load_coil refused: %s", tool::device_error_text(e));
+    if (!s_.device_done(ctx.sim.load_next_coil(c.payload[0]), "load_coil")) {
       if (ctx.hand.kind() == HandKind::kActionScript) {
         // The script has already moved on to the next coil: its motions would drive the coil
         // still attached from the hub (a pull of its whole length in one tick).
@@ -99,7 +93,7 @@ class Session::LoadCoil final : public ControlHandler {
     }
     const std::size_t t = c.payload[0];
     if (t < kMaxTools) {
-      s_.input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(ctx.sim.max_insertion_mm(t) * 1e3));
+      s_.update_max_insertion(t);
       // The new pusher starts at the hub: every hand driving this tool carries on from 0.
       s_.input_.tools[t] = ToolCommand{};
       ctx.hand.restart(t, s_.input_.tools[t]);
@@ -166,9 +160,7 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   }
   sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
   input_.tool_count = std::min(tools.size(), kMaxTools);
-  for (std::size_t t = 0; t < input_.tool_count; ++t) {
-    input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(sim_->rod(t).max_insertion_mm() * 1e3));
-  }
+  for (std::size_t t = 0; t < input_.tool_count; ++t) update_max_insertion(t);
   if (options_.held_tool && *options_.held_tool < input_.tool_count) sim_->select(*options_.held_tool);
   input_.held = sim_->active_tool();
   held_.store(input_.held, std::memory_order_relaxed);
@@ -274,6 +266,16 @@ void Session::add_control_handler(std::uint16_t kind, ControlHandler& handler) {
 }
 
 void Session::add_observer(TickObserver& observer) { observers_.push_back(&observer); }
+
+bool Session::device_done(tool::DeviceError e, const char* verb) {
+  if (e == tool::DeviceError::kNone) return true;
+  log("%s refused: %s", verb, tool::device_error_text(e));
+  return false;
+}
+
+void Session::update_max_insertion(std::size_t t) {
+  input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(sim_->max_insertion_mm(t) * 1e3));
+}
 
 void Session::log(const char* fmt, ...) {
   char buf[112];

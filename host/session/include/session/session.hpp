@@ -142,6 +142,11 @@ class Session {
   [[nodiscard]] const HapticThread* active_thread() const;
   [[nodiscard]] std::int64_t clock_now_us();
   void log(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+  // A coil control the simulator refused is logged ("VERB refused: why"), not applied, not
+  // recorded: false. True when it was done.
+  bool device_done(tool::DeviceError e, const char* verb);
+  // The hand's clamp for tool t from the simulator (at case load and after a coil load).
+  void update_max_insertion(std::size_t t);
 
   std::unique_ptr<SessionCase> scene_;
   std::unique_ptr<Hand> hand_;
