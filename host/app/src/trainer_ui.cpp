@@ -112,6 +112,7 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapsh
       ImGui::SameLine();
       if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
       ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
+      if (status.held_coil) ImGui::TextDisabled("K: detach the coil, L: load the next coil");
     }
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
     ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");

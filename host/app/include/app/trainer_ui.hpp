@@ -24,6 +24,7 @@ struct UiStatus {
   std::string tool_name;   // the active tool
   bool replay = false;     // Replay mode: no case picker, no driving
   std::string record;      // the record being written (live) or played (replay)
+  bool held_coil = false;  // the held tool carries a detachable coil: the HUD names K and L
 };
 
 struct UiActions {
