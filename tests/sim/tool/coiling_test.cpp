@@ -3,6 +3,7 @@
 // analytic coil volume; no loop passes into another over 10^4 random push/pull/rotate steps;
 // the triaxial stack of cases/neuro_coiling.case reaches the aneurysm neck by its action file
 // and deploys and detaches the coil; a second coil packs against the first in the bundled sac.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -219,6 +220,33 @@ TEST_F(CoilInSphere, CandidateListGivesTheContactsOfAListBuiltAfresh) {
   // 10,000+ before it, with loops shrunk by the chord slide).
   EXPECT_GT(compared, 8000u);
   EXPECT_LT(field.list_builds() - builds0, static_cast<std::uint64_t>(kSteps / 2));
+}
+
+// A pair of a coil's own edges is tested once per gather: both sides hold the same plane (normals
+// exactly opposite, offsets summing to the two radii), not two planes that differ by rounding.
+TEST_F(CoilInSphere, TheTwoSidesOfASelfContactHoldOnePlane) {
+  drive(sim, kCoil, micro + 0.95 * kCoilLength, 0.02);
+  const Rod& coil = sim.rod(kCoil);
+  RodContactField::Member m;
+  m.rod = &coil;
+  m.edge_first = coil.first_edge();
+  m.edge_last = coil.node_total() - 1;
+  m.self = true;
+  RodContactField field(0.3);  // the coil alone: every contact is a self contact (a wide margin: many)
+  field.set_members(std::span<const RodContactField::Member>(&m, 1));
+  std::vector<EdgeContact> contacts;
+  field.gather(coil, contacts);
+  ASSERT_GT(contacts.size(), 20u);
+  ASSERT_EQ(contacts.size() % 2, 0u);
+  std::size_t paired = 0;
+  for (const EdgeContact& c : contacts) {
+    const double radius = 0.5 * (coil.node_radius_mm(c.edge) + coil.node_radius_mm(c.edge + 1));
+    paired += std::count_if(contacts.begin(), contacts.end(), [&](const EdgeContact& o) {
+      const double other = 0.5 * (coil.node_radius_mm(o.edge) + coil.node_radius_mm(o.edge + 1));
+      return o.normal == -c.normal && std::abs(o.offset_mm + c.offset_mm - (radius + other)) < 1e-12;
+    }) == 1;
+  }
+  EXPECT_EQ(paired, contacts.size());
 }
 
 // A 150 mm coil (5 mm helical loops, the bench's) pushed whole out of the microcatheter into the
