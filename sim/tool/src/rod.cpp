@@ -57,6 +57,25 @@ struct BlockAdder {
 
 double finite_or(double v, double fallback) { return std::isfinite(v) ? v : fallback; }
 
+// A point on the chord from b to c (inside the circle through a, b and c; a on either side of
+// b) moved out along the circle's radius onto it; false when the three are (nearly) in line.
+// The chord's point a fraction u along turns to the circle's point about a fraction u of the
+// arc along (the difference is of the order of the arc angle cubed): moving every node of a
+// circular polygon this way turns it rigidly, its edge lengths and turning angles kept.
+bool onto_arc(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& chord, glm::dvec3& out) {
+  const glm::dvec3 p = a - b;
+  const glm::dvec3 q = c - b;
+  const glm::dvec3 w = glm::cross(p, q);
+  const double w2 = glm::dot(w, w);
+  if (!(w2 > 1e-12 * glm::dot(p, p) * glm::dot(q, q))) return false;
+  const glm::dvec3 centre = b + glm::cross(glm::dot(p, p) * q - glm::dot(q, q) * p, w) / (2.0 * w2);
+  const glm::dvec3 r = chord - centre;
+  const double len = glm::length(r);
+  if (!(len > 0.0)) return false;
+  out = centre + r * (glm::length(b - centre) / len);
+  return true;
+}
+
 }  // namespace
 
 struct Rod::NodeContact {
@@ -356,8 +375,17 @@ void Rod::advect(double delta_mm) {
     } else {
       while (j + 2 < n && from_tip_[j + 1] > s) ++j;
       while (j > first_ && from_tip_[j] < s) --j;
-      const double u = (from_tip_[j] - s) / rest_[j];
-      x_pred_[k] = x_[j] + (x_[j + 1] - x_[j]) * std::clamp(u, 0.0, 1.0);
+      const double u = std::clamp((from_tip_[j] - s) / rest_[j], 0.0, 1.0);
+      x_pred_[k] = x_[j] + (x_[j + 1] - x_[j]) * u;
+      // A coil's loops: along the circles through the neighbours instead of the chord (the
+      // mean of the circles before and after the edge), so the slide keeps edge lengths.
+      glm::dvec3 before, after;
+      const glm::dvec3 chord = x_pred_[k];
+      const bool has_before = settings_.arc_predictor && j > first_ && onto_arc(x_[j - 1], x_[j], x_[j + 1], chord, before);
+      const bool has_after = settings_.arc_predictor && j + 2 < n && onto_arc(x_[j + 2], x_[j + 1], x_[j], chord, after);
+      if (has_before && has_after) x_pred_[k] = 0.5 * (before + after);
+      else if (has_before) x_pred_[k] = before;
+      else if (has_after) x_pred_[k] = after;
     }
   }
   for (std::size_t k = new_kp + 1; k < n; ++k) x_[k] = x_pred_[k];

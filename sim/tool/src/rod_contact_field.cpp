@@ -199,12 +199,17 @@ void RodContactField::build_list() const {
   // Item k receives its lower partners (while they are filled, in rising order) before its own
   // higher ones: each list comes out sorted.
   pairs_.resize(pair_start_[n]);
+  mirror_.resize(pair_start_[n]);
   next_.assign(pair_start_.begin(), pair_start_.end() - 1);
   for (const auto& [i, j] : halves_) {
+    mirror_[next_[i]] = next_[j];
+    mirror_[next_[j]] = next_[i];
     pairs_[next_[i]++] = j;
     pairs_[next_[j]++] = i;
   }
   last_gap_.assign(pairs_.size(), LastGap{});
+  lower_side_.assign(pairs_.size(), LowerSide{});
+  gathers_ = 0;
   list_valid_ = true;
 }
 
@@ -243,12 +248,33 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
   while (mi < members_.size() && members_[mi].rod != &rod) ++mi;
   if (mi == members_.size()) return;
   if (!update_mids()) build_list();
+  if (++gathers_ == 0) {
+    for (LowerSide& side : lower_side_) side.stamp = 0;
+    gathers_ = 1;
+  }
   const Member& me = members_[mi];
   const std::span<const glm::dvec3> x = rod.positions();
   for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
     const std::size_t e = a.edge;
     const std::size_t f = b.edge;
     const double rr = a.radius + b.radius;
+    // Two edges of this rod: the pair passed the same cull from its lower edge earlier in this
+    // gather (the cull is symmetric), whose test gives this side too.
+    const bool self = other.rod == &rod;
+    const bool upper = self && &b < &a;
+    if (upper && lower_side_[mirror_[slot]].stamp == gathers_) {
+      const LowerSide& lower = lower_side_[mirror_[slot]];
+      if (lower.contact == kNoContact) return;
+      EdgeContact c;
+      c.edge = static_cast<std::uint32_t>(e);
+      c.s = lower.t;
+      c.normal = -out[lower.contact].normal;
+      c.offset_mm = rr - out[lower.contact].offset_mm;  // the same plane through the gap's middle
+      out.push_back(c);
+      return;
+    }
+    LowerSide* side = self && !upper ? &lower_side_[slot] : nullptr;
+    if (side != nullptr) *side = LowerSide{gathers_, kNoContact, 0.0};
     // Two segments whose ends moved by at most m and n come no closer than their distance
     // less m + n: a pair that was far enough apart when last tested and has not moved enough
     // since (both measured from the listed positions) cannot be in reach; the segment test
@@ -268,6 +294,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     last.gap_mm = d;
     last.drift_mm = a.drift + b.drift;
     if (d >= rr + margin_) return;
+    if (side != nullptr) side->contact = static_cast<std::uint32_t>(out.size()), side->t = t;
     EdgeContact c;
     c.edge = static_cast<std::uint32_t>(e);
     c.s = s;

@@ -104,6 +104,7 @@ void Simulator::apply_coil_settings(std::size_t i) {
   rods_[i].settings().max_node_step_mm = std::min(rods_[i].settings().max_node_step_mm, kRodContactStep_mm);
   rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
   rods_[i].settings().linearised_clamp = true;
+  rods_[i].settings().arc_predictor = true;
   if (outer_of_[i] < rods_.size()) {
     RodSettings& s = rods_[outer_of_[i]].settings();
     s.max_node_step_mm = std::min(s.max_node_step_mm, kRodContactStep_mm);

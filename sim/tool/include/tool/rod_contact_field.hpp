@@ -9,7 +9,9 @@
 // listed, and the list serves every gather until an edge's middle has moved half the skin
 // from where it was listed or the members change. A gather then tests only the listed pairs,
 // and skips the segment test of a pair whose last tested distance, less what the ends of both
-// edges have moved since, keeps it out of reach. The contacts are those of a fresh search.
+// edges have moved since, keeps it out of reach. The two sides of a contact of a rod with
+// itself come from one segment test (from its lower edge): one plane, normals opposite. The
+// contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
 #include <cstdint>
 #include <span>
@@ -97,6 +99,18 @@ class RodContactField final : public RodObstacles {
     double drift_mm = 0.0;
   };
   mutable std::vector<LastGap> last_gap_;
+  // Per slot: the slot of the same pair in the other item's list, and, for a pair of one rod's
+  // edges, what the gather stamped `stamp` found from the lower edge (the contact it made in
+  // the output, or none, and the closest point's parameter on the higher edge).
+  static constexpr std::uint32_t kNoContact = 0xffffffffu;
+  struct LowerSide {
+    std::uint32_t stamp = 0;
+    std::uint32_t contact = kNoContact;
+    double t = 0.0;
+  };
+  mutable std::vector<std::uint32_t> mirror_;
+  mutable std::vector<LowerSide> lower_side_;
+  mutable std::uint32_t gathers_ = 0;
   mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> halves_;  // a build's pairs, lower item first
   mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).

@@ -28,6 +28,10 @@ struct RodSettings {
   // sets it for its whole life, since its stiff axial springs read 1 um of residual as newtons
   // (its pusher too, once the coil is released and it leaves the contact field).
   bool linearised_clamp = false;
+  // The follow-the-leader predictor slides nodes along circular arcs through their neighbours
+  // instead of along the chords between them (coils: a chord slide shortens every edge of a
+  // loop, which the stiff axial springs then push back out in the solve).
+  bool arc_predictor = false;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
