@@ -14,9 +14,12 @@
 //            own loops and the catheter's tip (issue 16: median <= 400 us).
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -126,6 +129,40 @@ World make_world() {
   return w;
 }
 
+// One wall probe as a rod made it: which node (its hint), where, and in which step.
+struct ProbeRecord {
+  std::uint32_t node;
+  std::uint32_t step;
+  WallProbe probe;
+};
+
+// Counts the wall probes the rods make (the mesh wall's closest-point and contact queries),
+// passing each to the wall it wraps; keeps them when given a record.
+class CountingWall final : public WallModel {
+ public:
+  explicit CountingWall(const WallModel& inner) : inner_(inner) {}
+  [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return inner_.surface(); }
+  [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override {
+    ++probes_;
+    if (record_ != nullptr) {
+      const auto [it, fresh] = nodes_.try_emplace(&hint, static_cast<std::uint32_t>(nodes_.size()));
+      record_->push_back({it->second, step_, probe});
+    }
+    return inner_.probe(probe, hint, out);
+  }
+  [[nodiscard]] std::uint64_t probes() const { return probes_; }
+  void record(std::vector<ProbeRecord>* out) { record_ = out; }
+  void next_step() { ++step_; }
+  [[nodiscard]] std::size_t nodes() const { return nodes_.size(); }
+
+ private:
+  const WallModel& inner_;
+  mutable std::uint64_t probes_ = 0;
+  std::vector<ProbeRecord>* record_ = nullptr;
+  mutable std::map<const WallHint*, std::uint32_t> nodes_;  // each probed node's hint
+  std::uint32_t step_ = 0;
+};
+
 double thread_cpu_us() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -158,6 +195,15 @@ class StepTimes {
     faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
     rods_ = sim.tool_count();
     for (std::size_t t = 0; t < rods_; ++t) its_.push_back(sim.rod(t).last_iterations());
+    if (wall_probes_ != nullptr) {
+      probes_.push_back(static_cast<double>(wall_probes_->probes() - probes_seen_));
+      probes_seen_ = wall_probes_->probes();
+    }
+  }
+  // Keep the wall probes each step makes (`probes`, and `tail_probes` over the tail steps).
+  void count_probes(const CountingWall& wall) {
+    wall_probes_ = &wall;
+    probes_seen_ = wall.probes();
   }
   [[nodiscard]] double last_wall_us() const { return wall_.back(); }
   [[nodiscard]] std::size_t count() const { return wall_.size(); }
@@ -198,6 +244,15 @@ class StepTimes {
       state.counters["its_" + names[t]] = all / static_cast<double>(cpu_.size());
       state.counters["tail_its_" + names[t]] = tail / tail_n;
     }
+    if (probes_.size() == cpu_.size()) {
+      double all = 0.0, tail = 0.0;
+      for (std::size_t k = 0; k < cpu_.size(); ++k) {
+        all += probes_[k];
+        if (cpu_[k] >= p99) tail += probes_[k];
+      }
+      state.counters["probes"] = all / static_cast<double>(cpu_.size());
+      state.counters["tail_probes"] = tail / tail_n;
+    }
   }
   void report(benchmark::State& state) {
     state.counters["median_us"] = pick(wall_, 0.5);
@@ -211,6 +266,9 @@ class StepTimes {
   std::vector<int> its_;  // Newton iterations, rods_ per step
   std::vector<int> switches_, faults_;  // involuntary context switches and page faults per step
   std::size_t rods_ = 0;
+  const CountingWall* wall_probes_ = nullptr;
+  std::uint64_t probes_seen_ = 0;
+  std::vector<double> probes_;  // wall probes per step
 };
 
 // Insertion that puts `nodes` nodes of the tool past the entry.
@@ -299,10 +357,8 @@ void run(benchmark::State& state, bool coaxial) {
   state.SetLabel(world.name);
 }
 
-// Guide (150 inserted nodes) > microcatheter (200) > microwire (200) up the neuro path, then
-// the coaxial bench's push-pull and twist on the wire with the microcatheter breathing.
-void BM_StepTriaxial(benchmark::State& state) {
-  static World world = make_world();
+// The triaxial stack: guide catheter > microcatheter > microwire, straight tips, 1 mm spacing.
+std::vector<ToolSpec> triaxial_tools() {
   ToolSpec guide = default_catheter();
   guide.name = "guide";
   for (ToolSection& sec : guide.sections) sec.outer_diameter_mm = 2.0, sec.curve_deg = 0.0;
@@ -319,26 +375,52 @@ void BM_StepTriaxial(benchmark::State& state) {
   wire.sections.back().curve_deg = 0.0;
   wire.inside = "micro";
   guide.max_spacing_mm = micro.max_spacing_mm = wire.max_spacing_mm = 1.0;
-  const std::vector<ToolSpec> tools{guide, micro, wire};
-  Simulator sim(*world.wall, tools, world.entry);
-  const double targets[3] = {insertion_for_nodes(guide, 150), insertion_for_nodes(micro, 200), insertion_for_nodes(wire, 200)};
+  return {guide, micro, wire};
+}
+
+struct TriaxialTargets {
+  double insertion[3];
+};
+
+// Inserts the stack to 150 / 200 / 200 nodes, each tool spinning slowly on its way in.
+TriaxialTargets insert_triaxial(Simulator& sim, const std::vector<ToolSpec>& tools) {
+  const TriaxialTargets targets{{insertion_for_nodes(tools[0], 150), insertion_for_nodes(tools[1], 200),
+                                 insertion_for_nodes(tools[2], 200)}};
   for (std::size_t t = 0; t < 3; ++t) {
-    for (double s = t == 0 ? 0.0 : targets[t - 1] - 5.0; s < targets[t]; s += 0.05) {
-      sim.set_insertion(t, std::min(s + 0.05, targets[t]));
+    for (double s = t == 0 ? 0.0 : targets.insertion[t - 1] - 5.0; s < targets.insertion[t]; s += 0.05) {
+      sim.set_insertion(t, std::min(s + 0.05, targets.insertion[t]));
       sim.set_rotation(t, s * 0.2);
       sim.step();
     }
   }
+  return targets;
+}
+
+// The hand at step i: the coaxial bench's push-pull and twist on the wire, the microcatheter
+// breathing.
+void drive_triaxial(Simulator& sim, const TriaxialTargets& targets, std::uint64_t i) {
+  const double phase = static_cast<double>(i) * 1e-3;
+  sim.set_insertion(2, targets.insertion[2] + std::sin(phase * 2.0 * M_PI) * 1.0);
+  sim.set_rotation(2, targets.insertion[2] * 0.2 + std::sin(phase * 3.0) * 0.5);
+  sim.set_insertion(1, targets.insertion[1] + std::sin(phase * 1.3) * 0.5);
+}
+
+// Guide (150 inserted nodes) > microcatheter (200) > microwire (200) up the neuro path, then
+// the coaxial bench's push-pull and twist on the wire with the microcatheter breathing.
+void BM_StepTriaxial(benchmark::State& state) {
+  static World world = make_world();
+  const std::vector<ToolSpec> tools = triaxial_tools();
+  const CountingWall wall(*world.wall);
+  Simulator sim(wall, tools, world.entry);
+  const TriaxialTargets targets = insert_triaxial(sim, tools);
   StepTimes times(1 << 16);
+  times.count_probes(wall);
   std::uint64_t i = 0;
   double iterations = 0.0;
   std::uint64_t capped = 0;  // steps where a rod used every Newton iteration it may
   std::size_t solved = 0;
   for (auto _ : state) {
-    const double phase = static_cast<double>(i++) * 1e-3;
-    sim.set_insertion(2, targets[2] + std::sin(phase * 2.0 * M_PI) * 1.0);
-    sim.set_rotation(2, targets[2] * 0.2 + std::sin(phase * 3.0) * 0.5);
-    sim.set_insertion(1, targets[1] + std::sin(phase * 1.3) * 0.5);
+    drive_triaxial(sim, targets, i++);
     times.step(sim);
     bool hit_cap = false;
     for (std::size_t t = 0; t < 3; ++t) {
@@ -355,6 +437,95 @@ void BM_StepTriaxial(benchmark::State& state) {
   state.counters["solved_nodes"] = static_cast<double>(solved);
   state.counters["wire_depth_mm"] = sim.tip_depth_mm(2);
   state.SetLabel(world.name);
+}
+
+// The wall probes of the triaxial bench's steps, replayed on the neuro wall alone: 5000 steps
+// of BM_StepTriaxial's motion are recorded once (every probe's node, centre and radii), then
+// replayed on a fresh MeshWall (fresh hints), with fused probes (fused:1, the default: a node
+// that touched the wall gets one sphere query giving its contacts and closest point) or
+// without (fused:0: closest point, then sphere query). Per replayed step the thread CPU time of its
+// probes: median and p99 over the steps (`step_median_us`, `step_p99_us`), the mean per probe
+// and the probes of the tail steps: what the wall costs the triaxial step, without the solver.
+struct ProbeReplay {
+  std::vector<ProbeRecord> records;
+  std::size_t nodes = 0;
+  std::uint32_t steps = 0;
+  std::optional<cathbox::vessel::SurfaceMesh> mesh;
+};
+
+const ProbeReplay& triaxial_probes() {
+  static const ProbeReplay replay = [] {
+    ProbeReplay r;
+    const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
+    if (!c) return r;
+    WorldBuild built = build_world(*c);
+    if (!built || (*built)->mesh() == nullptr) return r;
+    r.mesh = *(*built)->mesh();
+    const std::vector<ToolSpec> tools = triaxial_tools();
+    CountingWall wall((*built)->wall());
+    Simulator sim(wall, tools, (*built)->entry());
+    const TriaxialTargets targets = insert_triaxial(sim, tools);
+    wall.record(&r.records);
+    for (std::uint64_t i = 0; i < 5000; ++i) {
+      drive_triaxial(sim, targets, i);
+      sim.step();
+      wall.next_step();
+    }
+    wall.record(nullptr);
+    r.nodes = wall.nodes();
+    r.steps = 5000;
+    for (ProbeRecord& p : r.records) p.step -= r.records.front().step;
+    return r;
+  }();
+  return replay;
+}
+
+void BM_WallReprobe(benchmark::State& state) {
+  const ProbeReplay& replay = triaxial_probes();
+  if (!replay.mesh || replay.records.empty()) {
+    state.SkipWithError("the neuro case did not load");
+    return;
+  }
+  cathbox::collision::TreeBuild tree = cathbox::collision::ObbTree::build(*replay.mesh);
+  if (!tree) {
+    state.SkipWithError(tree.error().message.c_str());
+    return;
+  }
+  MeshWall wall(std::move(*tree));
+  wall.set_fused_probes(state.range(0) != 0);
+  std::vector<WallHint> hints(replay.nodes);
+  std::vector<double> step_us;
+  std::vector<std::size_t> step_probes;
+  step_us.reserve(replay.steps * 8);
+  WallContact out;
+  for (auto _ : state) {
+    std::size_t k = 0;
+    while (k < replay.records.size()) {
+      const std::uint32_t step = replay.records[k].step;
+      const std::size_t first = k;
+      const double t0 = thread_cpu_us();
+      for (; k < replay.records.size() && replay.records[k].step == step; ++k) {
+        const ProbeRecord& r = replay.records[k];
+        benchmark::DoNotOptimize(wall.probe(r.probe, hints[r.node], out));
+      }
+      step_us.push_back(thread_cpu_us() - t0);
+      step_probes.push_back(k - first);
+    }
+  }
+  std::vector<double> sorted = step_us;
+  const double p99 = StepTimes::pick(sorted, 0.99);
+  double tail_probes = 0.0, tail_steps = 0.0, total_us = 0.0, total_probes = 0.0;
+  for (std::size_t i = 0; i < step_us.size(); ++i) {
+    total_us += step_us[i];
+    total_probes += static_cast<double>(step_probes[i]);
+    if (step_us[i] >= p99) tail_probes += static_cast<double>(step_probes[i]), tail_steps += 1.0;
+  }
+  state.counters["step_median_us"] = StepTimes::pick(sorted, 0.5);
+  state.counters["step_p99_us"] = p99;
+  state.counters["ns_per_probe"] = 1e3 * total_us / std::max(1.0, total_probes);
+  state.counters["probes_per_step"] = total_probes / static_cast<double>(std::max<std::size_t>(1, step_us.size()));
+  state.counters["tail_probes"] = tail_probes / std::max(1.0, tail_steps);
+  state.SetLabel(state.range(0) != 0 ? "fused probes" : "closest point, then sphere");
 }
 
 // A 150 mm coil at 0.5 mm spacing pushed at 20 mm/s (0.02 mm a step) out of a microcatheter
@@ -412,6 +583,7 @@ void BM_StepSeparate(benchmark::State& state) { run(state, false); }
 BENCHMARK(BM_StepCoaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_StepSeparate)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_StepTriaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
+BENCHMARK(BM_WallReprobe)->ArgName("fused")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3)->Repetitions(5);
 BENCHMARK(BM_StepCoilDeploy)->Unit(benchmark::kMicrosecond)->Iterations(7400);  // 148 mm of coil
 
 }  // namespace

@@ -75,6 +75,28 @@ glm::dvec3 pseudo_normal(const TreeData& d, std::int32_t face, detail::TriangleF
   return d.face_normals[f];
 }
 
+// The answer of a closest-point search whose nearest triangle is `face` (q on it, at squared
+// distance dsq from p); block_normal: the unit normal its leaf block stores (0 for slivers).
+ClosestPoint closest_from(const TreeData& d, const glm::dvec3& p, const detail::PointOnTriangle& q, double dsq,
+                          std::int32_t face, const glm::dvec3& block_normal, vessel::FaceRegion region) {
+  ClosestPoint out;
+  out.point_mm = q.point;
+  out.distance_mm = std::sqrt(dsq);
+  const double n_len = glm::length(block_normal);
+  out.normal = q.feature.kind == FeatureKind::kFace && n_len > 0.5 ? block_normal / n_len
+                                                                   : pseudo_normal(d, face, q.feature);
+  out.signed_distance_mm = glm::dot(p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
+  out.face = face;
+  out.region = region;
+  out.feature = q.feature.kind;
+  out.feature_index = q.feature.index;
+  return out;
+}
+
+glm::dvec3 block_normal(const detail::TriangleBlock& b, int lane) {
+  return glm::dvec3{b.row[detail::kRowN][lane], b.row[detail::kRowN + 1][lane], b.row[detail::kRowN + 2][lane]};
+}
+
 // ---- nearest triangle ------------------------------------------------------------------------
 
 // Nearest triangle in two stages: float brackets of every triangle met give a shrinking upper
@@ -101,8 +123,7 @@ struct Nearest {
       best_block = &b;
       face = b.face[lane];
       // The block's own unit normal serves a face-interior point (no lookup); slivers store 0.
-      best_face_normal = glm::dvec3{b.row[detail::kRowN][lane], b.row[detail::kRowN + 1][lane],
-                                    b.row[detail::kRowN + 2][lane]};
+      best_face_normal = block_normal(b, lane);
       exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
       thresh = std::min(thresh, exact_thresh);
     }
@@ -525,10 +546,12 @@ class ContactCollector {
  public:
   ContactCollector(const TreeData& data, double radius) : d_(data), radius_sq_(radius * radius), radius_(radius) {}
 
-  void add(const Candidate& c) {
+  // c was measured on lane `lane` of block b.
+  void add(const Candidate& c, const detail::TriangleBlock& b, int lane) {
     if (!(c.distance_sq < radius_sq_)) return;
     if (!has_deepest_ || c.distance_sq < deepest_.distance_sq) {
       deepest_ = c;
+      deepest_normal_ = block_normal(b, lane);
       has_deepest_ = true;
     }
     if (n_ < kMaxCandidates) {
@@ -536,6 +559,14 @@ class ContactCollector {
     } else {
       overflow_ = true;
     }
+  }
+
+  // The nearest wall point to the sphere centre (the nearest candidate: every triangle closer
+  // than the radius was offered), if any lies within the radius.
+  [[nodiscard]] std::optional<ClosestPoint> nearest() const {
+    if (!has_deepest_) return std::nullopt;
+    return closest_from(d_, deepest_.tool, {deepest_.wall, deepest_.feature}, deepest_.distance_sq, deepest_.face,
+                        deepest_normal_, deepest_.region);
   }
 
   std::size_t finish(std::span<Contact> out) {
@@ -606,6 +637,7 @@ class ContactCollector {
   int n_ = 0;
   bool overflow_ = false;
   Candidate deepest_;
+  glm::dvec3 deepest_normal_{0.0};  // its leaf block's unit normal (closest_from)
   bool has_deepest_ = false;
 };
 
@@ -626,7 +658,7 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, b.region});
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, b.region}, b, i);
     }
   }
 };
@@ -643,7 +675,7 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, blk.region});
+               q.on_triangle.feature, 0, blk.region}, blk, i);
     }
   }
 };
@@ -714,19 +746,7 @@ namespace {
 std::optional<ClosestPoint> finish_closest(const Nearest& s) {
   if (s.face < 0) return std::nullopt;
   // Only values are kept from the search: a refill may have rewritten the hint's blocks since.
-  const detail::PointOnTriangle& q = s.best_point;
-  ClosestPoint out;
-  out.point_mm = q.point;
-  out.distance_mm = std::sqrt(s.best_sq);
-  const double n_len = glm::length(s.best_face_normal);
-  out.normal = q.feature.kind == FeatureKind::kFace && n_len > 0.5 ? s.best_face_normal / n_len
-                                                                   : pseudo_normal(s.d, s.face, q.feature);
-  out.signed_distance_mm = glm::dot(s.p - q.point, out.normal) < 0.0 ? -out.distance_mm : out.distance_mm;
-  out.face = s.face;
-  out.region = s.best_block->region;
-  out.feature = q.feature.kind;
-  out.feature_index = q.feature.index;
-  return out;
+  return closest_from(s.d, s.p, s.best_point, s.best_sq, s.face, s.best_face_normal, s.best_block->region);
 }
 
 bool valid_max_distance(double m) { return !std::isnan(m) && m >= 0.0; }
@@ -807,6 +827,19 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
   probe_near(d, hint, centre_mm, radius_mm, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
+  return collector.finish(out);
+}
+
+std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
+                                     QueryHint& hint, std::optional<ClosestPoint>& nearest) const {
+  nearest.reset();
+  if (!finite(centre_mm) || !valid_radius(radius_mm) || out.empty()) return 0;
+  const TreeData& d = *data_;
+  ContactCollector collector(d, radius_mm);
+  const PointLanes lanes = lanes_of(centre_mm);
+  const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
+  probe_near(d, hint, centre_mm, radius_mm, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
+  nearest = collector.nearest();
   return collector.finish(out);
 }
 

@@ -8,7 +8,7 @@
 namespace cathbox::tool {
 
 MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_ptr<const WallSurface> surface)
-    : tree_(std::move(tree)), hints_(hint_slots), surface_(std::move(surface)) {}
+    : tree_(std::move(tree)), hints_(hint_slots), touching_(hint_slots, 0), surface_(std::move(surface)) {}
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
   const bool coherent = !hints_.empty();
@@ -17,11 +17,23 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
     hint.index = next_slot_;
     next_slot_ = (next_slot_ + 1) % static_cast<std::uint32_t>(hints_.size());
     hints_[hint.index].reset();
+    touching_[hint.index] = 0;
   }
   const double reach = probe.radius_mm + probe.range_mm;
   if (!(reach >= 0.0) || !std::isfinite(reach)) return false;
-  const std::optional<collision::ClosestPoint> cp =
-      coherent ? tree_.closest_point(probe.center_mm, reach, hints_[hint.index]) : tree_.closest_point(probe.center_mm, reach);
+  const double touch = probe.radius_mm + probe.margin_mm;
+  // A node that touched the wall at its last probe most likely still does: one sphere query
+  // within `touch` then gives both its contacts and its closest point (the nearest of the
+  // same candidates); when nothing is that close, the closest point is looked for as usual.
+  std::optional<collision::ClosestPoint> cp;
+  std::array<collision::Contact, 3> contacts;
+  std::size_t count = 0;
+  const bool fused = fused_ && coherent && touching_[hint.index] != 0 && touch <= reach;
+  if (fused) count = tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index], cp);
+  if (!cp) {
+    cp = coherent ? tree_.closest_point(probe.center_mm, reach, hints_[hint.index]) : tree_.closest_point(probe.center_mm, reach);
+  }
+  if (coherent) touching_[hint.index] = cp && cp->distance_mm < touch ? 1 : 0;
   if (!cp) return false;
   out.point_mm = cp->point_mm;
   // The direction between the centre and the closest point is the gradient of the distance:
@@ -36,11 +48,12 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   out.distance_mm = -cp->signed_distance_mm;
   // A node in a crease touches two faces; with one plane it would slip from one to the other.
   out.has_second = false;
-  const double touch = probe.radius_mm + probe.margin_mm;
   if (cp->distance_mm < touch || cp->signed_distance_mm > 0.0) {
-    std::array<collision::Contact, 3> contacts;
-    const std::size_t count = coherent ? tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index])
-                                       : tree_.sphere_contacts(probe.center_mm, touch, contacts);
+    // (After a fused query that found nothing within `touch`, there are no contacts either.)
+    if (!fused) {
+      count = coherent ? tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index])
+                       : tree_.sphere_contacts(probe.center_mm, touch, contacts);
+    }
     for (std::size_t i = 0; i < count; ++i) {
       const glm::dvec3 normal = -contacts[i].normal;
       if (glm::dot(normal, out.normal) < 0.995 && glm::dot(normal, out.normal) > -0.5) {

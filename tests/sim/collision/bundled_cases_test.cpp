@@ -2,6 +2,8 @@
 // points, signs, contacts and ray casts equal brute force over all triangles.
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <random>
 #include <set>
 #include <string>
@@ -125,6 +127,64 @@ TEST_P(BundledCaseTest, CoherentWalksEqualColdQueries) {
     refills += far_hint.refills() + probe_hint.refills() + sphere_hint.refills();
   }
   EXPECT_GT(hits, 4 * refills);
+}
+
+// The fused sphere query (contacts and the closest point in one pass) along walks of tool
+// nodes touching the wall (radius 0.2-1 mm, steps of 0.002-0.4 mm): its closest point equals the
+// cold closest_point's (distance, sign, point, pseudo-normal) whenever the wall is closer than
+// the radius and is empty otherwise, and its contacts equal the two-query answer's.
+TEST_P(BundledCaseTest, FusedSphereQueryGivesTheClosestPointAndTheContacts) {
+  std::mt19937 rng(91);
+  std::uniform_real_distribution<double> small(0.002, 0.05);
+  std::uniform_real_distribution<double> lurch(0.05, 0.4);
+  std::uniform_real_distribution<double> radius_of(0.2, 1.0);
+  std::uniform_int_distribution<int> every(0, 9);
+  int found = 0, empty = 0;
+  for (glm::dvec3 p : testing::query_points(mesh_, 40, 0.0, 92)) {
+    const double radius = radius_of(rng);
+    const auto start = tree_->closest_point(p);
+    ASSERT_TRUE(start);
+    p = start->point_mm - start->normal * (radius - 0.1);  // touching the wall from the lumen
+    QueryHint hint;
+    QueryHint plain_hint;
+    for (int s = 0; s < 50; ++s) {
+      p += (every(rng) == 0 ? lurch(rng) : small(rng)) * testing::random_unit(rng);
+      std::array<Contact, 3> a{}, b{};
+      std::optional<ClosestPoint> nearest;
+      const std::size_t na = tree_->sphere_contacts(p, radius, a, hint, nearest);
+      const std::size_t nb = tree_->sphere_contacts(p, radius, b, plain_hint);
+      const auto cold = tree_->closest_point(p);
+      ASSERT_TRUE(cold);
+      ASSERT_EQ(na, nb);
+      ASSERT_EQ(nearest.has_value(), cold->distance_mm < radius);
+      ASSERT_EQ(nearest.has_value(), na > 0);
+      for (std::size_t i = 0; i < na; ++i) {
+        EXPECT_NEAR(a[i].depth_mm, b[i].depth_mm, 1e-12);
+        EXPECT_NEAR(glm::length(a[i].wall_point_mm - b[i].wall_point_mm), 0.0, 1e-9);
+        EXPECT_NEAR(glm::length(a[i].normal - b[i].normal), 0.0, 1e-9);
+      }
+      if (!nearest) {
+        ++empty;
+        continue;
+      }
+      ++found;
+      EXPECT_DOUBLE_EQ(nearest->distance_mm, cold->distance_mm);
+      EXPECT_DOUBLE_EQ(nearest->signed_distance_mm, cold->signed_distance_mm);
+      EXPECT_NEAR(glm::length(nearest->point_mm - cold->point_mm), 0.0, 1e-9);
+      EXPECT_NEAR(glm::length(nearest->normal - cold->normal), 0.0, 1e-9);
+      if (nearest->face == cold->face) {
+        EXPECT_EQ(nearest->region, cold->region);
+        EXPECT_EQ(nearest->feature, cold->feature);
+      }
+    }
+  }
+  EXPECT_GT(found, 400);  // most walks stay on the wall; some leave it
+  EXPECT_GT(empty, 10);
+  std::array<Contact, 3> none{};
+  QueryHint hint;
+  std::optional<ClosestPoint> nearest = ClosestPoint{};
+  EXPECT_EQ(tree_->sphere_contacts(glm::dvec3(std::nan("")), 1.0, none, hint, nearest), 0u);
+  EXPECT_FALSE(nearest);
 }
 
 std::string case_name(const ::testing::TestParamInfo<BundledCase>& info) {

@@ -2,6 +2,9 @@
 // through a meshed bend staying in the lumen.
 #include "tool/mesh_wall.hpp"
 
+#include <cmath>
+#include <random>
+
 #include <gtest/gtest.h>
 
 #include "analytic_walls.hpp"
@@ -32,6 +35,49 @@ TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
   probe.center_mm = {0.0, 0.0, 10.0};
   probe.range_mm = 0.5;
   EXPECT_FALSE(wall.probe(probe, hint, c));
+}
+
+// Fused probes (a node that touched the wall gets one sphere query for its contacts and its
+// closest point) answer as the two queries do, node by node along walks on a meshed bend that
+// touch the wall, leave it and come back; most probes after the first are fused.
+TEST(MeshWall, FusedProbesEqualTheTwoQueryProbes) {
+  const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
+  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.5, 24));
+  ASSERT_TRUE(build) << build.error().message;
+  MeshWall fused(*build);
+  MeshWall plain(*build);
+  plain.set_fused_probes(false);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int touching = 0, free = 0;
+  for (int node = 0; node < 60; ++node) {
+    const glm::dvec3& a = axis[static_cast<std::size_t>(node) % (axis.size() - 1)];
+    glm::dvec3 p = a + glm::dvec3(u(rng), u(rng), u(rng));
+    WallHint hf, hp;
+    WallProbe probe;
+    probe.radius_mm = 0.3 + 0.3 * (u(rng) + 1.0);
+    for (int s = 0; s < 80; ++s) {
+      p += glm::dvec3(u(rng), u(rng), u(rng)) * (s % 10 == 0 ? 0.3 : 0.03);
+      probe.center_mm = p;
+      WallContact cf, cp;
+      const bool rf = fused.probe(probe, hf, cf);
+      const bool rp = plain.probe(probe, hp, cp);
+      ASSERT_EQ(rf, rp);
+      if (!rf) continue;
+      EXPECT_DOUBLE_EQ(cf.distance_mm, cp.distance_mm);
+      EXPECT_NEAR(glm::length(cf.point_mm - cp.point_mm), 0.0, 1e-9);
+      EXPECT_NEAR(glm::length(cf.normal - cp.normal), 0.0, 1e-9);
+      EXPECT_EQ(cf.segment, cp.segment);
+      ASSERT_EQ(cf.has_second, cp.has_second);
+      if (cf.has_second) {
+        EXPECT_NEAR(glm::length(cf.second_point_mm - cp.second_point_mm), 0.0, 1e-9);
+        EXPECT_NEAR(glm::length(cf.second_normal - cp.second_normal), 0.0, 1e-9);
+      }
+      (cf.distance_mm - probe.radius_mm < probe.margin_mm ? touching : free) += 1;
+    }
+  }
+  EXPECT_GT(touching, 1000);
+  EXPECT_GT(free, 100);
 }
 
 TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {

@@ -113,6 +113,13 @@ class ObbTree {
                                             std::span<Contact> out) const;
   [[nodiscard]] std::size_t sphere_contacts(const glm::dvec3& centre_mm, double radius_mm,
                                             std::span<Contact> out, QueryHint& hint) const;
+  // The same in one pass with the closest point: `nearest` is the closest wall point (as
+  // closest_point gives it) when one lies closer than the radius, else empty. A tool node
+  // touching the wall needs both, and every triangle the closest point could be on is among the
+  // contact candidates. With out empty (or bad input) nothing is searched: 0 and empty.
+  [[nodiscard]] std::size_t sphere_contacts(const glm::dvec3& centre_mm, double radius_mm,
+                                            std::span<Contact> out, QueryHint& hint,
+                                            std::optional<ClosestPoint>& nearest) const;
 
   // Contacts of a capsule (segment a-b swept by a sphere of radius_mm, a tool edge), as above
   // with the distance from the segment; Contact::segment_t says where along a-b.

@@ -26,12 +26,19 @@ class MeshWall final : public WallModel {
                     std::shared_ptr<const WallSurface> surface = {});
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
+  // A node that touched the wall at its last probe is probed with one sphere query that also
+  // gives its closest point (ObbTree::sphere_contacts with `nearest`), instead of a closest
+  // point and then a sphere query; the answers are the same. Off: always the two queries (for
+  // the tests and benchmarks that compare the two).
+  void set_fused_probes(bool on) { fused_ = on; }
   [[nodiscard]] const collision::ObbTree& tree() const { return tree_; }
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return surface_; }
 
  private:
   collision::ObbTree tree_;
   mutable std::vector<collision::QueryHint> hints_;
+  mutable std::vector<std::uint8_t> touching_;  // per slot: the last probe found the wall within touch
+  bool fused_ = true;
   mutable std::uint32_t next_slot_ = 0;
   std::shared_ptr<const WallSurface> surface_;
 };
