@@ -40,8 +40,10 @@
 #include "../bench_samples.hpp"
 
 #include "app/fluoro_renderer.hpp"
+#include "app/frame_capture.hpp"
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
+#include "app/png_writer.hpp"
 #include "flow/contrast_transport.hpp"
 #include "session/scripted_hand.hpp"
 #include "session/session.hpp"
@@ -391,9 +393,36 @@ BENCHMARK(BM_PoseChange)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(20);
 BENCHMARK(BM_PoseChange)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_HapticAlone)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(300);
 
+// `--shots=DIR`: instead of benchmarking, DIR/bench_fluoro_binned.png and
+// DIR/bench_fluoro_full.png, NewPulse/2's frame (contrast filling, the wire, the trainer's
+// surface) with the fluoroscopy readout binned (the default) and at the display's resolution.
+int write_shots(const std::string& dir) {
+  Rig& r = *rig();
+  if (!r.window || !r.start_injection()) return 1;
+  const app::FluoroInputs in = r.inputs(7, true);
+  for (const bool binned : {true, false}) {
+    app::FluoroDisplay display;
+    if (!binned) display.fluoro_readout_pitch_mm = 0.0F;
+    r.coarse.set_display(display);
+    render_and_finish(r.coarse, in);
+    const std::string path = dir + (binned ? "/bench_fluoro_binned.png" : "/bench_fluoro_full.png");
+    std::string error;
+    if (!app::PngWriter::write_file(path, app::FrameCapture::read_back_buffer(kSize, kSize), error)) {
+      std::fprintf(stderr, "bench_fluoro: %s: %s\n", path.c_str(), error.c_str());
+      return 1;
+    }
+    std::printf("%s: %d x %d image shown at %d x %d\n", path.c_str(), r.coarse.last_work().matrix_width,
+                r.coarse.last_work().matrix_height, kSize, kSize);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]).rfind("--shots=", 0) == 0) return write_shots(std::string(argv[i]).substr(8));
+  }
   benchmark::Initialize(&argc, argv);
   std::printf("Budget (issue #13): a 1024x1024 fluoroscopic frame's render work <= 10 ms median (llvmpipe under Xvfb).\n");
   // The haptic loop's run loaded and past its first second before anything is measured.
