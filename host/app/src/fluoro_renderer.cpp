@@ -186,12 +186,13 @@ std::vector<FluoroRenderer::Rect> FluoroRenderer::CellMask::runs(bool value) con
 
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
+  if (scaled_.fbo != 0) glDeleteFramebuffers(1, &scaled_.fbo);
   if (compose_fbo_ != 0) glDeleteFramebuffers(1, &compose_fbo_);
   for (Target& t : targets_) {
     if (t.fbo != 0) glDeleteFramebuffers(1, &t.fbo);
     if (t.texture != 0) glDeleteTextures(1, &t.texture);
   }
-  const unsigned textures[] = {phantom_texture_, cells_texture_, monitor_.texture};
+  const unsigned textures[] = {phantom_texture_, cells_texture_, monitor_.texture, scaled_.texture};
   for (const unsigned t : textures) {
     if (t != 0) glDeleteTextures(1, &t);
   }
@@ -653,14 +654,29 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
         monitor_.valid = true;
       }
     }
-    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does, on its way
-    // to the window: on llvmpipe a scaled copy into the window costs ~5 ms of CPU more than a
-    // plain one at 1024^2, a scaled copy into a texture (to copy plainly afterwards) ~10 ms more.
+    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does. On
+    // llvmpipe at 1024^2 a scaled copy into the window costs ~5 ms of CPU more than a plain copy,
+    // a scaled copy into a texture ~7 ms more: an image shown the first time is scaled into the
+    // window; shown again (the display frames between pulses, last-image hold) it is scaled once
+    // into `scaled_`, and from then on copied plainly.
     const bool scaled = monitor_.width != viewport.width || monitor_.height != viewport.height;
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
+    const Target* source = &monitor_;
+    if (scaled && monitor_.key == shown_key_) {
+      if (!scaled_.valid || scaled_.key != monitor_.key || scaled_.width != viewport.width || scaled_.height != viewport.height) {
+        ensure_target(scaled_, viewport.width, viewport.height, GL_RGBA8, GL_UNSIGNED_BYTE);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scaled_.fbo);
+        glBlitFramebuffer(0, 0, monitor_.width, monitor_.height, 0, 0, viewport.width, viewport.height, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+        scaled_.key = monitor_.key;
+        scaled_.valid = true;
+      }
+      source = &scaled_;
+    }
+    shown_key_ = monitor_.key;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, source->fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
-    glBlitFramebuffer(0, 0, monitor_.width, monitor_.height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,
-                      GL_COLOR_BUFFER_BIT, scaled ? GL_LINEAR : GL_NEAREST);
+    glBlitFramebuffer(0, 0, source->width, source->height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,
+                      GL_COLOR_BUFFER_BIT, source->width != viewport.width || source->height != viewport.height ? GL_LINEAR : GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
   }
   glActiveTexture(GL_TEXTURE0);

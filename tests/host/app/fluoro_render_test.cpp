@@ -535,6 +535,11 @@ TEST_F(FluoroRenderTest, BinnedFluoroscopyKeepsTheImageAtTheReadoutsResolution) 
   const Set b = images(binned);
   EXPECT_EQ(renderer_.last_work().matrix_width, kSize / 2);
   EXPECT_EQ(renderer_.last_work().matrix_height, kSize / 2);
+  // Shown again (scaled once into a texture, then copied) and again (copied): the same picture.
+  for (int again = 0; again < 2; ++again) {
+    EXPECT_EQ(render(live(21, before, {wire})).pixels, b.with.pixels) << again;
+    EXPECT_EQ(renderer_.last_work().composites, 0);
+  }
 
   // Contrast: the right ICA darkens as at full resolution, the left not, nothing brightens.
   const auto right = [&](const Set& s) { return mean_change(s.pre, s.post, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40)); };
