@@ -12,7 +12,8 @@
 //   DisplayAt60Hz/0,1  a 60 Hz monitor during 15 pulses/s fluoroscopy with contrast (level 2,
 //               the trainer's surface): the median display frame, and the new-pulse frames in p99
 //   Held        last-image hold with the roadmap: nothing accumulated or composed, a copy
-//   Subtracted  a run frame with its mask: two scenes accumulated, the subtraction
+//   Subtracted  a run frame with its mask: two scenes accumulated, the subtraction (at the
+//               view's full resolution; fluoroscopy pulses are made at the binned readout)
 //   HapticAlone/0,1  nothing rendered (see below)
 // The C-arm stays still, so the phantom (projected on the CPU when the pose changes, ~4x its
 // 512^2 figure in sim/flow/README.md) is not in these figures; `PoseChange/0` measures it at
@@ -40,8 +41,10 @@
 #include "../bench_samples.hpp"
 
 #include "app/fluoro_renderer.hpp"
+#include "app/frame_capture.hpp"
 #include "app/gl.hpp"
 #include "app/gl_window.hpp"
+#include "app/png_writer.hpp"
 #include "flow/contrast_transport.hpp"
 #include "session/scripted_hand.hpp"
 #include "session/session.hpp"
@@ -316,17 +319,24 @@ void BM_Subtracted(benchmark::State& state) {
   if (!r.window) return state.SkipWithError(r.error.c_str());
   if (!r.start_injection()) return state.SkipWithError("inject");
   std::int64_t pulse = 2000;
-  bench::Samples s("ms");
-  HapticWindow loop(state);
-  s.report_process_cpu();
-  s.report_process_cpu();
-  for (auto _ : state) {
+  const auto run_frame = [&] {
     app::FluoroInputs in = r.inputs(pulse, true);
     in.image.run = 1;
     in.image.mask_pulse = pulse - 1;
     in.shown.mode = flow::ExposureMode::kSubtractionRun;
     in.mask = r.inputs(pulse - 1, false).shown;
     pulse += 2;
+    return in;
+  };
+  // The phantom at a run's (full) resolution for this pose, before the timed frames: the
+  // benchmarks before showed binned fluoroscopy only.
+  render_and_finish(r.renderer, run_frame());
+  bench::Samples s("ms");
+  HapticWindow loop(state);
+  s.report_process_cpu();
+  s.report_process_cpu();
+  for (auto _ : state) {
+    const app::FluoroInputs in = run_frame();
     s.time([&] { render_and_finish(r.renderer, in); });
     loop.keep(state);
   }
@@ -391,9 +401,36 @@ BENCHMARK(BM_PoseChange)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(20);
 BENCHMARK(BM_PoseChange)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(160);
 BENCHMARK(BM_HapticAlone)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(300);
 
+// `--shots=DIR`: instead of benchmarking, DIR/bench_fluoro_binned.png and
+// DIR/bench_fluoro_full.png, NewPulse/2's frame (contrast filling, the wire, the trainer's
+// surface) with the fluoroscopy readout binned (the default) and at the display's resolution.
+int write_shots(const std::string& dir) {
+  Rig& r = *rig();
+  if (!r.window || !r.start_injection()) return 1;
+  const app::FluoroInputs in = r.inputs(7, true);
+  for (const bool binned : {true, false}) {
+    app::FluoroDisplay display;
+    if (!binned) display.fluoro_readout_pitch_mm = 0.0F;
+    r.coarse.set_display(display);
+    render_and_finish(r.coarse, in);
+    const std::string path = dir + (binned ? "/bench_fluoro_binned.png" : "/bench_fluoro_full.png");
+    std::string error;
+    if (!app::PngWriter::write_file(path, app::FrameCapture::read_back_buffer(kSize, kSize), error)) {
+      std::fprintf(stderr, "bench_fluoro: %s: %s\n", path.c_str(), error.c_str());
+      return 1;
+    }
+    std::printf("%s: %d x %d image shown at %d x %d\n", path.c_str(), r.coarse.last_work().matrix_width,
+                r.coarse.last_work().matrix_height, kSize, kSize);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]).rfind("--shots=", 0) == 0) return write_shots(std::string(argv[i]).substr(8));
+  }
   benchmark::Initialize(&argc, argv);
   std::printf("Budget (issue #13): a 1024x1024 fluoroscopic frame's render work <= 10 ms median (llvmpipe under Xvfb).\n");
   // The haptic loop's run loaded and past its first second before anything is measured.

@@ -186,12 +186,13 @@ std::vector<FluoroRenderer::Rect> FluoroRenderer::CellMask::runs(bool value) con
 
 FluoroRenderer::~FluoroRenderer() {
   if (monitor_.fbo != 0) glDeleteFramebuffers(1, &monitor_.fbo);
+  if (scaled_.fbo != 0) glDeleteFramebuffers(1, &scaled_.fbo);
   if (compose_fbo_ != 0) glDeleteFramebuffers(1, &compose_fbo_);
   for (Target& t : targets_) {
     if (t.fbo != 0) glDeleteFramebuffers(1, &t.fbo);
     if (t.texture != 0) glDeleteTextures(1, &t.texture);
   }
-  const unsigned textures[] = {phantom_texture_, cells_texture_, monitor_.texture};
+  const unsigned textures[] = {phantom_texture_, cells_texture_, monitor_.texture, scaled_.texture};
   for (const unsigned t : textures) {
     if (t != 0) glDeleteTextures(1, &t);
   }
@@ -291,13 +292,29 @@ bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int heig
   k.value(width);
   k.value(height);
   k.value(generation_);
-  if (k.h != phantom_key_) {
+  // The projection for this key replaces the current one, which is kept as the spare.
+  const auto adopt = [&](std::vector<float> path) {
+    spare_path_ = std::move(phantom_path_);
+    spare_key_ = phantom_key_;
+    phantom_path_ = std::move(path);
+    phantom_key_ = k.h;
+    phantom_l_ref_ = -1.0;
+    work_.phantom_projected = true;
+  };
+  if (k.h != phantom_key_ && k.h == spare_key_) {
+    // The same pose at the other readout (a subtraction run after binned fluoroscopy, and back):
+    // kept, not projected again.
+    std::swap(phantom_path_, spare_path_);
+    std::swap(phantom_key_, spare_key_);
+    phantom_l_ref_ = -1.0;
+  } else if (k.h != phantom_key_) {
     const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
-    // A last image of this size to show meanwhile: project on a worker thread.
-    const bool hold = background_ && monitor_.valid && monitor_.width == width && monitor_.height == height;
+    // A last image to show meanwhile (of any size: the copy to the window scales it): project on
+    // a worker thread.
+    const bool hold = background_ && monitor_.valid;
     if (pending_ && pending_->key != k.h && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
     if (pending_ && pending_->key == k.h && (ready(*pending_) || !hold)) {
-      phantom_path_ = pending_->path.get();
+      adopt(pending_->path.get());
       pending_.reset();
     } else if (hold) {
       // One projection at a time: a newer pose starts when the one under way is done.
@@ -310,11 +327,8 @@ bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int heig
       return false;
     } else {
       pending_.reset();  // waits for a projection under way
-      phantom_path_ = phantom_.project(carm, width, height);
+      adopt(phantom_.project(carm, width, height));
     }
-    phantom_key_ = k.h;
-    phantom_l_ref_ = -1.0;
-    work_.phantom_projected = true;
   }
   if (l_ref == phantom_l_ref_) return true;
   // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
@@ -568,13 +582,29 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
   ++work_.composites;
 }
 
+FluoroRenderer::Matrix FluoroRenderer::matrix(const flow::CArm& carm, int width, int height, flow::ExposureMode mode) const {
+  const double pitch = mode == flow::ExposureMode::kFluoroscopy ? display_.fluoro_readout_pitch_mm : 0.0;
+  const double display_px = carm.pixel_mm(width, height);
+  if (!(pitch > display_px)) return {width, height};
+  const double scale = display_px / pitch;
+  return {std::max(1, static_cast<int>(std::lround(width * scale))), std::max(1, static_cast<int>(std::lround(height * scale)))};
+}
+
 std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
   work_ = {};
   std::string error = check_fluoro_inputs(in, vessel_indices_ > 0 ? cell_count_ : 0);
   if (viewport.width <= 0 || viewport.height <= 0) return error;  // a minimised window: nothing to draw
-  const int w = viewport.width;
-  const int h = viewport.height;
   const flow::CArm carm(in.pose);
+  const flow::FluoroImage& image = in.image;
+  const bool has_image = error.empty() && image.pulse >= 0 && in.shown.pulse >= 0;
+  const bool subtracted = has_image && image.subtracted() && in.mask.pulse >= 0;
+  const bool roadmap = has_image && !subtracted && image.roadmap_pulse >= 0 && in.roadmap.pulse >= 0 && in.roadmap_mask.pulse >= 0;
+  // The image's pixels: the detector's readout (binned in fluoroscopy), never finer than the display's.
+  const Matrix m = matrix(carm, viewport.width, viewport.height, in.shown.mode);
+  work_.matrix_width = m.width;
+  work_.matrix_height = m.height;
+  const int w = m.width;
+  const int h = m.height;
   const double keV = in.dose.effective_keV;
   GLint previous_fbo = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous_fbo);
@@ -584,16 +614,11 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  const int gl_y = framebuffer_height - viewport.y - h;
-
-  const flow::FluoroImage& image = in.image;
-  const bool has_image = error.empty() && image.pulse >= 0 && in.shown.pulse >= 0;
-  const bool subtracted = has_image && image.subtracted() && in.mask.pulse >= 0;
-  const bool roadmap = has_image && !subtracted && image.roadmap_pulse >= 0 && in.roadmap.pulse >= 0 && in.roadmap_mask.pulse >= 0;
+  const int gl_y = framebuffer_height - viewport.y - viewport.height;
   if (!has_image) {  // before the first pulse the monitor is black
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
     glEnable(GL_SCISSOR_TEST);
-    glScissor(viewport.x, gl_y, w, h);
+    glScissor(viewport.x, gl_y, viewport.width, viewport.height);
     glClearColor(0.0F, 0.0F, 0.0F, 1.0F);
     glClear(GL_COLOR_BUFFER_BIT);
   } else {
@@ -629,9 +654,29 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
         monitor_.valid = true;
       }
     }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
+    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does. On
+    // llvmpipe at 1024^2 a scaled copy into the window costs ~5 ms of CPU more than a plain copy,
+    // a scaled copy into a texture ~7 ms more: an image shown the first time is scaled into the
+    // window; shown again (the display frames between pulses, last-image hold) it is scaled once
+    // into `scaled_`, and from then on copied plainly.
+    const bool scaled = monitor_.width != viewport.width || monitor_.height != viewport.height;
+    const Target* source = &monitor_;
+    if (scaled && monitor_.key == shown_key_) {
+      if (!scaled_.valid || scaled_.key != monitor_.key || scaled_.width != viewport.width || scaled_.height != viewport.height) {
+        ensure_target(scaled_, viewport.width, viewport.height, GL_RGBA8, GL_UNSIGNED_BYTE);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scaled_.fbo);
+        glBlitFramebuffer(0, 0, monitor_.width, monitor_.height, 0, 0, viewport.width, viewport.height, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+        scaled_.key = monitor_.key;
+        scaled_.valid = true;
+      }
+      source = &scaled_;
+    }
+    shown_key_ = monitor_.key;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, source->fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
-    glBlitFramebuffer(0, 0, w, h, viewport.x, gl_y, viewport.x + w, gl_y + h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, source->width, source->height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,
+                      GL_COLOR_BUFFER_BIT, source->width != viewport.width || source->height != viewport.height ? GL_LINEAR : GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
   }
   glActiveTexture(GL_TEXTURE0);

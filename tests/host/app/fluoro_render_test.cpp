@@ -135,6 +135,19 @@ class FluoroRenderTest : public ::testing::Test {
     EXPECT_GT(n, static_cast<int>(pts.size()) / 3) << "most points in the image";
     return n > 0 ? s / n : 0.0;
   }
+  // The root mean square of b - a (grey) over the image's central half.
+  static double rms_difference(const Image& a, const Image& b) {
+    double s = 0.0;
+    int n = 0;
+    for (int y = kSize / 4; y < 3 * kSize / 4; ++y) {
+      for (int x = kSize / 4; x < 3 * kSize / 4; ++x) {
+        const double d = b.pixel(x, y)[0] - a.pixel(x, y)[0];
+        s += d * d;
+        ++n;
+      }
+    }
+    return std::sqrt(s / n);
+  }
   // The projections of the points that fall inside the image (4 px from its edges).
   static std::vector<glm::dvec2> in_image(const flow::CArm& carm, const std::vector<glm::vec3>& pts) {
     std::vector<glm::dvec2> out;
@@ -482,18 +495,7 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   FluoroInputs run = live(7, no_contrast(), {});
   run.shown.mode = flow::ExposureMode::kSubtractionRun;
   const Image run_img = render(run);
-  const auto rms = [&](const Image& img) {
-    double s = 0.0;
-    int n = 0;
-    for (int y = kSize / 4; y < 3 * kSize / 4; ++y) {
-      for (int x = kSize / 4; x < 3 * kSize / 4; ++x) {
-        const double d = img.pixel(x, y)[0] - clean.pixel(x, y)[0];
-        s += d * d;
-        ++n;
-      }
-    }
-    return std::sqrt(s / n);
-  };
+  const auto rms = [&](const Image& img) { return rms_difference(img, clean); };
   // sigma: fluoroscopy 0.38 (temporal filter) / sqrt(40 nGy), a run frame 1 / sqrt(1000 nGy): 1.9x.
   EXPECT_GT(rms(a), 1.5 * rms(run_img));
   EXPECT_GT(rms(a), 1.0);
@@ -501,6 +503,101 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   FluoroInputs none;
   const Image black = render(none);
   EXPECT_EQ(*std::max_element(black.pixels.begin(), black.pixels.end()), 0);
+}
+
+// Fluoroscopy read out binned (FluoroDisplay::fluoro_readout_pitch_mm coarser than a display
+// pixel: here 0.86 mm against the test's 0.43 mm, a 256^2 image shown at 512^2): the image is
+// made at the readout's pixels and scaled up bilinearly, and stays right: the right ICA's
+// territory darkens as much as at full resolution and the left ICA not, contrast only absorbs,
+// the wire stays on its projected line with its attenuation across the line kept (partial
+// volume: fainter, wider), the noise per pixel falls (four times the quanta per pixel), a
+// subtraction run frame is made at full resolution, and switching between the two readouts
+// projects the phantom no more.
+TEST_F(FluoroRenderTest, BinnedFluoroscopyKeepsTheImageAtTheReadoutsResolution) {
+  const std::vector<float> before = no_contrast();
+  const std::vector<float> after = right_ica_filled(150);
+  const FluoroTool wire = wire_in_right_ica();
+  const flow::CArm carm{flow::CArmPose{}};
+  FluoroDisplay full{.noise = false};
+  full.fluoro_readout_pitch_mm = 0.0F;
+  FluoroDisplay binned = full;
+  binned.fluoro_readout_pitch_mm = 0.86F;
+  struct Set {
+    Image pre, post, without, with;
+  };
+  const auto images = [&](const FluoroDisplay& d) {
+    renderer_.set_display(d);
+    Set s{render(live(20, before, {})), render(live(20, after, {})), render(live(21, before, {})), render(live(21, before, {wire}))};
+    return s;
+  };
+  const Set f = images(full);
+  EXPECT_EQ(renderer_.last_work().matrix_width, kSize);
+  const Set b = images(binned);
+  EXPECT_EQ(renderer_.last_work().matrix_width, kSize / 2);
+  EXPECT_EQ(renderer_.last_work().matrix_height, kSize / 2);
+  // Shown again (scaled once into a texture, then copied) and again (copied): the same picture.
+  for (int again = 0; again < 2; ++again) {
+    EXPECT_EQ(render(live(21, before, {wire})).pixels, b.with.pixels) << again;
+    EXPECT_EQ(renderer_.last_work().composites, 0);
+  }
+
+  // Contrast: the right ICA darkens as at full resolution, the left not, nothing brightens.
+  const auto right = [&](const Set& s) { return mean_change(s.pre, s.post, carm, centreline(neuro_->right_ica, 0.4, 0.95, 40)); };
+  EXPECT_LT(right(b), -12.0);
+  EXPECT_NEAR(right(b), right(f), 0.25 * std::abs(right(f)));
+  EXPECT_NEAR(mean_change(b.pre, b.post, carm, centreline(neuro_->left_ica, 0.05, 0.95, 60)), 0.0, 0.5);
+  for (std::size_t i = 0; i < b.pre.pixels.size(); i += 3) {
+    ASSERT_LE(b.post.pixels[i], b.pre.pixels[i] + 1) << "pixel " << (i / 3) % kSize << "," << (i / 3) / kSize;
+  }
+  // The wire: every changed pixel within two readout pixels (and a half) of its projected line;
+  // its total darkening (the integral across the line) as at full resolution.
+  std::vector<glm::dvec2> line;
+  for (const glm::vec3& n : wire.nodes_mm) line.push_back(carm.project_px(glm::dvec3(n), kSize, kSize));
+  const auto darkening = [&](const Set& s, double within_px) {
+    double sum = 0.0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const int d = s.with.pixel(x, y)[0] - s.without.pixel(x, y)[0];
+        if (d == 0) continue;
+        EXPECT_LT(distance_to_polyline({x + 0.5, y + 0.5}, line), within_px) << "pixel " << x << "," << y << " changed";
+        sum += d;
+      }
+    }
+    return sum;
+  };
+  const double wire_full = darkening(f, 2.5);
+  const double wire_binned = darkening(b, 5.0);
+  EXPECT_LT(wire_full, -500.0);
+  EXPECT_NEAR(wire_binned, wire_full, 0.2 * std::abs(wire_full));
+  EXPECT_LT(mean_change(b.without, b.with, carm, {wire.nodes_mm.begin() + 10, wire.nodes_mm.begin() + 40}), -2.0) << "shaft darker";
+  std::printf("binned 2x2: right ICA %.1f (full %.1f) grey at its centreline; the wire's total darkening %.0f (full %.0f)\n", right(b),
+              right(f), wire_binned, wire_full);
+
+  // Noise: the binned pixel collects four pixels' quanta.
+  const auto rms_noise = [&](FluoroDisplay d, const Image& clean) {
+    d.noise = true;
+    renderer_.set_display(d);
+    return rms_difference(render(live(21, before, {wire})), clean);
+  };
+  const double noise_full = rms_noise(full, f.with);
+  const double noise_binned = rms_noise(binned, b.with);
+  EXPECT_GT(noise_binned, 0.5);
+  EXPECT_LT(noise_binned, 0.6 * noise_full) << "binned " << noise_binned << " full " << noise_full;
+  save(render(live(21, after, {wire})), "fluoro_binned.png");
+
+  // A subtraction run frame is acquired at full resolution.
+  renderer_.set_display(binned);
+  FluoroInputs dsa = live(23, after, {});
+  dsa.shown.mode = flow::ExposureMode::kSubtractionRun;
+  dsa.image.run = 1;
+  dsa.image.mask_pulse = 22;
+  dsa.mask = {22, flow::ExposureMode::kFluoroscopy, before, {}};
+  render(dsa);
+  EXPECT_EQ(renderer_.last_work().matrix_width, kSize);
+  // Both readouts' phantom projections are kept: switching between them projects nothing again.
+  EXPECT_FALSE(renderer_.last_work().phantom_projected);
+  EXPECT_EQ(render(live(21, before, {wire})).pixels, b.with.pixels);
+  EXPECT_FALSE(renderer_.last_work().phantom_projected);
 }
 
 // Only the scenes' screen box is cleared, drawn and read: a scene drawn after another elsewhere

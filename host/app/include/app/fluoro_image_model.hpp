@@ -26,6 +26,12 @@ struct FluoroDisplay {
   // screen blend, g + (1 - g) (1 - exp(-gain r)): the filled vessels bright on live
   // fluoroscopy without saturating, so the wire stays a dark line inside them.
   float roadmap_gain = 0.8F;
+  // The detector's pixel pitch in fluoroscopy (mm at the detector): flat panels read
+  // fluoroscopy out 2 x 2 binned (more signal per pixel, a quarter of the data; subtraction
+  // runs at full resolution), 2 x 2 of a 150-200 um native pitch. Where a display pixel is
+  // finer than this, a fluoroscopy image is made at the readout's pixels (fewer: its noise per
+  // pixel from the binned pixel's quanta) and scaled to the display bilinearly; 0: never binned.
+  float fluoro_readout_pitch_mm = 0.4F;
   bool noise = true;  // quantum noise (off: the expected image, for tests that compare images)
 };
 

@@ -18,6 +18,11 @@
 //   pixel and pulse number (deterministic per pulse, fluoro_image_model.hpp); digital
 //   subtraction (run frame minus its mask); the roadmap (peak subtraction frame) added onto live
 //   fluoroscopy; black outside the collimated field and before the first pulse.
+// - The detector's readout: fluoroscopy is made at the binned readout's pixels
+//   (FluoroDisplay::fluoro_readout_pitch_mm, 0.4 mm at the detector) where a display pixel is
+//   finer, and scaled to the viewport bilinearly on its way to the window; subtraction runs at
+//   the display's pixels. Everything per pixel (phantom, scenes, noise, thin lines, field)
+//   follows the image's own pixel size.
 // - Each of the four scenes (shown, mask, roadmap, roadmap mask) is accumulated once and kept
 //   while its inputs, the pose and the size stay the same, and the composed monitor image is
 //   kept until one of them, a pulse number or the display changes: last-image hold and the
@@ -102,6 +107,8 @@ class FluoroRenderer {
     int composites = 0;                // the monitor image made again (else copied)
     std::size_t vessel_triangles = 0;  // drawn into scene targets (those reading cells with iodine)
     bool waiting_for_phantom = false;  // background projection under way: the last image shown
+    int matrix_width = 0;              // the image's pixels (the readout; the viewport's when not binned)
+    int matrix_height = 0;
   };
   [[nodiscard]] const Work& last_work() const { return work_; }
 
@@ -139,6 +146,13 @@ class FluoroRenderer {
     bool valid = false;
   };
   class ScreenBox;
+  struct Matrix {
+    int width = 0;
+    int height = 0;
+  };
+  // The image's pixels for a viewport: fewer than the viewport's when the detector's readout
+  // (fluoroscopy: FluoroDisplay::fluoro_readout_pitch_mm) is coarser than a display pixel.
+  [[nodiscard]] Matrix matrix(const flow::CArm& carm, int width, int height, flow::ExposureMode mode) const;
   static Rect unite(const Rect& a, const Rect& b);
   static void ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type);
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
@@ -163,6 +177,10 @@ class FluoroRenderer {
   std::uint64_t phantom_key_ = 0;
   double phantom_l_ref_ = -1.0;
   std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
+  // The projection before (a pose and readout size): fluoroscopy's binned readout and a run's
+  // full one alternate without projecting again.
+  std::uint64_t spare_key_ = 0;
+  std::vector<float> spare_path_;
   bool background_ = false;
   bool framebuffer_fetch_wanted_ = true;
   bool fbfetch_ = false;  // the composite reads the phantom as a colour attachment (compose_fbo_)
@@ -175,6 +193,8 @@ class FluoroRenderer {
   std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
+  Target scaled_;                    // a binned monitor_ image scaled to the viewport (key: monitor_'s)
+  std::uint64_t shown_key_ = 0;      // monitor_'s key when the last frame was shown
   // The vessel: positions and (cell a, cell b, weight) per vertex, and the cells' iodine.
   unsigned vessel_vao_ = 0;
   unsigned vessel_vbo_ = 0;
