@@ -175,7 +175,6 @@ void Rod::size_scratch() {
   work_.assign(3 * n, 0.0);
   friction_limit_.assign(n, 0.0);
   joined_.assign(n, 0);
-  changed_.assign(n, 0);
   last_step_.assign(3 * n, 0.0);
   held_gap_.assign(n, 0.0);
   tw_diag_.assign(n, 0.0);
@@ -509,21 +508,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     // otherwise only the gradient is rebuilt (chord iterations).
     bool refactor = true;
     bool rejoin = false;
-    bool chord = false;  // this iteration amends the kept assembly (below)
     std::size_t rejoin_from = n;  // first node whose wall terms the rejoin amended
     int rounds = iterations;
     std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
     bool stepped = false;  // last_step_ holds an update of this step
-    // Chord after an active-set change: when the last iteration's only news is nodes leaving
-    // or joining the active set (its line search took the step whole, no held plane was
-    // re-probed), the next one re-assembles the gradient, amends those nodes' diagonal blocks
-    // in the kept assembly and factors again from the first of them; the other blocks stay one
-    // iteration old. Never twice in a row, nor in the last iteration (a node held past the
-    // penetration limit goes where that iteration's Newton step puts it), nor among other rods
-    // (their planes are assembled with the Hessian).
-    bool amend = false;       // changed_ marks nodes whose wall blocks the next assembly amends
-    bool was_full = false;    // the last assembly built the whole Hessian
-    std::fill(changed_.begin(), changed_.end(), std::uint8_t{0});
     for (int it = 0; it < rounds; ++it) {
       if (rejoin) {
         // Amend the assembly (the factorisation leaves it intact) with the wall terms of the
@@ -540,9 +528,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
             if (!(joined_[k] & (1 << j))) continue;
             const glm::dvec3& normal = j == 0 ? nc.normal : nc.normal2;
             const double phi = j == 0 ? plane_gap(k) : second_gap(k);
-            const glm::dmat3 nn = kc * glm::outerProduct(normal, normal);
-            add(k, k, nn);
-            nodal_h_[k] += nn;  // what the assembly holds of the node's own terms
+            add(k, k, kc * glm::outerProduct(normal, normal));
             grad_[d] += normal.x * kc * phi;
             grad_[d + 1] += normal.y * kc * phi;
             grad_[d + 2] += normal.z * kc * phi;
@@ -552,31 +538,18 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
         rejoin = false;
       } else {
-        chord = amend && was_full && refactor && it + 1 < rounds && settings_.amend_active_set && obstacles == nullptr;
-        if (chord) {
-          for (std::size_t k = first_free_; k < n && rejoin_from == n; ++k) {
-            if (changed_[k]) rejoin_from = k;
-          }
-        } else {
-          std::fill(changed_.begin(), changed_.end(), std::uint8_t{0});
-        }
-        assemble(dt_s, refactor && !chord);
-        std::fill(changed_.begin(), changed_.end(), std::uint8_t{0});
-        was_full = refactor && !chord;
-        amend = false;
+        assemble(dt_s, refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
-      // After a join (or a chord's amendment) only the changed nodes' diagonal blocks changed:
-      // factor again from the first of them (the rows before it are the last factorisation's,
-      // bit for bit).
+      // After a join only the joined nodes' diagonal blocks changed: factor again from the
+      // first of them (the rows before it are the last factorisation's, bit for bit).
       if (refactor && rejoin_from < n) {
         matrix_->refactor_from(rejoin_from - first_);
       } else if (refactor) {
         matrix_->factor(first_free_ - first_);
       }
       rejoin_from = n;
-      const bool fresh = refactor && !chord;
-      chord = false;
+      const bool fresh = refactor;
       refactor = !settings_.reuse_hessian;
       for (std::size_t i = 0; i < dofs; ++i) delta_[i] = i >= free0 ? -grad_[i] : 0.0;
       matrix_->solve(delta_.data());
@@ -627,7 +600,6 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       }
       // Backtracking line search on the step energy (contacts and friction are non-smooth).
       const double e0 = energy_;
-      bool searched = false;  // the line search cut the step
       double slope = 0.0;
       for (std::size_t i = free0; i < dofs; ++i) slope += grad_[i] * delta_[i];
       for (int tries = 0;; ++tries) {
@@ -641,7 +613,6 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
           break;
         }
         scale *= 0.5;
-        searched = true;
         if (!fresh) refactor = true;  // a stale Hessian gave a poor step
       }
       for (std::size_t i = free0; i < dofs; ++i) last_step_[i] = delta_[i] * scale;
@@ -676,13 +647,10 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         NodeContact& nc = node_contacts_[k];
         if (!nc.has_plane) continue;
         const double allowed = settings_.max_penetration_ratio * radius_[k];
-        const bool held = nc.active, held2 = nc.active2;
         update(nc.active, plane_gap(k), allowed);
         if (nc.has_second) update(nc.active2, second_gap(k), allowed);
-        if (nc.active != held || nc.active2 != held2) changed_[k] = 1, amend = true;
       }
-      if (searched) amend = false;
-      if (refresh_contacts(wall, true)) refactor = true, amend = false;
+      if (refresh_contacts(wall, true)) refactor = true;
       if (obstacles != nullptr) {
         // A node the re-probe finds in the wall joins the active set now: among other rods
         // (a coil in its sac) the joins of the iterations above are soon spent, and a node left
@@ -908,14 +876,7 @@ void Rod::assemble(double dt_s, bool hessian) {
         }
       }
     }
-    if (hessian) {
-      nodal_h_[k] = h;
-    } else if (changed_[k]) {
-      // A chord iteration: the node's own terms in the kept assembly brought up to date.
-      const glm::dmat3 delta = h - nodal_h_[k];
-      matrix_->add_block(k - first_, k - first_, delta);
-      nodal_h_[k] = h;
-    }
+    if (hessian) nodal_h_[k] = h;
   }
 
   if (hessian) {

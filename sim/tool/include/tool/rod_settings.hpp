@@ -17,9 +17,6 @@ struct RodSettings {
   double min_drag_mN_s_per_mm2 = 1.0e-2;
   double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
-  // After an iteration whose only news is nodes leaving or joining the active set, the next one
-  // amends those nodes' blocks in the kept assembly (a chord) instead of assembling it all.
-  bool amend_active_set = true;
   bool damp_reversals = true;              // halve an update that reverses the last one
   double trust_step_mm = 0.01;             // updates below this skip the line search
   // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
