@@ -587,7 +587,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       }
       double scale = largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / largest : 1.0;
       if (stepped && settings_.damp_reversals && largest * scale < settings_.trust_step_mm) {
-        // An update too small for the line search that undoes most of the last one is a
+        // An update too small for the line search that nearly undoes the last one is a
         // two-cycle (friction at its stick-slip edge, a crease plane let go and taken back):
         // half of it lands between the two states, where the solution is.
         double dot = 0.0, now = 0.0, before = 0.0;
@@ -596,7 +596,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
           now += delta_[i] * delta_[i];
           before += last_step_[i] * last_step_[i];
         }
-        if (dot < -0.5 * std::sqrt(now * before)) scale *= 0.5;
+        if (dot < -0.9 * std::sqrt(now * before)) scale *= 0.5;
       }
       // Backtracking line search on the step energy (contacts and friction are non-smooth).
       const double e0 = energy_;
