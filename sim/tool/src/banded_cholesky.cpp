@@ -12,7 +12,7 @@ constexpr int at(int r, int c) { return 3 * c + r; }
 
 // Lower-triangular Cholesky factor of the symmetric s (its lower triangle), inverted.
 // A pivot that is not positive is clamped to 1e-12 and reported.
-void inverse_cholesky(const double* s, double* inv, bool& ok) {
+[[gnu::always_inline]] inline void inverse_cholesky(const double* s, double* inv, bool& ok) {
   const auto pivot = [&ok](double v) {
     if (!(v > 1e-300)) {
       ok = false;
@@ -45,7 +45,7 @@ void inverse_cholesky(const double* s, double* inv, bool& ok) {
 }
 
 // out = x M^T for a lower-triangular M.
-void times_lower_transposed(const double* x, const double* m, double* out) {
+[[gnu::always_inline]] inline void times_lower_transposed(const double* x, const double* m, double* out) {
 #pragma GCC unroll 3
   for (int r = 0; r < 3; ++r) {
     out[at(r, 0)] = x[at(r, 0)] * m[at(0, 0)];
@@ -55,7 +55,7 @@ void times_lower_transposed(const double* x, const double* m, double* out) {
 }
 
 // x -= y z^T.
-void subtract_product_transposed(double* x, const double* y, const double* z) {
+[[gnu::always_inline]] inline void subtract_product_transposed(double* x, const double* y, const double* z) {
 #pragma GCC unroll 3
   for (int c = 0; c < 3; ++c) {
 #pragma GCC unroll 3
@@ -66,7 +66,7 @@ void subtract_product_transposed(double* x, const double* y, const double* z) {
 }
 
 // s -= x x^T on the lower triangle of s (the upper one is not read).
-void subtract_gram_lower(double* s, const double* x) {
+[[gnu::always_inline]] inline void subtract_gram_lower(double* s, const double* x) {
 #pragma GCC unroll 3
   for (int c = 0; c < 3; ++c) {
 #pragma GCC unroll 3
@@ -77,13 +77,13 @@ void subtract_gram_lower(double* s, const double* x) {
 }
 
 // v -= m u.
-void subtract_times(double* v, const double* m, const double* u) {
+[[gnu::always_inline]] inline void subtract_times(double* v, const double* m, const double* u) {
 #pragma GCC unroll 3
   for (int r = 0; r < 3; ++r) v[r] -= m[at(r, 0)] * u[0] + m[at(r, 1)] * u[1] + m[at(r, 2)] * u[2];
 }
 
 // v -= m^T u.
-void subtract_transposed_times(double* v, const double* m, const double* u) {
+[[gnu::always_inline]] inline void subtract_transposed_times(double* v, const double* m, const double* u) {
 #pragma GCC unroll 3
   for (int c = 0; c < 3; ++c) v[c] -= m[at(0, c)] * u[0] + m[at(1, c)] * u[1] + m[at(2, c)] * u[2];
 }

@@ -194,6 +194,7 @@ void Rod::size_scratch() {
   work_.assign(3 * n, 0.0);
   friction_limit_.assign(n, 0.0);
   joined_.assign(n, 0);
+  last_step_.assign(3 * n, 0.0);
   held_gap_.assign(n, 0.0);
   tw_diag_.assign(n, 0.0);
   tw_off_.assign(n, 0.0);
@@ -538,6 +539,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
     std::size_t rejoin_from = n;  // first node whose wall terms the rejoin amended
     int rounds = iterations;
     std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
+    bool stepped = false;  // last_step_ holds an update of this step
     for (int it = 0; it < rounds; ++it) {
       if (rejoin) {
         // Amend the assembly (the factorisation leaves it intact) with the wall terms of the
@@ -612,6 +614,18 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         continue;
       }
       double scale = largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / largest : 1.0;
+      if (stepped && settings_.damp_reversals && largest * scale < settings_.trust_step_mm) {
+        // An update too small for the line search that nearly undoes the last one is a
+        // two-cycle (friction at its stick-slip edge, a crease plane let go and taken back):
+        // half of it lands between the two states, where the solution is.
+        double dot = 0.0, now = 0.0, before = 0.0;
+        for (std::size_t i = free0; i < dofs; ++i) {
+          dot += delta_[i] * last_step_[i];
+          now += delta_[i] * delta_[i];
+          before += last_step_[i] * last_step_[i];
+        }
+        if (dot < -0.9 * std::sqrt(now * before)) scale *= 0.5;
+      }
       // Backtracking line search on the step energy (contacts and friction are non-smooth).
       const double e0 = energy_;
       double slope = 0.0;
@@ -629,6 +643,8 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         scale *= 0.5;
         if (!fresh) refactor = true;  // a stale Hessian gave a poor step
       }
+      for (std::size_t i = free0; i < dofs; ++i) last_step_[i] = delta_[i] * scale;
+      stepped = true;
       // Nodes the wall would have to pull leave the active set; nodes the step carried into
       // the wall (after the activation rounds ran out) join it for the next iteration.
       // `entered`: one of them is deeper than a hundredth of the penetration limit (the

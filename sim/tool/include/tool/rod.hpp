@@ -246,6 +246,7 @@ class Rod {
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
+  std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
   std::vector<double> held_gap_;      // wall gap of an active node at the end of the full Newton step
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
   // Hessian terms gathered per edge (stretch), per vertex (bending: w Pa/la^2, w Pb/lb^2,

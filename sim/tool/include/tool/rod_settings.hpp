@@ -17,6 +17,7 @@ struct RodSettings {
   double min_drag_mN_s_per_mm2 = 1.0e-2;
   double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
+  bool damp_reversals = true;              // halve an update below trust_step_mm nearly undoing the last
   double trust_step_mm = 0.01;             // updates below this skip the line search
   // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
   // iterations from the advected positions plus this fraction of each free node's motion in
