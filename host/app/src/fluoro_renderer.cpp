@@ -286,43 +286,66 @@ void FluoroRenderer::upload_vessel(VesselBuffers buffers) {
   ++generation_;
 }
 
-bool FluoroRenderer::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
+std::uint64_t FluoroRenderer::phantom_key(const flow::CArm& carm, const Matrix& size) const {
   Hasher k;
   hash_pose(k, carm.pose());
-  k.value(width);
-  k.value(height);
+  k.value(size.width);
+  k.value(size.height);
   k.value(generation_);
-  // The projection for this key replaces the current one, which is kept as the spare.
+  return k.h;
+}
+
+bool FluoroRenderer::project_phantom(const flow::CArm& carm, const Matrix& size, const Matrix& other, double l_ref) {
+  const int width = size.width;
+  const int height = size.height;
+  const std::uint64_t key = phantom_key(carm, size);
+  const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+  const auto launch = [this, &carm](std::uint64_t k, const Matrix& m) {
+    return Projection{k, std::async(std::launch::async, [phantom = phantom_, carm, m] { return phantom.project(carm, m.width, m.height); })};
+  };
+  // The other readout's projection, once done, is the spare (unless it is the current one).
+  if (other_pending_ && ready(*other_pending_)) {
+    std::vector<float> path = other_pending_->path.get();
+    if (other_pending_->key != phantom_key_) {
+      spare_path_ = std::move(path);
+      spare_key_ = other_pending_->key;
+    }
+    other_pending_.reset();
+  }
+  // The projection for this key replaces the current one, which is kept as the spare. With
+  // background projection the other readout's at this pose follows on a worker (a subtraction
+  // run soon after the fluoroscopy that placed the C-arm then finds its phantom ready).
   const auto adopt = [&](std::vector<float> path) {
     spare_path_ = std::move(phantom_path_);
     spare_key_ = phantom_key_;
     phantom_path_ = std::move(path);
-    phantom_key_ = k.h;
+    phantom_key_ = key;
     phantom_l_ref_ = -1.0;
     work_.phantom_projected = true;
+    const std::uint64_t other_key = phantom_key(carm, other);
+    if (background_ && other_key != key && other_key != spare_key_ && !other_pending_) other_pending_ = launch(other_key, other);
   };
-  if (k.h != phantom_key_ && k.h == spare_key_) {
+  if (key != phantom_key_ && key == spare_key_) {
     // The same pose at the other readout (a subtraction run after binned fluoroscopy, and back):
     // kept, not projected again.
     std::swap(phantom_path_, spare_path_);
     std::swap(phantom_key_, spare_key_);
     phantom_l_ref_ = -1.0;
-  } else if (k.h != phantom_key_) {
-    const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
+  } else if (key != phantom_key_) {
     // A last image to show meanwhile (of any size: the copy to the window scales it): project on
     // a worker thread.
     const bool hold = background_ && monitor_.valid;
-    if (pending_ && pending_->key != k.h && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
-    if (pending_ && pending_->key == k.h && (ready(*pending_) || !hold)) {
+    if (pending_ && pending_->key != key && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
+    if (!pending_ && other_pending_ && other_pending_->key == key) {
+      pending_ = std::move(other_pending_);  // the other readout's, under way: waited for, not started again
+      other_pending_.reset();
+    }
+    if (pending_ && pending_->key == key && (ready(*pending_) || !hold)) {
       adopt(pending_->path.get());
       pending_.reset();
     } else if (hold) {
       // One projection at a time: a newer pose starts when the one under way is done.
-      if (!pending_) {
-        pending_ = Projection{k.h, std::async(std::launch::async, [phantom = phantom_, carm, width, height] {
-                                return phantom.project(carm, width, height);
-                              })};
-      }
+      if (!pending_) pending_ = launch(key, size);
       work_.waiting_for_phantom = true;
       return false;
     } else {
@@ -623,7 +646,10 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
     glClear(GL_COLOR_BUFFER_BIT);
   } else {
     // While the phantom of a new pose is projected in the background the last image stays.
-    if (project_phantom(carm, w, h, -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)))) {
+    const flow::ExposureMode other_mode =
+        in.shown.mode == flow::ExposureMode::kFluoroscopy ? flow::ExposureMode::kSubtractionRun : flow::ExposureMode::kFluoroscopy;
+    if (project_phantom(carm, m, matrix(carm, viewport.width, viewport.height, other_mode),
+                        -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0)))) {
       accumulate(targets_[0], in.shown, carm, keV, w, h);
       if (subtracted) accumulate(targets_[1], in.mask, carm, keV, w, h);
       if (roadmap) {

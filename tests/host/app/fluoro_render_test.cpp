@@ -598,6 +598,30 @@ TEST_F(FluoroRenderTest, BinnedFluoroscopyKeepsTheImageAtTheReadoutsResolution) 
   EXPECT_FALSE(renderer_.last_work().phantom_projected);
   EXPECT_EQ(render(live(21, before, {wire})).pixels, b.with.pixels);
   EXPECT_FALSE(renderer_.last_work().phantom_projected);
+
+  // With background projection (the trainer) a C-arm move's first binned projection is followed
+  // on a worker by the run's full one at the same pose: a subtraction run after the fluoroscopy
+  // that placed the C-arm shows its own frames at once, not the last fluoroscopy image.
+  renderer_.set_background_projection(true);
+  flow::CArmPose lao20;
+  lao20.lao_deg = 20.0;
+  (void)render(live(24, before, {wire}, lao20));
+  EXPECT_TRUE(renderer_.last_work().waiting_for_phantom);
+  renderer_.finish_projection();
+  (void)render(live(25, before, {wire}, lao20));
+  EXPECT_TRUE(renderer_.last_work().phantom_projected);
+  EXPECT_LT(renderer_.last_work().matrix_width, kSize);
+  renderer_.finish_projection();
+  FluoroInputs run = live(27, after, {}, lao20);
+  run.shown.mode = flow::ExposureMode::kSubtractionRun;
+  run.image.run = 2;
+  run.image.mask_pulse = 26;
+  run.mask = {26, flow::ExposureMode::kFluoroscopy, before, {}};
+  (void)render(run);
+  EXPECT_FALSE(renderer_.last_work().waiting_for_phantom) << "the run's phantom was projected after the fluoroscopy's";
+  EXPECT_FALSE(renderer_.last_work().phantom_projected);
+  EXPECT_EQ(renderer_.last_work().matrix_width, kSize);
+  renderer_.set_background_projection(false);
 }
 
 // Only the scenes' screen box is cleared, drawn and read: a scene drawn after another elsewhere

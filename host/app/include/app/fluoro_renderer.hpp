@@ -90,8 +90,10 @@ class FluoroRenderer {
   // frames (~150 ms of CPU at 1024^2). Off (the default: tests, headless runs): at once.
   void set_background_projection(bool on) { background_ = on; }
   // Blocks until the background projection under way (if any) is done; the next render() uses it.
+  // The projection of the other readout at a new pose (see project_phantom) is waited for too.
   void finish_projection() {
     if (pending_) pending_->path.wait();
+    if (other_pending_) other_pending_->path.wait();
   }
   [[nodiscard]] const FluoroDisplay& display() const { return display_; }
 
@@ -163,7 +165,10 @@ class FluoroRenderer {
   CellMask drawn_;   // accumulate: the cells this scene draws in
   void draw_tools();
   // False while a background projection for this pose is under way (nothing to draw with yet).
-  bool project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
+  // `other`: the other readout's size at this pose (a run's full one during binned fluoroscopy,
+  // and back), projected in the background after a pose's first projection.
+  bool project_phantom(const flow::CArm& carm, const Matrix& size, const Matrix& other, double l_ref);
+  [[nodiscard]] std::uint64_t phantom_key(const flow::CArm& carm, const Matrix& size) const;
 
   FluoroDisplay display_;
   flow::HeadPhantom phantom_ = flow::HeadPhantom::neuro();
@@ -190,6 +195,7 @@ class FluoroRenderer {
     std::future<std::vector<float>> path;
   };
   std::optional<Projection> pending_;  // the background projection under way
+  std::optional<Projection> other_pending_;  // the other readout's, for the spare
   std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
