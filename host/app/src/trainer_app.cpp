@@ -28,11 +28,6 @@ namespace cathbox::app {
 namespace {
 constexpr int kWarmupFrames = 20;
 constexpr std::int64_t kReplayBudget_us = 25'000;  // CPU per frame a replay may spend catching up
-
-// Whether the case's tool `held` carries a detachable coil (its K and L keys do something).
-bool held_carries_coil(const session::SessionCase& scene, std::size_t held) {
-  return held < scene.spec.tools.size() && scene.spec.tools[held].detach_mm > 0.0;
-}
 }  // namespace
 
 TrainerApp::TrainerApp(TrainerOptions options, std::string program_dir)
@@ -328,7 +323,7 @@ int TrainerApp::run_window() {
     }
     renderer_->render_local(layout.local, fh, snap);
     const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
-                          record_path_, held_carries_coil(s.scene(), snap.held_tool)};
+                          record_path_, snap.held_coil_attached, snap.held_next_coil};
     // The C-arm panel (fluoroscopic view) takes the top of the output panel's area.
     ScreenLayout ui_layout = layout;
     CArmPanelActions carm_act;

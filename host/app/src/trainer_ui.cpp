@@ -112,7 +112,8 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapsh
       ImGui::SameLine();
       if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
       ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
-      if (status.held_coil) ImGui::TextDisabled("K: detach the coil, L: load the next coil");
+      if (status.can_detach) ImGui::TextDisabled("K: detach the coil");
+      if (status.can_load) ImGui::TextDisabled("L: load the next coil");
     }
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
     ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");

@@ -477,11 +477,20 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   return law;
 }
 
+bool Simulator::carries_attached_coil(std::size_t tool) const {
+  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && rods_[tool].spec().detach_mm > 0.0 &&
+         !(removed_mm_[tool] > 0.0);
+}
+
+bool Simulator::has_next_coil(std::size_t tool) const {
+  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && loaded_[tool] < specs_[tool].next_coils.size();
+}
+
 DeviceError Simulator::detach(std::size_t tool) {
   if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!carries_attached_coil(tool)) return DeviceError::kNotACoil;
   Rod& rod = rods_[tool];
   const double length = rod.spec().detach_mm;
-  if (rod.spec().kind != ToolKind::kCoil || !(length > 0.0) || removed_mm_[tool] > 0.0) return DeviceError::kNotACoil;
   // The detachment zone must have left the catheter (its marker past the catheter's tip).
   if (tip_depth_mm(tool) - free_start_[tool] < length + 1e-6) return DeviceError::kCoilInCatheter;
   Rod coil = rod.split_distal(length);
@@ -499,7 +508,7 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
   if (rods_[tool].spec().kind != ToolKind::kCoil) return DeviceError::kNotACoil;
   if (!(removed_mm_[tool] > 0.0)) return DeviceError::kCoilAttached;
-  if (loaded_[tool] >= specs_[tool].next_coils.size()) return DeviceError::kNoNextCoil;
+  if (!has_next_coil(tool)) return DeviceError::kNoNextCoil;
   // The old pusher is out (withdrawn through the hub); the next coil enters at the hub.
   const ToolSpec spec = with_next_coil(specs_[tool], loaded_[tool]);
   ++loaded_[tool];

@@ -79,6 +79,10 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
     ASSERT_TRUE(s.snapshots().acquire());
     EXPECT_EQ(s.snapshots().read_slot().tool_count, 2);
     EXPECT_EQ(s.snapshots().read_slot().coil_count, 0);
+    // The HUD names K (detach) while the held coil is attached, L (load) once it is released.
+    EXPECT_EQ(s.snapshots().read_slot().held_tool, 1u);
+    EXPECT_TRUE(s.snapshots().read_slot().held_coil_attached);
+    EXPECT_FALSE(s.snapshots().read_slot().held_next_coil);
     ASSERT_EQ(s.simulator().detached_count(), 0u);
     // The release and the pusher drawn back.
     s.step_virtual(400);
@@ -102,6 +106,13 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
     for (const glm::vec3& p : view.nodes_mm) EXPECT_LT(glm::length(p - glm::vec3(0, 0, 20)), 3.2F);
     // The pusher (the coil tool) no longer carries the coil: its tip is back in the catheter.
     EXPECT_LT(snap.tools[1].nodes_mm.back().z, 13.0F);
+    EXPECT_FALSE(snap.held_coil_attached);
+    EXPECT_TRUE(snap.held_next_coil);
+    // The next (and last listed) coil loaded at 3000 ms: K again, no L.
+    s.step_virtual(300);
+    ASSERT_TRUE(s.snapshots().acquire());
+    EXPECT_TRUE(s.snapshots().read_slot().held_coil_attached);
+    EXPECT_FALSE(s.snapshots().read_slot().held_next_coil);
     while (!s.over()) s.step_virtual(1000);
     EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
     EXPECT_EQ(s.simulator().coils_loaded(1), 1u);

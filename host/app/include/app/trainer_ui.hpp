@@ -24,7 +24,8 @@ struct UiStatus {
   std::string tool_name;   // the active tool
   bool replay = false;     // Replay mode: no case picker, no driving
   std::string record;      // the record being written (live) or played (replay)
-  bool held_coil = false;  // the held tool carries a detachable coil: the HUD names K and L
+  bool can_detach = false;  // the held tool's coil is attached: the HUD names K
+  bool can_load = false;    // its coil is released and a next one listed: the HUD names L
 };
 
 struct UiActions {

@@ -111,6 +111,11 @@ class Simulator {
   [[nodiscard]] DeviceError load_next_coil(std::size_t tool);
   // Coils loaded after the first on `tool` so far.
   [[nodiscard]] std::size_t coils_loaded(std::size_t tool) const { return loaded_[tool]; }
+  // `tool` carries a coil not released yet (detach may release it once it is out of the catheter).
+  [[nodiscard]] bool carries_attached_coil(std::size_t tool) const;
+  // `tool` is a coil tool whose case lists a coil not loaded yet (load_next_coil loads it once
+  // the present coil is released).
+  [[nodiscard]] bool has_next_coil(std::size_t tool) const;
   // Deepest overlap between coil loops (and coils and the microcatheter tip), last step.
   [[nodiscard]] RodContactField::Overlap worst_coil_overlap() const { return contacts_.worst_overlap(); }
   // The rod-rod contact field (its candidate-list builds, for benches).
