@@ -614,6 +614,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         continue;
       }
       double scale = largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / largest : 1.0;
+      double aim = 1.0;  // the fraction of the Newton update the step means to take
       if (stepped && settings_.damp_reversals && largest * scale < settings_.trust_step_mm) {
         // An update too small for the line search that nearly undoes the last one is a
         // two-cycle (friction at its stick-slip edge, a crease plane let go and taken back):
@@ -624,7 +625,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
           now += delta_[i] * delta_[i];
           before += last_step_[i] * last_step_[i];
         }
-        if (dot < -0.9 * std::sqrt(now * before)) scale *= 0.5;
+        if (dot < -0.9 * std::sqrt(now * before)) scale *= 0.5, aim = 0.5;
       }
       // Backtracking line search on the step energy (contacts and friction are non-smooth).
       const double e0 = energy_;
@@ -656,7 +657,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         const NodeContact& nc = node_contacts_[k];
         const std::size_t d = 3 * (k - first_);
         const glm::dvec3 rest(delta_[d], delta_[d + 1], delta_[d + 2]);
-        held_gap_[k] = nc.active ? plane_gap(k) + (1.0 - scale) * glm::dot(nc.normal, rest)
+        held_gap_[k] = nc.active ? plane_gap(k) + (aim - scale) * glm::dot(nc.normal, rest)
                                  : std::numeric_limits<double>::quiet_NaN();
       }
       const auto update = [&](bool& active, double phi, double allowed) {
@@ -711,7 +712,8 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       if ((entered || deep) && it + 1 == rounds && rounds < iterations + 2) ++rounds;
     }
     // A node held in the last iteration but past the limit (the step was cut to
-    // max_node_step_mm) goes where the full Newton step puts it along the wall normal: its
+    // max_node_step_mm) goes where the Newton step it aimed at (the full one, half of a damped
+    // reversal) puts it along the wall normal: its
     // force is the penalty's at the linearised equilibrium, not the clamp's cap.
     for (std::size_t k = first_free_; k < n; ++k) {
       const NodeContact& nc = node_contacts_[k];

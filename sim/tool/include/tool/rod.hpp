@@ -247,7 +247,7 @@ class Rod {
   std::vector<double> grad_, delta_, work_, friction_limit_;
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
-  std::vector<double> held_gap_;      // wall gap of an active node at the end of the full Newton step
+  std::vector<double> held_gap_;      // wall gap of an active node at the end of the Newton step it aims at (half of a damped reversal)
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
   // Hessian terms gathered per edge (stretch), per vertex (bending: w Pa/la^2, w Pb/lb^2,
   // w jb^T ja) and per node (drag, grip, wall, friction) before the band is written.
