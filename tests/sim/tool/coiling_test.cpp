@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -14,6 +15,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "collision/segment_pair.hpp"
 #include "tool/aneurysm_sac.hpp"
 #include "tool/case_file.hpp"
 #include "tool/case_world.hpp"
@@ -239,12 +241,26 @@ TEST_F(CoilInSphere, TheTwoSidesOfASelfContactHoldOnePlane) {
   ASSERT_GT(contacts.size(), 20u);
   ASSERT_EQ(contacts.size() % 2, 0u);
   std::size_t paired = 0;
+  const std::span<const glm::dvec3> x = coil.positions();
   for (const EdgeContact& c : contacts) {
     const double radius = 0.5 * (coil.node_radius_mm(c.edge) + coil.node_radius_mm(c.edge + 1));
-    paired += std::count_if(contacts.begin(), contacts.end(), [&](const EdgeContact& o) {
+    const auto same_plane = [&](const EdgeContact& o) {
       const double other = 0.5 * (coil.node_radius_mm(o.edge) + coil.node_radius_mm(o.edge + 1));
       return o.normal == -c.normal && std::abs(o.offset_mm + c.offset_mm - (radius + other)) < 1e-12;
-    }) == 1;
+    };
+    paired += std::count_if(contacts.begin(), contacts.end(), same_plane) == 1;
+    // Either side (the tested or the mirrored one) equals the segment test made from its own edge:
+    // its closest point on its edge, the normal from the other edge's closest point to it.
+    const auto o = std::find_if(contacts.begin(), contacts.end(), same_plane);
+    if (o == contacts.end()) continue;
+    const collision::SegmentPair pair = collision::closest_segment_segment(x[c.edge], x[c.edge + 1], x[o->edge], x[o->edge + 1]);
+    EXPECT_NEAR(c.s, pair.s, 1e-9) << "edge " << c.edge << " against " << o->edge;
+    EXPECT_NEAR(o->s, pair.t, 1e-9) << "edge " << o->edge << " against " << c.edge;
+    const glm::dvec3 p = x[c.edge] + (x[c.edge + 1] - x[c.edge]) * pair.s;
+    const glm::dvec3 q = x[o->edge] + (x[o->edge + 1] - x[o->edge]) * pair.t;
+    if (glm::length(p - q) > 1e-6) {
+      EXPECT_LT(glm::length(c.normal - glm::normalize(p - q)), 1e-9);
+    }
   }
   EXPECT_EQ(paired, contacts.size());
 }
