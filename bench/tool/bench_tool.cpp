@@ -474,7 +474,8 @@ const ProbeReplay& triaxial_probes() {
     wall.record(nullptr);
     r.nodes = wall.nodes();
     r.steps = 5000;
-    for (ProbeRecord& p : r.records) p.step -= r.records.front().step;
+    const std::uint32_t first_step = r.records.front().step;
+    for (ProbeRecord& p : r.records) p.step -= first_step;
     return r;
   }();
   return replay;
@@ -499,6 +500,8 @@ void BM_WallReprobe(benchmark::State& state) {
   step_us.reserve(replay.steps * 8);
   WallContact out;
   for (auto _ : state) {
+    // Fresh hints each pass: every node takes a slot again (reset with its touching flag).
+    std::fill(hints.begin(), hints.end(), WallHint{});
     std::size_t k = 0;
     while (k < replay.records.size()) {
       const std::uint32_t step = replay.records[k].step;

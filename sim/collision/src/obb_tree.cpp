@@ -819,28 +819,33 @@ std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_
   return collector.finish(out);
 }
 
-std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
-                                     QueryHint& hint) const {
-  if (!finite(centre_mm) || !valid_radius(radius_mm)) return 0;
-  const TreeData& d = *data_;
+namespace {
+
+// The hinted sphere query; with `nearest`, also the nearest of its candidates (the closest
+// point when one lies within the radius).
+std::size_t hinted_sphere_contacts(const TreeData& d, const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
+                                   QueryHint& hint, std::optional<ClosestPoint>* nearest) {
   ContactCollector collector(d, radius_mm);
   const PointLanes lanes = lanes_of(centre_mm);
   const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
   probe_near(d, hint, centre_mm, radius_mm, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
+  if (nearest != nullptr) *nearest = collector.nearest();
   return collector.finish(out);
+}
+
+}  // namespace
+
+std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
+                                     QueryHint& hint) const {
+  if (!finite(centre_mm) || !valid_radius(radius_mm)) return 0;
+  return hinted_sphere_contacts(*data_, centre_mm, radius_mm, out, hint, nullptr);
 }
 
 std::size_t ObbTree::sphere_contacts(const glm::dvec3& centre_mm, double radius_mm, std::span<Contact> out,
                                      QueryHint& hint, std::optional<ClosestPoint>& nearest) const {
   nearest.reset();
   if (!finite(centre_mm) || !valid_radius(radius_mm) || out.empty()) return 0;
-  const TreeData& d = *data_;
-  ContactCollector collector(d, radius_mm);
-  const PointLanes lanes = lanes_of(centre_mm);
-  const float thresh = threshold_sq(radius_mm, slack_for(d, centre_mm));
-  probe_near(d, hint, centre_mm, radius_mm, thresh, SphereProbe{centre_mm, lanes, thresh, collector});
-  nearest = collector.nearest();
-  return collector.finish(out);
+  return hinted_sphere_contacts(*data_, centre_mm, radius_mm, out, hint, &nearest);
 }
 
 namespace {
