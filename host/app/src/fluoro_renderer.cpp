@@ -682,12 +682,16 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
     }
     // A binned image is scaled to the display's size, bilinear as a monitor's scaler does. On
     // llvmpipe at 1024^2 a scaled copy into the window costs ~5 ms of CPU more than a plain copy,
-    // a scaled copy into a texture ~7 ms more: an image shown the first time is scaled into the
-    // window; shown again (the display frames between pulses, last-image hold) it is scaled once
-    // into `scaled_`, and from then on copied plainly.
+    // a scaled copy into a texture ~7 ms more (and a plain copy after it): an image is scaled
+    // straight into the window for its first kDirectShows showings (a pulse and the display
+    // frames until the next one, up to 15 pulses/s at 60 Hz); shown more often (last-image
+    // hold) it is scaled once into `scaled_`, and from then on copied plainly.
+    constexpr int kDirectShows = 4;
+    shows_ = monitor_.key == shown_key_ ? shows_ + 1 : 1;
+    shown_key_ = monitor_.key;
     const bool scaled = monitor_.width != viewport.width || monitor_.height != viewport.height;
     const Target* source = &monitor_;
-    if (scaled && monitor_.key == shown_key_) {
+    if (scaled && shows_ > kDirectShows) {
       if (!scaled_.valid || scaled_.key != monitor_.key || scaled_.width != viewport.width || scaled_.height != viewport.height) {
         ensure_target(scaled_, viewport.width, viewport.height, GL_RGBA8, GL_UNSIGNED_BYTE);
         glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
@@ -698,7 +702,6 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
       }
       source = &scaled_;
     }
-    shown_key_ = monitor_.key;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, source->fbo);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
     glBlitFramebuffer(0, 0, source->width, source->height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,

@@ -201,6 +201,7 @@ class FluoroRenderer {
   Target monitor_;                   // the composed grey image (RGBA8)
   Target scaled_;                    // a binned monitor_ image scaled to the viewport (key: monitor_'s)
   std::uint64_t shown_key_ = 0;      // monitor_'s key when the last frame was shown
+  int shows_ = 0;                    // frames in a row that showed it
   // The vessel: positions and (cell a, cell b, weight) per vertex, and the cells' iodine.
   unsigned vessel_vao_ = 0;
   unsigned vessel_vbo_ = 0;
