@@ -262,7 +262,7 @@ bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
 void FluoroRenderer::set_phantom(flow::HeadPhantom phantom) {
   phantom_ = std::move(phantom);
   ++generation_;
-  phantom_key_ = 0;
+  projections_.forget();
 }
 
 void FluoroRenderer::set_vessel(const FluoroVessel& vessel) { upload_vessel(prepare_vessel(vessel)); }
@@ -298,70 +298,24 @@ std::uint64_t FluoroRenderer::phantom_key(const flow::CArm& carm, const Matrix& 
 bool FluoroRenderer::project_phantom(const flow::CArm& carm, const Matrix& size, const Matrix& other, double l_ref) {
   const int width = size.width;
   const int height = size.height;
-  const std::uint64_t key = phantom_key(carm, size);
-  const auto ready = [](const Projection& p) { return p.path.wait_for(std::chrono::seconds(0)) == std::future_status::ready; };
-  const auto launch = [this, &carm](std::uint64_t k, const Matrix& m) {
-    return Projection{k, std::async(std::launch::async, [phantom = phantom_, carm, m] { return phantom.project(carm, m.width, m.height); })};
-  };
-  // The other readout's projection, once done, is the spare (unless it is the current one).
-  if (other_pending_ && ready(*other_pending_)) {
-    std::vector<float> path = other_pending_->path.get();
-    if (other_pending_->key != phantom_key_) {
-      spare_path_ = std::move(path);
-      spare_key_ = other_pending_->key;
-    }
-    other_pending_.reset();
+  const PhantomProjections::Request request{phantom_key(carm, size), {width, height}, phantom_key(carm, other), {other.width, other.height}};
+  bool projected = false;
+  switch (projections_.use(phantom_, carm, request, monitor_.valid, projected)) {
+    case PhantomProjections::Outcome::kWaiting: work_.waiting_for_phantom = true; return false;
+    case PhantomProjections::Outcome::kChanged: phantom_l_ref_ = -1.0; break;
+    case PhantomProjections::Outcome::kSame: break;
   }
-  // The projection for this key replaces the current one, which is kept as the spare. With
-  // background projection the other readout's at this pose follows on a worker (a subtraction
-  // run soon after the fluoroscopy that placed the C-arm then finds its phantom ready).
-  const auto adopt = [&](std::vector<float> path) {
-    spare_path_ = std::move(phantom_path_);
-    spare_key_ = phantom_key_;
-    phantom_path_ = std::move(path);
-    phantom_key_ = key;
-    phantom_l_ref_ = -1.0;
-    work_.phantom_projected = true;
-    const std::uint64_t other_key = phantom_key(carm, other);
-    if (background_ && other_key != key && other_key != spare_key_ && !other_pending_) other_pending_ = launch(other_key, other);
-  };
-  if (key != phantom_key_ && key == spare_key_) {
-    // The same pose at the other readout (a subtraction run after binned fluoroscopy, and back):
-    // kept, not projected again.
-    std::swap(phantom_path_, spare_path_);
-    std::swap(phantom_key_, spare_key_);
-    phantom_l_ref_ = -1.0;
-  } else if (key != phantom_key_) {
-    // A last image to show meanwhile (of any size: the copy to the window scales it): project on
-    // a worker thread.
-    const bool hold = background_ && monitor_.valid;
-    if (pending_ && pending_->key != key && ready(*pending_)) pending_.reset();  // a pose passed by: dropped
-    if (!pending_ && other_pending_ && other_pending_->key == key) {
-      pending_ = std::move(other_pending_);  // the other readout's, under way: waited for, not started again
-      other_pending_.reset();
-    }
-    if (pending_ && pending_->key == key && (ready(*pending_) || !hold)) {
-      adopt(pending_->path.get());
-      pending_.reset();
-    } else if (hold) {
-      // One projection at a time: a newer pose starts when the one under way is done.
-      if (!pending_) pending_ = launch(key, size);
-      work_.waiting_for_phantom = true;
-      return false;
-    } else {
-      pending_.reset();  // waits for a projection under way
-      adopt(phantom_.project(carm, width, height));
-    }
-  }
+  work_.phantom_projected = projected;
+  const std::vector<float>& path = projections_.path();
   if (l_ref == phantom_l_ref_) return true;
   // Each pixel: the phantom's L and the noise amplitude there, sqrt(T_ref / T) = exp((L - L_ref) / 2).
   // Stored bottom row first, as the GL targets it is drawn with.
-  phantom_rg_.resize(2 * phantom_path_.size());
-  for (std::size_t i = 0; i < phantom_path_.size(); ++i) {
+  phantom_rg_.resize(2 * path.size());
+  for (std::size_t i = 0; i < path.size(); ++i) {
     const std::size_t row = i / static_cast<std::size_t>(width);
     const std::size_t o = 2 * ((static_cast<std::size_t>(height) - 1 - row) * static_cast<std::size_t>(width) + i % static_cast<std::size_t>(width));
-    phantom_rg_[o] = phantom_path_[i];
-    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (phantom_path_[i] - l_ref)));
+    phantom_rg_[o] = path[i];
+    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (path[i] - l_ref)));
   }
   phantom_l_ref_ = l_ref;
   glBindTexture(GL_TEXTURE_2D, phantom_texture_);
@@ -659,7 +613,7 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
       // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
       // otherwise (last-image hold, frames between pulses) it is copied again.
       Hasher k;
-      k.value(phantom_key_);
+      k.value(projections_.key());
       k.value(phantom_l_ref_);
       for (int i = 0; i < 4; ++i) {
         const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);

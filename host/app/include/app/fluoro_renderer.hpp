@@ -34,14 +34,13 @@
 //   with GL_EXT_shader_framebuffer_fetch the phantom is read from the framebuffer instead.
 #include <array>
 #include <cstdint>
-#include <future>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "app/fluoro_image_model.hpp"
 #include "app/fluoro_inputs.hpp"
 #include "app/fluoro_vessel.hpp"
+#include "app/phantom_projections.hpp"
 #include "app/shader_program.hpp"
 #include "app/tube_mesh.hpp"
 #include "app/viewport.hpp"
@@ -88,13 +87,10 @@ class FluoroRenderer {
   // On (the interactive trainer): when the C-arm moves, the phantom is projected on a worker
   // thread and render() shows the last image until it is ready, so a move does not stall the
   // frames (~150 ms of CPU at 1024^2). Off (the default: tests, headless runs): at once.
-  void set_background_projection(bool on) { background_ = on; }
+  void set_background_projection(bool on) { projections_.set_background(on); }
   // Blocks until the background projection under way (if any) is done; the next render() uses it.
   // The projection of the other readout at a new pose (see project_phantom) is waited for too.
-  void finish_projection() {
-    if (pending_) pending_->path.wait();
-    if (other_pending_) other_pending_->path.wait();
-  }
+  void finish_projection() { projections_.finish(); }
   [[nodiscard]] const FluoroDisplay& display() const { return display_; }
 
   // Draws the monitor image into `viewport` of the bound framebuffer (the image is
@@ -179,23 +175,11 @@ class FluoroRenderer {
   std::array<ShaderProgram, 6> composite_shaders_;
   unsigned empty_vao_ = 0;
   unsigned phantom_texture_ = 0;
-  std::uint64_t phantom_key_ = 0;
-  double phantom_l_ref_ = -1.0;
-  std::vector<float> phantom_path_;  // L per pixel, row 0 at the top
-  // The projection before (a pose and readout size): fluoroscopy's binned readout and a run's
-  // full one alternate without projecting again.
-  std::uint64_t spare_key_ = 0;
-  std::vector<float> spare_path_;
-  bool background_ = false;
+  PhantomProjections projections_;  // the phantom's projections (current, spare, workers)
+  double phantom_l_ref_ = -1.0;     // the noise reference the phantom texture was made for
   bool framebuffer_fetch_wanted_ = true;
   bool fbfetch_ = false;  // the composite reads the phantom as a colour attachment (compose_fbo_)
   unsigned compose_fbo_ = 0;  // the phantom texture and the monitor image, attached 0 and 1
-  struct Projection {
-    std::uint64_t key = 0;
-    std::future<std::vector<float>> path;
-  };
-  std::optional<Projection> pending_;  // the background projection under way
-  std::optional<Projection> other_pending_;  // the other readout's, for the spare
   std::vector<float> phantom_rg_;
   std::array<Target, 4> targets_{};  // shown, mask, roadmap, roadmap mask
   Target monitor_;                   // the composed grey image (RGBA8)
