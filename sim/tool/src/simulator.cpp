@@ -20,6 +20,7 @@ constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
 constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
 constexpr double kBalloonGripFriction = 0.3;    // balloon on the intima (inflated)
 constexpr double kCouplingRelaxation = 0.5;     // loads from inner tools: new = r new + (1 - r) old
+constexpr double kMinSheathEdge = 0.5;          // shortest sheath-path edge, of the holder's node spacing
 }  // namespace
 
 const char* device_error_text(DeviceError e) {
@@ -384,7 +385,24 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   // The vertices run from the distal end to the entry: station lookups walk from the last one.
   std::size_t inner_station = Rod::kNoStation;
   std::size_t holder_station = Rod::kNoStation;
-  const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth) {
+  // Two vertices of different origin (the entry and the first free node just past it, a
+  // catheter's tip node and the first free node of the one it holds, just past it) nearer than
+  // kMinSheathEdge of the holder's node spacing are one vertex: the direction between them is
+  // the nodes' lateral play, not the path's, and the turning and curvature read from it were up
+  // to tens of degrees of noise, which the bending term read as newtons of normal force (the
+  // triaxial stack's lumen friction 3-40 N, lurching the catheters it dragged). The vertex
+  // proximal is left out, or for the entry the one before it. (The distal end lies on its
+  // holder's chord, however near the next node: that edge is the chord's direction.)
+  const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth, bool entry) {
+    if (path.size() >= 2 && (entry || path.back().holder != holder)) {
+      const Rod& h = rods_[holder];
+      const std::size_t k = std::min(node + 2, h.node_total()) - 2;  // the node's distal edge
+      const double spacing = h.node_from_tip_mm(k) - h.node_from_tip_mm(k + 1);
+      if (glm::length(p - path.back().point_mm) < kMinSheathEdge * spacing) {
+        if (!entry) return;
+        if (path.size() > 2) path.pop_back();
+      }
+    }
     SheathVertex v;
     v.point_mm = p;
     v.holder = static_cast<std::uint32_t>(holder);
@@ -407,7 +425,7 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   {
     std::size_t node = 0;
     const glm::dvec3 p = rods_[first_holder].point_at_depth(end - free_start_[first_holder], nullptr, &node);
-    vertex(p, first_holder, std::min(node + 1, rods_[first_holder].node_total() - 1), end);
+    vertex(p, first_holder, std::min(node + 1, rods_[first_holder].node_total() - 1), end, false);
   }
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     const Rod& h = rods_[c];
@@ -417,13 +435,13 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
     for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
       const double depth = lo + h.node_depth_mm(k);
       if (depth >= end - 1e-9 || depth <= lo) continue;
-      vertex(h.positions()[k], c, k, depth);
+      vertex(h.positions()[k], c, k, depth, false);
     }
   }
   // The entry.
   std::size_t outermost = u;
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) outermost = c;
-  vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0);
+  vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0, true);
 }
 
 void Simulator::update_sheath(std::size_t u, double dt_s) {

@@ -13,6 +13,11 @@
 // the limit. The reaction (the catheter dragged along by the friction) goes back onto the
 // catheters' nodes as loads for the next step. The push of a compressed inner tool on the
 // catheter's bends is not applied to the catheter (lagged by a step it feeds back on itself).
+// The path's turning and curvature are read from its vertices, so the simulator leaves out a
+// vertex nearer than half a node spacing to one of another origin (the entry and the first free
+// node past it; a catheter's tip node and the first free node of the tool it holds): across so
+// short an edge the direction is the nodes' lateral play, and the bending term read it as
+// newtons of normal force (Simulator::build_sheath_path).
 #include <cstdint>
 #include <vector>
 
