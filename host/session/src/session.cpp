@@ -499,6 +499,7 @@ void Session::publish() {
   s.haptic_ticks = tick_;
   s.dropped_ticks = t ? t->dropped() : 0;
   s.metrics = metrics_.metrics();
+  s.wall_force_mN = contacts_.wall_mN();
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
