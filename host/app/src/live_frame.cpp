@@ -44,9 +44,7 @@ std::string ServerLink::frame_json(const session::SceneSnapshot& snap, std::uint
     tools.push_back({{"name", ti < tool_names.size() ? tool_names[ti] : "tool" + std::to_string(t)}, {"active", v.active}, {"nodes_mm", std::move(nodes)}});
   }
   json contacts = json::array();
-  double wall_peak = 0.0;
   for (const session::ContactView& c : snap.contacts) {
-    wall_peak = std::max(wall_peak, static_cast<double>(c.force_mN));
     if (contacts.size() < server::kMaxContactsPerFrame) contacts.push_back({{"p_mm", vec(c.point_mm)}, {"f_mN", mm(c.force_mN)}});
   }
   json metrics = json::object();
@@ -58,7 +56,7 @@ std::string ServerLink::frame_json(const session::SceneSnapshot& snap, std::uint
                 {"t_ms", static_cast<double>(snap.sim_time_us) / 1000.0},
                 {"tools", std::move(tools)},
                 {"tip_mm", vec(snap.tip_mm)},
-                {"forces", {{"hand_mN", mm(snap.hand_force_mN)}, {"wall_peak_mN", mm(wall_peak)}}},
+                {"forces", {{"hand_mN", mm(snap.hand_force_mN)}, {"wall_peak_mN", mm(snap.wall_force_mN)}}},
                 {"contacts", std::move(contacts)},
                 {"metrics", std::move(metrics)},
                 {"sent_us", unix_now_us()}};

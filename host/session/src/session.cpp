@@ -160,6 +160,7 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   }
   sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
   input_.tool_count = std::min(tools.size(), kMaxTools);
+  contacts_ = ContactReadings(tools.size());
   for (std::size_t t = 0; t < input_.tool_count; ++t) update_max_insertion(t);
   if (options_.held_tool && *options_.held_tool < input_.tool_count) sim_->select(*options_.held_tool);
   input_.held = sim_->active_tool();
@@ -399,13 +400,11 @@ bool Session::tick() {
   mt.tip_mm = fb.tip_mm;
   mt.tip_segment = held.tip_segment;
   mt.hand_force_mN = std::abs(held.hand_force_mN);
-  for (const tool::ToolSnapshot& t : snap_.tools) {
-    for (const tool::RodContact& k : t.contacts) mt.wall_force_mN = std::max(mt.wall_force_mN, k.normal_force_mN);
-  }
-  for (const tool::RodContact& k : held.contacts) {
-    // The distal few nodes: the rod's node numbering ends at the tip.
-    if (k.node + 3 >= sim_->rod(held_index).node_total()) mt.tip_in_contact = true;
-  }
+  // Wall forces from the steps that converged (contact_readings.hpp).
+  contacts_.update(*sim_, snap_);
+  mt.wall_force_mN = contacts_.wall_mN();
+  mt.tip_in_contact = contacts_.tool(held_index).tip_in_contact;
+  mt.tip_force_mN = contacts_.tool(held_index).tip_mN;
   metrics_.observe(mt);
   if (fluoro_) fluoro_->fill(metrics_);
   if (coil_metrics_) {
@@ -414,7 +413,8 @@ bool Session::tick() {
     metrics_.set_coiling(100.0 * fig.packing_density, fig.deployed_mm, fig.herniations, fig.kick_back_mm);
     if (coil_metrics_->herniation_began()) log("coil herniating into the parent artery (%d nodes past the neck)", fig.herniated_nodes);
   }
-  if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.wall_force_mN);
+  // The tip's own force (not the tick's largest contact, which may be another tool's shaft).
+  if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.tip_force_mN);
   if (metrics_.target_just_reached()) {
     log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);
     if (recorder_) recorder_->event(record::EventCode::kTargetReached);
@@ -499,6 +499,7 @@ void Session::publish() {
   s.haptic_ticks = tick_;
   s.dropped_ticks = t ? t->dropped() : 0;
   s.metrics = metrics_.metrics();
+  s.wall_force_mN = contacts_.wall_mN();
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;

@@ -100,5 +100,17 @@ TEST(LiveFrame, CarriesFluoroscopyOnAndTime) {
   EXPECT_EQ(frame["fluoro"], (nlohmann::json{{"on", true}, {"time_s", 1.5}}));
 }
 
+// The live frame's wall force is the session's reading (converged steps), not the largest raw
+// contact: an unconverged step's leftover penetration reads up to the contact cap.
+TEST(LiveFrame, WallPeakIsTheSessionsReadingNotTheRawContacts) {
+  session::SceneSnapshot snap;
+  snap.contacts.push_back(session::ContactView{});
+  snap.contacts.back().force_mN = 3500.0F;
+  snap.wall_force_mN = 37.5;
+  const auto frame = nlohmann::json::parse(ServerLink::frame_json(snap, 1, {}));
+  EXPECT_DOUBLE_EQ(frame["forces"]["wall_peak_mN"].get<double>(), 37.5);
+  EXPECT_DOUBLE_EQ(frame["contacts"][0]["f_mN"].get<double>(), 3500.0);
+}
+
 }  // namespace
 }  // namespace cathbox::app

@@ -9,7 +9,8 @@
 //   path efficiency       centreline length from the entry to the target ÷ the tip path length
 //                         when the target was reached (none before, or without a target)
 //   wall contacts         episodes of the tip touching the wall, separated by ≥ 20 ms without
-//   peak wall force       largest normal force of any contact of any tool
+//   peak wall force       largest normal force of any contact of any tool (the session gives
+//                         those of converged steps: contact_readings.hpp)
 //   time above threshold  time with a contact force above the case's threshold (100 mN default)
 //   wrong-branch entries  the tip enters a vessel segment off the centreline route from the
 //                         entry to the target, counted once per entry (junctions ignored)
@@ -87,6 +88,8 @@ struct MetricsTick {
   glm::vec3 tip_mm{0.0F};              // its tip
   std::int32_t tip_segment = -1;       // vessel segment id holding the tip (-1 none, -2 junction)
   bool tip_in_contact = false;
+  double tip_force_mN = 0.0;           // largest normal force on those nodes (the held tool's last
+                                       // 3), what the "tip on the wall" event reports
   double wall_force_mN = 0.0;          // largest normal force of this tick's contacts (all tools)
   double hand_force_mN = 0.0;          // magnitude of the axial force at the hand
 };

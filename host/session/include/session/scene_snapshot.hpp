@@ -50,6 +50,9 @@ struct SceneSnapshot {
   double rotation_rad = 0.0;
   double hand_force_mN = 0.0;
   double hand_torque_mNmm = 0.0;
+  // The largest wall force of this tick as the metrics read it (converged steps only,
+  // contact_readings.hpp); `contacts` carry the simulator's forces as they are.
+  double wall_force_mN = 0.0;
   double haptic_rate_hz = 0.0;
   std::int64_t haptic_ticks = 0;
   std::int64_t dropped_ticks = 0;

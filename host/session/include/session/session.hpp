@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "session/clock.hpp"
+#include "session/contact_readings.hpp"
 #include "session/control.hpp"
 #include "session/event_log.hpp"
 #include "session/fluoro_unit.hpp"
@@ -164,6 +165,7 @@ class Session {
   std::atomic<std::int64_t> ticks_{0};
   std::atomic<std::size_t> held_{0};
   MetricsCollector metrics_;
+  ContactReadings contacts_{0};  // the wall forces the metrics and events read (converged steps)
   SnapshotExchange<SceneSnapshot> exchange_;
   EventLog events_;
   ControlQueue controls_;
