@@ -185,12 +185,11 @@ class Rod {
     return std::max(drag_per_mm_[k], settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
   }
   struct NodeContact;
-  struct BendTerm {  // unit tangents around a vertex and the bending residual
-    glm::dvec3 ta{0.0}, tb{0.0}, r{0.0};
-    double la = 0.0, lb = 0.0, w = 0.0;
-  };
   Rod();  // an empty rod, filled by split_distal
-  [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  // Bending at vertex i (first_ + 1 .. n - 2): its weight EI / (Voronoi length) and its
+  // residual from the unit tangents of the edges either side.
+  [[nodiscard]] double bend_weight(std::size_t i) const;
+  [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   void size_scratch();
   void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
   void gather_obstacles(const RodObstacles& obstacles);
@@ -249,9 +248,6 @@ class Rod {
   std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
   std::vector<double> held_gap_;      // wall gap of an active node at the end of the Newton step it aims at (half of a damped reversal)
   std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
-  // Hessian terms gathered per edge (stretch), per vertex (bending: w Pa/la^2, w Pb/lb^2,
-  // w jb^T ja) and per node (drag, grip, wall, friction) before the band is written.
-  std::vector<glm::dmat3> stretch_h_, bend_aa_, bend_bb_, bend_ba_, nodal_h_;
   std::unique_ptr<BandedCholesky> matrix_;
 
   std::vector<RodContact> contacts_;
