@@ -199,7 +199,8 @@ void Rod::size_scratch() {
   tw_diag_.assign(n, 0.0);
   tw_off_.assign(n, 0.0);
   tw_rhs_.assign(n, 0.0);
-  tw_c_.assign(n, 0.0);
+  tw_inv_.assign(n, 0.0);
+  tw_regime_.assign(n, 0);
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
   gathered_at_.assign(n, glm::dvec3(0.0));
@@ -1068,7 +1069,12 @@ void Rod::solve_twist(double dt_s) {
   };
   const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   if (m > 0 && first_free_ < n) {
-    for (int it = 0; it < std::max(1, settings_.twist_iterations); ++it) {
+    const int iterations = std::max(1, settings_.twist_iterations);
+    for (int it = 0; it < iterations; ++it) {
+      // The system is linear but for the pre-curve coupling and the friction's stick / slip
+      // switch: without the one, and with every contact in the same regime after the update as
+      // before it, the update solved it exactly and a further iteration would not move.
+      bool linear = true;
       for (std::size_t j = 0; j < m; ++j) {
         const std::size_t e = ef + j;
         const double r = radius_[e + 1];
@@ -1091,6 +1097,7 @@ void Rod::solve_twist(double dt_s) {
         }
         if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
           // Pre-curved sections: the material curvature depends on the edge angles.
+          linear = false;
           const glm::dvec3 a = x_[i] - x_[i - 1];
           const glm::dvec3 b = x_[i + 1] - x_[i];
           const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
@@ -1108,36 +1115,56 @@ void Rod::solve_twist(double dt_s) {
         }
       }
       // Torsional wall friction: stick spring with a slip limit.
-      for (std::size_t k = first_free_; k < n; ++k) {
+      const auto regime = [&](std::size_t k, double& ktr, double& limit, double& d) -> std::uint8_t {
         const NodeContact& nc = node_contacts_[k];
-        if (!nc.has_plane || spec_.friction <= 0.0) continue;
+        if (!nc.has_plane || spec_.friction <= 0.0) return 0;
         const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
-        if (phi <= 0.0) continue;
-        const std::size_t e = std::min(k, n - 2);
+        if (phi <= 0.0) return 0;
         const double r = radius_[k];
-        const double ktr = kt * r * r;
-        const double limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
-        const double d = theta_[e] - nc.twist_anchor;
-        if (ktr * std::abs(d) <= limit) {
-          tw_rhs_[e - ef] += ktr * d;
-          tw_diag_[e - ef] += ktr;
-        } else {
-          tw_rhs_[e - ef] += d > 0.0 ? limit : -limit;
+        ktr = kt * r * r;
+        limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
+        d = theta_[std::min(k, n - 2)] - nc.twist_anchor;
+        if (ktr * std::abs(d) <= limit) return 1;  // stick
+        return d > 0.0 ? 2 : 3;                    // slip either way
+      };
+      for (std::size_t k = first_free_; k < n; ++k) {
+        double ktr = 0.0, limit = 0.0, d = 0.0;
+        const std::uint8_t state = regime(k, ktr, limit, d);
+        tw_regime_[k] = state;
+        const std::size_t j = std::min(k, n - 2) - ef;
+        if (state == 1) {
+          tw_rhs_[j] += ktr * d;
+          tw_diag_[j] += ktr;
+        } else if (state != 0) {
+          tw_rhs_[j] += state == 2 ? limit : -limit;
         }
       }
-      // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j).
-      for (std::size_t j = 0; j < m; ++j) tw_c_[j] = tw_diag_[j];
+      // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j),
+      // keeping the inverse pivots (the hand's Schur complement below reuses them).
+      tw_inv_[0] = 1.0 / tw_diag_[0];
       for (std::size_t j = 1; j < m; ++j) {
-        const double f = tw_off_[j] / tw_c_[j - 1];
-        tw_c_[j] -= f * tw_off_[j];
+        const double f = tw_off_[j] * tw_inv_[j - 1];
+        tw_inv_[j] = 1.0 / (tw_diag_[j] - f * tw_off_[j]);
         tw_rhs_[j] -= f * tw_rhs_[j - 1];
       }
-      tw_rhs_[m - 1] /= tw_c_[m - 1];
-      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+      tw_rhs_[m - 1] *= tw_inv_[m - 1];
+      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
       for (std::size_t j = 0; j < m; ++j) {
         const double step = tw_rhs_[j];
-        if (std::isfinite(step)) theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
+        if (!std::isfinite(step)) {
+          linear = false;
+          continue;
+        }
+        if (std::abs(step) > 0.5) linear = false;
+        theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
       }
+      if (!linear || it + 1 == iterations) continue;
+      bool same = true;
+      for (std::size_t k = first_free_; k < n && same; ++k) {
+        double ktr = 0.0, limit = 0.0, d = 0.0;
+        same = regime(k, ktr, limit, d) == tw_regime_[k];
+      }
+      if (same) break;
     }
     if (free_) {
       law_.torsion_stiffness_mNmm_per_rad = 0.0;
@@ -1148,9 +1175,9 @@ void Rod::solve_twist(double dt_s) {
     // Torsional stiffness at the hand: Schur complement of the last system on the clamp.
     const double c0 = gj_[ef] / (0.5 * rest_[ef]);
     for (std::size_t j = 0; j < m; ++j) tw_rhs_[j] = j == 0 ? 1.0 : 0.0;
-    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] / tw_c_[j - 1] * tw_rhs_[j - 1];
-    tw_rhs_[m - 1] /= tw_c_[m - 1];
-    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] * tw_inv_[j - 1] * tw_rhs_[j - 1];
+    tw_rhs_[m - 1] *= tw_inv_[m - 1];
+    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
     law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
     const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
     // As for the force: the solver's twist damping above the physical drag stays out of the hand.

@@ -247,7 +247,8 @@ class Rod {
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
   std::vector<double> held_gap_;      // wall gap of an active node at the end of the Newton step it aims at (half of a damped reversal)
-  std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
+  std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_inv_;  // twist system; tw_inv_: Thomas' inverse pivots
+  std::vector<std::uint8_t> tw_regime_;  // per node: torsional friction off, stick, slip + or slip -
   std::unique_ptr<BandedCholesky> matrix_;
 
   std::vector<RodContact> contacts_;
