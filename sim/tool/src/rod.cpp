@@ -200,6 +200,9 @@ void Rod::size_scratch() {
   tw_off_.assign(n, 0.0);
   tw_rhs_.assign(n, 0.0);
   tw_inv_.assign(n, 0.0);
+  axial_k_.assign(n, 0.0);
+  bend_w_.assign(n, 0.0);
+  drag_k_.assign(n, 0.0);
   tw_regime_.assign(n, 0);
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
@@ -515,6 +518,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       solved_move_[k] = from;
     }
     warm_ok_ = false;
+    update_weights(dt_s);
     refresh_contacts(wall, false);
     if (obstacles != nullptr) gather_obstacles(*obstacles);
     const std::size_t dofs = 3 * (n - first_);
@@ -562,7 +566,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
         rejoin = false;
       } else {
-        assemble(dt_s, refactor);
+        assemble(refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
       // After a join only the joined nodes' diagonal blocks changed: factor again from the
@@ -634,7 +638,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
         // Small steps near convergence are taken as they are.
         if (tries >= 6 || slope >= 0.0 || largest * scale < settings_.trust_step_mm ||
-            energy(dt_s) <= e0 + 1e-4 * scale * slope) {
+            energy() <= e0 + 1e-4 * scale * slope) {
           break;
         }
         scale *= 0.5;
@@ -766,9 +770,16 @@ double Rod::second_gap(std::size_t k) const {
   return glm::dot(nc.normal2, x_[k] - nc.point2) + radius_[k];
 }
 
-double Rod::bend_weight(std::size_t i) const {
+void Rod::update_weights(double dt_s) {
+  // What the assembly and the line search would otherwise divide for at every call.
+  const std::size_t n = x_.size();
+  const double ea = spec_.axial_stiffness_N * kMilli;
+  for (std::size_t k = first_; k + 1 < n; ++k) axial_k_[k] = ea / rest_[k];
   // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
-  return (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    bend_w_[i] = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+  }
+  for (std::size_t k = first_free_; k < n; ++k) drag_k_[k] = solver_drag(k) / dt_s;
 }
 
 glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const {
@@ -781,7 +792,7 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   return r;
 }
 
-void Rod::assemble(double dt_s, bool hessian) {
+void Rod::assemble(bool hessian) {
   // Gradient, energy and Hessian in one pass along the rod: each edge's length and tangent
   // once (its stretching and the bending at the vertices either side share them), and each
   // block row written as soon as its last term is known. The Gauss-Newton Hessian in terms of
@@ -808,7 +819,6 @@ void Rod::assemble(double dt_s, bool hessian) {
   };
   const glm::dmat3 identity(1.0);
   const glm::dmat3 zero(0.0);
-  const double ea = spec_.axial_stiffness_N * kMilli;
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
   const auto vertex = [&](std::size_t i) { return i >= first_ + 1 && i + 1 < n; };
@@ -816,28 +826,29 @@ void Rod::assemble(double dt_s, bool hessian) {
 
   // Edge k - 1 and vertex k - 1, carried from the last node.
   glm::dvec3 u_prev(0.0);
-  double len_prev = 1.0;
+  double inv_prev = 1.0;  // 1 / l_{k-1}
   glm::dmat3 p_prev(0.0), m_prev(0.0);
   double ks_prev = 0.0, c_prev = 0.0, g_prev = 0.0;
-  double w = vertex(first_) ? bend_weight(first_) : 0.0;  // vertex k's bending weight
+  double w = 0.0;  // vertex k's bending weight (first_ is no vertex)
   for (std::size_t k = first_; k < n; ++k) {
     // Edge k: node k -> k + 1.
     glm::dvec3 u(0.0);
-    double len = 1.0, ks = 0.0, c = 0.0;
+    double inv = 1.0, ks = 0.0, c = 0.0;
     glm::dmat3 p(0.0);
-    const double w_next = vertex(k + 1) ? bend_weight(k + 1) : 0.0;
+    const double w_next = vertex(k + 1) ? bend_w_[k + 1] : 0.0;
     if (k + 1 < n) {
       const glm::dvec3 e = x_[k + 1] - x_[k];
-      len = std::max(glm::length(e), 1e-12);
-      u = e / len;
-      ks = ea / rest_[k];
+      const double len = std::max(glm::length(e), 1e-12);
+      inv = 1.0 / len;
+      u = e * inv;
+      ks = axial_k_[k];
       const glm::dvec3 f = u * (ks * (len - rest_[k]));
       energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
       add_grad(k + 1, f);
       add_grad(k, -f);
       if (hessian) {
         p = identity - glm::outerProduct(u, u);
-        c = ks * std::max(0.0, 1.0 - rest_[k] / len) - ks + (w + w_next) / (len * len);
+        c = ks * std::max(0.0, 1.0 - rest_[k] * inv) - ks + (w + w_next) * (inv * inv);
       }
     }
     // Vertex k, between edges k - 1 and k.
@@ -845,8 +856,8 @@ void Rod::assemble(double dt_s, bool hessian) {
     glm::dmat3 m(0.0);
     if (vertex(k)) {
       const glm::dvec3 r = bend_residual(k, u_prev, u);
-      const double ca = w / len_prev;
-      const double cb = w / len;
+      const double ca = w * inv_prev;
+      const double cb = w * inv;
       const glm::dvec3 ga = (u_prev * glm::dot(u_prev, r) - r) * ca;  // w ja^T r, ja = -P_a / l_a
       const glm::dvec3 gb = (r - u * glm::dot(u, r)) * cb;            // w jb^T r, jb = P_b / l_b
       add_grad(k - 1, -ga);
@@ -854,7 +865,7 @@ void Rod::assemble(double dt_s, bool hessian) {
       add_grad(k + 1, gb);
       energy_ += 0.5 * w * glm::dot(r, r);
       if (hessian) {
-        g = ca / len;
+        g = ca * inv;
         m = identity - glm::outerProduct(u_prev, u_prev) - glm::outerProduct(u, u) +
             glm::outerProduct(u, u_prev) * glm::dot(u_prev, u);
       }
@@ -862,7 +873,7 @@ void Rod::assemble(double dt_s, bool hessian) {
     // Wall contacts, friction, drag and loads on the free nodes: one block on the diagonal.
     glm::dmat3 h = zero;
     if (k >= first_free_) {
-      const double cd = solver_drag(k) / dt_s;
+      const double cd = drag_k_[k];
       const glm::dvec3 moved = x_[k] - x_start_[k];
       const glm::dvec3 load = load_[k] + coupling_[k];
       add_grad(k, moved * cd - load);
@@ -925,7 +936,7 @@ void Rod::assemble(double dt_s, bool hessian) {
       matrix_->set_row(k - first_, diag, sub1, m_prev * g_prev);
     }
     u_prev = u;
-    len_prev = len;
+    inv_prev = inv;
     p_prev = p;
     m_prev = m;
     ks_prev = ks;
@@ -953,21 +964,20 @@ void Rod::assemble(double dt_s, bool hessian) {
   }
 }
 
-double Rod::energy(double dt_s) const {
+double Rod::energy() const {
   // The energy whose gradient assemble() builds, with the friction limits of the last assembly.
   const std::size_t n = x_.size();
-  const double ea = spec_.axial_stiffness_N * kMilli;
   double e = 0.0;
   glm::dvec3 u_prev(0.0);  // edge k - 1's tangent
   for (std::size_t k = first_; k + 1 < n; ++k) {
     const glm::dvec3 edge = x_[k + 1] - x_[k];
-    const double len = glm::length(edge);
+    const double len = std::max(glm::length(edge), 1e-12);
     const double stretch = len - rest_[k];
-    e += 0.5 * ea / rest_[k] * stretch * stretch;
-    const glm::dvec3 u = edge / std::max(len, 1e-12);
+    e += 0.5 * axial_k_[k] * stretch * stretch;
+    const glm::dvec3 u = edge * (1.0 / len);
     if (k >= first_ + 1) {
       const glm::dvec3 r = bend_residual(k, u_prev, u);
-      e += 0.5 * bend_weight(k) * glm::dot(r, r);
+      e += 0.5 * bend_w_[k] * glm::dot(r, r);
     }
     u_prev = u;
   }
@@ -979,7 +989,7 @@ double Rod::energy(double dt_s) const {
   }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    e += 0.5 * solver_drag(k) / dt_s * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
+    e += 0.5 * drag_k_[k] * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
     if (grip_limit_[k] > 0.0) {
       const double len = glm::length(x_[k] - grip_anchor_[k]);
       const double limit = grip_limit_[k];

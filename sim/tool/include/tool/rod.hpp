@@ -186,9 +186,9 @@ class Rod {
   }
   struct NodeContact;
   Rod();  // an empty rod, filled by split_distal
-  // Bending at vertex i (first_ + 1 .. n - 2): its weight EI / (Voronoi length) and its
-  // residual from the unit tangents of the edges either side.
-  [[nodiscard]] double bend_weight(std::size_t i) const;
+  // The step's stiffness and drag coefficients (axial_k_, bend_w_, drag_k_), once per step.
+  void update_weights(double dt_s);
+  // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
   [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   void size_scratch();
   void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
@@ -203,8 +203,8 @@ class Rod {
   void place_outside(std::size_t k);
   // Re-probes the wall; true when the plane of a node in the active set was replaced.
   bool refresh_contacts(const WallModel& wall, bool only_moved);
-  void assemble(double dt_s, bool hessian);
-  [[nodiscard]] double energy(double dt_s) const;
+  void assemble(bool hessian);
+  [[nodiscard]] double energy() const;
   void update_frames();
   void solve_twist(double dt_s);
   void finish_contacts();
@@ -244,6 +244,9 @@ class Rod {
 
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
+  // Per step: EA / rest per edge, EI / (Voronoi length) per bending vertex, solver drag / dt per
+  // free node (update_weights).
+  std::vector<double> axial_k_, bend_w_, drag_k_;
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
   std::vector<double> held_gap_;      // wall gap of an active node at the end of the Newton step it aims at (half of a damped reversal)
