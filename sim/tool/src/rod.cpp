@@ -199,17 +199,16 @@ void Rod::size_scratch() {
   tw_diag_.assign(n, 0.0);
   tw_off_.assign(n, 0.0);
   tw_rhs_.assign(n, 0.0);
-  tw_c_.assign(n, 0.0);
+  tw_inv_.assign(n, 0.0);
+  axial_k_.assign(n, 0.0);
+  bend_w_.assign(n, 0.0);
+  drag_k_.assign(n, 0.0);
+  tw_regime_.assign(n, 0);
   contacts_.reserve(n);
   edge_contacts_.reserve(4 * n);
   gathered_at_.assign(n, glm::dvec3(0.0));
   solved_move_.assign(n, glm::dvec3(0.0));
   warm_ok_ = false;
-  stretch_h_.assign(n, glm::dmat3(0.0));
-  bend_aa_.assign(n, glm::dmat3(0.0));
-  bend_bb_.assign(n, glm::dmat3(0.0));
-  bend_ba_.assign(n, glm::dmat3(0.0));
-  nodal_h_.assign(n, glm::dmat3(0.0));
   matrix_ = std::make_unique<BandedCholesky>(n);
 }
 
@@ -519,6 +518,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       solved_move_[k] = from;
     }
     warm_ok_ = false;
+    update_weights(dt_s);
     refresh_contacts(wall, false);
     if (obstacles != nullptr) gather_obstacles(*obstacles);
     const std::size_t dofs = 3 * (n - first_);
@@ -566,7 +566,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
         rejoin = false;
       } else {
-        assemble(dt_s, refactor);
+        assemble(refactor);
         for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
       }
       // After a join only the joined nodes' diagonal blocks changed: factor again from the
@@ -638,7 +638,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
         }
         // Small steps near convergence are taken as they are.
         if (tries >= 6 || slope >= 0.0 || largest * scale < settings_.trust_step_mm ||
-            energy(dt_s) <= e0 + 1e-4 * scale * slope) {
+            energy() <= e0 + 1e-4 * scale * slope) {
           break;
         }
         scale *= 0.5;
@@ -770,28 +770,43 @@ double Rod::second_gap(std::size_t k) const {
   return glm::dot(nc.normal2, x_[k] - nc.point2) + radius_[k];
 }
 
-Rod::BendTerm Rod::bend_term(std::size_t i) const {
-  // Bending residual on unit tangents: r = t_b - t_a - (rest turn towards m1). |t_b - t_a| is
-  // 2 sin(phi/2) of the turning angle phi: the discrete curvature for small angles, and bounded
-  // for kinks, which keeps the Gauss-Newton steps good.
-  BendTerm bt;
-  const glm::dvec3 a = x_[i] - x_[i - 1];
-  const glm::dvec3 b = x_[i + 1] - x_[i];
-  bt.la = std::max(glm::length(a), 1e-12);
-  bt.lb = std::max(glm::length(b), 1e-12);
-  bt.ta = a / bt.la;
-  bt.tb = b / bt.lb;
-  bt.r = bt.tb - bt.ta;
-  if (kturn1_[i] != 0.0) bt.r -= (m1_[i - 1] + m1_[i]) * (0.5 * kturn1_[i]);
-  if (kturn2_[i] != 0.0) bt.r -= (m2_[i - 1] + m2_[i]) * (0.5 * kturn2_[i]);
+void Rod::update_weights(double dt_s) {
+  // What the assembly and the line search would otherwise divide for at every call.
+  const std::size_t n = x_.size();
+  const double ea = spec_.axial_stiffness_N * kMilli;
+  for (std::size_t k = first_; k + 1 < n; ++k) axial_k_[k] = ea / rest_[k];
   // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
-  bt.w = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
-  return bt;
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    bend_w_[i] = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+  }
+  for (std::size_t k = first_free_; k < n; ++k) drag_k_[k] = solver_drag(k) / dt_s;
 }
 
-void Rod::assemble(double dt_s, bool hessian) {
-  // Gradient and energy term by term; the Hessian's blocks are gathered per node and written
-  // once per block row at the end (no read-modify-write of the band per term).
+glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const {
+  // Bending residual on the unit tangents around vertex i: r = t_b - t_a - (rest turn towards
+  // m1). |t_b - t_a| is 2 sin(phi/2) of the turning angle phi: the discrete curvature for small
+  // angles, and bounded for kinks, which keeps the Gauss-Newton steps good.
+  glm::dvec3 r = tb - ta;
+  if (kturn1_[i] != 0.0) r -= (m1_[i - 1] + m1_[i]) * (0.5 * kturn1_[i]);
+  if (kturn2_[i] != 0.0) r -= (m2_[i - 1] + m2_[i]) * (0.5 * kturn2_[i]);
+  return r;
+}
+
+void Rod::assemble(bool hessian) {
+  // Gradient, energy and Hessian in one pass along the rod: each edge's length and tangent
+  // once (its stretching and the bending at the vertices either side share them), and each
+  // block row written as soon as its last term is known. The Gauss-Newton Hessian in terms of
+  // the edge projectors P_e = I - t_e t_e^T:
+  //   stretching of edge e: ks_e I + (ks'_e - ks_e) P_e, ks = EA / rest, ks' = ks max(0, 1 - rest / len);
+  //   bending at vertex i (edges a = i - 1, b = i): w J^T J with J = [P_a / l_a, -(P_a / l_a + P_b / l_b),
+  //   P_b / l_b] on nodes i - 1, i, i + 1, whose blocks are w P_a / l_a^2, w P_b / l_b^2 and
+  //   multiples of M_i = P_b P_a = I - t_a t_a^T - t_b t_b^T + (t_a . t_b) t_b t_a^T.
+  // Block row k is then
+  //   A(k, k)     = nodal_k + (ks_k + ks_{k-1}) I + c_k P_k + c_{k-1} P_{k-1} + g_k (M_k + M_k^T),
+  //   A(k, k - 1) = -ks_{k-1} I - c_{k-1} P_{k-1} - g_k M_k - g_{k-1} M_{k-1},
+  //   A(k, k - 2) = g_{k-1} M_{k-1},
+  // with c_e = ks'_e - ks_e + (w_e + w_{e+1}) / l_e^2 and g_i = w_i / (l_{i-1} l_i) (w = 0 off the
+  // bending vertices first_ + 1 .. n - 2).
   const std::size_t n = x_.size();
   const std::size_t dofs = 3 * (n - first_);
   std::fill(grad_.begin(), grad_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
@@ -803,139 +818,131 @@ void Rod::assemble(double dt_s, bool hessian) {
     grad_[d + 2] += g.z;
   };
   const glm::dmat3 identity(1.0);
-
-  // Stretching: edge k couples nodes k and k + 1 with h_k.
-  const double ea = spec_.axial_stiffness_N * kMilli;
-  for (std::size_t k = first_; k + 1 < n; ++k) {
-    const glm::dvec3 e = x_[k + 1] - x_[k];
-    const double len = std::max(glm::length(e), 1e-12);
-    const glm::dvec3 u = e / len;
-    const double ks = ea / rest_[k];
-    const glm::dvec3 f = u * (ks * (len - rest_[k]));
-    energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
-    add_grad(k + 1, f);
-    add_grad(k, -f);
-    if (!hessian) continue;
-    const glm::dmat3 uu = glm::outerProduct(u, u);
-    stretch_h_[k] = ks * uu + (ks * std::max(0.0, 1.0 - rest_[k] / len)) * (identity - uu);
-  }
-
-  // Bending (discrete curvature binormal), Gauss-Newton on r = kb - kb_rest, at the vertices
-  // first_ + 1 .. n - 2.
-  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
-    const BendTerm bt = bend_term(i);
-    const glm::dvec3& r = bt.r;
-    const double w = bt.w;
-    // J = [-ja, ja - jb, jb] on nodes i-1, i, i+1 with ja = -Pa / la, jb = Pb / lb and the
-    // projections P = I - t t^T (symmetric, idempotent): w J^T J in closed form.
-    const double ca = w / bt.la;
-    const double cb = w / bt.lb;
-    const glm::dvec3 ga = (bt.ta * glm::dot(bt.ta, r) - r) * ca;  // w ja^T r
-    const glm::dvec3 gb = (r - bt.tb * glm::dot(bt.tb, r)) * cb;  // w jb^T r
-    add_grad(i - 1, -ga);
-    add_grad(i, ga - gb);
-    add_grad(i + 1, gb);
-    energy_ += 0.5 * w * glm::dot(r, r);
-    if (!hessian) continue;
-    const glm::dmat3 tata = glm::outerProduct(bt.ta, bt.ta);
-    const glm::dmat3 tbtb = glm::outerProduct(bt.tb, bt.tb);
-    bend_aa_[i] = (identity - tata) * (ca / bt.la);  // w Pa / la^2
-    bend_bb_[i] = (identity - tbtb) * (cb / bt.lb);  // w Pb / lb^2
-    // w jb^T ja = -(w / (la lb)) Pb Pa, Pb Pa = I - ta ta^T - tb tb^T + (ta . tb) tb ta^T
-    bend_ba_[i] =
-        (identity - tata - tbtb + glm::outerProduct(bt.tb, bt.ta) * glm::dot(bt.ta, bt.tb)) * (-ca / bt.lb);
-  }
-
-  // Wall contacts, friction, drag and loads on the free nodes: one block on the diagonal.
+  const glm::dmat3 zero(0.0);
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
-  for (std::size_t k = first_free_; k < n; ++k) {
-    const double c = solver_drag(k) / dt_s;
-    const glm::dvec3 moved = x_[k] - x_start_[k];
-    const glm::dvec3 load = load_[k] + coupling_[k];
-    add_grad(k, moved * c - load);
-    glm::dmat3 h = identity * c;
-    energy_ += 0.5 * c * glm::dot(moved, moved) - glm::dot(load, x_[k]);
-    if (grip_limit_[k] > 0.0) {
-      const double kg = kc * settings_.stick_stiffness_ratio;
-      const glm::dvec3 rel = x_[k] - grip_anchor_[k];
-      const double len = glm::length(rel);
-      const double limit = grip_limit_[k];
-      if (kg * len <= limit) {
-        add_grad(k, rel * kg);
-        h += identity * kg;
-        energy_ += 0.5 * kg * len * len;
-      } else {
-        const glm::dvec3 u = rel / len;
-        add_grad(k, u * limit);
-        h += (limit / len) * (identity - glm::outerProduct(u, u));
-        energy_ += limit * len - 0.5 * limit * limit / kg;
+  const auto vertex = [&](std::size_t i) { return i >= first_ + 1 && i + 1 < n; };
+  if (hessian) matrix_->resize(n - first_);
+
+  // Edge k - 1 and vertex k - 1, carried from the last node.
+  glm::dvec3 u_prev(0.0);
+  double inv_prev = 1.0;  // 1 / l_{k-1}
+  glm::dmat3 p_prev(0.0), m_prev(0.0);
+  double ks_prev = 0.0, c_prev = 0.0, g_prev = 0.0;
+  double w = 0.0;  // vertex k's bending weight (first_ is no vertex)
+  for (std::size_t k = first_; k < n; ++k) {
+    // Edge k: node k -> k + 1.
+    glm::dvec3 u(0.0);
+    double inv = 1.0, ks = 0.0, c = 0.0;
+    glm::dmat3 p(0.0);
+    const double w_next = vertex(k + 1) ? bend_w_[k + 1] : 0.0;
+    if (k + 1 < n) {
+      const glm::dvec3 e = x_[k + 1] - x_[k];
+      const double len = std::max(glm::length(e), 1e-12);
+      inv = 1.0 / len;
+      u = e * inv;
+      ks = axial_k_[k];
+      const glm::dvec3 f = u * (ks * (len - rest_[k]));
+      energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
+      add_grad(k + 1, f);
+      add_grad(k, -f);
+      if (hessian) {
+        p = identity - glm::outerProduct(u, u);
+        c = ks * std::max(0.0, 1.0 - rest_[k] * inv) - ks + (w + w_next) * (inv * inv);
       }
     }
-    friction_limit_[k] = 0.0;
-    NodeContact& nc = node_contacts_[k];
-    if (nc.has_plane && nc.active2) {
-      const double phi2 = second_gap(k);
-      add_grad(k, nc.normal2 * (kc * phi2));
-      h += kc * glm::outerProduct(nc.normal2, nc.normal2);
-      energy_ += 0.5 * kc * phi2 * phi2;
+    // Vertex k, between edges k - 1 and k.
+    double g = 0.0;
+    glm::dmat3 m(0.0);
+    if (vertex(k)) {
+      const glm::dvec3 r = bend_residual(k, u_prev, u);
+      const double ca = w * inv_prev;
+      const double cb = w * inv;
+      const glm::dvec3 ga = (u_prev * glm::dot(u_prev, r) - r) * ca;  // w ja^T r, ja = -P_a / l_a
+      const glm::dvec3 gb = (r - u * glm::dot(u, r)) * cb;            // w jb^T r, jb = P_b / l_b
+      add_grad(k - 1, -ga);
+      add_grad(k, ga - gb);
+      add_grad(k + 1, gb);
+      energy_ += 0.5 * w * glm::dot(r, r);
+      if (hessian) {
+        g = ca * inv;
+        m = identity - glm::outerProduct(u_prev, u_prev) - glm::outerProduct(u, u) +
+            glm::outerProduct(u, u_prev) * glm::dot(u_prev, u);
+      }
     }
-    if (nc.has_plane && nc.active) {
-      const double phi = plane_gap(k);
-      const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
-      add_grad(k, nc.normal * (kc * phi));
-      h += kc * nn;
-      energy_ += 0.5 * kc * phi * phi;
-      if (spec_.friction > 0.0) {
-        const glm::dmat3 pt = identity - nn;
-        const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
-        const double slip_len = glm::length(slip);
-        // The slip limit uses the normal force of the previous step, so within a step friction
-        // is a fixed convex potential and the iterations converge.
-        const double limit = spec_.friction * nc.normal_force;
-        friction_limit_[k] = limit;
-        if (kt * slip_len <= limit) {
-          add_grad(k, slip * kt);
-          h += kt * pt;
-          energy_ += 0.5 * kt * slip_len * slip_len;
+    // Wall contacts, friction, drag and loads on the free nodes: one block on the diagonal.
+    glm::dmat3 h = zero;
+    if (k >= first_free_) {
+      const double cd = drag_k_[k];
+      const glm::dvec3 moved = x_[k] - x_start_[k];
+      const glm::dvec3 load = load_[k] + coupling_[k];
+      add_grad(k, moved * cd - load);
+      h = identity * cd;
+      energy_ += 0.5 * cd * glm::dot(moved, moved) - glm::dot(load, x_[k]);
+      if (grip_limit_[k] > 0.0) {
+        const double kg = kc * settings_.stick_stiffness_ratio;
+        const glm::dvec3 rel = x_[k] - grip_anchor_[k];
+        const double rel_len = glm::length(rel);
+        const double limit = grip_limit_[k];
+        if (kg * rel_len <= limit) {
+          add_grad(k, rel * kg);
+          h += identity * kg;
+          energy_ += 0.5 * kg * rel_len * rel_len;
         } else {
-          energy_ += limit * slip_len - 0.5 * limit * limit / kt;
-          const glm::dvec3 sd = slip / slip_len;
-          add_grad(k, sd * limit);
-          h += (limit / slip_len) * (pt - glm::outerProduct(sd, sd));
+          const glm::dvec3 ru = rel / rel_len;
+          add_grad(k, ru * limit);
+          h += (limit / rel_len) * (identity - glm::outerProduct(ru, ru));
+          energy_ += limit * rel_len - 0.5 * limit * limit / kg;
+        }
+      }
+      friction_limit_[k] = 0.0;
+      NodeContact& nc = node_contacts_[k];
+      if (nc.has_plane && nc.active2) {
+        const double phi2 = second_gap(k);
+        add_grad(k, nc.normal2 * (kc * phi2));
+        h += kc * glm::outerProduct(nc.normal2, nc.normal2);
+        energy_ += 0.5 * kc * phi2 * phi2;
+      }
+      if (nc.has_plane && nc.active) {
+        const double phi = plane_gap(k);
+        const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
+        add_grad(k, nc.normal * (kc * phi));
+        h += kc * nn;
+        energy_ += 0.5 * kc * phi * phi;
+        if (spec_.friction > 0.0) {
+          const glm::dmat3 pt = identity - nn;
+          const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+          const double slip_len = glm::length(slip);
+          // The slip limit uses the normal force of the previous step, so within a step friction
+          // is a fixed convex potential and the iterations converge.
+          const double limit = spec_.friction * nc.normal_force;
+          friction_limit_[k] = limit;
+          if (kt * slip_len <= limit) {
+            add_grad(k, slip * kt);
+            h += kt * pt;
+            energy_ += 0.5 * kt * slip_len * slip_len;
+          } else {
+            energy_ += limit * slip_len - 0.5 * limit * limit / kt;
+            const glm::dvec3 sd = slip / slip_len;
+            add_grad(k, sd * limit);
+            h += (limit / slip_len) * (pt - glm::outerProduct(sd, sd));
+          }
         }
       }
     }
-    if (hessian) nodal_h_[k] = h;
-  }
-
-  if (hessian) {
-    // Block row k: the diagonal and the blocks (k, k-1), (k, k-2) from the terms above.
-    matrix_->resize(n - first_);
-    const glm::dmat3 zero(0.0);
-    const auto vertex = [&](std::size_t i) { return i >= first_ + 1 && i + 1 < n; };
-    for (std::size_t k = first_; k < n; ++k) {
-      glm::dmat3 diag = k >= first_free_ ? nodal_h_[k] : zero;
-      glm::dmat3 sub1 = zero;
-      glm::dmat3 sub2 = zero;
-      if (k + 1 < n) diag += stretch_h_[k];
-      if (k > first_) {
-        diag += stretch_h_[k - 1];
-        sub1 -= stretch_h_[k - 1];
-      }
-      if (vertex(k + 1)) diag += bend_aa_[k + 1];
-      if (vertex(k)) {
-        const glm::dmat3& ba = bend_ba_[k];
-        diag += bend_aa_[k] + bend_bb_[k] - ba - glm::transpose(ba);
-        sub1 += ba - bend_aa_[k];
-      }
-      if (k >= 1 && vertex(k - 1)) {  // k - 1 wraps at k = 0 (a free rod, first_ = 0)
-        diag += bend_bb_[k - 1];
-        sub1 += bend_ba_[k - 1] - bend_bb_[k - 1];
-        sub2 -= bend_ba_[k - 1];
-      }
-      matrix_->set_row(k - first_, diag, sub1, sub2);
+    if (hessian) {
+      const glm::dmat3 diag = h + identity * (ks + ks_prev) + p * c + p_prev * c_prev + (m + glm::transpose(m)) * g;
+      const glm::dmat3 sub1 = -(identity * ks_prev + p_prev * c_prev + m * g + m_prev * g_prev);
+      matrix_->set_row(k - first_, diag, sub1, m_prev * g_prev);
     }
+    u_prev = u;
+    inv_prev = inv;
+    p_prev = p;
+    m_prev = m;
+    ks_prev = ks;
+    c_prev = c;
+    g_prev = g;
+    w = w_next;
   }
 
   // Other rods (and the rod's own far parts): one-sided penalty on the gathered planes.
@@ -957,18 +964,22 @@ void Rod::assemble(double dt_s, bool hessian) {
   }
 }
 
-double Rod::energy(double dt_s) const {
+double Rod::energy() const {
   // The energy whose gradient assemble() builds, with the friction limits of the last assembly.
   const std::size_t n = x_.size();
-  const double ea = spec_.axial_stiffness_N * kMilli;
   double e = 0.0;
+  glm::dvec3 u_prev(0.0);  // edge k - 1's tangent
   for (std::size_t k = first_; k + 1 < n; ++k) {
-    const double stretch = glm::length(x_[k + 1] - x_[k]) - rest_[k];
-    e += 0.5 * ea / rest_[k] * stretch * stretch;
-  }
-  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
-    const BendTerm bt = bend_term(i);
-    e += 0.5 * bt.w * glm::dot(bt.r, bt.r);
+    const glm::dvec3 edge = x_[k + 1] - x_[k];
+    const double len = std::max(glm::length(edge), 1e-12);
+    const double stretch = len - rest_[k];
+    e += 0.5 * axial_k_[k] * stretch * stretch;
+    const glm::dvec3 u = edge * (1.0 / len);
+    if (k >= first_ + 1) {
+      const glm::dvec3 r = bend_residual(k, u_prev, u);
+      e += 0.5 * bend_w_[k] * glm::dot(r, r);
+    }
+    u_prev = u;
   }
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
@@ -978,7 +989,7 @@ double Rod::energy(double dt_s) const {
   }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    e += 0.5 * solver_drag(k) / dt_s * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
+    e += 0.5 * drag_k_[k] * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
     if (grip_limit_[k] > 0.0) {
       const double len = glm::length(x_[k] - grip_anchor_[k]);
       const double limit = grip_limit_[k];
@@ -1068,7 +1079,12 @@ void Rod::solve_twist(double dt_s) {
   };
   const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   if (m > 0 && first_free_ < n) {
-    for (int it = 0; it < std::max(1, settings_.twist_iterations); ++it) {
+    const int iterations = std::max(1, settings_.twist_iterations);
+    for (int it = 0; it < iterations; ++it) {
+      // The system is linear but for the pre-curve coupling and the friction's stick / slip
+      // switch: without the one, and with every contact in the same regime after the update as
+      // before it, the update solved it exactly and a further iteration would not move.
+      bool linear = true;
       for (std::size_t j = 0; j < m; ++j) {
         const std::size_t e = ef + j;
         const double r = radius_[e + 1];
@@ -1091,6 +1107,7 @@ void Rod::solve_twist(double dt_s) {
         }
         if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
           // Pre-curved sections: the material curvature depends on the edge angles.
+          linear = false;
           const glm::dvec3 a = x_[i] - x_[i - 1];
           const glm::dvec3 b = x_[i + 1] - x_[i];
           const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
@@ -1108,36 +1125,56 @@ void Rod::solve_twist(double dt_s) {
         }
       }
       // Torsional wall friction: stick spring with a slip limit.
-      for (std::size_t k = first_free_; k < n; ++k) {
+      const auto regime = [&](std::size_t k, double& ktr, double& limit, double& d) -> std::uint8_t {
         const NodeContact& nc = node_contacts_[k];
-        if (!nc.has_plane || spec_.friction <= 0.0) continue;
+        if (!nc.has_plane || spec_.friction <= 0.0) return 0;
         const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
-        if (phi <= 0.0) continue;
-        const std::size_t e = std::min(k, n - 2);
+        if (phi <= 0.0) return 0;
         const double r = radius_[k];
-        const double ktr = kt * r * r;
-        const double limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
-        const double d = theta_[e] - nc.twist_anchor;
-        if (ktr * std::abs(d) <= limit) {
-          tw_rhs_[e - ef] += ktr * d;
-          tw_diag_[e - ef] += ktr;
-        } else {
-          tw_rhs_[e - ef] += d > 0.0 ? limit : -limit;
+        ktr = kt * r * r;
+        limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
+        d = theta_[std::min(k, n - 2)] - nc.twist_anchor;
+        if (ktr * std::abs(d) <= limit) return 1;  // stick
+        return d > 0.0 ? 2 : 3;                    // slip either way
+      };
+      for (std::size_t k = first_free_; k < n; ++k) {
+        double ktr = 0.0, limit = 0.0, d = 0.0;
+        const std::uint8_t state = regime(k, ktr, limit, d);
+        tw_regime_[k] = state;
+        const std::size_t j = std::min(k, n - 2) - ef;
+        if (state == 1) {
+          tw_rhs_[j] += ktr * d;
+          tw_diag_[j] += ktr;
+        } else if (state != 0) {
+          tw_rhs_[j] += state == 2 ? limit : -limit;
         }
       }
-      // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j).
-      for (std::size_t j = 0; j < m; ++j) tw_c_[j] = tw_diag_[j];
+      // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j),
+      // keeping the inverse pivots (the hand's Schur complement below reuses them).
+      tw_inv_[0] = 1.0 / tw_diag_[0];
       for (std::size_t j = 1; j < m; ++j) {
-        const double f = tw_off_[j] / tw_c_[j - 1];
-        tw_c_[j] -= f * tw_off_[j];
+        const double f = tw_off_[j] * tw_inv_[j - 1];
+        tw_inv_[j] = 1.0 / (tw_diag_[j] - f * tw_off_[j]);
         tw_rhs_[j] -= f * tw_rhs_[j - 1];
       }
-      tw_rhs_[m - 1] /= tw_c_[m - 1];
-      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+      tw_rhs_[m - 1] *= tw_inv_[m - 1];
+      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
       for (std::size_t j = 0; j < m; ++j) {
         const double step = tw_rhs_[j];
-        if (std::isfinite(step)) theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
+        if (!std::isfinite(step)) {
+          linear = false;
+          continue;
+        }
+        if (std::abs(step) > 0.5) linear = false;
+        theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
       }
+      if (!linear || it + 1 == iterations) continue;
+      bool same = true;
+      for (std::size_t k = first_free_; k < n && same; ++k) {
+        double ktr = 0.0, limit = 0.0, d = 0.0;
+        same = regime(k, ktr, limit, d) == tw_regime_[k];
+      }
+      if (same) break;
     }
     if (free_) {
       law_.torsion_stiffness_mNmm_per_rad = 0.0;
@@ -1148,9 +1185,9 @@ void Rod::solve_twist(double dt_s) {
     // Torsional stiffness at the hand: Schur complement of the last system on the clamp.
     const double c0 = gj_[ef] / (0.5 * rest_[ef]);
     for (std::size_t j = 0; j < m; ++j) tw_rhs_[j] = j == 0 ? 1.0 : 0.0;
-    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] / tw_c_[j - 1] * tw_rhs_[j - 1];
-    tw_rhs_[m - 1] /= tw_c_[m - 1];
-    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) / tw_c_[j];
+    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] * tw_inv_[j - 1] * tw_rhs_[j - 1];
+    tw_rhs_[m - 1] *= tw_inv_[m - 1];
+    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
     law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
     const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
     // As for the force: the solver's twist damping above the physical drag stays out of the hand.

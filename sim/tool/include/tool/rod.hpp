@@ -190,12 +190,11 @@ class Rod {
     return std::max(drag_per_mm_[k], settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
   }
   struct NodeContact;
-  struct BendTerm {  // unit tangents around a vertex and the bending residual
-    glm::dvec3 ta{0.0}, tb{0.0}, r{0.0};
-    double la = 0.0, lb = 0.0, w = 0.0;
-  };
   Rod();  // an empty rod, filled by split_distal
-  [[nodiscard]] BendTerm bend_term(std::size_t i) const;
+  // The step's stiffness and drag coefficients (axial_k_, bend_w_, drag_k_), once per step.
+  void update_weights(double dt_s);
+  // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
+  [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   void size_scratch();
   void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
   void gather_obstacles(const RodObstacles& obstacles);
@@ -209,8 +208,8 @@ class Rod {
   void place_outside(std::size_t k);
   // Re-probes the wall; true when the plane of a node in the active set was replaced.
   bool refresh_contacts(const WallModel& wall, bool only_moved);
-  void assemble(double dt_s, bool hessian);
-  [[nodiscard]] double energy(double dt_s) const;
+  void assemble(bool hessian);
+  [[nodiscard]] double energy() const;
   void update_frames();
   void solve_twist(double dt_s);
   void finish_contacts();
@@ -250,13 +249,14 @@ class Rod {
 
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
+  // Per step: EA / rest per edge, EI / (Voronoi length) per bending vertex, solver drag / dt per
+  // free node (update_weights).
+  std::vector<double> axial_k_, bend_w_, drag_k_;
   std::vector<std::uint8_t> joined_;  // nodes that joined the active set in this iteration
   std::vector<double> last_step_;  // the last Newton update taken in this step, by unknown
   std::vector<double> held_gap_;      // wall gap of an active node at the end of the Newton step it aims at (half of a damped reversal)
-  std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_c_;
-  // Hessian terms gathered per edge (stretch), per vertex (bending: w Pa/la^2, w Pb/lb^2,
-  // w jb^T ja) and per node (drag, grip, wall, friction) before the band is written.
-  std::vector<glm::dmat3> stretch_h_, bend_aa_, bend_bb_, bend_ba_, nodal_h_;
+  std::vector<double> tw_diag_, tw_off_, tw_rhs_, tw_inv_;  // twist system; tw_inv_: Thomas' inverse pivots
+  std::vector<std::uint8_t> tw_regime_;  // per node: torsional friction off, stick, slip + or slip -
   std::unique_ptr<BandedCholesky> matrix_;
 
   std::vector<RodContact> contacts_;
