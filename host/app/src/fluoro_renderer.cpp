@@ -659,11 +659,11 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
         monitor_.valid = true;
       }
     }
-    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does. On
-    // llvmpipe at 1024^2 a scaled copy into the window costs ~5 ms of CPU more than a plain copy,
-    // a scaled copy into a texture ~7 ms more (and a plain copy after it): an image is scaled
-    // straight into the window for its first kDirectShows showings (a pulse and the display
-    // frames until the next one, up to 15 pulses/s at 60 Hz); shown more often (last-image
+    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does (a
+    // draw, scale(): on llvmpipe at 1024^2 ~6 ms of CPU, a plain copy ~4, a scaled blit ~9.5).
+    // An image is scaled straight into the window for its first kDirectShows showings (a pulse
+    // and the display frames until the next one, up to 15 pulses/s at 60 Hz; scaling into
+    // `scaled_` and copying it would cost ~10 at the first); shown more often (last-image
     // hold) it is scaled once into `scaled_`, and from then on copied plainly.
     constexpr int kDirectShows = 4;
     shows_ = monitor_.key == shown_key_ ? shows_ + 1 : 1;
