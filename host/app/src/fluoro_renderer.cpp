@@ -200,6 +200,7 @@ FluoroRenderer::~FluoroRenderer() {
   for (const unsigned b : buffers) {
     if (b != 0) glDeleteBuffers(1, &b);
   }
+  if (linear_sampler_ != 0) glDeleteSamplers(1, &linear_sampler_);
   const unsigned arrays[] = {empty_vao_, vessel_vao_, tools_vao_};
   for (const unsigned a : arrays) {
     if (a != 0) glDeleteVertexArrays(1, &a);
@@ -223,7 +224,13 @@ bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
                       "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
     if (!composite_shaders_[i].build(fluoro_glsl::kCompositeVertex, source.c_str(), error)) return false;
   }
+  if (!scale_shader_.build(fluoro_glsl::kScaleVertex, fluoro_glsl::kScaleFragment, error)) return false;
   glGenVertexArrays(1, &empty_vao_);
+  glGenSamplers(1, &linear_sampler_);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(linear_sampler_, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 
   glGenTextures(1, &phantom_texture_);
   glBindTexture(GL_TEXTURE_2D, phantom_texture_);
@@ -567,6 +574,24 @@ FluoroRenderer::Matrix FluoroRenderer::matrix(const flow::CArm& carm, int width,
   return {std::max(1, static_cast<int>(std::lround(width * scale))), std::max(1, static_cast<int>(std::lround(height * scale)))};
 }
 
+void FluoroRenderer::scale(const Target& source, unsigned fbo, int x, int y, int width, int height) {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(x, y, width, height);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x, y, width, height);
+  scale_shader_.use();
+  scale_shader_.set_int("u_image", 0);
+  glActiveTexture(GL_TEXTURE0);
+  glBindTexture(GL_TEXTURE_2D, source.texture);
+  glBindSampler(0, linear_sampler_);
+  glBindVertexArray(empty_vao_);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glBindSampler(0, 0);
+  glBindTexture(GL_TEXTURE_2D, 0);
+  glDisable(GL_SCISSOR_TEST);
+}
+
 std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_height, const FluoroInputs& in) {
   work_ = {};
   std::string error = check_fluoro_inputs(in, vessel_indices_ > 0 ? cell_count_ : 0);
@@ -634,11 +659,11 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
         monitor_.valid = true;
       }
     }
-    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does. On
-    // llvmpipe at 1024^2 a scaled copy into the window costs ~5 ms of CPU more than a plain copy,
-    // a scaled copy into a texture ~7 ms more (and a plain copy after it): an image is scaled
-    // straight into the window for its first kDirectShows showings (a pulse and the display
-    // frames until the next one, up to 15 pulses/s at 60 Hz); shown more often (last-image
+    // A binned image is scaled to the display's size, bilinear as a monitor's scaler does (a
+    // draw, scale(): on llvmpipe at 1024^2 ~6 ms of CPU, a plain copy ~4, a scaled blit ~9.5).
+    // An image is scaled straight into the window for its first kDirectShows showings (a pulse
+    // and the display frames until the next one, up to 15 pulses/s at 60 Hz; scaling into
+    // `scaled_` and copying it would cost ~10 at the first); shown more often (last-image
     // hold) it is scaled once into `scaled_`, and from then on copied plainly.
     constexpr int kDirectShows = 4;
     shows_ = monitor_.key == shown_key_ ? shows_ + 1 : 1;
@@ -648,18 +673,20 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
     if (scaled && shows_ > kDirectShows) {
       if (!scaled_.valid || scaled_.key != monitor_.key || scaled_.width != viewport.width || scaled_.height != viewport.height) {
         ensure_target(scaled_, viewport.width, viewport.height, GL_RGBA8, GL_UNSIGNED_BYTE);
-        glBindFramebuffer(GL_READ_FRAMEBUFFER, monitor_.fbo);
-        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scaled_.fbo);
-        glBlitFramebuffer(0, 0, monitor_.width, monitor_.height, 0, 0, viewport.width, viewport.height, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+        scale(monitor_, scaled_.fbo, 0, 0, viewport.width, viewport.height);
         scaled_.key = monitor_.key;
         scaled_.valid = true;
       }
       source = &scaled_;
     }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, source->fbo);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
-    glBlitFramebuffer(0, 0, source->width, source->height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,
-                      GL_COLOR_BUFFER_BIT, source->width != viewport.width || source->height != viewport.height ? GL_LINEAR : GL_NEAREST);
+    if (source->width != viewport.width || source->height != viewport.height) {
+      scale(*source, static_cast<GLuint>(previous_fbo), viewport.x, gl_y, viewport.width, viewport.height);
+    } else {
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, source->fbo);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
+      glBlitFramebuffer(0, 0, source->width, source->height, viewport.x, gl_y, viewport.x + viewport.width, gl_y + viewport.height,
+                        GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(previous_fbo));
   }
   glActiveTexture(GL_TEXTURE0);

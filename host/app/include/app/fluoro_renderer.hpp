@@ -153,6 +153,9 @@ class FluoroRenderer {
   [[nodiscard]] Matrix matrix(const flow::CArm& carm, int width, int height, flow::ExposureMode mode) const;
   static Rect unite(const Rect& a, const Rect& b);
   static void ensure_target(Target& t, int width, int height, unsigned internal_format, unsigned type);
+  // `source` scaled bilinearly into the rectangle (x, y, width, height) of framebuffer `fbo`
+  // (the scale shader: cheaper than glBlitFramebuffer on llvmpipe).
+  void scale(const Target& source, unsigned fbo, int x, int y, int width, int height);
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
@@ -173,6 +176,8 @@ class FluoroRenderer {
   // Fluoroscopy, with the roadmap, subtraction; then the same three reading the phantom alone
   // (outside the scenes' box).
   std::array<ShaderProgram, 6> composite_shaders_;
+  ShaderProgram scale_shader_;     // a binned image to the viewport, bilinear
+  unsigned linear_sampler_ = 0;    // GL_LINEAR, clamped to the edge: the scale shader's
   unsigned empty_vao_ = 0;
   unsigned phantom_texture_ = 0;
   PhantomProjections projections_;  // the phantom's projections (current, spare, workers)
