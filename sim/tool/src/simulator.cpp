@@ -400,7 +400,7 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
       const double spacing = h.node_from_tip_mm(k) - h.node_from_tip_mm(k + 1);
       if (glm::length(p - path.back().point_mm) < kMinSheathEdge * spacing) {
         if (!entry) return;
-        if (path.size() > 2) path.pop_back();
+        if (path.size() >= 2) path.pop_back();  // [distal end, entry] left: no bend, no friction
       }
     }
     SheathVertex v;

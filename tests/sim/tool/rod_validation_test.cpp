@@ -341,8 +341,9 @@ TEST(RodBehaviour, StraightToolPushedIntoADeadEndBucklesFromTheSeedAndIsNotResee
     insert_to(rod, wall, 31.0, 0.1);
     insert_to(rod, wall, pushed, 0.02);
     EXPECT_GT(lateral_mm(rod), 0.3) << "the seeded tool buckles, pushed to " << pushed;
-    // Held 400 steps: over the last 200 no node moves 0.2 um in a step, no step runs out of
-    // iterations.
+    // Held 400 steps: over the last 200 no node moves more in a step than the solver's
+    // convergence tolerance (2 um; the shaking this guards against was 0.27-0.32 mm a step), no
+    // step runs out of iterations.
     std::vector<glm::dvec3> before;
     double moved = 0.0;
     int iterations = 0;
@@ -354,7 +355,7 @@ TEST(RodBehaviour, StraightToolPushedIntoADeadEndBucklesFromTheSeedAndIsNotResee
       }
       before.assign(rod.positions().begin(), rod.positions().end());
     }
-    EXPECT_LT(moved, 2e-4) << "a bent, held tool comes to rest, pushed to " << pushed;
+    EXPECT_LT(moved, RodSettings{}.convergence_mm) << "a bent, held tool comes to rest, pushed to " << pushed;
     EXPECT_LT(iterations, RodSettings{}.newton_iterations) << "pushed to " << pushed;
     EXPECT_GT(rod.hand_force_mN(), 100.0) << "and stays jammed, pushed to " << pushed;
   }

@@ -1,11 +1,10 @@
 #pragma once
 // The rod's symmetric positive definite system: 3x3 blocks, one block row per node, coupling
 // nodes at most two apart (the bending stencil), so the lower half is three blocks a row:
-// A(i, i), A(i, i-1), A(i, i-2). The block factorisation (block Cholesky in its L D L^T form:
-// unit diagonal blocks in L, the inverses of D's 3x3 blocks kept) of a trailing block [first, n)
-// (the rod's free nodes follow its prescribed ones, so one assembly serves the solve and the
-// force law's Schur complement) is kept apart from the assembled matrix, which stays intact: a
-// factored system can be amended and factored again without a saved copy.
+// A(i, i), A(i, i-1), A(i, i-2). The block Cholesky factorisation of a trailing block
+// [first, n) (the rod's free nodes follow its prescribed ones, so one assembly serves the solve
+// and the force law's Schur complement) is kept apart from the assembled matrix, which stays
+// intact: a factored system can be amended and factored again without a saved copy.
 //
 // Fixed 3x3 block products have the instruction-level parallelism a scalar band Cholesky lacks
 // (its dot products are chains of dependent multiply-adds): same arithmetic, several times
@@ -78,9 +77,9 @@ class BandedCholesky {
   std::size_t n_ = 0;
   std::size_t first_ = 0;
   std::vector<Block> a_;     // assembled lower blocks, kBlockBand + 1 per block row
-  std::vector<Block> l1_;    // factor L(i, i-1) (L's diagonal blocks are the identity)
+  std::vector<Block> l1_;    // factor L(i, i-1)
   std::vector<Block> l2_;    // factor L(i, i-2)
-  std::vector<Block> dinv_;  // inverse of the symmetric diagonal block D(i)
+  std::vector<Block> dinv_;  // inverse of the lower-triangular diagonal factor L(i, i)
 };
 
 }  // namespace cathbox::tool
