@@ -9,7 +9,6 @@
 #include <nlohmann/json.hpp>
 
 #include "server/server_app.hpp"
-#include "session/contact_readings.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "tool/case_file.hpp"
@@ -46,9 +45,7 @@ class TraceObserver final : public session::TickObserver {
 
   void observe(const session::TickView& v) override {
     // The wall forces the metrics read: those of the converged steps (session/contact_readings.hpp).
-    if (!started_) readings_ = session::ContactReadings(v.sim.tool_count());
-    readings_.update(v.sim, v.snapshot);
-    interval_wall_ = std::max(interval_wall_, readings_.wall_mN());
+    interval_wall_ = std::max(interval_wall_, v.contacts.wall_mN());
     const session::Metrics& m = v.metrics;
     if (started_) {
       if (m.wall_contacts > last_.wall_contacts) event(v.time_us, "wall_contact");
@@ -150,7 +147,6 @@ class TraceObserver final : public session::TickObserver {
   bool injecting_ = false;
   bool fluoro_ = false;
   double interval_wall_ = 0.0;
-  session::ContactReadings readings_{0};
 };
 
 class SessionChecker final : public RecordChecker {

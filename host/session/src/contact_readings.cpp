@@ -5,9 +5,15 @@
 namespace cathbox::session {
 
 void ContactReadings::update(const tool::Simulator& sim, const tool::Snapshot& snap) {
-  const std::size_t n = std::min({readings_.size(), snap.tools.size(), sim.tool_count()});
+  // The snapshot lists the case's tools, then the released coils (which keep touching the wall).
+  const std::size_t tools = sim.tool_count();
+  const std::size_t n = std::min(snap.tools.size(), tools + sim.detached_count());
+  if (readings_.size() < n) {
+    readings_.resize(n);
+    held_ticks_.resize(n, 0);
+  }
   for (std::size_t t = 0; t < n; ++t) {
-    const tool::Rod& rod = sim.rod(t);
+    const tool::Rod& rod = t < tools ? sim.rod(t) : sim.detached(t - tools);
     if (!rod.converged() && rod.first_free_node() < rod.node_total()) {
       ++held_ticks_[t];
       continue;

@@ -425,7 +425,7 @@ bool Session::tick() {
   }
   last_box_ = input_.box;
   if (!observers_.empty()) {
-    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics()};
+    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics(), contacts_};
     for (TickObserver* o : observers_) o->observe(view);
   }
   if (recorder_) recorder_->end_tick();

@@ -6,6 +6,8 @@
 // artery, microcatheter and a 20 mm coil), in virtual time.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <string>
 
@@ -139,6 +141,61 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
   ASSERT_TRUE(r.error.empty()) << r.error;
   EXPECT_FALSE(r.mismatch);
   EXPECT_GT(r.hashes_checked, 10);
+}
+
+// The wall forces after a release: the session's readings (TickView::contacts, what the peak
+// wall force, the time above threshold and the server's trace read) cover the released coil as
+// well as the case's tools. At every tick on which every rod's step converged, the wall reading
+// is the largest contact force over all the snapshot's tools, and on some of those ticks the
+// coil alone holds it.
+class ReleasedCoilWallForces : public TickObserver {
+ public:
+  void observe(const TickView& v) override {
+    if (v.sim.detached_count() == 0) return;
+    ++ticks;
+    sizes_match += v.contacts.size() == v.snapshot.tools.size() ? 1 : 0;
+    const std::size_t tools = v.sim.tool_count();
+    bool converged = true;
+    for (std::size_t t = 0; t < v.snapshot.tools.size(); ++t) {
+      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.detached(t - tools);
+      converged = converged && (rod.converged() || rod.first_free_node() >= rod.node_total());
+    }
+    if (!converged) return;
+    double case_tools = 0.0, coils = 0.0;
+    for (std::size_t t = 0; t < v.snapshot.tools.size(); ++t) {
+      for (const tool::RodContact& k : v.snapshot.tools[t].contacts) {
+        double& m = t < tools ? case_tools : coils;
+        m = std::max(m, k.normal_force_mN);
+      }
+    }
+    ++checked;
+    if (v.contacts.wall_mN() != std::max(case_tools, coils)) {
+      ++wrong;
+      if (first_wrong_us < 0) first_wrong_us = v.time_us;
+    }
+    coil_holds += coils > case_tools ? 1 : 0;
+    coil_max_mN = std::max(coil_max_mN, coils);
+  }
+  int ticks = 0, sizes_match = 0, checked = 0, wrong = 0, coil_holds = 0;
+  std::int64_t first_wrong_us = -1;
+  double coil_max_mN = 0.0;  // the released coil's largest contact force at those ticks
+};
+
+TEST(CoilSession, TheWallForceReadingsCoverTheReleasedCoil) {
+  std::unique_ptr<SessionCase> scene = sphere_case();
+  ASSERT_TRUE(scene);
+  std::unique_ptr<Hand> hand = fixtures::script_hand(*scene, kScript);
+  ASSERT_TRUE(hand);
+  Session s(std::move(scene), std::move(hand));
+  ReleasedCoilWallForces forces;
+  s.add_observer(forces);
+  while (!s.over()) s.step_virtual(1000);
+  ASSERT_GT(forces.ticks, 900) << "the coil is released at 2400 ms of 3400";
+  EXPECT_EQ(forces.sizes_match, forces.ticks) << "a reading per snapshot tool";
+  EXPECT_GT(forces.checked, 0) << "no tick on which every step converged";
+  EXPECT_EQ(forces.wrong, 0) << "first at " << forces.first_wrong_us << " us (of " << forces.checked << " checked)";
+  EXPECT_GT(forces.coil_holds, 0) << "no checked tick on which the released coil alone presses hardest";
+  EXPECT_GE(s.metrics().peak_wall_force_mN, forces.coil_max_mN) << "the peak wall force counts the coil";
 }
 
 // By keyboard (as by a box): K and L post detach_coil and load_coil for the held tool. After a

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -52,7 +53,12 @@ class TipForces : public TickObserver {
       if (!v.sim.rod(u).converged()) continue;
       for (const tool::RodContact& k : v.sim.rod(u).contacts()) converged_any_mN = std::max(converged_any_mN, k.normal_force_mN);
     }
+    ++ticks;
+    held.resize(v.contacts.size());
+    for (std::size_t u = 0; u < held.size(); ++u) held[u] = v.contacts.held_ticks(u);
   }
+  std::int64_t ticks = 0;
+  std::vector<std::int64_t> held;  // per tool: ticks its reading was kept from an earlier step
   double converged_tip_mN = 0.0;
   double unconverged_tip_mN = 0.0;
   double converged_any_mN = 0.0;
@@ -89,6 +95,12 @@ TEST(CoilingSession, WallForceEventsReportTheHeldTipAtConvergedStepsWithinAPhysi
   std::printf("tip on the wall: %d events, largest %.1f mN; held tip at converged steps <= %.1f mN, at unconverged "
               "steps <= %.1f mN (not read); peak wall force %.1f mN\n",
               events, event_peak_mN, forces.converged_tip_mN, forces.unconverged_tip_mN, s.metrics().peak_wall_force_mN);
+  // How often a tool's reading was held over an unconverged step (nothing else reports it).
+  for (std::size_t u = 0; u < forces.held.size(); ++u) {
+    std::printf("%s: reading held %.1f %% of %lld ticks\n", s.simulator().rod(u).spec().name.c_str(),
+                100.0 * static_cast<double>(forces.held[u]) / static_cast<double>(forces.ticks),
+                static_cast<long long>(forces.ticks));
+  }
 }
 
 }  // namespace

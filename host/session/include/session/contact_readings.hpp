@@ -1,6 +1,7 @@
 #pragma once
 // The wall contact forces the metrics and the event log read from the simulator, one reading
-// per tool per tick: its largest contact force, and whether its tip (its last 3 nodes) touches
+// per snapshot tool per tick (the case's tools, then the coils released so far, in the
+// snapshot's order): its largest contact force, and whether its tip (its last 3 nodes) touches
 // the wall and with what force. A tool's reading is taken only from a step whose solve
 // converged (tool::Rod::converged()); after a step that ran out of iterations the tool keeps
 // its last converged reading. The penalty contacts read force from penetration at 2·10^5
@@ -29,10 +30,13 @@ class ContactReadings {
   explicit ContactReadings(std::size_t tools) : readings_(tools), held_ticks_(tools, 0) {}
 
   // After each step: the readings of the tools whose step converged (or that have no free
-  // node), from the snapshot's contacts; the others keep theirs.
+  // node), from the snapshot's contacts; the others keep theirs. A coil released since the
+  // last update gets a reading of its own (sim.detached(), after sim.tool_count() tools).
   void update(const tool::Simulator& sim, const tool::Snapshot& snap);
 
   [[nodiscard]] const Reading& tool(std::size_t t) const { return readings_[t]; }
+  // Readings held: the tools constructed with, or the snapshot's tools once coils are released.
+  [[nodiscard]] std::size_t size() const { return readings_.size(); }
   // Largest of every tool's wall reading.
   [[nodiscard]] double wall_mN() const;
   // Ticks a tool's reading was kept from an earlier step (its step did not converge).

@@ -61,6 +61,7 @@ struct TickView {
   const TickInput& input;
   std::span<const Control> controls;  // applied at this tick
   const Metrics& metrics;
+  const ContactReadings& contacts;  // the wall forces of the converged steps (contact_readings.hpp)
 };
 
 class TickObserver {

@@ -171,7 +171,10 @@ class Rod {
   // Solver diagnostics of the last step: iterations used.
   [[nodiscard]] int last_iterations() const { return last_iterations_; }
   // The last step's Newton iterations met the convergence test: its contact forces (the
-  // penalty of each node's penetration) are those of an equilibrium. A step that ran out of
+  // penalty of each node's penetration) are close to an equilibrium's, not exactly one's: after
+  // the test the step still moves nodes, limit_penetration() pushing any node past the
+  // penetration limit back to it and, for a rod among other rods (coils, the catheter they
+  // leave), the rod-rod projection rounds (finish_edge_contacts()). A step that ran out of
   // iterations reads whatever penetration it ended with (2·10^5 mN/mm: 1 um reads 200 mN, up
   // to the cap of 5 % of the radius). False too while no node is free (nothing was solved).
   [[nodiscard]] bool converged() const { return warm_ok_; }
