@@ -1066,6 +1066,14 @@ void Rod::update_frames() {
   }
 }
 
+// Thomas' forward and back substitution of tw_rhs_ (m unknowns) with the inverse pivots tw_inv_
+// of the twist system (off[j] couples j-1 and j): the twist update, and the hand's Schur complement.
+void Rod::twist_substitute(std::size_t m) {
+  for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] * tw_inv_[j - 1] * tw_rhs_[j - 1];
+  tw_rhs_[m - 1] *= tw_inv_[m - 1];
+  for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
+}
+
 void Rod::solve_twist(double dt_s) {
   const std::size_t n = x_.size();
   const std::size_t ef = first_edge();  // first free edge; edge ef - 1 is clamped (unless free)
@@ -1152,13 +1160,8 @@ void Rod::solve_twist(double dt_s) {
       // Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j),
       // keeping the inverse pivots (the hand's Schur complement below reuses them).
       tw_inv_[0] = 1.0 / tw_diag_[0];
-      for (std::size_t j = 1; j < m; ++j) {
-        const double f = tw_off_[j] * tw_inv_[j - 1];
-        tw_inv_[j] = 1.0 / (tw_diag_[j] - f * tw_off_[j]);
-        tw_rhs_[j] -= f * tw_rhs_[j - 1];
-      }
-      tw_rhs_[m - 1] *= tw_inv_[m - 1];
-      for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
+      for (std::size_t j = 1; j < m; ++j) tw_inv_[j] = 1.0 / (tw_diag_[j] - tw_off_[j] * tw_inv_[j - 1] * tw_off_[j]);
+      twist_substitute(m);
       for (std::size_t j = 0; j < m; ++j) {
         const double step = tw_rhs_[j];
         if (!std::isfinite(step)) {
@@ -1185,9 +1188,7 @@ void Rod::solve_twist(double dt_s) {
     // Torsional stiffness at the hand: Schur complement of the last system on the clamp.
     const double c0 = gj_[ef] / (0.5 * rest_[ef]);
     for (std::size_t j = 0; j < m; ++j) tw_rhs_[j] = j == 0 ? 1.0 : 0.0;
-    for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] * tw_inv_[j - 1] * tw_rhs_[j - 1];
-    tw_rhs_[m - 1] *= tw_inv_[m - 1];
-    for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
+    twist_substitute(m);
     law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
     const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
     // As for the force: the solver's twist damping above the physical drag stays out of the hand.

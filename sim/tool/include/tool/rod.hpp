@@ -215,6 +215,7 @@ class Rod {
   [[nodiscard]] double energy() const;
   void update_frames();
   void solve_twist(double dt_s);
+  void twist_substitute(std::size_t m);
   void finish_contacts();
   bool finish_edge_contacts();  // true when it had to push a node out
   void compute_force_law(double dt_s);
