@@ -54,6 +54,11 @@ EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m,
     ImGui::Text("%-22s %8.1f mm/s", "peak insertion speed", m.peak_insertion_speed_mm_s);
     ImGui::Text("%-22s %8d", "tool changes", m.tool_changes);
     ImGui::Text("%-22s %8.1f mN", "peak hand force", m.peak_hand_force_mN);
+    // The solver's share of steps that ran out of iterations, per tool: forces of those steps
+    // are not read (a figure of the simulation's trustworthiness, not of the trainee).
+    for (const session::ToolConvergence& c : m.convergence) {
+      if (c.solved_ticks > 0) ImGui::TextDisabled("%-22s %8.2f %% (%s)", "unconverged steps", c.unconverged_pct(), c.tool.c_str());
+    }
     ImGui::Separator();
     optional_row("fluoroscopy time", m.fluoroscopy_time_s, "s");
     optional_row("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");

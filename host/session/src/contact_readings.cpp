@@ -11,10 +11,13 @@ void ContactReadings::update(const tool::Simulator& sim, const tool::Snapshot& s
   if (readings_.size() < n) {
     readings_.resize(n);
     held_ticks_.resize(n, 0);
+    solved_ticks_.resize(n, 0);
   }
   for (std::size_t t = 0; t < n; ++t) {
     const tool::Rod& rod = t < tools ? sim.rod(t) : sim.detached(t - tools);
-    if (!rod.converged() && rod.first_free_node() < rod.node_total()) {
+    const bool solved = rod.first_free_node() < rod.node_total();
+    if (solved) ++solved_ticks_[t];
+    if (!rod.converged() && solved) {
       ++held_ticks_[t];
       continue;
     }

@@ -147,6 +147,10 @@ std::string MetricsCollector::format(const Metrics& m) {
   appendf(out, "peak insertion speed  %.1f mm/s\n", m.peak_insertion_speed_mm_s);
   appendf(out, "tool changes          %d\n", m.tool_changes);
   appendf(out, "peak hand force       %.1f mN\n", m.peak_hand_force_mN);
+  for (const ToolConvergence& c : m.convergence) {
+    appendf(out, "unconverged           %.2f %% of %lld ticks (%s)\n", c.unconverged_pct(),
+            static_cast<long long>(c.solved_ticks), c.tool.c_str());
+  }
   if (!m.has_target) {
     appendf(out, "target                none in this case\n");
   } else if (m.target_reached) {
@@ -199,6 +203,22 @@ void MetricsCollector::set_coiling(double packing_density_pct, double coil_lengt
   m_.kick_back_mm = kick_back_mm;
 }
 
+double Metrics::unconverged_pct_max() const {
+  double m = 0.0;
+  for (const ToolConvergence& c : convergence) m = std::max(m, c.unconverged_pct());
+  return m;
+}
+
+void MetricsCollector::set_convergence(std::size_t t, std::string_view tool, std::int64_t solved_ticks,
+                                       std::int64_t unconverged_ticks) {
+  if (m_.convergence.size() <= t) {
+    m_.convergence.resize(t + 1);
+    m_.convergence[t].tool = std::string(tool);
+  }
+  m_.convergence[t].solved_ticks = solved_ticks;
+  m_.convergence[t].unconverged_ticks = unconverged_ticks;
+}
+
 void MetricsCollector::set_angioplasty(const tool::AngioplastyFigures& f) {
   if (f.lesion) {
     m_.stenosis_before_pct = f.stenosis_before_percent;
@@ -228,6 +248,10 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   add("peak_insertion_speed_mm_s", m.peak_insertion_speed_mm_s);
   add("tool_changes", m.tool_changes);
   add("peak_hand_force_mN", m.peak_hand_force_mN);
+  add("unconverged_pct", m.unconverged_pct_max());
+  // Per tool, under its name (the server's results and debrief list them; criteria name the
+  // largest, above).
+  for (const ToolConvergence& c : m.convergence) out.push_back({"unconverged_pct." + c.tool, c.unconverged_pct()});
   if (m.fluoroscopy_time_s) add("fluoroscopy_time_s", *m.fluoroscopy_time_s);
   if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
   if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
@@ -248,7 +272,7 @@ std::vector<std::string> metric_names() {
   return {"procedure_time_s", "target_reached", "time_to_target_s", "closest_to_target_mm", "tip_path_mm",
           "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
-          "peak_hand_force_mN", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
+          "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events"};

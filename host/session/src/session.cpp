@@ -274,6 +274,20 @@ bool Session::device_done(tool::DeviceError e, const char* verb) {
   return false;
 }
 
+void Session::observe_convergence() {
+  const std::size_t tools = sim_->tool_count();
+  const std::size_t seen = metrics_.metrics().convergence.size();
+  for (std::size_t t = 0; t < contacts_.size(); ++t) {
+    std::string name;  // built once per tool (metric names are unique: a released coil is numbered)
+    if (t >= seen && t < snap_.tools.size()) {
+      // A released coil's rod is named "<coil tool> (detached)": "<coil tool>_released_<k>".
+      const std::string& full = snap_.tools[t].name;
+      name = t < tools ? full : full.substr(0, full.find(" (")) + "_released_" + std::to_string(t - tools + 1);
+    }
+    metrics_.set_convergence(t, name, contacts_.solved_ticks(t), contacts_.held_ticks(t));
+  }
+}
+
 void Session::update_max_insertion(std::size_t t) {
   input_.max_insertion_um[t] = static_cast<std::int64_t>(std::floor(sim_->max_insertion_mm(t) * 1e3));
 }
@@ -406,6 +420,7 @@ bool Session::tick() {
   mt.tip_in_contact = contacts_.tool(held_index).tip_in_contact;
   mt.tip_force_mN = contacts_.tool(held_index).tip_mN;
   metrics_.observe(mt);
+  observe_convergence();
   if (fluoro_) fluoro_->fill(metrics_);
   if (coil_metrics_) {
     coil_metrics_->observe(*sim_);

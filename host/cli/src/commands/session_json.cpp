@@ -132,6 +132,9 @@ std::string info_text(const std::string& path, const session::RecordReader& read
 json metrics_json(const session::ReplayResult& r) {
   const session::Metrics& m = r.metrics;
   auto or_null = [](bool present, double v) { return present ? json(v) : json(nullptr); };
+  // Per tool: the share of its steps that ran out of Newton iterations (%).
+  json unconverged = json::object();
+  for (const session::ToolConvergence& c : m.convergence) unconverged[c.tool] = c.unconverged_pct();
   return {{"ticks", r.ticks},
           {"hashes_checked", r.hashes_checked},
           {"procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6},
@@ -151,6 +154,7 @@ json metrics_json(const session::ReplayResult& r) {
           {"peak_insertion_speed_mm_s", m.peak_insertion_speed_mm_s},
           {"tool_changes", m.tool_changes},
           {"peak_hand_force_mN", m.peak_hand_force_mN},
+          {"unconverged_pct", unconverged},
           {"fluoroscopy_time_s", optional_number(m.fluoroscopy_time_s)},
           {"dose_area_product_mGy_cm2", optional_number(m.dose_area_product_mGy_cm2)},
           {"fluoroscopy_runs", m.fluoroscopy_runs ? json(*m.fluoroscopy_runs) : json(nullptr)},

@@ -27,7 +27,7 @@ class ContactReadings {
   };
   static constexpr std::uint32_t kTipNodes = 3;
 
-  explicit ContactReadings(std::size_t tools) : readings_(tools), held_ticks_(tools, 0) {}
+  explicit ContactReadings(std::size_t tools) : readings_(tools), held_ticks_(tools, 0), solved_ticks_(tools, 0) {}
 
   // After each step: the readings of the tools whose step converged (or that have no free
   // node), from the snapshot's contacts; the others keep theirs. A coil released since the
@@ -41,10 +41,14 @@ class ContactReadings {
   [[nodiscard]] double wall_mN() const;
   // Ticks a tool's reading was kept from an earlier step (its step did not converge).
   [[nodiscard]] std::int64_t held_ticks(std::size_t t) const { return held_ticks_[t]; }
+  // Ticks the tool had a step to solve (a free node past the entry): held_ticks ÷ solved_ticks
+  // is its unconverged share, what the metrics report as `unconverged_pct`.
+  [[nodiscard]] std::int64_t solved_ticks(std::size_t t) const { return solved_ticks_[t]; }
 
  private:
   std::vector<Reading> readings_;
   std::vector<std::int64_t> held_ticks_;
+  std::vector<std::int64_t> solved_ticks_;
 };
 
 }  // namespace cathbox::session

@@ -25,6 +25,9 @@
 // CoilMetrics (coil_metrics.hpp): packing density (coil volume pi/4 d^2 L ÷ sac volume, %),
 // coil length deployed, herniations (episodes of coil in the parent artery past the neck
 // plane, an error) and microcatheter kick-back (peak, mm).
+// and, per tool (the case's tools, then the coils released), the unconverged share: the ticks
+// its step ran out of Newton iterations ÷ the ticks it had a step to solve, in % (a reading of
+// the solver, not of the trainee: forces of such steps are not read, contact_readings.hpp).
 // and, in a case with a balloon catheter in a meshed vessel, the angioplasty figures of sim/tool
 // (angioplasty.hpp): stenosis before and residual stenosis at the lesion (%, 1 - minimal lumen
 // diameter ÷ reference diameter), balloon inflations and inflated time, rupture-risk events
@@ -33,6 +36,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -40,6 +44,16 @@
 #include "tool/angioplasty.hpp"
 
 namespace cathbox::session {
+
+// One tool's convergence over the run (the session's ContactReadings counts).
+struct ToolConvergence {
+  std::string tool;                       // its name in the case (a released coil keeps its tool's)
+  std::int64_t solved_ticks = 0;          // ticks it had a step to solve (a free node)
+  std::int64_t unconverged_ticks = 0;     // of those, ticks the step ran out of iterations
+  [[nodiscard]] double unconverged_pct() const {
+    return solved_ticks > 0 ? 100.0 * static_cast<double>(unconverged_ticks) / static_cast<double>(solved_ticks) : 0.0;
+  }
+};
 
 struct Metrics {
   std::int64_t procedure_time_us = 0;
@@ -59,6 +73,10 @@ struct Metrics {
   double peak_insertion_speed_mm_s = 0.0;
   int tool_changes = 0;
   double peak_hand_force_mN = 0.0;
+  // Per tool, in the snapshot's order; filled by the session each tick.
+  std::vector<ToolConvergence> convergence;
+  // The largest unconverged share of any tool (0 with none).
+  [[nodiscard]] double unconverged_pct_max() const;
   // Filled by the fluoroscopy module; empty (nullopt) until it runs.
   std::optional<double> fluoroscopy_time_s;
   std::optional<double> dose_area_product_mGy_cm2;
@@ -125,6 +143,9 @@ class MetricsCollector {
   [[nodiscard]] const Metrics& metrics() const { return m_; }
   // The coiling figures, from the session's tool::CoilMetrics after each tick.
   void set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm);
+  // Tool `t`'s convergence counts (ContactReadings::solved_ticks / held_ticks) after each tick;
+  // its name is taken when the tool is first seen (no allocation on later ticks).
+  void set_convergence(std::size_t t, std::string_view tool, std::int64_t solved_ticks, std::int64_t unconverged_ticks);
   // The angioplasty figures, from the session's tool::Angioplasty after each tick.
   void set_angioplasty(const tool::AngioplastyFigures& f);
   // Events of the last observe(), for the output panel.

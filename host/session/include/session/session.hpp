@@ -137,6 +137,8 @@ class Session {
   class DetachCoil;
   class LoadCoil;
   class BalloonControl;
+  // The tools' unconverged shares into the metrics (ContactReadings' counts).
+  void observe_convergence();
   bool tick();
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
