@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "session/state_hash.hpp"
+#include "tool/compliant_contact.hpp"
 
 #ifndef CATHBOX_VERSION
 #define CATHBOX_VERSION "0.0.0"
@@ -159,6 +160,7 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
     }
   }
   sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
+  tool::use_case_wall(*sim_, scene_->spec.wall ? &*scene_->spec.wall : nullptr);  // a compliant wall
   input_.tool_count = std::min(tools.size(), kMaxTools);
   contacts_ = ContactReadings(tools.size());
   for (std::size_t t = 0; t < input_.tool_count; ++t) update_max_insertion(t);

@@ -29,7 +29,7 @@ class CaseParser {
     Case c;
     std::vector<std::string_view> w;
     bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false, seen_valve = false,
-         seen_threshold = false, seen_aneurysm = false;
+         seen_threshold = false, seen_aneurysm = false, seen_wall = false;
     ToolSpec* tool = nullptr;
     std::size_t tool_line = 0;
     std::vector<std::size_t> tool_lines;
@@ -127,6 +127,20 @@ class CaseParser {
         if (!expect_args(w, 1) || !once(seen_valve, key) || !numbers(w, 1, v, 1)) return fail();
         if (v[0] < 0.0 || v[0] > ToolLimits::kMaxValveFriction_mN) return fail_here("valve_friction must be in [0, 2000] mN");
         c.valve_friction_mN = v[0];
+      } else if (key == "wall") {
+        double v[1];
+        if (!expect_args(w, 2) || !once(seen_wall, key) || !numbers(w, 2, v, 1)) return fail();
+        CaseWall cw;
+        if (w[1] == "cervical") {
+          cw.territory = Territory::kCervical;
+        } else if (w[1] == "intracranial") {
+          cw.territory = Territory::kIntracranial;
+        } else {
+          return fail_here("wall: territory must be 'cervical' or 'intracranial', not '" + std::string(w[1]) + "'");
+        }
+        if (v[0] < 0.5 || v[0] > 15.0) return fail_here("wall: lumen radius must be in [0.5, 15] mm");
+        cw.radius_mm = v[0];
+        c.wall = cw;
       } else if (key == "realistic") {
         if (!expect_args(w, 0) || !once(seen_realistic, key)) return fail();
         c.realistic = true;

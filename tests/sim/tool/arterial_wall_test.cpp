@@ -21,7 +21,10 @@
 #include <glm/geometric.hpp>
 
 #include "tool/arterial_wall.hpp"
+#include "tool/case_file.hpp"
+#include "tool/compliant_contact.hpp"
 #include "tool/displaced_wall.hpp"
+#include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {
@@ -154,6 +157,65 @@ TEST(DisplacedWall, PerSegmentDisplacementMovesOnlyThatSegmentsWall) {
   wall.set_segment_mm(3, dr);
   ASSERT_TRUE(wall.probe(p, h, c));
   EXPECT_NEAR(c.distance_mm, 0.4 + dr, 1e-9);
+}
+
+// A case's `wall cervical 2`: every non-coil tool's contact takes the wall's ring-load stiffness
+// (1.41 N/mm for the carotid's material at 2 mm, not the rigid wall's 2e5 mN/mm), and the
+// guidewire pushed 20 mm into a dead end presses the wall by F / K, within the bounded layer
+// (25 % of the radius), at its converged steps.
+TEST(CompliantContact, AWallLineGivesTheWallsStiffnessAndItsBoundedLayer) {
+  const CaseParse c = parse_case("wall cervical 2\ntube 0  0 0 -10 2  0 0 60 2\nentry 0 0 0  0 0 1\n"
+                                 "tool guidewire guidewire\n  section 300 od=0.36 ei=40 gj=31\nend\n",
+                                 "w.case");
+  ASSERT_TRUE(c) << c.error().message;
+  ASSERT_TRUE(c->wall.has_value());
+  const WallShell shell(arterial_wall(Territory::kCervical), 2.0);
+  const double k = shell.ring_load_stiffness_mN_per_mm();
+  EXPECT_NEAR(k, 1413.0, 5.0);
+  TubeNetworkWall wall(c->tubes);
+  wall.build();
+  Simulator sim(wall, c->tools, *c->entry);
+  use_case_wall(sim, &*c->wall);
+  EXPECT_EQ(sim.rod_settings(0).contact_stiffness_mN_per_mm, k);
+  EXPECT_NEAR(sim.rod_settings(0).max_penetration_ratio * 0.18, 0.5, 1e-9);  // 25 % of 2 mm
+  double largest_mN = 0.0;
+  int checked = 0;
+  for (int i = 1; i <= 3000; ++i) {
+    sim.set_insertion(0, std::min(80.0, 0.03 * i));  // 30 mm/s, 20 mm past the end at 62 mm
+    sim.step();
+    if (!sim.rod(0).converged()) continue;
+    for (const RodContact& contact : sim.rod(0).contacts()) {
+      const glm::dvec3 x = sim.rod(0).positions()[contact.node];
+      const double pressed_mm = glm::dot(x - contact.point_mm, contact.normal) + sim.rod(0).node_radius_mm(contact.node);
+      EXPECT_LE(pressed_mm, 0.5 + 1e-6);
+      if (contact.normal_force_mN > 1.0) {
+        // The wall's own stiffness: F = K w (to the solver's 2 um tolerance on w).
+        EXPECT_NEAR(contact.normal_force_mN, k * pressed_mm, k * 2e-3 + 1e-3 * contact.normal_force_mN) << "step " << i;
+        ++checked;
+      }
+      largest_mN = std::max(largest_mN, contact.normal_force_mN);
+    }
+  }
+  EXPECT_GT(checked, 20);
+  std::printf("compliant dead end: largest contact %.1f mN (the wall gave %.3f mm)\n", largest_mN, largest_mN / k);
+}
+
+TEST(CompliantContact, TheCaseLineIsCheckedWithOneLine) {
+  const char* const bad[] = {"wall arterial 2\n", "wall cervical 0.2\n", "wall cervical\n",
+                             "wall cervical 2\nwall cervical 2\n", "wall intracranial x\n"};
+  for (const char* text : bad) {
+    const CaseParse c = parse_case(text, "w.case");
+    ASSERT_FALSE(c) << text;
+    EXPECT_EQ(c.error().message.find("w.case:"), 0u) << c.error().message;
+    EXPECT_EQ(c.error().message.find('\n'), std::string::npos) << c.error().message;
+  }
+  const CaseParse ok = parse_case("wall intracranial 1.55\ntube 0 0 0 0 1 0 0 9 1\nentry 0 0 1 0 0 1\n", "w.case");
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok->wall->territory, Territory::kIntracranial);
+  EXPECT_EQ(ok->wall->radius_mm, 1.55);
+  const CaseParse rigid = parse_case("tube 0 0 0 0 1 0 0 9 1\nentry 0 0 1 0 0 1\n", "w.case");
+  ASSERT_TRUE(rigid) << rigid.error().message;
+  EXPECT_FALSE(rigid->wall.has_value());
 }
 
 }  // namespace

@@ -36,6 +36,7 @@
 //          closed SEG [EXCHANGE_FRACTION]
 //   view   NAME LAO_DEG CRANIAL_DEG          # a working projection of the C-arm (RAO/caudal negative)
 //   realistic                               # fluoroscopy only: no 3D view for the trainee
+//   wall   cervical|intracranial RADIUS_MM  # optional: a compliant wall (compliant_contact.hpp)
 //
 // Bad input gives one line "file:line: message"; parsing never throws or crashes.
 #include <cstdint>
@@ -48,6 +49,7 @@
 #include "flow/c_arm.hpp"
 #include "flow/flow_settings.hpp"
 #include "tool/aneurysm_sac.hpp"
+#include "tool/arterial_wall.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/tube_network_wall.hpp"
@@ -57,6 +59,13 @@ namespace cathbox::tool {
 struct CaseTarget {
   std::int32_t segment = -1;
   double fraction = 1.0;
+};
+
+// `wall TERRITORY RADIUS_MM`: the wall gives under the tools by its own mechanics
+// (compliant_contact.hpp), with the territory's material (arterial_wall.hpp) at that lumen radius.
+struct CaseWall {
+  Territory territory = Territory::kCervical;
+  double radius_mm = 2.0;
 };
 
 struct Case {
@@ -73,6 +82,7 @@ struct Case {
   bool realistic = false;        // the 3D view is off for the trainee (fluoroscopy only)
   // `aneurysm`: a declared sac (sphere cap); without it the world looks for one in the vessel.
   std::optional<AneurysmSac> aneurysm;
+  std::optional<CaseWall> wall;  // none: the rigid wall (contact by the solver's penalty)
 };
 
 // The case, or one line "file:line: message".

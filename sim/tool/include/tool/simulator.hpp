@@ -58,6 +58,8 @@ class Simulator {
             const RodSettings& settings = {});
 
   [[nodiscard]] std::size_t tool_count() const { return rods_.size(); }
+  // A tool's solver settings, to change after construction (compliant_contact.hpp).
+  [[nodiscard]] RodSettings& rod_settings(std::size_t tool) { return rods_[tool].settings(); }
   [[nodiscard]] std::size_t find_tool(std::string_view name) const;  // tool_count() if none
   void select(std::size_t tool);
   [[nodiscard]] std::size_t active_tool() const { return active_; }

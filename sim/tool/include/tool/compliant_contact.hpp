@@ -1,0 +1,38 @@
+#pragma once
+// Tool-wall contact against a compliant arterial wall (a case's `wall TERRITORY RADIUS_MM`):
+// a node pressed into the wall moves it by its own mechanics, so the contact force of a node
+// pressing the wall by w is K w with K the wall's radial stiffness (WallShell: the stiffness to
+// a load round one circumference of a tube of that radius, the stiffest a wall can be to a
+// node's load) instead of the rigid wall's numerical penalty (RodSettings::
+// contact_stiffness_mN_per_mm, 2e5 mN/mm). The wall gives up to a bounded layer: w at most
+// `kMaxHoopStrain` R, where collagen fibres, slack at physiological strain, are recruited and
+// the wall stiffens by an order of magnitude (the nonlinear stiffening of arteries, e.g.
+// Holzapfel, Gasser & Ogden, J Elasticity 61, 2000); the solver's hard limit on a node's
+// penetration is set to it. Friction's stick spring follows the wall's stiffness (the rod's
+// stick ratio). Coils keep their own contact settings (soft loops against the sac); tool-tool
+// contact of non-coil tools takes the same stiffness. Valve anchors are not the wall's and keep
+// the simulator's.
+#include <cstddef>
+
+#include "tool/arterial_wall.hpp"
+
+namespace cathbox::tool {
+
+class Simulator;
+struct CaseWall;
+
+inline constexpr double kMaxHoopStrain = 0.25;
+
+struct CompliantContact {
+  double stiffness_mN_per_mm = 0.0;  // per node
+  double max_displacement_mm = 0.0;  // the bounded layer
+};
+
+[[nodiscard]] CompliantContact compliant_contact(const WallShell& shell);
+
+// Every non-coil tool of `sim` takes the compliant contact (call once, after construction).
+void use_compliant_contact(Simulator& sim, const CompliantContact& contact);
+// A case's `wall` line, if it has one (null: the rigid wall, nothing changes).
+void use_case_wall(Simulator& sim, const CaseWall* wall);
+
+}  // namespace cathbox::tool
