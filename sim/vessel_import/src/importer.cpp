@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "vessel/hclm.hpp"
+#include "vessel/point_range.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel/vessel_mesher.hpp"
 #include "vessel_import/slicer_markups_reader.hpp"
@@ -28,8 +29,33 @@ namespace {
 }
 
 // The network, the radius filter and the final check, shared by every format.
+// The first point outside the body's range (vessel/point_range.hpp), named by its polyline.
+[[nodiscard]] std::string first_point_out_of_range(const std::vector<Polyline>& polylines,
+                                                   const std::vector<Branch>& branches) {
+  const auto check = [](const Polyline& line) -> std::string {
+    for (std::size_t j = 0; j < line.points.size(); ++j) {
+      const vessel::CenterlinePoint& p = line.points[j];
+      if (std::string problem = vessel::point_range_problem(p.pos_mm, p.radius_mm); !problem.empty()) {
+        return line.where + ", point " + std::to_string(j) + ": " + problem;
+      }
+    }
+    return {};
+  };
+  for (const Polyline& line : polylines) {
+    if (std::string problem = check(line); !problem.empty()) return problem;
+  }
+  for (const Branch& branch : branches) {
+    if (std::string problem = check(branch.line); !problem.empty()) return problem;
+  }
+  return {};
+}
+
 void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::string_view file,
             const ImportOptions& options, ImportResult& result) {
+  if (std::string problem = first_point_out_of_range(polylines, branches); !problem.empty()) {
+    result.errors.push_back({std::string(file), 0, 0, std::move(problem)});
+    return;
+  }
   NetworkBuild built = branches.empty() ? build_network(polylines) : build_network(branches);
   if (!built.ok()) {
     result.errors.push_back({std::string(file), 0, 0, built.error});
