@@ -156,6 +156,12 @@ std::string ImportResult::summary() const {
   if (network.duplicates > 0) out += "; " + std::to_string(network.duplicates) + " duplicate polylines dropped";
   if (network.contracted > 0) out += "; " + std::to_string(network.contracted) + " short branches between junctions contracted";
   if (network.joined > 0) out += "; " + std::to_string(network.joined) + " pass-through nodes joined";
+  if (network.ends_joined > 0) {
+    char gap[96];
+    std::snprintf(gap, sizeof gap, "; %zu curve ends joined to a nearby vessel across gaps up to %.3g mm",
+                  network.ends_joined, network.widest_join_gap_mm);
+    out += gap;
+  }
   out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
   for (const std::string& note : notes) out += "; " + note;
   return out;
