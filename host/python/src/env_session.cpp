@@ -41,7 +41,7 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCase
   if (!loaded.value) return base::Error{loaded.error};
   std::unique_ptr<EnvSession> s(new EnvSession(options));
   const double dt_s = static_cast<double>(options.period_us) * 1e-6;
-  auto hand = std::make_unique<session::ProgramHand>(dt_s, "program: " + options.who);
+  auto hand = std::make_unique<session::ProgramHand>(dt_s, options.who);
   s->hand_ = hand.get();
   session::SessionOptions so;
   so.period_us = options.period_us;

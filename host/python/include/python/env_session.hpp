@@ -39,7 +39,7 @@ struct EnvSessionOptions {
   std::int64_t period_us = 1000;  // the tick
   bool end_at_target = true;      // the run ends when the held tool's tip reaches the target
   std::string record_path;        // a .cbxrec to write (empty: none)
-  std::string who = "python";     // the program, in the record's hand description
+  std::string who = "python";     // the program: the record's hand description
 };
 
 class EnvSession {
