@@ -51,12 +51,40 @@ def measure(env_id, step_s, mode, policy, sim_seconds):
     return steps, wall, cpu
 
 
+def measure_vector(env_id, n, sim_seconds):
+    """Env steps per wall second of n envs stepped together by ThreadVectorEnv (random actions,
+    1/7.5 s), against the same n envs stepped one after the other on this thread."""
+    make = [lambda: gymnasium.make(env_id, max_episode_steps=10**9) for _ in range(n)]
+    steps = max(10, int(round(sim_seconds / cathbox.gym.STEVE_STEP_S)))
+    rng = np.random.default_rng(0)
+    vec = cathbox.gym.ThreadVectorEnv(make)
+    vec.reset(seed=0)
+    actions = [rng.uniform(vec.action_space.low, vec.action_space.high).astype(np.float32) for _ in range(steps)]
+    t0 = time.perf_counter()
+    for a in actions:
+        vec.step(a)
+    threaded = n * steps / (time.perf_counter() - t0)
+    vec.close()
+    envs = [fn() for fn in make]
+    for i, e in enumerate(envs):
+        e.reset(seed=i)
+    t0 = time.perf_counter()
+    for a in actions:
+        for i, e in enumerate(envs):
+            e.step(a[i])
+    serial = n * steps / (time.perf_counter() - t0)
+    for e in envs:
+        e.close()
+    return threaded, serial
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds per measurement at 1/7.5 s, a quarter at 1 ms (default 10)")
     p.add_argument("--envs", default="cathbox/Navigate-v0,cathbox/ArchVariety-v0,cathbox/DualDevice-v0")
     p.add_argument("--modes", default="state,image")
     p.add_argument("--policies", default="random,autopilot")
+    p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row (0: none)")
     a = p.parse_args()
     print(f"stEVE (derived from its published training: 2e7 steps, 29 workers, 1-2 days): "
           f"{STEVE_LOW:.1f}-{STEVE_HIGH:.1f} env steps/s per worker at 1/7.5 s")
@@ -71,6 +99,11 @@ def main():
                 print(f"{env_id:26s} {label:>8s} {mode:>6s} {policy:>9s} {n:6d} {n / wall:13.1f} {per_core:13.1f} "
                       f"{per_core / STEVE_HIGH:8.0f}-{per_core / STEVE_LOW:<10.0f} {n * step_s / cpu:16.2f}",
                       flush=True)
+    if a.vector > 0:
+        env_id = a.envs.split(",")[0]
+        threaded, serial = measure_vector(env_id, a.vector, a.seconds)
+        print(f"ThreadVectorEnv of {a.vector} x {env_id} at 1/7.5 s, random: {threaded:.1f} env steps/s (wall), "
+              f"the same envs one after the other: {serial:.1f} ({threaded / serial:.2f}x)")
 
 
 if __name__ == "__main__":

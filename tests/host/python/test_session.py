@@ -54,6 +54,28 @@ class SessionTest(unittest.TestCase):
         s.step(10)
         self.assertNotEqual(c.state_hash(), s.state_hash())
 
+    def test_step_releases_the_gil(self):
+        # While a thread is inside step(), this thread runs Python: with the GIL held for the
+        # whole step it could not run a single iteration until step() returned.
+        import threading
+        s = cathbox.Session(Y)
+        s.set_speeds([[20.0, 1.0]])
+        started = threading.Event()
+
+        def work():
+            started.set()
+            s.step(3000)
+
+        t = threading.Thread(target=work)
+        t.start()
+        started.wait()
+        spins = 0
+        while t.is_alive():
+            spins += 1
+        t.join()
+        self.assertEqual(s.ticks, 3000)
+        self.assertGreater(spins, 1000)
+
     def test_bad_arguments_raise_one_clear_line(self):
         with self.assertRaises(ValueError) as e:
             cathbox.Session("/nonexistent/nothing.case")
