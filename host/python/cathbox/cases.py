@@ -48,9 +48,11 @@ class EpisodeFiles:
     """A temporary folder holding the episode's case (and generated vessel) files."""
 
     def __init__(self):
+        import shutil
         import tempfile
+        import weakref
         self.dir = tempfile.mkdtemp(prefix="cathbox-env-")
-        self.count = 0
+        self._cleanup = weakref.finalize(self, shutil.rmtree, self.dir, True)  # also without close()
 
     def write(self, name, text):
         path = os.path.join(self.dir, name)
@@ -59,5 +61,4 @@ class EpisodeFiles:
         return path
 
     def close(self):
-        import shutil
-        shutil.rmtree(self.dir, ignore_errors=True)
+        self._cleanup()
