@@ -11,8 +11,9 @@ what varies between patients drawn from a seeded generator:
 - bovine arch: the left common carotid arises from the brachiocephalic trunk
   (Layton KF et al., AJNR 2006;27:1541-2: ~13 % of people);
 - the arch's height and width (x0.85-1.15), the spacing of the great vessels' origins;
-- tortuosity: a lateral sine wave of random phase along the carotids and the subclavians, of
-  amplitude `tortuosity` x 4 mm.
+- tortuosity: a lateral sine wave of random phase on the inner knots of the carotids and the
+  left subclavian (not the first, which sets the way out of the parent), of amplitude
+  `tortuosity` x 4 mm.
 
 The tools enter at the bottom of the descending aorta, going up (a femoral approach, as the
 bundled neuro case). Segments carry the neuro case's names, so targets name them.
@@ -124,14 +125,14 @@ def generate(rng, arch_type=None, bovine=None, tortuosity=None):
         return [p[0], p[1], p[2], r]
 
     def wavy(start, knots, r0):
-        """Knots with a lateral sine wave (tortuosity) added to the inner ones."""
+        """Knots with a lateral sine wave (tortuosity) added to the inner ones but the first."""
         pts = [np.asarray(start, float)] + [np.asarray(p, float) for p, _ in knots]
         amp = 4.0 * tortuosity
         phase = float(rng.uniform(0.0, 2.0 * math.pi))
         out = [k(pts[0], r0)]
         for i in range(1, len(pts)):
             p = pts[i]
-            if 0 < i < len(pts) - 1 and amp > 0.0:
+            if 1 < i < len(pts) - 1 and amp > 0.0:  # not the first knot: it sets the way out of the parent
                 t = pts[i + 1] - pts[i - 1]
                 side = np.cross(t, [0.3, 0.2, 1.0])
                 side /= max(np.linalg.norm(side), 1e-9)
@@ -158,11 +159,15 @@ def generate(rng, arch_type=None, bovine=None, tortuosity=None):
     bct_dir = normal(bct_deg)
     bct_top = np.array([-17.0, 22.0, 50.0])
     if bovine:
-        bct1 = net.add("brachiocephalic_trunk", [k(o, 6.2), k(o + 12 * bct_dir, 6.15), k(o + 24 * bct_dir, 6.1)],
+        bct1 = net.add("brachiocephalic_trunk", [k(o, 6.2), k(o + 15 * bct_dir, 6.15), k(o + 30 * bct_dir, 6.1)],
                        [asc], 1200)
         lcca_origin = net.end(bct1)
-        bct = net.add("brachiocephalic_trunk_2", [k(lcca_origin, 6.0), k([-13, 24, 38], 5.9), k(bct_top, 5.8)],
-                      [bct1], 800)
+        # The trunk goes straight on and the left carotid leaves it across, to the left (as the
+        # aorta and its branches: a turn at the junction folds rings into each other's).
+        knots = [k(lcca_origin, 6.0), k(lcca_origin + 10.0 * bct_dir, 5.95)]
+        if 38.0 > knots[-1][2] + 6.0:
+            knots.append(k([-13, 24, 38], 5.9))
+        bct = net.add("brachiocephalic_trunk_2", knots + [k(bct_top, 5.8)], [bct1], 800)
         lcca_parent = bct1
     else:
         # It leaves straight across the aorta (as the bovine trunk) before it bends to the neck.
@@ -181,8 +186,9 @@ def generate(rng, arch_type=None, bovine=None, tortuosity=None):
     net.add("left_subclavian_2", [k(net.end(lsub), 4.4), k([55, -16, 55], 4.2), k([75, -12, 46], 4.0)], [lsub], 250)
     net.add("right_common_carotid", wavy(net.end(bct), [([-20, 18, 75], 3.25), ([-24, 17, 100], 3.2),
                                                         ([-26, 16, 125], 3.2)], 3.3), [bct], 420)
-    # A bovine left carotid leaves the trunk towards the left.
-    lcca_dir = bct_dir + np.array([0.9, -0.3, 0.0]) if bovine else normal(lcca_deg)
+    # A bovine left carotid leaves the trunk across it, to the left and upwards.
+    across = np.array([1.0, 0.0, 0.5])
+    lcca_dir = across - np.dot(across, bct_dir) * bct_dir if bovine else normal(lcca_deg)
     lcca_dir = lcca_dir / np.linalg.norm(lcca_dir)
     net.add("left_common_carotid", wavy(lcca_origin, [(lcca_origin + 14 * lcca_dir, 3.35), ([8, -2, 50], 3.3),
                                                       ([16, 6, 75], 3.25), ([22, 12, 100], 3.2),

@@ -268,7 +268,7 @@ class ArchVarietyTask(NavigateTask):
     tortuosity), the guidewire of the bundled neuro case, a target in one of the arch's branches."""
 
     name = "ArchVariety-v0"
-    redraws = 8  # an arch the mesher refuses is drawn again (none in 80 seeds so far)
+    redraws = 8  # an arch the mesher refuses is drawn again (none of 240 draws in a row)
 
     def __init__(self, arch_type=None, bovine=None, tortuosity=None, targets=None):
         _, _, _, _, tools = read_case("neuro")
