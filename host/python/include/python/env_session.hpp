@@ -93,8 +93,8 @@ class EnvSession {
 
   EnvSessionOptions options_;
   session::ProgramHand* hand_ = nullptr;  // owned by session_
+  std::unique_ptr<Readings> readings_;     // the session's observer: declared first, destroyed last
   std::unique_ptr<session::Session> session_;
-  std::unique_ptr<Readings> readings_;
   tool::Snapshot snap_;
   std::vector<Input> inputs_;  // every step's speeds and ticks (clone)
   std::int64_t unconverged_ticks_ = 0;
