@@ -175,6 +175,10 @@ class SurfaceImporter {
   bool skeletonise() {
     Skeleton skeleton;
     Skeletonization mcs(mesh_);
+    // CGAL's default shortest edge is 0.2 % of the bounding box's diagonal (0.9 mm for a head and
+    // neck tree): the flow collapses branches thinner than a few of those into their parent. The
+    // input's own median edge keeps them (the mesher resolves every vessel it was given).
+    mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm()));
     mcs.contract_until_convergence();
     mcs.convert_to_skeleton(skeleton);
     out_.stats.skeleton_points = boost::num_vertices(skeleton);
@@ -261,6 +265,17 @@ class SurfaceImporter {
       points.front().radius_mm = before.front().radius_mm;
       points.back().radius_mm = before.back().radius_mm;
     }
+  }
+
+  [[nodiscard]] double median_edge_mm() const {
+    std::vector<double> lengths;
+    lengths.reserve(mesh_.number_of_edges());
+    for (Mesh::Edge_index e : mesh_.edges()) {
+      lengths.push_back(std::sqrt(CGAL::squared_distance(mesh_.point(mesh_.vertex(e, 0)), mesh_.point(mesh_.vertex(e, 1)))));
+    }
+    if (lengths.empty()) return 0.0;
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
+    return lengths[lengths.size() / 2];
   }
 
   void keep_lumen() {
