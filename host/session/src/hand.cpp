@@ -11,6 +11,7 @@ const char* hand_kind_name(HandKind kind) {
     case HandKind::kScripted: return "scripted";
     case HandKind::kActionScript: return "action script";
     case HandKind::kReplay: return "replay";
+    case HandKind::kProgram: return "program";
   }
   return "unknown";
 }

@@ -292,7 +292,7 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
         have_held = true;
         return 1;
       case HeaderTag::kHandKind:
-        if (!get_u64(v, u) || u < 1 || u > 5) return bad(at, "header: unknown hand kind");
+        if (!get_u64(v, u) || u < 1 || u > 6) return bad(at, "header: unknown hand kind");
         h.hand = static_cast<HandKind>(u);
         have_hand = true;
         return 1;

@@ -8,6 +8,7 @@
 
 #include "centerline_polyline.hpp"
 #include "junction_patch.hpp"
+#include "vessel/point_range.hpp"
 #include "vessel/rotation_minimizing_frame.hpp"
 
 namespace cathbox::vessel {
@@ -72,6 +73,13 @@ class Builder {
     if (options_.smoothing_passes < 0) return base::Error{"smoothing passes must be >= 0"};
     ratio_ = options_.compensate_shrink ? tube_shrink_ratio(m_) : 1.0;
     for (const Segment& s : model_.segments) {
+      // Every later cast and count assumes finite, physical numbers: a model that did not come
+      // through a reader (which checks them) is refused here, never meshed into undefined values.
+      for (std::size_t k = 0; k < s.points.size(); ++k) {
+        if (std::string problem = point_range_problem(s.points[k].pos_mm, s.points[k].radius_mm); !problem.empty()) {
+          return base::Error{"segment " + std::to_string(s.id) + " point " + std::to_string(k) + ": " + problem};
+        }
+      }
       polylines_.push_back(make_polyline(s));
       if (s.points.size() < 2 || !(polylines_.back().length > 0.0)) {
         return base::Error{"segment " + std::to_string(s.id) + " has zero length"};

@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "vessel/point_range.hpp"
 #include "vessel/text_tokens.hpp"
 
 namespace cathbox::vessel {
@@ -69,10 +70,11 @@ void validate_semantics(const VesselModel& model, const std::vector<SegmentLines
                                                  std::to_string(s.points.size()) +
                                                  " points; at least 2 are needed");
     }
-    for (const CenterlinePoint& p : s.points) {
-      if (!std::isfinite(p.pos_mm.x) || !std::isfinite(p.pos_mm.y) || !std::isfinite(p.pos_mm.z) ||
-          !std::isfinite(p.radius_mm)) {
-        sink.add(line_of(i, &SegmentLines::n), "segment " + std::to_string(s.id) + " has a non-finite point");
+    for (std::size_t k = 0; k < s.points.size(); ++k) {
+      const CenterlinePoint& p = s.points[k];
+      if (std::string problem = point_range_problem(p.pos_mm, p.radius_mm); !problem.empty()) {
+        sink.add(line_of(i, &SegmentLines::n),
+                 "segment " + std::to_string(s.id) + " point " + std::to_string(k) + ": " + problem);
         break;
       }
       if (!(p.radius_mm > 0.0)) {
@@ -330,6 +332,10 @@ class Reader {
     }
     p.pos_mm = glm::dvec3(*x, *y, *z);
     p.radius_mm = *r;
+    if (std::string problem = point_range_problem(p.pos_mm, p.radius_mm); !problem.empty()) {
+      sink_.add(line, problem);
+      return;
+    }
     result_.model.segments.back().points.push_back(p);
   }
 

@@ -6,8 +6,14 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <unordered_map>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_precision.hpp>
 
 #include "vessel/hclm.hpp"
+#include "vessel/point_range.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel/vessel_mesher.hpp"
 #include "vessel_import/slicer_markups_reader.hpp"
@@ -28,8 +34,33 @@ namespace {
 }
 
 // The network, the radius filter and the final check, shared by every format.
+// The first point outside the body's range (vessel/point_range.hpp), named by its polyline.
+[[nodiscard]] std::string first_point_out_of_range(const std::vector<Polyline>& polylines,
+                                                   const std::vector<Branch>& branches) {
+  const auto check = [](const Polyline& line) -> std::string {
+    for (std::size_t j = 0; j < line.points.size(); ++j) {
+      const vessel::CenterlinePoint& p = line.points[j];
+      if (std::string problem = vessel::point_range_problem(p.pos_mm, p.radius_mm); !problem.empty()) {
+        return line.where + ", point " + std::to_string(j) + ": " + problem;
+      }
+    }
+    return {};
+  };
+  for (const Polyline& line : polylines) {
+    if (std::string problem = check(line); !problem.empty()) return problem;
+  }
+  for (const Branch& branch : branches) {
+    if (std::string problem = check(branch.line); !problem.empty()) return problem;
+  }
+  return {};
+}
+
 void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::string_view file,
             const ImportOptions& options, ImportResult& result) {
+  if (std::string problem = first_point_out_of_range(polylines, branches); !problem.empty()) {
+    result.errors.push_back({std::string(file), 0, 0, std::move(problem)});
+    return;
+  }
   NetworkBuild built = branches.empty() ? build_network(polylines) : build_network(branches);
   if (!built.ok()) {
     result.errors.push_back({std::string(file), 0, 0, built.error});
@@ -71,6 +102,105 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
   return buffer.str();
 }
 
+// A surface's unit when none is given: a file whose largest extent is under one unit is in metres
+// (a body part is not under a millimetre), anything else in millimetres; the note says which.
+[[nodiscard]] double surface_unit_mm(const PolygonSoup& soup, std::vector<std::string>& notes) {
+  glm::dvec3 lo(std::numeric_limits<double>::infinity());
+  glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+  for (const glm::dvec3& p : soup.points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::dvec3 size = hi - lo;
+  const double extent = std::max({size.x, size.y, size.z});
+  char note[128];
+  const bool metres = extent > 0.0 && extent < 1.0;
+  std::snprintf(note, sizeof note, "units taken as %s (largest extent %.3g; --units to say)", metres ? "m" : "mm", extent);
+  notes.push_back(note);
+  return metres ? 1000.0 : 1.0;
+}
+
+// Each lumen triangle takes the segment whose centreline point is nearest its centroid (a grid of
+// the points, cells of the widest radius, searched outward ring by ring).
+void tag_lumen_regions(const vessel::VesselModel& model, vessel::SurfaceMesh& lumen) {
+  struct Entry {
+    glm::dvec3 pos;
+    std::int32_t id;
+  };
+  double cell = 0.0;
+  for (const vessel::Segment& s : model.segments) {
+    for (const vessel::CenterlinePoint& p : s.points) cell = std::max(cell, p.radius_mm);
+  }
+  if (!(cell > 0.0)) return;
+  const auto key = [cell](const glm::dvec3& p) {
+    return glm::i64vec3(std::floor(p.x / cell), std::floor(p.y / cell), std::floor(p.z / cell));
+  };
+  const auto hash = [](const glm::i64vec3& k) {
+    return static_cast<std::size_t>((k.x * 73856093) ^ (k.y * 19349663) ^ (k.z * 83492791));
+  };
+  std::unordered_map<std::size_t, std::vector<Entry>> grid;
+  for (const vessel::Segment& s : model.segments) {
+    for (const vessel::CenterlinePoint& p : s.points) grid[hash(key(p.pos_mm))].push_back({p.pos_mm, s.id});
+  }
+  for (std::size_t t = 0; t < lumen.triangle_count(); ++t) {
+    const glm::dvec3 c = (glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t]]) +
+                          glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t + 1]]) +
+                          glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t + 2]])) / 3.0;
+    const glm::i64vec3 home = key(c);
+    double best = std::numeric_limits<double>::infinity();
+    std::int32_t id = model.segments.front().id;
+    for (std::int64_t ring = 0; ring < 64; ++ring) {
+      for (std::int64_t dx = -ring; dx <= ring; ++dx) {
+        for (std::int64_t dy = -ring; dy <= ring; ++dy) {
+          for (std::int64_t dz = -ring; dz <= ring; ++dz) {
+            if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) != ring) continue;
+            const auto it = grid.find(hash(home + glm::i64vec3(dx, dy, dz)));
+            if (it == grid.end()) continue;
+            for (const Entry& e : it->second) {
+              const double d = glm::length(e.pos - c);
+              if (d < best) {
+                best = d;
+                id = e.id;
+              }
+            }
+          }
+        }
+      }
+      if (best <= static_cast<double>(ring) * cell) break;  // nothing in a farther ring is nearer
+    }
+    lumen.triangle_regions[t] = {vessel::RegionKind::kSegment, id};
+  }
+}
+
+ImportResult import_surface(const std::string& path, const ImportOptions& options) {
+  ImportResult result;
+  result.format = Format::kSurface;
+  PolygonSoup soup = read_polygon_soup_file(path, result.errors);
+  if (!result.ok()) return result;
+  SurfaceOptions surface_options;
+  surface_options.keep_largest = options.keep_largest;
+  surface_options.unit_mm = options.unit_mm > 0.0 ? options.unit_mm : surface_unit_mm(soup, result.notes);
+  SurfaceImport imported = import_surface_soup(std::move(soup), path, surface_options);
+  if (!imported.ok()) {
+    result.errors = std::move(imported.errors);
+    return result;
+  }
+  result.surface = imported.stats;
+  result.lumen = std::move(imported.lumen);
+  result.polylines = imported.branches.size();
+  const SurfaceStats& st = result.surface;
+  char note[256];
+  std::snprintf(note, sizeof note,
+                "surface of %zu polygons: %zu duplicate points merged, %zu open ends capped, %zu pieces dropped, "
+                "lumen %zu triangles, skeleton %zu points",
+                st.polygons_read, st.points_merged, st.open_ends.size(), st.components_dropped, st.triangles,
+                st.skeleton_points);
+  result.notes.insert(result.notes.begin(), note);
+  finish({}, std::move(imported.branches), path, options, result);
+  if (result.ok()) tag_lumen_regions(result.model, result.lumen);
+  return result;
+}
+
 }  // namespace
 
 std::optional<Format> format_from_name(std::string_view name) {
@@ -79,6 +209,7 @@ std::optional<Format> format_from_name(std::string_view name) {
   if (n == "vtp") return Format::kVtkXml;
   if (n == "slicer" || n == "mrk.json" || n == "json") return Format::kSlicerMarkups;
   if (n == "swc") return Format::kSwc;
+  if (n == "surface" || n == "stl" || n == "obj" || n == "ply" || n == "off") return Format::kSurface;
   return std::nullopt;
 }
 
@@ -88,6 +219,9 @@ std::optional<Format> format_from_path(std::string_view path) {
   if (ends_with(p, ".vtp")) return Format::kVtkXml;
   if (ends_with(p, ".json")) return Format::kSlicerMarkups;
   if (ends_with(p, ".swc")) return Format::kSwc;
+  for (const char* ext : {".stl", ".obj", ".ply", ".off"}) {
+    if (ends_with(p, ext)) return Format::kSurface;
+  }
   return std::nullopt;
 }
 
@@ -97,6 +231,7 @@ const char* format_name(Format format) {
     case Format::kVtkXml: return "VTK XML polydata";
     case Format::kSlicerMarkups: return "Slicer markups";
     case Format::kSwc: return "SWC";
+    case Format::kSurface: return "surface";
   }
   return "?";
 }
@@ -130,6 +265,12 @@ std::string ImportResult::summary() const {
   if (network.duplicates > 0) out += "; " + std::to_string(network.duplicates) + " duplicate polylines dropped";
   if (network.contracted > 0) out += "; " + std::to_string(network.contracted) + " short branches between junctions contracted";
   if (network.joined > 0) out += "; " + std::to_string(network.joined) + " pass-through nodes joined";
+  if (network.ends_joined > 0) {
+    char gap[96];
+    std::snprintf(gap, sizeof gap, "; %zu curve ends joined to a nearby vessel across gaps up to %.3g mm",
+                  network.ends_joined, network.widest_join_gap_mm);
+    out += gap;
+  }
   out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
   for (const std::string& note : notes) out += "; " + note;
   return out;
@@ -178,9 +319,10 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
   const std::optional<Format> format = options.format ? options.format : format_from_path(path);
   if (!format) {
     ImportResult result;
-    result.errors.push_back({path, 0, 0, "unknown format (use .vtk, .vtp, .mrk.json or .swc, or --format)"});
+    result.errors.push_back({path, 0, 0, "unknown format (use .vtk, .vtp, .mrk.json, .swc, .stl, .obj, .ply or .off, or --format)"});
     return result;
   }
+  if (*format == Format::kSurface) return import_surface(path, options);
   if (*format == Format::kVtkLegacy || *format == Format::kVtkXml) {
     ImportResult result;
     result.format = *format;

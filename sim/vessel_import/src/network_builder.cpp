@@ -49,11 +49,12 @@ class Graph {
   std::vector<Edge>& edges() { return edges_; }
   [[nodiscard]] const std::vector<Edge>& edges() const { return edges_; }
 
-  [[nodiscard]] Location nearest(const glm::dvec3& p) const {
+  // The nearest place on the network; `skip` edges (sorted) are left out.
+  [[nodiscard]] Location nearest(const glm::dvec3& p, const std::vector<std::size_t>& skip = {}) const {
     Location best;
     for (std::size_t e = 0; e < edges_.size(); ++e) {
       const Edge& edge = edges_[e];
-      if (!edge.alive) continue;
+      if (!edge.alive || std::binary_search(skip.begin(), skip.end(), e)) continue;
       for (std::size_t k = 0; k + 1 < edge.points.size(); ++k) {
         const glm::dvec3 a = edge.points[k].pos_mm;
         const glm::dvec3 d = edge.points[k + 1].pos_mm - a;
@@ -115,6 +116,18 @@ class Graph {
       out[edges_[e].b].push_back(e);
     }
     return out;
+  }
+
+  // Edge e's end at node n continues to node m: a bridge point at m, with the end's radius.
+  void bridge(std::size_t e, std::size_t n, std::size_t m) {
+    Edge& edge = edges_[e];
+    if (edge.a == n) {
+      edge.points.insert(edge.points.begin(), CenterlinePoint{nodes_[m], edge.points.front().radius_mm});
+      edge.a = m;
+    } else {
+      edge.points.push_back(CenterlinePoint{nodes_[m], edge.points.back().radius_mm});
+      edge.b = m;
+    }
   }
 
   void move_node(std::size_t n, const glm::dvec3& p) {
@@ -408,6 +421,37 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
   return out;
 }
 
+// The radius of the network at a location (interpolated along its piece).
+[[nodiscard]] double radius_at(const Graph& g, const Location& at) {
+  const Edge& edge = g.edges()[at.edge];
+  return edge.points[at.piece].radius_mm + at.t * (edge.points[at.piece + 1].radius_mm - edge.points[at.piece].radius_mm);
+}
+
+// Free ends within kJoinRadii of another polyline are bridged to their nearest point there
+// (splitting it, or joining its end node within kSnapRadii). The polylines sharing the end's own
+// piece of network (its edge and the edges at its other node) are not candidates: a short branch
+// lies near its parent without being meant to join it twice.
+void join_near_ends(Graph& g, NetworkStats& stats) {
+  for (std::size_t n = 0; n < g.node_count(); ++n) {
+    const std::vector<std::vector<std::size_t>> incident = g.incidence();
+    if (incident[n].size() != 1) continue;
+    const std::size_t e = incident[n].front();
+    const Edge& edge = g.edges()[e];
+    const std::size_t other = edge.a == n ? edge.b : edge.a;
+    std::vector<std::size_t> skip = incident[other];
+    skip.push_back(e);
+    std::sort(skip.begin(), skip.end());
+    const CenterlinePoint end = edge.a == n ? edge.points.front() : edge.points.back();
+    const Location at = g.nearest(end.pos_mm, skip);
+    if (at.edge == kNone || at.distance > kJoinRadii * std::max(end.radius_mm, radius_at(g, at))) continue;
+    const std::size_t m = g.attach(at, end.radius_mm);  // may add an edge: `edge` is not used after
+    if (m == n || m == other) continue;
+    g.bridge(e, n, m);
+    ++stats.ends_joined;
+    stats.widest_join_gap_mm = std::max(stats.widest_join_gap_mm, glm::length(g.node(m) - end.pos_mm));
+  }
+}
+
 }  // namespace
 
 NetworkBuild build_network(const std::vector<Polyline>& polylines) {
@@ -460,6 +504,7 @@ NetworkBuild build_network(const std::vector<Polyline>& polylines) {
     if (points.size() < 2 || (from == to && points.size() < 3)) continue;
     g.add_edge(std::move(points), from, to, line.name);
   }
+  join_near_ends(g, stats);
   return finish(g, stats);
 }
 

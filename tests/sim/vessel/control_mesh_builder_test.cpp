@@ -1,6 +1,7 @@
 #include "vessel/control_mesh_builder.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <glm/geometric.hpp>
@@ -166,6 +167,21 @@ TEST(ControlMeshBuilder, OverlappingBranchesAreAnErrorNotACrash) {
   const ControlMeshResult built = build(read.model, MeshOptions{});
   EXPECT_FALSE(built.ok());
   EXPECT_NE(built.error().message.find("junction 0 (segments 1 2)"), std::string::npos) << built.error().message;
+}
+
+// The mesher never casts a non-finite or overflowing value (UBSan found a NaN converted to int
+// for a model with a point at 5.6e214 mm): a model that did not come through a reader is refused.
+TEST(ControlMeshBuilder, RefusesPointsOutsideTheBodysRange) {
+  VesselModel model = CaseGenerator::y_bifurcation();
+  model.segments[1].points[1].pos_mm.z = 5.6e214;
+  const ControlMeshResult far = build(model, MeshOptions{});
+  ASSERT_FALSE(far.ok());
+  // (build() smooths first, so the point has moved, but it is still far outside)
+  EXPECT_NE(far.error().message.find("e+214 mm is outside ±2000 mm"), std::string::npos) << far.error().message;
+  model.segments[1].points[1].pos_mm.z = std::numeric_limits<double>::quiet_NaN();
+  const ControlMeshResult nan = build(model, MeshOptions{});
+  ASSERT_FALSE(nan.ok());
+  EXPECT_NE(nan.error().message.find("z is not finite"), std::string::npos) << nan.error().message;
 }
 
 TEST(ControlMeshBuilder, RejectsBadRingSizes) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "vessel/case_generator.hpp"
+#include "vessel/point_range.hpp"
 #include "vessel_test_support.hpp"
 
 namespace cathbox::vessel {
@@ -86,10 +87,11 @@ TEST(Hclm, WriteThenReadIsLossless) {
   models.push_back(CaseGenerator::random_tree(7));
   models.push_back(CaseGenerator::random_graph(3, 3));
   models.push_back(read_hclm(kTwoSegments).model);
-  // Awkward numbers: shortest round-trip forms, tiny and huge magnitudes, negative zero.
+  // Awkward numbers: shortest round-trip forms, tiny magnitudes, the edges of the body's range
+  // (point_range.hpp), negative zero.
   VesselModel odd = read_hclm(kTwoSegments).model;
-  odd.segments[0].points[0] = {{0.1, -1e-300, 123456789.123456789}, 1e-7};
-  odd.segments[0].points[1] = {{-0.0, 1.0 / 3.0, 2.5e300}, 7.0 / 9.0};
+  odd.segments[0].points[0] = {{0.1, -1e-300, 1234.56789123456789}, 1e-7};
+  odd.segments[0].points[1] = {{-0.0, 1.0 / 3.0, -kMaxCoordinate_mm}, kMaxRadius_mm};
   odd.segments[0].flow = -3.0e-5;
   models.push_back(odd);
   for (const VesselModel& model : models) {
@@ -164,6 +166,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"nan coordinate", with_line(9, "v nan 1 2 3"), 9, "not finite"},
         BadInput{"infinite radius", with_line(9, "v 1 1 2 inf"), 9, "not finite"},
         BadInput{"not a number", with_line(9, "v 1 1 2x 3"), 9, "'2x' is not a number"},
+        BadInput{"coordinate beyond the body", with_line(9, "v 1 1 5.6e214 3"), 9, "z 5.6e+214 mm is outside ±2000 mm"},
+        BadInput{"radius of a metre", with_line(9, "v 1 1 2 1000"), 9, "radius 1000 mm is above 100 mm"},
         BadInput{"zero radius", with_line(9, "v 1 1 2 0"), 9, "must be > 0"},
         BadInput{"negative radius", with_line(9, "v 1 1 2 -4"), 9, "must be > 0"},
         BadInput{"too few fields", with_line(9, "v 1 1 2"), 9, "takes 4 numbers"},
@@ -223,6 +227,12 @@ TEST(Hclm, ValidateModelAppliesTheSameRules) {
   ASSERT_EQ(errors.size(), 2u);
   EXPECT_EQ(errors[0].to_string(), "mem: segment 100 has a radius <= 0");
   EXPECT_EQ(errors[1].to_string(), "mem: unknown child id 555");
+  // A model built in memory with a point beyond the body's range.
+  VesselModel far = read_hclm(kTwoSegments).model;
+  far.segments[0].points[1].pos_mm.y = -3.0e5;
+  const std::vector<Diagnostic> range = validate_model(far, "mem");
+  ASSERT_EQ(range.size(), 1u);
+  EXPECT_EQ(range[0].to_string(), "mem: segment 99 point 1: y -300000 mm is outside ±2000 mm");
 }
 
 }  // namespace

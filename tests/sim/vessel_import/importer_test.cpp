@@ -74,6 +74,32 @@ TEST(Importer, FormatsUnitsAndTheFilterSwitch) {
   EXPECT_NE(unfiltered.errors.front().message.find("radius filter is off"), std::string::npos) << unfiltered.errors.front().message;
 }
 
+// A coordinate or radius outside the body's range (found by fuzz_vessel_import_slicer: a control
+// point at 5.6e214 mm was written into the HCLM and the mesher then cast a NaN to int) is refused
+// with one line naming the polyline and the point, in every format.
+TEST(Importer, PointsOutsideTheBodysRangeAreRefusedNamingThePoint) {
+  const std::string slicer = R"({"markups":[{"type":"Curve","coordinateSystem":"LPS","coordinateUnits":"mm",
+    "controlPoints":[{"position":[0,0,0]},{"position":[0,0,5.6e214]},{"position":[0,0,20]}],
+    "measurements":[{"name":"Radius","controlPointValues":[1,1,1]}]}]})";
+  const ImportResult far = import_centerlines_text(slicer, "far.mrk.json", Format::kSlicerMarkups);
+  ASSERT_FALSE(far.ok());
+  const std::string line = far.errors.front().to_string();
+  EXPECT_NE(line.find("point 1: z 5.6e+214 mm is outside ±2000 mm"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  // SWC in metres: 3 m from the origin is outside; 1 m (a scanner's offset) is inside.
+  ImportOptions metres;
+  metres.unit_mm = 1000.0;
+  const ImportResult outside = import_centerlines_text("1 0 0 0 0 0.001 -1\n2 0 0 0 3 0.001 1\n", "m.swc", Format::kSwc, metres);
+  ASSERT_FALSE(outside.ok());
+  EXPECT_NE(outside.errors.front().message.find("z 3000 mm is outside"), std::string::npos) << outside.errors.front().message;
+  const ImportResult inside = import_centerlines_text("1 0 0 0 1 0.001 -1\n2 0 0 0 1.02 0.001 1\n", "m.swc", Format::kSwc, metres);
+  EXPECT_TRUE(inside.ok()) << inside.errors.front().to_string();
+  // A radius of a metre.
+  const ImportResult wide = import_centerlines_text("1 0 0 0 0 1000 -1\n2 0 0 0 10 1000 1\n", "w.swc", Format::kSwc);
+  ASSERT_FALSE(wide.ok());
+  EXPECT_NE(wide.errors.front().message.find("radius 1000 mm is above 100 mm"), std::string::npos) << wide.errors.front().message;
+}
+
 TEST(Importer, TwoHundredBranchSwcTreeRoundTrip) {
   // A generated binary tree of 200 branches under its root written as SWC and imported back: the
   // same segments, junctions and points (the benchmark's BM_ImportSwc200 input).

@@ -93,6 +93,27 @@ TEST(NetworkBuilder, AlreadySplitNetworksInAnyOrderAndDirection) {
   expect_network(build_network(std::vector<Polyline>{line(va), line(vb), line(basilar)}), 3, 1, 0);
 }
 
+// Segmentation tools leave curve ends short of the vessel they branch from or continue (a public
+// 21-curve Slicer arch imported as 5 components): an end within kJoinRadii of the wider radius
+// is bridged to its nearest point there; one farther away stays a free end.
+TEST(NetworkBuilder, CurveEndsShortOfAnotherVesselAreJoinedThere) {
+  const auto arch = straight({0, 0, 0}, {0, 0, 60}, 5.0);
+  // A branch starting 3 mm off the arch's side (r 5, so within 2 radii), one continuing the
+  // arch after a 2.5 mm gap, and one 12 mm away (> 2 radii of 5 mm: not joined).
+  const auto branch = straight({3 + 5, 0, 30}, {30, 0, 45}, 2.0);
+  const auto continuation = straight({0, 0, 62.5}, {0, 0, 90}, 5.0);
+  const auto stray = straight({0, 22, 30}, {0, 40, 30}, 2.0);
+  const NetworkBuild joined = build_network(std::vector<Polyline>{line(arch), line(branch), line(continuation)});
+  expect_network(joined, 3, 1, 0);
+  EXPECT_EQ(joined.stats.components, 1u);
+  EXPECT_EQ(joined.stats.ends_joined, 2u);
+  EXPECT_NEAR(joined.stats.widest_join_gap_mm, 3.0 + 5.0, 1e-9);  // the branch: to the arch's axis
+  const NetworkBuild apart = build_network(std::vector<Polyline>{line(arch), line(stray)});
+  ASSERT_TRUE(apart.ok()) << apart.error;
+  EXPECT_EQ(apart.stats.components, 2u);
+  EXPECT_EQ(apart.stats.ends_joined, 0u);
+}
+
 TEST(NetworkBuilder, CyclesAndClosedLoops) {
   // A ring of four arcs with a feeder and a branch (circle-of-Willis-like), and a closed curve.
   std::vector<Polyline> ring;

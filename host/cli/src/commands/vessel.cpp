@@ -57,9 +57,11 @@ const cli::GroupSpec& spec() {
                         {.name = "no-junction-fit", .help = "do not fit junction patches to their branches"}}},
            {.name = "import",
             .positionals = "IN",
-            .help = "centrelines from VMTK, 3D Slicer or SWC to HCLM",
+            .help = "centrelines from VMTK, 3D Slicer or SWC, or a vessel surface (STL, OBJ, PLY, OFF), to HCLM",
             .options = {{.name = "output", .value = "OUT.hclm", .help = "the HCLM file", .required = true, .short_name = 'o'},
-                        {.name = "format", .value = "vtk|vtp|slicer|swc", .help = "input format (default: from the name)"},
+                        {.name = "format", .value = "vtk|vtp|slicer|swc|surface", .help = "input format (default: from the name)"},
+                        {.name = "largest", .help = "a surface in several pieces: keep the largest"},
+                        {.name = "surface-out", .value = "FILE", .help = "a surface: write the repaired lumen (.obj, .ply, .stl)"},
                         {.name = "units", .value = "mm|cm|m|um", .help = "the input's length unit"},
                         {.name = "radius-array", .value = "NAME", .help = "the point array holding the radius"},
                         {.name = "no-radius-filter", .help = "keep radii as read"}}},
@@ -231,7 +233,7 @@ int run_import(cli::Args& args) {
   vessel_import::ImportOptions options;
   if (const auto format = args.value("format")) {
     options.format = vessel_import::format_from_name(*format);
-    if (!options.format) return usage_error("--format must be vtk, vtp, slicer or swc");
+    if (!options.format) return usage_error("--format must be vtk, vtp, slicer, swc or surface");
   }
   if (const auto units = args.value("units")) {
     const auto mm = vessel_import::unit_to_mm(*units);
@@ -240,6 +242,7 @@ int run_import(cli::Args& args) {
   }
   if (const auto name = args.value("radius-array")) options.radius_array = *name;
   options.filter_radii = !args.flag("no-radius-filter");
+  options.keep_largest = args.flag("largest");
   const std::string& path = args.positionals()[0];
   const vessel_import::ImportResult result = vessel_import::import_centerlines(path, options);
   if (!result.ok()) {
@@ -251,6 +254,13 @@ int run_import(cli::Args& args) {
   if (const std::string error = vessel::save_hclm(result.model, *output); !error.empty()) {
     std::fprintf(stderr, "cathbox vessel import: %s\n", error.c_str());
     return cli::kExitFailure;
+  }
+  if (const auto lumen = args.value("surface-out")) {
+    if (result.format != vessel_import::Format::kSurface) return usage_error("--surface-out needs a surface to import");
+    if (const std::string error = vessel::write_mesh(result.lumen, *lumen); !error.empty()) {
+      std::fprintf(stderr, "cathbox vessel import: %s\n", error.c_str());
+      return error.rfind("unknown mesh format", 0) == 0 ? cli::kExitBadInput : cli::kExitFailure;
+    }
   }
   std::printf("%s: %s\n", output->c_str(), result.summary().c_str());
   return cli::kExitOk;

@@ -1,6 +1,7 @@
 #pragma once
 // The trainee's hand as the session's haptic tick sees it: one interface, one implementation
-// per file (box_hand, keyboard_hand, scripted_hand, action_script_hand, replay_hand).
+// per file (box_hand, keyboard_hand, scripted_hand, action_script_hand, replay_hand,
+// program_hand).
 //
 // Each tick the session (1) applies the controls of the tick — those posted by the UI and those
 // the hand issues itself (controls()), (2) asks the hand where the tools are (read()), (3)
@@ -75,6 +76,7 @@ enum class HandKind : std::uint8_t {
   kScripted = 3,      // the autopilot
   kActionScript = 4,  // a *.actions script
   kReplay = 5,        // a record
+  kProgram = 6,       // a program's speeds (the Python module's environments)
 };
 [[nodiscard]] const char* hand_kind_name(HandKind kind);
 

@@ -1,6 +1,7 @@
 #pragma once
 // Centrelines from other tools into a vessel model (HCLM): VTK polydata (legacy .vtk, XML .vtp)
-// as VMTK writes them, 3D Slicer curve markups (.mrk.json), SWC (.swc). See the readers'
+// as VMTK writes them, 3D Slicer curve markups (.mrk.json), SWC (.swc); and vessel surfaces
+// (STL, OBJ, PLY, OFF: surface_import.hpp), whose centrelines are their skeleton. See the readers'
 // headers for what each accepts; all go through network_builder (segments, junctions,
 // orientation) and vessel::filter_radii (outliers), then vessel::validate_model.
 #include <optional>
@@ -12,14 +13,15 @@
 #include "vessel/vessel_model.hpp"
 #include "vessel_import/import_error.hpp"
 #include "vessel_import/network_builder.hpp"
+#include "vessel_import/surface_import.hpp"
 
 namespace cathbox::vessel_import {
 
-enum class Format { kVtkLegacy, kVtkXml, kSlicerMarkups, kSwc };
+enum class Format { kVtkLegacy, kVtkXml, kSlicerMarkups, kSwc, kSurface };
 
-// "vtk", "vtp", "slicer" (or "mrk.json"), "swc".
+// "vtk", "vtp", "slicer" (or "mrk.json"), "swc", "surface" (or "stl", "obj", "ply", "off").
 [[nodiscard]] std::optional<Format> format_from_name(std::string_view name);
-// By the file name: .vtk, .vtp, .mrk.json (or .json), .swc (case-insensitive).
+// By the file name: .vtk, .vtp, .mrk.json (or .json), .swc, .stl/.obj/.ply/.off (case-insensitive).
 [[nodiscard]] std::optional<Format> format_from_path(std::string_view path);
 [[nodiscard]] const char* format_name(Format format);
 
@@ -31,6 +33,7 @@ struct ImportOptions {
   double unit_mm = 0.0;             // > 0: the coordinates' unit in mm; 0: the file's own (Slicer) or mm
   std::string radius_array;         // VTK point array / Slicer measurement; empty: the usual names
   bool filter_radii = true;         // vessel::filter_radii before writing
+  bool keep_largest = false;        // a surface in several pieces: keep the largest (else refused)
 };
 
 struct ImportResult {
@@ -40,6 +43,9 @@ struct ImportResult {
   NetworkStats network;
   vessel::RadiusFilterReport filter;
   bool filtered = false;
+  SurfaceStats surface;             // a surface's repair and skeleton (Format::kSurface)
+  vessel::SurfaceMesh lumen;        // the repaired, closed surface (Format::kSurface), each triangle
+                                    // tagged with the segment whose centreline is nearest
   std::vector<std::string> notes;   // what else was done or skipped ("3 markups that are not curves skipped");
                                     // "WARNING: the surface cannot be built: ..." when the mesher would refuse it
   std::vector<ImportError> errors;  // the first is the one to show

@@ -11,7 +11,10 @@
 // is attached where the run ends, splitting the network's polyline there (or joining its end
 // node when that is within kSnapRadii). A polyline whose start touches the network (an
 // already-split network: one polyline per branch, sharing end points) is attached the same way;
-// one lying entirely on the network is a duplicate and adds nothing.
+// one lying entirely on the network is a duplicate and adds nothing. Then a free end lying within
+// kJoinRadii of the wider radius of another polyline (segmentation tools leave curve ends a few
+// millimetres short of the vessel they branch from or continue) is joined to it by a straight
+// bridge to its nearest point there.
 //
 // Polylines with their topology given (SWC: every branching sample is a node) skip that step.
 // Both then go through the same clean-up: repeated points removed, branches shorter than
@@ -33,6 +36,7 @@ namespace cathbox::vessel_import {
 constexpr double kOverlapRadii = 0.25;  // a point this near the network (in its radii) lies on it
 constexpr double kSnapRadii = 1.0;      // attaching this near a node (along the network) joins the node
 constexpr double kContractRadii = 1.0;  // a branch this short between two junctions is contracted
+constexpr double kJoinRadii = 2.0;      // a free end this near another polyline (in the wider radius) joins it
 
 struct Polyline {
   std::vector<vessel::CenterlinePoint> points;  // mm
@@ -54,6 +58,8 @@ struct NetworkStats {
   std::size_t duplicates = 0;        // polylines lying entirely on the network
   std::size_t contracted = 0;        // short branches between junctions contracted
   std::size_t joined = 0;            // two-branch nodes joined through
+  std::size_t ends_joined = 0;       // free ends bridged to a nearby polyline
+  double widest_join_gap_mm = 0.0;   // the longest of those bridges
   std::size_t junctions = 0;
   std::size_t free_ends = 0;
   std::size_t components = 0;

@@ -1,0 +1,129 @@
+"""cathbox.Session: the program's hand, zero-copy state, clone, bad arguments."""
+import math
+import os
+import unittest
+
+import numpy as np
+
+import cathbox
+
+Y = cathbox.case_path("y_bifurcation")
+
+
+class SessionTest(unittest.TestCase):
+    def test_speeds_integrate_into_whole_micrometres(self):
+        s = cathbox.Session(Y)
+        s.set_speeds(np.array([[10.0, 0.5]]))
+        self.assertEqual(s.step(100), 100)  # 100 ms at 10 mm/s and 0.5 rad/s
+        self.assertAlmostEqual(s.insertion_mm(0), 1.0, places=9)
+        self.assertAlmostEqual(s.rotation_rad(0), 0.05, places=9)
+        s.set_speeds(np.array([[-50.0, 0.0]]))
+        s.step(100)  # pulled back past the entry: held at 0, no dead zone
+        self.assertEqual(s.insertion_mm(0), 0.0)
+        s.set_speeds(np.array([[0.15, 0.0]]))  # 0.15 um per tick: whole um, fractions kept
+        s.step(20)
+        self.assertAlmostEqual(s.insertion_mm(0), 0.003, places=9)
+
+    def test_nodes_are_read_only_views_kept_alive_by_the_session(self):
+        s = cathbox.Session(Y)
+        s.set_speeds([[20.0, 0.0]])
+        s.step(300)
+        a = s.nodes(0)
+        b = s.nodes(0)
+        self.assertEqual(a.shape[1], 3)
+        self.assertGreater(a.shape[0], 2)
+        self.assertTrue(np.shares_memory(a, b))  # no copy: both view the session's state
+        self.assertFalse(a.flags.writeable)
+        self.assertIs(a.base, s)
+        with self.assertRaises(ValueError):
+            a[0, 0] = 1.0
+        np.testing.assert_array_equal(a[-1], s.tip(0)[0])
+
+    def test_clone_replays_the_inputs_to_the_same_state(self):
+        s = cathbox.Session(Y)
+        for v in (15.0, 5.0, 25.0):
+            s.set_speeds([[v, 1.0]])
+            s.step(150)
+        c = s.clone()
+        self.assertEqual(c.state_hash(), s.state_hash())
+        self.assertEqual(c.ticks, s.ticks)
+        for x in (s, c):  # and they go on the same way, independently
+            x.set_speeds([[10.0, -2.0]])
+            x.step(200)
+        self.assertEqual(c.state_hash(), s.state_hash())
+        s.step(10)
+        self.assertNotEqual(c.state_hash(), s.state_hash())
+
+    def test_step_releases_the_gil(self):
+        # While a thread is inside step(), this thread runs Python: with the GIL held for the
+        # whole step it could not run a single iteration until step() returned.
+        import threading
+        s = cathbox.Session(Y)
+        s.set_speeds([[20.0, 1.0]])
+        started = threading.Event()
+
+        def work():
+            started.set()
+            s.step(3000)
+
+        t = threading.Thread(target=work)
+        t.start()
+        started.wait()
+        spins = 0
+        while t.is_alive():
+            spins += 1
+        t.join()
+        self.assertEqual(s.ticks, 3000)
+        self.assertGreater(spins, 1000)
+
+    def test_bad_arguments_raise_one_clear_line(self):
+        with self.assertRaises(ValueError) as e:
+            cathbox.Session("/nonexistent/nothing.case")
+        self.assertIn("nothing.case", str(e.exception))
+        self.assertNotIn("\n", str(e.exception))
+        s = cathbox.Session(Y)
+        cases = [
+            (np.zeros((2, 2)), "shape (2, 2), expected (1, 2)"),
+            (np.zeros(3), "shape (3,), expected (1, 2)"),
+            (np.array([[math.nan, 0.0]]), "not finite"),
+            (np.array([[0.0, math.inf]]), "not finite"),
+            ("fast", "action"),
+        ]
+        for bad, text in cases:
+            with self.assertRaises(ValueError) as e:
+                s.set_speeds(bad)
+            self.assertIn(text, str(e.exception))
+            self.assertNotIn("\n", str(e.exception))
+        with self.assertRaises(IndexError) as e:
+            s.nodes(3)
+        self.assertIn("tool 3 out of range", str(e.exception))
+        with self.assertRaises(ValueError):
+            s.step(-1)
+        with self.assertRaises(ValueError):
+            s.image(4, 4)
+        with self.assertRaises(ValueError) as e:
+            s.set_c_arm(lao_deg=500.0)
+        self.assertIn("C-arm", str(e.exception))
+        self.assertEqual(s.step(5), 5)  # and the session still runs
+
+    def test_image_shows_the_wire_where_it_projects(self):
+        s = cathbox.Session(Y)
+        s.set_c_arm(0.0, 0.0, 150.0)
+        blank = s.image(96, 96)
+        s.set_speeds([[30.0, 0.0]])
+        s.step(1000)
+        img = s.image(96, 96)
+        self.assertEqual(img.dtype, np.uint8)
+        self.assertEqual(img.shape, (96, 96))
+        self.assertEqual(int(blank.min()), int(blank.max()))  # nothing inserted: a flat field
+        dark = img < blank.max() - 20
+        self.assertGreater(int(dark.sum()), 10)
+        # The tip's projection is on a dark pixel (mm on the detector -> pixels: fov 150 mm).
+        tip_mm = s.project(s.tip(0)[0][None, :])[0]
+        px = 150.0 / 96
+        x, y = int(48 + tip_mm[0] / px), int(48 - tip_mm[1] / px)
+        self.assertTrue(dark[max(0, y - 2):y + 3, max(0, x - 2):x + 3].any())
+
+
+if __name__ == "__main__":
+    unittest.main()
