@@ -45,7 +45,9 @@ ShapedLaw PassiveLaw::shape(const tool::ForceLaw& law, const BoxReadback& readba
   shaped.out_min_mN = -limits_.full_scale_mN;
   shaped.out_max_mN = limits_.full_scale_mN;
   const double deficit = held_mN_ - out.force0_mN;
-  if (deficit > 0.0 && limits_.follow_mm_s > 0.0) {
+  // Only while the tool goes in: going out (a wire relaxing after the hand let go) the damper
+  // would only slow it down.
+  if (deficit > 0.0 && limits_.follow_mm_s > 0.0 && readback.speed_mm_s > 0.0) {
     out.damping_mN_s_per_mm += deficit / limits_.follow_mm_s;
     // The resistance never exceeds what was held (pulling back: the damper's own sign).
     shaped.out_min_mN = -held_mN_;

@@ -65,8 +65,8 @@ TEST(PassiveLaw, ObserverDissipatesWhatTheBoxDelivered) {
 TEST(PassiveLaw, ADroppedResistanceIsHeldAsADamper) {
   PassiveLaw p;
   for (int i = 0; i < 30; ++i) (void)p.shape(law_at(2000.0), {});
-  // The wire buckles: the simulation's force falls to 0 in one tick.
-  const ShapedLaw s = p.shape(law_at(0.0), {});
+  // The wire buckles: the simulation's force falls to 0 in one tick, the tool going in.
+  const ShapedLaw s = p.shape(law_at(0.0), {0.0, 5.0});
   EXPECT_DOUBLE_EQ(s.law.force0_mN, 1900.0);
   // The rest is a damper letting the tool go 10 mm/s faster, never resisting beyond ~2 N.
   EXPECT_GT(s.law.damping_mN_s_per_mm, 0.0);
@@ -75,9 +75,13 @@ TEST(PassiveLaw, ADroppedResistanceIsHeldAsADamper) {
   EXPECT_GE(s.out_min_mN, -2000.0);
   // Once the simulation's force has been let down, the damper fades.
   ShapedLaw later = s;
-  for (int i = 0; i < 6000; ++i) later = p.shape(law_at(0.0), {});
+  for (int i = 0; i < 6000; ++i) later = p.shape(law_at(0.0), {0.0, 5.0});
   EXPECT_DOUBLE_EQ(later.law.force0_mN, 0.0);
   EXPECT_LT(later.law.damping_mN_s_per_mm, 0.01);
+  // Going out (a wire relaxing after the hand let go), nothing holds it back.
+  PassiveLaw q;
+  for (int i = 0; i < 30; ++i) (void)q.shape(law_at(2000.0), {});
+  EXPECT_DOUBLE_EQ(q.shape(law_at(0.0), {0.0, -5.0}).law.damping_mN_s_per_mm, 0.0);
 }
 
 }  // namespace

@@ -130,13 +130,14 @@ Figures run_dead_end(bool motor, emu::HandModel hand_model, const std::string& h
 
 // `motor_creep`: after letting go, a motor box renders the buckled wire's residual force (a few
 // hundred mN, held in the simulation by wall friction) against the rollers' 300 mN of Coulomb
-// friction, which eases the tool out by up to 2 mm at a few mm/s: it stops, but not within
-// 200 ms (the simulation's contact, not the rendering: issue 29 item 2). A brake box stops.
+// friction; with the finger's mass gone the tool eases out by a third of a millimetre more
+// after the first 200 ms, at a few mm/s (the simulation's contact, not the rendering: issue 29
+// item 2). A brake box, and a motor box after the scripted grip, stop within 200 ms.
 void expect_passive(const Figures& f, bool motor_creep = false) {
   EXPECT_LE(f.max_work_mJ, 1e-3);
   EXPECT_LE(f.max_overspeed_mm_s, 20.0);
-  EXPECT_LE(f.max_travel_after_rest_mm, motor_creep ? 2.0 : 0.01);
-  EXPECT_LE(f.max_speed_after_rest_mm_s, motor_creep ? 15.0 : 1.0);
+  EXPECT_LE(f.max_travel_after_rest_mm, motor_creep ? 0.5 : 0.01);
+  EXPECT_LE(f.max_speed_after_rest_mm_s, motor_creep ? 10.0 : 1.0);
   EXPECT_LE(f.max_swing_mN, 100.0);
   EXPECT_LE(f.max_force_mN, 5000.0);
   EXPECT_GE(f.min_force_mN, -5000.0);
@@ -156,7 +157,7 @@ TEST(PassiveRendering, BrakeBoxFingerHand) {
   expect_passive(run_dead_end(false, emu::HandModel::kFinger, kPush, kRelease_us, kEnd_us));
 }
 TEST(PassiveRendering, MotorBoxScriptedHand) {
-  expect_passive(run_dead_end(true, emu::HandModel::kScripted, kPush, kRelease_us, kEnd_us), true);
+  expect_passive(run_dead_end(true, emu::HandModel::kScripted, kPush, kRelease_us, kEnd_us));
 }
 TEST(PassiveRendering, BrakeBoxScriptedHand) {
   expect_passive(run_dead_end(false, emu::HandModel::kScripted, kPush, kRelease_us, kEnd_us));

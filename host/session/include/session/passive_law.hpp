@@ -13,7 +13,7 @@
 //   5. Held resistance (a virtual coupling's damper, Colgate, Stanley & Brown 1995): when the simulation's force drops
 //      faster than the grip can follow (a wire that buckles), the resistance it had is not
 //      let go at once as a spring would release the grip, but kept as a damper that lets the
-//      tool advance no faster than follow_mm_s beyond the hand, capped at that resistance and
+//      tool advance (while it goes in) no faster than follow_mm_s beyond the hand, capped at that resistance and
 //      fading over hold_ms. A damper only takes energy out.
 //   4. Passivity observer / controller (Hannaford & Ryu 2002, "Time-domain passivity control
 //      of haptic interfaces"): the energy the box has delivered, summed from its readback
