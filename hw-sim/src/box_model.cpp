@@ -36,14 +36,22 @@ void BoxModel::hand(size_t a, uint64_t now_us, double dt_s) {
   AxisState& s = state_[a];
   const uint64_t t = now_us >= script_start_us_[a] ? now_us - script_start_us_[a] : 0;
   const HandSegment seg = script_[a].at(t);
+  const bool entering = seg.mode != mode_[a];
+  mode_[a] = seg.mode;
   switch (seg.mode) {
     case HandMode::kVelocity:
       s.target += seg.value * dt_s;
       s.hand_force = p.hand_stiffness * (s.target - s.tool_pos) + p.hand_damping * (seg.value - s.tool_vel);
       break;
     case HandMode::kForce:
-      s.hand_force = seg.value;
-      s.target = s.tool_pos;
+      if (p.hand_impedance_in_force_mode) {
+        // The arm holds still where the push began; the finger presses through its grip.
+        if (entering) s.target = s.tool_pos;
+        s.hand_force = seg.value + p.hand_stiffness * (s.target - s.tool_pos) - p.hand_damping * s.tool_vel;
+      } else {
+        s.hand_force = seg.value;
+        s.target = s.tool_pos;
+      }
       break;
     case HandMode::kFree:
       s.hand_force = 0;
@@ -71,13 +79,14 @@ void BoxModel::step(double dt_s, uint64_t now_us, const std::array<int16_t, 2>& 
     if (engaged_) {
       // Tool and mechanism as one body: the hand on the tool, the actuator and friction on the
       // mechanism.
-      const double m = p.mass + p.tool_mass;
+      const double m = p.mass + p.tool_mass + (mode_[a] == HandMode::kFree ? 0.0 : p.hand_mass);
       const double f = s.hand_force + motor - p.friction_damping * s.vel;
       const double v = resisted(s.vel, f, resist, m, dt_s);
       const double free = s.vel + f * dt_s / m;
       // The brake's share of what resisted the motion (the rest is the mechanism's friction).
       const double resisted_force = (v - free) * m / dt_s;
       s.actuator_force = p.motor ? motor : (resist > 0 ? resisted_force * brake / resist : 0.0);
+      s.actuator_work += s.actuator_force * v * dt_s;
       s.vel = v;
       s.tool_vel = v;
       s.pos += v * dt_s;
@@ -91,6 +100,7 @@ void BoxModel::step(double dt_s, uint64_t now_us, const std::array<int16_t, 2>& 
       // The mechanism alone (a motor spins it, friction stops it); the tool in the hand.
       s.vel = resisted(s.vel, motor - p.friction_damping * s.vel, resist, p.mass, dt_s);
       s.actuator_force = p.motor ? motor : (s.vel == 0.0 ? 0.0 : -std::copysign(brake, s.vel));
+      s.actuator_work += s.actuator_force * s.vel * dt_s;
       s.pos += s.vel * dt_s;
       s.tool_vel = std::clamp(s.tool_vel + s.hand_force * dt_s / p.tool_mass, -kHandSpeedLimit[a], kHandSpeedLimit[a]);
       s.tool_pos += s.tool_vel * dt_s;

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 
 #include "emu/emulator.hpp"
+#include "emu/hand_model.hpp"
 #include "emu/real_time_loop.hpp"
 #include "protocol/cbx_emu_frame.h"
 
@@ -50,6 +51,7 @@ struct Settings {
   cathbox::emu::EmuOptions options;
   std::string path;
   std::string hand[2];
+  cathbox::emu::HandModel hand_model = cathbox::emu::HandModel::kScripted;
   double drop = 0, duplicate = 0, corrupt = 0, delay_p = 0, bounce = 0;
   uint64_t delay_us = 0;
   long long estop_after_ms = -1;
@@ -77,6 +79,14 @@ const ValueOption kValueOptions[] = {
      [](const std::string& v, Settings& s) { s.hand[0] = v; return true; }},
     {"--hand-rotation", "S", "same for rotation (rad/s, mNmm)",
      [](const std::string& v, Settings& s) { s.hand[1] = v; return true; }},
+    {"--hand-model", "NAME",
+     "how the hand holds the tool: scripted (400 N/m grip, a pure force when pushing; default) or finger (a "
+     "fingertip's measured mass, damping and stiffness)",
+     [](const std::string& v, Settings& s) {
+       const auto model = cathbox::emu::parse_hand_model(v);
+       if (model) s.hand_model = *model;
+       return model.has_value();
+     }},
     {"--drop", "P", "probability of dropping a report (both directions)",
      [](const std::string& v, Settings& s) { return parse_probability(v, s.drop); }},
     {"--duplicate", "P", "probability of sending a report twice (both directions)",
@@ -189,6 +199,7 @@ int main(int argc, char** argv) {
   }
 
   Emulator emu(settings.options);
+  cathbox::emu::apply_hand_model(settings.hand_model, emu.model().params(0));
   for (int a = 0; a < 2; ++a) {
     if (settings.hand[a].empty()) continue;
     auto script = cathbox::emu::HandScript::parse(settings.hand[a], a);

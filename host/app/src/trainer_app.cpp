@@ -93,7 +93,10 @@ int TrainerApp::run() {
     std::fputs(trainer_usage().c_str(), stdout);
     return session::kExitOk;
   }
-  scripted_ = options_.headless || options_.bench_seconds > 0.0;
+  // Headless runs and benches use the autopilot unless a box was asked for (--emu, --box):
+  // then the run goes through the box, in real time.
+  const bool box_asked = options_.box == BoxChoice::kEmulator || !options_.boxes.empty();
+  scripted_ = (options_.headless || options_.bench_seconds > 0.0) && !box_asked;
   if (options_.replay.empty() && options_.bench_seconds <= 0.0) {
     if (const int code = open_server_link(); code >= 0) return code;
   }

@@ -1,5 +1,5 @@
 // cathbox-trainer without a window: a run of the default case by the scripted hand in virtual
-// time, or the replay of a record, each printing its events and the end-of-run figures.
+// time (through the box in real time with --emu or --box), or the replay of a record, each printing its events and the end-of-run figures.
 #include <cstdio>
 
 #include "app/trainer_app.hpp"
@@ -20,8 +20,10 @@ int TrainerApp::run_headless_summary() {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
     return session::kExitBadInput;
   }
-  std::printf("cathbox-trainer: headless run of %s with the %s (virtual time)\n", live_->scene().name.c_str(),
-              options_.script.empty() ? "scripted hand" : live_->hand_description().c_str());
+  const bool through_box = !scripted_ && options_.script.empty();
+  std::printf("cathbox-trainer: headless run of %s with the %s (%s)\n", live_->scene().name.c_str(),
+              options_.script.empty() && scripted_ ? "scripted hand" : live_->hand_description().c_str(),
+              through_box ? "real time" : "virtual time");
   if (!record_path_.empty()) std::fprintf(stderr, "cathbox-trainer: recording to %s\n", record_path_.c_str());
   if (link_) {
     // Instructors should see the run at all: it runs in virtual time, faster than real time.
@@ -35,16 +37,28 @@ int TrainerApp::run_headless_summary() {
   // --speed: each frame waits for its wall time, so watchers see the run as a rig streams it.
   device::SystemClock clock;
   const std::int64_t start_us = clock.now_us();
+  // A box runs in real time: the session's haptic thread drives it, this loop only watches.
+  const bool real_time = !scripted_ && options_.script.empty();
+  if (real_time) live_->start();
   // Steps of one live frame (33 ticks: ~30 frames per simulated second).
   while (!live_->over() && (limit_ticks < 0 || live_->ticks() < limit_ticks)) {
-    live_->step_virtual(33);
-    if (options_.speed > 0.0)
+    if (real_time) {
+      clock.sleep_until_us(clock.now_us() + 33'000);
+    } else {
+      live_->step_virtual(33);
+    }
+    if (!real_time && options_.speed > 0.0)
       clock.sleep_until_us(start_us + static_cast<std::int64_t>(static_cast<double>(live_->ticks()) * 1000.0 / options_.speed));
     while (live_->events().pop(e)) std::printf("%8.3f s  %s\n", static_cast<double>(e.time_us) * 1e-6, e.text.data());
     if (link_) {
       live_->snapshots().acquire();
       link_->publish(live_->snapshots().read_slot());
     }
+  }
+  if (real_time) {
+    live_->stop();
+    std::printf("cathbox-trainer: %lld haptic ticks in real time, %lld dropped\n", static_cast<long long>(live_->ticks()),
+                static_cast<long long>(live_->dropped_ticks()));
   }
   live_->end_run();
   live_->step_virtual(1);

@@ -181,7 +181,7 @@ struct Parser {
         no_box = flag("--no-box", "no box: keyboard and mouse (or the scripted hand when headless)");
         headless = flag("--headless",
                         "no visible window; without --frames, run the case with the scripted hand in virtual time "
-                        "and print the end-of-run summary");
+                        "(with --emu or --box: through the box, in real time) and print the end-of-run summary");
       } else if (name == "--replay") {
         wireframe = flag("--wireframe", "start with the vessel in wireframe");
       } else if (name == "--server") {

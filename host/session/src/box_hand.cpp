@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -89,6 +90,17 @@ bool BoxHand::init(std::string& error) {
   mapping_ = HandMapping(encoders);
   const cbx_device_info& info = client_->device_info();
   mode_ = info.insertion_actuator == CBX_ACTUATOR_MOTOR ? CBX_MODE_MOTOR : CBX_MODE_BRAKE;
+  // The box's full scale and slew limit, which the law it is sent respects (passive_law.hpp).
+  auto limits = client_->limits();
+  if (!limits) {
+    error = limits.error().message;
+    return false;
+  }
+  PassiveLawLimits passive;
+  passive.full_scale_mN = std::min<double>(limits.value().max_force_mN, calibration_.insertion_full_scale_mN);
+  passive.slew_mN_per_ms = limits.value().force_slew_mN_per_ms;
+  passive.tick_ms = dt_s_ * 1e3;
+  passive_ = PassiveLaw(passive);
   return true;
 }
 
@@ -156,9 +168,17 @@ void BoxHand::feel(const HandFeedback& fb) {
   if (fb.tick < 0) return;
   if (tool_ && *tool_ >= fb.tool_count) return;
   const tool::ForceLaw& law = tool_ ? fb.laws[*tool_] : fb.law;
-  (void)client_->send(device::force_law_command(mapping_.law_to_box(law), mode_));
+  const cbx_state_report& s = state_.report;
+  BoxReadback readback;
+  readback.force_mN = s.insertion_force_mN;
+  readback.speed_mm_s = mapping_.insertion_mm_from_counts(static_cast<double>(s.insertion_vel_cps));
+  const ShapedLaw shaped = passive_.shape(mapping_.law_to_box(law), readback);
+  (void)client_->send(device::force_law_command(shaped.law, mode_, shaped.out_min_mN, shaped.out_max_mN));
 }
 
-void BoxHand::release() { (void)client_->send(device::outputs_off_command()); }
+void BoxHand::release() {
+  (void)client_->send(device::outputs_off_command());
+  passive_.reset();
+}
 
 }  // namespace cathbox::session

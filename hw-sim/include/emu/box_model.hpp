@@ -25,6 +25,8 @@ struct AxisParams {
   double tool_mass = 0.01;        // kg (kg*m^2): the tool and what the hand holds it by
   double hand_stiffness = 400;    // N/m (N*m/rad): the grip in velocity mode
   double hand_damping = 8;        // N*s/m
+  double hand_mass = 0;           // kg: the fingers on the tool while they hold it (hand_model.hpp)
+  bool hand_impedance_in_force_mode = false;  // pushing with a force: through the grip (true) or a pure force
   double friction_damping = 2.0;  // N*s/m: rollers and bearings, viscous part
   double friction_coulomb = 0.3;  // N (N*m): rollers, bearings and actuator drag, Coulomb part (hw-sim/README.md)
   double full_scale = 5.0;        // N (N*m) at drive 1000
@@ -39,9 +41,12 @@ struct AxisState {
   double vel = 0;         // m/s or rad/s
   double tool_pos = 0;    // the tool: inserted length past its start (m), or its angle (rad)
   double tool_vel = 0;
-  double target = 0;      // where the hand is (velocity mode)
+  double target = 0;      // where the hand is (velocity mode; force mode with hand impedance)
   double hand_force = 0;  // last hand force on the tool (N, N*m)
   double actuator_force = 0;
+  // Work the actuator has done on the mechanism since the start (J, J): the energy the box put
+  // into the tool and the hand. Never above zero for a passive box (closed-loop tests).
+  double actuator_work = 0;
   int64_t count = 0;      // true encoder position, counts
 };
 
@@ -75,6 +80,7 @@ class BoxModel {
   std::array<AxisState, 2> state_;
   std::array<HandScript, 2> script_;
   std::array<uint64_t, 2> script_start_us_{};
+  std::array<HandMode, 2> mode_{HandMode::kFree, HandMode::kFree};  // the hand's last segment mode
   bool engaged_ = true;
 };
 

@@ -54,6 +54,25 @@ TEST_F(TrainerAppTest, HeadlessRunIsRecorded) {
   EXPECT_EQ(records, 1u);
 }
 
+// Given --emu, the headless run goes through the box (the emulator started beside this test's
+// executable), in real time, not through the scripted hand (issue 29).
+TEST_F(TrainerAppTest, HeadlessRunWithEmuGoesThroughTheBox) {
+  TrainerOptions o = headless();
+  o.box = BoxChoice::kEmulator;
+  o.max_seconds = 0.2;
+  const std::string bin = fs::read_symlink("/proc/self/exe").parent_path().string();
+  ASSERT_TRUE(fs::exists(bin + "/cathbox-emu")) << bin;
+  TrainerApp app(o, bin);
+  ::testing::internal::CaptureStdout();
+  const int code = app.run();
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_EQ(code, session::kExitOk);
+  EXPECT_NE(out.find("with the emulated box (started)"), std::string::npos) << out;
+  EXPECT_NE(out.find("(real time)"), std::string::npos) << out;
+  EXPECT_NE(out.find("haptic ticks in real time"), std::string::npos) << out;
+  EXPECT_EQ(out.find("scripted hand"), std::string::npos) << out;
+}
+
 TEST_F(TrainerAppTest, AssignmentWithoutServerIsRefused) {
   TrainerOptions o = headless();
   o.assignment = 3;

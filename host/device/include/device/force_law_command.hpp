@@ -17,6 +17,9 @@ namespace cathbox::device {
 // Negative gains from the solver are not sent (a box must never be asked to push back
 // harder the further it goes the wrong way); values beyond int32 saturate.
 [[nodiscard]] cbx_command_report force_law_command(const tool::ForceLaw& box_frame_law, std::uint8_t mode);
+// The same with the insertion output held within [out_min_mN, out_max_mN] (+ pushes in).
+[[nodiscard]] cbx_command_report force_law_command(const tool::ForceLaw& box_frame_law, std::uint8_t mode,
+                                                   double out_min_mN, double out_max_mN);
 // Outputs off (end of run, shutdown).
 [[nodiscard]] cbx_command_report outputs_off_command();
 

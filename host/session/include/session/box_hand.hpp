@@ -16,6 +16,7 @@
 #include "session/hand.hpp"
 #include "session/hand_mapping.hpp"
 #include "session/keyboard_input.hpp"
+#include "session/passive_law.hpp"
 
 namespace cathbox::session {
 
@@ -64,6 +65,8 @@ class BoxHand final : public Hand {
   // The box's link and faults, as TickInput::box reports them.
   [[nodiscard]] BoxStatus status() const;
   [[nodiscard]] const device::BoxClient& client() const { return *client_; }
+  // What makes the sent law passive (passive_law.hpp), for tests and the trainer's panel.
+  [[nodiscard]] const PassiveLaw& passive_law() const { return passive_; }
 
  private:
   BoxHand() = default;
@@ -75,6 +78,7 @@ class BoxHand final : public Hand {
   device::BoxState state_;
   cbx_calibration calibration_{};
   HandMapping mapping_;
+  PassiveLaw passive_;
   std::uint8_t mode_ = 0;
   KeyboardInput* keyboard_ = nullptr;
   double dt_s_ = 1e-3;

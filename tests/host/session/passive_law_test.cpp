@@ -1,0 +1,88 @@
+// PassiveLaw (host/session/passive_law.hpp): what makes the law BoxHand sends passive. The
+// closed loop against the emulated box is tests/integration/device/passive_rendering_test.cpp.
+#include "session/passive_law.hpp"
+
+#include <gtest/gtest.h>
+
+namespace cathbox::session {
+namespace {
+
+tool::ForceLaw law_at(double force_mN, double insertion_mm = 100.0, double stiffness = 0.0) {
+  tool::ForceLaw law;
+  law.insertion0_mm = insertion_mm;
+  law.force0_mN = force_mN;
+  law.stiffness_mN_per_mm = stiffness;
+  return law;
+}
+
+TEST(PassiveLaw, ForceStepsAreSlewLimitedAtTheNewPosition) {
+  PassiveLaw p;  // 100 mN per 1 ms tick
+  EXPECT_DOUBLE_EQ(p.shape(law_at(2000.0), {}).law.force0_mN, 100.0);
+  EXPECT_DOUBLE_EQ(p.shape(law_at(2000.0), {}).law.force0_mN, 200.0);
+  // A law with a spring: the next law's force is compared with this one's at the new position.
+  PassiveLaw q;
+  for (int i = 0; i < 10; ++i) (void)q.shape(law_at(1000.0, 100.0, 50.0), {});
+  EXPECT_DOUBLE_EQ(q.last().force0_mN, 1000.0);
+  // 1 mm further in, the spring gives 1050 mN there; the simulation asks 3000: 1150 is sent.
+  EXPECT_DOUBLE_EQ(q.shape(law_at(3000.0, 101.0, 50.0), {}).law.force0_mN, 1150.0);
+}
+
+TEST(PassiveLaw, ForceStaysWithinFullScale) {
+  PassiveLaw p;
+  ShapedLaw s;
+  for (int i = 0; i < 100; ++i) s = p.shape(law_at(9000.0), {});
+  EXPECT_DOUBLE_EQ(s.law.force0_mN, 5000.0);
+  EXPECT_DOUBLE_EQ(s.out_max_mN, 5000.0);
+  EXPECT_GE(s.out_min_mN, -5000.0);
+  for (int i = 0; i < 200; ++i) s = p.shape(law_at(-9000.0), {});
+  EXPECT_DOUBLE_EQ(s.law.force0_mN, -5000.0);
+}
+
+// Colgate & Schenkel 1997: a spring K sampled with period T is passive with damping > K T / 2.
+TEST(PassiveLaw, StiffnessMeetsTheSampledDataDampingBound) {
+  PassiveLawLimits limits;
+  limits.box_damping_mN_s_per_mm = 2.0;
+  PassiveLaw p(limits);
+  const ShapedLaw s = p.shape(law_at(0.0, 100.0, 20000.0), {});
+  EXPECT_DOUBLE_EQ(s.law.damping_mN_s_per_mm, 20000.0 * 1e-3 / 2.0 - 2.0);
+  EXPECT_DOUBLE_EQ(s.law.stiffness_mN_per_mm, 20000.0);
+}
+
+// Hannaford & Ryu 2002: energy the box delivered is taken out by damping at the next tick.
+TEST(PassiveLaw, ObserverDissipatesWhatTheBoxDelivered) {
+  PassiveLaw p;
+  // The box pushed in with 1 N while the tool moved in at 10 mm/s for 1 ms: 10 uJ delivered.
+  const ShapedLaw s = p.shape(law_at(0.0), {1000.0, 10.0});
+  // alpha = E / (v^2 T) = 10 uJ / (100 mm^2/s^2 * 1 ms) = 100 mN s/mm, which takes it all.
+  EXPECT_NEAR(s.law.damping_mN_s_per_mm, 100.0, 1e-9);
+  EXPECT_NEAR(p.observed_energy_mJ(), 0.0, 1e-12);
+  // Energy the box absorbed (resisting the motion) asks for nothing.
+  PassiveLaw q;
+  EXPECT_DOUBLE_EQ(q.shape(law_at(0.0), {-1000.0, 10.0}).law.damping_mN_s_per_mm, 0.0);
+  EXPECT_LT(q.observed_energy_mJ(), 0.0);
+}
+
+TEST(PassiveLaw, ADroppedResistanceIsHeldAsADamper) {
+  PassiveLaw p;
+  for (int i = 0; i < 30; ++i) (void)p.shape(law_at(2000.0), {});
+  // The wire buckles: the simulation's force falls to 0 in one tick, the tool going in.
+  const ShapedLaw s = p.shape(law_at(0.0), {0.0, 5.0});
+  EXPECT_DOUBLE_EQ(s.law.force0_mN, 1900.0);
+  // The rest is a damper letting the tool go 10 mm/s faster, never resisting beyond ~2 N.
+  EXPECT_GT(s.law.damping_mN_s_per_mm, 0.0);
+  EXPECT_LT(s.law.damping_mN_s_per_mm, 2000.0 / 10.0);
+  EXPECT_LE(s.out_min_mN, -1900.0);
+  EXPECT_GE(s.out_min_mN, -2000.0);
+  // Once the simulation's force has been let down, the damper fades.
+  ShapedLaw later = s;
+  for (int i = 0; i < 6000; ++i) later = p.shape(law_at(0.0), {0.0, 5.0});
+  EXPECT_DOUBLE_EQ(later.law.force0_mN, 0.0);
+  EXPECT_LT(later.law.damping_mN_s_per_mm, 0.01);
+  // Going out (a wire relaxing after the hand let go), nothing holds it back.
+  PassiveLaw q;
+  for (int i = 0; i < 30; ++i) (void)q.shape(law_at(2000.0), {});
+  EXPECT_DOUBLE_EQ(q.shape(law_at(0.0), {0.0, -5.0}).law.damping_mN_s_per_mm, 0.0);
+}
+
+}  // namespace
+}  // namespace cathbox::session
