@@ -1,10 +1,15 @@
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 
 #include <cmath>
 
-#include "tool/text_lines.hpp"
+#include "base/text_lines.hpp"
 
 namespace cathbox::tool {
+
+using base::text::TextLines;
+using base::text::located;
+using base::text::parse_number;
+using base::text::read_text_file;
 
 namespace {
 constexpr std::size_t kMaxScriptBytes = 8u << 20;

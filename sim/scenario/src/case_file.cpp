@@ -1,4 +1,4 @@
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -6,9 +6,14 @@
 #include <glm/geometric.hpp>
 
 #include "tool/aneurysm_sac.hpp"
-#include "tool/text_lines.hpp"
+#include "base/text_lines.hpp"
 
 namespace cathbox::tool {
+
+using base::text::TextLines;
+using base::text::located;
+using base::text::parse_number;
+using base::text::read_text_file;
 
 namespace {
 

@@ -1,4 +1,4 @@
-#include "tool/case_world.hpp"
+#include "scenario/case_world.hpp"
 
 #include <algorithm>
 #include <cmath>

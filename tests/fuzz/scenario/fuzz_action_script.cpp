@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

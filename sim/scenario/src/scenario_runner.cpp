@@ -1,14 +1,16 @@
-#include "tool/scenario_runner.hpp"
+#include "scenario/scenario_runner.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
-#include "tool/script_player.hpp"
-#include "tool/text_lines.hpp"
+#include "scenario/script_player.hpp"
+#include "base/text_lines.hpp"
 
 namespace cathbox::tool {
+
+using base::text::located;
 
 namespace {
 

@@ -13,10 +13,10 @@
 
 #include <optional>
 
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 #include "tool/coil_metrics.hpp"
 #include "tool/angioplasty.hpp"
-#include "tool/script_player.hpp"
+#include "scenario/script_player.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {

@@ -9,7 +9,7 @@
 
 #include "base/result.hpp"
 #include "tool/aneurysm_sac.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "vessel/surface_mesh.hpp"
 #include "vessel/vessel_model.hpp"
 #include "tool/simulator.hpp"

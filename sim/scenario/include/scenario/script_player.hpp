@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 
 namespace cathbox::tool {
 

@@ -1,12 +1,14 @@
-#include "tool/script_player.hpp"
+#include "scenario/script_player.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "tool/rod.hpp"
-#include "tool/text_lines.hpp"
+#include "base/text_lines.hpp"
 
 namespace cathbox::tool {
+
+using base::text::located;
 namespace {
 
 constexpr double kDegToRad = M_PI / 180.0;
