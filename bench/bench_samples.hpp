@@ -4,6 +4,7 @@
 // (median_<unit>, p99_<unit>, cpu_median_<unit>, cpu_p99_<unit>), since a budget is about the typical and the worst call, not the mean.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,39 @@
 
 namespace cathbox::bench {
 
+// CPU time of the calling thread, µs.
+inline double thread_cpu_us() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
+// The q-quantile (0..1) of sorted values: the value at rank floor(q n), the last for q = 1; 0
+// when there are none. Every median_* and p99_* counter of the benchmarks is this one.
+inline double quantile_sorted(const std::vector<double>& sorted, double q) {
+  if (sorted.empty()) return 0.0;
+  return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))];
+}
+inline double quantile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  return quantile_sorted(values, q);
+}
+// The q-quantile at rank floor(q (n - 1)) (bench_session's tick counters keep this rank).
+inline double quantile_below(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1))];
+}
+// The p-th percentile (0..100), interpolated linearly between ranks (the centre load's latencies).
+inline double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(rank));
+  const auto hi = std::min(values.size() - 1, lo + 1);
+  return values[lo] + (values[hi] - values[lo]) * (rank - static_cast<double>(lo));
+}
+
 class Samples {
  public:
   // unit "us" or "ms": what the counters are in.
@@ -20,13 +54,13 @@ class Samples {
 
   template <typename F>
   void time(F&& f) {
-    const double c0 = cpu_us(CLOCK_THREAD_CPUTIME_ID);
-    const double p0 = cpu_us(CLOCK_PROCESS_CPUTIME_ID);
+    const double c0 = thread_cpu_us();
+    const double p0 = process_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
     f();
     const auto t1 = std::chrono::steady_clock::now();
-    cpu_.push_back((cpu_us(CLOCK_THREAD_CPUTIME_ID) - c0) * scale_);
-    process_.push_back((cpu_us(CLOCK_PROCESS_CPUTIME_ID) - p0) * scale_);
+    cpu_.push_back((thread_cpu_us() - c0) * scale_);
+    process_.push_back((process_cpu_us() - p0) * scale_);
     wall_.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() * scale_);
   }
 
@@ -48,14 +82,12 @@ class Samples {
   void report_process_cpu() { report_process_ = true; }
 
  private:
-  static double cpu_us(clockid_t clock) {
+  static double process_cpu_us() {
     timespec ts{};
-    clock_gettime(clock, &ts);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
   }
-  static double pick(const std::vector<double>& v, double q) {
-    return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-  }
+  static double pick(const std::vector<double>& sorted, double q) { return quantile_sorted(sorted, q); }
   std::string unit_;
   double scale_ = 1.0;
   bool report_process_ = false;

@@ -20,6 +20,7 @@
 #include "device/clock.hpp"
 #include "emu/emulator.hpp"
 #include "emu/real_time_loop.hpp"
+#include "../bench_samples.hpp"
 
 namespace {
 
@@ -70,10 +71,7 @@ struct Session {
   explicit Session(benchmark::State& bench) : client(connect_or_skip(bench, box, clock)) {}
 };
 
-double percentile(std::vector<double> v, double p) {
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(p * static_cast<double>(v.size())))];
-}
+double percentile(const std::vector<double>& v, double q) { return cathbox::bench::quantile(v, q); }
 
 void RoundTrip(benchmark::State& bench) {
   Session s(bench);

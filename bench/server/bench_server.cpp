@@ -26,7 +26,7 @@
 #include "server/case_library.hpp"
 #include "server/testing/pg_cluster.hpp"
 #include "server/zstd_codec.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 namespace {
 

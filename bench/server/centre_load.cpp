@@ -124,15 +124,6 @@ void sleep_until(Clock::time_point t, const Shared& s) {
 
 }  // namespace
 
-double percentile(std::vector<double> values, double p) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const double rank = p / 100.0 * static_cast<double>(values.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(rank));
-  const auto hi = std::min(values.size() - 1, lo + 1);
-  return values[lo] + (values[hi] - values[lo]) * (rank - static_cast<double>(lo));
-}
-
 LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const LoadOptions& o) {
   // Accounts (light Argon2 parameters: the load is about the API, not password hashing) and
   // the case the rigs run.

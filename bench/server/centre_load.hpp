@@ -5,7 +5,11 @@
 #include <string>
 #include <vector>
 
+#include "../bench_samples.hpp"
+
 namespace cathbox::server::bench {
+
+using cathbox::bench::percentile;  // p in percent, interpolated
 
 struct LoadOptions {
   int rigs = 50;
@@ -39,6 +43,5 @@ struct LoadFigures {
 // rigs stream to instance A while the instructors watch and call B (PostgreSQL only).
 LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const LoadOptions& options);
 
-double percentile(std::vector<double> values, double p);
 
 }  // namespace cathbox::server::bench

@@ -25,8 +25,9 @@
 #include "session/recorder.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
+#include "../bench_samples.hpp"
 
 namespace {
 
@@ -44,18 +45,9 @@ std::string scratch(const std::string& name) {
   return (dir / name).string();
 }
 
-// CPU time of the calling thread, µs.
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
-}
+using cathbox::bench::thread_cpu_us;
+// This program's counters keep the rank floor(q (n - 1)).
+double percentile(const std::vector<double>& v, double q) { return cathbox::bench::quantile_below(v, q); }
 
 // Pushes in and pulls back with a full turn of the tip each way, for `minutes`. With `contrast`,
 // every 10 s cycle also has the pedal down from 0.5 to 8 s and 6 mL injected at 6 mL/s at 1 s

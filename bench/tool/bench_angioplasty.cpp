@@ -23,10 +23,11 @@
 #include <benchmark/benchmark.h>
 
 #include "tool/angioplasty.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 #include "collision/obb_tree.hpp"
 #include "vessel/vessel_mesher.hpp"
+#include "../bench_samples.hpp"
 
 namespace {
 
@@ -63,17 +64,8 @@ std::optional<Scene> load_scene() {
   return s;
 }
 
-double pick(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
-}
-
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
+using cathbox::bench::thread_cpu_us;
+double pick(const std::vector<double>& v, double q) { return cathbox::bench::quantile(v, q); }
 
 // The new wall of the widened lumen; `reuse`: with the tree cache of the wall before it (the
 // case's), as the session's builder has it, else from scratch.

@@ -33,13 +33,14 @@
 #include <benchmark/benchmark.h>
 #include <glm/geometric.hpp>
 
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_world.hpp"
 #include "tool/coil_metrics.hpp"
+#include "../bench_samples.hpp"
 
 namespace {
 
@@ -167,11 +168,7 @@ class CountingWall final : public WallModel {
   std::uint32_t step_ = 0;
 };
 
-double thread_cpu_us() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
-}
+using cathbox::bench::thread_cpu_us;
 
 // Wall and thread-CPU time of each step; median and p99 as counters.
 class StepTimes {
@@ -211,9 +208,10 @@ class StepTimes {
   }
   [[nodiscard]] double last_wall_us() const { return wall_.back(); }
   [[nodiscard]] std::size_t count() const { return wall_.size(); }
+  // Sorts v in place (callers read it sorted after) and takes its q-quantile.
   static double pick(std::vector<double>& v, double q) {
     std::sort(v.begin(), v.end());
-    return v.empty() ? 0.0 : v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size())))];
+    return cathbox::bench::quantile_sorted(v, q);
   }
   // What the tail is made of: over the steps at or above the thread-CPU p99, each rod's mean
   // Newton iterations (`tail_its_<name>`) beside its mean over all steps (`its_<name>`), the

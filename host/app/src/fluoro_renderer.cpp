@@ -8,6 +8,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "app/gl.hpp"
+#include "base/xxh_hasher.hpp"
 #include "fluoro_shaders.hpp"
 #include "flow/xray_material.hpp"
 
@@ -17,48 +18,40 @@ namespace {
 constexpr int kToolSides = 8;  // sides of a tool's tube
 enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
 
-// FNV-1a over the bytes of what a scene target depends on.
-struct Hasher {
-  std::uint64_t h = 1469598103934665603ULL;
-  void bytes(const void* p, std::size_t n) {
-    const auto* b = static_cast<const unsigned char*>(p);
-    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ULL;
-  }
-  template <class T>
-  void value(const T& v) { bytes(&v, sizeof v); }
-};
+// What a scene target depends on is hashed with the project's one hasher (XXH3).
+using Hasher = base::XxhHasher;
 
 void hash_pose(Hasher& h, const flow::CArmPose& p) {
-  h.value(p.lao_deg);
-  h.value(p.cranial_deg);
-  h.value(p.sid_mm);
-  h.value(p.sod_mm);
-  h.value(p.table_height_mm);
-  h.value(p.isocenter_mm);
-  h.value(p.fov_mm);
-  h.value(p.collimation);
+  h.add(p.lao_deg);
+  h.add(p.cranial_deg);
+  h.add(p.sid_mm);
+  h.add(p.sod_mm);
+  h.add(p.table_height_mm);
+  h.add(p.isocenter_mm);
+  h.add(p.fov_mm);
+  h.add(p.collimation);
 }
 
 std::uint64_t scene_key(const FluoroScene& s, const flow::CArmPose& pose, double keV, int w, int h, std::uint64_t gen) {
   Hasher k;
   hash_pose(k, pose);
-  k.value(keV);
-  k.value(w);
-  k.value(h);
-  k.value(gen);
-  k.bytes(s.cell_iodine_mgI_ml.data(), s.cell_iodine_mgI_ml.size() * sizeof(float));
+  k.add(keV);
+  k.add(w);
+  k.add(h);
+  k.add(gen);
+  k.add_bytes(s.cell_iodine_mgI_ml.data(), s.cell_iodine_mgI_ml.size() * sizeof(float));
   for (const FluoroTool& t : s.tools) {
-    k.bytes(t.nodes_mm.data(), t.nodes_mm.size() * sizeof(glm::vec3));
-    k.value(t.radius_mm);
-    k.value(t.material);
+    k.add_bytes(t.nodes_mm.data(), t.nodes_mm.size() * sizeof(glm::vec3));
+    k.add(t.radius_mm);
+    k.add(t.material);
     for (const FluoroMarker& m : t.markers) {
-      k.value(m.from_tip_mm);
-      k.value(m.length_mm);
-      k.value(m.material);
+      k.add(m.from_tip_mm);
+      k.add(m.length_mm);
+      k.add(m.material);
     }
-    k.value(t.nodes_mm.size());
+    k.add(t.nodes_mm.size());
   }
-  return k.h;
+  return k.digest();
 }
 
 // The part of a polyline between two arc positions (mm from its first node).
@@ -296,10 +289,10 @@ void FluoroRenderer::upload_vessel(VesselBuffers buffers) {
 std::uint64_t FluoroRenderer::phantom_key(const flow::CArm& carm, const Matrix& size) const {
   Hasher k;
   hash_pose(k, carm.pose());
-  k.value(size.width);
-  k.value(size.height);
-  k.value(generation_);
-  return k.h;
+  k.add(size.width);
+  k.add(size.height);
+  k.add(generation_);
+  return k.digest();
 }
 
 bool FluoroRenderer::project_phantom(const flow::CArm& carm, const Matrix& size, const Matrix& other, double l_ref) {
@@ -638,24 +631,25 @@ std::string FluoroRenderer::render(const Viewport& viewport, int framebuffer_hei
       // The monitor image changes only with a new pulse, a new roadmap, the pose or the display:
       // otherwise (last-image hold, frames between pulses) it is copied again.
       Hasher k;
-      k.value(projections_.key());
-      k.value(phantom_l_ref_);
+      k.add(projections_.key());
+      k.add(phantom_l_ref_);
       for (int i = 0; i < 4; ++i) {
         const bool used = i == 0 || (i == 1 && subtracted) || (i >= 2 && roadmap);
-        k.value(used ? targets_[static_cast<std::size_t>(i)].key : 0);
+        k.add(used ? targets_[static_cast<std::size_t>(i)].key : 0);
       }
       for (const FluoroScene* s : {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask}) {
-        k.value(s->pulse);
-        k.value(s->mode);
+        k.add(s->pulse);
+        k.add(s->mode);
       }
-      k.value(subtracted);
-      k.value(roadmap);
-      k.value(in.patient_transmission);
-      k.bytes(&in.dose, sizeof in.dose);
-      k.bytes(&display_, sizeof display_);
-      if (!monitor_.valid || monitor_.key != k.h || monitor_.width != w || monitor_.height != h) {
+      k.add(subtracted);
+      k.add(roadmap);
+      k.add(in.patient_transmission);
+      k.add_bytes(&in.dose, sizeof in.dose);
+      k.add_bytes(&display_, sizeof display_);
+      const std::uint64_t key = k.digest();
+      if (!monitor_.valid || monitor_.key != key || monitor_.width != w || monitor_.height != h) {
         compose(in, carm, subtracted, roadmap, w, h);
-        monitor_.key = k.h;
+        monitor_.key = key;
         monitor_.valid = true;
       }
     }

@@ -12,13 +12,13 @@
 #include "session/fluoro_controls.hpp"
 #include "app/fluoro_frontend.hpp"
 #include "app/fluoro_renderer.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "app/screenshot_writer.hpp"
 #include "app/server_link.hpp"
 #include "app/trainer_launch.hpp"
 #include "device/gpiod_foot_pedal.hpp"
 #include "app/trainer_ui.hpp"
-#include "session/exit_codes.hpp"
+#include "base/exit_codes.hpp"
 #include "session/records_dir.hpp"
 #include "session/thread_priority.hpp"
 #include "vessel/hclm.hpp"
@@ -91,7 +91,7 @@ bool TrainerApp::open_replay(const std::string& path, std::string& error) {
 int TrainerApp::run() {
   if (options_.help) {
     std::fputs(trainer_usage().c_str(), stdout);
-    return session::kExitOk;
+    return base::kExitOk;
   }
   // Headless runs and benches use the autopilot unless a box was asked for (--emu, --box):
   // then the run goes through the box, in real time.
@@ -214,12 +214,12 @@ int TrainerApp::open_foot_pedal() {
   const device::Result<device::PedalConfig> config = device::PedalConfig::parse(options_.pedal_gpio);
   if (!config) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", config.error().message.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   auto pedal = device::GpiodFootPedal::open(*config);
   if (!pedal) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", pedal.error().message.c_str());
-    return session::kExitNoDevice;
+    return base::kExitNoDevice;
   }
   foot_pedal_ = std::move(*pedal);
   return -1;
@@ -230,13 +230,13 @@ int TrainerApp::run_window() {
   current_case_ = choice.catalog_index;
   if (options_.replay.empty() && choice.path.empty()) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   std::string error;
   window_ = GlWindow::create(options_.width, options_.height, "Cathbox trainer", !options_.headless, error);
   if (!window_) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitNoDisplay;
+    return base::kExitNoDisplay;
   }
   const bool timed = options_.bench_seconds > 0.0;
   window_->set_vsync(!options_.headless && !timed);
@@ -244,14 +244,14 @@ int TrainerApp::run_window() {
   ui_ = std::make_unique<TrainerUi>();
   if (!renderer_->init(error) || !ui_->init(window_->handle())) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());
-    return session::kExitNoDisplay;
+    return base::kExitNoDisplay;
   }
   const std::string records = options_.records_dir.empty() ? session::records_dir() : options_.records_dir;
   replay_panel_ = std::make_unique<ReplayPanel>(records);
   const bool opened = options_.replay.empty() ? open_live(choice.path, error) : open_replay(options_.replay, error);
   if (!opened) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   load_scene();
   std::printf("cathbox-trainer: %s, %s: %s\n", current().scene().name.c_str(), replay_ ? "replay" : "hand",
@@ -289,7 +289,7 @@ int TrainerApp::run_window() {
                                    : replay_->advance(frame_dt_us, kReplayBudget_us);
       if (!ok) {
         std::fprintf(stderr, "cathbox-trainer: %s\n", replay_->error().c_str());
-        return session::kExitBadInput;
+        return base::kExitBadInput;
       }
     }
     session::Session& s = current();
@@ -347,7 +347,7 @@ int TrainerApp::run_window() {
                                  s.scene().vessel_file, s.scene().target_mm, s.scene().target_radius_mm};
       if (!write_screenshot(options_.screenshot, shot, snap, fw, fh, error)) {
         std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-        return session::kExitFailure;
+        return base::kExitFailure;
       }
     }
     window_->swap_buffers();
@@ -388,7 +388,7 @@ int TrainerApp::run_window() {
         replay_->play();
       } else {
         ui_->add_line("cannot replay " + next_replay + ": " + error);
-        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_, error)) return session::kExitBadInput;
+        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_, error)) return base::kExitBadInput;
       }
     } else if (replay_act.back_to_live || (live_ && (act.restart || act.pick_case >= 0))) {
       const int pick_index = act.pick_case >= 0 ? act.pick_case : current_case_;
@@ -398,7 +398,7 @@ int TrainerApp::run_window() {
         current_case_ = pick_index;
       } else {
         ui_->add_line("cannot open " + path + ": " + error);
-        if (!open_live(fallback, error)) return session::kExitBadInput;
+        if (!open_live(fallback, error)) return base::kExitBadInput;
       }
       load_scene();
       if (!virtual_time) live_->start();
@@ -423,7 +423,7 @@ int TrainerApp::run_window() {
   } else if (!options_.headless && live_) {
     std::printf("end of run\n%s", session::MetricsCollector::format(live_->metrics()).c_str());
   }
-  return session::kExitOk;
+  return base::kExitOk;
 }
 
 }  // namespace cathbox::app

@@ -6,7 +6,7 @@
 #include "app/server_link.hpp"
 #include "device/clock.hpp"
 #include "app/trainer_launch.hpp"
-#include "session/exit_codes.hpp"
+#include "base/exit_codes.hpp"
 
 namespace cathbox::app {
 namespace {
@@ -18,7 +18,7 @@ int TrainerApp::run_headless_summary() {
   std::string error = choice.error;
   if (choice.path.empty() || !open_live(choice.path, error)) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   const bool through_box = !scripted_ && options_.script.empty();
   std::printf("cathbox-trainer: headless run of %s with the %s (%s)\n", live_->scene().name.c_str(),
@@ -69,14 +69,14 @@ int TrainerApp::run_headless_summary() {
     std::printf("upload: %d stored, %d already on the server, %d refused, %d queued%s%s\n", u.stored, u.duplicates, u.refused,
                 u.left, u.stopped_by.empty() ? "" : ": ", u.stopped_by.c_str());
   }
-  return session::kExitOk;
+  return base::kExitOk;
 }
 
 int TrainerApp::run_headless_replay() {
   std::string error;
   if (!open_replay(options_.replay, error)) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   std::printf("cathbox-trainer: replay of %s (%s)\n", options_.replay.c_str(), replay_->header().case_name.c_str());
   replay_->seek(replay_->total_ticks());
@@ -85,7 +85,7 @@ int TrainerApp::run_headless_replay() {
   std::printf("end of replay: %lld ticks, %lld state hashes checked%s\n%s", static_cast<long long>(r.ticks),
               static_cast<long long>(r.hashes_checked), r.mismatch ? ", MISMATCH" : "",
               session::MetricsCollector::format(r.metrics).c_str());
-  return r.mismatch ? session::kExitFailure : session::kExitOk;
+  return r.mismatch ? base::kExitFailure : base::kExitOk;
 }
 
 }  // namespace cathbox::app

@@ -10,25 +10,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include "base/text_tokens.hpp"
+
 namespace cathbox::app {
 namespace {
 
 // The argument as it may appear in a one-line message: control bytes as \xNN, cut at 60.
-std::string printable(std::string_view text) {
-  std::string out;
-  for (const char c : text.substr(0, 60)) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7F) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02X", u);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  if (text.size() > 60) out += "...";
-  return out;
-}
+std::string printable(std::string_view text) { return base::text::escape_bytes(text, 60); }
 
 template <class T>
 bool parse_number(std::string_view text, T& out) {

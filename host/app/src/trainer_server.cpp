@@ -6,7 +6,7 @@
 #include "app/server_link.hpp"
 #include "app/trainer_app.hpp"
 #include "app/trainer_settings.hpp"
-#include "session/exit_codes.hpp"
+#include "base/exit_codes.hpp"
 
 namespace cathbox::app {
 
@@ -24,19 +24,19 @@ int TrainerApp::open_server_link() {
   std::string error;
   if (!apply_trainer_settings(options_, error)) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   if (options_.server_url.empty()) {
     if (options_.assignment) {
       std::fprintf(stderr, "cathbox-trainer: --assignment needs --server (or \"server\" in the settings file)\n");
-      return session::kExitBadInput;
+      return base::kExitBadInput;
     }
     return -1;
   }
   ServerLinkOptions link_options;
   if (!server_link_options(options_, link_options, error)) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
-    return session::kExitBadInput;
+    return base::kExitBadInput;
   }
   std::string note;
   link_ = ServerLink::open(link_options, note);
@@ -53,7 +53,7 @@ int TrainerApp::open_server_link() {
     if (!known) {
       std::fprintf(stderr, "cathbox-trainer: --assignment %lld: not among this trainee's assignments%s\n",
                    static_cast<long long>(*options_.assignment), link_->online() ? "" : " (offline: none cached)");
-      return session::kExitBadInput;
+      return base::kExitBadInput;
     }
   }
   return -1;

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "tool/force_law.hpp"
-
 namespace cathbox::device {
 namespace {
 
@@ -17,7 +15,7 @@ std::int32_t clamp_i32(double v) {
 
 }  // namespace
 
-cbx_command_report force_law_command(const tool::ForceLaw& law, std::uint8_t mode) {
+cbx_command_report force_law_command(const base::ForceLaw& law, std::uint8_t mode) {
   // 1 mN mm = 1 uN m.
   cbx_command_report c{};
   c.mode = mode;

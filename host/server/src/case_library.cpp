@@ -7,7 +7,7 @@
 #include "server/json_input.hpp"
 #include "server/sha256.hpp"
 #include "server/zstd_codec.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
 

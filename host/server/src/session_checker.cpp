@@ -11,7 +11,7 @@
 #include "server/server_app.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 namespace cathbox::server {
 namespace {

@@ -7,7 +7,7 @@
 #include "session/event_log.hpp"
 #include "session/fluoro_controls.hpp"
 #include "tool/simulator.hpp"
-#include "xxh_hasher.hpp"
+#include "base/xxh_hasher.hpp"
 
 namespace cathbox::session {
 namespace {
@@ -226,7 +226,7 @@ void FluoroUnit::capture_pulse(const flow::FluoroTick& t) {
 }
 
 std::uint64_t FluoroUnit::hash(std::uint64_t seed) const {
-  XxhHasher h;
+  base::XxhHasher h;
   h.add(seed);
   const std::size_t segments = network_.model().segments.size();
   for (std::uint32_t s = 0; s < segments; ++s) {

@@ -5,7 +5,7 @@
 #include <bit>
 #include <cstring>
 
-#include "protocol/cbx_bytes.h"
+#include "base/byte_order.hpp"
 
 namespace cathbox::session::record {
 
@@ -30,7 +30,7 @@ std::uint32_t crc32(std::span<const std::uint8_t> a, std::span<const std::uint8_
 
 namespace {
 
-// Appends n bytes to out and returns where they start, for the cbx_put_* writers.
+// Appends n bytes to out and returns where they start, for the base::put_le writers.
 std::uint8_t* grow(std::vector<std::uint8_t>& out, std::size_t n) {
   out.resize(out.size() + n);
   return out.data() + out.size() - n;
@@ -38,9 +38,9 @@ std::uint8_t* grow(std::vector<std::uint8_t>& out, std::size_t n) {
 
 }  // namespace
 
-void ByteWriter::u16(std::uint16_t v) { cbx_put_u16(grow(out_, 2), v); }
-void ByteWriter::u32(std::uint32_t v) { cbx_put_u32(grow(out_, 4), v); }
-void ByteWriter::u64(std::uint64_t v) { cbx_put_u64(grow(out_, 8), v); }
+void ByteWriter::u16(std::uint16_t v) { base::put_le(grow(out_, 2), v); }
+void ByteWriter::u32(std::uint32_t v) { base::put_le(grow(out_, 4), v); }
+void ByteWriter::u64(std::uint64_t v) { base::put_le(grow(out_, 8), v); }
 
 void ByteWriter::f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
 
@@ -79,14 +79,7 @@ bool ByteReader::u8(std::uint8_t& v) {
 template <class T>
 bool ByteReader::fixed(T& v) {
   if (left() < sizeof(T)) return false;
-  const std::uint8_t* p = in_.data() + pos_;
-  if constexpr (sizeof(T) == 2) {
-    v = cbx_get_u16(p);
-  } else if constexpr (sizeof(T) == 4) {
-    v = cbx_get_u32(p);
-  } else {
-    v = cbx_get_u64(p);
-  }
+  v = base::get_le<T>(in_.data() + pos_);
   pos_ += sizeof(T);
   return true;
 }

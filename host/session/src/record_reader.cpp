@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "base/text_tokens.hpp"
+
 namespace cathbox::session {
 namespace {
 
@@ -55,18 +57,7 @@ std::unique_ptr<RecordReader> RecordReader::from_bytes(std::vector<std::uint8_t>
 bool RecordReader::fail(std::uint64_t byte, const std::string& what) {
   if (error_.empty()) {
     // One line, whatever the record's text fields hold: bytes outside printable ASCII as \xNN.
-    std::string line = name_ + ": byte " + std::to_string(byte) + ": ";
-    for (const char c : what) {
-      const auto u = static_cast<unsigned char>(c);
-      if (u >= 0x20 && u < 0x7F) {
-        line += c;
-      } else {
-        char hex[5];
-        std::snprintf(hex, sizeof hex, "\\x%02x", u);
-        line += hex;
-      }
-    }
-    error_ = std::move(line);
+    error_ = name_ + ": byte " + std::to_string(byte) + ": " + base::text::escape_bytes(what);
   }
   stopped_ = true;
   return false;

@@ -7,7 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "protocol/cbx_bytes.h"
+#include "base/byte_order.hpp"
 
 namespace cathbox::session {
 namespace {
@@ -253,7 +253,7 @@ void Recorder::seal(bool force) {
   }
   // Patch the tick count (bytes 8..11 of the block's data).
   const auto n = static_cast<std::uint32_t>(block_ticks_);
-  cbx_put_u32(current_->data.data() + 8, n);
+  base::put_le<std::uint32_t>(current_->data.data() + 8, n);
   current_->type = BlockType::kTicks;
   current_->end_tick = block_first_tick_ + block_ticks_;
   (void)full_.push(current_);

@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "session/state_hash.hpp"
-#include "tool/compliant_contact.hpp"
+#include "scenario/case_wall.hpp"
 
 #ifndef CATHBOX_VERSION
 #define CATHBOX_VERSION "0.0.0"

@@ -2,12 +2,12 @@
 
 #include <cstring>
 
-#include "xxh_hasher.hpp"
+#include "base/xxh_hasher.hpp"
 
 namespace cathbox::session {
 
 std::uint64_t state_hash(const tool::Snapshot& s) {
-  XxhHasher h;
+  base::XxhHasher h;
   const std::uint64_t tools = s.tools.size();
   h.add(tools);
   for (const tool::ToolSnapshot& t : s.tools) {

@@ -9,6 +9,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/xxh_hasher.hpp"
 #include "float_bounds.hpp"
 #include "kernels.hpp"
 #include "tree_data.hpp"
@@ -705,40 +706,29 @@ void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, do
 
 const TreeStats& ObbTree::stats() const { return data_->stats; }
 
-namespace {
-
-// FNV-1a over the bytes of a vector's elements.
-template <typename Vector>
-void hash_bytes(std::uint64_t& h, const Vector& v) {
-  const auto* bytes = reinterpret_cast<const unsigned char*>(v.data());
-  for (std::size_t i = 0; i < v.size() * sizeof(v[0]); ++i) h = (h ^ bytes[i]) * 1099511628211ull;
-}
-
-}  // namespace
-
 std::uint64_t ObbTree::content_hash() const {
   const detail::TreeData& d = *data_;
-  std::uint64_t h = 14695981039346656037ull;
-  hash_bytes(h, d.nodes);
+  base::XxhHasher h;  // in memory only: equal trees, equal hashes within one build
+  h.add_span(std::span(d.nodes));
   for (const detail::TriangleBlock& b : d.blocks) {  // field by field: the block has padding
-    hash_bytes(h, std::span<const float>(&b.row[0][0], detail::kTriangleRows * 4));
-    hash_bytes(h, std::span<const std::int32_t>(b.face));
+    h.add_span(std::span<const float>(&b.row[0][0], detail::kTriangleRows * 4));
+    h.add_span(std::span<const std::int32_t>(b.face));
     const std::int32_t region[2] = {static_cast<std::int32_t>(b.region.kind), b.region.id};
-    hash_bytes(h, std::span<const std::int32_t>(region));
+    h.add_span(std::span<const std::int32_t>(region));
   }
-  hash_bytes(h, d.positions);
-  hash_bytes(h, d.triangles);
+  h.add_span(std::span(d.positions));
+  h.add_span(std::span(d.triangles));
   for (const vessel::FaceRegion& r : d.regions) {
     const std::int32_t region[2] = {static_cast<std::int32_t>(r.kind), r.id};
-    hash_bytes(h, std::span<const std::int32_t>(region));
+    h.add_span(std::span<const std::int32_t>(region));
   }
-  hash_bytes(h, d.face_normals);
-  hash_bytes(h, d.vertex_normals);
-  hash_bytes(h, d.opposite);
-  hash_bytes(h, d.valence);
+  h.add_span(std::span(d.face_normals));
+  h.add_span(std::span(d.vertex_normals));
+  h.add_span(std::span(d.opposite));
+  h.add_span(std::span(d.valence));
   const double scalars[2] = {d.scale_mm, d.coherence_margin_mm};
-  hash_bytes(h, std::span<const double>(scalars));
-  return h;
+  h.add_span(std::span<const double>(scalars));
+  return h.digest();
 }
 
 namespace {

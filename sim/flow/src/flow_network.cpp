@@ -74,11 +74,11 @@ FlowBuild FlowNetwork::build(const vessel::VesselModel& model, const FlowSetting
   std::unique_ptr<FlowNetwork> net(new FlowNetwork());
   net->model_ = model;
   net->settings_ = settings;
-  if (std::string e = net->solve(); !e.empty()) return base::Error{std::move(e)};
+  if (base::Status<> solved = net->solve(); !solved) return solved.error();
   return FlowBuild(std::move(net));
 }
 
-std::string FlowNetwork::solve() {
+base::Status<> FlowNetwork::solve() {
   const vessel::VesselModel& model = model_;
   const FlowSettings& set = settings_;
   const vessel::VesselGraph graph(model);
@@ -162,17 +162,17 @@ std::string FlowNetwork::solve() {
   };
   for (const SegmentSetting& o : set.closed) {
     int k = 0;
-    if (std::string e = lookup(o, true, "flow closed", k); !e.empty()) return e;
+    if (std::string e = lookup(o, true, "flow closed", k); !e.empty()) return base::Error{std::move(e)};
     terminals_[static_cast<std::size_t>(k)].role = EndRole::kClosed;
     terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
     terminals_[static_cast<std::size_t>(k)].overridden = true;
   }
   for (const SegmentSetting& o : set.outlets) {
     int k = 0;
-    if (std::string e = lookup(o, true, "flow outlet", k); !e.empty()) return e;
+    if (std::string e = lookup(o, true, "flow outlet", k); !e.empty()) return base::Error{std::move(e)};
     Terminal& t = terminals_[static_cast<std::size_t>(k)];
     if (t.role == EndRole::kClosed && t.overridden) {
-      return located_error(set, o.line, "flow outlet: segment " + std::to_string(o.segment_id) + " is also given as closed");
+      return base::Error{located_error(set, o.line, "flow outlet: segment " + std::to_string(o.segment_id) + " is also given as closed")};
     }
     t.role = EndRole::kOutlet;
     t.territory = territory_of(model.segments[t.segment].name);
@@ -181,7 +181,7 @@ std::string FlowNetwork::solve() {
   }
   for (const SegmentSetting& o : set.inflows) {
     int k = 0;
-    if (std::string e = lookup(o, false, "flow inflow", k); !e.empty()) return e;
+    if (std::string e = lookup(o, false, "flow inflow", k); !e.empty()) return base::Error{std::move(e)};
     terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
     terminals_[static_cast<std::size_t>(k)].overridden = true;
   }
@@ -303,7 +303,7 @@ std::string FlowNetwork::solve() {
     ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
     if (t.role == EndRole::kOutlet) {
       if (!(t.target_ml_min > 0.0) || !std::isfinite(t.target_ml_min)) {
-        return "flow: outlet of segment " + std::to_string(model.segments[t.segment].id) + " has no positive target flow";
+        return base::Error{"flow: outlet of segment " + std::to_string(model.segments[t.segment].id) + " has no positive target flow"};
       }
       c.out_mm3_s += t.target_ml_min / 0.06;
     } else if (t.role == EndRole::kInlet) {
@@ -313,7 +313,7 @@ std::string FlowNetwork::solve() {
   }
   for (const Terminal& t : terminals_) {
     if (t.role == EndRole::kInlet && t.target_ml_min > 0.0 && comps[component[static_cast<std::size_t>(t.node)]].out_mm3_s <= 0.0) {
-      return "flow: segment " + std::to_string(model.segments[t.segment].id) + " has an inflow but its network has no outlet";
+      return base::Error{"flow: segment " + std::to_string(model.segments[t.segment].id) + " has an inflow but its network has no outlet"};
     }
   }
   // Terminal resistances: fixed, R_t = (P_arterial - P_venous) / Q_target; or calibrated, so
@@ -339,14 +339,14 @@ std::string FlowNetwork::solve() {
       if (t.role == EndRole::kOutlet) b[t.node] -= t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s;
     }
     const std::optional<Eigen::VectorXd> pc = solve_nodes(std::move(triplets), b);
-    if (!pc) return "flow: the network's pressure system could not be solved";
+    if (!pc) return base::Error{"flow: the network's pressure system could not be solved"};
     for (Terminal& t : terminals_) {
       const ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
       if (t.role != EndRole::kOutlet || c.pin < 0 || c.in_mm3_s <= 0.0) continue;
       const double p_out = (*pc)[t.node];
       if (!(p_out > 0.0)) {
-        return "flow: the vessels upstream of segment " + std::to_string(model.segments[t.segment].id) +
-               "'s outlet drop the arterial pressure below the venous pressure at the target flows";
+        return base::Error{"flow: the vessels upstream of segment " + std::to_string(model.segments[t.segment].id) +
+               "'s outlet drop the arterial pressure below the venous pressure at the target flows"};
       }
       t.resistance_Pa_s_per_mm3 = p_out / (t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s);
     }
@@ -361,7 +361,7 @@ std::string FlowNetwork::solve() {
     if (c.out_mm3_s <= 0.0) triplets.emplace_back(static_cast<int>(comp), static_cast<int>(comp), 1.0);  // no flow: pin
   }
   const std::optional<Eigen::VectorXd> solved = solve_nodes(std::move(triplets), rhs);
-  if (!solved) return "flow: the network's pressure system could not be solved";
+  if (!solved) return base::Error{"flow: the network's pressure system could not be solved"};
   const Eigen::VectorXd& p = *solved;
   pressure_Pa_.assign(p.data(), p.data() + p.size());
 
@@ -378,7 +378,7 @@ std::string FlowNetwork::solve() {
     const double out = t.at_end ? q : -q;  // out of the network through this end
     t.flow_ml_min = t.role == EndRole::kClosed ? 0.0 : (t.role == EndRole::kInlet ? -out : out);
   }
-  return {};
+  return base::Ok{};
 }
 
 double FlowNetwork::node_pressure_mmHg(int node) const {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "tool/case_file.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {
@@ -20,11 +19,6 @@ void use_compliant_contact(Simulator& sim, const CompliantContact& contact) {
     s.contact_stiffness_mN_per_mm = contact.stiffness_mN_per_mm;
     s.max_penetration_ratio = std::max(s.max_penetration_ratio, contact.max_displacement_mm / r_min);
   }
-}
-
-void use_case_wall(Simulator& sim, const CaseWall* wall) {
-  if (wall == nullptr) return;
-  use_compliant_contact(sim, compliant_contact(WallShell(arterial_wall(wall->territory), wall->radius_mm)));
 }
 
 }  // namespace cathbox::tool

@@ -12,17 +12,17 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/text_tokens.hpp"
 #include "vessel/point_range.hpp"
-#include "vessel/text_tokens.hpp"
 
 namespace cathbox::vessel {
 namespace {
 
-using text::parse_double;
-using text::parse_integer;
-using text::quoted;
-using text::split_tokens;
-using text::trim;
+using base::text::parse_double;
+using base::text::parse_integer;
+using base::text::quoted;
+using base::text::split_tokens;
+using base::text::trim;
 
 constexpr std::size_t kMaxErrors = 100;
 

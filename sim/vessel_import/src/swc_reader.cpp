@@ -5,7 +5,7 @@
 #include <string>
 #include <unordered_map>
 
-#include "vessel/text_tokens.hpp"
+#include "base/text_tokens.hpp"
 
 namespace cathbox::vessel_import {
 namespace {
@@ -28,7 +28,7 @@ SwcRead parse_swc(std::string_view text, std::string_view file) {
     pos = end + 1;
     ++line_no;
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
-    const std::vector<std::string_view> tokens = vessel::text::split_tokens(line);
+    const std::vector<std::string_view> tokens = base::text::split_tokens(line);
     if (tokens.empty()) continue;
     if (tokens.size() != 7) {
       fail(line_no, "expected 7 columns (id type x y z radius parent), got " + std::to_string(tokens.size()));
@@ -36,28 +36,28 @@ SwcRead parse_swc(std::string_view text, std::string_view file) {
     }
     SwcSample s;
     s.line = line_no;
-    const auto id = vessel::text::parse_integer(tokens[0]);
-    const auto type = vessel::text::parse_integer(tokens[1]);
-    const auto parent = vessel::text::parse_integer(tokens[6]);
+    const auto id = base::text::parse_integer(tokens[0]);
+    const auto type = base::text::parse_integer(tokens[1]);
+    const auto parent = base::text::parse_integer(tokens[6]);
     if (!id || *id < 0) {
-      fail(line_no, "sample id " + vessel::text::quoted(tokens[0]) + " is not a non-negative integer");
+      fail(line_no, "sample id " + base::text::quoted(tokens[0]) + " is not a non-negative integer");
       continue;
     }
     if (!type) {
-      fail(line_no, "type " + vessel::text::quoted(tokens[1]) + " is not an integer");
+      fail(line_no, "type " + base::text::quoted(tokens[1]) + " is not an integer");
       continue;
     }
     if (!parent || *parent < -1) {
-      fail(line_no, "parent " + vessel::text::quoted(tokens[6]) + " is not a sample id or -1");
+      fail(line_no, "parent " + base::text::quoted(tokens[6]) + " is not a sample id or -1");
       continue;
     }
     bool numbers_ok = true;
     double values[4];
     static constexpr const char* kNames[4] = {"x", "y", "z", "radius"};
     for (int k = 0; k < 4; ++k) {
-      const auto v = vessel::text::parse_double(tokens[static_cast<std::size_t>(k) + 2]);
+      const auto v = base::text::parse_double(tokens[static_cast<std::size_t>(k) + 2]);
       if (!v || !std::isfinite(*v)) {
-        fail(line_no, std::string(kNames[k]) + " " + vessel::text::quoted(tokens[static_cast<std::size_t>(k) + 2]) +
+        fail(line_no, std::string(kNames[k]) + " " + base::text::quoted(tokens[static_cast<std::size_t>(k) + 2]) +
                           " is not a finite number");
         numbers_ok = false;
         break;

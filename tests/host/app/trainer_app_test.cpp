@@ -12,7 +12,7 @@
 
 #include "app/server_link.hpp"
 #include "app/trainer_app.hpp"
-#include "session/exit_codes.hpp"
+#include "base/exit_codes.hpp"
 
 namespace cathbox::app {
 namespace {
@@ -48,7 +48,7 @@ class TrainerAppTest : public ::testing::Test {
 
 TEST_F(TrainerAppTest, HeadlessRunIsRecorded) {
   TrainerApp app(headless(), ".");
-  EXPECT_EQ(app.run(), session::kExitOk);
+  EXPECT_EQ(app.run(), base::kExitOk);
   std::size_t records = 0;
   for (const auto& entry : fs::directory_iterator(home_ / "records")) records += entry.is_regular_file() ? 1 : 0;
   EXPECT_EQ(records, 1u);
@@ -77,7 +77,7 @@ TEST_F(TrainerAppTest, AssignmentWithoutServerIsRefused) {
   TrainerOptions o = headless();
   o.assignment = 3;
   TrainerApp app(o, ".");
-  EXPECT_EQ(app.run(), session::kExitBadInput);
+  EXPECT_EQ(app.run(), base::kExitBadInput);
   EXPECT_FALSE(fs::exists(home_ / "records"));
 }
 
@@ -86,14 +86,14 @@ TEST_F(TrainerAppTest, DamagedSettingsFileIsRefused) {
   o.settings_file = (home_ / "trainer.json").string();
   std::ofstream(o.settings_file) << R"({"usr": "trainee"})";
   TrainerApp app(o, ".");
-  EXPECT_EQ(app.run(), session::kExitBadInput);
+  EXPECT_EQ(app.run(), base::kExitBadInput);
 }
 
 TEST_F(TrainerAppTest, MissingCaseIsRefused) {
   TrainerOptions o = headless();
   o.case_path = (home_ / "missing.case").string();
   TrainerApp app(o, ".");
-  EXPECT_EQ(app.run(), session::kExitBadInput);
+  EXPECT_EQ(app.run(), base::kExitBadInput);
 }
 
 // --pedal-gpio: a bad value is bad input (2), a chip that is not there no device (3); both
@@ -102,9 +102,9 @@ TEST_F(TrainerAppTest, ABadOrMissingFootPedalIsRefused) {
   TrainerOptions o = headless();
   o.frames = 1;  // the windowed path, where the pedal is used
   o.pedal_gpio = "gpiochip0";
-  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitBadInput);
+  EXPECT_EQ(TrainerApp(o, ".").run(), base::kExitBadInput);
   o.pedal_gpio = "no_such_gpiochip:22";
-  EXPECT_EQ(TrainerApp(o, ".").run(), session::kExitNoDevice);
+  EXPECT_EQ(TrainerApp(o, ".").run(), base::kExitNoDevice);
 }
 
 // The live frame carries the fluoroscopy unit's pedal and time when the case has one.

@@ -94,7 +94,7 @@ TEST(TrainerOptions, BadInputGivesOneLineNamingTheOption) {
       {{"--screenshot", "a.png"}, "--screenshot"},
       {{"--frames", "3"}, "--headless"},
       {{"--colour"}, "--colour"},
-      {{"-\n"}, "-\\x0A"},
+      {{"-\n"}, "-\\x0a"},
       {{"--server", "ftp://x"}, "--server"},
       {{"--server"}, "--server"},
       {{"--user", ""}, "--user"},

@@ -24,7 +24,7 @@
 
 #include "app/scene_renderer.hpp"
 #include "flow/c_arm.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "app/viewport.hpp"
 #include "png_reader.hpp"
 #include "vessel/hclm.hpp"

@@ -4,13 +4,13 @@
 
 #include <gtest/gtest.h>
 
-#include "tool/force_law.hpp"
+#include "base/force_law.hpp"
 
 namespace cathbox::device {
 namespace {
 
 TEST(ForceLawCommand, TheBoxPushesBackWhatTheToolResists) {
-  tool::ForceLaw law;
+  base::ForceLaw law;
   law.insertion0_mm = 30.0;        // in the box's frame: 30 mm from its count zero
   law.force0_mN = 100.0;           // the tool resists insertion with 100 mN here
   law.stiffness_mN_per_mm = 50.0;  // and 50 mN more per mm deeper
@@ -33,7 +33,7 @@ TEST(ForceLawCommand, TheBoxPushesBackWhatTheToolResists) {
 }
 
 TEST(ForceLawCommand, NegativeGainsFromTheSolverAreNotSentAndHugeValuesSaturate) {
-  tool::ForceLaw law;
+  base::ForceLaw law;
   law.stiffness_mN_per_mm = -5.0;
   law.damping_mN_s_per_mm = -1.0;
   law.force0_mN = 1e12;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "session/contact_readings.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
 

@@ -15,7 +15,7 @@
 #include "session/record_format.hpp"
 #include "session/record_reader.hpp"
 #include "session/recorder.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 namespace cathbox::session {
 namespace {

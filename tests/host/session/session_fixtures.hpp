@@ -9,7 +9,7 @@
 
 #include "session/action_script_hand.hpp"
 #include "session/session_case.hpp"
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 
 namespace cathbox::session::fixtures {
 

@@ -12,7 +12,7 @@
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 #include "record_tamper.hpp"
 #include "session_fixtures.hpp"
 

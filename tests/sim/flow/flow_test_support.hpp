@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "flow/flow_network.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_graph.hpp"
 

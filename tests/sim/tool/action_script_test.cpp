@@ -1,5 +1,5 @@
-#include "tool/action_script.hpp"
-#include "tool/script_player.hpp"
+#include "scenario/action_script.hpp"
+#include "scenario/script_player.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include "tool/aneurysm_sac.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 
 namespace cathbox::tool {
 namespace {

@@ -16,9 +16,9 @@
 
 #include "analytic_walls.hpp"
 #include "tool/balloon.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
-#include "tool/scenario_runner.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
+#include "scenario/scenario_runner.hpp"
 #include "vessel/hclm.hpp"
 
 namespace cathbox::tool {

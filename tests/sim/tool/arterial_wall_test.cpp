@@ -21,7 +21,8 @@
 #include <glm/geometric.hpp>
 
 #include "tool/arterial_wall.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_wall.hpp"
 #include "tool/compliant_contact.hpp"
 #include "tool/displaced_wall.hpp"
 #include "tool/simulator.hpp"

@@ -4,9 +4,9 @@
 
 #include <sstream>
 
-#include "tool/action_script.hpp"
-#include "tool/case_file.hpp"
-#include "tool/scenario_runner.hpp"
+#include "scenario/action_script.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/scenario_runner.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {

@@ -1,4 +1,4 @@
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 #include <gtest/gtest.h>
 

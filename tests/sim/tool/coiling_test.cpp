@@ -17,10 +17,10 @@
 
 #include "collision/segment_pair.hpp"
 #include "tool/aneurysm_sac.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 #include "tool/coil_metrics.hpp"
-#include "tool/script_player.hpp"
+#include "scenario/script_player.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
 

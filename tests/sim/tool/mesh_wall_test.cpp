@@ -108,8 +108,8 @@ TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
 }  // namespace
 }  // namespace cathbox::tool
 
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {

@@ -1,4 +1,4 @@
-#include "tool/scenario_runner.hpp"
+#include "scenario/scenario_runner.hpp"
 
 #include <fstream>
 #include <iterator>
@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 
 namespace cathbox::tool {
 namespace {

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 #include "tool/mesh_wall.hpp"
 #include "tool/simulator.hpp"
 

@@ -1,14 +1,14 @@
 #pragma once
 // Exit codes of the `cathbox` command: the one set every Cathbox program uses, defined in
-// host/session/include/session/exit_codes.hpp (documented in host/session/README.md).
-#include "session/exit_codes.hpp"
+// sim/base/include/base/exit_codes.hpp (documented in host/session/README.md).
+#include "base/exit_codes.hpp"
 
 namespace cathbox::cli {
-using session::kExitBadInput;
-using session::kExitDeviceError;
-using session::kExitFailure;
-using session::kExitIncompatible;
-using session::kExitNoDevice;
-using session::kExitNoDisplay;
-using session::kExitOk;
+using base::kExitBadInput;
+using base::kExitDeviceError;
+using base::kExitFailure;
+using base::kExitIncompatible;
+using base::kExitNoDevice;
+using base::kExitNoDisplay;
+using base::kExitOk;
 }  // namespace cathbox::cli

@@ -14,7 +14,7 @@
 #include "cli/registry.hpp"
 #include "cli/usage.hpp"
 #include "flow/flow_network.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 #include "vessel/hclm.hpp"
 
 namespace {

@@ -14,7 +14,7 @@
 #include "session_run.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
-#include "tool/scenario_runner.hpp"
+#include "scenario/scenario_runner.hpp"
 
 namespace cathbox::cli {
 namespace {

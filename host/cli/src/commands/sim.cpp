@@ -11,12 +11,12 @@
 #include "cli/exit_codes.hpp"
 #include "cli/registry.hpp"
 #include "cli/usage.hpp"
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
+#include "scenario/scenario_runner.hpp"
 #include "tool/angioplasty.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
-#include "tool/compliant_contact.hpp"
-#include "tool/scenario_runner.hpp"
+#include "scenario/case_wall.hpp"
 #include "tool/simulator.hpp"
 
 namespace {

@@ -1,5 +1,5 @@
 #pragma once
-// An action script (*.actions, sim/tool/action_script.hpp) as the hand: the same parser and the
+// An action script (*.actions, sim/scenario/action_script.hpp) as the hand: the same parser and the
 // same player (tool::ScriptPlayer) as `cathbox sim run`, one millisecond per tick. `select`
 // becomes a select control (recorded like a trainee's), the imaging verbs (`fluoro`, `inject`,
 // `carm`, `roadmap`) the fluoroscopy unit's controls (fluoro_controls.hpp); the motions move
@@ -12,8 +12,8 @@
 
 #include "session/hand.hpp"
 #include "session/session_case.hpp"
-#include "tool/action_script.hpp"
-#include "tool/script_player.hpp"
+#include "scenario/action_script.hpp"
+#include "scenario/script_player.hpp"
 
 namespace cathbox::session {
 

@@ -7,7 +7,7 @@
 
 #include "flow/c_arm.hpp"
 #include "session/control.hpp"
-#include "tool/action_script.hpp"
+#include "scenario/action_script.hpp"
 
 namespace cathbox::session::fluoro_control {
 

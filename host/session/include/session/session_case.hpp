@@ -18,8 +18,8 @@
 #include "flow/flow_network.hpp"
 #include "session/centerline_path.hpp"
 #include "session/record_header.hpp"
-#include "tool/case_file.hpp"
-#include "tool/case_world.hpp"
+#include "scenario/case_file.hpp"
+#include "scenario/case_world.hpp"
 
 namespace cathbox::session {
 

@@ -91,7 +91,7 @@ class FlowNetwork {
 
  private:
   FlowNetwork() = default;
-  std::string solve();
+  base::Status<> solve();
 
   vessel::VesselModel model_;
   FlowSettings settings_;

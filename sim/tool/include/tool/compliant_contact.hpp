@@ -19,7 +19,6 @@
 namespace cathbox::tool {
 
 class Simulator;
-struct CaseWall;
 
 inline constexpr double kMaxHoopStrain = 0.25;
 
@@ -31,8 +30,7 @@ struct CompliantContact {
 [[nodiscard]] CompliantContact compliant_contact(const WallShell& shell);
 
 // Every non-coil tool of `sim` takes the compliant contact (call once, after construction).
+// A case's `wall` line reaches it through scenario/case_wall.hpp.
 void use_compliant_contact(Simulator& sim, const CompliantContact& contact);
-// A case's `wall` line, if it has one (null: the rigid wall, nothing changes).
-void use_case_wall(Simulator& sim, const CaseWall* wall);
 
 }  // namespace cathbox::tool

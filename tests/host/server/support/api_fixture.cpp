@@ -6,7 +6,7 @@
 #include <thread>
 
 #include "server/json_input.hpp"
-#include "tool/case_file.hpp"
+#include "scenario/case_file.hpp"
 
 namespace cathbox::server::test {
 

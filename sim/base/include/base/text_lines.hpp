@@ -1,0 +1,63 @@
+#pragma once
+// Line by line over a text file's words, as the case and script parsers read: comments (#),
+// blank lines, CRLF and tabs are tolerated; "file:line: message" for errors.
+#include <cstddef>
+#include <fstream>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "base/text_tokens.hpp"
+
+namespace cathbox::base::text {
+
+class TextLines {
+ public:
+  explicit TextLines(std::string_view text) : text_(text) {}
+  // Next line with a word (before any '#') split into words; false at the end.
+  bool next(std::vector<std::string_view>& words) {
+    while (pos_ < text_.size()) {
+      std::size_t end = text_.find('\n', pos_);
+      if (end == std::string_view::npos) end = text_.size();
+      std::string_view line = text_.substr(pos_, end - pos_);
+      pos_ = end + 1;
+      ++line_;
+      line = line.substr(0, line.find('#'));
+      split_tokens(line, words);
+      if (!words.empty()) return true;
+    }
+    return false;
+  }
+  [[nodiscard]] std::size_t line() const { return line_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  std::size_t line_ = 0;
+};
+
+// "file:line: message"
+[[nodiscard]] inline std::string located(std::string_view file, std::size_t line, std::string_view message) {
+  std::string out(file);
+  out += ':';
+  out += std::to_string(line);
+  out += ": ";
+  out += message;
+  return out;
+}
+
+// Reads a whole file; empty optional when it cannot be read or holds more than max_bytes.
+[[nodiscard]] inline std::optional<std::string> read_text_file(const std::string& path, std::size_t max_bytes) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string text;
+  char buffer[4096];
+  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
+    text.append(buffer, static_cast<std::size_t>(in.gcount()));
+    if (text.size() > max_bytes) return std::nullopt;
+  }
+  return text;
+}
+
+}  // namespace cathbox::base::text

@@ -1,0 +1,64 @@
+#pragma once
+// What a case becomes at run time: the wall the tools touch and the entry. Analytic tubes give
+// a TubeNetworkWall; an HCLM vessel gives the vessel surface in the collision tree (when the
+// vessel and collision modules are built).
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "base/result.hpp"
+#include "tool/aneurysm_sac.hpp"
+#include "scenario/case_file.hpp"
+#include "vessel/surface_mesh.hpp"
+#include "vessel/vessel_model.hpp"
+#include "tool/simulator.hpp"
+#include "tool/wall_model.hpp"
+
+namespace cathbox::tool {
+
+class CaseWorld {
+ public:
+  CaseWorld(std::unique_ptr<WallModel> wall, const Entry& entry) : wall_(std::move(wall)), entry_(entry) {}
+  [[nodiscard]] const WallModel& wall() const { return *wall_; }
+  [[nodiscard]] const Entry& entry() const { return entry_; }
+  // The target point (the case's target segment and fraction on the smoothed centreline).
+  [[nodiscard]] const std::optional<glm::dvec3>& target() const { return target_; }
+  void set_target(const glm::dvec3& point_mm) { target_ = point_mm; }
+  // The vessel surface the wall was built from (for rendering); empty for analytic tubes.
+  [[nodiscard]] const vessel::SurfaceMesh* mesh() const { return mesh_ ? mesh_.get() : nullptr; }
+  void set_mesh(std::shared_ptr<const vessel::SurfaceMesh> mesh) { mesh_ = std::move(mesh); }
+  // The smoothed vessel model the surface follows (centrelines, radii, segment graph); null for
+  // analytic tubes.
+  [[nodiscard]] const vessel::VesselModel* model() const { return model_ ? model_.get() : nullptr; }
+  void set_model(std::shared_ptr<const vessel::VesselModel> model) { model_ = std::move(model); }
+  // The aneurysm sac: the case's declared one, else the vessel's sac segment (aneurysm_sac.hpp);
+  // none when neither gives one.
+  [[nodiscard]] const std::optional<AneurysmSac>& sac() const { return sac_; }
+  void set_sac(std::optional<AneurysmSac> sac) { sac_ = sac; }
+  // The vessel model as read (before smoothing), which the surface is meshed from: a widened
+  // lumen (angioplasty.hpp) is re-meshed from it. Null for analytic tubes.
+  [[nodiscard]] const vessel::VesselModel* source_model() const { return source_ ? source_.get() : nullptr; }
+  void set_source_model(std::shared_ptr<const vessel::VesselModel> model) { source_ = std::move(model); }
+  // Hands the wall over (the world is then empty).
+  [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
+
+ private:
+  std::unique_ptr<WallModel> wall_;
+  Entry entry_;
+  std::optional<glm::dvec3> target_;
+  std::optional<AneurysmSac> sac_;
+  std::shared_ptr<const vessel::SurfaceMesh> mesh_;
+  std::shared_ptr<const vessel::VesselModel> model_;
+  std::shared_ptr<const vessel::VesselModel> source_;
+};
+
+// The world, or one line naming the file and what went wrong.
+using WorldBuild = base::Result<std::unique_ptr<CaseWorld>>;
+
+[[nodiscard]] WorldBuild build_world(const Case& c);
+// The same from the vessel file's text (c.vessel_path only names it in errors): a record
+// replays the HCLM it carries, whatever the file on disk holds now.
+[[nodiscard]] WorldBuild build_world(const Case& c, std::string_view vessel_text);
+
+}  // namespace cathbox::tool

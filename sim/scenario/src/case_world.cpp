@@ -1,0 +1,96 @@
+#include "scenario/case_world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include "tool/tube_network_wall.hpp"
+#include "collision/obb_tree.hpp"
+#include "tool/mesh_wall.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+// Point at a fraction of a segment's length along its centreline.
+glm::dvec3 along(const vessel::Segment& s, double fraction) {
+  double total = 0.0;
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) total += glm::length(s.points[i + 1].pos_mm - s.points[i].pos_mm);
+  double want = std::clamp(fraction, 0.0, 1.0) * total;
+  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
+    const glm::dvec3 a = s.points[i].pos_mm;
+    const glm::dvec3 b = s.points[i + 1].pos_mm;
+    const double len = glm::length(b - a);
+    if (want <= len && len > 0.0) return a + (b - a) * (want / len);
+    want -= len;
+  }
+  return s.points.back().pos_mm;
+}
+
+}  // namespace
+
+WorldBuild build_world(const Case& c) {
+  if (!c.tubes.empty()) return build_world(c, {});
+  std::ifstream in(c.vessel_path, std::ios::binary);
+  if (!in) return base::Error{c.vessel_path + ":0: cannot open file"};
+  std::ostringstream text;
+  text << in.rdbuf();
+  return build_world(c, text.str());
+}
+
+WorldBuild build_world(const Case& c, std::string_view vessel_text) {
+  if (!c.tubes.empty()) {
+    auto wall = std::make_unique<TubeNetworkWall>(c.tubes);
+    auto world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
+    world->set_sac(c.aneurysm);
+    return WorldBuild(std::move(world));
+  }
+  const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
+  if (!read.ok()) return base::Error{read.errors.front().to_string()};
+  vessel::VesselSurface surface = vessel::build_vessel_surface(read.model);
+  if (!surface.ok()) return base::Error{c.vessel_path + ": " + surface.error};
+  collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
+  if (!tree) return base::Error{c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message};
+  // Default entry: the start of the root segment (the first without parents), along it.
+  const vessel::Segment* root = nullptr;
+  for (const vessel::Segment& s : surface.smoothed.segments) {
+    if (s.parents.empty() && s.points.size() >= 2) {
+      root = &s;
+      break;
+    }
+  }
+  Entry entry;
+  if (c.entry) {
+    entry = *c.entry;
+  } else if (root != nullptr) {
+    entry.point_mm = root->points[0].pos_mm;
+    entry.direction = glm::normalize(root->points[1].pos_mm - root->points[0].pos_mm);
+    // The root's first point lies on its end cap: step in until well inside the lumen.
+    const double inside = 0.5 * root->points[0].radius_mm;
+    for (int i = 0; i < 40; ++i) {
+      const std::optional<double> d = tree->signed_distance(entry.point_mm);
+      if (d && *d < -inside) break;
+      entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
+    }
+  } else {
+    return base::Error{c.vessel_path + ":0: the vessel has no root segment to enter"};
+  }
+  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
+  world->set_sac(c.aneurysm ? c.aneurysm : find_sac(surface.smoothed, surface.mesh));
+  world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
+  if (c.target) {
+    for (const vessel::Segment& s : surface.smoothed.segments) {
+      if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));
+    }
+  }
+  world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
+  world->set_source_model(std::make_shared<const vessel::VesselModel>(read.model));
+  return WorldBuild(std::move(world));
+}
+
+}  // namespace cathbox::tool
