@@ -231,8 +231,9 @@ Reply upload_result(Call& call) {
     // The run must be on the library version the assignment names, byte for byte (case and HCLM,
     // by their content hash), not on a file that only carries its name.
     if (!library) {
-      return make_error(422, "record: its case and HCLM match no version of the library (case '" + assignment->case_name +
-                                 "' expected, by content hash)");
+      return make_error(422, "record: its case and HCLM (" + rec.case_files.case_file.substr(0, 64) +
+                                 ") match no version of the library by content hash; the assignment is for case '" +
+                                 assignment->case_name + "'");
     }
     if (row.case_name != assignment->case_name) {
       return make_error(422, "record: case '" + row.case_name + "' is not the assignment's case '" + assignment->case_name + "'");
