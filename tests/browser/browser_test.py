@@ -485,10 +485,10 @@ def test_trainee(b, centre, report):
             items = body.get("results", body.get("assignments", []))
             check(all(i.get("trainee") == "ann" for i in items), "a trainee saw someone else's %s" % path)
     bob = Api(centre.base).login("bob")
-    bob.call("GET", "/results/%d/trace" % centre.results[0]["id"], expect=(403,))
+    bob.call("GET", "/results/%d/trace" % centre.results[0]["id"], expect=(404,))  # as if it did not exist
     _, payload, _ = Api(centre.base).call("GET", "/results/1/trace", expect=(401,))
     report["trainee_refused"] = ("pages live/results/admin refused in the page; API: /users 403, POST /cases 403, "
-                                "/results?trainee=bob 403, bob's view of ann's trace 403")
+                                "/results?trainee=bob 403, bob's view of ann's trace 404")
 
 
 def test_admin(b, centre, report):

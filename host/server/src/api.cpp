@@ -258,16 +258,34 @@ ApiResponse Api::handle(const ApiRequest& request) {
   }
 }
 
+namespace {
+
+// The route a target names, as dispatch() sees it ("/api/v1//results/" is "api/v1/results"):
+// the HTTP layer classifies on the same segments the router matches, so no spelling of a path
+// reaches a handler with another class or body limit. Empty when the target does not parse.
+std::string route_path(std::string_view target) {
+  Result<api::Target> t = api::parse_target(target);
+  if (!t) return {};
+  std::string path;
+  for (const std::string& seg : t.value().segments) path += "/" + seg;
+  return path;
+}
+
+}  // namespace
+
 std::size_t Api::body_limit(std::string_view method, std::string_view target) {
-  const std::string_view path = target.substr(0, target.find('?'));
-  if (method == "POST" && (path == "/api/v1/results" || path == "/api/v1/results/")) return kMaxRecordBytes;
-  if (method == "POST" && (path == "/api/v1/cases" || path == "/api/v1/cases/")) return kMaxCaseUploadBytes;
+  if (method != "POST") return kMaxJsonBodyBytes;
+  const std::string path = route_path(target);
+  if (path == "/api/v1/results") return kMaxRecordBytes;
+  if (path == "/api/v1/cases") return kMaxCaseUploadBytes;
   return kMaxJsonBodyBytes;
 }
 
+bool Api::is_login(std::string_view method, std::string_view target) { return method == "POST" && route_path(target) == "/api/v1/login"; }
+
 bool Api::is_heavy(std::string_view method, std::string_view target) {
-  const std::string_view path = target.substr(0, target.find('?'));
-  const auto ends_with = [path](std::string_view tail) { return path.size() > tail.size() && path.substr(path.size() - tail.size()) == tail; };
+  const std::string path = route_path(target);
+  const auto ends_with = [&path](std::string_view tail) { return path.size() > tail.size() && std::string_view(path).substr(path.size() - tail.size()) == tail; };
   if (method == "GET" && path.rfind("/api/v1/", 0) == 0 && (ends_with("/trace") || ends_with("/mesh"))) return true;
   return method == "POST" && (path == "/api/v1/results" || path == "/api/v1/cases");
 }

@@ -41,7 +41,7 @@ Reply change_password(Call& call) {
   if (!f.ok()) return f.error();
   const std::optional<User> u = call.c.store.user_by_id(call.caller.user_id);
   if (!u) return make_error(401, "authorization: account gone");
-  if (Status s = call.c.auth.verify_current_password(*u, old_password); !s) return s.error();
+  if (Status s = call.c.auth.verify_current_password(*u, old_password, call.request.remote_address); !s) return s.error();
   if (Status s = call.c.auth.set_password(u->id, new_password); !s) return s.error();
   return no_content();
 }
@@ -89,13 +89,18 @@ Reply update_user(Call& call) {
   }
   const std::optional<User> u = call.c.store.user_by_name(call.params[0]);
   if (!u) return make_error(404, "no user '" + call.params[0] + "'");
-  const bool loses_admin = u->role == Role::kAdmin && !u->disabled && ((role && *role != Role::kAdmin) || disabled.value_or(false));
-  if (loses_admin && call.c.store.count_admins() <= 1) return make_error(409, "'" + u->name + "' is the last admin");
+  if (password) {
+    if (const std::string bad = Auth::check_password(*password); !bad.empty()) return make_error(400, bad);
+  }
+  const Store::UserUpdate done = call.c.store.update_user_keeping_an_admin(u->id, role, std::nullopt, disabled, true);
+  if (done == Store::UserUpdate::kLastAdmin) return make_error(409, "'" + u->name + "' is the last admin");
+  if (done == Store::UserUpdate::kNotFound) return make_error(404, "no user '" + call.params[0] + "'");
   if (password) {
     if (Status s = call.c.auth.set_password(u->id, *password); !s) return s.error();
   }
-  (void)call.c.store.update_user(u->id, role, std::nullopt, disabled);
   if (disabled.value_or(false)) call.c.store.delete_user_tokens(u->id);
+  // Enabling an account is also its unlock: its login lockouts end.
+  if (disabled && !*disabled) call.c.store.clear_account_login_failures(u->name);
   return json_response(200, user_json(*call.c.store.user_by_id(u->id)));
 }
 

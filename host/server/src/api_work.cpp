@@ -40,9 +40,10 @@ Result<ResultRow> visible_result(Call& call) {
   Result<std::int64_t> id = id_param(call.params[0]);
   if (!id) return id.error();
   std::optional<ResultRow> r = call.c.store.result(id.value());
-  if (!r) return make_error(404, "no result " + call.params[0]);
-  if (!can_supervise(call.caller.role) && r->user_id != call.caller.user_id) {
-    return make_error(403, "result " + call.params[0] + " belongs to another trainee");
+  // Another trainee's result is answered as one that does not exist: a trainee cannot tell
+  // which ids are taken.
+  if (!r || (!can_supervise(call.caller.role) && r->user_id != call.caller.user_id)) {
+    return make_error(404, "no result " + call.params[0]);
   }
   return *r;
 }
@@ -198,6 +199,10 @@ Reply upload_result(Call& call) {
   Result<CheckedRecord> checked = call.c.checker->check(record);
   if (!checked) return checked.error();
   const CheckedRecord& rec = checked.value();
+  if (assignment && !rec.complete) {
+    return make_error(422, "record: no end block (the recording stopped before the run ended); a cut record is kept for "
+                           "debriefs without an assignment, never graded");
+  }
   // The replay that checked the record also traced it: a first debrief needs no second replay.
   if (call.c.cache != nullptr && !rec.trace.empty()) call.c.cache->put(trace_cache_key(hash), rec.trace);
 
@@ -214,15 +219,28 @@ Reply upload_result(Call& call) {
     row.case_name = library->name;
     row.case_version_id = library->id;
   } else {
+    // Never a library case's name: a case that is not in the library is filed apart, whatever its
+    // file is called (':' is in no library name).
     std::string stem = rec.case_files.case_file.substr(0, rec.case_files.case_file.rfind('.'));
-    row.case_name = check_slug(stem).empty() ? stem : "unnamed";
+    row.case_name = "unlisted:" + (check_slug(stem).empty() ? stem : std::string("unnamed"));
   }
   nlohmann::json metrics = nlohmann::json::object();
   for (const MetricValue& m : rec.metrics) metrics[m.name] = m.value;
   row.metrics_json = metrics.dump();
   if (assignment) {
+    // The run must be on the library version the assignment names, byte for byte (case and HCLM,
+    // by their content hash), not on a file that only carries its name.
+    if (!library) {
+      return make_error(422, "record: its case and HCLM (" + rec.case_files.case_file.substr(0, 64) +
+                                 ") match no version of the library by content hash; the assignment is for case '" +
+                                 assignment->case_name + "'");
+    }
     if (row.case_name != assignment->case_name) {
       return make_error(422, "record: case '" + row.case_name + "' is not the assignment's case '" + assignment->case_name + "'");
+    }
+    if (assignment->case_version != 0 && library->version != assignment->case_version) {
+      return make_error(422, "record: case '" + row.case_name + "' version " + std::to_string(library->version) +
+                                 " is not the assignment's version " + std::to_string(assignment->case_version));
     }
     row.assignment_id = assignment->id;
     Result<PassCriteria> criteria = PassCriteria::parse_text(assignment->criteria_json);
@@ -238,14 +256,15 @@ Reply upload_result(Call& call) {
 
 Reply list_results(Call& call) {
   ResultFilter f;
-  if (const std::optional<std::string> name = call.query("trainee")) {
-    const std::optional<User> u = call.c.store.user_by_name(*name);
-    if (!u) return make_error(404, "query 'trainee': no user '" + name->substr(0, 64) + "'");
-    f.user_id = u->id;
-  }
+  const std::optional<std::string> trainee_name = call.query("trainee");
   if (!can_supervise(call.caller.role)) {
-    if (f.user_id && *f.user_id != call.caller.user_id) return make_error(403, "query 'trainee': trainees see only their own results");
+    // The same answer for another trainee and for a name nobody has: names cannot be probed.
+    if (trainee_name && *trainee_name != call.caller.name) return make_error(403, "query 'trainee': trainees see only their own results");
     f.user_id = call.caller.user_id;
+  } else if (trainee_name) {
+    const std::optional<User> u = call.c.store.user_by_name(*trainee_name);
+    if (!u) return make_error(404, "query 'trainee': no user '" + trainee_name->substr(0, 64) + "'");
+    f.user_id = u->id;
   }
   for (const auto& [key, value] : call.target.query) {
     if (key == "trainee") continue;

@@ -23,19 +23,22 @@ bool Auth::take_address_attempt(const std::string& address, std::int64_t now_us)
   return true;
 }
 
-std::optional<Error> Auth::account_throttled(const std::string& name, std::int64_t now_us) {
-  if (store_.login_failures_since(name, now_us - options_.failure_window_us) < options_.max_failures) return std::nullopt;
+std::string Auth::failure_key(const std::string& name, const std::string& address) { return name + "@" + address; }
+
+std::optional<Error> Auth::account_throttled(const std::string& key, std::int64_t now_us) {
+  if (store_.login_failures_since(key, now_us - options_.failure_window_us) < options_.max_failures) return std::nullopt;
   Error e = make_error(429, "login: too many failed attempts for this account; try again in " +
                                 std::to_string(options_.failure_window_us / 60'000'000) + " minutes");
   e.retry_after_s = static_cast<int>(options_.failure_window_us / 1'000'000);
   return e;
 }
 
-Status Auth::verify_current_password(const User& user, const std::string& password) {
+Status Auth::verify_current_password(const User& user, const std::string& password, const std::string& address) {
   const std::int64_t now = clock_.now_us();
-  if (std::optional<Error> throttled = account_throttled(user.name, now)) return *throttled;
+  const std::string key = failure_key(user.name, address);
+  if (std::optional<Error> throttled = account_throttled(key, now)) return *throttled;
   if (!hasher_.verify(user.password_hash, password)) {
-    store_.record_login_failure(user.name, now);
+    store_.record_login_failure(key, now);
     return make_error(403, "field 'old_password': wrong password");
   }
   return Ok{};
@@ -46,14 +49,17 @@ Result<LoginGrant> Auth::login(const std::string& name, const std::string& passw
   if (!take_address_attempt(address, now)) {
     return make_error(429, "login: too many attempts from " + address + "; wait a minute");
   }
-  if (std::optional<Error> throttled = account_throttled(name, now)) return *throttled;
+  // Failures count per account and address together: guessing from one address does not lock
+  // the owner out from theirs.
+  const std::string key = failure_key(name, address);
+  if (std::optional<Error> throttled = account_throttled(key, now)) return *throttled;
   const std::optional<User> user = store_.user_by_name(name);
   const bool good = user ? hasher_.verify(user->password_hash, password) : (void(hasher_.verify(dummy_hash_, password)), false);
   if (!good || user->disabled) {
-    store_.record_login_failure(name, now);
+    store_.record_login_failure(key, now);
     return make_error(401, "login: wrong user name or password");
   }
-  store_.clear_login_failures(name);
+  store_.clear_login_failures(key);
   LoginGrant grant;
   grant.token = random_token(32);
   grant.expires_us = now + options_.token_lifetime_us;
@@ -96,6 +102,8 @@ Status Auth::set_password(std::int64_t user_id, const std::string& password) {
   if (const std::string bad = check_password(password); !bad.empty()) return make_error(400, bad);
   if (!store_.update_user(user_id, std::nullopt, hasher_.hash(password), std::nullopt)) return make_error(404, "no such user");
   store_.delete_user_tokens(user_id);
+  // A reset lifts every lockout of the account.
+  if (const std::optional<User> u = store_.user_by_id(user_id)) store_.clear_account_login_failures(u->name);
   return Ok{};
 }
 

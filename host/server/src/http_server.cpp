@@ -8,10 +8,12 @@
 #include <mutex>
 #include <sstream>
 #include <thread>
+#include <unordered_map>
 
 #include <boost/asio/dispatch.hpp>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
 #include <boost/asio/thread_pool.hpp>
 #include <boost/beast/core.hpp>
@@ -41,6 +43,8 @@ struct HttpServer::Impl {
   std::vector<std::thread> threads;
   std::atomic<int> heavy_queued{0};
   std::atomic<std::size_t> open_connections{0};
+  std::mutex per_address_mutex;
+  std::unordered_map<std::string, std::size_t> per_address;  // open connections by client address
   bool started = false;
   bool stopped = false;
   std::mutex stop_mutex;
@@ -71,6 +75,59 @@ struct ConnectionSlot {
   ConnectionSlot& operator=(const ConnectionSlot&) = delete;
   ~ConnectionSlot() { --*counter; }
 };
+
+// One client address's share of the connections, for as long as a connection lives (moved from
+// the HTTP session into the WebSocket one on an upgrade). taken() is false when the address
+// already had max_connections_per_address open: the connection is then closed at once.
+class AddressSlot {
+ public:
+  AddressSlot(HttpServer::Impl& s, std::string address) : s_(&s), address_(std::move(address)) {
+    std::lock_guard lock(s_->per_address_mutex);
+    std::size_t& n = s_->per_address[address_];
+    taken_ = n < s_->options.max_connections_per_address;
+    if (taken_) ++n;
+    else if (n == 0) s_->per_address.erase(address_);
+  }
+  AddressSlot(const AddressSlot&) = delete;
+  AddressSlot& operator=(const AddressSlot&) = delete;
+  ~AddressSlot() {
+    if (!taken_) return;
+    std::lock_guard lock(s_->per_address_mutex);
+    const auto it = s_->per_address.find(address_);
+    if (it != s_->per_address.end() && --it->second == 0) s_->per_address.erase(it);
+  }
+  [[nodiscard]] bool taken() const { return taken_; }
+  [[nodiscard]] const std::string& address() const { return address_; }
+
+ private:
+  HttpServer::Impl* s_;
+  std::string address_;
+  bool taken_ = false;
+};
+
+// Every answer, API or page: the pages run only their own scripts and modules (no inline
+// script, no eval, no other origin), are never framed, and no type is sniffed.
+void security_headers(http::response<http::string_body>& res) {
+  res.set("Content-Security-Policy",
+          "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+          "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'");
+  res.set("X-Frame-Options", "DENY");
+  res.set("X-Content-Type-Options", "nosniff");
+  res.set("Referrer-Policy", "no-referrer");
+}
+
+// "bearer.TOKEN" out of a Sec-WebSocket-Protocol list ("cathbox, bearer.TOKEN"); empty if none.
+std::string bearer_from_subprotocols(std::string_view list) {
+  while (!list.empty()) {
+    const std::size_t comma = std::min(list.find(','), list.size());
+    std::string_view item = list.substr(0, comma);
+    list.remove_prefix(std::min(comma + 1, list.size()));
+    while (!item.empty() && item.front() == ' ') item.remove_prefix(1);
+    while (!item.empty() && item.back() == ' ') item.remove_suffix(1);
+    if (item.rfind("bearer.", 0) == 0 && item.size() > 7) return std::string(item.substr(7));
+  }
+  return {};
+}
 
 std::string content_type_for(const std::filesystem::path& p) {
   const std::string ext = p.extension().string();
@@ -104,10 +161,12 @@ ApiRequest to_api_request(const http::request<http::string_body>& req, const std
 
 class WsSession final : public LiveSubscriber, public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(HttpServer::Impl& s, beast::tcp_stream&& stream, Caller caller, std::optional<Publisher> publisher,
-            std::vector<std::string> watching, std::string first_message)
+  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, beast::tcp_stream&& stream, Caller caller,
+            std::optional<Publisher> publisher, std::vector<std::string> watching, std::string first_message)
       : s_(s),
+        address_slot_(std::move(address_slot)),
         ws_(std::move(stream)),
+        recheck_(ws_.get_executor()),
         caller_(std::move(caller)),
         publisher_(std::move(publisher)),
         watching_(std::move(watching)),
@@ -116,8 +175,13 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   void start(http::request<http::string_body> req) {
     beast::get_lowest_layer(ws_).expires_never();
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.set_option(websocket::stream_base::decorator(
-        [](websocket::response_type& res) { res.set(http::field::server, "cathbox-server"); }));
+    // A browser, which cannot set Authorization on a WebSocket, offers the subprotocols
+    // "cathbox, bearer.TOKEN": the answer names "cathbox" (never the token).
+    const bool subprotocol = !bearer_from_subprotocols(sv(req[http::field::sec_websocket_protocol])).empty();
+    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::response_type& res) {
+      res.set(http::field::server, "cathbox-server");
+      if (subprotocol) res.set(http::field::sec_websocket_protocol, "cathbox");
+    }));
     ws_.read_message_max(publisher_ ? kMaxFrameBytes : kMaxWatcherMessageBytes);
     auto self = shared_from_this();
     ws_.async_accept(req, [self](beast::error_code ec) { self->on_accept(ec); });
@@ -130,6 +194,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
  private:
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
+    schedule_recheck();
     if (publisher_) {
       ++s_.publishers;
     } else {
@@ -139,6 +204,32 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
       enqueue(std::make_shared<const std::string>(first_message_));
     }
     read();
+  }
+
+  // Every recheck_s, off the I/O thread: is the token still good (not logged out, expired, or its
+  // account disabled)? If not, the socket is closed (policy violation) and its watching ends.
+  void schedule_recheck() {
+    recheck_.expires_after(std::chrono::seconds(std::max(1, s_.options.ws_recheck_s)));
+    recheck_.async_wait([self = shared_from_this()](beast::error_code ec) {
+      if (ec || self->finished_) return;
+      net::post(self->s_.api_pool, [self] {
+        bool good = true;
+        try {
+          ApiContext& c = self->s_.api.context();
+          const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
+          good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
+        } catch (const std::exception&) {
+          // The database is away: keep the socket until it can be asked.
+        }
+        net::post(self->ws_.get_executor(), [self, good] {
+          if (self->finished_) return;
+          if (good) return self->schedule_recheck();
+          self->finish();
+          self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
+                                [self](beast::error_code) {});
+        });
+      });
+    });
   }
 
   void read() {
@@ -236,6 +327,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   void finish() {
     if (finished_) return;
     finished_ = true;
+    recheck_.cancel();
     s_.hub.unsubscribe_all(this);
     if (publisher_) {
       net::post(s_.api_pool, [self = shared_from_this()] {
@@ -250,7 +342,9 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
 
   HttpServer::Impl& s_;
   ConnectionSlot slot_{s_.open_connections};
+  std::unique_ptr<AddressSlot> address_slot_;
   websocket::stream<beast::tcp_stream> ws_;
+  net::steady_timer recheck_;
   beast::flat_buffer buffer_;
   Caller caller_;
   std::optional<Publisher> publisher_;
@@ -269,9 +363,16 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     beast::error_code ec;
     const tcp::endpoint peer = stream_.socket().remote_endpoint(ec);
     remote_ = ec ? "unknown" : peer.address().to_string();
+    address_slot_ = std::make_unique<AddressSlot>(s_, remote_);
   }
 
   void run() {
+    if (!address_slot_->taken()) {
+      // This address holds its share of the connections already: closed before a byte is read.
+      beast::error_code ignored;
+      stream_.socket().close(ignored);
+      return;
+    }
     net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
   }
 
@@ -294,6 +395,12 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
 
   void on_header(beast::error_code ec) {
     if (quiet_end(ec) && buffer_.size() == 0) return close();
+    if (ec == http::error::body_limit) {
+      // A Content-Length over every route's limit: refused from the header alone.
+      return answer_error(413, "body: Content-Length is over the largest limit of any endpoint (" +
+                                   std::to_string(std::max({kMaxJsonBodyBytes, kMaxCaseUploadBytes, kMaxRecordBytes})) + " bytes)",
+                          false, 11);
+    }
     if (ec) return answer_error(ec == http::error::header_limit ? 431 : 400, "request: " + ec.message(), false, 11);
     const auto& req = parser_->get();
     const std::size_t limit = Api::body_limit(sv(req.method_string()), sv(req.target()));
@@ -305,6 +412,39 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     }
     parser_->body_limit(limit);
     if (parser_->is_done()) return on_request();
+    // An upload (a body allowed over the JSON limit) or a client waiting for 100 Continue: the
+    // token is checked before a byte of the body is read or asked for. Other bodies are at most
+    // kMaxJsonBodyBytes, read under the idle deadline.
+    const bool expects_continue = beast::iequals(req[http::field::expect], "100-continue");
+    const std::string_view target = sv(req.target());
+    const bool api = target.rfind("/api/", 0) == 0;
+    if (api && (limit > kMaxJsonBodyBytes || expects_continue) && !Api::is_login(sv(req.method_string()), target)) {
+      net::post(s_.api_pool, [self = shared_from_this(), authorization = std::string(req[http::field::authorization])] {
+        ApiResponse refusal;
+        bool ok = false;
+        try {
+          Result<Caller> who = self->s_.api.context().auth.authenticate(authorization);
+          if (who) {
+            ok = true;
+          } else {
+            refusal = error_response(who.error());
+            refusal.headers.emplace_back("WWW-Authenticate", "Bearer");
+          }
+        } catch (const std::exception&) {
+          refusal = error_response(make_error(503, "database unavailable, retry"));
+        }
+        net::post(self->stream_.get_executor(), [self, ok, refusal = std::move(refusal)]() mutable {
+          if (!ok) return self->answer(std::move(refusal), false, self->parser_->get().version());
+          self->read_body_after_header();
+        });
+      });
+      return;
+    }
+    read_body_after_header();
+  }
+
+  void read_body_after_header() {
+    const auto& req = parser_->get();
     stream_.expires_after(std::chrono::seconds(s_.options.body_timeout_s));
     if (beast::iequals(req[http::field::expect], "100-continue")) {
       auto cont = std::make_shared<http::response<http::empty_body>>(http::status::continue_, req.version());
@@ -362,6 +502,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     res->version(version == 10 ? 10 : 11);
     res->result(static_cast<unsigned>(r.status));
     res->set(http::field::server, "cathbox-server");
+    security_headers(*res);
     if (!r.content_type.empty()) res->set(http::field::content_type, r.content_type);
     for (const auto& [name, value] : r.headers) res->set(name, value);
     // API answers are not cached unless they say so (case bundles: revalidated by their ETag).
@@ -426,11 +567,9 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     const bool publisher = seg.size() == 6 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "rigs" && seg[5] == "stream";
     const bool watcher = seg.size() == 4 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "watch";
     if (!publisher && !watcher) return answer_error(404, "no WebSocket endpoint " + t.path, keep_alive, req.version());
+    // The token travels in a header, never in the URL (where proxies and logs keep it).
     std::string token(req[http::field::authorization]);
-    if (token.empty()) {
-      const auto it = t.query.find("token");
-      if (it != t.query.end()) token = it->second;
-    }
+    if (token.empty()) token = bearer_from_subprotocols(sv(req[http::field::sec_websocket_protocol]));
     // Everything that needs the store happens on the API threads, before the upgrade.
     net::post(s_.api_pool, [self = shared_from_this(), req = std::move(req), t, token, publisher]() mutable {
       ApiResponse refusal;
@@ -489,7 +628,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
                                                pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
         if (!caller) return self->answer(std::move(refusal), false, req.version());
-        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->stream_), std::move(*caller), std::move(pub), std::move(rigs),
+        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->address_slot_), std::move(self->stream_), std::move(*caller), std::move(pub), std::move(rigs),
                                               std::move(first));
         ws->start(std::move(req));
       });
@@ -503,6 +642,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
 
   HttpServer::Impl& s_;
   ConnectionSlot slot_{s_.open_connections};
+  std::unique_ptr<AddressSlot> address_slot_;
   beast::tcp_stream stream_;
   beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;

@@ -28,6 +28,8 @@ Result<nlohmann::json> check_frame(nlohmann::json frame) {
   (void)f.integer("seq", 0, INT64_MAX);
   (void)f.number("t_ms");
   (void)f.optional_integer("sent_us", 0, INT64_MAX);
+  // Only the fields watchers draw are forwarded: anything else is refused, not relayed.
+  f.only({"seq", "t_ms", "sent_us", "tools", "tip_mm", "forces", "metrics", "contacts", "fluoro"});
   if (!f.ok()) return make_error(400, "frame: " + f.error().message);
   if (const auto it = frame.find("tools"); it != frame.end()) {
     if (!it->is_array() || it->size() > kMaxToolsPerFrame) {
@@ -37,6 +39,10 @@ Result<nlohmann::json> check_frame(nlohmann::json frame) {
       const nlohmann::json& tool = (*it)[t];
       const std::string at = "tools[" + std::to_string(t) + "]";
       if (!tool.is_object()) return frame_error(at, "expected an object");
+      for (const auto& [key, value] : tool.items()) {
+        if (key != "name" && key != "active" && key != "nodes_mm") return frame_error(at + "." + key.substr(0, 64), "unknown field");
+        if (key == "active" && !value.is_boolean()) return frame_error(at + ".active", "expected true or false");
+      }
       const auto name = tool.find("name");
       if (name == tool.end() || !name->is_string() || name->get_ref<const std::string&>().size() > 64) {
         return frame_error(at + ".name", "expected a string of at most 64 bytes");
@@ -75,7 +81,7 @@ Result<nlohmann::json> check_frame(nlohmann::json frame) {
     for (std::size_t c = 0; c < it->size(); ++c) {
       const nlohmann::json& contact = (*it)[c];
       const std::string at = "contacts[" + std::to_string(c) + "]";
-      if (!contact.is_object()) return frame_error(at, "expected an object");
+      if (!contact.is_object() || contact.size() > 2) return frame_error(at, "expected an object {p_mm, f_mN}");
       const auto p = contact.find("p_mm");
       if (p == contact.end()) return frame_error(at + ".p_mm", "missing");
       if (const std::string bad = check_vec3(*p); !bad.empty()) return frame_error(at + ".p_mm", bad);

@@ -178,6 +178,7 @@ class SessionChecker final : public RecordChecker {
     out.case_title = h.case_name;
     out.started_us = h.start_unix_us;
     out.duration_ms = r.ticks * h.period_us / 1000;
+    out.complete = r.end.has_value();
     for (const session::NamedMetric& m : session::named_metrics(r.metrics)) out.metrics.push_back({m.name, m.value});
     out.trace = observer.json(replay->session().scene());
     return out;

@@ -162,15 +162,36 @@ int Store::count_admins() {
 }
 
 bool Store::update_user(I id, std::optional<Role> role, std::optional<std::string> password_hash, std::optional<bool> disabled) {
-  bool found = false;
+  return update_user_keeping_an_admin(id, role, std::move(password_hash), disabled, false) == UserUpdate::kDone;
+}
+
+Store::UserUpdate Store::update_user_keeping_an_admin(I id, std::optional<Role> role, std::optional<std::string> password_hash,
+                                                      std::optional<bool> disabled, bool keep_an_admin) {
+  UserUpdate outcome = UserUpdate::kNotFound;
   db_->transact(TxMode::kWrite, [&](SqlSession& s) {
-    found = s.query_one("SELECT id FROM users WHERE id = $1", {id}).has_value();
-    if (!found) return;
+    outcome = UserUpdate::kNotFound;
+    const std::optional<SqlRow> row = s.query_one("SELECT role, disabled FROM users WHERE id = $1", {id});
+    if (!row) return;
+    const bool active_admin = row->text(0) == "admin" && row->integer(1) == 0;
+    const bool loses_admin = active_admin && ((role && *role != Role::kAdmin) || disabled.value_or(false));
+    if (keep_an_admin && loses_admin) {
+      // The count and the change in one transaction: two admins demoting each other at once
+      // cannot both see the other still an admin (PostgreSQL: the admins' rows are locked;
+      // SQLite: write transactions run one at a time).
+      const char* others = s.dialect() == SqlDialect::kPostgresql
+                               ? "SELECT id FROM users WHERE role = 'admin' AND disabled = 0 AND id <> $1 FOR UPDATE"
+                               : "SELECT id FROM users WHERE role = 'admin' AND disabled = 0 AND id <> $1";
+      if (s.query(others, {id}).empty()) {
+        outcome = UserUpdate::kLastAdmin;
+        return;
+      }
+    }
+    outcome = UserUpdate::kDone;
     if (role) (void)s.query("UPDATE users SET role = $1 WHERE id = $2", {std::string(role_name(*role)), id});
     if (password_hash) (void)s.query("UPDATE users SET password_hash = $1 WHERE id = $2", {*password_hash, id});
     if (disabled) (void)s.query("UPDATE users SET disabled = $1 WHERE id = $2", {I{*disabled ? 1 : 0}, id});
   });
-  return found;
+  return outcome;
 }
 
 // ---- tokens --------------------------------------------------------------------------------
@@ -227,6 +248,18 @@ int Store::login_failures_since(const std::string& name, I since_us) {
 
 void Store::clear_login_failures(const std::string& name) {
   db_->transact(TxMode::kWrite, [&](SqlSession& s) { (void)s.query("DELETE FROM login_failures WHERE name = $1", {name}); });
+}
+
+void Store::clear_account_login_failures(const std::string& name) {
+  std::string pattern;
+  for (const char c : name) {
+    if (c == '%' || c == '_' || c == '\\') pattern += '\\';
+    pattern += c;
+  }
+  pattern += "@%";
+  db_->transact(TxMode::kWrite, [&](SqlSession& s) {
+    (void)s.query("DELETE FROM login_failures WHERE name = $1 OR name LIKE $2 ESCAPE '\\'", {name, pattern});
+  });
 }
 
 int Store::purge_login_failures(I before_us) {

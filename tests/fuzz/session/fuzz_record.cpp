@@ -9,25 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "protocol/cbx_bytes.h"
 #include "session/record_format.hpp"
 #include "session/record_reader.hpp"
+#include "record_crc_fix.hpp"
 
 namespace {
-
-void fix_crcs(std::vector<uint8_t>& b) {
-  using namespace cathbox::session::record;
-  if (b.size() < kFileHeaderSize) return;
-  cbx_put_u32(b.data() + 12, crc32(std::span<const uint8_t>(b).first(12)));
-  size_t pos = kFileHeaderSize;
-  while (pos + kBlockHeaderSize <= b.size()) {
-    const uint32_t stored = cbx_get_u32(b.data() + pos + 4);
-    if (stored > b.size() - pos - kBlockHeaderSize) break;
-    const std::span<const uint8_t> all(b);
-    cbx_put_u32(b.data() + pos + 12, crc32(all.subspan(pos, 12), all.subspan(pos + kBlockHeaderSize, stored)));
-    pos += kBlockHeaderSize + stored;
-  }
-}
 
 void check_line(const std::string& error) {
   if (error.empty()) return;

@@ -153,7 +153,7 @@ TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
   const ApiResponse again = f.call("GET", url, "", alice);
   ASSERT_EQ(again.status, 200);
   EXPECT_EQ(json::parse(again.body)["trace"], t);
-  EXPECT_EQ(f.call("GET", url, "", bob).status, 403);
+  EXPECT_EQ(f.call("GET", url, "", bob).status, 404);
   EXPECT_EQ(f.call("GET", url, "").status, 401);
   EXPECT_EQ(f.call("GET", "/api/v1/results/999/trace", "", teacher).status, 404);
 

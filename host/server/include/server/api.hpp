@@ -66,7 +66,10 @@ class Api {
   [[nodiscard]] ApiResponse handle(const ApiRequest& request);
   // The largest body this request may carry (checked before the body is read).
   [[nodiscard]] static std::size_t body_limit(std::string_view method, std::string_view target);
+  // POST /api/v1/login (however the path is spelled): the one body read without a token.
+  [[nodiscard]] static bool is_login(std::string_view method, std::string_view target);
   // Requests that replay a record: run them on their own threads so the API stays quick.
+  // Classified on the routed path ("/api/v1//results" is "/api/v1/results").
   [[nodiscard]] static bool is_heavy(std::string_view method, std::string_view target);
 
   [[nodiscard]] ApiContext& context() { return c_; }

@@ -6,9 +6,12 @@
 // AuthOptions::token_lifetime_us after the login, or until logout.
 //
 // Throttling, in virtual time through Clock:
-//  - per account name, shared by every instance through the store: after max_failures failed
-//    logins within failure_window_us, further attempts are answered 429 without checking the
-//    password until the window has moved past them;
+//  - per account name and client address together, shared by every instance through the store:
+//    after max_failures failed logins for that account from that address within
+//    failure_window_us, further attempts from there are answered 429 without checking the
+//    password until the window has moved past them. The owner, from another address, is not
+//    locked out; a password reset (admin or `cathbox-server admin`) clears every lockout of the
+//    account;
 //  - per client address, in this process: a token bucket (address_burst attempts, refilled at
 //    address_per_minute).
 #include <cstdint>
@@ -61,7 +64,7 @@ class Auth {
   [[nodiscard]] Status set_password(std::int64_t user_id, const std::string& password);
   // The account's current password, asked again before it is changed: wrong ones count as
   // failed logins (403), and a throttled account is answered 429 without checking.
-  [[nodiscard]] Status verify_current_password(const User& user, const std::string& password);
+  [[nodiscard]] Status verify_current_password(const User& user, const std::string& password, const std::string& address);
   [[nodiscard]] static std::string check_password(const std::string& password);
 
   [[nodiscard]] const AuthOptions& options() const { return options_; }
@@ -70,7 +73,9 @@ class Auth {
  private:
   bool take_address_attempt(const std::string& address, std::int64_t now_us);
   // The account's throttle: the 429 when it has too many recent failures.
-  [[nodiscard]] std::optional<Error> account_throttled(const std::string& name, std::int64_t now_us);
+  [[nodiscard]] std::optional<Error> account_throttled(const std::string& key, std::int64_t now_us);
+  // The store's login-failure key: "NAME@ADDRESS".
+  [[nodiscard]] static std::string failure_key(const std::string& name, const std::string& address);
 
   Store& store_;
   Clock& clock_;

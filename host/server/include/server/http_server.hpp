@@ -6,15 +6,20 @@
 // max_heavy_queued waiting, beyond which the answer is 503 + Retry-After.
 //
 // Limits: a header over max_header_bytes is 431; a body over the route's limit
-// (Api::body_limit) is 413 before it is read; an idle connection closes after
-// idle_timeout_s; a WebSocket message over the live schema's limit closes that socket.
+// (Api::body_limit) is 413 before it is read; an upload's token (and any request sending
+// `Expect: 100-continue`) is checked before its body is read or 100 Continue is sent; an idle
+// connection closes after idle_timeout_s; a WebSocket message over the live schema's limit
+// closes that socket; one address holds at most max_connections_per_address connections.
+// Every answer carries Content-Security-Policy (own scripts only), X-Frame-Options: DENY and
+// X-Content-Type-Options: nosniff.
 //
 // Static files: every path outside /api/ is looked up in the mounts (longest prefix wins),
 // without a token: "/" is host/server/web/, "/lib/three/" and "/lib/chart.js/" are Debian's
 // /usr/share/javascript/{three,chart.js}/. Paths with "..", hidden names or control
 // characters are 404.
 //
-// WebSockets (bearer token in the Authorization header, or ?token= for browsers):
+// WebSockets (bearer token in the Authorization header, or for browsers, which cannot set it, in
+// the subprotocols "cathbox, bearer.TOKEN"; never in the URL):
 //   /api/v1/live/rigs/{rig}/stream?case=NAME[&version=N][&assignment=ID]   a rig streams
 //   /api/v1/live/watch[?rigs=a,b]                                          a watcher
 // Each watcher has a queue of watcher_queue messages; when a slow watcher falls behind, the
@@ -47,6 +52,12 @@ struct HttpServerOptions {
   int idle_timeout_s = 60;
   int body_timeout_s = 600;
   std::size_t max_connections = 4096;
+  // One client address may hold at most this many of them (HTTP and WebSocket together); more
+  // are closed on accept. Loopback counts as one address like any other.
+  std::size_t max_connections_per_address = 256;
+  // An open WebSocket's token is checked again this often: logged out, expired or disabled
+  // closes the socket (1008 policy violation).
+  int ws_recheck_s = 10;
   std::size_t watcher_queue = 64;
 };
 

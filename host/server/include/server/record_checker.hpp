@@ -19,6 +19,7 @@ struct CheckedRecord {
   std::int64_t duration_ms = 0;
   std::vector<MetricValue> metrics;
   std::string trace;      // the debrief's trace from the same replay (see trace()); may be empty
+  bool complete = true;   // false: no end block (the recorder was killed); never graded
 };
 
 class RecordChecker {

@@ -137,6 +137,11 @@ class Store {
   // Changes what is given; false when there is no such user.
   bool update_user(std::int64_t id, std::optional<Role> role, std::optional<std::string> password_hash,
                    std::optional<bool> disabled);
+  enum class UserUpdate { kDone, kNotFound, kLastAdmin };
+  // update_user, refused (kLastAdmin, nothing changed) when `keep_an_admin` and the change would
+  // leave no enabled admin; the check and the change are one transaction.
+  [[nodiscard]] UserUpdate update_user_keeping_an_admin(std::int64_t id, std::optional<Role> role, std::optional<std::string> password_hash,
+                                                        std::optional<bool> disabled, bool keep_an_admin);
 
   // Bearer tokens, stored by their SHA-256 only.
   void insert_token(const std::string& token_hash, std::int64_t user_id, std::int64_t issued_us, std::int64_t expires_us);
@@ -149,6 +154,8 @@ class Store {
   void record_login_failure(const std::string& name, std::int64_t at_us);
   [[nodiscard]] int login_failures_since(const std::string& name, std::int64_t since_us);
   void clear_login_failures(const std::string& name);
+  // Every failure of the account, from any address (keys "NAME@ADDRESS").
+  void clear_account_login_failures(const std::string& name);
   int purge_login_failures(std::int64_t before_us);
 
   // The case library. insert_case_version adds version n+1 unless the newest version already

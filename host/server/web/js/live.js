@@ -21,8 +21,9 @@ const SHOWN_METRICS = ['procedure_time_s', 'tip_path_mm', 'wall_contacts', 'peak
 function connect() {
   const proto = location.protocol === 'https:' ? 'wss:' : 'ws:';
   wanted = new URLSearchParams(location.search).get('rigs') || '';
-  socket = new WebSocket(proto + '//' + location.host + '/api/v1/live/watch?rigs=' + encodeURIComponent(wanted) +
-    '&token=' + encodeURIComponent(token()));
+  // The token goes as a subprotocol (a header), never in the URL where logs would keep it.
+  socket = new WebSocket(proto + '//' + location.host + '/api/v1/live/watch?rigs=' + encodeURIComponent(wanted),
+    ['cathbox', 'bearer.' + token()]);
   socket.onopen = () => { document.getElementById('status').textContent = '(connected)'; };
   socket.onclose = () => {
     document.getElementById('status').textContent = '(disconnected; retrying)';

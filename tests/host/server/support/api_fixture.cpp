@@ -36,6 +36,7 @@ Result<CheckedRecord> FakeRecords::check(std::string_view bytes) {
   r.case_files.hclm_text = j.value().at("hclm").get<std::string>();
   r.started_us = 1'700'000'000'000'000;
   r.duration_ms = 90'000;
+  r.complete = !j.value().value("cut", false);
   for (const auto& [k, v] : j.value().at("metrics").items()) r.metrics.push_back(MetricValue{k, v.get<double>()});
   return r;
 }

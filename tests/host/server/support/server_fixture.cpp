@@ -25,6 +25,8 @@ RunningServer::RunningServer(const std::string& backend, ServerOptions options) 
   config.http.mounts = default_mounts(web_root);
   config.http.watcher_queue = options.watcher_queue;
   if (options.idle_timeout_s > 0) config.http.idle_timeout_s = options.idle_timeout_s;
+  if (options.ws_recheck_s > 0) config.http.ws_recheck_s = options.ws_recheck_s;
+  if (options.max_connections_per_address > 0) config.http.max_connections_per_address = options.max_connections_per_address;
   config.argon2 = test_argon2_params();
   config.instance = options.instance;
   config.checker = std::make_unique<FakeRecords>();

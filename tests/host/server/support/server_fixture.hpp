@@ -16,6 +16,8 @@ struct ServerOptions {
   std::string instance;
   std::size_t watcher_queue = 64;
   int idle_timeout_s = 0;            // 0: the server's default
+  std::size_t max_connections_per_address = 0;  // 0: the server's default
+  int ws_recheck_s = 0;                          // 0: the server's default
 };
 
 class RunningServer {

@@ -1,0 +1,124 @@
+// The training centre under attack, over real sockets on loopback: bodies refused before they are
+// read, connections shared fairly between addresses, and pages that run only their own scripts.
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/read.hpp>
+#include <boost/asio/write.hpp>
+#include <gtest/gtest.h>
+
+#include "server/client.hpp"
+#include "support/server_fixture.hpp"
+
+namespace cathbox::server {
+namespace {
+
+using test::raw_exchange;
+using test::RunningServer;
+namespace net = boost::asio;
+
+class AttackHttpTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(AttackHttpTest, AnUploadWithoutATokenIsRefusedBeforeItsBody) {
+  RunningServer server(GetParam());
+  // Waiting for 100 Continue with no token: 401 at once, never an invitation to send 60 MB.
+  const std::string waiting = "POST /api/v1/results HTTP/1.1\r\nHost: x\r\nContent-Length: 60000000\r\nExpect: 100-continue\r\n\r\n";
+  const std::string answer = raw_exchange(server.port(), waiting);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 401", 0), 0U) << answer.substr(0, 200);
+  EXPECT_NE(answer.find("WWW-Authenticate: Bearer"), std::string::npos) << answer.substr(0, 400);
+  // Without Expect, and however the path is spelled: the same, before the body arrives.
+  for (const char* path : {"/api/v1/results", "/api/v1//results", "/api/v1/cases"}) {
+    const std::string sent = std::string("POST ") + path + " HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer nope\r\nContent-Length: 1000000\r\n\r\nxx";
+    const std::string got = raw_exchange(server.port(), sent);
+    EXPECT_EQ(got.rfind("HTTP/1.1 401", 0), 0U) << path << ": " << got.substr(0, 200);
+  }
+  // A good token is asked for the body.
+  const std::string token = server.token_for("alice", Role::kTrainee);
+  const std::string invited = raw_exchange(server.port(), "POST /api/v1/results HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " + token +
+                                                              "\r\nContent-Length: 5\r\nExpect: 100-continue\r\n\r\n", 2000);
+  EXPECT_EQ(invited.rfind("HTTP/1.1 100", 0), 0U) << invited.substr(0, 200);
+}
+
+TEST_P(AttackHttpTest, ALengthOverEveryLimitIs413) {
+  RunningServer server(GetParam());
+  const std::string announced = "POST /api/v1/results HTTP/1.1\r\nHost: x\r\nContent-Length: 73400320\r\n\r\n";
+  const std::string answer = raw_exchange(server.port(), announced);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 413", 0), 0U) << answer.substr(0, 200);
+}
+
+TEST_P(AttackHttpTest, OneAddressCannotHoldEveryConnection) {
+  test::ServerOptions options;
+  options.max_connections_per_address = 4;
+  RunningServer server(GetParam(), options);
+  net::io_context ioc;
+  const net::ip::tcp::endpoint at(net::ip::make_address("127.0.0.1"), server.port());
+  std::vector<std::unique_ptr<net::ip::tcp::socket>> held;
+  for (int i = 0; i < 4; ++i) {
+    held.push_back(std::make_unique<net::ip::tcp::socket>(ioc));
+    held.back()->connect(at);
+  }
+  // A fifth from the same address is closed unanswered ...
+  EXPECT_EQ(raw_exchange(server.port(), "GET / HTTP/1.1\r\nHost: x\r\n\r\n", 3000), "");
+  // ... while the held ones still work.
+  const std::string request = "GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+  net::write(*held[0], net::buffer(request));
+  std::string reply;
+  boost::system::error_code ec;
+  std::array<char, 4096> chunk{};
+  for (std::size_t n = 0; (n = held[0]->read_some(net::buffer(chunk), ec)) > 0 && !ec;) reply.append(chunk.data(), n);
+  EXPECT_EQ(reply.rfind("HTTP/1.1 200", 0), 0U) << reply.substr(0, 200);
+  // Once it is gone (and the server has seen it go), there is room again: bounded retries.
+  held[0]->close();
+  std::string after;
+  for (int i = 0; i < 50 && after.empty(); ++i) after = raw_exchange(server.port(), request, 2000);
+  EXPECT_EQ(after.rfind("HTTP/1.1 200", 0), 0U) << after.substr(0, 200);
+}
+
+TEST_P(AttackHttpTest, PagesCarryAStrictPolicy) {
+  RunningServer server(GetParam());
+  for (const char* path : {"/", "/api/v1/me"}) {
+    const std::string answer = raw_exchange(server.port(), std::string("GET ") + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+    EXPECT_NE(answer.find("Content-Security-Policy: default-src 'self'; script-src 'self';"), std::string::npos) << path << answer.substr(0, 600);
+    EXPECT_NE(answer.find("frame-ancestors 'none'"), std::string::npos) << path;
+    EXPECT_NE(answer.find("X-Frame-Options: DENY"), std::string::npos) << path;
+    EXPECT_NE(answer.find("X-Content-Type-Options: nosniff"), std::string::npos) << path;
+  }
+}
+
+TEST_P(AttackHttpTest, AWatchersSocketClosesWhenItsTokenIsRevoked) {
+  test::ServerOptions options;
+  options.ws_recheck_s = 1;
+  RunningServer server(GetParam(), options);
+  const std::string alice = server.token_for("alice", Role::kTrainee);
+  WsClient watcher;
+  ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch", alice));
+  std::string error;
+  ASSERT_TRUE(watcher.read(10000, &error)) << error;  // the rig list
+  HttpClient http(server.base_url());
+  http.set_token(alice);
+  ASSERT_EQ(http.post_json("/api/v1/logout", "").status, 204);
+  // Closed within a few rechecks (bounded: at most 10 reads of 1 s each).
+  bool closed = false;
+  for (int i = 0; i < 10 && !closed; ++i) {
+    error.clear();
+    closed = !watcher.read(1000, &error) && error != "timeout";
+  }
+  EXPECT_TRUE(closed) << error;
+}
+
+TEST_P(AttackHttpTest, TheWatchTokenTravelsInAHeaderNotTheUrl) {
+  RunningServer server(GetParam());
+  const std::string alice = server.token_for("alice", Role::kTrainee);
+  const std::string upgrade = "GET /api/v1/live/watch HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                              "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n";
+  const std::string by_protocol = raw_exchange(server.port(), upgrade + "Sec-WebSocket-Protocol: cathbox, bearer." + alice + "\r\n\r\n", 2000);
+  EXPECT_EQ(by_protocol.rfind("HTTP/1.1 101", 0), 0U) << by_protocol.substr(0, 300);
+  EXPECT_NE(by_protocol.find("Sec-WebSocket-Protocol: cathbox\r\n"), std::string::npos) << by_protocol.substr(0, 300);
+  EXPECT_EQ(by_protocol.find(alice), std::string::npos);  // the answer never echoes the token
+  const std::string in_url = raw_exchange(server.port(), "GET /api/v1/live/watch?token=" + alice + upgrade.substr(std::string("GET /api/v1/live/watch").size()) + "\r\n", 2000);
+  EXPECT_EQ(in_url.rfind("HTTP/1.1 401", 0), 0U) << in_url.substr(0, 300);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, AttackHttpTest, ::testing::ValuesIn(test::kBackends), test::BackendName());
+
+}  // namespace
+}  // namespace cathbox::server
