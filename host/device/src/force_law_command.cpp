@@ -34,7 +34,7 @@ cbx_command_report force_law_command(const base::ForceLaw& law, std::uint8_t mod
   return c;
 }
 
-cbx_command_report force_law_command(const tool::ForceLaw& law, std::uint8_t mode, double out_min_mN,
+cbx_command_report force_law_command(const base::ForceLaw& law, std::uint8_t mode, double out_min_mN,
                                      double out_max_mN) {
   cbx_command_report c = force_law_command(law, mode);
   c.insertion.out_min = clamp_i32(std::min(out_min_mN, out_max_mN));

@@ -51,6 +51,20 @@ constexpr double kPi = 3.14159265358979323846;
 // [10] North American Symptomatic Carotid Endarterectomy Trial (NASCET) Collaborators. N Engl J
 //      Med 1991;325:445-53. Stenosis graded by diameter reduction at the ICA origin; >= 70 %
 //      is severe.
+// [11] Madhwal S, Rajagopal V, Bhatt DL, et al. Predictors of difficult carotid stenting as
+//      determined by aortic arch angiography. J Invasive Cardiol 2008;20:200-4. Arch type by the
+//      vertical distance of the brachiocephalic origin below the top of the arch, in common
+//      carotid diameters: type I < 1, type II 1-2, type III > 2.
+// [12] Layton KF, Kallmes DF, Cloft HJ, et al. Bovine aortic arch variant in humans: clarification
+//      of a common misnomer. AJNR 2006;27:1541-2. The commonest variant (~13 % of patients,
+//      "bovine arch") is a common origin of the brachiocephalic and left common carotid arteries.
+// [13] Weibel J, Fields WS. Tortuosity, coiling, and kinking of the internal carotid artery.
+//      Neurology 1965;15:7-18 and 462-8. Tortuosity: S- or C-shaped elongation; coiling: an
+//      exaggerated S curve or a circular loop; kinking: an acute angle between two segments.
+// [14] UCAS Japan Investigators (Morita A, et al.). The natural course of unruptured cerebral
+//      aneurysms in a Japanese cohort. N Engl J Med 2012;366:2474-82. Mean size 5.7 mm; 3-4 mm
+//      in 42 %, 5-6 mm in 28 %, 7-9 mm in 18 %; sites MCA 36 %, ICA-PCom 17 %, ACom 16 %,
+//      basilar tip 7 %. A neck >= 4 mm or dome/neck < 2 is called wide.
 // Where the literature gives a range the case takes a typical value; two liberties are taken
 // for a clean mesh and say so where they occur (arch branch spacing, AComm length).
 // ---------------------------------------------------------------------------------------------
@@ -208,50 +222,122 @@ class Network {
   };
 }
 
-enum class Variant { kHealthy, kAneurysm, kStenosis };
+// A saccular aneurysm as a blind segment (free end, capped) from `base` along `axis`: the neck
+// diameter at the base, widening to the dome diameter, 1.56 domes deep (the bundled MCA sac: 2.4 mm
+// neck, 6.4 mm dome, 10 mm deep).
+[[nodiscard]] std::vector<Knot> sac_knots(const glm::dvec3& base, const glm::dvec3& axis, double neck_mm, double dome_mm) {
+  const double s = dome_mm / 6.4;
+  return {{base, 0.5 * neck_mm},           {base + 2.0 * s * axis, 2.0 * s}, {base + 4.5 * s * axis, 3.0 * s},
+          {base + 6.5 * s * axis, 3.2 * s}, {base + 8.5 * s * axis, 2.6 * s}, {base + 10.0 * s * axis, 1.4 * s}};
+}
+
+// The aortic arch's shape for each arch type [11][12]: the arch is a half ellipse whose top stays
+// put; `height_mm` is its vertical semi-axis and the branch origins (degrees along it, 90 = top)
+// move down the ascending limb as the type rises. Vertical drop of the brachiocephalic origin
+// below the arch top = height * (1 - sin(bct)): type I 5.4 mm (0.8 CCA diameters of 6.4 mm),
+// type II 10.5 mm (1.6), type III 13.5 mm (2.1).
+struct ArchShape {
+  double height_mm, bct_deg, lcca_deg, lsa_deg;
+};
+[[nodiscard]] ArchShape arch_shape(ArchType type) {
+  switch (type) {
+    case ArchType::kTypeII: return {36.0, 45.0, 85.0, 130.0};
+    case ArchType::kTypeIII: return {46.0, 45.0, 85.0, 130.0};
+    default: return {30.0, 55.0, 95.0, 135.0};
+  }
+}
+
+// Cervical left ICA knots between the bulb and the skull base (Weibel-Fields grades [13]):
+// tortuous = S-shaped elongation, coiled = a full loop, kinked = an acute (< 90 degree) angle.
+[[nodiscard]] std::vector<Knot> cervical_ica(IcaTortuosity t) {
+  switch (t) {
+    case IcaTortuosity::kTortuous:
+      return {{{28, 14, 138}, 2.8}, {{34, 11, 150}, 2.6}, {{25, 12, 163}, 2.5}, {{30, 10, 175}, 2.4}};
+    case IcaTortuosity::kCoiled:
+      return {{{28, 14, 138}, 2.8}, {{28, 15, 148}, 2.7}, {{30, 15, 158}, 2.6}, {{37, 13, 165}, 2.6},
+              {{44, 10, 158}, 2.5}, {{39, 6, 148}, 2.5}, {{31, 5, 152}, 2.45}, {{27, 7, 165}, 2.4},
+              {{26, 9, 177}, 2.4}};
+    case IcaTortuosity::kKinked:
+      return {{{28, 14, 140}, 2.8}, {{33, 14, 151}, 2.6}, {{40, 14, 160}, 2.5}, {{35, 12, 165}, 2.45},
+              {{29, 10, 172}, 2.4}};
+    default: return {{{28, 14, 140}, 2.8}, {{27, 12, 160}, 2.4}};
+  }
+}
 
 [[nodiscard]] glm::dvec3 mirror(const glm::dvec3& p) { return {-p.x, p.y, p.z}; }
 
-VesselModel build_neuro(Variant variant) {
+VesselModel build_neuro(const NeuroMorphology& m, bool stenosed) {
   Network net;
+  const ArchShape shape = arch_shape(m.arch);
+  const bool bovine = m.arch == ArchType::kBovine;
   // Aortic arch [1]: the ascending aorta rises on the right and in front, the arch (a half
   // circle of ~30 mm centreline radius in an oblique plane) passes over to the left and back, and
   // the descending aorta goes down. Liberty: the three branch origins are 40 degrees (~21 mm)
   // apart along the arch (often closer in vivo) so each junction has room for its rings.
-  const glm::dvec3 arch_center{0, 0, -12};
+  const glm::dvec3 arch_center{0, 0, 18.0 - shape.height_mm};
   const glm::dvec3 anterior = glm::normalize(glm::dvec3(-0.35, 1.0, 0.0));
   const glm::dvec3 up{0, 0, 1};
   constexpr double kArchRadius = 30.0;
   const auto arch = [&](double deg) {
     const double a = deg * kPi / 180.0;
-    return arch_center + kArchRadius * (std::cos(a) * anterior + std::sin(a) * up);
+    return arch_center + kArchRadius * (std::cos(a) * anterior + (shape.height_mm / kArchRadius) * std::sin(a) * up);
   };
   const auto arch_normal = [&](double deg) {
     const double a = deg * kPi / 180.0;
-    return std::cos(a) * anterior + std::sin(a) * up;
+    const glm::dvec3 n = std::cos(a) * (shape.height_mm / kArchRadius) * anterior + std::sin(a) * up;
+    return shape.height_mm == kArchRadius ? n : glm::normalize(n);
   };
+  const double bct_deg = shape.bct_deg;
+  const double lcca_deg = shape.lcca_deg;
+  const double lsa_deg = shape.lsa_deg;
+  const auto mid = [](double a, double b) { return std::round(0.5 * (a + b)); };
   const std::int32_t arch1 = net.add("ascending_aorta",
                                      {{arch(0) - 60.0 * up, 15.0}, {arch(0) - 30.0 * up, 14.5}, {arch(0), 14.0},
-                                      {arch(28), 13.7}, {arch(55), 13.5}},
+                                      {arch(mid(0, bct_deg)), 13.7}, {arch(bct_deg), 13.5}},
                                      {}, 5000.0);
-  const std::int32_t arch2 = net.add("aortic_arch_1", {{arch(55), 13.5}, {arch(75), 13.2}, {arch(95), 13.0}}, {arch1}, 4200.0);
-  const std::int32_t arch3 = net.add("aortic_arch_2", {{arch(95), 13.0}, {arch(115), 12.7}, {arch(135), 12.5}}, {arch2}, 3800.0);
+  // A bovine arch has no separate left carotid origin: one arch segment runs from the
+  // brachiocephalic to the left subclavian origin.
+  const std::int32_t arch2 =
+      bovine ? net.add("aortic_arch_1",
+                       {{arch(bct_deg), 13.5}, {arch(75), 13.2}, {arch(95), 13.0}, {arch(115), 12.7}, {arch(lsa_deg), 12.5}},
+                       {arch1}, 4200.0)
+             : net.add("aortic_arch_1", {{arch(bct_deg), 13.5}, {arch(mid(bct_deg, lcca_deg)), 13.2}, {arch(lcca_deg), 13.0}},
+                       {arch1}, 4200.0);
+  const std::int32_t arch3 =
+      bovine ? arch2
+             : net.add("aortic_arch_2", {{arch(lcca_deg), 13.0}, {arch(mid(lcca_deg, lsa_deg)), 12.7}, {arch(lsa_deg), 12.5}},
+                       {arch2}, 3800.0);
   net.add("descending_aorta",
-          {{arch(135), 12.5}, {arch(158), 12.2}, {arch(180), 12.0}, {arch(180) - 30.0 * up, 11.8},
+          {{arch(lsa_deg), 12.5}, {arch(mid(lsa_deg, 180.0)), 12.2}, {arch(180), 12.0}, {arch(180) - 30.0 * up, 11.8},
            {arch(180) - 70.0 * up, 11.5}},
           {arch3}, 3400.0);
 
   // Brachiocephalic trunk [2]: ~45 mm up and to the right, 12 mm wide.
-  const std::int32_t bct = net.add("brachiocephalic_trunk",
-                                   {{arch(55), 6.2}, {arch(55) + 16.0 * arch_normal(55), 6.0}, {{-13, 24, 38}, 5.9},
-                                    {{-17, 22, 50}, 5.8}},
-                                   {arch1}, 800.0);
+  // On a high arch (types II, III) the trunk leaves the ascending limb tilted upwards.
+  const glm::dvec3 bct_direction =
+      shape.height_mm == kArchRadius ? arch_normal(bct_deg) : glm::normalize(arch_normal(bct_deg) + 0.8 * up);
+  // Bovine arch [12]: the left common carotid shares the brachiocephalic origin (the common
+  // trunk splits 16 mm above the arch).
+  const std::int32_t bct_stem =
+      bovine ? net.add("brachiocephalic_trunk",
+                       {{arch(bct_deg), 6.2}, {arch(bct_deg) + 8.0 * arch_normal(bct_deg), 6.1},
+                        {arch(bct_deg) + 16.0 * arch_normal(bct_deg), 6.0}},
+                       {arch1}, 1220.0)
+             : 0;
+  const std::int32_t bct =
+      bovine ? net.add("brachiocephalic_trunk_2", {{net.end(bct_stem), 5.9}, {{-13, 24, 38}, 5.9}, {{-17, 22, 50}, 5.8}},
+                       {bct_stem}, 800.0)
+             : net.add("brachiocephalic_trunk",
+                       {{arch(bct_deg), 6.2}, {arch(bct_deg) + 16.0 * bct_direction, 6.0}, {{-13, 24, 38}, 5.9},
+                        {{-17, 22, 50}, 5.8}},
+                       {arch1}, 800.0);
   // Subclavian arteries [2] (~9 mm) with the vertebral arteries arising from their first part.
   const std::int32_t rsub1 = net.add("right_subclavian_1",
                                      {{net.end(bct), 4.6}, {{-28, 16, 56}, 4.5}, {{-40, 10, 58}, 4.4}}, {bct}, 350.0);
   net.add("right_subclavian_2", {{net.end(rsub1), 4.4}, {{-55, 6, 56}, 4.2}, {{-75, 4, 48}, 4.0}}, {rsub1}, 250.0);
   const std::int32_t lsub1 = net.add("left_subclavian_1",
-                                     {{arch(135), 5.0}, {arch(135) + 16.0 * arch_normal(135), 4.8}, {{22, -30, 40}, 4.6},
+                                     {{arch(lsa_deg), 5.0}, {arch(lsa_deg) + 16.0 * arch_normal(lsa_deg), 4.8},
+                                      {{22, -30, 40}, 4.6},
                                       {{40, -20, 56}, 4.4}},
                                      {arch3}, 350.0);
   net.add("left_subclavian_2", {{net.end(lsub1), 4.4}, {{55, -16, 55}, 4.2}, {{75, -12, 46}, 4.0}}, {lsub1}, 250.0);
@@ -260,11 +346,15 @@ VesselModel build_neuro(Variant variant) {
   const std::int32_t rcca = net.add("right_common_carotid",
                                     {{net.end(bct), 3.3}, {{-20, 18, 75}, 3.25}, {{-24, 17, 100}, 3.2}, {{-26, 16, 125}, 3.2}},
                                     {bct}, 420.0);
-  const std::int32_t lcca = net.add("left_common_carotid",
-                                    {{net.end(arch2), 3.4}, {net.end(arch2) + 14.0 * arch_normal(95), 3.35},
-                                     {{8, -2, 50}, 3.3}, {{16, 6, 75}, 3.25}, {{22, 12, 100}, 3.2},
-                                     {{26, 16, 125}, 3.2}},
-                                    {arch2}, 420.0);
+  const std::int32_t lcca =
+      bovine ? net.add("left_common_carotid",
+                       {{net.end(bct_stem), 3.4}, {{0, 18, 42}, 3.35}, {{12, 10, 62}, 3.3}, {{18, 9, 80}, 3.25},
+                        {{22, 12, 100}, 3.2}, {{26, 16, 125}, 3.2}},
+                       {bct_stem}, 420.0)
+             : net.add("left_common_carotid",
+                       {{net.end(arch2), 3.4}, {net.end(arch2) + 14.0 * arch_normal(lcca_deg), 3.35},
+                        {{8, -2, 50}, 3.3}, {{16, 6, 75}, 3.25}, {{22, 12, 100}, 3.2}, {{26, 16, 125}, 3.2}},
+                       {arch2}, 420.0);
 
   struct Side {
     std::int32_t ica_top = 0;   // supraclinoid ICA ending at the PComm origin
@@ -281,13 +371,15 @@ VesselModel build_neuro(Variant variant) {
     // petrous segment turning anteromedially, cavernous siphon (S curve: posterior bend, anterior
     // genu), clinoid/ophthalmic segment turning back up to the PComm origin.
     RadiusProfile profile = nullptr;
-    if (left && variant == Variant::kStenosis) profile = stenosis(12.0, 4.0, 0.7);  // [10] 70 % at the bulb
-    const std::int32_t ica = net.add(side + "internal_carotid",
-                                     {{net.end(cca), 3.0}, {P(28, 14, 140), 2.8}, {P(27, 12, 160), 2.4},
-                                      {P(26, 10, 185), 2.35}, {P(22, 16, 196), 2.3}, {P(18, 24, 200), 2.25},
+    if (left && stenosed) profile = stenosis(12.0, 4.0, 0.7);  // [10] 70 % at the bulb
+    std::vector<Knot> ica_knots{{net.end(cca), 3.0}};
+    for (const Knot& k : cervical_ica(left ? m.left_ica : IcaTortuosity::kStraight)) ica_knots.push_back({P(k.pos_mm.x, k.pos_mm.y, k.pos_mm.z), k.radius_mm});
+    for (const Knot& k : std::vector<Knot>{{P(26, 10, 185), 2.35}, {P(22, 16, 196), 2.3}, {P(18, 24, 200), 2.25},
                                       {P(17, 30, 206), 2.2}, {P(16, 33, 214), 2.1}, {P(15, 28, 222), 2.0},
-                                      {P(14, 14, 226), 1.95}},
-                                     {cca}, 250.0, profile);
+                                      {P(14, 14, 226), 1.95}}) {
+      ica_knots.push_back(k);
+    }
+    const std::int32_t ica = net.add(side + "internal_carotid", ica_knots, {cca}, 250.0, profile);
     Side s;
     s.ica_top = ica;
     s.ica_term = net.add(side + "internal_carotid_terminal", {{net.end(ica), 1.9}, {P(14, 14, 231), 1.85}, {P(14, 15, 236), 1.8}},
@@ -300,15 +392,17 @@ VesselModel build_neuro(Variant variant) {
             {m1}, 65.0);
     net.add(side + "middle_cerebral_m2_inferior", {{net.end(m1), 1.05}, {P(35, 13, 230), 1.0}, {P(44, 9, 222), 0.95}},
             {m1}, 65.0);
-    if (!left && variant == Variant::kAneurysm) {
-      // [9] Saccular aneurysm at the MCA bifurcation, pointing along the M1 axis: 2.4 mm neck,
-      // 6.4 mm dome, 10 mm deep, as a blind segment (free end, capped).
+    if (!left && m.aneurysm == AneurysmSite::kMcaBifurcation) {
+      // [9] Saccular aneurysm at the (right) MCA bifurcation, pointing along the M1 axis.
       const glm::dvec3 base = net.end(m1);
-      const glm::dvec3 axis = glm::normalize(base - P(22, 16, 237));
-      net.add(side + "mca_aneurysm",
-              {{base, 1.2}, {base + 2.0 * axis, 2.0}, {base + 4.5 * axis, 3.0}, {base + 6.5 * axis, 3.2},
-               {base + 8.5 * axis, 2.6}, {base + 10.0 * axis, 1.4}},
-              {m1}, 0.0, nullptr, 0.35);
+      net.add(side + "mca_aneurysm", sac_knots(base, glm::normalize(base - P(22, 16, 237)), m.neck_mm, m.dome_mm), {m1}, 0.0,
+              nullptr, 0.35);
+    }
+    if (left && m.aneurysm == AneurysmSite::kPcom) {
+      // [9][14] Left posterior communicating aneurysm: from the ICA wall at the PComm origin,
+      // pointing posterolaterally and down (the usual projection).
+      net.add(side + "pcom_aneurysm", sac_knots(net.end(ica), glm::normalize(glm::dvec3(1.0, -0.5, -0.35)), m.neck_mm, m.dome_mm),
+              {ica}, 0.0, nullptr, 0.35);
     }
     // A1 [6]: ~13 mm medially and anteriorly, 2.3 mm; ends at the AComm.
     s.a1 = net.add(side + "anterior_cerebral_a1", {{net.end(s.ica_term), 1.2}, {P(9, 20, 238), 1.15}, {P(3, 27, 240), 1.1}},
@@ -336,6 +430,11 @@ VesselModel build_neuro(Variant variant) {
   // Basilar artery [8]: ~32 mm along the clivus, 3.2 mm; a confluence of the two vertebrals.
   const std::int32_t basilar =
       net.add("basilar", {{vb_junction, 1.65}, {{0, -3, 215}, 1.6}, {{0, -1, 232}, 1.55}}, {lva, rva}, 190.0);
+  if (m.aneurysm == AneurysmSite::kBasilarTip) {
+    // [9][14] Basilar tip aneurysm: along the basilar axis, between the two P1 origins.
+    net.add("basilar_tip_aneurysm", sac_knots(net.end(basilar), glm::normalize(glm::dvec3(0, 0.12, 1)), m.neck_mm, m.dome_mm),
+            {basilar}, 0.0, nullptr, 0.35);
+  }
   // P1 [7]: ~7 mm, 2.1 mm; PComm [7] joins at the P1/P2 junction; P2 runs around the midbrain.
   const auto posterior = [&](bool left_side, const Side& s) {
     const auto P = [left_side](double x, double y, double z) {
@@ -361,7 +460,17 @@ VesselModel build_neuro(Variant variant) {
                                         {right.a1}, 60.0);
   net.add("left_anterior_cerebral_a2", {{net.end(left.a1), 1.1}, {{3.5, 33, 252}, 1.05}, {{3.5, 40, 270}, 1.0}},
           {left.a1}, 60.0);
-  net.add_link("anterior_communicating", left.a1, {{0, 28.5, 241}}, net.end(right.a1), 0.75, {a2_right});
+  if (m.aneurysm == AneurysmSite::kAcom) {
+    // [9][14] Anterior communicating aneurysm: from the middle of the AComm, pointing
+    // anteriorly and up; the AComm is split there.
+    const std::int32_t acomm =
+        net.add("anterior_communicating", {{net.end(left.a1), 0.75}, {{0, 28.5, 241}, 0.75}}, {left.a1});
+    net.add("acom_aneurysm", sac_knots(net.end(acomm), glm::normalize(glm::dvec3(0, 0.7, 0.7)), m.neck_mm, m.dome_mm),
+            {acomm}, 0.0, nullptr, 0.35);
+    net.add_link("anterior_communicating_2", acomm, {}, net.end(right.a1), 0.75, {a2_right});
+  } else {
+    net.add_link("anterior_communicating", left.a1, {{0, 28.5, 241}}, net.end(right.a1), 0.75, {a2_right});
+  }
   return net.take();
 }
 
@@ -410,9 +519,12 @@ VesselModel CaseGenerator::make_case(const std::string& name) {
   return {};
 }
 
-VesselModel CaseGenerator::neuro() { return build_neuro(Variant::kHealthy); }
-VesselModel CaseGenerator::neuro_aneurysm() { return build_neuro(Variant::kAneurysm); }
-VesselModel CaseGenerator::neuro_stenosis() { return build_neuro(Variant::kStenosis); }
+VesselModel CaseGenerator::neuro() { return build_neuro({}, false); }
+VesselModel CaseGenerator::neuro_aneurysm() {
+  return build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation, .dome_mm = 6.4, .neck_mm = 2.4}, false);
+}
+VesselModel CaseGenerator::neuro_stenosis() { return build_neuro({}, true); }
+VesselModel CaseGenerator::neuro_variant(const NeuroMorphology& morphology) { return build_neuro(morphology, false); }
 
 VesselModel CaseGenerator::y_bifurcation() {
   // A common-carotid-sized parent (r 3 mm, 60 mm) splitting symmetrically at 60 degrees into two

@@ -22,6 +22,20 @@ struct RandomTreeOptions {
   double spacing_radii = 1.2;      // centerline point spacing, in local radii
 };
 
+// Morphological variants of the neurovascular network (the case library, cases/library/;
+// the published figures behind each are cited in case_generator.cpp and sim/vessel/README.md).
+enum class ArchType { kTypeI, kTypeII, kTypeIII, kBovine };
+enum class IcaTortuosity { kStraight, kTortuous, kCoiled, kKinked };  // Weibel-Fields grades
+enum class AneurysmSite { kNone, kAcom, kPcom, kBasilarTip, kMcaBifurcation };
+
+struct NeuroMorphology {
+  ArchType arch = ArchType::kTypeI;
+  IcaTortuosity left_ica = IcaTortuosity::kStraight;  // the cervical left ICA
+  AneurysmSite aneurysm = AneurysmSite::kNone;
+  double dome_mm = 6.4;  // saccular aneurysm: dome (sac) diameter
+  double neck_mm = 2.4;  // and neck diameter
+};
+
 class CaseGenerator {
  public:
   // Names of the bundled cases: "neuro", "neuro_aneurysm", "neuro_stenosis", "y_bifurcation".
@@ -33,6 +47,8 @@ class CaseGenerator {
   [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the right MCA bifurcation
   [[nodiscard]] static VesselModel neuro_stenosis();   // + 70 % stenosis at the left ICA origin
   [[nodiscard]] static VesselModel y_bifurcation();    // one parent, two children (steering tests)
+  // The arch-to-Willis network with the given morphology (neuro() is the default one).
+  [[nodiscard]] static VesselModel neuro_variant(const NeuroMorphology& morphology);
 
   // Random binary/ternary tree (one root, branch angles in the given range).
   [[nodiscard]] static VesselModel random_tree(std::uint64_t seed, const RandomTreeOptions& options = {});

@@ -1,0 +1,239 @@
+#include "vessel/case_library.hpp"
+
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::vessel {
+namespace {
+
+// A 5F catheter (10 mm, 30 degree tip) with a 0.014" wire (3 mm, 45 degree tip) inside: the
+// diagnostic pair of the femoral cases (arch and cervical ICA).
+constexpr const char* kCatheterAndWire = R"(tool catheter catheter
+  section 960 od=1.67 ei=250 gj=190
+  section 30 od=1.67 ei=40 gj=30
+  section 10 od=1.67 ei=20 gj=15 curve=30
+  friction 0.15
+  inner_diameter 1.0
+end
+
+tool guidewire guidewire
+  section 1750 od=0.36 ei=40 gj=31
+  section 35 od=0.36 ei=3 gj=2.3
+  section 12 od=0.36 ei=0.3 gj=0.23
+  section 3 od=0.36 ei=0.3 gj=0.23 curve=45
+  friction 0.08
+  inside catheter
+end
+)";
+
+// 6F guide > microcatheter (60 degree steam-shaped tip) > 0.014" microwire (6 mm, 90 degree
+// tip): the intracranial stack of the aneurysm cases (as cases/neuro_coiling.case).
+constexpr const char* kGuideStack = R"(tool guide catheter
+  section 900 od=2.0 ei=300 gj=230
+  section 80 od=2.0 ei=60 gj=45
+  friction 0.15
+  inner_diameter 1.8
+end
+
+tool microcatheter catheter
+  section 1350 od=0.8 ei=8 gj=6
+  section 120 od=0.75 ei=3 gj=2.4
+  section 25 od=0.7 ei=1 gj=0.8
+  section 5 od=0.7 ei=1 gj=0.8 curve=60
+  friction 0.1
+  inner_diameter 0.43
+  inside guide
+  spacing 2 0.5 40
+end
+
+tool microwire guidewire
+  section 1750 od=0.36 ei=40 gj=31
+  section 35 od=0.36 ei=3 gj=2.3
+  section 9 od=0.36 ei=0.3 gj=0.23
+  section 6 od=0.36 ei=0.3 gj=0.23 curve=90
+  friction 0.08
+  inside microcatheter
+end
+)";
+
+// Arch cases: from the descending aorta over the arch into the left common carotid.
+LibraryCase arch_case(const std::string& name, const std::string& title, ArchType type, const std::string& about) {
+  LibraryCase c;
+  c.name = name;
+  c.title = title;
+  c.about = about +
+            "# Entry: the descending aorta (femoral approach); target: the left common carotid, 30 % up.\n"
+            "# Tools: 5F catheter with a 30 degree tip and a 0.014\" wire with a 45 degree tip.\n";
+  c.morphology.arch = type;
+  c.entry_segment = "descending_aorta";
+  c.entry_fraction = 0.6;
+  c.entry_upstream = true;
+  c.target_segment = "left_common_carotid";
+  c.target_fraction = 0.3;
+  c.tools = kCatheterAndWire;
+  c.actions =
+      "# The catheter leads the wire up the descending aorta to the left carotid origin; the wire's\n"
+      "# shaped tip is turned towards the origin and advanced into the left common carotid.\n"
+      "0     select catheter\n"
+      "0     insert_to 90 at 30\n"
+      "0     select guidewire\n"
+      "0     insert_to 90 at 30\n"
+      "3000  rotate_to 180 at 180\n"
+      "4000  insert_to 150 at 15\n"
+      "8500  end\n";
+  return c;
+}
+
+LibraryCase ica_case(const std::string& name, const std::string& title, IcaTortuosity t, const std::string& about) {
+  LibraryCase c;
+  c.name = name;
+  c.title = title;
+  c.about = about +
+            "# Entry: the left common carotid, 80 % up; target: the left ICA at the skull base (its\n"
+            "# cervical part passed). Tools: 5F catheter (30 degree tip), 0.014\" wire (45 degree tip).\n";
+  c.morphology.left_ica = t;
+  c.entry_segment = "left_common_carotid";
+  c.entry_fraction = 0.8;
+  c.target_segment = "left_internal_carotid";
+  c.target_fraction = t == IcaTortuosity::kCoiled ? 0.45 : 0.35;
+  c.tools = kCatheterAndWire;
+  c.actions =
+      "# The wire leads out of the catheter, past the carotid bifurcation into the ICA and\n"
+      "# through its cervical curves to the skull base; the catheter stays in the common carotid.\n"
+      "0     select guidewire\n"
+      "0     insert_to 115 at 15\n"
+      "8000  end\n";
+  return c;
+}
+
+LibraryCase aneurysm_case(const std::string& name, const std::string& title, AneurysmSite site, double dome_mm,
+                          double neck_mm, const std::string& entry, double entry_fraction, const std::string& sac,
+                          const std::string& about, const std::string& actions) {
+  LibraryCase c;
+  c.name = name;
+  c.title = title;
+  char sizes[160];
+  std::snprintf(sizes, sizeof sizes, "# Sac: %.1f mm dome, %.1f mm neck (dome/neck %.1f); target: the neck.\n", dome_mm, neck_mm,
+                dome_mm / neck_mm);
+  c.about = about + sizes +
+            "# Tools: 6F guide parked in the parent artery > microcatheter (60 degree tip) > 0.014\"\n"
+            "# microwire (90 degree tip), as cases/neuro_coiling.case.\n";
+  c.morphology.aneurysm = site;
+  c.morphology.dome_mm = dome_mm;
+  c.morphology.neck_mm = neck_mm;
+  c.entry_segment = entry;
+  c.entry_fraction = entry_fraction;
+  c.target_segment = sac;
+  c.target_fraction = 0.05;
+  c.tools = kGuideStack;
+  c.actions = actions;
+  return c;
+}
+
+std::vector<LibraryCase> all_cases() {
+  const std::string arch_ref = "# Arch types: Madhwal et al. 2008; bovine arch: Layton et al. AJNR 2006.\n";
+  const std::string ica_ref = "# Grades: Weibel and Fields, Neurology 1965.\n";
+  const std::string sac_ref = "# Sizes and sites: UCAS (NEJM 2012), ISUIA (Lancet 2003).\n";
+  return {
+      arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI,
+                "# Type I arch: the great vessels arise from the top of the arch (brachiocephalic origin\n"
+                "# 5.4 mm = 0.8 common carotid diameters below it).\n" + arch_ref),
+      arch_case("arch_type2", "library: type II aortic arch", ArchType::kTypeII,
+                "# Type II arch: the brachiocephalic origin 10.5 mm = 1.6 CCA diameters below the top.\n" + arch_ref),
+      arch_case("arch_type3", "library: type III aortic arch", ArchType::kTypeIII,
+                "# Type III arch: the brachiocephalic origin 13.5 mm = 2.1 CCA diameters below the top.\n" + arch_ref),
+      arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine,
+                "# Bovine arch (type I shape): the left common carotid arises from the brachiocephalic\n"
+                "# trunk, 16 mm above the arch.\n" + arch_ref),
+      ica_case("ica_straight", "library: straight cervical ICA", IcaTortuosity::kStraight,
+               "# Cervical left ICA without tortuosity (the reference).\n" + ica_ref),
+      ica_case("ica_tortuous", "library: tortuous cervical ICA", IcaTortuosity::kTortuous,
+               "# Cervical left ICA with an S-shaped elongation (Weibel-Fields tortuosity).\n" + ica_ref),
+      ica_case("ica_coil", "library: coiled cervical ICA", IcaTortuosity::kCoiled,
+               "# Cervical left ICA with a full loop (Weibel-Fields coiling).\n" + ica_ref),
+      ica_case("ica_kink", "library: kinked cervical ICA", IcaTortuosity::kKinked,
+               "# Cervical left ICA with an acute (79 degree) angle (Weibel-Fields kinking).\n" + ica_ref),
+      aneurysm_case("aneurysm_mca", "library: right MCA bifurcation aneurysm", AneurysmSite::kMcaBifurcation, 6.4, 2.4,
+                    "right_internal_carotid", 0.12, "right_mca_aneurysm",
+                    "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,
+                    "0      select microcatheter\n0      rotate_to 180 at 720\n0      select microwire\n"
+                    "0      rotate_to 180 at 720\n1000   select microcatheter\n1000   insert_to 22 at 20\n"
+                    "1000   select microwire\n1000   insert_to 40 at 20\n2000   insert_to 112 at 20\n"
+                    "2000   select microcatheter\n2000   insert_to 108 at 20\n6500   select microwire\n"
+                    "6500   insert_to 156 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
+                    "10500  insert_to 150 at 5\n14000  end\n"),
+      aneurysm_case("aneurysm_pcom", "library: left PCom aneurysm", AneurysmSite::kPcom, 6.0, 3.0,
+                    "left_internal_carotid", 0.12, "left_pcom_aneurysm",
+                    "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"
+                    "# left ICA.\n" + sac_ref,
+                    "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
+                    "0      insert_to 40 at 20\n1000   insert_to 112 at 20\n1000   select microcatheter\n"
+                    "1000   insert_to 108 at 20\n5500   select microwire\n5500   insert_to 150 at 10\n"
+                    "6000   select microcatheter\n6000   insert_to 142 at 10\n11000  end\n"),
+      aneurysm_case("aneurysm_acom", "library: ACom aneurysm", AneurysmSite::kAcom, 5.0, 2.2, "left_internal_carotid", 0.12,
+                    "acom_aneurysm",
+                    "# Saccular aneurysm of the anterior communicating artery; guide in the left ICA, the\n"
+                    "# approach through the left A1.\n" + sac_ref,
+                    "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
+                    "0      insert_to 40 at 20\n1000   insert_to 112 at 20\n1000   select microcatheter\n"
+                    "1000   insert_to 108 at 20\n5500   select microwire\n5500   insert_to 175 at 10\n"
+                    "6000   select microcatheter\n6000   insert_to 165 at 10\n12000  end\n"),
+      aneurysm_case("aneurysm_basilar", "library: basilar tip aneurysm", AneurysmSite::kBasilarTip, 8.0, 4.0,
+                    "left_vertebral", 0.5, "basilar_tip_aneurysm",
+                    "# Wide-necked saccular aneurysm at the basilar tip; guide in the left vertebral (V2).\n" + sac_ref,
+                    "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
+                    "0      insert_to 40 at 20\n1000   insert_to 110 at 20\n1000   select microcatheter\n"
+                    "1000   insert_to 100 at 20\n7000   end\n"),
+  };
+}
+
+}  // namespace
+
+std::vector<std::string> library_case_names() {
+  std::vector<std::string> names;
+  for (const LibraryCase& c : all_cases()) names.push_back(c.name);
+  return names;
+}
+
+std::optional<LibraryCase> library_case(const std::string& name) {
+  for (LibraryCase& c : all_cases()) {
+    if (c.name == name) return std::move(c);
+  }
+  return std::nullopt;
+}
+
+VesselModel library_model(const LibraryCase& c) { return CaseGenerator::neuro_variant(c.morphology); }
+
+std::string library_case_text(const LibraryCase& c, const VesselModel& model) {
+  const auto find = [&](const std::string& name) -> const Segment* {
+    for (const Segment& s : model.segments) {
+      if (s.name == name) return &s;
+    }
+    return nullptr;
+  };
+  const Segment* entry = find(c.entry_segment);
+  const Segment* target = find(c.target_segment);
+  if (entry == nullptr || target == nullptr || entry->points.size() < 2) return {};
+  // The entry point: the centerline point nearest entry_fraction of the segment's arc length,
+  // heading along the centerline.
+  std::vector<double> arc{0.0};
+  for (std::size_t i = 1; i < entry->points.size(); ++i) {
+    arc.push_back(arc.back() + glm::length(entry->points[i].pos_mm - entry->points[i - 1].pos_mm));
+  }
+  std::size_t i = 0;
+  while (i + 2 < arc.size() && arc[i + 1] <= c.entry_fraction * arc.back()) ++i;
+  const glm::dvec3 p = entry->points[i].pos_mm;
+  const glm::dvec3 along = glm::normalize(entry->points[i + 1].pos_mm - p);
+  const glm::dvec3 d = c.entry_upstream ? -along : along;
+  char line[256];
+  std::string text = "# " + c.title + " (generated: cathbox case generate " + c.name + " -o DIR)\n" + c.about;
+  text += "cathbox-case 1\nname " + c.title + "\nvessel " + c.name + ".hclm\n";
+  std::snprintf(line, sizeof line, "entry %.2f %.2f %.2f  %.4f %.4f %.4f\n", p.x, p.y, p.z, d.x, d.y, d.z);
+  text += line;
+  std::snprintf(line, sizeof line, "target %d %.2f\n\n", target->id, c.target_fraction);
+  text += line;
+  return text + c.tools;
+}
+
+}  // namespace cathbox::vessel
