@@ -66,7 +66,7 @@ TEST_F(TrainerAppTest, HeadlessRunWithEmuGoesThroughTheBox) {
   ::testing::internal::CaptureStdout();
   const int code = app.run();
   const std::string out = ::testing::internal::GetCapturedStdout();
-  EXPECT_EQ(code, session::kExitOk);
+  EXPECT_EQ(code, base::kExitOk);
   EXPECT_NE(out.find("with the emulated box (started)"), std::string::npos) << out;
   EXPECT_NE(out.find("(real time)"), std::string::npos) << out;
   EXPECT_NE(out.find("haptic ticks in real time"), std::string::npos) << out;
