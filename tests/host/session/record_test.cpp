@@ -241,7 +241,8 @@ class UnknownKind : public ::testing::TestWithParam<int> {};
 
 TEST_P(UnknownKind, IsRefusedNotMisread) {
   const int kind = GetParam();
-  std::vector<std::uint8_t> bytes = read_bytes(write_sample("kind.cbxrec", 5, false));
+  // One file per parameter: CTest runs the instances side by side.
+  std::vector<std::uint8_t> bytes = read_bytes(write_sample("kind" + std::to_string(kind) + ".cbxrec", 5, false));
   // Cut the ticks block off, keep the file header and the header block.
   std::string error;
   auto probe = RecordReader::from_bytes(bytes, "k", error);

@@ -49,7 +49,8 @@ INSTANTIATE_TEST_SUITE_P(Examples, ImportedExample,
 TEST(Importer, FormatsUnitsAndTheFilterSwitch) {
   EXPECT_EQ(format_from_path("a/b/Centerline curve (1).mrk.json"), Format::kSlicerMarkups);
   EXPECT_EQ(format_from_path("x.VTP"), Format::kVtkXml);
-  EXPECT_FALSE(format_from_path("x.stl"));
+  EXPECT_EQ(format_from_path("x.stl"), Format::kSurface);
+  EXPECT_FALSE(format_from_path("x.step"));
   EXPECT_EQ(format_from_name("swc"), Format::kSwc);
   EXPECT_DOUBLE_EQ(*unit_to_mm("cm"), 10.0);
   EXPECT_FALSE(unit_to_mm("inch"));
