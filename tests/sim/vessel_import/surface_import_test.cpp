@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -62,6 +63,14 @@ void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext)
   EXPECT_EQ(got.junctions().size(), want.junctions().size()) << imported.summary();
   EXPECT_EQ(got.cycle_count(), want.cycle_count()) << imported.summary();
   EXPECT_EQ(imported.surface.open_ends.size(), 0u);
+  // The lumen: every triangle kept, each tagged with one of the imported segments, every
+  // segment owning some.
+  ASSERT_EQ(imported.lumen.triangle_count(), surface.mesh.triangle_count());
+  std::set<std::int32_t> tagged;
+  for (const vessel::FaceRegion& r : imported.lumen.triangle_regions) tagged.insert(r.id);
+  std::set<std::int32_t> ids;
+  for (const vessel::Segment& s : imported.model.segments) ids.insert(s.id);
+  EXPECT_EQ(tagged, ids);
   // Within 1.5 radii (+1 mm) of one of the generator's segment ends (a junction or a capped end)
   // the surface is a blend or a cap: there the medial axis and the generator's graph differ by
   // construction (the skeleton's junction lies where the tubes merge, distal of the graph's
