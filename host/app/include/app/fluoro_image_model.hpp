@@ -2,7 +2,7 @@
 // The numbers of the fluoroscopic image model that are not physics constants (those live in
 // sim/flow: xray_material.hpp, fluoro_dose.hpp): how log attenuation maps to grey on the
 // monitor, the subtraction and roadmap windows, how thin tools are drawn, and the noise field.
-// No GL; FluoroRenderer passes them to its shaders. host/app/README.md, "The fluoroscopic
+// No GL; FluoroRenderer passes them to its shaders. docs/trainer/fluoroscopy.md, "The fluoroscopic
 // view", describes the whole model.
 #include <cstdint>
 #include <vector>

@@ -1,6 +1,6 @@
 #pragma once
 // The fluoroscopic view: turns FluoroInputs into the grey image on the monitor of an
-// angiography suite (OpenGL 3.3 core, the trainer's context). host/app/README.md, "The
+// angiography suite (OpenGL 3.3 core, the trainer's context). docs/trainer/fluoroscopy.md, "The
 // fluoroscopic view", describes the image model; in short:
 //
 // - Every pixel is a ray from the focal spot through the C-arm geometry (flow::CArm) and its

@@ -1,6 +1,6 @@
 #pragma once
-// The session record's byte layout (documented byte by byte in host/session/README.md,
-// "Record format"): constants, and the explicit-byte-order writer and reader every part of
+// The session record's byte layout (documented byte by byte in docs/session/record-format.md):
+// constants, and the explicit-byte-order writer and reader every part of
 // the record is encoded with. All integers are little-endian; varints are LEB128 (unsigned)
 // and zigzag LEB128 (signed); doubles are their IEEE-754 binary64 bits as a u64.
 #include <array>

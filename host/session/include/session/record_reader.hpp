@@ -1,5 +1,5 @@
 #pragma once
-// Reads a session record (host/session/README.md, "Record format"): the header, then the ticks
+// Reads a session record (docs/session/record-format.md): the header, then the ticks
 // one at a time (a block is read, checked and decompressed when its first tick is needed).
 // Every problem is one line "FILE: byte N: what" naming the byte in the file (for a problem
 // inside a compressed block: the block's first byte, and the offset within its data), and the

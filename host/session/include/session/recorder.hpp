@@ -1,5 +1,5 @@
 #pragma once
-// Writes a session record (host/session/README.md, "Record format"). The haptic thread encodes
+// Writes a session record (docs/session/record-format.md). The haptic thread encodes
 // each tick into the current block (delta-encoded integers, no allocation); every 1000 ticks, or
 // once a second of the session's clock has passed, the block is handed to a writer thread,
 // which compresses it (zstd), frames it with its length and CRC-32 and appends it to the file
