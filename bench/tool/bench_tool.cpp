@@ -41,6 +41,7 @@
 #include "scenario/case_world.hpp"
 #include "tool/coil_metrics.hpp"
 #include "../bench_samples.hpp"
+#include "../rod_navigation.hpp"
 
 namespace {
 
@@ -273,42 +274,13 @@ class StepTimes {
   std::vector<double> probes_;  // wall probes per step
 };
 
-// Insertion that puts `nodes` nodes of the tool past the entry.
-double insertion_for_nodes(const ToolSpec& spec, std::size_t nodes) {
-  const Rod rod(spec);
-  const std::size_t n = rod.node_total();
-  return rod.node_from_tip_mm(n - 1 - std::min(nodes, n - 3)) + 0.01;
-}
+using cathbox::bench::RodNavigation;  // the catheter-and-wire workload, shared with bench_wasm
 
 void run(benchmark::State& state, bool coaxial) {
   static World world = make_world();
-  ToolSpec cath = default_catheter();
-  cath.inner_diameter_mm = 0.6;
-  cath.sections[0].outer_diameter_mm = cath.sections[1].outer_diameter_mm = cath.sections[2].outer_diameter_mm = 1.0;
-  cath.sections.back().curve_deg = 0.0;
-  ToolSpec wire = default_guidewire();
-  wire.name = "wire";
-  // 1 mm node spacing: 150 and 200 inserted nodes fit in the aortic path of the neuro case.
-  cath.max_spacing_mm = wire.max_spacing_mm = 1.0;
-  // Advanced blindly (no steering), an angled tip digs into the wall at the first sharp bend
-  // and the tool jams, as a real one does; the benchmark navigates with straight tips.
-  wire.sections.back().curve_deg = 0.0;
-  if (coaxial) wire.inside = "catheter";
-  const std::vector<ToolSpec> tools{cath, wire};
-  Simulator sim(*world.wall, tools, world.entry);
-  const double cath_target = insertion_for_nodes(cath, 150);
-  const double wire_target = insertion_for_nodes(wire, 200);
-  // Navigate in: 50 mm/s while spinning the tool slowly (as a clinician does to pass bends),
-  // catheter first, then the wire.
-  for (std::size_t t = 0; t < 2; ++t) {
-    const double target = t == 0 ? cath_target : wire_target;
-    for (double s = 0.0; s < target; s += 0.05) {
-      sim.set_insertion(t, std::min(s + 0.05, target));
-      sim.set_rotation(t, s * 0.2);
-      sim.step();
-    }
-  }
-  const double rot0 = sim.rotation_rad(0), rot1 = sim.rotation_rad(1);
+  RodNavigation nav(coaxial);
+  Simulator sim(*world.wall, nav.tools, world.entry);
+  nav.navigate_in(sim);
   StepTimes times(1 << 16);
   std::vector<double> converged_samples;
   double iterations = 0.0;
@@ -320,11 +292,7 @@ void run(benchmark::State& state, bool coaxial) {
   std::uint64_t capped_rod[2] = {0, 0};
   for (auto _ : state) {
     // A hand that pushes and pulls 1 mm and twists a little, as during navigation.
-    const double phase = static_cast<double>(i++) * 1e-3;
-    sim.set_insertion(1, wire_target + std::sin(phase * 2.0 * M_PI) * 1.0);
-    sim.set_rotation(1, rot1 + std::sin(phase * 3.0) * 0.5);
-    sim.set_rotation(0, rot0);
-    sim.set_insertion(0, cath_target + std::sin(phase * 1.3) * 0.5);
+    nav.hold(sim, i++);
     times.step(sim);
     iterations += sim.rod(0).last_iterations() + sim.rod(1).last_iterations();
     if (sim.rod(0).last_iterations() >= cap || sim.rod(1).last_iterations() >= cap) {
@@ -386,8 +354,8 @@ struct TriaxialTargets {
 
 // Inserts the stack to 150 / 200 / 200 nodes, each tool spinning slowly on its way in.
 TriaxialTargets insert_triaxial(Simulator& sim, const std::vector<ToolSpec>& tools) {
-  const TriaxialTargets targets{{insertion_for_nodes(tools[0], 150), insertion_for_nodes(tools[1], 200),
-                                 insertion_for_nodes(tools[2], 200)}};
+  const TriaxialTargets targets{{RodNavigation::insertion_for_nodes(tools[0], 150), RodNavigation::insertion_for_nodes(tools[1], 200),
+                                 RodNavigation::insertion_for_nodes(tools[2], 200)}};
   for (std::size_t t = 0; t < 3; ++t) {
     for (double s = t == 0 ? 0.0 : targets.insertion[t - 1] - 5.0; s < targets.insertion[t]; s += 0.05) {
       sim.set_insertion(t, std::min(s + 0.05, targets.insertion[t]));

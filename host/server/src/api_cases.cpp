@@ -150,8 +150,16 @@ Reply case_bundle(Call& call) {
 Reply case_mesh(Call& call) {
   Result<CaseVersion> v = find_version(call);
   if (!v) return v.error();
+  // ?level=collision: the surface the session's collision tree is built on, every field exact
+  // (CBXMESH2), for the WebAssembly session; else the coarse surface to draw (CBXMESH1).
+  const std::optional<std::string> level = call.query("level");
+  if (level && *level != "collision" && *level != "view") {
+    return make_error(400, "query 'level': '" + level->substr(0, 32) + "' is neither 'collision' nor 'view'");
+  }
+  const bool collision = level && *level == "collision";
+  const std::string kind = collision ? "mesh2" : "mesh1";
   // A version's mesh never changes: browsers keep it and ask again with its ETag (304).
-  const std::string etag = "\"mesh1-" + v.value().content_hash + "\"";
+  const std::string etag = "\"" + kind + "-" + v.value().content_hash + "\"";
   const auto validators = [&](ApiResponse& r) {
     r.headers.emplace_back("ETag", etag);
     r.headers.emplace_back("Cache-Control", "private, no-cache");
@@ -164,12 +172,12 @@ Reply case_mesh(Call& call) {
     return r;
   }
   // Meshed once per content (the cache key is the bundle's hash), on first request.
-  Result<std::shared_ptr<const std::string>> mesh = cached(call, "mesh1:" + v.value().content_hash, [&]() -> Result<std::string> {
+  Result<std::shared_ptr<const std::string>> mesh = cached(call, kind + ":" + v.value().content_hash, [&]() -> Result<std::string> {
     Result<std::string> json = stored_bundle(call, v.value(), true);
     if (!json) return json.error();
     Result<CaseBundle> bundle = parse_bundle_json(json.value());
     if (!bundle) return bundle.error();
-    return browser_mesh(bundle.value());
+    return collision ? collision_mesh(bundle.value()) : browser_mesh(bundle.value());
   });
   if (!mesh) return mesh.error();
   ApiResponse r;

@@ -9,6 +9,7 @@
 #include "server/zstd_codec.hpp"
 #include "scenario/case_file.hpp"
 #include "vessel/hclm.hpp"
+#include "vessel/mesh_wire.hpp"
 #include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::server {
@@ -89,16 +90,32 @@ Result<CaseCheck> check_case(const CaseBundle& b) {
   return out;
 }
 
-Result<std::string> browser_mesh(const CaseBundle& b) {
+namespace {
+
+Result<vessel::VesselSurface> mesh_bundle(const CaseBundle& b, const vessel::MeshOptions& options) {
   if (b.hclm_text.empty()) return make_error(404, b.case_file + ": the case names no vessel (made of 'tube' lines): no mesh");
   const vessel::HclmReadResult model = vessel::read_hclm(b.hclm_text, b.hclm_file);
   if (!model.ok()) return make_error(422, model.errors.front().to_string());
+  vessel::VesselSurface surface = vessel::build_vessel_surface(model.model, options);
+  if (!surface.ok()) return make_error(422, surface.error);
+  return surface;
+}
+
+}  // namespace
+
+Result<std::string> collision_mesh(const CaseBundle& b) {
+  Result<vessel::VesselSurface> surface = mesh_bundle(b, vessel::MeshOptions{});
+  if (!surface) return surface.error();
+  return vessel::encode_mesh_wire(surface.value().mesh);
+}
+
+Result<std::string> browser_mesh(const CaseBundle& b) {
   vessel::MeshOptions coarse;
   coarse.subdivision_level = kBrowserMeshLevel;
   coarse.ring_points = kBrowserMeshRingPoints;
-  const vessel::VesselSurface surface = vessel::build_vessel_surface(model.model, coarse);
-  if (!surface.ok()) return make_error(422, surface.error);
-  const vessel::SurfaceMesh& m = surface.mesh;
+  Result<vessel::VesselSurface> surface = mesh_bundle(b, coarse);
+  if (!surface) return surface.error();
+  const vessel::SurfaceMesh& m = surface.value().mesh;
   static_assert(sizeof(glm::vec3) == 12 && std::endian::native == std::endian::little);
   const auto vertices = static_cast<std::uint32_t>(m.vertex_count());
   const auto triangles = static_cast<std::uint32_t>(m.triangle_count());

@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstring>
+
+#include "base/bit_cast.hpp"
 
 namespace cathbox::session::fluoro_control {
 namespace {
@@ -14,7 +15,7 @@ template <std::size_t N>
 Control make_f64(ControlKind kind, const std::array<double, N>& values) {
   std::array<std::uint8_t, 8 * N> bytes{};
   for (std::size_t i = 0; i < N; ++i) {
-    const auto bits = std::bit_cast<std::uint64_t>(values[i]);
+    const auto bits = base::bit_cast<std::uint64_t>(values[i]);
     for (std::size_t b = 0; b < 8; ++b) bytes[8 * i + b] = static_cast<std::uint8_t>(bits >> (8 * b));
   }
   return Control::make(static_cast<std::uint16_t>(kind), bytes);
@@ -27,7 +28,7 @@ std::optional<std::array<double, N>> read_f64(const Control& c) {
   for (std::size_t i = 0; i < N; ++i) {
     std::uint64_t bits = 0;
     for (std::size_t b = 0; b < 8; ++b) bits |= static_cast<std::uint64_t>(c.payload[8 * i + b]) << (8 * b);
-    out[i] = std::bit_cast<double>(bits);
+    out[i] = base::bit_cast<double>(bits);
     if (!std::isfinite(out[i])) return std::nullopt;
   }
   return out;

@@ -11,7 +11,7 @@ HapticThread::~HapticThread() { stop(); }
 
 void HapticThread::start() {
   if (thread_.joinable()) return;
-  thread_ = std::jthread([this](std::stop_token stop) {
+  thread_ = base::jthread([this](base::stop_token stop) {
     scheduling_.store(ThreadPriority::favour_calling_thread(), std::memory_order_relaxed);
     run(std::move(stop));
   });
@@ -23,7 +23,7 @@ void HapticThread::stop() {
   thread_.join();
 }
 
-void HapticThread::run(std::stop_token stop, std::int64_t max_ticks) {
+void HapticThread::run(base::stop_token stop, std::int64_t max_ticks) {
   if (!pacer_) pacer_.emplace(period_us_, clock_.now_us());
   HapticPacer& pacer = *pacer_;
   RateMeter& meter = meter_;

@@ -2,9 +2,9 @@
 
 #include <zlib.h>
 
-#include <bit>
 #include <cstring>
 
+#include "base/bit_cast.hpp"
 #include "base/byte_order.hpp"
 
 namespace cathbox::session::record {
@@ -42,7 +42,7 @@ void ByteWriter::u16(std::uint16_t v) { base::put_le(grow(out_, 2), v); }
 void ByteWriter::u32(std::uint32_t v) { base::put_le(grow(out_, 4), v); }
 void ByteWriter::u64(std::uint64_t v) { base::put_le(grow(out_, 8), v); }
 
-void ByteWriter::f64(double v) { u64(std::bit_cast<std::uint64_t>(v)); }
+void ByteWriter::f64(double v) { u64(base::bit_cast<std::uint64_t>(v)); }
 
 void ByteWriter::varint(std::uint64_t v) {
   while (v >= 0x80) {
@@ -68,7 +68,7 @@ void ByteWriter::field_u64(std::uint32_t tag, std::uint64_t v) {
   u64(v);
 }
 
-void ByteWriter::field_f64(std::uint32_t tag, double v) { field_u64(tag, std::bit_cast<std::uint64_t>(v)); }
+void ByteWriter::field_f64(std::uint32_t tag, double v) { field_u64(tag, base::bit_cast<std::uint64_t>(v)); }
 
 bool ByteReader::u8(std::uint8_t& v) {
   if (left() < 1) return false;
@@ -91,7 +91,7 @@ bool ByteReader::u64(std::uint64_t& v) { return fixed(v); }
 bool ByteReader::f64(double& v) {
   std::uint64_t bits = 0;
   if (!u64(bits)) return false;
-  v = std::bit_cast<double>(bits);
+  v = base::bit_cast<double>(bits);
   return true;
 }
 

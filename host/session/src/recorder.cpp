@@ -72,7 +72,7 @@ std::unique_ptr<Recorder> Recorder::create(const std::string& path, const Record
   r->current_ = r->pool_.front().get();
   r->allocated_ = r->pool_.size();
   for (std::size_t t = 0; t < kMaxTools; ++t) r->last_tools_[t] = {};
-  r->writer_ = std::jthread([raw = r.get()](std::stop_token stop) { raw->writer_loop(std::move(stop)); });
+  r->writer_ = base::jthread([raw = r.get()](base::stop_token stop) { raw->writer_loop(std::move(stop)); });
   return r;
 }
 
@@ -124,7 +124,7 @@ bool Recorder::write_block(BlockType type, const std::vector<std::uint8_t>& raw,
   return true;
 }
 
-void Recorder::writer_loop(std::stop_token stop) {
+void Recorder::writer_loop(base::stop_token stop) {
   ZstdContext z;
   std::vector<std::uint8_t> out;
   out.reserve(kBlockReserve);

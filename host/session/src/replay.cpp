@@ -2,15 +2,17 @@
 
 namespace cathbox::session {
 
-std::unique_ptr<Replay> Replay::open(const std::string& path, std::string& error, bool stop_at_mismatch) {
+std::unique_ptr<Replay> Replay::open(const std::string& path, std::string& error, bool stop_at_mismatch,
+                                     const vessel::SurfaceMesh* surface) {
   std::unique_ptr<RecordReader> reader = RecordReader::open(path, error);
   if (!reader) return nullptr;
-  return open(std::move(reader), error, stop_at_mismatch);
+  return open(std::move(reader), error, stop_at_mismatch, surface);
 }
 
-std::unique_ptr<Replay> Replay::open(std::unique_ptr<RecordReader> reader, std::string& error, bool stop_at_mismatch) {
+std::unique_ptr<Replay> Replay::open(std::unique_ptr<RecordReader> reader, std::string& error, bool stop_at_mismatch,
+                                     const vessel::SurfaceMesh* surface) {
   const RecordHeader& h = reader->header();
-  SessionCaseLoad scene = session_case_from_record(h);
+  SessionCaseLoad scene = session_case_from_record(h, surface);
   if (!scene.value) {
     error = scene.error;
     return nullptr;
@@ -48,9 +50,9 @@ ReplayResult Replay::result() const {
   return r;
 }
 
-ReplayResult replay_record(const std::string& path, TickObserver* observer) {
+ReplayResult replay_record(const std::string& path, TickObserver* observer, const vessel::SurfaceMesh* surface) {
   std::string error;
-  std::unique_ptr<Replay> replay = Replay::open(path, error);
+  std::unique_ptr<Replay> replay = Replay::open(path, error, true, surface);
   if (!replay) {
     ReplayResult r;
     r.error = error;

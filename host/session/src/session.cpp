@@ -556,7 +556,7 @@ std::int64_t Session::step_virtual(std::int64_t ticks) {
         std::make_unique<HapticThread>(virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); });
   }
   const std::int64_t before = tick_;
-  virtual_thread_->run(std::stop_token{}, virtual_thread_->ticks() + ticks);
+  virtual_thread_->run(base::stop_token{}, virtual_thread_->ticks() + ticks);
   return tick_ - before;
 }
 

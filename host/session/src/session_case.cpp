@@ -68,9 +68,9 @@ double radius_near(const vessel::VesselModel& model, const glm::vec3& p) {
 }
 
 // What the session derives from the built world.
-SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source) {
+SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source, const vessel::SurfaceMesh* surface) {
   SessionCaseLoad out;
-  tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text);
+  tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text, surface);
   if (!built) {
     out.error = built.error().message;
     return out;
@@ -134,7 +134,7 @@ std::optional<glm::vec3> SessionCase::pick(const glm::vec3& origin_mm, const glm
   return glm::vec3(hit->point_mm);
 }
 
-SessionCaseLoad load_session_case(const std::string& path) {
+SessionCaseLoad load_session_case(const std::string& path, const vessel::SurfaceMesh* surface) {
   auto c = std::make_unique<SessionCase>();
   SessionCaseLoad out;
   if (std::filesystem::path(path).extension() == ".hclm") {
@@ -154,10 +154,10 @@ SessionCaseLoad load_session_case(const std::string& path) {
   }
   c->vessel_file = c->spec.vessel_path;
   if (!c->vessel_file.empty() && !read_file(c->vessel_file, kMaxVesselBytes, c->vessel_text, out.error)) return out;
-  return finish(std::move(c), path);
+  return finish(std::move(c), path, surface);
 }
 
-SessionCaseLoad session_case_from_record(const RecordHeader& h) {
+SessionCaseLoad session_case_from_record(const RecordHeader& h, const vessel::SurfaceMesh* surface) {
   auto c = std::make_unique<SessionCase>();
   SessionCaseLoad out;
   if (!h.case_text.empty()) {
@@ -183,7 +183,7 @@ SessionCaseLoad session_case_from_record(const RecordHeader& h) {
     out.error = "the record carries neither a vessel file nor analytic tubes";
     return out;
   }
-  return finish(std::move(c), h.case_file.empty() ? h.vessel_file : h.case_file);
+  return finish(std::move(c), h.case_file.empty() ? h.vessel_file : h.case_file, surface);
 }
 
 }  // namespace cathbox::session

@@ -1,5 +1,15 @@
 #include "session/thread_priority.hpp"
 
+#if defined(__EMSCRIPTEN__)
+// The browser (or node) schedules its workers itself: nothing to ask for, nothing to lower.
+namespace cathbox::session {
+
+void ThreadPriority::tighten_timer_slack() {}
+HapticScheduling ThreadPriority::favour_calling_thread() { return HapticScheduling::kNormal; }
+int ThreadPriority::lower_threads_named(const char* /*prefix*/, int /*nice_value*/) { return 0; }
+
+}  // namespace cathbox::session
+#else
 #include <pthread.h>
 #include <sched.h>
 #include <sys/prctl.h>
@@ -25,15 +35,6 @@ HapticScheduling ThreadPriority::favour_calling_thread() {
   return HapticScheduling::kNormal;
 }
 
-const char* ThreadPriority::name(HapticScheduling s) {
-  switch (s) {
-    case HapticScheduling::kRealTime: return "real-time (SCHED_FIFO)";
-    case HapticScheduling::kNice: return "raised (nice -10)";
-    case HapticScheduling::kNormal: break;
-  }
-  return "normal";
-}
-
 int ThreadPriority::lower_threads_named(const char* prefix, int nice_value) {
   int changed = 0;
   std::error_code ec;
@@ -46,6 +47,20 @@ int ThreadPriority::lower_threads_named(const char* prefix, int nice_value) {
     if (setpriority(PRIO_PROCESS, tid, nice_value) == 0) ++changed;
   }
   return changed;
+}
+
+}  // namespace cathbox::session
+#endif
+
+namespace cathbox::session {
+
+const char* ThreadPriority::name(HapticScheduling s) {
+  switch (s) {
+    case HapticScheduling::kRealTime: return "real-time (SCHED_FIFO)";
+    case HapticScheduling::kNice: return "raised (nice -10)";
+    case HapticScheduling::kNormal: break;
+  }
+  return "normal";
 }
 
 }  // namespace cathbox::session

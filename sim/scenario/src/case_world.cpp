@@ -43,7 +43,7 @@ WorldBuild build_world(const Case& c) {
   return build_world(c, text.str());
 }
 
-WorldBuild build_world(const Case& c, std::string_view vessel_text) {
+WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel::SurfaceMesh* surface_made) {
   if (!c.tubes.empty()) {
     auto wall = std::make_unique<TubeNetworkWall>(c.tubes);
     auto world = std::make_unique<CaseWorld>(std::move(wall), *c.entry);
@@ -52,7 +52,8 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text) {
   }
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
   if (!read.ok()) return base::Error{read.errors.front().to_string()};
-  vessel::VesselSurface surface = vessel::build_vessel_surface(read.model);
+  vessel::VesselSurface surface =
+      surface_made ? vessel::build_vessel_surface(read.model, *surface_made) : vessel::build_vessel_surface(read.model);
   if (!surface.ok()) return base::Error{c.vessel_path + ": " + surface.error};
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
   if (!tree) return base::Error{c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message};

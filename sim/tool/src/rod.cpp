@@ -8,6 +8,7 @@
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
 
+#include "base/portable_math.hpp"
 #include "tool/banded_cholesky.hpp"
 #include "tool/coil_shape.hpp"
 
@@ -214,10 +215,10 @@ void Rod::size_scratch() {
 
 void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {
   const double phi = std::clamp(curvature_per_mm * voronoi_[k], -3.0, 3.0);
-  const double bar = 2.0 * std::tan(0.5 * phi);
-  const double turn = 2.0 * std::sin(0.5 * phi);
-  const double c = std::cos(direction_rad);
-  const double s = std::sin(direction_rad);
+  const double bar = 2.0 * base::portable::tan(0.5 * phi);
+  const double turn = 2.0 * base::portable::sin(0.5 * phi);
+  const double c = base::portable::cos(direction_rad);
+  const double s = base::portable::sin(direction_rad);
   kbar1_[k] = bar * c;
   kbar2_[k] = bar * s;
   kturn1_[k] = turn * c;
@@ -227,7 +228,7 @@ void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double directio
 double Rod::rest_curvature_per_mm(std::size_t k) const {
   if (k >= kturn1_.size() || voronoi_[k] <= 0.0) return 0.0;
   const double turn = std::sqrt(kturn1_[k] * kturn1_[k] + kturn2_[k] * kturn2_[k]);
-  return 2.0 * std::asin(std::min(1.0, 0.5 * turn)) / voronoi_[k];
+  return 2.0 * base::portable::asin(std::min(1.0, 0.5 * turn)) / voronoi_[k];
 }
 
 Rod::~Rod() = default;
@@ -1023,7 +1024,7 @@ void Rod::seed_buckling() {
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);
     const double a = 0.7 * static_cast<double>(k);
-    x_[k] += (m1_[e] * std::cos(a) + m2_[e] * std::sin(a)) * settings_.buckling_seed_mm;
+    x_[k] += (m1_[e] * base::portable::cos(a) + m2_[e] * base::portable::sin(a)) * settings_.buckling_seed_mm;
   }
 }
 
@@ -1062,7 +1063,7 @@ void Rod::update_frames() {
   }
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
     const glm::dvec3 v = transport(d1_[i - 1], t_[i - 1], t_[i]);
-    ref_twist_[i] = std::atan2(glm::dot(glm::cross(v, d1_[i]), t_[i]), glm::dot(v, d1_[i]));
+    ref_twist_[i] = base::portable::atan2(glm::dot(glm::cross(v, d1_[i]), t_[i]), glm::dot(v, d1_[i]));
   }
 }
 
@@ -1080,8 +1081,8 @@ void Rod::solve_twist(double dt_s) {
   const std::size_t m = n - 1 - ef;        // free edges
   auto material = [&](std::size_t e) {
     const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
-    const double c = std::cos(theta_[e]);
-    const double s = std::sin(theta_[e]);
+    const double c = base::portable::cos(theta_[e]);
+    const double s = base::portable::sin(theta_[e]);
     m1_[e] = d1_[e] * c + d2 * s;
     m2_[e] = d2 * c - d1_[e] * s;
   };

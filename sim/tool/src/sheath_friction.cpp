@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/portable_math.hpp"
+
 namespace cathbox::tool {
 
 namespace {
@@ -49,7 +51,7 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     const double lb = glm::length(b);
     if (!(la > 1e-9) || !(lb > 1e-9)) continue;
     const double c = std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0);
-    turning_[j] = std::acos(c);
+    turning_[j] = base::portable::acos(c);
     curvature[j] = turning_[j] / (0.5 * (la + lb));
   }
   // Normal forces for sliding forwards and backwards (capstan on the running axial force).

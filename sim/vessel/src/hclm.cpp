@@ -12,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "base/float_chars.hpp"
 #include "base/text_tokens.hpp"
 #include "vessel/point_range.hpp"
 
@@ -49,7 +50,7 @@ class ErrorSink {
 
 std::string format_double(double value) {
   char buf[64];
-  const auto [ptr, ec] = std::to_chars(buf, buf + sizeof buf, value);
+  const auto [ptr, ec] = base::double_chars(buf, buf + sizeof buf, value);
   if (ec != std::errc()) return "nan";
   return std::string(buf, ptr);
 }

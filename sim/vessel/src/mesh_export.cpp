@@ -13,6 +13,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "vessel/mesh_wire.hpp"
+
 namespace cathbox::vessel {
 namespace {
 
@@ -186,11 +188,14 @@ void write_stl(const SurfaceMesh& mesh, FileWriter& out) {
 std::string write_mesh(const SurfaceMesh& mesh, const std::string& path) {
   std::string ext = path.substr(path.find_last_of('.') == std::string::npos ? path.size() : path.find_last_of('.'));
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (ext != ".obj" && ext != ".ply" && ext != ".stl") return "unknown mesh format '" + ext + "' (use .obj, .ply or .stl)";
+  if (ext != ".obj" && ext != ".ply" && ext != ".stl" && ext != ".cbxmesh") {
+    return "unknown mesh format '" + ext + "' (use .obj, .ply, .stl or .cbxmesh)";
+  }
   FileWriter out(path);
   if (!out.open()) return "cannot open " + path + " for writing";
   if (ext == ".obj") write_obj(mesh, out);
   else if (ext == ".ply") write_ply(mesh, out);
+  else if (ext == ".cbxmesh") out.text(encode_mesh_wire(mesh));
   else write_stl(mesh, out);
   return out.finish(path);
 }

@@ -11,19 +11,44 @@
 
 namespace cathbox::vessel {
 
-VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& options) {
-  VesselSurface out;
+namespace {
+
+// Validation and the smoothed centreline, which every surface starts from. Null with out.error
+// set when the model is refused.
+std::optional<VesselGraph> smooth_into(VesselSurface& out, const VesselModel& model, const MeshOptions& options) {
   if (const std::vector<Diagnostic> problems = validate_model(model); !problems.empty()) {
     out.error = problems.front().to_string();
-    return out;
+    return std::nullopt;
   }
   if (model.segments.empty()) {
     out.error = "the model has no segments";
+    return std::nullopt;
+  }
+  std::optional<VesselGraph> graph(std::in_place, model);
+  out.euler_characteristic = graph->surface_euler_characteristic();
+  out.smoothed = smooth_centerlines(model, *graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing);
+  if (!options.caps) out.euler_characteristic -= static_cast<int>(graph->free_ends().size());
+  return graph;
+}
+
+}  // namespace
+
+VesselSurface build_vessel_surface(const VesselModel& model, SurfaceMesh made, const MeshOptions& options) {
+  VesselSurface out;
+  if (!smooth_into(out, model, options)) return out;
+  if (made.triangle_count() == 0) {
+    out.error = "the given vessel surface has no triangles";
     return out;
   }
-  const VesselGraph graph(model);
-  out.euler_characteristic = graph.surface_euler_characteristic();
-  out.smoothed = smooth_centerlines(model, graph, options.smoothing_passes, options.trim_at_junctions, options.smoothing);
+  out.mesh = std::move(made);
+  return out;
+}
+
+VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& options) {
+  VesselSurface out;
+  const std::optional<VesselGraph> smoothed_graph = smooth_into(out, model, options);
+  if (!smoothed_graph) return out;
+  const VesselGraph& graph = *smoothed_graph;
   ControlMeshResult control = build_control_mesh(out.smoothed, graph, options);
   if (!control.ok()) {
     out.error = control.error().message;
@@ -42,7 +67,6 @@ VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& 
     return out;
   }
   out.mesh = std::move(*surface);
-  if (!options.caps) out.euler_characteristic -= static_cast<int>(graph.free_ends().size());
   return out;
 }
 

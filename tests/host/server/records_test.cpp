@@ -10,6 +10,8 @@
 #include <iterator>
 
 #include "session/action_script_hand.hpp"
+#include "vessel/mesh_wire.hpp"
+#include "vessel/vessel_mesher.hpp"
 #include "session/session.hpp"
 #include "support/api_fixture.hpp"
 #include "record_tamper.hpp"
@@ -178,6 +180,22 @@ TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
   EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh", "", teacher).body, mesh.body);
   EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/2/mesh", "", teacher).status, 404);
   EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh", "").status, 401);
+
+  // ?level=collision: the very surface a native session builds its collision tree on.
+  const ApiResponse exact = f.call("GET", "/api/v1/cases/ybif/versions/1/mesh?level=collision", "", alice);
+  ASSERT_EQ(exact.status, 200) << exact.body;
+  EXPECT_NE(header(exact, "ETag"), header(mesh, "ETag"));
+  const auto decoded = cathbox::vessel::decode_mesh_wire(
+      std::span(reinterpret_cast<const std::uint8_t*>(exact.body.data()), exact.body.size()));
+  ASSERT_TRUE(decoded) << decoded.error().message;
+  const cathbox::vessel::VesselSurface native =
+      cathbox::vessel::load_vessel_surface(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.hclm");
+  ASSERT_TRUE(native.ok()) << native.error;
+  EXPECT_EQ(decoded.value().positions_mm, native.mesh.positions_mm);
+  EXPECT_EQ(decoded.value().normals, native.mesh.normals);
+  EXPECT_EQ(decoded.value().triangles, native.mesh.triangles);
+  EXPECT_EQ(decoded.value().triangle_regions, native.mesh.triangle_regions);
+  EXPECT_EQ(f.call("GET", "/api/v1/cases/ybif/versions/1/mesh?level=fine", "", alice).status, 400);
 }
 
 // The cache of meshes and traces: least recently used out first; with a folder, a second

@@ -44,8 +44,8 @@ const cli::GroupSpec& spec() {
             .options = {{.name = "json", .help = "print JSON (host/cli/README.md)"}}},
            {.name = "mesh",
             .positionals = "FILE",
-            .help = "meshes the vessel surface to .obj, .ply or .stl",
-            .options = {{.name = "output", .value = "OUT.obj|.ply|.stl", .help = "the mesh file", .required = true, .short_name = 'o'},
+            .help = "meshes the vessel surface to .obj, .ply, .stl or .cbxmesh (the exact bytes the WebAssembly session builds its collision tree from)",
+            .options = {{.name = "output", .value = "OUT.obj|.ply|.stl|.cbxmesh", .help = "the mesh file", .required = true, .short_name = 'o'},
                         {.name = "ring", .value = "M", .help = "points per ring, 3..64"},
                         {.name = "level", .value = "L", .help = "subdivision level, 0..5"},
                         {.name = "control-mesh", .help = "write the control mesh (level 0)"},
@@ -181,7 +181,7 @@ void keep_freed_memory() {
 int run_mesh(cli::Args& args) {
   if (args.positionals().size() != 1) return usage_error("mesh takes one FILE");
   const auto output = args.value("output");
-  if (!output) return usage_error("mesh needs -o OUT.obj|.ply|.stl");
+  if (!output) return usage_error("mesh needs -o OUT.obj|.ply|.stl|.cbxmesh");
   vessel::MeshOptions options;
   if (const auto m = args.integer("ring")) options.ring_points = static_cast<int>(*m);
   if (const auto l = args.integer("level")) options.subdivision_level = static_cast<int>(*l);

@@ -43,6 +43,10 @@ struct CaseCheck {
 inline constexpr int kBrowserMeshLevel = 1;
 inline constexpr int kBrowserMeshRingPoints = 4;
 [[nodiscard]] Result<std::string> browser_mesh(const CaseBundle& bundle);
+// The surface the session's collision tree is built on (GET .../mesh?level=collision), at the
+// default mesh options, every field exact: CBXMESH2 (vessel/mesh_wire.hpp), for the
+// WebAssembly session, which cannot mesh (no OpenSubdiv). 404 as browser_mesh.
+[[nodiscard]] Result<std::string> collision_mesh(const CaseBundle& bundle);
 
 struct CaseUploadOutcome {
   CaseVersion version;

@@ -6,8 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
-#include <stop_token>
-#include <thread>
+#include "base/jthread.hpp"
 
 #include "session/clock.hpp"
 #include "session/haptic_pacer.hpp"
@@ -31,7 +30,7 @@ class HapticThread {
   // Runs the loop on the calling thread until the tick function returns false, the stop token
   // fires, or `max_ticks` ticks in total have run (negative: no limit). Successive calls carry
   // on where the last one stopped (headless frames step the loop this way in virtual time).
-  void run(std::stop_token stop, std::int64_t max_ticks = -1);
+  void run(base::stop_token stop, std::int64_t max_ticks = -1);
 
   [[nodiscard]] bool finished() const { return finished_.load(std::memory_order_acquire); }
   [[nodiscard]] std::int64_t ticks() const { return ticks_.load(std::memory_order_relaxed); }
@@ -49,7 +48,7 @@ class HapticThread {
   TickFn tick_;
   std::optional<HapticPacer> pacer_;
   RateMeter meter_;
-  std::jthread thread_;
+  base::jthread thread_;
   std::atomic<bool> finished_{false};
   std::atomic<std::int64_t> ticks_{0};
   std::atomic<std::int64_t> dropped_{0};

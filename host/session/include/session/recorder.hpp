@@ -11,7 +11,7 @@
 #include <mutex>
 #include <string>
 #include <string_view>
-#include <thread>
+#include "base/jthread.hpp"
 #include <vector>
 
 #include "session/control.hpp"
@@ -71,7 +71,7 @@ class Recorder {
   static constexpr std::size_t kBlockSealBytes = 64 * 1024;
 
   Recorder(int fd, std::string path);
-  void writer_loop(std::stop_token stop);
+  void writer_loop(base::stop_token stop);
   bool write_block(record::BlockType type, const std::vector<std::uint8_t>& raw, std::vector<std::uint8_t>& out,
                    void* cctx);
   void seal(bool force = false);
@@ -102,7 +102,7 @@ class Recorder {
   std::atomic<std::uint32_t> pending_{0};
   std::atomic<bool> done_{false};
   // Writer side.
-  std::jthread writer_;
+  base::jthread writer_;
   std::atomic<std::uint64_t> bytes_written_{0};
   std::atomic<std::int64_t> ticks_written_{0};
   mutable std::mutex error_mutex_;

@@ -33,11 +33,14 @@ struct ReplayResult {
 
 class Replay {
  public:
-  // Reads the header and builds the session; null with one line in `error`.
+  // Reads the header and builds the session; null with one line in `error`. `surface`: the
+  // vessel surface made elsewhere (session_case.hpp), for a build that cannot mesh.
   [[nodiscard]] static std::unique_ptr<Replay> open(const std::string& path, std::string& error,
-                                                    bool stop_at_mismatch = true);
+                                                    bool stop_at_mismatch = true,
+                                                    const vessel::SurfaceMesh* surface = nullptr);
   [[nodiscard]] static std::unique_ptr<Replay> open(std::unique_ptr<RecordReader> reader, std::string& error,
-                                                    bool stop_at_mismatch = true);
+                                                    bool stop_at_mismatch = true,
+                                                    const vessel::SurfaceMesh* surface = nullptr);
 
   [[nodiscard]] const RecordHeader& header() const { return hand_->reader().header(); }
   [[nodiscard]] Session& session() { return *session_; }
@@ -57,6 +60,7 @@ class Replay {
 
 // Opens `path` and replays it to the end (or the first differing hash), with `observer`
 // watching every tick when given.
-[[nodiscard]] ReplayResult replay_record(const std::string& path, TickObserver* observer = nullptr);
+[[nodiscard]] ReplayResult replay_record(const std::string& path, TickObserver* observer = nullptr,
+                                         const vessel::SurfaceMesh* surface = nullptr);
 
 }  // namespace cathbox::session

@@ -56,9 +56,12 @@ struct SessionCaseLoad {
   std::string error;  // one line naming the file ("file:line: message")
 };
 
-// A .case file, or a bare .hclm vessel file.
-[[nodiscard]] SessionCaseLoad load_session_case(const std::string& path);
+// A .case file, or a bare .hclm vessel file. `surface`: the vessel surface made elsewhere
+// (vessel/mesh_wire.hpp) instead of meshed here, for a build without OpenSubdiv (WebAssembly);
+// it must be the one this vessel meshes to, or the run is another run.
+[[nodiscard]] SessionCaseLoad load_session_case(const std::string& path, const vessel::SurfaceMesh* surface = nullptr);
 // The case a record was made on, from its header.
-[[nodiscard]] SessionCaseLoad session_case_from_record(const RecordHeader& header);
+[[nodiscard]] SessionCaseLoad session_case_from_record(const RecordHeader& header,
+                                                       const vessel::SurfaceMesh* surface = nullptr);
 
 }  // namespace cathbox::session

@@ -2,11 +2,14 @@
 // Whitespace-separated text fields, as every text reader of the project splits its lines (HCLM,
 // SWC, case files, action scripts): tokens, numbers in full (a token is a number only if all of
 // it is), and the one way to show untrusted text in a one-line message (escape_bytes, quoted).
+#include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -69,8 +72,23 @@ inline void split_tokens(std::string_view s, std::vector<std::string_view>& toke
 [[nodiscard]] inline std::optional<double> parse_double(std::string_view token) {
   if (!token.empty() && token.front() == '+') token.remove_prefix(1);
   double value = 0.0;
+#if defined(_LIBCPP_VERSION) && _LIBCPP_VERSION < 200000
+  // libc++ before 20 (emscripten's, the WebAssembly build) has no floating-point from_chars:
+  // strtod (correctly rounded, the "C" locale there) on the same tokens from_chars takes, so
+  // no leading space or second sign, no hexadecimal, nothing out of range.
+  if (token.empty() || std::isspace(static_cast<unsigned char>(token.front())) != 0 || token.front() == '+' ||
+      token.find_first_of("xX") != std::string_view::npos) {
+    return std::nullopt;
+  }
+  const std::string text(token);
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  if (errno == ERANGE || end != text.c_str() + text.size()) return std::nullopt;
+#else
   const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
   if (ec != std::errc() || ptr != token.data() + token.size()) return std::nullopt;
+#endif
   return value;
 }
 

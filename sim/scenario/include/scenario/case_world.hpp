@@ -58,7 +58,10 @@ using WorldBuild = base::Result<std::unique_ptr<CaseWorld>>;
 
 [[nodiscard]] WorldBuild build_world(const Case& c);
 // The same from the vessel file's text (c.vessel_path only names it in errors): a record
-// replays the HCLM it carries, whatever the file on disk holds now.
-[[nodiscard]] WorldBuild build_world(const Case& c, std::string_view vessel_text);
+// replays the HCLM it carries, whatever the file on disk holds now. With `surface_made`, the
+// vessel surface is that mesh (made natively and sent, vessel/mesh_wire.hpp) instead of meshed
+// here: what the WebAssembly session does, which has no OpenSubdiv.
+[[nodiscard]] WorldBuild build_world(const Case& c, std::string_view vessel_text,
+                                     const vessel::SurfaceMesh* surface_made = nullptr);
 
 }  // namespace cathbox::tool

@@ -29,6 +29,7 @@
 #include <thread>
 #include <vector>
 
+#include "base/atomic_shared_ptr.hpp"
 #include "base/result.hpp"
 #include "collision/obb_tree.hpp"
 #include "tool/simulator.hpp"
@@ -103,7 +104,7 @@ class WallSwap {
   std::uint64_t requests_ = 0, swaps_ = 0, late_ticks_ = 0, failures_ = 0;
   std::string last_error_;
   std::atomic<std::uint64_t> generation_{0};
-  std::atomic<std::shared_ptr<const WallSurface>> surface_;
+  base::AtomicSharedPtr<const WallSurface> surface_;
 
   // Shared with the builder thread (under mutex_).
   mutable std::mutex mutex_;

@@ -29,6 +29,13 @@ struct VesselSurface {
 // The model must be valid (see validate_model); an invalid one yields an error, never a crash.
 [[nodiscard]] VesselSurface build_vessel_surface(const VesselModel& model, const MeshOptions& options = {});
 
+// The same with the limit surface made elsewhere (the WebAssembly session, which has no
+// OpenSubdiv, takes it from the server: vessel/mesh_wire.hpp): validates and smooths the model,
+// and takes `made` as the mesh (the control mesh stays empty). It must be the surface
+// build_vessel_surface(model, options) gives, which the caller vouches for.
+[[nodiscard]] VesselSurface build_vessel_surface(const VesselModel& model, SurfaceMesh made,
+                                                 const MeshOptions& options = {});
+
 // Reads, validates and meshes an HCLM file.
 [[nodiscard]] VesselSurface load_vessel_surface(const std::string& hclm_path, const MeshOptions& options = {});
 

@@ -1,0 +1,7 @@
+# Debian 12's Eigen, as staged by cmake/CathboxWasm.cmake.
+set(PACKAGE_VERSION 3.4.0)
+if(PACKAGE_FIND_VERSION VERSION_GREATER PACKAGE_VERSION)
+  set(PACKAGE_VERSION_COMPATIBLE FALSE)
+else()
+  set(PACKAGE_VERSION_COMPATIBLE TRUE)
+endif()
