@@ -4,7 +4,7 @@
 // issue 36's goal: wasm <= 2x native).
 //   Workload: bench_tool's "separate" step (bench/rod_navigation.hpp): a catheter (150 inserted
 //   nodes) and a guidewire (200) solved as two rods in the neuro case's vessel, a hand pushing
-//   and pulling 1 mm and twisting a little. The vessel surface is the CBXMESH2 file given by CATHBOX_MESH
+//   and pulling 1 mm and twisting a little. The vessel surface is the CBXMESH2 file given by --mesh=FILE
 //   (`cathbox vessel mesh cases/neuro.hclm -o neuro.cbxmesh`), for both builds: wasm cannot mesh.
 //   Counters: median_us and p99_us of the step's wall time (steady clock), and the wire's tip
 //   depth and hand force after the run, which must agree between the two builds (same answer).
@@ -37,13 +37,16 @@ std::string read_all(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// --mesh=FILE (node does not pass the environment into the wasm program).
+std::string g_mesh_path;
+
 // The neuro case's world on the given surface; null with the reason printed.
 std::unique_ptr<CaseWorld> neuro_world() {
-  const char* mesh_path = std::getenv("CATHBOX_MESH");
-  if (mesh_path == nullptr) {
-    std::fprintf(stderr, "bench_wasm: set CATHBOX_MESH to the neuro case's .cbxmesh\n");
+  if (g_mesh_path.empty()) {
+    std::fprintf(stderr, "bench_wasm: give --mesh=FILE, the neuro case's .cbxmesh\n");
     return nullptr;
   }
+  const char* mesh_path = g_mesh_path.c_str();
   const std::string wire = read_all(mesh_path);
   const auto mesh = cathbox::vessel::decode_mesh_wire(
       std::span(reinterpret_cast<const std::uint8_t*>(wire.data()), wire.size()));
@@ -75,7 +78,7 @@ double pick(std::vector<double> v, double q) {
 void BM_RodStepSeparate(benchmark::State& state) {
   static const std::unique_ptr<CaseWorld> world = neuro_world();
   if (!world) {
-    state.SkipWithError("no neuro world (CATHBOX_MESH)");
+    state.SkipWithError("no neuro world (--mesh=FILE)");
     return;
   }
   cathbox::bench::RodNavigation nav(false);
@@ -100,4 +103,21 @@ void BM_RodStepSeparate(benchmark::State& state) {
 }  // namespace
 
 BENCHMARK(BM_RodStepSeparate)->Unit(benchmark::kMicrosecond)->Iterations(3000);
-BENCHMARK_MAIN();
+
+int main(int argc, char** argv) {
+  std::vector<char*> rest;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.starts_with("--mesh=")) {
+      g_mesh_path = arg.substr(7);
+    } else {
+      rest.push_back(argv[i]);
+    }
+  }
+  int n = static_cast<int>(rest.size());
+  benchmark::Initialize(&n, rest.data());
+  if (benchmark::ReportUnrecognizedArguments(n, rest.data())) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
