@@ -7,32 +7,12 @@
 #    matching, and both records give the same metrics;
 #  - a native record replays in wasm with every hash;
 #  - a wrong surface makes the replay differ (exit 1), a truncated mesh is one line (exit 2).
-# Usage: wasm_session_test.sh CATHBOX SESSION_JS CASES_DIR
-set -u
-cb="$1"
-js="$2"
-cases="$3"
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-failures=0
-fail() {
-  echo "FAIL: $*"
-  failures=$((failures + 1))
-}
+# Usage: wasm_session_test.sh CATHBOX SOURCE_DIR WORK_DIR SESSION_JS
+source "$(dirname "${BASH_SOURCE[0]}")/../cli/cli_check.sh"
+js="$4"
+cb="$cathbox"
+cases="$src/cases"
 wasm() { node --no-experimental-fetch "$js" "$@"; }
-
-# expect RC COMMAND...: the exit code must be RC; output kept in $work/out.
-expect() {
-  local want=$1
-  shift
-  "$@" >"$work/out" 2>&1
-  local rc=$?
-  if [ "$rc" -ne "$want" ]; then
-    fail "$* -> rc $rc (want $want): $(head -5 "$work/out")"
-    return 1
-  fi
-  echo "ok:   $* -> rc $rc"
-}
 matches() { grep -q "every state hash matches" "$work/out" || fail "$1: $(cat "$work/out")"; }
 
 for pair in y_bifurcation:y_bifurcation_left.actions neuro_aneurysm:; do
@@ -46,13 +26,15 @@ for pair in y_bifurcation:y_bifurcation_left.actions neuro_aneurysm:; do
   fi
   vessel=$(sed -n 's/^vessel[[:space:]]\{1,\}//p' "$cases/$name.case" | head -1)
   mesh="$work/$name.cbxmesh"
-  expect 0 "$cb" vessel mesh "$cases/$vessel" -o "$mesh" || continue
+  expect 0 "$cb" vessel mesh "$cases/$vessel" -o "$mesh"
   # wasm run -> native replay
-  expect 0 wasm run --case "$cases/$name.case" --mesh "$mesh" --script "$actions" --record "$work/$name.wasm.cbxrec" || continue
-  expect 0 "$cb" session replay "$work/$name.wasm.cbxrec" --check && matches "$name: native replay of the wasm record"
+  expect 0 wasm run --case "$cases/$name.case" --mesh "$mesh" --script "$actions" --record "$work/$name.wasm.cbxrec"
+  expect 0 "$cb" session replay "$work/$name.wasm.cbxrec" --check
+  matches "$name: native replay of the wasm record"
   # native run -> wasm replay
-  expect 0 "$cb" session run --case "$cases/$name.case" --script "$actions" --virtual --record "$work/$name.native.cbxrec" || continue
-  expect 0 wasm replay "$work/$name.native.cbxrec" --mesh "$mesh" --check && matches "$name: wasm replay of the native record"
+  expect 0 "$cb" session run --case "$cases/$name.case" --script "$actions" --virtual --record "$work/$name.native.cbxrec"
+  expect 0 wasm replay "$work/$name.native.cbxrec" --mesh "$mesh" --check
+  matches "$name: wasm replay of the native record"
   # The same run: every metric of the two records, replayed natively, is the same.
   "$cb" session metrics "$work/$name.wasm.cbxrec" >"$work/wasm.metrics" 2>&1
   "$cb" session metrics "$work/$name.native.cbxrec" >"$work/native.metrics" 2>&1
@@ -67,7 +49,5 @@ grep -q "state hash differs at tick" "$work/out" || fail "wrong surface: $(cat "
 # A truncated mesh: one line naming the file and the byte, exit 2.
 head -c 1000 "$work/y_bifurcation.cbxmesh" >"$work/short.cbxmesh"
 expect 2 wasm replay "$work/y_bifurcation.native.cbxrec" --mesh "$work/short.cbxmesh" --check
-[ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "short.cbxmesh: byte 1000: truncated" "$work/out" || fail "truncated mesh: $(cat "$work/out")"
-
-[ "$failures" -eq 0 ] && echo "all wasm session checks passed" || echo "$failures failure(s)"
-exit $((failures > 0))
+[ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "short.cbxmesh: byte 1000: truncated" "$work/err" || fail "truncated mesh: $(cat "$work/err")"
+finish wasm_session
