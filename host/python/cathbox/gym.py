@@ -14,6 +14,7 @@ and rotation rad/s per device, stEVE's limits (50 mm/s, 3.14 rad/s) by default. 
 """
 import math
 import os
+import re
 
 import gymnasium
 import numpy as np
@@ -309,6 +310,29 @@ class DualDeviceTask:
     episode_case = NavigateTask.episode_case
 
 
+class CaseTask:
+    """A case file as it is: its tools (all of them, in the file's order), its entry and its
+    target. The episode opens the file itself, not a copy, so the record carries the case's own
+    bytes and cathbox-server files the run under the library case uploaded from the same file
+    (a generated episode case is filed apart as `unlisted:`). The lead tool, whose tip must reach
+    the target, is the last one (the innermost: the guidewire inside the catheter)."""
+
+    name = "Case-v0"
+    c_arm = (0.0, 0.0, 300.0)
+
+    def __init__(self, case="y_bifurcation"):
+        self.case_file, text, _, _, tools = read_case(case)
+        if not tools:
+            raise ValueError(f"case {case!r}: {self.case_file} has no tool")
+        if not re.search(r"^target\s", text, re.M):
+            raise ValueError(f"case {case!r}: {self.case_file} has no target")
+        self.tool_count = len(tools)
+        self.lead_tool = self.tool_count - 1
+
+    def episode_case(self, rng, files, episode):
+        return self.case_file, {"target": "the case's"}
+
+
 def _segment_ids(vessel_path, names):
     from . import vessel_segments
     by_name = {s["name"]: s["id"] for s in vessel_segments(vessel_path)}
@@ -330,11 +354,16 @@ def dual_device(case="neuro", targets=None, **kwargs):
     return CathboxEnv(DualDeviceTask(case, targets), **kwargs)
 
 
+def case(case="y_bifurcation", **kwargs):
+    return CathboxEnv(CaseTask(case), **kwargs)
+
+
 def _register():
     ids = gymnasium.envs.registration.registry
     for env_id, entry, steps in (("cathbox/Navigate-v0", navigate, 200),
                                  ("cathbox/ArchVariety-v0", arch_variety, 200),
-                                 ("cathbox/DualDevice-v0", dual_device, 400)):
+                                 ("cathbox/DualDevice-v0", dual_device, 400),
+                                 ("cathbox/Case-v0", case, 400)):
         if env_id not in ids:
             gymnasium.register(id=env_id, entry_point=entry, max_episode_steps=steps)
 
@@ -343,5 +372,5 @@ _register()
 
 from .vector import ThreadVectorEnv  # noqa: E402  (after the envs it runs)
 
-__all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "ThreadVectorEnv",
-           "navigate", "arch_variety", "dual_device", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]
+__all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "CaseTask", "ThreadVectorEnv",
+           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]

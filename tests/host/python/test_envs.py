@@ -9,7 +9,7 @@ from gymnasium.utils.env_checker import check_env
 
 import cathbox.gym
 
-ENV_IDS = ("cathbox/Navigate-v0", "cathbox/ArchVariety-v0", "cathbox/DualDevice-v0")
+ENV_IDS = ("cathbox/Navigate-v0", "cathbox/ArchVariety-v0", "cathbox/DualDevice-v0", "cathbox/Case-v0")
 
 
 def run(env, seed, steps, actions):
