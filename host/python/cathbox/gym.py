@@ -1,7 +1,7 @@
 """Gymnasium environments over Cathbox sessions (host/python/README.md).
 
     import gymnasium, cathbox.gym
-    env = gymnasium.make("cathbox/Navigate-v0")            # observation="tracking" | "state" | "image"
+    env = gymnasium.make("cathbox/Navigate-v0")  # observation="tracking" | "state" | "nodes" | "image"
     obs, info = env.reset(seed=1)
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
 
@@ -27,6 +27,7 @@ from .cases import EpisodeFiles, case_text, read_case, without_inside
 STEVE_VELOCITY_LIMIT = (50.0, 3.14)  # stEVE's devices: mm/s, rad/s
 STEVE_STEP_S = 1.0 / 7.5
 API_VERSION = 0  # the -v0 of every env: observation layout, reward terms, action units
+OBSERVATIONS = ("tracking", "state", "nodes", "image")
 
 
 class Reward:
@@ -81,8 +82,8 @@ class CathboxEnv(gymnasium.Env):
                  velocity_limits=None, reward=None, target_threshold_mm=5.0, tracking_points=3,
                  tracking_spacing_mm=2.0, state_points=16, state_spacing_mm=5.0, image_size=(128, 128),
                  record_dir=None, render_mode=None):
-        if observation not in ("tracking", "state", "image"):
-            raise ValueError(f"observation {observation!r}: expected 'tracking', 'state' or 'image'")
+        if observation not in OBSERVATIONS:
+            raise ValueError(f"observation {observation!r}: expected one of {', '.join(map(repr, OBSERVATIONS))}")
         if not (step_s > 0.0 and math.isfinite(step_s)):
             raise ValueError(f"step_s {step_s!r}: expected a positive number of seconds")
         if render_mode not in (None, "rgb_array"):
@@ -115,6 +116,20 @@ class CathboxEnv(gymnasium.Env):
     # ---- spaces and observations
     def _make_observation_space(self):
         n = self.n_tools
+        if self.observation_mode == "nodes":
+            # The rods' node counts are the tools' (fixed by the task): read from a first session.
+            files = EpisodeFiles()
+            try:
+                case_file, _ = self.task.episode_case(np.random.default_rng(0), files, 0)
+                probe = Session(case_file, end_at_target=False)
+                self._node_keys = [f"{t}:{name}" for t, name in enumerate(probe.tool_names)]
+                shapes = [probe.node_buffer(t).shape for t in range(n)]
+                probe.close()
+            finally:
+                files.close()
+            boxes = {k: spaces.Box(-1e4, 1e4, shape=shape, dtype=np.float64) for k, shape in zip(self._node_keys, shapes)}
+            boxes["target"] = spaces.Box(-1e4, 1e4, shape=(3,), dtype=np.float64)
+            return spaces.Dict(boxes)
         if self.observation_mode == "image":
             w, h = self.image_size
             return spaces.Box(0, 255, shape=(h, w, 1), dtype=np.uint8)
@@ -126,6 +141,10 @@ class CathboxEnv(gymnasium.Env):
 
     def _observation(self):
         s = self.session
+        if self.observation_mode == "nodes":  # views of the rods' own buffers: no copy
+            obs = {k: s.node_buffer(t) for t, k in enumerate(self._node_keys)}
+            obs["target"] = self._target_view
+            return obs
         if self.observation_mode == "image":
             w, h = self.image_size
             return s.image(w, h)[:, :, None]
@@ -184,6 +203,8 @@ class CathboxEnv(gymnasium.Env):
                     raise
         self.session.set_c_arm(*self.task.c_arm)
         self._target = np.asarray(self.session.target, dtype=np.float64)
+        self._target_view = self._target.view()
+        self._target_view.flags.writeable = False
         self._route = _Route(self.session.route)
         self._steps = 0
         self._reached = False

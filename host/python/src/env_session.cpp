@@ -1,5 +1,6 @@
 #include "python/env_session.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 
@@ -59,6 +60,7 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCase
     if (!s->session_->record_to(options.record_path, error)) return base::Error{error};
   }
   s->session_->simulator().copy_snapshot(s->snap_);
+  for (std::size_t t = 0; t < s->tool_count(); ++t) s->rod_buffers_.push_back(s->session_->simulator().rod(t).positions().data());
   return s;
 }
 
@@ -84,6 +86,9 @@ std::int64_t EnvSession::step(std::int64_t ticks) {
   in.ticks = ran;
   if (ran > 0) inputs_.push_back(in);
   session_->simulator().copy_snapshot(snap_);
+  // The Python module's node buffers view the rods' own arrays: a program's hand only moves the
+  // tools (it never loads a coil, the one thing that rebuilds a rod), so they never move.
+  for (std::size_t t = 0; t < rod_buffers_.size(); ++t) assert(session_->simulator().rod(t).positions().data() == rod_buffers_[t]);
   return ran;
 }
 

@@ -4,10 +4,12 @@
 //
 // Arrays: a tool's nodes, tangents, normals and radii are numpy views of the session's own
 // state (no copy, read-only, the Session kept alive as their base) that stay valid until the
-// next step(); copy them (numpy.array(...)) to keep them.
+// next step(); copy them (numpy.array(...)) to keep them. node_buffer(t) views the rod's own
+// position array: it never moves for the session's life and shows every step's state.
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -103,12 +105,21 @@ class PySession {
     return tools[static_cast<std::size_t>(t)];
   }
 
+  // The case's tool t (not a released coil).
+  const cathbox::tool::Rod& rod(std::int64_t t) const {
+    if (t < 0 || static_cast<std::size_t>(t) >= s().tool_count()) {
+      raise<py::index_error>("tool " + std::to_string(t) + " out of range: the case has " +
+                             std::to_string(s().tool_count()) + " tool(s)");
+    }
+    return s().session().simulator().rod(static_cast<std::size_t>(t));
+  }
+
   std::unique_ptr<EnvSession> s_;
   std::vector<float> image_scratch_;
 };
 
 // A read-only numpy view of n x 3 doubles owned by `owner`.
-py::array vec3_view(const std::vector<glm::dvec3>& v, py::handle owner) {
+py::array vec3_view(std::span<const glm::dvec3> v, py::handle owner) {
   static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
   py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(v.size()), py::ssize_t{3}},
               {static_cast<py::ssize_t>(sizeof(glm::dvec3)), static_cast<py::ssize_t>(sizeof(double))},
@@ -207,6 +218,11 @@ PYBIND11_MODULE(_cathbox, mod) {
            py::arg("tool"))
       .def("normals", [](py::object self, std::int64_t t) { return vec3_view(self.cast<PySession&>().tool(t).normals, self); },
            py::arg("tool"))
+      .def("node_buffer", [](py::object self, std::int64_t t) { return vec3_view(self.cast<PySession&>().rod(t).positions(), self); },
+           py::arg("tool"),
+           "The simulator's own node positions of the tool (node_total, 3) mm, tip last, every node (those not "
+           "inserted lie on the entry line outside the body): a read-only view of the rod's buffer, no copy; "
+           "it shows each step's state and lives as long as the view (the Session is its base).")
       .def("tip", [](const PySession& p, std::int64_t t) {
              const auto& tip = p.tool(t).tip;
              return py::make_tuple(vec3(tip.position_mm), vec3(tip.direction), vec3(tip.normal));

@@ -97,6 +97,7 @@ class EnvSession {
   std::unique_ptr<session::Session> session_;
   tool::Snapshot snap_;
   std::vector<Input> inputs_;  // every step's speeds and ticks (clone)
+  std::vector<const glm::dvec3*> rod_buffers_;  // each tool's rod positions: fixed for the session's life
   std::int64_t unconverged_ticks_ = 0;
   double wall_force_mN_ = 0.0;
   flow::CArm c_arm_;
