@@ -41,27 +41,6 @@ class Reward:
         return (self.target if reached else 0.0) + self.step + self.path_delta * (path_before_mm - path_after_mm)
 
 
-class _Route:
-    """The centreline from the entry to the target: where a tip is along it, and what is left."""
-
-    def __init__(self, points):
-        self.p = np.asarray(points, dtype=np.float64)
-        seg = np.linalg.norm(np.diff(self.p, axis=0), axis=1) if len(self.p) > 1 else np.zeros(0)
-        self.s = np.concatenate([[0.0], np.cumsum(seg)])
-        self.length = float(self.s[-1]) if len(self.s) else 0.0
-
-    def remaining_mm(self, tip):
-        if len(self.p) < 2:
-            return 0.0
-        a, b = self.p[:-1], self.p[1:]
-        ab = b - a
-        t = np.clip(np.einsum("ij,ij->i", tip - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
-        q = a + t[:, None] * ab
-        d2 = np.einsum("ij,ij->i", tip - q, tip - q)
-        i = int(np.argmin(d2))
-        return self.length - (self.s[i] + t[i] * (self.s[i + 1] - self.s[i])) + math.sqrt(d2[i])
-
-
 def _resample_from_tip(nodes, count, spacing_mm):
     """`count` points along the polyline `nodes` (entry to tip) every spacing_mm back from the
     tip (the entry repeated past the proximal end)."""
@@ -205,11 +184,10 @@ class CathboxEnv(gymnasium.Env):
         self._target = np.asarray(self.session.target, dtype=np.float64)
         self._target_view = self._target.view()
         self._target_view.flags.writeable = False
-        self._route = _Route(self.session.route)
         self._steps = 0
         self._reached = False
         self._last_action = np.zeros((self.n_tools, 2), dtype=np.float64)
-        self._path_mm = self._route.remaining_mm(self.session.tip(self.task.lead_tool)[0])
+        self._path_mm = self.session.route_remaining_mm(self.task.lead_tool)
         return self._observation(), self._info()
 
     def step(self, action):
@@ -232,7 +210,7 @@ class CathboxEnv(gymnasium.Env):
         self._last_action = a
         tip = self.session.tip(self.task.lead_tool)[0]
         before = self._path_mm
-        self._path_mm = self._route.remaining_mm(tip)
+        self._path_mm = self.session.route_remaining_mm(self.task.lead_tool)
         self._reached = bool(np.linalg.norm(tip - self._target) <= self.target_threshold_mm)
         reward = self.reward_fn(self._reached, before, self._path_mm)
         return self._observation(), float(reward), self._reached, False, self._info()

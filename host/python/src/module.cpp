@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@
 
 #include "python/device_image.hpp"
 #include "python/env_session.hpp"
+#include "python/route_progress.hpp"
 #include "session/metrics.hpp"
 #include "vessel/hclm.hpp"
 
@@ -114,7 +116,14 @@ class PySession {
     return s().session().simulator().rod(static_cast<std::size_t>(t));
   }
 
+  // The route to the target, for the path-length reward (built on first use).
+  const cathbox::python::RouteProgress& route() {
+    if (!route_) route_ = cathbox::python::RouteProgress(s().scene().route_mm);
+    return *route_;
+  }
+
   std::unique_ptr<EnvSession> s_;
+  std::optional<cathbox::python::RouteProgress> route_;
   std::vector<float> image_scratch_;
 };
 
@@ -261,6 +270,10 @@ PYBIND11_MODULE(_cathbox, mod) {
              }
              return a;
            }, "The centreline from the entry to the target (n, 3) mm.")
+      .def("route_remaining_mm", [](PySession& p, std::int64_t t) { return p.route().remaining_mm(p.tool(t).tip.position_mm); },
+           py::arg("tool"),
+           "The route length left from the tool's tip to the target: past the tip's closest point on the route, "
+           "plus the tip's distance off it (mm; python/route_progress.hpp).")
       .def_property_readonly("route_length_mm", [](const PySession& p) { return p.s().scene().route_length_mm; })
       .def("set_c_arm", [](PySession& p, double lao_deg, double cranial_deg, double fov_mm) {
              cathbox::flow::CArmPose pose = p.s().c_arm().pose();

@@ -72,6 +72,24 @@ class SessionTest(unittest.TestCase):
         with self.assertRaises(IndexError):
             cathbox.Session(Y).node_buffer(1)
 
+    def test_route_remaining_is_the_path_left_past_the_tips_closest_route_point(self):
+        s = cathbox.Session(Y)
+        route = s.route
+        seg = np.linalg.norm(np.diff(route, axis=0), axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(seg)])
+        self.assertAlmostEqual(arc[-1], s.route_length_mm, delta=1e-3)
+        for speed in (0.0, 40.0, 40.0, 40.0):
+            s.set_speeds([[speed, 2.0]])
+            s.step(250)
+            tip = s.tip(0)[0]
+            a, ab = route[:-1], np.diff(route, axis=0)  # every segment's closest point, by brute force
+            t = np.clip(((tip - a) * ab).sum(1) / (ab * ab).sum(1), 0.0, 1.0)
+            d = np.linalg.norm(tip - (a + t[:, None] * ab), axis=1)
+            i = int(np.argmin(d))
+            expected = arc[-1] - (arc[i] + t[i] * seg[i]) + d[i]
+            self.assertAlmostEqual(s.route_remaining_mm(0), expected, delta=1e-4)
+        self.assertLess(s.route_remaining_mm(0), s.route_length_mm - 20.0)  # 30 mm pushed in: closer
+
     def test_clone_replays_the_inputs_to_the_same_state(self):
         s = cathbox.Session(Y)
         for v in (15.0, 5.0, 25.0):
