@@ -23,6 +23,7 @@ from gymnasium import spaces
 from . import Session
 from . import arch as arch_module
 from .cases import EpisodeFiles, case_text, read_case, without_inside
+from .fluoroscopy import Fluoroscopy
 
 STEVE_VELOCITY_LIMIT = (50.0, 3.14)  # stEVE's devices: mm/s, rad/s
 STEVE_STEP_S = 1.0 / 7.5
@@ -60,11 +61,13 @@ class CathboxEnv(gymnasium.Env):
     def __init__(self, task, observation="tracking", step_s=STEVE_STEP_S, period_us=1000,
                  velocity_limits=None, reward=None, target_threshold_mm=5.0, tracking_points=3,
                  tracking_spacing_mm=2.0, state_points=16, state_spacing_mm=5.0, image_size=(128, 128),
-                 record_dir=None, render_mode=None):
+                 image_renderer="devices", record_dir=None, render_mode=None):
         if observation not in OBSERVATIONS:
             raise ValueError(f"observation {observation!r}: expected one of {', '.join(map(repr, OBSERVATIONS))}")
         if not (step_s > 0.0 and math.isfinite(step_s)):
             raise ValueError(f"step_s {step_s!r}: expected a positive number of seconds")
+        if image_renderer not in ("devices", "fluoroscopy"):
+            raise ValueError(f"image_renderer {image_renderer!r}: expected 'devices' or 'fluoroscopy'")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: expected None or 'rgb_array'")
         self.task = task
@@ -79,6 +82,8 @@ class CathboxEnv(gymnasium.Env):
         self.tracking_points, self.tracking_spacing_mm = int(tracking_points), float(tracking_spacing_mm)
         self.state_points, self.state_spacing_mm = int(state_points), float(state_spacing_mm)
         self.image_size = (int(image_size[0]), int(image_size[1]))
+        self.image_renderer = image_renderer
+        self._fluoroscopy = None
         self.record_dir = record_dir
         self.render_mode = render_mode
         self.n_tools = task.tool_count
@@ -126,7 +131,7 @@ class CathboxEnv(gymnasium.Env):
             return obs
         if self.observation_mode == "image":
             w, h = self.image_size
-            return s.image(w, h)[:, :, None]
+            return (self._fluoroscopy.image() if self._fluoroscopy else s.image(w, h))[:, :, None]
         parts = []
         if self.observation_mode == "tracking":
             for t in range(self.n_tools):
@@ -181,6 +186,11 @@ class CathboxEnv(gymnasium.Env):
                 if attempt == getattr(self.task, "redraws", 0):
                     raise
         self.session.set_c_arm(*self.task.c_arm)
+        if self.observation_mode == "image" and self.image_renderer == "fluoroscopy":
+            # The trainer's image: the pedal down and one tick run, so the first pulse is in it.
+            self.session.press_pedal()
+            self.session.step(1)
+            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size)
         self._target = np.asarray(self.session.target, dtype=np.float64)
         self._target_view = self._target.view()
         self._target_view.flags.writeable = False
@@ -219,13 +229,17 @@ class CathboxEnv(gymnasium.Env):
         if self.render_mode != "rgb_array" or self.session is None:
             return None
         w, h = self.image_size
-        return np.repeat(self.session.image(w, h)[:, :, None], 3, axis=2)
+        image = self._fluoroscopy.image() if self._fluoroscopy else self.session.image(w, h)
+        return np.repeat(image[:, :, None], 3, axis=2)
 
     def clone_session(self):
         """A copy of the episode's session in its present state (inputs replayed, hash-checked)."""
         return self.session.clone()
 
     def _close_session(self):
+        if self._fluoroscopy is not None:
+            self._fluoroscopy.close()
+            self._fluoroscopy = None
         if self.session is not None:
             self.session.close()
             self.session = None

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "session/fluoro_controls.hpp"
 #include "session/state_hash.hpp"
 
 namespace cathbox::python {
@@ -92,6 +93,11 @@ std::int64_t EnvSession::step(std::int64_t ticks) {
   return ran;
 }
 
+void EnvSession::press_pedal() {
+  (void)session_->post(session::fluoro_control::pedal(true));
+  pedal_at_.push_back(inputs_.size());
+}
+
 std::uint64_t EnvSession::state_hash() const { return session::state_hash(snap_); }
 
 base::Status<> EnvSession::set_c_arm(const flow::CArmPose& pose) {
@@ -108,7 +114,11 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::clone() const {
   if (!opened) return opened.error();
   EnvSession& c = *opened.value();
   c.c_arm_ = c_arm_;
-  for (const Input& in : inputs_) {
+  std::size_t pedal = 0;
+  for (std::size_t i = 0; i <= inputs_.size(); ++i) {
+    for (; pedal < pedal_at_.size() && pedal_at_[pedal] == i; ++pedal) c.press_pedal();
+    if (i == inputs_.size()) break;
+    const Input& in = inputs_[i];
     for (std::size_t t = 0; t < tool_count(); ++t) c.hand_->set_speed(t, in.speeds[t]);
     if (c.step(in.ticks) != in.ticks) return base::Error{"clone: the replayed session ended early"};
   }

@@ -283,6 +283,16 @@ PYBIND11_MODULE(_cathbox, mod) {
              auto ok = p.s().set_c_arm(pose);
              if (!ok) raise<py::value_error>("C-arm: " + ok.error().message);
            }, py::arg("lao_deg") = 0.0, py::arg("cranial_deg") = 0.0, py::arg("fov_mm") = 220.0)
+      .def("session_capsule", [](PySession& p) {
+             return py::capsule(static_cast<void*>(&p.s().session()), "cathbox.session");
+           }, "The host/session Session for host/app's offscreen fluoroscopy (cathbox._fluoro); valid while this Session lives.")
+      .def("press_pedal", [](PySession& p) { p.s().press_pedal(); },
+           "Holds the fluoroscopy foot pedal down from the next tick (pulses at the unit's rate; recorded).")
+      .def_property_readonly("c_arm_pose", [](const PySession& p) {
+             const auto& pose = p.s().c_arm().pose();
+             return py::make_tuple(pose.lao_deg, pose.cranial_deg, pose.fov_mm, pose.isocenter_mm.x, pose.isocenter_mm.y,
+                                   pose.isocenter_mm.z);
+           }, "(lao_deg, cranial_deg, fov_mm, isocentre x, y, z mm) of the session's C-arm.")
       .def("project", [](const PySession& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& pts) {
              if (pts.ndim() != 2 || pts.shape(1) != 3) raise<py::value_error>("project: points must have shape (n, 3)");
              py::array_t<double> out({pts.shape(0), py::ssize_t{2}});
