@@ -71,6 +71,17 @@ class FluoroscopyTest(unittest.TestCase):
             Fluoroscopy(s, 4, 64)
         with self.assertRaisesRegex(ValueError, "image_renderer 'gl'"):
             gymnasium.make("cathbox/Navigate-v0", observation="image", image_renderer="gl")
+        # Without a display: one line saying what is needed, not a crash.
+        import os
+        import subprocess
+        import sys
+        env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
+        code = ("import cathbox\nfrom cathbox.fluoroscopy import Fluoroscopy\n"
+                "try:\n    Fluoroscopy(cathbox.Session(cathbox.case_path('y_bifurcation')), 64, 64)\n"
+                "except RuntimeError as e:\n    print(e)\n")
+        r = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("a display is needed: run under xvfb-run", r.stdout)
 
 
 if __name__ == "__main__":
