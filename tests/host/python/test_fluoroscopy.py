@@ -65,6 +65,26 @@ class FluoroscopyTest(unittest.TestCase):
         self.assertEqual(Fluoroscopy(c, 64, 64).image().tobytes(), view.image().tobytes())
         view.close()
 
+    def test_the_record_with_its_pulses_replays_hash_checked(self):
+        import os
+        import shutil
+        import subprocess
+        import tempfile
+        records = tempfile.mkdtemp(prefix="cathbox-fluoro-")
+        env = gymnasium.make("cathbox/Navigate-v0", case="y_bifurcation", targets=[("left_branch", 0.8)],
+                             record_dir=records, **dict(KW, step_s=0.1))
+        env.reset(seed=1)
+        for _ in range(12):
+            env.step(np.array([[30.0, 0.5]], dtype=np.float32))
+        record = env.unwrapped.record_path
+        env.close()
+        r = subprocess.run([os.path.join(os.environ["CATHBOX_BIN"], "cathbox"), "session", "replay", "--check", record],
+                           capture_output=True, text=True, timeout=120)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("every state hash matches", r.stdout)
+        self.assertIn("12 state hashes checked", r.stdout)
+        shutil.rmtree(records)
+
     def test_bad_arguments_raise_one_line(self):
         s = cathbox.Session(cathbox.case_path("y_bifurcation"))
         with self.assertRaisesRegex(RuntimeError, "size 4x64 outside 8..2048"):
