@@ -70,7 +70,7 @@ void ImageEmulator::step() {
 void ImageEmulator::frame() {
   if (bootloader_mode_ || !enumerated_) return;
   OtgFs& otg = machine_.otg();
-  if (!otg.connected()) {
+  if (!otg.connected() || otg.disconnects() != disconnects_seen_) {
     detach();
     return;
   }
@@ -91,7 +91,8 @@ void ImageEmulator::advance(uint64_t us) {
     if (!bootloader_mode_ && !enumerated_) {
       // The host sees the D+ pull-up, waits out the attach debounce (USB 2.0 7.1.7.3: 100 ms
       // of a stable connection), then resets and enumerates.
-      if (!machine_.otg().connected()) {
+      if (!machine_.otg().connected() || machine_.otg().disconnects() != disconnects_seen_) {
+        disconnects_seen_ = machine_.otg().disconnects();
         connected_since_us_.reset();
       } else if (!connected_since_us_) {
         connected_since_us_ = now_us_;
@@ -111,6 +112,7 @@ void ImageEmulator::service() {
 void ImageEmulator::detach() {
   enumerated_ = false;
   connected_since_us_.reset();
+  disconnects_seen_ = machine_.otg().disconnects();
   out_queue_.clear();
   if (server_) server_->detach();
 }

@@ -50,7 +50,21 @@ bool endpoint_write(uint32_t reg, uint32_t v, uint32_t& ctl, uint32_t& intr, uin
 
 }  // namespace
 
-void OtgFs::reset() { *this = OtgFs{}; gusbcfg_ = 0x00000A00u; grxfsiz_ = 0x200u; dieptxf_[0] = 0x02000200u; }
+void OtgFs::reset() {
+  const uint64_t disconnects = disconnects_ + (connected() ? 1u : 0u);
+  *this = OtgFs{};
+  gusbcfg_ = 0x00000A00u;
+  grxfsiz_ = 0x200u;
+  dieptxf_[0] = 0x02000200u;
+  disconnects_ = disconnects;
+}
+
+bool OtgFs::write(uint32_t offset, uint32_t v) {
+  const bool was_connected = connected();
+  const bool known = write_register(offset, v);
+  if (was_connected && !connected()) ++disconnects_;  // the pull-up went off (SDIS, power down)
+  return known;
+}
 
 uint32_t OtgFs::rx_words() const {
   uint32_t n = 0;
@@ -153,7 +167,7 @@ bool OtgFs::read(uint32_t offset, uint32_t& v) {
   }
 }
 
-bool OtgFs::write(uint32_t offset, uint32_t v) {
+bool OtgFs::write_register(uint32_t offset, uint32_t v) {
   if (offset >= 0x2000u && offset < 0x5000u) {  // FIFO 1..3 push (TX)
     InEp& e = in_[(offset - 0x1000u) / 0x1000u];
     if (e.fifo.size() < tx_depth((offset - 0x1000u) / 0x1000u)) e.fifo.push_back(v);

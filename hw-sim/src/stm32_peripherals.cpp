@@ -57,6 +57,7 @@ constexpr Sector kSectors[8] = {{0x00000, 0x4000, 250},  {0x04000, 0x4000, 250},
                                 {0x0C000, 0x4000, 250},  {0x10000, 0x10000, 550}, {0x20000, 0x20000, 1000},
                                 {0x40000, 0x20000, 1000}, {0x60000, 0x20000, 1000}};
 constexpr uint64_t kProgramWord_us = 16;
+constexpr uint64_t kBusyPoll_cycles = 10 * kCyclesPerUs;
 
 }  // namespace
 
@@ -177,7 +178,12 @@ bool Stm32Machine::Peripherals::read(Stm32Machine& m, uint32_t address, unsigned
       v = static_cast<uint32_t>((m.cycles_ - tim5_base_cycles) / (values[kTim[3] + 0x28] + 1u));
     }
   }
-  if (a == kFlash + 0x0C) v = (values[a] & 0xF3u) | (flash_busy_cycles > 0 ? (1u << 16) : 0u);
+  if (a == kFlash + 0x0C) {
+    v = (values[a] & 0xF3u) | (flash_busy_cycles > 0 ? (1u << 16) : 0u);
+    // A poll of BSY while the flash is busy costs 10 us of emulated time (silicon: a few
+    // cycles), so a 1 s sector erase is 100 000 polls, not 20 million (hw-sim/README.md).
+    if (flash_busy_cycles > 0) m.cycles_ += std::min<uint64_t>(flash_busy_cycles, kBusyPoll_cycles);
+  }
   if (a == kIwdg + 0x0C) v = 0;  // PR/RLR updates take effect within the write (silicon: ~5 LSI periods)
   m.trace(registers[a].peripheral, registers[a].name, address, false, v);
   if (size == 1) v = (v >> (8 * (address & 3u))) & 0xFFu;

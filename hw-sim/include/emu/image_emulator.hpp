@@ -87,6 +87,7 @@ class ImageEmulator final : public EmuServer::Handler {
   bool bootloader_mode_ = false;
   uint64_t retry_at_us_ = 0;
   std::optional<uint64_t> connected_since_us_;  // the D+ pull-up on since, as the host saw it
+  uint64_t disconnects_seen_ = 0;               // OtgFs::disconnects() the host has acted on
   uint16_t vid_ = 0, pid_ = 0;
   std::vector<uint8_t> report_descriptor_;
   std::string enumeration_error_;

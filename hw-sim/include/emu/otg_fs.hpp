@@ -32,6 +32,9 @@ class OtgFs {
 
   // ---- the bus (host side) ----
   [[nodiscard]] bool connected() const;  // core powered, device mode, D+ pull-up on (SDIS clear)
+  // Times the pull-up went off (soft disconnect, power down, a chip reset while connected): a
+  // host sees each, however short (a hub detects a disconnect within 2.5 us).
+  [[nodiscard]] uint64_t disconnects() const { return disconnects_; }
   void bus_reset();                       // USBRST, then ENUMDNE (full speed)
   void sof();                             // start of frame: SOF, frame number + 1
   void suspend();
@@ -65,12 +68,14 @@ class OtgFs {
   [[nodiscard]] uint32_t rx_words() const;
   [[nodiscard]] uint32_t tx_depth(uint32_t ep) const;
   void flush_tx(uint32_t number);
+  bool write_register(uint32_t offset, uint32_t value);
 
   uint32_t gahbcfg_ = 0, gusbcfg_ = 0, gintsts_ = 0, gintmsk_ = 0, grxfsiz_ = 0, gccfg_ = 0;
   std::array<uint32_t, 4> dieptxf_{};  // [0] = DIEPTXF0 (HNPTXFSIZ)
   uint32_t dcfg_ = 0, dctl_ = 0, diepmsk_ = 0, doepmsk_ = 0, daintmsk_ = 0, pcgcctl_ = 0;
   uint32_t frame_ = 0;
   bool suspended_ = false;
+  uint64_t disconnects_ = 0;
   std::array<InEp, 4> in_{};
   std::array<OutEp, 4> out_{};
   std::deque<RxEntry> rx_;
