@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "emu/emulator.hpp"
 #include "image_world.hpp"
 #include "protocol/cbx_hid_descriptor.h"
 #include "protocol/cbx_image_info.h"
@@ -17,23 +18,6 @@ cbx_image_info image_info(const std::vector<uint8_t>& image) {
   EXPECT_GE(image.size(), CBX_IMAGE_INFO_OFFSET + CBX_IMAGE_INFO_SIZE);
   EXPECT_EQ(cbx_image_info_decode(image.data() + CBX_IMAGE_INFO_OFFSET, CBX_IMAGE_INFO_SIZE, &info), CBX_OK);
   return info;
-}
-
-// The calibration `cathbox calibrate` would store for the modelled box: its encoders and its
-// actuators' full scale, a linear output curve.
-cbx_calibration model_calibration(emu::BoxModel& model) {
-  cbx_calibration cal{};
-  cal.header.version = CBX_PROTOCOL_VERSION;
-  cal.insertion_counts_per_m = static_cast<uint32_t>(std::lround(model.params(0).counts_per_unit));
-  cal.rotation_counts_per_rev = static_cast<uint32_t>(std::lround(model.params(1).counts_per_unit * 2.0 * M_PI));
-  cal.insertion_full_scale_mN = static_cast<uint32_t>(std::lround(model.params(0).full_scale * 1e3));
-  cal.rotation_full_scale_uNm = static_cast<uint32_t>(std::lround(model.params(1).full_scale * 1e6));
-  for (unsigned i = 0; i < CBX_CURVE_POINTS; ++i) {
-    const auto v = static_cast<uint16_t>(1000 * (i + 1) / CBX_CURVE_POINTS);
-    cal.insertion_curve[i] = {v, v};
-    cal.rotation_curve[i] = {v, v};
-  }
-  return cal;
 }
 
 class ImageHost : public ::testing::Test {
@@ -104,7 +88,7 @@ TEST_F(ImageHost, EncoderMotionComesBackInTheReports) {
 }
 
 TEST_F(ImageHost, BrakeWallCommandDrivesTheModelledBrake) {
-  ASSERT_TRUE(client_->set_calibration(model_calibration(world_.emu().model())));
+  ASSERT_TRUE(client_->set_calibration(emu::model_calibration(world_.emu().model())));
   run_ms(1500);  // the image saves the calibration to its flash store (sector erase ~1 s)
   EXPECT_EQ(state_.report.faults, 0u);
   // The hand pushes in at 10 mm/s; a 2000 N/m brake wall at 2 mm resists.
@@ -132,7 +116,7 @@ TEST_F(ImageHost, BrakeWallCommandDrivesTheModelledBrake) {
 }
 
 TEST_F(ImageHost, CalibrationSurvivesAPowerCycleInTheFlashStore) {
-  const cbx_calibration cal = model_calibration(world_.emu().model());
+  const cbx_calibration cal = emu::model_calibration(world_.emu().model());
   ASSERT_TRUE(client_->set_calibration(cal));
   run_ms(1500);  // erase sector 5, program the block (header last)
   ASSERT_EQ(state_.report.faults, 0u);
@@ -153,7 +137,7 @@ TEST_F(ImageHost, CalibrationSurvivesAPowerCycleInTheFlashStore) {
 }
 
 TEST_F(ImageHost, CommandWatchdogCutsTheOutputAt50ms) {
-  ASSERT_TRUE(client_->set_calibration(model_calibration(world_.emu().model())));
+  ASSERT_TRUE(client_->set_calibration(emu::model_calibration(world_.emu().model())));
   run_ms(1500);
   world_.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:2s").value());
   cbx_command_report wall{};
