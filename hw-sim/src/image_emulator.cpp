@@ -74,6 +74,7 @@ void ImageEmulator::frame() {
     detach();
     return;
   }
+  if (otg.suspended()) return;  // a suspended bus carries no SOF and no tokens
   otg.sof();
   std::vector<uint8_t> packet;
   if (otg.in(1, packet) == OtgFs::Handshake::kAck) {
@@ -117,9 +118,16 @@ void ImageEmulator::detach() {
   if (server_) server_->detach();
 }
 
-void ImageEmulator::usb_reset() {
+void ImageEmulator::bus_reset() {
   machine_.otg().bus_reset();
   for (int i = 0; i < 1000 && machine_.error().empty(); ++i) step();  // 10 ms reset recovery
+}
+
+void ImageEmulator::usb_reset() {
+  // A host resets a port to recover a device, then enumerates it again (the socket stays up,
+  // as a hidraw node does across a port reset with the same descriptors).
+  if (bootloader_mode_ || !enumerated_) return;
+  enumerate();
 }
 
 void ImageEmulator::usb_suspend() { machine_.otg().suspend(); }
@@ -133,7 +141,7 @@ void ImageEmulator::enumerate() {
     enumeration_error_ = std::string("enumeration: ") + what + " failed";
     retry_at_us_ = now_us_ + 1'000'000;
   };
-  usb_reset();
+  bus_reset();
   std::vector<uint8_t> reply;
   if (!control({0x80, 6, 0x0100, 0, 18}, {}, reply) || reply.size() != 18 || reply[1] != 1) return fail("GET_DESCRIPTOR(device)");
   vid_ = static_cast<uint16_t>(reply[8] | (reply[9] << 8));

@@ -47,7 +47,8 @@ class ImageEmulator final : public EmuServer::Handler {
   [[nodiscard]] BoxModel& model() { return model_; }
   void set_hand(int axis, HandScript script) { model_.set_script(axis, std::move(script), now_us_); }
   void set_estop(bool pressed) { machine_.inputs().estop_open = pressed; }
-  // USB bus events from the host side.
+  // USB bus events from the host side. usb_reset: a port reset, then enumeration again (as a
+  // host recovering a device does); it runs the emulator through both.
   void usb_reset();
   void usb_suspend();
   void usb_resume();
@@ -73,6 +74,7 @@ class ImageEmulator final : public EmuServer::Handler {
   void step();
   void frame();
   void enumerate();
+  void bus_reset();
   void detach();
   void enter_bootloader();
   void leave_bootloader();

@@ -113,6 +113,58 @@ TEST_F(ImageHost, BrakeWallCommandDrivesTheModelledBrake) {
   const int expected = static_cast<int>(std::lround(std::abs(state_.report.insertion_force_mN) / 5.0));
   EXPECT_GT(drive, 50);
   EXPECT_NEAR(drive, expected, 10);
+
+  // The E-stop loop opens just after a tick: the EXTI interrupt cuts the PWM before the next.
+  const uint64_t ticks = world_.emu().machine().ticks();
+  while (world_.emu().machine().ticks() == ticks) world_.advance(10);
+  world_.emu().set_estop(true);
+  world_.advance(30);
+  EXPECT_EQ(world_.emu().machine().ticks(), ticks + 1);
+  EXPECT_EQ(world_.emu().machine().outputs().drive_permille[0], 0);
+  run_ms(2);
+  EXPECT_NE(state_.report.faults & CBX_FAULT_ESTOP, 0u);
+}
+
+// Rendering a brake wall, then a bus event: the outputs go off at once, whatever the host sent.
+class ImageHostRendering : public ImageHost {
+ protected:
+  void SetUp() override {
+    ImageHost::SetUp();
+    ASSERT_TRUE(client_->set_calibration(emu::model_calibration(world_.emu().model())));
+    run_ms(1500);
+    world_.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:2s").value());
+    wall_.mode = CBX_MODE_BRAKE;
+    wall_.insertion = {0, 1'000, 2'000'000, 0, -5000, 0};
+    render_ms(300);
+    ASSERT_NE(world_.emu().machine().outputs().drive_permille[0], 0);
+  }
+  void render_ms(int ms) {
+    for (int i = 0; i < ms; ++i) {
+      ASSERT_TRUE(client_->send(wall_));
+      run_ms(1);
+    }
+  }
+  cbx_command_report wall_{};
+};
+
+TEST_F(ImageHostRendering, BusResetZeroesTheOutputsAndTheBoxEnumeratesAgain) {
+  world_.emu().usb_reset();  // 10 ms of reset, then the host's enumeration
+  EXPECT_EQ(world_.emu().machine().outputs().drive_permille[0], 0);
+  EXPECT_TRUE(world_.emu().enumerated()) << world_.emu().enumeration_error();
+  render_ms(100);  // the host's commands are taken again
+  EXPECT_NE(world_.emu().machine().outputs().drive_permille[0], 0);
+}
+
+TEST_F(ImageHostRendering, SuspendZeroesTheOutputsAndResumeBringsReportsBack) {
+  world_.emu().usb_suspend();
+  const uint64_t sent = world_.emu().in_reports_sent();
+  run_ms(10);
+  EXPECT_EQ(world_.emu().machine().outputs().drive_permille[0], 0);
+  EXPECT_EQ(world_.emu().in_reports_sent(), sent);  // no tokens on a suspended bus
+  world_.emu().usb_resume();
+  render_ms(100);
+  EXPECT_GT(world_.emu().in_reports_sent(), sent + 90);
+  EXPECT_NE(world_.emu().machine().outputs().drive_permille[0], 0);
 }
 
 TEST_F(ImageHost, CalibrationSurvivesAPowerCycleInTheFlashStore) {
@@ -136,18 +188,7 @@ TEST_F(ImageHost, CalibrationSurvivesAPowerCycleInTheFlashStore) {
   EXPECT_EQ(stored.value().rotation_full_scale_uNm, cal.rotation_full_scale_uNm);
 }
 
-TEST_F(ImageHost, CommandWatchdogCutsTheOutputAt50ms) {
-  ASSERT_TRUE(client_->set_calibration(emu::model_calibration(world_.emu().model())));
-  run_ms(1500);
-  world_.emu().set_hand(0, emu::HandScript::parse("v:10mm/s:2s").value());
-  cbx_command_report wall{};
-  wall.mode = CBX_MODE_BRAKE;
-  wall.insertion = {0, 1'000, 2'000'000, 0, -5000, 0};
-  for (int ms = 0; ms < 300; ++ms) {
-    ASSERT_TRUE(client_->send(wall));
-    run_ms(1);
-  }
-  ASSERT_NE(world_.emu().machine().outputs().drive_permille[0], 0);
+TEST_F(ImageHostRendering, CommandWatchdogCutsTheOutputAt50ms) {
   // The host stops sending: 50 ms later the watchdog fault, then a ramp to 0 within 20 ms.
   run_ms(45);
   EXPECT_EQ(state_.report.faults & CBX_FAULT_WATCHDOG, 0u);
