@@ -72,6 +72,7 @@ class Stm32Machine {
   // Instructions of the last completed SysTick handler, and the most since reset.
   [[nodiscard]] uint64_t tick_instructions_last() const { return tick_last_; }
   [[nodiscard]] uint64_t tick_instructions_max() const { return tick_max_; }
+  void reset_tick_instructions_max() { tick_max_ = 0; }
   // SysTick handlers completed since the machine was made.
   [[nodiscard]] uint64_t ticks() const { return ticks_; }
 
