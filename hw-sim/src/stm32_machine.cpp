@@ -94,6 +94,8 @@ void Stm32Machine::map_memory() {
   put32(0x7A18, 0x36383331u);
   rom[0x7A22] = 0x00; rom[0x7A23] = 0x02;  // 512 KiB
   uc_mem_map_ptr(uc_, kFlashBase, kFlashSize, UC_PROT_READ | UC_PROT_EXEC, flash_.data());
+  // BOOT0 low: the main flash also appears at 0 (RM0383 2.4), where VTOR points after reset.
+  uc_mem_map_ptr(uc_, 0, kFlashSize, UC_PROT_READ | UC_PROT_EXEC, flash_.data());
   uc_mem_map_ptr(uc_, kSramBase, kSramSize, UC_PROT_ALL, mem_->sram.data());
   uc_mem_map_ptr(uc_, kSysmemBase, kSysmemSize, UC_PROT_READ | UC_PROT_EXEC, rom.data());
   uc_mmio_map(uc_, 0x40000000u, 0x24000u, periph_read_cb, this, periph_write_cb, this);
