@@ -147,36 +147,45 @@ std::string Stm32Machine::Peripherals::unmodelled(uint32_t address, bool write) 
   return line;
 }
 
+uint32_t Stm32Machine::Peripherals::gpio_idr(const Stm32Machine& m, int g) {
+  // IDR: outputs read back, inputs from the board.
+  const uint32_t mode = values[kGpio[g]];
+  const uint32_t pull = values[kGpio[g] + 0x0C];
+  uint32_t v = 0;
+  for (uint32_t pin = 0; pin < 16; ++pin) {
+    const uint32_t md = (mode >> (2 * pin)) & 3u;
+    bool level = ((pull >> (2 * pin)) & 3u) == 1u;  // pull-up; floating and pull-down read 0
+    if (md == 1u) level = (values[kGpio[g] + 0x14] >> pin) & 1u;
+    if (g == 1 && pin == kEstopPin) level = m.inputs_.estop_open;
+    v |= (level ? 1u : 0u) << pin;
+  }
+  return v;
+}
+
+uint32_t Stm32Machine::Peripherals::timer_count(const Stm32Machine& m, int t) {
+  const uint32_t stored = values[kTim[t] + 0x24];
+  if (t == 0 || t == 1) {  // encoder mode: the model's counts from where CNT was set
+    const bool counting = (values[kTim[t]] & 1u) && (values[kTim[t] + 0x08] & 7u) == 3u;
+    if (!counting) return stored;
+    const auto count = static_cast<uint64_t>(encoder_base[static_cast<size_t>(t)] + m.inputs_.encoder[static_cast<size_t>(t)]);
+    const uint64_t arr = values[kTim[t] + 0x2C];
+    return static_cast<uint32_t>(arr == 0xFFFFFFFFu ? count : count % (arr + 1u));
+  }
+  if (t == 3 && (values[kTim[3]] & 1u)) {  // TIM5: the time base, from the CPU's cycles
+    return static_cast<uint32_t>((m.cycles_ - tim5_base_cycles) / (values[kTim[3] + 0x28] + 1u));
+  }
+  return stored;
+}
+
 bool Stm32Machine::Peripherals::read(Stm32Machine& m, uint32_t address, unsigned size, uint32_t& v) {
   if (registers.find(address & ~3u) == registers.end()) return false;
   const uint32_t a = address & ~3u;
   v = values[a];
   for (int g = 0; g < 3; ++g) {
-    if (a == kGpio[g] + 0x10) {  // IDR: outputs read back, inputs from the board
-      const uint32_t mode = values[kGpio[g]];
-      const uint32_t pull = values[kGpio[g] + 0x0C];
-      v = 0;
-      for (uint32_t pin = 0; pin < 16; ++pin) {
-        const uint32_t md = (mode >> (2 * pin)) & 3u;
-        bool level = ((pull >> (2 * pin)) & 3u) == 1u;  // pull-up; floating and pull-down read 0
-        if (md == 1u) level = (values[kGpio[g] + 0x14] >> pin) & 1u;
-        if (g == 1 && pin == kEstopPin) level = m.inputs_.estop_open;
-        v |= (level ? 1u : 0u) << pin;
-      }
-    }
+    if (a == kGpio[g] + 0x10) v = gpio_idr(m, g);
   }
   for (int t = 0; t < 4; ++t) {
-    if (a != kTim[t] + 0x24) continue;
-    if (t == 0 || t == 1) {
-      const bool counting = (values[kTim[t]] & 1u) && (values[kTim[t] + 0x08] & 7u) == 3u;
-      if (counting) {
-        const int64_t count = encoder_base[static_cast<size_t>(t)] + m.inputs_.encoder[static_cast<size_t>(t)];
-        const uint64_t arr = values[kTim[t] + 0x2C];
-        v = static_cast<uint32_t>(arr == 0xFFFFFFFFu ? static_cast<uint64_t>(count) : static_cast<uint64_t>(count) % (arr + 1u));
-      }
-    } else if (t == 3 && (values[kTim[3]] & 1u)) {
-      v = static_cast<uint32_t>((m.cycles_ - tim5_base_cycles) / (values[kTim[3] + 0x28] + 1u));
-    }
+    if (a == kTim[t] + 0x24) v = timer_count(m, t);
   }
   if (a == kFlash + 0x0C) {
     v = (values[a] & 0xF3u) | (flash_busy_cycles > 0 ? (1u << 16) : 0u);
@@ -191,12 +200,7 @@ bool Stm32Machine::Peripherals::read(Stm32Machine& m, uint32_t address, unsigned
   return true;
 }
 
-bool Stm32Machine::Peripherals::write(Stm32Machine& m, uint32_t address, unsigned size, uint32_t v) {
-  const uint32_t a = address & ~3u;
-  const auto it = registers.find(a);
-  if (it == registers.end() || size != 4) return false;
-  m.trace(it->second.peripheral, it->second.name, address, true, v);
-  uint32_t& r = values[a];
+bool Stm32Machine::Peripherals::write_clock_flash(Stm32Machine& m, uint32_t a, uint32_t v, uint32_t& r) {
   if (a == kRcc + 0x00) {  // CR: ready flags follow their enables (the 25 MHz crystal is fitted)
     r = (v & 0x0D0F00F9u) | 0x2u;
     if (v & (1u << 16)) r |= 1u << 17;
@@ -240,6 +244,10 @@ bool Stm32Machine::Peripherals::write(Stm32Machine& m, uint32_t address, unsigne
     }
     return true;
   }
+  return false;
+}
+
+bool Stm32Machine::Peripherals::write_gpio_timer(Stm32Machine& m, uint32_t a, uint32_t v, uint32_t& r) {
   for (int g = 0; g < 3; ++g) {
     if (a == kGpio[g] + 0x18) {  // BSRR: set wins over reset
       uint32_t& odr = values[kGpio[g] + 0x14];
@@ -262,6 +270,10 @@ bool Stm32Machine::Peripherals::write(Stm32Machine& m, uint32_t address, unsigne
     }
     if (a == kTim[t] + 0x00 && t == 3 && !(r & 1u) && (v & 1u)) tim5_base_cycles = m.cycles_ - static_cast<uint64_t>(values[kTim[3] + 0x24]) * (values[kTim[3] + 0x28] + 1u);
   }
+  return false;
+}
+
+bool Stm32Machine::Peripherals::write_adc_iwdg_exti(uint32_t a, uint32_t v, uint32_t& r) {
   if (a == kAdc + 0x08) {  // CR2: JSWSTART starts the injected scan (about 12 us)
     r = v & ~(1u << 22);
     if ((v & (1u << 22)) && (v & 1u)) {
@@ -297,6 +309,16 @@ bool Stm32Machine::Peripherals::write(Stm32Machine& m, uint32_t address, unsigne
     r &= ~v;
     return true;
   }
+  return false;
+}
+
+bool Stm32Machine::Peripherals::write(Stm32Machine& m, uint32_t address, unsigned size, uint32_t v) {
+  const uint32_t a = address & ~3u;
+  const auto it = registers.find(a);
+  if (it == registers.end() || size != 4) return false;
+  m.trace(it->second.peripheral, it->second.name, address, true, v);
+  uint32_t& r = values[a];
+  if (write_clock_flash(m, a, v, r) || write_gpio_timer(m, a, v, r) || write_adc_iwdg_exti(a, v, r)) return true;
   r = v;
   return true;
 }

@@ -20,6 +20,12 @@ struct Stm32Machine::Peripherals {
   void reset();
   bool read(Stm32Machine& m, uint32_t address, unsigned size, uint32_t& value);
   bool write(Stm32Machine& m, uint32_t address, unsigned size, uint32_t value);
+  // The register-specific behaviour of a write, by block; false: a plain store.
+  bool write_clock_flash(Stm32Machine& m, uint32_t address, uint32_t value, uint32_t& reg);
+  bool write_gpio_timer(Stm32Machine& m, uint32_t address, uint32_t value, uint32_t& reg);
+  bool write_adc_iwdg_exti(uint32_t address, uint32_t value, uint32_t& reg);
+  uint32_t gpio_idr(const Stm32Machine& m, int port);
+  uint32_t timer_count(const Stm32Machine& m, int timer);
   void update_irqs(Stm32Machine& m);
   void advance(Stm32Machine& m, uint64_t cycles);
   [[nodiscard]] uint64_t cycles_to_event() const;
