@@ -253,11 +253,18 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
   std::fflush(stdout);
   const uint64_t estop_at_us =
       settings.estop_after_ms >= 0 ? static_cast<uint64_t>(settings.estop_after_ms) * 1000u : UINT64_MAX;
+  bool enumerated = false;
   cathbox::emu::RealTimeLoop::run_box(emu, stop_requested,
                                       settings.duration_s > 0 ? static_cast<uint64_t>(settings.duration_s * 1e6) : 0,
                                       [&](uint64_t now_us) {
                                         if (now_us >= estop_at_us) emu.set_estop(true);
                                         if (!emu.error().empty()) stop_requested.store(true);
+                                        if (emu.enumerated() != enumerated) {
+                                          enumerated = emu.enumerated();
+                                          std::printf("cathbox-emu: the image %s at %.3f s\n",
+                                                      enumerated ? "enumerated" : "detached", now_us * 1e-6);
+                                          std::fflush(stdout);
+                                        }
                                       });
   if (!emu.error().empty()) {
     std::fprintf(stderr, "cathbox-emu: the image stopped at %.3f s: %s\n", emu.now_us() * 1e-6, emu.error().c_str());

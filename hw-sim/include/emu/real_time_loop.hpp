@@ -42,7 +42,11 @@ void RealTimeLoop::run_box(Box& emu, const std::atomic<bool>& stop, uint64_t dur
   std::vector<pollfd> fds;
   while (!stop.load(std::memory_order_relaxed)) {
     const uint64_t now = wall_us() - start;
-    if (now >= end) break;
+    if (now >= end) {  // the run's virtual time is completed even if the process fell behind
+      const uint64_t left = end > emu.now_us() ? end - emu.now_us() : 0;
+      emu.advance(left - left % kStep_us);
+      break;
+    }
     if (each) each(emu.now_us());
     // Catch up with the wall clock in whole physics steps (at most 100 ms at a time).
     if (now >= emu.now_us() + kStep_us) {
