@@ -18,21 +18,7 @@ trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid $right_pid 2>/dev/null; rm -rf "
 read -r line <&3
 case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
 
-# expect RC NEEDLE -- COMMAND...: the exit code must be RC and the output must contain NEEDLE.
-expect() {
-  local want_rc=$1 needle=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$want_rc" ] || [[ "$out" != *"$needle"* ]]; then
-    echo "FAIL: $* -> rc $rc (want $want_rc), output:"
-    echo "$out" | head -20
-    failures=$((failures + 1))
-  else
-    echo "ok:   $* -> rc $rc"
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/expect.sh"
 
 cb="$bin/cathbox"
 

@@ -19,20 +19,7 @@ while read -r line <&3; do
 done
 [ "$enumerated" -eq 1 ] || { echo "FAIL: the image did not enumerate"; exit 1; }
 
-expect() {
-  local want_rc=$1 needle=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$want_rc" ] || [[ "$out" != *"$needle"* ]]; then
-    echo "FAIL: $* -> rc $rc (want $want_rc), output:"
-    echo "$out" | head -20
-    failures=$((failures + 1))
-  else
-    echo "ok:   $* -> rc $rc"
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/../device/expect.sh"
 
 # The version the image's info block says (offset 0x200: magic, layout, size, major, minor, patch).
 version=$(od -An -tu1 -j $((0x206)) -N 3 "$image" | awk '{print $1 "." $2 "." $3}')
