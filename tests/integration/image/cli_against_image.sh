@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # `cathbox` against a real `cathbox-emu --image` process running the cross-built STM32F411
-# image: info reports the image's own version and board, monitor streams; --trace-mmio names
+# image: info reports the image's own version and board, monitor streams, `cathbox flash`
+# goes through the image's bootloader request and comes back; --trace-mmio names
 # registers; a missing or unbootable image is refused with one line (exit 2). No sleeps: it
 # waits for the emulator's "enumerated" line; no timing is asserted.
 set -u
@@ -26,6 +27,14 @@ version=$(od -An -tu1 -j $((0x206)) -N 3 "$image" | awk '{print $1 "." $2 "." $3
 expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "not-calibrated" -- "$bin/cathbox" monitor --emu "$sock" --duration 0.2 --rate 10
+# cathbox flash through the image: feature 0x14, its reset into the ROM (the emulated DfuSe
+# bootloader), erase, download, verify, leave; the new image boots and reports its info block.
+expect 0 "packed" -- "$bin/cathbox" flash pack "$image" "$dir/fw.dfu"
+expect 0 "box is back: firmware $version" -- "$bin/cathbox" flash "$dir/fw.dfu" --emu "$sock"
+cp "$dir/fw.dfu" "$dir/corrupt.dfu"
+printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+expect 2 "does not match the content" -- "$bin/cathbox" flash "$dir/corrupt.dfu" --emu "$sock"
+expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "W RCC.CR @0x40023800" -- "$bin/cathbox-emu" --image "$image" --socket "$dir/trace.sock" --trace-mmio --duration 0.01
 expect 2 "cannot read image $dir/none.bin" -- "$bin/cathbox-emu" --image "$dir/none.bin" --socket "$dir/x.sock" --duration 0.01
 head -c 4096 /dev/zero > "$dir/zero.bin"
