@@ -38,6 +38,7 @@ expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "W RCC.CR @0x40023800" -- "$bin/cathbox-emu" --image "$image" --socket "$dir/trace.sock" --trace-mmio --duration 0.01
 expect 2 "cannot read image $dir/none.bin" -- "$bin/cathbox-emu" --image "$dir/none.bin" --socket "$dir/x.sock" --duration 0.01
 head -c 4096 /dev/zero > "$dir/zero.bin"
+expect 2 ".dfu images are not read yet; give the .bin" -- "$bin/cathbox-emu" --image "$dir/fw.dfu" --socket "$dir/x.sock" --duration 0.01
 expect 2 "no bootable vector table" -- "$bin/cathbox-emu" --image "$dir/zero.bin" --socket "$dir/x.sock" --duration 0.01
 [ "$failures" -eq 0 ] || { echo "$failures failed"; exit 1; }
 echo "all passed"
