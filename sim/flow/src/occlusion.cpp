@@ -1,4 +1,4 @@
-// FlowNetwork::occlude: clots as resistance (flow/clot.hpp), then the final solve again.
+// FlowNetwork::occlude: clots and balloons as resistance (flow/clot.hpp), then the final solve again.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -57,7 +57,10 @@ std::string check_clot(const vessel::VesselModel& model, const Clot& c, std::siz
 
 }  // namespace
 
-base::Status<> FlowNetwork::occlude(std::span<const Clot> clots) {
+base::Status<> FlowNetwork::occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests) {
+  for (const FlowArrest& a : arrests) {
+    if (a.segment >= model_.segments.size()) return base::Error{"flow: balloon: no segment index " + std::to_string(a.segment) + " in the vessel model"};
+  }
   for (std::size_t k = 0; k < clots.size(); ++k) {
     if (std::string e = check_clot(model_, clots[k], k); !e.empty()) return base::Error{"flow: " + e};
     for (std::size_t m = 0; m < k; ++m) {
@@ -74,6 +77,7 @@ base::Status<> FlowNetwork::occlude(std::span<const Clot> clots) {
     const ClotResistance r = clot_resistance(model_.segments[c.segment], c.arc_start_mm, c.arc_start_mm + c.length_mm, c.open_fraction, mu);
     resistance[c.segment] = std::max(resistance[c.segment] - r.lumen, 0.0) + r.clot;
   }
+  for (const FlowArrest& a : arrests) resistance[a.segment] = kSealFactor * open_resistance_Pa_s_per_mm3_[a.segment];
   const std::vector<SegmentFlow> before = segments_;
   for (std::size_t i = 0; i < segments_.size(); ++i) segments_[i].resistance_Pa_s_per_mm3 = std::max(resistance[i], kMinResistance);
   if (base::Status<> solved = solve_pressures(); !solved) {
@@ -81,6 +85,7 @@ base::Status<> FlowNetwork::occlude(std::span<const Clot> clots) {
     return solved;
   }
   clots_.assign(clots.begin(), clots.end());
+  arrests_.assign(arrests.begin(), arrests.end());
   return base::Ok{};
 }
 

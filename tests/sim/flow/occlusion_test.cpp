@@ -2,6 +2,7 @@
 // and the eTICI grade of the reperfused territory.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -130,6 +131,31 @@ TEST(Occlusion, CarotidTerminusClotStarvesTheMcaWhileTheAcommFeedsTheAca) {
   EXPECT_EQ(territory->grade(net->terminals()), Etici::k0);
   ASSERT_TRUE(net->occlude({}));
   EXPECT_EQ(territory->grade(net->terminals()), Etici::k3);
+}
+
+// A balloon guide inflated in the cervical ICA arrests its flow (< 1 % of baseline); the M1 clot
+// then holds back almost no pressure head (the distal ICA is fed backwards through the circle
+// of Willis at low pressure); deflation restores the flow exactly.
+TEST(Occlusion, BalloonGuideArrestsTheCarotidFlow) {
+  const vessel::VesselModel model = load_model("cases/neuro.hclm");
+  auto net = build_or_fail(model);
+  ASSERT_TRUE(net);
+  const std::uint32_t ica = index_of(model, kLeftIca), m1 = index_of(model, kLeftM1);
+  const double base = net->segments()[ica].flow_mm3_s;
+  const Clot clot = clot_in(model, kLeftM1, 13.0);
+  ASSERT_TRUE(net->occlude(std::vector<Clot>{clot}));
+  const double head_open = net->node_pressure_Pa(net->segments()[m1].start_node) - net->node_pressure_Pa(net->segments()[m1].end_node);
+  ASSERT_TRUE(net->occlude(std::vector<Clot>{clot}, std::vector<FlowArrest>{{ica}}));
+  EXPECT_LT(std::abs(net->segments()[ica].flow_mm3_s), 0.01 * base);
+  EXPECT_LT(test::kirchhoff_residual(*net), 1e-9);
+  const double head_arrested = net->node_pressure_Pa(net->segments()[m1].start_node) - net->node_pressure_Pa(net->segments()[m1].end_node);
+  std::printf("left ICA %.1f mL/min, arrested %.2g; pressure across the M1 clot %.0f Pa, arrested %.0f Pa\n", base * 0.06,
+              net->segments()[ica].flow_mm3_s * 0.06, head_open, head_arrested);
+  EXPECT_LT(head_arrested, head_open);
+  EXPECT_EQ(net->arrests().size(), 1u);
+  ASSERT_FALSE(net->occlude({}, std::vector<FlowArrest>{{9999}}));
+  ASSERT_TRUE(net->occlude({}));
+  EXPECT_NEAR(net->segments()[ica].flow_mm3_s, base, 1e-9 * base);
 }
 
 // Fluoroscopy: an injection in the ICA opacifies the M2s through an open M1; with the M1

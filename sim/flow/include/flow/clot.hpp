@@ -25,4 +25,13 @@ struct Clot {
   friend bool operator==(const Clot&, const Clot&) = default;
 };
 
+// An inflated balloon (a balloon guide catheter's) sealing a segment: no flow passes it, the
+// flow arrest under which a clot is retrieved. Resistance kSealFactor times the segment's open
+// resistance (finite, so the pressure system stays positive definite).
+struct FlowArrest {
+  std::uint32_t segment = 0;
+  friend bool operator==(const FlowArrest&, const FlowArrest&) = default;
+};
+inline constexpr double kSealFactor = 1e12;
+
 }  // namespace cathbox::flow

@@ -91,9 +91,10 @@ class FlowNetwork {
   // network) and solves again with the terminal resistances of the open network: the
   // territories downstream of a clot lose their flow, which goes where the network's other
   // paths take it (collaterals). An error (nothing changed) for a clot outside its segment,
-  // a bad composition or open fraction.
-  [[nodiscard]] base::Status<> occlude(std::span<const Clot> clots);
+  // a bad composition or open fraction. Balloons (`arrests`) seal their segments: flow arrest.
+  [[nodiscard]] base::Status<> occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests = {});
   [[nodiscard]] const std::vector<Clot>& clots() const { return clots_; }
+  [[nodiscard]] const std::vector<FlowArrest>& arrests() const { return arrests_; }
 
   // Pulsatility factor of every flow at time t (1 for steady flow), and its maximum.
   [[nodiscard]] double flow_scale(double time_s) const;
@@ -111,6 +112,7 @@ class FlowNetwork {
   std::vector<double> pressure_Pa_;
   std::vector<double> open_resistance_Pa_s_per_mm3_;  // per segment, without clots
   std::vector<Clot> clots_;
+  std::vector<FlowArrest> arrests_;
   std::vector<int> idle_pins_;  // a node of each component without outflow, pinned at 0 Pa
 };
 
