@@ -89,6 +89,9 @@ struct ServeOptions {
   double token_hours = 12.0;
   int login_burst = 20;
   double logins_per_minute = 30.0;
+  std::string tls_cert;
+  std::string tls_key;
+  bool insecure_http = false;
 };
 
 int serve(const std::string& url, const std::string& listen, const ServeOptions& so) {
@@ -119,12 +122,19 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
   config.auth.address_per_minute = so.logins_per_minute;
   config.instance = so.instance;
   config.cache_dir = so.cache;
+  if (so.tls_cert.empty() != so.tls_key.empty()) {
+    std::cerr << "cathbox-server: --tls-cert and --tls-key go together\n";
+    return kBadInput;
+  }
+  if (!so.tls_cert.empty()) config.http.tls = TlsFiles{so.tls_cert, so.tls_key};
+  config.http.insecure_http = so.insecure_http;
 
   // The signals that stop the server are taken by this thread only (sigwait below).
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGHUP);  // reload the TLS certificate
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
@@ -133,12 +143,26 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
     std::cerr << "cathbox-server: " << app.error().message << '\n';
     return exit_code_for(app.error());
   }
-  std::printf("cathbox-server: listening on http://%s:%u (%s, schema %d, instance %s)\n", listen.substr(0, colon).c_str(),
+  const bool tls = app.value()->http().tls();
+  if (!tls && so.insecure_http) {
+    std::printf("cathbox-server: WARNING: --insecure-http: plain HTTP on %s, passwords and tokens cross the network in clear "
+                "unless a TLS proxy is in front\n",
+                listen.c_str());
+  }
+  std::printf("cathbox-server: listening on %s://%s:%u (%s, schema %d, instance %s)\n", tls ? "https" : "http", listen.substr(0, colon).c_str(),
               static_cast<unsigned>(app.value()->port()), app.value()->describe_db().c_str(), app.value()->schema_version(),
               app.value()->instance().c_str());
   std::fflush(stdout);
   int sig = 0;
-  sigwait(&stop_signals, &sig);
+  while (sigwait(&stop_signals, &sig) == 0 && sig == SIGHUP) {
+    const Status reloaded = app.value()->http().reload_tls();
+    if (reloaded) {
+      std::printf("cathbox-server: TLS certificate reloaded from %s\n", so.tls_cert.c_str());
+    } else {
+      std::printf("cathbox-server: SIGHUP: %s (the old certificate stays)\n", reloaded.error().message.c_str());
+    }
+    std::fflush(stdout);
+  }
   std::printf("cathbox-server: stopping (signal %d)\n", sig);
   std::fflush(stdout);
   app.value()->stop();
@@ -210,6 +234,9 @@ int main(int argc, char** argv) {
   cli.add_option("--io-threads", so.io_threads, "socket threads")->check(CLI::Range(1, 64))->capture_default_str();
   cli.add_option("--api-threads", so.api_threads, "API handler threads")->check(CLI::Range(1, 256))->capture_default_str();
   cli.add_option("--token-hours", so.token_hours, "bearer token lifetime")->check(CLI::Range(0.01, 24.0 * 365))->capture_default_str();
+  cli.add_option("--tls-cert", so.tls_cert, "PEM certificate chain: serve HTTPS and wss:// (reread on SIGHUP)");
+  cli.add_option("--tls-key", so.tls_key, "PEM private key of --tls-cert");
+  cli.add_flag("--insecure-http", so.insecure_http, "allow plain HTTP on a non-loopback --listen (only behind a TLS proxy)");
   cli.add_option("--login-burst", so.login_burst, "login attempts one address may make at once")->check(CLI::Range(1, 1000000))->capture_default_str();
   cli.add_option("--logins-per-minute", so.logins_per_minute, "login attempts per minute one address gets back")
       ->check(CLI::Range(0.1, 1e6))
