@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "server/backup.hpp"
 #include "server/case_library.hpp"
 #include "server/clock.hpp"
 #include "server/migrations.hpp"
@@ -262,6 +263,11 @@ int main(int argc, char** argv) {
   add_case->add_option("CASE", case_path)->required();
   add_case->add_option("--name", case_name, "library name (default: the file's stem)");
   CLI::App* migrate_cmd = admin->add_subcommand("migrate", "apply schema migrations and print the version");
+  std::string backup_file;
+  CLI::App* backup_cmd = admin->add_subcommand("backup", "write a consistent copy of the database to FILE, while it serves");
+  backup_cmd->add_option("FILE", backup_file)->required();
+  CLI::App* restore_cmd = admin->add_subcommand("restore", "restore FILE (from admin backup) into an empty --db");
+  restore_cmd->add_option("FILE", backup_file)->required();
 
   try {
     cli.parse(argc, argv);
@@ -272,6 +278,16 @@ int main(int argc, char** argv) {
   const std::string url = db_url(db, data);
   so.cache = data + "/cache";
   if (!admin->parsed()) return serve(url, listen, so);
+  // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
+  if (backup_cmd->parsed() || restore_cmd->parsed()) {
+    const Status done = backup_cmd->parsed() ? backup_database(url, backup_file) : restore_database(url, backup_file);
+    if (!done) {
+      std::cerr << "cathbox-server: " << done.error().message << '\n';
+      return exit_code_for(done.error());
+    }
+    std::printf("%s %s\n", backup_cmd->parsed() ? "backed up to" : "restored from", backup_file.c_str());
+    return kOk;
+  }
 
   int code = kOk;
   std::unique_ptr<Store> store = open_store(url, code);
