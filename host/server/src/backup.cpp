@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <string_view>
 #include <vector>
 
 #include <sqlite3.h>
@@ -24,7 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr char kSqliteMagic[] = "SQLite format 3";  // then a NUL: the first 16 bytes of every SQLite file
+constexpr std::string_view kSqliteMagic("SQLite format 3\0", 16);  // the first 16 bytes of every SQLite file
 constexpr char kPgDumpMagic[] = "PGDMP";            // pg_dump's custom format
 
 bool is_sqlite_url(const std::string& url) { return url.rfind("sqlite:", 0) == 0; }
@@ -161,7 +162,7 @@ Status backup_database(const std::string& db_url, const std::string& file) {
 Status restore_database(const std::string& db_url, const std::string& file) {
   if (!fs::is_regular_file(file)) return make_error(400, file + ": no such backup file");
   const std::string head = file_head(file, 16);
-  const bool sqlite_file = head.size() == 16 && head.compare(0, 16, std::string(kSqliteMagic, 16)) == 0;
+  const bool sqlite_file = head == kSqliteMagic;
   const bool pg_dump_file = head.rfind(kPgDumpMagic, 0) == 0;
   if (!sqlite_file && !pg_dump_file) {
     return make_error(400, file + ": not a cathbox backup (neither a SQLite database nor a pg_dump custom-format file)");

@@ -176,6 +176,13 @@ ApiRequest to_api_request(const http::request<http::string_body>& req, const std
   return r;
 }
 
+// An error answer for a failed authentication; a 401 names the scheme (RFC 9110 section 11.6.1).
+ApiResponse auth_refusal(const Error& e) {
+  ApiResponse r = error_response(e);
+  if (e.status == 401) r.headers.emplace_back("WWW-Authenticate", "Bearer");
+  return r;
+}
+
 // ---- WebSocket ------------------------------------------------------------------------------
 
 class WsSession final : public LiveSubscriber, public std::enable_shared_from_this<WsSession> {
@@ -540,8 +547,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
         } else {
           Result<Caller> who = local ? Result<Caller>(Caller{}) : self->s_.api.context().auth.authenticate(token);
           if (!who) {
-            r = error_response(who.error());
-            r.headers.emplace_back("WWW-Authenticate", "Bearer");
+            r = auth_refusal(who.error());
           } else if (!local && who.value().role != Role::kAdmin) {
             r = error_response(make_error(403, "/metrics: for loopback callers and admins"));
           } else {
@@ -669,8 +675,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       try {
         Result<Caller> who = self->s_.api.context().auth.authenticate(token);
         if (!who) {
-          refusal = error_response(who.error());
-          if (who.error().status == 401) refusal.headers.emplace_back("WWW-Authenticate", "Bearer");
+          refusal = auth_refusal(who.error());
         } else if (publisher) {
           const auto q = [&](const char* k) { const auto it = t.query.find(k); return it == t.query.end() ? std::string() : it->second; };
           const std::string version = q("version");
