@@ -5,7 +5,13 @@
 #include <regex>
 #include <sstream>
 
+#include <signal.h>
+
+#include <nlohmann/json.hpp>
+
+#include "server/log_line.hpp"
 #include "server/server_metrics.hpp"
+#include "server/testing/child_process.hpp"
 #include "support/server_fixture.hpp"
 
 namespace cathbox::server {
@@ -105,6 +111,53 @@ TEST(ServerMetricsTest, RoutesNameTheEndpointNotTheIdsAndHistogramsAreCumulative
   EXPECT_NE(text.find("cathbox_upload_check_seconds_bucket{le=\"2.5\"} 0\n"), std::string::npos);
   EXPECT_NE(text.find("cathbox_upload_check_seconds_bucket{le=\"5\"} 1\n"), std::string::npos);
   expect_exposition_format(text);
+}
+
+TEST(LogLineTest, TextForATerminalOrOneJsonObjectALine) {
+  const std::int64_t t_us = 1'795'860'000'000'000;  // 2026-11-28T10:00:00Z
+  EXPECT_EQ(log_line(LogFormat::kText, "info", "listening on http://127.0.0.1:8080", t_us), "cathbox-server: listening on http://127.0.0.1:8080");
+  EXPECT_EQ(log_line(LogFormat::kText, "warning", "--insecure-http: ...", t_us), "cathbox-server: WARNING: --insecure-http: ...");
+  const std::string line = log_line(LogFormat::kJson, "error", "--tls-key k.pem: \"bad\"\nsecond line \xff", t_us, {{"file", "k.pem"}});
+  EXPECT_EQ(line.find('\n'), std::string::npos);  // one line, whatever the message holds
+  const nlohmann::json j = nlohmann::json::parse(line);
+  EXPECT_EQ(j["time"], "2026-11-28T10:00:00.000000Z");
+  EXPECT_EQ(j["level"], "error");
+  EXPECT_EQ(j["program"], "cathbox-server");
+  EXPECT_EQ(j["msg"], "--tls-key k.pem: \"bad\"\nsecond line \xef\xbf\xbd");  // invalid UTF-8 replaced
+  EXPECT_EQ(j["file"], "k.pem");
+  EXPECT_EQ(line.rfind(R"({"time":)", 0), 0U);
+  EXPECT_FALSE(parse_log_format("xml"));
+}
+
+// The program itself with --log-format json: its start, a certificate reload refused (plain
+// HTTP has none) and its stop are JSON lines; a bad format is one line and exit 2.
+TEST(LogLineTest, TheServerLogsJsonLinesWhenAsked) {
+  using testing::ChildOptions;
+  using testing::ChildProcess;
+  const std::string program = testing::sibling_program("cathbox-server");
+  ChildProcess server;
+  ChildOptions o;
+  o.capture_stdout = true;
+  ASSERT_EQ(server.start({program, "--db", test::fresh_database_url("sqlite"), "--listen", "127.0.0.1:0", "--log-format", "json"}, o), "");
+  const std::optional<std::string> first = server.read_line();
+  ASSERT_TRUE(first);
+  const nlohmann::json started = nlohmann::json::parse(*first);
+  EXPECT_EQ(started["level"], "info");
+  EXPECT_EQ(started["msg"].get<std::string>().rfind("listening on http://127.0.0.1:", 0), 0U) << *first;
+  EXPECT_EQ(started["url"].get<std::string>().rfind("http://127.0.0.1:", 0), 0U);
+  EXPECT_FALSE(started["schema"].get<std::string>().empty());
+  server.signal(SIGHUP);
+  const nlohmann::json reload = nlohmann::json::parse(server.read_line().value_or("{}"));
+  EXPECT_EQ(reload["level"], "warning");
+  EXPECT_EQ(reload["msg"], "SIGHUP: TLS reload: this server speaks plain HTTP (no --tls-cert) (the old certificate stays)");
+  server.signal(SIGTERM);
+  const nlohmann::json stop = nlohmann::json::parse(server.read_line().value_or("{}"));
+  EXPECT_EQ(stop["msg"], "stopping (signal 15)");
+  EXPECT_EQ(server.wait(), 0);
+
+  ChildProcess bad;
+  ASSERT_EQ(bad.start({program, "--db", test::fresh_database_url("sqlite"), "--log-format", "xml"}, ChildOptions{}), "");
+  EXPECT_EQ(bad.wait(), 2);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, OperationsTest, ::testing::ValuesIn(test::kBackends), test::BackendName());
