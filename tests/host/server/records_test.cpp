@@ -13,6 +13,7 @@
 #include "vessel/mesh_wire.hpp"
 #include "vessel/vessel_mesher.hpp"
 #include "session/session.hpp"
+#include "left_branch_record.hpp"
 #include "support/api_fixture.hpp"
 #include "record_tamper.hpp"
 
@@ -32,21 +33,7 @@ std::string read_all(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-// The y-bifurcation's left branch by action script, recorded in virtual time.
-std::string record_left_branch() {
-  const std::string path = scratch("left.cbxrec");
-  auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-  EXPECT_TRUE(scene.value) << scene.error;
-  std::string error;
-  auto hand = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
-                                              *scene.value, error);
-  EXPECT_TRUE(hand) << error;
-  session::Session s(std::move(scene.value), std::move(hand));
-  EXPECT_TRUE(s.record_to(path, error)) << error;
-  while (!s.over()) s.step_virtual(1000);
-  EXPECT_TRUE(s.recorder()->close());
-  return path;
-}
+std::string record_left_branch() { return record_left_branch_to(scratch("left.cbxrec")); }
 
 // The record rewritten with the held tool's insertion 1 um further from `from_tick` on.
 std::string tampered(const std::string& path, std::int64_t from_tick) {
