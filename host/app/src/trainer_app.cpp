@@ -77,8 +77,12 @@ bool TrainerApp::open_replay(const std::string& path, std::string& error) {
   close_live();  // a run being recorded is closed first (and queued for the server)
   follower_.reset();
   shown_wall_.reset();
-  auto player = session::ReplayPlayer::open(path, error);
-  if (!player) return false;
+  auto opened = session::ReplayPlayer::open(path);
+  if (!opened) {
+    error = opened.error().message;
+    return false;
+  }
+  std::unique_ptr<session::ReplayPlayer> player = std::move(*opened);
   if (player->session().scene().mesh() == nullptr) {
     error = path + ": the record's case has no vessel surface to show";
     return false;

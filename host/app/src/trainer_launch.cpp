@@ -119,9 +119,11 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   if (options.record) {
     std::string error;
     const std::string dir = options.records_dir.empty() ? session::records_dir() : options.records_dir;
-    const std::string path = session::new_record_path(dir, live.session->scene().name, error);
-    if (!path.empty() && live.session->record_to(path, error)) {
-      live.record_path = path;
+    const base::Result<std::string> path = session::new_record_path(dir, live.session->scene().name);
+    if (!path) {
+      live.note = "not recording: " + path.error().message;
+    } else if (live.session->record_to(*path, error)) {
+      live.record_path = *path;
     } else {
       live.note = "not recording: " + error;
     }

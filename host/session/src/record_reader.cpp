@@ -28,17 +28,11 @@ RecordReader::~RecordReader() {
   ZSTD_freeDCtx(static_cast<ZSTD_DCtx*>(dctx_));
 }
 
-std::unique_ptr<RecordReader> RecordReader::open(const std::string& path, std::string& error) {
+base::Result<std::unique_ptr<RecordReader>> RecordReader::open(const std::string& path) {
   std::unique_ptr<RecordReader> r(new RecordReader(path));
   r->file_ = std::fopen(path.c_str(), "rb");
-  if (r->file_ == nullptr) {
-    error = path + ": cannot open: " + std::strerror(errno);
-    return nullptr;
-  }
-  if (!r->start()) {
-    error = r->error_;
-    return nullptr;
-  }
+  if (r->file_ == nullptr) return base::Error{path + ": cannot open: " + std::strerror(errno)};
+  if (!r->start()) return base::Error{r->error_};
   return r;
 }
 

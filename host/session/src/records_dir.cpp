@@ -18,13 +18,10 @@ std::string user_dir(UserDir kind, const std::string& relative) {
 
 std::string records_dir() { return user_dir(UserDir::kData, "records"); }
 
-std::string new_record_path(const std::string& dir, const std::string& case_name, std::string& error) {
+base::Result<std::string> new_record_path(const std::string& dir, const std::string& case_name) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    error = dir + ": cannot create the records folder: " + ec.message();
-    return {};
-  }
+  if (ec) return base::Error{dir + ": cannot create the records folder: " + ec.message()};
   std::string slug;
   for (const char c : case_name) {
     if (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '-' || c == '_') {

@@ -4,9 +4,12 @@ namespace cathbox::session {
 
 std::unique_ptr<Replay> Replay::open(const std::string& path, std::string& error, bool stop_at_mismatch,
                                      const vessel::SurfaceMesh* surface) {
-  std::unique_ptr<RecordReader> reader = RecordReader::open(path, error);
-  if (!reader) return nullptr;
-  return open(std::move(reader), error, stop_at_mismatch, surface);
+  base::Result<std::unique_ptr<RecordReader>> reader = RecordReader::open(path);
+  if (!reader) {
+    error = reader.error().message;
+    return nullptr;
+  }
+  return open(std::move(*reader), error, stop_at_mismatch, surface);
 }
 
 std::unique_ptr<Replay> Replay::open(std::unique_ptr<RecordReader> reader, std::string& error, bool stop_at_mismatch,

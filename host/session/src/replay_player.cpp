@@ -6,18 +6,19 @@
 
 namespace cathbox::session {
 
-std::unique_ptr<ReplayPlayer> ReplayPlayer::open(const std::string& path, std::string& error) {
+base::Result<std::unique_ptr<ReplayPlayer>> ReplayPlayer::open(const std::string& path) {
   std::unique_ptr<ReplayPlayer> p(new ReplayPlayer());
   p->path_ = path;
   // Its length: read through once (decoding only; fast).
-  std::unique_ptr<RecordReader> scan = RecordReader::open(path, error);
-  if (!scan) return nullptr;
-  scan->skip_to_end();
-  p->total_ticks_ = scan->ticks_read();
-  p->problem_ = scan->error();
+  base::Result<std::unique_ptr<RecordReader>> scan = RecordReader::open(path);
+  if (!scan) return scan.error();
+  (*scan)->skip_to_end();
+  p->total_ticks_ = (*scan)->ticks_read();
+  p->problem_ = (*scan)->error();
   // Playing goes on past a mismatch: the debrief shows it rather than stopping there.
+  std::string error;
   p->replay_ = Replay::open(path, error, false);
-  if (!p->replay_) return nullptr;
+  if (!p->replay_) return base::Error{error};
   return p;
 }
 

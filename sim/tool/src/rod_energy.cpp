@@ -25,6 +25,80 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   return r;
 }
 
+// An inflated balloon's grip: an elastic-plastic anchor that slips beyond its limit.
+[[gnu::always_inline]] inline void Rod::add_grip_terms(std::size_t k, glm::dmat3& h) {
+  const glm::dmat3 identity(1.0);
+  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const glm::dvec3 rel = x_[k] - grip_anchor_[k];
+  const double rel_len = glm::length(rel);
+  const double limit = grip_limit_[k];
+  if (kg * rel_len <= limit) {
+    add_grad(k, rel * kg);
+    h += identity * kg;
+    energy_ += 0.5 * kg * rel_len * rel_len;
+  } else {
+    const glm::dvec3 ru = rel / rel_len;
+    add_grad(k, ru * limit);
+    h += (limit / rel_len) * (identity - glm::outerProduct(ru, ru));
+    energy_ += limit * rel_len - 0.5 * limit * limit / kg;
+  }
+}
+
+// The wall's penalty on node k's active planes, and the Coulomb friction (a stick spring with a
+// slip limit) on its first plane.
+[[gnu::always_inline]] inline void Rod::add_wall_terms(std::size_t k, glm::dmat3& h) {
+  const glm::dmat3 identity(1.0);
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  const NodeContact& nc = node_contacts_[k];
+  if (nc.has_plane && nc.active2) {
+    const double phi2 = second_gap(k);
+    add_grad(k, nc.normal2 * (kc * phi2));
+    h += kc * glm::outerProduct(nc.normal2, nc.normal2);
+    energy_ += 0.5 * kc * phi2 * phi2;
+  }
+  if (!nc.has_plane || !nc.active) return;
+  const double phi = plane_gap(k);
+  const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
+  add_grad(k, nc.normal * (kc * phi));
+  h += kc * nn;
+  energy_ += 0.5 * kc * phi * phi;
+  if (!(spec_.friction > 0.0)) return;
+  const glm::dmat3 pt = identity - nn;
+  const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+  const double slip_len = glm::length(slip);
+  // The slip limit uses the normal force of the previous step, so within a step friction
+  // is a fixed convex potential and the iterations converge.
+  const double limit = spec_.friction * nc.normal_force;
+  friction_limit_[k] = limit;
+  if (kt * slip_len <= limit) {
+    add_grad(k, slip * kt);
+    h += kt * pt;
+    energy_ += 0.5 * kt * slip_len * slip_len;
+  } else {
+    energy_ += limit * slip_len - 0.5 * limit * limit / kt;
+    const glm::dvec3 sd = slip / slip_len;
+    add_grad(k, sd * limit);
+    h += (limit / slip_len) * (pt - glm::outerProduct(sd, sd));
+  }
+}
+
+// The free node k's own terms: drag, loads, grip, wall penalty and friction. Returns its block
+// on the Hessian's diagonal (the gradient and the energy take the terms as they go).
+[[gnu::always_inline]] inline glm::dmat3 Rod::node_terms(std::size_t k) {
+  const glm::dmat3 identity(1.0);
+  const double cd = drag_k_[k];
+  const glm::dvec3 moved = x_[k] - x_start_[k];
+  const glm::dvec3 load = load_[k] + coupling_[k];
+  add_grad(k, moved * cd - load);
+  glm::dmat3 h = identity * cd;
+  energy_ += 0.5 * cd * glm::dot(moved, moved) - glm::dot(load, x_[k]);
+  if (grip_limit_[k] > 0.0) add_grip_terms(k, h);
+  friction_limit_[k] = 0.0;
+  add_wall_terms(k, h);
+  return h;
+}
+
 // Gradient, energy and Hessian in one pass along the rod: each edge's length and tangent
 // once (its stretching and the bending at the vertices either side share them), and each
 // block row written as soon as its last term is known. The Gauss-Newton Hessian in terms of
@@ -113,80 +187,6 @@ void Rod::assemble(bool hessian) {
   }
 
   add_edge_contact_terms(hessian);
-}
-
-// The free node k's own terms: drag, loads, grip, wall penalty and friction. Returns its block
-// on the Hessian's diagonal (the gradient and the energy take the terms as they go).
-glm::dmat3 Rod::node_terms(std::size_t k) {
-  const glm::dmat3 identity(1.0);
-  const double cd = drag_k_[k];
-  const glm::dvec3 moved = x_[k] - x_start_[k];
-  const glm::dvec3 load = load_[k] + coupling_[k];
-  add_grad(k, moved * cd - load);
-  glm::dmat3 h = identity * cd;
-  energy_ += 0.5 * cd * glm::dot(moved, moved) - glm::dot(load, x_[k]);
-  if (grip_limit_[k] > 0.0) add_grip_terms(k, h);
-  friction_limit_[k] = 0.0;
-  add_wall_terms(k, h);
-  return h;
-}
-
-// An inflated balloon's grip: an elastic-plastic anchor that slips beyond its limit.
-void Rod::add_grip_terms(std::size_t k, glm::dmat3& h) {
-  const glm::dmat3 identity(1.0);
-  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
-  const glm::dvec3 rel = x_[k] - grip_anchor_[k];
-  const double rel_len = glm::length(rel);
-  const double limit = grip_limit_[k];
-  if (kg * rel_len <= limit) {
-    add_grad(k, rel * kg);
-    h += identity * kg;
-    energy_ += 0.5 * kg * rel_len * rel_len;
-  } else {
-    const glm::dvec3 ru = rel / rel_len;
-    add_grad(k, ru * limit);
-    h += (limit / rel_len) * (identity - glm::outerProduct(ru, ru));
-    energy_ += limit * rel_len - 0.5 * limit * limit / kg;
-  }
-}
-
-// The wall's penalty on node k's active planes, and the Coulomb friction (a stick spring with a
-// slip limit) on its first plane.
-void Rod::add_wall_terms(std::size_t k, glm::dmat3& h) {
-  const glm::dmat3 identity(1.0);
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  const double kt = kc * settings_.stick_stiffness_ratio;
-  const NodeContact& nc = node_contacts_[k];
-  if (nc.has_plane && nc.active2) {
-    const double phi2 = second_gap(k);
-    add_grad(k, nc.normal2 * (kc * phi2));
-    h += kc * glm::outerProduct(nc.normal2, nc.normal2);
-    energy_ += 0.5 * kc * phi2 * phi2;
-  }
-  if (!nc.has_plane || !nc.active) return;
-  const double phi = plane_gap(k);
-  const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
-  add_grad(k, nc.normal * (kc * phi));
-  h += kc * nn;
-  energy_ += 0.5 * kc * phi * phi;
-  if (!(spec_.friction > 0.0)) return;
-  const glm::dmat3 pt = identity - nn;
-  const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
-  const double slip_len = glm::length(slip);
-  // The slip limit uses the normal force of the previous step, so within a step friction
-  // is a fixed convex potential and the iterations converge.
-  const double limit = spec_.friction * nc.normal_force;
-  friction_limit_[k] = limit;
-  if (kt * slip_len <= limit) {
-    add_grad(k, slip * kt);
-    h += kt * pt;
-    energy_ += 0.5 * kt * slip_len * slip_len;
-  } else {
-    energy_ += limit * slip_len - 0.5 * limit * limit / kt;
-    const glm::dvec3 sd = slip / slip_len;
-    add_grad(k, sd * limit);
-    h += (limit / slip_len) * (pt - glm::outerProduct(sd, sd));
-  }
 }
 
 double Rod::energy() const {

@@ -36,7 +36,7 @@ void Rod::update_frames() {
   }
 }
 
-void Rod::set_material_frame(std::size_t e) {
+[[gnu::always_inline]] inline void Rod::set_material_frame(std::size_t e) {
   const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
   const double c = base::portable::cos(theta_[e]);
   const double s = base::portable::sin(theta_[e]);
@@ -133,7 +133,7 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
 // Torsional wall friction at node k: stick spring with a slip limit. Returns 0 off the wall (or
 // without friction), 1 stuck, 2 or 3 slipping either way, with the spring, its limit and the
 // angle from the anchor.
-std::uint8_t Rod::twist_regime(std::size_t k, double& ktr, double& limit, double& d) const {
+[[gnu::always_inline]] inline std::uint8_t Rod::twist_regime(std::size_t k, double& ktr, double& limit, double& d) const {
   const std::size_t n = x_.size();
   const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   const NodeContact& nc = node_contacts_[k];

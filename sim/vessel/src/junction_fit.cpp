@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <array>
+#include <optional>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -152,6 +153,231 @@ JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, 
   }
 }
 
+namespace {
+
+// A vertex of the marked faces (local numbering): its junction and branch (-1: the patch,
+// preferred; b: the tube of branch b beyond its ring) and how many marked faces hold it.
+struct PatchVertex {
+  int vertex;
+  int junction;
+  int branch;
+  int faces = 0;
+};
+
+// The marked faces of one refinement level: their vertices, every face corner as (vertex, next,
+// diagonal, previous) in local numbers, and the Catmull-Clark limit stencils built from them.
+class MarkedPatch {
+ public:
+  explicit MarkedPatch(const RefinedLevel& level)
+      : level_(level), local_of_(static_cast<std::size_t>(level.vertex_count()), -1) {}
+
+  // Marks the level's descendants of the control faces `faces` (first_child: the first face of
+  // every control face's descendants). False when one of them is no quad.
+  [[nodiscard]] bool mark(const std::vector<std::uint32_t>& first_child, const std::vector<std::uint32_t>& faces,
+                          int junction, int branch) {
+    for (std::uint32_t f : faces) {
+      for (std::uint32_t child = first_child[f]; child < first_child[f + 1]; ++child) {
+        const std::span<const int> q = level_.face_vertices(static_cast<int>(child));
+        if (q.size() != 4) return false;
+        mark_quad(q, junction, branch);
+      }
+    }
+    return true;
+  }
+
+  // Corners grouped by vertex (counting sort) and the positions, gathered once.
+  void gather() {
+    first_corner.assign(locals.size() + 1, 0);
+    for (const PatchVertex& l : locals) first_corner[&l - locals.data() + 1] = static_cast<std::size_t>(l.faces);
+    for (std::size_t i = 0; i < locals.size(); ++i) first_corner[i + 1] += first_corner[i];
+    around.resize(corners.size());
+    {
+      std::vector<std::size_t> fill(first_corner.begin(), first_corner.end() - 1);
+      for (const auto& c : corners) around[fill[static_cast<std::size_t>(c[0])]++] = {c[1], c[2], c[3]};
+    }
+    pos.resize(locals.size());
+    for (std::size_t i = 0; i < locals.size(); ++i) pos[i] = glm::dvec3(level_.point(locals[i].vertex));
+  }
+
+  // Catmull-Clark limit of an interior quad-mesh vertex of valence n:
+  // (n^2 v + 4 sum(edge neighbours) + sum(diagonals)) / (n (n + 5)); each edge neighbour is in two
+  // of the vertex's faces, so 4 sum(e) = 2 sum over faces of (next + previous).
+  [[nodiscard]] glm::dvec3 limit_of(std::size_t i) const {
+    glm::dvec3 sum(0.0);
+    for (std::size_t c = first_corner[i]; c < first_corner[i + 1]; ++c) {
+      const auto& a = around[c];
+      sum += 2.0 * (pos[static_cast<std::size_t>(a[0])] + pos[static_cast<std::size_t>(a[2])]) + pos[static_cast<std::size_t>(a[1])];
+    }
+    const double n = static_cast<double>(first_corner[i + 1] - first_corner[i]);
+    return (n * n * pos[i] + sum) / (n * (n + 5.0));
+  }
+
+  // Every marked face's four corners are all its vertex's faces, and it is not on a boundary:
+  // its limit stencil is known.
+  [[nodiscard]] bool interior(std::size_t i) const {
+    const PatchVertex& l = locals[i];
+    return l.faces == level_.vertex_face_count(l.vertex) && !level_.boundary_vertex(l.vertex);
+  }
+
+  std::vector<PatchVertex> locals;
+  std::vector<std::array<int, 4>> corners;
+  std::vector<std::size_t> first_corner;
+  std::vector<std::array<int, 3>> around;  // (next, diagonal, previous) per corner
+  std::vector<glm::dvec3> pos;
+
+ private:
+  void mark_quad(std::span<const int> q, int junction, int branch) {
+    std::array<int, 4> l{};
+    for (std::size_t i = 0; i < 4; ++i) {
+      int& slot = local_of_[static_cast<std::size_t>(q[i])];
+      if (slot < 0) {
+        slot = static_cast<int>(locals.size());
+        locals.push_back({q[i], junction, branch});
+      } else if (branch < 0) {
+        locals[static_cast<std::size_t>(slot)].junction = junction;
+        locals[static_cast<std::size_t>(slot)].branch = branch;
+      }
+      l[i] = slot;
+    }
+    for (std::size_t i = 0; i < 4; ++i) {
+      corners.push_back({l[i], l[(i + 1) & 3], l[(i + 2) & 3], l[(i + 3) & 3]});
+      ++locals[static_cast<std::size_t>(l[i])].faces;
+    }
+  }
+
+  const RefinedLevel& level_;
+  std::vector<int> local_of_;
+};
+
+// What the search for the nearest tubes reuses from vertex to vertex.
+struct TubeSearch {
+  std::vector<Nearest> nearest;
+  std::vector<std::pair<double, std::size_t>> order;
+};
+
+// The nearest point of every tube that can matter to a point `at`: axes in order of a lower
+// bound of their distance; one whose tube is certainly further than the nearest so far plus the
+// blend width (and cannot hold the point) changes nothing and is skipped (its distance stays
+// infinite). `branch`: the vertex's own branch, always searched (-1: none).
+void nearest_tubes(const std::vector<JunctionFit::Axis>& axes, int branch, const glm::dvec3& at, TubeSearch& search) {
+  search.order.clear();
+  double largest_radius = 0.0;
+  for (std::size_t b = 0; b < axes.size(); ++b) {
+    search.order.emplace_back(std::max(0.0, glm::length(at - axes[b].bound_center) - axes[b].bound_radius), b);
+    largest_radius = std::max(largest_radius, axes[b].max_radius);
+  }
+  std::sort(search.order.begin(), search.order.end());
+  search.nearest.assign(axes.size(), Nearest{});
+  double nearest_abs = std::numeric_limits<double>::infinity();
+  for (const auto& [lower_bound, b] : search.order) {
+    const bool needed = static_cast<int>(b) == branch || lower_bound <= axes[b].max_radius ||
+                        lower_bound - axes[b].max_radius < nearest_abs + kFitBlendRadii * largest_radius;
+    if (!needed) continue;
+    search.nearest[b] = nearest_on(axes[b], at, 1.0);
+    nearest_abs = std::min(nearest_abs, std::abs(search.nearest[b].signed_distance));
+  }
+}
+
+// The move of a limit position onto its nearest tube, along that tube's direction.
+struct FitMove {
+  double move_mm = 0.0;
+  glm::dvec3 direction{0.0};
+};
+
+// The weighted move of the limit position `at` of a vertex of `branch` (-1: the patch) onto the
+// nearest of the junction's tubes (the header's weights); nothing for a point inside another
+// branch's tube, or where the weight is 0.
+std::optional<FitMove> fit_move(const std::vector<JunctionFit::Axis>& axes, int branch, const glm::dvec3& at,
+                                TubeSearch& search) {
+  nearest_tubes(axes, branch, at, search);
+  const std::vector<Nearest>& nearest = search.nearest;
+  // The nearest and second nearest tube surfaces (by distance, inside or out).
+  std::array<Nearest, 2> best;
+  Nearest own;
+  bool inside_other = false;
+  std::size_t first_index = 0;
+  for (std::size_t b = 0; b < nearest.size(); ++b) {
+    if (static_cast<int>(b) == branch) own = nearest[b];
+    if (std::abs(nearest[b].signed_distance) < std::abs(nearest[first_index].signed_distance)) first_index = b;
+  }
+  best[0] = nearest[first_index];
+  for (std::size_t b = 0; b < nearest.size(); ++b) {
+    if (b == first_index) continue;
+    if (std::abs(nearest[b].signed_distance) < std::abs(best[1].signed_distance)) best[1] = nearest[b];
+    inside_other = inside_other || nearest[b].signed_distance < -kFitInsideRadii * nearest[b].radius;
+  }
+  const Nearest& first = best[0];
+  const Nearest& second = best[1];
+  // A point inside another branch's tube is inside the lumen the branches share: left alone.
+  if (inside_other || !(first.radius > 0.0) || glm::dot(first.direction, first.direction) == 0.0) return std::nullopt;
+  const bool outside_both = first.signed_distance > -kFitInsideRadii * first.radius &&
+                            second.signed_distance > -kFitInsideRadii * second.radius;
+  const double side = std::max(
+      smoothstep((std::abs(second.signed_distance) - std::abs(first.signed_distance)) / (kFitBlendRadii * first.radius)),
+      outside_both ? smoothstep((glm::dot(first.direction, second.direction) - kFitSameSide) / (1.0 - kFitSameSide)) : 0.0);
+  const double near = 1.0 - smoothstep((std::abs(first.signed_distance) - kFitFullRadii * first.radius) /
+                                       ((kFitMaxMoveRadii - kFitFullRadii) * first.radius));
+  double w = side * near;
+  if (branch >= 0) {
+    const JunctionFit::Axis& axis = axes[static_cast<std::size_t>(branch)];
+    w *= 1.0 - smoothstep((own.arc - axis.trim) / (kFitTubeFadeRadii * axis.ring_radius));
+  }
+  if (w <= 0.0) return std::nullopt;
+  return FitMove{-w * first.signed_distance, first.direction};
+}
+
+// Moves the vertices until their limit positions reach start + displacement (Richardson
+// iteration v += target - limit(v), all at once per step; the limit stencil is a smoothing,
+// so smooth differences settle in a few steps). Only vertices with a displacement move; the
+// others keep their positions.
+void reach_targets(MarkedPatch& patch, const std::vector<std::size_t>& interior,
+                   const std::vector<glm::dvec3>& start_limit, const std::vector<glm::dvec3>& displacement) {
+  std::vector<std::size_t> moving;
+  for (std::size_t q = 0; q < interior.size(); ++q) {
+    if (glm::dot(displacement[q], displacement[q]) > 0.0) moving.push_back(q);
+  }
+  std::vector<glm::dvec3> step(moving.size());
+  for (int iteration = 0; iteration < kFitIterations; ++iteration) {
+    for (std::size_t m = 0; m < moving.size(); ++m) {
+      const std::size_t q = moving[m];
+      step[m] = start_limit[q] + displacement[q] - patch.limit_of(interior[q]);
+    }
+    for (std::size_t m = 0; m < moving.size(); ++m) patch.pos[interior[moving[m]]] += step[m];
+  }
+}
+
+// Where a vertex's neighbours stay (the weight falls off next to it) its limit can only follow
+// by the vertex moving ~2.25 times as far, which may fold the faces around it: a marked face that
+// turned by more than kFitMaxTurn_deg has its vertices' moves halved, up to kFitUnfoldSteps times.
+void unfold(MarkedPatch& patch, const RefinedLevel& level) {
+  const double cos_max_turn = std::cos(kFitMaxTurn_deg * 3.14159265358979323846 / 180.0);
+  const auto quad_normal = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
+    return glm::cross(c - a, d - b);
+  };
+  std::vector<glm::dvec3> before(patch.locals.size());
+  for (std::size_t i = 0; i < patch.locals.size(); ++i) before[i] = glm::dvec3(level.point(patch.locals[i].vertex));
+  std::vector<char> halve(patch.locals.size(), 0);
+  for (int step = 0; step < kFitUnfoldSteps; ++step) {
+    bool any_turned = false;
+    for (std::size_t c = 0; c < patch.corners.size(); c += 4) {  // each face's four corners, in order
+      const auto& f = patch.corners[c];
+      const auto at = [&](const std::vector<glm::dvec3>& p, std::size_t corner) { return p[static_cast<std::size_t>(f[corner])]; };
+      const glm::dvec3 n0 = quad_normal(at(before, 0), at(before, 1), at(before, 2), at(before, 3));
+      const glm::dvec3 n1 = quad_normal(at(patch.pos, 0), at(patch.pos, 1), at(patch.pos, 2), at(patch.pos, 3));
+      if (glm::dot(n0, n1) >= cos_max_turn * glm::length(n0) * glm::length(n1)) continue;
+      any_turned = true;
+      for (int v : f) halve[static_cast<std::size_t>(v)] = 1;
+    }
+    if (!any_turned) break;
+    for (std::size_t i = 0; i < patch.locals.size(); ++i) {
+      if (halve[i]) patch.pos[i] = 0.5 * (patch.pos[i] + before[i]);
+      halve[i] = 0;
+    }
+  }
+}
+
+}  // namespace
+
 void JunctionFit::apply(RefinedLevel& level) {
   const int k = level.level();
   if (k == 0) return;  // the control mesh: the patch has no vertices of its own to move
@@ -162,197 +388,41 @@ void JunctionFit::apply(RefinedLevel& level) {
   }
   if (first_child.back() != static_cast<std::uint32_t>(level.face_count())) return;  // not uniform refinement
 
-  // The vertices of the marked faces (local numbering), each with its junction and branch (-1:
-  // the patch, preferred; b: the tube of branch b beyond its ring), and every face corner as
-  // (vertex, next, diagonal, previous) in local numbers.
-  struct Local {
-    int vertex;
-    int junction;
-    int branch;
-    int faces = 0;
-  };
-  std::vector<Local> locals;
-  std::vector<std::array<int, 4>> corners;
-  std::vector<int> local_of(static_cast<std::size_t>(level.vertex_count()), -1);
-  bool quads = true;
-  const auto mark_faces = [&](const std::vector<std::uint32_t>& faces, int junction, int branch) {
-    for (std::uint32_t f : faces) {
-      for (std::uint32_t child = first_child[f]; child < first_child[f + 1]; ++child) {
-        const std::span<const int> q = level.face_vertices(static_cast<int>(child));
-        if (q.size() != 4) {
-          quads = false;
-          return;
-        }
-        std::array<int, 4> l{};
-        for (std::size_t i = 0; i < 4; ++i) {
-          int& slot = local_of[static_cast<std::size_t>(q[i])];
-          if (slot < 0) {
-            slot = static_cast<int>(locals.size());
-            locals.push_back({q[i], junction, branch});
-          } else if (branch < 0) {
-            locals[static_cast<std::size_t>(slot)].junction = junction;
-            locals[static_cast<std::size_t>(slot)].branch = branch;
-          }
-          l[i] = slot;
-        }
-        for (std::size_t i = 0; i < 4; ++i) {
-          corners.push_back({l[i], l[(i + 1) & 3], l[(i + 2) & 3], l[(i + 3) & 3]});
-          ++locals[static_cast<std::size_t>(l[i])].faces;
-        }
-      }
-    }
-  };
-  for (std::size_t j = 0; j < junctions_.size() && quads; ++j) {
+  // The vertices of the tubes' fading faces, then of the patch (which takes the vertices the two share).
+  MarkedPatch patch(level);
+  for (std::size_t j = 0; j < junctions_.size(); ++j) {
     for (std::size_t b = 0; b < junctions_[j].axes.size(); ++b) {
-      mark_faces(junctions_[j].axes[b].fade_faces, static_cast<int>(j), static_cast<int>(b));
+      if (!patch.mark(first_child, junctions_[j].axes[b].fade_faces, static_cast<int>(j), static_cast<int>(b))) return;
     }
-    mark_faces(junctions_[j].patch_faces, static_cast<int>(j), -1);
+    if (!patch.mark(first_child, junctions_[j].patch_faces, static_cast<int>(j), -1)) return;
   }
-  if (!quads) return;
-  // Corners grouped by vertex (counting sort) and the positions, gathered once.
-  std::vector<std::size_t> first_corner(locals.size() + 1, 0);
-  for (const Local& l : locals) first_corner[&l - locals.data() + 1] = static_cast<std::size_t>(l.faces);
-  for (std::size_t i = 0; i < locals.size(); ++i) first_corner[i + 1] += first_corner[i];
-  std::vector<std::array<int, 3>> around(corners.size());  // (next, diagonal, previous) per corner
-  {
-    std::vector<std::size_t> fill(first_corner.begin(), first_corner.end() - 1);
-    for (const auto& c : corners) around[fill[static_cast<std::size_t>(c[0])]++] = {c[1], c[2], c[3]};
-  }
-  std::vector<glm::dvec3> pos(locals.size());
-  for (std::size_t i = 0; i < locals.size(); ++i) pos[i] = glm::dvec3(level.point(locals[i].vertex));
-  // Catmull-Clark limit of an interior quad-mesh vertex of valence n:
-  // (n^2 v + 4 sum(edge neighbours) + sum(diagonals)) / (n (n + 5)); each edge neighbour is in two
-  // of the vertex's faces, so 4 sum(e) = 2 sum over faces of (next + previous).
-  const auto limit_of = [&](std::size_t i) {
-    glm::dvec3 sum(0.0);
-    for (std::size_t c = first_corner[i]; c < first_corner[i + 1]; ++c) {
-      const auto& a = around[c];
-      sum += 2.0 * (pos[static_cast<std::size_t>(a[0])] + pos[static_cast<std::size_t>(a[2])]) + pos[static_cast<std::size_t>(a[1])];
-    }
-    const double n = static_cast<double>(first_corner[i + 1] - first_corner[i]);
-    return (n * n * pos[i] + sum) / (n * (n + 5.0));
-  };
+  patch.gather();
 
   // Every vertex whose faces are all marked (so its limit stencil is known) gets a displacement
   // of its limit position: onto the nearest tube, by the weight (0 where it does not apply).
   std::vector<std::size_t> interior;
   std::vector<glm::dvec3> start_limit, displacement;
-  std::vector<int> interior_of(locals.size(), -1);
-  std::vector<Nearest> nearest;
-  std::vector<std::pair<double, std::size_t>> order;
+  TubeSearch search;
   std::vector<char> touched(junctions_.size(), 0);
-  for (std::size_t i = 0; i < locals.size(); ++i) {
-    const Local& l = locals[i];
-    if (l.faces != level.vertex_face_count(l.vertex) || level.boundary_vertex(l.vertex)) continue;
-    interior_of[i] = static_cast<int>(interior.size());
+  for (std::size_t i = 0; i < patch.locals.size(); ++i) {
+    if (!patch.interior(i)) continue;
+    const PatchVertex& l = patch.locals[i];
     interior.push_back(i);
-    const glm::dvec3 at = limit_of(i);
+    const glm::dvec3 at = patch.limit_of(i);
     start_limit.push_back(at);
     displacement.emplace_back(0.0);
-    const std::vector<Axis>& axes = junctions_[static_cast<std::size_t>(l.junction)].axes;
-    // The nearest and second nearest tube surfaces (by distance, inside or out).
-    std::array<Nearest, 2> best;
-    Nearest own;
-    bool inside_other = false;
-    // Axes in order of a lower bound of their distance; one whose tube is certainly further than
-    // the nearest so far plus the blend width (and cannot hold the point) changes nothing below
-    // and is skipped (its distance stays infinite).
-    order.clear();
-    double largest_radius = 0.0;
-    for (std::size_t b = 0; b < axes.size(); ++b) {
-      order.emplace_back(std::max(0.0, glm::length(at - axes[b].bound_center) - axes[b].bound_radius), b);
-      largest_radius = std::max(largest_radius, axes[b].max_radius);
-    }
-    std::sort(order.begin(), order.end());
-    nearest.assign(axes.size(), Nearest{});
-    double nearest_abs = std::numeric_limits<double>::infinity();
-    for (const auto& [lower_bound, b] : order) {
-      const bool needed = static_cast<int>(b) == l.branch || lower_bound <= axes[b].max_radius ||
-                          lower_bound - axes[b].max_radius < nearest_abs + kFitBlendRadii * largest_radius;
-      if (!needed) continue;
-      nearest[b] = nearest_on(axes[b], at, 1.0);
-      nearest_abs = std::min(nearest_abs, std::abs(nearest[b].signed_distance));
-    }
-    std::size_t first_index = 0;
-    for (std::size_t b = 0; b < nearest.size(); ++b) {
-      if (static_cast<int>(b) == l.branch) own = nearest[b];
-      if (std::abs(nearest[b].signed_distance) < std::abs(nearest[first_index].signed_distance)) first_index = b;
-    }
-    best[0] = nearest[first_index];
-    for (std::size_t b = 0; b < nearest.size(); ++b) {
-      if (b == first_index) continue;
-      if (std::abs(nearest[b].signed_distance) < std::abs(best[1].signed_distance)) best[1] = nearest[b];
-      inside_other = inside_other || nearest[b].signed_distance < -kFitInsideRadii * nearest[b].radius;
-    }
-    const Nearest& first = best[0];
-    const Nearest& second = best[1];
-    // A point inside another branch's tube is inside the lumen the branches share: left alone.
-    if (inside_other || !(first.radius > 0.0) || glm::dot(first.direction, first.direction) == 0.0) continue;
-    const bool outside_both = first.signed_distance > -kFitInsideRadii * first.radius &&
-                              second.signed_distance > -kFitInsideRadii * second.radius;
-    const double side = std::max(
-        smoothstep((std::abs(second.signed_distance) - std::abs(first.signed_distance)) / (kFitBlendRadii * first.radius)),
-        outside_both ? smoothstep((glm::dot(first.direction, second.direction) - kFitSameSide) / (1.0 - kFitSameSide)) : 0.0);
-    const double near = 1.0 - smoothstep((std::abs(first.signed_distance) - kFitFullRadii * first.radius) /
-                                         ((kFitMaxMoveRadii - kFitFullRadii) * first.radius));
-    double w = side * near;
-    if (l.branch >= 0) {
-      const Axis& axis = axes[static_cast<std::size_t>(l.branch)];
-      w *= 1.0 - smoothstep((own.arc - axis.trim) / (kFitTubeFadeRadii * axis.ring_radius));
-    }
-    if (w <= 0.0) continue;
-    const double move = -w * first.signed_distance;
-    displacement.back() = move * first.direction;
-    report_.max_move_mm = std::max(report_.max_move_mm, std::abs(move));
+    const std::optional<FitMove> fit = fit_move(junctions_[static_cast<std::size_t>(l.junction)].axes, l.branch, at, search);
+    if (!fit) continue;
+    displacement.back() = fit->move_mm * fit->direction;
+    report_.max_move_mm = std::max(report_.max_move_mm, std::abs(fit->move_mm));
     touched[static_cast<std::size_t>(l.junction)] = 1;
   }
-  // Move the vertices until their limit positions reach start + displacement (Richardson
-  // iteration v += target - limit(v), all at once per step; the limit stencil is a smoothing,
-  // so smooth differences settle in a few steps).
-  // Only vertices with a displacement move; the others keep their positions.
-  std::vector<std::size_t> moving;
-  for (std::size_t q = 0; q < interior.size(); ++q) {
-    if (glm::dot(displacement[q], displacement[q]) > 0.0) moving.push_back(q);
-  }
-  std::vector<glm::dvec3> step(moving.size());
-  for (int iteration = 0; iteration < kFitIterations; ++iteration) {
-    for (std::size_t m = 0; m < moving.size(); ++m) {
-      const std::size_t q = moving[m];
-      step[m] = start_limit[q] + displacement[q] - limit_of(interior[q]);
-    }
-    for (std::size_t m = 0; m < moving.size(); ++m) pos[interior[moving[m]]] += step[m];
-  }
-  // Where a vertex's neighbours stay (the weight falls off next to it) its limit can only follow
-  // by the vertex moving ~2.25 times as far, which may fold the faces around it: a marked face that
-  // turned by more than kFitMaxTurn_deg has its vertices' moves halved, up to kFitUnfoldSteps times.
-  const double cos_max_turn = std::cos(kFitMaxTurn_deg * 3.14159265358979323846 / 180.0);
-  const auto quad_normal = [](const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d) {
-    return glm::cross(c - a, d - b);
-  };
-  std::vector<glm::dvec3> before(locals.size());
-  for (std::size_t i = 0; i < locals.size(); ++i) before[i] = glm::dvec3(level.point(locals[i].vertex));
-  std::vector<char> halve(locals.size(), 0);
-  for (int unfold = 0; unfold < kFitUnfoldSteps; ++unfold) {
-    bool any_turned = false;
-    for (std::size_t c = 0; c < corners.size(); c += 4) {  // each face's four corners, in order
-      const auto& f = corners[c];
-      const auto at = [&](const std::vector<glm::dvec3>& p, std::size_t corner) { return p[static_cast<std::size_t>(f[corner])]; };
-      const glm::dvec3 n0 = quad_normal(at(before, 0), at(before, 1), at(before, 2), at(before, 3));
-      const glm::dvec3 n1 = quad_normal(at(pos, 0), at(pos, 1), at(pos, 2), at(pos, 3));
-      if (glm::dot(n0, n1) >= cos_max_turn * glm::length(n0) * glm::length(n1)) continue;
-      any_turned = true;
-      for (int v : f) halve[static_cast<std::size_t>(v)] = 1;
-    }
-    if (!any_turned) break;
-    for (std::size_t i = 0; i < locals.size(); ++i) {
-      if (halve[i]) pos[i] = 0.5 * (pos[i] + before[i]);
-      halve[i] = 0;
-    }
-  }
+  reach_targets(patch, interior, start_limit, displacement);
+  unfold(patch, level);
   std::size_t moved = 0;
   for (std::size_t q = 0; q < interior.size(); ++q) {
     if (glm::dot(displacement[q], displacement[q]) == 0.0) continue;
-    level.set_point(locals[interior[q]].vertex, glm::vec3(pos[interior[q]]));
+    level.set_point(patch.locals[interior[q]].vertex, glm::vec3(patch.pos[interior[q]]));
     ++moved;
   }
   report_.vertices = moved;

@@ -183,13 +183,11 @@ void drop_repeated_points(Edge& e) {
   return r;
 }
 
-// Clean-up, orientation and HCLM segments (see the header).
-NetworkBuild finish(Graph& g, NetworkStats stats) {
-  NetworkBuild out;
+// Branches that collapsed to a point merge their two nodes.
+void merge_collapsed(Graph& g) {
   for (Edge& e : g.edges()) {
     if (e.alive) drop_repeated_points(e);
   }
-  // Branches that collapsed to a point merge their two nodes.
   for (std::size_t e = 0; e < g.edges().size(); ++e) {
     Edge& edge = g.edges()[e];
     if (!edge.alive || edge.points.size() >= 2) continue;
@@ -204,23 +202,32 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
       }
     }
   }
-  // Short branches between two junctions: contracted into one junction at their middle.
+}
+
+// True when edge e between two junctions is shorter than kContractRadii of their radius, and no
+// other branch joins the same two nodes (contracting it would make that one a loop on one node).
+[[nodiscard]] bool contractible(const Graph& g, const std::vector<std::vector<std::size_t>>& incident, std::size_t e) {
+  const Edge& edge = g.edges()[e];
+  if (!edge.alive || edge.a == edge.b) return false;
+  if (incident[edge.a].size() < 3 || incident[edge.b].size() < 3) return false;
+  const double r = std::max(node_radius(g, incident[edge.a], edge.a), node_radius(g, incident[edge.b], edge.b));
+  if (length_of(edge.points) >= kContractRadii * r) return false;
+  bool parallel = false;
+  for (std::size_t other : incident[edge.a]) {
+    const Edge& o = g.edges()[other];
+    parallel = parallel || (other != e && ((o.a == edge.a && o.b == edge.b) || (o.a == edge.b && o.b == edge.a)));
+  }
+  return !parallel;
+}
+
+// Short branches between two junctions: contracted into one junction at their middle.
+void contract_short_branches(Graph& g, NetworkStats& stats) {
   for (bool changed = true; changed;) {
     changed = false;
     const auto incident = g.incidence();
     for (std::size_t e = 0; e < g.edges().size() && !changed; ++e) {
+      if (!contractible(g, incident, e)) continue;
       const Edge& edge = g.edges()[e];
-      if (!edge.alive || edge.a == edge.b) continue;
-      if (incident[edge.a].size() < 3 || incident[edge.b].size() < 3) continue;
-      const double r = std::max(node_radius(g, incident[edge.a], edge.a), node_radius(g, incident[edge.b], edge.b));
-      if (length_of(edge.points) >= kContractRadii * r) continue;
-      // Not when another branch joins the same two nodes (it would become a loop on one node).
-      bool parallel = false;
-      for (std::size_t other : incident[edge.a]) {
-        const Edge& o = g.edges()[other];
-        parallel = parallel || (other != e && ((o.a == edge.a && o.b == edge.b) || (o.a == edge.b && o.b == edge.a)));
-      }
-      if (parallel) continue;
       const std::size_t keep = edge.a;
       const std::size_t gone = edge.b;
       const glm::dvec3 middle = 0.5 * (g.node(keep) + g.node(gone));
@@ -235,7 +242,10 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
       changed = true;
     }
   }
-  // A branch from a node back to itself: split in two at its middle point.
+}
+
+// A branch from a node back to itself: split in two at its middle point.
+void split_self_loops(Graph& g) {
   for (std::size_t e = 0; e < g.edges().size(); ++e) {
     Edge& edge = g.edges()[e];
     if (!edge.alive || edge.a != edge.b) continue;
@@ -252,31 +262,42 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
     const std::string name = edge.name;
     g.add_edge(std::move(second), node, end, name);
   }
-  // Chains through nodes with exactly two branch ends (of two different branches): one segment.
+}
+
+// Joins the two branches at node n (exactly two ends there, of two different branches) into one;
+// false when n stays (an end of both is n itself, or joining would close a branch on itself).
+bool join_at(Graph& g, const std::vector<std::size_t>& at_node, std::size_t n) {
+  const std::size_t e1 = at_node[0];
+  const std::size_t e2 = at_node[1];
+  Edge first = g.edges()[e1];
+  Edge second = g.edges()[e2];
+  if (first.b != n) {
+    std::reverse(first.points.begin(), first.points.end());
+    std::swap(first.a, first.b);
+  }
+  if (second.a != n) {
+    std::reverse(second.points.begin(), second.points.end());
+    std::swap(second.a, second.b);
+  }
+  if (first.a == n || second.b == n) return false;
+  if (first.a == second.b) return false;  // joining would close a branch on itself: keep this node
+  first.points.insert(first.points.end(), second.points.begin() + 1, second.points.end());
+  first.b = second.b;
+  if (first.name.empty()) first.name = second.name;
+  g.edges()[e1] = std::move(first);
+  g.edges()[e2].alive = false;
+  return true;
+}
+
+// Chains through nodes with exactly two branch ends (of two different branches): one segment.
+// Then branches left without length are dropped.
+void join_chains(Graph& g, NetworkStats& stats) {
   for (bool changed = true; changed;) {
     changed = false;
     const auto incident = g.incidence();
     for (std::size_t n = 0; n < incident.size() && !changed; ++n) {
       if (incident[n].size() != 2 || incident[n][0] == incident[n][1]) continue;
-      const std::size_t e1 = incident[n][0];
-      const std::size_t e2 = incident[n][1];
-      Edge first = g.edges()[e1];
-      Edge second = g.edges()[e2];
-      if (first.b != n) {
-        std::reverse(first.points.begin(), first.points.end());
-        std::swap(first.a, first.b);
-      }
-      if (second.a != n) {
-        std::reverse(second.points.begin(), second.points.end());
-        std::swap(second.a, second.b);
-      }
-      if (first.a == n || second.b == n) continue;
-      if (first.a == second.b) continue;  // joining would close a branch on itself: keep this node
-      first.points.insert(first.points.end(), second.points.begin() + 1, second.points.end());
-      first.b = second.b;
-      if (first.name.empty()) first.name = second.name;
-      g.edges()[e1] = std::move(first);
-      g.edges()[e2].alive = false;
+      if (!join_at(g, incident[n], n)) continue;
       ++stats.joined;
       changed = true;
     }
@@ -284,108 +305,132 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
   for (Edge& e : g.edges()) {
     if (e.alive && (e.points.size() < 2 || !(length_of(e.points) > 0.0))) e.alive = false;
   }
+}
 
-  // Orientation: depth-first from each component's root.
-  const auto incident = g.incidence();
-  const std::size_t n_nodes = g.node_count();
-  std::vector<int> state(n_nodes, 0);  // 0 unseen, 1 on the stack, 2 done
-  std::vector<std::size_t> order;      // edges in discovery order
-  std::vector<char> forward(g.edges().size(), 1);  // points run a -> b (else reversed)
-  std::vector<char> used(g.edges().size(), 0);
-  const auto other_end = [&](std::size_t e, std::size_t n) { return g.edges()[e].a == n ? g.edges()[e].b : g.edges()[e].a; };
-  // Iterative DFS from `root`; edges to a node on the stack (back edges) point to it.
-  const auto walk = [&](std::size_t root, bool record) -> std::size_t {
+// Orientation: depth-first from each component's root (its widest free end, or a node on a
+// cycle), every edge in discovery order and pointing away from the root (back edges to the
+// ancestor they close a cycle on).
+class Orientation {
+ public:
+  explicit Orientation(const Graph& g)
+      : forward(g.edges().size(), 1), g_(g), incident_(g.incidence()), state_(g.node_count(), 0),
+        used_(g.edges().size(), 0) {}
+
+  void run(NetworkStats& stats) {
+    for (std::size_t start = 0; start < g_.node_count(); ++start) {
+      if (state_[start] != 0 || incident_[start].empty()) continue;
+      walk(root_of(component(start), start), true);
+      ++stats.components;
+    }
+  }
+
+  std::vector<std::size_t> order;  // edges in discovery order
+  std::vector<char> forward;       // points run a -> b (else reversed)
+
+ private:
+  [[nodiscard]] std::size_t other_end(std::size_t e, std::size_t n) const {
+    return g_.edges()[e].a == n ? g_.edges()[e].b : g_.edges()[e].a;
+  }
+
+  // The component's nodes, to choose its root.
+  [[nodiscard]] std::vector<std::size_t> component(std::size_t start) const {
+    std::vector<std::size_t> members;
+    std::vector<std::size_t> stack{start};
+    std::vector<char> seen(g_.node_count(), 0);
+    seen[start] = 1;
+    while (!stack.empty()) {
+      const std::size_t n = stack.back();
+      stack.pop_back();
+      members.push_back(n);
+      for (std::size_t e : incident_[n]) {
+        const std::size_t to = other_end(e, n);
+        if (!seen[to]) {
+          seen[to] = 1;
+          stack.push_back(to);
+        }
+      }
+    }
+    return members;
+  }
+
+  // The widest free end; with none, a first walk finds a node on a cycle, the real one starts there.
+  std::size_t root_of(const std::vector<std::size_t>& members, std::size_t start) {
+    std::size_t root = kNone;
+    double widest = -1.0;
+    for (std::size_t n : members) {
+      if (incident_[n].size() != 1) continue;
+      const double r = node_radius(g_, incident_[n], n);
+      if (r > widest) {
+        widest = r;
+        root = n;
+      }
+    }
+    if (root != kNone) return root;
+    const std::size_t on_cycle = walk(start, false);
+    for (std::size_t n : members) state_[n] = 0;
+    for (std::size_t n : members) {
+      for (std::size_t e : incident_[n]) used_[e] = 0;
+    }
+    return on_cycle == kNone ? start : on_cycle;
+  }
+
+  // Iterative DFS from `root`; edges to a node on the stack (back edges) point to it. Returns the
+  // first node a back edge reached (kNone: no cycle).
+  std::size_t walk(std::size_t root, bool record) {
     std::size_t cycle_node = kNone;
     struct Frame {
       std::size_t node;
       std::size_t next = 0;
     };
     std::vector<Frame> stack{{root}};
-    state[root] = 1;
+    state_[root] = 1;
     while (!stack.empty()) {
       Frame& f = stack.back();
-      if (f.next == incident[f.node].size()) {
-        state[f.node] = 2;
+      if (f.next == incident_[f.node].size()) {
+        state_[f.node] = 2;
         stack.pop_back();
         continue;
       }
-      const std::size_t e = incident[f.node][f.next++];
-      if (used[e]) continue;
-      used[e] = 1;
-      const std::size_t to = other_end(e, f.node);
-      const Edge& edge = g.edges()[e];
-      if (state[to] == 0) {  // tree edge: from f.node to `to`
-        if (record) {
-          forward[e] = edge.a == f.node ? 1 : 0;
-          order.push_back(e);
-        }
-        state[to] = 1;
-        stack.push_back({to});
-      } else {  // back edge (an ancestor on the stack): from f.node up to `to`
-        if (cycle_node == kNone) cycle_node = to;
-        if (record) {
-          forward[e] = edge.a == f.node ? 1 : 0;
-          order.push_back(e);
-        }
+      const std::size_t e = incident_[f.node][f.next++];
+      if (used_[e]) continue;
+      used_[e] = 1;
+      const std::size_t from = f.node;
+      const std::size_t to = other_end(e, from);
+      if (record) {
+        forward[e] = g_.edges()[e].a == from ? 1 : 0;
+        order.push_back(e);
+      }
+      if (state_[to] == 0) {  // tree edge: from `from` to `to`
+        state_[to] = 1;
+        stack.push_back({to});  // may reallocate: `f` is not used after
+      } else if (cycle_node == kNone) {  // back edge (an ancestor on the stack): from `from` up to `to`
+        cycle_node = to;
       }
     }
     return cycle_node;
-  };
-  for (std::size_t start = 0; start < n_nodes; ++start) {
-    if (state[start] != 0 || incident[start].empty()) continue;
-    // The component's nodes, to choose its root.
-    std::vector<std::size_t> members;
-    {
-      std::vector<std::size_t> stack{start};
-      std::vector<char> seen(n_nodes, 0);
-      seen[start] = 1;
-      while (!stack.empty()) {
-        const std::size_t n = stack.back();
-        stack.pop_back();
-        members.push_back(n);
-        for (std::size_t e : incident[n]) {
-          const std::size_t to = other_end(e, n);
-          if (!seen[to]) {
-            seen[to] = 1;
-            stack.push_back(to);
-          }
-        }
-      }
-    }
-    std::size_t root = kNone;
-    double widest = -1.0;
-    for (std::size_t n : members) {
-      if (incident[n].size() != 1) continue;
-      const double r = node_radius(g, incident[n], n);
-      if (r > widest) {
-        widest = r;
-        root = n;
-      }
-    }
-    if (root == kNone) {
-      // No free end: a first walk finds a node on a cycle, the real one starts there.
-      const std::size_t on_cycle = walk(start, false);
-      for (std::size_t n : members) state[n] = 0;
-      for (std::size_t n : members) {
-        for (std::size_t e : incident[n]) used[e] = 0;
-      }
-      root = on_cycle == kNone ? start : on_cycle;
-    }
-    walk(root, true);
-    ++stats.components;
   }
 
-  // Segments in discovery order, with their end nodes after orientation.
+  const Graph& g_;
+  std::vector<std::vector<std::size_t>> incident_;
+  std::vector<int> state_;  // 0 unseen, 1 on the stack, 2 done
+  std::vector<char> used_;
+};
+
+// Segments in discovery order, with their end nodes after orientation; parents and children
+// from the nodes they share. False (out.error set) for a junction no segment ends or starts at.
+bool make_segments(Graph& g, const Orientation& orientation, NetworkBuild& out, NetworkStats& stats) {
+  const std::size_t n_nodes = g.node_count();
   std::vector<std::size_t> start_node, end_node;
-  for (std::size_t e : order) {
+  for (std::size_t e : orientation.order) {
     Edge& edge = g.edges()[e];
     vessel::Segment s;
     s.id = static_cast<std::int32_t>(out.model.segments.size() + 1);
     s.name = clean_name(edge.name);
     s.points = edge.points;
-    if (!forward[e]) std::reverse(s.points.begin(), s.points.end());
-    start_node.push_back(forward[e] ? edge.a : edge.b);
-    end_node.push_back(forward[e] ? edge.b : edge.a);
+    const bool forward = orientation.forward[e] != 0;
+    if (!forward) std::reverse(s.points.begin(), s.points.end());
+    start_node.push_back(forward ? edge.a : edge.b);
+    end_node.push_back(forward ? edge.b : edge.a);
     out.model.segments.push_back(std::move(s));
   }
   std::vector<std::vector<std::size_t>> ending(n_nodes), starting(n_nodes);
@@ -393,9 +438,11 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
     ending[end_node[i]].push_back(i);
     starting[start_node[i]].push_back(i);
   }
+  std::size_t used_nodes = 0;
   for (std::size_t n = 0; n < n_nodes; ++n) {
     const std::size_t ends = ending[n].size() + starting[n].size();
     if (ends == 0) continue;
+    ++used_nodes;
     if (ends == 1) {
       ++stats.free_ends;
       continue;
@@ -403,7 +450,7 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
     ++stats.junctions;
     if (ending[n].empty() || starting[n].empty()) {
       out.error = "internal: junction without a segment ending or starting there";
-      return out;
+      return false;
     }
     for (std::size_t in : ending[n]) {
       for (std::size_t o : starting[n]) {
@@ -412,10 +459,20 @@ NetworkBuild finish(Graph& g, NetworkStats stats) {
       }
     }
   }
-  stats.cycles = out.model.segments.size() + stats.components;
-  std::size_t used_nodes = 0;
-  for (std::size_t n = 0; n < n_nodes; ++n) used_nodes += (ending[n].size() + starting[n].size()) > 0 ? 1 : 0;
-  stats.cycles -= used_nodes;
+  stats.cycles = out.model.segments.size() + stats.components - used_nodes;
+  return true;
+}
+
+// Clean-up, orientation and HCLM segments (see the header).
+NetworkBuild finish(Graph& g, NetworkStats stats) {
+  NetworkBuild out;
+  merge_collapsed(g);
+  contract_short_branches(g, stats);
+  split_self_loops(g);
+  join_chains(g, stats);
+  Orientation orientation(g);
+  orientation.run(stats);
+  if (!make_segments(g, orientation, out, stats)) return out;
   if (out.model.segments.empty()) out.error = "no vessel left: every polyline was a single point";
   out.stats = stats;
   return out;

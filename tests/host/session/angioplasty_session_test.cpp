@@ -61,8 +61,9 @@ TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
   EXPECT_GT(named(live, "balloon_inflated_s"), 10.0);
   EXPECT_EQ(named(live, "rupture_risk_events"), 0.0);
   // Two balloon controls (inflate, deflate) in the record.
-  auto reader = RecordReader::open(path, error);
-  ASSERT_TRUE(reader) << error;
+  auto reader_opened = RecordReader::open(path);
+  ASSERT_TRUE(reader_opened) << reader_opened.error().message;
+  auto reader = std::move(*reader_opened);
   ASSERT_EQ(reader->header().tools.size(), 2u);
   EXPECT_TRUE(reader->header().tools[0].balloon.present()) << "the balloon is in the record's header";
   int balloon_controls = 0;

@@ -121,8 +121,9 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
     EXPECT_EQ(s.simulator().rod(1).spec().detach_mm, 15.0) << "the tool carries the next coil";
     EXPECT_NEAR(s.simulator().insertion_mm(1), 10.0, 1e-9) << "pushed from the hub";
   }  // the record is closed
-  auto reader = RecordReader::open(record, error);
-  ASSERT_TRUE(reader) << error;
+  auto reader_opened = RecordReader::open(record);
+  ASSERT_TRUE(reader_opened) << reader_opened.error().message;
+  auto reader = std::move(*reader_opened);
   ASSERT_EQ(reader->header().tools.size(), 2u);
   ASSERT_EQ(reader->header().tools[1].next_coils.size(), 1u) << "the next coil is in the record's header";
   EXPECT_EQ(reader->header().tools[1].next_coils[0].length_mm, 15.0);

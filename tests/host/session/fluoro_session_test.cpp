@@ -83,8 +83,9 @@ TEST(FluoroSession, AScriptedAngiogramCountsPedalTimeContrastAndOneRun) {
   EXPECT_NEAR(v.exposure.fluoro_time_s, 4.0, 1e-9);
   // The controls are in the record at the ticks of their actions.
   ASSERT_TRUE(s.recorder()->close());
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   TickRecord t;
   std::vector<std::pair<std::int64_t, int>> controls;
   while (r->next(t)) {
@@ -130,8 +131,9 @@ std::vector<std::uint64_t> hashes(const std::string& name, const std::string& sc
     while (!s.over()) s.step_virtual(1000);
   }
   std::string error;
-  auto r = RecordReader::open(path, error);
-  EXPECT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  EXPECT_TRUE(r_opened) << r_opened.error().message;
+  std::unique_ptr<RecordReader> r = r_opened ? std::move(*r_opened) : nullptr;
   std::vector<std::uint64_t> out;
   TickRecord t;
   while (r && r->next(t)) {
@@ -199,8 +201,9 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   s.step_virtual(1);
   ASSERT_TRUE(s.recorder()->close());
   // The refused controls are not in the record; the replay reproduces the unit.
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   TickRecord t;
   int controls = 0;
   while (r->next(t)) controls += static_cast<int>(t.control_count);

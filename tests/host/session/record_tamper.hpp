@@ -14,8 +14,9 @@ namespace cathbox::session::testing {
 
 inline void tamper_record(const std::string& in_path, const std::string& out_path, std::int64_t from_tick) {
   std::string error;
-  auto in = RecordReader::open(in_path, error);
-  ASSERT_TRUE(in) << error;
+  auto in_opened = RecordReader::open(in_path);
+  ASSERT_TRUE(in_opened) << in_opened.error().message;
+  auto in = std::move(*in_opened);
   auto out = Recorder::create(out_path, in->header(), error);
   ASSERT_TRUE(out) << error;
   TickRecord t;

@@ -115,8 +115,9 @@ void expect_sample_ticks(RecordReader& r, std::int64_t ticks) {
 TEST(Record, WhatIsWrittenReadsBackTickByTick) {
   const std::string path = write_sample("roundtrip.cbxrec", 2500);
   std::string error;
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   const RecordHeader& h = r->header();
   const RecordHeader want = sample_header();
   EXPECT_EQ(h.software_version, want.software_version);
@@ -156,8 +157,9 @@ TEST(Record, ABlockEverySecondOfTheClockEvenWithFewTicks) {
     rec->end_tick();
   }
   ASSERT_TRUE(rec->close());
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   r->skip_to_end();
   EXPECT_EQ(r->ticks_read(), 10);
   // A block closes once a second of clock has passed since its first tick: ticks 0-2, 3-5,
@@ -231,8 +233,9 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   cbx_put_u32(bytes.data() + 12, crc);
   EXPECT_FALSE(RecordReader::from_bytes(bytes, "v2.cbxrec", error));
   EXPECT_EQ(error, "v2.cbxrec: byte 8: record format version 2, this build reads version 1");
-  EXPECT_FALSE(RecordReader::open("/no/such/record.cbxrec", error));
-  EXPECT_NE(error.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
+  const auto missing = RecordReader::open("/no/such/record.cbxrec");
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
 }
 
 // A block written by hand: a newer writer's entry kind (99, or 38: the fluoroscopy range's first
@@ -332,8 +335,9 @@ TEST(Record, ThirtyMinutesOfAHandOnTheBoxStayUnderTenMegabytes) {
   const auto bytes = std::filesystem::file_size(path);
   std::printf("thirty minutes at 1 kHz: %ju bytes\n", static_cast<std::uintmax_t>(bytes));
   EXPECT_LT(bytes, 10U * 1000U * 1000U);
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   TickRecord tr;
   std::int64_t n = 0;
   while (r->next(tr)) ++n;

@@ -60,9 +60,12 @@ TEST(Session, AScriptedRunReplaysWithEveryHashMatching) {
   const std::string again = temp_path("left_again.cbxrec");
   (void)record_left_branch(again);
   std::string error;
-  auto a = RecordReader::open(path, error);
-  auto b = RecordReader::open(again, error);
-  ASSERT_TRUE(a && b) << error;
+  auto a_opened = RecordReader::open(path);
+  auto b_opened = RecordReader::open(again);
+  ASSERT_TRUE(a_opened) << a_opened.error().message;
+  ASSERT_TRUE(b_opened) << b_opened.error().message;
+  auto a = std::move(*a_opened);
+  auto b = std::move(*b_opened);
   TickRecord ta;
   TickRecord tb;
   while (a->next(ta)) {
@@ -120,8 +123,9 @@ TEST(Session, ControlsFromAnotherThreadAreAppliedRecordedAndReplayed) {
   // In the record (written to its end once closed): two select controls, at ticks 300 and
   // 500, as the tools they chose.
   ASSERT_TRUE(s.recorder()->close());
-  auto r = RecordReader::open(path, error);
-  ASSERT_TRUE(r) << error;
+  auto r_opened = RecordReader::open(path);
+  ASSERT_TRUE(r_opened) << r_opened.error().message;
+  auto r = std::move(*r_opened);
   TickRecord t;
   std::vector<std::pair<std::int64_t, int>> selects;
   while (r->next(t)) {

@@ -150,12 +150,12 @@ int run_metrics(const Args& args) {
 int run_info(const Args& args) {
   if (args.positionals().size() != 1) return usage_error("info takes one record file");
   const std::string& path = args.positionals()[0];
-  std::string error;
-  std::unique_ptr<session::RecordReader> reader = session::RecordReader::open(path, error);
-  if (!reader) {
-    std::fprintf(stderr, "%s\n", error.c_str());
+  base::Result<std::unique_ptr<session::RecordReader>> opened = session::RecordReader::open(path);
+  if (!opened) {
+    std::fprintf(stderr, "%s\n", opened.error().message.c_str());
     return kExitBadInput;
   }
+  std::unique_ptr<session::RecordReader> reader = std::move(*opened);
   const RecordSummary summary = summarise(*reader);
   if (args.flag("json")) {
     std::printf("%s\n", info_json(path, *reader, summary).dump(2).c_str());

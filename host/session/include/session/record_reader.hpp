@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "session/control.hpp"
 #include "session/hand.hpp"
 #include "session/record_format.hpp"
@@ -44,8 +45,8 @@ struct RecordEnd {
 
 class RecordReader {
  public:
-  // Opens and reads the file header and the header block; null with the error line.
-  [[nodiscard]] static std::unique_ptr<RecordReader> open(const std::string& path, std::string& error);
+  // Opens and reads the file header and the header block; else the error line.
+  [[nodiscard]] static base::Result<std::unique_ptr<RecordReader>> open(const std::string& path);
   // The same over bytes in memory (fuzzing, uploads); `name` stands for the file in errors.
   [[nodiscard]] static std::unique_ptr<RecordReader> from_bytes(std::vector<std::uint8_t> bytes, const std::string& name,
                                                                 std::string& error);

@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <string>
 
+#include "base/result.hpp"
+
 namespace cathbox::session {
 
 enum class UserDir {
@@ -17,7 +19,7 @@ enum class UserDir {
 [[nodiscard]] std::string records_dir();
 // A new record's path in `dir`: YYYYMMDD-HHMMSS-<case>.cbxrec (local time; the case name
 // reduced to letters, digits, '-' and '_'; "-2", "-3", ... when taken). Creates `dir`;
-// empty with one line in `error` when it cannot.
-[[nodiscard]] std::string new_record_path(const std::string& dir, const std::string& case_name, std::string& error);
+// one line when it cannot.
+[[nodiscard]] base::Result<std::string> new_record_path(const std::string& dir, const std::string& case_name);
 
 }  // namespace cathbox::session

@@ -9,14 +9,15 @@
 #include <memory>
 #include <string>
 
+#include "base/result.hpp"
 #include "session/replay.hpp"
 
 namespace cathbox::session {
 
 class ReplayPlayer {
  public:
-  // Opens the record (and reads it through once for its length); null with one line in `error`.
-  [[nodiscard]] static std::unique_ptr<ReplayPlayer> open(const std::string& path, std::string& error);
+  // Opens the record (and reads it through once for its length); else one line.
+  [[nodiscard]] static base::Result<std::unique_ptr<ReplayPlayer>> open(const std::string& path);
 
   [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] const RecordHeader& header() const { return replay_->header(); }

@@ -231,15 +231,18 @@ class Rod {
   void project_contacts(const RodObstacles* obstacles);
   void linearise_clamp(const Newton& s);
 
+  // (Helpers declared inline are defined, always inlined, in the one file that calls them: the
+  // hot loops of the assembly and the twist solve keep the code they had as lambdas.)
+
   // Energy, gradient and Hessian of the step (rod_energy.cpp).
   // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
   [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   inline void add_grad(std::size_t k, const glm::dvec3& g);  // grad_ at node k (rod_newton.hpp)
   void assemble(bool hessian);
   // Drag, loads, grip, wall penalty and friction at free node k: its diagonal block.
-  [[nodiscard]] glm::dmat3 node_terms(std::size_t k);
-  void add_grip_terms(std::size_t k, glm::dmat3& h);
-  void add_wall_terms(std::size_t k, glm::dmat3& h);
+  [[nodiscard]] inline glm::dmat3 node_terms(std::size_t k);
+  inline void add_grip_terms(std::size_t k, glm::dmat3& h);
+  inline void add_wall_terms(std::size_t k, glm::dmat3& h);
   void add_edge_contact_terms(bool hessian);
   [[nodiscard]] double energy() const;
 
@@ -260,12 +263,12 @@ class Rod {
 
   // Frames and twist (rod_twist.cpp).
   void update_frames();
-  void set_material_frame(std::size_t e);
+  inline void set_material_frame(std::size_t e);
   void solve_twist(double dt_s);
   [[nodiscard]] bool assemble_twist(double dt_s, std::size_t ef, std::size_t m);  // false: nonlinear
   void add_twist_curvature(std::size_t i, std::size_t ef);
   void add_twist_friction(std::size_t ef);
-  [[nodiscard]] std::uint8_t twist_regime(std::size_t k, double& ktr, double& limit, double& d) const;
+  [[nodiscard]] inline std::uint8_t twist_regime(std::size_t k, double& ktr, double& limit, double& d) const;
   [[nodiscard]] bool update_twist(std::size_t ef, std::size_t m, bool linear);  // false: nonlinear
   [[nodiscard]] bool twist_regimes_same() const;
   void twist_substitute(std::size_t m);
