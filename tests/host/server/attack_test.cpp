@@ -37,7 +37,7 @@ class AttackTest : public test::CentreTest {
 TEST_P(AttackTest, AForeignCaseNamedLikeTheLibrarysIsNeitherFiledUnderItNorGraded) {
   const ApiResponse graded = f_->call("POST", assign("alice"), forged("ybif"), alice_);
   EXPECT_EQ(graded.status, 422) << graded.body;
-  EXPECT_EQ(error_of(graded), "record: its case and HCLM (ybif.case) match no version of the library by content hash; the assignment is for case 'ybif'");
+  EXPECT_EQ(error_of(graded), "record: header field 'case_text' (ybif.case) is not the assignment's case 'ybif' version 1 (by content hash)");
   const ApiResponse kept = f_->call("POST", "/api/v1/results", forged("ybif"), alice_);
   ASSERT_EQ(kept.status, 201) << kept.body;
   EXPECT_EQ(json::parse(kept.body)["case"], "unlisted:ybif");

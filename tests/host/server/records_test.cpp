@@ -12,39 +12,13 @@
 #include "session/action_script_hand.hpp"
 #include "session/session.hpp"
 #include "support/api_fixture.hpp"
+#include "record_files.hpp"
 #include "record_tamper.hpp"
 
 namespace cathbox::server::test {
 namespace {
 
 using nlohmann::json;
-
-std::string scratch(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "server_records_test";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
-
-std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-// The y-bifurcation's left branch by action script, recorded in virtual time.
-std::string record_left_branch() {
-  const std::string path = scratch("left.cbxrec");
-  auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-  EXPECT_TRUE(scene.value) << scene.error;
-  std::string error;
-  auto hand = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
-                                              *scene.value, error);
-  EXPECT_TRUE(hand) << error;
-  session::Session s(std::move(scene.value), std::move(hand));
-  EXPECT_TRUE(s.record_to(path, error)) << error;
-  while (!s.over()) s.step_virtual(1000);
-  EXPECT_TRUE(s.recorder()->close());
-  return path;
-}
 
 // The record rewritten with the held tool's insertion 1 um further from `from_tick` on.
 std::string tampered(const std::string& path, std::int64_t from_tick) {
