@@ -200,11 +200,14 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
     } else {
       ++s_.watchers;
       if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
-      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this());
+      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this(), watch_restriction());
       enqueue(std::make_shared<const std::string>(first_message_));
     }
     read();
   }
+
+  // A trainee watches a rig only while they stream it (the hub checks again on its events).
+  [[nodiscard]] std::string watch_restriction() const { return can_supervise(caller_.role) ? std::string() : caller_.name; }
 
   // Every recheck_s, off the I/O thread: is the token still good (not logged out, expired, or its
   // account disabled)? If not, the socket is closed (policy violation) and its watching ends.
@@ -283,7 +286,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
         } else {
           for (const std::string& rig : self->watching_) self->s_.hub.unsubscribe(rig, self.get());
           self->watching_ = std::move(ok.value());
-          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self);
+          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self, self->watch_restriction());
         }
         self->read();
       });

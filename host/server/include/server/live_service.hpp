@@ -3,12 +3,15 @@
 // No sockets here: the HTTP/WebSocket layer calls these and writes what they return.
 //
 //  - A rig streams as the logged-in user: start() claims the rig name in the store (refused
-//    with 409 while another user streams on it, until that claim is 10 s stale), announces
+//    with 409 while another user streams on it: for its whole life when that stream is open on
+//    this instance, however silent; on another instance until its claim is 10 s stale), announces
 //    "started" to supervisors, and frame() validates each frame, stamps it and publishes it on
 //    the bus. Frames beyond max_frames_per_s are dropped (counted), not refused.
 //  - Instructors and admins may watch any rig; a trainee only a rig they stream themselves.
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -38,6 +41,7 @@ struct Publisher {
   std::uint64_t frames = 0;
   std::uint64_t dropped = 0;
   bool ended = false;
+  std::uint64_t stream_id = 0;  // this instance's open stream of the rig (LiveService)
 };
 
 class LiveService {
@@ -75,6 +79,15 @@ class LiveService {
   LiveBus& bus_;
   std::string instance_;
   LiveOptions options_;
+  // The streams open on this instance: rig -> its user and stream id. A rig name stays bound to
+  // its stream until the stream ends, whatever its claim's age in the store.
+  struct OpenStream {
+    std::int64_t user_id = 0;
+    std::uint64_t id = 0;
+  };
+  std::mutex streams_mutex_;
+  std::map<std::string, OpenStream> open_streams_;
+  std::uint64_t next_stream_id_ = 0;
 };
 
 }  // namespace cathbox::server
