@@ -32,6 +32,13 @@ namespace websocket = beast::websocket;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
+// An open WebSocket, as the sweep sees it (http_server.hpp: idle eviction, token rechecks).
+class SweptSocket {
+ public:
+  virtual ~SweptSocket() = default;
+  virtual void sweep(std::int64_t now_us) = 0;
+};
+
 struct HttpServer::Impl {
   Api& api;
   LiveHub& hub;
@@ -50,6 +57,11 @@ struct HttpServer::Impl {
   std::mutex stop_mutex;
 
   std::atomic<std::uint64_t> connections{0}, requests{0}, publishers{0}, watchers{0}, frames_in{0}, frames_out{0}, frames_dropped{0};
+  // The open WebSockets (swept on the server's clock) and how many each account holds.
+  std::mutex ws_mutex;
+  std::vector<std::weak_ptr<SweptSocket>> ws_sockets;
+  std::unordered_map<std::int64_t, std::size_t> ws_per_account;
+  std::unique_ptr<net::steady_timer> sweeper;
 
   Impl(Api& a, LiveHub& h, HttpServerOptions o)
       : api(a),
@@ -61,6 +73,8 @@ struct HttpServer::Impl {
         heavy_pool(static_cast<std::size_t>(std::max(1, options.heavy_threads))) {}
 
   void accept();
+  void sweep();
+  void schedule_sweep();
 };
 
 namespace {
@@ -102,6 +116,33 @@ class AddressSlot {
  private:
   HttpServer::Impl* s_;
   std::string address_;
+  bool taken_ = false;
+};
+
+// One account's share of the WebSockets, for as long as one lives; taken() is false when the
+// account already holds max_websockets_per_account (the upgrade is then refused with 429).
+class AccountSlot {
+ public:
+  AccountSlot(HttpServer::Impl& s, std::int64_t user_id) : s_(&s), user_id_(user_id) {
+    std::lock_guard lock(s_->ws_mutex);
+    std::size_t& n = s_->ws_per_account[user_id_];
+    taken_ = n < s_->options.max_websockets_per_account;
+    if (taken_) ++n;
+    else if (n == 0) s_->ws_per_account.erase(user_id_);
+  }
+  AccountSlot(const AccountSlot&) = delete;
+  AccountSlot& operator=(const AccountSlot&) = delete;
+  ~AccountSlot() {
+    if (!taken_) return;
+    std::lock_guard lock(s_->ws_mutex);
+    const auto it = s_->ws_per_account.find(user_id_);
+    if (it != s_->ws_per_account.end() && --it->second == 0) s_->ws_per_account.erase(it);
+  }
+  [[nodiscard]] bool taken() const { return taken_; }
+
+ private:
+  HttpServer::Impl* s_;
+  std::int64_t user_id_;
   bool taken_ = false;
 };
 
@@ -159,14 +200,15 @@ ApiRequest to_api_request(const http::request<http::string_body>& req, const std
 
 // ---- WebSocket ------------------------------------------------------------------------------
 
-class WsSession final : public LiveSubscriber, public std::enable_shared_from_this<WsSession> {
+class WsSession final : public LiveSubscriber, public SweptSocket, public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, beast::tcp_stream&& stream, Caller caller,
-            std::optional<Publisher> publisher, std::vector<std::string> watching, std::string first_message)
+  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, std::unique_ptr<AccountSlot> account_slot,
+            beast::tcp_stream&& stream, Caller caller, std::optional<Publisher> publisher, std::vector<std::string> watching,
+            std::string first_message)
       : s_(s),
         address_slot_(std::move(address_slot)),
+        account_slot_(std::move(account_slot)),
         ws_(std::move(stream)),
-        recheck_(ws_.get_executor()),
         caller_(std::move(caller)),
         publisher_(std::move(publisher)),
         watching_(std::move(watching)),
@@ -191,10 +233,31 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
     net::post(ws_.get_executor(), [self = shared_from_this(), message] { self->enqueue(message); });
   }
 
+  // On the server's clock (http_server.hpp): an idle socket closes; the token is checked again
+  // every ws_recheck_s.
+  void sweep(std::int64_t now_us) override {
+    net::post(ws_.get_executor(), [self = shared_from_this(), now_us] {
+      if (self->finished_) return;
+      const std::int64_t idle_us = std::int64_t{self->s_.options.ws_idle_timeout_s} * 1'000'000;
+      if (self->evictable_when_idle() && now_us - self->last_activity_us_ >= idle_us) {
+        self->finish();
+        self->ws_.async_close(websocket::close_reason(websocket::close_code::going_away, "idle"), [self](beast::error_code) {});
+        return;
+      }
+      if (!self->rechecking_ && now_us >= self->next_recheck_us_) self->recheck();
+    });
+  }
+
  private:
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
-    schedule_recheck();
+    last_activity_us_ = now_us();
+    next_recheck_us_ = last_activity_us_ + recheck_us();
+    {
+      std::lock_guard lock(s_.ws_mutex);
+      std::erase_if(s_.ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
+      s_.ws_sockets.push_back(shared_from_this());
+    }
     if (publisher_) {
       ++s_.publishers;
     } else {
@@ -209,28 +272,33 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   // A trainee watches a rig only while they stream it (the hub checks again on its events).
   [[nodiscard]] std::string watch_restriction() const { return can_supervise(caller_.role) ? std::string() : caller_.name; }
 
-  // Every recheck_s, off the I/O thread: is the token still good (not logged out, expired, or its
-  // account disabled)? If not, the socket is closed (policy violation) and its watching ends.
-  void schedule_recheck() {
-    recheck_.expires_after(std::chrono::seconds(std::max(1, s_.options.ws_recheck_s)));
-    recheck_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (ec || self->finished_) return;
-      net::post(self->s_.api_pool, [self] {
-        bool good = true;
-        try {
-          ApiContext& c = self->s_.api.context();
-          const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
-          good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
-        } catch (const std::exception&) {
-          // The database is away: keep the socket until it can be asked.
-        }
-        net::post(self->ws_.get_executor(), [self, good] {
-          if (self->finished_) return;
-          if (good) return self->schedule_recheck();
-          self->finish();
-          self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
-                                [self](beast::error_code) {});
-        });
+  [[nodiscard]] std::int64_t now_us() const { return s_.api.context().clock.now_us(); }
+  [[nodiscard]] std::int64_t recheck_us() const { return std::int64_t{std::max(1, s_.options.ws_recheck_s)} * 1'000'000; }
+  // Idle for ws_idle_timeout_s closes a stream that sends no frame, and a trainee's watcher that
+  // watches no rig and says nothing; an instructor's watcher (rig events) and a watcher of rigs
+  // stay however quiet the rigs are.
+  [[nodiscard]] bool evictable_when_idle() const { return publisher_ || (watching_.empty() && !can_supervise(caller_.role)); }
+
+  // Off the I/O thread: is the token still good (not logged out, expired, or its account
+  // disabled)? If not, the socket is closed (policy violation) and its watching ends.
+  void recheck() {
+    rechecking_ = true;
+    net::post(s_.api_pool, [self = shared_from_this()] {
+      bool good = true;
+      try {
+        ApiContext& c = self->s_.api.context();
+        const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
+        good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
+      } catch (const std::exception&) {
+        // The database is away: keep the socket until it can be asked.
+      }
+      net::post(self->ws_.get_executor(), [self, good] {
+        self->rechecking_ = false;
+        self->next_recheck_us_ = self->now_us() + self->recheck_us();
+        if (self->finished_ || good) return;
+        self->finish();
+        self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
+                              [self](beast::error_code) {});
       });
     });
   }
@@ -248,6 +316,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
     }
     const std::string text = beast::buffers_to_string(buffer_.data());
     buffer_.consume(buffer_.size());
+    last_activity_us_ = now_us();
     if (publisher_) {
       ++s_.frames_in;
       const Status st = s_.api.context().live.message(*publisher_, text);
@@ -300,6 +369,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
 
   void enqueue(const LiveMessage& message) {
     if (finished_) return;
+    last_activity_us_ = now_us();
     if (queue_.size() >= s_.options.watcher_queue) {
       // Drop the oldest message not being written now.
       queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
@@ -330,7 +400,6 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   void finish() {
     if (finished_) return;
     finished_ = true;
-    recheck_.cancel();
     s_.hub.unsubscribe_all(this);
     if (publisher_) {
       net::post(s_.api_pool, [self = shared_from_this()] {
@@ -346,8 +415,11 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   HttpServer::Impl& s_;
   ConnectionSlot slot_{s_.open_connections};
   std::unique_ptr<AddressSlot> address_slot_;
+  std::unique_ptr<AccountSlot> account_slot_;
   websocket::stream<beast::tcp_stream> ws_;
-  net::steady_timer recheck_;
+  std::int64_t last_activity_us_ = 0;  // the server's clock: the last message in or out
+  std::int64_t next_recheck_us_ = 0;
+  bool rechecking_ = false;
   beast::flat_buffer buffer_;
   Caller caller_;
   std::optional<Publisher> publisher_;
@@ -631,8 +703,22 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
                                                pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
         if (!caller) return self->answer(std::move(refusal), false, req.version());
-        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->address_slot_), std::move(self->stream_), std::move(*caller), std::move(pub), std::move(rigs),
-                                              std::move(first));
+        auto account = std::make_unique<AccountSlot>(self->s_, caller->user_id);
+        if (!account->taken()) {
+          if (pub) {
+            net::post(self->s_.api_pool, [self, p = std::move(*pub)]() mutable {
+              try {
+                self->s_.api.context().live.finish(p);
+              } catch (const std::exception&) {
+                // The database is away: the claim goes stale by itself.
+              }
+            });
+          }
+          return self->answer_error(429, "live: this account holds " + std::to_string(self->s_.options.max_websockets_per_account) +
+                                             " live connections already (the limit)", false, req.version());
+        }
+        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->address_slot_), std::move(account), std::move(self->stream_),
+                                              std::move(*caller), std::move(pub), std::move(rigs), std::move(first));
         ws->start(std::move(req));
       });
     });
@@ -670,6 +756,30 @@ void HttpServer::Impl::accept() {
   });
 }
 
+void HttpServer::Impl::sweep() {
+  const std::int64_t now = api.context().clock.now_us();
+  std::vector<std::shared_ptr<SweptSocket>> open;
+  {
+    std::lock_guard lock(ws_mutex);
+    std::erase_if(ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
+    for (const std::weak_ptr<SweptSocket>& w : ws_sockets) {
+      if (auto p = w.lock()) open.push_back(std::move(p));
+    }
+  }
+  for (const std::shared_ptr<SweptSocket>& socket : open) socket->sweep(now);
+}
+
+void HttpServer::Impl::schedule_sweep() {
+  sweeper->expires_after(std::chrono::milliseconds(options.sweep_every_ms));
+  sweeper->async_wait([this](beast::error_code ec) {
+    if (ec) return;
+    sweep();
+    schedule_sweep();
+  });
+}
+
+void HttpServer::sweep() { impl_->sweep(); }
+
 HttpServer::HttpServer(Api& api, LiveHub& hub, HttpServerOptions options)
     : impl_(std::make_unique<Impl>(api, hub, std::move(options))) {}
 
@@ -688,6 +798,10 @@ Result<std::uint16_t> HttpServer::start() {
   if (ec) return make_error(400, "--listen " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
   const std::uint16_t port = s.acceptor.local_endpoint().port();
   s.accept();
+  if (s.options.sweep_every_ms > 0) {
+    s.sweeper = std::make_unique<net::steady_timer>(s.ioc);
+    s.schedule_sweep();
+  }
   s.started = true;
   for (int i = 0; i < std::max(1, s.options.io_threads); ++i) s.threads.emplace_back([&s] { s.ioc.run(); });
   return port;

@@ -18,6 +18,11 @@ struct ServerOptions {
   int idle_timeout_s = 0;            // 0: the server's default
   std::size_t max_connections_per_address = 0;  // 0: the server's default
   int ws_recheck_s = 0;                          // 0: the server's default
+  int ws_idle_timeout_s = 0;                     // 0: the server's default
+  std::size_t max_websockets_per_account = 0;    // 0: the server's default
+  // Virtual time: the server's clock, and WebSockets swept only when the test calls
+  // app->http().sweep() (no timer).
+  Clock* clock = nullptr;
 };
 
 class RunningServer {
