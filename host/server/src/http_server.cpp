@@ -90,60 +90,53 @@ struct ConnectionSlot {
   ~ConnectionSlot() { --*counter; }
 };
 
-// One client address's share of the connections, for as long as a connection lives (moved from
-// the HTTP session into the WebSocket one on an upgrade). taken() is false when the address
-// already had max_connections_per_address open: the connection is then closed at once.
-class AddressSlot {
+// A share of a counted resource, for as long as its holder lives: taken() is false when `key`
+// already held `limit` of them. The counts live in `counts` under `mutex`.
+template <class Key>
+class CountedSlot {
  public:
-  AddressSlot(HttpServer::Impl& s, std::string address) : s_(&s), address_(std::move(address)) {
-    std::lock_guard lock(s_->per_address_mutex);
-    std::size_t& n = s_->per_address[address_];
-    taken_ = n < s_->options.max_connections_per_address;
+  CountedSlot(std::mutex& mutex, std::unordered_map<Key, std::size_t>& counts, Key key, std::size_t limit)
+      : mutex_(&mutex), counts_(&counts), key_(std::move(key)) {
+    std::lock_guard lock(*mutex_);
+    std::size_t& n = (*counts_)[key_];
+    taken_ = n < limit;
     if (taken_) ++n;
-    else if (n == 0) s_->per_address.erase(address_);
+    else if (n == 0) counts_->erase(key_);
   }
-  AddressSlot(const AddressSlot&) = delete;
-  AddressSlot& operator=(const AddressSlot&) = delete;
-  ~AddressSlot() {
+  CountedSlot(const CountedSlot&) = delete;
+  CountedSlot& operator=(const CountedSlot&) = delete;
+  ~CountedSlot() {
     if (!taken_) return;
-    std::lock_guard lock(s_->per_address_mutex);
-    const auto it = s_->per_address.find(address_);
-    if (it != s_->per_address.end() && --it->second == 0) s_->per_address.erase(it);
+    std::lock_guard lock(*mutex_);
+    const auto it = counts_->find(key_);
+    if (it != counts_->end() && --it->second == 0) counts_->erase(it);
   }
   [[nodiscard]] bool taken() const { return taken_; }
-  [[nodiscard]] const std::string& address() const { return address_; }
+  [[nodiscard]] const Key& key() const { return key_; }
 
  private:
-  HttpServer::Impl* s_;
-  std::string address_;
+  std::mutex* mutex_;
+  std::unordered_map<Key, std::size_t>* counts_;
+  Key key_;
   bool taken_ = false;
 };
 
-// One account's share of the WebSockets, for as long as one lives; taken() is false when the
-// account already holds max_websockets_per_account (the upgrade is then refused with 429).
-class AccountSlot {
+// One client address's share of the connections, for as long as a connection lives (moved from
+// the HTTP session into the WebSocket one on an upgrade); not taken when the address already had
+// max_connections_per_address open: the connection is then closed at once.
+class AddressSlot : public CountedSlot<std::string> {
  public:
-  AccountSlot(HttpServer::Impl& s, std::int64_t user_id) : s_(&s), user_id_(user_id) {
-    std::lock_guard lock(s_->ws_mutex);
-    std::size_t& n = s_->ws_per_account[user_id_];
-    taken_ = n < s_->options.max_websockets_per_account;
-    if (taken_) ++n;
-    else if (n == 0) s_->ws_per_account.erase(user_id_);
-  }
-  AccountSlot(const AccountSlot&) = delete;
-  AccountSlot& operator=(const AccountSlot&) = delete;
-  ~AccountSlot() {
-    if (!taken_) return;
-    std::lock_guard lock(s_->ws_mutex);
-    const auto it = s_->ws_per_account.find(user_id_);
-    if (it != s_->ws_per_account.end() && --it->second == 0) s_->ws_per_account.erase(it);
-  }
-  [[nodiscard]] bool taken() const { return taken_; }
+  AddressSlot(HttpServer::Impl& s, std::string address)
+      : CountedSlot(s.per_address_mutex, s.per_address, std::move(address), s.options.max_connections_per_address) {}
+  [[nodiscard]] const std::string& address() const { return key(); }
+};
 
- private:
-  HttpServer::Impl* s_;
-  std::int64_t user_id_;
-  bool taken_ = false;
+// One account's share of the WebSockets, for as long as one lives; not taken when the account
+// already holds max_websockets_per_account (the upgrade is then refused with 429).
+class AccountSlot : public CountedSlot<std::int64_t> {
+ public:
+  AccountSlot(HttpServer::Impl& s, std::int64_t user_id)
+      : CountedSlot(s.ws_mutex, s.ws_per_account, user_id, s.options.max_websockets_per_account) {}
 };
 
 // Every answer, API or page: the pages run only their own scripts and modules (no inline
