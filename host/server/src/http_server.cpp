@@ -696,25 +696,32 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
                                                pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
         if (!caller) return self->answer(std::move(refusal), false, req.version());
-        auto account = std::make_unique<AccountSlot>(self->s_, caller->user_id);
-        if (!account->taken()) {
-          if (pub) {
-            net::post(self->s_.api_pool, [self, p = std::move(*pub)]() mutable {
-              try {
-                self->s_.api.context().live.finish(p);
-              } catch (const std::exception&) {
-                // The database is away: the claim goes stale by itself.
-              }
-            });
-          }
-          return self->answer_error(429, "live: this account holds " + std::to_string(self->s_.options.max_websockets_per_account) +
-                                             " live connections already (the limit)", false, req.version());
-        }
-        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->address_slot_), std::move(account), std::move(self->stream_),
-                                              std::move(*caller), std::move(pub), std::move(rigs), std::move(first));
-        ws->start(std::move(req));
+        self->open_websocket(std::move(req), std::move(*caller), std::move(pub), std::move(rigs), std::move(first));
       });
     });
+  }
+
+  // The upgrade, within the account's share of WebSockets (else 429, and a stream just started
+  // is ended again).
+  void open_websocket(http::request<http::string_body> req, Caller caller, std::optional<Publisher> pub, std::vector<std::string> rigs,
+                      std::string first) {
+    auto account = std::make_unique<AccountSlot>(s_, caller.user_id);
+    if (!account->taken()) {
+      if (pub) {
+        net::post(s_.api_pool, [self = shared_from_this(), p = std::move(*pub)]() mutable {
+          try {
+            self->s_.api.context().live.finish(p);
+          } catch (const std::exception&) {
+            // The database is away: the claim goes stale by itself.
+          }
+        });
+      }
+      return answer_error(429, "live: this account holds " + std::to_string(s_.options.max_websockets_per_account) +
+                                   " live connections already (the limit)", false, req.version());
+    }
+    auto ws = std::make_shared<WsSession>(s_, std::move(address_slot_), std::move(account), std::move(stream_), std::move(caller),
+                                          std::move(pub), std::move(rigs), std::move(first));
+    ws->start(std::move(req));
   }
 
   void close() {
