@@ -4,6 +4,9 @@
 //   ContrastStep: one 10 ms ContrastTransport::step (100 Hz), neuro case, while 6 mL/s are
 //                 injected in the right internal carotid (the most substeps), after the bolus
 //                 has spread, and with pulsatility. Target <= 200 us.
+//   Occlude:      FlowNetwork::occlude, a clot put in / taken out of the left M1 (a pass of
+//                 thrombectomy: the final solve again, and the territory's eTICI). Same budget as
+//                 the solve at case load.
 // Each prints the wall and thread-CPU median and p99 per call. The issue names no peer
 // program for these; the budgets are printed beside the figures.
 #include <algorithm>
@@ -16,6 +19,7 @@
 #include "../bench_samples.hpp"
 
 #include "flow/contrast_transport.hpp"
+#include "flow/reperfusion.hpp"
 #include "vessel/case_generator.hpp"
 #include "vessel/hclm.hpp"
 
@@ -79,8 +83,37 @@ void BM_ContrastStep(benchmark::State& state) {
   state.SetLabel(mode == 0 ? "neuro, injecting" : mode == 1 ? "neuro, washout" : "neuro, injecting, pulsatile");
 }
 
+void BM_Occlude(benchmark::State& state) {
+  const vessel::VesselModel model = model_named("neuro");
+  flow::FlowBuild b = flow::FlowNetwork::build(model);
+  flow::FlowNetwork& network = **b;
+  std::uint32_t m1 = 0;
+  for (std::uint32_t i = 0; i < model.segments.size(); ++i) {
+    if (model.segments[i].name == "left_middle_cerebral_m1") m1 = i;
+  }
+  const std::vector<flow::Terminal> open = network.terminals();
+  const std::vector<flow::Clot> clot{flow::Clot{m1, 2.0, 13.0, flow::kReferenceComposition, 0.0}};
+  if (!network.occlude(clot)) state.SkipWithError("occlude");
+  const auto target = flow::TargetTerritory::find(open, network.terminals());
+  if (!target) state.SkipWithError("territory");
+  bench::Samples s;
+  bool occluded = false;
+  int grade = 0;
+  for (auto _ : state) {
+    s.time([&] {
+      occluded = !occluded;
+      if (!network.occlude(occluded ? std::span<const flow::Clot>(clot) : std::span<const flow::Clot>())) state.SkipWithError("occlude");
+      grade = static_cast<int>(target->grade(network.terminals()));
+    });
+  }
+  s.report(state);
+  state.counters["last_etici_index"] = grade;
+  state.SetLabel("neuro, left M1 clot in / out");
+}
+
 BENCHMARK(BM_FlowSolve)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond)->Iterations(200);
 BENCHMARK(BM_ContrastStep)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond)->Iterations(3000);
+BENCHMARK(BM_Occlude)->Unit(benchmark::kMicrosecond)->Iterations(200);
 
 }  // namespace
 

@@ -3,12 +3,12 @@
     scripts/bench python [--steps-per-case N] [--envs cathbox/Navigate-v0,...]
 
 For each env, each step length (stEVE's 1/7.5 s of simulated time, and 1 ms), each
-observation mode (state, image) and each policy (random: seeded uniform actions in the action
+observation mode (state, nodes, image; fluoroscopy under xvfb-run) and each policy (random: seeded uniform actions in the action
 space, as an RL agent explores; autopilot: cathbox.policies.Autopilot driving to the target,
 the lead tool deep in the vessels): `--seconds` of simulated time from seed 0, the steps timed
-(wall and this thread's CPU time; resets excluded).
-Per core = steps / CPU seconds of the one thread that steps (the simulation is single-threaded
-per env). stEVE's figure is derived from its published training (stEVE_training README): 2e7
+(wall and the process's CPU time; resets excluded).
+Per core = steps / CPU seconds of the process, all its threads (the simulation is single-threaded
+per env; the fluoroscopy mode's llvmpipe rasterises on threads of its own, counted too). stEVE's figure is derived from its published training (stEVE_training README): 2e7
 steps on 29 workers in 1-2 days = 4.0-8.0 steps/s per worker, SOFA BeamAdapter included.
 """
 import argparse
@@ -29,7 +29,9 @@ STEVE_HIGH = STEVE_STEPS / STEVE_WORKERS / (1 * 86400)
 def measure(env_id, step_s, mode, policy, sim_seconds):
     """Steps, wall seconds and CPU seconds of `sim_seconds` of simulated time (resets excluded:
     an episode that ends is reset off the clock and the next one timed)."""
-    env = gymnasium.make(env_id, observation=mode, step_s=step_s, max_episode_steps=10**9)
+    # "fluoroscopy": the image mode through the trainer's renderer (needs a display: xvfb-run).
+    kwargs = dict(observation="image", image_renderer="fluoroscopy") if mode == "fluoroscopy" else dict(observation=mode)
+    env = gymnasium.make(env_id, step_s=step_s, max_episode_steps=10**9, **kwargs)
     rng = np.random.default_rng(0)
     env.reset(seed=0)
     pilot = Autopilot(env) if policy == "autopilot" else None
@@ -38,10 +40,10 @@ def measure(env_id, step_s, mode, policy, sim_seconds):
     episode = 0
     for _ in range(steps):
         action = pilot.act() if pilot else rng.uniform(env.action_space.low, env.action_space.high).astype(np.float32)
-        wall0, cpu0 = time.perf_counter(), time.thread_time()
+        wall0, cpu0 = time.perf_counter(), time.process_time()
         _, _, terminated, truncated, _ = env.step(action)
         wall += time.perf_counter() - wall0
-        cpu += time.thread_time() - cpu0
+        cpu += time.process_time() - cpu0
         if terminated or truncated:
             episode += 1
             env.reset(seed=episode)
@@ -82,13 +84,14 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--seconds", type=float, default=10.0, help="simulated seconds per measurement at 1/7.5 s, a quarter at 1 ms (default 10)")
     p.add_argument("--envs", default="cathbox/Navigate-v0,cathbox/ArchVariety-v0,cathbox/DualDevice-v0")
-    p.add_argument("--modes", default="state,image")
+    p.add_argument("--modes", default="state,nodes,image",
+                   help="state, nodes, tracking, image (the devices on the CPU), fluoroscopy (the trainer's image: xvfb-run)")
     p.add_argument("--policies", default="random,autopilot")
     p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row (0: none)")
     a = p.parse_args()
     print(f"stEVE (derived from its published training: 2e7 steps, 29 workers, 1-2 days): "
           f"{STEVE_LOW:.1f}-{STEVE_HIGH:.1f} env steps/s per worker at 1/7.5 s")
-    print(f"{'env':26s} {'step':>8s} {'mode':>6s} {'policy':>9s} {'steps':>6s} {'steps/s wall':>13s} {'steps/s/core':>13s} "
+    print(f"{'env':26s} {'step':>8s} {'mode':>11s} {'policy':>9s} {'steps':>6s} {'steps/s wall':>13s} {'steps/s/core':>13s} "
           f"{'x stEVE (per core)':>19s} {'sim x real time':>16s}")
     for env_id in a.envs.split(","):
         for step_s, label in ((1.0 / 7.5, "1/7.5 s"), (0.001, "1 ms")):
@@ -96,7 +99,7 @@ def main():
                 sim_seconds = a.seconds if step_s > 0.01 else a.seconds / 4
                 n, wall, cpu = measure(env_id, step_s, mode, policy, sim_seconds)
                 per_core = n / cpu
-                print(f"{env_id:26s} {label:>8s} {mode:>6s} {policy:>9s} {n:6d} {n / wall:13.1f} {per_core:13.1f} "
+                print(f"{env_id:26s} {label:>8s} {mode:>11s} {policy:>9s} {n:6d} {n / wall:13.1f} {per_core:13.1f} "
                       f"{per_core / STEVE_HIGH:8.0f}-{per_core / STEVE_LOW:<10.0f} {n * step_s / cpu:16.2f}",
                       flush=True)
     if a.vector > 0:

@@ -11,6 +11,8 @@
 //    on the rig to arrival at the watcher), uploads acknowledged vs found afterwards, the
 //    server's resident memory after warm-up, at its peak and at the end.
 //    "postgresql-2" runs the rigs on instance A and the instructors on instance B.
+//    "sqlite-tls" is "sqlite" over HTTPS and wss:// (a throwaway CA made with the openssl
+//    command, trusted through set_client_ca_file), to read the cost of TLS beside plain HTTP.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -25,6 +27,8 @@
 #include "server/case_bundle.hpp"
 #include "server/case_library.hpp"
 #include "server/testing/pg_cluster.hpp"
+#include "server/testing/test_ca.hpp"
+#include "server/tls.hpp"
 #include "server/zstd_codec.hpp"
 #include "scenario/case_file.hpp"
 
@@ -99,7 +103,14 @@ void Centre(benchmark::State& state, const std::string& store) {
   bench::LoadOptions o;
   if (const char* s = std::getenv("CATHBOX_BENCH_SECONDS")) o.measure_s = std::max(2, std::atoi(s));
   std::string url, folder;
-  if (store == "sqlite") {
+  if (store == "sqlite-tls") {
+    folder = temp_dir();
+    url = "sqlite:" + folder + "/centre.db";
+    const testing::TestCa ca(folder, "bench-ca");
+    const TlsFiles files = ca.issue("server", "IP:127.0.0.1");
+    o.server_args = {"--tls-cert", files.cert_file, "--tls-key", files.key_file};
+    set_client_ca_file(ca.ca_file());
+  } else if (store == "sqlite") {
     folder = temp_dir();
     url = "sqlite:" + folder + "/centre.db";
   } else {
@@ -165,7 +176,7 @@ int main(int argc, char** argv) {
   for (const char* stem : {"y_bifurcation", "neuro", "neuro_aneurysm", "neuro_stenosis"}) {
     benchmark::RegisterBenchmark(("CaseSizes/" + std::string(stem)).c_str(), CaseSizes, std::string(stem))->Unit(benchmark::kMillisecond);
   }
-  for (const char* store : {"sqlite", "postgresql", "postgresql-2"}) {
+  for (const char* store : {"sqlite", "sqlite-tls", "postgresql", "postgresql-2"}) {
     benchmark::RegisterBenchmark(("Centre/" + std::string(store)).c_str(), Centre, std::string(store))
         ->Iterations(1)
         ->UseRealTime()

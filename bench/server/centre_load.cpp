@@ -145,7 +145,8 @@ LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const
     if (!library.upload("ybif", b, std::nullopt, clock.now_us())) throw std::runtime_error("seeding the case failed");
   }
   // Every client logs in from 127.0.0.1: lift the per-address login throttle for the run.
-  const std::vector<std::string> args = {"--api-threads", "4", "--login-burst", "1000"};
+  std::vector<std::string> args = {"--api-threads", "4", "--login-burst", "1000"};
+  args.insert(args.end(), o.server_args.begin(), o.server_args.end());
   testing::ServerProcess a(db_url, 0, args);
   std::unique_ptr<testing::ServerProcess> b_owner;
   if (two_instances) b_owner = std::make_unique<testing::ServerProcess>(db_url, 0, args);

@@ -22,6 +22,7 @@ struct LoadOptions {
   double uploads_per_uploader_hz = 1.0;
   int warmup_s = 3;
   int measure_s = 20;
+  std::vector<std::string> server_args;  // more cathbox-server options (--tls-cert/--tls-key: HTTPS and wss://)
 };
 
 struct LoadFigures {

@@ -51,21 +51,26 @@ cbx_curve_point linear(int i) {
 
 }  // namespace
 
+cbx_calibration model_calibration(BoxModel& model) {
+  cbx_calibration cal{};
+  cal.header.version = CBX_PROTOCOL_VERSION;
+  cal.insertion_counts_per_m = static_cast<uint32_t>(std::lround(model.params(0).counts_per_unit));
+  cal.rotation_counts_per_rev = static_cast<uint32_t>(std::lround(model.params(1).counts_per_unit * 2.0 * M_PI));
+  cal.insertion_full_scale_mN = static_cast<uint32_t>(std::lround(model.params(0).full_scale * 1e3));
+  cal.rotation_full_scale_uNm = static_cast<uint32_t>(std::lround(model.params(1).full_scale * 1e6));
+  for (int i = 0; i < static_cast<int>(CBX_CURVE_POINTS); ++i) {
+    cal.insertion_curve[i] = linear(i);
+    cal.rotation_curve[i] = linear(i);
+  }
+  return cal;
+}
+
 Emulator::Emulator(EmuOptions options)
     : options_(std::move(options)), core_(std::make_unique<Core>()), bootloader_(flash_), faults_(options_.seed) {
   factory_image(flash_);
   if (options_.calibrated) {
     // The board's settings store, as `cathbox calibrate` would have left it.
-    cbx_calibration cal{};
-    cal.header.version = CBX_PROTOCOL_VERSION;
-    cal.insertion_counts_per_m = static_cast<uint32_t>(std::lround(model_.params(0).counts_per_unit));
-    cal.rotation_counts_per_rev = static_cast<uint32_t>(std::lround(model_.params(1).counts_per_unit * 2.0 * M_PI));
-    cal.insertion_full_scale_mN = static_cast<uint32_t>(std::lround(model_.params(0).full_scale * 1e3));
-    cal.rotation_full_scale_uNm = static_cast<uint32_t>(std::lround(model_.params(1).full_scale * 1e6));
-    for (int i = 0; i < 4; ++i) {
-      cal.insertion_curve[i] = linear(i);
-      cal.rotation_curve[i] = linear(i);
-    }
+    const cbx_calibration cal = model_calibration(model_);
     cbx_settings defaults;
     cbx_core_default_settings(&defaults);
     defaults.limits.header.version = CBX_PROTOCOL_VERSION;

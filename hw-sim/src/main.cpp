@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 
 #include "emu/emulator.hpp"
 #include "emu/hand_model.hpp"
+#include "emu/image_emulator.hpp"
 #include "emu/real_time_loop.hpp"
 #include "protocol/cbx_emu_frame.h"
 
@@ -58,6 +60,8 @@ struct Settings {
   int wire_version = CBX_PROTOCOL_VERSION;
   double duration_s = 0;
   bool help = false;
+  std::string image;     // --image / --board: run this firmware image on the emulated STM32F411
+  bool trace_mmio = false;
 };
 
 // An option with a value: its help line and how the value is checked and kept (false: a bad
@@ -125,6 +129,14 @@ const ValueOption kValueOptions[] = {
        s.wire_version = static_cast<int>(version);
        return ok;
      }},
+    {"--image", "FILE", "run this STM32F411 firmware image (.bin) on the emulated chip instead of the core on a simulated board",
+     [](const std::string& v, Settings& s) { s.image = v; return true; }},
+    {"--board", "NAME", "run the image the firmware build made for board NAME (stm32f411: build/stm32f411/bin/stm32f411_firmware.bin)",
+     [](const std::string& v, Settings& s) {
+       if (v != "stm32f411") return false;
+       s.image = "@stm32f411";
+       return true;
+     }},
     {"--duration", "S", "exit after S seconds (default: run until SIGINT/SIGTERM)",
      [](const std::string& v, Settings& s) { return parse_seconds(v, s.duration_s); }},
 };
@@ -140,7 +152,8 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   app.get_formatter()->column_width(24);
   CLI::Option* motor = app.add_flag("--motor")->description("DC motors on both axes (default: magnetic-particle brakes)");
   CLI::Option* uncalibrated = app.add_flag("--uncalibrated")->description("start with an empty settings store");
-  for (CLI::Option* flag : {motor, uncalibrated}) flag->disable_flag_override();
+  CLI::Option* trace = app.add_flag("--trace-mmio")->description("with --image: log every peripheral register access to stderr");
+  for (CLI::Option* flag : {motor, uncalibrated, trace}) flag->disable_flag_override();
   std::vector<CLI::Option*> values;
   for (const ValueOption& v : kValueOptions) {
     values.push_back(app.add_option(v.name)->expected(0, 1)->type_name(v.value_name)->description(v.help));
@@ -163,6 +176,7 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   if (const std::vector<std::string> extra = app.remaining(); !extra.empty()) return incomplete(extra.front());
   s.options.motor = motor->count() > 0;
   s.options.calibrated = uncalibrated->count() == 0;
+  s.trace_mmio = trace->count() > 0;
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i]->count() == 0) continue;
     const std::string value = values[i]->as<std::string>();
@@ -179,6 +193,85 @@ uint64_t wall_us() {
   return static_cast<uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(
                                    std::chrono::steady_clock::now().time_since_epoch())
                                    .count());
+}
+
+// The --hand-insertion / --hand-rotation scripts onto either box; false (after one line on
+// stderr) for a bad script.
+template <class Box>
+bool apply_hand_scripts(const Settings& settings, Box& emu) {
+  for (int a = 0; a < 2; ++a) {
+    if (settings.hand[a].empty()) continue;
+    auto script = cathbox::emu::HandScript::parse(settings.hand[a], a);
+    if (!script) {
+      std::fprintf(stderr, "cathbox-emu: %s\n", script.error().message.c_str());
+      return false;
+    }
+    emu.set_hand(a, script.value());
+  }
+  return true;
+}
+
+// The image `--board stm32f411` names: what `scripts/build stm32f411` made, beside this build.
+std::string board_image(const char* argv0) {
+  std::string exe = argv0;
+  char resolved[4096];
+  if (::realpath("/proc/self/exe", resolved) != nullptr) exe = resolved;
+  const size_t bin = exe.rfind('/');
+  const std::string dir = bin == std::string::npos ? "." : exe.substr(0, bin);
+  return dir + "/../../stm32f411/bin/stm32f411_firmware.bin";
+}
+
+// cathbox-emu --image: the firmware image on the emulated STM32F411.
+int run_image(const Settings& settings, const std::string& path, const char* argv0) {
+  const std::string file = settings.image == "@stm32f411" ? board_image(argv0) : settings.image;
+  std::FILE* f = std::fopen(file.c_str(), "rb");
+  if (f == nullptr) {
+    std::fprintf(stderr, "cathbox-emu: cannot read image %s: %s\n", file.c_str(), std::strerror(errno));
+    return 2;
+  }
+  std::vector<uint8_t> image;
+  uint8_t buffer[4096];
+  for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) image.insert(image.end(), buffer, buffer + n);
+  std::fclose(f);
+  if (file.size() >= 4 && file.compare(file.size() - 4, 4, ".dfu") == 0) {
+    std::fprintf(stderr, "cathbox-emu: %s: .dfu images are not read yet; give the .bin\n", file.c_str());
+    return 2;
+  }
+  auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor);
+  if (!created) {
+    std::fprintf(stderr, "cathbox-emu: %s: %s\n", file.c_str(), created.error().message.c_str());
+    return 2;
+  }
+  cathbox::emu::ImageEmulator& emu = *created.value();
+  if (settings.trace_mmio) emu.machine().set_trace([](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+  if (!apply_hand_scripts(settings, emu)) return 2;
+  if (auto listening = emu.listen(path); !listening) {
+    std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
+    return 3;
+  }
+  std::printf("cathbox-emu: running %s on the emulated STM32F411; listening on %s\n", file.c_str(), path.c_str());
+  std::fflush(stdout);
+  const uint64_t estop_at_us =
+      settings.estop_after_ms >= 0 ? static_cast<uint64_t>(settings.estop_after_ms) * 1000u : UINT64_MAX;
+  bool enumerated = false;
+  cathbox::emu::RealTimeLoop::run_box(emu, stop_requested,
+                                      settings.duration_s > 0 ? static_cast<uint64_t>(settings.duration_s * 1e6) : 0,
+                                      [&](uint64_t now_us) {
+                                        if (now_us >= estop_at_us) emu.set_estop(true);
+                                        if (!emu.error().empty()) stop_requested.store(true);
+                                        if (emu.enumerated() != enumerated) {
+                                          enumerated = emu.enumerated();
+                                          std::printf("cathbox-emu: the image %s at %.3f s\n",
+                                                      enumerated ? "enumerated" : "detached", now_us * 1e-6);
+                                          std::fflush(stdout);
+                                        }
+                                      });
+  if (!emu.error().empty()) {
+    std::fprintf(stderr, "cathbox-emu: the image stopped at %.3f s: %s\n", emu.now_us() * 1e-6, emu.error().c_str());
+    return 4;
+  }
+  std::printf("cathbox-emu: stopped; %llu IN reports sent\n", static_cast<unsigned long long>(emu.in_reports_sent()));
+  return 0;
 }
 
 }  // namespace
@@ -198,17 +291,13 @@ int main(int argc, char** argv) {
     path = buffer;
   }
 
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  std::signal(SIGPIPE, SIG_IGN);
+  if (!settings.image.empty()) return run_image(settings, path, argv[0]);
   Emulator emu(settings.options);
   cathbox::emu::apply_hand_model(settings.hand_model, emu.model().params(0));
-  for (int a = 0; a < 2; ++a) {
-    if (settings.hand[a].empty()) continue;
-    auto script = cathbox::emu::HandScript::parse(settings.hand[a], a);
-    if (!script) {
-      std::fprintf(stderr, "cathbox-emu: %s\n", script.error().message.c_str());
-      return 2;
-    }
-    emu.set_hand(a, script.value());
-  }
+  if (!apply_hand_scripts(settings, emu)) return 2;
   for (auto* link : {&emu.faults().in, &emu.faults().out}) {
     link->drop = settings.drop;
     link->duplicate = settings.duplicate;

@@ -5,6 +5,7 @@
 namespace cathbox::app {
 namespace {
 std::string g_glfw_error;
+int g_windows = 0;  // GLFW stays initialised while a window lives (several offscreen views at once)
 void on_glfw_error(int code, const char* text) {
   g_glfw_error = "glfw error " + std::to_string(code) + ": " + (text ? text : "?");
 }
@@ -27,16 +28,17 @@ std::unique_ptr<GlWindow> GlWindow::create(int width, int height, const char* ti
   GLFWwindow* w = glfwCreateWindow(width, height, title, nullptr, nullptr);
   if (w == nullptr) {
     error = g_glfw_error.empty() ? "glfw: cannot create an OpenGL 3.3 core window" : g_glfw_error;
-    glfwTerminate();
+    if (g_windows == 0) glfwTerminate();
     return nullptr;
   }
   glfwMakeContextCurrent(w);
+  ++g_windows;
   return std::unique_ptr<GlWindow>(new GlWindow(w));
 }
 
 GlWindow::~GlWindow() {
   glfwDestroyWindow(window_);
-  glfwTerminate();
+  if (--g_windows == 0) glfwTerminate();
 }
 
 bool GlWindow::should_close() const { return glfwWindowShouldClose(window_) == GLFW_TRUE; }

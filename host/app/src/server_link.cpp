@@ -17,6 +17,7 @@
 #include "server/client.hpp"
 #include "server/client_queue.hpp"
 #include "server/json_input.hpp"
+#include "server/tls.hpp"
 #include "session/records_dir.hpp"
 
 namespace cathbox::app {
@@ -147,6 +148,7 @@ std::unique_ptr<ServerLink> ServerLink::open(const ServerLinkOptions& options, s
   if (o.rig.empty()) o.rig = host_name();
   if (o.cache_dir.empty()) o.cache_dir = default_server_cache_dir();
   if (o.queue_dir.empty()) o.queue_dir = session::user_dir(session::UserDir::kData, "upload-queue");
+  server::set_client_ca_file(o.ca_file);  // every client of this process: the link's and its live stream's
   std::unique_ptr<ServerLink> link(new ServerLink(o));
   Impl& im = *link->impl_;
   im.user = o.user;

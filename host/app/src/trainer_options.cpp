@@ -107,10 +107,14 @@ std::vector<ValueOption> value_options() {
        "record every run into DIR (default: $XDG_DATA_HOME/cathbox/records, else ~/.local/share/cathbox/records)",
        "--records needs a folder", [](std::string_view v, TrainerOptions& o) { return text(v, o.records_dir); }},
       {"--server", "URL",
-       "join a cathbox-server (http://HOST:PORT): log in, run the assigned cases, stream the run live, upload its "
-       "record (queued on disk while the server is unreachable)",
-       "--server needs a URL http://HOST:PORT",
-       [](std::string_view v, TrainerOptions& o) { return v.starts_with("http://") && text(v, o.server_url); }},
+       "join a cathbox-server (https://HOST:PORT, or http:// on loopback): log in, run the assigned cases, stream the run "
+       "live, upload its record (queued on disk while the server is unreachable)",
+       "--server needs a URL https://HOST:PORT or http://HOST:PORT",
+       [](std::string_view v, TrainerOptions& o) {
+         return (v.starts_with("http://") || v.starts_with("https://")) && text(v, o.server_url);
+       }},
+      {"--ca-file", "FILE", "trust the server's certificate from this PEM CA file (default: the system trust store)",
+       "--ca-file needs a PEM file", [](std::string_view v, TrainerOptions& o) { return text(v, o.ca_file); }},
       {"--user", "NAME", "the trainee's account on the server", "--user needs a name",
        [](std::string_view v, TrainerOptions& o) { return text(v, o.server_user); }},
       {"--password-file", "FILE", "the password (first line); default: $CATHBOX_PASSWORD",

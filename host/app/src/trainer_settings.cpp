@@ -33,7 +33,9 @@ bool apply_trainer_settings(TrainerOptions& options, std::string& error) {
   const std::optional<std::string> user = f.optional_string("user", 64);
   const std::optional<std::string> password_file = f.optional_string("password_file", 4096);
   const std::optional<std::string> rig = f.optional_string("rig", 64);
-  if (f.ok() && url && !url->starts_with("http://")) f.fail("server", "expected a URL http://HOST:PORT");
+  if (f.ok() && url && !url->starts_with("http://") && !url->starts_with("https://")) {
+    f.fail("server", "expected a URL https://HOST:PORT or http://HOST:PORT");
+  }
   if (!f.ok()) {
     error = path + ": " + f.error().message;
     return false;
@@ -49,6 +51,7 @@ bool server_link_options(const TrainerOptions& options, ServerLinkOptions& out, 
   out.url = options.server_url;
   out.user = options.server_user;
   out.rig = options.rig;
+  out.ca_file = options.ca_file;
   if (out.user.empty()) {
     error = "--server needs --user NAME (or \"user\" in the settings file)";
     return false;

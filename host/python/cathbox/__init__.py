@@ -19,7 +19,8 @@ def cases_dir():
 
 
 def case_path(name):
-    """A bundled case by name ('neuro', 'y_bifurcation', ...) or a path as it is."""
-    if os.sep in name or name.endswith((".case", ".hclm")):
+    """A bundled case by name ('neuro', 'library/arch_type1', ...) or a path as it is (a name
+    ending in .case or .hclm)."""
+    if name.endswith((".case", ".hclm")):
         return name
     return os.path.join(cases_dir(), name + ".case")

@@ -1,7 +1,7 @@
 """Gymnasium environments over Cathbox sessions (host/python/README.md).
 
     import gymnasium, cathbox.gym
-    env = gymnasium.make("cathbox/Navigate-v0")            # observation="tracking" | "state" | "image"
+    env = gymnasium.make("cathbox/Navigate-v0")  # observation="tracking" | "state" | "nodes" | "image"
     obs, info = env.reset(seed=1)
     obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
 
@@ -14,6 +14,7 @@ and rotation rad/s per device, stEVE's limits (50 mm/s, 3.14 rad/s) by default. 
 """
 import math
 import os
+import re
 
 import gymnasium
 import numpy as np
@@ -22,10 +23,12 @@ from gymnasium import spaces
 from . import Session
 from . import arch as arch_module
 from .cases import EpisodeFiles, case_text, read_case, without_inside
+from .fluoroscopy import Fluoroscopy
 
 STEVE_VELOCITY_LIMIT = (50.0, 3.14)  # stEVE's devices: mm/s, rad/s
 STEVE_STEP_S = 1.0 / 7.5
 API_VERSION = 0  # the -v0 of every env: observation layout, reward terms, action units
+OBSERVATIONS = ("tracking", "state", "nodes", "image")
 
 
 class Reward:
@@ -37,27 +40,6 @@ class Reward:
 
     def __call__(self, reached, path_before_mm, path_after_mm):
         return (self.target if reached else 0.0) + self.step + self.path_delta * (path_before_mm - path_after_mm)
-
-
-class _Route:
-    """The centreline from the entry to the target: where a tip is along it, and what is left."""
-
-    def __init__(self, points):
-        self.p = np.asarray(points, dtype=np.float64)
-        seg = np.linalg.norm(np.diff(self.p, axis=0), axis=1) if len(self.p) > 1 else np.zeros(0)
-        self.s = np.concatenate([[0.0], np.cumsum(seg)])
-        self.length = float(self.s[-1]) if len(self.s) else 0.0
-
-    def remaining_mm(self, tip):
-        if len(self.p) < 2:
-            return 0.0
-        a, b = self.p[:-1], self.p[1:]
-        ab = b - a
-        t = np.clip(np.einsum("ij,ij->i", tip - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
-        q = a + t[:, None] * ab
-        d2 = np.einsum("ij,ij->i", tip - q, tip - q)
-        i = int(np.argmin(d2))
-        return self.length - (self.s[i] + t[i] * (self.s[i + 1] - self.s[i])) + math.sqrt(d2[i])
 
 
 def _resample_from_tip(nodes, count, spacing_mm):
@@ -79,11 +61,13 @@ class CathboxEnv(gymnasium.Env):
     def __init__(self, task, observation="tracking", step_s=STEVE_STEP_S, period_us=1000,
                  velocity_limits=None, reward=None, target_threshold_mm=5.0, tracking_points=3,
                  tracking_spacing_mm=2.0, state_points=16, state_spacing_mm=5.0, image_size=(128, 128),
-                 record_dir=None, render_mode=None):
-        if observation not in ("tracking", "state", "image"):
-            raise ValueError(f"observation {observation!r}: expected 'tracking', 'state' or 'image'")
+                 image_renderer="devices", record_dir=None, render_mode=None):
+        if observation not in OBSERVATIONS:
+            raise ValueError(f"observation {observation!r}: expected one of {', '.join(map(repr, OBSERVATIONS))}")
         if not (step_s > 0.0 and math.isfinite(step_s)):
             raise ValueError(f"step_s {step_s!r}: expected a positive number of seconds")
+        if image_renderer not in ("devices", "fluoroscopy"):
+            raise ValueError(f"image_renderer {image_renderer!r}: expected 'devices' or 'fluoroscopy'")
         if render_mode not in (None, "rgb_array"):
             raise ValueError(f"render_mode {render_mode!r}: expected None or 'rgb_array'")
         self.task = task
@@ -98,6 +82,8 @@ class CathboxEnv(gymnasium.Env):
         self.tracking_points, self.tracking_spacing_mm = int(tracking_points), float(tracking_spacing_mm)
         self.state_points, self.state_spacing_mm = int(state_points), float(state_spacing_mm)
         self.image_size = (int(image_size[0]), int(image_size[1]))
+        self.image_renderer = image_renderer
+        self._fluoroscopy = None
         self.record_dir = record_dir
         self.render_mode = render_mode
         self.n_tools = task.tool_count
@@ -114,6 +100,20 @@ class CathboxEnv(gymnasium.Env):
     # ---- spaces and observations
     def _make_observation_space(self):
         n = self.n_tools
+        if self.observation_mode == "nodes":
+            # The rods' node counts are the tools' (fixed by the task): read from a first session.
+            files = EpisodeFiles()
+            try:
+                case_file, _ = self.task.episode_case(np.random.default_rng(0), files, 0)
+                probe = Session(case_file, end_at_target=False)
+                self._node_keys = [f"{t}:{name}" for t, name in enumerate(probe.tool_names)]
+                shapes = [probe.node_buffer(t).shape for t in range(n)]
+                probe.close()
+            finally:
+                files.close()
+            boxes = {k: spaces.Box(-1e4, 1e4, shape=shape, dtype=np.float64) for k, shape in zip(self._node_keys, shapes)}
+            boxes["target"] = spaces.Box(-1e4, 1e4, shape=(3,), dtype=np.float64)
+            return spaces.Dict(boxes)
         if self.observation_mode == "image":
             w, h = self.image_size
             return spaces.Box(0, 255, shape=(h, w, 1), dtype=np.uint8)
@@ -125,9 +125,13 @@ class CathboxEnv(gymnasium.Env):
 
     def _observation(self):
         s = self.session
+        if self.observation_mode == "nodes":  # views of the rods' own buffers: no copy
+            obs = {k: s.node_buffer(t) for t, k in enumerate(self._node_keys)}
+            obs["target"] = self._target_view
+            return obs
         if self.observation_mode == "image":
             w, h = self.image_size
-            return s.image(w, h)[:, :, None]
+            return (self._fluoroscopy.image() if self._fluoroscopy else s.image(w, h))[:, :, None]
         parts = []
         if self.observation_mode == "tracking":
             for t in range(self.n_tools):
@@ -182,12 +186,18 @@ class CathboxEnv(gymnasium.Env):
                 if attempt == getattr(self.task, "redraws", 0):
                     raise
         self.session.set_c_arm(*self.task.c_arm)
+        if self.observation_mode == "image" and self.image_renderer == "fluoroscopy":
+            # The trainer's image: the pedal down and one tick run, so the first pulse is in it.
+            self.session.press_pedal()
+            self.session.step(1)
+            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size)
         self._target = np.asarray(self.session.target, dtype=np.float64)
-        self._route = _Route(self.session.route)
+        self._target_view = self._target.view()
+        self._target_view.flags.writeable = False
         self._steps = 0
         self._reached = False
         self._last_action = np.zeros((self.n_tools, 2), dtype=np.float64)
-        self._path_mm = self._route.remaining_mm(self.session.tip(self.task.lead_tool)[0])
+        self._path_mm = self.session.route_remaining_mm(self.task.lead_tool)
         return self._observation(), self._info()
 
     def step(self, action):
@@ -210,7 +220,7 @@ class CathboxEnv(gymnasium.Env):
         self._last_action = a
         tip = self.session.tip(self.task.lead_tool)[0]
         before = self._path_mm
-        self._path_mm = self._route.remaining_mm(tip)
+        self._path_mm = self.session.route_remaining_mm(self.task.lead_tool)
         self._reached = bool(np.linalg.norm(tip - self._target) <= self.target_threshold_mm)
         reward = self.reward_fn(self._reached, before, self._path_mm)
         return self._observation(), float(reward), self._reached, False, self._info()
@@ -219,13 +229,17 @@ class CathboxEnv(gymnasium.Env):
         if self.render_mode != "rgb_array" or self.session is None:
             return None
         w, h = self.image_size
-        return np.repeat(self.session.image(w, h)[:, :, None], 3, axis=2)
+        image = self._fluoroscopy.image() if self._fluoroscopy else self.session.image(w, h)
+        return np.repeat(image[:, :, None], 3, axis=2)
 
     def clone_session(self):
         """A copy of the episode's session in its present state (inputs replayed, hash-checked)."""
         return self.session.clone()
 
     def _close_session(self):
+        if self._fluoroscopy is not None:
+            self._fluoroscopy.close()
+            self._fluoroscopy = None
         if self.session is not None:
             self.session.close()
             self.session = None
@@ -309,6 +323,29 @@ class DualDeviceTask:
     episode_case = NavigateTask.episode_case
 
 
+class CaseTask:
+    """A case file as it is: its tools (all of them, in the file's order), its entry and its
+    target. The episode opens the file itself, not a copy, so the record carries the case's own
+    bytes and cathbox-server files the run under the library case uploaded from the same file
+    (a generated episode case is filed apart as `unlisted:`). The lead tool, whose tip must reach
+    the target, is the last one (the innermost: the guidewire inside the catheter)."""
+
+    name = "Case-v0"
+    c_arm = (0.0, 0.0, 300.0)
+
+    def __init__(self, case="y_bifurcation"):
+        self.case_file, text, _, _, tools = read_case(case)
+        if not tools:
+            raise ValueError(f"case {case!r}: {self.case_file} has no tool")
+        if not re.search(r"^target\s", text, re.M):
+            raise ValueError(f"case {case!r}: {self.case_file} has no target")
+        self.tool_count = len(tools)
+        self.lead_tool = self.tool_count - 1
+
+    def episode_case(self, rng, files, episode):
+        return self.case_file, {"target": "the case's"}
+
+
 def _segment_ids(vessel_path, names):
     from . import vessel_segments
     by_name = {s["name"]: s["id"] for s in vessel_segments(vessel_path)}
@@ -330,11 +367,16 @@ def dual_device(case="neuro", targets=None, **kwargs):
     return CathboxEnv(DualDeviceTask(case, targets), **kwargs)
 
 
+def case(case="y_bifurcation", **kwargs):
+    return CathboxEnv(CaseTask(case), **kwargs)
+
+
 def _register():
     ids = gymnasium.envs.registration.registry
     for env_id, entry, steps in (("cathbox/Navigate-v0", navigate, 200),
                                  ("cathbox/ArchVariety-v0", arch_variety, 200),
-                                 ("cathbox/DualDevice-v0", dual_device, 400)):
+                                 ("cathbox/DualDevice-v0", dual_device, 400),
+                                 ("cathbox/Case-v0", case, 400)):
         if env_id not in ids:
             gymnasium.register(id=env_id, entry_point=entry, max_episode_steps=steps)
 
@@ -343,5 +385,5 @@ _register()
 
 from .vector import ThreadVectorEnv  # noqa: E402  (after the envs it runs)
 
-__all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "ThreadVectorEnv",
-           "navigate", "arch_variety", "dual_device", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]
+__all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "CaseTask", "ThreadVectorEnv",
+           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]

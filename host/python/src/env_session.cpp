@@ -1,8 +1,10 @@
 #include "python/env_session.hpp"
 
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 
+#include "session/fluoro_controls.hpp"
 #include "session/state_hash.hpp"
 
 namespace cathbox::python {
@@ -59,6 +61,7 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCase
     if (!s->session_->record_to(options.record_path, error)) return base::Error{error};
   }
   s->session_->simulator().copy_snapshot(s->snap_);
+  for (std::size_t t = 0; t < s->tool_count(); ++t) s->rod_buffers_.push_back(s->session_->simulator().rod(t).positions().data());
   return s;
 }
 
@@ -84,7 +87,15 @@ std::int64_t EnvSession::step(std::int64_t ticks) {
   in.ticks = ran;
   if (ran > 0) inputs_.push_back(in);
   session_->simulator().copy_snapshot(snap_);
+  // The Python module's node buffers view the rods' own arrays: a program's hand only moves the
+  // tools (it never loads a coil, the one thing that rebuilds a rod), so they never move.
+  for (std::size_t t = 0; t < rod_buffers_.size(); ++t) assert(session_->simulator().rod(t).positions().data() == rod_buffers_[t]);
   return ran;
+}
+
+void EnvSession::press_pedal() {
+  (void)session_->post(session::fluoro_control::pedal(true));
+  pedal_at_.push_back(inputs_.size());
 }
 
 std::uint64_t EnvSession::state_hash() const { return session::state_hash(snap_); }
@@ -103,7 +114,11 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::clone() const {
   if (!opened) return opened.error();
   EnvSession& c = *opened.value();
   c.c_arm_ = c_arm_;
-  for (const Input& in : inputs_) {
+  std::size_t pedal = 0;
+  for (std::size_t i = 0; i <= inputs_.size(); ++i) {
+    for (; pedal < pedal_at_.size() && pedal_at_[pedal] == i; ++pedal) c.press_pedal();
+    if (i == inputs_.size()) break;
+    const Input& in = inputs_[i];
     for (std::size_t t = 0; t < tool_count(); ++t) c.hand_->set_speed(t, in.speeds[t]);
     if (c.step(in.ticks) != in.ticks) return base::Error{"clone: the replayed session ended early"};
   }

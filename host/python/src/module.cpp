@@ -4,10 +4,13 @@
 //
 // Arrays: a tool's nodes, tangents, normals and radii are numpy views of the session's own
 // state (no copy, read-only, the Session kept alive as their base) that stay valid until the
-// next step(); copy them (numpy.array(...)) to keep them.
+// next step(); copy them (numpy.array(...)) to keep them. node_buffer(t) views the rod's own
+// position array: it never moves for the session's life and shows every step's state.
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@
 
 #include "python/device_image.hpp"
 #include "python/env_session.hpp"
+#include "python/route_progress.hpp"
 #include "session/metrics.hpp"
 #include "vessel/hclm.hpp"
 
@@ -103,12 +107,28 @@ class PySession {
     return tools[static_cast<std::size_t>(t)];
   }
 
+  // The case's tool t (not a released coil).
+  const cathbox::tool::Rod& rod(std::int64_t t) const {
+    if (t < 0 || static_cast<std::size_t>(t) >= s().tool_count()) {
+      raise<py::index_error>("tool " + std::to_string(t) + " out of range: the case has " +
+                             std::to_string(s().tool_count()) + " tool(s)");
+    }
+    return s().session().simulator().rod(static_cast<std::size_t>(t));
+  }
+
+  // The route to the target, for the path-length reward (built on first use).
+  const cathbox::python::RouteProgress& route() {
+    if (!route_) route_ = cathbox::python::RouteProgress(s().scene().route_mm);
+    return *route_;
+  }
+
   std::unique_ptr<EnvSession> s_;
+  std::optional<cathbox::python::RouteProgress> route_;
   std::vector<float> image_scratch_;
 };
 
 // A read-only numpy view of n x 3 doubles owned by `owner`.
-py::array vec3_view(const std::vector<glm::dvec3>& v, py::handle owner) {
+py::array vec3_view(std::span<const glm::dvec3> v, py::handle owner) {
   static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
   py::array a(py::dtype::of<double>(), {static_cast<py::ssize_t>(v.size()), py::ssize_t{3}},
               {static_cast<py::ssize_t>(sizeof(glm::dvec3)), static_cast<py::ssize_t>(sizeof(double))},
@@ -207,6 +227,11 @@ PYBIND11_MODULE(_cathbox, mod) {
            py::arg("tool"))
       .def("normals", [](py::object self, std::int64_t t) { return vec3_view(self.cast<PySession&>().tool(t).normals, self); },
            py::arg("tool"))
+      .def("node_buffer", [](py::object self, std::int64_t t) { return vec3_view(self.cast<PySession&>().rod(t).positions(), self); },
+           py::arg("tool"),
+           "The simulator's own node positions of the tool (node_total, 3) mm, tip last, every node (those not "
+           "inserted lie on the entry line outside the body): a read-only view of the rod's buffer, no copy; "
+           "it shows each step's state and lives as long as the view (the Session is its base).")
       .def("tip", [](const PySession& p, std::int64_t t) {
              const auto& tip = p.tool(t).tip;
              return py::make_tuple(vec3(tip.position_mm), vec3(tip.direction), vec3(tip.normal));
@@ -245,6 +270,10 @@ PYBIND11_MODULE(_cathbox, mod) {
              }
              return a;
            }, "The centreline from the entry to the target (n, 3) mm.")
+      .def("route_remaining_mm", [](PySession& p, std::int64_t t) { return p.route().remaining_mm(p.tool(t).tip.position_mm); },
+           py::arg("tool"),
+           "The route length left from the tool's tip to the target: past the tip's closest point on the route, "
+           "plus the tip's distance off it (mm; python/route_progress.hpp).")
       .def_property_readonly("route_length_mm", [](const PySession& p) { return p.s().scene().route_length_mm; })
       .def("set_c_arm", [](PySession& p, double lao_deg, double cranial_deg, double fov_mm) {
              cathbox::flow::CArmPose pose = p.s().c_arm().pose();
@@ -254,6 +283,16 @@ PYBIND11_MODULE(_cathbox, mod) {
              auto ok = p.s().set_c_arm(pose);
              if (!ok) raise<py::value_error>("C-arm: " + ok.error().message);
            }, py::arg("lao_deg") = 0.0, py::arg("cranial_deg") = 0.0, py::arg("fov_mm") = 220.0)
+      .def("session_capsule", [](PySession& p) {
+             return py::capsule(static_cast<void*>(&p.s().session()), "cathbox.session");
+           }, "The host/session Session for host/app's offscreen fluoroscopy (cathbox._fluoro); valid while this Session lives.")
+      .def("press_pedal", [](PySession& p) { p.s().press_pedal(); },
+           "Holds the fluoroscopy foot pedal down from the next tick (pulses at the unit's rate; recorded).")
+      .def_property_readonly("c_arm_pose", [](const PySession& p) {
+             const auto& pose = p.s().c_arm().pose();
+             return py::make_tuple(pose.lao_deg, pose.cranial_deg, pose.fov_mm, pose.isocenter_mm.x, pose.isocenter_mm.y,
+                                   pose.isocenter_mm.z);
+           }, "(lao_deg, cranial_deg, fov_mm, isocentre x, y, z mm) of the session's C-arm.")
       .def("project", [](const PySession& p, const py::array_t<double, py::array::c_style | py::array::forcecast>& pts) {
              if (pts.ndim() != 2 || pts.shape(1) != 3) raise<py::value_error>("project: points must have shape (n, 3)");
              py::array_t<double> out({pts.shape(0), py::ssize_t{2}});

@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "server/client.hpp"
+#include "tls_client.hpp"
+#include "tls_or_plain_stream.hpp"
 
 namespace cathbox::server {
 
@@ -33,18 +35,33 @@ std::string HttpAnswer::problem() const {
   return "HTTP " + std::to_string(status);
 }
 
-Result<std::pair<std::string, std::string>> split_base_url(const std::string& base_url) {
-  const std::string scheme = "http://";
-  if (base_url.rfind(scheme, 0) != 0) return make_error(400, "server URL '" + base_url + "': expected http://HOST:PORT");
-  std::string rest = base_url.substr(scheme.size());
+Result<ServerUrl> parse_server_url(const std::string& base_url) {
+  const std::string bad = "server URL '" + base_url + "': expected http://HOST:PORT or https://HOST:PORT";
+  ServerUrl url;
+  std::string rest;
+  if (base_url.rfind("http://", 0) == 0) {
+    rest = base_url.substr(7);
+  } else if (base_url.rfind("https://", 0) == 0) {
+    url.tls = true;
+    rest = base_url.substr(8);
+  } else {
+    return make_error(400, bad);
+  }
   while (!rest.empty() && rest.back() == '/') rest.pop_back();
   const std::size_t colon = rest.rfind(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == rest.size() || rest.find('/') != std::string::npos) {
-    return make_error(400, "server URL '" + base_url + "': expected http://HOST:PORT");
+    return make_error(400, bad);
   }
-  std::string host = rest.substr(0, colon);
-  if (host.size() > 2 && host.front() == '[' && host.back() == ']') host = host.substr(1, host.size() - 2);
-  return std::make_pair(host, rest.substr(colon + 1));
+  url.host = rest.substr(0, colon);
+  if (url.host.size() > 2 && url.host.front() == '[' && url.host.back() == ']') url.host = url.host.substr(1, url.host.size() - 2);
+  url.port = rest.substr(colon + 1);
+  return url;
+}
+
+Result<std::pair<std::string, std::string>> split_base_url(const std::string& base_url) {
+  Result<ServerUrl> url = parse_server_url(base_url);
+  if (!url) return url.error();
+  return std::make_pair(url.value().host, url.value().port);
 }
 
 namespace {
@@ -80,13 +97,43 @@ beast::error_code connect_stream(net::io_context& ioc, beast::tcp_stream& stream
   return result;
 }
 
+// A new connection to `url`: TCP, then for https:// the TLS handshake with the certificate
+// checked. Empty on success, else the one line saying why not.
+std::string open_stream(net::io_context& ioc, std::optional<TlsOrPlainStream>& stream, const ServerUrl& url, int timeout_ms) {
+  std::shared_ptr<net::ssl::context> context;
+  if (url.tls) {
+    Result<std::shared_ptr<net::ssl::context>> made = client_tls_context();
+    if (!made) return made.error().message;
+    context = made.value();
+  }
+  beast::tcp_stream connection(ioc);
+  if (beast::error_code ec = connect_stream(ioc, connection, url.host, url.port, timeout_ms)) {
+    return "connect " + url.host + ":" + url.port + ": " + ec.message();
+  }
+  if (!url.tls) {
+    stream.emplace(std::move(connection));
+    return {};
+  }
+  stream.emplace(std::move(connection), context);
+  expect_server_name(stream->tls(), url.host);
+  beast::error_code result;
+  stream->expires_after(std::chrono::milliseconds(timeout_ms));
+  stream->tls().async_handshake(net::ssl::stream_base::client, [&](beast::error_code ec) { result = ec; });
+  run(ioc);
+  if (!result) return {};
+  std::string line = tls_failure_line(stream->tls(), result, url.host, url.port);
+  stream.reset();
+  return line;
+}
+
 }  // namespace
 
 struct HttpClient::Impl {
-  std::string host, port, base_url;
+  ServerUrl url;
+  std::string base_url;
   int timeout_ms;
   net::io_context ioc;
-  std::optional<beast::tcp_stream> stream;
+  std::optional<TlsOrPlainStream> stream;
   beast::flat_buffer buffer;
 
   // One attempt; `reused` says whether the connection was open before.
@@ -95,13 +142,9 @@ struct HttpClient::Impl {
     retryable = false;
     const bool reused = stream.has_value();
     if (!stream) {
-      stream.emplace(ioc);
       buffer.clear();
-      if (beast::error_code ec = connect_stream(ioc, *stream, host, port, timeout_ms)) {
-        stream.reset();
-        out.error = "connect " + host + ":" + port + ": " + ec.message();
-        return out;
-      }
+      out.error = open_stream(ioc, stream, url, timeout_ms);
+      if (!out.error.empty()) return out;
     }
     beast::error_code result;
     stream->expires_after(std::chrono::milliseconds(timeout_ms));
@@ -138,11 +181,8 @@ struct HttpClient::Impl {
 HttpClient::HttpClient(std::string base_url, int timeout_ms) : impl_(std::make_unique<Impl>()) {
   impl_->base_url = base_url;
   impl_->timeout_ms = timeout_ms;
-  const auto split = split_base_url(base_url);
-  if (split) {
-    impl_->host = split.value().first;
-    impl_->port = split.value().second;
-  }
+  const auto parsed = parse_server_url(base_url);
+  if (parsed) impl_->url = parsed.value();
 }
 
 HttpClient::~HttpClient() = default;
@@ -150,16 +190,16 @@ HttpClient::~HttpClient() = default;
 void HttpClient::close() { impl_->stream.reset(); }
 
 HttpAnswer HttpClient::request(std::string_view method, std::string_view target, std::string_view body, const Headers& headers) {
-  if (impl_->host.empty()) {
+  if (impl_->url.host.empty()) {
     HttpAnswer bad;
-    bad.error = split_base_url(impl_->base_url).error().message;
+    bad.error = parse_server_url(impl_->base_url).error().message;
     return bad;
   }
   http::request<http::string_body> req;
   req.method_string(beast::string_view(method.data(), method.size()));
   req.target(beast::string_view(target.data(), target.size()));
   req.version(11);
-  req.set(http::field::host, impl_->host + ":" + impl_->port);
+  req.set(http::field::host, impl_->url.host + ":" + impl_->url.port);
   req.set(http::field::user_agent, "cathbox-client");
   if (!token_.empty()) req.set(http::field::authorization, "Bearer " + token_);
   for (const auto& [name, value] : headers) req.set(name, value);
@@ -177,7 +217,7 @@ HttpAnswer HttpClient::request(std::string_view method, std::string_view target,
 struct WsClient::Impl {
   int timeout_ms;
   net::io_context ioc;
-  std::optional<websocket::stream<beast::tcp_stream>> ws;
+  std::optional<websocket::stream<TlsOrPlainStream>> ws;
   beast::flat_buffer buffer;
   // A read that outlived its call's timeout stays pending; the next read() collects it.
   bool reading = false;
@@ -189,16 +229,17 @@ WsClient::WsClient(int timeout_ms) : impl_(std::make_unique<Impl>()) { impl_->ti
 WsClient::~WsClient() { close(); }
 
 Status WsClient::connect(const std::string& base_url, const std::string& target, const std::string& token) {
-  const auto split = split_base_url(base_url);
-  if (!split) return split.error();
-  const auto& [host, port] = split.value();
+  const auto parsed = parse_server_url(base_url);
+  if (!parsed) return parsed.error();
+  const std::string& host = parsed.value().host;
+  const std::string& port = parsed.value().port;
   close();
-  impl_->ws.emplace(impl_->ioc);
-  auto& lowest = beast::get_lowest_layer(*impl_->ws);
-  if (beast::error_code ec = connect_stream(impl_->ioc, lowest, host, port, impl_->timeout_ms)) {
-    impl_->ws.reset();
-    return make_error(503, "connect " + host + ":" + port + ": " + ec.message());
+  std::optional<TlsOrPlainStream> stream;
+  if (std::string problem = open_stream(impl_->ioc, stream, parsed.value(), impl_->timeout_ms); !problem.empty()) {
+    return make_error(503, problem);
   }
+  impl_->ws.emplace(std::move(*stream));
+  auto& lowest = beast::get_lowest_layer(*impl_->ws);
   impl_->ws->set_option(websocket::stream_base::decorator([token](websocket::request_type& req) {
     req.set(http::field::user_agent, "cathbox-client");
     if (!token.empty()) req.set(http::field::authorization, "Bearer " + token);

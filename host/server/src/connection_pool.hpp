@@ -7,6 +7,8 @@
 #include <mutex>
 #include <vector>
 
+#include "server/sql.hpp"
+
 namespace cathbox::server {
 
 template <class Connection>
@@ -42,7 +44,9 @@ class ConnectionPool {
           throw;
         }
       }
+      ++waiting_;
       available_.wait(lock);
+      --waiting_;
     }
   }
 
@@ -52,6 +56,11 @@ class ConnectionPool {
       idle_.push_back(std::move(c));
     }
     available_.notify_one();
+  }
+
+  [[nodiscard]] PoolStats stats() const {
+    std::lock_guard lock(mutex_);
+    return PoolStats{count_, static_cast<int>(idle_.size()), max_, waiting_};
   }
 
   // The connection in hand broke (the caller destroys it): forget it and the idle ones, which
@@ -69,10 +78,11 @@ class ConnectionPool {
  private:
   const int max_;
   Opener open_;
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
   std::condition_variable available_;
   std::vector<std::unique_ptr<Connection>> idle_;
   int count_ = 0;
+  int waiting_ = 0;
 };
 
 }  // namespace cathbox::server

@@ -19,8 +19,12 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/core/detect_ssl.hpp>
 
 #include "api_call.hpp"
+#include "server/server_metrics.hpp"
+#include "tls_or_plain_stream.hpp"
+#include "tls_server_context.hpp"
 #include "server/json_input.hpp"
 #include "server/live_schema.hpp"
 
@@ -55,6 +59,13 @@ struct HttpServer::Impl {
   bool started = false;
   bool stopped = false;
   std::mutex stop_mutex;
+  std::mutex tls_mutex;
+  std::shared_ptr<net::ssl::context> tls_context;  // null: plain HTTP
+
+  std::shared_ptr<net::ssl::context> current_tls() {
+    std::lock_guard lock(tls_mutex);
+    return tls_context;
+  }
 
   std::atomic<std::uint64_t> connections{0}, requests{0}, publishers{0}, watchers{0}, frames_in{0}, frames_out{0}, frames_dropped{0};
   // The open WebSockets (swept on the server's clock) and how many each account holds.
@@ -62,6 +73,13 @@ struct HttpServer::Impl {
   std::vector<std::weak_ptr<SweptSocket>> ws_sockets;
   std::unordered_map<std::int64_t, std::size_t> ws_per_account;
   std::unique_ptr<net::steady_timer> sweeper;
+  std::atomic<std::uint64_t> publishers_now{0}, watchers_now{0};
+  ServerMetrics metrics;
+
+  ScrapeGauges gauges() {
+    return ScrapeGauges{open_connections.load(), publishers_now.load(), watchers_now.load(), heavy_queued.load(),
+                        api.context().store.database().pool_stats(), frames_in.load(), frames_out.load(), frames_dropped.load()};
+  }
 
   Impl(Api& a, LiveHub& h, HttpServerOptions o)
       : api(a),
@@ -75,6 +93,7 @@ struct HttpServer::Impl {
   void accept();
   void sweep();
   void schedule_sweep();
+  void open_session(tcp::socket socket);
 };
 
 namespace {
@@ -191,12 +210,19 @@ ApiRequest to_api_request(const http::request<http::string_body>& req, const std
   return r;
 }
 
+// An error answer for a failed authentication; a 401 names the scheme (RFC 9110 section 11.6.1).
+ApiResponse auth_refusal(const Error& e) {
+  ApiResponse r = error_response(e);
+  if (e.status == 401) r.headers.emplace_back("WWW-Authenticate", "Bearer");
+  return r;
+}
+
 // ---- WebSocket ------------------------------------------------------------------------------
 
 class WsSession final : public LiveSubscriber, public SweptSocket, public std::enable_shared_from_this<WsSession> {
  public:
   WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, std::unique_ptr<AccountSlot> account_slot,
-            beast::tcp_stream&& stream, Caller caller, std::optional<Publisher> publisher, std::vector<std::string> watching,
+            TlsOrPlainStream&& stream, Caller caller, std::optional<Publisher> publisher, std::vector<std::string> watching,
             std::string first_message)
       : s_(s),
         address_slot_(std::move(address_slot)),
@@ -244,6 +270,7 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
  private:
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
+    accepted_ = true;
     last_activity_us_ = now_us();
     next_recheck_us_ = last_activity_us_ + recheck_us();
     {
@@ -253,8 +280,10 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
     }
     if (publisher_) {
       ++s_.publishers;
+      ++s_.publishers_now;
     } else {
       ++s_.watchers;
+      ++s_.watchers_now;
       if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
       for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this(), watch_restriction());
       enqueue(std::make_shared<const std::string>(first_message_));
@@ -393,6 +422,7 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
   void finish() {
     if (finished_) return;
     finished_ = true;
+    if (accepted_) --(publisher_ ? s_.publishers_now : s_.watchers_now);
     s_.hub.unsubscribe_all(this);
     if (publisher_) {
       net::post(s_.api_pool, [self = shared_from_this()] {
@@ -409,7 +439,7 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
   ConnectionSlot slot_{s_.open_connections};
   std::unique_ptr<AddressSlot> address_slot_;
   std::unique_ptr<AccountSlot> account_slot_;
-  websocket::stream<beast::tcp_stream> ws_;
+  websocket::stream<TlsOrPlainStream> ws_;
   std::int64_t last_activity_us_ = 0;  // the server's clock: the last message in or out
   std::int64_t next_recheck_us_ = 0;
   bool rechecking_ = false;
@@ -421,15 +451,18 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
   std::deque<LiveMessage> queue_;
   bool writing_ = false;
   bool finished_ = false;
+  bool accepted_ = false;
 };
 
 // ---- HTTP -----------------------------------------------------------------------------------
 
 class HttpSession final : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(HttpServer::Impl& s, tcp::socket&& socket) : s_(s), stream_(std::move(socket)) {
+  // `buffer`: bytes already read (the TLS detection's); `plain_on_tls_port`: answer 400 and close.
+  HttpSession(HttpServer::Impl& s, TlsOrPlainStream&& stream, beast::flat_buffer&& buffer, bool plain_on_tls_port = false)
+      : s_(s), stream_(std::move(stream)), buffer_(std::move(buffer)), plain_on_tls_port_(plain_on_tls_port) {
     beast::error_code ec;
-    const tcp::endpoint peer = stream_.socket().remote_endpoint(ec);
+    const tcp::endpoint peer = stream_.next_layer().socket().remote_endpoint(ec);
     remote_ = ec ? "unknown" : peer.address().to_string();
     address_slot_ = std::make_unique<AddressSlot>(s_, remote_);
   }
@@ -438,7 +471,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     if (!address_slot_->taken()) {
       // This address holds its share of the connections already: closed before a byte is read.
       beast::error_code ignored;
-      stream_.socket().close(ignored);
+      stream_.next_layer().socket().close(ignored);
       return;
     }
     net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
@@ -471,6 +504,10 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     }
     if (ec) return answer_error(ec == http::error::header_limit ? 431 : 400, "request: " + ec.message(), false, 11);
     const auto& req = parser_->get();
+    route_ = ServerMetrics::route_of(sv(req.method_string()), sv(req.target()));
+    if (plain_on_tls_port_) {
+      return answer_error(400, "this port speaks HTTPS: use https://", false, req.version());
+    }
     const std::size_t limit = Api::body_limit(sv(req.method_string()), sv(req.target()));
     const auto length = parser_->content_length();
     if (length && *length > limit) {
@@ -537,11 +574,62 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
 
   void on_request() {
     ++s_.requests;
+    request_read_ = std::chrono::steady_clock::now();
     http::request<http::string_body> req = parser_->release();
     const std::string_view target(req.target().data(), req.target().size());
     if (websocket::is_upgrade(req)) return upgrade(std::move(req));
     if (target.rfind("/api/", 0) == 0 || target == "/api") return call_api(std::move(req));
+    const std::string_view path = target.substr(0, target.find('?'));
+    if (path == "/healthz" || path == "/readyz" || path == "/metrics") return serve_operations(req, path);
     serve_static(req);
+  }
+
+  // /healthz: the process answers. /readyz: and its database does. /metrics: Prometheus text,
+  // for loopback callers or an admin's token.
+  void serve_operations(const http::request<http::string_body>& req, std::string_view path) {
+    const bool keep_alive = req.keep_alive();
+    const unsigned version = req.version();
+    if (req.method() != http::verb::get && req.method() != http::verb::head) {
+      return answer_error(405, std::string(req.method_string()) + " is not allowed on " + std::string(path), keep_alive, version);
+    }
+    const auto text = [](int status, std::string body) {
+      ApiResponse r;
+      r.status = status;
+      r.content_type = "text/plain; charset=utf-8";
+      r.body = std::move(body);
+      return r;
+    };
+    if (path == "/healthz") return answer(text(200, "ok\n"), keep_alive, version);
+    const bool metrics = path == "/metrics";
+    beast::error_code ec;
+    const net::ip::address peer = net::ip::make_address(remote_, ec);
+    const bool local = !ec && (peer.is_loopback() || (peer.is_v6() && peer.to_v6().is_v4_mapped() &&
+                                                      net::ip::make_address_v4(net::ip::v4_mapped, peer.to_v6()).is_loopback()));
+    net::post(s_.api_pool, [self = shared_from_this(), metrics, local, token = std::string(req[http::field::authorization]), keep_alive,
+                            version, text]() mutable {
+      ApiResponse r;
+      try {
+        if (!metrics) {
+          self->s_.api.context().store.database().transact(TxMode::kRead, [](SqlSession& s) { (void)s.query("SELECT 1"); });
+          r = text(200, "ready\n");
+        } else {
+          Result<Caller> who = local ? Result<Caller>(Caller{}) : self->s_.api.context().auth.authenticate(token);
+          if (!who) {
+            r = auth_refusal(who.error());
+          } else if (!local && who.value().role != Role::kAdmin) {
+            r = error_response(make_error(403, "/metrics: for loopback callers and admins"));
+          } else {
+            r = text(200, self->s_.metrics.render(self->s_.gauges()));
+            r.content_type = "text/plain; version=0.0.4; charset=utf-8";
+          }
+        }
+      } catch (const std::exception& e) {
+        r = metrics ? error_response(make_error(503, std::string("database unavailable, retry: ") + e.what()))
+                    : text(503, std::string("not ready: database unavailable: ") + e.what() + "\n");
+      }
+      net::post(self->stream_.get_executor(),
+                [self, r = std::move(r), keep_alive, version]() mutable { self->answer(std::move(r), keep_alive, version); });
+    });
   }
 
   void call_api(http::request<http::string_body> req) {
@@ -554,8 +642,12 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     ApiRequest ar = to_api_request(req, remote_);
     if (heavy) ++s_.heavy_queued;
     net::post(heavy ? s_.heavy_pool : s_.api_pool, [self = shared_from_this(), ar = std::move(ar), heavy, keep_alive, version]() mutable {
+      const auto began = std::chrono::steady_clock::now();
       ApiResponse r = self->s_.api.handle(ar);
-      if (heavy) --self->s_.heavy_queued;
+      if (heavy) {
+        self->s_.metrics.observe_upload_check(std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
+        --self->s_.heavy_queued;
+      }
       net::post(self->stream_.get_executor(),
                 [self, r = std::move(r), keep_alive, version]() mutable { self->answer(std::move(r), keep_alive, version); });
     });
@@ -572,6 +664,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     res->set(http::field::server, "cathbox-server");
     security_headers(*res);
     if (!r.content_type.empty()) res->set(http::field::content_type, r.content_type);
+    if (stream_.is_tls()) res->set(http::field::strict_transport_security, "max-age=31536000");
     for (const auto& [name, value] : r.headers) res->set(name, value);
     // API answers are not cached unless they say so (case bundles: revalidated by their ETag).
     if (res->find(http::field::cache_control) == res->end()) res->set(http::field::cache_control, "no-store");
@@ -582,6 +675,8 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     // a heavy handler (a replay of a long record) ran, which cut the answer short.
     stream_.expires_after(std::chrono::seconds(s_.options.body_timeout_s));
     http::async_write(stream_, *res, [self = shared_from_this(), res, keep_alive](beast::error_code ec, std::size_t) {
+      self->s_.metrics.observe_request(self->route_, static_cast<int>(res->result_int()),
+                                       std::chrono::duration<double>(std::chrono::steady_clock::now() - self->request_read_).count());
       if (ec || !keep_alive) return self->close();
       self->read_header();
     });
@@ -648,7 +743,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       try {
         Result<Caller> who = self->s_.api.context().auth.authenticate(token);
         if (!who) {
-          refusal = error_response(who.error());
+          refusal = auth_refusal(who.error());
         } else if (publisher) {
           const auto q = [&](const char* k) { const auto it = t.query.find(k); return it == t.query.end() ? std::string() : it->second; };
           const std::string version = q("version");
@@ -725,15 +820,26 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
   }
 
   void close() {
+    if (stream_.is_tls()) {
+      // close_notify, then the TCP half-close (a peer that never answers is cut by the deadline).
+      stream_.expires_after(std::chrono::seconds(5));
+      return stream_.tls().async_shutdown([self = shared_from_this()](beast::error_code) {
+        beast::error_code ec;
+        self->stream_.next_layer().socket().shutdown(tcp::socket::shutdown_send, ec);
+      });
+    }
     beast::error_code ec;
-    stream_.socket().shutdown(tcp::socket::shutdown_send, ec);
+    stream_.next_layer().socket().shutdown(tcp::socket::shutdown_send, ec);
   }
 
   HttpServer::Impl& s_;
   ConnectionSlot slot_{s_.open_connections};
   std::unique_ptr<AddressSlot> address_slot_;
-  beast::tcp_stream stream_;
+  TlsOrPlainStream stream_;
   beast::flat_buffer buffer_;
+  bool plain_on_tls_port_ = false;
+  std::string route_ = "unparsed";
+  std::chrono::steady_clock::time_point request_read_ = std::chrono::steady_clock::now();
   std::optional<http::request_parser<http::string_body>> parser_;
   std::string remote_;
 };
@@ -749,7 +855,7 @@ void HttpServer::Impl::accept() {
         beast::error_code ignored;
         socket.close(ignored);
       } else {
-        std::make_shared<HttpSession>(*this, std::move(socket))->run();
+        open_session(std::move(socket));
       }
     }
     accept();
@@ -780,6 +886,30 @@ void HttpServer::Impl::schedule_sweep() {
 
 void HttpServer::sweep() { impl_->sweep(); }
 
+// Plain HTTP, or on a TLS port: a look at the first bytes, then the handshake (a client speaking
+// plain HTTP there is answered 400 in plain HTTP, saying so).
+void HttpServer::Impl::open_session(tcp::socket socket) {
+  std::shared_ptr<net::ssl::context> context = current_tls();
+  beast::tcp_stream connection(std::move(socket));
+  if (!context) return std::make_shared<HttpSession>(*this, TlsOrPlainStream(std::move(connection)), beast::flat_buffer())->run();
+  connection.expires_after(std::chrono::seconds(options.idle_timeout_s));
+  auto stream = std::make_shared<TlsOrPlainStream>(std::move(connection), context);
+  auto buffer = std::make_shared<beast::flat_buffer>();
+  auto slot = std::make_shared<ConnectionSlot>(open_connections);
+  beast::async_detect_ssl(stream->next_layer(), *buffer, [this, stream, buffer, slot](beast::error_code ec, bool tls) {
+    if (ec) return;
+    if (!tls) {
+      return std::make_shared<HttpSession>(*this, TlsOrPlainStream(std::move(stream->next_layer())), std::move(*buffer), true)->run();
+    }
+    stream->tls().async_handshake(net::ssl::stream_base::server, buffer->data(),
+                                  [this, stream, buffer, slot](beast::error_code hec, std::size_t used) {
+                                    if (hec) return;  // not a TLS client, or no common version: nothing to say
+                                    buffer->consume(used);
+                                    std::make_shared<HttpSession>(*this, std::move(*stream), std::move(*buffer))->run();
+                                  });
+  });
+}
+
 HttpServer::HttpServer(Api& api, LiveHub& hub, HttpServerOptions options)
     : impl_(std::make_unique<Impl>(api, hub, std::move(options))) {}
 
@@ -790,12 +920,21 @@ Result<std::uint16_t> HttpServer::start() {
   beast::error_code ec;
   const net::ip::address address = net::ip::make_address(s.options.host, ec);
   if (ec) return make_error(400, "--listen: '" + s.options.host + "' is not an IP address");
+  if (s.options.tls) {
+    Result<std::shared_ptr<net::ssl::context>> context = make_server_tls_context(*s.options.tls);
+    if (!context) return context.error();
+    s.tls_context = context.value();
+  } else if (!address.is_loopback() && !s.options.insecure_http) {
+    return make_error(400, "--listen " + s.options.host +
+                               ": not a loopback address, and no --tls-cert/--tls-key: passwords and tokens would cross the "
+                               "network in clear (give --insecure-http only behind a TLS proxy)");
+  }
   const tcp::endpoint endpoint(address, s.options.port);
   s.acceptor.open(endpoint.protocol(), ec);
   if (!ec) s.acceptor.set_option(net::socket_base::reuse_address(true), ec);
   if (!ec) s.acceptor.bind(endpoint, ec);
   if (!ec) s.acceptor.listen(net::socket_base::max_listen_connections, ec);
-  if (ec) return make_error(400, "--listen " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
+  if (ec) return make_error(503, "--listen " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
   const std::uint16_t port = s.acceptor.local_endpoint().port();
   s.accept();
   if (s.options.sweep_every_ms > 0) {
@@ -824,6 +963,18 @@ void HttpServer::stop() {
   s.heavy_pool.join();
   s.api_pool.join();
 }
+
+Status HttpServer::reload_tls() {
+  Impl& s = *impl_;
+  if (!s.options.tls) return make_error(400, "TLS reload: this server speaks plain HTTP (no --tls-cert)");
+  Result<std::shared_ptr<net::ssl::context>> context = make_server_tls_context(*s.options.tls);
+  if (!context) return context.error();
+  std::lock_guard lock(s.tls_mutex);
+  s.tls_context = context.value();
+  return Ok{};
+}
+
+bool HttpServer::tls() const { return impl_->options.tls.has_value(); }
 
 HttpServerStats HttpServer::stats() const {
   const Impl& s = *impl_;

@@ -13,8 +13,10 @@
 
 #include <CLI/CLI.hpp>
 
+#include "server/backup.hpp"
 #include "server/case_library.hpp"
 #include "server/clock.hpp"
+#include "server/log_line.hpp"
 #include "server/migrations.hpp"
 #include "server/password_hasher.hpp"
 #include "server/server_app.hpp"
@@ -89,14 +91,37 @@ struct ServeOptions {
   double token_hours = 12.0;
   int login_burst = 20;
   double logins_per_minute = 30.0;
+  std::string tls_cert;
+  std::string tls_key;
+  bool insecure_http = false;
+  std::string log_format = "text";
+};
+
+// The serving program's lines: info and warnings on standard output, errors on standard error,
+// as text or one JSON object a line (--log-format).
+struct Say {
+  LogFormat format = LogFormat::kText;
+  SystemClock clock;
+  void operator()(std::string_view level, const std::string& message, const LogFields& fields = {}) {
+    std::FILE* to = level == "error" ? stderr : stdout;
+    std::fprintf(to, "%s\n", log_line(format, level, message, clock.now_us(), fields).c_str());
+    std::fflush(to);
+  }
 };
 
 int serve(const std::string& url, const std::string& listen, const ServeOptions& so) {
+  Say say;
+  if (const std::optional<LogFormat> f = parse_log_format(so.log_format)) {
+    say.format = *f;
+  } else {
+    say("error", "--log-format: '" + so.log_format + "': expected text or json");
+    return kBadInput;
+  }
   ServerConfig config;
   config.db_url = url;
   const std::size_t colon = listen.rfind(':');
   if (colon == std::string::npos) {
-    std::cerr << "cathbox-server: --listen: expected HOST:PORT, got '" << listen << "'\n";
+    say("error", "--listen: expected HOST:PORT, got '" + listen + "'");
     return kBadInput;
   }
   config.http.host = listen.substr(0, colon);
@@ -108,7 +133,7 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
     if (port < 0 || port > 65535) throw std::out_of_range("port");
     config.http.port = static_cast<std::uint16_t>(port);
   } catch (const std::exception&) {
-    std::cerr << "cathbox-server: --listen: '" << listen.substr(colon + 1) << "' is not a port\n";
+    say("error", "--listen: '" + listen.substr(colon + 1) + "' is not a port");
     return kBadInput;
   }
   config.http.mounts = default_mounts(so.web);
@@ -119,28 +144,46 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
   config.auth.address_per_minute = so.logins_per_minute;
   config.instance = so.instance;
   config.cache_dir = so.cache;
+  if (so.tls_cert.empty() != so.tls_key.empty()) {
+    say("error", "--tls-cert and --tls-key go together");
+    return kBadInput;
+  }
+  if (!so.tls_cert.empty()) config.http.tls = TlsFiles{so.tls_cert, so.tls_key};
+  config.http.insecure_http = so.insecure_http;
 
   // The signals that stop the server are taken by this thread only (sigwait below).
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGHUP);  // reload the TLS certificate
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
   Result<std::unique_ptr<ServerApp>> app = ServerApp::start(std::move(config));
   if (!app) {
-    std::cerr << "cathbox-server: " << app.error().message << '\n';
+    say("error", app.error().message);
     return exit_code_for(app.error());
   }
-  std::printf("cathbox-server: listening on http://%s:%u (%s, schema %d, instance %s)\n", listen.substr(0, colon).c_str(),
-              static_cast<unsigned>(app.value()->port()), app.value()->describe_db().c_str(), app.value()->schema_version(),
-              app.value()->instance().c_str());
-  std::fflush(stdout);
+  ServerApp& a = *app.value();
+  const bool tls = app.value()->http().tls();
+  if (!tls && so.insecure_http) {
+    say("warning", "--insecure-http: plain HTTP on " + listen + ", passwords and tokens cross the network in clear unless a TLS proxy is in front",
+        {{"listen", listen}});
+  }
+  const std::string served = std::string(tls ? "https" : "http") + "://" + listen.substr(0, colon) + ":" + std::to_string(a.port());
+  say("info", "listening on " + served + " (" + a.describe_db() + ", schema " + std::to_string(a.schema_version()) + ", instance " + a.instance() + ")",
+      {{"url", served}, {"db", a.describe_db()}, {"schema", std::to_string(a.schema_version())}, {"instance", a.instance()}});
   int sig = 0;
-  sigwait(&stop_signals, &sig);
-  std::printf("cathbox-server: stopping (signal %d)\n", sig);
-  std::fflush(stdout);
+  while (sigwait(&stop_signals, &sig) == 0 && sig == SIGHUP) {
+    const Status reloaded = app.value()->http().reload_tls();
+    if (reloaded) {
+      say("info", "TLS certificate reloaded from " + so.tls_cert, {{"cert", so.tls_cert}});
+    } else {
+      say("warning", "SIGHUP: " + reloaded.error().message + " (the old certificate stays)");
+    }
+  }
+  say("info", "stopping (signal " + std::to_string(sig) + ")", {{"signal", std::to_string(sig)}});
   app.value()->stop();
   return kOk;
 }
@@ -210,6 +253,10 @@ int main(int argc, char** argv) {
   cli.add_option("--io-threads", so.io_threads, "socket threads")->check(CLI::Range(1, 64))->capture_default_str();
   cli.add_option("--api-threads", so.api_threads, "API handler threads")->check(CLI::Range(1, 256))->capture_default_str();
   cli.add_option("--token-hours", so.token_hours, "bearer token lifetime")->check(CLI::Range(0.01, 24.0 * 365))->capture_default_str();
+  cli.add_option("--tls-cert", so.tls_cert, "PEM certificate chain: serve HTTPS and wss:// (reread on SIGHUP)");
+  cli.add_option("--tls-key", so.tls_key, "PEM private key of --tls-cert");
+  cli.add_option("--log-format", so.log_format, "text, or json: one JSON object a line (time, level, msg, fields)")->capture_default_str();
+  cli.add_flag("--insecure-http", so.insecure_http, "allow plain HTTP on a non-loopback --listen (only behind a TLS proxy)");
   cli.add_option("--login-burst", so.login_burst, "login attempts one address may make at once")->check(CLI::Range(1, 1000000))->capture_default_str();
   cli.add_option("--logins-per-minute", so.logins_per_minute, "login attempts per minute one address gets back")
       ->check(CLI::Range(0.1, 1e6))
@@ -235,6 +282,11 @@ int main(int argc, char** argv) {
   add_case->add_option("CASE", case_path)->required();
   add_case->add_option("--name", case_name, "library name (default: the file's stem)");
   CLI::App* migrate_cmd = admin->add_subcommand("migrate", "apply schema migrations and print the version");
+  std::string backup_file;
+  CLI::App* backup_cmd = admin->add_subcommand("backup", "write a consistent copy of the database to FILE, while it serves");
+  backup_cmd->add_option("FILE", backup_file)->required();
+  CLI::App* restore_cmd = admin->add_subcommand("restore", "restore FILE (from admin backup) into an empty --db");
+  restore_cmd->add_option("FILE", backup_file)->required();
 
   try {
     cli.parse(argc, argv);
@@ -245,6 +297,16 @@ int main(int argc, char** argv) {
   const std::string url = db_url(db, data);
   so.cache = data + "/cache";
   if (!admin->parsed()) return serve(url, listen, so);
+  // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
+  if (backup_cmd->parsed() || restore_cmd->parsed()) {
+    const Status done = backup_cmd->parsed() ? backup_database(url, backup_file) : restore_database(url, backup_file);
+    if (!done) {
+      std::cerr << "cathbox-server: " << done.error().message << '\n';
+      return exit_code_for(done.error());
+    }
+    std::printf("%s %s\n", backup_cmd->parsed() ? "backed up to" : "restored from", backup_file.c_str());
+    return kOk;
+  }
 
   int code = kOk;
   std::unique_ptr<Store> store = open_store(url, code);

@@ -125,6 +125,7 @@ class PgDatabase final : public Database {
 
   [[nodiscard]] SqlDialect dialect() const override { return SqlDialect::kPostgresql; }
   [[nodiscard]] std::string describe() const override { return redact_pg_url(url_); }
+  [[nodiscard]] PoolStats pool_stats() const override { return pool_.stats(); }
 
   std::string open_first() {
     try {

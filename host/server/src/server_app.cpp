@@ -53,7 +53,7 @@ Result<std::unique_ptr<ServerApp>> ServerApp::start(ServerConfig config) {
   app->failure_window_us_ = config.auth.failure_window_us;
   app->http_ = std::make_unique<HttpServer>(app->core_->api(), app->core_->hub(), config.http);
   Result<std::uint16_t> port = app->http_->start();
-  if (!port) return make_error(503, port.error().message);
+  if (!port) return port.error();  // 400 bad options (address, TLS files), 503 address unavailable
   app->port_ = port.value();
   ServerApp* raw = app.get();
   app->maintenance_ = std::thread([raw] { raw->maintain(); });

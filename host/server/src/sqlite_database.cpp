@@ -138,6 +138,7 @@ class SqliteDatabase final : public Database {
 
   [[nodiscard]] SqlDialect dialect() const override { return SqlDialect::kSqlite; }
   [[nodiscard]] std::string describe() const override { return "sqlite:" + path_; }
+  [[nodiscard]] PoolStats pool_stats() const override { return pool_.stats(); }
 
   // Opens the first connection (so a bad path fails at start-up).
   std::string open_first() {

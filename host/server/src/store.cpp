@@ -367,8 +367,12 @@ std::vector<Assignment> Store::list_assignments(std::optional<I> trainee_id) {
 
 bool Store::delete_assignment(I id) {
   bool deleted = false;
-  db_->transact(TxMode::kWrite,
-                [&](SqlSession& s) { deleted = !s.query("DELETE FROM assignments WHERE id = $1 RETURNING id", {id}).empty(); });
+  db_->transact(TxMode::kWrite, [&](SqlSession& s) {
+    // A verdict means "passed this assignment's criteria": with the assignment gone it means
+    // nothing, so it goes too (the results stay, with their metrics).
+    (void)s.query("UPDATE results SET passed = NULL WHERE assignment_id = $1", {id});
+    deleted = !s.query("DELETE FROM assignments WHERE id = $1 RETURNING id", {id}).empty();
+  });
   return deleted;
 }
 

@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "scenario/case_clots.hpp"
 #include "tool/mesh_wall.hpp"
 
 namespace cathbox::session {
@@ -91,6 +92,18 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
   flow::FlowBuild network = flow::FlowNetwork::build(*model, c->spec.flow);
   if (network) {
     c->flow = std::move(*network);
+    // The case's clots occlude their branches (sim/flow, "Clots"): the contrast stops at them.
+    const auto clots = tool::resolve_clots(c->spec, *model);
+    if (!clots) {
+      out.error = clots.error().message;
+      return out;
+    }
+    if (!clots->empty()) {
+      if (base::Status<> occluded = c->flow->occlude(*clots); !occluded) {
+        out.error = source + ": " + occluded.error().message;
+        return out;
+      }
+    }
   } else if (!c->case_file.empty()) {
     out.error = network.error().message;
     return out;

@@ -23,6 +23,7 @@
 #include "emu/flash_memory.hpp"
 #include "emu/result.hpp"
 #include "emu/sim_board.hpp"
+#include "protocol/cbx_feature_reports.h"
 #include "protocol/cbx_state_report.h"
 
 namespace cathbox::emu {
@@ -35,6 +36,10 @@ struct EmuOptions {
 };
 
 enum class BoardMode { kApplication, kBootloader, kNoFirmware };
+
+// The calibration `cathbox calibrate` would store for the modelled box: its encoders, its
+// actuators' full scale, a linear output curve (the factory store here, the image's tests).
+[[nodiscard]] cbx_calibration model_calibration(BoxModel& model);
 
 class Emulator final : public EmuServer::Handler {
  public:

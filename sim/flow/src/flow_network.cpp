@@ -351,20 +351,46 @@ base::Status<> FlowNetwork::solve() {
       t.resistance_Pa_s_per_mm3 = p_out / (t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s);
     }
   }
-  std::vector<Eigen::Triplet<double>> triplets = laplacian;
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_nodes));
+  idle_pins_.clear();
+  for (const auto& [comp, c] : comps) {
+    if (c.out_mm3_s <= 0.0) idle_pins_.push_back(static_cast<int>(comp));
+  }
+  open_resistance_Pa_s_per_mm3_.clear();
+  for (const SegmentFlow& f : segments_) open_resistance_Pa_s_per_mm3_.push_back(f.resistance_Pa_s_per_mm3);
+  return solve_pressures();
+}
+
+// The final solve: the segments' Laplacian (their current resistances, clots included), the
+// outlets' terminal conductances to ground and the inlets' inflows.
+base::Status<> FlowNetwork::solve_pressures() {
+  std::size_t nodes = 0;
+  for (const SegmentFlow& f : segments_) nodes = std::max({nodes, static_cast<std::size_t>(f.start_node) + 1, static_cast<std::size_t>(f.end_node) + 1});
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(4 * segments_.size() + terminals_.size() + idle_pins_.size());
+  for (const SegmentFlow& f : segments_) {
+    if (f.start_node == f.end_node) continue;
+    const double g = 1.0 / f.resistance_Pa_s_per_mm3;
+    triplets.emplace_back(f.start_node, f.start_node, g);
+    triplets.emplace_back(f.end_node, f.end_node, g);
+    triplets.emplace_back(f.start_node, f.end_node, -g);
+    triplets.emplace_back(f.end_node, f.start_node, -g);
+  }
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nodes));
   for (const Terminal& t : terminals_) {
     if (t.role == EndRole::kOutlet) triplets.emplace_back(t.node, t.node, 1.0 / t.resistance_Pa_s_per_mm3);
     if (t.role == EndRole::kInlet) rhs[t.node] += t.target_ml_min / 0.06;
   }
-  for (const auto& [comp, c] : comps) {
-    if (c.out_mm3_s <= 0.0) triplets.emplace_back(static_cast<int>(comp), static_cast<int>(comp), 1.0);  // no flow: pin
-  }
-  const std::optional<Eigen::VectorXd> solved = solve_nodes(std::move(triplets), rhs);
-  if (!solved) return base::Error{"flow: the network's pressure system could not be solved"};
-  const Eigen::VectorXd& p = *solved;
+  for (int pin : idle_pins_) triplets.emplace_back(pin, pin, 1.0);  // no flow: pin
+  Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(nodes), static_cast<Eigen::Index>(nodes));
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  solver.compute(a);
+  if (solver.info() != Eigen::Success) return base::Error{"flow: the network's pressure system could not be solved"};
+  const Eigen::VectorXd p = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !p.allFinite()) return base::Error{"flow: the network's pressure system could not be solved"};
   pressure_Pa_.assign(p.data(), p.data() + p.size());
 
+  const double mu = settings_.viscosity_mPa_s * 1e-3;
   for (SegmentFlow& f : segments_) {
     f.flow_mm3_s = f.start_node == f.end_node ? 0.0 : (p[f.start_node] - p[f.end_node]) / f.resistance_Pa_s_per_mm3;
     const double area = f.length_mm > 0.0 ? f.volume_mm3 / f.length_mm : kPi * f.min_radius_mm * f.min_radius_mm;

@@ -25,6 +25,7 @@ constexpr double kMaxToolLength_mm = ToolLimits::kMaxLength_mm;
 constexpr double kMaxNodes = ToolLimits::kMaxNodes;
 constexpr std::size_t kMaxFlowSettings = 100000;
 constexpr std::size_t kMaxViews = 16;
+constexpr std::size_t kMaxClots = 16;
 
 class CaseParser {
  public:
@@ -46,6 +47,8 @@ class CaseParser {
           if (tool->sections.empty()) return fail_at(tool_line, "tool '" + tool->name + "' has no section");
           if (!check_tool(*tool, tool_line)) return fail();
           tool = nullptr;
+        } else if (key == "aspiration") {
+          if (!aspiration_statement(c, *tool, w)) return fail();
         } else if (!tool_statement(*tool, w)) {
           return fail();
         }
@@ -151,6 +154,8 @@ class CaseParser {
         c.realistic = true;
       } else if (key == "flow") {
         if (!flow_statement(c.flow, w)) return fail();
+      } else if (key == "clot") {
+        if (!clot_statement(c, w)) return fail();
       } else if (key == "end") {
         return fail_here("'end' without a tool");
       } else {
@@ -174,6 +179,11 @@ class CaseParser {
       const double od = t.max_outer_diameter_mm();
       if (outer->inner_diameter_mm <= od) {
         return fail_at(tool_lines[i], "tool '" + t.name + "' (od " + std::to_string(od) + " mm) does not fit in '" + outer->name + "'");
+      }
+    }
+    for (const CaseAspiration& a : c.aspiration) {
+      for (const ToolSpec& t : c.tools) {
+        if (t.name == a.tool && !(t.inner_diameter_mm > 0.0)) return fail_at(a.line, "aspiration: tool '" + t.name + "' has no inner_diameter");
       }
     }
     if (c.tools.empty()) c.tools.push_back(default_guidewire());
@@ -306,6 +316,55 @@ class CaseParser {
     if (!od || !ei || !gj) return error_here(verb + ": od=, ei= and gj= are required");
     if ((s.shape != CoilShape::kNone) != (s.loop_diameter_mm > 0.0)) return error_here(verb + ": shape= and loop= go together");
     if (s.shape != CoilShape::kNone && kind != ToolKind::kCoil) return error_here(verb + ": shape= is for coil tools");
+    return true;
+  }
+
+  // `clot SEG FROM_MM LENGTH_MM [red=PCT] [fibrin=PCT] [open=F]`.
+  bool clot_statement(Case& c, const std::vector<std::string_view>& w) {
+    if (w.size() < 4) return error_here("clot: expected SEG FROM_MM LENGTH_MM [red=PCT] [fibrin=PCT] [open=F]");
+    if (c.clots.size() >= kMaxClots) return error_here("too many clots (at most 16)");
+    double v[3];
+    if (!numbers(w, 1, v, 3)) return false;
+    if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return error_here("clot: segment id must be an integer >= 0");
+    if (v[1] < 0.0 || v[1] > 1000.0) return error_here("clot: start must be in [0, 1000] mm along the segment");
+    if (v[2] <= 0.0 || v[2] > 100.0) return error_here("clot: length must be in (0, 100] mm");
+    CaseClot clot{static_cast<std::int32_t>(v[0]), v[1], v[2], flow::kReferenceComposition, 0.0, lines_.line()};
+    for (std::size_t i = 4; i < w.size(); ++i) {
+      const std::size_t eq = w[i].find('=');
+      if (eq == std::string_view::npos) return error_here("clot: expected key=value, got '" + std::string(w[i]) + "'");
+      const std::string_view k = w[i].substr(0, eq);
+      double x = 0.0;
+      if (!number(w[i].substr(eq + 1), "clot " + std::string(k), x)) return false;
+      if (k == "red") {
+        clot.composition.red_cell_percent = x;
+      } else if (k == "fibrin") {
+        clot.composition.fibrin_platelet_percent = x;
+      } else if (k == "open") {
+        if (x < 0.0 || x >= 1.0) return error_here("clot: open must be in [0, 1)");
+        clot.open_fraction = x;
+      } else {
+        return error_here("clot: unknown key '" + std::string(k) + "' (known: red fibrin open)");
+      }
+    }
+    if (const char* e = flow::check_composition(clot.composition); *e != '\0') return error_here(e);
+    c.clots.push_back(clot);
+    return true;
+  }
+
+  // `aspiration pump|syringe` in a catheter with a lumen.
+  bool aspiration_statement(Case& c, const ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (!expect_args(w, 1)) return false;
+    if (t.kind != ToolKind::kCatheter) return error_here("aspiration: only a catheter aspirates");
+    for (const CaseAspiration& a : c.aspiration) {
+      if (a.tool == t.name) return error_here("aspiration given twice");
+    }
+    CaseAspiration a{t.name, flow::VacuumSource::kPump, lines_.line()};
+    if (w[1] == "syringe") {
+      a.source = flow::VacuumSource::kSyringe60;
+    } else if (w[1] != "pump") {
+      return error_here("aspiration: source must be 'pump' or 'syringe', not '" + std::string(w[1]) + "'");
+    }
+    c.aspiration.push_back(a);
     return true;
   }
 

@@ -9,7 +9,7 @@ from gymnasium.utils.env_checker import check_env
 
 import cathbox.gym
 
-ENV_IDS = ("cathbox/Navigate-v0", "cathbox/ArchVariety-v0", "cathbox/DualDevice-v0")
+ENV_IDS = ("cathbox/Navigate-v0", "cathbox/ArchVariety-v0", "cathbox/DualDevice-v0", "cathbox/Case-v0")
 
 
 def run(env, seed, steps, actions):
@@ -25,13 +25,32 @@ def run(env, seed, steps, actions):
 class EnvTest(unittest.TestCase):
     def test_gymnasium_checker_passes_every_env_and_mode(self):
         for env_id in ENV_IDS:
-            for mode in ("tracking", "state", "image"):
+            for mode in ("tracking", "state", "nodes", "image"):
                 if mode == "image" and env_id != "cathbox/Navigate-v0":
                     continue
                 with self.subTest(env=env_id, observation=mode):
                     env = gymnasium.make(env_id, observation=mode, step_s=0.02)
                     check_env(env.unwrapped, skip_render_check=True)
                     env.close()
+
+    def test_nodes_observation_views_the_simulator_without_a_copy(self):
+        env = gymnasium.make("cathbox/DualDevice-v0", observation="nodes", step_s=0.05)
+        obs, _ = env.reset(seed=2)
+        session = env.unwrapped.session
+        self.assertEqual(list(obs), ["0:catheter", "1:guidewire", "target"])
+        first = {k: v.__array_interface__["data"][0] for k, v in obs.items()}
+        for t, key in enumerate(("0:catheter", "1:guidewire")):
+            self.assertTrue(np.shares_memory(obs[key], session.node_buffer(t)))
+            self.assertFalse(obs[key].flags.writeable)
+        kept = {k: v.copy() for k, v in obs.items()}
+        obs2, _, _, _, _ = env.step(np.array([[30.0, 0.0], [30.0, 1.0]], dtype=np.float32))
+        for key in ("0:catheter", "1:guidewire"):
+            self.assertEqual(obs2[key].__array_interface__["data"][0], first[key])  # the same memory...
+            self.assertIs(obs2[key].base, session)
+            self.assertFalse(np.array_equal(obs[key], kept[key]))  # ...showing the new state
+            np.testing.assert_array_equal(obs[key], obs2[key])
+        self.assertTrue(env.observation_space.contains(obs2))
+        env.close()
 
     def test_same_seed_same_observations_bit_for_bit_and_two_envs_do_not_interfere(self):
         rng = np.random.default_rng(7)

@@ -39,6 +39,57 @@ class SessionTest(unittest.TestCase):
             a[0, 0] = 1.0
         np.testing.assert_array_equal(a[-1], s.tip(0)[0])
 
+    def test_node_buffer_is_the_simulators_memory_live_and_kept_alive(self):
+        import gc
+        import weakref
+        s = cathbox.Session(cathbox.case_path("neuro"))  # catheter, guidewire inside it
+        views = [s.node_buffer(t) for t in range(s.tool_count)]
+        address = [v.__array_interface__["data"][0] for v in views]
+        self.assertFalse(any(v.flags.owndata or v.flags.writeable for v in views))
+        self.assertTrue(all(v.base is s for v in views))
+        self.assertTrue(np.shares_memory(views[1], s.node_buffer(1)))
+        before = [v.copy() for v in views]
+        s.set_speeds([[20.0, 0.0], [20.0, 1.0]])
+        s.step(400)
+        for t, v in enumerate(views):  # the same memory, now holding the state after the step
+            self.assertEqual(s.node_buffer(t).__array_interface__["data"][0], address[t])
+            self.assertGreater(np.abs(v - before[t]).max(), 1.0)
+            np.testing.assert_array_equal(v[-1], s.tip(t)[0])  # the tip is the rod's last node
+        np.testing.assert_array_equal(views[0][-len(s.nodes(0)):], s.nodes(0))  # the outer tool: its nodes
+        # Lifetime: the views keep the session (and the simulator's buffers) alive; the last one
+        # to go frees it. Under the ASan step a freed buffer read here would be reported.
+        tip = s.tip(1)[0]
+        alive = weakref.ref(s)
+        s.close()
+        del s
+        gc.collect()
+        self.assertIsNotNone(alive())
+        np.testing.assert_array_equal(views[1][-1], tip)
+        base = views[0].base
+        del views, base, v
+        gc.collect()
+        self.assertIsNone(alive())
+        with self.assertRaises(IndexError):
+            cathbox.Session(Y).node_buffer(1)
+
+    def test_route_remaining_is_the_path_left_past_the_tips_closest_route_point(self):
+        s = cathbox.Session(Y)
+        route = s.route
+        seg = np.linalg.norm(np.diff(route, axis=0), axis=1)
+        arc = np.concatenate([[0.0], np.cumsum(seg)])
+        self.assertAlmostEqual(arc[-1], s.route_length_mm, delta=1e-3)
+        for speed in (0.0, 40.0, 40.0, 40.0):
+            s.set_speeds([[speed, 2.0]])
+            s.step(250)
+            tip = s.tip(0)[0]
+            a, ab = route[:-1], np.diff(route, axis=0)  # every segment's closest point, by brute force
+            t = np.clip(((tip - a) * ab).sum(1) / (ab * ab).sum(1), 0.0, 1.0)
+            d = np.linalg.norm(tip - (a + t[:, None] * ab), axis=1)
+            i = int(np.argmin(d))
+            expected = arc[-1] - (arc[i] + t[i] * seg[i]) + d[i]
+            self.assertAlmostEqual(s.route_remaining_mm(0), expected, delta=1e-4)
+        self.assertLess(s.route_remaining_mm(0), s.route_length_mm - 20.0)  # 30 mm pushed in: closer
+
     def test_clone_replays_the_inputs_to_the_same_state(self):
         s = cathbox.Session(Y)
         for v in (15.0, 5.0, 25.0):

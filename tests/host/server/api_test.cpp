@@ -246,6 +246,12 @@ TEST_P(ApiTest, ResultsAreCheckedIdempotentEvaluatedAndPrivate) {
   EXPECT_EQ(f_->call("GET", "/api/v1/results/" + id, "", bob_).status, 404);  // as if it did not exist
   EXPECT_EQ(f_->call("GET", "/api/v1/results/" + id + "/record", "", bob_).status, 404);
   EXPECT_EQ(f_->call("GET", "/api/v1/results?trainee=alice", "", bob_).status, 403);
+  // The same answer for a name with no account: a trainee cannot probe which accounts exist.
+  const ApiResponse probe = f_->call("GET", "/api/v1/results?trainee=no-such-trainee", "", bob_);
+  EXPECT_EQ(probe.status, 403);
+  EXPECT_EQ(probe.body.find("no-such-trainee"), std::string::npos);
+  EXPECT_EQ(f_->call("GET", "/api/v1/results?trainee=bob", "", bob_).status, 200);
+  EXPECT_EQ(f_->call("GET", "/api/v1/results?trainee=no-such-trainee", "", teacher_).status, 404);
   EXPECT_EQ(f_->call_json("GET", "/api/v1/results", nullptr, bob_, 200)["results"].size(), 0U);
   // Alice and her instructor can.
   const json detail = f_->call_json("GET", "/api/v1/results/" + id, nullptr, teacher_, 200);

@@ -85,6 +85,13 @@ TEST_P(HttpTest, EveryApiEndpointButLoginNeedsAToken) {
   const Status forged = ws.connect(server_->base_url(), "/api/v1/live/rigs/r1/stream?case=x", "forged-token");
   ASSERT_FALSE(forged);
   EXPECT_EQ(forged.error().status, 401);
+  // The upgrade's 401 names the scheme like every other 401 (RFC 9110 section 15.5.2).
+  const std::string upgrade =
+      "GET /api/v1/live/watch HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+      "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n";
+  const std::string answer = raw_exchange(server_->port(), upgrade);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 401", 0), 0U) << answer;
+  EXPECT_NE(answer.find("WWW-Authenticate: Bearer\r\n"), std::string::npos) << answer;
 }
 
 TEST_P(HttpTest, OversizedHeadersAndBodiesAreRefusedBeforeTheyAreRead) {

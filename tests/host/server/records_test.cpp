@@ -9,8 +9,6 @@
 #include <fstream>
 #include <iterator>
 
-#include "session/action_script_hand.hpp"
-#include "session/session.hpp"
 #include "support/api_fixture.hpp"
 #include "record_files.hpp"
 #include "record_tamper.hpp"

@@ -210,6 +210,33 @@ TEST_P(StoreTest, AssignmentsNeedAnExistingCase) {
   EXPECT_FALSE(store_->assignment(made->id));
 }
 
+TEST_P(StoreTest, DeletingAnAssignmentClearsItsResultsVerdictsButKeepsTheResults) {
+  const User alice = make_user("alice");
+  const User boss = make_user("boss", Role::kInstructor);
+  (void)store_->insert_case_version("neuro", meta("h"), "b", kT0);
+  Assignment a;
+  a.trainee_id = alice.id;
+  a.case_name = "neuro";
+  a.criteria_json = "[]";
+  a.assigned_by = boss.id;
+  const auto made = store_->insert_assignment(a, kT0);
+  ASSERT_TRUE(made);
+  ResultRow run = result_row(alice, "hash-assigned", "neuro", kT0 + 10);
+  run.assignment_id = made->id;
+  run.passed = true;
+  (void)store_->insert_result(run, {{"procedure_time_s", 60.0}}, "rec");
+  ResultRow other = result_row(alice, "hash-other", "neuro", kT0 + 20);
+  other.passed = false;
+  (void)store_->insert_result(other, {}, "rec2");
+  ASSERT_TRUE(store_->delete_assignment(made->id));
+  const auto kept = store_->result_by_hash("hash-assigned");
+  ASSERT_TRUE(kept);
+  EXPECT_FALSE(kept->assignment_id.has_value());
+  EXPECT_FALSE(kept->passed.has_value());  // no criteria left to have passed
+  EXPECT_EQ(store_->result_metrics(kept->id).size(), 1U);
+  EXPECT_EQ(store_->result_by_hash("hash-other")->passed, false);  // another result keeps its verdict
+}
+
 TEST_P(StoreTest, ResultsAreIdempotentByContentHashAndFilterable) {
   const User alice = make_user("alice");
   const User bob = make_user("bob");

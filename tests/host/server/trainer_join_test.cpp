@@ -17,6 +17,8 @@
 #include "server/client.hpp"
 #include "server/migrations.hpp"
 #include "server/testing/server_process.hpp"
+#include "server/testing/test_ca.hpp"
+#include "server/tls.hpp"
 #include "support/server_fixture.hpp"
 
 namespace cathbox::server {
@@ -89,6 +91,16 @@ json get_json(ServerClient& c, const std::string& target) {
   return json::parse(a.body);
 }
 
+// The bundled Y bifurcation as library case "ybif".
+void add_ybif_case(ServerClient& teacher) {
+  const json case_body = {{"name", "ybif"},
+                          {"case_file", "y_bifurcation.case"},
+                          {"case", test::source_file("cases/y_bifurcation.case")},
+                          {"hclm_file", "y_bifurcation.hclm"},
+                          {"hclm", test::source_file("cases/y_bifurcation.hclm")}};
+  ASSERT_EQ(teacher.http().post_json("/api/v1/cases", case_body.dump()).status, 201);
+}
+
 class TrainerJoin : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(TrainerJoin, AssignedRunIsWatchedLiveUploadedAndQueuedWhileOffline) {
@@ -97,12 +109,7 @@ TEST_P(TrainerJoin, AssignedRunIsWatchedLiveUploadedAndQueuedWhileOffline) {
   testing::ServerProcess server(url);
   ServerClient teacher(server.base_url());
   ASSERT_TRUE(teacher.login("teacher", "password-123"));
-  const json case_body = {{"name", "ybif"},
-                          {"case_file", "y_bifurcation.case"},
-                          {"case", test::source_file("cases/y_bifurcation.case")},
-                          {"hclm_file", "y_bifurcation.hclm"},
-                          {"hclm", test::source_file("cases/y_bifurcation.hclm")}};
-  ASSERT_EQ(teacher.http().post_json("/api/v1/cases", case_body.dump()).status, 201);
+  add_ybif_case(teacher);
   const json criteria = json::array({{{"metric", "peak_wall_force_mN"}, {"op", "<="}, {"value", 200}}});
   const HttpAnswer assigned = teacher.http().post_json(
       "/api/v1/assignments", json{{"trainee", "ann"}, {"case", "ybif"}, {"criteria", criteria}, {"note", "left branch"}}.dump());
@@ -200,6 +207,44 @@ TEST_P(TrainerJoin, AssignedRunIsWatchedLiveUploadedAndQueuedWhileOffline) {
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("upload: 0 stored, 1 already on the server, 0 refused, 0 queued"), std::string::npos) << again.output;
   EXPECT_EQ(get_json(teacher, "/api/v1/results?assignment=" + std::to_string(assignment))["results"].size(), 4U);
+}
+
+// The trainer over TLS: the centre's CA given with --ca-file logs in, runs and uploads over
+// HTTPS and wss://; a CA that did not sign the server's certificate is one line, never a
+// fallback to plain HTTP (the run goes to the upload queue instead).
+TEST(TrainerJoinTls, TheTrainerLogsInOverTlsWithTheCentresCaAndRefusesAnyOther) {
+  const std::string url = test::fresh_database_url("sqlite");
+  make_accounts(url);
+  const std::string folder = test::temp_folder();
+  const testing::TestCa ca(folder, "centre-ca");
+  const testing::TestCa stranger(folder, "stranger-ca");
+  const TlsFiles files = ca.issue("server", "IP:127.0.0.1");
+  testing::ServerProcess server(url, 0, {"--tls-cert", files.cert_file, "--tls-key", files.key_file});
+  ASSERT_EQ(server.base_url().rfind("https://", 0), 0U);
+  set_client_ca_file(ca.ca_file());
+  ServerClient teacher(server.base_url());
+  ASSERT_TRUE(teacher.login("teacher", "password-123"));
+  add_ybif_case(teacher);
+  ASSERT_EQ(teacher.http().post_json("/api/v1/assignments", json{{"trainee", "ann"}, {"case", "ybif"}, {"criteria", json::array()}}.dump()).status,
+            201);
+
+  Rig rig;
+  const TrainerRun refused = run_trainer(server.base_url(), rig, {"--ca-file", stranger.ca_file()});
+  EXPECT_NE(refused.output.find("TLS to 127.0.0.1:" + std::to_string(server.port()) +
+                                ": certificate verify failed: unable to get local issuer certificate (trusting --ca-file " +
+                                stranger.ca_file() + ")"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_EQ(get_json(teacher, "/api/v1/results")["results"].size(), 0U);
+
+  const TrainerRun online = run_trainer(server.base_url(), rig, {"--ca-file", ca.ca_file()});
+  ASSERT_EQ(online.exit_code, 0) << online.output;
+  EXPECT_NE(online.output.find("online as ann, rig rig-07, 1 assignment"), std::string::npos) << online.output;
+  EXPECT_NE(online.output.find("streaming live"), std::string::npos) << online.output;
+  // This run's record and the one queued while the certificate was refused.
+  EXPECT_NE(online.output.find("upload: 2 stored"), std::string::npos) << online.output;
+  EXPECT_EQ(get_json(teacher, "/api/v1/results")["results"].size(), 2U);
+  set_client_ca_file("");
 }
 
 TEST(TrainerJoinOptions, BadSettingsAndMissingPasswordAreRefusedWithOneLine) {

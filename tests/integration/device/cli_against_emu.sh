@@ -18,21 +18,7 @@ trap 'kill "$emu_pid" $v2_pid $mon_pid $cal_pid $right_pid 2>/dev/null; rm -rf "
 read -r line <&3
 case "$line" in *listening*) ;; *) echo "emulator did not start: $line"; exit 1 ;; esac
 
-# expect RC NEEDLE -- COMMAND...: the exit code must be RC and the output must contain NEEDLE.
-expect() {
-  local want_rc=$1 needle=$2
-  shift 3
-  local out rc
-  out=$("$@" 2>&1)
-  rc=$?
-  if [ "$rc" -ne "$want_rc" ] || [[ "$out" != *"$needle"* ]]; then
-    echo "FAIL: $* -> rc $rc (want $want_rc), output:"
-    echo "$out" | head -20
-    failures=$((failures + 1))
-  else
-    echo "ok:   $* -> rc $rc"
-  fi
-}
+source "$(dirname "${BASH_SOURCE[0]}")/expect.sh"
 
 cb="$bin/cathbox"
 
@@ -119,8 +105,15 @@ expect 2 "--timeout must be in (0, 86400] s" -- "$cb" selftest --emu "$sock" --t
   printf '\x00\x60\x00\x00'
   head -c $((0x6000 - 0x240)) /dev/urandom
 } > "$dir/fw.bin"
-expect 0 "packed" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.1
-expect 2 "speaks protocol v2" -- "$cb" flash pack "$dir/fw.bin" "$dir/v2.dfu" --version 2.0
+# pack takes the version from the image's info block; a --version that differs is refused
+# naming both (it would make the .dfu contradict what the flashed box reports).
+expect 0 "packed 24576 bytes of firmware 1.1 into" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu"
+expect 0 "firmware 1.1 into" -- "$cb" flash pack "$dir/fw.bin" "$dir/fw.dfu" --version 1.1
+expect 2 "--version 1.0 differs from the image's own version 1.1" -- "$cb" flash pack "$dir/fw.bin" "$dir/v10.dfu" --version 1.0
+expect 2 "--version 2.0 differs from the image's own version 1.1" -- "$cb" flash pack "$dir/fw.bin" "$dir/v2.dfu" --version 2.0
+if [ -e "$dir/v10.dfu" ]; then echo "FAIL: a refused pack wrote $dir/v10.dfu"; failures=$((failures + 1)); fi
+head -c 4096 /dev/zero > "$dir/noinfo.bin"
+expect 2 "no image info block at offset 0x200" -- "$cb" flash pack "$dir/noinfo.bin" "$dir/noinfo.dfu"
 expect 0 "box is back" -- "$cb" flash "$dir/fw.dfu" --emu "$sock"
 cp "$dir/fw.dfu" "$dir/corrupt.dfu"
 printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null

@@ -1,5 +1,6 @@
 #pragma once
 // A GLFW window with an OpenGL 3.3 core context, visible or hidden (headless runs under Xvfb).
+// Several may live at once (offscreen views); GLFW is terminated with the last one.
 #include <memory>
 #include <string>
 

@@ -22,7 +22,8 @@
 namespace cathbox::app {
 
 struct ServerLinkOptions {
-  std::string url;        // http://HOST:PORT
+  std::string url;        // https://HOST:PORT (or http:// on loopback)
+  std::string ca_file;    // the CA that signed the server's certificate; "": the system trust store
   std::string user;
   std::string password;
   std::string rig;        // the name instructors see; default: the host name

@@ -42,6 +42,7 @@ struct TrainerOptions {
   // cathbox-server (host/app/server_link.hpp); also from the settings file.
   std::string server_url;         // --server URL: empty = no server
   std::string server_user;        // --user NAME
+  std::string ca_file;            // --ca-file FILE: the CA for an https:// server (else the system store)
   std::string password_file;      // --password-file FILE (else $CATHBOX_PASSWORD)
   std::string rig;                // --rig NAME (default: the host name)
   std::optional<std::int64_t> assignment;  // --assignment ID: run this assignment's case

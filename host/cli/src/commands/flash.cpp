@@ -1,7 +1,7 @@
 // `cathbox flash FIRMWARE.dfu`: checks the image, brings the box into the STM32 ROM DFU
 // bootloader (by request, or through BOOT0/NRST with --recover-gpio), erases, downloads,
-// verifies and starts the new firmware. `cathbox flash pack BIN DFU --version X.Y` wraps the
-// firmware build's .bin into a checked .dfu file.
+// verifies and starts the new firmware. `cathbox flash pack BIN DFU` wraps the firmware build's
+// .bin into a checked .dfu file carrying the image's own version (`--version X.Y` must agree).
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -15,6 +15,7 @@
 #include "device/gpiod_boot_pins.hpp"
 #include "device/libusb_control.hpp"
 #include "device/socket_transport.hpp"
+#include "protocol/cbx_image_info.h"
 #include "protocol/cbx_protocol.h"
 
 namespace cathbox::cli {
@@ -32,23 +33,52 @@ bool parse_version(const std::string& text, uint16_t& bcd) {
   return true;
 }
 
+// The image's own version (its info block, protocol/README.md) as BCD major.minor, or a
+// one-line reason it has none.
+device::Result<uint16_t> image_version_bcd(const std::vector<uint8_t>& bin, const std::string& path) {
+  cbx_image_info info{};
+  if (bin.size() < CBX_IMAGE_INFO_OFFSET + CBX_IMAGE_INFO_SIZE ||
+      cbx_image_info_decode(bin.data() + CBX_IMAGE_INFO_OFFSET, CBX_IMAGE_INFO_SIZE, &info) != CBX_OK) {
+    return device::make_error(device::Errc::kBadImage,
+                              path + ": no image info block at offset 0x200 (not a Cathbox firmware image): its version is unknown");
+  }
+  if (info.fw_major > 99 || info.fw_minor > 99) {
+    return device::make_error(device::Errc::kBadImage, path + ": image version " + std::to_string(info.fw_major) + "." +
+                                                           std::to_string(info.fw_minor) + " does not fit a DFU bcdDevice");
+  }
+  return static_cast<uint16_t>(((info.fw_major / 10) << 12) | ((info.fw_major % 10) << 8) | ((info.fw_minor / 10) << 4) |
+                               (info.fw_minor % 10));
+}
+
 int run_pack(const Args& args) {
-  if (args.positionals().size() != 3) return fail_usage("flash", "usage: cathbox flash pack FIRMWARE.bin OUT.dfu --version MAJOR.MINOR");
+  if (args.positionals().size() != 3) return fail_usage("flash", "usage: cathbox flash pack FIRMWARE.bin OUT.dfu [--version MAJOR.MINOR]");
   const std::string& in_path = args.positionals()[1];
   const std::string& out_path = args.positionals()[2];
-  uint16_t bcd = 0;
-  if (!args.value("version") || !parse_version(*args.value("version"), bcd)) {
-    return fail_usage("flash", "pack needs --version MAJOR.MINOR (e.g. 1.0; the major is the protocol major)");
-  }
   std::ifstream in(in_path, std::ios::binary);
   if (!in) return fail_usage("flash", in_path + ": cannot open");
+  std::vector<uint8_t> bin((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The DFU file's version is the image's own: a --version that differs would make the DFU
+  // file contradict what the flashed box reports.
+  auto own = image_version_bcd(bin, in_path);
+  if (!own) return fail("flash", own.error());
+  const uint16_t bcd = own.value();
+  if (args.value("version")) {
+    uint16_t asked = 0;
+    if (!parse_version(*args.value("version"), asked)) {
+      return fail_usage("flash", "pack --version: bad value '" + *args.value("version") + "' (MAJOR.MINOR, e.g. 1.0)");
+    }
+    if (asked != bcd) {
+      return fail_usage("flash", in_path + ": --version " + device::Flasher::version_text(asked) +
+                                     " differs from the image's own version " + device::Flasher::version_text(bcd) +
+                                     " (its info block); rebuild the image with that version, or leave --version out");
+    }
+  }
   device::DfuImage image;
   image.bcd_device = bcd;
   image.vid = CBX_DFU_VID;
   image.pid = CBX_DFU_PID;
   image.target_name = device::FirmwareTarget{}.name;
-  image.elements.push_back({device::FirmwareTarget{}.flash_base,
-                            std::vector<uint8_t>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>())});
+  image.elements.push_back({device::FirmwareTarget{}.flash_base, std::move(bin)});
   if (auto checked = device::Flasher::check_image(image, {}); !checked) {
     return fail("flash", device::make_error(checked.error().code, in_path + ": " + checked.error().message));
   }
@@ -164,7 +194,7 @@ int run_flash(std::span<const std::string> argv) {
   }
 }
 
-const Registrar registrar({"flash", "flash firmware: FIRMWARE.dfu [--emu PATH] [--recover-gpio CHIP:BOOT0:NRST]; pack BIN DFU --version X.Y", run_flash});
+const Registrar registrar({"flash", "flash firmware: FIRMWARE.dfu [--emu PATH] [--recover-gpio CHIP:BOOT0:NRST]; pack BIN DFU [--version X.Y]", run_flash});
 
 }  // namespace
 }  // namespace cathbox::cli

@@ -67,6 +67,11 @@ class EnvSession {
   [[nodiscard]] const tool::Snapshot& state() const { return snap_; }
   [[nodiscard]] const session::Metrics& metrics() const { return session_->metrics(); }
   [[nodiscard]] const session::Session& session() const { return *session_; }
+  [[nodiscard]] session::Session& session() { return *session_; }
+  // Holds the fluoroscopy foot pedal down from the next tick: the session's fluoroscopy unit
+  // pulses (its images are the trainer's; host/app's OffscreenFluoro draws them). Recorded, and
+  // replayed by clone().
+  void press_pedal();
   [[nodiscard]] const session::SessionCase& scene() const { return session_->scene(); }
   [[nodiscard]] bool over() const { return session_->over(); }
   [[nodiscard]] std::int64_t ticks() const { return session_->ticks(); }
@@ -97,6 +102,8 @@ class EnvSession {
   std::unique_ptr<session::Session> session_;
   tool::Snapshot snap_;
   std::vector<Input> inputs_;  // every step's speeds and ticks (clone)
+  std::vector<std::size_t> pedal_at_;  // the pedal was pressed before inputs_[i] (clone)
+  std::vector<const glm::dvec3*> rod_buffers_;  // each tool's rod positions: fixed for the session's life
   std::int64_t unconverged_ticks_ = 0;
   double wall_force_mN_ = 0.0;
   flow::CArm c_arm_;

@@ -36,7 +36,7 @@ using Headers = std::vector<std::pair<std::string, std::string>>;
 
 class HttpClient {
  public:
-  // base_url: "http://HOST:PORT" (no TLS: put a TLS proxy in front off loopback).
+  // base_url: "http://HOST:PORT", or "https://HOST:PORT" with the certificate checked (server/tls.hpp).
   explicit HttpClient(std::string base_url, int timeout_ms = 30000);
   ~HttpClient();
   HttpClient(const HttpClient&) = delete;
@@ -169,7 +169,14 @@ class LiveStream {
   std::unique_ptr<Impl> impl_;
 };
 
-// "http://HOST:PORT[/]" -> {HOST, PORT}; error for anything else.
+struct ServerUrl {
+  bool tls = false;  // https://
+  std::string host;
+  std::string port;
+};
+// "http://HOST:PORT[/]" or "https://HOST:PORT[/]"; error for anything else.
+[[nodiscard]] Result<ServerUrl> parse_server_url(const std::string& base_url);
+// {HOST, PORT} of the same.
 [[nodiscard]] Result<std::pair<std::string, std::string>> split_base_url(const std::string& base_url);
 
 }  // namespace cathbox::server

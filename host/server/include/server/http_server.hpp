@@ -5,6 +5,10 @@
 // run on api_threads; case and record uploads (meshing, replaying) on heavy_threads with at most
 // max_heavy_queued waiting, beyond which the answer is 503 + Retry-After.
 //
+// TLS (options.tls, server/tls.hpp): every answer carries Strict-Transport-Security; the live
+// sockets are wss://. A plain-HTTP request on the TLS port is answered 400 "this port speaks
+// HTTPS". Without TLS, start() refuses a non-loopback address unless options.insecure_http.
+//
 // Limits: a header over max_header_bytes is 431; a body over the route's limit
 // (Api::body_limit) is 413 before it is read; an upload's token (and any request sending
 // `Expect: 100-continue`) is checked before its body is read or 100 Continue is sent; an idle
@@ -26,12 +30,14 @@
 // oldest queued frames are dropped (a live view wants the newest).
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "server/api.hpp"
 #include "server/live_hub.hpp"
 #include "server/result.hpp"
+#include "server/tls.hpp"
 
 namespace cathbox::server {
 
@@ -68,6 +74,8 @@ struct HttpServerOptions {
   std::size_t max_websockets_per_account = 16;
   int sweep_every_ms = 1000;
   std::size_t watcher_queue = 64;
+  std::optional<TlsFiles> tls;  // HTTPS and wss:// (server/tls.hpp); none: plain HTTP
+  bool insecure_http = false;   // allow plain HTTP on a non-loopback address (behind a TLS proxy)
 };
 
 struct HttpServerStats {
@@ -87,10 +95,15 @@ class HttpServer {
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
 
-  // Binds, listens and starts the threads; the bound port.
+  // Binds, listens and starts the threads; the bound port. Errors: 400 a bad option (address,
+  // TLS files, plain HTTP off loopback), 503 the address cannot be bound.
   [[nodiscard]] Result<std::uint16_t> start();
   // Stops accepting, closes every connection, joins the threads (idempotent).
   void stop();
+  // Reads the certificate and key files again: new connections get them, open ones (live
+  // sessions included) keep theirs. On error the old certificate stays.
+  [[nodiscard]] Status reload_tls();
+  [[nodiscard]] bool tls() const;
   [[nodiscard]] HttpServerStats stats() const;
   // Looks at every open WebSocket now (idle eviction, token recheck); runs by itself every
   // sweep_every_ms.

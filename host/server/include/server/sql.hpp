@@ -80,6 +80,14 @@ class SqlSession {
 
 enum class TxMode { kRead, kWrite };
 
+// A connection pool's state now (for /metrics).
+struct PoolStats {
+  int open = 0;     // connections open, idle or in use
+  int idle = 0;
+  int max = 0;
+  int waiting = 0;  // callers waiting for a connection
+};
+
 class Database {
  public:
   virtual ~Database() = default;
@@ -91,6 +99,7 @@ class Database {
   // touch the database); a database that stays unreachable for `Options::retry_ms` throws
   // StoreError(kUnavailable). An exception from `work` rolls back and propagates.
   virtual void transact(TxMode mode, const std::function<void(SqlSession&)>& work) = 0;
+  [[nodiscard]] virtual PoolStats pool_stats() const = 0;
 };
 
 struct DatabaseOptions {

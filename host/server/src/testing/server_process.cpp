@@ -3,9 +3,14 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace cathbox::server::testing {
+
+std::string ServerProcess::scheme() const {
+  return std::find(extra_.begin(), extra_.end(), "--tls-cert") == extra_.end() ? "http" : "https";
+}
 
 ServerProcess::ServerProcess(std::string db_url, std::uint16_t port, std::vector<std::string> extra_args)
     : db_url_(std::move(db_url)), port_(port), extra_(std::move(extra_args)) {
@@ -27,7 +32,7 @@ void ServerProcess::start() {
   o.capture_stdout = true;
   if (const std::string e = child_.start(argv, o); !e.empty()) throw std::runtime_error("cathbox-server: " + e);
   const std::optional<std::string> line = child_.read_line();
-  const std::string prefix = "cathbox-server: listening on http://127.0.0.1:";
+  const std::string prefix = "cathbox-server: listening on " + scheme() + "://127.0.0.1:";
   if (!line || line->rfind(prefix, 0) != 0) {
     const int rc = child_.wait();
     throw std::runtime_error("cathbox-server did not start (exit " + std::to_string(rc) + "): " + line.value_or("no output"));

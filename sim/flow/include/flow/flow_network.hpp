@@ -24,10 +24,12 @@
 //   flow_scale(t).
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "base/result.hpp"
+#include "flow/clot.hpp"
 #include "flow/flow_settings.hpp"
 #include "flow/territory.hpp"
 #include "vessel/vessel_model.hpp"
@@ -85,6 +87,15 @@ class FlowNetwork {
   // The index in terminals() of the closed end of segment `segment`, or -1.
   [[nodiscard]] int closed_terminal_of(std::uint32_t segment) const;
 
+  // Occludes the network with these clots (replacing any earlier ones; none restores the open
+  // network) and solves again with the terminal resistances of the open network: the
+  // territories downstream of a clot lose their flow, which goes where the network's other
+  // paths take it (collaterals). An error (nothing changed) for a clot outside its segment,
+  // a bad composition or open fraction. Balloons (`arrests`) seal their segments: flow arrest.
+  [[nodiscard]] base::Status<> occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests = {});
+  [[nodiscard]] const std::vector<Clot>& clots() const { return clots_; }
+  [[nodiscard]] const std::vector<FlowArrest>& arrests() const { return arrests_; }
+
   // Pulsatility factor of every flow at time t (1 for steady flow), and its maximum.
   [[nodiscard]] double flow_scale(double time_s) const;
   [[nodiscard]] double max_flow_scale() const;
@@ -92,12 +103,17 @@ class FlowNetwork {
  private:
   FlowNetwork() = default;
   base::Status<> solve();
+  base::Status<> solve_pressures();
 
   vessel::VesselModel model_;
   FlowSettings settings_;
   std::vector<SegmentFlow> segments_;
   std::vector<Terminal> terminals_;
   std::vector<double> pressure_Pa_;
+  std::vector<double> open_resistance_Pa_s_per_mm3_;  // per segment, without clots
+  std::vector<Clot> clots_;
+  std::vector<FlowArrest> arrests_;
+  std::vector<int> idle_pins_;  // a node of each component without outflow, pinned at 0 Pa
 };
 
 }  // namespace cathbox::flow

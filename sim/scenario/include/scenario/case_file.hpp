@@ -37,6 +37,10 @@
 //   view   NAME LAO_DEG CRANIAL_DEG          # a working projection of the C-arm (RAO/caudal negative)
 //   realistic                               # fluoroscopy only: no 3D view for the trainee
 //   wall   cervical|intracranial RADIUS_MM  # optional: a compliant wall (compliant_contact.hpp)
+//   clot   SEG FROM_MM LENGTH_MM [red=PCT] [fibrin=PCT] [open=F]
+//                                           # a thrombus in segment SEG from FROM_MM along it
+//                                           # (flow/clot.hpp); default 45 % / 45 %, open 0
+//   (in a catheter) aspiration pump|syringe # an aspiration catheter's vacuum source
 //
 // Bad input gives one line "file:line: message"; parsing never throws or crashes.
 #include <cstdint>
@@ -46,7 +50,9 @@
 #include <vector>
 
 #include "base/result.hpp"
+#include "flow/aspiration.hpp"
 #include "flow/c_arm.hpp"
+#include "flow/clot_material.hpp"
 #include "flow/flow_settings.hpp"
 #include "tool/aneurysm_sac.hpp"
 #include "tool/arterial_wall.hpp"
@@ -68,6 +74,25 @@ struct CaseWall {
   double radius_mm = 2.0;
 };
 
+// `clot SEG FROM_MM LENGTH_MM ...`: the segment is checked against the vessel model when the
+// case is resolved (case_clots.hpp), naming `line`.
+struct CaseClot {
+  std::int32_t segment_id = 0;
+  double from_mm = 0.0;
+  double length_mm = 0.0;
+  flow::ClotComposition composition;
+  double open_fraction = 0.0;
+  std::size_t line = 0;
+  friend bool operator==(const CaseClot&, const CaseClot&) = default;
+};
+
+// `aspiration pump|syringe` in a catheter: the catheter aspirates through its inner diameter.
+struct CaseAspiration {
+  std::string tool;
+  flow::VacuumSource source = flow::VacuumSource::kPump;
+  std::size_t line = 0;
+};
+
 struct Case {
   std::string name;
   std::string vessel_path;       // resolved against the case file's folder; empty: analytic tubes
@@ -83,6 +108,8 @@ struct Case {
   // `aneurysm`: a declared sac (sphere cap); without it the world looks for one in the vessel.
   std::optional<AneurysmSac> aneurysm;
   std::optional<CaseWall> wall;  // none: the rigid wall (contact by the solver's penalty)
+  std::vector<CaseClot> clots;   // at most 16
+  std::vector<CaseAspiration> aspiration;  // one per aspirating catheter
 };
 
 // The case, or one line "file:line: message".

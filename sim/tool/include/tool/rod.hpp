@@ -192,32 +192,90 @@ class Rod {
   [[nodiscard]] double solver_drag(std::size_t k) const {
     return std::max(drag_per_mm_[k], settings_.min_drag_mN_s_per_mm2) * voronoi_[k];
   }
-  struct NodeContact;
+  struct NodeContact;  // a node's wall contact (src/rod_node_contact.hpp)
+  struct Newton;       // the Newton solve's state within a step (src/rod_newton.hpp)
   Rod();  // an empty rod, filled by split_distal
+
+  // Construction (rod.cpp, rod_material.cpp).
+  void size_state();
+  void size_scratch();
+  // Radius, stiffnesses, rest shape and drag of node k from the section holding it.
+  void set_node_material(std::size_t k);
+  void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
   // The step's stiffness and drag coefficients (axial_k_, bend_w_, drag_k_), once per step.
   void update_weights(double dt_s);
-  // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
-  [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
-  void size_scratch();
-  void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
-  void gather_obstacles(const RodObstacles& obstacles);
-  [[nodiscard]] double edge_gap(const EdgeContact& c) const;
-  [[nodiscard]] double plane_gap(std::size_t k) const;   // penetration of node k into its plane
-  [[nodiscard]] double second_gap(std::size_t k) const;  // ... into its second plane
+
+  // The simulated window and the predictor (rod.cpp, rod_predictor.cpp).
+  void place_outside(std::size_t k);
   void update_window();
   void advect(double delta_mm);
   void seed_buckling();
-  void limit_penetration();
-  void place_outside(std::size_t k);
+
+  // The phases of step() (rod_step.cpp, rod_newton.cpp).
+  void begin_step();               // the predictor moves the tool by the insertion change
+  void start_solve(Newton& s, double dt_s);  // warm start, weights, contacts, active set
+  void solve_positions(Newton& s); // Gauss-Newton iterations on the node positions
+  void finish_solve(const Newton& s);  // penetration limits, rod-rod projections, clamp force
+  // One Newton iteration's phases, in order.
+  void build_system(Newton& s);    // assemble (or amend) and factor
+  void add_joined_wall_terms(Newton& s);
+  [[nodiscard]] bool newton_direction(Newton& s);  // false: not finite
+  bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
+  void damp_reversal(Newton& s);
+  void line_search(Newton& s);
+  void hold_gaps(const Newton& s);
+  void update_active_set(Newton& s);
+  void follow_moves(Newton& s);    // re-probe the wall, take other rods' planes again
+  // After the iterations.
+  void settle_held_nodes();
+  void project_contacts(const RodObstacles* obstacles);
+  void linearise_clamp(const Newton& s);
+
+  // Energy, gradient and Hessian of the step (rod_energy.cpp).
+  // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
+  [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
+  inline void add_grad(std::size_t k, const glm::dvec3& g);  // grad_ at node k (rod_newton.hpp)
+  void assemble(bool hessian);
+  // Drag, loads, grip, wall penalty and friction at free node k: its diagonal block.
+  [[nodiscard]] glm::dmat3 node_terms(std::size_t k);
+  void add_grip_terms(std::size_t k, glm::dmat3& h);
+  void add_wall_terms(std::size_t k, glm::dmat3& h);
+  void add_edge_contact_terms(bool hessian);
+  [[nodiscard]] double energy() const;
+
+  // Wall contacts (rod_wall_contact.cpp, gaps inline in rod_node_contact.hpp).
+  [[nodiscard]] inline double plane_gap(std::size_t k) const;   // penetration of node k into its plane
+  [[nodiscard]] inline double second_gap(std::size_t k) const;  // ... into its second plane
   // Re-probes the wall; true when the plane of a node in the active set was replaced.
   bool refresh_contacts(const WallModel& wall, bool only_moved);
-  void assemble(bool hessian);
-  [[nodiscard]] double energy() const;
-  void update_frames();
-  void solve_twist(double dt_s);
-  void twist_substitute(std::size_t m);
+  void limit_penetration();
   void finish_contacts();
+  void add_second_contact(std::size_t k);
+
+  // Contacts with other rods (rod_edge_contact.cpp).
+  [[nodiscard]] inline double edge_gap(const EdgeContact& c) const;
+  void gather_obstacles(const RodObstacles& obstacles);
   bool finish_edge_contacts();  // true when it had to push a node out
+  void slip_grips();
+
+  // Frames and twist (rod_twist.cpp).
+  void update_frames();
+  void set_material_frame(std::size_t e);
+  void solve_twist(double dt_s);
+  [[nodiscard]] bool assemble_twist(double dt_s, std::size_t ef, std::size_t m);  // false: nonlinear
+  void add_twist_curvature(std::size_t i, std::size_t ef);
+  void add_twist_friction(std::size_t ef);
+  [[nodiscard]] std::uint8_t twist_regime(std::size_t k, double& ktr, double& limit, double& d) const;
+  [[nodiscard]] bool update_twist(std::size_t ef, std::size_t m, bool linear);  // false: nonlinear
+  [[nodiscard]] bool twist_regimes_same() const;
+  void twist_substitute(std::size_t m);
+  void hand_twist(double dt_s, std::size_t ef, std::size_t m);
+
+  // Detaching (rod_detach.cpp).
+  void copy_distal(Rod& coil, std::size_t k0, double length_mm) const;
+  void keep_proximal(std::size_t k0, double length_mm);
+
+  // The force law for the box (rod_force_law.cpp).
   void compute_force_law(double dt_s);
 
   ToolSpec spec_;

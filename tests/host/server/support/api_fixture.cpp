@@ -66,9 +66,10 @@ std::string FakeRecords::make(const std::string& case_stem, const std::map<std::
   return j.dump();
 }
 
-ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker) {
+ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker, const std::string& url)
+    : db_url(url.empty() ? fresh_database_url(backend) : url) {
   ServerConfig config;
-  config.db_url = fresh_database_url(backend);
+  config.db_url = db_url;
   config.argon2 = test_argon2_params();
   config.clock = &clock;
   config.instance = "test-instance";

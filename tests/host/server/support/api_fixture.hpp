@@ -34,7 +34,9 @@ class FakeRecords final : public RecordChecker {
 
 class ApiFixture {
  public:
-  explicit ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> checker = std::make_unique<FakeRecords>());
+  // `db_url`: an existing database of the backend instead of a fresh one.
+  explicit ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> checker = std::make_unique<FakeRecords>(),
+                      const std::string& db_url = "");
   ~ApiFixture();
 
   ApiResponse call(const std::string& method, const std::string& target, const std::string& body = "", const std::string& token = "",
@@ -48,6 +50,7 @@ class ApiFixture {
   ApiResponse upload_bundled_case(const std::string& stem, const std::string& name, const std::string& token);
 
   ManualClock clock;
+  std::string db_url;
   std::unique_ptr<ServerCore> core;
   Store* store = nullptr;
   Auth* auth = nullptr;

@@ -21,6 +21,9 @@ RunningServer::RunningServer(const std::string& backend, ServerOptions options) 
   ServerConfig config;
   config.db_url = db_url;
   config.http.host = "127.0.0.1";
+  config.http.tls = options.tls;
+  if (options.tls) scheme = "https";
+  host = options.url_host;
   config.http.port = 0;
   config.http.mounts = default_mounts(web_root);
   config.http.watcher_queue = options.watcher_queue;
@@ -45,7 +48,7 @@ RunningServer::~RunningServer() {
   if (app) app->stop();
 }
 
-std::string RunningServer::base_url() const { return "http://127.0.0.1:" + std::to_string(app->port()); }
+std::string RunningServer::base_url() const { return scheme + "://" + host + ":" + std::to_string(app->port()); }
 
 std::string RunningServer::token_for(const std::string& name, Role role, const std::string& password) {
   if (!app->store().user_by_name(name)) (void)app->auth().create_user(name, role, password);

@@ -2,6 +2,7 @@
 // A real cathbox-server in this process (ServerApp on a free loopback port) over one backend,
 // with light Argon2 parameters and the FakeRecords checker, plus helpers to talk to it.
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "server/client.hpp"
@@ -23,6 +24,8 @@ struct ServerOptions {
   // Virtual time: the server's clock, and WebSockets swept only when the test calls
   // app->http().sweep() (no timer).
   Clock* clock = nullptr;
+  std::optional<TlsFiles> tls{};     // HTTPS (base_url() then says https://HOST:PORT)
+  std::string url_host = "127.0.0.1";  // base_url()'s host (the server listens on 127.0.0.1)
 };
 
 class RunningServer {
@@ -36,6 +39,8 @@ class RunningServer {
 
   std::string db_url;
   std::string web_root;
+  std::string scheme = "http";
+  std::string host = "127.0.0.1";
   std::unique_ptr<ServerApp> app;
 };
 

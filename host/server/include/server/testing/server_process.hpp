@@ -18,7 +18,9 @@ class ServerProcess {
   void kill(int sig);   // and reap
   void restart();       // same database, same port
   [[nodiscard]] bool alive();
-  [[nodiscard]] std::string base_url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  // https:// when extra_args hold --tls-cert.
+  [[nodiscard]] std::string base_url() const { return scheme() + "://127.0.0.1:" + std::to_string(port_); }
+  [[nodiscard]] std::string scheme() const;
   [[nodiscard]] std::uint16_t port() const { return port_; }
   [[nodiscard]] pid_t pid() const { return child_.pid(); }
 

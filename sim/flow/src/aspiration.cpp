@@ -1,0 +1,42 @@
+#include "flow/aspiration.hpp"
+
+#include <algorithm>
+
+namespace cathbox::flow {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double area_mm2(double diameter_mm) { return 0.25 * kPi * diameter_mm * diameter_mm; }
+
+}  // namespace
+
+double vacuum_Pa(VacuumSource source) {
+  // Froehler 2017: the Penumbra pump -25.6 inHg, a 60 mL locking syringe -27.0 inHg.
+  return (source == VacuumSource::kPump ? -25.6 : -27.0) * kPa_per_inHg;
+}
+
+std::string_view vacuum_source_name(VacuumSource source) { return source == VacuumSource::kPump ? "pump" : "syringe"; }
+
+double aspiration_force_N(VacuumSource source, double inner_diameter_mm) {
+  return -vacuum_Pa(source) * area_mm2(inner_diameter_mm) * 1e-6;
+}
+
+AspirationResult aspirate(VacuumSource source, double inner_diameter_mm, const AspirationClot& clot, double pressure_head_Pa) {
+  AspirationResult r;
+  r.force_N = aspiration_force_N(source, inner_diameter_mm);
+  const ClotCompressionLaw law(clot.composition);
+  const ClotFriction friction = clot_wall_friction(clot.composition);
+  const double strain = std::max(0.0, 1.0 - inner_diameter_mm / clot.diameter_mm);
+  r.ingest_force_N = friction.kinetic_coefficient * law.stress_kPa(strain) * 1e3 * kPi * inner_diameter_mm * clot.length_mm * 1e-6;
+  const double wall_N = law.stress_kPa(kWedgeStrain) * 1e3 * kPi * clot.diameter_mm * clot.length_mm * 1e-6;
+  r.hold_force_N = friction.static_coefficient * wall_N + std::max(0.0, pressure_head_Pa) * area_mm2(clot.diameter_mm) * 1e-6;
+  if (strain <= 0.0 || r.force_N > r.ingest_force_N) {
+    r.outcome = AspirationOutcome::kIngested;
+  } else {
+    r.outcome = r.force_N > r.hold_force_N ? AspirationOutcome::kCorked : AspirationOutcome::kLost;
+  }
+  return r;
+}
+
+}  // namespace cathbox::flow

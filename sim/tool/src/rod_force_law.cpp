@@ -1,0 +1,71 @@
+// The force law the box renders between steps: the force and torque at the hand, their
+// stiffness (the Schur complement of the factored free block on a unit insertion) and the
+// physical damping, with the solver's numerical damping taken back out of what the hand feels.
+#include <algorithm>
+
+#include <glm/geometric.hpp>
+
+#include "tool/banded_cholesky.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+void Rod::compute_force_law(double dt_s) {
+  const std::size_t n = x_.size();
+  law_.insertion0_mm = insertion_mm_;
+  law_.rotation0_rad = rotation_rad_;
+  // The hand feels the physical drag only: the solver's floor above it (numerical damping) is
+  // taken back out of the force below, and the law renders the physical damping.
+  double drag_total = 0.0;       // what the solver used
+  double physical_total = 0.0;
+  double rot_physical_total = 0.0;
+  glm::dvec3 numerical_drag(0.0);
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const double physical = drag_per_mm_[k] * voronoi_[k];
+    drag_total += solver_drag(k);
+    physical_total += physical;
+    rot_physical_total += physical * radius_[k] * radius_[k];
+    numerical_drag += (solver_drag(k) - physical) / dt_s * (x_[k] - x_start_[k]);
+  }
+  law_.damping_mN_s_per_mm = physical_total;
+  law_.torsion_damping_mNmm_s_per_rad = rot_physical_total;
+  law_.torque0_mNmm = hand_torque_mNmm_;
+  clamp_force_ = glm::dvec3(0.0);
+  if (first_free_ >= n || free_) {
+    hand_force_mN_ = 0.0;
+    law_.force0_mN = 0.0;
+    law_.stiffness_mN_per_mm = 0.0;
+    return;
+  }
+  // Axial force on the clamp: the energy gradient on the outside nodes along the entry.
+  for (std::size_t k = first_; k < first_free_; ++k) {
+    const std::size_t d = 3 * (k - first_);
+    clamp_force_ += glm::dvec3(grad_[d], grad_[d + 1], grad_[d + 2]);
+  }
+  // The numerical damping on the free nodes reaches the clamp through the rod: out of the hand.
+  const double force = glm::dot(clamp_force_, dir_) - glm::dot(numerical_drag, dir_);
+  hand_force_mN_ = force;
+  law_.force0_mN = force;
+  // Stiffness: Schur complement of the (factored) free block on a unit insertion.
+  const std::size_t dofs = 3 * (n - first_);
+  const std::size_t free0 = 3 * (first_free_ - first_);
+  std::fill(work_.begin(), work_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+  for (std::size_t k = first_; k < first_free_; ++k) {
+    const std::size_t d = 3 * (k - first_);
+    work_[d] = dir_.x;
+    work_[d + 1] = dir_.y;
+    work_[d + 2] = dir_.z;
+  }
+  std::fill(delta_.begin(), delta_.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+  matrix_->multiply_add(work_.data(), delta_.data(), 0, dofs, 0, free0);  // K[:, p] d
+  double kpp = 0.0;
+  for (std::size_t i = 0; i < free0; ++i) kpp += work_[i] * delta_[i];
+  double coupling = 0.0;
+  for (std::size_t i = free0; i < dofs; ++i) work_[i] = delta_[i];
+  matrix_->solve(work_.data());
+  for (std::size_t i = free0; i < dofs; ++i) coupling += delta_[i] * work_[i];
+  const double k_with_drag = kpp - coupling;
+  law_.stiffness_mN_per_mm = std::max(0.0, k_with_drag - drag_total / dt_s);
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,114 @@
+// The rod's material along its length: each node's radius, bending and torsion stiffness, rest
+// shape (pre-curve, coil) and drag from the section holding it; the stiffness a coaxial inner
+// tool adds; the look-ups by distance from the tip; and the step's stiffness and drag weights.
+#include <algorithm>
+#include <cmath>
+
+#include "rod_geometry.hpp"
+#include "tool/coil_shape.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+using rod_detail::kMilli;
+using rod_detail::station_near;
+
+void Rod::set_node_material(std::size_t k) {
+  const std::size_t n = from_tip_.size();
+  const double left = k > 0 ? rest_[k - 1] : 0.0;
+  const double right = k + 1 < n ? rest_[k] : 0.0;
+  voronoi_[k] = 0.5 * (left + right);
+  // Section holding this station.
+  double from_proximal = length_mm_ - from_tip_[k];
+  const ToolSection* sec = &spec_.sections.back();
+  for (const ToolSection& candidate : spec_.sections) {
+    if (from_proximal <= candidate.length_mm) {
+      sec = &candidate;
+      break;
+    }
+    from_proximal -= candidate.length_mm;
+  }
+  radius_[k] = 0.5 * sec->outer_diameter_mm;
+  inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
+  ei_[k] = sec->bending_stiffness_Nmm2 * kMilli;
+  gj_[k] = sec->torsion_stiffness_Nmm2 * kMilli;
+  if (k > 0 && k + 1 < n) {
+    const CoilRest rest = coil_rest(*sec, from_tip_[k]);
+    if (rest.curvature_per_mm != 0.0) {
+      set_rest_shape(k, rest.curvature_per_mm, rest.direction_rad);
+    } else if (sec->curve_deg != 0.0 && sec->length_mm > 0.0) {
+      set_rest_shape(k, sec->curve_deg * (M_PI / 180.0) / sec->length_mm, 0.0);
+    }
+  }
+  drag_per_mm_[k] = spec_.drag_at(radius_[k]);
+}
+
+void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {
+  const double phi = std::clamp(curvature_per_mm * voronoi_[k], -3.0, 3.0);
+  const double bar = 2.0 * std::tan(0.5 * phi);
+  const double turn = 2.0 * std::sin(0.5 * phi);
+  const double c = std::cos(direction_rad);
+  const double s = std::sin(direction_rad);
+  kbar1_[k] = bar * c;
+  kbar2_[k] = bar * s;
+  kturn1_[k] = turn * c;
+  kturn2_[k] = turn * s;
+}
+
+double Rod::rest_curvature_per_mm(std::size_t k) const {
+  if (k >= kturn1_.size() || voronoi_[k] <= 0.0) return 0.0;
+  const double turn = std::sqrt(kturn1_[k] * kturn1_[k] + kturn2_[k] * kturn2_[k]);
+  return 2.0 * std::asin(std::min(1.0, 0.5 * turn)) / voronoi_[k];
+}
+
+void Rod::set_extra_bending(std::size_t first, std::span<const double> ei_Nmm2) {
+  const std::size_t size = ei_extra_.size();
+  const std::size_t begin = std::min(first, size);
+  const std::size_t end = std::min(size, begin + ei_Nmm2.size());
+  for (std::size_t k = extra_set_.begin_in(size); k < extra_set_.end_in(size); ++k) {
+    if (k < begin || k >= end) ei_extra_[k] = 0.0;
+  }
+  extra_set_.clear();
+  for (std::size_t k = begin; k < end; ++k) {
+    ei_extra_[k] = std::max(0.0, ei_Nmm2[k - begin]) * kMilli;
+    extra_set_.add(k);
+  }
+}
+
+double Rod::radius_at_mm(double from_tip_mm, std::size_t& station) const {
+  return radius_[station_near(from_tip_, from_tip_mm, station)];
+}
+double Rod::bending_at_Nmm2(double from_tip_mm, std::size_t& station) const {
+  return ei_[station_near(from_tip_, from_tip_mm, station)] / kMilli;
+}
+double Rod::inner_radius_at_mm(double from_tip_mm, std::size_t& station) const {
+  return inner_radius_[station_near(from_tip_, from_tip_mm, station)];
+}
+
+// One look-up each: a walk that starts with a search.
+double Rod::radius_at_mm(double from_tip_mm) const {
+  std::size_t station = kNoStation;
+  return radius_at_mm(from_tip_mm, station);
+}
+double Rod::bending_at_Nmm2(double from_tip_mm) const {
+  std::size_t station = kNoStation;
+  return bending_at_Nmm2(from_tip_mm, station);
+}
+double Rod::inner_radius_at_mm(double from_tip_mm) const {
+  std::size_t station = kNoStation;
+  return inner_radius_at_mm(from_tip_mm, station);
+}
+
+void Rod::update_weights(double dt_s) {
+  // What the assembly and the line search would otherwise divide for at every call.
+  const std::size_t n = x_.size();
+  const double ea = spec_.axial_stiffness_N * kMilli;
+  for (std::size_t k = first_; k + 1 < n; ++k) axial_k_[k] = ea / rest_[k];
+  // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    bend_w_[i] = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+  }
+  for (std::size_t k = first_free_; k < n; ++k) drag_k_[k] = solver_drag(k) / dt_s;
+}
+
+}  // namespace cathbox::tool

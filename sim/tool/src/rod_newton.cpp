@@ -1,0 +1,238 @@
+// The Newton solve of a step: Gauss-Newton iterations on the node positions, each a sequence of
+// named phases. The system is assembled (or, when nodes joined the wall's active set, amended)
+// and factored; the Newton step is solved; nodes it would carry into the wall join and it is
+// solved again; a two-cycle is damped; a backtracking line search on the step energy takes it;
+// the active set follows the new positions; the wall is re-probed and other rods' planes taken
+// again where nodes moved. Stops when the largest update is below RodSettings::convergence_mm.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "rod_newton.hpp"
+#include "rod_node_contact.hpp"
+#include "tool/banded_cholesky.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+void Rod::solve_positions(Newton& s) {
+  for (int it = 0; it < s.rounds; ++it) {
+    build_system(s);
+    if (!newton_direction(s)) break;  // keep the previous positions; never propagate NaN
+    if (join_wall(s, it)) continue;
+    damp_reversal(s);
+    line_search(s);
+    hold_gaps(s);
+    update_active_set(s);
+    follow_moves(s);
+    last_iterations_ = it + 1;
+    if (s.largest * s.scale < settings_.convergence_mm && !s.entered) {
+      warm_ok_ = true;
+      break;
+    }
+    // A node left in the wall at the end would be clamped at the penetration limit, which
+    // reads as the contact cap: up to two more iterations hold it.
+    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;
+  }
+}
+
+void Rod::build_system(Newton& s) {
+  const std::size_t n = x_.size();
+  if (s.rejoin) {
+    add_joined_wall_terms(s);
+  } else {
+    assemble(s.refactor);
+    for (std::size_t k = first_free_; k < n; ++k) x_pred_[k] = x_[k];  // where grad_ holds
+  }
+  // After a join only the joined nodes' diagonal blocks changed: factor again from the
+  // first of them (the rows before it are the last factorisation's, bit for bit).
+  if (s.refactor && s.rejoin_from < n) {
+    matrix_->refactor_from(s.rejoin_from - first_);
+  } else if (s.refactor) {
+    matrix_->factor(first_free_ - first_);
+  }
+  s.rejoin_from = n;
+  s.fresh = s.refactor;
+  s.refactor = !settings_.reuse_hessian;
+}
+
+// Amends the assembly (the factorisation leaves it intact) with the wall terms of the nodes
+// that joined.
+void Rod::add_joined_wall_terms(Newton& s) {
+  const std::size_t n = x_.size();
+  const rod_detail::BlockAdder add{*matrix_, first_, true};
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  s.rejoin_from = n;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    if (!joined_[k]) continue;
+    s.rejoin_from = std::min(s.rejoin_from, k);
+    const NodeContact& nc = node_contacts_[k];
+    const std::size_t d = 3 * (k - first_);
+    for (int j = 0; j < 2; ++j) {
+      if (!(joined_[k] & (1 << j))) continue;
+      const glm::dvec3& normal = j == 0 ? nc.normal : nc.normal2;
+      const double phi = j == 0 ? plane_gap(k) : second_gap(k);
+      add(k, k, kc * glm::outerProduct(normal, normal));
+      grad_[d] += normal.x * kc * phi;
+      grad_[d + 1] += normal.y * kc * phi;
+      grad_[d + 2] += normal.z * kc * phi;
+      energy_ += 0.5 * kc * phi * phi;
+    }
+    joined_[k] = 0;
+  }
+  s.rejoin = false;
+}
+
+bool Rod::newton_direction(Newton& s) {
+  const std::size_t n = x_.size();
+  for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
+  matrix_->solve(delta_.data());
+  double largest = 0.0;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const std::size_t d = 3 * (k - first_);
+    const double m = std::sqrt(delta_[d] * delta_[d] + delta_[d + 1] * delta_[d + 1] + delta_[d + 2] * delta_[d + 2]);
+    largest = std::max(largest, m);
+  }
+  s.largest = largest;
+  return std::isfinite(largest);
+}
+
+// Nodes off the wall that the step would carry into it join the active set (at most three
+// times a step); the caller solves again.
+bool Rod::join_wall(Newton& s, int it) {
+  const std::size_t n = x_.size();
+  bool joined = false;
+  for (std::size_t k = first_free_; k < n && s.activations < 3; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    const std::size_t d = 3 * (k - first_);
+    const glm::dvec3 step(delta_[d], delta_[d + 1], delta_[d + 2]);
+    if (!nc.active && plane_gap(k) + glm::dot(nc.normal, step) > 0.0) {
+      nc.active = true;
+      joined = true;
+      joined_[k] |= 1;
+    }
+    if (nc.has_second && !nc.active2 && second_gap(k) + glm::dot(nc.normal2, step) > 0.0) {
+      nc.active2 = true;
+      joined = true;
+      joined_[k] |= 2;
+    }
+  }
+  if (!joined) return false;
+  ++s.activations;
+  if (it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;  // solve with them held
+  s.refactor = true;
+  s.rejoin = true;
+  return true;
+}
+
+// The step is cut to max_node_step_mm. An update too small for the line search that nearly
+// undoes the last one is a two-cycle (friction at its stick-slip edge, a crease plane let go and
+// taken back): half of it lands between the two states, where the solution is.
+void Rod::damp_reversal(Newton& s) {
+  s.scale = s.largest > settings_.max_node_step_mm ? settings_.max_node_step_mm / s.largest : 1.0;
+  s.aim = 1.0;
+  if (s.stepped && settings_.damp_reversals && s.largest * s.scale < settings_.trust_step_mm) {
+    double dot = 0.0, now = 0.0, before = 0.0;
+    for (std::size_t i = s.free0; i < s.dofs; ++i) {
+      dot += delta_[i] * last_step_[i];
+      now += delta_[i] * delta_[i];
+      before += last_step_[i] * last_step_[i];
+    }
+    if (dot < -0.9 * std::sqrt(now * before)) s.scale *= 0.5, s.aim = 0.5;
+  }
+}
+
+// Backtracking line search on the step energy (contacts and friction are non-smooth).
+void Rod::line_search(Newton& s) {
+  const std::size_t n = x_.size();
+  const double e0 = energy_;
+  double slope = 0.0;
+  for (std::size_t i = s.free0; i < s.dofs; ++i) slope += grad_[i] * delta_[i];
+  for (int tries = 0;; ++tries) {
+    for (std::size_t k = first_free_; k < n; ++k) {
+      const std::size_t d = 3 * (k - first_);
+      x_[k] = x_pred_[k] + glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) * s.scale;
+    }
+    // Small steps near convergence are taken as they are.
+    if (tries >= 6 || slope >= 0.0 || s.largest * s.scale < settings_.trust_step_mm ||
+        energy() <= e0 + 1e-4 * s.scale * slope) {
+      break;
+    }
+    s.scale *= 0.5;
+    if (!s.fresh) s.refactor = true;  // a stale Hessian gave a poor step
+  }
+  for (std::size_t i = s.free0; i < s.dofs; ++i) last_step_[i] = delta_[i] * s.scale;
+  s.stepped = true;
+}
+
+// Each held node's wall gap at the end of the Newton step it aims at (finish_solve settles a
+// node left past the limit there).
+void Rod::hold_gaps(const Newton& s) {
+  const std::size_t n = x_.size();
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const NodeContact& nc = node_contacts_[k];
+    const std::size_t d = 3 * (k - first_);
+    const glm::dvec3 rest(delta_[d], delta_[d + 1], delta_[d + 2]);
+    held_gap_[k] = nc.active ? plane_gap(k) + (s.aim - s.scale) * glm::dot(nc.normal, rest)
+                             : std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
+// Nodes the wall would have to pull leave the active set; nodes the step carried into the wall
+// (after the activation rounds ran out) join it for the next iteration. `entered`: one of them
+// is deeper than a hundredth of the penetration limit (the convergence test does not stop on
+// it: the end of the step might clamp it); `deep`: a held node is past the limit.
+void Rod::update_active_set(Newton& s) {
+  const std::size_t n = x_.size();
+  s.entered = false;
+  s.deep = false;
+  const auto update = [&](bool& active, double phi, double allowed) {
+    if (active && phi < -1e-9) {
+      active = false;
+      s.refactor = true;
+    } else if (!active && phi > 0.0) {
+      active = true;
+      s.refactor = true;
+      s.entered = s.entered || phi > 0.01 * allowed;
+    } else {
+      s.deep = s.deep || (active && phi > allowed);
+    }
+  };
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    const double allowed = settings_.max_penetration_ratio * radius_[k];
+    update(nc.active, plane_gap(k), allowed);
+    if (nc.has_second) update(nc.active2, second_gap(k), allowed);
+  }
+}
+
+void Rod::follow_moves(Newton& s) {
+  const std::size_t n = x_.size();
+  if (refresh_contacts(s.wall, true)) s.refactor = true;
+  if (s.obstacles == nullptr) return;
+  // A node the re-probe finds in the wall joins the active set now: among other rods (a coil in
+  // its sac) the joins of the iterations above are soon spent, and a node left out was carried
+  // deep into the wall and thrown back by the projection after the solve.
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    if (!nc.active && plane_gap(k) > 0.0) nc.active = true, s.refactor = true;
+    if (nc.has_second && !nc.active2 && second_gap(k) > 0.0) nc.active2 = true, s.refactor = true;
+  }
+  // Planes of other rods are taken again once a node has moved half the margin.
+  const double limit = 0.5 * s.obstacles->margin_mm();
+  for (std::size_t k = first_free_; k < n; ++k) {
+    if (glm::length(x_[k] - gathered_at_[k]) > limit) {
+      gather_obstacles(*s.obstacles);
+      s.refactor = true;
+      break;
+    }
+  }
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,51 @@
+#pragma once
+// Private to the rod's sources: a node's wall contact (its plane or two, its friction anchors,
+// its probe hint) and the penetration of a node or an edge into its planes. Inline: the
+// assembly, the energy and the active set read the gaps per node and iteration.
+#include <cstdint>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include "tool/rod.hpp"
+#include "tool/wall_model.hpp"
+
+namespace cathbox::tool {
+
+struct Rod::NodeContact {
+  bool has_plane = false;
+  bool active = false;  // held on its plane in this step's solve (active set)
+  bool has_second = false;  // a second plane (crease of a meshed wall): normal force only
+  bool active2 = false;
+  glm::dvec3 point2{0.0};
+  glm::dvec3 normal2{0.0};
+  double normal_force2 = 0.0;
+  glm::dvec3 point{0.0};
+  glm::dvec3 normal{0.0};
+  std::int32_t segment = -1;
+  WallHint hint;
+  glm::dvec3 query_pos{0.0};
+  double clearance = -1.0;  // node surface clearance when last probed; < 0: probe again
+  bool anchored = false;
+  glm::dvec3 anchor{0.0};
+  double twist_anchor = 0.0;
+  double normal_force = 0.0;
+  glm::dvec3 friction{0.0};
+};
+
+inline double Rod::plane_gap(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  return glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+}
+
+inline double Rod::second_gap(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  return glm::dot(nc.normal2, x_[k] - nc.point2) + radius_[k];
+}
+
+inline double Rod::edge_gap(const EdgeContact& c) const {
+  const glm::dvec3 p = x_[c.edge] * (1.0 - c.s) + x_[c.edge + 1] * c.s;
+  return c.offset_mm - glm::dot(c.normal, p);
+}
+
+}  // namespace cathbox::tool

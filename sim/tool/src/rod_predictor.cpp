@@ -1,0 +1,124 @@
+// The predictor: before each solve the free nodes follow the present centreline by the
+// insertion change (follow the leader), the part near the entry follows the entry's move (an
+// inner tool riding on its carrier's tip), and a compressed straight rod gets the lateral
+// imperfection that lets it buckle. The elastic solve then corrects the shape.
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "rod_geometry.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+using rod_detail::perpendicular_unit;
+using rod_detail::station_at;
+
+namespace {
+
+// A point on the chord from b to c (inside the circle through a, b and c; a on either side of
+// b) moved out along the circle's radius onto it; false when the three are (nearly) in line.
+// The chord's point a fraction u along turns to the circle's point about a fraction u of the
+// arc along (the difference is of the order of the arc angle cubed): moving every node of a
+// circular polygon this way turns it rigidly, its edge lengths and turning angles kept.
+bool onto_arc(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& chord, glm::dvec3& out) {
+  const glm::dvec3 p = a - b;
+  const glm::dvec3 q = c - b;
+  const glm::dvec3 w = glm::cross(p, q);
+  const double w2 = glm::dot(w, w);
+  if (!(w2 > 1e-12 * glm::dot(p, p) * glm::dot(q, q))) return false;
+  const glm::dvec3 centre = b + glm::cross(glm::dot(p, p) * q - glm::dot(q, q) * p, w) / (2.0 * w2);
+  const glm::dvec3 r = chord - centre;
+  const double len = glm::length(r);
+  if (!(len > 0.0)) return false;
+  out = centre + r * (glm::length(b - centre) / len);
+  return true;
+}
+
+}  // namespace
+
+void Rod::advect(double delta_mm) {
+  // Predictor: every free node slides along the present centreline by the insertion change
+  // (follow the leader); the elastic solve then corrects the shape. Beyond the tip the path
+  // continues straight; proximal of the window it is the entry line.
+  const std::size_t n = x_.size();
+  if (delta_mm == 0.0) return;
+  const double old_insertion = insertion_mm_ - delta_mm;
+  const std::size_t new_kp = [&] {
+    std::size_t kp = station_at(from_tip_, insertion_mm_);
+    if (kp + 1 < n && from_tip_[kp + 1] >= insertion_mm_) ++kp;
+    return std::max<std::size_t>(kp, 1);
+  }();
+  std::size_t j = first_;  // segment [j, j+1] of the old curve holding the target station
+  for (std::size_t k = new_kp + 1; k < n; ++k) {
+    const double s = from_tip_[k] - delta_mm;  // station (old curve) the node moves to
+    if (s >= from_tip_[first_]) {
+      x_pred_[k] = entry_ + dir_ * (old_insertion - s);
+    } else if (s <= 0.0) {
+      // Ahead of the tip: along the leader (a wire beyond this catheter) or straight on.
+      const double leader_station = leader_ != nullptr ? leader_insertion_mm_ - (old_insertion - s) : -1.0;
+      if (leader_ != nullptr && leader_station >= 0.0) {
+        x_pred_[k] = leader_->point_at_from_tip(leader_station);
+      } else {
+        x_pred_[k] = x_[n - 1] + t_[n - 2] * (-s);
+      }
+    } else {
+      while (j + 2 < n && from_tip_[j + 1] > s) ++j;
+      while (j > first_ && from_tip_[j] < s) --j;
+      const double u = std::clamp((from_tip_[j] - s) / rest_[j], 0.0, 1.0);
+      x_pred_[k] = x_[j] + (x_[j + 1] - x_[j]) * u;
+      // A coil's loops: along the circles through the neighbours instead of the chord (the
+      // mean of the circles before and after the edge), so the slide keeps edge lengths.
+      glm::dvec3 before, after;
+      const glm::dvec3 chord = x_pred_[k];
+      const bool has_before = settings_.arc_predictor && j > first_ && onto_arc(x_[j - 1], x_[j], x_[j + 1], chord, before);
+      const bool has_after = settings_.arc_predictor && j + 2 < n && onto_arc(x_[j + 2], x_[j + 1], x_[j], chord, after);
+      if (has_before && has_after) x_pred_[k] = 0.5 * (before + after);
+      else if (has_before) x_pred_[k] = before;
+      else if (has_after) x_pred_[k] = after;
+    }
+  }
+  for (std::size_t k = new_kp + 1; k < n; ++k) x_[k] = x_pred_[k];
+}
+
+void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, const glm::dvec3& reference) {
+  const double len = glm::length(direction);
+  if (!(len > 1e-12) || !std::isfinite(len) || !std::isfinite(point_mm.x + point_mm.y + point_mm.z)) return;
+  // Predictor: the free part near the entry follows the entry's move (the carrier's tip), fading
+  // out over kFollowEntry_mm along the tool, so the clamp does not tear at the first nodes.
+  const glm::dvec3 moved = point_mm - entry_;
+  if (glm::dot(moved, moved) > 0.0 && first_free_ < x_.size()) {
+    constexpr double kFollowEntry_mm = 10.0;
+    const double s0 = from_tip_[first_free_ - 1];
+    for (std::size_t k = first_free_; k < x_.size(); ++k) {
+      const double w = 1.0 - (s0 - from_tip_[k]) / kFollowEntry_mm;
+      if (w <= 0.0) break;
+      x_[k] += moved * w;
+    }
+  }
+  entry_ = point_mm;
+  dir_ = direction / len;
+  const glm::dvec3 r = reference - dir_ * glm::dot(reference, dir_);
+  const double rl = glm::length(r);
+  entry_d1_ = rl > 1e-9 ? r / rl : perpendicular_unit(dir_);
+}
+
+void Rod::seed_buckling() {
+  // A perfectly straight rod pushed along its axis stays on the unstable straight branch;
+  // real tools are never perfectly straight, so give the free nodes a tiny lateral offset.
+  // A rod already bent by more than the offset would give (by the vessel, its own shape or an
+  // earlier seed) needs none: seeding it again every compressed step only shakes it (and the
+  // shaken rod then spends Newton iterations taking the offset back out).
+  const std::size_t n = x_.size();
+  for (std::size_t k = std::max(first_free_, std::size_t{1}); k + 1 < n; ++k) {
+    if (glm::length(t_[k] - t_[k - 1]) * rest_[k] > settings_.buckling_seed_mm) return;
+  }
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const std::size_t e = std::min(k, n - 2);
+    const double a = 0.7 * static_cast<double>(k);
+    x_[k] += (m1_[e] * std::cos(a) + m2_[e] * std::sin(a)) * settings_.buckling_seed_mm;
+  }
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,213 @@
+// Frames and twist: the reference frames carried along by parallel transport (time-parallel,
+// Bergou et al. 2010) and the reference twist at each vertex; then the quasi-static twist
+// angles by a tridiagonal Newton solve (torsion, the pre-curve's coupling, drag and torsional
+// wall friction), the material frames, and the torque and torsional stiffness at the hand.
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "rod_geometry.hpp"
+#include "rod_node_contact.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+using rod_detail::perpendicular_unit;
+using rod_detail::transport;
+
+void Rod::update_frames() {
+  const std::size_t n = x_.size();
+  for (std::size_t k = first_edge(); k + 1 < n; ++k) {
+    const glm::dvec3 e = x_[k + 1] - x_[k];
+    const double len = glm::length(e);
+    if (!(len > 1e-12)) continue;
+    const glm::dvec3 t = e / len;
+    glm::dvec3 d1 = transport(d1_[k], t_[k], t);
+    d1 = d1 - t * glm::dot(d1, t);
+    const double dl = glm::length(d1);
+    d1_[k] = dl > 1e-9 ? d1 / dl : perpendicular_unit(t);
+    t_[k] = t;
+  }
+  for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
+    const glm::dvec3 v = transport(d1_[i - 1], t_[i - 1], t_[i]);
+    ref_twist_[i] = std::atan2(glm::dot(glm::cross(v, d1_[i]), t_[i]), glm::dot(v, d1_[i]));
+  }
+}
+
+void Rod::set_material_frame(std::size_t e) {
+  const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
+  const double c = std::cos(theta_[e]);
+  const double s = std::sin(theta_[e]);
+  m1_[e] = d1_[e] * c + d2 * s;
+  m2_[e] = d2 * c - d1_[e] * s;
+}
+
+// Thomas' forward and back substitution of tw_rhs_ (m unknowns) with the inverse pivots tw_inv_
+// of the twist system (off[j] couples j-1 and j): the twist update, and the hand's Schur complement.
+void Rod::twist_substitute(std::size_t m) {
+  for (std::size_t j = 1; j < m; ++j) tw_rhs_[j] -= tw_off_[j] * tw_inv_[j - 1] * tw_rhs_[j - 1];
+  tw_rhs_[m - 1] *= tw_inv_[m - 1];
+  for (std::size_t j = m - 1; j-- > 0;) tw_rhs_[j] = (tw_rhs_[j] - tw_off_[j + 1] * tw_rhs_[j + 1]) * tw_inv_[j];
+}
+
+void Rod::solve_twist(double dt_s) {
+  const std::size_t n = x_.size();
+  const std::size_t ef = first_edge();  // first free edge; edge ef - 1 is clamped (unless free)
+  const std::size_t m = n - 1 - ef;        // free edges
+  const bool solve = m > 0 && first_free_ < n;
+  if (solve) {
+    const int iterations = std::max(1, settings_.twist_iterations);
+    for (int it = 0; it < iterations; ++it) {
+      // The system is linear but for the pre-curve coupling and the friction's stick / slip
+      // switch: without the one, and with every contact in the same regime after the update as
+      // before it, the update solved it exactly and a further iteration would not move.
+      bool linear = assemble_twist(dt_s, ef, m);
+      add_twist_friction(ef);
+      linear = update_twist(ef, m, linear);
+      if (!linear || it + 1 == iterations) continue;
+      if (twist_regimes_same()) break;
+    }
+  }
+  if (solve && !free_) {
+    hand_twist(dt_s, ef, m);
+  } else {
+    law_.torsion_stiffness_mNmm_per_rad = 0.0;
+    hand_torque_mNmm_ = 0.0;
+  }
+  for (std::size_t e = first_; e + 1 < n; ++e) set_material_frame(e);
+}
+
+// The twist system of the m free edges from ef on: drag, torsion at every vertex between edges
+// i-1 and i, and the pre-curve's coupling. False when that coupling makes it nonlinear.
+bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
+  const std::size_t n = x_.size();
+  bool linear = true;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t e = ef + j;
+    const double r = radius_[e + 1];
+    const double c = solver_drag(e + 1) * r * r / dt_s + 1e-9;
+    tw_diag_[j] = c;
+    tw_off_[j] = 0.0;
+    tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
+  }
+  // Twist at every vertex i between edges i-1 and i.
+  for (std::size_t i = free_ ? 1 : ef; i + 1 < n; ++i) {
+    const double c = gj_[i] / (i == ef && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+    const double tau = theta_[i] - theta_[i - 1] + ref_twist_[i];
+    const std::size_t j = i - ef;
+    tw_diag_[j] += c;
+    tw_rhs_[j] += c * tau;
+    if (i - 1 >= ef) {
+      tw_diag_[j - 1] += c;
+      tw_rhs_[j - 1] -= c * tau;
+      tw_off_[j] -= c;
+    }
+    if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
+      linear = false;
+      add_twist_curvature(i, ef);
+    }
+  }
+  return linear;
+}
+
+// Pre-curved sections: the material curvature at vertex i depends on the edge angles.
+void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
+  const glm::dvec3 a = x_[i] - x_[i - 1];
+  const glm::dvec3 b = x_[i + 1] - x_[i];
+  const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
+  const glm::dvec3 kb = glm::cross(a, b) * (2.0 / chi);
+  const double w = 0.5 * (ei_[i] + ei_extra_[i]) / voronoi_[i];
+  for (std::size_t e = i - 1; e <= i; ++e) {
+    if (e < ef) continue;
+    set_material_frame(e);
+    const double k1 = glm::dot(kb, m2_[e]);
+    const double k2 = -glm::dot(kb, m1_[e]);
+    // E = w/2 |k - kbar|^2 with dk1/dtheta = k2, dk2/dtheta = -k1.
+    tw_rhs_[e - ef] += w * (kbar2_[i] * k1 - kbar1_[i] * k2);
+    tw_diag_[e - ef] += w * std::max(0.0, kbar1_[i] * k1 + kbar2_[i] * k2);
+  }
+}
+
+// Torsional wall friction at node k: stick spring with a slip limit. Returns 0 off the wall (or
+// without friction), 1 stuck, 2 or 3 slipping either way, with the spring, its limit and the
+// angle from the anchor.
+std::uint8_t Rod::twist_regime(std::size_t k, double& ktr, double& limit, double& d) const {
+  const std::size_t n = x_.size();
+  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const NodeContact& nc = node_contacts_[k];
+  if (!nc.has_plane || spec_.friction <= 0.0) return 0;
+  const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+  if (phi <= 0.0) return 0;
+  const double r = radius_[k];
+  ktr = kt * r * r;
+  limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
+  d = theta_[std::min(k, n - 2)] - nc.twist_anchor;
+  if (ktr * std::abs(d) <= limit) return 1;  // stick
+  return d > 0.0 ? 2 : 3;                    // slip either way
+}
+
+void Rod::add_twist_friction(std::size_t ef) {
+  const std::size_t n = x_.size();
+  for (std::size_t k = first_free_; k < n; ++k) {
+    double ktr = 0.0, limit = 0.0, d = 0.0;
+    const std::uint8_t state = twist_regime(k, ktr, limit, d);
+    tw_regime_[k] = state;
+    const std::size_t j = std::min(k, n - 2) - ef;
+    if (state == 1) {
+      tw_rhs_[j] += ktr * d;
+      tw_diag_[j] += ktr;
+    } else if (state != 0) {
+      tw_rhs_[j] += state == 2 ? limit : -limit;
+    }
+  }
+}
+
+// Thomas algorithm on the symmetric tridiagonal system (off[j] couples j-1 and j), keeping the
+// inverse pivots (the hand's Schur complement reuses them), and the update of the angles (at
+// most half a radian). False when the update was not finite or was cut: nonlinear.
+bool Rod::update_twist(std::size_t ef, std::size_t m, bool linear) {
+  tw_inv_[0] = 1.0 / tw_diag_[0];
+  for (std::size_t j = 1; j < m; ++j) tw_inv_[j] = 1.0 / (tw_diag_[j] - tw_off_[j] * tw_inv_[j - 1] * tw_off_[j]);
+  twist_substitute(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const double step = tw_rhs_[j];
+    if (!std::isfinite(step)) {
+      linear = false;
+      continue;
+    }
+    if (std::abs(step) > 0.5) linear = false;
+    theta_[ef + j] -= std::clamp(step, -0.5, 0.5);
+  }
+  return linear;
+}
+
+// Every wall contact is in the friction regime the system was assembled with.
+bool Rod::twist_regimes_same() const {
+  bool same = true;
+  for (std::size_t k = first_free_; k < x_.size() && same; ++k) {
+    double ktr = 0.0, limit = 0.0, d = 0.0;
+    same = twist_regime(k, ktr, limit, d) == tw_regime_[k];
+  }
+  return same;
+}
+
+// Torsional stiffness at the hand (the Schur complement of the last system on the clamp) and
+// the torque the hand feels.
+void Rod::hand_twist(double dt_s, std::size_t ef, std::size_t m) {
+  const double c0 = gj_[ef] / (0.5 * rest_[ef]);
+  for (std::size_t j = 0; j < m; ++j) tw_rhs_[j] = j == 0 ? 1.0 : 0.0;
+  twist_substitute(m);
+  law_.torsion_stiffness_mNmm_per_rad = std::max(0.0, c0 - c0 * c0 * tw_rhs_[0]);
+  const double tau0 = theta_[ef] - theta_[ef - 1] + ref_twist_[ef];
+  // As for the force: the solver's twist damping above the physical drag stays out of the hand.
+  double numerical = 0.0;
+  for (std::size_t j = 0; j < m; ++j) {
+    const std::size_t e = ef + j;
+    const double r = radius_[e + 1];
+    numerical += (solver_drag(e + 1) - drag_per_mm_[e + 1] * voronoi_[e + 1]) * r * r / dt_s * (theta_[e] - theta_start_[e]);
+  }
+  hand_torque_mNmm_ = -c0 * tau0 - numerical;
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,146 @@
+// Wall contacts: each free node's plane (and a second one in a crease of a meshed wall) from the
+// wall probe, re-probed as nodes move; the hard limit of penetration after the solve; and, once
+// the step is solved, the contact forces and the friction anchors (stick, or slip dragging the
+// anchor along). The penalty and friction terms of the solve are in rod_energy.cpp.
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "rod_node_contact.hpp"
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
+  const std::size_t n = x_.size();
+  bool active_changed = false;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& c = node_contacts_[k];
+    const double moved = glm::length(x_[k] - c.query_pos);
+    if (c.clearance >= 0.0) {
+      if (only_moved && moved < settings_.requery_move_mm) continue;
+      if (!c.has_plane && moved < c.clearance - settings_.contact_margin_mm) continue;
+    }
+    WallProbe probe;
+    probe.center_mm = x_[k];
+    probe.radius_mm = radius_[k];
+    probe.range_mm = settings_.query_range_mm;
+    probe.margin_mm = settings_.contact_margin_mm;
+    probe.depth_mm = insertion_mm_ - from_tip_[k];
+    WallContact wc;
+    c.query_pos = x_[k];
+    active_changed = active_changed || c.active;
+    if (wall.probe(probe, c.hint, wc) && std::isfinite(wc.distance_mm)) {
+      c.clearance = std::max(0.0, wc.distance_mm - radius_[k]);
+      c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
+      c.point = wc.point_mm;
+      c.normal = wc.normal;
+      c.has_second = c.has_plane && wc.has_second;
+      c.point2 = wc.second_point_mm;
+      c.normal2 = wc.second_normal;
+      if (!c.has_second) c.active2 = false;
+      c.segment = wc.segment;
+    } else {
+      c.clearance = settings_.query_range_mm;
+      c.has_plane = false;
+    }
+    if (c.has_plane && !c.anchored) {
+      c.anchored = true;
+      c.anchor = x_[k];
+      c.twist_anchor = theta_[std::min(k, n - 2)];
+    } else if (!c.has_plane) {
+      c.anchored = false;
+      c.active = false;
+      c.has_second = false;
+      c.active2 = false;
+    }
+  }
+  return active_changed;
+}
+
+void Rod::limit_penetration() {
+  const std::size_t n = x_.size();
+  compressed_ = false;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (nc.has_plane) {
+      const double allowed = settings_.max_penetration_ratio * radius_[k];
+      const double phi = plane_gap(k);
+      if (phi > allowed) x_[k] -= nc.normal * (phi - allowed);
+      if (phi > 0.0) nc.active = true;
+      if (nc.has_second) {
+        const double phi2 = second_gap(k);
+        if (phi2 > allowed) x_[k] -= nc.normal2 * (phi2 - allowed);
+        if (phi2 > 0.0) nc.active2 = true;
+      }
+    }
+    if (k > 0 && glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
+  }
+}
+
+void Rod::finish_contacts() {
+  const std::size_t n = x_.size();
+  contacts_.clear();
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kt = kc * settings_.stick_stiffness_ratio;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    NodeContact& nc = node_contacts_[k];
+    if (!nc.has_plane) continue;
+    add_second_contact(k);
+    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+    const std::size_t e = std::min(k, n - 2);
+    if (phi <= 0.0) {
+      nc.anchor = x_[k];
+      nc.twist_anchor = theta_[e];
+      nc.normal_force = 0.0;
+      continue;
+    }
+    const double normal_force = kc * phi;
+    const glm::dmat3 pt = glm::dmat3(1.0) - glm::outerProduct(nc.normal, nc.normal);
+    const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
+    const double slip_len = glm::length(slip);
+    const double limit = spec_.friction * normal_force;
+    glm::dvec3 friction(0.0);
+    if (kt * slip_len > limit && slip_len > 0.0) {
+      const glm::dvec3 s = slip / slip_len;
+      nc.anchor = x_[k] - s * (limit / kt);
+      friction = -s * limit;
+    } else {
+      friction = -slip * kt;
+    }
+    const double r = radius_[k];
+    const double ktr = kt * r * r;
+    const double tlimit = limit * r;
+    const double d = theta_[e] - nc.twist_anchor;
+    if (ktr * std::abs(d) > tlimit) nc.twist_anchor = theta_[e] - (d > 0.0 ? tlimit : -tlimit) / ktr;
+    nc.normal_force = normal_force;
+    RodContact out;
+    out.node = static_cast<std::uint32_t>(k);
+    out.point_mm = x_[k] + nc.normal * (r - phi);
+    out.normal = nc.normal;
+    out.normal_force_mN = normal_force;
+    out.friction_mN = friction;
+    out.segment = nc.segment;
+    contacts_.push_back(out);
+  }
+}
+
+// The contact on the second plane of node k (a crease of a meshed wall): normal force only.
+void Rod::add_second_contact(std::size_t k) {
+  NodeContact& nc = node_contacts_[k];
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  nc.normal_force2 = nc.has_second ? kc * std::max(0.0, second_gap(k)) : 0.0;
+  if (nc.normal_force2 > 0.0) {
+    RodContact second;
+    second.node = static_cast<std::uint32_t>(k);
+    second.point_mm = x_[k] + nc.normal2 * (radius_[k] - second_gap(k));
+    second.normal = nc.normal2;
+    second.normal_force_mN = nc.normal_force2;
+    second.segment = nc.segment;
+    contacts_.push_back(second);
+  }
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# `cathbox` against a real `cathbox-emu --image` process running the cross-built STM32F411
+# image: info reports the image's own version and board, monitor streams, `cathbox flash`
+# goes through the image's bootloader request and comes back; --trace-mmio names
+# registers; a missing or unbootable image is refused with one line (exit 2). No sleeps: it
+# waits for the emulator's "enumerated" line; no timing is asserted.
+set -u
+bin="$1"
+image="${2:-${CATHBOX_FIRMWARE_IMAGE:-}}"
+dir=$(mktemp -d)
+sock="$dir/image.sock"
+failures=0
+[ -f "$image" ] || { echo "no firmware image at '$image' (scripts/build stm32f411)"; exit 1; }
+exec 3< <(exec "$bin/cathbox-emu" --image "$image" --socket "$sock" --duration 60 2>&1)
+emu_pid=$!
+trap 'kill "$emu_pid" 2>/dev/null; rm -rf "$dir"' EXIT
+enumerated=0
+while read -r line <&3; do
+  case "$line" in *"the image enumerated"*) enumerated=1; break ;; *stopped*|*"cannot"*) echo "$line"; break ;; esac
+done
+[ "$enumerated" -eq 1 ] || { echo "FAIL: the image did not enumerate"; exit 1; }
+
+source "$(dirname "${BASH_SOURCE[0]}")/../device/expect.sh"
+
+# The version the image's info block says (offset 0x200: magic, layout, size, major, minor, patch).
+version=$(od -An -tu1 -j $((0x206)) -N 3 "$image" | awk '{print $1 "." $2 "." $3}')
+expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
+expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$sock"
+expect 0 "not-calibrated" -- "$bin/cathbox" monitor --emu "$sock" --duration 0.2 --rate 10
+# cathbox flash through the image: feature 0x14, its reset into the ROM (the emulated DfuSe
+# bootloader), erase, download, verify, leave; the new image boots and reports its info block.
+expect 0 "packed" -- "$bin/cathbox" flash pack "$image" "$dir/fw.dfu"
+expect 0 "box is back: firmware $version" -- "$bin/cathbox" flash "$dir/fw.dfu" --emu "$sock"
+cp "$dir/fw.dfu" "$dir/corrupt.dfu"
+printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+expect 2 "does not match the content" -- "$bin/cathbox" flash "$dir/corrupt.dfu" --emu "$sock"
+expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
+expect 0 "W RCC.CR @0x40023800" -- "$bin/cathbox-emu" --image "$image" --socket "$dir/trace.sock" --trace-mmio --duration 0.01
+expect 2 "cannot read image $dir/none.bin" -- "$bin/cathbox-emu" --image "$dir/none.bin" --socket "$dir/x.sock" --duration 0.01
+head -c 4096 /dev/zero > "$dir/zero.bin"
+expect 2 ".dfu images are not read yet; give the .bin" -- "$bin/cathbox-emu" --image "$dir/fw.dfu" --socket "$dir/x.sock" --duration 0.01
+expect 2 "no bootable vector table" -- "$bin/cathbox-emu" --image "$dir/zero.bin" --socket "$dir/x.sock" --duration 0.01
+[ "$failures" -eq 0 ] || { echo "$failures failed"; exit 1; }
+echo "all passed"
