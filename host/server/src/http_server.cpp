@@ -873,6 +873,14 @@ void HttpServer::Impl::sweep() {
     }
   }
   for (const std::shared_ptr<SweptSocket>& socket : open) socket->sweep(now);
+  // The store claims of this instance's open streams, silent or not (off the I/O threads).
+  net::post(api_pool, [this] {
+    try {
+      api.context().live.keep_claims();
+    } catch (const std::exception&) {
+      // The database is away: the claims are refreshed on a later sweep.
+    }
+  });
 }
 
 void HttpServer::Impl::schedule_sweep() {

@@ -45,7 +45,7 @@ Result<Publisher> LiveService::start(const Caller& caller, const std::string& ri
       return make_error(409, "rig '" + rig + "' is streaming for another user");
     }
     p.stream_id = ++next_stream_id_;
-    open_streams_[rig] = OpenStream{caller.user_id, p.stream_id};
+    open_streams_[rig] = OpenStream{caller.user_id, p.stream_id, now};
   }
   p.last_touch_us = now;
   p.frame_tokens = options_.max_frames_per_s;
@@ -84,6 +84,20 @@ bool LiveService::touch_due(Publisher& p) {
 }
 
 void LiveService::touch(const Publisher& p) { store_.touch_live_rig(p.rig.rig, instance_, clock_.now_us()); }
+
+void LiveService::keep_claims() {
+  const std::int64_t now = clock_.now_us();
+  std::vector<std::string> due;
+  {
+    const std::lock_guard lock(streams_mutex_);
+    for (auto& [rig, open] : open_streams_) {
+      if (now - open.claimed_us < options_.touch_every_us) continue;
+      open.claimed_us = now;
+      due.push_back(rig);
+    }
+  }
+  for (const std::string& rig : due) store_.touch_live_rig(rig, instance_, now);
+}
 
 void LiveService::finish(Publisher& p) {
   {

@@ -151,6 +151,31 @@ TEST_P(AttackTest, ARigNameStaysWithItsOpenStreamHoweverSilent) {
   EXPECT_TRUE(live.start(bob, "rig-07", "ybif", 0, std::nullopt));
 }
 
+// Across instances on one database the claim's age decides: the instance holding the open
+// stream refreshes its claim on its sweep (keep_claims), frames or not, so another instance
+// refuses the name for the stream's whole life; once that stream ends the name is free there.
+TEST_P(AttackTest, ASilentStreamKeepsItsRigNameOnAnotherInstance) {
+  LiveService& a = f_->core->live();
+  LiveHub hub_b;  // instance B's own hub and bus
+  LocalLiveBus bus(hub_b);
+  LiveService b(*f_->store, f_->clock, bus, "instance-b");
+  const Caller alice = caller_of(*f_->store, "alice"), bob = caller_of(*f_->store, "bob");
+  Result<Publisher> stream = a.start(alice, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_TRUE(stream) << stream.error().message;
+  for (int second = 0; second < 60; ++second) {  // a silent minute, swept every second
+    f_->clock.advance_us(1'000'000);
+    a.keep_claims();
+  }
+  const Result<Publisher> hijack = b.start(bob, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_FALSE(hijack);
+  EXPECT_EQ(hijack.error().status, 409);
+  // Without the sweep the claim goes stale after 10 s and the other instance hands the name out.
+  f_->clock.advance_us(11'000'000);
+  EXPECT_TRUE(b.start(bob, "rig-08", "ybif", 0, std::nullopt));
+  Result<Publisher> stale = b.start(bob, "rig-07", "ybif", 0, std::nullopt);
+  EXPECT_TRUE(stale) << "a claim not refreshed for 11 s is stale";
+}
+
 // A trainee's watch holds only while they stream the rig: rechecked when a stream starts on it
 // and when it ends. An instructor's watch holds through both.
 TEST_P(AttackTest, ATraineesWatchIsCheckedAgainWhenTheRigsStreamStartsAndEnds) {

@@ -3,8 +3,9 @@
 // No sockets here: the HTTP/WebSocket layer calls these and writes what they return.
 //
 //  - A rig streams as the logged-in user: start() claims the rig name in the store (refused
-//    with 409 while another user streams on it: for its whole life when that stream is open on
-//    this instance, however silent; on another instance until its claim is 10 s stale), announces
+//    with 409 while another user streams on it, for the stream's whole life however silent:
+//    this instance refuses from its open streams, and keep_claims() refreshes their store
+//    claims so other instances, which go by the claim's age, refuse too), announces
 //    "started" to supervisors, and frame() validates each frame, stamps it and publishes it on
 //    the bus. Frames beyond max_frames_per_s are dropped (counted), not refused.
 //  - Instructors and admins may watch any rig; a trainee only a rig they stream themselves.
@@ -61,6 +62,10 @@ class LiveService {
   // True when the store's last_seen should be refreshed now (then call touch off the I/O threads).
   [[nodiscard]] bool touch_due(Publisher& publisher);
   void touch(const Publisher& publisher);
+  // Refreshes the store claim of every stream open on this instance whose claim is due
+  // (touch_every_us), frames or not: a silent stream keeps its rig name on every instance.
+  // Called on the server's sweep. Uses the store.
+  void keep_claims();
   // The stream closed (cleanly or not): forget the claim, tell supervisors. Uses the store.
   void finish(Publisher& publisher);
 
@@ -84,6 +89,7 @@ class LiveService {
   struct OpenStream {
     std::int64_t user_id = 0;
     std::uint64_t id = 0;
+    std::int64_t claimed_us = 0;  // the store claim's last refresh by this instance
   };
   std::mutex streams_mutex_;
   std::map<std::string, OpenStream> open_streams_;
