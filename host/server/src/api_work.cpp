@@ -10,6 +10,7 @@
 #include "server/json_input.hpp"
 #include "server/pass_criteria.hpp"
 #include "server/sha256.hpp"
+#include "server/zstd_codec.hpp"
 
 namespace cathbox::server::api {
 
@@ -48,6 +49,47 @@ Result<ResultRow> visible_result(Call& call) {
   return *r;
 }
 
+// A run already stored (the same bytes or the same decoded run): the stored result, unless it
+// is another trainee's or was counted for another assignment (409).
+Reply stored_again(Call& call, const ResultRow& existing, std::optional<std::int64_t> assignment_id) {
+  if (existing.user_id != call.caller.user_id && !can_supervise(call.caller.role)) {
+    return make_error(409, "record: this run was uploaded by another user");
+  }
+  // One run counts once: the same run for another assignment is a conflict, not a copy.
+  if (assignment_id && existing.assignment_id != assignment_id) {
+    return make_error(409, "record: already stored as result " + std::to_string(existing.id) +
+                               (existing.assignment_id ? " for assignment " + std::to_string(*existing.assignment_id)
+                                                       : std::string(" without an assignment")) +
+                               "; a run counts for one assignment");
+  }
+  nlohmann::json j = result_json(existing);
+  j["created"] = false;
+  return json_response(200, j);
+}
+
+// Which header field of a record makes it another case than the assignment's: the first of the
+// case text, the HCLM text and their file names that differs from the assigned version (the
+// newest when the assignment names none).
+std::string not_the_assigned_case(Call& call, const Assignment& a, const CheckedRecord& rec) {
+  const std::optional<CaseVersion> v = call.c.store.case_version(a.case_name, a.case_version);
+  const std::string which = "case '" + a.case_name + "'" + (v ? " version " + std::to_string(v->version) : std::string());
+  const std::string tail = " is not the assignment's " + which + " (by content hash)";
+  std::optional<CaseBundle> library;
+  if (v) {
+    if (std::optional<std::string> wire = call.c.store.case_bundle(v->id)) {
+      if (Result<std::string> plain = zstd_decompress(*wire, kMaxBundleBytes * 2)) {
+        if (Result<CaseBundle> b = parse_bundle_json(plain.value())) library = b.value();
+      }
+    }
+  }
+  const CaseBundle& r = rec.case_files;
+  const std::string file = r.case_file.substr(0, 64);
+  if (!library || r.case_text != library->case_text) return "record: header field 'case_text' (" + file + ")" + tail;
+  if (r.hclm_text != library->hclm_text) return "record: header field 'vessel_text' (" + r.hclm_file.substr(0, 64) + ")" + tail;
+  if (r.case_file != library->case_file) return "record: header field 'case_file' (" + file + ")" + tail;
+  return "record: header field 'vessel_file' (" + r.hclm_file.substr(0, 64) + ")" + tail;
+}
+
 std::map<std::string, double> metric_map(const std::vector<MetricValue>& metrics) {
   std::map<std::string, double> m;
   for (const MetricValue& v : metrics) m[v.name] = v.value;
@@ -81,10 +123,12 @@ nlohmann::json result_json(const ResultRow& r) {
                       {"duration_s", static_cast<double>(r.duration_ms) / 1000.0},
                       {"uploaded_at", iso_time(r.uploaded_us)},
                       {"record_bytes", r.record_bytes},
+                      {"complete", r.complete},
                       {"metrics", std::move(metrics)},
                       {"record_url", "/api/v1/results/" + std::to_string(r.id) + "/record"}};
   j["assignment"] = r.assignment_id ? nlohmann::json(*r.assignment_id) : nlohmann::json(nullptr);
   j["passed"] = r.passed ? nlohmann::json(*r.passed) : nlohmann::json(nullptr);
+  if (!r.complete) j["cut"] = "the record has no end block (the recording stopped before the run ended): for debriefs, never graded";
   return j;
 }
 
@@ -172,21 +216,7 @@ Reply upload_result(Call& call) {
   if (!assignment_id) return assignment_id.error();
   const std::string hash = sha256_hex(record);
   // Idempotent: the same bytes again answer the stored result without checking them again.
-  if (std::optional<ResultRow> existing = call.c.store.result_by_hash(hash)) {
-    if (existing->user_id != call.caller.user_id && !can_supervise(call.caller.role)) {
-      return make_error(409, "record: this record was uploaded by another user");
-    }
-    // One run counts once: the same record for another assignment is a conflict, not a copy.
-    if (assignment_id.value() && existing->assignment_id != assignment_id.value()) {
-      return make_error(409, "record: already stored as result " + std::to_string(existing->id) +
-                                 (existing->assignment_id ? " for assignment " + std::to_string(*existing->assignment_id)
-                                                          : std::string(" without an assignment")) +
-                                 "; a run counts for one assignment");
-    }
-    nlohmann::json j = result_json(*existing);
-    j["created"] = false;
-    return json_response(200, j);
-  }
+  if (std::optional<ResultRow> existing = call.c.store.result_by_hash(hash)) return stored_again(call, *existing, assignment_id.value());
   std::optional<Assignment> assignment;
   if (assignment_id.value()) {
     std::optional<Assignment> a = call.c.store.assignment(*assignment_id.value());
@@ -199,6 +229,13 @@ Reply upload_result(Call& call) {
   Result<CheckedRecord> checked = call.c.checker->check(record);
   if (!checked) return checked.error();
   const CheckedRecord& rec = checked.value();
+  // The same run re-encoded (other compression or blocks, another informational field) is the
+  // same result, whoever sends it.
+  if (!rec.run_hash.empty()) {
+    if (std::optional<ResultRow> existing = call.c.store.result_by_run(rec.run_hash)) {
+      return stored_again(call, *existing, assignment_id.value());
+    }
+  }
   if (assignment && !rec.complete) {
     return make_error(422, "record: no end block (the recording stopped before the run ended); a cut record is kept for "
                            "debriefs without an assignment, never graded");
@@ -208,6 +245,8 @@ Reply upload_result(Call& call) {
 
   ResultRow row;
   row.content_hash = hash;
+  row.run_hash = rec.run_hash;
+  row.complete = rec.complete;
   row.user_id = call.caller.user_id;
   row.started_us = rec.started_us;
   row.duration_ms = rec.duration_ms;
@@ -230,14 +269,7 @@ Reply upload_result(Call& call) {
   if (assignment) {
     // The run must be on the library version the assignment names, byte for byte (case and HCLM,
     // by their content hash), not on a file that only carries its name.
-    if (!library) {
-      return make_error(422, "record: its case and HCLM (" + rec.case_files.case_file.substr(0, 64) +
-                                 ") match no version of the library by content hash; the assignment is for case '" +
-                                 assignment->case_name + "'");
-    }
-    if (row.case_name != assignment->case_name) {
-      return make_error(422, "record: case '" + row.case_name + "' is not the assignment's case '" + assignment->case_name + "'");
-    }
+    if (!library || row.case_name != assignment->case_name) return make_error(422, not_the_assigned_case(call, *assignment, rec));
     if (assignment->case_version != 0 && library->version != assignment->case_version) {
       return make_error(422, "record: case '" + row.case_name + "' version " + std::to_string(library->version) +
                                  " is not the assignment's version " + std::to_string(assignment->case_version));

@@ -34,7 +34,7 @@ Error refuse(const std::string& file, int line, const std::string& message) {
 
 }  // namespace
 
-Result<CaseCheck> check_case(const CaseBundle& b) {
+Result<CaseCheck> check_case(const CaseBundle& b, const UploadLimits& limits) {
   if (const std::string bad = check_slug(b.case_file); !bad.empty()) return make_error(400, "field 'case_file': " + bad);
   if (!b.hclm_file.empty()) {
     if (const std::string bad = check_slug(b.hclm_file); !bad.empty()) return make_error(400, "field 'hclm_file': " + bad);
@@ -77,6 +77,8 @@ Result<CaseCheck> check_case(const CaseBundle& b) {
                     "target segment " + std::to_string(c.target->segment) + " is not a segment of " + b.hclm_file);
     }
   }
+  // Before meshing: a few MB of HCLM can ask for tens of GB of surface.
+  if (Status s = check_vessel_bounds(b.hclm_text, b.hclm_file, limits); !s) return s.error();
   vessel::MeshOptions level2;
   level2.subdivision_level = 2;
   const vessel::VesselSurface surface = vessel::build_vessel_surface(model.model, level2);

@@ -36,6 +36,13 @@ namespace websocket = beast::websocket;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
+// An open WebSocket, as the sweep sees it (http_server.hpp: idle eviction, token rechecks).
+class SweptSocket {
+ public:
+  virtual ~SweptSocket() = default;
+  virtual void sweep(std::int64_t now_us) = 0;
+};
+
 struct HttpServer::Impl {
   Api& api;
   LiveHub& hub;
@@ -61,6 +68,11 @@ struct HttpServer::Impl {
   }
 
   std::atomic<std::uint64_t> connections{0}, requests{0}, publishers{0}, watchers{0}, frames_in{0}, frames_out{0}, frames_dropped{0};
+  // The open WebSockets (swept on the server's clock) and how many each account holds.
+  std::mutex ws_mutex;
+  std::vector<std::weak_ptr<SweptSocket>> ws_sockets;
+  std::unordered_map<std::int64_t, std::size_t> ws_per_account;
+  std::unique_ptr<net::steady_timer> sweeper;
   std::atomic<std::uint64_t> publishers_now{0}, watchers_now{0};
   ServerMetrics metrics;
 
@@ -79,6 +91,8 @@ struct HttpServer::Impl {
         heavy_pool(static_cast<std::size_t>(std::max(1, options.heavy_threads))) {}
 
   void accept();
+  void sweep();
+  void schedule_sweep();
   void open_session(tcp::socket socket);
 };
 
@@ -95,33 +109,53 @@ struct ConnectionSlot {
   ~ConnectionSlot() { --*counter; }
 };
 
-// One client address's share of the connections, for as long as a connection lives (moved from
-// the HTTP session into the WebSocket one on an upgrade). taken() is false when the address
-// already had max_connections_per_address open: the connection is then closed at once.
-class AddressSlot {
+// A share of a counted resource, for as long as its holder lives: taken() is false when `key`
+// already held `limit` of them. The counts live in `counts` under `mutex`.
+template <class Key>
+class CountedSlot {
  public:
-  AddressSlot(HttpServer::Impl& s, std::string address) : s_(&s), address_(std::move(address)) {
-    std::lock_guard lock(s_->per_address_mutex);
-    std::size_t& n = s_->per_address[address_];
-    taken_ = n < s_->options.max_connections_per_address;
+  CountedSlot(std::mutex& mutex, std::unordered_map<Key, std::size_t>& counts, Key key, std::size_t limit)
+      : mutex_(&mutex), counts_(&counts), key_(std::move(key)) {
+    std::lock_guard lock(*mutex_);
+    std::size_t& n = (*counts_)[key_];
+    taken_ = n < limit;
     if (taken_) ++n;
-    else if (n == 0) s_->per_address.erase(address_);
+    else if (n == 0) counts_->erase(key_);
   }
-  AddressSlot(const AddressSlot&) = delete;
-  AddressSlot& operator=(const AddressSlot&) = delete;
-  ~AddressSlot() {
+  CountedSlot(const CountedSlot&) = delete;
+  CountedSlot& operator=(const CountedSlot&) = delete;
+  ~CountedSlot() {
     if (!taken_) return;
-    std::lock_guard lock(s_->per_address_mutex);
-    const auto it = s_->per_address.find(address_);
-    if (it != s_->per_address.end() && --it->second == 0) s_->per_address.erase(it);
+    std::lock_guard lock(*mutex_);
+    const auto it = counts_->find(key_);
+    if (it != counts_->end() && --it->second == 0) counts_->erase(it);
   }
   [[nodiscard]] bool taken() const { return taken_; }
-  [[nodiscard]] const std::string& address() const { return address_; }
+  [[nodiscard]] const Key& key() const { return key_; }
 
  private:
-  HttpServer::Impl* s_;
-  std::string address_;
+  std::mutex* mutex_;
+  std::unordered_map<Key, std::size_t>* counts_;
+  Key key_;
   bool taken_ = false;
+};
+
+// One client address's share of the connections, for as long as a connection lives (moved from
+// the HTTP session into the WebSocket one on an upgrade); not taken when the address already had
+// max_connections_per_address open: the connection is then closed at once.
+class AddressSlot : public CountedSlot<std::string> {
+ public:
+  AddressSlot(HttpServer::Impl& s, std::string address)
+      : CountedSlot(s.per_address_mutex, s.per_address, std::move(address), s.options.max_connections_per_address) {}
+  [[nodiscard]] const std::string& address() const { return key(); }
+};
+
+// One account's share of the WebSockets, for as long as one lives; not taken when the account
+// already holds max_websockets_per_account (the upgrade is then refused with 429).
+class AccountSlot : public CountedSlot<std::int64_t> {
+ public:
+  AccountSlot(HttpServer::Impl& s, std::int64_t user_id)
+      : CountedSlot(s.ws_mutex, s.ws_per_account, user_id, s.options.max_websockets_per_account) {}
 };
 
 // Every answer, API or page: the pages run only their own scripts and modules (no inline
@@ -185,14 +219,15 @@ ApiResponse auth_refusal(const Error& e) {
 
 // ---- WebSocket ------------------------------------------------------------------------------
 
-class WsSession final : public LiveSubscriber, public std::enable_shared_from_this<WsSession> {
+class WsSession final : public LiveSubscriber, public SweptSocket, public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, TlsOrPlainStream&& stream, Caller caller,
-            std::optional<Publisher> publisher, std::vector<std::string> watching, std::string first_message)
+  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, std::unique_ptr<AccountSlot> account_slot,
+            TlsOrPlainStream&& stream, Caller caller, std::optional<Publisher> publisher, std::vector<std::string> watching,
+            std::string first_message)
       : s_(s),
         address_slot_(std::move(address_slot)),
+        account_slot_(std::move(account_slot)),
         ws_(std::move(stream)),
-        recheck_(ws_.get_executor()),
         caller_(std::move(caller)),
         publisher_(std::move(publisher)),
         watching_(std::move(watching)),
@@ -217,11 +252,32 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
     net::post(ws_.get_executor(), [self = shared_from_this(), message] { self->enqueue(message); });
   }
 
+  // On the server's clock (http_server.hpp): an idle socket closes; the token is checked again
+  // every ws_recheck_s.
+  void sweep(std::int64_t now_us) override {
+    net::post(ws_.get_executor(), [self = shared_from_this(), now_us] {
+      if (self->finished_) return;
+      const std::int64_t idle_us = std::int64_t{self->s_.options.ws_idle_timeout_s} * 1'000'000;
+      if (self->evictable_when_idle() && now_us - self->last_activity_us_ >= idle_us) {
+        self->finish();
+        self->ws_.async_close(websocket::close_reason(websocket::close_code::going_away, "idle"), [self](beast::error_code) {});
+        return;
+      }
+      if (!self->rechecking_ && now_us >= self->next_recheck_us_) self->recheck();
+    });
+  }
+
  private:
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
     accepted_ = true;
-    schedule_recheck();
+    last_activity_us_ = now_us();
+    next_recheck_us_ = last_activity_us_ + recheck_us();
+    {
+      std::lock_guard lock(s_.ws_mutex);
+      std::erase_if(s_.ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
+      s_.ws_sockets.push_back(shared_from_this());
+    }
     if (publisher_) {
       ++s_.publishers;
       ++s_.publishers_now;
@@ -229,34 +285,42 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
       ++s_.watchers;
       ++s_.watchers_now;
       if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
-      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this());
+      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this(), watch_restriction());
       enqueue(std::make_shared<const std::string>(first_message_));
     }
     read();
   }
 
-  // Every recheck_s, off the I/O thread: is the token still good (not logged out, expired, or its
-  // account disabled)? If not, the socket is closed (policy violation) and its watching ends.
-  void schedule_recheck() {
-    recheck_.expires_after(std::chrono::seconds(std::max(1, s_.options.ws_recheck_s)));
-    recheck_.async_wait([self = shared_from_this()](beast::error_code ec) {
-      if (ec || self->finished_) return;
-      net::post(self->s_.api_pool, [self] {
-        bool good = true;
-        try {
-          ApiContext& c = self->s_.api.context();
-          const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
-          good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
-        } catch (const std::exception&) {
-          // The database is away: keep the socket until it can be asked.
-        }
-        net::post(self->ws_.get_executor(), [self, good] {
-          if (self->finished_) return;
-          if (good) return self->schedule_recheck();
-          self->finish();
-          self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
-                                [self](beast::error_code) {});
-        });
+  // A trainee watches a rig only while they stream it (the hub checks again on its events).
+  [[nodiscard]] std::string watch_restriction() const { return can_supervise(caller_.role) ? std::string() : caller_.name; }
+
+  [[nodiscard]] std::int64_t now_us() const { return s_.api.context().clock.now_us(); }
+  [[nodiscard]] std::int64_t recheck_us() const { return std::int64_t{std::max(1, s_.options.ws_recheck_s)} * 1'000'000; }
+  // Idle for ws_idle_timeout_s closes a stream that sends no frame, and a trainee's watcher that
+  // watches no rig and says nothing; an instructor's watcher (rig events) and a watcher of rigs
+  // stay however quiet the rigs are.
+  [[nodiscard]] bool evictable_when_idle() const { return publisher_ || (watching_.empty() && !can_supervise(caller_.role)); }
+
+  // Off the I/O thread: is the token still good (not logged out, expired, or its account
+  // disabled)? If not, the socket is closed (policy violation) and its watching ends.
+  void recheck() {
+    rechecking_ = true;
+    net::post(s_.api_pool, [self = shared_from_this()] {
+      bool good = true;
+      try {
+        ApiContext& c = self->s_.api.context();
+        const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
+        good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
+      } catch (const std::exception&) {
+        // The database is away: keep the socket until it can be asked.
+      }
+      net::post(self->ws_.get_executor(), [self, good] {
+        self->rechecking_ = false;
+        self->next_recheck_us_ = self->now_us() + self->recheck_us();
+        if (self->finished_ || good) return;
+        self->finish();
+        self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
+                              [self](beast::error_code) {});
       });
     });
   }
@@ -274,6 +338,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
     }
     const std::string text = beast::buffers_to_string(buffer_.data());
     buffer_.consume(buffer_.size());
+    last_activity_us_ = now_us();
     if (publisher_) {
       ++s_.frames_in;
       const Status st = s_.api.context().live.message(*publisher_, text);
@@ -312,7 +377,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
         } else {
           for (const std::string& rig : self->watching_) self->s_.hub.unsubscribe(rig, self.get());
           self->watching_ = std::move(ok.value());
-          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self);
+          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self, self->watch_restriction());
         }
         self->read();
       });
@@ -326,6 +391,7 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
 
   void enqueue(const LiveMessage& message) {
     if (finished_) return;
+    last_activity_us_ = now_us();
     if (queue_.size() >= s_.options.watcher_queue) {
       // Drop the oldest message not being written now.
       queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
@@ -356,7 +422,6 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   void finish() {
     if (finished_) return;
     finished_ = true;
-    recheck_.cancel();
     if (accepted_) --(publisher_ ? s_.publishers_now : s_.watchers_now);
     s_.hub.unsubscribe_all(this);
     if (publisher_) {
@@ -373,8 +438,11 @@ class WsSession final : public LiveSubscriber, public std::enable_shared_from_th
   HttpServer::Impl& s_;
   ConnectionSlot slot_{s_.open_connections};
   std::unique_ptr<AddressSlot> address_slot_;
+  std::unique_ptr<AccountSlot> account_slot_;
   websocket::stream<TlsOrPlainStream> ws_;
-  net::steady_timer recheck_;
+  std::int64_t last_activity_us_ = 0;  // the server's clock: the last message in or out
+  std::int64_t next_recheck_us_ = 0;
+  bool rechecking_ = false;
   beast::flat_buffer buffer_;
   Caller caller_;
   std::optional<Publisher> publisher_;
@@ -723,11 +791,32 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
                                                pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
         if (!caller) return self->answer(std::move(refusal), false, req.version());
-        auto ws = std::make_shared<WsSession>(self->s_, std::move(self->address_slot_), std::move(self->stream_), std::move(*caller), std::move(pub), std::move(rigs),
-                                              std::move(first));
-        ws->start(std::move(req));
+        self->open_websocket(std::move(req), std::move(*caller), std::move(pub), std::move(rigs), std::move(first));
       });
     });
+  }
+
+  // The upgrade, within the account's share of WebSockets (else 429, and a stream just started
+  // is ended again).
+  void open_websocket(http::request<http::string_body> req, Caller caller, std::optional<Publisher> pub, std::vector<std::string> rigs,
+                      std::string first) {
+    auto account = std::make_unique<AccountSlot>(s_, caller.user_id);
+    if (!account->taken()) {
+      if (pub) {
+        net::post(s_.api_pool, [self = shared_from_this(), p = std::move(*pub)]() mutable {
+          try {
+            self->s_.api.context().live.finish(p);
+          } catch (const std::exception&) {
+            // The database is away: the claim goes stale by itself.
+          }
+        });
+      }
+      return answer_error(429, "live: this account holds " + std::to_string(s_.options.max_websockets_per_account) +
+                                   " live connections already (the limit)", false, req.version());
+    }
+    auto ws = std::make_shared<WsSession>(s_, std::move(address_slot_), std::move(account), std::move(stream_), std::move(caller),
+                                          std::move(pub), std::move(rigs), std::move(first));
+    ws->start(std::move(req));
   }
 
   void close() {
@@ -772,6 +861,38 @@ void HttpServer::Impl::accept() {
     accept();
   });
 }
+
+void HttpServer::Impl::sweep() {
+  const std::int64_t now = api.context().clock.now_us();
+  std::vector<std::shared_ptr<SweptSocket>> open;
+  {
+    std::lock_guard lock(ws_mutex);
+    std::erase_if(ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
+    for (const std::weak_ptr<SweptSocket>& w : ws_sockets) {
+      if (auto p = w.lock()) open.push_back(std::move(p));
+    }
+  }
+  for (const std::shared_ptr<SweptSocket>& socket : open) socket->sweep(now);
+  // The store claims of this instance's open streams, silent or not (off the I/O threads).
+  net::post(api_pool, [this] {
+    try {
+      api.context().live.keep_claims();
+    } catch (const std::exception&) {
+      // The database is away: the claims are refreshed on a later sweep.
+    }
+  });
+}
+
+void HttpServer::Impl::schedule_sweep() {
+  sweeper->expires_after(std::chrono::milliseconds(options.sweep_every_ms));
+  sweeper->async_wait([this](beast::error_code ec) {
+    if (ec) return;
+    sweep();
+    schedule_sweep();
+  });
+}
+
+void HttpServer::sweep() { impl_->sweep(); }
 
 // Plain HTTP, or on a TLS port: a look at the first bytes, then the handshake (a client speaking
 // plain HTTP there is answered 400 in plain HTTP, saying so).
@@ -824,6 +945,10 @@ Result<std::uint16_t> HttpServer::start() {
   if (ec) return make_error(503, "--listen " + s.options.host + ":" + std::to_string(s.options.port) + ": " + ec.message());
   const std::uint16_t port = s.acceptor.local_endpoint().port();
   s.accept();
+  if (s.options.sweep_every_ms > 0) {
+    s.sweeper = std::make_unique<net::steady_timer>(s.ioc);
+    s.schedule_sweep();
+  }
   s.started = true;
   for (int i = 0; i < std::max(1, s.options.io_threads); ++i) s.threads.emplace_back([&s] { s.ioc.run(); });
   return port;

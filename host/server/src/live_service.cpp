@@ -37,8 +37,15 @@ Result<Publisher> LiveService::start(const Caller& caller, const std::string& ri
   Publisher p;
   p.caller = caller;
   p.rig = LiveRig{rig, caller.user_id, caller.name, case_name, case_version, assignment_id, instance_, now, now};
-  if (!store_.claim_live_rig(p.rig, now - options_.stale_after_us)) {
-    return make_error(409, "rig '" + rig + "' is streaming for another user");
+  {
+    const std::lock_guard lock(streams_mutex_);
+    const auto open = open_streams_.find(rig);
+    const bool taken = open != open_streams_.end() && open->second.user_id != caller.user_id;
+    if (taken || !store_.claim_live_rig(p.rig, now - options_.stale_after_us)) {
+      return make_error(409, "rig '" + rig + "' is streaming for another user");
+    }
+    p.stream_id = ++next_stream_id_;
+    open_streams_[rig] = OpenStream{caller.user_id, p.stream_id, now};
   }
   p.last_touch_us = now;
   p.frame_tokens = options_.max_frames_per_s;
@@ -78,7 +85,29 @@ bool LiveService::touch_due(Publisher& p) {
 
 void LiveService::touch(const Publisher& p) { store_.touch_live_rig(p.rig.rig, instance_, clock_.now_us()); }
 
+void LiveService::keep_claims() {
+  const std::int64_t now = clock_.now_us();
+  std::vector<std::string> due;
+  {
+    const std::lock_guard lock(streams_mutex_);
+    for (auto& [rig, open] : open_streams_) {
+      if (now - open.claimed_us < options_.touch_every_us) continue;
+      open.claimed_us = now;
+      due.push_back(rig);
+    }
+  }
+  for (const std::string& rig : due) store_.touch_live_rig(rig, instance_, now);
+}
+
 void LiveService::finish(Publisher& p) {
+  {
+    // Only the rig's current stream ends it: an older stream of the same user (replaced by a
+    // reconnection) leaves the claim and the watchers alone.
+    const std::lock_guard lock(streams_mutex_);
+    const auto open = open_streams_.find(p.rig.rig);
+    if (open == open_streams_.end() || open->second.id != p.stream_id) return;
+    open_streams_.erase(open);
+  }
   store_.end_live_rig(p.rig.rig, instance_);
   const nlohmann::json ended = {{"type", "ended"}, {"rig", p.rig.rig}};
   bus_.publish_event(std::make_shared<const std::string>(ended.dump()));

@@ -119,6 +119,11 @@ CREATE {unlogged} TABLE live_overflow (
   created_us BIGINT NOT NULL
 );
 )sql"},
+    {5, "results: the decoded run's hash, complete or cut", R"sql(
+ALTER TABLE results ADD COLUMN run_hash TEXT;
+CREATE UNIQUE INDEX results_run ON results(run_hash);
+ALTER TABLE results ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
+)sql"},
 };
 
 std::string replace_all(std::string s, const std::string& what, const std::string& with) {

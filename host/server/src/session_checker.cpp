@@ -8,7 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "record_scan.hpp"
 #include "server/server_app.hpp"
+#include "server/upload_limits.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "scenario/case_file.hpp"
@@ -151,23 +153,29 @@ class TraceObserver final : public session::TickObserver {
 
 class SessionChecker final : public RecordChecker {
  public:
+  explicit SessionChecker(UploadLimits limits) : limits_(std::move(limits)) {
+    if (!limits_.cpu_seconds) limits_.cpu_seconds = thread_cpu_seconds;
+  }
+
   Result<CheckedRecord> check(std::string_view bytes) override {
-    std::string error;
-    auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record", error);
-    if (!reader) return make_error(422, error);
-    auto replay = session::Replay::open(std::move(reader), error);
-    if (!replay) return make_error(422, error);
+    // Before anything is meshed or simulated: the run's length and hash (ticks decoded only),
+    // the tools against the case text, the vessel's size.
+    Result<RecordScan> scan = scan_record(bytes, limits_);
+    if (!scan) return scan.error();
     TraceObserver observer;  // the debrief's trace comes from this same replay
-    replay->session().add_observer(observer);
-    replay->step(-1);
-    const session::ReplayResult r = replay->result();
+    Result<std::unique_ptr<session::Replay>> replay = open(bytes, observer);
+    if (!replay) return replay.error();
+    session::Replay& run = *replay.value();
+    if (Status s = check_header_entry(run.header(), run.session().scene()); !s) return s.error();
+    if (Status s = step_within_budget(run); !s) return s.error();
+    const session::ReplayResult r = run.result();
     if (!r.error.empty()) return make_error(422, r.error);
     if (r.mismatch) {
       return make_error(422, "record: tick " + std::to_string(r.mismatch->tick) +
                                  ": state hash differs (tampered or broken)");
     }
     if (r.hashes_checked == 0) return make_error(422, "record: no state hash to check (shorter than one hash interval)");
-    const session::RecordHeader& h = replay->header();
+    const session::RecordHeader& h = run.header();
     CheckedRecord out;
     // The library names files plainly (a case names its HCLM by its plain name); a record keeps
     // the paths they were opened from.
@@ -179,30 +187,63 @@ class SessionChecker final : public RecordChecker {
     out.started_us = h.start_unix_us;
     out.duration_ms = r.ticks * h.period_us / 1000;
     out.complete = r.end.has_value();
+    out.run_hash = scan.value().run_hash;
     for (const session::NamedMetric& m : session::named_metrics(r.metrics)) out.metrics.push_back({m.name, m.value});
-    out.trace = observer.json(replay->session().scene());
+    out.trace = observer.json(run.session().scene());
     return out;
   }
 
   Result<std::string> trace(std::string_view bytes) override {
+    TraceObserver observer;
+    Result<std::unique_ptr<session::Replay>> replay = open(bytes, observer);
+    if (!replay) return replay.error();
+    if (Status s = step_within_budget(*replay.value()); !s) return s.error();
+    const session::ReplayResult r = replay.value()->result();
+    if (!r.matched()) return make_error(422, r.error.empty() ? "record: state hash differs on replay" : r.error);
+    return observer.json(replay.value()->session().scene());
+  }
+
+ private:
+  // The replay, its vessel meshed, once the header's tools and the vessel's size passed.
+  Result<std::unique_ptr<session::Replay>> open(std::string_view bytes, TraceObserver& observer) const {
     std::string error;
     auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record", error);
     if (!reader) return make_error(422, error);
+    const session::RecordHeader& h = reader->header();
+    if (Status s = check_header_tools(h); !s) return s.error();
+    const std::string vessel = std::filesystem::path(h.vessel_file).filename().string();
+    if (Status s = check_vessel_bounds(h.vessel_text, "record: " + (vessel.empty() ? std::string("vessel") : vessel), limits_); !s) {
+      return s.error();
+    }
     auto replay = session::Replay::open(std::move(reader), error);
     if (!replay) return make_error(422, error);
-    TraceObserver observer;
     replay->session().add_observer(observer);
-    replay->step(-1);
-    const session::ReplayResult r = replay->result();
-    if (!r.matched()) return make_error(422, r.error.empty() ? "record: state hash differs on replay" : r.error);
-    return observer.json(replay->session().scene());
+    return replay;
   }
 
+  // Runs the replay to its end, 1,000 ticks at a time, within the CPU budget.
+  Status step_within_budget(session::Replay& replay) const {
+    const double start_s = limits_.cpu_seconds();
+    while (!replay.done()) {
+      replay.step(kBudgetTicks);
+      const double used_s = limits_.cpu_seconds() - start_s;
+      if (used_s > limits_.max_replay_cpu_s) {
+        return make_error(413, "record: the replay passed its CPU limit of " + std::to_string(static_cast<std::int64_t>(limits_.max_replay_cpu_s)) +
+                                   " s at tick " + std::to_string(replay.session().ticks()));
+      }
+    }
+    return Ok{};
+  }
+
+  static constexpr std::int64_t kBudgetTicks = 1000;
+  UploadLimits limits_;
+
+ public:
   [[nodiscard]] std::vector<std::string> metric_names() const override { return session::metric_names(); }
 };
 
 }  // namespace
 
-std::unique_ptr<RecordChecker> make_session_checker() { return std::make_unique<SessionChecker>(); }
+std::unique_ptr<RecordChecker> make_session_checker(UploadLimits limits) { return std::make_unique<SessionChecker>(std::move(limits)); }
 
 }  // namespace cathbox::server

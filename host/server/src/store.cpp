@@ -65,7 +65,7 @@ Assignment read_assignment(const SqlRow& r) {
 
 constexpr const char* kResultSelect =
     "SELECT r.id, r.content_hash, r.user_id, u.name, r.assignment_id, r.case_name, r.case_version_id, r.started_us, "
-    "r.duration_ms, r.uploaded_us, r.record_bytes, r.passed, r.metrics FROM results r JOIN users u ON u.id = r.user_id";
+    "r.duration_ms, r.uploaded_us, r.record_bytes, r.passed, r.metrics, r.run_hash, r.complete FROM results r JOIN users u ON u.id = r.user_id";
 
 ResultRow read_result(const SqlRow& r) {
   ResultRow x;
@@ -82,6 +82,8 @@ ResultRow read_result(const SqlRow& r) {
   x.record_bytes = r.integer(10);
   if (!r.is_null(11)) x.passed = r.integer(11) != 0;
   x.metrics_json = r.text(12);
+  if (!r.is_null(13)) x.run_hash = r.text(13);
+  x.complete = r.integer(14) != 0;
   return x;
 }
 
@@ -381,11 +383,11 @@ ResultInsert Store::insert_result(const ResultRow& row, const std::vector<Metric
   db_->transact(TxMode::kWrite, [&](SqlSession& s) {
     const auto inserted = s.query_one(
         "INSERT INTO results (content_hash, user_id, assignment_id, case_name, case_version_id, started_us, duration_ms, "
-        "uploaded_us, record_bytes, passed, metrics) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11) "
-        "ON CONFLICT (content_hash) DO NOTHING RETURNING id",
+        "uploaded_us, record_bytes, passed, metrics, run_hash, complete) VALUES ($1, $2, $3, $4, $5, $6, $7, $8, $9, $10, $11, "
+        "$12, $13) ON CONFLICT DO NOTHING RETURNING id",
         {row.content_hash, row.user_id, opt(row.assignment_id), row.case_name, opt(row.case_version_id), row.started_us,
          row.duration_ms, row.uploaded_us, row.record_bytes, row.passed ? SqlValue(I{*row.passed ? 1 : 0}) : SqlValue(nullptr),
-         row.metrics_json});
+         row.metrics_json, row.run_hash.empty() ? SqlValue(nullptr) : SqlValue(row.run_hash), I{row.complete ? 1 : 0}});
     if (inserted) {
       const I id = inserted->integer(0);
       (void)s.query("INSERT INTO result_records (result_id, record) VALUES ($1, $2)", {id, Blob{record}});
@@ -394,7 +396,9 @@ ResultInsert Store::insert_result(const ResultRow& row, const std::vector<Metric
       }
       out.created = true;
     }
-    const auto stored = s.query_one(std::string(kResultSelect) + " WHERE r.content_hash = $1", {row.content_hash});
+    // The same bytes, or (a conflict on the run) the same run re-encoded.
+    const auto stored = s.query_one(std::string(kResultSelect) + " WHERE r.content_hash = $1 OR r.run_hash = $2 ORDER BY r.id LIMIT 1",
+                                    {row.content_hash, row.run_hash});
     out.row = read_result(*stored);
   });
   return out;
@@ -406,6 +410,10 @@ std::optional<ResultRow> Store::result(I id) {
 
 std::optional<ResultRow> Store::result_by_hash(const std::string& content_hash) {
   return read_one(*db_, std::string(kResultSelect) + " WHERE r.content_hash = $1", {content_hash}, read_result);
+}
+
+std::optional<ResultRow> Store::result_by_run(const std::string& run_hash) {
+  return read_one(*db_, std::string(kResultSelect) + " WHERE r.run_hash = $1", {run_hash}, read_result);
 }
 
 std::vector<ResultRow> Store::list_results(const ResultFilter& f) {

@@ -34,6 +34,29 @@ glm::dvec3 along(const vessel::Segment& s, double fraction) {
 
 }  // namespace
 
+std::optional<Entry> default_entry(const vessel::VesselModel& smoothed, const collision::ObbTree& tree) {
+  // The start of the root segment (the first without parents), along it.
+  const vessel::Segment* root = nullptr;
+  for (const vessel::Segment& s : smoothed.segments) {
+    if (s.parents.empty() && s.points.size() >= 2) {
+      root = &s;
+      break;
+    }
+  }
+  if (root == nullptr) return std::nullopt;
+  Entry entry;
+  entry.point_mm = root->points[0].pos_mm;
+  entry.direction = glm::normalize(root->points[1].pos_mm - root->points[0].pos_mm);
+  // The root's first point lies on its end cap: step in until well inside the lumen.
+  const double inside = 0.5 * root->points[0].radius_mm;
+  for (int i = 0; i < 40; ++i) {
+    const std::optional<double> d = tree.signed_distance(entry.point_mm);
+    if (d && *d < -inside) break;
+    entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
+  }
+  return entry;
+}
+
 WorldBuild build_world(const Case& c) {
   if (!c.tubes.empty()) return build_world(c, {});
   std::ifstream in(c.vessel_path, std::ios::binary);
@@ -57,27 +80,11 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel
   if (!surface.ok()) return base::Error{c.vessel_path + ": " + surface.error};
   collision::TreeBuild tree = collision::ObbTree::build(surface.mesh);
   if (!tree) return base::Error{c.vessel_path + ":0: vessel surface rejected by the collision tree: " + tree.error().message};
-  // Default entry: the start of the root segment (the first without parents), along it.
-  const vessel::Segment* root = nullptr;
-  for (const vessel::Segment& s : surface.smoothed.segments) {
-    if (s.parents.empty() && s.points.size() >= 2) {
-      root = &s;
-      break;
-    }
-  }
   Entry entry;
   if (c.entry) {
     entry = *c.entry;
-  } else if (root != nullptr) {
-    entry.point_mm = root->points[0].pos_mm;
-    entry.direction = glm::normalize(root->points[1].pos_mm - root->points[0].pos_mm);
-    // The root's first point lies on its end cap: step in until well inside the lumen.
-    const double inside = 0.5 * root->points[0].radius_mm;
-    for (int i = 0; i < 40; ++i) {
-      const std::optional<double> d = tree->signed_distance(entry.point_mm);
-      if (d && *d < -inside) break;
-      entry.point_mm += entry.direction * (0.25 * root->points[0].radius_mm);
-    }
+  } else if (const std::optional<Entry> fallback = default_entry(surface.smoothed, *tree)) {
+    entry = *fallback;
   } else {
     return base::Error{c.vessel_path + ":0: the vessel has no root segment to enter"};
   }

@@ -272,7 +272,7 @@ TEST_P(ApiTest, RecordsForAnotherCaseThanTheAssignmentsAreRefused) {
   const ApiResponse r = f_->call("POST", "/api/v1/results?assignment=" + std::to_string(a["id"].get<int>()),
                                  FakeRecords::make("neuro", {{"target_reached", 1}}), alice_);
   EXPECT_EQ(r.status, 422);
-  EXPECT_EQ(error_of(r), "record: its case and HCLM (neuro.case) match no version of the library by content hash; the assignment is for case 'ybif'");
+  EXPECT_EQ(error_of(r), "record: header field 'case_text' (neuro.case) is not the assignment's case 'ybif' version 1 (by content hash)");
 }
 
 TEST_P(ApiTest, UnknownEndpointsAndMethods) {

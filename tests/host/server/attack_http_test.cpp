@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "server/client.hpp"
+#include "server/clock.hpp"
 #include "support/server_fixture.hpp"
 
 namespace cathbox::server {
@@ -84,25 +85,99 @@ TEST_P(AttackHttpTest, PagesCarryAStrictPolicy) {
   }
 }
 
-TEST_P(AttackHttpTest, AWatchersSocketClosesWhenItsTokenIsRevoked) {
+// True once the socket is closed by the server: reads until a close (bounded: a few reads that
+// each wait for the server's answer, never a sleep).
+bool closed_by_server(WsClient& ws, std::string& why) {
+  for (int i = 0; i < 5; ++i) {
+    why.clear();
+    if (!ws.read(5000, &why) && why != "timeout") return true;
+  }
+  return false;
+}
+
+// True while the socket answers: a message the server refuses comes back as an error line (and
+// counts as activity).
+bool answers(WsClient& ws, std::string& why) { return ws.send(R"({"type":"nonsense"})") && ws.read(5000, &why).has_value(); }
+
+// Virtual time: the server's clock is a ManualClock and the test sweeps the sockets itself.
+test::ServerOptions on_clock(ManualClock& clock) {
   test::ServerOptions options;
-  options.ws_recheck_s = 1;
-  RunningServer server(GetParam(), options);
-  const std::string alice = server.token_for("alice", Role::kTrainee);
+  options.clock = &clock;
+  return options;
+}
+
+TEST_P(AttackHttpTest, AWatchersSocketClosesWhenItsTokenIsRevoked) {
+  ManualClock clock;
+  RunningServer server(GetParam(), on_clock(clock));
+  const std::string teacher = server.token_for("teacher", Role::kInstructor);
   WsClient watcher;
-  ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch", alice));
+  ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch", teacher));
   std::string error;
   ASSERT_TRUE(watcher.read(10000, &error)) << error;  // the rig list
   HttpClient http(server.base_url());
-  http.set_token(alice);
+  http.set_token(teacher);
   ASSERT_EQ(http.post_json("/api/v1/logout", "").status, 204);
-  // Closed within a few rechecks (bounded: at most 10 reads of 1 s each).
-  bool closed = false;
-  for (int i = 0; i < 10 && !closed; ++i) {
-    error.clear();
-    closed = !watcher.read(1000, &error) && error != "timeout";
+  // Not yet due: a sweep now leaves it open (it still answers).
+  server.app->http().sweep();
+  ASSERT_TRUE(answers(watcher, error)) << error;
+  clock.advance_us(10'000'000);  // the recheck is due (ws_recheck_s = 10)
+  server.app->http().sweep();
+  EXPECT_TRUE(closed_by_server(watcher, error)) << error;
+}
+
+// Idle sockets are evicted on the server's clock: a rig's stream that sends nothing (its rig name
+// is released) and a trainee's watcher that watches nothing; an instructor's watcher stays.
+TEST_P(AttackHttpTest, IdleWebSocketsAreEvicted) {
+  ManualClock clock;
+  RunningServer server(GetParam(), on_clock(clock));
+  const std::string alice = server.token_for("alice", Role::kTrainee);
+  const std::string bob = server.token_for("bob", Role::kTrainee);
+  const std::string teacher = server.token_for("teacher", Role::kInstructor);
+  WsClient stream, idle_watcher, instructor;
+  std::string error;
+  ASSERT_TRUE(instructor.connect(server.base_url(), "/api/v1/live/watch", teacher));
+  ASSERT_TRUE(instructor.read(5000, &error)) << error;  // the rig list
+  ASSERT_TRUE(stream.connect(server.base_url(), "/api/v1/live/rigs/rig-07/stream?case=ybif", alice));
+  ASSERT_TRUE(instructor.read(5000, &error)) << error;  // alice's stream started
+  ASSERT_TRUE(idle_watcher.connect(server.base_url(), "/api/v1/live/watch", bob));
+  ASSERT_TRUE(idle_watcher.read(5000, &error)) << error;  // the rig list
+  clock.advance_us(59'000'000);
+  server.app->http().sweep();
+  ASSERT_TRUE(answers(idle_watcher, error)) << error;  // still open, and now active again
+  clock.advance_us(2'000'000);  // the stream: 61 s without a frame; the watcher: 2 s
+  server.app->http().sweep();
+  EXPECT_TRUE(closed_by_server(stream, error)) << error;
+  ASSERT_TRUE(answers(idle_watcher, error)) << error;
+  clock.advance_us(60'000'000);
+  server.app->http().sweep();
+  EXPECT_TRUE(closed_by_server(idle_watcher, error)) << error;
+  // The instructor's watcher is still open (it answers) and saw the stream end.
+  bool ended = false;
+  for (int i = 0; i < 5 && !ended; ++i) {
+    const std::optional<std::string> m = instructor.read(5000, &error);
+    ASSERT_TRUE(m) << error;
+    ended = m->find(R"("type":"ended")") != std::string::npos;
   }
-  EXPECT_TRUE(closed) << error;
+  EXPECT_TRUE(ended);
+  // The evicted stream's rig name is free for another account.
+  WsClient other;
+  EXPECT_TRUE(other.connect(server.base_url(), "/api/v1/live/rigs/rig-07/stream?case=ybif", bob));
+}
+
+TEST_P(AttackHttpTest, OneAccountHoldsALimitedNumberOfWebSockets) {
+  test::ServerOptions options;
+  options.max_websockets_per_account = 2;
+  RunningServer server(GetParam(), options);
+  const std::string alice = server.token_for("alice", Role::kInstructor);
+  const std::string bob = server.token_for("bob", Role::kInstructor);
+  WsClient a1, a2, a3, b1;
+  ASSERT_TRUE(a1.connect(server.base_url(), "/api/v1/live/watch", alice));
+  ASSERT_TRUE(a2.connect(server.base_url(), "/api/v1/live/watch", alice));
+  const Status third = a3.connect(server.base_url(), "/api/v1/live/watch", alice);
+  ASSERT_FALSE(third);
+  EXPECT_NE(third.error().message.find("429"), std::string::npos) << third.error().message;
+  EXPECT_NE(third.error().message.find("live connections already"), std::string::npos) << third.error().message;
+  EXPECT_TRUE(b1.connect(server.base_url(), "/api/v1/live/watch", bob));  // another account is not held back
 }
 
 TEST_P(AttackHttpTest, TheWatchTokenTravelsInAHeaderNotTheUrl) {

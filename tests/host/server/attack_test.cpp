@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include "server/live_hub.hpp"
 #include "server/live_schema.hpp"
+#include "server/live_service.hpp"
 #include "support/api_fixture.hpp"
 
 namespace cathbox::server {
@@ -37,7 +39,7 @@ class AttackTest : public test::CentreTest {
 TEST_P(AttackTest, AForeignCaseNamedLikeTheLibrarysIsNeitherFiledUnderItNorGraded) {
   const ApiResponse graded = f_->call("POST", assign("alice"), forged("ybif"), alice_);
   EXPECT_EQ(graded.status, 422) << graded.body;
-  EXPECT_EQ(error_of(graded), "record: its case and HCLM (ybif.case) match no version of the library by content hash; the assignment is for case 'ybif'");
+  EXPECT_EQ(error_of(graded), "record: header field 'case_text' (ybif.case) is not the assignment's case 'ybif' version 1 (by content hash)");
   const ApiResponse kept = f_->call("POST", "/api/v1/results", forged("ybif"), alice_);
   ASSERT_EQ(kept.status, 201) << kept.body;
   EXPECT_EQ(json::parse(kept.body)["case"], "unlisted:ybif");
@@ -114,6 +116,96 @@ TEST_P(AttackTest, TwoAdminsDemotingEachOtherAtOnceLeaveOneAdmin) {
     // longer an admin (403).
     EXPECT_FALSE(ra.status == 200 && rb.status == 200) << ra.status << " " << rb.status;
   }
+}
+
+// A subscriber that keeps what it is given (the hub calls deliver() under its lock: no blocking).
+class Inbox final : public LiveSubscriber {
+ public:
+  void deliver(const LiveMessage& message) override { got.push_back(*message); }
+  std::vector<std::string> got;
+};
+
+Caller caller_of(Store& store, const std::string& name) {
+  const std::optional<User> u = store.user_by_name(name);
+  return Caller{u->id, u->name, u->role, ""};
+}
+
+// A rig name is bound to the stream that opened it for the stream's whole life: a silent stream
+// (no frame for a minute of the server's clock) keeps it; another account gets 409 until it ends.
+TEST_P(AttackTest, ARigNameStaysWithItsOpenStreamHoweverSilent) {
+  LiveService& live = f_->core->live();
+  const Caller alice = caller_of(*f_->store, "alice"), bob = caller_of(*f_->store, "bob");
+  Result<Publisher> first = live.start(alice, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_TRUE(first) << first.error().message;
+  f_->clock.advance_us(60'000'000);  // far past the store claim's 10 s staleness
+  const Result<Publisher> hijack = live.start(bob, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_FALSE(hijack);
+  EXPECT_EQ(hijack.error().status, 409);
+  EXPECT_EQ(hijack.error().message, "rig 'rig-07' is streaming for another user");
+  // The same account reconnecting takes its rig again; the older stream's end then changes nothing.
+  Result<Publisher> again = live.start(alice, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_TRUE(again) << again.error().message;
+  live.finish(first.value());
+  EXPECT_FALSE(live.start(bob, "rig-07", "ybif", 0, std::nullopt));
+  live.finish(again.value());
+  EXPECT_TRUE(live.start(bob, "rig-07", "ybif", 0, std::nullopt));
+}
+
+// Across instances on one database the claim's age decides: the instance holding the open
+// stream refreshes its claim on its sweep (keep_claims), frames or not, so another instance
+// refuses the name for the stream's whole life; once that stream ends the name is free there.
+TEST_P(AttackTest, ASilentStreamKeepsItsRigNameOnAnotherInstance) {
+  LiveService& a = f_->core->live();
+  LiveHub hub_b;  // instance B's own hub and bus
+  LocalLiveBus bus(hub_b);
+  LiveService b(*f_->store, f_->clock, bus, "instance-b");
+  const Caller alice = caller_of(*f_->store, "alice"), bob = caller_of(*f_->store, "bob");
+  Result<Publisher> stream = a.start(alice, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_TRUE(stream) << stream.error().message;
+  for (int second = 0; second < 60; ++second) {  // a silent minute, swept every second
+    f_->clock.advance_us(1'000'000);
+    a.keep_claims();
+  }
+  const Result<Publisher> hijack = b.start(bob, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_FALSE(hijack);
+  EXPECT_EQ(hijack.error().status, 409);
+  // Without the sweep the claim goes stale after 10 s and the other instance hands the name out.
+  f_->clock.advance_us(11'000'000);
+  EXPECT_TRUE(b.start(bob, "rig-08", "ybif", 0, std::nullopt));
+  Result<Publisher> stale = b.start(bob, "rig-07", "ybif", 0, std::nullopt);
+  EXPECT_TRUE(stale) << "a claim not refreshed for 11 s is stale";
+}
+
+// A trainee's watch holds only while they stream the rig: rechecked when a stream starts on it
+// and when it ends. An instructor's watch holds through both.
+TEST_P(AttackTest, ATraineesWatchIsCheckedAgainWhenTheRigsStreamStartsAndEnds) {
+  LiveService& live = f_->core->live();
+  LiveHub& hub = f_->core->hub();
+  const Caller alice = caller_of(*f_->store, "alice"), bob = caller_of(*f_->store, "bob");
+  Result<Publisher> mine = live.start(alice, "rig-07", "ybif", 0, std::nullopt);
+  ASSERT_TRUE(mine);
+  ASSERT_TRUE(live.allowed(alice, {"rig-07"}));
+  auto trainee = std::make_shared<Inbox>();
+  auto teacher = std::make_shared<Inbox>();
+  hub.subscribe("rig-07", trainee, "alice");
+  hub.subscribe("rig-07", teacher);
+  const auto frame = [&](const std::string& text) { hub.deliver_frame("rig-07", std::make_shared<const std::string>(text)); };
+  frame("alice's frame");
+  EXPECT_EQ(trainee->got.back(), "alice's frame");
+  live.finish(mine.value());  // ended: alice no longer streams rig-07
+  ASSERT_FALSE(trainee->got.empty());
+  EXPECT_EQ(json::parse(trainee->got.back())["type"], "unwatched");
+  ASSERT_TRUE(live.start(bob, "rig-07", "ybif", 0, std::nullopt));
+  frame("bob's frame");
+  EXPECT_NE(trainee->got.back(), "bob's frame");
+  EXPECT_EQ(teacher->got.back(), "bob's frame");
+  // Subscribed again while another trainee starts streaming the rig: dropped at that start.
+  auto late = std::make_shared<Inbox>();
+  hub.subscribe("rig-08", late, "alice");
+  ASSERT_TRUE(live.start(bob, "rig-08", "ybif", 0, std::nullopt));
+  EXPECT_EQ(json::parse(late->got.back())["type"], "unwatched");
+  hub.deliver_frame("rig-08", std::make_shared<const std::string>("bob on 8"));
+  EXPECT_NE(late->got.back(), "bob on 8");
 }
 
 TEST(AttackRouting, EverySpellingOfAnUploadIsClassifiedAsOne) {

@@ -9,18 +9,13 @@
 #include <iterator>
 
 #include "server/backup.hpp"
-#include "left_branch_record.hpp"
+#include "record_files.hpp"
 #include "support/api_fixture.hpp"
 
 namespace cathbox::server::test {
 namespace {
 
 using nlohmann::json;
-
-std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 // What a centre holds, as its API shows it to an admin: users, cases, assignments, results.
 json centre_view(ApiFixture& f, const std::string& token) {
@@ -46,7 +41,7 @@ TEST_P(BackupTest, ARestoreIntoAnEmptyDatabaseIsTheSameCentreAndServesTheDebrief
                                   {{"trainee", "alice"}, {"case", "ybif"},
                                    {"criteria", json::array({{{"metric", "tip_path_mm"}, {"op", ">="}, {"value", 50}}})}},
                                   teacher, 201);
-  const std::string record = read_all(record_left_branch_to(folder + "/left.cbxrec"));
+  const std::string record = read_all(record_left_branch({}, "backup_left.cbxrec"));
   const ApiResponse stored = centre.call("POST", "/api/v1/results?assignment=" + std::to_string(a["id"].get<int>()), record, alice);
   ASSERT_EQ(stored.status, 201) << stored.body;
   const int result_id = json::parse(stored.body)["id"].get<int>();

@@ -13,27 +13,14 @@
 #include "vessel/mesh_wire.hpp"
 #include "vessel/vessel_mesher.hpp"
 #include "session/session.hpp"
-#include "left_branch_record.hpp"
 #include "support/api_fixture.hpp"
+#include "record_files.hpp"
 #include "record_tamper.hpp"
 
 namespace cathbox::server::test {
 namespace {
 
 using nlohmann::json;
-
-std::string scratch(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "server_records_test";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
-
-std::string read_all(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-std::string record_left_branch() { return record_left_branch_to(scratch("left.cbxrec")); }
 
 // The record rewritten with the held tool's insertion 1 um further from `from_tick` on.
 std::string tampered(const std::string& path, std::int64_t from_tick) {

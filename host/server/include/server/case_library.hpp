@@ -17,6 +17,7 @@
 #include "server/case_bundle.hpp"
 #include "server/result.hpp"
 #include "server/store.hpp"
+#include "server/upload_limits.hpp"
 
 namespace cathbox::server {
 
@@ -31,8 +32,9 @@ struct CaseCheck {
   std::int64_t mesh_bytes = 0;
 };
 
-// Validates a case and its HCLM (text in memory) and meshes the vessel at level 2.
-[[nodiscard]] Result<CaseCheck> check_case(const CaseBundle& bundle);
+// Validates a case and its HCLM (text in memory), checks the vessel against `limits` (413) and
+// meshes it at level 2.
+[[nodiscard]] Result<CaseCheck> check_case(const CaseBundle& bundle, const UploadLimits& limits = {});
 
 // The vessel surface for a browser (GET /cases/{name}/versions/{v}/mesh): the coarse level the
 // trainer's global view draws (subdivision level 1, 4 points a ring), little-endian binary:

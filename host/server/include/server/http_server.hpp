@@ -61,9 +61,18 @@ struct HttpServerOptions {
   // One client address may hold at most this many of them (HTTP and WebSocket together); more
   // are closed on accept. Loopback counts as one address like any other.
   std::size_t max_connections_per_address = 256;
-  // An open WebSocket's token is checked again this often: logged out, expired or disabled
-  // closes the socket (1008 policy violation).
+  // WebSockets, on the server's clock (ServerConfig::clock), looked at every sweep_every_ms
+  // (0: only when sweep() is called, for tests in virtual time):
+  // - an open WebSocket's token is checked again every ws_recheck_s: logged out, expired or
+  //   disabled closes the socket (1008 policy violation);
+  // - idle for ws_idle_timeout_s (no message either way; pings do not count) closes a rig's
+  //   stream (its rig name is released) and a trainee's watcher that watches no rig (1001 "idle");
+  //   an instructor's watcher and a watcher of rigs stay however quiet the rigs are;
+  // - one account holds at most max_websockets_per_account of them (more: 429 on the upgrade).
   int ws_recheck_s = 10;
+  int ws_idle_timeout_s = 60;
+  std::size_t max_websockets_per_account = 16;
+  int sweep_every_ms = 1000;
   std::size_t watcher_queue = 64;
   std::optional<TlsFiles> tls;  // HTTPS and wss:// (server/tls.hpp); none: plain HTTP
   bool insecure_http = false;   // allow plain HTTP on a non-loopback address (behind a TLS proxy)
@@ -96,6 +105,9 @@ class HttpServer {
   [[nodiscard]] Status reload_tls();
   [[nodiscard]] bool tls() const;
   [[nodiscard]] HttpServerStats stats() const;
+  // Looks at every open WebSocket now (idle eviction, token recheck); runs by itself every
+  // sweep_every_ms.
+  void sweep();
 
   struct Impl;
 

@@ -22,22 +22,33 @@ class LiveSubscriber {
 
 class LiveHub {
  public:
-  void subscribe(const std::string& rig, const std::shared_ptr<LiveSubscriber>& subscriber);
+  // `only_user`: a trainee's watch, good only while that user streams the rig. Rights are
+  // checked again on the rig's events: when another user's stream starts on it, or its stream
+  // ends, such subscriptions end (the subscriber is told: {"type":"unwatched","rig",...}).
+  void subscribe(const std::string& rig, const std::shared_ptr<LiveSubscriber>& subscriber, const std::string& only_user = {});
   void unsubscribe(const std::string& rig, const LiveSubscriber* subscriber);
   void subscribe_events(const std::shared_ptr<LiveSubscriber>& subscriber);
   void unsubscribe_all(const LiveSubscriber* subscriber);
 
   // Frames of `rig` to its local subscribers; events to local event subscribers.
   void deliver_frame(const std::string& rig, const LiveMessage& message);
+  // Also applies a started or ended event to the restricted subscriptions of its rig.
   void deliver_event(const LiveMessage& message);
 
   [[nodiscard]] std::size_t subscriptions() const;
 
  private:
   using Weak = std::weak_ptr<LiveSubscriber>;
-  static void send_to(std::vector<Weak>& list, const LiveMessage& message);
+  struct Subscription {
+    Weak subscriber;
+    std::string only_user;  // empty: any stream of the rig
+  };
+  template <class List>
+  static void send_to(List& list, const LiveMessage& message);
+  // Ends the restricted subscriptions of `rig` not of `streaming_user` (empty: all of them).
+  void recheck(const std::string& rig, const std::string& streaming_user);
   mutable std::mutex mutex_;
-  std::map<std::string, std::vector<Weak>> rigs_;
+  std::map<std::string, std::vector<Subscription>> rigs_;
   std::vector<Weak> events_;
 };
 

@@ -3,12 +3,16 @@
 // No sockets here: the HTTP/WebSocket layer calls these and writes what they return.
 //
 //  - A rig streams as the logged-in user: start() claims the rig name in the store (refused
-//    with 409 while another user streams on it, until that claim is 10 s stale), announces
+//    with 409 while another user streams on it, for the stream's whole life however silent:
+//    this instance refuses from its open streams, and keep_claims() refreshes their store
+//    claims so other instances, which go by the claim's age, refuse too), announces
 //    "started" to supervisors, and frame() validates each frame, stamps it and publishes it on
 //    the bus. Frames beyond max_frames_per_s are dropped (counted), not refused.
 //  - Instructors and admins may watch any rig; a trainee only a rig they stream themselves.
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -38,6 +42,7 @@ struct Publisher {
   std::uint64_t frames = 0;
   std::uint64_t dropped = 0;
   bool ended = false;
+  std::uint64_t stream_id = 0;  // this instance's open stream of the rig (LiveService)
 };
 
 class LiveService {
@@ -57,6 +62,10 @@ class LiveService {
   // True when the store's last_seen should be refreshed now (then call touch off the I/O threads).
   [[nodiscard]] bool touch_due(Publisher& publisher);
   void touch(const Publisher& publisher);
+  // Refreshes the store claim of every stream open on this instance whose claim is due
+  // (touch_every_us), frames or not: a silent stream keeps its rig name on every instance.
+  // Called on the server's sweep. Uses the store.
+  void keep_claims();
   // The stream closed (cleanly or not): forget the claim, tell supervisors. Uses the store.
   void finish(Publisher& publisher);
 
@@ -75,6 +84,16 @@ class LiveService {
   LiveBus& bus_;
   std::string instance_;
   LiveOptions options_;
+  // The streams open on this instance: rig -> its user and stream id. A rig name stays bound to
+  // its stream until the stream ends, whatever its claim's age in the store.
+  struct OpenStream {
+    std::int64_t user_id = 0;
+    std::uint64_t id = 0;
+    std::int64_t claimed_us = 0;  // the store claim's last refresh by this instance
+  };
+  std::mutex streams_mutex_;
+  std::map<std::string, OpenStream> open_streams_;
+  std::uint64_t next_stream_id_ = 0;
 };
 
 }  // namespace cathbox::server

@@ -20,6 +20,11 @@ struct CheckedRecord {
   std::vector<MetricValue> metrics;
   std::string trace;      // the debrief's trace from the same replay (see trace()); may be empty
   bool complete = true;   // false: no end block (the recorder was killed); never graded
+  // SHA-256 of the run as decoded, not of the file's bytes: the header's run fields (case and
+  // HCLM text, tools, entry, held tool, tick period, hash interval, start time) and every tick's
+  // inputs and state hash. Compression, block boundaries and the informational fields (software
+  // version, hand description, device) do not change it: the same run re-encoded is one result.
+  std::string run_hash;
 };
 
 class RecordChecker {

@@ -19,6 +19,7 @@
 #include "server/pg_live_bus.hpp"
 #include "server/record_checker.hpp"
 #include "server/store.hpp"
+#include "server/upload_limits.hpp"
 
 namespace cathbox::server {
 
@@ -108,6 +109,6 @@ class ServerApp {
 };
 
 // The record checker over host/session (null when this build has no session module).
-[[nodiscard]] std::unique_ptr<RecordChecker> make_session_checker();
+[[nodiscard]] std::unique_ptr<RecordChecker> make_session_checker(UploadLimits limits = {});
 
 }  // namespace cathbox::server

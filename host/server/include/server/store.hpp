@@ -74,6 +74,8 @@ struct MetricValue {
 struct ResultRow {
   std::int64_t id = 0;
   std::string content_hash;  // SHA-256 of the record bytes
+  std::string run_hash;      // SHA-256 of the decoded run (record_checker.hpp): one result per run
+  bool complete = true;      // false: the record has no end block (cut); for debriefs, never graded
   std::int64_t user_id = 0;
   std::string user;
   std::optional<std::int64_t> assignment_id;
@@ -89,7 +91,7 @@ struct ResultRow {
 
 struct ResultInsert {
   ResultRow row;
-  bool created = false;  // false: a record with this content hash was already stored
+  bool created = false;  // false: a record with this content hash or run hash was already stored
 };
 
 struct MetricRange {
@@ -179,6 +181,7 @@ class Store {
   [[nodiscard]] ResultInsert insert_result(const ResultRow& row, const std::vector<MetricValue>& metrics, const std::string& record);
   [[nodiscard]] std::optional<ResultRow> result(std::int64_t id);
   [[nodiscard]] std::optional<ResultRow> result_by_hash(const std::string& content_hash);
+  [[nodiscard]] std::optional<ResultRow> result_by_run(const std::string& run_hash);
   [[nodiscard]] std::vector<ResultRow> list_results(const ResultFilter& filter);
   [[nodiscard]] std::vector<MetricValue> result_metrics(std::int64_t result_id);
   [[nodiscard]] std::optional<std::string> result_record(std::int64_t result_id);

@@ -48,7 +48,8 @@ function criteriaTable(result) {
       el('td', {}, c ? c.op + ' ' + fmt(c.value, 2) : ''),
       el('td', { class: c ? (c.passed ? 'pass' : 'fail') : '' }, c ? (c.passed ? 'pass' : 'fail') : '')));
   }
-  const verdict = result.passed === null ? el('p', { class: 'muted' }, 'Not under an assignment: no pass criteria.')
+  const verdict = result.complete === false ? el('p', { class: 'fail', id: 'verdict' }, 'Cut record: ' + result.cut)
+    : result.passed === null ? el('p', { class: 'muted' }, 'Not under an assignment: no pass criteria.')
     : el('p', { class: result.passed ? 'pass' : 'fail', id: 'verdict' }, result.passed ? 'Passed' : 'Not passed');
   return [verdict, el('table', {}, el('thead', {}, el('tr', {}, ...['Metric', 'Measured', 'Criterion', ''].map((h) => el('th', {}, h)))),
     el('tbody', {}, ...rows))];

@@ -26,7 +26,8 @@ const COLUMNS = [
   { key: 'case', label: 'Case' },
   { key: 'started_at', label: 'Started', get: (r) => (r.started_at || '').slice(0, 16).replace('T', ' ') },
   { key: 'duration_s', label: 'Duration s', num: true },
-  { key: 'passed', label: 'Pass', get: (r) => (r.passed === null ? '–' : r.passed ? 'pass' : 'fail') },
+  // A cut record (no end block) is for debriefs only: never graded, and says so.
+  { key: 'passed', label: 'Pass', get: (r) => (r.complete === false ? 'cut' : r.passed === null ? '–' : r.passed ? 'pass' : 'fail') },
   { key: 'm.tip_path_mm', label: 'Tip path mm', num: true },
   { key: 'm.peak_wall_force_mN', label: 'Peak wall mN', num: true },
   { key: 'm.wall_contacts', label: 'Contacts', num: true },
@@ -82,7 +83,7 @@ export class ResultsTable {
   // Every column and every metric, as the table is sorted.
   csv() {
     const metrics = [...new Set(this.rows.flatMap((r) => Object.keys(r.metrics || {})))].sort();
-    const fields = ['id', 'trainee', 'case', 'assignment', 'started_at', 'uploaded_at', 'duration_s', 'passed'];
+    const fields = ['id', 'trainee', 'case', 'assignment', 'started_at', 'uploaded_at', 'duration_s', 'passed', 'complete'];
     const quote = (v) => {
       const s = v === null || v === undefined ? '' : String(v);
       return /[",\n]/.test(s) ? '"' + s.replace(/"/g, '""') + '"' : s;

@@ -15,6 +15,10 @@
 #include "tool/simulator.hpp"
 #include "tool/wall_model.hpp"
 
+namespace cathbox::collision {
+class ObbTree;
+}  // namespace cathbox::collision
+
 namespace cathbox::tool {
 
 class CaseWorld {
@@ -57,6 +61,10 @@ class CaseWorld {
 using WorldBuild = base::Result<std::unique_ptr<CaseWorld>>;
 
 [[nodiscard]] WorldBuild build_world(const Case& c);
+// The entry of a vessel case without an `entry` line: the start of the root segment of the
+// smoothed model, along it, stepped in until well inside the lumen (`tree`: the vessel surface's).
+// None when no segment is a root.
+[[nodiscard]] std::optional<Entry> default_entry(const vessel::VesselModel& smoothed, const collision::ObbTree& tree);
 // The same from the vessel file's text (c.vessel_path only names it in errors): a record
 // replays the HCLM it carries, whatever the file on disk holds now. With `surface_made`, the
 // vessel surface is that mesh (made natively and sent, vessel/mesh_wire.hpp) instead of meshed

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "server/json_input.hpp"
+#include "server/sha256.hpp"
 #include "scenario/case_file.hpp"
 
 namespace cathbox::server::test {
@@ -37,6 +38,11 @@ Result<CheckedRecord> FakeRecords::check(std::string_view bytes) {
   r.started_us = 1'700'000'000'000'000;
   r.duration_ms = 90'000;
   r.complete = !j.value().value("cut", false);
+  // The run: the object as parsed (key order and spacing do not count), without its "note" (an
+  // informational field).
+  nlohmann::json run = j.value();
+  run.erase("note");
+  r.run_hash = sha256_hex(run.dump());
   for (const auto& [k, v] : j.value().at("metrics").items()) r.metrics.push_back(MetricValue{k, v.get<double>()});
   return r;
 }

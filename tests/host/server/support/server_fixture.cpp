@@ -30,6 +30,12 @@ RunningServer::RunningServer(const std::string& backend, ServerOptions options) 
   if (options.idle_timeout_s > 0) config.http.idle_timeout_s = options.idle_timeout_s;
   if (options.ws_recheck_s > 0) config.http.ws_recheck_s = options.ws_recheck_s;
   if (options.max_connections_per_address > 0) config.http.max_connections_per_address = options.max_connections_per_address;
+  if (options.ws_idle_timeout_s > 0) config.http.ws_idle_timeout_s = options.ws_idle_timeout_s;
+  if (options.max_websockets_per_account > 0) config.http.max_websockets_per_account = options.max_websockets_per_account;
+  if (options.clock != nullptr) {
+    config.clock = options.clock;
+    config.http.sweep_every_ms = 0;
+  }
   config.argon2 = test_argon2_params();
   config.instance = options.instance;
   config.checker = std::make_unique<FakeRecords>();

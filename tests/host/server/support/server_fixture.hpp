@@ -19,6 +19,11 @@ struct ServerOptions {
   int idle_timeout_s = 0;            // 0: the server's default
   std::size_t max_connections_per_address = 0;  // 0: the server's default
   int ws_recheck_s = 0;                          // 0: the server's default
+  int ws_idle_timeout_s = 0;                     // 0: the server's default
+  std::size_t max_websockets_per_account = 0;    // 0: the server's default
+  // Virtual time: the server's clock, and WebSockets swept only when the test calls
+  // app->http().sweep() (no timer).
+  Clock* clock = nullptr;
   std::optional<TlsFiles> tls{};     // HTTPS (base_url() then says https://HOST:PORT)
   std::string url_host = "127.0.0.1";  // base_url()'s host (the server listens on 127.0.0.1)
 };
