@@ -11,6 +11,8 @@
 #include <iterator>
 #include <string>
 
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 
 #include "server/zstd_codec.hpp"
@@ -20,8 +22,10 @@
 
 namespace cathbox::server::test {
 
+// A folder of this process's own: CTest runs a program's SQLite and PostgreSQL variants at once.
 inline std::string scratch(const std::string& name) {
-  const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "server_records_test";
+  const std::filesystem::path dir =
+      std::filesystem::path(CATHBOX_BINARY_DIR) / ("server_records_test." + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return (dir / name).string();
 }
