@@ -38,7 +38,7 @@ grep -q "^usage: cathbox vessel validate FILE$" "$work/err" || fail "usage after
 # help, --help and the usage after an error come from one description (host/cli/include/cli/usage.hpp)
 expect 0 "$cathbox" vessel help
 cp "$work/out" "$work/help.txt"
-grep -q "^       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl \[--ring M\]" "$work/help.txt" || fail "help synopsis: $(cat "$work/help.txt")"
+grep -q "^       cathbox vessel mesh FILE -o OUT.obj|.ply|.stl|.cbxmesh \[--ring M\]" "$work/help.txt" || fail "help synopsis: $(cat "$work/help.txt")"
 grep -q -- "--radius-array NAME *the point array holding the radius" "$work/help.txt" || fail "help options: $(cat "$work/help.txt")"
 expect 0 "$cathbox" vessel --help
 cmp -s "$work/out" "$work/help.txt" || fail "vessel --help differs from vessel help"
