@@ -59,6 +59,11 @@ void ActionScriptHand::controls(std::int64_t tick, ControlSink& sink) {
                                                                       : BalloonOp::kDeflate;
     sink.push(Control::balloon(a.tool, op, a.value));
   }
+  for (std::size_t i = 0; i < step.clot_device_count; ++i) {  // aspiration / balloon_guide: the thrombectomy unit's
+    const tool::ScriptPlayer::DeviceAction& a = step.clot_devices[i];
+    const bool on = a.value != 0.0;
+    sink.push(a.kind == tool::ActionKind::kAspiration ? Control::aspiration(a.tool, on) : Control::balloon_guide(a.tool, on));
+  }
   if (step.ended) {
     ended_ = true;
     finished_ = true;

@@ -18,13 +18,15 @@ const char* control_kind_name(std::uint16_t kind) {
     case ControlKind::kDetachCoil: return "detach_coil";
     case ControlKind::kBalloon: return "balloon";
     case ControlKind::kLoadCoil: return "load_coil";
+    case ControlKind::kAspiration: return "aspiration";
+    case ControlKind::kBalloonGuide: return "balloon_guide";
   }
   return nullptr;
 }
 
 bool known_control_kind(std::uint16_t kind) { return control_kind_name(kind) != nullptr; }
 
-const char* known_control_kinds() { return "16, 32-37, 64-66"; }
+const char* known_control_kinds() { return "16, 32-37, 64-68"; }
 
 Control Control::make(std::uint16_t kind, std::span<const std::uint8_t> bytes) {
   assert(bytes.size() <= kMaxPayload);
@@ -69,6 +71,16 @@ Control Control::detach_coil(std::size_t tool) {
 Control Control::load_coil(std::size_t tool) {
   const auto b = static_cast<std::uint8_t>(tool);
   return make(static_cast<std::uint16_t>(ControlKind::kLoadCoil), std::span(&b, 1));
+}
+
+Control Control::aspiration(std::size_t tool, bool on) {
+  const std::array<std::uint8_t, 2> b{static_cast<std::uint8_t>(tool), static_cast<std::uint8_t>(on ? 1 : 0)};
+  return make(static_cast<std::uint16_t>(ControlKind::kAspiration), b);
+}
+
+Control Control::balloon_guide(std::size_t tool, bool inflate) {
+  const std::array<std::uint8_t, 2> b{static_cast<std::uint8_t>(tool), static_cast<std::uint8_t>(inflate ? 1 : 0)};
+  return make(static_cast<std::uint16_t>(ControlKind::kBalloonGuide), b);
 }
 
 }  // namespace cathbox::session

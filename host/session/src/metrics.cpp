@@ -193,6 +193,22 @@ std::string MetricsCollector::format(const Metrics& m) {
     const std::optional<double> risk = m.rupture_risk_events ? std::optional<double>(*m.rupture_risk_events) : std::nullopt;
     optional_figure("rupture-risk events", risk, "");
   }
+  if (m.thrombectomy) {  // a thrombectomy case: its figures, else no lines at all
+    const ThrombectomyFigures& t = *m.thrombectomy;
+    appendf(out, "%-21s %d\n", "passes", t.passes);
+    for (std::size_t i = 0; i < std::min<std::size_t>(static_cast<std::size_t>(t.passes), ThrombectomyFigures::kMaxPasses); ++i) {
+      appendf(out, "eTICI after pass %-4zu %s (%.0f %%)\n", i + 1, std::string(flow::etici_label(t.etici_after_pass[i])).c_str(),
+              t.reperfused_pct_after_pass[i]);
+    }
+    appendf(out, "%-21s %s (%.0f %%)\n", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
+    appendf(out, "%-21s %s\n", "first-pass effect", t.first_pass_effect ? "yes" : "no");
+    appendf(out, "%-21s %d (%d to new territories)\n", "emboli", t.emboli, t.emboli_new_territory);
+    if (t.time_to_reperfusion_us >= 0) {
+      appendf(out, "%-21s %.1f s\n", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
+    } else {
+      appendf(out, "%-21s n/a\n", "time to reperfusion");
+    }
+  }
   return out;
 }
 
@@ -265,6 +281,20 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.balloon_inflations) add("balloon_inflations", *m.balloon_inflations);
   if (m.balloon_inflated_s) add("balloon_inflated_s", *m.balloon_inflated_s);
   if (m.rupture_risk_events) add("rupture_risk_events", *m.rupture_risk_events);
+  if (m.thrombectomy) {  // eTICI as its ordinal: 0, 1, 2a = 2, 2b50 = 3, 2b67 = 4, 2c = 5, 3 = 6
+    const ThrombectomyFigures& t = *m.thrombectomy;
+    add("thrombectomy_passes", t.passes);
+    const std::size_t graded = std::min<std::size_t>(static_cast<std::size_t>(t.passes), ThrombectomyFigures::kMaxPasses);
+    for (std::size_t i = 0; i < graded; ++i) {
+      out.push_back({"etici_pass_" + std::to_string(i + 1), static_cast<double>(t.etici_after_pass[i])});
+    }
+    add("etici_final", static_cast<double>(t.etici_final));
+    add("reperfused_pct_final", t.reperfused_pct_final);
+    add("first_pass_effect", t.first_pass_effect ? 1.0 : 0.0);
+    add("emboli", t.emboli);
+    add("emboli_new_territory", t.emboli_new_territory);
+    if (t.time_to_reperfusion_us >= 0) add("time_to_reperfusion_s", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
+  }
   return out;
 }
 
@@ -275,7 +305,9 @@ std::vector<std::string> metric_names() {
           "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
-          "rupture_risk_events"};
+          "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
+          "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",
+          "first_pass_effect", "emboli", "emboli_new_territory", "time_to_reperfusion_s"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

@@ -191,6 +191,14 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
     fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool, pose);
     for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
     fluoro_->fill(metrics_);
+    std::string why_not;
+    thrombectomy_ = ThrombectomyUnit::make(*scene_->flow, scene_->spec, events_, why_not);
+    if (thrombectomy_) {
+      for (const ControlKind k : ThrombectomyUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *thrombectomy_);
+      metrics_.set_thrombectomy(thrombectomy_->figures());
+    } else if (!why_not.empty()) {
+      log("no thrombectomy grading: %s", why_not.c_str());
+    }
   } else if (!scene_->flow_error.empty()) {
     log("no fluoroscopy: %s", scene_->flow_error.c_str());
   }
@@ -208,6 +216,8 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   add_control_handler(static_cast<std::uint16_t>(ControlKind::kBalloon), *balloon_control_);
   // Angioplasty goes on at the target (the lesion): the balloon is inflated there.
   if (angioplasty_) options_.end_at_target = false;
+  // Thrombectomy goes on at the target (the clot): passes are made there.
+  if (thrombectomy_) options_.end_at_target = false;
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 
   const std::size_t nodes = options_.max_nodes_per_tool;
@@ -217,6 +227,7 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
     s.fluoro.reserve(cells, nodes);
   });
   sim_->copy_snapshot(snap_);
+  if (thrombectomy_) thrombectomy_->tick(0, snap_);  // the tips, before the first control
   // The hand sees where the tool starts before the first tick.
   HandFeedback fb;
   fb.tick = -1;
@@ -384,6 +395,10 @@ bool Session::tick() {
   sim_->copy_snapshot(snap_);
   // The fluoroscopy unit and the contrast, to the end of this tick.
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
+  if (thrombectomy_) {
+    thrombectomy_->tick(n * options_.period_us, snap_);
+    metrics_.set_thrombectomy(thrombectomy_->figures());
+  }
   // 4. What the hand feels.
   const std::size_t held_index = input_.held;
   const tool::ToolSnapshot& held = snap_.tools[held_index];

@@ -96,6 +96,15 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
     } else if (verb == "deflate") {
       if (w.size() != 2) return fail("deflate: takes no arguments");
       a.kind = ActionKind::kDeflate;
+    } else if (verb == "aspiration" || verb == "balloon_guide") {
+      const bool asp = verb == "aspiration";
+      a.kind = asp ? ActionKind::kAspiration : ActionKind::kBalloonGuide;
+      const std::string_view yes = asp ? "on" : "inflate";
+      const std::string_view no = asp ? "off" : "deflate";
+      if (w.size() != 3 || (w[2] != yes && w[2] != no)) {
+        return fail(std::string(verb) + ": expected '" + std::string(yes) + "' or '" + std::string(no) + "'");
+      }
+      a.value = w[2] == yes ? 1.0 : 0.0;
     } else if (verb == "carm") {
       a.kind = ActionKind::kCArm;
       if (w.size() != 4) return fail("carm: expected LAO_DEG CRANIAL_DEG (negative for RAO / caudal)");
@@ -110,7 +119,7 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
       const bool rotate = verb == "rotate_to" || verb == "rotate_by";
       if (!insert && !rotate) {
         return fail("unknown verb '" + std::string(verb) +
-                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate)");
+                    "' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate aspiration balloon_guide)");
       }
       a.kind = verb == "insert_to" ? ActionKind::kInsertTo
                : verb == "insert_by" ? ActionKind::kInsertBy

@@ -103,6 +103,7 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
     const Action& a = actions_[next_];
     const std::size_t t = selected_;
     if (is_balloon(a.kind) && step.device_count == kMaxDeviceActions) break;
+    if (is_thrombectomy(a.kind) && step.clot_device_count == kMaxDeviceActions) break;
     switch (a.kind) {
       case ActionKind::kSelect:
         selected_ = static_cast<std::size_t>(std::find(names_.begin(), names_.end(), a.tool) - names_.begin());
@@ -145,6 +146,10 @@ ScriptPlayer::Step ScriptPlayer::advance(std::int64_t now_ms) {
       case ActionKind::kInflateVolume:
       case ActionKind::kDeflate:
         step.devices[step.device_count++] = DeviceAction{a.kind, a.value, t, a.line};
+        break;
+      case ActionKind::kAspiration:
+      case ActionKind::kBalloonGuide:
+        step.clot_devices[step.clot_device_count++] = DeviceAction{a.kind, a.value, t, a.line};
         break;
     }
   }

@@ -94,7 +94,13 @@ const char* const kShapes = R"({
                      "coil_length_mm": "number|null", "coil_herniations": "integer|null",
                      "kick_back_mm": "number|null", "stenosis_before_pct": "number|null",
                      "residual_stenosis_pct": "number|null", "balloon_inflations": "integer|null",
-                     "balloon_inflated_s": "number|null", "rupture_risk_events": "integer|null"}
+                     "balloon_inflated_s": "number|null", "rupture_risk_events": "integer|null",
+                     "thrombectomy": {"?": true, "passes": "integer",
+                                      "etici_per_pass": [{"etici": "string", "reperfused_pct": "number"}],
+                                      "etici_final": "string", "reperfused_pct_final": "number",
+                                      "first_pass_effect": "boolean", "emboli": "integer",
+                                      "emboli_new_territory": "integer", "emboli_lodged": ["string"],
+                                      "time_to_reperfusion_s": "number|null"}}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

@@ -42,7 +42,7 @@ TEST(CathboxSimRun, BadScriptIsAFileLineErrorWithExitCode2) {
                 kTmp + "bad.err"),
             2);
   EXPECT_EQ(slurp(kTmp + "bad.err"),
-            script + ":2: unknown verb 'turn' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate)\n");
+            script + ":2: unknown verb 'turn' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate aspiration balloon_guide)\n");
 }
 
 // A coil tool and a declared sac: a detach too early is a file:line note and the run goes on;

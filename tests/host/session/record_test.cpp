@@ -276,7 +276,7 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
   EXPECT_FALSE(r->next(t));
   EXPECT_EQ(r->error(), "new.cbxrec: byte " + std::to_string(block_at) +
                             ": tick 0, offset 12 of the block's data: unknown kind " + std::to_string(kind) +
-                            " (a newer record? this build knows 1-4 and controls 16, 32-37, 64-66)");
+                            " (a newer record? this build knows 1-4 and controls 16, 32-37, 64-68)");
 }
 
 INSTANTIATE_TEST_SUITE_P(Record, UnknownKind, ::testing::Values(99, 38));

@@ -135,7 +135,7 @@ TEST_P(ActionScriptErrors, NameFileAndLine) {
 INSTANTIATE_TEST_SUITE_P(
     Bad, ActionScriptErrors,
     ::testing::Values(
-        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate)"},
+        BadScript{"0 jump 3\n", "s.actions:1: unknown verb 'jump' (known: select insert_to insert_by rotate_to rotate_by end fluoro inject carm roadmap detach load_coil inflate deflate aspiration balloon_guide)"},
         BadScript{"0 fluoro maybe\n", "s.actions:1: fluoro: expected 'on' or 'off'"},
         BadScript{"0 roadmap now\n", "s.actions:1: roadmap: expected nothing, 'on' or 'off'"},
         BadScript{"0 inject 0\n", "s.actions:1: inject: volume must be in (0, 100] mL"},

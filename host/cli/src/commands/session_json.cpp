@@ -1,5 +1,6 @@
 #include "session_json.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "session/control.hpp"
@@ -135,6 +136,25 @@ json metrics_json(const session::ReplayResult& r) {
   // Per tool: the share of its steps that ran out of Newton iterations (%).
   json unconverged = json::object();
   for (const session::ToolConvergence& c : m.convergence) unconverged[c.tool] = c.unconverged_pct();
+  // A thrombectomy case's figures (host/session/README.md, "Thrombectomy"), else null.
+  json thrombectomy = nullptr;
+  if (m.thrombectomy) {
+    const session::ThrombectomyFigures& t = *m.thrombectomy;
+    json passes = json::array();
+    const std::size_t graded = std::min<std::size_t>(static_cast<std::size_t>(t.passes), session::ThrombectomyFigures::kMaxPasses);
+    for (std::size_t i = 0; i < graded; ++i) {
+      passes.push_back({{"etici", std::string(flow::etici_label(t.etici_after_pass[i]))}, {"reperfused_pct", t.reperfused_pct_after_pass[i]}});
+    }
+    thrombectomy = {{"passes", t.passes},
+                    {"etici_per_pass", passes},
+                    {"etici_final", std::string(flow::etici_label(t.etici_final))},
+                    {"reperfused_pct_final", t.reperfused_pct_final},
+                    {"first_pass_effect", t.first_pass_effect},
+                    {"emboli", t.emboli},
+                    {"emboli_new_territory", t.emboli_new_territory},
+                    {"emboli_lodged", t.emboli_lodged},
+                    {"time_to_reperfusion_s", or_null(t.time_to_reperfusion_us >= 0, static_cast<double>(t.time_to_reperfusion_us) * 1e-6)}};
+  }
   return {{"ticks", r.ticks},
           {"hashes_checked", r.hashes_checked},
           {"procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6},
@@ -167,7 +187,8 @@ json metrics_json(const session::ReplayResult& r) {
           {"residual_stenosis_pct", optional_number(m.residual_stenosis_pct)},
           {"balloon_inflations", m.balloon_inflations ? json(*m.balloon_inflations) : json(nullptr)},
           {"balloon_inflated_s", optional_number(m.balloon_inflated_s)},
-          {"rupture_risk_events", m.rupture_risk_events ? json(*m.rupture_risk_events) : json(nullptr)}};
+          {"rupture_risk_events", m.rupture_risk_events ? json(*m.rupture_risk_events) : json(nullptr)},
+          {"thrombectomy", thrombectomy}};
 }
 
 }  // namespace cathbox::cli

@@ -45,6 +45,8 @@ enum class ControlKind : std::uint16_t {
   kDetachCoil = 64,  // payload: u8 index of the coil tool whose coil is released
   kBalloon = 65,     // payload: u8 tool index, u8 BalloonOp, f64 value (atm or ml; 0 for deflate)
   kLoadCoil = 66,    // payload: u8 index of the coil tool that takes its next coil (old pusher out)
+  kAspiration = 67,   // payload: u8 index of the aspiration catheter, u8 1 on / 0 off (thrombectomy_unit.hpp)
+  kBalloonGuide = 68, // payload: u8 index of the balloon guide catheter, u8 1 inflate / 0 deflate
 };
 
 // What a kBalloon control asks of the inflation device.
@@ -53,9 +55,10 @@ enum class BalloonOp : std::uint8_t { kInflatePressure = 0, kInflateVolume = 1, 
 // True for the kinds this build knows how to replay.
 [[nodiscard]] bool known_control_kind(std::uint16_t kind);
 // A known kind's name ("select_tool", "fluoro_pedal", "inject", "carm_angles", "carm_geometry",
-// "pulse_rate", "roadmap", "detach_coil", "balloon", "load_coil"), null for others.
+// "pulse_rate", "roadmap", "detach_coil", "balloon", "load_coil", "aspiration", "balloon_guide"),
+// null for others.
 [[nodiscard]] const char* control_kind_name(std::uint16_t kind);
-// The known kinds as text, for errors: "16, 32-37, 64-66".
+// The known kinds as text, for errors: "16, 32-37, 64-68".
 [[nodiscard]] const char* known_control_kinds();
 
 struct Control {
@@ -72,6 +75,8 @@ struct Control {
   [[nodiscard]] static Control detach_coil(std::size_t tool);
   [[nodiscard]] static Control load_coil(std::size_t tool);
   [[nodiscard]] static Control balloon(std::size_t tool, BalloonOp op, double value);
+  [[nodiscard]] static Control aspiration(std::size_t tool, bool on);
+  [[nodiscard]] static Control balloon_guide(std::size_t tool, bool inflate);
 };
 
 // What a handler may touch while it applies a control (haptic thread, between two ticks).

@@ -41,9 +41,30 @@
 
 #include <glm/vec3.hpp>
 
+#include "flow/reperfusion.hpp"
 #include "tool/angioplasty.hpp"
 
 namespace cathbox::session {
+
+// A thrombectomy case's figures (the session's ThrombectomyUnit, thrombectomy_unit.hpp): passes,
+// eTICI after each (graded from the flow network, Liebeskind et al. JNIS 2019), the first-pass
+// effect (eTICI >= 2c after pass 1), emboli (lodged fragments) and those to new territories,
+// the time from the start of the run to reperfusion (the end of the first pass reaching
+// eTICI >= 2b50).
+struct ThrombectomyFigures {
+  static constexpr std::size_t kMaxPasses = 8;  // passes beyond are counted, not graded one by one
+  int passes = 0;
+  std::array<flow::Etici, kMaxPasses> etici_after_pass{};
+  std::array<double, kMaxPasses> reperfused_pct_after_pass{};
+  flow::Etici etici_final = flow::Etici::k0;
+  double reperfused_pct_final = 0.0;
+  bool first_pass_effect = false;
+  int emboli = 0;
+  int emboli_new_territory = 0;
+  std::vector<std::string> emboli_lodged;  // per embolus: the segment it lodged in, in order
+  std::int64_t time_to_reperfusion_us = -1;  // -1: not reperfused
+  friend bool operator==(const ThrombectomyFigures&, const ThrombectomyFigures&) = default;
+};
 
 // One tool's convergence over the run (the session's ContactReadings counts).
 struct ToolConvergence {
@@ -93,6 +114,8 @@ struct Metrics {
   std::optional<int> balloon_inflations;
   std::optional<double> balloon_inflated_s;
   std::optional<int> rupture_risk_events;
+  // Filled by the session when the case has clots (a thrombectomy case).
+  std::optional<ThrombectomyFigures> thrombectomy;
 };
 
 // What the metrics look at in one tick.
@@ -148,6 +171,8 @@ class MetricsCollector {
   void set_convergence(std::size_t t, std::string_view tool, std::int64_t solved_ticks, std::int64_t unconverged_ticks);
   // The angioplasty figures, from the session's tool::Angioplasty after each tick.
   void set_angioplasty(const tool::AngioplastyFigures& f);
+  // The thrombectomy figures, from the session's ThrombectomyUnit after each tick.
+  void set_thrombectomy(const ThrombectomyFigures& f) { m_.thrombectomy = f; }
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }
   [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }

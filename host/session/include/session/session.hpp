@@ -36,6 +36,7 @@
 #include "session/scene_snapshot.hpp"
 #include "session/session_case.hpp"
 #include "session/snapshot_exchange.hpp"
+#include "session/thrombectomy_unit.hpp"
 #include "tool/coil_metrics.hpp"
 #include "tool/angioplasty.hpp"
 #include "tool/simulator.hpp"
@@ -129,6 +130,8 @@ class Session {
   [[nodiscard]] record::EndReason end_reason() const { return end_reason_; }
   // The fluoroscopy unit (null without a vessel network).
   [[nodiscard]] const FluoroUnit* fluoro() const { return fluoro_.get(); }
+  // The thrombectomy unit (null without clots in a vessel network).
+  [[nodiscard]] const ThrombectomyUnit* thrombectomy() const { return thrombectomy_.get(); }
   [[nodiscard]] const std::string& end_text() const { return end_text_; }
 
  private:
@@ -176,6 +179,7 @@ class Session {
   std::unique_ptr<SelectTool> select_tool_;
   bool every_law_ = false;  // the hand feels every tool's law (a box per tool), not only the held one's
   std::unique_ptr<FluoroUnit> fluoro_;
+  std::unique_ptr<ThrombectomyUnit> thrombectomy_;  // a case with clots (thrombectomy_unit.hpp)
   std::unique_ptr<DetachCoil> detach_coil_;
   std::unique_ptr<LoadCoil> load_coil_;
   std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac

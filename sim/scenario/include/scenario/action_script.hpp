@@ -19,6 +19,9 @@
 //   13000      detach                        # coil: release the selected coil tool's coil
 //   13100      load_coil                     # coil: withdraw the released coil's pusher and feed
 //                                            # the tool's next coil (the case's next_coil) at the hub
+//   # thrombectomy (the session acts on these; `cathbox sim run` skips them)
+//   14000      aspiration on                 # the selected catheter's vacuum on (off: off)
+//   14000      balloon_guide inflate         # the selected guide's balloon: flow arrest (deflate)
 //
 // Times are milliseconds of virtual time, non-decreasing. A motion moves the value towards
 // its target at the given speed; a new motion of the same tool and axis replaces the old one.
@@ -44,7 +47,12 @@ enum class ActionKind : std::uint8_t {
   kInflateVolume,    // value mL
   kDeflate,
   kLoadCoil,  // the selected coil tool's next coil, on a new pusher at the hub (insertion 0)
+  kAspiration,   // value 1: the selected catheter's vacuum on, 0: off
+  kBalloonGuide, // value 1: the selected guide's balloon inflated (flow arrest), 0: deflated
 };
+
+// True for the thrombectomy verbs (aspiration, balloon_guide).
+[[nodiscard]] constexpr bool is_thrombectomy(ActionKind k) { return k == ActionKind::kAspiration || k == ActionKind::kBalloonGuide; }
 
 // True for the balloon verbs (inflate, deflate).
 [[nodiscard]] constexpr bool is_balloon(ActionKind k) {

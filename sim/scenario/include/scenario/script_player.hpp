@@ -59,6 +59,10 @@ class ScriptPlayer {
     std::size_t load_coil_line = 0;
     std::array<DeviceAction, kMaxDeviceActions> devices{};
     std::size_t device_count = 0;
+    // Thrombectomy actions due at this step (aspiration, balloon_guide; value 1 on, 0 off), on
+    // the tool selected when each came: the session's controls.
+    std::array<DeviceAction, kMaxDeviceActions> clot_devices{};
+    std::size_t clot_device_count = 0;
   };
   // Applies the actions due at `now_ms` (0, 1, 2, ... in turn), then, unless the script ended,
   // moves every running motion by one millisecond.

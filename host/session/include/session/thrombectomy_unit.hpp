@@ -1,0 +1,103 @@
+#pragma once
+// Stroke thrombectomy in the session: the case's clots against its aspiration catheter and its
+// balloon guide, pass by pass, graded eTICI from the flow network (sim/flow: clot.hpp,
+// aspiration.hpp, embolus.hpp, reperfusion.hpp). host/session/README.md, "Thrombectomy".
+//
+// - Controls: kAspiration (u8 tool, u8 1 on / 0 off) for a catheter the case gives an
+//   `aspiration pump|syringe`; kBalloonGuide (u8 tool, u8 1 inflate / 0 deflate) for a
+//   catheter with a `balloon`: a FlowArrest on the segment holding its tip (the flow network
+//   solved again). Refused (not applied, not recorded, a log line) for another tool, a state it
+//   already has, a tip outside the vessels.
+// - Engagement: with aspiration on, the catheter's tip within kFaceReach_mm of a clot's
+//   proximal face (or inside its span) engages the clot and every clot contiguous with it
+//   (a carotid-T thrombus spanning the terminus and its branches is one thrombus).
+// - A pass ends when the engaged catheter is withdrawn kPassWithdrawal_mm below its insertion
+//   at engagement with aspiration still on. flow::aspirate() with the pressure head across the
+//   engaged clot at that moment (lower under flow arrest) decides: ingested or corked, the
+//   thrombus leaves with the catheter; lost, it stays, and a fragment the width of the
+//   catheter's lumen strips off its face and is carried by the flow of that moment
+//   (flow::carry_fragment) to lodge where it fits: an embolus (to a new territory when it
+//   starves an outlet outside the target territory). Under complete flow arrest no flow
+//   carries it (it is aspirated into the guide): no embolus. Aspiration off while engaged
+//   releases the clot: no pass.
+// - After each pass the network is occluded with what remains (and the emboli) and graded
+//   eTICI without the arrest (the control run after deflation), then solved again with any
+//   arrest still inflated. Reperfusion = eTICI >= 2b50 (Liebeskind et al., JNIS 2019: the
+//   grades; successful reperfusion eTICI >= 2b50).
+// All of this runs on the haptic thread between ticks; a pass re-solves the network (~10 µs,
+// sim/flow bench_flow BM_Occlude) and allocates: an event, like a coil's release.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "flow/aspiration.hpp"
+#include "flow/centerline_locator.hpp"
+#include "flow/clot.hpp"
+#include "flow/flow_network.hpp"
+#include "flow/reperfusion.hpp"
+#include "session/control.hpp"
+#include "session/metrics.hpp"
+#include "scenario/case_file.hpp"
+#include "tool/snapshot.hpp"
+
+namespace cathbox::session {
+
+class EventLog;
+
+inline constexpr double kFaceReach_mm = 2.0;
+inline constexpr double kPassWithdrawal_mm = 10.0;
+
+class ThrombectomyUnit final : public ControlHandler {
+ public:
+  static constexpr std::array<ControlKind, 2> kKinds{ControlKind::kAspiration, ControlKind::kBalloonGuide};
+
+  // `network` is the case's, occluded by its clots (load_session_case); kept by reference.
+  // Null when the case has no clot or the occlusion starves no outlet (nothing to grade).
+  [[nodiscard]] static std::unique_ptr<ThrombectomyUnit> make(flow::FlowNetwork& network, const tool::Case& spec,
+                                                              EventLog& events, std::string& why_not);
+
+  bool apply(Control& control, ControlContext& context) override;
+  // After each step: engagement and the end of a pass, from the tools' tips and insertions.
+  void tick(std::int64_t time_us, const tool::Snapshot& snapshot);
+  [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
+  [[nodiscard]] bool aspirating(std::size_t tool) const { return tool < aspirating_.size() && aspirating_[tool] != 0; }
+  [[nodiscard]] bool arrested() const { return !arrests_.empty(); }
+
+ private:
+  ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
+  void log(std::int64_t time_us, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
+  [[nodiscard]] std::vector<std::size_t> thrombus_of(std::size_t clot) const;
+  [[nodiscard]] std::optional<std::size_t> clot_at_tip(const glm::dvec3& tip_mm) const;
+  void end_pass(std::int64_t time_us);
+  // Occludes with clots_ and arrests_; false (logged) when the network refuses.
+  bool resolve(std::int64_t time_us, bool with_arrests);
+  [[nodiscard]] std::string segment_name(std::uint32_t segment) const;
+
+  flow::FlowNetwork& network_;
+  EventLog& events_;
+  flow::TargetTerritory target_;
+  flow::CenterlineLocator locator_;
+  std::vector<flow::Clot> clots_;        // what remains, emboli included
+  std::vector<flow::FlowArrest> arrests_;
+  std::vector<std::size_t> arrest_tool_;  // the tool of each arrest
+  struct Aspirator {
+    std::size_t tool = 0;
+    flow::VacuumSource source = flow::VacuumSource::kPump;
+    double inner_diameter_mm = 0.0;
+  };
+  std::vector<Aspirator> aspirators_;        // by tool
+  std::vector<std::uint8_t> aspirating_;     // per tool
+  std::vector<std::uint8_t> balloon_;        // per tool: carries a balloon (a balloon guide)
+  std::vector<std::string> tool_names_;
+  std::vector<glm::dvec3> tips_;             // per tool, as of the last tick
+  // The engaged thrombus.
+  std::optional<std::size_t> engaged_tool_;
+  std::vector<std::size_t> engaged_;  // indices in clots_
+  double engaged_insertion_mm_ = 0.0;
+  ThrombectomyFigures figures_;
+};
+
+}  // namespace cathbox::session

@@ -1,0 +1,259 @@
+#include "session/thrombectomy_unit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+#include <cstdarg>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+
+#include "flow/embolus.hpp"
+#include "session/event_log.hpp"
+
+namespace cathbox::session {
+namespace {
+
+constexpr double kContiguous_mm = 1.0;  // clots this close across a junction are one thrombus
+
+const char* outcome_text(flow::AspirationOutcome o) {
+  return o == flow::AspirationOutcome::kIngested ? "ingested" : (o == flow::AspirationOutcome::kCorked ? "corked" : "lost");
+}
+
+}  // namespace
+
+std::unique_ptr<ThrombectomyUnit> ThrombectomyUnit::make(flow::FlowNetwork& network, const tool::Case& spec,
+                                                         EventLog& events, std::string& why_not) {
+  if (network.clots().empty()) return nullptr;
+  const std::vector<flow::Clot> clots = network.clots();
+  const std::vector<flow::Terminal> occluded = network.terminals();
+  if (base::Status<> open = network.occlude({}); !open) {
+    why_not = open.error().message;
+    return nullptr;
+  }
+  const std::vector<flow::Terminal> baseline = network.terminals();
+  if (base::Status<> back = network.occlude(clots); !back) {
+    why_not = back.error().message;
+    return nullptr;
+  }
+  base::Result<flow::TargetTerritory> target = flow::TargetTerritory::find(baseline, occluded);
+  if (!target) {
+    why_not = target.error().message;
+    return nullptr;
+  }
+  std::unique_ptr<ThrombectomyUnit> u(new ThrombectomyUnit(network, events, std::move(*target)));
+  u->clots_ = clots;
+  const std::size_t n = spec.tools.size();
+  u->aspirating_.assign(n, 0);
+  u->balloon_.assign(n, 0);
+  for (std::size_t t = 0; t < n; ++t) {
+    u->tool_names_.push_back(spec.tools[t].name);
+    u->balloon_[t] = spec.tools[t].balloon.present() ? 1 : 0;
+  }
+  for (const tool::CaseAspiration& a : spec.aspiration) {
+    for (std::size_t t = 0; t < n; ++t) {
+      if (spec.tools[t].name == a.tool) u->aspirators_.push_back({t, a.source, spec.tools[t].inner_diameter_mm});
+    }
+  }
+  u->figures_.reperfused_pct_final = std::round(100.0 * u->target_.reperfused_fraction(occluded));
+  u->figures_.etici_final = u->target_.grade(occluded);
+  return u;
+}
+
+ThrombectomyUnit::ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target)
+    : network_(network), events_(events), target_(std::move(target)), locator_(network.model()) {}
+
+void ThrombectomyUnit::log(std::int64_t time_us, const char* fmt, ...) {
+  char buf[112];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  (void)events_.push(time_us, buf);
+}
+
+std::string ThrombectomyUnit::segment_name(std::uint32_t segment) const {
+  const vessel::Segment& s = network_.model().segments[segment];
+  return s.name.empty() ? "segment " + std::to_string(s.id) : s.name;
+}
+
+bool ThrombectomyUnit::resolve(std::int64_t time_us, bool with_arrests) {
+  const std::span<const flow::FlowArrest> arrests = with_arrests ? std::span<const flow::FlowArrest>(arrests_) : std::span<const flow::FlowArrest>();
+  if (base::Status<> s = network_.occlude(clots_, arrests); !s) {
+    log(time_us, "flow: %s", s.error().message.c_str());
+    return false;
+  }
+  return true;
+}
+
+bool ThrombectomyUnit::apply(Control& c, ControlContext& ctx) {
+  if (c.size != 2 || c.payload[1] > 1 || c.payload[0] >= tool_names_.size()) return false;
+  const std::size_t t = c.payload[0];
+  const bool on = c.payload[1] == 1;
+  const char* name = tool_names_[t].c_str();
+  if (c.kind == static_cast<std::uint16_t>(ControlKind::kAspiration)) {
+    const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [t](const Aspirator& x) { return x.tool == t; });
+    if (a == aspirators_.end()) {
+      log(ctx.time_us, "aspiration: refused (the %s has no vacuum source)", name);
+      return false;
+    }
+    if ((aspirating_[t] != 0) == on) return false;
+    aspirating_[t] = on ? 1 : 0;
+    if (on) {
+      log(ctx.time_us, "aspiration on: the %s on the %s, %.3f N at its tip", name,
+          std::string(flow::vacuum_source_name(a->source)).c_str(), flow::aspiration_force_N(a->source, a->inner_diameter_mm));
+    } else if (engaged_tool_ == t) {
+      log(ctx.time_us, "aspiration off: the %s lets the clot go (no pass)", name);
+      engaged_tool_.reset();
+      engaged_.clear();
+    } else {
+      log(ctx.time_us, "aspiration off: the %s", name);
+    }
+    return true;
+  }
+  // kBalloonGuide: a flow arrest on the segment of the catheter's tip.
+  if (balloon_[t] == 0) {
+    log(ctx.time_us, "balloon guide: refused (the %s carries no balloon)", name);
+    return false;
+  }
+  const auto held = std::find(arrest_tool_.begin(), arrest_tool_.end(), t);
+  if ((held != arrest_tool_.end()) == on) return false;
+  if (on) {
+    if (t >= tips_.size()) return false;
+    const flow::CenterlinePosition at = locator_.nearest(tips_[t]);
+    if (at.distance_mm > 1.5 * locator_.radius_at(at.segment, at.arc_mm) + 1.0) {
+      log(ctx.time_us, "balloon guide: refused (the %s's tip is outside the vessels)", name);
+      return false;
+    }
+    arrests_.push_back({at.segment});
+    arrest_tool_.push_back(t);
+    log(ctx.time_us, "balloon guide inflated in the %s: flow arrest", segment_name(at.segment).c_str());
+  } else {
+    const auto k = static_cast<std::size_t>(held - arrest_tool_.begin());
+    arrests_.erase(arrests_.begin() + static_cast<std::ptrdiff_t>(k));
+    arrest_tool_.erase(held);
+    log(ctx.time_us, "balloon guide of the %s deflated: flow restored", name);
+  }
+  return resolve(ctx.time_us, true);
+}
+
+std::vector<std::size_t> ThrombectomyUnit::thrombus_of(std::size_t first) const {
+  const vessel::VesselModel& model = network_.model();
+  std::vector<std::size_t> group{first};
+  // Clots touching across a junction: one ends at its segment's end, the next starts a child.
+  for (std::size_t g = 0; g < group.size(); ++g) {
+    const flow::Clot& a = clots_[group[g]];
+    for (std::size_t j = 0; j < clots_.size(); ++j) {
+      if (std::find(group.begin(), group.end(), j) != group.end()) continue;
+      const flow::Clot& b = clots_[j];
+      const auto touches = [&](const flow::Clot& up, const flow::Clot& down) {
+        if (up.arc_start_mm + up.length_mm < locator_.length_mm(up.segment) - kContiguous_mm || down.arc_start_mm > kContiguous_mm) return false;
+        for (const std::int32_t id : model.segments[up.segment].children) {
+          if (model.index_of(id) == std::optional<std::size_t>(down.segment)) return true;
+        }
+        return false;
+      };
+      if (touches(a, b) || touches(b, a)) group.push_back(j);
+    }
+  }
+  return group;
+}
+
+std::optional<std::size_t> ThrombectomyUnit::clot_at_tip(const glm::dvec3& tip_mm) const {
+  for (std::size_t k = 0; k < clots_.size(); ++k) {
+    const flow::Clot& c = clots_[k];
+    if (glm::distance(tip_mm, locator_.point_at(c.segment, c.arc_start_mm)) <= kFaceReach_mm) return k;
+    const flow::CenterlinePosition on = locator_.nearest_on(c.segment, tip_mm);
+    if (on.arc_mm >= c.arc_start_mm && on.arc_mm <= c.arc_start_mm + c.length_mm &&
+        on.distance_mm <= locator_.radius_at(c.segment, on.arc_mm)) {
+      return k;
+    }
+  }
+  return std::nullopt;
+}
+
+void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot) {
+  const std::size_t n = std::min(snapshot.tools.size(), tool_names_.size());
+  tips_.resize(n);
+  for (std::size_t t = 0; t < n; ++t) tips_[t] = snapshot.tools[t].tip.position_mm;
+  if (engaged_tool_) {
+    const double insertion = snapshot.tools[*engaged_tool_].insertion_mm;
+    engaged_insertion_mm_ = std::max(engaged_insertion_mm_, insertion);
+    if (insertion <= engaged_insertion_mm_ - kPassWithdrawal_mm) end_pass(time_us);
+    return;
+  }
+  for (const Aspirator& a : aspirators_) {
+    if (a.tool >= n || aspirating_[a.tool] == 0) continue;
+    const std::optional<std::size_t> k = clot_at_tip(tips_[a.tool]);
+    if (!k) continue;
+    engaged_tool_ = a.tool;
+    engaged_ = thrombus_of(*k);
+    engaged_insertion_mm_ = snapshot.tools[a.tool].insertion_mm;
+    log(time_us, "aspiration: the %s's tip engages the clot in the %s", tool_names_[a.tool].c_str(),
+        segment_name(clots_[*k].segment).c_str());
+    return;
+  }
+}
+
+void ThrombectomyUnit::end_pass(std::int64_t time_us) {
+  const std::size_t tool = *engaged_tool_;
+  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
+  const flow::Clot face = clots_[engaged_.front()];
+  double length_mm = 0.0;
+  for (const std::size_t k : engaged_) length_mm += clots_[k].length_mm;
+  const flow::SegmentFlow& seg = network_.segments()[face.segment];
+  const double head_Pa = network_.node_pressure_Pa(seg.start_node) - network_.node_pressure_Pa(seg.end_node);
+  const double diameter_mm = 2.0 * locator_.radius_at(face.segment, face.arc_start_mm);
+  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, {diameter_mm, length_mm, face.composition}, head_Pa);
+  const int pass = ++figures_.passes;
+  log(time_us, "pass %d: the clot is %s (pull %.3f N, ingest %.3f N, hold %.3f N)", pass, outcome_text(r.outcome), r.force_N,
+      r.ingest_force_N, r.hold_force_N);
+  std::optional<flow::Clot> embolus;
+  if (r.outcome == flow::AspirationOutcome::kLost) {
+    // A fragment the width of the lumen strips off the catheter's mouth where the tip is now.
+    // Under flow arrest the vacuum takes it into the catheter; else the flow carries it.
+    if (!arrests_.empty()) {
+      log(time_us, "pass %d: the fragment is aspirated under flow arrest", pass);
+    } else {
+      flow::Fragment f;
+      f.from = locator_.nearest(tips_[tool]);
+      f.diameter_mm = std::min(a->inner_diameter_mm, diameter_mm);
+      f.length_mm = std::min(a->inner_diameter_mm, length_mm);
+      f.composition = face.composition;
+      if (base::Result<flow::EmbolusPath> path = flow::carry_fragment(network_, f)) embolus = path->lodged;
+    }
+  } else {
+    std::vector<std::size_t> gone = engaged_;
+    std::sort(gone.rbegin(), gone.rend());
+    for (const std::size_t k : gone) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
+  }
+  engaged_tool_.reset();
+  engaged_.clear();
+  // The control run: the network without the arrest.
+  if (!resolve(time_us, false)) return;
+  if (embolus) {
+    const std::vector<flow::Terminal> without = network_.terminals();
+    clots_.push_back(*embolus);
+    if (!resolve(time_us, false)) return;
+    const bool ent = !flow::new_territories(target_, without, network_.terminals()).empty();
+    ++figures_.emboli;
+    if (ent) ++figures_.emboli_new_territory;
+    figures_.emboli_lodged.push_back(segment_name(embolus->segment));
+    log(time_us, "embolus lodged in the %s%s", segment_name(embolus->segment).c_str(), ent ? " (a new territory)" : "");
+  }
+  const double pct = std::round(100.0 * target_.reperfused_fraction(network_.terminals()));
+  const flow::Etici grade = target_.grade(network_.terminals());
+  const auto i = static_cast<std::size_t>(pass - 1);
+  if (i < ThrombectomyFigures::kMaxPasses) {
+    figures_.etici_after_pass[i] = grade;
+    figures_.reperfused_pct_after_pass[i] = pct;
+  }
+  figures_.etici_final = grade;
+  figures_.reperfused_pct_final = pct;
+  if (pass == 1) figures_.first_pass_effect = flow::at_least(grade, flow::Etici::k2c);
+  if (figures_.time_to_reperfusion_us < 0 && flow::at_least(grade, flow::Etici::k2b50)) figures_.time_to_reperfusion_us = time_us;
+  log(time_us, "pass %d: eTICI %s (%.0f %% reperfused)", pass, std::string(flow::etici_label(grade)).c_str(), pct);
+  if (!arrests_.empty()) (void)resolve(time_us, true);
+}
+
+}  // namespace cathbox::session
