@@ -87,33 +87,41 @@ bool ThrombectomyUnit::resolve(std::int64_t time_us, bool with_arrests) {
 }
 
 bool ThrombectomyUnit::apply(Control& c, ControlContext& ctx) {
-  if (c.size != 2 || c.payload[1] > 1 || c.payload[0] >= tool_names_.size()) return false;
-  const std::size_t t = c.payload[0];
+  if (c.size != 2 || c.payload[1] > 1) return false;
   const bool on = c.payload[1] == 1;
+  return c.kind == static_cast<std::uint16_t>(ControlKind::kAspiration) ? set_aspiration(c.payload[0], on, ctx.time_us)
+                                                                         : set_balloon_guide(c.payload[0], on, ctx.time_us);
+}
+
+bool ThrombectomyUnit::set_aspiration(std::size_t t, bool on, std::int64_t time_us) {
+  if (t >= tool_names_.size()) return false;
   const char* name = tool_names_[t].c_str();
-  if (c.kind == static_cast<std::uint16_t>(ControlKind::kAspiration)) {
-    const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [t](const Aspirator& x) { return x.tool == t; });
-    if (a == aspirators_.end()) {
-      log(ctx.time_us, "aspiration: refused (the %s has no vacuum source)", name);
-      return false;
-    }
-    if ((aspirating_[t] != 0) == on) return false;
-    aspirating_[t] = on ? 1 : 0;
-    if (on) {
-      log(ctx.time_us, "aspiration on: the %s on the %s, %.3f N at its tip", name,
-          std::string(flow::vacuum_source_name(a->source)).c_str(), flow::aspiration_force_N(a->source, a->inner_diameter_mm));
-    } else if (engaged_tool_ == t) {
-      log(ctx.time_us, "aspiration off: the %s lets the clot go (no pass)", name);
-      engaged_tool_.reset();
-      engaged_.clear();
-    } else {
-      log(ctx.time_us, "aspiration off: the %s", name);
-    }
-    return true;
+  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [t](const Aspirator& x) { return x.tool == t; });
+  if (a == aspirators_.end()) {
+    log(time_us, "aspiration: refused (the %s has no vacuum source)", name);
+    return false;
   }
-  // kBalloonGuide: a flow arrest on the segment of the catheter's tip.
+  if ((aspirating_[t] != 0) == on) return false;
+  aspirating_[t] = on ? 1 : 0;
+  if (on) {
+    log(time_us, "aspiration on: the %s on the %s, %.3f N at its tip", name,
+        std::string(flow::vacuum_source_name(a->source)).c_str(), flow::aspiration_force_N(a->source, a->inner_diameter_mm));
+  } else if (engaged_tool_ == t) {
+    log(time_us, "aspiration off: the %s lets the clot go (no pass)", name);
+    engaged_tool_.reset();
+    engaged_.clear();
+  } else {
+    log(time_us, "aspiration off: the %s", name);
+  }
+  return true;
+}
+
+// A flow arrest on the segment of the catheter's tip.
+bool ThrombectomyUnit::set_balloon_guide(std::size_t t, bool on, std::int64_t time_us) {
+  if (t >= tool_names_.size()) return false;
+  const char* name = tool_names_[t].c_str();
   if (balloon_[t] == 0) {
-    log(ctx.time_us, "balloon guide: refused (the %s carries no balloon)", name);
+    log(time_us, "balloon guide: refused (the %s carries no balloon)", name);
     return false;
   }
   const auto held = std::find(arrest_tool_.begin(), arrest_tool_.end(), t);
@@ -122,19 +130,19 @@ bool ThrombectomyUnit::apply(Control& c, ControlContext& ctx) {
     if (t >= tips_.size()) return false;
     const flow::CenterlinePosition at = locator_.nearest(tips_[t]);
     if (at.distance_mm > 1.5 * locator_.radius_at(at.segment, at.arc_mm) + 1.0) {
-      log(ctx.time_us, "balloon guide: refused (the %s's tip is outside the vessels)", name);
+      log(time_us, "balloon guide: refused (the %s's tip is outside the vessels)", name);
       return false;
     }
     arrests_.push_back({at.segment});
     arrest_tool_.push_back(t);
-    log(ctx.time_us, "balloon guide inflated in the %s: flow arrest", segment_name(at.segment).c_str());
+    log(time_us, "balloon guide inflated in the %s: flow arrest", segment_name(at.segment).c_str());
   } else {
     const auto k = static_cast<std::size_t>(held - arrest_tool_.begin());
     arrests_.erase(arrests_.begin() + static_cast<std::ptrdiff_t>(k));
     arrest_tool_.erase(held);
-    log(ctx.time_us, "balloon guide of the %s deflated: flow restored", name);
+    log(time_us, "balloon guide of the %s deflated: flow restored", name);
   }
-  return resolve(ctx.time_us, true);
+  return resolve(time_us, true);
 }
 
 std::vector<std::size_t> ThrombectomyUnit::thrombus_of(std::size_t first) const {

@@ -238,8 +238,8 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
 }
 
-// A block written by hand: a newer writer's entry kind (99, or 38: the fluoroscopy range's first
-// unused number) in tick 0.
+// A block written by hand: a newer writer's entry kind (99; 69, the devices range's first
+// unused number; or 38, the fluoroscopy range's first unused number) in tick 0.
 class UnknownKind : public ::testing::TestWithParam<int> {};
 
 TEST_P(UnknownKind, IsRefusedNotMisread) {
@@ -279,7 +279,7 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
                             " (a newer record? this build knows 1-4 and controls 16, 32-37, 64-68)");
 }
 
-INSTANTIATE_TEST_SUITE_P(Record, UnknownKind, ::testing::Values(99, 38));
+INSTANTIATE_TEST_SUITE_P(Record, UnknownKind, ::testing::Values(99, 38, 69));
 
 TEST(Record, ControlsCarryTheirKindAndPayload) {
   const Control c = Control::make(static_cast<std::uint16_t>(ControlKind::kSelectTool), std::vector<std::uint8_t>{3});

@@ -60,11 +60,16 @@ class ThrombectomyUnit final : public ControlHandler {
                                                               EventLog& events, std::string& why_not);
 
   bool apply(Control& control, ControlContext& context) override;
+  // What the two controls do (false: refused, logged, nothing changed), at `time_us`.
+  bool set_aspiration(std::size_t tool, bool on, std::int64_t time_us);
+  bool set_balloon_guide(std::size_t tool, bool inflate, std::int64_t time_us);
   // After each step: engagement and the end of a pass, from the tools' tips and insertions.
   void tick(std::int64_t time_us, const tool::Snapshot& snapshot);
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
   [[nodiscard]] bool aspirating(std::size_t tool) const { return tool < aspirating_.size() && aspirating_[tool] != 0; }
   [[nodiscard]] bool arrested() const { return !arrests_.empty(); }
+  [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
+  [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
 
  private:
   ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
