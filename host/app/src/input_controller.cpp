@@ -61,6 +61,8 @@ InputActions InputController::handle(GLFWwindow* w, const TrainerUi& ui, const S
     act.frame_camera = pressed(GLFW_KEY_C, c_down_);
     act.detach_coil = pressed(GLFW_KEY_K, k_down_);
     act.load_coil = pressed(GLFW_KEY_L, l_down_);
+    act.aspiration = pressed(GLFW_KEY_V, v_down_);
+    act.balloon_guide = pressed(GLFW_KEY_B, b_down_);
     act.fluoro = {down(GLFW_KEY_SPACE), down(GLFW_KEY_I),           down(GLFW_KEY_R),     down(GLFW_KEY_X),
                   down(GLFW_KEY_LEFT_BRACKET), down(GLFW_KEY_RIGHT_BRACKET), down(GLFW_KEY_MINUS), down(GLFW_KEY_EQUAL)};
     if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);

@@ -376,6 +376,14 @@ int TrainerApp::run_window() {
     // The session refuses (and logs why) a detach or load on a tool that carries no coil.
     if (live_ && input.detach_coil) (void)live_->post(session::Control::detach_coil(live_->held_tool()));
     if (live_ && input.load_coil) (void)live_->post(session::Control::load_coil(live_->held_tool()));
+    // Thrombectomy: V toggles the aspiration catheter's vacuum, B the balloon guide (the case's
+    // first of each, whichever tool is held; the session refuses and logs what does not apply).
+    if (live_ && input.aspiration && snap.aspiration_tool >= 0) {
+      (void)live_->post(session::Control::aspiration(static_cast<std::size_t>(snap.aspiration_tool), !snap.aspirating));
+    }
+    if (live_ && input.balloon_guide && snap.balloon_guide_tool >= 0) {
+      (void)live_->post(session::Control::balloon_guide(static_cast<std::size_t>(snap.balloon_guide_tool), !snap.flow_arrest));
+    }
     if (live_) {
       for (const session::Control& c : carm_act.controls) (void)live_->post(c);
       const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says

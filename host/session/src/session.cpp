@@ -535,6 +535,14 @@ void Session::publish() {
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
+  if (thrombectomy_) {
+    const std::optional<std::size_t> a = thrombectomy_->first_aspirator();
+    const std::optional<std::size_t> b = thrombectomy_->first_balloon_guide();
+    s.aspiration_tool = a ? static_cast<int>(*a) : -1;
+    s.aspirating = a && thrombectomy_->aspirating(*a);
+    s.balloon_guide_tool = b ? static_cast<int>(*b) : -1;
+    s.flow_arrest = thrombectomy_->arrested();
+  }
   exchange_.publish();
 }
 

@@ -77,6 +77,11 @@ std::string ThrombectomyUnit::segment_name(std::uint32_t segment) const {
   return s.name.empty() ? "segment " + std::to_string(s.id) : s.name;
 }
 
+std::optional<std::size_t> ThrombectomyUnit::first_balloon_guide() const {
+  const auto b = std::find(balloon_.begin(), balloon_.end(), std::uint8_t{1});
+  return b == balloon_.end() ? std::nullopt : std::optional<std::size_t>(static_cast<std::size_t>(b - balloon_.begin()));
+}
+
 bool ThrombectomyUnit::resolve(std::int64_t time_us, bool with_arrests) {
   const std::span<const flow::FlowArrest> arrests = with_arrests ? std::span<const flow::FlowArrest>(arrests_) : std::span<const flow::FlowArrest>();
   if (base::Status<> s = network_.occlude(clots_, arrests); !s) {

@@ -117,6 +117,20 @@ jq -e '.coil_length_mm >= 99 and .packing_density_pct > 2 and .packing_density_p
 expect 0 "$cb" session info "$rec" --json
 jq -e '.controls.detach_coil == 2 and .controls.load_coil == 1 and .tools[3].kind == "coil"' "$work/out" >/dev/null || fail "coiling info: $(cat "$work/out")"
 
+# Thrombectomy: the carotid-T aspiration under balloon-guide arrest reperfuses on its first pass
+# (eTICI 3), its aspiration and balloon_guide controls are in the record, and it replays.
+rec="$work/ica_t.cbxrec"
+expect 0 "$cb" session run --case "$cases/neuro_thrombectomy_ica_t.case" --script "$cases/neuro_thrombectomy_ica_t.actions" --record "$rec"
+grep -q "pass 1: eTICI 3" "$work/out" || fail "ica_t: no reperfusion: $(tail -5 "$work/out")"
+expect 0 "$cb" session replay "$rec" --check
+grep -q "every state hash matches" "$work/out" || fail "ica_t: replay --check said: $(cat "$work/out")"
+expect 0 "$cb" session metrics "$rec" --json
+shape session-metrics
+jq -e '.thrombectomy.passes == 1 and .thrombectomy.etici_final == "3" and .thrombectomy.first_pass_effect and .thrombectomy.emboli == 0' \
+  "$work/out" >/dev/null || fail "ica_t metrics: $(cat "$work/out")"
+expect 0 "$cb" session info "$rec" --json
+jq -e '.controls.aspiration == 2 and .controls.balloon_guide == 2' "$work/out" >/dev/null || fail "ica_t info: $(cat "$work/out")"
+
 # The same record replayed twice gives the same CSV log, byte for byte.
 rec="$work/y_bifurcation.cbxrec"
 expect 0 "$cb" session replay "$rec" --out "$work/a.csv" --every 10

@@ -28,6 +28,8 @@ struct InputActions {
   bool frame_camera = false;
   bool detach_coil = false;  // K pressed
   bool load_coil = false;    // L pressed
+  bool aspiration = false;     // V pressed: the aspiration catheter's vacuum on / off
+  bool balloon_guide = false;  // B pressed: the balloon guide inflated / deflated
   session::FluoroKeys fluoro;  // the fluoroscopy keys held now
 };
 
@@ -50,6 +52,8 @@ class InputController {
   bool c_down_ = false;
   bool k_down_ = false;
   bool l_down_ = false;
+  bool v_down_ = false;
+  bool b_down_ = false;
 };
 
 }  // namespace cathbox::app

@@ -35,6 +35,21 @@ const marksPlugin = {
   },
 };
 
+// eTICI grades travel as their ordinal (host/session/README.md, "Thrombectomy").
+const ETICI = ['0', '1', '2a', '2b50', '2b67', '2c', '3'];
+const isEtici = (name) => name.startsWith('etici_');
+const shown = (name, v) => (isEtici(name) && ETICI[v] !== undefined ? 'eTICI ' + ETICI[v] : fmt(v, 2));
+
+// A thrombectomy run's passes in one row: "1: 2b50 · 2: 3".
+function eticiPerPassRow(metrics) {
+  const passes = Object.keys(metrics).filter((n) => /^etici_pass_\d+$/.test(n))
+    .sort((a, b) => Number(a.slice(11)) - Number(b.slice(11)));
+  if (!passes.length) return [];
+  const text = passes.map((n) => n.slice(11) + ': ' + (ETICI[metrics[n]] ?? fmt(metrics[n], 0))).join(' · ');
+  return [el('tr', { 'data-metric': 'etici_per_pass' }, el('td', {}, 'eTICI per pass'), el('td', { class: 'num', id: 'etici-per-pass' }, text),
+    el('td', {}, ''), el('td', {}, ''))];
+}
+
 function criteriaTable(result) {
   const ev = result.evaluation;
   const rows = [];
@@ -44,7 +59,7 @@ function criteriaTable(result) {
   for (const name of names) {
     const v = result.metrics[name];
     const c = judged.get(name);
-    rows.push(el('tr', { 'data-metric': name }, el('td', {}, name.replace(/_/g, ' ')), el('td', { class: 'num' }, fmt(v, 2)),
+    rows.push(el('tr', { 'data-metric': name }, el('td', {}, name.replace(/_/g, ' ')), el('td', { class: 'num' }, shown(name, v)),
       el('td', {}, c ? c.op + ' ' + fmt(c.value, 2) : ''),
       el('td', { class: c ? (c.passed ? 'pass' : 'fail') : '' }, c ? (c.passed ? 'pass' : 'fail') : '')));
   }
@@ -52,7 +67,7 @@ function criteriaTable(result) {
     : result.passed === null ? el('p', { class: 'muted' }, 'Not under an assignment: no pass criteria.')
     : el('p', { class: result.passed ? 'pass' : 'fail', id: 'verdict' }, result.passed ? 'Passed' : 'Not passed');
   return [verdict, el('table', {}, el('thead', {}, el('tr', {}, ...['Metric', 'Measured', 'Criterion', ''].map((h) => el('th', {}, h)))),
-    el('tbody', {}, ...rows))];
+    el('tbody', {}, ...eticiPerPassRow(result.metrics || {}), ...rows))];
 }
 
 function seek(i) {

@@ -61,6 +61,12 @@ struct SceneSnapshot {
   // The vessel walls swapped in so far (a balloon widened the lumen; 0: the case's surface).
   // When it changes, Session::wall_surface() has the new lumen's model and mesh to draw.
   std::uint64_t wall_generation = 0;
+  // Thrombectomy (thrombectomy_unit.hpp): the index of the case's first aspiration catheter and
+  // of its first catheter with a balloon (-1: none), whether each is on / inflated now.
+  int aspiration_tool = -1;
+  bool aspirating = false;
+  int balloon_guide_tool = -1;
+  bool flow_arrest = false;
   FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 
   // Lets the vectors hold `nodes_per_tool` nodes per tool and per coil without allocating.

@@ -68,6 +68,11 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
   [[nodiscard]] bool aspirating(std::size_t tool) const { return tool < aspirating_.size() && aspirating_[tool] != 0; }
   [[nodiscard]] bool arrested() const { return !arrests_.empty(); }
+  // The case's first aspiration catheter and first catheter with a balloon (the trainer's keys).
+  [[nodiscard]] std::optional<std::size_t> first_aspirator() const {
+    return aspirators_.empty() ? std::nullopt : std::optional<std::size_t>(aspirators_.front().tool);
+  }
+  [[nodiscard]] std::optional<std::size_t> first_balloon_guide() const;
   [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
   [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
 
