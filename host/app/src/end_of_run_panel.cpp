@@ -17,6 +17,25 @@ void optional_row(const char* name, const std::optional<double>& v, const char* 
   }
 }
 
+// A thrombectomy case: passes and the reperfusion graded after each.
+void draw_thrombectomy(const session::ThrombectomyFigures& t) {
+  ImGui::Separator();
+  ImGui::Text("%-22s %8d", "passes", t.passes);
+  for (std::size_t i = 0; i < std::min<std::size_t>(static_cast<std::size_t>(t.passes), session::ThrombectomyFigures::kMaxPasses); ++i) {
+    ImGui::Text("eTICI after pass %-5zu %8s (%.0f %%)", i + 1, std::string(flow::etici_label(t.etici_after_pass[i])).c_str(),
+                t.reperfused_pct_after_pass[i]);
+  }
+  ImGui::Text("%-22s %8s (%.0f %%)", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
+  ImGui::Text("%-22s %8s", "first-pass effect", t.first_pass_effect ? "yes" : "no");
+  ImGui::Text("%-22s %8d (%d new territory)", "emboli", t.emboli, t.emboli_new_territory);
+  for (const std::string& where : t.emboli_lodged) ImGui::TextDisabled("  lodged in %s", where.c_str());
+  if (t.time_to_reperfusion_us >= 0) {
+    ImGui::Text("%-22s %8.2f s", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
+  } else {
+    ImGui::Text("%-22s      n/a", "time to reperfusion");
+  }
+}
+
 }  // namespace
 
 EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m, const std::string& record_path,
@@ -70,24 +89,7 @@ EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m,
       ImGui::Text("%-22s      n/a", "fluoroscopy runs");
     }
     optional_row("contrast volume", m.contrast_volume_ml, "ml");
-    if (m.thrombectomy) {  // a thrombectomy case: passes and the reperfusion graded after each
-      const session::ThrombectomyFigures& t = *m.thrombectomy;
-      ImGui::Separator();
-      ImGui::Text("%-22s %8d", "passes", t.passes);
-      for (std::size_t i = 0; i < std::min<std::size_t>(static_cast<std::size_t>(t.passes), session::ThrombectomyFigures::kMaxPasses); ++i) {
-        ImGui::Text("eTICI after pass %-5zu %8s (%.0f %%)", i + 1, std::string(flow::etici_label(t.etici_after_pass[i])).c_str(),
-                    t.reperfused_pct_after_pass[i]);
-      }
-      ImGui::Text("%-22s %8s (%.0f %%)", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
-      ImGui::Text("%-22s %8s", "first-pass effect", t.first_pass_effect ? "yes" : "no");
-      ImGui::Text("%-22s %8d (%d new territory)", "emboli", t.emboli, t.emboli_new_territory);
-      for (const std::string& where : t.emboli_lodged) ImGui::TextDisabled("  lodged in %s", where.c_str());
-      if (t.time_to_reperfusion_us >= 0) {
-        ImGui::Text("%-22s %8.2f s", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
-      } else {
-        ImGui::Text("%-22s      n/a", "time to reperfusion");
-      }
-    }
+    if (m.thrombectomy) draw_thrombectomy(*m.thrombectomy);
     if (!record_path.empty()) {
       ImGui::Separator();
       ImGui::TextDisabled("record: %s", record_path.c_str());

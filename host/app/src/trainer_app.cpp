@@ -329,8 +329,16 @@ int TrainerApp::run_window() {
       renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
     }
     renderer_->render_local(layout.local, fh, snap);
-    const UiStatus status{fps, s.hand_description(), s.scene().name, s.tool_names()[snap.held_tool], replay_ != nullptr,
-                          record_path_, snap.held_coil_attached, snap.held_next_coil};
+    const UiStatus status{fps,
+                          s.hand_description(),
+                          s.scene().name,
+                          s.tool_names()[snap.held_tool],
+                          replay_ != nullptr,
+                          record_path_,
+                          snap.held_coil_attached,
+                          snap.held_next_coil,
+                          snap.aspiration_tool < 0 ? -1 : (snap.aspirating ? 1 : 0),
+                          snap.balloon_guide_tool < 0 ? -1 : (snap.flow_arrest ? 1 : 0)};
     // The C-arm panel (fluoroscopic view) takes the top of the output panel's area.
     ScreenLayout ui_layout = layout;
     CArmPanelActions carm_act;

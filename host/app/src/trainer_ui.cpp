@@ -114,6 +114,8 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapsh
       ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
       if (status.can_detach) ImGui::TextDisabled("K: detach the coil");
       if (status.can_load) ImGui::TextDisabled("L: load the next coil");
+      if (status.aspiration >= 0) ImGui::TextDisabled("V: aspiration %s", status.aspiration == 1 ? "ON (V: off)" : "off");
+      if (status.balloon_guide >= 0) ImGui::TextDisabled("B: balloon guide %s", status.balloon_guide == 1 ? "INFLATED (flow arrest)" : "deflated");
     }
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
     ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");

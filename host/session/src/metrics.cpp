@@ -127,6 +127,22 @@ void appendf(std::string& out, const char* fmt, ...) {
   out += buf;
 }
 
+void format_thrombectomy(std::string& out, const ThrombectomyFigures& t) {
+  appendf(out, "%-21s %d\n", "passes", t.passes);
+  for (std::size_t i = 0; i < std::min<std::size_t>(static_cast<std::size_t>(t.passes), ThrombectomyFigures::kMaxPasses); ++i) {
+    appendf(out, "eTICI after pass %-4zu %s (%.0f %%)\n", i + 1, std::string(flow::etici_label(t.etici_after_pass[i])).c_str(),
+            t.reperfused_pct_after_pass[i]);
+  }
+  appendf(out, "%-21s %s (%.0f %%)\n", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
+  appendf(out, "%-21s %s\n", "first-pass effect", t.first_pass_effect ? "yes" : "no");
+  appendf(out, "%-21s %d (%d to new territories)\n", "emboli", t.emboli, t.emboli_new_territory);
+  if (t.time_to_reperfusion_us >= 0) {
+    appendf(out, "%-21s %.1f s\n", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
+  } else {
+    appendf(out, "%-21s n/a\n", "time to reperfusion");
+  }
+}
+
 }  // namespace
 
 std::string MetricsCollector::format(const Metrics& m) {
@@ -193,22 +209,7 @@ std::string MetricsCollector::format(const Metrics& m) {
     const std::optional<double> risk = m.rupture_risk_events ? std::optional<double>(*m.rupture_risk_events) : std::nullopt;
     optional_figure("rupture-risk events", risk, "");
   }
-  if (m.thrombectomy) {  // a thrombectomy case: its figures, else no lines at all
-    const ThrombectomyFigures& t = *m.thrombectomy;
-    appendf(out, "%-21s %d\n", "passes", t.passes);
-    for (std::size_t i = 0; i < std::min<std::size_t>(static_cast<std::size_t>(t.passes), ThrombectomyFigures::kMaxPasses); ++i) {
-      appendf(out, "eTICI after pass %-4zu %s (%.0f %%)\n", i + 1, std::string(flow::etici_label(t.etici_after_pass[i])).c_str(),
-              t.reperfused_pct_after_pass[i]);
-    }
-    appendf(out, "%-21s %s (%.0f %%)\n", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
-    appendf(out, "%-21s %s\n", "first-pass effect", t.first_pass_effect ? "yes" : "no");
-    appendf(out, "%-21s %d (%d to new territories)\n", "emboli", t.emboli, t.emboli_new_territory);
-    if (t.time_to_reperfusion_us >= 0) {
-      appendf(out, "%-21s %.1f s\n", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
-    } else {
-      appendf(out, "%-21s n/a\n", "time to reperfusion");
-    }
-  }
+  if (m.thrombectomy) format_thrombectomy(out, *m.thrombectomy);  // a thrombectomy case, else no lines at all
   return out;
 }
 

@@ -103,6 +103,17 @@ printf '0 inject 6 at 50\n' >"$work/bad_rate.actions"
 expect 2 "$cb" session run --case "$cases/neuro.case" --script "$work/bad_rate.actions" --record "$work/bad.cbxrec"
 [ "$(wc -l <"$work/out")" -eq 1 ] && grep -q "bad_rate.actions:1: inject: rate must be in (0, 30\] mL/s" "$work/out" ||
   fail "bad rate: $(cat "$work/out")"
+
+# The record $rec's metrics (shape-checked) and info as JSON against jq filters: $1 names the
+# run, $2 the metrics' filter, $3 the info's.
+check_run() {
+  expect 0 "$cb" session metrics "$rec" --json
+  shape session-metrics
+  jq -e "$2" "$work/out" >/dev/null || fail "$1 metrics: $(cat "$work/out")"
+  expect 0 "$cb" session info "$rec" --json
+  jq -e "$3" "$work/out" >/dev/null || fail "$1 info: $(cat "$work/out")"
+}
+
 # Coiling: the bundled case's own script deploys and detaches its two coils (the second loaded
 # with load_coil); the record replays them (coil tool, shape, next coil and the detach_coil and
 # load_coil controls) and its metrics carry the coiling figures.
@@ -110,12 +121,8 @@ rec="$work/coiling.cbxrec"
 expect 0 "$cb" session run --case "$cases/neuro_coiling.case" --script "$cases/neuro_coiling.actions" --record "$rec"
 grep -q "coil of the coil detached" "$work/out" || fail "coiling: no detach: $(tail -5 "$work/out")"
 grep -q "^packing density" "$work/out" || fail "coiling: no packing density line"
-expect 0 "$cb" session metrics "$rec" --json
-shape session-metrics
-jq -e '.coil_length_mm >= 99 and .packing_density_pct > 2 and .packing_density_pct < 3 and .target_reached' \
-  "$work/out" >/dev/null || fail "coiling metrics: $(cat "$work/out")"
-expect 0 "$cb" session info "$rec" --json
-jq -e '.controls.detach_coil == 2 and .controls.load_coil == 1 and .tools[3].kind == "coil"' "$work/out" >/dev/null || fail "coiling info: $(cat "$work/out")"
+check_run coiling '.coil_length_mm >= 99 and .packing_density_pct > 2 and .packing_density_pct < 3 and .target_reached' \
+  '.controls.detach_coil == 2 and .controls.load_coil == 1 and .tools[3].kind == "coil"'
 
 # Thrombectomy: the carotid-T aspiration under balloon-guide arrest reperfuses on its first pass
 # (eTICI 3), its aspiration and balloon_guide controls are in the record, and it replays.
@@ -124,12 +131,8 @@ expect 0 "$cb" session run --case "$cases/neuro_thrombectomy_ica_t.case" --scrip
 grep -q "pass 1: eTICI 3" "$work/out" || fail "ica_t: no reperfusion: $(tail -5 "$work/out")"
 expect 0 "$cb" session replay "$rec" --check
 grep -q "every state hash matches" "$work/out" || fail "ica_t: replay --check said: $(cat "$work/out")"
-expect 0 "$cb" session metrics "$rec" --json
-shape session-metrics
-jq -e '.thrombectomy.passes == 1 and .thrombectomy.etici_final == "3" and .thrombectomy.first_pass_effect and .thrombectomy.emboli == 0' \
-  "$work/out" >/dev/null || fail "ica_t metrics: $(cat "$work/out")"
-expect 0 "$cb" session info "$rec" --json
-jq -e '.controls.aspiration == 2 and .controls.balloon_guide == 2' "$work/out" >/dev/null || fail "ica_t info: $(cat "$work/out")"
+check_run ica_t '.thrombectomy.passes == 1 and .thrombectomy.etici_final == "3" and .thrombectomy.first_pass_effect and .thrombectomy.emboli == 0' \
+  '.controls.aspiration == 2 and .controls.balloon_guide == 2'
 
 # The same record replayed twice gives the same CSV log, byte for byte.
 rec="$work/y_bifurcation.cbxrec"

@@ -8,7 +8,9 @@
 // baseline after complete removal": issue 30's validation.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 #include <fstream>
 #include <sstream>
 
@@ -52,6 +54,21 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   EXPECT_EQ(t.emboli, 0);
   // The pass ends 10 mm into the withdrawal that starts at 11 s (10 mm/s): 12 s.
   EXPECT_NEAR(static_cast<double>(t.time_to_reperfusion_us) * 1e-6, 12.0, 0.01);
+  // The server's named metrics: eTICI as its ordinal (3 = 6), every name one metric_names() lists.
+  const std::vector<std::string> names = metric_names();
+  std::map<std::string, double> named;
+  for (const NamedMetric& n : named_metrics(live)) {
+    named[n.name] = n.value;
+    if (n.name.rfind("unconverged_pct.", 0) != 0) {
+      EXPECT_NE(std::find(names.begin(), names.end(), n.name), names.end()) << n.name;
+    }
+  }
+  EXPECT_EQ(named["thrombectomy_passes"], 1.0);
+  EXPECT_EQ(named["etici_pass_1"], 6.0);
+  EXPECT_EQ(named["etici_final"], 6.0);
+  EXPECT_EQ(named["first_pass_effect"], 1.0);
+  EXPECT_EQ(named["emboli"], 0.0);
+  EXPECT_NEAR(named["time_to_reperfusion_s"], 12.0, 0.01);
   // Aspiration on / off and the balloon guide inflated / deflated: four controls in the record.
   auto opened = RecordReader::open(path);
   ASSERT_TRUE(opened) << opened.error().message;

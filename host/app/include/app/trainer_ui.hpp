@@ -26,6 +26,9 @@ struct UiStatus {
   std::string record;      // the record being written (live) or played (replay)
   bool can_detach = false;  // the held tool's coil is attached: the HUD names K
   bool can_load = false;    // its coil is released and a next one listed: the HUD names L
+  // A thrombectomy case: the HUD names V (aspiration) and B (balloon guide) and their state.
+  int aspiration = -1;      // -1: no aspiration catheter; 0 off; 1 on
+  int balloon_guide = -1;   // -1: no balloon guide; 0 deflated; 1 inflated (flow arrest)
 };
 
 struct UiActions {
