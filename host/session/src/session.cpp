@@ -394,6 +394,10 @@ bool Session::tick() {
   }
   sim_->copy_snapshot(snap_);
   // The fluoroscopy unit and the contrast, to the end of this tick.
+  if (fluoro_ && thrombectomy_ && thrombectomy_->flow_generation() != flow_generation_) {
+    flow_generation_ = thrombectomy_->flow_generation();  // a pass or an arrest solved the network again
+    fluoro_->flows_changed();
+  }
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
   if (thrombectomy_) {
     thrombectomy_->tick(n * options_.period_us, snap_);

@@ -84,6 +84,7 @@ std::optional<std::size_t> ThrombectomyUnit::first_balloon_guide() const {
 
 bool ThrombectomyUnit::resolve(std::int64_t time_us, bool with_arrests) {
   const std::span<const flow::FlowArrest> arrests = with_arrests ? std::span<const flow::FlowArrest>(arrests_) : std::span<const flow::FlowArrest>();
+  ++flow_generation_;
   if (base::Status<> s = network_.occlude(clots_, arrests); !s) {
     log(time_us, "flow: %s", s.error().message.c_str());
     return false;

@@ -107,14 +107,7 @@ ContrastTransport::ContrastTransport(const FlowNetwork& network, const Transport
     sac.segment = t.segment;
     sac.mouth = segs_[t.segment].start_node;
     sac.volume_mm3 = segs_[t.segment].cell_volume_mm3 * segs_[t.segment].count;
-    double through = 0.0;  // steady flow entering the mouth from the rest of the network
-    for (std::uint32_t e = node_first_[static_cast<std::size_t>(sac.mouth)]; e < node_first_[static_cast<std::size_t>(sac.mouth) + 1]; ++e) {
-      const std::uint32_t si = node_ends_[e] / 2;
-      if (si == t.segment) continue;
-      const double into = (node_ends_[e] & 1u) ? segs_[si].flow_mm3_s : -segs_[si].flow_mm3_s;
-      through += std::max(0.0, into);
-    }
-    sac.exchange_mm3_s = t.target_ml_min * through;
+    sac.exchange_mm3_s = t.target_ml_min * mouth_inflow_mm3_s(sac.mouth, t.segment);
     segs_[t.segment].sac = static_cast<int>(sacs_.size());
     sacs_.push_back(sac);
   }
@@ -247,6 +240,41 @@ void ContrastTransport::reset() {
   steps_ = 0;
   injected_mg_ = injected_ml_ = washed_mg_ = stalled_mg_ = 0.0;
   last_rate_mm3_s_ = 0.0;
+  update_substeps();
+}
+
+double ContrastTransport::mouth_inflow_mm3_s(int mouth, std::uint32_t sac_segment) const {
+  double through = 0.0;  // steady flow entering the mouth from the rest of the network
+  const auto m = static_cast<std::size_t>(mouth);
+  for (std::uint32_t e = node_first_[m]; e < node_first_[m + 1]; ++e) {
+    const std::uint32_t si = node_ends_[e] / 2;
+    if (si == sac_segment) continue;
+    const double into = (node_ends_[e] & 1u) ? segs_[si].flow_mm3_s : -segs_[si].flow_mm3_s;
+    through += std::max(0.0, into);
+  }
+  return through;
+}
+
+void ContrastTransport::refresh_flows() {
+  const std::vector<SegmentFlow>& flows = network_->segments();
+  double max_flow = 0.0;
+  for (const SegmentFlow& f : flows) max_flow = std::max(max_flow, std::abs(f.flow_mm3_s));
+  for (std::size_t i = 0; i < segs_.size(); ++i) {
+    const double q = flows[i].flow_mm3_s;
+    segs_[i].flow_mm3_s = std::abs(q) < kFlowNoise * max_flow ? 0.0 : q;
+  }
+  for (const Terminal& t : network_->terminals()) {  // a closed end's exchange follows its mouth's inflow
+    if (t.role != EndRole::kClosed || segs_[t.segment].sac < 0) continue;
+    Sac& sac = sacs_[static_cast<std::size_t>(segs_[t.segment].sac)];
+    sac.exchange_mm3_s = t.target_ml_min * mouth_inflow_mm3_s(sac.mouth, t.segment);
+  }
+  // Decreasing pressure, ties in node order (the constructor's stable sort of 0, 1, 2, ...).
+  const FlowNetwork& n = *network_;
+  std::sort(node_order_.begin(), node_order_.end(), [&n](int a, int b) {
+    const double pa = n.node_pressure_Pa(a);
+    const double pb = n.node_pressure_Pa(b);
+    return pa > pb || (pa == pb && a < b);
+  });
   update_substeps();
 }
 

@@ -42,6 +42,17 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
     while (!s.over()) s.step_virtual(1000);
     EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
     live = s.metrics();
+    // The control angiogram after the pass: the contrast from the guide fills the left MCA's
+    // M2s again (the fluoroscopy follows the re-solved network), as in the open network
+    // (sim/flow Occlusion.ContrastStopsAtTheClot: 116 mgI/mL in the M2 at 1.5 s).
+    ASSERT_TRUE(s.fluoro());
+    const flow::ContrastTransport& t = s.fluoro()->transport();
+    double m2_mgI_ml = 0.0;
+    for (std::uint32_t k = 0; k < t.network().model().segments.size(); ++k) {
+      if (t.network().model().segments[k].name.rfind("left_middle_cerebral_m2", 0) == 0) m2_mgI_ml = std::max(m2_mgI_ml, t.max_concentration(k));
+    }
+    std::printf("control run: left M2 %.1f mgI/mL\n", m2_mgI_ml);
+    EXPECT_GT(m2_mgI_ml, 30.0);
   }
   ASSERT_TRUE(live.thrombectomy);
   const ThrombectomyFigures& t = *live.thrombectomy;

@@ -181,6 +181,15 @@ TEST(Occlusion, ContrastStopsAtTheClot) {
   std::printf("peak mgI/mL: ICA %.1f, M2 open %.1f, M2 behind the clot %.2g\n", ica_occ, m2_open, m2_occ);
   ASSERT_TRUE(net->occlude({}));
   EXPECT_NEAR(run(*net).second, m2_open, 1e-9 * m2_open);
+  // A transport made while occluded takes the reopened flows with refresh_flows() (a session's
+  // pass): the same filling as one made on the open network.
+  ASSERT_TRUE(net->occlude(std::vector<Clot>{clot_in(model, kLeftM1, 13.0)}));
+  ContrastTransport t(*net);
+  ASSERT_TRUE(net->occlude({}));
+  t.refresh_flows();
+  EXPECT_EQ(t.inject({ica, 0.4 * t.locator().length_mm(ica), 0.0}, Injection{6.0, 3.0, 300.0}), "");
+  for (int i = 0; i < 150; ++i) t.step();
+  EXPECT_NEAR(t.max_concentration(m2s), m2_open, 1e-9 * m2_open);
 }
 
 TEST(Occlusion, RejectsBadClotsAndChangesNothing) {

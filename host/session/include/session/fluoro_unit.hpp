@@ -50,6 +50,9 @@ class FluoroUnit final : public ControlHandler {
   // Advances the transport and the fluoroscope to now_us (non-decreasing): the end of the
   // tick whose step produced the snapshot given at construction.
   void tick(std::int64_t now_us);
+  // The network was solved again (a thrombectomy pass, a balloon guide): the contrast follows
+  // the new flows from the next transport step.
+  void flows_changed() { transport_.refresh_flows(); }
 
   // A control has been applied (the state hash covers the unit from then on, so records of runs
   // that never used it keep their hashes).

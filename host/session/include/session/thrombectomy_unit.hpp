@@ -73,6 +73,8 @@ class ThrombectomyUnit final : public ControlHandler {
     return aspirators_.empty() ? std::nullopt : std::optional<std::size_t>(aspirators_.front().tool);
   }
   [[nodiscard]] std::optional<std::size_t> first_balloon_guide() const;
+  // Counts the network's solves since load (a pass, an arrest): the fluoroscopy follows it.
+  [[nodiscard]] std::uint64_t flow_generation() const { return flow_generation_; }
   [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
   [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
 
@@ -108,6 +110,7 @@ class ThrombectomyUnit final : public ControlHandler {
   std::vector<std::size_t> engaged_;  // indices in clots_
   double engaged_insertion_mm_ = 0.0;
   ThrombectomyFigures figures_;
+  std::uint64_t flow_generation_ = 0;
 };
 
 }  // namespace cathbox::session

@@ -61,6 +61,10 @@ class ContrastTransport {
   void step();
   // Removes all contrast (the time and the running totals restart at zero).
   void reset();
+  // The network was solved again (FlowNetwork::occlude: a clot removed, a balloon inflated):
+  // takes its flows from the next step; the contrast stays where it is. A running injection
+  // keeps the path it was given when it started. No allocation.
+  void refresh_flows();
 
   [[nodiscard]] double time_s() const { return static_cast<double>(steps_) * options_.step_s; }
   [[nodiscard]] bool injecting() const { return remaining_mm3_ > 0.0; }
@@ -110,6 +114,8 @@ class ContrastTransport {
   enum class NodeKind : std::uint8_t { kJunction, kInlet, kOutlet, kDead };
 
   [[nodiscard]] double face_flow(const SegmentCells& s, std::uint32_t segment, std::uint32_t face, double w, double q) const;
+  // Steady flow entering node `mouth` from every segment but the sac's.
+  [[nodiscard]] double mouth_inflow_mm3_s(int mouth, std::uint32_t sac_segment) const;
   [[nodiscard]] std::string route_injection(std::uint32_t segment, double arc_mm);
   void update_substeps();
   void advect(double dt, double w, double q);
