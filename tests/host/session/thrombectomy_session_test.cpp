@@ -16,6 +16,7 @@
 
 #include "flow/centerline_locator.hpp"
 #include "session/action_script_hand.hpp"
+#include "session/event_log.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
@@ -149,6 +150,13 @@ double left_mca_ml_min(const flow::FlowNetwork& net) {
   return q;
 }
 
+// The newest line of the log (the others dropped).
+std::string last_event(EventLog& log) {
+  std::string last;
+  for (LogEvent e; log.pop(e);) last = e.text.data();
+  return last;
+}
+
 constexpr std::size_t kGuide = 0;
 constexpr std::size_t kAspirationCatheter = 1;
 constexpr std::size_t kMicrowire = 3;
@@ -233,7 +241,9 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   // (the circle of Willis keeps the head across the M1 clot), but no flow carries the fragment:
   // no new embolus.
   c.snap.tools[kGuide].tip.position_mm = loc.point_at(c.ica, 10.0);
+  c.unit->tick(6500, c.snap);
   ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, true, 7000));
+  EXPECT_EQ(last_event(c.events), "balloon guide inflated in the left_internal_carotid: flow arrest");
   EXPECT_TRUE(c.unit->arrested());
   EXPECT_FALSE(c.unit->set_balloon_guide(kGuide, true, 7000)) << "already inflated";
   place(c, face, 130.0, 8000);
