@@ -5,7 +5,7 @@
 //   'real'    — 1 kHz against performance.now(): the ticks that are due run, then the worker
 //               sleeps to the next deadline with Atomics.wait (sub-millisecond, unlike timers),
 //               and every 8 ms it returns to its event loop (messages; the record writer's
-//               file calls, which its thread hands to this one). More than 50 ticks late: the
+//               file calls, which its thread hands to this one). More than 4 ticks late: the
 //               overdue ones are dropped (counted), as the native haptic thread does. The
 //               interval between consecutive ticks is measured (jitter: p50, p99, max).
 //   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
@@ -19,7 +19,7 @@
 'use strict';
 
 const SLICE_MS = 8;
-const MAX_CATCH_UP = 50;
+const MAX_CATCH_UP = 4;  // as session::HapticPacer
 const FRAME_MS = 16;
 const BIN_MS = 0.01;  // interval histogram: 10 µs bins up to 100 ms
 const BINS = 10000;
