@@ -6,7 +6,8 @@ Y-bifurcation case assigned to a trainee. The trainee logs in, opens the assignm
 /train.html?clock=virtual (the worker has no clock of its own: the test advances it by exact tick
 counts, so the run is the same on any machine) and drives the guidewire with the native trainer's
 keys, held as a person would: Shift+W to 40 mm, Shift+A a full turn, then W until the tip reaches
-the target. The page uploads the record; the server accepts it only if every state hash
+the target, while an instructor watches the browser's rig live (its tip moves on /live.html). The
+page uploads the record; the server accepts it only if every state hash
 replays (201), and `cathbox session replay --check` replays the stored record natively.
 Screenshots (3D) go to --out. Any SEVERE console message fails the test.
 
@@ -73,17 +74,27 @@ def hold(b, keys, ticks):
     return ran
 
 
-def test_keyboard_run(b, centre, assignment, report):
+def test_keyboard_run(b, watcher, centre, assignment, report):
+    # An instructor watches the browser's rig before it starts (as the live page's own test does).
+    watcher.open("/live.html?rigs=browser-ann")
+    watcher.wait_js("return document.getElementById('status').textContent === '(connected)'", "the instructor's watcher socket")
     open_assignment(b, assignment, "virtual")
+    b.wait_js("return (window.cathboxTrain.live || '').startsWith('live as browser-ann')", "the page's live stream")
     b.shot("train-start")
     check(hold(b, [Keys.SHIFT, "w"], 1000) == 1000, "1000 ticks pushing")
     at = b.js("return window.cathboxTrain.last")
     check(abs(at["insertion_mm"] - 40.0) < 0.01, "Shift+W for 1 s: 40 mm expected, %.3f mm" % at["insertion_mm"])
+    tip_js = "const e = document.querySelector(\"section[data-rig='browser-ann'] [data-stat='tip']\"); return e ? e.textContent : null;"
+    first_tip = watcher.wait_js(tip_js, "the browser rig's first frame on the instructor's live page")
     turn_ticks = round(2 * math.pi / 6.0 * 1000)
     hold(b, [Keys.SHIFT, "a"], turn_ticks)
     at = b.js("return window.cathboxTrain.last")
     check(abs(at["rotation_rad"] - 6.0 * turn_ticks / 1000) < 0.01, "Shift+A: a full turn expected, %.3f rad" % at["rotation_rad"])
     b.shot("train-3d")
+    watcher.wait_js(tip_js.replace("return e ? e.textContent : null;", "return e && e.textContent !== %s;" % json.dumps(first_tip)),
+                    "the browser rig's tip to move on the instructor's page")
+    watcher.shot("train-live-instructor")
+    report["live_tip"] = "%s -> %s" % (first_tip, watcher.js(tip_js))
     # W (10 mm/s) until the run ends at the target (bounded: 12 s of session time).
     body = b.driver.find_element(By.TAG_NAME, "body")
     ActionChains(b.driver).key_down("w", body).perform()
@@ -148,15 +159,22 @@ def main():
     centre = Centre(args, tmp)
     centre.extra_args = ["--wasm", args.wasm]
     b = None
+    watcher = None
     report = {}
     try:
         centre.start()
         _, assignment = seed(centre)
+        watcher = Browser(args.out)
+        watcher.base = centre.base
+        watcher.login("teacher")
         b = Browser(args.out)
         b.base = centre.base
         b.login("ann")
-        result_id = test_keyboard_run(b, centre, assignment, report)
+        result_id = test_keyboard_run(b, watcher, centre, assignment, report)
         b.drain_console()
+        watcher.drain_console()
+        watcher.quit()
+        watcher = None
         test_native_replay(centre, result_id, report)
         if args.real_clock:
             test_real_clock(b, assignment, args.real_clock, report)
@@ -172,8 +190,9 @@ def main():
         traceback.print_exc()
         return 1
     finally:
-        if b:
-            b.quit()
+        for browser in (b, watcher):
+            if browser:
+                browser.quit()
         centre.stop()
         if not args.keep:
             subprocess.run(["rm", "-rf", tmp])

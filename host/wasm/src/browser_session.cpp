@@ -37,6 +37,14 @@ std::string number(double v) {
   return text;
 }
 
+std::string metrics_json(const session::Metrics& metrics) {
+  std::string out = "{";
+  for (const session::NamedMetric& m : session::named_metrics(metrics)) {
+    out += (out.size() > 1 ? "," : "") + quoted(m.name) + ":" + number(m.value);
+  }
+  return out + "}";
+}
+
 }  // namespace
 
 std::unique_ptr<BrowserSession> BrowserSession::open(const std::string& case_path, const std::string& mesh_path,
@@ -83,6 +91,10 @@ std::size_t BrowserSession::pack_snapshot() {
   return packed_.size();
 }
 
+std::string BrowserSession::snapshot_metrics_json() const {
+  return metrics_json(session_->snapshots().read_slot().metrics);
+}
+
 bool BrowserSession::close_record(std::string& error) {
   session::Recorder* rec = session_->recorder();
   if (rec == nullptr) return true;
@@ -106,13 +118,7 @@ std::string BrowserSession::summary_json() const {
   } else {
     out += "null";
   }
-  out += ",\"metrics\":{";
-  bool first = true;
-  for (const session::NamedMetric& m : session::named_metrics(session_->metrics())) {
-    out += (first ? "" : ",") + quoted(m.name) + ":" + number(m.value);
-    first = false;
-  }
-  return out + "}}";
+  return out + ",\"metrics\":" + metrics_json(session_->metrics()) + "}";
 }
 
 }  // namespace cathbox::wasm

@@ -51,6 +51,12 @@ EMSCRIPTEN_KEEPALIVE double cbx_ticks() { return g_session ? static_cast<double>
 EMSCRIPTEN_KEEPALIVE int cbx_snapshot() { return g_session ? static_cast<int>(g_session->pack_snapshot()) : 0; }
 EMSCRIPTEN_KEEPALIVE const float* cbx_snapshot_data() { return g_session ? g_session->packed() : nullptr; }
 
+// The packed snapshot's metrics as JSON ({name: value}), after cbx_snapshot().
+EMSCRIPTEN_KEEPALIVE const char* cbx_snapshot_metrics() {
+  g_text = g_session ? g_session->snapshot_metrics_json() : std::string("{}");
+  return g_text.c_str();
+}
+
 EMSCRIPTEN_KEEPALIVE int cbx_close_record() {
   g_error.clear();
   return g_session && g_session->close_record(g_error) ? 1 : 0;

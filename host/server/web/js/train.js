@@ -4,11 +4,14 @@
 // cathbox-trainer, a global and a local 3D view with the HUD, the end-of-run metrics, and the
 // record uploaded as the native trainer uploads it (POST /results?assignment=ID).
 //
+// The run is streamed live to instructors as rig `browser-USER` (js/train_live.js).
+//
 // /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
 // N ticks (tests drive the page in virtual time this way).
 import { requireUser, api, guarded, showError, el, fmt } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey } from './train_keys.js';
+import { LiveRig } from './train_live.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -53,8 +56,11 @@ function hudText(s) {
   ].join('\n');
 }
 
-function showFrame(data) {
+function showFrame(data, metrics) {
   const s = unpack(data);
+  run.last = s;
+  run.metrics = metrics;
+  if (run.live) run.live.frame(s, metrics);
   s.tools.forEach((t, i) => { views.global.setTool(i, t.nodes); views.local.setTool(i, t.nodes); });
   views.global.setTip(s.tip);
   views.local.setTip(s.tip);
@@ -128,7 +134,22 @@ function showMetrics(summary, result) {
     el('thead', {}, el('tr', {}, el('th', {}, 'Metric'), el('th', {}, 'Value'), el('th', {}, 'Criterion'))), el('tbody', {}, ...rows)));
 }
 
+function onReady(m) {
+  hook.state = 'running';
+  hook.openMs = m.open_ms;
+  run.tools = m.summary.tools;
+  setTarget(m.summary.target);
+  status('running');
+  const a = run.assignment;
+  run.live = new LiveRig({ rig: 'browser-' + user.name.replace(/[^A-Za-z0-9_.-]/g, '-'), caseName: a.case, version: run.version,
+    assignment: a.id, toolNames: m.summary.tools, onState: (text) => { hook.live = text; document.getElementById('live-note').textContent = text; } });
+}
+
 async function onOver(m) {
+  if (run.live) {
+    if (run.last) run.live.frame(run.last, run.metrics, true);
+    run.live.end();
+  }
   hook.state = 'uploading';
   hook.summary = m.summary;
   hook.jitter = m.jitter;
@@ -160,8 +181,8 @@ function startWorker() {
   worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
   worker.onmessage = (e) => {
     const m = e.data;
-    if (m.type === 'frame') showFrame(m.data);
-    else if (m.type === 'ready') { hook.state = 'running'; hook.openMs = m.open_ms; run.tools = m.summary.tools; setTarget(m.summary.target); status('running'); }
+    if (m.type === 'frame') showFrame(m.data, m.metrics);
+    else if (m.type === 'ready') onReady(m);
     else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
     else if (m.type === 'over') onOver(m);
     else if (m.type === 'error') { hook.state = 'error'; hook.error = m.message; showError(m.message); status(''); }
@@ -182,7 +203,7 @@ async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
-  run = { assignment: a, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
+  run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
   hook.state = 'opening';
   status('opening ' + a.case);
   document.getElementById('pick').hidden = true;

@@ -14,7 +14,7 @@
 // reads its KeyboardInput.
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys},
-// advance {ticks}, next_tool, end. Out: ready {summary, first_tick_ms}, frame {data: Float32Array},
+// advance {ticks}, next_tool, end. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
 // advanced {ticks}, over {summary, record (bytes), jitter}, error {message}.
 'use strict';
 
@@ -60,6 +60,7 @@ function bind(m) {
     over: c('cbx_over', 'number', []),
     snapshot: c('cbx_snapshot', 'number', []),
     snapshotData: c('cbx_snapshot_data', 'number', []),
+    snapshotMetrics: c('cbx_snapshot_metrics', 'string', []),
     closeRecord: c('cbx_close_record', 'number', []),
     summary: c('cbx_summary', 'string', []),
   };
@@ -101,7 +102,7 @@ function postFrame() {
   if (at + n > mod.HEAPF32.length) fn.error();
   const data = new Float32Array(n);
   data.set(mod.HEAPF32.subarray(at, at + n));
-  postMessage({ type: 'frame', data }, [data.buffer]);
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()) }, [data.buffer]);
 }
 
 function finish() {

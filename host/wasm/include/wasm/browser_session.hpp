@@ -32,6 +32,8 @@ class BrowserSession {
   // The newest snapshot flattened for the page (layout in browser_session.cpp); its size in floats.
   std::size_t pack_snapshot();
   [[nodiscard]] const float* packed() const { return packed_.data(); }
+  // The packed snapshot's metrics, {name: value} (session::named_metrics): the live frame's.
+  [[nodiscard]] std::string snapshot_metrics_json() const;
   // Once over: the record closed (false with the writer's line in `error`).
   bool close_record(std::string& error);
   // {"case", "hand", "end", "ticks", "record_bytes", "target":[x,y,z,r]|null, "metrics":{name:value}}
