@@ -9,7 +9,8 @@ keys, held as a person would: Shift+W to 40 mm, Shift+A a full turn, then W unti
 the target, while an instructor watches the browser's rig live (its tip moves on /live.html). The
 page uploads the record; the server accepts it only if every state hash
 replays (201), and `cathbox session replay --check` replays the stored record natively.
-Screenshots (3D) go to --out. Any SEVERE console message fails the test.
+Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, on the server
+restarted without --wasm, opening a case shows one line naming what is missing.
 
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
 reports the tick-interval jitter and the first-frame time (a wall-clock figure: printed, never
@@ -129,6 +130,21 @@ def test_native_replay(centre, result_id, report):
     report["native_replay"] = out.strip().splitlines()[-1]
 
 
+def test_without_wasm(b, centre, assignment, report):
+    """A server started without --wasm: the page says so in one line, and nothing runs."""
+    centre.extra_args = []
+    centre.restart()
+    b.open("/train.html?clock=virtual")
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    line = b.wait_js("const e = document.getElementById('error'); return !e.hidden && e.textContent;", "the page's error line")
+    check(line == "/wasm/cathbox-trainee.js: the WebAssembly session is not served here (cathbox-server --wasm DIR)",
+          "the error line without --wasm: %r" % line)
+    check(b.js("return window.cathboxTrain.state") == "error", "the page's state without the session")
+    b.drain_console(expected=[("/wasm/cathbox-trainee.js", 404)])
+    report["without_wasm"] = line
+
+
 def test_real_clock(b, assignment, seconds, report):
     """The worker's own 1 kHz clock for `seconds`, W held, then Escape: jitter and first frame."""
     open_assignment(b, assignment, "real")
@@ -179,6 +195,7 @@ def main():
         if args.real_clock:
             test_real_clock(b, assignment, args.real_clock, report)
             b.drain_console()
+        test_without_wasm(b, centre, assignment, report)
         print(json.dumps(report, indent=1))
         json.dump(report, open(os.path.join(args.out, "train_report.json"), "w"), indent=1)
         return 0

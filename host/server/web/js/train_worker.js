@@ -39,7 +39,11 @@ let dropped = 0;
 function fail(message) { postMessage({ type: 'error', message: String(message) }); }
 
 function loadModule() {
-  importScripts('/wasm/cathbox-trainee.js');
+  try {
+    importScripts('/wasm/cathbox-trainee.js');
+  } catch (_) {
+    throw new Error('/wasm/cathbox-trainee.js: the WebAssembly session is not served here (cathbox-server --wasm DIR)');
+  }
   return self.CathboxTrainee({
     locateFile: (path) => '/wasm/' + path,
     mainScriptUrlOrBlob: '/wasm/cathbox-trainee.js',
@@ -177,7 +181,7 @@ onmessage = (e) => {
   const m = e.data;
   try {
     if (m.type === 'open') {
-      open(m).catch(fail);
+      open(m).catch((err) => fail(err && err.message ? err.message : err));
     } else if (!fn) {
       fail('no session open');
     } else if (m.type === 'advance') {
