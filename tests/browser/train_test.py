@@ -113,6 +113,13 @@ def test_keyboard_run(b, watcher, centre, assignment, report):
     check(result["complete"] is True and result["case"] == "ybif", "the stored result: %s" % json.dumps(result)[:400])
     b.wait(EC.visibility_of_element_located((By.ID, "metrics-table")), "the end-of-run metrics")
     b.shot("train-end")
+    # The record the page offers for download: compared with the server's copy below.
+    kept = b.driver.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "window.cathboxTrain.recordBlob.arrayBuffer().then((a) => done(Array.from(new Uint8Array(a))), (e) => done(String(e)));")
+    check(isinstance(kept, list) and b.js("return document.getElementById('record-download').href.startsWith('blob:')"),
+          "the page's record download: %r" % (kept if not isinstance(kept, list) else "no link"))
+    centre.page_record = bytes(kept)
     report["keyboard_run"] = {"ticks": summary["ticks"], "end": summary["end"], "result_id": result["id"],
                               "passed": result["passed"], "record_bytes": summary["record_bytes"],
                               "tip_path_mm": summary["metrics"].get("tip_path_mm")}
@@ -125,6 +132,8 @@ def test_native_replay(centre, result_id, report):
     _, payload, _ = teacher.call("GET", "/results/%d/record" % result_id)
     path = os.path.join(centre.tmp, "browser.cbxrec")
     open(path, "wb").write(payload)
+    check(payload == centre.page_record, "the server's record (%d bytes) is not the page's download (%d bytes)"
+          % (len(payload), len(centre.page_record)))
     out = centre.run([centre.program("cathbox"), "session", "replay", path, "--check"], "native replay --check of the browser's record")
     check("every state hash matches" in out, "native replay: " + out[-400:])
     report["native_replay"] = out.strip().splitlines()[-1]

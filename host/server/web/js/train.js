@@ -158,6 +158,11 @@ async function onOver(m) {
   document.getElementById('end-title').textContent = 'End of run: ' + m.summary.end + ' (' + (m.summary.ticks / 1000).toFixed(1) + ' s)';
   showMetrics(m.summary, null);
   const line = document.getElementById('upload');
+  // The record stays downloadable whatever the upload does (the native trainer keeps its file).
+  const name = run.caseName + '-' + new Date().toISOString().replace(/[:.]/g, '-') + '.cbxrec';
+  hook.recordBlob = new Blob([m.record], { type: 'application/octet-stream' });
+  document.getElementById('record-link').replaceChildren(el('a', { id: 'record-download', download: name,
+    href: URL.createObjectURL(hook.recordBlob) }, 'Download the record (' + m.record.byteLength + ' bytes)'));
   status('uploading the record (' + m.record.byteLength + ' bytes)');
   line.textContent = 'Uploading the record…';
   try {
