@@ -58,6 +58,7 @@ export class LiveRig {
 
   end() {
     this.ended = true;
+    this.onState('live stream ended (' + this.seq + ' frames)');
     if (this.ws.readyState === WebSocket.OPEN) this.ws.send('{"type":"end"}');
     this.ws.close(1000);
   }
