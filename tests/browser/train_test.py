@@ -10,7 +10,8 @@ the target, while an instructor watches the browser's rig live (its tip moves on
 page uploads the record; the server accepts it only if every state hash
 replays (201), and `cathbox session replay --check` replays the stored record natively.
 Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, on the server
-restarted without --wasm, opening a case shows one line naming what is missing.
+restarted without --wasm, opening a case shows one line naming what is missing. On a two-tool
+case (neuro), Tab hands over the other tool and Escape ends the run, uploaded.
 
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
 reports the tick-interval jitter and the first-frame time (a wall-clock figure: printed, never
@@ -44,7 +45,12 @@ def seed(centre):
     _, a = teacher.json("POST", "/assignments", {
         "trainee": "ann", "case": "ybif", "note": "Left branch, in the browser.",
         "criteria": [{"metric": "peak_wall_force_mN", "op": "<=", "value": 400}]})
-    return teacher, a["id"]
+    # Two tools (catheter, guidewire): Tab hands over the other one.
+    teacher.json("POST", "/cases", {
+        "name": "neuro", "case_file": "neuro.case", "case": open(os.path.join(cases, "neuro.case")).read(),
+        "hclm_file": "neuro.hclm", "hclm": open(os.path.join(cases, "neuro.hclm")).read()})
+    _, two = teacher.json("POST", "/assignments", {"trainee": "ann", "case": "neuro", "criteria": []})
+    return a["id"], two["id"]
 
 
 def open_assignment(b, assignment, clock):
@@ -126,6 +132,25 @@ def test_keyboard_run(b, watcher, centre, assignment, report):
     return result["id"]
 
 
+def test_tab_and_escape(b, assignment, report):
+    """Two tools: W moves the held one only, Tab hands over the other, Escape ends the run; the
+    upload is accepted."""
+    open_assignment(b, assignment, "virtual")
+    start = b.js("return window.cathboxTrain.last")
+    hold(b, ["w"], 300)
+    first = b.js("return window.cathboxTrain.last")
+    check(abs(first["insertion_mm"] - start["insertion_mm"] - 3.0) < 0.01, "W for 300 ticks: 3 mm expected, %s -> %s" % (start, first))
+    ActionChains(b.driver).send_keys(Keys.TAB).perform()
+    advance(b, 1)
+    second = b.js("return window.cathboxTrain.last")
+    check(second["held"] != first["held"], "Tab did not hand over the other tool: %s -> %s" % (first, second))
+    ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
+    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    hook = b.js("return window.cathboxTrain")
+    check(state == "done" and hook["summary"]["end"] == "ended by the trainee", "Escape: %s, %s" % (state, hook.get("summary")))
+    report["tab_escape"] = {"held": [first["held"], second["held"]], "ticks": hook["summary"]["ticks"], "result": hook["result"]["id"]}
+
+
 def test_native_replay(centre, result_id, report):
     """The record the page uploaded, from the server, replayed natively with every hash."""
     teacher = Api(centre.base).login("teacher")
@@ -188,7 +213,7 @@ def main():
     report = {}
     try:
         centre.start()
-        _, assignment = seed(centre)
+        assignment, two_tools = seed(centre)
         watcher = Browser(args.out)
         watcher.base = centre.base
         watcher.login("teacher")
@@ -201,6 +226,8 @@ def main():
         watcher.quit()
         watcher = None
         test_native_replay(centre, result_id, report)
+        test_tab_and_escape(b, two_tools, report)
+        b.drain_console()
         if args.real_clock:
             test_real_clock(b, assignment, args.real_clock, report)
             b.drain_console()

@@ -69,7 +69,7 @@ function showFrame(data, metrics) {
   followTip(s);
   document.getElementById('hud').textContent = hudText(s);
   hook.frames++;
-  hook.last = { tick: s.tick, insertion_mm: s.insertion_mm, rotation_rad: s.rotation_rad, tip: s.tip };
+  hook.last = { tick: s.tick, held: s.held, insertion_mm: s.insertion_mm, rotation_rad: s.rotation_rad, tip: s.tip };
 }
 
 // The local view: behind the tip, along the held tool's last segment.
