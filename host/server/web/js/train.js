@@ -8,10 +8,11 @@
 //
 // /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
 // N ticks (tests drive the page in virtual time this way).
-import { requireUser, api, guarded, showError, el, fmt } from './api.js';
+import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey } from './train_keys.js';
 import { LiveRig } from './train_live.js';
+import { showEnd } from './train_end.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -123,17 +124,6 @@ window.addEventListener('keydown', (e) => onKey(e, true));
 window.addEventListener('keyup', (e) => onKey(e, false));
 window.addEventListener('blur', () => { if (run) { run.held.clear(); setKeys(); } });
 
-function showMetrics(summary, result) {
-  const evaluation = new Map(((result && result.evaluation && result.evaluation.criteria) || []).map((c) => [c.metric, c]));
-  const rows = Object.entries(summary.metrics).map(([name, value]) => {
-    const c = evaluation.get(name);
-    return el('tr', {}, el('td', {}, name), el('td', { class: 'num' }, fmt(value, 2)),
-      el('td', { class: c ? (c.passed ? 'pass' : 'fail') : 'muted' }, c ? c.op + ' ' + fmt(c.value, 1) : ''));
-  });
-  document.getElementById('metrics').replaceChildren(el('table', { id: 'metrics-table' },
-    el('thead', {}, el('tr', {}, el('th', {}, 'Metric'), el('th', {}, 'Value'), el('th', {}, 'Criterion'))), el('tbody', {}, ...rows)));
-}
-
 function onReady(m) {
   hook.state = 'running';
   hook.openMs = m.open_ms;
@@ -154,32 +144,11 @@ async function onOver(m) {
   hook.summary = m.summary;
   hook.jitter = m.jitter;
   run.held.clear();
-  document.getElementById('end').hidden = false;
-  document.getElementById('end-title').textContent = 'End of run: ' + m.summary.end + ' (' + (m.summary.ticks / 1000).toFixed(1) + ' s)';
-  showMetrics(m.summary, null);
-  const line = document.getElementById('upload');
-  // The record stays downloadable whatever the upload does (the native trainer keeps its file).
-  const name = run.caseName + '-' + new Date().toISOString().replace(/[:.]/g, '-') + '.cbxrec';
-  hook.recordBlob = new Blob([m.record], { type: 'application/octet-stream' });
-  document.getElementById('record-link').replaceChildren(el('a', { id: 'record-download', download: name,
-    href: URL.createObjectURL(hook.recordBlob) }, 'Download the record (' + m.record.byteLength + ' bytes)'));
   status('uploading the record (' + m.record.byteLength + ' bytes)');
-  line.textContent = 'Uploading the record…';
-  try {
-    const stored = await api('/results?assignment=' + run.assignment.id, { method: 'POST', bytes: m.record });
-    const result = await api('/results/' + stored.id);  // with its evaluation against the criteria
-    hook.result = result;
-    showMetrics(m.summary, result);
-    line.replaceChildren('Uploaded and checked by the server: ', result.passed === true ? el('b', { class: 'pass' }, 'passed')
-      : el('b', { class: 'fail' }, result.complete === false ? 'cut run' : 'not passed'), ' — ', el('a', { href: '/debrief.html?id=' + result.id }, 'debrief'));
-    hook.state = 'done';
-    status('');
-  } catch (err) {
-    line.textContent = 'The server refused the record: ' + err.message;
-    hook.state = 'refused';
-    hook.error = err.message;
-    showError(err.message);
-  }
+  const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id,
+    onRecord: (blob) => { hook.recordBlob = blob; } });
+  Object.assign(hook, end);
+  if (end.state === 'done') status('');
 }
 
 function startWorker() {
