@@ -11,7 +11,8 @@
 //  - Replay/<minutes>: a record of a run made by an action script in virtual time is replayed
 //    with every state hash checked; counter x_real_time = recorded seconds / replay seconds.
 //  - RealTimeTicks/<seconds>: the haptic thread in real time; the interval between ticks (p50,
-//    p99, max), beside the trainee page's worker clock (scripts/bench train).
+//    p99, max; the label: the scheduling the OS granted), beside the trainee page's worker clock
+//    (scripts/bench train, which also runs it without CAP_SYS_NICE: a normal-priority thread).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -257,6 +258,7 @@ void RealTimeTicks(benchmark::State& state) {
     session->start();
     while (!session->over()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
     session->stop();
+    state.SetLabel(session->haptic_scheduling());  // SCHED_FIFO, nice, or normal: what the OS granted
     const std::vector<double> intervals = times.intervals_ms();
     state.counters["ticks"] = static_cast<double>(session->ticks());
     state.counters["interval_p50_ms"] = cathbox::bench::quantile(intervals, 0.5);
