@@ -57,12 +57,24 @@ function hudText(s) {
   ].join('\n');
 }
 
+// At most `max` nodes of a flat [x,y,z,...] list: every k-th, and always the tip (the views draw
+// 256 nodes a tool; a longer tool would otherwise lose its distal end).
+function fit(flat, max = 256) {
+  const n = flat.length / 3;
+  if (n <= max) return flat;
+  const step = Math.ceil((n - 1) / (max - 1));
+  const out = [];
+  for (let i = 0; i < n - 1; i += step) out.push(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  out.push(flat[3 * n - 3], flat[3 * n - 2], flat[3 * n - 1]);
+  return out;
+}
+
 function showFrame(data, metrics) {
   const s = unpack(data);
   run.last = s;
   run.metrics = metrics;
   if (run.live) run.live.frame(s, metrics);
-  s.tools.forEach((t, i) => { views.global.setTool(i, t.nodes); views.local.setTool(i, t.nodes); });
+  s.tools.forEach((t, i) => { const nodes = fit(t.nodes); views.global.setTool(i, nodes); views.local.setTool(i, nodes); });
   views.global.setTip(s.tip);
   views.local.setTip(s.tip);
   views.global.setContacts(s.contacts);
