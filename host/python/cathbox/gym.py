@@ -27,6 +27,10 @@ from .fluoroscopy import Fluoroscopy
 
 STEVE_VELOCITY_LIMIT = (50.0, 3.14)  # stEVE's devices: mm/s, rad/s
 STEVE_STEP_S = 1.0 / 7.5
+# stEVE's own physics time step: SofaBeamAdapter(dt_simulation=0.006), 22 SOFA steps per env
+# step. The envs tick at 1 ms by default (the trainer's tick); period_us=STEVE_SIM_DT_US runs
+# the session at stEVE's step (host/python/README.md, "Speed": its cost in fidelity).
+STEVE_SIM_DT_US = 6000
 API_VERSION = 0  # the -v0 of every env: observation layout, reward terms, action units
 OBSERVATIONS = ("tracking", "state", "nodes", "image")
 
@@ -73,6 +77,9 @@ class CathboxEnv(gymnasium.Env):
         self.task = task
         self.observation_mode = observation
         self.step_s = float(step_s)
+        if not (isinstance(period_us, (int, np.integer)) and 100 <= period_us <= 10_000):
+            raise ValueError(f"period_us {period_us!r}: expected a whole number of microseconds in [100, 10000] "
+                             f"(1000: the trainer's tick; {STEVE_SIM_DT_US}: stEVE's)")
         self.period_us = int(period_us)
         self.ticks_per_step = self.step_s * 1e6 / self.period_us
         if self.ticks_per_step < 1.0:
@@ -386,4 +393,5 @@ _register()
 from .vector import ThreadVectorEnv  # noqa: E402  (after the envs it runs)
 
 __all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "CaseTask", "ThreadVectorEnv",
-           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]
+           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_SIM_DT_US", "STEVE_VELOCITY_LIMIT",
+           "API_VERSION"]
