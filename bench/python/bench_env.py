@@ -65,10 +65,11 @@ def measure(env_id, step_s, period_us, mode, policy, sim_seconds):
     return steps, wall, cpu, float(np.mean(unconverged)), np.array(tips)
 
 
-def measure_vector(env_id, n, sim_seconds):
+def measure_vector(env_id, n, mode, sim_seconds):
     """Env steps per wall second of n envs stepped together by ThreadVectorEnv (random actions,
     1/7.5 s), against the same n envs stepped one after the other on this thread."""
-    make = [lambda: gymnasium.make(env_id, max_episode_steps=10**9) for _ in range(n)]
+    kwargs = dict(observation="image", image_renderer="fluoroscopy") if mode == "fluoroscopy" else dict(observation=mode)
+    make = [lambda: gymnasium.make(env_id, max_episode_steps=10**9, **kwargs) for _ in range(n)]
     steps = max(10, int(round(sim_seconds / cathbox.gym.STEVE_STEP_S)))
     rng = np.random.default_rng(0)
     vec = cathbox.gym.ThreadVectorEnv(make)
@@ -101,7 +102,7 @@ def main():
     p.add_argument("--policies", default="random,autopilot")
     p.add_argument("--ticks-us", default=f"1000,{cathbox.gym.STEVE_SIM_DT_US}",
                    help="physics ticks (period_us) at the 1/7.5 s step: 1000 (default of the envs), 6000 (stEVE's SOFA dt)")
-    p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row (0: none)")
+    p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row, in the first mode (0: none)")
     a = p.parse_args()
     print(f"stEVE (derived from its published training: 2e7 steps, 29 workers, 1-2 days): "
           f"{STEVE_LOW:.1f}-{STEVE_HIGH:.1f} env steps/s per worker at 1/7.5 s")
@@ -127,9 +128,9 @@ def main():
                       f"{per_core:13.1f} {per_core / STEVE_HIGH:8.0f}-{per_core / STEVE_LOW:<10.0f} {n * step_s / cpu:11.2f} "
                       f"{unconverged:12.4f} {drift:>26s}", flush=True)
     if a.vector > 0:
-        env_id = a.envs.split(",")[0]
-        threaded, serial = measure_vector(env_id, a.vector, a.seconds)
-        print(f"ThreadVectorEnv of {a.vector} x {env_id} at 1/7.5 s, random: {threaded:.1f} env steps/s (wall), "
+        env_id, mode = a.envs.split(",")[0], a.modes.split(",")[0]
+        threaded, serial = measure_vector(env_id, a.vector, mode, a.seconds)
+        print(f"ThreadVectorEnv of {a.vector} x {env_id} ({mode}) at 1/7.5 s, random: {threaded:.1f} env steps/s (wall), "
               f"the same envs one after the other: {serial:.1f} ({threaded / serial:.2f}x)")
 
 

@@ -91,6 +91,7 @@ class CathboxEnv(gymnasium.Env):
         self.image_size = (int(image_size[0]), int(image_size[1]))
         self.image_renderer = image_renderer
         self._fluoroscopy = None
+        self.gl_thread = None  # a fluoroscopy.GlThread: the thread its views are drawn on (ThreadVectorEnv's)
         self.record_dir = record_dir
         self.render_mode = render_mode
         self.n_tools = task.tool_count
@@ -197,7 +198,7 @@ class CathboxEnv(gymnasium.Env):
             # The trainer's image: the pedal down and one tick run, so the first pulse is in it.
             self.session.press_pedal()
             self.session.step(1)
-            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size)
+            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size, gl=self.gl_thread)
         self._target = np.asarray(self.session.target, dtype=np.float64)
         self._target_view = self._target.view()
         self._target_view.flags.writeable = False
