@@ -46,17 +46,6 @@ class Reward:
         return (self.target if reached else 0.0) + self.step + self.path_delta * (path_before_mm - path_after_mm)
 
 
-def _resample_from_tip(nodes, count, spacing_mm):
-    """`count` points along the polyline `nodes` (entry to tip) every spacing_mm back from the
-    tip (the entry repeated past the proximal end)."""
-    if len(nodes) == 0:
-        return np.zeros((count, nodes.shape[1] if nodes.ndim == 2 else 3))
-    rev = nodes[::-1]
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(rev, axis=0), axis=1))])
-    want = np.minimum(np.arange(count) * spacing_mm, s[-1])
-    return np.stack([np.interp(want, s, rev[:, j]) for j in range(rev.shape[1])], axis=1)
-
-
 class CathboxEnv(gymnasium.Env):
     """One Cathbox session per episode; the episode's case comes from `task` (below)."""
 
@@ -143,12 +132,12 @@ class CathboxEnv(gymnasium.Env):
         parts = []
         if self.observation_mode == "tracking":
             for t in range(self.n_tools):
-                pts = _resample_from_tip(s.nodes(t), self.tracking_points, self.tracking_spacing_mm)
+                pts = s.points_from_tip(t, self.tracking_points, self.tracking_spacing_mm)
                 parts.append(s.project(pts).ravel())
             parts.append(s.project(self._target[None, :]).ravel())
         else:
             for t in range(self.n_tools):
-                parts.append(_resample_from_tip(s.nodes(t), self.state_points, self.state_spacing_mm).ravel())
+                parts.append(s.points_from_tip(t, self.state_points, self.state_spacing_mm).ravel())
                 parts.append(s.tip(t)[1])
                 parts.append([s.insertion_mm(t), s.rotation_rad(t)])
             parts.append(self._target)
