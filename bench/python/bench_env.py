@@ -105,7 +105,8 @@ def main():
     p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row, in the first mode (0: none)")
     a = p.parse_args()
     print(f"stEVE (derived from its published training: 2e7 steps, 29 workers, 1-2 days): "
-          f"{STEVE_LOW:.1f}-{STEVE_HIGH:.1f} env steps/s per worker at 1/7.5 s")
+          f"{STEVE_LOW:.1f}-{STEVE_HIGH:.1f} env steps/s per worker at 1/7.5 s, its physics step "
+          f"{cathbox.gym.STEVE_SIM_DT_US / 1000:.0f} ms (SofaBeamAdapter dt_simulation)")
     print(f"{'env':26s} {'step':>8s} {'tick':>5s} {'mode':>11s} {'policy':>9s} {'steps':>6s} {'steps/s wall':>13s} "
           f"{'steps/s/core':>13s} {'x stEVE (per core)':>19s} {'sim x real':>11s} {'unconverged':>12s} "
           f"{'tip vs 1 ms: max / end mm':>26s}")
