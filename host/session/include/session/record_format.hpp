@@ -55,6 +55,7 @@ enum class HeaderTag : std::uint32_t {
   kSoftwareVersion = 1, kStartUnix_us = 2, kCaseName = 3, kCaseFile = 4, kCaseText = 5,
   kVesselFile = 6, kVesselText = 7, kTool = 8, kEntry = 9, kHeldTool = 10, kHandKind = 11,
   kHandDescription = 12, kDevice = 13, kPeriod_us = 14, kHashEvery = 15,
+  kSurfaceFile = 16, kSurfaceBytes = 17,  // a case's own wall (`surface FILE`) and its CBXMESH2 bytes
 };
 enum class ToolTag : std::uint32_t {
   kName = 1, kKind = 2, kSection = 3, kFriction = 4, kInnerDiameter = 5, kAxialStiffness = 6,
