@@ -228,11 +228,11 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   EXPECT_FALSE(RecordReader::from_bytes({'h', 'e', 'l', 'l', 'o'}, "a.txt", error));
   EXPECT_EQ(error, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 2;  // format version 2, CRC fixed up
+  bytes[8] = 1;  // format version 1 (a record of the solver before issue 29's), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  EXPECT_FALSE(RecordReader::from_bytes(bytes, "v2.cbxrec", error));
-  EXPECT_EQ(error, "v2.cbxrec: byte 8: record format version 2, this build reads version 1");
+  EXPECT_FALSE(RecordReader::from_bytes(bytes, "v1.cbxrec", error));
+  EXPECT_EQ(error, "v1.cbxrec: byte 8: record format version 1, this build reads version 2");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
