@@ -65,6 +65,7 @@ const char* const kShapes = R"({
                   "start_unix_us": "integer",
                   "case": {"name": "string", "file": "string", "bytes": "integer"},
                   "vessel": {"file": "string", "bytes": "integer"},
+                  "surface": {"file": "string", "bytes": "integer"},
                   "tools": [{"name": "string", "kind": "string", "length_mm": "number", "sections": "integer",
                              "inside": "string"}],
                   "entry": {"point_mm": ["number"], "direction": ["number"]},
