@@ -13,6 +13,16 @@ Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, o
 restarted without --wasm, opening a case shows one line naming what is missing. On a two-tool
 case (neuro), Tab hands over the other tool and Escape ends the run, uploaded.
 
+The box path (issue 36, "the emulated box in the browser's place"): cathbox-emu runs with its
+scripted hand pushing the wire at 20 mm/s, cathbox-box-bridge puts it on a WebSocket, and the
+page opened with ?box=ws://... reads the state reports through protocol/'s wasm codec: the held
+tool follows the emulator's encoder (no key pressed), and the emulator's own reports show the
+page's commands applied (its command echo, the command-fresh and output-enabled bits, the brake
+mode, no latched fault: the watchdog fault latched before the first command was acknowledged).
+The page runs on the worker's own clock here (the emulator runs in real time); every wait is for
+an event, bounded, never a wall-clock assertion. Then a 37-byte message from the page is refused
+by the bridge with one line naming its length.
+
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
 reports the tick-interval jitter and the first-frame time (a wall-clock figure: printed, never
 asserted; bench/wasm/train_page_bench.sh prints it beside the native figures).
@@ -29,7 +39,7 @@ import tempfile
 import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from browser_test import Api, Browser, Centre, Failure, check  # noqa: E402
+from browser_test import Api, Browser, Centre, Failure, check, wait_until  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
@@ -195,6 +205,66 @@ def test_real_clock(b, assignment, seconds, report):
                             "end": hook["summary"]["end"]}
 
 
+def test_box_bridge(b, centre, assignment, report):
+    """The page's box path against cathbox-emu through cathbox-box-bridge (see the docstring)."""
+    sock = os.path.join(centre.tmp, "emu.sock")
+    emu_log = open(os.path.join(centre.tmp, "emu.log"), "w")
+    emu = subprocess.Popen([centre.program("cathbox-emu"), "--socket", sock, "--hand-insertion", "v:20mm/s:60s", "--duration", "90"],
+                           stdout=emu_log, stderr=subprocess.STDOUT)
+    centre.processes.append(emu)
+    wait_until(lambda: os.path.exists(sock), "cathbox-emu's socket")
+    bridge_err = os.path.join(centre.tmp, "bridge.log")
+    bridge = subprocess.Popen([centre.program("cathbox-box-bridge"), "--emu-socket", sock, "--port", "0"],
+                              stdout=subprocess.PIPE, stderr=open(bridge_err, "w"), text=True)
+    centre.processes.append(bridge)
+    line = bridge.stdout.readline().strip()
+    check(line.startswith("box-bridge: ws://127.0.0.1:"), "the bridge's first line: %r" % line)
+    url = line.split(" ", 1)[1]
+    b.open("/train.html?box=" + url)
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    note = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.endsWith('drives the held tool') || n.startsWith('no box')"
+                     " || n.startsWith('box lost') || window.cathboxTrain.state === 'error' ? n || window.cathboxTrain.error : null;",
+                     "the box to drive the tool")
+    check(note.endswith("drives the held tool"), "the page's box: %r (%s)" % (note, b.js("return window.cathboxTrain.boxReport ? window.cathboxTrain.boxReport() : null")))
+    first = b.js("return {box: window.cathboxTrain.boxReport(), at: window.cathboxTrain.last}")
+    # 10 mm of the emulator's hand: the tool follows (no key is pressed).
+    moved = b.wait_js("const r = window.cathboxTrain.boxReport(); const at = window.cathboxTrain.last;"
+                      "return r.box_mm - %r >= 10 && Math.abs(at.insertion_mm - r.box_mm) < 2 && (r.state.status & 9) === 9 ? {box: r, at} : null;"
+                      % first["box"]["box_mm"], "the tool to follow the emulator's encoder 10 mm, the box's output on", timeout=30)
+    box, at = moved["box"], moved["at"]
+    s = box["state"]
+    check(box["stats"]["rejected"] == 0 and box["stats"]["states"] > 100, "the page's decoding: %s" % box["stats"])
+    check(at["insertion_mm"] - first["at"]["insertion_mm"] >= 8, "the session's tool moved %.2f mm" % (at["insertion_mm"] - first["at"]["insertion_mm"]))
+    # The emulator shows the page's commands applied (protocol/README.md's state bits).
+    check(s["status"] & 0x1 and s["status"] & 0x8, "output enabled and command fresh expected: status 0x%x" % s["status"])
+    check(s["faults"] == 0 and s["mode"] == 1 and s["rx_errors"] == 0, "the box's faults/mode/rx_errors: %s" % s)
+    lag = (box["law"]["seq"] - s["command_seq_echo"]) & 0xffff
+    check(lag < 64, "the box's command echo %d is not the page's last command %d" % (s["command_seq_echo"], box["law"]["seq"]))
+    # The law's offset is the session's hand force (resisting the push); the emulator reports the
+    # force its brake renders, which is that offset (the brake may only resist, and the hand pushes in).
+    law = box["law"]
+    check(law["insertion_offset_mN"] <= -5, "pushing the wire through the vessel: a resisting law expected, %s" % law)
+    check(abs(s["insertion_force_mN"] - law["insertion_offset_mN"]) <= 10,
+          "the emulator renders %d mN, the page commanded %d mN" % (s["insertion_force_mN"], law["insertion_offset_mN"]))
+    ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
+    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    check(state == "done", "the box run's upload: %s" % b.js("return window.cathboxTrain.error"))
+    wait_until(lambda: "page closed" in open(bridge_err).read(), "the bridge to see the page close")
+    closed = [x for x in open(bridge_err).read().splitlines() if "page closed" in x][-1]
+    # A message that is not a report: refused, the reason names its length.
+    why = b.driver.execute_async_script(
+        "const done = arguments[arguments.length - 1]; const ws = new WebSocket(arguments[0]); ws.binaryType = 'arraybuffer';"
+        "ws.onopen = () => ws.send(new Uint8Array(37)); ws.onclose = (e) => done(e.code + ' ' + e.reason);", url)
+    check(why == "1008 a 37-byte message (a report is 64 bytes)", "the bridge's refusal: %r" % why)
+    wait_until(lambda: "refused a 37-byte message (a report is 64 bytes)" in open(bridge_err).read(), "the bridge's error line")
+    bridge.terminate()
+    emu.terminate()
+    report["box_bridge"] = {"box_mm": round(box["box_mm"] - first["box"]["box_mm"], 2),
+                            "tool_mm": round(at["insertion_mm"] - first["at"]["insertion_mm"], 2),
+                            "state": s, "law": box["law"], "stats": box["stats"], "bridge": closed, "refusal": why}
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--bin", required=True)
@@ -231,6 +301,8 @@ def main():
         if args.real_clock:
             test_real_clock(b, assignment, args.real_clock, report)
             b.drain_console()
+        test_box_bridge(b, centre, assignment, report)
+        b.drain_console()
         test_without_wasm(b, centre, assignment, report)
         print(json.dumps(report, indent=1))
         json.dump(report, open(os.path.join(args.out, "train_report.json"), "w"), indent=1)

@@ -160,12 +160,13 @@ class AccountSlot : public CountedSlot<std::int64_t> {
 
 // Every answer, API or page: the pages run only their own scripts and modules (no inline
 // script, no eval, no other origin; WebAssembly compiled from their own files), are never
-// framed, and no type is sniffed. Cross-origin isolated (COOP + COEP): the trainee page's
+// framed, and no type is sniffed. The one other place a page may connect to: a box bridge on
+// this machine's loopback (cathbox-box-bridge, /train.html?box=ws://127.0.0.1:PORT). Cross-origin isolated (COOP + COEP): the trainee page's
 // WebAssembly session shares memory with its threads (SharedArrayBuffer).
 void security_headers(http::response<http::string_body>& res) {
   res.set("Content-Security-Policy",
           "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
-          "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'");
+          "connect-src 'self' ws://127.0.0.1:* ws://localhost:*; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'");
   res.set("X-Frame-Options", "DENY");
   res.set("X-Content-Type-Options", "nosniff");
   res.set("Referrer-Policy", "no-referrer");

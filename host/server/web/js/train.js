@@ -6,6 +6,10 @@
 //
 // The run is streamed live to instructors as rig `browser-USER` (js/train_live.js).
 //
+// A box (js/train_box.js over js/box_transport.js) drives the held tool in place of the keys:
+// ?box=ws://HOST:PORT uses cathbox-box-bridge in front of cathbox-emu; where the browser has
+// WebHID, "Connect box" asks Chromium for the box; elsewhere the page says so and keeps the keys.
+//
 // /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
 // N ticks (tests drive the page in virtual time this way).
 import { requireUser, api, guarded, showError, el } from './api.js';
@@ -13,6 +17,8 @@ import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey } from './train_keys.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
+import { chooseBox } from './box_transport.js';
+import { BoxDriver } from './train_box.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -107,12 +113,13 @@ function draw() {
   views.local.render();
   if (drew && hook.firstFrameMs === null && hook.frames > 0) {
     hook.firstFrameMs = performance.now() - run.started;
-    document.getElementById('box-note').textContent = 'First frame ' + hook.firstFrameMs.toFixed(0) + ' ms after choosing the case.';
+    document.getElementById('frame-note').textContent = 'First frame ' + hook.firstFrameMs.toFixed(0) + ' ms after choosing the case.';
   }
   requestAnimationFrame(draw);
 }
 
 function setKeys() {
+  if (run.box && run.box.live) return;  // the box drives the tool; Tab and Escape still work
   const [insert, twist] = speedsFor(run.held);
   run.keys[0] = insert;
   run.keys[1] = twist;
@@ -156,6 +163,7 @@ async function onOver(m) {
   hook.summary = m.summary;
   hook.jitter = m.jitter;
   run.held.clear();
+  if (run.box) { run.box.stop(); hook.box = run.box.report(); }
   status('uploading the record (' + m.record.byteLength + ' bytes)');
   const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id,
     onRecord: (blob) => { hook.recordBlob = blob; } });
@@ -182,6 +190,28 @@ function setTarget(t) {
   views.local.setTarget(t.slice(0, 3), t[3]);
 }
 
+function boxNote(text) { document.getElementById('box-note').textContent = text; hook.boxNote = text; }
+
+// The box the address or the browser offers (js/box_transport.js); the keyboard until it is up.
+function offerBox() {
+  const { box, why, needsClick } = chooseBox(params);
+  if (!box) return boxNote(why);
+  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && hook.state === 'running' ? run.last : null), onChange: boxNote });
+  const connect = () => guarded(async () => {
+    try {
+      await run.box.connect(box);
+    } catch (err) {
+      boxNote('no box: ' + err.message + ' (the keyboard drives the tool)');
+    }
+  });
+  hook.boxReport = () => run.box.report();
+  if (!needsClick) return connect();
+  boxNote('The keyboard drives the tool until a box is connected.');
+  const button = document.getElementById('connect-box');
+  button.hidden = false;
+  button.onclick = () => { button.hidden = true; connect(); };
+}
+
 // Virtual time (tests): N ticks, resolved when they ran.
 hook.advance = (ticks) => new Promise((resolve) => { hook.pending = resolve; worker.postMessage({ type: 'advance', ticks }); });
 
@@ -199,8 +229,7 @@ async function openCase(a) {
   views.global.setVessel(mesh);
   views.local.setVessel(mesh);
   views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
-  document.getElementById('box-note').textContent = 'navigator.hid' in navigator ? 'A box over WebHID is not offered yet: the keyboard drives the tool.'
-    : 'This browser has no WebHID: the keyboard drives the tool.';
+  offerBox();
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,

@@ -1,0 +1,34 @@
+#pragma once
+// cathbox-box-bridge: the emulated box (cathbox-emu's socket) on a WebSocket, so that a page's
+// box path (js/box_transport.js) runs against cathbox-emu where a real box would be on WebHID.
+// Each binary WebSocket message is one 64-byte interrupt report with the same bytes as USB:
+// IN (state) reports from the box to the page, OUT (command) reports from the page to the box.
+// Feature reports are not carried. One page at a time: a second connection waits until the
+// first one closed. A message that is not 64 bytes is refused (the connection is closed, one
+// line on stderr names its length); the box's OUT queue being full drops the report, as USB does.
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace cathbox::server {
+
+struct BoxBridgeOptions {
+  std::string address = "127.0.0.1";  // loopback only unless asked
+  std::uint16_t port = 0;             // 0: any free port (printed)
+  std::string emu_socket;             // cathbox-emu's socket; empty: the default path
+};
+
+struct BoxBridgeCounts {
+  std::uint64_t pages = 0;         // WebSocket connections served
+  std::uint64_t in_reports = 0;    // box -> page
+  std::uint64_t out_reports = 0;   // page -> box
+  std::uint64_t out_dropped = 0;   // the box's queue was full
+  std::uint64_t refused = 0;       // messages of the wrong size or type
+};
+
+// Runs until the process is stopped; `ready` is called with the bound port once listening.
+// Returns the exit code (2: cannot listen). Errors of one page's connection are one line on
+// stderr each and never end the bridge.
+int run_box_bridge(const BoxBridgeOptions& options, const std::function<void(std::uint16_t)>& ready);
+
+}  // namespace cathbox::server

@@ -1,0 +1,95 @@
+// How the trainee page reaches a box: 64-byte reports in and out, the same bytes whichever way.
+//   WebHID      navigator.hid (Chromium): the box 1209:cb01 picked in Chromium's chooser (a click);
+//               WebHID splits the report ID off, so it is put back on the way in and taken off
+//               on the way out.
+//   WebSocket   ?box=ws://HOST:PORT: cathbox-box-bridge in front of cathbox-emu, one binary
+//               message a report (host/server/README.md).
+// A transport calls onReport(Uint8Array(64)) for each IN report and onClose(reason) once; send(bytes)
+// queues one OUT report (false when it could not).
+export const BOX_VENDOR = 0x1209;
+export const BOX_PRODUCT = 0xcb01;
+const USAGE_PAGE = 0xff00;
+
+export class WebSocketBox {
+  constructor(url) {
+    this.url = url;
+    this.onReport = () => {};
+    this.onClose = () => {};
+  }
+
+  describe() { return 'the box bridge at ' + this.url; }
+
+  open() {
+    return new Promise((resolve, reject) => {
+      const ws = new WebSocket(this.url);
+      ws.binaryType = 'arraybuffer';
+      let opened = false;
+      ws.onopen = () => { opened = true; this.ws = ws; resolve(this); };
+      ws.onmessage = (e) => {
+        if (!(e.data instanceof ArrayBuffer)) return this.close('the bridge sent text, not a report');
+        this.onReport(new Uint8Array(e.data));
+      };
+      ws.onclose = (e) => {
+        const reason = this.url + ': ' + (e.reason || 'closed (code ' + e.code + ')');
+        if (!opened) reject(new Error(reason)); else this.onClose(reason);
+      };
+    });
+  }
+
+  send(bytes) {
+    if (!this.ws || this.ws.readyState !== WebSocket.OPEN) return false;
+    this.ws.send(bytes);
+    return true;
+  }
+
+  close(reason) {
+    if (this.ws) this.ws.close(1000, reason ? String(reason).slice(0, 120) : undefined);
+  }
+}
+
+export class WebHidBox {
+  constructor() {
+    this.onReport = () => {};
+    this.onClose = () => {};
+  }
+
+  describe() { return this.device ? 'WebHID ' + this.device.productName : 'WebHID'; }
+
+  // From a click (Chromium asks the user); a box allowed before is opened without asking.
+  async open() {
+    const filters = [{ vendorId: BOX_VENDOR, productId: BOX_PRODUCT, usagePage: USAGE_PAGE }];
+    let [device] = (await navigator.hid.getDevices()).filter((d) => d.vendorId === BOX_VENDOR && d.productId === BOX_PRODUCT);
+    if (!device) [device] = await navigator.hid.requestDevice({ filters });
+    if (!device) throw new Error('no box chosen');
+    if (!device.opened) await device.open();
+    this.device = device;
+    device.addEventListener('inputreport', (e) => {
+      const bytes = new Uint8Array(64);
+      bytes[0] = e.reportId;
+      bytes.set(new Uint8Array(e.data.buffer, e.data.byteOffset, Math.min(63, e.data.byteLength)), 1);
+      this.onReport(bytes);
+    });
+    navigator.hid.addEventListener('disconnect', (e) => { if (e.device === device) this.onClose('the box was unplugged'); });
+    return this;
+  }
+
+  send(bytes) {
+    if (!this.device) return false;
+    this.device.sendReport(bytes[0], bytes.subarray(1)).catch((err) => this.onClose('WebHID: ' + err.message));
+    return true;
+  }
+
+  close() { if (this.device) this.device.close(); }
+}
+
+// The transport the page's address asks for: ?box=ws://... (the bridge), else WebHID where the
+// browser has it, else null with why (the keyboard stays).
+export function chooseBox(params) {
+  const url = params.get('box');
+  if (url) {
+    if (!/^wss?:\/\//.test(url)) return { box: null, why: '?box=' + url + ': a ws:// or wss:// address expected' };
+    return { box: new WebSocketBox(url), why: '' };
+  }
+  if ('hid' in navigator) return { box: new WebHidBox(), why: '', needsClick: true };
+  return { box: null, why: 'This browser has no WebHID (and no ?box=ws://… bridge was given): the keyboard drives the tool.' };
+}

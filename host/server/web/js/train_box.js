@@ -1,0 +1,149 @@
+// The box driving the trainee page's session, as BoxClient and BoxHand do for the native trainer,
+// on the page's thread (reports arrive as events; the worker reads the speeds written here from
+// shared memory on each tick). Every byte goes through protocol/'s codec compiled to wasm
+// (js/box_codec.js). What it does:
+//   - each IN (state) report: decoded (a refused one is counted with its status, never used),
+//     sequence gaps counted; the encoders' counts -> the box's insertion (mm) and rotation (rad)
+//     from where they were when the box connected;
+//   - the held tool follows the box: the session takes speeds, so the page sends it
+//     (box - tool) / 50 ms (bounded), a position servo on the speed input;
+//   - the force law: every 5 ms at most (the box's command watchdog is 50 ms), a command with
+//     the session's newest hand force and torque as the law's offsets (resisting), brake mode
+//     (resist only: safe on a brake or a motor box), ACK_FAULTS while a fault is latched (the
+//     watchdog fault a box latches before the first command);
+//   - outputs off when the run ends or the page goes.
+// Limits: the calibration feature report is not read (neither the bridge nor the wasm codec
+// carries feature reports yet): counts are converted with the reference box's calibration
+// (hw-sim/README.md: 108 650 counts/m, 4096 counts/rev), and the law has no stiffness or damping
+// (the wasm snapshot gives the hand's force, not the local law's gains).
+import { BoxCodec } from './box_codec.js';
+
+export const INSERTION_COUNTS_PER_M = 108650;
+export const ROTATION_COUNTS_PER_REV = 4096;
+const MODE_OFF = 0;
+const MODE_BRAKE = 1;
+const ACK_FAULTS = 1;
+const FAULT_NOT_CALIBRATED = 1 << 4;
+const FOLLOW_S = 0.05;
+const MAX_MM_S = 200;
+const MAX_RAD_S = 20;
+const SEND_MS = 5;
+const FULL_SCALE_mN = 5000;
+const FULL_SCALE_uNm = 50000;
+
+let codecPromise = null;
+
+// cathbox-protocol.js from the server's /wasm/ (a classic script defining CathboxProtocol).
+function loadCodec() {
+  if (!codecPromise) {
+    codecPromise = new Promise((resolve, reject) => {
+      const s = document.createElement('script');
+      s.src = '/wasm/cathbox-protocol.js';
+      s.onload = () => self.CathboxProtocol({ locateFile: (p) => '/wasm/' + p }).then((m) => resolve(new BoxCodec(m)), reject);
+      s.onerror = () => reject(new Error('/wasm/cathbox-protocol.js: the box codec is not served here (cathbox-server --wasm DIR)'));
+      document.head.append(s);
+    });
+  }
+  return codecPromise;
+}
+
+const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
+
+export class BoxDriver {
+  // keys: the Float64Array the worker reads (mm/s, rad/s); sessionAt(): the newest frame's
+  // {insertion_mm, rotation_rad, hand_force_mN, torque_mNmm} or null; onChange(text) for the page.
+  constructor({ keys, sessionAt, onChange }) {
+    this.keys = keys;
+    this.sessionAt = sessionAt;
+    this.onChange = onChange;
+    this.seq = 0;
+    this.lastSentAt = -Infinity;
+    this.zero = null;
+    this.stats = { states: 0, missed: 0, rejected: 0, last_rejected: '', sent: 0, dropped: 0, max_send_gap_ms: 0 };
+    this.state = null;
+    this.live = false;
+  }
+
+  async connect(transport) {
+    this.codec = await loadCodec();
+    this.transport = transport;
+    transport.onReport = (bytes) => this.onReport(bytes);
+    transport.onClose = (reason) => this.lost(reason);
+    await transport.open();
+    this.live = true;
+    this.onChange('box: ' + transport.describe() + ' (waiting for its first report)');
+  }
+
+  onReport(bytes) {
+    let s;
+    try {
+      s = this.codec.decodeState(bytes);
+    } catch (err) {
+      this.stats.rejected++;
+      this.stats.last_rejected = err.message;
+      return;
+    }
+    if (this.state && ((s.seq - this.state.seq) & 0xffff) > 1) this.stats.missed += ((s.seq - this.state.seq) & 0xffff) - 1;
+    this.state = s;
+    this.stats.states++;
+    const at = this.sessionAt();
+    if (!at) return;
+    if (!this.zero) {
+      this.zero = { insertion_count: s.insertion_count, rotation_count: s.rotation_count, insertion_mm: at.insertion_mm, rotation_rad: at.rotation_rad };
+      this.onChange('box: ' + this.transport.describe() + ' drives the held tool');
+    }
+    this.box_mm = this.zero.insertion_mm + (s.insertion_count - this.zero.insertion_count) * 1000 / INSERTION_COUNTS_PER_M;
+    this.box_rad = this.zero.rotation_rad + (s.rotation_count - this.zero.rotation_count) * 2 * Math.PI / ROTATION_COUNTS_PER_REV;
+    this.keys[0] = clamp((this.box_mm - at.insertion_mm) / FOLLOW_S, -MAX_MM_S, MAX_MM_S);
+    this.keys[1] = clamp((this.box_rad - at.rotation_rad) / FOLLOW_S, -MAX_RAD_S, MAX_RAD_S);
+    const now = performance.now();
+    if (now - this.lastSentAt >= SEND_MS) {
+      if (this.lastSentAt > 0) this.stats.max_send_gap_ms = Math.max(this.stats.max_send_gap_ms, now - this.lastSentAt);
+      this.lastSentAt = now;
+      this.sendLaw(at, s);
+    }
+  }
+
+  command(mode, insertion_mN, torque_uNm, flags) {
+    const law = (offset, full) => ({ offset: Math.round(clamp(offset, -full, full)), pos0: 0, stiffness: 0, damping: 0, out_min: -full, out_max: full });
+    return this.codec.encodeCommand({ seq: this.seq, time_us: Math.round(performance.now() * 1000) >>> 0, mode, flags,
+      insertion: law(insertion_mN, FULL_SCALE_mN), rotation: law(torque_uNm, FULL_SCALE_uNm) });
+  }
+
+  // The hand's force resists insertion when positive (the session's sign); the box's output
+  // pushes in when positive: offset = -force. 1 mN·mm = 1 µN·m.
+  sendLaw(at, s) {
+    const flags = (s.faults & ~FAULT_NOT_CALIBRATED) ? ACK_FAULTS : 0;
+    const bytes = this.command(MODE_BRAKE, -at.hand_force_mN, -at.torque_mNmm, flags);
+    this.sentSeq = this.seq;
+    this.seq = (this.seq + 1) & 0xffff;
+    if (this.transport.send(bytes)) this.stats.sent++; else this.stats.dropped++;
+    this.lastLaw = { seq: this.sentSeq, insertion_offset_mN: Math.round(-at.hand_force_mN), rotation_offset_uNm: Math.round(-at.torque_mNmm) };
+  }
+
+  // Outputs off, then the link closed (end of run, page closed).
+  stop() {
+    if (!this.live) return;
+    this.live = false;
+    this.transport.send(this.command(MODE_OFF, 0, 0, 0));
+    this.transport.close('run over');
+    this.keys[0] = 0;
+    this.keys[1] = 0;
+  }
+
+  lost(reason) {
+    this.live = false;
+    this.keys[0] = 0;
+    this.keys[1] = 0;
+    this.onChange('box lost: ' + reason + ' (the tool stops; the keyboard drives it)');
+  }
+
+  // What tests and the HUD read.
+  report() {
+    const s = this.state;
+    return { live: this.live, box_mm: this.box_mm, box_rad: this.box_rad, stats: { ...this.stats }, law: this.lastLaw || null,
+      state: s ? { seq: s.seq, insertion_count: s.insertion_count, rotation_count: s.rotation_count, status: s.status, faults: s.faults,
+        mode: s.mode, command_seq_echo: s.command_seq_echo, insertion_force_mN: s.insertion_force_mN,
+        insertion_current_mA: s.insertion_current_mA, rx_errors: s.rx_errors } : null };
+  }
+}
