@@ -176,6 +176,7 @@ const std::vector<Route>& routes() {
       {"GET", {"results", ":id", "trace"}, get_result_trace, true},
       {"GET", {"metrics"}, list_metrics, true},
       {"GET", {"live", "rigs"}, live_rigs, true},
+      {"GET", {"audit"}, list_audit, true},
   };
   return table;
 }

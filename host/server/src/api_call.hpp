@@ -71,6 +71,10 @@ Reply list_metrics(Call& call);
 
 Reply live_rigs(Call& call);
 
+Reply list_audit(Call& call);
+// Appends the caller's action to the audit log (audit_log.hpp): who, now, from the request's address.
+void audit(Call& call, const std::string& action, const std::string& target, const std::string& detail = {});
+
 // The cached value (ApiContext::cache) of `key`, else build() now.
 [[nodiscard]] Result<std::shared_ptr<const std::string>> cached(Call& call, const std::string& key,
                                                                 const std::function<Result<std::string>()>& build,

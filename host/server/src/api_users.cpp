@@ -1,4 +1,5 @@
 // POST /login, /logout, GET /me, POST /me/password, GET /users, POST /users, PATCH /users/{name}
+// (the last two audited)
 #include "api_call.hpp"
 #include "server/iso_time.hpp"
 #include "server/json_input.hpp"
@@ -67,6 +68,7 @@ Reply create_user(Call& call) {
   if (!role) return make_error(400, "field 'role': expected trainee, instructor or admin");
   Result<User> user = call.c.auth.create_user(name, *role, password);
   if (!user) return user.error();
+  audit(call, "user.create", name, "role=" + role_text);
   ApiResponse r = json_response(201, user_json(user.value()));
   r.headers.emplace_back("Location", "/api/v1/users/" + name);
   return r;
@@ -101,6 +103,11 @@ Reply update_user(Call& call) {
   if (disabled.value_or(false)) call.c.store.delete_user_tokens(u->id);
   // Enabling an account is also its unlock: its login lockouts end.
   if (disabled && !*disabled) call.c.store.clear_account_login_failures(u->name);
+  std::string detail;
+  if (role_text) detail += "role=" + *role_text;
+  if (disabled) detail += std::string(detail.empty() ? "" : " ") + (*disabled ? "disabled=true" : "disabled=false");
+  if (password) detail += std::string(detail.empty() ? "" : " ") + "password";
+  audit(call, "user.update", u->name, detail);
   return json_response(200, user_json(*call.c.store.user_by_id(u->id)));
 }
 
