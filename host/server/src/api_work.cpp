@@ -14,10 +14,9 @@
 
 namespace cathbox::server::api {
 
-namespace {
-
-// A trace is a pure function of the record's bytes: cached under their hash.
 std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
+
+namespace {
 
 Result<std::int64_t> id_param(const std::string& text) {
   std::int64_t id = 0;
