@@ -159,6 +159,7 @@ const std::vector<Route>& routes() {
       {"GET", {"users"}, list_users, true},
       {"POST", {"users"}, create_user, true},
       {"PATCH", {"users", ":name"}, update_user, true},
+      {"DELETE", {"users", ":name"}, delete_user, true},
       {"GET", {"cases"}, list_cases, true},
       {"POST", {"cases"}, upload_case, true},
       {"GET", {"cases", ":name"}, case_versions, true},
@@ -176,6 +177,7 @@ const std::vector<Route>& routes() {
       {"GET", {"results", ":id", "trace"}, get_result_trace, true},
       {"GET", {"metrics"}, list_metrics, true},
       {"GET", {"live", "rigs"}, live_rigs, true},
+      {"GET", {"audit"}, list_audit, true},
   };
   return table;
 }

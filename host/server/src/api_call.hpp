@@ -50,6 +50,7 @@ Reply change_password(Call& call);
 Reply list_users(Call& call);
 Reply create_user(Call& call);
 Reply update_user(Call& call);
+Reply delete_user(Call& call);
 
 Reply list_cases(Call& call);
 Reply upload_case(Call& call);
@@ -70,6 +71,12 @@ Reply get_result_trace(Call& call);
 Reply list_metrics(Call& call);
 
 Reply live_rigs(Call& call);
+
+Reply list_audit(Call& call);
+// A trace is a pure function of the record's bytes: cached under their hash.
+[[nodiscard]] std::string trace_cache_key(const std::string& record_hash);
+// Appends the caller's action to the audit log (audit_log.hpp): who, now, from the request's address.
+void audit(Call& call, const std::string& action, const std::string& target, const std::string& detail = {});
 
 // The cached value (ApiContext::cache) of `key`, else build() now.
 [[nodiscard]] Result<std::shared_ptr<const std::string>> cached(Call& call, const std::string& key,

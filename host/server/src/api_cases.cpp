@@ -103,6 +103,7 @@ Reply upload_case(Call& call) {
   if (!f.ok()) return f.error();
   Result<CaseUploadOutcome> up = call.c.cases.upload(name, b, call.caller.user_id, call.c.clock.now_us());
   if (!up) return up.error();
+  if (up.value().created) audit(call, "case.upload", name, "version=" + std::to_string(up.value().version.version));
   nlohmann::json j = case_json(up.value().version);
   j["created"] = up.value().created;
   ApiResponse r = json_response(up.value().created ? 201 : 200, j);

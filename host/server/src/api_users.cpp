@@ -1,4 +1,5 @@
-// POST /login, /logout, GET /me, POST /me/password, GET /users, POST /users, PATCH /users/{name}
+// POST /login, /logout, GET /me, POST /me/password, GET /users, POST /users, PATCH and DELETE
+// /users/{name} (the last three audited)
 #include "api_call.hpp"
 #include "server/iso_time.hpp"
 #include "server/json_input.hpp"
@@ -67,6 +68,7 @@ Reply create_user(Call& call) {
   if (!role) return make_error(400, "field 'role': expected trainee, instructor or admin");
   Result<User> user = call.c.auth.create_user(name, *role, password);
   if (!user) return user.error();
+  audit(call, "user.create", name, "role=" + role_text);
   ApiResponse r = json_response(201, user_json(user.value()));
   r.headers.emplace_back("Location", "/api/v1/users/" + name);
   return r;
@@ -101,7 +103,29 @@ Reply update_user(Call& call) {
   if (disabled.value_or(false)) call.c.store.delete_user_tokens(u->id);
   // Enabling an account is also its unlock: its login lockouts end.
   if (disabled && !*disabled) call.c.store.clear_account_login_failures(u->name);
+  std::string detail;
+  if (role_text) detail += "role=" + *role_text;
+  if (disabled) detail += std::string(detail.empty() ? "" : " ") + (*disabled ? "disabled=true" : "disabled=false");
+  if (password) detail += std::string(detail.empty() ? "" : " ") + "password";
+  audit(call, "user.update", u->name, detail);
   return json_response(200, user_json(*call.c.store.user_by_id(u->id)));
+}
+
+// The account and all of its data, in one transaction (Store::delete_user); then the traces
+// derived from its records leave the cache (memory and disk). Not oneself, not the last admin.
+Reply delete_user(Call& call) {
+  if (Status s = call.require_admin("deleting users"); !s) return s.error();
+  const std::optional<User> u = call.c.store.user_by_name(call.params[0]);
+  if (!u) return make_error(404, "no user '" + call.params[0] + "'");
+  if (u->id == call.caller.user_id) return make_error(409, "'" + u->name + "' is you: another admin deletes your account");
+  if (u->role == Role::kAdmin && !u->disabled && call.c.store.count_admins() <= 1) return make_error(409, "'" + u->name + "' is the last admin");
+  const std::optional<std::vector<std::string>> records = call.c.store.delete_user(u->id);
+  if (!records) return make_error(404, "no user '" + call.params[0] + "'");
+  if (call.c.cache != nullptr) {
+    for (const std::string& hash : *records) call.c.cache->erase(trace_cache_key(hash));
+  }
+  audit(call, "user.delete", u->name, "results=" + std::to_string(records->size()));
+  return no_content();
 }
 
 }  // namespace cathbox::server::api

@@ -14,10 +14,9 @@
 
 namespace cathbox::server::api {
 
-namespace {
-
-// A trace is a pure function of the record's bytes: cached under their hash.
 std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
+
+namespace {
 
 Result<std::int64_t> id_param(const std::string& text) {
   std::int64_t id = 0;
@@ -179,6 +178,7 @@ Reply create_assignment(Call& call) {
   a.assigned_by = call.caller.user_id;
   const std::optional<Assignment> made = call.c.store.insert_assignment(a, call.c.clock.now_us());
   if (!made) return make_error(404, "field 'case': no case '" + a.case_name + "'");
+  audit(call, "assignment.create", std::to_string(made->id), "trainee=" + trainee + " case=" + a.case_name);
   ApiResponse r = json_response(201, assignment_json(*made));
   r.headers.emplace_back("Location", "/api/v1/assignments/" + std::to_string(made->id));
   return r;
@@ -206,6 +206,7 @@ Reply delete_assignment(Call& call) {
   Result<std::int64_t> id = id_param(call.params[0]);
   if (!id) return id.error();
   if (!call.c.store.delete_assignment(id.value())) return make_error(404, "no assignment " + call.params[0]);
+  audit(call, "assignment.delete", std::to_string(id.value()));
   return no_content();
 }
 

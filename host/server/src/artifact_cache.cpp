@@ -88,6 +88,19 @@ void ArtifactCache::put(const std::string& key, std::string value) {
   (void)get_or_build(key, [&]() -> Result<std::string> { return std::move(value); });
 }
 
+void ArtifactCache::erase(const std::string& key) {
+  std::lock_guard lock(mutex_);
+  if (const auto it = index_.find(key); it != index_.end()) {
+    bytes_ -= it->second->second->size();
+    lru_.erase(it->second);
+    index_.erase(it);
+  }
+  if (!folder_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove(file_of(key), ignored);
+  }
+}
+
 std::size_t ArtifactCache::bytes() const {
   std::lock_guard lock(mutex_);
   return bytes_;

@@ -463,22 +463,19 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
 
 class HttpSession final : public std::enable_shared_from_this<HttpSession> {
  public:
-  // `buffer`: bytes already read (the TLS detection's); `plain_on_tls_port`: answer 400 and close.
-  HttpSession(HttpServer::Impl& s, TlsOrPlainStream&& stream, beast::flat_buffer&& buffer, bool plain_on_tls_port = false)
-      : s_(s), stream_(std::move(stream)), buffer_(std::move(buffer)), plain_on_tls_port_(plain_on_tls_port) {
-    beast::error_code ec;
-    const tcp::endpoint peer = stream_.next_layer().socket().remote_endpoint(ec);
-    remote_ = ec ? "unknown" : peer.address().to_string();
-    address_slot_ = std::make_unique<AddressSlot>(s_, remote_);
-  }
+  // `address_slot`: the client address's share, taken when the connection was accepted (before
+  // any TLS handshake); `buffer`: bytes already read (the TLS detection's); `plain_on_tls_port`:
+  // answer 400 and close.
+  HttpSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, TlsOrPlainStream&& stream,
+              beast::flat_buffer&& buffer, bool plain_on_tls_port = false)
+      : s_(s),
+        address_slot_(std::move(address_slot)),
+        stream_(std::move(stream)),
+        buffer_(std::move(buffer)),
+        plain_on_tls_port_(plain_on_tls_port),
+        remote_(address_slot_->address()) {}
 
   void run() {
-    if (!address_slot_->taken()) {
-      // This address holds its share of the connections already: closed before a byte is read.
-      beast::error_code ignored;
-      stream_.next_layer().socket().close(ignored);
-      return;
-    }
     net::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
   }
 
@@ -901,24 +898,37 @@ void HttpServer::sweep() { impl_->sweep(); }
 
 // Plain HTTP, or on a TLS port: a look at the first bytes, then the handshake (a client speaking
 // plain HTTP there is answered 400 in plain HTTP, saying so).
+// The client address's share of the connections is taken first, before a byte is read or a
+// handshake started: an address holding its share already is closed at once.
 void HttpServer::Impl::open_session(tcp::socket socket) {
+  beast::error_code ec;
+  const tcp::endpoint peer = socket.remote_endpoint(ec);
+  auto address = std::make_unique<AddressSlot>(*this, ec ? std::string("unknown") : peer.address().to_string());
+  if (!address->taken()) {
+    socket.close(ec);
+    return;
+  }
   std::shared_ptr<net::ssl::context> context = current_tls();
   beast::tcp_stream connection(std::move(socket));
-  if (!context) return std::make_shared<HttpSession>(*this, TlsOrPlainStream(std::move(connection)), beast::flat_buffer())->run();
+  if (!context) {
+    return std::make_shared<HttpSession>(*this, std::move(address), TlsOrPlainStream(std::move(connection)), beast::flat_buffer())->run();
+  }
   connection.expires_after(std::chrono::seconds(options.idle_timeout_s));
   auto stream = std::make_shared<TlsOrPlainStream>(std::move(connection), context);
   auto buffer = std::make_shared<beast::flat_buffer>();
   auto slot = std::make_shared<ConnectionSlot>(open_connections);
-  beast::async_detect_ssl(stream->next_layer(), *buffer, [this, stream, buffer, slot](beast::error_code ec, bool tls) {
-    if (ec) return;
+  auto held = std::make_shared<std::unique_ptr<AddressSlot>>(std::move(address));
+  beast::async_detect_ssl(stream->next_layer(), *buffer, [this, stream, buffer, slot, held](beast::error_code dec, bool tls) {
+    if (dec) return;
     if (!tls) {
-      return std::make_shared<HttpSession>(*this, TlsOrPlainStream(std::move(stream->next_layer())), std::move(*buffer), true)->run();
+      return std::make_shared<HttpSession>(*this, std::move(*held), TlsOrPlainStream(std::move(stream->next_layer())), std::move(*buffer), true)
+          ->run();
     }
     stream->tls().async_handshake(net::ssl::stream_base::server, buffer->data(),
-                                  [this, stream, buffer, slot](beast::error_code hec, std::size_t used) {
+                                  [this, stream, buffer, slot, held](beast::error_code hec, std::size_t used) {
                                     if (hec) return;  // not a TLS client, or no common version: nothing to say
                                     buffer->consume(used);
-                                    std::make_shared<HttpSession>(*this, std::move(*stream), std::move(*buffer))->run();
+                                    std::make_shared<HttpSession>(*this, std::move(*held), std::move(*stream), std::move(*buffer))->run();
                                   });
   });
 }

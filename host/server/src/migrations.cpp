@@ -124,6 +124,18 @@ ALTER TABLE results ADD COLUMN run_hash TEXT;
 CREATE UNIQUE INDEX results_run ON results(run_hash);
 ALTER TABLE results ADD COLUMN complete INTEGER NOT NULL DEFAULT 1;
 )sql"},
+    {6, "audit log", R"sql(
+CREATE TABLE audit_log (
+  id {id},
+  at_us BIGINT NOT NULL,
+  actor TEXT NOT NULL,
+  action TEXT NOT NULL,
+  target TEXT NOT NULL,
+  detail TEXT NOT NULL,
+  remote TEXT NOT NULL
+);
+CREATE INDEX audit_log_at ON audit_log(at_us);
+)sql"},
 };
 
 std::string replace_all(std::string s, const std::string& what, const std::string& with) {

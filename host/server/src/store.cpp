@@ -127,6 +127,17 @@ std::vector<T> read_all(Database& db, const std::string& sql, const std::vector<
 std::string read_text(const SqlRow& r) { return r.text(0); }
 MetricValue read_metric(const SqlRow& r) { return MetricValue{r.text(0), r.real(1)}; }
 
+// Every login failure of the account `name`, from any address (keys "NAME@ADDRESS").
+void delete_account_login_failures(SqlSession& s, const std::string& name) {
+  std::string pattern;
+  for (const char c : name) {
+    if (c == '%' || c == '_' || c == '\\') pattern += '\\';
+    pattern += c;
+  }
+  pattern += "@%";
+  (void)s.query("DELETE FROM login_failures WHERE name = $1 OR name LIKE $2 ESCAPE '\\'", {name, pattern});
+}
+
 }  // namespace
 
 // ---- users -------------------------------------------------------------------------------
@@ -253,14 +264,8 @@ void Store::clear_login_failures(const std::string& name) {
 }
 
 void Store::clear_account_login_failures(const std::string& name) {
-  std::string pattern;
-  for (const char c : name) {
-    if (c == '%' || c == '_' || c == '\\') pattern += '\\';
-    pattern += c;
-  }
-  pattern += "@%";
   db_->transact(TxMode::kWrite, [&](SqlSession& s) {
-    (void)s.query("DELETE FROM login_failures WHERE name = $1 OR name LIKE $2 ESCAPE '\\'", {name, pattern});
+    delete_account_login_failures(s, name);
   });
 }
 
@@ -374,6 +379,22 @@ bool Store::delete_assignment(I id) {
     deleted = !s.query("DELETE FROM assignments WHERE id = $1 RETURNING id", {id}).empty();
   });
   return deleted;
+}
+
+std::optional<std::vector<std::string>> Store::delete_user(I id) {
+  std::optional<std::vector<std::string>> hashes;
+  db_->transact(TxMode::kWrite, [&](SqlSession& s) {
+    hashes.reset();
+    const std::optional<SqlRow> user = s.query_one("SELECT name FROM users WHERE id = $1", {id});
+    if (!user) return;
+    const std::string name = user->text(0);
+    hashes.emplace();
+    for (const SqlRow& r : s.query("SELECT content_hash FROM results WHERE user_id = $1", {id})) hashes->push_back(r.text(0));
+    // Results, records, metrics, assignments for them, tokens and live rigs go by ON DELETE CASCADE.
+    (void)s.query("DELETE FROM users WHERE id = $1", {id});
+    delete_account_login_failures(s, name);
+  });
+  return hashes;
 }
 
 // ---- results -------------------------------------------------------------------------------

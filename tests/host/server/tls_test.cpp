@@ -2,9 +2,12 @@
 // command: a good certificate (HTTPS, HSTS, wss://), the wrong host, an expired one, an untrusted
 // one, plain HTTP to the TLS port and TLS to a plain port, a reload that keeps live sockets, the
 // protocol floor, and the refusal of plain HTTP off loopback.
+#include <boost/asio/ip/tcp.hpp>
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <memory>
+#include <vector>
 
 #include "server/tls.hpp"
 #include "server/testing/child_process.hpp"
@@ -204,6 +207,30 @@ TEST_F(TlsTest, PlainHttpOffLoopbackNeedsInsecureHttpAndMissingFilesAreNamed) {
   Result<std::unique_ptr<ServerApp>> started = ServerApp::start(std::move(insecure));
   ASSERT_TRUE(started) << started.error().message;
   started.value()->stop();
+}
+
+// The per-address cap counts a connection from its accept, before the TLS handshake: an address
+// holding its share with sockets that never say a byte gets no further connection (not even the
+// plain-HTTP "use https://" answer).
+TEST_F(TlsTest, ThePerAddressCapCountsConnectionsBeforeTheirHandshake) {
+  ServerOptions o;
+  o.tls = ca_->issue("capped", "IP:127.0.0.1");
+  o.max_connections_per_address = 3;
+  RunningServer server("sqlite", o);
+  const std::string plain = "GET / HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n";
+  ASSERT_EQ(test::raw_exchange(server.port(), plain).rfind("HTTP/1.1 400", 0), 0U) << "room for one: told to use https://";
+  boost::asio::io_context ioc;
+  const boost::asio::ip::tcp::endpoint at(boost::asio::ip::make_address("127.0.0.1"), server.port());
+  std::vector<std::unique_ptr<boost::asio::ip::tcp::socket>> silent;
+  for (int i = 0; i < 3; ++i) {
+    silent.push_back(std::make_unique<boost::asio::ip::tcp::socket>(ioc));
+    silent.back()->connect(at);
+  }
+  EXPECT_EQ(test::raw_exchange(server.port(), plain, 3000), "") << "a fourth from the same address is closed unanswered";
+  silent.front()->close();
+  std::string after;
+  for (int i = 0; i < 50 && after.empty(); ++i) after = test::raw_exchange(server.port(), plain, 2000);
+  EXPECT_EQ(after.rfind("HTTP/1.1 400", 0), 0U) << "room again once one is gone: " << after.substr(0, 200);
 }
 
 }  // namespace

@@ -34,6 +34,9 @@ class ArtifactCache {
   // Keeps a value built elsewhere (a trace made by the replay that checked an upload).
   void put(const std::string& key, std::string value);
 
+  // Forgets `key`, in memory and on disk (a deleted trainee's traces).
+  void erase(const std::string& key);
+
   [[nodiscard]] std::size_t bytes() const;
 
  private:

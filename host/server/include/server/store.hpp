@@ -145,6 +145,13 @@ class Store {
   [[nodiscard]] UserUpdate update_user_keeping_an_admin(std::int64_t id, std::optional<Role> role, std::optional<std::string> password_hash,
                                                         std::optional<bool> disabled, bool keep_an_admin);
 
+  // Deletes the account and, in the same transaction, everything of theirs: results with their
+  // records and metrics, assignments made for them, tokens, live rigs, login failures. Cases
+  // and assignments they made stay (their author becomes null). Answers the content hashes of
+  // the deleted records (the caller purges what it derived from them), or nullopt when there
+  // is no such user.
+  [[nodiscard]] std::optional<std::vector<std::string>> delete_user(std::int64_t id);
+
   // Bearer tokens, stored by their SHA-256 only.
   void insert_token(const std::string& token_hash, std::int64_t user_id, std::int64_t issued_us, std::int64_t expires_us);
   [[nodiscard]] std::optional<TokenOwner> token_owner(const std::string& token_hash);
