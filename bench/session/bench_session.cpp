@@ -10,6 +10,9 @@
 //    compression and writing on its own thread as in a run.
 //  - Replay/<minutes>: a record of a run made by an action script in virtual time is replayed
 //    with every state hash checked; counter x_real_time = recorded seconds / replay seconds.
+//  - RealTimeTicks/<seconds>: the haptic thread in real time; the interval between ticks (p50,
+//    p99, max; the label: the scheduling the OS granted), beside the trainee page's worker clock
+//    (scripts/bench train, which also runs it without CAP_SYS_NICE: a normal-priority thread).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -19,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "session/action_script_hand.hpp"
@@ -224,6 +228,53 @@ void Replay(benchmark::State& state) {
   state.counters["record_bytes"] = static_cast<double>(std::filesystem::file_size(record));
 }
 BENCHMARK(Replay)->Arg(10)->Iterations(1)->Unit(benchmark::kSecond);
+
+// The native haptic thread in real time: the interval between consecutive ticks as they ran
+// (steady clock, taken by an observer on the haptic thread), over `seconds` of the y_bifurcation
+// script. The figure the trainee page's Web Worker clock is compared with (scripts/bench train).
+class TickTimes final : public TickObserver {
+ public:
+  explicit TickTimes(std::size_t n) { at_.reserve(n); }
+  void observe(const TickView&) override {
+    if (at_.size() < at_.capacity()) at_.push_back(Clock::now());
+  }
+  [[nodiscard]] std::vector<double> intervals_ms() const {
+    std::vector<double> out;
+    for (std::size_t i = 1; i < at_.size(); ++i) out.push_back(std::chrono::duration<double, std::milli>(at_[i] - at_[i - 1]).count());
+    return out;
+  }
+
+ private:
+  std::vector<Clock::time_point> at_;
+};
+
+void RealTimeTicks(benchmark::State& state) {
+  const int seconds = static_cast<int>(state.range(0));
+  const std::string case_path = std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case";
+  const std::string script = scratch("realtime.actions");
+  std::ofstream(script) << "0 insert_to 40 at 30\n1400 rotate_to 360 at 180\n2500 insert_to 80 at 10\n" << seconds * 1000 << " end\n";
+  for (auto _ : state) {
+    std::string error;
+    auto session = open_session(case_path, script, error);
+    if (!session) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    TickTimes times(static_cast<std::size_t>(seconds) * 1000 + 100);
+    session->add_observer(times);
+    session->start();
+    while (!session->over()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    session->stop();
+    state.SetLabel(session->haptic_scheduling());  // SCHED_FIFO, nice, or normal: what the OS granted
+    const std::vector<double> intervals = times.intervals_ms();
+    state.counters["ticks"] = static_cast<double>(session->ticks());
+    state.counters["interval_p50_ms"] = cathbox::bench::quantile(intervals, 0.5);
+    state.counters["interval_p99_ms"] = cathbox::bench::quantile(intervals, 0.99);
+    state.counters["interval_max_ms"] = cathbox::bench::quantile(intervals, 1.0);
+    state.counters["dropped"] = static_cast<double>(session->dropped_ticks());
+  }
+}
+BENCHMARK(RealTimeTicks)->Arg(5)->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace
 

@@ -1,7 +1,7 @@
 """A short PPO training on cathbox/Navigate-v0 with Stable-Baselines3, and its learning curve.
 
-Optional, not run in CI. Needs stable-baselines3 and matplotlib in the venv:
-    build/venv/bin/pip install stable-baselines3 matplotlib
+Optional, not run in CI. scripts/setup puts Stable-Baselines3 2.4.1 into the venv without its
+dependencies (Debian's torch 1.13, pandas and matplotlib):
     build/venv/bin/python examples/python/ppo_train.py [--steps 50000] [--envs 2] [--out ppo_curve.png]
 
 One target (the left subclavian, reached by the scripted policy in ~10 s) and stEVE's step
@@ -15,7 +15,7 @@ try:
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.monitor import load_results
 except ImportError:
-    sys.exit("ppo_train: stable-baselines3 is not installed (build/venv/bin/pip install stable-baselines3 matplotlib)")
+    sys.exit("ppo_train: stable-baselines3 is not in this python (scripts/setup puts it into build/venv)")
 
 import tempfile
 

@@ -153,6 +153,7 @@ class Centre:
         self.processes = []
         self.port = free_port()
         self.base = "http://127.0.0.1:%d" % self.port
+        self.extra_args = []  # more cathbox-server options (train_test.py: --wasm)
 
     def program(self, name):
         return os.path.join(self.bin, name)
@@ -179,7 +180,7 @@ class Centre:
     def launch(self):
         log = open(os.path.join(self.tmp, "server.log"), "a")
         self.server = subprocess.Popen([self.program("cathbox-server"), "--db", self.db, "--listen", "127.0.0.1:%d" % self.port,
-                                        "--data", os.path.join(self.tmp, "data"), "--web", os.path.join(self.args.source, "host/server/web")],
+                                        "--data", os.path.join(self.tmp, "data"), "--web", os.path.join(self.args.source, "host/server/web")] + self.extra_args,
                                        env=self.env, stdout=log, stderr=subprocess.STDOUT)
         self.processes.append(self.server)
 

@@ -26,10 +26,11 @@ std::unique_ptr<OffscreenFluoro> OffscreenFluoro::create(const session::Session&
     return nullptr;
   }
   v->renderer_.set_background_projection(false);  // every image of its own pose, none held
-  // The lumen as the trainer draws it: one level coarser than the collision surface, else that one.
+  // The lumen as the trainer draws it: one level coarser than the collision surface, else that one
+  // (a case's own surface is drawn as it is).
   const session::SessionCase& scene = session.scene();
   if (const session::FluoroUnit* unit = session.fluoro(); unit != nullptr && scene.mesh() != nullptr) {
-    v->mesh_ = scene.model() != nullptr ? fluoro_surface(*scene.model()) : vessel::SurfaceMesh{};
+    v->mesh_ = scene.model() != nullptr && !scene.surface_given() ? fluoro_surface(*scene.model()) : vessel::SurfaceMesh{};
     v->vessel_ = FluoroVessel::build(v->mesh_.triangle_count() > 0 ? v->mesh_ : *scene.mesh(), unit->transport());
     v->renderer_.set_vessel(v->vessel_);
   }

@@ -171,9 +171,10 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
   }
   if (scene.target_mm) fluoro_settings_.pose.isocenter_mm = glm::dvec3(*scene.target_mm);
   // The session's contrast cells on the case's surface one level coarser than the collision
-  // surface (fluoro_surface_options): the lumen takes their iodine.
+  // surface (fluoro_surface_options), or on the case's own surface as it is: the lumen takes
+  // their iodine.
   if (const session::FluoroUnit* unit = current().fluoro(); unit != nullptr && scene.mesh() != nullptr) {
-    fluoro_mesh_ = scene.model() != nullptr ? fluoro_surface(*scene.model()) : vessel::SurfaceMesh{};
+    fluoro_mesh_ = scene.model() != nullptr && !scene.surface_given() ? fluoro_surface(*scene.model()) : vessel::SurfaceMesh{};
     fluoro_vessel_ = FluoroVessel::build(fluoro_mesh_.triangle_count() > 0 ? fluoro_mesh_ : *scene.mesh(), unit->transport());
     fluoro_->set_vessel(fluoro_vessel_);
   }

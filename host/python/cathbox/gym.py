@@ -27,6 +27,10 @@ from .fluoroscopy import Fluoroscopy
 
 STEVE_VELOCITY_LIMIT = (50.0, 3.14)  # stEVE's devices: mm/s, rad/s
 STEVE_STEP_S = 1.0 / 7.5
+# stEVE's own physics time step: SofaBeamAdapter(dt_simulation=0.006), 22 SOFA steps per env
+# step. The envs tick at 1 ms by default (the trainer's tick); period_us=STEVE_SIM_DT_US runs
+# the session at stEVE's step (host/python/README.md, "Speed": its cost in fidelity).
+STEVE_SIM_DT_US = 6000
 API_VERSION = 0  # the -v0 of every env: observation layout, reward terms, action units
 OBSERVATIONS = ("tracking", "state", "nodes", "image")
 
@@ -40,17 +44,6 @@ class Reward:
 
     def __call__(self, reached, path_before_mm, path_after_mm):
         return (self.target if reached else 0.0) + self.step + self.path_delta * (path_before_mm - path_after_mm)
-
-
-def _resample_from_tip(nodes, count, spacing_mm):
-    """`count` points along the polyline `nodes` (entry to tip) every spacing_mm back from the
-    tip (the entry repeated past the proximal end)."""
-    if len(nodes) == 0:
-        return np.zeros((count, nodes.shape[1] if nodes.ndim == 2 else 3))
-    rev = nodes[::-1]
-    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(rev, axis=0), axis=1))])
-    want = np.minimum(np.arange(count) * spacing_mm, s[-1])
-    return np.stack([np.interp(want, s, rev[:, j]) for j in range(rev.shape[1])], axis=1)
 
 
 class CathboxEnv(gymnasium.Env):
@@ -73,6 +66,9 @@ class CathboxEnv(gymnasium.Env):
         self.task = task
         self.observation_mode = observation
         self.step_s = float(step_s)
+        if not (isinstance(period_us, (int, np.integer)) and 100 <= period_us <= 10_000):
+            raise ValueError(f"period_us {period_us!r}: expected a whole number of microseconds in [100, 10000] "
+                             f"(1000: the trainer's tick; {STEVE_SIM_DT_US}: stEVE's)")
         self.period_us = int(period_us)
         self.ticks_per_step = self.step_s * 1e6 / self.period_us
         if self.ticks_per_step < 1.0:
@@ -84,6 +80,7 @@ class CathboxEnv(gymnasium.Env):
         self.image_size = (int(image_size[0]), int(image_size[1]))
         self.image_renderer = image_renderer
         self._fluoroscopy = None
+        self.gl_thread = None  # a fluoroscopy.GlThread: the thread its views are drawn on (ThreadVectorEnv's)
         self.record_dir = record_dir
         self.render_mode = render_mode
         self.n_tools = task.tool_count
@@ -135,12 +132,12 @@ class CathboxEnv(gymnasium.Env):
         parts = []
         if self.observation_mode == "tracking":
             for t in range(self.n_tools):
-                pts = _resample_from_tip(s.nodes(t), self.tracking_points, self.tracking_spacing_mm)
+                pts = s.points_from_tip(t, self.tracking_points, self.tracking_spacing_mm)
                 parts.append(s.project(pts).ravel())
             parts.append(s.project(self._target[None, :]).ravel())
         else:
             for t in range(self.n_tools):
-                parts.append(_resample_from_tip(s.nodes(t), self.state_points, self.state_spacing_mm).ravel())
+                parts.append(s.points_from_tip(t, self.state_points, self.state_spacing_mm).ravel())
                 parts.append(s.tip(t)[1])
                 parts.append([s.insertion_mm(t), s.rotation_rad(t)])
             parts.append(self._target)
@@ -190,7 +187,7 @@ class CathboxEnv(gymnasium.Env):
             # The trainer's image: the pedal down and one tick run, so the first pulse is in it.
             self.session.press_pedal()
             self.session.step(1)
-            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size)
+            self._fluoroscopy = Fluoroscopy(self.session, *self.image_size, gl=self.gl_thread)
         self._target = np.asarray(self.session.target, dtype=np.float64)
         self._target_view = self._target.view()
         self._target_view.flags.writeable = False
@@ -386,4 +383,5 @@ _register()
 from .vector import ThreadVectorEnv  # noqa: E402  (after the envs it runs)
 
 __all__ = ["CathboxEnv", "Reward", "NavigateTask", "ArchVarietyTask", "DualDeviceTask", "CaseTask", "ThreadVectorEnv",
-           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_VELOCITY_LIMIT", "API_VERSION"]
+           "navigate", "arch_variety", "dual_device", "case", "STEVE_STEP_S", "STEVE_SIM_DT_US", "STEVE_VELOCITY_LIMIT",
+           "API_VERSION"]

@@ -1,19 +1,29 @@
 """N environments in one process, stepped on a pool of threads: each Session.step releases the
 GIL while the simulation runs, so N cases step in parallel on N cores. Autoreset as
-gymnasium's SyncVectorEnv (the step after an episode ends resets that env: reward 0, not done)."""
+gymnasium's SyncVectorEnv (the step after an episode ends resets that env: reward 0, not done).
+The fluoroscopy image mode too: the envs' GL work (GLFW's one thread) is done on the thread
+that steps the vector env, while the pool simulates (cathbox.fluoroscopy.GlThread)."""
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from gymnasium.vector import VectorEnv
 from gymnasium.vector.utils import batch_space, concatenate, create_empty_array
 
+from .fluoroscopy import GlThread
+
 
 class ThreadVectorEnv(VectorEnv):
+    """Step and reset it from one thread, the one that made it: it draws the envs' fluoroscopy."""
+
     def __init__(self, env_fns, threads=None):
         self.envs = [fn() for fn in env_fns]
         self.num_envs = len(self.envs)
         if self.num_envs == 0:
             raise ValueError("ThreadVectorEnv: no environments")
+        self._gl = GlThread()
+        for e in self.envs:
+            if hasattr(e.unwrapped, "gl_thread"):
+                e.unwrapped.gl_thread = self._gl
         first = self.envs[0]
         self.metadata = first.metadata
         self.render_mode = first.render_mode
@@ -33,7 +43,7 @@ class ThreadVectorEnv(VectorEnv):
             seeds = [None if seed is None else seed + i for i in range(self.num_envs)]
         else:
             seeds = list(seed)
-        results = list(self._pool.map(lambda a: a[0].reset(seed=a[1], options=options), zip(self.envs, seeds)))
+        results = self._gl.serve([self._pool.submit(e.reset, seed=s, options=options) for e, s in zip(self.envs, seeds)])
         infos = {}
         for i, (_, info) in enumerate(results):
             infos = self._add_info(infos, info, i)
@@ -50,7 +60,7 @@ class ThreadVectorEnv(VectorEnv):
 
     def step(self, actions):
         actions = np.asarray(actions)
-        results = list(self._pool.map(lambda i: self._one(i, actions[i]), range(self.num_envs)))
+        results = self._gl.serve([self._pool.submit(self._one, i, actions[i]) for i in range(self.num_envs)])
         obs = [r[0] for r in results]
         rewards = np.array([r[1] for r in results], dtype=np.float64)
         terminated = np.array([r[2] for r in results], dtype=np.bool_)

@@ -14,8 +14,13 @@ class EnvSession::Readings final : public session::TickObserver {
  public:
   explicit Readings(EnvSession& owner) : owner_(owner) {}
   void observe(const session::TickView& view) override {
+    // A rod with no node out of its outer tool (the wire still inside the catheter) is not
+    // solved this tick: not counted (as session::ContactReadings does).
     bool converged = true;
-    for (std::size_t t = 0; t < view.sim.tool_count(); ++t) converged = converged && view.sim.rod(t).converged();
+    for (std::size_t t = 0; t < view.sim.tool_count(); ++t) {
+      const tool::Rod& rod = view.sim.rod(t);
+      converged = converged && (rod.converged() || rod.first_free_node() >= rod.node_total());
+    }
     if (!converged) ++owner_.unconverged_ticks_;
     double wall = 0.0;
     for (std::size_t t = 0; t < view.contacts.size(); ++t) wall = std::max(wall, view.contacts.tool(t).wall_mN);

@@ -21,6 +21,7 @@
 #include "python/device_image.hpp"
 #include "python/env_session.hpp"
 #include "python/route_progress.hpp"
+#include "python/tip_points.hpp"
 #include "session/metrics.hpp"
 #include "vessel/hclm.hpp"
 
@@ -156,6 +157,24 @@ py::dict metrics_dict(const PySession& self) {
   return d;
 }
 
+py::array_t<double> points_from_tip(const PySession& p, std::int64_t t, std::int64_t count, double spacing_mm) {
+  if (count < 0 || count > 100'000) raise<py::value_error>("points_from_tip: count " + std::to_string(count) + " outside 0..100000");
+  if (!(spacing_mm >= 0.0) || !std::isfinite(spacing_mm)) {
+    raise<py::value_error>("points_from_tip: spacing_mm " + std::to_string(spacing_mm) + " is not a finite length >= 0");
+  }
+  std::vector<glm::dvec3> points(static_cast<std::size_t>(count));
+  cathbox::python::points_from_tip(p.tool(t).positions_mm, spacing_mm, points);
+  py::array_t<double> out({static_cast<py::ssize_t>(count), py::ssize_t{3}});
+  auto m = out.mutable_unchecked<2>();
+  for (py::ssize_t k = 0; k < count; ++k) {
+    const glm::dvec3& q = points[static_cast<std::size_t>(k)];
+    m(k, 0) = q.x;
+    m(k, 1) = q.y;
+    m(k, 2) = q.z;
+  }
+  return out;
+}
+
 py::list vessel_segments(const std::string& path) {
   const auto r = cathbox::vessel::load_hclm(path);
   if (!r.ok()) raise<py::value_error>(r.errors.front().to_string());
@@ -236,6 +255,9 @@ PYBIND11_MODULE(_cathbox, mod) {
              const auto& tip = p.tool(t).tip;
              return py::make_tuple(vec3(tip.position_mm), vec3(tip.direction), vec3(tip.normal));
            }, py::arg("tool"), "(position mm, unit direction, unit bend) of the tool's tip.")
+      .def("points_from_tip", &points_from_tip, py::arg("tool"), py::arg("count"), py::arg("spacing_mm"),
+           "(count, 3) mm: points along the tool every spacing_mm back from its tip (the first the tip; past the "
+           "entry the first node repeated). A new array (python/tip_points.hpp).")
       .def("insertion_mm", [](const PySession& p, std::int64_t t) { return p.tool(t).insertion_mm; }, py::arg("tool"))
       .def("rotation_rad", [](const PySession& p, std::int64_t t) { return p.tool(t).rotation_rad; }, py::arg("tool"))
       .def("hand_force_mN", [](const PySession& p, std::int64_t t) { return p.tool(t).hand_force_mN; }, py::arg("tool"))

@@ -159,14 +159,18 @@ class AccountSlot : public CountedSlot<std::int64_t> {
 };
 
 // Every answer, API or page: the pages run only their own scripts and modules (no inline
-// script, no eval, no other origin), are never framed, and no type is sniffed.
+// script, no eval, no other origin; WebAssembly compiled from their own files), are never
+// framed, and no type is sniffed. Cross-origin isolated (COOP + COEP): the trainee page's
+// WebAssembly session shares memory with its threads (SharedArrayBuffer).
 void security_headers(http::response<http::string_body>& res) {
   res.set("Content-Security-Policy",
-          "default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
+          "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
           "connect-src 'self'; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'");
   res.set("X-Frame-Options", "DENY");
   res.set("X-Content-Type-Options", "nosniff");
   res.set("Referrer-Policy", "no-referrer");
+  res.set("Cross-Origin-Opener-Policy", "same-origin");
+  res.set("Cross-Origin-Embedder-Policy", "require-corp");
 }
 
 // "bearer.TOKEN" out of a Sec-WebSocket-Protocol list ("cathbox, bearer.TOKEN"); empty if none.

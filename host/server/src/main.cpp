@@ -84,6 +84,7 @@ std::unique_ptr<Store> open_store(const std::string& url, int& code) {
 
 struct ServeOptions {
   std::string web;
+  std::string wasm;  // cathbox-trainee.js/.wasm/.worker.js for /train.html, served at /wasm/
   std::string cache;  // DATA/cache: browser meshes and debrief traces (zstd), rebuilt when missing
   std::string instance;
   int io_threads = 2;
@@ -137,6 +138,7 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
     return kBadInput;
   }
   config.http.mounts = default_mounts(so.web);
+  if (!so.wasm.empty()) config.http.mounts.push_back({"/wasm/", so.wasm});
   config.http.io_threads = so.io_threads;
   config.http.api_threads = so.api_threads;
   config.auth.token_lifetime_us = static_cast<std::int64_t>(so.token_hours * 3600e6);
@@ -249,6 +251,7 @@ int main(int argc, char** argv) {
   cli.add_option("--listen", listen, "HOST:PORT to listen on (port 0: any free port)")->capture_default_str();
   cli.add_option("--data", data, "data folder (default: $XDG_DATA_HOME/cathbox)")->capture_default_str();
   cli.add_option("--web", so.web, "folder of the browser pages")->capture_default_str();
+  cli.add_option("--wasm", so.wasm, "folder of the trainee page's WebAssembly session (scripts/wasm-build DIR cathbox-trainee: DIR/bin), served at /wasm/");
   cli.add_option("--instance", so.instance, "this instance's name (default: random)");
   cli.add_option("--io-threads", so.io_threads, "socket threads")->check(CLI::Range(1, 64))->capture_default_str();
   cli.add_option("--api-threads", so.api_threads, "API handler threads")->check(CLI::Range(1, 256))->capture_default_str();

@@ -144,6 +144,10 @@ std::vector<std::uint8_t> encode_header(const RecordHeader& h) {
   w.field_text(t(HeaderTag::kCaseText), h.case_text);
   w.field_text(t(HeaderTag::kVesselFile), h.vessel_file);
   w.field_text(t(HeaderTag::kVesselText), h.vessel_text);
+  if (!h.surface_file.empty()) {
+    w.field_text(t(HeaderTag::kSurfaceFile), h.surface_file);
+    w.field_text(t(HeaderTag::kSurfaceBytes), h.surface_bytes);
+  }
   for (const tool::ToolSpec& spec : h.tools) w.field(t(HeaderTag::kTool), encode_tool(spec));
   std::vector<std::uint8_t> entry;
   ByteWriter we(entry);
@@ -196,6 +200,11 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
       case HeaderTag::kVesselText:
         if (v.size() > kMaxText) return bad(at, "header: vessel text too long");
         h.vessel_text = text_of(v);
+        return 1;
+      case HeaderTag::kSurfaceFile: h.surface_file = text_of(v); return 1;
+      case HeaderTag::kSurfaceBytes:
+        if (v.size() > kMaxText) return bad(at, "header: surface too long");
+        h.surface_bytes = text_of(v);
         return 1;
       case HeaderTag::kTool: {
         if (h.tools.size() >= kMaxTools) return bad(at, "header: more than 4 tools");

@@ -244,6 +244,8 @@ RecordHeader Session::record_header() const {
   h.case_text = scene_->case_text;
   h.vessel_file = scene_->vessel_file;
   h.vessel_text = scene_->vessel_text;
+  h.surface_file = scene_->surface_file;
+  h.surface_bytes = scene_->surface_bytes;
   h.tools = scene_->spec.tools;
   h.entry = scene_->entry;
   h.held_tool = input_.held;

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <glm/geometric.hpp>
 
 #include "scenario/case_clots.hpp"
+#include "scenario/case_surface.hpp"
 #include "tool/mesh_wall.hpp"
 
 namespace cathbox::session {
@@ -71,6 +73,17 @@ double radius_near(const vessel::VesselModel& model, const glm::vec3& p) {
 // What the session derives from the built world.
 SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source, const vessel::SurfaceMesh* surface) {
   SessionCaseLoad out;
+  // The case's own wall, from the bytes kept for the record (none handed in).
+  std::optional<vessel::SurfaceMesh> own;
+  if (surface == nullptr && !c->surface_bytes.empty()) {
+    base::Result<vessel::SurfaceMesh> decoded = tool::decode_case_surface(c->surface_bytes, c->surface_file);
+    if (!decoded) {
+      out.error = decoded.error().message;
+      return out;
+    }
+    own = std::move(*decoded);
+    surface = &*own;
+  }
   tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text, surface);
   if (!built) {
     out.error = built.error().message;
@@ -167,6 +180,8 @@ SessionCaseLoad load_session_case(const std::string& path, const vessel::Surface
   }
   c->vessel_file = c->spec.vessel_path;
   if (!c->vessel_file.empty() && !read_file(c->vessel_file, kMaxVesselBytes, c->vessel_text, out.error)) return out;
+  c->surface_file = c->spec.surface_path;
+  if (!c->surface_file.empty() && !tool::read_case_surface_bytes(c->surface_file, c->surface_bytes, out.error)) return out;
   return finish(std::move(c), path, surface);
 }
 
@@ -192,6 +207,14 @@ SessionCaseLoad session_case_from_record(const RecordHeader& h, const vessel::Su
   c->name = h.case_name;
   c->vessel_file = h.vessel_file;
   c->vessel_text = h.vessel_text;
+  // The wall as recorded: the case's surface bytes, whatever the file holds now.
+  c->spec.surface_path = h.surface_file;
+  c->surface_file = h.surface_file;
+  c->surface_bytes = h.surface_bytes;
+  if (!c->surface_file.empty() && c->surface_bytes.empty()) {
+    out.error = "the record names a surface (" + h.surface_file + ") but carries none of its bytes";
+    return out;
+  }
   if (c->spec.vessel_path.empty() && c->spec.tubes.empty()) {
     out.error = "the record carries neither a vessel file nor analytic tubes";
     return out;

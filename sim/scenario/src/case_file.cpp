@@ -61,12 +61,13 @@ class CaseParser {
         if (w.size() < 2 || !once(seen_name, key)) return w.size() < 2 ? fail_here("name: missing value") : fail();
         c.name = std::string(w[1]);
         for (std::size_t i = 2; i < w.size(); ++i) c.name += " " + std::string(w[i]);
-      } else if (key == "vessel") {
+      } else if (key == "vessel" || key == "surface") {
         if (!expect_args(w, 1)) return fail();
-        if (!c.vessel_path.empty()) return fail_here("vessel given twice");
+        std::string& path = key == "vessel" ? c.vessel_path : c.surface_path;
+        if (!path.empty()) return fail_here(std::string(key) + " given twice");
         std::filesystem::path p{std::string(w[1])};
         if (p.is_relative()) p = std::filesystem::path{std::string(file_)}.parent_path() / p;
-        c.vessel_path = p.lexically_normal().string();
+        path = p.lexically_normal().string();
       } else if (key == "tube") {
         double v[9];
         if (!expect_args(w, 9) || !numbers(w, 1, v, 9)) return fail();
@@ -165,6 +166,12 @@ class CaseParser {
     if (tool != nullptr) return fail_at(tool_line, "tool '" + tool->name + "' has no 'end'");
     if (c.vessel_path.empty() && c.tubes.empty()) return fail_at(lines_.line(), "no vessel: give 'vessel FILE' or 'tube' lines");
     if (!c.vessel_path.empty() && !c.tubes.empty()) return fail_at(lines_.line(), "give either 'vessel' or 'tube' lines, not both");
+    if (!c.surface_path.empty() && c.vessel_path.empty()) {
+      return fail_at(lines_.line(), "a 'surface' needs a 'vessel' (its centreline graph: route, targets, flow)");
+    }
+    if (!c.surface_path.empty() && c.wall) {
+      return fail_at(lines_.line(), "a compliant 'wall' is re-meshed from the vessel's centrelines: it cannot take a 'surface'");
+    }
     if (c.tubes.size() > 0 && !c.entry) return fail_at(lines_.line(), "analytic tubes need an 'entry'");
     // Coaxial references.
     for (std::size_t i = 0; i < c.tools.size(); ++i) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <fstream>
 #include <sstream>
 
@@ -10,6 +11,7 @@
 #include "tool/tube_network_wall.hpp"
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
+#include "scenario/case_surface.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
 
@@ -75,6 +77,20 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel
   }
   const vessel::HclmReadResult read = vessel::read_hclm(vessel_text, c.vessel_path);
   if (!read.ok()) return base::Error{read.errors.front().to_string()};
+  std::optional<vessel::SurfaceMesh> own;  // the case's `surface`, when no surface was handed in
+  if (surface_made == nullptr && !c.surface_path.empty()) {
+    std::string bytes, error;
+    if (!read_case_surface_bytes(c.surface_path, bytes, error)) return base::Error{error};
+    base::Result<vessel::SurfaceMesh> decoded = decode_case_surface(bytes, c.surface_path);
+    if (!decoded) return base::Error{decoded.error().message};
+    own = std::move(*decoded);
+    surface_made = &*own;
+  }
+  if (surface_made != nullptr && !c.surface_path.empty()) {
+    if (std::string wrong = check_surface_regions(*surface_made, read.model, c.surface_path); !wrong.empty()) {
+      return base::Error{std::move(wrong)};
+    }
+  }
   vessel::VesselSurface surface =
       surface_made ? vessel::build_vessel_surface(read.model, *surface_made) : vessel::build_vessel_surface(read.model);
   if (!surface.ok()) return base::Error{c.vessel_path + ": " + surface.error};
@@ -91,6 +107,7 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel
   auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
   world->set_sac(c.aneurysm ? c.aneurysm : find_sac(surface.smoothed, surface.mesh));
   world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
+  world->set_surface_given(!c.surface_path.empty());
   if (c.target) {
     for (const vessel::Segment& s : surface.smoothed.segments) {
       if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));

@@ -196,11 +196,9 @@ void tag_lumen_regions(const vessel::VesselModel& model, vessel::SurfaceMesh& lu
   }
 }
 
-ImportResult import_surface(const std::string& path, const ImportOptions& options) {
-  ImportResult result;
+// A surface's polygons (read from STL/OBJ/PLY/OFF or a VTK surface) into the result.
+ImportResult import_surface(PolygonSoup soup, const std::string& path, const ImportOptions& options, ImportResult result) {
   result.format = Format::kSurface;
-  PolygonSoup soup = read_polygon_soup_file(path, result.errors);
-  if (!result.ok()) return result;
   SurfaceOptions surface_options;
   surface_options.keep_largest = options.keep_largest;
   surface_options.unit_mm = options.unit_mm > 0.0 ? options.unit_mm : surface_unit_mm(soup, result.notes);
@@ -346,7 +344,12 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
     result.errors.push_back({path, 0, 0, "unknown format (use .vtk, .vtp, .mrk.json, .swc, .stl, .obj, .ply or .off, or --format)"});
     return result;
   }
-  if (*format == Format::kSurface) return import_surface(path, options);
+  if (*format == Format::kSurface) {
+    ImportResult result;
+    PolygonSoup soup = read_polygon_soup_file(path, result.errors);
+    if (!result.ok()) return result;
+    return import_surface(std::move(soup), path, options, std::move(result));
+  }
   if (*format == Format::kVtkLegacy || *format == Format::kVtkXml) {
     ImportResult result;
     result.format = *format;
@@ -354,6 +357,12 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
     if (!read.ok()) {
       result.errors = std::move(read.errors);
       return result;
+    }
+    if (!read.arrays.polygons.empty()) {  // a surface (no line cells)
+      PolygonSoup soup = polygon_soup_from_cells(read.arrays.points, read.arrays.polygons, path, result.errors);
+      if (!result.ok()) return result;
+      result.notes.push_back(std::string(format_name(*format)) + " surface");
+      return import_surface(std::move(soup), path, options, std::move(result));
     }
     PolylinesRead lines = centerline_polylines(read.arrays, path, options.unit_mm > 0.0 ? options.unit_mm : 1.0);
     if (!lines.ok()) {

@@ -332,7 +332,15 @@ PolygonSoup read_polygon_soup_file(const std::string& path, std::vector<ImportEr
 }
 
 SurfaceImport import_surface_soup(PolygonSoup soup, std::string_view file, const SurfaceOptions& options) {
-  return SurfaceImporter(file, options).run(std::move(soup));
+  try {
+    return SurfaceImporter(file, options).run(std::move(soup));
+  } catch (const std::exception& e) {  // CGAL's preconditions on a surface no check above caught
+    std::string what = e.what();  // CGAL's messages run over several lines
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    SurfaceImport out;
+    out.errors.push_back({std::string(file), 0, 0, "the surface could not be processed: " + what});
+    return out;
+  }
 }
 
 }  // namespace cathbox::vessel_import

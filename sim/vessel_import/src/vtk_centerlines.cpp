@@ -93,6 +93,43 @@ class CapturedMessages {
   return out.empty() ? "none" : out;
 }
 
+// A surface: the points and the polygon cells (strips split into triangles, alternating
+// winding as VTK's strips do). False when the polydata has neither.
+bool copy_surface(vtkPolyData& data, PolylineArrays& out) {
+  vtkCellArray* polys = data.GetPolys();
+  vtkCellArray* strips = data.GetStrips();
+  const vtkIdType n_polys = polys ? polys->GetNumberOfCells() : 0;
+  const vtkIdType n_strips = strips ? strips->GetNumberOfCells() : 0;
+  if (n_polys + n_strips == 0) return false;
+  const vtkIdType n_points = data.GetNumberOfPoints();
+  out.points.reserve(static_cast<std::size_t>(n_points));
+  for (vtkIdType i = 0; i < n_points; ++i) {
+    double p[3];
+    data.GetPoint(i, p);
+    out.points.emplace_back(p[0], p[1], p[2]);
+  }
+  out.polygons.reserve(static_cast<std::size_t>(n_polys));
+  for (vtkIdType c = 0; c < n_polys; ++c) {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    polys->GetCellAtId(c, size, ids);
+    out.polygons.emplace_back(ids, ids + size);
+  }
+  for (vtkIdType c = 0; c < n_strips; ++c) {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    strips->GetCellAtId(c, size, ids);
+    for (vtkIdType k = 0; k + 2 < size; ++k) {
+      if (k % 2 == 0) {
+        out.polygons.push_back({ids[k], ids[k + 1], ids[k + 2]});
+      } else {
+        out.polygons.push_back({ids[k + 1], ids[k], ids[k + 2]});
+      }
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_array, bool xml) {
@@ -140,7 +177,10 @@ VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_arr
   }
   if (!data || data->GetNumberOfPoints() == 0) return fail("no points");
   vtkCellArray* lines = data->GetLines();
-  if (!lines || lines->GetNumberOfCells() == 0) return fail("no line cells (centrelines are polylines)");
+  if (!lines || lines->GetNumberOfCells() == 0) {
+    if (copy_surface(*data, out.arrays)) return out;
+    return fail("no line cells (centrelines are polylines) and no polygons (a surface)");
+  }
 
   // The radius array.
   vtkPointData* point_data = data->GetPointData();

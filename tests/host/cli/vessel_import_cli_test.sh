@@ -71,6 +71,24 @@ printf "0 insert_to 40 at 20\n2500 end\n" >"$work/push.actions"
 expect 0 "$cathbox" sim run --case "$work/vb.hclm" --script "$work/push.actions" --out "$work/run.csv" --every 100
 [ "$(wc -l <"$work/run.csv")" -gt 10 ] || fail "sim run log: $(head -3 "$work/run.csv")"
 
+# A surface as the case's wall: the Y bifurcation meshed, written as STL and imported into a case
+# folder; a session runs on the imported lumen (target: the left branch's end, segment 2 of the
+# extracted graph) and its record, which carries the lumen, replays without the file.
+expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/y.stl"
+rm -rf "$work/ycase"
+expect 0 "$cathbox" vessel import "$work/y.stl" -o "$work/ycase"
+grep -q "^surface lumen.cbxmesh" "$work/ycase/y.case" || fail "case folder: $(cat "$work/ycase/y.case")"
+printf "0 insert_to 60 at 30\n2500 end\n" >"$work/y.actions"
+expect 0 "$cathbox" session run --case "$work/ycase/y.case" --script "$work/y.actions" --virtual --record "$work/y.cbxrec"
+expect 0 "$cathbox" session info "$work/y.cbxrec"
+grep -q "^surface  *.*/lumen.cbxmesh ([0-9]* bytes)" "$work/out" || fail "record info: $(cat "$work/out")"
+rm "$work/ycase/lumen.cbxmesh"
+expect 0 "$cathbox" session replay "$work/y.cbxrec" --check
+grep -q "every state hash matches" "$work/out" || fail "replay of the surface case: $(cat "$work/out")"
+printf "cathbox-case 1\nvessel vessel.hclm\nsurface missing.cbxmesh\n" >"$work/ycase/bad.case"
+expect 2 "$cathbox" sim run --case "$work/ycase/bad.case" --script "$work/y.actions" --out "$work/x.csv"
+grep -q "missing.cbxmesh: cannot open the case's surface" "$work/err" || fail "missing surface: $(cat "$work/err")"
+
 # The trainer: the scripted hand drives the wire through the imported carotid (virtual time).
 if [ -n "${4:-}" ]; then
   expect 0 "$cathbox" vessel import "$examples/carotid_bifurcation_centerlines.vtp" -o "$work/carotid.hclm"

@@ -85,6 +85,36 @@ class FluoroscopyTest(unittest.TestCase):
         self.assertIn("12 state hashes checked", r.stdout)
         shutil.rmtree(records)
 
+    def test_thread_vector_env_draws_every_env_as_it_draws_alone(self):
+        # Two envs stepping on pool threads, their views made, drawn and dropped on this thread
+        # (GLFW's one thread), across an autoreset: the images are each env's alone, bit for bit.
+        def make():
+            return gymnasium.make("cathbox/Navigate-v0", case="y_bifurcation", targets=[("left_branch", 0.8)],
+                                  max_episode_steps=3, **dict(KW, step_s=0.1))
+        actions = np.array([[[40.0, 0.0]], [[20.0, 1.0]]], dtype=np.float32)
+        vec = cathbox.gym.ThreadVectorEnv([make, make])
+        obs, _ = vec.reset(seed=7)
+        together = [obs]
+        for _ in range(5):  # the third step truncates, the fourth resets
+            obs, _, terminated, truncated, _ = vec.step(actions)
+            together.append(obs)
+        vec.close()
+        for i in range(2):  # each env alone on this thread, with the vector env's seed and autoreset
+            env = make()
+            obs, _ = env.reset(seed=7 + i)
+            alone, done = [obs], False
+            for _ in range(5):
+                if done:
+                    (obs, _), done = env.reset(), False
+                else:
+                    obs, _, terminated, truncated, _ = env.step(actions[i])
+                    done = terminated or truncated
+                alone.append(obs)
+            env.close()
+            for k, (a, b) in enumerate(zip(together, alone)):
+                self.assertEqual(a[i].tobytes(), b.tobytes(), f"env {i}, image {k}")
+        self.assertGreater(together[3][0].max(), together[3][0].min())  # images, not a flat field
+
     def test_bad_arguments_raise_one_line(self):
         s = cathbox.Session(cathbox.case_path("y_bifurcation"))
         with self.assertRaisesRegex(RuntimeError, "size 4x64 outside 8..2048"):

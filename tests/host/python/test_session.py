@@ -105,6 +105,35 @@ class SessionTest(unittest.TestCase):
         s.step(10)
         self.assertNotEqual(c.state_hash(), s.state_hash())
 
+    def test_points_from_tip_are_the_nodes_resampled_by_arc_length(self):
+        # Against numpy: arc length from the tip, linear between nodes, the entry past the end.
+        s = cathbox.Session(cathbox.case_path("neuro"))
+        rng = np.random.default_rng(1)
+        for _ in range(20):
+            s.set_speeds(rng.uniform([-10.0, -3.0], [40.0, 3.0], size=(2, 2)))
+            s.step(100)
+            for t in range(2):
+                rev = np.array(s.nodes(t))[::-1]
+                arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(rev, axis=0), axis=1))])
+                for count, spacing in ((3, 2.0), (16, 5.0), (60, 3.0), (4, 0.0)):
+                    want = np.minimum(np.arange(count) * spacing, arc[-1])
+                    expected = np.stack([np.interp(want, arc, rev[:, j]) for j in range(3)], axis=1)
+                    np.testing.assert_allclose(s.points_from_tip(t, count, spacing), expected, rtol=0, atol=1e-9)
+        with self.assertRaisesRegex(ValueError, "^points_from_tip: count -1 outside"):
+            s.points_from_tip(0, -1, 1.0)
+        with self.assertRaisesRegex(ValueError, "^points_from_tip: spacing_mm nan"):
+            s.points_from_tip(0, 3, float("nan"))
+        with self.assertRaisesRegex(IndexError, "^tool 2 out of range"):
+            s.points_from_tip(2, 3, 1.0)
+
+    def test_a_wire_inside_its_catheter_is_not_counted_unconverged(self):
+        # neuro: the catheter, its guidewire inside. The catheter goes in; the wire, not yet out
+        # of it, is not solved, so it does not make every tick unconverged (it did: share 1.0).
+        s = cathbox.Session(cathbox.case_path("neuro"))
+        s.set_speeds([[15.0, 0.0], [15.0, 0.0]])
+        s.step(300)
+        self.assertLess(s.metrics()["unconverged_share"], 0.05)
+
     def test_step_releases_the_gil(self):
         # While a thread is inside step(), this thread runs Python: with the GIL held for the
         # whole step it could not run a single iteration until step() returned.

@@ -78,10 +78,12 @@ TEST_P(AttackHttpTest, PagesCarryAStrictPolicy) {
   RunningServer server(GetParam());
   for (const char* path : {"/", "/api/v1/me"}) {
     const std::string answer = raw_exchange(server.port(), std::string("GET ") + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
-    EXPECT_NE(answer.find("Content-Security-Policy: default-src 'self'; script-src 'self';"), std::string::npos) << path << answer.substr(0, 600);
+    EXPECT_NE(answer.find("Content-Security-Policy: default-src 'self'; script-src 'self' 'wasm-unsafe-eval';"), std::string::npos) << path << answer.substr(0, 600);
     EXPECT_NE(answer.find("frame-ancestors 'none'"), std::string::npos) << path;
     EXPECT_NE(answer.find("X-Frame-Options: DENY"), std::string::npos) << path;
     EXPECT_NE(answer.find("X-Content-Type-Options: nosniff"), std::string::npos) << path;
+    EXPECT_NE(answer.find("Cross-Origin-Opener-Policy: same-origin"), std::string::npos) << path;
+    EXPECT_NE(answer.find("Cross-Origin-Embedder-Policy: require-corp"), std::string::npos) << path;
   }
 }
 

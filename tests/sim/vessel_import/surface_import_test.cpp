@@ -11,6 +11,8 @@
 #include <fstream>
 #include <set>
 
+#include <unistd.h>
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -25,7 +27,42 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string temp_path(const std::string& name) { return (fs::temp_directory_path() / ("cathbox_surface_" + name)).string(); }
+std::string temp_path(const std::string& name) {
+  return (fs::temp_directory_path() / ("cathbox_surface_" + std::to_string(::getpid()) + "_" + name)).string();
+}
+
+// The mesh as VTK XML PolyData (ASCII), as the Vascular Model Repository and Aneurisk ship
+// their models: every other triangle as a 3-point triangle strip, the rest as polygons.
+std::string write_vtp(const vessel::SurfaceMesh& mesh, const std::string& path) {
+  std::ofstream out(path);
+  std::string polys_conn, polys_off, strips_conn, strips_off;
+  std::size_t n_polys = 0, n_strips = 0;
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    std::string& conn = t % 2 == 0 ? polys_conn : strips_conn;
+    std::size_t& n = t % 2 == 0 ? n_polys : n_strips;
+    for (int k = 0; k < 3; ++k) conn += std::to_string(mesh.triangles[3 * t + static_cast<std::size_t>(k)]) + " ";
+    ++n;
+    (t % 2 == 0 ? polys_off : strips_off) += std::to_string(3 * n) + " ";
+  }
+  out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n<PolyData>\n"
+      << "<Piece NumberOfPoints=\"" << mesh.positions_mm.size() << "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\""
+      << n_strips << "\" NumberOfPolys=\"" << n_polys << "\">\n<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n";
+  char buffer[96];
+  for (const glm::vec3& p : mesh.positions_mm) {
+    std::snprintf(buffer, sizeof buffer, "%.9g %.9g %.9g\n", p.x, p.y, p.z);
+    out << buffer;
+  }
+  const auto cells = [&](const char* tag, const std::string& conn, const std::string& off) {
+    out << "<" << tag << ">\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">" << conn
+        << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">" << off << "</DataArray>\n</" << tag
+        << ">\n";
+  };
+  out << "</DataArray>\n</Points>\n";
+  cells("Strips", strips_conn, strips_off);
+  cells("Polys", polys_conn, polys_off);
+  out << "</Piece>\n</PolyData>\n</VTKFile>\n";
+  return out ? "" : "cannot write " + path;
+}
 
 // Distance from p to the nearest piece of any segment of `model`, and that segment's radius there.
 std::pair<double, double> nearest_on(const vessel::VesselModel& model, const glm::dvec3& p) {
@@ -53,7 +90,7 @@ void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext)
   const vessel::VesselSurface surface = vessel::build_vessel_surface(truth);
   ASSERT_TRUE(surface.ok()) << surface.error;
   const std::string path = temp_path("round_trip" + ext);
-  ASSERT_EQ(vessel::write_mesh(surface.mesh, path), "");
+  ASSERT_EQ(ext == ".vtp" ? write_vtp(surface.mesh, path) : vessel::write_mesh(surface.mesh, path), "");
   const ImportResult imported = import_centerlines(path);
   fs::remove(path);
   ASSERT_TRUE(imported.ok()) << imported.errors.front().to_string();
@@ -105,6 +142,24 @@ void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext)
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughStl) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl");
+}
+
+TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughVtp) {
+  expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".vtp");
+}
+
+TEST(SurfaceImport, VtpSurfaceCellsNamingMissingPointsAreRefusedInOneLine) {
+  const std::string path = temp_path("bad_cells.vtp");
+  std::ofstream(path) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+                         "<PolyData><Piece NumberOfPoints=\"3\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"2\">\n"
+                         "<Points><DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">0 0 0 1 0 0 0 1 0</DataArray></Points>\n"
+                         "<Polys><DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">0 1 2 0 2 7</DataArray>\n"
+                         "<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">3 6</DataArray></Polys>\n"
+                         "</Piece></PolyData></VTKFile>\n";
+  const ImportResult r = import_centerlines(path);
+  fs::remove(path);
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors.front().to_string(), path + ": polygon 1: point id 7 is not among the 3 points");
 }
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughObjAndPly) {

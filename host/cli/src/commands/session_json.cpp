@@ -72,6 +72,7 @@ json info_json(const std::string& path, const session::RecordReader& reader, con
           {"start_unix_us", h.start_unix_us},
           {"case", {{"name", h.case_name}, {"file", h.case_file}, {"bytes", h.case_text.size()}}},
           {"vessel", {{"file", h.vessel_file}, {"bytes", h.vessel_text.size()}}},
+          {"surface", {{"file", h.surface_file}, {"bytes", h.surface_bytes.size()}}},
           {"tools", tools},
           {"entry", {{"point_mm", {h.entry.point_mm.x, h.entry.point_mm.y, h.entry.point_mm.z}},
                      {"direction", {h.entry.direction.x, h.entry.direction.y, h.entry.direction.z}}}},
@@ -103,6 +104,7 @@ std::string info_text(const std::string& path, const session::RecordReader& read
   add("software", h.software_version);
   add("case", h.case_name + (h.case_file.empty() ? "" : " (" + h.case_file + ")"));
   add("vessel", h.vessel_file.empty() ? "analytic tubes" : h.vessel_file + " (" + std::to_string(h.vessel_text.size()) + " bytes)");
+  if (!h.surface_file.empty()) add("surface", h.surface_file + " (" + std::to_string(h.surface_bytes.size()) + " bytes)");
   std::string tools;
   for (const tool::ToolSpec& t : h.tools) tools += (tools.empty() ? "" : ", ") + t.name;
   add("tools", tools + " (held: " + h.tools[h.held_tool].name + ")");

@@ -1,8 +1,10 @@
 // `cathbox vessel validate|info|mesh|import|generate`: the vessel model (HCLM) from the command line.
 #include <algorithm>
 #include <cmath>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <string>
 #include <vector>
@@ -58,10 +60,14 @@ const cli::GroupSpec& spec() {
            {.name = "import",
             .positionals = "IN",
             .help = "centrelines from VMTK, 3D Slicer or SWC, or a vessel surface (STL, OBJ, PLY, OFF), to HCLM",
-            .options = {{.name = "output", .value = "OUT.hclm", .help = "the HCLM file", .required = true, .short_name = 'o'},
+            .options = {{.name = "output",
+                         .value = "OUT.hclm|CASE_DIR",
+                         .help = "the HCLM file, or a folder to hold a case: vessel.hclm, lumen.cbxmesh (a surface: the case's wall) and NAME.case",
+                         .required = true,
+                         .short_name = 'o'},
                         {.name = "format", .value = "vtk|vtp|slicer|swc|surface", .help = "input format (default: from the name)"},
                         {.name = "largest", .help = "a surface in several pieces: keep the largest"},
-                        {.name = "surface-out", .value = "FILE", .help = "a surface: write the repaired lumen (.obj, .ply, .stl)"},
+                        {.name = "surface-out", .value = "FILE", .help = "a surface: write the repaired lumen (.obj, .ply, .stl, .cbxmesh)"},
                         {.name = "units", .value = "mm|cm|m|um", .help = "the input's length unit"},
                         {.name = "radius-array", .value = "NAME", .help = "the point array holding the radius"},
                         {.name = "no-radius-filter", .help = "keep radii as read"}}},
@@ -226,6 +232,41 @@ int run_mesh(cli::Args& args) {
   return cli::kExitOk;
 }
 
+bool is_hclm_name(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return ext == ".hclm";
+}
+
+// `-o CASE_DIR`: the imported vessel as a case a session runs as it is: vessel.hclm (the graph),
+// lumen.cbxmesh (a surface's repaired lumen, the case's wall) and NAME.case naming both.
+int write_case_dir(const std::string& in, const std::filesystem::path& dir, const vessel_import::ImportResult& result) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "cathbox vessel import: %s: cannot create the case folder (%s)\n", dir.string().c_str(), ec.message().c_str());
+    return cli::kExitFailure;
+  }
+  const std::string name = std::filesystem::path(in).stem().string();
+  std::string text = "cathbox-case 1\nname " + name + "\nvessel vessel.hclm\n";
+  std::string error = vessel::save_hclm(result.model, (dir / "vessel.hclm").string());
+  if (error.empty() && result.format == vessel_import::Format::kSurface) {
+    text += "surface lumen.cbxmesh\n";
+    error = vessel::write_mesh(result.lumen, (dir / "lumen.cbxmesh").string());
+  }
+  const std::string case_path = (dir / (name + ".case")).string();
+  if (error.empty()) {
+    std::ofstream out(case_path, std::ios::binary);
+    if (!(out << text) || !out.flush()) error = case_path + ": cannot write";
+  }
+  if (!error.empty()) {
+    std::fprintf(stderr, "cathbox vessel import: %s\n", error.c_str());
+    return cli::kExitFailure;
+  }
+  std::printf("%s: %s\n", case_path.c_str(), result.summary().c_str());
+  return cli::kExitOk;
+}
+
 int run_import(cli::Args& args) {
   if (args.positionals().size() != 1) return usage_error("import takes one IN file");
   const auto output = args.value("output");
@@ -251,6 +292,8 @@ int run_import(cli::Args& args) {
     std::fprintf(stderr, "%s\n", line.c_str());
     return cli::kExitBadInput;
   }
+  const std::filesystem::path out_path(*output);
+  if (!is_hclm_name(out_path)) return write_case_dir(path, out_path, result);
   if (const std::string error = vessel::save_hclm(result.model, *output); !error.empty()) {
     std::fprintf(stderr, "cathbox vessel import: %s\n", error.c_str());
     return cli::kExitFailure;

@@ -76,7 +76,8 @@ class EnvSession {
   [[nodiscard]] bool over() const { return session_->over(); }
   [[nodiscard]] std::int64_t ticks() const { return session_->ticks(); }
   [[nodiscard]] std::uint64_t state_hash() const;
-  // Ticks on which some tool's solve did not converge (its contact reading was held).
+  // Ticks on which some solved tool's solve did not converge (its contact reading was held); a
+  // tool all inside its outer tool is not solved and does not count.
   [[nodiscard]] std::int64_t unconverged_ticks() const { return unconverged_ticks_; }
   // The largest wall force of the last tick, from converged steps (session/contact_readings.hpp).
   [[nodiscard]] double wall_force_mN() const { return wall_force_mN_; }

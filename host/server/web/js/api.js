@@ -70,6 +70,7 @@ const PAGES = [
   { href: '/live.html', label: 'Live', roles: ['instructor', 'admin'] },
   { href: '/results.html', label: 'Results', roles: ['instructor', 'admin'] },
   { href: '/trainee.html', label: 'My training', roles: ['trainee'] },
+  { href: '/train.html', label: 'Train', roles: ['trainee'] },
   { href: '/admin.html', label: 'Admin', roles: ['admin'] },
 ];
 

@@ -8,6 +8,7 @@ const CARDS = {
   ],
   trainee: [
     ['/trainee.html', 'My training', 'My assignments, my results and my learning curves.'],
+    ['/train.html', 'Train', 'Run an assigned case here in the browser, with the keyboard.'],
   ],
   admin: [
     ['/admin.html', 'Admin', 'Users and roles; upload cases.'],

@@ -23,6 +23,8 @@ struct RecordHeader {
   std::string case_text;    // its bytes
   std::string vessel_file;  // the HCLM file (empty for analytic tubes)
   std::string vessel_text;  // its bytes
+  std::string surface_file;   // the case's own wall (`surface FILE`; empty: meshed from the HCLM)
+  std::string surface_bytes;  // its bytes (CBXMESH2, scenario/case_surface.hpp)
   std::vector<tool::ToolSpec> tools;
   tool::Entry entry;
   std::size_t held_tool = 0;

@@ -29,6 +29,8 @@ struct SessionCase {
   std::string case_text;    // its bytes
   std::string vessel_file;  // the HCLM file; empty for analytic tubes
   std::string vessel_text;  // its bytes
+  std::string surface_file;   // the case's own wall (`surface FILE`); empty: meshed from the HCLM
+  std::string surface_bytes;  // its bytes (CBXMESH2)
   tool::Case spec;          // tools, target, entry as the case gives them
   std::unique_ptr<tool::CaseWorld> world;
   tool::Entry entry;        // where the tools enter (the case's, else the default)
@@ -46,6 +48,8 @@ struct SessionCase {
 
   [[nodiscard]] const vessel::SurfaceMesh* mesh() const { return world ? world->mesh() : nullptr; }
   [[nodiscard]] const vessel::VesselModel* model() const { return world ? world->model() : nullptr; }
+  // The wall is the case's own surface (`surface FILE`): views show it as it is, not re-meshed.
+  [[nodiscard]] bool surface_given() const { return world && world->surface_given(); }
   // The first vessel wall point along a ray (the collision tree's ray cast): picking in a
   // view. Thread-safe (the tree is immutable).
   [[nodiscard]] std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const;

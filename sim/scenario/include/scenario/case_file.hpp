@@ -6,6 +6,10 @@
 //   cathbox-case 1
 //   name   carotid-demo
 //   vessel neuro.hclm                       # path relative to the case file
+//   surface lumen.cbxmesh                   # optional: the vessel's wall as a surface (CBXMESH2,
+//                                           # `cathbox vessel import --surface-out`) instead of
+//                                           # the mesh made from the HCLM, which still gives the
+//                                           # centreline graph (route, targets, flow, entry)
 //   tube   SEG  X0 Y0 Z0 R0  X1 Y1 Z1 R1     # analytic lumen piece instead of a vessel file
 //   entry  X Y Z  DX DY DZ                  # optional: default is the start of the root segment
 //   target SEG FRACTION                     # fraction of the segment's length, 0..1
@@ -96,6 +100,7 @@ struct CaseAspiration {
 struct Case {
   std::string name;
   std::string vessel_path;       // resolved against the case file's folder; empty: analytic tubes
+  std::string surface_path;      // `surface FILE`, resolved likewise; empty: the wall is meshed from the HCLM
   std::vector<Tube> tubes;
   std::optional<Entry> entry;
   std::optional<CaseTarget> target;

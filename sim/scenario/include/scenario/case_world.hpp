@@ -44,6 +44,10 @@ class CaseWorld {
   // lumen (angioplasty.hpp) is re-meshed from it. Null for analytic tubes.
   [[nodiscard]] const vessel::VesselModel* source_model() const { return source_ ? source_.get() : nullptr; }
   void set_source_model(std::shared_ptr<const vessel::VesselModel> model) { source_ = std::move(model); }
+  // True when the wall is the case's own surface (`surface FILE`, e.g. an imported lumen), not
+  // meshed from the centrelines: views show that surface as it is (no coarser re-mesh).
+  [[nodiscard]] bool surface_given() const { return surface_given_; }
+  void set_surface_given(bool given) { surface_given_ = given; }
   // Hands the wall over (the world is then empty).
   [[nodiscard]] std::unique_ptr<WallModel> release_wall() { return std::move(wall_); }
 
@@ -55,6 +59,7 @@ class CaseWorld {
   std::shared_ptr<const vessel::SurfaceMesh> mesh_;
   std::shared_ptr<const vessel::VesselModel> model_;
   std::shared_ptr<const vessel::VesselModel> source_;
+  bool surface_given_ = false;
 };
 
 // The world, or one line naming the file and what went wrong.
@@ -68,7 +73,8 @@ using WorldBuild = base::Result<std::unique_ptr<CaseWorld>>;
 // The same from the vessel file's text (c.vessel_path only names it in errors): a record
 // replays the HCLM it carries, whatever the file on disk holds now. With `surface_made`, the
 // vessel surface is that mesh (made natively and sent, vessel/mesh_wire.hpp) instead of meshed
-// here: what the WebAssembly session does, which has no OpenSubdiv.
+// here: what the WebAssembly session does, which has no OpenSubdiv. A case naming a `surface`
+// without `surface_made` reads it from c.surface_path.
 [[nodiscard]] WorldBuild build_world(const Case& c, std::string_view vessel_text,
                                      const vessel::SurfaceMesh* surface_made = nullptr);
 

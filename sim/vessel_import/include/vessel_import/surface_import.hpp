@@ -64,6 +64,15 @@ struct SurfaceImport {
 // Reads STL (ASCII or binary), OBJ, PLY or OFF by the file's extension. Errors name the file.
 [[nodiscard]] PolygonSoup read_polygon_soup_file(const std::string& path, std::vector<ImportError>& errors);
 
+// Polygons given as point ids (a VTK surface's cells, vtk_centerlines.hpp): checked before any
+// repair. Each polygon has 3 or more ids, each id names a point, every point is finite; a
+// problem is one error naming the polygon (`file`, "polygon 12: point id 99 is not among the
+// 40 points"), and at most kMaxSurfacePolygons polygons are taken.
+inline constexpr std::size_t kMaxSurfacePolygons = 20'000'000;
+[[nodiscard]] PolygonSoup polygon_soup_from_cells(const std::vector<glm::dvec3>& points,
+                                                  const std::vector<std::vector<std::int64_t>>& polygons,
+                                                  const std::string& file, std::vector<ImportError>& errors);
+
 // Repairs, checks and skeletonises a surface already in memory (`file` names it in messages).
 [[nodiscard]] SurfaceImport import_surface_soup(PolygonSoup soup, std::string_view file, const SurfaceOptions& options);
 

@@ -29,6 +29,9 @@ struct PolylineArrays {
   std::vector<std::int64_t> centerline_ids;        // per line cell, or empty
   std::vector<std::int64_t> tract_ids;             // per line cell, or empty
   std::string radius_array;                        // the array's name (for messages)
+  // A surface instead (no line cells; e.g. the Vascular Model Repository's and Aneurisk's
+  // model.vtp): point ids per polygon cell, triangle strips split into triangles. No radius.
+  std::vector<std::vector<std::int64_t>> polygons;
 };
 
 struct PolylinesRead {
@@ -56,7 +59,9 @@ struct VtkRead {
 
 // Reads a legacy .vtk (xml false) or XML .vtp (xml true) file with VTK, in the reader module
 // libcathbox_vessel_import_vtk.so opened on first use (an error names it when it is missing).
-// `radius_array` empty: the first of default_radius_arrays() present.
+// `radius_array` empty: the first of default_radius_arrays() present. A polydata without line
+// cells but with polygons or triangle strips is a surface: its points and polygons come back
+// (arrays.polygons non-empty) for surface_import.hpp.
 [[nodiscard]] VtkRead read_vtk_centerlines(const std::string& path, const std::string& radius_array, bool xml);
 
 }  // namespace cathbox::vessel_import

@@ -1,0 +1,220 @@
+// The trainee's simulator in the browser: my assignments, a case opened from the server (the
+// bundle, the surface to draw, the collision surface the session runs on), the session in a
+// dedicated Web Worker (js/train_worker.js: WebAssembly, its own 1 kHz clock), the keyboard as in
+// cathbox-trainer, a global and a local 3D view with the HUD, the end-of-run metrics, and the
+// record uploaded as the native trainer uploads it (POST /results?assignment=ID).
+//
+// The run is streamed live to instructors as rig `browser-USER` (js/train_live.js).
+//
+// /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
+// N ticks (tests drive the page in virtual time this way).
+import { requireUser, api, guarded, showError, el } from './api.js';
+import { VesselView, loadMesh } from './scene.js';
+import { speedsFor, isControlKey } from './train_keys.js';
+import { LiveRig } from './train_live.js';
+import { showEnd } from './train_end.js';
+
+const user = requireUser(['trainee']);
+const params = new URLSearchParams(location.search);
+const clock = params.get('clock') === 'virtual' ? 'virtual' : 'real';
+
+// What tests read (and advance in virtual time).
+const hook = { state: 'idle', clock, frames: 0, summary: null, result: null, jitter: null, firstFrameMs: null, openMs: null };
+window.cathboxTrain = hook;
+
+let worker = null;
+let views = null;
+let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
+
+function status(text) { document.getElementById('status').textContent = text; }
+
+// Snapshot floats (host/wasm browser_session.cpp): the header, the tools, the contacts.
+function unpack(d) {
+  const s = {
+    tick: d[0], time_s: d[1], insertion_mm: d[2], rotation_rad: d[3], hand_force_mN: d[4], torque_mNmm: d[5],
+    wall_force_mN: d[6], tip: [d[7], d[8], d[9]], held: d[10], over: d[11] > 0, tools: [], contacts: [],
+  };
+  let i = 14;
+  for (let t = 0; t < d[12]; ++t) {
+    const n = d[i];
+    s.tools.push({ active: d[i + 1] > 0, nodes: d.subarray(i + 2, i + 2 + 3 * n) });
+    i += 2 + 3 * n;
+  }
+  for (let c = 0; c < d[13]; ++c, i += 4) s.contacts.push({ p_mm: [d[i], d[i + 1], d[i + 2]], f_mN: d[i + 3] });
+  return s;
+}
+
+function hudText(s) {
+  const tool = run.tools[s.held] || '?';
+  return [
+    run.caseName + '  ' + (clock === 'virtual' ? '(virtual clock)' : ''),
+    'time      ' + s.time_s.toFixed(2) + ' s',
+    'tool      ' + tool,
+    'insertion ' + s.insertion_mm.toFixed(1) + ' mm',
+    'rotation  ' + (s.rotation_rad * 180 / Math.PI).toFixed(0) + ' deg',
+    'hand      ' + s.hand_force_mN.toFixed(1) + ' mN  ' + s.torque_mNmm.toFixed(2) + ' mN·mm',
+    'wall      ' + s.wall_force_mN.toFixed(1) + ' mN',
+  ].join('\n');
+}
+
+// At most `max` nodes of a flat [x,y,z,...] list: every k-th, and always the tip (the views draw
+// 256 nodes a tool; a longer tool would otherwise lose its distal end).
+function fit(flat, max = 256) {
+  const n = flat.length / 3;
+  if (n <= max) return flat;
+  const step = Math.ceil((n - 1) / (max - 1));
+  const out = [];
+  for (let i = 0; i < n - 1; i += step) out.push(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  out.push(flat[3 * n - 3], flat[3 * n - 2], flat[3 * n - 1]);
+  return out;
+}
+
+function showFrame(data, metrics) {
+  const s = unpack(data);
+  run.last = s;
+  run.metrics = metrics;
+  if (run.live) run.live.frame(s, metrics);
+  s.tools.forEach((t, i) => { const nodes = fit(t.nodes); views.global.setTool(i, nodes); views.local.setTool(i, nodes); });
+  views.global.setTip(s.tip);
+  views.local.setTip(s.tip);
+  views.global.setContacts(s.contacts);
+  views.local.setContacts(s.contacts);
+  followTip(s);
+  document.getElementById('hud').textContent = hudText(s);
+  hook.frames++;
+  hook.last = { tick: s.tick, held: s.held, insertion_mm: s.insertion_mm, rotation_rad: s.rotation_rad, tip: s.tip };
+}
+
+// The local view: behind the tip, along the held tool's last segment.
+function followTip(s) {
+  const tool = s.tools[s.held];
+  if (!tool || tool.nodes.length < 6) return;
+  const n = tool.nodes.length / 3;
+  const a = tool.nodes.subarray(3 * (n - 2), 3 * (n - 1));
+  const b = tool.nodes.subarray(3 * (n - 1), 3 * n);
+  const dir = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+  const len = Math.hypot(...dir) || 1;
+  const cam = views.local.camera;
+  cam.position.set(b[0] - 12 * dir[0] / len + 2, b[1] - 12 * dir[1] / len + 2, b[2] - 12 * dir[2] / len + 2);
+  views.local.controls.target.set(b[0], b[1], b[2]);
+  cam.near = 0.1;
+  cam.updateProjectionMatrix();
+}
+
+function draw() {
+  if (!views) return;
+  const drew = views.global.render();
+  views.local.render();
+  if (drew && hook.firstFrameMs === null && hook.frames > 0) {
+    hook.firstFrameMs = performance.now() - run.started;
+    document.getElementById('box-note').textContent = 'First frame ' + hook.firstFrameMs.toFixed(0) + ' ms after choosing the case.';
+  }
+  requestAnimationFrame(draw);
+}
+
+function setKeys() {
+  const [insert, twist] = speedsFor(run.held);
+  run.keys[0] = insert;
+  run.keys[1] = twist;
+}
+
+function onKey(e, down) {
+  if (!run || hook.state !== 'running' || !isControlKey(e.code)) return;
+  e.preventDefault();
+  if (down && !e.repeat) {
+    if (e.code === 'Tab') worker.postMessage({ type: 'next_tool' });
+    else if (e.code === 'Escape') worker.postMessage({ type: 'end' });
+    else if (e.code === 'KeyC') { views.global.setVessel(views.mesh); }
+    else if (e.code === 'KeyF') {
+      for (const v of [views.global, views.local]) { v.vessel.material.wireframe = !v.vessel.material.wireframe; v.dirty = true; }
+    }
+  }
+  if (down) run.held.add(e.code); else run.held.delete(e.code);
+  setKeys();
+}
+window.addEventListener('keydown', (e) => onKey(e, true));
+window.addEventListener('keyup', (e) => onKey(e, false));
+window.addEventListener('blur', () => { if (run) { run.held.clear(); setKeys(); } });
+
+function onReady(m) {
+  hook.state = 'running';
+  hook.openMs = m.open_ms;
+  run.tools = m.summary.tools;
+  setTarget(m.summary.target);
+  status('running');
+  const a = run.assignment;
+  run.live = new LiveRig({ rig: 'browser-' + user.name.replace(/[^A-Za-z0-9_.-]/g, '-'), caseName: a.case, version: run.version,
+    assignment: a.id, toolNames: m.summary.tools, onState: (text) => { hook.live = text; document.getElementById('live-note').textContent = text; } });
+}
+
+async function onOver(m) {
+  if (run.live) {
+    if (run.last) run.live.frame(run.last, run.metrics, true);
+    run.live.end();
+  }
+  hook.state = 'uploading';
+  hook.summary = m.summary;
+  hook.jitter = m.jitter;
+  run.held.clear();
+  status('uploading the record (' + m.record.byteLength + ' bytes)');
+  const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id,
+    onRecord: (blob) => { hook.recordBlob = blob; } });
+  Object.assign(hook, end);
+  if (end.state === 'done') status('');
+}
+
+function startWorker() {
+  worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
+  worker.onmessage = (e) => {
+    const m = e.data;
+    if (m.type === 'frame') showFrame(m.data, m.metrics);
+    else if (m.type === 'ready') onReady(m);
+    else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
+    else if (m.type === 'over') onOver(m);
+    else if (m.type === 'error') { hook.state = 'error'; hook.error = m.message; showError(m.message); status(''); }
+  };
+  worker.onerror = (e) => { hook.state = 'error'; hook.error = e.message; showError('worker: ' + e.message); };
+}
+
+function setTarget(t) {
+  if (!t) return;
+  views.global.setTarget(t.slice(0, 3), t[3]);
+  views.local.setTarget(t.slice(0, 3), t[3]);
+}
+
+// Virtual time (tests): N ticks, resolved when they ran.
+hook.advance = (ticks) => new Promise((resolve) => { hook.pending = resolve; worker.postMessage({ type: 'advance', ticks }); });
+
+async function openCase(a) {
+  if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
+  const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
+  const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
+  run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
+  hook.state = 'opening';
+  status('opening ' + a.case);
+  document.getElementById('pick').hidden = true;
+  document.getElementById('run').hidden = false;
+  const [bundle, collision, mesh] = await Promise.all([api(base + '/bundle'), api(base + '/mesh?level=collision', { raw: true }), loadMesh(a.case, version)]);
+  views = { global: new VesselView(document.getElementById('global')), local: new VesselView(document.getElementById('local')), mesh };
+  views.global.setVessel(mesh);
+  views.local.setVessel(mesh);
+  views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
+  document.getElementById('box-note').textContent = 'navigator.hid' in navigator ? 'A box over WebHID is not offered yet: the keyboard drives the tool.'
+    : 'This browser has no WebHID: the keyboard drives the tool.';
+  requestAnimationFrame(draw);
+  if (!worker) startWorker();
+  worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,
+    mesh: collision, clock, keys: run.keys.buffer }, [collision]);
+}
+
+if (user) guarded(async () => {
+  const { assignments } = await api('/assignments');
+  const rows = assignments.map((a) => el('tr', { 'data-id': a.id },
+    el('td', {}, a.case + (a.case_version === 'latest' ? '' : ' v' + a.case_version)), el('td', {}, a.note || ''),
+    el('td', {}, a.due_at ? a.due_at.slice(0, 10) : '–'),
+    el('td', {}, el('button', { class: 'open-case', 'data-id': a.id, onclick: () => guarded(() => openCase(a)) }, 'Run'))));
+  document.getElementById('assignments').replaceChildren(rows.length
+    ? el('table', {}, el('thead', {}, el('tr', {}, ...['Case', 'Note', 'Due', ''].map((h) => el('th', {}, h)))), el('tbody', {}, ...rows))
+    : el('p', { class: 'muted' }, 'No assignment.'));
+  document.getElementById('again').addEventListener('click', () => location.reload());
+});

@@ -1,0 +1,25 @@
+// The native trainer's key table (host/app/src/input_controller.cpp), by KeyboardEvent.code:
+// W/Up push and S/Down pull at 10 mm/s, A/Left and D/Right twist at +/-1.5 rad/s, Shift x4;
+// Tab the next tool, C frames the camera, F wireframe, Escape ends the run.
+const PUSH = ['KeyW', 'ArrowUp'];
+const PULL = ['KeyS', 'ArrowDown'];
+const LEFT = ['KeyA', 'ArrowLeft'];
+const RIGHT = ['KeyD', 'ArrowRight'];
+const SHIFT = ['ShiftLeft', 'ShiftRight'];
+const ACTIONS = ['Tab', 'Escape', 'KeyC', 'KeyF'];
+const ALL = new Set([...PUSH, ...PULL, ...LEFT, ...RIGHT, ...SHIFT, ...ACTIONS]);
+
+export function isControlKey(code) { return ALL.has(code); }
+
+// [insertion mm/s, rotation rad/s] for the set of codes held.
+export function speedsFor(held) {
+  const any = (codes) => codes.some((c) => held.has(c));
+  const fast = any(SHIFT) ? 4 : 1;
+  let insert = 0;
+  let twist = 0;
+  if (any(PUSH)) insert += 10 * fast;
+  if (any(PULL)) insert -= 10 * fast;
+  if (any(LEFT)) twist += 1.5 * fast;
+  if (any(RIGHT)) twist -= 1.5 * fast;
+  return [insert, twist];
+}

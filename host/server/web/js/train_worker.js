@@ -1,0 +1,202 @@
+// The trainee page's haptic tick: a dedicated Web Worker that owns the session (cathbox-trainee,
+// WebAssembly, from /wasm/) and its clock. Never the page's thread.
+//
+// Clocks (the page's `clock` option):
+//   'real'    — 1 kHz against performance.now(): the ticks that are due run, then the worker
+//               sleeps to the next deadline with Atomics.wait (sub-millisecond, unlike timers),
+//               and every 8 ms it returns to its event loop (messages; the record writer's
+//               file calls, which its thread hands to this one). More than 4 ticks late: the
+//               overdue ones are dropped (counted), as the native haptic thread does. The
+//               interval between consecutive ticks is measured (jitter: p50, p99, max).
+//   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
+// Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
+// insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
+// reads its KeyboardInput.
+//
+// Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys},
+// advance {ticks}, next_tool, end. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
+// advanced {ticks}, over {summary, record (bytes), jitter}, error {message}.
+'use strict';
+
+const SLICE_MS = 8;
+const MAX_CATCH_UP = 4;  // as session::HapticPacer
+const FRAME_MS = 16;
+const BIN_MS = 0.01;  // interval histogram: 10 µs bins up to 100 ms
+const BINS = 10000;
+
+let mod = null;
+let fn = null;
+let keys = null;
+let clock = 'real';
+let over = false;
+const sleepCell = new Int32Array(new SharedArrayBuffer(4));
+const histogram = new Uint32Array(BINS + 1);
+let lastTickAt = -1;
+let intervals = 0;
+let maxInterval = 0;
+let dropped = 0;
+
+function fail(message) { postMessage({ type: 'error', message: String(message) }); }
+
+function loadModule() {
+  try {
+    importScripts('/wasm/cathbox-trainee.js');
+  } catch (_) {
+    throw new Error('/wasm/cathbox-trainee.js: the WebAssembly session is not served here (cathbox-server --wasm DIR)');
+  }
+  return self.CathboxTrainee({
+    locateFile: (path) => '/wasm/' + path,
+    mainScriptUrlOrBlob: '/wasm/cathbox-trainee.js',
+    print: () => {},
+    printErr: (line) => console.warn('cathbox-trainee: ' + line),
+  });
+}
+
+function bind(m) {
+  const c = (name, ret, args) => m.cwrap(name, ret, args);
+  return {
+    open: c('cbx_open', 'number', ['string', 'string', 'string']),
+    error: c('cbx_error', 'string', []),
+    speeds: c('cbx_set_speeds', null, ['number', 'number']),
+    nextTool: c('cbx_next_tool', null, []),
+    end: c('cbx_end_run', null, []),
+    step: c('cbx_step', 'number', ['number']),
+    over: c('cbx_over', 'number', []),
+    snapshot: c('cbx_snapshot', 'number', []),
+    snapshotData: c('cbx_snapshot_data', 'number', []),
+    snapshotMetrics: c('cbx_snapshot_metrics', 'string', []),
+    closeRecord: c('cbx_close_record', 'number', []),
+    summary: c('cbx_summary', 'string', []),
+  };
+}
+
+// One tick, with the keys as they are now.
+function tick() {
+  fn.speeds(keys[0], keys[1]);
+  fn.step(1);
+  if (fn.over()) over = true;
+}
+
+function measure(now) {
+  if (lastTickAt >= 0) {
+    const d = now - lastTickAt;
+    histogram[Math.min(BINS, Math.floor(d / BIN_MS))]++;
+    intervals++;
+    if (d > maxInterval) maxInterval = d;
+  }
+  lastTickAt = now;
+}
+
+function percentile(p) {
+  if (intervals === 0) return null;
+  const want = Math.ceil(p * intervals);
+  let seen = 0;
+  for (let i = 0; i <= BINS; ++i) {
+    seen += histogram[i];
+    if (seen >= want) return (i + 0.5) * BIN_MS;
+  }
+  return maxInterval;
+}
+
+function postFrame() {
+  const n = fn.snapshot();
+  const at = fn.snapshotData() >> 2;
+  // The memory may have grown (a new shared buffer): a call returning a string makes the
+  // runtime renew its views (GROWABLE_HEAP_U8), then HEAPF32 covers the snapshot.
+  if (at + n > mod.HEAPF32.length) fn.error();
+  const data = new Float32Array(n);
+  data.set(mod.HEAPF32.subarray(at, at + n));
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()) }, [data.buffer]);
+}
+
+function finish() {
+  postFrame();
+  if (!fn.closeRecord()) return fail('record: ' + fn.error());
+  const summary = JSON.parse(fn.summary());
+  const record = mod.FS.readFile('/run/run.cbxrec');
+  const jitter = clock === 'real'
+    ? { ticks: intervals + 1, p50_ms: percentile(0.5), p99_ms: percentile(0.99), max_ms: maxInterval, dropped }
+    : null;
+  postMessage({ type: 'over', summary, record: record.buffer, jitter }, [record.buffer]);
+}
+
+// The real clock: tick k is due at start + k ms.
+let start = 0;
+let due = 0;
+const yielder = new MessageChannel();
+yielder.port1.onmessage = () => slice();
+let lastFrameAt = 0;
+
+function slice() {
+  const sliceEnd = performance.now() + SLICE_MS;
+  for (;;) {
+    let now = performance.now();
+    const late = Math.floor(now - start) - due + 1;  // ticks due now
+    if (late > MAX_CATCH_UP) {
+      dropped += late - MAX_CATCH_UP;
+      due += late - MAX_CATCH_UP;
+    }
+    while (!over && start + due <= now) {
+      measure(now);
+      tick();
+      ++due;
+      now = performance.now();
+    }
+    if (over) return finish();
+    if (now >= sliceEnd) break;
+    Atomics.wait(sleepCell, 0, 0, start + due - now);
+  }
+  if (performance.now() - lastFrameAt >= FRAME_MS) {
+    lastFrameAt = performance.now();
+    postFrame();
+  }
+  yielder.port2.postMessage(0);  // back to the event loop, then on
+}
+
+async function open(m) {
+  const t0 = performance.now();
+  if (!mod) {
+    mod = await loadModule();
+    fn = bind(mod);
+  }
+  const FS = mod.FS;
+  for (const dir of ['/case', '/run']) { try { FS.mkdir(dir); } catch (_) { /* there */ } }
+  FS.writeFile('/case/' + m.caseFile, m.caseText);
+  if (m.hclmFile) FS.writeFile('/case/' + m.hclmFile, m.hclmText);
+  FS.writeFile('/case/collision.cbxmesh', new Uint8Array(m.mesh));
+  if (!fn.open('/case/' + m.caseFile, '/case/collision.cbxmesh', '/run/run.cbxrec')) return fail(fn.error());
+  keys = new Float64Array(m.keys);
+  clock = m.clock === 'virtual' ? 'virtual' : 'real';
+  over = false;
+  postFrame();
+  postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0 });
+  if (clock === 'real') {
+    start = performance.now();
+    due = 0;
+    slice();
+  }
+}
+
+onmessage = (e) => {
+  const m = e.data;
+  try {
+    if (m.type === 'open') {
+      open(m).catch((err) => fail(err && err.message ? err.message : err));
+    } else if (!fn) {
+      fail('no session open');
+    } else if (m.type === 'advance') {
+      if (clock !== 'virtual') return fail('advance: the worker runs on its own clock');
+      let ran = 0;
+      while (ran < m.ticks && !over) { tick(); ++ran; }
+      postMessage({ type: 'advanced', ticks: ran });
+      if (over) finish(); else postFrame();
+    } else if (m.type === 'next_tool') {
+      fn.nextTool();
+    } else if (m.type === 'end') {
+      fn.end();
+      if (clock === 'virtual' && !over) { tick(); if (over) finish(); }
+    }
+  } catch (err) {
+    fail(err && err.message ? err.message : err);
+  }
+};

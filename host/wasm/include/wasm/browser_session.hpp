@@ -1,0 +1,50 @@
+#pragma once
+// The trainee page's session (host/server/web/train.html): one case run by the keyboard in a
+// dedicated Web Worker, which owns the clock and calls step() as its 1 kHz pacer says
+// (train_worker.js). The same Session, KeyboardHand and Recorder as cathbox-trainer's keyboard
+// run; the record is a file in the module's memory file system, uploaded by the page.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "session/keyboard_input.hpp"
+#include "session/session.hpp"
+
+namespace cathbox::wasm {
+
+class BrowserSession {
+ public:
+  // The case file (its HCLM beside it), the CBXMESH2 surface file, the record to write: null
+  // with one line in `error` ("FILE: what").
+  [[nodiscard]] static std::unique_ptr<BrowserSession> open(const std::string& case_path, const std::string& mesh_path,
+                                                            const std::string& record_path, std::string& error);
+
+  // The keys held, as the native trainer maps them (host/app input_controller.cpp): mm/s, rad/s.
+  void set_speeds(double insert_mm_s, double rotate_rad_s) { keyboard_.set_speeds(insert_mm_s, rotate_rad_s); }
+  void next_tool() { (void)session_->post(session::Control::select_next_tool()); }
+  void end_run() { session_->end_run(); }
+  // Up to `ticks` ticks of the session's virtual clock (the worker's pacer decides when).
+  std::int64_t step(std::int64_t ticks) { return session_->step_virtual(ticks); }
+  [[nodiscard]] bool over() const { return session_->over(); }
+  [[nodiscard]] std::int64_t ticks() const { return session_->ticks(); }
+
+  // The newest snapshot flattened for the page (layout in browser_session.cpp); its size in floats.
+  std::size_t pack_snapshot();
+  [[nodiscard]] const float* packed() const { return packed_.data(); }
+  // The packed snapshot's metrics, {name: value} (session::named_metrics): the live frame's.
+  [[nodiscard]] std::string snapshot_metrics_json() const;
+  // Once over: the record closed (false with the writer's line in `error`).
+  bool close_record(std::string& error);
+  // {"case", "hand", "end", "ticks", "record_bytes", "target":[x,y,z,r]|null, "metrics":{name:value}}
+  [[nodiscard]] std::string summary_json() const;
+
+ private:
+  BrowserSession() = default;
+  session::KeyboardInput keyboard_;
+  std::unique_ptr<session::Session> session_;
+  std::vector<float> packed_;
+  std::uint64_t record_bytes_ = 0;
+};
+
+}  // namespace cathbox::wasm

@@ -1,0 +1,127 @@
+#include "wasm/browser_session.hpp"
+
+#include <cstdio>
+
+#include "session/keyboard_hand.hpp"
+#include "session/metrics.hpp"
+#include "session/record_format.hpp"
+#include "wasm/surface_file.hpp"
+
+namespace cathbox::wasm {
+
+namespace {
+
+constexpr double kTickS = 0.001;  // SessionOptions' default period (1 kHz)
+
+// JSON string contents: the case names and the writer's lines are plain text, quoted safely.
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char esc[8];
+      std::snprintf(esc, sizeof esc, "\\u%04x", c);
+      out += esc;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
+std::string metrics_json(const session::Metrics& metrics) {
+  std::string out = "{";
+  for (const session::NamedMetric& m : session::named_metrics(metrics)) {
+    out += (out.size() > 1 ? "," : "") + quoted(m.name) + ":" + number(m.value);
+  }
+  return out + "}";
+}
+
+}  // namespace
+
+std::unique_ptr<BrowserSession> BrowserSession::open(const std::string& case_path, const std::string& mesh_path,
+                                                     const std::string& record_path, std::string& error) {
+  base::Result<vessel::SurfaceMesh> surface = read_surface_file(mesh_path);
+  if (!surface) {
+    error = surface.error().message;
+    return nullptr;
+  }
+  session::SessionCaseLoad scene = session::load_session_case(case_path, &*surface);
+  if (!scene.value) {
+    error = scene.error;
+    return nullptr;
+  }
+  std::unique_ptr<BrowserSession> b(new BrowserSession());
+  auto hand = std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)");
+  b->session_ = std::make_unique<session::Session>(std::move(scene.value), std::move(hand));
+  if (base::Status<> recording = b->session_->record_to(record_path); !recording) {
+    error = recording.error().message;
+    return nullptr;
+  }
+  return b;
+}
+
+// Layout (floats): tick, sim time s, insertion mm, rotation rad, hand force mN, hand torque mN·mm,
+// wall force mN, tip x y z, held tool, run over, tool count, contact count; then per tool: node
+// count, active, nodes x y z...; then per contact: x y z force mN.
+std::size_t BrowserSession::pack_snapshot() {
+  auto& exchange = session_->snapshots();
+  exchange.acquire();
+  const session::SceneSnapshot& s = exchange.read_slot();
+  packed_.clear();
+  const std::size_t contacts = s.contacts.size();
+  packed_.insert(packed_.end(), {static_cast<float>(s.tick), static_cast<float>(static_cast<double>(s.sim_time_us) * 1e-6),
+                                 static_cast<float>(s.insertion_mm), static_cast<float>(s.rotation_rad),
+                                 static_cast<float>(s.hand_force_mN), static_cast<float>(s.hand_torque_mNmm),
+                                 static_cast<float>(s.wall_force_mN), s.tip_mm.x, s.tip_mm.y, s.tip_mm.z,
+                                 static_cast<float>(s.held_tool), s.run_over ? 1.0F : 0.0F,
+                                 static_cast<float>(s.tool_count), static_cast<float>(contacts)});
+  for (int t = 0; t < s.tool_count; ++t) {
+    const session::ToolView& tool = s.tools[static_cast<std::size_t>(t)];
+    packed_.push_back(static_cast<float>(tool.nodes_mm.size()));
+    packed_.push_back(tool.active ? 1.0F : 0.0F);
+    for (const glm::vec3& p : tool.nodes_mm) packed_.insert(packed_.end(), {p.x, p.y, p.z});
+  }
+  for (const session::ContactView& c : s.contacts) packed_.insert(packed_.end(), {c.point_mm.x, c.point_mm.y, c.point_mm.z, c.force_mN});
+  return packed_.size();
+}
+
+std::string BrowserSession::snapshot_metrics_json() const {
+  return metrics_json(session_->snapshots().read_slot().metrics);
+}
+
+bool BrowserSession::close_record(std::string& error) {
+  session::Recorder* rec = session_->recorder();
+  if (rec == nullptr) return true;
+  const bool ok = rec->close();
+  record_bytes_ = rec->bytes_written();
+  if (!ok) error = rec->error();
+  return ok;
+}
+
+std::string BrowserSession::summary_json() const {
+  const session::SessionCase& scene = session_->scene();
+  std::string out = "{\"case\":" + quoted(scene.name) + ",\"hand\":" + quoted(session_->hand_description()) +
+                    ",\"end\":" + quoted(session::record::end_reason_name(session_->end_reason())) +
+                    ",\"ticks\":" + std::to_string(session_->ticks()) + ",\"record_bytes\":" + std::to_string(record_bytes_) +
+                    ",\"tools\":[";
+  for (std::size_t i = 0; i < session_->tool_names().size(); ++i) out += (i ? "," : "") + quoted(session_->tool_names()[i]);
+  out += "],\"target\":";
+  if (scene.target_mm) {
+    out += "[" + number(scene.target_mm->x) + "," + number(scene.target_mm->y) + "," + number(scene.target_mm->z) + "," +
+           number(scene.target_radius_mm) + "]";
+  } else {
+    out += "null";
+  }
+  return out + ",\"metrics\":" + metrics_json(session_->metrics()) + "}";
+}
+
+}  // namespace cathbox::wasm

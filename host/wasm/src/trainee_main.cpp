@@ -1,0 +1,73 @@
+// cathbox-trainee.js: the session for the trainee page (host/server/web/train.html), loaded in
+// its dedicated Web Worker (js/train_worker.js), which owns the clock. C functions for the
+// worker's cwrap; one session at a time. Errors: a null/false result and cbx_error()'s line.
+#include <emscripten/emscripten.h>
+
+#include <memory>
+#include <string>
+
+#include "wasm/browser_session.hpp"
+
+namespace {
+
+std::unique_ptr<cathbox::wasm::BrowserSession> g_session;
+std::string g_error;
+std::string g_text;
+
+}  // namespace
+
+extern "C" {
+
+EMSCRIPTEN_KEEPALIVE int cbx_open(const char* case_path, const char* mesh_path, const char* record_path) {
+  g_session.reset();
+  g_error.clear();
+  g_session = cathbox::wasm::BrowserSession::open(case_path, mesh_path, record_path, g_error);
+  return g_session ? 1 : 0;
+}
+
+EMSCRIPTEN_KEEPALIVE const char* cbx_error() { return g_error.c_str(); }
+
+EMSCRIPTEN_KEEPALIVE void cbx_set_speeds(double insert_mm_s, double rotate_rad_s) {
+  if (g_session) g_session->set_speeds(insert_mm_s, rotate_rad_s);
+}
+
+EMSCRIPTEN_KEEPALIVE void cbx_next_tool() {
+  if (g_session) g_session->next_tool();
+}
+
+EMSCRIPTEN_KEEPALIVE void cbx_end_run() {
+  if (g_session) g_session->end_run();
+}
+
+EMSCRIPTEN_KEEPALIVE double cbx_step(double ticks) {
+  return g_session ? static_cast<double>(g_session->step(static_cast<std::int64_t>(ticks))) : 0.0;
+}
+
+EMSCRIPTEN_KEEPALIVE int cbx_over() { return g_session && g_session->over() ? 1 : 0; }
+
+EMSCRIPTEN_KEEPALIVE double cbx_ticks() { return g_session ? static_cast<double>(g_session->ticks()) : 0.0; }
+
+// The snapshot's floats: cbx_snapshot() packs it and returns its length, cbx_snapshot_data() where.
+EMSCRIPTEN_KEEPALIVE int cbx_snapshot() { return g_session ? static_cast<int>(g_session->pack_snapshot()) : 0; }
+EMSCRIPTEN_KEEPALIVE const float* cbx_snapshot_data() { return g_session ? g_session->packed() : nullptr; }
+
+// The packed snapshot's metrics as JSON ({name: value}), after cbx_snapshot().
+EMSCRIPTEN_KEEPALIVE const char* cbx_snapshot_metrics() {
+  g_text = g_session ? g_session->snapshot_metrics_json() : std::string("{}");
+  return g_text.c_str();
+}
+
+EMSCRIPTEN_KEEPALIVE int cbx_close_record() {
+  g_error.clear();
+  return g_session && g_session->close_record(g_error) ? 1 : 0;
+}
+
+EMSCRIPTEN_KEEPALIVE const char* cbx_summary() {
+  g_text = g_session ? g_session->summary_json() : std::string("null");
+  return g_text.c_str();
+}
+
+}  // extern "C"
+
+// The worker calls the functions above; main only keeps the runtime alive for them.
+int main() { return 0; }

@@ -1,0 +1,257 @@
+#!/usr/bin/python3
+"""The trainee's simulator in the browser (/train.html, issue 36) in headless Chromium.
+
+A cathbox-server on a fresh SQLite store, serving the WebAssembly session (--wasm), with the
+Y-bifurcation case assigned to a trainee. The trainee logs in, opens the assignment on
+/train.html?clock=virtual (the worker has no clock of its own: the test advances it by exact tick
+counts, so the run is the same on any machine) and drives the guidewire with the native trainer's
+keys, held as a person would: Shift+W to 40 mm, Shift+A a full turn, then W until the tip reaches
+the target, while an instructor watches the browser's rig live (its tip moves on /live.html). The
+page uploads the record; the server accepts it only if every state hash
+replays (201), and `cathbox session replay --check` replays the stored record natively.
+Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, on the server
+restarted without --wasm, opening a case shows one line naming what is missing. On a two-tool
+case (neuro), Tab hands over the other tool and Escape ends the run, uploaded.
+
+With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
+reports the tick-interval jitter and the first-frame time (a wall-clock figure: printed, never
+asserted; bench/wasm/train_page_bench.sh prints it beside the native figures).
+
+  tests/browser/train_test.py --bin build/release/bin --wasm build/wasm/bin --source . --out build/release/browser
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import traceback
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from browser_test import Api, Browser, Centre, Failure, check  # noqa: E402
+from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
+from selenium.webdriver.common.by import By  # noqa: E402
+from selenium.webdriver.common.keys import Keys  # noqa: E402
+from selenium.webdriver.support import expected_conditions as EC  # noqa: E402
+
+
+def seed(centre):
+    teacher = Api(centre.base).login("teacher")
+    cases = os.path.join(centre.args.source, "cases")
+    teacher.json("POST", "/cases", {
+        "name": "ybif", "case_file": "y_bifurcation.case", "case": open(os.path.join(cases, "y_bifurcation.case")).read(),
+        "hclm_file": "y_bifurcation.hclm", "hclm": open(os.path.join(cases, "y_bifurcation.hclm")).read()})
+    _, a = teacher.json("POST", "/assignments", {
+        "trainee": "ann", "case": "ybif", "note": "Left branch, in the browser.",
+        "criteria": [{"metric": "peak_wall_force_mN", "op": "<=", "value": 400}]})
+    # Two tools (catheter, guidewire): Tab hands over the other one.
+    teacher.json("POST", "/cases", {
+        "name": "neuro", "case_file": "neuro.case", "case": open(os.path.join(cases, "neuro.case")).read(),
+        "hclm_file": "neuro.hclm", "hclm": open(os.path.join(cases, "neuro.hclm")).read()})
+    _, two = teacher.json("POST", "/assignments", {"trainee": "ann", "case": "neuro", "criteria": []})
+    return a["id"], two["id"]
+
+
+def open_assignment(b, assignment, clock):
+    b.open("/train.html" + ("?clock=virtual" if clock == "virtual" else ""))
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    check(b.js("return self.crossOriginIsolated"), "the page is not cross-origin isolated (COOP/COEP headers)")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    b.wait_js("return window.cathboxTrain.state === 'running' && window.cathboxTrain.frames > 0", "the session to start in the worker")
+    b.wait_js("return window.cathboxTrain.firstFrameMs !== null", "the first frame")
+
+
+def advance(b, ticks):
+    return b.driver.execute_async_script("const done = arguments[arguments.length - 1]; window.cathboxTrain.advance(arguments[0]).then(done);", ticks)
+
+
+def hold(b, keys, ticks):
+    """Holds `keys` (selenium Keys or letters) for exactly `ticks` ticks of the session."""
+    body = b.driver.find_element(By.TAG_NAME, "body")
+    down = ActionChains(b.driver)
+    for k in keys:
+        down.key_down(k, body)
+    down.perform()
+    ran = advance(b, ticks)
+    up = ActionChains(b.driver)
+    for k in reversed(keys):
+        up.key_up(k)
+    up.perform()
+    return ran
+
+
+def test_keyboard_run(b, watcher, centre, assignment, report):
+    # An instructor watches the browser's rig before it starts (as the live page's own test does).
+    watcher.open("/live.html?rigs=browser-ann")
+    watcher.wait_js("return document.getElementById('status').textContent === '(connected)'", "the instructor's watcher socket")
+    open_assignment(b, assignment, "virtual")
+    b.wait_js("return (window.cathboxTrain.live || '').startsWith('live as browser-ann')", "the page's live stream")
+    b.shot("train-start")
+    check(hold(b, [Keys.SHIFT, "w"], 1000) == 1000, "1000 ticks pushing")
+    at = b.js("return window.cathboxTrain.last")
+    check(abs(at["insertion_mm"] - 40.0) < 0.01, "Shift+W for 1 s: 40 mm expected, %.3f mm" % at["insertion_mm"])
+    tip_js = "const e = document.querySelector(\"section[data-rig='browser-ann'] [data-stat='tip']\"); return e ? e.textContent : null;"
+    first_tip = watcher.wait_js(tip_js, "the browser rig's first frame on the instructor's live page")
+    turn_ticks = round(2 * math.pi / 6.0 * 1000)
+    hold(b, [Keys.SHIFT, "a"], turn_ticks)
+    at = b.js("return window.cathboxTrain.last")
+    check(abs(at["rotation_rad"] - 6.0 * turn_ticks / 1000) < 0.01, "Shift+A: a full turn expected, %.3f rad" % at["rotation_rad"])
+    b.shot("train-3d")
+    watcher.wait_js(tip_js.replace("return e ? e.textContent : null;", "return e && e.textContent !== %s;" % json.dumps(first_tip)),
+                    "the browser rig's tip to move on the instructor's page")
+    watcher.shot("train-live-instructor")
+    report["live_tip"] = "%s -> %s" % (first_tip, watcher.js(tip_js))
+    # W (10 mm/s) until the run ends at the target (bounded: 12 s of session time).
+    body = b.driver.find_element(By.TAG_NAME, "body")
+    ActionChains(b.driver).key_down("w", body).perform()
+    for _ in range(24):
+        advance(b, 500)
+        if b.js("return window.cathboxTrain.state") != "running":
+            break
+    ActionChains(b.driver).key_up("w").perform()
+    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;",
+                      "the record's upload")
+    hook = b.js("return window.cathboxTrain")
+    check(state == "done", "the upload: %s (%s)" % (state, hook.get("error")))
+    summary, result = hook["summary"], hook["result"]
+    check(summary["end"] == "target reached", "the run ended by '%s', not at the target (tip %s)" % (summary["end"], hook["last"]))
+    check(result["complete"] is True and result["case"] == "ybif", "the stored result: %s" % json.dumps(result)[:400])
+    b.wait(EC.visibility_of_element_located((By.ID, "metrics-table")), "the end-of-run metrics")
+    b.shot("train-end")
+    # The record the page offers for download: compared with the server's copy below.
+    kept = b.driver.execute_async_script(
+        "const done = arguments[arguments.length - 1];"
+        "window.cathboxTrain.recordBlob.arrayBuffer().then((a) => done(Array.from(new Uint8Array(a))), (e) => done(String(e)));")
+    check(isinstance(kept, list) and b.js("return document.getElementById('record-download').href.startsWith('blob:')"),
+          "the page's record download: %r" % (kept if not isinstance(kept, list) else "no link"))
+    centre.page_record = bytes(kept)
+    report["keyboard_run"] = {"ticks": summary["ticks"], "end": summary["end"], "result_id": result["id"],
+                              "passed": result["passed"], "record_bytes": summary["record_bytes"],
+                              "tip_path_mm": summary["metrics"].get("tip_path_mm")}
+    return result["id"]
+
+
+def test_tab_and_escape(b, assignment, report):
+    """Two tools: W moves the held one only, Tab hands over the other, Escape ends the run; the
+    upload is accepted."""
+    open_assignment(b, assignment, "virtual")
+    start = b.js("return window.cathboxTrain.last")
+    hold(b, ["w"], 300)
+    first = b.js("return window.cathboxTrain.last")
+    check(abs(first["insertion_mm"] - start["insertion_mm"] - 3.0) < 0.01, "W for 300 ticks: 3 mm expected, %s -> %s" % (start, first))
+    ActionChains(b.driver).send_keys(Keys.TAB).perform()
+    advance(b, 1)
+    second = b.js("return window.cathboxTrain.last")
+    check(second["held"] != first["held"], "Tab did not hand over the other tool: %s -> %s" % (first, second))
+    ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
+    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    hook = b.js("return window.cathboxTrain")
+    check(state == "done" and hook["summary"]["end"] == "ended by the trainee", "Escape: %s, %s" % (state, hook.get("summary")))
+    report["tab_escape"] = {"held": [first["held"], second["held"]], "ticks": hook["summary"]["ticks"], "result": hook["result"]["id"]}
+
+
+def test_native_replay(centre, result_id, report):
+    """The record the page uploaded, from the server, replayed natively with every hash."""
+    teacher = Api(centre.base).login("teacher")
+    _, payload, _ = teacher.call("GET", "/results/%d/record" % result_id)
+    path = os.path.join(centre.tmp, "browser.cbxrec")
+    open(path, "wb").write(payload)
+    check(payload == centre.page_record, "the server's record (%d bytes) is not the page's download (%d bytes)"
+          % (len(payload), len(centre.page_record)))
+    out = centre.run([centre.program("cathbox"), "session", "replay", path, "--check"], "native replay --check of the browser's record")
+    check("every state hash matches" in out, "native replay: " + out[-400:])
+    report["native_replay"] = out.strip().splitlines()[-1]
+
+
+def test_without_wasm(b, centre, assignment, report):
+    """A server started without --wasm: the page says so in one line, and nothing runs."""
+    centre.extra_args = []
+    centre.restart()
+    b.open("/train.html?clock=virtual")
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    line = b.wait_js("const e = document.getElementById('error'); return !e.hidden && e.textContent;", "the page's error line")
+    check(line == "/wasm/cathbox-trainee.js: the WebAssembly session is not served here (cathbox-server --wasm DIR)",
+          "the error line without --wasm: %r" % line)
+    check(b.js("return window.cathboxTrain.state") == "error", "the page's state without the session")
+    b.drain_console(expected=[("/wasm/cathbox-trainee.js", 404)])
+    report["without_wasm"] = line
+
+
+def test_real_clock(b, assignment, seconds, report):
+    """The worker's own 1 kHz clock for `seconds`, W held, then Escape: jitter and first frame."""
+    open_assignment(b, assignment, "real")
+    body = b.driver.find_element(By.TAG_NAME, "body")
+    ActionChains(b.driver).key_down("w", body).perform()
+    b.wait_js("return window.cathboxTrain.last && window.cathboxTrain.last.tick >= %d" % (seconds * 1000),
+              "%d s of ticks on the worker's clock" % seconds, timeout=seconds * 10 + 30)
+    ActionChains(b.driver).key_up("w").send_keys(Keys.ESCAPE).perform()
+    b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    b.shot("train-real-clock")
+    hook = b.js("return window.cathboxTrain")
+    check(hook["state"] == "done", "the real-clock run's upload: %s" % hook.get("error"))
+    report["real_clock"] = {"jitter": hook["jitter"], "first_frame_ms": hook["firstFrameMs"], "open_ms": hook["openMs"],
+                            "end": hook["summary"]["end"]}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--bin", required=True)
+    parser.add_argument("--wasm", required=True, help="folder of cathbox-trainee.js (scripts/wasm-build DIR cathbox-trainee: DIR/bin)")
+    parser.add_argument("--source", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--real-clock", type=int, default=0, metavar="SECONDS", help="also run on the worker's own clock and report its jitter")
+    parser.add_argument("--keep", action="store_true")
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix="cathbox-train-")
+    centre = Centre(args, tmp)
+    centre.extra_args = ["--wasm", args.wasm]
+    b = None
+    watcher = None
+    report = {}
+    try:
+        centre.start()
+        assignment, two_tools = seed(centre)
+        watcher = Browser(args.out)
+        watcher.base = centre.base
+        watcher.login("teacher")
+        b = Browser(args.out)
+        b.base = centre.base
+        b.login("ann")
+        result_id = test_keyboard_run(b, watcher, centre, assignment, report)
+        b.drain_console()
+        watcher.drain_console()
+        watcher.quit()
+        watcher = None
+        test_native_replay(centre, result_id, report)
+        test_tab_and_escape(b, two_tools, report)
+        b.drain_console()
+        if args.real_clock:
+            test_real_clock(b, assignment, args.real_clock, report)
+            b.drain_console()
+        test_without_wasm(b, centre, assignment, report)
+        print(json.dumps(report, indent=1))
+        json.dump(report, open(os.path.join(args.out, "train_report.json"), "w"), indent=1)
+        return 0
+    except Failure as e:
+        print("FAIL: %s" % e)
+        print(json.dumps(report, indent=1))
+        return 1
+    except Exception:
+        traceback.print_exc()
+        return 1
+    finally:
+        for browser in (b, watcher):
+            if browser:
+                browser.quit()
+        centre.stop()
+        if not args.keep:
+            subprocess.run(["rm", "-rf", tmp])
+        else:
+            print("kept " + tmp)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,74 @@
+// A case with its own wall (`surface FILE`): the session collides with that surface, the record
+// carries its bytes, and the case rebuilt from the record has the same wall whatever the file on
+// disk holds by then.
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include "session/record_format.hpp"
+#include "session/record_header.hpp"
+#include "session/session_case.hpp"
+#include "vessel/case_generator.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/mesh_wire.hpp"
+#include "vessel/vessel_mesher.hpp"
+
+namespace cathbox::session {
+namespace {
+
+TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cathbox_surface_case_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const vessel::VesselModel model = vessel::CaseGenerator::y_bifurcation();
+  ASSERT_TRUE(vessel::save_hclm(model, (dir / "y.hclm").string()).empty());
+  vessel::MeshOptions coarse;
+  coarse.subdivision_level = 1;
+  const vessel::VesselSurface lumen = vessel::build_vessel_surface(model, coarse);
+  ASSERT_TRUE(lumen.ok()) << lumen.error;
+  std::ofstream(dir / "lumen.cbxmesh", std::ios::binary) << vessel::encode_mesh_wire(lumen.mesh);
+  const std::string case_path = (dir / "y.case").string();
+  std::ofstream(case_path) << "cathbox-case 1\nvessel y.hclm\nsurface lumen.cbxmesh\ntarget 2 1.0\n";
+
+  SessionCaseLoad loaded = load_session_case(case_path);
+  ASSERT_TRUE(loaded.value) << loaded.error;
+  const SessionCase& scene = *loaded.value;
+  EXPECT_TRUE(scene.surface_given());
+  ASSERT_NE(scene.mesh(), nullptr);
+  EXPECT_EQ(scene.mesh()->triangle_count(), lumen.mesh.triangle_count());
+  EXPECT_FALSE(scene.route_mm.empty());  // the graph still gives the route to the target
+
+  RecordHeader h;
+  h.case_name = scene.name;
+  h.case_file = scene.case_file;
+  h.case_text = scene.case_text;
+  h.vessel_file = scene.vessel_file;
+  h.vessel_text = scene.vessel_text;
+  h.surface_file = scene.surface_file;
+  h.surface_bytes = scene.surface_bytes;
+  h.tools = scene.spec.tools;
+  h.entry = scene.entry;
+  const std::vector<std::uint8_t> bytes = encode_header(h);
+  RecordHeader back;
+  std::string what;
+  std::size_t offset = 0;
+  ASSERT_TRUE(decode_header(bytes, back, what, offset)) << what << " at " << offset;
+  EXPECT_EQ(back.surface_file, h.surface_file);
+  EXPECT_EQ(back.surface_bytes, h.surface_bytes);
+
+  std::filesystem::remove_all(dir);  // the record alone rebuilds the case
+  SessionCaseLoad replayed = session_case_from_record(back);
+  ASSERT_TRUE(replayed.value) << replayed.error;
+  EXPECT_TRUE(replayed.value->surface_given());
+  EXPECT_EQ(replayed.value->mesh()->triangle_count(), lumen.mesh.triangle_count());
+
+  back.surface_bytes.clear();  // a record naming a surface it does not carry is refused
+  const SessionCaseLoad bare = session_case_from_record(back);
+  EXPECT_FALSE(bare.value);
+  EXPECT_NE(bare.error.find("carries none of its bytes"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace cathbox::session
