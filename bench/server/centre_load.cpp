@@ -66,8 +66,7 @@ std::vector<std::string> make_records(int count) {
     hand->set_tick_s(1e-3);
     session::Session run(std::move(scene.value), std::move(hand));
     const std::string path = folder + "/run" + std::to_string(i) + ".cbxrec";
-    std::string error;
-    if (!run.record_to(path, error)) throw std::runtime_error(error);
+    if (const base::Status<> recording = run.record_to(path); !recording) throw std::runtime_error(recording.error().message);
     run.step_virtual(1000 + 31 * i);
     run.end_run();
     run.step_virtual(1);

@@ -78,9 +78,12 @@ std::unique_ptr<Session> open_session(const std::string& case_path, const std::s
     error = scene.error;
     return nullptr;
   }
-  auto hand = ActionScriptHand::load(script, *scene.value, error);
-  if (!hand) return nullptr;
-  return std::make_unique<Session>(std::move(scene.value), std::move(hand), SessionOptions{});
+  auto hand = ActionScriptHand::load(script, *scene.value);
+  if (!hand) {
+    error = hand.error().message;
+    return nullptr;
+  }
+  return std::make_unique<Session>(std::move(scene.value), std::move(*hand), SessionOptions{});
 }
 
 // Copies the inputs the session gave its simulator at each tick.
@@ -99,8 +102,8 @@ void SessionTick(benchmark::State& state, const std::string& case_name, bool con
     state.SkipWithError((error.empty() ? bare_scene.error : error).c_str());
     return;
   }
-  if (!session->record_to(scratch("tick.cbxrec"), error)) {
-    state.SkipWithError(error.c_str());
+  if (const cathbox::base::Status<> recording = session->record_to(scratch("tick.cbxrec")); !recording) {
+    state.SkipWithError(recording.error().message.c_str());
     return;
   }
   cathbox::tool::Simulator bare(bare_scene.value->world->wall(), bare_scene.value->spec.tools, bare_scene.value->entry);
@@ -156,12 +159,12 @@ void Recording(benchmark::State& state) {
   cathbox::session::RecordHeader header;
   header.case_name = "bench";
   header.tools = {cathbox::tool::default_catheter(), cathbox::tool::default_guidewire()};
-  std::string error;
-  auto rec = cathbox::session::Recorder::create(scratch("recording.cbxrec"), header, error);
-  if (!rec) {
-    state.SkipWithError(error.c_str());
+  auto created = cathbox::session::Recorder::create(scratch("recording.cbxrec"), header);
+  if (!created) {
+    state.SkipWithError(created.error().message.c_str());
     return;
   }
+  auto& rec = *created;
   TickInput in;
   in.tool_count = 2;
   std::int64_t tick = 0;
@@ -195,8 +198,12 @@ void Replay(benchmark::State& state) {
   const std::string record = scratch("replay.cbxrec");
   std::string error;
   auto session = open_session(case_path, script, error);
-  if (!session || !session->record_to(record, error)) {
+  if (!session) {
     state.SkipWithError(error.c_str());
+    return;
+  }
+  if (const cathbox::base::Status<> recording = session->record_to(record); !recording) {
+    state.SkipWithError(recording.error().message.c_str());
     return;
   }
   while (!session->over()) session->step_virtual(10'000);

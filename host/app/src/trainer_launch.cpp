@@ -71,12 +71,12 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   std::unique_ptr<session::Hand> hand;
   if (!options.script.empty()) {
     // The same script player as `cathbox session run --script`, imaging verbs included.
-    std::string error;
-    hand = session::ActionScriptHand::load(options.script, *scene.value, error);
-    if (!hand) {
-      live.error = error;
+    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(options.script, *scene.value);
+    if (!loaded) {
+      live.error = loaded.error().message;
       return live;
     }
+    hand = std::move(*loaded);
   } else if (scripted) {
     // Its insertion limit follows the held tool's (TickInput::max_insertion_um).
     session::ScriptedHandSettings autopilot_settings;
@@ -117,15 +117,14 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   }
   live.session = std::make_unique<session::Session>(std::move(scene.value), std::move(hand), session_options);
   if (options.record) {
-    std::string error;
     const std::string dir = options.records_dir.empty() ? session::records_dir() : options.records_dir;
     const base::Result<std::string> path = session::new_record_path(dir, live.session->scene().name);
     if (!path) {
       live.note = "not recording: " + path.error().message;
-    } else if (live.session->record_to(*path, error)) {
+    } else if (base::Status<> recording = live.session->record_to(*path); recording) {
       live.record_path = *path;
     } else {
-      live.note = "not recording: " + error;
+      live.note = "not recording: " + recording.error().message;
     }
   }
   return live;

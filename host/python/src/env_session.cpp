@@ -62,8 +62,7 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCase
   s->readings_ = std::make_unique<Readings>(*s);
   s->session_->add_observer(*s->readings_);
   if (!options.record_path.empty()) {
-    std::string error;
-    if (!s->session_->record_to(options.record_path, error)) return base::Error{error};
+    if (base::Status<> recording = s->session_->record_to(options.record_path); !recording) return recording.error();
   }
   s->session_->simulator().copy_snapshot(s->snap_);
   for (std::size_t t = 0; t < s->tool_count(); ++t) s->rod_buffers_.push_back(s->session_->simulator().rod(t).positions().data());

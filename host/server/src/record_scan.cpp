@@ -98,10 +98,9 @@ bool same_entry(const tool::Entry& a, const tool::Entry& b) {
 }  // namespace
 
 Result<RecordScan> scan_record(std::string_view bytes, const UploadLimits& limits) {
-  std::string error;
-  auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record", error);
-  if (!reader) return make_error(422, error);
-  const session::RecordHeader& h = reader->header();
+  auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record");
+  if (!reader) return make_error(422, reader.error().message);
+  const session::RecordHeader& h = (*reader)->header();
   if (h.period_us <= 0) return make_error(422, "record: header field 'period_us': " + std::to_string(h.period_us) + " is not a tick period");
   Digest d;
   // The run: what the replay rebuilds the session from (not the informational fields: software
@@ -120,7 +119,7 @@ Result<RecordScan> scan_record(std::string_view bytes, const UploadLimits& limit
   const std::int64_t max_ticks = limits.max_record_duration_s * 1'000'000 / h.period_us;
   RecordScan out;
   session::TickRecord t;
-  while (reader->next(t)) {
+  while ((*reader)->next(t)) {
     if (++out.ticks > max_ticks) {
       return make_error(413, "record: longer than the limit of " + std::to_string(limits.max_record_duration_s) + " s of simulated time (" +
                                  std::to_string(max_ticks) + " ticks of " + std::to_string(h.period_us) + " us)");
@@ -139,8 +138,8 @@ Result<RecordScan> scan_record(std::string_view bytes, const UploadLimits& limit
     d.u64(t.state_hash ? 1 : 0);
     d.u64(t.state_hash.value_or(0));
   }
-  if (!reader->error().empty()) return make_error(422, reader->error());
-  out.complete = reader->finished();
+  if (!(*reader)->error().empty()) return make_error(422, (*reader)->error());
+  out.complete = (*reader)->finished();
   d.u64(out.complete ? 1 : 0);
   out.run_hash = d.hex();
   return out;

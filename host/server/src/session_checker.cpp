@@ -206,19 +206,18 @@ class SessionChecker final : public RecordChecker {
  private:
   // The replay, its vessel meshed, once the header's tools and the vessel's size passed.
   Result<std::unique_ptr<session::Replay>> open(std::string_view bytes, TraceObserver& observer) const {
-    std::string error;
-    auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record", error);
-    if (!reader) return make_error(422, error);
-    const session::RecordHeader& h = reader->header();
+    auto reader = session::RecordReader::from_bytes(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), "record");
+    if (!reader) return make_error(422, reader.error().message);
+    const session::RecordHeader& h = (*reader)->header();
     if (Status s = check_header_tools(h); !s) return s.error();
     const std::string vessel = std::filesystem::path(h.vessel_file).filename().string();
     if (Status s = check_vessel_bounds(h.vessel_text, "record: " + (vessel.empty() ? std::string("vessel") : vessel), limits_); !s) {
       return s.error();
     }
-    auto replay = session::Replay::open(std::move(reader), error);
-    if (!replay) return make_error(422, error);
-    replay->session().add_observer(observer);
-    return replay;
+    auto replay = session::Replay::open(std::move(*reader));
+    if (!replay) return make_error(422, replay.error().message);
+    (*replay)->session().add_observer(observer);
+    return std::move(*replay);
   }
 
   // Runs the replay to its end, 1,000 ticks at a time, within the CPU budget.

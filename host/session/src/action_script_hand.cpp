@@ -11,15 +11,11 @@ namespace {
 constexpr std::int64_t kSettle_ms = 100;  // as `cathbox sim run` (tool::ScenarioOptions)
 }  // namespace
 
-std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path,
-                                                         const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
-                                                         std::size_t held, std::string& error) {
+base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::load(
+    const std::string& path, const std::vector<tool::ScriptPlayer::ToolInfo>& tools, std::size_t held) {
   tool::ScriptParse parsed = tool::load_script(path);
-  if (!parsed) {
-    error = parsed.error().message;
-    return nullptr;
-  }
-  return make(*parsed, path, tools, held, error);
+  if (!parsed) return parsed.error();
+  return make(*parsed, path, tools, held);
 }
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
@@ -28,16 +24,17 @@ std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const Ses
   return out;
 }
 
-std::unique_ptr<ActionScriptHand> ActionScriptHand::load(const std::string& path, const SessionCase& scene,
-                                                         std::string& error) {
-  return load(path, tool_infos(scene), 0, error);
+base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::load(const std::string& path,
+                                                                       const SessionCase& scene) {
+  return load(path, tool_infos(scene), 0);
 }
 
-std::unique_ptr<ActionScriptHand> ActionScriptHand::make(const tool::Script& script, const std::string& name,
-                                                         const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
-                                                         std::size_t held, std::string& error) {
+base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::make(
+    const tool::Script& script, const std::string& name, const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
+    std::size_t held) {
+  std::string error;
   std::optional<tool::ScriptPlayer> player = tool::ScriptPlayer::make(script, tools, held, name, error);
-  if (!player) return nullptr;
+  if (!player) return base::Error{error};
   return std::unique_ptr<ActionScriptHand>(new ActionScriptHand(std::move(*player), name));
 }
 

@@ -38,8 +38,13 @@ std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::st
     if (socket.empty()) {
       static int counter = 0;
       socket = "/tmp/cathbox-session-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".sock";
-      hand->emulator_ = EmulatorProcess::start(options.emu_program, socket, options.emu_args, error);
-      if (!hand->emulator_) return nullptr;
+      base::Result<std::unique_ptr<EmulatorProcess>> emulator =
+          EmulatorProcess::start(options.emu_program, socket, options.emu_args);
+      if (!emulator) {
+        error = emulator.error().message;
+        return nullptr;
+      }
+      hand->emulator_ = std::move(*emulator);
     }
     // A starting emulator needs a moment to bind its socket: retry for up to 3 s.
     std::string last;

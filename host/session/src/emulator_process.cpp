@@ -11,8 +11,9 @@ extern char** environ;
 
 namespace cathbox::session {
 
-std::unique_ptr<EmulatorProcess> EmulatorProcess::start(const std::string& program, const std::string& socket,
-                                                        const std::vector<std::string>& extra, std::string& error) {
+base::Result<std::unique_ptr<EmulatorProcess>> EmulatorProcess::start(const std::string& program,
+                                                                      const std::string& socket,
+                                                                      const std::vector<std::string>& extra) {
   std::vector<std::string> args = {program, "--socket", socket};
   args.insert(args.end(), extra.begin(), extra.end());
   std::vector<char*> argv;
@@ -20,10 +21,7 @@ std::unique_ptr<EmulatorProcess> EmulatorProcess::start(const std::string& progr
   argv.push_back(nullptr);
   pid_t pid = 0;
   const int rc = posix_spawn(&pid, program.c_str(), nullptr, nullptr, argv.data(), environ);
-  if (rc != 0) {
-    error = program + ": cannot start the emulated box: " + std::strerror(rc);
-    return nullptr;
-  }
+  if (rc != 0) return base::Error{program + ": cannot start the emulated box: " + std::strerror(rc)};
   return std::unique_ptr<EmulatorProcess>(new EmulatorProcess(pid, socket));
 }
 

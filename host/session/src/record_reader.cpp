@@ -36,15 +36,12 @@ base::Result<std::unique_ptr<RecordReader>> RecordReader::open(const std::string
   return r;
 }
 
-std::unique_ptr<RecordReader> RecordReader::from_bytes(std::vector<std::uint8_t> bytes, const std::string& name,
-                                                       std::string& error) {
+base::Result<std::unique_ptr<RecordReader>> RecordReader::from_bytes(std::vector<std::uint8_t> bytes,
+                                                                     const std::string& name) {
   std::unique_ptr<RecordReader> r(new RecordReader(name));
   r->memory_ = std::move(bytes);
   r->from_memory_ = true;
-  if (!r->start()) {
-    error = r->error_;
-    return nullptr;
-  }
+  if (!r->start()) return base::Error{r->error_};
   return r;
 }
 

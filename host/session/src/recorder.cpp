@@ -41,12 +41,9 @@ struct ZstdContext {
 
 Recorder::Recorder(int fd, std::string path) : fd_(fd), path_(std::move(path)) {}
 
-std::unique_ptr<Recorder> Recorder::create(const std::string& path, const RecordHeader& header, std::string& error) {
+base::Result<std::unique_ptr<Recorder>> Recorder::create(const std::string& path, const RecordHeader& header) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    error = path + ": cannot write the record: " + std::strerror(errno);
-    return nullptr;
-  }
+  if (fd < 0) return base::Error{path + ": cannot write the record: " + std::strerror(errno)};
   std::unique_ptr<Recorder> r(new Recorder(fd, path));
   // The file header: magic, format version, reserved, CRC-32 of the 12 bytes before it.
   std::vector<std::uint8_t> head;
@@ -60,8 +57,7 @@ std::unique_ptr<Recorder> Recorder::create(const std::string& path, const Record
   ZstdContext z;
   if (!write_all(fd, head.data(), head.size(), io_error) ||
       !r->write_block(BlockType::kHeader, encode_header(header), out, z.cctx)) {
-    error = path + ": cannot write the record: " + (io_error.empty() ? r->error() : io_error);
-    return nullptr;
+    return base::Error{path + ": cannot write the record: " + (io_error.empty() ? r->error() : io_error)};
   }
   r->bytes_written_.store(head.size() + out.size(), std::memory_order_relaxed);
   for (std::size_t i = 0; i < 8; ++i) {

@@ -2,24 +2,18 @@
 
 namespace cathbox::session {
 
-std::unique_ptr<Replay> Replay::open(const std::string& path, std::string& error, bool stop_at_mismatch,
-                                     const vessel::SurfaceMesh* surface) {
+base::Result<std::unique_ptr<Replay>> Replay::open(const std::string& path, bool stop_at_mismatch,
+                                                   const vessel::SurfaceMesh* surface) {
   base::Result<std::unique_ptr<RecordReader>> reader = RecordReader::open(path);
-  if (!reader) {
-    error = reader.error().message;
-    return nullptr;
-  }
-  return open(std::move(*reader), error, stop_at_mismatch, surface);
+  if (!reader) return reader.error();
+  return open(std::move(*reader), stop_at_mismatch, surface);
 }
 
-std::unique_ptr<Replay> Replay::open(std::unique_ptr<RecordReader> reader, std::string& error, bool stop_at_mismatch,
-                                     const vessel::SurfaceMesh* surface) {
+base::Result<std::unique_ptr<Replay>> Replay::open(std::unique_ptr<RecordReader> reader, bool stop_at_mismatch,
+                                                   const vessel::SurfaceMesh* surface) {
   const RecordHeader& h = reader->header();
   SessionCaseLoad scene = session_case_from_record(h, surface);
-  if (!scene.value) {
-    error = scene.error;
-    return nullptr;
-  }
+  if (!scene.value) return base::Error{scene.error};
   SessionOptions options;
   options.period_us = h.period_us;
   options.hash_every = h.hash_every;
@@ -54,16 +48,15 @@ ReplayResult Replay::result() const {
 }
 
 ReplayResult replay_record(const std::string& path, TickObserver* observer, const vessel::SurfaceMesh* surface) {
-  std::string error;
-  std::unique_ptr<Replay> replay = Replay::open(path, error, true, surface);
+  base::Result<std::unique_ptr<Replay>> replay = Replay::open(path, true, surface);
   if (!replay) {
     ReplayResult r;
-    r.error = error;
+    r.error = replay.error().message;
     return r;
   }
-  if (observer != nullptr) replay->session().add_observer(*observer);
-  replay->step(-1);
-  return replay->result();
+  if (observer != nullptr) (*replay)->session().add_observer(*observer);
+  (*replay)->step(-1);
+  return (*replay)->result();
 }
 
 }  // namespace cathbox::session

@@ -16,9 +16,9 @@ base::Result<std::unique_ptr<ReplayPlayer>> ReplayPlayer::open(const std::string
   p->total_ticks_ = (*scan)->ticks_read();
   p->problem_ = (*scan)->error();
   // Playing goes on past a mismatch: the debrief shows it rather than stopping there.
-  std::string error;
-  p->replay_ = Replay::open(path, error, false);
-  if (!p->replay_) return base::Error{error};
+  base::Result<std::unique_ptr<Replay>> replay = Replay::open(path, false);
+  if (!replay) return replay.error();
+  p->replay_ = std::move(*replay);
   return p;
 }
 
@@ -35,13 +35,12 @@ void ReplayPlayer::seek(std::int64_t tick) {
 }
 
 bool ReplayPlayer::rebuild() {
-  std::string error;
-  std::unique_ptr<Replay> fresh = Replay::open(path_, error, false);
+  base::Result<std::unique_ptr<Replay>> fresh = Replay::open(path_, false);
   if (!fresh) {
-    error_ = error;
+    error_ = fresh.error().message;
     return false;
   }
-  replay_ = std::move(fresh);
+  replay_ = std::move(*fresh);
   return true;
 }
 

@@ -268,13 +268,12 @@ RecordHeader Session::record_header() const {
   return h;
 }
 
-bool Session::record_to(const std::string& path, std::string& error) {
-  if (tick_ > 0) {
-    error = path + ": a session records from its first tick";
-    return false;
-  }
-  recorder_ = Recorder::create(path, record_header(), error);
-  return recorder_ != nullptr;
+base::Status<> Session::record_to(const std::string& path) {
+  if (tick_ > 0) return base::Error{path + ": a session records from its first tick"};
+  base::Result<std::unique_ptr<Recorder>> recorder = Recorder::create(path, record_header());
+  if (!recorder) return recorder.error();
+  recorder_ = std::move(*recorder);
+  return base::Ok{};
 }
 
 void Session::add_control_handler(std::uint16_t kind, ControlHandler& handler) {

@@ -62,7 +62,10 @@ std::unique_ptr<BrowserSession> BrowserSession::open(const std::string& case_pat
   std::unique_ptr<BrowserSession> b(new BrowserSession());
   auto hand = std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)");
   b->session_ = std::make_unique<session::Session>(std::move(scene.value), std::move(hand));
-  if (!b->session_->record_to(record_path, error)) return nullptr;
+  if (base::Status<> recording = b->session_->record_to(record_path); !recording) {
+    error = recording.error().message;
+    return nullptr;
+  }
   return b;
 }
 

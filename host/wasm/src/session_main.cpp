@@ -63,13 +63,13 @@ int run(const Args& a) {
   if (!surface) return bad_input(surface.error().message);
   session::SessionCaseLoad scene = session::load_session_case(a.values.at("case"), &*surface);
   if (!scene.value) return bad_input(scene.error);
-  std::string error;
-  std::unique_ptr<session::Hand> hand = session::ActionScriptHand::load(a.values.at("script"), *scene.value, error);
-  if (!hand) return bad_input(error);
+  base::Result<std::unique_ptr<session::ActionScriptHand>> hand =
+      session::ActionScriptHand::load(a.values.at("script"), *scene.value);
+  if (!hand) return bad_input(hand.error().message);
   const session::SessionOptions options;
-  session::Session s(std::move(scene.value), std::move(hand), options);
+  session::Session s(std::move(scene.value), std::move(*hand), options);
   const std::string& record = a.values.at("record");
-  if (!s.record_to(record, error)) return bad_input(error);
+  if (base::Status<> recording = s.record_to(record); !recording) return bad_input(recording.error().message);
   std::printf("cathbox-session (wasm): %s, %s, virtual time -> %s\n", s.scene().name.c_str(),
               s.hand_description().c_str(), record.c_str());
   while (!s.over()) s.step_virtual(1000);
@@ -90,11 +90,10 @@ int replay(const Args& a) {
   base::Result<vessel::SurfaceMesh> surface = wasm::read_surface_file(a.values.at("mesh"));
   if (!surface) return bad_input(surface.error().message);
   const std::string& path = a.positionals[0];
-  std::string error;
-  std::unique_ptr<session::Replay> replay = session::Replay::open(path, error, a.check, &*surface);
-  if (!replay) return bad_input(error);
-  replay->step(-1);
-  const session::ReplayResult r = replay->result();
+  base::Result<std::unique_ptr<session::Replay>> replay = session::Replay::open(path, a.check, &*surface);
+  if (!replay) return bad_input(replay.error().message);
+  (*replay)->step(-1);
+  const session::ReplayResult r = (*replay)->result();
   std::printf("%s: replayed %lld of %lld recorded ticks, %lld state hashes checked\n", path.c_str(),
               static_cast<long long>(r.ticks), static_cast<long long>(r.recorded_ticks),
               static_cast<long long>(r.hashes_checked));

@@ -9,14 +9,9 @@ namespace {
 bool in(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
 bool positive_up_to(double v, double hi) { return std::isfinite(v) && v > 0.0 && v <= hi; }
 
-}  // namespace
-
-std::string check_tool(const ToolSpec& t) {
+// The sections' values (`who` names the tool in the message).
+std::string check_sections(const ToolSpec& t, const std::string& who) {
   using L = ToolLimits;
-  const std::string who = "tool '" + t.name + "': ";
-  if (t.name.empty()) return "a tool has no name";
-  if (t.kind != ToolKind::kGuidewire && t.kind != ToolKind::kCatheter && t.kind != ToolKind::kCoil) return who + "unknown kind";
-  if (t.sections.empty() || t.sections.size() > L::kMaxSections) return who + "needs 1 to 64 sections";
   for (const ToolSection& s : t.sections) {
     if (!positive_up_to(s.length_mm, L::kMaxLength_mm)) return who + "section length out of range";
     if (!positive_up_to(s.outer_diameter_mm, L::kMaxDiameter_mm)) return who + "od must be in (0, 20] mm";
@@ -27,21 +22,39 @@ std::string check_tool(const ToolSpec& t) {
       return who + "a coil shape needs a coil tool and a loop diameter in [2, 20] mm";
     }
   }
-  if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < t.length_mm())) return who + "a coil needs a detach length shorter than the tool";
-  if (!t.next_coils.empty()) {
-    if (t.kind != ToolKind::kCoil) return who + "next coils need a coil tool";
-    if (t.next_coils.size() > kMaxNextCoils) return who + "at most 15 next coils";
-    for (std::size_t k = 0; k < t.next_coils.size(); ++k) {
-      const ToolSection& c = t.next_coils[k];
-      if (!positive_up_to(c.length_mm, 300.0)) return who + "a next coil's length must be in (0, 300] mm";
-      if (!positive_up_to(c.outer_diameter_mm, L::kMaxDiameter_mm)) return who + "a next coil's od must be in (0, 20] mm";
-      if (!positive_up_to(c.bending_stiffness_Nmm2, L::kMaxStiffness_Nmm2) || !positive_up_to(c.torsion_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) {
-        return who + "a next coil's ei and gj must be in (0, 1e6] N.mm2";
-      }
-      if (c.shape == CoilShape::kNone || !in(c.loop_diameter_mm, 2.0, 20.0)) return who + "a next coil needs a shape and a loop diameter in [2, 20] mm";
-      if (std::string e = check_tool(with_next_coil(t, k)); !e.empty()) return e;
+  return {};
+}
+
+// A coil's next coils: each one's values, then the tool carrying it checked whole.
+std::string check_next_coils(const ToolSpec& t, const std::string& who) {
+  using L = ToolLimits;
+  if (t.next_coils.empty()) return {};
+  if (t.kind != ToolKind::kCoil) return who + "next coils need a coil tool";
+  if (t.next_coils.size() > kMaxNextCoils) return who + "at most 15 next coils";
+  for (std::size_t k = 0; k < t.next_coils.size(); ++k) {
+    const ToolSection& c = t.next_coils[k];
+    if (!positive_up_to(c.length_mm, 300.0)) return who + "a next coil's length must be in (0, 300] mm";
+    if (!positive_up_to(c.outer_diameter_mm, L::kMaxDiameter_mm)) return who + "a next coil's od must be in (0, 20] mm";
+    if (!positive_up_to(c.bending_stiffness_Nmm2, L::kMaxStiffness_Nmm2) || !positive_up_to(c.torsion_stiffness_Nmm2, L::kMaxStiffness_Nmm2)) {
+      return who + "a next coil's ei and gj must be in (0, 1e6] N.mm2";
     }
+    if (c.shape == CoilShape::kNone || !in(c.loop_diameter_mm, 2.0, 20.0)) return who + "a next coil needs a shape and a loop diameter in [2, 20] mm";
+    if (std::string e = check_tool(with_next_coil(t, k)); !e.empty()) return e;
   }
+  return {};
+}
+
+}  // namespace
+
+std::string check_tool(const ToolSpec& t) {
+  using L = ToolLimits;
+  const std::string who = "tool '" + t.name + "': ";
+  if (t.name.empty()) return "a tool has no name";
+  if (t.kind != ToolKind::kGuidewire && t.kind != ToolKind::kCatheter && t.kind != ToolKind::kCoil) return who + "unknown kind";
+  if (t.sections.empty() || t.sections.size() > L::kMaxSections) return who + "needs 1 to 64 sections";
+  if (std::string e = check_sections(t, who); !e.empty()) return e;
+  if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < t.length_mm())) return who + "a coil needs a detach length shorter than the tool";
+  if (std::string e = check_next_coils(t, who); !e.empty()) return e;
   if (!in(t.friction, 0.0, L::kMaxFriction)) return who + "friction must be in [0, 2]";
   if (!in(t.inner_diameter_mm, 0.0, L::kMaxDiameter_mm)) return who + "inner_diameter must be in [0, 20] mm";
   if (!positive_up_to(t.max_spacing_mm, L::kMaxSpacing_mm)) return who + "node spacing must be in (0, 2] mm";

@@ -29,12 +29,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size == 0) return 0;
   std::vector<uint8_t> bytes(data + 1, data + size);
   if ((data[0] & 1u) != 0u) fix_crcs(bytes);
-  std::string error;
-  auto reader = cathbox::session::RecordReader::from_bytes(std::move(bytes), "fuzz.cbxrec", error);
-  if (!reader) {
-    check_line(error);
+  auto opened = cathbox::session::RecordReader::from_bytes(std::move(bytes), "fuzz.cbxrec");
+  if (!opened) {
+    check_line(opened.error().message);
     return 0;
   }
+  auto& reader = *opened;
   cathbox::session::TickRecord tick;
   std::int64_t n = 0;
   while (reader->next(tick)) {

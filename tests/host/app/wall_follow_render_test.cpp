@@ -86,8 +86,9 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   session::SessionCaseLoad loaded = session::load_session_case(dir + "neuro_angioplasty.case");
   ASSERT_TRUE(loaded.value) << loaded.error;
   std::string error;
-  auto hand = session::ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value, error);
-  ASSERT_TRUE(hand) << error;
+  auto script = session::ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value);
+  ASSERT_TRUE(script) << (script ? "" : script.error().message);
+  auto hand = std::move(*script);
   session::Session s(std::move(loaded.value), std::move(hand));
 
   // The case's surface as the trainer shows it (detail + overview of the HCLM model).

@@ -43,12 +43,15 @@ inline std::string record_left_branch(const std::function<void(session::SessionC
   auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
   EXPECT_TRUE(scene.value) << scene.error;
   std::string error;
-  auto hand = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
-                                              *scene.value, error);
-  EXPECT_TRUE(hand) << error;
+  auto script = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
+                                                *scene.value);
+  EXPECT_TRUE(script) << (script ? "" : script.error().message);
+  std::unique_ptr<session::Hand> hand;
+  if (script) hand = std::move(*script);
   if (change) change(*scene.value);
   session::Session s(std::move(scene.value), std::move(hand));
-  EXPECT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  EXPECT_TRUE(recording) << recording.error().message;
   while (!s.over()) s.step_virtual(1000);
   EXPECT_TRUE(s.recorder()->close());
   return path;

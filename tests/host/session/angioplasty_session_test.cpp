@@ -36,9 +36,10 @@ CaseAndHand angioplasty_case() {
   EXPECT_TRUE(loaded.value) << loaded.error;
   if (!loaded.value) return {};
   std::string error;
-  auto hand = ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value, error);
-  EXPECT_TRUE(hand) << error;
-  if (!hand) return {};
+  auto script = ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value);
+  EXPECT_TRUE(script) << (script ? "" : script.error().message);
+  if (!script) return {};
+  auto hand = std::move(*script);
   return {std::move(loaded.value), std::move(hand)};
 }
 
@@ -50,7 +51,8 @@ TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
   Metrics live;
   {
     Session s(std::move(scene), std::move(hand));
-    ASSERT_TRUE(s.record_to(path, error)) << error;
+    const base::Status<> recording = s.record_to(path);
+    ASSERT_TRUE(recording) << recording.error().message;
     while (!s.over()) s.step_virtual(1000);
     EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
     live = s.metrics();

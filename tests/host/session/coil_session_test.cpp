@@ -75,7 +75,8 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
   std::string error;
   {
     Session s(std::move(scene), std::move(hand));
-    ASSERT_TRUE(s.record_to(record, error)) << error;
+    const base::Status<> recording = s.record_to(record);
+    ASSERT_TRUE(recording) << recording.error().message;
     // Before the release: two tools, no coil.
     s.step_virtual(2400);
     ASSERT_TRUE(s.snapshots().acquire());

@@ -69,8 +69,9 @@ TEST(CoilingSession, WallForceEventsReportTheHeldTipAtConvergedStepsWithinAPhysi
   SessionCaseLoad loaded = load_session_case(dir + "neuro_coiling.case");
   ASSERT_TRUE(loaded.value) << loaded.error;
   std::string error;
-  auto hand = ActionScriptHand::load(dir + "neuro_coiling.actions", *loaded.value, error);
-  ASSERT_TRUE(hand) << error;
+  auto script = ActionScriptHand::load(dir + "neuro_coiling.actions", *loaded.value);
+  ASSERT_TRUE(script) << (script ? "" : script.error().message);
+  auto hand = std::move(*script);
   Session s(std::move(loaded.value), std::move(hand));
   TipForces forces;
   s.add_observer(forces);

@@ -44,7 +44,8 @@ TEST(FluoroSession, AScriptedAngiogramCountsPedalTimeContrastAndOneRun) {
   auto scene = load("neuro.case");
   Session s(std::move(scene), script_hand(*load("neuro.case"), kAngio));
   std::string error;
-  ASSERT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  ASSERT_TRUE(recording) << recording.error().message;
   ASSERT_NE(s.fluoro(), nullptr);
   s.step_virtual(999);  // before the pedal: the figures are there, all zero
   EXPECT_EQ(s.metrics().fluoroscopy_time_s, 0.0);
@@ -93,8 +94,9 @@ TEST(FluoroSession, AScriptedAngiogramCountsPedalTimeContrastAndOneRun) {
   }
   EXPECT_EQ(controls, (std::vector<std::pair<std::int64_t, int>>{{1000, 32}, {2500, 33}, {5000, 32}, {5100, 37}}));
   // The replay: every hash (which covers the unit from tick 1000) and figure the same.
-  auto replay = Replay::open(path, error);
-  ASSERT_TRUE(replay) << error;
+  auto opened = Replay::open(path);
+  ASSERT_TRUE(opened) << opened.error().message;
+  auto& replay = *opened;
   replay->step(-1);
   const ReplayResult& rr = replay->result();
   EXPECT_TRUE(rr.matched()) << rr.error;
@@ -127,7 +129,8 @@ std::vector<std::uint64_t> hashes(const std::string& name, const std::string& sc
   {
     Session s(std::move(scene), std::move(hand));
     std::string error;
-    EXPECT_TRUE(s.record_to(path, error)) << error;
+    const base::Status<> recording = s.record_to(path);
+    EXPECT_TRUE(recording) << recording.error().message;
     while (!s.over()) s.step_virtual(1000);
   }
   std::string error;
@@ -158,7 +161,8 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   Session s(std::move(scene), std::make_unique<KeyboardHand>(keys, 1e-3));
   const std::string path = temp_path("carm.cbxrec");
   std::string error;
-  ASSERT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  ASSERT_TRUE(recording) << recording.error().message;
   keys.set_speeds(50.0, 0.0);
   s.step_virtual(1000);  // the catheter 50 mm in
   keys.set_speeds(0.0, 0.0);
@@ -208,8 +212,9 @@ TEST(FluoroSession, ControlsFromTheFrontEndMoveTheCArmAndClearTheRoadmap) {
   int controls = 0;
   while (r->next(t)) controls += static_cast<int>(t.control_count);
   EXPECT_EQ(controls, 7);
-  auto replay = Replay::open(path, error);
-  ASSERT_TRUE(replay) << error;
+  auto opened = Replay::open(path);
+  ASSERT_TRUE(opened) << opened.error().message;
+  auto& replay = *opened;
   replay->step(-1);
   EXPECT_TRUE(replay->result().matched()) << replay->result().error;
   EXPECT_EQ(replay->session().fluoro()->hash(0), u.hash(0));

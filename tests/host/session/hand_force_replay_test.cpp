@@ -98,9 +98,10 @@ HandForceTrace run_session(const FeelRun& run, Metrics& metrics) {
   EXPECT_TRUE(loaded.value) << loaded.error;
   if (!loaded.value) return trace;
   std::string error;
-  auto hand = ActionScriptHand::load(root + run.actions, *loaded.value, error);
-  EXPECT_TRUE(hand) << error;
-  if (!hand) return trace;
+  auto script = ActionScriptHand::load(root + run.actions, *loaded.value);
+  EXPECT_TRUE(script) << (script ? "" : script.error().message);
+  if (!script) return trace;
+  auto hand = std::move(*script);
   Session s(std::move(loaded.value), std::move(hand));
   s.add_observer(trace);
   while (!s.over() && s.step_virtual(1000) > 0) {

@@ -17,8 +17,9 @@ inline void tamper_record(const std::string& in_path, const std::string& out_pat
   auto in_opened = RecordReader::open(in_path);
   ASSERT_TRUE(in_opened) << in_opened.error().message;
   auto in = std::move(*in_opened);
-  auto out = Recorder::create(out_path, in->header(), error);
-  ASSERT_TRUE(out) << error;
+  auto created = Recorder::create(out_path, in->header());
+  ASSERT_TRUE(created) << created.error().message;
+  auto& out = *created;
   TickRecord t;
   TickInput input;
   input.tool_count = in->header().tools.size();

@@ -65,8 +65,9 @@ RecordHeader sample_header() {
 std::string write_sample(const std::string& name, std::int64_t ticks, bool finish = true) {
   const std::string path = temp_path(name);
   std::string error;
-  auto rec = Recorder::create(path, sample_header(), error);
-  EXPECT_TRUE(rec) << error;
+  auto created = Recorder::create(path, sample_header());
+  EXPECT_TRUE(created) << (created ? "" : created.error().message);
+  auto& rec = *created;
   TickInput in;
   in.tool_count = 2;
   for (std::int64_t t = 0; t < ticks; ++t) {
@@ -147,8 +148,9 @@ TEST(Record, WhatIsWrittenReadsBackTickByTick) {
 TEST(Record, ABlockEverySecondOfTheClockEvenWithFewTicks) {
   const std::string path = temp_path("clock.cbxrec");
   std::string error;
-  auto rec = Recorder::create(path, sample_header(), error);
-  ASSERT_TRUE(rec) << error;
+  auto created = Recorder::create(path, sample_header());
+  ASSERT_TRUE(created) << (created ? "" : created.error().message);
+  auto& rec = *created;
   TickInput in;
   in.tool_count = 2;
   for (std::int64_t t = 0; t < 10; ++t) {  // a stalled loop: 10 ticks over 4.5 s of clock
@@ -173,9 +175,9 @@ TEST(Record, CutAnywhereItReadsToTheLastCompleteBlockOrSaysWhere) {
   // Block boundaries, from a clean read.
   std::vector<std::size_t> ends;
   {
-    std::string error;
-    auto r = RecordReader::from_bytes(whole, "x", error);
-    ASSERT_TRUE(r);
+    auto opened = RecordReader::from_bytes(whole, "x");
+    ASSERT_TRUE(opened);
+    auto& r = *opened;
     TickRecord t;
     std::size_t blocks = r->blocks_read();
     ends.push_back(r->bytes_read());
@@ -188,12 +190,12 @@ TEST(Record, CutAnywhereItReadsToTheLastCompleteBlockOrSaysWhere) {
   }
   for (std::size_t cut = 0; cut < whole.size(); ++cut) {
     std::vector<std::uint8_t> part(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(cut));
-    std::string error;
-    auto r = RecordReader::from_bytes(part, "cut.cbxrec", error);
-    if (!r) {
-      EXPECT_EQ(error.rfind("cut.cbxrec: byte ", 0), 0U) << error;
+    auto opened = RecordReader::from_bytes(part, "cut.cbxrec");
+    if (!opened) {
+      EXPECT_EQ(opened.error().message.rfind("cut.cbxrec: byte ", 0), 0U) << opened.error().message;
       continue;
     }
+    auto& r = *opened;
     r->skip_to_end();
     const bool at_boundary = std::find(ends.begin(), ends.end(), cut) != ends.end();
     if (at_boundary) {
@@ -213,26 +215,27 @@ TEST(Record, EveryFlippedByteIsCaughtWithItsPlace) {
   for (std::size_t at = 0; at < whole.size(); at += 3) {
     std::vector<std::uint8_t> bad = whole;
     bad[at] ^= 0x40;
-    std::string error;
-    auto r = RecordReader::from_bytes(bad, "flip.cbxrec", error);
+    auto r = RecordReader::from_bytes(bad, "flip.cbxrec");
+    std::string error = r ? std::string() : r.error().message;
     if (r) {
-      r->skip_to_end();
-      error = r->error();
+      (*r)->skip_to_end();
+      error = (*r)->error();
     }
     EXPECT_EQ(error.rfind("flip.cbxrec: byte ", 0), 0U) << "byte " << at << " flipped went unnoticed";
   }
 }
 
 TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
-  std::string error;
-  EXPECT_FALSE(RecordReader::from_bytes({'h', 'e', 'l', 'l', 'o'}, "a.txt", error));
-  EXPECT_EQ(error, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
+  const auto hello = RecordReader::from_bytes({'h', 'e', 'l', 'l', 'o'}, "a.txt");
+  ASSERT_FALSE(hello);
+  EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
   bytes[8] = 1;  // format version 1 (a record of the solver before issue 29's), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  EXPECT_FALSE(RecordReader::from_bytes(bytes, "v1.cbxrec", error));
-  EXPECT_EQ(error, "v1.cbxrec: byte 8: record format version 1, this build reads version 2");
+  const auto v1 = RecordReader::from_bytes(bytes, "v1.cbxrec");
+  ASSERT_FALSE(v1);
+  EXPECT_EQ(v1.error().message, "v1.cbxrec: byte 8: record format version 1, this build reads version 2");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
@@ -247,10 +250,9 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
   // One file per parameter: CTest runs the instances side by side.
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("kind" + std::to_string(kind) + ".cbxrec", 5, false));
   // Cut the ticks block off, keep the file header and the header block.
-  std::string error;
-  auto probe = RecordReader::from_bytes(bytes, "k", error);
-  ASSERT_TRUE(probe) << error;
-  bytes.resize(probe->bytes_read());
+  const auto probe = RecordReader::from_bytes(bytes, "k");
+  ASSERT_TRUE(probe) << probe.error().message;
+  bytes.resize((*probe)->bytes_read());
   std::vector<std::uint8_t> raw;
   record::ByteWriter w(raw);
   w.u64(0);
@@ -270,8 +272,9 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
   const std::size_t block_at = bytes.size();
   bytes.insert(bytes.end(), head.begin(), head.end());
   bytes.insert(bytes.end(), raw.begin(), raw.end());
-  auto r = RecordReader::from_bytes(bytes, "new.cbxrec", error);
-  ASSERT_TRUE(r) << error;
+  auto opened = RecordReader::from_bytes(bytes, "new.cbxrec");
+  ASSERT_TRUE(opened) << opened.error().message;
+  auto& r = *opened;
   TickRecord t;
   EXPECT_FALSE(r->next(t));
   EXPECT_EQ(r->error(), "new.cbxrec: byte " + std::to_string(block_at) +
@@ -303,8 +306,9 @@ TEST(Record, ControlsCarryTheirKindAndPayload) {
 TEST(Record, ThirtyMinutesOfAHandOnTheBoxStayUnderTenMegabytes) {
   const std::string path = temp_path("thirty_minutes.cbxrec");
   std::string error;
-  auto rec = Recorder::create(path, sample_header(), error);
-  ASSERT_TRUE(rec) << error;
+  auto created = Recorder::create(path, sample_header());
+  ASSERT_TRUE(created) << (created ? "" : created.error().message);
+  auto& rec = *created;
   std::mt19937 rng(20261124);
   std::normal_distribution<double> accel(0.0, 0.4);
   std::uniform_real_distribution<double> unit(0.0, 1.0);

@@ -35,9 +35,10 @@ inline std::unique_ptr<Hand> script_hand(const SessionCase& scene, const std::st
   EXPECT_TRUE(parsed) << (parsed ? "" : parsed.error().message);
   if (!parsed) return nullptr;
   std::string error;
-  auto hand = ActionScriptHand::make(*parsed, "test.actions", ActionScriptHand::tool_infos(scene), 0, error);
-  EXPECT_TRUE(hand) << error;
-  return hand;
+  auto hand = ActionScriptHand::make(*parsed, "test.actions", ActionScriptHand::tool_infos(scene), 0);
+  EXPECT_TRUE(hand) << (hand ? "" : hand.error().message);
+  if (!hand) return nullptr;
+  return std::move(*hand);
 }
 
 }  // namespace cathbox::session::fixtures

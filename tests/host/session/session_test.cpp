@@ -33,7 +33,8 @@ Metrics record_left_branch(const std::string& path) {
   auto hand = script_hand(*scene, kLeftBranch);
   Session s(std::move(scene), std::move(hand));
   std::string error;
-  EXPECT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  EXPECT_TRUE(recording) << recording.error().message;
   while (!s.over()) s.step_virtual(1000);
   EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
   EXPECT_EQ(s.ticks(), 5500);  // `end` at 5500 ms stops before that tick
@@ -101,7 +102,8 @@ TEST(Session, ControlsFromAnotherThreadAreAppliedRecordedAndReplayed) {
   Session s(std::move(scene), std::move(hand));
   const std::string path = temp_path("controls.cbxrec");
   std::string error;
-  ASSERT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  ASSERT_TRUE(recording) << recording.error().message;
   ASSERT_EQ(s.held_tool(), 0U);
   keys.set_speeds(20.0, 0.0);
   s.step_virtual(300);  // the catheter goes 6 mm in
@@ -148,13 +150,15 @@ TEST(Session, TheRunEndsAtItsTimeLimitAndAReplayRefusesControls) {
   Session s(std::move(scene), std::make_unique<KeyboardHand>(keys, 1e-3), options);
   const std::string path = temp_path("limit.cbxrec");
   std::string error;
-  ASSERT_TRUE(s.record_to(path, error)) << error;
+  const base::Status<> recording = s.record_to(path);
+  ASSERT_TRUE(recording) << recording.error().message;
   EXPECT_EQ(s.step_virtual(1000), 250);
   EXPECT_TRUE(s.over());
   EXPECT_EQ(s.end_reason(), record::EndReason::kTimeLimit);
   ASSERT_TRUE(s.recorder()->close());
-  auto replay = Replay::open(path, error);
-  ASSERT_TRUE(replay) << error;
+  auto opened = Replay::open(path);
+  ASSERT_TRUE(opened) << opened.error().message;
+  auto& replay = *opened;
   EXPECT_FALSE(replay->session().post(Control::select_tool(0)));
   replay->step(-1);
   EXPECT_TRUE(replay->result().matched());
@@ -169,8 +173,9 @@ TEST(Session, ABadCaseOrScriptIsOneLineNamingTheFile) {
   std::string error;
   const tool::ScriptParse parsed = tool::parse_script("0 select catheter\n", "bad.actions");
   ASSERT_TRUE(parsed);
-  EXPECT_FALSE(ActionScriptHand::make(*parsed, "bad.actions", ActionScriptHand::tool_infos(*scene), 0, error));
-  EXPECT_EQ(error, "bad.actions:1: select: the case has no tool 'catheter' (tools: guidewire)");
+  const auto bad = ActionScriptHand::make(*parsed, "bad.actions", ActionScriptHand::tool_infos(*scene), 0);
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().message, "bad.actions:1: select: the case has no tool 'catheter' (tools: guidewire)");
 }
 
 }  // namespace

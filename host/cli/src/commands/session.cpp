@@ -81,12 +81,12 @@ int run_replay(Args& args) {
   if (args.value("every") && !args.value("out")) return usage_error("--every needs --out");
   const std::string& path = args.positionals()[0];
   const bool check = args.flag("check");
-  std::string error;
-  std::unique_ptr<session::Replay> replay = session::Replay::open(path, error, check);
-  if (!replay) {
-    std::fprintf(stderr, "%s\n", error.c_str());
+  base::Result<std::unique_ptr<session::Replay>> opened = session::Replay::open(path, check);
+  if (!opened) {
+    std::fprintf(stderr, "%s\n", opened.error().message.c_str());
     return kExitBadInput;
   }
+  std::unique_ptr<session::Replay> replay = std::move(*opened);
   std::ofstream csv;
   std::unique_ptr<CsvLog> log;
   if (const auto out = args.value("out")) {

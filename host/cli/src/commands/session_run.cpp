@@ -67,11 +67,12 @@ int run_run(Args& args, const GroupSpec& group) {
   std::string error;
   std::unique_ptr<session::Hand> hand;
   if (script) {
-    hand = session::ActionScriptHand::load(*script, *scene.value, error);
-    if (!hand) {
-      std::fprintf(stderr, "%s\n", error.c_str());
+    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(*script, *scene.value);
+    if (!loaded) {
+      std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
       return kExitBadInput;
     }
+    hand = std::move(*loaded);
   } else if (emu) {
     session::BoxHandOptions box;
     box.source = session::BoxSource::kEmulator;
@@ -104,8 +105,8 @@ int run_run(Args& args, const GroupSpec& group) {
     }
   }
   session::Session s(std::move(scene.value), std::move(hand), options);
-  if (!s.record_to(*record, error)) {
-    std::fprintf(stderr, "%s\n", error.c_str());
+  if (base::Status<> recording = s.record_to(*record); !recording) {
+    std::fprintf(stderr, "%s\n", recording.error().message.c_str());
     return kExitBadInput;
   }
   if (args.flag("progress")) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "session/hand.hpp"
 #include "session/session_case.hpp"
 #include "scenario/action_script.hpp"
@@ -20,16 +21,15 @@ namespace cathbox::session {
 class ActionScriptHand final : public Hand {
  public:
   // Loads and checks the script against the case's tools; null with "file:line: message".
-  [[nodiscard]] static std::unique_ptr<ActionScriptHand> load(const std::string& path,
-                                                              const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
-                                                              std::size_t held, std::string& error);
+  [[nodiscard]] static base::Result<std::unique_ptr<ActionScriptHand>> load(
+      const std::string& path, const std::vector<tool::ScriptPlayer::ToolInfo>& tools, std::size_t held);
   // The script against a loaded case (its tools and their insertion limits; the first tool held).
-  [[nodiscard]] static std::unique_ptr<ActionScriptHand> load(const std::string& path, const SessionCase& scene,
-                                                              std::string& error);
+  [[nodiscard]] static base::Result<std::unique_ptr<ActionScriptHand>> load(const std::string& path,
+                                                                            const SessionCase& scene);
   [[nodiscard]] static std::vector<tool::ScriptPlayer::ToolInfo> tool_infos(const SessionCase& scene);
-  [[nodiscard]] static std::unique_ptr<ActionScriptHand> make(const tool::Script& script, const std::string& name,
-                                                              const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
-                                                              std::size_t held, std::string& error);
+  [[nodiscard]] static base::Result<std::unique_ptr<ActionScriptHand>> make(
+      const tool::Script& script, const std::string& name, const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
+      std::size_t held);
 
   [[nodiscard]] HandKind kind() const override { return HandKind::kActionScript; }
   [[nodiscard]] std::string describe() const override { return "action script " + name_; }

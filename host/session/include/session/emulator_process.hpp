@@ -8,13 +8,16 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
+
 namespace cathbox::session {
 
 class EmulatorProcess {
  public:
-  // Starts `program --socket socket [extra...]`; null with one line in `error`.
-  [[nodiscard]] static std::unique_ptr<EmulatorProcess> start(const std::string& program, const std::string& socket,
-                                                              const std::vector<std::string>& extra, std::string& error);
+  // Starts `program --socket socket [extra...]`; else the error line.
+  [[nodiscard]] static base::Result<std::unique_ptr<EmulatorProcess>> start(const std::string& program,
+                                                                            const std::string& socket,
+                                                                            const std::vector<std::string>& extra);
   ~EmulatorProcess();
   EmulatorProcess(const EmulatorProcess&) = delete;
   EmulatorProcess& operator=(const EmulatorProcess&) = delete;

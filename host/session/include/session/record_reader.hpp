@@ -48,8 +48,8 @@ class RecordReader {
   // Opens and reads the file header and the header block; else the error line.
   [[nodiscard]] static base::Result<std::unique_ptr<RecordReader>> open(const std::string& path);
   // The same over bytes in memory (fuzzing, uploads); `name` stands for the file in errors.
-  [[nodiscard]] static std::unique_ptr<RecordReader> from_bytes(std::vector<std::uint8_t> bytes, const std::string& name,
-                                                                std::string& error);
+  [[nodiscard]] static base::Result<std::unique_ptr<RecordReader>> from_bytes(std::vector<std::uint8_t> bytes,
+                                                                              const std::string& name);
   ~RecordReader();
   RecordReader(const RecordReader&) = delete;
   RecordReader& operator=(const RecordReader&) = delete;

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include "base/jthread.hpp"
+#include "base/result.hpp"
 #include <vector>
 
 #include "session/control.hpp"
@@ -24,10 +25,10 @@ namespace cathbox::session {
 
 class Recorder {
  public:
-  // Creates (or truncates) `path` and writes the file header and the header block; null with
-  // one line in `error` when the file cannot be written.
-  [[nodiscard]] static std::unique_ptr<Recorder> create(const std::string& path, const RecordHeader& header,
-                                                        std::string& error);
+  // Creates (or truncates) `path` and writes the file header and the header block; else the
+  // error line when the file cannot be written.
+  [[nodiscard]] static base::Result<std::unique_ptr<Recorder>> create(const std::string& path,
+                                                                      const RecordHeader& header);
   ~Recorder();
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;

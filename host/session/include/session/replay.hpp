@@ -33,14 +33,14 @@ struct ReplayResult {
 
 class Replay {
  public:
-  // Reads the header and builds the session; null with one line in `error`. `surface`: the
-  // vessel surface made elsewhere (session_case.hpp), for a build that cannot mesh.
-  [[nodiscard]] static std::unique_ptr<Replay> open(const std::string& path, std::string& error,
-                                                    bool stop_at_mismatch = true,
-                                                    const vessel::SurfaceMesh* surface = nullptr);
-  [[nodiscard]] static std::unique_ptr<Replay> open(std::unique_ptr<RecordReader> reader, std::string& error,
-                                                    bool stop_at_mismatch = true,
-                                                    const vessel::SurfaceMesh* surface = nullptr);
+  // Reads the header and builds the session; else the error line. `surface`: the vessel
+  // surface made elsewhere (session_case.hpp), for a build that cannot mesh.
+  [[nodiscard]] static base::Result<std::unique_ptr<Replay>> open(const std::string& path,
+                                                                  bool stop_at_mismatch = true,
+                                                                  const vessel::SurfaceMesh* surface = nullptr);
+  [[nodiscard]] static base::Result<std::unique_ptr<Replay>> open(std::unique_ptr<RecordReader> reader,
+                                                                  bool stop_at_mismatch = true,
+                                                                  const vessel::SurfaceMesh* surface = nullptr);
 
   [[nodiscard]] const RecordHeader& header() const { return hand_->reader().header(); }
   [[nodiscard]] Session& session() { return *session_; }

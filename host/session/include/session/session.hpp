@@ -5,7 +5,7 @@
 //
 //   auto loaded = session::load_session_case("cases/neuro.case");
 //   session::Session s(std::move(loaded.value), std::move(hand));
-//   s.record_to("run.cbxrec", error);          // optional, before the first tick
+//   if (!s.record_to("run.cbxrec")) ...         // optional, before the first tick
 //   s.step_virtual(1000);                       // virtual time on this thread, or
 //   s.start(); ... s.stop();                    // the real-time 1 kHz haptic thread
 //
@@ -79,7 +79,7 @@ class Session {
   Session& operator=(const Session&) = delete;
 
   // Before the first tick: record the run (the header from the case and the hand).
-  [[nodiscard]] bool record_to(const std::string& path, std::string& error);
+  [[nodiscard]] base::Status<> record_to(const std::string& path);
   [[nodiscard]] Recorder* recorder() { return recorder_.get(); }
   // A handler for a control kind (kept by reference; must outlive the session).
   void add_control_handler(std::uint16_t kind, ControlHandler& handler);
