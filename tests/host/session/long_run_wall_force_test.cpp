@@ -70,9 +70,9 @@ TEST(LongRunWallForce, NoContactReachesTheWiresCapOf1800mN) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad loaded = load_session_case(dir + "y_bifurcation.case");
   ASSERT_TRUE(loaded.value) << loaded.error;
-  std::string error;
-  auto hand = ActionScriptHand::load(write_long_script(seconds), *loaded.value, error);
-  ASSERT_TRUE(hand) << error;
+  auto script = ActionScriptHand::load(write_long_script(seconds), *loaded.value);
+  ASSERT_TRUE(script) << (script ? "" : script.error().message);
+  auto hand = std::move(*script);
   Session s(std::move(loaded.value), std::move(hand));
   CapWatch watch;
   s.add_observer(watch);

@@ -31,15 +31,16 @@ const std::string kCases = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
 TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays) {
   SessionCaseLoad loaded = load_session_case(kCases + "neuro_thrombectomy_ica_t.case");
   ASSERT_TRUE(loaded.value) << loaded.error;
-  std::string error;
-  auto hand = ActionScriptHand::load(kCases + "neuro_thrombectomy_ica_t.actions", *loaded.value, error);
-  ASSERT_TRUE(hand) << error;
+  auto script = ActionScriptHand::load(kCases + "neuro_thrombectomy_ica_t.actions", *loaded.value);
+  ASSERT_TRUE(script) << (script ? "" : script.error().message);
+  auto hand = std::move(*script);
   const std::string path = fixtures::temp_path("session_test", "thrombectomy_ica_t.cbxrec");
   Metrics live;
   {
     Session s(std::move(loaded.value), std::move(hand));
     ASSERT_TRUE(s.thrombectomy());
-    ASSERT_TRUE(s.record_to(path, error)) << error;
+    const base::Status<> recording = s.record_to(path);
+    ASSERT_TRUE(recording) << recording.error().message;
     while (!s.over()) s.step_virtual(1000);
     EXPECT_EQ(s.end_reason(), record::EndReason::kHandFinished);
     live = s.metrics();
