@@ -11,10 +11,12 @@
 #include <cstring>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "emu/dfuse_image.hpp"
 #include "emu/emulator.hpp"
 #include "emu/hand_model.hpp"
 #include "emu/image_emulator.hpp"
@@ -129,7 +131,7 @@ const ValueOption kValueOptions[] = {
        s.wire_version = static_cast<int>(version);
        return ok;
      }},
-    {"--image", "FILE", "run this STM32F411 firmware image (.bin) on the emulated chip instead of the core on a simulated board",
+    {"--image", "FILE", "run this STM32F411 firmware image (.bin, or a DfuSe .dfu as cathbox flash pack writes it) on the emulated chip instead of the core on a simulated board",
      [](const std::string& v, Settings& s) { s.image = v; return true; }},
     {"--board", "NAME", "run the image the firmware build made for board NAME (stm32f411: build/stm32f411/bin/stm32f411_firmware.bin)",
      [](const std::string& v, Settings& s) {
@@ -233,9 +235,13 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
   uint8_t buffer[4096];
   for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) image.insert(image.end(), buffer, buffer + n);
   std::fclose(f);
-  if (file.size() >= 4 && file.compare(file.size() - 4, 4, ".dfu") == 0) {
-    std::fprintf(stderr, "cathbox-emu: %s: .dfu images are not read yet; give the .bin\n", file.c_str());
-    return 2;
+  if (cathbox::emu::is_dfuse_name(file)) {
+    auto dfu = cathbox::emu::read_dfuse(image, file);
+    if (!dfu) {
+      std::fprintf(stderr, "cathbox-emu: %s\n", dfu.error().message.c_str());
+      return 2;
+    }
+    image = std::move(dfu.value().flash);
   }
   auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor);
   if (!created) {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `cathbox` against a real `cathbox-emu --image` process running the cross-built STM32F411
 # image: info reports the image's own version and board, monitor streams, `cathbox flash`
-# goes through the image's bootloader request and comes back; --trace-mmio names
+# goes through the image's bootloader request and comes back; the packed .dfu runs as the .bin
+# does (a corrupt one refused); --trace-mmio names
 # registers; a missing or unbootable image is refused with one line (exit 2). No sleeps: it
 # waits for the emulator's "enumerated" line; no timing is asserted.
 set -u
@@ -11,14 +12,19 @@ dir=$(mktemp -d)
 sock="$dir/image.sock"
 failures=0
 [ -f "$image" ] || { echo "no firmware image at '$image' (scripts/build stm32f411)"; exit 1; }
+# wait_enumerated FD: reads the emulator's output on FD until it says the image enumerated.
+wait_enumerated() {
+  local line
+  while read -r line <&"$1"; do
+    case "$line" in *"the image enumerated"*) return 0 ;; *stopped*|*"cannot"*) echo "$line"; return 1 ;; esac
+  done
+  return 1
+}
 exec 3< <(exec "$bin/cathbox-emu" --image "$image" --socket "$sock" --duration 60 2>&1)
 emu_pid=$!
-trap 'kill "$emu_pid" 2>/dev/null; rm -rf "$dir"' EXIT
-enumerated=0
-while read -r line <&3; do
-  case "$line" in *"the image enumerated"*) enumerated=1; break ;; *stopped*|*"cannot"*) echo "$line"; break ;; esac
-done
-[ "$enumerated" -eq 1 ] || { echo "FAIL: the image did not enumerate"; exit 1; }
+dfu_pid=
+trap 'kill "$emu_pid" $dfu_pid 2>/dev/null; rm -rf "$dir"' EXIT
+wait_enumerated 3 || { echo "FAIL: the image did not enumerate"; exit 1; }
 
 source "$(dirname "${BASH_SOURCE[0]}")/../device/expect.sh"
 
@@ -38,7 +44,19 @@ expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "W RCC.CR @0x40023800" -- "$bin/cathbox-emu" --image "$image" --socket "$dir/trace.sock" --trace-mmio --duration 0.01
 expect 2 "cannot read image $dir/none.bin" -- "$bin/cathbox-emu" --image "$dir/none.bin" --socket "$dir/x.sock" --duration 0.01
 head -c 4096 /dev/zero > "$dir/zero.bin"
-expect 2 ".dfu images are not read yet; give the .bin" -- "$bin/cathbox-emu" --image "$dir/fw.dfu" --socket "$dir/x.sock" --duration 0.01
+# The .dfu that `cathbox flash pack` wrote runs as the .bin does; a corrupt one is refused naming
+# the byte of its suffix CRC.
+exec 4< <(exec "$bin/cathbox-emu" --image "$dir/fw.dfu" --socket "$dir/dfu.sock" --duration 60 2>&1)
+dfu_pid=$!
+if wait_enumerated 4; then
+  expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$dir/dfu.sock"
+else
+  echo "FAIL: cathbox-emu --image fw.dfu did not enumerate"
+  failures=$((failures + 1))
+fi
+kill "$dfu_pid" 2>/dev/null
+crc_at=$(( $(stat -c %s "$dir/corrupt.dfu") - 4 ))
+expect 2 "corrupt.dfu: byte $crc_at: suffix CRC" -- "$bin/cathbox-emu" --image "$dir/corrupt.dfu" --socket "$dir/x.sock" --duration 0.01
 expect 2 "no bootable vector table" -- "$bin/cathbox-emu" --image "$dir/zero.bin" --socket "$dir/x.sock" --duration 0.01
 [ "$failures" -eq 0 ] || { echo "$failures failed"; exit 1; }
 echo "all passed"
