@@ -64,6 +64,7 @@ struct Settings {
   bool help = false;
   std::string image;     // --image / --board: run this firmware image on the emulated STM32F411
   bool trace_mmio = false;
+  bool crystal_fails = false;  // --crystal-fails: with --image, the HSE never starts
 };
 
 // An option with a value: its help line and how the value is checked and kept (false: a bad
@@ -155,7 +156,9 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   CLI::Option* motor = app.add_flag("--motor")->description("DC motors on both axes (default: magnetic-particle brakes)");
   CLI::Option* uncalibrated = app.add_flag("--uncalibrated")->description("start with an empty settings store");
   CLI::Option* trace = app.add_flag("--trace-mmio")->description("with --image: log every peripheral register access to stderr");
-  for (CLI::Option* flag : {motor, uncalibrated, trace}) flag->disable_flag_override();
+  CLI::Option* crystal =
+      app.add_flag("--crystal-fails")->description("with --image: the 25 MHz crystal never starts (the image falls back to HSI)");
+  for (CLI::Option* flag : {motor, uncalibrated, trace, crystal}) flag->disable_flag_override();
   std::vector<CLI::Option*> values;
   for (const ValueOption& v : kValueOptions) {
     values.push_back(app.add_option(v.name)->expected(0, 1)->type_name(v.value_name)->description(v.help));
@@ -179,6 +182,7 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   s.options.motor = motor->count() > 0;
   s.options.calibrated = uncalibrated->count() == 0;
   s.trace_mmio = trace->count() > 0;
+  s.crystal_fails = crystal->count() > 0;
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i]->count() == 0) continue;
     const std::string value = values[i]->as<std::string>();
@@ -249,6 +253,7 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     return 2;
   }
   cathbox::emu::ImageEmulator& emu = *created.value();
+  emu.machine().inputs().crystal_fails = settings.crystal_fails;
   if (settings.trace_mmio) emu.machine().set_trace([](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
   if (!apply_hand_scripts(settings, emu)) return 2;
   if (auto listening = emu.listen(path); !listening) {

@@ -44,12 +44,14 @@ expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "W RCC.CR @0x40023800" -- "$bin/cathbox-emu" --image "$image" --socket "$dir/trace.sock" --trace-mmio --duration 0.01
 expect 2 "cannot read image $dir/none.bin" -- "$bin/cathbox-emu" --image "$dir/none.bin" --socket "$dir/x.sock" --duration 0.01
 head -c 4096 /dev/zero > "$dir/zero.bin"
-# The .dfu that `cathbox flash pack` wrote runs as the .bin does; a corrupt one is refused naming
-# the byte of its suffix CRC.
-exec 4< <(exec "$bin/cathbox-emu" --image "$dir/fw.dfu" --socket "$dir/dfu.sock" --duration 60 2>&1)
+# The .dfu that `cathbox flash pack` wrote runs as the .bin does (here on a board whose crystal
+# never starts: the image falls back to HSI and info reports the board fault); a corrupt one is
+# refused naming the byte of its suffix CRC.
+exec 4< <(exec "$bin/cathbox-emu" --image "$dir/fw.dfu" --crystal-fails --socket "$dir/dfu.sock" --duration 60 2>&1)
 dfu_pid=$!
 if wait_enumerated 4; then
   expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$dir/dfu.sock"
+  expect 0 "board faults hse: the crystal did not start" -- "$bin/cathbox" info --emu "$dir/dfu.sock"
 else
   echo "FAIL: cathbox-emu --image fw.dfu did not enumerate"
   failures=$((failures + 1))
