@@ -33,6 +33,11 @@ version=$(od -An -tu1 -j $((0x206)) -N 3 "$image" | awk '{print $1 "." $2 "." $3
 expect 0 "board        stm32f411-bp" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$sock"
 expect 0 "not-calibrated" -- "$bin/cathbox" monitor --emu "$sock" --duration 0.2 --rate 10
+# The image's own self-test (test drive, currents through its ADC): the factory image fails on
+# calibration alone (exit 1); a session refuses the uncalibrated box (exit 3).
+expect 1 "failed checks   calibration" -- "$bin/cathbox" selftest --emu "$sock"
+expect 3 "is not calibrated (run 'cathbox calibrate')" -- "$bin/cathbox" session run --case "$(dirname "${BASH_SOURCE[0]}")/../../../cases/neuro.case" \
+  --record "$dir/s.cbxrec" --emu "$sock" --seconds 0.2
 # cathbox flash through the image: feature 0x14, its reset into the ROM (the emulated DfuSe
 # bootloader), erase, download, verify, leave; the new image boots and reports its info block.
 expect 0 "packed" -- "$bin/cathbox" flash pack "$image" "$dir/fw.dfu"
