@@ -27,6 +27,7 @@ trap 'kill "$emu_pid" $dfu_pid 2>/dev/null; rm -rf "$dir"' EXIT
 wait_enumerated 3 || { echo "FAIL: the image did not enumerate"; exit 1; }
 
 source "$(dirname "${BASH_SOURCE[0]}")/../device/expect.sh"
+cases="$(dirname "${BASH_SOURCE[0]}")/../../../cases"
 
 # The version the image's info block says (offset 0x200: magic, layout, size, major, minor, patch).
 version=$(od -An -tu1 -j $((0x206)) -N 3 "$image" | awk '{print $1 "." $2 "." $3}')
@@ -36,7 +37,7 @@ expect 0 "not-calibrated" -- "$bin/cathbox" monitor --emu "$sock" --duration 0.2
 # The image's own self-test (test drive, currents through its ADC): the factory image fails on
 # calibration alone (exit 1); a session refuses the uncalibrated box (exit 3).
 expect 1 "failed checks   calibration" -- "$bin/cathbox" selftest --emu "$sock"
-expect 3 "is not calibrated (run 'cathbox calibrate')" -- "$bin/cathbox" session run --case "$(dirname "${BASH_SOURCE[0]}")/../../../cases/neuro.case" \
+expect 3 "is not calibrated (run 'cathbox calibrate')" -- "$bin/cathbox" session run --case "$cases/neuro.case" \
   --record "$dir/s.cbxrec" --emu "$sock" --seconds 0.2
 # cathbox flash through the image: feature 0x14, its reset into the ROM (the emulated DfuSe
 # bootloader), erase, download, verify, leave; the new image boots and reports its info block.
@@ -52,11 +53,18 @@ head -c 4096 /dev/zero > "$dir/zero.bin"
 # The .dfu that `cathbox flash pack` wrote runs as the .bin does (here on a board whose crystal
 # never starts: the image falls back to HSI and info reports the board fault); a corrupt one is
 # refused naming the byte of its suffix CRC.
-exec 4< <(exec "$bin/cathbox-emu" --image "$dir/fw.dfu" --crystal-fails --socket "$dir/dfu.sock" --duration 60 2>&1)
+# It is calibrated at start (--calibrated: the model's calibration through the image's own
+# calibration report and flash store): its self-test passes, and the trainer's session run
+# against it replays with every state hash matching.
+exec 4< <(exec "$bin/cathbox-emu" --image "$dir/fw.dfu" --crystal-fails --calibrated --socket "$dir/dfu.sock" --duration 60 2>&1)
 dfu_pid=$!
 if wait_enumerated 4; then
   expect 0 "firmware     $version" -- "$bin/cathbox" info --emu "$dir/dfu.sock"
   expect 0 "board faults hse: the crystal did not start" -- "$bin/cathbox" info --emu "$dir/dfu.sock"
+  expect 0 "self-test PASSED" -- "$bin/cathbox" selftest --emu "$dir/dfu.sock"
+  expect 0 "contrast volume" -- "$bin/cathbox" session run --case "$cases/neuro.case" --record "$dir/image.cbxrec" \
+    --emu "$dir/dfu.sock" --seconds 0.5
+  expect 0 "every state hash matches" -- "$bin/cathbox" session replay "$dir/image.cbxrec" --check
 else
   echo "FAIL: cathbox-emu --image fw.dfu did not enumerate"
   failures=$((failures + 1))
