@@ -11,15 +11,19 @@
 #include <cstring>
 #include <cstdlib>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "emu/dfuse_image.hpp"
 #include "emu/emulator.hpp"
 #include "emu/hand_model.hpp"
 #include "emu/image_emulator.hpp"
 #include "emu/real_time_loop.hpp"
 #include "protocol/cbx_emu_frame.h"
+#include "protocol/cbx_feature_reports.h"
+#include "protocol/cbx_usb_requests.h"
 
 namespace {
 
@@ -62,6 +66,8 @@ struct Settings {
   bool help = false;
   std::string image;     // --image / --board: run this firmware image on the emulated STM32F411
   bool trace_mmio = false;
+  bool crystal_fails = false;  // --crystal-fails: with --image, the HSE never starts
+  bool factory_calibrated = false;  // --calibrated: with --image, calibrate it before serving
 };
 
 // An option with a value: its help line and how the value is checked and kept (false: a bad
@@ -129,7 +135,7 @@ const ValueOption kValueOptions[] = {
        s.wire_version = static_cast<int>(version);
        return ok;
      }},
-    {"--image", "FILE", "run this STM32F411 firmware image (.bin) on the emulated chip instead of the core on a simulated board",
+    {"--image", "FILE", "run this STM32F411 firmware image (.bin, or a DfuSe .dfu as cathbox flash pack writes it) on the emulated chip instead of the core on a simulated board",
      [](const std::string& v, Settings& s) { s.image = v; return true; }},
     {"--board", "NAME", "run the image the firmware build made for board NAME (stm32f411: build/stm32f411/bin/stm32f411_firmware.bin)",
      [](const std::string& v, Settings& s) {
@@ -153,7 +159,11 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   CLI::Option* motor = app.add_flag("--motor")->description("DC motors on both axes (default: magnetic-particle brakes)");
   CLI::Option* uncalibrated = app.add_flag("--uncalibrated")->description("start with an empty settings store");
   CLI::Option* trace = app.add_flag("--trace-mmio")->description("with --image: log every peripheral register access to stderr");
-  for (CLI::Option* flag : {motor, uncalibrated, trace}) flag->disable_flag_override();
+  CLI::Option* crystal =
+      app.add_flag("--crystal-fails")->description("with --image: the 25 MHz crystal never starts (the image falls back to HSI)");
+  CLI::Option* calibrated = app.add_flag("--calibrated")->description(
+      "with --image: calibrate the image from the model before serving, as a factory would (saved in its flash)");
+  for (CLI::Option* flag : {motor, uncalibrated, trace, crystal, calibrated}) flag->disable_flag_override();
   std::vector<CLI::Option*> values;
   for (const ValueOption& v : kValueOptions) {
     values.push_back(app.add_option(v.name)->expected(0, 1)->type_name(v.value_name)->description(v.help));
@@ -177,6 +187,8 @@ bool parse_command_line(int argc, char** argv, Settings& s) {
   s.options.motor = motor->count() > 0;
   s.options.calibrated = uncalibrated->count() == 0;
   s.trace_mmio = trace->count() > 0;
+  s.crystal_fails = crystal->count() > 0;
+  s.factory_calibrated = calibrated->count() > 0;
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (values[i]->count() == 0) continue;
     const std::string value = values[i]->as<std::string>();
@@ -221,6 +233,24 @@ std::string board_image(const char* argv0) {
   return dir + "/../../stm32f411/bin/stm32f411_firmware.bin";
 }
 
+// --calibrated: boots the image, sends it the model's calibration (feature report 0x11, as
+// `cathbox calibrate` does) and waits out its save to the flash store (a 1 s sector erase).
+bool factory_calibrate(cathbox::emu::ImageEmulator& emu) {
+  emu.advance(300'000);
+  if (!emu.enumerated()) return false;
+  cbx_calibration calibration = cathbox::emu::model_calibration(emu.model());
+  calibration.header.version = CBX_PROTOCOL_VERSION;
+  uint8_t report[CBX_REPORT_SIZE] = {};
+  if (cbx_calibration_encode(&calibration, report) != CBX_OK) return false;
+  const cbx_usb_setup setup{CBX_USB_HID_SET_TYPE, CBX_USB_HID_SET_REPORT,
+                            static_cast<uint16_t>(CBX_USB_HID_REPORT_FEATURE << 8 | CBX_ID_CALIBRATION), 0,
+                            static_cast<uint16_t>(sizeof report)};
+  std::vector<uint8_t> reply;
+  if (!emu.control(setup, report, reply)) return false;
+  emu.advance(1'500'000);
+  return emu.error().empty() && emu.enumerated();
+}
+
 // cathbox-emu --image: the firmware image on the emulated STM32F411.
 int run_image(const Settings& settings, const std::string& path, const char* argv0) {
   const std::string file = settings.image == "@stm32f411" ? board_image(argv0) : settings.image;
@@ -233,9 +263,13 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
   uint8_t buffer[4096];
   for (size_t n; (n = std::fread(buffer, 1, sizeof buffer, f)) > 0;) image.insert(image.end(), buffer, buffer + n);
   std::fclose(f);
-  if (file.size() >= 4 && file.compare(file.size() - 4, 4, ".dfu") == 0) {
-    std::fprintf(stderr, "cathbox-emu: %s: .dfu images are not read yet; give the .bin\n", file.c_str());
-    return 2;
+  if (cathbox::emu::is_dfuse_name(file)) {
+    auto dfu = cathbox::emu::read_dfuse(image, file);
+    if (!dfu) {
+      std::fprintf(stderr, "cathbox-emu: %s\n", dfu.error().message.c_str());
+      return 2;
+    }
+    image = std::move(dfu.value().flash);
   }
   auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor);
   if (!created) {
@@ -243,7 +277,13 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     return 2;
   }
   cathbox::emu::ImageEmulator& emu = *created.value();
+  emu.machine().inputs().crystal_fails = settings.crystal_fails;
   if (settings.trace_mmio) emu.machine().set_trace([](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+  if (settings.factory_calibrated && !factory_calibrate(emu)) {
+    std::fprintf(stderr, "cathbox-emu: %s: the image did not take the factory calibration%s%s\n", file.c_str(),
+                 emu.error().empty() ? "" : ": ", emu.error().c_str());
+    return 4;
+  }
   if (!apply_hand_scripts(settings, emu)) return 2;
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());

@@ -201,9 +201,9 @@ bool Stm32Machine::Peripherals::read(Stm32Machine& m, uint32_t address, unsigned
 }
 
 bool Stm32Machine::Peripherals::write_clock_flash(Stm32Machine& m, uint32_t a, uint32_t v, uint32_t& r) {
-  if (a == kRcc + 0x00) {  // CR: ready flags follow their enables (the 25 MHz crystal is fitted)
+  if (a == kRcc + 0x00) {  // CR: ready flags follow their enables (HSERDY only with a working crystal)
     r = (v & 0x0D0F00F9u) | 0x2u;
-    if (v & (1u << 16)) r |= 1u << 17;
+    if ((v & (1u << 16)) && !m.inputs().crystal_fails) r |= 1u << 17;
     if (v & (1u << 24)) r |= 1u << 25;
     return true;
   }

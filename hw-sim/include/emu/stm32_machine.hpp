@@ -29,6 +29,7 @@ struct Stm32Inputs {
   std::array<int64_t, 2> encoder{};   // TIM2 / TIM3 counts from the encoders
   std::array<int16_t, 2> current_mA{};
   uint16_t supply_mV = 24000;
+  bool crystal_fails = false;         // the 25 MHz HSE never starts: HSERDY stays 0 (set before boot)
 };
 
 struct Stm32Outputs {

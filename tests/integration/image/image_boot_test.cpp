@@ -25,5 +25,25 @@ TEST(ImageBoot, RunsItsControlTickSleepsAndEnumerates) {
   EXPECT_FALSE(box.report_descriptor().empty());
 }
 
+// The crystal does not start: the image gives up on HSE after its start-up loop, runs the PLL
+// from the 16 MHz HSI and reports board fault HSE; a good crystal reports none.
+TEST(ImageBoot, CrystalFailureFallsBackToHsiAndReportsTheBoardFault) {
+  for (const bool fails : {false, true}) {
+    ImageWorld world;
+    world.emu().machine().inputs().crystal_fails = fails;
+    world.advance(300'000);  // the HSE start-up loop (~20 ms) runs out first when it fails
+    ASSERT_EQ(world.emu().error(), "");
+    ASSERT_TRUE(world.emu().enumerated()) << world.emu().enumeration_error();
+    auto client = world.connect();
+    device::BoxState state;
+    for (int ms = 0; ms < 20; ++ms) {
+      world.advance(1000);
+      (void)client->poll(state);
+    }
+    EXPECT_EQ(state.report.board_faults, fails ? static_cast<unsigned>(CBX_BOARD_FAULT_HSE) : 0u) << "crystal fails: " << fails;
+    EXPECT_GE(world.emu().machine().ticks(), 2500u);  // the 10 kHz tick runs either way
+  }
+}
+
 }  // namespace
 }  // namespace cathbox::testing

@@ -228,5 +228,74 @@ TEST_F(ImageHost, IndependentWatchdogResetsAHungTickAndTheBoxComesBack) {
   EXPECT_GT(client_->stats().states_accepted, before);
 }
 
+TEST_F(ImageHost, LimitsRoundTripAndAnOutOfRangeOneIsRefused) {
+  auto limits = client_->limits();
+  ASSERT_TRUE(limits);
+  EXPECT_EQ(limits.value().watchdog_timeout_ms, 50u);  // the firmware's defaults
+  cbx_limits tighter = limits.value();
+  tighter.max_force_mN = 1200;
+  tighter.watchdog_timeout_ms = 80;
+  ASSERT_TRUE(client_->set_limits(tighter));
+  // The image saves the limits to its flash store: through the 1 s sector erase it answers no
+  // control request (interrupts masked; a read then stalls after the host's timeout).
+  run_ms(1500);
+  auto read_back = client_->limits();
+  ASSERT_TRUE(read_back);
+  EXPECT_EQ(read_back.value().max_force_mN, 1200u);
+  EXPECT_EQ(read_back.value().watchdog_timeout_ms, 80u);
+  // Out of range (protocol: watchdog 5..1000 ms): refused, the limits unchanged.
+  cbx_limits bad = tighter;
+  bad.watchdog_timeout_ms = 2;
+  EXPECT_FALSE(client_->set_limits(bad));
+  run_ms(5);
+  EXPECT_EQ(client_->limits().value().watchdog_timeout_ms, 80u);
+}
+
+TEST_F(ImageHost, SelfTestFailsUncalibratedThenPassesCalibrated) {
+  auto wait_selftest = [&] {
+    cbx_selftest result{};
+    for (int ms = 0; ms < 2000; ms += 10) {
+      run_ms(10);
+      auto got = client_->selftest();
+      if (got && got.value().state != CBX_SELFTEST_RUNNING) return got.value();
+    }
+    ADD_FAILURE() << "self-test still running after 2 s";
+    return result;
+  };
+  ASSERT_EQ(client_->selftest().value().state, CBX_SELFTEST_NEVER_RUN);
+  ASSERT_TRUE(client_->start_selftest());
+  cbx_selftest first = wait_selftest();
+  EXPECT_EQ(first.state, CBX_SELFTEST_FAILED);
+  EXPECT_EQ(first.failed_checks, CBX_CHECK_CALIBRATION);  // the factory image has no calibration
+  // The test drive's currents and the supply come through the ADC from the model.
+  EXPECT_GT(first.insertion_current_mA, 50);
+  EXPECT_GT(first.rotation_current_mA, 50);
+  EXPECT_NEAR(first.supply_mV, 24000, 500);
+  ASSERT_TRUE(client_->set_calibration(emu::model_calibration(world_.emu().model())));
+  run_ms(1500);
+  ASSERT_TRUE(client_->start_selftest());
+  const cbx_selftest second = wait_selftest();
+  EXPECT_EQ(second.state, CBX_SELFTEST_PASSED) << "failed checks 0x" << std::hex << second.failed_checks;
+  EXPECT_EQ(second.failed_checks, 0u);
+}
+
+TEST_F(ImageHost, CounterResetZeroesTheChosenAxisOnly) {
+  world_.emu().set_hand(0, emu::HandScript::parse("v:20mm/s:200ms,free:2s").value());
+  world_.emu().set_hand(1, emu::HandScript::parse("v:3rad/s:200ms,free:2s").value());
+  run_ms(400);
+  ASSERT_GT(state_.report.insertion_count, 300);
+  const int32_t rotation = state_.report.rotation_count;
+  ASSERT_GT(rotation, 300);
+  ASSERT_TRUE(client_->reset_counters(CBX_RESET_INSERTION_COUNT));
+  run_ms(20);
+  EXPECT_NEAR(state_.report.insertion_count, 0, 4);
+  EXPECT_NEAR(state_.report.rotation_count, rotation, 4);
+  ASSERT_TRUE(client_->reset_counters(CBX_RESET_ROTATION_COUNT | CBX_RESET_ERROR_COUNTERS));
+  run_ms(20);
+  EXPECT_NEAR(state_.report.rotation_count, 0, 4);
+  EXPECT_EQ(state_.report.rx_errors, 0u);
+  EXPECT_FALSE(client_->reset_counters(0));  // no bit set: refused (protocol: at least one)
+}
+
 }  // namespace
 }  // namespace cathbox::testing

@@ -82,6 +82,9 @@ int run_info(std::span<const std::string> argv) {
               l.rotation_max_current_mA, l.force_slew_mN_per_ms, l.torque_slew_uNm_per_ms);
   std::printf("state        mode %s, status %s, faults %s\n", mode_name(state.report.mode),
               status_names(state.report.status).c_str(), fault_names(state.report.faults).c_str());
+  if ((state.report.board_faults & CBX_BOARD_FAULT_HSE) != 0) {
+    std::printf("board faults hse: the crystal did not start; the box runs on its internal oscillator\n");
+  }
   return kExitOk;
 }
 
