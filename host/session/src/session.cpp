@@ -402,7 +402,12 @@ bool Session::tick() {
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
   if (thrombectomy_) {
     thrombectomy_->tick(n * options_.period_us, snap_);
-    metrics_.set_thrombectomy(thrombectomy_->figures());
+    // The figures change only with a pass, and every pass solves the network again: copy them
+    // then, not on every tick (the copy allocates).
+    if (thrombectomy_->flow_generation() != figures_generation_) {
+      figures_generation_ = thrombectomy_->flow_generation();
+      metrics_.set_thrombectomy(thrombectomy_->figures());
+    }
   }
   // 4. What the hand feels.
   const std::size_t held_index = input_.held;

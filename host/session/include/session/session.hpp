@@ -181,6 +181,7 @@ class Session {
   std::unique_ptr<FluoroUnit> fluoro_;
   std::unique_ptr<ThrombectomyUnit> thrombectomy_;  // a case with clots (thrombectomy_unit.hpp)
   std::uint64_t flow_generation_ = 0;  // the thrombectomy unit's solves the fluoroscopy has taken
+  std::uint64_t figures_generation_ = 0;  // the thrombectomy unit's solves the metrics have taken
   std::unique_ptr<DetachCoil> detach_coil_;
   std::unique_ptr<LoadCoil> load_coil_;
   std::optional<tool::CoilMetrics> coil_metrics_;  // a case with a coil tool and an aneurysm sac
