@@ -152,11 +152,11 @@ TEST(HandForceFigures, MetricsReportTheHandsPeakAndEachToolsUnconvergedShare) {
 // instantiated disabled (run them with --gtest_also_run_disabled_tests) until the compliant wall
 // and converged contact land. Their figures at this commit (HandForceFigures prints them; the
 // rod's line search on every update took the angioplasty's guidewire from 20.2 % unconverged to
-// 0.26 % and its largest change from 281 to 92 mN/tick):
+// 0.25 % and its largest change from 281 to 92 mN/tick):
 //   neuro_angioplasty  peak 172 mN, largest change 92 mN/tick, balloon unconverged 2.03 %
-//                      (guidewire 0.26 %)
-//   neuro_coiling      peak 26,459 mN, largest change 13,231 mN/tick, 661 ticks over 100 mN/tick,
-//                      coil unconverged 12.4 %, microwire 10.5 %, microcatheter 7.6 %, packing 2.45 %
+//                      (guidewire 0.25 %)
+//   neuro_coiling      peak 27,994 mN, largest change 12,941 mN/tick, 685 ticks over 100 mN/tick,
+//                      coil unconverged 12.9 %, microwire 10.1 %, microcatheter 7.4 %, packing 2.45 %
 //   dead_end           peak 7,498 mN, largest change 1,475 mN/tick, 57 ticks over, 4.0 % unconverged
 //   held_out_bend      peak 712 mN, largest change 444 mN/tick, 17 ticks over, 1.7 % unconverged
 //   dead_end_compliant peak 3,194 mN, largest change 373 mN/tick, 11 ticks over, 8.8 % unconverged
