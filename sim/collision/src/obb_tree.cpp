@@ -118,11 +118,15 @@ struct Nearest {
     const detail::PointOnTriangle q = detail::closest_on_triangle(p, ta, tb, tc);
     const glm::dvec3 diff = p - q.point;
     const double dsq = glm::dot(diff, diff);
-    if (dsq < best_sq || (face < 0 && dsq <= best_sq)) {
+    // A tie (two faces sharing the nearest edge or vertex) goes to the lower face index: the
+    // visiting order follows float bounds, which differ between builds (the reciprocal
+    // estimate and the fused clones on x86, a division in WebAssembly); the answer must not.
+    const std::int32_t f = b.face[lane];
+    if (dsq < best_sq || (face < 0 && dsq <= best_sq) || (dsq == best_sq && f < face)) {
       best_sq = dsq;
       best_point = q;
       best_block = &b;
-      face = b.face[lane];
+      face = f;
       // The block's own unit normal serves a face-interior point (no lookup); slivers store 0.
       best_face_normal = block_normal(b, lane);
       exact_thresh = threshold_sq(std::sqrt(best_sq), slack);
@@ -550,7 +554,8 @@ class ContactCollector {
   // c was measured on lane `lane` of block b.
   void add(const Candidate& c, const detail::TriangleBlock& b, int lane) {
     if (!(c.distance_sq < radius_sq_)) return;
-    if (!has_deepest_ || c.distance_sq < deepest_.distance_sq) {
+    if (!has_deepest_ || c.distance_sq < deepest_.distance_sq ||
+        (c.distance_sq == deepest_.distance_sq && c.face < deepest_.face)) {
       deepest_ = c;
       deepest_normal_ = block_normal(b, lane);
       has_deepest_ = true;
@@ -578,7 +583,14 @@ class ContactCollector {
     int nk = 0;
     if (!overflow_) {
       for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i]);
-      std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) { return a.key < b.key; });
+      // By feature, then face: the triangles sharing an edge or a vertex report it with
+      // points a few ulps apart, and the one kept must not depend on the order the tree
+      // offered them (float bounds: the x86 builds' reciprocal estimate and fused clones, a
+      // division in WebAssembly). Kept first-offered, the native and the WebAssembly sessions
+      // took a crease's second plane from different faces and split (issue 29's line search).
+      std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) {
+        return a.key != b.key ? a.key < b.key : a.face < b.face;
+      });
       bool deepest_kept = false;
       const std::uint64_t deepest_key = feature_key(d_, deepest_);
       for (int i = 0; i < n_;) {
@@ -597,7 +609,9 @@ class ContactCollector {
     for (int k = 0; k < nk; ++k) depth[k] = make_contact(candidate(kept[k])).depth_mm;
     int order[kMaxCandidates + 1];
     for (int k = 0; k < nk; ++k) order[k] = k;
-    std::sort(order, order + nk, [&](int a, int b) { return depth[a] > depth[b]; });
+    // Equal depths keep the candidates' order (a total order: std::sort's handling of equal
+    // elements is the library's).
+    std::sort(order, order + nk, [&](int a, int b) { return depth[a] != depth[b] ? depth[a] > depth[b] : a < b; });
     const std::size_t n = std::min(static_cast<std::size_t>(nk), out.size());
     for (std::size_t k = 0; k < n; ++k) out[k] = make_contact(candidate(kept[order[k]]));
     return n;

@@ -15,10 +15,15 @@ struct RodSettings {
   // Numerical damping: the solver never damps a node less than this (blood's drag is ~1e-5);
   // the excess is taken back out of the force and torque the hand feels.
   double min_drag_mN_s_per_mm2 = 1.0e-2;
-  double convergence_mm = 2.0e-3;          // stop iterating when the largest update is smaller
+  // Stop iterating when the largest Newton update (the full step, before the line search or
+  // the max_node_step_mm cap shortens it) is smaller: a step the line search cut short is no
+  // sign of a solution.
+  double convergence_mm = 2.0e-3;
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
-  bool damp_reversals = true;              // halve an update below trust_step_mm nearly undoing the last
-  double trust_step_mm = 0.01;             // updates below this skip the line search
+  // Halve an update below trust_step_mm nearly undoing the last. Off by default: every update
+  // now goes through the line search, which breaks the friction two-cycles this was made for.
+  bool damp_reversals = false;
+  double trust_step_mm = 0.01;             // reversal damping applies below this update
   // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
   // iterations from the advected positions plus this fraction of each free node's motion in
   // that step (the solve and the wall clamp), instead of from the advected positions alone. The
