@@ -234,7 +234,8 @@ std::string board_image(const char* argv0) {
 }
 
 // --calibrated: boots the image, sends it the model's calibration (feature report 0x11, as
-// `cathbox calibrate` does) and waits out its save to the flash store (a 1 s sector erase).
+// `cathbox calibrate` does), reads it back at once (the image answers during its save) and
+// lets the main loop finish the save to its flash store (about 1 ms of word programs).
 bool factory_calibrate(cathbox::emu::ImageEmulator& emu) {
   emu.advance(300'000);
   if (!emu.enumerated()) return false;
@@ -242,12 +243,18 @@ bool factory_calibrate(cathbox::emu::ImageEmulator& emu) {
   calibration.header.version = CBX_PROTOCOL_VERSION;
   uint8_t report[CBX_REPORT_SIZE] = {};
   if (cbx_calibration_encode(&calibration, report) != CBX_OK) return false;
-  const cbx_usb_setup setup{CBX_USB_HID_SET_TYPE, CBX_USB_HID_SET_REPORT,
-                            static_cast<uint16_t>(CBX_USB_HID_REPORT_FEATURE << 8 | CBX_ID_CALIBRATION), 0,
-                            static_cast<uint16_t>(sizeof report)};
+  const auto value = static_cast<uint16_t>(CBX_USB_HID_REPORT_FEATURE << 8 | CBX_ID_CALIBRATION);
+  const cbx_usb_setup set{CBX_USB_HID_SET_TYPE, CBX_USB_HID_SET_REPORT, value, 0, static_cast<uint16_t>(sizeof report)};
   std::vector<uint8_t> reply;
-  if (!emu.control(setup, report, reply)) return false;
-  emu.advance(1'500'000);
+  if (!emu.control(set, report, reply)) return false;
+  const cbx_usb_setup get{CBX_USB_HID_GET_TYPE, CBX_USB_HID_GET_REPORT, value, 0, static_cast<uint16_t>(sizeof report)};
+  if (!emu.control(get, {}, reply) || reply.size() != sizeof report) return false;
+  cbx_calibration back{};
+  if (cbx_calibration_decode(reply.data(), reply.size(), &back) != CBX_OK ||
+      back.insertion_counts_per_m != calibration.insertion_counts_per_m) {
+    return false;
+  }
+  emu.advance(20'000);
   return emu.error().empty() && emu.enumerated();
 }
 
