@@ -223,6 +223,20 @@ bool apply_hand_scripts(const Settings& settings, Box& emu) {
   return true;
 }
 
+// The fault options, on either box (Emulator or ImageEmulator).
+template <typename Box>
+void apply_faults(const Settings& settings, Box& box) {
+  for (auto* link : {&box.faults().in, &box.faults().out}) {
+    link->drop = settings.drop;
+    link->duplicate = settings.duplicate;
+    link->corrupt = settings.corrupt;
+    link->delay = settings.delay_p;
+    link->delay_us = settings.delay_us;
+  }
+  box.faults().encoder.bounce = settings.bounce;
+  box.set_wire_version(static_cast<uint8_t>(settings.wire_version));
+}
+
 // The image `--board stm32f411` names: what `scripts/build stm32f411` made, beside this build.
 std::string board_image(const char* argv0) {
   std::string exe = argv0;
@@ -278,7 +292,7 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     }
     image = std::move(dfu.value().flash);
   }
-  auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor);
+  auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor, settings.options.seed);
   if (!created) {
     std::fprintf(stderr, "cathbox-emu: %s: %s\n", file.c_str(), created.error().message.c_str());
     return 2;
@@ -292,6 +306,7 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     return 4;
   }
   if (!apply_hand_scripts(settings, emu)) return 2;
+  apply_faults(settings, emu);  // after the factory calibration, which a real factory does on a clean link
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;
@@ -345,15 +360,7 @@ int main(int argc, char** argv) {
   Emulator emu(settings.options);
   cathbox::emu::apply_hand_model(settings.hand_model, emu.model().params(0));
   if (!apply_hand_scripts(settings, emu)) return 2;
-  for (auto* link : {&emu.faults().in, &emu.faults().out}) {
-    link->drop = settings.drop;
-    link->duplicate = settings.duplicate;
-    link->corrupt = settings.corrupt;
-    link->delay = settings.delay_p;
-    link->delay_us = settings.delay_us;
-  }
-  emu.faults().encoder.bounce = settings.bounce;
-  emu.set_wire_version(static_cast<uint8_t>(settings.wire_version));
+  apply_faults(settings, emu);
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;
