@@ -240,11 +240,7 @@ void Emulator::usb_frame() {
   }
 }
 
-void Emulator::rewrite_version(std::span<uint8_t> report) const {
-  if (wire_version_ == CBX_PROTOCOL_VERSION || report.size() != CBX_REPORT_SIZE) return;
-  report[1] = wire_version_;
-  cbx_report_finish(report.data());
-}
+void Emulator::rewrite_version(std::span<uint8_t> report) const { rewrite_wire_version(report, wire_version_); }
 
 void Emulator::send_in(std::array<uint8_t, 64> report) {
   rewrite_version(report);

@@ -1,6 +1,14 @@
 #include "emu/fault_injector.hpp"
 
+#include "protocol/cbx_protocol.h"
+
 namespace cathbox::emu {
+
+void rewrite_wire_version(std::span<uint8_t> report, uint8_t version) {
+  if (version == CBX_PROTOCOL_VERSION || report.size() != CBX_REPORT_SIZE) return;
+  report[1] = version;
+  cbx_report_finish(report.data());
+}
 
 bool FaultInjector::chance(double p) {
   if (p <= 0) return false;

@@ -4,6 +4,7 @@
 #include <cstring>
 
 #include "protocol/cbx_protocol.h"
+#include "protocol/cbx_usb_requests.h"
 
 namespace cathbox::emu {
 namespace {
@@ -21,17 +22,18 @@ std::array<uint8_t, 8> setup_bytes(const cbx_usb_setup& s) {
 
 }  // namespace
 
-ImageEmulator::ImageEmulator(bool motor) : bootloader_(dfu_flash_) {
+ImageEmulator::ImageEmulator(bool motor, uint64_t seed)
+    : bootloader_(dfu_flash_), faults_(seed), wire_version_(CBX_PROTOCOL_VERSION) {
   for (int a = 0; a < 2; ++a) model_.params(a).motor = motor;
 }
 
 ImageEmulator::~ImageEmulator() = default;
 
-Result<std::unique_ptr<ImageEmulator>> ImageEmulator::create(std::span<const uint8_t> image, bool motor) {
+Result<std::unique_ptr<ImageEmulator>> ImageEmulator::create(std::span<const uint8_t> image, bool motor, uint64_t seed) {
   if (image.size() < 8 || image.size() > Stm32Machine::kFlashSize) {
     return Error{"image of " + std::to_string(image.size()) + " bytes: not an STM32F411 flash image (8 bytes .. 512 KiB)"};
   }
-  std::unique_ptr<ImageEmulator> box(new ImageEmulator(motor));
+  std::unique_ptr<ImageEmulator> box(new ImageEmulator(motor, seed));
   box->machine_.load_flash(image);
   box->dfu_flash_.erase_sector(0);
   (void)box->dfu_flash_.program(FlashMemory::kBase, image);
@@ -57,7 +59,8 @@ void ImageEmulator::step() {
   std::array<int64_t, 2> steps{};
   model_.step(kPhysicsStep_us * 1e-6, now_us_, drive, steps);
   for (size_t a = 0; a < 2; ++a) {
-    in.encoder[a] = model_.state(static_cast<int>(a)).count;
+    const int64_t transient = steps[a] != 0 && !bootloader_mode_ ? encoder_noise(a, steps[a]) : 0;
+    in.encoder[a] = model_.state(static_cast<int>(a)).count + encoder_lost_[a] + transient;
     in.current_mA[a] = static_cast<int16_t>(model_.current_mA(static_cast<int>(a), drive[a]));
   }
   if (!bootloader_mode_ && machine_.error().empty()) {
@@ -67,7 +70,55 @@ void ImageEmulator::step() {
   if (now_us_ % kFrame_us == 0) frame();
 }
 
+// The encoder lines' noise for one physics step of `steps` transitions: a missed sample loses
+// its two counts for good (TIM2/TIM3 count no illegal transition); a bounce is returned as the
+// counter's offset for this step (one line toggled: a count either way, undone at the next).
+int64_t ImageEmulator::encoder_noise(size_t axis, int64_t steps) {
+  const int64_t direction = steps > 0 ? 1 : -1;
+  int64_t transient = 0;
+  for (int64_t i = 0; i < std::llabs(steps); ++i) {
+    if (faults_.chance(faults_.encoder.bounce)) {
+      transient = faults_.uniform(2) == 0 ? 1 : -1;
+      ++faults_.mutable_counts().bounces;
+    } else if (i + 1 < std::llabs(steps) && faults_.chance(faults_.encoder.skip)) {
+      encoder_lost_[axis] -= 2 * direction;
+      ++faults_.mutable_counts().skips;
+      ++i;
+    }
+  }
+  return transient;
+}
+
+void ImageEmulator::send_in(std::span<const uint8_t> packet) {
+  std::array<uint8_t, 64> report{};
+  std::copy_n(packet.begin(), std::min<size_t>(packet.size(), report.size()), report.begin());
+  if (packet.size() == CBX_REPORT_SIZE) rewrite_wire_version(report, wire_version_);
+  const auto d = faults_.apply(faults_.in, report);
+  for (int i = 0; i < d.copies; ++i) {
+    if (d.delay_us > 0) {
+      in_delayed_.push_back({now_us_ + d.delay_us, report});
+    } else if (server_) {
+      server_->send_in(std::span<const uint8_t>(report.data(), packet.size()));
+    }
+  }
+}
+
+void ImageEmulator::unplug(uint64_t duration_us) {
+  unplugged_until_us_ = now_us_ + duration_us;
+  if (bootloader_mode_) return;
+  if (enumerated_) detach();
+  machine_.otg().suspend();  // no more SOFs: the device's core sees the bus idle
+}
+
 void ImageEmulator::frame() {
+  while (!in_delayed_.empty() && in_delayed_.front().due_us <= now_us_) {
+    if (server_ && enumerated_) server_->send_in(in_delayed_.front().report);
+    in_delayed_.pop_front();
+  }
+  while (!out_delayed_.empty() && out_delayed_.front().due_us <= now_us_) {
+    if (enumerated_ && out_queue_.size() < kOutQueue) out_queue_.push_back(out_delayed_.front().report);
+    out_delayed_.pop_front();
+  }
   if (bootloader_mode_ || !enumerated_) return;
   OtgFs& otg = machine_.otg();
   if (!otg.connected() || otg.disconnects() != disconnects_seen_) {
@@ -79,7 +130,7 @@ void ImageEmulator::frame() {
   std::vector<uint8_t> packet;
   if (otg.in(1, packet) == OtgFs::Handshake::kAck) {
     ++in_reports_;
-    if (server_) server_->send_in(packet);
+    send_in(packet);
   }
   if (!out_queue_.empty() && otg.out(1, out_queue_.front()) == OtgFs::Handshake::kAck) out_queue_.pop_front();
 }
@@ -92,7 +143,8 @@ void ImageEmulator::advance(uint64_t us) {
     if (!bootloader_mode_ && !enumerated_) {
       // The host sees the D+ pull-up, waits out the attach debounce (USB 2.0 7.1.7.3: 100 ms
       // of a stable connection), then resets and enumerates.
-      if (!machine_.otg().connected() || machine_.otg().disconnects() != disconnects_seen_) {
+      if (now_us_ < unplugged_until_us_ || !machine_.otg().connected() ||
+          machine_.otg().disconnects() != disconnects_seen_) {
         disconnects_seen_ = machine_.otg().disconnects();
         connected_since_us_.reset();
       } else if (!connected_since_us_) {
@@ -115,6 +167,8 @@ void ImageEmulator::detach() {
   connected_since_us_.reset();
   disconnects_seen_ = machine_.otg().disconnects();
   out_queue_.clear();
+  in_delayed_.clear();
+  out_delayed_.clear();
   if (server_) server_->detach();
 }
 
@@ -206,15 +260,27 @@ bool ImageEmulator::attached(uint16_t& vid, uint16_t& pid) {
 }
 
 void ImageEmulator::on_out(std::span<const uint8_t> report) {
-  if (!enumerated_ || report.size() != 64 || out_queue_.size() >= kOutQueue) return;
+  if (!enumerated_ || report.size() != 64) return;
   std::array<uint8_t, 64> r{};
   std::copy(report.begin(), report.end(), r.begin());
-  out_queue_.push_back(r);
+  const auto d = faults_.apply(faults_.out, r);
+  for (int i = 0; i < d.copies; ++i) {
+    if (d.delay_us > 0) {
+      out_delayed_.push_back({now_us_ + d.delay_us, r});
+    } else if (out_queue_.size() < kOutQueue) {
+      out_queue_.push_back(r);
+    }
+  }
 }
 
 bool ImageEmulator::on_control(const cbx_usb_setup& setup, std::span<const uint8_t> data, std::vector<uint8_t>& reply) {
   if (bootloader_mode_) return bootloader_.control(setup, data, now_us_, reply);
-  return control(setup, data, reply);
+  const bool ok = control(setup, data, reply);
+  if (ok && setup.request_type == CBX_USB_HID_GET_TYPE && setup.request == CBX_USB_HID_GET_REPORT &&
+      reply.size() == CBX_REPORT_SIZE) {
+    rewrite_wire_version(reply, wire_version_);
+  }
+  return ok;
 }
 
 void ImageEmulator::enter_bootloader() {

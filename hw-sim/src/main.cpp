@@ -223,6 +223,20 @@ bool apply_hand_scripts(const Settings& settings, Box& emu) {
   return true;
 }
 
+// The fault options, on either box (Emulator or ImageEmulator).
+template <typename Box>
+void apply_faults(const Settings& settings, Box& box) {
+  for (auto* link : {&box.faults().in, &box.faults().out}) {
+    link->drop = settings.drop;
+    link->duplicate = settings.duplicate;
+    link->corrupt = settings.corrupt;
+    link->delay = settings.delay_p;
+    link->delay_us = settings.delay_us;
+  }
+  box.faults().encoder.bounce = settings.bounce;
+  box.set_wire_version(static_cast<uint8_t>(settings.wire_version));
+}
+
 // The image `--board stm32f411` names: what `scripts/build stm32f411` made, beside this build.
 std::string board_image(const char* argv0) {
   std::string exe = argv0;
@@ -234,7 +248,8 @@ std::string board_image(const char* argv0) {
 }
 
 // --calibrated: boots the image, sends it the model's calibration (feature report 0x11, as
-// `cathbox calibrate` does) and waits out its save to the flash store (a 1 s sector erase).
+// `cathbox calibrate` does), reads it back at once (the image answers during its save) and
+// lets the main loop finish the save to its flash store (about 1 ms of word programs).
 bool factory_calibrate(cathbox::emu::ImageEmulator& emu) {
   emu.advance(300'000);
   if (!emu.enumerated()) return false;
@@ -242,12 +257,18 @@ bool factory_calibrate(cathbox::emu::ImageEmulator& emu) {
   calibration.header.version = CBX_PROTOCOL_VERSION;
   uint8_t report[CBX_REPORT_SIZE] = {};
   if (cbx_calibration_encode(&calibration, report) != CBX_OK) return false;
-  const cbx_usb_setup setup{CBX_USB_HID_SET_TYPE, CBX_USB_HID_SET_REPORT,
-                            static_cast<uint16_t>(CBX_USB_HID_REPORT_FEATURE << 8 | CBX_ID_CALIBRATION), 0,
-                            static_cast<uint16_t>(sizeof report)};
+  const auto value = static_cast<uint16_t>(CBX_USB_HID_REPORT_FEATURE << 8 | CBX_ID_CALIBRATION);
+  const cbx_usb_setup set{CBX_USB_HID_SET_TYPE, CBX_USB_HID_SET_REPORT, value, 0, static_cast<uint16_t>(sizeof report)};
   std::vector<uint8_t> reply;
-  if (!emu.control(setup, report, reply)) return false;
-  emu.advance(1'500'000);
+  if (!emu.control(set, report, reply)) return false;
+  const cbx_usb_setup get{CBX_USB_HID_GET_TYPE, CBX_USB_HID_GET_REPORT, value, 0, static_cast<uint16_t>(sizeof report)};
+  if (!emu.control(get, {}, reply) || reply.size() != sizeof report) return false;
+  cbx_calibration back{};
+  if (cbx_calibration_decode(reply.data(), reply.size(), &back) != CBX_OK ||
+      back.insertion_counts_per_m != calibration.insertion_counts_per_m) {
+    return false;
+  }
+  emu.advance(20'000);
   return emu.error().empty() && emu.enumerated();
 }
 
@@ -271,7 +292,7 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     }
     image = std::move(dfu.value().flash);
   }
-  auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor);
+  auto created = cathbox::emu::ImageEmulator::create(image, settings.options.motor, settings.options.seed);
   if (!created) {
     std::fprintf(stderr, "cathbox-emu: %s: %s\n", file.c_str(), created.error().message.c_str());
     return 2;
@@ -285,6 +306,7 @@ int run_image(const Settings& settings, const std::string& path, const char* arg
     return 4;
   }
   if (!apply_hand_scripts(settings, emu)) return 2;
+  apply_faults(settings, emu);  // after the factory calibration, which a real factory does on a clean link
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;
@@ -338,15 +360,7 @@ int main(int argc, char** argv) {
   Emulator emu(settings.options);
   cathbox::emu::apply_hand_model(settings.hand_model, emu.model().params(0));
   if (!apply_hand_scripts(settings, emu)) return 2;
-  for (auto* link : {&emu.faults().in, &emu.faults().out}) {
-    link->drop = settings.drop;
-    link->duplicate = settings.duplicate;
-    link->corrupt = settings.corrupt;
-    link->delay = settings.delay_p;
-    link->delay_us = settings.delay_us;
-  }
-  emu.faults().encoder.bounce = settings.bounce;
-  emu.set_wire_version(static_cast<uint8_t>(settings.wire_version));
+  apply_faults(settings, emu);
   if (auto listening = emu.listen(path); !listening) {
     std::fprintf(stderr, "cathbox-emu: %s\n", listening.error().message.c_str());
     return 3;

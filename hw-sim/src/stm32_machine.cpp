@@ -215,6 +215,14 @@ uint32_t Stm32Machine::instructions_in_block(uint64_t address, uint32_t size) co
 void Stm32Machine::on_block(uint64_t address, uint32_t size) {
   // A stop requested here takes effect before the block runs: the budget is checked first and
   // the block counted only when it is going to execute.
+  if (p_->flash_busy_cycles > 0 && address >= kFlashBase && address < kFlashBase + kFlashSize) {
+    // RM0383 3.5: an instruction fetch from flash while an erase or a program is going on stalls
+    // the bus until it ends (the image must run that wait from RAM).
+    budget_stop_pc_ = static_cast<uint32_t>(address);
+    flash_stall_ = true;
+    uc_emu_stop(uc_);
+    return;
+  }
   if (cycles_ >= budget_end_) {
     // Unicorn's PC is stale here when the block was reached by a chained jump: remember it.
     budget_stop_pc_ = static_cast<uint32_t>(address);
@@ -390,6 +398,10 @@ bool Stm32Machine::run(uint64_t cycles) {
     budget_stop_pc_ = wfi_pc_ = 0;
     const uc_err err = uc_emu_start(uc_, pc | 1u, 0xFFFFFFFFu, 0, 0);
     if (budget_stop_pc_ != 0) set_reg(UC_ARM_REG_PC, budget_stop_pc_ | 1u);
+    if (flash_stall_) {  // stalled on a fetch: time runs to the next event (the end of BSY at the latest)
+      flash_stall_ = false;
+      cycles_ = std::max(cycles_, next);
+    }
     if (wfi_pc_ != 0) {  // the core sleeps after the WFI until an interrupt is pending
       set_reg(UC_ARM_REG_PC, (wfi_pc_ + 2u) | 1u);
       sleeping_ = true;

@@ -1,6 +1,7 @@
 // The emulated STM32F411 on hand-assembled Thumb programs: an access to a register no model
 // implements stops the machine naming the address and the peripheral; --trace-mmio names the
-// peripheral and register of each access; WFI sleeps until SysTick wakes the core.
+// peripheral and register of each access; WFI sleeps until SysTick wakes the core; code in
+// flash waits while the flash erases.
 #include "emu/stm32_machine.hpp"
 
 #include <gtest/gtest.h>
@@ -68,6 +69,21 @@ TEST(Stm32Machine, WfiSleepsUntilSysTickWakesTheCore) {
   EXPECT_EQ(m.error(), "");
   EXPECT_EQ(m.ticks(), 10u);
   EXPECT_LT(m.instructions(), 200u);  // asleep between the ticks
+}
+
+TEST(Stm32Machine, CodeInFlashStallsWhileTheFlashErases) {
+  // ldr r0, =FLASH (0x40023C00); the two keys into KEYR; CR = PSIZE x32 | SER | SNB 5, then
+  // | STRT (a 128 KiB sector: 1 s); loop: adds r3, #1; b loop (in flash: RM0383 3.5, a fetch
+  // waits for the erase to end).
+  Stm32Machine m;
+  m.load_flash(program({0x4805, 0x4906, 0x6041, 0x4906, 0x6041, 0x4906, 0x6101, 0x4906, 0x6101, 0x3301, 0xE7FD, 0xBF00},
+                       {0x40023C00u, 0x45670123u, 0xCDEF89ABu, 0x22Au, 0x1022Au}));
+  EXPECT_TRUE(m.run(960'000));  // 10 ms
+  EXPECT_EQ(m.error(), "");
+  EXPECT_LT(m.instructions(), 20u);  // the set-up only: the loop waits for the fetch
+  EXPECT_TRUE(m.run(96'000'000));  // 1 s more: the erase ends at 1 s, the loop runs its last 10 ms
+  EXPECT_GT(m.instructions(), 900'000u);
+  EXPECT_LT(m.instructions(), 1'000'000u);
 }
 
 }  // namespace

@@ -50,6 +50,9 @@ void board_reset(void) __attribute__((noreturn));
 void board_bootloader_check(void);
 /* PWM duty 0 and the driver disabled, at once (E-stop interrupt, bootloader, fault handlers). */
 void board_outputs_off(void);
+/* At boot, before USB starts: erases the settings store's sector (1-2 s) when fewer than half
+ * its slots are blank, keeping the newest block (flash_store.c). */
+void flash_store_prepare(void);
 /* Busy wait on the microsecond timer. */
 void board_delay_us(uint32_t us);
 

@@ -1,5 +1,6 @@
 /* STM32F411 firmware entry: clocks, board, the core, USB, the 10 kHz control tick (SysTick,
- * highest priority) and the main loop (settings storage, LED, bootloader entry). */
+ * highest priority) and the main loop (settings storage, LED, bootloader entry). The settings sector is
+ * erased, when it must be, before USB starts (flash_store.c). */
 #include "board.h"
 #include "firmware/cbx_core.h"
 #include "stm32f411_regs.h"
@@ -18,6 +19,7 @@ int main(void) {
    * (board fault HSE) and `cathbox info` / `monitor` print it. */
   const bool hse_started = board_clock_init();
   board_init();
+  flash_store_prepare(); /* any erase of the settings sector happens here, before USB */
 
   cbx_core_config config;
   board_core_config(&config, hse_started);

@@ -29,6 +29,10 @@ struct FaultCounts {
   uint64_t skips = 0;
 };
 
+// Pretends to be a box of another protocol major version: byte 1 of a report rewritten and its
+// CRC made valid again (nothing if `version` is this protocol's).
+void rewrite_wire_version(std::span<uint8_t> report, uint8_t version);
+
 class FaultInjector {
  public:
   explicit FaultInjector(uint64_t seed = 1) : rng_(seed) {}

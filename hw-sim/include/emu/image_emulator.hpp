@@ -23,6 +23,7 @@
 #include "emu/box_model.hpp"
 #include "emu/dfu_bootloader.hpp"
 #include "emu/emu_server.hpp"
+#include "emu/fault_injector.hpp"
 #include "emu/flash_memory.hpp"
 #include "emu/result.hpp"
 #include "emu/stm32_machine.hpp"
@@ -35,7 +36,9 @@ class ImageEmulator final : public EmuServer::Handler {
   static constexpr uint64_t kFrame_us = 1000;
 
   // `image`: the bytes of a .bin (flash offset 0). Fails without a bootable vector table.
-  [[nodiscard]] static Result<std::unique_ptr<ImageEmulator>> create(std::span<const uint8_t> image, bool motor = false);
+  // `seed`: the fault injector's.
+  [[nodiscard]] static Result<std::unique_ptr<ImageEmulator>> create(std::span<const uint8_t> image, bool motor = false,
+                                                                     uint64_t seed = 1);
   ~ImageEmulator() override;
 
   [[nodiscard]] Result<bool> listen(const std::string& path);
@@ -47,6 +50,20 @@ class ImageEmulator final : public EmuServer::Handler {
   [[nodiscard]] BoxModel& model() { return model_; }
   void set_hand(int axis, HandScript script) { model_.set_script(axis, std::move(script), now_us_); }
   void set_estop(bool pressed) { machine_.inputs().estop_open = pressed; }
+  // The faults of the default box (FaultInjector), on the image: IN packets the host polls and
+  // OUT reports it sends are dropped, duplicated, corrupted or delayed on their way between the
+  // socket and endpoint 1; encoder noise reaches TIM2/TIM3 (a bounce moves the counter one
+  // count for 10 us and back; a missed sample, both lines changing at once, is no count for
+  // the timer: the two counts are lost).
+  [[nodiscard]] FaultInjector& faults() { return faults_; }
+  // As Emulator::set_wire_version: byte 1 of every report the image sends (IN packets, feature
+  // GET_REPORT replies) rewritten with a valid CRC.
+  void set_wire_version(uint8_t version) { wire_version_ = version; }
+  // The cable pulled for duration_us: the socket's connections close, the bus goes idle (the
+  // image's OTG core sees a suspend), then the host debounces the attach and enumerates again.
+  void unplug(uint64_t duration_us);
+  // Counts TIM2/TIM3 lost to missed samples (model count minus counter), per axis.
+  [[nodiscard]] int64_t encoder_counts_lost(int axis) const { return -encoder_lost_[static_cast<size_t>(axis)]; }
   // USB bus events from the host side. usb_reset: a port reset, then enumeration again (as a
   // host recovering a device does); it runs the emulator through both.
   void usb_reset();
@@ -70,8 +87,14 @@ class ImageEmulator final : public EmuServer::Handler {
                                 std::vector<uint8_t>& reply) override;
 
  private:
-  explicit ImageEmulator(bool motor);
+  struct Pending {
+    uint64_t due_us;
+    std::array<uint8_t, 64> report;
+  };
+  ImageEmulator(bool motor, uint64_t seed);
   void step();
+  int64_t encoder_noise(size_t axis, int64_t steps);
+  void send_in(std::span<const uint8_t> packet);
   void frame();
   void enumerate();
   void bus_reset();
@@ -95,6 +118,11 @@ class ImageEmulator final : public EmuServer::Handler {
   std::string enumeration_error_;
   std::deque<std::array<uint8_t, 64>> out_queue_;
   uint64_t in_reports_ = 0;
+  FaultInjector faults_;
+  uint8_t wire_version_;
+  uint64_t unplugged_until_us_ = 0;
+  std::array<int64_t, 2> encoder_lost_{};  // counter minus model count, from missed samples
+  std::deque<Pending> in_delayed_, out_delayed_;
 };
 
 }  // namespace cathbox::emu

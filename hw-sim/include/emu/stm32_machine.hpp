@@ -139,6 +139,7 @@ class Stm32Machine {
   uint64_t instructions_ = 0;
   uint64_t budget_end_ = 0;
   uint32_t budget_stop_pc_ = 0;  // the block a slice's budget stopped in front of, else 0
+  bool flash_stall_ = false;     // that block is in flash while the flash is busy: the CPU waits
   uint32_t wfi_pc_ = 0;          // the WFI a slice stopped at, else 0
   uint64_t resets_ = 0;
   uint64_t watchdog_resets_ = 0;

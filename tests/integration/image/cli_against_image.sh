@@ -70,6 +70,38 @@ else
   failures=$((failures + 1))
 fi
 kill "$dfu_pid" 2>/dev/null
+# `cathbox calibrate` against the image, whose scripted hand pushes (5 mm/s) and turns (1 rad/s)
+# the tool: it writes the calibration and reads it back at once while the image saves it to
+# its flash store (exit 0); the box then reports itself calibrated. The guide's Enter presses
+# come half a second apart so the tool travels past the minimum counts; nothing timed is asserted.
+# The fault options apply to the image too: a fifth of its state reports arrive with a bit
+# flipped, which the host refuses (monitor's host_rejected) while calibrate still succeeds.
+exec 5< <(exec "$bin/cathbox-emu" --image "$image" --socket "$dir/cal.sock" --duration 60 \
+  --hand-insertion v:5mm/s:60s --hand-rotation v:1rad/s:60s --corrupt 0.2 --seed 7 2>&1)
+dfu_pid=$!
+if wait_enumerated 5; then
+  out=$({ echo; sleep 0.5; echo; sleep 0.5; echo; } | "$bin/cathbox" calibrate --emu "$dir/cal.sock" \
+    --full-scale-mN 5000 --full-scale-uNm 50000 2>&1)
+  rc=$?
+  if [ "$rc" -ne 0 ] || ! grep -q "written: " <<<"$out"; then
+    echo "FAIL: calibrate against the image -> rc $rc, output:"
+    echo "$out" | tail -3
+    failures=$((failures + 1))
+  else
+    echo "ok:   calibrate against the image -> $(grep -o 'written: .*' <<<"$out")"
+  fi
+  expect 0 "full scale 5000 mN, 50000 uN*m" -- "$bin/cathbox" info --emu "$dir/cal.sock"
+  if "$bin/cathbox" monitor --emu "$dir/cal.sock" --json --duration 0.3 --rate 10 | grep -qE '"host_rejected": ?[1-9]'; then
+    echo "ok:   monitor against the image with --corrupt 0.2 -> corrupted reports refused"
+  else
+    echo "FAIL: monitor against the image with --corrupt 0.2 -> no refused report"
+    failures=$((failures + 1))
+  fi
+else
+  echo "FAIL: cathbox-emu --image (calibrate) did not enumerate"
+  failures=$((failures + 1))
+fi
+kill "$dfu_pid" 2>/dev/null
 crc_at=$(( $(stat -c %s "$dir/corrupt.dfu") - 4 ))
 expect 2 "corrupt.dfu: byte $crc_at: suffix CRC" -- "$bin/cathbox-emu" --image "$dir/corrupt.dfu" --socket "$dir/x.sock" --duration 0.01
 expect 2 "no bootable vector table" -- "$bin/cathbox-emu" --image "$dir/zero.bin" --socket "$dir/x.sock" --duration 0.01
