@@ -116,7 +116,10 @@ head -c 4096 /dev/zero > "$dir/noinfo.bin"
 expect 2 "no image info block at offset 0x200" -- "$cb" flash pack "$dir/noinfo.bin" "$dir/noinfo.dfu"
 expect 0 "box is back" -- "$cb" flash "$dir/fw.dfu" --emu "$sock"
 cp "$dir/fw.dfu" "$dir/corrupt.dfu"
-printf '\x00' | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+# Flip every bit of byte 1000 (the body is random: writing a fixed value would leave it as it was 1 time in 256).
+byte=$(od -An -tu1 -j1000 -N1 "$dir/corrupt.dfu" | tr -d ' ')
+printf "\\$(printf '%03o' $((byte ^ 0xFF)))" | dd of="$dir/corrupt.dfu" bs=1 seek=1000 conv=notrunc 2>/dev/null
+cmp -s "$dir/fw.dfu" "$dir/corrupt.dfu" && { echo "FAIL: byte 1000 of corrupt.dfu unchanged"; failures=$((failures + 1)); }
 expect 2 "does not match the content" -- "$cb" flash "$dir/corrupt.dfu" --emu "$sock"
 expect 2 "cannot be combined" -- "$cb" flash "$dir/fw.dfu" --emu "$sock" --recover-gpio gpiochip0:17:27
 expect 0 "firmware     1.1.0" -- "$cb" info --emu "$sock"
