@@ -185,8 +185,9 @@ class SurfaceImporter {
     if (boost::num_edges(skeleton) == 0) return refuse("no centreline: the skeleton of the surface is a single point");
     Tree tree(faces(mesh_).first, faces(mesh_).second, mesh_);
     tree.accelerate_distance_queries();
-    const auto radius = [&](SkeletonVertex v) { return std::sqrt(tree.squared_distance(skeleton[v].point)); };
     const auto is_node = [&](SkeletonVertex v) { return boost::degree(v, skeleton) != 2; };
+    // A branch's ends keep this radius; its inner points get theirs from centre() below.
+    const auto radius = [&](SkeletonVertex v) { return std::sqrt(tree.squared_distance(skeleton[v].point)); };
     std::map<std::pair<SkeletonVertex, SkeletonVertex>, bool> walked;  // directed first edges
     const auto walk = [&](SkeletonVertex start, SkeletonVertex next) {
       Branch branch;
@@ -196,8 +197,9 @@ class SurfaceImporter {
       SkeletonVertex previous = start;
       SkeletonVertex at = next;
       while (true) {
-        branch.line.points.push_back({to_glm(skeleton[at].point), radius(at)});
-        if (is_node(at) || at == start) break;
+        const bool end = is_node(at) || at == start;
+        branch.line.points.push_back({to_glm(skeleton[at].point), end ? radius(at) : 0.0});
+        if (end) break;
         SkeletonVertex following = previous;
         for (auto e : boost::make_iterator_range(boost::out_edges(at, skeleton))) {
           const SkeletonVertex w = boost::target(e, skeleton);
@@ -234,32 +236,36 @@ class SurfaceImporter {
   // Each inner point climbs the distance to the surface within its cross-section (the plane
   // normal to the branch there) until it is on the medial axis, moving at most half its first
   // distance; its radius is then its distance to the surface. Nodes stay where the flow put them.
+  // One closest-point query per step, started from the last closest point (the tree's search
+  // then prunes at once: the step moves the point by a fraction of its radius).
   static void centre(std::vector<vessel::CenterlinePoint>& points, const Tree& tree) {
     const std::vector<vessel::CenterlinePoint> before = points;
     for (std::size_t i = 1; i + 1 < points.size(); ++i) {
       const glm::dvec3 tangent = glm::normalize(before[i + 1].pos_mm - before[i - 1].pos_mm);
       const glm::dvec3 start = before[i].pos_mm;
-      const auto distance = [&](const glm::dvec3& q) { return std::sqrt(tree.squared_distance(Point(q.x, q.y, q.z))); };
-      glm::dvec3 p = start;
-      double d = distance(p);
+      Point p(start.x, start.y, start.z);
+      Point c = tree.closest_point(p);
+      double d = std::sqrt(CGAL::squared_distance(p, c));
       const double reach = 0.5 * d;
       double step = 0.25 * d;
       for (int k = 0; k < 24 && step > 1e-4 * d; ++k) {
-        const Point c = tree.closest_point(Point(p.x, p.y, p.z));
-        glm::dvec3 away = p - to_glm(c);
+        glm::dvec3 away = to_glm(p) - to_glm(c);
         away -= glm::dot(away, tangent) * tangent;
         if (glm::length(away) <= 0.0) break;
-        glm::dvec3 q = p + step * glm::normalize(away);
+        const glm::dvec3 q = to_glm(p) + step * glm::normalize(away);
         if (glm::length(q - start) > reach) break;
-        const double dq = distance(q);
+        const Point qp(q.x, q.y, q.z);
+        const Point cq = tree.closest_point(qp, c);
+        const double dq = std::sqrt(CGAL::squared_distance(qp, cq));
         if (dq > d) {
-          p = q;
+          p = qp;
+          c = cq;
           d = dq;
         } else {
           step *= 0.5;
         }
       }
-      points[i] = {p, d};
+      points[i] = {to_glm(p), d};
     }
     if (!points.empty()) {
       points.front().radius_mm = before.front().radius_mm;
