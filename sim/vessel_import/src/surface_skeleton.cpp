@@ -1,6 +1,7 @@
 // Surface → repaired closed lumen → mean curvature flow skeleton → branches with radii. The only
 // file that includes CGAL (surface_import.hpp says what each step does and why).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,6 +13,7 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -26,6 +28,31 @@
 
 #include "vessel/point_range.hpp"
 #include "vessel_import/surface_import.hpp"
+
+// CGAL 5.5's flow keeps the edges it will collapse (`collapse_short_edges`) in a
+// std::set<edge_descriptor> of its Polyhedron meso-skeleton, whose operator< compares the
+// halfedges' addresses: which short edge collapses first, and so which thin branches survive,
+// followed the heap layout (another build, another file order, another process: another graph).
+// Here the set orders edges by their halfedges' ids instead, which the flow loop below numbers in
+// the mesh's own list order before every collapse pass (the pass creates no halfedge, so the ids
+// stay unique while the set lives).
+namespace cathbox::vessel_import::skeleton_order {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<CGAL::Surface_mesh<Kernel::Point_3>>;
+using Meso = Skeletonization::Meso_skeleton;
+using MesoEdge = boost::graph_traits<Meso>::edge_descriptor;
+}  // namespace cathbox::vessel_import::skeleton_order
+
+template <>
+struct std::less<cathbox::vessel_import::skeleton_order::MesoEdge> {
+  bool operator()(const cathbox::vessel_import::skeleton_order::MesoEdge& a,
+                  const cathbox::vessel_import::skeleton_order::MesoEdge& b) const {
+    return key(a) < key(b);
+  }
+  static std::size_t key(const cathbox::vessel_import::skeleton_order::MesoEdge& e) {
+    return std::min(e.halfedge()->id(), e.halfedge()->opposite()->id());
+  }
+};
 
 namespace cathbox::vessel_import {
 namespace {
@@ -62,6 +89,7 @@ class SurfaceImporter {
     if (!keep_one_component()) return std::move(out_);
     if (!cap_open_ends()) return std::move(out_);
     if (!check_lumen()) return std::move(out_);
+    canonicalise();
     if (!skeletonise()) return std::move(out_);
     keep_lumen();
     return std::move(out_);
@@ -170,6 +198,40 @@ class SurfaceImporter {
     return true;
   }
 
+  // The lumen in an order of its geometry's own, not the file's: vertices sorted by position,
+  // each triangle started at its smallest vertex (its winding kept), triangles sorted. The flow's
+  // greedy steps (edge collapses, face splits, degeneracies) visit the mesh in its order and the
+  // branches they leave depend on it: the head-and-neck tree's STL gave 29, 31 or 37 segments
+  // with its triangles as written, each triangle's corners rotated, or the triangles shuffled.
+  // In this order the same surface gives the same graph in whatever order its file lists it
+  // (vertices at the same position, which a closed manifold lumen does not have, would keep their
+  // file order).
+  void canonicalise() {
+    mesh_.collect_garbage();
+    std::vector<VertexIndex> order(mesh_.vertices().begin(), mesh_.vertices().end());
+    std::stable_sort(order.begin(), order.end(), [&](VertexIndex a, VertexIndex b) {
+      return CGAL::compare_xyz(mesh_.point(a), mesh_.point(b)) == CGAL::SMALLER;
+    });
+    std::vector<std::uint32_t> rank(mesh_.number_of_vertices());
+    for (std::size_t i = 0; i < order.size(); ++i) rank[order[i].idx()] = static_cast<std::uint32_t>(i);
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    triangles.reserve(mesh_.number_of_faces());
+    for (Mesh::Face_index f : mesh_.faces()) {
+      std::array<std::uint32_t, 3> t{};
+      std::size_t k = 0;
+      for (VertexIndex v : CGAL::vertices_around_face(mesh_.halfedge(f), mesh_)) t[k++] = rank[v.idx()];
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      triangles.push_back(t);
+    }
+    std::sort(triangles.begin(), triangles.end());
+    Mesh sorted;
+    for (VertexIndex v : order) sorted.add_vertex(mesh_.point(v));
+    for (const std::array<std::uint32_t, 3>& t : triangles) {
+      sorted.add_face(VertexIndex(t[0]), VertexIndex(t[1]), VertexIndex(t[2]));
+    }
+    mesh_ = std::move(sorted);
+  }
+
   // The skeleton's nodes (degree != 2) and the chains between them become branches; a point's
   // radius is its distance to the surface.
   bool skeletonise() {
@@ -179,7 +241,7 @@ class SurfaceImporter {
     // neck tree): the flow collapses branches thinner than a few of those into their parent. The
     // input's own median edge keeps them (the mesher resolves every vessel it was given).
     mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm()));
-    mcs.contract_until_convergence();
+    contract_until_convergence(mcs);
     mcs.convert_to_skeleton(skeleton);
     out_.stats.skeleton_points = boost::num_vertices(skeleton);
     if (boost::num_edges(skeleton) == 0) return refuse("no centreline: the skeleton of the surface is a single point");
@@ -230,6 +292,25 @@ class SurfaceImporter {
     }
     for (Branch& branch : out_.branches) centre(branch.line.points, tree);
     return true;
+  }
+
+  // CGAL's contract_until_convergence, with the meso-skeleton's halfedges numbered in list order
+  // before each collapse pass (the std::less above orders the pass's edges by those numbers).
+  void contract_until_convergence(Skeletonization& mcs) const {
+    const double original_area = PMP::area(mesh_);
+    auto& meso = const_cast<skeleton_order::Meso&>(mcs.meso_skeleton());  // the flow's own, not const
+    double last_area = 0.0;
+    for (std::size_t iteration = 0; iteration < mcs.max_iterations(); ++iteration) {
+      mcs.contract_geometry();
+      std::size_t id = 0;
+      for (auto h = meso.halfedges_begin(); h != meso.halfedges_end(); ++h) h->id() = id++;
+      mcs.collapse_edges();
+      mcs.split_faces();
+      mcs.detect_degeneracies();
+      const double area = PMP::area(meso);
+      if (std::abs(last_area - area) / original_area < mcs.area_variation_factor()) break;
+      last_area = area;
+    }
   }
 
   // The flow leaves a point off the axis by up to a tenth of the radius where the tube bends.
