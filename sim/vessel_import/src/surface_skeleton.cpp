@@ -1,6 +1,7 @@
 // Surface → repaired closed lumen → mean curvature flow skeleton → branches with radii. The only
 // file that includes CGAL (surface_import.hpp says what each step does and why).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,6 +13,7 @@
 #include <CGAL/IO/polygon_soup_io.h>
 #include <CGAL/Mean_curvature_flow_skeletonization.h>
 #include <CGAL/Polygon_mesh_processing/border.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/connected_components.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
@@ -26,6 +28,31 @@
 
 #include "vessel/point_range.hpp"
 #include "vessel_import/surface_import.hpp"
+
+// CGAL 5.5's flow keeps the edges it will collapse (`collapse_short_edges`) in a
+// std::set<edge_descriptor> of its Polyhedron meso-skeleton, whose operator< compares the
+// halfedges' addresses: which short edge collapses first, and so which thin branches survive,
+// followed the heap layout (another build, another file order, another process: another graph).
+// Here the set orders edges by their halfedges' ids instead, which the flow loop below numbers in
+// the mesh's own list order before every collapse pass (the pass creates no halfedge, so the ids
+// stay unique while the set lives).
+namespace cathbox::vessel_import::skeleton_order {
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Skeletonization = CGAL::Mean_curvature_flow_skeletonization<CGAL::Surface_mesh<Kernel::Point_3>>;
+using Meso = Skeletonization::Meso_skeleton;
+using MesoEdge = boost::graph_traits<Meso>::edge_descriptor;
+}  // namespace cathbox::vessel_import::skeleton_order
+
+template <>
+struct std::less<cathbox::vessel_import::skeleton_order::MesoEdge> {
+  bool operator()(const cathbox::vessel_import::skeleton_order::MesoEdge& a,
+                  const cathbox::vessel_import::skeleton_order::MesoEdge& b) const {
+    return key(a) < key(b);
+  }
+  static std::size_t key(const cathbox::vessel_import::skeleton_order::MesoEdge& e) {
+    return std::min(e.halfedge()->id(), e.halfedge()->opposite()->id());
+  }
+};
 
 namespace cathbox::vessel_import {
 namespace {
@@ -62,6 +89,7 @@ class SurfaceImporter {
     if (!keep_one_component()) return std::move(out_);
     if (!cap_open_ends()) return std::move(out_);
     if (!check_lumen()) return std::move(out_);
+    canonicalise();
     if (!skeletonise()) return std::move(out_);
     keep_lumen();
     return std::move(out_);
@@ -170,6 +198,40 @@ class SurfaceImporter {
     return true;
   }
 
+  // The lumen in an order of its geometry's own, not the file's: vertices sorted by position,
+  // each triangle started at its smallest vertex (its winding kept), triangles sorted. The flow's
+  // greedy steps (edge collapses, face splits, degeneracies) visit the mesh in its order and the
+  // branches they leave depend on it: the head-and-neck tree's STL gave 29, 31 or 37 segments
+  // with its triangles as written, each triangle's corners rotated, or the triangles shuffled.
+  // In this order the same surface gives the same graph in whatever order its file lists it
+  // (vertices at the same position, which a closed manifold lumen does not have, would keep their
+  // file order).
+  void canonicalise() {
+    mesh_.collect_garbage();
+    std::vector<VertexIndex> order(mesh_.vertices().begin(), mesh_.vertices().end());
+    std::stable_sort(order.begin(), order.end(), [&](VertexIndex a, VertexIndex b) {
+      return CGAL::compare_xyz(mesh_.point(a), mesh_.point(b)) == CGAL::SMALLER;
+    });
+    std::vector<std::uint32_t> rank(mesh_.number_of_vertices());
+    for (std::size_t i = 0; i < order.size(); ++i) rank[order[i].idx()] = static_cast<std::uint32_t>(i);
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    triangles.reserve(mesh_.number_of_faces());
+    for (Mesh::Face_index f : mesh_.faces()) {
+      std::array<std::uint32_t, 3> t{};
+      std::size_t k = 0;
+      for (VertexIndex v : CGAL::vertices_around_face(mesh_.halfedge(f), mesh_)) t[k++] = rank[v.idx()];
+      std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+      triangles.push_back(t);
+    }
+    std::sort(triangles.begin(), triangles.end());
+    Mesh sorted;
+    for (VertexIndex v : order) sorted.add_vertex(mesh_.point(v));
+    for (const std::array<std::uint32_t, 3>& t : triangles) {
+      sorted.add_face(VertexIndex(t[0]), VertexIndex(t[1]), VertexIndex(t[2]));
+    }
+    mesh_ = std::move(sorted);
+  }
+
   // The skeleton's nodes (degree != 2) and the chains between them become branches; a point's
   // radius is its distance to the surface.
   bool skeletonise() {
@@ -179,14 +241,15 @@ class SurfaceImporter {
     // neck tree): the flow collapses branches thinner than a few of those into their parent. The
     // input's own median edge keeps them (the mesher resolves every vessel it was given).
     mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm()));
-    mcs.contract_until_convergence();
+    contract_until_convergence(mcs);
     mcs.convert_to_skeleton(skeleton);
     out_.stats.skeleton_points = boost::num_vertices(skeleton);
     if (boost::num_edges(skeleton) == 0) return refuse("no centreline: the skeleton of the surface is a single point");
     Tree tree(faces(mesh_).first, faces(mesh_).second, mesh_);
     tree.accelerate_distance_queries();
-    const auto radius = [&](SkeletonVertex v) { return std::sqrt(tree.squared_distance(skeleton[v].point)); };
     const auto is_node = [&](SkeletonVertex v) { return boost::degree(v, skeleton) != 2; };
+    // A branch's ends keep this radius; its inner points get theirs from centre() below.
+    const auto radius = [&](SkeletonVertex v) { return std::sqrt(tree.squared_distance(skeleton[v].point)); };
     std::map<std::pair<SkeletonVertex, SkeletonVertex>, bool> walked;  // directed first edges
     const auto walk = [&](SkeletonVertex start, SkeletonVertex next) {
       Branch branch;
@@ -196,8 +259,9 @@ class SurfaceImporter {
       SkeletonVertex previous = start;
       SkeletonVertex at = next;
       while (true) {
-        branch.line.points.push_back({to_glm(skeleton[at].point), radius(at)});
-        if (is_node(at) || at == start) break;
+        const bool end = is_node(at) || at == start;
+        branch.line.points.push_back({to_glm(skeleton[at].point), end ? radius(at) : 0.0});
+        if (end) break;
         SkeletonVertex following = previous;
         for (auto e : boost::make_iterator_range(boost::out_edges(at, skeleton))) {
           const SkeletonVertex w = boost::target(e, skeleton);
@@ -230,36 +294,59 @@ class SurfaceImporter {
     return true;
   }
 
+  // CGAL's contract_until_convergence, with the meso-skeleton's halfedges numbered in list order
+  // before each collapse pass (the std::less above orders the pass's edges by those numbers).
+  void contract_until_convergence(Skeletonization& mcs) const {
+    const double original_area = PMP::area(mesh_);
+    auto& meso = const_cast<skeleton_order::Meso&>(mcs.meso_skeleton());  // the flow's own, not const
+    double last_area = 0.0;
+    for (std::size_t iteration = 0; iteration < mcs.max_iterations(); ++iteration) {
+      mcs.contract_geometry();
+      std::size_t id = 0;
+      for (auto h = meso.halfedges_begin(); h != meso.halfedges_end(); ++h) h->id() = id++;
+      mcs.collapse_edges();
+      mcs.split_faces();
+      mcs.detect_degeneracies();
+      const double area = PMP::area(meso);
+      if (std::abs(last_area - area) / original_area < mcs.area_variation_factor()) break;
+      last_area = area;
+    }
+  }
+
   // The flow leaves a point off the axis by up to a tenth of the radius where the tube bends.
   // Each inner point climbs the distance to the surface within its cross-section (the plane
   // normal to the branch there) until it is on the medial axis, moving at most half its first
   // distance; its radius is then its distance to the surface. Nodes stay where the flow put them.
+  // One closest-point query per step, started from the last closest point (the tree's search
+  // then prunes at once: the step moves the point by a fraction of its radius).
   static void centre(std::vector<vessel::CenterlinePoint>& points, const Tree& tree) {
     const std::vector<vessel::CenterlinePoint> before = points;
     for (std::size_t i = 1; i + 1 < points.size(); ++i) {
       const glm::dvec3 tangent = glm::normalize(before[i + 1].pos_mm - before[i - 1].pos_mm);
       const glm::dvec3 start = before[i].pos_mm;
-      const auto distance = [&](const glm::dvec3& q) { return std::sqrt(tree.squared_distance(Point(q.x, q.y, q.z))); };
-      glm::dvec3 p = start;
-      double d = distance(p);
+      Point p(start.x, start.y, start.z);
+      Point c = tree.closest_point(p);
+      double d = std::sqrt(CGAL::squared_distance(p, c));
       const double reach = 0.5 * d;
       double step = 0.25 * d;
       for (int k = 0; k < 24 && step > 1e-4 * d; ++k) {
-        const Point c = tree.closest_point(Point(p.x, p.y, p.z));
-        glm::dvec3 away = p - to_glm(c);
+        glm::dvec3 away = to_glm(p) - to_glm(c);
         away -= glm::dot(away, tangent) * tangent;
         if (glm::length(away) <= 0.0) break;
-        glm::dvec3 q = p + step * glm::normalize(away);
+        const glm::dvec3 q = to_glm(p) + step * glm::normalize(away);
         if (glm::length(q - start) > reach) break;
-        const double dq = distance(q);
+        const Point qp(q.x, q.y, q.z);
+        const Point cq = tree.closest_point(qp, c);
+        const double dq = std::sqrt(CGAL::squared_distance(qp, cq));
         if (dq > d) {
-          p = q;
+          p = qp;
+          c = cq;
           d = dq;
         } else {
           step *= 0.5;
         }
       }
-      points[i] = {p, d};
+      points[i] = {to_glm(p), d};
     }
     if (!points.empty()) {
       points.front().radius_mm = before.front().radius_mm;
