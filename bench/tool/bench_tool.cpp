@@ -9,6 +9,8 @@
 //   separate: the same two tools solved as two independent rods (350 solved nodes).
 //   triaxial: guide catheter (150 inserted nodes) > microcatheter (200) > microwire (200), the
 //            same neuro path and hand input (issue 16: median <= 300 us, p99 <= 600 us);
+//   dual device random 6 ms: host/python's DualDevice-v0 under random actions at a 6 ms tick,
+//            the simulator alone (per env step of 22 ticks; see BM_DualDeviceRandom6ms);
 //   coil deploy: a 150 mm coil (0.5 mm spacing, helical rest shape, 5 mm loops) pushed at 20
 //            mm/s out of a microcatheter into a 6.4 mm sphere on a 2 mm artery, touching its
 //            own loops and the catheter's tip (issue 16: median <= 400 us);
@@ -24,6 +26,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -610,10 +613,74 @@ void BM_StepCoilPacking(benchmark::State& state) {
   state.SetLabel("third coil into a sphere holding 300 mm");
 }
 
+// host/python's DualDevice-v0 under a random policy at stEVE's physics step (period_us=6000):
+// the neuro case's catheter with its guidewire inside, one env step = 22 ticks of 6 ms (1/7.5 s),
+// each device's speeds drawn every env step uniformly in stEVE's box (±50 mm/s, ±3.14 rad/s) from
+// a fixed seed, insertions clamped to [0, max]; episodes of 75 env steps (10 s, as
+// bench/python/bench_env.py) from a new simulator. Thread CPU time per env step: its median
+// against stEVE's 125-250 ms (4-8 steps/s per worker, derived from its published training).
+// The simulator alone on its own random sequence (10 episodes): a figure to compare builds of the
+// rod and the wall probe by, not the env's (bench_env.py's 75 steps from seed 0 spend ~1.5 ms
+// per step in Session.step where this spends ~0.85 ms: another sequence, and the session's tick).
+void BM_DualDeviceRandom6ms(benchmark::State& state) {
+  const CaseParse c = load_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
+  if (!c || c->tools.size() != 2) {
+    state.SkipWithError("neuro.case: no catheter and guidewire");
+    return;
+  }
+  static World world = make_world();
+  constexpr int kTicks = 22;
+  constexpr int kEpisodeSteps = 75;
+  std::vector<double> cpu_us;
+  std::unique_ptr<Simulator> sim;
+  std::mt19937_64 rng(0);
+  std::uniform_real_distribution<double> speed(-50.0, 50.0), spin(-3.14, 3.14);
+  double insertion[2] = {0.0, 0.0}, rotation[2] = {0.0, 0.0};
+  int step = 0;
+  std::uint64_t ticks = 0, unconverged = 0;
+  for (auto _ : state) {
+    if (step % kEpisodeSteps == 0) {
+      state.PauseTiming();
+      sim = std::make_unique<Simulator>(*world.wall, c->tools, world.entry);
+      insertion[0] = insertion[1] = rotation[0] = rotation[1] = 0.0;
+      state.ResumeTiming();
+    }
+    ++step;
+    double v[2], w[2];
+    for (int t = 0; t < 2; ++t) v[t] = speed(rng), w[t] = spin(rng);
+    const double c0 = thread_cpu_us();
+    for (int k = 0; k < kTicks; ++k) {
+      for (std::size_t t = 0; t < 2; ++t) {
+        insertion[t] = std::clamp(insertion[t] + v[t] * 0.006, 0.0, sim->max_insertion_mm(t));
+        rotation[t] += w[t] * 0.006;
+        sim->set_insertion(t, insertion[t]);
+        sim->set_rotation(t, rotation[t]);
+      }
+      sim->step(0.006);
+      for (std::size_t t = 0; t < 2; ++t) {
+        ++ticks;
+        if (sim->rod(t).first_free_node() < sim->rod(t).node_total() && !sim->rod(t).converged()) ++unconverged;
+      }
+    }
+    cpu_us.push_back(thread_cpu_us() - c0);
+  }
+  double total_us = 0.0;
+  for (const double us : cpu_us) total_us += us;
+  std::sort(cpu_us.begin(), cpu_us.end());
+  const double median = cathbox::bench::quantile_sorted(cpu_us, 0.5);
+  state.counters["cpu_mean_us_per_env_step"] = total_us / static_cast<double>(std::max<std::size_t>(1, cpu_us.size()));
+  state.counters["cpu_median_us_per_env_step"] = median;
+  state.counters["env_steps_per_cpu_s"] = 1e6 / median;
+  state.counters["x_stEVE_8_per_s"] = 1e6 / median / 8.0;
+  state.counters["unconverged_rod_ticks_pct"] = 100.0 * static_cast<double>(unconverged) / static_cast<double>(std::max<std::uint64_t>(1, ticks));
+  state.SetLabel(world.name);
+}
+
 void BM_StepCoaxial(benchmark::State& state) { run(state, true); }
 void BM_StepSeparate(benchmark::State& state) { run(state, false); }
 
 BENCHMARK(BM_StepCoaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
+BENCHMARK(BM_DualDeviceRandom6ms)->Unit(benchmark::kMicrosecond)->Iterations(750);  // 10 episodes of 75 steps
 BENCHMARK(BM_StepSeparate)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_StepTriaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_WallReprobe)->ArgName("fused")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3)->Repetitions(5);
