@@ -235,6 +235,9 @@ def test_box_bridge(b, centre, assignment, report):
     box, at = moved["box"], moved["at"]
     s = box["state"]
     check(box["stats"]["rejected"] == 0 and box["stats"]["states"] > 100, "the page's decoding: %s" % box["stats"])
+    # The worker sends the law between its tick slices: no gap reaches the box's 50 ms watchdog
+    # (protocol/README.md), which the page's thread, stalled by drawing, did (55-349 ms).
+    check(0 < box["stats"]["max_send_gap_ms"] < 50, "the longest gap between the page's commands: %s" % box["stats"])
     check(at["insertion_mm"] - first["at"]["insertion_mm"] >= 8, "the session's tool moved %.2f mm" % (at["insertion_mm"] - first["at"]["insertion_mm"]))
     # The emulator shows the page's commands applied (protocol/README.md's state bits).
     check(s["status"] & 0x1 and s["status"] & 0x8, "output enabled and command fresh expected: status 0x%x" % s["status"])
