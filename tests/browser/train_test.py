@@ -20,7 +20,8 @@ tool follows the emulator's encoder (no key pressed), and the emulator's own rep
 page's commands applied (its command echo, the command-fresh and output-enabled bits, the brake
 mode, no latched fault: the watchdog fault latched before the first command was acknowledged).
 The page runs on the worker's own clock here (the emulator runs in real time); every wait is for
-an event, bounded, never a wall-clock assertion. Then a 37-byte message from the page is refused
+an event, bounded. One figure is on the wall clock because the box's contract is: the longest gap
+between the page's commands must stay under the box's 50 ms watchdog (the worker sends them). Then a 37-byte message from the page is refused
 by the bridge with one line naming its length.
 
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
