@@ -20,7 +20,8 @@ tool follows the emulator's encoder (no key pressed), and the emulator's own rep
 page's commands applied (its command echo, the command-fresh and output-enabled bits, the brake
 mode, no latched fault: the watchdog fault latched before the first command was acknowledged).
 The page runs on the worker's own clock here (the emulator runs in real time); every wait is for
-an event, bounded, never a wall-clock assertion. Then a 37-byte message from the page is refused
+an event, bounded. One figure is on the wall clock because the box's contract is: the longest gap
+between the page's commands must stay under the box's 50 ms watchdog (the worker sends them). Then a 37-byte message from the page is refused
 by the bridge with one line naming its length.
 
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
@@ -235,6 +236,9 @@ def test_box_bridge(b, centre, assignment, report):
     box, at = moved["box"], moved["at"]
     s = box["state"]
     check(box["stats"]["rejected"] == 0 and box["stats"]["states"] > 100, "the page's decoding: %s" % box["stats"])
+    # The worker sends the law between its tick slices: no gap reaches the box's 50 ms watchdog
+    # (protocol/README.md), which the page's thread, stalled by drawing, did (55-349 ms).
+    check(0 < box["stats"]["max_send_gap_ms"] < 50, "the longest gap between the page's commands: %s" % box["stats"])
     check(at["insertion_mm"] - first["at"]["insertion_mm"] >= 8, "the session's tool moved %.2f mm" % (at["insertion_mm"] - first["at"]["insertion_mm"]))
     # The emulator shows the page's commands applied (protocol/README.md's state bits).
     check(s["status"] & 0x1 and s["status"] & 0x8, "output enabled and command fresh expected: status 0x%x" % s["status"])

@@ -17,7 +17,7 @@ import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey } from './train_keys.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
-import { chooseBox } from './box_transport.js';
+import { chooseBox, WebSocketBox } from './box_transport.js';
 import { BoxDriver } from './train_box.js';
 
 const user = requireUser(['trainee']);
@@ -119,7 +119,7 @@ function draw() {
 }
 
 function setKeys() {
-  if (run.box && run.box.live) return;  // the box drives the tool; Tab and Escape still work
+  if ((run.box && run.box.live) || (run.boxReport && run.boxReport.live)) return;  // the box drives the tool; Tab and Escape still work
   const [insert, twist] = speedsFor(run.held);
   run.keys[0] = insert;
   run.keys[1] = twist;
@@ -164,6 +164,7 @@ async function onOver(m) {
   hook.jitter = m.jitter;
   run.held.clear();
   if (run.box) { run.box.stop(); hook.box = run.box.report(); }
+  if (run.boxReport) hook.box = run.boxReport;
   status('uploading the record (' + m.record.byteLength + ' bytes)');
   const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id,
     onRecord: (blob) => { hook.recordBlob = blob; } });
@@ -175,7 +176,8 @@ function startWorker() {
   worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
   worker.onmessage = (e) => {
     const m = e.data;
-    if (m.type === 'frame') showFrame(m.data, m.metrics);
+    if (m.type === 'frame') { showFrame(m.data, m.metrics); if (m.box) run.boxReport = m.box; }
+    else if (m.type === 'box_note') boxNote(m.text);
     else if (m.type === 'ready') onReady(m);
     else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
     else if (m.type === 'over') onOver(m);
@@ -196,6 +198,11 @@ function boxNote(text) { document.getElementById('box-note').textContent = text;
 function offerBox() {
   const { box, why, needsClick } = chooseBox(params);
   if (!box) return boxNote(why);
+  if (box instanceof WebSocketBox) {  // the haptic worker drives it (js/train_worker.js)
+    hook.boxReport = () => run.boxReport || null;
+    run.boxUrl = box.url;
+    return boxNote('box: ' + box.describe() + ' (connecting from the haptic worker)');
+  }
   run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && hook.state === 'running' ? run.last : null), onChange: boxNote });
   const connect = () => guarded(async () => {
     try {
@@ -233,7 +240,7 @@ async function openCase(a) {
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,
-    mesh: collision, clock, keys: run.keys.buffer }, [collision]);
+    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl }, [collision]);
 }
 
 if (user) guarded(async () => {

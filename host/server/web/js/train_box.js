@@ -1,6 +1,9 @@
-// The box driving the trainee page's session, as BoxClient and BoxHand do for the native trainer,
-// on the page's thread (reports arrive as events; the worker reads the speeds written here from
-// shared memory on each tick). Every byte goes through protocol/'s codec compiled to wasm
+// The box driving the trainee page's session, as BoxClient and BoxHand do for the native trainer.
+// The WebSocket bridge's driver lives in the haptic worker (js/train_worker.js): its reports and
+// commands are handled between the worker's tick slices (at most 8 ms apart), so commands keep
+// well inside the box's 50 ms watchdog whatever the page's thread is doing (drawing under software
+// GL stalls it for 50-350 ms). WebHID's driver stays on the page's thread (the chooser needs a
+// click; see host/wasm/README.md). The speeds written here are read from shared memory each tick. Every byte goes through protocol/'s codec compiled to wasm
 // (js/box_codec.js). What it does:
 //   - each IN (state) report: decoded (a refused one is counted with its status, never used),
 //     sequence gaps counted; the encoders' counts -> the box's insertion (mm) and rotation (rad)
@@ -36,6 +39,15 @@ let codecPromise = null;
 // cathbox-protocol.js from the server's /wasm/ (a classic script defining CathboxProtocol).
 function loadCodec() {
   if (!codecPromise) {
+    if (typeof document === 'undefined') {  // in the haptic worker (a classic worker)
+      try {
+        importScripts('/wasm/cathbox-protocol.js');
+      } catch (_) {
+        return Promise.reject(new Error('/wasm/cathbox-protocol.js: the box codec is not served here (cathbox-server --wasm DIR)'));
+      }
+      codecPromise = self.CathboxProtocol({ locateFile: (p) => '/wasm/' + p, mainScriptUrlOrBlob: '/wasm/cathbox-protocol.js' }).then((m) => new BoxCodec(m));
+      return codecPromise;
+    }
     codecPromise = new Promise((resolve, reject) => {
       const s = document.createElement('script');
       s.src = '/wasm/cathbox-protocol.js';

@@ -13,7 +13,11 @@
 // insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
 // reads its KeyboardInput.
 //
-// Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys},
+// The box bridge (?box=ws://...): its driver (js/train_box.js) runs here, between tick slices,
+// writing the keys' speeds and sending the force law at most 8 ms apart (the box's watchdog is
+// 50 ms); each frame carries its report, and box_note messages its state for the page.
+//
+// Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
 // advance {ticks}, next_tool, end. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
 // advanced {ticks}, over {summary, record (bytes), jitter}, error {message}.
 'use strict';
@@ -35,6 +39,8 @@ let lastTickAt = -1;
 let intervals = 0;
 let maxInterval = 0;
 let dropped = 0;
+let box = null;  // the bridge's BoxDriver, or null
+let latest = null;  // the newest snapshot's hand figures, for the box driver
 
 function fail(message) { postMessage({ type: 'error', message: String(message) }); }
 
@@ -106,10 +112,12 @@ function postFrame() {
   if (at + n > mod.HEAPF32.length) fn.error();
   const data = new Float32Array(n);
   data.set(mod.HEAPF32.subarray(at, at + n));
-  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()) }, [data.buffer]);
+  latest = { insertion_mm: data[2], rotation_rad: data[3], hand_force_mN: data[4], torque_mNmm: data[5] };
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null }, [data.buffer]);
 }
 
 function finish() {
+  if (box) box.stop();
   postFrame();
   if (!fn.closeRecord()) return fail('record: ' + fn.error());
   const summary = JSON.parse(fn.summary());
@@ -153,6 +161,18 @@ function slice() {
   yielder.port2.postMessage(0);  // back to the event loop, then on
 }
 
+// The bridge's driver; a failure leaves the keyboard (said in a box_note).
+async function openBox(url) {
+  const note = (text) => postMessage({ type: 'box_note', text });
+  try {
+    const [{ BoxDriver }, { WebSocketBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
+    box = new BoxDriver({ keys, sessionAt: () => (over ? null : latest), onChange: note });
+    await box.connect(new WebSocketBox(url));
+  } catch (err) {
+    note('no box: ' + (err && err.message ? err.message : err) + ' (the keyboard drives the tool)');
+  }
+}
+
 async function open(m) {
   const t0 = performance.now();
   if (!mod) {
@@ -168,6 +188,7 @@ async function open(m) {
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
   over = false;
+  if (m.box) await openBox(m.box);
   postFrame();
   postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0 });
   if (clock === 'real') {
