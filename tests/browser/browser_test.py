@@ -8,6 +8,8 @@ sessions recorded by `cathbox session run` and uploaded through the API:
   - an instructor logs in, sees a rig streamed by a headless cathbox-trainer appear live and its
     tip move; a steady 30 Hz stream is drawn as it comes and its frame rate measured;
   - a debrief opens and seeks (the time it takes is measured, first and cached);
+  - a thrombectomy run's debrief (the carotid-T aspiration script) has its "eTICI per pass" row
+    read as `cathbox session metrics --json` grades the same record;
   - a learning-curve plot has one point per attempt;
   - a trainee sees their own page, is refused the instructor pages and the API behind them.
 
@@ -154,13 +156,16 @@ class Centre:
         self.port = free_port()
         self.base = "http://127.0.0.1:%d" % self.port
         self.extra_args = []  # more cathbox-server options (train_test.py: --wasm)
+        self.others = []  # results uploaded by other tests (not ann's assignment)
 
     def program(self, name):
         return os.path.join(self.bin, name)
 
-    def run(self, argv, what, timeout=300):
-        r = subprocess.run(argv, env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
-        check(r.returncode == 0, "%s failed (%d): %s" % (what, r.returncode, r.stdout.decode()[-2000:]))
+    def run(self, argv, what, timeout=300, merge=True):
+        """Runs a program to its end; its output (with stderr unless not `merge`)."""
+        r = subprocess.run(argv, env=self.env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT if merge else subprocess.PIPE,
+                           timeout=timeout)
+        check(r.returncode == 0, "%s failed (%d): %s" % (what, r.returncode, (r.stdout + (r.stderr or b"")).decode()[-2000:]))
         return r.stdout.decode()
 
     def start(self):
@@ -441,11 +446,95 @@ def test_debrief(b, centre, report):
     b.drain_console()
 
 
+class ThrombectomyRun:
+    """The bundled carotid-T script (cases/neuro_thrombectomy_ica_t.actions) recorded by
+    `cathbox session run`, graded by `cathbox session metrics --json` and uploaded by bob, in a
+    thread: it runs while the live view's wall-clock-paced test waits, so it costs the test
+    little time (its run and two replays take ~20 s of CPU)."""
+
+    CASE = "neuro_thrombectomy_ica_t"
+
+    def __init__(self, centre):
+        self.centre = centre
+        self.result = None
+        self.metrics = None
+        self.error = None
+        self.thread = threading.Thread(target=self.guard, args=(self.work,), daemon=True)
+        self.thread.start()
+
+    def work(self):
+        c = self.centre
+        cases = os.path.join(c.args.source, "cases")
+        # The case in the library first, so the run is filed under it and its debrief draws the
+        # vessel (the mesh made here, cached for the page).
+        teacher = Api(c.base).login("teacher")
+        teacher.json("POST", "/cases", {
+            "name": self.CASE, "case_file": self.CASE + ".case", "case": open(os.path.join(cases, self.CASE + ".case")).read(),
+            "hclm_file": "neuro.hclm", "hclm": open(os.path.join(cases, "neuro.hclm")).read()})
+        teacher.call("GET", "/cases/%s/versions/latest/mesh" % self.CASE)
+        rec = os.path.join(c.tmp, "thrombectomy.cbxrec")
+        c.run([c.program("cathbox"), "session", "run", "--case", os.path.join(cases, self.CASE + ".case"),
+               "--script", os.path.join(cases, self.CASE + ".actions"), "--record", rec, "--virtual"],
+              "thrombectomy session run")
+        # The grading replay and the server's (the upload's check) side by side.
+        grading = threading.Thread(target=self.guard, args=(lambda: self.grade(rec),), daemon=True)
+        grading.start()
+        try:
+            _, self.result = Api(c.base).login("bob").json("POST", "/results", raw=open(rec, "rb").read())
+        finally:
+            grading.join()
+
+    def grade(self, rec):
+        self.metrics = json.loads(self.centre.run([self.centre.program("cathbox"), "session", "metrics", rec, "--json"],
+                                                  "session metrics --json", merge=False))
+
+    def guard(self, work):
+        """Runs work(), keeping its first failure for wait() to report in the test's thread."""
+        try:
+            work()
+        except Exception as e:
+            self.error = self.error or "%s: %s" % (type(e).__name__, e)
+
+    def wait(self):
+        self.thread.join(timeout=600)
+        check(not self.thread.is_alive(), "the thrombectomy run did not finish in 600 s")
+        check(self.error is None, "thrombectomy run: %s" % self.error)
+        return self.result, self.metrics
+
+
+def test_thrombectomy_debrief(b, run, report):
+    """The debrief of a thrombectomy run: the "eTICI per pass" row and the final grade read as the
+    session's own metrics (`session metrics --json`) grade the record."""
+    started = time.monotonic()
+    result, metrics = run.wait()
+    report["thrombectomy_wait_s"] = round(time.monotonic() - started, 2)
+    t = metrics["thrombectomy"]
+    check(t is not None and t["passes"] >= 1, "the carotid-T script made no pass: %s" % t)
+    want = " · ".join("%d: %s" % (i + 1, p["etici"]) for i, p in enumerate(t["etici_per_pass"]))
+    check(result["case"] == run.CASE, "the thrombectomy run was filed under %r, not the library's %r" % (result["case"], run.CASE))
+    open_debrief(b, result["id"], "the thrombectomy debrief")
+    row = b.wait(EC.presence_of_element_located((By.ID, "etici-per-pass")), "the eTICI per pass row")
+    got = row.text
+    check(got == want, "debrief eTICI per pass %r, session metrics give %r" % (got, want))
+    final = b.driver.find_element(By.CSS_SELECTOR, "tr[data-metric='etici_final'] td.num").text
+    check(final == "eTICI " + t["etici_final"], "debrief eTICI final %r, session metrics give %r" % (final, t["etici_final"]))
+    passes = b.driver.find_element(By.CSS_SELECTOR, "tr[data-metric='thrombectomy_passes'] td.num").text
+    check(float(passes) == t["passes"], "debrief thrombectomy passes %r, session metrics give %d" % (passes, t["passes"]))
+    b.js("arguments[0].scrollIntoView({block: 'center'})", row)
+    b.shot("debrief-thrombectomy")
+    report["thrombectomy_etici_per_pass"] = got
+    report["thrombectomy_etici_final"] = final
+    report["thrombectomy_debrief_s"] = round(time.monotonic() - started, 2)
+    run.centre.others.append(result)
+    b.drain_console()
+
+
 def test_results(b, centre, report):
     b.open("/results.html")
     b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "#results-table tbody tr")), "the results table")
     rows = len(b.driver.find_elements(By.CSS_SELECTOR, "#results-table tbody tr"))
-    check(rows == len(centre.results), "results table has %d rows, %d uploaded" % (rows, len(centre.results)))
+    uploaded = len(centre.results) + len(centre.others)
+    check(rows == uploaded, "results table has %d rows, %d uploaded" % (rows, uploaded))
     # Sort by tip path (a click on its header), then filter on ann: learning curves appear.
     b.driver.find_element(By.CSS_SELECTOR, "th[data-key='m.tip_path_mm']").click()
     b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "th.sorted-desc[data-key='m.tip_path_mm']")), "sorting")
@@ -458,7 +547,7 @@ def test_results(b, centre, report):
         check(n == len(centre.results), "learning curve of %s has %d points for %d attempts" % (metric, n, len(centre.results)))
     b.js("document.getElementById('curves-title').scrollIntoView()")
     b.shot("learning-curves")
-    csv = b.js("return window.cathboxResults.csv()").strip().split("\n")
+    csv = b.js("return window.cathboxResults.csv()").strip().split("\n")  # ann's rows: the filter is on
     check(len(csv) == 1 + len(centre.results) and csv[0].startswith("id,trainee,case"), "CSV export: %s" % csv[:2])
     report["csv_header"] = csv[0]
     b.drain_console()
@@ -571,6 +660,7 @@ def main():
     try:
         centre.start()
         centre.seed()
+        thrombectomy = ThrombectomyRun(centre)
         browser = Browser(args.out)
         browser.base = centre.base
         browser.login("teacher")
@@ -578,6 +668,7 @@ def main():
         browser.drain_console()
         test_live(browser, centre, args, report)
         test_debrief(browser, centre, report)
+        test_thrombectomy_debrief(browser, thrombectomy, report)
         test_results(browser, centre, report)
         test_admin(browser, centre, report)
         test_trainee(browser, centre, report)
