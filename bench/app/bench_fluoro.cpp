@@ -71,8 +71,9 @@ struct Rig {
   std::string error;
 
   bool open() {
-    window = app::GlWindow::create(kSize, kSize, "bench_fluoro", false, error);
-    if (!window) return false;
+    base::Result<std::unique_ptr<app::GlWindow>> made = app::GlWindow::create(kSize, kSize, "bench_fluoro", false);
+    if (!made) return (error = made.error().message), false;
+    window = std::move(*made);
     const vessel::HclmReadResult read = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm");
     if (!read.ok()) return (error = "cannot read cases/neuro.hclm"), false;
     model = read.model;
@@ -89,7 +90,9 @@ struct Rig {
     vessel::VesselSurface c = vessel::build_vessel_surface(model, app::fluoro_surface_options());
     if (!c.ok()) return (error = c.error), false;
     coarse_mesh = std::move(c.mesh);
-    if (!renderer.init(error) || !coarse.init(error)) return false;
+    for (app::FluoroRenderer* r : {&renderer, &coarse}) {
+      if (base::Status<> ready = r->init(); !ready) return (error = ready.error().message), false;
+    }
     renderer.set_vessel(app::FluoroVessel::build(mesh, *transport));
     coarse.set_vessel(app::FluoroVessel::build(coarse_mesh, *transport));
     const flow::CenterlineLocator& loc = transport->locator();
@@ -414,9 +417,9 @@ int write_shots(const std::string& dir) {
     r.coarse.set_display(display);
     render_and_finish(r.coarse, in);
     const std::string path = dir + (binned ? "/bench_fluoro_binned.png" : "/bench_fluoro_full.png");
-    std::string error;
-    if (!app::PngWriter::write_file(path, app::FrameCapture::read_back_buffer(kSize, kSize), error)) {
-      std::fprintf(stderr, "bench_fluoro: %s: %s\n", path.c_str(), error.c_str());
+    const base::Status<> written = app::PngWriter::write_file(path, app::FrameCapture::read_back_buffer(kSize, kSize));
+    if (!written) {
+      std::fprintf(stderr, "bench_fluoro: %s: %s\n", path.c_str(), written.error().message.c_str());
       return 1;
     }
     std::printf("%s: %d x %d image shown at %d x %d\n", path.c_str(), r.coarse.last_work().matrix_width,

@@ -27,9 +27,9 @@ cathbox::session::Session& session_of(const py::capsule& capsule) {
 class View {
  public:
   View(const py::capsule& session, int width, int height) {
-    std::string error;
-    view_ = OffscreenFluoro::create(session_of(session), width, height, error);
-    if (!view_) throw std::runtime_error(error);
+    cathbox::base::Result<std::unique_ptr<OffscreenFluoro>> made = OffscreenFluoro::create(session_of(session), width, height);
+    if (!made) throw std::runtime_error(made.error().message);
+    view_ = std::move(*made);
   }
   py::array_t<std::uint8_t> render(const py::capsule& session, double lao_deg, double cranial_deg, double fov_mm,
                                    double iso_x, double iso_y, double iso_z) {

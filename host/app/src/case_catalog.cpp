@@ -6,15 +6,11 @@
 
 namespace cathbox::app {
 
-CaseCatalog CaseCatalog::scan(const std::string& dir, std::span<const std::string> extensions,
-                              std::string& error) {
+base::Result<CaseCatalog> CaseCatalog::scan(const std::string& dir, std::span<const std::string> extensions) {
   CaseCatalog c;
   std::error_code ec;
   std::filesystem::directory_iterator it(dir, ec);
-  if (ec) {
-    error = dir + ": " + ec.message();
-    return c;
-  }
+  if (ec) return base::Error{dir + ": " + ec.message()};
   for (const auto& e : it) {
     if (!e.is_regular_file(ec)) continue;
     const std::string ext = e.path().extension().string();

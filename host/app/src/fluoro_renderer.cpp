@@ -200,9 +200,11 @@ FluoroRenderer::~FluoroRenderer() {
   }
 }
 
-bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
+base::Status<> FluoroRenderer::init(bool framebuffer_fetch) {
   framebuffer_fetch_wanted_ = framebuffer_fetch;
-  if (!scene_shader_.build(fluoro_glsl::kSceneVertex, fluoro_glsl::kSceneFragment, error)) return false;
+  if (base::Status<> built = scene_shader_.build(fluoro_glsl::kSceneVertex, fluoro_glsl::kSceneFragment); !built) {
+    return built;
+  }
   GLint extensions = 0;
   glGetIntegerv(GL_NUM_EXTENSIONS, &extensions);
   fbfetch_ = false;
@@ -215,9 +217,13 @@ bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
     source.insert(source.find('\n') + 1,
                   std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
                       "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
-    if (!composite_shaders_[i].build(fluoro_glsl::kCompositeVertex, source.c_str(), error)) return false;
+    if (base::Status<> built = composite_shaders_[i].build(fluoro_glsl::kCompositeVertex, source.c_str()); !built) {
+      return built;
+    }
   }
-  if (!scale_shader_.build(fluoro_glsl::kScaleVertex, fluoro_glsl::kScaleFragment, error)) return false;
+  if (base::Status<> built = scale_shader_.build(fluoro_glsl::kScaleVertex, fluoro_glsl::kScaleFragment); !built) {
+    return built;
+  }
   glGenVertexArrays(1, &empty_vao_);
   glGenSamplers(1, &linear_sampler_);
   glSamplerParameteri(linear_sampler_, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
@@ -256,7 +262,7 @@ bool FluoroRenderer::init(std::string& error, bool framebuffer_fetch) {
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<const void*>(3 * sizeof(float)));
     glBindVertexArray(0);
   }
-  return true;
+  return base::Ok{};
 }
 
 void FluoroRenderer::set_phantom(flow::HeadPhantom phantom) {

@@ -11,12 +11,10 @@ void on_glfw_error(int code, const char* text) {
 }
 }  // namespace
 
-std::unique_ptr<GlWindow> GlWindow::create(int width, int height, const char* title, bool visible,
-                                           std::string& error) {
+base::Result<std::unique_ptr<GlWindow>> GlWindow::create(int width, int height, const char* title, bool visible) {
   glfwSetErrorCallback(on_glfw_error);
   if (glfwInit() != GLFW_TRUE) {
-    error = g_glfw_error.empty() ? "glfw: cannot initialise (no display?)" : g_glfw_error;
-    return nullptr;
+    return base::Error{g_glfw_error.empty() ? "glfw: cannot initialise (no display?)" : g_glfw_error};
   }
   glfwDefaultWindowHints();
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -27,9 +25,8 @@ std::unique_ptr<GlWindow> GlWindow::create(int width, int height, const char* ti
   glfwWindowHint(GLFW_SAMPLES, 0);
   GLFWwindow* w = glfwCreateWindow(width, height, title, nullptr, nullptr);
   if (w == nullptr) {
-    error = g_glfw_error.empty() ? "glfw: cannot create an OpenGL 3.3 core window" : g_glfw_error;
     if (g_windows == 0) glfwTerminate();
-    return nullptr;
+    return base::Error{g_glfw_error.empty() ? "glfw: cannot create an OpenGL 3.3 core window" : g_glfw_error};
   }
   glfwMakeContextCurrent(w);
   ++g_windows;

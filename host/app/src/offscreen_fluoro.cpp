@@ -7,24 +7,21 @@
 
 namespace cathbox::app {
 
-std::unique_ptr<OffscreenFluoro> OffscreenFluoro::create(const session::Session& session, int width, int height,
-                                                         std::string& error) {
+base::Result<std::unique_ptr<OffscreenFluoro>> OffscreenFluoro::create(const session::Session& session, int width,
+                                                                       int height) {
   if (width < 8 || height < 8 || width > 2048 || height > 2048) {
-    error = "fluoroscopy: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 8..2048";
-    return nullptr;
+    return base::Error{"fluoroscopy: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 8..2048"};
   }
   std::unique_ptr<OffscreenFluoro> v(new OffscreenFluoro());
   v->width_ = width;
   v->height_ = height;
-  v->window_ = GlWindow::create(width, height, "cathbox fluoroscopy", false, error);
-  if (!v->window_) {
-    error = "fluoroscopy: " + error + " (a display is needed: run under xvfb-run on a machine without one)";
-    return nullptr;
+  base::Result<std::unique_ptr<GlWindow>> window = GlWindow::create(width, height, "cathbox fluoroscopy", false);
+  if (!window) {
+    return base::Error{"fluoroscopy: " + window.error().message +
+                       " (a display is needed: run under xvfb-run on a machine without one)"};
   }
-  if (!v->renderer_.init(error)) {
-    error = "fluoroscopy: " + error;
-    return nullptr;
-  }
+  v->window_ = std::move(*window);
+  if (base::Status<> ready = v->renderer_.init(); !ready) return base::Error{"fluoroscopy: " + ready.error().message};
   v->renderer_.set_background_projection(false);  // every image of its own pose, none held
   // The lumen as the trainer draws it: one level coarser than the collision surface, else that one
   // (a case's own surface is drawn as it is).

@@ -36,24 +36,17 @@ std::vector<std::uint8_t> PngWriter::encode(const Image& image) {
   return out;
 }
 
-bool PngWriter::write_file(const std::string& path, const Image& image, std::string& error) {
+base::Status<> PngWriter::write_file(const std::string& path, const Image& image) {
   const std::vector<std::uint8_t> png = encode(image);
   if (png.empty()) {
-    error = "png: invalid image " + std::to_string(image.width) + "x" +
-            std::to_string(image.height) + "x" + std::to_string(image.channels);
-    return false;
+    return base::Error{"png: invalid image " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                       "x" + std::to_string(image.channels)};
   }
   std::ofstream out(path, std::ios::binary);
-  if (!out) {
-    error = path + ": cannot open for writing";
-    return false;
-  }
+  if (!out) return base::Error{path + ": cannot open for writing"};
   out.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-  if (!out) {
-    error = path + ": write failed";
-    return false;
-  }
-  return true;
+  if (!out) return base::Error{path + ": write failed"};
+  return base::Ok{};
 }
 
 }  // namespace cathbox::app

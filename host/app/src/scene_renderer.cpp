@@ -78,12 +78,12 @@ void make_sphere(float radius, const glm::vec3& centre, std::vector<glm::vec3>& 
 
 }  // namespace
 
-bool SceneRenderer::init(std::string& error) {
-  if (!shader_.build(kVertexShader, kFragmentShader, error)) return false;
+base::Status<> SceneRenderer::init() {
+  if (base::Status<> built = shader_.build(kVertexShader, kFragmentShader); !built) return built;
   glEnable(GL_DEPTH_TEST);
   glEnable(GL_SCISSOR_TEST);
   glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-  return true;
+  return base::Ok{};
 }
 
 ChunkedMesh SceneRenderer::chunk(const MeshView& mesh) {

@@ -23,10 +23,10 @@ void print_rect(std::ofstream& out, const char* name, const Viewport& v) {
 
 }  // namespace
 
-bool write_screenshot(const std::string& path, const ScreenshotScene& scene, const session::SceneSnapshot& s,
-                      int fb_width, int fb_height, std::string& error) {
+base::Status<> write_screenshot(const std::string& path, const ScreenshotScene& scene,
+                                const session::SceneSnapshot& s, int fb_width, int fb_height) {
   const Image img = FrameCapture::read_back_buffer(fb_width, fb_height);
-  if (!PngWriter::write_file(path, img, error)) return false;
+  if (base::Status<> png = PngWriter::write_file(path, img); !png) return png;
   std::ofstream out(path + ".txt");
   out << "size " << fb_width << ' ' << fb_height << '\n';
   out << "vessel_file " << scene.vessel_file << '\n';
@@ -46,8 +46,8 @@ bool write_screenshot(const std::string& path, const ScreenshotScene& scene, con
   }
   out << "tip " << s.tip_mm.x << ' ' << s.tip_mm.y << ' ' << s.tip_mm.z << '\n';
   out << "sim_time_us " << s.sim_time_us << '\n';
-  if (!out) error = path + ".txt: write failed";
-  return static_cast<bool>(out);
+  if (!out) return base::Error{path + ".txt: write failed"};
+  return base::Ok{};
 }
 
 }  // namespace cathbox::app

@@ -7,7 +7,7 @@
 namespace cathbox::app {
 namespace {
 
-GLuint compile(GLenum kind, const char* src, std::string& error) {
+base::Result<GLuint> compile(GLenum kind, const char* src) {
   const GLuint s = glCreateShader(kind);
   glShaderSource(s, 1, &src, nullptr);
   glCompileShader(s);
@@ -16,9 +16,8 @@ GLuint compile(GLenum kind, const char* src, std::string& error) {
   if (ok == GL_FALSE) {
     char log[1024] = {};
     glGetShaderInfoLog(s, sizeof log, nullptr, log);
-    error = std::string(kind == GL_VERTEX_SHADER ? "vertex" : "fragment") + " shader: " + log;
     glDeleteShader(s);
-    return 0;
+    return base::Error{std::string(kind == GL_VERTEX_SHADER ? "vertex" : "fragment") + " shader: " + log};
   }
   return s;
 }
@@ -29,14 +28,16 @@ ShaderProgram::~ShaderProgram() {
   if (id_ != 0) glDeleteProgram(id_);
 }
 
-bool ShaderProgram::build(const char* vertex_src, const char* fragment_src, std::string& error) {
-  const GLuint vs = compile(GL_VERTEX_SHADER, vertex_src, error);
-  if (vs == 0) return false;
-  const GLuint fs = compile(GL_FRAGMENT_SHADER, fragment_src, error);
-  if (fs == 0) {
-    glDeleteShader(vs);
-    return false;
+base::Status<> ShaderProgram::build(const char* vertex_src, const char* fragment_src) {
+  const base::Result<GLuint> vertex = compile(GL_VERTEX_SHADER, vertex_src);
+  if (!vertex) return vertex.error();
+  const base::Result<GLuint> fragment = compile(GL_FRAGMENT_SHADER, fragment_src);
+  if (!fragment) {
+    glDeleteShader(*vertex);
+    return fragment.error();
   }
+  const GLuint vs = *vertex;
+  const GLuint fs = *fragment;
   id_ = glCreateProgram();
   glAttachShader(id_, vs);
   glAttachShader(id_, fs);
@@ -50,10 +51,9 @@ bool ShaderProgram::build(const char* vertex_src, const char* fragment_src, std:
   if (ok == GL_FALSE) {
     char log[1024] = {};
     glGetProgramInfoLog(id_, sizeof log, nullptr, log);
-    error = std::string("shader link: ") + log;
-    return false;
+    return base::Error{std::string("shader link: ") + log};
   }
-  return true;
+  return base::Ok{};
 }
 
 void ShaderProgram::use() const { glUseProgram(id_); }

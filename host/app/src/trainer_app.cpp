@@ -49,16 +49,13 @@ TrainerApp::~TrainerApp() {
 
 session::Session& TrainerApp::current() { return replay_ ? replay_->session() : *live_; }
 
-bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
+base::Status<> TrainerApp::open_live(const std::string& case_path) {
   follower_.reset();
   shown_wall_.reset();
   close_live();
   replay_.reset();
   LiveSession live = open_live_session(options_, program_dir_, case_path, scripted_, keyboard_);
-  if (!live.session) {
-    error = live.error;
-    return false;
-  }
+  if (!live.session) return base::Error{live.error};
   live_ = std::move(live.session);
   fluoro_switches_ = session::FluoroSwitches(foot_pedal_.get());  // a new run starts with the pedal up
   record_path_ = live.record_path;
@@ -70,26 +67,22 @@ bool TrainerApp::open_live(const std::string& case_path, std::string& error) {
     link_->begin_run(live_->scene().name, live_assignment_, live_->tool_names());
   }
   if (!live.note.empty()) std::fprintf(stderr, "cathbox-trainer: %s\n", live.note.c_str());
-  return true;
+  return base::Ok{};
 }
 
-bool TrainerApp::open_replay(const std::string& path, std::string& error) {
+base::Status<> TrainerApp::open_replay(const std::string& path) {
   close_live();  // a run being recorded is closed first (and queued for the server)
   follower_.reset();
   shown_wall_.reset();
   auto opened = session::ReplayPlayer::open(path);
-  if (!opened) {
-    error = opened.error().message;
-    return false;
-  }
+  if (!opened) return base::Error{opened.error().message};
   std::unique_ptr<session::ReplayPlayer> player = std::move(*opened);
   if (player->session().scene().mesh() == nullptr) {
-    error = path + ": the record's case has no vessel surface to show";
-    return false;
+    return base::Error{path + ": the record's case has no vessel surface to show"};
   }
   replay_ = std::move(player);
   record_path_ = path;
-  return true;
+  return base::Ok{};
 }
 
 int TrainerApp::run() {
@@ -148,9 +141,8 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
   }
   if (!fluoro_) {
     fluoro_ = std::make_unique<FluoroRenderer>();
-    std::string error;
-    if (!fluoro_->init(error)) {
-      ui_->add_line("fluoroscopy: " + error + "; showing the 3D view");
+    if (base::Status<> ready = fluoro_->init(); !ready) {
+      ui_->add_line("fluoroscopy: " + ready.error().message + "; showing the 3D view");
       fluoro_.reset();
       return;
     }
@@ -237,25 +229,30 @@ int TrainerApp::run_window() {
     std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
     return base::kExitBadInput;
   }
-  std::string error;
-  window_ = GlWindow::create(options_.width, options_.height, "Cathbox trainer", !options_.headless, error);
-  if (!window_) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+  base::Result<std::unique_ptr<GlWindow>> window =
+      GlWindow::create(options_.width, options_.height, "Cathbox trainer", !options_.headless);
+  if (!window) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", window.error().message.c_str());
     return base::kExitNoDisplay;
   }
+  window_ = std::move(*window);
   const bool timed = options_.bench_seconds > 0.0;
   window_->set_vsync(!options_.headless && !timed);
   renderer_ = std::make_unique<SceneRenderer>();
   ui_ = std::make_unique<TrainerUi>();
-  if (!renderer_->init(error) || !ui_->init(window_->handle())) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.empty() ? "cannot initialise the UI" : error.c_str());
+  if (base::Status<> ready = renderer_->init(); !ready) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", ready.error().message.c_str());
+    return base::kExitNoDisplay;
+  }
+  if (!ui_->init(window_->handle())) {
+    std::fprintf(stderr, "cathbox-trainer: cannot initialise the UI\n");
     return base::kExitNoDisplay;
   }
   const std::string records = options_.records_dir.empty() ? session::records_dir() : options_.records_dir;
   replay_panel_ = std::make_unique<ReplayPanel>(records);
-  const bool opened = options_.replay.empty() ? open_live(choice.path, error) : open_replay(options_.replay, error);
+  const base::Status<> opened = options_.replay.empty() ? open_live(choice.path) : open_replay(options_.replay);
   if (!opened) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+    std::fprintf(stderr, "cathbox-trainer: %s\n", opened.error().message.c_str());
     return base::kExitBadInput;
   }
   load_scene();
@@ -358,8 +355,8 @@ int TrainerApp::run_window() {
     if (last_frame && !options_.screenshot.empty()) {
       const ScreenshotScene shot{layout, ui_->hud_rect(), camera_.view(), camera_.projection(layout.global.aspect()),
                                  s.scene().vessel_file, s.scene().target_mm, s.scene().target_radius_mm};
-      if (!write_screenshot(options_.screenshot, shot, snap, fw, fh, error)) {
-        std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+      if (base::Status<> written = write_screenshot(options_.screenshot, shot, snap, fw, fh); !written) {
+        std::fprintf(stderr, "cathbox-trainer: %s\n", written.error().message.c_str());
         return base::kExitFailure;
       }
     }
@@ -404,22 +401,22 @@ int TrainerApp::run_window() {
     std::string next_replay = replay_act.open;
     if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
     if (!next_replay.empty()) {
-      if (open_replay(next_replay, error)) {
+      if (const base::Status<> replaying = open_replay(next_replay); replaying) {
         load_scene();
         replay_->play();
       } else {
-        ui_->add_line("cannot replay " + next_replay + ": " + error);
-        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_, error)) return base::kExitBadInput;
+        ui_->add_line("cannot replay " + next_replay + ": " + replaying.error().message);
+        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_)) return base::kExitBadInput;
       }
     } else if (replay_act.back_to_live || (live_ && (act.restart || act.pick_case >= 0))) {
       const int pick_index = act.pick_case >= 0 ? act.pick_case : current_case_;
       const std::string fallback = case_path_.empty() ? choice.path : case_path_;
       const std::string path = pick_index >= 0 ? catalog_.entries()[static_cast<std::size_t>(pick_index)].path : fallback;
-      if (open_live(path, error)) {
+      if (const base::Status<> picked = open_live(path); picked) {
         current_case_ = pick_index;
       } else {
-        ui_->add_line("cannot open " + path + ": " + error);
-        if (!open_live(fallback, error)) return base::kExitBadInput;
+        ui_->add_line("cannot open " + path + ": " + picked.error().message);
+        if (!open_live(fallback)) return base::kExitBadInput;
       }
       load_scene();
       if (!virtual_time) live_->start();

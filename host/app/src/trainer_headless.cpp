@@ -15,9 +15,12 @@ constexpr int kStreamConnect_ms = 5000;
 
 int TrainerApp::run_headless_summary() {
   const CaseChoice choice = choose();
-  std::string error = choice.error;
-  if (choice.path.empty() || !open_live(choice.path, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+  if (choice.path.empty()) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
+    return base::kExitBadInput;
+  }
+  if (const base::Status<> opened = open_live(choice.path); !opened) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", opened.error().message.c_str());
     return base::kExitBadInput;
   }
   const bool through_box = !scripted_ && options_.script.empty();
@@ -73,9 +76,8 @@ int TrainerApp::run_headless_summary() {
 }
 
 int TrainerApp::run_headless_replay() {
-  std::string error;
-  if (!open_replay(options_.replay, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+  if (const base::Status<> opened = open_replay(options_.replay); !opened) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", opened.error().message.c_str());
     return base::kExitBadInput;
   }
   std::printf("cathbox-trainer: replay of %s (%s)\n", options_.replay.c_str(), replay_->header().case_name.c_str());

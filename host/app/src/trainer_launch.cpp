@@ -30,8 +30,10 @@ CaseChoice choose_case(const TrainerOptions& options, const std::string& program
       }
     }
   }
-  std::string scan_error;
-  catalog = CaseCatalog::scan(dir, kCaseExtensions, scan_error);
+  // An unreadable folder lists nothing: a case given by path still runs, else its error is the choice's.
+  base::Result<CaseCatalog> scanned = CaseCatalog::scan(dir, kCaseExtensions);
+  catalog = scanned ? std::move(*scanned) : CaseCatalog{};
+  const std::string scan_error = scanned ? std::string() : scanned.error().message;
   if (!options.case_path.empty()) {
     const std::string name = std::filesystem::path(options.case_path).filename().string();
     for (std::size_t i = 0; i < catalog.entries().size(); ++i) {

@@ -21,9 +21,8 @@ void TrainerApp::close_live(bool background_upload) {
 }
 
 int TrainerApp::open_server_link() {
-  std::string error;
-  if (!apply_trainer_settings(options_, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+  if (base::Status<> applied = apply_trainer_settings(options_); !applied) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", applied.error().message.c_str());
     return base::kExitBadInput;
   }
   if (options_.server_url.empty()) {
@@ -33,13 +32,13 @@ int TrainerApp::open_server_link() {
     }
     return -1;
   }
-  ServerLinkOptions link_options;
-  if (!server_link_options(options_, link_options, error)) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", error.c_str());
+  base::Result<ServerLinkOptions> link_options = server_link_options(options_);
+  if (!link_options) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", link_options.error().message.c_str());
     return base::kExitBadInput;
   }
   std::string note;
-  link_ = ServerLink::open(link_options, note);
+  link_ = ServerLink::open(*link_options, note);
   if (!note.empty()) std::fprintf(stderr, "cathbox-trainer: %s\n", note.c_str());
   std::printf("cathbox-trainer: %s\n", link_->status_line().c_str());
   for (const AssignedCase& a : link_->assigned()) {

@@ -32,9 +32,8 @@ base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::load(const std
 base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::make(
     const tool::Script& script, const std::string& name, const std::vector<tool::ScriptPlayer::ToolInfo>& tools,
     std::size_t held) {
-  std::string error;
-  std::optional<tool::ScriptPlayer> player = tool::ScriptPlayer::make(script, tools, held, name, error);
-  if (!player) return base::Error{error};
+  base::Result<tool::ScriptPlayer> player = tool::ScriptPlayer::make(script, tools, held, name);
+  if (!player) return base::Error{player.error().message};
   return std::unique_ptr<ActionScriptHand>(new ActionScriptHand(std::move(*player), name));
 }
 

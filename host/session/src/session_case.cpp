@@ -18,26 +18,16 @@ namespace {
 constexpr std::uintmax_t kMaxCaseBytes = 16u << 20;
 constexpr std::uintmax_t kMaxVesselBytes = 64u << 20;
 
-bool read_file(const std::string& path, std::uintmax_t limit, std::string& out, std::string& error) {
+base::Result<std::string> read_file(const std::string& path, std::uintmax_t limit) {
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) {
-    error = path + ":0: cannot open file";
-    return false;
-  }
-  if (size > limit) {
-    error = path + ":0: file of " + std::to_string(size) + " bytes is too large";
-    return false;
-  }
+  if (ec) return base::Error{path + ":0: cannot open file"};
+  if (size > limit) return base::Error{path + ":0: file of " + std::to_string(size) + " bytes is too large"};
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    error = path + ":0: cannot open file";
-    return false;
-  }
+  if (!in) return base::Error{path + ":0: cannot open file"};
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  out = buffer.str();
-  return true;
+  return buffer.str();
 }
 
 std::vector<PathSegment> path_segments(const vessel::VesselModel& model) {
@@ -163,13 +153,22 @@ std::optional<glm::vec3> SessionCase::pick(const glm::vec3& origin_mm, const glm
 SessionCaseLoad load_session_case(const std::string& path, const vessel::SurfaceMesh* surface) {
   auto c = std::make_unique<SessionCase>();
   SessionCaseLoad out;
+  // A file's bytes into one of the case's texts; false with the error line in `out`.
+  const auto read_into = [&out](base::Result<std::string> read, std::string& text) {
+    if (!read) {
+      out.error = read.error().message;
+      return false;
+    }
+    text = std::move(*read);
+    return true;
+  };
   if (std::filesystem::path(path).extension() == ".hclm") {
     // A bare vessel file: the default guidewire from the start of the root segment.
     c->spec.name = std::filesystem::path(path).stem().string();
     c->spec.vessel_path = path;
     c->spec.tools = {tool::default_guidewire()};
   } else {
-    if (!read_file(path, kMaxCaseBytes, c->case_text, out.error)) return out;
+    if (!read_into(read_file(path, kMaxCaseBytes), c->case_text)) return out;
     tool::CaseParse parsed = tool::parse_case(c->case_text, path);
     if (!parsed) {
       out.error = parsed.error().message;
@@ -179,9 +178,9 @@ SessionCaseLoad load_session_case(const std::string& path, const vessel::Surface
     c->spec = std::move(*parsed);
   }
   c->vessel_file = c->spec.vessel_path;
-  if (!c->vessel_file.empty() && !read_file(c->vessel_file, kMaxVesselBytes, c->vessel_text, out.error)) return out;
+  if (!c->vessel_file.empty() && !read_into(read_file(c->vessel_file, kMaxVesselBytes), c->vessel_text)) return out;
   c->surface_file = c->spec.surface_path;
-  if (!c->surface_file.empty() && !tool::read_case_surface_bytes(c->surface_file, c->surface_bytes, out.error)) return out;
+  if (!c->surface_file.empty() && !read_into(tool::read_case_surface_bytes(c->surface_file), c->surface_bytes)) return out;
   return finish(std::move(c), path, surface);
 }
 

@@ -10,23 +10,18 @@
 
 namespace cathbox::tool {
 
-bool read_case_surface_bytes(const std::string& path, std::string& out, std::string& error) {
+base::Result<std::string> read_case_surface_bytes(const std::string& path) {
   std::error_code ec;
   const std::uintmax_t size = std::filesystem::file_size(path, ec);
   std::ifstream in(path, std::ios::binary);
-  if (ec || !in) {
-    error = path + ": cannot open the case's surface";
-    return false;
-  }
+  if (ec || !in) return base::Error{path + ": cannot open the case's surface"};
   if (size > kMaxCaseSurfaceBytes) {
-    error = path + ": surface of " + std::to_string(size) + " bytes is too large (at most " +
-            std::to_string(kMaxCaseSurfaceBytes) + ")";
-    return false;
+    return base::Error{path + ": surface of " + std::to_string(size) + " bytes is too large (at most " +
+                       std::to_string(kMaxCaseSurfaceBytes) + ")"};
   }
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  out = buffer.str();
-  return true;
+  return buffer.str();
 }
 
 base::Result<vessel::SurfaceMesh> decode_case_surface(std::string_view bytes, const std::string& path) {

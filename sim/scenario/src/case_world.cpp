@@ -79,9 +79,9 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel
   if (!read.ok()) return base::Error{read.errors.front().to_string()};
   std::optional<vessel::SurfaceMesh> own;  // the case's `surface`, when no surface was handed in
   if (surface_made == nullptr && !c.surface_path.empty()) {
-    std::string bytes, error;
-    if (!read_case_surface_bytes(c.surface_path, bytes, error)) return base::Error{error};
-    base::Result<vessel::SurfaceMesh> decoded = decode_case_surface(bytes, c.surface_path);
+    const base::Result<std::string> bytes = read_case_surface_bytes(c.surface_path);
+    if (!bytes) return base::Error{bytes.error().message};
+    base::Result<vessel::SurfaceMesh> decoded = decode_case_surface(*bytes, c.surface_path);
     if (!decoded) return base::Error{decoded.error().message};
     own = std::move(*decoded);
     surface_made = &*own;

@@ -56,8 +56,11 @@ ScenarioResult run_scenario(Simulator& sim, const Script& script, const Scenario
   std::vector<ScriptPlayer::ToolInfo> tools;
   for (std::size_t t = 0; t < sim.tool_count(); ++t) tools.push_back(tool_info(sim.rod(t).spec()));
   // Every tool a script names must exist before anything runs.
-  std::optional<ScriptPlayer> player = ScriptPlayer::make(script, tools, sim.active_tool(), options.script_name, result.error);
-  if (!player) return result;
+  base::Result<ScriptPlayer> player = ScriptPlayer::make(script, tools, sim.active_tool(), options.script_name);
+  if (!player) {
+    result.error = player.error().message;
+    return result;
+  }
   const std::int64_t every = std::max<std::int64_t>(1, options.every_ms);
   std::optional<CoilMetrics> coils;
   if (options.sac != nullptr) coils.emplace(sim, *options.sac);

@@ -27,9 +27,8 @@ double advance_motion(Motion& m, double value) {
 
 }  // namespace
 
-std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<const ToolInfo> tools,
-                                               std::size_t selected, const std::string& script_name,
-                                               std::string& error) {
+base::Result<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<const ToolInfo> tools,
+                                              std::size_t selected, const std::string& script_name) {
   std::size_t current = selected;
   std::vector<std::size_t> loads(tools.size(), 0);
   std::vector<bool> released(tools.size(), false);
@@ -38,18 +37,15 @@ std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<c
     if (a.kind == ActionKind::kLoadCoil) {
       const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
       if (current >= tools.size() || !tools[current].coil) {
-        error = located(script_name, a.line, "load_coil: '" + who + "' carries no coil");
-        return std::nullopt;
+        return base::Error{located(script_name, a.line, "load_coil: '" + who + "' carries no coil")};
       }
       const std::size_t listed = tools[current].next_coil_max_insertion_mm.size();
       if (loads[current] >= listed) {
-        error = located(script_name, a.line, "load_coil: '" + who + "' has no further coil (the case lists " +
-                                                  std::to_string(listed) + " after the first)");
-        return std::nullopt;
+        return base::Error{located(script_name, a.line, "load_coil: '" + who + "' has no further coil (the case lists " +
+                                                            std::to_string(listed) + " after the first)")};
       }
       if (!released[current]) {
-        error = located(script_name, a.line, "load_coil: the coil of '" + who + "' is not detached yet");
-        return std::nullopt;
+        return base::Error{located(script_name, a.line, "load_coil: the coil of '" + who + "' is not detached yet")};
       }
       ++loads[current];
       released[current] = false;
@@ -57,13 +53,11 @@ std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<c
     if (is_balloon(a.kind) && (current >= tools.size() || !tools[current].balloon)) {
       const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
       const std::string name = current < tools.size() ? tools[current].name : "?";
-      error = located(script_name, a.line, verb + ": tool '" + name + "' has no balloon");
-      return std::nullopt;
+      return base::Error{located(script_name, a.line, verb + ": tool '" + name + "' has no balloon")};
     }
     if (a.kind == ActionKind::kDetach && (current >= tools.size() || !tools[current].coil)) {
       const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
-      error = located(script_name, a.line, "detach: '" + who + "' carries no coil");
-      return std::nullopt;
+      return base::Error{located(script_name, a.line, "detach: '" + who + "' carries no coil")};
     }
     if (a.kind != ActionKind::kSelect) continue;
     const auto found = std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
@@ -72,8 +66,7 @@ std::optional<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<c
     if (!known) {
       std::string names;
       for (std::size_t i = 0; i < tools.size(); ++i) names += (i ? " " : "") + tools[i].name;
-      error = located(script_name, a.line, "select: the case has no tool '" + a.tool + "' (tools: " + names + ")");
-      return std::nullopt;
+      return base::Error{located(script_name, a.line, "select: the case has no tool '" + a.tool + "' (tools: " + names + ")")};
     }
   }
   return ScriptPlayer(script, tools, selected);

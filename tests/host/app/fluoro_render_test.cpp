@@ -41,9 +41,9 @@ struct Neuro {
 class FluoroRenderTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    std::string error;
-    window_ = GlWindow::create(kSize, kSize, "cathbox fluoro test", false, error).release();
-    ASSERT_NE(window_, nullptr) << error;
+    base::Result<std::unique_ptr<GlWindow>> window = GlWindow::create(kSize, kSize, "cathbox fluoro test", false);
+    ASSERT_TRUE(window) << window.error().message;
+    window_ = window->release();
     neuro_ = new Neuro;
     const vessel::HclmReadResult read = vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.hclm");
     ASSERT_TRUE(read.ok());
@@ -68,8 +68,8 @@ class FluoroRenderTest : public ::testing::Test {
   }
   void SetUp() override {
     ASSERT_NE(window_, nullptr);
-    std::string error;
-    ASSERT_TRUE(renderer_.init(error)) << error;
+    const base::Status<> renderer_ready = renderer_.init();
+    ASSERT_TRUE(renderer_ready) << renderer_ready.error().message;
     renderer_.set_vessel(neuro_->vessel);
   }
 
@@ -78,8 +78,8 @@ class FluoroRenderTest : public ::testing::Test {
     return FrameCapture::read_back_buffer(kSize, kSize);
   }
   static void save(const Image& img, const std::string& name) {
-    std::string error;
-    EXPECT_TRUE(PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img, error)) << error;
+    const base::Status<> written = PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img);
+    EXPECT_TRUE(written) << written.error().message;
   }
 
   // Live fluoroscopy showing pulse `pulse` with the given iodine and tools.
@@ -267,8 +267,8 @@ TEST_F(FluoroRenderTest, BeforeAnInjectionTheVesselsAreNotVisible) {
   renderer_.set_display({.noise = false});
   const Image with_vessel = render(live(1, no_contrast(), {}));
   FluoroRenderer bare;
-  std::string error;
-  ASSERT_TRUE(bare.init(error)) << error;
+  const base::Status<> bare_ready = bare.init();
+  ASSERT_TRUE(bare_ready) << bare_ready.error().message;
   bare.set_display({.noise = false});
   EXPECT_EQ(bare.render(Viewport{0, 0, kSize, kSize}, kSize, live(1, no_contrast(), {})), "");
   const Image no_vessel = FrameCapture::read_back_buffer(kSize, kSize);
@@ -483,8 +483,8 @@ TEST_F(FluoroRenderTest, NoiseIsDeterministicPerPulseAndFallsWithTheDose) {
   EXPECT_EQ(render(held).pixels, a.pixels);
   // Without the image cache (another renderer, made fresh) the same pulse gives the same image.
   FluoroRenderer fresh;
-  std::string error;
-  ASSERT_TRUE(fresh.init(error)) << error;
+  const base::Status<> fresh_ready = fresh.init();
+  ASSERT_TRUE(fresh_ready) << fresh_ready.error().message;
   fresh.set_vessel(neuro_->vessel);
   EXPECT_EQ(fresh.render(Viewport{0, 0, kSize, kSize}, kSize, held), "");
   EXPECT_EQ(FrameCapture::read_back_buffer(kSize, kSize).pixels, a.pixels);
@@ -637,8 +637,8 @@ TEST_F(FluoroRenderTest, AScenesBoxLeavesNothingOfThePreviousScene) {
   (void)render(live(60, filled, {wire_in_right_ica()}));
   const Image second = render(live(61, no_contrast(), {left}));
   FluoroRenderer fresh;
-  std::string error;
-  ASSERT_TRUE(fresh.init(error)) << error;
+  const base::Status<> fresh_ready = fresh.init();
+  ASSERT_TRUE(fresh_ready) << fresh_ready.error().message;
   fresh.set_vessel(neuro_->vessel);
   fresh.set_display({.noise = false});
   EXPECT_EQ(fresh.render(Viewport{0, 0, kSize, kSize}, kSize, live(61, no_contrast(), {left})), "");
@@ -653,7 +653,8 @@ TEST_F(FluoroRenderTest, AScenesBoxLeavesNothingOfThePreviousScene) {
   (void)render(live(63, no_contrast(), {wire_in_right_ica()}));
   const Image sub = render(dsa);
   FluoroRenderer fresh_dsa;
-  ASSERT_TRUE(fresh_dsa.init(error)) << error;
+  const base::Status<> fresh_dsa_ready = fresh_dsa.init();
+  ASSERT_TRUE(fresh_dsa_ready) << fresh_dsa_ready.error().message;
   fresh_dsa.set_vessel(neuro_->vessel);
   fresh_dsa.set_display({.noise = false});
   EXPECT_EQ(fresh_dsa.render(Viewport{0, 0, kSize, kSize}, kSize, dsa), "");
@@ -687,8 +688,8 @@ TEST_F(FluoroRenderTest, ABackgroundProjectionHoldsTheLastImageUntilTheNewPoseIs
   EXPECT_FALSE(renderer_.last_work().waiting_for_phantom);
   EXPECT_TRUE(renderer_.last_work().phantom_projected);
   FluoroRenderer at_once;
-  std::string error;
-  ASSERT_TRUE(at_once.init(error)) << error;
+  const base::Status<> at_once_ready = at_once.init();
+  ASSERT_TRUE(at_once_ready) << at_once_ready.error().message;
   at_once.set_vessel(neuro_->vessel);
   at_once.set_display({.noise = false});
   EXPECT_EQ(at_once.render(Viewport{0, 0, kSize, kSize}, kSize, live(71, no_contrast(), {wire_in_right_ica()}, lao30)), "");
@@ -701,8 +702,8 @@ TEST_F(FluoroRenderTest, ABackgroundProjectionHoldsTheLastImageUntilTheNewPoseIs
 // three composites, over several frames (the phantom attachment is never written).
 TEST_F(FluoroRenderTest, ReadingThePhantomThroughTheFramebufferGivesTheSameImages) {
   FluoroRenderer sampled;
-  std::string error;
-  ASSERT_TRUE(sampled.init(error, false)) << error;
+  const base::Status<> sampled_ready = sampled.init(false);
+  ASSERT_TRUE(sampled_ready) << sampled_ready.error().message;
   EXPECT_FALSE(sampled.uses_framebuffer_fetch());
   sampled.set_vessel(neuro_->vessel);
   if (!renderer_.uses_framebuffer_fetch()) GTEST_SKIP() << "the driver has no GL_EXT_shader_framebuffer_fetch";

@@ -40,10 +40,10 @@ TEST(PngWriter, RefusesMalformedImages) {
   img.pixels.resize(12);
   img.channels = 2;
   EXPECT_TRUE(PngWriter::encode(img).empty());
-  std::string error;
   img.channels = 3;
-  EXPECT_FALSE(PngWriter::write_file("/nonexistent-dir/x.png", img, error));
-  EXPECT_NE(error.find("/nonexistent-dir/x.png"), std::string::npos);
+  const base::Status<> written = PngWriter::write_file("/nonexistent-dir/x.png", img);
+  ASSERT_FALSE(written);
+  EXPECT_NE(written.error().message.find("/nonexistent-dir/x.png"), std::string::npos);
 }
 
 TEST(PngWriter, ACorruptedByteIsDetectedByTheReader) {

@@ -53,9 +53,9 @@ bool is_background(Rgb c) {
 class RenderTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    std::string error;
-    window_ = GlWindow::create(kWidth, kHeight, "cathbox render test", false, error).release();
-    ASSERT_NE(window_, nullptr) << error;
+    base::Result<std::unique_ptr<GlWindow>> window = GlWindow::create(kWidth, kHeight, "cathbox render test", false);
+    ASSERT_TRUE(window) << window.error().message;
+    window_ = window->release();
   }
   static void TearDownTestSuite() { delete window_; }
 
@@ -64,8 +64,8 @@ class RenderTest : public ::testing::Test {
     ASSERT_NE(window_, nullptr);
     window_->framebuffer_size(fw_, fh_);
     ASSERT_EQ(fw_, kWidth);
-    std::string error;
-    ASSERT_TRUE(renderer_.init(error)) << error;
+    const base::Status<> renderer_ready = renderer_.init();
+    ASSERT_TRUE(renderer_ready) << renderer_ready.error().message;
   }
   void use_tube(int rings, int sides) {
     const testing::FixtureMesh tube = testing::straight_tube(-50.0F, 50.0F, 6.0F, rings, sides);
@@ -115,7 +115,8 @@ TEST_F(RenderTest, GlobalViewShowsToolInsideTranslucentVesselTargetAndBackground
 
   // Round trip through the PNG writer, as the trainer's --screenshot does.
   const std::string path = std::string(CATHBOX_TEST_OUT) + "/render_test_global.png";
-  ASSERT_TRUE(PngWriter::write_file(path, shot, error)) << error;
+  const base::Status<> written = PngWriter::write_file(path, shot);
+  ASSERT_TRUE(written) << written.error().message;
   const auto img = testing::read_png(path, error);
   ASSERT_TRUE(img) << error;
   ASSERT_EQ(img->pixels, shot.pixels);
@@ -176,14 +177,14 @@ TEST_F(RenderTest, LocalViewFromTheTipSeesTheLumenAndNotTheBackground) {
   SceneRenderer& renderer = renderer_;
   const int fw = fw_;
   const int fh = fh_;
-  std::string error;
   const SceneSnapshot snap = tool_along_axis(-50.0F, -10.0F);
   renderer.update_tools(snap, RenderSettings{});
   const Viewport local{fw / 2, 0, fw / 2, fh / 2};
   renderer.clear(fw, fh);
   renderer.render_local(local, fh, snap);
   const Image img = FrameCapture::read_back_buffer(fw, fh);
-  ASSERT_TRUE(PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/render_test_local.png", img, error));
+  const base::Status<> written = PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/render_test_local.png", img);
+  ASSERT_TRUE(written) << written.error().message;
   // Inside the tube every pixel of the local view is wall (lit or fogged), none background;
   // the wall near the edge of the view is closer, so brighter than the far centre.
   int background = 0;

@@ -18,10 +18,11 @@ TEST(CaseCatalog, ListsCaseFilesSortedAndPicksTheDefault) {
   for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt", "neuro_x.case"}) {
     std::ofstream(dir / f) << "x";
   }
-  std::string error;
   const std::vector<std::string> ext = {".hclm", ".case"};
-  const CaseCatalog c = CaseCatalog::scan(dir.string(), ext, error);
-  ASSERT_EQ(c.entries().size(), 4U) << error;
+  const base::Result<CaseCatalog> scanned = CaseCatalog::scan(dir.string(), ext);
+  ASSERT_TRUE(scanned) << scanned.error().message;
+  const CaseCatalog& c = *scanned;
+  ASSERT_EQ(c.entries().size(), 4U);
   EXPECT_EQ(c.entries()[0].name, "alpha.hclm");
   EXPECT_EQ(c.entries()[1].name, "neuro_l2.hclm");
   EXPECT_EQ(c.entries()[2].name, "neuro_x.case");
@@ -32,13 +33,12 @@ TEST(CaseCatalog, ListsCaseFilesSortedAndPicksTheDefault) {
   EXPECT_EQ(c.default_index("absent"), 0);
 }
 
-TEST(CaseCatalog, AMissingFolderIsAnErrorLineAndAnEmptyList) {
-  std::string error;
+TEST(CaseCatalog, AMissingFolderIsAnErrorLine) {
   const std::vector<std::string> ext = {".hclm"};
-  const CaseCatalog c = CaseCatalog::scan("/no/such/folder", ext, error);
-  EXPECT_TRUE(c.entries().empty());
-  EXPECT_EQ(c.default_index("neuro"), -1);
-  EXPECT_NE(error.find("/no/such/folder"), std::string::npos);
+  const base::Result<CaseCatalog> c = CaseCatalog::scan("/no/such/folder", ext);
+  ASSERT_FALSE(c);
+  EXPECT_NE(c.error().message.find("/no/such/folder"), std::string::npos);
+  EXPECT_EQ(CaseCatalog{}.default_index("neuro"), -1) << "the empty list the trainer then shows";
 }
 
 TEST(FrameStats, PercentilesAndMeanRate) {

@@ -54,12 +54,13 @@ struct Camera {
 class WallFollowRender : public ::testing::Test {
  protected:
   void SetUp() override {
-    std::string error;
-    window_ = GlWindow::create(kWidth, kHeight, "cathbox wall follow test", false, error);
-    ASSERT_NE(window_, nullptr) << error;
+    base::Result<std::unique_ptr<GlWindow>> window = GlWindow::create(kWidth, kHeight, "cathbox wall follow test", false);
+    ASSERT_TRUE(window) << window.error().message;
+    window_ = std::move(*window);
     window_->framebuffer_size(fw_, fh_);
     ASSERT_EQ(fw_, kWidth);
-    ASSERT_TRUE(renderer_.init(error)) << error;
+    const base::Status<> renderer_ready = renderer_.init();
+    ASSERT_TRUE(renderer_ready) << renderer_ready.error().message;
   }
 
   Image render(const Camera& cam, const std::string& name) {
@@ -70,8 +71,8 @@ class WallFollowRender : public ::testing::Test {
     renderer_.update_tools(session::SceneSnapshot{}, settings);
     renderer_.render_global(vp, fh_, cam.view, cam.projection, settings);
     Image img = FrameCapture::read_back_buffer(fw_, fh_);
-    std::string error;
-    EXPECT_TRUE(PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img, error)) << error;
+    const base::Status<> written = PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img);
+    EXPECT_TRUE(written) << written.error().message;
     return img;
   }
 
@@ -85,7 +86,6 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   session::SessionCaseLoad loaded = session::load_session_case(dir + "neuro_angioplasty.case");
   ASSERT_TRUE(loaded.value) << loaded.error;
-  std::string error;
   auto script = session::ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value);
   ASSERT_TRUE(script) << (script ? "" : script.error().message);
   auto hand = std::move(*script);
@@ -233,7 +233,8 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   EXPECT_LT(widened_fluoro.fluoro_mesh.triangles.size(), shown->surface->mesh.triangles.size());
   EXPECT_EQ(widened_fluoro.fluoro->indices.size(), fluoro_surface(shown->surface->model).triangles.size());
   FluoroRenderer fluoro;
-  ASSERT_TRUE(fluoro.init(error)) << error;
+  const base::Status<> fluoro_ready = fluoro.init();
+  ASSERT_TRUE(fluoro_ready) << fluoro_ready.error().message;
   fluoro.set_vessel(FluoroVessel::build(mesh, unit->transport()));
   constexpr int kSize = 600;
   FluoroInputs in;
@@ -247,7 +248,8 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
     renderer_.clear(fw_, fh_);
     EXPECT_EQ(fluoro.render(Viewport{0, 0, kSize, kSize}, fh_, in), "");
     Image img = FrameCapture::read_back_buffer(fw_, fh_);
-    EXPECT_TRUE(PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img, error)) << error;
+    const base::Status<> written = PngWriter::write_file(std::string(CATHBOX_TEST_OUT) + "/" + name, img);
+    EXPECT_TRUE(written) << written.error().message;
     return img;
   };
   const Image fluoro_before = fluoro_image("wall_follow_fluoro_before.png");

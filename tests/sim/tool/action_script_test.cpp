@@ -72,9 +72,8 @@ TEST(ActionScript, DetachActsOnTheSelectedCoil) {
   ASSERT_TRUE(s) << s.error().message;
   ASSERT_EQ(s->actions[1].kind, ActionKind::kDetach);
   const std::vector<ScriptPlayer::ToolInfo> tools{{"micro", 100.0, false}, {"coil", 200.0, true}};
-  std::string error;
-  std::optional<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "d.actions", error);
-  ASSERT_TRUE(player) << error;
+  base::Result<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "d.actions");
+  ASSERT_TRUE(player) << player.error().message;
   for (std::int64_t ms = 0; ms < 5; ++ms) EXPECT_FALSE(player->advance(ms).detach);
   const ScriptPlayer::Step step = player->advance(5);
   ASSERT_TRUE(step.detach);
@@ -82,8 +81,9 @@ TEST(ActionScript, DetachActsOnTheSelectedCoil) {
   EXPECT_EQ(step.detach_line, 2u);
   const ScriptParse wrong = parse_script("0 select micro\n5 detach\n", "d.actions");
   ASSERT_TRUE(wrong);
-  EXPECT_FALSE(ScriptPlayer::make(*wrong, tools, 1, "d.actions", error));
-  EXPECT_EQ(error, "d.actions:2: detach: 'micro' carries no coil");
+  const base::Result<ScriptPlayer> refused = ScriptPlayer::make(*wrong, tools, 1, "d.actions");
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().message, "d.actions:2: detach: 'micro' carries no coil");
   EXPECT_EQ(parse_script("0 detach now\n", "d.actions").error().message,
             "d.actions:1: detach: takes no arguments (it releases the selected tool's coil)");
 }
@@ -99,9 +99,8 @@ TEST(ActionScript, LoadCoilFeedsTheNextCoilFromTheHub) {
   ASSERT_EQ(s->actions[3].kind, ActionKind::kLoadCoil);
   ScriptPlayer::ToolInfo coil{"coil", 2000.0, true, false, {700.0}};
   const std::vector<ScriptPlayer::ToolInfo> tools{{"micro", 100.0, false}, coil};
-  std::string error;
-  std::optional<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "l.actions", error);
-  ASSERT_TRUE(player) << error;
+  base::Result<ScriptPlayer> player = ScriptPlayer::make(*s, tools, 0, "l.actions");
+  ASSERT_TRUE(player) << player.error().message;
   for (std::int64_t ms = 0; ms < 200; ++ms) EXPECT_FALSE(player->advance(ms).load_coil);
   EXPECT_EQ(player->insertion_mm(1), 50.0);
   const ScriptPlayer::Step step = player->advance(200);
@@ -115,8 +114,9 @@ TEST(ActionScript, LoadCoilFeedsTheNextCoilFromTheHub) {
   const auto refused = [&](const char* text, std::vector<ScriptPlayer::ToolInfo> with) {
     const ScriptParse p = parse_script(text, "l.actions");
     EXPECT_TRUE(p) << p.error().message;
-    EXPECT_FALSE(ScriptPlayer::make(*p, with, 0, "l.actions", error));
-    return error;
+    const base::Result<ScriptPlayer> made = ScriptPlayer::make(*p, with, 0, "l.actions");
+    EXPECT_FALSE(made);
+    return made ? std::string() : made.error().message;
   };
   EXPECT_EQ(refused("0 select micro\n5 load_coil\n", tools), "l.actions:2: load_coil: 'micro' carries no coil");
   EXPECT_EQ(refused("0 select coil\n5 load_coil\n", tools), "l.actions:2: load_coil: the coil of 'coil' is not detached yet");

@@ -449,9 +449,8 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   const double second_mm = c->tools[coil].next_coils[0].length_mm;
   std::vector<ScriptPlayer::ToolInfo> infos;
   for (const ToolSpec& t : c->tools) infos.push_back(tool_info(t));
-  std::string error;
-  std::optional<ScriptPlayer> player = ScriptPlayer::make(*script, infos, 0, "neuro_coiling.actions", error);
-  ASSERT_TRUE(player) << error;
+  base::Result<ScriptPlayer> player = ScriptPlayer::make(*script, infos, 0, "neuro_coiling.actions");
+  ASSERT_TRUE(player) << player.error().message;
   CoilMetrics metrics(sim, sac);
   double micro_best_depth = -1e9;
   std::optional<double> depth_at_deploy;

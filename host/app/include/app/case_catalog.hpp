@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
+
 namespace cathbox::app {
 
 struct CaseEntry {
@@ -15,10 +17,8 @@ struct CaseEntry {
 
 class CaseCatalog {
  public:
-  // Lists `dir`; an unreadable folder gives an empty catalog and one line in `error`.
-  [[nodiscard]] static CaseCatalog scan(const std::string& dir,
-                                        std::span<const std::string> extensions,
-                                        std::string& error);
+  // Lists `dir`; or one line naming an unreadable folder.
+  [[nodiscard]] static base::Result<CaseCatalog> scan(const std::string& dir, std::span<const std::string> extensions);
 
   [[nodiscard]] const std::vector<CaseEntry>& entries() const { return entries_; }
   // Puts `first` before the scanned entries (the server's assigned cases).

@@ -44,6 +44,7 @@
 #include "app/shader_program.hpp"
 #include "app/tube_mesh.hpp"
 #include "app/viewport.hpp"
+#include "base/result.hpp"
 #include "flow/head_phantom.hpp"
 
 namespace cathbox::app {
@@ -55,10 +56,10 @@ class FluoroRenderer {
   FluoroRenderer(const FluoroRenderer&) = delete;
   FluoroRenderer& operator=(const FluoroRenderer&) = delete;
 
-  // Compiles the shaders and makes the buffers; false with the driver's log in `error`.
+  // Compiles the shaders and makes the buffers; or the driver's log as the error.
   // `framebuffer_fetch`: read the phantom in the composite through GL_EXT_shader_framebuffer_fetch
   // when the driver has it (false: always as a texture; tests compare the two).
-  [[nodiscard]] bool init(std::string& error, bool framebuffer_fetch = true);
+  [[nodiscard]] base::Status<> init(bool framebuffer_fetch = true);
   [[nodiscard]] bool uses_framebuffer_fetch() const { return fbfetch_; }
   void set_phantom(flow::HeadPhantom phantom);  // default: HeadPhantom::neuro()
   // The vessel whose lumen holds the contrast (uploaded; the cell layout of the transport the

@@ -4,15 +4,17 @@
 #include <memory>
 #include <string>
 
+#include "base/result.hpp"
+
 struct GLFWwindow;
 
 namespace cathbox::app {
 
 class GlWindow {
  public:
-  // Returns null and sets `error` to one line when there is no display or no GL 3.3 context.
-  [[nodiscard]] static std::unique_ptr<GlWindow> create(int width, int height, const char* title,
-                                                        bool visible, std::string& error);
+  // Or one line when there is no display or no GL 3.3 context.
+  [[nodiscard]] static base::Result<std::unique_ptr<GlWindow>> create(int width, int height, const char* title,
+                                                                      bool visible);
   ~GlWindow();
   GlWindow(const GlWindow&) = delete;
   GlWindow& operator=(const GlWindow&) = delete;

@@ -20,6 +20,7 @@
 #include "app/fluoro_renderer.hpp"
 #include "app/fluoro_vessel.hpp"
 #include "app/gl_window.hpp"
+#include "base/result.hpp"
 #include "flow/c_arm.hpp"
 #include "session/session.hpp"
 #include "vessel/surface_mesh.hpp"
@@ -28,9 +29,9 @@ namespace cathbox::app {
 
 class OffscreenFluoro {
  public:
-  // Null with one line in `error`: no display, no GL 3.3, a size outside 8..2048.
-  [[nodiscard]] static std::unique_ptr<OffscreenFluoro> create(const session::Session& session, int width, int height,
-                                                               std::string& error);
+  // Or one line: no display, no GL 3.3, a size outside 8..2048.
+  [[nodiscard]] static base::Result<std::unique_ptr<OffscreenFluoro>> create(const session::Session& session, int width,
+                                                                             int height);
   // The image of the session's newest snapshot through `pose` into `grey` (width * height bytes,
   // top row first). Empty, or the renderer's one line (the image then black).
   [[nodiscard]] std::string render(session::Session& session, const flow::CArmPose& pose, std::span<std::uint8_t> grey);

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
+
 namespace cathbox::app {
 
 struct Image {
@@ -22,8 +24,8 @@ class PngWriter {
  public:
   // The whole PNG file as bytes; empty when the image is malformed (size, channels, pixel count).
   [[nodiscard]] static std::vector<std::uint8_t> encode(const Image& image);
-  // Writes the file; on failure returns false and sets `error` to one line.
-  [[nodiscard]] static bool write_file(const std::string& path, const Image& image, std::string& error);
+  // Writes the file; or one line saying what failed.
+  [[nodiscard]] static base::Status<> write_file(const std::string& path, const Image& image);
 };
 
 }  // namespace cathbox::app

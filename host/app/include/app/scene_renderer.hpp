@@ -17,6 +17,7 @@
 #include "app/shader_program.hpp"
 #include "app/tube_mesh.hpp"
 #include "app/viewport.hpp"
+#include "base/result.hpp"
 
 namespace cathbox::app {
 
@@ -44,7 +45,7 @@ struct SceneColors {
 
 class SceneRenderer {
  public:
-  [[nodiscard]] bool init(std::string& error);
+  [[nodiscard]] base::Status<> init();  // or the driver's shader log
   // The vessel surface. `detail` is drawn in the local view (close to the tip, culled by
   // chunks); `overview`, if not empty, in the global view (a coarser level of the same surface,
   // since the global view cannot show sub-pixel triangles and each costs as much to submit).

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "app/screen_layout.hpp"
+#include "base/result.hpp"
 #include "session/scene_snapshot.hpp"
 
 namespace cathbox::app {
@@ -23,9 +24,8 @@ struct ScreenshotScene {
   float target_radius_mm = 0.0F;
 };
 
-// False with one line in `error`.
-[[nodiscard]] bool write_screenshot(const std::string& path, const ScreenshotScene& scene,
-                                    const session::SceneSnapshot& snapshot, int fb_width, int fb_height,
-                                    std::string& error);
+// Or one line saying what failed.
+[[nodiscard]] base::Status<> write_screenshot(const std::string& path, const ScreenshotScene& scene,
+                                              const session::SceneSnapshot& snapshot, int fb_width, int fb_height);
 
 }  // namespace cathbox::app

@@ -5,6 +5,8 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "base/result.hpp"
+
 namespace cathbox::app {
 
 class ShaderProgram {
@@ -14,8 +16,8 @@ class ShaderProgram {
   ShaderProgram(const ShaderProgram&) = delete;
   ShaderProgram& operator=(const ShaderProgram&) = delete;
 
-  // Compiles and links; on failure returns false with the driver's log in `error`.
-  [[nodiscard]] bool build(const char* vertex_src, const char* fragment_src, std::string& error);
+  // Compiles and links; or the driver's log as the error.
+  [[nodiscard]] base::Status<> build(const char* vertex_src, const char* fragment_src);
   void use() const;
   void set(const char* name, const glm::mat4& m) const;
   void set(const char* name, const glm::vec4& v) const;

@@ -18,6 +18,7 @@
 #include "app/trainer_launch.hpp"
 #include "app/trainer_options.hpp"
 #include "app/vessel_follower.hpp"
+#include "base/result.hpp"
 #include "device/foot_pedal.hpp"
 #include "session/fluoro_switches.hpp"
 #include "session/keyboard_input.hpp"
@@ -47,8 +48,8 @@ class TrainerApp {
   [[nodiscard]] int run_headless_summary();
   [[nodiscard]] int run_headless_replay();
   [[nodiscard]] int run_window();
-  [[nodiscard]] bool open_live(const std::string& case_path, std::string& error);
-  [[nodiscard]] bool open_replay(const std::string& path, std::string& error);
+  [[nodiscard]] base::Status<> open_live(const std::string& case_path);
+  [[nodiscard]] base::Status<> open_replay(const std::string& path);
   // Closes the live run (its record) and hands the record to the server link.
   void close_live(bool background_upload = true);
   // --server or the settings file: the link (exit code, or -1 to go on).

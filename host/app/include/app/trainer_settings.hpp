@@ -8,6 +8,7 @@
 
 #include "app/server_link.hpp"
 #include "app/trainer_options.hpp"
+#include "base/result.hpp"
 
 namespace cathbox::app {
 
@@ -15,11 +16,11 @@ namespace cathbox::app {
 [[nodiscard]] std::string trainer_settings_path();
 
 // Fills the server options the command line left empty from options.settings_file (or the
-// default path). False with `error` on a damaged file.
-[[nodiscard]] bool apply_trainer_settings(TrainerOptions& options, std::string& error);
+// default path); or one line naming a damaged file.
+[[nodiscard]] base::Status<> apply_trainer_settings(TrainerOptions& options);
 
 // The link's options from the trainer's: the password from password_file (its first line) or
-// $CATHBOX_PASSWORD. False with `error` when the user or the password is missing.
-[[nodiscard]] bool server_link_options(const TrainerOptions& options, ServerLinkOptions& out, std::string& error);
+// $CATHBOX_PASSWORD; or one line when the user or the password is missing.
+[[nodiscard]] base::Result<ServerLinkOptions> server_link_options(const TrainerOptions& options);
 
 }  // namespace cathbox::app

@@ -15,8 +15,8 @@ namespace cathbox::tool {
 // Files larger than this are refused before reading (a 300 k-triangle lumen is ~9 MB).
 inline constexpr std::size_t kMaxCaseSurfaceBytes = 256u << 20;
 
-// Reads `path` (at most kMaxCaseSurfaceBytes) into `out`; false with one line "path: what".
-[[nodiscard]] bool read_case_surface_bytes(const std::string& path, std::string& out, std::string& error);
+// The bytes of `path` (at most kMaxCaseSurfaceBytes), or one line "path: what".
+[[nodiscard]] base::Result<std::string> read_case_surface_bytes(const std::string& path);
 
 // The surface from its bytes: closed, manifold, one orientation, outward (positive volume). Or
 // one line "path: what".

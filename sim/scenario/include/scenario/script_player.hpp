@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "scenario/action_script.hpp"
 
 namespace cathbox::tool {
@@ -29,15 +30,13 @@ class ScriptPlayer {
   };
 
   // Checks that every tool the script selects exists, that every `detach` finds a coil and
-  // every inflate / deflate a balloon on the tool selected then; on failure returns null with
-  // one line in `error`: "file:line: select: the case has no tool 'x' (tools: a b)",
+  // every inflate / deflate a balloon on the tool selected then; on failure returns one line: "file:line: select: the case has no tool 'x' (tools: a b)",
   // "file:line: detach: 'x' carries no coil" or "file:line: inflate: tool 'x' has no balloon";
   // and that every `load_coil` finds a next coil on the selected tool and comes after a
   // `detach` of its present coil ("file:line: load_coil: 'x' has no further coil (the case
   // lists 1 after the first)", "file:line: load_coil: the coil of 'x' is not detached yet").
-  [[nodiscard]] static std::optional<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
-                                                        std::size_t selected, const std::string& script_name,
-                                                        std::string& error);
+  [[nodiscard]] static base::Result<ScriptPlayer> make(const Script& script, std::span<const ToolInfo> tools,
+                                                       std::size_t selected, const std::string& script_name);
 
   // A balloon action due at this step, on the tool selected when it came.
   struct DeviceAction {
