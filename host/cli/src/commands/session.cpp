@@ -107,16 +107,23 @@ int run_replay(Args& args) {
       return kExitFailure;
     }
   }
-  std::printf("%s: replayed %lld of %lld recorded ticks, %lld state hashes checked\n", path.c_str(),
-              static_cast<long long>(r.ticks), static_cast<long long>(r.recorded_ticks),
-              static_cast<long long>(r.hashes_checked));
-  if (!r.end && r.error.empty()) std::printf("the record has no end block: the recording process stopped (killed?)\n");
-  if (r.mismatch) {
+  const auto print_mismatch = [&] {
     std::printf("state hash differs at tick %lld (%.3f s): recorded %016llx, replayed %016llx\n",
                 static_cast<long long>(r.mismatch->tick),
                 static_cast<double>((r.mismatch->tick + 1) * replay->header().period_us) * 1e-6,
                 static_cast<unsigned long long>(r.mismatch->recorded), static_cast<unsigned long long>(r.mismatch->replayed));
+  };
+  // --check stops at the first differing hash: the reader is then short of the end block by
+  // design, so the tick counts and the "no end block" line would only mislead.
+  if (check && r.mismatch && r.error.empty()) {
+    print_mismatch();
+    return kExitFailure;
   }
+  std::printf("%s: replayed %lld of %lld recorded ticks, %lld state hashes checked\n", path.c_str(),
+              static_cast<long long>(r.ticks), static_cast<long long>(r.recorded_ticks),
+              static_cast<long long>(r.hashes_checked));
+  if (!r.end && r.error.empty()) std::printf("the record has no end block: the recording process stopped (killed?)\n");
+  if (r.mismatch) print_mismatch();
   if (!r.error.empty()) {
     std::fprintf(stderr, "%s\n", r.error.c_str());
     return kExitBadInput;
