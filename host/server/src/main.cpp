@@ -240,6 +240,17 @@ int upload_case_file(Store& store, SystemClock& clock, const std::string& case_p
   return kOk;
 }
 
+// `admin backup FILE` or `admin restore FILE`.
+int backup_or_restore(bool backup, const std::string& url, const std::string& file) {
+  const Status done = backup ? backup_database(url, file) : restore_database(url, file);
+  if (!done) {
+    std::cerr << "cathbox-server: " << done.error().message << '\n';
+    return exit_code_for(done.error());
+  }
+  std::printf("%s %s\n", backup ? "backed up to" : "restored from", file.c_str());
+  return kOk;
+}
+
 // `admin export-user`: 1 when there is no such user, 2 when DIR is not a new or empty folder.
 int export_user_data(Store& store, SystemClock& clock, const std::string& name, const std::string& dir) {
   const char* login = std::getenv("USER");
@@ -319,15 +330,7 @@ int main(int argc, char** argv) {
   so.cache = data + "/cache";
   if (!admin->parsed()) return serve(url, listen, so);
   // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
-  if (backup_cmd->parsed() || restore_cmd->parsed()) {
-    const Status done = backup_cmd->parsed() ? backup_database(url, backup_file) : restore_database(url, backup_file);
-    if (!done) {
-      std::cerr << "cathbox-server: " << done.error().message << '\n';
-      return exit_code_for(done.error());
-    }
-    std::printf("%s %s\n", backup_cmd->parsed() ? "backed up to" : "restored from", backup_file.c_str());
-    return kOk;
-  }
+  if (backup_cmd->parsed() || restore_cmd->parsed()) return backup_or_restore(backup_cmd->parsed(), url, backup_file);
 
   int code = kOk;
   std::unique_ptr<Store> store = open_store(url, code);
