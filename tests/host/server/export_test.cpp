@@ -3,12 +3,14 @@
 // the account without its password hash, the assignment, the result with its metrics, the record
 // byte for byte as the server stores it, the audit rows about the trainee (the export's own
 // among them), and a manifest whose sizes and SHA-256 match every file. Bad input: an unknown
-// user and a folder that is not empty; neither writes anything nor logs an export.
+// user and a folder that is not empty; neither writes anything nor logs an export. The program
+// answers them with one line and exit 1 and 2.
 #include <filesystem>
 #include <fstream>
 
 #include "server/audit_log.hpp"
 #include "server/sha256.hpp"
+#include "server/testing/child_process.hpp"
 #include "server/user_export.hpp"
 #include "record_files.hpp"
 #include "support/api_fixture.hpp"
@@ -137,6 +139,28 @@ TEST_P(ExportTest, AnUnknownUserOrAFolderNotEmptyIsOneLineAndWritesNothing) {
   ASSERT_TRUE(empty) << empty.error().message;
   EXPECT_EQ(empty.value().results, 0);
   EXPECT_EQ(read_json(folder / "empty" / "results.json"), json::array());
+  EXPECT_EQ(export_rows(centre), 1);
+}
+
+TEST_P(ExportTest, TheProgramsExitCodesAndLinesAreTheDocumentedOnes) {
+  ApiFixture centre(GetParam());
+  centre.user("alice", Role::kTrainee);
+  const fs::path folder = temp_folder();
+  const std::string log = (folder / "program.log").string();
+  const auto run = [&](const std::string& name, const fs::path& dir) {
+    fs::remove(log);
+    testing::ChildOptions options;
+    options.stdout_file = log;
+    return testing::run_process({testing::sibling_program("cathbox-server"), "--db", centre.db_url, "admin", "export-user", name, dir.string()},
+                                options);
+  };
+  EXPECT_EQ(run("alice", folder / "out"), 0);
+  EXPECT_EQ(read_all(log).rfind("exported alice to " + (folder / "out").string() + ": 0 results, 4 files, ", 0), 0U) << read_all(log);
+  EXPECT_EQ(run("alice", folder / "out"), 2);
+  EXPECT_EQ(read_all(log), "cathbox-server: " + (folder / "out").string() + ": not empty; an export goes into a new or empty folder\n");
+  EXPECT_EQ(run("mallory", folder / "other"), 1);
+  EXPECT_EQ(read_all(log), "cathbox-server: no user 'mallory'\n");
+  EXPECT_FALSE(fs::exists(folder / "other"));
   EXPECT_EQ(export_rows(centre), 1);
 }
 
