@@ -21,6 +21,7 @@
 #include "server/password_hasher.hpp"
 #include "server/server_app.hpp"
 #include "server/store.hpp"
+#include "server/user_export.hpp"
 
 namespace {
 
@@ -239,6 +240,30 @@ int upload_case_file(Store& store, SystemClock& clock, const std::string& case_p
   return kOk;
 }
 
+// `admin backup FILE` or `admin restore FILE`.
+int backup_or_restore(bool backup, const std::string& url, const std::string& file) {
+  const Status done = backup ? backup_database(url, file) : restore_database(url, file);
+  if (!done) {
+    std::cerr << "cathbox-server: " << done.error().message << '\n';
+    return exit_code_for(done.error());
+  }
+  std::printf("%s %s\n", backup ? "backed up to" : "restored from", file.c_str());
+  return kOk;
+}
+
+// `admin export-user`: 1 when there is no such user, 2 when DIR is not a new or empty folder.
+int export_user_data(Store& store, SystemClock& clock, const std::string& name, const std::string& dir) {
+  const char* login = std::getenv("USER");
+  Result<UserExport> done = export_user(store, name, dir, login != nullptr && login[0] != '\0' ? login : "cli", clock.now_us());
+  if (!done) {
+    std::cerr << "cathbox-server: " << done.error().message << '\n';
+    return done.error().status == 404 ? kFailure : kBadInput;
+  }
+  std::printf("exported %s to %s: %d results, %d files, %lld bytes\n", name.c_str(), dir.c_str(), done.value().results, done.value().files,
+              static_cast<long long>(done.value().bytes));
+  return kOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -290,6 +315,10 @@ int main(int argc, char** argv) {
   backup_cmd->add_option("FILE", backup_file)->required();
   CLI::App* restore_cmd = admin->add_subcommand("restore", "restore FILE (from admin backup) into an empty --db");
   restore_cmd->add_option("FILE", backup_file)->required();
+  std::string export_dir;
+  CLI::App* export_cmd = admin->add_subcommand("export-user", "write an account's data (no password hash), results and records into DIR (new or empty)");
+  export_cmd->add_option("NAME", user)->required();
+  export_cmd->add_option("DIR", export_dir)->required();
 
   try {
     cli.parse(argc, argv);
@@ -301,15 +330,7 @@ int main(int argc, char** argv) {
   so.cache = data + "/cache";
   if (!admin->parsed()) return serve(url, listen, so);
   // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
-  if (backup_cmd->parsed() || restore_cmd->parsed()) {
-    const Status done = backup_cmd->parsed() ? backup_database(url, backup_file) : restore_database(url, backup_file);
-    if (!done) {
-      std::cerr << "cathbox-server: " << done.error().message << '\n';
-      return exit_code_for(done.error());
-    }
-    std::printf("%s %s\n", backup_cmd->parsed() ? "backed up to" : "restored from", backup_file.c_str());
-    return kOk;
-  }
+  if (backup_cmd->parsed() || restore_cmd->parsed()) return backup_or_restore(backup_cmd->parsed(), url, backup_file);
 
   int code = kOk;
   std::unique_ptr<Store> store = open_store(url, code);
@@ -327,6 +348,7 @@ int main(int argc, char** argv) {
       return kOk;
     }
     if (add_case->parsed()) return upload_case_file(*store, clock, case_path, case_name);
+    if (export_cmd->parsed()) return export_user_data(*store, clock, user, export_dir);
     std::optional<Role> parsed_role;
     if (!role.empty()) {
       parsed_role = parse_role(role);
