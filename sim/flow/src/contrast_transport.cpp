@@ -133,43 +133,44 @@ double ContrastTransport::face_flow(const SegmentCells& s, std::uint32_t segment
   return f;
 }
 
+std::pair<double, double> ContrastTransport::node_outflow_mm3_s(int node) const {
+  double in = 0.0, out = 0.0;
+  for (std::uint32_t e = node_first_[static_cast<std::size_t>(node)]; e < node_first_[static_cast<std::size_t>(node) + 1]; ++e) {
+    const SegmentCells& s = segs_[node_ends_[e] / 2];
+    if (s.sac >= 0) continue;
+    const double into = (node_ends_[e] & 1u) ? s.flow_mm3_s : -s.flow_mm3_s;
+    (into > 0.0 ? in : out) += std::abs(into);
+  }
+  const bool outlet = node_kind_[static_cast<std::size_t>(node)] == NodeKind::kOutlet;
+  return {out, outlet ? std::max(0.0, in - out) : 0.0};
+}
+
+std::pair<int, int> ContrastTransport::injection_entry(const SegmentCells& tip) const {
+  if (tip.sac >= 0) return {sacs_[static_cast<std::size_t>(tip.sac)].mouth, 1};
+  int dir = 1;
+  if (tip.flow_mm3_s < 0.0) dir = -1;
+  if (tip.flow_mm3_s == 0.0 && network_->node_pressure_Pa(tip.start_node) < network_->node_pressure_Pa(tip.end_node)) dir = -1;
+  int down = dir > 0 ? tip.end_node : tip.start_node;
+  if (tip.flow_mm3_s == 0.0) {
+    const auto [o, d] = node_outflow_mm3_s(down);
+    if (o + d <= 0.0) {
+      dir = -dir;
+      down = dir > 0 ? tip.end_node : tip.start_node;
+    }
+  }
+  return {down, dir};
+}
+
 std::string ContrastTransport::route_injection(std::uint32_t segment, double arc_mm) {
   for (SegmentCells& s : segs_) s.added = 0.0;
   std::fill(node_added_.begin(), node_added_.end(), 0.0);
   const SegmentCells& tip = segs_[segment];
-  // Flow leaving a node through its segments and, at an outlet, its drain.
-  const auto outflow = [&](int node) {
-    double in = 0.0, out = 0.0;
-    for (std::uint32_t e = node_first_[static_cast<std::size_t>(node)]; e < node_first_[static_cast<std::size_t>(node) + 1]; ++e) {
-      const SegmentCells& s = segs_[node_ends_[e] / 2];
-      if (s.sac >= 0) continue;
-      const double into = (node_ends_[e] & 1u) ? s.flow_mm3_s : -s.flow_mm3_s;
-      (into > 0.0 ? in : out) += std::abs(into);
-    }
-    const bool outlet = node_kind_[static_cast<std::size_t>(node)] == NodeKind::kOutlet;
-    return std::pair<double, double>{out, outlet ? std::max(0.0, in - out) : 0.0};
-  };
-  int dir = 1;
-  int down = tip.end_node;
-  if (tip.sac >= 0) {
-    down = sacs_[static_cast<std::size_t>(tip.sac)].mouth;
-  } else {
-    if (tip.flow_mm3_s < 0.0) dir = -1;
-    if (tip.flow_mm3_s == 0.0 && network_->node_pressure_Pa(tip.start_node) < network_->node_pressure_Pa(tip.end_node)) dir = -1;
-    down = dir > 0 ? tip.end_node : tip.start_node;
-    if (tip.flow_mm3_s == 0.0) {
-      const auto [o, d] = outflow(down);
-      if (o + d <= 0.0) {
-        dir = -dir;
-        down = dir > 0 ? tip.end_node : tip.start_node;
-      }
-    }
-  }
+  const auto [down, dir] = injection_entry(tip);
   node_added_[static_cast<std::size_t>(down)] = 1.0;
   for (int node : node_order_) {
     const double a = node_added_[static_cast<std::size_t>(node)];
     if (a <= 0.0) continue;
-    const auto [out, drain] = outflow(node);
+    const auto [out, drain] = node_outflow_mm3_s(node);
     if (out + drain <= 0.0) return "no blood flow carries contrast away from the catheter tip";
     for (std::uint32_t e = node_first_[static_cast<std::size_t>(node)]; e < node_first_[static_cast<std::size_t>(node) + 1]; ++e) {
       const std::uint32_t si = node_ends_[e] / 2;

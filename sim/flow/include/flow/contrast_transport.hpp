@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "flow/centerline_locator.hpp"
@@ -116,6 +117,10 @@ class ContrastTransport {
   [[nodiscard]] double face_flow(const SegmentCells& s, std::uint32_t segment, std::uint32_t face, double w, double q) const;
   // Steady flow entering node `mouth` from every segment but the sac's.
   [[nodiscard]] double mouth_inflow_mm3_s(int mouth, std::uint32_t sac_segment) const;
+  // Flow leaving `node` through its segments and, at an outlet, its drain: {out, drain}.
+  [[nodiscard]] std::pair<double, double> node_outflow_mm3_s(int node) const;
+  // The node contrast from the tip at `tip` first reaches, with the tip's flow direction.
+  [[nodiscard]] std::pair<int, int> injection_entry(const SegmentCells& tip) const;
   [[nodiscard]] std::string route_injection(std::uint32_t segment, double arc_mm);
   void update_substeps();
   void advect(double dt, double w, double q);
