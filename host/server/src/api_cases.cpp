@@ -99,7 +99,12 @@ Reply upload_case(Call& call) {
   b.case_text = f.string("case", kMaxCaseTextBytes);
   b.hclm_file = f.optional_string("hclm_file", 64).value_or("");
   b.hclm_text = f.optional_string("hclm", kMaxHclmBytes).value_or("");
-  f.only({"name", "case_file", "case", "hclm_file", "hclm"});
+  b.surface_file = f.optional_string("surface_file", 64).value_or("");
+  const std::string surface_hex = f.optional_string("surface_hex", kMaxBundleBytes).value_or("");
+  f.only({"name", "case_file", "case", "hclm_file", "hclm", "surface_file", "surface_hex"});
+  if (!f.ok()) return f.error();
+  if (std::optional<std::string> bytes = bytes_of_hex(surface_hex)) b.surface_bytes = std::move(*bytes);
+  else return make_error(400, "field 'surface_hex': not lowercase hex of whole bytes");
   if (!f.ok()) return f.error();
   Result<CaseUploadOutcome> up = call.c.cases.upload(name, b, call.caller.user_id, call.c.clock.now_us());
   if (!up) return up.error();

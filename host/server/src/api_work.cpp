@@ -85,7 +85,9 @@ std::string not_the_assigned_case(Call& call, const Assignment& a, const Checked
   const std::string file = r.case_file.substr(0, 64);
   if (!library || r.case_text != library->case_text) return "record: header field 'case_text' (" + file + ")" + tail;
   if (r.hclm_text != library->hclm_text) return "record: header field 'vessel_text' (" + r.hclm_file.substr(0, 64) + ")" + tail;
+  if (r.surface_bytes != library->surface_bytes) return "record: header field 'surface_bytes' (" + r.surface_file.substr(0, 64) + ")" + tail;
   if (r.case_file != library->case_file) return "record: header field 'case_file' (" + file + ")" + tail;
+  if (r.surface_file != library->surface_file) return "record: header field 'surface_file' (" + r.surface_file.substr(0, 64) + ")" + tail;
   return "record: header field 'vessel_file' (" + r.hclm_file.substr(0, 64) + ")" + tail;
 }
 

@@ -8,6 +8,7 @@
 #include "server/sha256.hpp"
 #include "server/zstd_codec.hpp"
 #include "scenario/case_file.hpp"
+#include "scenario/case_surface.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/mesh_wire.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -32,6 +33,25 @@ Error refuse(const std::string& file, int line, const std::string& message) {
   return make_error(422, file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + message);
 }
 
+// A `surface FILE` case: the uploaded surface is that file (plain name) and a valid CBXMESH2
+// lumen; a case without the line carries no surface.
+Status check_surface(const CaseBundle& b, const tool::Case& c) {
+  const int line = line_of(b.case_text, "surface");
+  if (c.surface_path.empty()) {
+    if (!b.surface_file.empty() || !b.surface_bytes.empty()) return refuse(b.case_file, 0, "the case has no 'surface' line, but a surface was uploaded");
+    return Ok{};
+  }
+  const std::string name = std::filesystem::path(c.surface_path).filename().string();
+  if (b.surface_file.empty()) return refuse(b.case_file, line, "the case names surface '" + name + "': upload it as surface_file/surface_hex");
+  if (c.surface_path != name || name != b.surface_file) {
+    return refuse(b.case_file, line, "surface '" + c.surface_path + "' is not the uploaded surface file '" + b.surface_file + "' (give its plain name)");
+  }
+  if (const std::string bad = check_slug(b.surface_file); !bad.empty()) return make_error(400, "field 'surface_file': " + bad);
+  base::Result<vessel::SurfaceMesh> decoded = tool::decode_case_surface(b.surface_bytes, b.surface_file);
+  if (!decoded) return make_error(422, decoded.error().message);
+  return Ok{};
+}
+
 }  // namespace
 
 Result<CaseCheck> check_case(const CaseBundle& b, const UploadLimits& limits) {
@@ -45,6 +65,7 @@ Result<CaseCheck> check_case(const CaseBundle& b, const UploadLimits& limits) {
   const tool::CaseParse parsed = tool::parse_case(b.case_text, b.case_file);
   if (!parsed) return make_error(422, parsed.error().message);
   const tool::Case& c = *parsed;
+  if (Status s = check_surface(b, c); !s) return s.error();
   CaseCheck out;
   out.bundle = b;
   out.title = c.name;

@@ -210,13 +210,24 @@ int upload_case_file(Store& store, SystemClock& clock, const std::string& case_p
   const std::filesystem::path p(case_path);
   b.case_file = p.filename().string();
   if (name.empty()) name = p.stem().string();
-  // The case's vessel file sits next to it; find its name by parsing the case.
+  // The case's vessel file (and its own wall, `surface FILE`) sit next to it; find their names by
+  // parsing the case.
   std::string vessel;
+  std::string surface;
   std::istringstream lines(b.case_text);
   for (std::string line; std::getline(lines, line);) {
     std::istringstream words(line);
     std::string key;
     if (words >> key && key == "vessel") words >> vessel;
+    if (key == "surface") words >> surface;
+  }
+  if (!surface.empty()) {
+    b.surface_file = std::filesystem::path(surface).filename().string();
+    b.surface_bytes = read_file((p.parent_path() / surface).string(), ok);
+    if (!ok) {
+      std::cerr << "cathbox-server: " << (p.parent_path() / surface).string() << ": cannot read\n";
+      return kBadInput;
+    }
   }
   if (!vessel.empty()) {
     b.hclm_file = std::filesystem::path(vessel).filename().string();

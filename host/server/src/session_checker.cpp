@@ -183,6 +183,8 @@ class SessionChecker final : public RecordChecker {
     out.case_files.case_text = h.case_text;
     out.case_files.hclm_file = std::filesystem::path(h.vessel_file).filename().string();
     out.case_files.hclm_text = h.vessel_text;
+    out.case_files.surface_file = std::filesystem::path(h.surface_file).filename().string();
+    out.case_files.surface_bytes = h.surface_bytes;
     out.case_title = h.case_name;
     out.started_us = h.start_unix_us;
     out.duration_ms = r.ticks * h.period_us / 1000;

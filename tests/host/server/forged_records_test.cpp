@@ -171,7 +171,7 @@ TEST_P(ForgedRecordsTest, ACaseUploadOverTheVesselLimitsIsRefusedBeforeMeshing) 
   UploadLimits small;
   small.max_surface_triangles = 1000;
   CaseBundle ybif{"y_bifurcation.case", source_file("cases/y_bifurcation.case"), "y_bifurcation.hclm",
-                  source_file("cases/y_bifurcation.hclm")};
+                  source_file("cases/y_bifurcation.hclm"), {}, {}};
   const Result<CaseCheck> refused = check_case(ybif, small);
   ASSERT_FALSE(refused);
   EXPECT_EQ(refused.error().status, 413);
