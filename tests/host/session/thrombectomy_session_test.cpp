@@ -67,6 +67,11 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   EXPECT_EQ(t.emboli, 0);
   // The pass ends 10 mm into the withdrawal that starts at 11 s (10 mm/s): 12 s.
   EXPECT_NEAR(static_cast<double>(t.time_to_reperfusion_us) * 1e-6, 12.0, 0.01);
+  // The balloon guide (not an angioplasty balloon): inflated once at 9 s, deflated at 14.5 s.
+  EXPECT_EQ(t.balloon_guide_inflations, 1);
+  EXPECT_NEAR(t.flow_arrest_s, 5.5, 0.002);
+  EXPECT_EQ(live.balloon_inflations.value_or(0), 0);  // the angioplasty balloon's count: not the guide's
+  EXPECT_NE(MetricsCollector::format(live).find("flow arrest           5.50 s\n"), std::string::npos) << MetricsCollector::format(live);
   // The server's named metrics: eTICI as its ordinal (3 = 6), every name one metric_names() lists.
   const std::vector<std::string> names = metric_names();
   std::map<std::string, double> named;
@@ -78,6 +83,8 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   }
   EXPECT_EQ(named["thrombectomy_passes"], 1.0);
   EXPECT_EQ(named["etici_pass_1"], 6.0);
+  EXPECT_EQ(named["balloon_guide_inflations"], 1.0);
+  EXPECT_NEAR(named["flow_arrest_s"], 5.5, 0.002);
   EXPECT_EQ(named["etici_final"], 6.0);
   EXPECT_EQ(named["first_pass_effect"], 1.0);
   EXPECT_EQ(named["emboli"], 0.0);
