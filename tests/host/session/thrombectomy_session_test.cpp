@@ -260,8 +260,16 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   EXPECT_EQ(f.emboli, 1);
   EXPECT_EQ(f.etici_after_pass[1], flow::Etici::k0);
   EXPECT_EQ(f.time_to_reperfusion_us, -1);
+  // The arrest's figures: one inflation (the refused second not counted), its time running up to
+  // the last tick (9000 us) while inflated, closed at the deflation (10000 us).
+  EXPECT_EQ(f.balloon_guide_inflations, 1);
+  EXPECT_NEAR(f.flow_arrest_s, 0.002, 1e-9);
   ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, false, 10000));
   EXPECT_FALSE(c.unit->arrested());
+  EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9);
+  c.unit->tick(11000, c.snap);
+  EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9) << "deflated: the arrest time stays";
+  EXPECT_EQ(f.balloon_guide_inflations, 1);
 }
 
 }  // namespace
