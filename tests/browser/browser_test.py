@@ -9,7 +9,8 @@ sessions recorded by `cathbox session run` and uploaded through the API:
     tip move; a steady 30 Hz stream is drawn as it comes and its frame rate measured;
   - a debrief opens and seeks (the time it takes is measured, first and cached);
   - a thrombectomy run's debrief (the carotid-T aspiration script) has its "eTICI per pass" row
-    read as `cathbox session metrics --json` grades the same record;
+    and flow-arrest rows read as `cathbox session metrics --json` grades the same record, and its
+    one injection marked once;
   - a learning-curve plot has one point per attempt;
   - a trainee sees their own page, is refused the instructor pages and the API behind them.
 
@@ -520,6 +521,15 @@ def test_thrombectomy_debrief(b, run, report):
     check(final == "eTICI " + t["etici_final"], "debrief eTICI final %r, session metrics give %r" % (final, t["etici_final"]))
     passes = b.driver.find_element(By.CSS_SELECTOR, "tr[data-metric='thrombectomy_passes'] td.num").text
     check(float(passes) == t["passes"], "debrief thrombectomy passes %r, session metrics give %d" % (passes, t["passes"]))
+    # The balloon guide's flow arrest has its rows, as the session's metrics give them, and its mark.
+    for name in ("balloon_guide_inflations", "flow_arrest_s"):
+        shown = b.driver.find_element(By.CSS_SELECTOR, "tr[data-metric='%s'] td.num" % name).text
+        check(abs(float(shown) - t[name]) < 0.01, "debrief %s %r, session metrics give %s" % (name, shown, t[name]))
+    # One injection in the script (`inject 6 at 3`): one mark, not one per 10 ms contrast step.
+    injections = b.js("return document.querySelectorAll(\"#marks span[data-kind='injection']\").length")
+    check(injections == 1, "the debrief marks %d injections for the script's one" % injections)
+    arrests = b.js("return document.querySelectorAll(\"#marks span[data-kind='flow_arrest']\").length")
+    check(arrests == t["balloon_guide_inflations"], "the debrief marks %d flow arrests, session metrics give %d" % (arrests, t["balloon_guide_inflations"]))
     b.js("arguments[0].scrollIntoView({block: 'center'})", row)
     b.shot("debrief-thrombectomy")
     report["thrombectomy_etici_per_pass"] = got

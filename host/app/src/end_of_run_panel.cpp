@@ -17,7 +17,7 @@ void optional_row(const char* name, const std::optional<double>& v, const char* 
   }
 }
 
-// A thrombectomy case: passes and the reperfusion graded after each.
+// A thrombectomy case: passes and the reperfusion graded after each; the balloon guide's flow arrest.
 void draw_thrombectomy(const session::ThrombectomyFigures& t) {
   ImGui::Separator();
   ImGui::Text("%-22s %8d", "passes", t.passes);
@@ -34,6 +34,8 @@ void draw_thrombectomy(const session::ThrombectomyFigures& t) {
   } else {
     ImGui::Text("%-22s      n/a", "time to reperfusion");
   }
+  ImGui::Text("%-22s %8d", "guide inflations", t.balloon_guide_inflations);
+  ImGui::Text("%-22s %8.2f s", "flow arrest", t.flow_arrest_s);
 }
 
 }  // namespace

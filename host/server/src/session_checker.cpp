@@ -26,8 +26,9 @@ constexpr std::size_t kMaxTraceEvents = 5'000;
 // To 0.01 (mm, mN, degrees): a trace is drawn, not replayed.
 double r2(double v) { return std::round(v * 100.0) / 100.0; }
 
-// Samples every tick the replay runs: the held tool, forces, and the metrics' counters turning
-// into events (a wall contact starting, a wrong-branch entry, the target reached, an injection).
+// Samples every tick the replay runs: the held tool and forces; and events, from the metrics'
+// counters (a wall contact starting, a wrong-branch entry, the target reached) and from the
+// controls the session accepted (an injection, a balloon guide inflated: a flow arrest).
 class TraceObserver final : public session::TickObserver {
  public:
   struct Sample {
@@ -55,9 +56,14 @@ class TraceObserver final : public session::TickObserver {
       if (m.target_reached && !last_.target_reached) event(v.time_us, "target_reached");
       if (m.tool_changes > last_.tool_changes) event(v.time_us, "tool_change");
       if (m.fluoroscopy_runs.value_or(0) > last_.fluoroscopy_runs.value_or(0)) event(v.time_us, "fluoroscopy");
-      const bool injecting = m.contrast_volume_ml.value_or(0.0) > last_.contrast_volume_ml.value_or(0.0);
-      if (injecting && !injecting_) event(v.time_us, "injection");
-      injecting_ = injecting;
+      // An injection, a flow arrest: the controls the session accepted at this tick (the contrast
+      // volume grows per 10 ms transport step, not per tick: no edge of it is one injection).
+      for (const session::Control& c : v.controls) {
+        if (c.kind == static_cast<std::uint16_t>(session::ControlKind::kInject)) event(v.time_us, "injection");
+        if (c.kind == static_cast<std::uint16_t>(session::ControlKind::kBalloonGuide) && c.size == 2 && c.payload[1] == 1) {
+          event(v.time_us, "flow_arrest");
+        }
+      }
       fluoro_ = m.fluoroscopy_time_s.value_or(0.0) > last_.fluoroscopy_time_s.value_or(0.0);
     }
     if (!started_) {
@@ -146,7 +152,6 @@ class TraceObserver final : public session::TickObserver {
   std::int64_t events_dropped_ = 0;
   session::Metrics last_;
   bool started_ = false;
-  bool injecting_ = false;
   bool fluoro_ = false;
   double interval_wall_ = 0.0;
 };

@@ -141,6 +141,8 @@ void format_thrombectomy(std::string& out, const ThrombectomyFigures& t) {
   } else {
     appendf(out, "%-21s n/a\n", "time to reperfusion");
   }
+  appendf(out, "%-21s %d\n", "guide inflations", t.balloon_guide_inflations);
+  appendf(out, "%-21s %.2f s\n", "flow arrest", t.flow_arrest_s);
 }
 
 }  // namespace
@@ -295,6 +297,8 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
     add("emboli", t.emboli);
     add("emboli_new_territory", t.emboli_new_territory);
     if (t.time_to_reperfusion_us >= 0) add("time_to_reperfusion_s", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
+    add("balloon_guide_inflations", t.balloon_guide_inflations);
+    add("flow_arrest_s", t.flow_arrest_s);
   }
   return out;
 }
@@ -308,7 +312,8 @@ std::vector<std::string> metric_names() {
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
           "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",
-          "first_pass_effect", "emboli", "emboli_new_territory", "time_to_reperfusion_s"};
+          "first_pass_effect", "emboli", "emboli_new_territory", "time_to_reperfusion_s", "balloon_guide_inflations",
+          "flow_arrest_s"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

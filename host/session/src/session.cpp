@@ -408,6 +408,7 @@ bool Session::tick() {
       figures_generation_ = thrombectomy_->flow_generation();
       metrics_.set_thrombectomy(thrombectomy_->figures());
     }
+    if (thrombectomy_->arrested()) metrics_.set_flow_arrest(thrombectomy_->figures().balloon_guide_inflations, thrombectomy_->figures().flow_arrest_s);
   }
   // 4. What the hand feels.
   const std::size_t held_index = input_.held;

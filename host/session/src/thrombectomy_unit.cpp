@@ -141,11 +141,18 @@ bool ThrombectomyUnit::set_balloon_guide(std::size_t t, bool on, std::int64_t ti
     }
     arrests_.push_back({at.segment});
     arrest_tool_.push_back(t);
+    ++figures_.balloon_guide_inflations;
+    if (arrest_since_us_ < 0) arrest_since_us_ = time_us;
     log(time_us, "balloon guide inflated in the %s: flow arrest", segment_name(at.segment).c_str());
   } else {
     const auto k = static_cast<std::size_t>(held - arrest_tool_.begin());
     arrests_.erase(arrests_.begin() + static_cast<std::ptrdiff_t>(k));
     arrest_tool_.erase(held);
+    if (arrests_.empty()) {
+      arrest_before_us_ += time_us - arrest_since_us_;
+      arrest_since_us_ = -1;
+      figures_.flow_arrest_s = static_cast<double>(arrest_before_us_) * 1e-6;
+    }
     log(time_us, "balloon guide of the %s deflated: flow restored", name);
   }
   return resolve(time_us, true);
@@ -190,6 +197,7 @@ void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot
   const std::size_t n = std::min(snapshot.tools.size(), tool_names_.size());
   tips_.resize(n);
   for (std::size_t t = 0; t < n; ++t) tips_[t] = snapshot.tools[t].tip.position_mm;
+  if (arrest_since_us_ >= 0) figures_.flow_arrest_s = static_cast<double>(arrest_before_us_ + time_us - arrest_since_us_) * 1e-6;
   if (engaged_tool_) {
     const double insertion = snapshot.tools[*engaged_tool_].insertion_mm;
     engaged_insertion_mm_ = std::max(engaged_insertion_mm_, insertion);

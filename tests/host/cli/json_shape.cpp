@@ -101,7 +101,8 @@ const char* const kShapes = R"({
                                       "etici_final": "string", "reperfused_pct_final": "number",
                                       "first_pass_effect": "boolean", "emboli": "integer",
                                       "emboli_new_territory": "integer", "emboli_lodged": ["string"],
-                                      "time_to_reperfusion_s": "number|null"}}
+                                      "time_to_reperfusion_s": "number|null",
+                                      "balloon_guide_inflations": "integer", "flow_arrest_s": "number"}}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

@@ -174,6 +174,41 @@ TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
 
 // The cache of meshes and traces: least recently used out first; with a folder, a second
 // cache (a restarted server) finds what the first built without building it again.
+// One injection is one event on the debrief's time line: the contrast volume grows with each
+// 10 ms transport step, and the trace once marked each of those steps (2 mL at 2 mL/s: ~100
+// marks). A catheter in the y-bifurcation's parent, one injection, recorded and traced.
+TEST(DebriefTrace, OneInjectionIsOneEvent) {
+  const std::string source = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
+  std::filesystem::copy_file(source + "y_bifurcation.hclm", scratch("y_bifurcation.hclm"),
+                             std::filesystem::copy_options::overwrite_existing);
+  std::ofstream(scratch("inject.case")) << "cathbox-case 1\nname Y bifurcation: one injection\nvessel y_bifurcation.hclm\n"
+                                           "tool catheter catheter\n  section 1000 od=1.67 ei=250 gj=190\n"
+                                           "  friction 0.15\n  inner_diameter 1.0\nend\n";
+  std::ofstream(scratch("inject.actions")) << "0 select catheter\n0 insert_to 30 at 30\n1000 fluoro on\n"
+                                              "1000 inject 2 at 2\n2500 fluoro off\n2600 end\n";
+  auto scene = session::load_session_case(scratch("inject.case"));
+  ASSERT_TRUE(scene.value) << scene.error;
+  auto script = session::ActionScriptHand::load(scratch("inject.actions"), *scene.value);
+  ASSERT_TRUE(script) << script.error().message;
+  const std::string path = scratch("inject.cbxrec");
+  {
+    session::Session s(std::move(scene.value), std::move(*script));
+    ASSERT_TRUE(s.record_to(path));
+    while (!s.over()) s.step_virtual(1000);
+    ASSERT_TRUE(s.recorder()->close());
+    ASSERT_NEAR(s.metrics().contrast_volume_ml.value_or(0.0), 2.0, 1e-6);  // the injection was made, all of it
+  }
+  const Result<std::string> traced = make_session_checker()->trace(read_all(path));
+  ASSERT_TRUE(traced) << traced.error().message;
+  const json trace = json::parse(traced.value());
+  std::vector<double> injections_ms;
+  for (const json& e : trace["events"]) {
+    if (e["kind"] == "injection") injections_ms.push_back(e["t_ms"].get<double>());
+  }
+  ASSERT_EQ(injections_ms.size(), 1U) << trace["events"].dump();
+  EXPECT_NEAR(injections_ms[0], 1000.0, 1.0);  // at the script's tick
+}
+
 TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
   ArtifactCache small(10);
   const auto value = [](std::string v) { return [v]() -> Result<std::string> { return v; }; };

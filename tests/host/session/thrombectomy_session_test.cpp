@@ -67,6 +67,11 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   EXPECT_EQ(t.emboli, 0);
   // The pass ends 10 mm into the withdrawal that starts at 11 s (10 mm/s): 12 s.
   EXPECT_NEAR(static_cast<double>(t.time_to_reperfusion_us) * 1e-6, 12.0, 0.01);
+  // The balloon guide (not an angioplasty balloon): inflated once at 9 s, deflated at 14.5 s.
+  EXPECT_EQ(t.balloon_guide_inflations, 1);
+  EXPECT_NEAR(t.flow_arrest_s, 5.5, 0.002);
+  EXPECT_EQ(live.balloon_inflations.value_or(0), 0);  // the angioplasty balloon's count: not the guide's
+  EXPECT_NE(MetricsCollector::format(live).find("flow arrest           5.50 s\n"), std::string::npos) << MetricsCollector::format(live);
   // The server's named metrics: eTICI as its ordinal (3 = 6), every name one metric_names() lists.
   const std::vector<std::string> names = metric_names();
   std::map<std::string, double> named;
@@ -78,6 +83,8 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   }
   EXPECT_EQ(named["thrombectomy_passes"], 1.0);
   EXPECT_EQ(named["etici_pass_1"], 6.0);
+  EXPECT_EQ(named["balloon_guide_inflations"], 1.0);
+  EXPECT_NEAR(named["flow_arrest_s"], 5.5, 0.002);
   EXPECT_EQ(named["etici_final"], 6.0);
   EXPECT_EQ(named["first_pass_effect"], 1.0);
   EXPECT_EQ(named["emboli"], 0.0);
@@ -253,8 +260,16 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   EXPECT_EQ(f.emboli, 1);
   EXPECT_EQ(f.etici_after_pass[1], flow::Etici::k0);
   EXPECT_EQ(f.time_to_reperfusion_us, -1);
+  // The arrest's figures: one inflation (the refused second not counted), its time running up to
+  // the last tick (9000 us) while inflated, closed at the deflation (10000 us).
+  EXPECT_EQ(f.balloon_guide_inflations, 1);
+  EXPECT_NEAR(f.flow_arrest_s, 0.002, 1e-9);
   ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, false, 10000));
   EXPECT_FALSE(c.unit->arrested());
+  EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9);
+  c.unit->tick(11000, c.snap);
+  EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9) << "deflated: the arrest time stays";
+  EXPECT_EQ(f.balloon_guide_inflations, 1);
 }
 
 }  // namespace

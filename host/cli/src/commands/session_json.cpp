@@ -155,7 +155,9 @@ json metrics_json(const session::ReplayResult& r) {
                     {"emboli", t.emboli},
                     {"emboli_new_territory", t.emboli_new_territory},
                     {"emboli_lodged", t.emboli_lodged},
-                    {"time_to_reperfusion_s", or_null(t.time_to_reperfusion_us >= 0, static_cast<double>(t.time_to_reperfusion_us) * 1e-6)}};
+                    {"time_to_reperfusion_s", or_null(t.time_to_reperfusion_us >= 0, static_cast<double>(t.time_to_reperfusion_us) * 1e-6)},
+                    {"balloon_guide_inflations", t.balloon_guide_inflations},
+                    {"flow_arrest_s", t.flow_arrest_s}};
   }
   return {{"ticks", r.ticks},
           {"hashes_checked", r.hashes_checked},

@@ -6,7 +6,7 @@ import { VesselView, parseMesh } from './scene.js';
 
 
 const EVENT_COLOURS = { wall_contact: '#e65100', wrong_branch: '#c62828', target_reached: '#2e7d32',
-  injection: '#6a1b9a', fluoroscopy: '#0277bd', tool_change: '#455a64' };
+  injection: '#6a1b9a', fluoroscopy: '#0277bd', tool_change: '#455a64', flow_arrest: '#00838f' };
 const $ = (id) => document.getElementById(id);
 const state = { index: 0, playing: false, speed: 1, trace: null, openMs: null, ready: false };
 window.cathboxDebrief = state;  // for the browser test

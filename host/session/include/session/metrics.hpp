@@ -50,7 +50,9 @@ namespace cathbox::session {
 // eTICI after each (graded from the flow network, Liebeskind et al. JNIS 2019), the first-pass
 // effect (eTICI >= 2c after pass 1), emboli (lodged fragments) and those to new territories,
 // the time from the start of the run to reperfusion (the end of the first pass reaching
-// eTICI >= 2b50).
+// eTICI >= 2b50), and the balloon guide's flow arrest: its inflations (control 68 accepted) and
+// the time with any guide inflated (a guide still inflated counts up to the last tick). The
+// angioplasty balloon's inflations are Metrics::balloon_inflations, not these.
 struct ThrombectomyFigures {
   static constexpr std::size_t kMaxPasses = 8;  // passes beyond are counted, not graded one by one
   int passes = 0;
@@ -63,6 +65,8 @@ struct ThrombectomyFigures {
   int emboli_new_territory = 0;
   std::vector<std::string> emboli_lodged;  // per embolus: the segment it lodged in, in order
   std::int64_t time_to_reperfusion_us = -1;  // -1: not reperfused
+  int balloon_guide_inflations = 0;
+  double flow_arrest_s = 0.0;
   friend bool operator==(const ThrombectomyFigures&, const ThrombectomyFigures&) = default;
 };
 
@@ -173,6 +177,12 @@ class MetricsCollector {
   void set_angioplasty(const tool::AngioplastyFigures& f);
   // The thrombectomy figures, from the session's ThrombectomyUnit after each tick.
   void set_thrombectomy(const ThrombectomyFigures& f) { m_.thrombectomy = f; }
+  // Only the flow-arrest figures (every tick while a guide is inflated: no allocation).
+  void set_flow_arrest(int balloon_guide_inflations, double flow_arrest_s) {
+    if (!m_.thrombectomy) return;
+    m_.thrombectomy->balloon_guide_inflations = balloon_guide_inflations;
+    m_.thrombectomy->flow_arrest_s = flow_arrest_s;
+  }
   // Events of the last observe(), for the output panel.
   [[nodiscard]] bool contact_began() const { return contact_began_; }
   [[nodiscard]] bool target_just_reached() const { return target_just_reached_; }

@@ -95,6 +95,8 @@ class ThrombectomyUnit final : public ControlHandler {
   std::vector<flow::Clot> clots_;        // what remains, emboli included
   std::vector<flow::FlowArrest> arrests_;
   std::vector<std::size_t> arrest_tool_;  // the tool of each arrest
+  std::int64_t arrest_since_us_ = -1;      // when the first of the inflated guides went up (-1: none)
+  std::int64_t arrest_before_us_ = 0;      // arrest time of the arrests already over
   struct Aspirator {
     std::size_t tool = 0;
     flow::VacuumSource source = flow::VacuumSource::kPump;
