@@ -6,10 +6,6 @@
 // and the force law's Schur complement) is kept apart from the assembled matrix, which stays
 // intact: a factored system can be amended and factored again without a saved copy.
 //
-// Each 3x3 pivot is factored as U D U^T (U unit lower triangular) rather than with square roots:
-// one reciprocal per pivot on the chain from row to row, and the off-diagonal factors scaled to
-// match (L(i, j) D(j)^1/2 is kept), so the updates stay symmetric products as in L L^T.
-//
 // Fixed 3x3 block products have the instruction-level parallelism a scalar band Cholesky lacks
 // (its dot products are chains of dependent multiply-adds): same arithmetic, several times
 // faster (bench/tool).
@@ -81,9 +77,9 @@ class BandedCholesky {
   std::size_t n_ = 0;
   std::size_t first_ = 0;
   std::vector<Block> a_;     // assembled lower blocks, kBlockBand + 1 per block row
-  std::vector<Block> l1_;    // Cholesky factor L(i, i-1) D(i-1)^1/2 (factor_rows)
-  std::vector<Block> l2_;    // Cholesky factor L(i, i-2) D(i-2)^1/2
-  std::vector<Block> dinv_;  // pivot i as U D U^T: U^-1 below the diagonal, D^-1 on it
+  std::vector<Block> l1_;    // factor L(i, i-1)
+  std::vector<Block> l2_;    // factor L(i, i-2)
+  std::vector<Block> dinv_;  // inverse of the lower-triangular diagonal factor L(i, i)
 };
 
 }  // namespace cathbox::tool
