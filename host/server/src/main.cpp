@@ -221,22 +221,17 @@ int upload_case_file(Store& store, SystemClock& clock, const std::string& case_p
     if (words >> key && key == "vessel") words >> vessel;
     if (key == "surface") words >> surface;
   }
-  if (!surface.empty()) {
-    b.surface_file = std::filesystem::path(surface).filename().string();
-    b.surface_bytes = read_file((p.parent_path() / surface).string(), ok);
-    if (!ok) {
-      std::cerr << "cathbox-server: " << (p.parent_path() / surface).string() << ": cannot read\n";
-      return kBadInput;
-    }
-  }
-  if (!vessel.empty()) {
-    b.hclm_file = std::filesystem::path(vessel).filename().string();
-    b.hclm_text = read_file((p.parent_path() / vessel).string(), ok);
-    if (!ok) {
-      std::cerr << "cathbox-server: " << (p.parent_path() / vessel).string() << ": cannot read\n";
-      return kBadInput;
-    }
-  }
+  // A file the case names, read from beside it: its file name and contents, or false (one line).
+  const auto read_beside = [&](const std::string& named, std::string& file, std::string& contents) {
+    if (named.empty()) return true;
+    const std::filesystem::path at = p.parent_path() / named;
+    file = std::filesystem::path(named).filename().string();
+    contents = read_file(at.string(), ok);
+    if (!ok) std::cerr << "cathbox-server: " << at.string() << ": cannot read\n";
+    return ok;
+  };
+  if (!read_beside(surface, b.surface_file, b.surface_bytes)) return kBadInput;
+  if (!read_beside(vessel, b.hclm_file, b.hclm_text)) return kBadInput;
   CaseLibrary library(store);
   Result<CaseUploadOutcome> up = library.upload(name, b, std::nullopt, clock.now_us());
   if (!up) {
