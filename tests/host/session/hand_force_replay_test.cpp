@@ -162,8 +162,9 @@ TEST(HandForceFigures, MetricsReportTheHandsPeakAndEachToolsUnconvergedShare) {
 //   dead_end_compliant peak 3,194 mN, largest change 373 mN/tick, 11 ticks over, 8.8 % unconverged
 //                      (the same dead end with `wall cervical 2`: contact from the wall's stiffness)
 // With RodSettings::newton_iterations 16 (not the default: two tool tests fail with it; figures
-// and step cost in sim/tool's README) the unconverged shares fall to balloon 0.17 %, coiling
-// 2.6 / 2.3 / 4.2 %, dead end 2.7 %, held-out bend 1.24 %, compliant dead end 7.3 %.
+// and step cost in docs/sim-tool/convergence.md) the unconverged shares fall to balloon
+// 0.17 %, coiling 2.6 / 2.3 / 4.2 %, dead end 2.7 %, held-out bend 1.24 %, compliant dead end
+// 7.3 %.
 class HandForceReplay : public ::testing::TestWithParam<FeelRun> {};
 
 TEST_P(HandForceReplay, StaysWithinTheBoxsSlewAndFullScaleWithConvergedSteps) {
