@@ -1,13 +1,14 @@
 """Env steps per second per core of the Cathbox Gymnasium environments, beside stEVE's.
 
-    scripts/bench python [--seconds S] [--envs cathbox/Navigate-v0,...] [--ticks-us 1000,6000]
+    scripts/bench python [--seconds S] [--episodes N] [--envs cathbox/Navigate-v0,...] [--ticks-us 1000,6000]
 
 For each env, each step length (stEVE's 1/7.5 s of simulated time, and 1 ms), each physics
 tick (`period_us`: 1 ms, the trainer's and the envs' default; 6 ms, stEVE's own SOFA time step,
 SofaBeamAdapter's dt_simulation = 0.006 s, 22 SOFA steps per env step), each
 observation mode (state, nodes, image; fluoroscopy under xvfb-run) and each policy (random: seeded uniform actions in the action
 space, as an RL agent explores; autopilot: cathbox.policies.Autopilot driving to the target,
-the lead tool deep in the vessels): `--seconds` of simulated time from seed 0, the steps timed
+the lead tool deep in the vessels): `--seconds` of simulated time from seed 0 (`--episodes N`: N such
+episodes, seeds 0..N-1), the steps timed
 (wall and the process's CPU time; resets excluded).
 Per core = steps / CPU seconds of the process, all its threads (the simulation is single-threaded
 per env; the fluoroscopy mode's llvmpipe rasterises on threads of its own, counted too). stEVE's figure is derived from its published training (stEVE_training README): 2e7
@@ -31,22 +32,30 @@ STEVE_LOW = STEVE_STEPS / STEVE_WORKERS / (2 * 86400)
 STEVE_HIGH = STEVE_STEPS / STEVE_WORKERS / (1 * 86400)
 
 
-def measure(env_id, step_s, period_us, mode, policy, sim_seconds):
+def measure(env_id, step_s, period_us, mode, policy, sim_seconds, episodes=1):
     """Steps, wall seconds, CPU seconds, the unconverged share and the lead tip after every step,
-    for `sim_seconds` of simulated time (resets excluded: an episode that ends is reset off the
-    clock and the next one timed)."""
+    for `episodes` episodes (seeds 0, 1, ...) of `sim_seconds` of simulated time each (resets
+    excluded: an episode that ends early is reset off the clock and the next one timed; the
+    random policy's generator runs on across episodes)."""
     # "fluoroscopy": the image mode through the trainer's renderer (needs a display: xvfb-run).
     kwargs = dict(observation="image", image_renderer="fluoroscopy") if mode == "fluoroscopy" else dict(observation=mode)
     env = gymnasium.make(env_id, step_s=step_s, period_us=period_us, max_episode_steps=10**9, **kwargs)
     rng = np.random.default_rng(0)
     env.reset(seed=0)
     pilot = Autopilot(env) if policy == "autopilot" else None
-    steps = max(20, int(round(sim_seconds / step_s)))
+    per_episode = max(20, int(round(sim_seconds / step_s)))
+    steps = per_episode * episodes
     wall = cpu = 0.0
     episode = 0
     tips = []
     unconverged = []
-    for _ in range(steps):
+    for i in range(steps):
+        if i > 0 and i % per_episode == 0:  # the next episode of the sample (reset off the clock)
+            unconverged.append(env.unwrapped.session.metrics()["unconverged_share"])
+            episode += 1
+            env.reset(seed=episode)
+            if pilot:
+                pilot.reset()
         action = pilot.act() if pilot else rng.uniform(env.action_space.low, env.action_space.high).astype(np.float32)
         wall0, cpu0 = time.perf_counter(), time.process_time()
         _, _, terminated, truncated, _ = env.step(action)
@@ -102,6 +111,9 @@ def main():
     p.add_argument("--policies", default="random,autopilot")
     p.add_argument("--ticks-us", default=f"1000,{cathbox.gym.STEVE_SIM_DT_US}",
                    help="physics ticks (period_us) at the 1/7.5 s step: 1000 (default of the envs), 6000 (stEVE's SOFA dt)")
+    p.add_argument("--episodes", type=int, default=1,
+                   help="episodes per row (seeds 0..N-1, each --seconds long): the random policy's cost per step "
+                        "depends on how deep its walk takes the tools, so one episode is a sample of one (default 1)")
     p.add_argument("--vector", type=int, default=2, help="envs in the ThreadVectorEnv row, in the first mode (0: none)")
     a = p.parse_args()
     print(f"stEVE (derived from its published training: 2e7 steps, 29 workers, 1-2 days): "
@@ -117,7 +129,7 @@ def main():
         for step_s, label, period_us in rows:
             for mode, policy in itertools.product(a.modes.split(","), a.policies.split(",")):
                 sim_seconds = a.seconds if step_s > 0.01 else a.seconds / 4
-                n, wall, cpu, unconverged, tips = measure(env_id, step_s, period_us, mode, policy, sim_seconds)
+                n, wall, cpu, unconverged, tips = measure(env_id, step_s, period_us, mode, policy, sim_seconds, a.episodes)
                 per_core = n / cpu
                 key = (env_id, step_s, mode, policy)
                 reference = fine_tips.setdefault(key, tips) if period_us == 1000 else fine_tips.get(key)
