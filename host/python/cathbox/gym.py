@@ -129,18 +129,13 @@ class CathboxEnv(gymnasium.Env):
         if self.observation_mode == "image":
             w, h = self.image_size
             return (self._fluoroscopy.image() if self._fluoroscopy else s.image(w, h))[:, :, None]
+        if self.observation_mode == "state":  # per tool points, tip direction, insertion, rotation; target; action
+            return s.state_observation(self.state_points, self.state_spacing_mm, self._target, self._last_action)
         parts = []
-        if self.observation_mode == "tracking":
-            for t in range(self.n_tools):
-                pts = s.points_from_tip(t, self.tracking_points, self.tracking_spacing_mm)
-                parts.append(s.project(pts).ravel())
-            parts.append(s.project(self._target[None, :]).ravel())
-        else:
-            for t in range(self.n_tools):
-                parts.append(s.points_from_tip(t, self.state_points, self.state_spacing_mm).ravel())
-                parts.append(s.tip(t)[1])
-                parts.append([s.insertion_mm(t), s.rotation_rad(t)])
-            parts.append(self._target)
+        for t in range(self.n_tools):
+            pts = s.points_from_tip(t, self.tracking_points, self.tracking_spacing_mm)
+            parts.append(s.project(pts).ravel())
+        parts.append(s.project(self._target[None, :]).ravel())
         parts.append(self._last_action.ravel())
         return np.clip(np.concatenate(parts), -1e4, 1e4).astype(np.float32)
 

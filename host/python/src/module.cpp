@@ -21,6 +21,7 @@
 #include "python/device_image.hpp"
 #include "python/env_session.hpp"
 #include "python/route_progress.hpp"
+#include "python/state_observation.hpp"
 #include "python/tip_points.hpp"
 #include "session/metrics.hpp"
 #include "vessel/hclm.hpp"
@@ -175,6 +176,30 @@ py::array_t<double> points_from_tip(const PySession& p, std::int64_t t, std::int
   return out;
 }
 
+using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// The "state" observation (python/state_observation.hpp): float32 (state_observation_size,).
+py::array_t<float> state_observation(const PySession& p, std::int64_t count, double spacing_mm, const DoubleArray& target_mm,
+                                     const DoubleArray& last_action) {
+  if (count < 0 || count > 100'000) raise<py::value_error>("state_observation: count " + std::to_string(count) + " outside 0..100000");
+  if (!(spacing_mm >= 0.0) || !std::isfinite(spacing_mm)) {
+    raise<py::value_error>("state_observation: spacing_mm " + std::to_string(spacing_mm) + " is not a finite length >= 0");
+  }
+  const std::size_t tools = p.s().tool_count();
+  if (target_mm.size() != 3) raise<py::value_error>("state_observation: target has " + std::to_string(target_mm.size()) + " values, expected 3 (mm)");
+  if (static_cast<std::size_t>(last_action.size()) != 2 * tools) {
+    raise<py::value_error>("state_observation: last_action has " + std::to_string(last_action.size()) + " values, expected " +
+                           std::to_string(2 * tools) + " (tools x 2)");
+  }
+  const std::size_t n = cathbox::python::state_observation_size(tools, static_cast<std::size_t>(count));
+  py::array_t<float> out(static_cast<py::ssize_t>(n));
+  const double* t = target_mm.data();
+  cathbox::python::state_observation(p.s().state(), tools, static_cast<std::size_t>(count), spacing_mm, glm::dvec3(t[0], t[1], t[2]),
+                                     std::span<const double>(last_action.data(), 2 * tools), 1e4,
+                                     std::span<float>(out.mutable_data(), n));
+  return out;
+}
+
 py::list vessel_segments(const std::string& path) {
   const auto r = cathbox::vessel::load_hclm(path);
   if (!r.ok()) raise<py::value_error>(r.errors.front().to_string());
@@ -258,6 +283,10 @@ PYBIND11_MODULE(_cathbox, mod) {
       .def("points_from_tip", &points_from_tip, py::arg("tool"), py::arg("count"), py::arg("spacing_mm"),
            "(count, 3) mm: points along the tool every spacing_mm back from its tip (the first the tip; past the "
            "entry the first node repeated). A new array (python/tip_points.hpp).")
+      .def("state_observation", &state_observation, py::arg("count"), py::arg("spacing_mm"), py::arg("target"),
+           py::arg("last_action"),
+           "The environments' state observation, float32: per tool points_from_tip(count, spacing_mm), the tip's "
+           "direction, insertion mm, rotation rad; the target (3) mm; the last action (tools, 2); clipped to +-1e4.")
       .def("insertion_mm", [](const PySession& p, std::int64_t t) { return p.tool(t).insertion_mm; }, py::arg("tool"))
       .def("rotation_rad", [](const PySession& p, std::int64_t t) { return p.tool(t).rotation_rad; }, py::arg("tool"))
       .def("hand_force_mN", [](const PySession& p, std::int64_t t) { return p.tool(t).hand_force_mN; }, py::arg("tool"))

@@ -126,6 +126,33 @@ class SessionTest(unittest.TestCase):
         with self.assertRaisesRegex(IndexError, "^tool 2 out of range"):
             s.points_from_tip(2, 3, 1.0)
 
+    def test_state_observation_is_the_parts_clipped_to_float32_bit_for_bit(self):
+        # The envs' state observation in one C++ pass equals the numpy composition it replaced
+        # (points_from_tip, tip direction, insertion, rotation per tool; target; last action;
+        # numpy.clip to +-1e4 then float32), bit for bit: the envs' observations did not change.
+        s = cathbox.Session(cathbox.case_path("neuro"))
+        rng = np.random.default_rng(2)
+        target = np.array([12.5, -3.25, 2.0e4])  # beyond the clip, to check it
+        for _ in range(12):
+            action = rng.uniform([-20.0, -3.0], [40.0, 3.0], size=(2, 2))
+            action[0, 1] = float("nan") if _ == 5 else action[0, 1]  # NaN passes through as numpy's clip
+            s.set_speeds(np.nan_to_num(action))
+            s.step(60)
+            parts = []
+            for t in range(2):
+                parts += [s.points_from_tip(t, 16, 5.0).ravel(), s.tip(t)[1], [s.insertion_mm(t), s.rotation_rad(t)]]
+            parts += [target, action.ravel()]
+            expected = np.clip(np.concatenate(parts), -1e4, 1e4).astype(np.float32)
+            got = s.state_observation(16, 5.0, target, action)
+            self.assertEqual(got.dtype, np.float32)
+            self.assertEqual(got.tobytes(), expected.tobytes())
+        with self.assertRaisesRegex(ValueError, "^state_observation: last_action has 2 values, expected 4"):
+            s.state_observation(16, 5.0, target, [0.0, 0.0])
+        with self.assertRaisesRegex(ValueError, "^state_observation: target has 2 values"):
+            s.state_observation(16, 5.0, [1.0, 2.0], action)
+        with self.assertRaisesRegex(ValueError, "^state_observation: count -1 outside"):
+            s.state_observation(-1, 5.0, target, action)
+
     def test_a_wire_inside_its_catheter_is_not_counted_unconverged(self):
         # neuro: the catheter, its guidewire inside. The catheter goes in; the wire, not yet out
         # of it, is not solved, so it does not make every tick unconverged (it did: share 1.0).
