@@ -4,6 +4,8 @@ execute_process(COMMAND ${PROGRAM} --help OUTPUT_VARIABLE help RESULT_VARIABLE r
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${PROGRAM} --help: exit ${rc}")
 endif()
+# CLI11 names the program by the path it was started from: the page names it as installed.
+string(REPLACE "${PROGRAM}" "${NAME}" help "${help}")
 string(REPLACE "\\" "\\e" help "${help}")
 string(REGEX REPLACE "(^|\n)([.'])" "\\1\\\\&\\2" help "${help}")
 string(TOUPPER "${NAME}" upper)

@@ -8,17 +8,12 @@
 set -euo pipefail
 build=$1
 out=$2
-rm -rf "$out"
+source "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+make_packages "$build" "$out" server
 mkdir -p "$out/root"
-cpack --config "$build/CPackConfig.cmake" -B "$out" >"$out/cpack.log" 2>&1 || { tail -n 5 "$out/cpack.log"; exit 1; }
 deb=$(ls "$out"/cathbox-server_*.deb)
 echo "package: $deb"
-
-# Errors fail; warnings are printed.
-lintian_status=0
-lintian --fail-on error --tag-display-limit 0 "$deb" >"$out/lintian.log" 2>&1 || lintian_status=$?
-grep -v 'root privileges' "$out/lintian.log" || true
-[ "$lintian_status" -eq 0 ] || { echo "FAIL: lintian reports errors (exit $lintian_status)"; exit 1; }
+lintian_clean "$deb"
 
 dpkg-deb -x "$deb" "$out/root"
 dpkg-deb -e "$deb" "$out/control"

@@ -23,7 +23,8 @@ CaseChoice choose_case(const TrainerOptions& options, const std::string& program
   std::string dir = options.cases_dir;
   if (dir.empty()) {
     for (const std::string& candidate :
-         {std::string(CATHBOX_CASES_DIR), program_dir + "/../../../cases", std::string("cases")}) {
+         {program_dir + "/../share/cathbox/cases", std::string(CATHBOX_CASES_DIR), program_dir + "/../../../cases",
+          std::string("cases")}) {
       if (std::filesystem::is_directory(candidate)) {
         dir = candidate;
         break;

@@ -43,7 +43,9 @@ std::vector<ValueOption> value_options() {
   return {
       {"--case", "FILE", "case to open (default: the default case in the cases folder)", "--case needs a file",
        [](std::string_view v, TrainerOptions& o) { return text(v, o.case_path); }},
-      {"--cases", "DIR", "cases folder for the picker (default: the project's cases/)", "--cases needs a folder",
+      {"--cases", "DIR",
+       "cases folder for the picker (default: ../share/cathbox/cases beside the program, else the project's cases/)",
+       "--cases needs a folder",
        [](std::string_view v, TrainerOptions& o) { return text(v, o.cases_dir); }},
       {"--frames", "N", "headless: render N frames in a hidden window (needs X, e.g. Xvfb)",
        "--frames needs a count from 1 to 1000000",

@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     print_help();
     return argc < 2 ? cathbox::cli::kExitBadInput : cathbox::cli::kExitOk;
   }
-  const std::string name = argv[1];
+  // `cathbox --version` is `cathbox version` (what a packaged program is asked first).
+  const std::string name = std::string(argv[1]) == "--version" ? "version" : argv[1];
   const std::vector<std::string> args(argv + 2, argv + argc);
   for (const auto& command : cathbox::cli::commands()) {
     if (command.name == name) {

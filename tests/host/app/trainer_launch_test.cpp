@@ -37,6 +37,23 @@ TEST(TrainerLaunch, DefaultCaseOfTheCasesFolderIsTheSingleWireNeuroCase) {
   EXPECT_EQ(catalog.entries()[static_cast<std::size_t>(c.catalog_index)].name, "neuro_right_ica.case");
 }
 
+// Installed (the cathbox Debian package: /usr/bin/cathbox-trainer, /usr/share/cathbox/cases), the
+// program's own cases come before the source tree's.
+TEST(TrainerLaunch, TheInstalledCasesBesideTheProgramComeFirst) {
+  TempDir prefix;
+  const fs::path installed = prefix.path / "share/cathbox/cases";
+  fs::create_directories(installed);
+  fs::create_directories(prefix.path / "bin");
+  fs::copy_file(kCases + "/y_bifurcation.case", installed / "y_bifurcation.case");
+  TrainerOptions options;
+  CaseCatalog catalog;
+  const CaseChoice c = choose_case(options, (prefix.path / "bin").string(), catalog);
+  ASSERT_EQ(catalog.entries().size(), 1U);
+  EXPECT_EQ(catalog.entries()[0].name, "y_bifurcation.case");
+  EXPECT_EQ(fs::path(c.path).parent_path().filename(), "cases");
+  EXPECT_EQ(fs::canonical(fs::path(c.path).parent_path()), fs::canonical(installed));
+}
+
 TEST(TrainerLaunch, AskedCaseIsOpenedAndMarkedInThePicker) {
   TrainerOptions options;
   options.cases_dir = kCases;
