@@ -137,7 +137,7 @@ class HapticLoop {
     if (session_ && !session_->over()) return true;
     retire();
     session::SessionCaseLoad scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
-    if (!scene.value) return (error = scene.error), false;
+    if (!scene) return (error = scene.error().message), false;
     session::SessionOptions options;
     options.end_at_target = false;
     // A hand that never ends its run: no time limit, no end of the path (it keeps pushing, backing
@@ -146,9 +146,9 @@ class HapticLoop {
     settings.time_limit_s = 1e9;
     settings.end_margin_mm = -1.0;
     settings.max_fruitless_retries = 1 << 30;
-    auto hand = std::make_unique<session::ScriptedHand>(scene.value->route_mm, scene.value->spec.tools.front().length_mm(), settings);
+    auto hand = std::make_unique<session::ScriptedHand>(scene.value()->route_mm, scene.value()->spec.tools.front().length_mm(), settings);
     hand->set_tick_s(static_cast<double>(options.period_us) * 1e-6);
-    session_ = std::make_unique<session::Session>(std::move(scene.value), std::move(hand), options);
+    session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand), options);
     session_->start();
     ++starts_;
     return true;

@@ -61,10 +61,10 @@ std::vector<std::string> make_records(int count) {
   std::vector<std::string> out;
   for (int i = 0; i < count; ++i) {
     auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-    if (!scene.value) throw std::runtime_error(scene.error);
-    auto hand = std::make_unique<session::ScriptedHand>(scene.value->route_mm, scene.value->spec.tools.front().length_mm());
+    if (!scene) throw std::runtime_error(scene.error().message);
+    auto hand = std::make_unique<session::ScriptedHand>(scene.value()->route_mm, scene.value()->spec.tools.front().length_mm());
     hand->set_tick_s(1e-3);
-    session::Session run(std::move(scene.value), std::move(hand));
+    session::Session run(std::move(scene.value()), std::move(hand));
     const std::string path = folder + "/run" + std::to_string(i) + ".cbxrec";
     if (const base::Status<> recording = run.record_to(path); !recording) throw std::runtime_error(recording.error().message);
     run.step_virtual(1000 + 31 * i);

@@ -74,16 +74,16 @@ std::string write_script(const std::string& name, int minutes, bool contrast = f
 
 std::unique_ptr<Session> open_session(const std::string& case_path, const std::string& script, std::string& error) {
   auto scene = cathbox::session::load_session_case(case_path);
-  if (!scene.value) {
-    error = scene.error;
+  if (!scene) {
+    error = scene.error().message;
     return nullptr;
   }
-  auto hand = ActionScriptHand::load(script, *scene.value);
+  auto hand = ActionScriptHand::load(script, *scene.value());
   if (!hand) {
     error = hand.error().message;
     return nullptr;
   }
-  return std::make_unique<Session>(std::move(scene.value), std::move(*hand), SessionOptions{});
+  return std::make_unique<Session>(std::move(scene.value()), std::move(*hand), SessionOptions{});
 }
 
 // Copies the inputs the session gave its simulator at each tick.
@@ -98,15 +98,15 @@ void SessionTick(benchmark::State& state, const std::string& case_name, bool con
   std::string error;
   auto session = open_session(case_path, script, error);
   auto bare_scene = cathbox::session::load_session_case(case_path);
-  if (!session || !bare_scene.value) {
-    state.SkipWithError((error.empty() ? bare_scene.error : error).c_str());
+  if (!session || !bare_scene) {
+    state.SkipWithError((error.empty() ? bare_scene.error().message : error).c_str());
     return;
   }
   if (const cathbox::base::Status<> recording = session->record_to(scratch("tick.cbxrec")); !recording) {
     state.SkipWithError(recording.error().message.c_str());
     return;
   }
-  cathbox::tool::Simulator bare(bare_scene.value->world->wall(), bare_scene.value->spec.tools, bare_scene.value->entry);
+  cathbox::tool::Simulator bare(bare_scene.value()->world->wall(), bare_scene.value()->spec.tools, bare_scene.value()->entry);
   InputTap tap;
   session->add_observer(tap);
   constexpr double kDt = 1e-3;

@@ -73,7 +73,7 @@ class Reader {
     return Error{name_ + ": byte " + std::to_string(offset) + ": " + what};
   }
 
-  Result<bool> read_suffix() {
+  Status read_suffix() {
     const uint8_t* s = file_.data() + body_;
     if (std::memcmp(s + 8, "UFD", 3) != 0) return fail(body_ + 8, "no DFU suffix signature 'UFD': truncated or not a .dfu file");
     if (s[11] != kSuffixBytes) return fail(body_ + 11, "DFU suffix length " + std::to_string(s[11]) + " (DfuSe: 16)");
@@ -84,10 +84,10 @@ class Reader {
       return fail(body_ + 12, "suffix CRC " + hex32(stored) + " does not match the content's " + hex32(computed) + ": corrupt file");
     }
     image_.bcd_device = le16(s);
-    return true;
+    return base::Ok{};
   }
 
-  Result<bool> read_target(uint8_t index, size_t& at) {
+  Status read_target(uint8_t index, size_t& at) {
     const std::string which = "target " + std::to_string(index);
     if (kTargetPrefixBytes > body_ - at) return fail(at, which + ": prefix runs past the suffix");
     const uint8_t* t = file_.data() + at;
@@ -119,11 +119,11 @@ class Reader {
     }
     if (at != end) return fail(at, which + ": " + std::to_string(end - at) + " bytes after its last element");
     image_.elements += count;
-    return true;
+    return base::Ok{};
   }
 
-  Result<bool> place(uint32_t offset, std::span<const uint8_t> data, size_t header_at, const std::string& element) {
-    if (data.empty()) return true;
+  Status place(uint32_t offset, std::span<const uint8_t> data, size_t header_at, const std::string& element) {
+    if (data.empty()) return base::Ok{};
     for (const auto& [from, to] : placed_) {
       if (offset < to && from < offset + data.size()) {
         return fail(header_at, element + ": " + hex32(kFlashBase + offset) + " overlaps an earlier element at " + hex32(kFlashBase + from));
@@ -132,7 +132,7 @@ class Reader {
     placed_.emplace_back(offset, offset + static_cast<uint32_t>(data.size()));
     if (image_.flash.size() < offset + data.size()) image_.flash.resize(offset + data.size(), 0xFF);
     std::copy(data.begin(), data.end(), image_.flash.begin() + offset);
-    return true;
+    return base::Ok{};
   }
 
   std::span<const uint8_t> file_;

@@ -84,11 +84,11 @@ Emulator::Emulator(EmuOptions options)
 
 Emulator::~Emulator() = default;
 
-Result<bool> Emulator::listen(const std::string& path) {
+Status Emulator::listen(const std::string& path) {
   auto server = EmuServer::listen(path, *this);
   if (!server) return server.error();
   server_ = std::move(server.value());
-  return true;
+  return base::Ok{};
 }
 
 void Emulator::boot(bool to_bootloader) {

@@ -44,11 +44,11 @@ Result<std::unique_ptr<ImageEmulator>> ImageEmulator::create(std::span<const uin
   return box;
 }
 
-Result<bool> ImageEmulator::listen(const std::string& path) {
+Status ImageEmulator::listen(const std::string& path) {
   auto server = EmuServer::listen(path, *this);
   if (!server) return server.error();
   server_ = std::move(server.value());
-  return true;
+  return base::Ok{};
 }
 
 void ImageEmulator::step() {

@@ -366,27 +366,37 @@ def test_live(b, centre, args, report):
     streamer.start()
     try:
         chip = b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button[data-rig='rig-12']")), "rig-12 to appear live")
-        before = b.js("return window.cathboxLive.applied")
         chip.click()
-        applied0 = b.wait_js("const s = window.cathboxLive; return s.applied > %d && s.applied" % before, "rig-12's frames to be drawn")
+        # What the panel shows: the seq of the frame it drew last and how many it drew; under the
+        # title, the page's draws a second and stream frames drawn a second (renewed each second).
+        stat_js = "const e = document.querySelector(\"section[data-rig='rig-12'] [data-stat='%s']\"); return e ? Number(e.textContent) : null;"
+        rate_js = "return [document.getElementById('rate-fps').textContent, document.getElementById('rate-frames').textContent];"
+        drawn0 = b.wait_js(stat_js % "drawn", "rig-12's frames to be drawn")
         samples = []
+        seen = set()
+        shown = b.js(rate_js)
         deadline = time.monotonic() + 5
         while time.monotonic() < deadline:
-            b.wait_js("return window.cathboxLive.renders > %d" % (b.js("return window.cathboxLive.renders") + 30), "30 more renders")
-            samples.append(b.js("return [window.cathboxLive.fps, window.cathboxLive.frameRate]"))
+            shown = b.wait_js(rate_js.replace("return ", "const r = ") + " return r.join() !== %s && r;" % json.dumps(",".join(shown)),
+                              "the frame rate to be renewed")
+            if "–" not in shown:
+                samples.append([float(shown[0]), float(shown[1])])
+            seen.add(b.js(stat_js % "seq"))
         stop.set()
         streamer.join(timeout=5)
         check(not streamer.is_alive(), "the 30 Hz streamer did not stop")
         last = sent[0]
         # The page catches up: the last frame sent is the one shown, and frames were drawn as they
-        # came (more than one between the first drawn and the end).
-        b.wait_js("return window.cathboxLive.lastSeq === %d" % last, "the last frame sent (seq %d) to be shown" % last)
-        applied = b.js("return window.cathboxLive.applied") - applied0
+        # came (more than one between the first drawn and the end, different ones while it ran).
+        b.wait_js(stat_js.replace("return e ? Number(e.textContent) : null;", "return e && Number(e.textContent) === %d;" % last) % "seq",
+                  "the last frame sent (seq %d) to be shown" % last)
+        applied = b.js(stat_js % "drawn") - drawn0
         check(applied > 1, "the live view drew %d frames of a %d-frame stream" % (applied, last))
+        check(len(seen) > 1, "the live view showed frames %s while %d were streamed" % (sorted(seen), last))
         report["live_frames_sent"] = last
         report["live_frames_drawn"] = applied
-        report["live_webgl_draws"] = b.js("return window.cathboxLive.draws")
         report["live_fps_samples"] = samples
+        check(samples, "the live view's frame rate was never shown")
         # The first samples can cover the second before the click: the median is the figure.
         fps = statistics.median(s[0] for s in samples)
         rate = statistics.median(s[1] for s in samples)
@@ -410,29 +420,63 @@ def test_live(b, centre, args, report):
 
 
 def open_debrief(b, result_id, what):
+    """Opens a result's debrief; the milliseconds from the page asking for the trace (its fetch in
+    the page's resource timing) to the page showing the run (the cursor's tip readout)."""
     b.open("/debrief.html?id=%d" % result_id)
-    b.wait_js("return window.cathboxDebrief && window.cathboxDebrief.ready", what, timeout=600)
-    return b.js("return window.cathboxDebrief.openMs")
+    b.driver.set_script_timeout(600)
+    try:
+        shown = b.driver.execute_async_script("""
+            const done = arguments[arguments.length - 1];
+            const trace = '/results/' + arguments[0] + '/trace';
+            (function poll() {
+              const error = document.getElementById('error');
+              if (error && !error.hidden) return done({ error: error.textContent });
+              if (!document.getElementById('now-tip')) return setTimeout(poll, 5);
+              const at = performance.now();
+              const asked = performance.getEntriesByType('resource').find((e) => e.name.includes(trace));
+              done({ ms: asked ? at - asked.startTime : null });
+            })();""", result_id)
+    except Exception as e:
+        b.shot("failed")
+        raise Failure("timed out waiting for %s (%s)" % (what, type(e).__name__)) from None
+    finally:
+        b.driver.set_script_timeout(WAIT_S)
+    check("error" not in shown, "%s: %s" % (what, shown.get("error")))
+    check(shown["ms"] is not None, "%s: the page never fetched its trace" % what)
+    return shown["ms"]
+
+
+def shown_tip(b):
+    return [float(v) for v in b.driver.find_element(By.ID, "now-tip").text.split(",")]
 
 
 def test_debrief(b, centre, report):
     rid = centre.results[-1]["id"]
     report["debrief_open_ms_first"] = round(open_debrief(b, rid, "the debrief"), 1)
     report["debrief_open_ms_cached"] = round(open_debrief(b, rid, "the debrief again"), 1)
-    samples = b.js("return window.cathboxDebrief.trace.samples")
+    # The trace the page draws, as the server gives it to the test.
+    _, t = Api(centre.base).login("teacher").json("GET", "/results/%d/trace" % rid)
+    tr = t["trace"]
+    samples = tr["samples"]
     check(samples > 50, "debrief trace has %d samples" % samples)
+    slider = b.driver.find_element(By.ID, "slider")
+    check(int(slider.get_attribute("max")) == samples - 1, "the slider ends at %s for %d samples" % (slider.get_attribute("max"), samples))
     check(b.js("return document.querySelectorAll('#marks span').length") >= 1, "no event marked on the time line")
     tip0 = b.driver.find_element(By.ID, "now-tip").text
-    # Seek with the slider (as a user drags it) to the middle, then play a little.
-    slider = b.driver.find_element(By.ID, "slider")
-    b.js("arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('input'));", slider, samples * 2 // 3)
-    b.wait_js("return window.cathboxDebrief.index === %d" % (samples * 2 // 3), "the seek")
+    # Seek with the slider (as a user drags it) to the middle, then play a little. The readout
+    # shows that sample's tip and time (to 0.1 mm and 0.1 s).
+    k = samples * 2 // 3
+    want_tip = tr["tip_mm"][3 * k:3 * k + 3]
+    b.js("arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('input'));", slider, k)
+    b.wait(lambda d: all(abs(a - w) <= 0.0501 for a, w in zip(shown_tip(b), want_tip)), "the seek to sample %d (tip %s)" % (k, want_tip))
+    clock = float(b.driver.find_element(By.ID, "clock").text.split(" / ")[0])
+    check(abs(clock - tr["t_ms"][k] / 1000) <= 0.0501, "after the seek the clock shows %.1f s, sample %d is at %.3f s" % (clock, k, tr["t_ms"][k] / 1000))
     tip1 = b.driver.find_element(By.ID, "now-tip").text
     check(tip0 != tip1, "seeking did not move the tip (%s)" % tip0)
-    report["debrief_seek"] = "sample 0 tip %s -> sample %d tip %s" % (tip0, samples * 2 // 3, tip1)
-    # The plot's window: 10 s around the cursor.
+    report["debrief_seek"] = "sample 0 tip %s -> sample %d tip %s" % (tip0, k, tip1)
+    # The plot's window: 10 s around the cursor (its x axis, as Chart.js holds it for the canvas).
     b.js("const w = document.getElementById('window'); w.value = '10'; w.dispatchEvent(new Event('change'));")
-    b.wait_js("const x = window.cathboxDebrief.chart.scales.x; return x.max - x.min <= 10.001", "the plot's 10 s window")
+    b.wait_js("const x = Chart.getChart(document.getElementById('chart')).scales.x; return x.max - x.min <= 10.001", "the plot's 10 s window")
     b.shot("debrief")
     b.js("const w = document.getElementById('window'); w.value = '0'; w.dispatchEvent(new Event('change'));")
     # The same on a tablet (portrait, 820x1180): one column.
@@ -441,8 +485,8 @@ def test_debrief(b, centre, report):
     b.shot("debrief-tablet")
     b.viewport(1280, 720)
     b.driver.find_element(By.ID, "play").click()
-    at = b.js("return window.cathboxDebrief.index")
-    b.wait_js("return window.cathboxDebrief.index > %d" % at, "playback to advance")
+    at = int(slider.get_attribute("value"))
+    b.wait(lambda d: int(slider.get_attribute("value")) > at, "playback to advance")
     b.driver.find_element(By.ID, "play").click()
     b.drain_console()
 
@@ -550,14 +594,23 @@ def test_results(b, centre, report):
     b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "th.sorted-desc[data-key='m.tip_path_mm']")), "sorting")
     b.shot("results")
     b.js("const s = document.getElementById('f-trainee'); s.value = 'ann'; s.dispatchEvent(new Event('change'));")
-    b.wait_js("return window.cathboxCharts && window.cathboxCharts.length > 0", "the learning curves")
-    counts = b.js("return window.cathboxCharts.map(c => [c.cathboxMetric, c.data.datasets[0].data.length])")
+    # Each curve's points as Chart.js holds them for its canvas (one canvas per metric).
+    counts = b.wait_js("const c = [...document.querySelectorAll('#curves canvas[data-metric]')]"
+                       ".map((e) => [e.dataset.metric, Chart.getChart(e).data.datasets[0].data.length]); return c.length > 0 && c;",
+                       "the learning curves")
     report["learning_curve_points"] = counts
     for metric, n in counts:
         check(n == len(centre.results), "learning curve of %s has %d points for %d attempts" % (metric, n, len(centre.results)))
     b.js("document.getElementById('curves-title').scrollIntoView()")
     b.shot("learning-curves")
-    csv = b.js("return window.cathboxResults.csv()").strip().split("\n")  # ann's rows: the filter is on
+    # The CSV export as a user gets it: the button's download, in the browser's download folder.
+    downloads = os.path.join(centre.tmp, "downloads")
+    os.makedirs(downloads, exist_ok=True)
+    b.driver.execute_cdp_cmd("Page.setDownloadBehavior", {"behavior": "allow", "downloadPath": downloads})
+    b.driver.find_element(By.ID, "csv").click()
+    saved = os.path.join(downloads, "cathbox-results.csv")
+    wait_until(lambda: os.path.exists(saved) and os.path.getsize(saved) > 0, "the CSV download")
+    csv = open(saved).read().strip().split("\n")  # ann's rows: the filter is on
     check(len(csv) == 1 + len(centre.results) and csv[0].startswith("id,trainee,case"), "CSV export: %s" % csv[:2])
     report["csv_header"] = csv[0]
     b.drain_console()
@@ -568,7 +621,7 @@ def test_trainee(b, centre, report):
     b.shot("home-trainee")
     b.open("/trainee.html")
     b.wait(EC.presence_of_element_located((By.CSS_SELECTOR, "#results-table tbody tr")), "the trainee's results")
-    b.wait_js("return window.cathboxCharts && window.cathboxCharts.length > 0", "the trainee's learning curves")
+    b.wait_js("return document.querySelectorAll('#curves canvas[data-metric]').length > 0", "the trainee's learning curves")
     b.shot("trainee")
     for page in ["/live.html", "/results.html", "/admin.html"]:
         b.open(page)

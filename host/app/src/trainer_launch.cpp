@@ -16,6 +16,42 @@ const std::vector<std::string> kCaseExtensions = {".case", ".hclm"};
 constexpr const char* kDefaultCase = "neuro_right_ica.case";
 constexpr const char* kPreferredCase = "neuro";
 
+// A box per tool (`--box TOOL=WHERE`, repeated); if one cannot be had, the keyboard, saying why
+// (as for one box).
+std::unique_ptr<session::Hand> rig_or_keyboard(const std::vector<std::string>& boxes, const std::string& program_dir,
+                                               const session::SessionCase& scene, session::KeyboardInput& keyboard,
+                                               double dt_s) {
+  std::vector<session::BoxBinding> bindings;
+  for (const std::string& b : boxes) {
+    const base::Result<session::BoxBinding> parsed = session::parse_box_binding(b, scene.spec.tools);
+    if (!parsed) return std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (boxes: " + parsed.error().message + ")");
+    bindings.push_back(*parsed);
+  }
+  session::BoxHandOptions rig_options;
+  rig_options.emu_program = program_dir + "/cathbox-emu";
+  rig_options.keyboard = &keyboard;
+  rig_options.dt_s = dt_s;
+  base::Result<std::unique_ptr<session::MultiBoxHand>> rig =
+      session::MultiBoxHand::connect(bindings, rig_options, scene.spec.tools.size());
+  if (!rig) return std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (boxes: " + rig.error().message + ")");
+  return std::move(*rig);
+}
+
+// The one box the options name (the first found, or the emulator); if there is none, the
+// keyboard, saying why.
+std::unique_ptr<session::Hand> box_or_keyboard(const TrainerOptions& options, const std::string& program_dir,
+                                               session::KeyboardInput& keyboard, double dt_s) {
+  session::BoxHandOptions box;
+  box.source = options.box == BoxChoice::kAuto ? session::BoxSource::kAuto : session::BoxSource::kEmulator;
+  box.emu_socket = options.emu_socket;
+  box.emu_program = program_dir + "/cathbox-emu";
+  box.keyboard = &keyboard;
+  box.dt_s = dt_s;
+  base::Result<std::unique_ptr<session::BoxHand>> connected = session::BoxHand::connect(box);
+  if (!connected) return std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (box: " + connected.error().message + ")");
+  return std::move(*connected);
+}
+
 }  // namespace
 
 CaseChoice choose_case(const TrainerOptions& options, const std::string& program_dir, CaseCatalog& catalog) {
@@ -61,11 +97,11 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
                               const std::string& case_path, bool scripted, session::KeyboardInput& keyboard) {
   LiveSession live;
   session::SessionCaseLoad scene = session::load_session_case(case_path);
-  if (!scene.value) {
-    live.error = scene.error;
+  if (!scene) {
+    live.error = scene.error().message;
     return live;
   }
-  if (scene.value->mesh() == nullptr) {
+  if (scene.value()->mesh() == nullptr) {
     live.error = case_path + ": the trainer needs a case with a vessel file (analytic tubes have no surface to show)";
     return live;
   }
@@ -74,7 +110,7 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   std::unique_ptr<session::Hand> hand;
   if (!options.script.empty()) {
     // The same script player as `cathbox session run --script`, imaging verbs included.
-    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(options.script, *scene.value);
+    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(options.script, *scene.value());
     if (!loaded) {
       live.error = loaded.error().message;
       return live;
@@ -83,42 +119,19 @@ LiveSession open_live_session(const TrainerOptions& options, const std::string& 
   } else if (scripted) {
     // Its insertion limit follows the held tool's (TickInput::max_insertion_um).
     session::ScriptedHandSettings autopilot_settings;
-    autopilot_settings.end_margin_mm = scene.value->target_mm ? 0.0 : 1.0;
+    autopilot_settings.end_margin_mm = scene.value()->target_mm ? 0.0 : 1.0;
     auto autopilot = std::make_unique<session::ScriptedHand>(
-        scene.value->route_mm, scene.value->spec.tools.front().length_mm(), autopilot_settings);
+        scene.value()->route_mm, scene.value()->spec.tools.front().length_mm(), autopilot_settings);
     autopilot->set_tick_s(dt_s);
     hand = std::move(autopilot);
   } else if (!options.boxes.empty()) {
-    // A box per tool; if one cannot be had, the keyboard, saying why (as for one box).
-    std::vector<session::BoxBinding> bindings;
-    std::string box_error;
-    for (const std::string& b : options.boxes) {
-      const std::optional<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value->spec.tools, box_error);
-      if (!parsed) break;
-      bindings.push_back(*parsed);
-    }
-    session::BoxHandOptions base;
-    base.emu_program = program_dir + "/cathbox-emu";
-    base.keyboard = &keyboard;
-    base.dt_s = dt_s;
-    if (bindings.size() == options.boxes.size()) {
-      hand = session::MultiBoxHand::connect(bindings, base, scene.value->spec.tools.size(), box_error);
-    }
-    if (!hand) hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (boxes: " + box_error + ")");
+    hand = rig_or_keyboard(options.boxes, program_dir, *scene.value(), keyboard, dt_s);
   } else if (options.box == BoxChoice::kNone) {
     hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (no box)");
   } else {
-    session::BoxHandOptions box;
-    box.source = options.box == BoxChoice::kAuto ? session::BoxSource::kAuto : session::BoxSource::kEmulator;
-    box.emu_socket = options.emu_socket;
-    box.emu_program = program_dir + "/cathbox-emu";
-    box.keyboard = &keyboard;
-    box.dt_s = dt_s;
-    std::string box_error;
-    hand = session::BoxHand::connect(box, box_error);
-    if (!hand) hand = std::make_unique<session::KeyboardHand>(keyboard, dt_s, "keyboard (box: " + box_error + ")");
+    hand = box_or_keyboard(options, program_dir, keyboard, dt_s);
   }
-  live.session = std::make_unique<session::Session>(std::move(scene.value), std::move(hand), session_options);
+  live.session = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand), session_options);
   if (options.record) {
     const std::string dir = options.records_dir.empty() ? session::records_dir() : options.records_dir;
     const base::Result<std::string> path = session::new_record_path(dir, live.session->scene().name);

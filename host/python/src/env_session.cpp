@@ -45,7 +45,7 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::open(const std::string& ca
 
 base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCaseLoad loaded,
                                                             const EnvSessionOptions& options) {
-  if (!loaded.value) return base::Error{loaded.error};
+  if (!loaded) return base::Error{loaded.error().message};
   std::unique_ptr<EnvSession> s(new EnvSession(options));
   const double dt_s = static_cast<double>(options.period_us) * 1e-6;
   auto hand = std::make_unique<session::ProgramHand>(dt_s, options.who);
@@ -55,10 +55,10 @@ base::Result<std::unique_ptr<EnvSession>> EnvSession::start(session::SessionCase
   so.end_at_target = options.end_at_target;
   // The C-arm looks at the middle of the way: between the entry and the target (else the entry).
   flow::CArmPose pose;
-  const glm::dvec3 entry = loaded.value->entry.point_mm;
-  pose.isocenter_mm = loaded.value->target_mm ? 0.5 * (entry + glm::dvec3(*loaded.value->target_mm)) : entry;
+  const glm::dvec3 entry = loaded.value()->entry.point_mm;
+  pose.isocenter_mm = loaded.value()->target_mm ? 0.5 * (entry + glm::dvec3(*loaded.value()->target_mm)) : entry;
   s->c_arm_ = flow::CArm(pose);
-  s->session_ = std::make_unique<session::Session>(std::move(loaded.value), std::move(hand), so);
+  s->session_ = std::make_unique<session::Session>(std::move(loaded.value()), std::move(hand), so);
   s->readings_ = std::make_unique<Readings>(*s);
   s->session_->add_observer(*s->readings_);
   if (!options.record_path.empty()) {

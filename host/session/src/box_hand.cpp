@@ -13,17 +13,14 @@
 
 namespace cathbox::session {
 
-std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::string& error) {
+base::Result<std::unique_ptr<BoxHand>> BoxHand::connect(const BoxHandOptions& options) {
   std::unique_ptr<BoxHand> hand(new BoxHand());
   hand->keyboard_ = options.keyboard;
   hand->dt_s_ = options.dt_s;
   hand->tool_ = options.tool;
   if (options.source == BoxSource::kSerial) {
     auto real = device::BoxClient::connect(device::box_opener_by_serial(options.serial), hand->clock_);
-    if (!real) {
-      error = real.error().message;
-      return nullptr;
-    }
+    if (!real) return base::Error{real.error().message};
     hand->client_ = std::move(real.value());
     hand->kind_ = "box";
   } else if (options.source == BoxSource::kAuto) {
@@ -40,10 +37,7 @@ std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::st
       socket = "/tmp/cathbox-session-" + std::to_string(getpid()) + "-" + std::to_string(counter++) + ".sock";
       base::Result<std::unique_ptr<EmulatorProcess>> emulator =
           EmulatorProcess::start(options.emu_program, socket, options.emu_args);
-      if (!emulator) {
-        error = emulator.error().message;
-        return nullptr;
-      }
+      if (!emulator) return emulator.error();
       hand->emulator_ = std::move(*emulator);
     }
     // A starting emulator needs a moment to bind its socket: retry for up to 3 s.
@@ -58,55 +52,43 @@ std::unique_ptr<BoxHand> BoxHand::connect(const BoxHandOptions& options, std::st
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
       }
     }
-    if (!hand->client_) {
-      error = "emulated box at " + socket + ": " + last;
-      return nullptr;
-    }
+    if (!hand->client_) return base::Error{"emulated box at " + socket + ": " + last};
     hand->kind_ = hand->emulator_ ? "emulated box (started)" : "emulated box";
   }
-  if (!hand->init(error)) return nullptr;
+  if (base::Status<> ready = hand->init(); !ready) return ready.error();
   return hand;
 }
 
-std::unique_ptr<BoxHand> BoxHand::attach(std::unique_ptr<device::BoxClient> client, const BoxHandOptions& options,
-                                         std::string& error) {
+base::Result<std::unique_ptr<BoxHand>> BoxHand::attach(std::unique_ptr<device::BoxClient> client,
+                                                       const BoxHandOptions& options) {
   std::unique_ptr<BoxHand> hand(new BoxHand());
   hand->client_ = std::move(client);
   hand->keyboard_ = options.keyboard;
   hand->dt_s_ = options.dt_s;
   hand->tool_ = options.tool;
   hand->kind_ = "box";
-  if (!hand->init(error)) return nullptr;
+  if (base::Status<> ready = hand->init(); !ready) return ready.error();
   return hand;
 }
 
-bool BoxHand::init(std::string& error) {
+base::Status<> BoxHand::init() {
   auto cal = client_->calibration();
-  if (!cal) {
-    error = cal.error().message;
-    return false;
-  }
+  if (!cal) return base::Error{cal.error().message};
   calibration_ = cal.value();
   const EncoderCalibration encoders{calibration_.insertion_counts_per_m, calibration_.rotation_counts_per_rev};
-  if (!encoders.valid()) {
-    error = client_->describe() + " is not calibrated (run 'cathbox calibrate')";
-    return false;
-  }
+  if (!encoders.valid()) return base::Error{client_->describe() + " is not calibrated (run 'cathbox calibrate')"};
   mapping_ = HandMapping(encoders);
   const cbx_device_info& info = client_->device_info();
   mode_ = info.insertion_actuator == CBX_ACTUATOR_MOTOR ? CBX_MODE_MOTOR : CBX_MODE_BRAKE;
   // The box's full scale and slew limit, which the law it is sent respects (passive_law.hpp).
   auto limits = client_->limits();
-  if (!limits) {
-    error = limits.error().message;
-    return false;
-  }
+  if (!limits) return base::Error{limits.error().message};
   PassiveLawLimits passive;
   passive.full_scale_mN = std::min<double>(limits.value().max_force_mN, calibration_.insertion_full_scale_mN);
   passive.slew_mN_per_ms = limits.value().force_slew_mN_per_ms;
   passive.tick_ms = dt_s_ * 1e3;
   passive_ = PassiveLaw(passive);
-  return true;
+  return base::Ok{};
 }
 
 BoxHand::~BoxHand() {

@@ -4,12 +4,10 @@
 
 namespace cathbox::session {
 
-std::optional<BoxBinding> parse_box_binding(const std::string& text, std::span<const tool::ToolSpec> tools,
-                                            std::string& error) {
+base::Result<BoxBinding> parse_box_binding(const std::string& text, std::span<const tool::ToolSpec> tools) {
   const std::size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size()) {
-    error = "--box '" + text + "': needs TOOL=WHERE (a serial, emu or emu:PATH)";
-    return std::nullopt;
+    return base::Error{"--box '" + text + "': needs TOOL=WHERE (a serial, emu or emu:PATH)"};
   }
   BoxBinding b;
   b.tool_name = text.substr(0, eq);
@@ -23,19 +21,13 @@ std::optional<BoxBinding> parse_box_binding(const std::string& text, std::span<c
       found = true;
     }
   }
-  if (!found) {
-    error = "--box '" + text + "': the case has no tool '" + b.tool_name + "' (its tools: " + names + ")";
-    return std::nullopt;
-  }
+  if (!found) return base::Error{"--box '" + text + "': the case has no tool '" + b.tool_name + "' (its tools: " + names + ")"};
   if (where == "emu") {
     b.source = BoxSource::kEmulator;
   } else if (where.starts_with("emu:")) {
     b.source = BoxSource::kEmulator;
     b.socket = where.substr(4);
-    if (b.socket.empty()) {
-      error = "--box '" + text + "': emu: needs a socket path";
-      return std::nullopt;
-    }
+    if (b.socket.empty()) return base::Error{"--box '" + text + "': emu: needs a socket path"};
   } else {
     b.source = BoxSource::kSerial;
     b.serial = where;
@@ -43,12 +35,12 @@ std::optional<BoxBinding> parse_box_binding(const std::string& text, std::span<c
   return b;
 }
 
-std::unique_ptr<MultiBoxHand> MultiBoxHand::connect(std::span<const BoxBinding> bindings, const BoxHandOptions& base,
-                                                    std::size_t tool_count, std::string& error) {
+base::Result<std::unique_ptr<MultiBoxHand>> MultiBoxHand::connect(std::span<const BoxBinding> bindings,
+                                                                  const BoxHandOptions& options, std::size_t tool_count) {
   std::vector<Bound> boxes;
   int started = 0;
   for (const BoxBinding& b : bindings) {
-    BoxHandOptions o = base;
+    BoxHandOptions o = options;
     o.source = b.source;
     o.emu_socket = b.socket;
     o.serial = b.serial;
@@ -58,37 +50,25 @@ std::unique_ptr<MultiBoxHand> MultiBoxHand::connect(std::span<const BoxBinding> 
       std::snprintf(serial, sizeof serial, "EMU-%04d", ++started);
       o.emu_args.insert(o.emu_args.end(), {"--serial", serial});
     }
-    std::string why;
-    std::unique_ptr<BoxHand> box = BoxHand::connect(o, why);
-    if (!box) {
-      error = "box for '" + b.tool_name + "': " + why;
-      return nullptr;
-    }
-    boxes.push_back({std::move(box), b.tool_name});
+    base::Result<std::unique_ptr<BoxHand>> box = BoxHand::connect(o);
+    if (!box) return base::Error{"box for '" + b.tool_name + "': " + box.error().message};
+    boxes.push_back({std::move(*box), b.tool_name});
   }
-  return make(std::move(boxes), tool_count, error);
+  return make(std::move(boxes), tool_count);
 }
 
-std::unique_ptr<MultiBoxHand> MultiBoxHand::make(std::vector<Bound> boxes, std::size_t tool_count, std::string& error) {
+base::Result<std::unique_ptr<MultiBoxHand>> MultiBoxHand::make(std::vector<Bound> boxes, std::size_t tool_count) {
   if (boxes.size() < 2) {
-    error = "a rig with a box per tool needs two boxes or more (one box switches between tools)";
-    return nullptr;
+    return base::Error{"a rig with a box per tool needs two boxes or more (one box switches between tools)"};
   }
   std::vector<bool> taken(tool_count, false);
   for (const Bound& b : boxes) {
     const std::optional<std::size_t> tool = b.box ? b.box->bound_tool() : std::nullopt;
-    if (!tool) {
-      error = "box for '" + b.tool_name + "' is not bound to a tool";
-      return nullptr;
-    }
+    if (!tool) return base::Error{"box for '" + b.tool_name + "' is not bound to a tool"};
     if (*tool >= tool_count) {
-      error = "box for '" + b.tool_name + "': the case has " + std::to_string(tool_count) + " tools";
-      return nullptr;
+      return base::Error{"box for '" + b.tool_name + "': the case has " + std::to_string(tool_count) + " tools"};
     }
-    if (taken[*tool]) {
-      error = "two boxes drive '" + b.tool_name + "'";
-      return nullptr;
-    }
+    if (taken[*tool]) return base::Error{"two boxes drive '" + b.tool_name + "'"};
     taken[*tool] = true;
   }
   return std::unique_ptr<MultiBoxHand>(new MultiBoxHand(std::move(boxes)));

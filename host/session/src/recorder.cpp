@@ -18,18 +18,18 @@ using record::EntryKind;
 
 constexpr int kZstdLevel = 3;
 
-bool write_all(int fd, const std::uint8_t* p, std::size_t n, std::string& error) {
+// All n bytes to fd (retrying short writes and EINTR), or the system's reason.
+base::Status<> write_all(int fd, const std::uint8_t* p, std::size_t n) {
   while (n > 0) {
     const ssize_t w = ::write(fd, p, n);
     if (w < 0) {
       if (errno == EINTR) continue;
-      error = std::strerror(errno);
-      return false;
+      return base::Error{std::strerror(errno)};
     }
     p += w;
     n -= static_cast<std::size_t>(w);
   }
-  return true;
+  return base::Ok{};
 }
 
 struct ZstdContext {
@@ -52,12 +52,13 @@ base::Result<std::unique_ptr<Recorder>> Recorder::create(const std::string& path
   w.u16(record::kFormatVersion);
   w.u16(0);
   w.u32(record::crc32(head));
-  std::string io_error;
   std::vector<std::uint8_t> out;
   ZstdContext z;
-  if (!write_all(fd, head.data(), head.size(), io_error) ||
-      !r->write_block(BlockType::kHeader, encode_header(header), out, z.cctx)) {
-    return base::Error{path + ": cannot write the record: " + (io_error.empty() ? r->error() : io_error)};
+  if (const base::Status<> wrote = write_all(fd, head.data(), head.size()); !wrote) {
+    return base::Error{path + ": cannot write the record: " + wrote.error().message};
+  }
+  if (!r->write_block(BlockType::kHeader, encode_header(header), out, z.cctx)) {
+    return base::Error{path + ": cannot write the record: " + r->error()};
   }
   r->bytes_written_.store(head.size() + out.size(), std::memory_order_relaxed);
   for (std::size_t i = 0; i < 8; ++i) {
@@ -112,9 +113,8 @@ bool Recorder::write_block(BlockType type, const std::vector<std::uint8_t>& raw,
   w.u32(static_cast<std::uint32_t>(raw.size()));
   w.u32(record::crc32(header, std::span<const std::uint8_t>(payload, stored)));
   std::copy(header.begin(), header.end(), out.begin());
-  std::string io_error;
-  if (!write_all(fd_, out.data(), out.size(), io_error)) {
-    fail("write failed: " + io_error);
+  if (const base::Status<> wrote = write_all(fd_, out.data(), out.size()); !wrote) {
+    fail("write failed: " + wrote.error().message);
     return false;
   }
   return true;

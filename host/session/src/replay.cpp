@@ -13,7 +13,7 @@ base::Result<std::unique_ptr<Replay>> Replay::open(std::unique_ptr<RecordReader>
                                                    const vessel::SurfaceMesh* surface) {
   const RecordHeader& h = reader->header();
   SessionCaseLoad scene = session_case_from_record(h, surface);
-  if (!scene.value) return base::Error{scene.error};
+  if (!scene) return base::Error{scene.error().message};
   SessionOptions options;
   options.period_us = h.period_us;
   options.hash_every = h.hash_every;
@@ -22,7 +22,7 @@ base::Result<std::unique_ptr<Replay>> Replay::open(std::unique_ptr<RecordReader>
   std::unique_ptr<Replay> r(new Replay());
   auto hand = std::make_unique<ReplayHand>(std::move(reader), stop_at_mismatch);
   r->hand_ = hand.get();
-  r->session_ = std::make_unique<Session>(std::move(scene.value), std::move(hand), options);
+  r->session_ = std::make_unique<Session>(std::move(scene.value()), std::move(hand), options);
   return r;
 }
 

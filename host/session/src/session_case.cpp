@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <optional>
-#include <sstream>
 
 #include <glm/geometric.hpp>
 
+#include "base/read_file.hpp"
 #include "scenario/case_clots.hpp"
 #include "scenario/case_surface.hpp"
 #include "tool/mesh_wall.hpp"
@@ -18,16 +17,12 @@ namespace {
 constexpr std::uintmax_t kMaxCaseBytes = 16u << 20;
 constexpr std::uintmax_t kMaxVesselBytes = 64u << 20;
 
-base::Result<std::string> read_file(const std::string& path, std::uintmax_t limit) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) return base::Error{path + ":0: cannot open file"};
-  if (size > limit) return base::Error{path + ":0: file of " + std::to_string(size) + " bytes is too large"};
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return base::Error{path + ":0: cannot open file"};
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+// A case text of at most `limit` bytes, or "path:0: what".
+base::Result<std::string> read_case_text(const std::string& path, std::uintmax_t limit) {
+  base::Result<std::string, base::ReadFileError> text = base::read_file(path, limit);
+  if (text) return std::move(*text);
+  if (text.error().kind == base::ReadFileError::Kind::kCannotOpen) return base::Error{path + ":0: cannot open file"};
+  return base::Error{path + ":0: file of " + std::to_string(text.error().size_bytes) + " bytes is too large"};
 }
 
 std::vector<PathSegment> path_segments(const vessel::VesselModel& model) {
@@ -62,22 +57,19 @@ double radius_near(const vessel::VesselModel& model, const glm::vec3& p) {
 
 // What the session derives from the built world.
 SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source, const vessel::SurfaceMesh* surface) {
-  SessionCaseLoad out;
   // The case's own wall, from the bytes kept for the record (none handed in).
   std::optional<vessel::SurfaceMesh> own;
   if (surface == nullptr && !c->surface_bytes.empty()) {
     base::Result<vessel::SurfaceMesh> decoded = tool::decode_case_surface(c->surface_bytes, c->surface_file);
     if (!decoded) {
-      out.error = decoded.error().message;
-      return out;
+      return base::Error{decoded.error().message};
     }
     own = std::move(*decoded);
     surface = &*own;
   }
   tool::WorldBuild built = tool::build_world(c->spec, c->vessel_text, surface);
   if (!built) {
-    out.error = built.error().message;
-    return out;
+    return base::Error{built.error().message};
   }
   c->world = std::move(*built);
   c->entry = c->world->entry();
@@ -86,8 +78,7 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
   const vessel::VesselModel* model = c->world->model();
   if (model == nullptr) {  // analytic tubes: no centreline graph
     if (c->world->target()) c->target_mm = glm::vec3(*c->world->target());
-    out.value = std::move(c);
-    return out;
+    return c;
   }
   // The blood flow over the vessel network (the case's `flow` overrides): the fluoroscopy
   // unit's contrast rides on it. A case file the flow model refuses is bad input (a bad override
@@ -98,18 +89,15 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
     // The case's clots occlude their branches (sim/flow, "Clots"): the contrast stops at them.
     const auto clots = tool::resolve_clots(c->spec, *model);
     if (!clots) {
-      out.error = clots.error().message;
-      return out;
+      return base::Error{clots.error().message};
     }
     if (!clots->empty()) {
       if (base::Status<> occluded = c->flow->occlude(*clots); !occluded) {
-        out.error = source + ": " + occluded.error().message;
-        return out;
+        return base::Error{source + ": " + occluded.error().message};
       }
     }
   } else if (!c->case_file.empty()) {
-    out.error = network.error().message;
-    return out;
+    return base::Error{network.error().message};
   } else {
     c->flow_error = network.error().message;
   }
@@ -119,8 +107,7 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
   if (c->spec.target) {
     const auto index = model->index_of(c->spec.target->segment);
     if (!index) {
-      out.error = source + ": target segment " + std::to_string(c->spec.target->segment) + " is not in " + c->vessel_file;
-      return out;
+      return base::Error{source + ": target segment " + std::to_string(c->spec.target->segment) + " is not in " + c->vessel_file};
     }
     goal = PathPoint{*index, c->spec.target->fraction};
     c->target_mm = CenterlinePath::point_at(c->segments[*index], c->spec.target->fraction);
@@ -136,8 +123,7 @@ SessionCaseLoad finish(std::unique_ptr<SessionCase> c, const std::string& source
       for (const std::size_t i : along) c->route_segment_ids.push_back(model->segments[i].id);
     }
   }
-  out.value = std::move(c);
-  return out;
+  return c;
 }
 
 }  // namespace
@@ -152,11 +138,11 @@ std::optional<glm::vec3> SessionCase::pick(const glm::vec3& origin_mm, const glm
 
 SessionCaseLoad load_session_case(const std::string& path, const vessel::SurfaceMesh* surface) {
   auto c = std::make_unique<SessionCase>();
-  SessionCaseLoad out;
-  // A file's bytes into one of the case's texts; false with the error line in `out`.
-  const auto read_into = [&out](base::Result<std::string> read, std::string& text) {
+  // A file's bytes into one of the case's texts; false with the error line in `why`.
+  std::optional<base::Error> why;
+  const auto read_into = [&why](base::Result<std::string> read, std::string& text) {
     if (!read) {
-      out.error = read.error().message;
+      why = read.error();
       return false;
     }
     text = std::move(*read);
@@ -168,30 +154,25 @@ SessionCaseLoad load_session_case(const std::string& path, const vessel::Surface
     c->spec.vessel_path = path;
     c->spec.tools = {tool::default_guidewire()};
   } else {
-    if (!read_into(read_file(path, kMaxCaseBytes), c->case_text)) return out;
+    if (!read_into(read_case_text(path, kMaxCaseBytes), c->case_text)) return *why;
     tool::CaseParse parsed = tool::parse_case(c->case_text, path);
-    if (!parsed) {
-      out.error = parsed.error().message;
-      return out;
-    }
+    if (!parsed) return base::Error{parsed.error().message};
     c->case_file = path;
     c->spec = std::move(*parsed);
   }
   c->vessel_file = c->spec.vessel_path;
-  if (!c->vessel_file.empty() && !read_into(read_file(c->vessel_file, kMaxVesselBytes), c->vessel_text)) return out;
+  if (!c->vessel_file.empty() && !read_into(read_case_text(c->vessel_file, kMaxVesselBytes), c->vessel_text)) return *why;
   c->surface_file = c->spec.surface_path;
-  if (!c->surface_file.empty() && !read_into(tool::read_case_surface_bytes(c->surface_file), c->surface_bytes)) return out;
+  if (!c->surface_file.empty() && !read_into(tool::read_case_surface_bytes(c->surface_file), c->surface_bytes)) return *why;
   return finish(std::move(c), path, surface);
 }
 
 SessionCaseLoad session_case_from_record(const RecordHeader& h, const vessel::SurfaceMesh* surface) {
   auto c = std::make_unique<SessionCase>();
-  SessionCaseLoad out;
   if (!h.case_text.empty()) {
     tool::CaseParse parsed = tool::parse_case(h.case_text, h.case_file);
     if (!parsed) {
-      out.error = "the record's case: " + parsed.error().message;
-      return out;
+      return base::Error{"the record's case: " + parsed.error().message};
     }
     c->spec = std::move(*parsed);
     c->case_file = h.case_file;
@@ -211,12 +192,10 @@ SessionCaseLoad session_case_from_record(const RecordHeader& h, const vessel::Su
   c->surface_file = h.surface_file;
   c->surface_bytes = h.surface_bytes;
   if (!c->surface_file.empty() && c->surface_bytes.empty()) {
-    out.error = "the record names a surface (" + h.surface_file + ") but carries none of its bytes";
-    return out;
+    return base::Error{"the record names a surface (" + h.surface_file + ") but carries none of its bytes"};
   }
   if (c->spec.vessel_path.empty() && c->spec.tubes.empty()) {
-    out.error = "the record carries neither a vessel file nor analytic tubes";
-    return out;
+    return base::Error{"the record carries neither a vessel file nor analytic tubes"};
   }
   return finish(std::move(c), h.case_file.empty() ? h.vessel_file : h.case_file, surface);
 }

@@ -55,13 +55,13 @@ std::unique_ptr<BrowserSession> BrowserSession::open(const std::string& case_pat
     return nullptr;
   }
   session::SessionCaseLoad scene = session::load_session_case(case_path, &*surface);
-  if (!scene.value) {
-    error = scene.error;
+  if (!scene) {
+    error = scene.error().message;
     return nullptr;
   }
   std::unique_ptr<BrowserSession> b(new BrowserSession());
   auto hand = std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)");
-  b->session_ = std::make_unique<session::Session>(std::move(scene.value), std::move(hand));
+  b->session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand));
   if (base::Status<> recording = b->session_->record_to(record_path); !recording) {
     error = recording.error().message;
     return nullptr;

@@ -62,12 +62,12 @@ int run(const Args& a) {
   base::Result<vessel::SurfaceMesh> surface = wasm::read_surface_file(a.values.at("mesh"));
   if (!surface) return bad_input(surface.error().message);
   session::SessionCaseLoad scene = session::load_session_case(a.values.at("case"), &*surface);
-  if (!scene.value) return bad_input(scene.error);
+  if (!scene) return bad_input(scene.error().message);
   base::Result<std::unique_ptr<session::ActionScriptHand>> hand =
-      session::ActionScriptHand::load(a.values.at("script"), *scene.value);
+      session::ActionScriptHand::load(a.values.at("script"), *scene.value());
   if (!hand) return bad_input(hand.error().message);
   const session::SessionOptions options;
-  session::Session s(std::move(scene.value), std::move(*hand), options);
+  session::Session s(std::move(scene.value()), std::move(*hand), options);
   const std::string& record = a.values.at("record");
   if (base::Status<> recording = s.record_to(record); !recording) return bad_input(recording.error().message);
   std::printf("cathbox-session (wasm): %s, %s, virtual time -> %s\n", s.scene().name.c_str(),

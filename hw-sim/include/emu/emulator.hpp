@@ -53,7 +53,7 @@ class Emulator final : public EmuServer::Handler {
   Emulator& operator=(const Emulator&) = delete;
 
   // Serves the box on a socket (see EmuServer).
-  [[nodiscard]] Result<bool> listen(const std::string& path);
+  [[nodiscard]] Status listen(const std::string& path);
   // Runs the box for `us` microseconds of simulated time.
   void advance(uint64_t us);
   // Handles pending socket input now, without advancing time (real-time main loop).

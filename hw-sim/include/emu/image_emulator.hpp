@@ -41,7 +41,7 @@ class ImageEmulator final : public EmuServer::Handler {
                                                                      uint64_t seed = 1);
   ~ImageEmulator() override;
 
-  [[nodiscard]] Result<bool> listen(const std::string& path);
+  [[nodiscard]] Status listen(const std::string& path);
   void advance(uint64_t us);
   void service();
   [[nodiscard]] uint64_t now_us() const { return now_us_; }

@@ -7,5 +7,7 @@ namespace cathbox::emu {
 using base::Error;
 template <class T>
 using Result = base::Result<T>;
+// Success or one clear line.
+using Status = base::Status<>;
 
 }  // namespace cathbox::emu

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "base/read_file.hpp"
 #include "base/text_lines.hpp"
 
 namespace cathbox::tool {
@@ -9,7 +10,6 @@ namespace cathbox::tool {
 using base::text::TextLines;
 using base::text::located;
 using base::text::parse_number;
-using base::text::read_text_file;
 
 namespace {
 constexpr std::size_t kMaxScriptBytes = 8u << 20;
@@ -150,7 +150,7 @@ ScriptParse parse_script(std::string_view text, std::string_view file_name) {
 }
 
 ScriptParse load_script(const std::string& path) {
-  const std::optional<std::string> text = read_text_file(path, kMaxScriptBytes);
+  const base::Result<std::string, base::ReadFileError> text = base::read_file(path, kMaxScriptBytes);
   if (!text) return base::Error{path + ":0: cannot read the file (missing, unreadable or larger than 8 MiB)"};
   return parse_script(*text, path);
 }

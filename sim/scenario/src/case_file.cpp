@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "tool/aneurysm_sac.hpp"
+#include "base/read_file.hpp"
 #include "base/text_lines.hpp"
 
 namespace cathbox::tool {
@@ -13,7 +14,6 @@ namespace cathbox::tool {
 using base::text::TextLines;
 using base::text::located;
 using base::text::parse_number;
-using base::text::read_text_file;
 
 namespace {
 
@@ -577,7 +577,7 @@ CaseParse parse_case(std::string_view text, std::string_view file_name) {
 }
 
 CaseParse load_case(const std::string& path) {
-  const std::optional<std::string> text = read_text_file(path, kMaxCaseBytes);
+  const base::Result<std::string, base::ReadFileError> text = base::read_file(path, kMaxCaseBytes);
   if (!text) return base::Error{path + ":0: cannot read the file (missing, unreadable or larger than 16 MiB)"};
   return parse_case(*text, path);
 }

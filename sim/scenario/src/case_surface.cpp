@@ -1,9 +1,9 @@
 #include "scenario/case_surface.hpp"
 
 #include <filesystem>
-#include <fstream>
 #include <span>
-#include <sstream>
+
+#include "base/read_file.hpp"
 
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/mesh_wire.hpp"
@@ -11,17 +11,11 @@
 namespace cathbox::tool {
 
 base::Result<std::string> read_case_surface_bytes(const std::string& path) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  std::ifstream in(path, std::ios::binary);
-  if (ec || !in) return base::Error{path + ": cannot open the case's surface"};
-  if (size > kMaxCaseSurfaceBytes) {
-    return base::Error{path + ": surface of " + std::to_string(size) + " bytes is too large (at most " +
-                       std::to_string(kMaxCaseSurfaceBytes) + ")"};
-  }
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+  base::Result<std::string, base::ReadFileError> bytes = base::read_file(path, kMaxCaseSurfaceBytes);
+  if (bytes) return std::move(*bytes);
+  if (bytes.error().kind == base::ReadFileError::Kind::kCannotOpen) return base::Error{path + ": cannot open the case's surface"};
+  return base::Error{path + ": surface of " + std::to_string(bytes.error().size_bytes) + " bytes is too large (at most " +
+                     std::to_string(kMaxCaseSurfaceBytes) + ")"};
 }
 
 base::Result<vessel::SurfaceMesh> decode_case_surface(std::string_view bytes, const std::string& path) {

@@ -85,11 +85,11 @@ class WallFollowRender : public ::testing::Test {
 TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   session::SessionCaseLoad loaded = session::load_session_case(dir + "neuro_angioplasty.case");
-  ASSERT_TRUE(loaded.value) << loaded.error;
-  auto script = session::ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  auto script = session::ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value());
   ASSERT_TRUE(script) << (script ? "" : script.error().message);
   auto hand = std::move(*script);
-  session::Session s(std::move(loaded.value), std::move(hand));
+  session::Session s(std::move(loaded.value()), std::move(hand));
 
   // The case's surface as the trainer shows it (detail + overview of the HCLM model).
   const vessel::VesselModel& source = *s.scene().world->source_model();

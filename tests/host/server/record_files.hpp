@@ -41,15 +41,15 @@ inline std::string record_left_branch(const std::function<void(session::SessionC
                                       const std::string& name = "left.cbxrec") {
   const std::string path = scratch(name);
   auto scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation.case");
-  EXPECT_TRUE(scene.value) << scene.error;
+  EXPECT_TRUE(scene) << scene.error().message;
   std::string error;
   auto script = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions",
-                                                *scene.value);
+                                                *scene.value());
   EXPECT_TRUE(script) << (script ? "" : script.error().message);
   std::unique_ptr<session::Hand> hand;
   if (script) hand = std::move(*script);
-  if (change) change(*scene.value);
-  session::Session s(std::move(scene.value), std::move(hand));
+  if (change) change(*scene.value());
+  session::Session s(std::move(scene.value()), std::move(hand));
   const base::Status<> recording = s.record_to(path);
   EXPECT_TRUE(recording) << recording.error().message;
   while (!s.over()) s.step_virtual(1000);

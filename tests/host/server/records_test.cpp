@@ -187,12 +187,12 @@ TEST(DebriefTrace, OneInjectionIsOneEvent) {
   std::ofstream(scratch("inject.actions")) << "0 select catheter\n0 insert_to 30 at 30\n1000 fluoro on\n"
                                               "1000 inject 2 at 2\n2500 fluoro off\n2600 end\n";
   auto scene = session::load_session_case(scratch("inject.case"));
-  ASSERT_TRUE(scene.value) << scene.error;
-  auto script = session::ActionScriptHand::load(scratch("inject.actions"), *scene.value);
+  ASSERT_TRUE(scene) << scene.error().message;
+  auto script = session::ActionScriptHand::load(scratch("inject.actions"), *scene.value());
   ASSERT_TRUE(script) << script.error().message;
   const std::string path = scratch("inject.cbxrec");
   {
-    session::Session s(std::move(scene.value), std::move(*script));
+    session::Session s(std::move(scene.value()), std::move(*script));
     ASSERT_TRUE(s.record_to(path));
     while (!s.over()) s.step_virtual(1000);
     ASSERT_TRUE(s.recorder()->close());

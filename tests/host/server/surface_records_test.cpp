@@ -42,11 +42,11 @@ std::string write_surface_case(const std::string& folder, int subdivision_level)
 // The left branch by action script on that case, recorded in virtual time: the record's bytes.
 std::string record_surface_case(const std::string& case_path) {
   auto scene = session::load_session_case(case_path);
-  EXPECT_TRUE(scene.value) << scene.error;
-  EXPECT_TRUE(scene.value->surface_given());
-  auto script = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions", *scene.value);
+  EXPECT_TRUE(scene) << scene.error().message;
+  EXPECT_TRUE(scene.value()->surface_given());
+  auto script = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions", *scene.value());
   EXPECT_TRUE(script) << (script ? "" : script.error().message);
-  session::Session s(std::move(scene.value), std::move(*script));
+  session::Session s(std::move(scene.value()), std::move(*script));
   const std::string path = case_path + ".cbxrec";
   const base::Status<> recording = s.record_to(path);
   EXPECT_TRUE(recording) << recording.error().message;

@@ -33,14 +33,14 @@ struct CaseAndHand {
 CaseAndHand angioplasty_case() {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad loaded = load_session_case(dir + "neuro_angioplasty.case");
-  EXPECT_TRUE(loaded.value) << loaded.error;
-  if (!loaded.value) return {};
+  EXPECT_TRUE(loaded) << loaded.error().message;
+  if (!loaded) return {};
   std::string error;
-  auto script = ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value);
+  auto script = ActionScriptHand::load(dir + "neuro_angioplasty.actions", *loaded.value());
   EXPECT_TRUE(script) << (script ? "" : script.error().message);
   if (!script) return {};
   auto hand = std::move(*script);
-  return {std::move(loaded.value), std::move(hand)};
+  return {std::move(loaded.value()), std::move(hand)};
 }
 
 TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {

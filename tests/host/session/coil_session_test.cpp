@@ -62,8 +62,8 @@ std::unique_ptr<SessionCase> sphere_case() {
   const std::string path = fixtures::temp_path("coil_session_test", "coil_in_sphere.case");
   std::ofstream(path) << kCase;
   SessionCaseLoad loaded = load_session_case(path);
-  EXPECT_TRUE(loaded.value) << loaded.error;
-  return std::move(loaded.value);
+  EXPECT_TRUE(loaded) << loaded.error().message;
+  return std::move(loaded.value());
 }
 
 TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulatorHasIt) {

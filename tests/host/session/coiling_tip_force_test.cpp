@@ -67,12 +67,12 @@ class TipForces : public TickObserver {
 TEST(CoilingSession, WallForceEventsReportTheHeldTipAtConvergedStepsWithinAPhysicalBound) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad loaded = load_session_case(dir + "neuro_coiling.case");
-  ASSERT_TRUE(loaded.value) << loaded.error;
+  ASSERT_TRUE(loaded) << loaded.error().message;
   std::string error;
-  auto script = ActionScriptHand::load(dir + "neuro_coiling.actions", *loaded.value);
+  auto script = ActionScriptHand::load(dir + "neuro_coiling.actions", *loaded.value());
   ASSERT_TRUE(script) << (script ? "" : script.error().message);
   auto hand = std::move(*script);
-  Session s(std::move(loaded.value), std::move(hand));
+  Session s(std::move(loaded.value()), std::move(hand));
   TipForces forces;
   s.add_observer(forces);
   ASSERT_EQ(s.step_virtual(13'000), 13'000);

@@ -95,14 +95,14 @@ HandForceTrace run_session(const FeelRun& run, Metrics& metrics) {
   HandForceTrace trace;
   const std::string root = std::string(CATHBOX_SOURCE_DIR) + "/";
   SessionCaseLoad loaded = load_session_case(root + run.case_file);
-  EXPECT_TRUE(loaded.value) << loaded.error;
-  if (!loaded.value) return trace;
+  EXPECT_TRUE(loaded) << loaded.error().message;
+  if (!loaded) return trace;
   std::string error;
-  auto script = ActionScriptHand::load(root + run.actions, *loaded.value);
+  auto script = ActionScriptHand::load(root + run.actions, *loaded.value());
   EXPECT_TRUE(script) << (script ? "" : script.error().message);
   if (!script) return trace;
   auto hand = std::move(*script);
-  Session s(std::move(loaded.value), std::move(hand));
+  Session s(std::move(loaded.value()), std::move(hand));
   s.add_observer(trace);
   while (!s.over() && s.step_virtual(1000) > 0) {
   }

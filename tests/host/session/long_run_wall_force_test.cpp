@@ -69,11 +69,11 @@ TEST(LongRunWallForce, NoContactReachesTheWiresCapOf1800mN) {
   const int seconds = env != nullptr ? std::atoi(env) : 120;
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad loaded = load_session_case(dir + "y_bifurcation.case");
-  ASSERT_TRUE(loaded.value) << loaded.error;
-  auto script = ActionScriptHand::load(write_long_script(seconds), *loaded.value);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  auto script = ActionScriptHand::load(write_long_script(seconds), *loaded.value());
   ASSERT_TRUE(script) << (script ? "" : script.error().message);
   auto hand = std::move(*script);
-  Session s(std::move(loaded.value), std::move(hand));
+  Session s(std::move(loaded.value()), std::move(hand));
   CapWatch watch;
   s.add_observer(watch);
   s.step_virtual(std::int64_t{seconds} * 1000);

@@ -25,8 +25,8 @@ inline std::string case_path(const std::string& file) { return std::string(CATHB
 // A bundled case (cases/<file>), loaded as every front end loads it.
 inline std::unique_ptr<SessionCase> load(const std::string& file) {
   SessionCaseLoad loaded = load_session_case(case_path(file));
-  EXPECT_TRUE(loaded.value) << loaded.error;
-  return std::move(loaded.value);
+  EXPECT_TRUE(loaded) << loaded.error().message;
+  return std::move(loaded.value());
 }
 
 // An action-script hand playing `text` ("test.actions") against the case's tools.

@@ -167,8 +167,8 @@ TEST(Session, TheRunEndsAtItsTimeLimitAndAReplayRefusesControls) {
 
 TEST(Session, ABadCaseOrScriptIsOneLineNamingTheFile) {
   const SessionCaseLoad missing = load_session_case("/no/such.case");
-  EXPECT_FALSE(missing.value);
-  EXPECT_EQ(missing.error, "/no/such.case:0: cannot open file");
+  EXPECT_FALSE(missing);
+  EXPECT_EQ(missing.error().message, "/no/such.case:0: cannot open file");
   auto scene = load("y_bifurcation.case");
   std::string error;
   const tool::ScriptParse parsed = tool::parse_script("0 select catheter\n", "bad.actions");

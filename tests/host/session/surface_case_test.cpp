@@ -33,8 +33,8 @@ TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
   std::ofstream(case_path) << "cathbox-case 1\nvessel y.hclm\nsurface lumen.cbxmesh\ntarget 2 1.0\n";
 
   SessionCaseLoad loaded = load_session_case(case_path);
-  ASSERT_TRUE(loaded.value) << loaded.error;
-  const SessionCase& scene = *loaded.value;
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  const SessionCase& scene = *loaded.value();
   EXPECT_TRUE(scene.surface_given());
   ASSERT_NE(scene.mesh(), nullptr);
   EXPECT_EQ(scene.mesh()->triangle_count(), lumen.mesh.triangle_count());
@@ -60,14 +60,14 @@ TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
 
   std::filesystem::remove_all(dir);  // the record alone rebuilds the case
   SessionCaseLoad replayed = session_case_from_record(back);
-  ASSERT_TRUE(replayed.value) << replayed.error;
-  EXPECT_TRUE(replayed.value->surface_given());
-  EXPECT_EQ(replayed.value->mesh()->triangle_count(), lumen.mesh.triangle_count());
+  ASSERT_TRUE(replayed) << replayed.error().message;
+  EXPECT_TRUE(replayed.value()->surface_given());
+  EXPECT_EQ(replayed.value()->mesh()->triangle_count(), lumen.mesh.triangle_count());
 
   back.surface_bytes.clear();  // a record naming a surface it does not carry is refused
   const SessionCaseLoad bare = session_case_from_record(back);
-  EXPECT_FALSE(bare.value);
-  EXPECT_NE(bare.error.find("carries none of its bytes"), std::string::npos);
+  EXPECT_FALSE(bare);
+  EXPECT_NE(bare.error().message.find("carries none of its bytes"), std::string::npos);
 }
 
 }  // namespace

@@ -23,15 +23,15 @@ double left_mca_ml_min(const flow::FlowNetwork& net) {
 TEST(ThrombectomyCase, ClotsOccludeTheFlowAtLoad) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   SessionCaseLoad open = load_session_case(dir + "neuro.case");
-  ASSERT_TRUE(open.value) << open.error;
-  const double baseline = left_mca_ml_min(*open.value->flow);
+  ASSERT_TRUE(open) << open.error().message;
+  const double baseline = left_mca_ml_min(*open.value()->flow);
   ASSERT_GT(baseline, 50.0);
   for (const char* name : {"neuro_thrombectomy_m1.case", "neuro_thrombectomy_ica_t.case"}) {
     SessionCaseLoad loaded = load_session_case(dir + name);
-    ASSERT_TRUE(loaded.value) << loaded.error;
-    ASSERT_TRUE(loaded.value->flow) << name;
-    EXPECT_FALSE(loaded.value->flow->clots().empty()) << name;
-    EXPECT_LT(left_mca_ml_min(*loaded.value->flow), 0.05 * baseline) << name;
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    ASSERT_TRUE(loaded.value()->flow) << name;
+    EXPECT_FALSE(loaded.value()->flow->clots().empty()) << name;
+    EXPECT_LT(left_mca_ml_min(*loaded.value()->flow), 0.05 * baseline) << name;
   }
 }
 
@@ -42,8 +42,8 @@ TEST(ThrombectomyCase, ABadClotIsRefusedAtLoadNamingItsLine) {
     f << "cathbox-case 1\nvessel " << CATHBOX_SOURCE_DIR << "/cases/neuro.hclm\nclot 22 10 13\n";
   }
   SessionCaseLoad loaded = load_session_case(path);
-  EXPECT_FALSE(loaded.value);
-  EXPECT_NE(loaded.error.find("bad_clot.case:3: clot: runs past the end of segment 22"), std::string::npos) << loaded.error;
+  EXPECT_FALSE(loaded);
+  EXPECT_NE(loaded.error().message.find("bad_clot.case:3: clot: runs past the end of segment 22"), std::string::npos) << loaded.error().message;
   std::remove(path.c_str());
 }
 

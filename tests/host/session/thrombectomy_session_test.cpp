@@ -30,14 +30,14 @@ const std::string kCases = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
 
 TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays) {
   SessionCaseLoad loaded = load_session_case(kCases + "neuro_thrombectomy_ica_t.case");
-  ASSERT_TRUE(loaded.value) << loaded.error;
-  auto script = ActionScriptHand::load(kCases + "neuro_thrombectomy_ica_t.actions", *loaded.value);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  auto script = ActionScriptHand::load(kCases + "neuro_thrombectomy_ica_t.actions", *loaded.value());
   ASSERT_TRUE(script) << (script ? "" : script.error().message);
   auto hand = std::move(*script);
   const std::string path = fixtures::temp_path("session_test", "thrombectomy_ica_t.cbxrec");
   Metrics live;
   {
-    Session s(std::move(loaded.value), std::move(hand));
+    Session s(std::move(loaded.value()), std::move(hand));
     ASSERT_TRUE(s.thrombectomy());
     const base::Status<> recording = s.record_to(path);
     ASSERT_TRUE(recording) << recording.error().message;
@@ -138,8 +138,8 @@ void load_m1(M1& out, const std::vector<std::pair<std::string, std::string>>& re
   const std::string path = fixtures::temp_path("session_test", "m1_variant.case");
   std::ofstream(path) << text;
   SessionCaseLoad loaded = load_session_case(path);
-  ASSERT_TRUE(loaded.value) << loaded.error;
-  out.scene = std::move(loaded.value);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  out.scene = std::move(loaded.value());
   std::string why;
   out.unit = ThrombectomyUnit::make(*out.scene->flow, out.scene->spec, out.events, why);
   ASSERT_TRUE(out.unit) << why;
@@ -178,8 +178,8 @@ void place(M1& c, const glm::dvec3& point, double insertion_mm, std::int64_t tim
 
 TEST(ThrombectomyUnit, AnM1ClotIngestedOnTheFirstPassReperfusesTheTerritory) {
   SessionCaseLoad open = load_session_case(kCases + "neuro.case");
-  ASSERT_TRUE(open.value) << open.error;
-  const double baseline = left_mca_ml_min(*open.value->flow);
+  ASSERT_TRUE(open) << open.error().message;
+  const double baseline = left_mca_ml_min(*open.value()->flow);
   M1 c;
   load_m1(c);
   ASSERT_TRUE(c.unit);

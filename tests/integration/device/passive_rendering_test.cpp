@@ -75,12 +75,11 @@ Figures run_dead_end(bool motor, emu::HandModel hand_model, const std::string& h
   const std::string path = "/tmp/cathbox-passive-" + std::to_string(::getpid()) + ".case";
   std::ofstream(path) << kDeadEnd;
   session::SessionCaseLoad scene = session::load_session_case(path);
-  if (!scene.value) throw std::runtime_error(scene.error);
-  std::string error;
-  auto hand = session::BoxHand::attach(world.connect(), session::BoxHandOptions{}, error);
-  if (!hand) throw std::runtime_error(error);
-  const session::BoxHand* box = hand.get();
-  session::Session s(std::move(scene.value), std::move(hand));
+  if (!scene) throw std::runtime_error(scene.error().message);
+  auto hand = session::BoxHand::attach(world.connect(), session::BoxHandOptions{});
+  if (!hand) throw std::runtime_error(hand.error().message);
+  const session::BoxHand* box = hand->get();
+  session::Session s(std::move(scene.value()), std::move(*hand));
   const emu::HandScript script = emu::HandScript::parse(hand_script, 0).value();
   world.emu().set_hand(0, script);
   Figures f;

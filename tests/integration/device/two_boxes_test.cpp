@@ -25,10 +25,9 @@ struct Insertions final : session::TickObserver {
 std::unique_ptr<session::BoxHand> bound_box(EmuWorld& world, std::size_t box, std::size_t tool) {
   session::BoxHandOptions o;
   o.tool = tool;
-  std::string error;
-  auto hand = session::BoxHand::attach(world.connect(box), o, error);
-  if (!hand) throw std::runtime_error(error);
-  return hand;
+  auto hand = session::BoxHand::attach(world.connect(box), o);
+  if (!hand) throw std::runtime_error(hand.error().message);
+  return std::move(*hand);
 }
 
 class TwoBoxes : public ::testing::Test {
@@ -40,16 +39,15 @@ class TwoBoxes : public ::testing::Test {
     right.serial = "EMU-RIGHT";
     world = std::make_unique<EmuWorld>(std::vector<emu::EmuOptions>{left, right});
     session::SessionCaseLoad scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
-    ASSERT_TRUE(scene.value) << scene.error;
-    ASSERT_EQ(scene.value->spec.tools.size(), 2u);
+    ASSERT_TRUE(scene) << scene.error().message;
+    ASSERT_EQ(scene.value()->spec.tools.size(), 2u);
     std::vector<session::MultiBoxHand::Bound> boxes;
     boxes.push_back({bound_box(*world, 0, 0), "catheter"});
     boxes.push_back({bound_box(*world, 1, 1), "guidewire"});
-    std::string error;
-    auto hand = session::MultiBoxHand::make(std::move(boxes), 2, error);
-    ASSERT_TRUE(hand) << error;
-    rig = hand.get();
-    s = std::make_unique<session::Session>(std::move(scene.value), std::move(hand));
+    auto hand = session::MultiBoxHand::make(std::move(boxes), 2);
+    ASSERT_TRUE(hand) << hand.error().message;
+    rig = hand->get();
+    s = std::make_unique<session::Session>(std::move(scene.value()), std::move(*hand));
     s->add_observer(seen);
   }
   // Runs the boxes and the session tick by tick for `ms`.
@@ -94,24 +92,26 @@ TEST_F(TwoBoxes, EachBoxMovesItsOwnToolWhicheverIsHeld) {
 
 TEST(TwoBoxesSetup, BadBindingsGiveOneLine) {
   EmuWorld world(std::vector<emu::EmuOptions>{{}, {}});
-  std::string error;
   // One box is "tool in hand", not a rig of boxes.
   std::vector<session::MultiBoxHand::Bound> one;
   one.push_back({bound_box(world, 0, 0), "catheter"});
-  EXPECT_FALSE(session::MultiBoxHand::make(std::move(one), 2, error));
-  EXPECT_NE(error.find("two boxes"), std::string::npos) << error;
+  const auto alone = session::MultiBoxHand::make(std::move(one), 2);
+  ASSERT_FALSE(alone);
+  EXPECT_NE(alone.error().message.find("two boxes"), std::string::npos) << alone.error().message;
   // Two boxes on one tool.
   std::vector<session::MultiBoxHand::Bound> same;
   same.push_back({bound_box(world, 0, 1), "guidewire"});
   same.push_back({bound_box(world, 1, 1), "guidewire"});
-  EXPECT_FALSE(session::MultiBoxHand::make(std::move(same), 2, error));
-  EXPECT_EQ(error, "two boxes drive 'guidewire'");
+  const auto doubled = session::MultiBoxHand::make(std::move(same), 2);
+  ASSERT_FALSE(doubled);
+  EXPECT_EQ(doubled.error().message, "two boxes drive 'guidewire'");
   // A tool the case does not have.
   std::vector<session::MultiBoxHand::Bound> beyond;
   beyond.push_back({bound_box(world, 0, 0), "catheter"});
   beyond.push_back({bound_box(world, 1, 3), "coil"});
-  EXPECT_FALSE(session::MultiBoxHand::make(std::move(beyond), 2, error));
-  EXPECT_EQ(error, "box for 'coil': the case has 2 tools");
+  const auto missing = session::MultiBoxHand::make(std::move(beyond), 2);
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.error().message, "box for 'coil': the case has 2 tools");
 }
 
 }  // namespace

@@ -58,16 +58,15 @@ int run_run(Args& args, const GroupSpec& group) {
   }
 
   session::SessionCaseLoad scene = session::load_session_case(*case_path);
-  if (!scene.value) {
-    std::fprintf(stderr, "%s\n", scene.error.c_str());
+  if (!scene) {
+    std::fprintf(stderr, "%s\n", scene.error().message.c_str());
     return kExitBadInput;
   }
   session::SessionOptions options;
   if (seconds) options.max_ticks = static_cast<std::int64_t>(*seconds * 1e6 / static_cast<double>(options.period_us));
-  std::string error;
   std::unique_ptr<session::Hand> hand;
   if (script) {
-    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(*script, *scene.value);
+    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(*script, *scene.value());
     if (!loaded) {
       std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
       return kExitBadInput;
@@ -79,32 +78,34 @@ int run_run(Args& args, const GroupSpec& group) {
     box.emu_socket = *emu;
     box.emu_program = program_dir() + "/cathbox-emu";
     box.dt_s = static_cast<double>(options.period_us) * 1e-6;
-    hand = session::BoxHand::connect(box, error);
-    if (!hand) {
-      std::fprintf(stderr, "cathbox session run: %s\n", error.c_str());
+    base::Result<std::unique_ptr<session::BoxHand>> connected = session::BoxHand::connect(box);
+    if (!connected) {
+      std::fprintf(stderr, "cathbox session run: %s\n", connected.error().message.c_str());
       return kExitNoDevice;
     }
+    hand = std::move(*connected);
   } else {
     std::vector<session::BoxBinding> bindings;
     for (const std::string& b : boxes) {
-      std::string why;
-      const std::optional<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value->spec.tools, why);
-      if (!parsed) return bad(why);
+      const base::Result<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value()->spec.tools);
+      if (!parsed) return bad(parsed.error().message);
       for (const session::BoxBinding& other : bindings) {
         if (other.tool == parsed->tool) return bad("--box: two boxes for '" + parsed->tool_name + "'");
       }
       bindings.push_back(*parsed);
     }
-    session::BoxHandOptions base;
-    base.emu_program = program_dir() + "/cathbox-emu";
-    base.dt_s = static_cast<double>(options.period_us) * 1e-6;
-    hand = session::MultiBoxHand::connect(bindings, base, scene.value->spec.tools.size(), error);
-    if (!hand) {
-      std::fprintf(stderr, "cathbox session run: %s\n", error.c_str());
+    session::BoxHandOptions rig_options;
+    rig_options.emu_program = program_dir() + "/cathbox-emu";
+    rig_options.dt_s = static_cast<double>(options.period_us) * 1e-6;
+    base::Result<std::unique_ptr<session::MultiBoxHand>> rig =
+        session::MultiBoxHand::connect(bindings, rig_options, scene.value()->spec.tools.size());
+    if (!rig) {
+      std::fprintf(stderr, "cathbox session run: %s\n", rig.error().message.c_str());
       return kExitNoDevice;
     }
+    hand = std::move(*rig);
   }
-  session::Session s(std::move(scene.value), std::move(hand), options);
+  session::Session s(std::move(scene.value()), std::move(hand), options);
   if (base::Status<> recording = s.record_to(*record); !recording) {
     std::fprintf(stderr, "%s\n", recording.error().message.c_str());
     return kExitBadInput;

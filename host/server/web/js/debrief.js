@@ -8,8 +8,7 @@ import { VesselView, parseMesh } from './scene.js';
 const EVENT_COLOURS = { wall_contact: '#e65100', wrong_branch: '#c62828', target_reached: '#2e7d32',
   injection: '#6a1b9a', fluoroscopy: '#0277bd', tool_change: '#455a64', flow_arrest: '#00838f' };
 const $ = (id) => document.getElementById(id);
-const state = { index: 0, playing: false, speed: 1, trace: null, openMs: null, ready: false };
-window.cathboxDebrief = state;  // for the browser test
+const state = { index: 0, playing: false, speed: 1, trace: null, ready: false };
 let view = null;
 let chart = null;
 
@@ -136,8 +135,6 @@ function seekTime(ms) {
   while (lo < hi) { const mid = (lo + hi) >> 1; if (tr.t_ms[mid] < ms) lo = mid + 1; else hi = mid; }
   seek(lo);
 }
-state.seek = seek;
-state.seekTime = seekTime;
 
 function drawMarks(tr) {
   const end = tr.t_ms[tr.samples - 1] || 1;
@@ -174,7 +171,6 @@ function loop(now) {
 if (requireUser()) guarded(async () => {
   const id = new URLSearchParams(location.search).get('id');
   if (!id) throw new Error('no result given (debrief.html?id=N)');
-  const t0 = performance.now();
   const data = await api('/results/' + encodeURIComponent(id) + '/trace');
   const tr = data.trace;
   const r = data.result;
@@ -204,8 +200,6 @@ if (requireUser()) guarded(async () => {
   drawMarks(tr);
   seek(0);
   view.render();
-  state.chart = chart;
-  state.openMs = performance.now() - t0;
   state.ready = true;
 }).then(() => { if (!state.ready) showError(document.getElementById('error').textContent || 'debrief failed'); });
 

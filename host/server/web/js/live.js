@@ -6,13 +6,10 @@ import { VesselView, loadMesh } from './scene.js';
 
 
 const rigs = new Map();     // rig name -> the rig as the server describes it
-const panels = new Map();   // rig name -> {view, stats, frame, applied, ...}
-// renders: animation frames run; fps: their rate; frameRate: stream frames drawn a second (all
-// panels); frames: frames received; applied: frames drawn (only the newest is drawn when several
-// arrive between two animation frames), lastSeq: the seq of the last one drawn; draws: WebGL
-// draws (a panel draws only when its frame or camera changed).
-const stats = { renders: 0, frames: 0, applied: 0, fps: 0, frameRate: 0, draws: 0, lastTip: null, lastSeq: null };
-window.cathboxLive = stats; // for the browser test and the curious
+const panels = new Map();   // rig name -> {view, stats, frame, drawn, ...}
+// How the view keeps up, shown under the title: animation frames drawn a second and stream
+// frames drawn a second (all panels). Each panel shows its last frame's seq and how many of its
+// frames it drew (only the newest is drawn when several arrive between two animation frames).
 let socket = null;
 let wanted = '';  // the rigs the address names
 
@@ -50,7 +47,6 @@ function connect() {
       drawRigs();
     } else if (m.type === 'frame') {
       const p = panels.get(m.rig);
-      stats.frames++;
       if (p) p.frame = m.frame;
     } else if (m.type === 'error') {
       showError(m.error);
@@ -88,7 +84,7 @@ function openPanel(name) {
   const statBox = el('div', { class: 'stats' });
   const panel = el('section', { class: 'panel', 'data-rig': name }, el('header', {}, title, close), view3d, statBox);
   document.getElementById('panels').append(panel);
-  const p = { name, panel, title, view: new VesselView(view3d), stats: statBox, frame: null, shown: null, fluoroTime: null };
+  const p = { name, panel, title, view: new VesselView(view3d), stats: statBox, frame: null, shown: null, fluoroTime: null, drawn: 0 };
   close.onclick = () => closePanel(name);
   panels.set(name, p);
   if (rig) {
@@ -119,9 +115,7 @@ function apply(p) {
   (f.tools || []).forEach((t, i) => p.view.setTool(i, t.nodes_mm || []));
   p.view.setTip(f.tip_mm);
   p.view.setContacts(f.contacts || []);
-  stats.lastTip = f.tip_mm;
-  stats.lastSeq = f.seq === undefined ? null : f.seq;
-  stats.applied++;
+  p.drawn++;
   const fluoroTime = f.fluoro ? f.fluoro.time_s : null;
   const fluoroOn = f.fluoro && (f.fluoro.on || (p.fluoroTime !== null && fluoroTime > p.fluoroTime));
   p.fluoroTime = fluoroTime;
@@ -135,6 +129,8 @@ function apply(p) {
     el('div', {}, 'fluoro ', fluoroOn ? el('span', { class: 'fluoro-on', 'data-stat': 'fluoro' }, 'ON') :
       el('b', { 'data-stat': 'fluoro' }, fluoroTime === null ? 'none' : 'off'), fluoroTime === null ? '' : ' ' + fmt(fluoroTime) + ' s'),
     ...SHOWN_METRICS.filter((k) => k in m).map((k) => stat(k.replace(/_/g, ' '), fmt(m[k], 1), k)),
+    ...(f.seq === undefined ? [] : [stat('frame', String(f.seq), 'seq')]),
+    stat('drawn', String(p.drawn), 'drawn'),
   );
 }
 
@@ -144,13 +140,12 @@ let framesThisSecond = 0;
 function loop(now) {
   for (const p of panels.values()) {
     if (p.frame && p.frame !== p.shown) { apply(p); framesThisSecond++; }
-    if (p.view.render()) stats.draws++;
+    p.view.render();
   }
-  stats.renders++;
   rendersThisSecond++;
   if (now - lastSecond >= 1000) {
-    stats.fps = rendersThisSecond * 1000 / (now - lastSecond);
-    stats.frameRate = framesThisSecond * 1000 / (now - lastSecond);
+    document.getElementById('rate-fps').textContent = (rendersThisSecond * 1000 / (now - lastSecond)).toFixed(1);
+    document.getElementById('rate-frames').textContent = (framesThisSecond * 1000 / (now - lastSecond)).toFixed(1);
     rendersThisSecond = 0;
     framesThisSecond = 0;
     lastSecond = now;

@@ -4,7 +4,6 @@ import { requireUser, api, guarded, el } from './api.js';
 import { ResultsTable, fetchResults, drawCurves, download, caseOptions } from './results_table.js';
 
 const table = new ResultsTable(document.getElementById('table'));
-window.cathboxResults = table;  // for the browser test
 const $ = (id) => document.getElementById(id);
 
 function filters() {

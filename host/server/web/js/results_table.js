@@ -101,8 +101,7 @@ export function download(name, text, type = 'text/csv') {
   a.remove();
 }
 
-const charts = [];
-window.cathboxCharts = charts;  // for the browser test
+const charts = [];  // the curves drawn, destroyed before the next ones
 
 // One small chart per metric: its value at each attempt (oldest first), passes in green.
 export function drawCurves(container, results, metrics = CURVE_METRICS) {
@@ -137,7 +136,6 @@ export function drawCurves(container, results, metrics = CURVE_METRICS) {
         plugins: { legend: { display: false } },
       },
     });
-    chart.cathboxMetric = metric;
     charts.push(chart);
   }
 }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "device/box_client.hpp"
 #include "device/clock.hpp"
 #include "session/emulator_process.hpp"
@@ -41,11 +42,11 @@ struct BoxHandOptions {
 
 class BoxHand final : public Hand {
  public:
-  // Finds the box as `options` say; null with one line in `error`.
-  [[nodiscard]] static std::unique_ptr<BoxHand> connect(const BoxHandOptions& options, std::string& error);
+  // Finds the box as `options` say, or one line saying why not.
+  [[nodiscard]] static base::Result<std::unique_ptr<BoxHand>> connect(const BoxHandOptions& options);
   // Over a client connected elsewhere on `clock` (tests: the emulator in-process, virtual time).
-  [[nodiscard]] static std::unique_ptr<BoxHand> attach(std::unique_ptr<device::BoxClient> client,
-                                                       const BoxHandOptions& options, std::string& error);
+  [[nodiscard]] static base::Result<std::unique_ptr<BoxHand>> attach(std::unique_ptr<device::BoxClient> client,
+                                                                     const BoxHandOptions& options);
   ~BoxHand() override;
 
   [[nodiscard]] HandKind kind() const override { return HandKind::kBox; }
@@ -70,7 +71,8 @@ class BoxHand final : public Hand {
 
  private:
   BoxHand() = default;
-  [[nodiscard]] bool init(std::string& error);
+  // The calibration and the box's limits: the mapping and the passive law.
+  [[nodiscard]] base::Status<> init();
 
   device::SystemClock clock_;                    // for a client this hand connects
   std::unique_ptr<EmulatorProcess> emulator_;    // before the client: destroyed after it

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "session/box_hand.hpp"
 #include "session/hand.hpp"
 #include "tool/tool_spec.hpp"
@@ -27,9 +28,8 @@ struct BoxBinding {
   std::string socket;  // kEmulator: connect here; empty: start one
   std::string serial;  // kSerial
 };
-// Parses TOOL=WHERE against the case's tools; nullopt and one line in `error`.
-[[nodiscard]] std::optional<BoxBinding> parse_box_binding(const std::string& text, std::span<const tool::ToolSpec> tools,
-                                                          std::string& error);
+// Parses TOOL=WHERE against the case's tools, or one line saying what is wrong.
+[[nodiscard]] base::Result<BoxBinding> parse_box_binding(const std::string& text, std::span<const tool::ToolSpec> tools);
 
 class MultiBoxHand final : public Hand {
  public:
@@ -37,14 +37,13 @@ class MultiBoxHand final : public Hand {
     std::unique_ptr<BoxHand> box;  // bound to a tool (BoxHandOptions::tool)
     std::string tool_name;         // for describe()
   };
-  // Two or more boxes, each bound to a different tool below tool_count; else null and one line.
-  [[nodiscard]] static std::unique_ptr<MultiBoxHand> make(std::vector<Bound> boxes, std::size_t tool_count,
-                                                          std::string& error);
-  // Connects (or starts) every box of `bindings` with `base`'s other options (emu_program,
-  // dt_s, keyboard); null and one line naming the box's tool when one fails.
-  [[nodiscard]] static std::unique_ptr<MultiBoxHand> connect(std::span<const BoxBinding> bindings,
-                                                             const BoxHandOptions& base, std::size_t tool_count,
-                                                             std::string& error);
+  // Two or more boxes, each bound to a different tool below tool_count; else one line.
+  [[nodiscard]] static base::Result<std::unique_ptr<MultiBoxHand>> make(std::vector<Bound> boxes, std::size_t tool_count);
+  // Connects (or starts) every box of `bindings` with `options`' other fields (emu_program,
+  // dt_s, keyboard); one line naming the box's tool when one fails.
+  [[nodiscard]] static base::Result<std::unique_ptr<MultiBoxHand>> connect(std::span<const BoxBinding> bindings,
+                                                                           const BoxHandOptions& options,
+                                                                           std::size_t tool_count);
 
   [[nodiscard]] HandKind kind() const override { return HandKind::kBox; }
   [[nodiscard]] std::string describe() const override;

@@ -15,6 +15,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "base/result.hpp"
 #include "flow/flow_network.hpp"
 #include "session/centerline_path.hpp"
 #include "session/record_header.hpp"
@@ -55,10 +56,8 @@ struct SessionCase {
   [[nodiscard]] std::optional<glm::vec3> pick(const glm::vec3& origin_mm, const glm::vec3& direction) const;
 };
 
-struct SessionCaseLoad {
-  std::unique_ptr<SessionCase> value;
-  std::string error;  // one line naming the file ("file:line: message")
-};
+// A case ready to run, or one line naming the file ("file:line: message").
+using SessionCaseLoad = base::Result<std::unique_ptr<SessionCase>>;
 
 // A .case file, or a bare .hclm vessel file. `surface`: the vessel surface made elsewhere
 // (vessel/mesh_wire.hpp) instead of meshed here, for a build without OpenSubdiv (WebAssembly);

@@ -2,7 +2,6 @@
 // Line by line over a text file's words, as the case and script parsers read: comments (#),
 // blank lines, CRLF and tabs are tolerated; "file:line: message" for errors.
 #include <cstddef>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -45,19 +44,6 @@ class TextLines {
   out += ": ";
   out += message;
   return out;
-}
-
-// Reads a whole file; empty optional when it cannot be read or holds more than max_bytes.
-[[nodiscard]] inline std::optional<std::string> read_text_file(const std::string& path, std::size_t max_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::string text;
-  char buffer[4096];
-  while (in.read(buffer, sizeof buffer) || in.gcount() > 0) {
-    text.append(buffer, static_cast<std::size_t>(in.gcount()));
-    if (text.size() > max_bytes) return std::nullopt;
-  }
-  return text;
 }
 
 }  // namespace cathbox::base::text
