@@ -229,7 +229,7 @@ TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
   {
     ArtifactCache first;
     first.keep_on_disk(folder);
-    first.put("trace1:abc", std::string(100000, 't'));
+    first.put("trace1:abc", std::string(100000, 't'), first.erasures());
   }
   ArtifactCache second;
   second.keep_on_disk(folder);

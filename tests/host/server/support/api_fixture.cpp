@@ -66,7 +66,8 @@ std::string FakeRecords::make(const std::string& case_stem, const std::map<std::
   return j.dump();
 }
 
-ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker, const std::string& url)
+ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker, const std::string& url,
+                       const std::function<void(ServerConfig&)>& configure)
     : db_url(url.empty() ? fresh_database_url(backend) : url) {
   ServerConfig config;
   config.db_url = db_url;
@@ -74,6 +75,7 @@ ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker
   config.clock = &clock;
   config.instance = "test-instance";
   config.checker = std::move(record_checker);
+  if (configure) configure(config);
   Result<std::unique_ptr<ServerCore>> opened = ServerCore::open(config);
   if (!opened) throw std::runtime_error(opened.error().message);
   core = std::move(opened.value());
