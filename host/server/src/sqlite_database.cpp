@@ -192,7 +192,8 @@ class SqliteDatabase final : public Database {
     try {
       // journal_mode answers a row; the others are silent.
       (void)s.query(path_ == ":memory:" ? "PRAGMA journal_mode=MEMORY" : "PRAGMA journal_mode=WAL", {});
-      // secure_delete: deleted rows (a deleted trainee's records) are overwritten, not left in free pages.
+      // secure_delete: deleted rows (a deleted trainee's records) are overwritten, not left in free
+      // pages (Debian builds SQLite with it on by default; said here so no other build differs).
       s.run_script("PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON; PRAGMA secure_delete=ON;");
     } catch (const StoreError& e) {
       throw StoreError(StoreError::Kind::kUnavailable, "sqlite:" + path_ + ": " + e.what());

@@ -206,6 +206,11 @@ TEST_P(DeleteUserFilesTest, NoFileUnderTheDataFolderHoldsTheirRecord) {
   const std::string bob = f.user("bob", Role::kTrainee);
   const std::string hers = FakeRecords::make("y_bifurcation", {{"tip_path_mm", 81.25}}, false, "alice-private-7e1f");
   const std::string his = FakeRecords::make("y_bifurcation", {{"tip_path_mm", 64.5}}, false, "bob-private-91c2");
+  // One record of hers reaches the database file itself (a checkpoint: only secure_delete
+  // removes it there), the other stays in SQLite's write-ahead log (only the scrub's truncation
+  // removes it there).
+  ASSERT_EQ(f.call("POST", "/api/v1/results", FakeRecords::make("y_bifurcation", {}, false, "alice-earlier-5d0b"), alice).status, 201);
+  f.store->database().scrub();
   const json a = json::parse(f.call("POST", "/api/v1/results", hers, alice).body);
   const json b = json::parse(f.call("POST", "/api/v1/results", his, bob).body);
   for (const json* r : {&a, &b}) {
@@ -215,11 +220,13 @@ TEST_P(DeleteUserFilesTest, NoFileUnderTheDataFolderHoldsTheirRecord) {
   const auto trace_file = [&](const std::string& hash) { return data / "cache" / ("trace1-" + hash + ".zst"); };
   ASSERT_TRUE(fs::exists(trace_file(her_hash))) << "her trace file is on disk before";
   if (sqlite) {
-    ASSERT_FALSE(files_holding(data, "alice-private-7e1f").empty()) << "her record is in the database file before";
+    ASSERT_NE(read_bytes(data / "server.db").find("alice-earlier-5d0b"), std::string::npos);
+    ASSERT_EQ(files_holding(data, "alice-private-7e1f"), std::vector<std::string>{(data / "server.db-wal").string()});
   }
 
   ASSERT_EQ(f.call("DELETE", "/api/v1/users/alice", "", admin).status, 204);
   EXPECT_EQ(files_holding(data, "alice-private-7e1f"), std::vector<std::string>{});
+  EXPECT_EQ(files_holding(data, "alice-earlier-5d0b"), std::vector<std::string>{});
   EXPECT_EQ(files_holding(data, her_hash), std::vector<std::string>{});
   EXPECT_EQ(files_holding(data, "81.25"), std::vector<std::string>{});  // her metric
   EXPECT_TRUE(fs::exists(trace_file(his_hash))) << "bob's trace file stays";
