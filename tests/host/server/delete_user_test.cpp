@@ -6,7 +6,6 @@
 // admins only, not oneself; audited with who, when and from where. An unknown name changes
 // nothing. `cathbox-server admin delete-user` (a stopped server) does the same from the command line.
 #include <filesystem>
-#include <fstream>
 
 #include <gtest/gtest.h>
 
@@ -23,10 +22,7 @@ using test::error_of;
 using test::FakeRecords;
 using json = nlohmann::json;
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+std::string read_bytes(const fs::path& path) { return test::file_bytes(path.string()); }
 
 // Every regular file under `folder` whose name or bytes contain `needle`.
 std::vector<std::string> files_holding(const fs::path& folder, const std::string& needle) {

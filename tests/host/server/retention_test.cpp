@@ -10,6 +10,7 @@
 
 #include "server/audit_log.hpp"
 #include "server/iso_time.hpp"
+#include "server/user_export.hpp"
 #include "support/api_fixture.hpp"
 
 namespace cathbox::server {
@@ -90,6 +91,16 @@ TEST_P(RetentionTest, RecordsOlderThanTheSettingGoAndTheirResultsStayMarked) {
   EXPECT_EQ(log[0].remote, "server");
   EXPECT_EQ(log[0].at_us, f_->clock.now_us());
   EXPECT_EQ(log[0].detail, "records=1 uploaded_before=" + iso_time(f_->clock.now_us() - 30 * kDayUs) + " days=30");
+
+  // An export lists the result without its record.
+  const fs::path out = fs::path(test::temp_folder()) / "export";
+  ASSERT_TRUE(export_user(*f_->store, "alice", out.string(), "dpo", f_->clock.now_us()));
+  const json exported = json::parse(test::file_bytes((out / "results.json").string()));
+  ASSERT_EQ(exported.size(), 2U);
+  EXPECT_EQ(exported[0]["record"], nullptr);
+  EXPECT_EQ(exported[0]["record_gone_us"], f_->clock.now_us());
+  EXPECT_EQ(exported[1]["record"], "records/" + young_id + ".cbxrec");
+  EXPECT_FALSE(fs::exists(out / "records" / (old_id + ".cbxrec")));
 
   // The next pass has nothing to do; twenty days on (the younger one 31 days old) it goes too.
   EXPECT_EQ(f_->core->enforce_retention(), 0);

@@ -19,6 +19,13 @@ std::string source_file(const std::string& relative) {
   return ss.str();
 }
 
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 Result<std::string> FakeRecords::trace(std::string_view bytes) {
   Result<nlohmann::json> j = parse_json_object(bytes, "record");
   if (!j) return make_error(422, "record: byte 0: not a record");

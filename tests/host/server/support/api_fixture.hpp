@@ -32,6 +32,8 @@ class FakeRecords final : public RecordChecker {
 
 // Reads a file of the source tree (cases/..., tests/...).
 [[nodiscard]] std::string source_file(const std::string& relative);
+// A file's bytes ("" when it cannot be read).
+[[nodiscard]] std::string file_bytes(const std::string& path);
 
 class ApiFixture {
  public:
