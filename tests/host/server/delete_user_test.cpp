@@ -13,6 +13,7 @@
 #include "server/testing/child_process.hpp"
 #include "server/user_export.hpp"
 #include "support/api_fixture.hpp"
+#include "support/server_fixture.hpp"
 
 namespace cathbox::server {
 namespace {
@@ -182,6 +183,49 @@ TEST_P(DeleteUserTest, TheirLiveStreamsEndAndCarryNothingMore) {
   EXPECT_EQ(watcher->got.size(), 3U);
   // Her rig name is free again.
   EXPECT_TRUE(live.start(caller("bob"), "rig-a", "ybif", 0, std::nullopt));
+}
+
+// The same over real sockets: her rig streaming, an instructor watching it. After the delete the
+// watcher is told her stream ended, her next message makes the server close her socket, and the
+// rig list is empty.
+TEST_P(DeleteUserTest, OverRealSocketsHerStreamEndsForItsWatchers) {
+  ManualClock clock;
+  test::ServerOptions options;
+  options.clock = &clock;  // no sweep runs: the socket closes because of the delete, not a token recheck
+  test::RunningServer server(GetParam(), options);
+  const std::string root = server.token_for("root", Role::kAdmin);
+  const std::string teacher = server.token_for("teacher", Role::kInstructor);
+  const std::string alice = server.token_for("alice", Role::kTrainee);
+  WsClient watcher, stream;
+  std::string error;
+  ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch?rigs=rig-a", teacher));
+  ASSERT_TRUE(stream.connect(server.base_url(), "/api/v1/live/rigs/rig-a/stream?case=ybif", alice));
+  const std::string frame = R"({"type":"frame","seq":1,"t_ms":0})";
+  ASSERT_TRUE(stream.send(frame));
+  // The watcher's messages up to the first that contains `what`.
+  const auto read_until = [&](const std::string& what) {
+    for (int i = 0; i < 8; ++i) {
+      const std::optional<std::string> m = watcher.read(10000, &error);
+      if (!m) return false;
+      if (m->find(what) != std::string::npos) return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(read_until(R"("type":"frame")")) << error;
+
+  HttpClient http(server.base_url());
+  http.set_token(root);
+  ASSERT_EQ(http.request("DELETE", "/api/v1/users/alice").status, 204);
+  EXPECT_TRUE(read_until(R"("type":"ended")")) << error;
+  ASSERT_TRUE(stream.send(frame));
+  bool closed = false;
+  for (int i = 0; i < 3 && !closed; ++i) {
+    error.clear();
+    closed = !stream.read(10000, &error) && error != "timeout";
+  }
+  EXPECT_TRUE(closed) << error;
+  http.set_token(teacher);
+  EXPECT_EQ(http.get("/api/v1/live/rigs").body, R"({"rigs":[]})");
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, DeleteUserTest, ::testing::ValuesIn(test::kBackends), test::BackendName());
