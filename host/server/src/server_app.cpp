@@ -76,25 +76,29 @@ Result<std::unique_ptr<ServerApp>> ServerApp::start(ServerConfig config) {
   if (!port) return port.error();  // 400 bad options (address, TLS files), 503 address unavailable
   app->port_ = port.value();
   ServerApp* raw = app.get();
-  app->maintenance_ = std::thread([raw] { raw->maintain(); });
+  if (app->maintenance_every_s_ > 0) app->maintenance_ = std::thread([raw] { raw->maintain(); });
   return app;
 }
 
 void ServerApp::maintain() {
   std::unique_lock lock(mutex_);
   while (!stopping_) {
-    wake_.wait_for(lock, std::chrono::seconds(std::max(1, maintenance_every_s_)), [&] { return stopping_; });
+    wake_.wait_for(lock, std::chrono::seconds(maintenance_every_s_), [&] { return stopping_; });
     if (stopping_) break;
     lock.unlock();
-    try {
-      const std::int64_t now = core_->clock().now_us();
-      (void)core_->store().purge_tokens(now);
-      (void)core_->store().purge_login_failures(now - failure_window_us_);
-      (void)core_->enforce_retention();
-    } catch (const std::exception&) {
-      // The database is away; try again next time.
-    }
+    maintain_once();
     lock.lock();
+  }
+}
+
+void ServerApp::maintain_once() {
+  try {
+    const std::int64_t now = core_->clock().now_us();
+    (void)core_->store().purge_tokens(now);
+    (void)core_->store().purge_login_failures(now - failure_window_us_);
+    (void)core_->enforce_retention();
+  } catch (const std::exception&) {
+    // The database is away; try again next time.
   }
 }
 

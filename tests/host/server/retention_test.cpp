@@ -12,6 +12,7 @@
 #include "server/iso_time.hpp"
 #include "server/user_export.hpp"
 #include "support/api_fixture.hpp"
+#include "support/server_fixture.hpp"
 
 namespace cathbox::server {
 namespace {
@@ -127,6 +128,28 @@ TEST(RetentionSetting, ANegativeNumberOfDaysIsRefusedAtOpen) {
   ASSERT_FALSE(core);
   EXPECT_EQ(core.error().status, 400);
   EXPECT_EQ(core.error().message, "--record-retention-days: expected 0 (keep) or more days");
+}
+
+// The running server applies the setting on its maintenance pass (the thread's step, run here on
+// the virtual clock): over HTTP, the record of an upload eight days old answers 410 after it.
+TEST_P(RetentionTest, TheServersMaintenancePassAppliesIt) {
+  ManualClock clock;
+  test::ServerOptions options;
+  options.clock = &clock;
+  options.record_retention_days = 7;
+  test::RunningServer server(GetParam(), options);
+  HttpClient http(server.base_url());
+  http.set_token(server.token_for("alice", Role::kTrainee));
+  const HttpAnswer up = http.request("POST", "/api/v1/results", FakeRecords::make("y_bifurcation", {}, false, "http-run"));
+  ASSERT_EQ(up.status, 201) << up.body;
+  const std::string record = "/api/v1/results/" + std::to_string(json::parse(up.body)["id"].get<int>()) + "/record";
+  server.app->maintain_once();
+  EXPECT_EQ(http.get(record).status, 200);
+  clock.advance_us(8 * kDayUs);
+  http.set_token(server.token_for("teacher", Role::kInstructor));
+  EXPECT_EQ(http.get(record).status, 200) << "kept until the pass runs";
+  server.app->maintain_once();
+  EXPECT_EQ(http.get(record).status, 410);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RetentionTest, ::testing::ValuesIn(test::kBackends), test::BackendName());

@@ -34,7 +34,7 @@ struct ServerConfig {
   Clock* clock = nullptr;           // null: the system clock
   std::unique_ptr<RecordChecker> checker;  // null: the session-replay checker when built
   std::string cache_dir;            // meshes and traces kept on disk too; empty: in memory only
-  int maintenance_every_s = 60;     // purge expired tokens and old login failures, apply the retention
+  int maintenance_every_s = 60;     // purge expired tokens and old login failures, apply the retention; 0: no thread (tests call maintain_once)
   int record_retention_days = 0;    // records uploaded longer ago go (ServerCore::enforce_retention); 0: kept
 };
 
@@ -102,6 +102,10 @@ class ServerApp {
   [[nodiscard]] HttpServer& http() { return *http_; }
   [[nodiscard]] PgLiveBus* pg_bus() { return core_->pg_bus(); }
   [[nodiscard]] std::string describe_db() const;
+  // One pass of the maintenance thread, at the clock's now: expired tokens and old login failures
+  // purged, the record retention applied (ServerCore::enforce_retention). A database away is
+  // left to the next pass.
+  void maintain_once();
 
  private:
   ServerApp() = default;
