@@ -17,15 +17,24 @@ sessions recorded by `cathbox session run` and uploaded through the API:
 Any SEVERE message on the browser console fails the test. Screenshots of every page go to
 --out (the build folder). Every wait is bounded; nothing sleeps blindly.
 
-  tests/browser/browser_test.py --bin build/release/bin --source . --out build/release/browser
+With --https the server speaks HTTPS and wss:// with a certificate from a throwaway CA made here
+with `openssl` (as tests/host/server/tls_test.cpp does); this script's own calls trust that CA,
+Chromium pins the server key (--ignore-certificate-errors-spki-list: the SHA-256 of the
+certificate's SubjectPublicKeyInfo, so any other certificate is still refused). It runs a subset
+(CTest test_browser_https): log in, the live view's wss:// watcher socket showing a rig streamed
+over wss://, a debrief.
+
+  tests/browser/browser_test.py --bin build/release/bin --source . --out build/release/browser [--https]
 """
 import argparse
 import base64
+import hashlib
 import json
 import os
 import shutil
 import signal
 import socket
+import ssl
 import statistics
 import subprocess
 import sys
@@ -44,6 +53,9 @@ from selenium.webdriver.support.ui import WebDriverWait
 
 PASSWORD = "browser-pass-1"
 WAIT_S = 30
+# The TLS context of this script's own calls (urllib, the publisher's socket) when the server
+# speaks HTTPS: it trusts the throwaway CA only (Centre.make_certificate).
+TLS = {"context": None}
 
 
 class Failure(Exception):
@@ -93,7 +105,7 @@ class Api:
             data = json.dumps(body).encode()
         req = urllib.request.Request(self.base + "/api/v1" + path, data=data, headers=headers, method=method)
         try:
-            with urllib.request.urlopen(req, timeout=900) as res:
+            with urllib.request.urlopen(req, timeout=900, context=TLS["context"]) as res:
                 status, payload, head = res.status, res.read(), dict(res.headers)
         except urllib.error.HTTPError as e:
             status, payload, head = e.code, e.read(), dict(e.headers)
@@ -115,6 +127,8 @@ def ws_publisher(base, path, token):
     """A minimal WebSocket client (RFC 6455, text frames, masked) for a publishing rig."""
     host, port = base.split("//")[1].split(":")
     sock = socket.create_connection((host, int(port)), timeout=10)
+    if base.startswith("https:"):
+        sock = TLS["context"].wrap_socket(sock, server_hostname=host)
     key = base64.b64encode(os.urandom(16)).decode()
     sock.sendall(("GET %s HTTP/1.1\r\nHost: %s:%s\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
                   "Sec-WebSocket-Key: %s\r\nSec-WebSocket-Version: 13\r\nAuthorization: Bearer %s\r\n\r\n"
@@ -143,6 +157,15 @@ def ws_publisher(base, path, token):
     return sock, send
 
 
+def end_publisher(sock, send):
+    """Ends a publisher's stream ({"type": "end"}) and closes its socket (which may be gone)."""
+    try:
+        send(json.dumps({"type": "end"}))
+    except OSError:
+        pass
+    sock.close()
+
+
 class Centre:
     """cathbox-server on a fresh SQLite store, with accounts, a case, an assignment, results."""
 
@@ -157,10 +180,33 @@ class Centre:
         self.port = free_port()
         self.base = "http://127.0.0.1:%d" % self.port
         self.extra_args = []  # more cathbox-server options (train_test.py: --wasm)
+        self.spki = None  # with HTTPS: the certificate key's pin for Chromium
+        if getattr(args, "https", False):
+            self.make_certificate()
         self.others = []  # results uploaded by other tests (not ann's assignment)
 
     def program(self, name):
         return os.path.join(self.bin, name)
+
+    def make_certificate(self):
+        """A throwaway CA and a certificate for 127.0.0.1 signed by it; the server serves HTTPS."""
+        d = os.path.join(self.tmp, "tls")
+        os.makedirs(d)
+        at = lambda name: os.path.join(d, name)  # noqa: E731
+        ec = ["-newkey", "ec", "-pkeyopt", "ec_paramgen_curve:P-256", "-nodes"]
+        open(at("server.ext"), "w").write("subjectAltName=IP:127.0.0.1,DNS:localhost\nextendedKeyUsage=serverAuth\n")
+        for argv in [["openssl", "req", "-x509"] + ec + ["-keyout", at("ca.key"), "-out", at("ca.pem"), "-subj", "/CN=browser-test-ca", "-days", "2"],
+                     ["openssl", "req"] + ec + ["-keyout", at("server.key"), "-out", at("server.csr"), "-subj", "/CN=127.0.0.1"],
+                     ["openssl", "x509", "-req", "-in", at("server.csr"), "-CA", at("ca.pem"), "-CAkey", at("ca.key"), "-CAcreateserial",
+                      "-out", at("server.pem"), "-days", "2", "-extfile", at("server.ext")]]:
+            self.run(argv, " ".join(argv[:3]))
+        spki_der = subprocess.run("openssl x509 -in %s -pubkey -noout | openssl pkey -pubin -outform der" % at("server.pem"), shell=True,
+                                  stdout=subprocess.PIPE, check=True).stdout
+        self.spki = base64.b64encode(hashlib.sha256(spki_der).digest()).decode()
+        self.ca_file = at("ca.pem")
+        TLS["context"] = ssl.create_default_context(cafile=self.ca_file)
+        self.extra_args += ["--tls-cert", at("server.pem"), "--tls-key", at("server.key")]
+        self.base = "https://127.0.0.1:%d" % self.port
 
     def run(self, argv, what, timeout=300, merge=True):
         """Runs a program to its end; its output (with stderr unless not `merge`)."""
@@ -193,13 +239,13 @@ class Centre:
         def up():
             check(self.server.poll() is None, "cathbox-server exited: " + open(log.name).read()[-2000:])
             try:
-                with urllib.request.urlopen(self.base + "/", timeout=2) as r:
+                with urllib.request.urlopen(self.base + "/", timeout=2, context=TLS["context"]) as r:
                     return r.status == 200
             except (urllib.error.URLError, ConnectionError):
                 return False
         wait_until(up, "cathbox-server to listen")
 
-    def seed(self):
+    def seed(self, attempts=("3.5", "4.5", "6")):
         teacher = Api(self.base).login("teacher")
         cases = os.path.join(self.args.source, "cases")
         _, c = teacher.json("POST", "/cases", {
@@ -213,7 +259,7 @@ class Centre:
         ann = Api(self.base).login("ann")
         # Three attempts, each a real session record: cut at 3.5 s, 4.5 s, then the whole script.
         self.results = []
-        for i, seconds in enumerate(["3.5", "4.5", "6"]):
+        for i, seconds in enumerate(attempts):
             rec = os.path.join(self.tmp, "ann-%d.cbxrec" % i)
             self.run([self.program("cathbox"), "session", "run", "--case", os.path.join(cases, "y_bifurcation.case"),
                       "--script", os.path.join(cases, "y_bifurcation_left.actions"), "--record", rec, "--virtual",
@@ -234,10 +280,14 @@ class Centre:
 
 
 class Browser:
-    def __init__(self, out):
+    def __init__(self, out, spki=None):
         self.out = out
         options = webdriver.ChromeOptions()
         options.binary_location = "/usr/bin/chromium"
+        if spki:
+            # Accept the one server key, nothing else (chromedriver gives a --user-data-dir, which
+            # the flag needs).
+            options.add_argument("--ignore-certificate-errors-spki-list=" + spki)
         for a in ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1280,720",
                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-vsync",
                   "--hide-scrollbars", "--mute-audio", "--no-first-run", "--disable-extensions"]:
@@ -248,6 +298,7 @@ class Browser:
         self.driver.set_page_load_timeout(WAIT_S)
         self.driver.set_script_timeout(WAIT_S)
         self.console = []
+        self.prefix = ""  # of the screenshots' names ("https-" for the HTTPS run)
 
     def viewport(self, width, height, mobile=False):
         """The page's size (a 1280x720 screen; a tablet)."""
@@ -279,7 +330,7 @@ class Browser:
         return self.wait(lambda d: d.execute_script(script), what, timeout)
 
     def shot(self, name):
-        path = os.path.join(self.out, name + ".png")
+        path = os.path.join(self.out, self.prefix + name + ".png")
         self.driver.save_screenshot(path)
         return path
 
@@ -299,6 +350,9 @@ class Browser:
     def quit(self):
         self.driver.quit()
 
+
+# A live panel's readout for rig-12 (data-stat 'seq': the frame it drew last; 'drawn': how many).
+RIG12_STAT_JS = "const e = document.querySelector(\"section[data-rig='rig-12'] [data-stat='%s']\"); return e ? Number(e.textContent) : null;"
 
 def test_live(b, centre, args, report):
     """A rig streamed by a headless trainer appears live and its tip moves; then a steady 30 Hz
@@ -369,7 +423,7 @@ def test_live(b, centre, args, report):
         chip.click()
         # What the panel shows: the seq of the frame it drew last and how many it drew; under the
         # title, the page's draws a second and stream frames drawn a second (renewed each second).
-        stat_js = "const e = document.querySelector(\"section[data-rig='rig-12'] [data-stat='%s']\"); return e ? Number(e.textContent) : null;"
+        stat_js = RIG12_STAT_JS
         rate_js = "return [document.getElementById('rate-fps').textContent, document.getElementById('rate-frames').textContent];"
         drawn0 = b.wait_js(stat_js % "drawn", "rig-12's frames to be drawn")
         samples = []
@@ -411,11 +465,44 @@ def test_live(b, centre, args, report):
     finally:
         stop.set()
         streamer.join(timeout=5)
-        try:
-            send(json.dumps({"type": "end"}))
-        except OSError:
-            pass
-        sock.close()
+        end_publisher(sock, send)
+    b.drain_console()
+
+
+def test_live_https(b, centre, report):
+    """Over HTTPS: the live view's watcher socket (an https: page may only open wss://) shows a rig
+    that streams over wss://, up to the last frame sent."""
+    b.open("/live.html?rigs=rig-12")
+    check(b.js("return location.protocol") == "https:", "the page is not on https:")
+    b.wait_js("return document.getElementById('status').textContent === '(connected)'", "the wss:// watcher socket")
+    teacher = Api(centre.base).login("teacher")
+    _, t = teacher.json("GET", "/results/%d/trace" % centre.results[-1]["id"])
+    tr = t["trace"]
+    bob = Api(centre.base).login("bob")
+    sock, send = ws_publisher(centre.base, "/api/v1/live/rigs/rig-12/stream?case=ybif", bob.token)
+    # The panel's own readouts: the seq of the frame it drew last and how many it drew.
+    stat_js = RIG12_STAT_JS
+    try:
+        # Frames at ~30 Hz until the panel has drawn some, then the last one must be what it shows.
+        k = 0
+        deadline = time.monotonic() + WAIT_S
+        while True:
+            i = k % tr["samples"]
+            k += 1
+            send(json.dumps({"type": "frame", "seq": k, "t_ms": tr["t_ms"][i],
+                             "tools": [{"name": "guidewire", "nodes_mm": [tr["nodes_mm"][i][j:j + 3] for j in range(0, len(tr["nodes_mm"][i]), 3)]}],
+                             "tip_mm": tr["tip_mm"][3 * i:3 * i + 3], "forces": {"hand_mN": tr["hand_mN"][i], "wall_peak_mN": tr["wall_peak_mN"][i]},
+                             "contacts": [], "fluoro": {"on": False, "time_s": 0}, "metrics": {"procedure_time_s": k / 30.0}}))
+            if k >= 10 and (b.js(stat_js % "drawn") or 0) >= 3:
+                break
+            check(time.monotonic() < deadline, "rig-12's frames over wss:// were not drawn (%d sent)" % k)
+            threading.Event().wait(1 / 30)
+        b.wait_js(stat_js.replace("return e ? Number(e.textContent) : null;", "return e && Number(e.textContent) === %d;" % k) % "seq",
+                  "the last frame sent over wss:// (seq %d) to be shown" % k)
+        report["https_live_frames_sent"] = k
+        b.shot("live")
+    finally:
+        end_publisher(sock, send)
     b.drain_console()
 
 
@@ -710,6 +797,7 @@ def main():
     parser.add_argument("--long", action="store_true", help="also measure a 30-minute record's debrief")
     parser.add_argument("--keep", action="store_true", help="keep the temporary folder")
     parser.add_argument("--strict-speed", action="store_true", help="fail when the live view draws under 30 fps")
+    parser.add_argument("--https", action="store_true", help="the HTTPS subset: a throwaway CA, log in, live over wss://, a debrief")
     args = parser.parse_args()
     # A CTest timeout (SIGTERM) still stops the server, the trainer and the browser.
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
@@ -721,31 +809,44 @@ def main():
     ok = False
     failures = []
     try:
-        centre.start()
-        centre.seed()
-        thrombectomy = ThrombectomyRun(centre)
-        browser = Browser(args.out)
-        browser.base = centre.base
-        browser.login("teacher")
-        browser.shot("home-instructor")
-        browser.drain_console()
-        test_live(browser, centre, args, report)
-        test_debrief(browser, centre, report)
-        test_thrombectomy_debrief(browser, thrombectomy, report)
-        test_results(browser, centre, report)
-        test_admin(browser, centre, report)
-        test_trainee(browser, centre, report)
-        if args.long:
-            rid = measure_long(centre, args, report)
+        if args.https:
+            started = time.monotonic()
+            centre.start()
+            centre.seed(attempts=("6",))
+            browser = Browser(args.out, spki=centre.spki)
+            browser.prefix = "https-"
+            browser.base = centre.base
             browser.login("teacher")
-            # First: the server replays the record; then from its memory; then, restarted, from disk.
-            for label in ["first", "cached"]:
-                report["long_debrief_open_ms_%s" % label] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
-            centre.restart()
-            report["long_debrief_open_ms_after_restart"] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
-            browser.shot("debrief-30min")
-            measure_long_trace(centre, rid, report)
             browser.drain_console()
+            test_live_https(browser, centre, report)
+            test_debrief(browser, centre, report)
+            report["https_s"] = round(time.monotonic() - started, 1)
+        else:
+            centre.start()
+            centre.seed()
+            thrombectomy = ThrombectomyRun(centre)
+            browser = Browser(args.out)
+            browser.base = centre.base
+            browser.login("teacher")
+            browser.shot("home-instructor")
+            browser.drain_console()
+            test_live(browser, centre, args, report)
+            test_debrief(browser, centre, report)
+            test_thrombectomy_debrief(browser, thrombectomy, report)
+            test_results(browser, centre, report)
+            test_admin(browser, centre, report)
+            test_trainee(browser, centre, report)
+            if args.long:
+                rid = measure_long(centre, args, report)
+                browser.login("teacher")
+                # First: the server replays the record; then from its memory; then, restarted, from disk.
+                for label in ["first", "cached"]:
+                    report["long_debrief_open_ms_%s" % label] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
+                centre.restart()
+                report["long_debrief_open_ms_after_restart"] = round(open_debrief(browser, rid, "the 30-minute debrief"), 1)
+                browser.shot("debrief-30min")
+                measure_long_trace(centre, rid, report)
+                browser.drain_console()
         ok = True
     except Failure as e:
         failures.append(str(e))
@@ -762,7 +863,7 @@ def main():
             browser.quit()
         centre.stop()
         print(json.dumps(report, indent=1))
-        with open(os.path.join(args.out, "report.json"), "w") as f:
+        with open(os.path.join(args.out, "report-https.json" if args.https else "report.json"), "w") as f:
             json.dump(report, f, indent=1)
         if args.keep or not ok:
             print("kept", tmp)

@@ -5,14 +5,19 @@
 
 namespace cathbox::server::api {
 
-void audit(Call& call, const std::string& action, const std::string& target, const std::string& detail) {
+AuditEntry audit_entry(Call& call) {
   AuditEntry e;
   e.at_us = call.c.clock.now_us();
   e.actor = call.caller.name;
+  e.remote = call.request.remote_address.empty() ? std::string("unknown") : call.request.remote_address;
+  return e;
+}
+
+void audit(Call& call, const std::string& action, const std::string& target, const std::string& detail) {
+  AuditEntry e = audit_entry(call);
   e.action = action;
   e.target = target;
   e.detail = detail;
-  e.remote = call.request.remote_address.empty() ? std::string("unknown") : call.request.remote_address;
   append_audit(call.c.store.database(), e);
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/api.hpp"
+#include "server/audit_log.hpp"
 
 namespace cathbox::server::api {
 
@@ -73,10 +74,10 @@ Reply list_metrics(Call& call);
 Reply live_rigs(Call& call);
 
 Reply list_audit(Call& call);
-// A trace is a pure function of the record's bytes: cached under their hash.
-[[nodiscard]] std::string trace_cache_key(const std::string& record_hash);
 // Appends the caller's action to the audit log (audit_log.hpp): who, now, from the request's address.
 void audit(Call& call, const std::string& action, const std::string& target, const std::string& detail = {});
+// The caller, now, the request's address: an audit row without its action yet.
+[[nodiscard]] AuditEntry audit_entry(Call& call);
 
 // The cached value (ApiContext::cache) of `key`, else build() now.
 [[nodiscard]] Result<std::shared_ptr<const std::string>> cached(Call& call, const std::string& key,

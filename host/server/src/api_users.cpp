@@ -3,6 +3,7 @@
 #include "api_call.hpp"
 #include "server/iso_time.hpp"
 #include "server/json_input.hpp"
+#include "server/user_delete.hpp"
 
 namespace cathbox::server::api {
 
@@ -111,20 +112,13 @@ Reply update_user(Call& call) {
   return json_response(200, user_json(*call.c.store.user_by_id(u->id)));
 }
 
-// The account and all of its data, in one transaction (Store::delete_user); then the traces
-// derived from its records leave the cache (memory and disk). Not oneself, not the last admin.
+// The account and all of its data (user_delete.hpp: one transaction, then the cached traces,
+// its live streams and the database's leftovers), audited. Not oneself, not the last admin.
 Reply delete_user(Call& call) {
   if (Status s = call.require_admin("deleting users"); !s) return s.error();
-  const std::optional<User> u = call.c.store.user_by_name(call.params[0]);
-  if (!u) return make_error(404, "no user '" + call.params[0] + "'");
-  if (u->id == call.caller.user_id) return make_error(409, "'" + u->name + "' is you: another admin deletes your account");
-  if (u->role == Role::kAdmin && !u->disabled && call.c.store.count_admins() <= 1) return make_error(409, "'" + u->name + "' is the last admin");
-  const std::optional<std::vector<std::string>> records = call.c.store.delete_user(u->id);
-  if (!records) return make_error(404, "no user '" + call.params[0] + "'");
-  if (call.c.cache != nullptr) {
-    for (const std::string& hash : *records) call.c.cache->erase(trace_cache_key(hash));
-  }
-  audit(call, "user.delete", u->name, "results=" + std::to_string(records->size()));
+  if (call.params[0] == call.caller.name) return make_error(409, "'" + call.params[0] + "' is you: another admin deletes your account");
+  Result<UserDeletion> done = delete_user_data(call.c.store, call.c.cache, &call.c.live, call.params[0], audit_entry(call));
+  if (!done) return done.error();
   return no_content();
 }
 

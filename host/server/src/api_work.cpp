@@ -14,8 +14,6 @@
 
 namespace cathbox::server::api {
 
-std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
-
 namespace {
 
 Result<std::int64_t> id_param(const std::string& text) {
@@ -130,8 +128,22 @@ nlohmann::json result_json(const ResultRow& r) {
   j["assignment"] = r.assignment_id ? nlohmann::json(*r.assignment_id) : nlohmann::json(nullptr);
   j["passed"] = r.passed ? nlohmann::json(*r.passed) : nlohmann::json(nullptr);
   if (!r.complete) j["cut"] = "the record has no end block (the recording stopped before the run ended): for debriefs, never graded";
+  if (r.record_gone_us) {
+    j["record_gone_at"] = iso_time(*r.record_gone_us);
+    j.erase("record_url");
+  }
   return j;
 }
+
+namespace {
+
+// 410 for a result whose record the retention setting removed (the result itself stays).
+Status record_kept(const ResultRow& r) {
+  if (!r.record_gone_us) return Ok{};
+  return make_error(410, "result " + std::to_string(r.id) + ": its record was removed by the retention setting at " + iso_time(*r.record_gone_us));
+}
+
+}  // namespace
 
 Reply list_assignments(Call& call) {
   std::optional<std::int64_t> trainee;
@@ -243,9 +255,6 @@ Reply upload_result(Call& call) {
     return make_error(422, "record: no end block (the recording stopped before the run ended); a cut record is kept for "
                            "debriefs without an assignment, never graded");
   }
-  // The replay that checked the record also traced it: a first debrief needs no second replay.
-  if (call.c.cache != nullptr && !rec.trace.empty()) call.c.cache->put(trace_cache_key(hash), rec.trace);
-
   ResultRow row;
   row.content_hash = hash;
   row.run_hash = rec.run_hash;
@@ -281,7 +290,11 @@ Reply upload_result(Call& call) {
     Result<PassCriteria> criteria = PassCriteria::parse_text(assignment->criteria_json);
     row.passed = criteria && criteria.value().evaluate(metric_map(rec.metrics)).passed;
   }
+  const std::uint64_t erasures_before = call.c.cache != nullptr ? call.c.cache->erasures() : 0;
   const ResultInsert stored = call.c.store.insert_result(row, rec.metrics, record);
+  // The replay that checked the record also traced it: a first debrief needs no second replay.
+  // Kept once the record is stored, and not when an erase (a delete) came in between.
+  if (call.c.cache != nullptr && !rec.trace.empty() && stored.created) call.c.cache->put(trace_cache_key(hash), rec.trace, erasures_before);
   nlohmann::json j = result_json(stored.row);
   j["created"] = stored.created;
   ApiResponse r = json_response(stored.created ? 201 : 200, j);
@@ -366,6 +379,7 @@ Reply get_result(Call& call) {
 Reply get_result_trace(Call& call) {
   Result<ResultRow> r = visible_result(call);
   if (!r) return r.error();
+  if (Status kept = record_kept(r.value()); !kept) return kept.error();
   if (call.c.checker == nullptr) return make_error(503, "trace: this server cannot replay records");
   const auto started = std::chrono::steady_clock::now();
   bool hit = false;
@@ -397,6 +411,7 @@ Reply get_result_trace(Call& call) {
 Reply get_result_record(Call& call) {
   Result<ResultRow> r = visible_result(call);
   if (!r) return r.error();
+  if (Status kept = record_kept(r.value()); !kept) return kept.error();
   std::optional<std::string> bytes = call.c.store.result_record(r.value().id);
   if (!bytes) return make_error(404, "record missing");
   ApiResponse out;

@@ -64,9 +64,11 @@ Result<std::shared_ptr<const std::string>> ArtifactCache::get_or_build(const std
     return found;
   }
   if (hit != nullptr) *hit = false;
+  const std::uint64_t erasures_before = erasures();
   Result<std::string> built = build();
   if (!built) return built.error();
   auto value = std::make_shared<const std::string>(std::move(built.value()));
+  if (erasures() != erasures_before) return value;  // its source may be what was erased
   remember(key, value);
   if (!folder_.empty()) {
     // Written aside and renamed: a reader never sees half a file. A failure only costs a rebuild.
@@ -84,12 +86,19 @@ Result<std::shared_ptr<const std::string>> ArtifactCache::get_or_build(const std
   return value;
 }
 
-void ArtifactCache::put(const std::string& key, std::string value) {
+void ArtifactCache::put(const std::string& key, std::string value, std::uint64_t erasures_before) {
+  if (erasures() != erasures_before) return;
   (void)get_or_build(key, [&]() -> Result<std::string> { return std::move(value); });
+}
+
+std::uint64_t ArtifactCache::erasures() const {
+  std::lock_guard lock(mutex_);
+  return erasures_;
 }
 
 void ArtifactCache::erase(const std::string& key) {
   std::lock_guard lock(mutex_);
+  ++erasures_;
   if (const auto it = index_.find(key); it != index_.end()) {
     bytes_ -= it->second->second->size();
     lru_.erase(it->second);

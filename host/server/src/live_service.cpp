@@ -62,6 +62,15 @@ Status LiveService::message(Publisher& p, std::string_view text) {
     p.ended = true;
     return Ok{};
   }
+  {
+    // A stream forgotten (its account deleted) carries nothing more.
+    const std::lock_guard lock(streams_mutex_);
+    const auto open = open_streams_.find(p.rig.rig);
+    if (open == open_streams_.end() || open->second.id != p.stream_id) {
+      p.ended = true;
+      return Ok{};
+    }
+  }
   const std::int64_t now = clock_.now_us();
   p.frame_tokens = std::min(options_.max_frames_per_s,
                             p.frame_tokens + static_cast<double>(now - p.tokens_at_us) * 1e-6 * options_.max_frames_per_s);
@@ -111,6 +120,26 @@ void LiveService::finish(Publisher& p) {
   store_.end_live_rig(p.rig.rig, instance_);
   const nlohmann::json ended = {{"type", "ended"}, {"rig", p.rig.rig}};
   bus_.publish_event(std::make_shared<const std::string>(ended.dump()));
+}
+
+int LiveService::forget_user(std::int64_t user_id) {
+  std::vector<std::string> ended_rigs;
+  {
+    const std::lock_guard lock(streams_mutex_);
+    for (auto it = open_streams_.begin(); it != open_streams_.end();) {
+      if (it->second.user_id == user_id) {
+        ended_rigs.push_back(it->first);
+        it = open_streams_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  for (const std::string& rig : ended_rigs) {
+    const nlohmann::json ended = {{"type", "ended"}, {"rig", rig}};
+    bus_.publish_event(std::make_shared<const std::string>(ended.dump()));
+  }
+  return static_cast<int>(ended_rigs.size());
 }
 
 std::vector<LiveRig> LiveService::rigs(const Caller& caller) {

@@ -21,6 +21,7 @@
 #include "server/password_hasher.hpp"
 #include "server/server_app.hpp"
 #include "server/store.hpp"
+#include "server/user_delete.hpp"
 #include "server/user_export.hpp"
 
 namespace {
@@ -97,6 +98,7 @@ struct ServeOptions {
   std::string tls_key;
   bool insecure_http = false;
   std::string log_format = "text";
+  int record_retention_days = 0;
 };
 
 // The serving program's lines: info and warnings on standard output, errors on standard error,
@@ -147,6 +149,7 @@ int serve(const std::string& url, const std::string& listen, const ServeOptions&
   config.auth.address_per_minute = so.logins_per_minute;
   config.instance = so.instance;
   config.cache_dir = so.cache;
+  config.record_retention_days = so.record_retention_days;
   if (so.tls_cert.empty() != so.tls_key.empty()) {
     say("error", "--tls-cert and --tls-key go together");
     return kBadInput;
@@ -257,16 +260,36 @@ int backup_or_restore(bool backup, const std::string& url, const std::string& fi
   return kOk;
 }
 
+// The login running an admin command, for its audit row.
+std::string cli_actor() {
+  const char* login = std::getenv("USER");
+  return login != nullptr && login[0] != '\0' ? login : "cli";
+}
+
 // `admin export-user`: 1 when there is no such user, 2 when DIR is not a new or empty folder.
 int export_user_data(Store& store, SystemClock& clock, const std::string& name, const std::string& dir) {
-  const char* login = std::getenv("USER");
-  Result<UserExport> done = export_user(store, name, dir, login != nullptr && login[0] != '\0' ? login : "cli", clock.now_us());
+  Result<UserExport> done = export_user(store, name, dir, cli_actor(), clock.now_us());
   if (!done) {
     std::cerr << "cathbox-server: " << done.error().message << '\n';
     return done.error().status == 404 ? kFailure : kBadInput;
   }
   std::printf("exported %s to %s: %d results, %d files, %lld bytes\n", name.c_str(), dir.c_str(), done.value().results, done.value().files,
               static_cast<long long>(done.value().bytes));
+  return kOk;
+}
+
+// `admin delete-user`, for a stopped server (a running one is asked through DELETE
+// /api/v1/users/NAME, which also empties its memory cache and ends the live streams): 1 when there
+// is no such user or it is the last admin.
+int delete_user_command(Store& store, SystemClock& clock, const std::string& name, const std::string& cache_dir) {
+  ArtifactCache cache;
+  cache.keep_on_disk(cache_dir);
+  Result<UserDeletion> done = delete_user_data(store, &cache, nullptr, name, {0, clock.now_us(), cli_actor(), "", "", "", "cli"});
+  if (!done) {
+    std::cerr << "cathbox-server: " << done.error().message << '\n';
+    return kFailure;
+  }
+  std::printf("deleted %s: %d results with their records\n", name.c_str(), done.value().results);
   return kOk;
 }
 
@@ -291,6 +314,10 @@ int main(int argc, char** argv) {
   cli.add_option("--tls-key", so.tls_key, "PEM private key of --tls-cert");
   cli.add_option("--log-format", so.log_format, "text, or json: one JSON object a line (time, level, msg, fields)")->capture_default_str();
   cli.add_flag("--insecure-http", so.insecure_http, "allow plain HTTP on a non-loopback --listen (only behind a TLS proxy)");
+  cli.add_option("--record-retention-days", so.record_retention_days,
+                 "session records uploaded more than N days ago are removed (results stay, marked); 0: kept forever")
+      ->check(CLI::Range(0, 36500))
+      ->capture_default_str();
   cli.add_option("--login-burst", so.login_burst, "login attempts one address may make at once")->check(CLI::Range(1, 1000000))->capture_default_str();
   cli.add_option("--logins-per-minute", so.logins_per_minute, "login attempts per minute one address gets back")
       ->check(CLI::Range(0.1, 1e6))
@@ -325,6 +352,9 @@ int main(int argc, char** argv) {
   CLI::App* export_cmd = admin->add_subcommand("export-user", "write an account's data (no password hash), results and records into DIR (new or empty)");
   export_cmd->add_option("NAME", user)->required();
   export_cmd->add_option("DIR", export_dir)->required();
+  CLI::App* delete_cmd = admin->add_subcommand(
+      "delete-user", "delete an account and all its data (results, records, traces) with the server STOPPED; running: DELETE /api/v1/users/NAME");
+  delete_cmd->add_option("NAME", user)->required();
 
   try {
     cli.parse(argc, argv);
@@ -355,6 +385,7 @@ int main(int argc, char** argv) {
     }
     if (add_case->parsed()) return upload_case_file(*store, clock, case_path, case_name);
     if (export_cmd->parsed()) return export_user_data(*store, clock, user, export_dir);
+    if (delete_cmd->parsed()) return delete_user_command(*store, clock, user, so.cache);
     std::optional<Role> parsed_role;
     if (!role.empty()) {
       parsed_role = parse_role(role);

@@ -136,6 +136,10 @@ CREATE TABLE audit_log (
 );
 CREATE INDEX audit_log_at ON audit_log(at_us);
 )sql"},
+    {7, "results: when the record left by the retention setting", R"sql(
+ALTER TABLE results ADD COLUMN record_gone_us BIGINT;
+CREATE INDEX results_uploaded ON results(uploaded_us);
+)sql"},
 };
 
 std::string replace_all(std::string s, const std::string& what, const std::string& with) {

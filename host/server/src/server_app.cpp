@@ -1,5 +1,7 @@
 #include "server/server_app.hpp"
 
+#include "server/audit_log.hpp"
+#include "server/iso_time.hpp"
 #include "server/migrations.hpp"
 #include "server/sha256.hpp"
 
@@ -9,6 +11,8 @@ Result<std::unique_ptr<ServerCore>> ServerCore::open(ServerConfig& config) {
   std::unique_ptr<ServerCore> core(new ServerCore());
   core->clock_ = config.clock != nullptr ? config.clock : &core->system_clock_;
   core->instance_ = config.instance.empty() ? random_token(6) : config.instance;
+  if (config.record_retention_days < 0) return make_error(400, "--record-retention-days: expected 0 (keep) or more days");
+  core->record_retention_days_ = config.record_retention_days;
   DatabaseOpen opened = open_database(config.db_url, config.database);
   if (!opened.db) return make_error(opened.error.rfind("--db: unknown", 0) == 0 ? 400 : 503, opened.error);
   const bool postgres = opened.db->dialect() == SqlDialect::kPostgresql;
@@ -40,6 +44,22 @@ Result<std::unique_ptr<ServerCore>> ServerCore::open(ServerConfig& config) {
   return core;
 }
 
+int ServerCore::enforce_retention() {
+  if (record_retention_days_ <= 0) return 0;
+  constexpr std::int64_t kDayUs = 86'400'000'000;
+  const std::int64_t now = clock_->now_us();
+  const std::int64_t before = now - std::int64_t{record_retention_days_} * kDayUs;
+  const std::vector<std::string> gone = store_->drop_records_uploaded_before(before, now);
+  if (gone.empty()) return 0;
+  for (const std::string& hash : gone) cache_.erase(trace_cache_key(hash));
+  store_->database().scrub();
+  append_audit(store_->database(), {0, now, "cathbox-server", "records.retention", "results",
+                                    "records=" + std::to_string(gone.size()) + " uploaded_before=" + iso_time(before) +
+                                        " days=" + std::to_string(record_retention_days_),
+                                    "server"});
+  return static_cast<int>(gone.size());
+}
+
 ServerCore::~ServerCore() {
   pg_bus_.reset();  // its threads use the store and the hub
 }
@@ -56,24 +76,29 @@ Result<std::unique_ptr<ServerApp>> ServerApp::start(ServerConfig config) {
   if (!port) return port.error();  // 400 bad options (address, TLS files), 503 address unavailable
   app->port_ = port.value();
   ServerApp* raw = app.get();
-  app->maintenance_ = std::thread([raw] { raw->maintain(); });
+  if (app->maintenance_every_s_ > 0) app->maintenance_ = std::thread([raw] { raw->maintain(); });
   return app;
 }
 
 void ServerApp::maintain() {
   std::unique_lock lock(mutex_);
   while (!stopping_) {
-    wake_.wait_for(lock, std::chrono::seconds(std::max(1, maintenance_every_s_)), [&] { return stopping_; });
+    wake_.wait_for(lock, std::chrono::seconds(maintenance_every_s_), [&] { return stopping_; });
     if (stopping_) break;
     lock.unlock();
-    try {
-      const std::int64_t now = core_->clock().now_us();
-      (void)core_->store().purge_tokens(now);
-      (void)core_->store().purge_login_failures(now - failure_window_us_);
-    } catch (const std::exception&) {
-      // The database is away; try again next time.
-    }
+    maintain_once();
     lock.lock();
+  }
+}
+
+void ServerApp::maintain_once() {
+  try {
+    const std::int64_t now = core_->clock().now_us();
+    (void)core_->store().purge_tokens(now);
+    (void)core_->store().purge_login_failures(now - failure_window_us_);
+    (void)core_->enforce_retention();
+  } catch (const std::exception&) {
+    // The database is away; try again next time.
   }
 }
 

@@ -150,6 +150,13 @@ class SqliteDatabase final : public Database {
     return {};
   }
 
+  void scrub() override {
+    if (path_ == ":memory:") return;
+    std::unique_ptr<Connection> c = pool_.acquire();
+    sqlite3_exec(c->handle(), "PRAGMA wal_checkpoint(TRUNCATE)", nullptr, nullptr, nullptr);
+    pool_.release(std::move(c));
+  }
+
   void transact(TxMode mode, const std::function<void(SqlSession&)>& work) override {
     std::unique_ptr<Connection> c = pool_.acquire();
     struct Release {
@@ -185,7 +192,9 @@ class SqliteDatabase final : public Database {
     try {
       // journal_mode answers a row; the others are silent.
       (void)s.query(path_ == ":memory:" ? "PRAGMA journal_mode=MEMORY" : "PRAGMA journal_mode=WAL", {});
-      s.run_script("PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
+      // secure_delete: deleted rows (a deleted trainee's records) are overwritten, not left in free
+      // pages (Debian builds SQLite with it on by default; said here so no other build differs).
+      s.run_script("PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON; PRAGMA secure_delete=ON;");
     } catch (const StoreError& e) {
       throw StoreError(StoreError::Kind::kUnavailable, "sqlite:" + path_ + ": " + e.what());
     }

@@ -65,7 +65,7 @@ Assignment read_assignment(const SqlRow& r) {
 
 constexpr const char* kResultSelect =
     "SELECT r.id, r.content_hash, r.user_id, u.name, r.assignment_id, r.case_name, r.case_version_id, r.started_us, "
-    "r.duration_ms, r.uploaded_us, r.record_bytes, r.passed, r.metrics, r.run_hash, r.complete FROM results r JOIN users u ON u.id = r.user_id";
+    "r.duration_ms, r.uploaded_us, r.record_bytes, r.passed, r.metrics, r.run_hash, r.complete, r.record_gone_us FROM results r JOIN users u ON u.id = r.user_id";
 
 ResultRow read_result(const SqlRow& r) {
   ResultRow x;
@@ -84,6 +84,7 @@ ResultRow read_result(const SqlRow& r) {
   x.metrics_json = r.text(12);
   if (!r.is_null(13)) x.run_hash = r.text(13);
   x.complete = r.integer(14) != 0;
+  x.record_gone_us = r.optional_integer(15);
   return x;
 }
 
@@ -466,6 +467,21 @@ std::vector<ResultRow> Store::list_results(const ResultFilter& f) {
 
 std::vector<MetricValue> Store::result_metrics(I result_id) {
   return read_all(*db_, "SELECT name, value FROM result_metrics WHERE result_id = $1 ORDER BY name", {result_id}, read_metric);
+}
+
+std::vector<std::string> Store::drop_records_uploaded_before(I before_us, I now_us) {
+  std::vector<std::string> hashes;
+  db_->transact(TxMode::kWrite, [&](SqlSession& s) {
+    hashes.clear();
+    const std::vector<SqlRow> old =
+        s.query("SELECT id, content_hash FROM results WHERE uploaded_us < $1 AND record_gone_us IS NULL", {before_us});
+    for (const SqlRow& r : old) {
+      (void)s.query("DELETE FROM result_records WHERE result_id = $1", {r.integer(0)});
+      (void)s.query("UPDATE results SET record_gone_us = $1 WHERE id = $2", {now_us, r.integer(0)});
+      hashes.push_back(r.text(1));
+    }
+  });
+  return hashes;
 }
 
 std::optional<std::string> Store::result_record(I result_id) {

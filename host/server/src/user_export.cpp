@@ -122,12 +122,16 @@ Result<UserExport> export_user(Store& store, const std::string& name, const std:
   json results = json::array();
   for (const ResultRow& r : all_results(store, user->id)) {
     const std::optional<std::string> record = store.result_record(r.id);
-    if (!record) continue;  // deleted since the list was read
-    const std::string file = "records/" + std::to_string(r.id) + ".cbxrec";
-    if (Status s = folder.write(file, *record); !s) return s.error();
+    if (!record && !r.record_gone_us) continue;  // deleted since the list was read
+    // A record the retention setting removed: the result without it ("record": null).
+    const std::string file = record ? "records/" + std::to_string(r.id) + ".cbxrec" : "";
+    if (record) {
+      if (Status s = folder.write(file, *record); !s) return s.error();
+    }
     json metrics = json::object();
     for (const MetricValue& m : store.result_metrics(r.id)) metrics[m.name] = m.value;
-    results.push_back({{"id", r.id}, {"record", file}, {"content_hash", r.content_hash}, {"run_hash", r.run_hash},
+    results.push_back({{"id", r.id}, {"record", record ? json(file) : json(nullptr)},
+                       {"record_gone_us", optional_json(r.record_gone_us)}, {"content_hash", r.content_hash}, {"run_hash", r.run_hash},
                        {"complete", r.complete}, {"assignment_id", optional_json(r.assignment_id)}, {"case", r.case_name},
                        {"case_version_id", optional_json(r.case_version_id)}, {"started_us", r.started_us},
                        {"duration_ms", r.duration_ms}, {"uploaded_us", r.uploaded_us}, {"record_bytes", r.record_bytes},

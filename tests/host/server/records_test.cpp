@@ -229,7 +229,7 @@ TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
   {
     ArtifactCache first;
     first.keep_on_disk(folder);
-    first.put("trace1:abc", std::string(100000, 't'));
+    first.put("trace1:abc", std::string(100000, 't'), first.erasures());
   }
   ArtifactCache second;
   second.keep_on_disk(folder);
@@ -238,6 +238,32 @@ TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
   EXPECT_TRUE(hit);
   EXPECT_EQ(*again.value(), std::string(100000, 't'));
   EXPECT_LT(std::filesystem::file_size(std::filesystem::path(folder) / "trace1-abc.zst"), 1000U);
+}
+
+// A value built while a key is erased (a trace replayed from a record read just before its
+// trainee was deleted) is answered but kept neither in memory nor on disk; so is a put whose
+// source was stored before an erase.
+TEST(ArtifactCache, KeepsNothingBuiltAcrossAnErase) {
+  const std::string folder = scratch("artifacts-erase");
+  std::filesystem::remove_all(folder);
+  ArtifactCache cache;
+  cache.keep_on_disk(folder);
+  const auto erasing = [&]() -> Result<std::string> {
+    cache.erase("trace1:theirs");  // the delete lands while this replay runs
+    return std::string("built from a deleted record");
+  };
+  bool hit = true;
+  const Result<std::shared_ptr<const std::string>> built = cache.get_or_build("trace1:theirs", erasing, &hit);
+  ASSERT_TRUE(built);
+  EXPECT_EQ(*built.value(), "built from a deleted record");
+  EXPECT_EQ(cache.bytes(), 0U);
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(folder) / "trace1-theirs.zst"));
+  const std::uint64_t before = cache.erasures();
+  cache.erase("trace1:other");
+  cache.put("trace1:late", "an upload's trace", before);
+  EXPECT_EQ(cache.bytes(), 0U);
+  cache.put("trace1:late", "an upload's trace", cache.erasures());
+  EXPECT_EQ(cache.bytes(), 17U);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, RecordsTest, ::testing::ValuesIn(kBackends), BackendName());

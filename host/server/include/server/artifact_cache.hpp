@@ -5,8 +5,11 @@
 // entry never goes stale. In memory, bounded by bytes (the least recently used leave first);
 // with a folder, also on disk (zstd, one file a key) so a restarted server does not build them
 // again (a 30-minute record's trace is a two-minute replay). Thread-safe; a value is built
-// outside the lock (two threads may build the same one once).
+// outside the lock (two threads may build the same one once). A value built while any key was
+// erased is answered but not kept: a deleted trainee's trace, built from their record read just
+// before the delete, never lands in the cache after it.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <list>
 #include <memory>
@@ -18,6 +21,9 @@
 #include "server/result.hpp"
 
 namespace cathbox::server {
+
+// A trace is a pure function of the record's bytes: cached under their hash.
+[[nodiscard]] inline std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
 
 class ArtifactCache {
  public:
@@ -31,11 +37,14 @@ class ArtifactCache {
   [[nodiscard]] Result<std::shared_ptr<const std::string>> get_or_build(const std::string& key,
                                                                        const std::function<Result<std::string>()>& build,
                                                                        bool* hit = nullptr);
-  // Keeps a value built elsewhere (a trace made by the replay that checked an upload).
-  void put(const std::string& key, std::string value);
+  // Keeps a value built elsewhere (a trace made by the replay that checked an upload), unless a
+  // key was erased since `erasures_before` (erasures() read before its source was stored).
+  void put(const std::string& key, std::string value, std::uint64_t erasures_before);
 
-  // Forgets `key`, in memory and on disk (a deleted trainee's traces).
+  // Forgets `key`, in memory and on disk (a deleted trainee's traces, a record gone by retention).
   void erase(const std::string& key);
+  // How many erase() calls so far.
+  [[nodiscard]] std::uint64_t erasures() const;
 
   [[nodiscard]] std::size_t bytes() const;
 
@@ -48,6 +57,7 @@ class ArtifactCache {
   mutable std::mutex mutex_;
   std::size_t max_bytes_;
   std::size_t bytes_ = 0;
+  std::uint64_t erasures_ = 0;
   std::string folder_;
   std::list<Entry> lru_;
   std::unordered_map<std::string, std::list<Entry>::iterator> index_;

@@ -68,6 +68,10 @@ class LiveService {
   void keep_claims();
   // The stream closed (cleanly or not): forget the claim, tell supervisors. Uses the store.
   void finish(Publisher& publisher);
+  // The account is deleted: its streams on this instance end now (their further messages end
+  // them: message() sets `ended` and publishes nothing) and supervisors are told each ended. The
+  // store's claims went with the account. Answers how many streams ended.
+  int forget_user(std::int64_t user_id);
 
   // Which rigs the caller may see now (trainees: their own). Uses the store.
   [[nodiscard]] std::vector<LiveRig> rigs(const Caller& caller);

@@ -34,7 +34,8 @@ struct ServerConfig {
   Clock* clock = nullptr;           // null: the system clock
   std::unique_ptr<RecordChecker> checker;  // null: the session-replay checker when built
   std::string cache_dir;            // meshes and traces kept on disk too; empty: in memory only
-  int maintenance_every_s = 60;     // purge expired tokens and old login failures
+  int maintenance_every_s = 60;     // purge expired tokens and old login failures, apply the retention; 0: no thread (tests call maintain_once)
+  int record_retention_days = 0;    // records uploaded longer ago go (ServerCore::enforce_retention); 0: kept
 };
 
 // Everything but the sockets: database, auth, case library, live hub, bus and service, API.
@@ -57,12 +58,21 @@ class ServerCore {
   [[nodiscard]] Api& api() { return *api_; }
   [[nodiscard]] PgLiveBus* pg_bus() { return pg_bus_.get(); }
 
+  // The retention setting (ServerConfig::record_retention_days), at the clock's now: the records
+  // of results uploaded more than that many days ago leave the store (Store::
+  // drop_records_uploaded_before: the results and their metrics stay, marked record_gone_us),
+  // their traces leave the cache, the database is scrubbed, and one audit row says how many
+  // (actor "cathbox-server", action "records.retention", from "server"). Answers how many;
+  // 0 and nothing done when the setting is 0. Run by ServerApp's maintenance; throws StoreError.
+  int enforce_retention();
+
  private:
   ServerCore() = default;
   SystemClock system_clock_;
   Clock* clock_ = nullptr;
   std::string instance_;
   int schema_version_ = 0;
+  int record_retention_days_ = 0;
   std::unique_ptr<Store> store_;
   std::unique_ptr<Auth> auth_;
   std::unique_ptr<CaseLibrary> cases_;
@@ -76,7 +86,7 @@ class ServerCore {
 };
 
 // The core and the HTTP server, with a maintenance thread purging expired tokens and old login
-// failures.
+// failures and applying the record retention, every ServerConfig::maintenance_every_s.
 class ServerApp {
  public:
   [[nodiscard]] static Result<std::unique_ptr<ServerApp>> start(ServerConfig config);
@@ -92,6 +102,10 @@ class ServerApp {
   [[nodiscard]] HttpServer& http() { return *http_; }
   [[nodiscard]] PgLiveBus* pg_bus() { return core_->pg_bus(); }
   [[nodiscard]] std::string describe_db() const;
+  // One pass of the maintenance thread, at the clock's now: expired tokens and old login failures
+  // purged, the record retention applied (ServerCore::enforce_retention). A database away is
+  // left to the next pass.
+  void maintain_once();
 
  private:
   ServerApp() = default;

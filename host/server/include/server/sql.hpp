@@ -100,6 +100,12 @@ class Database {
   // StoreError(kUnavailable). An exception from `work` rolls back and propagates.
   virtual void transact(TxMode mode, const std::function<void(SqlSession&)>& work) = 0;
   [[nodiscard]] virtual PoolStats pool_stats() const = 0;
+  // After personal data was deleted: removes the copies of the deleted rows' bytes the database
+  // still keeps in its files, as far as it can without stopping. SQLite zeroes deleted content as
+  // it goes (secure_delete) and here checkpoints and truncates its write-ahead log (best effort:
+  // a read open at that moment leaves the log to the next checkpoint). PostgreSQL: nothing (its
+  // dead rows stay in the table files until VACUUM reuses the space: host/server/README.md).
+  virtual void scrub() {}
 };
 
 struct DatabaseOptions {

@@ -87,6 +87,9 @@ struct ResultRow {
   std::int64_t record_bytes = 0;
   std::optional<bool> passed;  // empty when the run had no assignment
   std::string metrics_json;
+  // When the retention setting removed the record (the result and its metrics stay); empty
+  // while the record is kept.
+  std::optional<std::int64_t> record_gone_us;
 };
 
 struct ResultInsert {
@@ -192,6 +195,10 @@ class Store {
   [[nodiscard]] std::vector<ResultRow> list_results(const ResultFilter& filter);
   [[nodiscard]] std::vector<MetricValue> result_metrics(std::int64_t result_id);
   [[nodiscard]] std::optional<std::string> result_record(std::int64_t result_id);
+  // The retention setting: removes the records of results uploaded before `before_us` (one
+  // transaction) and marks those results record_gone_us = now_us; the results and their metrics
+  // stay. Answers the removed records' content hashes (the caller purges what derives from them).
+  [[nodiscard]] std::vector<std::string> drop_records_uploaded_before(std::int64_t before_us, std::int64_t now_us);
 
   // Live rigs (a row while a rig streams; last_seen refreshed every few seconds).
   // claim_live_rig answers false when another user streams on this rig name and was seen

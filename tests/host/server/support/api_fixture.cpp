@@ -19,6 +19,13 @@ std::string source_file(const std::string& relative) {
   return ss.str();
 }
 
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 Result<std::string> FakeRecords::trace(std::string_view bytes) {
   Result<nlohmann::json> j = parse_json_object(bytes, "record");
   if (!j) return make_error(422, "record: byte 0: not a record");
@@ -66,7 +73,8 @@ std::string FakeRecords::make(const std::string& case_stem, const std::map<std::
   return j.dump();
 }
 
-ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker, const std::string& url)
+ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> record_checker, const std::string& url,
+                       const std::function<void(ServerConfig&)>& configure)
     : db_url(url.empty() ? fresh_database_url(backend) : url) {
   ServerConfig config;
   config.db_url = db_url;
@@ -74,6 +82,7 @@ ApiFixture::ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker
   config.clock = &clock;
   config.instance = "test-instance";
   config.checker = std::move(record_checker);
+  if (configure) configure(config);
   Result<std::unique_ptr<ServerCore>> opened = ServerCore::open(config);
   if (!opened) throw std::runtime_error(opened.error().message);
   core = std::move(opened.value());

@@ -2,6 +2,7 @@
 // The whole API over one backend without sockets: store, virtual clock, auth (light Argon2
 // parameters), case library, live hub and service, and a record checker (FakeRecords until the
 // session-replay checker replaces it in the tests that need real records).
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -31,12 +32,15 @@ class FakeRecords final : public RecordChecker {
 
 // Reads a file of the source tree (cases/..., tests/...).
 [[nodiscard]] std::string source_file(const std::string& relative);
+// A file's bytes ("" when it cannot be read).
+[[nodiscard]] std::string file_bytes(const std::string& path);
 
 class ApiFixture {
  public:
-  // `db_url`: an existing database of the backend instead of a fresh one.
+  // `db_url`: an existing database of the backend instead of a fresh one; `configure`: more
+  // settings (a cache folder, the record retention) before the core opens.
   explicit ApiFixture(const std::string& backend, std::unique_ptr<RecordChecker> checker = std::make_unique<FakeRecords>(),
-                      const std::string& db_url = "");
+                      const std::string& db_url = "", const std::function<void(ServerConfig&)>& configure = {});
   ~ApiFixture();
 
   ApiResponse call(const std::string& method, const std::string& target, const std::string& body = "", const std::string& token = "",

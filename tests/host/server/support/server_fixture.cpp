@@ -35,7 +35,9 @@ RunningServer::RunningServer(const std::string& backend, ServerOptions options) 
   if (options.clock != nullptr) {
     config.clock = options.clock;
     config.http.sweep_every_ms = 0;
+    config.maintenance_every_s = 0;
   }
+  config.record_retention_days = options.record_retention_days;
   config.argon2 = test_argon2_params();
   config.instance = options.instance;
   config.checker = std::make_unique<FakeRecords>();

@@ -22,8 +22,9 @@ struct ServerOptions {
   int ws_idle_timeout_s = 0;                     // 0: the server's default
   std::size_t max_websockets_per_account = 0;    // 0: the server's default
   // Virtual time: the server's clock, and WebSockets swept only when the test calls
-  // app->http().sweep() (no timer).
+  // app->http().sweep() (no timer), maintenance only when it calls app->maintain_once().
   Clock* clock = nullptr;
+  int record_retention_days = 0;
   std::optional<TlsFiles> tls{};     // HTTPS (base_url() then says https://HOST:PORT)
   std::string url_host = "127.0.0.1";  // base_url()'s host (the server listens on 127.0.0.1)
 };
