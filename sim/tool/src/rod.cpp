@@ -196,8 +196,17 @@ void Rod::update_window() {
 
 glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {
   const std::size_t n = x_.size();
-  if (from_tip_mm >= from_tip_[first_]) return entry_ + dir_ * (insertion_mm_ - from_tip_mm);
+  if (from_tip_mm >= std::min(insertion_mm_, from_tip_[first_])) return entry_ + dir_ * (insertion_mm_ - from_tip_mm);
   if (from_tip_mm <= 0.0) return x_[n - 1];
+  // Between the entry and the first free node the tool runs from the entry point, not along the
+  // chord from the clamp node behind the entry (which misses the entry by as much as the first
+  // free node is off the entry line: a catheter following this wire had its tip put 0.15 mm
+  // off its own tip, and its stiff last edge kinked).
+  if (first_free_ < n && from_tip_mm > from_tip_[first_free_]) {
+    const double span = insertion_mm_ - from_tip_[first_free_];
+    const double u = span > 0.0 ? std::clamp((insertion_mm_ - from_tip_mm) / span, 0.0, 1.0) : 1.0;
+    return entry_ + (x_[first_free_] - entry_) * u;
+  }
   const std::size_t k = std::clamp(station_at(from_tip_, from_tip_mm), first_, n - 2);
   const double u = std::clamp((from_tip_[k] - from_tip_mm) / rest_[k], 0.0, 1.0);
   return x_[k] + (x_[k + 1] - x_[k]) * u;

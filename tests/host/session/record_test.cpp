@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 1;  // format version 1 (a record of the solver before issue 29's), CRC fixed up
+  bytes[8] = 2;  // format version 2 (a record of the solver before the wire pushed on its catheter's tip), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v1 = RecordReader::from_bytes(bytes, "v1.cbxrec");
-  ASSERT_FALSE(v1);
-  EXPECT_EQ(v1.error().message, "v1.cbxrec: byte 8: record format version 1, this build reads version 2");
+  const auto v2 = RecordReader::from_bytes(bytes, "v2.cbxrec");
+  ASSERT_FALSE(v2);
+  EXPECT_EQ(v2.error().message, "v2.cbxrec: byte 8: record format version 2, this build reads version 3");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
