@@ -47,25 +47,17 @@ std::string metrics_json(const session::Metrics& metrics) {
 
 }  // namespace
 
-std::unique_ptr<BrowserSession> BrowserSession::open(const std::string& case_path, const std::string& mesh_path,
-                                                     const std::string& record_path, std::string& error) {
+base::Result<std::unique_ptr<BrowserSession>> BrowserSession::open(const std::string& case_path,
+                                                                   const std::string& mesh_path,
+                                                                   const std::string& record_path) {
   base::Result<vessel::SurfaceMesh> surface = read_surface_file(mesh_path);
-  if (!surface) {
-    error = surface.error().message;
-    return nullptr;
-  }
+  if (!surface) return surface.error();
   session::SessionCaseLoad scene = session::load_session_case(case_path, &*surface);
-  if (!scene) {
-    error = scene.error().message;
-    return nullptr;
-  }
+  if (!scene) return scene.error();
   std::unique_ptr<BrowserSession> b(new BrowserSession());
   auto hand = std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)");
   b->session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand));
-  if (base::Status<> recording = b->session_->record_to(record_path); !recording) {
-    error = recording.error().message;
-    return nullptr;
-  }
+  if (base::Status<> recording = b->session_->record_to(record_path); !recording) return recording.error();
   return b;
 }
 
@@ -98,13 +90,13 @@ std::string BrowserSession::snapshot_metrics_json() const {
   return metrics_json(session_->snapshots().read_slot().metrics);
 }
 
-bool BrowserSession::close_record(std::string& error) {
+base::Status<> BrowserSession::close_record() {
   session::Recorder* rec = session_->recorder();
-  if (rec == nullptr) return true;
+  if (rec == nullptr) return base::Ok{};
   const bool ok = rec->close();
   record_bytes_ = rec->bytes_written();
-  if (!ok) error = rec->error();
-  return ok;
+  if (!ok) return base::Error{rec->error()};
+  return base::Ok{};
 }
 
 std::string BrowserSession::summary_json() const {

@@ -21,8 +21,13 @@ extern "C" {
 EMSCRIPTEN_KEEPALIVE int cbx_open(const char* case_path, const char* mesh_path, const char* record_path) {
   g_session.reset();
   g_error.clear();
-  g_session = cathbox::wasm::BrowserSession::open(case_path, mesh_path, record_path, g_error);
-  return g_session ? 1 : 0;
+  auto opened = cathbox::wasm::BrowserSession::open(case_path, mesh_path, record_path);
+  if (!opened) {
+    g_error = opened.error().message;
+    return 0;
+  }
+  g_session = std::move(opened.value());
+  return 1;
 }
 
 EMSCRIPTEN_KEEPALIVE const char* cbx_error() { return g_error.c_str(); }
@@ -59,7 +64,10 @@ EMSCRIPTEN_KEEPALIVE const char* cbx_snapshot_metrics() {
 
 EMSCRIPTEN_KEEPALIVE int cbx_close_record() {
   g_error.clear();
-  return g_session && g_session->close_record(g_error) ? 1 : 0;
+  if (!g_session) return 0;
+  const cathbox::base::Status<> closed = g_session->close_record();
+  if (!closed) g_error = closed.error().message;
+  return closed ? 1 : 0;
 }
 
 EMSCRIPTEN_KEEPALIVE const char* cbx_summary() {

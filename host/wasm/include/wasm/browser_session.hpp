@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "base/result.hpp"
 #include "session/keyboard_input.hpp"
 #include "session/session.hpp"
 
@@ -15,10 +16,11 @@ namespace cathbox::wasm {
 
 class BrowserSession {
  public:
-  // The case file (its HCLM beside it), the CBXMESH2 surface file, the record to write: null
-  // with one line in `error` ("FILE: what").
-  [[nodiscard]] static std::unique_ptr<BrowserSession> open(const std::string& case_path, const std::string& mesh_path,
-                                                            const std::string& record_path, std::string& error);
+  // The case file (its HCLM beside it), the CBXMESH2 surface file, the record to write; or one
+  // line ("FILE: what").
+  [[nodiscard]] static base::Result<std::unique_ptr<BrowserSession>> open(const std::string& case_path,
+                                                                          const std::string& mesh_path,
+                                                                          const std::string& record_path);
 
   // The keys held, as the native trainer maps them (host/app input_controller.cpp): mm/s, rad/s.
   void set_speeds(double insert_mm_s, double rotate_rad_s) { keyboard_.set_speeds(insert_mm_s, rotate_rad_s); }
@@ -34,8 +36,8 @@ class BrowserSession {
   [[nodiscard]] const float* packed() const { return packed_.data(); }
   // The packed snapshot's metrics, {name: value} (session::named_metrics): the live frame's.
   [[nodiscard]] std::string snapshot_metrics_json() const;
-  // Once over: the record closed (false with the writer's line in `error`).
-  bool close_record(std::string& error);
+  // Once over: the record closed, or the writer's line.
+  [[nodiscard]] base::Status<> close_record();
   // {"case", "hand", "end", "ticks", "record_bytes", "target":[x,y,z,r]|null, "metrics":{name:value}}
   [[nodiscard]] std::string summary_json() const;
 
