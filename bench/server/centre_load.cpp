@@ -172,10 +172,9 @@ LoadFigures run_centre_load(const std::string& db_url, bool two_instances, const
       std::vector<double> latencies;
       std::int64_t delivered = 0;
       while (!s.stop) {
-        std::string error;
-        const std::optional<std::string> m = ws.read(200, &error);
+        const Result<std::string> m = ws.read(200);
         if (!m) {
-          if (error == "timeout") continue;
+          if (m.error().message == WsClient::kReadTimeout) continue;
           break;
         }
         const std::int64_t arrived = now_us();

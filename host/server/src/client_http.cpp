@@ -280,12 +280,9 @@ Status WsClient::send(std::string_view text) {
   return Ok{};
 }
 
-std::optional<std::string> WsClient::read(int timeout_ms, std::string* error) {
+Result<std::string> WsClient::read(int timeout_ms) {
   Impl& m = *impl_;
-  if (!m.ws) {
-    if (error != nullptr) *error = "not connected";
-    return std::nullopt;
-  }
+  if (!m.ws) return make_error(503, "not connected");
   if (!m.reading) {
     m.reading = true;
     m.read_done = false;
@@ -298,15 +295,12 @@ std::optional<std::string> WsClient::read(int timeout_ms, std::string* error) {
     m.ioc.restart();
     m.ioc.run_for(std::chrono::milliseconds(timeout_ms));
   }
-  if (!m.read_done) {
-    if (error != nullptr) *error = "timeout";
-    return std::nullopt;
-  }
+  if (!m.read_done) return make_error(408, kReadTimeout);
   m.reading = false;
   if (m.read_result) {
-    if (error != nullptr) *error = m.read_result.message();
+    Error closed = make_error(503, m.read_result.message());
     m.ws.reset();
-    return std::nullopt;
+    return closed;
   }
   std::string text = beast::buffers_to_string(m.buffer.data());
   m.buffer.consume(m.buffer.size());

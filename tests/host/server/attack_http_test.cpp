@@ -91,15 +91,28 @@ TEST_P(AttackHttpTest, PagesCarryAStrictPolicy) {
 // each wait for the server's answer, never a sleep).
 bool closed_by_server(WsClient& ws, std::string& why) {
   for (int i = 0; i < 5; ++i) {
-    why.clear();
-    if (!ws.read(5000, &why) && why != "timeout") return true;
+    const Result<std::string> m = ws.read(5000);
+    why = m ? std::string() : m.error().message;
+    if (!m && why != WsClient::kReadTimeout) return true;
   }
   return false;
 }
 
+// A message arrives within `timeout_ms` (else the socket's line).
+::testing::AssertionResult reads(WsClient& ws, int timeout_ms) {
+  const Result<std::string> m = ws.read(timeout_ms);
+  if (!m) return ::testing::AssertionFailure() << m.error().message;
+  return ::testing::AssertionSuccess();
+}
+
 // True while the socket answers: a message the server refuses comes back as an error line (and
 // counts as activity).
-bool answers(WsClient& ws, std::string& why) { return ws.send(R"({"type":"nonsense"})") && ws.read(5000, &why).has_value(); }
+bool answers(WsClient& ws, std::string& why) {
+  if (!ws.send(R"({"type":"nonsense"})")) return false;
+  const Result<std::string> m = ws.read(5000);
+  if (!m) why = m.error().message;
+  return m.ok();
+}
 
 // Virtual time: the server's clock is a ManualClock and the test sweeps the sockets itself.
 test::ServerOptions on_clock(ManualClock& clock) {
@@ -115,7 +128,7 @@ TEST_P(AttackHttpTest, AWatchersSocketClosesWhenItsTokenIsRevoked) {
   WsClient watcher;
   ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch", teacher));
   std::string error;
-  ASSERT_TRUE(watcher.read(10000, &error)) << error;  // the rig list
+  ASSERT_TRUE(reads(watcher, 10000));  // the rig list
   HttpClient http(server.base_url());
   http.set_token(teacher);
   ASSERT_EQ(http.post_json("/api/v1/logout", "").status, 204);
@@ -138,11 +151,11 @@ TEST_P(AttackHttpTest, IdleWebSocketsAreEvicted) {
   WsClient stream, idle_watcher, instructor;
   std::string error;
   ASSERT_TRUE(instructor.connect(server.base_url(), "/api/v1/live/watch", teacher));
-  ASSERT_TRUE(instructor.read(5000, &error)) << error;  // the rig list
+  ASSERT_TRUE(reads(instructor, 5000));  // the rig list
   ASSERT_TRUE(stream.connect(server.base_url(), "/api/v1/live/rigs/rig-07/stream?case=ybif", alice));
-  ASSERT_TRUE(instructor.read(5000, &error)) << error;  // alice's stream started
+  ASSERT_TRUE(reads(instructor, 5000));  // alice's stream started
   ASSERT_TRUE(idle_watcher.connect(server.base_url(), "/api/v1/live/watch", bob));
-  ASSERT_TRUE(idle_watcher.read(5000, &error)) << error;  // the rig list
+  ASSERT_TRUE(reads(idle_watcher, 5000));  // the rig list
   clock.advance_us(59'000'000);
   server.app->http().sweep();
   ASSERT_TRUE(answers(idle_watcher, error)) << error;  // still open, and now active again
@@ -156,8 +169,8 @@ TEST_P(AttackHttpTest, IdleWebSocketsAreEvicted) {
   // The instructor's watcher is still open (it answers) and saw the stream end.
   bool ended = false;
   for (int i = 0; i < 5 && !ended; ++i) {
-    const std::optional<std::string> m = instructor.read(5000, &error);
-    ASSERT_TRUE(m) << error;
+    const Result<std::string> m = instructor.read(5000);
+    ASSERT_TRUE(m) << m.error().message;
     ended = m->find(R"("type":"ended")") != std::string::npos;
   }
   EXPECT_TRUE(ended);

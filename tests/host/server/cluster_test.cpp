@@ -26,11 +26,10 @@ json feed_until_received(LiveStream& stream, WsClient& watcher, int from, int at
   for (int i = 0; i < attempts; ++i) {
     stream.push(frame(seq++));
     for (;;) {
-      std::string error;
-      const std::optional<std::string> m = watcher.read(250, &error);
+      const Result<std::string> m = watcher.read(250);
       if (!m) {
-        if (error != "timeout") {
-          ADD_FAILURE() << "watcher: " << error;
+        if (m.error().message != WsClient::kReadTimeout) {
+          ADD_FAILURE() << "watcher: " << m.error().message;
           return nullptr;
         }
         break;
@@ -77,8 +76,7 @@ TEST_F(TwoInstances, ARigStreamingToOneInstanceIsWatchedFromTheOther) {
   for (int i = 0; i < 40 && large.is_null(); ++i) {
     stream.push(big);
     for (;;) {
-      std::string error;
-      const std::optional<std::string> m = watcher.read(250, &error);
+      const Result<std::string> m = watcher.read(250);
       if (!m) break;
       json j = json::parse(*m);
       if (j["type"] == "frame" && j["frame"]["seq"] == 100000) {

@@ -205,8 +205,11 @@ TEST_P(DeleteUserTest, OverRealSocketsHerStreamEndsForItsWatchers) {
   // The watcher's messages up to the first that contains `what`.
   const auto read_until = [&](const std::string& what) {
     for (int i = 0; i < 8; ++i) {
-      const std::optional<std::string> m = watcher.read(10000, &error);
-      if (!m) return false;
+      const Result<std::string> m = watcher.read(10000);
+      if (!m) {
+        error = m.error().message;
+        return false;
+      }
       if (m->find(what) != std::string::npos) return true;
     }
     return false;
@@ -220,8 +223,9 @@ TEST_P(DeleteUserTest, OverRealSocketsHerStreamEndsForItsWatchers) {
   ASSERT_TRUE(stream.send(frame));
   bool closed = false;
   for (int i = 0; i < 3 && !closed; ++i) {
-    error.clear();
-    closed = !stream.read(10000, &error) && error != "timeout";
+    const Result<std::string> m = stream.read(10000);
+    error = m ? std::string() : m.error().message;
+    closed = !m && error != WsClient::kReadTimeout;
   }
   EXPECT_TRUE(closed) << error;
   http.set_token(teacher);

@@ -27,10 +27,9 @@ std::string frame(int seq, std::size_t nodes = 8) {
 // Reads watcher messages until one of `type` arrives (others are skipped); null on timeout.
 json next_of_type(WsClient& ws, const std::string& type, int timeout_ms = 10000) {
   for (int i = 0; i < 1000; ++i) {
-    std::string error;
-    const std::optional<std::string> m = ws.read(timeout_ms, &error);
+    const Result<std::string> m = ws.read(timeout_ms);
     if (!m) {
-      ADD_FAILURE() << "no '" << type << "' message: " << error;
+      ADD_FAILURE() << "no '" << type << "' message: " << m.error().message;
       return nullptr;
     }
     json j = json::parse(*m);
@@ -246,8 +245,7 @@ TEST_P(HttpTest, BadFramesAreAnsweredAndTheStreamGoesOn) {
   EXPECT_EQ(next_of_type(watcher, "frame")["frame"]["seq"], 7);
   // A message over the size limit closes that socket (only).
   ASSERT_TRUE(publisher.send(std::string(kMaxFrameBytes + 100, ' ')));
-  std::string error;
-  EXPECT_FALSE(publisher.read(5000, &error).has_value());
+  EXPECT_FALSE(publisher.read(5000).ok());
   ASSERT_TRUE(publisher.connect(server_->base_url(), "/api/v1/live/rigs/rig-1/stream?case=ybif", alice));
   ASSERT_TRUE(publisher.send(frame(8)));
   EXPECT_EQ(next_of_type(watcher, "frame")["frame"]["seq"], 8);

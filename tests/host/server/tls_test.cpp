@@ -55,9 +55,8 @@ TEST_F(TlsTest, AGoodCertificateServesHttpsWithHstsAndWss) {
   EXPECT_EQ(http.get("/").status, 200);
   WsClient ws(5000);
   ASSERT_TRUE(ws.connect(server.base_url(), "/api/v1/live/watch", token));
-  std::string error;
-  const std::optional<std::string> first = ws.read(5000, &error);
-  ASSERT_TRUE(first) << error;
+  const Result<std::string> first = ws.read(5000);
+  ASSERT_TRUE(first) << first.error().message;
   EXPECT_NE(first->find("\"rigs\""), std::string::npos);
   // The same certificate by name.
   HttpClient by_name("https://localhost:" + std::to_string(server.port()));
@@ -155,9 +154,8 @@ TEST_F(TlsTest, AReloadServesTheNewCertificateAndKeepsOpenSockets) {
   EXPECT_EQ(HttpClient(server.base_url()).get("/").status, 200);
   // The watcher opened before the reload still talks (a bad message gets its error line back).
   ASSERT_TRUE(ws.send("not json"));
-  std::string error;
-  const std::optional<std::string> answer = ws.read(5000, &error);
-  ASSERT_TRUE(answer) << error;
+  const Result<std::string> answer = ws.read(5000);
+  ASSERT_TRUE(answer) << answer.error().message;
   EXPECT_NE(answer->find("\"error\""), std::string::npos);
 }
 

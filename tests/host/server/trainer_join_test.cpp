@@ -119,7 +119,9 @@ TEST_P(TrainerJoin, AssignedRunIsWatchedLiveUploadedAndQueuedWhileOffline) {
   // The instructor watches every rig.
   WsClient watcher(20000);
   ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch?rigs=rig-07", teacher.token()));
-  ASSERT_EQ(json::parse(watcher.read(20000).value_or("{}"))["type"], "rigs");
+  const Result<std::string> rigs = watcher.read(20000);
+  ASSERT_TRUE(rigs) << rigs.error().message;
+  ASSERT_EQ(json::parse(*rigs)["type"], "rigs");
 
   Rig rig;
   const TrainerRun online = run_trainer(server.base_url(), rig);
@@ -136,9 +138,8 @@ TEST_P(TrainerJoin, AssignedRunIsWatchedLiveUploadedAndQueuedWhileOffline) {
   int frames = 0;
   std::set<double> tips;
   while (!ended) {
-    std::string why;
-    const std::optional<std::string> text = watcher.read(20000, &why);
-    ASSERT_TRUE(text) << "watcher: " << why << " after " << frames << " frames";
+    const Result<std::string> text = watcher.read(20000);
+    ASSERT_TRUE(text) << "watcher: " << text.error().message << " after " << frames << " frames";
     const json m = json::parse(*text);
     if (m["type"] == "started") {
       started = true;

@@ -70,9 +70,10 @@ class WsClient {
   // is in the error when refused ("HTTP 403: ...").
   [[nodiscard]] Status connect(const std::string& base_url, const std::string& target, const std::string& token);
   [[nodiscard]] Status send(std::string_view text);
-  // The next text message; nullopt on timeout (error "timeout": the read stays pending and the
-  // socket open, so read again) or on a closed socket.
-  [[nodiscard]] std::optional<std::string> read(int timeout_ms, std::string* error = nullptr);
+  // The next text message; or, on timeout, the error `kReadTimeout` (status 408: the read stays
+  // pending and the socket open, so read again); or the closed/failed socket's line.
+  [[nodiscard]] Result<std::string> read(int timeout_ms);
+  static constexpr const char* kReadTimeout = "timeout";
   void close();
 
   struct Impl;
