@@ -39,7 +39,9 @@ bool text(std::string_view v, std::string& out) {
   return !v.empty();
 }
 
-std::vector<ValueOption> value_options() {
+// Stays whole: a table, one entry per option (flag, argument, help, refusal, parser), read top to
+// bottom like --help; splitting it would only scatter the options.
+std::vector<ValueOption> value_options() {  // NOLINT(readability-function-size)
   return {
       {"--case", "FILE", "case to open (default: the default case in the cases folder)", "--case needs a file",
        [](std::string_view v, TrainerOptions& o) { return text(v, o.case_path); }},

@@ -293,17 +293,20 @@ int delete_user_command(Store& store, SystemClock& clock, const std::string& nam
   return kOk;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App cli{"cathbox-server: cases, assignments, results and live sessions for a training centre"};
-  cli.require_subcommand(0, 1);
-  std::string db, listen = "127.0.0.1:8080", data = default_data_dir();
+// The server's own options (serving; the admin commands read --db and --data too).
+struct ServerArgs {
+  std::string db;
+  std::string listen = "127.0.0.1:8080";
+  std::string data = default_data_dir();
   ServeOptions so;
+};
+
+void add_server_options(CLI::App& cli, ServerArgs& a) {
+  ServeOptions& so = a.so;
   so.web = CATHBOX_SERVER_WEB_DIR;
-  cli.add_option("--db", db, "sqlite:PATH or postgresql://... (default: sqlite:DATA/server.db)");
-  cli.add_option("--listen", listen, "HOST:PORT to listen on (port 0: any free port)")->capture_default_str();
-  cli.add_option("--data", data, "data folder (default: $XDG_DATA_HOME/cathbox)")->capture_default_str();
+  cli.add_option("--db", a.db, "sqlite:PATH or postgresql://... (default: sqlite:DATA/server.db)");
+  cli.add_option("--listen", a.listen, "HOST:PORT to listen on (port 0: any free port)")->capture_default_str();
+  cli.add_option("--data", a.data, "data folder (default: $XDG_DATA_HOME/cathbox)")->capture_default_str();
   cli.add_option("--web", so.web, "folder of the browser pages")->capture_default_str();
   cli.add_option("--wasm", so.wasm, "folder of the trainee page's WebAssembly session (scripts/wasm-build DIR cathbox-trainee: DIR/bin), served at /wasm/");
   cli.add_option("--instance", so.instance, "this instance's name (default: random)");
@@ -322,108 +325,132 @@ int main(int argc, char** argv) {
   cli.add_option("--logins-per-minute", so.logins_per_minute, "login attempts per minute one address gets back")
       ->check(CLI::Range(0.1, 1e6))
       ->capture_default_str();
+}
 
-  CLI::App* admin = cli.add_subcommand("admin", "accounts and the case library (uses --db / --data like the server)");
-  admin->require_subcommand(1);
-  std::string user, role, case_path, case_name;
-  CLI::App* create = admin->add_subcommand("create-user", "create an account (password: $CATHBOX_PASSWORD or one line on stdin)");
-  create->add_option("NAME", user)->required();
-  create->add_option("--role", role, "trainee, instructor or admin")->required();
-  CLI::App* list = admin->add_subcommand("list-users", "list accounts");
-  CLI::App* set_role = admin->add_subcommand("set-role", "change an account's role");
-  set_role->add_option("NAME", user)->required();
-  set_role->add_option("ROLE", role)->required();
-  CLI::App* set_password = admin->add_subcommand("set-password", "change a password (as create-user) and end its sessions");
-  set_password->add_option("NAME", user)->required();
-  CLI::App* disable = admin->add_subcommand("disable", "disable an account and end its sessions");
-  disable->add_option("NAME", user)->required();
-  CLI::App* enable = admin->add_subcommand("enable", "enable an account");
-  enable->add_option("NAME", user)->required();
-  CLI::App* add_case = admin->add_subcommand("add-case", "add a case file (and the HCLM it names) to the library");
-  add_case->add_option("CASE", case_path)->required();
-  add_case->add_option("--name", case_name, "library name (default: the file's stem)");
-  CLI::App* migrate_cmd = admin->add_subcommand("migrate", "apply schema migrations and print the version");
-  std::string backup_file;
-  CLI::App* backup_cmd = admin->add_subcommand("backup", "write a consistent copy of the database to FILE, while it serves");
-  backup_cmd->add_option("FILE", backup_file)->required();
-  CLI::App* restore_cmd = admin->add_subcommand("restore", "restore FILE (from admin backup) into an empty --db");
-  restore_cmd->add_option("FILE", backup_file)->required();
-  std::string export_dir;
-  CLI::App* export_cmd = admin->add_subcommand("export-user", "write an account's data (no password hash), results and records into DIR (new or empty)");
-  export_cmd->add_option("NAME", user)->required();
-  export_cmd->add_option("DIR", export_dir)->required();
-  CLI::App* delete_cmd = admin->add_subcommand(
-      "delete-user", "delete an account and all its data (results, records, traces) with the server STOPPED; running: DELETE /api/v1/users/NAME");
-  delete_cmd->add_option("NAME", user)->required();
+// `cathbox-server admin ...`: the subcommands and what they were given.
+struct AdminArgs {
+  // The subcommands (null until added).
+  CLI::App *admin{}, *create{}, *list{}, *set_role{}, *set_password{}, *disable{}, *enable{};
+  CLI::App *add_case{}, *migrate{}, *backup{}, *restore{}, *export_user{}, *delete_user{};
+  std::string user, role, case_path, case_name, backup_file, export_dir;
+};
 
+void add_admin_commands(CLI::App& cli, AdminArgs& a) {
+  a.admin = cli.add_subcommand("admin", "accounts and the case library (uses --db / --data like the server)");
+  a.admin->require_subcommand(1);
+  // A subcommand that names an account.
+  const auto on_user = [&a](const char* name, const char* what) {
+    CLI::App* c = a.admin->add_subcommand(name, what);
+    c->add_option("NAME", a.user)->required();
+    return c;
+  };
+  a.create = on_user("create-user", "create an account (password: $CATHBOX_PASSWORD or one line on stdin)");
+  a.create->add_option("--role", a.role, "trainee, instructor or admin")->required();
+  a.list = a.admin->add_subcommand("list-users", "list accounts");
+  a.set_role = on_user("set-role", "change an account's role");
+  a.set_role->add_option("ROLE", a.role)->required();
+  a.set_password = on_user("set-password", "change a password (as create-user) and end its sessions");
+  a.disable = on_user("disable", "disable an account and end its sessions");
+  a.enable = on_user("enable", "enable an account");
+  a.add_case = a.admin->add_subcommand("add-case", "add a case file (and the HCLM it names) to the library");
+  a.add_case->add_option("CASE", a.case_path)->required();
+  a.add_case->add_option("--name", a.case_name, "library name (default: the file's stem)");
+  a.migrate = a.admin->add_subcommand("migrate", "apply schema migrations and print the version");
+  a.backup = a.admin->add_subcommand("backup", "write a consistent copy of the database to FILE, while it serves");
+  a.backup->add_option("FILE", a.backup_file)->required();
+  a.restore = a.admin->add_subcommand("restore", "restore FILE (from admin backup) into an empty --db");
+  a.restore->add_option("FILE", a.backup_file)->required();
+  a.export_user = on_user("export-user", "write an account's data (no password hash), results and records into DIR (new or empty)");
+  a.export_user->add_option("DIR", a.export_dir)->required();
+  a.delete_user = on_user("delete-user", "delete an account and all its data (results, records, traces) with the server STOPPED; running: DELETE /api/v1/users/NAME");
+}
+
+// create-user, set-role, set-password, disable, enable: the account commands.
+int run_account_command(Store& store, SystemClock& clock, const AdminArgs& a) {
+  std::optional<Role> parsed_role;
+  if (!a.role.empty()) {
+    parsed_role = parse_role(a.role);
+    if (!parsed_role) {
+      std::cerr << "cathbox-server: role '" << a.role << "': expected trainee, instructor or admin\n";
+      return kBadInput;
+    }
+  }
+  Auth auth(store, clock, PasswordHasher());
+  if (a.create->parsed()) {
+    Result<User> made = auth.create_user(a.user, *parsed_role, read_password());
+    if (!made) {
+      std::cerr << "cathbox-server: " << made.error().message << '\n';
+      return made.error().status == 409 ? kFailure : kBadInput;
+    }
+    std::printf("created %s (%s)\n", a.user.c_str(), a.role.c_str());
+    return kOk;
+  }
+  const std::optional<User> found = store.user_by_name(a.user);
+  if (!found) {
+    std::cerr << "cathbox-server: no user '" << a.user << "'\n";
+    return kFailure;
+  }
+  if (a.set_role->parsed()) {
+    (void)store.update_user(found->id, parsed_role, std::nullopt, std::nullopt);
+  } else if (a.set_password->parsed()) {
+    if (Status s = auth.set_password(found->id, read_password()); !s) {
+      std::cerr << "cathbox-server: " << s.error().message << '\n';
+      return kBadInput;
+    }
+  } else if (a.disable->parsed() || a.enable->parsed()) {
+    (void)store.update_user(found->id, std::nullopt, std::nullopt, a.disable->parsed());
+    if (a.disable->parsed()) store.delete_user_tokens(found->id);
+  }
+  std::printf("updated %s\n", a.user.c_str());
+  return kOk;
+}
+
+// The admin command given, on the store at `url`.
+int run_admin(const AdminArgs& a, const std::string& url, const std::string& cache) {
+  // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
+  if (a.backup->parsed() || a.restore->parsed()) return backup_or_restore(a.backup->parsed(), url, a.backup_file);
+  int code = kOk;
+  std::unique_ptr<Store> store = open_store(url, code);
+  if (!store) return code;
+  SystemClock clock;
+  try {
+    if (a.migrate->parsed()) {
+      std::printf("%s: schema version %d\n", store->database().describe().c_str(), schema_version(store->database()));
+      return kOk;
+    }
+    if (a.list->parsed()) {
+      for (const User& u : store->list_users()) {
+        std::printf("%-24s %-10s%s\n", u.name.c_str(), std::string(role_name(u.role)).c_str(), u.disabled ? " (disabled)" : "");
+      }
+      return kOk;
+    }
+    if (a.add_case->parsed()) return upload_case_file(*store, clock, a.case_path, a.case_name);
+    if (a.export_user->parsed()) return export_user_data(*store, clock, a.user, a.export_dir);
+    if (a.delete_user->parsed()) return delete_user_command(*store, clock, a.user, cache);
+    return run_account_command(*store, clock, a);
+  } catch (const StoreError& e) {
+    std::cerr << "cathbox-server: " << e.what() << '\n';
+    return kUnavailable;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App cli{"cathbox-server: cases, assignments, results and live sessions for a training centre"};
+  cli.require_subcommand(0, 1);
+  ServerArgs server;
+  add_server_options(cli, server);
+  AdminArgs admin;
+  add_admin_commands(cli, admin);
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     const int rc = cli.exit(e);
     return rc == 0 ? kOk : kBadInput;
   }
-  const std::string url = db_url(db, data);
-  so.cache = data + "/cache";
-  if (!admin->parsed()) return serve(url, listen, so);
-  // Before the store is opened: a restore needs its target empty, a backup copies it as it is.
-  if (backup_cmd->parsed() || restore_cmd->parsed()) return backup_or_restore(backup_cmd->parsed(), url, backup_file);
-
-  int code = kOk;
-  std::unique_ptr<Store> store = open_store(url, code);
-  if (!store) return code;
-  SystemClock clock;
-  try {
-    if (migrate_cmd->parsed()) {
-      std::printf("%s: schema version %d\n", store->database().describe().c_str(), schema_version(store->database()));
-      return kOk;
-    }
-    if (list->parsed()) {
-      for (const User& u : store->list_users()) {
-        std::printf("%-24s %-10s%s\n", u.name.c_str(), std::string(role_name(u.role)).c_str(), u.disabled ? " (disabled)" : "");
-      }
-      return kOk;
-    }
-    if (add_case->parsed()) return upload_case_file(*store, clock, case_path, case_name);
-    if (export_cmd->parsed()) return export_user_data(*store, clock, user, export_dir);
-    if (delete_cmd->parsed()) return delete_user_command(*store, clock, user, so.cache);
-    std::optional<Role> parsed_role;
-    if (!role.empty()) {
-      parsed_role = parse_role(role);
-      if (!parsed_role) {
-        std::cerr << "cathbox-server: role '" << role << "': expected trainee, instructor or admin\n";
-        return kBadInput;
-      }
-    }
-    Auth auth(*store, clock, PasswordHasher());
-    if (create->parsed()) {
-      Result<User> made = auth.create_user(user, *parsed_role, read_password());
-      if (!made) {
-        std::cerr << "cathbox-server: " << made.error().message << '\n';
-        return made.error().status == 409 ? kFailure : kBadInput;
-      }
-      std::printf("created %s (%s)\n", user.c_str(), role.c_str());
-      return kOk;
-    }
-    const std::optional<User> found = store->user_by_name(user);
-    if (!found) {
-      std::cerr << "cathbox-server: no user '" << user << "'\n";
-      return kFailure;
-    }
-    if (set_role->parsed()) {
-      (void)store->update_user(found->id, parsed_role, std::nullopt, std::nullopt);
-    } else if (set_password->parsed()) {
-      if (Status s = auth.set_password(found->id, read_password()); !s) {
-        std::cerr << "cathbox-server: " << s.error().message << '\n';
-        return kBadInput;
-      }
-    } else if (disable->parsed() || enable->parsed()) {
-      (void)store->update_user(found->id, std::nullopt, std::nullopt, disable->parsed());
-      if (disable->parsed()) store->delete_user_tokens(found->id);
-    }
-    std::printf("updated %s\n", user.c_str());
-    return kOk;
-  } catch (const StoreError& e) {
-    std::cerr << "cathbox-server: " << e.what() << '\n';
-    return kUnavailable;
-  }
+  const std::string url = db_url(server.db, server.data);
+  server.so.cache = server.data + "/cache";
+  if (!admin.admin->parsed()) return serve(url, server.listen, server.so);
+  return run_admin(admin, url, server.so.cache);
 }
