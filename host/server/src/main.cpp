@@ -295,6 +295,7 @@ int delete_user_command(Store& store, SystemClock& clock, const std::string& nam
 
 }  // namespace
 
+// NOLINTNEXTLINE(readability-function-size): main declares the command line, a flat list of subcommands and their options, then dispatches.
 int main(int argc, char** argv) {
   CLI::App cli{"cathbox-server: cases, assignments, results and live sessions for a training centre"};
   cli.require_subcommand(0, 1);
