@@ -25,6 +25,16 @@ void MetricsCollector::reset_held(const MetricsTick& t) {
 void MetricsCollector::observe(const MetricsTick& t) {
   contact_began_ = false;
   target_just_reached_ = false;
+  const std::int64_t dt_us = observe_time(t);
+  observe_contact(t, dt_us);
+  observe_target(t);
+  observe_route(t);
+  observe_retraction(t.held_insertion_mm);
+  observe_speed(t.time_us, t.held_insertion_mm);
+}
+
+// Time, tool changes and the tip's path.
+std::int64_t MetricsCollector::observe_time(const MetricsTick& t) {
   std::int64_t dt_us = 0;
   if (!started_) {
     started_ = true;
@@ -46,8 +56,11 @@ void MetricsCollector::observe(const MetricsTick& t) {
   m_.procedure_time_us = t.time_us - start_us_;
   m_.tip_path_mm += static_cast<double>(glm::distance(t.tip_mm, last_tip_mm_));
   last_tip_mm_ = t.tip_mm;
+  return dt_us;
+}
 
-  // Contact episodes.
+// Contact episodes and wall/hand forces.
+void MetricsCollector::observe_contact(const MetricsTick& t, std::int64_t dt_us) {
   if (t.tip_in_contact) {
     const bool new_episode = !in_contact_ && (last_contact_us_ < 0 || t.time_us - last_contact_us_ >= s_.contact_gap_us);
     if (new_episode) {
@@ -62,8 +75,10 @@ void MetricsCollector::observe(const MetricsTick& t) {
   m_.peak_wall_force_mN = std::max(m_.peak_wall_force_mN, t.wall_force_mN);
   if (t.wall_force_mN > s_.wall_force_threshold_mN) m_.time_above_threshold_us += dt_us;
   m_.peak_hand_force_mN = std::max(m_.peak_hand_force_mN, t.hand_force_mN);
+}
 
-  // Target.
+// Closest approach to the target, time to reach it, path efficiency.
+void MetricsCollector::observe_target(const MetricsTick& t) {
   if (s_.target_mm) {
     const double d = static_cast<double>(glm::distance(t.tip_mm, *s_.target_mm));
     if (m_.closest_to_target_mm < 0.0 || d < m_.closest_to_target_mm) m_.closest_to_target_mm = d;
@@ -74,17 +89,21 @@ void MetricsCollector::observe(const MetricsTick& t) {
       if (s_.route_length_mm > 0.0 && m_.tip_path_mm > 0.0) m_.path_efficiency = s_.route_length_mm / m_.tip_path_mm;
     }
   }
+}
 
-  // Wrong branches: a change of the tip's segment (junctions and "none" do not count).
+// Wrong branches: a change of the tip's segment (junctions and "none" do not count).
+void MetricsCollector::observe_route(const MetricsTick& t) {
   if (!s_.route_segments.empty() && t.tip_segment >= 0 && t.tip_segment != last_segment_) {
     last_segment_ = t.tip_segment;
     if (std::find(s_.route_segments.begin(), s_.route_segments.end(), t.tip_segment) == s_.route_segments.end()) {
       ++m_.wrong_branch_entries;
     }
   }
+}
 
-  // Retractions of the held tool.
-  const double x = t.held_insertion_mm;
+// Retractions of the held tool.
+void MetricsCollector::observe_retraction(double insertion_mm) {
+  const double x = insertion_mm;
   if (!retracting_) {
     extreme_mm_ = std::max(extreme_mm_, x);
     if (x <= extreme_mm_ - s_.retraction_mm) {
@@ -99,16 +118,18 @@ void MetricsCollector::observe(const MetricsTick& t) {
       extreme_mm_ = x;
     }
   }
+}
 
-  // Insertion speed over the window: against the newest sample at least a window old.
-  samples_[sample_head_] = {t.time_us, x};
+// Insertion speed over the window: against the newest sample at least a window old.
+void MetricsCollector::observe_speed(std::int64_t time_us, double insertion_mm) {
+  samples_[sample_head_] = {time_us, insertion_mm};
   sample_head_ = (sample_head_ + 1) % kSamples;
   sample_count_ = std::min(sample_count_ + 1, kSamples);
   for (std::size_t k = 1; k < sample_count_; ++k) {
     const Sample& old = samples_[(sample_head_ + kSamples - 1 - k) % kSamples];
-    const std::int64_t span = t.time_us - old.time_us;
+    const std::int64_t span = time_us - old.time_us;
     if (span >= s_.speed_window_us) {
-      const double speed = std::abs(x - old.insertion_mm) * 1e6 / static_cast<double>(span);
+      const double speed = std::abs(insertion_mm - old.insertion_mm) * 1e6 / static_cast<double>(span);
       m_.peak_insertion_speed_mm_s = std::max(m_.peak_insertion_speed_mm_s, speed);
       break;
     }

@@ -196,6 +196,13 @@ class MetricsCollector {
     double insertion_mm = 0.0;
   };
   void reset_held(const MetricsTick& tick);
+  // The steps of observe(), in order: each updates its own metrics from one tick.
+  std::int64_t observe_time(const MetricsTick& t);  // returns the time since the last tick
+  void observe_contact(const MetricsTick& t, std::int64_t dt_us);
+  void observe_target(const MetricsTick& t);
+  void observe_route(const MetricsTick& t);
+  void observe_retraction(double insertion_mm);
+  void observe_speed(std::int64_t time_us, double insertion_mm);
 
   MetricsSettings s_;
   Metrics m_;
