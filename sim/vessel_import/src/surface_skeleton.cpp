@@ -131,10 +131,18 @@ class SurfaceImporter {
     out_.stats.polygons_dropped = polygons_before - soup.polygons.size();
     if (soup.polygons.empty()) return refuse("not a surface: every polygon is degenerate");
     PMP::orient_polygon_soup(points, soup.polygons);
+    // Orienting duplicates the points where edges are shared by more than two polygons; what
+    // is still not a polygon mesh after that would build an invalid halfedge structure.
+    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) {
+      return refuse("not a surface: the polygons do not form a manifold mesh even after orienting");
+    }
     PMP::polygon_soup_to_polygon_mesh(points, soup.polygons, mesh_);
     if (!CGAL::is_triangle_mesh(mesh_) && !PMP::triangulate_faces(mesh_)) {
       return refuse("not a surface: a polygon could not be triangulated");
     }
+    // Triangulating a polygon can add a diagonal that a neighbouring polygon already has as an
+    // edge; such a mesh is no longer a valid halfedge structure.
+    if (!mesh_.is_valid(false)) return refuse("not a surface: triangulating its polygons gives a non-manifold mesh");
     return true;
   }
 

@@ -222,5 +222,18 @@ TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughObjAndPly) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".ply");
 }
 
+// Found by fuzz_vessel_import_polygon_cells: a pentagon and a triangle that share two of its
+// edges. Triangulating the pentagon adds the diagonal the triangle already has, the halfedge
+// structure turns invalid, and CGAL's connected_components then grew without bound.
+TEST(SurfaceImport, PolygonWhoseDiagonalIsANeighbourEdgeIsRefusedInOneLine) {
+  PolygonSoup soup;
+  soup.points = {{-42.5, -0.5, -0.5}, {0, 0, 0}, {11, -10, -10}, {0, 0, 10}, {0, 0, -10}};
+  soup.polygons = {{2, 1, 0, 3, 4}, {2, 4, 1}};
+  const SurfaceImport imported = import_surface_soup(soup, "pentagon.vtp", {});
+  ASSERT_EQ(imported.errors.size(), 1u);
+  EXPECT_EQ(imported.errors.front().to_string().rfind("pentagon.vtp: not a surface: ", 0), 0u)
+      << imported.errors.front().to_string();
+}
+
 }  // namespace
 }  // namespace cathbox::vessel_import
