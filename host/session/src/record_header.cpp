@@ -62,6 +62,12 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
     }
     w.field(t(ToolTag::kBalloon), b);
   }
+  if (spec.stent.present()) {
+    std::vector<std::uint8_t> b;
+    ByteWriter wb(b);
+    for (const double v : {spec.stent.diameter_mm, spec.stent.length_mm, spec.stent.embed_s}) wb.f64(v);
+    w.field(t(ToolTag::kStentRetriever), b);
+  }
   return out;
 }
 
@@ -251,6 +257,14 @@ bool decode_header(std::span<const std::uint8_t> data, RecordHeader& out, std::s
                 if (!r.f64(p) || !r.f64(dia)) return bad(tat, "tool: a balloon is not 4 doubles and (pressure, diameter) pairs");
                 b.pressure_atm.push_back(p);
                 b.diameter_mm.push_back(dia);
+              }
+              return 1;
+            }
+            case ToolTag::kStentRetriever: {
+              ByteReader r(tv);
+              tool::StentRetrieverSpec& st = spec.stent;
+              if (tv.size() != 24 || !r.f64(st.diameter_mm) || !r.f64(st.length_mm) || !r.f64(st.embed_s)) {
+                return bad(tat, "tool: a stent retriever is not 3 doubles");
               }
               return 1;
             }

@@ -174,9 +174,8 @@ void Rod::set_distal_friction(double length_mm, double mu) {
 }
 
 void Rod::set_contact_radius(std::size_t k, double radius_mm) {
-  if (k >= radius_.size()) return;
-  std::size_t station = kNoStation;
-  const double own = radius_at_mm(from_tip_[k], station);
+  if (k >= radius_.size() || spec_.sections.empty()) return;
+  const double own = 0.5 * section_at(k).outer_diameter_mm;  // radius_ holds what was set
   radius_[k] = radius_mm > own ? radius_mm : own;
 }
 

@@ -102,6 +102,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
     if (!tools[i].stent.present()) continue;
     stents_[i].emplace(tools[i].stent, rods_[i].node_total());
     rods_[i].set_distal_friction(tools[i].stent.length_mm, kStentWallFriction);
+    rods_[i].settings().contact_stiffness_mN_per_mm = std::min(rods_[i].settings().contact_stiffness_mN_per_mm, kStentContactStiffness_mN_per_mm);
   }
   detached_.reserve(16);
   path_.reserve(max_nodes * 2);

@@ -38,7 +38,11 @@ double stent_capture_force_N(const StentRetrieverSpec& s) {
 }
 
 StentRetriever::StentRetriever(const StentRetrieverSpec& spec, std::size_t node_total)
-    : spec_(spec), gauged_at_(node_total, glm::dvec3(0.0)), lumen_mm_(node_total, -1.0), expanded_mm_(node_total, 0.0) {}
+    : spec_(spec),
+      gauged_at_(node_total, glm::dvec3(0.0)),
+      lumen_mm_(node_total, -1.0),
+      expanded_mm_(node_total, 0.0),
+      hints_(node_total) {}
 
 // The length of the stent zone [0, L] from the tip that node k stands for: its Voronoi interval
 // along the wire (half-way to each neighbour), clamped to the zone.
@@ -72,7 +76,23 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
       gauged_at_[k] = x[k];
     }
     expanded_mm_[k] = stent_expanded_diameter_mm(spec_, lumen_mm_[k]);
-    rod.set_contact_radius(k, 0.5 * expanded_mm_[k] - kStentClearance_mm);
+    // The expanded stent fills the lumen (its axis held near the lumen's): the node's radius
+    // against the wall, flaring from the push wire's over kStentFlare_mm past the catheter's tip
+    // (the stent funnels into that tip, which need not lie on the lumen's axis), never more
+    // than its centre's distance to the nearest wall now plus the play a contact may take (so a
+    // node dragged into a narrowing, or next to an off-axis catheter tip, starts no step deep
+    // in the wall; one held against the wall keeps its radius).
+    // Once its proximal end is at the catheter's tip (no push wire out) the stent is being
+    // drawn into the catheter: its cells collapse from that end and it no longer fills the lumen.
+    const double out_mm = rod.node_from_tip_mm(rod.first_free_node());
+    const double flare = out_mm > spec_.length_mm + kStentClearance_mm ? std::min(1.0, (out_mm - rod.node_from_tip_mm(k)) / kStentFlare_mm) : 0.0;
+    WallProbe probe;
+    probe.center_mm = x[k];
+    probe.range_mm = 0.5 * spec_.diameter_mm + 1.0;
+    WallContact c;
+    const double room_mm = wall.probe(probe, hints_[k], c) ? c.distance_mm : probe.range_mm;
+    const double fill_mm = 0.5 * expanded_mm_[k] - kStentClearance_mm;
+    rod.set_contact_radius(k, flare * std::min(fill_mm, room_mm + kStentPlay * fill_mm));
     s.unsheathed_mm += share;
     s.min_diameter_mm = s.min_diameter_mm > 0.0 ? std::min(s.min_diameter_mm, expanded_mm_[k]) : expanded_mm_[k];
     s.max_diameter_mm = std::max(s.max_diameter_mm, expanded_mm_[k]);

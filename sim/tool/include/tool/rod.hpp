@@ -205,6 +205,7 @@ class Rod {
 
   // Construction (rod.cpp, rod_material.cpp).
   void size_state();
+  [[nodiscard]] const ToolSection& section_at(std::size_t k) const;
   void size_scratch();
   // Radius, stiffnesses, rest shape and drag of node k from the section holding it.
   void set_node_material(std::size_t k);

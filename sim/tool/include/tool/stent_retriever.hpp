@@ -43,7 +43,13 @@ inline constexpr double kStentRadialStiffness_N_per_mm = 0.114;  // k: RF per mm
 inline constexpr double kStentWallFriction = 0.351;              // struts on the wall
 inline constexpr double kStentIntegrationRate = 3.0;             // 1 - exp(-3) = 95 % after embed_s
 inline constexpr double kRegaugeMove_mm = 0.25;
-inline constexpr double kStentClearance_mm = 0.1;   // an expanded node's radial play in its lumen                  // a node's lumen is read again past this move
+inline constexpr double kStentClearance_mm = 0.1;   // an expanded node's radial play in its lumen
+inline constexpr double kStentFlare_mm = 20.0;       // from the catheter's tip to the full diameter
+inline constexpr double kStentPlay = 0.05;          // of the fill radius: a contact's play (the rod's penetration limit)
+// The push wire's wall penalty (a tenth of the default, as a coil's): an expanded node pressed
+// into a narrowing reads its radial compliance, not a rigid rod's (2e5 mN/mm would read 1 um
+// of a 1.3 mm node's 65 um play as 200 mN).
+inline constexpr double kStentContactStiffness_mN_per_mm = 2.0e4;                  // a node's lumen is read again past this move
 
 // Total radial force, N, of the stent expanded in a tube of `tube_diameter_mm`.
 [[nodiscard]] double stent_radial_force_N(const StentRetrieverSpec& s, double tube_diameter_mm);
@@ -86,6 +92,7 @@ class StentRetriever {
   std::vector<glm::dvec3> gauged_at_;   // where each node's lumen was read
   std::vector<double> lumen_mm_;        // its diameter there (< 0: not read yet)
   std::vector<double> expanded_mm_;
+  std::vector<WallHint> hints_;
   StentState state_;
 };
 
