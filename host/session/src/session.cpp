@@ -444,6 +444,7 @@ void Session::step_world(std::int64_t n) {
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
   if (thrombectomy_) {
     thrombectomy_->tick(n * options_.period_us, snap_);
+    thrombectomy_->after_step(n * options_.period_us, *sim_);
     // The figures change only with a pass, and every pass solves the network again: copy them
     // then, not on every tick (the copy allocates).
     if (thrombectomy_->flow_generation() != figures_generation_) {
