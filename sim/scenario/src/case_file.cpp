@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <utility>
 
 #include <glm/geometric.hpp>
 
@@ -33,247 +34,343 @@ class CaseParser {
   CaseParser(std::string_view text, std::string_view file) : lines_(text), file_(file) {}
 
   CaseParse run() {
-    Case c;
     std::vector<std::string_view> w;
-    bool seen_header = false, seen_name = false, seen_entry = false, seen_target = false, seen_realistic = false, seen_valve = false,
-         seen_threshold = false, seen_aneurysm = false, seen_wall = false;
-    ToolSpec* tool = nullptr;
-    std::size_t tool_line = 0;
-    std::vector<std::size_t> tool_lines;
     while (lines_.next(w)) {
-      const std::string_view key = w[0];
-      if (tool != nullptr) {
-        if (key == "end") {
-          if (!expect_args(w, 0)) return fail();
-          if (tool->sections.empty()) return fail_at(tool_line, "tool '" + tool->name + "' has no section");
-          if (!check_tool(*tool, tool_line)) return fail();
-          tool = nullptr;
-        } else if (key == "aspiration") {
-          if (!aspiration_statement(c, *tool, w)) return fail();
-        } else if (!tool_statement(*tool, w)) {
-          return fail();
-        }
-        continue;
-      }
-      if (key == "cathbox-case") {
-        if (!expect_args(w, 1) || !once(seen_header, key)) return fail();
-        if (w[1] != "1") return fail_here("unsupported case version '" + std::string(w[1]) + "' (known: 1)");
-      } else if (key == "name") {
-        if (w.size() < 2 || !once(seen_name, key)) return w.size() < 2 ? fail_here("name: missing value") : fail();
-        c.name = std::string(w[1]);
-        for (std::size_t i = 2; i < w.size(); ++i) c.name += " " + std::string(w[i]);
-      } else if (key == "vessel" || key == "surface") {
-        if (!expect_args(w, 1)) return fail();
-        std::string& path = key == "vessel" ? c.vessel_path : c.surface_path;
-        if (!path.empty()) return fail_here(std::string(key) + " given twice");
-        std::filesystem::path p{std::string(w[1])};
-        if (p.is_relative()) p = std::filesystem::path{std::string(file_)}.parent_path() / p;
-        path = p.lexically_normal().string();
-      } else if (key == "tube") {
-        double v[9];
-        if (!expect_args(w, 9) || !numbers(w, 1, v, 9)) return fail();
-        if (c.tubes.size() >= kMaxTubes) return fail_here("too many tubes (at most 200000)");
-        if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 2e9) return fail_here("tube: segment id must be an integer");
-        if (v[4] <= 0.0 || v[8] <= 0.0) return fail_here("tube: radius must be > 0");
-        c.tubes.push_back(Tube{{v[1], v[2], v[3]}, {v[5], v[6], v[7]}, v[4], v[8], static_cast<std::int32_t>(v[0])});
-      } else if (key == "entry") {
-        double v[6];
-        if (!expect_args(w, 6) || !once(seen_entry, key) || !numbers(w, 1, v, 6)) return fail();
-        const glm::dvec3 d(v[3], v[4], v[5]);
-        const double len = glm::length(d);
-        if (!(len > 1e-9) || !std::isfinite(len)) return fail_here("entry: direction must not be zero");
-        c.entry = Entry{{v[0], v[1], v[2]}, d / len};
-      } else if (key == "target") {
-        double v[2];
-        if (!expect_args(w, 2) || !once(seen_target, key) || !numbers(w, 1, v, 2)) return fail();
-        if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return fail_here("target: segment id must be an integer >= 0");
-        if (v[1] < 0.0 || v[1] > 1.0) return fail_here("target: fraction must be in [0, 1]");
-        c.target = CaseTarget{static_cast<std::int32_t>(v[0]), v[1]};
-      } else if (key == "wall_force_threshold") {
-        double v[1];
-        if (!expect_args(w, 1) || !once(seen_threshold, key) || !numbers(w, 1, v, 1)) return fail();
-        if (!(v[0] > 0.0) || v[0] > 1e6) return fail_here("wall_force_threshold: mN must be in (0, 1e6]");
-        c.wall_force_threshold_mN = v[0];
-      } else if (key == "tool") {
-        if (!expect_args(w, 2)) return fail();
-        if (c.tools.size() >= kMaxTools) return fail_here("too many tools (at most 4)");
-        for (const ToolSpec& t : c.tools) {
-          if (t.name == w[1]) return fail_here("tool '" + std::string(w[1]) + "' defined twice");
-        }
-        ToolSpec spec;
-        spec.sections.clear();
-        spec.name = std::string(w[1]);
-        if (w[2] == "guidewire") {
-          spec.kind = ToolKind::kGuidewire;
-        } else if (w[2] == "catheter") {
-          spec.kind = ToolKind::kCatheter;
-        } else if (w[2] == "coil") {
-          spec.kind = ToolKind::kCoil;
-        } else {
-          return fail_here("tool: kind must be 'guidewire', 'catheter' or 'coil', not '" + std::string(w[2]) + "'");
-        }
-        c.tools.push_back(spec);
-        tool = &c.tools.back();
-        tool_line = lines_.line();
-        tool_lines.push_back(tool_line);
-      } else if (key == "aneurysm") {
-        double v[7];
-        if (!expect_args(w, 7) || !once(seen_aneurysm, key) || !numbers(w, 1, v, 7)) return fail();
-        if (v[3] < 1.0 || v[3] > 15.0) return fail_here("aneurysm: dome radius must be in [1, 15] mm");
-        c.aneurysm = sphere_cap_sac({v[0], v[1], v[2]}, v[3], {v[4], v[5], v[6]});
-        if (!c.aneurysm) return fail_here("aneurysm: the neck centre must lie inside the dome sphere, off its centre");
-      } else if (key == "view") {
-        double v[2];
-        if (!expect_args(w, 3) || !numbers(w, 2, v, 2)) return fail();
-        if (c.views.size() >= kMaxViews) return fail_here("too many views (at most 16)");
-        for (const flow::NamedProjection& other : c.views) {
-          if (other.name == w[1]) return fail_here("view '" + std::string(w[1]) + "' defined twice");
-        }
-        if (std::abs(v[0]) > 120.0) return fail_here("view: LAO/RAO angle must be within +-120 degrees");
-        if (std::abs(v[1]) > 60.0) return fail_here("view: cranial/caudal angle must be within +-60 degrees");
-        c.views.push_back(flow::NamedProjection{std::string(w[1]), v[0], v[1]});
-      } else if (key == "valve_friction") {
-        double v[1];
-        if (!expect_args(w, 1) || !once(seen_valve, key) || !numbers(w, 1, v, 1)) return fail();
-        if (v[0] < 0.0 || v[0] > ToolLimits::kMaxValveFriction_mN) return fail_here("valve_friction must be in [0, 2000] mN");
-        c.valve_friction_mN = v[0];
-      } else if (key == "wall") {
-        double v[1];
-        if (!expect_args(w, 2) || !once(seen_wall, key) || !numbers(w, 2, v, 1)) return fail();
-        CaseWall cw;
-        if (w[1] == "cervical") {
-          cw.territory = Territory::kCervical;
-        } else if (w[1] == "intracranial") {
-          cw.territory = Territory::kIntracranial;
-        } else {
-          return fail_here("wall: territory must be 'cervical' or 'intracranial', not '" + std::string(w[1]) + "'");
-        }
-        if (v[0] < 0.5 || v[0] > 15.0) return fail_here("wall: lumen radius must be in [0.5, 15] mm");
-        cw.radius_mm = v[0];
-        c.wall = cw;
-      } else if (key == "realistic") {
-        if (!expect_args(w, 0) || !once(seen_realistic, key)) return fail();
-        c.realistic = true;
-      } else if (key == "flow") {
-        if (!flow_statement(c.flow, w)) return fail();
-      } else if (key == "clot") {
-        if (!clot_statement(c, w)) return fail();
-      } else if (key == "end") {
-        return fail_here("'end' without a tool");
-      } else {
-        return fail_here("unknown keyword '" + std::string(key) + "'");
-      }
+      if (!(tool_ != nullptr ? in_tool_statement(w) : statement(w))) return fail();
     }
-    if (tool != nullptr) return fail_at(tool_line, "tool '" + tool->name + "' has no 'end'");
-    if (c.vessel_path.empty() && c.tubes.empty()) return fail_at(lines_.line(), "no vessel: give 'vessel FILE' or 'tube' lines");
-    if (!c.vessel_path.empty() && !c.tubes.empty()) return fail_at(lines_.line(), "give either 'vessel' or 'tube' lines, not both");
-    if (!c.surface_path.empty() && c.vessel_path.empty()) {
-      return fail_at(lines_.line(), "a 'surface' needs a 'vessel' (its centreline graph: route, targets, flow)");
-    }
-    if (!c.surface_path.empty() && c.wall) {
-      return fail_at(lines_.line(), "a compliant 'wall' is re-meshed from the vessel's centrelines: it cannot take a 'surface'");
-    }
-    if (c.tubes.size() > 0 && !c.entry) return fail_at(lines_.line(), "analytic tubes need an 'entry'");
-    // Coaxial references.
-    for (std::size_t i = 0; i < c.tools.size(); ++i) {
-      const ToolSpec& t = c.tools[i];
-      if (t.inside.empty()) continue;
-      const ToolSpec* outer = nullptr;
-      for (const ToolSpec& o : c.tools) if (o.name == t.inside) outer = &o;
-      if (outer == nullptr) return fail_at(tool_lines[i], "tool '" + t.name + "': inside unknown tool '" + t.inside + "'");
-      if (outer == &t) return fail_at(tool_lines[i], "tool '" + t.name + "' cannot be inside itself");
-      if (nesting_cycle(c.tools, i)) return fail_at(tool_lines[i], "tool '" + t.name + "': the tools it runs in run inside it");
-      if (outer->kind != ToolKind::kCatheter) return fail_at(tool_lines[i], "tool '" + t.name + "': '" + outer->name + "' is not a catheter");
-      const double od = t.max_outer_diameter_mm();
-      if (outer->inner_diameter_mm <= od) {
-        return fail_at(tool_lines[i], "tool '" + t.name + "' (od " + std::to_string(od) + " mm) does not fit in '" + outer->name + "'");
-      }
-    }
-    for (const CaseAspiration& a : c.aspiration) {
-      for (const ToolSpec& t : c.tools) {
-        if (t.name == a.tool && !(t.inner_diameter_mm > 0.0)) return fail_at(a.line, "aspiration: tool '" + t.name + "' has no inner_diameter");
-      }
-    }
-    if (c.tools.empty()) c.tools.push_back(default_guidewire());
+    if (tool_ != nullptr) return fail_at(tool_line_, "tool '" + tool_->name + "' has no 'end'");
+    if (!check_vessel() || !check_coaxial() || !check_aspiration()) return fail();
+    if (c_.tools.empty()) c_.tools.push_back(default_guidewire());
     // One blood and one sheath for the whole case: the tools' drag follows the flow model's
     // viscosity; the case's valve friction is the default of every tool that gives none.
-    for (ToolSpec& t : c.tools) {
-      t.blood_viscosity_mPa_s = c.flow.viscosity_mPa_s;
-      if (!t.valve_friction_mN && c.valve_friction_mN) t.valve_friction_mN = c.valve_friction_mN;
+    for (ToolSpec& t : c_.tools) {
+      t.blood_viscosity_mPa_s = c_.flow.viscosity_mPa_s;
+      if (!t.valve_friction_mN && c_.valve_friction_mN) t.valve_friction_mN = c_.valve_friction_mN;
     }
-    c.flow.source = std::string(file_);
-    return c;
+    c_.flow.source = std::string(file_);
+    return std::move(c_);
   }
 
  private:
+  // Which once-only keywords were given.
+  struct Seen {
+    bool header = false, name = false, entry = false, target = false, realistic = false, valve = false, threshold = false,
+         aneurysm = false, wall = false;
+  };
+
+  // A line between `tool NAME KIND` and its `end`.
+  bool in_tool_statement(const std::vector<std::string_view>& w) {
+    const std::string_view key = w[0];
+    if (key == "end") {
+      if (!expect_args(w, 0)) return false;
+      if (tool_->sections.empty()) return error_at(tool_line_, "tool '" + tool_->name + "' has no section");
+      if (!check_tool(*tool_, tool_line_)) return false;
+      tool_ = nullptr;
+      return true;
+    }
+    if (key == "aspiration") return aspiration_statement(c_, *tool_, w);
+    return tool_statement(*tool_, w);
+  }
+
+  // A line outside a tool: its keyword's statement.
+  bool statement(const std::vector<std::string_view>& w) {
+    using Handler = bool (CaseParser::*)(const std::vector<std::string_view>&);
+    static constexpr std::pair<std::string_view, Handler> kStatements[] = {
+        {"cathbox-case", &CaseParser::header_statement},
+        {"name", &CaseParser::name_statement},
+        {"vessel", &CaseParser::path_statement},
+        {"surface", &CaseParser::path_statement},
+        {"tube", &CaseParser::tube_statement},
+        {"entry", &CaseParser::entry_statement},
+        {"target", &CaseParser::target_statement},
+        {"wall_force_threshold", &CaseParser::threshold_statement},
+        {"tool", &CaseParser::tool_header},
+        {"aneurysm", &CaseParser::aneurysm_statement},
+        {"view", &CaseParser::view_statement},
+        {"valve_friction", &CaseParser::valve_statement},
+        {"wall", &CaseParser::wall_statement},
+        {"realistic", &CaseParser::realistic_statement},
+        {"flow", &CaseParser::case_flow_statement},
+        {"clot", &CaseParser::case_clot_statement},
+    };
+    for (const auto& [keyword, handler] : kStatements) {
+      if (w[0] == keyword) return (this->*handler)(w);
+    }
+    if (w[0] == "end") return error_here("'end' without a tool");
+    return error_here("unknown keyword '" + std::string(w[0]) + "'");
+  }
+
+  bool header_statement(const std::vector<std::string_view>& w) {
+    if (!expect_args(w, 1) || !once(seen_.header, w[0])) return false;
+    if (w[1] != "1") return error_here("unsupported case version '" + std::string(w[1]) + "' (known: 1)");
+    return true;
+  }
+
+  bool name_statement(const std::vector<std::string_view>& w) {
+    if (w.size() < 2) return error_here("name: missing value");
+    if (!once(seen_.name, w[0])) return false;
+    c_.name = std::string(w[1]);
+    for (std::size_t i = 2; i < w.size(); ++i) c_.name += " " + std::string(w[i]);
+    return true;
+  }
+
+  bool threshold_statement(const std::vector<std::string_view>& w) {
+    double v[1];
+    if (!expect_args(w, 1) || !once(seen_.threshold, w[0]) || !numbers(w, 1, v, 1)) return false;
+    if (!(v[0] > 0.0) || v[0] > 1e6) return error_here("wall_force_threshold: mN must be in (0, 1e6]");
+    c_.wall_force_threshold_mN = v[0];
+    return true;
+  }
+
+  bool valve_statement(const std::vector<std::string_view>& w) {
+    double v[1];
+    if (!expect_args(w, 1) || !once(seen_.valve, w[0]) || !numbers(w, 1, v, 1)) return false;
+    if (v[0] < 0.0 || v[0] > ToolLimits::kMaxValveFriction_mN) return error_here("valve_friction must be in [0, 2000] mN");
+    c_.valve_friction_mN = v[0];
+    return true;
+  }
+
+  bool realistic_statement(const std::vector<std::string_view>& w) {
+    if (!expect_args(w, 0) || !once(seen_.realistic, w[0])) return false;
+    c_.realistic = true;
+    return true;
+  }
+
+  bool case_flow_statement(const std::vector<std::string_view>& w) { return flow_statement(c_.flow, w); }
+  bool case_clot_statement(const std::vector<std::string_view>& w) { return clot_statement(c_, w); }
+
+  // `vessel FILE` or `surface FILE`: the path relative to the case file's folder.
+  bool path_statement(const std::vector<std::string_view>& w) {
+    if (!expect_args(w, 1)) return false;
+    std::string& path = w[0] == "vessel" ? c_.vessel_path : c_.surface_path;
+    if (!path.empty()) return error_here(std::string(w[0]) + " given twice");
+    std::filesystem::path p{std::string(w[1])};
+    if (p.is_relative()) p = std::filesystem::path{std::string(file_)}.parent_path() / p;
+    path = p.lexically_normal().string();
+    return true;
+  }
+
+  bool tube_statement(const std::vector<std::string_view>& w) {
+    double v[9];
+    if (!expect_args(w, 9) || !numbers(w, 1, v, 9)) return false;
+    if (c_.tubes.size() >= kMaxTubes) return error_here("too many tubes (at most 200000)");
+    if (v[0] != std::floor(v[0]) || std::abs(v[0]) > 2e9) return error_here("tube: segment id must be an integer");
+    if (v[4] <= 0.0 || v[8] <= 0.0) return error_here("tube: radius must be > 0");
+    c_.tubes.push_back(Tube{{v[1], v[2], v[3]}, {v[5], v[6], v[7]}, v[4], v[8], static_cast<std::int32_t>(v[0])});
+    return true;
+  }
+
+  bool entry_statement(const std::vector<std::string_view>& w) {
+    double v[6];
+    if (!expect_args(w, 6) || !once(seen_.entry, w[0]) || !numbers(w, 1, v, 6)) return false;
+    const glm::dvec3 d(v[3], v[4], v[5]);
+    const double len = glm::length(d);
+    if (!(len > 1e-9) || !std::isfinite(len)) return error_here("entry: direction must not be zero");
+    c_.entry = Entry{{v[0], v[1], v[2]}, d / len};
+    return true;
+  }
+
+  bool target_statement(const std::vector<std::string_view>& w) {
+    double v[2];
+    if (!expect_args(w, 2) || !once(seen_.target, w[0]) || !numbers(w, 1, v, 2)) return false;
+    if (v[0] != std::floor(v[0]) || v[0] < 0 || v[0] > 2e9) return error_here("target: segment id must be an integer >= 0");
+    if (v[1] < 0.0 || v[1] > 1.0) return error_here("target: fraction must be in [0, 1]");
+    c_.target = CaseTarget{static_cast<std::int32_t>(v[0]), v[1]};
+    return true;
+  }
+
+  // `tool NAME KIND`: a new tool, whose lines follow up to its `end`.
+  bool tool_header(const std::vector<std::string_view>& w) {
+    if (!expect_args(w, 2)) return false;
+    if (c_.tools.size() >= kMaxTools) return error_here("too many tools (at most 4)");
+    for (const ToolSpec& t : c_.tools) {
+      if (t.name == w[1]) return error_here("tool '" + std::string(w[1]) + "' defined twice");
+    }
+    ToolSpec spec;
+    spec.sections.clear();
+    spec.name = std::string(w[1]);
+    if (w[2] == "guidewire") {
+      spec.kind = ToolKind::kGuidewire;
+    } else if (w[2] == "catheter") {
+      spec.kind = ToolKind::kCatheter;
+    } else if (w[2] == "coil") {
+      spec.kind = ToolKind::kCoil;
+    } else {
+      return error_here("tool: kind must be 'guidewire', 'catheter' or 'coil', not '" + std::string(w[2]) + "'");
+    }
+    c_.tools.push_back(spec);
+    tool_ = &c_.tools.back();
+    tool_line_ = lines_.line();
+    tool_lines_.push_back(tool_line_);
+    return true;
+  }
+
+  bool aneurysm_statement(const std::vector<std::string_view>& w) {
+    double v[7];
+    if (!expect_args(w, 7) || !once(seen_.aneurysm, w[0]) || !numbers(w, 1, v, 7)) return false;
+    if (v[3] < 1.0 || v[3] > 15.0) return error_here("aneurysm: dome radius must be in [1, 15] mm");
+    c_.aneurysm = sphere_cap_sac({v[0], v[1], v[2]}, v[3], {v[4], v[5], v[6]});
+    if (!c_.aneurysm) return error_here("aneurysm: the neck centre must lie inside the dome sphere, off its centre");
+    return true;
+  }
+
+  bool view_statement(const std::vector<std::string_view>& w) {
+    double v[2];
+    if (!expect_args(w, 3) || !numbers(w, 2, v, 2)) return false;
+    if (c_.views.size() >= kMaxViews) return error_here("too many views (at most 16)");
+    for (const flow::NamedProjection& other : c_.views) {
+      if (other.name == w[1]) return error_here("view '" + std::string(w[1]) + "' defined twice");
+    }
+    if (std::abs(v[0]) > 120.0) return error_here("view: LAO/RAO angle must be within +-120 degrees");
+    if (std::abs(v[1]) > 60.0) return error_here("view: cranial/caudal angle must be within +-60 degrees");
+    c_.views.push_back(flow::NamedProjection{std::string(w[1]), v[0], v[1]});
+    return true;
+  }
+
+  bool wall_statement(const std::vector<std::string_view>& w) {
+    double v[1];
+    if (!expect_args(w, 2) || !once(seen_.wall, w[0]) || !numbers(w, 2, v, 1)) return false;
+    CaseWall cw;
+    if (w[1] == "cervical") {
+      cw.territory = Territory::kCervical;
+    } else if (w[1] == "intracranial") {
+      cw.territory = Territory::kIntracranial;
+    } else {
+      return error_here("wall: territory must be 'cervical' or 'intracranial', not '" + std::string(w[1]) + "'");
+    }
+    if (v[0] < 0.5 || v[0] > 15.0) return error_here("wall: lumen radius must be in [0.5, 15] mm");
+    cw.radius_mm = v[0];
+    c_.wall = cw;
+    return true;
+  }
+
+  // After the last line: a vessel in one form, and what a surface needs.
+  bool check_vessel() {
+    const std::size_t last = lines_.line();
+    if (c_.vessel_path.empty() && c_.tubes.empty()) return error_at(last, "no vessel: give 'vessel FILE' or 'tube' lines");
+    if (!c_.vessel_path.empty() && !c_.tubes.empty()) return error_at(last, "give either 'vessel' or 'tube' lines, not both");
+    if (!c_.surface_path.empty() && c_.vessel_path.empty()) {
+      return error_at(last, "a 'surface' needs a 'vessel' (its centreline graph: route, targets, flow)");
+    }
+    if (!c_.surface_path.empty() && c_.wall) {
+      return error_at(last, "a compliant 'wall' is re-meshed from the vessel's centrelines: it cannot take a 'surface'");
+    }
+    if (c_.tubes.size() > 0 && !c_.entry) return error_at(last, "analytic tubes need an 'entry'");
+    return true;
+  }
+
+  // Every `inside NAME`: a known catheter other than the tool, no cycle, and room for the tool.
+  bool check_coaxial() {
+    for (std::size_t i = 0; i < c_.tools.size(); ++i) {
+      const ToolSpec& t = c_.tools[i];
+      if (t.inside.empty()) continue;
+      const ToolSpec* outer = nullptr;
+      for (const ToolSpec& o : c_.tools) if (o.name == t.inside) outer = &o;
+      const std::size_t line = tool_lines_[i];
+      if (outer == nullptr) return error_at(line, "tool '" + t.name + "': inside unknown tool '" + t.inside + "'");
+      if (outer == &t) return error_at(line, "tool '" + t.name + "' cannot be inside itself");
+      if (nesting_cycle(c_.tools, i)) return error_at(line, "tool '" + t.name + "': the tools it runs in run inside it");
+      if (outer->kind != ToolKind::kCatheter) return error_at(line, "tool '" + t.name + "': '" + outer->name + "' is not a catheter");
+      const double od = t.max_outer_diameter_mm();
+      if (outer->inner_diameter_mm <= od) {
+        return error_at(line, "tool '" + t.name + "' (od " + std::to_string(od) + " mm) does not fit in '" + outer->name + "'");
+      }
+    }
+    return true;
+  }
+
+  bool check_aspiration() {
+    for (const CaseAspiration& a : c_.aspiration) {
+      for (const ToolSpec& t : c_.tools) {
+        if (t.name == a.tool && !(t.inner_diameter_mm > 0.0)) return error_at(a.line, "aspiration: tool '" + t.name + "' has no inner_diameter");
+      }
+    }
+    return true;
+  }
+
   bool tool_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
     const std::string_view key = w[0];
-    if (key == "section") {
-      if (t.sections.size() >= kMaxSections) return error_here("too many sections (at most 64)");
-      ToolSection s;
-      if (!section_words(w, t.kind, s)) return false;
-      t.sections.push_back(s);
-      return true;
-    }
-    if (key == "next_coil") {
-      if (t.kind != ToolKind::kCoil) return error_here("next_coil is for coil tools");
-      if (t.next_coils.size() >= kMaxNextCoils) return error_here("too many next coils (at most 15)");
-      ToolSection s;
-      if (!section_words(w, t.kind, s)) return false;
-      if (s.length_mm > 300.0) return error_here("next_coil: coil length must be in (0, 300] mm");
-      if (s.shape == CoilShape::kNone) return error_here("next_coil: shape= and loop= are required");
-      t.next_coils.push_back(s);
-      return true;
-    }
     double v = 0.0;
-    if (key == "friction") {
-      if (!expect_args(w, 1) || !number(w[1], "friction", v)) return false;
-      if (v < 0.0 || v > 2.0) return error_here("friction must be in [0, 2]");
-      t.friction = v;
-    } else if (key == "inner_diameter") {
-      if (!expect_args(w, 1) || !number(w[1], "inner_diameter", v)) return false;
-      if (v < 0.0 || v > 20.0) return error_here("inner_diameter must be in [0, 20] mm");
-      t.inner_diameter_mm = v;
-    } else if (key == "inside") {
+    if (key == "section") return section_statement(t, w);
+    if (key == "next_coil") return next_coil_statement(t, w);
+    if (key == "friction") return bounded_value(w, 0.0, 2.0, "friction must be in [0, 2]", t.friction);
+    if (key == "inner_diameter") return bounded_value(w, 0.0, 20.0, "inner_diameter must be in [0, 20] mm", t.inner_diameter_mm);
+    if (key == "inside") {
       if (!expect_args(w, 1)) return false;
       t.inside = std::string(w[1]);
-    } else if (key == "spacing") {
-      if (w.size() != 3 && w.size() != 4) return error_here("spacing: expected MAX_MM TIP_MM [TIP_ZONE_MM]");
-      double mx = 0.0, tip = 0.0, zone = t.tip_zone_mm;
-      if (!number(w[1], "spacing", mx) || !number(w[2], "tip spacing", tip)) return false;
-      if (w.size() == 4 && !number(w[3], "tip zone", zone)) return false;
-      if (mx <= 0.0 || mx > 2.0) return error_here("spacing: node spacing must be in (0, 2] mm");
-      if (tip < 0.1 || tip > mx) return error_here("spacing: tip spacing must be in [0.1, spacing] mm");
-      if (zone < 0.0 || zone > 500.0) return error_here("spacing: tip zone must be in [0, 500] mm");
-      t.max_spacing_mm = mx;
-      t.tip_spacing_mm = tip;
-      t.tip_zone_mm = zone;
-    } else if (key == "drag") {
-      if (!expect_args(w, 1) || !number(w[1], "drag", v)) return false;
-      if (v < 0.0 || v > 10.0) return error_here("drag must be in [0, 10] mN.s/mm2");
+      return true;
+    }
+    if (key == "spacing") return spacing_statement(t, w);
+    if (key == "drag") {
+      if (!bounded_value(w, 0.0, 10.0, "drag must be in [0, 10] mN.s/mm2", v)) return false;
       t.drag_mN_s_per_mm2 = v;
-    } else if (key == "valve_friction") {
-      if (!expect_args(w, 1) || !number(w[1], "valve_friction", v)) return false;
-      if (v < 0.0 || v > ToolLimits::kMaxValveFriction_mN) return error_here("valve_friction must be in [0, 2000] mN");
+      return true;
+    }
+    if (key == "valve_friction") {
+      if (!bounded_value(w, 0.0, ToolLimits::kMaxValveFriction_mN, "valve_friction must be in [0, 2000] mN", v)) return false;
       t.valve_friction_mN = v;
-    } else if (key == "detach") {
+      return true;
+    }
+    if (key == "detach") {
       if (!expect_args(w, 1) || !number(w[1], "detach", v)) return false;
       if (t.kind != ToolKind::kCoil) return error_here("detach is for coil tools");
       if (v <= 0.0 || v > 300.0) return error_here("detach: coil length must be in (0, 300] mm");
       t.detach_mm = v;
-    } else if (key == "balloon") {
-      return balloon_statement(t, w);
-    } else if (key == "stent_retriever") {
-      return stent_statement(t, w);
-    } else if (key == "axial_stiffness") {
-      if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
-      if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");
-      t.axial_stiffness_N = v;
-    } else {
-      return error_here("unknown tool keyword '" + std::string(key) + "'");
+      return true;
     }
+    if (key == "balloon") return balloon_statement(t, w);
+    if (key == "stent_retriever") return stent_statement(t, w);
+    if (key == "axial_stiffness") return bounded_value(w, 10.0, 1e6, "axial_stiffness must be in [10, 1e6] N", t.axial_stiffness_N);
+    return error_here("unknown tool keyword '" + std::string(key) + "'");
+  }
+
+  // `KEY VALUE` with VALUE in [lo, hi]: into `out`, else `message`.
+  bool bounded_value(const std::vector<std::string_view>& w, double lo, double hi, const char* message, double& out) {
+    double v = 0.0;
+    if (!expect_args(w, 1) || !number(w[1], std::string(w[0]), v)) return false;
+    if (v < lo || v > hi) return error_here(message);
+    out = v;
     return true;
   }
+
+  bool section_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (t.sections.size() >= kMaxSections) return error_here("too many sections (at most 64)");
+    ToolSection s;
+    if (!section_words(w, t.kind, s)) return false;
+    t.sections.push_back(s);
+    return true;
+  }
+
+  bool next_coil_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (t.kind != ToolKind::kCoil) return error_here("next_coil is for coil tools");
+    if (t.next_coils.size() >= kMaxNextCoils) return error_here("too many next coils (at most 15)");
+    ToolSection s;
+    if (!section_words(w, t.kind, s)) return false;
+    if (s.length_mm > 300.0) return error_here("next_coil: coil length must be in (0, 300] mm");
+    if (s.shape == CoilShape::kNone) return error_here("next_coil: shape= and loop= are required");
+    t.next_coils.push_back(s);
+    return true;
+  }
+
+  // `spacing MAX_MM TIP_MM [TIP_ZONE_MM]`.
+  bool spacing_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (w.size() != 3 && w.size() != 4) return error_here("spacing: expected MAX_MM TIP_MM [TIP_ZONE_MM]");
+    double mx = 0.0, tip = 0.0, zone = t.tip_zone_mm;
+    if (!number(w[1], "spacing", mx) || !number(w[2], "tip spacing", tip)) return false;
+    if (w.size() == 4 && !number(w[3], "tip zone", zone)) return false;
+    if (mx <= 0.0 || mx > 2.0) return error_here("spacing: node spacing must be in (0, 2] mm");
+    if (tip < 0.1 || tip > mx) return error_here("spacing: tip spacing must be in [0.1, spacing] mm");
+    if (zone < 0.0 || zone > 500.0) return error_here("spacing: tip zone must be in [0, 500] mm");
+    t.max_spacing_mm = mx;
+    t.tip_spacing_mm = tip;
+    t.tip_zone_mm = zone;
+    return true;
+  }
+
+  // Which of a section's required keys were given.
+  struct SectionKeys {
+    bool od = false, ei = false, gj = false;
+  };
 
   // `section` and `next_coil`: LENGTH od=MM ei=N.mm2 gj=N.mm2 [curve=DEG] [shape=... loop=MM].
   bool section_words(const std::vector<std::string_view>& w, ToolKind kind, ToolSection& s) {
@@ -283,49 +380,53 @@ class CaseParser {
     if (!number(w[1], verb + " length", len)) return false;
     if (len <= 0.0) return error_here(verb + ": length must be > 0");
     s.length_mm = len;
-    bool od = false, ei = false, gj = false;
+    SectionKeys given;
     for (std::size_t i = 2; i < w.size(); ++i) {
       const std::size_t eq = w[i].find('=');
       if (eq == std::string_view::npos) return error_here(verb + ": expected key=value, got '" + std::string(w[i]) + "'");
-      const std::string_view k = w[i].substr(0, eq);
-      if (k == "shape") {
-        const std::string_view name = w[i].substr(eq + 1);
-        if (name == "helix") {
-          s.shape = CoilShape::kHelix;
-        } else if (name == "complex") {
-          s.shape = CoilShape::kComplex;
-        } else {
-          return error_here(verb + ": shape must be 'helix' or 'complex', not '" + std::string(name) + "'");
-        }
-        continue;
-      }
-      double v = 0.0;
-      if (!number(w[i].substr(eq + 1), std::string(k), v)) return false;
-      if (k == "loop") {
-        if (v < 2.0 || v > 20.0) return error_here(verb + ": loop diameter must be in [2, 20] mm");
-        s.loop_diameter_mm = v;
-      } else if (k == "od") {
-        if (v <= 0.0 || v > 20.0) return error_here(verb + ": od must be in (0, 20] mm");
-        s.outer_diameter_mm = v;
-        od = true;
-      } else if (k == "ei") {
-        if (v <= 0.0 || v > 1e6) return error_here(verb + ": ei must be in (0, 1e6] N.mm2");
-        s.bending_stiffness_Nmm2 = v;
-        ei = true;
-      } else if (k == "gj") {
-        if (v <= 0.0 || v > 1e6) return error_here(verb + ": gj must be in (0, 1e6] N.mm2");
-        s.torsion_stiffness_Nmm2 = v;
-        gj = true;
-      } else if (k == "curve") {
-        if (std::abs(v) > 360.0) return error_here(verb + ": curve must be within +-360 degrees");
-        s.curve_deg = v;
-      } else {
-        return error_here(verb + ": unknown key '" + std::string(k) + "' (known: od ei gj curve shape loop)");
-      }
+      if (!section_key(verb, w[i].substr(0, eq), w[i].substr(eq + 1), s, given)) return false;
     }
-    if (!od || !ei || !gj) return error_here(verb + ": od=, ei= and gj= are required");
+    if (!given.od || !given.ei || !given.gj) return error_here(verb + ": od=, ei= and gj= are required");
     if ((s.shape != CoilShape::kNone) != (s.loop_diameter_mm > 0.0)) return error_here(verb + ": shape= and loop= go together");
     if (s.shape != CoilShape::kNone && kind != ToolKind::kCoil) return error_here(verb + ": shape= is for coil tools");
+    return true;
+  }
+
+  // One KEY=VALUE of a section.
+  bool section_key(const std::string& verb, std::string_view k, std::string_view value, ToolSection& s, SectionKeys& given) {
+    if (k == "shape") {
+      if (value == "helix") {
+        s.shape = CoilShape::kHelix;
+      } else if (value == "complex") {
+        s.shape = CoilShape::kComplex;
+      } else {
+        return error_here(verb + ": shape must be 'helix' or 'complex', not '" + std::string(value) + "'");
+      }
+      return true;
+    }
+    double v = 0.0;
+    if (!number(value, std::string(k), v)) return false;
+    if (k == "loop") {
+      if (v < 2.0 || v > 20.0) return error_here(verb + ": loop diameter must be in [2, 20] mm");
+      s.loop_diameter_mm = v;
+    } else if (k == "od") {
+      if (v <= 0.0 || v > 20.0) return error_here(verb + ": od must be in (0, 20] mm");
+      s.outer_diameter_mm = v;
+      given.od = true;
+    } else if (k == "ei") {
+      if (v <= 0.0 || v > 1e6) return error_here(verb + ": ei must be in (0, 1e6] N.mm2");
+      s.bending_stiffness_Nmm2 = v;
+      given.ei = true;
+    } else if (k == "gj") {
+      if (v <= 0.0 || v > 1e6) return error_here(verb + ": gj must be in (0, 1e6] N.mm2");
+      s.torsion_stiffness_Nmm2 = v;
+      given.gj = true;
+    } else if (k == "curve") {
+      if (std::abs(v) > 360.0) return error_here(verb + ": curve must be within +-360 degrees");
+      s.curve_deg = v;
+    } else {
+      return error_here(verb + ": unknown key '" + std::string(k) + "' (known: od ei gj curve shape loop)");
+    }
     return true;
   }
 
@@ -456,79 +557,95 @@ class CaseParser {
     if (w.size() < 2) return error_here("flow: missing setting (viscosity cardiac_output cerebral_fraction pressure "
                                         "wall_shear_stress dispersion pulsatile terminals inflow outlet closed)");
     const std::string_view key = w[1];
-    const std::string what = "flow " + std::string(key);
-    const auto args = [&](std::size_t lo, std::size_t hi) {
-      const std::size_t n = w.size() - 2;
-      if (n >= lo && n <= hi) return true;
-      return error_here(what + ": expected " + std::to_string(lo) + (hi > lo ? " or " + std::to_string(hi) : "") +
-                        " value" + (hi == 1 ? "" : "s") + ", got " + std::to_string(n));
-    };
-    const auto value_in = [&](std::size_t i, double lo, double hi, bool lo_open, const char* range, double& out) {
-      if (!number(w[i], what, out)) return false;
-      if ((lo_open ? out <= lo : out < lo) || out > hi) return error_here(what + ": " + std::string(w[i]) + " is not in " + range);
-      return true;
-    };
-    const auto scalar = [&](double& field, double lo, double hi, bool lo_open, const char* range) {
-      if (!args(1, 1) || !once_flow(key)) return false;
-      return value_in(2, lo, hi, lo_open, range, field);
-    };
-    const auto segment_setting = [&](std::vector<flow::SegmentSetting>& list, double value) {
-      double id = 0.0;
-      if (!number(w[2], what, id)) return false;
-      if (id != std::floor(id) || id < -2147483648.0 || id > 2147483647.0) return error_here(what + ": segment id must be a 32-bit integer");
-      const auto seg = static_cast<std::int32_t>(id);
-      for (const auto* other : {&f.inflows, &f.outlets, &f.closed}) {
-        for (const flow::SegmentSetting& o : *other) {
-          const bool same_list = other == &list;
-          const bool clash = same_list || (other != &f.inflows && &list != &f.inflows);
-          if (o.segment_id == seg && clash) {
-            return error_here(what + ": segment " + std::to_string(seg) + " already given on line " + std::to_string(o.line));
-          }
-        }
-      }
-      if (f.inflows.size() + f.outlets.size() + f.closed.size() >= kMaxFlowSettings) return error_here("too many flow settings");
-      list.push_back(flow::SegmentSetting{seg, value, lines_.line()});
-      return true;
-    };
-    if (key == "viscosity") return scalar(f.viscosity_mPa_s, 0.5, 20.0, false, "[0.5, 20] mPa.s");
-    if (key == "cardiac_output") return scalar(f.cardiac_output_ml_min, 500.0, 40000.0, false, "[500, 40000] mL/min");
-    if (key == "cerebral_fraction") return scalar(f.cerebral_fraction, 0.0, 0.5, true, "(0, 0.5]");
-    if (key == "wall_shear_stress") return scalar(f.wall_shear_stress_Pa, 0.0, 20.0, true, "(0, 20] Pa");
-    if (key == "dispersion") return scalar(f.dispersion_radii, 0.0, 20.0, false, "[0, 20] radii");
+    if (key == "viscosity") return flow_scalar(w, f.viscosity_mPa_s, 0.5, 20.0, false, "[0.5, 20] mPa.s");
+    if (key == "cardiac_output") return flow_scalar(w, f.cardiac_output_ml_min, 500.0, 40000.0, false, "[500, 40000] mL/min");
+    if (key == "cerebral_fraction") return flow_scalar(w, f.cerebral_fraction, 0.0, 0.5, true, "(0, 0.5]");
+    if (key == "wall_shear_stress") return flow_scalar(w, f.wall_shear_stress_Pa, 0.0, 20.0, true, "(0, 20] Pa");
+    if (key == "dispersion") return flow_scalar(w, f.dispersion_radii, 0.0, 20.0, false, "[0, 20] radii");
     if (key == "pressure") {
-      if (!args(2, 2) || !once_flow(key) || !value_in(2, 20.0, 250.0, false, "[20, 250] mmHg", f.arterial_pressure_mmHg) ||
-          !value_in(3, 0.0, 50.0, false, "[0, 50] mmHg", f.venous_pressure_mmHg)) {
+      if (!flow_args(w, 2, 2) || !once_flow(key) || !flow_value_in(w, 2, 20.0, 250.0, false, "[20, 250] mmHg", f.arterial_pressure_mmHg) ||
+          !flow_value_in(w, 3, 0.0, 50.0, false, "[0, 50] mmHg", f.venous_pressure_mmHg)) {
         return false;
       }
-      if (f.venous_pressure_mmHg >= f.arterial_pressure_mmHg) return error_here(what + ": venous must be below arterial pressure");
+      if (f.venous_pressure_mmHg >= f.arterial_pressure_mmHg) return error_here("flow pressure: venous must be below arterial pressure");
       return true;
     }
     if (key == "pulsatile") {
-      return args(2, 2) && once_flow(key) && value_in(2, 0.0, 300.0, true, "(0, 300] bpm", f.heart_rate_bpm) &&
-             value_in(3, 0.0, 2.0, false, "[0, 2]", f.pulsatility_index);
+      return flow_args(w, 2, 2) && once_flow(key) && flow_value_in(w, 2, 0.0, 300.0, true, "(0, 300] bpm", f.heart_rate_bpm) &&
+             flow_value_in(w, 3, 0.0, 2.0, false, "[0, 2]", f.pulsatility_index);
     }
     if (key == "terminals") {
-      if (!args(1, 1) || !once_flow(key)) return false;
-      if (w[2] != "calibrated" && w[2] != "fixed") return error_here(what + ": expected 'calibrated' or 'fixed', not '" + std::string(w[2]) + "'");
+      if (!flow_args(w, 1, 1) || !once_flow(key)) return false;
+      if (w[2] != "calibrated" && w[2] != "fixed") {
+        return error_here("flow terminals: expected 'calibrated' or 'fixed', not '" + std::string(w[2]) + "'");
+      }
       f.calibrate_terminals = w[2] == "calibrated";
       return true;
     }
     double v = 0.0;
     if (key == "inflow" || key == "outlet") {
-      if (!args(2, 2) || !value_in(3, 0.0, 40000.0, key == "outlet", key == "outlet" ? "(0, 40000] mL/min" : "[0, 40000] mL/min", v)) {
+      const bool outlet = key == "outlet";
+      if (!flow_args(w, 2, 2) || !flow_value_in(w, 3, 0.0, 40000.0, outlet, outlet ? "(0, 40000] mL/min" : "[0, 40000] mL/min", v)) {
         return false;
       }
-      return segment_setting(key == "inflow" ? f.inflows : f.outlets, v);
+      return flow_segment_setting(f, w, outlet ? f.outlets : f.inflows, v);
     }
     if (key == "closed") {
       v = f.sac_exchange_fraction;
-      if (!args(1, 2) || (w.size() == 4 && !value_in(3, 0.0, 1.0, false, "[0, 1]", v))) return false;
-      return segment_setting(f.closed, v);
+      if (!flow_args(w, 1, 2) || (w.size() == 4 && !flow_value_in(w, 3, 0.0, 1.0, false, "[0, 1]", v))) return false;
+      return flow_segment_setting(f, w, f.closed, v);
     }
     return error_here("flow: unknown setting '" + std::string(key) +
                       "' (known: viscosity cardiac_output cerebral_fraction pressure wall_shear_stress dispersion "
                       "pulsatile terminals inflow outlet closed)");
   }
+
+  // `flow KEY ...` has lo..hi values after its key.
+  bool flow_args(const std::vector<std::string_view>& w, std::size_t lo, std::size_t hi) {
+    const std::size_t n = w.size() - 2;
+    if (n >= lo && n <= hi) return true;
+    return error_here("flow " + std::string(w[1]) + ": expected " + std::to_string(lo) + (hi > lo ? " or " + std::to_string(hi) : "") +
+                      " value" + (hi == 1 ? "" : "s") + ", got " + std::to_string(n));
+  }
+
+  // Word i of a flow line, a number in the range (lo open or closed, hi closed).
+  bool flow_value_in(const std::vector<std::string_view>& w, std::size_t i, double lo, double hi, bool lo_open, const char* range,
+                     double& out) {
+    const std::string what = "flow " + std::string(w[1]);
+    if (!number(w[i], what, out)) return false;
+    if ((lo_open ? out <= lo : out < lo) || out > hi) return error_here(what + ": " + std::string(w[i]) + " is not in " + range);
+    return true;
+  }
+
+  // `flow KEY VALUE`, once per case.
+  bool flow_scalar(const std::vector<std::string_view>& w, double& field, double lo, double hi, bool lo_open, const char* range) {
+    if (!flow_args(w, 1, 1) || !once_flow(w[1])) return false;
+    return flow_value_in(w, 2, lo, hi, lo_open, range, field);
+  }
+
+  // `flow inflow|outlet|closed SEG ...`: a segment given once as an outlet or closed (an
+  // inflow may also be either), at most kMaxFlowSettings in all.
+  bool flow_segment_setting(flow::FlowSettings& f, const std::vector<std::string_view>& w, std::vector<flow::SegmentSetting>& list,
+                            double value) {
+    const std::string what = "flow " + std::string(w[1]);
+    double id = 0.0;
+    if (!number(w[2], what, id)) return false;
+    if (id != std::floor(id) || id < -2147483648.0 || id > 2147483647.0) return error_here(what + ": segment id must be a 32-bit integer");
+    const auto seg = static_cast<std::int32_t>(id);
+    for (const auto* other : {&f.inflows, &f.outlets, &f.closed}) {
+      for (const flow::SegmentSetting& o : *other) {
+        const bool same_list = other == &list;
+        const bool clash = same_list || (other != &f.inflows && &list != &f.inflows);
+        if (o.segment_id == seg && clash) {
+          return error_here(what + ": segment " + std::to_string(seg) + " already given on line " + std::to_string(o.line));
+        }
+      }
+    }
+    if (f.inflows.size() + f.outlets.size() + f.closed.size() >= kMaxFlowSettings) return error_here("too many flow settings");
+    list.push_back(flow::SegmentSetting{seg, value, lines_.line()});
+    return true;
+  }
+
   bool once_flow(std::string_view key) {
     for (const std::string& k : flow_keys_) {
       if (k == key) return error_here("flow " + std::string(key) + " given twice");
@@ -613,6 +730,11 @@ class CaseParser {
   TextLines lines_;
   std::string_view file_;
   std::string error_;
+  Case c_;
+  Seen seen_;
+  ToolSpec* tool_ = nullptr;  // the tool whose lines are being read (c_.tools' last), or none
+  std::size_t tool_line_ = 0;
+  std::vector<std::size_t> tool_lines_;  // each tool's `tool` line
   std::vector<std::string> flow_keys_;
   std::size_t stent_line_ = 0;  // the last stent_retriever statement
 };
