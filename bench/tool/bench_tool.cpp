@@ -18,6 +18,11 @@
 //            and a 150 mm, 4 mm filling coil, each pushed at 20 mm/s and detached, 10.8 % of the
 //            sphere cap), a 100 mm, 3 mm finishing coil pushed in at 20 mm/s (issue 29: its
 //            median and p99 beside the coil deploy's; the tick's budget is 1,000 us).
+//   stent retriever across a clot: a 4 x 20 mm stent retriever in a 2.8 mm artery (the M1
+//            clot's size) past a 90 degree bend, unsheathed by pulling its microcatheter back
+//            25 mm at 5 mm/s (5000 steps), then pulled back 40 mm at 10 mm/s dragging an
+//            integrated clot (its 78 mN of wall friction and head, the bundled M1 clot's) (4000
+//            steps): median and p99 of both phases (issue 30: p99 <= 500 us).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -613,6 +618,60 @@ void BM_StepCoilPacking(benchmark::State& state) {
   state.SetLabel("third coil into a sphere holding 300 mm");
 }
 
+// The stent retriever: unsheathing, then retrieval with its clot (header comment).
+void BM_StepStentRetriever(benchmark::State& state) {
+  // 40 mm straight along +z, a 90 degree bend of 6 mm radius towards +x, 60 mm straight.
+  std::vector<glm::dvec3> axis{{0, 0, -10.0}};
+  for (int k = 0; k <= 90; ++k) {
+    const double a = 0.5 * M_PI * k / 90.0;
+    axis.push_back({6.0 - 6.0 * std::cos(a), 0, 40.0 + 6.0 * std::sin(a)});
+  }
+  axis.push_back(axis.back() + glm::dvec3(60.0, 0, 0));
+  TubeNetworkWall wall;
+  wall.add_polyline(axis, 1.4, 0);
+  wall.build();
+  ToolSpec micro = default_microcatheter();
+  micro.inner_diameter_mm = 0.53;
+  ToolSpec stent;
+  stent.name = "stent";
+  stent.sections = {ToolSection{1700.0, 0.4, 30.0, 23.0, 0.0}, ToolSection{60.0, 0.4, 5.0, 4.0, 0.0}, ToolSection{20.0, 0.45, 2.0, 1.5, 0.0}};
+  stent.friction = 0.08;
+  stent.inside = micro.name;
+  stent.stent.diameter_mm = 4.0;
+  stent.stent.length_mm = 20.0;
+  const std::vector<ToolSpec> tools{micro, stent};
+  Simulator sim(wall, tools, Entry{{0, 0, -5.0}, {0, 0, 1}});
+  const double depth = 40.0 + 6.0 * 0.5 * M_PI + 40.0;
+  for (double x = 0.0; x < depth; x += 0.04) {
+    sim.set_insertion(0, x + 1.0);
+    sim.set_insertion(1, x);
+    sim.step();
+  }
+  StepTimes times(1 << 14);
+  std::uint64_t i = 0;
+  double micro_at = sim.insertion_mm(0), stent_at = sim.insertion_mm(1), rf_N = 0.0, peak_mN = 0.0;
+  for (auto _ : state) {
+    if (i < 5000) {
+      micro_at -= 0.005;
+      sim.set_insertion(0, micro_at);
+    } else {
+      if (i == 5000) {
+        rf_N = sim.stent(1)->state().radial_force_N;
+        sim.set_stent_payload(1, 78.0);
+      }
+      stent_at -= 0.01;
+      sim.set_insertion(1, stent_at);
+    }
+    ++i;
+    times.step(sim);
+    peak_mN = std::max(peak_mN, -sim.hand_force_mN(1));
+  }
+  times.report(state);
+  state.counters["radial_force_N"] = rf_N;
+  state.counters["peak_pull_N"] = 1e-3 * peak_mN;
+  state.SetLabel("stent retriever across a clot, 2.8 mm artery");
+}
+
 // host/python's DualDevice-v0 under a random policy at stEVE's physics step (period_us=6000):
 // the neuro case's catheter with its guidewire inside, one env step = 22 ticks of 6 ms (1/7.5 s),
 // each device's speeds drawn every env step uniformly in stEVE's box (±50 mm/s, ±3.14 rad/s) from
@@ -686,6 +745,7 @@ BENCHMARK(BM_StepTriaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_WallReprobe)->ArgName("fused")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3)->Repetitions(5);
 BENCHMARK(BM_StepCoilDeploy)->Unit(benchmark::kMicrosecond)->Iterations(7400);  // 148 mm of coil
 BENCHMARK(BM_StepCoilPacking)->Unit(benchmark::kMicrosecond)->Iterations(4000);  // 80 mm of the third coil
+BENCHMARK(BM_StepStentRetriever)->Unit(benchmark::kMicrosecond)->Iterations(9000);  // unsheathing, then retrieval
 
 }  // namespace
 

@@ -749,6 +749,23 @@ def test_admin(b, centre, report):
     line = b.wait(lambda d: d.find_element(By.ID, "error").text, "the validator's line")
     check(line.startswith("y_bifurcation.case:") and "other.hclm" in line, "upload error shown: %r" % line)
     report["admin_upload_error"] = line
+    # A surface case: its wall (CBXMESH2 from `cathbox vessel mesh`) goes up beside the case.
+    surf = os.path.join(centre.tmp, "surface_case")
+    os.makedirs(surf, exist_ok=True)
+    shutil.copy(os.path.join(cases, "y_bifurcation.hclm"), surf)
+    open(os.path.join(surf, "ysurf.case"), "w").write(open(os.path.join(cases, "y_bifurcation.case")).read() + "surface lumen.cbxmesh\n")
+    centre.run([centre.program("cathbox"), "vessel", "mesh", os.path.join(surf, "y_bifurcation.hclm"), "-o",
+                os.path.join(surf, "lumen.cbxmesh")], "cathbox vessel mesh")
+    b.driver.find_element(By.ID, "c-name").clear()
+    b.driver.find_element(By.ID, "c-name").send_keys("ysurf")
+    for field, name in (("c-case", "ysurf.case"), ("c-hclm", "y_bifurcation.hclm"), ("c-surface", "lumen.cbxmesh")):
+        b.driver.find_element(By.ID, field).send_keys(os.path.join(surf, name))
+    b.driver.find_element(By.CSS_SELECTOR, "#upload button[type=submit]").click()
+    stored = b.wait(lambda d: d.find_element(By.ID, "upload-result").text, "the surface case's upload")
+    check(stored == "stored as ysurf version 1", "surface case upload: %r" % stored)
+    _, bundle = Api(centre.base).login("teacher").json("GET", "/cases/ysurf/versions/1/bundle")
+    check(bundle.get("surface_file") == "lumen.cbxmesh" and bundle.get("surface_hex") ==
+          open(os.path.join(surf, "lumen.cbxmesh"), "rb").read().hex(), "the bundle carries the uploaded surface's bytes")
     b.shot("admin")
     b.drain_console(expected=[("/api/v1/cases", 422)])
 

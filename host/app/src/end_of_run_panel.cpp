@@ -36,6 +36,7 @@ void draw_thrombectomy(const session::ThrombectomyFigures& t) {
   }
   ImGui::Text("%-22s %8d", "guide inflations", t.balloon_guide_inflations);
   ImGui::Text("%-22s %8.2f s", "flow arrest", t.flow_arrest_s);
+  if (t.stent_passes > 0) ImGui::Text("%-22s %8.3f N", "retrieval force", t.retrieval_force_peak_N);
 }
 
 }  // namespace

@@ -164,6 +164,7 @@ void format_thrombectomy(std::string& out, const ThrombectomyFigures& t) {
   }
   appendf(out, "%-21s %d\n", "guide inflations", t.balloon_guide_inflations);
   appendf(out, "%-21s %.2f s\n", "flow arrest", t.flow_arrest_s);
+  if (t.stent_passes > 0) appendf(out, "%-21s %.3f N (%d stent passes)\n", "retrieval force", t.retrieval_force_peak_N, t.stent_passes);
 }
 
 }  // namespace
@@ -320,6 +321,7 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
     if (t.time_to_reperfusion_us >= 0) add("time_to_reperfusion_s", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
     add("balloon_guide_inflations", t.balloon_guide_inflations);
     add("flow_arrest_s", t.flow_arrest_s);
+    if (t.stent_passes > 0) add("retrieval_force_peak_N", t.retrieval_force_peak_N);
   }
   return out;
 }
@@ -334,7 +336,7 @@ std::vector<std::string> metric_names() {
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
           "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",
           "first_pass_effect", "emboli", "emboli_new_territory", "time_to_reperfusion_s", "balloon_guide_inflations",
-          "flow_arrest_s"};
+          "flow_arrest_s", "retrieval_force_peak_N"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

@@ -62,6 +62,12 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
     }
     w.field(t(ToolTag::kBalloon), b);
   }
+  if (spec.stent.present()) {
+    std::vector<std::uint8_t> b;
+    ByteWriter wb(b);
+    for (const double v : {spec.stent.diameter_mm, spec.stent.length_mm, spec.stent.embed_s}) wb.f64(v);
+    w.field(t(ToolTag::kStentRetriever), b);
+  }
   return out;
 }
 
@@ -218,6 +224,14 @@ int decode_balloon(std::span<const std::uint8_t> tv, std::size_t tat, tool::Ball
   return 1;
 }
 
+int decode_stent(std::span<const std::uint8_t> tv, std::size_t tat, tool::StentRetrieverSpec& st, FieldError& err) {
+  ByteReader r(tv);
+  if (tv.size() != 24 || !r.f64(st.diameter_mm) || !r.f64(st.length_mm) || !r.f64(st.embed_s)) {
+    return err.bad(tat, "tool: a stent retriever is not 3 doubles");
+  }
+  return 1;
+}
+
 // A tool field holding one finite double: its slot in `spec`, or nullptr for another tag.
 double* tool_double(std::uint64_t tt, tool::ToolSpec& spec) {
   using record::ToolTag;
@@ -246,6 +260,7 @@ int decode_tool_field(std::uint64_t tt, std::span<const std::uint8_t> tv, std::s
     case ToolTag::kNextCoil: return decode_section(tt == t(ToolTag::kNextCoil), tv, tat, spec, err);
     case ToolTag::kInside: spec.inside = text_of(tv); return 1;
     case ToolTag::kBalloon: return decode_balloon(tv, tat, spec.balloon, err);
+    case ToolTag::kStentRetriever: return decode_stent(tv, tat, spec.stent, err);
     default: break;
   }
   double d = 0.0;

@@ -235,84 +235,92 @@ bool RecordReader::decode_tick(TickRecord& out) {
   out.state_hash.reset();
   out.box_changed = false;
   ByteReader r{std::span<const std::uint8_t>(raw_).subspan(pos_)};
-  const std::size_t tool_count = header_.tools.size();
   for (;;) {
     const std::size_t at = r.position();
-    std::uint64_t kind = 0;
-    auto err = [&](std::size_t rel, const std::string& what) {
+    // The problem named at the entry's offset in the block (pos_ stays at the tick's start).
+    auto err = [&](const std::string& what) {
       const std::size_t saved = pos_;
-      pos_ += rel;
+      pos_ += at;
       entry_error(what);
       pos_ = saved;
       return false;
     };
-    if (!r.varint(kind)) return err(at, "the tick runs past the end of the block");
+    std::uint64_t kind = 0;
+    if (!r.varint(kind)) return err("the tick runs past the end of the block");
     if (kind == static_cast<std::uint64_t>(EntryKind::kEndOfTick)) break;
     std::uint64_t length = 0;
     std::span<const std::uint8_t> payload;
     if (!r.varint(length) || length > r.left() || !r.bytes(length, payload)) {
-      return err(at, "entry kind " + std::to_string(kind) + " runs past the end of the block");
+      return err("entry kind " + std::to_string(kind) + " runs past the end of the block");
     }
-    ByteReader p(payload);
-    switch (kind) {
-      case static_cast<std::uint64_t>(EntryKind::kTools): {
-        std::uint8_t mask = 0;
-        if (!p.u8(mask)) return err(at, "empty tools entry");
-        for (std::size_t t = 0; t < kMaxTools; ++t) {
-          for (int axis = 0; axis < 2; ++axis) {
-            if ((mask & (1u << (2 * t + static_cast<std::size_t>(axis)))) == 0) continue;
-            if (t >= tool_count) {
-              return err(at, "tools entry moves tool " + std::to_string(t) + ", the record has " + std::to_string(tool_count));
-            }
-            std::int64_t delta = 0;
-            if (!p.zigzag(delta)) return err(at, "tools entry: a delta runs past the entry");
-            std::int64_t& v = axis == 0 ? tools_[t].insertion_um : tools_[t].rotation_urad;
-            if (__builtin_add_overflow(v, delta, &v)) return err(at, "tools entry: position overflows 64 bits");
-          }
-        }
-        break;
-      }
-      case static_cast<std::uint64_t>(EntryKind::kStateHash): {
-        std::uint64_t h = 0;
-        if (length != 8 || !p.u64(h)) return err(at, "state hash entry is not 8 bytes");
-        out.state_hash = h;
-        break;
-      }
-      case static_cast<std::uint64_t>(EntryKind::kBoxStatus): {
-        std::uint8_t flags = 0;
-        std::uint16_t faults = 0;
-        if (length != 3 || !p.u8(flags) || !p.u16(faults) || flags > 3) return err(at, "bad box status entry");
-        box_ = {(flags & 1) != 0, (flags & 2) != 0, faults};
-        out.box_changed = true;
-        break;
-      }
-      case static_cast<std::uint64_t>(EntryKind::kEvent): {
-        std::uint8_t code = 0;
-        if (length != 1 || !p.u8(code) || code != static_cast<std::uint8_t>(record::EventCode::kTargetReached)) {
-          return err(at, "bad event entry");
-        }
-        if (out.event_count == TickRecord::kMaxEvents) return err(at, "more than 8 events in one tick");
-        out.events[out.event_count++] = static_cast<record::EventCode>(code);
-        break;
-      }
-      default: {
-        if (kind > 0xFFFF || !known_control_kind(static_cast<std::uint16_t>(kind))) {
-          return err(at, "unknown kind " + std::to_string(kind) + " (a newer record? this build knows 1-4 and controls " +
-                             known_control_kinds() + ")");
-        }
-        if (length > Control::kMaxPayload) return err(at, "control of " + std::to_string(length) + " bytes (at most 32)");
-        if (out.control_count == TickRecord::kMaxControls) return err(at, "more than 64 controls in one tick");
-        out.controls[out.control_count++] = Control::make(static_cast<std::uint16_t>(kind), payload);
-        p = ByteReader({});
-        break;
-      }
-    }
-    if (!p.done()) return err(at, "entry kind " + std::to_string(kind) + " has " + std::to_string(p.left()) + " bytes left over");
+    if (std::string problem = decode_entry(kind, payload, out); !problem.empty()) return err(problem);
   }
   pos_ += r.position();
   out.tools = tools_;
   out.box = box_;
   return true;
+}
+
+std::string RecordReader::decode_entry(std::uint64_t kind, std::span<const std::uint8_t> payload, TickRecord& out) {
+  ByteReader p(payload);
+  std::string problem;
+  switch (kind) {
+    case static_cast<std::uint64_t>(EntryKind::kTools): problem = decode_tools(p); break;
+    case static_cast<std::uint64_t>(EntryKind::kStateHash): {
+      std::uint64_t h = 0;
+      if (payload.size() != 8 || !p.u64(h)) return "state hash entry is not 8 bytes";
+      out.state_hash = h;
+      break;
+    }
+    case static_cast<std::uint64_t>(EntryKind::kBoxStatus): {
+      std::uint8_t flags = 0;
+      std::uint16_t faults = 0;
+      if (payload.size() != 3 || !p.u8(flags) || !p.u16(faults) || flags > 3) return "bad box status entry";
+      box_ = {(flags & 1) != 0, (flags & 2) != 0, faults};
+      out.box_changed = true;
+      break;
+    }
+    case static_cast<std::uint64_t>(EntryKind::kEvent): {
+      std::uint8_t code = 0;
+      if (payload.size() != 1 || !p.u8(code) || code != static_cast<std::uint8_t>(record::EventCode::kTargetReached)) {
+        return "bad event entry";
+      }
+      if (out.event_count == TickRecord::kMaxEvents) return "more than 8 events in one tick";
+      out.events[out.event_count++] = static_cast<record::EventCode>(code);
+      break;
+    }
+    default: return decode_control(kind, payload, out);
+  }
+  if (!problem.empty()) return problem;
+  if (!p.done()) return "entry kind " + std::to_string(kind) + " has " + std::to_string(p.left()) + " bytes left over";
+  return {};
+}
+
+std::string RecordReader::decode_tools(ByteReader& p) {
+  const std::size_t tool_count = header_.tools.size();
+  std::uint8_t mask = 0;
+  if (!p.u8(mask)) return "empty tools entry";
+  for (std::size_t t = 0; t < kMaxTools; ++t) {
+    for (std::size_t axis = 0; axis < 2; ++axis) {
+      if ((mask & (1u << (2 * t + axis))) == 0) continue;
+      if (t >= tool_count) return "tools entry moves tool " + std::to_string(t) + ", the record has " + std::to_string(tool_count);
+      std::int64_t delta = 0;
+      if (!p.zigzag(delta)) return "tools entry: a delta runs past the entry";
+      std::int64_t& v = axis == 0 ? tools_[t].insertion_um : tools_[t].rotation_urad;
+      if (__builtin_add_overflow(v, delta, &v)) return "tools entry: position overflows 64 bits";
+    }
+  }
+  return {};
+}
+
+std::string RecordReader::decode_control(std::uint64_t kind, std::span<const std::uint8_t> payload, TickRecord& out) {
+  if (kind > 0xFFFF || !known_control_kind(static_cast<std::uint16_t>(kind))) {
+    return "unknown kind " + std::to_string(kind) + " (a newer record? this build knows 1-4 and controls " + known_control_kinds() + ")";
+  }
+  if (payload.size() > Control::kMaxPayload) return "control of " + std::to_string(payload.size()) + " bytes (at most 32)";
+  if (out.control_count == TickRecord::kMaxControls) return "more than 64 controls in one tick";
+  out.controls[out.control_count++] = Control::make(static_cast<std::uint16_t>(kind), payload);
+  return {};
 }
 
 void RecordReader::skip_to_end() {

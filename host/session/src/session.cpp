@@ -147,20 +147,7 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   every_law_ = hand_->feels_every_tool();
   const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
   for (const tool::ToolSpec& t : tools) tool_names_.push_back(t.name);
-  const bool balloon = std::any_of(tools.begin(), tools.end(), [](const tool::ToolSpec& t) { return t.balloon.present(); });
-  if (balloon && scene_->world->source_model() != nullptr) {
-    // Its own first wall, the same as the world's (the world's stays for picking), built by the
-    // builder of the next walls so that they reuse the regions the balloon leaves alone.
-    tool::WallBuilder builder = tool::cached_mesh_wall_builder();
-    auto wall = builder(*scene_->world->source_model());
-    if (wall) {
-      angioplasty_ = std::make_unique<tool::Angioplasty>(*scene_->world->source_model(), std::move(*wall),
-                                                         tool::WallSwap::Mode::kSynchronous, tool::LumenRemodelParams{},
-                                                         std::move(builder));
-    }
-  }
-  sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
-  tool::use_case_wall(*sim_, scene_->spec.wall ? &*scene_->spec.wall : nullptr);  // a compliant wall
+  build_simulator();
   input_.tool_count = std::min(tools.size(), kMaxTools);
   contacts_ = ContactReadings(tools.size());
   for (std::size_t t = 0; t < input_.tool_count; ++t) update_max_insertion(t);
@@ -181,43 +168,11 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   sink_ = std::make_unique<Sink>(*this);
   add_control_handler(static_cast<std::uint16_t>(ControlKind::kSelectTool), *select_tool_);
   if (scene_->flow) {
-    // The C-arm starts in the case's first working projection (else AP), centred on its target.
-    flow::CArmPose pose;
-    if (!scene_->spec.views.empty()) {
-      pose.lao_deg = scene_->spec.views.front().lao_deg;
-      pose.cranial_deg = scene_->spec.views.front().cranial_deg;
-    }
-    if (scene_->target_mm) pose.isocenter_mm = glm::dvec3(*scene_->target_mm);
-    fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool, pose);
-    for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
-    fluoro_->fill(metrics_);
-    std::string why_not;
-    thrombectomy_ = ThrombectomyUnit::make(*scene_->flow, scene_->spec, events_, why_not);
-    if (thrombectomy_) {
-      for (const ControlKind k : ThrombectomyUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *thrombectomy_);
-      metrics_.set_thrombectomy(thrombectomy_->figures());
-    } else if (!why_not.empty()) {
-      log("no thrombectomy grading: %s", why_not.c_str());
-    }
+    add_flow_units();
   } else if (!scene_->flow_error.empty()) {
     log("no fluoroscopy: %s", scene_->flow_error.c_str());
   }
-  detach_coil_ = std::make_unique<DetachCoil>(*this);
-  add_control_handler(static_cast<std::uint16_t>(ControlKind::kDetachCoil), *detach_coil_);
-  load_coil_ = std::make_unique<LoadCoil>(*this);
-  add_control_handler(static_cast<std::uint16_t>(ControlKind::kLoadCoil), *load_coil_);
-  if (scene_->world->sac()) {
-    coil_metrics_.emplace(*sim_, *scene_->world->sac());
-    if (!coil_metrics_->has_coils()) coil_metrics_.reset();
-  }
-  // Coiling goes on at the target (the neck): the coil is deployed there.
-  if (coil_metrics_) options_.end_at_target = false;
-  balloon_control_ = std::make_unique<BalloonControl>(*this);
-  add_control_handler(static_cast<std::uint16_t>(ControlKind::kBalloon), *balloon_control_);
-  // Angioplasty goes on at the target (the lesion): the balloon is inflated there.
-  if (angioplasty_) options_.end_at_target = false;
-  // Thrombectomy goes on at the target (the clot): passes are made there.
-  if (thrombectomy_) options_.end_at_target = false;
+  add_device_units();
   if (hand_->kind() == HandKind::kReplay) controls_.close();  // a replay applies the record's only
 
   const std::size_t nodes = options_.max_nodes_per_tool;
@@ -238,6 +193,66 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
   fb.tip_bend = to_f(held.tip.normal);
   hand_->feel(fb);
   publish();
+}
+
+// The simulator on the case's wall: a balloon case's own first wall (the angioplasty unit's),
+// else the world's; a compliant wall when the case gives one.
+void Session::build_simulator() {
+  const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
+  const bool balloon = std::any_of(tools.begin(), tools.end(), [](const tool::ToolSpec& t) { return t.balloon.present(); });
+  if (balloon && scene_->world->source_model() != nullptr) {
+    // Its own first wall, the same as the world's (the world's stays for picking), built by the
+    // builder of the next walls so that they reuse the regions the balloon leaves alone.
+    tool::WallBuilder builder = tool::cached_mesh_wall_builder();
+    auto wall = builder(*scene_->world->source_model());
+    if (wall) {
+      angioplasty_ = std::make_unique<tool::Angioplasty>(*scene_->world->source_model(), std::move(*wall),
+                                                         tool::WallSwap::Mode::kSynchronous, tool::LumenRemodelParams{},
+                                                         std::move(builder));
+    }
+  }
+  sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
+  tool::use_case_wall(*sim_, scene_->spec.wall ? &*scene_->spec.wall : nullptr);  // a compliant wall
+}
+
+// A case with a vessel network: the fluoroscopy unit, and the thrombectomy unit when it has clots.
+void Session::add_flow_units() {
+  const std::vector<tool::ToolSpec>& tools = scene_->spec.tools;
+  // The C-arm starts in the case's first working projection (else AP), centred on its target.
+  flow::CArmPose pose;
+  if (!scene_->spec.views.empty()) {
+    pose.lao_deg = scene_->spec.views.front().lao_deg;
+    pose.cranial_deg = scene_->spec.views.front().cranial_deg;
+  }
+  if (scene_->target_mm) pose.isocenter_mm = glm::dvec3(*scene_->target_mm);
+  fluoro_ = std::make_unique<FluoroUnit>(*scene_->flow, tools, snap_, options_.max_nodes_per_tool, pose);
+  for (const ControlKind k : FluoroUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *fluoro_);
+  fluoro_->fill(metrics_);
+  std::string why_not;
+  thrombectomy_ = ThrombectomyUnit::make(*scene_->flow, scene_->spec, events_, why_not);
+  if (thrombectomy_) {
+    for (const ControlKind k : ThrombectomyUnit::kKinds) add_control_handler(static_cast<std::uint16_t>(k), *thrombectomy_);
+    metrics_.set_thrombectomy(thrombectomy_->figures());
+  } else if (!why_not.empty()) {
+    log("no thrombectomy grading: %s", why_not.c_str());
+  }
+}
+
+// The coil and balloon controls, the coiling figures for a case with a sac, and whether the run
+// ends at the target: coiling, angioplasty and thrombectomy go on there (the neck, the lesion,
+// the clot).
+void Session::add_device_units() {
+  detach_coil_ = std::make_unique<DetachCoil>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kDetachCoil), *detach_coil_);
+  load_coil_ = std::make_unique<LoadCoil>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kLoadCoil), *load_coil_);
+  if (scene_->world->sac()) {
+    coil_metrics_.emplace(*sim_, *scene_->world->sac());
+    if (!coil_metrics_->has_coils()) coil_metrics_.reset();
+  }
+  balloon_control_ = std::make_unique<BalloonControl>(*this);
+  add_control_handler(static_cast<std::uint16_t>(ControlKind::kBalloon), *balloon_control_);
+  if (coil_metrics_ || angioplasty_ || thrombectomy_) options_.end_at_target = false;
 }
 
 Session::~Session() {
@@ -347,16 +362,7 @@ void Session::end(record::EndReason reason, std::string text) {
 bool Session::tick() {
   if (over_.load(std::memory_order_acquire)) return false;  // a finished run stays as it ended
   const std::int64_t n = tick_;
-  if (options_.max_ticks >= 0 && n >= options_.max_ticks) {
-    char text[64];
-    std::snprintf(text, sizeof text, "time limit of %.3f s", static_cast<double>(n * options_.period_us) * 1e-6);
-    end(record::EndReason::kTimeLimit, text);
-    return false;
-  }
-  if (end_requested_.load(std::memory_order_acquire)) {
-    end(record::EndReason::kEndedByUser, "run ended by the trainee");
-    return false;
-  }
+  if (ends_before(n)) return false;
   // 1. Controls: the UI's, then the hand's own.
   applied_count_ = 0;
   tool_changed_ = false;
@@ -368,7 +374,40 @@ bool Session::tick() {
     end(record::EndReason::kHandFinished, hand_->finish_reason());
     return false;
   }
-  // 2. The hand: where the tools are, clamped to their range.
+  read_hand(n);
+  step_world(n);
+  const HandFeedback fb = feel(n);
+  observe(n, fb);
+  if (recorder_) recorder_->end_tick();
+  tick_ = n + 1;
+  ticks_.store(tick_, std::memory_order_release);
+  // 6. The end of the run?
+  if (options_.end_at_target && metrics_.target_just_reached()) {
+    end(record::EndReason::kTargetReached, "target reached");
+  } else if (hand_->finished()) {
+    end(record::EndReason::kHandFinished, hand_->finish_reason());
+  }
+  if (over_.load(std::memory_order_relaxed)) return false;
+  publish();
+  return true;
+}
+
+bool Session::ends_before(std::int64_t n) {
+  if (options_.max_ticks >= 0 && n >= options_.max_ticks) {
+    char text[64];
+    std::snprintf(text, sizeof text, "time limit of %.3f s", static_cast<double>(n * options_.period_us) * 1e-6);
+    end(record::EndReason::kTimeLimit, text);
+    return true;
+  }
+  if (end_requested_.load(std::memory_order_acquire)) {
+    end(record::EndReason::kEndedByUser, "run ended by the trainee");
+    return true;
+  }
+  return false;
+}
+
+// 2. The hand: where the tools are, clamped to their range; the tick's inputs recorded.
+void Session::read_hand(std::int64_t n) {
   input_.held = sim_->active_tool();
   hand_->read(n, input_);
   for (std::size_t t = 0; t < input_.tool_count; ++t) {
@@ -380,7 +419,10 @@ bool Session::tick() {
     recorder_->tools(input_);
     recorder_->box(input_.box);
   }
-  // 3. The simulation.
+}
+
+// 3. The simulation, then the procedures that follow it (balloon, fluoroscopy, thrombectomy).
+void Session::step_world(std::int64_t n) {
   for (std::size_t t = 0; t < input_.tool_count; ++t) {
     sim_->set_insertion(t, static_cast<double>(input_.tools[t].insertion_um) * 1e-3);
     sim_->set_rotation(t, static_cast<double>(input_.tools[t].rotation_urad) * 1e-6);
@@ -402,6 +444,7 @@ bool Session::tick() {
   if (fluoro_) fluoro_->tick((n + 1) * options_.period_us);
   if (thrombectomy_) {
     thrombectomy_->tick(n * options_.period_us, snap_);
+    thrombectomy_->after_step(n * options_.period_us, *sim_);
     // The figures change only with a pass, and every pass solves the network again: copy them
     // then, not on every tick (the copy allocates).
     if (thrombectomy_->flow_generation() != figures_generation_) {
@@ -410,7 +453,11 @@ bool Session::tick() {
     }
     if (thrombectomy_->arrested()) metrics_.set_flow_arrest(thrombectomy_->figures().balloon_guide_inflations, thrombectomy_->figures().flow_arrest_s);
   }
-  // 4. What the hand feels.
+}
+
+// 4. What the hand feels: the held tool's force law (every tool's for a hand that feels them
+// all), its tip, and the state hash every hash_every ticks.
+HandFeedback Session::feel(std::int64_t n) {
   const std::size_t held_index = input_.held;
   const tool::ToolSnapshot& held = snap_.tools[held_index];
   HandFeedback fb;
@@ -432,7 +479,13 @@ bool Session::tick() {
   }
   hand_->feel(fb);
   if (recorder_ && fb.state_hash) recorder_->state_hash(*fb.state_hash);
-  // 5. Metrics and events.
+  return fb;
+}
+
+// 5. Metrics and events.
+void Session::observe(std::int64_t n, const HandFeedback& fb) {
+  const std::size_t held_index = input_.held;
+  const tool::ToolSnapshot& held = snap_.tools[held_index];
   MetricsTick mt;
   mt.time_us = n * options_.period_us;
   mt.held = held_index;
@@ -456,8 +509,17 @@ bool Session::tick() {
     metrics_.set_coiling(100.0 * fig.packing_density, fig.deployed_mm, fig.herniations, fig.kick_back_mm);
     if (coil_metrics_->herniation_began()) log("coil herniating into the parent artery (%d nodes past the neck)", fig.herniated_nodes);
   }
+  log_events(held.tip_segment, mt.tip_force_mN);
+  if (!observers_.empty()) {
+    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics(), contacts_};
+    for (TickObserver* o : observers_) o->observe(view);
+  }
+}
+
+// The tick's events in the log (and the target in the record); the box's link and faults.
+void Session::log_events(int tip_segment, double tip_force_mN) {
   // The tip's own force (not the tick's largest contact, which may be another tool's shaft).
-  if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", held.tip_segment, mt.tip_force_mN);
+  if (metrics_.contact_began()) log("tip on the wall, segment %d (%.1f mN)", tip_segment, tip_force_mN);
   if (metrics_.target_just_reached()) {
     log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);
     if (recorder_) recorder_->event(record::EventCode::kTargetReached);
@@ -467,22 +529,6 @@ bool Session::tick() {
     if (input_.box.faults != last_box_.faults) log("box faults 0x%02x", static_cast<unsigned>(input_.box.faults));
   }
   last_box_ = input_.box;
-  if (!observers_.empty()) {
-    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics(), contacts_};
-    for (TickObserver* o : observers_) o->observe(view);
-  }
-  if (recorder_) recorder_->end_tick();
-  tick_ = n + 1;
-  ticks_.store(tick_, std::memory_order_release);
-  // 6. The end of the run?
-  if (options_.end_at_target && metrics_.target_just_reached()) {
-    end(record::EndReason::kTargetReached, "target reached");
-  } else if (hand_->finished()) {
-    end(record::EndReason::kHandFinished, hand_->finish_reason());
-  }
-  if (over_.load(std::memory_order_relaxed)) return false;
-  publish();
-  return true;
 }
 
 void Session::publish() {

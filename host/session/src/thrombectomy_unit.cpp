@@ -49,6 +49,14 @@ std::unique_ptr<ThrombectomyUnit> ThrombectomyUnit::make(flow::FlowNetwork& netw
   for (std::size_t t = 0; t < n; ++t) {
     u->tool_names_.push_back(spec.tools[t].name);
     u->balloon_[t] = spec.tools[t].balloon.present() ? 1 : 0;
+    u->inner_diameter_.push_back(spec.tools[t].inner_diameter_mm);
+  }
+  for (std::size_t t = 0; t < n; ++t) {
+    if (!spec.tools[t].stent.present()) continue;
+    StentPass p;
+    p.tool = t;
+    p.spec = spec.tools[t].stent;
+    u->stents_.push_back(p);
   }
   for (const tool::CaseAspiration& a : spec.aspiration) {
     for (std::size_t t = 0; t < n; ++t) {
@@ -217,42 +225,58 @@ void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot
   }
 }
 
+double ThrombectomyUnit::head_Pa(const flow::Clot& c) const {
+  const flow::SegmentFlow& seg = network_.segments()[c.segment];
+  return network_.node_pressure_Pa(seg.start_node) - network_.node_pressure_Pa(seg.end_node);
+}
+
+flow::AspirationClot ThrombectomyUnit::thrombus_clot(const std::vector<std::size_t>& group) const {
+  const flow::Clot& face = clots_[group.front()];
+  double length_mm = 0.0;
+  for (const std::size_t k : group) length_mm += clots_[k].length_mm;
+  return {2.0 * locator_.radius_at(face.segment, face.arc_start_mm), length_mm, face.composition};
+}
+
 void ThrombectomyUnit::end_pass(std::int64_t time_us) {
   const std::size_t tool = *engaged_tool_;
   const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
-  const flow::Clot face = clots_[engaged_.front()];
-  double length_mm = 0.0;
-  for (const std::size_t k : engaged_) length_mm += clots_[k].length_mm;
-  const flow::SegmentFlow& seg = network_.segments()[face.segment];
-  const double head_Pa = network_.node_pressure_Pa(seg.start_node) - network_.node_pressure_Pa(seg.end_node);
-  const double diameter_mm = 2.0 * locator_.radius_at(face.segment, face.arc_start_mm);
-  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, {diameter_mm, length_mm, face.composition}, head_Pa);
+  const flow::AspirationClot clot = thrombus_clot(engaged_);
+  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, clot, head_Pa(clots_[engaged_.front()]));
   const int pass = ++figures_.passes;
   log(time_us, "pass %d: the clot is %s (pull %.3f N, ingest %.3f N, hold %.3f N)", pass, outcome_text(r.outcome), r.force_N,
       r.ingest_force_N, r.hold_force_N);
-  std::optional<flow::Clot> embolus;
+  std::optional<flow::Fragment> fragment;
+  std::vector<std::size_t> removed;
   if (r.outcome == flow::AspirationOutcome::kLost) {
     // A fragment the width of the lumen strips off the catheter's mouth where the tip is now.
     // Under flow arrest the vacuum takes it into the catheter; else the flow carries it.
     if (!arrests_.empty()) {
       log(time_us, "pass %d: the fragment is aspirated under flow arrest", pass);
     } else {
-      flow::Fragment f;
-      f.from = locator_.nearest(tips_[tool]);
-      f.diameter_mm = std::min(a->inner_diameter_mm, diameter_mm);
-      f.length_mm = std::min(a->inner_diameter_mm, length_mm);
-      f.composition = face.composition;
-      if (base::Result<flow::EmbolusPath> path = flow::carry_fragment(network_, f)) embolus = path->lodged;
+      fragment.emplace();
+      fragment->from = locator_.nearest(tips_[tool]);
+      fragment->diameter_mm = std::min(a->inner_diameter_mm, clot.diameter_mm);
+      fragment->length_mm = std::min(a->inner_diameter_mm, clot.length_mm);
+      fragment->composition = clot.composition;
     }
   } else {
-    std::vector<std::size_t> gone = engaged_;
-    std::sort(gone.rbegin(), gone.rend());
-    for (const std::size_t k : gone) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
+    removed = engaged_;
   }
   engaged_tool_.reset();
   engaged_.clear();
+  grade_pass(time_us, std::move(removed), fragment);
+}
+
+void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::optional<flow::Fragment>& fragment) {
+  const int pass = figures_.passes;
+  std::sort(removed.rbegin(), removed.rend());
+  for (const std::size_t k : removed) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
   // The control run: the network without the arrest.
   if (!resolve(time_us, false)) return;
+  std::optional<flow::Clot> embolus;
+  if (fragment) {
+    if (base::Result<flow::EmbolusPath> path = flow::carry_fragment(network_, *fragment)) embolus = path->lodged;
+  }
   if (embolus) {
     const std::vector<flow::Terminal> without = network_.terminals();
     clots_.push_back(*embolus);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -262,6 +263,8 @@ class CaseParser {
       t.detach_mm = v;
     } else if (key == "balloon") {
       return balloon_statement(t, w);
+    } else if (key == "stent_retriever") {
+      return stent_statement(t, w);
     } else if (key == "axial_stiffness") {
       if (!expect_args(w, 1) || !number(w[1], "axial_stiffness", v)) return false;
       if (v < 10.0 || v > 1e6) return error_here("axial_stiffness must be in [10, 1e6] N");
@@ -336,12 +339,7 @@ class CaseParser {
     if (v[1] < 0.0 || v[1] > 1000.0) return error_here("clot: start must be in [0, 1000] mm along the segment");
     if (v[2] <= 0.0 || v[2] > 100.0) return error_here("clot: length must be in (0, 100] mm");
     CaseClot clot{static_cast<std::int32_t>(v[0]), v[1], v[2], flow::kReferenceComposition, 0.0, lines_.line()};
-    for (std::size_t i = 4; i < w.size(); ++i) {
-      const std::size_t eq = w[i].find('=');
-      if (eq == std::string_view::npos) return error_here("clot: expected key=value, got '" + std::string(w[i]) + "'");
-      const std::string_view k = w[i].substr(0, eq);
-      double x = 0.0;
-      if (!number(w[i].substr(eq + 1), "clot " + std::string(k), x)) return false;
+    const bool pairs = number_pairs(w, 4, "clot", [&](std::string_view k, double x) {
       if (k == "red") {
         clot.composition.red_cell_percent = x;
       } else if (k == "fibrin") {
@@ -352,7 +350,9 @@ class CaseParser {
       } else {
         return error_here("clot: unknown key '" + std::string(k) + "' (known: red fibrin open)");
       }
-    }
+      return true;
+    });
+    if (!pairs) return false;
     if (const char* e = flow::check_composition(clot.composition); *e != '\0') return error_here(e);
     c.clots.push_back(clot);
     return true;
@@ -419,6 +419,34 @@ class CaseParser {
     if (!length || !chart) return error_here("balloon: length= and chart= are required");
     if (std::string e = check_balloon(b, t.length_mm()); !e.empty()) return error_here(e);
     t.balloon = b;
+    return true;
+  }
+
+  // `stent_retriever diameter=MM length=MM [embed=S]` on a push wire (a guidewire tool).
+  bool stent_statement(ToolSpec& t, const std::vector<std::string_view>& w) {
+    if (t.kind != ToolKind::kGuidewire) return error_here("stent_retriever: only a push wire (a guidewire tool) carries one");
+    if (t.stent.present()) return error_here("stent_retriever given twice");
+    StentRetrieverSpec st;
+    bool diameter = false, length = false;
+    const bool pairs = number_pairs(w, 1, "stent_retriever", [&](std::string_view k, double v) {
+      if (k == "diameter") {
+        st.diameter_mm = v;
+        diameter = true;
+      } else if (k == "length") {
+        st.length_mm = v;
+        length = true;
+      } else if (k == "embed") {
+        st.embed_s = v;
+      } else {
+        return error_here("stent_retriever: unknown key '" + std::string(k) + "' (known: diameter length embed)");
+      }
+      return true;
+    });
+    if (!pairs) return false;
+    if (!diameter || !length) return error_here("stent_retriever: diameter= and length= are required");
+    if (std::string e = check_stent_retriever(st, std::numeric_limits<double>::infinity()); !e.empty()) return error_here(e);
+    t.stent = st;
+    stent_line_ = lines_.line();
     return true;
   }
 
@@ -515,6 +543,10 @@ class CaseParser {
     if (len < 4.0 * t.max_spacing_mm) return error_at(line, "tool '" + t.name + "' is shorter than 4 node spacings");
     const double nodes = t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm;
     if (nodes > kMaxNodes) return error_at(line, "tool '" + t.name + "' needs more than 6000 nodes");
+    if (t.stent.present() && t.stent.length_mm >= len) return error_at(stent_line_, "stent_retriever: longer than its push wire '" + t.name + "'");
+    if (t.stent.present() && t.inside.empty()) {
+      return error_at(stent_line_, "stent_retriever: the push wire '" + t.name + "' must run inside the catheter that delivers it (inside NAME)");
+    }
     if (t.kind == ToolKind::kCoil && !(t.detach_mm > 0.0 && t.detach_mm < len)) {
       return error_at(line, "coil '" + t.name + "' needs 'detach MM' shorter than the tool");
     }
@@ -523,6 +555,20 @@ class CaseParser {
       if (std::string e = tool::check_tool(with_next_coil(t, k)); !e.empty()) {
         return error_at(line, "with its next coil " + std::to_string(k + 1) + ": " + e);
       }
+    }
+    return true;
+  }
+
+  // The words w[first..] as key=NUMBER pairs, each handed to on_pair(key, value), which returns
+  // false once it has reported an error. `what` names the statement in the errors.
+  template <class OnPair>
+  bool number_pairs(const std::vector<std::string_view>& w, std::size_t first, std::string_view what, OnPair on_pair) {
+    for (std::size_t i = first; i < w.size(); ++i) {
+      const std::size_t eq = w[i].find('=');
+      if (eq == std::string_view::npos) return error_here(std::string(what) + ": expected key=value, got '" + std::string(w[i]) + "'");
+      const std::string_view k = w[i].substr(0, eq);
+      double v = 0.0;
+      if (!number(w[i].substr(eq + 1), std::string(what) + " " + std::string(k), v) || !on_pair(k, v)) return false;
     }
     return true;
   }
@@ -568,6 +614,7 @@ class CaseParser {
   std::string_view file_;
   std::string error_;
   std::vector<std::string> flow_keys_;
+  std::size_t stent_line_ = 0;  // the last stent_retriever statement
 };
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "tool/lumen_remodel.hpp"
+#include "tool/wall_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -24,18 +25,9 @@ std::vector<double> arcs(const vessel::Segment& s) {
 
 // Closest point of a segment's centre line to p: (squared distance, arc length there).
 std::pair<double, double> project(const vessel::Segment& s, const std::vector<double>& arc, const glm::dvec3& p) {
-  std::pair<double, double> best{std::numeric_limits<double>::infinity(), 0.0};
-  for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {
-    const glm::dvec3 a = s.points[i].pos_mm;
-    const glm::dvec3 d = s.points[i + 1].pos_mm - a;
-    const double len2 = glm::dot(d, d);
-    const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, d) / len2, 0.0, 1.0) : 0.0;
-    const glm::dvec3 q = a + t * d;
-    const double d2 = glm::dot(p - q, p - q);
-    if (d2 < best.first) best = {d2, arc[i] + t * (arc[i + 1] - arc[i])};
-  }
-  if (s.points.size() == 1) best = {glm::dot(p - s.points[0].pos_mm, p - s.points[0].pos_mm), 0.0};
-  return best;
+  const CentrelineFoot f = nearest_on_centreline(s, p);
+  if (s.points.size() < 2) return {f.distance2_mm2, 0.0};
+  return {f.distance2_mm2, arc[f.piece] + f.t * (arc[f.piece + 1] - arc[f.piece])};
 }
 
 // Middle of a polyline by arc length.

@@ -162,6 +162,23 @@ void Rod::clear_coupling_loads() {
   coupling_set_.clear();
 }
 
+void Rod::set_distal_friction(double length_mm, double mu) {
+  distal_mu_ = mu > 0.0 ? mu : 0.0;
+  distal_first_ = std::numeric_limits<std::size_t>::max();
+  for (std::size_t k = 0; k < from_tip_.size(); ++k) {
+    if (from_tip_[k] <= length_mm + 1e-9) {
+      distal_first_ = k;
+      break;
+    }
+  }
+}
+
+void Rod::set_contact_radius(std::size_t k, double radius_mm) {
+  if (k >= radius_.size() || spec_.sections.empty()) return;
+  const double own = 0.5 * section_at(k).outer_diameter_mm;  // radius_ holds what was set
+  radius_[k] = radius_mm > own ? radius_mm : own;
+}
+
 void Rod::set_grip(std::size_t node, double limit_mN) {
   if (node >= grip_limit_.size()) return;
   const double limit = std::isfinite(limit_mN) ? std::max(0.0, limit_mN) : 0.0;

@@ -63,13 +63,14 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   add_grad(k, nc.normal * (kc * phi));
   h += kc * nn;
   energy_ += 0.5 * kc * phi * phi;
-  if (!(spec_.friction > 0.0)) return;
+  const double mu = friction_at(k);
+  if (!(mu > 0.0)) return;
   const glm::dmat3 pt = identity - nn;
   const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
   const double slip_len = glm::length(slip);
   // The slip limit uses the normal force of the previous step, so within a step friction
   // is a fixed convex potential and the iterations converge.
-  const double limit = spec_.friction * nc.normal_force;
+  const double limit = mu * nc.normal_force;
   friction_limit_[k] = limit;
   if (kt * slip_len <= limit) {
     add_grad(k, slip * kt);

@@ -14,21 +14,22 @@ namespace cathbox::tool {
 using rod_detail::kMilli;
 using rod_detail::station_near;
 
+// The section holding node k.
+const ToolSection& Rod::section_at(std::size_t k) const {
+  double from_proximal = length_mm_ - from_tip_[k];
+  for (const ToolSection& candidate : spec_.sections) {
+    if (from_proximal <= candidate.length_mm) return candidate;
+    from_proximal -= candidate.length_mm;
+  }
+  return spec_.sections.back();
+}
+
 void Rod::set_node_material(std::size_t k) {
   const std::size_t n = from_tip_.size();
   const double left = k > 0 ? rest_[k - 1] : 0.0;
   const double right = k + 1 < n ? rest_[k] : 0.0;
   voronoi_[k] = 0.5 * (left + right);
-  // Section holding this station.
-  double from_proximal = length_mm_ - from_tip_[k];
-  const ToolSection* sec = &spec_.sections.back();
-  for (const ToolSection& candidate : spec_.sections) {
-    if (from_proximal <= candidate.length_mm) {
-      sec = &candidate;
-      break;
-    }
-    from_proximal -= candidate.length_mm;
-  }
+  const ToolSection* sec = &section_at(k);
   radius_[k] = 0.5 * sec->outer_diameter_mm;
   inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
   ei_[k] = vertex_bending_Nmm2(length_mm_ - from_tip_[k] - 0.5 * right, length_mm_ - from_tip_[k] + 0.5 * left,

@@ -137,12 +137,13 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
   const std::size_t n = x_.size();
   const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   const NodeContact& nc = node_contacts_[k];
-  if (!nc.has_plane || spec_.friction <= 0.0) return 0;
+  const double mu = friction_at(k);
+  if (!nc.has_plane || mu <= 0.0) return 0;
   const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
   if (phi <= 0.0) return 0;
   const double r = radius_[k];
   ktr = kt * r * r;
-  limit = spec_.friction * settings_.contact_stiffness_mN_per_mm * phi * r;
+  limit = mu * settings_.contact_stiffness_mN_per_mm * phi * r;
   d = theta_[std::min(k, n - 2)] - nc.twist_anchor;
   if (ktr * std::abs(d) <= limit) return 1;  // stick
   return d > 0.0 ? 2 : 3;                    // slip either way

@@ -101,7 +101,7 @@ void Rod::finish_contacts() {
     const glm::dmat3 pt = glm::dmat3(1.0) - glm::outerProduct(nc.normal, nc.normal);
     const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
     const double slip_len = glm::length(slip);
-    const double limit = spec_.friction * normal_force;
+    const double limit = friction_at(k) * normal_force;
     glm::dvec3 friction(0.0);
     if (kt * slip_len > limit && slip_len > 0.0) {
       const glm::dvec3 s = slip / slip_len;

@@ -101,6 +101,13 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
       balloons_[i].emplace(tools[i].balloon, shaft);
     }
   }
+  stents_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!tools[i].stent.present()) continue;
+    stents_[i].emplace(tools[i].stent, rods_[i].node_total());
+    rods_[i].set_distal_friction(tools[i].stent.length_mm, kStentWallFriction);
+    rods_[i].settings().contact_stiffness_mN_per_mm = std::min(rods_[i].settings().contact_stiffness_mN_per_mm, kStentContactStiffness_mN_per_mm);
+  }
   detached_.reserve(16);
   path_.reserve(max_nodes * 2);
 }
@@ -316,11 +323,19 @@ void Simulator::update_balloons(double dt_s) {
   }
 }
 
+// A stent out of its catheters expands and grips the wall (stent_retriever.hpp).
+void Simulator::update_stents() {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    if (stents_[t]) stents_[t]->update(rods_[t], *wall_);
+  }
+}
+
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
   const std::size_t n = rods_.size();
   update_chain();
   update_balloons(dt_s);
+  update_stents();
   for (const std::size_t t : order_) {
     prepare(t);
     update_contact_members();

@@ -68,6 +68,10 @@ std::string check_tool(const ToolSpec& t) {
   if (t.balloon.present()) {
     if (std::string e = check_balloon(t.balloon, len); !e.empty()) return who + e;
   }
+  if (t.stent.present()) {
+    if (t.kind != ToolKind::kGuidewire) return who + "stent_retriever: only a push wire (a guidewire tool) carries one";
+    if (std::string e = check_stent_retriever(t.stent, len); !e.empty()) return who + e;
+  }
   if (len > L::kMaxLength_mm) return who + "longer than 4000 mm";
   if (len < 4.0 * t.max_spacing_mm) return who + "shorter than 4 node spacings";
   if (t.tip_zone_mm / t.tip_spacing_mm + len / t.max_spacing_mm > L::kMaxNodes) return who + "needs more than 6000 nodes";
@@ -98,6 +102,14 @@ ToolSpec with_next_coil(const ToolSpec& spec, std::size_t next) {
   out.detach_mm = coil.length_mm;
   out.tip_zone_mm = std::max(0.0, spec.tip_zone_mm - spec.detach_mm) + coil.length_mm;
   return out;
+}
+
+std::string check_stent_retriever(const StentRetrieverSpec& s, double tool_length_mm) {
+  if (!in(s.diameter_mm, 3.0, 6.0)) return "stent_retriever: diameter must be in [3, 6] mm";
+  if (!in(s.length_mm, 20.0, 40.0)) return "stent_retriever: length must be in [20, 40] mm";
+  if (s.length_mm >= tool_length_mm) return "stent_retriever: longer than its push wire";
+  if (!positive_up_to(s.embed_s, 1800.0)) return "stent_retriever: embed must be in (0, 1800] s";
+  return {};
 }
 
 std::string check_balloon(const BalloonSpec& b, double tool_length_mm) {
@@ -158,6 +170,7 @@ std::string check_tools(std::span<const ToolSpec> tools) {
       if (tools[i].name == tools[j].name) return "tool '" + tools[i].name + "' defined twice";
     }
     const ToolSpec& t = tools[i];
+    if (t.stent.present() && t.inside.empty()) return "tool '" + t.name + "': a stent retriever runs inside the catheter that delivers it";
     if (t.inside.empty()) continue;
     const ToolSpec* outer = nullptr;
     for (const ToolSpec& o : tools) if (o.name == t.inside) outer = &o;

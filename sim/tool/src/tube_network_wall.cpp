@@ -100,8 +100,7 @@ double TubeNetworkWall::depth_in(std::size_t i, const glm::dvec3& p, glm::dvec3&
   return r - glm::length(p - axis_point);
 }
 
-bool TubeNetworkWall::closest(const glm::dvec3& p, bool use_grid, WallContact& out) const {
-  if (tubes_.empty()) return false;
+double TubeNetworkWall::deepest(const glm::dvec3& p, bool use_grid, std::size_t& best_i, glm::dvec3& best_axis) const {
   const std::uint32_t* first = nullptr;
   const std::uint32_t* last = nullptr;
   if (use_grid) {
@@ -112,8 +111,8 @@ bool TubeNetworkWall::closest(const glm::dvec3& p, bool use_grid, WallContact& o
     }
   }
   double best = -std::numeric_limits<double>::infinity();
-  std::size_t best_i = 0;
-  glm::dvec3 best_axis(0.0);
+  best_i = 0;
+  best_axis = glm::dvec3(0.0);
   auto consider = [&](std::size_t i) {
     glm::dvec3 q;
     const double d = depth_in(i, p, q);
@@ -128,6 +127,22 @@ bool TubeNetworkWall::closest(const glm::dvec3& p, bool use_grid, WallContact& o
   } else {
     for (std::size_t i = 0; i < tubes_.size(); ++i) consider(i);
   }
+  return best;
+}
+
+double TubeNetworkWall::lumen_radius_mm(const glm::dvec3& p) const {
+  if (tubes_.empty()) return -1.0;
+  std::size_t i = 0;
+  glm::dvec3 axis(0.0);
+  const double depth = deepest(p, true, i, axis);
+  return std::isfinite(depth) ? depth + glm::length(p - axis) : -1.0;
+}
+
+bool TubeNetworkWall::closest(const glm::dvec3& p, bool use_grid, WallContact& out) const {
+  if (tubes_.empty()) return false;
+  std::size_t best_i = 0;
+  glm::dvec3 best_axis(0.0);
+  const double best = deepest(p, use_grid, best_i, best_axis);
   if (!std::isfinite(best)) return false;
   const Tube& t = tubes_[best_i];
   glm::dvec3 radial = p - best_axis;

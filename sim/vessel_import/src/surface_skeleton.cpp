@@ -20,7 +20,6 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/repair_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
-#include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
@@ -77,6 +76,20 @@ using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
   return buffer;
 }
 
+// Polygons of more than three corners as fans from their first corner. Surfaces come as
+// triangles or as the convex quads of structured meshes, for which a fan is exact; a concave
+// polygon's fan overlaps itself and the self-intersection check refuses it. (CGAL's
+// triangulate_faces runs a constrained Delaunay triangulation per polygon instead, which on a
+// self-crossing polygon did not finish: fuzz_vessel_import_polygon_cells.)
+[[nodiscard]] std::vector<std::vector<std::size_t>> fan_triangles(const std::vector<std::vector<std::size_t>>& polygons) {
+  std::vector<std::vector<std::size_t>> triangles;
+  triangles.reserve(polygons.size());
+  for (const std::vector<std::size_t>& polygon : polygons) {
+    for (std::size_t k = 1; k + 1 < polygon.size(); ++k) triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+  }
+  return triangles;
+}
+
 class SurfaceImporter {
  public:
   SurfaceImporter(std::string_view file, const SurfaceOptions& options) : file_(file), options_(options) {}
@@ -130,11 +143,15 @@ class SurfaceImporter {
     out_.stats.points_merged = points_before - points.size();
     out_.stats.polygons_dropped = polygons_before - soup.polygons.size();
     if (soup.polygons.empty()) return refuse("not a surface: every polygon is degenerate");
+    soup.polygons = fan_triangles(soup.polygons);
     PMP::orient_polygon_soup(points, soup.polygons);
-    PMP::polygon_soup_to_polygon_mesh(points, soup.polygons, mesh_);
-    if (!CGAL::is_triangle_mesh(mesh_) && !PMP::triangulate_faces(mesh_)) {
-      return refuse("not a surface: a polygon could not be triangulated");
+    // Orienting duplicates the points where edges are shared by more than two polygons; what
+    // is still not a polygon mesh after that (e.g. a fan diagonal that a neighbour already has
+    // as an edge) would build an invalid halfedge structure.
+    if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) {
+      return refuse("not a surface: the polygons do not form a manifold mesh even after orienting");
     }
+    PMP::polygon_soup_to_polygon_mesh(points, soup.polygons, mesh_);
     return true;
   }
 

@@ -102,7 +102,8 @@ const char* const kShapes = R"({
                                       "first_pass_effect": "boolean", "emboli": "integer",
                                       "emboli_new_territory": "integer", "emboli_lodged": ["string"],
                                       "time_to_reperfusion_s": "number|null",
-                                      "balloon_guide_inflations": "integer", "flow_arrest_s": "number"}}
+                                      "balloon_guide_inflations": "integer", "flow_arrest_s": "number",
+                                      "stent_passes": "integer", "retrieval_force_peak_N": "number|null"}}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

@@ -62,6 +62,44 @@ TEST(CaseClot, BadStatementsNameTheLine) {
             "cases/x.case:4: aspiration: tool 'c' has no inner_diameter");
 }
 
+// `stent_retriever diameter=MM length=MM [embed=S]` on a push wire inside its microcatheter.
+TEST(CaseClot, ParsesAStentRetrieverAndNamesTheLineOfABadOne) {
+  const std::string tools =
+      "tool mc catheter\n section 1500 od=0.8 ei=2 gj=1.6\n inner_diameter 0.53\nend\n"
+      "tool sr guidewire\n section 1800 od=0.45 ei=20 gj=15\n";
+  const CaseParse p = parse_case("vessel neuro.hclm\n" + tools + " inside mc\n stent_retriever diameter=4 length=20\nend\n", "cases/x.case");
+  ASSERT_TRUE(p) << p.error().message;
+  EXPECT_EQ(p->tools[1].stent, (StentRetrieverSpec{4.0, 20.0, 180.0}));
+  const CaseParse q = parse_case("vessel neuro.hclm\n" + tools + " stent_retriever length=40 diameter=6 embed=240\n inside mc\nend\n", "cases/x.case");
+  ASSERT_TRUE(q) << q.error().message;
+  EXPECT_EQ(q->tools[1].stent, (StentRetrieverSpec{6.0, 40.0, 240.0}));
+  const auto error = [&](const std::string& lines) {
+    const CaseParse r = parse_case("vessel neuro.hclm\n" + tools + lines, "cases/x.case");
+    return r ? std::string("parsed") : r.error().message;
+  };
+  // The stent line is line 9 of each text.
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=2.5 length=20\nend\n"), "cases/x.case:9: stent_retriever: diameter must be in [3, 6] mm");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=4 length=45\nend\n"), "cases/x.case:9: stent_retriever: length must be in [20, 40] mm");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=4 length=20 embed=0\nend\n"), "cases/x.case:9: stent_retriever: embed must be in (0, 1800] s");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=4\nend\n"), "cases/x.case:9: stent_retriever: diameter= and length= are required");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=4 length=20 force=1\nend\n"),
+            "cases/x.case:9: stent_retriever: unknown key 'force' (known: diameter length embed)");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=x length=20\nend\n"), "cases/x.case:9: stent_retriever diameter: 'x' is not a finite number");
+  EXPECT_EQ(error(" inside mc\n stent_retriever 4 20\nend\n"), "cases/x.case:9: stent_retriever: expected key=value, got '4'");
+  EXPECT_EQ(error(" inside mc\n stent_retriever diameter=4 length=20\n stent_retriever diameter=4 length=20\nend\n"),
+            "cases/x.case:10: stent_retriever given twice");
+  EXPECT_EQ(error(" section 10 od=0.45 ei=2 gj=1.5\n stent_retriever diameter=4 length=20\nend\n"),
+            "cases/x.case:9: stent_retriever: the push wire 'sr' must run inside the catheter that delivers it (inside NAME)");
+  EXPECT_EQ(parse_case("tool c catheter\n section 100 od=2 ei=1 gj=1\n stent_retriever diameter=4 length=20\nend\n", "cases/x.case").error().message,
+            "cases/x.case:3: stent_retriever: only a push wire (a guidewire tool) carries one");
+  EXPECT_EQ(parse_case("tool mc catheter\n section 1500 od=0.8 ei=2 gj=1.6\n inner_diameter 0.53\nend\n"
+                       "tool sr guidewire\n section 30 od=0.45 ei=2 gj=1\n inside mc\n stent_retriever diameter=4 length=30\nend\n",
+                       "cases/x.case")
+                .error()
+                .message,
+            "cases/x.case:8: stent_retriever: longer than its push wire 'sr'");
+}
+
 TEST(CaseClot, ResolvesAgainstTheModelNamingTheLine) {
   const vessel::HclmReadResult m = vessel::load_hclm(source("cases/neuro.hclm"));
   ASSERT_TRUE(m.ok());

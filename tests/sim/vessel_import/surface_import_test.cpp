@@ -222,5 +222,25 @@ TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughObjAndPly) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".ply");
 }
 
+// Found by fuzz_vessel_import_polygon_cells: a hexagon that crosses itself and a triangle
+// sharing two of its edges. CGAL's triangulate_faces built an invalid halfedge mesh from the
+// first (connected_components then grew without bound) and never finished the second (its
+// constrained triangulation of a self-crossing polygon). Both are refused in one line.
+TEST(SurfaceImport, SelfCrossingPolygonsAreRefusedInOneLine) {
+  const std::vector<std::vector<glm::dvec3>> point_sets = {
+      {{-42.5, -0.5, -0.5}, {0, 0, 0}, {11, -10, -10}, {0, 0, 0}, {0, 0, 10}, {0, 0, -10}},
+      {{-42.5, -63, 49}, {0, 0, 0}, {0, 0, 26}, {0, 0, 5}, {0, 0.5, 4.5}, {0, 0, -10}}};
+  for (const std::vector<glm::dvec3>& points : point_sets) {
+    PolygonSoup soup;
+    soup.points = points;
+    soup.polygons = {{2, 1, 3, 0, 4, 5}, {0, 2, 0}, {2, 5, 1}};
+    const SurfaceImport imported = import_surface_soup(soup, "hexagon.vtp", {});
+    ASSERT_EQ(imported.errors.size(), 1u);
+    const std::string line = imported.errors.front().to_string();
+    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    EXPECT_EQ(line.rfind("hexagon.vtp: ", 0), 0u) << line;
+  }
+}
+
 }  // namespace
 }  // namespace cathbox::vessel_import

@@ -157,7 +157,9 @@ json metrics_json(const session::ReplayResult& r) {
                     {"emboli_lodged", t.emboli_lodged},
                     {"time_to_reperfusion_s", or_null(t.time_to_reperfusion_us >= 0, static_cast<double>(t.time_to_reperfusion_us) * 1e-6)},
                     {"balloon_guide_inflations", t.balloon_guide_inflations},
-                    {"flow_arrest_s", t.flow_arrest_s}};
+                    {"flow_arrest_s", t.flow_arrest_s},
+                    {"stent_passes", t.stent_passes},
+                    {"retrieval_force_peak_N", or_null(t.stent_passes > 0, t.retrieval_force_peak_N)}};
   }
   return {{"ticks", r.ticks},
           {"hashes_checked", r.hashes_checked},

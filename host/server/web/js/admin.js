@@ -34,6 +34,13 @@ $('new-user').addEventListener('submit', (e) => {
   });
 });
 
+// The bytes as lowercase hex, as POST /cases takes a surface (surface_hex).
+function hexOf(bytes) {
+  const digits = new Array(bytes.length);
+  for (let i = 0; i < bytes.length; ++i) digits[i] = bytes[i].toString(16).padStart(2, '0');
+  return digits.join('');
+}
+
 $('upload').addEventListener('submit', (e) => {
   e.preventDefault();
   guarded(async () => {
@@ -41,6 +48,8 @@ $('upload').addEventListener('submit', (e) => {
     const hclmFile = $('c-hclm').files[0];
     const body = { name: $('c-name').value, case_file: caseFile.name, case: await caseFile.text() };
     if (hclmFile) { body.hclm_file = hclmFile.name; body.hclm = await hclmFile.text(); }
+    const surfaceFile = $('c-surface').files[0];
+    if (surfaceFile) { body.surface_file = surfaceFile.name; body.surface_hex = hexOf(new Uint8Array(await surfaceFile.arrayBuffer())); }
     const r = await api('/cases', { method: 'POST', body });
     $('upload-result').textContent = r.created ? 'stored as ' + r.name + ' version ' + r.version : 'unchanged: ' + r.name + ' version ' + r.version + ' has these files';
     await drawCases();

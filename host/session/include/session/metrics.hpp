@@ -67,6 +67,8 @@ struct ThrombectomyFigures {
   std::int64_t time_to_reperfusion_us = -1;  // -1: not reperfused
   int balloon_guide_inflations = 0;
   double flow_arrest_s = 0.0;
+  int stent_passes = 0;               // of the passes, those made with a stent retriever
+  double retrieval_force_peak_N = 0.0;  // the largest pull on a stent's push wire during its passes
   friend bool operator==(const ThrombectomyFigures&, const ThrombectomyFigures&) = default;
 };
 

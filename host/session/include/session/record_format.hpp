@@ -69,6 +69,7 @@ enum class ToolTag : std::uint32_t {
   kDetach = 14,  // coils: f64, the detachable coil's length (mm)
   kBalloon = 15,  // f64 length, from_tip, nominal, rated burst, then (pressure, diameter) pairs
   kNextCoil = 16,  // coils: a next coil, in order, as a section (5 doubles, 7 with its shape)
+  kStentRetriever = 17,  // push wires: f64 diameter mm, length mm, embedding time s
 };
 enum class DeviceTag : std::uint32_t {
   kDescription = 1, kSerial = 2, kBoard = 3, kFirmware = 4, kInsertionCountsPerM = 5,

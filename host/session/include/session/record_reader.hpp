@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,11 @@ class RecordReader {
   bool start();
   bool parse_end(std::uint64_t at);
   bool decode_tick(TickRecord& out);
+  // One entry of a tick into `out` (tool positions and box status into the reader's running
+  // state): an empty string, or what is wrong with it.
+  std::string decode_entry(std::uint64_t kind, std::span<const std::uint8_t> payload, TickRecord& out);
+  std::string decode_tools(record::ByteReader& p);
+  std::string decode_control(std::uint64_t kind, std::span<const std::uint8_t> payload, TickRecord& out);
   bool entry_error(const std::string& what);
 
   std::string name_;

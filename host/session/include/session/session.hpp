@@ -140,9 +140,20 @@ class Session {
   class DetachCoil;
   class LoadCoil;
   class BalloonControl;
+  // The parts the constructor builds, in order.
+  void build_simulator();
+  void add_flow_units();
+  void add_device_units();
   // The tools' unconverged shares into the metrics (ContactReadings' counts).
   void observe_convergence();
   bool tick();
+  // The steps of a tick, in order (session.cpp numbers them).
+  bool ends_before(std::int64_t n);  // the time limit or the trainee's end: the run ended
+  void read_hand(std::int64_t n);
+  void step_world(std::int64_t n);
+  HandFeedback feel(std::int64_t n);
+  void observe(std::int64_t n, const HandFeedback& fb);
+  void log_events(int tip_segment, double tip_force_mN);
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
   void publish();

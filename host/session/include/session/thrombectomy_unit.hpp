@@ -24,6 +24,20 @@
 //   eTICI without the arrest (the control run after deflation), then solved again with any
 //   arrest still inflated. Reperfusion = eTICI >= 2b50 (Liebeskind et al., JNIS 2019: the
 //   grades; successful reperfusion eTICI >= 2b50).
+// - Stent retrievers (a push wire with ToolSpec::stent, tool/stent_retriever.hpp), from the
+//   simulator after each step (after_step): expanded (half its length out of the catheters)
+//   across a clot it covers, it integrates the clot while it stays (within kStentStill_mm of
+//   where it expanded) over its embedding time; withdrawn kStentRetrievalStart_mm the pass
+//   begins: the stent holds the thrombus when its grip (integration x the share of the
+//   thrombus it covers x its capture force) exceeds what holds the thrombus in place
+//   (flow::clot_hold_force_N with the head across it), and then drags it (its kinetic wall
+//   friction and the head, felt at the hand through the simulator's stent payload). The pass
+//   ends when the stent is back in a catheter: in the guide or aspiration catheter the clot
+//   comes out with it, unless it is wider than that catheter's lumen with neither aspiration
+//   on it nor flow arrest, when the rim the mouth shears off (d - ID wide) is carried by the
+//   flow as a fragment; re-sheathed in its microcatheter the clot is stripped at that tip and
+//   carried by the flow; not held, it stays. The pass is graded as an aspiration pass, and the
+//   peak pull on the push wire during it is the retrieval force.
 // All of this runs on the haptic thread between ticks; a pass re-solves the network (~10 µs,
 // sim/flow bench_flow BM_Occlude) and allocates: an event, like a coil's release.
 #include <array>
@@ -36,11 +50,13 @@
 #include "flow/aspiration.hpp"
 #include "flow/centerline_locator.hpp"
 #include "flow/clot.hpp"
+#include "flow/embolus.hpp"
 #include "flow/flow_network.hpp"
 #include "flow/reperfusion.hpp"
 #include "session/control.hpp"
 #include "session/metrics.hpp"
 #include "scenario/case_file.hpp"
+#include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
 
 namespace cathbox::session {
@@ -49,6 +65,8 @@ class EventLog;
 
 inline constexpr double kFaceReach_mm = 2.0;
 inline constexpr double kPassWithdrawal_mm = 10.0;
+inline constexpr double kStentStill_mm = 1.0;
+inline constexpr double kStentRetrievalStart_mm = 2.0;
 
 class ThrombectomyUnit final : public ControlHandler {
  public:
@@ -65,6 +83,11 @@ class ThrombectomyUnit final : public ControlHandler {
   bool set_balloon_guide(std::size_t tool, bool inflate, std::int64_t time_us);
   // After each step: engagement and the end of a pass, from the tools' tips and insertions.
   void tick(std::int64_t time_us, const tool::Snapshot& snapshot);
+  // After each step, the stent retrievers (their state from the simulator; the clot they drag
+  // is set as their payload there for the next step).
+  void after_step(std::int64_t time_us, tool::Simulator& sim);
+  // The integrated share of the clot under a stent tool (0 when none is deployed across one).
+  [[nodiscard]] double stent_integration(std::size_t tool) const;
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
   [[nodiscard]] bool aspirating(std::size_t tool) const { return tool < aspirating_.size() && aspirating_[tool] != 0; }
   [[nodiscard]] bool arrested() const { return !arrests_.empty(); }
@@ -84,6 +107,22 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] std::vector<std::size_t> thrombus_of(std::size_t clot) const;
   [[nodiscard]] std::optional<std::size_t> clot_at_tip(const glm::dvec3& tip_mm) const;
   void end_pass(std::int64_t time_us);
+  // A pass's grading after `removed` (indices in clots_, may be empty) left and a fragment
+  // (if any) was carried: the control run, the embolus, eTICI and the figures.
+  void grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::optional<flow::Fragment>& fragment);
+  // The head across a clot (its segment's end pressures) and the clot as the aspiration model sees it.
+  [[nodiscard]] double head_Pa(const flow::Clot& c) const;
+  [[nodiscard]] flow::AspirationClot thrombus_clot(const std::vector<std::size_t>& group) const;
+  struct StentPass;
+  struct StentCover {
+    std::vector<std::size_t> thrombus;  // indices in clots_: the first clot under the stent and its thrombus
+    double share = 0.0;                 // of the thrombus's length under the stent
+  };
+  [[nodiscard]] StentCover stent_cover(const tool::Simulator& sim, std::size_t tool) const;
+  void stent_step(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
+  void deploy_stent(StentPass& p, std::int64_t time_us, const tool::Simulator& sim);
+  void start_retrieval(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
+  void end_stent_pass(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
   // Occludes with clots_ and arrests_; false (logged) when the network refuses.
   bool resolve(std::int64_t time_us, bool with_arrests);
   [[nodiscard]] std::string segment_name(std::uint32_t segment) const;
@@ -105,12 +144,31 @@ class ThrombectomyUnit final : public ControlHandler {
   std::vector<Aspirator> aspirators_;        // by tool
   std::vector<std::uint8_t> aspirating_;     // per tool
   std::vector<std::uint8_t> balloon_;        // per tool: carries a balloon (a balloon guide)
+  std::vector<double> inner_diameter_;       // per tool (0: none)
   std::vector<std::string> tool_names_;
   std::vector<glm::dvec3> tips_;             // per tool, as of the last tick
   // The engaged thrombus.
   std::optional<std::size_t> engaged_tool_;
   std::vector<std::size_t> engaged_;  // indices in clots_
   double engaged_insertion_mm_ = 0.0;
+  // Stent retrievers, by tool.
+  struct StentPass {
+    std::size_t tool = 0;
+    tool::StentRetrieverSpec spec;
+    bool deployed = false;        // expanded across a clot
+    bool retrieving = false;
+    bool captured = false;
+    std::vector<std::size_t> thrombus;  // indices in clots_
+    double cover = 0.0;           // the share of the thrombus's length under the stent
+    double deployed_insertion_mm = 0.0;
+    double dwell_s = 0.0;
+    double integration = 0.0;
+    double peak_pull_mN = 0.0;
+    std::int64_t last_us = -1;
+    double tried_unsheathed_mm = -1e9;  // where a deployment over no clot was last looked at
+    double tried_insertion_mm = -1e9;
+  };
+  std::vector<StentPass> stents_;
   ThrombectomyFigures figures_;
   std::uint64_t flow_generation_ = 0;
 };

@@ -47,6 +47,14 @@ struct AspirationResult {
   double hold_force_N = 0.0;     // holding the clot in place on withdrawal
 };
 
+// What holds a lodged clot in place against a pull: its static wall friction under the wedge
+// strain plus the pressure head across it on the lumen area, N (the corked withdrawal's hold;
+// a stent retriever's pull on its integrated clot must exceed it too).
+[[nodiscard]] double clot_hold_force_N(const AspirationClot& clot, double pressure_head_Pa);
+// What resists a clot once it slides (dragged by a stent retriever): its kinetic wall friction
+// under the wedge strain plus the pressure head on the lumen area, N.
+[[nodiscard]] double clot_drag_force_N(const AspirationClot& clot, double pressure_head_Pa);
+
 // What contact aspiration at this clot's face does, with `pressure_head_Pa` across the clot.
 // Inputs outside their ranges (ID or clot sizes not positive and finite, a bad composition)
 // are the caller's to check.

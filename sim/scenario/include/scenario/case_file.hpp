@@ -32,6 +32,9 @@
 //     valve_friction MN
 //     axial_stiffness N
 //     balloon length=MM from_tip=MM nominal=ATM burst=ATM chart=P:D,P:D,...   # catheters
+//     stent_retriever diameter=MM length=MM [embed=S]   # a push wire (guidewire tool) inside the
+//                                           # catheter delivering it: 3-6 x 20-40 mm, embedding
+//                                           # time (0, 1800] s, default 180 (tool/stent_retriever.hpp)
 //   end
 //   flow   KEY VALUES...                    # blood flow overrides (sim/flow), see the README:
 //          viscosity MPA_S | cardiac_output ML_PER_MIN | cerebral_fraction F |

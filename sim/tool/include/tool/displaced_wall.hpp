@@ -26,6 +26,10 @@ class DisplacedWall final : public WallModel {
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return inner_.surface(); }
+  [[nodiscard]] double lumen_radius_mm(const glm::dvec3& point_mm) const override {
+    const double r = inner_.lumen_radius_mm(point_mm);
+    return r > 0.0 ? r + uniform_mm_ : r;
+  }
 
  private:
   const WallModel& inner_;

@@ -123,6 +123,13 @@ class Rod {
   // Added EI (a coaxial inner tool) on the nodes first .. first + size - 1; 0 on the others.
   void set_extra_bending(std::size_t first, std::span<const double> ei_Nmm2);
   void set_friction(double mu) { spec_.friction = mu > 0.0 ? mu : 0.0; }
+  // Wall friction mu on the nodes within `length_mm` of the tip (a stent retriever's struts),
+  // the tool's own elsewhere.
+  void set_distal_friction(double length_mm, double mu);
+  // Node k's radius against the wall (an expanded stent filling the lumen); its section's
+  // radius when `radius_mm` is not above it.
+  void set_contact_radius(std::size_t k, double radius_mm);
+  [[nodiscard]] double friction_at(std::size_t k) const { return k >= distal_first_ ? distal_mu_ : spec_.friction; }
   RodSettings& settings() { return settings_; }
 
   // Properties of the tool at a distance from its tip.
@@ -198,6 +205,7 @@ class Rod {
 
   // Construction (rod.cpp, rod_material.cpp).
   void size_state();
+  [[nodiscard]] const ToolSection& section_at(std::size_t k) const;
   void size_scratch();
   // Radius, stiffnesses, rest shape and drag of node k from the section holding it.
   void set_node_material(std::size_t k);
@@ -308,6 +316,8 @@ class Rod {
   IndexRange coupling_set_;  // nodes coupling_ may be non-zero at
   IndexRange extra_set_;     // nodes ei_extra_ may be non-zero at
   std::vector<double> grip_limit_;
+  std::size_t distal_first_ = std::numeric_limits<std::size_t>::max();  // set_distal_friction
+  double distal_mu_ = 0.0;
   std::vector<NodeContact> node_contacts_;
   // Per edge (k: node k -> k+1).
   std::vector<double> rest_, theta_, theta_start_, ref_twist_;

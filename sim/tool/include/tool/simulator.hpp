@@ -26,6 +26,7 @@
 #include "tool/rod.hpp"
 #include "tool/rod_contact_field.hpp"
 #include "tool/sheath_friction.hpp"
+#include "tool/stent_retriever.hpp"
 #include "tool/snapshot.hpp"
 #include "tool/valve_friction.hpp"
 #include "tool/wall_model.hpp"
@@ -131,6 +132,19 @@ class Simulator {
   // Balloon axis points (proximal to distal) and their inflated radius, in the last step.
   void balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_mm) const;
 
+  // Stent retrievers (ToolSpec::stent): null for a tool without one. The state is the last
+  // step's (unsheathed length, radial force, expanded diameters).
+  [[nodiscard]] const StentRetriever* stent(std::size_t tool) const {
+    return tool < stents_.size() && stents_[tool] ? &*stents_[tool] : nullptr;
+  }
+  // An added grip on the unsheathed stent, spread by length (an integrated clot dragged along
+  // the wall: its friction, set by the owner), from the next step; 0 removes it.
+  void set_stent_payload(std::size_t tool, double payload_mN) {
+    if (tool < stents_.size() && stents_[tool]) stents_[tool]->set_payload_mN(payload_mN);
+  }
+  // The catheter whose tip the tool's free part starts at (tool_count() for a tool in the vessel).
+  [[nodiscard]] std::size_t carrier(std::size_t tool) const { return carrier_[tool]; }
+
   // The wall, and its replacement between two steps (a widened lumen): the old wall is
   // returned to the caller, which must keep it alive until this returns and then destroy it
   // off the haptic thread. Costs nothing here; every node is probed afresh in the next step.
@@ -150,6 +164,7 @@ class Simulator {
   [[nodiscard]] glm::dvec3 path_point(std::size_t tool, double depth_mm) const;
   void fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const;
   void update_balloons(double dt_s);
+  void update_stents();
   void apply_coil_settings(std::size_t coil);
 
   const WallModel* wall_;
@@ -173,6 +188,7 @@ class Simulator {
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
+  std::vector<std::optional<StentRetriever>> stents_;
   std::vector<Rod> detached_;
   std::vector<ToolSpec> specs_;        // the tools as the case gives them (next coils included)
   std::vector<std::size_t> loaded_;    // next coils loaded per tool

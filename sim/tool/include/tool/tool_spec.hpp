@@ -44,6 +44,18 @@ struct BalloonSpec {
   [[nodiscard]] bool present() const { return length_mm > 0.0; }
 };
 
+// A stent retriever at a push wire's tip (stent_retriever.hpp): a self-expanding laser-cut
+// nitinol stent of `diameter_mm` (unconstrained) over the distal `length_mm` of the wire,
+// crimped in the microcatheter it is delivered through and expanding where it leaves it; it
+// integrates a clot over `embed_s` (the dwell before retrieval).
+struct StentRetrieverSpec {
+  double diameter_mm = 0.0;                // 0: no stent
+  double length_mm = 0.0;
+  double embed_s = 180.0;
+  [[nodiscard]] bool present() const { return diameter_mm > 0.0; }
+  friend bool operator==(const StentRetrieverSpec&, const StentRetrieverSpec&) = default;
+};
+
 struct ToolSpec {
   std::string name = "guidewire";
   ToolKind kind = ToolKind::kGuidewire;
@@ -70,6 +82,7 @@ struct ToolSpec {
   // length, its primary wind and secondary shape). Simulator::load_next_coil takes the next.
   std::vector<ToolSection> next_coils;
   BalloonSpec balloon;                     // balloon catheters
+  StentRetrieverSpec stent;                // a guidewire carrying a stent retriever (its push wire)
 
   // The drag coefficient (mN.s/mm2) at a station of this outer radius.
   [[nodiscard]] double drag_at(double radius_mm) const;
@@ -145,5 +158,8 @@ inline constexpr std::size_t kMaxNextCoils = 15;
 // [nominal, 30] atm, a chart of 1..16 points with increasing pressures in (0, 30] atm and
 // non-decreasing diameters in (0, 20] mm.
 [[nodiscard]] std::string check_balloon(const BalloonSpec& b, double tool_length_mm);
+// Why a stent retriever does not fit the limits (empty when it does): diameter [3, 6] mm,
+// length [20, 40] mm and shorter than the tool, embedding time (0, 1800] s.
+[[nodiscard]] std::string check_stent_retriever(const StentRetrieverSpec& s, double tool_length_mm);
 
 }  // namespace cathbox::tool

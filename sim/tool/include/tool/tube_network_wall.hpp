@@ -29,6 +29,8 @@ class TubeNetworkWall final : public WallModel {
   void build(double cell_mm = 0.0);
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
+  // The radius of the tube the point lies deepest in, at its axis point.
+  [[nodiscard]] double lumen_radius_mm(const glm::dvec3& point_mm) const override;
   // Signed distance of a point to the wall (positive inside the lumen) and the tube holding it.
   [[nodiscard]] double signed_distance(const glm::dvec3& p_mm, std::int32_t* segment = nullptr) const;
   [[nodiscard]] const std::vector<Tube>& tubes() const { return tubes_; }
@@ -37,6 +39,8 @@ class TubeNetworkWall final : public WallModel {
   // Depth of p inside tube i (positive inside) and the closest axis point / radius.
   [[nodiscard]] double depth_in(std::size_t i, const glm::dvec3& p, glm::dvec3& axis_point) const;
   [[nodiscard]] bool closest(const glm::dvec3& p, bool use_grid, WallContact& out) const;
+  // The tube p lies deepest in (its index, axis point and depth); -inf depth when none.
+  [[nodiscard]] double deepest(const glm::dvec3& p, bool use_grid, std::size_t& best_i, glm::dvec3& best_axis) const;
   [[nodiscard]] std::int64_t cell_of(const glm::dvec3& p) const;
 
   std::vector<Tube> tubes_;

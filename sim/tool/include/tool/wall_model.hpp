@@ -53,6 +53,21 @@ class WallModel {
   // Fills `out` and returns true when the wall is within probe.range_mm of the node surface
   // (or the node is outside the lumen); returns false otherwise.
   [[nodiscard]] virtual bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const = 0;
+  // The lumen's radius at a point inside it: the analytic tube's there, else the radius of the
+  // nearest point on the centrelines of the surface's model (a scan of its points: for events
+  // and occasional reads, not every node every step); negative when the wall cannot tell.
+  [[nodiscard]] virtual double lumen_radius_mm(const glm::dvec3& point_mm) const;
 };
+
+// The nearest point of a segment's centreline to a point: its squared distance, the piece
+// (points i and i + 1; 0 for a one-point segment) and the fraction along it.
+struct CentrelineFoot {
+  double distance2_mm2 = 0.0;
+  std::size_t piece = 0;
+  double t = 0.0;
+};
+[[nodiscard]] CentrelineFoot nearest_on_centreline(const vessel::Segment& s, const glm::dvec3& point_mm);
+// The radius of the nearest point on a model's centrelines (linear along each piece).
+[[nodiscard]] double centreline_radius_mm(const vessel::VesselModel& model, const glm::dvec3& point_mm);
 
 }  // namespace cathbox::tool
