@@ -32,8 +32,12 @@ void Rod::set_node_material(std::size_t k) {
   const ToolSection* sec = &section_at(k);
   radius_[k] = 0.5 * sec->outer_diameter_mm;
   inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
-  ei_[k] = vertex_bending_Nmm2(length_mm_ - from_tip_[k] - 0.5 * right, length_mm_ - from_tip_[k] + 0.5 * left,
-                               sec->bending_stiffness_Nmm2) *
+  // A coil's joint with its pusher bends as its sections in series (vertex_bending_Nmm2); other
+  // tools keep the section holding the node (the stent retriever's pull was tuned on that).
+  ei_[k] = (spec_.kind == ToolKind::kCoil
+                ? vertex_bending_Nmm2(length_mm_ - from_tip_[k] - 0.5 * right, length_mm_ - from_tip_[k] + 0.5 * left,
+                                      sec->bending_stiffness_Nmm2)
+                : sec->bending_stiffness_Nmm2) *
            kMilli;
   gj_[k] = sec->torsion_stiffness_Nmm2 * kMilli;
   if (k > 0 && k + 1 < n) {

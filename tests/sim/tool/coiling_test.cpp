@@ -506,7 +506,7 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   // After a detach the pusher alone (the coil's stiff axial springs, out of the rod-contact
   // field) reads its hand force at the linearised equilibrium: 1 um of residual read as
   // 3·10^5-1.6·10^6 mN before; 17-31 N while the script pushed the detachment zone 1.5 mm out
-  // of a microcatheter tip lying on the sac wall (1.26 N at 0.1 mm, drawn back): the bound
+  // of a microcatheter tip lying on the sac wall (1.17 N at 0.1 mm, drawn back): the bound
   // catches the reading, not that.
   EXPECT_LT(pusher_peak_mN, 5.0e4);
   std::printf("pusher after detach: peak %.0f mN\n", pusher_peak_mN);
