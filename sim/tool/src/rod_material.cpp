@@ -32,7 +32,13 @@ void Rod::set_node_material(std::size_t k) {
   const ToolSection* sec = &section_at(k);
   radius_[k] = 0.5 * sec->outer_diameter_mm;
   inner_radius_[k] = 0.5 * spec_.inner_diameter_mm;
-  ei_[k] = sec->bending_stiffness_Nmm2 * kMilli;
+  // A coil's joint with its pusher bends as its sections in series (vertex_bending_Nmm2); other
+  // tools keep the section holding the node (the stent retriever's pull was tuned on that).
+  ei_[k] = (spec_.kind == ToolKind::kCoil
+                ? vertex_bending_Nmm2(length_mm_ - from_tip_[k] - 0.5 * right, length_mm_ - from_tip_[k] + 0.5 * left,
+                                      sec->bending_stiffness_Nmm2)
+                : sec->bending_stiffness_Nmm2) *
+           kMilli;
   gj_[k] = sec->torsion_stiffness_Nmm2 * kMilli;
   if (k > 0 && k + 1 < n) {
     const CoilRest rest = coil_rest(*sec, from_tip_[k]);
@@ -43,6 +49,27 @@ void Rod::set_node_material(std::size_t k) {
     }
   }
   drag_per_mm_[k] = spec_.drag_at(radius_[k]);
+}
+
+// A vertex's bending stiffness over its Voronoi region [from, to] (from the proximal end): the
+// sections' compliances in series, l / sum(l_i / EI_i). A vertex on a section boundary bends
+// mostly in its softer half; taking the proximal section's EI made the joint of a coil (0.02
+// N mm^2) and its pusher (10) as stiff as the pusher, so a coil's last node leaving the
+// microcatheter was held on the catheter's tip line by the pusher's hinge, into the sac wall.
+double Rod::vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nmm2) const {
+  if (!(to_mm > from_mm)) return fallback_Nmm2;
+  double start = 0.0, covered = 0.0, compliance = 0.0;
+  for (const ToolSection& sec : spec_.sections) {
+    const double end = start + sec.length_mm;
+    const double overlap = std::min(end, to_mm) - std::max(start, from_mm);
+    if (overlap > 0.0) {
+      if (!(sec.bending_stiffness_Nmm2 > 0.0)) return fallback_Nmm2;
+      covered += overlap;
+      compliance += overlap / sec.bending_stiffness_Nmm2;
+    }
+    start = end;
+  }
+  return compliance > 0.0 ? covered / compliance : fallback_Nmm2;
 }
 
 void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {

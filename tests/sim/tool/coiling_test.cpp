@@ -505,8 +505,9 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   expect_packed_apart(sim, second_overlap);
   // After a detach the pusher alone (the coil's stiff axial springs, out of the rod-contact
   // field) reads its hand force at the linearised equilibrium: 1 um of residual read as
-  // 3·10^5-1.6·10^6 mN before. Until it is drawn back the scripted pusher still presses on the
-  // packed coil, 17-31 N (README, Limits): the bound catches the reading, not that.
+  // 3·10^5-1.6·10^6 mN before; 17-31 N while the script pushed the detachment zone 1.5 mm out
+  // of a microcatheter tip lying on the sac wall (1.17 N at 0.1 mm, drawn back): the bound
+  // catches the reading, not that.
   EXPECT_LT(pusher_peak_mN, 5.0e4);
   std::printf("pusher after detach: peak %.0f mN\n", pusher_peak_mN);
   std::printf("two coils: %.1f mm deployed, packing %.2f %% of %.1f mm3, %d herniations, kick-back %.2f mm, "

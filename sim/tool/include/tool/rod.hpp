@@ -210,6 +210,7 @@ class Rod {
   // Radius, stiffnesses, rest shape and drag of node k from the section holding it.
   void set_node_material(std::size_t k);
   void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
+  [[nodiscard]] double vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nmm2) const;
   // The step's stiffness and drag coefficients (axial_k_, bend_w_, drag_k_), once per step.
   void update_weights(double dt_s);
 
