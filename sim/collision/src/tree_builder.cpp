@@ -365,26 +365,43 @@ class Builder {
 
   // Vertex -> kept triangles, neighbours across edges, valences, pseudo-normals.
   void build_topology() {
-    // Outgoing half-edges per vertex: u -> w of face f.
+    const VertexHalfEdges edges = outgoing_half_edges();
     const std::size_t nv = d_.positions.size();
-    std::vector<std::uint32_t> start(nv + 1, 0);
-    for (std::uint32_t f : kept_)
-      for (int k = 0; k < 3; ++k) ++start[d_.triangles[3 * f + k] + 1];
-    for (std::size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+    d_.valence.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) d_.valence[v] = edges.start[v + 1] - edges.start[v];
+    link_opposites(edges);
+    accumulate_vertex_normals();
+  }
+
+  // Outgoing half-edges per vertex: u -> w of face f, vertex v's in [start[v], start[v + 1]).
+  struct VertexHalfEdges {
     struct HalfEdge {
       std::uint32_t to;
       std::uint32_t face;
     };
-    std::vector<HalfEdge> out(start[nv]);
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    std::vector<std::uint32_t> start;
+    std::vector<HalfEdge> out;
+  };
+
+  [[nodiscard]] VertexHalfEdges outgoing_half_edges() const {
+    const std::size_t nv = d_.positions.size();
+    VertexHalfEdges e;
+    e.start.assign(nv + 1, 0);
+    for (std::uint32_t f : kept_)
+      for (int k = 0; k < 3; ++k) ++e.start[d_.triangles[3 * f + k] + 1];
+    for (std::size_t v = 0; v < nv; ++v) e.start[v + 1] += e.start[v];
+    e.out.resize(e.start[nv]);
+    std::vector<std::uint32_t> fill(e.start.begin(), e.start.end() - 1);
     for (std::uint32_t f : kept_)
       for (int k = 0; k < 3; ++k)
-        out[fill[d_.triangles[3 * f + k]]++] = {d_.triangles[3 * f + (k + 1) % 3], f};
+        e.out[fill[d_.triangles[3 * f + k]]++] = {d_.triangles[3 * f + (k + 1) % 3], f};
+    return e;
+  }
 
-    d_.valence.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) d_.valence[v] = start[v + 1] - start[v];
-
-    // The opposite of u -> w is w -> u; another u -> w means a non-manifold or flipped face.
+  // The opposite of u -> w is w -> u; another u -> w means a non-manifold or flipped face.
+  void link_opposites(const VertexHalfEdges& edges) {
+    const auto& start = edges.start;
+    const auto& out = edges.out;
     d_.opposite.assign(d_.triangles.size(), -1);
     bool closed = true;
     bool oriented = true;
@@ -407,8 +424,11 @@ class Builder {
     }
     d_.stats.closed = closed;
     d_.stats.consistently_oriented = oriented;
+  }
 
-    d_.vertex_normals.assign(nv, glm::dvec3{0.0});
+  // Angle-weighted pseudo-normals of the vertices.
+  void accumulate_vertex_normals() {
+    d_.vertex_normals.assign(d_.positions.size(), glm::dvec3{0.0});
     for (std::uint32_t f : kept_) {
       for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += facts_[f].angle[k] * d_.face_normals[f];
     }

@@ -323,13 +323,50 @@ void ContrastTransport::step() {
   if (remaining_mm3_ == 0.0 && tip_segment_ >= 0 && last_rate_mm3_s_ > 0.0) update_substeps();
 }
 
+namespace {
+
+// Upwind update of a segment's cells under a uniform flow: k = dt / cell volume, f the flow
+// (+ along the segment), the inflowing end's node concentration upstream of the first cell.
+void sweep_uniform(double* c, std::uint32_t n, double k, double f, double c_start, double c_end) {
+  if (f >= 0.0) {
+    double prev = c_start;
+    for (std::uint32_t j = 0; j < n; ++j) {
+      const double old = c[j];
+      c[j] = old + k * f * (prev - old);
+      prev = old;
+    }
+  } else {
+    double prev = c_end;
+    for (std::uint32_t j = n; j-- > 0;) {
+      const double old = c[j];
+      c[j] = old - k * f * (prev - old);
+      prev = old;
+    }
+  }
+}
+
+}  // namespace
+
 void ContrastTransport::advect(double dt, double w, double q) {
   const std::size_t n_nodes = node_conc_.size();
   double* in = scratch_a_.data();
   double* mass = in + n_nodes;
   double* out = mass + n_nodes;
   std::fill(in, in + 3 * n_nodes, 0.0);
-  // What each node receives from its segments (old concentrations) and sends into them.
+  gather_node_flows(w, q, in, mass, out);
+  mix_nodes(dt, in, mass, out);
+  for (std::uint32_t i = 0; i < segs_.size(); ++i) {
+    const SegmentCells& s = segs_[i];
+    if (s.sac >= 0 || static_cast<std::int64_t>(i) == tip_segment_) continue;
+    sweep_uniform(conc_.data() + s.first, s.count, dt / s.cell_volume_mm3, w * s.flow_mm3_s + q * s.added,
+                  node_conc_[static_cast<std::size_t>(s.start_node)], node_conc_[static_cast<std::size_t>(s.end_node)]);
+  }
+  if (tip_segment_ >= 0 && segs_[static_cast<std::size_t>(tip_segment_)].sac < 0) sweep_tip_segment(dt, w, q);
+  mix_sacs(dt, w, q);
+}
+
+// What each node receives from its segments (old concentrations) and sends into them.
+void ContrastTransport::gather_node_flows(double w, double q, double* in, double* mass, double* out) const {
   for (std::uint32_t i = 0; i < segs_.size(); ++i) {
     const SegmentCells& s = segs_[i];
     if (s.sac >= 0) continue;
@@ -357,7 +394,11 @@ void ContrastTransport::advect(double dt, double w, double q) {
     mass[m] += back * conc_[segs_[sac.segment].first];
     out[m] += w * sac.exchange_mm3_s;
   }
-  for (std::size_t n = 0; n < n_nodes; ++n) {
+}
+
+// Each node's mixed concentration; outlets drain what their segments do not carry away.
+void ContrastTransport::mix_nodes(double dt, const double* in, const double* mass, const double* out) {
+  for (std::size_t n = 0; n < node_conc_.size(); ++n) {
     double o = out[n];
     double drain = 0.0;
     if (node_kind_[n] == NodeKind::kOutlet) {
@@ -369,48 +410,32 @@ void ContrastTransport::advect(double dt, double w, double q) {
     if (o <= 0.0 && mass[n] > 0.0) stalled_mg_ += mass[n] * dt * 1e-3;
     washed_mg_ += drain * node_conc_[n] * dt * 1e-3;
   }
-  // Upwind sweep of each segment.
-  for (std::uint32_t i = 0; i < segs_.size(); ++i) {
-    const SegmentCells& s = segs_[i];
-    if (s.sac >= 0) continue;
-    double* c = conc_.data() + s.first;
-    const double k = dt / s.cell_volume_mm3;
-    const double c_start = node_conc_[static_cast<std::size_t>(s.start_node)];
-    const double c_end = node_conc_[static_cast<std::size_t>(s.end_node)];
-    const std::uint32_t n = s.count;
-    if (static_cast<std::int64_t>(i) != tip_segment_) {
-      const double f = w * s.flow_mm3_s + q * s.added;
-      if (f >= 0.0) {
-        double prev = c_start;
-        for (std::uint32_t j = 0; j < n; ++j) {
-          const double old = c[j];
-          c[j] = old + k * f * (prev - old);
-          prev = old;
-        }
-      } else {
-        double prev = c_end;
-        for (std::uint32_t j = n; j-- > 0;) {
-          const double old = c[j];
-          c[j] = old - k * f * (prev - old);
-          prev = old;
-        }
-      }
-      continue;
-    }
-    // The tip's segment: the flow changes at the tip cell, which also receives the injectate.
-    const auto flux = [&](std::uint32_t face, double left_c, double right_c) {
-      const double f = face_flow(s, i, face, w, q);
-      return f > 0.0 ? f * left_c : f * right_c;
-    };
-    double left = flux(0, c_start, c[0]);
-    for (std::uint32_t j = 0; j < n; ++j) {
-      const double right = flux(j + 1, c[j], j + 1 < n ? c[j + 1] : c_end);
-      c[j] += k * (left - right);
-      if (j == tip_cell_) c[j] += k * q * injectate_mgI_ml_;
-      left = right;
-    }
+}
+
+// The tip's segment: the flow changes at the tip cell, which also receives the injectate.
+void ContrastTransport::sweep_tip_segment(double dt, double w, double q) {
+  const auto i = static_cast<std::uint32_t>(tip_segment_);
+  const SegmentCells& s = segs_[i];
+  double* c = conc_.data() + s.first;
+  const double k = dt / s.cell_volume_mm3;
+  const double c_start = node_conc_[static_cast<std::size_t>(s.start_node)];
+  const double c_end = node_conc_[static_cast<std::size_t>(s.end_node)];
+  const std::uint32_t n = s.count;
+  const auto flux = [&](std::uint32_t face, double left_c, double right_c) {
+    const double f = face_flow(s, i, face, w, q);
+    return f > 0.0 ? f * left_c : f * right_c;
+  };
+  double left = flux(0, c_start, c[0]);
+  for (std::uint32_t j = 0; j < n; ++j) {
+    const double right = flux(j + 1, c[j], j + 1 < n ? c[j + 1] : c_end);
+    c[j] += k * (left - right);
+    if (j == tip_cell_) c[j] += k * q * injectate_mgI_ml_;
+    left = right;
   }
-  // Blind sacs: well mixed, exchanging with their mouth.
+}
+
+// Blind sacs: well mixed, exchanging with their mouth.
+void ContrastTransport::mix_sacs(double dt, double w, double q) {
   for (const Sac& sac : sacs_) {
     const SegmentCells& s = segs_[sac.segment];
     const double c_old = conc_[s.first];

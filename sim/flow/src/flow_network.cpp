@@ -64,6 +64,317 @@ double end_radius(const vessel::Segment& s, bool at_end) {
   return (at_end ? s.points.back() : s.points.front()).radius_mm;
 }
 
+double cube(double r) { return r * r * r; }
+
+// Node of each segment end: junctions first, then free ends in the graph's order.
+class EndNodes {
+ public:
+  EndNodes(const vessel::VesselGraph& graph, std::size_t n_seg) : graph_(graph), free_end_index_(2 * n_seg, -1) {
+    for (std::size_t k = 0; k < graph.free_ends().size(); ++k) {
+      const vessel::SegmentEnd& e = graph.free_ends()[k];
+      free_end_index_[2 * e.segment + (e.at_end ? 1 : 0)] = static_cast<int>(k);
+    }
+  }
+  [[nodiscard]] std::size_t count() const { return graph_.junctions().size() + graph_.free_ends().size(); }
+  [[nodiscard]] int node(std::size_t seg, bool at_end) const {
+    const int j = graph_.junction_of(static_cast<std::uint32_t>(seg), at_end);
+    return j >= 0 ? j : static_cast<int>(graph_.junctions().size()) + free_end_index_[2 * seg + (at_end ? 1 : 0)];
+  }
+
+ private:
+  const vessel::VesselGraph& graph_;
+  std::vector<int> free_end_index_;
+};
+
+// Segment geometry and resistance (Poiseuille over truncated cones).
+std::vector<SegmentFlow> measure_segments(const vessel::VesselModel& model, const EndNodes& nodes, double mu) {
+  std::vector<SegmentFlow> segments(model.segments.size());
+  for (std::size_t i = 0; i < model.segments.size(); ++i) {
+    const vessel::Segment& s = model.segments[i];
+    SegmentFlow& f = segments[i];
+    f.min_radius_mm = s.points.front().radius_mm;
+    for (std::size_t p = 1; p < s.points.size(); ++p) {
+      const double r0 = s.points[p - 1].radius_mm;
+      const double r1 = s.points[p].radius_mm;
+      const double len = glm::length(s.points[p].pos_mm - s.points[p - 1].pos_mm);
+      f.length_mm += len;
+      f.volume_mm3 += cone_volume_mm3(r0, r1, len);
+      f.resistance_Pa_s_per_mm3 += cone_resistance(r0, r1, len, mu);
+      f.min_radius_mm = std::min(f.min_radius_mm, r1);
+    }
+    f.resistance_Pa_s_per_mm3 = std::max(f.resistance_Pa_s_per_mm3, kMinResistance);
+    f.start_node = nodes.node(i, false);
+    f.end_node = nodes.node(i, true);
+  }
+  return segments;
+}
+
+// The connected component (its representative node) of every node.
+std::vector<std::size_t> node_components(const std::vector<SegmentFlow>& segments, std::size_t n_nodes) {
+  NodeSets sets(n_nodes);
+  for (const SegmentFlow& f : segments) sets.unite(static_cast<std::size_t>(f.start_node), static_cast<std::size_t>(f.end_node));
+  std::vector<std::size_t> component(n_nodes);
+  for (std::size_t v = 0; v < n_nodes; ++v) component[v] = sets.find(v);
+  return component;
+}
+
+// Terminals by name: free starts are inlets, free ends outlets, blind sacs closed.
+std::vector<Terminal> default_terminals(const vessel::VesselModel& model, const vessel::VesselGraph& graph, const EndNodes& nodes,
+                                        const FlowSettings& set) {
+  std::vector<Terminal> terminals;
+  for (const vessel::SegmentEnd& e : graph.free_ends()) {
+    Terminal t;
+    t.segment = e.segment;
+    t.at_end = e.at_end;
+    t.node = nodes.node(e.segment, e.at_end);
+    const vessel::Segment& s = model.segments[e.segment];
+    if (!e.at_end) {
+      t.role = EndRole::kInlet;
+    } else if (is_sac_name(s.name)) {
+      t.role = EndRole::kClosed;
+      t.target_ml_min = set.sac_exchange_fraction;
+    } else {
+      t.role = EndRole::kOutlet;
+      t.territory = territory_of(s.name);
+    }
+    terminals.push_back(t);
+  }
+  return terminals;
+}
+
+// The terminal a case setting names (a segment id and which end), or one located line.
+base::Result<std::size_t> find_setting_terminal(const vessel::VesselModel& model, const FlowSettings& set,
+                                                const std::vector<Terminal>& terminals, const SegmentSetting& o, bool at_end,
+                                                const char* what) {
+  const std::optional<std::size_t> idx = model.index_of(o.segment_id);
+  if (!idx) return base::Error{located_error(set, o.line, std::string(what) + ": no segment " + std::to_string(o.segment_id) + " in the vessel model")};
+  for (std::size_t k = 0; k < terminals.size(); ++k) {
+    if (terminals[k].segment == *idx && terminals[k].at_end == at_end) return k;
+  }
+  return base::Error{located_error(set, o.line, std::string(what) + ": segment " + std::to_string(o.segment_id) + "'s " +
+                                                    (at_end ? "distal" : "proximal") + " end is not a free end")};
+}
+
+// The case's closed ends, outlet targets and inflows override the defaults.
+base::Status<> apply_case_terminals(const vessel::VesselModel& model, const FlowSettings& set, std::vector<Terminal>& terminals) {
+  for (const SegmentSetting& o : set.closed) {
+    const base::Result<std::size_t> k = find_setting_terminal(model, set, terminals, o, true, "flow closed");
+    if (!k) return k.error();
+    Terminal& t = terminals[*k];
+    t.role = EndRole::kClosed;
+    t.target_ml_min = o.value;
+    t.overridden = true;
+  }
+  for (const SegmentSetting& o : set.outlets) {
+    const base::Result<std::size_t> k = find_setting_terminal(model, set, terminals, o, true, "flow outlet");
+    if (!k) return k.error();
+    Terminal& t = terminals[*k];
+    if (t.role == EndRole::kClosed && t.overridden) {
+      return base::Error{located_error(set, o.line, "flow outlet: segment " + std::to_string(o.segment_id) + " is also given as closed")};
+    }
+    t.role = EndRole::kOutlet;
+    t.territory = territory_of(model.segments[t.segment].name);
+    t.target_ml_min = o.value;
+    t.overridden = true;
+  }
+  for (const SegmentSetting& o : set.inflows) {
+    const base::Result<std::size_t> k = find_setting_terminal(model, set, terminals, o, false, "flow inflow");
+    if (!k) return k.error();
+    terminals[*k].target_ml_min = o.value;
+    terminals[*k].overridden = true;
+  }
+  return base::Ok{};
+}
+
+// A component without an inlet takes its widest open free end as one.
+void promote_widest_outlet(const vessel::VesselModel& model, std::vector<Terminal>& terminals, const std::vector<std::size_t>& ks) {
+  const auto role_count = [&](EndRole r) {
+    return std::count_if(ks.begin(), ks.end(), [&](std::size_t k) { return terminals[k].role == r; });
+  };
+  if (role_count(EndRole::kInlet) > 0 || role_count(EndRole::kOutlet) < 2) return;
+  std::size_t widest = ks.front();
+  double r_max = -1.0;
+  for (std::size_t k : ks) {
+    const Terminal& t = terminals[k];
+    if (t.role != EndRole::kOutlet || t.overridden) continue;
+    const double r = end_radius(model.segments[t.segment], t.at_end);
+    if (r > r_max) {
+      r_max = r;
+      widest = k;
+    }
+  }
+  if (r_max > 0.0) {
+    terminals[widest].role = EndRole::kInlet;
+    terminals[widest].territory = Territory::kNone;
+  }
+}
+
+using TerritoryGroups = std::map<std::pair<Territory, Side>, double>;
+
+// Sum of r^3 over the open, default outlets of each (territory, side).
+TerritoryGroups territory_r3(const vessel::VesselModel& model, const std::vector<Terminal>& terminals, const std::vector<std::size_t>& ks) {
+  TerritoryGroups group_r3;
+  for (std::size_t k : ks) {
+    const Terminal& t = terminals[k];
+    if (t.role != EndRole::kOutlet || t.overridden || t.territory == Territory::kNone) continue;
+    const double r = end_radius(model.segments[t.segment], t.at_end);
+    group_r3[{t.territory, side_of(model.segments[t.segment].name)}] += cube(r);
+  }
+  return group_r3;
+}
+
+// Outlet targets: overrides; territories (a side's share split among its outlets by r^3);
+// the descending aorta takes the rest of the cardiac output; Murray's law otherwise.
+void assign_outlet_targets(const vessel::VesselModel& model, const FlowSettings& set, std::vector<Terminal>& terminals,
+                           const std::vector<std::size_t>& ks) {
+  TerritoryGroups group_r3 = territory_r3(model, terminals, ks);
+  double assigned = 0.0;
+  for (std::size_t k : ks) {
+    Terminal& t = terminals[k];
+    if (t.role != EndRole::kOutlet) continue;
+    const vessel::Segment& s = model.segments[t.segment];
+    const double r = end_radius(s, t.at_end);
+    if (!t.overridden) {
+      if (t.territory == Territory::kNone) {
+        t.target_ml_min = murray_flow_ml_min(r, set);
+      } else if (t.territory != Territory::kDescendingAorta) {
+        const Side side = side_of(s.name);
+        const double total = territory_flow_per_side_ml_min(t.territory, set) * (side == Side::kNone ? 2.0 : 1.0);
+        t.target_ml_min = total * r * r * r / group_r3[{t.territory, side}];
+      }
+    }
+    if (t.overridden || t.territory != Territory::kDescendingAorta) assigned += t.target_ml_min;
+  }
+  const double rest = set.cardiac_output_ml_min - assigned;
+  double desc_total = 0.0;
+  for (const auto& [key, r3] : group_r3) {
+    if (key.first == Territory::kDescendingAorta) desc_total += r3;
+  }
+  for (std::size_t k : ks) {
+    Terminal& t = terminals[k];
+    if (t.role != EndRole::kOutlet || t.overridden || t.territory != Territory::kDescendingAorta) continue;
+    const double r = end_radius(model.segments[t.segment], t.at_end);
+    t.target_ml_min = rest > 0.0 ? rest * r * r * r / desc_total : murray_flow_ml_min(r, set);
+  }
+}
+
+// Inflows: prescribed ones, the rest of the outlets' total shared by r^3.
+void assign_inflows(const vessel::VesselModel& model, std::vector<Terminal>& terminals, const std::vector<std::size_t>& ks) {
+  double outflow = 0.0, fixed = 0.0, free_r3 = 0.0;
+  for (std::size_t k : ks) {
+    const Terminal& t = terminals[k];
+    const double r = end_radius(model.segments[t.segment], t.at_end);
+    if (t.role == EndRole::kOutlet) outflow += t.target_ml_min;
+    if (t.role == EndRole::kInlet && t.overridden) fixed += t.target_ml_min;
+    if (t.role == EndRole::kInlet && !t.overridden) free_r3 += r * r * r;
+  }
+  for (std::size_t k : ks) {
+    Terminal& t = terminals[k];
+    if (t.role != EndRole::kInlet || t.overridden) continue;
+    const double r = end_radius(model.segments[t.segment], t.at_end);
+    t.target_ml_min = std::max(0.0, outflow - fixed) * r * r * r / free_r3;
+  }
+}
+
+// The segments' conductance Laplacian over the nodes; returns the largest conductance.
+double add_segment_laplacian(const std::vector<SegmentFlow>& segments, std::vector<Eigen::Triplet<double>>& triplets) {
+  double g_max = 0.0;
+  for (const SegmentFlow& f : segments) {
+    if (f.start_node == f.end_node) continue;
+    const double g = 1.0 / f.resistance_Pa_s_per_mm3;
+    g_max = std::max(g_max, g);
+    triplets.emplace_back(f.start_node, f.start_node, g);
+    triplets.emplace_back(f.end_node, f.end_node, g);
+    triplets.emplace_back(f.start_node, f.end_node, -g);
+    triplets.emplace_back(f.end_node, f.start_node, -g);
+  }
+  return g_max;
+}
+
+std::optional<Eigen::VectorXd> solve_nodes(std::size_t n_nodes, const std::vector<Eigen::Triplet<double>>& triplets, const Eigen::VectorXd& b) {
+  Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(n_nodes), static_cast<Eigen::Index>(n_nodes));
+  a.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+  solver.compute(a);
+  if (solver.info() != Eigen::Success) return std::nullopt;
+  Eigen::VectorXd x = solver.solve(b);
+  if (solver.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
+  return x;
+}
+
+struct ComponentFlows {
+  double in_mm3_s = 0.0, out_mm3_s = 0.0;
+  int pin = -1;  // an inlet node, held at the arterial pressure when calibrating
+  [[nodiscard]] bool flowing() const { return pin >= 0 && in_mm3_s > 0.0 && out_mm3_s > 0.0; }
+};
+using ComponentMap = std::map<std::size_t, ComponentFlows>;
+
+// Each component's total inflow and outflow targets and its pin; every outlet needs a positive
+// target and every inflow an outlet to drain it.
+base::Result<ComponentMap> component_flows(const vessel::VesselModel& model, const std::vector<Terminal>& terminals,
+                                           const std::vector<std::size_t>& component) {
+  ComponentMap comps;
+  for (const std::size_t c : component) comps.emplace(c, ComponentFlows{});
+  for (const Terminal& t : terminals) {
+    ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
+    if (t.role == EndRole::kOutlet) {
+      if (!(t.target_ml_min > 0.0) || !std::isfinite(t.target_ml_min)) {
+        return base::Error{"flow: outlet of segment " + std::to_string(model.segments[t.segment].id) + " has no positive target flow"};
+      }
+      c.out_mm3_s += t.target_ml_min / 0.06;
+    } else if (t.role == EndRole::kInlet) {
+      c.in_mm3_s += t.target_ml_min / 0.06;
+      if (c.pin < 0) c.pin = t.node;
+    }
+  }
+  for (const Terminal& t : terminals) {
+    if (t.role == EndRole::kInlet && t.target_ml_min > 0.0 && comps[component[static_cast<std::size_t>(t.node)]].out_mm3_s <= 0.0) {
+      return base::Error{"flow: segment " + std::to_string(model.segments[t.segment].id) + " has an inflow but its network has no outlet"};
+    }
+  }
+  return comps;
+}
+
+struct NodeSystem {
+  const std::vector<Eigen::Triplet<double>>& laplacian;
+  double g_max = 0.0;
+  const std::vector<std::size_t>& component;
+};
+
+// Calibrated terminal resistances: with the arterial pressure at the inlet every outlet drains
+// its target (the outlets' targets scaled to the inflow): R_t = (p_outlet - P_venous) / Q_target.
+base::Status<> calibrate_terminals(const vessel::VesselModel& model, const NodeSystem& sys, const ComponentMap& comps,
+                                   double drop_Pa, std::vector<Terminal>& terminals) {
+  const std::size_t n_nodes = sys.component.size();
+  std::vector<Eigen::Triplet<double>> triplets = sys.laplacian;
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_nodes));
+  const double g_pin = sys.g_max > 0.0 ? sys.g_max : 1.0;
+  for (const auto& [comp, c] : comps) {
+    const int pin = c.flowing() ? c.pin : static_cast<int>(comp);
+    triplets.emplace_back(pin, pin, g_pin);
+    if (c.flowing()) b[pin] += g_pin * drop_Pa;  // no net flow through the pin: it holds the pressure exactly
+  }
+  for (const Terminal& t : terminals) {
+    const ComponentFlows& c = comps.at(sys.component[static_cast<std::size_t>(t.node)]);
+    if (!c.flowing()) continue;
+    if (t.role == EndRole::kInlet) b[t.node] += t.target_ml_min / 0.06;
+    if (t.role == EndRole::kOutlet) b[t.node] -= t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s;
+  }
+  const std::optional<Eigen::VectorXd> pc = solve_nodes(n_nodes, triplets, b);
+  if (!pc) return base::Error{"flow: the network's pressure system could not be solved"};
+  for (Terminal& t : terminals) {
+    const ComponentFlows& c = comps.at(sys.component[static_cast<std::size_t>(t.node)]);
+    if (t.role != EndRole::kOutlet || c.pin < 0 || c.in_mm3_s <= 0.0) continue;
+    const double p_out = (*pc)[t.node];
+    if (!(p_out > 0.0)) {
+      return base::Error{"flow: the vessels upstream of segment " + std::to_string(model.segments[t.segment].id) +
+                         "'s outlet drop the arterial pressure below the venous pressure at the target flows"};
+    }
+    t.resistance_Pa_s_per_mm3 = p_out / (t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s);
+  }
+  return base::Ok{};
+}
+
 }  // namespace
 
 FlowBuild FlowNetwork::build(const vessel::VesselModel& model, const FlowSettings& settings) {
@@ -82,277 +393,38 @@ base::Status<> FlowNetwork::solve() {
   const vessel::VesselModel& model = model_;
   const FlowSettings& set = settings_;
   const vessel::VesselGraph graph(model);
-  const std::size_t n_seg = model.segments.size();
-  const std::size_t n_junctions = graph.junctions().size();
-  const std::size_t n_nodes = n_junctions + graph.free_ends().size();
-  const double mu = set.viscosity_mPa_s * 1e-3;
+  const EndNodes nodes(graph, model.segments.size());
+  segments_ = measure_segments(model, nodes, set.viscosity_mPa_s * 1e-3);
+  const std::vector<std::size_t> component = node_components(segments_, nodes.count());
 
-  // Node of each segment end: junctions first, then free ends in the graph's order.
-  std::vector<int> free_end_index(2 * n_seg, -1);
-  for (std::size_t k = 0; k < graph.free_ends().size(); ++k) {
-    const vessel::SegmentEnd& e = graph.free_ends()[k];
-    free_end_index[2 * e.segment + (e.at_end ? 1 : 0)] = static_cast<int>(k);
-  }
-  const auto node_of = [&](std::size_t seg, bool at_end) {
-    const int j = graph.junction_of(static_cast<std::uint32_t>(seg), at_end);
-    return j >= 0 ? j : static_cast<int>(n_junctions) + free_end_index[2 * seg + (at_end ? 1 : 0)];
-  };
-
-  // Segment geometry and resistance.
-  segments_.assign(n_seg, SegmentFlow{});
-  for (std::size_t i = 0; i < n_seg; ++i) {
-    const vessel::Segment& s = model.segments[i];
-    SegmentFlow& f = segments_[i];
-    f.min_radius_mm = s.points.front().radius_mm;
-    for (std::size_t p = 1; p < s.points.size(); ++p) {
-      const double r0 = s.points[p - 1].radius_mm;
-      const double r1 = s.points[p].radius_mm;
-      const double len = glm::length(s.points[p].pos_mm - s.points[p - 1].pos_mm);
-      f.length_mm += len;
-      f.volume_mm3 += cone_volume_mm3(r0, r1, len);
-      f.resistance_Pa_s_per_mm3 += cone_resistance(r0, r1, len, mu);
-      f.min_radius_mm = std::min(f.min_radius_mm, r1);
-    }
-    f.resistance_Pa_s_per_mm3 = std::max(f.resistance_Pa_s_per_mm3, kMinResistance);
-    f.start_node = node_of(i, false);
-    f.end_node = node_of(i, true);
-  }
-
-  // Components of the node graph.
-  NodeSets sets(n_nodes);
-  for (const SegmentFlow& f : segments_) sets.unite(static_cast<std::size_t>(f.start_node), static_cast<std::size_t>(f.end_node));
-  std::vector<std::size_t> component(n_nodes);
-  for (std::size_t v = 0; v < n_nodes; ++v) component[v] = sets.find(v);
-
-  // Terminals: free starts are inlets, free ends outlets, blind sacs closed.
-  terminals_.clear();
-  for (const vessel::SegmentEnd& e : graph.free_ends()) {
-    Terminal t;
-    t.segment = e.segment;
-    t.at_end = e.at_end;
-    t.node = node_of(e.segment, e.at_end);
-    const vessel::Segment& s = model.segments[e.segment];
-    if (!e.at_end) {
-      t.role = EndRole::kInlet;
-    } else if (is_sac_name(s.name)) {
-      t.role = EndRole::kClosed;
-      t.target_ml_min = set.sac_exchange_fraction;
-    } else {
-      t.role = EndRole::kOutlet;
-      t.territory = territory_of(s.name);
-    }
-    terminals_.push_back(t);
-  }
-  const auto find_terminal = [&](std::int32_t id, bool at_end) -> int {
-    const std::optional<std::size_t> idx = model.index_of(id);
-    if (!idx) return -2;
-    for (std::size_t k = 0; k < terminals_.size(); ++k) {
-      if (terminals_[k].segment == *idx && terminals_[k].at_end == at_end) return static_cast<int>(k);
-    }
-    return -1;
-  };
-  const auto lookup = [&](const SegmentSetting& o, bool at_end, const char* what, int& k) -> std::string {
-    k = find_terminal(o.segment_id, at_end);
-    if (k == -2) return located_error(set, o.line, std::string(what) + ": no segment " + std::to_string(o.segment_id) + " in the vessel model");
-    if (k == -1) {
-      return located_error(set, o.line, std::string(what) + ": segment " + std::to_string(o.segment_id) + "'s " +
-                                            (at_end ? "distal" : "proximal") + " end is not a free end");
-    }
-    return {};
-  };
-  for (const SegmentSetting& o : set.closed) {
-    int k = 0;
-    if (std::string e = lookup(o, true, "flow closed", k); !e.empty()) return base::Error{std::move(e)};
-    terminals_[static_cast<std::size_t>(k)].role = EndRole::kClosed;
-    terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
-    terminals_[static_cast<std::size_t>(k)].overridden = true;
-  }
-  for (const SegmentSetting& o : set.outlets) {
-    int k = 0;
-    if (std::string e = lookup(o, true, "flow outlet", k); !e.empty()) return base::Error{std::move(e)};
-    Terminal& t = terminals_[static_cast<std::size_t>(k)];
-    if (t.role == EndRole::kClosed && t.overridden) {
-      return base::Error{located_error(set, o.line, "flow outlet: segment " + std::to_string(o.segment_id) + " is also given as closed")};
-    }
-    t.role = EndRole::kOutlet;
-    t.territory = territory_of(model.segments[t.segment].name);
-    t.target_ml_min = o.value;
-    t.overridden = true;
-  }
-  for (const SegmentSetting& o : set.inflows) {
-    int k = 0;
-    if (std::string e = lookup(o, false, "flow inflow", k); !e.empty()) return base::Error{std::move(e)};
-    terminals_[static_cast<std::size_t>(k)].target_ml_min = o.value;
-    terminals_[static_cast<std::size_t>(k)].overridden = true;
-  }
-
-  // A component without an inlet takes its widest open free end as one.
+  terminals_ = default_terminals(model, graph, nodes, set);
+  if (base::Status<> applied = apply_case_terminals(model, set, terminals_); !applied) return applied;
   std::map<std::size_t, std::vector<std::size_t>> by_component;
   for (std::size_t k = 0; k < terminals_.size(); ++k) by_component[component[static_cast<std::size_t>(terminals_[k].node)]].push_back(k);
-  for (auto& entry : by_component) {
-    std::vector<std::size_t>& ks = entry.second;  // (a structured binding cannot be captured in C++20 by clang 14)
-    const auto role_count = [&](EndRole r) {
-      return std::count_if(ks.begin(), ks.end(), [&](std::size_t k) { return terminals_[k].role == r; });
-    };
-    if (role_count(EndRole::kInlet) > 0 || role_count(EndRole::kOutlet) < 2) continue;
-    std::size_t widest = ks.front();
-    double r_max = -1.0;
-    for (std::size_t k : ks) {
-      const Terminal& t = terminals_[k];
-      if (t.role != EndRole::kOutlet || t.overridden) continue;
-      const double r = end_radius(model.segments[t.segment], t.at_end);
-      if (r > r_max) {
-        r_max = r;
-        widest = k;
-      }
-    }
-    if (r_max > 0.0) {
-      terminals_[widest].role = EndRole::kInlet;
-      terminals_[widest].territory = Territory::kNone;
-    }
-  }
-
-  // Outlet targets: overrides; territories (a side's share split among its outlets by r^3);
-  // the descending aorta takes the rest of the cardiac output; Murray's law otherwise.
-  for (auto& [comp, ks] : by_component) {
-    (void)comp;
-    std::map<std::pair<Territory, Side>, double> group_r3;
-    for (std::size_t k : ks) {
-      const Terminal& t = terminals_[k];
-      if (t.role != EndRole::kOutlet || t.overridden || t.territory == Territory::kNone) continue;
-      const double r = end_radius(model.segments[t.segment], t.at_end);
-      group_r3[{t.territory, side_of(model.segments[t.segment].name)}] += r * r * r;
-    }
-    double assigned = 0.0;
-    for (std::size_t k : ks) {
-      Terminal& t = terminals_[k];
-      if (t.role != EndRole::kOutlet) continue;
-      const vessel::Segment& s = model.segments[t.segment];
-      const double r = end_radius(s, t.at_end);
-      if (!t.overridden) {
-        if (t.territory == Territory::kNone) {
-          t.target_ml_min = murray_flow_ml_min(r, set);
-        } else if (t.territory != Territory::kDescendingAorta) {
-          const Side side = side_of(s.name);
-          const double total = territory_flow_per_side_ml_min(t.territory, set) * (side == Side::kNone ? 2.0 : 1.0);
-          t.target_ml_min = total * r * r * r / group_r3[{t.territory, side}];
-        }
-      }
-      if (t.overridden || t.territory != Territory::kDescendingAorta) assigned += t.target_ml_min;
-    }
-    const double rest = set.cardiac_output_ml_min - assigned;
-    double desc_total = 0.0;
-    for (const auto& [key, r3] : group_r3) {
-      if (key.first == Territory::kDescendingAorta) desc_total += r3;
-    }
-    for (std::size_t k : ks) {
-      Terminal& t = terminals_[k];
-      if (t.role != EndRole::kOutlet || t.overridden || t.territory != Territory::kDescendingAorta) continue;
-      const double r = end_radius(model.segments[t.segment], t.at_end);
-      t.target_ml_min = rest > 0.0 ? rest * r * r * r / desc_total : murray_flow_ml_min(r, set);
-    }
-    // Inflows: prescribed ones, the rest of the outlets' total shared by r^3.
-    double outflow = 0.0, fixed = 0.0, free_r3 = 0.0;
-    for (std::size_t k : ks) {
-      const Terminal& t = terminals_[k];
-      const double r = end_radius(model.segments[t.segment], t.at_end);
-      if (t.role == EndRole::kOutlet) outflow += t.target_ml_min;
-      if (t.role == EndRole::kInlet && t.overridden) fixed += t.target_ml_min;
-      if (t.role == EndRole::kInlet && !t.overridden) free_r3 += r * r * r;
-    }
-    for (std::size_t k : ks) {
-      Terminal& t = terminals_[k];
-      if (t.role != EndRole::kInlet || t.overridden) continue;
-      const double r = end_radius(model.segments[t.segment], t.at_end);
-      t.target_ml_min = std::max(0.0, outflow - fixed) * r * r * r / free_r3;
-    }
+  for (const auto& entry : by_component) promote_widest_outlet(model, terminals_, entry.second);
+  for (const auto& entry : by_component) {
+    assign_outlet_targets(model, set, terminals_, entry.second);
+    assign_inflows(model, terminals_, entry.second);
   }
 
   // Kirchhoff's current law in the node pressures (Pa above venous): the segments' Laplacian
   // plus, per case, terminal conductances to ground and sources.
   const double drop_Pa = (set.arterial_pressure_mmHg - set.venous_pressure_mmHg) * kPa_per_mmHg;
   std::vector<Eigen::Triplet<double>> laplacian;
-  laplacian.reserve(4 * n_seg);
-  double g_max = 0.0;
-  for (const SegmentFlow& f : segments_) {
-    if (f.start_node == f.end_node) continue;
-    const double g = 1.0 / f.resistance_Pa_s_per_mm3;
-    g_max = std::max(g_max, g);
-    laplacian.emplace_back(f.start_node, f.start_node, g);
-    laplacian.emplace_back(f.end_node, f.end_node, g);
-    laplacian.emplace_back(f.start_node, f.end_node, -g);
-    laplacian.emplace_back(f.end_node, f.start_node, -g);
-  }
-  const auto solve_nodes = [&](std::vector<Eigen::Triplet<double>> triplets, const Eigen::VectorXd& b) -> std::optional<Eigen::VectorXd> {
-    Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(n_nodes), static_cast<Eigen::Index>(n_nodes));
-    a.setFromTriplets(triplets.begin(), triplets.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-    solver.compute(a);
-    if (solver.info() != Eigen::Success) return std::nullopt;
-    Eigen::VectorXd x = solver.solve(b);
-    if (solver.info() != Eigen::Success || !x.allFinite()) return std::nullopt;
-    return x;
-  };
-  struct ComponentFlows {
-    double in_mm3_s = 0.0, out_mm3_s = 0.0;
-    int pin = -1;  // an inlet node, held at the arterial pressure when calibrating
-  };
-  std::map<std::size_t, ComponentFlows> comps;
-  for (std::size_t v = 0; v < n_nodes; ++v) comps.emplace(component[v], ComponentFlows{});
-  for (Terminal& t : terminals_) {
-    ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
-    if (t.role == EndRole::kOutlet) {
-      if (!(t.target_ml_min > 0.0) || !std::isfinite(t.target_ml_min)) {
-        return base::Error{"flow: outlet of segment " + std::to_string(model.segments[t.segment].id) + " has no positive target flow"};
-      }
-      c.out_mm3_s += t.target_ml_min / 0.06;
-    } else if (t.role == EndRole::kInlet) {
-      c.in_mm3_s += t.target_ml_min / 0.06;
-      if (c.pin < 0) c.pin = t.node;
-    }
-  }
-  for (const Terminal& t : terminals_) {
-    if (t.role == EndRole::kInlet && t.target_ml_min > 0.0 && comps[component[static_cast<std::size_t>(t.node)]].out_mm3_s <= 0.0) {
-      return base::Error{"flow: segment " + std::to_string(model.segments[t.segment].id) + " has an inflow but its network has no outlet"};
-    }
-  }
-  // Terminal resistances: fixed, R_t = (P_arterial - P_venous) / Q_target; or calibrated, so
-  // that with the arterial pressure at the inlet every outlet drains its target (the outlets'
-  // targets scaled to the inflow): R_t = (p_outlet - P_venous) / Q_target.
+  laplacian.reserve(4 * segments_.size());
+  const double g_max = add_segment_laplacian(segments_, laplacian);
+  base::Result<ComponentMap> comps = component_flows(model, terminals_, component);
+  if (!comps) return comps.error();
+  // Terminal resistances: fixed, R_t = (P_arterial - P_venous) / Q_target; or calibrated.
   for (Terminal& t : terminals_) {
     if (t.role == EndRole::kOutlet) t.resistance_Pa_s_per_mm3 = drop_Pa / (t.target_ml_min / 0.06);
   }
   if (set.calibrate_terminals) {
-    std::vector<Eigen::Triplet<double>> triplets = laplacian;
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n_nodes));
-    const double g_pin = g_max > 0.0 ? g_max : 1.0;
-    for (const auto& [comp, c] : comps) {
-      const bool flowing = c.pin >= 0 && c.in_mm3_s > 0.0 && c.out_mm3_s > 0.0;
-      const int pin = flowing ? c.pin : static_cast<int>(comp);
-      triplets.emplace_back(pin, pin, g_pin);
-      if (flowing) b[pin] += g_pin * drop_Pa;  // no net flow through the pin: it holds the pressure exactly
-    }
-    for (const Terminal& t : terminals_) {
-      const ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
-      if (c.pin < 0 || c.in_mm3_s <= 0.0 || c.out_mm3_s <= 0.0) continue;
-      if (t.role == EndRole::kInlet) b[t.node] += t.target_ml_min / 0.06;
-      if (t.role == EndRole::kOutlet) b[t.node] -= t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s;
-    }
-    const std::optional<Eigen::VectorXd> pc = solve_nodes(std::move(triplets), b);
-    if (!pc) return base::Error{"flow: the network's pressure system could not be solved"};
-    for (Terminal& t : terminals_) {
-      const ComponentFlows& c = comps[component[static_cast<std::size_t>(t.node)]];
-      if (t.role != EndRole::kOutlet || c.pin < 0 || c.in_mm3_s <= 0.0) continue;
-      const double p_out = (*pc)[t.node];
-      if (!(p_out > 0.0)) {
-        return base::Error{"flow: the vessels upstream of segment " + std::to_string(model.segments[t.segment].id) +
-               "'s outlet drop the arterial pressure below the venous pressure at the target flows"};
-      }
-      t.resistance_Pa_s_per_mm3 = p_out / (t.target_ml_min / 0.06 * c.in_mm3_s / c.out_mm3_s);
-    }
+    const NodeSystem sys{laplacian, g_max, component};
+    if (base::Status<> calibrated = calibrate_terminals(model, sys, *comps, drop_Pa, terminals_); !calibrated) return calibrated;
   }
   idle_pins_.clear();
-  for (const auto& [comp, c] : comps) {
+  for (const auto& [comp, c] : *comps) {
     if (c.out_mm3_s <= 0.0) idle_pins_.push_back(static_cast<int>(comp));
   }
   open_resistance_Pa_s_per_mm3_.clear();
@@ -367,27 +439,16 @@ base::Status<> FlowNetwork::solve_pressures() {
   for (const SegmentFlow& f : segments_) nodes = std::max({nodes, static_cast<std::size_t>(f.start_node) + 1, static_cast<std::size_t>(f.end_node) + 1});
   std::vector<Eigen::Triplet<double>> triplets;
   triplets.reserve(4 * segments_.size() + terminals_.size() + idle_pins_.size());
-  for (const SegmentFlow& f : segments_) {
-    if (f.start_node == f.end_node) continue;
-    const double g = 1.0 / f.resistance_Pa_s_per_mm3;
-    triplets.emplace_back(f.start_node, f.start_node, g);
-    triplets.emplace_back(f.end_node, f.end_node, g);
-    triplets.emplace_back(f.start_node, f.end_node, -g);
-    triplets.emplace_back(f.end_node, f.start_node, -g);
-  }
+  (void)add_segment_laplacian(segments_, triplets);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(nodes));
   for (const Terminal& t : terminals_) {
     if (t.role == EndRole::kOutlet) triplets.emplace_back(t.node, t.node, 1.0 / t.resistance_Pa_s_per_mm3);
     if (t.role == EndRole::kInlet) rhs[t.node] += t.target_ml_min / 0.06;
   }
   for (int pin : idle_pins_) triplets.emplace_back(pin, pin, 1.0);  // no flow: pin
-  Eigen::SparseMatrix<double> a(static_cast<Eigen::Index>(nodes), static_cast<Eigen::Index>(nodes));
-  a.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-  solver.compute(a);
-  if (solver.info() != Eigen::Success) return base::Error{"flow: the network's pressure system could not be solved"};
-  const Eigen::VectorXd p = solver.solve(rhs);
-  if (solver.info() != Eigen::Success || !p.allFinite()) return base::Error{"flow: the network's pressure system could not be solved"};
+  const std::optional<Eigen::VectorXd> solved = solve_nodes(nodes, triplets, rhs);
+  if (!solved) return base::Error{"flow: the network's pressure system could not be solved"};
+  const Eigen::VectorXd& p = *solved;
   pressure_Pa_.assign(p.data(), p.data() + p.size());
 
   const double mu = settings_.viscosity_mPa_s * 1e-3;

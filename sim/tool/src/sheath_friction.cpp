@@ -40,10 +40,24 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     out.force_mN = 0.0;
     return out;
   }
-  // Turning angle and curvature at the interior vertices (index 0 is distal).
+  measure_turning(path);
+  const auto [t_fwd, t_back] = capstan_normals(path, distal_force_mN);
+  out.force_limit_fwd_mN = t_fwd - distal_force_mN;
+  out.force_limit_back_mN = t_back - distal_force_mN;
+  const double k = std::max(1e-9, anchor_stiffness_mN_per_mm);
+  stick_slide(k, out);
+  const double torque_limit = distribute_friction(path, distal_force_mN, out);
+  out.torque_limit_mNmm = torque_limit;
+  const double r_mean = path.front().inner_radius_mm;
+  stick_twist(k * r_mean * r_mean, torque_limit, out);
+  return out;
+}
+
+// Turning angle and curvature at the interior vertices (index 0 is distal).
+void SheathFriction::measure_turning(const std::vector<SheathVertex>& path) {
+  const std::size_t m = path.size();
   curvature_.assign(m, 0.0);
   bending_.assign(m, 0.0);
-  std::vector<double>& curvature = curvature_;
   for (std::size_t j = 1; j + 1 < m; ++j) {
     const glm::dvec3 a = path[j].point_mm - path[j + 1].point_mm;  // distal direction, proximal edge
     const glm::dvec3 b = path[j - 1].point_mm - path[j].point_mm;  // distal edge
@@ -52,17 +66,21 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     if (!(la > 1e-9) || !(lb > 1e-9)) continue;
     const double c = std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0);
     turning_[j] = base::portable::acos(c);
-    curvature[j] = turning_[j] / (0.5 * (la + lb));
+    curvature_[j] = turning_[j] / (0.5 * (la + lb));
   }
-  // Normal forces for sliding forwards and backwards (capstan on the running axial force).
+}
+
+// Normal forces for sliding forwards and backwards (capstan on the running axial force).
+std::pair<double, double> SheathFriction::capstan_normals(const std::vector<SheathVertex>& path, double distal_force_mN) {
+  const std::size_t m = path.size();
   double t_fwd = distal_force_mN;
   double t_back = distal_force_mN;
   for (std::size_t j = 0; j < m; ++j) {
     double bending = 0.0;
     if (j + 1 < m) {
-      const double dk = std::abs(curvature[j] - curvature[j + 1]);
+      const double dk = std::abs(curvature_[j] - curvature_[j + 1]);
       if (dk > 0.0) {
-        const double k = std::max({curvature[j], curvature[j + 1], 1e-9});
+        const double k = std::max({curvature_[j], curvature_[j + 1], 1e-9});
         const double h = glm::length(path[j].point_mm - path[j + 1].point_mm);
         const double l = std::max(h, 2.0 * std::sqrt(2.0 * std::max(0.0, path[j].clearance_mm) / k));
         bending = path[j].inner_ei_Nmm2 * kMilli * dk / l;
@@ -74,10 +92,11 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     t_fwd += path[j].mu * normal_fwd_[j];
     t_back -= path[j].mu * normal_back_[j];
   }
-  out.force_limit_fwd_mN = t_fwd - distal_force_mN;
-  out.force_limit_back_mN = t_back - distal_force_mN;
-  // Stick spring with slip at the limits.
-  const double k = std::max(1e-9, anchor_stiffness_mN_per_mm);
+  return {t_fwd, t_back};
+}
+
+// Stick spring with slip at the limits.
+void SheathFriction::stick_slide(double k, Result& out) {
   double f = k * (slide_ - anchor_);
   out.sticking = true;
   if (f > out.force_limit_fwd_mN) {
@@ -90,7 +109,12 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     out.sticking = false;
   }
   out.force_mN = f;
-  // The axial force profile and the normal forces that go with the friction actually acting.
+}
+
+// The axial force profile and the normal forces that go with the friction actually acting.
+double SheathFriction::distribute_friction(const std::vector<SheathVertex>& path, double distal_force_mN, const Result& out) {
+  const std::size_t m = path.size();
+  const double f = out.force_mN;
   const std::vector<double>& normal = f >= 0.0 ? normal_fwd_ : normal_back_;
   const double limit = f >= 0.0 ? out.force_limit_fwd_mN : out.force_limit_back_mN;
   const double share = std::abs(limit) > 1e-12 ? f / limit : 0.0;
@@ -108,9 +132,11 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     reaction_[j] = distal * fj;
   }
   axial_[m] = t;
-  out.torque_limit_mNmm = torque_limit;
-  const double r_mean = path.front().inner_radius_mm;
-  const double kt = k * r_mean * r_mean;
+  return torque_limit;
+}
+
+// Twist spring with slip at the friction torque limit.
+void SheathFriction::stick_twist(double kt, double torque_limit, Result& out) {
   double tau = kt * (turn_ - turn_anchor_);
   out.twist_sticking = true;
   if (std::abs(tau) > torque_limit) {
@@ -119,7 +145,6 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
     out.twist_sticking = false;
   }
   out.torque_mNmm = tau;
-  return out;
 }
 
 }  // namespace cathbox::tool

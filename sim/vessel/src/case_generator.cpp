@@ -505,6 +505,125 @@ class Random {
   return {{start, r0}, {mid, 0.5 * (r0 + r1)}, {mid + 0.5 * length * end_dir, r1}};
 }
 
+// random_graph's steps: a ring of junctions joined by ring segments, chords across the ring and
+// a side branch per junction; the parent / child relations written once every segment is known.
+class RandomGraphBuilder {
+ public:
+  RandomGraphBuilder(std::uint64_t seed, int cycles) : rng_(seed), cycles_(std::max(cycles, 1)), n_(cycles_ + 2) {
+    place_junctions();
+  }
+
+  VesselModel build() {
+    add_ring();
+    add_chords();
+    for (int j = 0; j < n_; ++j) add_side_branch(static_cast<std::size_t>(j));
+    link_junctions();
+    return std::move(staged_);
+  }
+
+ private:
+  // Each junction collects the ids of segments ending there (ins) and starting there (outs).
+  struct Node {
+    std::vector<std::int32_t> ins, outs;
+  };
+
+  void place_junctions() {
+    const double ring_radius = rng_.uniform(22.0, 30.0);
+    junction_.resize(static_cast<std::size_t>(n_));
+    for (int j = 0; j < n_; ++j) {
+      const double a = 2.0 * kPi * (j + rng_.uniform(-0.12, 0.12)) / n_;
+      junction_[static_cast<std::size_t>(j)] = {ring_radius * std::cos(a), ring_radius * std::sin(a), rng_.uniform(-2.0, 2.0)};
+    }
+    nodes_.resize(static_cast<std::size_t>(n_));
+  }
+
+  double radius() { return rng_.uniform(1.0, 1.6); }
+
+  std::int32_t stage(const std::string& name, const std::vector<Knot>& knots) {
+    Network one(1.0);
+    one.add(name, knots, {});
+    VesselModel m = one.take();
+    m.segments[0].id = next_id_++;
+    staged_.segments.push_back(m.segments[0]);
+    return staged_.segments.back().id;
+  }
+
+  // Ring segments, alternating direction so that some junctions are confluences.
+  void add_ring() {
+    for (int j = 0; j < n_; ++j) {
+      const auto a = static_cast<std::size_t>(j);
+      const auto b = static_cast<std::size_t>((j + 1) % n_);
+      const bool forward = rng_.chance(0.6);
+      const glm::dvec3 from = forward ? junction_[a] : junction_[b];
+      const glm::dvec3 to = forward ? junction_[b] : junction_[a];
+      glm::dvec3 mid = 0.5 * (from + to);
+      mid += 0.15 * glm::length(mid) * glm::normalize(glm::dvec3(mid.x, mid.y, 0.0));
+      const double r = radius();
+      const std::int32_t id = stage("ring", {{from, r}, {mid, r}, {to, r}});
+      nodes_[forward ? b : a].ins.push_back(id);
+      nodes_[forward ? a : b].outs.push_back(id);
+    }
+  }
+
+  // Chords from junction 0 to junctions 2..cycles, arching upwards at different heights.
+  void add_chords() {
+    for (int c = 0; c + 1 < cycles_; ++c) {
+      const auto b = static_cast<std::size_t>(2 + c);
+      const glm::dvec3 mid = 0.5 * (junction_[0] + junction_[b]) + glm::dvec3(0, 0, 8.0 + 7.0 * c);
+      const double r = radius();
+      const std::int32_t id = stage("chord", {{junction_[0], r}, {mid, r}, {junction_[b], r}});
+      nodes_[0].outs.push_back(id);
+      nodes_[b].ins.push_back(id);
+    }
+  }
+
+  // One outward side branch at junction j (a child, or a parent if nothing starts there); some
+  // split again into two free branches (a trifurcation when the junction had 3 ends).
+  void add_side_branch(std::size_t j) {
+    Node& node = nodes_[j];
+    const glm::dvec3 p = junction_[j];
+    const glm::dvec3 out = glm::normalize(glm::dvec3(p.x, p.y, 0.0) + glm::dvec3(0, 0, rng_.uniform(-8.0, 8.0)));
+    const double r = radius();
+    const double length = rng_.uniform(14.0, 22.0);
+    if (node.ins.empty()) {
+      node.ins.push_back(stage("feeder", {{p + length * out, r}, {p + 0.5 * length * out, r}, {p, r}}));
+      return;
+    }
+    const std::int32_t id = stage("branch", {{p, r}, {p + 0.5 * length * out, r}, {p + length * out, r}});
+    node.outs.push_back(id);
+    if (!rng_.chance(0.5)) return;
+    const glm::dvec3 tip = p + length * out;
+    const glm::dvec3 up{0, 0, 1};
+    for (double s : {-1.0, 1.0}) {
+      const glm::dvec3 dir = glm::normalize(rotate(out, up, s * 0.6));
+      const std::int32_t child = stage("twig", {{tip, 0.8 * r}, {tip + 6.0 * dir, 0.8 * r}, {tip + 12.0 * dir, 0.75 * r}});
+      Segment& parent = staged_.segments[static_cast<std::size_t>(*staged_.index_of(id))];
+      parent.children.push_back(child);
+      staged_.segments.back().parents.push_back(id);
+    }
+  }
+
+  // Every segment into a junction is a parent of every segment out of it.
+  void link_junctions() {
+    for (const Node& node : nodes_) {
+      for (std::int32_t in : node.ins) {
+        for (std::int32_t out : node.outs) {
+          staged_.segments[static_cast<std::size_t>(*staged_.index_of(in))].children.push_back(out);
+          staged_.segments[static_cast<std::size_t>(*staged_.index_of(out))].parents.push_back(in);
+        }
+      }
+    }
+  }
+
+  Random rng_;
+  int cycles_;
+  int n_;  // ring segments
+  std::vector<glm::dvec3> junction_;
+  std::vector<Node> nodes_;
+  VesselModel staged_;
+  std::int32_t next_id_ = 1;
+};
+
 }  // namespace
 
 std::vector<std::string> CaseGenerator::case_names() {
@@ -579,94 +698,7 @@ VesselModel CaseGenerator::random_tree(std::uint64_t seed, const RandomTreeOptio
   return net.take();
 }
 
-VesselModel CaseGenerator::random_graph(std::uint64_t seed, int cycles) {
-  Random rng(seed);
-  Network net(1.0);
-  cycles = std::max(cycles, 1);
-  const int n = cycles + 2;  // ring segments
-  const double ring_radius = rng.uniform(22.0, 30.0);
-  std::vector<glm::dvec3> junction(static_cast<std::size_t>(n));
-  for (int j = 0; j < n; ++j) {
-    const double a = 2.0 * kPi * (j + rng.uniform(-0.12, 0.12)) / n;
-    junction[static_cast<std::size_t>(j)] = {ring_radius * std::cos(a), ring_radius * std::sin(a), rng.uniform(-2.0, 2.0)};
-  }
-  // Each junction collects the ids of segments ending there (ins) and starting there (outs);
-  // the relations are written once all are known.
-  struct Node {
-    std::vector<std::int32_t> ins, outs;
-  };
-  std::vector<Node> nodes(static_cast<std::size_t>(n));
-  const auto radius = [&]() { return rng.uniform(1.0, 1.6); };
-  VesselModel staged;
-  std::int32_t next_id = 1;
-  const auto stage = [&](const std::string& name, const std::vector<Knot>& knots) {
-    Network one(1.0);
-    one.add(name, knots, {});
-    VesselModel m = one.take();
-    m.segments[0].id = next_id++;
-    staged.segments.push_back(m.segments[0]);
-    return staged.segments.back().id;
-  };
-  // Ring segments, alternating direction so that some junctions are confluences.
-  for (int j = 0; j < n; ++j) {
-    const auto a = static_cast<std::size_t>(j);
-    const auto b = static_cast<std::size_t>((j + 1) % n);
-    const bool forward = rng.chance(0.6);
-    const glm::dvec3 from = forward ? junction[a] : junction[b];
-    const glm::dvec3 to = forward ? junction[b] : junction[a];
-    glm::dvec3 mid = 0.5 * (from + to);
-    mid += 0.15 * glm::length(mid) * glm::normalize(glm::dvec3(mid.x, mid.y, 0.0));
-    const double r = radius();
-    const std::int32_t id = stage("ring", {{from, r}, {mid, r}, {to, r}});
-    nodes[forward ? b : a].ins.push_back(id);
-    nodes[forward ? a : b].outs.push_back(id);
-  }
-  // Chords from junction 0 to junctions 2..cycles, arching upwards at different heights.
-  for (int c = 0; c + 1 < cycles; ++c) {
-    const auto b = static_cast<std::size_t>(2 + c);
-    const glm::dvec3 mid = 0.5 * (junction[0] + junction[b]) + glm::dvec3(0, 0, 8.0 + 7.0 * c);
-    const double r = radius();
-    const std::int32_t id = stage("chord", {{junction[0], r}, {mid, r}, {junction[b], r}});
-    nodes[0].outs.push_back(id);
-    nodes[b].ins.push_back(id);
-  }
-  // One outward side branch per junction (a child, or a parent if nothing starts there);
-  // some split again into two free branches (a trifurcation when the junction had 3 ends).
-  for (int j = 0; j < n; ++j) {
-    Node& node = nodes[static_cast<std::size_t>(j)];
-    const glm::dvec3 p = junction[static_cast<std::size_t>(j)];
-    const glm::dvec3 out = glm::normalize(glm::dvec3(p.x, p.y, 0.0) + glm::dvec3(0, 0, rng.uniform(-8.0, 8.0)));
-    const double r = radius();
-    const double length = rng.uniform(14.0, 22.0);
-    if (node.ins.empty()) {
-      const std::int32_t id = stage("feeder", {{p + length * out, r}, {p + 0.5 * length * out, r}, {p, r}});
-      node.ins.push_back(id);
-    } else {
-      const std::int32_t id = stage("branch", {{p, r}, {p + 0.5 * length * out, r}, {p + length * out, r}});
-      node.outs.push_back(id);
-      if (rng.chance(0.5)) {
-        const glm::dvec3 tip = p + length * out;
-        const glm::dvec3 up{0, 0, 1};
-        for (double s : {-1.0, 1.0}) {
-          const glm::dvec3 dir = glm::normalize(rotate(out, up, s * 0.6));
-          const std::int32_t child = stage("twig", {{tip, 0.8 * r}, {tip + 6.0 * dir, 0.8 * r}, {tip + 12.0 * dir, 0.75 * r}});
-          Segment& parent = staged.segments[static_cast<std::size_t>(*staged.index_of(id))];
-          parent.children.push_back(child);
-          staged.segments.back().parents.push_back(id);
-        }
-      }
-    }
-  }
-  for (const Node& node : nodes) {
-    for (std::int32_t in : node.ins) {
-      for (std::int32_t out : node.outs) {
-        staged.segments[static_cast<std::size_t>(*staged.index_of(in))].children.push_back(out);
-        staged.segments[static_cast<std::size_t>(*staged.index_of(out))].parents.push_back(in);
-      }
-    }
-  }
-  return staged;
-}
+VesselModel CaseGenerator::random_graph(std::uint64_t seed, int cycles) { return RandomGraphBuilder(seed, cycles).build(); }
 
 VesselModel CaseGenerator::helix(double helix_radius_mm, double pitch_mm, double turns, double radius_mm, int points) {
   VesselModel model;

@@ -120,14 +120,9 @@ class Builder {
     std::vector<double> d(k);
     std::vector<double> max_d(k);
     for (std::size_t i = 0; i < k; ++i) {
+      max_d[i] = trim_limit(junction, junction.ends[i], relaxed);
       const SegmentEnd& e = junction.ends[i];
-      const Polyline& pl = polylines_[e.segment];
-      const double r = sample(pl, end_arc(e, 0.0)).radius / ratio_;
-      const int other_junction = graph_.junction_of(e.segment, !e.at_end);
-      const double other_trim = trims_[2 * e.segment + (e.at_end ? 0 : 1)];
-      const bool same_junction = other_junction >= 0 && &graph_.junctions()[static_cast<std::size_t>(other_junction)] == &junction;
-      if (relaxed && !same_junction) max_d[i] = std::max(0.0, 0.95 * pl.length - other_trim);
-      else max_d[i] = (other_junction >= 0 ? 0.47 : 0.85) * pl.length;
+      const double r = sample(polylines_[e.segment], end_arc(e, 0.0)).radius / ratio_;
       d[i] = std::min(std::max(kInitialTrimRadii * r, trims_[2 * e.segment + (e.at_end ? 1 : 0)]), max_d[i]);
     }
     std::vector<Sample> at(k);
@@ -142,19 +137,12 @@ class Builder {
       clear = true;
       bool changed = false;
       for (std::size_t i = 0; i < k; ++i) {
-        for (std::size_t j = 0; j < k; ++j) {
-          if (i == j) continue;
-          const double cos_ij = glm::dot(out_normal[i], at[j].tangent);
-          const double reach = glm::dot(out_normal[i], at[j].pos - at[i].pos) +
-                               at[j].radius / ratio_ * std::sqrt(std::max(0.0, 1.0 - cos_ij * cos_ij));
-          if (reach <= -kPlaneMarginRadii * at[i].radius / ratio_) continue;
-          // Ring j reaches in front of ring i's plane: move ring i further out.
-          clear = false;
-          if (d[i] < max_d[i]) {
-            d[i] = std::min(max_d[i], d[i] + kTrimStepRadii * at[i].radius / ratio_);
-            changed = true;
-          }
-          break;
+        if (!ring_in_front(at, out_normal, i)) continue;
+        // A ring reaches in front of ring i's plane: move ring i further out.
+        clear = false;
+        if (d[i] < max_d[i]) {
+          d[i] = std::min(max_d[i], d[i] + kTrimStepRadii * at[i].radius / ratio_);
+          changed = true;
         }
       }
       if (!changed) break;
@@ -164,6 +152,29 @@ class Builder {
       trims_[2 * e.segment + (e.at_end ? 1 : 0)] = d[i];
     }
     return clear;
+  }
+
+  // How far the junction may trim segment end e: its share of the segment, or (relaxed) what
+  // the segment's other end left over.
+  [[nodiscard]] double trim_limit(const Junction& junction, const SegmentEnd& e, bool relaxed) const {
+    const Polyline& pl = polylines_[e.segment];
+    const int other_junction = graph_.junction_of(e.segment, !e.at_end);
+    const double other_trim = trims_[2 * e.segment + (e.at_end ? 0 : 1)];
+    const bool same_junction = other_junction >= 0 && &graph_.junctions()[static_cast<std::size_t>(other_junction)] == &junction;
+    if (relaxed && !same_junction) return std::max(0.0, 0.95 * pl.length - other_trim);
+    return (other_junction >= 0 ? 0.47 : 0.85) * pl.length;
+  }
+
+  // Whether some other ring j reaches in front of ring i's plane (past the margin).
+  [[nodiscard]] bool ring_in_front(const std::vector<Sample>& at, const std::vector<glm::dvec3>& out_normal, std::size_t i) const {
+    for (std::size_t j = 0; j < at.size(); ++j) {
+      if (i == j) continue;
+      const double cos_ij = glm::dot(out_normal[i], at[j].tangent);
+      const double reach = glm::dot(out_normal[i], at[j].pos - at[i].pos) +
+                           at[j].radius / ratio_ * std::sqrt(std::max(0.0, 1.0 - cos_ij * cos_ij));
+      if (!(reach <= -kPlaneMarginRadii * at[i].radius / ratio_)) return true;  // (NaN counts as in front)
+    }
+    return false;
   }
 
   // Sizes known up front (junction patches estimated by M faces per incident ring), so the

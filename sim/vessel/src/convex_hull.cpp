@@ -18,11 +18,9 @@ namespace {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
 }
 
-}  // namespace
-
-std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input) {
-  const int n = static_cast<int>(input.size());
-  if (n < 4) return {};
+// The points moved to the unit box of their extent with a deterministic perturbation
+// (xorshift), 1e-7 of the extent; empty for a degenerate or non-finite extent.
+std::vector<glm::dvec3> normalised_jittered(const std::vector<glm::dvec3>& input) {
   glm::dvec3 lo = input[0];
   glm::dvec3 hi = input[0];
   for (const glm::dvec3& p : input) {
@@ -31,8 +29,6 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
   }
   const double scale = glm::length(hi - lo);
   if (!(scale > 0.0) || !std::isfinite(scale)) return {};
-
-  // Deterministic perturbation (xorshift), 1e-7 of the extent, in units of the extent.
   std::vector<glm::dvec3> pts(input.size());
   std::uint64_t state = 0x9E3779B97F4A7C15ull;
   const auto next = [&state]() {
@@ -41,12 +37,17 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
     state ^= state << 17;
     return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0) - 0.5;
   };
-  for (int i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < input.size(); ++i) {
     const glm::dvec3 jitter(next(), next(), next());
-    pts[static_cast<std::size_t>(i)] = (input[static_cast<std::size_t>(i)] - lo) / scale + 1e-7 * jitter;
+    pts[i] = (input[i] - lo) / scale + 1e-7 * jitter;
   }
+  return pts;
+}
 
-  // Initial tetrahedron from well spread points.
+// Initial tetrahedron from well spread points, its first face pointing outward; empty when the
+// points are (nearly) coplanar.
+std::vector<std::array<int, 3>> initial_tetrahedron(const std::vector<glm::dvec3>& pts) {
+  const int n = static_cast<int>(pts.size());
   int i0 = 0;
   int i1 = 0;
   for (int i = 1; i < n; ++i) {
@@ -74,22 +75,25 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
   if (i3 < 0 || best < 1e-18) return {};
   if (orient(pts[i0], pts[i1], pts[i2], pts[i3]) > 0.0) std::swap(i1, i2);
   // Now i3 is below face (i0,i1,i2), so that face points outward.
-  std::vector<std::array<int, 3>> faces = {{i0, i1, i2}, {i0, i3, i1}, {i1, i3, i2}, {i2, i3, i0}};
-  std::vector<char> alive(faces.size(), 1);
-  faces.reserve(8 * static_cast<std::size_t>(n));
-  alive.reserve(faces.capacity());
+  return {{i0, i1, i2}, {i0, i3, i1}, {i1, i3, i2}, {i2, i3, i0}};
+}
 
+// An incremental hull: faces with their alive flags and the scratch of one insertion.
+struct IncrementalHull {
+  std::vector<std::array<int, 3>> faces;
+  std::vector<char> alive;
   std::vector<std::size_t> visible;
   std::vector<std::uint64_t> visible_edges;  // sorted; a few dozen at most
-  for (int p = 0; p < n; ++p) {
-    if (p == i0 || p == i1 || p == i2 || p == i3) continue;
+
+  // Adds point p: removes the faces it sees and fans their horizon to it.
+  void add(const std::vector<glm::dvec3>& pts, int p) {
     visible.clear();
     for (std::size_t f = 0; f < faces.size(); ++f) {
       if (!alive[f]) continue;
       const auto& t = faces[f];
       if (orient(pts[t[0]], pts[t[1]], pts[t[2]], pts[p]) > 0.0) visible.push_back(f);
     }
-    if (visible.empty()) continue;  // inside
+    if (visible.empty()) return;  // inside
     visible_edges.clear();
     for (std::size_t f : visible) {
       const auto& t = faces[f];
@@ -109,9 +113,30 @@ std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input
       }
     }
   }
+};
+
+}  // namespace
+
+std::vector<std::array<int, 3>> convex_hull(const std::vector<glm::dvec3>& input) {
+  const int n = static_cast<int>(input.size());
+  if (n < 4) return {};
+  const std::vector<glm::dvec3> pts = normalised_jittered(input);
+  if (pts.empty()) return {};
+  IncrementalHull hull;
+  hull.faces = initial_tetrahedron(pts);
+  if (hull.faces.empty()) return {};
+  hull.alive.assign(hull.faces.size(), 1);
+  hull.faces.reserve(8 * static_cast<std::size_t>(n));
+  hull.alive.reserve(hull.faces.capacity());
+  const std::array<int, 3> first = hull.faces[0];
+  const int apex = hull.faces[1][1];
+  for (int p = 0; p < n; ++p) {
+    if (p == first[0] || p == first[1] || p == first[2] || p == apex) continue;
+    hull.add(pts, p);
+  }
   std::vector<std::array<int, 3>> out;
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    if (alive[f]) out.push_back(faces[f]);
+  for (std::size_t f = 0; f < hull.faces.size(); ++f) {
+    if (hull.alive[f]) out.push_back(hull.faces[f]);
   }
   return out;
 }

@@ -20,6 +20,53 @@ namespace {
   return 0.5 * (lower + upper);
 }
 
+// The usable radii of the window around i (2 kRadiusWindow + 1 points, shifted inward at the
+// ends), widened until it holds one (`original` has at least one usable radius).
+void usable_window(const std::vector<double>& original, std::size_t i, std::vector<double>& window) {
+  const std::size_t n = original.size();
+  const auto width = static_cast<std::size_t>(2 * kRadiusWindow + 1);
+  std::size_t begin = i >= static_cast<std::size_t>(kRadiusWindow) ? i - kRadiusWindow : 0;
+  if (begin + width > n) begin = n > width ? n - width : 0;
+  std::size_t end = std::min(n, begin + width);
+  window.clear();
+  for (;;) {
+    for (std::size_t j = begin; j < end; ++j) {
+      if (usable(original[j])) window.push_back(original[j]);
+    }
+    if (!window.empty() || (begin == 0 && end == n)) break;
+    window.clear();
+    begin = begin > 0 ? begin - 1 : 0;
+    end = std::min(n, end + 1);
+  }
+}
+
+// Scratch vectors reused across segments.
+struct FilterScratch {
+  std::vector<double> original, window, deviation;
+};
+
+// Replaces the segment's outlying and unusable radii by their window's median; returns whether
+// it changed any.
+bool filter_segment(Segment& segment, FilterScratch& scratch, RadiusFilterReport& report) {
+  auto& points = segment.points;
+  const std::size_t n = points.size();
+  bool segment_changed = false;
+  for (std::size_t i = 0; i < n; ++i) {
+    usable_window(scratch.original, i, scratch.window);
+    const double m = median(scratch.window);
+    scratch.deviation.clear();
+    for (double r : scratch.window) scratch.deviation.push_back(std::abs(r - m));
+    const double spread = 1.4826 * median(scratch.deviation);
+    const double r = scratch.original[i];
+    if (usable(r) && std::abs(r - m) <= std::max(kRadiusSigmas * spread, kRadiusMinRelative * m)) continue;
+    points[i].radius_mm = m;
+    ++report.changed;
+    segment_changed = true;
+    report.max_relative_change = std::max(report.max_relative_change, usable(r) ? std::abs(m - r) / m : 1.0);
+  }
+  return segment_changed;
+}
+
 }  // namespace
 
 std::string RadiusFilterReport::summary() const {
@@ -32,50 +79,21 @@ std::string RadiusFilterReport::summary() const {
 
 RadiusFilterReport filter_radii(VesselModel& model) {
   RadiusFilterReport report;
-  std::vector<double> original, window, deviation;
+  FilterScratch scratch;
   for (Segment& segment : model.segments) {
-    auto& points = segment.points;
-    const std::size_t n = points.size();
+    const std::size_t n = segment.points.size();
     report.points += n;
-    original.resize(n);
+    scratch.original.resize(n);
     bool any_usable = false;
     for (std::size_t i = 0; i < n; ++i) {
-      original[i] = points[i].radius_mm;
-      any_usable = any_usable || usable(original[i]);
+      scratch.original[i] = segment.points[i].radius_mm;
+      any_usable = any_usable || usable(scratch.original[i]);
     }
     if (!any_usable) {
       ++report.unusable_segments;
       continue;
     }
-    const auto width = static_cast<std::size_t>(2 * kRadiusWindow + 1);
-    bool segment_changed = false;
-    for (std::size_t i = 0; i < n; ++i) {
-      // The window around i, shifted inward at the ends; widened until it holds a usable radius.
-      std::size_t begin = i >= static_cast<std::size_t>(kRadiusWindow) ? i - kRadiusWindow : 0;
-      if (begin + width > n) begin = n > width ? n - width : 0;
-      std::size_t end = std::min(n, begin + width);
-      window.clear();
-      for (;;) {
-        for (std::size_t j = begin; j < end; ++j) {
-          if (usable(original[j])) window.push_back(original[j]);
-        }
-        if (!window.empty() || (begin == 0 && end == n)) break;
-        window.clear();
-        begin = begin > 0 ? begin - 1 : 0;
-        end = std::min(n, end + 1);
-      }
-      const double m = median(window);
-      deviation.clear();
-      for (double r : window) deviation.push_back(std::abs(r - m));
-      const double spread = 1.4826 * median(deviation);
-      const double r = original[i];
-      if (usable(r) && std::abs(r - m) <= std::max(kRadiusSigmas * spread, kRadiusMinRelative * m)) continue;
-      points[i].radius_mm = m;
-      ++report.changed;
-      segment_changed = true;
-      report.max_relative_change = std::max(report.max_relative_change, usable(r) ? std::abs(m - r) / m : 1.0);
-    }
-    if (segment_changed) ++report.segments_changed;
+    if (filter_segment(segment, scratch, report)) ++report.segments_changed;
   }
   return report;
 }

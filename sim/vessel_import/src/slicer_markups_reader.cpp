@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iterator>
 #include <memory>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -175,6 +176,12 @@ class CurveReader {
     if (out_.errors.size() < kMaxErrors) out_.errors.push_back({std::string(file_), line_of(text_, at.at), 0, std::move(message)});
   }
 
+  // fail(), for steps that return whether they succeeded.
+  bool reject(const Node& at, std::string message) {
+    fail(at, std::move(message));
+    return false;
+  }
+
   [[nodiscard]] const Node* string_member(const Node& object, std::string_view key, const std::string& what) {
     const Node* n = object.member(key);
     if (n && n->kind != Node::Kind::kString) {
@@ -198,27 +205,62 @@ class CurveReader {
       ++out_.skipped_markups;
       return;
     }
-    // Coordinates: LPS or RAS, mm or um.
+    const std::optional<bool> ras = is_ras(m, what);
+    if (!ras) return;
+    const std::optional<double> unit_mm = unit_in_mm(m, what);
+    if (!unit_mm) return;
+    const Node* points = m.member("controlPoints");
+    if (!points || points->kind != Node::Kind::kArray) return fail(m, what + " has no \"controlPoints\" array");
+    const Node* radii = radius_values(m, what, points->items.size());
+    if (!radii) return;
+    Polyline line;
+    line.name = name ? name->text : type->text;
+    line.where = what;
+    const PointFrame frame{*ras, *unit_mm};
+    for (std::size_t j = 0; j < points->items.size(); ++j) {
+      if (!control_point(points->items[j], radii->items[j], j, what, frame, line)) return;
+    }
+    if (type->text == "ClosedCurve" && line.points.size() >= 3) line.points.push_back(line.points.front());
+    if (line.points.size() < 2) return fail(m, what + " has fewer than 2 defined control points");
+    out_.curves.push_back(std::move(line));
+  }
+
+  // Coordinates: LPS or RAS (true); nothing after a failure.
+  std::optional<bool> is_ras(const Node& m, const std::string& what) {
     bool ras = false;
     if (const Node* system = string_member(m, "coordinateSystem", what)) {
-      if (system->text == "RAS") ras = true;
-      else if (system->text != "LPS") return fail(*system, what + ": coordinateSystem '" + system->text + "' is neither LPS nor RAS");
+      if (system->text == "RAS") {
+        ras = true;
+      } else if (system->text != "LPS") {
+        fail(*system, what + ": coordinateSystem '" + system->text + "' is neither LPS nor RAS");
+        return std::nullopt;
+      }
       if (out_.coordinate_system.empty()) out_.coordinate_system = system->text;
     }
     if (out_.coordinate_system.empty()) out_.coordinate_system = "LPS";
+    return ras;
+  }
+
+  // The coordinates' unit, mm or um (the caller's override wins); nothing after a failure.
+  std::optional<double> unit_in_mm(const Node& m, const std::string& what) {
     double unit_mm = 1.0;
     if (const Node* units = m.member("coordinateUnits")) {
       const Node* code = units->kind == Node::Kind::kArray && !units->items.empty() ? &units->items.front() : units;
       if (code->kind != Node::Kind::kString || (code->text != "mm" && code->text != "um")) {
-        if (unit_override_mm_ <= 0.0) return fail(*units, what + ": coordinateUnits must be \"mm\" or \"um\"");
+        if (unit_override_mm_ <= 0.0) {
+          fail(*units, what + ": coordinateUnits must be \"mm\" or \"um\"");
+          return std::nullopt;
+        }
       } else {
         unit_mm = code->text == "um" ? 1e-3 : 1.0;
       }
     }
     if (unit_override_mm_ > 0.0) unit_mm = unit_override_mm_;
-    const Node* points = m.member("controlPoints");
-    if (!points || points->kind != Node::Kind::kArray) return fail(m, what + " has no \"controlPoints\" array");
-    // The radius per control point.
+    return unit_mm;
+  }
+
+  // The radius per control point: the measurement named radius_name_; null after a failure.
+  const Node* radius_values(const Node& m, const std::string& what, std::size_t point_count) {
     const Node* radii = nullptr;
     if (const Node* measurements = m.member("measurements"); measurements && measurements->kind == Node::Kind::kArray) {
       for (const Node& meas : measurements->items) {
@@ -226,57 +268,62 @@ class CurveReader {
         if (!mname || mname->kind != Node::Kind::kString || lower(mname->text) != radius_name_) continue;
         radii = meas.member("controlPointValues");
         if (!radii || radii->kind != Node::Kind::kArray) {
-          return fail(meas, what + ": measurement '" + mname->text + "' has no \"controlPointValues\" array");
+          fail(meas, what + ": measurement '" + mname->text + "' has no \"controlPointValues\" array");
+          return nullptr;
         }
         break;
       }
     }
     if (!radii) {
-      return fail(m, what + " has no per-point radius (a measurement named '" + radius_name_ +
-                         "' with \"controlPointValues\")");
+      fail(m, what + " has no per-point radius (a measurement named '" + radius_name_ + "' with \"controlPointValues\")");
+      return nullptr;
     }
-    if (radii->items.size() != points->items.size()) {
-      return fail(*radii, what + ": " + std::to_string(radii->items.size()) + " radius values for " +
-                              std::to_string(points->items.size()) + " control points");
+    if (radii->items.size() != point_count) {
+      fail(*radii, what + ": " + std::to_string(radii->items.size()) + " radius values for " + std::to_string(point_count) +
+                       " control points");
+      return nullptr;
     }
-    Polyline line;
-    line.name = name ? name->text : type->text;
-    line.where = what;
-    for (std::size_t j = 0; j < points->items.size(); ++j) {
-      const Node& cp = points->items[j];
-      const std::string point_what = what + ", control point " + std::to_string(j);
-      if (cp.kind != Node::Kind::kObject) return fail(cp, point_what + " is not an object");
-      if (const Node* status = cp.member("positionStatus"); status && status->kind == Node::Kind::kString &&
-                                                             (status->text == "undefined" || status->text == "preview")) {
-        ++out_.skipped_points;
-        continue;
-      }
-      const Node* position = cp.member("position");
-      if (!position) return fail(cp, point_what + " has no \"position\"");
-      if (position->kind != Node::Kind::kArray || position->items.size() != 3) {
-        return fail(*position, point_what + ": \"position\" must be 3 numbers");
-      }
-      double xyz[3];
-      for (std::size_t k = 0; k < 3; ++k) {
-        const Node& c = position->items[k];
-        if (c.kind != Node::Kind::kNumber || !std::isfinite(c.number)) {
-          return fail(c, point_what + ": \"position\" must be 3 finite numbers");
-        }
-        xyz[k] = c.number;
-      }
-      const Node& r = radii->items[j];
-      if (r.kind != Node::Kind::kNumber || !std::isfinite(r.number)) {
-        return fail(r, what + ": radius of control point " + std::to_string(j) + " is not a finite number");
-      }
-      if (ras) {
-        xyz[0] = -xyz[0];
-        xyz[1] = -xyz[1];
-      }
-      line.points.push_back({glm::dvec3(xyz[0], xyz[1], xyz[2]) * unit_mm, r.number * unit_mm});
+    return radii;
+  }
+
+  struct PointFrame {
+    bool ras = false;
+    double unit_mm = 1.0;
+  };
+
+  // Control point j with its radius appended to `line` (LPS, mm), or skipped when undefined or a
+  // preview; false after a failure.
+  bool control_point(const Node& cp, const Node& r, std::size_t j, const std::string& what, const PointFrame& frame,
+                     Polyline& line) {
+    const std::string point_what = what + ", control point " + std::to_string(j);
+    if (cp.kind != Node::Kind::kObject) return reject(cp, point_what + " is not an object");
+    if (const Node* status = cp.member("positionStatus");
+        status && status->kind == Node::Kind::kString && (status->text == "undefined" || status->text == "preview")) {
+      ++out_.skipped_points;
+      return true;
     }
-    if (type->text == "ClosedCurve" && line.points.size() >= 3) line.points.push_back(line.points.front());
-    if (line.points.size() < 2) return fail(m, what + " has fewer than 2 defined control points");
-    out_.curves.push_back(std::move(line));
+    const Node* position = cp.member("position");
+    if (!position) return reject(cp, point_what + " has no \"position\"");
+    if (position->kind != Node::Kind::kArray || position->items.size() != 3) {
+      return reject(*position, point_what + ": \"position\" must be 3 numbers");
+    }
+    double xyz[3];
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Node& c = position->items[k];
+      if (c.kind != Node::Kind::kNumber || !std::isfinite(c.number)) {
+        return reject(c, point_what + ": \"position\" must be 3 finite numbers");
+      }
+      xyz[k] = c.number;
+    }
+    if (r.kind != Node::Kind::kNumber || !std::isfinite(r.number)) {
+      return reject(r, what + ": radius of control point " + std::to_string(j) + " is not a finite number");
+    }
+    if (frame.ras) {
+      xyz[0] = -xyz[0];
+      xyz[1] = -xyz[1];
+    }
+    line.points.push_back({glm::dvec3(xyz[0], xyz[1], xyz[2]) * frame.unit_mm, r.number * frame.unit_mm});
+    return true;
   }
 
   std::string_view text_;

@@ -5,6 +5,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "base/result.hpp"
 #include "base/text_tokens.hpp"
 
 namespace cathbox::vessel_import {
@@ -12,14 +13,44 @@ namespace {
 
 constexpr std::size_t kMaxErrors = 100;
 
-}  // namespace
+using SampleIndex = std::unordered_map<std::int64_t, std::size_t>;  // id -> sample
 
-SwcRead parse_swc(std::string_view text, std::string_view file) {
-  SwcRead out;
-  const auto fail = [&](int line, std::string message) {
-    if (out.errors.size() < kMaxErrors) out.errors.push_back({std::string(file), line, 0, std::move(message)});
-  };
-  std::unordered_map<std::int64_t, std::size_t> index;  // id -> sample
+void add_error(SwcRead& out, std::string_view file, int line, std::string message) {
+  if (out.errors.size() < kMaxErrors) out.errors.push_back({std::string(file), line, 0, std::move(message)});
+}
+
+// One sample line's 7 columns (id type x y z radius parent), or what is wrong with them.
+base::Result<SwcSample> parse_sample(const std::vector<std::string_view>& tokens, int line_no) {
+  if (tokens.size() != 7) return base::Error{"expected 7 columns (id type x y z radius parent), got " + std::to_string(tokens.size())};
+  SwcSample s;
+  s.line = line_no;
+  const auto id = base::text::parse_integer(tokens[0]);
+  const auto type = base::text::parse_integer(tokens[1]);
+  const auto parent = base::text::parse_integer(tokens[6]);
+  if (!id || *id < 0) return base::Error{"sample id " + base::text::quoted(tokens[0]) + " is not a non-negative integer"};
+  if (!type) return base::Error{"type " + base::text::quoted(tokens[1]) + " is not an integer"};
+  if (!parent || *parent < -1) return base::Error{"parent " + base::text::quoted(tokens[6]) + " is not a sample id or -1"};
+  double values[4];
+  static constexpr const char* kNames[4] = {"x", "y", "z", "radius"};
+  for (int k = 0; k < 4; ++k) {
+    const auto v = base::text::parse_double(tokens[static_cast<std::size_t>(k) + 2]);
+    if (!v || !std::isfinite(*v)) {
+      return base::Error{std::string(kNames[k]) + " " + base::text::quoted(tokens[static_cast<std::size_t>(k) + 2]) +
+                         " is not a finite number"};
+    }
+    values[k] = *v;
+  }
+  s.id = *id;
+  s.type = *type;
+  s.parent = *parent;
+  s.pos = {values[0], values[1], values[2]};
+  s.radius = values[3];
+  if (s.parent == s.id) return base::Error{"sample " + std::to_string(s.id) + " is its own parent"};
+  return s;
+}
+
+// The samples line by line (comments after '#', blank lines skipped), ids unique.
+void read_samples(std::string_view text, std::string_view file, SwcRead& out, SampleIndex& index) {
   int line_no = 0;
   for (std::size_t pos = 0; pos <= text.size() && out.errors.size() < kMaxErrors;) {
     std::size_t end = text.find('\n', pos);
@@ -30,68 +61,23 @@ SwcRead parse_swc(std::string_view text, std::string_view file) {
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
     const std::vector<std::string_view> tokens = base::text::split_tokens(line);
     if (tokens.empty()) continue;
-    if (tokens.size() != 7) {
-      fail(line_no, "expected 7 columns (id type x y z radius parent), got " + std::to_string(tokens.size()));
+    base::Result<SwcSample> s = parse_sample(tokens, line_no);
+    if (!s) {
+      add_error(out, file, line_no, s.error().message);
       continue;
     }
-    SwcSample s;
-    s.line = line_no;
-    const auto id = base::text::parse_integer(tokens[0]);
-    const auto type = base::text::parse_integer(tokens[1]);
-    const auto parent = base::text::parse_integer(tokens[6]);
-    if (!id || *id < 0) {
-      fail(line_no, "sample id " + base::text::quoted(tokens[0]) + " is not a non-negative integer");
-      continue;
-    }
-    if (!type) {
-      fail(line_no, "type " + base::text::quoted(tokens[1]) + " is not an integer");
-      continue;
-    }
-    if (!parent || *parent < -1) {
-      fail(line_no, "parent " + base::text::quoted(tokens[6]) + " is not a sample id or -1");
-      continue;
-    }
-    bool numbers_ok = true;
-    double values[4];
-    static constexpr const char* kNames[4] = {"x", "y", "z", "radius"};
-    for (int k = 0; k < 4; ++k) {
-      const auto v = base::text::parse_double(tokens[static_cast<std::size_t>(k) + 2]);
-      if (!v || !std::isfinite(*v)) {
-        fail(line_no, std::string(kNames[k]) + " " + base::text::quoted(tokens[static_cast<std::size_t>(k) + 2]) +
-                          " is not a finite number");
-        numbers_ok = false;
-        break;
-      }
-      values[k] = *v;
-    }
-    if (!numbers_ok) continue;
-    s.id = *id;
-    s.type = *type;
-    s.parent = *parent;
-    s.pos = {values[0], values[1], values[2]};
-    s.radius = values[3];
-    if (s.parent == s.id) {
-      fail(line_no, "sample " + std::to_string(s.id) + " is its own parent");
-      continue;
-    }
-    const auto [it, inserted] = index.emplace(s.id, out.samples.size());
+    const auto [it, inserted] = index.emplace(s->id, out.samples.size());
     if (!inserted) {
-      fail(line_no, "sample id " + std::to_string(s.id) + " already used on line " +
-                        std::to_string(out.samples[it->second].line));
+      add_error(out, file, line_no, "sample id " + std::to_string(s->id) + " already used on line " +
+                                        std::to_string(out.samples[it->second].line));
       continue;
     }
-    out.samples.push_back(s);
+    out.samples.push_back(*s);
   }
-  if (!out.ok()) return out;
-  if (out.samples.empty()) {
-    fail(0, "no samples");
-    return out;
-  }
-  for (const SwcSample& s : out.samples) {
-    if (s.parent >= 0 && !index.contains(s.parent)) fail(s.line, "parent " + std::to_string(s.parent) + " is not defined");
-  }
-  if (!out.ok()) return out;
-  // Parent links must lead to a root: walk up from every sample, marking what is known to.
+}
+
+// Parent links must lead to a root: walk up from every sample, marking what is known to.
+void check_no_loops(std::string_view file, const SampleIndex& index, SwcRead& out) {
   std::vector<char> state(out.samples.size(), 0);  // 0 unknown, 1 on the current walk, 2 reaches a root
   std::vector<std::size_t> walk;
   for (std::size_t start = 0; start < out.samples.size() && out.ok(); ++start) {
@@ -105,11 +91,29 @@ SwcRead parse_swc(std::string_view text, std::string_view file) {
       cur = index.at(parent);
     }
     if (state[cur] == 1 && out.samples[cur].parent >= 0) {
-      fail(out.samples[cur].line, "sample " + std::to_string(out.samples[cur].id) +
-                                      " is its own ancestor (the parent links form a loop)");
+      add_error(out, file, out.samples[cur].line,
+                "sample " + std::to_string(out.samples[cur].id) + " is its own ancestor (the parent links form a loop)");
     }
     for (std::size_t i : walk) state[i] = 2;
   }
+}
+
+}  // namespace
+
+SwcRead parse_swc(std::string_view text, std::string_view file) {
+  SwcRead out;
+  SampleIndex index;
+  read_samples(text, file, out, index);
+  if (!out.ok()) return out;
+  if (out.samples.empty()) {
+    add_error(out, file, 0, "no samples");
+    return out;
+  }
+  for (const SwcSample& s : out.samples) {
+    if (s.parent >= 0 && !index.contains(s.parent)) add_error(out, file, s.line, "parent " + std::to_string(s.parent) + " is not defined");
+  }
+  if (!out.ok()) return out;
+  check_no_loops(file, index, out);
   return out;
 }
 

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <charconv>
 
+#include "base/result.hpp"
+
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDataArray.h>
@@ -130,6 +132,93 @@ bool copy_surface(vtkPolyData& data, PolylineArrays& out) {
   return true;
 }
 
+// Reads the polydata (XML or legacy) with VTK's messages captured; on failure the message (and
+// the file's line when VTK gave one, in `error`).
+base::Result<vtkSmartPointer<vtkPolyData>> read_polydata(const std::string& path, bool xml, CapturedMessages& messages,
+                                                          ImportError& error) {
+  const auto failed = [&](const char* fallback) {
+    messages.last_error(error);
+    return base::Error{error.message.empty() ? std::string(fallback) : error.message};
+  };
+  if (xml) {
+    vtkNew<vtkXMLPolyDataReader> reader;
+    if (!reader->CanReadFile(path.c_str())) return failed("not a VTK XML PolyData file (.vtp)");
+    reader->SetFileName(path.c_str());
+    reader->Update();
+    if (reader->GetErrorCode() != 0 || messages.any()) return failed("cannot read the XML PolyData");
+    return vtkSmartPointer<vtkPolyData>(reader->GetOutput());
+  }
+  vtkNew<vtkPolyDataReader> reader;
+  reader->SetFileName(path.c_str());
+  if (!reader->IsFilePolyData()) return failed("not a legacy VTK POLYDATA file");
+  reader->ReadAllScalarsOn();
+  reader->ReadAllVectorsOn();
+  reader->ReadAllFieldsOn();
+  reader->Update();
+  if (reader->GetErrorCode() != 0 || messages.any()) return failed("cannot read the POLYDATA");
+  return vtkSmartPointer<vtkPolyData>(reader->GetOutput());
+}
+
+// The radius array: the one named, or the first of the default names; its name into `out`.
+base::Result<vtkDataArray*> find_radius_array(vtkPointData* point_data, const std::string& radius_array, PolylineArrays& out) {
+  vtkDataArray* radius = nullptr;
+  if (!radius_array.empty()) {
+    radius = point_data->GetArray(radius_array.c_str());
+    if (!radius) return base::Error{"no point array '" + radius_array + "' (point arrays: " + array_names(point_data) + ")"};
+    out.radius_array = radius_array;
+  } else {
+    for (const std::string& name : default_radius_arrays()) {
+      radius = point_data->GetArray(name.c_str());
+      if (radius) {
+        out.radius_array = name;
+        break;
+      }
+    }
+    if (!radius) {
+      return base::Error{"no radius array (tried MaximumInscribedSphereRadius, Radius, radius; point arrays: " +
+                         array_names(point_data) + "); name one with --radius-array"};
+    }
+  }
+  if (radius->GetNumberOfComponents() != 1) {
+    return base::Error{"point array '" + out.radius_array + "' has " + std::to_string(radius->GetNumberOfComponents()) +
+                       " components, not 1"};
+  }
+  return radius;
+}
+
+// The points with their radii, the line cells and, when both are there, VMTK's CenterlineIds
+// and TractIds per line.
+void copy_centerlines(vtkPolyData& data, vtkCellArray& lines, vtkDataArray& radius, PolylineArrays& out) {
+  const vtkIdType n_points = data.GetNumberOfPoints();
+  out.points.reserve(static_cast<std::size_t>(n_points));
+  out.radius.reserve(static_cast<std::size_t>(n_points));
+  for (vtkIdType i = 0; i < n_points; ++i) {
+    double p[3];
+    data.GetPoint(i, p);
+    out.points.emplace_back(p[0], p[1], p[2]);
+    out.radius.push_back(i < radius.GetNumberOfTuples() ? radius.GetTuple1(i) : 0.0);
+  }
+  const vtkIdType n_lines = lines.GetNumberOfCells();
+  for (vtkIdType c = 0; c < n_lines; ++c) {
+    vtkIdType size = 0;
+    const vtkIdType* ids = nullptr;
+    lines.GetCellAtId(c, size, ids);
+    out.lines.emplace_back(ids, ids + size);
+  }
+  // Cell data run over vertices, then lines, then polygons, then strips.
+  vtkCellData* cell_data = data.GetCellData();
+  vtkDataArray* centerline_ids = cell_data->GetArray("CenterlineIds");
+  vtkDataArray* tract_ids = cell_data->GetArray("TractIds");
+  const vtkIdType first_line = data.GetNumberOfVerts();
+  if (centerline_ids && tract_ids && centerline_ids->GetNumberOfComponents() == 1 && tract_ids->GetNumberOfComponents() == 1 &&
+      centerline_ids->GetNumberOfTuples() >= first_line + n_lines && tract_ids->GetNumberOfTuples() >= first_line + n_lines) {
+    for (vtkIdType c = 0; c < n_lines; ++c) {
+      out.centerline_ids.push_back(static_cast<std::int64_t>(centerline_ids->GetTuple1(first_line + c)));
+      out.tract_ids.push_back(static_cast<std::int64_t>(tract_ids->GetTuple1(first_line + c)));
+    }
+  }
+}
+
 }  // namespace
 
 VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_array, bool xml) {
@@ -144,97 +233,17 @@ VtkRead read_vtk_with_vtk(const std::string& path, const std::string& radius_arr
   if (!std::filesystem::is_regular_file(path, ec)) return fail("cannot open file");
 
   CapturedMessages messages;
-  vtkSmartPointer<vtkPolyData> data;
-  if (xml) {
-    vtkNew<vtkXMLPolyDataReader> reader;
-    if (!reader->CanReadFile(path.c_str())) {
-      messages.last_error(error);
-      return fail(error.message.empty() ? "not a VTK XML PolyData file (.vtp)" : error.message);
-    }
-    reader->SetFileName(path.c_str());
-    reader->Update();
-    if (reader->GetErrorCode() != 0 || messages.any()) {
-      messages.last_error(error);
-      return fail(error.message.empty() ? "cannot read the XML PolyData" : error.message);
-    }
-    data = reader->GetOutput();
-  } else {
-    vtkNew<vtkPolyDataReader> reader;
-    reader->SetFileName(path.c_str());
-    if (!reader->IsFilePolyData()) {
-      messages.last_error(error);
-      return fail(error.message.empty() ? "not a legacy VTK POLYDATA file" : error.message);
-    }
-    reader->ReadAllScalarsOn();
-    reader->ReadAllVectorsOn();
-    reader->ReadAllFieldsOn();
-    reader->Update();
-    if (reader->GetErrorCode() != 0 || messages.any()) {
-      messages.last_error(error);
-      return fail(error.message.empty() ? "cannot read the POLYDATA" : error.message);
-    }
-    data = reader->GetOutput();
-  }
-  if (!data || data->GetNumberOfPoints() == 0) return fail("no points");
-  vtkCellArray* lines = data->GetLines();
+  base::Result<vtkSmartPointer<vtkPolyData>> data = read_polydata(path, xml, messages, error);
+  if (!data) return fail(data.error().message);
+  if (!*data || (*data)->GetNumberOfPoints() == 0) return fail("no points");
+  vtkCellArray* lines = (*data)->GetLines();
   if (!lines || lines->GetNumberOfCells() == 0) {
-    if (copy_surface(*data, out.arrays)) return out;
+    if (copy_surface(**data, out.arrays)) return out;
     return fail("no line cells (centrelines are polylines) and no polygons (a surface)");
   }
-
-  // The radius array.
-  vtkPointData* point_data = data->GetPointData();
-  vtkDataArray* radius = nullptr;
-  if (!radius_array.empty()) {
-    radius = point_data->GetArray(radius_array.c_str());
-    if (!radius) return fail("no point array '" + radius_array + "' (point arrays: " + array_names(point_data) + ")");
-    out.arrays.radius_array = radius_array;
-  } else {
-    for (const std::string& name : default_radius_arrays()) {
-      radius = point_data->GetArray(name.c_str());
-      if (radius) {
-        out.arrays.radius_array = name;
-        break;
-      }
-    }
-    if (!radius) {
-      return fail("no radius array (tried MaximumInscribedSphereRadius, Radius, radius; point arrays: " +
-                  array_names(point_data) + "); name one with --radius-array");
-    }
-  }
-  if (radius->GetNumberOfComponents() != 1) {
-    return fail("point array '" + out.arrays.radius_array + "' has " + std::to_string(radius->GetNumberOfComponents()) +
-                " components, not 1");
-  }
-
-  const vtkIdType n_points = data->GetNumberOfPoints();
-  out.arrays.points.reserve(static_cast<std::size_t>(n_points));
-  out.arrays.radius.reserve(static_cast<std::size_t>(n_points));
-  for (vtkIdType i = 0; i < n_points; ++i) {
-    double p[3];
-    data->GetPoint(i, p);
-    out.arrays.points.emplace_back(p[0], p[1], p[2]);
-    out.arrays.radius.push_back(i < radius->GetNumberOfTuples() ? radius->GetTuple1(i) : 0.0);
-  }
-  const vtkIdType n_lines = lines->GetNumberOfCells();
-  for (vtkIdType c = 0; c < n_lines; ++c) {
-    vtkIdType size = 0;
-    const vtkIdType* ids = nullptr;
-    lines->GetCellAtId(c, size, ids);
-    out.arrays.lines.emplace_back(ids, ids + size);
-  }
-  // Cell data run over vertices, then lines, then polygons, then strips.
-  vtkCellData* cell_data = data->GetCellData();
-  vtkDataArray* centerline_ids = cell_data->GetArray("CenterlineIds");
-  vtkDataArray* tract_ids = cell_data->GetArray("TractIds");
-  const vtkIdType first_line = data->GetNumberOfVerts();
-  if (centerline_ids && tract_ids && centerline_ids->GetNumberOfComponents() == 1 && tract_ids->GetNumberOfComponents() == 1 &&
-      centerline_ids->GetNumberOfTuples() >= first_line + n_lines && tract_ids->GetNumberOfTuples() >= first_line + n_lines) {
-    for (vtkIdType c = 0; c < n_lines; ++c) {
-      out.arrays.centerline_ids.push_back(static_cast<std::int64_t>(centerline_ids->GetTuple1(first_line + c)));
-      out.arrays.tract_ids.push_back(static_cast<std::int64_t>(tract_ids->GetTuple1(first_line + c)));
-    }
-  }
+  const base::Result<vtkDataArray*> radius = find_radius_array((*data)->GetPointData(), radius_array, out.arrays);
+  if (!radius) return fail(radius.error().message);
+  copy_centerlines(**data, *lines, **radius, out.arrays);
   return out;
 }
 

@@ -123,7 +123,13 @@ class ContrastTransport {
   [[nodiscard]] std::pair<int, int> injection_entry(const SegmentCells& tip) const;
   [[nodiscard]] std::string route_injection(std::uint32_t segment, double arc_mm);
   void update_substeps();
+  // One upwind substep: gather the segment ends into the nodes, mix them, sweep the segments
+  // (the tip's with its injection), mix the blind sacs.
   void advect(double dt, double w, double q);
+  void gather_node_flows(double w, double q, double* in, double* mass, double* out) const;
+  void mix_nodes(double dt, const double* in, const double* mass, const double* out);
+  void sweep_tip_segment(double dt, double w, double q);
+  void mix_sacs(double dt, double w, double q);
   void diffuse(double dt, double w, double q);
 
   const FlowNetwork* network_;

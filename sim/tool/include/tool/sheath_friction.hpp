@@ -19,6 +19,7 @@
 // short an edge the direction is the nodes' lateral play, and the bending term read it as
 // newtons of normal force (Simulator::build_sheath_path).
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -63,6 +64,16 @@ class SheathFriction {
   void reset();
 
  private:
+  // The steps of update: the path's turning angles and curvatures; the capstan normal forces
+  // sliding forwards and backwards (returns the running axial force at the entry for each); the
+  // stick spring with slip at the limits; the axial profile and reactions of the friction acting
+  // (returns the twist's friction torque limit); the twist spring with slip at that limit.
+  void measure_turning(const std::vector<SheathVertex>& path);
+  std::pair<double, double> capstan_normals(const std::vector<SheathVertex>& path, double distal_force_mN);
+  void stick_slide(double k, Result& out);
+  double distribute_friction(const std::vector<SheathVertex>& path, double distal_force_mN, const Result& out);
+  void stick_twist(double kt, double torque_limit, Result& out);
+
   double slide_ = 0.0;        // accumulated relative sliding, mm
   double anchor_ = 0.0;       // where the stick spring is relaxed, mm
   double turn_ = 0.0;
