@@ -18,7 +18,14 @@ std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const S
     FluoroTool tool;
     tool.nodes_mm = at_pulse != nullptr ? (*at_pulse)[k] : snapshot.tools[k].nodes_mm;
     tool.radius_mm = snapshot.tools[k].radius_mm;
-    tool.markers.push_back({0.0, settings.tip_marker_mm, flow::XrayMaterial::kPlatinum});
+    if (const float stent_mm = snapshot.tools[k].stent_length_mm; stent_mm > 0.0F) {
+      // A stent retriever's nitinol struts are faint; its platinum bands at both ends show
+      // where it is (and, apart, that it is unsheathed).
+      tool.markers.push_back({0.0, kStentMarker_mm, flow::XrayMaterial::kPlatinum});
+      tool.markers.push_back({std::max(0.0, stent_mm - kStentMarker_mm), kStentMarker_mm, flow::XrayMaterial::kPlatinum});
+    } else {
+      tool.markers.push_back({0.0, settings.tip_marker_mm, flow::XrayMaterial::kPlatinum});
+    }
     if (tool.nodes_mm.size() >= 2) out.push_back(std::move(tool));
   }
   return out;

@@ -559,6 +559,9 @@ void Session::publish() {
     ToolView& tv = s.tools[static_cast<std::size_t>(i)];
     tv.active = static_cast<std::size_t>(i) == active;
     copy_nodes(t, tv);
+    const std::vector<tool::ToolSpec>& specs = scene_->spec.tools;
+    const bool stent = static_cast<std::size_t>(i) < specs.size() && specs[static_cast<std::size_t>(i)].stent.present();
+    tv.stent_length_mm = stent ? static_cast<float>(specs[static_cast<std::size_t>(i)].stent.length_mm) : 0.0F;
     for (const tool::RodContact& c : t.contacts) {
       if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
       s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});

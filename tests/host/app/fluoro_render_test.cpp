@@ -752,6 +752,28 @@ TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
   EXPECT_EQ(check_fluoro_inputs(in, 0), "");
 }
 
+// A stent retriever's push wire: no 30 mm platinum tip, a 1 mm platinum band at each end of
+// its stent instead (the end markers of Solitaire- and Trevo-type devices).
+TEST(FluoroFrontend, AStentRetrieverShowsItsTwoEndMarkersNotAPlatinumTip) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 2;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.tools[1].nodes_mm = {{1, 0, 100}, {1, 0, 130}};
+  snap.tools[1].stent_length_mm = 20.0F;
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  ASSERT_EQ(in.shown.tools[0].markers.size(), 1U);
+  EXPECT_EQ(in.shown.tools[0].markers[0].length_mm, SnapshotFluoroSettings{}.tip_marker_mm);
+  const std::vector<FluoroMarker>& m = in.shown.tools[1].markers;
+  ASSERT_EQ(m.size(), 2U);
+  EXPECT_EQ(m[0].from_tip_mm, 0.0);
+  EXPECT_EQ(m[0].length_mm, kStentMarker_mm);
+  EXPECT_EQ(m[1].from_tip_mm, 20.0 - kStentMarker_mm);
+  EXPECT_EQ(m[1].length_mm, kStentMarker_mm);
+  EXPECT_EQ(m[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
 // Released coils (SceneSnapshot::coils) reach the image as platinum tools after the case's
 // tools: live in continuous fluoroscopy, at the shown pulse with the session's unit.
 TEST(FluoroFrontend, ReleasedCoilsArePlatinumToolsAfterTheTools) {

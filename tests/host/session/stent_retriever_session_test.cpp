@@ -43,8 +43,8 @@ std::string short_wait_case() {
   return path;
 }
 
-std::string short_wait_script() {
-  std::ifstream in(kCases + "neuro_thrombectomy_m1_stentretriever.actions");
+std::string short_wait_script(const std::string& name = "neuro_thrombectomy_m1_stentretriever.actions") {
+  std::ifstream in(kCases + name);
   std::ostringstream out;
   std::string line;
   while (std::getline(in, line)) {
@@ -94,6 +94,49 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
   EXPECT_FALSE(r.mismatch);
   ASSERT_TRUE(r.metrics.thrombectomy);
   EXPECT_EQ(*r.metrics.thrombectomy, t);
+}
+
+// The careless contrast (issue 30: no flow arrest, fast retrieval): the same deployment and
+// embedding, no balloon guide, the microcatheter left where it unsheathed the stent and the stent
+// pulled at 20 mm/s straight into it. The stent holds the clot (grip > the head's hold), but the
+// microcatheter's tip strips it off the struts: it stays, a failed pass (eTICI 0) against the
+// careful run's eTICI 3 in one pass (thrombectomy_unit.hpp, "Stent retrievers").
+TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
+  SessionCaseLoad loaded = load_session_case(short_wait_case());
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  std::unique_ptr<Hand> script =
+      fixtures::script_hand(*loaded.value(), short_wait_script("neuro_thrombectomy_m1_stentretriever_careless.actions"));
+  ASSERT_TRUE(script);
+  Session s(std::move(loaded.value()), std::move(script));
+  ASSERT_TRUE(s.thrombectomy());
+  std::string stent_lines;
+  while (!s.over()) {
+    s.step_virtual(1000);
+    for (LogEvent e; s.events().pop(e);) {
+      const std::string line = e.text.data();
+      if (line.find("stent") != std::string::npos || line.find("pass ") != std::string::npos) stent_lines += line + "\n";
+    }
+  }
+  std::printf("%s", stent_lines.c_str());
+  EXPECT_NE(stent_lines.find("stent retriever across the clot"), std::string::npos);
+  EXPECT_NE(stent_lines.find("the clot comes with the stent"), std::string::npos);
+  EXPECT_NE(stent_lines.find("pass 1: re-sheathed in the microcatheter, the clot is stripped off and stays"), std::string::npos);
+  const Metrics m = s.metrics();
+  ASSERT_TRUE(m.thrombectomy);
+  const ThrombectomyFigures& t = *m.thrombectomy;
+  std::printf("careless M1 stent retriever: %d pass(es), eTICI %s (%.0f %%), %d emboli (%d new territory), retrieval force %.3f N\n",
+              t.passes, std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final, t.emboli,
+              t.emboli_new_territory, t.retrieval_force_peak_N);
+  EXPECT_EQ(t.passes, 1);
+  EXPECT_EQ(t.stent_passes, 1);
+  EXPECT_EQ(t.etici_final, flow::Etici::k0);
+  EXPECT_FALSE(flow::at_least(t.etici_final, flow::Etici::k2b50));
+  EXPECT_FALSE(t.first_pass_effect);
+  EXPECT_EQ(t.time_to_reperfusion_us, -1) << "not reperfused";
+  // Stripped at the microcatheter's tip after a few mm: a lighter peak pull than the careful
+  // run's, which drags the clot back to the guide.
+  EXPECT_GT(t.retrieval_force_peak_N, 0.0);
+  EXPECT_LT(t.retrieval_force_peak_N, 0.3);
 }
 
 }  // namespace

@@ -18,6 +18,11 @@ struct SnapshotFluoroSettings {
   double tip_marker_mm = 30.0;         // every tool's radio-opaque (platinum) distal part
 };
 
+// A stent retriever's push wire (ToolView::stent_length_mm > 0) shows no platinum tip but a
+// platinum band this long at each end of the stent, as on the devices (Solitaire, Trevo: the
+// nitinol struts barely show; the end markers do).
+inline constexpr double kStentMarker_mm = 1.0;
+
 [[nodiscard]] FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot,
                                                        const SnapshotFluoroSettings& settings);
 

@@ -18,6 +18,7 @@ struct ToolView {
   std::vector<glm::vec3> frames;    // one normal direction per node (may be empty)
   float radius_mm = 0.2F;
   bool active = false;              // the tool in the trainee's hand
+  float stent_length_mm = 0.0F;     // a push wire's stent retriever over its distal end (0: none)
 };
 
 struct ContactView {
