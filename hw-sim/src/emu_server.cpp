@@ -122,6 +122,32 @@ void EmuServer::detach() {
   for (size_t i = 0; i < kMaxClients; ++i) close_client(i);
 }
 
+// A control transfer: the handler's answer, sent back tagged (held if the client's queue is
+// full). False when the client is gone (closed on a send error, or the handler detached).
+bool EmuServer::answer_control(size_t slot, const cbx_emu_frame& frame) {
+  ++counts_.controls;
+  const int fd = clients_[slot];
+  const bool ok = handler_.on_control(frame.setup, {frame.data, frame.data_length}, reply_);
+  if (ok && reply_.size() > frame.setup.length) reply_.resize(frame.setup.length);
+  cbx_emu_frame answer{};
+  answer.kind = CBX_EMU_CONTROL_REPLY;
+  answer.status = ok ? CBX_EMU_STATUS_OK : CBX_EMU_STATUS_STALL;
+  answer.tag = frame.tag;
+  answer.data = ok && !reply_.empty() ? reply_.data() : nullptr;
+  answer.data_length = ok ? reply_.size() : 0u;
+  if (!ok) ++counts_.stalls;
+  const int length = cbx_emu_frame_encode(&answer, tx_.data(), tx_.size());
+  if (length > 0 && ::send(fd, tx_.data(), static_cast<size_t>(length), MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+      held_reply_[slot].assign(tx_.begin(), tx_.begin() + length);  // the client's queue is full
+    } else {
+      close_client(slot);
+      return false;
+    }
+  }
+  return clients_[slot] >= 0;
+}
+
 void EmuServer::serve(size_t slot) {
   for (int budget = 0; budget < 64 && clients_[slot] >= 0 && held_reply_[slot].empty(); ++budget) {
     const int fd = clients_[slot];
@@ -141,27 +167,8 @@ void EmuServer::serve(size_t slot) {
       ++counts_.out_received;
       handler_.on_out({frame.data, frame.data_length});
     } else if (frame.kind == CBX_EMU_CONTROL) {
-      ++counts_.controls;
-      const bool ok = handler_.on_control(frame.setup, {frame.data, frame.data_length}, reply_);
-      if (ok && reply_.size() > frame.setup.length) reply_.resize(frame.setup.length);
-      cbx_emu_frame answer{};
-      answer.kind = CBX_EMU_CONTROL_REPLY;
-      answer.status = ok ? CBX_EMU_STATUS_OK : CBX_EMU_STATUS_STALL;
-      answer.tag = frame.tag;
-      answer.data = ok && !reply_.empty() ? reply_.data() : nullptr;
-      answer.data_length = ok ? reply_.size() : 0u;
-      if (!ok) ++counts_.stalls;
-      const int length = cbx_emu_frame_encode(&answer, tx_.data(), tx_.size());
-      if (length > 0 && ::send(fd, tx_.data(), static_cast<size_t>(length), MSG_DONTWAIT | MSG_NOSIGNAL) < 0) {
-        if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
-          held_reply_[slot].assign(tx_.begin(), tx_.begin() + length);  // the client's queue is full
-        } else {
-          close_client(slot);
-          return;
-        }
-      }
       // The handler may have detached the device (bootloader entry/exit) after replying.
-      if (clients_[slot] < 0) return;
+      if (!answer_control(slot, frame)) return;
     } else {
       ++counts_.malformed;  // device-to-host kinds are not valid from a host
     }

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
 
 namespace cathbox::emu {
 namespace {
@@ -38,6 +39,33 @@ const char* unit_hint(HandMode mode) {
                                      : "give a force in mN (insertion) or a torque in mNmm (rotation), e.g. f:-1500mN:1s";
 }
 
+// The VALUE:DURATION of a driven segment ("v:20mm/s:2s", "f:-1500mN:1s"; `a` and `b` its two
+// colons) into `s`, whose mode is set; `script_axis` is the axis the script's units named so far
+// (-1 before the first), `axis` the axis the caller drives (-1: either). Empty, or what is wrong.
+std::string read_driven(const std::string& item, size_t a, size_t b, int axis, int& script_axis, HandSegment& s) {
+  char* end = nullptr;
+  const std::string value = item.substr(a + 1, b - a - 1);
+  const double number = std::strtod(value.c_str(), &end);
+  if (value.empty() || end == value.c_str() || !std::isfinite(number)) return "bad value";
+  const std::string unit_name(end);
+  const Unit* unit = nullptr;
+  for (const Unit& u : kUnits) {
+    if (u.mode == s.mode && unit_name == u.name) unit = &u;
+  }
+  if (unit == nullptr) {
+    return (unit_name.empty() ? "the value has no unit" : "unit '" + unit_name + "' unknown") + ": " + unit_hint(s.mode);
+  }
+  if (axis >= 0 && unit->axis != axis) {
+    return std::string(unit->name) + " is " + (unit->axis == 0 ? "an insertion" : "a rotation") + " unit, this script drives the " +
+           (axis == 0 ? "insertion" : "rotation") + " axis";
+  }
+  if (script_axis >= 0 && unit->axis != script_axis) return "mixes insertion and rotation units";
+  script_axis = unit->axis;
+  s.value = number * unit->to_si;
+  if (!parse_duration(item.substr(b + 1), s.duration_us)) return "bad duration (e.g. 500ms, 2s)";
+  return {};
+}
+
 }  // namespace
 
 Result<HandScript> HandScript::parse(const std::string& text) { return parse(text, -1); }
@@ -59,27 +87,8 @@ Result<HandScript> HandScript::parse(const std::string& text, int axis) {
       if (!parse_duration(item.substr(a + 1), s.duration_us)) return Error{where + ": bad duration (e.g. 500ms, 2s)"};
     } else if ((mode == "v" || mode == "f") && b != std::string::npos) {
       s.mode = mode == "v" ? HandMode::kVelocity : HandMode::kForce;
-      char* end = nullptr;
-      const std::string value = item.substr(a + 1, b - a - 1);
-      const double number = std::strtod(value.c_str(), &end);
-      if (value.empty() || end == value.c_str() || !std::isfinite(number)) return Error{where + ": bad value"};
-      const std::string unit_name(end);
-      const Unit* unit = nullptr;
-      for (const Unit& u : kUnits) {
-        if (u.mode == s.mode && unit_name == u.name) unit = &u;
-      }
-      if (unit == nullptr) {
-        return Error{where + ": " + (unit_name.empty() ? "the value has no unit" : "unit '" + unit_name + "' unknown") +
-                     ": " + unit_hint(s.mode)};
-      }
-      if (axis >= 0 && unit->axis != axis) {
-        return Error{where + ": " + unit->name + " is " + (unit->axis == 0 ? "an insertion" : "a rotation") +
-                     " unit, this script drives the " + (axis == 0 ? "insertion" : "rotation") + " axis"};
-      }
-      if (script_axis >= 0 && unit->axis != script_axis) return Error{where + ": mixes insertion and rotation units"};
-      script_axis = unit->axis;
-      s.value = number * unit->to_si;
-      if (!parse_duration(item.substr(b + 1), s.duration_us)) return Error{where + ": bad duration (e.g. 500ms, 2s)"};
+      const std::string problem = read_driven(item, a, b, axis, script_axis, s);
+      if (!problem.empty()) return Error{where + ": " + problem};
     } else {
       return Error{where + ": expected v:VALUE:DURATION, f:VALUE:DURATION or free:DURATION"};
     }

@@ -222,13 +222,9 @@ int TrainerApp::open_foot_pedal() {
   return -1;
 }
 
-int TrainerApp::run_window() {
-  const CaseChoice choice = choose();
-  current_case_ = choice.catalog_index;
-  if (options_.replay.empty() && choice.path.empty()) {
-    std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
-    return base::kExitBadInput;
-  }
+// The window, its renderers and UI, and the run (live or the --replay record) opened in it:
+// kExitOk, or the exit code with its line printed.
+int TrainerApp::open_window(const std::string& case_path) {
   base::Result<std::unique_ptr<GlWindow>> window =
       GlWindow::create(options_.width, options_.height, "Cathbox trainer", !options_.headless);
   if (!window) {
@@ -236,8 +232,7 @@ int TrainerApp::run_window() {
     return base::kExitNoDisplay;
   }
   window_ = std::move(*window);
-  const bool timed = options_.bench_seconds > 0.0;
-  window_->set_vsync(!options_.headless && !timed);
+  window_->set_vsync(!options_.headless && options_.bench_seconds <= 0.0);
   renderer_ = std::make_unique<SceneRenderer>();
   ui_ = std::make_unique<TrainerUi>();
   if (base::Status<> ready = renderer_->init(); !ready) {
@@ -250,12 +245,123 @@ int TrainerApp::run_window() {
   }
   const std::string records = options_.records_dir.empty() ? session::records_dir() : options_.records_dir;
   replay_panel_ = std::make_unique<ReplayPanel>(records);
-  const base::Status<> opened = options_.replay.empty() ? open_live(choice.path) : open_replay(options_.replay);
+  const base::Status<> opened = options_.replay.empty() ? open_live(case_path) : open_replay(options_.replay);
   if (!opened) {
     std::fprintf(stderr, "cathbox-trainer: %s\n", opened.error().message.c_str());
     return base::kExitBadInput;
   }
   load_scene();
+  return base::kExitOk;
+}
+
+// The main view: the fluoroscopic image (its inputs change with each pulse) or the 3D scene.
+void TrainerApp::render_main_view(const ScreenLayout& layout, int fh, const session::SceneSnapshot& snap) {
+  if (fluoro_) {
+    // A pulse's image shows what was there when it fired: the inputs change with the pulse.
+    if (FluoroInputs next = fluoro_inputs_from_snapshot(snap, fluoro_settings_);
+        next.image.pulse != fluoro_inputs_.image.pulse || next.image.beam_on != fluoro_inputs_.image.beam_on ||
+        next.image.roadmap_pulse != fluoro_inputs_.image.roadmap_pulse || !(next.pose == fluoro_inputs_.pose)) {
+      fluoro_inputs_ = std::move(next);
+    }
+    if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_); !e.empty() && e != fluoro_error_) {
+      ui_->add_line("fluoroscopy: " + e);  // once per distinct error
+      fluoro_error_ = e;
+    }
+  } else {
+    renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
+  }
+}
+
+// What the trainee asked of the live run this frame: end it, switch tool, detach or load a
+// coil, aspiration and balloon guide, the C-arm panel's controls and the fluoroscopy switches.
+void TrainerApp::post_live_actions(const UiActions& act, const InputActions& input, const CArmPanelActions& carm_act,
+                                   const session::SceneSnapshot& snap, std::int64_t now) {
+  if (act.end_run) live_->end_run();
+  if (act.switch_tool || input.switch_tool) (void)live_->post(session::Control::select_next_tool());
+  // The session refuses (and logs why) a detach or load on a tool that carries no coil.
+  if (input.detach_coil) (void)live_->post(session::Control::detach_coil(live_->held_tool()));
+  if (input.load_coil) (void)live_->post(session::Control::load_coil(live_->held_tool()));
+  // Thrombectomy: V toggles the aspiration catheter's vacuum, B the balloon guide (the case's
+  // first of each, whichever tool is held; the session refuses and logs what does not apply).
+  if (input.aspiration && snap.aspiration_tool >= 0) {
+    (void)live_->post(session::Control::aspiration(static_cast<std::size_t>(snap.aspiration_tool), !snap.aspirating));
+  }
+  if (input.balloon_guide && snap.balloon_guide_tool >= 0) {
+    (void)live_->post(session::Control::balloon_guide(static_cast<std::size_t>(snap.balloon_guide_tool), !snap.flow_arrest));
+  }
+  for (const session::Control& c : carm_act.controls) (void)live_->post(c);
+  const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says
+  fluoro_switches_.set_injection(inj.volume_ml, inj.rate_ml_s, inj.concentration_mgI_ml);
+  fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now), [this](const session::Control& c) { return live_->post(c); },
+                          snap.fluoro.available ? &snap.fluoro.pose : nullptr);
+}
+
+// Another record to replay, or a live run (restarted, another case, back from a replay), as
+// asked; false when not even the previous case opens again.
+bool TrainerApp::switch_run(const UiActions& act, const ReplayPanelActions& replay_act, const std::string& chosen_path,
+                            bool virtual_time) {
+  std::string next_replay = replay_act.open;
+  if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
+  if (!next_replay.empty()) {
+    if (const base::Status<> replaying = open_replay(next_replay); replaying) {
+      load_scene();
+      replay_->play();
+    } else {
+      ui_->add_line("cannot replay " + next_replay + ": " + replaying.error().message);
+      if (!replay_ && !live_ && !open_live(case_path_.empty() ? chosen_path : case_path_)) return false;
+    }
+  } else if (replay_act.back_to_live || (live_ && (act.restart || act.pick_case >= 0))) {
+    const int pick_index = act.pick_case >= 0 ? act.pick_case : current_case_;
+    const std::string fallback = case_path_.empty() ? chosen_path : case_path_;
+    const std::string path = pick_index >= 0 ? catalog_.entries()[static_cast<std::size_t>(pick_index)].path : fallback;
+    if (const base::Status<> picked = open_live(path); picked) {
+      current_case_ = pick_index;
+    } else {
+      ui_->add_line("cannot open " + path + ": " + picked.error().message);
+      if (!open_live(fallback)) return false;
+    }
+    load_scene();
+    if (!virtual_time) live_->start();
+  }
+  return true;
+}
+
+// What the HUD shows of the run.
+UiStatus TrainerApp::ui_status(session::Session& s, const session::SceneSnapshot& snap, double fps) const {
+  return UiStatus{fps,
+                  s.hand_description(),
+                  s.scene().name,
+                  s.tool_names()[snap.held_tool],
+                  replay_ != nullptr,
+                  record_path_,
+                  snap.held_coil_attached,
+                  snap.held_next_coil,
+                  snap.aspiration_tool < 0 ? -1 : (snap.aspirating ? 1 : 0),
+                  snap.balloon_guide_tool < 0 ? -1 : (snap.flow_arrest ? 1 : 0)};
+}
+
+// The C-arm panel (fluoroscopic view) takes the top of the output panel's area, which
+// `ui_layout` then leaves to the other panels.
+CArmPanelActions TrainerApp::draw_carm(const ScreenLayout& layout, const session::SceneSnapshot& snap, ScreenLayout& ui_layout) {
+  CArmPanelActions carm_act;
+  if (fluoro_ && snap.fluoro.available) {
+    const int ph = std::min(kCArmPanelHeight, layout.output.height / 2 + kCArmPanelHeight / 2);
+    carm_act = draw_carm_panel({layout.output.x, layout.output.y, layout.output.width, ph}, carm_panel_, snap.fluoro, live_ != nullptr);
+    ui_layout.output.y += ph;
+    ui_layout.output.height = std::max(1, ui_layout.output.height - ph);
+  }
+  return carm_act;
+}
+
+int TrainerApp::run_window() {
+  const CaseChoice choice = choose();
+  current_case_ = choice.catalog_index;
+  if (options_.replay.empty() && choice.path.empty()) {
+    std::fprintf(stderr, "cathbox-trainer: %s\n", choice.error.c_str());
+    return base::kExitBadInput;
+  }
+  if (const int failed = open_window(choice.path); failed != base::kExitOk) return failed;
+  const bool timed = options_.bench_seconds > 0.0;
   std::printf("cathbox-trainer: %s, %s: %s\n", current().scene().name.c_str(), replay_ ? "replay" : "hand",
               current().hand_description().c_str());
   std::fflush(stdout);
@@ -312,41 +418,11 @@ int TrainerApp::run_window() {
     if (input.frame_camera) frame_camera();
     renderer_->clear(fw, fh);
     renderer_->update_tools(snap, settings_);
-    if (fluoro_) {
-      // A pulse's image shows what was there when it fired: the inputs change with the pulse.
-      if (FluoroInputs next = fluoro_inputs_from_snapshot(snap, fluoro_settings_);
-          next.image.pulse != fluoro_inputs_.image.pulse || next.image.beam_on != fluoro_inputs_.image.beam_on ||
-          next.image.roadmap_pulse != fluoro_inputs_.image.roadmap_pulse || !(next.pose == fluoro_inputs_.pose)) {
-        fluoro_inputs_ = std::move(next);
-      }
-      if (std::string e = fluoro_->render(layout.global, fh, fluoro_inputs_); !e.empty() && e != fluoro_error_) {
-        ui_->add_line("fluoroscopy: " + e);  // once per distinct error
-        fluoro_error_ = e;
-      }
-    } else {
-      renderer_->render_global(layout.global, fh, camera_.view(), camera_.projection(layout.global.aspect()), settings_);
-    }
+    render_main_view(layout, fh, snap);
     renderer_->render_local(layout.local, fh, snap);
-    const UiStatus status{fps,
-                          s.hand_description(),
-                          s.scene().name,
-                          s.tool_names()[snap.held_tool],
-                          replay_ != nullptr,
-                          record_path_,
-                          snap.held_coil_attached,
-                          snap.held_next_coil,
-                          snap.aspiration_tool < 0 ? -1 : (snap.aspirating ? 1 : 0),
-                          snap.balloon_guide_tool < 0 ? -1 : (snap.flow_arrest ? 1 : 0)};
-    // The C-arm panel (fluoroscopic view) takes the top of the output panel's area.
     ScreenLayout ui_layout = layout;
-    CArmPanelActions carm_act;
-    if (fluoro_ && snap.fluoro.available) {
-      const int ph = std::min(kCArmPanelHeight, layout.output.height / 2 + kCArmPanelHeight / 2);
-      carm_act = draw_carm_panel({layout.output.x, layout.output.y, layout.output.width, ph}, carm_panel_, snap.fluoro, live_ != nullptr);
-      ui_layout.output.y += ph;
-      ui_layout.output.height = std::max(1, ui_layout.output.height - ph);
-    }
-    const UiActions act = ui_->draw(ui_layout, snap, status, catalog_, current_case_, settings_);
+    const CArmPanelActions carm_act = draw_carm(layout, snap, ui_layout);
+    const UiActions act = ui_->draw(ui_layout, snap, ui_status(s, snap, fps), catalog_, current_case_, settings_);
     ReplayPanelActions replay_act;
     if (replay_) replay_act = replay_panel_->draw(layout.global, *replay_);
     ui_->end_frame();
@@ -377,50 +453,8 @@ int TrainerApp::run_window() {
     if (!timed && options_.max_seconds > 0.0 && static_cast<double>(now - start_us) >= options_.max_seconds * 1e6) break;
 
     // What the trainee asked for (the session may be replaced: nothing of `s` is used after).
-    if (live_ && act.end_run) live_->end_run();
-    if (live_ && (act.switch_tool || input.switch_tool)) (void)live_->post(session::Control::select_next_tool());
-    // The session refuses (and logs why) a detach or load on a tool that carries no coil.
-    if (live_ && input.detach_coil) (void)live_->post(session::Control::detach_coil(live_->held_tool()));
-    if (live_ && input.load_coil) (void)live_->post(session::Control::load_coil(live_->held_tool()));
-    // Thrombectomy: V toggles the aspiration catheter's vacuum, B the balloon guide (the case's
-    // first of each, whichever tool is held; the session refuses and logs what does not apply).
-    if (live_ && input.aspiration && snap.aspiration_tool >= 0) {
-      (void)live_->post(session::Control::aspiration(static_cast<std::size_t>(snap.aspiration_tool), !snap.aspirating));
-    }
-    if (live_ && input.balloon_guide && snap.balloon_guide_tool >= 0) {
-      (void)live_->post(session::Control::balloon_guide(static_cast<std::size_t>(snap.balloon_guide_tool), !snap.flow_arrest));
-    }
-    if (live_) {
-      for (const session::Control& c : carm_act.controls) (void)live_->post(c);
-      const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says
-      fluoro_switches_.set_injection(inj.volume_ml, inj.rate_ml_s, inj.concentration_mgI_ml);
-      fluoro_switches_.update(input.fluoro, static_cast<std::uint64_t>(now),
-                              [this](const session::Control& c) { return live_->post(c); },
-                              snap.fluoro.available ? &snap.fluoro.pose : nullptr);
-    }
-    std::string next_replay = replay_act.open;
-    if (act.replay_this_run && !record_path_.empty()) next_replay = record_path_;
-    if (!next_replay.empty()) {
-      if (const base::Status<> replaying = open_replay(next_replay); replaying) {
-        load_scene();
-        replay_->play();
-      } else {
-        ui_->add_line("cannot replay " + next_replay + ": " + replaying.error().message);
-        if (!replay_ && !live_ && !open_live(case_path_.empty() ? choice.path : case_path_)) return base::kExitBadInput;
-      }
-    } else if (replay_act.back_to_live || (live_ && (act.restart || act.pick_case >= 0))) {
-      const int pick_index = act.pick_case >= 0 ? act.pick_case : current_case_;
-      const std::string fallback = case_path_.empty() ? choice.path : case_path_;
-      const std::string path = pick_index >= 0 ? catalog_.entries()[static_cast<std::size_t>(pick_index)].path : fallback;
-      if (const base::Status<> picked = open_live(path); picked) {
-        current_case_ = pick_index;
-      } else {
-        ui_->add_line("cannot open " + path + ": " + picked.error().message);
-        if (!open_live(fallback)) return base::kExitBadInput;
-      }
-      load_scene();
-      if (!virtual_time) live_->start();
-    }
+    if (live_) post_live_actions(act, input, carm_act, snap, now);
+    if (!switch_run(act, replay_act, choice.path, virtual_time)) return base::kExitBadInput;
   }
   const BenchPoint bench_end = BenchPoint::now(clock.now_us(), current().ticks(), current().haptic_cpu_time_us());
   current().stop();

@@ -67,6 +67,35 @@ bool TrainerUi::wants_mouse() const { return ready_ && ImGui::GetIO().WantCaptur
 bool TrainerUi::wants_keyboard() const { return ready_ && ImGui::GetIO().WantCaptureKeyboard; }
 float TrainerUi::mouse_wheel() const { return ready_ ? ImGui::GetIO().MouseWheel : 0.0F; }
 
+namespace {
+
+// A live run's controls in the HUD: the case, restart, end, switch tool, and the keys that apply.
+void draw_run_controls(const UiStatus& status, const CaseCatalog& catalog, int current_case, UiActions& act) {
+  if (!catalog.entries().empty()) {
+    const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
+    ImGui::SetNextItemWidth(220.0F);
+    if (ImGui::BeginCombo("case", current)) {
+      for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
+        const bool selected = static_cast<int>(i) == current_case;
+        if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
+      }
+      ImGui::EndCombo();
+    }
+  }
+  if (ImGui::Button("restart")) act.restart = true;
+  ImGui::SameLine();
+  if (ImGui::Button("end run")) act.end_run = true;
+  ImGui::SameLine();
+  if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
+  ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
+  if (status.can_detach) ImGui::TextDisabled("K: detach the coil");
+  if (status.can_load) ImGui::TextDisabled("L: load the next coil");
+  if (status.aspiration >= 0) ImGui::TextDisabled("V: aspiration %s", status.aspiration == 1 ? "ON (V: off)" : "off");
+  if (status.balloon_guide >= 0) ImGui::TextDisabled("B: balloon guide %s", status.balloon_guide == 1 ? "INFLATED (flow arrest)" : "deflated");
+}
+
+}  // namespace
+
 UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapshot& s, const UiStatus& status,
                           const CaseCatalog& catalog, int current_case, RenderSettings& settings) {
   UiActions act;
@@ -94,29 +123,7 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapsh
     ImGui::SameLine();
     ImGui::SetNextItemWidth(110.0F);
     ImGui::SliderFloat("opacity", &settings.vessel_alpha, 0.05F, 1.0F, "%.2f");
-    if (!status.replay) {
-      if (!catalog.entries().empty()) {
-        const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
-        ImGui::SetNextItemWidth(220.0F);
-        if (ImGui::BeginCombo("case", current)) {
-          for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
-            const bool selected = static_cast<int>(i) == current_case;
-            if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
-          }
-          ImGui::EndCombo();
-        }
-      }
-      if (ImGui::Button("restart")) act.restart = true;
-      ImGui::SameLine();
-      if (ImGui::Button("end run")) act.end_run = true;
-      ImGui::SameLine();
-      if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
-      ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
-      if (status.can_detach) ImGui::TextDisabled("K: detach the coil");
-      if (status.can_load) ImGui::TextDisabled("L: load the next coil");
-      if (status.aspiration >= 0) ImGui::TextDisabled("V: aspiration %s", status.aspiration == 1 ? "ON (V: off)" : "off");
-      if (status.balloon_guide >= 0) ImGui::TextDisabled("B: balloon guide %s", status.balloon_guide == 1 ? "INFLATED (flow arrest)" : "deflated");
-    }
+    if (!status.replay) draw_run_controls(status, catalog, current_case, act);
     ImGui::TextDisabled("drag: orbit, right-drag: pan, wheel: zoom");
     ImGui::TextDisabled("double-click a vessel: orbit around it; C: reset");
     const ImVec2 p = ImGui::GetWindowPos();

@@ -302,8 +302,10 @@ Reply upload_result(Call& call) {
   return r;
 }
 
-Reply list_results(Call& call) {
-  ResultFilter f;
+namespace {
+
+// Whose results: a trainee only their own; a supervisor anyone's (query trainee=NAME) or all.
+Status filter_trainee(Call& call, ResultFilter& f) {
   const std::optional<std::string> trainee_name = call.query("trainee");
   if (!can_supervise(call.caller.role)) {
     // The same answer for another trainee and for a name nobody has: names cannot be probed.
@@ -314,40 +316,60 @@ Reply list_results(Call& call) {
     if (!u) return make_error(404, "query 'trainee': no user '" + trainee_name->substr(0, 64) + "'");
     f.user_id = u->id;
   }
+  return Ok{};
+}
+
+// min.METRIC=X or max.METRIC=X: one end of a metric's range (at most 16 metrics).
+Status filter_metric(const std::string& key, const std::string& value, ResultFilter& f) {
+  const std::string metric = key.substr(4);
+  double v = 0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+  if (metric.empty() || value.empty() || ec != std::errc() || end != value.data() + value.size() || !std::isfinite(v)) {
+    return make_error(400, "query '" + key.substr(0, 72) + "': expected a number");
+  }
+  auto it = std::find_if(f.metrics.begin(), f.metrics.end(), [&](const MetricRange& m) { return m.name == metric; });
+  if (it == f.metrics.end()) it = f.metrics.insert(f.metrics.end(), MetricRange{metric, std::nullopt, std::nullopt});
+  (key[1] == 'i' ? it->min : it->max) = v;
+  if (f.metrics.size() > 16) return make_error(400, "query: at most 16 metric ranges");
+  return Ok{};
+}
+
+// One query parameter of GET results (trainee excepted) into the filter.
+Status filter_by(Call& call, const std::string& key, const std::string& value, ResultFilter& f) {
+  if (key == "case") {
+    f.case_name = value;
+  } else if (key == "assignment") {
+    Result<std::optional<std::int64_t>> id = call.query_integer(key, 1, INT64_MAX);
+    if (!id) return id.error();
+    f.assignment_id = *id.value();
+  } else if (key == "since" || key == "until") {
+    const std::optional<std::int64_t> t = parse_iso_time(value);
+    if (!t) return make_error(400, "query '" + key + "': expected YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ");
+    (key == "since" ? f.since_us : f.until_us) = t;
+  } else if (key == "passed") {
+    if (value != "true" && value != "false") return make_error(400, "query 'passed': expected true or false");
+    f.passed = value == "true";
+  } else if (key == "limit" || key == "offset") {
+    Result<std::optional<std::int64_t>> n = call.query_integer(key, key == "limit" ? 1 : 0, key == "limit" ? 1000 : 1'000'000);
+    if (!n) return n.error();
+    (key == "limit" ? f.limit : f.offset) = static_cast<int>(*n.value());
+  } else if (key.rfind("min.", 0) == 0 || key.rfind("max.", 0) == 0) {
+    return filter_metric(key, value, f);
+  } else {
+    return make_error(400, "query '" + key.substr(0, 64) +
+                               "': unknown (use trainee, case, assignment, since, until, passed, min.METRIC, max.METRIC, limit, offset)");
+  }
+  return Ok{};
+}
+
+}  // namespace
+
+Reply list_results(Call& call) {
+  ResultFilter f;
+  if (Status s = filter_trainee(call, f); !s) return s.error();
   for (const auto& [key, value] : call.target.query) {
     if (key == "trainee") continue;
-    if (key == "case") {
-      f.case_name = value;
-    } else if (key == "assignment") {
-      Result<std::optional<std::int64_t>> id = call.query_integer(key, 1, INT64_MAX);
-      if (!id) return id.error();
-      f.assignment_id = *id.value();
-    } else if (key == "since" || key == "until") {
-      const std::optional<std::int64_t> t = parse_iso_time(value);
-      if (!t) return make_error(400, "query '" + key + "': expected YYYY-MM-DD or YYYY-MM-DDTHH:MM:SSZ");
-      (key == "since" ? f.since_us : f.until_us) = t;
-    } else if (key == "passed") {
-      if (value != "true" && value != "false") return make_error(400, "query 'passed': expected true or false");
-      f.passed = value == "true";
-    } else if (key == "limit" || key == "offset") {
-      Result<std::optional<std::int64_t>> n = call.query_integer(key, key == "limit" ? 1 : 0, key == "limit" ? 1000 : 1'000'000);
-      if (!n) return n.error();
-      (key == "limit" ? f.limit : f.offset) = static_cast<int>(*n.value());
-    } else if (key.rfind("min.", 0) == 0 || key.rfind("max.", 0) == 0) {
-      const std::string metric = key.substr(4);
-      double v = 0;
-      const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
-      if (metric.empty() || value.empty() || ec != std::errc() || end != value.data() + value.size() || !std::isfinite(v)) {
-        return make_error(400, "query '" + key.substr(0, 72) + "': expected a number");
-      }
-      auto it = std::find_if(f.metrics.begin(), f.metrics.end(), [&](const MetricRange& m) { return m.name == metric; });
-      if (it == f.metrics.end()) it = f.metrics.insert(f.metrics.end(), MetricRange{metric, std::nullopt, std::nullopt});
-      (key[1] == 'i' ? it->min : it->max) = v;
-      if (f.metrics.size() > 16) return make_error(400, "query: at most 16 metric ranges");
-    } else {
-      return make_error(400, "query '" + key.substr(0, 64) +
-                                 "': unknown (use trainee, case, assignment, since, until, passed, min.METRIC, max.METRIC, limit, offset)");
-    }
+    if (Status s = filter_by(call, key, value, f); !s) return s.error();
   }
   nlohmann::json list = nlohmann::json::array();
   for (const ResultRow& r : call.c.store.list_results(f)) list.push_back(result_json(r));

@@ -1,8 +1,6 @@
 #include "server/http_server.hpp"
 
 #include <atomic>
-#include <charconv>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -22,444 +20,22 @@
 #include <boost/beast/core/detect_ssl.hpp>
 
 #include "api_call.hpp"
+#include "connection_slots.hpp"
+#include "http_fields.hpp"
+#include "http_server_impl.hpp"
+#include "live_opening.hpp"
 #include "server/server_metrics.hpp"
 #include "tls_or_plain_stream.hpp"
 #include "tls_server_context.hpp"
+#include "ws_session.hpp"
 #include "server/json_input.hpp"
 #include "server/live_schema.hpp"
 
 namespace cathbox::server {
 
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace websocket = beast::websocket;
-namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
-// An open WebSocket, as the sweep sees it (http_server.hpp: idle eviction, token rechecks).
-class SweptSocket {
- public:
-  virtual ~SweptSocket() = default;
-  virtual void sweep(std::int64_t now_us) = 0;
-};
-
-struct HttpServer::Impl {
-  Api& api;
-  LiveHub& hub;
-  HttpServerOptions options;
-  net::io_context ioc;
-  tcp::acceptor acceptor;
-  net::thread_pool api_pool;
-  net::thread_pool heavy_pool;
-  std::vector<std::thread> threads;
-  std::atomic<int> heavy_queued{0};
-  std::atomic<std::size_t> open_connections{0};
-  std::mutex per_address_mutex;
-  std::unordered_map<std::string, std::size_t> per_address;  // open connections by client address
-  bool started = false;
-  bool stopped = false;
-  std::mutex stop_mutex;
-  std::mutex tls_mutex;
-  std::shared_ptr<net::ssl::context> tls_context;  // null: plain HTTP
-
-  std::shared_ptr<net::ssl::context> current_tls() {
-    std::lock_guard lock(tls_mutex);
-    return tls_context;
-  }
-
-  std::atomic<std::uint64_t> connections{0}, requests{0}, publishers{0}, watchers{0}, frames_in{0}, frames_out{0}, frames_dropped{0};
-  // The open WebSockets (swept on the server's clock) and how many each account holds.
-  std::mutex ws_mutex;
-  std::vector<std::weak_ptr<SweptSocket>> ws_sockets;
-  std::unordered_map<std::int64_t, std::size_t> ws_per_account;
-  std::unique_ptr<net::steady_timer> sweeper;
-  std::atomic<std::uint64_t> publishers_now{0}, watchers_now{0};
-  ServerMetrics metrics;
-
-  ScrapeGauges gauges() {
-    return ScrapeGauges{open_connections.load(), publishers_now.load(), watchers_now.load(), heavy_queued.load(),
-                        api.context().store.database().pool_stats(), frames_in.load(), frames_out.load(), frames_dropped.load()};
-  }
-
-  Impl(Api& a, LiveHub& h, HttpServerOptions o)
-      : api(a),
-        hub(h),
-        options(std::move(o)),
-        ioc(std::max(1, options.io_threads)),
-        acceptor(net::make_strand(ioc)),
-        api_pool(static_cast<std::size_t>(std::max(1, options.api_threads))),
-        heavy_pool(static_cast<std::size_t>(std::max(1, options.heavy_threads))) {}
-
-  void accept();
-  void sweep();
-  void schedule_sweep();
-  void open_session(tcp::socket socket);
-};
-
 namespace {
-
-std::string_view sv(beast::string_view s) { return {s.data(), s.size()}; }
-
-// Counts a connection for as long as it lives.
-struct ConnectionSlot {
-  std::atomic<std::size_t>* counter;
-  explicit ConnectionSlot(std::atomic<std::size_t>& c) : counter(&c) { ++c; }
-  ConnectionSlot(const ConnectionSlot&) = delete;
-  ConnectionSlot& operator=(const ConnectionSlot&) = delete;
-  ~ConnectionSlot() { --*counter; }
-};
-
-// A share of a counted resource, for as long as its holder lives: taken() is false when `key`
-// already held `limit` of them. The counts live in `counts` under `mutex`.
-template <class Key>
-class CountedSlot {
- public:
-  CountedSlot(std::mutex& mutex, std::unordered_map<Key, std::size_t>& counts, Key key, std::size_t limit)
-      : mutex_(&mutex), counts_(&counts), key_(std::move(key)) {
-    std::lock_guard lock(*mutex_);
-    std::size_t& n = (*counts_)[key_];
-    taken_ = n < limit;
-    if (taken_) ++n;
-    else if (n == 0) counts_->erase(key_);
-  }
-  CountedSlot(const CountedSlot&) = delete;
-  CountedSlot& operator=(const CountedSlot&) = delete;
-  ~CountedSlot() {
-    if (!taken_) return;
-    std::lock_guard lock(*mutex_);
-    const auto it = counts_->find(key_);
-    if (it != counts_->end() && --it->second == 0) counts_->erase(it);
-  }
-  [[nodiscard]] bool taken() const { return taken_; }
-  [[nodiscard]] const Key& key() const { return key_; }
-
- private:
-  std::mutex* mutex_;
-  std::unordered_map<Key, std::size_t>* counts_;
-  Key key_;
-  bool taken_ = false;
-};
-
-// One client address's share of the connections, for as long as a connection lives (moved from
-// the HTTP session into the WebSocket one on an upgrade); not taken when the address already had
-// max_connections_per_address open: the connection is then closed at once.
-class AddressSlot : public CountedSlot<std::string> {
- public:
-  AddressSlot(HttpServer::Impl& s, std::string address)
-      : CountedSlot(s.per_address_mutex, s.per_address, std::move(address), s.options.max_connections_per_address) {}
-  [[nodiscard]] const std::string& address() const { return key(); }
-};
-
-// One account's share of the WebSockets, for as long as one lives; not taken when the account
-// already holds max_websockets_per_account (the upgrade is then refused with 429).
-class AccountSlot : public CountedSlot<std::int64_t> {
- public:
-  AccountSlot(HttpServer::Impl& s, std::int64_t user_id)
-      : CountedSlot(s.ws_mutex, s.ws_per_account, user_id, s.options.max_websockets_per_account) {}
-};
-
-// Every answer, API or page: the pages run only their own scripts and modules (no inline
-// script, no eval, no other origin; WebAssembly compiled from their own files), are never
-// framed, and no type is sniffed. The one other place a page may connect to: a box bridge on
-// this machine's loopback (cathbox-box-bridge, /train.html?box=ws://127.0.0.1:PORT). Cross-origin isolated (COOP + COEP): the trainee page's
-// WebAssembly session shares memory with its threads (SharedArrayBuffer).
-void security_headers(http::response<http::string_body>& res) {
-  res.set("Content-Security-Policy",
-          "default-src 'self'; script-src 'self' 'wasm-unsafe-eval'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; "
-          "connect-src 'self' ws://127.0.0.1:* ws://localhost:*; object-src 'none'; base-uri 'none'; form-action 'self'; frame-ancestors 'none'");
-  res.set("X-Frame-Options", "DENY");
-  res.set("X-Content-Type-Options", "nosniff");
-  res.set("Referrer-Policy", "no-referrer");
-  res.set("Cross-Origin-Opener-Policy", "same-origin");
-  res.set("Cross-Origin-Embedder-Policy", "require-corp");
-}
-
-// "bearer.TOKEN" out of a Sec-WebSocket-Protocol list ("cathbox, bearer.TOKEN"); empty if none.
-std::string bearer_from_subprotocols(std::string_view list) {
-  while (!list.empty()) {
-    const std::size_t comma = std::min(list.find(','), list.size());
-    std::string_view item = list.substr(0, comma);
-    list.remove_prefix(std::min(comma + 1, list.size()));
-    while (!item.empty() && item.front() == ' ') item.remove_prefix(1);
-    while (!item.empty() && item.back() == ' ') item.remove_suffix(1);
-    if (item.rfind("bearer.", 0) == 0 && item.size() > 7) return std::string(item.substr(7));
-  }
-  return {};
-}
-
-std::string content_type_for(const std::filesystem::path& p) {
-  const std::string ext = p.extension().string();
-  if (ext == ".html") return "text/html; charset=utf-8";
-  if (ext == ".js" || ext == ".mjs") return "text/javascript; charset=utf-8";
-  if (ext == ".css") return "text/css; charset=utf-8";
-  if (ext == ".json") return "application/json";
-  if (ext == ".svg") return "image/svg+xml";
-  if (ext == ".png") return "image/png";
-  if (ext == ".jpg" || ext == ".jpeg") return "image/jpeg";
-  if (ext == ".ico") return "image/x-icon";
-  if (ext == ".wasm") return "application/wasm";
-  if (ext == ".txt" || ext == ".md") return "text/plain; charset=utf-8";
-  return "application/octet-stream";
-}
-
-ApiRequest to_api_request(const http::request<http::string_body>& req, const std::string& remote) {
-  ApiRequest r;
-  r.method = std::string(req.method_string());
-  r.target = std::string(req.target());
-  r.authorization = std::string(req[http::field::authorization]);
-  r.content_type = std::string(req[http::field::content_type]);
-  r.accept_encoding = std::string(req[http::field::accept_encoding]);
-  r.if_none_match = std::string(req[http::field::if_none_match]);
-  r.body = req.body();
-  r.remote_address = remote;
-  return r;
-}
-
-// An error answer for a failed authentication; a 401 names the scheme (RFC 9110 section 11.6.1).
-ApiResponse auth_refusal(const Error& e) {
-  ApiResponse r = error_response(e);
-  if (e.status == 401) r.headers.emplace_back("WWW-Authenticate", "Bearer");
-  return r;
-}
-
-// ---- WebSocket ------------------------------------------------------------------------------
-
-class WsSession final : public LiveSubscriber, public SweptSocket, public std::enable_shared_from_this<WsSession> {
- public:
-  WsSession(HttpServer::Impl& s, std::unique_ptr<AddressSlot> address_slot, std::unique_ptr<AccountSlot> account_slot,
-            TlsOrPlainStream&& stream, Caller caller, std::optional<Publisher> publisher, std::vector<std::string> watching,
-            std::string first_message)
-      : s_(s),
-        address_slot_(std::move(address_slot)),
-        account_slot_(std::move(account_slot)),
-        ws_(std::move(stream)),
-        caller_(std::move(caller)),
-        publisher_(std::move(publisher)),
-        watching_(std::move(watching)),
-        first_message_(std::move(first_message)) {}
-
-  void start(http::request<http::string_body> req) {
-    beast::get_lowest_layer(ws_).expires_never();
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    // A browser, which cannot set Authorization on a WebSocket, offers the subprotocols
-    // "cathbox, bearer.TOKEN": the answer names "cathbox" (never the token).
-    const bool subprotocol = !bearer_from_subprotocols(sv(req[http::field::sec_websocket_protocol])).empty();
-    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::response_type& res) {
-      res.set(http::field::server, "cathbox-server");
-      if (subprotocol) res.set(http::field::sec_websocket_protocol, "cathbox");
-    }));
-    ws_.read_message_max(publisher_ ? kMaxFrameBytes : kMaxWatcherMessageBytes);
-    auto self = shared_from_this();
-    ws_.async_accept(req, [self](beast::error_code ec) { self->on_accept(ec); });
-  }
-
-  void deliver(const LiveMessage& message) override {
-    net::post(ws_.get_executor(), [self = shared_from_this(), message] { self->enqueue(message); });
-  }
-
-  // On the server's clock (http_server.hpp): an idle socket closes; the token is checked again
-  // every ws_recheck_s.
-  void sweep(std::int64_t now_us) override {
-    net::post(ws_.get_executor(), [self = shared_from_this(), now_us] {
-      if (self->finished_) return;
-      const std::int64_t idle_us = std::int64_t{self->s_.options.ws_idle_timeout_s} * 1'000'000;
-      if (self->evictable_when_idle() && now_us - self->last_activity_us_ >= idle_us) {
-        self->finish();
-        self->ws_.async_close(websocket::close_reason(websocket::close_code::going_away, "idle"), [self](beast::error_code) {});
-        return;
-      }
-      if (!self->rechecking_ && now_us >= self->next_recheck_us_) self->recheck();
-    });
-  }
-
- private:
-  void on_accept(beast::error_code ec) {
-    if (ec) return finish();
-    accepted_ = true;
-    last_activity_us_ = now_us();
-    next_recheck_us_ = last_activity_us_ + recheck_us();
-    {
-      std::lock_guard lock(s_.ws_mutex);
-      std::erase_if(s_.ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
-      s_.ws_sockets.push_back(shared_from_this());
-    }
-    if (publisher_) {
-      ++s_.publishers;
-      ++s_.publishers_now;
-    } else {
-      ++s_.watchers;
-      ++s_.watchers_now;
-      if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
-      for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this(), watch_restriction());
-      enqueue(std::make_shared<const std::string>(first_message_));
-    }
-    read();
-  }
-
-  // A trainee watches a rig only while they stream it (the hub checks again on its events).
-  [[nodiscard]] std::string watch_restriction() const { return can_supervise(caller_.role) ? std::string() : caller_.name; }
-
-  [[nodiscard]] std::int64_t now_us() const { return s_.api.context().clock.now_us(); }
-  [[nodiscard]] std::int64_t recheck_us() const { return std::int64_t{std::max(1, s_.options.ws_recheck_s)} * 1'000'000; }
-  // Idle for ws_idle_timeout_s closes a stream that sends no frame, and a trainee's watcher that
-  // watches no rig and says nothing; an instructor's watcher (rig events) and a watcher of rigs
-  // stay however quiet the rigs are.
-  [[nodiscard]] bool evictable_when_idle() const { return publisher_ || (watching_.empty() && !can_supervise(caller_.role)); }
-
-  // Off the I/O thread: is the token still good (not logged out, expired, or its account
-  // disabled)? If not, the socket is closed (policy violation) and its watching ends.
-  void recheck() {
-    rechecking_ = true;
-    net::post(s_.api_pool, [self = shared_from_this()] {
-      bool good = true;
-      try {
-        ApiContext& c = self->s_.api.context();
-        const std::optional<TokenOwner> owner = c.store.token_owner(self->caller_.token_hash);
-        good = owner && owner->expires_us > c.clock.now_us() && !owner->user.disabled;
-      } catch (const std::exception&) {
-        // The database is away: keep the socket until it can be asked.
-      }
-      net::post(self->ws_.get_executor(), [self, good] {
-        self->rechecking_ = false;
-        self->next_recheck_us_ = self->now_us() + self->recheck_us();
-        if (self->finished_ || good) return;
-        self->finish();
-        self->ws_.async_close(websocket::close_reason(websocket::close_code::policy_error, "token revoked"),
-                              [self](beast::error_code) {});
-      });
-    });
-  }
-
-  void read() {
-    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
-  }
-
-  void on_read(beast::error_code ec) {
-    if (ec) return finish();
-    if (!ws_.got_text()) {
-      buffer_.consume(buffer_.size());
-      send_error("message: expected text (JSON), got binary");
-      return read();
-    }
-    const std::string text = beast::buffers_to_string(buffer_.data());
-    buffer_.consume(buffer_.size());
-    last_activity_us_ = now_us();
-    if (publisher_) {
-      ++s_.frames_in;
-      const Status st = s_.api.context().live.message(*publisher_, text);
-      if (!st) send_error(st.error().message);
-      if (publisher_->ended) {
-        finish();
-        ws_.async_close(websocket::close_code::normal, [self = shared_from_this()](beast::error_code) {});
-        return;
-      }
-      if (s_.api.context().live.touch_due(*publisher_)) {
-        net::post(s_.api_pool, [self = shared_from_this(), p = *publisher_] {
-          try {
-            self->s_.api.context().live.touch(p);
-          } catch (const std::exception&) {
-            // The database is away: the rig shows as stale until the next touch succeeds.
-          }
-        });
-      }
-      return read();
-    }
-    Result<std::vector<std::string>> wanted = parse_watch_message(text);
-    if (!wanted) {
-      send_error(wanted.error().message);
-      return read();
-    }
-    // Trainees' requests need the store (is this rig theirs?): off the I/O thread.
-    net::post(s_.api_pool, [self = shared_from_this(), rigs = std::move(wanted.value())] {
-      Result<std::vector<std::string>> ok = make_error(503, "database unavailable, retry");
-      try {
-        ok = self->s_.api.context().live.allowed(self->caller_, rigs);
-      } catch (const std::exception&) {
-      }
-      net::post(self->ws_.get_executor(), [self, ok = std::move(ok)]() mutable {
-        if (!ok) {
-          self->send_error(ok.error().message);
-        } else {
-          for (const std::string& rig : self->watching_) self->s_.hub.unsubscribe(rig, self.get());
-          self->watching_ = std::move(ok.value());
-          for (const std::string& rig : self->watching_) self->s_.hub.subscribe(rig, self, self->watch_restriction());
-        }
-        self->read();
-      });
-    });
-  }
-
-  void send_error(const std::string& line) {
-    const nlohmann::json j = {{"type", "error"}, {"error", line}};
-    enqueue(std::make_shared<const std::string>(safe_dump(j)));
-  }
-
-  void enqueue(const LiveMessage& message) {
-    if (finished_) return;
-    last_activity_us_ = now_us();
-    if (queue_.size() >= s_.options.watcher_queue) {
-      // Drop the oldest message not being written now.
-      queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
-      ++s_.frames_dropped;
-    }
-    queue_.push_back(message);
-    if (!writing_) write_next();
-  }
-
-  void write_next() {
-    writing_ = true;
-    ws_.text(true);
-    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      self->queue_.pop_front();
-      if (ec) {
-        self->writing_ = false;
-        return self->finish();
-      }
-      ++self->s_.frames_out;
-      if (self->queue_.empty() || self->finished_) {
-        self->writing_ = false;
-      } else {
-        self->write_next();
-      }
-    });
-  }
-
-  void finish() {
-    if (finished_) return;
-    finished_ = true;
-    if (accepted_) --(publisher_ ? s_.publishers_now : s_.watchers_now);
-    s_.hub.unsubscribe_all(this);
-    if (publisher_) {
-      net::post(s_.api_pool, [self = shared_from_this()] {
-        try {
-          self->s_.api.context().live.finish(*self->publisher_);
-        } catch (const std::exception&) {
-          // The database is away: the claim goes stale by itself.
-        }
-      });
-    }
-  }
-
-  HttpServer::Impl& s_;
-  ConnectionSlot slot_{s_.open_connections};
-  std::unique_ptr<AddressSlot> address_slot_;
-  std::unique_ptr<AccountSlot> account_slot_;
-  websocket::stream<TlsOrPlainStream> ws_;
-  std::int64_t last_activity_us_ = 0;  // the server's clock: the last message in or out
-  std::int64_t next_recheck_us_ = 0;
-  bool rechecking_ = false;
-  beast::flat_buffer buffer_;
-  Caller caller_;
-  std::optional<Publisher> publisher_;
-  std::vector<std::string> watching_;
-  std::string first_message_;
-  std::deque<LiveMessage> queue_;
-  bool writing_ = false;
-  bool finished_ = false;
-  bool accepted_ = false;
-};
-
-// ---- HTTP -----------------------------------------------------------------------------------
 
 class HttpSession final : public std::enable_shared_from_this<HttpSession> {
  public:
@@ -728,72 +304,17 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     Result<api::Target> parsed = api::parse_target(std::string_view(req.target().data(), req.target().size()));
     if (!parsed) return answer(error_response(parsed.error()), keep_alive, req.version());
     const api::Target& t = parsed.value();
-    const auto& seg = t.segments;
-    const bool publisher = seg.size() == 6 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "rigs" && seg[5] == "stream";
-    const bool watcher = seg.size() == 4 && seg[0] == "api" && seg[1] == "v1" && seg[2] == "live" && seg[3] == "watch";
-    if (!publisher && !watcher) return answer_error(404, "no WebSocket endpoint " + t.path, keep_alive, req.version());
+    const LiveEndpoint endpoint = live_endpoint(t);
+    if (endpoint == LiveEndpoint::kNone) return answer_error(404, "no WebSocket endpoint " + t.path, keep_alive, req.version());
     // The token travels in a header, never in the URL (where proxies and logs keep it).
     std::string token(req[http::field::authorization]);
     if (token.empty()) token = bearer_from_subprotocols(sv(req[http::field::sec_websocket_protocol]));
     // Everything that needs the store happens on the API threads, before the upgrade.
-    net::post(s_.api_pool, [self = shared_from_this(), req = std::move(req), t, token, publisher]() mutable {
-      ApiResponse refusal;
-      std::optional<Caller> caller;
-      std::optional<Publisher> pub;
-      std::vector<std::string> rigs;
-      std::string first;
-      try {
-        Result<Caller> who = self->s_.api.context().auth.authenticate(token);
-        if (!who) {
-          refusal = auth_refusal(who.error());
-        } else if (publisher) {
-          const auto q = [&](const char* k) { const auto it = t.query.find(k); return it == t.query.end() ? std::string() : it->second; };
-          const std::string version = q("version");
-          const std::string assignment = q("assignment");
-          std::int64_t v = 0, a = 0;
-          const bool v_ok = version.empty() || (std::from_chars(version.data(), version.data() + version.size(), v).ec == std::errc() && v >= 0 && v < 1'000'000);
-          const bool a_ok = assignment.empty() || (std::from_chars(assignment.data(), assignment.data() + assignment.size(), a).ec == std::errc() && a > 0);
-          if (!v_ok || !a_ok) {
-            refusal = error_response(make_error(400, !v_ok ? "query 'version': expected a number" : "query 'assignment': expected an id"));
-          } else {
-            Result<Publisher> started = self->s_.api.context().live.start(
-                who.value(), t.segments[4], q("case"), static_cast<int>(v), assignment.empty() ? std::nullopt : std::optional<std::int64_t>(a));
-            if (!started) {
-              refusal = error_response(started.error());
-            } else {
-              pub = std::move(started.value());
-              caller = who.value();
-            }
-          }
-        } else {
-          const auto it = t.query.find("rigs");
-          std::string list = it == t.query.end() ? std::string() : it->second;
-          nlohmann::json wanted = nlohmann::json::array();
-          for (std::size_t at = 0; at < list.size();) {
-            const std::size_t comma = std::min(list.find(',', at), list.size());
-            if (comma > at) wanted.push_back(list.substr(at, comma - at));
-            at = comma + 1;
-          }
-          Result<std::vector<std::string>> parsed_rigs = parse_watch_message(safe_dump(nlohmann::json{{"type", "watch"}, {"rigs", wanted}}));
-          Result<std::vector<std::string>> ok =
-              parsed_rigs ? self->s_.api.context().live.allowed(who.value(), parsed_rigs.value()) : parsed_rigs;
-          if (!ok) {
-            refusal = error_response(ok.error());
-          } else {
-            rigs = std::move(ok.value());
-            caller = who.value();
-            first = self->s_.api.context().live.rigs_message(who.value()).dump();
-          }
-        }
-      } catch (const StoreError& e) {
-        refusal = error_response(make_error(503, std::string("database unavailable, retry: ") + e.what()));
-      } catch (const std::exception& e) {
-        refusal = error_response(make_error(500, std::string("internal error: ") + e.what()));
-      }
-      net::post(self->stream_.get_executor(), [self, req = std::move(req), refusal = std::move(refusal), caller = std::move(caller),
-                                               pub = std::move(pub), rigs = std::move(rigs), first = std::move(first)]() mutable {
-        if (!caller) return self->answer(std::move(refusal), false, req.version());
-        self->open_websocket(std::move(req), std::move(*caller), std::move(pub), std::move(rigs), std::move(first));
+    net::post(s_.api_pool, [self = shared_from_this(), req = std::move(req), t, token, endpoint]() mutable {
+      LiveOpening o = open_live(self->s_.api.context(), t, token, endpoint);
+      net::post(self->stream_.get_executor(), [self, req = std::move(req), o = std::move(o)]() mutable {
+        if (!o.caller) return self->answer(std::move(o.refusal), false, req.version());
+        self->open_websocket(std::move(req), std::move(*o.caller), std::move(o.publisher), std::move(o.rigs), std::move(o.first_message));
       });
     });
   }
@@ -816,9 +337,8 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       return answer_error(429, "live: this account holds " + std::to_string(s_.options.max_websockets_per_account) +
                                    " live connections already (the limit)", false, req.version());
     }
-    auto ws = std::make_shared<WsSession>(s_, std::move(address_slot_), std::move(account), std::move(stream_), std::move(caller),
-                                          std::move(pub), std::move(rigs), std::move(first));
-    ws->start(std::move(req));
+    start_ws_session(s_, std::move(address_slot_), std::move(account), std::move(stream_), std::move(caller), std::move(pub), std::move(rigs),
+                     std::move(first), std::move(req));
   }
 
   void close() {

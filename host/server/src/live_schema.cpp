@@ -1,6 +1,7 @@
 #include "server/live_schema.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "server/json_input.hpp"
 
@@ -23,44 +24,42 @@ std::string check_number(const nlohmann::json& v) {
 
 Error frame_error(const std::string& where, const std::string& what) { return make_error(400, "frame: field '" + where + "': " + what); }
 
-Result<nlohmann::json> check_frame(nlohmann::json frame) {
-  FieldReader f(frame);
-  (void)f.integer("seq", 0, INT64_MAX);
-  (void)f.number("t_ms");
-  (void)f.optional_integer("sent_us", 0, INT64_MAX);
-  // Only the fields watchers draw are forwarded: anything else is refused, not relayed.
-  f.only({"seq", "t_ms", "sent_us", "tools", "tip_mm", "forces", "metrics", "contacts", "fluoro"});
-  if (!f.ok()) return make_error(400, "frame: " + f.error().message);
-  if (const auto it = frame.find("tools"); it != frame.end()) {
-    if (!it->is_array() || it->size() > kMaxToolsPerFrame) {
-      return frame_error("tools", "expected an array of at most " + std::to_string(kMaxToolsPerFrame) + " tools");
-    }
-    for (std::size_t t = 0; t < it->size(); ++t) {
-      const nlohmann::json& tool = (*it)[t];
-      const std::string at = "tools[" + std::to_string(t) + "]";
-      if (!tool.is_object()) return frame_error(at, "expected an object");
-      for (const auto& [key, value] : tool.items()) {
-        if (key != "name" && key != "active" && key != "nodes_mm") return frame_error(at + "." + key.substr(0, 64), "unknown field");
-        if (key == "active" && !value.is_boolean()) return frame_error(at + ".active", "expected true or false");
-      }
-      const auto name = tool.find("name");
-      if (name == tool.end() || !name->is_string() || name->get_ref<const std::string&>().size() > 64) {
-        return frame_error(at + ".name", "expected a string of at most 64 bytes");
-      }
-      const auto nodes = tool.find("nodes_mm");
-      if (nodes == tool.end() || !nodes->is_array() || nodes->size() > kMaxNodesPerTool) {
-        return frame_error(at + ".nodes_mm", "expected an array of at most " + std::to_string(kMaxNodesPerTool) + " points");
-      }
-      for (std::size_t n = 0; n < nodes->size(); ++n) {
-        if (const std::string bad = check_vec3((*nodes)[n]); !bad.empty()) {
-          return frame_error(at + ".nodes_mm[" + std::to_string(n) + "]", bad);
-        }
-      }
-    }
+// Each check below: the frame's field (when present) as watchers draw it, or what is wrong.
+
+std::optional<Error> check_tool(const nlohmann::json& tool, const std::string& at) {
+  if (!tool.is_object()) return frame_error(at, "expected an object");
+  for (const auto& [key, value] : tool.items()) {
+    if (key != "name" && key != "active" && key != "nodes_mm") return frame_error(at + "." + key.substr(0, 64), "unknown field");
+    if (key == "active" && !value.is_boolean()) return frame_error(at + ".active", "expected true or false");
   }
-  if (const auto it = frame.find("tip_mm"); it != frame.end()) {
-    if (const std::string bad = check_vec3(*it); !bad.empty()) return frame_error("tip_mm", bad);
+  const auto name = tool.find("name");
+  if (name == tool.end() || !name->is_string() || name->get_ref<const std::string&>().size() > 64) {
+    return frame_error(at + ".name", "expected a string of at most 64 bytes");
   }
+  const auto nodes = tool.find("nodes_mm");
+  if (nodes == tool.end() || !nodes->is_array() || nodes->size() > kMaxNodesPerTool) {
+    return frame_error(at + ".nodes_mm", "expected an array of at most " + std::to_string(kMaxNodesPerTool) + " points");
+  }
+  for (std::size_t n = 0; n < nodes->size(); ++n) {
+    if (const std::string bad = check_vec3((*nodes)[n]); !bad.empty()) return frame_error(at + ".nodes_mm[" + std::to_string(n) + "]", bad);
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> check_tools(const nlohmann::json& frame) {
+  const auto it = frame.find("tools");
+  if (it == frame.end()) return std::nullopt;
+  if (!it->is_array() || it->size() > kMaxToolsPerFrame) {
+    return frame_error("tools", "expected an array of at most " + std::to_string(kMaxToolsPerFrame) + " tools");
+  }
+  for (std::size_t t = 0; t < it->size(); ++t) {
+    if (std::optional<Error> e = check_tool((*it)[t], "tools[" + std::to_string(t) + "]")) return e;
+  }
+  return std::nullopt;
+}
+
+// "forces" and "metrics": named numbers (or booleans).
+std::optional<Error> check_number_groups(const nlohmann::json& frame) {
   for (const char* group : {"forces", "metrics"}) {
     const auto it = frame.find(group);
     if (it == frame.end()) continue;
@@ -74,28 +73,55 @@ Result<nlohmann::json> check_frame(nlohmann::json frame) {
       }
     }
   }
-  if (const auto it = frame.find("contacts"); it != frame.end()) {
-    if (!it->is_array() || it->size() > kMaxContactsPerFrame) {
-      return frame_error("contacts", "expected an array of at most " + std::to_string(kMaxContactsPerFrame) + " contacts");
-    }
-    for (std::size_t c = 0; c < it->size(); ++c) {
-      const nlohmann::json& contact = (*it)[c];
-      const std::string at = "contacts[" + std::to_string(c) + "]";
-      if (!contact.is_object() || contact.size() > 2) return frame_error(at, "expected an object {p_mm, f_mN}");
-      const auto p = contact.find("p_mm");
-      if (p == contact.end()) return frame_error(at + ".p_mm", "missing");
-      if (const std::string bad = check_vec3(*p); !bad.empty()) return frame_error(at + ".p_mm", bad);
-      const auto force = contact.find("f_mN");
-      if (force == contact.end()) return frame_error(at + ".f_mN", "missing");
-      if (const std::string bad = check_number(*force); !bad.empty()) return frame_error(at + ".f_mN", bad);
-    }
+  return std::nullopt;
+}
+
+std::optional<Error> check_contacts(const nlohmann::json& frame) {
+  const auto it = frame.find("contacts");
+  if (it == frame.end()) return std::nullopt;
+  if (!it->is_array() || it->size() > kMaxContactsPerFrame) {
+    return frame_error("contacts", "expected an array of at most " + std::to_string(kMaxContactsPerFrame) + " contacts");
   }
+  for (std::size_t c = 0; c < it->size(); ++c) {
+    const nlohmann::json& contact = (*it)[c];
+    const std::string at = "contacts[" + std::to_string(c) + "]";
+    if (!contact.is_object() || contact.size() > 2) return frame_error(at, "expected an object {p_mm, f_mN}");
+    const auto p = contact.find("p_mm");
+    if (p == contact.end()) return frame_error(at + ".p_mm", "missing");
+    if (const std::string bad = check_vec3(*p); !bad.empty()) return frame_error(at + ".p_mm", bad);
+    const auto force = contact.find("f_mN");
+    if (force == contact.end()) return frame_error(at + ".f_mN", "missing");
+    if (const std::string bad = check_number(*force); !bad.empty()) return frame_error(at + ".f_mN", bad);
+  }
+  return std::nullopt;
+}
+
+std::optional<Error> check_fluoro(const nlohmann::json& frame) {
   if (const auto it = frame.find("fluoro"); it != frame.end()) {
     if (!it->is_object() || it->size() > 16) return frame_error("fluoro", "expected an object");
     for (const auto& [key, value] : it->items()) {
       if (!value.is_boolean() && !check_number(value).empty()) return frame_error("fluoro." + key.substr(0, 64), "expected a number or boolean");
     }
   }
+  return std::nullopt;
+}
+
+Result<nlohmann::json> check_frame(nlohmann::json frame) {
+  FieldReader f(frame);
+  (void)f.integer("seq", 0, INT64_MAX);
+  (void)f.number("t_ms");
+  (void)f.optional_integer("sent_us", 0, INT64_MAX);
+  // Only the fields watchers draw are forwarded: anything else is refused, not relayed.
+  f.only({"seq", "t_ms", "sent_us", "tools", "tip_mm", "forces", "metrics", "contacts", "fluoro"});
+  if (!f.ok()) return make_error(400, "frame: " + f.error().message);
+  // The first problem in the order tools, tip, forces/metrics, contacts, fluoro.
+  if (std::optional<Error> e = check_tools(frame)) return *e;
+  if (const auto it = frame.find("tip_mm"); it != frame.end()) {
+    if (const std::string bad = check_vec3(*it); !bad.empty()) return frame_error("tip_mm", bad);
+  }
+  if (std::optional<Error> e = check_number_groups(frame)) return *e;
+  if (std::optional<Error> e = check_contacts(frame)) return *e;
+  if (std::optional<Error> e = check_fluoro(frame)) return *e;
   return frame;
 }
 

@@ -65,6 +65,7 @@ class EmuServer {
   EmuServer(int fd, std::string path, Handler& handler);
   void accept_all();
   void serve(size_t slot);
+  bool answer_control(size_t slot, const cbx_emu_frame& frame);
   void close_client(size_t slot);
   bool send_frame(int fd, const cbx_emu_frame& frame);
   // Sends a held-back control reply; false while the client's queue is still full.

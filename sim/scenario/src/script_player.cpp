@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <string>
+#include <vector>
 
 #include "tool/rod.hpp"
 #include "base/text_lines.hpp"
@@ -25,49 +28,72 @@ double advance_motion(Motion& m, double value) {
   return value + (d > 0.0 ? m.speed_per_ms : -m.speed_per_ms);
 }
 
+// Walks a script's actions as the player will, checking each against the tool selected then:
+// a coil is detached before the next is loaded, a balloon verb meets a balloon, a selected tool
+// exists.
+class ScriptCheck {
+  using ToolInfo = ScriptPlayer::ToolInfo;
+
+ public:
+  ScriptCheck(std::span<const ToolInfo> tools, std::size_t selected)
+      : tools_(tools), current_(selected), loads_(tools.size(), 0), released_(tools.size(), false) {}
+
+  // Empty, or what is wrong with `a` at this point of the script.
+  std::string action(const Action& a) {
+    if (a.kind == ActionKind::kDetach && current_ < tools_.size()) released_[current_] = true;
+    if (a.kind == ActionKind::kLoadCoil) {
+      std::string problem = load_coil();
+      if (!problem.empty()) return problem;
+    }
+    if (is_balloon(a.kind) && (current_ >= tools_.size() || !tools_[current_].balloon)) {
+      const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
+      const std::string name = current_ < tools_.size() ? tools_[current_].name : "?";
+      return verb + ": tool '" + name + "' has no balloon";
+    }
+    if (a.kind == ActionKind::kDetach && !carries_coil()) return "detach: '" + who() + "' carries no coil";
+    if (a.kind == ActionKind::kSelect) return select(a.tool);
+    return {};
+  }
+
+ private:
+  [[nodiscard]] std::string who() const { return current_ < tools_.size() ? tools_[current_].name : std::string("no tool"); }
+  [[nodiscard]] bool carries_coil() const { return current_ < tools_.size() && tools_[current_].coil; }
+
+  std::string load_coil() {
+    if (!carries_coil()) return "load_coil: '" + who() + "' carries no coil";
+    const std::size_t listed = tools_[current_].next_coil_max_insertion_mm.size();
+    if (loads_[current_] >= listed) {
+      return "load_coil: '" + who() + "' has no further coil (the case lists " + std::to_string(listed) + " after the first)";
+    }
+    if (!released_[current_]) return "load_coil: the coil of '" + who() + "' is not detached yet";
+    ++loads_[current_];
+    released_[current_] = false;
+    return {};
+  }
+
+  std::string select(const std::string& tool) {
+    const auto found = std::find_if(tools_.begin(), tools_.end(), [&](const ToolInfo& t) { return t.name == tool; });
+    current_ = static_cast<std::size_t>(found - tools_.begin());
+    if (found != tools_.end()) return {};
+    std::string names;
+    for (std::size_t i = 0; i < tools_.size(); ++i) names += (i ? " " : "") + tools_[i].name;
+    return "select: the case has no tool '" + tool + "' (tools: " + names + ")";
+  }
+
+  std::span<const ToolInfo> tools_;
+  std::size_t current_;
+  std::vector<std::size_t> loads_;
+  std::vector<bool> released_;
+};
+
 }  // namespace
 
 base::Result<ScriptPlayer> ScriptPlayer::make(const Script& script, std::span<const ToolInfo> tools,
                                               std::size_t selected, const std::string& script_name) {
-  std::size_t current = selected;
-  std::vector<std::size_t> loads(tools.size(), 0);
-  std::vector<bool> released(tools.size(), false);
+  ScriptCheck check(tools, selected);
   for (const Action& a : script.actions) {
-    if (a.kind == ActionKind::kDetach && current < tools.size()) released[current] = true;
-    if (a.kind == ActionKind::kLoadCoil) {
-      const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
-      if (current >= tools.size() || !tools[current].coil) {
-        return base::Error{located(script_name, a.line, "load_coil: '" + who + "' carries no coil")};
-      }
-      const std::size_t listed = tools[current].next_coil_max_insertion_mm.size();
-      if (loads[current] >= listed) {
-        return base::Error{located(script_name, a.line, "load_coil: '" + who + "' has no further coil (the case lists " +
-                                                            std::to_string(listed) + " after the first)")};
-      }
-      if (!released[current]) {
-        return base::Error{located(script_name, a.line, "load_coil: the coil of '" + who + "' is not detached yet")};
-      }
-      ++loads[current];
-      released[current] = false;
-    }
-    if (is_balloon(a.kind) && (current >= tools.size() || !tools[current].balloon)) {
-      const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
-      const std::string name = current < tools.size() ? tools[current].name : "?";
-      return base::Error{located(script_name, a.line, verb + ": tool '" + name + "' has no balloon")};
-    }
-    if (a.kind == ActionKind::kDetach && (current >= tools.size() || !tools[current].coil)) {
-      const std::string who = current < tools.size() ? tools[current].name : std::string("no tool");
-      return base::Error{located(script_name, a.line, "detach: '" + who + "' carries no coil")};
-    }
-    if (a.kind != ActionKind::kSelect) continue;
-    const auto found = std::find_if(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
-    current = static_cast<std::size_t>(found - tools.begin());
-    const bool known = std::any_of(tools.begin(), tools.end(), [&](const ToolInfo& t) { return t.name == a.tool; });
-    if (!known) {
-      std::string names;
-      for (std::size_t i = 0; i < tools.size(); ++i) names += (i ? " " : "") + tools[i].name;
-      return base::Error{located(script_name, a.line, "select: the case has no tool '" + a.tool + "' (tools: " + names + ")")};
-    }
+    const std::string problem = check.action(a);
+    if (!problem.empty()) return base::Error{located(script_name, a.line, problem)};
   }
   return ScriptPlayer(script, tools, selected);
 }

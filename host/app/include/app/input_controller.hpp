@@ -43,6 +43,9 @@ class InputController {
                                     session::KeyboardInput* keyboard);
 
  private:
+  void handle_mouse(GLFWwindow* w, const TrainerUi& ui, const ScreenLayout& layout, OrbitCamera& camera, const Pick& pick);
+  void handle_keys(GLFWwindow* w, RenderSettings& settings, InputActions& act, double& insert, double& twist);
+
   double last_mouse_x_ = 0.0;
   double last_mouse_y_ = 0.0;
   bool tab_down_ = false;

@@ -25,6 +25,9 @@ class ReplayPanel {
 
  private:
   void rescan();
+  static void draw_transport(session::ReplayPlayer& player, float width);
+  static void draw_checks(session::ReplayPlayer& player);
+  void draw_records(session::ReplayPlayer& player, float width, ReplayPanelActions& act);
 
   std::string records_dir_;
   std::vector<std::string> records_;

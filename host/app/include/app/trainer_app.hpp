@@ -31,6 +31,11 @@ class GlWindow;
 class ServerLink;
 class TrainerUi;
 class ReplayPanel;
+struct ReplayPanelActions;
+struct UiActions;
+struct CArmPanelActions;
+struct UiStatus;
+struct ScreenLayout;
 class FluoroRenderer;
 
 class TrainerApp {
@@ -48,6 +53,14 @@ class TrainerApp {
   [[nodiscard]] int run_headless_summary();
   [[nodiscard]] int run_headless_replay();
   [[nodiscard]] int run_window();
+  [[nodiscard]] int open_window(const std::string& case_path);
+  [[nodiscard]] UiStatus ui_status(session::Session& s, const session::SceneSnapshot& snap, double fps) const;
+  [[nodiscard]] CArmPanelActions draw_carm(const ScreenLayout& layout, const session::SceneSnapshot& snap, ScreenLayout& ui_layout);
+  void render_main_view(const ScreenLayout& layout, int fh, const session::SceneSnapshot& snap);
+  void post_live_actions(const UiActions& act, const InputActions& input, const CArmPanelActions& carm_act,
+                         const session::SceneSnapshot& snap, std::int64_t now);
+  [[nodiscard]] bool switch_run(const UiActions& act, const ReplayPanelActions& replay_act, const std::string& chosen_path,
+                                bool virtual_time);
   [[nodiscard]] base::Status<> open_live(const std::string& case_path);
   [[nodiscard]] base::Status<> open_replay(const std::string& path);
   // Closes the live run (its record) and hands the record to the server link.

@@ -15,6 +15,48 @@ namespace {
 volatile std::sig_atomic_t interrupted = 0;
 void on_interrupt(int) { interrupted = 1; }
 
+// When a line is printed: seconds since the start, and the box's report rate since the last line.
+struct LineTime {
+  double t_s;
+  double report_rate_hz;
+};
+
+// One monitor line: the state report in counts, mm and degrees, as a JSON object or a table row.
+void print_state(const cbx_state_report& r, const session::HandMapping& mapping, device::BoxClient& box, LineTime at, bool json) {
+  constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
+  const double hz = at.report_rate_hz;
+  const double mm = mapping.insertion_mm_from_counts(r.insertion_count);
+  const double mm_s = mapping.insertion_mm_from_counts(r.insertion_vel_cps);
+  const double deg = mapping.rotation_rad_from_counts(r.rotation_count) * kDegPerRad;
+  const double deg_s = mapping.rotation_rad_from_counts(r.rotation_vel_cps) * kDegPerRad;
+  if (json) {
+    print_json(Json{{"t_s", json_number(at.t_s)},
+                    {"insertion_count", int64_t{r.insertion_count}},
+                    {"insertion_mm", json_number(mm)},
+                    {"insertion_mm_s", json_number(mm_s)},
+                    {"insertion_force_mN", int64_t{r.insertion_force_mN}},
+                    {"rotation_count", int64_t{r.rotation_count}},
+                    {"rotation_deg", json_number(deg)},
+                    {"rotation_deg_s", json_number(deg_s)},
+                    {"rotation_torque_uNm", int64_t{r.rotation_torque_uNm}},
+                    {"insertion_current_mA", int64_t{r.insertion_current_mA}},
+                    {"rotation_current_mA", int64_t{r.rotation_current_mA}},
+                    {"mode", mode_name(r.mode)},
+                    {"status", status_names(r.status)},
+                    {"faults", fault_names(r.faults)},
+                    {"encoder_errors", unsigned{r.encoder_errors}},
+                    {"rx_errors", unsigned{r.rx_errors}},
+                    {"report_rate_hz", json_number(hz)},
+                    {"host_rejected", box.stats().rejected()},
+                    {"link_up", box.link() == device::Link::kUp}});
+  } else {
+    std::printf("%7.2f  %10d %9.2f %9.1f %7d  %10d %9.1f %9.1f %9d  %6d %6d  %-28s %-12s %6.0f%s\n", at.t_s,
+                r.insertion_count, mm, mm_s, r.insertion_force_mN, r.rotation_count, deg, deg_s, r.rotation_torque_uNm,
+                r.insertion_current_mA, r.rotation_current_mA, status_names(r.status).c_str(),
+                fault_names(r.faults).c_str(), hz, box.link() == device::Link::kUp ? "" : "  (link down)");
+  }
+}
+
 int run_monitor(std::span<const std::string> argv) {
   Args args(argv, {"emu", "duration", "rate"}, {"json"});
   const auto duration_s = args.number("duration");
@@ -34,7 +76,6 @@ int run_monitor(std::span<const std::string> argv) {
   auto cal = box.calibration();
   if (!cal) return fail("monitor", cal.error());
   const session::HandMapping mapping({cal.value().insertion_counts_per_m, cal.value().rotation_counts_per_rev});
-  constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
   const bool json = args.flag("json");
   std::signal(SIGINT, on_interrupt);
   std::signal(SIGTERM, on_interrupt);
@@ -71,37 +112,7 @@ int run_monitor(std::span<const std::string> argv) {
       std::fprintf(stderr, "cathbox monitor: no state from the box (%s)\n", box.describe().c_str());
       continue;
     }
-    const auto& r = state.report;
-    const double mm = mapping.insertion_mm_from_counts(r.insertion_count);
-    const double mm_s = mapping.insertion_mm_from_counts(r.insertion_vel_cps);
-    const double deg = mapping.rotation_rad_from_counts(r.rotation_count) * kDegPerRad;
-    const double deg_s = mapping.rotation_rad_from_counts(r.rotation_vel_cps) * kDegPerRad;
-    if (json) {
-      print_json(Json{{"t_s", json_number((now - start) * 1e-6)},
-                      {"insertion_count", int64_t{r.insertion_count}},
-                      {"insertion_mm", json_number(mm)},
-                      {"insertion_mm_s", json_number(mm_s)},
-                      {"insertion_force_mN", int64_t{r.insertion_force_mN}},
-                      {"rotation_count", int64_t{r.rotation_count}},
-                      {"rotation_deg", json_number(deg)},
-                      {"rotation_deg_s", json_number(deg_s)},
-                      {"rotation_torque_uNm", int64_t{r.rotation_torque_uNm}},
-                      {"insertion_current_mA", int64_t{r.insertion_current_mA}},
-                      {"rotation_current_mA", int64_t{r.rotation_current_mA}},
-                      {"mode", mode_name(r.mode)},
-                      {"status", status_names(r.status)},
-                      {"faults", fault_names(r.faults)},
-                      {"encoder_errors", unsigned{r.encoder_errors}},
-                      {"rx_errors", unsigned{r.rx_errors}},
-                      {"report_rate_hz", json_number(hz)},
-                      {"host_rejected", box.stats().rejected()},
-                      {"link_up", box.link() == device::Link::kUp}});
-    } else {
-      std::printf("%7.2f  %10d %9.2f %9.1f %7d  %10d %9.1f %9.1f %9d  %6d %6d  %-28s %-12s %6.0f%s\n", (now - start) * 1e-6,
-                  r.insertion_count, mm, mm_s, r.insertion_force_mN, r.rotation_count, deg, deg_s, r.rotation_torque_uNm,
-                  r.insertion_current_mA, r.rotation_current_mA, status_names(r.status).c_str(),
-                  fault_names(r.faults).c_str(), hz, box.link() == device::Link::kUp ? "" : "  (link down)");
-    }
+    print_state(state.report, mapping, box, {(now - start) * 1e-6, hz}, json);
     std::fflush(stdout);
   }
   return kExitOk;

@@ -7,6 +7,8 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -32,6 +34,80 @@ std::string program_dir() {
   std::error_code ec;
   const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
   return ec ? std::string(".") : exe.parent_path().string();
+}
+
+// The hand that drives a run; without one, the exit code (its message printed) or, for a bad
+// --box, the usage problem.
+struct HandChoice {
+  std::unique_ptr<session::Hand> hand;
+  int exit_code = kExitOk;
+  std::string usage_problem;
+};
+
+HandChoice script_hand(const std::string& script, const session::SessionCase& scene) {
+  base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(script, scene);
+  if (!loaded) {
+    std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
+    return {nullptr, kExitBadInput, {}};
+  }
+  return {std::move(*loaded), kExitOk, {}};
+}
+
+// --emu [PATH]: the emulated box at PATH, or one started for this run.
+HandChoice emulator_hand(const std::string& emu, const session::SessionOptions& options) {
+  session::BoxHandOptions box;
+  box.source = session::BoxSource::kEmulator;
+  box.emu_socket = emu;
+  box.emu_program = program_dir() + "/cathbox-emu";
+  box.dt_s = static_cast<double>(options.period_us) * 1e-6;
+  base::Result<std::unique_ptr<session::BoxHand>> connected = session::BoxHand::connect(box);
+  if (!connected) {
+    std::fprintf(stderr, "cathbox session run: %s\n", connected.error().message.c_str());
+    return {nullptr, kExitNoDevice, {}};
+  }
+  return {std::move(*connected), kExitOk, {}};
+}
+
+// --box TOOL=WHERE, repeated: one box per tool, each tool once.
+HandChoice box_rig_hand(const std::vector<std::string>& boxes, const session::SessionCase& scene, const session::SessionOptions& options) {
+  std::vector<session::BoxBinding> bindings;
+  for (const std::string& b : boxes) {
+    const base::Result<session::BoxBinding> parsed = session::parse_box_binding(b, scene.spec.tools);
+    if (!parsed) return {nullptr, kExitOk, parsed.error().message};
+    for (const session::BoxBinding& other : bindings) {
+      if (other.tool == parsed->tool) return {nullptr, kExitOk, "--box: two boxes for '" + parsed->tool_name + "'"};
+    }
+    bindings.push_back(*parsed);
+  }
+  session::BoxHandOptions rig_options;
+  rig_options.emu_program = program_dir() + "/cathbox-emu";
+  rig_options.dt_s = static_cast<double>(options.period_us) * 1e-6;
+  base::Result<std::unique_ptr<session::MultiBoxHand>> rig = session::MultiBoxHand::connect(bindings, rig_options, scene.spec.tools.size());
+  if (!rig) {
+    std::fprintf(stderr, "cathbox session run: %s\n", rig.error().message.c_str());
+    return {nullptr, kExitNoDevice, {}};
+  }
+  return {std::move(*rig), kExitOk, {}};
+}
+
+// Runs the session to its end: in virtual time (an action script) or real time (a box); an
+// interrupt ends the run.
+void drive(session::Session& s, bool virtual_time) {
+  if (virtual_time) {
+    while (!s.over()) {
+      s.step_virtual(1000);
+      print_events(s);
+      if (g_interrupted.load()) s.end_run();
+    }
+    return;
+  }
+  s.start();
+  while (!s.over()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    print_events(s);
+    if (g_interrupted.load()) s.end_run();
+  }
+  s.stop();
 }
 
 }  // namespace
@@ -64,47 +140,17 @@ int run_run(Args& args, const GroupSpec& group) {
   }
   session::SessionOptions options;
   if (seconds) options.max_ticks = static_cast<std::int64_t>(*seconds * 1e6 / static_cast<double>(options.period_us));
-  std::unique_ptr<session::Hand> hand;
+  HandChoice chosen;
   if (script) {
-    base::Result<std::unique_ptr<session::ActionScriptHand>> loaded = session::ActionScriptHand::load(*script, *scene.value());
-    if (!loaded) {
-      std::fprintf(stderr, "%s\n", loaded.error().message.c_str());
-      return kExitBadInput;
-    }
-    hand = std::move(*loaded);
+    chosen = script_hand(*script, *scene.value());
   } else if (emu) {
-    session::BoxHandOptions box;
-    box.source = session::BoxSource::kEmulator;
-    box.emu_socket = *emu;
-    box.emu_program = program_dir() + "/cathbox-emu";
-    box.dt_s = static_cast<double>(options.period_us) * 1e-6;
-    base::Result<std::unique_ptr<session::BoxHand>> connected = session::BoxHand::connect(box);
-    if (!connected) {
-      std::fprintf(stderr, "cathbox session run: %s\n", connected.error().message.c_str());
-      return kExitNoDevice;
-    }
-    hand = std::move(*connected);
+    chosen = emulator_hand(*emu, options);
   } else {
-    std::vector<session::BoxBinding> bindings;
-    for (const std::string& b : boxes) {
-      const base::Result<session::BoxBinding> parsed = session::parse_box_binding(b, scene.value()->spec.tools);
-      if (!parsed) return bad(parsed.error().message);
-      for (const session::BoxBinding& other : bindings) {
-        if (other.tool == parsed->tool) return bad("--box: two boxes for '" + parsed->tool_name + "'");
-      }
-      bindings.push_back(*parsed);
-    }
-    session::BoxHandOptions rig_options;
-    rig_options.emu_program = program_dir() + "/cathbox-emu";
-    rig_options.dt_s = static_cast<double>(options.period_us) * 1e-6;
-    base::Result<std::unique_ptr<session::MultiBoxHand>> rig =
-        session::MultiBoxHand::connect(bindings, rig_options, scene.value()->spec.tools.size());
-    if (!rig) {
-      std::fprintf(stderr, "cathbox session run: %s\n", rig.error().message.c_str());
-      return kExitNoDevice;
-    }
-    hand = std::move(*rig);
+    chosen = box_rig_hand(boxes, *scene.value(), options);
+    if (!chosen.usage_problem.empty()) return bad(chosen.usage_problem);
   }
+  if (!chosen.hand) return chosen.exit_code;
+  std::unique_ptr<session::Hand> hand = std::move(chosen.hand);
   session::Session s(std::move(scene.value()), std::move(hand), options);
   if (base::Status<> recording = s.record_to(*record); !recording) {
     std::fprintf(stderr, "%s\n", recording.error().message.c_str());
@@ -121,21 +167,7 @@ int run_run(Args& args, const GroupSpec& group) {
   std::fflush(stdout);
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  if (script) {
-    while (!s.over()) {
-      s.step_virtual(1000);
-      print_events(s);
-      if (g_interrupted.load()) s.end_run();
-    }
-  } else {
-    s.start();
-    while (!s.over()) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-      print_events(s);
-      if (g_interrupted.load()) s.end_run();
-    }
-    s.stop();
-  }
+  drive(s, script.has_value());
   print_events(s);
   session::Recorder& rec = *s.recorder();
   const bool written = rec.close();
