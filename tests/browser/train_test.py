@@ -11,7 +11,11 @@ page uploads the record; the server accepts it only if every state hash
 replays (201), and `cathbox session replay --check` replays the stored record natively.
 Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, on the server
 restarted without --wasm, opening a case shows one line naming what is missing. On a two-tool
-case (neuro), Tab hands over the other tool and Escape ends the run, uploaded.
+case (neuro), Tab hands over the other tool and Escape ends the run, uploaded. A native record
+(`cathbox session run --virtual`) given to the page's "Check a record" file input replays in the
+worker with every state hash checked (passed, all ticks); the same record with one byte changed
+is refused, the page saying why, and so is the record against another case's (neuro) surface (a
+state hash differs at a tick).
 
 The box path (issue 36, "the emulated box in the browser's place"): cathbox-emu runs with its
 scripted hand pushing the wire at 20 mm/s, cathbox-box-bridge puts it on a WebSocket, and the
@@ -175,6 +179,48 @@ def test_native_replay(centre, result_id, report):
     report["native_replay"] = out.strip().splitlines()[-1]
 
 
+def test_native_record_in_page(b, centre, report):
+    """A native record (`cathbox session run --virtual`) replayed in the page's worker with every
+    state hash checked; the same record with one byte changed does not pass, nor does it against
+    another case's surface (a state hash differs at a tick)."""
+    rec = os.path.join(centre.tmp, "native.cbxrec")
+    centre.run([centre.program("cathbox"), "session", "run", "--case", os.path.join(centre.args.source, "cases/y_bifurcation.case"),
+                "--script", os.path.join(centre.args.source, "cases/y_bifurcation_left.actions"), "--record", rec,
+                "--virtual", "--seconds", "2"], "native session run")
+    data = bytearray(open(rec, "rb").read())
+    data[len(data) // 2] ^= 0x40
+    bad = os.path.join(centre.tmp, "native-changed.cbxrec")
+    open(bad, "wb").write(bytes(data))
+    b.open("/train.html?clock=virtual")
+    b.wait_js("return document.querySelector('#replay-case option[value^=\"ybif/\"]') !== null", "the record check's case list")
+    results = {}
+    for name, path, case in (("native", rec, "ybif/"), ("changed", bad, "ybif/"), ("other_surface", rec, "neuro/")):
+        b.js("const s = document.getElementById('replay-case'); s.value = [...s.options].find((o) => o.value.startsWith(arguments[0])).value;", case)
+        b.js("window.cathboxTrain.replay = null; window.cathboxTrain.error = null;")
+        b.driver.find_element(By.ID, "replay-file").send_keys(path)
+        b.wait_js("return window.cathboxTrain.replay !== null || window.cathboxTrain.state === 'error'", "the page's replay of " + name)
+        results[name] = b.js("return window.cathboxTrain.replay")
+        results[name + "_text"] = b.js("return document.getElementById('replay-result').textContent")
+        if name == "native":
+            b.shot("train_record_check")
+        b.js("document.getElementById('replay-file').value = '';")
+    native = results["native"]
+    check(native and native["passed"] and native["figures"]["hashes_checked"] > 0
+          and native["figures"]["ticks"] == native["figures"]["recorded_ticks"],
+          "the native record in the page: %r" % native)
+    check(results["native_text"].startswith("passed:"), "the page shows: %r" % results["native_text"])
+    changed = results["changed"]
+    check(changed is not None and not changed["passed"] and changed["message"],
+          "a changed record passed the page's check: %r" % changed)
+    check(results["changed_text"].startswith("FAILED:"), "the page shows for the changed record: %r" % results["changed_text"])
+    other = results["other_surface"]
+    check(other is not None and not other["passed"] and "state hash differs at tick" in other["message"],
+          "the native record against another vessel's surface: %r" % other)
+    report["native_record_in_page"] = {"hashes_checked": native["figures"]["hashes_checked"], "ticks": native["figures"]["ticks"],
+                                       "replay_ms": round(native["ms"]), "changed": changed["message"],
+                                       "other_surface": other["message"]}
+
+
 def test_without_wasm(b, centre, assignment, report):
     """A server started without --wasm: the page says so in one line, and nothing runs."""
     centre.extra_args = []
@@ -300,6 +346,8 @@ def main():
         watcher.quit()
         watcher = None
         test_native_replay(centre, result_id, report)
+        test_native_record_in_page(b, centre, report)
+        b.drain_console()
         test_tab_and_escape(b, two_tools, report)
         b.drain_console()
         if args.real_clock:

@@ -6,7 +6,9 @@
 #include <memory>
 #include <string>
 
+#include "session/replay.hpp"
 #include "wasm/browser_session.hpp"
+#include "wasm/surface_file.hpp"
 
 namespace {
 
@@ -74,6 +76,44 @@ EMSCRIPTEN_KEEPALIVE const char* cbx_summary() {
   g_text = g_session ? g_session->summary_json() : std::string("null");
   return g_text.c_str();
 }
+
+
+// A record (any rig's: native or this page's) replayed here with every state hash checked against
+// the collision mesh at mesh_path. 1: every hash matches; 0: a hash differs or the record is bad
+// (cbx_error() says which); cbx_summary() then gives {ticks, recorded_ticks, hashes_checked,
+// mismatch_tick}. The open run, if any, is left alone.
+EMSCRIPTEN_KEEPALIVE int cbx_replay_check(const char* record_path, const char* mesh_path) {
+  using namespace cathbox;
+  g_error.clear();
+  g_text = "null";
+  base::Result<vessel::SurfaceMesh> surface = wasm::read_surface_file(mesh_path);
+  if (!surface) {
+    g_error = surface.error().message;
+    return 0;
+  }
+  base::Result<std::unique_ptr<session::Replay>> replay = session::Replay::open(record_path, true, &*surface);
+  if (!replay) {
+    g_error = replay.error().message;
+    return 0;
+  }
+  (*replay)->step(-1);
+  const session::ReplayResult r = (*replay)->result();
+  g_text = "{\"ticks\":" + std::to_string(r.ticks) + ",\"recorded_ticks\":" + std::to_string(r.recorded_ticks) +
+           ",\"hashes_checked\":" + std::to_string(r.hashes_checked) +
+           ",\"mismatch_tick\":" + (r.mismatch ? std::to_string(r.mismatch->tick) : std::string("null")) + "}";
+  if (!r.error.empty()) {
+    g_error = r.error;
+    return 0;
+  }
+  if (r.mismatch) {
+    g_error = "state hash differs at tick " + std::to_string(r.mismatch->tick);
+    return 0;
+  }
+  return 1;
+}
+
+// The last replay's figures (JSON), after cbx_replay_check().
+EMSCRIPTEN_KEEPALIVE const char* cbx_replay_summary() { return g_text.c_str(); }
 
 }  // extern "C"
 

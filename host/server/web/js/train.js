@@ -181,6 +181,7 @@ function startWorker() {
     else if (m.type === 'ready') onReady(m);
     else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
     else if (m.type === 'over') onOver(m);
+    else if (m.type === 'replayed') onReplayed(m);
     else if (m.type === 'error') { hook.state = 'error'; hook.error = m.message; showError(m.message); status(''); }
   };
   worker.onerror = (e) => { hook.state = 'error'; hook.error = e.message; showError('worker: ' + e.message); };
@@ -243,8 +244,37 @@ async function openCase(a) {
     mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl }, [collision]);
 }
 
+// Check a record: the chosen case's collision mesh and the file's bytes to the worker's replay.
+function onReplayed(m) {
+  hook.replay = m;
+  const f = m.figures || {};
+  document.getElementById('replay-result').textContent = m.passed
+    ? `passed: ${f.hashes_checked} state hashes checked over ${f.ticks} of ${f.recorded_ticks} ticks, all match (${m.ms.toFixed(0)} ms)`
+    : `FAILED: ${m.message}` + (f.ticks !== undefined ? ` (${f.hashes_checked} hashes checked over ${f.ticks} ticks)` : '');
+}
+
+function offerReplay(assignments) {
+  const cases = [...new Set(assignments.map((a) => a.case + '\t' + a.case_version))].map((k) => k.split('\t'));
+  document.getElementById('replay-case').replaceChildren(...cases.map(([name, version]) =>
+    el('option', { value: name + '/' + (version === 'latest' ? 'latest' : version) }, name + (version === 'latest' ? '' : ' v' + version))));
+  const input = document.getElementById('replay-file');
+  input.addEventListener('change', () => guarded(async () => {
+    const file = input.files[0];
+    const chosen = document.getElementById('replay-case').value;
+    if (!file || !chosen) return;
+    hook.replay = null;
+    document.getElementById('replay-result').textContent = 'replaying ' + file.name + '…';
+    const [name, version] = chosen.split('/');
+    const [record, mesh] = await Promise.all([file.arrayBuffer(),
+      api('/cases/' + encodeURIComponent(name) + '/versions/' + version + '/mesh?level=collision', { raw: true })]);
+    if (!worker) startWorker();
+    worker.postMessage({ type: 'replay', record, mesh }, [record, mesh]);
+  }));
+}
+
 if (user) guarded(async () => {
   const { assignments } = await api('/assignments');
+  offerReplay(assignments);
   const rows = assignments.map((a) => el('tr', { 'data-id': a.id },
     el('td', {}, a.case + (a.case_version === 'latest' ? '' : ' v' + a.case_version)), el('td', {}, a.note || ''),
     el('td', {}, a.due_at ? a.due_at.slice(0, 10) : '–'),

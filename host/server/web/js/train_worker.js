@@ -18,8 +18,9 @@
 // 50 ms); each frame carries its report, and box_note messages its state for the page.
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
-// advance {ticks}, next_tool, end. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
-// advanced {ticks}, over {summary, record (bytes), jitter}, error {message}.
+// advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)}. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
+// advanced {ticks}, over {summary, record (bytes), jitter},
+// replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms}, error {message}.
 'use strict';
 
 const SLICE_MS = 8;
@@ -73,6 +74,8 @@ function bind(m) {
     snapshotMetrics: c('cbx_snapshot_metrics', 'string', []),
     closeRecord: c('cbx_close_record', 'number', []),
     summary: c('cbx_summary', 'string', []),
+    replayCheck: c('cbx_replay_check', 'number', ['string', 'string']),
+    replaySummary: c('cbx_replay_summary', 'string', []),
   };
 }
 
@@ -173,12 +176,34 @@ async function openBox(url) {
   }
 }
 
-async function open(m) {
-  const t0 = performance.now();
+async function ensureModule() {
   if (!mod) {
     mod = await loadModule();
     fn = bind(mod);
   }
+}
+
+// Any rig's record (native or a page's) replayed with every state hash checked; the run, if one
+// is open, is left alone.
+async function replay(m) {
+  await ensureModule();
+  const FS = mod.FS;
+  try { FS.mkdir('/check'); } catch (_) { /* there */ }
+  FS.writeFile('/check/record.cbxrec', new Uint8Array(m.record));
+  FS.writeFile('/check/collision.cbxmesh', new Uint8Array(m.mesh));
+  const t0 = performance.now();
+  const passed = fn.replayCheck('/check/record.cbxrec', '/check/collision.cbxmesh') === 1;
+  const ms = performance.now() - t0;
+  const figures = JSON.parse(fn.replaySummary());
+  const message = passed ? '' : fn.error();
+  FS.unlink('/check/record.cbxrec');
+  FS.unlink('/check/collision.cbxmesh');
+  postMessage({ type: 'replayed', passed, figures, message, ms });
+}
+
+async function open(m) {
+  const t0 = performance.now();
+  await ensureModule();
   const FS = mod.FS;
   for (const dir of ['/case', '/run']) { try { FS.mkdir(dir); } catch (_) { /* there */ } }
   FS.writeFile('/case/' + m.caseFile, m.caseText);
@@ -203,6 +228,8 @@ onmessage = (e) => {
   try {
     if (m.type === 'open') {
       open(m).catch((err) => fail(err && err.message ? err.message : err));
+    } else if (m.type === 'replay') {
+      replay(m).catch((err) => fail(err && err.message ? err.message : err));
     } else if (!fn) {
       fail('no session open');
     } else if (m.type === 'advance') {
