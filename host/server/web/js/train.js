@@ -10,7 +10,8 @@
 // ?box=ws://HOST:PORT uses cathbox-box-bridge in front of cathbox-emu; where the browser has
 // WebHID, "Connect box" asks Chromium for the box; elsewhere the page says so and keeps the keys.
 //
-// /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
+// /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
+// sleeps to it; js/tick_clock.js). /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
 // N ticks (tests drive the page in virtual time this way).
 import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
@@ -241,7 +242,8 @@ async function openCase(a) {
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,
-    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl }, [collision]);
+    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl, spinMs: params.has('spin') ? Number(params.get('spin')) : undefined },
+    [collision]);
 }
 
 // Check a record: the chosen case's collision mesh and the file's bytes to the worker's replay.

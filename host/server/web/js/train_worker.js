@@ -2,12 +2,14 @@
 // WebAssembly, from /wasm/) and its clock. Never the page's thread.
 //
 // Clocks (the page's `clock` option):
-//   'real'    — 1 kHz against performance.now(): the ticks that are due run, then the worker
-//               sleeps to the next deadline with Atomics.wait (sub-millisecond, unlike timers),
-//               and every 8 ms it returns to its event loop (messages; the record writer's
-//               file calls, which its thread hands to this one). More than 4 ticks late: the
-//               overdue ones are dropped (counted), as the native haptic thread does. The
-//               interval between consecutive ticks is measured (jitter: p50, p99, max).
+//   'real'    — 1 kHz against performance.now() (js/tick_clock.js): the ticks that are due run,
+//               then the worker sleeps to the next deadline with Atomics.wait (sub-millisecond,
+//               unlike timers) and spins on performance.now() for the last 0.2 ms (the page's
+//               `spin` option, ms), and every 8 ms it returns to its event loop (messages; the
+//               record writer's file calls, which its thread hands to this one). Up to 4 overdue
+//               ticks run back to back; beyond that they are dropped (counted), as the native
+//               haptic thread does. The timing is measured (js/tick_stats.js: interval, lateness,
+//               each tick's run time, what the late ticks came after) and posted at the end.
 //   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
 // Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
 // insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
@@ -23,11 +25,7 @@
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms}, error {message}.
 'use strict';
 
-const SLICE_MS = 8;
-const MAX_CATCH_UP = 4;  // as session::HapticPacer
 const FRAME_MS = 16;
-const BIN_MS = 0.01;  // interval histogram: 10 µs bins up to 100 ms
-const BINS = 10000;
 
 let mod = null;
 let fn = null;
@@ -35,11 +33,7 @@ let keys = null;
 let clock = 'real';
 let over = false;
 const sleepCell = new Int32Array(new SharedArrayBuffer(4));
-const histogram = new Uint32Array(BINS + 1);
-let lastTickAt = -1;
-let intervals = 0;
-let maxInterval = 0;
-let dropped = 0;
+let ticker = null;  // the real clock's TickClock
 let box = null;  // the bridge's BoxDriver, or null
 let latest = null;  // the newest snapshot's hand figures, for the box driver
 
@@ -86,27 +80,6 @@ function tick() {
   if (fn.over()) over = true;
 }
 
-function measure(now) {
-  if (lastTickAt >= 0) {
-    const d = now - lastTickAt;
-    histogram[Math.min(BINS, Math.floor(d / BIN_MS))]++;
-    intervals++;
-    if (d > maxInterval) maxInterval = d;
-  }
-  lastTickAt = now;
-}
-
-function percentile(p) {
-  if (intervals === 0) return null;
-  const want = Math.ceil(p * intervals);
-  let seen = 0;
-  for (let i = 0; i <= BINS; ++i) {
-    seen += histogram[i];
-    if (seen >= want) return (i + 0.5) * BIN_MS;
-  }
-  return maxInterval;
-}
-
 function postFrame() {
   const n = fn.snapshot();
   const at = fn.snapshotData() >> 2;
@@ -125,38 +98,18 @@ function finish() {
   if (!fn.closeRecord()) return fail('record: ' + fn.error());
   const summary = JSON.parse(fn.summary());
   const record = mod.FS.readFile('/run/run.cbxrec');
-  const jitter = clock === 'real'
-    ? { ticks: intervals + 1, p50_ms: percentile(0.5), p99_ms: percentile(0.99), max_ms: maxInterval, dropped }
-    : null;
+  const jitter = clock === 'real' ? ticker.stats.report() : null;
   postMessage({ type: 'over', summary, record: record.buffer, jitter }, [record.buffer]);
 }
 
-// The real clock: tick k is due at start + k ms.
-let start = 0;
-let due = 0;
+// The real clock (js/tick_clock.js): one slice of ticks, a frame every 16 ms, then the event loop.
 const yielder = new MessageChannel();
 yielder.port1.onmessage = () => slice();
 let lastFrameAt = 0;
+const runTick = () => { tick(); return !over; };
 
 function slice() {
-  const sliceEnd = performance.now() + SLICE_MS;
-  for (;;) {
-    let now = performance.now();
-    const late = Math.floor(now - start) - due + 1;  // ticks due now
-    if (late > MAX_CATCH_UP) {
-      dropped += late - MAX_CATCH_UP;
-      due += late - MAX_CATCH_UP;
-    }
-    while (!over && start + due <= now) {
-      measure(now);
-      tick();
-      ++due;
-      now = performance.now();
-    }
-    if (over) return finish();
-    if (now >= sliceEnd) break;
-    Atomics.wait(sleepCell, 0, 0, start + due - now);
-  }
+  if (ticker.slice(runTick) === 'over') return finish();
   if (performance.now() - lastFrameAt >= FRAME_MS) {
     lastFrameAt = performance.now();
     postFrame();
@@ -217,8 +170,13 @@ async function open(m) {
   postFrame();
   postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0 });
   if (clock === 'real') {
-    start = performance.now();
-    due = 0;
+    const { TickClock } = await import('/js/tick_clock.js');
+    ticker = new TickClock({
+      now: () => performance.now(),
+      sleep: (ms) => Atomics.wait(sleepCell, 0, 0, ms),
+      ...(Number.isFinite(m.spinMs) ? { spinMs: m.spinMs } : {}),
+    });
+    ticker.begin();
     slice();
   }
 }
