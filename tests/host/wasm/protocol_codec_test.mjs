@@ -4,7 +4,10 @@
 //    byte for byte, bad ones are refused with their status);
 //  - every good state vector's bytes decoded by BoxCodec.decodeState to the vector's value,
 //    field by field; every bad state vector refused with its status's name;
-//  - every good command vector's value encoded by BoxCodec.encodeCommand to its bytes.
+//  - every good command vector's value encoded by BoxCodec.encodeCommand to its bytes;
+//  - every device info, calibration and limits vector (the feature reports a page reads on
+//    connect) decoded by BoxCodec.decodeFeature to its value field by field (text too) and
+//    encoded back by encodeFeature to its bytes; the bad ones refused with their status's name.
 //   node protocol_codec_test.mjs build/wasm/bin/cathbox-protocol.js host/server/web/js/box_codec.js
 import { createRequire } from 'module';
 import { pathToFileURL } from 'url';
@@ -13,7 +16,7 @@ import path from 'path';
 const [modulePath, codecPath] = process.argv.slice(2);
 const require = createRequire(import.meta.url);
 const CathboxProtocol = require(path.resolve(modulePath));
-const { BoxCodec, STATE_FIELDS } = await import(pathToFileURL(path.resolve(codecPath)).href);
+const { BoxCodec, STATE_FIELDS, FEATURE, FEATURE_FIELDS } = await import(pathToFileURL(path.resolve(codecPath)).href);
 
 const m = await CathboxProtocol();
 const codec = new BoxCodec(m);
@@ -32,6 +35,9 @@ const scratch = m._malloc(4 * 32);
 const failures = [];
 let states = 0;
 let commands = 0;
+let features = 0;
+const featureFieldsOf = c('cbxw_vector_feature_fields', 'number', ['number', 'number', 'number']);
+const text = m._malloc(3 * 17);
 for (let i = 0; i < count; ++i) {
   const what = name(i) + ' (' + kind(i) + ')';
   const r = check(i);
@@ -57,6 +63,30 @@ for (let i = 0; i < count; ++i) {
     const law = (o) => ({ offset: golden[o], pos0: golden[o + 1], stiffness: golden[o + 2], damping: golden[o + 3], out_min: golden[o + 4], out_max: golden[o + 5] });
     const out = codec.encodeCommand({ seq: golden[0], time_us: golden[1], mode: golden[2], flags: golden[3], insertion: law(4), rotation: law(10) });
     if (Buffer.compare(Buffer.from(out), Buffer.from(bytes)) !== 0) failures.push(what + ': encodeCommand gives other bytes');
+  } else if (FEATURE[kind(i)] !== undefined) {
+    ++features;
+    const id = FEATURE[kind(i)];
+    if (expect(i) === 0) {
+      const k = featureFieldsOf(i, scratch, text);
+      const want = Array.from(m.HEAP32.subarray(scratch >> 2, (scratch >> 2) + k));
+      const got = codec.decodeFeature(id, bytes);
+      FEATURE_FIELDS[id].forEach((f, j) => {
+        if ((got[f] | 0) !== want[j]) failures.push(what + ': ' + f + ' ' + got[f] + ', ' + want[j] + ' expected');
+      });
+      if (id === FEATURE.device_info) {
+        ['serial', 'board', 'build'].forEach((f, j) => {
+          const w = m.UTF8ToString(text + 17 * j);
+          if (got[f] !== w) failures.push(what + ': ' + f + ' ' + JSON.stringify(got[f]) + ', ' + JSON.stringify(w) + ' expected');
+        });
+      }
+      const again = codec.encodeFeature(id, got);
+      if (Buffer.compare(Buffer.from(again), Buffer.from(bytes)) !== 0) failures.push(what + ': encodeFeature gives other bytes');
+    } else {
+      let line = null;
+      try { codec.decodeFeature(id, bytes); } catch (e) { line = e.message; }
+      const hexId = '0x' + id.toString(16);
+      if (line !== 'feature report ' + hexId + ': ' + statusName(expect(i))) failures.push(what + ': refused as ' + line);
+    }
   }
 }
 let refused = null;
@@ -65,9 +95,9 @@ try {
     rotation: { offset: 0, pos0: 0, stiffness: 0, damping: 0, out_min: 0, out_max: 0 } });
 } catch (e) { refused = e.message; }
 if (refused !== 'OUT command: ' + statusName(-6)) failures.push('a negative stiffness: ' + refused);
-if (states === 0 || commands === 0) failures.push('no state or command vector seen');
+if (states === 0 || commands === 0 || features < 8) failures.push('too few state, command or feature vectors seen: ' + [states, commands, features]);
 if (failures.length) {
   console.error(failures.join('\n'));
   process.exit(1);
 }
-console.log(count + ' golden vectors agree with the wasm codec; ' + states + ' state vectors through decodeState, ' + commands + ' command vectors through encodeCommand');
+console.log(count + ' golden vectors agree with the wasm codec; ' + states + ' state vectors through decodeState, ' + commands + ' command vectors through encodeCommand; ' + features + ' feature vectors through decodeFeature/encodeFeature');

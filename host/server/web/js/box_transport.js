@@ -5,7 +5,8 @@
 //   WebSocket   ?box=ws://HOST:PORT: cathbox-box-bridge in front of cathbox-emu, one binary
 //               message a report (host/server/README.md).
 // A transport calls onReport(Uint8Array(64)) for each IN report and onClose(reason) once; send(bytes)
-// queues one OUT report (false when it could not).
+// queues one OUT report (false when it could not). WebHID's also reads feature reports:
+// feature(id) resolves to the 64 bytes with the ID at byte 0 (the bridge carries none).
 export const BOX_VENDOR = 0x1209;
 export const BOX_PRODUCT = 0xcb01;
 const USAGE_PAGE = 0xff00;
@@ -71,6 +72,18 @@ export class WebHidBox {
     });
     navigator.hid.addEventListener('disconnect', (e) => { if (e.device === device) this.onClose('the box was unplugged'); });
     return this;
+  }
+
+  // A feature report (GET_REPORT on the control endpoint) as 64 bytes, its ID at byte 0. Chromium
+  // gives the report with its ID first; a 63-byte payload without it gets it put back.
+  async feature(id) {
+    const view = await this.device.receiveFeatureReport(id);
+    const data = new Uint8Array(view.buffer, view.byteOffset, view.byteLength);
+    if (data.length === 64 && data[0] === id) return data.slice();
+    const bytes = new Uint8Array(64);
+    bytes[0] = id;
+    bytes.set(data.subarray(0, 63), 1);
+    return bytes;
   }
 
   send(bytes) {

@@ -15,16 +15,23 @@
 //     (resist only: safe on a brake or a motor box), ACK_FAULTS while a fault is latched (the
 //     watchdog fault a box latches before the first command);
 //   - outputs off when the run ends or the page goes.
-// Limits: the calibration feature report is not read (neither the bridge nor the wasm codec
-// carries feature reports yet): counts are converted with the reference box's calibration
-// (hw-sim/README.md: 108 650 counts/m, 4096 counts/rev), and the law has no stiffness or damping
-// (the wasm snapshot gives the hand's force, not the local law's gains).
-import { BoxCodec } from './box_codec.js';
+//   - on connect, where the transport reads feature reports (WebHID), the box's device info,
+//     calibration and limits, as BoxClient and BoxHand do: a box of another protocol version or
+//     one not calibrated is refused with one line (the keyboard stays); the calibration converts
+//     the counts, the smaller of the limits' and the calibration's full scale bounds the law, and a
+//     motor box is driven in motor mode (BoxHand's choice). The bridge carries no feature report:
+//     there the reference box's calibration is used (hw-sim/README.md: 108 650 counts/m, 4096
+//     counts/rev), and report().config says which.
+// Limits: the law has no stiffness or damping (the wasm snapshot gives the hand's force, not the
+// local law's gains).
+import { BoxCodec, FEATURE } from './box_codec.js';
 
 export const INSERTION_COUNTS_PER_M = 108650;
 export const ROTATION_COUNTS_PER_REV = 4096;
 const MODE_OFF = 0;
 const MODE_BRAKE = 1;
+const MODE_MOTOR = 2;
+const ACTUATOR_MOTOR = 2;
 const ACK_FAULTS = 1;
 const FAULT_NOT_CALIBRATED = 1 << 4;
 const FOLLOW_S = 0.05;
@@ -79,11 +86,35 @@ export class BoxDriver {
   async connect(transport) {
     this.codec = await loadCodec();
     this.transport = transport;
-    transport.onReport = (bytes) => this.onReport(bytes);
+    transport.onReport = (bytes) => { if (this.live) this.onReport(bytes); };
     transport.onClose = (reason) => this.lost(reason);
     await transport.open();
+    try {
+      this.config = await this.readConfig(transport);
+    } catch (err) {
+      transport.close('refused');
+      throw err;
+    }
     this.live = true;
     this.onChange('box: ' + transport.describe() + ' (waiting for its first report)');
+  }
+
+  // What the box says of itself (feature reports 0x10-0x12, through protocol/'s codec), or the
+  // reference box's figures where the transport has no feature reports (the bridge).
+  async readConfig(transport) {
+    if (!transport.feature) {
+      return { source: 'reference box (the transport carries no feature report)', insertion_counts_per_m: INSERTION_COUNTS_PER_M,
+        rotation_counts_per_rev: ROTATION_COUNTS_PER_REV, full_scale_mN: FULL_SCALE_mN, full_scale_uNm: FULL_SCALE_uNm, mode: MODE_BRAKE };
+    }
+    const info = this.codec.decodeFeature(FEATURE.device_info, await transport.feature(FEATURE.device_info));
+    const cal = this.codec.decodeFeature(FEATURE.calibration, await transport.feature(FEATURE.calibration));
+    if (!cal.insertion_counts_per_m || !cal.rotation_counts_per_rev) throw new Error(transport.describe() + " is not calibrated (run 'cathbox calibrate')");
+    const limits = this.codec.decodeFeature(FEATURE.limits, await transport.feature(FEATURE.limits));
+    return { source: 'the box', serial: info.serial, board: info.board, firmware: info.fw_major + '.' + info.fw_minor + '.' + info.fw_patch,
+      insertion_counts_per_m: cal.insertion_counts_per_m, rotation_counts_per_rev: cal.rotation_counts_per_rev,
+      full_scale_mN: Math.min(limits.max_force_mN, cal.insertion_full_scale_mN),
+      full_scale_uNm: Math.min(limits.max_torque_uNm, cal.rotation_full_scale_uNm),
+      watchdog_ms: limits.watchdog_timeout_ms, mode: info.insertion_actuator === ACTUATOR_MOTOR ? MODE_MOTOR : MODE_BRAKE };
   }
 
   onReport(bytes) {
@@ -104,8 +135,9 @@ export class BoxDriver {
       this.zero = { insertion_count: s.insertion_count, rotation_count: s.rotation_count, insertion_mm: at.insertion_mm, rotation_rad: at.rotation_rad };
       this.onChange('box: ' + this.transport.describe() + ' drives the held tool');
     }
-    this.box_mm = this.zero.insertion_mm + (s.insertion_count - this.zero.insertion_count) * 1000 / INSERTION_COUNTS_PER_M;
-    this.box_rad = this.zero.rotation_rad + (s.rotation_count - this.zero.rotation_count) * 2 * Math.PI / ROTATION_COUNTS_PER_REV;
+    const c = this.config;
+    this.box_mm = this.zero.insertion_mm + (s.insertion_count - this.zero.insertion_count) * 1000 / c.insertion_counts_per_m;
+    this.box_rad = this.zero.rotation_rad + (s.rotation_count - this.zero.rotation_count) * 2 * Math.PI / c.rotation_counts_per_rev;
     this.keys[0] = clamp((this.box_mm - at.insertion_mm) / FOLLOW_S, -MAX_MM_S, MAX_MM_S);
     this.keys[1] = clamp((this.box_rad - at.rotation_rad) / FOLLOW_S, -MAX_RAD_S, MAX_RAD_S);
     const now = performance.now();
@@ -118,15 +150,16 @@ export class BoxDriver {
 
   command(mode, insertion_mN, torque_uNm, flags) {
     const law = (offset, full) => ({ offset: Math.round(clamp(offset, -full, full)), pos0: 0, stiffness: 0, damping: 0, out_min: -full, out_max: full });
+    const c = this.config;
     return this.codec.encodeCommand({ seq: this.seq, time_us: Math.round(performance.now() * 1000) >>> 0, mode, flags,
-      insertion: law(insertion_mN, FULL_SCALE_mN), rotation: law(torque_uNm, FULL_SCALE_uNm) });
+      insertion: law(insertion_mN, c.full_scale_mN), rotation: law(torque_uNm, c.full_scale_uNm) });
   }
 
   // The hand's force resists insertion when positive (the session's sign); the box's output
   // pushes in when positive: offset = -force. 1 mN·mm = 1 µN·m.
   sendLaw(at, s) {
     const flags = (s.faults & ~FAULT_NOT_CALIBRATED) ? ACK_FAULTS : 0;
-    const bytes = this.command(MODE_BRAKE, -at.hand_force_mN, -at.torque_mNmm, flags);
+    const bytes = this.command(this.config.mode, -at.hand_force_mN, -at.torque_mNmm, flags);
     this.sentSeq = this.seq;
     this.seq = (this.seq + 1) & 0xffff;
     if (this.transport.send(bytes)) this.stats.sent++; else this.stats.dropped++;
@@ -153,7 +186,7 @@ export class BoxDriver {
   // What tests and the HUD read.
   report() {
     const s = this.state;
-    return { live: this.live, box_mm: this.box_mm, box_rad: this.box_rad, stats: { ...this.stats }, law: this.lastLaw || null,
+    return { live: this.live, config: this.config || null, box_mm: this.box_mm, box_rad: this.box_rad, stats: { ...this.stats }, law: this.lastLaw || null,
       state: s ? { seq: s.seq, insertion_count: s.insertion_count, rotation_count: s.rotation_count, status: s.status, faults: s.faults,
         mode: s.mode, command_seq_echo: s.command_seq_echo, insertion_force_mN: s.insertion_force_mN,
         insertion_current_mA: s.insertion_current_mA, rx_errors: s.rx_errors } : null };

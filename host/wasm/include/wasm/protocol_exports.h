@@ -16,5 +16,9 @@ int cbxw_vector_length(int i);
 const uint8_t* cbxw_vector_bytes(int i);
 int cbxw_vector_fields(int i, int32_t* fields);
 int cbxw_vector_check(int i);
+/* The feature reports (src/feature_exports.c). */
+int cbxw_feature_decode(int id, const uint8_t* in, size_t length, int32_t* fields, char* text);
+int cbxw_feature_encode(int id, const int32_t* fields, const char* text, uint8_t* out);
+int cbxw_vector_feature_fields(int i, int32_t* fields, char* text);
 
 #endif
