@@ -89,6 +89,24 @@ for (let i = 0; i < count; ++i) {
     }
   }
 }
+// The names, not only the order: three vectors' values by name, as protocol/vectors/VECTORS.md
+// gives them.
+const named = {
+  device_info: { fw_major: 1, fw_minor: 2, fw_patch: 3, protocol_minor: 1, serial: 'CBX-0001', board: 'stm32f411-bp', build: '4cff6b7',
+    insertion_actuator: 1, rotation_actuator: 1, insertion_encoder_cpr: 2400, rotation_encoder_cpr: 4096 },
+  calibration_brake: { insertion_counts_per_m: 40000, rotation_counts_per_rev: 8192, insertion_full_scale_mN: 12000,
+    rotation_full_scale_uNm: 15000, insertion_curve_0_in: 100, insertion_curve_0_out: 180, rotation_curve_3_in: 1000 },
+  limits_default: { max_force_mN: 5000, max_torque_uNm: 50000, watchdog_timeout_ms: 50, insertion_max_current_mA: 1500,
+    rotation_max_current_mA: 1000, force_slew_mN_per_ms: 100, torque_slew_uNm_per_ms: 1000 },
+};
+for (let i = 0; i < count; ++i) {
+  const want = named[name(i)];
+  if (!want) continue;
+  const got = codec.decodeFeature(FEATURE[kind(i)], m.HEAPU8.slice(bytesAt(i), bytesAt(i) + length(i)));
+  for (const [f, v] of Object.entries(want)) if (got[f] !== v) failures.push(name(i) + ': ' + f + ' ' + got[f] + ', ' + v + ' expected (VECTORS.md)');
+  delete named[name(i)];
+}
+if (Object.keys(named).length) failures.push('vectors not found: ' + Object.keys(named));
 let refused = null;
 try {
   codec.encodeCommand({ seq: 1, mode: 1, insertion: { offset: 0, pos0: 0, stiffness: -1, damping: 0, out_min: 0, out_max: 0 },
