@@ -5,8 +5,8 @@
  *   state   (decoded):  version seq time_us insertion_count rotation_count insertion_vel_cps
  *                       rotation_vel_cps insertion_force_mN rotation_torque_uNm insertion_current_mA
  *                       rotation_current_mA status faults command_seq_echo encoder_errors rx_errors
- *                       mode board_faults in_dropped                                 (19 fields)
- *   command (encoded):  seq time_us mode flags, insertion law (offset pos0 stiffness damping
+ *                       mode board_faults in_dropped          (19 fields; encoded for tests too)
+ *   command (encoded, and decoded for tests):  seq time_us mode flags, insertion law (offset pos0 stiffness damping
  *                       out_min out_max), rotation law (the same)                    (16 fields) */
 #include <emscripten/emscripten.h>
 #include <string.h>
@@ -46,6 +46,46 @@ EMSCRIPTEN_KEEPALIVE int cbxw_state_decode(const uint8_t* in, size_t length, int
   cbx_state_report s;
   const cbx_status status = cbx_state_decode(in, length, &s);
   if (status == CBX_OK) state_fields(&s, fields);
+  return status;
+}
+
+/* A state's fields to its 64 bytes (what a box sends: the tests' emulated WebHID device). */
+EMSCRIPTEN_KEEPALIVE int cbxw_state_encode(const int32_t* f, uint8_t* out) {
+  cbx_state_report s;
+  memset(&s, 0, sizeof s);
+  s.header.version = (uint8_t)f[0];
+  s.header.seq = (uint16_t)f[1];
+  s.header.time_us = (uint32_t)f[2];
+  s.insertion_count = f[3];
+  s.rotation_count = f[4];
+  s.insertion_vel_cps = f[5];
+  s.rotation_vel_cps = f[6];
+  s.insertion_force_mN = f[7];
+  s.rotation_torque_uNm = f[8];
+  s.insertion_current_mA = (int16_t)f[9];
+  s.rotation_current_mA = (int16_t)f[10];
+  s.status = (uint16_t)f[11];
+  s.faults = (uint16_t)f[12];
+  s.command_seq_echo = (uint16_t)f[13];
+  s.encoder_errors = (uint16_t)f[14];
+  s.rx_errors = (uint16_t)f[15];
+  s.mode = (uint8_t)f[16];
+  s.board_faults = (uint8_t)f[17];
+  s.in_dropped = (uint16_t)f[18];
+  return cbx_state_encode(&s, out);
+}
+
+/* An OUT report's bytes to its fields (what a box receives: the tests' emulated device). */
+EMSCRIPTEN_KEEPALIVE int cbxw_command_decode(const uint8_t* in, size_t length, int32_t* f) {
+  cbx_command_report c;
+  const cbx_status status = cbx_command_decode(in, length, &c);
+  if (status != CBX_OK) return status;
+  f[0] = c.header.seq;
+  f[1] = (int32_t)c.header.time_us;
+  f[2] = c.mode;
+  f[3] = c.flags;
+  law_fields(&c.insertion, f + 4);
+  law_fields(&c.rotation, f + 10);
   return status;
 }
 

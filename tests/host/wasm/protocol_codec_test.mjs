@@ -4,7 +4,10 @@
 //    byte for byte, bad ones are refused with their status);
 //  - every good state vector's bytes decoded by BoxCodec.decodeState to the vector's value,
 //    field by field; every bad state vector refused with its status's name;
-//  - every good command vector's value encoded by BoxCodec.encodeCommand to its bytes;
+//  - every good state vector's value encoded back by encodeState to its bytes (the tests'
+//    emulated WebHID device speaks with it);
+//  - every good command vector's value encoded by BoxCodec.encodeCommand to its bytes, and its
+//    bytes decoded by decodeCommand to its value;
 //  - every device info, calibration and limits vector (the feature reports a page reads on
 //    connect) decoded by BoxCodec.decodeFeature to its value field by field (text too) and
 //    encoded back by encodeFeature to its bytes; the bad ones refused with their status's name.
@@ -53,6 +56,7 @@ for (let i = 0; i < count; ++i) {
         const want = f === 'time_us' ? golden[k] >>> 0 : golden[k];
         if (s[f] !== want) failures.push(what + ': ' + f + ' ' + s[f] + ', ' + want + ' expected');
       });
+      if (Buffer.compare(Buffer.from(codec.encodeState(s)), Buffer.from(bytes)) !== 0) failures.push(what + ': encodeState gives other bytes');
     } else {
       let line = null;
       try { codec.decodeState(bytes); } catch (e) { line = e.message; }
@@ -63,6 +67,10 @@ for (let i = 0; i < count; ++i) {
     const law = (o) => ({ offset: golden[o], pos0: golden[o + 1], stiffness: golden[o + 2], damping: golden[o + 3], out_min: golden[o + 4], out_max: golden[o + 5] });
     const out = codec.encodeCommand({ seq: golden[0], time_us: golden[1], mode: golden[2], flags: golden[3], insertion: law(4), rotation: law(10) });
     if (Buffer.compare(Buffer.from(out), Buffer.from(bytes)) !== 0) failures.push(what + ': encodeCommand gives other bytes');
+    const back = codec.decodeCommand(bytes);
+    if (JSON.stringify(back) !== JSON.stringify({ seq: golden[0], time_us: golden[1] >>> 0, mode: golden[2], flags: golden[3], insertion: law(4), rotation: law(10) })) {
+      failures.push(what + ': decodeCommand gives ' + JSON.stringify(back));
+    }
   } else if (FEATURE[kind(i)] !== undefined) {
     ++features;
     const id = FEATURE[kind(i)];

@@ -8,6 +8,7 @@
 //   codec.decodeFeature(FEATURE.calibration, bytes64) -> {insertion_counts_per_m, ...} or throws
 //     'feature report 0x11: crc'; device info, calibration and limits (what a page reads on connect)
 //   codec.encodeFeature(FEATURE.limits, {...}) -> Uint8Array(64) (what a box answers: tests)
+//   codec.encodeState({...}), codec.decodeCommand(bytes64): the box's side (tests' emulated device)
 export const REPORT_SIZE = 64;
 export const STATE_FIELDS = ['version', 'seq', 'time_us', 'insertion_count', 'rotation_count', 'insertion_vel_cps',
   'rotation_vel_cps', 'insertion_force_mN', 'rotation_torque_uNm', 'insertion_current_mA', 'rotation_current_mA', 'status',
@@ -38,6 +39,8 @@ export class BoxCodec {
     this.stateDecode = module.cwrap('cbxw_state_decode', 'number', ['number', 'number', 'number']);
     this.commandEncode = module.cwrap('cbxw_command_encode', 'number', ['number', 'number']);
     this.statusName = module.cwrap('cbxw_status_name', 'string', ['number']);
+    this.stateEncode = module.cwrap('cbxw_state_encode', 'number', ['number', 'number']);
+    this.commandDecode = module.cwrap('cbxw_command_decode', 'number', ['number', 'number', 'number']);
     this.featureDecode = module.cwrap('cbxw_feature_decode', 'number', ['number', 'number', 'number', 'number', 'number']);
     this.featureEncode = module.cwrap('cbxw_feature_encode', 'number', ['number', 'number', 'number', 'number']);
     this.bytes = module._malloc(REPORT_SIZE);
@@ -97,6 +100,26 @@ export class BoxCodec {
     const state = {};
     STATE_FIELDS.forEach((name, i) => { state[name] = name === 'time_us' ? f[i] >>> 0 : f[i]; });
     return state;
+  }
+
+  // A state to its 64 bytes (fields missing are 0; version 1 unless given).
+  encodeState(state) {
+    const f = this.m.HEAP32.subarray(this.fields >> 2, (this.fields >> 2) + STATE_FIELDS.length);
+    STATE_FIELDS.forEach((name, i) => { f[i] = state[name] || 0; });
+    if (state.version === undefined) f[0] = 1;
+    const status = this.stateEncode(this.fields, this.bytes);
+    if (status !== 0) throw new Error('IN report: ' + this.statusName(status));
+    return this.m.HEAPU8.slice(this.bytes, this.bytes + REPORT_SIZE);
+  }
+
+  // An OUT report's bytes to {seq, time_us, mode, flags, insertion: LAW, rotation: LAW}.
+  decodeCommand(report) {
+    const length = this.put(report, 'OUT report');
+    const status = this.commandDecode(this.bytes, length, this.fields);
+    if (status !== 0) throw new Error('OUT report: ' + this.statusName(status));
+    const f = this.m.HEAP32.subarray(this.fields >> 2, (this.fields >> 2) + 16);
+    const law = (o) => Object.fromEntries(LAW_FIELDS.map((name, i) => [name, f[o + i]]));
+    return { seq: f[0], time_us: f[1] >>> 0, mode: f[2], flags: f[3], insertion: law(4), rotation: law(10) };
   }
 
   // A command to its 64 bytes; throws naming the encoder's status (a law out of range).

@@ -7,6 +7,8 @@
 
 int cbxw_state_decode(const uint8_t* in, size_t length, int32_t* fields);
 int cbxw_command_encode(const int32_t* fields, uint8_t* out);
+int cbxw_state_encode(const int32_t* fields, uint8_t* out);
+int cbxw_command_decode(const uint8_t* in, size_t length, int32_t* fields);
 const char* cbxw_status_name(int status);
 int cbxw_vector_count(void);
 const char* cbxw_vector_name(int i);
