@@ -166,6 +166,80 @@ def test_tab_and_escape(b, assignment, report):
     report["tab_escape"] = {"held": [first["held"], second["held"]], "ticks": hook["summary"]["ticks"], "result": hook["result"]["id"]}
 
 
+WEBHID_RUN = """
+const done = arguments[arguments.length - 1];
+(async () => {
+  const [cpm, cpr] = arguments[0];
+  for (let k = 0; k <= 800; ++k) {
+    const f = Math.min(k, 500) / 500;  // 10 mm and a quarter turn in 0.5 s of the box's hand, then held
+    await window.fakeBox.emit({ insertion_count: Math.round(10 * f * cpm / 1000), rotation_count: Math.round(f * cpr / 4) });
+    await window.cathboxTrain.advance(1);
+  }
+  done({ box: window.cathboxTrain.boxReport(), at: window.cathboxTrain.last, commands: window.fakeBox.commands.length,
+         last: window.fakeBox.commands[window.fakeBox.commands.length - 1], refused: window.fakeBox.refused, features: window.fakeBox.features_read });
+})();
+"""
+
+
+def end_run(b, what):
+    ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
+    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    check(state == "done", "%s: the upload: %s" % (what, b.js("return window.cathboxTrain.error")))
+
+
+def test_webhid(b, assignment, report):
+    """The page's WebHID path against an emulated box (fake_webhid.js: headless Chromium has no USB
+    or HID device, so navigator.hid is a stand-in speaking protocol/'s own codec), in virtual time:
+    one IN report a tick. The box's feature reports are read on connect: a box calibrated otherwise
+    than the reference box (200,000 counts/m, 8,192 counts/rev) moves the tool by its own
+    calibration, and its limits (2,500 mN) bound the law the page sends. A box not calibrated is
+    refused with one line and the keyboard stays."""
+    source = open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "fake_webhid.js")).read()
+    script = b.driver.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {"source": source})
+    try:
+        open_assignment(b, assignment, "virtual")
+        b.js("Object.assign(window.fakeBox.config.calibration, {insertion_counts_per_m: 200000, rotation_counts_per_rev: 8192});"
+             "window.fakeBox.config.limits.max_force_mN = 2500;")
+        b.driver.find_element(By.ID, "connect-box").click()
+        note = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.startsWith('box: WebHID') || n.startsWith('no box') ? n : null;",
+                         "the WebHID box to connect")
+        check(note == "box: WebHID Cathbox (fake WebHID) (waiting for its first report)", "the page's box: %r" % note)
+        start = b.js("return window.cathboxTrain.last")
+        r = b.driver.execute_async_script(WEBHID_RUN, [200000, 8192])
+        box, at = r["box"], r["at"]
+        check(r["features"] == [0x10, 0x11, 0x12], "feature reports read: %s (device info, calibration, limits expected)" % r["features"])
+        config = box["config"]
+        check(config["source"] == "the box" and config["insertion_counts_per_m"] == 200000 and config["rotation_counts_per_rev"] == 8192
+              and config["full_scale_mN"] == 2500 and config["serial"] == "FAKE-0001", "the box's configuration: %s" % config)
+        moved_mm = at["insertion_mm"] - start["insertion_mm"]
+        turned = at["rotation_rad"] - start["rotation_rad"]
+        # With the reference box's calibration the same counts would be 18.4 mm and half a turn.
+        check(abs(box["box_mm"] - start["insertion_mm"] - 10) < 0.001 and abs(moved_mm - 10) < 0.05,
+              "10 mm of the box's hand: box %.3f mm, tool %.3f mm" % (box["box_mm"] - start["insertion_mm"], moved_mm))
+        check(abs(turned - math.pi / 2) < 0.01, "a quarter turn of the box: the tool turned %.4f rad" % turned)
+        check(box["stats"]["states"] == 801 and box["stats"]["rejected"] == 0 and box["stats"]["missed"] == 0, "decoding: %s" % box["stats"])
+        last = r["last"]
+        check(r["commands"] >= 1 and not r["refused"], "the page's commands: %d, refused %s" % (r["commands"], r["refused"]))
+        check(last["mode"] == 1 and last["insertion"]["out_max"] == 2500 and last["insertion"]["out_min"] == -2500
+              and last["seq"] == box["law"]["seq"], "the last command (brake mode, the limits' 2500 mN): %s" % last)
+        end_run(b, "the WebHID run")
+        # A box not calibrated: refused, one line, the keyboard drives.
+        open_assignment(b, assignment, "virtual")
+        b.js("window.fakeBox.config.calibration.insertion_counts_per_m = 0;")
+        b.driver.find_element(By.ID, "connect-box").click()
+        refused = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.startsWith('no box') ? n : null;", "the refusal")
+        check(refused == "no box: WebHID Cathbox (fake WebHID) is not calibrated (run 'cathbox calibrate') (the keyboard drives the tool)",
+              "an uncalibrated box: %r" % refused)
+        w0 = b.js("return window.cathboxTrain.last")["insertion_mm"]
+        hold(b, ["w"], 100)
+        check(abs(b.js("return window.cathboxTrain.last")["insertion_mm"] - w0 - 1.0) < 0.01, "the keyboard after the refusal")
+        end_run(b, "the refused box's run")
+        report["webhid"] = {"config": config, "box_mm": round(box["box_mm"] - start["insertion_mm"], 4), "tool_mm": round(moved_mm, 4),
+                            "turned_rad": round(turned, 5), "commands": r["commands"], "last_command": last, "refused": refused}
+    finally:
+        b.driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})
+
+
 def test_native_replay(centre, result_id, report):
     """The record the page uploaded, from the server, replayed natively with every hash."""
     teacher = Api(centre.base).login("teacher")
@@ -349,6 +423,8 @@ def main():
         test_native_record_in_page(b, centre, report)
         b.drain_console()
         test_tab_and_escape(b, two_tools, report)
+        b.drain_console()
+        test_webhid(b, assignment, report)
         b.drain_console()
         if args.real_clock:
             test_real_clock(b, assignment, args.real_clock, report)

@@ -5,6 +5,7 @@
 #include "session/keyboard_hand.hpp"
 #include "session/metrics.hpp"
 #include "session/record_format.hpp"
+#include "wasm/law_tap_hand.hpp"
 #include "wasm/surface_file.hpp"
 
 namespace cathbox::wasm {
@@ -55,7 +56,8 @@ base::Result<std::unique_ptr<BrowserSession>> BrowserSession::open(const std::st
   session::SessionCaseLoad scene = session::load_session_case(case_path, &*surface);
   if (!scene) return scene.error();
   std::unique_ptr<BrowserSession> b(new BrowserSession());
-  auto hand = std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)");
+  auto hand = std::make_unique<LawTapHand>(std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)"));
+  b->hand_ = hand.get();
   b->session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand));
   if (base::Status<> recording = b->session_->record_to(record_path); !recording) return recording.error();
   return b;
@@ -84,6 +86,10 @@ std::size_t BrowserSession::pack_snapshot() {
   }
   for (const session::ContactView& c : s.contacts) packed_.insert(packed_.end(), {c.point_mm.x, c.point_mm.y, c.point_mm.z, c.force_mN});
   return packed_.size();
+}
+
+cbx_command_report BrowserSession::box_command(double box_offset_mm, double box_offset_rad, const BoxReading& reading) {
+  return box_law_.command(hand_->law(), box_offset_mm, box_offset_rad, reading);
 }
 
 std::string BrowserSession::snapshot_metrics_json() const {

@@ -3,9 +3,11 @@
 // worker's cwrap; one session at a time. Errors: a null/false result and cbx_error()'s line.
 #include <emscripten/emscripten.h>
 
+#include <cstring>
 #include <memory>
 #include <string>
 
+#include "protocol/cbx_command_report.h"
 #include "session/replay.hpp"
 #include "wasm/browser_session.hpp"
 #include "wasm/surface_file.hpp"
@@ -15,6 +17,7 @@ namespace {
 std::unique_ptr<cathbox::wasm::BrowserSession> g_session;
 std::string g_error;
 std::string g_text;
+std::uint8_t g_command[CBX_REPORT_SIZE];
 
 }  // namespace
 
@@ -77,6 +80,27 @@ EMSCRIPTEN_KEEPALIVE const char* cbx_summary() {
   return g_text.c_str();
 }
 
+
+// The box's command (wasm/browser_box_law.hpp): configured from the box's feature reports, then
+// for each command the box's frame (mm, rad from its count zero, minus the session's) and its
+// readback (rendered force mN, insertion speed mm/s). cbx_box_command returns CBX_OK (0) with the
+// 64 bytes at cbx_box_command_bytes(), or the encoder's status.
+EMSCRIPTEN_KEEPALIVE void cbx_box_configure(double full_scale_mN, double slew_mN_per_ms, double period_ms, int mode) {
+  if (g_session) g_session->configure_box({full_scale_mN, slew_mN_per_ms, period_ms, static_cast<std::uint8_t>(mode)});
+}
+
+EMSCRIPTEN_KEEPALIVE int cbx_box_command(double offset_mm, double offset_rad, double force_mN, double speed_mm_s, int seq,
+                                         double time_us, int flags) {
+  if (!g_session) return CBX_ERR_STATE;
+  cbx_command_report c = g_session->box_command(offset_mm, offset_rad, {force_mN, speed_mm_s});
+  c.header.version = CBX_PROTOCOL_VERSION;
+  c.header.seq = static_cast<std::uint16_t>(seq);
+  c.header.time_us = static_cast<std::uint32_t>(time_us);
+  c.flags = static_cast<std::uint8_t>(flags);
+  return cbx_command_encode(&c, g_command);
+}
+
+EMSCRIPTEN_KEEPALIVE const std::uint8_t* cbx_box_command_bytes() { return g_command; }
 
 // A record (any rig's: native or this page's) replayed here with every state hash checked against
 // the collision mesh at mesh_path. 1: every hash matches; 0: a hash differs or the record is bad

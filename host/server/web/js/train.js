@@ -19,7 +19,7 @@ import { speedsFor, isControlKey } from './train_keys.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { chooseBox, WebSocketBox } from './box_transport.js';
-import { BoxDriver } from './train_box.js';
+import { BoxDriver, SEND_MS } from './train_box.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -32,6 +32,7 @@ window.cathboxTrain = hook;
 let worker = null;
 let views = null;
 let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
+const lawReplies = [];  // WebHID's command requests to the worker, answered in order
 
 function status(text) { document.getElementById('status').textContent = text; }
 
@@ -183,6 +184,7 @@ function startWorker() {
     else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
     else if (m.type === 'over') onOver(m);
     else if (m.type === 'replayed') onReplayed(m);
+    else if (m.type === 'box_command') { const r = lawReplies.shift(); if (r) r(m); }
     else if (m.type === 'error') { hook.state = 'error'; hook.error = m.message; showError(m.message); status(''); }
   };
   worker.onerror = (e) => { hook.state = 'error'; hook.error = e.message; showError('worker: ' + e.message); };
@@ -205,7 +207,15 @@ function offerBox() {
     run.boxUrl = box.url;
     return boxNote('box: ' + box.describe() + ' (connecting from the haptic worker)');
   }
-  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && hook.state === 'running' ? run.last : null), onChange: boxNote });
+  // The law's command is made by the session in the worker (js/train_worker.js, box_command).
+  const law = {
+    configure: (config) => worker.postMessage({ type: 'box_configure', config, periodMs: SEND_MS }),
+    command: (args) => new Promise((resolve, reject) => {
+      lawReplies.push((m) => (m.bytes ? resolve(m.bytes) : reject(new Error(m.message))));
+      worker.postMessage({ type: 'box_command', args });
+    }),
+  };
+  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && hook.state === 'running' ? run.last : null), onChange: boxNote, law });
   const connect = () => guarded(async () => {
     try {
       await run.box.connect(box);

@@ -10,10 +10,13 @@
 //     from where they were when the box connected;
 //   - the held tool follows the box: the session takes speeds, so the page sends it
 //     (box - tool) / 50 ms (bounded), a position servo on the speed input;
-//   - the force law: every 5 ms at most (the box's command watchdog is 50 ms), a command with
-//     the session's newest hand force and torque as the law's offsets (resisting), brake mode
-//     (resist only: safe on a brake or a motor box), ACK_FAULTS while a fault is latched (the
-//     watchdog fault a box latches before the first command);
+//   - the force law: every 5 ms at most (the box's command watchdog is 50 ms), the held tool's
+//     local force law — offset, position, stiffness and damping — shaped and encoded by the
+//     session module in the haptic worker (cbx_box_command: session::PassiveLaw and
+//     device::force_law_command, the native BoxHand's own path, so the same law gives the same
+//     bytes), in the box's frame (the counts' zero), with the box's readback (rendered force,
+//     speed) for the passivity observer; ACK_FAULTS while a fault is latched (the watchdog fault
+//     a box latches before the first command);
 //   - outputs off when the run ends or the page goes.
 //   - on connect, where the transport reads feature reports (WebHID), the box's device info,
 //     calibration and limits, as BoxClient and BoxHand do: a box of another protocol version or
@@ -22,8 +25,6 @@
 //     motor box is driven in motor mode (BoxHand's choice). The bridge carries no feature report:
 //     there the reference box's calibration is used (hw-sim/README.md: 108 650 counts/m, 4096
 //     counts/rev), and report().config says which.
-// Limits: the law has no stiffness or damping (the wasm snapshot gives the hand's force, not the
-// local law's gains).
 import { BoxCodec, FEATURE } from './box_codec.js';
 
 export const INSERTION_COUNTS_PER_M = 108650;
@@ -37,9 +38,10 @@ const FAULT_NOT_CALIBRATED = 1 << 4;
 const FOLLOW_S = 0.05;
 const MAX_MM_S = 200;
 const MAX_RAD_S = 20;
-const SEND_MS = 5;
+export const SEND_MS = 5;
 const FULL_SCALE_mN = 5000;
 const FULL_SCALE_uNm = 50000;
+const SLEW_mN_PER_ms = 100;  // the firmware's default limits
 
 let codecPromise = null;
 
@@ -70,9 +72,12 @@ const clamp = (v, lo, hi) => Math.min(hi, Math.max(lo, v));
 
 export class BoxDriver {
   // keys: the Float64Array the worker reads (mm/s, rad/s); sessionAt(): the newest frame's
-  // {insertion_mm, rotation_rad, hand_force_mN, torque_mNmm} or null; onChange(text) for the page.
-  constructor({ keys, sessionAt, onChange }) {
+  // {insertion_mm, rotation_rad, hand_force_mN, torque_mNmm} or null; onChange(text) for the page;
+  // law: the session's command maker, {configure(config), command({seq, time_us, flags,
+  // offset_mm, offset_rad, force_mN, speed_mm_s}) -> bytes or a promise of them} (js/train_worker.js).
+  constructor({ keys, sessionAt, onChange, law }) {
     this.keys = keys;
+    this.law = law;
     this.sessionAt = sessionAt;
     this.onChange = onChange;
     this.seq = 0;
@@ -95,6 +100,7 @@ export class BoxDriver {
       transport.close('refused');
       throw err;
     }
+    this.law.configure(this.config);
     this.live = true;
     this.onChange('box: ' + transport.describe() + ' (waiting for its first report)');
   }
@@ -104,7 +110,8 @@ export class BoxDriver {
   async readConfig(transport) {
     if (!transport.feature) {
       return { source: 'reference box (the transport carries no feature report)', insertion_counts_per_m: INSERTION_COUNTS_PER_M,
-        rotation_counts_per_rev: ROTATION_COUNTS_PER_REV, full_scale_mN: FULL_SCALE_mN, full_scale_uNm: FULL_SCALE_uNm, mode: MODE_BRAKE };
+        rotation_counts_per_rev: ROTATION_COUNTS_PER_REV, full_scale_mN: FULL_SCALE_mN, full_scale_uNm: FULL_SCALE_uNm,
+        slew_mN_per_ms: SLEW_mN_PER_ms, mode: MODE_BRAKE };
     }
     const info = this.codec.decodeFeature(FEATURE.device_info, await transport.feature(FEATURE.device_info));
     const cal = this.codec.decodeFeature(FEATURE.calibration, await transport.feature(FEATURE.calibration));
@@ -113,7 +120,7 @@ export class BoxDriver {
     return { source: 'the box', serial: info.serial, board: info.board, firmware: info.fw_major + '.' + info.fw_minor + '.' + info.fw_patch,
       insertion_counts_per_m: cal.insertion_counts_per_m, rotation_counts_per_rev: cal.rotation_counts_per_rev,
       full_scale_mN: Math.min(limits.max_force_mN, cal.insertion_full_scale_mN),
-      full_scale_uNm: Math.min(limits.max_torque_uNm, cal.rotation_full_scale_uNm),
+      full_scale_uNm: Math.min(limits.max_torque_uNm, cal.rotation_full_scale_uNm), slew_mN_per_ms: limits.force_slew_mN_per_ms,
       watchdog_ms: limits.watchdog_timeout_ms, mode: info.insertion_actuator === ACTUATOR_MOTOR ? MODE_MOTOR : MODE_BRAKE };
   }
 
@@ -148,29 +155,41 @@ export class BoxDriver {
     }
   }
 
-  command(mode, insertion_mN, torque_uNm, flags) {
-    const law = (offset, full) => ({ offset: Math.round(clamp(offset, -full, full)), pos0: 0, stiffness: 0, damping: 0, out_min: -full, out_max: full });
-    const c = this.config;
-    return this.codec.encodeCommand({ seq: this.seq, time_us: Math.round(performance.now() * 1000) >>> 0, mode, flags,
-      insertion: law(insertion_mN, c.full_scale_mN), rotation: law(torque_uNm, c.full_scale_uNm) });
+  // Outputs off (the law's fields all zero).
+  offCommand() {
+    const law = { offset: 0, pos0: 0, stiffness: 0, damping: 0, out_min: 0, out_max: 0 };
+    return this.codec.encodeCommand({ seq: this.seq, time_us: Math.round(performance.now() * 1000) >>> 0, mode: MODE_OFF, flags: 0,
+      insertion: law, rotation: law });
   }
 
-  // The hand's force resists insertion when positive (the session's sign); the box's output
-  // pushes in when positive: offset = -force. 1 mN·mm = 1 µN·m.
+  // The held tool's law in the box's frame: the box's position from its counts' zero is the
+  // session's plus (zero count / calibration - the session's position at the zero).
   sendLaw(at, s) {
-    const flags = (s.faults & ~FAULT_NOT_CALIBRATED) ? ACK_FAULTS : 0;
-    const bytes = this.command(this.config.mode, -at.hand_force_mN, -at.torque_mNmm, flags);
-    this.sentSeq = this.seq;
+    const c = this.config;
+    const seq = this.seq;
     this.seq = (this.seq + 1) & 0xffff;
-    if (this.transport.send(bytes)) this.stats.sent++; else this.stats.dropped++;
-    this.lastLaw = { seq: this.sentSeq, insertion_offset_mN: Math.round(-at.hand_force_mN), rotation_offset_uNm: Math.round(-at.torque_mNmm) };
+    const made = this.law.command({
+      seq, time_us: Math.round(performance.now() * 1000) >>> 0, flags: (s.faults & ~FAULT_NOT_CALIBRATED) ? ACK_FAULTS : 0,
+      offset_mm: this.zero.insertion_count * 1000 / c.insertion_counts_per_m - this.zero.insertion_mm,
+      offset_rad: this.zero.rotation_count * 2 * Math.PI / c.rotation_counts_per_rev - this.zero.rotation_rad,
+      force_mN: s.insertion_force_mN, speed_mm_s: s.insertion_vel_cps * 1000 / c.insertion_counts_per_m,
+    });
+    const send = (bytes) => {
+      if (!this.live) return;
+      if (this.transport.send(bytes)) this.stats.sent++; else this.stats.dropped++;
+      const sent = this.codec.decodeCommand(bytes);
+      this.lastLaw = { seq: sent.seq, mode: sent.mode, insertion: sent.insertion, rotation: sent.rotation,
+        insertion_offset_mN: sent.insertion.offset, rotation_offset_uNm: sent.rotation.offset };
+    };
+    if (made instanceof Promise) made.then(send, (err) => { this.stats.dropped++; this.stats.last_law_error = err.message; });
+    else send(made);
   }
 
   // Outputs off, then the link closed (end of run, page closed).
   stop() {
     if (!this.live) return;
     this.live = false;
-    this.transport.send(this.command(MODE_OFF, 0, 0, 0));
+    this.transport.send(this.offCommand());
     this.transport.close('run over');
     this.keys[0] = 0;
     this.keys[1] = 0;

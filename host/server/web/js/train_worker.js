@@ -20,9 +20,11 @@
 // 50 ms); each frame carries its report, and box_note messages its state for the page.
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
-// advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)}. Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
+// advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
+// box_configure {config, periodMs}, box_command {args} (the page's WebHID driver). Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
 // advanced {ticks}, over {summary, record (bytes), jitter},
-// replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms}, error {message}.
+// replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
+// box_command {bytes (64) or null, message}, error {message}.
 'use strict';
 
 const FRAME_MS = 16;
@@ -70,6 +72,9 @@ function bind(m) {
     summary: c('cbx_summary', 'string', []),
     replayCheck: c('cbx_replay_check', 'number', ['string', 'string']),
     replaySummary: c('cbx_replay_summary', 'string', []),
+    boxConfigure: c('cbx_box_configure', null, ['number', 'number', 'number', 'number']),
+    boxCommand: c('cbx_box_command', 'number', ['number', 'number', 'number', 'number', 'number', 'number', 'number']),
+    boxCommandBytes: c('cbx_box_command_bytes', 'number', []),
   };
 }
 
@@ -117,12 +122,25 @@ function slice() {
   yielder.port2.postMessage(0);  // back to the event loop, then on
 }
 
+// The box's command from the held tool's law (cbx_box_command: the native BoxHand's shaping and
+// encoding), for the bridge's driver here and, by message, for WebHID's on the page's thread.
+const boxLaw = {
+  configure: (c, periodMs) => fn.boxConfigure(c.full_scale_mN, c.slew_mN_per_ms, periodMs, c.mode),
+  command: (a) => {
+    const status = fn.boxCommand(a.offset_mm, a.offset_rad, a.force_mN, a.speed_mm_s, a.seq, a.time_us, a.flags);
+    if (status !== 0) throw new Error('OUT command: status ' + status);
+    const at = fn.boxCommandBytes();
+    return mod.HEAPU8.slice(at, at + 64);
+  },
+};
+
 // The bridge's driver; a failure leaves the keyboard (said in a box_note).
 async function openBox(url) {
   const note = (text) => postMessage({ type: 'box_note', text });
   try {
-    const [{ BoxDriver }, { WebSocketBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
-    box = new BoxDriver({ keys, sessionAt: () => (over ? null : latest), onChange: note });
+    const [{ BoxDriver, SEND_MS }, { WebSocketBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
+    box = new BoxDriver({ keys, sessionAt: () => (over ? null : latest), onChange: note,
+      law: { configure: (c) => boxLaw.configure(c, SEND_MS), command: boxLaw.command } });
     await box.connect(new WebSocketBox(url));
   } catch (err) {
     note('no box: ' + (err && err.message ? err.message : err) + ' (the keyboard drives the tool)');
@@ -196,6 +214,13 @@ onmessage = (e) => {
       while (ran < m.ticks && !over) { tick(); ++ran; }
       postMessage({ type: 'advanced', ticks: ran });
       if (over) finish(); else postFrame();
+    } else if (m.type === 'box_configure') {
+      boxLaw.configure(m.config, m.periodMs);
+    } else if (m.type === 'box_command') {
+      let bytes = null;
+      let message = '';
+      try { bytes = boxLaw.command(m.args); } catch (err) { message = err.message; }
+      postMessage({ type: 'box_command', bytes, message });
     } else if (m.type === 'next_tool') {
       fn.nextTool();
     } else if (m.type === 'end') {

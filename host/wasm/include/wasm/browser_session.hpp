@@ -9,10 +9,14 @@
 #include <vector>
 
 #include "base/result.hpp"
+#include "protocol/cbx_command_report.h"
 #include "session/keyboard_input.hpp"
 #include "session/session.hpp"
+#include "wasm/browser_box_law.hpp"
 
 namespace cathbox::wasm {
+
+class LawTapHand;
 
 class BrowserSession {
  public:
@@ -41,10 +45,16 @@ class BrowserSession {
   // {"case", "hand", "end", "ticks", "record_bytes", "target":[x,y,z,r]|null, "metrics":{name:value}}
   [[nodiscard]] std::string summary_json() const;
 
+  // The box's command for the held tool's newest law (wasm/browser_box_law.hpp).
+  void configure_box(const BoxLawConfig& config) { box_law_.configure(config); }
+  [[nodiscard]] cbx_command_report box_command(double box_offset_mm, double box_offset_rad, const BoxReading& reading);
+
  private:
   BrowserSession() = default;
   session::KeyboardInput keyboard_;
   std::unique_ptr<session::Session> session_;
+  const LawTapHand* hand_ = nullptr;  // the session's hand (owned by it)
+  BrowserBoxLaw box_law_;
   std::vector<float> packed_;
   std::uint64_t record_bytes_ = 0;
 };
