@@ -136,6 +136,9 @@ export class BoxDriver {
     if (this.state && ((s.seq - this.state.seq) & 0xffff) > 1) this.stats.missed += ((s.seq - this.state.seq) & 0xffff) - 1;
     this.state = s;
     this.stats.states++;
+    const got = performance.now();
+    if (this.lastReportAt !== undefined) this.stats.max_report_gap_ms = Math.max(this.stats.max_report_gap_ms || 0, got - this.lastReportAt);
+    this.lastReportAt = got;
     const at = this.sessionAt();
     if (!at) return;
     if (!this.zero) {

@@ -35,6 +35,7 @@ let keys = null;
 let clock = 'real';
 let over = false;
 const sleepCell = new Int32Array(new SharedArrayBuffer(4));
+const clockModule = import('/js/tick_clock.js');  // fetched while the session loads
 let ticker = null;  // the real clock's TickClock
 let box = null;  // the bridge's BoxDriver, or null
 let latest = null;  // the newest snapshot's hand figures, for the box driver
@@ -188,7 +189,7 @@ async function open(m) {
   postFrame();
   postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0 });
   if (clock === 'real') {
-    const { TickClock } = await import('/js/tick_clock.js');
+    const { TickClock } = await clockModule;
     ticker = new TickClock({
       now: () => performance.now(),
       sleep: (ms) => Atomics.wait(sleepCell, 0, 0, ms),
