@@ -19,12 +19,13 @@ function check(ok, what) {
 const near = (a, b, tol) => Math.abs(a - b) <= tol;
 
 // A virtual machine: `wake(ms)` says how late the sleep that starts at virtual time t wakes.
-function machine({ tickMs = 0.1, wake = () => 0, spinMs } = {}) {
+function machine({ tickMs = 0.1, wake = () => 0, spinMs, maxCatchUp } = {}) {
   const m = { t: 1000, sleeps: [], ticks: [] };
   m.clock = new TickClock({
     now: () => (m.t += 0.001),
     sleep: (ms) => { m.sleeps.push(ms); m.t += ms + wake(m.t); },
     ...(spinMs === undefined ? {} : { spinMs }),
+    ...(maxCatchUp === undefined ? {} : { maxCatchUp }),
   });
   m.tick = (limit) => () => { m.ticks.push(m.t); m.t += tickMs; return m.ticks.length < limit; };
   m.run = (limit) => {
@@ -82,6 +83,20 @@ function machine({ tickMs = 0.1, wake = () => 0, spinMs } = {}) {
   check(r.dropped === 10 - MAX_CATCH_UP, 'a 10 ms stall: 6 ticks dropped: ' + r.dropped);
   check(r.late_ticks.after_sleep === 1 && r.late_ticks.catch_up >= MAX_CATCH_UP - 1, 'a 10 ms stall: one cause, caught up: ' + JSON.stringify(r.late_ticks));
   check(r.ticks === 40, 'a 10 ms stall: the run still has its 40 ticks');
+}
+
+// 3b. The same stall with a catch-up bound of 50 ticks (the page's): nothing dropped, the 10 due
+//     ticks (5..14) run back to back, 0.1 ms each, which makes tick 15 late too (at 15.8 ms); from
+//     tick 16 on the run keeps to its deadlines.
+{
+  let n = 0;
+  const m = machine({ wake: () => (++n === 5 ? 10 : 0), maxCatchUp: 50 });
+  m.run(40);
+  const r = m.clock.stats.report();
+  check(r.dropped === 0 && r.late_ticks.after_sleep === 1 && r.late_ticks.catch_up === 10,
+    'a 10 ms stall, catch-up 50: none dropped, one cause, 10 caught up: ' + JSON.stringify(r));
+  const start = m.clock.startAt;
+  check(m.ticks.length === 40 && m.ticks.slice(16).every((at, k) => at - (start + 16 + k) < 0.01), 'after catching up, each tick at its deadline again');
 }
 
 // 4. Ticks that run long (3 ms each, as a heavy session would): late ticks come after ticks,

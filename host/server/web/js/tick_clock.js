@@ -7,16 +7,17 @@
 // deadline, until sliceMs have passed; then the worker returns to its event loop (messages, the
 // record writer's file calls, frames) and calls slice() again. The sleep ends spinMs before the
 // deadline and the last stretch is a tight loop on now(): a woken thread is late by the system's
-// wake-up latency, a spinning one is not. Behind by more than MAX_CATCH_UP ticks, the overdue
-// ticks beyond those are dropped and counted (the native haptic thread's session::HapticPacer);
-// up to MAX_CATCH_UP ticks are run back to back, in the session's virtual time, so a short stall
-// costs no simulated time.
+// wake-up latency, a spinning one is not. Behind by more than maxCatchUp ticks, the overdue
+// ticks beyond those are dropped and counted (the native haptic thread's session::HapticPacer
+// drops beyond MAX_CATCH_UP = 4); up to maxCatchUp ticks are run back to back, in the session's
+// virtual time, so a stall shorter than that costs no simulated time.
 import { TickStats } from './tick_stats.js';
 
 export const MAX_CATCH_UP = 4;
 
 export class TickClock {
-  constructor({ now, sleep, periodMs = 1, sliceMs = 8, spinMs = 0.2 }) {
+  constructor({ now, sleep, periodMs = 1, sliceMs = 8, spinMs = 0.2, maxCatchUp = MAX_CATCH_UP }) {
+    this.maxCatchUp = maxCatchUp;
     this.now = now;
     this.sleep = sleep;
     this.periodMs = periodMs;
@@ -44,9 +45,9 @@ export class TickClock {
       let t = this.now();
       while (this.deadline() <= t) {
         const behind = Math.floor((t - this.startAt) / this.periodMs) - this.due + 1;
-        if (behind > MAX_CATCH_UP) {
-          this.stats.dropped += behind - MAX_CATCH_UP;
-          this.due += behind - MAX_CATCH_UP;
+        if (behind > this.maxCatchUp) {
+          this.stats.dropped += behind - this.maxCatchUp;
+          this.due += behind - this.maxCatchUp;
         }
         this.stats.start(t, this.deadline(), this.after);
         const more = tick();

@@ -6,9 +6,9 @@
 //               then the worker sleeps to the next deadline with Atomics.wait (sub-millisecond,
 //               unlike timers) and spins on performance.now() for the last 0.2 ms (the page's
 //               `spin` option, ms), and every 8 ms it returns to its event loop (messages; the
-//               record writer's file calls, which its thread hands to this one). Up to 4 overdue
-//               ticks run back to back; beyond that they are dropped (counted), as the native
-//               haptic thread does. The timing is measured (js/tick_stats.js: interval, lateness,
+//               record writer's file calls, which its thread hands to this one). Up to 50 overdue
+//               ticks run back to back in the session's virtual time (the native haptic thread
+//               stops at 4); beyond that they are dropped (counted). The timing is measured (js/tick_stats.js: interval, lateness,
 //               each tick's run time, what the late ticks came after) and posted at the end.
 //   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
 // Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
@@ -28,6 +28,9 @@
 'use strict';
 
 const FRAME_MS = 16;
+// Overdue ticks run back to back up to 50 (a tick is ~35 µs in wasm: 50 take ~2 ms), so a stall
+// of the worker's thread up to 50 ms costs no simulated time; beyond, they are dropped.
+const CATCH_UP_TICKS = 50;
 
 let mod = null;
 let fn = null;
@@ -193,6 +196,7 @@ async function open(m) {
     ticker = new TickClock({
       now: () => performance.now(),
       sleep: (ms) => Atomics.wait(sleepCell, 0, 0, ms),
+      maxCatchUp: CATCH_UP_TICKS,
       ...(Number.isFinite(m.spinMs) ? { spinMs: m.spinMs } : {}),
     });
     ticker.begin();
