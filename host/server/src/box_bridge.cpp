@@ -11,6 +11,7 @@
 #include <memory>
 
 #include "device/socket_transport.hpp"
+#include "protocol/cbx_protocol.h"
 
 namespace cathbox::server {
 namespace {
@@ -80,9 +81,16 @@ class PageLink : public std::enable_shared_from_this<PageLink> {
       if (ec) return self->fail("page", ec);
       if (self->stopped_) return;
       if (!self->ws_.got_binary()) return self->refuse("a text message (reports are binary)");
+      if (size == 1) {  // GET_REPORT of a feature report
+        std::uint8_t id = 0;
+        asio::buffer_copy(asio::buffer(&id, 1), self->rx_.data());
+        self->rx_.consume(size);
+        self->answer_feature(id);
+        return self->read_page();
+      }
       if (size != device::kReportSize) {
         return self->refuse("a " + std::to_string(size) + "-byte message (a report is " +
-                            std::to_string(device::kReportSize) + " bytes)");
+                            std::to_string(device::kReportSize) + " bytes, a feature request 1)");
       }
       device::Report report{};
       asio::buffer_copy(asio::buffer(report), self->rx_.data());
@@ -93,6 +101,20 @@ class PageLink : public std::enable_shared_from_this<PageLink> {
       else return self->box_gone();
       self->read_page();
     });
+  }
+
+  // The box's answer to GET_REPORT(id) on its control endpoint (the IN reports that arrive
+  // meanwhile are kept by the transport), or the ID alone when it refused.
+  void answer_feature(std::uint8_t id) {
+    ++counts_.features;
+    Message answer;
+    const device::Status got = box_->get_feature(id, answer.bytes);
+    if (!got) {
+      std::fprintf(stderr, "box-bridge: feature report 0x%02x: %s\n", id, got.error().message.c_str());
+      answer.bytes[0] = id;
+      answer.size = 1;
+    }
+    send_page(answer);
   }
 
   void box_gone() {
@@ -114,25 +136,31 @@ class PageLink : public std::enable_shared_from_this<PageLink> {
         const device::IoStatus io = self->box_->read_in(report);
         if (io == device::IoStatus::kEmpty) break;
         if (io == device::IoStatus::kDisconnected) return self->box_gone();
-        self->send_page(report);
+        self->send_page(Message{report, device::kReportSize});
       }
       self->wait_box();
     });
   }
 
+  // A message to the page: a report, or a refused feature request's ID alone.
+  struct Message {
+    device::Report bytes{};
+    std::size_t size = device::kReportSize;
+  };
+
   // IN reports queue behind the one being written; a page that does not keep up loses the
   // oldest (a USB host that does not poll loses IN reports the same way).
-  void send_page(const device::Report& report) {
+  void send_page(const Message& message) {
     static constexpr std::size_t kMaxQueued = 64;
     if (tx_.size() >= kMaxQueued) tx_.erase(tx_.begin() + 1);
-    tx_.push_back(report);
+    tx_.push_back(message);
     if (tx_.size() == 1) write_next();
   }
 
   void write_next() {
-    ws_.async_write(asio::buffer(tx_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+    ws_.async_write(asio::buffer(tx_.front().bytes.data(), tx_.front().size), [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) return self->fail("page", ec);
-      ++self->counts_.in_reports;
+      if (self->tx_.front().bytes[0] == CBX_ID_STATE) ++self->counts_.in_reports;
       self->tx_.pop_front();
       if (!self->tx_.empty() && !self->stopped_) self->write_next();
     });
@@ -144,7 +172,7 @@ class PageLink : public std::enable_shared_from_this<PageLink> {
   BoxBridgeCounts& counts_;
   std::function<void()> closed_;
   beast::flat_buffer rx_;
-  std::deque<device::Report> tx_;
+  std::deque<Message> tx_;
   bool stopped_ = false;
 };
 
@@ -182,10 +210,11 @@ class Bridge {
     }
     ++counts_.pages;
     std::make_shared<PageLink>(std::move(socket), std::move(*box), counts_, [this] {
-      std::fprintf(stderr, "box-bridge: page closed (%llu IN, %llu OUT, %llu OUT dropped, %llu refused so far)\n",
+      std::fprintf(stderr, "box-bridge: page closed (%llu IN, %llu OUT, %llu OUT dropped, %llu features, %llu refused so far)\n",
                    static_cast<unsigned long long>(counts_.in_reports),
                    static_cast<unsigned long long>(counts_.out_reports),
                    static_cast<unsigned long long>(counts_.out_dropped),
+                   static_cast<unsigned long long>(counts_.features),
                    static_cast<unsigned long long>(counts_.refused));
       asio::post(io_, [this] { accept(); });
     })->start();

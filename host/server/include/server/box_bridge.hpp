@@ -1,11 +1,14 @@
 #pragma once
 // cathbox-box-bridge: the emulated box (cathbox-emu's socket) on a WebSocket, so that a page's
 // box path (js/box_transport.js) runs against cathbox-emu where a real box would be on WebHID.
-// Each binary WebSocket message is one 64-byte interrupt report with the same bytes as USB:
-// IN (state) reports from the box to the page, OUT (command) reports from the page to the box.
-// Feature reports are not carried. One page at a time: a second connection waits until the
-// first one closed. A message that is not 64 bytes is refused (the connection is closed, one
-// line on stderr names its length); the box's OUT queue being full drops the report, as USB does.
+// Each binary WebSocket message is one 64-byte report with the same bytes as USB: IN (state)
+// reports from the box to the page, OUT (command) reports from the page to the box. A feature
+// report is asked for as USB's GET_REPORT is: the page sends its one-byte ID, the bridge asks the
+// box on its control endpoint and sends the 64-byte answer (the ID at byte 0), or the ID alone
+// when the box refused it (STALL). Feature reports are never set through the bridge. One page at
+// a time: a second connection waits until the first one closed. A message of another size is
+// refused (the connection is closed, one line on stderr names its length); the box's OUT queue
+// being full drops the report, as USB does.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -24,6 +27,7 @@ struct BoxBridgeCounts {
   std::uint64_t out_reports = 0;   // page -> box
   std::uint64_t out_dropped = 0;   // the box's queue was full
   std::uint64_t refused = 0;       // messages of the wrong size or type
+  std::uint64_t features = 0;      // feature reports asked for (answered or refused by the box)
 };
 
 // Runs until the process is stopped; `ready` is called with the bound port once listening.

@@ -3,19 +3,47 @@
 //               WebHID splits the report ID off, so it is put back on the way in and taken off
 //               on the way out.
 //   WebSocket   ?box=ws://HOST:PORT: cathbox-box-bridge in front of cathbox-emu, one binary
-//               message a report (host/server/README.md).
+//               message a report; a feature report asked for by its one-byte ID, answered with
+//               its 64 bytes or, refused, the ID alone (host/server/README.md).
 // A transport calls onReport(Uint8Array(64)) for each IN report and onClose(reason) once; send(bytes)
-// queues one OUT report (false when it could not). WebHID's also reads feature reports:
-// feature(id) resolves to the 64 bytes with the ID at byte 0 (the bridge carries none).
+// queues one OUT report (false when it could not); feature(id) resolves to a feature report's 64
+// bytes with the ID at byte 0.
 export const BOX_VENDOR = 0x1209;
 export const BOX_PRODUCT = 0xcb01;
 const USAGE_PAGE = 0xff00;
+
+const FEATURE_WAIT_MS = 2000;
 
 export class WebSocketBox {
   constructor(url) {
     this.url = url;
     this.onReport = () => {};
     this.onClose = () => {};
+    this.asked = [];  // feature requests waiting for the bridge's answer, in order
+  }
+
+  // GET_REPORT through the bridge: the ID out, the report (or the ID alone: refused) back.
+  feature(id) {
+    return new Promise((resolve, reject) => {
+      if (!this.ws || this.ws.readyState !== WebSocket.OPEN) return reject(new Error(this.url + ': not open'));
+      const hex = '0x' + id.toString(16).padStart(2, '0');
+      const timer = setTimeout(() => {
+        this.asked = this.asked.filter((a) => a.timer !== timer);
+        reject(new Error('feature report ' + hex + ': no answer from the bridge in ' + FEATURE_WAIT_MS + ' ms'));
+      }, FEATURE_WAIT_MS);
+      this.asked.push({ id, timer, resolve, reject: () => reject(new Error('feature report ' + hex + ': the box refused it')) });
+      this.ws.send(new Uint8Array([id]));
+    });
+  }
+
+  // A feature answer for the oldest request of its ID, or false (an IN report).
+  answered(bytes) {
+    const i = this.asked.findIndex((a) => a.id === bytes[0]);
+    if (i < 0 || (bytes.length !== 1 && bytes.length !== 64) || bytes[0] === 0x01) return false;
+    const [a] = this.asked.splice(i, 1);
+    clearTimeout(a.timer);
+    if (bytes.length === 1) a.reject(); else a.resolve(bytes);
+    return true;
   }
 
   describe() { return 'the box bridge at ' + this.url; }
@@ -28,7 +56,8 @@ export class WebSocketBox {
       ws.onopen = () => { opened = true; this.ws = ws; resolve(this); };
       ws.onmessage = (e) => {
         if (!(e.data instanceof ArrayBuffer)) return this.close('the bridge sent text, not a report');
-        this.onReport(new Uint8Array(e.data));
+        const bytes = new Uint8Array(e.data);
+        if (!this.answered(bytes)) this.onReport(bytes);
       };
       ws.onclose = (e) => {
         const reason = this.url + ': ' + (e.reason || 'closed (code ' + e.code + ')');

@@ -18,13 +18,13 @@
 //     speed) for the passivity observer; ACK_FAULTS while a fault is latched (the watchdog fault
 //     a box latches before the first command);
 //   - outputs off when the run ends or the page goes.
-//   - on connect, where the transport reads feature reports (WebHID), the box's device info,
-//     calibration and limits, as BoxClient and BoxHand do: a box of another protocol version or
-//     one not calibrated is refused with one line (the keyboard stays); the calibration converts
-//     the counts, the smaller of the limits' and the calibration's full scale bounds the law, and a
-//     motor box is driven in motor mode (BoxHand's choice). The bridge carries no feature report:
-//     there the reference box's calibration is used (hw-sim/README.md: 108 650 counts/m, 4096
-//     counts/rev), and report().config says which.
+//   - on connect, the box's device info, calibration and limits (feature reports, over WebHID or
+//     through the bridge), as BoxClient and BoxHand do: a box of another protocol version or one
+//     not calibrated is refused with one line (the keyboard stays); the calibration converts the
+//     counts, the smaller of the limits' and the calibration's full scale bounds the law, and a
+//     motor box is driven in motor mode (BoxHand's choice). A transport without feature reports
+//     would get the reference box's figures (hw-sim/README.md: 108 650 counts/m, 4096
+//     counts/rev); report().config says which.
 import { BoxCodec, FEATURE } from './box_codec.js';
 
 export const INSERTION_COUNTS_PER_M = 108650;
