@@ -42,6 +42,7 @@ const clockModule = import('/js/tick_clock.js');  // fetched while the session l
 let ticker = null;  // the real clock's TickClock
 let box = null;  // the bridge's BoxDriver, or null
 let latest = null;  // the newest snapshot's hand figures, for the box driver
+let sessionOpen = false;
 
 function fail(message) { postMessage({ type: 'error', message: String(message) }); }
 
@@ -128,8 +129,14 @@ function slice() {
 
 // The box's command from the held tool's law (cbx_box_command: the native BoxHand's shaping and
 // encoding), for the bridge's driver here and, by message, for WebHID's on the page's thread.
+// The configuration is kept and applied again when a session opens (WebHID's box may be
+// connected before the session is).
+let boxConfig = null;
 const boxLaw = {
-  configure: (c, periodMs) => fn.boxConfigure(c.full_scale_mN, c.slew_mN_per_ms, periodMs, c.mode),
+  configure: (c, periodMs) => {
+    boxConfig = { c, periodMs };
+    if (sessionOpen) fn.boxConfigure(c.full_scale_mN, c.slew_mN_per_ms, periodMs, c.mode);
+  },
   command: (a) => {
     const status = fn.boxCommand(a.offset_mm, a.offset_rad, a.force_mN, a.speed_mm_s, a.seq, a.time_us, a.flags);
     if (status !== 0) throw new Error('OUT command: status ' + status);
@@ -185,6 +192,8 @@ async function open(m) {
   if (m.hclmFile) FS.writeFile('/case/' + m.hclmFile, m.hclmText);
   FS.writeFile('/case/collision.cbxmesh', new Uint8Array(m.mesh));
   if (!fn.open('/case/' + m.caseFile, '/case/collision.cbxmesh', '/run/run.cbxrec')) return fail(fn.error());
+  sessionOpen = true;
+  if (boxConfig) boxLaw.configure(boxConfig.c, boxConfig.periodMs);
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
   over = false;
@@ -211,6 +220,8 @@ onmessage = (e) => {
       open(m).catch((err) => fail(err && err.message ? err.message : err));
     } else if (m.type === 'replay') {
       replay(m).catch((err) => fail(err && err.message ? err.message : err));
+    } else if (m.type === 'box_configure') {
+      boxLaw.configure(m.config, m.periodMs);
     } else if (!fn) {
       fail('no session open');
     } else if (m.type === 'advance') {
@@ -219,8 +230,6 @@ onmessage = (e) => {
       while (ran < m.ticks && !over) { tick(); ++ran; }
       postMessage({ type: 'advanced', ticks: ran });
       if (over) finish(); else postFrame();
-    } else if (m.type === 'box_configure') {
-      boxLaw.configure(m.config, m.periodMs);
     } else if (m.type === 'box_command') {
       let bytes = null;
       let message = '';
