@@ -106,7 +106,7 @@ export class BoxDriver {
   }
 
   // What the box says of itself (feature reports 0x10-0x12, through protocol/'s codec), or the
-  // reference box's figures where the transport has no feature reports (the bridge).
+  // reference box's figures for a transport without feature reports.
   async readConfig(transport) {
     if (!transport.feature) {
       return { source: 'reference box (the transport carries no feature report)', insertion_counts_per_m: INSERTION_COUNTS_PER_M,
@@ -198,7 +198,9 @@ export class BoxDriver {
     this.keys[1] = 0;
   }
 
+  // The link closed: said only if it was driving (not after stop() or a refused connect).
   lost(reason) {
+    if (!this.live) return;
     this.live = false;
     this.keys[0] = 0;
     this.keys[1] = 0;
