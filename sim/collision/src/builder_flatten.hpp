@@ -1,8 +1,6 @@
 #pragma once
 // TreeBuilder's Builder, last step: the binary tree flattened into 4-wide nodes and leaf blocks.
-// Included by tree_builder.cpp only, after Builder's class: the builder compiles as one
-// translation unit, as it did when it was one file, so the compiler inlines across its parts
-// exactly as before (the object code is the same).
+// Part of tree_builder.cpp's translation unit (see builder_faces.hpp).
 namespace cathbox::collision {
 namespace {
 

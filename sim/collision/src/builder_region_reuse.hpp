@@ -1,9 +1,7 @@
 #pragma once
 // TreeBuilder's Builder and the TreeCache: a region whose triangles are the cached ones takes its
 // subtree from the cache; this build's regions replace the last's.
-// Included by tree_builder.cpp only, after Builder's class: the builder compiles as one
-// translation unit, as it did when it was one file, so the compiler inlines across its parts
-// exactly as before (the object code is the same).
+// Part of tree_builder.cpp's translation unit (see builder_faces.hpp).
 namespace cathbox::collision {
 namespace {
 

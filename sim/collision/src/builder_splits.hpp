@@ -2,9 +2,7 @@
 // TreeBuilder's Builder, the binary tree: the kept faces grouped by region, each region split at
 // the median along its centroids' principal axis, the regions grouped by their centres; boxes
 // fitted only for the nodes that become children of wide nodes.
-// Included by tree_builder.cpp only, after Builder's class: the builder compiles as one
-// translation unit, as it did when it was one file, so the compiler inlines across its parts
-// exactly as before (the object code is the same).
+// Part of tree_builder.cpp's translation unit (see builder_faces.hpp).
 namespace cathbox::collision {
 namespace {
 

@@ -1,19 +1,13 @@
 #pragma once
 // Sphere and capsule contacts: the triangles within reach gathered (ContactCollector), one
 // contact per feature of the wall (face, edge, vertex) reported once, nearest first.
-// Included by obb_tree.cpp only: the queries compile as one translation unit, as they did when
-// they were one file, so that the compiler inlines across these parts exactly as before (the
-// float kernels are built with -ffp-contract=fast, whose fused multiply-adds follow inlining).
+// Part of obb_tree.cpp's translation unit (see query_basics.hpp).
 #include <algorithm>
 #include <cfloat>
 
 #include "hint_cache.hpp"
 
 namespace cathbox::collision {
-
-using detail::PointLanes;
-using detail::TreeData;
-using detail::v4f;
 
 namespace {
 

@@ -1,17 +1,11 @@
 #pragma once
 // The per-node cut of the tree a QueryHint keeps (HintCache, QueryHint's friend): refilled around
 // a point when the point moves out of it, and the leaves near a point found from it.
-// Included by obb_tree.cpp only: the queries compile as one translation unit, as they did when
-// they were one file, so that the compiler inlines across these parts exactly as before (the
-// float kernels are built with -ffp-contract=fast, whose fused multiply-adds follow inlining).
+// Part of obb_tree.cpp's translation unit (see query_basics.hpp).
 #include "collision/query_hint.hpp"
 #include "nearest_search.hpp"
 
 namespace cathbox::collision {
-
-using detail::PointLanes;
-using detail::TreeData;
-using detail::v4f;
 
 class HintCache {
  public:

@@ -2,16 +2,10 @@
 // The nearest triangle to a point (closest_point, signed_distance, contains): a best-first search
 // of the tree on float bounds, the candidates then measured exactly; and the walk over the leaves
 // near a point the contact queries use.
-// Included by obb_tree.cpp only: the queries compile as one translation unit, as they did when
-// they were one file, so that the compiler inlines across these parts exactly as before (the
-// float kernels are built with -ffp-contract=fast, whose fused multiply-adds follow inlining).
+// Part of obb_tree.cpp's translation unit (see query_basics.hpp).
 #include "query_basics.hpp"
 
 namespace cathbox::collision {
-
-using detail::PointLanes;
-using detail::TreeData;
-using detail::v4f;
 
 namespace {
 
