@@ -8,7 +8,8 @@
 //               file calls, which its thread hands to this one). More than 4 ticks late: the
 //               overdue ones are dropped (counted), as the native haptic thread does. The
 //               interval between consecutive ticks is measured (jitter: p50, p99, max).
-//   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
+//   'virtual' — no clock of its own: the page says `advance N` (its "Run N ticks" control) and
+//   exactly N ticks run.
 // Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
 // insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
 // reads its KeyboardInput.
@@ -236,8 +237,9 @@ onmessage = (e) => {
       if (clock !== 'virtual') return fail('advance: the worker runs on its own clock');
       let ran = 0;
       while (ran < m.ticks && !over) { tick(); ++ran; }
+      if (!over) postFrame();  // the page shows the state the step ended at before it says so
       postMessage({ type: 'advanced', ticks: ran });
-      if (over) finish(); else postFrame();
+      if (over) finish();
     } else if (m.type === 'next_tool') {
       fn.nextTool();
     } else if (m.type === 'end') {
