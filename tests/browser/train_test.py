@@ -4,7 +4,7 @@
 A cathbox-server on a fresh SQLite store, serving the WebAssembly session (--wasm), with the
 Y-bifurcation case assigned to a trainee. The trainee logs in, opens the assignment on
 /train.html?clock=virtual (the worker has no clock of its own: the test advances it by exact tick
-counts, so the run is the same on any machine) and drives the guidewire with the native trainer's
+counts with the page's "Run N ticks" control, so the run is the same on any machine) and drives the guidewire with the native trainer's
 keys, held as a person would: Shift+W to 40 mm, Shift+A a full turn, then W until the tip reaches
 the target, while an instructor watches the browser's rig live (its tip moves on /live.html). The
 page uploads the record; the server accepts it only if every state hash
@@ -36,7 +36,12 @@ tool's law as the native driver shapes it; a box not calibrated is refused.
 
 With --real-clock it also runs the page on the worker's own 1 kHz clock for a few seconds and
 reports the tick-interval jitter and the first-frame time (a wall-clock figure: printed, never
-asserted; bench/wasm/train_page_bench.sh prints it beside the native figures).
+asserted).
+
+The page carries no test hook: the test reads it as a user does, from the page (the status, the
+HUD's figures, the notes under the keys, the box's figures, the end card, the record check's line,
+the record download) and from the server (the stored result, as the trainee's own API call). The
+WebHID part also reads what the box received from window.fakeBox, the test's own stand-in.
 
   tests/browser/train_test.py --bin build/release/bin --wasm build/wasm/bin --source . --out build/release/browser
 """
@@ -44,6 +49,7 @@ import argparse
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -75,17 +81,51 @@ def seed(centre):
     return a["id"], two["id"]
 
 
+STATE_JS = "return document.getElementById('status').textContent"
+# The end of a run as the page shows it: 'done' (uploaded and checked), 'refused', 'error' (the
+# page's error line), else null.
+END_JS = ("const u = document.getElementById('upload').textContent; const e = document.getElementById('error');"
+          "return u.startsWith('Uploaded and checked') ? 'done' : u.startsWith('The server refused') ? 'refused'"
+          " : !e.hidden && e.textContent ? 'error' : null;")
+
+
+def hud(b):
+    """The HUD's figures: time_s, tool, insertion_mm, rotation_rad."""
+    text = b.js("return document.getElementById('hud').textContent")
+    f = dict(re.findall(r"^(time|tool|insertion|rotation) +(\S+)", text, re.M))
+    return {"time_s": float(f["time"]), "tool": f["tool"], "insertion_mm": float(f["insertion"]), "rotation_rad": float(f["rotation"])}
+
+
+def end_of_run(b, centre):
+    """After the upload: the end card's reason, the record's size, a metric, and the stored
+    result the trainee's own API gives (the debrief link's id)."""
+    title = b.js("return document.getElementById('end-title').textContent")
+    end = re.match(r"End of run: (.*) \(", title).group(1)
+    link = b.js("const a = document.querySelector('#upload a[href^=\"/debrief.html\"]'); return a ? a.getAttribute('href') : null;")
+    check(link is not None, "the end card's debrief link: %r" % b.js("return document.getElementById('upload').textContent"))
+    _, result = Api(centre.base).login("ann").json("GET", "/results/%s" % link.split("id=")[1])
+    record_bytes = int(re.search(r"\((\d+) bytes\)", b.js("return document.getElementById('record-download').textContent")).group(1))
+    return end, result, record_bytes
+
+
 def open_assignment(b, assignment, clock):
     b.open("/train.html" + ("?clock=virtual" if clock == "virtual" else ""))
     b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
     check(b.js("return self.crossOriginIsolated"), "the page is not cross-origin isolated (COOP/COEP headers)")
     b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
-    b.wait_js("return window.cathboxTrain.state === 'running' && window.cathboxTrain.frames > 0", "the session to start in the worker")
-    b.wait_js("return window.cathboxTrain.firstFrameMs !== null", "the first frame")
+    b.wait_js("return document.getElementById('status').textContent === 'running' && document.getElementById('hud').textContent !== ''",
+              "the session to start in the worker")
+    b.wait_js("return document.getElementById('frame-note').textContent.startsWith('First frame')", "the first frame")
 
 
 def advance(b, ticks):
-    return b.driver.execute_async_script("const done = arguments[arguments.length - 1]; window.cathboxTrain.advance(arguments[0]).then(done);", ticks)
+    """The page's virtual clock: N ticks run with its "Run N ticks" control; the ticks it ran."""
+    note = b.js("return document.getElementById('step-note').textContent")
+    k = int(note.split(":")[0].split()[1]) + 1 if note.startswith("step ") else 1
+    b.js("document.getElementById('step-ticks').value = arguments[0]; document.getElementById('step').click();", ticks)
+    done = b.wait_js("const n = document.getElementById('step-note').textContent; const m = n.match(/^step %d: (\\d+) ticks run/);"
+                     "return m ? Number(m[1]) : null;" % k, "step %d of the virtual clock" % k)
+    return done
 
 
 def hold(b, keys, ticks):
@@ -108,16 +148,16 @@ def test_keyboard_run(b, watcher, centre, assignment, report):
     watcher.open("/live.html?rigs=browser-ann")
     watcher.wait_js("return document.getElementById('status').textContent === '(connected)'", "the instructor's watcher socket")
     open_assignment(b, assignment, "virtual")
-    b.wait_js("return (window.cathboxTrain.live || '').startsWith('live as browser-ann')", "the page's live stream")
+    b.wait_js("return document.getElementById('live-note').textContent.startsWith('live as browser-ann')", "the page's live stream")
     b.shot("train-start")
     check(hold(b, [Keys.SHIFT, "w"], 1000) == 1000, "1000 ticks pushing")
-    at = b.js("return window.cathboxTrain.last")
+    at = hud(b)
     check(abs(at["insertion_mm"] - 40.0) < 0.01, "Shift+W for 1 s: 40 mm expected, %.3f mm" % at["insertion_mm"])
     tip_js = "const e = document.querySelector(\"section[data-rig='browser-ann'] [data-stat='tip']\"); return e ? e.textContent : null;"
     first_tip = watcher.wait_js(tip_js, "the browser rig's first frame on the instructor's live page")
     turn_ticks = round(2 * math.pi / 6.0 * 1000)
     hold(b, [Keys.SHIFT, "a"], turn_ticks)
-    at = b.js("return window.cathboxTrain.last")
+    at = hud(b)
     check(abs(at["rotation_rad"] - 6.0 * turn_ticks / 1000) < 0.01, "Shift+A: a full turn expected, %.3f rad" % at["rotation_rad"])
     b.shot("train-3d")
     watcher.wait_js(tip_js.replace("return e ? e.textContent : null;", "return e && e.textContent !== %s;" % json.dumps(first_tip)),
@@ -129,70 +169,89 @@ def test_keyboard_run(b, watcher, centre, assignment, report):
     ActionChains(b.driver).key_down("w", body).perform()
     for _ in range(24):
         advance(b, 500)
-        if b.js("return window.cathboxTrain.state") != "running":
+        if b.js(STATE_JS) != "running":
             break
     ActionChains(b.driver).key_up("w").perform()
-    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;",
-                      "the record's upload")
-    hook = b.js("return window.cathboxTrain")
-    check(state == "done", "the upload: %s (%s)" % (state, hook.get("error")))
-    summary, result = hook["summary"], hook["result"]
-    check(summary["end"] == "target reached", "the run ended by '%s', not at the target (tip %s)" % (summary["end"], hook["last"]))
+    state = b.wait_js(END_JS, "the record's upload")
+    check(state == "done", "the upload: %s (%s)" % (state, b.js("return document.getElementById('error').textContent")))
+    end, result, record_bytes = end_of_run(b, centre)
+    check(end == "target reached", "the run ended by '%s', not at the target (%s)" % (end, hud(b)))
     check(result["complete"] is True and result["case"] == "ybif", "the stored result: %s" % json.dumps(result)[:400])
     b.wait(EC.visibility_of_element_located((By.ID, "metrics-table")), "the end-of-run metrics")
     b.shot("train-end")
     # The record the page offers for download: compared with the server's copy below.
-    kept = b.driver.execute_async_script(
-        "const done = arguments[arguments.length - 1];"
-        "window.cathboxTrain.recordBlob.arrayBuffer().then((a) => done(Array.from(new Uint8Array(a))), (e) => done(String(e)));")
-    check(isinstance(kept, list) and b.js("return document.getElementById('record-download').href.startsWith('blob:')"),
-          "the page's record download: %r" % (kept if not isinstance(kept, list) else "no link"))
-    centre.page_record = bytes(kept)
-    report["keyboard_run"] = {"ticks": summary["ticks"], "end": summary["end"], "result_id": result["id"],
-                              "passed": result["passed"], "record_bytes": summary["record_bytes"],
-                              "tip_path_mm": summary["metrics"].get("tip_path_mm")}
+    # As a user gets it: the link's download, in the browser's download folder.
+    downloads = os.path.join(centre.tmp, "downloads")
+    os.makedirs(downloads, exist_ok=True)
+    b.driver.execute_cdp_cmd("Page.setDownloadBehavior", {"behavior": "allow", "downloadPath": downloads})
+    link = b.driver.find_element(By.ID, "record-download")
+    check(link.get_attribute("href").startswith("blob:"), "the page's record download: %r" % link.get_attribute("href"))
+    saved = os.path.join(downloads, link.get_attribute("download"))
+    link.click()
+    wait_until(lambda: os.path.exists(saved) and os.path.getsize(saved) == record_bytes, "the record's download")
+    kept = open(saved, "rb").read()
+    centre.page_record = kept
+    check(len(kept) == record_bytes, "the download link's size: %d bytes, the record %d" % (record_bytes, len(kept)))
+    report["keyboard_run"] = {"seconds": hud(b)["time_s"], "end": end, "result_id": result["id"],
+                              "passed": result["passed"], "record_bytes": record_bytes,
+                              "tip_path_mm": (result.get("metrics") or {}).get("tip_path_mm")}
     return result["id"]
 
 
-def test_tab_and_escape(b, assignment, report):
+def test_tab_and_escape(b, centre, assignment, report):
     """Two tools: W moves the held one only, Tab hands over the other, Escape ends the run; the
     upload is accepted."""
     open_assignment(b, assignment, "virtual")
-    start = b.js("return window.cathboxTrain.last")
+    start = hud(b)
     hold(b, ["w"], 300)
-    first = b.js("return window.cathboxTrain.last")
+    first = hud(b)
     check(abs(first["insertion_mm"] - start["insertion_mm"] - 3.0) < 0.01, "W for 300 ticks: 3 mm expected, %s -> %s" % (start, first))
     ActionChains(b.driver).send_keys(Keys.TAB).perform()
     advance(b, 1)
-    second = b.js("return window.cathboxTrain.last")
-    check(second["held"] != first["held"], "Tab did not hand over the other tool: %s -> %s" % (first, second))
+    second = hud(b)
+    check(second["tool"] != first["tool"], "Tab did not hand over the other tool: %s -> %s" % (first, second))
     ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
-    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
-    hook = b.js("return window.cathboxTrain")
-    check(state == "done" and hook["summary"]["end"] == "ended by the trainee", "Escape: %s, %s" % (state, hook.get("summary")))
-    report["tab_escape"] = {"held": [first["held"], second["held"]], "ticks": hook["summary"]["ticks"], "result": hook["result"]["id"]}
+    state = b.wait_js(END_JS, "the upload")
+    check(state == "done", "Escape: the upload %s" % state)
+    end, result, _ = end_of_run(b, centre)
+    check(end == "ended by the trainee", "Escape: the run ended by '%s'" % end)
+    report["tab_escape"] = {"held": [first["tool"], second["tool"]], "seconds": second["time_s"], "result": result["id"]}
 
 
+# The WebHID box's hand, one IN report (window.fakeBox, the test's own stand-in) and one tick of
+# the page's "Run N ticks" control (clicked as a user does; the step's note says when it ran) at a
+# time. What the fake box received is read from it; the rest from the page, after.
 WEBHID_RUN = """
 const done = arguments[arguments.length - 1];
+const [cpm, cpr] = arguments[0];
+const note = document.getElementById('step-note');
+const stepped = (k) => new Promise((resolve) => {
+  const ran = () => new RegExp('^step ' + k + ': \\\\d+ ticks run').test(note.textContent);
+  const watch = new MutationObserver(() => { if (ran()) { watch.disconnect(); resolve(); } });
+  watch.observe(note, { childList: true, characterData: true, subtree: true });
+  document.getElementById('step-ticks').value = 1;
+  document.getElementById('step').click();
+});
 (async () => {
-  const [cpm, cpr] = arguments[0];
-  for (let k = 0; k <= 700; ++k) {
-    const f = Math.min(k, 300) / 300;  // 10 mm and a quarter turn in 0.3 s of the box's hand, then held 0.4 s
+  const first = note.textContent.match(/^step (\\d+):/);
+  let k = first ? Number(first[1]) : 0;
+  for (let i = 0; i <= 700; ++i) {
+    const f = Math.min(i, 300) / 300;  // 10 mm and a quarter turn in 0.3 s of the box's hand, then held 0.4 s
     await window.fakeBox.emit({ insertion_count: Math.round(10 * f * cpm / 1000), rotation_count: Math.round(f * cpr / 4) });
-    await window.cathboxTrain.advance(1);
+    await stepped(++k);
   }
-  done({ box: window.cathboxTrain.boxReport(), at: window.cathboxTrain.last, commands: window.fakeBox.commands.length,
-         last: window.fakeBox.commands[window.fakeBox.commands.length - 1],
-         underdamped: window.fakeBox.commands.filter((c) => c.insertion.damping < c.insertion.stiffness * 0.005 / 2 - 1).length, refused: window.fakeBox.refused, features: window.fakeBox.features_read });
-})();
+  done(true);
+})().catch((e) => done(String(e)));
 """
+FAKE_BOX_JS = """const c = window.fakeBox.commands;
+return { commands: c.length, last: c[c.length - 1], refused: window.fakeBox.refused, features: window.fakeBox.features_read,
+         underdamped: c.filter((x) => x.insertion.damping < x.insertion.stiffness * 0.005 / 2 - 1).length };"""
 
 
 def end_run(b, what):
     ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
-    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
-    check(state == "done", "%s: the upload: %s" % (what, b.js("return window.cathboxTrain.error")))
+    state = b.wait_js(END_JS, "the upload")
+    check(state == "done", "%s: the upload: %s (%s)" % (what, state, b.js("return document.getElementById('error').textContent")))
 
 
 def test_webhid(b, assignment, report):
@@ -210,12 +269,16 @@ def test_webhid(b, assignment, report):
         b.js("Object.assign(window.fakeBox.config.calibration, {insertion_counts_per_m: 200000, rotation_counts_per_rev: 8192});"
              "window.fakeBox.config.limits.max_force_mN = 2500;")
         b.driver.find_element(By.ID, "connect-box").click()
-        note = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.startsWith('box: WebHID') || n.startsWith('no box') ? n : null;",
-                         "the WebHID box to connect")
+        note = b.wait_js("const n = document.getElementById('box-note').textContent;"
+                         "return n.startsWith('box: WebHID') || n.startsWith('no box') ? n : null;", "the WebHID box to connect")
         check(note == "box: WebHID Cathbox (fake WebHID) (waiting for its first report)", "the page's box: %r" % note)
-        start = b.js("return window.cathboxTrain.last")
-        r = b.driver.execute_async_script(WEBHID_RUN, [200000, 8192])
-        box, at = r["box"], r["at"]
+        start = hud(b)
+        ran = b.driver.execute_async_script(WEBHID_RUN, [200000, 8192])
+        check(ran is True, "the WebHID run: %r" % ran)
+        # The page shows a law once it is sent; the last one the fake box got is the one shown.
+        r = b.wait_js("const r = (() => { %s })(); const m = document.getElementById('box-report').textContent.match(/law seq (\\d+)/);"
+                      "return r.last && m && Number(m[1]) === r.last.seq ? r : null;" % FAKE_BOX_JS, "the page's figures of its last law")
+        box, at = box_report(b), hud(b)
         check(r["features"] == [0x10, 0x11, 0x12], "feature reports read: %s (device info, calibration, limits expected)" % r["features"])
         config = box["config"]
         check(config["source"] == "the box" and config["insertion_counts_per_m"] == 200000 and config["rotation_counts_per_rev"] == 8192
@@ -223,7 +286,8 @@ def test_webhid(b, assignment, report):
         moved_mm = at["insertion_mm"] - start["insertion_mm"]
         turned = at["rotation_rad"] - start["rotation_rad"]
         # With the reference box's calibration the same counts would be 18.4 mm and half a turn.
-        check(abs(box["box_mm"] - start["insertion_mm"] - 10) < 0.001 and abs(moved_mm - 10) < 0.05,
+        # (The page shows the box to the µm, the tool to 0.01 mm.)
+        check(abs(box["box_mm"] - start["insertion_mm"] - 10) < 0.006 and abs(moved_mm - 10) < 0.05,
               "10 mm of the box's hand: box %.3f mm, tool %.3f mm" % (box["box_mm"] - start["insertion_mm"], moved_mm))
         check(abs(turned - math.pi / 2) < 0.01, "a quarter turn of the box: the tool turned %.4f rad" % turned)
         check(box["stats"]["states"] == 701 and box["stats"]["rejected"] == 0 and box["stats"]["missed"] == 0, "decoding: %s" % box["stats"])
@@ -245,12 +309,12 @@ def test_webhid(b, assignment, report):
         open_assignment(b, assignment, "virtual")
         b.js("window.fakeBox.config.calibration.insertion_counts_per_m = 0;")
         b.driver.find_element(By.ID, "connect-box").click()
-        refused = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.startsWith('no box') ? n : null;", "the refusal")
+        refused = b.wait_js("const n = document.getElementById('box-note').textContent; return n.startsWith('no box') ? n : null;", "the refusal")
         check(refused == "no box: WebHID Cathbox (fake WebHID) is not calibrated (run 'cathbox calibrate') (the keyboard drives the tool)",
               "an uncalibrated box: %r" % refused)
-        w0 = b.js("return window.cathboxTrain.last")["insertion_mm"]
+        w0 = hud(b)["insertion_mm"]
         hold(b, ["w"], 100)
-        check(abs(b.js("return window.cathboxTrain.last")["insertion_mm"] - w0 - 1.0) < 0.01, "the keyboard after the refusal")
+        check(abs(hud(b)["insertion_mm"] - w0 - 1.0) < 0.011, "the keyboard after the refusal")
         end_run(b, "the refused box's run")
         report["webhid"] = {"config": config, "box_mm": round(box["box_mm"] - start["insertion_mm"], 4), "tool_mm": round(moved_mm, 4),
                             "turned_rad": round(turned, 5), "commands": r["commands"], "last_command": last, "refused": refused,
@@ -272,6 +336,17 @@ def test_native_replay(centre, result_id, report):
     report["native_replay"] = out.strip().splitlines()[-1]
 
 
+def replay_line(text):
+    """The record check's line: passed (hashes checked over ticks of recorded ticks, ms) or FAILED
+    with the reason."""
+    m = re.match(r"passed: (\d+) state hashes checked over (\d+) of (\d+) ticks, all match \((\d+) ms\)", text)
+    if m:
+        return {"passed": True, "figures": {"hashes_checked": int(m.group(1)), "ticks": int(m.group(2)), "recorded_ticks": int(m.group(3))},
+                "ms": int(m.group(4))}
+    m = re.match(r"FAILED: (.*?)(?: \(\d+ hashes checked over \d+ ticks\))?$", text)
+    return {"passed": False, "message": m.group(1) if m else text}
+
+
 def test_native_record_in_page(b, centre, report):
     """A native record (`cathbox session run --virtual`) replayed in the page's worker with every
     state hash checked; the same record with one byte changed does not pass, nor does it against
@@ -289,11 +364,13 @@ def test_native_record_in_page(b, centre, report):
     results = {}
     for name, path, case in (("native", rec, "ybif/"), ("changed", bad, "ybif/"), ("other_surface", rec, "neuro/")):
         b.js("const s = document.getElementById('replay-case'); s.value = [...s.options].find((o) => o.value.startsWith(arguments[0])).value;", case)
-        b.js("window.cathboxTrain.replay = null; window.cathboxTrain.error = null;")
+        before = b.js("return document.getElementById('replay-result').textContent")
         b.driver.find_element(By.ID, "replay-file").send_keys(path)
-        b.wait_js("return window.cathboxTrain.replay !== null || window.cathboxTrain.state === 'error'", "the page's replay of " + name)
-        results[name] = b.js("return window.cathboxTrain.replay")
-        results[name + "_text"] = b.js("return document.getElementById('replay-result').textContent")
+        text = b.wait_js("const t = document.getElementById('replay-result').textContent; const e = document.getElementById('error');"
+                         "return (t.startsWith('passed') || t.startsWith('FAILED')) && t !== %s ? t"
+                         " : !e.hidden && e.textContent ? 'error: ' + e.textContent : null;" % json.dumps(before), "the page's replay of " + name)
+        results[name] = replay_line(text)
+        results[name + "_text"] = text
         if name == "native":
             b.shot("train_record_check")
         b.js("document.getElementById('replay-file').value = '';")
@@ -324,25 +401,59 @@ def test_without_wasm(b, centre, assignment, report):
     line = b.wait_js("const e = document.getElementById('error'); return !e.hidden && e.textContent;", "the page's error line")
     check(line == "/wasm/cathbox-trainee.js: the WebAssembly session is not served here (cathbox-server --wasm DIR)",
           "the error line without --wasm: %r" % line)
-    check(b.js("return window.cathboxTrain.state") == "error", "the page's state without the session")
+    check(b.js(STATE_JS) == "", "the page's status without the session: %r" % b.js(STATE_JS))
     b.drain_console(expected=[("/wasm/cathbox-trainee.js", 404)])
     report["without_wasm"] = line
 
 
-def test_real_clock(b, assignment, seconds, report):
+def test_real_clock(b, centre, assignment, seconds, report):
     """The worker's own 1 kHz clock for `seconds`, W held, then Escape: jitter and first frame."""
     open_assignment(b, assignment, "real")
     body = b.driver.find_element(By.TAG_NAME, "body")
     ActionChains(b.driver).key_down("w", body).perform()
-    b.wait_js("return window.cathboxTrain.last && window.cathboxTrain.last.tick >= %d" % (seconds * 1000),
+    b.wait_js("const m = document.getElementById('hud').textContent.match(/^time +([0-9.]+) s/m); return m && Number(m[1]) >= %d;" % seconds,
               "%d s of ticks on the worker's clock" % seconds, timeout=seconds * 10 + 30)
     ActionChains(b.driver).key_up("w").send_keys(Keys.ESCAPE).perform()
-    b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
+    state = b.wait_js(END_JS, "the upload")
     b.shot("train-real-clock")
-    hook = b.js("return window.cathboxTrain")
-    check(hook["state"] == "done", "the real-clock run's upload: %s" % hook.get("error"))
-    report["real_clock"] = {"jitter": hook["jitter"], "first_frame_ms": hook["firstFrameMs"], "open_ms": hook["openMs"],
-                            "end": hook["summary"]["end"]}
+    check(state == "done", "the real-clock run's upload: %s" % state)
+    end, _, _ = end_of_run(b, centre)
+    report["real_clock"] = {"jitter": b.js("return document.getElementById('clock-note').textContent"),
+                            "first_frame": b.js("return document.getElementById('frame-note').textContent"), "end": end}
+
+
+BOX_JS = "return document.getElementById('box-report').textContent"
+BOX_REPORT = re.compile(
+    r"box (-?[0-9.]+) mm (-?[0-9.]+) rad; states (\d+), missed (\d+), rejected (\d+), longest report gap ([0-9.]+) ms,"
+    r" longest command gap ([0-9.]+) ms; law seq (-?\d+|-), offset (-?[0-9.]+|-) mN;"
+    r" box status 0x([0-9a-f]+), faults (\d+|-), mode (\d+|-), rx errors (\d+|-), command echo (\d+|-), force (-?[0-9.]+|-) mN$")
+BOX_CONFIG = re.compile(r"Box: (.*); (\d+) counts/m, (\d+) counts/rev, full scale (\d+) mN, (\d+) µN·m, slew (\d+) mN/ms, (brake|motor) mode$")
+
+
+def box_report(b, law=True):
+    """The box's figures the page shows under the keys (js/train.js showBoxReport): its position,
+    the page's decoding and commands, the last law sent, the box's state, and what the box said of
+    itself on connect (the line under them). law=False: before the first law, '-' is allowed."""
+    text = b.js(BOX_JS)
+    m = BOX_REPORT.match(text)
+    check(m is not None and (not law or m.group(8) != "-"), "the page's box figures: %r" % text)
+    g = [None if x == "-" else x for x in m.groups()]
+    num = lambda v, f=int: None if v is None else f(v)  # noqa: E731
+    r = {"box_mm": float(g[0]), "box_rad": float(g[1]),
+         "stats": {"states": int(g[2]), "missed": int(g[3]), "rejected": int(g[4]), "max_report_gap_ms": float(g[5]), "max_send_gap_ms": float(g[6])},
+         "law": {"seq": num(g[7]), "insertion_offset_mN": num(g[8], float)},
+         "state": {"status": int(g[9], 16), "faults": num(g[10]), "mode": num(g[11]), "rx_errors": num(g[12]),
+                   "command_seq_echo": num(g[13]), "insertion_force_mN": num(g[14], float)}}
+    text = b.js("return document.getElementById('box-config').textContent")
+    c = BOX_CONFIG.match(text)
+    check(c is not None, "the page's line on the box's own figures: %r" % text)
+    who = c.group(1)
+    w = re.match(r"(\S+) (\S+), firmware (\S+)$", who)
+    r["config"] = {"source": "the box" if w else who, "board": w.group(1) if w else None, "serial": w.group(2) if w else None,
+                   "firmware": w.group(3) if w else None, "insertion_counts_per_m": int(c.group(2)),
+                   "rotation_counts_per_rev": int(c.group(3)), "full_scale_mN": int(c.group(4)), "full_scale_uNm": int(c.group(5)),
+                   "slew_mN_per_ms": int(c.group(6)), "mode": c.group(7)}
+    return r
 
 
 def test_box_bridge(b, centre, assignment, report):
@@ -363,15 +474,22 @@ def test_box_bridge(b, centre, assignment, report):
     b.open("/train.html?box=" + url)
     b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
     b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
-    note = b.wait_js("const n = window.cathboxTrain.boxNote || ''; return n.endsWith('drives the held tool') || n.startsWith('no box')"
-                     " || n.startsWith('box lost') || window.cathboxTrain.state === 'error' ? n || window.cathboxTrain.error : null;",
-                     "the box to drive the tool")
-    check(note.endswith("drives the held tool"), "the page's box: %r (%s)" % (note, b.js("return window.cathboxTrain.boxReport ? window.cathboxTrain.boxReport() : null")))
-    first = b.js("return {box: window.cathboxTrain.boxReport(), at: window.cathboxTrain.last}")
+    note = b.wait_js("const n = document.getElementById('box-note').textContent; const e = document.getElementById('error');"
+                     "return n.endsWith('drives the held tool') || n.startsWith('no box') || n.startsWith('box lost') ? n"
+                     " : !e.hidden && e.textContent ? e.textContent : null;", "the box to drive the tool")
+    check(note.endswith("drives the held tool"), "the page's box: %r (%s)" % (note, b.js(BOX_JS)))
+    b.wait_js("return document.getElementById('box-report').textContent !== '' && document.getElementById('hud').textContent !== ''",
+              "the box's figures on the page")
+    first = {"box": box_report(b, law=False), "at": hud(b)}
     # 10 mm of the emulator's hand: the tool follows (no key is pressed).
-    moved = b.wait_js("const r = window.cathboxTrain.boxReport(); const at = window.cathboxTrain.last;"
-                      "return r.box_mm - %r >= 10 && Math.abs(at.insertion_mm - r.box_mm) < 2 && (r.state.status & 9) === 9 ? {box: r, at} : null;"
-                      % first["box"]["box_mm"], "the tool to follow the emulator's encoder 10 mm, the box's output on", timeout=30)
+    def followed(_):
+        try:
+            r, at = box_report(b), hud(b)
+        except Failure:
+            return None  # no law sent yet
+        ok = r["box_mm"] - first["box"]["box_mm"] >= 10 and abs(at["insertion_mm"] - r["box_mm"]) < 2 and (r["state"]["status"] & 9) == 9
+        return {"box": r, "at": at} if ok else None
+    moved = b.wait(followed, "the tool to follow the emulator's encoder 10 mm, the box's output on", timeout=30)
     box, at = moved["box"], moved["at"]
     s = box["state"]
     check(box["stats"]["rejected"] == 0 and box["stats"]["states"] > 100, "the page's decoding: %s" % box["stats"])
@@ -398,8 +516,8 @@ def test_box_bridge(b, centre, assignment, report):
     check(abs(s["insertion_force_mN"] - law["insertion_offset_mN"]) <= 10,
           "the emulator renders %d mN, the page commanded %d mN" % (s["insertion_force_mN"], law["insertion_offset_mN"]))
     ActionChains(b.driver).send_keys(Keys.ESCAPE).perform()
-    state = b.wait_js("const s = window.cathboxTrain.state; return s === 'done' || s === 'refused' || s === 'error' ? s : null;", "the upload")
-    check(state == "done", "the box run's upload: %s" % b.js("return window.cathboxTrain.error"))
+    state = b.wait_js(END_JS, "the upload")
+    check(state == "done", "the box run's upload: %s (%s)" % (state, b.js("return document.getElementById('error').textContent")))
     wait_until(lambda: "page closed" in open(bridge_err).read(), "the bridge to see the page close")
     closed = [x for x in open(bridge_err).read().splitlines() if "page closed" in x][-1]
     # A message that is not a report: refused, the reason names its length.
@@ -455,12 +573,12 @@ def main():
         test_native_replay(centre, result_id, report)
         test_native_record_in_page(b, centre, report)
         b.drain_console()
-        test_tab_and_escape(b, two_tools, report)
+        test_tab_and_escape(b, centre, two_tools, report)
         b.drain_console()
         test_webhid(b, assignment, report)
         b.drain_console()
         if args.real_clock:
-            test_real_clock(b, assignment, args.real_clock, report)
+            test_real_clock(b, centre, assignment, args.real_clock, report)
             b.drain_console()
         test_box_bridge(b, centre, assignment, report)
         b.drain_console()

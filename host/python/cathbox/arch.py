@@ -1,6 +1,6 @@
 """Aortic arches for ArchVariety: a new arch each episode, as an HCLM vessel file.
 
-The arch is the bundled neuro case's (sim/vessel/src/case_generator.cpp: an oblique half
+The arch is the bundled neuro case's (sim/vessel/src/neuro_case.cpp: an oblique half
 circle, ascending aorta on the right and in front, descending behind on the left; patient
 coordinates x left, y anterior, z superior; diameters from Hager 2002 and Gray's Anatomy) with
 what varies between patients drawn from a seeded generator:

@@ -248,130 +248,24 @@ class Builder {
   }
 
  private:
-  void copy_mesh() {
-    d_.positions.resize(mesh_.positions_mm.size());
-    glm::dvec3 max_abs{0.0};
-    for (std::size_t i = 0; i < d_.positions.size(); ++i) {
-      d_.positions[i] = glm::dvec3(mesh_.positions_mm[i]);
-      max_abs = glm::max(max_abs, glm::abs(d_.positions[i]));
-    }
-    d_.scale_mm = max_abs.x + max_abs.y + max_abs.z;
-    d_.triangles = mesh_.triangles;
-    d_.regions = mesh_.triangle_regions;
-  }
+  void copy_mesh();
 
   glm::dvec3 corner(std::uint32_t face, int k) const { return d_.positions[d_.triangles[3 * face + k]]; }
 
   // Faces with the cache: every region's triangles (degenerate ones too) in mesh order, and the
   // cached region holding the same floats in the same order, if any; a face of such a region
   // takes its FaceFacts from there.
-  void match_cache() {
-    if (cache_ == nullptr) return;
-    const std::size_t n = mesh_.triangle_count();
-    std::unordered_map<std::uint64_t, std::uint32_t> index;
-    std::vector<std::uint32_t> region_of(n);
-    std::vector<std::uint32_t> first(1, 0);
-    std::uint64_t last_key = ~0ull;
-    std::uint32_t last = 0;
-    for (std::size_t f = 0; f < n; ++f) {
-      const std::uint64_t key = region_key(d_.regions[f]);
-      if (key != last_key) {
-        auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(all_keys_.size()));
-        if (inserted) {
-          all_keys_.push_back(d_.regions[f]);
-          first.push_back(0);
-        }
-        last_key = key;
-        last = it->second;
-      }
-      region_of[f] = last;
-      ++first[last + 1];
-    }
-    for (std::size_t r = 0; r + 1 < first.size(); ++r) first[r + 1] += first[r];
-    std::vector<std::uint32_t> faces(n);
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::uint32_t f = 0; f < n; ++f) faces[fill[region_of[f]]++] = f;
-    all_corners_.assign(all_keys_.size(), {});
-    all_hit_.assign(all_keys_.size(), -1);
-    source_.assign(n, nullptr);
-    for (std::size_t r = 0; r < all_keys_.size(); ++r) {
-      std::vector<glm::vec3>& corners = all_corners_[r];
-      corners.reserve(3 * std::size_t{first[r + 1] - first[r]});
-      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i)
-        for (std::uint32_t k = 0; k < 3; ++k) corners.push_back(mesh_.positions_mm[d_.triangles[3 * faces[i] + k]]);
-      for (std::size_t c = 0; c < cache_->regions.size(); ++c) {
-        const CachedRegion& cached = cache_->regions[c];
-        if (cached.region == all_keys_[r] && cached.corners.size() == corners.size() &&
-            std::memcmp(cached.corners.data(), corners.data(), corners.size() * sizeof(glm::vec3)) == 0) {
-          all_hit_[r] = static_cast<std::int32_t>(c);
-          break;
-        }
-      }
-      if (all_hit_[r] < 0) continue;
-      const std::vector<FaceFacts>& facts = cache_->regions[static_cast<std::size_t>(all_hit_[r])].facts;
-      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) source_[faces[i]] = &facts[i - first[r]];
-      hit_of_key_[region_key(all_keys_[r])] = all_hit_[r];
-    }
-    all_first_ = std::move(first);
-    all_faces_ = std::move(faces);
-  }
+  void match_cache();
 
   // Kept (non-degenerate) faces in mesh order, their unit normals and corner angles: computed,
   // or taken from the cache for the faces of unchanged regions (the same values: they depend on
   // the corners only).
-  void find_kept_faces() {
-    const std::size_t n = mesh_.triangle_count();
-    d_.face_normals.resize(n);
-    facts_.reserve(n);
-    kept_.reserve(n);
-    for (std::uint32_t f = 0; f < n; ++f) {
-      facts_.push_back(!source_.empty() && source_[f] != nullptr ? *source_[f] : face_facts(f));
-      d_.face_normals[f] = facts_.back().normal;
-      if (facts_.back().kept) kept_.push_back(f);
-    }
-  }
+  void find_kept_faces();
 
-  FaceFacts face_facts(std::uint32_t f) const {
-    FaceFacts facts;
-    const glm::dvec3 a = corner(f, 0);
-    const glm::dvec3 b = corner(f, 1);
-    const glm::dvec3 c = corner(f, 2);
-    const glm::dvec3 cr = glm::cross(b - a, c - a);
-    const double area2 = glm::length(cr);
-    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a),
-                                     glm::dot(c - b, c - b)});
-    if (!(area2 > 1e-12 * longest)) return facts;
-    facts.kept = true;
-    facts.normal = cr / area2;
-    const glm::dvec3 p[3] = {a, b, c};
-    const glm::dvec3 e[3] = {p[1] - p[0], p[2] - p[1], p[0] - p[2]};  // e[k] leaves corner k
-    // The largest angle (opposite the longest edge) is pi minus the other two, which atan2
-    // gives accurately even for slivers; float precision is plenty for a weight.
-    double len[3];
-    for (int k = 0; k < 3; ++k) len[k] = glm::dot(e[k], e[k]);
-    const int longest_edge = len[0] >= len[1] && len[0] >= len[2] ? 0 : (len[1] >= len[2] ? 1 : 2);
-    const int big = (longest_edge + 2) % 3;  // the corner opposite the longest edge
-    double sum = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      if (k == big) continue;
-      const glm::dvec3 u = e[k];
-      const glm::dvec3 v = -e[(k + 2) % 3];
-      facts.angle[k] = std::atan2(static_cast<float>(glm::length(glm::cross(u, v))), static_cast<float>(glm::dot(u, v)));
-      sum += facts.angle[k];
-    }
-    facts.angle[big] = std::max(0.0, 3.14159265358979323846 - sum);
-    return facts;
-  }
+  FaceFacts face_facts(std::uint32_t f) const;
 
   // Vertex -> kept triangles, neighbours across edges, valences, pseudo-normals.
-  void build_topology() {
-    const VertexHalfEdges edges = outgoing_half_edges();
-    const std::size_t nv = d_.positions.size();
-    d_.valence.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) d_.valence[v] = edges.start[v + 1] - edges.start[v];
-    link_opposites(edges);
-    accumulate_vertex_normals();
-  }
+  void build_topology();
 
   // Outgoing half-edges per vertex: u -> w of face f, vertex v's in [start[v], start[v + 1]).
   struct VertexHalfEdges {
@@ -383,128 +277,22 @@ class Builder {
     std::vector<HalfEdge> out;
   };
 
-  [[nodiscard]] VertexHalfEdges outgoing_half_edges() const {
-    const std::size_t nv = d_.positions.size();
-    VertexHalfEdges e;
-    e.start.assign(nv + 1, 0);
-    for (std::uint32_t f : kept_)
-      for (int k = 0; k < 3; ++k) ++e.start[d_.triangles[3 * f + k] + 1];
-    for (std::size_t v = 0; v < nv; ++v) e.start[v + 1] += e.start[v];
-    e.out.resize(e.start[nv]);
-    std::vector<std::uint32_t> fill(e.start.begin(), e.start.end() - 1);
-    for (std::uint32_t f : kept_)
-      for (int k = 0; k < 3; ++k)
-        e.out[fill[d_.triangles[3 * f + k]]++] = {d_.triangles[3 * f + (k + 1) % 3], f};
-    return e;
-  }
+  [[nodiscard]] VertexHalfEdges outgoing_half_edges() const;
 
   // The opposite of u -> w is w -> u; another u -> w means a non-manifold or flipped face.
-  void link_opposites(const VertexHalfEdges& edges) {
-    const auto& start = edges.start;
-    const auto& out = edges.out;
-    d_.opposite.assign(d_.triangles.size(), -1);
-    bool closed = true;
-    bool oriented = true;
-    for (std::uint32_t f : kept_) {
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t u = d_.triangles[3 * f + k];
-        const std::uint32_t w = d_.triangles[3 * f + (k + 1) % 3];
-        int found = 0;
-        for (std::uint32_t i = start[w]; i < start[w + 1]; ++i) {
-          if (out[i].to != u) continue;
-          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
-        }
-        for (std::uint32_t i = start[u]; i < start[u + 1]; ++i) {
-          if (out[i].to != w || out[i].face == f) continue;
-          oriented = false;
-          if (found++ == 0) d_.opposite[3 * f + k] = static_cast<std::int32_t>(out[i].face);
-        }
-        if (found != 1) closed = false;
-      }
-    }
-    d_.stats.closed = closed;
-    d_.stats.consistently_oriented = oriented;
-  }
+  void link_opposites(const VertexHalfEdges& edges);
 
   // Angle-weighted pseudo-normals of the vertices.
-  void accumulate_vertex_normals() {
-    d_.vertex_normals.assign(d_.positions.size(), glm::dvec3{0.0});
-    for (std::uint32_t f : kept_) {
-      for (int k = 0; k < 3; ++k) d_.vertex_normals[d_.triangles[3 * f + k]] += facts_[f].angle[k] * d_.face_normals[f];
-    }
-    for (glm::dvec3& n : d_.vertex_normals) {
-      const double len = glm::length(n);
-      if (len > 0.0) n /= len;
-    }
-  }
+  void accumulate_vertex_normals();
 
   // Counting sort of the kept faces by region; one subtree per region.
-  void group_regions() {
-    std::unordered_map<std::uint64_t, std::uint32_t> index;
-    std::vector<std::uint32_t> region_of(kept_.size());
-    std::vector<std::uint32_t> counts;
-    std::uint64_t last_key = ~0ull;
-    std::uint32_t last = 0;
-    for (std::size_t i = 0; i < kept_.size(); ++i) {
-      const vessel::FaceRegion r = d_.regions[kept_[i]];
-      const std::uint64_t key = region_key(r);
-      if (key != last_key) {  // neighbouring faces mostly share a region
-        auto [it, inserted] = index.try_emplace(key, static_cast<std::uint32_t>(counts.size()));
-        if (inserted) counts.push_back(0);
-        last_key = key;
-        last = it->second;
-      }
-      region_of[i] = last;
-      ++counts[last];
-    }
-    std::vector<std::uint32_t> first(counts.size() + 1, 0);
-    for (std::size_t r = 0; r < counts.size(); ++r) first[r + 1] = first[r] + counts[r];
-    items_.resize(kept_.size());
-    if (cache_ != nullptr) local_.assign(mesh_.triangle_count(), 0);
-    std::vector<std::uint32_t> fill(first.begin(), first.end() - 1);
-    for (std::size_t i = 0; i < kept_.size(); ++i) {
-      const std::uint32_t f = kept_[i];
-      const glm::dvec3 c = (corner(f, 0) + corner(f, 1) + corner(f, 2)) / 3.0;
-      if (cache_ != nullptr) local_[f] = fill[region_of[i]] - first[region_of[i]];  // its place in its region, mesh order
-      items_[fill[region_of[i]]++] = {0.0f, glm::vec3(c), f};
-    }
-    bnodes_.reserve(2 * (kept_.size() / kLeafSize + counts.size()) + 8);
-
-    keys_.resize(counts.size());
-    for (const auto& [key, r] : index) {
-      keys_[r] = {static_cast<vessel::RegionKind>(key >> 32), static_cast<std::int32_t>(static_cast<std::uint32_t>(key))};
-    }
-    region_first_ = first;
-    region_node_first_.assign(counts.size(), 0);
-    region_node_end_.assign(counts.size(), 0);
-    region_leaves_.assign(counts.size(), 0);
-    region_reused_.assign(counts.size(), false);
-    for (std::size_t r = 0; r < counts.size(); ++r) {
-      const std::size_t leaves_before = leaf_count_;
-      region_node_first_[r] = static_cast<std::int32_t>(bnodes_.size());
-      region_reused_[r] = reuse_region(r);
-      const std::int32_t root = region_reused_[r] ? region_node_first_[r] : build_region(first[r], first[r + 1]);
-      region_node_end_[r] = static_cast<std::int32_t>(bnodes_.size());
-      region_leaves_[r] = leaf_count_ - leaves_before;
-      region_roots_.push_back(root);
-      glm::dvec3 mean{0.0};
-      for (std::uint32_t i = first[r]; i < first[r + 1]; ++i) mean += glm::dvec3(items_[i].centroid);
-      region_centres_.push_back(mean / static_cast<double>(counts[r]));
-    }
-  }
+  void group_regions();
 
   // The corners of the items in their final order, so that fitting a box reads one contiguous
   // run instead of gathering vertices through the index array (the box fits read every corner
   // once per wide level; float copies: half the memory traffic, same values).
   // Only the built regions' items: a reused subtree has its boxes.
-  void gather_corners() {
-    corners_.resize(3 * items_.size());
-    for (std::size_t r = 0; r < keys_.size(); ++r) {
-      if (region_reused_[r]) continue;
-      for (std::size_t i = region_first_[r]; i < region_first_[r + 1]; ++i)
-        for (std::uint32_t k = 0; k < 3; ++k) corners_[3 * i + k] = mesh_.positions_mm[d_.triangles[3 * items_[i].face + k]];
-    }
-  }
+  void gather_corners();
 
   template <typename Fn>
   void for_each_corner(std::uint32_t begin, std::uint32_t end, Fn&& fn) const {
@@ -513,58 +301,12 @@ class Builder {
 
   // A leaf's few triangles lie on a patch of the wall: its box is thin along their mean normal
   // and aligned in the patch with the longest edge (no eigen-solve needed).
-  Obb leaf_box(std::uint32_t begin, std::uint32_t end) const {
-    glm::dvec3 normal{0.0};
-    glm::dvec3 longest{0.0};
-    double longest_sq = -1.0;
-    for (std::uint32_t i = begin; i < end; ++i) {
-      const std::uint32_t f = items_[i].face;
-      const glm::dvec3 a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
-      normal += glm::cross(b - a, c - a);
-      for (const glm::dvec3& e : {b - a, c - b, a - c}) {
-        const double len = glm::dot(e, e);
-        if (len > longest_sq) {
-          longest_sq = len;
-          longest = e;
-        }
-      }
-    }
-    const glm::dvec3 origin = corner(items_[begin].face, 0);
-    const double nlen = glm::length(normal);
-    glm::dvec3 z = nlen > 0.0 ? normal / nlen : glm::dvec3{0.0, 0.0, 1.0};
-    glm::dvec3 x = longest - glm::dot(longest, z) * z;
-    const double xlen = glm::length(x);
-    if (!(xlen > 1e-12 * std::sqrt(longest_sq))) {
-      x = std::abs(z.x) < 0.6 ? glm::dvec3{1, 0, 0} : glm::dvec3{0, 1, 0};
-      x = glm::normalize(x - glm::dot(x, z) * z);
-    } else {
-      x /= xlen;
-    }
-    return box_in_frame(x, glm::cross(z, x), z, origin, [&](auto&& fn) { for_each_corner(begin, end, fn); },
-                        d_.scale_mm);
-  }
+  Obb leaf_box(std::uint32_t begin, std::uint32_t end) const;
 
   // Boxes are fitted only for the nodes that become children of wide nodes: region nodes take
   // the principal axes of their centroids (of their corners for leaves, which have few), group
   // nodes enclose their children's boxes.
-  const Obb& ensure_box(std::int32_t id) {
-    BinaryNode& node = bnodes_[id];
-    if (node.has_box) return node.box;
-    const std::uint32_t begin = node.begin;
-    const std::uint32_t end = node.end;
-    auto corners = [&](auto&& fn) { for_each_corner(begin, end, fn); };
-    if (!node.in_region) {
-      const Obb a = ensure_box(node.left);
-      const Obb b = ensure_box(bnodes_[id].right);
-      bnodes_[id].box = enclose(a, b);
-    } else if (node.leaf()) {
-      bnodes_[id].box = leaf_box(begin, end);
-    } else {
-      bnodes_[id].box = box_around(node.moments, corners, d_.scale_mm);
-    }
-    bnodes_[id].has_box = true;
-    return bnodes_[id].box;
-  }
+  const Obb& ensure_box(std::int32_t id);
 
   std::int32_t add_node(const BinaryNode& node) {
     bnodes_.push_back(node);
@@ -587,241 +329,32 @@ class Builder {
 
   // Median split along the principal axis of the centroids, keeping the left part a multiple of
   // the leaf size.
-  std::int32_t build_region(std::uint32_t begin, std::uint32_t end) {
-    BinaryNode node;
-    node.begin = begin;
-    node.end = end;
-    node.count = end - begin;
-    node.in_region = true;
-    const std::uint32_t n = end - begin;
-    if (n > kLeafSize) {
-      node.moments = centroid_moments(begin, end);
-    }
-    const std::int32_t id = add_node(node);
-    if (n <= kLeafSize) {
-      ++leaf_count_;
-      return id;
-    }
-    const glm::dvec3 axis = dominant_axis(node.moments.cov);
-    const glm::vec3 axis_f(axis);
-    for (std::uint32_t i = begin; i < end; ++i) items_[i].key = glm::dot(items_[i].centroid, axis_f);
-    std::uint32_t left = ((n / 2 + kLeafSize / 2) / kLeafSize) * kLeafSize;
-    left = std::clamp(left, kLeafSize, n - 1);
-    std::nth_element(items_.begin() + begin, items_.begin() + begin + left, items_.begin() + end,
-                     [](const Item& a, const Item& b) { return a.key < b.key; });
-    const std::int32_t l = build_region(begin, begin + left);
-    const std::int32_t r = build_region(begin + left, end);
-    bnodes_[id].left = l;
-    bnodes_[id].right = r;
-    return id;
-  }
+  std::int32_t build_region(std::uint32_t begin, std::uint32_t end);
 
   // Region r's subtree from the cache, when its triangles are the cached ones (same floats, same
   // order): the items take the cached order and the nodes are appended with their boxes.
-  bool reuse_region(std::size_t r) {
-    if (cache_ == nullptr || cache_->scale_mm != d_.scale_mm) return false;
-    const auto found = hit_of_key_.find(region_key(keys_[r]));
-    if (found == hit_of_key_.end()) return false;
-    const CachedRegion* hit = &cache_->regions[static_cast<std::size_t>(found->second)];
-    if (!hit->has_subtree) return false;
-    const std::uint32_t first = region_first_[r];
-    const std::uint32_t count = region_first_[r + 1] - first;
-    scratch_items_.assign(items_.begin() + first, items_.begin() + first + count);
-    for (std::uint32_t j = 0; j < count; ++j) items_[first + j] = scratch_items_[hit->order[j]];
-    const std::int32_t shift = static_cast<std::int32_t>(bnodes_.size()) - hit->node_first;
-    for (std::int32_t k = hit->node_first; k < hit->node_end; ++k) {
-      BinaryNode node = cache_->nodes[static_cast<std::size_t>(k)];
-      if (node.left >= 0) node.left += shift;
-      if (node.right >= 0) node.right += shift;
-      node.begin = node.begin - hit->item_first + first;
-      node.end = node.end - hit->item_first + first;
-      bnodes_.push_back(node);
-    }
-    leaf_count_ += hit->leaves;
-    return true;
-  }
+  bool reuse_region(std::size_t r);
 
   // This build's regions into the cache (after the boxes are fitted), replacing the last's.
-  void keep_regions() {
-    if (cache_ == nullptr) return;
-    // Every region's triangles and facts (moved from the cache when it held them already) ...
-    std::vector<CachedRegion> kept(all_keys_.size());
-    std::unordered_map<std::uint64_t, std::size_t> slot;
-    for (std::size_t a = 0; a < all_keys_.size(); ++a) {
-      CachedRegion& c = kept[a];
-      c.region = all_keys_[a];
-      c.corners = std::move(all_corners_[a]);
-      if (all_hit_[a] >= 0) {
-        c.facts = std::move(cache_->regions[static_cast<std::size_t>(all_hit_[a])].facts);
-      } else {
-        c.facts.resize(all_first_[a + 1] - all_first_[a]);
-        for (std::uint32_t i = all_first_[a]; i < all_first_[a + 1]; ++i) c.facts[i - all_first_[a]] = facts_[all_faces_[i]];
-      }
-      slot[region_key(c.region)] = a;
-    }
-    // ... and the subtrees of those with kept triangles.
-    const std::size_t regions = keys_.size();
-    std::size_t reused = 0;
-    for (std::size_t r = 0; r < regions; ++r) {
-      const std::uint32_t first = region_first_[r];
-      const std::uint32_t count = region_first_[r + 1] - first;
-      CachedRegion& c = kept[slot.at(region_key(keys_[r]))];
-      c.has_subtree = true;
-      c.node_first = region_node_first_[r];
-      c.node_end = region_node_end_[r];
-      c.item_first = first;
-      c.leaves = region_leaves_[r];
-      c.order.resize(count);
-      for (std::uint32_t i = 0; i < count; ++i) c.order[i] = local_[items_[first + i].face];
-      reused += region_reused_[r] ? 1 : 0;
-    }
-    cache_->regions = std::move(kept);
-    cache_->nodes = std::move(bnodes_);
-    cache_->scale_mm = d_.scale_mm;
-    cache_->reused = reused;
-    cache_->built = regions - reused;
-  }
+  void keep_regions();
 
   // Regions [first, last) of region_roots_: split along the longest spread of their centres,
   // balancing triangle counts. Group boxes enclose the children's boxes.
-  std::int32_t build_groups(std::uint32_t first, std::uint32_t last) {
-    if (last - first == 1) return region_roots_[first];
-    glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-    glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-    for (std::uint32_t i = first; i < last; ++i) {
-      lo = glm::min(lo, region_centres_[i]);
-      hi = glm::max(hi, region_centres_[i]);
-    }
-    const glm::dvec3 ext = hi - lo;
-    const int axis = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    std::vector<std::uint32_t> idx(last - first);
-    for (std::uint32_t i = 0; i < idx.size(); ++i) idx[i] = first + i;
-    std::sort(idx.begin(), idx.end(), [&](std::uint32_t x, std::uint32_t y) {
-      return region_centres_[x][axis] < region_centres_[y][axis];
-    });
-    std::vector<std::int32_t> roots(idx.size());
-    std::vector<glm::dvec3> centres(idx.size());
-    std::uint64_t total = 0;
-    for (std::size_t i = 0; i < idx.size(); ++i) {
-      roots[i] = region_roots_[idx[i]];
-      centres[i] = region_centres_[idx[i]];
-      total += bnodes_[roots[i]].count;
-    }
-    std::copy(roots.begin(), roots.end(), region_roots_.begin() + first);
-    std::copy(centres.begin(), centres.end(), region_centres_.begin() + first);
-    std::uint64_t acc = 0;
-    std::uint32_t split = first + 1;
-    for (std::uint32_t i = first; i + 1 < last; ++i) {
-      acc += bnodes_[region_roots_[i]].count;
-      split = i + 1;
-      if (2 * acc >= total) break;
-    }
-    const std::int32_t l = build_groups(first, split);
-    const std::int32_t r = build_groups(split, last);
-    BinaryNode node;
-    node.left = l;
-    node.right = r;
-    node.count = bnodes_[l].count + bnodes_[r].count;
-    node.in_region = false;
-    return add_node(node);
-  }
+  std::int32_t build_groups(std::uint32_t first, std::uint32_t last);
 
-  Obb enclose(const Obb& a, const Obb& b) const {
-    glm::dvec3 pts[16];
-    int n = 0;
-    for (const Obb* box : {&a, &b})
-      for (int i = 0; i < 8; ++i)
-        pts[n++] = box->center + ((i & 1) ? 1.0 : -1.0) * box->half.x * box->axis[0] +
-                   ((i & 2) ? 1.0 : -1.0) * box->half.y * box->axis[1] +
-                   ((i & 4) ? 1.0 : -1.0) * box->half.z * box->axis[2];
-    auto each = [&](auto&& fn) {
-      for (const glm::dvec3& p : pts) fn(p);
-    };
-    return box_around(moments_of(each), each, d_.scale_mm);
-  }
+  Obb enclose(const Obb& a, const Obb& b) const;
 
-  static void set_box_lane(detail::BoxLanes& lanes, int lane, const Obb& box) {
-    for (int c = 0; c < 3; ++c) {
-      lanes.row[c][lane] = static_cast<float>(box.center[c]);
-      lanes.row[12 + c][lane] = static_cast<float>(box.half[c]);
-      for (int k = 0; k < 3; ++k) lanes.row[3 + 3 * k + c][lane] = static_cast<float>(box.axis[k][c]);
-    }
-  }
+  static void set_box_lane(detail::BoxLanes& lanes, int lane, const Obb& box);
 
-  static void set_empty_box_lane(detail::BoxLanes& lanes, int lane) {
-    Obb far;
-    far.center = glm::dvec3{1e30};
-    set_box_lane(lanes, lane, far);
-  }
+  static void set_empty_box_lane(detail::BoxLanes& lanes, int lane);
 
   // A leaf's block: copied from the last tree for a leaf of a reused region (only the face
   // numbers can differ), else written.
-  std::int32_t make_block(std::int32_t id) {
-    BinaryNode& leaf = bnodes_[id];
-    const std::int32_t old = leaf.block;
-    leaf.block = static_cast<std::int32_t>(d_.blocks.size());
-    if (old >= 0 && cache_ != nullptr && cache_->tree != nullptr) {
-      detail::TriangleBlock block = cache_->tree->blocks[static_cast<std::size_t>(old)];
-      for (std::uint32_t i = leaf.begin; i < leaf.end; ++i) block.face[i - leaf.begin] = static_cast<std::int32_t>(items_[i].face);
-      d_.blocks.push_back(block);
-      return leaf.block;
-    }
-    detail::TriangleBlock block{};
-    for (int lane = 0; lane < 4; ++lane) {
-      const std::uint32_t i = leaf.begin + static_cast<std::uint32_t>(lane);
-      if (i >= leaf.end) {
-        detail::set_empty_triangle_lane(block, lane);
-        continue;
-      }
-      const std::uint32_t f = items_[i].face;
-      block.region = d_.regions[f];
-      detail::set_triangle_lane(block, lane, corner(f, 0), corner(f, 1), corner(f, 2), d_.face_normals[f],
-                                static_cast<std::int32_t>(f));
-    }
-    d_.blocks.push_back(block);
-    return static_cast<std::int32_t>(d_.blocks.size() - 1);
-  }
+  std::int32_t make_block(std::int32_t id);
 
   // Flattens binary node b into a 4-wide node: opens the largest children until there are four,
   // never opening a region's root from the group levels above it.
-  std::int32_t make_wide(std::int32_t b, std::size_t level, std::size_t& depth) {
-    depth = std::max(depth, level);
-    std::int32_t slots[4];
-    int count = 0;
-    const BinaryNode& self = bnodes_[b];
-    if (self.leaf()) {
-      slots[count++] = b;
-    } else {
-      slots[count++] = self.left;
-      slots[count++] = self.right;
-    }
-    while (count < 4) {
-      int pick = -1;
-      for (int i = 0; i < count; ++i) {
-        const BinaryNode& c = bnodes_[slots[i]];
-        if (c.leaf() || c.in_region != self.in_region) continue;
-        if (pick < 0 || c.count > bnodes_[slots[pick]].count) pick = i;
-      }
-      if (pick < 0) break;
-      const BinaryNode& opened = bnodes_[slots[pick]];
-      slots[pick] = opened.left;
-      slots[count++] = opened.right;
-    }
-    const std::int32_t w = static_cast<std::int32_t>(d_.nodes.size());
-    d_.nodes.emplace_back();
-    for (int lane = 0; lane < 4; ++lane) {
-      std::int32_t child = detail::kEmptySlot;
-      if (lane < count) {
-        const BinaryNode& c = bnodes_[slots[lane]];
-        child = c.leaf() ? -1 - make_block(slots[lane]) : make_wide(slots[lane], level + 1, depth);
-        set_box_lane(d_.nodes[w].boxes, lane, ensure_box(slots[lane]));
-      } else {
-        set_empty_box_lane(d_.nodes[w].boxes, lane);
-      }
-      d_.nodes[w].child[lane] = child;
-    }
-    return w;
-  }
+  std::int32_t make_wide(std::int32_t b, std::size_t level, std::size_t& depth);
 
   const vessel::SurfaceMesh& mesh_;
   TreeData& d_;
@@ -861,6 +394,15 @@ class Builder {
 };
 
 }  // namespace
+}  // namespace cathbox::collision
+
+// Builder's steps, by topic (one translation unit: see builder_faces.hpp).
+#include "builder_faces.hpp"
+#include "builder_splits.hpp"
+#include "builder_region_reuse.hpp"
+#include "builder_flatten.hpp"
+
+namespace cathbox::collision {
 
 TreeCache::TreeCache() : data_(std::make_unique<detail::RegionCache>()) {}
 TreeCache::~TreeCache() = default;

@@ -78,6 +78,68 @@ struct Nearest {
   return x * x * (3.0 - 2.0 * x);
 }
 
+// The constructor's steps.
+
+// The part of one branch's axis near the junction, sampled from the junction end out to
+// kAxisReachRadii beyond its ring; nullopt when the branch's centreline is degenerate.
+[[nodiscard]] std::optional<JunctionFit::Axis> branch_axis(const Segment& segment, const SegmentEnd& e, const ControlMesh& control) {
+  const Polyline pl = make_polyline(segment);
+  if (pl.pos.size() < 2 || !(pl.length > 0.0)) return std::nullopt;
+  const std::uint32_t first_ring = control.segment_first_ring[e.segment];
+  const std::uint32_t last_ring = control.segment_first_ring[e.segment + 1] - 1;
+  const Ring& ring = control.rings[e.at_end ? last_ring : first_ring];
+  JunctionFit::Axis axis;
+  axis.trim = e.at_end ? pl.length - ring.arc_mm : ring.arc_mm;
+  axis.ring_radius = ring.radius_mm;
+  const double reach = std::min(pl.length, axis.trim + kAxisReachRadii * ring.radius_mm);
+  const int steps = std::clamp(static_cast<int>(std::ceil(reach / (kAxisStepRadii * ring.radius_mm))), 1, 256);
+  axis.step = reach / steps;
+  glm::dvec3 lo(std::numeric_limits<double>::infinity());
+  glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+  for (int k = 0; k <= steps; ++k) {
+    const double from_end = axis.step * k;
+    const Sample s = sample(pl, e.at_end ? pl.length - from_end : from_end);
+    axis.pos.push_back(s.pos);
+    axis.radius.push_back(s.radius);
+    lo = glm::min(lo, s.pos);
+    hi = glm::max(hi, s.pos);
+    axis.max_radius = std::max(axis.max_radius, s.radius);
+  }
+  axis.bound_center = 0.5 * (lo + hi);
+  axis.bound_radius = 0.5 * glm::length(hi - lo);
+  return axis;
+}
+
+// The first tube face of every segment: tube faces come first in the control mesh, segment by
+// segment, M per band.
+[[nodiscard]] std::vector<std::uint32_t> first_tube_faces(const ControlMesh& control) {
+  std::vector<std::uint32_t> first_tube_face;
+  std::uint32_t face = 0;
+  for (std::size_t s = 0; s + 1 < control.segment_first_ring.size(); ++s) {
+    first_tube_face.push_back(face);
+    face += static_cast<std::uint32_t>(control.ring_points) * (control.segment_first_ring[s + 1] - control.segment_first_ring[s] - 1);
+  }
+  return first_tube_face;
+}
+
+// The tube faces of branch end `e` within kFitTubeFadeRadii beyond its ring (those that follow
+// the fit), into axis.fade_faces.
+void collect_fade_faces(const ControlMesh& control, const SegmentEnd& e, const std::vector<std::uint32_t>& first_tube_face,
+                        JunctionFit::Axis& axis) {
+  const std::uint32_t first_ring = control.segment_first_ring[e.segment];
+  const std::uint32_t bands = control.segment_first_ring[e.segment + 1] - first_ring - 1;
+  const double ring_arc = control.rings[e.at_end ? first_ring + bands : first_ring].arc_mm;
+  for (std::uint32_t k = 0; k < bands; ++k) {
+    const std::uint32_t band = e.at_end ? bands - 1 - k : k;
+    const std::uint32_t near_ring = e.at_end ? first_ring + band + 1 : first_ring + band;
+    if (std::abs(control.rings[near_ring].arc_mm - ring_arc) >= kFitTubeFadeRadii * axis.ring_radius) break;
+    for (int m = 0; m < control.ring_points; ++m) {
+      axis.fade_faces.push_back(first_tube_face[e.segment] + band * static_cast<std::uint32_t>(control.ring_points) +
+                                static_cast<std::uint32_t>(m));
+    }
+  }
+}
+
 }  // namespace
 
 JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, const ControlMesh& control)
@@ -89,58 +151,14 @@ JunctionFit::JunctionFit(const VesselModel& smoothed, const VesselGraph& graph, 
     bool long_patch = false;
     FittedJunction fitted;
     for (const SegmentEnd& e : junction.ends) {
-      const Polyline pl = make_polyline(smoothed.segments[e.segment]);
-      if (pl.pos.size() < 2 || !(pl.length > 0.0)) return;
-      const std::uint32_t first_ring = control.segment_first_ring[e.segment];
-      const std::uint32_t last_ring = control.segment_first_ring[e.segment + 1] - 1;
-      const Ring& ring = control.rings[e.at_end ? last_ring : first_ring];
-      Axis axis;
-      axis.trim = e.at_end ? pl.length - ring.arc_mm : ring.arc_mm;
-      axis.ring_radius = ring.radius_mm;
-      long_patch = long_patch || axis.trim > kFitTrimRadii * ring.radius_mm;
-      const double reach = std::min(pl.length, axis.trim + kAxisReachRadii * ring.radius_mm);
-      const int steps = std::clamp(static_cast<int>(std::ceil(reach / (kAxisStepRadii * ring.radius_mm))), 1, 256);
-      axis.step = reach / steps;
-      glm::dvec3 lo(std::numeric_limits<double>::infinity());
-      glm::dvec3 hi(-std::numeric_limits<double>::infinity());
-      for (int k = 0; k <= steps; ++k) {
-        const double from_end = axis.step * k;
-        const Sample s = sample(pl, e.at_end ? pl.length - from_end : from_end);
-        axis.pos.push_back(s.pos);
-        axis.radius.push_back(s.radius);
-        lo = glm::min(lo, s.pos);
-        hi = glm::max(hi, s.pos);
-        axis.max_radius = std::max(axis.max_radius, s.radius);
-      }
-      axis.bound_center = 0.5 * (lo + hi);
-      axis.bound_radius = 0.5 * glm::length(hi - lo);
-      fitted.axes.push_back(std::move(axis));
+      std::optional<Axis> axis = branch_axis(smoothed.segments[e.segment], e, control);
+      if (!axis) return;
+      long_patch = long_patch || axis->trim > kFitTrimRadii * axis->ring_radius;
+      fitted.axes.push_back(std::move(*axis));
     }
     if (!long_patch) continue;
-    if (first_tube_face.empty()) {
-      // Tube faces come first in the control mesh, segment by segment, M per band.
-      std::uint32_t face = 0;
-      for (std::size_t s = 0; s + 1 < control.segment_first_ring.size(); ++s) {
-        first_tube_face.push_back(face);
-        face += static_cast<std::uint32_t>(control.ring_points) * (control.segment_first_ring[s + 1] - control.segment_first_ring[s] - 1);
-      }
-    }
-    for (std::size_t b = 0; b < junction.ends.size(); ++b) {
-      const SegmentEnd& e = junction.ends[b];
-      Axis& axis = fitted.axes[b];
-      const std::uint32_t first_ring = control.segment_first_ring[e.segment];
-      const std::uint32_t bands = control.segment_first_ring[e.segment + 1] - first_ring - 1;
-      const double ring_arc = control.rings[e.at_end ? first_ring + bands : first_ring].arc_mm;
-      for (std::uint32_t k = 0; k < bands; ++k) {
-        const std::uint32_t band = e.at_end ? bands - 1 - k : k;
-        const std::uint32_t near_ring = e.at_end ? first_ring + band + 1 : first_ring + band;
-        if (std::abs(control.rings[near_ring].arc_mm - ring_arc) >= kFitTubeFadeRadii * axis.ring_radius) break;
-        for (int m = 0; m < control.ring_points; ++m) {
-          axis.fade_faces.push_back(first_tube_face[e.segment] + band * static_cast<std::uint32_t>(control.ring_points) +
-                                    static_cast<std::uint32_t>(m));
-        }
-      }
-    }
+    if (first_tube_face.empty()) first_tube_face = first_tube_faces(control);
+    for (std::size_t b = 0; b < junction.ends.size(); ++b) collect_fade_faces(control, junction.ends[b], first_tube_face, fitted.axes[b]);
     slot[j] = static_cast<int>(junctions_.size());
     junctions_.push_back(std::move(fitted));
   }

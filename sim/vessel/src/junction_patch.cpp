@@ -117,9 +117,29 @@ class Pairing {
   // Exact perfect matching on the "cubic graph with subdivided edges" structure: each triple
   // triangle picks the chain it pairs into; chains must then have an even remainder.
   void match_structured(const std::vector<int>& triples) {
+    Chains chains;
+    if (!trace_chains(triples, chains)) return;
+    const std::vector<int> best_choice = best_chain_choice(triples.size(), chains);
+    if (best_choice.empty()) return;
+    std::vector<std::array<char, 2>> used(chains.paths.size());
+    (void)mark_chain_ends(best_choice, chains, used);
+    for (std::size_t p = 0; p < chains.paths.size(); ++p) pair_along(chains.paths[p], used[p]);
+    match_cycles();
+  }
+
+  // The chains between triple triangles, and for every triple's three neighbour slots the chain
+  // it leads into (path index, end 0 at u / 1 at v; -1 when it leads into a chain traced from the
+  // other side).
+  struct Chains {
     std::vector<Path> paths;
-    std::vector<std::array<std::pair<int, int>, 3>> slot_path(triples.size());  // (path, end 0/1)
-    for (auto& slots : slot_path) slots.fill({-1, -1});
+    std::vector<std::array<std::pair<int, int>, 3>> slot_path;
+  };
+
+  // Follows every slot of every triple along its band triangles to the next triple. False when a
+  // chain ends on a triangle that is not a triple (no structure to match).
+  [[nodiscard]] bool trace_chains(const std::vector<int>& triples, Chains& chains) const {
+    chains.slot_path.resize(triples.size());
+    for (auto& slots : chains.slot_path) slots.fill({-1, -1});
     std::unordered_map<int, int> triple_index;
     for (std::size_t i = 0; i < triples.size(); ++i) triple_index[triples[i]] = static_cast<int>(i);
     std::vector<char> claimed(tris_.size(), 0);
@@ -149,91 +169,98 @@ class Pairing {
         if (duplicate) continue;
         if (path.inner.empty() && cur < u) continue;  // direct triple-triple link seen from the other side
         path.v = cur;
-        const int index = static_cast<int>(paths.size());
-        slot_path[i][static_cast<std::size_t>(s)] = {index, 0};
+        const int index = static_cast<int>(chains.paths.size());
+        chains.slot_path[i][static_cast<std::size_t>(s)] = {index, 0};
         // The v side: find v's slot that leads back (the edge we arrived through).
         const auto vi = triple_index.find(cur);
-        if (vi == triple_index.end()) return;
+        if (vi == triple_index.end()) return false;
         const auto& vn = nbs_[static_cast<std::size_t>(cur)];
         for (int vs = 0; vs < 3; ++vs) {
           if (vn[static_cast<std::size_t>(vs)].a == prev_b && vn[static_cast<std::size_t>(vs)].b == prev_a) {
-            slot_path[static_cast<std::size_t>(vi->second)][static_cast<std::size_t>(vs)] = {index, 1};
+            chains.slot_path[static_cast<std::size_t>(vi->second)][static_cast<std::size_t>(vs)] = {index, 1};
           }
         }
-        paths.push_back(std::move(path));
+        chains.paths.push_back(std::move(path));
       }
     }
-    // Enumerate the choices (3^triples).
-    std::size_t combos = 1;
-    for (std::size_t i = 0; i < triples.size(); ++i) combos *= 3;
-    double best_score = -1.0;
-    std::vector<int> best_choice;
-    std::vector<int> choice(triples.size(), 0);
-    std::vector<std::array<char, 2>> used(paths.size());
-    for (std::size_t combo = 0; combo < combos; ++combo) {
-      std::size_t rest = combo;
-      for (std::size_t i = 0; i < triples.size(); ++i) {
-        choice[i] = static_cast<int>(rest % 3);
-        rest /= 3;
-      }
-      for (auto& u : used) u = {0, 0};
-      bool feasible = true;
-      for (std::size_t i = 0; i < triples.size(); ++i) {
-        const auto [p, end] = slot_path[i][static_cast<std::size_t>(choice[i])];
-        if (p < 0) {
-          feasible = false;
-          break;
-        }
-        used[static_cast<std::size_t>(p)][static_cast<std::size_t>(end)] = 1;
-      }
-      double score = 0.0;
-      for (std::size_t p = 0; p < paths.size() && feasible; ++p) {
-        const Path& path = paths[p];
-        const int n = static_cast<int>(path.inner.size());
-        const int front = used[p][0];
-        const int back = used[p][1];
-        if (n == 0) {
-          if (front != back) feasible = false;
-          else if (front) score += link(path.u, path.v);
-          continue;
-        }
-        if (front + back > n || (n - front - back) % 2 != 0) {
-          feasible = false;
-          continue;
-        }
-        if (front) score += link(path.u, path.inner.front());
-        if (back) score += link(path.inner.back(), path.v);
-        for (int k = front; k + 1 <= n - 1 - back; k += 2) {
-          score += link(path.inner[static_cast<std::size_t>(k)], path.inner[static_cast<std::size_t>(k + 1)]);
-        }
-      }
-      if (feasible && score > best_score) {
-        best_score = score;
-        best_choice = choice;
-      }
-    }
-    if (best_choice.empty()) return;
+    return true;
+  }
+
+  // Marks the chain ends the triples' choices pair into; false when a choice leads nowhere.
+  [[nodiscard]] static bool mark_chain_ends(const std::vector<int>& choice, const Chains& chains,
+                                            std::vector<std::array<char, 2>>& used) {
     for (auto& u : used) u = {0, 0};
-    for (std::size_t i = 0; i < triples.size(); ++i) {
-      const auto [p, end] = slot_path[i][static_cast<std::size_t>(best_choice[i])];
+    for (std::size_t i = 0; i < choice.size(); ++i) {
+      const auto [p, end] = chains.slot_path[i][static_cast<std::size_t>(choice[i])];
+      if (p < 0) return false;
       used[static_cast<std::size_t>(p)][static_cast<std::size_t>(end)] = 1;
     }
-    for (std::size_t p = 0; p < paths.size(); ++p) {
-      const Path& path = paths[p];
+    return true;
+  }
+
+  // The removed edges' total length when every chain is paired with the given ends taken, or
+  // -1 when a chain cannot be (more ends than triangles, or an odd remainder).
+  [[nodiscard]] double chain_score(const Chains& chains, const std::vector<std::array<char, 2>>& used) const {
+    double score = 0.0;
+    for (std::size_t p = 0; p < chains.paths.size(); ++p) {
+      const Path& path = chains.paths[p];
       const int n = static_cast<int>(path.inner.size());
       const int front = used[p][0];
       const int back = used[p][1];
       if (n == 0) {
-        if (front) pair(path.u, path.v);
+        if (front != back) return -1.0;
+        if (front) score += link(path.u, path.v);
         continue;
       }
-      if (front) pair(path.u, path.inner.front());
-      if (back) pair(path.inner.back(), path.v);
+      if (front + back > n || (n - front - back) % 2 != 0) return -1.0;
+      if (front) score += link(path.u, path.inner.front());
+      if (back) score += link(path.inner.back(), path.v);
       for (int k = front; k + 1 <= n - 1 - back; k += 2) {
-        pair(path.inner[static_cast<std::size_t>(k)], path.inner[static_cast<std::size_t>(k + 1)]);
+        score += link(path.inner[static_cast<std::size_t>(k)], path.inner[static_cast<std::size_t>(k + 1)]);
       }
     }
-    match_cycles();
+    return score;
+  }
+
+  // Enumerates the triples' choices (3^triples) and keeps the first feasible one of the highest
+  // score; empty when none is feasible.
+  [[nodiscard]] std::vector<int> best_chain_choice(std::size_t triples, const Chains& chains) const {
+    std::size_t combos = 1;
+    for (std::size_t i = 0; i < triples; ++i) combos *= 3;
+    double best_score = -1.0;
+    std::vector<int> best_choice;
+    std::vector<int> choice(triples, 0);
+    std::vector<std::array<char, 2>> used(chains.paths.size());
+    for (std::size_t combo = 0; combo < combos; ++combo) {
+      std::size_t rest = combo;
+      for (std::size_t i = 0; i < triples; ++i) {
+        choice[i] = static_cast<int>(rest % 3);
+        rest /= 3;
+      }
+      if (!mark_chain_ends(choice, chains, used)) continue;
+      const double score = chain_score(chains, used);
+      if (score >= 0.0 && score > best_score) {
+        best_score = score;
+        best_choice = choice;
+      }
+    }
+    return best_choice;
+  }
+
+  // Pairs a chain's triangles with its chosen ends taken by the triples.
+  void pair_along(const Path& path, const std::array<char, 2>& used) {
+    const int n = static_cast<int>(path.inner.size());
+    const int front = used[0];
+    const int back = used[1];
+    if (n == 0) {
+      if (front) pair(path.u, path.v);
+      return;
+    }
+    if (front) pair(path.u, path.inner.front());
+    if (back) pair(path.inner.back(), path.v);
+    for (int k = front; k + 1 <= n - 1 - back; k += 2) {
+      pair(path.inner[static_cast<std::size_t>(k)], path.inner[static_cast<std::size_t>(k + 1)]);
+    }
   }
 
   // Band triangles on closed chains (two rings only, or chains not touching a triple): pick the

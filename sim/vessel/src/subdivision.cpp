@@ -507,13 +507,12 @@ class LevelView final : public RefinedLevel {
   Point* points_;
 };
 
-}  // namespace
 
-SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method, const LevelAdjuster& before_last_step) {
-  if (level < 0 || level > 6) return base::Error{"subdivision level must be between 0 and 6, got " + std::to_string(level)};
-  if (control.face_count() == 0) return base::Error{"the control mesh has no faces"};
-  if (level == 0) return control_mesh_as_surface(control);
+// subdivide's steps.
 
+// OpenSubdiv's topology of the control mesh (Catmull-Clark, boundaries interpolated edge only);
+// null when OpenSubdiv rejects it.
+[[nodiscard]] std::unique_ptr<Far::TopologyRefiner> make_refiner(const ControlMesh& control) {
   Far::TopologyDescriptor desc;
   desc.numVertices = static_cast<int>(control.vertex_count());
   desc.numFaces = static_cast<int>(control.face_count());
@@ -522,62 +521,91 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
   Sdc::Options sdc_options;
   sdc_options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc_options)));
-  if (!refiner) return base::Error{"OpenSubdiv rejected the control mesh topology"};
-  // The limit masks read each vertex's neighbourhood off the previous level, which needs a
-  // manifold mesh (the control mesh builder makes one); anything else goes to OpenSubdiv's Limit.
-  if (method != LimitMethod::kOpenSubdiv && !is_manifold(refiner->GetLevel(0))) method = LimitMethod::kOpenSubdiv;
-  // The last step by hand only where every vertex and edge takes the smooth rule (closed, no
-  // creases: the default caps); open ends have OpenSubdiv refine level L too.
-  if (method == LimitMethod::kMasks && !is_smooth_closed(refiner->GetLevel(0))) method = LimitMethod::kMasksOnRefinedLevel;
-  // kMasks: OpenSubdiv refines to level L-1 in full (the masks read its neighbourhoods), the
-  // last step is refine_smooth_last_level. kMasksOnRefinedLevel: level L by OpenSubdiv, its
-  // faces only. kOpenSubdiv: level L in full (PrimvarRefiner::Limit needs its neighbourhoods).
+  return std::unique_ptr<Far::TopologyRefiner>(Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, sdc_options)));
+}
+
+// The method the control mesh allows: the limit masks read each vertex's neighbourhood off the
+// previous level, which needs a manifold mesh (the control mesh builder makes one); anything else
+// goes to OpenSubdiv's Limit. The last step by hand only where every vertex and edge takes the
+// smooth rule (closed, no creases: the default caps); open ends have OpenSubdiv refine level L too.
+[[nodiscard]] LimitMethod usable_method(const Far::TopologyLevel& control_level, LimitMethod method) {
+  if (method != LimitMethod::kOpenSubdiv && !is_manifold(control_level)) method = LimitMethod::kOpenSubdiv;
+  if (method == LimitMethod::kMasks && !is_smooth_closed(control_level)) method = LimitMethod::kMasksOnRefinedLevel;
+  return method;
+}
+
+// Refines the topology as far as `method` needs, returning that level:
+// kMasks: OpenSubdiv refines to level L-1 in full (the masks read its neighbourhoods), the
+// last step is refine_smooth_last_level. kMasksOnRefinedLevel: level L by OpenSubdiv, its
+// faces only. kOpenSubdiv: level L in full (PrimvarRefiner::Limit needs its neighbourhoods).
+int refine_topology(Far::TopologyRefiner& refiner, LimitMethod method, int level) {
   const int osd_levels = method == LimitMethod::kMasks ? level - 1 : level;
   if (osd_levels > 0) {
     Far::TopologyRefiner::UniformOptions uniform(osd_levels);
     uniform.fullTopologyInLastLevel = method != LimitMethod::kMasksOnRefinedLevel;
-    refiner->RefineUniform(uniform);
+    refiner.RefineUniform(uniform);
   }
+  return osd_levels;
+}
 
-  // Levels 0..osd_levels one after the other; level 0 is copied in, Interpolate writes the rest.
-  const auto nverts_total = static_cast<std::size_t>(refiner->GetNumVerticesTotal());
-  const auto verts = std::make_unique_for_overwrite<Point[]>(nverts_total);
-  prefault(verts.get(), nverts_total * sizeof(Point));
-  for (std::size_t i = 0; i < control.vertex_count(); ++i) verts[i].p = glm::vec3(control.positions_mm[i]);
-  Far::PrimvarRefinerReal<float> primvar(*refiner);
-  Point* src = verts.get();
-  const auto adjust = [&](int parent_level, Point* points) {
+// The points of levels 0..osd_levels one after the other (level 0 copied in, Interpolate writes
+// the rest), the level before the last handed to `before_last_step` before the last step.
+struct LevelPoints {
+  std::unique_ptr<Point[]> all;
+  Point* last = nullptr;  // the points of level osd_levels
+};
+[[nodiscard]] LevelPoints interpolate_levels(const Far::TopologyRefiner& refiner, const Far::PrimvarRefinerReal<float>& primvar,
+                                             const ControlMesh& control, int level, int osd_levels,
+                                             const LevelAdjuster& before_last_step) {
+  const auto nverts_total = static_cast<std::size_t>(refiner.GetNumVerticesTotal());
+  LevelPoints points{std::make_unique_for_overwrite<Point[]>(nverts_total)};
+  prefault(points.all.get(), nverts_total * sizeof(Point));
+  for (std::size_t i = 0; i < control.vertex_count(); ++i) points.all[i].p = glm::vec3(control.positions_mm[i]);
+  Point* src = points.all.get();
+  const auto adjust = [&](int parent_level, Point* level_points) {
     if (!before_last_step) return;
-    LevelView view(refiner->GetLevel(parent_level), parent_level, points);
+    LevelView view(refiner.GetLevel(parent_level), parent_level, level_points);
     before_last_step(view);
   };
   for (int l = 1; l <= osd_levels; ++l) {
     if (l == level) adjust(l - 1, src);
-    Point* dst = src + refiner->GetLevel(l - 1).GetNumVertices();
+    Point* dst = src + refiner.GetLevel(l - 1).GetNumVertices();
     primvar.Interpolate(l, src, dst);
     src = dst;
   }
   if (osd_levels < level) adjust(level - 1, src);
-  SurfaceMesh out;
-  const Far::TopologyLevel& parent = refiner->GetLevel(level - 1);
-  if (method == LimitMethod::kMasks) {
-    const UniformChildren children(parent);
-    const auto nfine = static_cast<std::size_t>(children.total(parent));
-    const auto fine = std::make_unique_for_overwrite<Point[]>(nfine);  // every entry is written
-    prefault(fine.get(), nfine * sizeof(Point));
-    refine_smooth_last_level(parent, children, src, fine.get());
-    out.positions_mm.reserve(nfine);
-    out.normals.reserve(nfine);
-    prefault(out.positions_mm.data(), nfine * sizeof(glm::vec3));
-    prefault(out.normals.data(), nfine * sizeof(glm::vec3));
-    LimitMasks<UniformChildren>(parent, children, fine.get(), out).run();
-    emit_child_quads(*refiner, level - 1, children, control.face_regions, out);
-    return SurfaceMeshResult(std::move(out));
-  }
+  points.last = src;
+  return points;
+}
 
-  const Far::TopologyLevel& last = refiner->GetLevel(level);
+// kMasks: the last step done by hand straight into the limit pass, from level L-1's points.
+[[nodiscard]] SurfaceMesh limit_from_level_before_last(const Far::TopologyRefiner& refiner, int level, const Point* src,
+                                                       const std::vector<FaceRegion>& control_regions) {
+  SurfaceMesh out;
+  const Far::TopologyLevel& parent = refiner.GetLevel(level - 1);
+  const UniformChildren children(parent);
+  const auto nfine = static_cast<std::size_t>(children.total(parent));
+  const auto fine = std::make_unique_for_overwrite<Point[]>(nfine);  // every entry is written
+  prefault(fine.get(), nfine * sizeof(Point));
+  refine_smooth_last_level(parent, children, src, fine.get());
+  out.positions_mm.reserve(nfine);
+  out.normals.reserve(nfine);
+  prefault(out.positions_mm.data(), nfine * sizeof(glm::vec3));
+  prefault(out.normals.data(), nfine * sizeof(glm::vec3));
+  LimitMasks<UniformChildren>(parent, children, fine.get(), out).run();
+  emit_child_quads(refiner, level - 1, children, control_regions, out);
+  return out;
+}
+
+// kMasksOnRefinedLevel and kOpenSubdiv: the limit of level L as OpenSubdiv refined it, its quads
+// as triangles, each with the region of the control face it descends from.
+[[nodiscard]] SurfaceMeshResult limit_of_refined_level(const Far::TopologyRefiner& refiner,
+                                                       const Far::PrimvarRefinerReal<float>& primvar, int level,
+                                                       LimitMethod method, const Point* src,
+                                                       const std::vector<FaceRegion>& control_regions) {
+  SurfaceMesh out;
+  const Far::TopologyLevel& parent = refiner.GetLevel(level - 1);
+  const Far::TopologyLevel& last = refiner.GetLevel(level);
   const auto nverts = static_cast<std::size_t>(last.GetNumVertices());
   const auto nfaces = static_cast<std::size_t>(last.GetNumFaces());
   // Catmull-Clark faces after one step are quads, stored one after the other.
@@ -590,17 +618,33 @@ SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod m
     out.normals.resize(nverts);
     LimitMasks<RefinerChildren>(parent, RefinerChildren{&parent}, src, out).run();
   }
-
-  // Triangles, each with the region of the control face it descends from.
   out.triangles.resize(6 * nfaces);
   out.triangle_regions.resize(2 * nfaces);
   for (std::size_t f = 0; f < nfaces; ++f) {
     int face = static_cast<int>(f);
-    for (int l = level; l >= 1; --l) face = refiner->GetLevel(l).GetFaceParentFace(face);
+    for (int l = level; l >= 1; --l) face = refiner.GetLevel(l).GetFaceParentFace(face);
     split_quad(out.positions_mm, quads + 4 * f, out.triangles.data() + 6 * f);
-    out.triangle_regions[2 * f] = out.triangle_regions[2 * f + 1] = control.face_regions[static_cast<std::size_t>(face)];
+    out.triangle_regions[2 * f] = out.triangle_regions[2 * f + 1] = control_regions[static_cast<std::size_t>(face)];
   }
   return SurfaceMeshResult(std::move(out));
+}
+
+}  // namespace
+
+SurfaceMeshResult subdivide(const ControlMesh& control, int level, LimitMethod method, const LevelAdjuster& before_last_step) {
+  if (level < 0 || level > 6) return base::Error{"subdivision level must be between 0 and 6, got " + std::to_string(level)};
+  if (control.face_count() == 0) return base::Error{"the control mesh has no faces"};
+  if (level == 0) return control_mesh_as_surface(control);
+  const std::unique_ptr<Far::TopologyRefiner> refiner = make_refiner(control);
+  if (!refiner) return base::Error{"OpenSubdiv rejected the control mesh topology"};
+  method = usable_method(refiner->GetLevel(0), method);
+  const int osd_levels = refine_topology(*refiner, method, level);
+  const Far::PrimvarRefinerReal<float> primvar(*refiner);
+  const LevelPoints points = interpolate_levels(*refiner, primvar, control, level, osd_levels, before_last_step);
+  if (method == LimitMethod::kMasks) {
+    return SurfaceMeshResult(limit_from_level_before_last(*refiner, level, points.last, control.face_regions));
+  }
+  return limit_of_refined_level(*refiner, primvar, level, method, points.last, control.face_regions);
 }
 
 }  // namespace cathbox::vessel

@@ -88,7 +88,7 @@ TEST(Angioplasty, FindsTheBundledIcaStenosis) {
   const Lesion l = find_lesion(model);
   ASSERT_TRUE(l.found());
   EXPECT_EQ(model.segments[l.segment].name, "left_internal_carotid");
-  // The generator narrows the ICA bulb by 70 % of its radius (case_generator.cpp).
+  // The generator narrows the ICA bulb by 70 % of its radius (src/neuro_case.cpp, sim/vessel).
   EXPECT_NEAR(stenosis_percent(model, l), 70.0, 3.0);
   EXPECT_NEAR(l.reference_diameter_mm, 5.6, 0.3);
   EXPECT_LT(l.first, l.worst);

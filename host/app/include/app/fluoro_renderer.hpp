@@ -158,6 +158,15 @@ class FluoroRenderer {
   // (the scale shader: cheaper than glBlitFramebuffer on llvmpipe).
   void scale(const Target& source, unsigned fbo, int x, int y, int width, int height);
   void compose(const FluoroInputs& in, const flow::CArm& carm, bool subtracted, bool roadmap, int width, int height);
+  // What the monitor shows beside the live scene.
+  struct Shown {
+    bool subtracted = false;  // a subtraction run's image (the mask scene subtracted)
+    bool roadmap = false;     // the roadmap (and its mask) over the live image
+  };
+  struct SavedGlState;
+  void update_monitor(const FluoroInputs& in, const flow::CArm& carm, const Shown& shown, const Matrix& m);
+  [[nodiscard]] std::uint64_t monitor_key(const FluoroInputs& in, const Shown& shown) const;
+  void show_monitor(const Viewport& viewport, int gl_y, unsigned fbo);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
   Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);

@@ -53,6 +53,14 @@ class TrainerApp {
   [[nodiscard]] int run_headless_summary();
   [[nodiscard]] int run_headless_replay();
   [[nodiscard]] int run_window();
+  // run_window's steps (trainer_app.cpp).
+  struct FrameLoop;
+  struct FrameActions;
+  void start_window_run(FrameLoop& loop);
+  [[nodiscard]] int run_frame(FrameLoop& loop, const std::string& chosen_path);
+  [[nodiscard]] int draw_frame(FrameLoop& loop, session::Session& s, const session::SceneSnapshot& snap, FrameActions& actions);
+  [[nodiscard]] bool time_frame(FrameLoop& loop, session::Session& s, std::int64_t frame_start_us);
+  void finish_window_run(FrameLoop& loop);
   [[nodiscard]] int open_window(const std::string& case_path);
   [[nodiscard]] UiStatus ui_status(session::Session& s, const session::SceneSnapshot& snap, double fps) const;
   [[nodiscard]] CArmPanelActions draw_carm(const ScreenLayout& layout, const session::SceneSnapshot& snap, ScreenLayout& ui_layout);

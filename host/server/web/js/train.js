@@ -11,8 +11,12 @@
 // WebHID, "Connect box" asks Chromium for the box; elsewhere the page says so and keeps the keys.
 //
 // /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
-// sleeps to it; js/tick_clock.js). /train.html?clock=virtual: the worker has no clock; window.cathboxTrain.advance(N) runs exactly
-// N ticks (tests drive the page in virtual time this way).
+// sleeps to it; js/tick_clock.js).
+// /train.html?clock=virtual: the worker has no clock of its own; the page's "Run N ticks" control
+// runs exactly N (a run that is the same on any machine: the browser test drives the page so).
+//
+// No test hook: what a test checks is on the page (the status, the HUD's figures, the notes under
+// the keys, the box's figures, the end card, the record check's line).
 import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey } from './train_keys.js';
@@ -25,11 +29,11 @@ const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
 const clock = params.get('clock') === 'virtual' ? 'virtual' : 'real';
 
-// What tests read (and advance in virtual time).
-const hook = { state: 'idle', clock, frames: 0, summary: null, result: null, jitter: null, firstFrameMs: null, openMs: null };
-window.cathboxTrain = hook;
-
 let worker = null;
+let state = 'idle';  // opening, running, uploading, stored, refused, error
+let firstFrameMs = null;
+let pendingStep = null;  // the virtual clock's step under way: {count, ticks}
+let steps = 0;
 let views = null;
 let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
 const lawReplies = [];  // WebHID's command requests to the worker, answered in order
@@ -56,10 +60,10 @@ function hudText(s) {
   const tool = run.tools[s.held] || '?';
   return [
     run.caseName + '  ' + (clock === 'virtual' ? '(virtual clock)' : ''),
-    'time      ' + s.time_s.toFixed(2) + ' s',
+    'time      ' + s.time_s.toFixed(3) + ' s',
     'tool      ' + tool,
-    'insertion ' + s.insertion_mm.toFixed(1) + ' mm',
-    'rotation  ' + (s.rotation_rad * 180 / Math.PI).toFixed(0) + ' deg',
+    'insertion ' + s.insertion_mm.toFixed(2) + ' mm',
+    'rotation  ' + s.rotation_rad.toFixed(3) + ' rad',
     'hand      ' + s.hand_force_mN.toFixed(1) + ' mN  ' + s.torque_mNmm.toFixed(2) + ' mN·mm',
     'wall      ' + s.wall_force_mN.toFixed(1) + ' mN',
   ].join('\n');
@@ -89,8 +93,6 @@ function showFrame(data, metrics) {
   views.local.setContacts(s.contacts);
   followTip(s);
   document.getElementById('hud').textContent = hudText(s);
-  hook.frames++;
-  hook.last = { tick: s.tick, held: s.held, insertion_mm: s.insertion_mm, rotation_rad: s.rotation_rad, tip: s.tip };
 }
 
 // The local view: behind the tip, along the held tool's last segment.
@@ -113,9 +115,10 @@ function draw() {
   if (!views) return;
   const drew = views.global.render();
   views.local.render();
-  if (drew && hook.firstFrameMs === null && hook.frames > 0) {
-    hook.firstFrameMs = performance.now() - run.started;
-    document.getElementById('frame-note').textContent = 'First frame ' + hook.firstFrameMs.toFixed(0) + ' ms after choosing the case.';
+  if (drew && firstFrameMs === null && run.last) {
+    firstFrameMs = performance.now() - run.started;
+    document.getElementById('frame-note').textContent = 'First frame ' + firstFrameMs.toFixed(0) + ' ms after choosing the case' +
+      (run.openMs !== undefined ? ' (the session opened in ' + run.openMs.toFixed(0) + ' ms).' : '.');
   }
   requestAnimationFrame(draw);
 }
@@ -128,7 +131,7 @@ function setKeys() {
 }
 
 function onKey(e, down) {
-  if (!run || hook.state !== 'running' || !isControlKey(e.code)) return;
+  if (!run || state !== 'running' || !isControlKey(e.code)) return;
   e.preventDefault();
   if (down && !e.repeat) {
     if (e.code === 'Tab') worker.postMessage({ type: 'next_tool' });
@@ -145,15 +148,20 @@ window.addEventListener('keydown', (e) => onKey(e, true));
 window.addEventListener('keyup', (e) => onKey(e, false));
 window.addEventListener('blur', () => { if (run) { run.held.clear(); setKeys(); } });
 
+function setState(s, text = s) {
+  state = s;
+  status(text);
+}
+
 function onReady(m) {
-  hook.state = 'running';
-  hook.openMs = m.open_ms;
+  run.openMs = m.open_ms;
   run.tools = m.summary.tools;
   setTarget(m.summary.target);
-  status('running');
+  setState('running');
+  document.getElementById('virtual-clock').hidden = clock !== 'virtual';
   const a = run.assignment;
   run.live = new LiveRig({ rig: 'browser-' + user.name.replace(/[^A-Za-z0-9_.-]/g, '-'), caseName: a.case, version: run.version,
-    assignment: a.id, toolNames: m.summary.tools, onState: (text) => { hook.live = text; document.getElementById('live-note').textContent = text; } });
+    assignment: a.id, toolNames: m.summary.tools, onState: (text) => { document.getElementById('live-note').textContent = text; } });
 }
 
 async function onOver(m) {
@@ -161,33 +169,67 @@ async function onOver(m) {
     if (run.last) run.live.frame(run.last, run.metrics, true);
     run.live.end();
   }
-  hook.state = 'uploading';
-  hook.summary = m.summary;
-  hook.jitter = m.jitter;
+  setState('uploading', 'uploading the record (' + m.record.byteLength + ' bytes)');
+  document.getElementById('virtual-clock').hidden = true;
   run.held.clear();
-  if (run.box) { run.box.stop(); hook.box = run.box.report(); }
-  if (run.boxReport) hook.box = run.boxReport;
-  status('uploading the record (' + m.record.byteLength + ' bytes)');
-  const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id,
-    onRecord: (blob) => { hook.recordBlob = blob; } });
-  Object.assign(hook, end);
-  if (end.state === 'done') status('');
+  if (run.box) { run.box.stop(); showBoxReport(run.box.report()); }
+  if (m.jitter) {
+    const j = m.jitter;
+    const ms = (v) => (v === null || v === undefined ? '-' : v.toFixed(3));
+    const late = j.late_ticks || {};
+    document.getElementById('clock-note').textContent = `Haptic clock: ${j.ticks} ticks, interval p50 ${ms(j.p50_ms)} ms, ` +
+      `p99 ${ms(j.p99_ms)} ms, max ${ms(j.max_ms)} ms, ${j.dropped} dropped; lateness p50 ${ms(j.late_p50_ms)} ms, ` +
+      `p99 ${ms(j.late_p99_ms)} ms, max ${ms(j.late_max_ms)} ms; a tick's run p50 ${ms(j.tick_p50_ms)} ms, p99 ${ms(j.tick_p99_ms)} ms; ` +
+      `late ticks after a sleep ${late.after_sleep ?? '-'}, after ticks ${late.after_ticks ?? '-'}, ` +
+      `after the event loop ${late.after_yield ?? '-'}, caught up ${late.catch_up ?? '-'}.`;
+  }
+  const end = await showEnd({ summary: m.summary, record: m.record, caseName: run.caseName, assignment: run.assignment.id });
+  setState(end.state === 'done' ? 'stored' : 'refused', end.state === 'done' ? '' : 'the server refused the record');
+}
+
+// The box's figures under the keys: its position, the page's decoding and command stream, the
+// last force law sent and the box's own state (protocol/README.md's status bits, its command echo);
+// and what the box said of itself on connect (its feature reports: device info, calibration,
+// limits) or that the reference box's figures stand in for them.
+function showBoxReport(r) {
+  if (!r) return;
+  const s = r.state || {};
+  const law = r.law || {};
+  const st = r.stats || {};
+  document.getElementById('box-report').textContent =
+    `box ${(r.box_mm ?? 0).toFixed(3)} mm ${(r.box_rad ?? 0).toFixed(4)} rad; states ${st.states}, missed ${st.missed}, rejected ${st.rejected}, ` +
+    `longest report gap ${(st.max_report_gap_ms ?? 0).toFixed(3)} ms, longest command gap ${(st.max_send_gap_ms ?? 0).toFixed(3)} ms; ` +
+    `law seq ${law.seq ?? '-'}, offset ${law.insertion_offset_mN ?? '-'} mN; box status 0x${(s.status ?? 0).toString(16)}, ` +
+    `faults ${s.faults ?? '-'}, mode ${s.mode ?? '-'}, rx errors ${s.rx_errors ?? '-'}, command echo ${s.command_seq_echo ?? '-'}, ` +
+    `force ${s.insertion_force_mN ?? '-'} mN`;
+  const c = r.config;
+  if (!c) return;
+  const who = c.source === 'the box' ? `${c.board} ${c.serial}, firmware ${c.firmware}` : c.source;
+  document.getElementById('box-config').textContent = `Box: ${who}; ${c.insertion_counts_per_m} counts/m, ${c.rotation_counts_per_rev} counts/rev, ` +
+    `full scale ${c.full_scale_mN} mN, ${c.full_scale_uNm} µN·m, slew ${c.slew_mN_per_ms} mN/ms, ${c.mode === 2 ? 'motor' : 'brake'} mode`;
 }
 
 function startWorker() {
   worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
   worker.onmessage = (e) => {
     const m = e.data;
-    if (m.type === 'frame') { showFrame(m.data, m.metrics); if (m.box) run.boxReport = m.box; }
+    if (m.type === 'frame') {
+      showFrame(m.data, m.metrics);
+      if (m.box) { run.boxReport = m.box; showBoxReport(m.box); } else if (run.box) showBoxReport(run.box.report());
+    }
     else if (m.type === 'box_note') boxNote(m.text);
     else if (m.type === 'ready') onReady(m);
-    else if (m.type === 'advanced') { const r = hook.pending; hook.pending = null; if (r) r(m.ticks); }
+    else if (m.type === 'advanced') onStepped(m.ticks);
     else if (m.type === 'over') onOver(m);
     else if (m.type === 'replayed') onReplayed(m);
-    else if (m.type === 'box_command') { const r = lawReplies.shift(); if (r) r(m); }
-    else if (m.type === 'error') { hook.state = 'error'; hook.error = m.message; showError(m.message); status(''); }
+    else if (m.type === 'box_command') {  // the law sent, then shown (after the driver's own reaction)
+      const r = lawReplies.shift();
+      if (r) r(m);
+      setTimeout(() => { if (run.box) showBoxReport(run.box.report()); });
+    }
+    else if (m.type === 'error') { setState('error', ''); showError(m.message); }
   };
-  worker.onerror = (e) => { hook.state = 'error'; hook.error = e.message; showError('worker: ' + e.message); };
+  worker.onerror = (e) => { setState('error', ''); showError('worker: ' + e.message); };
 }
 
 function setTarget(t) {
@@ -196,14 +238,13 @@ function setTarget(t) {
   views.local.setTarget(t.slice(0, 3), t[3]);
 }
 
-function boxNote(text) { document.getElementById('box-note').textContent = text; hook.boxNote = text; }
+function boxNote(text) { document.getElementById('box-note').textContent = text; }
 
 // The box the address or the browser offers (js/box_transport.js); the keyboard until it is up.
 function offerBox() {
   const { box, why, needsClick } = chooseBox(params);
   if (!box) return boxNote(why);
   if (box instanceof WebSocketBox) {  // the haptic worker drives it (js/train_worker.js)
-    hook.boxReport = () => run.boxReport || null;
     run.boxUrl = box.url;
     return boxNote('box: ' + box.describe() + ' (connecting from the haptic worker)');
   }
@@ -215,7 +256,7 @@ function offerBox() {
       worker.postMessage({ type: 'box_command', args });
     }),
   };
-  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && hook.state === 'running' ? run.last : null), onChange: boxNote, law });
+  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && state === 'running' ? run.last : null), onChange: boxNote, law });
   const connect = () => guarded(async () => {
     try {
       await run.box.connect(box);
@@ -223,7 +264,6 @@ function offerBox() {
       boxNote('no box: ' + err.message + ' (the keyboard drives the tool)');
     }
   });
-  hook.boxReport = () => run.box.report();
   if (!needsClick) return connect();
   boxNote('The keyboard drives the tool until a box is connected.');
   const button = document.getElementById('connect-box');
@@ -231,16 +271,28 @@ function offerBox() {
   button.onclick = () => { button.hidden = true; connect(); };
 }
 
-// Virtual time (tests): N ticks, resolved when they ran.
-hook.advance = (ticks) => new Promise((resolve) => { hook.pending = resolve; worker.postMessage({ type: 'advance', ticks }); });
+// The virtual clock: "Run N ticks" runs exactly N; the note beside it says when they ran.
+document.getElementById('step').addEventListener('click', () => {
+  const ticks = Math.round(Number(document.getElementById('step-ticks').value));
+  if (!(ticks >= 1) || state !== 'running' || pendingStep) return;
+  pendingStep = { count: ++steps, ticks };
+  document.getElementById('step-note').textContent = `step ${steps}: running ${ticks} ticks…`;
+  worker.postMessage({ type: 'advance', ticks });
+});
+
+function onStepped(ticks) {
+  if (!pendingStep) return;
+  const at = run && run.last ? run.last.tick : 0;
+  document.getElementById('step-note').textContent = `step ${pendingStep.count}: ${ticks} ticks run, at tick ${at}`;
+  pendingStep = null;
+}
 
 async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
   run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
-  hook.state = 'opening';
-  status('opening ' + a.case);
+  setState('opening', 'opening ' + a.case);
   document.getElementById('pick').hidden = true;
   document.getElementById('run').hidden = false;
   const [bundle, collision, mesh] = await Promise.all([api(base + '/bundle'), api(base + '/mesh?level=collision', { raw: true }), loadMesh(a.case, version)]);
@@ -258,7 +310,6 @@ async function openCase(a) {
 
 // Check a record: the chosen case's collision mesh and the file's bytes to the worker's replay.
 function onReplayed(m) {
-  hook.replay = m;
   const f = m.figures || {};
   document.getElementById('replay-result').textContent = m.passed
     ? `passed: ${f.hashes_checked} state hashes checked over ${f.ticks} of ${f.recorded_ticks} ticks, all match (${m.ms.toFixed(0)} ms)`
@@ -274,7 +325,6 @@ function offerReplay(assignments) {
     const file = input.files[0];
     const chosen = document.getElementById('replay-case').value;
     if (!file || !chosen) return;
-    hook.replay = null;
     document.getElementById('replay-result').textContent = 'replaying ' + file.name + '…';
     const [name, version] = chosen.split('/');
     const [record, mesh] = await Promise.all([file.arrayBuffer(),

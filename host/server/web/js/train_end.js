@@ -15,14 +15,13 @@ function showMetrics(summary, result) {
     el('thead', {}, el('tr', {}, el('th', {}, 'Metric'), el('th', {}, 'Value'), el('th', {}, 'Criterion'))), el('tbody', {}, ...rows)));
 }
 
-// {state: 'done' | 'refused', result, error}. onRecord(blob): the record kept (tests read it).
-export async function showEnd({ summary, record, caseName, assignment, onRecord }) {
+// {state: 'done' | 'refused', result, error}.
+export async function showEnd({ summary, record, caseName, assignment }) {
   document.getElementById('end').hidden = false;
   document.getElementById('end-title').textContent = 'End of run: ' + summary.end + ' (' + (summary.ticks / 1000).toFixed(1) + ' s)';
   showMetrics(summary, null);
   const name = caseName + '-' + new Date().toISOString().replace(/[:.]/g, '-') + '.cbxrec';
   const blob = new Blob([record], { type: 'application/octet-stream' });
-  onRecord(blob);
   document.getElementById('record-link').replaceChildren(el('a', { id: 'record-download', download: name,
     href: URL.createObjectURL(blob) }, 'Download the record (' + record.byteLength + ' bytes)'));
   const line = document.getElementById('upload');

@@ -8,9 +8,11 @@
 //               `spin` option, ms), and every 8 ms it returns to its event loop (messages; the
 //               record writer's file calls, which its thread hands to this one). Up to 50 overdue
 //               ticks run back to back in the session's virtual time (the native haptic thread
-//               stops at 4); beyond that they are dropped (counted). The timing is measured (js/tick_stats.js: interval, lateness,
-//               each tick's run time, what the late ticks came after) and posted at the end.
-//   'virtual' — no clock of its own: the page says `advance N` and exactly N ticks run (tests).
+//               stops at 4); beyond that they are dropped (counted). The timing is measured
+//               (js/tick_stats.js: interval, lateness, each tick's run time, what the late ticks
+//               came after) and posted at the end (the page's clock note shows it).
+//   'virtual' — no clock of its own: the page says `advance N` (its "Run N ticks" control) and
+//   exactly N ticks run.
 // Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
 // insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
 // reads its KeyboardInput.
@@ -228,8 +230,9 @@ onmessage = (e) => {
       if (clock !== 'virtual') return fail('advance: the worker runs on its own clock');
       let ran = 0;
       while (ran < m.ticks && !over) { tick(); ++ran; }
+      if (!over) postFrame();  // the page shows the state the step ended at before it says so
       postMessage({ type: 'advanced', ticks: ran });
-      if (over) finish(); else postFrame();
+      if (over) finish();
     } else if (m.type === 'box_command') {
       let bytes = null;
       let message = '';

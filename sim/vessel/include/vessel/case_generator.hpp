@@ -1,6 +1,6 @@
 #pragma once
 // Procedural vessel networks: the bundled neurovascular cases (aortic arch to the circle of
-// Willis, with dimensions from the anatomical literature cited in case_generator.cpp), their
+// Willis, with dimensions from the anatomical literature cited in src/neuro_case.cpp), their
 // pathological variants (saccular aneurysm, stenosis), a simple Y bifurcation, and random trees
 // and graphs for property tests and benchmarks. Every output is a valid VesselModel whose
 // children start exactly at their parents' last points.
@@ -23,7 +23,7 @@ struct RandomTreeOptions {
 };
 
 // Morphological variants of the neurovascular network (the case library, cases/library/;
-// the published figures behind each are cited in case_generator.cpp and sim/vessel/README.md).
+// the published figures behind each are cited in src/neuro_case.cpp and sim/vessel/README.md).
 enum class ArchType { kTypeI, kTypeII, kTypeIII, kBovine };
 enum class IcaTortuosity { kStraight, kTortuous, kCoiled, kKinked };  // Weibel-Fields grades
 enum class AneurysmSite { kNone, kAcom, kPcom, kBasilarTip, kMcaBifurcation };

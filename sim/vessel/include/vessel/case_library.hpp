@@ -2,7 +2,7 @@
 // The case library by morphology (cases/library/): aortic arch types I-III and a bovine arch,
 // cervical ICA tortuosity grades, and saccular aneurysms at the four commonest sites. Each case
 // is a vessel model plus the text of its `.case` file (entry, target, tools) and of the scripted
-// run (`.actions`) that reaches the target. Figures and sources: case_generator.cpp, README.md.
+// run (`.actions`) that reaches the target. Figures and sources: src/neuro_case.cpp, README.md.
 #include <optional>
 #include <string>
 #include <vector>

@@ -1,0 +1,44 @@
+// What drives a session's ticks: the real-time haptic thread (start, stop) or virtual time
+// (step_virtual), and the figures of whichever ran.
+#include "session/session.hpp"
+
+#include "session/thread_priority.hpp"
+
+namespace cathbox::session {
+
+const HapticThread* Session::active_thread() const {
+  return real_thread_ ? real_thread_.get() : virtual_thread_.get();
+}
+
+void Session::start() {
+  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);  // never waits on the haptic thread
+  if (!real_thread_) {
+    real_thread_ = std::make_unique<HapticThread>(steady_, options_.period_us, [this](std::int64_t) { return tick(); });
+  }
+  real_thread_->start();
+}
+
+void Session::stop() {
+  if (real_thread_) real_thread_->stop();
+}
+
+std::int64_t Session::step_virtual(std::int64_t ticks) {
+  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kSynchronous);  // same walls at the same ticks
+  if (!virtual_thread_) {
+    virtual_thread_ =
+        std::make_unique<HapticThread>(virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); });
+  }
+  const std::int64_t before = tick_;
+  virtual_thread_->run(base::stop_token{}, virtual_thread_->ticks() + ticks);
+  return tick_ - before;
+}
+
+double Session::haptic_rate_hz() const { return active_thread() ? active_thread()->rate_hz() : 0.0; }
+std::int64_t Session::dropped_ticks() const { return active_thread() ? active_thread()->dropped() : 0; }
+std::int64_t Session::haptic_cpu_time_us() const { return active_thread() ? active_thread()->cpu_time_us() : 0; }
+
+std::string Session::haptic_scheduling() const {
+  return real_thread_ ? ThreadPriority::name(real_thread_->scheduling()) : "virtual time";
+}
+
+}  // namespace cathbox::session

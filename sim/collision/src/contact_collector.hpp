@@ -1,0 +1,225 @@
+#pragma once
+// Sphere and capsule contacts: the triangles within reach gathered (ContactCollector), one
+// contact per feature of the wall (face, edge, vertex) reported once, nearest first.
+// Part of obb_tree.cpp's translation unit (see query_basics.hpp).
+#include <algorithm>
+#include <cfloat>
+
+#include "hint_cache.hpp"
+
+namespace cathbox::collision {
+
+namespace {
+
+// Plain data without initialisers, so the collector's fixed array costs nothing to set up.
+struct Candidate {
+  double distance_sq;
+  glm::dvec3 wall;
+  glm::dvec3 tool;  // the point of the sphere centre or capsule axis
+  double segment_t;
+  std::int32_t face;
+  detail::TriangleFeature feature;
+  std::uint64_t key;
+  vessel::FaceRegion region;
+};
+
+std::uint64_t feature_key(const TreeData& d, const Candidate& c) {
+  const std::uint32_t* v = &d.triangles[3 * static_cast<std::size_t>(c.face)];
+  switch (c.feature.kind) {
+    case FeatureKind::kFace:
+      return static_cast<std::uint64_t>(c.face);
+    case FeatureKind::kEdge: {
+      const std::uint64_t u = v[c.feature.index];
+      const std::uint64_t w = v[(c.feature.index + 1u) % 3u];
+      return (1ull << 62) | (std::min(u, w) << 31) | std::max(u, w);
+    }
+    case FeatureKind::kVertex:
+      return (2ull << 62) | v[c.feature.index];
+  }
+  return 0;
+}
+
+// Triangles that report the same edge or vertex: it is a local minimum of the distance only
+// if every triangle around it does.
+std::uint32_t expected_reports(const TreeData& d, const Candidate& c) {
+  switch (c.feature.kind) {
+    case FeatureKind::kFace:
+      return 1;
+    case FeatureKind::kEdge:
+      return d.opposite[3 * static_cast<std::size_t>(c.face) + c.feature.index] >= 0 ? 2u : 1u;
+    case FeatureKind::kVertex:
+      return d.valence[d.triangles[3 * static_cast<std::size_t>(c.face) + c.feature.index]];
+  }
+  return 1;
+}
+
+class ContactCollector {
+ public:
+  ContactCollector(const TreeData& data, double radius) : d_(data), radius_sq_(radius * radius), radius_(radius) {}
+
+  // c was measured on lane `lane` of block b.
+  void add(const Candidate& c, const detail::TriangleBlock& b, int lane) {
+    if (!(c.distance_sq < radius_sq_)) return;
+    if (!has_deepest_ || c.distance_sq < deepest_.distance_sq ||
+        (c.distance_sq == deepest_.distance_sq && c.face < deepest_.face)) {
+      deepest_ = c;
+      deepest_normal_ = block_normal(b, lane);
+      has_deepest_ = true;
+    }
+    if (n_ < kMaxCandidates) {
+      items_[n_++] = c;
+    } else {
+      overflow_ = true;
+    }
+  }
+
+  // The nearest wall point to the sphere centre (the nearest candidate: every triangle closer
+  // than the radius was offered), if any lies within the radius.
+  [[nodiscard]] std::optional<ClosestPoint> nearest() const {
+    if (!has_deepest_) return std::nullopt;
+    return closest_from(d_, deepest_.tool, {deepest_.wall, deepest_.feature}, deepest_.distance_sq, deepest_.face,
+                        deepest_normal_, deepest_.region);
+  }
+
+  std::size_t finish(std::span<Contact> out) {
+    if (!has_deepest_ || out.empty()) return 0;
+    // Indices of the kept candidates (kMaxCandidates marks the deepest, kept separately).
+    int kept[kMaxCandidates + 1];
+    double depth[kMaxCandidates + 1];
+    int nk = 0;
+    if (!overflow_) {
+      for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i]);
+      // By feature, then face: the triangles sharing an edge or a vertex report it with
+      // points a few ulps apart, and the one kept must not depend on the order the tree
+      // offered them (float bounds: the x86 builds' reciprocal estimate and fused clones, a
+      // division in WebAssembly). Kept first-offered, the native and the WebAssembly sessions
+      // took a crease's second plane from different faces and split (issue 29's line search).
+      std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) {
+        return a.key != b.key ? a.key < b.key : a.face < b.face;
+      });
+      bool deepest_kept = false;
+      const std::uint64_t deepest_key = feature_key(d_, deepest_);
+      for (int i = 0; i < n_;) {
+        int j = i + 1;
+        while (j < n_ && items_[j].key == items_[i].key) ++j;
+        if (static_cast<std::uint32_t>(j - i) == expected_reports(d_, items_[i])) {
+          kept[nk++] = i;
+          if (items_[i].key == deepest_key) deepest_kept = true;
+        }
+        i = j;
+      }
+      if (!deepest_kept) kept[nk++] = kMaxCandidates;
+    } else {
+      kept[nk++] = kMaxCandidates;
+    }
+    for (int k = 0; k < nk; ++k) depth[k] = make_contact(candidate(kept[k])).depth_mm;
+    int order[kMaxCandidates + 1];
+    for (int k = 0; k < nk; ++k) order[k] = k;
+    // Equal depths keep the candidates' order (a total order: std::sort's handling of equal
+    // elements is the library's).
+    std::sort(order, order + nk, [&](int a, int b) { return depth[a] != depth[b] ? depth[a] > depth[b] : a < b; });
+    const std::size_t n = std::min(static_cast<std::size_t>(nk), out.size());
+    for (std::size_t k = 0; k < n; ++k) out[k] = make_contact(candidate(kept[order[k]]));
+    return n;
+  }
+
+ private:
+  const Candidate& candidate(int index) const { return index == kMaxCandidates ? deepest_ : items_[index]; }
+
+  Contact make_contact(const Candidate& c) const {
+    Contact out;
+    out.wall_point_mm = c.wall;
+    out.face = c.face;
+    out.region = c.region;
+    out.segment_t = c.segment_t;
+    const glm::dvec3 n = pseudo_normal(d_, c.face, c.feature);
+    const glm::dvec3 v = c.tool - c.wall;
+    const double dist = std::sqrt(c.distance_sq);
+    if (dist > 1e-12 * (d_.scale_mm + 1.0)) {
+      const glm::dvec3 dir = v / dist;
+      if (glm::dot(v, n) <= 0.0) {
+        out.normal = dir;
+        out.depth_mm = radius_ - dist;
+      } else {
+        out.normal = -dir;
+        out.depth_mm = radius_ + dist;
+      }
+    } else {
+      out.normal = -n;
+      out.depth_mm = radius_;
+    }
+    return out;
+  }
+
+  const TreeData& d_;
+  double radius_sq_;
+  double radius_;
+  Candidate items_[kMaxCandidates];
+  int n_ = 0;
+  bool overflow_ = false;
+  Candidate deepest_;
+  glm::dvec3 deepest_normal_{0.0};  // its leaf block's unit normal (closest_from)
+  bool has_deepest_ = false;
+};
+
+// Probes take a leaf block.
+struct SphereProbe {
+  glm::dvec3 centre;
+  PointLanes lanes;
+  float thresh;
+  ContactCollector& out;
+  void operator()(const detail::TriangleBlock& b) const {
+    float v[4];
+    const v4f lb = detail::triangle_distance_sq(b, lanes).lower;
+    std::memcpy(v, &lb, sizeof v);
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t f = b.face[i];
+      if (f < 0 || v[i] > thresh) continue;
+      glm::dvec3 ta, tb, tc;
+      detail::block_corners(b, i, ta, tb, tc);
+      const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
+      const glm::dvec3 diff = centre - q.point;
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, b.region}, b, i);
+    }
+  }
+};
+
+struct CapsuleProbe {
+  glm::dvec3 a;
+  glm::dvec3 b;
+  ContactCollector& out;
+  void operator()(const detail::TriangleBlock& blk) const {
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t f = blk.face[i];
+      if (f < 0) continue;
+      glm::dvec3 ta, tb, tc;
+      detail::block_corners(blk, i, ta, tb, tc);
+      const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
+      out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
+               q.on_triangle.feature, 0, blk.region}, blk, i);
+    }
+  }
+};
+
+bool valid_radius(double r) { return std::isfinite(r) && r >= 0.0; }
+
+// Runs a probe over every block that may hold a triangle within `reach` of `centre`, below the
+// hint's cut when it covers that ball, else after refilling it.
+template <typename Probe>
+void probe_near(const TreeData& d, QueryHint& hint, const glm::dvec3& centre, double reach, float thresh,
+                const Probe& probe) {
+  const bool usable = HintCache::usable(hint, d);
+  double delta = usable ? HintCache::moved(hint, centre) : 0.0;
+  if (usable && reach + delta <= hint.radius_mm()) {
+    HintCache::count_hit(hint);
+    if (HintCache::clear_of(hint, delta, reach)) return;  // nothing in reach
+  } else {
+    HintCache::refill(d, centre, reach + 2.0 * d.coherence_margin_mm, hint);
+    delta = 0.0;
+  }
+  HintCache::for_each_leaf_near(hint, d, centre, delta, thresh, probe);
+}
+
+}  // namespace
+
+}  // namespace cathbox::collision
