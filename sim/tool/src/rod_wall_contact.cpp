@@ -10,6 +10,7 @@
 
 #include "rod_node_contact.hpp"
 #include "tool/rod.hpp"
+#include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
 
@@ -83,8 +84,8 @@ void Rod::limit_penetration() {
 void Rod::finish_contacts() {
   const std::size_t n = x_.size();
   contacts_.clear();
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  const double kt = kc * settings_.stick_stiffness_ratio;
+  const WallPenalty wall(settings_);
+  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
@@ -97,7 +98,7 @@ void Rod::finish_contacts() {
       nc.normal_force = 0.0;
       continue;
     }
-    const double normal_force = kc * phi;
+    const double normal_force = wall.force_mN(phi);
     const glm::dmat3 pt = glm::dmat3(1.0) - glm::outerProduct(nc.normal, nc.normal);
     const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
     const double slip_len = glm::length(slip);
@@ -130,8 +131,7 @@ void Rod::finish_contacts() {
 // The contact on the second plane of node k (a crease of a meshed wall): normal force only.
 void Rod::add_second_contact(std::size_t k) {
   NodeContact& nc = node_contacts_[k];
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  nc.normal_force2 = nc.has_second ? kc * std::max(0.0, second_gap(k)) : 0.0;
+  nc.normal_force2 = nc.has_second ? WallPenalty(settings_).force_mN(second_gap(k)) : 0.0;
   if (nc.normal_force2 > 0.0) {
     RodContact second;
     second.node = static_cast<std::uint32_t>(k);
