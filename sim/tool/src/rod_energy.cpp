@@ -61,8 +61,18 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   if (!nc.has_plane || !nc.active) return;
   const double phi = plane_gap(k);
   const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
-  add_grad(k, nc.normal * wall.gradient_mN(phi));
-  h += wall.stiffness_mN_per_mm(phi) * nn;
+  const double f = wall.gradient_mN(phi);
+  if (nc.bend_per_mm == 0.0) {
+    add_grad(k, nc.normal * f);
+    h += wall.stiffness_mN_per_mm(phi) * nn;
+  } else {
+    // On a concave wall: the gap's gradient turns with the wall, and a pressed node (f > 0) is
+    // held along the curvature by f / rho.
+    const glm::dvec3 g = gap_normal(k);
+    add_grad(k, g * f);
+    h += wall.stiffness_mN_per_mm(phi) * glm::outerProduct(g, g) +
+         (std::max(0.0, f) * nc.bend_per_mm) * glm::outerProduct(nc.bend_dir, nc.bend_dir);
+  }
   energy_ += wall.energy(phi);
   const double mu = friction_at(k);
   if (!(mu > 0.0)) return;

@@ -74,7 +74,7 @@ void Rod::add_joined_wall_terms(Newton& s) {
     const std::size_t d = 3 * (k - first_);
     for (int j = 0; j < 2; ++j) {
       if (!(joined_[k] & (1 << j))) continue;
-      const glm::dvec3& normal = j == 0 ? nc.normal : nc.normal2;
+      const glm::dvec3 normal = j == 0 ? gap_normal(k) : nc.normal2;
       const double phi = j == 0 ? plane_gap(k) : second_gap(k);
       const double kw = wall.stiffness_mN_per_mm(phi);
       add(k, k, kw * glm::outerProduct(normal, normal));

@@ -140,7 +140,7 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
   const NodeContact& nc = node_contacts_[k];
   const double mu = friction_at(k);
   if (!nc.has_plane || mu <= 0.0) return 0;
-  const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+  const double phi = plane_gap(k);
   if (phi <= 0.0) return 0;
   const double r = radius_[k];
   ktr = kt * r * r;

@@ -34,6 +34,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     c.query_pos = x_[k];
     active_changed = active_changed || c.active;
     if (wall.probe(probe, c.hint, wc) && std::isfinite(wc.distance_mm)) {
+      if (c.has_plane && settings_.curved_wall_gap) estimate_curvature(c, wc);
       c.clearance = std::max(0.0, wc.distance_mm - radius_[k]);
       c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
       c.point = wc.point_mm;
@@ -52,6 +53,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.anchor = x_[k];
       c.twist_anchor = theta_[std::min(k, n - 2)];
     } else if (!c.has_plane) {
+      c.bend_per_mm = 0.0;
       c.anchored = false;
       c.active = false;
       c.has_second = false;
@@ -59,6 +61,27 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     }
   }
   return active_changed;
+}
+
+// The wall's curvature along the move of its closest point since the last probe of the same
+// plane: the normal's turn along it over its length (a tube's 1 / R round it, 0 along it). Kept
+// when the point hardly moved; only a concave wall (the lumen curving round the node) is kept.
+namespace {
+// A lumen of 0.5 mm radius: a meshed wall's normal jumps at a face's edge, which this bounds.
+constexpr double kMaxCurvature_per_mm = 2.0;
+}  // namespace
+
+void Rod::estimate_curvature(NodeContact& c, const WallContact& wc) {
+  const glm::dvec3 moved = wc.point_mm - c.point;
+  const double len2 = glm::dot(moved, moved);
+  if (len2 < 1e-8) return;
+  const glm::dvec3 dir = moved - wc.normal * glm::dot(wc.normal, moved);
+  const double dir_len = glm::length(dir);
+  if (dir_len < 1e-4) return;
+  const double kappa = std::clamp(glm::dot(wc.normal - c.normal, moved) / len2, 0.0, kMaxCurvature_per_mm);
+  const double rho = kappa > 0.0 ? 1.0 / kappa - wc.distance_mm : 0.0;  // the centre's path
+  c.bend_dir = dir / dir_len;
+  c.bend_per_mm = rho > 0.0 ? 1.0 / rho : 0.0;
 }
 
 void Rod::limit_penetration() {
@@ -90,7 +113,7 @@ void Rod::finish_contacts() {
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
     add_second_contact(k);
-    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+    const double phi = plane_gap(k);
     const std::size_t e = std::min(k, n - 2);
     if (phi <= 0.0) {
       nc.anchor = x_[k];

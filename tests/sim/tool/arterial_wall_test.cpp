@@ -191,7 +191,10 @@ TEST(CompliantContact, AWallLineGivesTheWallsStiffnessAndItsBoundedLayer) {
     if (!sim.rod(0).converged()) continue;
     for (const RodContact& contact : sim.rod(0).contacts()) {
       const glm::dvec3 x = sim.rod(0).positions()[contact.node];
-      const double pressed_mm = glm::dot(x - contact.point_mm, contact.normal) + sim.rod(0).node_radius_mm(contact.node);
+      const double r = sim.rod(0).node_radius_mm(contact.node);
+      // In the tube's straight part the exact penetration (the wall's curvature round the node:
+      // the solver's gap follows it), at the cap the contact plane's.
+      const double pressed_mm = x.z < 58.0 ? r + std::hypot(x.x, x.y) - 2.0 : glm::dot(x - contact.point_mm, contact.normal) + r;
       EXPECT_LE(pressed_mm, 1.0 + 1e-6);
       if (contact.normal_force_mN > 1.0) {
         // The wall's own stiffness: F = K w within the layer, K (0.5 + 10 (w - 0.5)) past it (to
