@@ -185,10 +185,12 @@ TEST(CompliantContact, AWallLineGivesTheWallsStiffnessAndItsBoundedLayer) {
   double largest_mN = 0.0;
   int checked = 0;
   int past_layer = 0;
+  int converged_steps = 0;
   for (int i = 1; i <= 3000; ++i) {
     sim.set_insertion(0, std::min(80.0, 0.03 * i));  // 30 mm/s, 20 mm past the end at 62 mm
     sim.step();
     if (!sim.rod(0).converged()) continue;
+    ++converged_steps;
     for (const RodContact& contact : sim.rod(0).contacts()) {
       const glm::dvec3 x = sim.rod(0).positions()[contact.node];
       const double r = sim.rod(0).node_radius_mm(contact.node);
@@ -208,8 +210,11 @@ TEST(CompliantContact, AWallLineGivesTheWallsStiffnessAndItsBoundedLayer) {
       largest_mN = std::max(largest_mN, contact.normal_force_mN);
     }
   }
-  EXPECT_GT(checked, 20);
-  std::printf("compliant dead end: largest contact %.1f mN, %d of %d contacts past the layer\n", largest_mN, past_layer, checked);
+  // The steps that press the wall converge: 6,633 contacts over 1 mN on converged steps (2,505 of
+  // 3,000 steps); with one flat plane per node (no curved gap) 29 (2,083 steps).
+  EXPECT_GT(checked, 1000);
+  std::printf("compliant dead end: %d of 3000 steps converged; largest contact %.1f mN, %d of %d contacts past the layer\n",
+              converged_steps, largest_mN, past_layer, checked);
 }
 
 TEST(CompliantContact, TheCaseLineIsCheckedWithOneLine) {
