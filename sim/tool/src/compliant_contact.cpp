@@ -17,7 +17,10 @@ void use_compliant_contact(Simulator& sim, const CompliantContact& contact) {
     for (const ToolSection& s : sim.rod(t).spec().sections) r_min = std::min(r_min, 0.5 * s.outer_diameter_mm);
     RodSettings& s = sim.rod_settings(t);
     s.contact_stiffness_mN_per_mm = contact.stiffness_mN_per_mm;
-    s.max_penetration_ratio = std::max(s.max_penetration_ratio, contact.max_displacement_mm / r_min);
+    s.wall_layer_mm = contact.max_displacement_mm;
+    s.wall_stiffening = kCollagenStiffening;
+    s.curved_wall_gap = true;
+    s.max_penetration_ratio = std::max(s.max_penetration_ratio, kHardLimitLayers * contact.max_displacement_mm / r_min);
   }
 }
 

@@ -12,6 +12,7 @@
 #include "rod_node_contact.hpp"
 #include "tool/banded_cholesky.hpp"
 #include "tool/rod.hpp"
+#include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
 
@@ -48,21 +49,31 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
 // slip limit) on its first plane.
 [[gnu::always_inline]] inline void Rod::add_wall_terms(std::size_t k, glm::dmat3& h) {
   const glm::dmat3 identity(1.0);
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  const double kt = kc * settings_.stick_stiffness_ratio;
+  const WallPenalty wall(settings_);
+  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   const NodeContact& nc = node_contacts_[k];
   if (nc.has_plane && nc.active2) {
     const double phi2 = second_gap(k);
-    add_grad(k, nc.normal2 * (kc * phi2));
-    h += kc * glm::outerProduct(nc.normal2, nc.normal2);
-    energy_ += 0.5 * kc * phi2 * phi2;
+    add_grad(k, nc.normal2 * wall.gradient_mN(phi2));
+    h += wall.stiffness_mN_per_mm(phi2) * glm::outerProduct(nc.normal2, nc.normal2);
+    energy_ += wall.energy(phi2);
   }
   if (!nc.has_plane || !nc.active) return;
   const double phi = plane_gap(k);
   const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
-  add_grad(k, nc.normal * (kc * phi));
-  h += kc * nn;
-  energy_ += 0.5 * kc * phi * phi;
+  const double f = wall.gradient_mN(phi);
+  if (nc.bend_per_mm == 0.0) {
+    add_grad(k, nc.normal * f);
+    h += wall.stiffness_mN_per_mm(phi) * nn;
+  } else {
+    // On a concave wall: the gap's gradient turns with the wall, and a pressed node (f > 0) is
+    // held along the curvature by f / rho.
+    const glm::dvec3 g = gap_normal(k);
+    add_grad(k, g * f);
+    h += wall.stiffness_mN_per_mm(phi) * glm::outerProduct(g, g) +
+         (std::max(0.0, f) * nc.bend_per_mm) * glm::outerProduct(nc.bend_dir, nc.bend_dir);
+  }
+  energy_ += wall.energy(phi);
   const double mu = friction_at(k);
   if (!(mu > 0.0)) return;
   const glm::dmat3 pt = identity - nn;
@@ -209,6 +220,7 @@ double Rod::energy() const {
   }
   const double kc = settings_.contact_stiffness_mN_per_mm;
   const double kt = kc * settings_.stick_stiffness_ratio;
+  const WallPenalty wall(settings_);
   for (const EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     if (phi > 0.0) e += 0.5 * kc * phi * phi;
@@ -223,10 +235,9 @@ double Rod::energy() const {
     }
     const NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
-    if (nc.active2) e += 0.5 * kc * second_gap(k) * second_gap(k);
+    if (nc.active2) e += wall.energy(second_gap(k));
     if (!nc.active) continue;
-    const double phi = plane_gap(k);
-    e += 0.5 * kc * phi * phi;
+    e += wall.energy(plane_gap(k));
     const double limit = friction_limit_[k];
     if (limit <= 0.0) continue;
     const glm::dvec3 rel = x_[k] - nc.anchor;

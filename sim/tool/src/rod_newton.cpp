@@ -15,6 +15,7 @@
 #include "rod_node_contact.hpp"
 #include "tool/banded_cholesky.hpp"
 #include "tool/rod.hpp"
+#include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
 
@@ -64,7 +65,7 @@ void Rod::build_system(Newton& s) {
 void Rod::add_joined_wall_terms(Newton& s) {
   const std::size_t n = x_.size();
   const rod_detail::BlockAdder add{*matrix_, first_, true};
-  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const WallPenalty wall(settings_);
   s.rejoin_from = n;
   for (std::size_t k = first_free_; k < n; ++k) {
     if (!joined_[k]) continue;
@@ -73,13 +74,16 @@ void Rod::add_joined_wall_terms(Newton& s) {
     const std::size_t d = 3 * (k - first_);
     for (int j = 0; j < 2; ++j) {
       if (!(joined_[k] & (1 << j))) continue;
-      const glm::dvec3& normal = j == 0 ? nc.normal : nc.normal2;
+      const glm::dvec3 normal = j == 0 ? gap_normal(k) : nc.normal2;
       const double phi = j == 0 ? plane_gap(k) : second_gap(k);
-      add(k, k, kc * glm::outerProduct(normal, normal));
-      grad_[d] += normal.x * kc * phi;
-      grad_[d + 1] += normal.y * kc * phi;
-      grad_[d + 2] += normal.z * kc * phi;
-      energy_ += 0.5 * kc * phi * phi;
+      const double kw = wall.stiffness_mN_per_mm(phi);
+      add(k, k, kw * glm::outerProduct(normal, normal));
+      // Within the layer n K w, rounded as the rigid wall always had it; past it the stiffer law.
+      const glm::dvec3 g = phi <= wall.layer_mm ? normal * kw * phi : normal * wall.gradient_mN(phi);
+      grad_[d] += g.x;
+      grad_[d + 1] += g.y;
+      grad_[d + 2] += g.z;
+      energy_ += wall.energy(phi);
     }
     joined_[k] = 0;
   }

@@ -31,11 +31,28 @@ struct Rod::NodeContact {
   double twist_anchor = 0.0;
   double normal_force = 0.0;
   glm::dvec3 friction{0.0};
+  // The wall's curvature along one tangent direction, from the last two probes of this plane
+  // (the normal's turn over the point's move), as the curvature of the path on which the node's
+  // centre keeps its gap (1 / rho, rho from the centre to the wall's centre of curvature): the
+  // gap is the plane's plus rho^-1 (t . u)^2 / 2, u the move since the probe. One plane alone
+  // lets a node pressed on a concave wall slide along its tangent without going deeper.
+  glm::dvec3 bend_dir{0.0};
+  double bend_per_mm = 0.0;
 };
 
 inline double Rod::plane_gap(std::size_t k) const {
   const NodeContact& nc = node_contacts_[k];
-  return glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+  const double flat = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+  if (nc.bend_per_mm == 0.0) return flat;
+  const double along = glm::dot(nc.bend_dir, x_[k] - nc.query_pos);
+  return flat + 0.5 * nc.bend_per_mm * along * along;
+}
+
+// The gradient of plane_gap(k): the normal, turned along the wall's curvature.
+inline glm::dvec3 Rod::gap_normal(std::size_t k) const {
+  const NodeContact& nc = node_contacts_[k];
+  if (nc.bend_per_mm == 0.0) return nc.normal;
+  return nc.normal + nc.bend_dir * (nc.bend_per_mm * glm::dot(nc.bend_dir, x_[k] - nc.query_pos));
 }
 
 inline double Rod::second_gap(std::size_t k) const {

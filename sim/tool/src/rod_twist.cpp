@@ -11,6 +11,7 @@
 #include "rod_geometry.hpp"
 #include "rod_node_contact.hpp"
 #include "tool/rod.hpp"
+#include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
 
@@ -139,11 +140,13 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
   const NodeContact& nc = node_contacts_[k];
   const double mu = friction_at(k);
   if (!nc.has_plane || mu <= 0.0) return 0;
-  const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+  const double phi = plane_gap(k);
   if (phi <= 0.0) return 0;
   const double r = radius_[k];
   ktr = kt * r * r;
-  limit = mu * settings_.contact_stiffness_mN_per_mm * phi * r;
+  const WallPenalty wall(settings_);
+  // mu K w r as the rigid wall always had it (the same rounding); past a layer, the stiffer law.
+  limit = phi <= wall.layer_mm ? mu * wall.k_mN_per_mm * phi * r : mu * wall.force_mN(phi) * r;
   d = theta_[std::min(k, n - 2)] - nc.twist_anchor;
   if (ktr * std::abs(d) <= limit) return 1;  // stick
   return d > 0.0 ? 2 : 3;                    // slip either way

@@ -10,6 +10,7 @@
 
 #include "rod_node_contact.hpp"
 #include "tool/rod.hpp"
+#include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
 
@@ -33,6 +34,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     c.query_pos = x_[k];
     active_changed = active_changed || c.active;
     if (wall.probe(probe, c.hint, wc) && std::isfinite(wc.distance_mm)) {
+      if (c.has_plane && settings_.curved_wall_gap) estimate_curvature(c, wc);
       c.clearance = std::max(0.0, wc.distance_mm - radius_[k]);
       c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
       c.point = wc.point_mm;
@@ -51,6 +53,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.anchor = x_[k];
       c.twist_anchor = theta_[std::min(k, n - 2)];
     } else if (!c.has_plane) {
+      c.bend_per_mm = 0.0;
       c.anchored = false;
       c.active = false;
       c.has_second = false;
@@ -58,6 +61,27 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     }
   }
   return active_changed;
+}
+
+// The wall's curvature along the move of its closest point since the last probe of the same
+// plane: the normal's turn along it over its length (a tube's 1 / R round it, 0 along it). Kept
+// when the point hardly moved; only a concave wall (the lumen curving round the node) is kept.
+namespace {
+// A lumen of 0.5 mm radius: a meshed wall's normal jumps at a face's edge, which this bounds.
+constexpr double kMaxCurvature_per_mm = 2.0;
+}  // namespace
+
+void Rod::estimate_curvature(NodeContact& c, const WallContact& wc) {
+  const glm::dvec3 moved = wc.point_mm - c.point;
+  const double len2 = glm::dot(moved, moved);
+  if (len2 < 1e-8) return;
+  const glm::dvec3 dir = moved - wc.normal * glm::dot(wc.normal, moved);
+  const double dir_len = glm::length(dir);
+  if (dir_len < 1e-4) return;
+  const double kappa = std::clamp(glm::dot(wc.normal - c.normal, moved) / len2, 0.0, kMaxCurvature_per_mm);
+  const double rho = kappa > 0.0 ? 1.0 / kappa - wc.distance_mm : 0.0;  // the centre's path
+  c.bend_dir = dir / dir_len;
+  c.bend_per_mm = rho > 0.0 ? 1.0 / rho : 0.0;
 }
 
 void Rod::limit_penetration() {
@@ -83,13 +107,13 @@ void Rod::limit_penetration() {
 void Rod::finish_contacts() {
   const std::size_t n = x_.size();
   contacts_.clear();
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  const double kt = kc * settings_.stick_stiffness_ratio;
+  const WallPenalty wall(settings_);
+  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
     add_second_contact(k);
-    const double phi = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
+    const double phi = plane_gap(k);
     const std::size_t e = std::min(k, n - 2);
     if (phi <= 0.0) {
       nc.anchor = x_[k];
@@ -97,7 +121,7 @@ void Rod::finish_contacts() {
       nc.normal_force = 0.0;
       continue;
     }
-    const double normal_force = kc * phi;
+    const double normal_force = wall.force_mN(phi);
     const glm::dmat3 pt = glm::dmat3(1.0) - glm::outerProduct(nc.normal, nc.normal);
     const glm::dvec3 slip = pt * (x_[k] - nc.anchor);
     const double slip_len = glm::length(slip);
@@ -130,8 +154,7 @@ void Rod::finish_contacts() {
 // The contact on the second plane of node k (a crease of a meshed wall): normal force only.
 void Rod::add_second_contact(std::size_t k) {
   NodeContact& nc = node_contacts_[k];
-  const double kc = settings_.contact_stiffness_mN_per_mm;
-  nc.normal_force2 = nc.has_second ? kc * std::max(0.0, second_gap(k)) : 0.0;
+  nc.normal_force2 = nc.has_second ? WallPenalty(settings_).force_mN(second_gap(k)) : 0.0;
   if (nc.normal_force2 > 0.0) {
     RodContact second;
     second.node = static_cast<std::uint32_t>(k);

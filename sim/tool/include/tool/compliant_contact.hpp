@@ -4,12 +4,14 @@
 // pressing the wall by w is K w with K the wall's radial stiffness (WallShell: the stiffness to
 // a load round one circumference of a tube of that radius, the stiffest a wall can be to a
 // node's load) instead of the rigid wall's numerical penalty (RodSettings::
-// contact_stiffness_mN_per_mm, 2e5 mN/mm). The wall gives up to a bounded layer: w at most
+// contact_stiffness_mN_per_mm, 2e5 mN/mm). The wall gives K w up to a bounded layer, w =
 // `kMaxHoopStrain` R, where collagen fibres, slack at physiological strain, are recruited and
 // the wall stiffens by an order of magnitude (the nonlinear stiffening of arteries, e.g.
-// Holzapfel, Gasser & Ogden, J Elasticity 61, 2000); the solver's hard limit on a node's
-// penetration is set to it. Friction's stick spring follows the wall's stiffness (the rod's
-// stick ratio). Coils keep their own contact settings (soft loops against the sac); tool-tool
+// Holzapfel, Gasser & Ogden, J Elasticity 61, 2000): past the layer a node meets
+// `kCollagenStiffening` K (wall_penalty.hpp), in the step's energy, so the solve converges on
+// the force the wall gives. The solver's hard limit on a node's penetration (a numerical guard,
+// after the solve) is `kHardLimitLayers` layers. Friction's stick spring follows the wall's
+// stiffness (the rod's stick ratio). Coils keep their own contact settings (soft loops against the sac); tool-tool
 // contact of non-coil tools takes the same stiffness. Valve anchors are not the wall's and keep
 // the simulator's.
 #include <cstddef>
@@ -21,10 +23,12 @@ namespace cathbox::tool {
 class Simulator;
 
 inline constexpr double kMaxHoopStrain = 0.25;
+inline constexpr double kCollagenStiffening = 10.0;  // "an order of magnitude": an estimate
+inline constexpr double kHardLimitLayers = 2.0;
 
 struct CompliantContact {
   double stiffness_mN_per_mm = 0.0;  // per node
-  double max_displacement_mm = 0.0;  // the bounded layer
+  double max_displacement_mm = 0.0;  // the bounded layer (then the wall stiffens)
 };
 
 [[nodiscard]] CompliantContact compliant_contact(const WallShell& shell);

@@ -248,6 +248,8 @@ class Rod {
   [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   inline void add_grad(std::size_t k, const glm::dvec3& g);  // grad_ at node k (rod_newton.hpp)
   void assemble(bool hessian);
+  static void estimate_curvature(NodeContact& c, const WallContact& wc);
+  double geo_floor_ = 0.0;
   // Drag, loads, grip, wall penalty and friction at free node k: its diagonal block.
   [[nodiscard]] inline glm::dmat3 node_terms(std::size_t k);
   inline void add_grip_terms(std::size_t k, glm::dmat3& h);
@@ -256,6 +258,7 @@ class Rod {
   [[nodiscard]] double energy() const;
 
   // Wall contacts (rod_wall_contact.cpp, gaps inline in rod_node_contact.hpp).
+  [[nodiscard]] glm::dvec3 gap_normal(std::size_t k) const;
   [[nodiscard]] inline double plane_gap(std::size_t k) const;   // penetration of node k into its plane
   [[nodiscard]] inline double second_gap(std::size_t k) const;  // ... into its second plane
   // Re-probes the wall; true when the plane of a node in the active set was replaced.

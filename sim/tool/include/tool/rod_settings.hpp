@@ -1,6 +1,8 @@
 #pragma once
 // Numerical settings of the rod solver. The defaults suit the 1 kHz haptic loop; validation
 // tests raise the iteration count to reach static equilibrium tightly.
+#include <limits>
+
 namespace cathbox::tool {
 
 struct RodSettings {
@@ -39,6 +41,15 @@ struct RodSettings {
   // loop, which the stiff axial springs then push back out in the solve).
   bool arc_predictor = false;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
+  // A compliant wall's layer (wall_penalty.hpp): past this penetration the wall's contact
+  // stiffness is wall_stiffening times contact_stiffness_mN_per_mm. Infinity: one stiffness.
+  double wall_layer_mm = std::numeric_limits<double>::infinity();
+  double wall_stiffening = 10.0;
+  // The wall's gap follows its curvature (estimated from successive probes): a node pressed on
+  // a concave wall is held along it by its force over the radius of curvature. The compliant
+  // wall sets it: its stick spring (0.1 K, 141 mN/mm at the carotid) is weaker than f / rho
+  // (~10^3 mN/mm for a node at 2 N), and with one plane the node swings across its tangent.
+  bool curved_wall_gap = false;
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
 };
