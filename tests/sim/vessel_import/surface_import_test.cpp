@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <set>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -88,7 +90,19 @@ struct AxisCheck {
   std::size_t off_axis = 0;
   std::size_t off_radius = 0;
   double worst_near_feature = 0.0;
+  std::vector<double> axis_mm;       // each checked point's distance to the generator's centreline
+  std::vector<double> radius_error;  // and its radius's relative error (signed)
 };
+
+// "worst / median" of |values| as text.
+std::string worst_and_median(std::vector<double> values, double scale, const char* unit) {
+  for (double& v : values) v = std::abs(v) * scale;
+  if (values.empty()) return "-";
+  std::sort(values.begin(), values.end());
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "worst %.3g %s, median %.3g %s", values.back(), unit, values[values.size() / 2], unit);
+  return buffer;
+}
 
 [[nodiscard]] bool near_an_end(const vessel::VesselModel& truth, const glm::dvec3& p) {
   for (const vessel::Segment& t : truth.segments) {
@@ -113,6 +127,8 @@ AxisCheck check_against(const vessel::VesselModel& truth, const vessel::VesselMo
         continue;
       }
       ++c.checked;
+      c.axis_mm.push_back(distance);
+      c.radius_error.push_back((p.radius_mm - radius) / radius);
       if (distance > std::max(0.5, 0.1 * radius)) ++c.off_axis;
       if (std::abs(p.radius_mm - radius) > 0.05 * radius) ++c.off_radius;
     }
@@ -152,6 +168,9 @@ void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext)
   const AxisCheck c = check_against(truth, imported.model);
   EXPECT_LT(c.worst_near_feature, 1.0) << imported.summary();  // in the lumen (measured 0.61-0.66)
   EXPECT_GT(c.checked, 20u);
+  // The figures sim/vessel_import/README.md quotes.
+  std::printf("%s round trip: %zu points checked; off the axis %s; radius %s\n", ext.c_str(), c.checked,
+              worst_and_median(c.axis_mm, 1.0, "mm").c_str(), worst_and_median(c.radius_error, 100.0, "%").c_str());
   EXPECT_EQ(c.off_axis, 0u) << imported.summary();
   EXPECT_EQ(c.off_radius, 0u) << c.checked << " checked; " << imported.summary();
 }
