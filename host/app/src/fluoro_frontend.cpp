@@ -3,21 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
-#include <glm/geometric.hpp>
-
+#include "app/stent_view.hpp"
 #include "flow/head_phantom.hpp"
 
 namespace cathbox::app {
 
 namespace {
-
-// The node of a polyline (proximal to distal) `length_mm` back from its distal end (0 when the
-// polyline is shorter).
-std::size_t node_back_from_tip(const std::vector<glm::vec3>& nodes, double length_mm) {
-  std::size_t j = nodes.size() - 1;
-  for (double along = 0.0; j > 0 && along < length_mm; --j) along += glm::length(nodes[j] - nodes[j - 1]);
-  return j;
-}
 
 std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const SnapshotFluoroSettings& settings,
                                  const std::array<std::vector<glm::vec3>, session::kMaxTools>* at_pulse, int count) {
@@ -32,15 +23,12 @@ std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const S
     if (const float stent_mm = view.stent_length_mm; stent_mm > 0.0F) {
       // The push wire at its own radius up to the stent, which alone is drawn expanded: its
       // proximal band then shows on the thin wire, not inside a wire as wide as the stent.
-      if (view.wire_radius_mm > 0.0F && view.wire_radius_mm < view.radius_mm && tool.nodes_mm.size() >= 3) {
-        const std::size_t split = node_back_from_tip(tool.nodes_mm, stent_mm);
-        if (split > 0) {
-          FluoroTool wire;
-          wire.nodes_mm.assign(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split) + 1);
-          wire.radius_mm = view.wire_radius_mm;
-          tool.nodes_mm.erase(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split));
-          out.push_back(std::move(wire));
-        }
+      if (const std::size_t split = expanded_stent_first_node(view, tool.nodes_mm); split > 0) {
+        FluoroTool wire;
+        wire.nodes_mm.assign(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split) + 1);
+        wire.radius_mm = view.wire_radius_mm;
+        tool.nodes_mm.erase(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split));
+        out.push_back(std::move(wire));
       }
       // A stent retriever's nitinol struts are faint; its platinum bands at both ends show
       // where it is (and, apart, that it is unsheathed).
