@@ -731,7 +731,7 @@ void BM_StepStentRetrieverCase(benchmark::State& state) {
   StepTimes dwell(kDwellSteps), retrieval(1 << 14);
   dwell.count_probes(wall);
   retrieval.count_probes(wall);
-  std::int64_t i = 0;
+  std::int64_t i = 0, peak_ms = 0;
   double peak_mN = 0.0;
   for (auto _ : state) {
     if (i == kDwellSteps) {  // the rest of the dwell: nothing moves
@@ -741,8 +741,12 @@ void BM_StepStentRetrieverCase(benchmark::State& state) {
     if (now == kPull_ms) sim.set_stent_payload(stent, 78.0);
     play(now++);
     (i++ < kDwellSteps ? dwell : retrieval).step(sim);
-    if (now > kPull_ms && sim.rod(stent).converged()) peak_mN = std::max(peak_mN, -sim.hand_force_mN(stent));
+    if (now > kPull_ms && sim.rod(stent).converged() && -sim.hand_force_mN(stent) > peak_mN) {
+      peak_mN = -sim.hand_force_mN(stent);
+      peak_ms = now;
+    }
   }
+  state.counters["peak_pull_at_ms"] = static_cast<double>(peak_ms);
   const std::vector<std::string> names{"guide", "micro", "wire", "stent"};
   dwell.report_tail(state, names, "dwell_");
   retrieval.report_tail(state, names, "retrieval_");
