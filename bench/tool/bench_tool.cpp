@@ -23,6 +23,9 @@
 //            25 mm at 5 mm/s (5000 steps), then pulled back 40 mm at 10 mm/s dragging an
 //            integrated clot (its 78 mN of wall friction and head, the bundled M1 clot's) (4000
 //            steps): median and p99 of both phases (issue 30: p99 <= 500 us).
+//   stent retriever, bundled case: cases/neuro_thrombectomy_m1_stentretriever on its mesh,
+//            driven by its own script: 2 s of the dwell, then the retrieval (dwell_, retrieval_
+//            and overall median and p99; the same target).
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -47,6 +50,8 @@
 #include "collision/obb_tree.hpp"
 #include "tool/mesh_wall.hpp"
 #include "scenario/case_world.hpp"
+#include "scenario/action_script.hpp"
+#include "scenario/script_player.hpp"
 #include "tool/coil_metrics.hpp"
 #include "../bench_samples.hpp"
 #include "../rod_navigation.hpp"
@@ -229,7 +234,7 @@ class StepTimes {
   // refill; a long step is likelier to be preempted, so under load the tail's share is high
   // whatever made the step long) and their page faults. Call it before report(), which sorts
   // the times.
-  void report_tail(benchmark::State& state, const std::vector<std::string>& names) const {
+  void report_tail(benchmark::State& state, const std::vector<std::string>& names, const std::string& prefix = "") const {
     if (cpu_.empty() || rods_ == 0 || its_.size() != cpu_.size() * rods_) return;
     std::vector<double> sorted = cpu_;
     const double p99 = pick(sorted, 0.99);
@@ -242,9 +247,9 @@ class StepTimes {
       faults += static_cast<std::size_t>(faults_[k]);
     }
     const double tail_n = static_cast<double>(std::max<std::size_t>(1, tail_steps));
-    state.counters["preempted_pct"] = 100.0 * static_cast<double>(all_preempted) / static_cast<double>(cpu_.size());
-    state.counters["tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
-    state.counters["tail_faults"] = static_cast<double>(faults) / tail_n;
+    state.counters[prefix + "preempted_pct"] = 100.0 * static_cast<double>(all_preempted) / static_cast<double>(cpu_.size());
+    state.counters[prefix + "tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
+    state.counters[prefix + "tail_faults"] = static_cast<double>(faults) / tail_n;
     for (std::size_t t = 0; t < rods_ && t < names.size(); ++t) {
       double all = 0.0, tail = 0.0;
       for (std::size_t k = 0; k < cpu_.size(); ++k) {
@@ -252,8 +257,8 @@ class StepTimes {
         all += its;
         if (cpu_[k] >= p99) tail += its;
       }
-      state.counters["its_" + names[t]] = all / static_cast<double>(cpu_.size());
-      state.counters["tail_its_" + names[t]] = tail / tail_n;
+      state.counters[prefix + "its_" + names[t]] = all / static_cast<double>(cpu_.size());
+      state.counters[prefix + "tail_its_" + names[t]] = tail / tail_n;
     }
     if (probes_.size() == cpu_.size()) {
       double all = 0.0, tail = 0.0;
@@ -261,15 +266,20 @@ class StepTimes {
         all += probes_[k];
         if (cpu_[k] >= p99) tail += probes_[k];
       }
-      state.counters["probes"] = all / static_cast<double>(cpu_.size());
-      state.counters["tail_probes"] = tail / tail_n;
+      state.counters[prefix + "probes"] = all / static_cast<double>(cpu_.size());
+      state.counters[prefix + "tail_probes"] = tail / tail_n;
     }
   }
-  void report(benchmark::State& state) {
-    state.counters["median_us"] = pick(wall_, 0.5);
-    state.counters["p99_us"] = pick(wall_, 0.99);
-    state.counters["cpu_median_us"] = pick(cpu_, 0.5);
-    state.counters["cpu_p99_us"] = pick(cpu_, 0.99);
+  void report(benchmark::State& state, const std::string& prefix = "") {
+    state.counters[prefix + "median_us"] = pick(wall_, 0.5);
+    state.counters[prefix + "p99_us"] = pick(wall_, 0.99);
+    state.counters[prefix + "cpu_median_us"] = pick(cpu_, 0.5);
+    state.counters[prefix + "cpu_p99_us"] = pick(cpu_, 0.99);
+  }
+  // The times of another run's steps added to these (a benchmark's phases, then all of them).
+  void add(const StepTimes& other) {
+    wall_.insert(wall_.end(), other.wall_.begin(), other.wall_.end());
+    cpu_.insert(cpu_.end(), other.cpu_.begin(), other.cpu_.end());
   }
 
  private:
@@ -672,6 +682,86 @@ void BM_StepStentRetriever(benchmark::State& state) {
   state.SetLabel("stent retriever across a clot, 2.8 mm artery");
 }
 
+// The bundled case (cases/neuro_thrombectomy_m1_stentretriever.case, the neuro mesh through the
+// collision tree: balloon guide > microcatheter > microwire, then the 4 x 20 mm stent on its push
+// wire) driven by its own action script (the simulator alone, no session): the access and the
+// unsheathing across the M1 clot are played untimed (48 s of the script); then timed: 2000 steps
+// of the dwell (the stent expanded, nothing moving), and from the script's 228 s the
+// microcatheter drawn into the guide at 20 mm/s and the stent pulled back at 10 mm/s with its
+// integrated clot's 78 mN payload, to 240 s (12,000 steps).
+void BM_StepStentRetrieverCase(benchmark::State& state) {
+  const std::string stem = std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_thrombectomy_m1_stentretriever";
+  const CaseParse c = load_case(stem + ".case");
+  const ScriptParse script = load_script(stem + ".actions");
+  if (!c || !script) {
+    state.SkipWithError("neuro_thrombectomy_m1_stentretriever: the case or its script did not load");
+    return;
+  }
+  WorldBuild built = build_world(*c);
+  if (!built) {
+    state.SkipWithError("neuro_thrombectomy_m1_stentretriever: no world");
+    return;
+  }
+  CountingWall wall((*built)->wall());
+  Simulator sim(wall, c->tools, (*built)->entry());
+  std::vector<ScriptPlayer::ToolInfo> infos;
+  for (std::size_t t = 0; t < sim.tool_count(); ++t) infos.push_back(tool_info(sim.rod(t).spec()));
+  cathbox::base::Result<ScriptPlayer> player = ScriptPlayer::make(*script, infos, sim.active_tool(), "script");
+  const std::size_t stent = sim.tool_count() - 1;
+  if (!player || !sim.stent(stent)) {
+    state.SkipWithError("the script does not fit the case, or its last tool is no stent retriever");
+    return;
+  }
+  auto play = [&](std::int64_t now) {
+    const ScriptPlayer::Step step = player->advance(now);
+    if (step.selected) sim.select(*step.selected);
+    for (std::size_t t = 0; t < sim.tool_count(); ++t) {
+      sim.set_insertion(t, player->insertion_mm(t));
+      sim.set_rotation(t, player->rotation_rad(t));
+    }
+  };
+  constexpr std::int64_t kDeployed_ms = 48000, kDwellSteps = 2000, kRetrieve_ms = 228000, kPull_ms = 234000;
+  std::int64_t now = 0;
+  for (; now < kDeployed_ms; ++now) {
+    play(now);
+    sim.step(1e-3);
+  }
+  const double rf_N = sim.stent(stent)->state().radial_force_N;
+  const double unsheathed_mm = sim.stent(stent)->state().unsheathed_mm;
+  StepTimes dwell(kDwellSteps), retrieval(1 << 14);
+  dwell.count_probes(wall);
+  retrieval.count_probes(wall);
+  std::int64_t i = 0, peak_ms = 0;
+  double peak_mN = 0.0;
+  for (auto _ : state) {
+    if (i == kDwellSteps) {  // the rest of the dwell: nothing moves
+      for (; now < kRetrieve_ms; ++now) player->advance(now);
+      retrieval.count_probes(wall);
+    }
+    if (now == kPull_ms) sim.set_stent_payload(stent, 78.0);
+    play(now++);
+    (i++ < kDwellSteps ? dwell : retrieval).step(sim);
+    if (now > kPull_ms && sim.rod(stent).converged() && -sim.hand_force_mN(stent) > peak_mN) {
+      peak_mN = -sim.hand_force_mN(stent);
+      peak_ms = now;
+    }
+  }
+  state.counters["peak_pull_at_ms"] = static_cast<double>(peak_ms);
+  const std::vector<std::string> names{"guide", "micro", "wire", "stent"};
+  dwell.report_tail(state, names, "dwell_");
+  retrieval.report_tail(state, names, "retrieval_");
+  dwell.report(state, "dwell_");
+  retrieval.report(state, "retrieval_");
+  StepTimes all(1 << 15);
+  all.add(dwell);
+  all.add(retrieval);
+  all.report(state);
+  state.counters["radial_force_N"] = rf_N;
+  state.counters["unsheathed_mm"] = unsheathed_mm;
+  state.counters["peak_pull_N"] = 1e-3 * peak_mN;
+  state.SetLabel("bundled M1 case: dwell, then retrieval");
+}
+
 // host/python's DualDevice-v0 under a random policy at stEVE's physics step (period_us=6000):
 // the neuro case's catheter with its guidewire inside, one env step = 22 ticks of 6 ms (1/7.5 s),
 // each device's speeds drawn every env step uniformly in stEVE's box (±50 mm/s, ±3.14 rad/s) from
@@ -746,6 +836,7 @@ BENCHMARK(BM_WallReprobe)->ArgName("fused")->Arg(0)->Arg(1)->Unit(benchmark::kMi
 BENCHMARK(BM_StepCoilDeploy)->Unit(benchmark::kMicrosecond)->Iterations(7400);  // 148 mm of coil
 BENCHMARK(BM_StepCoilPacking)->Unit(benchmark::kMicrosecond)->Iterations(4000);  // 80 mm of the third coil
 BENCHMARK(BM_StepStentRetriever)->Unit(benchmark::kMicrosecond)->Iterations(9000);  // unsheathing, then retrieval
+BENCHMARK(BM_StepStentRetrieverCase)->Unit(benchmark::kMicrosecond)->Iterations(14000);  // dwell 2 s, retrieval 12 s
 
 }  // namespace
 

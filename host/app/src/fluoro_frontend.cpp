@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "app/stent_view.hpp"
 #include "flow/head_phantom.hpp"
 
 namespace cathbox::app {
@@ -15,10 +16,20 @@ std::vector<FluoroTool> tools_at(const session::SceneSnapshot& snapshot, const S
   const int tools = std::min(count, session::SceneSnapshot::kMaxTools);
   for (int i = 0; i < tools; ++i) {
     const auto k = static_cast<std::size_t>(i);
+    const session::ToolView& view = snapshot.tools[k];
     FluoroTool tool;
-    tool.nodes_mm = at_pulse != nullptr ? (*at_pulse)[k] : snapshot.tools[k].nodes_mm;
-    tool.radius_mm = snapshot.tools[k].radius_mm;
-    if (const float stent_mm = snapshot.tools[k].stent_length_mm; stent_mm > 0.0F) {
+    tool.nodes_mm = at_pulse != nullptr ? (*at_pulse)[k] : view.nodes_mm;
+    tool.radius_mm = view.radius_mm;
+    if (const float stent_mm = view.stent_length_mm; stent_mm > 0.0F) {
+      // The push wire at its own radius up to the stent, which alone is drawn expanded: its
+      // proximal band then shows on the thin wire, not inside a wire as wide as the stent.
+      if (const std::size_t split = expanded_stent_first_node(view, tool.nodes_mm); split > 0) {
+        FluoroTool wire;
+        wire.nodes_mm.assign(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split) + 1);
+        wire.radius_mm = view.wire_radius_mm;
+        tool.nodes_mm.erase(tool.nodes_mm.begin(), tool.nodes_mm.begin() + static_cast<std::ptrdiff_t>(split));
+        out.push_back(std::move(wire));
+      }
       // A stent retriever's nitinol struts are faint; its platinum bands at both ends show
       // where it is (and, apart, that it is unsheathed).
       tool.markers.push_back({0.0, kStentMarker_mm, flow::XrayMaterial::kPlatinum});

@@ -10,6 +10,7 @@
 
 #include "app/gl.hpp"
 #include "app/orbit_camera.hpp"
+#include "app/stent_view.hpp"
 
 namespace cathbox::app {
 namespace {
@@ -144,12 +145,31 @@ void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSett
     const ToolView& tv = coil ? snapshot.coils[static_cast<std::size_t>(i - tools)] : snapshot.tools[static_cast<std::size_t>(i)];
     ToolDraw& td = tools_[static_cast<std::size_t>(i)];
     td.color = coil ? SceneColors::kReleasedCoil : tv.active ? SceneColors::kActiveTool : SceneColors::kOtherTool;
-    tube_.build(tv.nodes_mm, tv.frames, std::max(tv.radius_mm, settings.min_tool_radius_mm));
+    build_tool_tube(tv, std::max(tv.radius_mm, settings.min_tool_radius_mm), std::max(tv.wire_radius_mm, settings.min_tool_radius_mm));
     td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
-    tube_.build(tv.nodes_mm, tv.frames, tv.radius_mm);
+    build_tool_tube(tv, tv.radius_mm, tv.wire_radius_mm);
     td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
   }
   update_contacts(snapshot, settings.min_tool_radius_mm);
+}
+
+// A tool's tube at radius_mm; an expanded stent retriever's push wire at wire_radius_mm up to
+// its stent section, the section at radius_mm (one mesh: the two tubes share the split node).
+void SceneRenderer::build_tool_tube(const ToolView& tv, float radius_mm, float wire_radius_mm) {
+  const std::size_t split = expanded_stent_first_node(tv, tv.nodes_mm);
+  if (split == 0) {
+    tube_.build(tv.nodes_mm, tv.frames, radius_mm);
+    return;
+  }
+  const std::span<const glm::vec3> nodes(tv.nodes_mm);
+  const std::span<const glm::vec3> frames(tv.frames);
+  const bool framed = frames.size() == nodes.size();
+  stent_tube_.build(nodes.subspan(split), framed ? frames.subspan(split) : frames.first(0), radius_mm);
+  tube_.build(nodes.first(split + 1), framed ? frames.first(split + 1) : frames.first(0), wire_radius_mm);
+  const auto base = static_cast<std::uint32_t>(tube_.positions_mm.size());
+  tube_.positions_mm.insert(tube_.positions_mm.end(), stent_tube_.positions_mm.begin(), stent_tube_.positions_mm.end());
+  tube_.normals.insert(tube_.normals.end(), stent_tube_.normals.begin(), stent_tube_.normals.end());
+  for (const std::uint32_t i : stent_tube_.triangles) tube_.triangles.push_back(base + i);
 }
 
 void SceneRenderer::update_contacts(const SceneSnapshot& snapshot, float size_mm) {

@@ -43,6 +43,7 @@ void Session::publish() {
     const std::vector<tool::ToolSpec>& specs = scene_->spec.tools;
     const bool stent = static_cast<std::size_t>(i) < specs.size() && specs[static_cast<std::size_t>(i)].stent.present();
     tv.stent_length_mm = stent ? static_cast<float>(specs[static_cast<std::size_t>(i)].stent.length_mm) : 0.0F;
+    tv.wire_radius_mm = stent && !t.radii_mm.empty() ? *std::min_element(t.radii_mm.begin(), t.radii_mm.end()) : 0.0F;
     for (const tool::RodContact& c : t.contacts) {
       if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
       s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});

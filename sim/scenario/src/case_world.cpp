@@ -104,16 +104,19 @@ WorldBuild build_world(const Case& c, std::string_view vessel_text, const vessel
   } else {
     return base::Error{c.vessel_path + ":0: the vessel has no root segment to enter"};
   }
-  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree), entry);
-  world->set_sac(c.aneurysm ? c.aneurysm : find_sac(surface.smoothed, surface.mesh));
-  world->set_mesh(std::make_shared<const vessel::SurfaceMesh>(std::move(surface.mesh)));
+  // The wall knows the surface and the centrelines it was built from: its lumen radius (a stent
+  // retriever's expanded diameter, WallModel::lumen_radius_mm) reads them; the world shares them.
+  auto drawn = std::make_shared<const WallSurface>(WallSurface{std::move(surface.smoothed), std::move(surface.mesh)});
+  auto world = std::make_unique<CaseWorld>(std::make_unique<MeshWall>(*tree, MeshWall::kDefaultHintSlots, drawn), entry);
+  world->set_sac(c.aneurysm ? c.aneurysm : find_sac(drawn->model, drawn->mesh));
+  world->set_mesh(std::shared_ptr<const vessel::SurfaceMesh>(drawn, &drawn->mesh));
   world->set_surface_given(!c.surface_path.empty());
   if (c.target) {
-    for (const vessel::Segment& s : surface.smoothed.segments) {
+    for (const vessel::Segment& s : drawn->model.segments) {
       if (s.id == c.target->segment) world->set_target(along(s, c.target->fraction));
     }
   }
-  world->set_model(std::make_shared<const vessel::VesselModel>(std::move(surface.smoothed)));
+  world->set_model(std::shared_ptr<const vessel::VesselModel>(drawn, &drawn->model));
   world->set_source_model(std::make_shared<const vessel::VesselModel>(read.model));
   return WorldBuild(std::move(world));
 }

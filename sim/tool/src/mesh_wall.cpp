@@ -28,7 +28,7 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   std::optional<collision::ClosestPoint> cp;
   std::array<collision::Contact, 3> contacts;
   std::size_t count = 0;
-  const bool fused = fused_ && coherent && touching_[hint.index] != 0 && touch <= reach;
+  const bool fused = fused_ && probe.second_wall && coherent && touching_[hint.index] != 0 && touch <= reach;
   if (fused) count = tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index], cp);
   if (!cp) {
     cp = coherent ? tree_.closest_point(probe.center_mm, reach, hints_[hint.index]) : tree_.closest_point(probe.center_mm, reach);
@@ -48,7 +48,7 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
   out.distance_mm = -cp->signed_distance_mm;
   // A node in a crease touches two faces; with one plane it would slip from one to the other.
   out.has_second = false;
-  if (cp->distance_mm < touch || cp->signed_distance_mm > 0.0) {
+  if (probe.second_wall && (cp->distance_mm < touch || cp->signed_distance_mm > 0.0)) {
     // (After a fused query that found nothing within `touch`, there are no contacts either.)
     if (!fused) {
       count = coherent ? tree_.sphere_contacts(probe.center_mm, touch, contacts, hints_[hint.index])

@@ -29,6 +29,10 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     probe.radius_mm = radius_[k];
     probe.range_mm = settings_.query_range_mm;
     probe.margin_mm = settings_.contact_margin_mm;
+    // A node widened past its section (an expanded stent filling its lumen) touches the ring
+    // of the wall all round: its closest wall alone, no crease's second plane (every facet of
+    // the ring would be one, and the search for it is most of such a node's probe).
+    probe.second_wall = !(radius_[k] > 0.5 * section_at(k).outer_diameter_mm);
     probe.depth_mm = insertion_mm_ - from_tip_[k];
     WallContact wc;
     c.query_pos = x_[k];

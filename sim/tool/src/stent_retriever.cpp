@@ -86,12 +86,16 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
     // drawn into the catheter: its cells collapse from that end and it no longer fills the lumen.
     const double out_mm = rod.node_from_tip_mm(rod.first_free_node());
     const double flare = out_mm > spec_.length_mm + kStentClearance_mm ? std::min(1.0, (out_mm - rod.node_from_tip_mm(k)) / kStentFlare_mm) : 0.0;
+    // The room binds only when it is below (1 - play) of the fill radius: the wall is looked
+    // for that far and no further (a bounded query, which the mesh's coherent hint answers at
+    // once for a node clear of it), with the same radius as a search of the whole lumen.
+    const double fill_mm = 0.5 * expanded_mm_[k] - kStentClearance_mm;
     WallProbe probe;
     probe.center_mm = x[k];
-    probe.range_mm = 0.5 * spec_.diameter_mm + 1.0;
+    probe.range_mm = std::max(0.0, (1.0 - kStentPlay) * fill_mm);
+    probe.second_wall = false;
     WallContact c;
-    const double room_mm = wall.probe(probe, hints_[k], c) ? c.distance_mm : probe.range_mm;
-    const double fill_mm = 0.5 * expanded_mm_[k] - kStentClearance_mm;
+    const double room_mm = wall.probe(probe, hints_[k], c) ? c.distance_mm : fill_mm;
     rod.set_contact_radius(k, flare * std::min(fill_mm, room_mm + kStentPlay * fill_mm));
     s.unsheathed_mm += share;
     s.min_diameter_mm = s.min_diameter_mm > 0.0 ? std::min(s.min_diameter_mm, expanded_mm_[k]) : expanded_mm_[k];

@@ -774,6 +774,36 @@ TEST(FluoroFrontend, AStentRetrieverShowsItsTwoEndMarkersNotAPlatinumTip) {
   EXPECT_EQ(check_fluoro_inputs(in, 0), "");
 }
 
+// Expanded (the push wire's narrowest node below its widest), the stent section alone is drawn
+// at the stent's radius, after the push wire at its own: the proximal band lies on the stent's
+// proximal end, not inside a wire drawn as wide as the stent.
+TEST(FluoroFrontend, AnExpandedStentIsDrawnWideAndItsPushWireThin) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 1;
+  for (int z = 0; z <= 60; z += 5) snap.tools[0].nodes_mm.push_back({0.0F, 0.0F, 100.0F + static_cast<float>(z)});
+  snap.tools[0].stent_length_mm = 20.0F;
+  snap.tools[0].radius_mm = 1.3F;
+  snap.tools[0].wire_radius_mm = 0.2F;
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  const FluoroTool& wire = in.shown.tools[0];
+  const FluoroTool& stent = in.shown.tools[1];
+  EXPECT_EQ(wire.radius_mm, 0.2F);
+  EXPECT_TRUE(wire.markers.empty());
+  ASSERT_EQ(wire.nodes_mm.size(), 9U);  // 100 ... 140 mm: the stent's 20 mm begin at 140
+  EXPECT_EQ(wire.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 140.0F));
+  EXPECT_EQ(stent.radius_mm, 1.3F);
+  ASSERT_EQ(stent.nodes_mm.size(), 5U);
+  EXPECT_EQ(stent.nodes_mm.front(), wire.nodes_mm.back());
+  EXPECT_EQ(stent.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 160.0F));
+  ASSERT_EQ(stent.markers.size(), 2U);
+  EXPECT_EQ(stent.markers[1].from_tip_mm, 20.0 - kStentMarker_mm);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+  // Crimped (no node wider than the wire) it stays one tool.
+  snap.tools[0].radius_mm = 0.2F;
+  EXPECT_EQ(fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{}).shown.tools.size(), 1U);
+}
+
 // Released coils (SceneSnapshot::coils) reach the image as platinum tools after the case's
 // tools: live in continuous fluoroscopy, at the shown pulse with the session's unit.
 TEST(FluoroFrontend, ReleasedCoilsArePlatinumToolsAfterTheTools) {

@@ -119,6 +119,8 @@ class SceneRenderer {
   std::array<ToolDraw, SceneSnapshot::kMaxTools + SceneSnapshot::kMaxCoils> tools_;
   int tool_count_ = 0;  // tools and coils drawn
   TubeMesh tube_;
+  TubeMesh stent_tube_;  // an expanded stent section, appended to tube_
+  void build_tool_tube(const ToolView& tv, float radius_mm, float wire_radius_mm);
 };
 
 }  // namespace cathbox::app

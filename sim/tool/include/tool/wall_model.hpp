@@ -18,6 +18,9 @@ struct WallProbe {
   double radius_mm = 0.0;
   double range_mm = 2.0;     // report the wall only if the node surface is within this distance
   double margin_mm = 0.15;   // a second touching wall is looked for within this distance
+  // False: the closest wall alone, no second wall (a node as wide as its lumen, an expanded
+  // stent's: it touches the whole ring, and every facet would be a "second wall").
+  bool second_wall = true;
   double depth_mm = 0.0;     // how far past the entry this node is along its tool (coaxial walls use it)
 };
 
