@@ -21,8 +21,15 @@ function(cathbox_add_test)
   cathbox_target_warnings(${A_NAME})
   gtest_discover_tests(${A_NAME}
     WORKING_DIRECTORY ${PROJECT_BINARY_DIR}
-    PROPERTIES LABELS "${A_LABELS}" TIMEOUT ${A_TIMEOUT}
+    PROPERTIES TIMEOUT ${A_TIMEOUT}
     DISCOVERY_TIMEOUT 60)
+  # The labels are set after discovery, from the list of discovered tests: a list given through
+  # gtest_discover_tests' PROPERTIES is flattened into name/value pairs ("slow;long" gave LABELS
+  # slow and a property named "long"), so every label but the first was lost.
+  set(labels_file ${CMAKE_CURRENT_BINARY_DIR}/${A_NAME}_labels.cmake)
+  file(WRITE ${labels_file}
+    "if(${A_NAME}_TESTS)\n  set_tests_properties(\${${A_NAME}_TESTS} PROPERTIES LABELS \"${A_LABELS}\")\nendif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${labels_file})
 endfunction()
 
 # cathbox_add_fuzzer(NAME n SOURCES ... [LIBS ...] [CORPUS dir ...])
