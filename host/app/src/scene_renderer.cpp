@@ -1,6 +1,7 @@
 #include "app/scene_renderer.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -148,6 +149,16 @@ void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSett
     build_tool_tube(tv, std::max(tv.radius_mm, settings.min_tool_radius_mm), std::max(tv.wire_radius_mm, settings.min_tool_radius_mm));
     td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
     build_tool_tube(tv, tv.radius_mm, tv.wire_radius_mm);
+    td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
+  }
+  const int clots = std::min(snapshot.clot_count, SceneSnapshot::kMaxClots);
+  for (int k = 0; k < clots; ++k) {
+    const session::ClotView& c = snapshot.clots[static_cast<std::size_t>(k)];
+    ToolDraw& td = tools_[static_cast<std::size_t>(tool_count_++)];
+    td.color = SceneColors::kClot;
+    const std::array<glm::vec3, 2> axis{c.start_mm, c.end_mm};
+    tube_.build(axis, {}, c.radius_mm, 12);
+    td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
     td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
   }
   update_contacts(snapshot, settings.min_tool_radius_mm);

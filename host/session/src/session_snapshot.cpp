@@ -84,6 +84,9 @@ void Session::publish() {
     s.aspirating = a && thrombectomy_->aspirating(*a);
     s.balloon_guide_tool = b ? static_cast<int>(*b) : -1;
     s.flow_arrest = thrombectomy_->arrested();
+    s.clot_count = static_cast<int>(std::min<std::size_t>(thrombectomy_->clots().size(), SceneSnapshot::kMaxClots));
+    for (int k = 0; k < s.clot_count; ++k) s.clots[static_cast<std::size_t>(k)] = thrombectomy_->clot_view(static_cast<std::size_t>(k));
+    s.clots_removed = thrombectomy_->clots_removed();
   }
   exchange_.publish();
 }

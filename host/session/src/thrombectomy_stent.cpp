@@ -126,6 +126,7 @@ void ThrombectomyUnit::deploy_stent(StentPass& p, std::int64_t time_us, const to
   const StentCover cover = stent_cover(sim, p.tool);
   if (cover.thrombus.empty()) return;
   p.deployed = true;
+  p.thrombus = cover.thrombus;  // drawn engaged (start_retrieval looks again)
   p.cover = cover.share;
   p.deployed_insertion_mm = sim.insertion_mm(p.tool);
   p.dwell_s = 0.0;
@@ -138,6 +139,7 @@ void ThrombectomyUnit::deploy_stent(StentPass& p, std::int64_t time_us, const to
 void ThrombectomyUnit::start_retrieval(StentPass& p, std::int64_t time_us, tool::Simulator& sim) {
   const StentCover cover = stent_cover(sim, p.tool);
   p.retrieving = true;
+  if (p.tool < tips_.size()) p.retrieval_tip_mm = tips_[p.tool];
   p.peak_pull_mN = sim.rod(p.tool).converged() ? std::max(0.0, -sim.hand_force_mN(p.tool)) : 0.0;
   if (cover.thrombus.empty()) {  // it has moved off the clot (or the clot went in another pass)
     p.captured = false;
@@ -192,6 +194,25 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   }
   reset(p);
   grade_pass(time_us, std::move(removed), fragment);
+}
+
+ClotView ThrombectomyUnit::clot_view(std::size_t k) const {
+  const flow::Clot& c = clots_[k];
+  glm::dvec3 shift(0.0);
+  ClotState state = ClotState::kInPlace;
+  if (engaged_tool_ && std::find(engaged_.begin(), engaged_.end(), k) != engaged_.end()) state = ClotState::kEngaged;
+  for (const StentPass& p : stents_) {
+    if (!p.deployed || std::find(p.thrombus.begin(), p.thrombus.end(), k) == p.thrombus.end()) continue;
+    state = ClotState::kEngaged;
+    if (p.retrieving && p.captured && p.tool < tips_.size()) {
+      state = ClotState::kDragged;
+      shift = tips_[p.tool] - p.retrieval_tip_mm;
+    }
+  }
+  const double mid_mm = c.arc_start_mm + 0.5 * c.length_mm;
+  return {glm::vec3(locator_.point_at(c.segment, c.arc_start_mm) + shift),
+          glm::vec3(locator_.point_at(c.segment, c.arc_start_mm + c.length_mm) + shift),
+          static_cast<float>(locator_.radius_at(c.segment, mid_mm)), state};
 }
 
 }  // namespace cathbox::session

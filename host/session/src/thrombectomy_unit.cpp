@@ -271,6 +271,7 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   const int pass = figures_.passes;
   std::sort(removed.rbegin(), removed.rend());
   for (const std::size_t k : removed) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
+  clots_removed_ += static_cast<int>(removed.size());
   // The control run: the network without the arrest.
   if (!resolve(time_us, false)) return;
   std::optional<flow::Clot> embolus;

@@ -17,6 +17,9 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
 
 #include "flow/reperfusion.hpp"
 #include "session/session.hpp"
@@ -101,15 +104,44 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
   const std::size_t stent = s.simulator().find_tool("stent");
   std::string lines;
   double integration = 0.0;
+  // The published snapshot's clot, tick by tick: in place, engaged by the stent, dragged with
+  // it (its face moved with the stent's tip), then removed.
+  std::vector<ClotState> states;
+  float dragged_mm = 0.0F;
+  glm::vec3 face_mm(0.0F);
+  {
+    s.snapshots().acquire();
+    const SceneSnapshot& first = s.snapshots().read_slot();
+    ASSERT_EQ(first.clot_count, 1);
+    face_mm = first.clots[0].start_mm;
+    EXPECT_NEAR(first.clots[0].start_mm.z, 36.0F, 0.5F) << "the clot's face, 6 mm into the branch at z = 30";
+    EXPECT_NEAR(glm::distance(first.clots[0].start_mm, first.clots[0].end_mm), 10.0F, 0.5F);
+    EXPECT_NEAR(first.clots[0].radius_mm, 1.4F, 0.05F);
+  }
+  int removed = 0;
+  int count_after = -1;
   while (!s.over()) {
     s.step_virtual(100);
     integration = std::max(integration, s.thrombectomy()->stent_integration(stent));
+    s.snapshots().acquire();
+    const SceneSnapshot& snap = s.snapshots().read_slot();
+    if (snap.clot_count > 0 && (states.empty() || states.back() != snap.clots[0].state)) states.push_back(snap.clots[0].state);
+    if (snap.clot_count > 0 && snap.clots[0].state == ClotState::kDragged) {
+      dragged_mm = std::max(dragged_mm, glm::distance(face_mm, snap.clots[0].start_mm));
+    }
+    removed = snap.clots_removed;
+    count_after = snap.clot_count;
     for (LogEvent e; s.events().pop(e);) lines += std::string(e.text.data()) + "\n";
   }
   std::printf("%s", lines.c_str());
   EXPECT_NE(lines.find("stent retriever across the clot"), std::string::npos);
   EXPECT_NE(lines.find("the clot comes with the stent"), std::string::npos);
   EXPECT_GT(integration, 0.9);
+  EXPECT_EQ(states, (std::vector<ClotState>{ClotState::kInPlace, ClotState::kEngaged, ClotState::kDragged}));
+  EXPECT_GT(dragged_mm, 5.0F) << "the dragged clot moves with the stent";
+  EXPECT_EQ(removed, 1);
+  EXPECT_EQ(count_after, 0) << "a removed clot is no longer drawn";
+  std::printf("snapshot clot: dragged %.1f mm before it came out\n", static_cast<double>(dragged_mm));
   const Metrics m = s.metrics();
   ASSERT_TRUE(m.thrombectomy);
   const ThrombectomyFigures& t = *m.thrombectomy;

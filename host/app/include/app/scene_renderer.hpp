@@ -41,6 +41,7 @@ struct SceneColors {
   static constexpr glm::vec3 kReleasedCoil{0.85F, 0.80F, 0.70F};  // platinum
   static constexpr glm::vec3 kTarget{1.00F, 0.85F, 0.10F};
   static constexpr glm::vec3 kContact{1.00F, 0.45F, 0.00F};
+  static constexpr glm::vec3 kClot{0.35F, 0.03F, 0.05F};  // dark red: a thrombus
 };
 
 class SceneRenderer {
@@ -115,9 +116,10 @@ class SceneRenderer {
     GpuMesh local;
     glm::vec3 color{1.0F};
   };
-  // The tools, then the released coils (SceneSnapshot::coils).
-  std::array<ToolDraw, SceneSnapshot::kMaxTools + SceneSnapshot::kMaxCoils> tools_;
-  int tool_count_ = 0;  // tools and coils drawn
+  // The tools, then the released coils (SceneSnapshot::coils), then the clots (SceneSnapshot::
+  // clots: a tube of the clot's radius from its face to its distal end, wherever it is now).
+  std::array<ToolDraw, SceneSnapshot::kMaxTools + SceneSnapshot::kMaxCoils + SceneSnapshot::kMaxClots> tools_;
+  int tool_count_ = 0;  // tools, coils and clots drawn
   TubeMesh tube_;
   TubeMesh stent_tube_;  // an expanded stent section, appended to tube_
   void build_tool_tube(const ToolView& tv, float radius_mm, float wire_radius_mm);

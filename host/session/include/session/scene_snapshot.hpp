@@ -24,6 +24,21 @@ struct ToolView {
   float wire_radius_mm = 0.0F;
 };
 
+// A clot of the case (or an embolus a pass left), as the 3D views draw it: a body of its radius
+// from its proximal face to its distal end. Removed clots are no longer listed.
+enum class ClotState : std::uint8_t {
+  kInPlace,  // where the case (or the flow, for an embolus) put it
+  kEngaged,  // a stent retriever expanded across it, or an aspiration catheter on its face
+  kDragged,  // held by a stent retriever being withdrawn: it moves with the stent
+};
+
+struct ClotView {
+  glm::vec3 start_mm{0.0F};  // proximal face
+  glm::vec3 end_mm{0.0F};    // distal end
+  float radius_mm = 0.0F;
+  ClotState state = ClotState::kInPlace;
+};
+
 struct ContactView {
   glm::vec3 point_mm{0.0F};
   float force_mN = 0.0F;
@@ -33,6 +48,7 @@ struct SceneSnapshot {
   static constexpr int kMaxTools = static_cast<int>(session::kMaxTools);
   static constexpr int kMaxCoils = static_cast<int>(session::kMaxReleasedCoils);
   static constexpr std::size_t kMaxContacts = 64;
+  static constexpr int kMaxClots = 16;
 
   std::int64_t sim_time_us = 0;
   std::int64_t tick = 0;              // ticks run so far
@@ -71,6 +87,10 @@ struct SceneSnapshot {
   bool aspirating = false;
   int balloon_guide_tool = -1;
   bool flow_arrest = false;
+  // The clots that remain (thrombectomy_unit.hpp: the case's, and the emboli of the passes).
+  std::array<ClotView, kMaxClots> clots;
+  int clot_count = 0;
+  int clots_removed = 0;  // taken out by the passes so far
   FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 
   // Lets the vectors hold `nodes_per_tool` nodes per tool and per coil without allocating.

@@ -55,6 +55,7 @@
 #include "flow/reperfusion.hpp"
 #include "session/control.hpp"
 #include "session/metrics.hpp"
+#include "session/scene_snapshot.hpp"
 #include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
@@ -100,6 +101,10 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] std::uint64_t flow_generation() const { return flow_generation_; }
   [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
   [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
+  // Clot `k` (k < clots().size()) as the views draw it, as of the last tick: a dragged clot is
+  // moved by the displacement of its stent's tip since the retrieval began.
+  [[nodiscard]] ClotView clot_view(std::size_t k) const;
+  [[nodiscard]] int clots_removed() const { return clots_removed_; }
 
  private:
   ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
@@ -167,10 +172,12 @@ class ThrombectomyUnit final : public ControlHandler {
     std::int64_t last_us = -1;
     double tried_unsheathed_mm = -1e9;  // where a deployment over no clot was last looked at
     double tried_insertion_mm = -1e9;
+    glm::dvec3 retrieval_tip_mm{0.0};  // the stent's tip when the retrieval began
   };
   std::vector<StentPass> stents_;
   ThrombectomyFigures figures_;
   std::uint64_t flow_generation_ = 0;
+  int clots_removed_ = 0;
 };
 
 }  // namespace cathbox::session
