@@ -46,16 +46,24 @@ std::optional<Error> check_tool(const nlohmann::json& tool, const std::string& a
   return std::nullopt;
 }
 
-std::optional<Error> check_tools(const nlohmann::json& frame) {
-  const auto it = frame.find("tools");
+// The frame's array `key` (when present): at most `max` entries, each passing `check_entry`
+// (entry, "key[i]").
+template <class CheckEntry>
+std::optional<Error> check_array(const nlohmann::json& frame, const std::string& key, std::size_t max, const char* what,
+                                 CheckEntry check_entry) {
+  const auto it = frame.find(key);
   if (it == frame.end()) return std::nullopt;
-  if (!it->is_array() || it->size() > kMaxToolsPerFrame) {
-    return frame_error("tools", "expected an array of at most " + std::to_string(kMaxToolsPerFrame) + " tools");
+  if (!it->is_array() || it->size() > max) {
+    return frame_error(key, "expected an array of at most " + std::to_string(max) + " " + what);
   }
-  for (std::size_t t = 0; t < it->size(); ++t) {
-    if (std::optional<Error> e = check_tool((*it)[t], "tools[" + std::to_string(t) + "]")) return e;
+  for (std::size_t i = 0; i < it->size(); ++i) {
+    if (std::optional<Error> e = check_entry((*it)[i], key + "[" + std::to_string(i) + "]")) return e;
   }
   return std::nullopt;
+}
+
+std::optional<Error> check_tools(const nlohmann::json& frame) {
+  return check_array(frame, "tools", kMaxToolsPerFrame, "tools", check_tool);
 }
 
 // "forces" and "metrics": named numbers (or booleans).
@@ -76,24 +84,19 @@ std::optional<Error> check_number_groups(const nlohmann::json& frame) {
   return std::nullopt;
 }
 
-std::optional<Error> check_contacts(const nlohmann::json& frame) {
-  const auto it = frame.find("contacts");
-  if (it == frame.end()) return std::nullopt;
-  if (!it->is_array() || it->size() > kMaxContactsPerFrame) {
-    return frame_error("contacts", "expected an array of at most " + std::to_string(kMaxContactsPerFrame) + " contacts");
-  }
-  for (std::size_t c = 0; c < it->size(); ++c) {
-    const nlohmann::json& contact = (*it)[c];
-    const std::string at = "contacts[" + std::to_string(c) + "]";
-    if (!contact.is_object() || contact.size() > 2) return frame_error(at, "expected an object {p_mm, f_mN}");
-    const auto p = contact.find("p_mm");
-    if (p == contact.end()) return frame_error(at + ".p_mm", "missing");
-    if (const std::string bad = check_vec3(*p); !bad.empty()) return frame_error(at + ".p_mm", bad);
-    const auto force = contact.find("f_mN");
-    if (force == contact.end()) return frame_error(at + ".f_mN", "missing");
-    if (const std::string bad = check_number(*force); !bad.empty()) return frame_error(at + ".f_mN", bad);
-  }
+std::optional<Error> check_contact(const nlohmann::json& contact, const std::string& at) {
+  if (!contact.is_object() || contact.size() > 2) return frame_error(at, "expected an object {p_mm, f_mN}");
+  const auto p = contact.find("p_mm");
+  if (p == contact.end()) return frame_error(at + ".p_mm", "missing");
+  if (const std::string bad = check_vec3(*p); !bad.empty()) return frame_error(at + ".p_mm", bad);
+  const auto force = contact.find("f_mN");
+  if (force == contact.end()) return frame_error(at + ".f_mN", "missing");
+  if (const std::string bad = check_number(*force); !bad.empty()) return frame_error(at + ".f_mN", bad);
   return std::nullopt;
+}
+
+std::optional<Error> check_contacts(const nlohmann::json& frame) {
+  return check_array(frame, "contacts", kMaxContactsPerFrame, "contacts", check_contact);
 }
 
 std::optional<Error> check_fluoro(const nlohmann::json& frame) {
