@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "scenario/case_file.hpp"  // the default tools
 #include "tool/simulator.hpp"
 
 namespace cathbox::bench {

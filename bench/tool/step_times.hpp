@@ -1,0 +1,128 @@
+#pragma once
+// Per-step timing of bench_tool's step benchmarks: wall and thread-CPU time, Newton iterations,
+// preemptions, page faults and wall probes of each step; medians, p99s and the tail as counters.
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <sys/resource.h>
+
+#include <benchmark/benchmark.h>
+
+#include "../bench_samples.hpp"
+#include "counting_wall.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::bench {
+
+// Wall and thread-CPU time of each step; median and p99 as counters.
+class StepTimes {
+ public:
+  explicit StepTimes(std::size_t steps) {
+    wall_.reserve(steps);
+    cpu_.reserve(steps);
+    its_.reserve(3 * steps);
+    switches_.reserve(steps);
+    faults_.reserve(steps);
+  }
+  // Times one sim.step() and keeps each rod's Newton iterations in it.
+  void step(tool::Simulator& sim) {
+    rusage r0{};
+    getrusage(RUSAGE_THREAD, &r0);
+    const double c0 = thread_cpu_us();
+    const auto t0 = std::chrono::steady_clock::now();
+    sim.step();
+    const auto t1 = std::chrono::steady_clock::now();
+    cpu_.push_back(thread_cpu_us() - c0);
+    wall_.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
+    rusage r1{};
+    getrusage(RUSAGE_THREAD, &r1);
+    switches_.push_back(static_cast<int>(r1.ru_nivcsw - r0.ru_nivcsw));
+    faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
+    rods_ = sim.tool_count();
+    for (std::size_t t = 0; t < rods_; ++t) its_.push_back(sim.rod(t).last_iterations());
+    if (wall_probes_ != nullptr) {
+      probes_.push_back(static_cast<double>(wall_probes_->probes() - probes_seen_));
+      probes_seen_ = wall_probes_->probes();
+    }
+  }
+  // Keep the wall probes each step makes (`probes`, and `tail_probes` over the tail steps).
+  void count_probes(const CountingWall& wall) {
+    wall_probes_ = &wall;
+    probes_seen_ = wall.probes();
+  }
+  [[nodiscard]] double last_wall_us() const { return wall_.back(); }
+  [[nodiscard]] std::size_t count() const { return wall_.size(); }
+  // Sorts v in place (callers read it sorted after) and takes its q-quantile.
+  static double pick(std::vector<double>& v, double q) {
+    std::sort(v.begin(), v.end());
+    return cathbox::bench::quantile_sorted(v, q);
+  }
+  // What the tail is made of: over the steps at or above the thread-CPU p99, each rod's mean
+  // Newton iterations (`tail_its_<name>`) beside its mean over all steps (`its_<name>`), the
+  // share of them the scheduler preempted (`tail_preempted_pct`, of all steps `preempted_pct`:
+  // another process ran on the core mid-step, and the step's thread CPU time carries the cache
+  // refill; a long step is likelier to be preempted, so under load the tail's share is high
+  // whatever made the step long) and their page faults. Call it before report(), which sorts
+  // the times.
+  void report_tail(benchmark::State& state, const std::vector<std::string>& names, const std::string& prefix = "") const {
+    if (cpu_.empty() || rods_ == 0 || its_.size() != cpu_.size() * rods_) return;
+    std::vector<double> sorted = cpu_;
+    const double p99 = pick(sorted, 0.99);
+    std::size_t tail_steps = 0, preempted = 0, faults = 0, all_preempted = 0;
+    for (std::size_t k = 0; k < cpu_.size(); ++k) {
+      all_preempted += switches_[k] > 0 ? 1 : 0;
+      if (cpu_[k] < p99) continue;
+      ++tail_steps;
+      preempted += switches_[k] > 0 ? 1 : 0;
+      faults += static_cast<std::size_t>(faults_[k]);
+    }
+    const double tail_n = static_cast<double>(std::max<std::size_t>(1, tail_steps));
+    state.counters[prefix + "preempted_pct"] = 100.0 * static_cast<double>(all_preempted) / static_cast<double>(cpu_.size());
+    state.counters[prefix + "tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
+    state.counters[prefix + "tail_faults"] = static_cast<double>(faults) / tail_n;
+    for (std::size_t t = 0; t < rods_ && t < names.size(); ++t) {
+      double all = 0.0, tail = 0.0;
+      for (std::size_t k = 0; k < cpu_.size(); ++k) {
+        const double its = its_[k * rods_ + t];
+        all += its;
+        if (cpu_[k] >= p99) tail += its;
+      }
+      state.counters[prefix + "its_" + names[t]] = all / static_cast<double>(cpu_.size());
+      state.counters[prefix + "tail_its_" + names[t]] = tail / tail_n;
+    }
+    if (probes_.size() == cpu_.size()) {
+      double all = 0.0, tail = 0.0;
+      for (std::size_t k = 0; k < cpu_.size(); ++k) {
+        all += probes_[k];
+        if (cpu_[k] >= p99) tail += probes_[k];
+      }
+      state.counters[prefix + "probes"] = all / static_cast<double>(cpu_.size());
+      state.counters[prefix + "tail_probes"] = tail / tail_n;
+    }
+  }
+  void report(benchmark::State& state, const std::string& prefix = "") {
+    state.counters[prefix + "median_us"] = pick(wall_, 0.5);
+    state.counters[prefix + "p99_us"] = pick(wall_, 0.99);
+    state.counters[prefix + "cpu_median_us"] = pick(cpu_, 0.5);
+    state.counters[prefix + "cpu_p99_us"] = pick(cpu_, 0.99);
+  }
+  // The times of another run's steps added to these (a benchmark's phases, then all of them).
+  void add(const StepTimes& other) {
+    wall_.insert(wall_.end(), other.wall_.begin(), other.wall_.end());
+    cpu_.insert(cpu_.end(), other.cpu_.begin(), other.cpu_.end());
+  }
+
+ private:
+  std::vector<double> wall_, cpu_;
+  std::vector<int> its_;  // Newton iterations, rods_ per step
+  std::vector<int> switches_, faults_;  // involuntary context switches and page faults per step
+  std::size_t rods_ = 0;
+  const CountingWall* wall_probes_ = nullptr;
+  std::uint64_t probes_seen_ = 0;
+  std::vector<double> probes_;  // wall probes per step
+};
+
+}  // namespace cathbox::bench

@@ -1,0 +1,126 @@
+// The trainer's fluoroscopy front end (fluoro_inputs_from_snapshot): what a session's snapshot
+// gives the fluoroscopic view (pulses at the rate, tools with their platinum markers, a stent
+// retriever's bands and its expanded stent, released coils). No GL.
+#include <gtest/gtest.h>
+
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "app/fluoro_frontend.hpp"
+
+namespace cathbox::app {
+namespace {
+
+// The trainer's front end today: a snapshot's tools under continuous 15 pulses/s fluoroscopy.
+TEST(FluoroFrontend, ASnapshotGivesPulsesAtTheRateAndItsToolsWithPlatinumTips) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 2;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.tools[0].radius_mm = 0.18F;
+  snap.tools[1].nodes_mm = {{1, 0, 100}, {1, 0, 105}};
+  snap.tools[1].radius_mm = 0.6F;
+  SnapshotFluoroSettings settings;
+  settings.pose.lao_deg = 30.0;
+  for (const auto& [time_us, pulse] : {std::pair{0LL, 0LL}, std::pair{66'666LL, 0LL}, std::pair{66'667LL, 1LL}, std::pair{1'000'000LL, 15LL}}) {
+    snap.sim_time_us = time_us;
+    const FluoroInputs in = fluoro_inputs_from_snapshot(snap, settings);
+    EXPECT_EQ(in.image.pulse, pulse) << time_us;
+    EXPECT_EQ(in.shown.pulse, pulse);
+    EXPECT_TRUE(in.image.beam_on);
+    EXPECT_EQ(in.pose, settings.pose);
+  }
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, settings);
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.tools[1].nodes_mm);
+  EXPECT_EQ(in.shown.tools[1].radius_mm, 0.6F);
+  ASSERT_EQ(in.shown.tools[0].markers.size(), 1U);
+  EXPECT_EQ(in.shown.tools[0].markers[0].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(in.shown.tools[0].markers[0].length_mm, settings.tip_marker_mm);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
+// A stent retriever's push wire: no 30 mm platinum tip, a 1 mm platinum band at each end of
+// its stent instead (the end markers of Solitaire- and Trevo-type devices).
+TEST(FluoroFrontend, AStentRetrieverShowsItsTwoEndMarkersNotAPlatinumTip) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 2;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.tools[1].nodes_mm = {{1, 0, 100}, {1, 0, 130}};
+  snap.tools[1].stent_length_mm = 20.0F;
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  ASSERT_EQ(in.shown.tools[0].markers.size(), 1U);
+  EXPECT_EQ(in.shown.tools[0].markers[0].length_mm, SnapshotFluoroSettings{}.tip_marker_mm);
+  const std::vector<FluoroMarker>& m = in.shown.tools[1].markers;
+  ASSERT_EQ(m.size(), 2U);
+  EXPECT_EQ(m[0].from_tip_mm, 0.0);
+  EXPECT_EQ(m[0].length_mm, kStentMarker_mm);
+  EXPECT_EQ(m[1].from_tip_mm, 20.0 - kStentMarker_mm);
+  EXPECT_EQ(m[1].length_mm, kStentMarker_mm);
+  EXPECT_EQ(m[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
+// Expanded (the push wire's narrowest node below its widest), the stent section alone is drawn
+// at the stent's radius, after the push wire at its own: the proximal band lies on the stent's
+// proximal end, not inside a wire drawn as wide as the stent.
+TEST(FluoroFrontend, AnExpandedStentIsDrawnWideAndItsPushWireThin) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 1;
+  for (int z = 0; z <= 60; z += 5) snap.tools[0].nodes_mm.push_back({0.0F, 0.0F, 100.0F + static_cast<float>(z)});
+  snap.tools[0].stent_length_mm = 20.0F;
+  snap.tools[0].radius_mm = 1.3F;
+  snap.tools[0].wire_radius_mm = 0.2F;
+  const FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  const FluoroTool& wire = in.shown.tools[0];
+  const FluoroTool& stent = in.shown.tools[1];
+  EXPECT_EQ(wire.radius_mm, 0.2F);
+  EXPECT_TRUE(wire.markers.empty());
+  ASSERT_EQ(wire.nodes_mm.size(), 9U);  // 100 ... 140 mm: the stent's 20 mm begin at 140
+  EXPECT_EQ(wire.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 140.0F));
+  EXPECT_EQ(stent.radius_mm, 1.3F);
+  ASSERT_EQ(stent.nodes_mm.size(), 5U);
+  EXPECT_EQ(stent.nodes_mm.front(), wire.nodes_mm.back());
+  EXPECT_EQ(stent.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 160.0F));
+  ASSERT_EQ(stent.markers.size(), 2U);
+  EXPECT_EQ(stent.markers[1].from_tip_mm, 20.0 - kStentMarker_mm);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+  // Crimped (no node wider than the wire) it stays one tool.
+  snap.tools[0].radius_mm = 0.2F;
+  EXPECT_EQ(fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{}).shown.tools.size(), 1U);
+}
+
+// Released coils (SceneSnapshot::coils) reach the image as platinum tools after the case's
+// tools: live in continuous fluoroscopy, at the shown pulse with the session's unit.
+TEST(FluoroFrontend, ReleasedCoilsArePlatinumToolsAfterTheTools) {
+  session::SceneSnapshot snap;
+  snap.tool_count = 1;
+  snap.tools[0].nodes_mm = {{0, 0, 100}, {0, 0, 110}};
+  snap.coil_count = 1;
+  snap.coils[0].nodes_mm = {{2, 0, 100}, {3, 1, 100}, {2, 2, 100}};
+  snap.coils[0].radius_mm = 0.125F;
+  FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[0].material, flow::XrayMaterial::kNitinol);
+  EXPECT_EQ(in.shown.tools[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_TRUE(in.shown.tools[1].markers.empty());
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.coils[0].nodes_mm);
+  EXPECT_EQ(in.shown.tools[1].radius_mm, 0.125F);
+  // With the session's unit: the coil as it was at the shown pulse.
+  snap.fluoro.available = true;
+  snap.fluoro.pulse_tool_count = 1;
+  snap.fluoro.pulse_tool_nodes_mm[0] = snap.tools[0].nodes_mm;
+  snap.fluoro.pulse_coil_count = 1;
+  snap.fluoro.pulse_coil_nodes_mm[0] = {{5, 0, 100}, {6, 0, 100}};
+  in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(in.shown.tools.size(), 2U);
+  EXPECT_EQ(in.shown.tools[1].nodes_mm, snap.fluoro.pulse_coil_nodes_mm[0]);
+  EXPECT_EQ(in.shown.tools[1].material, flow::XrayMaterial::kPlatinum);
+  EXPECT_EQ(check_fluoro_inputs(in, 0), "");
+}
+
+}  // namespace
+}  // namespace cathbox::app
