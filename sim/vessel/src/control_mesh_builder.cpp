@@ -408,14 +408,21 @@ class Builder {
       const Junction& junction = graph_.junctions()[j];
       std::vector<glm::dvec3> points;
       std::vector<detail::JunctionRing> rings;
+      std::vector<detail::JunctionRingFrame> frames;
       std::vector<std::uint32_t> first_vertex;
       for (const SegmentEnd& e : junction.ends) {
         const Ring& ring = mesh_.rings[end_ring(e)];
         rings.push_back({!e.at_end});
+        frames.push_back({e.at_end ? -ring.tangent : ring.tangent, ring.normal, ring.binormal, ring.center_mm});
         first_vertex.push_back(ring.first_vertex);
         for (int m = 0; m < m_; ++m) points.push_back(mesh_.positions_mm[ring.first_vertex + static_cast<std::uint32_t>(m)]);
       }
-      const detail::JunctionPatchResult patch = detail::build_junction_patch(points, rings, m_);
+      detail::JunctionPatchResult patch = detail::build_junction_patch(points, rings, m_);
+      if (!patch.error.empty() && options_.junction_fallback) {
+        std::string what = junction_name(model_, junction, j) + ": " + patch.error;
+        patch = detail::build_spherical_junction_patch(points, rings, frames, m_);
+        if (patch.error.empty()) mesh_.fallback_junctions.push_back({static_cast<std::uint32_t>(j), std::move(what)});
+      }
       if (!patch.error.empty()) return junction_name(model_, junction, j) + ": " + patch.error;
       const FaceRegion region{RegionKind::kJunction, static_cast<std::int32_t>(j)};
       for (const std::vector<int>& face : patch.faces) {
@@ -452,6 +459,14 @@ double tube_shrink_ratio(int ring_points) {
   const double at_vertex = (4.0 + 2.0 * std::cos(phi)) / 6.0;
   const double between = (std::cos(1.5 * phi) + 23.0 * std::cos(0.5 * phi)) / 24.0;
   return 0.5 * (at_vertex + between);
+}
+
+std::string fallback_summary(const ControlMesh& mesh) {
+  const std::size_t n = mesh.fallback_junctions.size();
+  if (n == 0) return {};
+  std::string out = std::to_string(n) + (n == 1 ? " junction" : " junctions") + " meshed by the spherical-hull fallback: ";
+  for (std::size_t i = 0; i < n; ++i) out += (i > 0 ? "; " : "") + mesh.fallback_junctions[i].what;
+  return out;
 }
 
 ControlMeshResult build_control_mesh(const VesselModel& smoothed, const VesselGraph& graph, const MeshOptions& options) {

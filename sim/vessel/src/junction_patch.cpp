@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <iterator>
 #include <unordered_map>
@@ -317,14 +318,14 @@ class Pairing {
   std::vector<std::vector<Neighbor>> nbs_;
 };
 
-}  // namespace
-
-JunctionPatchResult build_junction_patch(const std::vector<glm::dvec3>& points, const std::vector<JunctionRing>& rings,
-                                         int ring_points) {
+// The patch from the hull of `hull_points` (the rings, or their images on the sphere), paired into
+// quads by the lengths of the real `points`' edges.
+JunctionPatchResult hull_patch(const std::vector<glm::dvec3>& hull_points, const std::vector<glm::dvec3>& points,
+                               const std::vector<JunctionRing>& rings, int ring_points) {
   JunctionPatchResult result;
   const int m_count = ring_points;
   const auto ring_of = [m_count](int v) { return v / m_count; };
-  const std::vector<Triangle> hull = convex_hull(points);
+  const std::vector<Triangle> hull = convex_hull(hull_points);
   if (hull.empty()) {
     result.error = "its rings span no volume";
     return result;
@@ -371,6 +372,80 @@ JunctionPatchResult build_junction_patch(const std::vector<glm::dvec3>& points, 
   }
   result.faces = Pairing(patch, points, ring_points).run();
   return result;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMinDirectionAngle = 10.0 * kPi / 180.0;  // directions closer than this are pushed apart
+constexpr double kDirectionStep = 0.05;                    // radians per push
+constexpr int kDirectionIterations = 400;
+constexpr double kCapShare = 0.4;   // a ring's circle: this share of the angle to the nearest other direction
+constexpr double kMaxCapAngle = 1.0;  // radians
+
+// A unit vector perpendicular to u leaning towards `towards` (any perpendicular when it is along u).
+glm::dvec3 perpendicular_towards(const glm::dvec3& u, const glm::dvec3& towards) {
+  glm::dvec3 side = towards - glm::dot(towards, u) * u;
+  if (glm::length(side) < 1e-9) {
+    side = std::abs(u.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
+    side -= glm::dot(side, u) * u;
+  }
+  return glm::normalize(side);
+}
+
+// The rings' leaving directions, pairs closer than kMinDirectionAngle pushed apart along the
+// great circle through them (their ring centres' offset decides the side when they coincide).
+std::vector<glm::dvec3> separated_directions(const std::vector<JunctionRingFrame>& frames) {
+  std::vector<glm::dvec3> u;
+  for (const JunctionRingFrame& f : frames) u.push_back(glm::normalize(f.out));
+  const double close = std::cos(kMinDirectionAngle);
+  for (int iteration = 0; iteration < kDirectionIterations; ++iteration) {
+    bool moved = false;
+    for (std::size_t i = 0; i < u.size(); ++i) {
+      for (std::size_t j = i + 1; j < u.size(); ++j) {
+        if (glm::dot(u[i], u[j]) < close) continue;
+        const glm::dvec3 apart = u[i] - u[j];
+        const glm::dvec3 hint = glm::length(apart) > 1e-9 ? apart : frames[i].center - frames[j].center;
+        const glm::dvec3 side_i = perpendicular_towards(u[i], hint);
+        const glm::dvec3 side_j = perpendicular_towards(u[j], -hint);
+        u[i] = glm::normalize(u[i] + kDirectionStep * side_i);
+        u[j] = glm::normalize(u[j] + kDirectionStep * side_j);
+        moved = true;
+      }
+    }
+    if (!moved) break;
+  }
+  return u;
+}
+
+}  // namespace
+
+JunctionPatchResult build_junction_patch(const std::vector<glm::dvec3>& points, const std::vector<JunctionRing>& rings,
+                                         int ring_points) {
+  return hull_patch(points, points, rings, ring_points);
+}
+
+JunctionPatchResult build_spherical_junction_patch(const std::vector<glm::dvec3>& points,
+                                                   const std::vector<JunctionRing>& rings,
+                                                   const std::vector<JunctionRingFrame>& frames, int ring_points) {
+  const std::vector<glm::dvec3> u = separated_directions(frames);
+  std::vector<glm::dvec3> sphere;
+  sphere.reserve(points.size());
+  for (std::size_t i = 0; i < u.size(); ++i) {
+    double nearest = kPi;
+    for (std::size_t j = 0; j < u.size(); ++j) {
+      if (j != i) nearest = std::min(nearest, std::acos(std::clamp(glm::dot(u[i], u[j]), -1.0, 1.0)));
+    }
+    const double cap = std::min(kCapShare * nearest, kMaxCapAngle);
+    // The ring's own frame turned to be perpendicular to u, keeping its sense of rotation about
+    // the leaving direction (the hull's face for the ring must run its edges as the tube does).
+    const glm::dvec3 normal = perpendicular_towards(u[i], frames[i].normal);
+    const double sense = glm::dot(glm::cross(frames[i].normal, frames[i].binormal), frames[i].out) < 0.0 ? -1.0 : 1.0;
+    const glm::dvec3 binormal = sense * glm::cross(u[i], normal);
+    for (int m = 0; m < ring_points; ++m) {
+      const double angle = 2.0 * kPi * m / ring_points;
+      sphere.push_back(std::cos(cap) * u[i] + std::sin(cap) * (std::cos(angle) * normal + std::sin(angle) * binormal));
+    }
+  }
+  return hull_patch(sphere, points, rings, ring_points);
 }
 
 }  // namespace cathbox::vessel::detail

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_precision.hpp>
 
+#include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/point_range.hpp"
 #include "vessel/vessel_graph.hpp"
@@ -85,13 +86,17 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
     return;
   }
   // A valid network may still have a junction the mesher cannot give room (branches a few degrees
-  // apart and shorter than the ~10 radii they need to part): the control mesh says so in a few
-  // milliseconds (the default options, without subdivision), and the summary passes it on.
+  // apart and shorter than the ~10 radii they need to part, or overlapping): the control mesh
+  // meshes it by its fallback and says which in a few milliseconds (the default options, without
+  // subdivision); the summary passes it on.
   vessel::MeshOptions coarse;
   coarse.subdivision_level = 0;
   coarse.fit_junctions = false;
   const vessel::VesselSurface check = vessel::build_vessel_surface(result.model, coarse);
   if (!check.ok()) result.notes.push_back("WARNING: the surface cannot be built: " + check.error);
+  else if (std::string fallback = vessel::fallback_summary(check.control); !fallback.empty()) {
+    result.notes.push_back(std::move(fallback));
+  }
 }
 
 [[nodiscard]] std::string read_text(const std::string& path, bool& ok) {

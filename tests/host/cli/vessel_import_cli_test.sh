@@ -33,7 +33,8 @@ grep -q "radius 4.2.*\.\.12.4 mm" "$work/out" || fail "--units cm: $(cat "$work/
 expect 0 "$cathbox" vessel import "$examples/carotid_bifurcation_centerlines.vtp" --radius-array MaximumInscribedSphereRadius --no-radius-filter -o "$work/raw.hclm"
 grep -q "radius filter off" "$work/out" || fail "--no-radius-filter: $(cat "$work/out")"
 
-# Two branches 10 degrees apart and 6 radii long: imported, with the mesher's refusal in the summary.
+# Two branches 10 degrees apart and 6 radii long: imported and meshed, the junction by the
+# spherical-hull fallback (named in both summaries); refused with --no-junction-fallback.
 awk 'BEGIN {
   print "1 0 0 0 0 1 -1"; id = 1
   for (i = 1; i <= 20; ++i) { id++; print id, 0, 0, 0, i * 0.5, 1, id - 1 }
@@ -43,8 +44,12 @@ awk 'BEGIN {
   }
 }' >"$work/narrow.swc"
 expect 0 "$cathbox" vessel import "$work/narrow.swc" -o "$work/narrow.hclm"
-grep -q "WARNING: the surface cannot be built: junction 0" "$work/out" || fail "narrow junction warning: $(cat "$work/out")"
-expect 2 "$cathbox" vessel mesh "$work/narrow.hclm" -o "$work/narrow.ply"
+grep -q "1 junction meshed by the spherical-hull fallback: junction 0 (segments" "$work/out" || fail "narrow junction note: $(cat "$work/out")"
+expect 0 "$cathbox" vessel mesh "$work/narrow.hclm" -o "$work/narrow.ply"
+grep -q "closed, manifold" "$work/out" || fail "narrow junction mesh: $(cat "$work/out")"
+grep -q "meshed by the spherical-hull fallback: junction 0" "$work/out" || fail "narrow junction mesh note: $(cat "$work/out")"
+expect 2 "$cathbox" vessel mesh "$work/narrow.hclm" -o "$work/narrow.ply" --no-junction-fallback
+grep -q "junction 0 (segments .*): branches overlap" "$work/err" || fail "--no-junction-fallback: $(cat "$work/err")"
 
 # Bad input: exit 2, one stderr line starting file:line (or file:) and nothing written.
 printf '1 0 0 0 0 1 -1\n2 0 0 0 1 1 1\n3 0 0 zero 2 1 2\n' >"$work/bad.swc"

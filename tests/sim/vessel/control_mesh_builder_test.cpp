@@ -158,15 +158,22 @@ TEST(ControlMeshBuilder, JunctionTemplateHandlesAnyNumberOfBranches) {
   }
 }
 
-TEST(ControlMeshBuilder, OverlappingBranchesAreAnErrorNotACrash) {
-  // A child folding straight back along its parent cannot get a junction.
+TEST(ControlMeshBuilder, OverlappingBranchesAreAnErrorNotACrashWithoutTheFallback) {
+  // A child folding straight back along its parent cannot get a hull junction; without the
+  // spherical-hull fallback (junction_fallback_test.cpp) that is an error naming the junction.
   const HclmReadResult read = read_hclm(
       "s 2\ng 1\np 0\nc 1 2\nn 3\nv 0 0 0 2\nv 0 0 1 2\nv 0 0 2 2\n"
       "g 2\np 1 1\nc 0\nn 3\nv 0 0 2 2\nv 0 0.01 1 2\nv 0 0.02 0 2\n");
   ASSERT_TRUE(read.ok()) << read.errors.front().to_string();
-  const ControlMeshResult built = build(read.model, MeshOptions{});
+  MeshOptions options;
+  options.junction_fallback = false;
+  const ControlMeshResult built = build(read.model, options);
   EXPECT_FALSE(built.ok());
   EXPECT_NE(built.error().message.find("junction 0 (segments 1 2)"), std::string::npos) << built.error().message;
+  const ControlMeshResult fallback = build(read.model, MeshOptions{});
+  ASSERT_TRUE(fallback.ok()) << fallback.error().message;
+  ASSERT_EQ(fallback->fallback_junctions.size(), 1u);
+  EXPECT_EQ(fallback->fallback_junctions[0].what, "junction 0 (segments 1 2): branches overlap (a ring is not on the junction's hull)");
 }
 
 // The mesher never casts a non-finite or overflowing value (UBSan found a NaN converted to int

@@ -12,6 +12,8 @@
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/vessel_mesher.hpp"
 #include "vessel/case_generator.hpp"
+#include "vessel/case_library.hpp"
+#include "vessel/control_mesh_builder.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel_import/swc_writer.hpp"
 
@@ -124,6 +126,52 @@ TEST(Importer, TwoHundredBranchSwcTreeRoundTrip) {
   EXPECT_EQ(a.euler_characteristic, 2);
   // Networks with a confluence or a cycle are not trees.
   EXPECT_FALSE(write_swc(vessel::CaseGenerator::neuro()).ok());
+}
+
+// A held-out centreline set with the defect of the public 21-curve Slicer arch (issue 31): one
+// Slicer curve per vessel of the type III arch tree, each branch's curve starting one control
+// point short of its parent (segmentation tools stop there), except at the brachiocephalic
+// junction, whose branches cannot part within their length. The ends are joined, the overlapping junction is
+// meshed by the spherical-hull fallback (the summary says so), and the surface is closed and
+// keeps the imported radius along the vessels.
+TEST(Importer, HeldOutArchCurvesWithGapsAndAnOverlappingJunctionMeshClosed) {
+  const vessel::VesselModel arch = vessel::library_model(*vessel::library_case("arch_type3"));
+  std::string json = "{\n \"markups\": [\n";
+  for (std::size_t s = 0; s < arch.segments.size(); ++s) {
+    const vessel::Segment& seg = arch.segments[s];
+    std::string points;
+    std::string radii;
+    const bool gap = !seg.parents.empty() && seg.parents.front() != arch.segments.front().id;
+    for (std::size_t i = gap ? 1 : 0; i < seg.points.size(); ++i) {
+      const glm::dvec3& p = seg.points[i].pos_mm;
+      points += (points.empty() ? "" : ", ") + std::string("{\"position\": [") + std::to_string(p.x) + ", " +
+                std::to_string(p.y) + ", " + std::to_string(p.z) + "]}";
+      radii += (radii.empty() ? "" : ", ") + std::to_string(seg.points[i].radius_mm);
+    }
+    json += std::string(s == 0 ? "" : ",\n") + "  {\"type\": \"Curve\", \"name\": \"" + seg.name +
+            "\", \"controlPoints\": [" + points + "], \"measurements\": [{\"name\": \"Radius\", \"controlPointValues\": [" +
+            radii + "]}]}";
+  }
+  json += "\n ]\n}\n";
+  const ImportResult r = import_centerlines_text(json, "arch.mrk.json", Format::kSlicerMarkups);
+  ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
+  const std::string summary = r.summary();
+  std::printf("%s\n", summary.c_str());
+  EXPECT_NE(summary.find("curve ends joined"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("meshed by the spherical-hull fallback: junction"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("cannot be built"), std::string::npos) << summary;
+  EXPECT_EQ(vessel::VesselGraph(r.model).component_count(), 1);
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  EXPECT_FALSE(surface.control.fallback_junctions.empty());
+  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
+  EXPECT_TRUE(a.closed() && a.manifold() && a.consistently_oriented());
+  EXPECT_EQ(a.euler_characteristic, surface.euler_characteristic);
+  EXPECT_GT(a.signed_volume_mm3, 0.0);
+  const vessel::test::ProfileError e = vessel::test::worst_along_segments(r.model, surface);
+  std::printf("held-out arch: radius worst %+.2f %% over %d cuts\n", 100.0 * e.worst, e.samples);
+  EXPECT_GT(e.samples, 100);
+  EXPECT_LT(std::abs(e.worst), 0.03) << e.worst_surface << " mm for " << e.worst_input << " at arc " << e.worst_arc;
 }
 
 }  // namespace

@@ -20,6 +20,7 @@
 #include "cli/registry.hpp"
 #include "cli/usage.hpp"
 #include "vessel/case_generator.hpp"
+#include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/mesh_export.hpp"
@@ -56,7 +57,9 @@ const cli::GroupSpec& spec() {
                         {.name = "smooth", .value = "N", .help = "smoothing passes, 0..100"},
                         {.name = "smoothing", .value = "taubin|moving-average", .help = "smoothing method"},
                         {.name = "rings", .value = "adaptive|per-point", .help = "ring placement"},
-                        {.name = "no-junction-fit", .help = "do not fit junction patches to their branches"}}},
+                        {.name = "no-junction-fit", .help = "do not fit junction patches to their branches"},
+                        {.name = "no-junction-fallback",
+                         .help = "refuse a junction whose branches overlap instead of meshing it by the spherical-hull fallback"}}},
            {.name = "import",
             .positionals = "IN",
             .help = "centrelines from VMTK, 3D Slicer or SWC, or a vessel surface (STL, OBJ, PLY, OFF), to HCLM",
@@ -209,6 +212,7 @@ int run_mesh(cli::Args& args) {
   options.caps = !args.flag("no-caps");
   options.trim_at_junctions = !args.flag("no-trim");
   options.fit_junctions = !args.flag("no-junction-fit");
+  options.junction_fallback = !args.flag("no-junction-fallback");
   if (args.flag("control-mesh")) options.subdivision_level = 0;
   const std::string& path = args.positionals()[0];
   const auto model = read_model(path);
@@ -229,6 +233,9 @@ int run_mesh(cli::Args& args) {
               output->c_str(), surface.control.vertex_count(), surface.control.face_count(), a.vertices, a.triangles,
               a.euler_characteristic, a.closed() ? "closed" : "open", a.manifold() ? "manifold" : "NOT manifold",
               a.signed_volume_mm3);
+  if (const std::string fallback = vessel::fallback_summary(surface.control); !fallback.empty()) {
+    std::printf("%s: %s\n", output->c_str(), fallback.c_str());
+  }
   return cli::kExitOk;
 }
 

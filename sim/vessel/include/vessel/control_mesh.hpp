@@ -4,6 +4,7 @@
 // rings of a segment (connection rule 1), junction patches between the rings that meet at a
 // junction, and caps on free ends.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -27,6 +28,13 @@ struct Ring {
   std::uint32_t first_vertex = 0;
 };
 
+// A junction whose rings' own hull could not give its patch, meshed by the spherical-hull
+// fallback (src/junction_patch.hpp): which one, and why the hull could not.
+struct JunctionFallback {
+  std::uint32_t junction = 0;  // index in VesselGraph::junctions()
+  std::string what;            // "junction 3 (segments 5 6 7): branches overlap (...)"
+};
+
 struct ControlMesh {
   int ring_points = 0;                       // M
   std::vector<glm::dvec3> positions_mm;
@@ -35,6 +43,7 @@ struct ControlMesh {
   std::vector<FaceRegion> face_regions;      // one per face
   std::vector<Ring> rings;                   // the rings of each segment, in segment order
   std::vector<std::uint32_t> segment_first_ring;  // per segment: index of its first ring (+ end sentinel)
+  std::vector<JunctionFallback> fallback_junctions;  // junctions meshed by the fallback, in order
 
   [[nodiscard]] std::size_t face_count() const { return face_sizes.size(); }
   [[nodiscard]] std::size_t vertex_count() const { return positions_mm.size(); }

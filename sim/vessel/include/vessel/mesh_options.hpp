@@ -43,6 +43,11 @@ struct MeshOptions {
   // Move the limit surface of long junction patches (narrow branch angles) onto the branches'
   // tubes away from the crotch (see src/junction_fit.hpp).
   bool fit_junctions = true;
+  // A junction whose rings' convex hull is no patch (branches overlap: too short or too close to
+  // part, or folding back) takes its patch's connectivity from the hull of the branches'
+  // directions on a sphere instead (src/junction_patch.hpp), so every valid model meshes closed;
+  // ControlMesh::fallback_junctions names them. Off: such a junction is an error.
+  bool junction_fallback = true;
   LimitMethod limit_method = LimitMethod::kMasks;  // the others are the peers the tests and benchmarks check against
 };
 
