@@ -58,6 +58,7 @@ import traceback
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from browser_test import Api, Browser, Centre, Failure, check, wait_until  # noqa: E402
+from png_pixels import grey  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
@@ -108,8 +109,9 @@ def end_of_run(b, centre):
     return end, result, record_bytes
 
 
-def open_assignment(b, assignment, clock):
-    b.open("/train.html" + ("?clock=virtual" if clock == "virtual" else ""))
+def open_assignment(b, assignment, clock, view=None):
+    query = [("clock=virtual" if clock == "virtual" else None), ("view=" + view if view else None)]
+    b.open("/train.html" + ("?" + "&".join(q for q in query if q) if any(query) else ""))
     b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
     check(b.js("return self.crossOriginIsolated"), "the page is not cross-origin isolated (COOP/COEP headers)")
     b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
@@ -266,6 +268,8 @@ def test_webhid(b, assignment, report):
     script = b.driver.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {"source": source})
     try:
         open_assignment(b, assignment, "virtual")
+        before = b.wait_js("return document.getElementById('box-report').textContent || null;", "the box line before a box")
+        check(before == "No box connected: the keyboard drives the tool.", "the box line before a box is connected: %r" % before)
         b.js("Object.assign(window.fakeBox.config.calibration, {insertion_counts_per_m: 200000, rotation_counts_per_rev: 8192});"
              "window.fakeBox.config.limits.max_force_mN = 2500;")
         b.driver.find_element(By.ID, "connect-box").click()
@@ -321,6 +325,67 @@ def test_webhid(b, assignment, report):
                             "seconds": round(time.monotonic() - started, 1)}
     finally:
         b.driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})
+
+
+FLUORO_NOTE_JS = "return document.getElementById('fluoro-note').textContent"
+
+
+def monitor(b, name):
+    """The fluoroscopy canvas as the user sees it (an element screenshot, saved as `name`): grey
+    statistics of its part under the HUD's lines (the lower 60 %), inside the collimated field (the
+    central square) and outside it (the side columns, when the canvas is wider than high)."""
+    png = b.driver.find_element(By.ID, "fluoro").screenshot_as_png
+    open(os.path.join(b.out, b.prefix + name + ".png"), "wb").write(png)
+    w, h, rows = grey(png)
+    side = min(w, h)
+    x0 = (w - side) // 2
+    inside = [v for r in rows[int(0.4 * h):int(0.95 * h)] for v in r[x0 + side // 10:x0 + side - side // 10]]
+    outside = [v for r in rows[int(0.4 * h):] for v in r[:max(0, x0 - 2)]]
+    inside.sort()
+    n = len(inside)
+    median = inside[n // 2]
+    mean = sum(inside) / n
+    return {"size": [w, h], "mean": round(mean, 1), "median": median, "p1": inside[n // 100], "p99": inside[99 * n // 100],
+            "std": round((sum((v - mean) ** 2 for v in inside) / n) ** 0.5, 1),
+            "dark_fraction": round(sum(1 for v in inside if v < median - 40) / n, 4),
+            "outside_max": max(outside) if outside else None}
+
+
+def test_fluoroscopy(b, assignment, report):
+    """The fluoroscopic image in the page (js/fluoro_view.js, the native renderer's shaders in
+    WebGL2), in virtual time on the neuro case (a catheter to inject through): black before the pedal; with Space held the
+    pulses show the head phantom's grey with quantum noise inside the collimated field and black
+    outside it; contrast injected (I) from the catheter fills the lumen, which darkens it (iodine's
+    attenuation: more pixels far darker than the image's median than before the injection). The
+    fluoroscopy keys are the session's controls: the run with them is uploaded and replayed by the
+    server with every state hash."""
+    b.open("/train.html?clock=virtual&view=fluoro")
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    b.wait_js("return document.getElementById('status').textContent === 'running'", "the session to start in the worker")
+    note = b.wait_js("const n = document.getElementById('fluoro-note').textContent; return n.startsWith('Fluoroscopy') || n.startsWith('this') ? n : null;",
+                     "the fluoroscopy's note")
+    check(note == "Fluoroscopy: no image yet (hold Space, the pedal)", "the fluoroscopy before the pedal: %r" % note)
+    check(b.js("return !document.getElementById('fluoro').hidden"), "the fluoroscopy canvas is not shown with ?view=fluoro")
+    black = monitor(b, "train-fluoro-black")
+    check(black["p99"] <= 8, "the monitor before the first pulse is not black: %s" % black)
+    hold(b, [Keys.SPACE, "w"], 400)
+    pulses = re.match(r"Fluoroscopy: pulse (\d+), fluoroscopy, image (\d+) × (\d+) pixels, (\d+) images drawn$",
+                      b.wait_js("const n = document.getElementById('fluoro-note').textContent; return / [1-9]\\d* images drawn$/.test(n) ? n : null;",
+                                "the first fluoroscopic image drawn"))
+    check(pulses is not None and int(pulses.group(1)) >= 4, "0.4 s with the pedal: at least 5 pulses at 15 /s expected: %r" % b.js(FLUORO_NOTE_JS))
+    live = monitor(b, "train-fluoro")
+    check(40 <= live["median"] <= 215 and live["std"] >= 2, "the pulses' image: a grey phantom with noise expected, %s" % live)
+    check(live["outside_max"] is None or live["outside_max"] <= 8, "outside the collimated field the monitor is black: %s" % live)
+    hold(b, [Keys.SPACE, "i"], 50)
+    hold(b, [Keys.SPACE], 1500)
+    b.wait_js("const n = document.getElementById('fluoro-note').textContent; const m = n.match(/pulse (\\d+)/); return m && Number(m[1]) >= 25;",
+              "the pulses after the injection")
+    filled = monitor(b, "train-fluoro-contrast")
+    check(filled["dark_fraction"] > live["dark_fraction"] + 0.002,
+          "the injected contrast does not darken the lumen: before %s, after %s" % (live, filled))
+    end_run(b, "the fluoroscopy run")
+    report["fluoroscopy"] = {"before_pedal": black, "live": live, "contrast": filled, "note": b.js(FLUORO_NOTE_JS)}
 
 
 def test_native_replay(centre, result_id, report):
@@ -406,38 +471,73 @@ def test_without_wasm(b, centre, assignment, report):
     report["without_wasm"] = line
 
 
-def test_real_clock(b, centre, assignment, seconds, report):
-    """The worker's own 1 kHz clock for `seconds`, W held, then Escape: jitter and first frame."""
-    open_assignment(b, assignment, "real")
+CLOCK_NOTE = re.compile(
+    r"Haptic clock: (\d+) ticks, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms, (\d+) dropped; "
+    r"lateness p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms; a tick's run p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
+    r"late ticks after a sleep (\d+), after ticks (\d+), after the event loop (\d+), caught up (\d+)\.$")
+FRAME_NOTE = re.compile(r"First frame (\d+) ms after choosing the case(?: \(the session opened in (\d+) ms\))?\.$")
+
+
+def clock_figures(b):
+    """The page's clock note and first-frame note as figures (what scripts/bench train prints)."""
+    text = b.js("return document.getElementById('clock-note').textContent")
+    m = CLOCK_NOTE.match(text)
+    check(m is not None, "the page's clock note: %r" % text)
+    g = m.groups()
+    jitter = {"ticks": int(g[0]), "p50_ms": float(g[1]), "p99_ms": float(g[2]), "max_ms": float(g[3]), "dropped": int(g[4]),
+              "late_p50_ms": float(g[5]), "late_p99_ms": float(g[6]), "late_max_ms": float(g[7]), "tick_p50_ms": float(g[8]),
+              "tick_p99_ms": float(g[9]), "late_ticks": {"after_sleep": int(g[10]), "after_ticks": int(g[11]),
+                                                          "after_yield": int(g[12]), "catch_up": int(g[13])}}
+    text = b.js("return document.getElementById('frame-note').textContent")
+    f = FRAME_NOTE.match(text)
+    check(f is not None, "the page's first-frame note: %r" % text)
+    return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None
+
+
+def test_real_clock(b, centre, assignment, seconds, report, view):
+    """The worker's own 1 kHz clock for `seconds`, W held (and Space, the pedal, in fluoroscopy),
+    then Escape: jitter and first frame, with the machine's load average."""
+    open_assignment(b, assignment, "real", view)
     body = b.driver.find_element(By.TAG_NAME, "body")
-    ActionChains(b.driver).key_down("w", body).perform()
+    keys = ["w", Keys.SPACE] if view == "fluoro" else ["w"]
+    down = ActionChains(b.driver)
+    for k in keys:
+        down.key_down(k, body)
+    down.perform()
+    load_before = os.getloadavg()[0]
     b.wait_js("const m = document.getElementById('hud').textContent.match(/^time +([0-9.]+) s/m); return m && Number(m[1]) >= %d;" % seconds,
               "%d s of ticks on the worker's clock" % seconds, timeout=seconds * 10 + 30)
-    ActionChains(b.driver).key_up("w").send_keys(Keys.ESCAPE).perform()
+    up = ActionChains(b.driver)
+    for k in reversed(keys):
+        up.key_up(k)
+    up.send_keys(Keys.ESCAPE).perform()
     state = b.wait_js(END_JS, "the upload")
-    b.shot("train-real-clock")
+    b.shot("train-real-clock-" + view)
     check(state == "done", "the real-clock run's upload: %s" % state)
     end, _, _ = end_of_run(b, centre)
-    report["real_clock"] = {"jitter": b.js("return document.getElementById('clock-note').textContent"),
-                            "first_frame": b.js("return document.getElementById('frame-note').textContent"), "end": end}
+    jitter, first_ms, open_ms = clock_figures(b)
+    report.setdefault("real_clock", {})[view] = {
+        "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "end": end,
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
+        "fluoro": b.js(FLUORO_NOTE_JS) if view == "fluoro" else None}
 
 
 BOX_JS = "return document.getElementById('box-report').textContent"
 BOX_REPORT = re.compile(
     r"box (-?[0-9.]+) mm (-?[0-9.]+) rad; states (\d+), missed (\d+), rejected (\d+), longest report gap ([0-9.]+) ms,"
-    r" longest command gap ([0-9.]+) ms; law seq (-?\d+|-), offset (-?[0-9.]+|-) mN;"
-    r" box status 0x([0-9a-f]+), faults (\d+|-), mode (\d+|-), rx errors (\d+|-), command echo (\d+|-), force (-?[0-9.]+|-) mN$")
+    r" longest command gap ([0-9.]+) ms; (?:law seq (\d+), offset (-?[0-9.]+) mN|no law sent yet);"
+    r" box status 0x([0-9a-f]+), faults (\d+), mode (\d+), rx errors (\d+), command echo (\d+), force (-?[0-9.]+) mN$")
 BOX_CONFIG = re.compile(r"Box: (.*); (\d+) counts/m, (\d+) counts/rev, full scale (\d+) mN, (\d+) µN·m, slew (\d+) mN/ms, (brake|motor) mode$")
 
 
 def box_report(b, law=True):
     """The box's figures the page shows under the keys (js/train.js showBoxReport): its position,
     the page's decoding and commands, the last law sent, the box's state, and what the box said of
-    itself on connect (the line under them). law=False: before the first law, '-' is allowed."""
+    itself on connect (the line under them). law=False: before the first law ('no law sent yet')."""
     text = b.js(BOX_JS)
     m = BOX_REPORT.match(text)
-    check(m is not None and (not law or m.group(8) != "-"), "the page's box figures: %r" % text)
-    g = [None if x == "-" else x for x in m.groups()]
+    check(m is not None and (not law or m.group(8) is not None), "the page's box figures: %r" % text)
+    g = list(m.groups())
     num = lambda v, f=int: None if v is None else f(v)  # noqa: E731
     r = {"box_mm": float(g[0]), "box_rad": float(g[1]),
          "stats": {"states": int(g[2]), "missed": int(g[3]), "rejected": int(g[4]), "max_report_gap_ms": float(g[5]), "max_send_gap_ms": float(g[6])},
@@ -478,7 +578,7 @@ def test_box_bridge(b, centre, assignment, report):
                      "return n.endsWith('drives the held tool') || n.startsWith('no box') || n.startsWith('box lost') ? n"
                      " : !e.hidden && e.textContent ? e.textContent : null;", "the box to drive the tool")
     check(note.endswith("drives the held tool"), "the page's box: %r (%s)" % (note, b.js(BOX_JS)))
-    b.wait_js("return document.getElementById('box-report').textContent !== '' && document.getElementById('hud').textContent !== ''",
+    b.wait_js("return document.getElementById('box-report').textContent.startsWith('box ') && document.getElementById('hud').textContent !== ''",
               "the box's figures on the page")
     first = {"box": box_report(b, law=False), "at": hud(b)}
     # 10 mm of the emulator's hand: the tool follows (no key is pressed).
@@ -577,9 +677,12 @@ def main():
         b.drain_console()
         test_webhid(b, assignment, report)
         b.drain_console()
+        test_fluoroscopy(b, two_tools, report)
+        b.drain_console()
         if args.real_clock:
-            test_real_clock(b, centre, assignment, args.real_clock, report)
-            b.drain_console()
+            for view in ("3d", "fluoro"):
+                test_real_clock(b, centre, assignment, args.real_clock, report, view)
+                b.drain_console()
         test_box_bridge(b, centre, assignment, report)
         b.drain_console()
         test_without_wasm(b, centre, assignment, report)

@@ -1,8 +1,15 @@
 #include "app/fluoro_image_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace cathbox::app {
+ImageMatrix readout_matrix(int width, int height, double display_pixel_mm, double readout_pitch_mm) {
+  if (!(readout_pitch_mm > display_pixel_mm)) return {width, height};
+  const double scale = display_pixel_mm / readout_pitch_mm;
+  return {std::max(1, static_cast<int>(std::lround(width * scale))), std::max(1, static_cast<int>(std::lround(height * scale)))};
+}
+
 ThinLine thin_line(float radius_mm, double patient_pixel_mm, double min_px) {
   const auto floor_mm = static_cast<float>(min_px * patient_pixel_mm);
   if (radius_mm >= floor_mm || radius_mm <= 0.0F) return {radius_mm, 1.0F};

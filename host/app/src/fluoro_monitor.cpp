@@ -85,10 +85,8 @@ void FluoroRenderer::compose(const FluoroInputs& in, const flow::CArm& carm, boo
 
 FluoroRenderer::Matrix FluoroRenderer::matrix(const flow::CArm& carm, int width, int height, flow::ExposureMode mode) const {
   const double pitch = mode == flow::ExposureMode::kFluoroscopy ? display_.fluoro_readout_pitch_mm : 0.0;
-  const double display_px = carm.pixel_mm(width, height);
-  if (!(pitch > display_px)) return {width, height};
-  const double scale = display_px / pitch;
-  return {std::max(1, static_cast<int>(std::lround(width * scale))), std::max(1, static_cast<int>(std::lround(height * scale)))};
+  const ImageMatrix m = readout_matrix(width, height, carm.pixel_mm(width, height), pitch);
+  return {m.width, m.height};
 }
 
 void FluoroRenderer::scale(const Target& source, unsigned fbo, int x, int y, int width, int height) {

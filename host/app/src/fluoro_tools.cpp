@@ -1,107 +1,42 @@
-// The tools in a fluoroscopic scene: each a closed tube of kToolSides sides (radio-opaque markers
-// as tubes of their own), drawn into the scene targets with the vessel.
-#include <algorithm>
-#include <span>
-
-#include <glm/geometric.hpp>
-
+// The tools in a fluoroscopic scene (their triangles: FluoroToolMesh, fluoro_tool_mesh.cpp),
+// drawn into the scene targets with the vessel.
 #include "app/fluoro_renderer.hpp"
 #include "app/gl.hpp"
-#include "flow/xray_material.hpp"
 #include "fluoro_render_parts.hpp"
 
 namespace cathbox::app {
-namespace {
-
-constexpr int kToolSides = 8;  // sides of a tool's tube
-
-// The part of a polyline between two arc positions (mm from its first node).
-void sub_polyline(std::span<const glm::vec3> nodes, double from_mm, double to_mm, std::vector<glm::vec3>& out) {
-  out.clear();
-  double arc = 0.0;
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
-    const double len = glm::length(nodes[i + 1] - nodes[i]);
-    const double a0 = arc;
-    const double a1 = arc + len;
-    arc = a1;
-    if (a1 <= from_mm || a0 >= to_mm || len <= 0.0) continue;
-    const auto at = [&](double a) { return nodes[i] + static_cast<float>((a - a0) / len) * (nodes[i + 1] - nodes[i]); };
-    if (out.empty()) out.push_back(at(std::max(a0, from_mm)));
-    out.push_back(at(std::min(a1, to_mm)));
-  }
-}
-
-double polyline_length(std::span<const glm::vec3> nodes) {
-  double s = 0.0;
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) s += glm::length(nodes[i + 1] - nodes[i]);
-  return s;
-}
-
-}  // namespace
 
 FluoroRenderer::Rect FluoroRenderer::build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width,
                                                  int height) {
-  tool_vertices_.clear();
-  tool_indices_.clear();
   const double pixel_mm = carm.pixel_mm(width, height);
-  const double patient_pixel_mm = pixel_mm / carm.magnification(carm.isocenter_mm());
+  tool_mesh_.build(scene, pixel_mm / carm.magnification(carm.isocenter_mm()), keV);
   ScreenBox box(carm, width, height);
-  const auto add_tube = [&](std::span<const glm::vec3> nodes, float radius_mm, float mu) {
-    tube_.build(nodes, {}, radius_mm, kToolSides);
-    if (tube_.positions_mm.empty()) return;
-    // TubeMesh is open at its proximal end: close it with a cone, apex half a radius behind
-    // (along the first piece of non-zero length).
-    glm::vec3 t0{0.0F};
-    for (std::size_t i = 1; i < nodes.size() && glm::length(t0) < 1e-6F; ++i) t0 = nodes[i] - nodes[0];
-    if (glm::length(t0) < 1e-6F) return;
-    t0 = glm::normalize(t0);
-    const auto base = static_cast<std::uint32_t>(tool_vertices_.size() / 6);
-    const auto ring = static_cast<std::uint32_t>(kToolSides);
-    const auto apex = static_cast<std::uint32_t>(tube_.positions_mm.size());
-    for (const glm::vec3& p : tube_.positions_mm) tool_vertices_.insert(tool_vertices_.end(), {p.x, p.y, p.z, mu, 0.0F, 0.0F});
-    const glm::vec3 back = nodes[0] - 0.5F * radius_mm * t0;
-    tool_vertices_.insert(tool_vertices_.end(), {back.x, back.y, back.z, mu, 0.0F, 0.0F});
-    for (const std::uint32_t i : tube_.triangles) tool_indices_.push_back(base + i);
-    for (std::uint32_t k = 0; k < ring; ++k) tool_indices_.insert(tool_indices_.end(), {base + (k + 1) % ring, base + k, base + apex});
-    // Every vertex lies within radius_mm of a node (the tube's rings, the cone's apex).
-    for (const glm::vec3& n : nodes) box.add_sphere(n, radius_mm);
-  };
-  for (const FluoroTool& tool : scene.tools) {
-    if (tool.nodes_mm.size() < 2) continue;
-    const ThinLine line = thin_line(tool.radius_mm, patient_pixel_mm);
-    const auto shaft_mu = static_cast<float>(flow::linear_attenuation_per_mm(tool.material, keV));
-    add_tube(tool.nodes_mm, line.radius_mm, shaft_mu * line.mu_scale);
-    const double length = polyline_length(tool.nodes_mm);
-    for (const FluoroMarker& m : tool.markers) {
-      sub_polyline(tool.nodes_mm, length - m.from_tip_mm - m.length_mm, length - m.from_tip_mm, marker_nodes_);
-      if (marker_nodes_.size() < 2) continue;
-      const auto mu = static_cast<float>(flow::linear_attenuation_per_mm(m.material, keV)) - shaft_mu;
-      add_tube(marker_nodes_, line.radius_mm, mu * line.mu_scale);
-    }
-  }
+  for (const glm::vec4& s : tool_mesh_.spheres()) box.add_sphere(glm::vec3(s), s.w);
   return box.rect();
 }
 
 void FluoroRenderer::draw_tools() {
-  if (tool_indices_.empty()) return;
+  const std::vector<float>& tool_vertices = tool_mesh_.vertices();
+  const std::vector<std::uint32_t>& tool_indices = tool_mesh_.indices();
+  if (tool_indices.empty()) return;
   glBindVertexArray(tools_vao_);
   glBindBuffer(GL_ARRAY_BUFFER, tools_vbo_);
-  const std::size_t vbytes = tool_vertices_.size() * sizeof(float);
-  const std::size_t ibytes = tool_indices_.size() * sizeof(std::uint32_t);
+  const std::size_t vbytes = tool_vertices.size() * sizeof(float);
+  const std::size_t ibytes = tool_indices.size() * sizeof(std::uint32_t);
   if (vbytes > tools_vbo_bytes_) {
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbytes), tool_vertices_.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vbytes), tool_vertices.data(), GL_STREAM_DRAW);
     tools_vbo_bytes_ = vbytes;
   } else {
-    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vbytes), tool_vertices_.data());
+    glBufferSubData(GL_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(vbytes), tool_vertices.data());
   }
   if (ibytes > tools_ebo_bytes_) {
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(ibytes), tool_indices_.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(ibytes), tool_indices.data(), GL_STREAM_DRAW);
     tools_ebo_bytes_ = ibytes;
   } else {
-    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(ibytes), tool_indices_.data());
+    glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, static_cast<GLsizeiptr>(ibytes), tool_indices.data());
   }
   scene_shader_.set("u_tool", 1.0F);
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(tool_indices_.size()), GL_UNSIGNED_INT, nullptr);
+  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(tool_indices.size()), GL_UNSIGNED_INT, nullptr);
   glBindVertexArray(0);
 }
 

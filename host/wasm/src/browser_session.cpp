@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "scenario/case_file.hpp"
 #include "session/keyboard_hand.hpp"
 #include "session/metrics.hpp"
 #include "session/record_format.hpp"
@@ -88,6 +89,20 @@ std::size_t BrowserSession::pack_snapshot() {
   return packed_.size();
 }
 
+void BrowserSession::fluoro_keys(int bits) {
+  const auto on = [bits](int k) { return (bits & (1 << k)) != 0; };
+  const session::FluoroKeys keys{on(0), on(1), on(2), on(3), on(4), on(5), on(6), on(7)};
+  const session::SceneSnapshot& s = session_->snapshots().read_slot();
+  const flow::CArmPose* carm = s.fluoro.available ? &s.fluoro.pose : nullptr;
+  switches_.update(keys, static_cast<std::uint64_t>(s.sim_time_us), [this](const session::Control& c) { return session_->post(c); },
+                   carm);
+}
+
+const BrowserFluoro& BrowserSession::fluoro_frame(int width, int height) {
+  fluoro_.frame(session_->snapshots().read_slot(), width, height);
+  return fluoro_;
+}
+
 cbx_command_report BrowserSession::box_command(double box_offset_mm, double box_offset_rad, const BoxReading& reading) {
   return box_law_.command(hand_->law(), box_offset_mm, box_offset_rad, reading);
 }
@@ -112,7 +127,12 @@ std::string BrowserSession::summary_json() const {
                     ",\"ticks\":" + std::to_string(session_->ticks()) + ",\"record_bytes\":" + std::to_string(record_bytes_) +
                     ",\"tools\":[";
   for (std::size_t i = 0; i < session_->tool_names().size(); ++i) out += (i ? "," : "") + quoted(session_->tool_names()[i]);
-  out += "],\"target\":";
+  // The case's `realistic` statement: the native trainer then opens in fluoroscopy.
+  bool realistic = false;
+  if (!scene.case_text.empty()) {
+    if (const tool::CaseParse c = tool::parse_case(scene.case_text, scene.case_file)) realistic = c->realistic;
+  }
+  out += std::string("],\"realistic\":") + (realistic ? "true" : "false") + ",\"target\":";
   if (scene.target_mm) {
     out += "[" + number(scene.target_mm->x) + "," + number(scene.target_mm->y) + "," + number(scene.target_mm->z) + "," +
            number(scene.target_radius_mm) + "]";

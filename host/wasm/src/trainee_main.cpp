@@ -19,6 +19,8 @@ std::string g_error;
 std::string g_text;
 std::uint8_t g_command[CBX_REPORT_SIZE];
 
+const cathbox::wasm::BrowserFluoro* fluoro() { return g_session ? &g_session->fluoro() : nullptr; }
+
 }  // namespace
 
 extern "C" {
@@ -80,6 +82,42 @@ EMSCRIPTEN_KEEPALIVE const char* cbx_summary() {
   return g_text.c_str();
 }
 
+// The fluoroscopy (wasm/browser_fluoro.hpp). cbx_fluoro_open(): 1 when the case has a
+// fluoroscopy unit, its lumen (vertices, 6 floats each; triangle indices) then at the pointers
+// below. cbx_fluoro_frame(w, h) after cbx_snapshot(): the header (FluoroHeader, doubles); the
+// phantom (2 floats a pixel) and the scenes (floats, indices) are new when their versions are.
+EMSCRIPTEN_KEEPALIVE int cbx_fluoro_open() { return g_session && g_session->open_fluoro() ? 1 : 0; }
+EMSCRIPTEN_KEEPALIVE void cbx_fluoro_keys(int bits) {
+  if (g_session) g_session->fluoro_keys(bits);
+}
+EMSCRIPTEN_KEEPALIVE const double* cbx_fluoro_frame(int width, int height) {
+  return g_session ? g_session->fluoro_frame(width, height).header().data() : nullptr;
+}
+
+// Pointers and sizes (elements) of the arrays, 0: vessel vertices, 1: vessel indices, 2: phantom,
+// 3: scene floats, 4: scene indices.
+EMSCRIPTEN_KEEPALIVE const void* cbx_fluoro_data(int which) {
+  const cathbox::wasm::BrowserFluoro* f = fluoro();
+  if (f == nullptr) return nullptr;
+  switch (which) {
+    case 0: return f->vessel_vertices().data();
+    case 1: return f->vessel_indices().data();
+    case 2: return f->phantom().data();
+    case 3: return f->scene_floats().data();
+    default: return f->scene_indices().data();
+  }
+}
+EMSCRIPTEN_KEEPALIVE int cbx_fluoro_size(int which) {
+  const cathbox::wasm::BrowserFluoro* f = fluoro();
+  if (f == nullptr) return 0;
+  switch (which) {
+    case 0: return static_cast<int>(f->vessel_vertices().size());
+    case 1: return static_cast<int>(f->vessel_indices().size());
+    case 2: return static_cast<int>(f->phantom().size());
+    case 3: return static_cast<int>(f->scene_floats().size());
+    default: return static_cast<int>(f->scene_indices().size());
+  }
+}
 
 // The box's command (wasm/browser_box_law.hpp): configured from the box's feature reports, then
 // for each command the box's frame (mm, rad from its count zero, minus the session's) and its

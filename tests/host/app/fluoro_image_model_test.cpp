@@ -50,5 +50,18 @@ TEST(ThinLine, WidensToAPixelKeepingTheAttenuationAcrossTheLine) {
   EXPECT_NEAR(thin.mu_scale * thin.radius_mm * thin.radius_mm, 0.1F * 0.1F, 1e-7);
 }
 
+// The detector's binned readout: a display finer than the readout pitch gets the readout's
+// pixels (the same aspect), a coarser one its own, and a pitch of 0 never bins.
+TEST(ReadoutMatrix, BinsOnlyWhereTheDisplayIsFinerThanTheReadout) {
+  const ImageMatrix binned = readout_matrix(1000, 600, 0.2, 0.4);
+  EXPECT_EQ(binned.width, 500);
+  EXPECT_EQ(binned.height, 300);
+  const ImageMatrix coarse = readout_matrix(1000, 600, 0.5, 0.4);
+  EXPECT_EQ(coarse.width, 1000);
+  EXPECT_EQ(coarse.height, 600);
+  EXPECT_EQ(readout_matrix(7, 5, 0.2, 0.0).width, 7);
+  EXPECT_EQ(readout_matrix(1, 1, 0.01, 0.4).height, 1);  // never below one pixel
+}
+
 }  // namespace
 }  // namespace cathbox::app

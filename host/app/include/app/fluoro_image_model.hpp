@@ -42,6 +42,15 @@ struct ThinLine {
   float radius_mm = 0.0F;
   float mu_scale = 1.0F;
 };
+// The image's pixels for a width x height display whose pixel is `display_pixel_mm` at the
+// detector: fewer when the detector's readout pitch (`readout_pitch_mm`, 0: never binned) is
+// coarser, the same aspect (FluoroDisplay::fluoro_readout_pitch_mm).
+struct ImageMatrix {
+  int width = 0;
+  int height = 0;
+};
+[[nodiscard]] ImageMatrix readout_matrix(int width, int height, double display_pixel_mm, double readout_pitch_mm);
+
 [[nodiscard]] ThinLine thin_line(float radius_mm, double patient_pixel_mm, double min_px = 1.0);
 
 // Quantum noise of pulse `pulse` at pixel (x, y): approximately standard normal (the sum of the

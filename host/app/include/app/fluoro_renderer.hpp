@@ -42,7 +42,7 @@
 #include "app/fluoro_vessel.hpp"
 #include "app/phantom_projections.hpp"
 #include "app/shader_program.hpp"
-#include "app/tube_mesh.hpp"
+#include "app/fluoro_tool_mesh.hpp"
 #include "app/viewport.hpp"
 #include "base/result.hpp"
 #include "flow/head_phantom.hpp"
@@ -168,7 +168,7 @@ class FluoroRenderer {
   [[nodiscard]] std::uint64_t monitor_key(const FluoroInputs& in, const Shown& shown) const;
   void show_monitor(const Viewport& viewport, int gl_y, unsigned fbo);
   void accumulate(Target& target, const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
-  // Fills tool_vertices_ / tool_indices_ and returns the tools' screen box; draw_tools draws them.
+  // Fills tool_mesh_ and returns the tools' screen box; draw_tools draws them.
   Rect build_tools(const FluoroScene& scene, const flow::CArm& carm, double keV, int width, int height);
   CellMask scenes_;  // compose: the union of the shown scenes' cells
   CellMask drawn_;   // accumulate: the cells this scene draws in
@@ -218,10 +218,7 @@ class FluoroRenderer {
   unsigned tools_ebo_ = 0;
   std::size_t tools_vbo_bytes_ = 0;
   std::size_t tools_ebo_bytes_ = 0;
-  TubeMesh tube_;
-  std::vector<float> tool_vertices_;
-  std::vector<std::uint32_t> tool_indices_;
-  std::vector<glm::vec3> marker_nodes_;
+  FluoroToolMesh tool_mesh_;
   Work work_;
 };
 

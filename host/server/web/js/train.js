@@ -12,6 +12,9 @@
 //
 // /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
 // sleeps to it; js/tick_clock.js).
+// /train.html?view=fluoro|3d: the main view, as cathbox-trainer's --view (default: fluoroscopy for a
+// `realistic` case); the page's button switches it. The fluoroscopic image is js/fluoro_view.js
+// (the native renderer's shaders in WebGL2) over inputs the worker makes (host/wasm browser_fluoro).
 // /train.html?clock=virtual: the worker has no clock of its own; the page's "Run N ticks" control
 // runs exactly N (a run that is the same on any machine: the browser test drives the page so).
 //
@@ -19,7 +22,8 @@
 // the keys, the box's figures, the end card, the record check's line).
 import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
-import { speedsFor, isControlKey } from './train_keys.js';
+import { speedsFor, isControlKey, fluoroBits } from './train_keys.js';
+import { FluoroView, H } from './fluoro_view.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { chooseBox, WebSocketBox } from './box_transport.js';
@@ -37,6 +41,9 @@ let steps = 0;
 let views = null;
 let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
 const lawReplies = [];  // WebHID's command requests to the worker, answered in order
+// The fluoroscopy: the case has a unit (the worker says so), the view (made when first shown),
+// the lumen it draws the iodine on, the main view shown, the fluoroscopy keys last sent.
+const fluoro = { available: false, view: null, vessel: null, main: params.get('view') === 'fluoro' ? 'fluoro' : null, bits: 0 };
 
 function status(text) { document.getElementById('status').textContent = text; }
 
@@ -81,8 +88,49 @@ function fit(flat, max = 256) {
   return out;
 }
 
-function showFrame(data, metrics) {
+// The canvas's pixels, the size the worker makes the image for (null: not shown).
+function fluoroSize() {
+  if (fluoro.main !== 'fluoro') return null;
+  const c = document.getElementById('global');  // the canvas fills it (and has no size while hidden)
+  return [Math.max(1, Math.round(c.clientWidth * devicePixelRatio)), Math.max(1, Math.round(c.clientHeight * devicePixelRatio))];
+}
+
+// The main view: the fluoroscopic image or the 3D scene (the button, ?view=, a realistic case).
+function showMainView(which) {
+  fluoro.main = which;
+  const canvas = document.getElementById('fluoro');
+  const button = document.getElementById('main-view');
+  button.hidden = !fluoro.available;
+  if (which === 'fluoro' && fluoro.available && !fluoro.view) {
+    try {
+      fluoro.view = new FluoroView(canvas);
+      if (fluoro.vessel) fluoro.view.setVessel(fluoro.vessel.vertices, fluoro.vessel.indices);
+    } catch (err) {
+      document.getElementById('fluoro-note').textContent = err.message;
+      fluoro.main = '3d';
+    }
+  }
+  canvas.hidden = fluoro.main !== 'fluoro';
+  button.textContent = fluoro.main === 'fluoro' ? 'Show the 3D view' : 'Show fluoroscopy';
+  if (worker) worker.postMessage({ type: 'fluoro_size', size: fluoroSize() });
+  if (views) views.global.dirty = true;
+}
+
+// What the monitor shows, under the keys.
+function fluoroNote(f) {
+  const h = f.header;
+  if (!h[H.hasImage]) return 'Fluoroscopy: no image yet (hold Space, the pedal)';
+  const what = h[H.subtracted] ? 'subtraction run' : h[H.roadmap] ? 'roadmap over live fluoroscopy' : 'fluoroscopy';
+  return `Fluoroscopy: pulse ${h[H.pulse]}, ${what}, image ${h[H.width]} × ${h[H.height]} pixels` +
+    (fluoro.view ? `, ${fluoro.view.stats.images} images drawn` : '');
+}
+
+function showFrame(data, metrics, f) {
   const s = unpack(data);
+  if (f && fluoro.view) {
+    fluoro.view.update(f);
+    fluoro.last = f;
+  }
   run.last = s;
   run.metrics = metrics;
   if (run.live) run.live.frame(s, metrics);
@@ -113,7 +161,13 @@ function followTip(s) {
 
 function draw() {
   if (!views) return;
-  const drew = views.global.render();
+  const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
+  const drew = fluoroShown ? fluoro.view.render() : views.global.render();
+  if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
+    const note = fluoroNote(fluoro.last);
+    const line = document.getElementById('fluoro-note');
+    if (line.textContent !== note) line.textContent = note;
+  }
   views.local.render();
   if (drew && firstFrameMs === null && run.last) {
     firstFrameMs = performance.now() - run.started;
@@ -143,10 +197,21 @@ function onKey(e, down) {
   }
   if (down) run.held.add(e.code); else run.held.delete(e.code);
   setKeys();
+  const bits = fluoroBits(run.held);
+  if (bits !== fluoro.bits) {
+    fluoro.bits = bits;
+    worker.postMessage({ type: 'fluoro_keys', bits });
+  }
 }
 window.addEventListener('keydown', (e) => onKey(e, true));
 window.addEventListener('keyup', (e) => onKey(e, false));
-window.addEventListener('blur', () => { if (run) { run.held.clear(); setKeys(); } });
+window.addEventListener('blur', () => {
+  if (!run) return;
+  run.held.clear();
+  setKeys();
+  if (fluoro.bits && worker) worker.postMessage({ type: 'fluoro_keys', bits: (fluoro.bits = 0) });
+});
+window.addEventListener('resize', () => { if (worker && fluoro.main === 'fluoro') worker.postMessage({ type: 'fluoro_size', size: fluoroSize() }); });
 
 function setState(s, text = s) {
   state = s;
@@ -157,6 +222,9 @@ function onReady(m) {
   run.openMs = m.open_ms;
   run.tools = m.summary.tools;
   setTarget(m.summary.target);
+  fluoro.available = !!m.fluoro;
+  if (!fluoro.available) document.getElementById('fluoro-note').textContent = 'This case has no fluoroscopy unit (an analytic tube).';
+  showMainView(fluoro.main || (m.summary.realistic ? 'fluoro' : '3d'));
   setState('running');
   document.getElementById('virtual-clock').hidden = clock !== 'virtual';
   const a = run.assignment;
@@ -193,15 +261,20 @@ async function onOver(m) {
 // limits) or that the reference box's figures stand in for them.
 function showBoxReport(r) {
   if (!r) return;
-  const s = r.state || {};
-  const law = r.law || {};
+  const s = r.state;
+  const law = r.law;
   const st = r.stats || {};
-  document.getElementById('box-report').textContent =
-    `box ${(r.box_mm ?? 0).toFixed(3)} mm ${(r.box_rad ?? 0).toFixed(4)} rad; states ${st.states}, missed ${st.missed}, rejected ${st.rejected}, ` +
-    `longest report gap ${(st.max_report_gap_ms ?? 0).toFixed(3)} ms, longest command gap ${(st.max_send_gap_ms ?? 0).toFixed(3)} ms; ` +
-    `law seq ${law.seq ?? '-'}, offset ${law.insertion_offset_mN ?? '-'} mN; box status 0x${(s.status ?? 0).toString(16)}, ` +
-    `faults ${s.faults ?? '-'}, mode ${s.mode ?? '-'}, rx errors ${s.rx_errors ?? '-'}, command echo ${s.command_seq_echo ?? '-'}, ` +
-    `force ${s.insertion_force_mN ?? '-'} mN`;
+  const line = document.getElementById('box-report');
+  if (!s) {  // nothing from a box yet: said, not a line of blanks
+    line.textContent = r.live ? 'Box connected: waiting for its first report.' : 'No box connected: the keyboard drives the tool.';
+  } else {
+    line.textContent =
+      `box ${(r.box_mm ?? 0).toFixed(3)} mm ${(r.box_rad ?? 0).toFixed(4)} rad; states ${st.states}, missed ${st.missed}, rejected ${st.rejected}, ` +
+      `longest report gap ${(st.max_report_gap_ms ?? 0).toFixed(3)} ms, longest command gap ${(st.max_send_gap_ms ?? 0).toFixed(3)} ms; ` +
+      (law ? `law seq ${law.seq}, offset ${law.insertion_offset_mN} mN` : 'no law sent yet') + `; box status 0x${s.status.toString(16)}, ` +
+      `faults ${s.faults}, mode ${s.mode}, rx errors ${s.rx_errors}, command echo ${s.command_seq_echo}, ` +
+      `force ${s.insertion_force_mN} mN`;
+  }
   const c = r.config;
   if (!c) return;
   const who = c.source === 'the box' ? `${c.board} ${c.serial}, firmware ${c.firmware}` : c.source;
@@ -214,10 +287,14 @@ function startWorker() {
   worker.onmessage = (e) => {
     const m = e.data;
     if (m.type === 'frame') {
-      showFrame(m.data, m.metrics);
+      showFrame(m.data, m.metrics, m.fluoro);
       if (m.box) { run.boxReport = m.box; showBoxReport(m.box); } else if (run.box) showBoxReport(run.box.report());
     }
     else if (m.type === 'box_note') boxNote(m.text);
+    else if (m.type === 'fluoro_vessel') {
+      fluoro.vessel = m;
+      if (fluoro.view) fluoro.view.setVessel(m.vertices, m.indices);
+    }
     else if (m.type === 'ready') onReady(m);
     else if (m.type === 'advanced') onStepped(m.ticks);
     else if (m.type === 'over') onOver(m);
@@ -272,6 +349,11 @@ function offerBox() {
 }
 
 // The virtual clock: "Run N ticks" runs exactly N; the note beside it says when they ran.
+document.getElementById('main-view').addEventListener('click', (e) => {
+  e.currentTarget.blur();  // Space is the pedal, not this button
+  showMainView(fluoro.main === 'fluoro' ? '3d' : 'fluoro');
+});
+
 document.getElementById('step').addEventListener('click', () => {
   const ticks = Math.round(Number(document.getElementById('step-ticks').value));
   if (!(ticks >= 1) || state !== 'running' || pendingStep) return;
@@ -304,7 +386,7 @@ async function openCase(a) {
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,
-    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl, spinMs: params.has('spin') ? Number(params.get('spin')) : undefined },
+    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl, fluoroSize: fluoro.main === 'fluoro' ? fluoroSize() : null, spinMs: params.has('spin') ? Number(params.get('spin')) : undefined },
     [collision]);
 }
 

@@ -1,15 +1,24 @@
 // The native trainer's key table (host/app/src/input_controller.cpp), by KeyboardEvent.code:
 // W/Up push and S/Down pull at 10 mm/s, A/Left and D/Right twist at +/-1.5 rad/s, Shift x4;
-// Tab the next tool, C frames the camera, F wireframe, Escape ends the run.
+// Tab the next tool, C frames the camera, F wireframe, Escape ends the run; the fluoroscopy's
+// Space (pedal), I (inject), R (roadmap), X (clear it), [ ] - = (the C-arm: RAO, LAO, caudal,
+// cranial), held as bits in session::FluoroKeys' order (host/wasm browser_session.hpp).
 const PUSH = ['KeyW', 'ArrowUp'];
 const PULL = ['KeyS', 'ArrowDown'];
 const LEFT = ['KeyA', 'ArrowLeft'];
 const RIGHT = ['KeyD', 'ArrowRight'];
 const SHIFT = ['ShiftLeft', 'ShiftRight'];
 const ACTIONS = ['Tab', 'Escape', 'KeyC', 'KeyF'];
-const ALL = new Set([...PUSH, ...PULL, ...LEFT, ...RIGHT, ...SHIFT, ...ACTIONS]);
+const FLUORO = ['Space', 'KeyI', 'KeyR', 'KeyX', 'BracketLeft', 'BracketRight', 'Minus', 'Equal'];
+const ALL = new Set([...PUSH, ...PULL, ...LEFT, ...RIGHT, ...SHIFT, ...ACTIONS, ...FLUORO]);
 
 export function isControlKey(code) { return ALL.has(code); }
+
+// The fluoroscopy keys held as bits (pedal 1, inject 2, roadmap 4, clear 8, RAO 16, LAO 32,
+// caudal 64, cranial 128).
+export function fluoroBits(held) {
+  return FLUORO.reduce((bits, code, i) => (held.has(code) ? bits | (1 << i) : bits), 0);
+}
 
 // [insertion mm/s, rotation rad/s] for the set of codes held.
 export function speedsFor(held) {

@@ -23,7 +23,9 @@
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
 // advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
-// box_configure {config, periodMs}, box_command {args} (the page's WebHID driver). Out: ready {summary, open_ms}, frame {data: Float32Array, metrics},
+// box_configure {config, periodMs}, box_command {args} (the page's WebHID driver), fluoro_keys {bits}
+// (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}. Out: ready {summary, open_ms, fluoro},
+// fluoro_vessel {vertices, indices}, frame {data: Float32Array, metrics, fluoro: {header, phantom?, floats?, indices?} or null},
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
 // box_command {bytes (64) or null, message}, error {message}.
@@ -82,6 +84,11 @@ function bind(m) {
     boxConfigure: c('cbx_box_configure', null, ['number', 'number', 'number', 'number']),
     boxCommand: c('cbx_box_command', 'number', ['number', 'number', 'number', 'number', 'number', 'number', 'number']),
     boxCommandBytes: c('cbx_box_command_bytes', 'number', []),
+    fluoroOpen: c('cbx_fluoro_open', 'number', []),
+    fluoroKeys: c('cbx_fluoro_keys', null, ['number']),
+    fluoroFrame: c('cbx_fluoro_frame', 'number', ['number', 'number']),
+    fluoroData: c('cbx_fluoro_data', 'number', ['number']),
+    fluoroSize: c('cbx_fluoro_size', 'number', ['number']),
   };
 }
 
@@ -92,16 +99,46 @@ function tick() {
   if (fn.over()) over = true;
 }
 
+// A copy of n elements of the module's memory at byte address `at` (HEAPF32, HEAPF64, HEAPU32).
+// The memory may have grown (a new shared buffer): a call returning a string makes the runtime
+// renew its views (GROWABLE_HEAP_U8), then the view covers them.
+function copyHeap(heap, at, n) {
+  const i = at / mod[heap].BYTES_PER_ELEMENT;
+  if (i + n > mod[heap].length) fn.error();
+  return mod[heap].slice(i, i + n);
+}
+
+// The fluoroscopy (wasm/browser_fluoro.hpp, js/fluoro_view.js): the page's image size while it
+// shows it (null: the 3D view), and what it was last sent.
+const HEADER_DOUBLES = 56;
+let fluoroOn = false;
+let fluoroSize = null;
+let fluoroSent = { scene: -1, phantom: -1 };
+
+function fluoroFrame() {
+  if (!fluoroOn || !fluoroSize) return null;
+  const header = copyHeap('HEAPF64', fn.fluoroFrame(fluoroSize[0], fluoroSize[1]), HEADER_DOUBLES);
+  const out = { header };
+  if (header[43] !== fluoroSent.phantom) {
+    out.phantom = copyHeap('HEAPF32', fn.fluoroData(2), fn.fluoroSize(2));
+    fluoroSent.phantom = header[43];
+  }
+  if (header[0] && header[42] !== fluoroSent.scene) {
+    out.floats = copyHeap('HEAPF32', fn.fluoroData(3), fn.fluoroSize(3));
+    out.indices = copyHeap('HEAPU32', fn.fluoroData(4), fn.fluoroSize(4));
+    fluoroSent.scene = header[42];
+  }
+  return out;
+}
+
 function postFrame() {
   const n = fn.snapshot();
-  const at = fn.snapshotData() >> 2;
-  // The memory may have grown (a new shared buffer): a call returning a string makes the
-  // runtime renew its views (GROWABLE_HEAP_U8), then HEAPF32 covers the snapshot.
-  if (at + n > mod.HEAPF32.length) fn.error();
-  const data = new Float32Array(n);
-  data.set(mod.HEAPF32.subarray(at, at + n));
+  const data = copyHeap('HEAPF32', fn.snapshotData(), n);
   latest = { insertion_mm: data[2], rotation_rad: data[3], hand_force_mN: data[4], torque_mNmm: data[5] };
-  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null }, [data.buffer]);
+  const fluoro = fluoroFrame();
+  const moved = [data.buffer];
+  if (fluoro) for (const k of ['header', 'phantom', 'floats', 'indices']) if (fluoro[k]) moved.push(fluoro[k].buffer);
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro }, moved);
 }
 
 function finish() {
@@ -198,10 +235,17 @@ async function open(m) {
   if (boxConfig) boxLaw.configure(boxConfig.c, boxConfig.periodMs);
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
+  fluoroOn = fn.fluoroOpen() === 1;
+  fluoroSent = { scene: -1, phantom: -1 };
+  fluoroSize = m.fluoroSize || null;
+  if (fluoroOn) {
+    postMessage({ type: 'fluoro_vessel', vertices: copyHeap('HEAPF32', fn.fluoroData(0), fn.fluoroSize(0)),
+      indices: copyHeap('HEAPU32', fn.fluoroData(1), fn.fluoroSize(1)) });
+  }
   over = false;
   if (m.box) await openBox(m.box);
   postFrame();
-  postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0 });
+  postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0, fluoro: fluoroOn });
   if (clock === 'real') {
     const { TickClock } = await clockModule;
     ticker = new TickClock({
@@ -238,6 +282,10 @@ onmessage = (e) => {
       let message = '';
       try { bytes = boxLaw.command(m.args); } catch (err) { message = err.message; }
       postMessage({ type: 'box_command', bytes, message });
+    } else if (m.type === 'fluoro_keys') {
+      fn.fluoroKeys(m.bits);
+    } else if (m.type === 'fluoro_size') {
+      fluoroSize = m.size;  // the next frame projects the phantom for it if it is new
     } else if (m.type === 'next_tool') {
       fn.nextTool();
     } else if (m.type === 'end') {

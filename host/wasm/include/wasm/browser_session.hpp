@@ -11,7 +11,9 @@
 #include "base/result.hpp"
 #include "protocol/cbx_command_report.h"
 #include "session/keyboard_input.hpp"
+#include "session/fluoro_switches.hpp"
 #include "session/session.hpp"
+#include "wasm/browser_fluoro.hpp"
 #include "wasm/browser_box_law.hpp"
 
 namespace cathbox::wasm {
@@ -45,6 +47,16 @@ class BrowserSession {
   // {"case", "hand", "end", "ticks", "record_bytes", "target":[x,y,z,r]|null, "metrics":{name:value}}
   [[nodiscard]] std::string summary_json() const;
 
+  // The fluoroscopy keys held (the native trainer's: Space pedal, I inject, R roadmap, X clear it,
+  // [ ] - = the C-arm), as bits in that order: their controls posted on each change
+  // (session::FluoroSwitches, as cathbox-trainer does once a frame).
+  void fluoro_keys(int bits);
+  // The fluoroscopic image's inputs for the page (wasm/browser_fluoro.hpp), from the snapshot
+  // pack_snapshot() took; open_fluoro() false: the case has no fluoroscopy unit.
+  bool open_fluoro() { return fluoro_.open(*session_); }
+  const BrowserFluoro& fluoro_frame(int width, int height);
+  [[nodiscard]] const BrowserFluoro& fluoro() const { return fluoro_; }
+
   // The box's command for the held tool's newest law (wasm/browser_box_law.hpp).
   void configure_box(const BoxLawConfig& config) { box_law_.configure(config); }
   [[nodiscard]] cbx_command_report box_command(double box_offset_mm, double box_offset_rad, const BoxReading& reading);
@@ -56,6 +68,8 @@ class BrowserSession {
   const LawTapHand* hand_ = nullptr;  // the session's hand (owned by it)
   BrowserBoxLaw box_law_;
   std::vector<float> packed_;
+  session::FluoroSwitches switches_;
+  BrowserFluoro fluoro_;
   std::uint64_t record_bytes_ = 0;
 };
 

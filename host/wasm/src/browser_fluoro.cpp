@@ -1,0 +1,137 @@
+#include "wasm/browser_fluoro.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "app/fluoro_frontend.hpp"
+#include "app/fluoro_image_model.hpp"
+#include "base/xxh_hasher.hpp"
+#include "flow/head_phantom.hpp"
+#include "flow/xray_material.hpp"
+
+namespace cathbox::wasm {
+namespace {
+
+std::uint64_t pose_key(const flow::CArmPose& p, int width, int height, double extra) {
+  base::XxhHasher k;
+  k.add(p.lao_deg);
+  k.add(p.cranial_deg);
+  k.add(p.sid_mm);
+  k.add(p.sod_mm);
+  k.add(p.table_height_mm);
+  k.add(p.isocenter_mm);
+  k.add(p.fov_mm);
+  k.add(p.collimation);
+  k.add(width);
+  k.add(height);
+  k.add(extra);
+  return k.digest();
+}
+
+}  // namespace
+
+bool BrowserFluoro::open(const session::Session& session) {
+  const session::FluoroUnit* unit = session.fluoro();
+  const vessel::SurfaceMesh* mesh = session.scene().mesh();
+  if (unit == nullptr || mesh == nullptr) return false;
+  // The native trainer draws the iodine on a surface one level coarser when it meshes the
+  // vessel itself; here the surface comes made (the collision surface), as a native case with
+  // its surface given.
+  vessel_ = app::FluoroVessel::build(*mesh, unit->transport());
+  cell_count_ = vessel_.cell_count;
+  vessel_vertices_.clear();
+  vessel_vertices_.reserve(6 * vessel_.positions_mm.size());
+  for (std::size_t v = 0; v < vessel_.positions_mm.size(); ++v) {
+    const glm::vec3& p = vessel_.positions_mm[v];
+    const app::VertexCells& c = vessel_.cells[v];
+    vessel_vertices_.insert(vessel_vertices_.end(), {p.x, p.y, p.z, static_cast<float>(c.a), static_cast<float>(c.b), c.w});
+  }
+  vessel_indices_.assign(vessel_.triangles.begin(), vessel_.triangles.end());
+  return true;
+}
+
+void BrowserFluoro::project_phantom(const flow::CArm& carm, int width, int height, double l_ref) {
+  // As FluoroRenderer::project_phantom: L and sqrt(T_ref / T) = exp((L - L_ref) / 2) per pixel,
+  // bottom row first (as GL textures are filled).
+  const std::vector<float> path = flow::HeadPhantom::neuro().project(carm, width, height);
+  phantom_rg_.resize(2 * path.size());
+  const auto w = static_cast<std::size_t>(width);
+  const auto h = static_cast<std::size_t>(height);
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const std::size_t o = 2 * ((h - 1 - i / w) * w + i % w);
+    phantom_rg_[o] = path[i];
+    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (path[i] - l_ref)));
+  }
+}
+
+void BrowserFluoro::pack_scenes(const app::FluoroInputs& in, double patient_pixel_mm, double keV) {
+  scene_floats_.clear();
+  scene_indices_.clear();
+  const app::FluoroScene* scenes[] = {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask};
+  for (int s = 0; s < 4; ++s) {
+    const app::FluoroScene& scene = *scenes[s];
+    const bool cells = scene.cell_iodine_mgI_ml.size() == cell_count_ && cell_count_ > 0;
+    if (cells) scene_floats_.insert(scene_floats_.end(), scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end());
+    tools_.build(scene, patient_pixel_mm, keV);
+    scene_floats_.insert(scene_floats_.end(), tools_.vertices().begin(), tools_.vertices().end());
+    scene_indices_.insert(scene_indices_.end(), tools_.indices().begin(), tools_.indices().end());
+    header_[kScenes + 3 * s] = cells ? static_cast<double>(cell_count_) : 0.0;
+    header_[kScenes + 3 * s + 1] = static_cast<double>(tools_.vertices().size());
+    header_[kScenes + 3 * s + 2] = static_cast<double>(tools_.indices().size());
+  }
+}
+
+void BrowserFluoro::frame(const session::SceneSnapshot& snapshot, int width, int height) {
+  const app::FluoroInputs in = app::fluoro_inputs_from_snapshot(snapshot, {});
+  const app::FluoroDisplay display;
+  const flow::CArm carm(in.pose);
+  const bool has_image = app::check_fluoro_inputs(in, cell_count_).empty() && in.image.pulse >= 0 && in.shown.pulse >= 0;
+  const bool subtracted = has_image && in.image.subtracted() && in.mask.pulse >= 0;
+  const bool roadmap = has_image && !subtracted && in.image.roadmap_pulse >= 0 && in.roadmap.pulse >= 0 && in.roadmap_mask.pulse >= 0;
+  const double pitch = in.shown.mode == flow::ExposureMode::kFluoroscopy ? display.fluoro_readout_pitch_mm : 0.0;
+  const app::ImageMatrix m = app::readout_matrix(width, height, carm.pixel_mm(width, height), pitch);
+  const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
+  const double keV = in.dose.effective_keV;
+  const double pixel_mm = carm.pixel_mm(m.width, m.height);
+  header_[kHasImage] = has_image ? 1.0 : 0.0;
+  header_[kPulse] = static_cast<double>(in.shown.pulse);
+  header_[kSubtracted] = subtracted ? 1.0 : 0.0;
+  header_[kRoadmap] = roadmap ? 1.0 : 0.0;
+  header_[kWidth] = m.width;
+  header_[kHeight] = m.height;
+  header_[kLRef] = l_ref;
+  header_[kIodineMu] = flow::iodine_per_mm_per_mgI_ml(keV);
+  const double sod = carm.depth_mm(carm.isocenter_mm());
+  header_[kSod] = sod;
+  const glm::dvec3 source = carm.source_mm();
+  header_[kSourceX] = source.x;
+  header_[kSourceY] = source.y;
+  header_[kSourceZ] = source.z;
+  header_[kFieldHalf] = 0.5 * std::min(m.width, m.height) * in.pose.collimation;
+  const flow::FluoroDose dose(in.dose);
+  const app::FluoroScene* scenes[] = {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask};
+  for (int s = 0; s < 4; ++s) {
+    header_[kSigma + s] = display.noise ? dose.log_noise_sigma(scenes[s]->mode, pixel_mm) : 0.0;
+    header_[kSeeds + s] = app::pulse_seed(scenes[s]->pulse);
+  }
+  const float shown[] = {display.fluoro_slope, display.dsa_background, display.dsa_gain, display.roadmap_gain, display.anatomy_gain};
+  std::copy(std::begin(shown), std::end(shown), header_.begin() + kDisplay);
+  const glm::mat4 vp = carm.projection_matrix(m.width, m.height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
+  for (int i = 0; i < 16; ++i) header_[kViewProj + i] = vp[i / 4][i % 4];
+  // The phantom is projected for a pose and size before its first pulse (the worker asks at
+  // open, before its clock starts: a projection is tens of ms of CPU).
+  if (const std::uint64_t key = pose_key(in.pose, m.width, m.height, l_ref); key != phantom_key_) {
+    project_phantom(carm, m.width, m.height, l_ref);
+    phantom_key_ = key;
+    header_[kPhantomVersion] += 1.0;
+  }
+  if (!has_image) return;
+  if (const std::uint64_t key = pose_key(in.pose, m.width, m.height, static_cast<double>(snapshot.fluoro.inputs_version));
+      key != scene_key_) {
+    pack_scenes(in, pixel_mm / carm.magnification(carm.isocenter_mm()), keV);
+    scene_key_ = key;
+    header_[kSceneVersion] += 1.0;
+  }
+}
+
+}  // namespace cathbox::wasm
