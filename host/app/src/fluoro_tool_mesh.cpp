@@ -6,34 +6,10 @@
 #include <glm/geometric.hpp>
 
 #include "app/fluoro_image_model.hpp"
+#include "app/stent_view.hpp"
 #include "flow/xray_material.hpp"
 
 namespace cathbox::app {
-namespace {
-
-// The part of a polyline between two arc positions (mm from its first node).
-void sub_polyline(std::span<const glm::vec3> nodes, double from_mm, double to_mm, std::vector<glm::vec3>& out) {
-  out.clear();
-  double arc = 0.0;
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
-    const double len = glm::length(nodes[i + 1] - nodes[i]);
-    const double a0 = arc;
-    const double a1 = arc + len;
-    arc = a1;
-    if (a1 <= from_mm || a0 >= to_mm || len <= 0.0) continue;
-    const auto at = [&](double a) { return nodes[i] + static_cast<float>((a - a0) / len) * (nodes[i + 1] - nodes[i]); };
-    if (out.empty()) out.push_back(at(std::max(a0, from_mm)));
-    out.push_back(at(std::min(a1, to_mm)));
-  }
-}
-
-double polyline_length(std::span<const glm::vec3> nodes) {
-  double s = 0.0;
-  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) s += glm::length(nodes[i + 1] - nodes[i]);
-  return s;
-}
-
-}  // namespace
 
 void FluoroToolMesh::add_tube(const std::vector<glm::vec3>& nodes, float radius_mm, float mu) {
   tube_.build(nodes, {}, radius_mm, kSides);
@@ -67,7 +43,7 @@ void FluoroToolMesh::build(const FluoroScene& scene, double patient_pixel_mm, do
     add_tube(tool.nodes_mm, line.radius_mm, shaft_mu * line.mu_scale);
     const double length = polyline_length(tool.nodes_mm);
     for (const FluoroMarker& m : tool.markers) {
-      sub_polyline(tool.nodes_mm, length - m.from_tip_mm - m.length_mm, length - m.from_tip_mm, marker_nodes_);
+      polyline_part(tool.nodes_mm, length - m.from_tip_mm - m.length_mm, length - m.from_tip_mm, marker_nodes_);
       if (marker_nodes_.size() < 2) continue;
       const auto mu = static_cast<float>(flow::linear_attenuation_per_mm(m.material, keV)) - shaft_mu;
       add_tube(marker_nodes_, line.radius_mm, mu * line.mu_scale);

@@ -156,8 +156,7 @@ void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSett
     const session::ClotView& c = snapshot.clots[static_cast<std::size_t>(k)];
     ToolDraw& td = tools_[static_cast<std::size_t>(tool_count_++)];
     td.color = SceneColors::kClot;
-    const std::array<glm::vec3, 2> axis{c.start_mm, c.end_mm};
-    tube_.build(axis, {}, c.radius_mm, 12);
+    tube_.build(c.axis_mm, {}, c.radius_mm, 12);
     td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
     td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
   }

@@ -3,6 +3,11 @@
 // ends in.
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <span>
+
+#include <glm/geometric.hpp>
+#include <glm/common.hpp>
 
 #include "flow/aspiration.hpp"
 #include "session/thrombectomy_unit.hpp"
@@ -23,6 +28,36 @@ void reset(Pass& p) {
   p = std::move(fresh);
 }
 
+// The node parameter from the tip (0 at the last node; j + f a fraction f of the way from the
+// j-th node back from the tip to the next) of the point of the polyline `nodes` (tip last)
+// nearest to `p`.
+double param_from_tip(std::span<const glm::dvec3> nodes, const glm::dvec3& p) {
+  double best = 0.0;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  const std::size_t n = nodes.size();
+  for (std::size_t j = 0; j + 1 < n; ++j) {
+    const glm::dvec3& a = nodes[n - 1 - j];
+    const glm::dvec3 ab = nodes[n - 2 - j] - a;
+    const double len2 = glm::dot(ab, ab);
+    const double f = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+    const glm::dvec3 q = a + f * ab;
+    if (const double d2 = glm::dot(p - q, p - q); d2 < best_d2) {
+      best_d2 = d2;
+      best = static_cast<double>(j) + f;
+    }
+  }
+  return best;
+}
+
+// The point at node parameter `u` from the tip of `nodes` (tip last), clamped to the polyline.
+glm::dvec3 point_from_tip(std::span<const glm::dvec3> nodes, double u) {
+  const std::size_t n = nodes.size();
+  if (n < 2) return n == 1 ? nodes[0] : glm::dvec3(0.0);
+  const double at = std::clamp(u, 0.0, static_cast<double>(n - 1));
+  const auto j = std::min(static_cast<std::size_t>(at), n - 2);
+  return glm::mix(nodes[n - 1 - j], nodes[n - 2 - j], at - static_cast<double>(j));
+}
+
 }  // namespace
 
 double ThrombectomyUnit::stent_integration(std::size_t tool) const {
@@ -34,6 +69,18 @@ double ThrombectomyUnit::stent_integration(std::size_t tool) const {
 
 void ThrombectomyUnit::after_step(std::int64_t time_us, tool::Simulator& sim) {
   for (StentPass& p : stents_) stent_step(p, time_us, sim);
+  for (const Aspirator& a : aspirators_) {
+    const double grip_mN = aspiration_grip_mN(a.tool);
+    if (grip_mN != sim.tip_grip_mN(a.tool)) sim.set_tip_grip(a.tool, grip_mN);
+  }
+}
+
+double ThrombectomyUnit::aspiration_grip_mN(std::size_t tool) const {
+  if (engaged_tool_ != tool || engaged_.empty()) return 0.0;
+  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
+  if (a == aspirators_.end()) return 0.0;
+  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, thrombus_clot(engaged_), head_Pa(clots_[engaged_.front()]));
+  return r.outcome == flow::AspirationOutcome::kIngested ? 0.0 : 1000.0 * std::min(r.force_N, r.hold_force_N);
 }
 
 // The clot the stent's unsheathed nodes lie in and the share of its thrombus they cover:
@@ -139,7 +186,6 @@ void ThrombectomyUnit::deploy_stent(StentPass& p, std::int64_t time_us, const to
 void ThrombectomyUnit::start_retrieval(StentPass& p, std::int64_t time_us, tool::Simulator& sim) {
   const StentCover cover = stent_cover(sim, p.tool);
   p.retrieving = true;
-  if (p.tool < tips_.size()) p.retrieval_tip_mm = tips_[p.tool];
   p.peak_pull_mN = sim.rod(p.tool).converged() ? std::max(0.0, -sim.hand_force_mN(p.tool)) : 0.0;
   if (cover.thrombus.empty()) {  // it has moved off the clot (or the clot went in another pass)
     p.captured = false;
@@ -153,7 +199,10 @@ void ThrombectomyUnit::start_retrieval(StentPass& p, std::int64_t time_us, tool:
   const double grip_N = p.integration * p.cover * tool::stent_capture_force_N(p.spec);
   const double hold_N = flow::clot_hold_force_N(clot, head);
   p.captured = grip_N > hold_N;
-  if (p.captured) sim.set_stent_payload(p.tool, 1000.0 * flow::clot_drag_force_N(clot, head));
+  if (p.captured) {
+    sim.set_stent_payload(p.tool, 1000.0 * flow::clot_drag_force_N(clot, head));
+    hold_on_stent(p, sim.rod(p.tool).positions());
+  }
   log(time_us, "stent retrieval: the clot %s (grip %.3f N: %.0f %% integrated, %.0f %% covered; held by %.3f N)",
       p.captured ? "comes with the stent" : "slips out of the stent", grip_N, 100.0 * p.integration, 100.0 * p.cover, hold_N);
 }
@@ -196,23 +245,49 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   grade_pass(time_us, std::move(removed), fragment);
 }
 
+// Where each clot of the captured thrombus lies on the stent (its face and end as node
+// parameters of the rod's nodes `x`), and the stent's nodes as far back as the furthest of them.
+// Allocates: an event, once a retrieval.
+void ThrombectomyUnit::hold_on_stent(StentPass& p, std::span<const glm::dvec3> x) const {
+  p.on_stent.clear();
+  double furthest = 0.0;
+  for (const std::size_t k : p.thrombus) {
+    const flow::Clot& c = clots_[k];
+    const double face = param_from_tip(x, locator_.point_at(c.segment, c.arc_start_mm));
+    const double end = param_from_tip(x, locator_.point_at(c.segment, c.arc_start_mm + c.length_mm));
+    p.on_stent.push_back({face, end});
+    furthest = std::max({furthest, face, end});
+  }
+  const std::size_t keep = std::min(x.size(), static_cast<std::size_t>(furthest) + 2);
+  p.path.assign(x.end() - static_cast<std::ptrdiff_t>(keep), x.end());
+}
+
 ClotView ThrombectomyUnit::clot_view(std::size_t k) const {
   const flow::Clot& c = clots_[k];
-  glm::dvec3 shift(0.0);
-  ClotState state = ClotState::kInPlace;
-  if (engaged_tool_ && std::find(engaged_.begin(), engaged_.end(), k) != engaged_.end()) state = ClotState::kEngaged;
+  ClotView v;
+  v.radius_mm = static_cast<float>(locator_.radius_at(c.segment, c.arc_start_mm + 0.5 * c.length_mm));
+  if (engaged_tool_ && std::find(engaged_.begin(), engaged_.end(), k) != engaged_.end()) v.state = ClotState::kEngaged;
+  const StentPass* drag = nullptr;
+  std::size_t slot = 0;
   for (const StentPass& p : stents_) {
-    if (!p.deployed || std::find(p.thrombus.begin(), p.thrombus.end(), k) == p.thrombus.end()) continue;
-    state = ClotState::kEngaged;
-    if (p.retrieving && p.captured && p.tool < tips_.size()) {
-      state = ClotState::kDragged;
-      shift = tips_[p.tool] - p.retrieval_tip_mm;
+    const auto at = std::find(p.thrombus.begin(), p.thrombus.end(), k);
+    if (!p.deployed || at == p.thrombus.end()) continue;
+    v.state = ClotState::kEngaged;
+    slot = static_cast<std::size_t>(at - p.thrombus.begin());
+    if (p.retrieving && p.captured && slot < p.on_stent.size() && !p.path.empty()) {
+      v.state = ClotState::kDragged;
+      drag = &p;
     }
   }
-  const double mid_mm = c.arc_start_mm + 0.5 * c.length_mm;
-  return {glm::vec3(locator_.point_at(c.segment, c.arc_start_mm) + shift),
-          glm::vec3(locator_.point_at(c.segment, c.arc_start_mm + c.length_mm) + shift),
-          static_cast<float>(locator_.radius_at(c.segment, mid_mm)), state};
+  for (int i = 0; i < ClotView::kAxisPoints; ++i) {
+    const double f = static_cast<double>(i) / (ClotView::kAxisPoints - 1);
+    const glm::dvec3 at = drag != nullptr ? point_from_tip(drag->path, glm::mix(drag->on_stent[slot][0], drag->on_stent[slot][1], f))
+                                          : locator_.point_at(c.segment, c.arc_start_mm + f * c.length_mm);
+    v.axis_mm[static_cast<std::size_t>(i)] = glm::vec3(at);
+  }
+  v.start_mm = v.axis_mm.front();
+  v.end_mm = v.axis_mm.back();
+  return v;
 }
 
 }  // namespace cathbox::session

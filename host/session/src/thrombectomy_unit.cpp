@@ -205,6 +205,12 @@ void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot
   const std::size_t n = std::min(snapshot.tools.size(), tool_names_.size());
   tips_.resize(n);
   for (std::size_t t = 0; t < n; ++t) tips_[t] = snapshot.tools[t].tip.position_mm;
+  for (StentPass& p : stents_) {  // a dragged clot's path: the stent's distal nodes (no allocation)
+    if (p.path.empty() || p.tool >= n) continue;
+    const std::vector<glm::dvec3>& x = snapshot.tools[p.tool].positions_mm;
+    const std::size_t m = std::min(p.path.size(), x.size());
+    std::copy(x.end() - static_cast<std::ptrdiff_t>(m), x.end(), p.path.end() - static_cast<std::ptrdiff_t>(m));
+  }
   if (arrest_since_us_ >= 0) figures_.flow_arrest_s = static_cast<double>(arrest_before_us_ + time_us - arrest_since_us_) * 1e-6;
   if (engaged_tool_) {
     const double insertion = snapshot.tools[*engaged_tool_].insertion_mm;

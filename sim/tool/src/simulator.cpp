@@ -102,6 +102,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
     }
   }
   stents_.resize(n);
+  tip_grip_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
     if (!tools[i].stent.present()) continue;
     stents_[i].emplace(tools[i].stent, rods_[i].node_total());
@@ -330,12 +331,24 @@ void Simulator::update_stents() {
   }
 }
 
+// The owner's grips on tool tips (set_tip_grip), on the tip node while it is free.
+void Simulator::update_tip_grips() {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    Rod& rod = rods_[t];
+    const std::size_t tip = rod.node_total() - 1;
+    // A stent's or a balloon's own grip holds that node.
+    if (stents_[t] || (balloons_[t] && balloons_[t]->spec().from_tip_mm <= 0.0)) continue;
+    rod.set_grip(tip, rod.first_free_node() <= tip ? tip_grip_[t] : 0.0);
+  }
+}
+
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
   const std::size_t n = rods_.size();
   update_chain();
   update_balloons(dt_s);
   update_stents();
+  update_tip_grips();
   for (const std::size_t t : order_) {
     prepare(t);
     update_contact_members();

@@ -63,10 +63,11 @@ TEST(FluoroFrontend, AStentRetrieverShowsItsTwoEndMarkersNotAPlatinumTip) {
   EXPECT_EQ(check_fluoro_inputs(in, 0), "");
 }
 
-// Expanded (the push wire's narrowest node below its widest), the stent section alone is drawn
-// at the stent's radius, after the push wire at its own: the proximal band lies on the stent's
-// proximal end, not inside a wire drawn as wide as the stent.
-TEST(FluoroFrontend, AnExpandedStentIsDrawnWideAndItsPushWireThin) {
+// Expanded (the push wire's narrowest node below its widest), the push wire is drawn at its own
+// radius up to the stent, and of the stent only its platinum markers, as a real device shows:
+// one on the axis at the stent's proximal end, three at the struts' distal ends on the expanded
+// radius; no strut body as wide as the stent.
+TEST(FluoroFrontend, AnExpandedStentShowsOnlyItsMarkersBeyondItsThinPushWire) {
   session::SceneSnapshot snap;
   snap.tool_count = 1;
   for (int z = 0; z <= 60; z += 5) snap.tools[0].nodes_mm.push_back({0.0F, 0.0F, 100.0F + static_cast<float>(z)});
@@ -74,23 +75,38 @@ TEST(FluoroFrontend, AnExpandedStentIsDrawnWideAndItsPushWireThin) {
   snap.tools[0].radius_mm = 1.3F;
   snap.tools[0].wire_radius_mm = 0.2F;
   const FluoroInputs in = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
-  ASSERT_EQ(in.shown.tools.size(), 2U);
+  ASSERT_EQ(in.shown.tools.size(), 1U + 1U + static_cast<std::size_t>(kStentDistalMarkers));
   const FluoroTool& wire = in.shown.tools[0];
-  const FluoroTool& stent = in.shown.tools[1];
   EXPECT_EQ(wire.radius_mm, 0.2F);
+  EXPECT_EQ(wire.material, flow::XrayMaterial::kNitinol);
   EXPECT_TRUE(wire.markers.empty());
   ASSERT_EQ(wire.nodes_mm.size(), 9U);  // 100 ... 140 mm: the stent's 20 mm begin at 140
   EXPECT_EQ(wire.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 140.0F));
-  EXPECT_EQ(stent.radius_mm, 1.3F);
-  ASSERT_EQ(stent.nodes_mm.size(), 5U);
-  EXPECT_EQ(stent.nodes_mm.front(), wire.nodes_mm.back());
-  EXPECT_EQ(stent.nodes_mm.back(), glm::vec3(0.0F, 0.0F, 160.0F));
-  ASSERT_EQ(stent.markers.size(), 2U);
-  EXPECT_EQ(stent.markers[1].from_tip_mm, 20.0 - kStentMarker_mm);
+  const FluoroTool& proximal = in.shown.tools[1];
+  ASSERT_EQ(proximal.nodes_mm.size(), 2U);
+  EXPECT_EQ(proximal.nodes_mm.front(), glm::vec3(0.0F, 0.0F, 140.0F));
+  EXPECT_NEAR(proximal.nodes_mm.back().z, 140.0F + static_cast<float>(kStentMarker_mm), 1e-4F);
+  for (std::size_t k = 1; k < in.shown.tools.size(); ++k) {
+    const FluoroTool& m = in.shown.tools[k];
+    EXPECT_EQ(m.material, flow::XrayMaterial::kPlatinum);
+    EXPECT_EQ(m.radius_mm, static_cast<float>(kStentMarkerRadius_mm));
+    EXPECT_LT(m.radius_mm, snap.tools[0].radius_mm) << "no tool as wide as the stent";
+    if (k < 2) continue;
+    // The distal markers: the last mm of the stent, on its expanded radius, 120 degrees apart.
+    ASSERT_EQ(m.nodes_mm.size(), 2U);
+    EXPECT_NEAR(m.nodes_mm.front().z, 159.0F, 1e-4F);
+    EXPECT_NEAR(m.nodes_mm.back().z, 160.0F, 1e-4F);
+    EXPECT_NEAR(glm::length(glm::vec2(m.nodes_mm.back())), 1.3F - static_cast<float>(kStentMarkerRadius_mm), 1e-4F);
+    const glm::vec2 a = glm::normalize(glm::vec2(m.nodes_mm.back()));
+    const glm::vec2 b = glm::normalize(glm::vec2(in.shown.tools[k == 2 ? 3 : 2].nodes_mm.back()));
+    EXPECT_NEAR(glm::dot(a, b), -0.5F, 1e-4F);
+  }
   EXPECT_EQ(check_fluoro_inputs(in, 0), "");
-  // Crimped (no node wider than the wire) it stays one tool.
+  // Crimped (no node wider than the wire) it stays one tool with a band at each end.
   snap.tools[0].radius_mm = 0.2F;
-  EXPECT_EQ(fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{}).shown.tools.size(), 1U);
+  const FluoroInputs crimped = fluoro_inputs_from_snapshot(snap, SnapshotFluoroSettings{});
+  ASSERT_EQ(crimped.shown.tools.size(), 1U);
+  EXPECT_EQ(crimped.shown.tools[0].markers.size(), 2U);
 }
 
 // Released coils (SceneSnapshot::coils) reach the image as platinum tools after the case's

@@ -12,6 +12,7 @@
 // dragged clot's wall friction adds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -78,6 +79,19 @@ std::string write_case() {
   return path;
 }
 
+// The distance from `p` to the polyline through `nodes`.
+double off_polyline_mm(const std::vector<glm::vec3>& drawn, const glm::vec3& p) {
+  const std::vector<glm::dvec3> nodes(drawn.begin(), drawn.end());
+  double best = 1e9;
+  for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+    const glm::dvec3 ab = nodes[i + 1] - nodes[i];
+    const double len2 = glm::dot(ab, ab);
+    const double f = len2 > 0.0 ? std::clamp(glm::dot(glm::dvec3(p) - nodes[i], ab) / len2, 0.0, 1.0) : 0.0;
+    best = std::min(best, glm::distance(glm::dvec3(p), nodes[i] + f * ab));
+  }
+  return best;
+}
+
 // Guide to 20 mm, the microcatheter across the clot (36-46 mm from the entry) to 56 mm, the
 // stent to 6 mm short of its tip, unsheathed by drawing the microcatheter back 30 mm; flow
 // arrest, the dwell, the microcatheter into the guide, the stent pulled into the guide.
@@ -120,6 +134,7 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
   }
   int removed = 0;
   int count_after = -1;
+  double off_path_mm = 0.0;
   while (!s.over()) {
     s.step_virtual(100);
     integration = std::max(integration, s.thrombectomy()->stent_integration(stent));
@@ -128,6 +143,10 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
     if (snap.clot_count > 0 && (states.empty() || states.back() != snap.clots[0].state)) states.push_back(snap.clots[0].state);
     if (snap.clot_count > 0 && snap.clots[0].state == ClotState::kDragged) {
       dragged_mm = std::max(dragged_mm, glm::distance(face_mm, snap.clots[0].start_mm));
+      // Drawn along the stent's path: every point of its axis on the stent's nodes' polyline (as
+      // the same tick's snapshot draws them).
+      for (const glm::vec3& a : snap.clots[0].axis_mm) off_path_mm = std::max(off_path_mm, off_polyline_mm(snap.tools[stent].nodes_mm, a));
+      EXPECT_GT(glm::distance(snap.clots[0].start_mm, snap.clots[0].end_mm), 9.0F) << "it keeps its length on the stent";
     }
     removed = snap.clots_removed;
     count_after = snap.clot_count;
@@ -139,6 +158,7 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
   EXPECT_GT(integration, 0.9);
   EXPECT_EQ(states, (std::vector<ClotState>{ClotState::kInPlace, ClotState::kEngaged, ClotState::kDragged}));
   EXPECT_GT(dragged_mm, 5.0F) << "the dragged clot moves with the stent";
+  EXPECT_LT(off_path_mm, 0.01) << "a dragged clot is drawn on the stent's path";
   EXPECT_EQ(removed, 1);
   EXPECT_EQ(count_after, 0) << "a removed clot is no longer drawn";
   std::printf("snapshot clot: dragged %.1f mm before it came out\n", static_cast<double>(dragged_mm));

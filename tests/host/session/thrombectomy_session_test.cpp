@@ -197,6 +197,7 @@ TEST(ThrombectomyUnit, AnM1ClotIngestedOnTheFirstPassReperfusesTheTerritory) {
   EXPECT_FALSE(c.unit->set_aspiration(kAspirationCatheter, true, 2000)) << "already on";
   place(c, face, 130.0, 3000);
   EXPECT_TRUE(c.unit->engaged());
+  EXPECT_EQ(c.unit->aspiration_grip_mN(kAspirationCatheter), 0.0) << "an ingested clot slides in: no pull on the tip";
   // Withdrawn 9 mm: not yet a pass; 10 mm: the pass.
   place(c, loc.point_at(c.ica_terminal, 5.0), 121.0, 4000);
   EXPECT_EQ(c.unit->figures().passes, 0);
@@ -212,6 +213,33 @@ TEST(ThrombectomyUnit, AnM1ClotIngestedOnTheFirstPassReperfusesTheTerritory) {
   EXPECT_EQ(f.time_to_reperfusion_us, 5000);
   EXPECT_EQ(f.emboli, 0);
   EXPECT_NEAR(left_mca_ml_min(*c.scene->flow), baseline, 0.05 * baseline);
+}
+
+// A fibrin-rich clot on the 0.068" catheter corks its tip (sim/flow's
+// Aspiration.M1ClotsAreIngestedCorkedOrLost): the catheter drags it, and its tip takes what holds
+// the clot in place (its static wall friction under the wedge strain and the head across it),
+// below the vacuum's pull; the pass takes it out and the grip ends.
+TEST(ThrombectomyUnit, ACorkedClotPullsOnTheAspirationCathetersTipWithWhatHoldsIt) {
+  M1 c;
+  load_m1(c, {{"red=60 fibrin=30", "red=15 fibrin=75"}});
+  ASSERT_TRUE(c.unit);
+  const flow::CenterlineLocator loc(c.scene->flow->model());
+  ASSERT_TRUE(c.unit->set_aspiration(kAspirationCatheter, true, 0));
+  place(c, loc.point_at(c.m1, 2.0), 130.0, 1000);
+  ASSERT_TRUE(c.unit->engaged());
+  const double vacuum_mN = 1000.0 * flow::aspiration_force_N(flow::VacuumSource::kPump, 1.73);
+  const double grip_mN = c.unit->aspiration_grip_mN(kAspirationCatheter);
+  const flow::AspirationClot clot{2.0 * loc.radius_at(c.m1, 2.0), c.unit->clots()[0].length_mm, c.unit->clots()[0].composition};
+  const flow::SegmentFlow& m1 = c.scene->flow->segments()[c.m1];
+  const double head_Pa = c.scene->flow->node_pressure_Pa(m1.start_node) - c.scene->flow->node_pressure_Pa(m1.end_node);
+  std::printf("corked: the tip holds %.1f mN of the vacuum's %.1f mN\n", grip_mN, vacuum_mN);
+  EXPECT_NEAR(grip_mN, 1000.0 * flow::clot_hold_force_N(clot, head_Pa), 1e-6);
+  EXPECT_GT(grip_mN, 0.0);
+  EXPECT_LT(grip_mN, vacuum_mN);
+  place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, 2000);
+  ASSERT_EQ(c.unit->figures().passes, 1);
+  EXPECT_TRUE(c.unit->clots().empty());
+  EXPECT_EQ(c.unit->aspiration_grip_mN(kAspirationCatheter), 0.0);
 }
 
 TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest) {
@@ -234,6 +262,10 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   // follows the flow the occluded M1 leaves: the anterior cerebral artery, a new territory.
   ASSERT_TRUE(c.unit->set_aspiration(kAspirationCatheter, true, 4000));
   place(c, face, 130.0, 5000);
+  // Lost: the vacuum holds the clot on the tip with |p| x area (Froehler 2017) until the pull
+  // exceeds it; that is what the tip grips with.
+  EXPECT_NEAR(c.unit->aspiration_grip_mN(kAspirationCatheter), 1000.0 * flow::aspiration_force_N(flow::VacuumSource::kPump, 0.89), 1e-9);
+  EXPECT_EQ(c.unit->aspiration_grip_mN(kGuide), 0.0);
   place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, 6000);
   const ThrombectomyFigures& f = c.unit->figures();
   ASSERT_EQ(f.passes, 1);

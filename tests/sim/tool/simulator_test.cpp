@@ -94,5 +94,34 @@ TEST(Simulator, SnapshotCopyReusesItsStorage) {
   EXPECT_EQ(snap.step, sim.time_s() > 0.0 ? static_cast<std::uint64_t>(std::llround(sim.time_s() * 1000.0)) : 0u);
 }
 
+// A grip on a catheter's tip (a clot corked in an aspiration catheter, set_tip_grip) is felt at
+// the hand: withdrawn along a straight tube the catheter pulls with the grip on top of what it
+// needs alone (statics: the tip anchor slips at its limit, and the straight free catheter
+// carries that force to the clamp); released, the pull is back to the catheter's own.
+TEST(Simulator, ATipGripIsFeltAtTheHandWhenTheCatheterIsWithdrawn) {
+  const TubeNetworkWall wall = testing::straight_tube(1.5, -50.0, 150.0);
+  ToolSpec cath = coaxial_tools()[0];
+  const std::vector<ToolSpec> tools{cath};
+  const auto pull_at_the_hand = [&](double grip_mN) {
+    Simulator sim(wall, tools, Entry{{0, 0, -42}, {0, 0, 1}});
+    drive(sim, 0, 100.0, 0.5);
+    sim.set_tip_grip(0, grip_mN);
+    EXPECT_EQ(sim.tip_grip_mN(0), grip_mN);
+    double pull_mN = 0.0;
+    for (int i = 0; i < 500; ++i) {  // 5 mm at 10 mm/s
+      sim.set_insertion(0, sim.insertion_mm(0) - 0.01);
+      sim.step();
+      pull_mN = -sim.hand_force_mN(0);
+    }
+    return pull_mN;
+  };
+  const double alone = pull_at_the_hand(0.0);
+  const double held = pull_at_the_hand(300.0);
+  EXPECT_NEAR(held - alone, 300.0, 15.0) << "alone " << alone << " mN, with a 300 mN tip grip " << held << " mN";
+  Simulator sim(wall, tools, Entry{{0, 0, -42}, {0, 0, 1}});
+  sim.set_tip_grip(0, -5.0);
+  EXPECT_EQ(sim.tip_grip_mN(0), 0.0) << "a grip is never negative";
+}
+
 }  // namespace
 }  // namespace cathbox::tool

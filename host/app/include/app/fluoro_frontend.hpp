@@ -18,10 +18,15 @@ struct SnapshotFluoroSettings {
   double tip_marker_mm = 30.0;         // every tool's radio-opaque (platinum) distal part
 };
 
-// A stent retriever's push wire (ToolView::stent_length_mm > 0) shows no platinum tip but a
-// platinum band this long at each end of the stent, as on the devices (Solitaire, Trevo: the
-// nitinol struts barely show; the end markers do).
+// A stent retriever's push wire (ToolView::stent_length_mm > 0) shows no platinum tip but the
+// stent's platinum markers, as on the devices (Solitaire-type: one proximal, three distal; the
+// nitinol struts barely show). Crimped in its catheter: a band this long at each end of the
+// stent; expanded: a marker this long on the axis at its proximal end and kStentDistalMarkers
+// at the struts' distal ends round its expanded radius, each kStentMarkerRadius_mm thick (an
+// estimate for ~0.3 mm marker coils), the struts themselves not drawn.
 inline constexpr double kStentMarker_mm = 1.0;
+inline constexpr double kStentMarkerRadius_mm = 0.15;
+inline constexpr int kStentDistalMarkers = 3;
 
 [[nodiscard]] FluoroInputs fluoro_inputs_from_snapshot(const session::SceneSnapshot& snapshot,
                                                        const SnapshotFluoroSettings& settings);

@@ -33,8 +33,12 @@ enum class ClotState : std::uint8_t {
 };
 
 struct ClotView {
+  static constexpr int kAxisPoints = 9;
   glm::vec3 start_mm{0.0F};  // proximal face
   glm::vec3 end_mm{0.0F};    // distal end
+  // Its axis from face to end (start_mm and end_mm its first and last points): along the vessel's
+  // centreline in place, along the stent's path while a stent drags it.
+  std::array<glm::vec3, kAxisPoints> axis_mm{};
   float radius_mm = 0.0F;
   ClotState state = ClotState::kInPlace;
 };

@@ -20,6 +20,13 @@
 //   starves an outlet outside the target territory). Under complete flow arrest no flow
 //   carries it (it is aspirated into the guide): no embolus. Aspiration off while engaged
 //   releases the clot: no pass.
+// - While engaged, the vacuum holds the clot on the catheter's tip with |pressure| x lumen area
+//   (flow::aspirate, Froehler 2017), and the hand feels it where physical: a clot that corks
+//   the tip is dragged with the catheter, which takes what holds the clot in place
+//   (flow::clot_hold_force_N); one the vacuum cannot hold (lost) pulls on the tip up to the
+//   vacuum's force before the tip comes off it; an ingested clot slides into the lumen and pulls
+//   on nothing. That pull is a grip on the catheter's tip node (Simulator::set_tip_grip, set in
+//   after_step): an anchor the tip drags once the pull exceeds it.
 // - After each pass the network is occluded with what remains (and the emboli) and graded
 //   eTICI without the arrest (the control run after deflation), then solved again with any
 //   arrest still inflated. Reperfusion = eTICI >= 2b50 (Liebeskind et al., JNIS 2019: the
@@ -44,6 +51,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -87,6 +95,9 @@ class ThrombectomyUnit final : public ControlHandler {
   // After each step, the stent retrievers (their state from the simulator; the clot they drag
   // is set as their payload there for the next step).
   void after_step(std::int64_t time_us, tool::Simulator& sim);
+  // The pull, mN, the engaged clot puts on aspiration catheter `tool`'s tip now (0 when it is
+  // not engaged, or the clot would be ingested): min(vacuum force, the clot's hold).
+  [[nodiscard]] double aspiration_grip_mN(std::size_t tool) const;
   // The integrated share of the clot under a stent tool (0 when none is deployed across one).
   [[nodiscard]] double stent_integration(std::size_t tool) const;
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
@@ -101,8 +112,9 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] std::uint64_t flow_generation() const { return flow_generation_; }
   [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
   [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
-  // Clot `k` (k < clots().size()) as the views draw it, as of the last tick: a dragged clot is
-  // moved by the displacement of its stent's tip since the retrieval began.
+  // Clot `k` (k < clots().size()) as the views draw it, as of the last tick: in place along its
+  // vessel's centreline; dragged, along the stent's path, where it lay on the stent's nodes when
+  // the retrieval began (the nodes are material points: it rides with them round bends).
   [[nodiscard]] ClotView clot_view(std::size_t k) const;
   [[nodiscard]] int clots_removed() const { return clots_removed_; }
 
@@ -128,6 +140,7 @@ class ThrombectomyUnit final : public ControlHandler {
   void deploy_stent(StentPass& p, std::int64_t time_us, const tool::Simulator& sim);
   void start_retrieval(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
   void end_stent_pass(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
+  void hold_on_stent(StentPass& p, std::span<const glm::dvec3> x) const;
   // Occludes with clots_ and arrests_; false (logged) when the network refuses.
   bool resolve(std::int64_t time_us, bool with_arrests);
   [[nodiscard]] std::string segment_name(std::uint32_t segment) const;
@@ -172,7 +185,11 @@ class ThrombectomyUnit final : public ControlHandler {
     std::int64_t last_us = -1;
     double tried_unsheathed_mm = -1e9;  // where a deployment over no clot was last looked at
     double tried_insertion_mm = -1e9;
-    glm::dvec3 retrieval_tip_mm{0.0};  // the stent's tip when the retrieval began
+    // While it drags its clot: the stent tool's distal nodes (tip last), as of the last tick, and
+    // per clot of the thrombus its face and end as node parameters from the tip (j + f: between
+    // the j-th and (j+1)-th node back from the tip).
+    std::vector<glm::dvec3> path;
+    std::vector<std::array<double, 2>> on_stent;
   };
   std::vector<StentPass> stents_;
   ThrombectomyFigures figures_;

@@ -14,6 +14,7 @@
 // touch themselves, earlier coils and the microcatheter's tip (RodContactField), and are
 // released by detach(). Balloons inflate along a compliance curve (Balloon) and grip the wall
 // while inflated.
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -142,6 +143,13 @@ class Simulator {
   void set_stent_payload(std::size_t tool, double payload_mN) {
     if (tool < stents_.size() && stents_[tool]) stents_[tool]->set_payload_mN(payload_mN);
   }
+  // A grip on the tool's tip node, from the next step, while that node is out of every catheter
+  // (a clot corked in an aspiration catheter's tip, held there by the vacuum: what it takes to
+  // drag the clot, or to pull the tip off it, set by the owner); 0 releases it.
+  void set_tip_grip(std::size_t tool, double grip_mN) {
+    if (tool < tip_grip_.size()) tip_grip_[tool] = std::isfinite(grip_mN) && grip_mN > 0.0 ? grip_mN : 0.0;
+  }
+  [[nodiscard]] double tip_grip_mN(std::size_t tool) const { return tool < tip_grip_.size() ? tip_grip_[tool] : 0.0; }
   // The catheter whose tip the tool's free part starts at (tool_count() for a tool in the vessel).
   [[nodiscard]] std::size_t carrier(std::size_t tool) const { return carrier_[tool]; }
 
@@ -165,6 +173,7 @@ class Simulator {
   void fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const;
   void update_balloons(double dt_s);
   void update_stents();
+  void update_tip_grips();
   void apply_coil_settings(std::size_t coil);
 
   const WallModel* wall_;
@@ -189,6 +198,7 @@ class Simulator {
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
   std::vector<std::optional<StentRetriever>> stents_;
+  std::vector<double> tip_grip_;       // per tool, mN (set_tip_grip)
   std::vector<Rod> detached_;
   std::vector<ToolSpec> specs_;        // the tools as the case gives them (next coils included)
   std::vector<std::size_t> loaded_;    // next coils loaded per tool
