@@ -62,9 +62,10 @@ Session::Session(std::unique_ptr<SessionCase> scene, std::unique_ptr<Hand> hand,
 
   const std::size_t nodes = options_.max_nodes_per_tool;
   const std::size_t cells = fluoro_ ? fluoro_->cells().size() : 0;
-  exchange_.prepare_slots([nodes, cells](SceneSnapshot& s) {
+  exchange_.prepare_slots([this, nodes, cells](SceneSnapshot& s) {
     s.reserve(nodes);
     s.fluoro.reserve(cells, nodes);
+    prepare_snapshot(s);
   });
   sim_->copy_snapshot(snap_);
   if (thrombectomy_) thrombectomy_->tick(0, snap_);  // the tips, before the first control

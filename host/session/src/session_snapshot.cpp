@@ -12,6 +12,31 @@ glm::vec3 to_f(const glm::dvec3& v) { return glm::vec3(v); }
 
 }  // namespace
 
+// What does not change during a run, written once into every slot before the first tick (the
+// tick's publish() leaves it alone): each tool's stent length and its push wire's radius (the
+// narrowest node of the tool as built, before its stent expands), that the released coils are
+// not held, the thrombectomy unit's first aspiration catheter and balloon guide.
+void Session::prepare_snapshot(SceneSnapshot& s) const {
+  const std::vector<tool::ToolSpec>& specs = scene_->spec.tools;
+  const std::size_t tools = std::min({sim_->tool_count(), specs.size(), kMaxTools});
+  for (std::size_t i = 0; i < tools; ++i) {
+    if (!specs[i].stent.present()) continue;
+    ToolView& tv = s.tools[i];
+    tv.stent_length_mm = static_cast<float>(specs[i].stent.length_mm);
+    const tool::Rod& rod = sim_->rod(i);
+    double wire_mm = rod.node_total() > 0 ? rod.node_radius_mm(0) : 0.0;
+    for (std::size_t k = 1; k < rod.node_total(); ++k) wire_mm = std::min(wire_mm, rod.node_radius_mm(k));
+    tv.wire_radius_mm = static_cast<float>(wire_mm);
+  }
+  for (ToolView& cv : s.coils) cv.active = false;
+  if (thrombectomy_) {
+    const std::optional<std::size_t> a = thrombectomy_->first_aspirator();
+    const std::optional<std::size_t> b = thrombectomy_->first_balloon_guide();
+    s.aspiration_tool = a ? static_cast<int>(*a) : -1;
+    s.balloon_guide_tool = b ? static_cast<int>(*b) : -1;
+  }
+}
+
 void Session::publish() {
   SceneSnapshot& s = exchange_.write_slot();
   s.sim_time_us = tick_ * options_.period_us;
@@ -40,10 +65,6 @@ void Session::publish() {
     ToolView& tv = s.tools[static_cast<std::size_t>(i)];
     tv.active = static_cast<std::size_t>(i) == active;
     copy_nodes(t, tv);
-    const std::vector<tool::ToolSpec>& specs = scene_->spec.tools;
-    const bool stent = static_cast<std::size_t>(i) < specs.size() && specs[static_cast<std::size_t>(i)].stent.present();
-    tv.stent_length_mm = stent ? static_cast<float>(specs[static_cast<std::size_t>(i)].stent.length_mm) : 0.0F;
-    tv.wire_radius_mm = stent && !t.radii_mm.empty() ? *std::min_element(t.radii_mm.begin(), t.radii_mm.end()) : 0.0F;
     for (const tool::RodContact& c : t.contacts) {
       if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
       s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});
@@ -52,7 +73,6 @@ void Session::publish() {
   s.coil_count = static_cast<int>(std::min<std::size_t>(snap_.tools.size() - tools, SceneSnapshot::kMaxCoils));
   for (int i = 0; i < s.coil_count; ++i) {
     ToolView& cv = s.coils[static_cast<std::size_t>(i)];
-    cv.active = false;
     const tool::ToolSnapshot& coil = snap_.tools[tools + static_cast<std::size_t>(i)];
     copy_nodes(coil, cv);
     // The primary wind's radius: the node at the cut may carry the pusher's (a wider end node).
@@ -78,11 +98,7 @@ void Session::publish() {
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
   if (thrombectomy_) {
-    const std::optional<std::size_t> a = thrombectomy_->first_aspirator();
-    const std::optional<std::size_t> b = thrombectomy_->first_balloon_guide();
-    s.aspiration_tool = a ? static_cast<int>(*a) : -1;
-    s.aspirating = a && thrombectomy_->aspirating(*a);
-    s.balloon_guide_tool = b ? static_cast<int>(*b) : -1;
+    s.aspirating = s.aspiration_tool >= 0 && thrombectomy_->aspirating(static_cast<std::size_t>(s.aspiration_tool));
     s.flow_arrest = thrombectomy_->arrested();
     s.clot_count = static_cast<int>(std::min<std::size_t>(thrombectomy_->clots().size(), SceneSnapshot::kMaxClots));
     for (int k = 0; k < s.clot_count; ++k) s.clots[static_cast<std::size_t>(k)] = thrombectomy_->clot_view(static_cast<std::size_t>(k));

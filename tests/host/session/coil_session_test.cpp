@@ -20,28 +20,8 @@
 namespace cathbox::session {
 namespace {
 
-constexpr const char* kCase = R"(cathbox-case 1
-name a coil in a free sphere
-tube 0  0 0 -5 1   0 0 20 1
-tube 1  0 0 20 3.2  0 0 20.001 3.2
-entry 0 0 -3  0 0 1
-aneurysm 0 0 20 3.2  0 0 16.96
-tool microcatheter catheter
-  section 1500 od=0.7 ei=2 gj=1.6
-  friction 0.1
-  inner_diameter 0.45
-  spacing 1 0.5 10
-end
-tool coil coil
-  section 1800 od=0.33 ei=10 gj=8
-  section 20 od=0.25 ei=0.02 gj=0.016 shape=helix loop=4
-  friction 0.05
-  detach 20
-  next_coil 15 od=0.25 ei=0.02 gj=0.016 shape=helix loop=3
-  inside microcatheter
-  spacing 1 0.5 22
-end
-)";
+// tests/host/session/data/coil_in_sphere.case: the sphere, its artery, the microcatheter and
+// the coil tool (a 20 mm coil, then a 15 mm next_coil). session_cli_test.sh runs it too.
 
 // The microcatheter's tip 1 mm into the sphere, the coil pushed out until its detachment zone
 // is 1.5 mm past the tip, released at 2400 ms, the pusher drawn back; at 3000 ms the next coil
@@ -59,9 +39,7 @@ constexpr const char* kScript = R"(0     select microcatheter
 )";
 
 std::unique_ptr<SessionCase> sphere_case() {
-  const std::string path = fixtures::temp_path("coil_session_test", "coil_in_sphere.case");
-  std::ofstream(path) << kCase;
-  SessionCaseLoad loaded = load_session_case(path);
+  SessionCaseLoad loaded = load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/tests/host/session/data/coil_in_sphere.case");
   EXPECT_TRUE(loaded) << loaded.error().message;
   return std::move(loaded.value());
 }

@@ -131,7 +131,12 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
     EXPECT_NEAR(first.clots[0].start_mm.z, 36.0F, 0.5F) << "the clot's face, 6 mm into the branch at z = 30";
     EXPECT_NEAR(glm::distance(first.clots[0].start_mm, first.clots[0].end_mm), 10.0F, 0.5F);
     EXPECT_NEAR(first.clots[0].radius_mm, 1.4F, 0.05F);
+    // Fixed for the run: the stent's length and its push wire's radius (0.4 mm od).
+    EXPECT_EQ(first.tools[stent].stent_length_mm, 20.0F);
+    EXPECT_FLOAT_EQ(first.tools[stent].wire_radius_mm, 0.2F);
+    EXPECT_EQ(first.tools[0].stent_length_mm, 0.0F) << "the guide has no stent";
   }
+  float widest_mm = 0.0F;
   int removed = 0;
   int count_after = -1;
   double off_path_mm = 0.0;
@@ -148,6 +153,8 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
       for (const glm::vec3& a : snap.clots[0].axis_mm) off_path_mm = std::max(off_path_mm, off_polyline_mm(snap.tools[stent].nodes_mm, a));
       EXPECT_GT(glm::distance(snap.clots[0].start_mm, snap.clots[0].end_mm), 9.0F) << "it keeps its length on the stent";
     }
+    widest_mm = std::max(widest_mm, snap.tools[stent].radius_mm);
+    EXPECT_FLOAT_EQ(snap.tools[stent].wire_radius_mm, 0.2F) << "the push wire, whatever the stent does";
     removed = snap.clots_removed;
     count_after = snap.clot_count;
     for (LogEvent e; s.events().pop(e);) lines += std::string(e.text.data()) + "\n";
@@ -161,6 +168,7 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
   EXPECT_LT(off_path_mm, 0.01) << "a dragged clot is drawn on the stent's path";
   EXPECT_EQ(removed, 1);
   EXPECT_EQ(count_after, 0) << "a removed clot is no longer drawn";
+  EXPECT_GT(widest_mm, 1.0F) << "the expanded stent drawn wider than its push wire";
   std::printf("snapshot clot: dragged %.1f mm before it came out\n", static_cast<double>(dragged_mm));
   const Metrics m = s.metrics();
   ASSERT_TRUE(m.thrombectomy);

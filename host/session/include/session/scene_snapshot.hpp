@@ -19,8 +19,10 @@ struct ToolView {
   float radius_mm = 0.2F;
   bool active = false;              // the tool in the trainee's hand
   float stent_length_mm = 0.0F;     // a push wire's stent retriever over its distal end (0: none)
-  // A stent tool's push wire's own radius (its narrowest node); radius_mm is then its widest, the
-  // expanded stent's. Drawn so in the fluoroscopy: the wire thin, the stent section expanded.
+  // A stent tool's push wire's own radius (the tool's narrowest node as built, before its stent
+  // expands); radius_mm is then its widest, the expanded stent's. Drawn so in the fluoroscopy:
+  // the wire thin, the stent section expanded. This and stent_length_mm are fixed for the run:
+  // written once into every slot before the first tick.
   float wire_radius_mm = 0.0F;
 };
 

@@ -156,6 +156,9 @@ class Session {
   void log_events(int tip_segment, double tip_force_mN);
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
+  // The snapshot: what is fixed for the run into every slot once (before the first tick), then
+  // the tick's state into the writer's slot after each tick.
+  void prepare_snapshot(SceneSnapshot& s) const;
   void publish();
   [[nodiscard]] const HapticThread* active_thread() const;
   [[nodiscard]] std::int64_t clock_now_us();
