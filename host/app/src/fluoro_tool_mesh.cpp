@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "app/fluoro_image_model.hpp"
-#include "app/stent_view.hpp"
+#include "app/polyline.hpp"
 #include "flow/xray_material.hpp"
 
 namespace cathbox::app {
