@@ -357,7 +357,8 @@ def test_fluoroscopy(b, assignment, report):
     pulses show the head phantom's grey with quantum noise inside the collimated field and black
     outside it; I (inject) with the pedal down starts a subtraction run, whose frames show the DSA
     background with the anatomy subtracted. (That the injected contrast shows in the lumen is not
-    checked here: it did not show within 1.5 s on this case, cause not found.) The fluoroscopy keys are the session's controls: the run with them is uploaded and replayed by the
+    checked here: injected at the aortic entry it stays below the field's visibility within
+    1.5 s; host/wasm/README.md says what was checked by hand.) The fluoroscopy keys are the session's controls: the run with them is uploaded and replayed by the
     server with every state hash."""
     b.open("/train.html?clock=virtual&view=fluoro")
     b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
