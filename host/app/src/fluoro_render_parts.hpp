@@ -14,19 +14,9 @@ namespace cathbox::app::fluoro_parts {
 
 enum Unit : int { kPhantomUnit = 0, kLiveUnit, kMaskUnit, kRoadUnit, kRoadMaskUnit, kCellsUnit };
 
-// What a scene target depends on is hashed with the project's one hasher (XXH3).
+// What a scene target depends on is hashed with the project's one hasher (XXH3); the pose by
+// hash_pose (app/fluoro_inputs.hpp).
 using Hasher = base::XxhHasher;
-
-inline void hash_pose(Hasher& h, const flow::CArmPose& p) {
-  h.add(p.lao_deg);
-  h.add(p.cranial_deg);
-  h.add(p.sid_mm);
-  h.add(p.sod_mm);
-  h.add(p.table_height_mm);
-  h.add(p.isocenter_mm);
-  h.add(p.fov_mm);
-  h.add(p.collimation);
-}
 
 }  // namespace cathbox::app::fluoro_parts
 

@@ -5,7 +5,6 @@
 
 #include "app/fluoro_frontend.hpp"
 #include "app/fluoro_image_model.hpp"
-#include "base/xxh_hasher.hpp"
 #include "flow/head_phantom.hpp"
 #include "flow/xray_material.hpp"
 
@@ -14,14 +13,7 @@ namespace {
 
 std::uint64_t pose_key(const flow::CArmPose& p, int width, int height, double extra) {
   base::XxhHasher k;
-  k.add(p.lao_deg);
-  k.add(p.cranial_deg);
-  k.add(p.sid_mm);
-  k.add(p.sod_mm);
-  k.add(p.table_height_mm);
-  k.add(p.isocenter_mm);
-  k.add(p.fov_mm);
-  k.add(p.collimation);
+  app::hash_pose(k, p);
   k.add(width);
   k.add(height);
   k.add(extra);

@@ -11,6 +11,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "base/xxh_hasher.hpp"
 #include "flow/c_arm.hpp"
 #include "flow/fluoro_dose.hpp"
 #include "flow/fluoroscope.hpp"
@@ -51,6 +52,18 @@ struct FluoroInputs {
   FluoroScene roadmap;                     // image.roadmap_pulse (the peak of a run)
   FluoroScene roadmap_mask;                // that run's mask
 };
+
+// The pose's fields into a cache key (what an image depends on: the renderers' caches).
+inline void hash_pose(base::XxhHasher& h, const flow::CArmPose& p) {
+  h.add(p.lao_deg);
+  h.add(p.cranial_deg);
+  h.add(p.sid_mm);
+  h.add(p.sod_mm);
+  h.add(p.table_height_mm);
+  h.add(p.isocenter_mm);
+  h.add(p.fov_mm);
+  h.add(p.collimation);
+}
 
 // Empty when the inputs can be drawn for a vessel of `cell_count` contrast cells (0: no vessel,
 // whose iodine lists are then not drawn and their size not checked); else one line naming the first bad field, e.g. "FluoroInputs.mask.cell_iodine_mgI_ml: 12

@@ -105,6 +105,7 @@ function showMainView(which) {
     try {
       fluoro.view = new FluoroView(canvas);
       if (fluoro.vessel) fluoro.view.setVessel(fluoro.vessel.vertices, fluoro.vessel.indices);
+      if (fluoro.last) fluoro.view.update(fluoro.last);
     } catch (err) {
       document.getElementById('fluoro-note').textContent = err.message;
       fluoro.main = '3d';
@@ -127,9 +128,9 @@ function fluoroNote(f) {
 
 function showFrame(data, metrics, f) {
   const s = unpack(data);
-  if (f && fluoro.view) {
-    fluoro.view.update(f);
-    fluoro.last = f;
+  if (f) {  // kept whole (the phantom and the scenes come only when new) for a view made later
+    fluoro.last = Object.assign(fluoro.last || {}, f);
+    if (fluoro.view) fluoro.view.update(f);
   }
   run.last = s;
   run.metrics = metrics;
