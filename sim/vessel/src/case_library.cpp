@@ -1,18 +1,24 @@
 #include "vessel/case_library.hpp"
 
 #include <cstdio>
+#include <string>
 
 #include <glm/geometric.hpp>
 
 namespace cathbox::vessel {
 namespace {
 
-// A 5F catheter (10 mm, 30 degree tip) with a 0.014" wire (3 mm, 45 degree tip) inside: the
-// diagnostic pair of the femoral cases (arch and cervical ICA).
-constexpr const char* kCatheterAndWire = R"(tool catheter catheter
+// A 5F catheter (10 mm shaped tip) with a 0.014" wire (3 mm, 45 degree tip) inside: the
+// diagnostic pair of the femoral cases. The cervical ICA cases use a 30 degree tip; the arch cases
+// a 90 degree (Headhunter-style) one, which can be turned along the arch past the left subclavian
+// and hooked into a great vessel on the pull back (a 30 degree tip follows the outer curve into
+// the left subclavian whichever way it is turned).
+std::string catheter_and_wire(int tip_curve_deg) {
+  return R"(tool catheter catheter
   section 960 od=1.67 ei=250 gj=190
   section 30 od=1.67 ei=40 gj=30
-  section 10 od=1.67 ei=20 gj=15 curve=30
+  section 10 od=1.67 ei=20 gj=15 curve=)" +
+         std::to_string(tip_curve_deg) + R"(
   friction 0.15
   inner_diameter 1.0
 end
@@ -26,28 +32,7 @@ tool guidewire guidewire
   inside catheter
 end
 )";
-
-// The arch cases' pair: a 5F catheter with a 90 degree (Headhunter-style) tip, which can be
-// turned along the arch past the left subclavian and hooked into a great vessel on the pull back,
-// with the 0.014" wire (3 mm, 45 degree tip) inside. (The 30 degree tip of the cervical pair
-// follows the outer curve into the left subclavian whichever way it is turned.)
-constexpr const char* kArchCatheterAndWire = R"(tool catheter catheter
-  section 960 od=1.67 ei=250 gj=190
-  section 30 od=1.67 ei=40 gj=30
-  section 10 od=1.67 ei=20 gj=15 curve=90
-  friction 0.15
-  inner_diameter 1.0
-end
-
-tool guidewire guidewire
-  section 1750 od=0.36 ei=40 gj=31
-  section 35 od=0.36 ei=3 gj=2.3
-  section 12 od=0.36 ei=0.3 gj=0.23
-  section 3 od=0.36 ei=0.3 gj=0.23 curve=45
-  friction 0.08
-  inside catheter
-end
-)";
+}
 
 // 6F guide > microcatheter (60 degree steam-shaped tip) > 0.014" microwire (6 mm, 90 degree
 // tip): the intracranial stack of the aneurysm cases (as cases/neuro_coiling.case).
@@ -96,8 +81,7 @@ LibraryCase arch_case(const std::string& name, const std::string& title, ArchTyp
   c.entry_upstream = true;
   c.target_segment = "left_common_carotid";
   c.target_fraction = 0.3;
-  c.tools = kArchCatheterAndWire;
-  const std::string hook = std::to_string(hook_mm);
+  c.tools = catheter_and_wire(90);
   c.actions =
       "# The catheter, its tip turned a quarter turn, leads the wire up the descending aorta past the\n"
       "# left subclavian and over the arch; then, the wire drawn back inside and the tip turned up, it\n"
@@ -111,7 +95,7 @@ LibraryCase arch_case(const std::string& name, const std::string& title, ArchTyp
       "4500   insert_to " + std::to_string(hook_mm - 15) + " at 30\n"
       "4500   select catheter\n"
       "4500   rotate_to 0 at 180\n"
-      "5500   insert_to " + hook + " at 10\n"
+      "5500   insert_to " + std::to_string(hook_mm) + " at 10\n"
       "9000   select guidewire\n"
       "9000   insert_to " + std::to_string(hook_mm + 70) + " at 15\n"
       "14000  end\n";
@@ -130,7 +114,7 @@ LibraryCase ica_case(const std::string& name, const std::string& title, IcaTortu
   c.entry_fraction = 0.8;
   c.target_segment = "left_internal_carotid";
   c.target_fraction = t == IcaTortuosity::kCoiled ? 0.45 : 0.35;
-  c.tools = kCatheterAndWire;
+  c.tools = catheter_and_wire(30);
   c.actions =
       "# The wire leads out of the catheter, past the carotid bifurcation into the ICA and\n"
       "# through its cervical curves to the skull base; the catheter stays in the common carotid.\n"
