@@ -1,18 +1,24 @@
 #include "vessel/case_library.hpp"
 
 #include <cstdio>
+#include <string>
 
 #include <glm/geometric.hpp>
 
 namespace cathbox::vessel {
 namespace {
 
-// A 5F catheter (10 mm, 30 degree tip) with a 0.014" wire (3 mm, 45 degree tip) inside: the
-// diagnostic pair of the femoral cases (arch and cervical ICA).
-constexpr const char* kCatheterAndWire = R"(tool catheter catheter
+// A 5F catheter (10 mm shaped tip) with a 0.014" wire (3 mm, 45 degree tip) inside: the
+// diagnostic pair of the femoral cases. The cervical ICA cases use a 30 degree tip; the arch cases
+// a 90 degree (Headhunter-style) one, which can be turned along the arch past the left subclavian
+// and hooked into a great vessel on the pull back (a 30 degree tip follows the outer curve into
+// the left subclavian whichever way it is turned).
+std::string catheter_and_wire(int tip_curve_deg) {
+  return R"(tool catheter catheter
   section 960 od=1.67 ei=250 gj=190
   section 30 od=1.67 ei=40 gj=30
-  section 10 od=1.67 ei=20 gj=15 curve=30
+  section 10 od=1.67 ei=20 gj=15 curve=)" +
+         std::to_string(tip_curve_deg) + R"(
   friction 0.15
   inner_diameter 1.0
 end
@@ -26,6 +32,7 @@ tool guidewire guidewire
   inside catheter
 end
 )";
+}
 
 // 6F guide > microcatheter (60 degree steam-shaped tip) > 0.014" microwire (6 mm, 90 degree
 // tip): the intracranial stack of the aneurysm cases (as cases/neuro_coiling.case).
@@ -58,30 +65,40 @@ end
 )";
 
 // Arch cases: from the descending aorta over the arch into the left common carotid.
-LibraryCase arch_case(const std::string& name, const std::string& title, ArchType type, const std::string& about) {
+// `hook_mm`: the catheter's insertion, pulled back to from over the arch, at which its tip (turned
+// up) drops into the target's origin for this arch.
+LibraryCase arch_case(const std::string& name, const std::string& title, ArchType type, int hook_mm,
+                      const std::string& about) {
   LibraryCase c;
   c.name = name;
   c.title = title;
   c.about = about +
             "# Entry: the descending aorta (femoral approach); target: the left common carotid, 30 % up.\n"
-            "# Tools: 5F catheter with a 30 degree tip and a 0.014\" wire with a 45 degree tip.\n";
+            "# Tools: 5F catheter with a 90 degree tip and a 0.014\" wire with a 45 degree tip.\n";
   c.morphology.arch = type;
   c.entry_segment = "descending_aorta";
   c.entry_fraction = 0.6;
   c.entry_upstream = true;
   c.target_segment = "left_common_carotid";
   c.target_fraction = 0.3;
-  c.tools = kCatheterAndWire;
+  c.tools = catheter_and_wire(90);
   c.actions =
-      "# The catheter leads the wire up the descending aorta to the left carotid origin; the wire's\n"
-      "# shaped tip is turned towards the origin and advanced into the left common carotid.\n"
-      "0     select catheter\n"
-      "0     insert_to 90 at 30\n"
-      "0     select guidewire\n"
-      "0     insert_to 90 at 30\n"
-      "3000  rotate_to 180 at 180\n"
-      "4000  insert_to 150 at 15\n"
-      "8500  end\n";
+      "# The catheter, its tip turned a quarter turn, leads the wire up the descending aorta past the\n"
+      "# left subclavian and over the arch; then, the wire drawn back inside and the tip turned up, it\n"
+      "# is pulled back slowly until the tip drops into the target's origin, and the wire is advanced\n"
+      "# out of it into the left common carotid.\n"
+      "0      select catheter\n"
+      "0      rotate_to 90 at 360\n"
+      "0      insert_to 130 at 30\n"
+      "0      select guidewire\n"
+      "0      insert_to 120 at 30\n"
+      "4500   insert_to " + std::to_string(hook_mm - 15) + " at 30\n"
+      "4500   select catheter\n"
+      "4500   rotate_to 0 at 180\n"
+      "5500   insert_to " + std::to_string(hook_mm) + " at 10\n"
+      "9000   select guidewire\n"
+      "9000   insert_to " + std::to_string(hook_mm + 70) + " at 15\n"
+      "14000  end\n";
   return c;
 }
 
@@ -97,7 +114,7 @@ LibraryCase ica_case(const std::string& name, const std::string& title, IcaTortu
   c.entry_fraction = 0.8;
   c.target_segment = "left_internal_carotid";
   c.target_fraction = t == IcaTortuosity::kCoiled ? 0.45 : 0.35;
-  c.tools = kCatheterAndWire;
+  c.tools = catheter_and_wire(30);
   c.actions =
       "# The wire leads out of the catheter, past the carotid bifurcation into the ICA and\n"
       "# through its cervical curves to the skull base; the catheter stays in the common carotid.\n"
@@ -136,14 +153,14 @@ std::vector<LibraryCase> all_cases() {
   const std::string ica_ref = "# Grades: Weibel and Fields, Neurology 1965.\n";
   const std::string sac_ref = "# Sizes and sites: UCAS (NEJM 2012), ISUIA (Lancet 2003).\n";
   return {
-      arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI,
+      arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI, 85,
                 "# Type I arch: the great vessels arise from the top of the arch (brachiocephalic origin\n"
                 "# 5.4 mm = 0.8 common carotid diameters below it).\n" + arch_ref),
-      arch_case("arch_type2", "library: type II aortic arch", ArchType::kTypeII,
+      arch_case("arch_type2", "library: type II aortic arch", ArchType::kTypeII, 90,
                 "# Type II arch: the brachiocephalic origin 10.5 mm = 1.6 CCA diameters below the top.\n" + arch_ref),
-      arch_case("arch_type3", "library: type III aortic arch", ArchType::kTypeIII,
+      arch_case("arch_type3", "library: type III aortic arch", ArchType::kTypeIII, 90,
                 "# Type III arch: the brachiocephalic origin 13.5 mm = 2.1 CCA diameters below the top.\n" + arch_ref),
-      arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine,
+      arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine, 100,
                 "# Bovine arch (type I shape): the left common carotid arises from the brachiocephalic\n"
                 "# trunk, 16 mm above the arch.\n" + arch_ref),
       ica_case("ica_straight", "library: straight cervical ICA", IcaTortuosity::kStraight,

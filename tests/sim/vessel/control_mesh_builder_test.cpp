@@ -87,7 +87,13 @@ TEST(ControlMeshBuilder, WithoutTrimmingRingsSitAtEveryHclmPointAsInTheThesis) {
     }
   }
   EXPECT_EQ(built->face_count(), 4 * (model.point_count() - 3) + 7);
-  // Children starting exactly at the parent's end leave no room: a clean error.
+  // Children starting exactly at the parent's end leave no room: the spherical-hull fallback
+  // meshes that junction (and names it); without it, a clean error.
+  const ControlMeshResult fallback = build(CaseGenerator::y_bifurcation(), options);
+  ASSERT_TRUE(fallback.ok()) << fallback.error().message;
+  ASSERT_EQ(fallback->fallback_junctions.size(), 1u);
+  EXPECT_EQ(fallback->fallback_junctions[0].junction, 0u);
+  options.junction_fallback = false;
   const ControlMeshResult crowded = build(CaseGenerator::y_bifurcation(), options);
   EXPECT_FALSE(crowded.ok());
   EXPECT_NE(crowded.error().message.find("junction 0"), std::string::npos) << crowded.error().message;
