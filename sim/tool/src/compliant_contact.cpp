@@ -19,7 +19,6 @@ void use_compliant_contact(Simulator& sim, const CompliantContact& contact) {
     s.contact_stiffness_mN_per_mm = contact.stiffness_mN_per_mm;
     s.wall_layer_mm = contact.max_displacement_mm;
     s.wall_stiffening = kCollagenStiffening;
-    s.curved_wall_gap = true;
     s.max_penetration_ratio = std::max(s.max_penetration_ratio, kHardLimitLayers * contact.max_displacement_mm / r_min);
   }
 }

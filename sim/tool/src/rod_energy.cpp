@@ -62,7 +62,7 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   const double phi = plane_gap(k);
   const glm::dmat3 nn = glm::outerProduct(nc.normal, nc.normal);
   const double f = wall.gradient_mN(phi);
-  if (nc.bend_per_mm == 0.0) {
+  if (!nc.curved()) {
     add_grad(k, nc.normal * f);
     h += wall.stiffness_mN_per_mm(phi) * nn;
   } else {
@@ -71,7 +71,8 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
     const glm::dvec3 g = gap_normal(k);
     add_grad(k, g * f);
     h += wall.stiffness_mN_per_mm(phi) * glm::outerProduct(g, g) +
-         (std::max(0.0, f) * nc.bend_per_mm) * glm::outerProduct(nc.bend_dir, nc.bend_dir);
+         std::max(0.0, f) * (nc.bend_per_mm * glm::outerProduct(nc.bend_dir, nc.bend_dir) +
+                             nc.bend2_per_mm * glm::outerProduct(nc.bend_dir2, nc.bend_dir2));
   }
   energy_ += wall.energy(phi);
   const double mu = friction_at(k);

@@ -38,21 +38,30 @@ struct Rod::NodeContact {
   // lets a node pressed on a concave wall slide along its tangent without going deeper.
   glm::dvec3 bend_dir{0.0};
   double bend_per_mm = 0.0;
+  // The curvature along an earlier probe's direction, across bend_dir (a sphere's cap curves
+  // both ways, a tube's round it alone): the gap is the plane's plus both terms.
+  glm::dvec3 bend_dir2{0.0};
+  double bend2_per_mm = 0.0;
+  [[nodiscard]] bool curved() const { return bend_per_mm != 0.0 || bend2_per_mm != 0.0; }
 };
 
 inline double Rod::plane_gap(std::size_t k) const {
   const NodeContact& nc = node_contacts_[k];
   const double flat = glm::dot(nc.normal, x_[k] - nc.point) + radius_[k];
-  if (nc.bend_per_mm == 0.0) return flat;
-  const double along = glm::dot(nc.bend_dir, x_[k] - nc.query_pos);
-  return flat + 0.5 * nc.bend_per_mm * along * along;
+  if (!nc.curved()) return flat;
+  const glm::dvec3 u = x_[k] - nc.query_pos;
+  const double along = glm::dot(nc.bend_dir, u);
+  const double across = glm::dot(nc.bend_dir2, u);
+  return flat + 0.5 * (nc.bend_per_mm * along * along + nc.bend2_per_mm * across * across);
 }
 
 // The gradient of plane_gap(k): the normal, turned along the wall's curvature.
 inline glm::dvec3 Rod::gap_normal(std::size_t k) const {
   const NodeContact& nc = node_contacts_[k];
-  if (nc.bend_per_mm == 0.0) return nc.normal;
-  return nc.normal + nc.bend_dir * (nc.bend_per_mm * glm::dot(nc.bend_dir, x_[k] - nc.query_pos));
+  if (!nc.curved()) return nc.normal;
+  const glm::dvec3 u = x_[k] - nc.query_pos;
+  return nc.normal + nc.bend_dir * (nc.bend_per_mm * glm::dot(nc.bend_dir, u)) +
+         nc.bend_dir2 * (nc.bend2_per_mm * glm::dot(nc.bend_dir2, u));
 }
 
 inline double Rod::second_gap(std::size_t k) const {

@@ -58,6 +58,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.twist_anchor = theta_[std::min(k, n - 2)];
     } else if (!c.has_plane) {
       c.bend_per_mm = 0.0;
+      c.bend2_per_mm = 0.0;
       c.anchored = false;
       c.active = false;
       c.has_second = false;
@@ -73,6 +74,8 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
 namespace {
 // A lumen of 0.5 mm radius: a meshed wall's normal jumps at a face's edge, which this bounds.
 constexpr double kMaxCurvature_per_mm = 2.0;
+constexpr double kSameDirection = 0.7;  // |cos| of two moves taken as along one direction
+constexpr double kSquareEnough = 0.5;   // the least of the earlier direction kept across the new
 }  // namespace
 
 void Rod::estimate_curvature(NodeContact& c, const WallContact& wc) {
@@ -84,7 +87,22 @@ void Rod::estimate_curvature(NodeContact& c, const WallContact& wc) {
   if (dir_len < 1e-4) return;
   const double kappa = std::clamp(glm::dot(wc.normal - c.normal, moved) / len2, 0.0, kMaxCurvature_per_mm);
   const double rho = kappa > 0.0 ? 1.0 / kappa - wc.distance_mm : 0.0;  // the centre's path
-  c.bend_dir = dir / dir_len;
+  const glm::dvec3 d = dir / dir_len;
+  // A move across the last one's direction keeps that one's curvature as the second, made
+  // square to the new direction and normal (dropped when little of it is left).
+  if (std::abs(glm::dot(d, c.bend_dir)) < kSameDirection) {
+    c.bend_dir2 = c.bend_dir;
+    c.bend2_per_mm = c.bend_per_mm;
+  }
+  glm::dvec3 d2 = c.bend_dir2 - wc.normal * glm::dot(wc.normal, c.bend_dir2);
+  d2 -= d * glm::dot(d, d2);
+  const double d2_len = glm::length(d2);
+  if (d2_len < kSquareEnough) {
+    c.bend2_per_mm = 0.0;
+  } else {
+    c.bend_dir2 = d2 / d2_len;
+  }
+  c.bend_dir = d;
   c.bend_per_mm = rho > 0.0 ? 1.0 / rho : 0.0;
 }
 

@@ -274,8 +274,12 @@ TEST(NestedTools, MicrocatheterFollowsTheWireIntoItsBranchWithoutABucklingSeed) 
 }
 
 // Not one lucky path: the wire steered by 0.45-0.55 of a turn and pushed 70-72 mm in, the
-// microcatheter advanced to 55-57 mm over it. Wherever the wire lies in a branch (its tip the
-// furthest point of its path: not folded back), the microcatheter follows it there.
+// microcatheter advanced to 55-57 mm over it. Wherever the wire lies in a branch (its tip within
+// 3 mm of the furthest point of its path: not folded back), the microcatheter follows it there.
+// Since the wall's gap follows its curvature (sim/tool README, "Curved gap") the wire's soft
+// 50-degree tip ends hooked 2.3-2.9 mm behind its furthest point in 6 of the 10 placements (in
+// the branch each time; the flat planes left 8 straight and 2 folded 6.5-8 mm back); the
+// microcatheter follows those too. Within 2 mm, as the test had it, it counted 8 of 20.
 TEST(NestedTools, MicrocatheterFollowsTheWireWhereverItWasSteered) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
   const std::vector<ToolSpec> tools = triaxial_stack();
@@ -289,7 +293,7 @@ TEST(NestedTools, MicrocatheterFollowsTheWireWhereverItWasSteered) {
         sim.inserted_positions(2, path);
         double furthest = -1e9;
         for (const glm::dvec3& q : path) furthest = std::max(furthest, q.z);
-        if (sim.tip_segment(2) == 0 || sim.tip(2).position_mm.z < furthest - 2.0) continue;
+        if (sim.tip_segment(2) == 0 || sim.tip(2).position_mm.z < furthest - 3.0) continue;
         ++in_branch;
         drive(sim, 1, micro_mm, kMicroAdvancePerStep);
         EXPECT_EQ(sim.tip_segment(1), sim.tip_segment(2)) << turns << " turn, wire " << wire_mm << " mm, microcatheter " << micro_mm << " mm";

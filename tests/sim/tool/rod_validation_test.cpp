@@ -3,6 +3,7 @@
 // behaviours (slide along a wall met at an angle; stop against a dead end while the force
 // rises; pull back frees the tool).
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include <glm/geometric.hpp>
@@ -220,12 +221,15 @@ ToolSpec angled_tip_wire() {
   return spec;
 }
 
-// Whip: in a tortuous vessel with wall friction, a curved-tip wire turned steadily at the hand
-// stores twist while its tip is held (by friction, and by its curve lying in the bends), then
-// releases it in a jump. It must emerge from the mechanics (not be smoothed away) and stay
-// bounded: the tip lags by less than a turn and never jumps by more than half a turn per step.
-TEST(RodValidation, CurvedTipInATortuousVesselLagsThenWhipsBoundedly) {
-  // Two opposite 90 degree bends (an S) in a 1 mm lumen: the carotid siphon's kind of path.
+// A curved-tip wire turned steadily at the hand through two opposite 90 degree bends (an S) in a
+// 1 mm lumen, the carotid siphon's kind of path, with wall friction and a soft shaft.
+struct WhipRun {
+  double turned = 0.0;    // the tip's accumulated turn, rad
+  double max_lag = 0.0;   // the hand's turn less the tip's, rad
+  double max_jump = 0.0;  // the tip's largest turn in one step of the hand, rad
+};
+
+WhipRun turn_curved_tip_through_an_s(const RodSettings& settings, double per_step) {
   std::vector<glm::dvec3> path = testing::bend_points(15.0, M_PI / 2.0, 5.0, 0.0);
   const glm::dvec3 corner = path.back();
   for (int i = 1; i <= 90; ++i) {  // back the other way: centre at corner + (0, 0, 15)
@@ -239,14 +243,11 @@ TEST(RodValidation, CurvedTipInATortuousVesselLagsThenWhipsBoundedly) {
   ToolSpec wire = angled_tip_wire();
   wire.friction = 0.15;
   wire.sections[0].torsion_stiffness_Nmm2 = 2.0;  // a soft shaft: the twist it stores shows
-  Rod rod(wire, static_settings());
+  Rod rod(wire, settings);
   rod.set_entry({0, 0, 0}, {0, 0, 1});
   insert_to(rod, wall, 70.0, 0.5);
-  double accumulated = 0.0;
+  WhipRun run;
   glm::dvec3 previous = rod.tip().normal;
-  const double per_step = 1.0 * M_PI / 180.0;
-  double max_lag = 0.0;
-  double max_jump = 0.0;
   for (int i = 1; i <= 720; ++i) {  // two turns at the hand
     const double rotation = i * per_step;
     rod.set_boundary(70.0, rotation);
@@ -254,17 +255,38 @@ TEST(RodValidation, CurvedTipInATortuousVesselLagsThenWhipsBoundedly) {
     const TipPose tip = rod.tip();
     const double d = angle_about(previous, tip.normal, tip.direction);
     previous = tip.normal;
-    accumulated += d;
-    max_lag = std::max(max_lag, rotation - accumulated);
-    max_jump = std::max(max_jump, d);
+    run.turned += d;
+    run.max_lag = std::max(run.max_lag, rotation - run.turned);
+    run.max_jump = std::max(run.max_jump, d);
   }
-  std::printf("whip: tip turned %.2f rad for %.2f at the hand, largest lag %.2f rad, largest jump %.2f rad in one step (hand: %.3f)\n",
-              accumulated, 720 * per_step, max_lag, max_jump, per_step);
-  EXPECT_GT(max_lag, 0.3);               // the tip lags...
-  EXPECT_GT(max_jump, 5.0 * per_step);   // ... and whips: a jump much faster than the hand
-  EXPECT_LT(max_lag, 2.0 * M_PI);        // bounded: less than a turn behind
-  EXPECT_LT(max_jump, M_PI / 2.0);       // and no flip in one step
-  EXPECT_NEAR(accumulated, 720 * per_step, 2.0 * M_PI);  // it follows the hand on the whole
+  return run;
+}
+
+// The tip stores twist while friction holds it, then slips, bounded: it lags by less than a turn
+// and never flips in a step. How fast it catches up is the converged mechanics' answer, not the
+// iteration's: the same run solved with node updates of at most 20 um (wall re-probed every 2 um,
+// 100 iterations) gives the same lag and largest jump. In this S the converged tip slips at the
+// hand's rate (no whip: friction is Coulomb's, one coefficient, and the straight shaft has no
+// preferred orientation in the bends). The jumps of up to 0.16 rad a step this test once asked
+// for were the 0.2 mm iterations' own: a node slid along its wall's tangent plane 0.2 mm round a
+// lumen whose centre path has a 0.32 mm radius, and the re-probe threw it back.
+TEST(RodValidation, CurvedTipInATortuousVesselLagsThenSlipsBoundedlyAsItsConvergedMechanics) {
+  const double per_step = 1.0 * M_PI / 180.0;
+  const WhipRun run = turn_curved_tip_through_an_s(static_settings(), per_step);
+  RodSettings fine = static_settings();
+  fine.max_node_step_mm = 0.02;
+  fine.requery_move_mm = 0.002;
+  fine.newton_iterations = 100;
+  const WhipRun reference = turn_curved_tip_through_an_s(fine, per_step);
+  std::printf("curved tip: turned %.2f rad for %.2f at the hand, largest lag %.3f rad, largest jump %.4f rad in one "
+              "step (hand: %.4f); at 20 um updates: lag %.3f, jump %.4f\n",
+              run.turned, 720 * per_step, run.max_lag, run.max_jump, per_step, reference.max_lag, reference.max_jump);
+  EXPECT_GT(run.max_lag, 0.3);            // the tip lags...
+  EXPECT_LT(run.max_lag, 2.0 * M_PI);     // bounded: less than a turn behind
+  EXPECT_LT(run.max_jump, M_PI / 2.0);    // and no flip in one step
+  EXPECT_NEAR(run.turned, 720 * per_step, 2.0 * M_PI);  // it follows the hand on the whole
+  EXPECT_NEAR(run.max_lag, reference.max_lag, 0.05 * reference.max_lag);
+  EXPECT_NEAR(run.max_jump, reference.max_jump, 0.5 * per_step);
 }
 
 TEST(RodValidation, SteeringAngledTipEntersEachChildOfAY) {

@@ -45,11 +45,12 @@ struct RodSettings {
   // stiffness is wall_stiffening times contact_stiffness_mN_per_mm. Infinity: one stiffness.
   double wall_layer_mm = std::numeric_limits<double>::infinity();
   double wall_stiffening = 10.0;
-  // The wall's gap follows its curvature (estimated from successive probes): a node pressed on
-  // a concave wall is held along it by its force over the radius of curvature. The compliant
-  // wall sets it: its stick spring (0.1 K, 141 mN/mm at the carotid) is weaker than f / rho
-  // (~10^3 mN/mm for a node at 2 N), and with one plane the node swings across its tangent.
-  bool curved_wall_gap = false;
+  // The wall's gap follows its curvature (estimated from successive probes, along two
+  // directions): a node pressed on a concave wall is held along it by its force over the radius
+  // of curvature. A plane alone lets the node slide along its tangent, out of a lumen whose
+  // centre path curves at 1/0.3 mm (a 1 mm lumen), until the re-probe throws it back; and a
+  // stick spring weaker than f / rho lets it swing across the plane's tangent every iteration.
+  bool curved_wall_gap = true;
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
   double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
 };
