@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -69,6 +70,9 @@ class HeldForceSlew : public TickObserver {
       const double jump = std::abs(f - last_mN_);
       if (jump > largest_mN) largest_mN = jump, largest_ms = v.time_us / 1000, largest_tool = held_;
       ticks_over_100 += jump > 100.0 ? 1 : 0;
+      if (held_ >= per_tool_mN.size()) per_tool_mN.resize(held_ + 1, 0.0), per_tool_over_100.resize(held_ + 1, 0);
+      per_tool_mN[held_] = std::max(per_tool_mN[held_], jump);
+      per_tool_over_100[held_] += jump > 100.0 ? 1 : 0;
     }
     started_ = true;
     held_ = v.input.held;
@@ -78,6 +82,8 @@ class HeldForceSlew : public TickObserver {
   std::int64_t largest_ms = 0;
   std::size_t largest_tool = 0;
   std::int64_t ticks_over_100 = 0;
+  std::vector<double> per_tool_mN;  // largest change while each tool is held
+  std::vector<std::int64_t> per_tool_over_100;
 
  private:
   bool started_ = false;
@@ -109,6 +115,10 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     std::printf("hand-force slew: largest change %.1f mN/tick (%s, at %.3f s), %lld ticks change > 100 mN\n", slew.largest_mN,
                 s.simulator().rod(slew.largest_tool).spec().name.c_str(), static_cast<double>(slew.largest_ms) * 1e-3,
                 static_cast<long long>(slew.ticks_over_100));
+    for (std::size_t t = 0; t < slew.per_tool_mN.size(); ++t) {
+      std::printf("  held %-14s largest change %.1f mN/tick, %lld ticks > 100 mN\n", s.simulator().rod(t).spec().name.c_str(),
+                  slew.per_tool_mN[t], static_cast<long long>(slew.per_tool_over_100[t]));
+    }
     EXPECT_GT(integration, 0.9);
     live = s.metrics();
   }
