@@ -201,7 +201,8 @@ std::vector<LibraryCase> all_cases() {
                     "# Wide-necked saccular aneurysm at the basilar tip; guide in the left vertebral (V2).\n" + sac_ref,
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
                     "0      insert_to 40 at 20\n1000   insert_to 110 at 20\n1000   select microcatheter\n"
-                    "1000   insert_to 100 at 20\n7000   end\n"),
+                    "1000   insert_to 100 at 20\n6000   select microwire\n6000   insert_to 128 at 10\n"
+                    "6500   select microcatheter\n6500   insert_to 122 at 10\n11000  end\n"),
   };
 }
 
