@@ -7,9 +7,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "app/fluoro_shaders.hpp"
 #include "app/gl.hpp"
 #include "fluoro_render_parts.hpp"
-#include "fluoro_shaders.hpp"
 
 // The renderer's GL resources, the phantom's projection and the scene targets each pulse's
 // iodine and tools are accumulated into (the monitor image: fluoro_monitor.cpp; the tools'
@@ -68,7 +68,13 @@ FluoroRenderer::~FluoroRenderer() {
 
 base::Status<> FluoroRenderer::init(bool framebuffer_fetch) {
   framebuffer_fetch_wanted_ = framebuffer_fetch;
-  if (base::Status<> built = scene_shader_.build(fluoro_glsl::kSceneVertex, fluoro_glsl::kSceneFragment); !built) {
+  // The shared texts (app/fluoro_shaders.hpp) in the desktop dialect, `defines` after the version.
+  const auto desktop = [](const char* body, const std::string& defines = {}) {
+    return fluoro_glsl::kDesktopVersion + defines + body;
+  };
+  if (base::Status<> built = scene_shader_.build(desktop(fluoro_glsl::kSceneVertex).c_str(),
+                                                 desktop(fluoro_glsl::kSceneFragment).c_str());
+      !built) {
     return built;
   }
   GLint extensions = 0;
@@ -79,15 +85,18 @@ base::Status<> FluoroRenderer::init(bool framebuffer_fetch) {
     if (name != nullptr && std::strcmp(name, "GL_EXT_shader_framebuffer_fetch") == 0) fbfetch_ = true;
   }
   for (std::size_t i = 0; i < composite_shaders_.size(); ++i) {
-    std::string source = fluoro_glsl::kCompositeFragment;
-    source.insert(source.find('\n') + 1,
-                  std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
-                      "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
-    if (base::Status<> built = composite_shaders_[i].build(fluoro_glsl::kCompositeVertex, source.c_str()); !built) {
+    const std::string source = desktop(
+        fluoro_glsl::kCompositeFragment,
+        std::string(fbfetch_ ? "#extension GL_EXT_shader_framebuffer_fetch : require\n#define FBFETCH 1\n" : "#define FBFETCH 0\n") +
+            "#define MODE " + std::to_string(i % 3) + "\n#define SCENE " + std::to_string(i < 3 ? 1 : 0) + "\n");
+    if (base::Status<> built = composite_shaders_[i].build(desktop(fluoro_glsl::kFullViewportVertex).c_str(), source.c_str());
+        !built) {
       return built;
     }
   }
-  if (base::Status<> built = scale_shader_.build(fluoro_glsl::kScaleVertex, fluoro_glsl::kScaleFragment); !built) {
+  if (base::Status<> built = scale_shader_.build(desktop(fluoro_glsl::kFullViewportVertex).c_str(),
+                                                 desktop(fluoro_glsl::kScaleFragment).c_str());
+      !built) {
     return built;
   }
   glGenVertexArrays(1, &empty_vao_);

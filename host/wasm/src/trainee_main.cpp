@@ -4,9 +4,11 @@
 #include <emscripten/emscripten.h>
 
 #include <cstring>
+#include <iterator>
 #include <memory>
 #include <string>
 
+#include "app/fluoro_shaders.hpp"
 #include "protocol/cbx_command_report.h"
 #include "session/replay.hpp"
 #include "wasm/browser_session.hpp"
@@ -117,6 +119,16 @@ EMSCRIPTEN_KEEPALIVE int cbx_fluoro_size(int which) {
     case 3: return static_cast<int>(f->scene_floats().size());
     default: return static_cast<int>(f->scene_indices().size());
   }
+}
+
+// The fluoroscopy's GLSL texts, the native renderer's own (app/fluoro_shaders.hpp), for the page's
+// WebGL2 view: 0 the GLSL ES version line, 1 scene vertex, 2 scene fragment, 3 full-viewport
+// vertex, 4 composite fragment, 5 scale fragment; null past them.
+EMSCRIPTEN_KEEPALIVE const char* cbx_fluoro_shader(int which) {
+  namespace glsl = cathbox::app::fluoro_glsl;
+  const char* const texts[] = {glsl::kEsVersion,          glsl::kSceneVertex,        glsl::kSceneFragment,
+                               glsl::kFullViewportVertex, glsl::kCompositeFragment, glsl::kScaleFragment};
+  return which >= 0 && which < static_cast<int>(std::size(texts)) ? texts[which] : nullptr;
 }
 
 // The box's command (wasm/browser_box_law.hpp): configured from the box's feature reports, then

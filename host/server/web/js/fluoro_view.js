@@ -1,7 +1,7 @@
 // The trainee page's fluoroscopic image in WebGL2: the native FluoroRenderer's shaders
-// (host/app/src/fluoro_shaders.hpp) ported to GLSL ES 3.00, fed by the same inputs, made in the
-// haptic worker by the native code compiled to WebAssembly (host/wasm browser_fluoro.hpp: the
-// lumen tied to the flow's contrast cells, the iodine per cell at the pulse, the tools' tubes and
+// (host/app/include/app/fluoro_shaders.hpp: one text for GLSL 3.30 and GLSL ES 3.00, handed over
+// by the worker from the wasm session), fed by the same inputs, made in the haptic worker by the
+// native code compiled to WebAssembly (host/wasm browser_fluoro.hpp: the lumen tied to the flow's contrast cells, the iodine per cell at the pulse, the tools' tubes and
 // their mu, the head phantom's projection, the noise and display figures).
 //
 // Per image (a new pulse, pose or size), as the native renderer:
@@ -15,7 +15,7 @@
 //                subtraction, or the roadmap over live fluoroscopy; black outside the field;
 //   scale        the (binned) image to the canvas, bilinear.
 // What differs from the native renderer, for WebGL2: the cells' iodine is a 2D float texture
-// (no buffer textures), the composite reads the phantom as a texture (no framebuffer fetch) over
+// (no buffer textures; the shared text's GL_ES branch), the composite reads the phantom as a texture (no framebuffer fetch) over
 // the whole image (the native one limits the scene reads to the scenes' 64-pixel cells, a
 // saving for software rasterisers), and the float targets need EXT_color_buffer_float and
 // EXT_float_blend (the view says so in one line without them).
@@ -27,128 +27,6 @@ export const H = {
 };
 
 const CELLS_W = 1024;  // the cells' texture: cell i at (i % CELLS_W, i / CELLS_W)
-
-const SCENE_VS = `#version 300 es
-precision highp float;
-precision highp int;
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_attr;  // vessel: cell a, cell b, weight; tool: mu (1/mm), 0, 0
-uniform mat4 u_view_proj;
-uniform vec4 u_source;       // focal spot (mm), and the distance subtracted from every depth
-uniform float u_tool;        // 0: vessel, 1: tool
-uniform float u_iodine_mu;   // 1/mm per mgI/mL
-uniform highp sampler2D u_cells;
-out float v_mu;
-out float v_d;
-float cell(float i) {
-  int k = int(i);
-  return texelFetch(u_cells, ivec2(k % ${CELLS_W}, k / ${CELLS_W}), 0).r;
-}
-void main() {
-  if (u_tool < 0.5) {
-    v_mu = u_iodine_mu * mix(cell(in_attr.x), cell(in_attr.y), in_attr.z);
-  } else {
-    v_mu = in_attr.x;
-  }
-  v_d = distance(in_position, u_source.xyz) - u_source.w;
-  gl_Position = u_view_proj * vec4(in_position, 1.0);
-}
-`;
-
-const SCENE_FS = `#version 300 es
-precision highp float;
-in float v_mu;
-in float v_d;
-uniform float u_tool;
-out vec4 frag;
-void main() {
-  float s = gl_FrontFacing ? -1.0 : 1.0;
-  frag = u_tool < 0.5 ? vec4(s * v_mu * v_d, s * v_mu, s * v_d * v_d, s * v_d) : vec4(s * v_mu * v_d, 0.0, 0.0, 0.0);
-}
-`;
-
-const FULL_VS = `#version 300 es
-out vec2 v_uv;
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  v_uv = p;
-  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
-}
-`;
-
-// MODE 0 fluoroscopy, 1 with the roadmap, 2 subtraction (defined before it is compiled).
-const COMPOSITE_FS = `
-precision highp float;
-precision highp int;
-uniform highp sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's bottom row
-uniform highp sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
-uniform highp sampler2D u_mask;
-uniform highp sampler2D u_road;
-uniform highp sampler2D u_road_mask;
-uniform vec4 u_view;           // viewport origin (bottom left) and size
-uniform vec4 u_sigma;          // log-noise sigma at the reference transmission: live, mask, roadmap, roadmap mask
-uniform uvec4 u_seeds;         // noise seeds (pulse_seed): live, mask, roadmap, roadmap mask
-uniform vec4 u_display;        // fluoro slope, DSA background, DSA gain, roadmap gain
-uniform vec4 u_mode;           // w: L_ref
-uniform float u_field_half;    // half the collimated field, pixels
-uniform float u_anatomy_gain;  // dynamic range compression of the phantom's part
-out vec4 frag;
-
-float scene_L(highp sampler2D s, ivec2 p) {
-  vec4 v = texelFetch(s, p, 0);
-  return abs(v.a) > 1e-4 ? v.r - v.g * v.b / (2.0 * v.a) : v.r;
-}
-// pixel_noise() of fluoro_image_model.cpp: ~N(0, 1) from an integer hash of pixel and pulse.
-float noise(uvec2 p, uint seed) {
-  uint h = (p.x * 0x8DA6B343u) ^ (p.y * 0xD8163841u) ^ seed;
-  h ^= h >> 16u;
-  h *= 0x7FEB352Du;
-  h ^= h >> 15u;
-  h *= 0x846CA68Bu;
-  h ^= h >> 16u;
-  uint bytes = (h & 0xFFu) + ((h >> 8u) & 0xFFu) + ((h >> 16u) & 0xFFu) + (h >> 24u);
-  return (float(bytes) - 510.0) * 0.0067659;
-}
-float noise_at(ivec2 p, uint seed, float sigma, float amp) {
-  return sigma * amp * noise(uvec2(uint(p.x), uint(int(u_view.w) - 1 - p.y)), seed);
-}
-void main() {
-  ivec2 p = ivec2(gl_FragCoord.xy - u_view.xy);
-  vec2 c = vec2(p) + 0.5 - 0.5 * u_view.zw;
-  if (max(abs(c.x), abs(c.y)) > u_field_half) {
-    frag = vec4(0.0, 0.0, 0.0, 1.0);
-    return;
-  }
-  vec2 ph = texelFetch(u_phantom, p, 0).rg;
-  float Lp = ph.x;
-  float amp = ph.y;
-  float L = Lp + scene_L(u_live, p);
-  float g;
-#if MODE == 2
-  float Lm = Lp + scene_L(u_mask, p);
-  float d = (L - noise_at(p, u_seeds.x, u_sigma.x, amp)) - (Lm - noise_at(p, u_seeds.y, u_sigma.y, amp));
-  g = u_display.y - u_display.z * d;
-#else
-  float shown = u_mode.w + u_anatomy_gain * (Lp - u_mode.w) + (L - Lp);
-  g = 1.0 / (1.0 + exp(-u_display.x * (u_mode.w - shown + noise_at(p, u_seeds.x, u_sigma.x, amp))));
-#if MODE == 1
-  float Lr = Lp + scene_L(u_road, p);
-  float Lrm = Lp + scene_L(u_road_mask, p);
-  float r = (Lr - noise_at(p, u_seeds.z, u_sigma.z, amp)) - (Lrm - noise_at(p, u_seeds.w, u_sigma.w, amp));
-  g += (1.0 - clamp(g, 0.0, 1.0)) * (1.0 - exp(-u_display.w * r));
-#endif
-#endif
-  frag = vec4(vec3(clamp(g, 0.0, 1.0)), 1.0);
-}
-`;
-
-const SCALE_FS = `#version 300 es
-precision highp float;
-in vec2 v_uv;
-uniform sampler2D u_image;
-out vec4 frag;
-void main() { frag = texture(u_image, v_uv); }
-`;
 
 function compile(gl, vs, fs, what) {
   const program = gl.createProgram();
@@ -199,8 +77,9 @@ function meshArrays(gl, vertices, indices) {
 }
 
 export class FluoroView {
-  // Throws one line when the browser's WebGL2 cannot draw it.
-  constructor(canvas) {
+  // `glsl`: the native renderer's shader texts from the worker (cbx_fluoro_shader: version,
+  // sceneVs, sceneFs, fullVs, compositeFs, scaleFs). Throws one line when WebGL2 cannot draw it.
+  constructor(canvas, glsl) {
     this.canvas = canvas;
     const gl = canvas.getContext('webgl2', { antialias: false, depth: false, alpha: false, preserveDrawingBuffer: true });
     if (!gl) throw new Error('this browser has no WebGL2: no fluoroscopic image');
@@ -208,9 +87,10 @@ export class FluoroView {
       if (!gl.getExtension(ext)) throw new Error(`this browser's WebGL2 lacks ${ext} (float targets): no fluoroscopic image`);
     }
     this.gl = gl;
-    this.scene = compile(gl, SCENE_VS, SCENE_FS, 'scene');
-    this.composite = [0, 1, 2].map((mode) => compile(gl, FULL_VS, `#version 300 es\n#define MODE ${mode}\n` + COMPOSITE_FS, 'composite'));
-    this.scale = compile(gl, FULL_VS, SCALE_FS, 'scale');
+    const v = glsl.version;
+    this.scene = compile(gl, v + glsl.sceneVs, v + glsl.sceneFs, 'scene');
+    this.composite = [0, 1, 2].map((mode) => compile(gl, v + glsl.fullVs, `${v}#define MODE ${mode}\n` + glsl.compositeFs, 'composite'));
+    this.scale = compile(gl, v + glsl.fullVs, v + glsl.scaleFs, 'scale');
     this.empty = gl.createVertexArray();
     this.targets = [];  // 4 x {texture, fbo}: shown, mask, roadmap, roadmap mask
     this.cells = null;

@@ -103,7 +103,7 @@ function showMainView(which) {
   button.hidden = !fluoro.available;
   if (which === 'fluoro' && fluoro.available && !fluoro.view) {
     try {
-      fluoro.view = new FluoroView(canvas);
+      fluoro.view = new FluoroView(canvas, fluoro.vessel.shaders);
       if (fluoro.vessel) fluoro.view.setVessel(fluoro.vessel.vertices, fluoro.vessel.indices);
       if (fluoro.last) fluoro.view.update(fluoro.last);
     } catch (err) {

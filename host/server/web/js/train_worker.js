@@ -25,7 +25,7 @@
 // advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
 // box_configure {config, periodMs}, box_command {args} (the page's WebHID driver), fluoro_keys {bits}
 // (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}. Out: ready {summary, open_ms, fluoro},
-// fluoro_vessel {vertices, indices}, frame {data: Float32Array, metrics, fluoro: {header, phantom?, floats?, indices?} or null},
+// fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics, fluoro: {header, phantom?, floats?, indices?} or null},
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
 // box_command {bytes (64) or null, message}, error {message}.
@@ -89,6 +89,7 @@ function bind(m) {
     fluoroFrame: c('cbx_fluoro_frame', 'number', ['number', 'number']),
     fluoroData: c('cbx_fluoro_data', 'number', ['number']),
     fluoroSize: c('cbx_fluoro_size', 'number', ['number']),
+    fluoroShader: c('cbx_fluoro_shader', 'string', ['number']),
   };
 }
 
@@ -239,8 +240,10 @@ async function open(m) {
   fluoroSent = { scene: -1, phantom: -1 };
   fluoroSize = m.fluoroSize || null;
   if (fluoroOn) {
+    const glsl = ['version', 'sceneVs', 'sceneFs', 'fullVs', 'compositeFs', 'scaleFs'];
     postMessage({ type: 'fluoro_vessel', vertices: copyHeap('HEAPF32', fn.fluoroData(0), fn.fluoroSize(0)),
-      indices: copyHeap('HEAPU32', fn.fluoroData(1), fn.fluoroSize(1)) });
+      indices: copyHeap('HEAPU32', fn.fluoroData(1), fn.fluoroSize(1)),
+      shaders: Object.fromEntries(glsl.map((name, i) => [name, fn.fluoroShader(i)])) });
   }
   over = false;
   if (m.box) await openBox(m.box);

@@ -1,27 +1,47 @@
 #pragma once
 
-// The fluoroscopy renderer's GLSL sources (FluoroRenderer, fluoro_renderer.cpp).
+// The fluoroscopy renderer's GLSL sources, one text for two dialects: the native FluoroRenderer
+// (fluoro_renderer.cpp, GLSL 3.30 core) and the trainee page's WebGL2 view (js/fluoro_view.js,
+// GLSL ES 3.00), which gets them from the WebAssembly session (cbx_fluoro_shader, host/wasm).
+// Each text starts without its #version line: the caller puts kDesktopVersion or kEsVersion
+// first, then its #defines (the composite's MODE, SCENE, FBFETCH). GL_ES, which every GLSL ES
+// compiler defines, selects what WebGL2 lacks: buffer textures (the cells' iodine is a 2D float
+// texture there) and framebuffer fetch.
 
 namespace cathbox::app::fluoro_glsl {
+
+inline constexpr const char* kDesktopVersion = "#version 330 core\n";
+inline constexpr const char* kEsVersion = "#version 300 es\n";
 
 // Scene pass: every face of a closed mesh adds sign * mu * d (d: distance from the source less
 // the isocentre's), entering (front) faces negative, so a ray sums mu times its path inside.
 // Vessel faces also add sign * mu, sign * d^2 and sign * d, for the trapezoid correction.
-inline constexpr const char* kSceneVertex = R"(#version 330 core
+inline constexpr const char* kSceneVertex = R"(#ifdef GL_ES
+precision highp float;
+precision highp int;
+#endif
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_attr;  // vessel: cell a, cell b, weight; tool: mu (1/mm), 0, 0
 uniform mat4 u_view_proj;
 uniform vec4 u_source;       // focal spot (mm), and the distance subtracted from every depth
 uniform float u_tool;        // 0: vessel, 1: tool
 uniform float u_iodine_mu;   // 1/mm per mgI/mL
+#ifdef GL_ES
+uniform highp sampler2D u_cells;  // cell i at (i % width, i / width)
+float cell(float i) {
+  int k = int(i);
+  int w = textureSize(u_cells, 0).x;
+  return texelFetch(u_cells, ivec2(k % w, k / w), 0).r;
+}
+#else
 uniform samplerBuffer u_cells;
+float cell(float i) { return texelFetch(u_cells, int(i)).r; }
+#endif
 out float v_mu;
 out float v_d;
 void main() {
   if (u_tool < 0.5) {
-    float ca = texelFetch(u_cells, int(in_attr.x)).r;
-    float cb = texelFetch(u_cells, int(in_attr.y)).r;
-    v_mu = u_iodine_mu * mix(ca, cb, in_attr.z);
+    v_mu = u_iodine_mu * mix(cell(in_attr.x), cell(in_attr.y), in_attr.z);
   } else {
     v_mu = in_attr.x;
   }
@@ -30,7 +50,9 @@ void main() {
 }
 )";
 
-inline constexpr const char* kSceneFragment = R"(#version 330 core
+inline constexpr const char* kSceneFragment = R"(#ifdef GL_ES
+precision highp float;
+#endif
 in float v_mu;
 in float v_d;
 uniform float u_tool;
@@ -41,17 +63,23 @@ void main() {
 }
 )";
 
-// Composite pass: a full-viewport triangle; the monitor's grey per pixel. Compiled six times
-// (MODE 0 fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction; SCENE 1 reading the scene
-// targets, 0 not: drawn outside their box): a software rasteriser runs both sides of a branch.
-inline constexpr const char* kCompositeVertex = R"(#version 330 core
-void main() {
-  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
-  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
-}
-)";
-
-inline constexpr const char* kCompositeFragment = R"(#version 330 core
+// Composite pass: the monitor's grey per pixel over the full-viewport triangle. MODE 0
+// fluoroscopy, 1 fluoroscopy with the roadmap, 2 subtraction; SCENE 1 reads the scene targets, 0
+// not (the native renderer draws outside the scenes' box with it: a software rasteriser runs both
+// sides of a branch); FBFETCH 1 reads the phantom from the target being drawn
+// (GL_EXT_shader_framebuffer_fetch, native only). The native renderer compiles all six, the page
+// MODE 0-2 with SCENE 1.
+inline constexpr const char* kCompositeFragment = R"(#ifndef FBFETCH
+#define FBFETCH 0
+#endif
+#ifndef SCENE
+#define SCENE 1
+#endif
+#ifdef GL_ES
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+#endif
 uniform sampler2D u_phantom;   // RG32F: L of the phantom, sqrt(T_ref / T) there; row 0 = the image's bottom row
 uniform sampler2D u_live;      // scene targets (RGBA32F), row 0 = the image's bottom row
 uniform sampler2D u_mask;
@@ -95,7 +123,7 @@ float noise(uvec2 p, uint seed) {
 // The log image's noise at a pixel: sigma at the reference transmission times
 // sqrt(T_ref / T) (`amp`, the phantom's transmission: contrast and tools are left out).
 float noise_at(ivec2 p, uint seed, float sigma, float amp) {
-  return sigma * amp * noise(uvec2(p.x, int(u_view.w) - 1 - p.y), seed);
+  return sigma * amp * noise(uvec2(uint(p.x), uint(int(u_view.w) - 1 - p.y)), seed);
 }
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy - u_view.xy);
@@ -131,13 +159,8 @@ void main() {
 }
 )";
 
-// A binned monitor image scaled to the viewport: a viewport-filling triangle sampling it
-// bilinearly (a sampler with GL_LINEAR, clamped to its edge), as glBlitFramebuffer with GL_LINEAR
-// maps it: each window pixel's centre at the same fraction of the image. On llvmpipe this costs
-// ~6 ms of CPU at 1024^2 where the blit (Mesa's blitter) costs ~9.5 (README, "A binned image to
-// the window").
-inline constexpr const char* kScaleVertex = R"(#version 330 core
-out vec2 v_uv;
+// The composite's and the scale pass's viewport-filling triangle (v_uv: 0..1 across it).
+inline constexpr const char* kFullViewportVertex = R"(out vec2 v_uv;
 void main() {
   vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
   v_uv = p;
@@ -145,7 +168,14 @@ void main() {
 }
 )";
 
-inline constexpr const char* kScaleFragment = R"(#version 330 core
+// Scale pass: a binned monitor image scaled to the viewport, the full-viewport triangle sampling it
+// bilinearly (a sampler with GL_LINEAR, clamped to its edge), as glBlitFramebuffer with GL_LINEAR
+// maps it: each window pixel's centre at the same fraction of the image. On llvmpipe this costs
+// ~6 ms of CPU at 1024^2 where the blit (Mesa's blitter) costs ~9.5 (README, "A binned image to
+// the window").
+inline constexpr const char* kScaleFragment = R"(#ifdef GL_ES
+precision highp float;
+#endif
 in vec2 v_uv;
 uniform sampler2D u_image;
 out vec4 frag;
