@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -202,7 +203,12 @@ void tag_lumen_regions(const vessel::VesselModel& model, vessel::SurfaceMesh& lu
 }
 
 // A surface's polygons (read from STL/OBJ/PLY/OFF or a VTK surface) into the result.
-ImportResult import_surface(PolygonSoup soup, const std::string& path, const ImportOptions& options, ImportResult result) {
+[[nodiscard]] double cpu_seconds_since(std::clock_t start) {
+  return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+}
+
+ImportResult import_surface(PolygonSoup soup, const std::string& path, const ImportOptions& options, ImportResult result,
+                            double read_seconds) {
   result.format = Format::kSurface;
   SurfaceOptions surface_options;
   surface_options.keep_largest = options.keep_largest;
@@ -213,18 +219,24 @@ ImportResult import_surface(PolygonSoup soup, const std::string& path, const Imp
     return result;
   }
   result.surface = imported.stats;
+  result.surface.seconds.read = read_seconds;
   result.lumen = std::move(imported.lumen);
   result.polylines = imported.branches.size();
-  const SurfaceStats& st = result.surface;
-  char note[256];
-  std::snprintf(note, sizeof note,
-                "surface of %zu polygons: %zu duplicate points merged, %zu open ends capped, %zu pieces dropped, "
-                "lumen %zu triangles, skeleton %zu points",
-                st.polygons_read, st.points_merged, st.open_ends.size(), st.components_dropped, st.triangles,
-                st.skeleton_points);
-  result.notes.insert(result.notes.begin(), note);
+  const std::clock_t start = std::clock();
   finish({}, std::move(imported.branches), path, options, result);
   if (result.ok()) tag_lumen_regions(result.model, result.lumen);
+  const SurfaceStats& st = result.surface;
+  const SurfaceStats::Seconds& s = result.surface.seconds;
+  result.surface.seconds.graph = cpu_seconds_since(start);
+  char note[384];
+  std::snprintf(note, sizeof note,
+                "surface of %zu polygons: %zu duplicate points merged, %zu open ends capped, %zu pieces dropped, "
+                "lumen %zu triangles, skeleton %zu points; CPU %.2f s (read %.2f, repair %.2f, check %.2f, flow %.2f, "
+                "centring %.2f, network %.2f)",
+                st.polygons_read, st.points_merged, st.open_ends.size(), st.components_dropped, st.triangles,
+                st.skeleton_points, s.read + s.repair + s.check + s.flow + s.centre + s.graph, s.read, s.repair, s.check,
+                s.flow, s.centre, s.graph);
+  result.notes.insert(result.notes.begin(), note);
   return result;
 }
 
@@ -351,13 +363,15 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
   }
   if (*format == Format::kSurface) {
     ImportResult result;
+    const std::clock_t start = std::clock();
     PolygonSoup soup = read_polygon_soup_file(path, result.errors);
     if (!result.ok()) return result;
-    return import_surface(std::move(soup), path, options, std::move(result));
+    return import_surface(std::move(soup), path, options, std::move(result), cpu_seconds_since(start));
   }
   if (*format == Format::kVtkLegacy || *format == Format::kVtkXml) {
     ImportResult result;
     result.format = *format;
+    const std::clock_t start = std::clock();
     VtkRead read = read_vtk_centerlines(path, options.radius_array, *format == Format::kVtkXml);
     if (!read.ok()) {
       result.errors = std::move(read.errors);
@@ -367,7 +381,7 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
       PolygonSoup soup = polygon_soup_from_cells(read.arrays.points, read.arrays.polygons, path, result.errors);
       if (!result.ok()) return result;
       result.notes.push_back(std::string(format_name(*format)) + " surface");
-      return import_surface(std::move(soup), path, options, std::move(result));
+      return import_surface(std::move(soup), path, options, std::move(result), cpu_seconds_since(start));
     }
     PolylinesRead lines = centerline_polylines(read.arrays, path, options.unit_mm > 0.0 ? options.unit_mm : 1.0);
     if (!lines.ok()) {

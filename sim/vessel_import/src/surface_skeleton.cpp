@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <map>
 
@@ -106,6 +107,78 @@ void cathbox::vessel_import::skeleton_order::Skeletonization::compute_voronoi_po
   m_are_poles_computed = true;
 }
 
+// One step of the flow (CGAL's contract_geometry: the least-squares system of the Laplacian, the
+// attraction to the current positions and to the poles, solved through its normal equations), with
+// two changes that leave the system and so the result the same: whether a vertex's pole is inside
+// the meso-skeleton is tested once per step (CGAL 5.5 tests it in assemble_LHS and again in
+// assemble_RHS, each building an AABB tree of the meso-skeleton and shooting a ray per vertex),
+// and the vertices' rows come from a vector instead of a std::map lookup per matrix entry.
+template <>
+void cathbox::vessel_import::skeleton_order::Skeletonization::contract_geometry() {
+  update_vertex_id();  // m_new_id, as CGAL keeps it
+  compute_edge_weight();
+  const int nver = static_cast<int>(num_vertices(m_tmesh));
+  if (m_is_medially_centered && !m_are_poles_computed) compute_voronoi_pole();
+  std::vector<int> row(static_cast<std::size_t>(m_vertex_id_count), 0);
+  std::vector<vertex_descriptor> order;
+  order.reserve(static_cast<std::size_t>(nver));
+  for (vertex_descriptor vd : vertices(m_tmesh)) {
+    row[get(m_vertex_id_pmap, vd)] = static_cast<int>(order.size());
+    order.push_back(vd);
+  }
+  std::vector<char> attracted(order.size(), 0);  // to its pole: not fixed, pole known and inside
+  if (m_is_medially_centered) {
+    const Side_of_triangle_mesh<mTriangleMesh, Traits> test_inside(m_tmesh);
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const vertex_descriptor vd = order[i];
+      attracted[i] = !vd->is_fixed && static_cast<int>(get(m_vertex_id_pmap, vd)) < m_max_id &&
+                     test_inside(vd->pole) == CGAL::ON_BOUNDED_SIDE;
+    }
+  }
+  const int nrows = nver * (m_is_medially_centered ? 3 : 2);
+  typename SolverTraits::Matrix A(nrows, nver);
+  typename SolverTraits::Vector X(nver), Bx(nrows);
+  typename SolverTraits::Vector Y(nver), By(nrows);
+  typename SolverTraits::Vector Z(nver), Bz(nrows);
+  for (int i = 0; i < nver; ++i) {
+    const vertex_descriptor vd = order[static_cast<std::size_t>(i)];
+    const double oh = vd->is_fixed ? 1.0 / m_zero_TH : m_omega_H;
+    const double op = attracted[static_cast<std::size_t>(i)] != 0 ? m_omega_P : 0.0;
+    A.set_coef(i + nver, i, oh, true);
+    if (op != 0.0) A.set_coef(i + nver * 2, i, op, true);
+    const Point& p = get(m_tmesh_point_pmap, vd);
+    Bx[i] = 0;
+    By[i] = 0;
+    Bz[i] = 0;
+    Bx[i + nver] = get_x(p) * oh;
+    By[i + nver] = get_y(p) * oh;
+    Bz[i + nver] = get_z(p) * oh;
+    if (m_is_medially_centered) {
+      Bx[i + nver * 2] = get_x(vd->pole) * op;
+      By[i + nver * 2] = get_y(vd->pole) * op;
+      Bz[i + nver * 2] = get_z(vd->pole) * op;
+    }
+  }
+  for (int i = 0; i < nver; ++i) {  // the Laplacian rows
+    const vertex_descriptor vd = order[static_cast<std::size_t>(i)];
+    const double L = vd->is_fixed ? 0.0 : 1.0;
+    double diagonal = 0;
+    for (edge_descriptor ed : in_edges(vd, m_tmesh)) {
+      const double wij = m_edge_weight[get(m_hedge_id_pmap, halfedge(ed, m_tmesh))] * 2.0;
+      A.set_coef(i, row[get(m_vertex_id_pmap, source(ed, m_tmesh))], wij * L, true);
+      diagonal += -wij;
+    }
+    A.set_coef(i, i, diagonal, true);
+  }
+  m_solver.normal_equation_factor(A);
+  m_solver.normal_equation_solver(Bx, X);
+  m_solver.normal_equation_solver(By, Y);
+  m_solver.normal_equation_solver(Bz, Z);
+  for (int i = 0; i < nver; ++i) {
+    put(m_tmesh_point_pmap, order[static_cast<std::size_t>(i)], m_traits.construct_point_3_object()(X[i], Y[i], Z[i]));
+  }
+}
+
 template <>
 struct std::less<cathbox::vessel_import::skeleton_order::MesoEdge> {
   bool operator()(const cathbox::vessel_import::skeleton_order::MesoEdge& a,
@@ -162,13 +235,22 @@ class SurfaceImporter {
     out_.stats.polygons_read = soup.polygons.size();
     out_.stats.points_read = soup.points.size();
     if (soup.polygons.empty()) return fail("not a surface: no polygons");
-    if (!to_mesh(std::move(soup))) return std::move(out_);
-    if (!keep_one_component()) return std::move(out_);
-    if (!cap_open_ends()) return std::move(out_);
-    if (!check_lumen()) return std::move(out_);
+    SurfaceStats::Seconds& seconds = out_.stats.seconds;
+    std::clock_t start = std::clock();
+    const auto lap = [&start]() {
+      const std::clock_t now = std::clock();
+      const double elapsed = static_cast<double>(now - start) / CLOCKS_PER_SEC;
+      start = now;
+      return elapsed;
+    };
+    const bool repaired = to_mesh(std::move(soup)) && keep_one_component() && cap_open_ends();
+    seconds.repair = lap();
+    if (!repaired || !check_lumen()) return std::move(out_);
     canonicalise();
-    if (!skeletonise()) return std::move(out_);
+    seconds.check = lap();
+    if (!skeletonise(lap)) return std::move(out_);
     keep_lumen();
+    seconds.centre += lap();
     return std::move(out_);
   }
 
@@ -208,12 +290,16 @@ class SurfaceImporter {
     out_.stats.polygons_dropped = polygons_before - soup.polygons.size();
     if (soup.polygons.empty()) return refuse("not a surface: every polygon is degenerate");
     soup.polygons = fan_triangles(soup.polygons);
-    PMP::orient_polygon_soup(points, soup.polygons);
-    // Orienting duplicates the points where edges are shared by more than two polygons; what
-    // is still not a polygon mesh after that (e.g. a fan diagonal that a neighbour already has
-    // as an edge) would build an invalid halfedge structure.
+    // A soup that is already a consistently wound manifold (every directed edge once, as a
+    // mesher or a segmentation writes it) is left as it is: orienting it would change nothing
+    // and cost as much as the check. Orienting duplicates the points where edges are shared by
+    // more than two polygons; what is still not a polygon mesh after that (e.g. a fan diagonal
+    // that a neighbour already has as an edge) would build an invalid halfedge structure.
     if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) {
-      return refuse("not a surface: the polygons do not form a manifold mesh even after orienting");
+      PMP::orient_polygon_soup(points, soup.polygons);
+      if (!PMP::is_polygon_soup_a_polygon_mesh(soup.polygons)) {
+        return refuse("not a surface: the polygons do not form a manifold mesh even after orienting");
+      }
     }
     PMP::polygon_soup_to_polygon_mesh(points, soup.polygons, mesh_);
     return true;
@@ -315,7 +401,8 @@ class SurfaceImporter {
 
   // The skeleton's nodes (degree != 2) and the chains between them become branches; a point's
   // radius is its distance to the surface.
-  bool skeletonise() {
+  template <typename Lap>
+  bool skeletonise(Lap& lap) {
     Skeleton skeleton;
     Skeletonization mcs(mesh_);
     // CGAL's default shortest edge is 0.2 % of the bounding box's diagonal (0.9 mm for a head and
@@ -324,6 +411,7 @@ class SurfaceImporter {
     mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm()));
     contract_until_convergence(mcs);
     mcs.convert_to_skeleton(skeleton);
+    out_.stats.seconds.flow = lap();
     out_.stats.skeleton_points = boost::num_vertices(skeleton);
     if (boost::num_edges(skeleton) == 0) return refuse("no centreline: the skeleton of the surface is a single point");
     Tree tree(faces(mesh_).first, faces(mesh_).second, mesh_);
@@ -448,16 +536,16 @@ class SurfaceImporter {
 
   void keep_lumen() {
     vessel::SurfaceMesh& lumen = out_.lumen;
-    std::map<VertexIndex, std::uint32_t> index;
+    std::vector<std::uint32_t> index(mesh_.number_of_vertices());  // the mesh has no garbage (canonicalise)
     for (VertexIndex v : mesh_.vertices()) {
-      index[v] = static_cast<std::uint32_t>(lumen.positions_mm.size());
+      index[v.idx()] = static_cast<std::uint32_t>(lumen.positions_mm.size());
       lumen.positions_mm.push_back(glm::vec3(to_glm(mesh_.point(v))));
     }
     std::vector<glm::dvec3> normals(lumen.positions_mm.size(), glm::dvec3(0.0));
     for (Mesh::Face_index f : mesh_.faces()) {
       std::uint32_t t[3];
       std::size_t k = 0;
-      for (VertexIndex v : CGAL::vertices_around_face(mesh_.halfedge(f), mesh_)) t[k++] = index[v];
+      for (VertexIndex v : CGAL::vertices_around_face(mesh_.halfedge(f), mesh_)) t[k++] = index[v.idx()];
       const glm::dvec3 n = glm::cross(glm::dvec3(lumen.positions_mm[t[1]]) - glm::dvec3(lumen.positions_mm[t[0]]),
                                       glm::dvec3(lumen.positions_mm[t[2]]) - glm::dvec3(lumen.positions_mm[t[0]]));
       for (std::uint32_t i : t) {

@@ -45,6 +45,13 @@ struct SurfaceStats {
   std::size_t triangles = 0;         // of the repaired lumen
   std::size_t skeleton_points = 0;
   double extent_mm = 0.0;            // the bounding box's largest side
+  // CPU seconds per stage (std::clock): reading the file, repair (merge, orient, to a mesh, one
+  // piece, caps), the closed / self-intersection / outward checks, the flow (simplification of
+  // its copy included), walking + centring the skeleton against the full lumen, and the network
+  // (clean-up, radius filter, validation, the control mesh check, tagging the lumen's triangles).
+  struct Seconds {
+    double read = 0.0, repair = 0.0, check = 0.0, flow = 0.0, centre = 0.0, graph = 0.0;
+  } seconds;
 };
 
 struct SurfaceOptions {
