@@ -10,25 +10,15 @@ namespace cathbox::tool {
 ArterialWall arterial_wall(Territory territory) {
   switch (territory) {
     case Territory::kCervical:
-      // Riley, Barnes, Evans, Burke, "Ultrasonic measurement of the elastic modulus of the common
-      // carotid artery. The ARIC Study", Stroke 23(7), 1992: Y = (R / WT) (PP / CAS) in 3,321
-      // adults, mean 701 kPa (women) and 771 kPa (men) at 45-49 years, 965-983 kPa at 60-64.
-      // h / R 0.2: an estimate (an intima-media of ~0.6 mm on a 3 mm lumen radius), not one
-      // cited measurement.
-      return ArterialWall{770.0, 0.2, 0.5};
+      return kCervicalWall;
     case Territory::kIntracranial:
-      // Intracranial arteries are muscular, with a thin media and no external elastic lamina;
-      // their incremental modulus at physiological pressure is taken twice the carotid's and
-      // their wall a tenth-and-a-half of the radius (~0.2 mm on the 1.55 mm M1 radius of Rai et
-      // al., J NeuroIntervent Surg 5(4), 2013: M1 origin 3.1 +- 0.4 mm). Estimates, not cited
-      // measurements (sim/tool/README.md, "Compliant wall", limits).
-      return ArterialWall{1540.0, 0.15, 0.5};
+      return kIntracranialWall;
   }
   return ArterialWall{};
 }
 
 WallShell::WallShell(const ArterialWall& wall, double radius_mm)
-    : radius_mm_(radius_mm), thickness_mm_(wall.thickness_ratio * radius_mm) {
+    : wall_(wall), radius_mm_(radius_mm), thickness_mm_(wall.thickness_ratio * radius_mm) {
   assert(radius_mm > 0.0 && wall.thickness_ratio > 0.0 && wall.youngs_modulus_kPa > 0.0);
   const double e = wall.youngs_modulus_kPa;  // mN/mm^2
   const double h = thickness_mm_;

@@ -7,7 +7,8 @@
 namespace cathbox::tool {
 
 CompliantContact compliant_contact(const WallShell& shell) {
-  return CompliantContact{shell.ring_load_stiffness_mN_per_mm(), kMaxHoopStrain * shell.radius_mm()};
+  return CompliantContact{shell.ring_load_stiffness_mN_per_mm(), kMaxHoopStrain * shell.radius_mm(),
+                          patch_shear_stiffness_mN_per_mm2(shell.wall())};
 }
 
 void use_compliant_contact(Simulator& sim, const CompliantContact& contact) {
@@ -19,6 +20,7 @@ void use_compliant_contact(Simulator& sim, const CompliantContact& contact) {
     s.contact_stiffness_mN_per_mm = contact.stiffness_mN_per_mm;
     s.wall_layer_mm = contact.max_displacement_mm;
     s.wall_stiffening = kCollagenStiffening;
+    s.wall_shear_mN_per_mm2 = contact.shear_mN_per_mm2;
     s.max_penetration_ratio = std::max(s.max_penetration_ratio, kHardLimitLayers * contact.max_displacement_mm / r_min);
   }
 }

@@ -50,7 +50,7 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
 [[gnu::always_inline]] inline void Rod::add_wall_terms(std::size_t k, glm::dmat3& h) {
   const glm::dmat3 identity(1.0);
   const WallPenalty wall(settings_);
-  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double kt = wall_stick_mN_per_mm(k);
   const NodeContact& nc = node_contacts_[k];
   if (nc.has_plane && nc.active2) {
     const double phi2 = second_gap(k);
@@ -243,7 +243,8 @@ double Rod::energy() const {
     if (limit <= 0.0) continue;
     const glm::dvec3 rel = x_[k] - nc.anchor;
     const double slip = glm::length(rel - nc.normal * glm::dot(nc.normal, rel));
-    e += kt * slip <= limit ? 0.5 * kt * slip * slip : limit * slip - 0.5 * limit * limit / kt;
+    const double ks = wall_stick_mN_per_mm(k);
+    e += ks * slip <= limit ? 0.5 * ks * slip * slip : limit * slip - 0.5 * limit * limit / ks;
   }
   return e;
 }

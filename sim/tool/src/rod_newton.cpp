@@ -151,7 +151,7 @@ void Rod::damp_reversal(Newton& s) {
 }
 
 // Backtracking line search on the step energy (contacts and friction are non-smooth), on every
-// update however small: a node at the edge of its friction stick zone (stick spring 2·10⁴ mN/mm
+// update however small: a node at the edge of its friction stick zone (its stick spring
 // inside, a constant μN outside, whose Hessian has no stiffness along the slip) is sent across the
 // edge and back by full Gauss-Newton steps of a few µm, step after step, and never meets the
 // convergence test (the angioplasty run's guidewire: 20 % of its ticks).

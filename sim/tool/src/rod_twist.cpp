@@ -136,7 +136,7 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
 // angle from the anchor.
 [[gnu::always_inline]] inline std::uint8_t Rod::twist_regime(std::size_t k, double& ktr, double& limit, double& d) const {
   const std::size_t n = x_.size();
-  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double kt = wall_stick_mN_per_mm(k);
   const NodeContact& nc = node_contacts_[k];
   const double mu = friction_at(k);
   if (!nc.has_plane || mu <= 0.0) return 0;

@@ -130,10 +130,10 @@ void Rod::finish_contacts() {
   const std::size_t n = x_.size();
   contacts_.clear();
   const WallPenalty wall(settings_);
-  const double kt = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& nc = node_contacts_[k];
     if (!nc.has_plane) continue;
+    const double kt = wall_stick_mN_per_mm(k);
     add_second_contact(k);
     const double phi = plane_gap(k);
     const std::size_t e = std::min(k, n - 2);

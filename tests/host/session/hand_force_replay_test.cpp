@@ -148,14 +148,16 @@ TEST(HandForceFigures, MetricsReportTheHandsPeakAndEachToolsUnconvergedShare) {
   }
 }
 
-// The bounds of issue 29 ("the feel"). Met by the Y bifurcation and the angioplasty runs; the
-// others are instantiated disabled (run them with --gtest_also_run_disabled_tests) until the
+// The bounds of issue 29 ("the feel"). Met by the Y bifurcation, the angioplasty and the held-out
+// bend; the others are instantiated disabled (run them with --gtest_also_run_disabled_tests) until the
 // compliant wall and converged contact land. Their figures are in docs/sim-tool/convergence.md
 // (HandForceFigures prints them). The angioplasty met them once the wire's clamp at the balloon
 // catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip) and the predictor
 // stopped putting the catheter's tip on the wire's chord behind its entry (Rod::point_at_from_tip):
 // balloon unconverged 2.03 -> 0.01 %, guidewire 0.25 -> 0.16 %, peak 172 -> 53 mN, largest change
-// 92 -> 80 mN/tick.
+// 92 -> 80 mN/tick. The held-out bend met them once the wall's stick spring was the tissue's shear
+// stiffness under the wire (Mindlin; 246 mN/mm) instead of a tenth of the rigid wall's penalty
+// (2·10⁴ mN/mm): unconverged 0.89 -> 0.13 %, largest change 134.5 -> 57.3 mN/tick at the pull-back.
 class HandForceReplay : public ::testing::TestWithParam<FeelRun> {};
 
 TEST_P(HandForceReplay, StaysWithinTheBoxsSlewAndFullScaleWithConvergedSteps) {
@@ -171,9 +173,8 @@ TEST_P(HandForceReplay, StaysWithinTheBoxsSlewAndFullScaleWithConvergedSteps) {
 
 std::string run_name(const ::testing::TestParamInfo<FeelRun>& info) { return info.param.name; }
 
-INSTANTIATE_TEST_SUITE_P(Meets, HandForceReplay, ::testing::Values(kRuns[0], kRuns[1]), run_name);
-INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, HandForceReplay, ::testing::Values(kRuns[2], kRuns[3], kRuns[4], kRuns[5]),
-                         run_name);
+INSTANTIATE_TEST_SUITE_P(Meets, HandForceReplay, ::testing::Values(kRuns[0], kRuns[1], kRuns[4]), run_name);
+INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, HandForceReplay, ::testing::Values(kRuns[2], kRuns[3], kRuns[5]), run_name);
 
 }  // namespace
 }  // namespace cathbox::session

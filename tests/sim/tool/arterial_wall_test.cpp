@@ -161,7 +161,8 @@ TEST(DisplacedWall, PerSegmentDisplacementMovesOnlyThatSegmentsWall) {
 }
 
 // A case's `wall cervical 2`: every non-coil tool's contact takes the wall's ring-load stiffness
-// (1.41 N/mm for the carotid's material at 2 mm, not the rigid wall's 2e5 mN/mm), and the
+// (1.41 N/mm for the carotid's material at 2 mm, not the rigid wall's 2e5 mN/mm) and the tissue's
+// shear under its patch as friction's stick spring, and the
 // guidewire pushed 20 mm into a dead end presses the wall by F / K within the bounded layer
 // (25 % of the radius), and past it by the tenfold stiffer recruited wall's law, at its
 // converged steps; never past the solver's hard limit (two layers).
@@ -182,6 +183,8 @@ TEST(CompliantContact, AWallLineGivesTheWallsStiffnessAndItsBoundedLayer) {
   EXPECT_NEAR(sim.rod_settings(0).wall_layer_mm, 0.5, 1e-9);  // 25 % of 2 mm
   EXPECT_EQ(sim.rod_settings(0).wall_stiffening, kCollagenStiffening);
   EXPECT_NEAR(sim.rod_settings(0).max_penetration_ratio * 0.18, 1.0, 1e-9);  // two layers
+  // Friction's stick spring: Mindlin's 8 G a / (2 - nu) of the same tissue (770 kPa, nu 0.5).
+  EXPECT_NEAR(sim.rod_settings(0).wall_shear_mN_per_mm2, 8.0 * (770.0 / 3.0) / 1.5, 1e-9);
   double largest_mN = 0.0;
   int checked = 0;
   int past_layer = 0;

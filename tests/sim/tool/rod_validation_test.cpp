@@ -2,9 +2,11 @@
 // torque transmission, steering a curved tip into each child of a Y, and the seed's contact
 // behaviours (slide along a wall met at an angle; stop against a dead end while the force
 // rises; pull back frees the tool).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -207,6 +209,56 @@ TEST(RodValidation, TorqueWindUpAgainstUniformWallFrictionMatchesTheAnalyticLag)
               rod.hand_torque_mNmm(), t * L);
   EXPECT_NEAR(lag, breakaway, 0.2 * breakaway);
   EXPECT_NEAR(rod.hand_torque_mNmm(), t * L, 0.15 * t * L);
+}
+
+// The wall's stick spring is the tissue's tangential contact stiffness: a patch of radius a held
+// in full stick on an elastic half-space of shear modulus G moves by T (2 - nu) / (8 G a) under a
+// tangential force T (Mindlin, J Appl Mech 16, 1949; Johnson, Contact Mechanics, 1985, §7.2),
+// k_t = 8 G a / (2 - nu), a the wire's radius. The cervical carotid's modulus, 770 kPa (Riley et
+// al., Stroke 23(7), 1992), nu = 0.5: G = 256.7 kPa, k_t = 246.4 mN/mm under a 0.36 mm wire. A
+// wire pressed on the wall of a straight tube by q per mm and pushed in (each node's anchor
+// dragged to its slip limit mu q h behind it), then pulled back by less than the 2 mu q h / k_t
+// that reverses it, feels the stuck nodes' springs: a chain of axial springs EA / h to the node
+// springs k_t, whose stiffness at the hand is K_j = k_t + EA/h K_{j+1} / (EA/h + K_{j+1}) from the
+// tip (K = k_t) to the clamp (on the wall's line). Pulled on past the reversal it slips everywhere: -mu q L.
+TEST(RodValidation, AStuckWirePulledOnTheWallFeelsTheTissuesMindlinStiffnessThenSlips) {
+  const double L = 40.0, h = 1.0, r = 0.18, mu = 0.3, q = 20.0;  // mm, mm, mm, -, mN per mm
+  const double g_kPa = 770.0 / (2.0 * 1.5);
+  const double kt = 8.0 * g_kPa * r / (2.0 - 0.5);
+  EXPECT_NEAR(kt, 246.4, 0.1);
+  const TubeNetworkWall wall = testing::straight_tube(0.5, -5.0, 200.0);
+  Rod rod(uniform_tool(L + 30.0, 2.0 * r, 2.0, 1.0, h, mu), static_settings());
+  EXPECT_NEAR(rod.settings().wall_shear_mN_per_mm2 * r, kt, 1e-9);
+  rod.set_entry({0.5 - r, 0, 0}, {0, 0, 1});  // on the wall's line: the wire lies straight along it
+  insert_to(rod, wall, L, 0.5);
+  const std::size_t first = rod.first_free_node();
+  const std::size_t n = rod.node_total();
+  for (std::size_t k = first; k < n; ++k) rod.set_node_load(k, {q * (k + 1 < n ? h : 0.5 * h), 0, 0});
+  for (int i = 0; i < 3; ++i) {  // pushed in by 0.1 mm under the load: every anchor at its limit
+    rod.set_boundary(L + 0.05 * (i + 1), 0.0);
+    for (int s = 0; s < 20; ++s) rod.step(1e-3, wall);
+  }
+  const double pushed = L + 0.15;
+  std::vector<bool> stuck(n, false);
+  for (const RodContact& c : rod.contacts()) stuck[c.node] = c.node >= first;
+  const auto on_wall = static_cast<std::size_t>(std::count(stuck.begin(), stuck.end(), true));
+  ASSERT_EQ(on_wall, n - first);
+  const double f0 = rod.hand_force_mN();
+  const double ks = rod.spec().axial_stiffness_N * 1e3 / h;
+  double chain = stuck[n - 1] ? kt : 0.0;  // from the tip
+  for (std::size_t k = n - 1; k-- > first;) chain = (stuck[k] ? kt : 0.0) + ks * chain / (ks + chain);
+  const double at_hand = ks * chain / (ks + chain);  // the clamp's half edge is outside: ~equal
+  const double pull = 0.5 * mu * q * 0.5 * h / kt;   // a quarter of the tip's reversal
+  rod.set_boundary(pushed - pull, 0.0);
+  for (int s = 0; s < 20; ++s) rod.step(1e-3, wall);
+  const double measured = (f0 - rod.hand_force_mN()) / pull;
+  std::printf("stuck wire: %zu of %zu nodes on the wall, hand stiffness %.0f mN/mm (chain of Mindlin springs %.0f), "
+              "law %.0f\n", on_wall, n - first, measured, at_hand, rod.force_law().stiffness_mN_per_mm);
+  EXPECT_NEAR(measured, at_hand, 0.02 * at_hand);
+  EXPECT_NEAR(rod.force_law().stiffness_mN_per_mm, at_hand, 0.03 * at_hand);
+  rod.set_boundary(pushed - 0.5, 0.0);
+  for (int s = 0; s < 50; ++s) rod.step(1e-3, wall);
+  EXPECT_NEAR(rod.hand_force_mN(), -mu * q * L, 0.05 * mu * q * L);
 }
 
 ToolSpec angled_tip_wire() {

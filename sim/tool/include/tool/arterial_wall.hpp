@@ -34,13 +34,38 @@ enum class Territory {
   kIntracranial,  // intradural ICA, circle of Willis, MCA/ACA/basilar and beyond
 };
 
-// Published values (sources in the .cpp and in sim/tool/README.md, "Compliant wall").
+// Cervical: Riley, Barnes, Evans, Burke, "Ultrasonic measurement of the elastic modulus of the
+// common carotid artery. The ARIC Study", Stroke 23(7), 1992: Y = (R / WT) (PP / CAS) in 3,321
+// adults, mean 701 kPa (women) and 771 kPa (men) at 45-49 years, 965-983 kPa at 60-64. h / R 0.2:
+// an estimate (an intima-media of ~0.6 mm on a 3 mm lumen radius), not one cited measurement.
+inline constexpr ArterialWall kCervicalWall{770.0, 0.2, 0.5};
+// Intracranial arteries are muscular, with a thin media and no external elastic lamina; their
+// incremental modulus at physiological pressure is taken twice the carotid's and their wall a
+// tenth-and-a-half of the radius (~0.2 mm on the 1.55 mm M1 radius of Rai et al., J NeuroIntervent
+// Surg 5(4), 2013: M1 origin 3.1 +- 0.4 mm). Estimates, not cited measurements (sim/tool/README.md,
+// "Compliant wall", limits).
+inline constexpr ArterialWall kIntracranialWall{1540.0, 0.15, 0.5};
+
 [[nodiscard]] ArterialWall arterial_wall(Territory territory);
+
+// The tissue's tangential (shear) contact stiffness under a tool's contact patch, per mm of the
+// patch's radius (mN/mm^2): a circular patch of radius a held in full stick on an elastic
+// half-space of shear modulus G = E / (2 (1 + nu)) moves by T (2 - nu) / (8 G a) under a
+// tangential force T (Mindlin, "Compliance of elastic bodies in contact", J Appl Mech 16, 1949;
+// Johnson, Contact Mechanics, 1985, §7.2), so k_t = 8 G a / (2 - nu). Beside the flat patch's
+// normal stiffness 4 G a / (1 - nu) (Boussinesq) it is 2 (1 - nu) / (2 - nu) of it: 2/3 for
+// nearly incompressible tissue. The rod's wall friction sticks with it (RodSettings::
+// wall_shear_mN_per_mm2, times the node's radius as the patch's).
+[[nodiscard]] constexpr double patch_shear_stiffness_mN_per_mm2(const ArterialWall& wall) {
+  const double g = wall.youngs_modulus_kPa / (2.0 * (1.0 + wall.poisson));  // kPa = mN/mm^2
+  return 8.0 * g / (2.0 - wall.poisson);
+}
 
 class WallShell {
  public:
   WallShell(const ArterialWall& wall, double radius_mm);
 
+  [[nodiscard]] const ArterialWall& wall() const { return wall_; }
   [[nodiscard]] double radius_mm() const { return radius_mm_; }
   [[nodiscard]] double thickness_mm() const { return thickness_mm_; }
   // k = E h / R^2: the pressure per radial displacement of a uniformly loaded wall (kPa/mm).
@@ -60,6 +85,7 @@ class WallShell {
   [[nodiscard]] std::vector<double> solve_radial(const std::vector<double>& load_kPa, double spacing_mm) const;
 
  private:
+  ArterialWall wall_;
   double radius_mm_;
   double thickness_mm_;
   double hoop_k_;

@@ -10,9 +10,10 @@
 // Holzapfel, Gasser & Ogden, J Elasticity 61, 2000): past the layer a node meets
 // `kCollagenStiffening` K (wall_penalty.hpp), in the step's energy, so the solve converges on
 // the force the wall gives. The solver's hard limit on a node's penetration (a numerical guard,
-// after the solve) is `kHardLimitLayers` layers. Friction's stick spring follows the wall's
-// stiffness (the rod's stick ratio). Coils keep their own contact settings (soft loops against the sac); tool-tool
-// contact of non-coil tools takes the same stiffness. Valve anchors are not the wall's and keep
+// after the solve) is `kHardLimitLayers` layers. Friction's stick spring is the same tissue's
+// shear stiffness under the node's patch (patch_shear_stiffness_mN_per_mm2, Mindlin). Coils keep
+// their own contact settings (soft loops against the sac); tool-tool contact of non-coil tools
+// takes the same normal stiffness. Valve anchors are not the wall's and keep
 // the simulator's.
 #include <cstddef>
 
@@ -29,6 +30,7 @@ inline constexpr double kHardLimitLayers = 2.0;
 struct CompliantContact {
   double stiffness_mN_per_mm = 0.0;  // per node
   double max_displacement_mm = 0.0;  // the bounded layer (then the wall stiffens)
+  double shear_mN_per_mm2 = 0.0;     // friction's stick spring per mm of a node's radius
 };
 
 [[nodiscard]] CompliantContact compliant_contact(const WallShell& shell);

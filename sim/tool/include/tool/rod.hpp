@@ -130,6 +130,9 @@ class Rod {
   // radius when `radius_mm` is not above it.
   void set_contact_radius(std::size_t k, double radius_mm);
   [[nodiscard]] double friction_at(std::size_t k) const { return k >= distal_first_ ? distal_mu_ : spec_.friction; }
+  // Wall friction's stick spring at node k (mN/mm): the tissue's shear stiffness under a patch
+  // of the node's radius (RodSettings::wall_shear_mN_per_mm2).
+  [[nodiscard]] double wall_stick_mN_per_mm(std::size_t k) const { return settings_.wall_shear_mN_per_mm2 * radius_[k]; }
   RodSettings& settings() { return settings_; }
 
   // Properties of the tool at a distance from its tip.

@@ -3,13 +3,22 @@
 // tests raise the iteration count to reach static equilibrium tightly.
 #include <limits>
 
+#include "tool/arterial_wall.hpp"
+
 namespace cathbox::tool {
 
 struct RodSettings {
   int newton_iterations = 8;               // most Gauss-Newton iterations on positions per step
   int twist_iterations = 2;                // Newton iterations on the twist angles per step
   double contact_stiffness_mN_per_mm = 2.0e5;  // wall penalty per node
-  double stick_stiffness_ratio = 0.1;      // tangential stick spring / contact stiffness
+  // Wall friction's stick spring at a node: the tissue's tangential contact stiffness under the
+  // node's patch (arterial_wall.hpp, Mindlin), per mm of the node's radius. The cervical wall's
+  // (1,369 mN/mm^2: 246 mN/mm under a 0.014" wire) on a rigid wall too, whose normal stiffness is
+  // a numerical penalty; a case's `wall` line sets its territory's.
+  double wall_shear_mN_per_mm2 = patch_shear_stiffness_mN_per_mm2(kCervicalWall);
+  // The stick springs that are not the wall's (rod-rod contact, a balloon's grip, the sheath and
+  // valve anchors): this fraction of contact_stiffness_mN_per_mm.
+  double stick_stiffness_ratio = 0.1;
   double contact_margin_mm = 0.15;         // nodes this close to the wall get a contact plane
   double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
