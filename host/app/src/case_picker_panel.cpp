@@ -56,6 +56,7 @@ int CasePickerPanel::draw(const Viewport& area, const CaseCatalog& catalog, int 
                             ImVec2(0.0F, kThumb_px + 4.0F))) {
         picked = static_cast<int>(i);
       }
+      if (scroll_to_current_ && static_cast<int>(i) == current_case) ImGui::SetScrollHereY(0.0F);
       ImGui::SetCursorPos(ImVec2(top.x + 2.0F, top.y + 2.0F));
       ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(textures_[i])), ImVec2(kThumb_px, kThumb_px));
       ImGui::SameLine();
@@ -72,6 +73,7 @@ int CasePickerPanel::draw(const Viewport& area, const CaseCatalog& catalog, int 
     }
   }
   ImGui::End();
+  scroll_to_current_ = false;
   if (picked >= 0) open_ = false;
   return picked;
 }

@@ -13,6 +13,7 @@ namespace {
 constexpr double kMinRadius_px = 0.5;   // a branch thinner than a pixel still draws one pixel wide
 constexpr double kTargetRing_px = 4.5;  // the target's ring: at least this radius
 constexpr double kRingHalfWidth_px = 0.9;
+constexpr double kFocus_mm = 50.0;      // with a target: the view is fitted to the vessels this near it
 
 // What the tubes leave in one pixel: the nearest surface's depth and shade, and how much of
 // the pixel the tubes cover (for smooth edges).
@@ -115,10 +116,25 @@ glm::dvec2 ThumbnailProjection::to_px(const glm::dvec3& p_mm) const {
   return {half_size_px_ + (p_mm.x - centre_mm_.x) * px_per_mm_, half_size_px_ - (p_mm.z - centre_mm_.y) * px_per_mm_};
 }
 
+namespace {
+
+// The tubes the view is fitted to: with a target, those with an end within kFocus_mm of it
+// (the part of the anatomy the case is about); else, or when none is that near, all.
+std::vector<ThumbnailTube> framed_tubes(const std::vector<ThumbnailTube>& tubes, const std::optional<glm::dvec3>& target_mm) {
+  if (!target_mm) return tubes;
+  std::vector<ThumbnailTube> near;
+  for (const ThumbnailTube& t : tubes) {
+    if (glm::length(t.a_mm - *target_mm) <= kFocus_mm || glm::length(t.b_mm - *target_mm) <= kFocus_mm) near.push_back(t);
+  }
+  return near.empty() ? tubes : near;
+}
+
+}  // namespace
+
 Thumbnail render_thumbnail(const std::vector<ThumbnailTube>& tubes, const std::optional<glm::dvec3>& target_mm, int size_px) {
   Thumbnail out;
   const int size = std::max(size_px, 1);
-  out.projection = ThumbnailProjection::fit(tubes, size, std::max(2.0, size * 0.05));
+  out.projection = ThumbnailProjection::fit(framed_tubes(tubes, target_mm), size, std::max(2.0, size * 0.05));
   std::vector<Fragment> frags(static_cast<std::size_t>(size) * static_cast<std::size_t>(size));
   for (const ThumbnailTube& t : tubes) draw_tube(to_pixels(t, out.projection), size, frags);
   Image& img = out.image;

@@ -125,6 +125,21 @@ TEST(CasePicker, TheTargetIsRinged) {
   EXPECT_TRUE(is_background(without.image, static_cast<int>(c.x + 4.5), static_cast<int>(c.y)));
 }
 
+TEST(CasePicker, WithATargetTheViewIsFittedToTheVesselsNearIt) {
+  const vessel::VesselModel model = vessel::library_model(library("aneurysm_basilar"));
+  const std::vector<ThumbnailTube> tubes = centreline_tubes(model);
+  const glm::dvec3 target = model.segments.back().points.front().pos_mm;
+  const Thumbnail whole = render_thumbnail(tubes, std::nullopt, kSize);
+  const Thumbnail framed = render_thumbnail(tubes, target, kSize);
+  EXPECT_GT(framed.projection.px_per_mm(), 2.0 * whole.projection.px_per_mm()) << "the head's vessels, not the whole tree";
+  const glm::dvec2 t = framed.projection.to_px(target);
+  EXPECT_GT(t.x, 0.0);
+  EXPECT_LT(t.x, kSize);
+  EXPECT_GT(t.y, 0.0);
+  EXPECT_LT(t.y, kSize);
+  EXPECT_FALSE(is_background(framed.image, static_cast<int>(t.x), static_cast<int>(t.y)));
+}
+
 TEST(CasePicker, NoAnatomyGivesTheBackground) {
   const Thumbnail thumb = render_thumbnail({}, std::nullopt, 32);
   for (int j = 0; j < 32; ++j) {

@@ -1,7 +1,8 @@
 #pragma once
 // The trainer's case picker (Dear ImGui): a window over the global view listing every case of
 // the catalog as a row: its anatomy thumbnail (AP projection of the centreline tubes, the
-// target ringed), its title and file, and its description; a click opens the case. The rows
+// target ringed), its title and file, and its description; a click opens the case. It opens
+// scrolled to the current case. The rows
 // come from CasePickerModel (no GL); this class owns their GL textures.
 #include <vector>
 
@@ -17,7 +18,11 @@ class CasePickerPanel {
   CasePickerPanel(const CasePickerPanel&) = delete;
   CasePickerPanel& operator=(const CasePickerPanel&) = delete;
 
-  void open() { open_ = true; }
+  // Opens the window, scrolled to the current case.
+  void open() {
+    open_ = true;
+    scroll_to_current_ = true;
+  }
   [[nodiscard]] bool is_open() const { return open_; }
   // Draws the window over `area` while open (needs the GL context current, inside an ImGui
   // frame); the index of the case picked this frame (the window then closes), else -1.
@@ -31,6 +36,7 @@ class CasePickerPanel {
   CasePickerModel model_;
   std::vector<unsigned> textures_;  // one per model entry
   bool open_ = false;
+  bool scroll_to_current_ = false;
 };
 
 }  // namespace cathbox::app

@@ -48,8 +48,10 @@ struct Thumbnail {
 };
 
 // Draws the tubes (nearer ones over farther ones, each shaded as a cylinder lit from the
-// viewer; at least 0.6 px wide so small branches show) and, when given, a ring round the
-// target. No tubes: the background alone.
+// viewer; at least 1 px wide so small branches show) and, when given, a ring round the target.
+// The view is fitted to all the tubes, or with a target to those within 50 mm of it (the part
+// of the anatomy the case is about; the rest is cut at the image's edge). No tubes: the
+// background alone.
 [[nodiscard]] Thumbnail render_thumbnail(const std::vector<ThumbnailTube>& tubes, const std::optional<glm::dvec3>& target_mm,
                                          int size_px);
 
