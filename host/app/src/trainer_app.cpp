@@ -243,6 +243,7 @@ int TrainerApp::open_window(const std::string& case_path) {
     std::fprintf(stderr, "cathbox-trainer: cannot initialise the UI\n");
     return base::kExitNoDisplay;
   }
+  if (options_.picker) ui_->open_picker();
   const std::string records = options_.records_dir.empty() ? session::records_dir() : options_.records_dir;
   replay_panel_ = std::make_unique<ReplayPanel>(records);
   const base::Status<> opened = options_.replay.empty() ? open_live(case_path) : open_replay(options_.replay);

@@ -76,6 +76,7 @@ CaseChoice choose_case(const TrainerOptions& options, const std::string& program
     for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
       if (catalog.entries()[i].name == name) c.catalog_index = static_cast<int>(i);
     }
+    if (c.catalog_index < 0) c.catalog_index = catalog.index_of_path(options.case_path);
     c.path = options.case_path;
     return c;
   }

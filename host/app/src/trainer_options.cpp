@@ -158,6 +158,7 @@ struct Parser {
   CLI::Option* no_box = nullptr;
   CLI::Option* headless = nullptr;
   CLI::Option* wireframe = nullptr;
+  CLI::Option* picker = nullptr;
   CLI::Option* no_record = nullptr;
 
   Parser() {
@@ -180,6 +181,7 @@ struct Parser {
                         "(with --emu or --box: through the box, in real time) and print the end-of-run summary");
       } else if (name == "--replay") {
         wireframe = flag("--wireframe", "start with the vessel in wireframe");
+        picker = flag("--picker", "start with the case picker open (each case's anatomy thumbnail and description)");
       } else if (name == "--server") {
         no_record = flag("--no-record", "do not record runs");
       }
@@ -236,6 +238,7 @@ OptionsResult parse_trainer_options(std::span<const char* const> args) {
   if (p.no_box->count() > 0) o.box = BoxChoice::kNone;
   o.headless = p.headless->count() > 0;
   o.wireframe = p.wireframe->count() > 0;
+  o.picker = p.picker->count() > 0;
   o.record = p.no_record->count() == 0;
   if (o.boxes.size() == 1) return fail("--box needs two boxes or more (one box: --emu, which switches between tools)");
   if (!o.boxes.empty() && (p.emu->count() > 0 || o.box == BoxChoice::kNone)) return fail("--box excludes --emu and --no-box");

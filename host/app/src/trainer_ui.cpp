@@ -6,6 +6,7 @@
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 
+#include "app/case_picker_panel.hpp"
 #include "app/end_of_run_panel.hpp"
 #include "app/gl.hpp"
 
@@ -15,7 +16,10 @@ constexpr std::size_t kMaxLines = 400;
 constexpr double kRadToDeg = 57.29577951308232;
 }  // namespace
 
+TrainerUi::TrainerUi() : picker_(std::make_unique<CasePickerPanel>()) {}
+
 TrainerUi::~TrainerUi() {
+  picker_.reset();  // its textures, while the context is still there
   if (!ready_) return;
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
@@ -36,6 +40,8 @@ bool TrainerUi::init(GLFWwindow* window) {
   ready_ = true;
   return true;
 }
+
+void TrainerUi::open_picker() { picker_->open(); }
 
 void TrainerUi::begin_frame() {
   ImGui_ImplOpenGL3_NewFrame();
@@ -72,14 +78,11 @@ namespace {
 // A live run's controls in the HUD: the case, restart, end, switch tool, and the keys that apply.
 void draw_run_controls(const UiStatus& status, const CaseCatalog& catalog, int current_case, UiActions& act) {
   if (!catalog.entries().empty()) {
-    const char* current = current_case >= 0 ? catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str() : "";
-    ImGui::SetNextItemWidth(220.0F);
-    if (ImGui::BeginCombo("case", current)) {
-      for (std::size_t i = 0; i < catalog.entries().size(); ++i) {
-        const bool selected = static_cast<int>(i) == current_case;
-        if (ImGui::Selectable(catalog.entries()[i].name.c_str(), selected)) act.pick_case = static_cast<int>(i);
-      }
-      ImGui::EndCombo();
+    const std::string label = "cases (" + std::to_string(catalog.entries().size()) + ") ...";
+    if (ImGui::Button(label.c_str())) act.open_picker = true;
+    if (current_case >= 0) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("%s", catalog.entries()[static_cast<std::size_t>(current_case)].name.c_str());
     }
   }
   if (ImGui::Button("restart")) act.restart = true;
@@ -141,6 +144,13 @@ UiActions TrainerUi::draw(const ScreenLayout& layout, const session::SceneSnapsh
     scroll_to_bottom_ = false;
   }
   ImGui::End();
+
+  // The case picker over the global view, when asked for (the HUD's button, --picker).
+  if (act.open_picker) picker_->open();
+  if (!status.replay) {
+    const int picked = picker_->draw(layout.global, catalog, current_case);
+    if (picked >= 0) act.pick_case = picked;
+  }
 
   // End of run, centred on the global view.
   if (s.run_over) {

@@ -15,22 +15,26 @@ TEST(CaseCatalog, ListsCaseFilesSortedAndPicksTheDefault) {
   const std::filesystem::path dir = std::filesystem::path(CATHBOX_BINARY_DIR) / "case_catalog_test";
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "sub.hclm");
-  for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt", "neuro_x.case"}) {
+  std::filesystem::create_directories(dir / "lib");
+  for (const char* f : {"zeta.hclm", "neuro_l2.hclm", "alpha.hclm", "notes.txt", "neuro_x.case", "lib/kink.case",
+                        "lib/kink.hclm"}) {
     std::ofstream(dir / f) << "x";
   }
   const std::vector<std::string> ext = {".hclm", ".case"};
   const base::Result<CaseCatalog> scanned = CaseCatalog::scan(dir.string(), ext);
   ASSERT_TRUE(scanned) << scanned.error().message;
   const CaseCatalog& c = *scanned;
-  ASSERT_EQ(c.entries().size(), 4U);
+  ASSERT_EQ(c.entries().size(), 5U);
   EXPECT_EQ(c.entries()[0].name, "alpha.hclm");
-  EXPECT_EQ(c.entries()[1].name, "neuro_l2.hclm");
-  EXPECT_EQ(c.entries()[2].name, "neuro_x.case");
-  EXPECT_EQ(c.entries()[3].name, "zeta.hclm");
-  EXPECT_EQ(c.default_index("neuro"), 1);
-  EXPECT_EQ(c.default_index("neuro", ".case"), 2);
-  EXPECT_EQ(c.default_index("zeta", ".case"), 3);  // no case file: the vessel file
+  EXPECT_EQ(c.entries()[1].name, "lib/kink.case") << "a subfolder's case files, not its vessel files";
+  EXPECT_EQ(c.entries()[2].name, "neuro_l2.hclm");
+  EXPECT_EQ(c.entries()[3].name, "neuro_x.case");
+  EXPECT_EQ(c.entries()[4].name, "zeta.hclm");
+  EXPECT_EQ(c.default_index("neuro"), 2);
+  EXPECT_EQ(c.default_index("neuro", ".case"), 3);
+  EXPECT_EQ(c.default_index("zeta", ".case"), 4);  // no case file: the vessel file
   EXPECT_EQ(c.default_index("absent"), 0);
+  EXPECT_EQ(c.index_of_path((dir / "lib" / ".." / "lib" / "kink.case").string()), 1) << "the same file by another path";
 }
 
 TEST(CaseCatalog, AMissingFolderIsAnErrorLine) {

@@ -1,5 +1,6 @@
 #pragma once
-// The case picker's list: the case files in a folder (by extension), sorted by name, with the
+// The case picker's list: the case files in a folder (by extension) and the `.case` files of its
+// subfolders (named "SUB/NAME.case"), sorted by name, with the
 // default case (the first whose name contains `preferred`, one with `preferred_extension`
 // first; else the first of all).
 #include <span>
@@ -11,7 +12,7 @@
 namespace cathbox::app {
 
 struct CaseEntry {
-  std::string name;  // file name without the folder
+  std::string name;  // file name without the folder ("SUB/NAME.case" one folder down)
   std::string path;
 };
 
@@ -23,7 +24,7 @@ class CaseCatalog {
   [[nodiscard]] const std::vector<CaseEntry>& entries() const { return entries_; }
   // Puts `first` before the scanned entries (the server's assigned cases).
   void prepend(std::vector<CaseEntry> first);
-  // Index of the entry at `path`, or -1.
+  // Index of the entry at `path` (the same string, else the same file), or -1.
   [[nodiscard]] int index_of_path(const std::string& path) const;
   // Index of the default case, or -1 when the catalog is empty.
   [[nodiscard]] int default_index(const std::string& preferred, const std::string& preferred_extension = "") const;

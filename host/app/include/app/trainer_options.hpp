@@ -35,6 +35,7 @@ struct TrainerOptions {
   double max_seconds = 0.0;       // stop after this long (headless run: simulated time); 0: no limit
   double speed = 0.0;             // headless run: simulated seconds per wall second; 0: as fast as possible
   bool wireframe = false;
+  bool picker = false;            // --picker: the case picker is open from the first frame
   std::optional<MainView> view;   // --view fluoro|3d; unset: the case decides (fluoro when `realistic`)
   std::string replay;             // --replay FILE: open in Replay mode on this record
   std::string records_dir;        // where runs are recorded (empty: session::records_dir())

@@ -1,9 +1,11 @@
 #pragma once
 // The trainer's Dear ImGui panels: the HUD over the global view (insertion, rotation, hand
-// force, haptic rate, frame rate, device status, view toggles, case picker), the output panel
+// force, haptic rate, frame rate, device status, view toggles, the case picker's button), the
+// case picker (case_picker_panel.hpp), the output panel
 // (contacts, faults, device events), the end-of-run panel (end_of_run_panel.hpp) and, in Replay
 // mode, the replay controls (replay_panel.hpp).
 #include <deque>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -16,6 +18,8 @@
 struct GLFWwindow;
 
 namespace cathbox::app {
+
+class CasePickerPanel;
 
 struct UiStatus {
   double fps = 0.0;
@@ -33,6 +37,7 @@ struct UiStatus {
 
 struct UiActions {
   int pick_case = -1;     // index into the catalog
+  bool open_picker = false;  // the HUD's "cases" button: the case picker opens
   bool restart = false;
   bool end_run = false;
   bool switch_tool = false;
@@ -41,13 +46,15 @@ struct UiActions {
 
 class TrainerUi {
  public:
-  TrainerUi() = default;
+  TrainerUi();
   ~TrainerUi();
   TrainerUi(const TrainerUi&) = delete;
   TrainerUi& operator=(const TrainerUi&) = delete;
 
   // Installs the GLFW and OpenGL3 backends on the window (with its context current).
   [[nodiscard]] bool init(GLFWwindow* window);
+  // Shows the case picker (case_picker_panel.hpp) from the next frame on.
+  void open_picker();
   void begin_frame();
   // Draws every panel and returns what the trainee asked for.
   [[nodiscard]] UiActions draw(const ScreenLayout& layout, const session::SceneSnapshot& snapshot,
@@ -70,6 +77,7 @@ class TrainerUi {
   std::deque<std::string> lines_;
   bool scroll_to_bottom_ = false;
   Viewport hud_rect_{};
+  std::unique_ptr<CasePickerPanel> picker_;
 };
 
 }  // namespace cathbox::app
