@@ -8,7 +8,13 @@
 namespace cathbox::tool {
 
 MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_ptr<const WallSurface> surface)
-    : tree_(std::move(tree)), hints_(hint_slots), touching_(hint_slots, 0), surface_(std::move(surface)) {}
+    : tree_(std::move(tree)), hints_(hint_slots), touching_(hint_slots, 0), surface_(std::move(surface)) {
+  if (surface_ && !surface_->model.segments.empty() && hint_slots > 0) {
+    // The axis reads the surface's model, which surface_ keeps alive.
+    axis_ = std::make_shared<const LumenAxis>(surface_->model);
+    axis_hints_.resize(hint_slots);
+  }
+}
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
   const bool coherent = !hints_.empty();
@@ -18,6 +24,11 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
     next_slot_ = (next_slot_ + 1) % static_cast<std::uint32_t>(hints_.size());
     hints_[hint.index].reset();
     touching_[hint.index] = 0;
+    if (!axis_hints_.empty()) axis_hints_[hint.index] = AxisHint{};
+  }
+  if (probe.lumen_axis && axis_) {
+    const LumenAxis::Answer a = axis_->probe(probe, axis_hints_[hint.index], out);
+    if (a != LumenAxis::Answer::kNone) return a == LumenAxis::Answer::kWall;
   }
   const double reach = probe.radius_mm + probe.range_mm;
   if (!(reach >= 0.0) || !std::isfinite(reach)) return false;

@@ -31,8 +31,13 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
     probe.margin_mm = settings_.contact_margin_mm;
     // A node widened past its section (an expanded stent filling its lumen) touches the ring
     // of the wall all round: its closest wall alone, no crease's second plane (every facet of
-    // the ring would be one, and the search for it is most of such a node's probe).
-    probe.second_wall = !(radius_[k] > 0.5 * section_at(k).outer_diameter_mm);
+    // the ring would be one, and the search for it is most of such a node's probe); and not
+    // the facets but the tube round the lumen's centreline where the wall knows one
+    // (WallProbe::lumen_axis): the facets' planes it would flip between from one iteration to
+    // the next.
+    const bool widened = radius_[k] > 0.5 * section_at(k).outer_diameter_mm;
+    probe.second_wall = !widened;
+    probe.lumen_axis = widened;
     probe.depth_mm = insertion_mm_ - from_tip_[k];
     WallContact wc;
     c.query_pos = x_[k];

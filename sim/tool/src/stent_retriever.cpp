@@ -60,6 +60,7 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
   StentState s;
   s.payload_mN = state_.payload_mN;
   s.first_node = n;
+  const bool meshed = wall.surface() != nullptr;  // an analytic wall is its own tubes
   for (std::size_t k = 0; k < n; ++k) {
     const double share = share_mm(rod, k);
     if (share <= 0.0) continue;
@@ -94,8 +95,12 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
     probe.center_mm = x[k];
     probe.range_mm = std::max(0.0, (1.0 - kStentPlay) * fill_mm);
     probe.second_wall = false;
+    // The room on both the mesh and the tube round the centreline the node is held by
+    // (WallProbe::lumen_axis): the narrower, so that it starts no step deep in either.
     WallContact c;
-    const double room_mm = wall.probe(probe, hints_[k], c) ? c.distance_mm : fill_mm;
+    double room_mm = wall.probe(probe, hints_[k], c) ? c.distance_mm : fill_mm;
+    probe.lumen_axis = true;
+    if (meshed && wall.probe(probe, hints_[k], c)) room_mm = std::min(room_mm, c.distance_mm);
     rod.set_contact_radius(k, flare * std::min(fill_mm, room_mm + kStentPlay * fill_mm));
     s.unsheathed_mm += share;
     s.min_diameter_mm = s.min_diameter_mm > 0.0 ? std::min(s.min_diameter_mm, expanded_mm_[k]) : expanded_mm_[k];

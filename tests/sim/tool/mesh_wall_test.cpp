@@ -2,12 +2,16 @@
 // through a meshed bend staying in the lumen.
 #include "tool/mesh_wall.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "analytic_walls.hpp"
+#include "tool/lumen_axis.hpp"
 #include "tool/rod.hpp"
 #include "tube_mesh.hpp"
 
@@ -139,6 +143,122 @@ TEST(MeshWall, SteeringOnTheBundledYBifurcation) {
     EXPECT_EQ(sim.tip_segment(0), branch) << "rotation " << rotation;
     EXPECT_GT(sim.tip(0).position_mm.z, 75.0);
   }
+}
+
+vessel::Segment polyline(std::int32_t id, const std::vector<glm::dvec3>& pts, double radius, std::vector<std::int32_t> parents,
+                         std::vector<std::int32_t> children) {
+  vessel::Segment s;
+  s.id = id;
+  s.parents = std::move(parents);
+  s.children = std::move(children);
+  for (const glm::dvec3& p : pts) s.points.push_back({p, radius});
+  return s;
+}
+
+// A parent along +z (radius 1.8) ending at the origin's junction with a child going on along
+// +x (radius 1.4, a 90-degree corner) and one along -x: the ICA terminus and its branches.
+vessel::VesselModel t_junction() {
+  std::vector<glm::dvec3> parent, right, left;
+  for (int i = -20; i <= 0; ++i) parent.push_back({0, 0, i});
+  for (int i = 0; i <= 20; ++i) right.push_back({i, 0, 0});
+  for (int i = 0; i <= 20; ++i) left.push_back({-i, 0, 0});
+  vessel::VesselModel m;
+  m.segments = {polyline(1, parent, 1.8, {}, {2, 3}), polyline(2, right, 1.4, {1}, {}), polyline(3, left, 1.2, {1}, {})};
+  return m;
+}
+
+// Away from a junction the lumen is the centreline's tube exactly: the clearance R - d, the
+// normal radial, the wall point on the tube; the range as the mesh's.
+TEST(LumenAxis, AlongASegmentItIsTheTubeRoundTheCentreline) {
+  const vessel::VesselModel m = t_junction();
+  const LumenAxis axis(m);
+  AxisHint hint;
+  WallContact c;
+  WallProbe probe;
+  probe.center_mm = {0.6, 0.8, -10.3};
+  probe.radius_mm = 0.5;
+  ASSERT_EQ(axis.probe(probe, hint, c), LumenAxis::Answer::kWall);
+  EXPECT_NEAR(c.distance_mm, 1.8 - 1.0, 1e-12);
+  EXPECT_NEAR(glm::distance(c.normal, glm::dvec3(0.6, 0.8, 0.0)), 0.0, 1e-12);
+  EXPECT_NEAR(glm::distance(c.point_mm, glm::dvec3(1.08, 1.44, -10.3)), 0.0, 1e-12);
+  EXPECT_EQ(c.segment, 1);
+  probe.center_mm = {0.0, 2.5, -10.0};  // outside
+  ASSERT_EQ(axis.probe(probe, hint, c), LumenAxis::Answer::kWall);
+  EXPECT_NEAR(c.distance_mm, -0.7, 1e-12);
+  probe.center_mm = {0.0, 0.0, -10.0};
+  probe.range_mm = 1.0;  // the node's surface 1.3 mm from the wall
+  EXPECT_EQ(axis.probe(probe, hint, c), LumenAxis::Answer::kClear);
+  const vessel::VesselModel empty;
+  EXPECT_EQ(LumenAxis(empty).probe(probe, hint, c), LumenAxis::Answer::kNone);
+}
+
+// A node dragged from the parent round the junction's inner corner into the right branch: the
+// coherent probe (hint climbing along, looking into the neighbours) answers as a fresh scan
+// with the neighbours, and the answer is continuous: the normal turns by a few degrees per
+// 0.05 mm step where the union of the tubes has a 90-degree crease, and the clearance is never
+// less than the union's (the lumen is not narrowed) nor more than kBlend ln 3 above it.
+TEST(LumenAxis, CoherentAndSmoothRoundAJunctionsInnerCorner) {
+  const vessel::VesselModel m = t_junction();
+  const LumenAxis axis(m);
+  AxisHint coherent;
+  WallContact last;
+  double worst_turn = 0.0;
+  for (int i = 0; i <= 160; ++i) {
+    // An L-shaped path off both axes: up the parent, then along the branch.
+    const double s = -4.0 + 0.05 * i;
+    WallProbe probe;
+    probe.center_mm = s < 0.0 ? glm::dvec3(0.6, 0.3, s - 0.4) : glm::dvec3(0.6 + s, 0.3, -0.4);
+    probe.radius_mm = 1.0;
+    WallContact c, fresh_c;
+    AxisHint fresh;
+    ASSERT_EQ(axis.probe(probe, coherent, c), LumenAxis::Answer::kWall);
+    (void)axis.probe(probe, fresh, fresh_c);
+    EXPECT_NEAR(c.distance_mm, fresh_c.distance_mm, 1e-9) << i;
+    const glm::dvec3 p = probe.center_mm;
+    const double in_parent = 1.8 - glm::length(glm::dvec3(p.x, p.y, std::max(0.0, p.z)));
+    const double in_right = 1.4 - glm::length(glm::dvec3(std::min(0.0, p.x), p.y, p.z));
+    const double in_left = 1.2 - glm::length(glm::dvec3(std::max(0.0, p.x), p.y, p.z));
+    const double union_mm = std::max({in_parent, in_right, in_left});
+    EXPECT_GE(c.distance_mm, union_mm - 1e-9) << i;
+    EXPECT_LE(c.distance_mm, union_mm + LumenAxis::kBlend_mm * std::log(3.0) + 1e-9) << i;
+    if (i > 0) worst_turn = std::max(worst_turn, std::acos(std::clamp(glm::dot(c.normal, last.normal), -1.0, 1.0)));
+    last = c;
+  }
+  std::printf("round the junction: the normal turns at most %.1f degrees per 0.05 mm\n", worst_turn * 180.0 / M_PI);
+  EXPECT_LT(worst_turn * 180.0 / M_PI, 10.0);
+}
+
+// Through a meshed wall: a probe with lumen_axis is answered by the tube round the surface
+// model's centreline (the normal radial wherever the node is), one without by the facets (an
+// 8-sided tube's normals take 8 directions).
+TEST(MeshWall, AnExpandedNodeIsHeldByTheCentrelineTubeNotTheFacets) {
+  const std::vector<glm::dvec3> pts{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
+  auto surface = std::make_shared<WallSurface>();
+  surface->mesh = testing::tube_mesh(pts, 1.4, 8, 4);
+  surface->model.segments.push_back(polyline(4, pts, 1.4, {}, {}));
+  collision::TreeBuild build = collision::ObbTree::build(surface->mesh);
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build, MeshWall::kDefaultHintSlots, surface);
+  double facet_miss = 0.0, tube_miss = 0.0;
+  for (int i = 0; i < 36; ++i) {
+    const double a = 2.0 * M_PI * i / 36.0 + 0.01;
+    const glm::dvec3 radial(std::cos(a), std::sin(a), 0.0);
+    WallProbe probe;
+    probe.center_mm = glm::dvec3(0, 0, 10) + 0.15 * radial;
+    probe.radius_mm = 1.2;
+    probe.second_wall = false;
+    WallHint hint;
+    WallContact facet, tube;
+    ASSERT_TRUE(wall.probe(probe, hint, facet));
+    probe.lumen_axis = true;
+    ASSERT_TRUE(wall.probe(probe, hint, tube));
+    EXPECT_NEAR(tube.distance_mm, 1.4 - 0.15, 1e-12);
+    EXPECT_EQ(tube.segment, 4);
+    tube_miss = std::max(tube_miss, glm::distance(tube.normal, radial));
+    facet_miss = std::max(facet_miss, glm::distance(facet.normal, radial));
+  }
+  EXPECT_LT(tube_miss, 1e-12);
+  EXPECT_GT(facet_miss, 0.3);  // up to 22.5 degrees off
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "collision/obb_tree.hpp"
+#include "tool/lumen_axis.hpp"
 #include "tool/wall_model.hpp"
 
 namespace cathbox::tool {
@@ -25,6 +26,8 @@ class MeshWall final : public WallModel {
   explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots,
                     std::shared_ptr<const WallSurface> surface = {});
 
+  // A probe with lumen_axis (and a surface to read the centrelines from) is answered by the
+  // tubes round the centrelines (LumenAxis), with the node's own axis hint; the mesh otherwise.
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   // A node that touched the wall at its last probe is probed with one sphere query that also
   // gives its closest point (ObbTree::sphere_contacts with `nearest`), instead of a closest
@@ -41,6 +44,8 @@ class MeshWall final : public WallModel {
   bool fused_ = true;
   mutable std::uint32_t next_slot_ = 0;
   std::shared_ptr<const WallSurface> surface_;
+  std::shared_ptr<const LumenAxis> axis_;       // of surface_'s model; null without one
+  mutable std::vector<AxisHint> axis_hints_;    // per slot, as hints_
 };
 
 }  // namespace cathbox::tool

@@ -21,6 +21,10 @@ struct WallProbe {
   // False: the closest wall alone, no second wall (a node as wide as its lumen, an expanded
   // stent's: it touches the whole ring, and every facet would be a "second wall").
   bool second_wall = true;
+  // True: the lumen as the tubes round its centrelines (LumenAxis), where the wall was built
+  // from a vessel model (a meshed wall); ignored by the analytic walls, which are tubes already.
+  // For an expanded stent node: smooth and convex where the mesh's facets are not.
+  bool lumen_axis = false;
   double depth_mm = 0.0;     // how far past the entry this node is along its tool (coaxial walls use it)
 };
 
