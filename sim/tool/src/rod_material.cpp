@@ -72,6 +72,21 @@ double Rod::vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nm
   return compliance > 0.0 ? covered / compliance : fallback_Nmm2;
 }
 
+double Rod::bending_integral_Nmm3(double near_mm, double far_mm) const {
+  // Sections run from the proximal end: station s from the tip is length - s from there.
+  // (A pusher whose coil was released keeps the coil's section past its new tip: cut there.)
+  const double lo = std::max(0.0, length_mm_ - std::max(near_mm, far_mm));
+  const double hi = std::min(length_mm_, length_mm_ - std::min(near_mm, far_mm));
+  double start = 0.0, sum = 0.0;
+  for (const ToolSection& sec : spec_.sections) {
+    const double end = start + sec.length_mm;
+    const double overlap = std::min(end, hi) - std::max(start, lo);
+    if (overlap > 0.0) sum += overlap * sec.bending_stiffness_Nmm2;
+    start = end;
+  }
+  return sum;
+}
+
 void Rod::set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad) {
   const double phi = std::clamp(curvature_per_mm * voronoi_[k], -3.0, 3.0);
   const double bar = 2.0 * base::portable::tan(0.5 * phi);
@@ -133,9 +148,22 @@ void Rod::update_weights(double dt_s) {
   const std::size_t n = x_.size();
   const double ea = spec_.axial_stiffness_N * kMilli;
   for (std::size_t k = first_; k + 1 < n; ++k) axial_k_[k] = ea / rest_[k];
-  // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex).
+  // At the clamp vertex only the half edge past it bends (the clamp sits at the vertex). The
+  // first free node bends over its distal half edge plus as much of its proximal half edge as
+  // it is past the entry, halved: a node that has just crossed the entry (the clamp vertex a
+  // tick ago) keeps the clamp vertex's half edge, and one a whole edge past it has its Voronoi
+  // region. A first free node bending over its whole region at once halved the stiffness of
+  // the node that crossed, at every node the tool slid by (the hand force of a coil pushed out
+  // of its microcatheter, or a wire drawn back into it, a sawtooth of one node spacing).
+  const double past = free_ ? 0.0 : insertion_mm_ - from_tip_[std::min(first_free_, n - 1)];
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
-    bend_w_[i] = (ei_[i] + ei_extra_[i]) / (i == first_ + 1 && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
+    double length = voronoi_[i];
+    if (!free_ && i == first_ + 1) {
+      length = 0.5 * rest_[i];
+    } else if (!free_ && i == first_ + 2) {
+      length = 0.5 * rest_[i] + 0.5 * std::clamp(past, 0.0, rest_[i - 1]);
+    }
+    bend_w_[i] = (ei_[i] + ei_extra_[i]) / length;
   }
   for (std::size_t k = first_free_; k < n; ++k) drag_k_[k] = solver_drag(k) / dt_s;
 }

@@ -65,7 +65,7 @@ void SheathFriction::measure_turning(const std::vector<SheathVertex>& path) {
     const double lb = glm::length(b);
     if (!(la > 1e-9) || !(lb > 1e-9)) continue;
     const double c = std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0);
-    turning_[j] = base::portable::acos(c);
+    turning_[j] = base::portable::acos(c) * std::clamp(path[j].coverage, 0.0, 1.0);
     curvature_[j] = turning_[j] / (0.5 * (la + lb));
   }
 }

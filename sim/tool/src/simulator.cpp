@@ -231,10 +231,17 @@ void Simulator::prepare(std::size_t t) {
     if (u == t || !nested_in(u, t)) continue;
     any = true;
     const double tip_u = tip_depth_mm(u);
-    std::size_t station = Rod::kNoStation;  // the stations walk monotonically along this one's nodes
-    for (std::size_t k = window; k < nodes; ++k) {
+    // Each node takes the inner tool's mean EI over its Voronoi region, the part past the inner
+    // tool's tip counting nothing: as the inner tool slides, its tip and its section boundaries
+    // change this one's stiffness by the length slid, not a node's worth in one tick (a pusher's
+    // end drawn back through a microcatheter's 1 N mm^2 tip took 10 N mm^2 off a node at once).
+    for (std::size_t k = std::max<std::size_t>(window, 1); k < nodes; ++k) {
       const double depth = free_start_[t] + rod.node_depth_mm(k);
-      if (depth > 0.0 && depth <= tip_u) extra_ei_[k] += rods_[u].bending_at_Nmm2(tip_u - depth, station);
+      const double lo = depth - 0.5 * (rod.node_depth_mm(k) - rod.node_depth_mm(k - 1));
+      const double hi = k + 1 < nodes ? depth + 0.5 * (rod.node_depth_mm(k + 1) - rod.node_depth_mm(k)) : depth;
+      if (depth > 0.0 && lo < tip_u && hi > lo) {
+        extra_ei_[k] += rods_[u].bending_integral_Nmm3(tip_u - hi, tip_u - lo) / (hi - lo);
+      }
     }
     // A catheter advanced over a tool whose own part starts at this one's tip follows it.
     if (carrier_[u] == t && tip_u > free_start_[u] && leader == nullptr) {
@@ -420,17 +427,14 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   const double tip_u = tip_depth_mm(u);
   const double end = std::min(tip_u, free_start_[u]);
   if (end <= 0.0) return;
-  // The vertices run from the distal end to the entry: station lookups walk from the last one.
-  std::size_t inner_station = Rod::kNoStation;
-  std::size_t holder_station = Rod::kNoStation;
   // Two vertices of different origin (the entry and the first free node just past it, a
   // catheter's tip node and the first free node of the one it holds, just past it) nearer than
   // kMinSheathEdge of the holder's node spacing are one vertex: the direction between them is
   // the nodes' lateral play, not the path's, and the turning and curvature read from it were up
   // to tens of degrees of noise, which the bending term read as newtons of normal force (the
   // triaxial stack's lumen friction 3-40 N, lurching the catheters it dragged). The vertex
-  // proximal is left out, or for the entry the one before it. (The distal end lies on its
-  // holder's chord, however near the next node: that edge is the chord's direction.)
+  // proximal is left out, or for the entry the one before it.
+  std::size_t holder_station = Rod::kNoStation;
   const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth, bool entry) {
     if (path.size() >= 2 && (entry || path.back().holder != holder)) {
       const Rod& h = rods_[holder];
@@ -445,25 +449,33 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
     v.point_mm = p;
     v.holder = static_cast<std::uint32_t>(holder);
     v.node = static_cast<std::uint32_t>(node);
-    const double from_tip = tip_u - depth;
-    v.inner_ei_Nmm2 = inner.bending_at_Nmm2(from_tip, inner_station);
-    v.inner_radius_mm = inner.radius_at_mm(from_tip, inner_station);
+    v.depth_mm = depth;
+    const double from_tip = tip_u - std::min(depth, end);
     const Rod& h = rods_[holder];
     const double holder_from_tip = h.insertion_mm() - (depth - free_start_[holder]);
+    v.inner_radius_mm = inner.radius_at_mm(from_tip);
     v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, holder_station) - v.inner_radius_mm);
     v.mu = h.spec().lumen_friction;
     path.push_back(v);
   };
-  // The distal end.
+  // The distal end: the holder's node just past the inner tool's end (its tip node when the
+  // inner tool leaves it), the vertex behind the end covering its turning in proportion.
   std::size_t first_holder = n;
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     if (end > free_start_[c] && end <= tip_depth_mm(c) + 1e-9) first_holder = c;
   }
   if (first_holder >= n) return;
   {
+    const Rod& h = rods_[first_holder];
     std::size_t node = 0;
-    const glm::dvec3 p = rods_[first_holder].point_at_depth(end - free_start_[first_holder], nullptr, &node);
-    vertex(p, first_holder, std::min(node + 1, rods_[first_holder].node_total() - 1), end, false);
+    const glm::dvec3 p = h.point_at_depth(end - free_start_[first_holder], nullptr, &node);
+    const std::size_t b = std::min(node + 1, h.node_total() - 1);
+    const double depth_b = free_start_[first_holder] + h.node_depth_mm(b);
+    if (depth_b >= end - 1e-9) {
+      vertex(h.positions()[b], first_holder, b, depth_b, false);
+    } else {
+      vertex(p, first_holder, b, end, false);
+    }
   }
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     const Rod& h = rods_[c];
@@ -480,6 +492,27 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   std::size_t outermost = u;
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) outermost = c;
   vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0, true);
+  cover_sheath_path(inner, tip_u, end, path);
+}
+
+// The share of its turning the vertex behind the inner tool's end covers, and the inner tool's
+// mean EI over the covered part of each vertex's proximal edge (the edge its bending term sits on).
+void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path) {
+  const std::size_t m = path.size();
+  if (m >= 2) {
+    const double edge = path[0].depth_mm - path[1].depth_mm;
+    path[1].coverage = edge > 1e-9 ? std::clamp((end_mm - path[1].depth_mm) / edge, 0.0, 1.0) : 1.0;
+  }
+  for (std::size_t j = 0; j < m; ++j) {
+    const double far = path[j].depth_mm;
+    const double hi = std::min(far, end_mm);
+    const double lo = j + 1 < m ? path[j + 1].depth_mm : hi;
+    if (hi > lo + 1e-9) {
+      path[j].inner_ei_Nmm2 = inner.bending_integral_Nmm3(tip_mm - hi, tip_mm - lo) / (hi - lo);
+    } else {
+      path[j].inner_ei_Nmm2 = inner.bending_at_Nmm2(tip_mm - std::min(far, end_mm));
+    }
+  }
 }
 
 void Simulator::update_sheath(std::size_t u, double dt_s) {

@@ -105,6 +105,48 @@ TEST_P(SheathCapstan, HandForceOverTipForceIsExpMuTheta) {
 INSTANTIATE_TEST_SUITE_P(Bends, SheathCapstan,
                          ::testing::Values(BendCase{90.0, 0.2}, BendCase{180.0, 0.2}, BendCase{180.0, 0.4}));
 
+// A wire whose end lies in a catheter's bend, drawn back slowly: its lumen friction (the
+// capstan on the bend and the push of its stiffness on the curvature) changes by the length
+// slid as its end and its soft section's boundary pass the catheter's nodes. A path that ended
+// at the wire's end point read its curvature over the shrinking edge to the next node, rising
+// as the end neared it and dropping when the end passed it: a sawtooth of one node spacing
+// (in the coiling run a pusher drawn back read 600 -> 1,100 mN a node).
+TEST(SheathFriction, AnInnerToolsEndDrawnBackThroughABendIsFeltContinuously) {
+  const double R = 10.0;
+  const double angle = M_PI;
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(R, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
+  wall.build();
+  ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);
+  ToolSpec w = wire("wire", 0.36, 0.5);
+  w.sections = {ToolSection{690.0, 0.36, 0.5, 0.4, 0.0}, ToolSection{10.0, 0.36, 0.05, 0.04, 0.0}};
+  w.inside = "cath";
+  const std::vector<ToolSpec> tools{cath, w};
+  Simulator sim(wall, tools, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
+  const double cath_in = 2.0 + R * angle + 8.0;
+  drive(sim, 0, cath_in, 0.1);
+  drive(sim, 1, 2.0 + 0.75 * R * angle, 0.1);  // the wire's end three quarters round the bend
+  for (int i = 0; i < 20; ++i) {               // drawn back into slip
+    sim.set_insertion(1, sim.insertion_mm(1) - 0.01);
+    sim.step();
+  }
+  double last = sim.hand_force_mN(1);
+  double worst = 0.0, total = 0.0;
+  const int steps = 300;  // 3 mm: six of the catheter's nodes
+  for (int i = 0; i < steps; ++i) {
+    sim.set_insertion(1, sim.insertion_mm(1) - 0.01);
+    sim.step();
+    const double f = sim.hand_force_mN(1);
+    worst = std::max(worst, std::abs(f - last));
+    total += std::abs(f);
+    last = f;
+    EXPECT_FALSE(sim.sheath(1).sticking) << "step " << i;
+  }
+  const double mean = total / steps;
+  EXPECT_GT(mean, 0.5) << "the bend's friction is felt";
+  EXPECT_LT(worst, 0.02 * mean) << "largest change between steps, mean " << mean << " mN";
+}
+
 TEST(SheathFriction, StraightCatheterHasNoFrictionAndStickComesBeforeSlip) {
   const TubeNetworkWall wall = testing::straight_tube(1.0, -5.0, 300.0);
   ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);

@@ -73,6 +73,38 @@ TEST(RodValidation, CantileverMatchesEulerBernoulli) {
   }
 }
 
+// A cantilever slid out of its clamp by 0.02 mm a step: its tip deflection follows
+// P L^3 / 3 EI but for a step where a node crosses the entry, when the clamp moves back by an
+// edge. There the node that crossed keeps the half edge it bent over as the clamp vertex, and the
+// new clamp vertex (straight, its half edge) adds its compliance: the deflection steps by
+// ~P L^2 (h/2) / EI. When the node that crossed bent over its whole Voronoi region at once it
+// stepped by twice that (~P L^2 h / EI: a whole edge's hinge at the clamp's moment).
+TEST(RodValidation, CantileverSlidOutOfItsClampStepsByHalfAnEdgesHingeAsANodeCrosses) {
+  const double ei = 10.0;  // N mm^2
+  const double P = 0.2;    // mN
+  const double h = 1.0;    // node spacing
+  Rod rod(uniform_tool(60.0, 0.5, ei, 8.0, h, 0.0), static_settings());
+  NoWall wall;
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  double L = 20.0;
+  rod.set_boundary(L, 0.0);
+  rod.set_node_load(rod.node_total() - 1, {P, 0, 0});
+  for (int i = 0; i < 10; ++i) rod.step(1e-3, wall);
+  double last = rod.tip().position_mm.x;
+  double worst = 0.0;
+  for (int i = 0; i < 150; ++i) {  // three nodes cross
+    L += 0.02;
+    rod.set_boundary(L, 0.0);
+    rod.step(1e-3, wall);
+    const double x = rod.tip().position_mm.x;
+    worst = std::max(worst, (x - last) / (P * L * L * h / (ei * 1000.0)));
+    last = x;
+  }
+  EXPECT_LT(worst, 0.75) << "the largest step in units of a whole edge's hinge at the clamp";
+  EXPECT_GT(worst, 0.25);
+  EXPECT_NEAR(last / (P * L * L * L / (3.0 * ei * 1000.0)), 1.0, 0.05);
+}
+
 TEST(RodValidation, FreeRodFeelsNoStiffness) {
   Rod rod(uniform_tool(60.0, 0.5, 10.0, 8.0, 1.0, 0.0), static_settings());
   NoWall wall;

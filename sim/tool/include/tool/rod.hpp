@@ -145,6 +145,11 @@ class Rod {
   [[nodiscard]] double radius_at_mm(double from_tip_mm, std::size_t& station) const;
   [[nodiscard]] double bending_at_Nmm2(double from_tip_mm, std::size_t& station) const;
   [[nodiscard]] double inner_radius_at_mm(double from_tip_mm, std::size_t& station) const;
+  // The integral of the sections' EI (N mm^3) over the stations [near_mm, far_mm] from the tip,
+  // the part off the tool (past its tip or its proximal end) counting nothing. Divided by a
+  // length it is the mean stiffness over it, continuous as the tool slides: a section boundary
+  // or the tip passing a point changes it by the slid length, not in one step.
+  [[nodiscard]] double bending_integral_Nmm3(double near_mm, double far_mm) const;
 
   [[nodiscard]] const ToolSpec& spec() const { return spec_; }
   [[nodiscard]] double insertion_mm() const { return insertion_mm_; }

@@ -13,6 +13,13 @@
 // the limit. The reaction (the catheter dragged along by the friction) goes back onto the
 // catheters' nodes as loads for the next step. The push of a compressed inner tool on the
 // catheter's bends is not applied to the catheter (lagged by a step it feeds back on itself).
+// The path ends at the holder's node just past the inner tool's end, the turning of the node
+// behind that end taken in proportion to the edge covered (SheathVertex::coverage), and the inner
+// tool's stiffness at a vertex is its mean over the vertex's span: the normal forces change by
+// the length slid as the inner tool's end and its section boundaries pass the holder's nodes,
+// where a path ending at the end point itself stepped at every node (its curvature rising as the
+// end neared a node, 1/|end - node|, and its turning lost when the end passed it: a pusher drawn
+// back through a microcatheter's tip read a sawtooth of 600 -> 1,100 mN a node).
 // The path's turning and curvature are read from its vertices, so the simulator leaves out a
 // vertex nearer than half a node spacing to one of another origin (the entry and the first free
 // node past it; a catheter's tip node and the first free node of the tool it holds): across so
@@ -32,10 +39,15 @@ struct SheathVertex {
   glm::dvec3 point_mm{0.0};
   std::uint32_t holder = 0;        // tool whose free part the vertex is a node of
   std::uint32_t node = 0;          // that node
-  double inner_ei_Nmm2 = 0.0;      // bending stiffness of the inner tool there
+  double depth_mm = 0.0;           // depth past the entry along the path
+  double inner_ei_Nmm2 = 0.0;      // bending stiffness of the inner tool there (mean over the vertex's span)
   double inner_radius_mm = 0.0;
   double clearance_mm = 0.0;       // lumen radius of the holder minus the inner tool's radius
   double mu = 0.0;                 // lumen friction of the holder
+  // Share of the vertex's turning the inner tool covers: 1, but for the vertex behind the
+  // inner tool's end, whose share grows from 0 to 1 as the end goes from it to the next holder
+  // node (the path's first vertex, which the end has not reached).
+  double coverage = 1.0;
 };
 
 class SheathFriction {

@@ -168,6 +168,7 @@ class Simulator {
   void update_contact_members();
   void update_sheath(std::size_t tool, double dt_s);
   void build_sheath_path(std::size_t tool, std::vector<SheathVertex>& path) const;
+  static void cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path);
   [[nodiscard]] bool nested_in(std::size_t inner, std::size_t outer) const;
   [[nodiscard]] glm::dvec3 path_point(std::size_t tool, double depth_mm) const;
   void fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const;
