@@ -2,7 +2,7 @@
 import os
 import re
 
-from browser_test import check
+from browser_test import Api, check
 from png_pixels import grey
 from train_page import end_run, hold
 from selenium.webdriver.common.by import By
@@ -73,3 +73,59 @@ def test_fluoroscopy(b, assignment, report):
           "the subtraction image: the DSA background with the anatomy subtracted expected, %s (live %s)" % (run, live))
     end_run(b, "the fluoroscopy run")
     report["fluoroscopy"] = {"before_pedal": black, "live": live, "subtraction": run, "note": note}
+
+
+# The neuro tree entered at the left internal carotid (the entry of cases/neuro_thrombectomy_ica_t.case),
+# without that case's clot: contrast injected through the catheter goes up the carotid into the tree.
+ICA_ENTRY = "entry 26.39 15.64 127.65  0.1627 -0.1374 0.9771"
+
+
+def seed_carotid(centre):
+    """The neuro case entered at the left ICA, assigned to the trainee: its assignment's id."""
+    cases = os.path.join(centre.args.source, "cases")
+    text = re.sub(r"^entry .*$", ICA_ENTRY, open(os.path.join(cases, "neuro.case")).read(), count=1, flags=re.M)
+    teacher = Api(centre.base).login("teacher")
+    teacher.json("POST", "/cases", {"name": "neuro_ica", "case_file": "neuro_ica.case", "case": text,
+                                    "hclm_file": "neuro.hclm", "hclm": open(os.path.join(cases, "neuro.hclm")).read()})
+    _, a = teacher.json("POST", "/assignments", {"trainee": "ann", "case": "neuro_ica", "criteria": []})
+    return a["id"]
+
+
+def arteries(path):
+    """The intracranial band of a saved monitor image (rows 30-55 % of its height, inside the
+    collimated field: the carotid siphon, the ACA and MCA in the AP view, above the skull base):
+    its median grey, and the fraction of its pixels darker than that by 40 (a vessel with iodine
+    in a subtraction image; noise alone stays within ~3 standard deviations, ~25 grey)."""
+    w, h, rows = grey(open(path, "rb").read())
+    side = min(w, h)
+    x0 = (w - side) // 2
+    band = sorted(v for r in rows[int(0.3 * h):int(0.55 * h)] for v in r[x0 + side // 10:x0 + side - side // 10])
+    median = band[len(band) // 2]
+    return {"median": median, "dark_fraction": round(sum(1 for v in band if v < median - 40) / len(band), 4), "p01": band[len(band) // 1000]}
+
+
+def test_contrast(b, centre, report):
+    """Injected contrast shows in the lumen: on the neuro tree entered at the left internal carotid,
+    I (6 mL at 3 mL/s) with the pedal down starts a subtraction run; within 1.5 s of session time
+    the iodine has reached the intracranial arteries and their pixels are dark on the DSA
+    background, where the same run injected at the aortic entry (test_fluoroscopy) shows none."""
+    assignment = seed_carotid(centre)
+    b.open("/train.html?clock=virtual&view=fluoro")
+    b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
+    b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
+    b.wait_js("return document.getElementById('status').textContent === 'running'", "the session to start in the worker")
+    hold(b, [Keys.SPACE], 200)
+    hold(b, [Keys.SPACE, "i"], 50)
+    hold(b, [Keys.SPACE], 1500)
+    note = b.wait_js("const n = document.getElementById('fluoro-note').textContent; const m = n.match(/pulse (\\d+)/);"
+                     "return m && Number(m[1]) >= 25 ? n : null;", "the pulses after the injection")
+    check(" subtraction run, " in note, "injecting with the pedal down starts a subtraction run: %r" % note)
+    run = monitor(b, "train-fluoro-contrast")
+    check(abs(run["median"] - 0.72 * 255) <= 12, "the subtraction image's background: %s" % run)
+    lumen = arteries(os.path.join(b.out, b.prefix + "train-fluoro-contrast.png"))
+    control = arteries(os.path.join(b.out, b.prefix + "train-fluoro-subtraction.png"))  # test_fluoroscopy's, injected at the aorta
+    check(lumen["dark_fraction"] >= 0.005 and lumen["p01"] <= lumen["median"] - 80,
+          "injected at the carotid, the arteries dark with iodine expected in the intracranial band: %s" % lumen)
+    check(control["dark_fraction"] <= 0.001, "injected at the aortic entry, no artery expected there yet: %s" % control)
+    end_run(b, "the contrast run")
+    report["contrast"] = {"subtraction": run, "arteries": lumen, "aortic_injection": control, "note": note}

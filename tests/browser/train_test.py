@@ -63,7 +63,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from browser_test import Browser, Centre, Failure, check, wait_until  # noqa: E402
 from train_box import test_box_bridge, test_webhid, test_webhid_emulated  # noqa: E402
 from train_clock import test_real_clock  # noqa: E402
-from train_fluoro import test_fluoroscopy  # noqa: E402
+from train_fluoro import test_contrast, test_fluoroscopy  # noqa: E402
 from train_page import END_JS, STATE_JS, advance, end_of_run, hold, hud, open_assignment, seed  # noqa: E402
 from train_replay import test_native_record_in_page, test_native_replay  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
@@ -204,6 +204,8 @@ def main():
         test_webhid(b, assignment, report)
         b.drain_console()
         test_fluoroscopy(b, two_tools, report)
+        b.drain_console()
+        test_contrast(b, centre, report)
         b.drain_console()
         if args.real_clock:
             for view in ("3d", "fluoro"):
