@@ -34,6 +34,17 @@ def monitor(b, name):
             "outside_max": max(outside) if outside else None}
 
 
+def inject(b, name):
+    """I (inject) with the pedal down for 50 ticks, then the pedal alone 1.5 s: a subtraction run
+    (as the native unit starts one); its note and its monitor image, saved as `name`."""
+    hold(b, [Keys.SPACE, "i"], 50)
+    hold(b, [Keys.SPACE], 1500)
+    note = b.wait_js("const n = document.getElementById('fluoro-note').textContent; const m = n.match(/pulse (\\d+)/);"
+                     "return m && Number(m[1]) >= 25 ? n : null;", "the pulses after the injection")
+    check(" subtraction run, " in note, "injecting with the pedal down starts a subtraction run (as the native unit): %r" % note)
+    return note, monitor(b, name)
+
+
 def test_fluoroscopy(b, assignment, report):
     """The fluoroscopic image in the page (js/fluoro_view.js, the native renderer's shaders in
     WebGL2), in virtual time on the neuro case (a catheter to inject through): black before the pedal; with Space held the
@@ -61,12 +72,7 @@ def test_fluoroscopy(b, assignment, report):
     live = monitor(b, "train-fluoro")
     check(40 <= live["median"] <= 215 and live["std"] >= 2, "the pulses' image: a grey phantom with noise expected, %s" % live)
     check(live["outside_max"] is None or live["outside_max"] <= 8, "outside the collimated field the monitor is black: %s" % live)
-    hold(b, [Keys.SPACE, "i"], 50)
-    hold(b, [Keys.SPACE], 1500)
-    note = b.wait_js("const n = document.getElementById('fluoro-note').textContent; const m = n.match(/pulse (\\d+)/);"
-                     "return m && Number(m[1]) >= 25 ? n : null;", "the pulses after the injection")
-    check(" subtraction run, " in note, "injecting with the pedal down starts a subtraction run (as the native unit): %r" % note)
-    run = monitor(b, "train-fluoro-subtraction")
+    note, run = inject(b, "train-fluoro-subtraction")
     # The run's frame minus its mask: the anatomy cancels to the DSA background (0.72 of white),
     # only noise (and what changed) left.
     check(abs(run["median"] - 0.72 * 255) <= 12 and run["std"] < live["std"] / 2,
@@ -115,12 +121,7 @@ def test_contrast(b, centre, report):
     b.driver.find_element(By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment).click()
     b.wait_js("return document.getElementById('status').textContent === 'running'", "the session to start in the worker")
     hold(b, [Keys.SPACE], 200)
-    hold(b, [Keys.SPACE, "i"], 50)
-    hold(b, [Keys.SPACE], 1500)
-    note = b.wait_js("const n = document.getElementById('fluoro-note').textContent; const m = n.match(/pulse (\\d+)/);"
-                     "return m && Number(m[1]) >= 25 ? n : null;", "the pulses after the injection")
-    check(" subtraction run, " in note, "injecting with the pedal down starts a subtraction run: %r" % note)
-    run = monitor(b, "train-fluoro-contrast")
+    note, run = inject(b, "train-fluoro-contrast")
     check(abs(run["median"] - 0.72 * 255) <= 12, "the subtraction image's background: %s" % run)
     lumen = arteries(os.path.join(b.out, b.prefix + "train-fluoro-contrast.png"))
     control = arteries(os.path.join(b.out, b.prefix + "train-fluoro-subtraction.png"))  # test_fluoroscopy's, injected at the aorta
