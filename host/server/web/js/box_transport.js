@@ -1,7 +1,10 @@
 // How the trainee page reaches a box: 64-byte reports in and out, the same bytes whichever way.
-//   WebHID      navigator.hid (Chromium): the box 1209:cb01 picked in Chromium's chooser (a click);
-//               WebHID splits the report ID off, so it is put back on the way in and taken off
-//               on the way out.
+// Both transports are driven from the haptic worker (js/train_worker.js), never the page's thread.
+//   WebHID      navigator.hid (Chromium): the page asks for the box 1209:cb01 in Chromium's chooser
+//               (askForBox: requestDevice needs a click on the page); the worker then finds the
+//               permitted box with navigator.hid.getDevices() and owns it (open, inputreport,
+//               sendReport, receiveFeatureReport). WebHID splits the report ID off, so it is put
+//               back on the way in and taken off on the way out.
 //   WebSocket   ?box=ws://HOST:PORT: cathbox-box-bridge in front of cathbox-emu, one binary
 //               message a report; a feature report asked for by its one-byte ID, answered with
 //               its 64 bytes or, refused, the ID alone (host/server/README.md).
@@ -77,6 +80,17 @@ export class WebSocketBox {
   }
 }
 
+const isBox = (d) => d.vendorId === BOX_VENDOR && d.productId === BOX_PRODUCT;
+
+// On the page, from a click: Chromium's chooser for the box (a box allowed before is there without
+// asking). Resolves to the device's name, or null when none was chosen.
+export async function askForBox() {
+  const allowed = (await navigator.hid.getDevices()).filter(isBox);
+  const [device] = allowed.length ? allowed : await navigator.hid.requestDevice({ filters: [{ vendorId: BOX_VENDOR, productId: BOX_PRODUCT, usagePage: USAGE_PAGE }] });
+  return device ? device.productName || 'Cathbox' : null;
+}
+
+// In the haptic worker: the box the page was allowed (askForBox), from navigator.hid.getDevices().
 export class WebHidBox {
   constructor() {
     this.onReport = () => {};
@@ -85,12 +99,10 @@ export class WebHidBox {
 
   describe() { return this.device ? 'WebHID ' + this.device.productName : 'WebHID'; }
 
-  // From a click (Chromium asks the user); a box allowed before is opened without asking.
   async open() {
-    const filters = [{ vendorId: BOX_VENDOR, productId: BOX_PRODUCT, usagePage: USAGE_PAGE }];
-    let [device] = (await navigator.hid.getDevices()).filter((d) => d.vendorId === BOX_VENDOR && d.productId === BOX_PRODUCT);
-    if (!device) [device] = await navigator.hid.requestDevice({ filters });
-    if (!device) throw new Error('no box chosen');
+    if (!('hid' in navigator)) throw new Error('WebHID: not available in the haptic worker');
+    const [device] = (await navigator.hid.getDevices()).filter(isBox);
+    if (!device) throw new Error('WebHID: no box allowed for this page (Connect box asks for one)');
     if (!device.opened) await device.open();
     this.device = device;
     device.addEventListener('inputreport', (e) => {
@@ -124,14 +136,15 @@ export class WebHidBox {
   close() { if (this.device) this.device.close(); }
 }
 
-// The transport the page's address asks for: ?box=ws://... (the bridge), else WebHID where the
-// browser has it, else null with why (the keyboard stays).
+// The box the page's address asks for: ?box=ws://... (the bridge), else WebHID where the browser
+// has it (after a click), else why not (the keyboard stays). {kind: 'bridge', url} | {kind: 'webhid'}
+// | {kind: null, why}.
 export function chooseBox(params) {
   const url = params.get('box');
   if (url) {
-    if (!/^wss?:\/\//.test(url)) return { box: null, why: '?box=' + url + ': a ws:// or wss:// address expected' };
-    return { box: new WebSocketBox(url), why: '' };
+    if (!/^wss?:\/\//.test(url)) return { kind: null, why: '?box=' + url + ': a ws:// or wss:// address expected' };
+    return { kind: 'bridge', url };
   }
-  if ('hid' in navigator) return { box: new WebHidBox(), why: '', needsClick: true };
-  return { box: null, why: 'This browser has no WebHID (and no ?box=ws://… bridge was given): the keyboard drives the tool.' };
+  if ('hid' in navigator) return { kind: 'webhid' };
+  return { kind: null, why: 'This browser has no WebHID (and no ?box=ws://… bridge was given): the keyboard drives the tool.' };
 }

@@ -6,9 +6,10 @@
 //
 // The run is streamed live to instructors as rig `browser-USER` (js/train_live.js).
 //
-// A box (js/train_box.js over js/box_transport.js) drives the held tool in place of the keys:
-// ?box=ws://HOST:PORT uses cathbox-box-bridge in front of cathbox-emu; where the browser has
-// WebHID, "Connect box" asks Chromium for the box; elsewhere the page says so and keeps the keys.
+// A box (js/train_box.js over js/box_transport.js, driven in the haptic worker) drives the held tool
+// in place of the keys: ?box=ws://HOST:PORT uses cathbox-box-bridge in front of cathbox-emu; where
+// the browser has WebHID, "Connect box" asks Chromium for the box (the page's only part: the chooser
+// needs a click) and the worker opens it; elsewhere the page says so and keeps the keys.
 //
 // /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
 // sleeps to it; js/tick_clock.js).
@@ -26,8 +27,7 @@ import { speedsFor, isControlKey, fluoroBits } from './train_keys.js';
 import { FluoroView, H } from './fluoro_view.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
-import { chooseBox, WebSocketBox } from './box_transport.js';
-import { BoxDriver, SEND_MS } from './train_box.js';
+import { askForBox, chooseBox } from './box_transport.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -40,7 +40,6 @@ let pendingStep = null;  // the virtual clock's step under way: {count, ticks}
 let steps = 0;
 let views = null;
 let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
-const lawReplies = [];  // WebHID's command requests to the worker, answered in order
 // The fluoroscopy: the case has a unit (the worker says so), the view (made when first shown),
 // the lumen it draws the iodine on, the main view shown, the fluoroscopy keys last sent.
 const fluoro = { available: false, view: null, vessel: null, main: params.get('view') === 'fluoro' ? 'fluoro' : null, bits: 0 };
@@ -179,7 +178,7 @@ function draw() {
 }
 
 function setKeys() {
-  if ((run.box && run.box.live) || (run.boxReport && run.boxReport.live)) return;  // the box drives the tool; Tab and Escape still work
+  if (run.boxReport && run.boxReport.live) return;  // the box drives the tool; Tab and Escape still work
   const [insert, twist] = speedsFor(run.held);
   run.keys[0] = insert;
   run.keys[1] = twist;
@@ -241,7 +240,6 @@ async function onOver(m) {
   setState('uploading', 'uploading the record (' + m.record.byteLength + ' bytes)');
   document.getElementById('virtual-clock').hidden = true;
   run.held.clear();
-  if (run.box) { run.box.stop(); showBoxReport(run.box.report()); }
   if (m.jitter) {
     const j = m.jitter;
     const ms = (v) => (v === null || v === undefined ? '-' : v.toFixed(3));
@@ -289,7 +287,8 @@ function startWorker() {
     const m = e.data;
     if (m.type === 'frame') {
       showFrame(m.data, m.metrics, m.fluoro);
-      if (m.box) { run.boxReport = m.box; showBoxReport(m.box); } else if (run.box) showBoxReport(run.box.report());
+      run.boxReport = m.box;
+      showBoxReport(m.box || { live: false, state: null });  // no box in the worker yet: said so
     }
     else if (m.type === 'box_note') boxNote(m.text);
     else if (m.type === 'fluoro_vessel') {
@@ -300,11 +299,6 @@ function startWorker() {
     else if (m.type === 'advanced') onStepped(m.ticks);
     else if (m.type === 'over') onOver(m);
     else if (m.type === 'replayed') onReplayed(m);
-    else if (m.type === 'box_command') {  // the law sent, then shown (after the driver's own reaction)
-      const r = lawReplies.shift();
-      if (r) r(m);
-      setTimeout(() => { if (run.box) showBoxReport(run.box.report()); });
-    }
     else if (m.type === 'error') { setState('error', ''); showError(m.message); }
   };
   worker.onerror = (e) => { setState('error', ''); showError('worker: ' + e.message); };
@@ -319,34 +313,33 @@ function setTarget(t) {
 function boxNote(text) { document.getElementById('box-note').textContent = text; }
 
 // The box the address or the browser offers (js/box_transport.js); the keyboard until it is up.
+// Either way the haptic worker drives it (js/train_worker.js): the page only asks Chromium for the
+// WebHID box (the chooser needs a click here) and shows the figures the worker's frames carry.
 function offerBox() {
-  const { box, why, needsClick } = chooseBox(params);
-  if (!box) return boxNote(why);
-  if (box instanceof WebSocketBox) {  // the haptic worker drives it (js/train_worker.js)
-    run.boxUrl = box.url;
-    return boxNote('box: ' + box.describe() + ' (connecting from the haptic worker)');
+  const choice = chooseBox(params);
+  if (!choice.kind) return boxNote(choice.why);
+  if (choice.kind === 'bridge') {
+    run.boxUrl = choice.url;
+    return boxNote('box: the box bridge at ' + choice.url + ' (connecting from the haptic worker)');
   }
-  // The law's command is made by the session in the worker (js/train_worker.js, box_command).
-  const law = {
-    configure: (config) => worker.postMessage({ type: 'box_configure', config, periodMs: SEND_MS }),
-    command: (args) => new Promise((resolve, reject) => {
-      lawReplies.push((m) => (m.bytes ? resolve(m.bytes) : reject(new Error(m.message))));
-      worker.postMessage({ type: 'box_command', args });
-    }),
-  };
-  run.box = new BoxDriver({ keys: run.keys, sessionAt: () => (run.last && state === 'running' ? run.last : null), onChange: boxNote, law });
-  const connect = () => guarded(async () => {
-    try {
-      await run.box.connect(box);
-    } catch (err) {
-      boxNote('no box: ' + err.message + ' (the keyboard drives the tool)');
-    }
-  });
-  if (!needsClick) return connect();
   boxNote('The keyboard drives the tool until a box is connected.');
   const button = document.getElementById('connect-box');
   button.hidden = false;
-  button.onclick = () => { button.hidden = true; connect(); };
+  button.onclick = () => guarded(async () => {
+    button.hidden = true;
+    let name = null;
+    try {
+      name = await askForBox();
+    } catch (err) {
+      return boxNote('no box: WebHID: ' + err.message + ' (the keyboard drives the tool)');
+    }
+    if (!name) {
+      button.hidden = false;
+      return boxNote('no box: none chosen (the keyboard drives the tool)');
+    }
+    boxNote('box: WebHID ' + name + ' (connecting from the haptic worker)');
+    worker.postMessage({ type: 'box_hid' });
+  });
 }
 
 // The virtual clock: "Run N ticks" runs exactly N; the note beside it says when they ran.

@@ -1,10 +1,10 @@
 // The box driving the trainee page's session, as BoxClient and BoxHand do for the native trainer.
-// The WebSocket bridge's driver lives in the haptic worker (js/train_worker.js): its reports and
-// commands are handled between the worker's tick slices (at most 8 ms apart), so commands keep
-// well inside the box's 50 ms watchdog whatever the page's thread is doing (drawing under software
-// GL stalls it for 50-350 ms). WebHID's driver stays on the page's thread (the chooser needs a
-// click; see host/wasm/README.md). The speeds written here are read from shared memory each tick. Every byte goes through protocol/'s codec compiled to wasm
-// (js/box_codec.js). What it does:
+// The driver lives in the haptic worker (js/train_worker.js), over either transport (the bridge or
+// WebHID, js/box_transport.js): its reports and commands are handled between the worker's tick
+// slices (at most 8 ms apart), so commands keep well inside the box's 50 ms watchdog whatever the
+// page's thread is doing (drawing under software GL stalls it for 50-350 ms). The speeds written
+// here are read from shared memory each tick. Every byte goes through protocol/'s codec compiled to
+// wasm (js/box_codec.js). What it does:
 //   - each IN (state) report: decoded (a refused one is counted with its status, never used),
 //     sequence gaps counted; the encoders' counts -> the box's insertion (mm) and rotation (rad)
 //     from where they were when the box connected;
@@ -45,25 +45,16 @@ const SLEW_mN_PER_ms = 100;  // the firmware's default limits
 
 let codecPromise = null;
 
-// cathbox-protocol.js from the server's /wasm/ (a classic script defining CathboxProtocol).
+// cathbox-protocol.js from the server's /wasm/ (a classic script defining CathboxProtocol), in the
+// haptic worker (a classic worker).
 function loadCodec() {
   if (!codecPromise) {
-    if (typeof document === 'undefined') {  // in the haptic worker (a classic worker)
-      try {
-        importScripts('/wasm/cathbox-protocol.js');
-      } catch (_) {
-        return Promise.reject(new Error('/wasm/cathbox-protocol.js: the box codec is not served here (cathbox-server --wasm DIR)'));
-      }
-      codecPromise = self.CathboxProtocol({ locateFile: (p) => '/wasm/' + p, mainScriptUrlOrBlob: '/wasm/cathbox-protocol.js' }).then((m) => new BoxCodec(m));
-      return codecPromise;
+    try {
+      importScripts('/wasm/cathbox-protocol.js');
+    } catch (_) {
+      return Promise.reject(new Error('/wasm/cathbox-protocol.js: the box codec is not served here (cathbox-server --wasm DIR)'));
     }
-    codecPromise = new Promise((resolve, reject) => {
-      const s = document.createElement('script');
-      s.src = '/wasm/cathbox-protocol.js';
-      s.onload = () => self.CathboxProtocol({ locateFile: (p) => '/wasm/' + p }).then((m) => resolve(new BoxCodec(m)), reject);
-      s.onerror = () => reject(new Error('/wasm/cathbox-protocol.js: the box codec is not served here (cathbox-server --wasm DIR)'));
-      document.head.append(s);
-    });
+    codecPromise = self.CathboxProtocol({ locateFile: (p) => '/wasm/' + p, mainScriptUrlOrBlob: '/wasm/cathbox-protocol.js' }).then((m) => new BoxCodec(m));
   }
   return codecPromise;
 }

@@ -17,18 +17,21 @@
 // insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
 // reads its KeyboardInput.
 //
-// The box bridge (?box=ws://...): its driver (js/train_box.js) runs here, between tick slices,
-// writing the keys' speeds and sending the force law at most 8 ms apart (the box's watchdog is
-// 50 ms); each frame carries its report, and box_note messages its state for the page.
+// The box, over the bridge (?box=ws://...) or WebHID: its driver (js/train_box.js) runs here,
+// between tick slices, writing the keys' speeds and sending the force law at most 8 ms apart (the
+// box's watchdog is 50 ms); each frame carries its report, and box_note messages its state for the
+// page. For WebHID the page only asks Chromium for the box (the chooser needs a click there) and
+// says box_hid; this worker finds the permitted box with navigator.hid.getDevices() and owns its
+// reports (inputreport, sendReport, receiveFeatureReport): they never cross the page's thread.
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
 // advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
-// box_configure {config, periodMs}, box_command {args} (the page's WebHID driver), fluoro_keys {bits}
+// box_hid (the page was allowed a WebHID box: open it here), fluoro_keys {bits}
 // (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}. Out: ready {summary, open_ms, fluoro},
 // fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics, fluoro: {header, phantom?, floats?, indices?} or null},
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
-// box_command {bytes (64) or null, message}, error {message}.
+// box_note {text}, error {message}.
 'use strict';
 
 const FRAME_MS = 16;
@@ -44,9 +47,10 @@ let over = false;
 const sleepCell = new Int32Array(new SharedArrayBuffer(4));
 const clockModule = import('/js/tick_clock.js');  // fetched while the session loads
 let ticker = null;  // the real clock's TickClock
-let box = null;  // the bridge's BoxDriver, or null
+let box = null;  // the box's BoxDriver (bridge or WebHID), or null
 let latest = null;  // the newest snapshot's hand figures, for the box driver
 let sessionOpen = false;
+let hidAsked = false;  // box_hid came before the session opened
 
 function fail(message) { postMessage({ type: 'error', message: String(message) }); }
 
@@ -168,15 +172,9 @@ function slice() {
 }
 
 // The box's command from the held tool's law (cbx_box_command: the native BoxHand's shaping and
-// encoding), for the bridge's driver here and, by message, for WebHID's on the page's thread.
-// The configuration is kept and applied again when a session opens (WebHID's box may be
-// connected before the session is).
-let boxConfig = null;
+// encoding), for the box's driver here.
 const boxLaw = {
-  configure: (c, periodMs) => {
-    boxConfig = { c, periodMs };
-    if (sessionOpen) fn.boxConfigure(c.full_scale_mN, c.slew_mN_per_ms, periodMs, c.mode);
-  },
+  configure: (c, periodMs) => fn.boxConfigure(c.full_scale_mN, c.slew_mN_per_ms, periodMs, c.mode),
   command: (a) => {
     const status = fn.boxCommand(a.offset_mm, a.offset_rad, a.force_mN, a.speed_mm_s, a.seq, a.time_us, a.flags);
     if (status !== 0) throw new Error('OUT command: status ' + status);
@@ -185,14 +183,16 @@ const boxLaw = {
   },
 };
 
-// The bridge's driver; a failure leaves the keyboard (said in a box_note).
+// The box's driver over the bridge (url) or WebHID (null); a failure leaves the keyboard (said in a
+// box_note). Called once the session is open.
 async function openBox(url) {
   const note = (text) => postMessage({ type: 'box_note', text });
   try {
-    const [{ BoxDriver, SEND_MS }, { WebSocketBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
+    const [{ BoxDriver, SEND_MS }, { WebSocketBox, WebHidBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
+    if (box) box.stop();
     box = new BoxDriver({ keys, sessionAt: () => (over ? null : latest), onChange: note,
       law: { configure: (c) => boxLaw.configure(c, SEND_MS), command: boxLaw.command } });
-    await box.connect(new WebSocketBox(url));
+    await box.connect(url ? new WebSocketBox(url) : new WebHidBox());
   } catch (err) {
     note('no box: ' + (err && err.message ? err.message : err) + ' (the keyboard drives the tool)');
   }
@@ -233,7 +233,6 @@ async function open(m) {
   FS.writeFile('/case/collision.cbxmesh', new Uint8Array(m.mesh));
   if (!fn.open('/case/' + m.caseFile, '/case/collision.cbxmesh', '/run/run.cbxrec')) return fail(fn.error());
   sessionOpen = true;
-  if (boxConfig) boxLaw.configure(boxConfig.c, boxConfig.periodMs);
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
   fluoroOn = fn.fluoroOpen() === 1;
@@ -247,6 +246,7 @@ async function open(m) {
   }
   over = false;
   if (m.box) await openBox(m.box);
+  else if (hidAsked) await openBox(null);
   postFrame();
   postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0, fluoro: fluoroOn });
   if (clock === 'real') {
@@ -269,8 +269,8 @@ onmessage = (e) => {
       open(m).catch((err) => fail(err && err.message ? err.message : err));
     } else if (m.type === 'replay') {
       replay(m).catch((err) => fail(err && err.message ? err.message : err));
-    } else if (m.type === 'box_configure') {
-      boxLaw.configure(m.config, m.periodMs);
+    } else if (m.type === 'box_hid') {
+      if (sessionOpen) openBox(null); else hidAsked = true;
     } else if (!fn) {
       fail('no session open');
     } else if (m.type === 'advance') {
@@ -280,11 +280,6 @@ onmessage = (e) => {
       if (!over) postFrame();  // the page shows the state the step ended at before it says so
       postMessage({ type: 'advanced', ticks: ran });
       if (over) finish();
-    } else if (m.type === 'box_command') {
-      let bytes = null;
-      let message = '';
-      try { bytes = boxLaw.command(m.args); } catch (err) { message = err.message; }
-      postMessage({ type: 'box_command', bytes, message });
     } else if (m.type === 'fluoro_keys') {
       fn.fluoroKeys(m.bits);
     } else if (m.type === 'fluoro_size') {

@@ -1,0 +1,62 @@
+"""The haptic worker's own 1 kHz clock (train_test.py --real-clock): its jitter and the first frame,
+printed, never asserted."""
+import os
+import re
+
+from browser_test import check
+from train_fluoro import FLUORO_NOTE_JS
+from train_page import END_JS, end_of_run, open_assignment
+from selenium.webdriver.common.action_chains import ActionChains
+from selenium.webdriver.common.by import By
+from selenium.webdriver.common.keys import Keys
+
+
+CLOCK_NOTE = re.compile(
+    r"Haptic clock: (\d+) ticks, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms, (\d+) dropped; "
+    r"lateness p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms; a tick's run p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
+    r"late ticks after a sleep (\d+), after ticks (\d+), after the event loop (\d+), caught up (\d+)\.$")
+FRAME_NOTE = re.compile(r"First frame (\d+) ms after choosing the case(?: \(the session opened in (\d+) ms\))?\.$")
+
+
+def clock_figures(b):
+    """The page's clock note and first-frame note as figures (what scripts/bench train prints)."""
+    text = b.js("return document.getElementById('clock-note').textContent")
+    m = CLOCK_NOTE.match(text)
+    check(m is not None, "the page's clock note: %r" % text)
+    g = m.groups()
+    jitter = {"ticks": int(g[0]), "p50_ms": float(g[1]), "p99_ms": float(g[2]), "max_ms": float(g[3]), "dropped": int(g[4]),
+              "late_p50_ms": float(g[5]), "late_p99_ms": float(g[6]), "late_max_ms": float(g[7]), "tick_p50_ms": float(g[8]),
+              "tick_p99_ms": float(g[9]), "late_ticks": {"after_sleep": int(g[10]), "after_ticks": int(g[11]),
+                                                          "after_yield": int(g[12]), "catch_up": int(g[13])}}
+    text = b.js("return document.getElementById('frame-note').textContent")
+    f = FRAME_NOTE.match(text)
+    check(f is not None, "the page's first-frame note: %r" % text)
+    return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None
+
+
+def test_real_clock(b, centre, assignment, seconds, report, view):
+    """The worker's own 1 kHz clock for `seconds`, W held (and Space, the pedal, in fluoroscopy),
+    then Escape: jitter and first frame, with the machine's load average."""
+    open_assignment(b, assignment, "real", view)
+    body = b.driver.find_element(By.TAG_NAME, "body")
+    keys = ["w", Keys.SPACE] if view == "fluoro" else ["w"]
+    down = ActionChains(b.driver)
+    for k in keys:
+        down.key_down(k, body)
+    down.perform()
+    load_before = os.getloadavg()[0]
+    b.wait_js("const m = document.getElementById('hud').textContent.match(/^time +([0-9.]+) s/m); return m && Number(m[1]) >= %d;" % seconds,
+              "%d s of ticks on the worker's clock" % seconds, timeout=seconds * 10 + 30)
+    up = ActionChains(b.driver)
+    for k in reversed(keys):
+        up.key_up(k)
+    up.send_keys(Keys.ESCAPE).perform()
+    state = b.wait_js(END_JS, "the upload")
+    b.shot("train-real-clock-" + view)
+    check(state == "done", "the real-clock run's upload: %s" % state)
+    end, _, _ = end_of_run(b, centre)
+    jitter, first_ms, open_ms = clock_figures(b)
+    report.setdefault("real_clock", {})[view] = {
+        "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "end": end,
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
+        "fluoro": b.js(FLUORO_NOTE_JS) if view == "fluoro" else None}
