@@ -178,8 +178,8 @@ std::vector<LibraryCase> all_cases() {
                     "0      rotate_to 180 at 720\n1000   select microcatheter\n1000   insert_to 22 at 20\n"
                     "1000   select microwire\n1000   insert_to 40 at 20\n2000   insert_to 112 at 20\n"
                     "2000   select microcatheter\n2000   insert_to 108 at 20\n6500   select microwire\n"
-                    "6500   insert_to 160 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
-                    "10500  insert_to 155 at 5\n14000  end\n"),
+                    "6500   insert_to 165 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
+                    "10500  insert_to 160 at 5\n14000  end\n"),
       aneurysm_case("aneurysm_pcom", "library: left PCom aneurysm", AneurysmSite::kPcom, 6.0, 3.0,
                     "left_internal_carotid", 0.12, "left_pcom_aneurysm",
                     "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"

@@ -132,7 +132,11 @@ class Rod {
   [[nodiscard]] double friction_at(std::size_t k) const { return k >= distal_first_ ? distal_mu_ : spec_.friction; }
   // Wall friction's stick spring at node k (mN/mm): the tissue's shear stiffness under a patch
   // of the node's radius (RodSettings::wall_shear_mN_per_mm2).
-  [[nodiscard]] double wall_stick_mN_per_mm(std::size_t k) const { return settings_.wall_shear_mN_per_mm2 * radius_[k]; }
+  // 0 shear (a coil): stick_stiffness_ratio of the contact stiffness, as the other stick springs.
+  [[nodiscard]] double wall_stick_mN_per_mm(std::size_t k) const {
+    return settings_.wall_shear_mN_per_mm2 > 0.0 ? settings_.wall_shear_mN_per_mm2 * radius_[k]
+                                                 : settings_.stick_stiffness_ratio * settings_.contact_stiffness_mN_per_mm;
+  }
   RodSettings& settings() { return settings_; }
 
   // Properties of the tool at a distance from its tip.

@@ -14,7 +14,7 @@ struct RodSettings {
   // Wall friction's stick spring at a node: the tissue's tangential contact stiffness under the
   // node's patch (arterial_wall.hpp, Mindlin), per mm of the node's radius. The cervical wall's
   // (1,369 mN/mm^2: 246 mN/mm under a 0.014" wire) on a rigid wall too, whose normal stiffness is
-  // a numerical penalty; a case's `wall` line sets its territory's.
+  // a numerical penalty; a case's `wall` line sets its territory's. 0: the ratio below (coils).
   double wall_shear_mN_per_mm2 = patch_shear_stiffness_mN_per_mm2(kCervicalWall);
   // The stick springs that are not the wall's (rod-rod contact, a balloon's grip, the sheath and
   // valve anchors): this fraction of contact_stiffness_mN_per_mm.
