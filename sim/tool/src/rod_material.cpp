@@ -3,6 +3,7 @@
 // tool adds; the look-ups by distance from the tip; and the step's stiffness and drag weights.
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "base/portable_math.hpp"
 #include "rod_geometry.hpp"
@@ -51,6 +52,20 @@ void Rod::set_node_material(std::size_t k) {
   drag_per_mm_[k] = spec_.drag_at(radius_[k]);
 }
 
+namespace {
+// f(section, overlap) for each section overlapping [lo, hi] (mm from the proximal end), in order.
+template <class F>
+void for_each_section_overlap(const std::vector<ToolSection>& sections, double lo, double hi, F&& f) {
+  double start = 0.0;
+  for (const ToolSection& sec : sections) {
+    const double end = start + sec.length_mm;
+    const double overlap = std::min(end, hi) - std::max(start, lo);
+    if (overlap > 0.0) f(sec, overlap);
+    start = end;
+  }
+}
+}  // namespace
+
 // A vertex's bending stiffness over its Voronoi region [from, to] (from the proximal end): the
 // sections' compliances in series, l / sum(l_i / EI_i). A vertex on a section boundary bends
 // mostly in its softer half; taking the proximal section's EI made the joint of a coil (0.02
@@ -58,17 +73,17 @@ void Rod::set_node_material(std::size_t k) {
 // microcatheter was held on the catheter's tip line by the pusher's hinge, into the sac wall.
 double Rod::vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nmm2) const {
   if (!(to_mm > from_mm)) return fallback_Nmm2;
-  double start = 0.0, covered = 0.0, compliance = 0.0;
-  for (const ToolSection& sec : spec_.sections) {
-    const double end = start + sec.length_mm;
-    const double overlap = std::min(end, to_mm) - std::max(start, from_mm);
-    if (overlap > 0.0) {
-      if (!(sec.bending_stiffness_Nmm2 > 0.0)) return fallback_Nmm2;
-      covered += overlap;
-      compliance += overlap / sec.bending_stiffness_Nmm2;
+  double covered = 0.0, compliance = 0.0;
+  bool unbendable = false;
+  for_each_section_overlap(spec_.sections, from_mm, to_mm, [&](const ToolSection& sec, double overlap) {
+    if (unbendable || !(sec.bending_stiffness_Nmm2 > 0.0)) {
+      unbendable = true;
+      return;
     }
-    start = end;
-  }
+    covered += overlap;
+    compliance += overlap / sec.bending_stiffness_Nmm2;
+  });
+  if (unbendable) return fallback_Nmm2;
   return compliance > 0.0 ? covered / compliance : fallback_Nmm2;
 }
 
@@ -77,13 +92,9 @@ double Rod::bending_integral_Nmm3(double near_mm, double far_mm) const {
   // (A pusher whose coil was released keeps the coil's section past its new tip: cut there.)
   const double lo = std::max(0.0, length_mm_ - std::max(near_mm, far_mm));
   const double hi = std::min(length_mm_, length_mm_ - std::min(near_mm, far_mm));
-  double start = 0.0, sum = 0.0;
-  for (const ToolSection& sec : spec_.sections) {
-    const double end = start + sec.length_mm;
-    const double overlap = std::min(end, hi) - std::max(start, lo);
-    if (overlap > 0.0) sum += overlap * sec.bending_stiffness_Nmm2;
-    start = end;
-  }
+  double sum = 0.0;
+  for_each_section_overlap(spec_.sections, lo, hi,
+                           [&](const ToolSection& sec, double overlap) { sum += overlap * sec.bending_stiffness_Nmm2; });
   return sum;
 }
 
