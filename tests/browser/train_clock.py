@@ -1,7 +1,8 @@
-"""The haptic worker's own 1 kHz clock (train_test.py --real-clock): its jitter and the first frame,
-printed, never asserted."""
+"""The haptic worker's own 1 kHz clock (train_test.py --real-clock): its jitter, the first frame and
+the page's WebGL frames (interval and drawing time), printed, never asserted."""
 import os
 import re
+import subprocess
 
 from browser_test import check
 from train_fluoro import FLUORO_NOTE_JS
@@ -15,6 +16,7 @@ CLOCK_NOTE = re.compile(
     r"Haptic clock: (\d+) ticks, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms, (\d+) dropped; "
     r"lateness p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms; a tick's run p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
     r"late ticks after a sleep (\d+), after ticks (\d+), after the event loop (\d+), caught up (\d+)\.$")
+DRAW_NOTE = re.compile(r"Page: (\d+) frames drawn, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; drawing p50 ([0-9.]+) ms, p99 ([0-9.]+) ms\.$")
 FRAME_NOTE = re.compile(r"First frame (\d+) ms after choosing the case(?: \(the session opened in (\d+) ms\))?\.$")
 
 
@@ -31,13 +33,29 @@ def clock_figures(b):
     text = b.js("return document.getElementById('frame-note').textContent")
     f = FRAME_NOTE.match(text)
     check(f is not None, "the page's first-frame note: %r" % text)
-    return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None
+    d = DRAW_NOTE.match(b.js("return document.getElementById('draw-note').textContent"))
+    check(d is not None, "the page's drawing note: %r" % b.js("return document.getElementById('draw-note').textContent"))
+    frames = {"frames": int(d.group(1)), "interval_p50_ms": float(d.group(2)), "interval_p99_ms": float(d.group(3)),
+              "draw_p50_ms": float(d.group(4)), "draw_p99_ms": float(d.group(5))}
+    return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None, frames
 
 
-def test_real_clock(b, centre, assignment, seconds, report, view):
+def rig_priority(b, source, fifo):
+    """What a kiosk rig's launcher may do for the page (never the page itself, which cannot):
+    scripts/rig-priority gives the browser's worker threads SCHED_FIFO `fifo`, as the native haptic
+    thread runs. Needs CAP_SYS_NICE. The threads raised."""
+    out = subprocess.run([os.path.join(source, "scripts/rig-priority"), "--once", "--fifo", str(fifo),
+                          "--under", str(b.driver.service.process.pid)], capture_output=True, text=True)
+    check(out.returncode == 0, "scripts/rig-priority: %s" % out.stderr.strip())
+    return len(out.stdout.splitlines())
+
+
+def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fifo=None):
     """The worker's own 1 kHz clock for `seconds`, W held (and Space, the pedal, in fluoroscopy),
-    then Escape: jitter and first frame, with the machine's load average."""
-    open_assignment(b, assignment, "real", view)
+    then Escape: jitter and first frame, with the machine's load average. `fifo`: the rig's
+    launcher gives the workers' threads that real-time priority (rig_priority) once the run starts."""
+    open_assignment(b, assignment, "real", view, spin)
+    raised = rig_priority(b, centre.args.source, fifo) if fifo else 0
     body = b.driver.find_element(By.TAG_NAME, "body")
     keys = ["w", Keys.SPACE] if view == "fluoro" else ["w"]
     down = ActionChains(b.driver)
@@ -55,8 +73,8 @@ def test_real_clock(b, centre, assignment, seconds, report, view):
     b.shot("train-real-clock-" + view)
     check(state == "done", "the real-clock run's upload: %s" % state)
     end, _, _ = end_of_run(b, centre)
-    jitter, first_ms, open_ms = clock_figures(b)
+    jitter, first_ms, open_ms, frames = clock_figures(b)
     report.setdefault("real_clock", {})[view] = {
-        "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "end": end,
-        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)],
+        "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "frames": frames, "end": end,
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)], "spin_ms": spin, "fifo_threads": raised,
         "fluoro": b.js(FLUORO_NOTE_JS) if view == "fluoro" else None}

@@ -1,6 +1,8 @@
 """The fluoroscopy in the trainee page (train_test.py): the monitor's image in virtual time."""
+import base64
 import os
 import re
+import time
 
 from browser_test import Api, check
 from png_pixels import grey
@@ -8,6 +10,7 @@ from train_page import end_run, hold
 from selenium.webdriver.common.by import By
 from selenium.webdriver.common.keys import Keys
 from selenium.webdriver.support import expected_conditions as EC
+from selenium.webdriver.support.ui import Select
 
 
 FLUORO_NOTE_JS = "return document.getElementById('fluoro-note').textContent"
@@ -32,6 +35,58 @@ def monitor(b, name):
             "std": round((sum((v - mean) ** 2 for v in inside) / n) ** 0.5, 1),
             "dark_fraction": round(sum(1 for v in inside if v < median - 40) / n, 4),
             "outside_max": max(outside) if outside else None}
+
+
+def blocks(b, n=12, scale=0.1):
+    """The monitor as n x n block means of its collimated square, from a screenshot of the canvas
+    scaled down by Chromium (each pixel then averages ~100 of the canvas's, each block ~1600: the
+    quantum noise averages out, the anatomy does not; and a small image decodes fast)."""
+    r = b.driver.find_element(By.ID, "fluoro").rect
+    shot = b.driver.execute_cdp_cmd("Page.captureScreenshot", {"format": "png", "clip": {
+        "x": r["x"], "y": r["y"], "width": r["width"], "height": r["height"], "scale": scale}})
+    w, h, rows = grey(base64.b64decode(shot["data"]))
+    side = min(w, h)
+    x0, y0 = (w - side) // 2, (h - side) // 2
+    k = side // n
+    return [sum(rows[y0 + by * k + y][x0 + bx * k + x] for y in range(k) for x in range(k)) / (k * k) for by in range(n) for bx in range(n)]
+
+
+def block_difference(a, b):
+    """The mean absolute difference of two images' block means (grey levels)."""
+    return round(sum(abs(x - y) for x, y in zip(a, b)) / len(a), 2)
+
+
+def turn_carm(b, projection):
+    """Picks `projection` in the C-arm panel's list (as a trainee does), then holds the pedal 150
+    ticks: the panel's line for the C-arm, and the monitor's block means."""
+    pulse = int(re.search(r"pulse (\d+)", b.js(FLUORO_NOTE_JS)).group(1))
+    select = Select(b.driver.find_element(By.ID, "carm-projection"))
+    select.select_by_index(next(i for i, o in enumerate(select.options) if o.text.startswith(projection + " (")))
+    hold(b, [Keys.SPACE], 150)
+    b.wait_js("const m = document.getElementById('fluoro-note').textContent.match(/pulse (\\d+)/); return m && Number(m[1]) >= %d;" % (pulse + 2),
+              "two pulses after turning the C-arm to %s" % projection)
+    return b.js("return document.getElementById('carm-pose').textContent"), blocks(b)
+
+
+def test_carm_panel(b):
+    """The C-arm panel (js/carm_panel.js, the native panel's model in the worker): AP picked, then the
+    lateral projection, the next pulses show another image of the head (block means, free
+    of the noise, far from the AP image's), and AP picked again the same image as before (within
+    the noise)."""
+    start = time.monotonic()
+    check(not b.js("return document.getElementById('carm').hidden"), "the C-arm panel is not shown beside the fluoroscopy")
+    ap_line, ap = turn_carm(b, "AP")  # from the case's first working projection
+    check(ap_line.startswith("AP, 0°, "), "the C-arm panel at AP: %r" % ap_line)
+    lateral_line, lateral = turn_carm(b, "lateral")
+    check(lateral_line.startswith("LAO 90°, 0°, "), "the C-arm panel after picking the lateral projection: %r" % lateral_line)
+    b.shot("train-carm")
+    back_line, back = turn_carm(b, "AP")
+    check(back_line.startswith("AP, 0°, "), "the C-arm panel back at AP: %r" % back_line)
+    turned, same = block_difference(ap, lateral), block_difference(ap, back)
+    check(turned >= 8 and same <= 3 and turned >= 4 * same,
+          "AP -> lateral must change the image (block means %.2f grey apart) far beyond AP -> AP (%.2f)" % (turned, same))
+    return {"ap": ap_line, "lateral": lateral_line, "ap_to_lateral_grey": turned, "ap_to_ap_grey": same,
+            "wall_s": round(time.monotonic() - start, 1)}
 
 
 def inject(b, name):
@@ -72,13 +127,14 @@ def test_fluoroscopy(b, assignment, report):
     live = monitor(b, "train-fluoro")
     check(40 <= live["median"] <= 215 and live["std"] >= 2, "the pulses' image: a grey phantom with noise expected, %s" % live)
     check(live["outside_max"] is None or live["outside_max"] <= 8, "outside the collimated field the monitor is black: %s" % live)
+    carm = test_carm_panel(b)
     note, run = inject(b, "train-fluoro-subtraction")
     # The run's frame minus its mask: the anatomy cancels to the DSA background (0.72 of white),
     # only noise (and what changed) left.
     check(abs(run["median"] - 0.72 * 255) <= 12 and run["std"] < live["std"] / 2,
           "the subtraction image: the DSA background with the anatomy subtracted expected, %s (live %s)" % (run, live))
     end_run(b, "the fluoroscopy run")
-    report["fluoroscopy"] = {"before_pedal": black, "live": live, "subtraction": run, "note": note}
+    report["fluoroscopy"] = {"before_pedal": black, "live": live, "carm": carm, "subtraction": run, "note": note}
 
 
 # The neuro tree entered at the left internal carotid (the entry of cases/neuro_thrombectomy_ica_t.case),

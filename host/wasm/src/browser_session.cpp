@@ -47,6 +47,19 @@ std::string metrics_json(const session::Metrics& metrics) {
   return out + "}";
 }
 
+// The case's working projections (its `view` statements), as cathbox-trainer offers them.
+std::vector<flow::NamedProjection> case_views(const session::SessionCase& scene) {
+  if (scene.case_text.empty()) return {};
+  const tool::CaseParse c = tool::parse_case(scene.case_text, scene.case_file);
+  return c ? c->views : std::vector<flow::NamedProjection>{};
+}
+
+// An edit's answer for the page: 1 posted, 0 nothing to change, -1 refused (the model's line).
+int posted(const std::optional<session::Control>& control, const std::string& error, session::Session& session) {
+  if (control) return session.post(*control) ? 1 : -1;
+  return error.empty() ? 0 : -1;
+}
+
 }  // namespace
 
 base::Result<std::unique_ptr<BrowserSession>> BrowserSession::open(const std::string& case_path,
@@ -59,6 +72,7 @@ base::Result<std::unique_ptr<BrowserSession>> BrowserSession::open(const std::st
   std::unique_ptr<BrowserSession> b(new BrowserSession());
   auto hand = std::make_unique<LawTapHand>(std::make_unique<session::KeyboardHand>(b->keyboard_, kTickS, "keyboard (browser)"));
   b->hand_ = hand.get();
+  b->carm_ = app::CArmPanelModel(case_views(*scene.value()));
   b->session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand));
   if (base::Status<> recording = b->session_->record_to(record_path); !recording) return recording.error();
   return b;
@@ -96,6 +110,46 @@ void BrowserSession::fluoro_keys(int bits) {
   const flow::CArmPose* carm = s.fluoro.available ? &s.fluoro.pose : nullptr;
   switches_.update(keys, static_cast<std::uint64_t>(s.sim_time_us), [this](const session::Control& c) { return session_->post(c); },
                    carm);
+}
+
+std::string BrowserSession::carm_projections_json() const {
+  std::string out = "[";
+  for (const flow::NamedProjection& p : carm_.projections()) {
+    out += (out.size() > 1 ? "," : "") + std::string("{\"name\":") + quoted(p.name) + ",\"lao\":" + number(p.lao_deg) +
+           ",\"cranial\":" + number(p.cranial_deg) + "}";
+  }
+  return out + "]";
+}
+
+// The panel edits from where the C-arm is now (the native panel syncs once a frame); false
+// without a fluoroscopy unit.
+bool BrowserSession::carm_sync() {
+  const session::SceneSnapshot& s = session_->snapshots().read_slot();
+  if (s.fluoro.available) carm_.sync(s.fluoro.pose, s.fluoro.pulse_rate_hz);
+  return s.fluoro.available;
+}
+
+int BrowserSession::carm_angles(double lao_deg, double cranial_deg) {
+  return carm_sync() ? posted(carm_.set_angles(lao_deg, cranial_deg), carm_.error(), *session_) : 0;
+}
+
+int BrowserSession::carm_geometry(double sid_mm, double table_height_mm, double fov_mm, double collimation) {
+  return carm_sync() ? posted(carm_.set_geometry(sid_mm, table_height_mm, fov_mm, collimation), carm_.error(), *session_) : 0;
+}
+
+int BrowserSession::carm_pulse_rate(double per_s) {
+  return carm_sync() ? posted(carm_.set_pulse_rate(per_s), carm_.error(), *session_) : 0;
+}
+
+const std::array<double, 9>& BrowserSession::carm_state() {
+  const session::SceneSnapshot& s = session_->snapshots().read_slot();
+  carm_state_ = {};
+  if (!s.fluoro.available) return carm_state_;
+  const flow::CArmPose& p = s.fluoro.pose;
+  const flow::CArm carm(p);
+  carm_state_ = {p.lao_deg, p.cranial_deg, p.sid_mm, p.table_height_mm, p.fov_mm, p.collimation, s.fluoro.pulse_rate_hz,
+                 s.fluoro.image.beam_on ? 1.0 : 0.0, carm.magnification(carm.isocenter_mm())};
+  return carm_state_;
 }
 
 const BrowserFluoro& BrowserSession::fluoro_frame(int width, int height) {

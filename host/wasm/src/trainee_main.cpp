@@ -121,6 +121,24 @@ EMSCRIPTEN_KEEPALIVE int cbx_fluoro_size(int which) {
   }
 }
 
+// The C-arm panel (BrowserSession::carm_*, the native panel's model): the projections offered as
+// JSON; an edit returns 1 posted, 0 nothing changed, -1 refused with cbx_error()'s line; the
+// C-arm now (9 doubles: LAO, cranial, SID, table height, field of view, collimation, pulses/s,
+// beam on, magnification), from the last cbx_snapshot().
+EMSCRIPTEN_KEEPALIVE const char* cbx_carm_projections() {
+  g_text = g_session ? g_session->carm_projections_json() : std::string("[]");
+  return g_text.c_str();
+}
+EMSCRIPTEN_KEEPALIVE int cbx_carm_set(int what, double a, double b, double c, double d) {
+  if (!g_session) return 0;
+  const int done = what == 0   ? g_session->carm_angles(a, b)
+                   : what == 1 ? g_session->carm_geometry(a, b, c, d)
+                               : g_session->carm_pulse_rate(a);
+  g_error = done < 0 ? g_session->carm_error() : std::string();
+  return done;
+}
+EMSCRIPTEN_KEEPALIVE const double* cbx_carm_state() { return g_session ? g_session->carm_state().data() : nullptr; }
+
 // The fluoroscopy's GLSL texts, the native renderer's own (app/fluoro_shaders.hpp), for the page's
 // WebGL2 view: 0 the GLSL ES version line, 1 scene vertex, 2 scene fragment, 3 full-viewport
 // vertex, 4 composite fragment, 5 scale fragment; null past them.

@@ -9,7 +9,7 @@ export const BIN_MS = 0.01;
 export const BINS = 10000;  // up to 100 ms; longer ones land in the last bin
 export const LATE_MS = 0.5;
 
-class Histogram {
+export class Histogram {
   constructor() {
     this.bins = new Uint32Array(BINS + 1);
     this.count = 0;

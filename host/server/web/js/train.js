@@ -25,6 +25,8 @@ import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
 import { speedsFor, isControlKey, fluoroBits } from './train_keys.js';
 import { FluoroView, H } from './fluoro_view.js';
+import { CArmPanel } from './carm_panel.js';
+import { Histogram } from './tick_stats.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { askForBox, chooseBox } from './box_transport.js';
@@ -41,8 +43,9 @@ let steps = 0;
 let views = null;
 let run = null;  // {assignment, started, tools, held: Set of key codes, keys: Float64Array}
 // The fluoroscopy: the case has a unit (the worker says so), the view (made when first shown),
-// the lumen it draws the iodine on, the main view shown, the fluoroscopy keys last sent.
-const fluoro = { available: false, view: null, vessel: null, main: params.get('view') === 'fluoro' ? 'fluoro' : null, bits: 0 };
+// the lumen it draws the iodine on, the main view shown, the fluoroscopy keys last sent, the
+// C-arm panel (js/carm_panel.js).
+const fluoro = { available: false, view: null, vessel: null, main: params.get('view') === 'fluoro' ? 'fluoro' : null, bits: 0, panel: null };
 
 function status(text) { document.getElementById('status').textContent = text; }
 
@@ -111,6 +114,7 @@ function showMainView(which) {
     }
   }
   canvas.hidden = fluoro.main !== 'fluoro';
+  document.getElementById('carm').hidden = fluoro.main !== 'fluoro' || !fluoro.panel;
   button.textContent = fluoro.main === 'fluoro' ? 'Show the 3D view' : 'Show fluoroscopy';
   if (worker) worker.postMessage({ type: 'fluoro_size', size: fluoroSize() });
   if (views) views.global.dirty = true;
@@ -130,6 +134,7 @@ function showFrame(data, metrics, f) {
   if (f) {  // kept whole (the phantom and the scenes come only when new) for a view made later
     fluoro.last = Object.assign(fluoro.last || {}, f);
     if (fluoro.view) fluoro.view.update(f);
+    if (f.carm && fluoro.panel) fluoro.panel.update(f.carm);
   }
   run.last = s;
   run.metrics = metrics;
@@ -159,8 +164,19 @@ function followTip(s) {
   cam.updateProjectionMatrix();
 }
 
+// The page's drawing, measured over the run (its figures under the keys at the end): the interval
+// between frames that drew, and the time the page's thread spends drawing one (WebGL calls issued;
+// with a software GL the GPU process's work is not in it).
+let frames = null;
+
+function frameNote() {
+  const ms = (h) => `p50 ${(h.percentile(0.5) ?? 0).toFixed(2)} ms, p99 ${(h.percentile(0.99) ?? 0).toFixed(2)} ms`;
+  return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}.`;
+}
+
 function draw() {
   if (!views) return;
+  const t0 = performance.now();
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
   const drew = fluoroShown ? fluoro.view.render() : views.global.render();
   if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
@@ -168,7 +184,13 @@ function draw() {
     const line = document.getElementById('fluoro-note');
     if (line.textContent !== note) line.textContent = note;
   }
-  views.local.render();
+  const drewLocal = views.local.render();
+  if ((drew || drewLocal) && frames) {
+    const t1 = performance.now();
+    frames.draw.add(t1 - t0);
+    if (frames.lastAt >= 0) frames.interval.add(t0 - frames.lastAt);
+    frames.lastAt = t0;
+  }
   if (drew && firstFrameMs === null && run.last) {
     firstFrameMs = performance.now() - run.started;
     document.getElementById('frame-note').textContent = 'First frame ' + firstFrameMs.toFixed(0) + ' ms after choosing the case' +
@@ -223,6 +245,10 @@ function onReady(m) {
   run.tools = m.summary.tools;
   setTarget(m.summary.target);
   fluoro.available = !!m.fluoro;
+  if (fluoro.available) {
+    fluoro.panel = new CArmPanel(document.getElementById('carm'), (what, values) => worker.postMessage({ type: 'carm', what, values }));
+    fluoro.panel.setProjections(m.projections || []);
+  }
   if (!fluoro.available) document.getElementById('fluoro-note').textContent = 'This case has no fluoroscopy unit (an analytic tube).';
   showMainView(fluoro.main || (m.summary.realistic ? 'fluoro' : '3d'));
   setState('running');
@@ -240,6 +266,7 @@ async function onOver(m) {
   setState('uploading', 'uploading the record (' + m.record.byteLength + ' bytes)');
   document.getElementById('virtual-clock').hidden = true;
   run.held.clear();
+  document.getElementById('draw-note').textContent = frameNote();
   if (m.jitter) {
     const j = m.jitter;
     const ms = (v) => (v === null || v === undefined ? '-' : v.toFixed(3));
@@ -291,6 +318,7 @@ function startWorker() {
       showBoxReport(m.box || { live: false, state: null });  // no box in the worker yet: said so
     }
     else if (m.type === 'box_note') boxNote(m.text);
+    else if (m.type === 'carm_note') { if (fluoro.panel) fluoro.panel.refused(m.text); }
     else if (m.type === 'fluoro_vessel') {
       fluoro.vessel = m;
       if (fluoro.view) fluoro.view.setVessel(m.vertices, m.indices);
@@ -367,6 +395,7 @@ async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
+  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1 };
   run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
   setState('opening', 'opening ' + a.case);
   document.getElementById('pick').hidden = true;

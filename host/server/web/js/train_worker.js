@@ -27,8 +27,12 @@
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
 // advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
 // box_hid (the page was allowed a WebHID box: open it here), fluoro_keys {bits}
-// (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}. Out: ready {summary, open_ms, fluoro},
-// fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics, fluoro: {header, phantom?, floats?, indices?} or null},
+// (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}, carm {what: 'angles' | 'geometry' |
+// 'rate', values} (the C-arm panel's edit, posted as the native panel posts it). Out: ready {summary,
+// open_ms, fluoro, projections (the C-arm panel's: [{name, lao, cranial}])}, carm_note {text} (an
+// edit refused: its line; '' when taken),
+// fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics,
+// fluoro: {header, phantom?, floats?, indices?, carm (the C-arm now: 9 numbers, cbx_carm_state)} or null},
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
 // box_note {text}, error {message}.
@@ -94,6 +98,9 @@ function bind(m) {
     fluoroData: c('cbx_fluoro_data', 'number', ['number']),
     fluoroSize: c('cbx_fluoro_size', 'number', ['number']),
     fluoroShader: c('cbx_fluoro_shader', 'string', ['number']),
+    carmProjections: c('cbx_carm_projections', 'string', []),
+    carmSet: c('cbx_carm_set', 'number', ['number', 'number', 'number', 'number', 'number']),
+    carmState: c('cbx_carm_state', 'number', []),
   };
 }
 
@@ -123,7 +130,7 @@ let fluoroSent = { scene: -1, phantom: -1 };
 function fluoroFrame() {
   if (!fluoroOn || !fluoroSize) return null;
   const header = copyHeap('HEAPF64', fn.fluoroFrame(fluoroSize[0], fluoroSize[1]), HEADER_DOUBLES);
-  const out = { header };
+  const out = { header, carm: copyHeap('HEAPF64', fn.carmState(), 9) };
   if (header[43] !== fluoroSent.phantom) {
     out.phantom = copyHeap('HEAPF32', fn.fluoroData(2), fn.fluoroSize(2));
     fluoroSent.phantom = header[43];
@@ -248,7 +255,8 @@ async function open(m) {
   if (m.box) await openBox(m.box);
   else if (hidAsked) await openBox(null);
   postFrame();
-  postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0, fluoro: fluoroOn });
+  postMessage({ type: 'ready', summary: JSON.parse(fn.summary()), open_ms: performance.now() - t0, fluoro: fluoroOn,
+    projections: fluoroOn ? JSON.parse(fn.carmProjections()) : [] });
   if (clock === 'real') {
     const { TickClock } = await clockModule;
     ticker = new TickClock({
@@ -282,6 +290,10 @@ onmessage = (e) => {
       if (over) finish();
     } else if (m.type === 'fluoro_keys') {
       fn.fluoroKeys(m.bits);
+    } else if (m.type === 'carm') {
+      const v = [0, 0, 0, 0].map((_, i) => Number(m.values[i] ?? 0));
+      const done = fn.carmSet({ angles: 0, geometry: 1, rate: 2 }[m.what], ...v);
+      postMessage({ type: 'carm_note', text: done < 0 ? fn.error() : '' });
     } else if (m.type === 'fluoro_size') {
       fluoroSize = m.size;  // the next frame projects the phantom for it if it is new
     } else if (m.type === 'next_tool') {

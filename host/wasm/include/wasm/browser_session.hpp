@@ -3,11 +3,13 @@
 // dedicated Web Worker, which owns the clock and calls step() as its 1 kHz pacer says
 // (train_worker.js). The same Session, KeyboardHand and Recorder as cathbox-trainer's keyboard
 // run; the record is a file in the module's memory file system, uploaded by the page.
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "app/carm_panel_model.hpp"
 #include "base/result.hpp"
 #include "protocol/cbx_command_report.h"
 #include "session/keyboard_input.hpp"
@@ -55,6 +57,20 @@ class BrowserSession {
   // pack_snapshot() took; open_fluoro() false: the case has no fluoroscopy unit.
   bool open_fluoro() { return fluoro_.open(*session_); }
   const BrowserFluoro& fluoro_frame(int width, int height);
+  // The C-arm panel: the native trainer's panel model (app::CArmPanelModel) synced to the
+  // snapshot's C-arm before each edit. The projections offered (the standard ones, then the
+  // case's working views) as JSON [{"name","lao","cranial"}]; an edit returns 1 (its control
+  // posted: recorded, replayed), 0 (nothing changes) or -1 (refused: carm_error() names the field
+  // and its range).
+  [[nodiscard]] std::string carm_projections_json() const;
+  int carm_angles(double lao_deg, double cranial_deg);
+  int carm_geometry(double sid_mm, double table_height_mm, double fov_mm, double collimation);
+  int carm_pulse_rate(double per_s);
+  [[nodiscard]] const std::string& carm_error() const { return carm_.error(); }
+  // The C-arm now (the packed snapshot's): LAO, cranial (deg), SID, table height, field of view
+  // (mm), collimation, pulses per s, beam on (1/0), magnification at the isocentre; zeros without
+  // a fluoroscopy unit.
+  [[nodiscard]] const std::array<double, 9>& carm_state();
   [[nodiscard]] const BrowserFluoro& fluoro() const { return fluoro_; }
 
   // The box's command for the held tool's newest law (wasm/browser_box_law.hpp).
@@ -63,6 +79,7 @@ class BrowserSession {
 
  private:
   BrowserSession() = default;
+  bool carm_sync();
   session::KeyboardInput keyboard_;
   std::unique_ptr<session::Session> session_;
   const LawTapHand* hand_ = nullptr;  // the session's hand (owned by it)
@@ -70,6 +87,8 @@ class BrowserSession {
   std::vector<float> packed_;
   session::FluoroSwitches switches_;
   BrowserFluoro fluoro_;
+  app::CArmPanelModel carm_;
+  std::array<double, 9> carm_state_{};
   std::uint64_t record_bytes_ = 0;
 };
 
