@@ -1,5 +1,7 @@
 #include "tool/simulator.hpp"
 
+#include "simulator_tuning.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -19,11 +21,6 @@ constexpr double kRodContactStep_mm = 0.04;
 constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
 constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
 constexpr double kBalloonGripFriction = 0.3;    // balloon on the intima (inflated)
-constexpr double kCouplingRelaxation = 0.5;     // loads from inner tools: new = r new + (1 - r) old
-// The push of a carried wire on its balloon catheter's tip, lagged a tick: new = r new + (1 - r)
-// old. The angioplasty run's guidewire is unconverged on 0.04 % of its ticks at 0.1, 0.16 % at 0.5.
-constexpr double kTipPushRelaxation = 0.1;
-constexpr double kMinSheathEdge = 0.5;          // shortest sheath-path edge, of the holder's node spacing
 }  // namespace
 
 const char* device_error_text(DeviceError e) {
@@ -386,9 +383,9 @@ void Simulator::step(double dt_s) {
   for (std::size_t t = 0; t < n; ++t) {
     std::vector<glm::dvec3>& next = coupling_next_[t];
     for (std::size_t k = coupling_set_[t].begin_in(next.size()); k < coupling_set_[t].end_in(next.size()); ++k) {
-      next[k] *= 1.0 - kCouplingRelaxation;
+      next[k] *= 1.0 - tuning::kCouplingRelaxation;
     }
-    tip_push_[t] *= 1.0 - kTipPushRelaxation;
+    tip_push_[t] *= 1.0 - tuning::kTipPushRelaxation;
   }
   for (const std::size_t t : order_) {
     if (outer_of_[t] < n) {
@@ -423,145 +420,6 @@ void Simulator::step(double dt_s) {
   ++steps_;
 }
 
-void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path) const {
-  // From where the tool's covered part ends (its own part's clamp, or its tip) back to the
-  // entry, along the free parts of the catheters around it, innermost first.
-  path.clear();
-  const std::size_t n = rods_.size();
-  const Rod& inner = rods_[u];
-  const double tip_u = tip_depth_mm(u);
-  const double end = std::min(tip_u, free_start_[u]);
-  if (end <= 0.0) return;
-  // Two vertices of different origin (the entry and the first free node just past it, a
-  // catheter's tip node and the first free node of the one it holds, just past it) nearer than
-  // kMinSheathEdge of the holder's node spacing are one vertex: the direction between them is
-  // the nodes' lateral play, not the path's, and the turning and curvature read from it were up
-  // to tens of degrees of noise, which the bending term read as newtons of normal force (the
-  // triaxial stack's lumen friction 3-40 N, lurching the catheters it dragged). The vertex
-  // proximal is left out, or for the entry the one before it.
-  std::size_t holder_station = Rod::kNoStation;
-  const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth, bool entry) {
-    if (path.size() >= 2 && (entry || path.back().holder != holder)) {
-      const Rod& h = rods_[holder];
-      const std::size_t k = std::min(node + 2, h.node_total()) - 2;  // the node's distal edge
-      const double spacing = h.node_from_tip_mm(k) - h.node_from_tip_mm(k + 1);
-      if (glm::length(p - path.back().point_mm) < kMinSheathEdge * spacing) {
-        if (!entry) return;
-        if (path.size() >= 2) path.pop_back();  // [distal end, entry] left: no bend, no friction
-      }
-    }
-    SheathVertex v;
-    v.point_mm = p;
-    v.holder = static_cast<std::uint32_t>(holder);
-    v.node = static_cast<std::uint32_t>(node);
-    v.depth_mm = depth;
-    const double from_tip = tip_u - std::min(depth, end);
-    const Rod& h = rods_[holder];
-    const double holder_from_tip = h.insertion_mm() - (depth - free_start_[holder]);
-    v.inner_radius_mm = inner.radius_at_mm(from_tip);
-    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, holder_station) - v.inner_radius_mm);
-    v.mu = h.spec().lumen_friction;
-    path.push_back(v);
-  };
-  // The distal end: the holder's node just past the inner tool's end (its tip node when the
-  // inner tool leaves it), the vertex behind the end covering its turning in proportion.
-  std::size_t first_holder = n;
-  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
-    if (end > free_start_[c] && end <= tip_depth_mm(c) + 1e-9) first_holder = c;
-  }
-  if (first_holder >= n) return;
-  {
-    const Rod& h = rods_[first_holder];
-    std::size_t node = 0;
-    const glm::dvec3 p = h.point_at_depth(end - free_start_[first_holder], nullptr, &node);
-    const std::size_t b = std::min(node + 1, h.node_total() - 1);
-    const double depth_b = free_start_[first_holder] + h.node_depth_mm(b);
-    if (depth_b >= end - 1e-9) {
-      vertex(h.positions()[b], first_holder, b, depth_b, false);
-    } else {
-      vertex(p, first_holder, b, end, false);
-    }
-  }
-  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
-    const Rod& h = rods_[c];
-    const double lo = free_start_[c];
-    const double hi = std::min(end, tip_depth_mm(c));
-    if (hi <= lo) continue;
-    for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
-      const double depth = lo + h.node_depth_mm(k);
-      if (depth >= end - 1e-9 || depth <= lo) continue;
-      vertex(h.positions()[k], c, k, depth, false);
-    }
-  }
-  // The entry.
-  std::size_t outermost = u;
-  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) outermost = c;
-  vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0, true);
-  cover_sheath_path(inner, tip_u, end, path);
-}
-
-// The share of its turning the vertex behind the inner tool's end covers, and the inner tool's
-// mean EI over the covered part of each vertex's proximal edge (the edge its bending term sits on).
-void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path) {
-  const std::size_t m = path.size();
-  if (m >= 2) {
-    const double edge = path[0].depth_mm - path[1].depth_mm;
-    path[1].coverage = edge > 1e-9 ? std::clamp((end_mm - path[1].depth_mm) / edge, 0.0, 1.0) : 1.0;
-  }
-  for (std::size_t j = 0; j < m; ++j) {
-    const double far = path[j].depth_mm;
-    const double hi = std::min(far, end_mm);
-    const double lo = j + 1 < m ? path[j + 1].depth_mm : hi;
-    if (hi > lo + 1e-9) {
-      path[j].inner_ei_Nmm2 = inner.bending_integral_Nmm3(tip_mm - hi, tip_mm - lo) / (hi - lo);
-    } else {
-      path[j].inner_ei_Nmm2 = inner.bending_at_Nmm2(tip_mm - std::min(far, end_mm));
-    }
-  }
-}
-
-void Simulator::update_sheath(std::size_t u, double dt_s) {
-  (void)dt_s;
-  const std::size_t n = rods_.size();
-  const Rod& rod = rods_[u];
-  const std::size_t o = outer_of_[u];
-  const bool has_free = tip_depth_mm(u) > free_start_[u] && rod.first_free_node() < rod.node_total();
-  const double distal = has_free ? rod.hand_force_mN() : 0.0;
-  build_sheath_path(u, path_);
-  const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
-  const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
-  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
-  sheath_result_[u] = sheath_[u].update(slide, turn, distal, path_, k_anchor);
-  const SheathFriction::Result& r = sheath_result_[u];
-  hand_force_[u] = distal + r.force_mN;
-  // The inner tool leaves its carrier's tip clamped to it: what the clamp holds it with, across
-  // the carrier's tip direction, is the inner tool's push on that tip (a wire bent out of a
-  // catheter's tip into its path steers the tip after it; along the tip it is the inner tool's
-  // push from the hand, which the sheath carries). Applied to balloon catheters only, for now:
-  // on the coiling stack's microcatheter (soft 60-degree tip, its microwire 1 mm ahead with a
-  // 90-degree curve) it changes where the microwire goes, and the bundled script, tuned without
-  // it, leaves the microcatheter 14 mm short of the neck (docs/sim-tool/convergence.md).
-  const std::size_t c = carrier_[u];
-  if (has_free && c < n && balloons_[c]) {
-    const glm::dvec3 along = rods_[c].tip().direction;
-    const glm::dvec3 held = rod.clamp_force_mN();
-    const glm::dvec3 lateral = held - along * glm::dot(held, along);
-    if (std::isfinite(lateral.x + lateral.y + lateral.z)) {
-      tip_push_[c] -= lateral * kTipPushRelaxation;
-    }
-  }
-  hand_torque_[u] = (has_free ? rod.hand_torque_mNmm() : 0.0) + r.torque_mNmm;
-  // The reaction onto the catheters' nodes.
-  const std::vector<glm::dvec3>& reaction = sheath_[u].reaction_mN();
-  for (std::size_t j = 0; j < path_.size() && j < reaction.size(); ++j) {
-    const SheathVertex& v = path_[j];
-    if (v.holder >= n || v.node >= coupling_next_[v.holder].size()) continue;
-    if (v.node < rods_[v.holder].first_free_node()) continue;
-    coupling_next_[v.holder][v.node] += reaction[j] * kCouplingRelaxation;
-    coupling_set_[v.holder].add(v.node);
-  }
-}
-
 double Simulator::hand_force_mN(std::size_t tool) const { return hand_force_[tool]; }
 double Simulator::hand_torque_mNmm(std::size_t tool) const { return hand_torque_[tool]; }
 
@@ -587,113 +445,6 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   return law;
 }
 
-bool Simulator::carries_attached_coil(std::size_t tool) const {
-  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && rods_[tool].spec().detach_mm > 0.0 &&
-         !(removed_mm_[tool] > 0.0);
-}
-
-bool Simulator::has_next_coil(std::size_t tool) const {
-  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && loaded_[tool] < specs_[tool].next_coils.size();
-}
-
-DeviceError Simulator::detach(std::size_t tool) {
-  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
-  if (!carries_attached_coil(tool)) return DeviceError::kNotACoil;
-  Rod& rod = rods_[tool];
-  const double length = rod.spec().detach_mm;
-  // The detachment zone must have left the catheter (its marker past the catheter's tip).
-  if (tip_depth_mm(tool) - free_start_[tool] < length + 1e-6) return DeviceError::kCoilInCatheter;
-  Rod coil = rod.split_distal(length);
-  if (coil.node_total() == 0) return DeviceError::kCoilInCatheter;
-  removed_mm_[tool] += length;
-  stepped_depth_[tool] = tip_depth_mm(tool);
-  coupling_next_[tool].resize(rod.node_total());
-  detached_.push_back(std::move(coil));
-  // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
-  update_contact_members();
-  return DeviceError::kNone;
-}
-
-DeviceError Simulator::load_next_coil(std::size_t tool) {
-  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
-  if (rods_[tool].spec().kind != ToolKind::kCoil) return DeviceError::kNotACoil;
-  if (!(removed_mm_[tool] > 0.0)) return DeviceError::kCoilAttached;
-  if (!has_next_coil(tool)) return DeviceError::kNoNextCoil;
-  // The old pusher is out (withdrawn through the hub); the next coil enters at the hub.
-  const ToolSpec spec = with_next_coil(specs_[tool], loaded_[tool]);
-  ++loaded_[tool];
-  rods_[tool] = Rod(spec, settings_);
-  rods_[tool].set_entry(entry_.point_mm, entry_.direction);
-  apply_coil_settings(tool);
-  insertion_[tool] = 0.0;
-  rotation_[tool] = 0.0;
-  stepped_depth_[tool] = 0.0;
-  stepped_rotation_[tool] = 0.0;
-  removed_mm_[tool] = 0.0;
-  tip_segment_[tool] = -1;
-  tip_hint_[tool] = WallHint{};
-  sheath_[tool] = SheathFriction{};
-  sheath_result_[tool] = SheathFriction::Result{};
-  valve_[tool] = ValveFriction{};
-  valve_result_[tool] = ValveFriction::Result{};
-  hand_force_[tool] = 0.0;
-  hand_torque_[tool] = 0.0;
-  coupling_next_[tool].assign(rods_[tool].node_total(), glm::dvec3(0.0));
-  coupling_set_[tool] = IndexRange{};
-  tip_push_[tool] = glm::dvec3(0.0);
-  if (extra_ei_.size() < rods_[tool].node_total()) extra_ei_.resize(rods_[tool].node_total(), 0.0);
-  update_chain();
-  update_contact_members();  // the field listed the old pusher's nodes
-  return DeviceError::kNone;
-}
-
-DeviceError Simulator::inflate_pressure(std::size_t tool, double pressure_atm) {
-  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
-  if (!balloons_[tool]) return DeviceError::kNotABalloon;
-  if (!std::isfinite(pressure_atm) || pressure_atm < 0.0 || pressure_atm > Balloon::kMaxPressure_atm) {
-    return DeviceError::kOutOfRange;
-  }
-  balloons_[tool]->set_target_pressure(pressure_atm);
-  return DeviceError::kNone;
-}
-
-DeviceError Simulator::inflate_volume(std::size_t tool, double volume_ml) {
-  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
-  if (!balloons_[tool]) return DeviceError::kNotABalloon;
-  if (!std::isfinite(volume_ml) || volume_ml < 0.0 ||
-      volume_ml > balloons_[tool]->volume_at(Balloon::kMaxPressure_atm)) {
-    return DeviceError::kOutOfRange;
-  }
-  balloons_[tool]->set_target_volume(volume_ml);
-  return DeviceError::kNone;
-}
-
-DeviceError Simulator::deflate(std::size_t tool) {
-  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
-  if (!balloons_[tool]) return DeviceError::kNotABalloon;
-  balloons_[tool]->deflate();
-  return DeviceError::kNone;
-}
-
-const Balloon* Simulator::balloon(std::size_t tool) const {
-  return tool < balloons_.size() && balloons_[tool] ? &*balloons_[tool] : nullptr;
-}
-
-void Simulator::balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_mm) const {
-  points_mm.clear();
-  const Balloon* b = balloon(tool);
-  if (b == nullptr) return;
-  const Rod& rod = rods_[tool];
-  const double lo = b->spec().from_tip_mm;
-  const double hi = lo + b->spec().length_mm;
-  points_mm.push_back(rod.point_at_from_tip(hi));
-  for (std::size_t k = rod.first_node(); k < rod.node_total(); ++k) {
-    const double s = rod.node_from_tip_mm(k);
-    if (s > lo && s < hi) points_mm.push_back(rod.positions()[k]);
-  }
-  points_mm.push_back(rod.point_at_from_tip(lo));
-}
-
 const WallModel* Simulator::swap_wall(const WallModel& next) {
   const WallModel* old = wall_;
   wall_ = &next;
@@ -702,104 +453,6 @@ const WallModel* Simulator::swap_wall(const WallModel& next) {
   for (WallHint& h : tip_hint_) h = WallHint{};
   ++wall_swaps_;
   return old;
-}
-
-void Simulator::inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const {
-  out.clear();
-  const Rod& rod = rods_[tool];
-  const std::size_t n = rod.node_total();
-  const double tip = tip_depth_mm(tool);
-  const double start = free_start_[tool];
-  const bool inner = outer_of_[tool] < rods_.size();
-  const std::size_t k0 = inner ? 0 : rod.first_node();
-  for (std::size_t k = k0; k < n; ++k) {
-    const double depth = tip - rod.node_from_tip_mm(k);
-    if (depth < 0.0 && k + 1 < n && tip - rod.node_from_tip_mm(k + 1) <= 0.0) continue;
-    if (inner && depth <= start) {
-      out.push_back(path_point(tool, depth));
-    } else {
-      out.push_back(rod.positions()[k]);
-    }
-  }
-}
-
-void Simulator::fill_tool_snapshot(const Rod& rod, ToolSnapshot& s) const {
-  const std::size_t m = s.positions_mm.size();
-  s.tangents.resize(m);
-  s.normals.resize(m);
-  s.radii_mm.resize(m);
-  const std::size_t n = rod.node_total();
-  for (std::size_t i = 0; i < m; ++i) {
-    const std::size_t k = n - m + i;  // the snapshot holds the distal-most m nodes
-    glm::dvec3 tangent = i + 1 < m ? s.positions_mm[i + 1] - s.positions_mm[i]
-                                   : (m > 1 ? s.positions_mm[i] - s.positions_mm[i - 1] : entry_.direction);
-    const double len = glm::length(tangent);
-    tangent = len > 1e-12 ? tangent / len : entry_.direction;
-    s.tangents[i] = tangent;
-    glm::dvec3 normal = rod.directors()[std::min(k, n - 2)];
-    normal -= tangent * glm::dot(normal, tangent);
-    const double nl = glm::length(normal);
-    s.normals[i] = nl > 1e-9 ? normal / nl : normal;
-    s.radii_mm[i] = static_cast<float>(rod.node_radius_mm(k));
-  }
-  s.tip = rod.tip();
-  s.contacts.assign(rod.contacts().begin(), rod.contacts().end());
-}
-
-void Simulator::copy_snapshot(Snapshot& out) const {
-  out.time_s = time_s_;
-  out.step = steps_;
-  out.active_tool = active_;
-  out.tools.resize(rods_.size() + detached_.size());
-  for (std::size_t t = 0; t < rods_.size(); ++t) {
-    const Rod& rod = rods_[t];
-    ToolSnapshot& s = out.tools[t];
-    s.name = rod.spec().name;
-    s.kind = rod.spec().kind;
-    s.insertion_mm = insertion_[t];
-    s.rotation_rad = rotation_[t];
-    s.detached = false;
-    inserted_positions(t, s.positions_mm);
-    fill_tool_snapshot(rod, s);
-    s.tip_segment = tip_segment_[t];
-    s.hand_force_mN = hand_force_[t];
-    s.hand_torque_mNmm = hand_torque_[t];
-    s.force_law = force_law(t);
-    s.balloon_pressure_atm = 0.0;
-    s.balloon_diameter_mm = 0.0;
-    if (const Balloon* b = balloon(t)) {
-      s.balloon_pressure_atm = b->pressure_atm();
-      s.balloon_diameter_mm = b->diameter_mm();
-      if (b->pressure_atm() > 0.0) {
-        const std::size_t m = s.positions_mm.size();
-        const std::size_t n = rod.node_total();
-        for (std::size_t i = 0; i < m; ++i) {
-          const double from_tip = rod.node_from_tip_mm(n - m + i);
-          const double lo = b->spec().from_tip_mm;
-          if (from_tip >= lo && from_tip <= lo + b->spec().length_mm) {
-            s.radii_mm[i] = std::max(s.radii_mm[i], static_cast<float>(0.5 * b->diameter_mm()));
-          }
-        }
-      }
-    }
-  }
-  for (std::size_t i = 0; i < detached_.size(); ++i) {
-    const Rod& coil = detached_[i];
-    ToolSnapshot& s = out.tools[rods_.size() + i];
-    s.name = coil.spec().name;
-    s.kind = ToolKind::kCoil;
-    s.insertion_mm = 0.0;
-    s.rotation_rad = 0.0;
-    s.detached = true;
-    s.positions_mm.assign(coil.positions().begin(), coil.positions().end());
-    fill_tool_snapshot(coil, s);
-    s.tip_segment = -1;
-    s.hand_force_mN = 0.0;
-    s.hand_torque_mNmm = 0.0;
-    s.force_law = ForceLaw{};
-    s.balloon_pressure_atm = 0.0;
-    s.balloon_diameter_mm = 0.0;
-  }
 }
 
 }  // namespace cathbox::tool

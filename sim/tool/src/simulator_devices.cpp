@@ -1,0 +1,118 @@
+// The simulator's device actions: coil detachment and loading, balloon inflation.
+#include "tool/simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::tool {
+
+bool Simulator::carries_attached_coil(std::size_t tool) const {
+  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && rods_[tool].spec().detach_mm > 0.0 &&
+         !(removed_mm_[tool] > 0.0);
+}
+
+bool Simulator::has_next_coil(std::size_t tool) const {
+  return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && loaded_[tool] < specs_[tool].next_coils.size();
+}
+
+DeviceError Simulator::detach(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!carries_attached_coil(tool)) return DeviceError::kNotACoil;
+  Rod& rod = rods_[tool];
+  const double length = rod.spec().detach_mm;
+  // The detachment zone must have left the catheter (its marker past the catheter's tip).
+  if (tip_depth_mm(tool) - free_start_[tool] < length + 1e-6) return DeviceError::kCoilInCatheter;
+  Rod coil = rod.split_distal(length);
+  if (coil.node_total() == 0) return DeviceError::kCoilInCatheter;
+  removed_mm_[tool] += length;
+  stepped_depth_[tool] = tip_depth_mm(tool);
+  coupling_next_[tool].resize(rod.node_total());
+  detached_.push_back(std::move(coil));
+  // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
+  update_contact_members();
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::load_next_coil(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (rods_[tool].spec().kind != ToolKind::kCoil) return DeviceError::kNotACoil;
+  if (!(removed_mm_[tool] > 0.0)) return DeviceError::kCoilAttached;
+  if (!has_next_coil(tool)) return DeviceError::kNoNextCoil;
+  // The old pusher is out (withdrawn through the hub); the next coil enters at the hub.
+  const ToolSpec spec = with_next_coil(specs_[tool], loaded_[tool]);
+  ++loaded_[tool];
+  rods_[tool] = Rod(spec, settings_);
+  rods_[tool].set_entry(entry_.point_mm, entry_.direction);
+  apply_coil_settings(tool);
+  insertion_[tool] = 0.0;
+  rotation_[tool] = 0.0;
+  stepped_depth_[tool] = 0.0;
+  stepped_rotation_[tool] = 0.0;
+  removed_mm_[tool] = 0.0;
+  tip_segment_[tool] = -1;
+  tip_hint_[tool] = WallHint{};
+  sheath_[tool] = SheathFriction{};
+  sheath_result_[tool] = SheathFriction::Result{};
+  valve_[tool] = ValveFriction{};
+  valve_result_[tool] = ValveFriction::Result{};
+  hand_force_[tool] = 0.0;
+  hand_torque_[tool] = 0.0;
+  coupling_next_[tool].assign(rods_[tool].node_total(), glm::dvec3(0.0));
+  coupling_set_[tool] = IndexRange{};
+  tip_push_[tool] = glm::dvec3(0.0);
+  if (extra_ei_.size() < rods_[tool].node_total()) extra_ei_.resize(rods_[tool].node_total(), 0.0);
+  update_chain();
+  update_contact_members();  // the field listed the old pusher's nodes
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::inflate_pressure(std::size_t tool, double pressure_atm) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  if (!std::isfinite(pressure_atm) || pressure_atm < 0.0 || pressure_atm > Balloon::kMaxPressure_atm) {
+    return DeviceError::kOutOfRange;
+  }
+  balloons_[tool]->set_target_pressure(pressure_atm);
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::inflate_volume(std::size_t tool, double volume_ml) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  if (!std::isfinite(volume_ml) || volume_ml < 0.0 ||
+      volume_ml > balloons_[tool]->volume_at(Balloon::kMaxPressure_atm)) {
+    return DeviceError::kOutOfRange;
+  }
+  balloons_[tool]->set_target_volume(volume_ml);
+  return DeviceError::kNone;
+}
+
+DeviceError Simulator::deflate(std::size_t tool) {
+  if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  if (!balloons_[tool]) return DeviceError::kNotABalloon;
+  balloons_[tool]->deflate();
+  return DeviceError::kNone;
+}
+
+const Balloon* Simulator::balloon(std::size_t tool) const {
+  return tool < balloons_.size() && balloons_[tool] ? &*balloons_[tool] : nullptr;
+}
+
+void Simulator::balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_mm) const {
+  points_mm.clear();
+  const Balloon* b = balloon(tool);
+  if (b == nullptr) return;
+  const Rod& rod = rods_[tool];
+  const double lo = b->spec().from_tip_mm;
+  const double hi = lo + b->spec().length_mm;
+  points_mm.push_back(rod.point_at_from_tip(hi));
+  for (std::size_t k = rod.first_node(); k < rod.node_total(); ++k) {
+    const double s = rod.node_from_tip_mm(k);
+    if (s > lo && s < hi) points_mm.push_back(rod.positions()[k]);
+  }
+  points_mm.push_back(rod.point_at_from_tip(lo));
+}
+
+}  // namespace cathbox::tool

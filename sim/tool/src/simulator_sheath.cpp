@@ -1,0 +1,152 @@
+// The simulator's sheath paths: the lumens of the catheters around a tool, and their friction.
+#include "tool/simulator.hpp"
+
+#include "simulator_tuning.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace cathbox::tool {
+
+void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path) const {
+  // From where the tool's covered part ends (its own part's clamp, or its tip) back to the
+  // entry, along the free parts of the catheters around it, innermost first.
+  path.clear();
+  const std::size_t n = rods_.size();
+  const Rod& inner = rods_[u];
+  const double tip_u = tip_depth_mm(u);
+  const double end = std::min(tip_u, free_start_[u]);
+  if (end <= 0.0) return;
+  // Two vertices of different origin (the entry and the first free node just past it, a
+  // catheter's tip node and the first free node of the one it holds, just past it) nearer than
+  // kMinSheathEdge of the holder's node spacing are one vertex: the direction between them is
+  // the nodes' lateral play, not the path's, and the turning and curvature read from it were up
+  // to tens of degrees of noise, which the bending term read as newtons of normal force (the
+  // triaxial stack's lumen friction 3-40 N, lurching the catheters it dragged). The vertex
+  // proximal is left out, or for the entry the one before it.
+  std::size_t holder_station = Rod::kNoStation;
+  const auto vertex = [&](const glm::dvec3& p, std::size_t holder, std::size_t node, double depth, bool entry) {
+    if (path.size() >= 2 && (entry || path.back().holder != holder)) {
+      const Rod& h = rods_[holder];
+      const std::size_t k = std::min(node + 2, h.node_total()) - 2;  // the node's distal edge
+      const double spacing = h.node_from_tip_mm(k) - h.node_from_tip_mm(k + 1);
+      if (glm::length(p - path.back().point_mm) < tuning::kMinSheathEdge * spacing) {
+        if (!entry) return;
+        if (path.size() >= 2) path.pop_back();  // [distal end, entry] left: no bend, no friction
+      }
+    }
+    SheathVertex v;
+    v.point_mm = p;
+    v.holder = static_cast<std::uint32_t>(holder);
+    v.node = static_cast<std::uint32_t>(node);
+    v.depth_mm = depth;
+    const double from_tip = tip_u - std::min(depth, end);
+    const Rod& h = rods_[holder];
+    const double holder_from_tip = h.insertion_mm() - (depth - free_start_[holder]);
+    v.inner_radius_mm = inner.radius_at_mm(from_tip);
+    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, holder_station) - v.inner_radius_mm);
+    v.mu = h.spec().lumen_friction;
+    path.push_back(v);
+  };
+  // The distal end: the holder's node just past the inner tool's end (its tip node when the
+  // inner tool leaves it), the vertex behind the end covering its turning in proportion.
+  std::size_t first_holder = n;
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (end > free_start_[c] && end <= tip_depth_mm(c) + 1e-9) first_holder = c;
+  }
+  if (first_holder >= n) return;
+  {
+    const Rod& h = rods_[first_holder];
+    std::size_t node = 0;
+    const glm::dvec3 p = h.point_at_depth(end - free_start_[first_holder], nullptr, &node);
+    const std::size_t b = std::min(node + 1, h.node_total() - 1);
+    const double depth_b = free_start_[first_holder] + h.node_depth_mm(b);
+    if (depth_b >= end - 1e-9) {
+      vertex(h.positions()[b], first_holder, b, depth_b, false);
+    } else {
+      vertex(p, first_holder, b, end, false);
+    }
+  }
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    const Rod& h = rods_[c];
+    const double lo = free_start_[c];
+    const double hi = std::min(end, tip_depth_mm(c));
+    if (hi <= lo) continue;
+    for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
+      const double depth = lo + h.node_depth_mm(k);
+      if (depth >= end - 1e-9 || depth <= lo) continue;
+      vertex(h.positions()[k], c, k, depth, false);
+    }
+  }
+  // The entry.
+  std::size_t outermost = u;
+  for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) outermost = c;
+  vertex(entry_.point_mm, outermost, rods_[outermost].first_free_node(), 0.0, true);
+  cover_sheath_path(inner, tip_u, end, path);
+}
+
+// The share of its turning the vertex behind the inner tool's end covers, and the inner tool's
+// mean EI over the covered part of each vertex's proximal edge (the edge its bending term sits on).
+void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path) {
+  const std::size_t m = path.size();
+  if (m >= 2) {
+    const double edge = path[0].depth_mm - path[1].depth_mm;
+    path[1].coverage = edge > 1e-9 ? std::clamp((end_mm - path[1].depth_mm) / edge, 0.0, 1.0) : 1.0;
+  }
+  for (std::size_t j = 0; j < m; ++j) {
+    const double far = path[j].depth_mm;
+    const double hi = std::min(far, end_mm);
+    const double lo = j + 1 < m ? path[j + 1].depth_mm : hi;
+    if (hi > lo + 1e-9) {
+      path[j].inner_ei_Nmm2 = inner.bending_integral_Nmm3(tip_mm - hi, tip_mm - lo) / (hi - lo);
+    } else {
+      path[j].inner_ei_Nmm2 = inner.bending_at_Nmm2(tip_mm - std::min(far, end_mm));
+    }
+  }
+}
+
+void Simulator::update_sheath(std::size_t u, double dt_s) {
+  (void)dt_s;
+  const std::size_t n = rods_.size();
+  const Rod& rod = rods_[u];
+  const std::size_t o = outer_of_[u];
+  const bool has_free = tip_depth_mm(u) > free_start_[u] && rod.first_free_node() < rod.node_total();
+  const double distal = has_free ? rod.hand_force_mN() : 0.0;
+  build_sheath_path(u, path_);
+  const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
+  const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
+  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  sheath_result_[u] = sheath_[u].update(slide, turn, distal, path_, k_anchor);
+  const SheathFriction::Result& r = sheath_result_[u];
+  hand_force_[u] = distal + r.force_mN;
+  // The inner tool leaves its carrier's tip clamped to it: what the clamp holds it with, across
+  // the carrier's tip direction, is the inner tool's push on that tip (a wire bent out of a
+  // catheter's tip into its path steers the tip after it; along the tip it is the inner tool's
+  // push from the hand, which the sheath carries). Applied to balloon catheters only, for now:
+  // on the coiling stack's microcatheter (soft 60-degree tip, its microwire 1 mm ahead with a
+  // 90-degree curve) it changes where the microwire goes, and the bundled script, tuned without
+  // it, leaves the microcatheter 14 mm short of the neck (docs/sim-tool/convergence.md).
+  const std::size_t c = carrier_[u];
+  if (has_free && c < n && balloons_[c]) {
+    const glm::dvec3 along = rods_[c].tip().direction;
+    const glm::dvec3 held = rod.clamp_force_mN();
+    const glm::dvec3 lateral = held - along * glm::dot(held, along);
+    if (std::isfinite(lateral.x + lateral.y + lateral.z)) {
+      tip_push_[c] -= lateral * tuning::kTipPushRelaxation;
+    }
+  }
+  hand_torque_[u] = (has_free ? rod.hand_torque_mNmm() : 0.0) + r.torque_mNmm;
+  // The reaction onto the catheters' nodes.
+  const std::vector<glm::dvec3>& reaction = sheath_[u].reaction_mN();
+  for (std::size_t j = 0; j < path_.size() && j < reaction.size(); ++j) {
+    const SheathVertex& v = path_[j];
+    if (v.holder >= n || v.node >= coupling_next_[v.holder].size()) continue;
+    if (v.node < rods_[v.holder].first_free_node()) continue;
+    coupling_next_[v.holder][v.node] += reaction[j] * tuning::kCouplingRelaxation;
+    coupling_set_[v.holder].add(v.node);
+  }
+}
+
+}  // namespace cathbox::tool
