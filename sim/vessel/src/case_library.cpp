@@ -170,7 +170,8 @@ std::vector<LibraryCase> all_cases() {
       ica_case("ica_coil", "library: coiled cervical ICA", IcaTortuosity::kCoiled,
                "# Cervical left ICA with a full loop (Weibel-Fields coiling).\n" + ica_ref),
       ica_case("ica_kink", "library: kinked cervical ICA", IcaTortuosity::kKinked,
-               "# Cervical left ICA with an acute (79 degree) angle (Weibel-Fields kinking).\n" + ica_ref),
+               "# Cervical left ICA with an acute (83 degree) angle between two limbs (Weibel-Fields kinking),\n"
+               "# its apex rounded at 5 mm (two lumen radii: a tighter bend folds the wall).\n" + ica_ref),
       aneurysm_case("aneurysm_mca", "library: right MCA bifurcation aneurysm", AneurysmSite::kMcaBifurcation, 6.4, 2.4,
                     "right_internal_carotid", 0.12, "right_mca_aneurysm",
                     "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,

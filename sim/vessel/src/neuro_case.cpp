@@ -1,5 +1,6 @@
 #include "neuro_case.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -96,6 +97,23 @@ struct ArchShape {
   }
 }
 
+// Three knots on the arc of radius `bend_radius_mm` that rounds the corner `apex` between the
+// limbs from `a` and to `b` (its two tangent points and its middle). A swept tube whose
+// centreline bends tighter than its own radius folds its inner wall over itself; a kink's apex
+// drawn through the corner itself bent at 0.86 radii (the surface crossed itself there). Rounded
+// at two lumen radii, the Catmull-Rom curve through these knots bends no tighter than 1.3 radii.
+[[nodiscard]] std::vector<glm::dvec3> rounded_corner(const glm::dvec3& a, const glm::dvec3& apex, const glm::dvec3& b,
+                                                     double bend_radius_mm) {
+  const glm::dvec3 u = glm::normalize(a - apex);
+  const glm::dvec3 v = glm::normalize(b - apex);
+  const double half = 0.5 * std::acos(std::clamp(glm::dot(u, v), -1.0, 1.0));  // half the limbs' angle
+  const glm::dvec3 centre = apex + glm::normalize(u + v) * (bend_radius_mm / std::sin(half));
+  const glm::dvec3 t1 = apex + u * (bend_radius_mm / std::tan(half));
+  const glm::dvec3 t2 = apex + v * (bend_radius_mm / std::tan(half));
+  const glm::dvec3 middle = centre + glm::normalize(apex - centre) * bend_radius_mm;
+  return {t1, middle, t2};
+}
+
 // Cervical left ICA knots between the bulb and the skull base (Weibel-Fields grades [13]):
 // tortuous = S-shaped elongation, coiled = a full loop, kinked = an acute (< 90 degree) angle.
 [[nodiscard]] std::vector<Knot> cervical_ica(IcaTortuosity t) {
@@ -106,9 +124,12 @@ struct ArchShape {
       return {{{28, 14, 138}, 2.8}, {{28, 15, 148}, 2.7}, {{30, 15, 158}, 2.6}, {{37, 13, 165}, 2.6},
               {{44, 10, 158}, 2.5}, {{39, 6, 148}, 2.5}, {{31, 5, 152}, 2.45}, {{27, 7, 165}, 2.4},
               {{26, 9, 177}, 2.4}};
-    case IcaTortuosity::kKinked:
-      return {{{28, 14, 140}, 2.8}, {{33, 14, 151}, 2.6}, {{40, 14, 160}, 2.5}, {{35, 12, 165}, 2.45},
-              {{29, 10, 172}, 2.4}};
+    case IcaTortuosity::kKinked: {
+      std::vector<Knot> knots{{{28, 14, 140}, 2.8}};
+      for (const glm::dvec3& p : rounded_corner({28, 14, 140}, {43, 15, 166}, {29, 10, 172}, 2.0 * 2.5)) knots.push_back({p, 2.5});
+      knots.push_back({{29, 10, 172}, 2.4});
+      return knots;
+    }
     default: return {{{28, 14, 140}, 2.8}, {{27, 12, 160}, 2.4}};
   }
 }

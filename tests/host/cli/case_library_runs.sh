@@ -7,7 +7,7 @@ cathbox=$1 src=$2 out=$3
 mkdir -p "$out"
 cd "$src/cases/library"
 fail=0
-for name in arch_type1 arch_type2 arch_type3 arch_bovine ica_straight ica_tortuous ica_coil aneurysm_mca aneurysm_pcom aneurysm_acom aneurysm_basilar; do
+for name in arch_type1 arch_type2 arch_type3 arch_bovine ica_straight ica_tortuous ica_coil ica_kink aneurysm_mca aneurysm_pcom aneurysm_acom aneurysm_basilar; do
   "$cathbox" session run --case "$name.case" --script "$name.actions" --virtual --record "$out/$name.cbxrec" >/dev/null
   if "$cathbox" session metrics "$out/$name.cbxrec" --json | grep -q '"target_reached": *true'; then
     echo "$name: target reached"

@@ -467,6 +467,65 @@ TEST(RodBehaviour, StraightToolPushedIntoADeadEndBucklesFromTheSeedAndIsNotResee
   }
 }
 
+// A V-shaped valley whose two walls meet along the y axis at an acute angle (2 x 35 degrees
+// between the walls' normals and the axis): the lumen is below both planes through the origin,
+// n1 = (cos a, 0, sin a), n2 = (-cos a, 0, sin a). A node in it touches both walls, as one in a
+// fold of a meshed wall does (the two sides of the fold face each other, n1 . n2 = -cos 2a).
+class ValleyWall final : public WallModel {
+ public:
+  explicit ValleyWall(double half_angle_rad)
+      : n1_(std::cos(half_angle_rad), 0.0, std::sin(half_angle_rad)), n2_(-std::cos(half_angle_rad), 0.0, std::sin(half_angle_rad)) {}
+  [[nodiscard]] bool probe(const WallProbe& p, WallHint&, WallContact& out) const override {
+    const double d1 = -glm::dot(n1_, p.center_mm);  // distance to each wall, positive in the lumen
+    const double d2 = -glm::dot(n2_, p.center_mm);
+    const bool first = d1 <= d2;
+    const glm::dvec3& n = first ? n1_ : n2_;
+    const glm::dvec3& other = first ? n2_ : n1_;
+    const double d = std::min(d1, d2);
+    const double d_other = std::max(d1, d2);
+    if (d - p.radius_mm > p.range_mm) return false;
+    out.normal = n;
+    out.distance_mm = d;
+    out.point_mm = p.center_mm + n * d;
+    out.segment = 0;
+    out.has_second = p.second_wall && d_other - p.radius_mm < p.margin_mm;
+    out.second_normal = other;
+    out.second_point_mm = p.center_mm + other * d_other;
+    return true;
+  }
+
+ private:
+  glm::dvec3 n1_, n2_;
+};
+
+TEST(RodBehaviour, NoWallContactExceedsThePenaltyAtTheHardLimitInAFold) {
+  // Pushed into the valley's apex, the tip's nodes press on both walls. The hard limit of
+  // penetration (5 % of the radius) holds for both planes at once, so no contact reads more than
+  // the penalty there (2e5 mN/mm x 9 um = 1.8 N for this 0.36 mm wire): projected on one plane
+  // and then the other, a node pushed back across the first (the planes face each other) read
+  // the penalty of that overshoot (the kinked ICA's fold: tens of newtons at the hand).
+  const ValleyWall wall(35.0 * M_PI / 180.0);
+  const RodSettings settings;
+  Rod rod(uniform_tool(80.0, 0.36, 2.0, 1.5, 1.0, 0.1), settings);
+  rod.set_entry({0, 0, -40}, {0, 0, 1});
+  const double cap_mN = settings.contact_stiffness_mN_per_mm * settings.max_penetration_ratio * 0.18;
+  double largest_mN = 0.0;
+  int pressed = 0;
+  double ins = 0.0;
+  while (ins < 60.0) {
+    ins += 0.05;
+    rod.set_boundary(ins, 0.0);
+    rod.step(1e-3, wall);
+    for (const RodContact& c : rod.contacts()) {
+      largest_mN = std::max(largest_mN, c.normal_force_mN);
+      if (c.normal_force_mN > 0.5 * cap_mN) ++pressed;
+    }
+  }
+  std::printf("valley: largest contact %.1f mN (cap %.1f mN), %d contacts above half the cap\n", largest_mN, cap_mN, pressed);
+  EXPECT_GT(pressed, 0) << "the tool is pressed into the valley";
+  EXPECT_LE(largest_mN, cap_mN * (1.0 + 1e-6));
+}
+
 TEST(RodBehaviour, TipMeetingWallAtAnAngleSlidesAlongIt) {
   // A tube with a 50 degree kink: the straight tool meets the far wall at an angle and follows it.
   const TubeNetworkWall wall({Tube{{0, 0, -5}, {0, 0, 20}, 1.0, 1.0, 0},
