@@ -286,6 +286,20 @@ void Simulator::update_contact_members() {
     }
     if (m.edge_first < m.edge_last) members_.push_back(m);
   }
+  // A lone tool (no catheter around it, none inside it) against its own far parts: a wire
+  // buckled into a dead end folds onto itself (its tip passed through its shaft without this).
+  for (std::size_t t = 0; t < n; ++t) {
+    const Rod& rod = rods_[t];
+    const bool lone = rod.spec().kind != ToolKind::kCoil && outer_of_[t] >= n && carrier_[t] >= n &&
+                      std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
+    if (!lone || rod.first_free_node() >= rod.node_total()) continue;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = rod.first_edge();
+    m.edge_last = rod.node_total() - 1;
+    m.self = true;
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
   const bool coils = !members_.empty() || !detached_.empty();
   if (!coils) {
     contacts_.set_members(members_);

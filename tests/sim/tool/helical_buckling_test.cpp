@@ -1,0 +1,122 @@
+// A wire pushed into a closed, frictionless tube buckles into a helix against its wall. Lubinski,
+// Althouse & Logan, "Helical buckling of tubing sealed in packers", J. Petroleum Technology
+// 14(6), 1962: a helix of pitch p holds an axial force F = 8 pi^2 EI / p^2. Its wire is longer
+// than the tube it lies in by the factor sqrt(1 + (2 pi r / p)^2), r the radial clearance (tube
+// radius minus wire radius); for small (2 pi r / p) the tube shortens the wire by the strain
+// (2 pi r / p)^2 / 2 = r^2 F / (4 EI) (the same relation as Lubinski's length change without
+// the tubing's weight). A wire pushed delta past the closed end of a tube of length L
+// therefore reads at the hand F = 4 EI delta / (r^2 L), growing linearly with the push.
+//
+// This is the reference for the dead end of issue 29 (tests/host/session/data/dead_end.case, a
+// 0.014" wire of EI 40 N mm^2 in a tube of radius 2 mm): 10 mm past its end, 2.4 N; 58 mm past
+// (the script's 260 mm), 13.9 N by the small-strain line (15.9 N with the helix's exact length
+// factor), before the wall friction, which raises it further. A hand force over the box's 5 N full scale in that
+// run is the physics of the script, not an artefact.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "tool/rod.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+TEST(RodValidation, WirePushedIntoAClosedTubeBucklesIntoLubinskisHelix) {
+  constexpr double kTubeRadius_mm = 2.0;
+  constexpr double kWireDiameter_mm = 0.36;
+  constexpr double kEi_Nmm2 = 40.0;  // the bundled 0.014" guidewire's shaft
+  constexpr double kTubeEnd_mm = 200.0;
+  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
+  ToolSpec spec;
+  spec.name = "wire";
+  spec.sections.push_back(ToolSection{600.0, kWireDiameter_mm, kEi_Nmm2, 31.0, 0.0});
+  spec.friction = 0.0;
+  spec.max_spacing_mm = 1.0;
+  spec.tip_spacing_mm = 1.0;
+  Rod rod(spec);
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  // The tip meets the closed end (the capsule's pole, kTubeRadius_mm past its axis' end) here.
+  const double contact_mm = kTubeEnd_mm + kTubeRadius_mm - kWireDiameter_mm / 2.0;
+  const double clearance_mm = kTubeRadius_mm - kWireDiameter_mm / 2.0;
+  const double per_mm = 4.0 * kEi_Nmm2 * 1000.0 / (clearance_mm * clearance_mm * contact_mm);  // mN per mm pushed
+  double insertion = 0.0;
+  const auto push_to = [&](double target, double per_step) {
+    while (insertion < target - 1e-9) {
+      insertion = std::min(target, insertion + per_step);
+      rod.set_boundary(insertion, 0.0);
+      rod.step(1e-3, wall);
+    }
+  };
+  push_to(contact_mm - 4.0, 0.05);  // 50 mm/s to 4 mm short of the end
+  double force_at[2] = {0.0, 0.0};
+  const double deltas[2] = {5.0, 10.0};
+  for (int i = 0; i < 2; ++i) {
+    push_to(contact_mm + deltas[i], 0.01);  // then 10 mm/s
+    for (int k = 0; k < 50; ++k) rod.step(1e-3, wall);  // held 50 ms
+    force_at[i] = rod.hand_force_mN();
+    const double expected = per_mm * deltas[i];
+    std::printf("pushed %.0f mm past the end: hand force %.0f mN, Lubinski's helix %.0f mN\n", deltas[i], force_at[i],
+                expected);
+    EXPECT_NEAR(force_at[i] / expected, 1.0, 0.15) << "pushed " << deltas[i] << " mm past the end";
+  }
+  // The helix's axial stiffness: the force's growth between the two pushes.
+  const double slope = (force_at[1] - force_at[0]) / (deltas[1] - deltas[0]);
+  std::printf("helix stiffness %.0f mN/mm, Lubinski's %.0f mN/mm\n", slope, per_mm);
+  EXPECT_NEAR(slope / per_mm, 1.0, 0.2);
+}
+
+
+// The dead end's wire (tests/host/session/data/dead_end.case: a 0.014" wire with a soft 50 mm
+// tip, friction 0.08) pushed 58 mm past the closed end of the 4 mm tube at 30 mm/s. Folded by the
+// helix, its soft tip is pressed onto its own shaft; without contacts of a lone tool with
+// itself it passed through it (parts 5-15 mm from the tip 0.03-0.2 mm from the shaft's axis,
+// the wire 0.36 mm thick). Parts of the wire more than 5 mm apart along it stay a wire's
+// diameter apart, less the 10 % overlap the coils are held to.
+TEST(RodBehaviour, AWireFoldedInADeadEndDoesNotPassThroughItself) {
+  const TubeNetworkWall wall = testing::straight_tube(2.0, -10.0, 200.0);
+  ToolSpec spec;
+  spec.name = "guidewire";
+  spec.sections = {ToolSection{1750.0, 0.36, 40.0, 31.0, 0.0}, ToolSection{35.0, 0.36, 3.0, 2.3, 0.0},
+                   ToolSection{12.0, 0.36, 0.3, 0.23, 0.0}, ToolSection{3.0, 0.36, 0.3, 0.23, 45.0}};
+  spec.friction = 0.08;
+  const std::vector<ToolSpec> tools{spec};
+  Simulator sim(wall, tools, Entry{{0, 0, 0}, {0, 0, 1}});
+  sim.select(0);
+  double closest_mm = 1e9;
+  double closest_at_mm = 0.0;
+  std::vector<double> arc;
+  for (double insertion = 0.0; insertion < 260.0;) {
+    insertion = std::min(260.0, insertion + 0.03);
+    sim.set_insertion(0, insertion);
+    sim.step(1e-3);
+    if (insertion < 200.0) continue;
+    const Rod& rod = sim.rod(0);
+    const auto x = rod.positions();
+    arc.assign(x.size(), 0.0);
+    for (std::size_t k = 1; k < x.size(); ++k) arc[k] = arc[k - 1] + glm::length(x[k] - x[k - 1]);
+    for (std::size_t a = rod.first_free_node(); a < x.size(); ++a) {
+      for (std::size_t b = a + 1; b < x.size(); ++b) {
+        if (arc[b] - arc[a] < 5.0) continue;
+        const double d = glm::length(x[a] - x[b]);
+        if (d < closest_mm) {
+          closest_mm = d;
+          closest_at_mm = insertion;
+        }
+      }
+    }
+  }
+  std::printf("closest parts of the wire 5 mm or more apart along it: %.3f mm (pushed to %.2f mm)\n", closest_mm,
+              closest_at_mm);
+  EXPECT_GT(closest_mm, 0.9 * 0.36) << "pushed to " << closest_at_mm << " mm";
+  EXPECT_GT(sim.hand_force_mN(0), 1000.0) << "jammed";
+}
+
+}  // namespace
+}  // namespace cathbox::tool
