@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 
 #include "flow/aspiration.hpp"
+#include "flow/clot_fracture.hpp"
 #include "session/thrombectomy_unit.hpp"
 #include "tool/stent_retriever.hpp"
 
@@ -216,33 +217,34 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   const std::string into_name = into < tool_names_.size() ? tool_names_[into] : std::string("vessel");
   log(time_us, "pass %d: the stent retriever is back in the %s (peak pull %.3f N)", pass, into_name.c_str(), 1e-3 * p.peak_pull_mN);
   std::vector<std::size_t> removed;
-  std::optional<flow::Fragment> fragment;
+  std::vector<flow::Fragment> fragments;
   const bool held = p.captured && !p.thrombus.empty() &&
                     std::all_of(p.thrombus.begin(), p.thrombus.end(), [&](std::size_t k) { return k < clots_.size(); });
-  if (!held) {
+  if (!held || into >= tool_names_.size()) {
     log(time_us, "pass %d: the clot stays", pass);
-  } else if (into >= tool_names_.size() || into == sim.outer_of(p.tool)) {
-    log(time_us, "pass %d: re-sheathed in the %s, the clot is stripped off and stays", pass, into_name.c_str());
   } else {
     removed = p.thrombus;
     const flow::AspirationClot clot = thrombus_clot(p.thrombus);
+    const flow::CenterlinePosition mouth = locator_.nearest(tips_[into]);
     const double id_mm = inner_diameter_[into];
-    if (clot.diameter_mm > id_mm && aspirating_[into] == 0 && arrests_.empty()) {
+    if (into == sim.outer_of(p.tool)) {
+      // Re-sheathed in its own microcatheter: the tip strips the clot off the struts and lets it
+      // go there, into the flow, in the pieces the flow's shear tears it into.
+      fragments = flow::fragments_in_flow({mouth, clot.diameter_mm, clot.length_mm, clot.composition}, flow::wall_shear_Pa(network_, mouth));
+      log(time_us, "pass %d: re-sheathed in the %s, the clot is stripped off into the flow", pass, into_name.c_str());
+    } else if (clot.diameter_mm > id_mm && aspirating_[into] == 0 && arrests_.empty()) {
       // Wider than the mouth, nothing drawing it in and the flow running: the mouth shears the
       // rim off, and the flow carries it from there.
-      fragment.emplace();
-      fragment->from = locator_.nearest(tips_[into]);
-      fragment->diameter_mm = clot.diameter_mm - id_mm;
-      fragment->length_mm = std::min(clot.length_mm, fragment->diameter_mm);
-      fragment->composition = clot.composition;
-      log(time_us, "pass %d: the clot comes out; the %s's mouth shears a %.2f mm rim off it", pass, into_name.c_str(), fragment->diameter_mm);
+      const double rim_mm = clot.diameter_mm - id_mm;
+      fragments.push_back({mouth, rim_mm, std::min(clot.length_mm, rim_mm), clot.composition});
+      log(time_us, "pass %d: the clot comes out; the %s's mouth shears a %.2f mm rim off it", pass, into_name.c_str(), rim_mm);
     } else {
       log(time_us, "pass %d: the clot comes out in the %s%s", pass, into_name.c_str(),
           aspirating_[into] != 0 ? " under aspiration" : (arrests_.empty() ? "" : " under flow arrest"));
     }
   }
   reset(p);
-  grade_pass(time_us, std::move(removed), fragment);
+  grade_pass(time_us, std::move(removed), fragments);
 }
 
 // Where each clot of the captured thrombus lies on the stent (its face and end as node

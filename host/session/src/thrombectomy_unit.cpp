@@ -202,6 +202,7 @@ std::optional<std::size_t> ThrombectomyUnit::clot_at_tip(const glm::dvec3& tip_m
 }
 
 void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot) {
+  carry_emboli(time_us);
   const std::size_t n = std::min(snapshot.tools.size(), tool_names_.size());
   tips_.resize(n);
   for (std::size_t t = 0; t < n; ++t) tips_[t] = snapshot.tools[t].tip.position_mm;
@@ -251,49 +252,42 @@ void ThrombectomyUnit::end_pass(std::int64_t time_us) {
   const int pass = ++figures_.passes;
   log(time_us, "pass %d: the clot is %s (pull %.3f N, ingest %.3f N, hold %.3f N)", pass, outcome_text(r.outcome), r.force_N,
       r.ingest_force_N, r.hold_force_N);
-  std::optional<flow::Fragment> fragment;
+  std::vector<flow::Fragment> fragments;
   std::vector<std::size_t> removed;
   if (r.outcome == flow::AspirationOutcome::kLost) {
     // A fragment the width of the lumen strips off the catheter's mouth where the tip is now.
-    // Under flow arrest the vacuum takes it into the catheter; else the flow carries it.
+    // Under flow arrest the vacuum takes it into the catheter; else it goes into the flow.
     if (!arrests_.empty()) {
       log(time_us, "pass %d: the fragment is aspirated under flow arrest", pass);
     } else {
-      fragment.emplace();
-      fragment->from = locator_.nearest(tips_[tool]);
-      fragment->diameter_mm = std::min(a->inner_diameter_mm, clot.diameter_mm);
-      fragment->length_mm = std::min(a->inner_diameter_mm, clot.length_mm);
-      fragment->composition = clot.composition;
+      fragments.push_back({locator_.nearest(tips_[tool]), std::min(a->inner_diameter_mm, clot.diameter_mm),
+                           std::min(a->inner_diameter_mm, clot.length_mm), clot.composition});
     }
   } else {
     removed = engaged_;
   }
   engaged_tool_.reset();
   engaged_.clear();
-  grade_pass(time_us, std::move(removed), fragment);
+  grade_pass(time_us, std::move(removed), fragments);
 }
 
-void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::optional<flow::Fragment>& fragment) {
-  const int pass = figures_.passes;
+void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::vector<flow::Fragment>& fragments) {
   std::sort(removed.rbegin(), removed.rend());
   for (const std::size_t k : removed) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
   clots_removed_ += static_cast<int>(removed.size());
+  pass_end_us_ = time_us;
   // The control run: the network without the arrest.
   if (!resolve(time_us, false)) return;
-  std::optional<flow::Clot> embolus;
-  if (fragment) {
-    if (base::Result<flow::EmbolusPath> path = flow::carry_fragment(network_, *fragment)) embolus = path->lodged;
-  }
-  if (embolus) {
-    const std::vector<flow::Terminal> without = network_.terminals();
-    clots_.push_back(*embolus);
-    if (!resolve(time_us, false)) return;
-    const bool ent = !flow::new_territories(target_, without, network_.terminals()).empty();
-    ++figures_.emboli;
-    if (ent) ++figures_.emboli_new_territory;
-    figures_.emboli_lodged.push_back(segment_name(embolus->segment));
-    log(time_us, "embolus lodged in the %s%s", segment_name(embolus->segment).c_str(), ent ? " (a new territory)" : "");
-  }
+  regrade(time_us);
+  const flow::Etici grade = figures_.etici_final;
+  log(time_us, "pass %d: eTICI %s (%.0f %% reperfused)", figures_.passes, std::string(flow::etici_label(grade)).c_str(),
+      figures_.reperfused_pct_final);
+  if (!arrests_.empty()) (void)resolve(time_us, true);
+  release(time_us, fragments);
+}
+
+void ThrombectomyUnit::regrade(std::int64_t time_us) {
+  const int pass = figures_.passes;
   const double pct = std::round(100.0 * target_.reperfused_fraction(network_.terminals()));
   const flow::Etici grade = target_.grade(network_.terminals());
   const auto i = static_cast<std::size_t>(pass - 1);
@@ -304,9 +298,10 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   figures_.etici_final = grade;
   figures_.reperfused_pct_final = pct;
   if (pass == 1) figures_.first_pass_effect = flow::at_least(grade, flow::Etici::k2c);
-  if (figures_.time_to_reperfusion_us < 0 && flow::at_least(grade, flow::Etici::k2b50)) figures_.time_to_reperfusion_us = time_us;
-  log(time_us, "pass %d: eTICI %s (%.0f %% reperfused)", pass, std::string(flow::etici_label(grade)).c_str(), pct);
-  if (!arrests_.empty()) (void)resolve(time_us, true);
+  const bool reperfused = flow::at_least(grade, flow::Etici::k2b50);
+  if (figures_.time_to_reperfusion_us < 0 && reperfused) figures_.time_to_reperfusion_us = time_us;
+  // An embolus of the same pass undoes a reperfusion it reached.
+  if (!reperfused && figures_.time_to_reperfusion_us == pass_end_us_) figures_.time_to_reperfusion_us = -1;
 }
 
 }  // namespace cathbox::session

@@ -143,8 +143,10 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
 // The careless contrast (issue 30: no flow arrest, fast retrieval): the same deployment and
 // embedding, no balloon guide, the microcatheter left where it unsheathed the stent and the stent
 // pulled at 20 mm/s straight into it. The stent holds the clot (grip > the head's hold), but the
-// microcatheter's tip strips it off the struts: it stays, a failed pass (eTICI 0) against the
-// careful run's eTICI 3 in one pass (thrombectomy_unit.hpp, "Stent retrievers").
+// microcatheter's tip strips it off the struts into the flow (whole: the flow's shear is far
+// below what tears a clot, sim/flow clot_fracture.hpp), and the flow carries it back into the
+// M1, where it lodges tens of ms later: an embolus, eTICI 0, against the careful run's eTICI 3
+// in one pass without emboli (thrombectomy_unit.hpp, "Stent retrievers").
 TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
   SessionCaseLoad loaded = load_session_case(short_wait_case());
   ASSERT_TRUE(loaded) << loaded.error().message;
@@ -158,13 +160,17 @@ TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
     s.step_virtual(1000);
     for (LogEvent e; s.events().pop(e);) {
       const std::string line = e.text.data();
-      if (line.find("stent") != std::string::npos || line.find("pass ") != std::string::npos) stent_lines += line + "\n";
+      if (line.find("stent") != std::string::npos || line.find("pass ") != std::string::npos || line.find("embol") != std::string::npos ||
+          line.find("fragment") != std::string::npos) {
+        stent_lines += line + "\n";
+      }
     }
   }
   std::printf("%s", stent_lines.c_str());
   EXPECT_NE(stent_lines.find("stent retriever across the clot"), std::string::npos);
   EXPECT_NE(stent_lines.find("the clot comes with the stent"), std::string::npos);
-  EXPECT_NE(stent_lines.find("pass 1: re-sheathed in the microcatheter, the clot is stripped off and stays"), std::string::npos);
+  EXPECT_NE(stent_lines.find("pass 1: re-sheathed in the microcatheter, the clot is stripped off into the flow"), std::string::npos);
+  EXPECT_NE(stent_lines.find("embolus lodged in the left_middle_cerebral"), std::string::npos);
   const Metrics m = s.metrics();
   ASSERT_TRUE(m.thrombectomy);
   const ThrombectomyFigures& t = *m.thrombectomy;
@@ -177,6 +183,10 @@ TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
   EXPECT_FALSE(flow::at_least(t.etici_final, flow::Etici::k2b50));
   EXPECT_FALSE(t.first_pass_effect);
   EXPECT_EQ(t.time_to_reperfusion_us, -1) << "not reperfused";
+  EXPECT_EQ(t.emboli, 1);
+  ASSERT_EQ(t.emboli_lodged.size(), 1u);
+  EXPECT_EQ(t.emboli_lodged[0].rfind("left_middle_cerebral", 0), 0u) << t.emboli_lodged[0];
+  EXPECT_EQ(t.emboli_new_territory, 0) << "into the MCA, the target territory";
   // Stripped at the microcatheter's tip after a few mm: a lighter peak pull than the careful
   // run's, which drags the clot back to the guide.
   EXPECT_GT(t.retrieval_force_peak_N, 0.0);

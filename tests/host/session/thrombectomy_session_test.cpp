@@ -242,6 +242,14 @@ TEST(ThrombectomyUnit, ACorkedClotPullsOnTheAspirationCathetersTipWithWhatHoldsI
   EXPECT_EQ(c.unit->aspiration_grip_mN(kAspirationCatheter), 0.0);
 }
 
+// Ticks the unit every 1 ms from `from_us` until no embolus is in transit (at most 1 s); the
+// time of the last tick.
+std::int64_t carry_emboli(M1& c, std::int64_t from_us) {
+  std::int64_t t = from_us;
+  while (c.unit->emboli_in_transit() > 0 && t < from_us + 1000000) c.unit->tick(t += 1000, c.snap);
+  return t;
+}
+
 TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest) {
   // A 3MAX-sized lumen (0.035") against a fibrin-rich clot: lost against the flowing pressure
   // head (sim/flow's Aspiration.M1ClotsAreIngestedCorkedOrLost).
@@ -271,6 +279,15 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   ASSERT_EQ(f.passes, 1);
   EXPECT_EQ(f.etici_after_pass[0], flow::Etici::k0);
   EXPECT_FALSE(f.first_pass_effect);
+  // The fragment travels with the flow (tens of ms at these velocities): not an embolus until it
+  // lodges.
+  EXPECT_EQ(c.unit->emboli_in_transit(), 1u);
+  EXPECT_EQ(f.emboli, 0);
+  const std::int64_t lodged_us = carry_emboli(c, 6000);
+  std::printf("pass 1: the fragment lodges %.0f ms after the pass\n", 1e-3 * static_cast<double>(lodged_us - 6000));
+  EXPECT_EQ(c.unit->emboli_in_transit(), 0u);
+  EXPECT_GT(lodged_us, 7000);
+  EXPECT_LT(lodged_us, 6000 + 500000);
   EXPECT_EQ(f.emboli, 1);
   ASSERT_EQ(f.emboli_lodged.size(), 1u);
   std::printf("pass 1: embolus lodged in %s (%d to new territories)\n", f.emboli_lodged[0].c_str(), f.emboli_new_territory);
@@ -280,26 +297,27 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   // Pass 2 under the balloon guide's flow arrest (the guide in the cervical ICA): still lost
   // (the circle of Willis keeps the head across the M1 clot), but no flow carries the fragment:
   // no new embolus.
+  const std::int64_t t0 = lodged_us;
   c.snap.tools[kGuide].tip.position_mm = loc.point_at(c.ica, 10.0);
-  c.unit->tick(6500, c.snap);
-  ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, true, 7000));
+  c.unit->tick(t0 + 500, c.snap);
+  ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, true, t0 + 1000));
   EXPECT_EQ(last_event(c.events), "balloon guide inflated in the left_internal_carotid: flow arrest");
   EXPECT_TRUE(c.unit->arrested());
-  EXPECT_FALSE(c.unit->set_balloon_guide(kGuide, true, 7000)) << "already inflated";
-  place(c, face, 130.0, 8000);
-  place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, 9000);
+  EXPECT_FALSE(c.unit->set_balloon_guide(kGuide, true, t0 + 1000)) << "already inflated";
+  place(c, face, 130.0, t0 + 2000);
+  place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, t0 + 3000);
   ASSERT_EQ(f.passes, 2);
   EXPECT_EQ(f.emboli, 1);
   EXPECT_EQ(f.etici_after_pass[1], flow::Etici::k0);
   EXPECT_EQ(f.time_to_reperfusion_us, -1);
   // The arrest's figures: one inflation (the refused second not counted), its time running up to
-  // the last tick (9000 us) while inflated, closed at the deflation (10000 us).
+  // the last tick (3 ms after the fragment lodged) while inflated, closed at the deflation (4 ms).
   EXPECT_EQ(f.balloon_guide_inflations, 1);
   EXPECT_NEAR(f.flow_arrest_s, 0.002, 1e-9);
-  ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, false, 10000));
+  ASSERT_TRUE(c.unit->set_balloon_guide(kGuide, false, t0 + 4000));
   EXPECT_FALSE(c.unit->arrested());
   EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9);
-  c.unit->tick(11000, c.snap);
+  c.unit->tick(t0 + 5000, c.snap);
   EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9) << "deflated: the arrest time stays";
   EXPECT_EQ(f.balloon_guide_inflations, 1);
 }

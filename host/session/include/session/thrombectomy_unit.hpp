@@ -15,11 +15,15 @@
 //   at engagement with aspiration still on. flow::aspirate() with the pressure head across the
 //   engaged clot at that moment (lower under flow arrest) decides: ingested or corked, the
 //   thrombus leaves with the catheter; lost, it stays, and a fragment the width of the
-//   catheter's lumen strips off its face and is carried by the flow of that moment
-//   (flow::carry_fragment) to lodge where it fits: an embolus (to a new territory when it
-//   starves an outlet outside the target territory). Under complete flow arrest no flow
-//   carries it (it is aspirated into the guide): no embolus. Aspiration off while engaged
-//   releases the clot: no pass.
+//   catheter's lumen strips off its face. Under flow arrest the vacuum takes that fragment; else
+//   it is released into the flow: an embolus (below). Aspiration off while engaged releases
+//   the clot: no pass.
+// - Emboli travel: a fragment released into the flow is a flow::EmbolusTransit advanced every
+//   tick in virtual time with the network's flows of the moment (arrested, occluded: the flow
+//   model decides whether it moves, and which way) until it lodges where it no longer fits; then
+//   it occludes that branch like any clot (a new solve: the fluoroscopy and the grade see it)
+//   and counts as an embolus, to a new territory when it starves an outlet outside the target
+//   territory. The pass's eTICI is graded again then.
 // - While engaged, the vacuum holds the clot on the catheter's tip with |pressure| x lumen area
 //   (flow::aspirate, Froehler 2017), and the hand feels it where physical: a clot that corks
 //   the tip is dragged with the catheter, which takes what holds the clot in place
@@ -41,9 +45,10 @@
 //   friction and the head, felt at the hand through the simulator's stent payload). The pass
 //   ends when the stent is back in a catheter: in the guide or aspiration catheter the clot
 //   comes out with it, unless it is wider than that catheter's lumen with neither aspiration
-//   on it nor flow arrest, when the rim the mouth shears off (d - ID wide) is carried by the
-//   flow as a fragment; re-sheathed in its microcatheter the clot is stripped at that tip and
-//   carried by the flow; not held, it stays. The pass is graded as an aspiration pass, and the
+//   on it nor flow arrest, when the rim the mouth shears off (d - ID wide) is released into the
+//   flow; re-sheathed in its microcatheter the clot, stripped off the struts at that tip, is
+//   released into the flow there, in the pieces the flow's shear tears it into
+//   (flow::fragments_in_flow: at arterial shear, whole); not held, it stays. The pass is graded as an aspiration pass, and the
 //   peak pull on the push wire during it is the retrieval force.
 // All of this runs on the haptic thread between ticks; a pass re-solves the network (~10 µs,
 // sim/flow bench_flow BM_Occlude) and allocates: an event, like a coil's release.
@@ -117,6 +122,8 @@ class ThrombectomyUnit final : public ControlHandler {
   // the retrieval began (the nodes are material points: it rides with them round bends).
   [[nodiscard]] ClotView clot_view(std::size_t k) const;
   [[nodiscard]] int clots_removed() const { return clots_removed_; }
+  // Emboli released and not yet lodged (travelling, or stalled where no flow carries them).
+  [[nodiscard]] std::size_t emboli_in_transit() const { return in_transit_.size(); }
 
  private:
   ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
@@ -126,7 +133,13 @@ class ThrombectomyUnit final : public ControlHandler {
   void end_pass(std::int64_t time_us);
   // A pass's grading after `removed` (indices in clots_, may be empty) left and a fragment
   // (if any) was carried: the control run, the embolus, eTICI and the figures.
-  void grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::optional<flow::Fragment>& fragment);
+  void grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::vector<flow::Fragment>& fragments);
+  // The figures of the last pass from the network as it is now (control run, no arrest).
+  void regrade(std::int64_t time_us);
+  // Emboli (thrombectomy_emboli.cpp): fragments into the flow, moved on each tick, lodged.
+  void release(std::int64_t time_us, const std::vector<flow::Fragment>& fragments);
+  void carry_emboli(std::int64_t time_us);
+  void lodge(std::int64_t time_us, const flow::EmbolusTransit& transit);
   // The head across a clot (its segment's end pressures) and the clot as the aspiration model sees it.
   [[nodiscard]] double head_Pa(const flow::Clot& c) const;
   [[nodiscard]] flow::AspirationClot thrombus_clot(const std::vector<std::size_t>& group) const;
@@ -192,6 +205,9 @@ class ThrombectomyUnit final : public ControlHandler {
     std::vector<std::array<double, 2>> on_stent;
   };
   std::vector<StentPass> stents_;
+  std::vector<flow::EmbolusTransit> in_transit_;  // emboli on their way
+  std::int64_t last_tick_us_ = -1;
+  std::int64_t pass_end_us_ = -1;  // when the last pass ended
   ThrombectomyFigures figures_;
   std::uint64_t flow_generation_ = 0;
   int clots_removed_ = 0;
