@@ -48,6 +48,7 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   double overlap = 0.0;
   double iterations = 0.0, micro_iterations = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
+  const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(1, push);
@@ -58,6 +59,7 @@ void BM_StepCoilDeploy(benchmark::State& state) {
     if (o.diameter_mm > 0.0) overlap = std::max(overlap, o.depth_mm / o.diameter_mm);
   }
   metrics.observe(sim);
+  times.report_tail(state, {"micro", "coil"});
   times.report(state);
   state.counters["deployed_mm"] = metrics.figures().deployed_mm;
   state.counters["coil_nodes"] = static_cast<double>(sim.rod(1).node_total() - sim.rod(1).first_free_node());
@@ -67,6 +69,7 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   state.counters["micro_newton_its"] = micro_iterations / steps;
   // Builds of the rod-rod candidate list per step (worst_coil_overlap above reads it too).
   state.counters["list_builds"] = static_cast<double>(sim.coil_contacts().list_builds() - builds0) / steps;
+  state.counters["gathers"] = static_cast<double>(sim.coil_contacts().gather_calls() - gathers0) / steps;
   state.SetLabel("coil into a 6.4 mm sphere");
 }
 
@@ -113,6 +116,8 @@ void BM_StepCoilPacking(benchmark::State& state) {
   const double packed_pct = 100.0 * metrics.figures().packing_density;
   StepTimes times(1 << 16);
   double push = sim.insertion_mm(3), iterations = 0.0, peak_mN = 0.0;
+  const std::uint64_t builds0 = sim.coil_contacts().list_builds();
+  const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(3, push);
@@ -121,12 +126,15 @@ void BM_StepCoilPacking(benchmark::State& state) {
     peak_mN = std::max(peak_mN, std::abs(sim.rod(3).hand_force_mN()));
   }
   metrics.observe(sim);
+  times.report_tail(state, {"micro", "coil1", "coil2", "coil3"});
   times.report(state);
   const auto steps = static_cast<double>(std::max<std::size_t>(1, times.count()));
   state.counters["packing_before_pct"] = packed_pct;
   state.counters["packing_after_pct"] = 100.0 * metrics.figures().packing_density;
   state.counters["coil_newton_its"] = iterations / steps;
   state.counters["peak_hand_mN"] = peak_mN;
+  state.counters["list_builds"] = static_cast<double>(sim.coil_contacts().list_builds() - builds0) / steps;
+  state.counters["gathers"] = static_cast<double>(sim.coil_contacts().gather_calls() - gathers0) / steps;
   state.SetLabel("third coil into a sphere holding 300 mm");
 }
 

@@ -142,13 +142,13 @@ void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
       }
 }
 
-void RodContactField::build_grid() const {
+void RodContactField::build_grid(bool listed) const {
   const std::size_t buckets = bucket_mask_ + 1;
   const std::size_t n = items_.size();
   std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
   bucket_of_item_.clear();
-  for (const Item& item : items_) {
-    const glm::dvec3 c = glm::floor(item.mid / cell_mm_);
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3 c = glm::floor((listed ? listed_mid_[i] : items_[i].mid) / cell_mm_);
     const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
                                     static_cast<std::int64_t>(c.z));
     bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
@@ -161,40 +161,70 @@ void RodContactField::build_grid() const {
   for (std::uint32_t i = 0; i < n; ++i) grid_[fill_[bucket_of_item_[i]]++] = i;
 }
 
-void RodContactField::build_list() const {
-  ++list_builds_;
-  build_grid();
+// Items whose middle left its listed place by more than a quarter of the skin (every item when
+// the members changed) are listed again where they are now; the ends' drifts are set afresh.
+bool RodContactField::relist_moved() const {
   const std::size_t n = items_.size();
-  listed_mid_.clear();
-  listed_end_.clear();
-  for (Item& item : items_) {
-    listed_mid_.push_back(item.mid);
+  const bool partial = list_valid_ && listed_mid_.size() == n;
+  listed_mid_.resize(n);
+  listed_end_.resize(2 * n);
+  relisted_.assign(n, 1);
+  const double keep_sq = 0.0625 * skin_ * skin_;
+  for (std::size_t i = 0; i < n; ++i) {
+    Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
-    listed_end_.push_back(x[item.edge]);
-    listed_end_.push_back(x[item.edge + 1]);
+    const glm::dvec3 d = item.mid - listed_mid_[i];
+    if (partial && glm::dot(d, d) <= keep_sq) {
+      relisted_[i] = 0;
+      item.drift = std::sqrt(std::max(glm::dot(x[item.edge] - listed_end_[2 * i], x[item.edge] - listed_end_[2 * i]),
+                                      glm::dot(x[item.edge + 1] - listed_end_[2 * i + 1],
+                                               x[item.edge + 1] - listed_end_[2 * i + 1])));
+      continue;
+    }
+    listed_mid_[i] = item.mid;
+    listed_end_[2 * i] = x[item.edge];
+    listed_end_[2 * i + 1] = x[item.edge + 1];
     item.drift = 0.0;
   }
-  // Each item's candidates: the other items within reach plus margin plus skin, not excluded
-  // for good (the same edge, neighbours along one rod, a rod with itself when it takes no
-  // self contact), in rising order. The relation is symmetric: each pair is tested once, from
-  // its lower item, and listed on both.
-  halves_.clear();
-  pair_start_.assign(n + 1, 0u);
+  return partial;
+}
+
+void RodContactField::build_list() const {
+  ++list_builds_;
+  const std::size_t n = items_.size();
+  if (!relist_moved()) halves_.clear();  // the members changed: no pair is kept
+  build_grid(true);
+  // Each pair is classified on the two items' listed middles: a pair left out is further apart
+  // than the reach plus the margin and the skin there, and each item stays within half the skin
+  // of its listed middle until the next build, so it cannot come into reach. Pairs of two items
+  // not listed again are kept from the last build; a relisted item's pairs are found afresh:
+  // with higher items (`fresh_`, in rising order per item, as the lists need them) and with
+  // lower items kept in place (`lower_`, sorted after).
+  std::erase_if(halves_, [&](const auto& h) { return relisted_[h.first] != 0 || relisted_[h.second] != 0; });
+  fresh_.clear();
+  lower_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
-    const std::size_t from = halves_.size();
+    if (relisted_[i] == 0) continue;
+    const std::size_t from = fresh_.size();
     const Item& a = items_[i];
     const Member& ma = members_[a.member];
-    for_neighbours(a.mid, [&](std::uint32_t j) {
-      if (j <= i) return;
+    for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
+      if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
       const Item& b = items_[j];
-      if (apart(a.mid, a.reach, b.mid, b.reach, margin_ + skin_)) return;
+      if (apart(listed_mid_[i], a.reach, listed_mid_[j], b.reach, margin_ + skin_)) return;
       if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
-      halves_.push_back({i, j});
-      ++pair_start_[i + 1];
-      ++pair_start_[j + 1];
+      if (j > i) fresh_.push_back({i, j});
+      else lower_.push_back({j, i});
     });
-    std::sort(halves_.begin() + static_cast<std::ptrdiff_t>(from), halves_.end());
+    std::sort(fresh_.begin() + static_cast<std::ptrdiff_t>(from), fresh_.end());
   }
+  std::sort(lower_.begin(), lower_.end());
+  merged_.clear();
+  std::merge(halves_.begin(), halves_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(merged_));
+  halves_.clear();
+  std::merge(merged_.begin(), merged_.end(), lower_.begin(), lower_.end(), std::back_inserter(halves_));
+  pair_start_.assign(n + 1, 0u);
+  for (const auto& [i, j] : halves_) ++pair_start_[i + 1], ++pair_start_[j + 1];
   for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
   // Item k receives its lower partners (while they are filled, in rising order) before its own
   // higher ones: each list comes out sorted.
@@ -247,6 +277,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
   std::uint32_t mi = 0;
   while (mi < members_.size() && members_[mi].rod != &rod) ++mi;
   if (mi == members_.size()) return;
+  ++gather_calls_;
   if (!update_mids()) build_list();
   if (++gathers_ == 0) {
     for (LowerSide& side : lower_side_) side.stamp = 0;
@@ -331,7 +362,7 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
   if (update_mids()) {
     for (std::uint32_t mi = 0; mi < members_.size(); ++mi) for_candidates(members_[mi], mi, 0.0, pair_depth);
   } else {
-    build_grid();
+    build_grid(false);
     for (std::uint32_t i = 0; i < items_.size(); ++i) {
       const Item& a = items_[i];
       const Member& me = members_[a.member];

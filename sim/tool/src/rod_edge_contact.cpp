@@ -21,6 +21,15 @@ void Rod::gather_obstacles(const RodObstacles& obstacles) {
   });
 }
 
+bool Rod::moved_since_gather(double limit_mm) const {
+  const double limit_sq = limit_mm * limit_mm;
+  for (std::size_t k = first_free_; k < x_.size(); ++k) {
+    const glm::dvec3 d = x_[k] - gathered_at_[k];
+    if (glm::dot(d, d) > limit_sq) return true;
+  }
+  return false;
+}
+
 // Other rods (and the rod's own far parts): one-sided penalty on the gathered planes.
 void Rod::add_edge_contact_terms(bool hessian) {
   const double kc = settings_.contact_stiffness_mN_per_mm;

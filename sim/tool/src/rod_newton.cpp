@@ -231,13 +231,9 @@ void Rod::follow_moves(Newton& s) {
     if (nc.has_second && !nc.active2 && second_gap(k) > 0.0) nc.active2 = true, s.refactor = true;
   }
   // Planes of other rods are taken again once a node has moved half the margin.
-  const double limit = 0.5 * s.obstacles->margin_mm();
-  for (std::size_t k = first_free_; k < n; ++k) {
-    if (glm::length(x_[k] - gathered_at_[k]) > limit) {
-      gather_obstacles(*s.obstacles);
-      s.refactor = true;
-      break;
-    }
+  if (moved_since_gather(0.5 * s.obstacles->margin_mm())) {
+    gather_obstacles(*s.obstacles);
+    s.refactor = true;
   }
 }
 

@@ -18,6 +18,7 @@ namespace cathbox::tool {
 
 namespace {
 constexpr int kProjectionRounds = 6;  // wall / rod-rod projections alternated after a solve
+constexpr double kRegatherMargins = 0.1;  // own motion (in margins) that takes the planes afresh after a solve
 }  // namespace
 
 void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
@@ -116,7 +117,11 @@ void Rod::settle_held_nodes() {
 void Rod::project_contacts(const RodObstacles* obstacles) {
   for (int round = 0; round < (obstacles != nullptr ? kProjectionRounds : 1); ++round) {
     if (round > 0) limit_penetration();
-    if (obstacles != nullptr) gather_obstacles(*obstacles);
+    // Other rods are frozen while this one is solved: the planes of the solve are taken again
+    // unless a node moved a tenth of the margin since they were gathered.
+    if (obstacles != nullptr && (round > 0 || moved_since_gather(kRegatherMargins * obstacles->margin_mm()))) {
+      gather_obstacles(*obstacles);
+    }
     if (!finish_edge_contacts()) break;
   }
 }

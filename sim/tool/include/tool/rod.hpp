@@ -282,6 +282,7 @@ class Rod {
   // Contacts with other rods (rod_edge_contact.cpp).
   [[nodiscard]] inline double edge_gap(const EdgeContact& c) const;
   void gather_obstacles(const RodObstacles& obstacles);
+  [[nodiscard]] bool moved_since_gather(double limit_mm) const;  // a free node moved more since the gather
   bool finish_edge_contacts();  // true when it had to push a node out
   void slip_grips();
 

@@ -7,7 +7,9 @@
 // each take half of the gap. Candidate pairs come from a hash grid of the edges' midpoints
 // (O(edges)) and are kept as a Verlet list: pairs within the contact reach plus a skin are
 // listed, and the list serves every gather until an edge's middle has moved half the skin
-// from where it was listed or the members change. A gather then tests only the listed pairs,
+// from where it was listed or the members change. A build then lists again only the edges
+// that moved a quarter of the skin (all when the members changed), pairs being classified on
+// the listed middles, and keeps the pairs of the others (released coils at rest). A gather then tests only the listed pairs,
 // and skips the segment test of a pair whose last tested distance, less what the ends of both
 // edges have moved since, keeps it out of reach. The two sides of a contact of a rod with
 // itself come from one segment test (from its lower edge): one plane, normals opposite. The
@@ -55,6 +57,8 @@ class RodContactField final : public RodObstacles {
 
   // Times the candidate list was built (diagnostics, benches).
   [[nodiscard]] std::uint64_t list_builds() const { return list_builds_; }
+  // Gathers made (diagnostics, benches).
+  [[nodiscard]] std::uint64_t gather_calls() const { return gather_calls_; }
 
  private:
   struct Item {
@@ -67,7 +71,8 @@ class RodContactField final : public RodObstacles {
   };
   // Sets the present middles of every item; false when the candidate list does not cover them.
   [[nodiscard]] bool update_mids() const;
-  void build_grid() const;  // the hash grid of the present middles
+  void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
+  [[nodiscard]] bool relist_moved() const;  // false: every item relisted (a full build)
   void build_list() const;
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
@@ -90,6 +95,7 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<glm::dvec3> listed_end_;  // the ends (2 per item) when the list was built
   mutable bool list_valid_ = false;
   mutable std::uint64_t list_builds_ = 0;
+  mutable std::uint64_t gather_calls_ = 0;
   // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
   mutable std::vector<std::uint32_t> pair_start_;
   mutable std::vector<std::uint32_t> pairs_;
@@ -111,7 +117,10 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<std::uint32_t> mirror_;
   mutable std::vector<LowerSide> lower_side_;
   mutable std::uint32_t gathers_ = 0;
-  mutable std::vector<std::pair<std::uint32_t, std::uint32_t>> halves_;  // a build's pairs, lower item first
+  using Half = std::pair<std::uint32_t, std::uint32_t>;
+  mutable std::vector<Half> halves_;  // the last build's pairs, lower item first, rising
+  mutable std::vector<Half> fresh_, lower_, merged_;  // a build's new pairs, and a merge
+  mutable std::vector<std::uint8_t> relisted_;        // per item: listed again by this build
   mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
   mutable std::vector<std::uint32_t> start_;
