@@ -46,6 +46,7 @@ namespace {
 
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
   return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
+         a.self_only == b.self_only &&
          a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm;
 }
 
@@ -244,7 +245,7 @@ void RodContactField::build_list() const {
 }
 
 bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
-  if (a.rod != b.rod) return false;
+  if (a.rod != b.rod) return a.self_only || b.self_only;
   if (!a.self) return true;
   const double h = std::max(a.rod->node_from_tip_mm(ea) - a.rod->node_from_tip_mm(ea + 1),
                             a.rod->node_from_tip_mm(eb) - a.rod->node_from_tip_mm(eb + 1));

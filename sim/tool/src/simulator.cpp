@@ -298,6 +298,7 @@ void Simulator::update_contact_members() {
     m.edge_first = rod.first_edge();
     m.edge_last = rod.node_total() - 1;
     m.self = true;
+    m.self_only = true;  // two lone tools side by side are not solved against each other
     if (m.edge_first < m.edge_last) members_.push_back(m);
   }
   const bool coils = !members_.empty() || !detached_.empty();

@@ -31,6 +31,7 @@ class RodContactField final : public RodObstacles {
     std::size_t edge_first = 0;   // edges [edge_first, edge_last) take part
     std::size_t edge_last = 0;
     bool self = false;            // contacts of the rod with itself
+    bool self_only = false;       // with itself and with no other member (a lone tool)
     // Edges of this member within this depth past the rod's entry do not touch `hollow`: they
     // are still in its lumen (the coil leaving the microcatheter's tip).
     double hollow_depth_mm = 0.0;
