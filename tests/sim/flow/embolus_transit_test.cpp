@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 
 #include "flow/clot_fracture.hpp"
 #include "flow/embolus.hpp"
@@ -19,7 +20,6 @@ using test::link;
 using test::load_model;
 using test::straight;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTick_s = 1e-3;
 
 // Parent 60 mm of r 1.5; on one side 40 mm of r 1.2 then a 40 mm taper 1.2 -> 0.6 (points
@@ -56,8 +56,8 @@ TEST(EmbolusTransit, ArrivesAfterTheAnalyticTransitTime) {
   const double q_branch = std::abs(net->segments()[1].flow_mm3_s);
   ASSERT_NEAR(std::abs(net->segments()[3].flow_mm3_s), q_branch, 1e-9 * q_branch);
   const double r_lodge = 1.2 - 0.6 * 28.0 / 40.0;
-  const double analytic_s = kPi * 1.5 * 1.5 * 55.0 / q_parent + kPi * 1.2 * 1.2 * 40.0 / q_branch +
-                            kPi * 28.0 * (1.2 * 1.2 + 1.2 * r_lodge + r_lodge * r_lodge) / 3.0 / q_branch;
+  const double analytic_s = std::numbers::pi * 1.5 * 1.5 * 55.0 / q_parent + std::numbers::pi * 1.2 * 1.2 * 40.0 / q_branch +
+                            std::numbers::pi * 28.0 * (1.2 * 1.2 + 1.2 * r_lodge + r_lodge * r_lodge) / 3.0 / q_branch;
   auto t = EmbolusTransit::start(*net, Fragment{{0, 5.0, 0.0}, 1.6, 3.0, kReferenceComposition});
   ASSERT_TRUE(t) << t.error().message;
   int ticks = 0;
@@ -76,9 +76,9 @@ TEST(EmbolusTransit, ArrivesAfterTheAnalyticTransitTime) {
   EXPECT_GE(ticks * kTick_s, analytic_s);
   EXPECT_LT((ticks - 1) * kTick_s, analytic_s);
   // The parent alone: path length over mean velocity.
-  const double v_parent = q_parent / (kPi * 1.5 * 1.5);
+  const double v_parent = q_parent / (std::numbers::pi * 1.5 * 1.5);
   std::printf("transit %.2f ms (analytic %.2f ms; parent %.0f mm/s, branch %.0f mm/s), %d ticks\n", 1e3 * t->elapsed_s(),
-              1e3 * analytic_s, v_parent, q_branch / (kPi * 1.2 * 1.2), ticks);
+              1e3 * analytic_s, v_parent, q_branch / (std::numbers::pi * 1.2 * 1.2), ticks);
   // The timeless path agrees.
   const auto path = carry_fragment(*net, Fragment{{0, 5.0, 0.0}, 1.6, 3.0, kReferenceComposition});
   ASSERT_TRUE(path);
@@ -145,7 +145,7 @@ TEST(ClotFracture, GriffithCriticalCrackAndTheFlowCarriesAClotWhole) {
   const ClotComposition m1{60.0, 30.0};
   EXPECT_NEAR(clot_tensile_modulus_Pa(m1), 290e3 / 40.0, 1e-6);
   const double tau = 2000.0;  // Pa
-  const double a_c = 1e3 * 7.6 * 7250.0 / (kPi * tau * tau);
+  const double a_c = 1e3 * 7.6 * 7250.0 / (std::numbers::pi * tau * tau);
   EXPECT_NEAR(critical_crack_mm(m1, tau), a_c, 1e-9 * a_c);
   const Fragment whole{{0, 0.0, 0.0}, 2.9, 13.0, m1};
   const std::vector<Fragment> pieces = fragments_in_flow(whole, tau);
