@@ -52,6 +52,12 @@ ShapedLaw PassiveLaw::shape(const tool::ForceLaw& law, const BoxReadback& readba
     // The resistance never exceeds what was held (pulling back: the damper's own sign).
     shaped.out_min_mN = -held_mN_;
   }
+  // 2. Slew of the output: whatever the law's spring and damper give between commands (the hand
+  // moving along k, a damper's force vanishing when the hand stops), the box renders within a
+  // step of what it rendered last (its readback; 0 after a reset, outputs off), which is the
+  // box's own limit.
+  shaped.out_min_mN = std::clamp(readback.force_mN - step, shaped.out_min_mN, shaped.out_max_mN);
+  shaped.out_max_mN = std::clamp(readback.force_mN + step, shaped.out_min_mN, shaped.out_max_mN);
   last_ = out;
   have_last_ = true;
   shaped.law = out;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace cathbox::session {
 namespace {
 
@@ -30,12 +32,15 @@ TEST(PassiveLaw, ForceStepsAreSlewLimitedAtTheNewPosition) {
 TEST(PassiveLaw, ForceStaysWithinFullScale) {
   PassiveLaw p;
   ShapedLaw s;
-  for (int i = 0; i < 100; ++i) s = p.shape(law_at(9000.0), {});
+  // The box reports what it rendered (ShapedLaw::output_mN at the tool's place).
+  for (int i = 0; i < 100; ++i) s = p.shape(law_at(9000.0), {s.output_mN(100.0, 0.0), 0.0});
   EXPECT_DOUBLE_EQ(s.law.force0_mN, 5000.0);
-  EXPECT_DOUBLE_EQ(s.out_max_mN, 5000.0);
+  EXPECT_DOUBLE_EQ(s.output_mN(100.0, 0.0), -5000.0);
+  EXPECT_LE(s.out_max_mN, 5000.0);
   EXPECT_GE(s.out_min_mN, -5000.0);
-  for (int i = 0; i < 200; ++i) s = p.shape(law_at(-9000.0), {});
+  for (int i = 0; i < 200; ++i) s = p.shape(law_at(-9000.0), {s.output_mN(100.0, 0.0), 0.0});
   EXPECT_DOUBLE_EQ(s.law.force0_mN, -5000.0);
+  EXPECT_DOUBLE_EQ(s.output_mN(100.0, 0.0), 5000.0);
 }
 
 // Colgate & Schenkel 1997: a spring K sampled with period T is passive with damping > K T / 2.
@@ -64,9 +69,10 @@ TEST(PassiveLaw, ObserverDissipatesWhatTheBoxDelivered) {
 
 TEST(PassiveLaw, ADroppedResistanceIsHeldAsADamper) {
   PassiveLaw p;
-  for (int i = 0; i < 30; ++i) (void)p.shape(law_at(2000.0), {});
+  ShapedLaw held;
+  for (int i = 0; i < 30; ++i) held = p.shape(law_at(2000.0), {held.output_mN(100.0, 0.0), 0.0});
   // The wire buckles: the simulation's force falls to 0 in one tick, the tool going in.
-  const ShapedLaw s = p.shape(law_at(0.0), {0.0, 5.0});
+  const ShapedLaw s = p.shape(law_at(0.0), {held.output_mN(100.0, 0.0), 5.0});
   EXPECT_DOUBLE_EQ(s.law.force0_mN, 1900.0);
   // The rest is a damper letting the tool go 10 mm/s faster, never resisting beyond ~2 N.
   EXPECT_GT(s.law.damping_mN_s_per_mm, 0.0);
@@ -75,13 +81,35 @@ TEST(PassiveLaw, ADroppedResistanceIsHeldAsADamper) {
   EXPECT_GE(s.out_min_mN, -2000.0);
   // Once the simulation's force has been let down, the damper fades.
   ShapedLaw later = s;
-  for (int i = 0; i < 6000; ++i) later = p.shape(law_at(0.0), {0.0, 5.0});
+  for (int i = 0; i < 6000; ++i) later = p.shape(law_at(0.0), {later.output_mN(100.0, 5.0), 5.0});
   EXPECT_DOUBLE_EQ(later.law.force0_mN, 0.0);
   EXPECT_LT(later.law.damping_mN_s_per_mm, 0.01);
   // Going out (a wire relaxing after the hand let go), nothing holds it back.
   PassiveLaw q;
   for (int i = 0; i < 30; ++i) (void)q.shape(law_at(2000.0), {});
   EXPECT_DOUBLE_EQ(q.shape(law_at(0.0), {0.0, -5.0}).law.damping_mN_s_per_mm, 0.0);
+}
+
+// The box's slew limit holds for what it renders, not only for the law's force at its own place:
+// the hand moving along a stiff law, and a damper's force gone when the hand stops, change the
+// output by at most a step from what the box rendered last (its readback).
+TEST(PassiveLaw, TheOutputMovesAtMostASlewStepFromWhatTheBoxRendered) {
+  PassiveLaw p;
+  ShapedLaw s;
+  double x = 100.0;
+  double rendered = 0.0;
+  // A wire jammed at 2 N, 1,500 mN/mm at the clamp, the hand pushing at 30 mm/s.
+  for (int i = 0; i < 40; ++i) {
+    x += 0.03;
+    s = p.shape(law_at(2000.0 + 1500.0 * (x - 100.0), x, 1500.0), {rendered, 30.0});
+    const double out = s.output_mN(x + 0.03, 30.0);  // where the hand is when the box renders it
+    EXPECT_LE(std::abs(out - rendered), 100.0 + 1e-9) << "tick " << i;
+    rendered = out;
+  }
+  // The hand stops: the law's damping (K T / 2 at least) no longer resists.
+  const ShapedLaw stopped = p.shape(law_at(2000.0 + 1500.0 * (x - 100.0), x, 1500.0), {rendered, 0.0});
+  EXPECT_GE(s.law.damping_mN_s_per_mm, 1500.0 * 1e-3 / 2.0);
+  EXPECT_LE(std::abs(stopped.output_mN(x, 0.0) - rendered), 100.0 + 1e-9);
 }
 
 }  // namespace

@@ -8,10 +8,10 @@
 // therefore reads at the hand F = 4 EI delta / (r^2 L), growing linearly with the push.
 //
 // This is the reference for the dead end of issue 29 (tests/host/session/data/dead_end.case, a
-// 0.014" wire of EI 40 N mm^2 in a tube of radius 2 mm): 10 mm past its end, 2.4 N; 58 mm past
-// (the script's 260 mm), 13.9 N by the small-strain line (15.9 N with the helix's exact length
-// factor), before the wall friction, which raises it further. A hand force over the box's 5 N full scale in that
-// run is the physics of the script, not an artefact.
+// 0.014" wire of EI 40 N mm^2 in a tube of radius 2 mm): a uniform wire 10 mm past its end reads
+// 2.4 N, 58 mm past (the script's 260 mm) 13.9 N. The case's wire has a soft 50 mm tip, which
+// folds back at the closed end, so its shaft is 8.2 mm past the end: 2.0 N, 2.4 N with the wall's
+// friction while pushing in (tests/host/session/hand_force_replay_test.cpp, DeadEndHelix).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

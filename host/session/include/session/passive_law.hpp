@@ -3,8 +3,10 @@
 // render without putting energy into the hand, before BoxHand sends it (docs/passive_rendering.md):
 //   1. Full scale: the force at the law's position stays within the box's max_force_mN.
 //   2. Slew: from one command to the next, the force the law gives at the new position
-//      changes by at most the box's force_slew_mN_per_ms per tick, so the simulation, not
-//      only the firmware's clamp, respects the box's slew limit.
+//      changes by at most the box's force_slew_mN_per_ms per tick, and the command's output
+//      range (out_min, out_max) is the box's readback +- that step, so what the box renders
+//      (the law's spring followed by the hand, its damper when the hand stops) moves at most a
+//      step a tick: the simulation, not only the firmware's clamp, respects the box's slew limit.
 //   3. Sampled stiffness (Colgate & Schenkel 1997, "Passivity of a class of sampled-data
 //      systems"): a spring K rendered with sample period T is passive when the damping it
 //      meets exceeds K T / 2. The simulation's stiffness reaches the hand through the 1 ms
@@ -19,6 +21,7 @@
 //      of haptic interfaces"): the energy the box has delivered, summed from its readback
 //      (rendered force x measured speed); while it is above zero, damping alpha = E / (v^2 T)
 //      is added to the next law to take it out again.
+#include <algorithm>
 #include <cstdint>
 
 #include "tool/force_law.hpp"
@@ -46,6 +49,12 @@ struct ShapedLaw {
   tool::ForceLaw law;
   double out_min_mN = 0.0;
   double out_max_mN = 0.0;
+  // What the box outputs (+ into the patient) for this law with the tool at `insertion_mm` (box
+  // frame) moving at `speed_mm_s`: the protocol's `offset - k (pos - pos0) - b vel`, within
+  // [out_min, out_max]. Before the firmware's own clamp and slew (firmware/core cbx_render.c).
+  [[nodiscard]] double output_mN(double insertion_mm, double speed_mm_s) const {
+    return std::clamp(-law.force_mN(insertion_mm, speed_mm_s), out_min_mN, out_max_mN);
+  }
 };
 
 class PassiveLaw {
