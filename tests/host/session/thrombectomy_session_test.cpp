@@ -14,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <glm/geometric.hpp>
+
 #include "flow/centerline_locator.hpp"
 #include "session/action_script_hand.hpp"
 #include "session/event_log.hpp"
@@ -355,6 +357,14 @@ TEST(ThrombectomyUnit, AFragmentStillInTransitWhenTheRunEndsIsCountedWhereTheFlo
   lose_a_fragment(carried, 6000);
   ended.unit->tick(7000, ended.snap);
   ASSERT_EQ(ended.unit->emboli_in_transit(), 1u);
+  // Drawn in the 3D view as it travels: its diameter (the 0.035" lumen's 0.89 mm), its axis on
+  // its segment's centreline ending at its leading point.
+  const ClotView drawn = ended.unit->embolus_view(0);
+  EXPECT_EQ(drawn.state, ClotState::kInTransit);
+  EXPECT_NEAR(drawn.radius_mm, 0.445, 1e-6);
+  const flow::CenterlineLocator loc(ended.scene->flow->model());
+  for (const glm::vec3& p : drawn.axis_mm) EXPECT_LT(loc.nearest(glm::dvec3(p)).distance_mm, 1e-3);
+  EXPECT_GT(glm::length(drawn.end_mm - drawn.start_mm), 0.0F);
   const std::vector<flow::Terminal> before = ended.scene->flow->terminals();
   ended.unit->finish(7000);
   (void)carry_emboli(carried, 6000);
