@@ -29,6 +29,10 @@ void draw_thrombectomy(const session::ThrombectomyFigures& t) {
   ImGui::Text("%-22s %8s", "first-pass effect", t.first_pass_effect ? "yes" : "no");
   ImGui::Text("%-22s %8d (%d new territory)", "emboli", t.emboli, t.emboli_new_territory);
   for (const std::string& where : t.emboli_lodged) ImGui::TextDisabled("  lodged in %s", where.c_str());
+  for (const session::EmbolusInTransit& e : t.emboli_in_transit) {
+    ImGui::TextDisabled("  in transit in %s, would lodge in %s%s", e.at.c_str(), e.would_lodge.empty() ? "(no flow)" : e.would_lodge.c_str(),
+                        e.new_territory ? " (new territory)" : "");
+  }
   if (t.time_to_reperfusion_us >= 0) {
     ImGui::Text("%-22s %8.2f s", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
   } else {

@@ -155,7 +155,7 @@ void SceneRenderer::update_tools(const SceneSnapshot& snapshot, const RenderSett
   for (int k = 0; k < clots; ++k) {
     const session::ClotView& c = snapshot.clots[static_cast<std::size_t>(k)];
     ToolDraw& td = tools_[static_cast<std::size_t>(tool_count_++)];
-    td.color = SceneColors::kClot;
+    td.color = c.state == session::ClotState::kInTransit ? SceneColors::kEmbolus : SceneColors::kClot;
     tube_.build(c.axis_mm, {}, c.radius_mm, 12);
     td.global.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);
     td.local.upload(tube_.positions_mm, tube_.normals, tube_.triangles, true);

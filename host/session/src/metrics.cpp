@@ -157,6 +157,10 @@ void format_thrombectomy(std::string& out, const ThrombectomyFigures& t) {
   appendf(out, "%-21s %s (%.0f %%)\n", "eTICI final", std::string(flow::etici_label(t.etici_final)).c_str(), t.reperfused_pct_final);
   appendf(out, "%-21s %s\n", "first-pass effect", t.first_pass_effect ? "yes" : "no");
   appendf(out, "%-21s %d (%d to new territories)\n", "emboli", t.emboli, t.emboli_new_territory);
+  for (const EmbolusInTransit& e : t.emboli_in_transit) {
+    appendf(out, "  in transit in the %s at %.0f mm: %s%s%s\n", e.at.c_str(), e.at_mm,
+            e.would_lodge.empty() ? "no flow carries it" : "would lodge in the ", e.would_lodge.c_str(), e.new_territory ? " (new territory)" : "");
+  }
   if (t.time_to_reperfusion_us >= 0) {
     appendf(out, "%-21s %.1f s\n", "time to reperfusion", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
   } else {
@@ -318,6 +322,7 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
     add("first_pass_effect", t.first_pass_effect ? 1.0 : 0.0);
     add("emboli", t.emboli);
     add("emboli_new_territory", t.emboli_new_territory);
+    add("emboli_in_transit", static_cast<double>(t.emboli_in_transit.size()));
     if (t.time_to_reperfusion_us >= 0) add("time_to_reperfusion_s", static_cast<double>(t.time_to_reperfusion_us) * 1e-6);
     add("balloon_guide_inflations", t.balloon_guide_inflations);
     add("flow_arrest_s", t.flow_arrest_s);
@@ -335,7 +340,7 @@ std::vector<std::string> metric_names() {
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
           "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",
-          "first_pass_effect", "emboli", "emboli_new_territory", "time_to_reperfusion_s", "balloon_guide_inflations",
+          "first_pass_effect", "emboli", "emboli_new_territory", "emboli_in_transit", "time_to_reperfusion_s", "balloon_guide_inflations",
           "flow_arrest_s", "retrieval_force_peak_N"};
 }
 

@@ -238,6 +238,10 @@ void Session::end(record::EndReason reason, std::string text) {
   if (over_.load(std::memory_order_acquire)) return;
   end_reason_ = reason;
   end_text_ = std::move(text);
+  if (thrombectomy_) {  // the emboli still in transit are counted now
+    thrombectomy_->finish(tick_ * options_.period_us);
+    metrics_.set_thrombectomy(thrombectomy_->figures());
+  }
   hand_->release();
   log("%s", end_text_.c_str());
   if (recorder_) recorder_->finish(reason, end_text_, tick_, unix_now_us());

@@ -102,6 +102,9 @@ void Session::publish() {
     s.flow_arrest = thrombectomy_->arrested();
     s.clot_count = static_cast<int>(std::min<std::size_t>(thrombectomy_->clots().size(), SceneSnapshot::kMaxClots));
     for (int k = 0; k < s.clot_count; ++k) s.clots[static_cast<std::size_t>(k)] = thrombectomy_->clot_view(static_cast<std::size_t>(k));
+    for (std::size_t k = 0; k < thrombectomy_->emboli_in_transit() && s.clot_count < SceneSnapshot::kMaxClots; ++k) {
+      s.clots[static_cast<std::size_t>(s.clot_count++)] = thrombectomy_->embolus_view(k);
+    }
     s.clots_removed = thrombectomy_->clots_removed();
   }
   exchange_.publish();

@@ -225,18 +225,19 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   } else {
     removed = p.thrombus;
     const flow::AspirationClot clot = thrombus_clot(p.thrombus);
-    const flow::CenterlinePosition mouth = locator_.nearest(tips_[into]);
+    const flow::CenterlinePosition at = mouth(into);
     const double id_mm = inner_diameter_[into];
     if (into == sim.outer_of(p.tool)) {
       // Re-sheathed in its own microcatheter: the tip strips the clot off the struts and lets it
       // go there, into the flow, in the pieces the flow's shear tears it into.
-      fragments = flow::fragments_in_flow({mouth, clot.diameter_mm, clot.length_mm, clot.composition}, flow::wall_shear_Pa(network_, mouth));
+      fragments = flow::fragments_in_flow({at, clot.diameter_mm, clot.length_mm, clot.composition}, flow::wall_shear_Pa(network_, at));
       log(time_us, "pass %d: re-sheathed in the %s, the clot is stripped off into the flow", pass, into_name.c_str());
-    } else if (clot.diameter_mm > id_mm && aspirating_[into] == 0 && arrests_.empty()) {
-      // Wider than the mouth, nothing drawing it in and the flow running: the mouth shears the
-      // rim off, and the flow carries it from there.
+    } else if (clot.diameter_mm > id_mm && (aspirating_[into] != 0 || arrests_.empty())) {
+      // Wider than the mouth: the mouth shears the rim off, into the flow there; an aspirating
+      // catheter's own sink draws it in when it out-draws every branch at its node. (Under flow
+      // arrest without aspiration the rim stays in the arrested column: a rule, README.)
       const double rim_mm = clot.diameter_mm - id_mm;
-      fragments.push_back({mouth, rim_mm, std::min(clot.length_mm, rim_mm), clot.composition});
+      fragments.push_back({at, rim_mm, std::min(clot.length_mm, rim_mm), clot.composition});
       log(time_us, "pass %d: the clot comes out; the %s's mouth shears a %.2f mm rim off it", pass, into_name.c_str(), rim_mm);
     } else {
       log(time_us, "pass %d: the clot comes out in the %s%s", pass, into_name.c_str(),

@@ -60,7 +60,10 @@ std::unique_ptr<ThrombectomyUnit> ThrombectomyUnit::make(flow::FlowNetwork& netw
   }
   for (const tool::CaseAspiration& a : spec.aspiration) {
     for (std::size_t t = 0; t < n; ++t) {
-      if (spec.tools[t].name == a.tool) u->aspirators_.push_back({t, a.source, spec.tools[t].inner_diameter_mm});
+      if (spec.tools[t].name != a.tool) continue;
+      double length_mm = 0.0;
+      for (const tool::ToolSection& s : spec.tools[t].sections) length_mm += s.length_mm;
+      u->aspirators_.push_back({t, a.source, spec.tools[t].inner_diameter_mm, length_mm});
     }
   }
   u->figures_.reperfused_pct_final = std::round(100.0 * u->target_.reperfused_fraction(occluded));
@@ -85,15 +88,51 @@ std::string ThrombectomyUnit::segment_name(std::uint32_t segment) const {
   return s.name.empty() ? "segment " + std::to_string(s.id) : s.name;
 }
 
+std::vector<flow::AspirationSink> ThrombectomyUnit::live_sinks(std::vector<std::size_t>* tools) const {
+  std::vector<flow::AspirationSink> out;
+  for (const Aspirator& a : aspirators_) {
+    if (aspirating_[a.tool] == 0 || engaged_tool_ == a.tool || a.tool >= tips_.size()) continue;
+    const flow::CenterlinePosition at = locator_.nearest(tips_[a.tool]);
+    if (at.distance_mm > locator_.radius_at(at.segment, at.arc_mm)) continue;  // not in a vessel (not inserted yet)
+    const double r = flow::catheter_resistance_Pa_s_per_mm3(a.length_mm, a.inner_diameter_mm, network_.settings().viscosity_mPa_s);
+    out.push_back({at.segment, at.arc_mm, flow::vacuum_Pa(a.source), r});
+    if (tools != nullptr) tools->push_back(a.tool);
+  }
+  return out;
+}
+
+void ThrombectomyUnit::update_sinks(std::int64_t time_us) {
+  if (aspirators_.empty()) return;
+  std::vector<flow::AspirationSink> now = live_sinks();
+  const auto node_of = [&](const flow::AspirationSink& s) { return network_.nearer_node(s.segment, s.arc_mm); };
+  bool same = now.size() == sinks_.size();
+  for (std::size_t k = 0; same && k < now.size(); ++k) same = node_of(now[k]) == node_of(sinks_[k]);
+  if (same) return;
+  sinks_ = std::move(now);
+  (void)resolve(time_us, true);
+}
+
+flow::CenterlinePosition ThrombectomyUnit::mouth(std::size_t t) const {
+  std::vector<std::size_t> tools;
+  const std::vector<flow::AspirationSink> sinks = live_sinks(&tools);
+  for (std::size_t k = 0; k < sinks.size(); ++k) {
+    if (tools[k] != t) continue;
+    const bool at_start = network_.nearer_node(sinks[k].segment, sinks[k].arc_mm) == network_.segments()[sinks[k].segment].start_node;
+    return {sinks[k].segment, at_start ? 0.0 : locator_.length_mm(sinks[k].segment), 0.0};
+  }
+  return locator_.nearest(tips_[t]);
+}
+
 std::optional<std::size_t> ThrombectomyUnit::first_balloon_guide() const {
   const auto b = std::find(balloon_.begin(), balloon_.end(), std::uint8_t{1});
   return b == balloon_.end() ? std::nullopt : std::optional<std::size_t>(static_cast<std::size_t>(b - balloon_.begin()));
 }
 
-bool ThrombectomyUnit::resolve(std::int64_t time_us, bool with_arrests) {
-  const std::span<const flow::FlowArrest> arrests = with_arrests ? std::span<const flow::FlowArrest>(arrests_) : std::span<const flow::FlowArrest>();
+bool ThrombectomyUnit::resolve(std::int64_t time_us, bool live) {
+  const std::span<const flow::FlowArrest> arrests = live ? std::span<const flow::FlowArrest>(arrests_) : std::span<const flow::FlowArrest>();
+  const std::span<const flow::AspirationSink> sinks = live ? std::span<const flow::AspirationSink>(sinks_) : std::span<const flow::AspirationSink>();
   ++flow_generation_;
-  if (base::Status<> s = network_.occlude(clots_, arrests); !s) {
+  if (base::Status<> s = network_.occlude(clots_, arrests, sinks); !s) {
     log(time_us, "flow: %s", s.error().message.c_str());
     return false;
   }
@@ -127,6 +166,7 @@ bool ThrombectomyUnit::set_aspiration(std::size_t t, bool on, std::int64_t time_
   } else {
     log(time_us, "aspiration off: the %s", name);
   }
+  update_sinks(time_us);
   return true;
 }
 
@@ -213,6 +253,7 @@ void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot
     std::copy(x.end() - static_cast<std::ptrdiff_t>(m), x.end(), p.path.end() - static_cast<std::ptrdiff_t>(m));
   }
   if (arrest_since_us_ >= 0) figures_.flow_arrest_s = static_cast<double>(arrest_before_us_ + time_us - arrest_since_us_) * 1e-6;
+  update_sinks(time_us);
   if (engaged_tool_) {
     const double insertion = snapshot.tools[*engaged_tool_].insertion_mm;
     engaged_insertion_mm_ = std::max(engaged_insertion_mm_, insertion);
@@ -254,19 +295,16 @@ void ThrombectomyUnit::end_pass(std::int64_t time_us) {
       r.ingest_force_N, r.hold_force_N);
   std::vector<flow::Fragment> fragments;
   std::vector<std::size_t> removed;
+  engaged_tool_.reset();  // the tip is open again: it draws blood (mouth: its sink's node)
   if (r.outcome == flow::AspirationOutcome::kLost) {
-    // A fragment the width of the lumen strips off the catheter's mouth where the tip is now.
-    // Under flow arrest the vacuum takes it into the catheter; else it goes into the flow.
-    if (!arrests_.empty()) {
-      log(time_us, "pass %d: the fragment is aspirated under flow arrest", pass);
-    } else {
-      fragments.push_back({locator_.nearest(tips_[tool]), std::min(a->inner_diameter_mm, clot.diameter_mm),
-                           std::min(a->inner_diameter_mm, clot.length_mm), clot.composition});
-    }
+    // A fragment the width of the lumen strips off the catheter's mouth where the tip is now,
+    // into the flow there: the catheter's own sink draws it in when it out-draws every branch
+    // at its node (under flow arrest, or with a strong vacuum), else the flow carries it away.
+    fragments.push_back({mouth(tool), std::min(a->inner_diameter_mm, clot.diameter_mm), std::min(a->inner_diameter_mm, clot.length_mm),
+                         clot.composition});
   } else {
     removed = engaged_;
   }
-  engaged_tool_.reset();
   engaged_.clear();
   grade_pass(time_us, std::move(removed), fragments);
 }
@@ -282,7 +320,8 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   const flow::Etici grade = figures_.etici_final;
   log(time_us, "pass %d: eTICI %s (%.0f %% reperfused)", figures_.passes, std::string(flow::etici_label(grade)).c_str(),
       figures_.reperfused_pct_final);
-  if (!arrests_.empty()) (void)resolve(time_us, true);
+  sinks_ = live_sinks();
+  (void)resolve(time_us, true);
   release(time_us, fragments);
 }
 

@@ -13,19 +13,32 @@ namespace {
 constexpr std::size_t kMaxMoves = 100000;  // a path never revisits a segment in a solved network
 constexpr double kSameArc_mm = 1e-9;
 
+// The flow segment `f` takes away from `node` (negative: into it; 0: not at it).
+double away_from(const SegmentFlow& f, int node) {
+  return f.start_node == node ? f.flow_mm3_s : (f.end_node == node ? -f.flow_mm3_s : 0.0);
+}
+
 // The segment taking the most flow away from `node` (other than `from`), or -1 (an outlet).
 int next_branch(const std::vector<SegmentFlow>& flows, std::uint32_t from, int node, double noise) {
   double best = noise;
   int next = -1;
   for (std::size_t j = 0; j < flows.size(); ++j) {
     if (j == from) continue;
-    const double away = flows[j].start_node == node ? flows[j].flow_mm3_s : (flows[j].end_node == node ? -flows[j].flow_mm3_s : 0.0);
+    const double away = away_from(flows[j], node);
     if (away > best) {
       best = away;
       next = static_cast<int>(j);
     }
   }
   return next;
+}
+
+// Whether the aspiration sinks at `node` draw more than any segment (but `from`) takes away.
+bool sink_outdraws(const FlowNetwork& network, std::uint32_t from, int node, double noise) {
+  const double sink = network.sink_flow_at_mm3_s(node);
+  if (!(sink > noise)) return false;
+  const int next = next_branch(network.segments(), from, node, noise);
+  return next < 0 || sink > away_from(network.segments()[static_cast<std::size_t>(next)], node);
 }
 
 // The noise floor of the network's flows: below it a segment carries nothing.
@@ -73,7 +86,20 @@ base::Result<EmbolusTransit> EmbolusTransit::start(const FlowNetwork& network, c
   EmbolusTransit t;
   t.fragment_ = f;
   t.enter(network, f.from.segment, f.from.arc_mm);
+  if (!t.done()) t.aspirate_at_start(network);
   return t;
+}
+
+// Released at a segment's end (a node) where an aspiration sink draws more than any segment
+// takes away: straight into the catheter.
+void EmbolusTransit::aspirate_at_start(const FlowNetwork& network) {
+  const SegmentFlow& s = network.segments()[seg_];
+  const int node = arc_mm_ <= kSameArc_mm ? s.start_node : (arc_mm_ >= arcs_.back() - kSameArc_mm ? s.end_node : -1);
+  if (node < 0) return;
+  if (sink_outdraws(network, std::numeric_limits<std::uint32_t>::max(), node, flow_noise(network))) {
+    path_.aspirated = true;
+    state_ = TransitState::kAspirated;
+  }
 }
 
 // Into `segment` at `arc_mm` (clamped to it): a point right there narrower than the fragment
@@ -108,6 +134,11 @@ double EmbolusTransit::move(const FlowNetwork& network, double budget_s, double 
                              : std::lower_bound(arcs_.begin(), arcs_.end(), arc_mm_ - kSameArc_mm);
   if (forward ? ahead == arcs_.end() : ahead == arcs_.begin()) {  // at the segment's end: a junction or an outlet
     const int node = forward ? flows[seg_].end_node : flows[seg_].start_node;
+    if (sink_outdraws(network, seg_, node, noise)) {
+      path_.aspirated = true;
+      state_ = TransitState::kAspirated;
+      return 0.0;
+    }
     const int next = next_branch(flows, seg_, node, noise);
     if (next < 0) {  // an outlet: it lodges at the end of the model, in that territory
       const double len = std::min(fragment_.length_mm, arcs_.back());
@@ -163,6 +194,7 @@ base::Result<EmbolusPath> carry_fragment(const FlowNetwork& network, const Fragm
     return base::Error{"embolus: no flow carries it in segment " + std::to_string(network.model().segments[t->position().segment].id)};
   }
   if (!t->done()) return base::Error{"embolus: its path does not end"};
+  if (t->state() == TransitState::kAspirated) return base::Error{"embolus: an aspiration catheter draws it in"};
   return t->path();
 }
 

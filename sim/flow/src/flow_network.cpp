@@ -446,6 +446,11 @@ base::Status<> FlowNetwork::solve_pressures() {
     if (t.role == EndRole::kInlet) rhs[t.node] += t.target_ml_min / 0.06;
   }
   for (int pin : idle_pins_) triplets.emplace_back(pin, pin, 1.0);  // no flow: pin
+  for (std::size_t k = 0; k < sinks_.size(); ++k) {  // an aspiration catheter to its vacuum
+    const double g = 1.0 / sinks_[k].resistance_Pa_s_per_mm3;
+    triplets.emplace_back(sink_nodes_[k], sink_nodes_[k], g);
+    rhs[sink_nodes_[k]] += g * sink_pressure_Pa(sinks_[k]);
+  }
   const std::optional<Eigen::VectorXd> solved = solve_nodes(nodes, triplets, rhs);
   if (!solved) return base::Error{"flow: the network's pressure system could not be solved"};
   const Eigen::VectorXd& p = *solved;

@@ -57,9 +57,23 @@ std::string check_clot(const vessel::VesselModel& model, const Clot& c, std::siz
 
 }  // namespace
 
-base::Status<> FlowNetwork::occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests) {
+double catheter_resistance_Pa_s_per_mm3(double length_mm, double inner_diameter_mm, double viscosity_mPa_s) {
+  const double d2 = inner_diameter_mm * inner_diameter_mm;
+  return 128.0 * viscosity_mPa_s * 1e-3 * length_mm / (kPi * d2 * d2);
+}
+
+base::Status<> FlowNetwork::occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests,
+                                    std::span<const AspirationSink> sinks) {
   for (const FlowArrest& a : arrests) {
     if (a.segment >= model_.segments.size()) return base::Error{"flow: balloon: no segment index " + std::to_string(a.segment) + " in the vessel model"};
+  }
+  std::vector<int> sink_nodes;
+  for (const AspirationSink& s : sinks) {
+    if (s.segment >= model_.segments.size()) return base::Error{"flow: aspiration: no segment index " + std::to_string(s.segment) + " in the vessel model"};
+    if (!(std::isfinite(s.resistance_Pa_s_per_mm3) && s.resistance_Pa_s_per_mm3 > 0.0 && std::isfinite(s.vacuum_Pa) && s.vacuum_Pa <= 0.0)) {
+      return base::Error{"flow: aspiration: the catheter's resistance must be > 0 and its vacuum <= 0 Pa"};
+    }
+    sink_nodes.push_back(nearer_node(s.segment, s.arc_mm));
   }
   for (std::size_t k = 0; k < clots.size(); ++k) {
     if (std::string e = check_clot(model_, clots[k], k); !e.empty()) return base::Error{"flow: " + e};
@@ -79,14 +93,42 @@ base::Status<> FlowNetwork::occlude(std::span<const Clot> clots, std::span<const
   }
   for (const FlowArrest& a : arrests) resistance[a.segment] = kSealFactor * open_resistance_Pa_s_per_mm3_[a.segment];
   const std::vector<SegmentFlow> before = segments_;
+  std::vector<AspirationSink> sinks_before(sinks.begin(), sinks.end());
+  std::vector<int> nodes_before = sink_nodes;
+  sinks_before.swap(sinks_);
+  nodes_before.swap(sink_nodes_);
   for (std::size_t i = 0; i < segments_.size(); ++i) segments_[i].resistance_Pa_s_per_mm3 = std::max(resistance[i], kMinResistance);
   if (base::Status<> solved = solve_pressures(); !solved) {
     segments_ = before;
+    sinks_ = std::move(sinks_before);
+    sink_nodes_ = std::move(nodes_before);
     return solved;
   }
   clots_.assign(clots.begin(), clots.end());
   arrests_.assign(arrests.begin(), arrests.end());
   return base::Ok{};
+}
+
+int FlowNetwork::nearer_node(std::uint32_t segment, double arc_mm) const {
+  const SegmentFlow& f = segments_[segment];
+  return arc_mm <= 0.5 * f.length_mm ? f.start_node : f.end_node;
+}
+
+double FlowNetwork::sink_flow_at_mm3_s(int node) const {
+  double q = 0.0;
+  for (std::size_t k = 0; k < sinks_.size(); ++k) {
+    if (sink_nodes_[k] == node) q += sink_flow_ml_min(k) / 0.06;
+  }
+  return q;
+}
+
+double FlowNetwork::sink_flow_ml_min(std::size_t k) const {
+  const double p = pressure_Pa_[static_cast<std::size_t>(sink_nodes_[k])];
+  return 0.06 * (p - sink_pressure_Pa(sinks_[k])) / sinks_[k].resistance_Pa_s_per_mm3;
+}
+
+double FlowNetwork::sink_pressure_Pa(const AspirationSink& s) const {
+  return s.vacuum_Pa - settings_.venous_pressure_mmHg * kPa_per_mmHg;
 }
 
 }  // namespace cathbox::flow

@@ -101,6 +101,8 @@ const char* const kShapes = R"({
                                       "etici_final": "string", "reperfused_pct_final": "number",
                                       "first_pass_effect": "boolean", "emboli": "integer",
                                       "emboli_new_territory": "integer", "emboli_lodged": ["string"],
+                                      "emboli_in_transit": [{"at": "string", "at_mm": "number",
+                                                             "would_lodge": "string|null", "new_territory": "boolean"}],
                                       "time_to_reperfusion_s": "number|null",
                                       "balloon_guide_inflations": "integer", "flow_arrest_s": "number",
                                       "stent_passes": "integer", "retrieval_force_peak_N": "number|null"}}

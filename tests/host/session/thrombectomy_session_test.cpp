@@ -14,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <glm/geometric.hpp>
+
 #include "flow/centerline_locator.hpp"
 #include "session/action_script_hand.hpp"
 #include "session/event_log.hpp"
@@ -212,6 +214,15 @@ TEST(ThrombectomyUnit, AnM1ClotIngestedOnTheFirstPassReperfusesTheTerritory) {
   EXPECT_TRUE(f.first_pass_effect);
   EXPECT_EQ(f.time_to_reperfusion_us, 5000);
   EXPECT_EQ(f.emboli, 0);
+  // The tip open again with the vacuum on: the catheter draws blood from the network at its
+  // node (sim/flow "Aspiration sink"), which the MCA misses until aspiration goes off.
+  ASSERT_EQ(c.scene->flow->sinks().size(), 1u);
+  const double drawn = c.scene->flow->sink_flow_ml_min(0);
+  std::printf("the open 0.068\" tip draws %.1f mL/min; left MCA %.1f mL/min (open %.1f)\n", drawn, left_mca_ml_min(*c.scene->flow), baseline);
+  EXPECT_GT(drawn, 100.0);
+  EXPECT_LT(left_mca_ml_min(*c.scene->flow), baseline - 0.05 * baseline);
+  ASSERT_TRUE(c.unit->set_aspiration(kAspirationCatheter, false, 6000));
+  EXPECT_TRUE(c.scene->flow->sinks().empty());
   EXPECT_NEAR(left_mca_ml_min(*c.scene->flow), baseline, 0.05 * baseline);
 }
 
@@ -307,6 +318,8 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   place(c, face, 130.0, t0 + 2000);
   place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, t0 + 3000);
   ASSERT_EQ(f.passes, 2);
+  // Not a rule: the catheter's open tip is the only way out of the arrested column at its node.
+  EXPECT_EQ(last_event(c.events).rfind("the aspiration catheter draws the fragment in", 0), 0u) << last_event(c.events);
   EXPECT_EQ(f.emboli, 1);
   EXPECT_EQ(f.etici_after_pass[1], flow::Etici::k0);
   EXPECT_EQ(f.time_to_reperfusion_us, -1);
@@ -320,6 +333,72 @@ TEST(ThrombectomyUnit, ALostFibrinRichClotStaysAndEmbolizesButNotUnderFlowArrest
   c.unit->tick(t0 + 5000, c.snap);
   EXPECT_NEAR(f.flow_arrest_s, 0.003, 1e-9) << "deflated: the arrest time stays";
   EXPECT_EQ(f.balloon_guide_inflations, 1);
+}
+
+// Pass 1 of the lost fibrin-rich clot (above) without arrest, up to `t_us`: the fragment
+// stripped off at the tip released into the flow.
+void lose_a_fragment(M1& c, std::int64_t t_us) {
+  load_m1(c, {{"inner_diameter 1.73", "inner_diameter 0.89"}, {"red=60 fibrin=30", "red=15 fibrin=75"}});
+  ASSERT_TRUE(c.unit);
+  const flow::CenterlineLocator loc(c.scene->flow->model());
+  ASSERT_TRUE(c.unit->set_aspiration(kAspirationCatheter, true, t_us - 2000));
+  place(c, loc.point_at(c.m1, 2.0), 130.0, t_us - 1000);
+  place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, t_us);
+  ASSERT_EQ(c.unit->figures().passes, 1);
+  ASSERT_EQ(c.unit->emboli_in_transit(), 1u);
+}
+
+TEST(ThrombectomyUnit, AFragmentStillInTransitWhenTheRunEndsIsCountedWhereTheFlowWouldLodgeIt) {
+  // Two identical runs: one ends 1 ms after the pass, the fragment on its way; the other carries
+  // it on in virtual time until it lodges. The first counts what the second sees happen.
+  M1 ended;
+  M1 carried;
+  lose_a_fragment(ended, 6000);
+  lose_a_fragment(carried, 6000);
+  ended.unit->tick(7000, ended.snap);
+  ASSERT_EQ(ended.unit->emboli_in_transit(), 1u);
+  // Drawn in the 3D view as it travels: its diameter (the 0.035" lumen's 0.89 mm), its axis on
+  // its segment's centreline ending at its leading point.
+  const ClotView drawn = ended.unit->embolus_view(0);
+  EXPECT_EQ(drawn.state, ClotState::kInTransit);
+  EXPECT_NEAR(drawn.radius_mm, 0.445, 1e-6);
+  const flow::CenterlineLocator loc(ended.scene->flow->model());
+  for (const glm::vec3& p : drawn.axis_mm) EXPECT_LT(loc.nearest(glm::dvec3(p)).distance_mm, 1e-3);
+  EXPECT_GT(glm::length(drawn.end_mm - drawn.start_mm), 0.0F);
+  const std::vector<flow::Terminal> before = ended.scene->flow->terminals();
+  ended.unit->finish(7000);
+  (void)carry_emboli(carried, 6000);
+  const ThrombectomyFigures& e = ended.unit->figures();
+  const ThrombectomyFigures& c = carried.unit->figures();
+  ASSERT_EQ(c.emboli_lodged.size(), 1u);
+  ASSERT_EQ(e.emboli_in_transit.size(), 1u);
+  const EmbolusInTransit& t = e.emboli_in_transit[0];
+  std::printf("in transit in the %s at %.1f mm: would lodge in the %s%s\n", t.at.c_str(), t.at_mm, t.would_lodge.c_str(),
+              t.new_territory ? " (ENT)" : "");
+  EXPECT_EQ(t.would_lodge, c.emboli_lodged[0]);
+  EXPECT_TRUE(t.new_territory) << "the left A2: outside the MCA territory";
+  EXPECT_EQ(e.emboli, 1);
+  EXPECT_EQ(e.emboli_new_territory, c.emboli_new_territory);
+  EXPECT_TRUE(e.emboli_lodged.empty()) << "not lodged: counted, not listed as lodged";
+  // Where it was: 1 ms after leaving the tip in the ICA terminus, still in the carotid's branches.
+  EXPECT_EQ(t.at.rfind("left_", 0), 0u) << t.at;
+  EXPECT_GE(t.at_mm, 0.0);
+  // The grade is the final angiogram's: the fragment not lodged yet, and the network as it was.
+  EXPECT_EQ(e.etici_final, flow::Etici::k0);
+  EXPECT_EQ(ended.unit->clots().size(), 1u);
+  const std::vector<flow::Terminal> after = ended.scene->flow->terminals();
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t k = 0; k < after.size(); ++k) EXPECT_NEAR(after[k].flow_ml_min, before[k].flow_ml_min, 1e-9) << k;
+  // Once per run.
+  ended.unit->finish(8000);
+  EXPECT_EQ(ended.unit->figures().emboli, 1);
+  // The named metrics count it.
+  Metrics m;
+  m.thrombectomy = e;
+  double named = -1.0;
+  for (const NamedMetric& n : named_metrics(m)) named = n.name == "emboli_in_transit" ? n.value : named;
+  EXPECT_EQ(named, 1.0);
+  EXPECT_NE(MetricsCollector::format(m).find("would lodge in the " + t.would_lodge), std::string::npos) << MetricsCollector::format(m);
 }
 
 }  // namespace

@@ -42,6 +42,7 @@ struct SceneColors {
   static constexpr glm::vec3 kTarget{1.00F, 0.85F, 0.10F};
   static constexpr glm::vec3 kContact{1.00F, 0.45F, 0.00F};
   static constexpr glm::vec3 kClot{0.35F, 0.03F, 0.05F};  // dark red: a thrombus
+  static constexpr glm::vec3 kEmbolus{0.85F, 0.15F, 0.10F};  // bright red: a fragment carried by the flow
 };
 
 class SceneRenderer {

@@ -147,6 +147,11 @@ json metrics_json(const session::ReplayResult& r) {
     for (std::size_t i = 0; i < graded; ++i) {
       passes.push_back({{"etici", std::string(flow::etici_label(t.etici_after_pass[i]))}, {"reperfused_pct", t.reperfused_pct_after_pass[i]}});
     }
+    json in_transit = json::array();
+    for (const session::EmbolusInTransit& e : t.emboli_in_transit) {
+      in_transit.push_back({{"at", e.at}, {"at_mm", e.at_mm}, {"would_lodge", e.would_lodge.empty() ? json(nullptr) : json(e.would_lodge)},
+                            {"new_territory", e.new_territory}});
+    }
     thrombectomy = {{"passes", t.passes},
                     {"etici_per_pass", passes},
                     {"etici_final", std::string(flow::etici_label(t.etici_final))},
@@ -155,6 +160,7 @@ json metrics_json(const session::ReplayResult& r) {
                     {"emboli", t.emboli},
                     {"emboli_new_territory", t.emboli_new_territory},
                     {"emboli_lodged", t.emboli_lodged},
+                    {"emboli_in_transit", in_transit},
                     {"time_to_reperfusion_s", or_null(t.time_to_reperfusion_us >= 0, static_cast<double>(t.time_to_reperfusion_us) * 1e-6)},
                     {"balloon_guide_inflations", t.balloon_guide_inflations},
                     {"flow_arrest_s", t.flow_arrest_s},

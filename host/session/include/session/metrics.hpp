@@ -53,6 +53,16 @@ namespace cathbox::session {
 // eTICI >= 2b50), and the balloon guide's flow arrest: its inflations (control 68 accepted) and
 // the time with any guide inflated (a guide still inflated counts up to the last tick). The
 // angioplasty balloon's inflations are Metrics::balloon_inflations, not these.
+// An embolus still travelling when the run ended: where it was, and where it would lodge if
+// the flow went on (its transit continued in the network without any arrest, as graded).
+struct EmbolusInTransit {
+  std::string at;           // the segment it was in
+  double at_mm = 0.0;       // along that segment's centreline
+  std::string would_lodge;  // the segment it would lodge in ("" if no flow would carry it on)
+  bool new_territory = false;  // lodged there, it would starve an outlet outside the target territory
+  friend bool operator==(const EmbolusInTransit&, const EmbolusInTransit&) = default;
+};
+
 struct ThrombectomyFigures {
   static constexpr std::size_t kMaxPasses = 8;  // passes beyond are counted, not graded one by one
   int passes = 0;
@@ -61,9 +71,10 @@ struct ThrombectomyFigures {
   flow::Etici etici_final = flow::Etici::k0;
   double reperfused_pct_final = 0.0;
   bool first_pass_effect = false;
-  int emboli = 0;
-  int emboli_new_territory = 0;
-  std::vector<std::string> emboli_lodged;  // per embolus: the segment it lodged in, in order
+  int emboli = 0;                // fragments released into the flow: lodged, and at the end those in transit
+  int emboli_new_territory = 0;  // of those, the ones starving (or that would starve) a new territory
+  std::vector<std::string> emboli_lodged;  // per lodged embolus: the segment it lodged in, in order
+  std::vector<EmbolusInTransit> emboli_in_transit;  // set when the run ends (ThrombectomyUnit::finish)
   std::int64_t time_to_reperfusion_us = -1;  // -1: not reperfused
   int balloon_guide_inflations = 0;
   double flow_arrest_s = 0.0;

@@ -27,11 +27,15 @@ struct ToolView {
 };
 
 // A clot of the case (or an embolus a pass left), as the 3D views draw it: a body of its radius
-// from its proximal face to its distal end. Removed clots are no longer listed.
+// from its proximal face to its distal end. Removed clots are no longer listed. After them, the
+// fragments still travelling with the flow (kInTransit): their length along the centreline of
+// the segment they are in, up to their leading point (not drawn in the fluoroscopy: a clot is not
+// radio-opaque; host/session/README.md, "Thrombectomy").
 enum class ClotState : std::uint8_t {
   kInPlace,  // where the case (or the flow, for an embolus) put it
   kEngaged,  // a stent retriever expanded across it, or an aspiration catheter on its face
   kDragged,  // held by a stent retriever being withdrawn: it moves with the stent
+  kInTransit,  // a fragment carried by the flow, not lodged yet
 };
 
 struct ClotView {
@@ -95,7 +99,7 @@ struct SceneSnapshot {
   bool flow_arrest = false;
   // The clots that remain (thrombectomy_unit.hpp: the case's, and the emboli of the passes).
   std::array<ClotView, kMaxClots> clots;
-  int clot_count = 0;
+  int clot_count = 0;     // the clots that remain, then the fragments in transit (up to kMaxClots)
   int clots_removed = 0;  // taken out by the passes so far
   FluoroView fluoro;      // the fluoroscopy unit (fluoro.available: the case has a vessel network)
 

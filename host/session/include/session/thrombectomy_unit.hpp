@@ -15,9 +15,12 @@
 //   at engagement with aspiration still on. flow::aspirate() with the pressure head across the
 //   engaged clot at that moment (lower under flow arrest) decides: ingested or corked, the
 //   thrombus leaves with the catheter; lost, it stays, and a fragment the width of the
-//   catheter's lumen strips off its face. Under flow arrest the vacuum takes that fragment; else
-//   it is released into the flow: an embolus (below). Aspiration off while engaged releases
-//   the clot: no pass.
+//   catheter's lumen strips off its face into the flow at its mouth (below). Aspiration off
+//   while engaged releases the clot: no pass.
+// - Aspiration sinks: an aspirating catheter's open tip (no clot engaged on it) draws blood
+//   from the live network (flow::AspirationSink: Poiseuille through its lumen to the vacuum),
+//   solved again when a sink's node changes; a fragment at its mouth goes into it when it
+//   out-draws every branch there (under flow arrest, the only way out), else the flow takes it.
 // - Emboli travel: a fragment released into the flow is a flow::EmbolusTransit advanced every
 //   tick in virtual time with the network's flows of the moment (arrested, occluded: the flow
 //   model decides whether it moves, and which way) until it lodges where it no longer fits; then
@@ -44,9 +47,9 @@
 //   (flow::clot_hold_force_N with the head across it), and then drags it (its kinetic wall
 //   friction and the head, felt at the hand through the simulator's stent payload). The pass
 //   ends when the stent is back in a catheter: in the guide or aspiration catheter the clot
-//   comes out with it, unless it is wider than that catheter's lumen with neither aspiration
-//   on it nor flow arrest, when the rim the mouth shears off (d - ID wide) is released into the
-//   flow; re-sheathed in its microcatheter the clot, stripped off the struts at that tip, is
+//   comes out with it; wider than that catheter's lumen, the rim the mouth shears off (d - ID
+//   wide) goes into the flow at its mouth (an aspirating catheter's sink may draw it in), except
+//   under flow arrest without aspiration (a rule: it stays in the arrested column); re-sheathed in its microcatheter the clot, stripped off the struts at that tip, is
 //   released into the flow there, in the pieces the flow's shear tears it into
 //   (flow::fragments_in_flow: at arterial shear, whole); not held, it stays. The pass is graded as an aspiration pass, and the
 //   peak pull on the push wire during it is the retrieval force.
@@ -124,6 +127,17 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] int clots_removed() const { return clots_removed_; }
   // Emboli released and not yet lodged (travelling, or stalled where no flow carries them).
   [[nodiscard]] std::size_t emboli_in_transit() const { return in_transit_.size(); }
+  // Embolus `k` in transit (k < emboli_in_transit()) as the 3D view draws it (kInTransit): a body
+  // of its diameter along its segment's centreline, its length behind its leading point (the
+  // way the flow carries it), within that segment.
+  [[nodiscard]] ClotView embolus_view(std::size_t k) const;
+  // The run ends at `time_us`: each embolus still in transit is counted (figures().emboli, and
+  // emboli_new_territory if it would starve a new territory) and described (emboli_in_transit):
+  // its transit continued to its end in the network without any arrest (the guide comes out
+  // with the procedure), the fragments before it lodged as clots, each lodging tried against the
+  // network without it. The grade is not changed (the final angiogram does not show a fragment
+  // still on its way). The network is left as it was. Once per run; a second call does nothing.
+  void finish(std::int64_t time_us);
 
  private:
   ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
@@ -139,6 +153,7 @@ class ThrombectomyUnit final : public ControlHandler {
   // Emboli (thrombectomy_emboli.cpp): fragments into the flow, moved on each tick, lodged.
   void release(std::int64_t time_us, const std::vector<flow::Fragment>& fragments);
   void carry_emboli(std::int64_t time_us);
+  void settle(std::int64_t time_us, const flow::EmbolusTransit& transit);
   void lodge(std::int64_t time_us, const flow::EmbolusTransit& transit);
   // The head across a clot (its segment's end pressures) and the clot as the aspiration model sees it.
   [[nodiscard]] double head_Pa(const flow::Clot& c) const;
@@ -154,8 +169,16 @@ class ThrombectomyUnit final : public ControlHandler {
   void start_retrieval(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
   void end_stent_pass(StentPass& p, std::int64_t time_us, tool::Simulator& sim);
   void hold_on_stent(StentPass& p, std::span<const glm::dvec3> x) const;
-  // Occludes with clots_ and arrests_; false (logged) when the network refuses.
-  bool resolve(std::int64_t time_us, bool with_arrests);
+  // Occludes with clots_, and when `live` with arrests_ and sinks_ (else the control run's
+  // network); false (logged) when the network refuses.
+  bool resolve(std::int64_t time_us, bool live);
+  // The aspirating catheters' open tips (not on an engaged clot) in the vessels, as sinks.
+  [[nodiscard]] std::vector<flow::AspirationSink> live_sinks(std::vector<std::size_t>* tools = nullptr) const;
+  // Solves the live network again when the sinks' nodes changed (aspiration on/off, a tip
+  // moved to another node, engaged or let go).
+  void update_sinks(std::int64_t time_us);
+  // Where a fragment at tool `t`'s mouth starts: its sink's node when it aspirates, else its tip.
+  [[nodiscard]] flow::CenterlinePosition mouth(std::size_t t) const;
   [[nodiscard]] std::string segment_name(std::uint32_t segment) const;
 
   flow::FlowNetwork& network_;
@@ -164,6 +187,7 @@ class ThrombectomyUnit final : public ControlHandler {
   flow::CenterlineLocator locator_;
   std::vector<flow::Clot> clots_;        // what remains, emboli included
   std::vector<flow::FlowArrest> arrests_;
+  std::vector<flow::AspirationSink> sinks_;  // as the live network was last solved
   std::vector<std::size_t> arrest_tool_;  // the tool of each arrest
   std::int64_t arrest_since_us_ = -1;      // when the first of the inflated guides went up (-1: none)
   std::int64_t arrest_before_us_ = 0;      // arrest time of the arrests already over
@@ -171,6 +195,7 @@ class ThrombectomyUnit final : public ControlHandler {
     std::size_t tool = 0;
     flow::VacuumSource source = flow::VacuumSource::kPump;
     double inner_diameter_mm = 0.0;
+    double length_mm = 0.0;  // the catheter's (its sections): its lumen's Poiseuille resistance
   };
   std::vector<Aspirator> aspirators_;        // by tool
   std::vector<std::uint8_t> aspirating_;     // per tool
@@ -207,6 +232,7 @@ class ThrombectomyUnit final : public ControlHandler {
   std::vector<StentPass> stents_;
   std::vector<flow::EmbolusTransit> in_transit_;  // emboli on their way
   std::int64_t last_tick_us_ = -1;
+  bool finished_ = false;
   std::int64_t pass_end_us_ = -1;  // when the last pass ended
   ThrombectomyFigures figures_;
   std::uint64_t flow_generation_ = 0;

@@ -10,7 +10,8 @@
 // lumen it is in, |Q| / (pi r^2), in the network's flows of the moment, so it crosses a piece of
 // lumen in (its volume) / |Q|: a path of volume V takes V / Q, L / v for a uniform tube. It goes
 // the way the flow goes: backwards in a reversed segment, nowhere where there is no flow (it
-// waits, stalled, for the flow to resume).
+// waits, stalled, for the flow to resume). At a node where an aspiration catheter's open tip
+// draws more flow than any branch takes away (FlowNetwork's sinks), it goes into the catheter.
 #include <cstdint>
 #include <vector>
 
@@ -32,6 +33,7 @@ struct EmbolusPath {
   Clot lodged;                          // where it stops, as a clot (open fraction 0)
   std::vector<std::uint32_t> segments;  // segments it travelled, in order
   bool at_outlet = false;               // it reached an outlet of the model
+  bool aspirated = false;               // an aspiration catheter's tip drew it in (lodged: unset)
 };
 
 enum class TransitState : std::uint8_t {
@@ -39,6 +41,7 @@ enum class TransitState : std::uint8_t {
   kStalled,     // no flow where it is (it moves on when the flow resumes)
   kLodged,      // stopped where the lumen is narrower than it: path().lodged
   kAtOutlet,    // reached an outlet of the model: path().lodged at its end
+  kAspirated,   // reached a node where an aspiration sink draws more than any branch: in the catheter
 };
 
 // A fragment on its way, advanced in time by the caller (virtual time).
@@ -51,7 +54,7 @@ class EmbolusTransit {
   TransitState advance(const FlowNetwork& network, double dt_s);
 
   [[nodiscard]] TransitState state() const { return state_; }
-  [[nodiscard]] bool done() const { return state_ == TransitState::kLodged || state_ == TransitState::kAtOutlet; }
+  [[nodiscard]] bool done() const { return state_ != TransitState::kTravelling && state_ != TransitState::kStalled; }
   [[nodiscard]] CenterlinePosition position() const { return {seg_, arc_mm_, 0.0}; }
   [[nodiscard]] double elapsed_s() const { return elapsed_s_; }        // time advanced until it stopped
   [[nodiscard]] double travelled_mm() const { return travelled_mm_; }  // along the centrelines
@@ -63,6 +66,7 @@ class EmbolusTransit {
   // One move within the current segment or across its end; the time it took (<= budget_s).
   double move(const FlowNetwork& network, double budget_s, double noise);
   void enter(const FlowNetwork& network, std::uint32_t segment, double arc_mm);
+  void aspirate_at_start(const FlowNetwork& network);
 
   Fragment fragment_;
   std::uint32_t seg_ = 0;

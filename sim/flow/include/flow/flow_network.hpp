@@ -65,6 +65,21 @@ struct SegmentFlow {
   [[nodiscard]] double flow_ml_min() const { return flow_mm3_s * 0.06; }
 };
 
+// An aspiration catheter's open tip drawing blood out of the network: a sink at the node
+// nearest the tip (the nearer end of the segment it is in), through the catheter's lumen (a
+// Poiseuille resistance over its length and inner diameter: catheter_resistance_Pa_s_per_mm3)
+// to the pump's vacuum. The sink's flow is (p_node - p_vacuum) / R, p_vacuum the gauge vacuum
+// below the venous pressure the network's pressures are measured from.
+struct AspirationSink {
+  std::uint32_t segment = 0;  // where the tip is (index into the model's segments)
+  double arc_mm = 0.0;        // along it
+  double vacuum_Pa = 0.0;     // gauge, negative (flow::vacuum_Pa: -86.8 kPa for the pump)
+  double resistance_Pa_s_per_mm3 = 0.0;  // the catheter's lumen
+};
+
+// Poiseuille's resistance of a catheter's lumen, 128 mu L / (pi ID^4), Pa s / mm^3.
+[[nodiscard]] double catheter_resistance_Pa_s_per_mm3(double length_mm, double inner_diameter_mm, double viscosity_mPa_s);
+
 class FlowNetwork;
 
 // The solved network, or one line ("file:line: message" for a case override).
@@ -92,9 +107,20 @@ class FlowNetwork {
   // territories downstream of a clot lose their flow, which goes where the network's other
   // paths take it (collaterals). An error (nothing changed) for a clot outside its segment,
   // a bad composition or open fraction. Balloons (`arrests`) seal their segments: flow arrest.
-  [[nodiscard]] base::Status<> occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests = {});
+  // Aspiration catheters' open tips (`sinks`) draw blood at their nodes; the inflows stay as
+  // prescribed, so what the sinks take the outlets lose.
+  [[nodiscard]] base::Status<> occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests = {},
+                                       std::span<const AspirationSink> sinks = {});
   [[nodiscard]] const std::vector<Clot>& clots() const { return clots_; }
   [[nodiscard]] const std::vector<FlowArrest>& arrests() const { return arrests_; }
+  [[nodiscard]] const std::vector<AspirationSink>& sinks() const { return sinks_; }
+  // Sink k's node and the flow it draws out of the network there, mL/min (> 0: into the catheter).
+  [[nodiscard]] int sink_node(std::size_t k) const { return sink_nodes_[k]; }
+  [[nodiscard]] double sink_flow_ml_min(std::size_t k) const;
+  // The node an aspiration sink at `arc_mm` of `segment` draws at: the segment's nearer end.
+  [[nodiscard]] int nearer_node(std::uint32_t segment, double arc_mm) const;
+  // The flow the sinks at `node` draw, mm^3/s (0 for none).
+  [[nodiscard]] double sink_flow_at_mm3_s(int node) const;
 
   // Pulsatility factor of every flow at time t (1 for steady flow), and its maximum.
   [[nodiscard]] double flow_scale(double time_s) const;
@@ -104,6 +130,8 @@ class FlowNetwork {
   FlowNetwork() = default;
   base::Status<> solve();
   base::Status<> solve_pressures();
+  // A sink's vacuum as the network measures pressure (above venous), Pa.
+  [[nodiscard]] double sink_pressure_Pa(const AspirationSink& s) const;
 
   vessel::VesselModel model_;
   FlowSettings settings_;
@@ -113,6 +141,8 @@ class FlowNetwork {
   std::vector<double> open_resistance_Pa_s_per_mm3_;  // per segment, without clots
   std::vector<Clot> clots_;
   std::vector<FlowArrest> arrests_;
+  std::vector<AspirationSink> sinks_;
+  std::vector<int> sink_nodes_;
   std::vector<int> idle_pins_;  // a node of each component without outflow, pinned at 0 Pa
 };
 
