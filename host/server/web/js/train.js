@@ -13,6 +13,9 @@
 //
 // /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
 // sleeps to it; js/tick_clock.js).
+// /train.html?frame_ms=MIN&frame_max_ms=MAX: the page's frame budget (js/frame_pacer.js): it draws
+// at most every MIN ms, and a late tick in the haptic worker stretches that towards MAX (equal
+// MAX and MIN: a fixed budget; defaults FRAME_MS, FRAME_MAX_MS).
 // /train.html?view=fluoro|3d: the main view, as cathbox-trainer's --view (default: fluoroscopy for a
 // `realistic` case); the page's button switches it. The fluoroscopic image is js/fluoro_view.js
 // (the native renderer's shaders in WebGL2) over inputs the worker makes (host/wasm browser_fluoro).
@@ -30,6 +33,7 @@ import { Histogram } from './tick_stats.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { askForBox, chooseBox } from './box_transport.js';
+import { FramePacer } from './frame_pacer.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -168,15 +172,20 @@ function followTip(s) {
 // between frames that drew, and the time the page's thread spends drawing one (WebGL calls issued;
 // with a software GL the GPU process's work is not in it).
 let frames = null;
+const numberParam = (name, fallback) => (params.has(name) && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
+const FRAME_MS = 0;
+const FRAME_MAX_MS = 0;
 
 function frameNote() {
   const ms = (h) => `p50 ${(h.percentile(0.5) ?? 0).toFixed(2)} ms, p99 ${(h.percentile(0.99) ?? 0).toFixed(2)} ms`;
-  return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}.`;
+  return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}; ` +
+    `${frames.pacer.skipped} held back by the frame budget.`;
 }
 
 function draw() {
   if (!views) return;
   const t0 = performance.now();
+  if (frames && !frames.pacer.due(t0)) return requestAnimationFrame(draw);
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
   const drew = fluoroShown ? fluoro.view.render() : views.global.render();
   if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
@@ -190,6 +199,7 @@ function draw() {
     frames.draw.add(t1 - t0);
     if (frames.lastAt >= 0) frames.interval.add(t0 - frames.lastAt);
     frames.lastAt = t0;
+    frames.pacer.drew(t0);
   }
   if (drew && firstFrameMs === null && run.last) {
     firstFrameMs = performance.now() - run.started;
@@ -314,6 +324,7 @@ function startWorker() {
     const m = e.data;
     if (m.type === 'frame') {
       showFrame(m.data, m.metrics, m.fluoro);
+      if (frames) frames.pacer.health(m.lateMs || 0);
       run.boxReport = m.box;
       showBoxReport(m.box || { live: false, state: null });  // no box in the worker yet: said so
     }
@@ -395,7 +406,8 @@ async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
-  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1 };
+  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1,
+    pacer: new FramePacer({ minMs: numberParam('frame_ms', FRAME_MS), maxMs: numberParam('frame_max_ms', FRAME_MAX_MS) }) };
   run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
   setState('opening', 'opening ' + a.case);
   document.getElementById('pick').hidden = true;
