@@ -15,7 +15,9 @@
 // sleeps to it; js/tick_clock.js).
 // /train.html?frame_ms=MIN&frame_max_ms=MAX: the page's frame budget (js/frame_pacer.js): it draws
 // at most every MIN ms, and a late tick in the haptic worker stretches that towards MAX (equal
-// MAX and MIN: a fixed budget; defaults FRAME_MS, FRAME_MAX_MS).
+// MAX and MIN: a fixed budget; defaults FRAME_MS, FRAME_MAX_MS: 0, no budget, since no gain was
+// measured: docs/wasm/haptic-clock.md).
+// /train.html?scale=S (0.25-1): the views drawn at S of the page's pixel density, stretched to size.
 // /train.html?view=fluoro|3d: the main view, as cathbox-trainer's --view (default: fluoroscopy for a
 // `realistic` case); the page's button switches it. The fluoroscopic image is js/fluoro_view.js
 // (the native renderer's shaders in WebGL2) over inputs the worker makes (host/wasm browser_fluoro).
@@ -38,6 +40,10 @@ import { FramePacer } from './frame_pacer.js';
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
 const clock = params.get('clock') === 'virtual' ? 'virtual' : 'real';
+const numberParam = (name, fallback) => (params.has(name) && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
+const FRAME_MS = 0;
+const FRAME_MAX_MS = 0;
+const SCALE = Math.min(1, Math.max(0.25, numberParam('scale', 1)));  // ?scale=S: canvas pixels per CSS pixel (software GL's work)
 
 let worker = null;
 let state = 'idle';  // opening, running, uploading, stored, refused, error
@@ -98,7 +104,8 @@ function fit(flat, max = 256) {
 function fluoroSize() {
   if (fluoro.main !== 'fluoro') return null;
   const c = document.getElementById('global');  // the canvas fills it (and has no size while hidden)
-  return [Math.max(1, Math.round(c.clientWidth * devicePixelRatio)), Math.max(1, Math.round(c.clientHeight * devicePixelRatio))];
+  const ratio = devicePixelRatio * SCALE;
+  return [Math.max(1, Math.round(c.clientWidth * ratio)), Math.max(1, Math.round(c.clientHeight * ratio))];
 }
 
 // The main view: the fluoroscopic image or the 3D scene (the button, ?view=, a realistic case).
@@ -110,6 +117,7 @@ function showMainView(which) {
   if (which === 'fluoro' && fluoro.available && !fluoro.view) {
     try {
       fluoro.view = new FluoroView(canvas, fluoro.vessel.shaders);
+      fluoro.view.pixelRatio = devicePixelRatio * SCALE;
       if (fluoro.vessel) fluoro.view.setVessel(fluoro.vessel.vertices, fluoro.vessel.indices);
       if (fluoro.last) fluoro.view.update(fluoro.last);
     } catch (err) {
@@ -172,9 +180,6 @@ function followTip(s) {
 // between frames that drew, and the time the page's thread spends drawing one (WebGL calls issued;
 // with a software GL the GPU process's work is not in it).
 let frames = null;
-const numberParam = (name, fallback) => (params.has(name) && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
-const FRAME_MS = 0;
-const FRAME_MAX_MS = 0;
 
 function frameNote() {
   const ms = (h) => `p50 ${(h.percentile(0.5) ?? 0).toFixed(2)} ms, p99 ${(h.percentile(0.99) ?? 0).toFixed(2)} ms`;
@@ -185,7 +190,7 @@ function frameNote() {
 function draw() {
   if (!views) return;
   const t0 = performance.now();
-  if (frames && !frames.pacer.due(t0)) return requestAnimationFrame(draw);
+  if (firstFrameMs !== null && !frames.pacer.due(t0)) return requestAnimationFrame(draw);  // the first frame unpaced
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
   const drew = fluoroShown ? fluoro.view.render() : views.global.render();
   if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
@@ -417,6 +422,7 @@ async function openCase(a) {
   views.global.setVessel(mesh);
   views.local.setVessel(mesh);
   views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
+  if (SCALE !== 1) for (const v of [views.global, views.local]) { v.renderer.setPixelRatio(SCALE); v.resize(); }
   offerBox();
   requestAnimationFrame(draw);
   if (!worker) startWorker();
