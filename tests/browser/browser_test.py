@@ -280,7 +280,7 @@ class Centre:
 
 
 class Browser:
-    def __init__(self, out, spki=None):
+    def __init__(self, out, spki=None, extra_args=()):
         self.out = out
         options = webdriver.ChromeOptions()
         options.binary_location = "/usr/bin/chromium"
@@ -290,7 +290,7 @@ class Browser:
             options.add_argument("--ignore-certificate-errors-spki-list=" + spki)
         for a in ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1280,720",
                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-gpu-vsync",
-                  "--hide-scrollbars", "--mute-audio", "--no-first-run", "--disable-extensions"]:
+                  "--hide-scrollbars", "--mute-audio", "--no-first-run", "--disable-extensions", *extra_args]:
             options.add_argument(a)
         options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
         self.driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)

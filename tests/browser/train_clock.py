@@ -16,7 +16,8 @@ CLOCK_NOTE = re.compile(
     r"Haptic clock: (\d+) ticks, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms, (\d+) dropped; "
     r"lateness p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms; a tick's run p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
     r"late ticks after a sleep (\d+), after ticks (\d+), after the event loop (\d+), caught up (\d+)\.$")
-DRAW_NOTE = re.compile(r"Page: (\d+) frames drawn, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; drawing p50 ([0-9.]+) ms, p99 ([0-9.]+) ms\.$")
+DRAW_NOTE = re.compile(r"Page: (\d+) frames drawn, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; drawing p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
+                       r"(\d+) held back by the frame budget\.$")
 FRAME_NOTE = re.compile(r"First frame (\d+) ms after choosing the case(?: \(the session opened in (\d+) ms\))?\.$")
 
 
@@ -36,7 +37,7 @@ def clock_figures(b):
     d = DRAW_NOTE.match(b.js("return document.getElementById('draw-note').textContent"))
     check(d is not None, "the page's drawing note: %r" % b.js("return document.getElementById('draw-note').textContent"))
     frames = {"frames": int(d.group(1)), "interval_p50_ms": float(d.group(2)), "interval_p99_ms": float(d.group(3)),
-              "draw_p50_ms": float(d.group(4)), "draw_p99_ms": float(d.group(5))}
+              "draw_p50_ms": float(d.group(4)), "draw_p99_ms": float(d.group(5)), "held_back": int(d.group(6))}
     return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None, frames
 
 
@@ -50,11 +51,12 @@ def rig_priority(b, source, fifo):
     return len(out.stdout.splitlines())
 
 
-def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fifo=None):
+def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fifo=None, query=None):
     """The worker's own 1 kHz clock for `seconds`, W held (and Space, the pedal, in fluoroscopy),
     then Escape: jitter and first frame, with the machine's load average. `fifo`: the rig's
-    launcher gives the workers' threads that real-time priority (rig_priority) once the run starts."""
-    open_assignment(b, assignment, "real", view, spin)
+    launcher gives the workers' threads that real-time priority (rig_priority) once the run starts.
+    `query`: more of the page's options (e.g. `frame_ms=50`)."""
+    open_assignment(b, assignment, "real", view, spin, query)
     raised = rig_priority(b, centre.args.source, fifo) if fifo else 0
     body = b.driver.find_element(By.TAG_NAME, "body")
     keys = ["w", Keys.SPACE] if view == "fluoro" else ["w"]
@@ -76,5 +78,5 @@ def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fif
     jitter, first_ms, open_ms, frames = clock_figures(b)
     report.setdefault("real_clock", {})[view] = {
         "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "frames": frames, "end": end,
-        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)], "spin_ms": spin, "fifo_threads": raised,
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)], "spin_ms": spin, "fifo_threads": raised, "query": query,
         "fluoro": b.js(FLUORO_NOTE_JS) if view == "fluoro" else None}

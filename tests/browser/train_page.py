@@ -55,9 +55,9 @@ def end_of_run(b, centre):
     return end, result, record_bytes
 
 
-def open_assignment(b, assignment, clock, view=None, spin=None):
+def open_assignment(b, assignment, clock, view=None, spin=None, extra=None):
     query = [("clock=virtual" if clock == "virtual" else None), ("view=" + view if view else None),
-             ("spin=%g" % spin if spin is not None else None)]
+             ("spin=%g" % spin if spin is not None else None), extra]
     b.open("/train.html" + ("?" + "&".join(q for q in query if q) if any(query) else ""))
     b.wait(EC.element_to_be_clickable((By.CSS_SELECTOR, "button.open-case[data-id='%d']" % assignment)), "the assignment's Run button")
     check(b.js("return self.crossOriginIsolated"), "the page is not cross-origin isolated (COOP/COEP headers)")

@@ -179,6 +179,9 @@ def main():
     parser.add_argument("--spin", type=float, default=None, metavar="MS", help="the real-clock runs with /train.html?spin=MS")
     parser.add_argument("--rig-fifo", type=int, default=None, metavar="PRIO",
                         help="the real-clock runs with the browser's worker threads at SCHED_FIFO PRIO, as a kiosk rig's launcher may set them")
+    parser.add_argument("--query", default=None, metavar="Q", help="the real-clock runs with /train.html?...&Q (e.g. frame_ms=50)")
+    parser.add_argument("--chromium-arg", action="append", default=[], metavar="ARG",
+                        help="one more Chromium switch for the trainee's browser (repeatable; e.g. --in-process-gpu)")
     parser.add_argument("--keep", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -194,13 +197,13 @@ def main():
         watcher = Browser(args.out)
         watcher.base = centre.base
         watcher.login("teacher")
-        b = Browser(args.out)
+        b = Browser(args.out, extra_args=args.chromium_arg)
         b.base = centre.base
         b.login("ann")
         if args.only:
             if args.only == "real-clock":
                 for view in ("3d", "fluoro"):
-                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo)
+                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query)
             else:
                 test_fluoroscopy(b, two_tools, report)
             b.drain_console()
@@ -225,7 +228,7 @@ def main():
         b.drain_console()
         if args.real_clock:
             for view in ("3d", "fluoro"):
-                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo)
+                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query)
                 b.drain_console()
         test_box_bridge(b, centre, assignment, report)
         b.drain_console()

@@ -8,6 +8,7 @@ import { pathToFileURL } from 'url';
 const dir = path.resolve(process.argv[2]);
 const { TickClock, MAX_CATCH_UP } = await import(pathToFileURL(path.join(dir, 'tick_clock.js')).href);
 const { TickStats, BIN_MS } = await import(pathToFileURL(path.join(dir, 'tick_stats.js')).href);
+const { FramePacer } = await import(pathToFileURL(path.join(dir, 'frame_pacer.js')).href);
 
 let failures = 0;
 function check(ok, what) {
@@ -139,6 +140,40 @@ function machine({ tickMs = 0.1, wake = () => 0, spinMs, maxCatchUp } = {}) {
   for (let i = 0; i < 100; ++i) { t += i < 98 ? 1 : 5; s.start(t, t, 'sleep'); }
   const r = s.report();
   check(r.p50_ms === 1.005 && r.p99_ms === 5.005 && r.max_ms === 5, 'percentiles: ' + JSON.stringify(r));
+}
+
+// 7. The worst lateness since the last frame (the worker's word to the page), taken afresh.
+{
+  const s = new TickStats();
+  s.start(10, 10, 'sleep');
+  s.start(11.3, 11, 'sleep');
+  s.start(12.1, 12, 'sleep');
+  check(near(s.takeWorst(), 0.3, 1e-9), 'the worst lateness since the start: 0.3 ms');
+  s.start(13.05, 13, 'sleep');
+  check(near(s.takeWorst(), 0.05, 1e-9), 'the worst lateness since the last take: 0.05 ms');
+  check(s.takeWorst() === 0, 'nothing since the last take: 0');
+}
+
+// 8. The page's frame budget (frame_pacer.js): at most every minMs; a late tick doubles it up to
+// maxMs, on-time frames take it back stepMs at a time; a frame held back is counted.
+{
+  const p = new FramePacer({ minMs: 40, maxMs: 200, lateMs: 0.5, stepMs: 10 });
+  check(p.due(0), 'the first frame is due');
+  p.drew(0);
+  check(!p.due(39) && p.due(40), 'the next at 40 ms, not before');
+  p.health(0.6);
+  check(p.budgetMs === 80, 'a late tick doubles the budget: ' + p.budgetMs);
+  for (let i = 0; i < 5; ++i) p.health(3);
+  check(p.budgetMs === 200, 'up to maxMs: ' + p.budgetMs);
+  p.health(0.5);
+  check(p.budgetMs === 190, 'a tick on time (0.5 ms is not late) takes 10 ms back: ' + p.budgetMs);
+  for (let i = 0; i < 100; ++i) p.health(0);
+  check(p.budgetMs === 40, 'down to minMs: ' + p.budgetMs);
+  check(p.skipped === 1, 'one frame held back: ' + p.skipped);
+  const off = new FramePacer();
+  off.drew(5);
+  off.health(10);
+  check(off.budgetMs === 0 && off.due(5), 'maxMs 0: no budget, every frame due: ' + off.budgetMs);
 }
 
 if (failures) {

@@ -80,6 +80,7 @@ export class FluoroView {
   // `glsl`: the native renderer's shader texts from the worker (cbx_fluoro_shader: version,
   // sceneVs, sceneFs, fullVs, compositeFs, scaleFs). Throws one line when WebGL2 cannot draw it.
   constructor(canvas, glsl) {
+    this.pixelRatio = devicePixelRatio;  // canvas pixels per CSS pixel (the page's ?scale= lowers it)
     this.canvas = canvas;
     const gl = canvas.getContext('webgl2', { antialias: false, depth: false, alpha: false, preserveDrawingBuffer: true });
     if (!gl) throw new Error('this browser has no WebGL2: no fluoroscopic image');
@@ -222,8 +223,8 @@ export class FluoroView {
   render() {
     const gl = this.gl;
     const canvas = this.canvas;
-    const cw = Math.max(1, Math.round(canvas.clientWidth * devicePixelRatio));
-    const ch = Math.max(1, Math.round(canvas.clientHeight * devicePixelRatio));
+    const cw = Math.max(1, Math.round(canvas.clientWidth * this.pixelRatio));
+    const ch = Math.max(1, Math.round(canvas.clientHeight * this.pixelRatio));
     const resized = canvas.width !== cw || canvas.height !== ch;
     if (resized) { canvas.width = cw; canvas.height = ch; }
     const head = this.header;

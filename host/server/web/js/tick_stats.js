@@ -44,6 +44,7 @@ export class TickStats {
     this.dropped = 0;
     this.late = { after_sleep: 0, after_ticks: 0, after_yield: 0, catch_up: 0 };
     this.wasLate = false;
+    this.worstRecent = 0;  // the worst lateness since takeWorst() (the page's frame pacing)
   }
 
   // A tick starting at `at` (ms) for its deadline `due` (ms); `after` what the worker did
@@ -52,6 +53,7 @@ export class TickStats {
     if (this.lastAt >= 0) this.interval.add(at - this.lastAt);
     this.lastAt = at;
     this.lateness.add(at - due);
+    if (at - due > this.worstRecent) this.worstRecent = at - due;
     const late = at - due > LATE_MS;
     if (late && this.wasLate) this.late.catch_up++;
     else if (late) {
@@ -63,6 +65,13 @@ export class TickStats {
   }
 
   ran(ms) { this.run.add(ms); }
+
+  // The worst lateness (ms) since the last call, and start afresh.
+  takeWorst() {
+    const worst = this.worstRecent;
+    this.worstRecent = 0;
+    return worst;
+  }
 
   report() {
     const r3 = (v) => (v === null ? null : Math.round(v * 1000) / 1000);

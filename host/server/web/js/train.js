@@ -13,6 +13,11 @@
 //
 // /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
 // sleeps to it; js/tick_clock.js).
+// /train.html?frame_ms=MIN&frame_max_ms=MAX: the page's frame budget (js/frame_pacer.js): it draws
+// at most every MIN ms, and a late tick in the haptic worker stretches that towards MAX (equal
+// MAX and MIN: a fixed budget; defaults FRAME_MS, FRAME_MAX_MS: 0, no budget, since no gain was
+// measured: docs/wasm/haptic-clock.md).
+// /train.html?scale=S (0.25-1): the views drawn at S of the page's pixel density, stretched to size.
 // /train.html?view=fluoro|3d: the main view, as cathbox-trainer's --view (default: fluoroscopy for a
 // `realistic` case); the page's button switches it. The fluoroscopic image is js/fluoro_view.js
 // (the native renderer's shaders in WebGL2) over inputs the worker makes (host/wasm browser_fluoro).
@@ -30,10 +35,15 @@ import { Histogram } from './tick_stats.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { askForBox, chooseBox } from './box_transport.js';
+import { FramePacer } from './frame_pacer.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
 const clock = params.get('clock') === 'virtual' ? 'virtual' : 'real';
+const numberParam = (name, fallback) => (params.has(name) && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
+const FRAME_MS = 0;
+const FRAME_MAX_MS = 0;
+const SCALE = Math.min(1, Math.max(0.25, numberParam('scale', 1)));  // ?scale=S: canvas pixels per CSS pixel (software GL's work)
 
 let worker = null;
 let state = 'idle';  // opening, running, uploading, stored, refused, error
@@ -94,7 +104,8 @@ function fit(flat, max = 256) {
 function fluoroSize() {
   if (fluoro.main !== 'fluoro') return null;
   const c = document.getElementById('global');  // the canvas fills it (and has no size while hidden)
-  return [Math.max(1, Math.round(c.clientWidth * devicePixelRatio)), Math.max(1, Math.round(c.clientHeight * devicePixelRatio))];
+  const ratio = devicePixelRatio * SCALE;
+  return [Math.max(1, Math.round(c.clientWidth * ratio)), Math.max(1, Math.round(c.clientHeight * ratio))];
 }
 
 // The main view: the fluoroscopic image or the 3D scene (the button, ?view=, a realistic case).
@@ -106,6 +117,7 @@ function showMainView(which) {
   if (which === 'fluoro' && fluoro.available && !fluoro.view) {
     try {
       fluoro.view = new FluoroView(canvas, fluoro.vessel.shaders);
+      fluoro.view.pixelRatio = devicePixelRatio * SCALE;
       if (fluoro.vessel) fluoro.view.setVessel(fluoro.vessel.vertices, fluoro.vessel.indices);
       if (fluoro.last) fluoro.view.update(fluoro.last);
     } catch (err) {
@@ -171,12 +183,14 @@ let frames = null;
 
 function frameNote() {
   const ms = (h) => `p50 ${(h.percentile(0.5) ?? 0).toFixed(2)} ms, p99 ${(h.percentile(0.99) ?? 0).toFixed(2)} ms`;
-  return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}.`;
+  return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}; ` +
+    `${frames.pacer.skipped} held back by the frame budget.`;
 }
 
 function draw() {
   if (!views) return;
   const t0 = performance.now();
+  if (firstFrameMs !== null && !frames.pacer.due(t0)) return requestAnimationFrame(draw);  // the first frame unpaced
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
   const drew = fluoroShown ? fluoro.view.render() : views.global.render();
   if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
@@ -190,6 +204,7 @@ function draw() {
     frames.draw.add(t1 - t0);
     if (frames.lastAt >= 0) frames.interval.add(t0 - frames.lastAt);
     frames.lastAt = t0;
+    frames.pacer.drew(t0);
   }
   if (drew && firstFrameMs === null && run.last) {
     firstFrameMs = performance.now() - run.started;
@@ -314,6 +329,7 @@ function startWorker() {
     const m = e.data;
     if (m.type === 'frame') {
       showFrame(m.data, m.metrics, m.fluoro);
+      if (frames) frames.pacer.health(m.lateMs || 0);
       run.boxReport = m.box;
       showBoxReport(m.box || { live: false, state: null });  // no box in the worker yet: said so
     }
@@ -395,7 +411,8 @@ async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
-  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1 };
+  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1,
+    pacer: new FramePacer({ minMs: numberParam('frame_ms', FRAME_MS), maxMs: numberParam('frame_max_ms', FRAME_MAX_MS) }) };
   run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
   setState('opening', 'opening ' + a.case);
   document.getElementById('pick').hidden = true;
@@ -405,6 +422,7 @@ async function openCase(a) {
   views.global.setVessel(mesh);
   views.local.setVessel(mesh);
   views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
+  if (SCALE !== 1) for (const v of [views.global, views.local]) { v.renderer.setPixelRatio(SCALE); v.resize(); }
   offerBox();
   requestAnimationFrame(draw);
   if (!worker) startWorker();

@@ -150,7 +150,8 @@ function postFrame() {
   const fluoro = fluoroFrame();
   const moved = [data.buffer];
   if (fluoro) for (const k of ['header', 'phantom', 'floats', 'indices']) if (fluoro[k]) moved.push(fluoro[k].buffer);
-  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro }, moved);
+  const lateMs = ticker ? ticker.stats.takeWorst() : 0;  // the page paces its drawing by it (js/frame_pacer.js)
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro, lateMs }, moved);
 }
 
 function finish() {
