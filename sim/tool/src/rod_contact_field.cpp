@@ -193,7 +193,8 @@ bool RodContactField::relist_moved() const {
 void RodContactField::build_list() const {
   ++list_builds_;
   const std::size_t n = items_.size();
-  if (!relist_moved()) halves_.clear();  // the members changed: no pair is kept
+  relisted_all_ = !relist_moved();
+  if (relisted_all_) halves_.clear();  // the members changed: no pair is kept
   build_grid(true);
   // Each pair is classified on the two items' listed middles: a pair left out is further apart
   // than the reach plus the margin and the skin there, and each item stays within half the skin
@@ -224,6 +225,12 @@ void RodContactField::build_list() const {
   std::merge(halves_.begin(), halves_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(merged_));
   halves_.clear();
   std::merge(merged_.begin(), merged_.end(), lower_.begin(), lower_.end(), std::back_inserter(halves_));
+  const bool partial = !relisted_all_;
+  if (partial) {
+    kept_start_.swap(pair_start_);
+    kept_pairs_.swap(pairs_);
+    kept_gap_.swap(last_gap_);
+  }
   pair_start_.assign(n + 1, 0u);
   for (const auto& [i, j] : halves_) ++pair_start_[i + 1], ++pair_start_[j + 1];
   for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
@@ -239,9 +246,27 @@ void RodContactField::build_list() const {
     pairs_[next_[j]++] = i;
   }
   last_gap_.assign(pairs_.size(), LastGap{});
+  if (partial) keep_last_gaps();
   lower_side_.assign(pairs_.size(), LowerSide{});
   gathers_ = 0;
   list_valid_ = true;
+}
+
+// A pair of two items not listed again keeps its last tested gap: both items' drifts are still
+// measured from the same listed ends, so the gather's cull stays a bound (without it the gathers
+// after a build tested every listed pair again). Both lists of an item are sorted: one merge walk.
+void RodContactField::keep_last_gaps() const {
+  const std::size_t n = items_.size();
+  for (std::size_t i = 0; i < n && i + 1 < kept_start_.size(); ++i) {
+    if (relisted_[i] != 0) continue;
+    std::uint32_t o = kept_start_[i];
+    const std::uint32_t o_end = kept_start_[i + 1];
+    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1] && o < o_end; ++p) {
+      const std::uint32_t j = pairs_[p];
+      while (o < o_end && kept_pairs_[o] < j) ++o;
+      if (o < o_end && kept_pairs_[o] == j && relisted_[j] == 0) last_gap_[p] = kept_gap_[o];
+    }
+  }
 }
 
 bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {

@@ -11,7 +11,7 @@
 // that moved a quarter of the skin (all when the members changed), pairs being classified on
 // the listed middles, and keeps the pairs of the others (released coils at rest). A gather then tests only the listed pairs,
 // and skips the segment test of a pair whose last tested distance, less what the ends of both
-// edges have moved since, keeps it out of reach. The two sides of a contact of a rod with
+// edges have moved since, keeps it out of reach (kept across a build for the pairs it keeps). The two sides of a contact of a rod with
 // itself come from one segment test (from its lower edge): one plane, normals opposite. The
 // contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
@@ -75,6 +75,7 @@ class RodContactField final : public RodObstacles {
   void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
   [[nodiscard]] bool relist_moved() const;  // false: every item relisted (a full build)
   void build_list() const;
+  void keep_last_gaps() const;  // after a partial build: the kept pairs' last gaps
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
   [[nodiscard]] bool excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
@@ -106,6 +107,10 @@ class RodContactField final : public RodObstacles {
     double drift_mm = 0.0;
   };
   mutable std::vector<LastGap> last_gap_;
+  // The last build's lists and gaps, while a partial build carries the kept pairs' gaps over.
+  mutable std::vector<std::uint32_t> kept_start_, kept_pairs_;
+  mutable std::vector<LastGap> kept_gap_;
+  mutable bool relisted_all_ = true;
   // Per slot: the slot of the same pair in the other item's list, and, for a pair of one rod's
   // edges, what the gather stamped `stamp` found from the lower edge (the contact it made in
   // the output, or none, and the closest point's parameter on the higher edge).
