@@ -80,6 +80,8 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
       return;
     }
   }
+  // The mesher sweeps a tube along the centreline: a bend tighter than the lumen folds its wall.
+  result.bends = vessel::round_tight_bends(result.model);
   if (const auto problems = vessel::validate_model(result.model, file); !problems.empty()) {
     std::string message = problems.front().message;
     if (!options.filter_radii && message.find("radius") != std::string::npos) message += " (the radius filter is off)";
@@ -311,6 +313,7 @@ std::string ImportResult::summary() const {
     out += gap;
   }
   out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
+  if (std::string rounded = bends.summary(); !rounded.empty()) out += "; " + rounded;
   for (const std::string& note : notes) out += "; " + note;
   return out;
 }
