@@ -20,7 +20,8 @@ constexpr std::ptrdiff_t kWindow = 2;  // points on each side of a tight one tha
   const glm::dvec3 b = points[i + 1].pos_mm - points[i].pos_mm;
   const double la = glm::length(a);
   const double lb = glm::length(b);
-  if (la <= 0.0 || lb <= 0.0) return std::numeric_limits<double>::infinity();  // a repeated point
+  // A repeated point, or a radius no bend can be measured against (validation refuses it).
+  if (la <= 0.0 || lb <= 0.0 || !(points[i].radius_mm > 0.0)) return std::numeric_limits<double>::infinity();
   const double twice_area = glm::length(glm::cross(a, b));
   if (twice_area <= 1e-12 * la * lb) {  // collinear: straight on, or folded straight back
     return glm::dot(a, b) < 0.0 ? std::numeric_limits<double>::infinity() : 0.0;

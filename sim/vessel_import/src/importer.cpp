@@ -80,14 +80,15 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
       return;
     }
   }
-  // The mesher sweeps a tube along the centreline: a bend tighter than the lumen folds its wall.
-  result.bends = vessel::round_tight_bends(result.model);
   if (const auto problems = vessel::validate_model(result.model, file); !problems.empty()) {
     std::string message = problems.front().message;
     if (!options.filter_radii && message.find("radius") != std::string::npos) message += " (the radius filter is off)";
     result.errors.push_back({std::string(file), 0, 0, "the imported network is not valid: " + message});
     return;
   }
+  // The mesher sweeps a tube along the centreline: a bend tighter than the lumen folds its wall.
+  // On a valid model only (positive radii); the points move between their neighbours, so it stays valid.
+  result.bends = vessel::round_tight_bends(result.model);
   // A valid network may still have a junction the mesher cannot give room (branches a few degrees
   // apart and shorter than the ~10 radii they need to part, or overlapping): the control mesh
   // meshes it by its fallback and says which in a few milliseconds (the default options, without
