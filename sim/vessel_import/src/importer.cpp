@@ -86,6 +86,9 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
     result.errors.push_back({std::string(file), 0, 0, "the imported network is not valid: " + message});
     return;
   }
+  // The mesher sweeps a tube along the centreline: a bend tighter than the lumen folds its wall.
+  // On a valid model only (positive radii); the points move between their neighbours, so it stays valid.
+  result.bends = vessel::round_tight_bends(result.model);
   // A valid network may still have a junction the mesher cannot give room (branches a few degrees
   // apart and shorter than the ~10 radii they need to part, or overlapping): the control mesh
   // meshes it by its fallback and says which in a few milliseconds (the default options, without
@@ -311,6 +314,7 @@ std::string ImportResult::summary() const {
     out += gap;
   }
   out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
+  if (std::string rounded = bends.summary(); !rounded.empty()) out += "; " + rounded;
   for (const std::string& note : notes) out += "; " + note;
   return out;
 }

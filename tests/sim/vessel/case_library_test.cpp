@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "vessel/bend_guard.hpp"
 #include "vessel/case_library.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel_test_support.hpp"
@@ -118,22 +119,6 @@ TEST(CaseLibrary, IcaGradesAreOrderedByTurning) {
   EXPECT_LT(sharp_straight, 45.0);
 }
 
-// The tightest bend of a segment's centreline over its radius: the circle through each three
-// consecutive points against the middle one's radius. Below 1 a swept tube's inner wall passes
-// the bend's centre and folds over itself.
-double tightest_bend_over_radius(const Segment& s) {
-  double tightest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i + 1 < s.points.size(); ++i) {
-    const glm::dvec3 a = s.points[i - 1].pos_mm - s.points[i].pos_mm;
-    const glm::dvec3 b = s.points[i + 1].pos_mm - s.points[i].pos_mm;
-    const double twice_area = glm::length(glm::cross(a, b));
-    if (twice_area < 1e-12) continue;
-    const double circumradius = glm::length(a) * glm::length(b) * glm::length(a - b) / (2.0 * twice_area);
-    tightest = std::min(tightest, circumradius / s.points[i].radius_mm);
-  }
-  return tightest;
-}
-
 // Weibel and Fields' kink is an acute angle between two limbs of the artery; the lumen still
 // goes round it. The generator rounds the apex on an arc of two lumen radii (neuro_case.cpp), so
 // no case's centreline bends tighter than 1.1 of its lumen radius (the coil's loop is the
@@ -143,7 +128,7 @@ double tightest_bend_over_radius(const Segment& s) {
 TEST(CaseLibrary, NoCenterlineBendsTighterThanItsLumenAndTheKinkDoesNotFold) {
   for (const std::string& name : library_case_names()) {
     const VesselModel m = library_model(*library_case(name));
-    for (const Segment& s : m.segments) EXPECT_GE(tightest_bend_over_radius(s), 1.1) << name << ": " << s.name;
+    for (const Segment& s : m.segments) EXPECT_GE(tightest_bend_over_radius(s), kMinBendRadii) << name << ": " << s.name;
   }
   const VesselModel kink = library_model(*library_case("ica_kink"));
   const VesselSurface surface = build_vessel_surface(kink);

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "radius_probe.hpp"
+#include "vessel/bend_guard.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -172,6 +173,41 @@ TEST(Importer, HeldOutArchCurvesWithGapsAndAnOverlappingJunctionMeshClosed) {
   std::printf("held-out arch: radius worst %+.2f %% over %d cuts\n", 100.0 * e.worst, e.samples);
   EXPECT_GT(e.samples, 100);
   EXPECT_LT(std::abs(e.worst), 0.03) << e.worst_surface << " mm for " << e.worst_input << " at arc " << e.worst_arc;
+}
+
+// A right-angled corner in an SWC trace (points 1 mm apart, radius 2 mm): the centreline bends at
+// 0.35 lumen radii there, so the swept tube's inner wall passes the bend's centre and crosses
+// itself. The import rounds the corner to 1.1 radii or more (vessel/bend_guard.hpp, as the case
+// generator rounds a kink) and says so; the surface is then free of crossing triangles.
+TEST(Importer, ATightImportedBendIsRoundedAndDoesNotFold) {
+  std::string swc;
+  vessel::Segment corner;
+  for (int i = 0; i < 40; ++i) {
+    const glm::dvec3 p = i < 20 ? glm::dvec3(i, 0, 0) : glm::dvec3(19, i - 19, 0);
+    swc += std::to_string(i + 1) + " 0 " + std::to_string(p.x) + " " + std::to_string(p.y) + " 0 2 " +
+           std::to_string(i == 0 ? -1 : i) + "\n";
+    corner.points.push_back({p, 2.0});
+  }
+  EXPECT_NEAR(vessel::tightest_bend_over_radius(corner), 0.354, 0.001);
+  vessel::VesselModel folded;
+  folded.segments.push_back(corner);
+  const vessel::VesselSurface unguarded = vessel::build_vessel_surface(folded);
+  ASSERT_TRUE(unguarded.ok()) << unguarded.error;
+  EXPECT_GT(vessel::count_self_intersections(unguarded.mesh), 0u) << "the corner as traced no longer folds";
+
+  const ImportResult r = import_centerlines_text(swc, "corner.swc", Format::kSwc);
+  ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
+  ASSERT_EQ(r.model.segments.size(), 1u);
+  EXPECT_NE(r.summary().find("1 bend tighter than 1.1 lumen radii rounded (tightest 0.354 radii"), std::string::npos)
+      << r.summary();
+  EXPECT_EQ(r.bends.left_tight, 0u);
+  EXPECT_GE(vessel::tightest_bend_over_radius(r.model.segments[0]), vessel::kMinBendRadii);
+  EXPECT_LT(r.bends.max_move_mm, 2.0) << "the corner is rounded, not the vessel moved";
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
+  EXPECT_TRUE(a.closed() && a.manifold() && a.consistently_oriented());
+  EXPECT_EQ(vessel::count_self_intersections(surface.mesh, 100000), 0u) << "triangle pairs of the rounded bend cross";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "vessel/bend_guard.hpp"
 #include "vessel/radius_filter.hpp"
 #include "vessel/vessel_model.hpp"
 #include "vessel_import/import_error.hpp"
@@ -43,6 +44,7 @@ struct ImportResult {
   NetworkStats network;
   vessel::RadiusFilterReport filter;
   bool filtered = false;
+  vessel::BendGuardReport bends;    // bends tighter than the lumen rounded (vessel/bend_guard.hpp)
   SurfaceStats surface;             // a surface's repair and skeleton (Format::kSurface)
   vessel::SurfaceMesh lumen;        // the repaired, closed surface (Format::kSurface), each triangle
                                     // tagged with the segment whose centreline is nearest
