@@ -127,8 +127,12 @@ def test_webhid(b, assignment, report):
         check(box["stats"]["states"] == 701 and box["stats"]["rejected"] == 0 and box["stats"]["missed"] == 0, "decoding: %s" % box["stats"])
         last = r["last"]
         check(r["commands"] >= 1 and not r["refused"], "the page's commands: %d, refused %s" % (r["commands"], r["refused"]))
-        check(last["mode"] == 1 and last["insertion"]["out_max"] == 2500 and -2500 <= last["insertion"]["out_min"] <= 0
-              and last["seq"] == box["law"]["seq"], "the last command (brake mode, the limits' 2500 mN): %s" % last)
+        # The output's range: within the box's limits (2,500 mN) and within one slew step of what the
+        # box last rendered (passive_law.hpp's rule 2: 100 mN/ms over the page's 5 ms command period).
+        out = last["insertion"]
+        check(last["mode"] == 1 and -2500 <= out["out_min"] <= 0 <= out["out_max"] <= 2500
+              and out["out_max"] - out["out_min"] <= 2 * 100 * 5 and last["seq"] == box["law"]["seq"],
+              "the last command (brake mode, within the limits' 2500 mN and a 500 mN slew step of the readback): %s" % last)
         # The held tool's local law, shaped as BoxHand shapes it (session::PassiveLaw): its position
         # in the box's frame (the tool is where 10 mm of the box's counts put it), its stiffness,
         # and damping of at least K T / 2 for the page's 5 ms command period (Colgate & Schenkel
