@@ -18,6 +18,7 @@ namespace {
 using test::build_or_fail;
 using test::link;
 using test::straight;
+using test::y_model;
 
 constexpr double kPa_per_mmHg = 133.322387415;
 constexpr double kInch_mm = 25.4;
@@ -105,13 +106,7 @@ TEST(AspirationSink, FreeFlowsMatchThePublishedReversalOfMcaFlow) {
 
 // Parent r 1.5 into two r 1.2 branches, 250 mL/min in; the catheter's tip at the junction.
 vessel::VesselModel y_tube() {
-  vessel::VesselModel m;
-  m.segments.push_back(straight(1, {0, 0, 0}, {0, 0, 60}, 1.5));
-  m.segments.push_back(straight(2, {0, 0, 60}, {0, 24, 92}, 1.2));
-  m.segments.push_back(straight(3, {0, 0, 60}, {0, -24, 92}, 1.2));
-  link(m, 1, 2);
-  link(m, 1, 3);
-  return m;
+  return y_model(1.5, 1.2, 1.2, 24, 32);
 }
 
 // A fragment from the parent follows the flow into the catheter when its sink draws more than

@@ -14,9 +14,9 @@ namespace cathbox::flow {
 namespace {
 
 using test::build_or_fail;
-using test::link;
 using test::load_model;
 using test::straight;
+using test::y_model;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -184,12 +184,7 @@ TEST(ContrastTransport, InjectateMixesWithTheLocalFlow) {
 }
 
 TEST(ContrastTransport, JunctionsSplitContrastByFlow) {
-  vessel::VesselModel m;
-  m.segments.push_back(straight(1, {0, 0, 0}, {0, 0, 60}, 3.0));
-  m.segments.push_back(straight(2, {0, 0, 60}, {0, 100, 230}, 2.0));
-  m.segments.push_back(straight(3, {0, 0, 60}, {0, -100, 230}, 2.0));
-  link(m, 1, 2);
-  link(m, 1, 3);
+  vessel::VesselModel m = y_model(3.0, 2.0, 2.0, 100, 170);
   FlowSettings s;
   s.dispersion_radii = 0.0;
   s.outlets = {{2, 300.0, 1}, {3, 100.0, 2}};

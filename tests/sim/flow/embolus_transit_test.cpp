@@ -19,19 +19,15 @@ using test::build_or_fail;
 using test::link;
 using test::load_model;
 using test::straight;
+using test::y_model;
 
 constexpr double kTick_s = 1e-3;
 
 // Parent 60 mm of r 1.5; on one side 40 mm of r 1.2 then a 40 mm taper 1.2 -> 0.6 (points
 // every 2 mm), on the other 40 mm of r 0.8; 250 mL/min in, 180 / 70 mL/min out.
 vessel::VesselModel y_with_taper() {
-  vessel::VesselModel m;
-  m.segments.push_back(straight(1, {0, 0, 0}, {0, 0, 60}, 1.5));
-  m.segments.push_back(straight(2, {0, 0, 60}, {0, 24, 92}, 1.2));
-  m.segments.push_back(straight(3, {0, 0, 60}, {0, -24, 92}, 0.8));
+  vessel::VesselModel m = y_model(1.5, 1.2, 0.8, 24, 32);
   m.segments.push_back(straight(4, {0, 24, 92}, {0, 48, 124}, 1.2, 0.6));
-  link(m, 1, 2);
-  link(m, 1, 3);
   link(m, 2, 4);
   return m;
 }

@@ -47,6 +47,18 @@ inline void link(vessel::VesselModel& m, std::int32_t parent, std::int32_t child
   m.segments[*m.index_of(child)].parents.push_back(parent);
 }
 
+// A Y in the y-z plane: parent 1 along z from the origin to (0, 0, 60), branches 2 (+y) and 3 (-y)
+// from its end to (0, +-spread, 60 + rise), each of constant radius.
+inline vessel::VesselModel y_model(double parent_r, double left_r, double right_r, double spread_mm, double rise_mm) {
+  vessel::VesselModel m;
+  m.segments.push_back(straight(1, {0, 0, 0}, {0, 0, 60}, parent_r));
+  m.segments.push_back(straight(2, {0, 0, 60}, {0, spread_mm, 60 + rise_mm}, left_r));
+  m.segments.push_back(straight(3, {0, 0, 60}, {0, -spread_mm, 60 + rise_mm}, right_r));
+  link(m, 1, 2);
+  link(m, 1, 3);
+  return m;
+}
+
 // Largest |sum of flows into a junction| over all junctions, relative to the largest flow.
 inline double kirchhoff_residual(const FlowNetwork& net) {
   const vessel::VesselGraph graph(net.model());
