@@ -77,8 +77,11 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
       gauged_at_[k] = x[k];
     }
     expanded_mm_[k] = stent_expanded_diameter_mm(spec_, lumen_mm_[k]);
-    // The expanded stent fills the lumen (its axis held near the lumen's): the node's radius
-    // against the wall, flaring from the push wire's over kStentFlare_mm past the catheter's tip
+    // The expanded stent's contact: the cage fills the lumen, but its axis is not held on the
+    // lumen's (its lateral stiffness, k s / D per mm of offset, ~14 mN/mm for a 0.5 mm node of
+    // the 4 x 20 mm device, is nothing against the wall's): a tension round a bend or a
+    // junction's corner carries the axis off the lumen's, the cage pressed to the inner side,
+    // until kStentAxisPlay of the expanded radius. The node's radius against the wall, flaring from the push wire's over kStentFlare_mm past the catheter's tip
     // (the stent funnels into that tip, which need not lie on the lumen's axis), never more
     // than its centre's distance to the nearest wall now plus the play a contact may take (so a
     // node dragged into a narrowing, or next to an off-axis catheter tip, starts no step deep
@@ -90,7 +93,7 @@ void StentRetriever::update(Rod& rod, const WallModel& wall) {
     // The room binds only when it is below (1 - play) of the fill radius: the wall is looked
     // for that far and no further (a bounded query, which the mesh's coherent hint answers at
     // once for a node clear of it), with the same radius as a search of the whole lumen.
-    const double fill_mm = 0.5 * expanded_mm_[k] - kStentClearance_mm;
+    const double fill_mm = (1.0 - kStentAxisPlay) * 0.5 * expanded_mm_[k];
     WallProbe probe;
     probe.center_mm = x[k];
     probe.range_mm = std::max(0.0, (1.0 - kStentPlay) * fill_mm);

@@ -43,7 +43,11 @@ inline constexpr double kStentRadialStiffness_N_per_mm = 0.114;  // k: RF per mm
 inline constexpr double kStentWallFriction = 0.351;              // struts on the wall
 inline constexpr double kStentIntegrationRate = 3.0;             // 1 - exp(-3) = 95 % after embed_s
 inline constexpr double kRegaugeMove_mm = 0.25;
-inline constexpr double kStentClearance_mm = 0.1;   // an expanded node's radial play in its lumen
+inline constexpr double kStentClearance_mm = 0.1;   // the stent's proximal end this far out of the catheter: it fills the lumen
+// How far an expanded node's axis may leave the lumen's, of its expanded radius (its contact
+// radius is the rest): the cage's lateral stiffness is ~1/1000 of the wall's, so a tension
+// round a junction's corner carries the axis to the inner side (stent_retriever.cpp).
+inline constexpr double kStentAxisPlay = 0.5;
 inline constexpr double kStentFlare_mm = 20.0;       // from the catheter's tip to the full diameter
 inline constexpr double kStentPlay = 0.05;          // of the fill radius: a contact's play (the rod's penetration limit)
 // The push wire's wall penalty (a tenth of the default, as a coil's): an expanded node pressed
