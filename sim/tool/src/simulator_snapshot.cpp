@@ -7,6 +7,22 @@
 #include <glm/geometric.hpp>
 
 namespace cathbox::tool {
+namespace {
+
+// An expanded stent node is drawn at the cage's radius: its contact radius is the part of it
+// its axis may not leave the lumen's by (kStentAxisPlay), the cage round it is wider (never
+// wider than its expanded diameter).
+void draw_expanded_stent(const Rod& rod, const StentRetriever& stent, ToolSnapshot& s) {
+  const std::size_t m = s.positions_mm.size();
+  const std::size_t n = rod.node_total();
+  for (std::size_t i = 0; i < m; ++i) {
+    const std::size_t k = n - m + i;
+    const double cage_mm = std::min(rod.node_radius_mm(k) / (1.0 - kStentAxisPlay), 0.5 * stent.node_diameter_mm(k));
+    s.radii_mm[i] = std::max(s.radii_mm[i], static_cast<float>(cage_mm));
+  }
+}
+
+}  // namespace
 
 void Simulator::inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const {
   out.clear();
@@ -65,6 +81,7 @@ void Simulator::copy_snapshot(Snapshot& out) const {
     s.detached = false;
     inserted_positions(t, s.positions_mm);
     fill_tool_snapshot(rod, s);
+    if (const StentRetriever* st = stent(t)) draw_expanded_stent(rod, *st, s);
     s.tip_segment = tip_segment_[t];
     s.hand_force_mN = hand_force_[t];
     s.hand_torque_mNmm = hand_torque_[t];

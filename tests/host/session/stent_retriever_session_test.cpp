@@ -3,7 +3,8 @@
 // reperfusion under balloon-guide flow arrest and replayed hash for hash.
 // Sources: eTICI bands, Liebeskind et al., J NeuroIntervent Surg 2019 (the script's goal,
 // eTICI >= 2b67); the embedding time, a 3-5 min dwell (World Neurosurg 2018;110:169-173);
-// the retrieval force's published range 0.24-1.6 N (Front Neurol 2024;15:1486738).
+// the retrieval force's published range, 0.24 N (straight) to 1.2 N (most tortuous) for the
+// Solitaire (Front Neurol 2024;15:1486738).
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -131,8 +132,11 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
   EXPECT_EQ(t.stent_passes, 1);
   EXPECT_TRUE(flow::at_least(t.etici_final, flow::Etici::k2b67));
   EXPECT_EQ(t.emboli, 0);
-  EXPECT_GT(t.retrieval_force_peak_N, 0.1);
-  EXPECT_LT(t.retrieval_force_peak_N, 5.0);
+  // In the published range (Front Neurol 2024): not below the Solitaire's straight-model figure
+  // (0.24 +- 0.01 N; the pull also drags the clot), not above its most tortuous one (1.2 +- 0.08
+  // N) + 2 SD: the case's M1 into the carotid terminus is a tortuous path.
+  EXPECT_GT(t.retrieval_force_peak_N, 0.24 - 3.0 * 0.01);
+  EXPECT_LT(t.retrieval_force_peak_N, 1.2 + 2.0 * 0.08);
   const ReplayResult r = replay_record(path);
   ASSERT_TRUE(r.error.empty()) << r.error;
   EXPECT_FALSE(r.mismatch);
