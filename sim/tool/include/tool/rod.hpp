@@ -241,7 +241,7 @@ class Rod {
   void build_system(Newton& s);    // assemble (or amend) and factor
   void add_joined_wall_terms(Newton& s);
   [[nodiscard]] bool newton_direction(Newton& s);  // false: not finite
-  bool join_wall(Newton& s);  // nodes the step would carry into the wall join: true
+  bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
   void damp_reversal(Newton& s);
   void line_search(Newton& s);
   void place(double scale);  // free nodes at x_pred_ + scale delta_
