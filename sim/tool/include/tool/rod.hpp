@@ -244,6 +244,8 @@ class Rod {
   bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
   void damp_reversal(Newton& s);
   void line_search(Newton& s);
+  void place(double scale);  // free nodes at x_pred_ + scale delta_
+  void extend(Newton& s, double slope, double e0, double e1);  // past a full step the Hessian held too stiff
   void hold_gaps(const Newton& s);
   void update_active_set(Newton& s);
   void follow_moves(Newton& s);    // re-probe the wall, take other rods' planes again

@@ -31,6 +31,10 @@ struct RodSettings {
   // sign of a solution.
   double convergence_mm = 2.0e-3;
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
+  // A full step the energy took unshortened is extended to the minimum of the energy's parabola
+  // along it (at most extend_max times), when that is lower: the Gauss-Newton Hessian holds a
+  // buckled rod's slow modes stiffer than they are (docs/sim-tool/convergence.md).
+  double extend_max = 8.0;
   // Halve an update below trust_step_mm nearly undoing the last. Off by default: every update
   // now goes through the line search, which breaks the friction two-cycles this was made for.
   bool damp_reversals = false;
