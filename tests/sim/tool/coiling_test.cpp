@@ -578,5 +578,45 @@ end
   expect_packed_apart(sim, overlap);
 }
 
+// cases/neuro_coiling_dense.*: ten coils through one microcatheter, each loaded only after the
+// last was detached, each pushed out until its detachment zone is 0.1 mm past the tip (the
+// bundled script's markers: 150.1 mm + the coil's length), framing first, then loops of
+// non-increasing size.
+TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarkers) {
+  const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
+  CaseParse c = load_case(dir + "neuro_coiling_dense.case");
+  ASSERT_TRUE(c) << c.error().message;
+  ScriptParse script = load_script(dir + "neuro_coiling_dense.actions");
+  ASSERT_TRUE(script) << script.error().message;
+  const auto coil = std::find_if(c->tools.begin(), c->tools.end(), [](const ToolSpec& t) { return t.kind == ToolKind::kCoil; });
+  ASSERT_NE(coil, c->tools.end());
+  std::vector<const ToolSection*> coils{&coil->sections.back()};
+  for (const ToolSection& s : coil->next_coils) coils.push_back(&s);
+  ASSERT_EQ(coils.size(), 10u);
+  double total = 0.0;
+  for (std::size_t k = 0; k < coils.size(); ++k) {
+    total += coils[k]->length_mm;
+    if (k > 0) {
+      EXPECT_LE(coils[k]->loop_diameter_mm, coils[k - 1]->loop_diameter_mm) << "coil " << k + 1;
+    }
+  }
+  EXPECT_NEAR(total, 460.0, 1e-9);
+  std::size_t loaded = 0, detached = 0;
+  bool attached = true;
+  for (const Action& a : script->actions) {
+    if (a.kind == ActionKind::kDetach) {
+      EXPECT_TRUE(attached) << "line " << a.line << ": detach with no coil attached";
+      attached = false, ++detached;
+    } else if (a.kind == ActionKind::kLoadCoil) {
+      EXPECT_FALSE(attached) << "line " << a.line << ": load_coil before the last coil was detached";
+      attached = true, ++loaded;
+    } else if (a.kind == ActionKind::kInsertTo && a.speed == 8.0 && loaded < coils.size()) {
+      EXPECT_NEAR(a.value, 150.1 + coils[loaded]->length_mm, 1e-9) << "line " << a.line;
+    }
+  }
+  EXPECT_EQ(loaded, 9u);
+  EXPECT_EQ(detached, 10u);
+}
+
 }  // namespace
 }  // namespace cathbox::tool
