@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -118,10 +119,23 @@ void BM_StepCoilPacking(benchmark::State& state) {
   double push = sim.insertion_mm(3), iterations = 0.0, peak_mN = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
+  std::vector<glm::dvec3> before;
+  double released_move_mm = 0.0, released_move_sum_mm = 0.0;
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(3, push);
+    before.clear();
+    for (std::size_t i = 0; i < sim.detached_count(); ++i) {
+      const std::span<const glm::dvec3> x = sim.detached(i).positions();
+      before.insert(before.end(), x.begin(), x.end());
+    }
     times.step(sim);
+    double moved = 0.0;
+    for (std::size_t i = 0, j = 0; i < sim.detached_count(); ++i) {
+      for (const glm::dvec3& p : sim.detached(i).positions()) moved = std::max(moved, glm::length(p - before[j++]));
+    }
+    released_move_mm = std::max(released_move_mm, moved);
+    released_move_sum_mm += moved;
     iterations += sim.rod(3).last_iterations();
     peak_mN = std::max(peak_mN, std::abs(sim.rod(3).hand_force_mN()));
   }
@@ -130,6 +144,10 @@ void BM_StepCoilPacking(benchmark::State& state) {
   times.report(state);
   const auto steps = static_cast<double>(std::max<std::size_t>(1, times.count()));
   state.counters["packing_before_pct"] = packed_pct;
+  // How far the released coils' nodes move in a step (the largest node's), largest and mean:
+  // what a sleeping scheme for released coils at rest would have to see fall to ~0.
+  state.counters["released_move_max_um"] = 1e3 * released_move_mm;
+  state.counters["released_move_mean_um"] = 1e3 * released_move_sum_mm / steps;
   state.counters["packing_after_pct"] = 100.0 * metrics.figures().packing_density;
   state.counters["coil_newton_its"] = iterations / steps;
   state.counters["peak_hand_mN"] = peak_mN;

@@ -102,7 +102,7 @@ glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dv
   const glm::dmat3 identity(1.0);
   const double cd = drag_k_[k];
   const glm::dvec3 moved = x_[k] - x_start_[k];
-  const glm::dvec3 load = load_[k] + coupling_[k];
+  const glm::dvec3 load = load_[k] + coupling_[k] + (k < twist_load_.size() ? twist_load_[k] : glm::dvec3(0.0));
   add_grad(k, moved * cd - load);
   glm::dmat3 h = identity * cd;
   energy_ += 0.5 * cd * glm::dot(moved, moved) - glm::dot(load, x_[k]);
@@ -228,7 +228,8 @@ double Rod::energy() const {
   }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];
-    e += 0.5 * drag_k_[k] * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k], x_[k]);
+    const glm::dvec3 twist = k < twist_load_.size() ? twist_load_[k] : glm::dvec3(0.0);
+    e += 0.5 * drag_k_[k] * glm::dot(moved, moved) - glm::dot(load_[k] + coupling_[k] + twist, x_[k]);
     if (grip_limit_[k] > 0.0) {
       const double len = glm::length(x_[k] - grip_anchor_[k]);
       const double limit = grip_limit_[k];

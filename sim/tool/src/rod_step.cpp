@@ -70,6 +70,7 @@ void Rod::start_solve(Newton& s, double dt_s) {
   }
   warm_ok_ = false;
   update_weights(dt_s);
+  if (free_) add_twist_holonomy_loads();
   refresh_contacts(s.wall, false);
   if (s.obstacles != nullptr) gather_obstacles(*s.obstacles);
   s.dofs = 3 * (n - first_);

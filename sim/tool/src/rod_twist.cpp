@@ -113,8 +113,57 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
   return linear;
 }
 
-// Pre-curved sections: the material curvature at vertex i depends on the edge angles.
+// Pre-curved sections: the bending at vertex i depends on the edge angles through the rest turn
+// towards the material frame. A released coil's twist minimises the bending energy its position
+// solve does (Rod::bend_residual, E = w/2 |r|^2, with dm1/dtheta = m2, dm2/dtheta = -m1): a twist
+// solve on another bending energy (add_twist_curvature_kb) and a position solve on this one,
+// taken in turn, never came to rest (a coil left in a sphere turned at 8-18 um a tick for ever;
+// docs/sim-tool/convergence.md). Attached tools keep the binormal form, not yet measured.
 void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
+  if (!free_) {
+    add_twist_curvature_kb(i, ef);
+    return;
+  }
+  set_material_frame(i - 1);
+  set_material_frame(i);
+  const glm::dvec3 ta = glm::normalize(x_[i] - x_[i - 1]);
+  const glm::dvec3 tb = glm::normalize(x_[i + 1] - x_[i]);
+  const glm::dvec3 r = bend_residual(i, ta, tb);
+  const double w = bend_w_[i];
+  for (std::size_t e = i - 1; e <= i; ++e) {
+    if (e < ef) continue;
+    const glm::dvec3 dr = (m2_[e] * kturn1_[i] - m1_[e] * kturn2_[i]) * -0.5;  // dr/dtheta_e
+    const glm::dvec3 ddr = (m1_[e] * kturn1_[i] + m2_[e] * kturn2_[i]) * 0.5;  // d2r/dtheta_e^2
+    tw_rhs_[e - ef] += w * glm::dot(dr, r);
+    tw_diag_[e - ef] += w * (glm::dot(dr, dr) + std::max(0.0, glm::dot(ddr, r)));
+  }
+}
+
+// A released coil's twist moment on its centreline: the reference twist at vertex i turns with
+// the nodes, d(psi_i)/dx_{i-1} = kb / (2 l_a), d(psi_i)/dx_{i+1} = -kb / (2 l_b) and minus their sum
+// at x_i (kb the discrete curvature binormal; Bergou et al. 2008, Discrete Elastic Rods, sec. 7),
+// and the twist energy's moment gj tau / l times it loads the nodes, from the last step's twist.
+// Without it the position solve did not see the twist its moves made, and a coil left in a
+// sphere never came to rest (docs/sim-tool/convergence.md).
+void Rod::add_twist_holonomy_loads() {
+  const std::size_t n = x_.size();
+  twist_load_.assign(n, glm::dvec3(0.0));
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const glm::dvec3 a = x_[i] - x_[i - 1], b = x_[i + 1] - x_[i];
+    const double la = glm::length(a), lb = glm::length(b);
+    const glm::dvec3 kb = glm::cross(a, b) * (2.0 / std::max(la * lb + glm::dot(a, b), 1e-12));
+    const double moment = gj_[i] / voronoi_[i] * (theta_[i] - theta_[i - 1] + ref_twist_[i]);
+    const glm::dvec3 fa = kb * (moment / (2.0 * std::max(la, 1e-12)));
+    const glm::dvec3 fb = kb * (-moment / (2.0 * std::max(lb, 1e-12)));
+    twist_load_[i - 1] += fa;
+    twist_load_[i + 1] += fb;
+    twist_load_[i] -= fa + fb;
+  }
+}
+
+// The discrete curvature binormal's material components against kbar: E = w/2 |k - kbar|^2
+// with dk1/dtheta = k2, dk2/dtheta = -k1.
+void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef) {
   const glm::dvec3 a = x_[i] - x_[i - 1];
   const glm::dvec3 b = x_[i + 1] - x_[i];
   const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
@@ -125,7 +174,6 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
     set_material_frame(e);
     const double k1 = glm::dot(kb, m2_[e]);
     const double k2 = -glm::dot(kb, m1_[e]);
-    // E = w/2 |k - kbar|^2 with dk1/dtheta = k2, dk2/dtheta = -k1.
     tw_rhs_[e - ef] += w * (kbar2_[i] * k1 - kbar1_[i] * k2);
     tw_diag_[e - ef] += w * std::max(0.0, kbar1_[i] * k1 + kbar2_[i] * k2);
   }

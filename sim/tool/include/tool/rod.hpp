@@ -294,6 +294,8 @@ class Rod {
   void solve_twist(double dt_s);
   [[nodiscard]] bool assemble_twist(double dt_s, std::size_t ef, std::size_t m);  // false: nonlinear
   void add_twist_curvature(std::size_t i, std::size_t ef);
+  void add_twist_curvature_kb(std::size_t i, std::size_t ef);
+  void add_twist_holonomy_loads();
   void add_twist_friction(std::size_t ef);
   [[nodiscard]] inline std::uint8_t twist_regime(std::size_t k, double& ktr, double& limit, double& d) const;
   [[nodiscard]] bool update_twist(std::size_t ef, std::size_t m, bool linear);  // false: nonlinear
@@ -330,6 +332,7 @@ class Rod {
   // Rest curvature towards m1 and m2: 2 tan(phi/2) for the twist coupling, 2 sin(phi/2) for
   // the bending residual (phi = the rest turning angle at the node).
   std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;
+  std::vector<glm::dvec3> twist_load_;  // a released coil's twist on its centreline (add_twist_holonomy_loads)
   std::vector<glm::dvec3> x_, x_start_, x_pred_, load_, coupling_, grip_anchor_;
   IndexRange coupling_set_;  // nodes coupling_ may be non-zero at
   IndexRange extra_set_;     // nodes ei_extra_ may be non-zero at
