@@ -239,6 +239,7 @@ void FirstTickAfterImport(benchmark::State& state) {
     if (ran != 1) state.SkipWithError("the session did not tick");
   }
   state.counters["cpu_s"] = cpu_s.empty() ? 0.0 : percentile(cpu_s, 0.5);
+  for (const char* name : {"vessel.hclm", "lumen.cbxmesh", "import300k.case"}) std::filesystem::remove(scratch(name));
 }
 
 BENCHMARK(FirstTickAfterImport)->Iterations(1)->Unit(benchmark::kMillisecond);
