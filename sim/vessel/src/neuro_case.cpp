@@ -114,16 +114,33 @@ struct ArchShape {
   return {t1, middle, t2};
 }
 
+// The coil's loop: knots every 45 degrees on a circle of 8 mm (about 3 lumen radii) in the
+// coronal plane, descending 9.5 mm front to back over the turn so the strands pass each other.
+// Seven knots on a 14 x 17 mm loop bent at 1.14 lumen radii at its top and bottom, and the swept
+// wall crossed itself on the inner side there (42 triangle pairs); a circle of knots keeps the
+// Catmull-Rom curve's curvature near the circle's.
+[[nodiscard]] std::vector<Knot> coiled_ica() {
+  constexpr double kLoopRadius = 8.0;
+  constexpr double kPi = 3.14159265358979323846;
+  const double y[] = {15, 14.5, 13, 11.5, 10, 8, 6.5, 5.5, 5.5};
+  const double r[] = {2.65, 2.6, 2.6, 2.6, 2.55, 2.5, 2.5, 2.45, 2.45};
+  std::vector<Knot> knots{{{28, 14, 138}, 2.8}, {{28, 15, 148}, 2.7}};
+  for (int k = 0; k <= 8; ++k) {  // clockwise seen from the front, from the loop's left point
+    const double a = k * kPi / 4.0;
+    knots.push_back({{36.0 - kLoopRadius * std::cos(a), y[k], 156.5 + kLoopRadius * std::sin(a)}, r[k]});
+  }
+  knots.push_back({{27, 7, 166}, 2.4});
+  knots.push_back({{26, 9, 177}, 2.4});
+  return knots;
+}
+
 // Cervical left ICA knots between the bulb and the skull base (Weibel-Fields grades [13]):
 // tortuous = S-shaped elongation, coiled = a full loop, kinked = an acute (< 90 degree) angle.
 [[nodiscard]] std::vector<Knot> cervical_ica(IcaTortuosity t) {
   switch (t) {
     case IcaTortuosity::kTortuous:
       return {{{28, 14, 138}, 2.8}, {{34, 11, 150}, 2.6}, {{25, 12, 163}, 2.5}, {{30, 10, 175}, 2.4}};
-    case IcaTortuosity::kCoiled:
-      return {{{28, 14, 138}, 2.8}, {{28, 15, 148}, 2.7}, {{30, 15, 158}, 2.6}, {{37, 13, 165}, 2.6},
-              {{44, 10, 158}, 2.5}, {{39, 6, 148}, 2.5}, {{31, 5, 152}, 2.45}, {{27, 7, 165}, 2.4},
-              {{26, 9, 177}, 2.4}};
+    case IcaTortuosity::kCoiled: return coiled_ica();
     case IcaTortuosity::kKinked: {
       std::vector<Knot> knots{{{28, 14, 140}, 2.8}};
       for (const glm::dvec3& p : rounded_corner({28, 14, 140}, {43, 15, 166}, {29, 10, 172}, 2.0 * 2.5)) knots.push_back({p, 2.5});

@@ -92,7 +92,10 @@ void cathbox::vessel_import::skeleton_order::Skeletonization::contract_geometry(
   }
   std::vector<char> attracted(order.size(), 0);  // to its pole: not fixed, pole known and inside
   if (m_is_medially_centered) {
-    const Side_of_triangle_mesh<mTriangleMesh, Traits> test_inside(m_tmesh);
+    // The tree keeps its triangles (CacheDatum) rather than rebuilding each from the halfedges.
+    using Cached = CGAL::AABB_face_graph_triangle_primitive<mTriangleMesh, CGAL::Default, CGAL::Tag_true, CGAL::Tag_true>;
+    using CachedTree = CGAL::AABB_tree<CGAL::AABB_traits<Traits, Cached>>;
+    const Side_of_triangle_mesh<mTriangleMesh, Traits, CGAL::Default, CachedTree> test_inside(m_tmesh);
     for (std::size_t i = 0; i < order.size(); ++i) {
       const vertex_descriptor vd = order[i];
       attracted[i] = !vd->is_fixed && static_cast<int>(get(m_vertex_id_pmap, vd)) < m_max_id &&

@@ -121,8 +121,8 @@ TEST(CaseLibrary, IcaGradesAreOrderedByTurning) {
 
 // Weibel and Fields' kink is an acute angle between two limbs of the artery; the lumen still
 // goes round it. The generator rounds the apex on an arc of two lumen radii (neuro_case.cpp), so
-// no case's centreline bends tighter than 1.1 of its lumen radius (the coil's loop is the
-// tightest other bend, 1.14) and the kinked ICA's surface does not cross itself. Before, the
+// no case's centreline bends tighter than 1.1 of its lumen radius (the coil's loop bends at
+// 2.4) and the kinked ICA's surface does not cross itself. Before, the
 // apex bent at 0.86 radii: the wall folded over itself there and the wire's tip stopped at the
 // fold (cases/README.md).
 TEST(CaseLibrary, NoCenterlineBendsTighterThanItsLumenAndTheKinkDoesNotFold) {
@@ -172,12 +172,9 @@ TEST(CaseLibrary, AneurysmsSitAtTheirSitesWithTheirDomeAndNeck) {
 class LibraryCaseSurface : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(LibraryCaseSurface, IsAClosedOrientedManifold) {
-  // Known failure (sim/vessel/README.md, Limits): the coil's tight loop (1.14 radii) folds a few
-  // vertex normals. (The type III arch's brachiocephalic junction is the spherical-hull
-  // fallback's: junction_fallback_test.cpp.)
-  if (GetParam() == "ica_coil") {
-    GTEST_SKIP() << GetParam() << ": known surface defect (sim/vessel/README.md, Limits)";
-  }
+  // Every case, the coil's loop included (its wall crossed itself where the loop bent at 1.14
+  // lumen radii; drawn on a circle of knots it bends at 2.4). The type III arch's brachiocephalic
+  // junction is the spherical-hull fallback's (junction_fallback_test.cpp).
   const VesselModel model = library_model(*library_case(GetParam()));
   test::expect_valid_surface(build_vessel_surface(model), model);
 }
