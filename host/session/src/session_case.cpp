@@ -183,6 +183,7 @@ SessionCaseLoad session_case_from_record(const RecordHeader& h, const vessel::Su
   // The vessel, the tools and the entry as recorded.
   c->spec.vessel_path = h.vessel_file;
   c->spec.tools = h.tools;
+  tool::steer_aspiration_catheters(c->spec);  // derived from the case text's `aspiration` lines
   c->spec.entry = h.entry;
   c->name = h.case_name;
   c->vessel_file = h.vessel_file;

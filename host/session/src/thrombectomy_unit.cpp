@@ -313,6 +313,7 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   std::sort(removed.rbegin(), removed.rend());
   for (const std::size_t k : removed) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
   clots_removed_ += static_cast<int>(removed.size());
+  release_removed(time_us, removed);
   pass_end_us_ = time_us;
   // The control run: the network without the arrest.
   if (!resolve(time_us, false)) return;
@@ -323,6 +324,25 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   sinks_ = live_sinks();
   (void)resolve(time_us, true);
   release(time_us, fragments);
+}
+
+// A vacuum held on a thrombus another device took out (a stent pulled into the engaged
+// catheter) holds nothing now: the engagement ends with it, the tip is open (its sink draws
+// again); an engagement on clots the pass left keeps them, at their indices after the erase.
+void ThrombectomyUnit::release_removed(std::int64_t time_us, const std::vector<std::size_t>& removed) {
+  if (!engaged_tool_ || removed.empty()) return;
+  std::vector<std::size_t> kept;
+  for (const std::size_t k : engaged_) {
+    if (std::find(removed.begin(), removed.end(), k) != removed.end()) continue;
+    kept.push_back(k - static_cast<std::size_t>(std::count_if(removed.begin(), removed.end(), [k](std::size_t r) { return r < k; })));
+  }
+  if (kept.size() == engaged_.size()) {
+    engaged_ = std::move(kept);
+    return;
+  }
+  log(time_us, "aspiration: the %s's tip holds no clot now (it left in pass %d)", tool_names_[*engaged_tool_].c_str(), figures_.passes);
+  engaged_tool_.reset();
+  engaged_.clear();
 }
 
 void ThrombectomyUnit::regrade(std::int64_t time_us) {

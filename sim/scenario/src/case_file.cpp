@@ -1,5 +1,7 @@
 #include "scenario/case_file.hpp"
 
+#include <algorithm>
+
 #include "base/read_file.hpp"
 #include "case_parser.hpp"
 
@@ -18,6 +20,12 @@ CaseParse load_case(const std::string& path) {
   const base::Result<std::string, base::ReadFileError> text = base::read_file(path, kMaxCaseBytes);
   if (!text) return base::Error{path + ":0: cannot read the file (missing, unreadable or larger than 16 MiB)"};
   return parse_case(*text, path);
+}
+
+void steer_aspiration_catheters(Case& c) {
+  for (ToolSpec& t : c.tools) {
+    t.steered_by_inner = std::any_of(c.aspiration.begin(), c.aspiration.end(), [&t](const CaseAspiration& a) { return a.tool == t.name; });
+  }
 }
 
 }  // namespace cathbox::tool

@@ -207,6 +207,7 @@ bool CaseParser::check_aspiration() {
       if (t.name == a.tool && !(t.inner_diameter_mm > 0.0)) return error_at(a.line, "aspiration: tool '" + t.name + "' has no inner_diameter");
     }
   }
+  steer_aspiration_catheters(c_);
   return true;
 }
 

@@ -40,7 +40,8 @@ std::string segment(int id, const char* name, const char* links, double flow, do
   return s.str();
 }
 
-std::string write_case() {
+// The Y and its stack; `clot` the case's clot line, `guide_extra` more lines for the guide.
+std::string write_case(const char* clot = "clot 2 6 10 red=60 fibrin=30\n", const char* guide_extra = "") {
   const double side = std::sqrt(0.5);
   const std::string hclm = "s 3\n\n" + segment(1, "parent", "p 0\nc 2 2 3\n", 200, 0, 0, 0, 1, 30, 1.8) + "\n" +
                            segment(2, "straight_branch", "p 1 1\nc 0\n", 120, 0, 30, 0, 1, 50, 1.4) + "\n" +
@@ -51,14 +52,13 @@ std::string write_case() {
   std::ofstream(path) << "cathbox-case 1\n"
                          "name stent retriever in a straight branch\n"
                          "vessel " << vessel << "\n"
-                         "clot 2 6 10 red=60 fibrin=30\n"
-                         "tool guide catheter\n"
+                      << clot << "tool guide catheter\n"
                          "  section 900 od=2.7 ei=400 gj=300\n"
                          "  section 80 od=2.7 ei=80 gj=60\n"
                          "  friction 0.15\n"
                          "  inner_diameter 2.13\n"
                          "  balloon length=10 from_tip=3 nominal=1 burst=2 chart=0.1:3,0.5:7,1:9,2:10\n"
-                         "end\n"
+                      << guide_extra << "end\n"
                          "tool microcatheter catheter\n"
                          "  section 1400 od=0.85 ei=8 gj=6\n"
                          "  section 150 od=0.8 ei=2 gj=1.6\n"
@@ -184,6 +184,51 @@ TEST(StentRetrieverTube, DeployedAcrossTheClotItIntegratesItAndRetrievesItIntoTh
   // At least the straight model's published removal force, below the most tortuous one's.
   EXPECT_GT(t.retrieval_force_peak_N, 0.2);
   EXPECT_LT(t.retrieval_force_peak_N, 1.6);
+}
+
+// Solumbra's end in the same Y: the clot's face 1 mm into the branch, the guide on the pump. The
+// stent is deployed across the clot, the microcatheter drawn into the guide, the aspirating
+// guide advanced to 1.5 mm short of the face (within kFaceReach_mm: the vacuum engages it) and
+// the stent pulled into it: the stent's pass takes the thrombus, so the vacuum holds nothing
+// any more; switching aspiration off afterwards is no lost pass and no grip stays on the tip.
+constexpr const char* kSolumbraScript =
+    "0 select guide\n0 insert_to 20 at 40\n"
+    "0 select microcatheter\n0 insert_to 56 at 40\n"
+    "1500 select stent\n1500 insert_to 50 at 50\n"
+    "2500 select microcatheter\n2500 insert_by -30 at 20\n"
+    "4000 insert_to 15 at 40\n"
+    "4400 select guide\n4400 aspiration on\n4400 insert_to 29.5 at 20\n"
+    "5000 select stent\n5000 insert_to 10 at 20\n"
+    "7100 select guide\n7100 aspiration off\n"
+    "7200 end\n";
+
+TEST(StentRetrieverTube, AStentPassIntoTheEngagedCatheterEndsTheVacuumsHoldOnTheClotItTook) {
+  SessionCaseLoad loaded = load_session_case(write_case("clot 2 1 10 red=60 fibrin=30\n", "  aspiration pump\n"));
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  std::unique_ptr<Hand> script = fixtures::script_hand(*loaded.value(), kSolumbraScript);
+  ASSERT_TRUE(script);
+  Session s(std::move(loaded.value()), std::move(script));
+  ASSERT_TRUE(s.thrombectomy());
+  const std::size_t guide = s.simulator().find_tool("guide");
+  std::string lines;
+  bool engaged_before_pass = false;
+  int held_after_pass_ticks = 0;  // engaged, or a grip on the guide's tip, after the pass
+  while (!s.over()) {
+    s.step_virtual(100);
+    const ThrombectomyUnit& unit = *s.thrombectomy();
+    if (unit.figures().passes == 0) engaged_before_pass = engaged_before_pass || unit.engaged();
+    if (unit.figures().passes == 1 && (unit.engaged() || unit.aspiration_grip_mN(guide) != 0.0)) ++held_after_pass_ticks;
+    for (LogEvent e; s.events().pop(e);) lines += std::string(e.text.data()) + "\n";
+  }
+  std::printf("%s", lines.c_str());
+  EXPECT_TRUE(engaged_before_pass) << "the aspirating guide's tip engages the clot's face";
+  EXPECT_EQ(held_after_pass_ticks, 0) << "a vacuum held on a clot already taken out";
+  EXPECT_NE(lines.find("holds no clot now"), std::string::npos);
+  EXPECT_EQ(lines.find("lets the clot go"), std::string::npos) << "no clot left to let go";
+  const ThrombectomyFigures& t = *s.metrics().thrombectomy;
+  EXPECT_EQ(t.passes, 1);
+  EXPECT_EQ(t.stent_passes, 1);
+  EXPECT_EQ(s.thrombectomy()->clots().size(), 0U);
 }
 
 }  // namespace

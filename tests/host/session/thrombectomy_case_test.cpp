@@ -3,10 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "flow/flow_network.hpp"
+#include "session/action_script_hand.hpp"
 #include "session/session_case.hpp"
 
 namespace cathbox::session {
@@ -45,6 +50,38 @@ TEST(ThrombectomyCase, ABadClotIsRefusedAtLoadNamingItsLine) {
   EXPECT_FALSE(loaded);
   EXPECT_NE(loaded.error().message.find("bad_clot.case:3: clot: runs past the end of segment 22"), std::string::npos) << loaded.error().message;
   std::remove(path.c_str());
+}
+
+// Each bundled thrombectomy script on the case it is run with (the technique runs are the
+// CTest entries thrombectomy_script_* in tests/host/cli, labelled long): it parses and every
+// tool it selects is in the case. Every neuro_thrombectomy_*.actions in cases/ is listed here.
+TEST(ThrombectomyCase, EveryScriptLoadsOnItsCase) {
+  const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
+  const std::vector<std::pair<std::string, std::string>> runs{
+      {"m1", "m1_access"},
+      {"m1", "m1_adapt"},
+      {"m1_stentretriever", "m1_stentretriever"},
+      {"m1_stentretriever", "m1_stentretriever_careless"},
+      {"m1_solumbra", "m1_solumbra"},
+      {"ica_t", "ica_t"},
+      {"ica_t_stentretriever", "ica_t_stentretriever"},
+      {"ica_t_solumbra", "ica_t_solumbra"},
+  };
+  std::set<std::string> listed;
+  for (const auto& [case_name, script_name] : runs) {
+    const std::string script = "neuro_thrombectomy_" + script_name + ".actions";
+    listed.insert(script);
+    SessionCaseLoad loaded = load_session_case(dir + "neuro_thrombectomy_" + case_name + ".case");
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    const auto hand = ActionScriptHand::load(dir + script, *loaded.value());
+    EXPECT_TRUE(hand) << script << ": " << (hand ? std::string() : hand.error().message);
+  }
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("neuro_thrombectomy_", 0) == 0 && entry.path().extension() == ".actions") {
+      EXPECT_TRUE(listed.count(name) == 1) << name << " is run with no case here";
+    }
+  }
 }
 
 }  // namespace

@@ -345,5 +345,26 @@ TEST(NestedTools, MicrocatheterFollowsTheWireWhereverItWasSteered) {
   EXPECT_GE(in_branch, 12);  // of 20
 }
 
+// A catheter steered by the tools it carries (an aspiration catheter: ToolSpec::steered_by_inner)
+// takes their push across its tip only while its hand advances it: parked, with the wire beyond
+// its tip steered into a branch, it lies exactly where an unsteered one lies (the Solumbra
+// microcatheter leaning on the parked aspiration catheter's tip stalled the stent's steps:
+// docs/session/thrombectomy.md); advanced over the wire, it is steered.
+TEST(NestedTools, ASteeredCatheterIsSteeredOnlyWhileItIsAdvanced) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  std::vector<ToolSpec> steered = triaxial_stack();
+  steered[1].steered_by_inner = true;
+  Simulator a(wall, triaxial_stack(), kTriaxialEntry);
+  Simulator b(wall, steered, kTriaxialEntry);
+  for (Simulator* sim : {&a, &b}) {
+    steer_wire_into_a_branch(*sim);
+    for (int i = 0; i < 200; ++i) sim->step();  // parked
+  }
+  ASSERT_NE(b.tip_segment(2), 0);
+  EXPECT_LT(glm::length(a.tip(1).position_mm - b.tip(1).position_mm), 1e-12);
+  for (Simulator* sim : {&a, &b}) drive(*sim, 1, 45.0, kMicroAdvancePerStep);
+  EXPECT_GT(glm::length(a.tip(1).position_mm - b.tip(1).position_mm), 1e-6);
+}
+
 }  // namespace
 }  // namespace cathbox::tool

@@ -148,6 +148,9 @@ class ThrombectomyUnit final : public ControlHandler {
   // A pass's grading after `removed` (indices in clots_, may be empty) left and a fragment
   // (if any) was carried: the control run, the embolus, eTICI and the figures.
   void grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::vector<flow::Fragment>& fragments);
+  // Ends the engagement when the pass removed any of its clots (`removed`: indices in clots_
+  // before the erase), else shifts its indices past the erased ones.
+  void release_removed(std::int64_t time_us, const std::vector<std::size_t>& removed);
   // The figures of the last pass from the network as it is now (control run, no arrest).
   void regrade(std::int64_t time_us);
   // Emboli (thrombectomy_emboli.cpp): fragments into the flow, moved on each tick, lodged.

@@ -127,6 +127,10 @@ using CaseParse = base::Result<Case>;
 [[nodiscard]] CaseParse parse_case(std::string_view text, std::string_view file_name);
 // Reads and parses a case file.
 [[nodiscard]] CaseParse load_case(const std::string& path);
+// Marks each catheter the case aspirates through steered by the tools it carries
+// (`ToolSpec::steered_by_inner`: tracked over them to the clot), the others not. parse_case
+// does it; a caller that replaces `c.tools` (a record's tools) does it again.
+void steer_aspiration_catheters(Case& c);
 
 // A 0.014" guidewire with a soft distal tip and an angled tip, and a 5F catheter.
 [[nodiscard]] ToolSpec default_guidewire();

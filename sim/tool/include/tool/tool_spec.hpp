@@ -63,6 +63,11 @@ struct ToolSpec {
   double friction = 0.1;                   // Coulomb coefficient against the wall
   double inner_diameter_mm = 0.0;          // catheters: lumen diameter (0 for a guidewire)
   double lumen_friction = 0.05;            // catheters: Coulomb coefficient of the lumen liner
+  // Catheters: the tools it carries steer its tip after them (their lean on the clamp at its tip
+  // pushes it sideways). Set for an aspiration catheter (tracked over its microcatheter to the
+  // clot: tool::steer_aspiration_catheters, from the case's lines, not recorded); a balloon
+  // catheter always is. Off for the others (sim/tool README, "Coaxial tools").
+  bool steered_by_inner = false;
   double axial_stiffness_N = 5000.0;       // EA; large, the tool is nearly inextensible
   // Viscous drag per mm of tool per mm/s. Default (none set): blood's, from its viscosity
   // (blood_drag_mN_s_per_mm2); a value here replaces it (e.g. a bench model in glycerol).
