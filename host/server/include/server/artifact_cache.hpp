@@ -23,7 +23,7 @@
 namespace cathbox::server {
 
 // A trace is a pure function of the record's bytes: cached under their hash.
-[[nodiscard]] inline std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
+[[nodiscard]] inline std::string trace_cache_key(const std::string& record_hash) { return "trace2:" + record_hash; }
 
 class ArtifactCache {
  public:
