@@ -636,7 +636,8 @@ class ThrombectomyRun:
 
 def test_thrombectomy_debrief(b, run, report):
     """The debrief of a thrombectomy run: the "eTICI per pass" row and the final grade read as the
-    session's own metrics (`session metrics --json`) grade the record."""
+    session's own metrics (`session metrics --json`) grade the record; the passes (with their
+    eTICI) and lodged emboli are marks, the retrieval force a series on the plot."""
     started = time.monotonic()
     result, metrics = run.wait()
     report["thrombectomy_wait_s"] = round(time.monotonic() - started, 2)
@@ -661,6 +662,28 @@ def test_thrombectomy_debrief(b, run, report):
     check(injections == 1, "the debrief marks %d injections for the script's one" % injections)
     arrests = b.js("return document.querySelectorAll(\"#marks span[data-kind='flow_arrest']\").length")
     check(arrests == t["balloon_guide_inflations"], "the debrief marks %d flow arrests, session metrics give %d" % (arrests, t["balloon_guide_inflations"]))
+    # Each pass is a mark with its eTICI, as the session's metrics grade it; each lodged embolus a
+    # mark (the emboli still in transit at the end have no time: the metrics count them).
+    titles = b.js("return [...document.querySelectorAll(\"#marks span[data-kind='pass']\")].map((e) => e.title)")
+    check(len(titles) == t["passes"], "the debrief marks %d passes, session metrics give %d" % (len(titles), t["passes"]))
+    for i, (title, p) in enumerate(zip(titles, t["etici_per_pass"])):
+        check(title.startswith("pass %d: eTICI %s at " % (i + 1, p["etici"])), "pass mark %r, session metrics give eTICI %s" % (title, p["etici"]))
+    emboli = b.js("return document.querySelectorAll(\"#marks span[data-kind='embolus']\").length")
+    lodged = len(t["emboli_lodged"])
+    check(emboli == lodged, "the debrief marks %d emboli, session metrics give %d lodged" % (emboli, lodged))
+    # The retrieval force on the plot, as Chart.js holds it: a series of every sample, its peak the
+    # session's retrieval_force_peak_N; an aspiration pass pulls no stent (null in the metrics): all zero.
+    series = b.wait_js("const c = Chart.getChart(document.getElementById('chart'));"
+                       "const d = c && c.data.datasets.find((s) => s.label.startsWith('retrieval force'));"
+                       "return d && [d.label, d.data.map((p) => p.y), c.data.datasets[0].data.length];", "the retrieval force series")
+    label, ys, samples = series
+    check(len(ys) == samples, "the retrieval force has %d points, the hand force %d" % (len(ys), samples))
+    peak_N = t["retrieval_force_peak_N"]
+    if peak_N is None:
+        check(max(ys) == 0 and "no stent pulled" in label, "retrieval force %r peak %s mN; the metrics say no stent pass" % (label, max(ys)))
+    else:
+        check(abs(max(ys) / 1000.0 - peak_N) < 1e-5, "retrieval force peak %s mN, session metrics give %s N" % (max(ys), peak_N))
+    report["thrombectomy_retrieval_label"] = label
     b.js("arguments[0].scrollIntoView({block: 'center'})", row)
     b.shot("debrief-thrombectomy")
     report["thrombectomy_etici_per_pass"] = got

@@ -16,12 +16,16 @@ constexpr std::size_t kMaxValueBytes = 512 * 1024 * 1024;  // refuse to inflate 
 
 }  // namespace
 
-std::string ArtifactCache::file_of(const std::string& key) const {
+std::string cache_file_name(const std::string& key) {
   std::string name = key;
   for (char& c : name) {
     if (c == ':') c = '-';
   }
-  return (std::filesystem::path(folder_) / (name + ".zst")).string();
+  return name + ".zst";
+}
+
+std::string ArtifactCache::file_of(const std::string& key) const {
+  return (std::filesystem::path(folder_) / cache_file_name(key)).string();
 }
 
 std::shared_ptr<const std::string> ArtifactCache::find(const std::string& key) {

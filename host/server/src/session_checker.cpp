@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string_view>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
+#include "flow/reperfusion.hpp"
 #include "record_scan.hpp"
 #include "server/server_app.hpp"
 #include "server/upload_limits.hpp"
@@ -26,8 +28,9 @@ constexpr std::size_t kMaxTraceEvents = 5'000;
 // To 0.01 (mm, mN, degrees): a trace is drawn, not replayed.
 double r2(double v) { return std::round(v * 100.0) / 100.0; }
 
-// Samples every tick the replay runs: the held tool and forces; and events, from the metrics'
-// counters (a wall contact starting, a wrong-branch entry, the target reached) and from the
+// Samples every tick the replay runs: the held tool and forces (in a thrombectomy case the pull
+// the session reads as retrieval force); and events, from the metrics' counters (a wall contact
+// starting, a wrong-branch entry, the target reached, a thrombectomy pass, an embolus) and from the
 // controls the session accepted (an injection, a balloon guide inflated: a flow arrest).
 class TraceObserver final : public session::TickObserver {
  public:
@@ -38,19 +41,23 @@ class TraceObserver final : public session::TickObserver {
     double rotation_deg = 0.0;
     double hand_mN = 0.0;
     double wall_peak_mN = 0.0;
+    double retrieval_mN = 0.0;  // the peak pull on a stent being retrieved since the last sample
     bool fluoro = false;
     std::vector<double> nodes;  // x, y, z of up to kTraceNodes nodes (to 0.01 mm: short in JSON)
   };
   struct Event {
     std::int64_t t_us = 0;
     const char* kind = "";
+    int index = 0;  // a pass's or an embolus's number (1-based), 0 for the other kinds
   };
 
   void observe(const session::TickView& v) override {
     // The wall forces the metrics read: those of the converged steps (session/contact_readings.hpp).
     interval_wall_ = std::max(interval_wall_, v.contacts.wall_mN());
+    if (v.thrombectomy != nullptr) interval_retrieval_ = std::max(interval_retrieval_, v.thrombectomy->retrieval_pull_mN());
     const session::Metrics& m = v.metrics;
     if (started_) {
+      thrombectomy_events(v.time_us, m);
       if (m.wall_contacts > last_.wall_contacts) event(v.time_us, "wall_contact");
       if (m.wrong_branch_entries > last_.wrong_branch_entries) event(v.time_us, "wrong_branch");
       if (m.target_reached && !last_.target_reached) event(v.time_us, "target_reached");
@@ -75,8 +82,10 @@ class TraceObserver final : public session::TickObserver {
     Sample s;
     s.t_us = v.time_us;
     s.wall_peak_mN = interval_wall_;
+    s.retrieval_mN = interval_retrieval_;
     s.fluoro = fluoro_;
     interval_wall_ = 0.0;
+    interval_retrieval_ = 0.0;
     if (v.snapshot.active_tool < v.snapshot.tools.size()) {
       const tool::ToolSnapshot& t = v.snapshot.tools[v.snapshot.active_tool];
       s.tip = t.tip.position_mm;
@@ -92,32 +101,38 @@ class TraceObserver final : public session::TickObserver {
   }
 
   // {"format","period_ms","tools","target_mm","t_ms","tip_mm","insertion_mm","rotation_deg",
-  //  "hand_mN","wall_peak_mN","fluoro","nodes_mm","events"}: columns, one entry per sample
+  //  "hand_mN","wall_peak_mN","fluoro","nodes_mm","events"} and, in a thrombectomy case,
+  // "retrieval_mN" (the peak stent pull since the last sample): columns, one entry per sample
   // (tip_mm flat x,y,z; nodes_mm one flat array per sample).
   [[nodiscard]] std::string json(const session::SessionCase& scene) const {
     const std::size_t k = (samples_.size() + kMaxTraceSamples - 1) / kMaxTraceSamples;
     const std::size_t stride = std::max<std::size_t>(k, 1);
     nlohmann::json t_ms = nlohmann::json::array(), tip = nlohmann::json::array(), ins = nlohmann::json::array(),
                    rot = nlohmann::json::array(), hand = nlohmann::json::array(), wall = nlohmann::json::array(),
-                   fluoro = nlohmann::json::array(), nodes = nlohmann::json::array();
+                   fluoro = nlohmann::json::array(), nodes = nlohmann::json::array(), retrieval = nlohmann::json::array();
     for (std::size_t i = 0; i < samples_.size(); i += stride) {
       const Sample& s = samples_[i];
       double peak = 0.0;
-      for (std::size_t j = i; j < std::min(i + stride, samples_.size()); ++j) peak = std::max(peak, samples_[j].wall_peak_mN);
+      double pull = 0.0;
+      for (std::size_t j = i; j < std::min(i + stride, samples_.size()); ++j) {
+        peak = std::max(peak, samples_[j].wall_peak_mN);
+        pull = std::max(pull, samples_[j].retrieval_mN);
+      }
       t_ms.push_back(static_cast<double>(s.t_us) / 1000.0);
       for (int a = 0; a < 3; ++a) tip.push_back(r2(s.tip[a]));
       ins.push_back(r2(s.insertion_mm));
       rot.push_back(r2(s.rotation_deg));
       hand.push_back(r2(s.hand_mN));
       wall.push_back(r2(peak));
+      retrieval.push_back(r2(pull));
       fluoro.push_back(s.fluoro ? 1 : 0);
       nodes.push_back(s.nodes);
     }
     nlohmann::json events = nlohmann::json::array();
-    for (const Event& e : events_) events.push_back({{"t_ms", static_cast<double>(e.t_us) / 1000.0}, {"kind", e.kind}});
+    for (const Event& e : events_) events.push_back(event_json(e));
     nlohmann::json tools = nlohmann::json::array();
     for (const std::string& name : tools_) tools.push_back(name);
-    nlohmann::json out = {{"format", "cathbox-trace 1"},
+    nlohmann::json out = {{"format", "cathbox-trace 2"},
                           {"period_ms", static_cast<double>(kTracePeriod_us * static_cast<std::int64_t>(stride)) / 1000.0},
                           {"samples", t_ms.size()},
                           {"tools", std::move(tools)},
@@ -133,16 +148,49 @@ class TraceObserver final : public session::TickObserver {
                           {"nodes_mm", std::move(nodes)},
                           {"events", std::move(events)},
                           {"events_dropped", events_dropped_}};
+    if (last_.thrombectomy) out["retrieval_mN"] = std::move(retrieval);
     if (scene.target_mm) out["target_mm"] = {r2(scene.target_mm->x), r2(scene.target_mm->y), r2(scene.target_mm->z)};
     return out.dump();
   }
 
  private:
+  // A pass (its eTICI as the metrics give it at the end: an embolus lodging later grades the
+  // pass again) and a lodged embolus (the segment it lodged in, whether a new territory).
+  [[nodiscard]] nlohmann::json event_json(const Event& e) const {
+    nlohmann::json j = {{"t_ms", static_cast<double>(e.t_us) / 1000.0}, {"kind", e.kind}};
+    if (e.index == 0 || !last_.thrombectomy) return j;
+    const session::ThrombectomyFigures& t = *last_.thrombectomy;
+    const auto k = static_cast<std::size_t>(e.index - 1);
+    if (std::string_view(e.kind) == "pass") {
+      j["pass"] = e.index;
+      if (k < session::ThrombectomyFigures::kMaxPasses) {
+        j["etici"] = std::string(flow::etici_label(t.etici_after_pass[k]));
+        j["reperfused_pct"] = r2(t.reperfused_pct_after_pass[k]);
+      }
+    } else {
+      j["embolus"] = e.index;
+      if (k < t.emboli_lodged.size()) j["segment"] = t.emboli_lodged[k];
+      if (k < embolus_new_territory_.size()) j["new_territory"] = embolus_new_territory_[k] != 0;
+    }
+    return j;
+  }
+  // A pass ends, an embolus lodges: where the thrombectomy figures' counters move.
+  void thrombectomy_events(std::int64_t t_us, const session::Metrics& m) {
+    if (!m.thrombectomy || !last_.thrombectomy) return;
+    const session::ThrombectomyFigures& now = *m.thrombectomy;
+    const session::ThrombectomyFigures& before = *last_.thrombectomy;
+    for (int p = before.passes + 1; p <= now.passes; ++p) event(t_us, "pass", p);
+    const bool new_territory = now.emboli_new_territory > before.emboli_new_territory;
+    for (int e = before.emboli + 1; e <= now.emboli; ++e) {
+      embolus_new_territory_.push_back(new_territory ? 1 : 0);
+      event(t_us, "embolus", e);
+    }
+  }
   static void push_node(Sample& s, const glm::dvec3& p) {
     for (int a = 0; a < 3; ++a) s.nodes.push_back(r2(p[a]));
   }
-  void event(std::int64_t t_us, const char* kind) {
-    if (events_.size() < kMaxTraceEvents) events_.push_back({t_us, kind});
+  void event(std::int64_t t_us, const char* kind, int index = 0) {
+    if (events_.size() < kMaxTraceEvents) events_.push_back({t_us, kind, index});
     else ++events_dropped_;
   }
 
@@ -154,6 +202,8 @@ class TraceObserver final : public session::TickObserver {
   bool started_ = false;
   bool fluoro_ = false;
   double interval_wall_ = 0.0;
+  double interval_retrieval_ = 0.0;
+  std::vector<std::uint8_t> embolus_new_territory_;  // per embolus marked
 };
 
 class SessionChecker final : public RecordChecker {

@@ -282,7 +282,8 @@ void Session::observe(std::int64_t n, const HandFeedback& fb) {
   }
   log_events(held.tip_segment, mt.tip_force_mN);
   if (!observers_.empty()) {
-    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics(), contacts_};
+    const TickView view{n, mt.time_us, *sim_, snap_, input_, std::span(applied_.data(), applied_count_), metrics_.metrics(), contacts_,
+                        thrombectomy_.get()};
     for (TickObserver* o : observers_) o->observe(view);
   }
 }

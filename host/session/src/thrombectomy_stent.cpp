@@ -69,6 +69,7 @@ double ThrombectomyUnit::stent_integration(std::size_t tool) const {
 }
 
 void ThrombectomyUnit::after_step(std::int64_t time_us, tool::Simulator& sim) {
+  retrieval_pull_mN_ = 0.0;
   for (StentPass& p : stents_) stent_step(p, time_us, sim);
   for (const Aspirator& a : aspirators_) {
     const double grip_mN = aspiration_grip_mN(a.tool);
@@ -133,7 +134,11 @@ void ThrombectomyUnit::stent_step(StentPass& p, std::int64_t time_us, tool::Simu
   if (p.retrieving) {
     // The pull of converged steps only (an unconverged step's forces are not an equilibrium's:
     // host/session/README.md, "Wall forces").
-    if (sim.rod(p.tool).converged()) p.peak_pull_mN = std::max(p.peak_pull_mN, -sim.hand_force_mN(p.tool));
+    if (sim.rod(p.tool).converged()) {
+      const double pull_mN = std::max(0.0, -sim.hand_force_mN(p.tool));
+      p.peak_pull_mN = std::max(p.peak_pull_mN, pull_mN);
+      retrieval_pull_mN_ = std::max(retrieval_pull_mN_, pull_mN);
+    }
     if (st.unsheathed_mm <= 0.0) end_stent_pass(p, time_us, sim);
     return;
   }
@@ -188,6 +193,7 @@ void ThrombectomyUnit::start_retrieval(StentPass& p, std::int64_t time_us, tool:
   const StentCover cover = stent_cover(sim, p.tool);
   p.retrieving = true;
   p.peak_pull_mN = sim.rod(p.tool).converged() ? std::max(0.0, -sim.hand_force_mN(p.tool)) : 0.0;
+  retrieval_pull_mN_ = std::max(retrieval_pull_mN_, p.peak_pull_mN);
   if (cover.thrombus.empty()) {  // it has moved off the clot (or the clot went in another pass)
     p.captured = false;
     log(time_us, "stent retrieval: no clot under the stent");

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "server/artifact_cache.hpp"
 #include "server/audit_log.hpp"
 #include "server/testing/child_process.hpp"
 #include "server/user_export.hpp"
@@ -261,7 +262,7 @@ TEST_P(DeleteUserFilesTest, NoFileUnderTheDataFolderHoldsTheirRecord) {
     ASSERT_EQ(f.call("GET", "/api/v1/results/" + std::to_string((*r)["id"].get<int>()) + "/trace", "", teacher).status, 200);
   }
   const std::string her_hash = a["content_hash"], his_hash = b["content_hash"];
-  const auto trace_file = [&](const std::string& hash) { return data / "cache" / ("trace1-" + hash + ".zst"); };
+  const auto trace_file = [&](const std::string& hash) { return data / "cache" / cache_file_name(trace_cache_key(hash)); };
   ASSERT_TRUE(fs::exists(trace_file(her_hash))) << "her trace file is on disk before";
   if (sqlite) {
     ASSERT_NE(read_bytes(data / "server.db").find("alice-earlier-5d0b"), std::string::npos);

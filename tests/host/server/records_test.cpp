@@ -4,6 +4,7 @@
 // record whose inputs were changed by 1 um from tick 3000 is refused at the first hash after the
 // change; a cut or foreign record is refused with the reader's line.
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,8 @@
 #include "vessel/vessel_mesher.hpp"
 #include "session/session.hpp"
 #include "support/api_fixture.hpp"
+#include "../session/stent_tube_case.hpp"
+#include "flow/reperfusion.hpp"
 #include "record_files.hpp"
 #include "record_tamper.hpp"
 
@@ -102,7 +105,8 @@ TEST_P(RecordsTest, DebriefTraceAndBrowserMesh) {
   EXPECT_EQ(d["mesh_url"], "/api/v1/cases/ybif/versions/1/mesh");
   EXPECT_EQ(d["result"]["id"], r["id"]);
   const json& t = d["trace"];
-  EXPECT_EQ(t["format"], "cathbox-trace 1");
+  EXPECT_EQ(t["format"], "cathbox-trace 2");
+  EXPECT_FALSE(t.contains("retrieval_mN")) << "not a thrombectomy case";
   EXPECT_EQ(t["period_ms"], 50.0);
   const std::size_t n = t["samples"].get<std::size_t>();
   EXPECT_NEAR(static_cast<double>(n), r["duration_s"].get<double>() * 20.0, 2.0);
@@ -207,6 +211,59 @@ TEST(DebriefTrace, OneInjectionIsOneEvent) {
   }
   ASSERT_EQ(injections_ms.size(), 1U) << trace["events"].dump();
   EXPECT_NEAR(injections_ms[0], 1000.0, 1.0);  // at the script's tick
+}
+
+// A thrombectomy on the debrief's plot: the stent retriever's one pass in the small Y
+// (tests/host/session/stent_tube_case.hpp) recorded and traced. Each pass is a `pass` mark
+// with the eTICI the metrics give it; the retrieval force is a series whose peak is the session's
+// retrieval_force_peak_N (the same pull, converged steps only; to 0.01 mN), reached while the
+// stent was being pulled back, before the pass's mark.
+TEST(DebriefTrace, StentPassesAndRetrievalForceAreOnThePlot) {
+  const std::string case_path = session::fixtures::write_stent_tube_case("clot 2 6 10 red=60 fibrin=30\n", "",
+                                                                          "server_records_test." + std::to_string(::getpid()));
+  auto scene = session::load_session_case(case_path);
+  ASSERT_TRUE(scene) << scene.error().message;
+  std::unique_ptr<session::Hand> script = session::fixtures::script_hand(*scene.value(), session::fixtures::kStentTubeScript);
+  ASSERT_TRUE(script);
+  const std::string path = scratch("stent.cbxrec");
+  session::Metrics m;
+  {
+    session::Session s(std::move(scene.value()), std::move(script));
+    ASSERT_TRUE(s.record_to(path));
+    while (!s.over()) s.step_virtual(1000);
+    ASSERT_TRUE(s.recorder()->close());
+    m = s.metrics();
+  }
+  ASSERT_TRUE(m.thrombectomy);
+  const session::ThrombectomyFigures& f = *m.thrombectomy;
+  ASSERT_EQ(f.stent_passes, 1);
+  ASSERT_GT(f.retrieval_force_peak_N, 0.2);  // as stent_retriever_tube_test.cpp measures it
+  const Result<std::string> traced = make_session_checker()->trace(read_all(path));
+  ASSERT_TRUE(traced) << traced.error().message;
+  const json t = json::parse(traced.value());
+  std::vector<json> passes;
+  for (const json& e : t["events"]) {
+    if (e["kind"] == "pass") passes.push_back(e);
+  }
+  ASSERT_EQ(passes.size(), static_cast<std::size_t>(f.passes)) << t["events"].dump();
+  EXPECT_EQ(passes[0]["pass"], 1);
+  EXPECT_EQ(passes[0]["etici"], std::string(flow::etici_label(f.etici_after_pass[0])));
+  EXPECT_EQ(passes[0]["etici"], "3");
+  EXPECT_NEAR(passes[0]["reperfused_pct"].get<double>(), f.reperfused_pct_after_pass[0], 0.01);
+  EXPECT_GT(passes[0]["t_ms"].get<double>(), 4900.0) << "the pass ends after the pull began";
+  const json& pull = t["retrieval_mN"];
+  ASSERT_EQ(pull.size(), t["samples"].get<std::size_t>());
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < pull.size(); ++i) {
+    if (pull[i].get<double>() > pull[at].get<double>()) at = i;
+  }
+  EXPECT_NEAR(pull[at].get<double>(), 1000.0 * f.retrieval_force_peak_N, 0.005);
+  const double peak_ms = t["t_ms"][at].get<double>();
+  std::printf("stent pass: %s; retrieval peak %.2f mN at %.0f ms (metrics %.5f N)\n", passes[0].dump().c_str(),
+              pull[at].get<double>(), peak_ms, f.retrieval_force_peak_N);
+  EXPECT_GT(peak_ms, 4900.0);
+  EXPECT_LE(peak_ms, passes[0]["t_ms"].get<double>() + t["period_ms"].get<double>());
+  EXPECT_EQ(pull[0], 0.0) << "no pull before the stent is retrieved";
 }
 
 TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "server/artifact_cache.hpp"
 #include "server/audit_log.hpp"
 #include "server/iso_time.hpp"
 #include "server/user_export.hpp"
@@ -56,7 +57,7 @@ TEST_P(RetentionTest, RecordsOlderThanTheSettingGoAndTheirResultsStayMarked) {
   const std::string old_path = "/api/v1/results/" + old_id;
   ASSERT_EQ(f_->call("GET", old_path + "/trace", "", teacher_).status, 200);  // cached, on disk too
   const std::string old_hash = f_->call_json("GET", old_path, nullptr, teacher_, 200)["content_hash"];
-  ASSERT_TRUE(fs::exists(cache_ / "cache" / ("trace1-" + old_hash + ".zst")));
+  ASSERT_TRUE(fs::exists(cache_ / "cache" / cache_file_name(trace_cache_key(old_hash))));
   f_->clock.advance_us(20 * kDayUs);
   const std::string young_id = upload("young-run");
 
@@ -78,7 +79,7 @@ TEST_P(RetentionTest, RecordsOlderThanTheSettingGoAndTheirResultsStayMarked) {
     EXPECT_EQ(r.status, 410) << path;
     EXPECT_EQ(test::error_of(r), "result " + old_id + ": its record was removed by the retention setting at " + gone_at) << path;
   }
-  EXPECT_FALSE(fs::exists(cache_ / "cache" / ("trace1-" + old_hash + ".zst")));
+  EXPECT_FALSE(fs::exists(cache_ / "cache" / cache_file_name(trace_cache_key(old_hash))));
   EXPECT_FALSE(f_->store->result_record(std::stoll(old_id)));
   EXPECT_EQ(f_->call_json("GET", "/api/v1/results?trainee=alice", nullptr, teacher_, 200)["results"].size(), 2U);
   // The younger record stays, with its trace.

@@ -23,7 +23,9 @@
 namespace cathbox::server {
 
 // A trace is a pure function of the record's bytes: cached under their hash.
-[[nodiscard]] inline std::string trace_cache_key(const std::string& record_hash) { return "trace1:" + record_hash; }
+[[nodiscard]] inline std::string trace_cache_key(const std::string& record_hash) { return "trace2:" + record_hash; }
+// The name of the file a key's value is kept in, in the cache's folder ("trace2-HASH.zst").
+[[nodiscard]] std::string cache_file_name(const std::string& key);
 
 class ArtifactCache {
  public:

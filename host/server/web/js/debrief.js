@@ -1,31 +1,78 @@
 // Debrief of one run (GET /results/{id}/trace: the server replays the record and samples it):
 // the tip path and the tool's shape in 3D at the time of a slider, play/pause/speed, force and
-// insertion over time with the events marked, and the metrics against the pass criteria.
+// insertion over time with the events marked (a thrombectomy's passes with their eTICI, its
+// emboli, and the stent's retrieval force with its peak), and the metrics against the pass criteria.
 import { requireUser, api, guarded, el, fmt, showError } from './api.js';
 import { VesselView, parseMesh } from './scene.js';
 
 
 const EVENT_COLOURS = { wall_contact: '#e65100', wrong_branch: '#c62828', target_reached: '#2e7d32',
-  injection: '#6a1b9a', fluoroscopy: '#0277bd', tool_change: '#455a64', flow_arrest: '#00838f' };
+  injection: '#6a1b9a', fluoroscopy: '#0277bd', tool_change: '#455a64', flow_arrest: '#00838f',
+  pass: '#ad1457', embolus: '#5d4037' };
+const RETRIEVAL_COLOUR = '#ad1457';
 const $ = (id) => document.getElementById(id);
 const state = { index: 0, playing: false, speed: 1, trace: null, ready: false };
 let view = null;
 let chart = null;
 
-// Vertical lines on the chart: the events, and the current time.
+// What a mark says: "pass 1: eTICI 2b67", "embolus 1 (M2, new territory)", or its kind.
+function eventText(e) {
+  if (e.kind === 'pass') return 'pass ' + e.pass + (e.etici !== undefined ? ': eTICI ' + e.etici : '');
+  if (e.kind === 'embolus') {
+    const where = [e.segment, e.new_territory ? 'new territory' : ''].filter(Boolean).join(', ');
+    return 'embolus ' + e.embolus + (where ? ' (' + where + ')' : '');
+  }
+  return e.kind.replace(/_/g, ' ');
+}
+// The label over a thrombectomy mark on the plot: "P1 3", "E1".
+const markLabel = (e) => (e.kind === 'pass' ? 'P' + e.pass + (e.etici !== undefined ? ' ' + e.etici : '')
+  : e.kind === 'embolus' ? 'E' + e.embolus : null);
+
+// The retrieval force's peak: its sample and value (null when no stent was pulled).
+function retrievalPeak(tr) {
+  if (!tr.retrieval_mN) return null;
+  let k = 0;
+  for (let i = 1; i < tr.retrieval_mN.length; i++) if (tr.retrieval_mN[i] > tr.retrieval_mN[k]) k = i;
+  return tr.retrieval_mN[k] > 0 ? { k, mN: tr.retrieval_mN[k] } : null;
+}
+
+function drawPeak(c, tr) {
+  const peak = retrievalPeak(tr);
+  if (!peak) return;
+  const { ctx, scales: { x, f } } = c;
+  const px = x.getPixelForValue(tr.t_ms[peak.k] / 1000);
+  const py = f.getPixelForValue(peak.mN);
+  ctx.fillStyle = RETRIEVAL_COLOUR;
+  ctx.beginPath(); ctx.arc(px, py, 3.5, 0, 2 * Math.PI); ctx.fill();
+  ctx.font = '11px sans-serif';
+  ctx.textAlign = px > (c.chartArea.left + c.chartArea.right) / 2 ? 'right' : 'left';
+  ctx.fillText('retrieval peak ' + fmt(peak.mN / 1000, 3) + ' N', px + (ctx.textAlign === 'left' ? 6 : -6), Math.max(py, c.chartArea.top + 10));
+}
+
+// Vertical lines on the chart: the events (a thrombectomy's passes and emboli labelled), the
+// retrieval force's peak, and the current time.
 const marksPlugin = {
   id: 'cathboxMarks',
   afterDatasetsDraw(c) {
     if (!state.trace) return;
     const { ctx, chartArea: a, scales: { x } } = c;
     ctx.save();
+    ctx.font = '11px sans-serif';
+    ctx.textAlign = 'left';
     for (const e of state.trace.events) {
       const px = x.getPixelForValue(e.t_ms / 1000);
+      const label = markLabel(e);
       ctx.strokeStyle = EVENT_COLOURS[e.kind] || '#000';
-      ctx.globalAlpha = 0.5;
+      ctx.globalAlpha = label ? 0.9 : 0.5;
+      ctx.lineWidth = label ? 2 : 1;
       ctx.beginPath(); ctx.moveTo(px, a.top); ctx.lineTo(px, a.bottom); ctx.stroke();
+      if (label && px >= a.left && px <= a.right) {
+        ctx.fillStyle = EVENT_COLOURS[e.kind];
+        ctx.fillText(label, px + 3, a.top + (e.kind === 'pass' ? 10 : 22));
+      }
     }
     ctx.globalAlpha = 1;
+    drawPeak(c, state.trace);
     ctx.strokeStyle = '#000';
     ctx.lineWidth = 2;
     const px = x.getPixelForValue(state.trace.t_ms[state.index] / 1000);
@@ -84,6 +131,7 @@ function seek(i) {
     el('div', {}, 'rotation ', el('b', {}, fmt(tr.rotation_deg[k]) + '°')),
     el('div', {}, 'hand ', el('b', {}, fmt(tr.hand_mN[k]) + ' mN')),
     el('div', {}, 'wall ', el('b', {}, fmt(tr.wall_peak_mN[k]) + ' mN')),
+    ...(tr.retrieval_mN ? [el('div', {}, 'retrieval ', el('b', {}, fmt(tr.retrieval_mN[k]) + ' mN'))] : []),
     el('div', {}, 'fluoro ', tr.fluoro[k] ? el('span', { class: 'fluoro-on' }, 'ON') : el('b', {}, 'off')));
   if (chart) {
     // The plot's window follows the cursor when it shows less than the whole run.
@@ -102,6 +150,15 @@ function seek(i) {
   }
 }
 
+// A thrombectomy's retrieval force (the pull on a stent's push wire while it is retrieved): its
+// label gives the peak, or says there was none (an aspiration pass pulls no stent).
+function retrievalSeries(tr, series) {
+  if (!tr.retrieval_mN) return [];
+  const peak = retrievalPeak(tr);
+  const label = 'retrieval force mN (' + (peak ? 'peak ' + fmt(peak.mN / 1000, 3) + ' N' : 'no stent pulled') + ')';
+  return [{ label, data: series(tr.retrieval_mN), borderColor: RETRIEVAL_COLOUR, borderDash: [4, 2], yAxisID: 'f' }];
+}
+
 function drawChart(tr) {
   const t = tr.t_ms.map((v) => v / 1000);
   const series = (ys) => ys.map((y, i) => ({ x: t[i], y }));
@@ -113,6 +170,7 @@ function drawChart(tr) {
         { label: 'hand force mN', data: series(tr.hand_mN), borderColor: '#1f6feb', yAxisID: 'f' },
         { label: 'wall force mN (peak)', data: series(tr.wall_peak_mN), borderColor: '#e65100', yAxisID: 'f' },
         { label: 'insertion mm', data: series(tr.insertion_mm), borderColor: '#2e7d32', yAxisID: 'mm' },
+        ...retrievalSeries(tr, series),
       ],
     },
     options: {
@@ -138,7 +196,7 @@ function seekTime(ms) {
 
 function drawMarks(tr) {
   const end = tr.t_ms[tr.samples - 1] || 1;
-  $('marks').replaceChildren(...tr.events.map((e) => el('span', { title: e.kind + ' at ' + fmt(e.t_ms / 1000, 2) + ' s', 'data-kind': e.kind,
+  $('marks').replaceChildren(...tr.events.map((e) => el('span', { title: eventText(e) + ' at ' + fmt(e.t_ms / 1000, 2) + ' s', 'data-kind': e.kind,
     style: 'left:' + (100 * e.t_ms / end).toFixed(3) + '%;background:' + (EVENT_COLOURS[e.kind] || '#000') })));
   const counts = {};
   for (const e of tr.events) counts[e.kind] = (counts[e.kind] || 0) + 1;

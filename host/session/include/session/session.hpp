@@ -63,6 +63,7 @@ struct TickView {
   std::span<const Control> controls;  // applied at this tick
   const Metrics& metrics;
   const ContactReadings& contacts;  // the wall forces of the converged steps (contact_readings.hpp)
+  const ThrombectomyUnit* thrombectomy = nullptr;  // a case with clots: its unit as of this tick
 };
 
 class TickObserver {

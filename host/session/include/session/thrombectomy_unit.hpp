@@ -106,6 +106,11 @@ class ThrombectomyUnit final : public ControlHandler {
   // The pull, mN, the engaged clot puts on aspiration catheter `tool`'s tip now (0 when it is
   // not engaged, or the clot would be ingested): min(vacuum force, the clot's hold).
   [[nodiscard]] double aspiration_grip_mN(std::size_t tool) const;
+  // The pull, mN, on the push wire of a stent retriever being retrieved, as of the last
+  // after_step (the largest of them): the hand force of a converged step, 0 when no stent is
+  // being retrieved or its step did not converge. Its peak over a pass is that pass's
+  // retrieval force (ThrombectomyFigures::retrieval_force_peak_N, counted when the pass ends).
+  [[nodiscard]] double retrieval_pull_mN() const { return retrieval_pull_mN_; }
   // The integrated share of the clot under a stent tool (0 when none is deployed across one).
   [[nodiscard]] double stent_integration(std::size_t tool) const;
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
@@ -233,6 +238,7 @@ class ThrombectomyUnit final : public ControlHandler {
     std::vector<std::array<double, 2>> on_stent;
   };
   std::vector<StentPass> stents_;
+  double retrieval_pull_mN_ = 0.0;  // retrieval_pull_mN()
   std::vector<flow::EmbolusTransit> in_transit_;  // emboli on their way
   std::int64_t last_tick_us_ = -1;
   bool finished_ = false;
