@@ -14,4 +14,7 @@ rec="$work/run.cbxrec"
 expect 0 "$cb" session run --case "$case_file" --script "$script" --virtual --record "$rec"
 expect 0 "$cb" session replay "$rec" --check
 check_run "$4" "$want" '.ticks > 0'
+# The figures, for the log (docs/session/thrombectomy.md quotes them).
+"$cb" session metrics "$rec" --json | jq -c --arg s "$4" '{script: $s, peak_hand_force_mN, unconverged_pct}
+  + (.thrombectomy | {etici_final, passes, emboli, retrieval_force_peak_N, time_to_reperfusion_s})' || fail "$4: no figures"
 finish
