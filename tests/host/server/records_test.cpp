@@ -213,38 +213,53 @@ TEST(DebriefTrace, OneInjectionIsOneEvent) {
   EXPECT_NEAR(injections_ms[0], 1000.0, 1.0);  // at the script's tick
 }
 
+// The stent retriever in the small Y (tests/host/session/stent_tube_case.hpp) driven by
+// `script`, recorded to `name` in virtual time and traced; the session's metrics in `m`.
+json traced_stent_tube(const char* script_text, const std::string& name, session::Metrics& m) {
+  const std::string case_path = session::fixtures::write_stent_tube_case("clot 2 6 10 red=60 fibrin=30\n", "",
+                                                                          "server_records_test." + std::to_string(::getpid()));
+  auto scene = session::load_session_case(case_path);
+  EXPECT_TRUE(scene) << scene.error().message;
+  if (!scene) return {};
+  std::unique_ptr<session::Hand> script = session::fixtures::script_hand(*scene.value(), script_text);
+  EXPECT_TRUE(script);
+  if (!script) return {};
+  const std::string path = scratch(name);
+  {
+    session::Session s(std::move(scene.value()), std::move(script));
+    EXPECT_TRUE(s.record_to(path));
+    while (!s.over()) s.step_virtual(1000);
+    EXPECT_TRUE(s.recorder()->close());
+    m = s.metrics();
+  }
+  const Result<std::string> traced = make_session_checker()->trace(read_all(path));
+  EXPECT_TRUE(traced) << traced.error().message;
+  return traced ? json::parse(traced.value()) : json{};
+}
+
+// The trace's events of `kind`, in order.
+std::vector<json> events_of(const json& trace, const char* kind) {
+  std::vector<json> out;
+  for (const json& e : trace["events"]) {
+    if (e["kind"] == kind) out.push_back(e);
+  }
+  return out;
+}
+
 // A thrombectomy on the debrief's plot: the stent retriever's one pass in the small Y
 // (tests/host/session/stent_tube_case.hpp) recorded and traced. Each pass is a `pass` mark
 // with the eTICI the metrics give it; the retrieval force is a series whose peak is the session's
 // retrieval_force_peak_N (the same pull, converged steps only; to 0.01 mN), reached while the
 // stent was being pulled back, before the pass's mark.
 TEST(DebriefTrace, StentPassesAndRetrievalForceAreOnThePlot) {
-  const std::string case_path = session::fixtures::write_stent_tube_case("clot 2 6 10 red=60 fibrin=30\n", "",
-                                                                          "server_records_test." + std::to_string(::getpid()));
-  auto scene = session::load_session_case(case_path);
-  ASSERT_TRUE(scene) << scene.error().message;
-  std::unique_ptr<session::Hand> script = session::fixtures::script_hand(*scene.value(), session::fixtures::kStentTubeScript);
-  ASSERT_TRUE(script);
-  const std::string path = scratch("stent.cbxrec");
   session::Metrics m;
-  {
-    session::Session s(std::move(scene.value()), std::move(script));
-    ASSERT_TRUE(s.record_to(path));
-    while (!s.over()) s.step_virtual(1000);
-    ASSERT_TRUE(s.recorder()->close());
-    m = s.metrics();
-  }
+  const json t = traced_stent_tube(session::fixtures::kStentTubeScript, "stent.cbxrec", m);
   ASSERT_TRUE(m.thrombectomy);
   const session::ThrombectomyFigures& f = *m.thrombectomy;
   ASSERT_EQ(f.stent_passes, 1);
   ASSERT_GT(f.retrieval_force_peak_N, 0.2);  // as stent_retriever_tube_test.cpp measures it
-  const Result<std::string> traced = make_session_checker()->trace(read_all(path));
-  ASSERT_TRUE(traced) << traced.error().message;
-  const json t = json::parse(traced.value());
-  std::vector<json> passes;
-  for (const json& e : t["events"]) {
-    if (e["kind"] == "pass") passes.push_back(e);
-  }
+  ASSERT_TRUE(t.contains("events"));
+  const std::vector<json> passes = events_of(t, "pass");
   ASSERT_EQ(passes.size(), static_cast<std::size_t>(f.passes)) << t["events"].dump();
   EXPECT_EQ(passes[0]["pass"], 1);
   EXPECT_EQ(passes[0]["etici"], std::string(flow::etici_label(f.etici_after_pass[0])));
@@ -264,6 +279,51 @@ TEST(DebriefTrace, StentPassesAndRetrievalForceAreOnThePlot) {
   EXPECT_GT(peak_ms, 4900.0);
   EXPECT_LE(peak_ms, passes[0]["t_ms"].get<double>() + t["period_ms"].get<double>());
   EXPECT_EQ(pull[0], 0.0) << "no pull before the stent is retrieved";
+}
+
+// The careless contrast in the same Y (issue 30): no flow arrest, the microcatheter left where it
+// unsheathed the stent (in the parent, 26 mm from the entry) and the stent pulled fast straight
+// into it. The stent holds the clot and the microcatheter's tip strips it off into the flow, which
+// carries it downstream until it lodges (measured: one embolus, in the straight branch, ~0.45 s
+// after the pass, not a new territory; ~6 s of CPU). Each lodged embolus is an `embolus` mark
+// after the pass that shed it, numbered from 1, with the segment and the new-territory flag the
+// metrics give it.
+constexpr const char* kCarelessStentTubeScript =
+    "0 select guide\n0 insert_to 20 at 40\n"
+    "0 select microcatheter\n0 insert_to 56 at 40\n"
+    "1500 select stent\n1500 insert_to 50 at 50\n"
+    "2500 select microcatheter\n2500 insert_by -30 at 20\n"
+    "4600 select stent\n4600 insert_to 10 at 20\n"
+    "6900 end\n";
+
+TEST(DebriefTrace, ALodgedEmbolusIsAnEventOnThePlot) {
+  session::Metrics m;
+  const json t = traced_stent_tube(kCarelessStentTubeScript, "careless.cbxrec", m);
+  ASSERT_TRUE(m.thrombectomy);
+  const session::ThrombectomyFigures& f = *m.thrombectomy;
+  std::printf("careless tube: %d pass(es), %d emboli (%d new territory)", f.passes, f.emboli, f.emboli_new_territory);
+  for (const std::string& name : f.emboli_lodged) std::printf(", %s", name.c_str());
+  std::printf("\n");
+  ASSERT_EQ(f.passes, 1);
+  ASSERT_GE(f.emboli, 1) << "the careless pass sheds a fragment that lodges";
+  ASSERT_EQ(f.emboli_lodged.size(), static_cast<std::size_t>(f.emboli));
+  const std::vector<json> passes = events_of(t, "pass");
+  const std::vector<json> emboli = events_of(t, "embolus");
+  ASSERT_EQ(passes.size(), 1U) << t["events"].dump();
+  ASSERT_EQ(emboli.size(), static_cast<std::size_t>(f.emboli)) << t["events"].dump();
+  int new_territory = 0;
+  for (std::size_t k = 0; k < emboli.size(); ++k) {
+    const json& e = emboli[k];
+    EXPECT_EQ(e["embolus"], static_cast<int>(k) + 1);
+    EXPECT_EQ(e["segment"], f.emboli_lodged[k]);
+    ASSERT_TRUE(e.contains("new_territory")) << e.dump();
+    new_territory += e["new_territory"].get<bool>() ? 1 : 0;
+    EXPECT_GT(e["t_ms"].get<double>(), passes[0]["t_ms"].get<double>()) << "a fragment lodges after the pass that shed it";
+    if (k > 0) {
+      EXPECT_GE(e["t_ms"].get<double>(), emboli[k - 1]["t_ms"].get<double>());
+    }
+  }
+  EXPECT_EQ(new_territory, f.emboli_new_territory);
 }
 
 TEST(ArtifactCache, EvictsTheLeastRecentlyUsedAndKeepsValuesOnDisk) {
