@@ -9,7 +9,9 @@
 
 #include "base/portable_math.hpp"
 #include "rod_geometry.hpp"
+#include "rod_newton.hpp"
 #include "rod_node_contact.hpp"
+#include "tool/banded_cholesky.hpp"
 #include "tool/rod.hpp"
 #include "tool/wall_penalty.hpp"
 
@@ -139,26 +141,76 @@ void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
   }
 }
 
-// A released coil's twist moment on its centreline: the reference twist at vertex i turns with
-// the nodes, d(psi_i)/dx_{i-1} = kb / (2 l_a), d(psi_i)/dx_{i+1} = -kb / (2 l_b) and minus their sum
-// at x_i (kb the discrete curvature binormal; Bergou et al. 2008, Discrete Elastic Rods, sec. 7),
-// and the twist energy's moment gj tau / l times it loads the nodes, from the last step's twist.
-// Without it the position solve did not see the twist its moves made, and a coil left in a
-// sphere never came to rest (docs/sim-tool/convergence.md).
+// A released coil's twist energy GJ/2l tau_i^2 on its centreline: the reference twist psi_i at
+// vertex i turns with the nodes, d(psi_i)/dx_{i-1} = -kb / (2 l_a), d(psi_i)/dx_{i+1} = kb / (2 l_b)
+// and minus their sum at x_i (kb the discrete curvature binormal; Bergou et al. 2008, Discrete
+// Elastic Rods, sec. 7; the sign is this code's psi, checked by finite differences). The position
+// solve takes it to second order from where it starts, with the twist angles of the last step:
+// the moment GJ tau / l times d(psi)/dx as a load, and GJ/l d(psi)/dx d(psi)/dx^T (positive
+// semi-definite) as its stiffness. Without the load a coil left in a sphere never came to rest;
+// with the load alone (explicit, no stiffness) its solves went unconverged on 4.6 % of the
+// coiling case's ticks (docs/sim-tool/convergence.md).
 void Rod::add_twist_holonomy_loads() {
   const std::size_t n = x_.size();
   twist_load_.assign(n, glm::dvec3(0.0));
+  twist_c_.assign(n, 0.0);
+  twist_dpsi_.assign(3 * n, glm::dvec3(0.0));
+  twist_x0_.assign(x_.begin(), x_.end());
   for (std::size_t i = 1; i + 1 < n; ++i) {
     const glm::dvec3 a = x_[i] - x_[i - 1], b = x_[i + 1] - x_[i];
     const double la = glm::length(a), lb = glm::length(b);
     const glm::dvec3 kb = glm::cross(a, b) * (2.0 / std::max(la * lb + glm::dot(a, b), 1e-12));
-    const double moment = gj_[i] / voronoi_[i] * (theta_[i] - theta_[i - 1] + ref_twist_[i]);
-    const glm::dvec3 fa = kb * (moment / (2.0 * std::max(la, 1e-12)));
-    const glm::dvec3 fb = kb * (-moment / (2.0 * std::max(lb, 1e-12)));
-    twist_load_[i - 1] += fa;
-    twist_load_[i + 1] += fb;
-    twist_load_[i] -= fa + fb;
+    const double c = gj_[i] / voronoi_[i];
+    const double moment = c * (theta_[i] - theta_[i - 1] + ref_twist_[i]);
+    const glm::dvec3 da = kb * (-0.5 / std::max(la, 1e-12));  // d(psi_i)/dx_{i-1}
+    const glm::dvec3 db = kb * (0.5 / std::max(lb, 1e-12));   // d(psi_i)/dx_{i+1}
+    twist_load_[i - 1] -= da * moment;
+    twist_load_[i + 1] -= db * moment;
+    twist_load_[i] += (da + db) * moment;
+    if (i - 1 < std::max(first_free_, first_)) continue;
+    twist_c_[i] = c;
+    twist_dpsi_[3 * i] = da;
+    twist_dpsi_[3 * i + 1] = -(da + db);
+    twist_dpsi_[3 * i + 2] = db;
   }
+}
+
+namespace {
+// The linearised change of a vertex's reference twist, d(psi)/dx . (x - x0) over its three nodes.
+double psi_change(const glm::dvec3* dpsi, const glm::dvec3* x, const glm::dvec3* x0) {
+  double s = 0.0;
+  for (std::size_t j = 0; j < 3; ++j) s += glm::dot(dpsi[j], x[j] - x0[j]);
+  return s;
+}
+}  // namespace
+
+// The twist's stiffness on the nodes, 1/2 GJ/l (d(psi_i)/dx . (x - x0))^2 per vertex: its
+// gradient, energy and Hessian blocks (add_twist_holonomy_loads).
+void Rod::add_twist_stiffness(bool hessian) {
+  const std::size_t n = std::min(x_.size(), twist_c_.size());
+  const rod_detail::BlockAdder add{*matrix_, first_, hessian};
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const double c = twist_c_[i];
+    if (c == 0.0) continue;
+    const glm::dvec3* g = &twist_dpsi_[3 * i];
+    const double s = psi_change(g, &x_[i - 1], &twist_x0_[i - 1]);
+    energy_ += 0.5 * c * s * s;
+    for (std::size_t j = 0; j < 3; ++j) {
+      add_grad(i - 1 + j, g[j] * (c * s));
+      for (std::size_t k = 0; k <= j; ++k) add(i - 1 + j, i - 1 + k, glm::outerProduct(g[j], g[k]) * c);
+    }
+  }
+}
+
+double Rod::twist_stiffness_energy() const {
+  const std::size_t n = std::min(x_.size(), twist_c_.size());
+  double e = 0.0;
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    if (twist_c_[i] == 0.0) continue;
+    const double s = psi_change(&twist_dpsi_[3 * i], &x_[i - 1], &twist_x0_[i - 1]);
+    e += 0.5 * twist_c_[i] * s * s;
+  }
+  return e;
 }
 
 // The discrete curvature binormal's material components against kbar: E = w/2 |k - kbar|^2

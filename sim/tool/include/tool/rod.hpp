@@ -296,6 +296,8 @@ class Rod {
   void add_twist_curvature(std::size_t i, std::size_t ef);
   void add_twist_curvature_kb(std::size_t i, std::size_t ef);
   void add_twist_holonomy_loads();
+  void add_twist_stiffness(bool hessian);
+  [[nodiscard]] double twist_stiffness_energy() const;
   void add_twist_friction(std::size_t ef);
   [[nodiscard]] inline std::uint8_t twist_regime(std::size_t k, double& ktr, double& limit, double& d) const;
   [[nodiscard]] bool update_twist(std::size_t ef, std::size_t m, bool linear);  // false: nonlinear
@@ -333,6 +335,10 @@ class Rod {
   // the bending residual (phi = the rest turning angle at the node).
   std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;
   std::vector<glm::dvec3> twist_load_;  // a released coil's twist on its centreline (add_twist_holonomy_loads)
+  // Its stiffness: per vertex i, GJ/l and d(psi_i)/dx at nodes i-1, i, i+1 (3 i .. 3 i + 2), and
+  // where the step's solve started (add_twist_stiffness).
+  std::vector<double> twist_c_;
+  std::vector<glm::dvec3> twist_dpsi_, twist_x0_;
   std::vector<glm::dvec3> x_, x_start_, x_pred_, load_, coupling_, grip_anchor_;
   IndexRange coupling_set_;  // nodes coupling_ may be non-zero at
   IndexRange extra_set_;     // nodes ei_extra_ may be non-zero at
