@@ -395,7 +395,10 @@ void Simulator::step(double dt_s) {
   }
   if (!detached_.empty()) {
     update_contact_members();
-    for (Rod& coil : detached_) coil.step(dt_s, *wall_, &contacts_);
+    for (std::size_t i = 0; i < detached_.size(); ++i) {
+      if (!sleep_.asleep(i)) detached_[i].step(dt_s, *wall_, &contacts_);
+    }
+    sleep_.observe(rods_, detached_, contacts_.margin_mm());
   }
   // Friction in the lumens, felt at the hands, and its reaction on the catheters.
   for (std::size_t t = 0; t < n; ++t) {
@@ -468,6 +471,7 @@ const WallModel* Simulator::swap_wall(const WallModel& next) {
   wall_ = &next;
   for (Rod& rod : rods_) rod.forget_wall();
   for (Rod& coil : detached_) coil.forget_wall();
+  sleep_.wake_all();
   for (WallHint& h : tip_hint_) h = WallHint{};
   ++wall_swaps_;
   return old;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "tool/balloon.hpp"
+#include "tool/coil_sleep.hpp"
 #include "tool/rod.hpp"
 #include "tool/rod_contact_field.hpp"
 #include "tool/sheath_friction.hpp"
@@ -122,6 +123,10 @@ class Simulator {
   [[nodiscard]] bool has_next_coil(std::size_t tool) const;
   // Deepest overlap between coil loops (and coils and the microcatheter tip), last step.
   [[nodiscard]] RodContactField::Overlap worst_coil_overlap() const { return contacts_.worst_overlap(); }
+  // Released coils at rest are not solved while nothing near them moves (coil_sleep.hpp); its
+  // settings may be changed between steps (enabled = false solves every coil every step).
+  [[nodiscard]] const CoilSleep& coil_sleep() const { return sleep_; }
+  [[nodiscard]] CoilSleep::Settings& coil_sleep_settings() { return sleep_.settings(); }
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
 
@@ -204,6 +209,7 @@ class Simulator {
   std::vector<ToolSpec> specs_;        // the tools as the case gives them (next coils included)
   std::vector<std::size_t> loaded_;    // next coils loaded per tool
   RodContactField contacts_;
+  CoilSleep sleep_;
   std::vector<RodContactField::Member> members_;  // scratch
   std::size_t active_ = 0;
   double time_s_ = 0.0;
