@@ -5,6 +5,7 @@
 namespace cathbox::tool {
 
 void DisplacedWall::set_uniform_mm(double w_mm) {
+  if (w_mm != uniform_mm_) ++revision_;
   uniform_mm_ = w_mm;
   largest_mm_ = std::max(0.0, w_mm);
   for (std::size_t s = 0; s < segment_mm_.size(); ++s) {
@@ -19,6 +20,7 @@ void DisplacedWall::set_segment_mm(std::int32_t segment, double w_mm) {
     segment_mm_.resize(s + 1, 0.0);
     segment_set_.resize(s + 1, 0);
   }
+  if (segment_mm_[s] != w_mm || segment_set_[s] == 0) ++revision_;
   segment_mm_[s] = w_mm;
   segment_set_[s] = 1;
   largest_mm_ = std::max(largest_mm_, w_mm);

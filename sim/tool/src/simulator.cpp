@@ -394,6 +394,9 @@ void Simulator::step(double dt_s) {
     else if (insertion_[t] <= 0.0) tip_segment_[t] = -1;
   }
   if (!detached_.empty()) {
+    // A wall that moved in place (the pulse) since the last step: every coil is solved again.
+    if (wall_->revision() != wall_revision_) sleep_.wake_all();
+    wall_revision_ = wall_->revision();
     update_contact_members();
     for (std::size_t i = 0; i < detached_.size(); ++i) {
       if (!sleep_.asleep(i)) detached_[i].step(dt_s, *wall_, &contacts_);

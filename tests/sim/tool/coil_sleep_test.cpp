@@ -1,6 +1,7 @@
 // Sleeping released coils (tool/coil_sleep.hpp), in virtual time: a coil left alone in a free
 // sphere falls asleep and stays where the coil solved every step would be; a sleeping coil
-// wakes when a second coil is pushed against it; a run with sleeps is repeated bit for bit.
+// wakes when a second coil is pushed against it, or when the wall it rests on moves (the pulse);
+// a run with sleeps is repeated bit for bit.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "scenario/case_file.hpp"
+#include "tool/displaced_wall.hpp"
 #include "tool/simulator.hpp"
 #include "tool/tube_network_wall.hpp"
 
@@ -111,6 +113,45 @@ TEST(CoilSleep, ASleepingCoilWakesWhenTheNextCoilPushesIt) {
   EXPECT_LT(o.depth_mm, 0.1 * o.diameter_mm + 1e-12) << "loops overlap by " << o.depth_mm << " mm";
   std::printf("second coil pushed in: %llu wakes, the first coil moved up to %.3f mm, overlap %.4f mm\n",
               static_cast<unsigned long long>(sim.coil_sleep().wakes()), moved, o.depth_mm);
+}
+
+// A wall that moves in place (a displaced wall: the pulse of a compliant vessel) wakes every
+// sleeping coil at once, and the woken coil follows the wall as the coil solved every step does
+// (within the 5 um a coil at rest still creeps, as above); a wall that moves every step (as the
+// pulse does) never lets a coil sleep. A displaced wall that stays put lets it sleep as before.
+TEST(CoilSleep, AWallThatMovesWakesTheCoilsAsleepOnIt) {
+  const TubeNetworkWall tubes = sphere_on_a_tube();
+  DisplacedWall wall(tubes), solved_wall(tubes);
+  const std::vector<ToolSpec> tools = micro_and_two_coils();
+  Simulator sim(wall, tools, kEntry), solved(solved_wall, tools, kEntry);
+  solved.coil_sleep_settings().enabled = false;
+  release_first(sim);
+  release_first(solved);
+  for (int i = 0; i < 3000 && sim.coil_sleep().asleep_count() == 0; ++i) {
+    sim.step();
+    solved.step();
+  }
+  ASSERT_EQ(sim.coil_sleep().asleep_count(), 1u) << "the released coil did not fall asleep in 3 s on a still wall";
+  const std::vector<glm::dvec3> asleep(sim.detached(0).positions().begin(), sim.detached(0).positions().end());
+  wall.set_uniform_mm(-0.5);  // the sac drawn in 0.5 mm
+  solved_wall.set_uniform_mm(-0.5);
+  sim.step();
+  solved.step();
+  EXPECT_EQ(sim.coil_sleep().asleep_count(), 0u);
+  EXPECT_EQ(sim.coil_sleep().wakes(), 1u);
+  for (int i = 0; i < 1000; ++i) {  // a 1 Hz pulse of 20 um (sampled every 1 ms)
+    const double w = -0.5 + 0.02 * std::sin(2.0 * 3.141592653589793 * i / 1000.0);
+    wall.set_uniform_mm(w);
+    solved_wall.set_uniform_mm(w);
+    sim.step();
+    solved.step();
+    ASSERT_EQ(sim.coil_sleep().asleep_count(), 0u) << "a coil slept on a pulsing wall at step " << i;
+  }
+  const double moved = largest_distance(sim.detached(0).positions(), asleep);
+  const double apart = largest_distance(sim.detached(0).positions(), solved.detached(0).positions());
+  EXPECT_LT(apart, 5e-3) << "the woken coil is " << 1e3 * apart << " um from the coil solved every step";
+  std::printf("wall drawn in 0.5 mm under a sleeping coil, then pulsing: it woke, moved up to %.3f mm, %.4f um from the coil solved every step\n",
+              moved, 1e3 * apart);
 }
 
 // Sleep and wake read only the rods' positions: the same inputs give the same run, step for

@@ -6,9 +6,9 @@
 // the rods still solved (attached tools and awake coils) that lie within its contact reach
 // (the two radii, the field's margin, half an edge and a skin) have moved, summed over the
 // steps it slept (the largest such move of each step), more than `wake_move_mm`, or when the
-// wall is replaced. Every decision reads node positions only, after the step, and takes effect
-// at the next: the same inputs give the same sleeps, so a record replays with its state hashes.
-// Nothing allocates per step once every rod's node count has been seen.
+// wall is replaced or moves in place (the Simulator watches `WallModel::revision()`). Every
+// decision reads node positions only, after the step, and takes effect at the next: the same
+// inputs give the same sleeps, so a record replays with its state hashes. Nothing allocates per step once every rod's node count has been seen.
 #include <cstdint>
 #include <span>
 #include <vector>

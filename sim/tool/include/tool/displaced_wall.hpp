@@ -26,6 +26,7 @@ class DisplacedWall final : public WallModel {
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return inner_.surface(); }
+  [[nodiscard]] std::uint64_t revision() const override { return revision_; }
   [[nodiscard]] double lumen_radius_mm(const glm::dvec3& point_mm) const override {
     const double r = inner_.lumen_radius_mm(point_mm);
     return r > 0.0 ? r + uniform_mm_ : r;
@@ -37,6 +38,7 @@ class DisplacedWall final : public WallModel {
   double largest_mm_ = 0.0;  // the largest outward displacement of any segment (query range)
   std::vector<double> segment_mm_;
   std::vector<std::uint8_t> segment_set_;
+  std::uint64_t revision_ = 0;  // raised by every set_* that moves a wall point
 };
 
 }  // namespace cathbox::tool

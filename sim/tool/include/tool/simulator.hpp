@@ -210,6 +210,7 @@ class Simulator {
   std::vector<std::size_t> loaded_;    // next coils loaded per tool
   RodContactField contacts_;
   CoilSleep sleep_;
+  std::uint64_t wall_revision_ = 0;  // the wall's revision() the coils last slept against
   std::vector<RodContactField::Member> members_;  // scratch
   std::size_t active_ = 0;
   double time_s_ = 0.0;

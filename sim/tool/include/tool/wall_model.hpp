@@ -64,6 +64,9 @@ class WallModel {
   // nearest point on the centrelines of the surface's model (a scan of its points: for events
   // and occasional reads, not every node every step); negative when the wall cannot tell.
   [[nodiscard]] virtual double lumen_radius_mm(const glm::dvec3& point_mm) const;
+  // Counts the changes of a wall that moves in place (a displaced wall's pulse): a rod at rest
+  // against it must be solved again when it changes. 0 for a wall that never moves.
+  [[nodiscard]] virtual std::uint64_t revision() const { return 0; }
 };
 
 // The nearest point of a segment's centreline to a point: its squared distance, the piece
