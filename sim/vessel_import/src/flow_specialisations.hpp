@@ -32,6 +32,8 @@ template <>
 void cathbox::vessel_import::skeleton_order::Skeletonization::compute_voronoi_pole();
 template <>
 void cathbox::vessel_import::skeleton_order::Skeletonization::contract_geometry();
+template <>
+void cathbox::vessel_import::skeleton_order::Skeletonization::compute_incident_angle();
 
 template <>
 struct std::less<cathbox::vessel_import::skeleton_order::MesoEdge> {
