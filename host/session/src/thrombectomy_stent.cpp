@@ -79,7 +79,7 @@ void ThrombectomyUnit::after_step(std::int64_t time_us, tool::Simulator& sim) {
 
 double ThrombectomyUnit::aspiration_grip_mN(std::size_t tool) const {
   const Aspirator* a = aspirator(tool);
-  if (!hold_.on(tool) || hold_.thrombus().empty() || a == nullptr) return 0.0;
+  if (!hold_.on(tool) || hold_.thrombus().empty() || !all_remain(hold_.thrombus()) || a == nullptr) return 0.0;
   return a->grip_mN(thrombus_clot(hold_.thrombus()), head_Pa(clot_of(hold_.thrombus().front())));
 }
 
@@ -223,8 +223,7 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   log(time_us, "pass %d: the stent retriever is back in the %s (peak pull %.3f N)", pass, into_name.c_str(), 1e-3 * p.peak_pull_mN);
   std::vector<ClotId> removed;
   std::vector<flow::Fragment> fragments;
-  const bool held = p.captured && !p.thrombus.empty() &&
-                    std::all_of(p.thrombus.begin(), p.thrombus.end(), [&](ClotId k) { return index_of(k).has_value(); });
+  const bool held = p.captured && !p.thrombus.empty() && all_remain(p.thrombus);
   if (!held || into >= tool_names_.size()) {
     log(time_us, "pass %d: the clot stays", pass);
   } else {

@@ -128,6 +128,10 @@ std::optional<std::size_t> ThrombectomyUnit::index_of(ClotId id) const {
   return k == clot_ids_.end() ? std::nullopt : std::optional<std::size_t>(static_cast<std::size_t>(k - clot_ids_.begin()));
 }
 
+bool ThrombectomyUnit::all_remain(const std::vector<ClotId>& ids) const {
+  return std::all_of(ids.begin(), ids.end(), [this](ClotId id) { return index_of(id).has_value(); });
+}
+
 void ThrombectomyUnit::add_clot(const flow::Clot& c) {
   clots_.push_back(c);
   clot_ids_.push_back(next_clot_id_++);

@@ -152,6 +152,7 @@ class ThrombectomyUnit final : public ControlHandler {
   // Clots by id (clot_ids_ beside clots_): a remaining clot, an embolus lodged, those a pass took out.
   [[nodiscard]] std::optional<std::size_t> index_of(ClotId id) const;
   [[nodiscard]] const flow::Clot& clot_of(ClotId id) const { return clots_[*index_of(id)]; }
+  [[nodiscard]] bool all_remain(const std::vector<ClotId>& ids) const;
   void add_clot(const flow::Clot& c);
   void erase_clots(std::span<const ClotId> ids);
   [[nodiscard]] const Aspirator* aspirator(std::size_t tool) const;
