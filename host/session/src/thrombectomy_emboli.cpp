@@ -54,7 +54,7 @@ void ThrombectomyUnit::lodge(std::int64_t time_us, const flow::EmbolusTransit& t
   if (!resolve(time_us, false)) return;
   const std::vector<flow::Terminal> without = network_.terminals();
   const flow::Clot& embolus = transit.path().lodged;
-  clots_.push_back(embolus);
+  add_clot(embolus);
   if (!resolve(time_us, false)) return;
   const bool ent = !flow::new_territories(target_, without, network_.terminals()).empty();
   ++figures_.emboli;

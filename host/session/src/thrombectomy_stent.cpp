@@ -78,11 +78,9 @@ void ThrombectomyUnit::after_step(std::int64_t time_us, tool::Simulator& sim) {
 }
 
 double ThrombectomyUnit::aspiration_grip_mN(std::size_t tool) const {
-  if (engaged_tool_ != tool || engaged_.empty()) return 0.0;
-  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
-  if (a == aspirators_.end()) return 0.0;
-  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, thrombus_clot(engaged_), head_Pa(clots_[engaged_.front()]));
-  return r.outcome == flow::AspirationOutcome::kIngested ? 0.0 : 1000.0 * std::min(r.force_N, r.hold_force_N);
+  const Aspirator* a = aspirator(tool);
+  if (!hold_.on(tool) || hold_.thrombus().empty() || !all_remain(hold_.thrombus()) || a == nullptr) return 0.0;
+  return a->grip_mN(thrombus_clot(hold_.thrombus()), head_Pa(clot_of(hold_.thrombus().front())));
 }
 
 // The clot the stent's unsheathed nodes lie in and the share of its thrombus they cover:
@@ -116,7 +114,8 @@ ThrombectomyUnit::StentCover ThrombectomyUnit::stent_cover(const tool::Simulator
   if (out.thrombus.empty()) return out;
   double total_mm = 0.0;
   double under_mm = 0.0;
-  for (const std::size_t k : out.thrombus) {
+  for (const ClotId id : out.thrombus) {
+    const std::size_t k = *index_of(id);
     total_mm += clots_[k].length_mm;
     under_mm += covered[k];
   }
@@ -185,7 +184,7 @@ void ThrombectomyUnit::deploy_stent(StentPass& p, std::int64_t time_us, const to
   p.dwell_s = 0.0;
   p.integration = 0.0;
   log(time_us, "stent retriever across the clot in the %s: %.0f %% covered, %.1f-%.1f mm, %.2f N radial",
-      segment_name(clots_[cover.thrombus.front()].segment).c_str(), 100.0 * cover.share, st.min_diameter_mm, st.max_diameter_mm,
+      segment_name(clot_of(cover.thrombus.front()).segment).c_str(), 100.0 * cover.share, st.min_diameter_mm, st.max_diameter_mm,
       st.radial_force_N);
 }
 
@@ -202,7 +201,7 @@ void ThrombectomyUnit::start_retrieval(StentPass& p, std::int64_t time_us, tool:
   p.thrombus = cover.thrombus;
   p.cover = std::max(p.cover, cover.share);
   const flow::AspirationClot clot = thrombus_clot(p.thrombus);
-  const double head = head_Pa(clots_[p.thrombus.front()]);
+  const double head = head_Pa(clot_of(p.thrombus.front()));
   const double grip_N = p.integration * p.cover * tool::stent_capture_force_N(p.spec);
   const double hold_N = flow::clot_hold_force_N(clot, head);
   p.captured = grip_N > hold_N;
@@ -222,10 +221,9 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
   const std::size_t into = sim.carrier(p.tool);
   const std::string into_name = into < tool_names_.size() ? tool_names_[into] : std::string("vessel");
   log(time_us, "pass %d: the stent retriever is back in the %s (peak pull %.3f N)", pass, into_name.c_str(), 1e-3 * p.peak_pull_mN);
-  std::vector<std::size_t> removed;
+  std::vector<ClotId> removed;
   std::vector<flow::Fragment> fragments;
-  const bool held = p.captured && !p.thrombus.empty() &&
-                    std::all_of(p.thrombus.begin(), p.thrombus.end(), [&](std::size_t k) { return k < clots_.size(); });
+  const bool held = p.captured && !p.thrombus.empty() && all_remain(p.thrombus);
   if (!held || into >= tool_names_.size()) {
     log(time_us, "pass %d: the clot stays", pass);
   } else {
@@ -251,7 +249,7 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
     }
   }
   reset(p);
-  grade_pass(time_us, std::move(removed), fragments);
+  grade_pass(time_us, removed, fragments);
 }
 
 // Where each clot of the captured thrombus lies on the stent (its face and end as node
@@ -260,8 +258,8 @@ void ThrombectomyUnit::end_stent_pass(StentPass& p, std::int64_t time_us, tool::
 void ThrombectomyUnit::hold_on_stent(StentPass& p, std::span<const glm::dvec3> x) const {
   p.on_stent.clear();
   double furthest = 0.0;
-  for (const std::size_t k : p.thrombus) {
-    const flow::Clot& c = clots_[k];
+  for (const ClotId k : p.thrombus) {
+    const flow::Clot& c = clot_of(k);
     const double face = param_from_tip(x, locator_.point_at(c.segment, c.arc_start_mm));
     const double end = param_from_tip(x, locator_.point_at(c.segment, c.arc_start_mm + c.length_mm));
     p.on_stent.push_back({face, end});
@@ -275,11 +273,12 @@ ClotView ThrombectomyUnit::clot_view(std::size_t k) const {
   const flow::Clot& c = clots_[k];
   ClotView v;
   v.radius_mm = static_cast<float>(locator_.radius_at(c.segment, c.arc_start_mm + 0.5 * c.length_mm));
-  if (engaged_tool_ && std::find(engaged_.begin(), engaged_.end(), k) != engaged_.end()) v.state = ClotState::kEngaged;
+  const ClotId id = clot_ids_[k];
+  if (hold_.holds(id)) v.state = ClotState::kEngaged;
   const StentPass* drag = nullptr;
   std::size_t slot = 0;
   for (const StentPass& p : stents_) {
-    const auto at = std::find(p.thrombus.begin(), p.thrombus.end(), k);
+    const auto at = std::find(p.thrombus.begin(), p.thrombus.end(), id);
     if (!p.deployed || at == p.thrombus.end()) continue;
     v.state = ClotState::kEngaged;
     slot = static_cast<std::size_t>(at - p.thrombus.begin());

@@ -42,7 +42,7 @@ std::unique_ptr<ThrombectomyUnit> ThrombectomyUnit::make(flow::FlowNetwork& netw
     return nullptr;
   }
   std::unique_ptr<ThrombectomyUnit> u(new ThrombectomyUnit(network, events, std::move(*target)));
-  u->clots_ = clots;
+  for (const flow::Clot& c : clots) u->add_clot(c);
   const std::size_t n = spec.tools.size();
   u->aspirating_.assign(n, 0);
   u->balloon_.assign(n, 0);
@@ -91,7 +91,7 @@ std::string ThrombectomyUnit::segment_name(std::uint32_t segment) const {
 std::vector<flow::AspirationSink> ThrombectomyUnit::live_sinks(std::vector<std::size_t>* tools) const {
   std::vector<flow::AspirationSink> out;
   for (const Aspirator& a : aspirators_) {
-    if (aspirating_[a.tool] == 0 || engaged_tool_ == a.tool || a.tool >= tips_.size()) continue;
+    if (aspirating_[a.tool] == 0 || hold_.on(a.tool) || a.tool >= tips_.size()) continue;
     const flow::CenterlinePosition at = locator_.nearest(tips_[a.tool]);
     if (at.distance_mm > locator_.radius_at(at.segment, at.arc_mm)) continue;  // not in a vessel (not inserted yet)
     const double r = flow::catheter_resistance_Pa_s_per_mm3(a.length_mm, a.inner_diameter_mm, network_.settings().viscosity_mPa_s);
@@ -123,6 +123,34 @@ flow::CenterlinePosition ThrombectomyUnit::mouth(std::size_t t) const {
   return locator_.nearest(tips_[t]);
 }
 
+std::optional<std::size_t> ThrombectomyUnit::index_of(ClotId id) const {
+  const auto k = std::find(clot_ids_.begin(), clot_ids_.end(), id);
+  return k == clot_ids_.end() ? std::nullopt : std::optional<std::size_t>(static_cast<std::size_t>(k - clot_ids_.begin()));
+}
+
+bool ThrombectomyUnit::all_remain(const std::vector<ClotId>& ids) const {
+  return std::all_of(ids.begin(), ids.end(), [this](ClotId id) { return index_of(id).has_value(); });
+}
+
+void ThrombectomyUnit::add_clot(const flow::Clot& c) {
+  clots_.push_back(c);
+  clot_ids_.push_back(next_clot_id_++);
+}
+
+void ThrombectomyUnit::erase_clots(std::span<const ClotId> ids) {
+  for (const ClotId id : ids) {
+    const std::optional<std::size_t> k = index_of(id);
+    if (!k) continue;
+    clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(*k));
+    clot_ids_.erase(clot_ids_.begin() + static_cast<std::ptrdiff_t>(*k));
+  }
+}
+
+const Aspirator* ThrombectomyUnit::aspirator(std::size_t tool) const {
+  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
+  return a == aspirators_.end() ? nullptr : &*a;
+}
+
 std::optional<std::size_t> ThrombectomyUnit::first_balloon_guide() const {
   const auto b = std::find(balloon_.begin(), balloon_.end(), std::uint8_t{1});
   return b == balloon_.end() ? std::nullopt : std::optional<std::size_t>(static_cast<std::size_t>(b - balloon_.begin()));
@@ -149,8 +177,8 @@ bool ThrombectomyUnit::apply(Control& c, ControlContext& ctx) {
 bool ThrombectomyUnit::set_aspiration(std::size_t t, bool on, std::int64_t time_us) {
   if (t >= tool_names_.size()) return false;
   const char* name = tool_names_[t].c_str();
-  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [t](const Aspirator& x) { return x.tool == t; });
-  if (a == aspirators_.end()) {
+  const Aspirator* a = aspirator(t);
+  if (a == nullptr) {
     log(time_us, "aspiration: refused (the %s has no vacuum source)", name);
     return false;
   }
@@ -159,10 +187,9 @@ bool ThrombectomyUnit::set_aspiration(std::size_t t, bool on, std::int64_t time_
   if (on) {
     log(time_us, "aspiration on: the %s on the %s, %.3f N at its tip", name,
         std::string(flow::vacuum_source_name(a->source)).c_str(), flow::aspiration_force_N(a->source, a->inner_diameter_mm));
-  } else if (engaged_tool_ == t) {
+  } else if (hold_.on(t)) {
     log(time_us, "aspiration off: the %s lets the clot go (no pass)", name);
-    engaged_tool_.reset();
-    engaged_.clear();
+    hold_.release();
   } else {
     log(time_us, "aspiration off: the %s", name);
   }
@@ -206,7 +233,7 @@ bool ThrombectomyUnit::set_balloon_guide(std::size_t t, bool on, std::int64_t ti
   return resolve(time_us, true);
 }
 
-std::vector<std::size_t> ThrombectomyUnit::thrombus_of(std::size_t first) const {
+std::vector<ClotId> ThrombectomyUnit::thrombus_of(std::size_t first) const {
   const vessel::VesselModel& model = network_.model();
   std::vector<std::size_t> group{first};
   // Clots touching across a junction: one ends at its segment's end, the next starts a child.
@@ -225,7 +252,9 @@ std::vector<std::size_t> ThrombectomyUnit::thrombus_of(std::size_t first) const 
       if (touches(a, b) || touches(b, a)) group.push_back(j);
     }
   }
-  return group;
+  std::vector<ClotId> ids;
+  for (const std::size_t k : group) ids.push_back(clot_ids_[k]);
+  return ids;
 }
 
 std::optional<std::size_t> ThrombectomyUnit::clot_at_tip(const glm::dvec3& tip_mm) const {
@@ -254,19 +283,15 @@ void ThrombectomyUnit::tick(std::int64_t time_us, const tool::Snapshot& snapshot
   }
   if (arrest_since_us_ >= 0) figures_.flow_arrest_s = static_cast<double>(arrest_before_us_ + time_us - arrest_since_us_) * 1e-6;
   update_sinks(time_us);
-  if (engaged_tool_) {
-    const double insertion = snapshot.tools[*engaged_tool_].insertion_mm;
-    engaged_insertion_mm_ = std::max(engaged_insertion_mm_, insertion);
-    if (insertion <= engaged_insertion_mm_ - kPassWithdrawal_mm) end_pass(time_us);
+  if (const std::optional<std::size_t> held = hold_.tool()) {
+    if (hold_.withdrawn(snapshot.tools[*held].insertion_mm)) end_pass(time_us);
     return;
   }
   for (const Aspirator& a : aspirators_) {
     if (a.tool >= n || aspirating_[a.tool] == 0) continue;
     const std::optional<std::size_t> k = clot_at_tip(tips_[a.tool]);
     if (!k) continue;
-    engaged_tool_ = a.tool;
-    engaged_ = thrombus_of(*k);
-    engaged_insertion_mm_ = snapshot.tools[a.tool].insertion_mm;
+    hold_.engage(a.tool, thrombus_of(*k), snapshot.tools[a.tool].insertion_mm);
     log(time_us, "aspiration: the %s's tip engages the clot in the %s", tool_names_[a.tool].c_str(),
         segment_name(clots_[*k].segment).c_str());
     return;
@@ -278,24 +303,25 @@ double ThrombectomyUnit::head_Pa(const flow::Clot& c) const {
   return network_.node_pressure_Pa(seg.start_node) - network_.node_pressure_Pa(seg.end_node);
 }
 
-flow::AspirationClot ThrombectomyUnit::thrombus_clot(const std::vector<std::size_t>& group) const {
-  const flow::Clot& face = clots_[group.front()];
+flow::AspirationClot ThrombectomyUnit::thrombus_clot(const std::vector<ClotId>& group) const {
+  const flow::Clot& face = clot_of(group.front());
   double length_mm = 0.0;
-  for (const std::size_t k : group) length_mm += clots_[k].length_mm;
+  for (const ClotId k : group) length_mm += clot_of(k).length_mm;
   return {2.0 * locator_.radius_at(face.segment, face.arc_start_mm), length_mm, face.composition};
 }
 
 void ThrombectomyUnit::end_pass(std::int64_t time_us) {
-  const std::size_t tool = *engaged_tool_;
-  const auto a = std::find_if(aspirators_.begin(), aspirators_.end(), [tool](const Aspirator& x) { return x.tool == tool; });
-  const flow::AspirationClot clot = thrombus_clot(engaged_);
-  const flow::AspirationResult r = flow::aspirate(a->source, a->inner_diameter_mm, clot, head_Pa(clots_[engaged_.front()]));
+  const std::size_t tool = *hold_.tool();
+  const Aspirator* a = aspirator(tool);
+  const std::vector<ClotId> held = hold_.thrombus();
+  const flow::AspirationClot clot = thrombus_clot(held);
+  const flow::AspirationResult r = a->verdict(clot, head_Pa(clot_of(held.front())));
   const int pass = ++figures_.passes;
   log(time_us, "pass %d: the clot is %s (pull %.3f N, ingest %.3f N, hold %.3f N)", pass, outcome_text(r.outcome), r.force_N,
       r.ingest_force_N, r.hold_force_N);
   std::vector<flow::Fragment> fragments;
-  std::vector<std::size_t> removed;
-  engaged_tool_.reset();  // the tip is open again: it draws blood (mouth: its sink's node)
+  std::vector<ClotId> removed;
+  hold_.release();  // the tip is open again: it draws blood (mouth: its sink's node)
   if (r.outcome == flow::AspirationOutcome::kLost) {
     // A fragment the width of the lumen strips off the catheter's mouth where the tip is now,
     // into the flow there: the catheter's own sink draws it in when it out-draws every branch
@@ -303,17 +329,19 @@ void ThrombectomyUnit::end_pass(std::int64_t time_us) {
     fragments.push_back({mouth(tool), std::min(a->inner_diameter_mm, clot.diameter_mm), std::min(a->inner_diameter_mm, clot.length_mm),
                          clot.composition});
   } else {
-    removed = engaged_;
+    removed = held;
   }
-  engaged_.clear();
-  grade_pass(time_us, std::move(removed), fragments);
+  grade_pass(time_us, removed, fragments);
 }
 
-void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::vector<flow::Fragment>& fragments) {
-  std::sort(removed.rbegin(), removed.rend());
-  for (const std::size_t k : removed) clots_.erase(clots_.begin() + static_cast<std::ptrdiff_t>(k));
+void ThrombectomyUnit::grade_pass(std::int64_t time_us, const std::vector<ClotId>& removed, const std::vector<flow::Fragment>& fragments) {
+  erase_clots(removed);
   clots_removed_ += static_cast<int>(removed.size());
-  release_removed(time_us, removed);
+  // A vacuum held on a thrombus another device took out (a stent pulled into the engaged
+  // catheter) holds nothing now: the tip is open (its sink draws again).
+  if (const std::optional<std::size_t> held = hold_.tool(); hold_.release_removed(removed)) {
+    log(time_us, "aspiration: the %s's tip holds no clot now (it left in pass %d)", tool_names_[*held].c_str(), figures_.passes);
+  }
   pass_end_us_ = time_us;
   // The control run: the network without the arrest.
   if (!resolve(time_us, false)) return;
@@ -324,25 +352,6 @@ void ThrombectomyUnit::grade_pass(std::int64_t time_us, std::vector<std::size_t>
   sinks_ = live_sinks();
   (void)resolve(time_us, true);
   release(time_us, fragments);
-}
-
-// A vacuum held on a thrombus another device took out (a stent pulled into the engaged
-// catheter) holds nothing now: the engagement ends with it, the tip is open (its sink draws
-// again); an engagement on clots the pass left keeps them, at their indices after the erase.
-void ThrombectomyUnit::release_removed(std::int64_t time_us, const std::vector<std::size_t>& removed) {
-  if (!engaged_tool_ || removed.empty()) return;
-  std::vector<std::size_t> kept;
-  for (const std::size_t k : engaged_) {
-    if (std::find(removed.begin(), removed.end(), k) != removed.end()) continue;
-    kept.push_back(k - static_cast<std::size_t>(std::count_if(removed.begin(), removed.end(), [k](std::size_t r) { return r < k; })));
-  }
-  if (kept.size() == engaged_.size()) {
-    engaged_ = std::move(kept);
-    return;
-  }
-  log(time_us, "aspiration: the %s's tip holds no clot now (it left in pass %d)", tool_names_[*engaged_tool_].c_str(), figures_.passes);
-  engaged_tool_.reset();
-  engaged_.clear();
 }
 
 void ThrombectomyUnit::regrade(std::int64_t time_us) {

@@ -24,7 +24,8 @@ CaseParse load_case(const std::string& path) {
 
 void steer_aspiration_catheters(Case& c) {
   for (ToolSpec& t : c.tools) {
-    t.steered_by_inner = std::any_of(c.aspiration.begin(), c.aspiration.end(), [&t](const CaseAspiration& a) { return a.tool == t.name; });
+    const bool aspirated = std::any_of(c.aspiration.begin(), c.aspiration.end(), [&t](const CaseAspiration& a) { return a.tool == t.name; });
+    t.steered_by_inner = aspirated ? InnerSteering::kWhileAdvanced : InnerSteering::kNone;
   }
 }
 

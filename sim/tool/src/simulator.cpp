@@ -96,6 +96,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
     if (tools[i].balloon.present()) {
       const double shaft = 2.0 * rods_[i].radius_at_mm(tools[i].balloon.from_tip_mm + 0.5 * tools[i].balloon.length_mm);
       balloons_[i].emplace(tools[i].balloon, shaft);
+      specs_[i].steered_by_inner = InnerSteering::kAlways;
     }
   }
   stents_.resize(n);

@@ -107,6 +107,17 @@ void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm
   }
 }
 
+// A balloon catheter always; an aspiration catheter while its hand advances it (its tip deeper
+// than the step before).
+bool Simulator::steered_now(std::size_t c) const {
+  switch (specs_[c].steered_by_inner) {
+    case InnerSteering::kAlways: return true;
+    case InnerSteering::kWhileAdvanced: return tip_depth_mm(c) > stepped_depth_[c] + 1e-9;
+    case InnerSteering::kNone: return false;
+  }
+  return false;
+}
+
 void Simulator::update_sheath(std::size_t u, double dt_s) {
   (void)dt_s;
   const std::size_t n = rods_.size();
@@ -124,17 +135,10 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   // The inner tool leaves its carrier's tip clamped to it: what the clamp holds it with, across
   // the carrier's tip direction, is the inner tool's push on that tip (a wire bent out of a
   // catheter's tip into its path steers the tip after it; along the tip it is the inner tool's
-  // push from the hand, which the sheath carries). Applied to balloon catheters and those the
-  // case marks steered (aspiration catheters), for now: on the coiling stack's microcatheter
-  // (soft 60-degree tip, its microwire 1 mm ahead with a 90-degree curve) it changes where the
-  // microwire goes, and the bundled script, tuned without it, leaves the microcatheter 14 mm
-  // short of the neck (docs/sim-tool/convergence.md). An aspiration catheter is steered only
-  // while its hand advances it (tracked over its inner tools to the clot): parked, the tool
-  // beyond its tip (the Solumbra microcatheter under an embedding stent) would lean on it
-  // throughout, and the stent's steps stop converging (docs/session/thrombectomy.md).
+  // push from the hand, which the sheath carries), on a carrier its ToolSpec::steered_by_inner
+  // says is steered now (sim/tool README, "Coaxial tools").
   const std::size_t c = carrier_[u];
-  const bool advancing = c < n && tip_depth_mm(c) > stepped_depth_[c] + 1e-9;
-  if (has_free && c < n && (balloons_[c] || (specs_[c].steered_by_inner && advancing))) {
+  if (has_free && c < n && steered_now(c)) {
     const glm::dvec3 along = rods_[c].tip().direction;
     const glm::dvec3 held = rod.clamp_force_mN();
     const glm::dvec3 lateral = held - along * glm::dot(held, along);

@@ -33,8 +33,8 @@ TEST(CaseClot, ParsesClotsAndAspiration) {
   ASSERT_TRUE(p) << p.error().message;
   // An aspiration catheter is steered by the tools it carries (tracked over them to the clot).
   ASSERT_EQ(p->tools.size(), 2u);
-  EXPECT_TRUE(p->tools[0].steered_by_inner);
-  EXPECT_FALSE(p->tools[1].steered_by_inner);
+  EXPECT_EQ(p->tools[0].steered_by_inner, InnerSteering::kWhileAdvanced);
+  EXPECT_EQ(p->tools[1].steered_by_inner, InnerSteering::kNone);
   ASSERT_EQ(p->clots.size(), 2u);
   EXPECT_EQ(p->clots[0], (CaseClot{22, 2.0, 13.0, {60.0, 30.0}, 0.0, 2}));
   EXPECT_EQ(p->clots[1], (CaseClot{25, 0.0, 3.0, flow::kReferenceComposition, 0.2, 3}));

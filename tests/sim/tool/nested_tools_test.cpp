@@ -2,6 +2,7 @@
 // tool in the lumens around it, felt at the hand: capstan through a bend (Euler-Eytelwein,
 // F_in / F_out = e^(mu theta) pushing, e^(-mu theta) pulling), none in a straight catheter,
 // stick before slip, the catheter dragged along, friction torque.
+#include <array>
 #include <algorithm>
 #include <cmath>
 
@@ -345,25 +346,41 @@ TEST(NestedTools, MicrocatheterFollowsTheWireWhereverItWasSteered) {
   EXPECT_GE(in_branch, 12);  // of 20
 }
 
-// A catheter steered by the tools it carries (an aspiration catheter: ToolSpec::steered_by_inner)
-// takes their push across its tip only while its hand advances it: parked, with the wire beyond
-// its tip steered into a branch, it lies exactly where an unsteered one lies (the Solumbra
-// microcatheter leaning on the parked aspiration catheter's tip stalled the stent's steps:
-// docs/session/thrombectomy.md); advanced over the wire, it is steered.
-TEST(NestedTools, ASteeredCatheterIsSteeredOnlyWhileItIsAdvanced) {
+// The triaxial stack's microcatheter unsteered (a) and with `steering` (b), the wire beyond its
+// tip steered into a branch and both parked 200 steps: how far apart their microcatheters' tips
+// are then, and after both are advanced over the wire.
+std::array<double, 2> steered_apart(InnerSteering steering) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
   std::vector<ToolSpec> steered = triaxial_stack();
-  steered[1].steered_by_inner = true;
+  steered[1].steered_by_inner = steering;
   Simulator a(wall, triaxial_stack(), kTriaxialEntry);
   Simulator b(wall, steered, kTriaxialEntry);
   for (Simulator* sim : {&a, &b}) {
     steer_wire_into_a_branch(*sim);
     for (int i = 0; i < 200; ++i) sim->step();  // parked
   }
-  ASSERT_NE(b.tip_segment(2), 0);
-  EXPECT_LT(glm::length(a.tip(1).position_mm - b.tip(1).position_mm), 1e-12);
+  EXPECT_NE(b.tip_segment(2), 0);
+  const double parked = glm::length(a.tip(1).position_mm - b.tip(1).position_mm);
   for (Simulator* sim : {&a, &b}) drive(*sim, 1, 45.0, kMicroAdvancePerStep);
-  EXPECT_GT(glm::length(a.tip(1).position_mm - b.tip(1).position_mm), 1e-6);
+  return {parked, glm::length(a.tip(1).position_mm - b.tip(1).position_mm)};
+}
+
+// An aspiration catheter (InnerSteering::kWhileAdvanced) takes the push across its tip of the
+// tools it carries only while its hand advances it: parked, it lies exactly where an unsteered
+// one lies (the Solumbra microcatheter leaning on the parked aspiration catheter's tip stalled the
+// stent's steps: docs/session/thrombectomy.md); advanced over the wire, it is steered.
+TEST(NestedTools, ASteeredCatheterIsSteeredOnlyWhileItIsAdvanced) {
+  const std::array<double, 2> apart = steered_apart(InnerSteering::kWhileAdvanced);
+  EXPECT_LT(apart[0], 1e-12);
+  EXPECT_GT(apart[1], 1e-6);
+}
+
+// A balloon catheter (InnerSteering::kAlways) takes it parked too: the wire's lean on its tip is
+// a reaction whether or not the hand moves the catheter (sim/tool README, "Coaxial tools").
+TEST(NestedTools, ABalloonCatheterIsSteeredParkedToo) {
+  const std::array<double, 2> apart = steered_apart(InnerSteering::kAlways);
+  EXPECT_GT(apart[0], 1e-6);
+  EXPECT_GT(apart[1], 1e-6);
 }
 
 }  // namespace

@@ -72,6 +72,7 @@
 #include "session/control.hpp"
 #include "session/metrics.hpp"
 #include "session/scene_snapshot.hpp"
+#include "session/vacuum_hold.hpp"
 #include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
@@ -81,7 +82,6 @@ namespace cathbox::session {
 class EventLog;
 
 inline constexpr double kFaceReach_mm = 2.0;
-inline constexpr double kPassWithdrawal_mm = 10.0;
 inline constexpr double kStentStill_mm = 1.0;
 inline constexpr double kStentRetrievalStart_mm = 2.0;
 
@@ -123,7 +123,7 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] std::optional<std::size_t> first_balloon_guide() const;
   // Counts the network's solves since load (a pass, an arrest): the fluoroscopy follows it.
   [[nodiscard]] std::uint64_t flow_generation() const { return flow_generation_; }
-  [[nodiscard]] bool engaged() const { return engaged_tool_.has_value(); }
+  [[nodiscard]] bool engaged() const { return hold_.tool().has_value(); }
   [[nodiscard]] const std::vector<flow::Clot>& clots() const { return clots_; }
   // Clot `k` (k < clots().size()) as the views draw it, as of the last tick: in place along its
   // vessel's centreline; dragged, along the stent's path, where it lay on the stent's nodes when
@@ -147,15 +147,20 @@ class ThrombectomyUnit final : public ControlHandler {
  private:
   ThrombectomyUnit(flow::FlowNetwork& network, EventLog& events, flow::TargetTerritory target);
   void log(std::int64_t time_us, const char* fmt, ...) __attribute__((format(printf, 3, 4)));
-  [[nodiscard]] std::vector<std::size_t> thrombus_of(std::size_t clot) const;
+  // The ids of clot `clot` (an index in clots_) and the clots contiguous with it, it first.
+  [[nodiscard]] std::vector<ClotId> thrombus_of(std::size_t clot) const;
+  // Clots by id (clot_ids_ beside clots_): a remaining clot, an embolus lodged, those a pass took out.
+  [[nodiscard]] std::optional<std::size_t> index_of(ClotId id) const;
+  [[nodiscard]] const flow::Clot& clot_of(ClotId id) const { return clots_[*index_of(id)]; }
+  [[nodiscard]] bool all_remain(const std::vector<ClotId>& ids) const;
+  void add_clot(const flow::Clot& c);
+  void erase_clots(std::span<const ClotId> ids);
+  [[nodiscard]] const Aspirator* aspirator(std::size_t tool) const;
   [[nodiscard]] std::optional<std::size_t> clot_at_tip(const glm::dvec3& tip_mm) const;
   void end_pass(std::int64_t time_us);
-  // A pass's grading after `removed` (indices in clots_, may be empty) left and a fragment
-  // (if any) was carried: the control run, the embolus, eTICI and the figures.
-  void grade_pass(std::int64_t time_us, std::vector<std::size_t> removed, const std::vector<flow::Fragment>& fragments);
-  // Ends the engagement when the pass removed any of its clots (`removed`: indices in clots_
-  // before the erase), else shifts its indices past the erased ones.
-  void release_removed(std::int64_t time_us, const std::vector<std::size_t>& removed);
+  // A pass's grading after `removed` (may be empty) left and a fragment (if any) was carried:
+  // the control run, the embolus, eTICI and the figures. A vacuum held on a removed clot lets go.
+  void grade_pass(std::int64_t time_us, const std::vector<ClotId>& removed, const std::vector<flow::Fragment>& fragments);
   // The figures of the last pass from the network as it is now (control run, no arrest).
   void regrade(std::int64_t time_us);
   // Emboli (thrombectomy_emboli.cpp): fragments into the flow, moved on each tick, lodged.
@@ -165,10 +170,10 @@ class ThrombectomyUnit final : public ControlHandler {
   void lodge(std::int64_t time_us, const flow::EmbolusTransit& transit);
   // The head across a clot (its segment's end pressures) and the clot as the aspiration model sees it.
   [[nodiscard]] double head_Pa(const flow::Clot& c) const;
-  [[nodiscard]] flow::AspirationClot thrombus_clot(const std::vector<std::size_t>& group) const;
+  [[nodiscard]] flow::AspirationClot thrombus_clot(const std::vector<ClotId>& group) const;
   struct StentPass;
   struct StentCover {
-    std::vector<std::size_t> thrombus;  // indices in clots_: the first clot under the stent and its thrombus
+    std::vector<ClotId> thrombus;       // the first clot under the stent and its thrombus
     double share = 0.0;                 // of the thrombus's length under the stent
   };
   [[nodiscard]] StentCover stent_cover(const tool::Simulator& sim, std::size_t tool) const;
@@ -194,27 +199,20 @@ class ThrombectomyUnit final : public ControlHandler {
   flow::TargetTerritory target_;
   flow::CenterlineLocator locator_;
   std::vector<flow::Clot> clots_;        // what remains, emboli included
+  std::vector<ClotId> clot_ids_;         // of each of clots_
+  ClotId next_clot_id_ = 0;
   std::vector<flow::FlowArrest> arrests_;
   std::vector<flow::AspirationSink> sinks_;  // as the live network was last solved
   std::vector<std::size_t> arrest_tool_;  // the tool of each arrest
   std::int64_t arrest_since_us_ = -1;      // when the first of the inflated guides went up (-1: none)
   std::int64_t arrest_before_us_ = 0;      // arrest time of the arrests already over
-  struct Aspirator {
-    std::size_t tool = 0;
-    flow::VacuumSource source = flow::VacuumSource::kPump;
-    double inner_diameter_mm = 0.0;
-    double length_mm = 0.0;  // the catheter's (its sections): its lumen's Poiseuille resistance
-  };
   std::vector<Aspirator> aspirators_;        // by tool
   std::vector<std::uint8_t> aspirating_;     // per tool
   std::vector<std::uint8_t> balloon_;        // per tool: carries a balloon (a balloon guide)
   std::vector<double> inner_diameter_;       // per tool (0: none)
   std::vector<std::string> tool_names_;
   std::vector<glm::dvec3> tips_;             // per tool, as of the last tick
-  // The engaged thrombus.
-  std::optional<std::size_t> engaged_tool_;
-  std::vector<std::size_t> engaged_;  // indices in clots_
-  double engaged_insertion_mm_ = 0.0;
+  VacuumHold hold_;  // the engaged thrombus
   // Stent retrievers, by tool.
   struct StentPass {
     std::size_t tool = 0;
@@ -222,7 +220,7 @@ class ThrombectomyUnit final : public ControlHandler {
     bool deployed = false;        // expanded across a clot
     bool retrieving = false;
     bool captured = false;
-    std::vector<std::size_t> thrombus;  // indices in clots_
+    std::vector<ClotId> thrombus;
     double cover = 0.0;           // the share of the thrombus's length under the stent
     double deployed_insertion_mm = 0.0;
     double dwell_s = 0.0;

@@ -127,8 +127,9 @@ using CaseParse = base::Result<Case>;
 [[nodiscard]] CaseParse parse_case(std::string_view text, std::string_view file_name);
 // Reads and parses a case file.
 [[nodiscard]] CaseParse load_case(const std::string& path);
-// Marks each catheter the case aspirates through steered by the tools it carries
-// (`ToolSpec::steered_by_inner`: tracked over them to the clot), the others not. parse_case
+// Marks each catheter the case aspirates through steered by the tools it carries while its hand
+// advances it (`InnerSteering::kWhileAdvanced`: tracked over them to the clot), the others not
+// (a balloon catheter's kAlways is the Simulator's). parse_case
 // does it; a caller that replaces `c.tools` (a record's tools) does it again.
 void steer_aspiration_catheters(Case& c);
 

@@ -172,6 +172,8 @@ class Simulator {
   void prepare(std::size_t tool);
   void update_contact_members();
   void update_sheath(std::size_t tool, double dt_s);
+  // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
+  [[nodiscard]] bool steered_now(std::size_t c) const;
   void build_sheath_path(std::size_t tool, std::vector<SheathVertex>& path) const;
   static void cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path);
   [[nodiscard]] bool nested_in(std::size_t inner, std::size_t outer) const;

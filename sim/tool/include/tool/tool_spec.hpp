@@ -56,6 +56,13 @@ struct StentRetrieverSpec {
   friend bool operator==(const StentRetrieverSpec&, const StentRetrieverSpec&) = default;
 };
 
+// How a catheter's tip follows the tools it carries (ToolSpec::steered_by_inner).
+enum class InnerSteering : std::uint8_t {
+  kNone,           // not steered (the coiling stack's microcatheter: docs/sim-tool/convergence.md)
+  kAlways,         // a balloon catheter (the Simulator sets it): parked or advanced, its wire steers it
+  kWhileAdvanced,  // an aspiration catheter (tool::steer_aspiration_catheters): only while its hand advances it
+};
+
 struct ToolSpec {
   std::string name = "guidewire";
   ToolKind kind = ToolKind::kGuidewire;
@@ -63,11 +70,9 @@ struct ToolSpec {
   double friction = 0.1;                   // Coulomb coefficient against the wall
   double inner_diameter_mm = 0.0;          // catheters: lumen diameter (0 for a guidewire)
   double lumen_friction = 0.05;            // catheters: Coulomb coefficient of the lumen liner
-  // Catheters: the tools it carries steer its tip after them (their lean on the clamp at its tip
-  // pushes it sideways). Set for an aspiration catheter (tracked over its microcatheter to the
-  // clot: tool::steer_aspiration_catheters, from the case's lines, not recorded); a balloon
-  // catheter always is. Off for the others (sim/tool README, "Coaxial tools").
-  bool steered_by_inner = false;
+  // Catheters: whether the tools it carries steer its tip after them (their lean on the clamp at
+  // its tip pushes it sideways; sim/tool README, "Coaxial tools"). Not recorded.
+  InnerSteering steered_by_inner = InnerSteering::kNone;
   double axial_stiffness_N = 5000.0;       // EA; large, the tool is nearly inextensible
   // Viscous drag per mm of tool per mm/s. Default (none set): blood's, from its viscosity
   // (blood_drag_mN_s_per_mm2); a value here replaces it (e.g. a bench model in glycerol).
