@@ -45,10 +45,15 @@ void InputController::handle_mouse(GLFWwindow* w, const TrainerUi& ui, const Scr
 void InputController::handle_keys(GLFWwindow* w, RenderSettings& settings, InputActions& act, double& insert, double& twist) {
   auto down = [&](int key) { return glfwGetKey(w, key) == GLFW_PRESS; };
   const double fast = down(GLFW_KEY_LEFT_SHIFT) || down(GLFW_KEY_RIGHT_SHIFT) ? 4.0 : 1.0;
-  if (down(GLFW_KEY_UP) || down(GLFW_KEY_W)) insert += 10.0 * fast;
-  if (down(GLFW_KEY_DOWN) || down(GLFW_KEY_S)) insert -= 10.0 * fast;
-  if (down(GLFW_KEY_LEFT) || down(GLFW_KEY_A)) twist += 1.5 * fast;
-  if (down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D)) twist -= 1.5 * fast;
+  const bool push = down(GLFW_KEY_UP) || down(GLFW_KEY_W);
+  const bool pull = down(GLFW_KEY_DOWN) || down(GLFW_KEY_S);
+  const bool left = down(GLFW_KEY_LEFT) || down(GLFW_KEY_A);
+  const bool right = down(GLFW_KEY_RIGHT) || down(GLFW_KEY_D);
+  insert += (push ? 10.0 : 0.0) - (pull ? 10.0 : 0.0);
+  twist += (left ? 1.5 : 0.0) - (right ? 1.5 : 0.0);
+  insert *= fast;
+  twist *= fast;
+  act.steering = push || pull || left || right;  // stops a U / E drive
   // A key's press, once (not while it is held).
   auto pressed = [&](int key, bool& was_down) {
     const bool now = down(key);
@@ -63,6 +68,8 @@ void InputController::handle_keys(GLFWwindow* w, RenderSettings& settings, Input
   act.load_coil = pressed(GLFW_KEY_L, l_down_);
   act.aspiration = pressed(GLFW_KEY_V, v_down_);
   act.balloon_guide = pressed(GLFW_KEY_B, b_down_);
+  act.unsheathe = pressed(GLFW_KEY_U, u_down_);
+  act.retrieve = pressed(GLFW_KEY_E, e_down_);
   act.fluoro = {down(GLFW_KEY_SPACE), down(GLFW_KEY_I),           down(GLFW_KEY_R),     down(GLFW_KEY_X),
                 down(GLFW_KEY_LEFT_BRACKET), down(GLFW_KEY_RIGHT_BRACKET), down(GLFW_KEY_MINUS), down(GLFW_KEY_EQUAL)};
   if (down(GLFW_KEY_ESCAPE)) glfwSetWindowShouldClose(w, GLFW_TRUE);

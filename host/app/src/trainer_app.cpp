@@ -50,6 +50,7 @@ base::Status<> TrainerApp::open_live(const std::string& case_path) {
   if (!live.session) return base::Error{live.error};
   live_ = std::move(live.session);
   fluoro_switches_ = session::FluoroSwitches(foot_pedal_.get());  // a new run starts with the pedal up
+  drive_ = DeviceDrive();  // and no drive running
   record_path_ = live.record_path;
   case_path_ = case_path;
   if (link_) {
@@ -282,6 +283,13 @@ void TrainerApp::post_live_actions(const UiActions& act, const InputActions& inp
   if (input.balloon_guide && snap.balloon_guide_tool >= 0) {
     (void)live_->post(session::Control::balloon_guide(static_cast<std::size_t>(snap.balloon_guide_tool), !snap.flow_arrest));
   }
+  // U / E: the stent's unsheathing and retrieval drives set the keyboard hand's speed over the
+  // keys' own (set in InputController::handle) while one runs.
+  const DriveKeys keys{input.unsheathe, input.retrieve, input.steering || input.switch_tool || act.switch_tool};
+  const DriveCommand drive = drive_.update(keys, snap);
+  if (drive.select) (void)live_->post(session::Control::select_tool(*drive.select));
+  if (drive.driving) keyboard_.set_speeds(drive.insert_mm_s, 0.0);
+  if (!drive.note.empty()) ui_->add_line(drive.note);
   for (const session::Control& c : carm_act.controls) (void)live_->post(c);
   const InjectionSettings& inj = carm_panel_.injection();  // the I key injects what the panel says
   fluoro_switches_.set_injection(inj.volume_ml, inj.rate_ml_s, inj.concentration_mgI_ml);
@@ -330,7 +338,8 @@ UiStatus TrainerApp::ui_status(session::Session& s, const session::SceneSnapshot
                   snap.held_coil_attached,
                   snap.held_next_coil,
                   snap.aspiration_tool < 0 ? -1 : (snap.aspirating ? 1 : 0),
-                  snap.balloon_guide_tool < 0 ? -1 : (snap.flow_arrest ? 1 : 0)};
+                  snap.balloon_guide_tool < 0 ? -1 : (snap.flow_arrest ? 1 : 0),
+                  replay_ ? std::vector<std::string>{} : drive_.hints(snap, s.tool_names())};
 }
 
 // The C-arm panel (fluoroscopic view) takes the top of the output panel's area, which

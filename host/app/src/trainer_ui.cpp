@@ -95,6 +95,7 @@ void draw_run_controls(const UiStatus& status, const CaseCatalog& catalog, int c
   if (status.can_load) ImGui::TextDisabled("L: load the next coil");
   if (status.aspiration >= 0) ImGui::TextDisabled("V: aspiration %s", status.aspiration == 1 ? "ON (V: off)" : "off");
   if (status.balloon_guide >= 0) ImGui::TextDisabled("B: balloon guide %s", status.balloon_guide == 1 ? "INFLATED (flow arrest)" : "deflated");
+  for (const std::string& line : status.drive_hints) ImGui::TextDisabled("%s", line.c_str());
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ void Session::prepare_snapshot(SceneSnapshot& s) const {
     double wire_mm = rod.node_total() > 0 ? rod.node_radius_mm(0) : 0.0;
     for (std::size_t k = 1; k < rod.node_total(); ++k) wire_mm = std::min(wire_mm, rod.node_radius_mm(k));
     tv.wire_radius_mm = static_cast<float>(wire_mm);
+    tv.stent_carrier = sim_->outer_of(i) < tools ? static_cast<int>(sim_->outer_of(i)) : -1;
   }
   for (ToolView& cv : s.coils) cv.active = false;
   if (thrombectomy_) {
@@ -65,6 +66,10 @@ void Session::publish() {
     ToolView& tv = s.tools[static_cast<std::size_t>(i)];
     tv.active = static_cast<std::size_t>(i) == active;
     copy_nodes(t, tv);
+    if (const tool::StentRetriever* stent = sim_->stent(static_cast<std::size_t>(i))) {
+      tv.stent_unsheathed_mm = static_cast<float>(stent->state().unsheathed_mm);
+      tv.stent_retrieving = thrombectomy_ && thrombectomy_->stent_retrieving(static_cast<std::size_t>(i));
+    }
     for (const tool::RodContact& c : t.contacts) {
       if (s.contacts.size() == SceneSnapshot::kMaxContacts) break;
       s.contacts.push_back({to_f(c.point_mm), static_cast<float>(c.normal_force_mN)});

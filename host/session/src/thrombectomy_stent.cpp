@@ -68,6 +68,10 @@ double ThrombectomyUnit::stent_integration(std::size_t tool) const {
   return 0.0;
 }
 
+bool ThrombectomyUnit::stent_retrieving(std::size_t tool) const {
+  return std::any_of(stents_.begin(), stents_.end(), [tool](const StentPass& p) { return p.tool == tool && p.retrieving; });
+}
+
 void ThrombectomyUnit::after_step(std::int64_t time_us, tool::Simulator& sim) {
   retrieval_pull_mN_ = 0.0;
   for (StentPass& p : stents_) stent_step(p, time_us, sim);

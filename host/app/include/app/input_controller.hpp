@@ -5,7 +5,8 @@
 // Shift x4, Tab takes the other tool; coils: K detaches the held coil tool's coil, L loads its
 // next coil at the hub (after a detach; the case's next_coil lines); fluoroscopy: Space the pedal (held), I inject, R the
 // roadmap, X clears it, [ / ] the C-arm 5 degrees towards RAO / LAO, - / = caudal / cranial
-// (session::FluoroSwitches turns them into controls).
+// (session::FluoroSwitches turns them into controls); a stent retriever: U unsheathes, E
+// retrieves (DeviceDrive, device_drive.hpp).
 #include <functional>
 #include <optional>
 
@@ -30,6 +31,9 @@ struct InputActions {
   bool load_coil = false;    // L pressed
   bool aspiration = false;     // V pressed: the aspiration catheter's vacuum on / off
   bool balloon_guide = false;  // B pressed: the balloon guide inflated / deflated
+  bool unsheathe = false;      // U pressed: the stent's unsheathing drive (device_drive.hpp)
+  bool retrieve = false;       // E pressed: its retrieval drive
+  bool steering = false;       // an arrow or WASD key held (stops a drive)
   session::FluoroKeys fluoro;  // the fluoroscopy keys held now
 };
 
@@ -57,6 +61,8 @@ class InputController {
   bool l_down_ = false;
   bool v_down_ = false;
   bool b_down_ = false;
+  bool u_down_ = false;
+  bool e_down_ = false;
 };
 
 }  // namespace cathbox::app

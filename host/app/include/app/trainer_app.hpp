@@ -11,6 +11,7 @@
 #include "app/case_catalog.hpp"
 #include "app/fluoro_frontend.hpp"
 #include "app/carm_panel_model.hpp"
+#include "app/device_drive.hpp"
 #include "app/fluoro_vessel.hpp"
 #include "app/input_controller.hpp"
 #include "app/orbit_camera.hpp"
@@ -95,7 +96,8 @@ class TrainerApp {
   bool scripted_ = false;  // nobody at the keyboard (headless, bench): the autopilot drives
   session::KeyboardInput keyboard_;
   std::unique_ptr<device::FootPedal> foot_pedal_;  // --pedal-gpio
-  session::FluoroSwitches fluoro_switches_;  // Space / I / R / X and the foot pedal into fluoroscopy controls
+  session::FluoroSwitches fluoro_switches_;
+  DeviceDrive drive_;  // U / E: the stent's unsheathing and retrieval drives of the keyboard hand  // Space / I / R / X and the foot pedal into fluoroscopy controls
   std::unique_ptr<session::Session> live_;
   std::unique_ptr<ServerLink> link_;
   std::optional<std::int64_t> live_assignment_;

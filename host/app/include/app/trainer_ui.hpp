@@ -33,6 +33,7 @@ struct UiStatus {
   // A thrombectomy case: the HUD names V (aspiration) and B (balloon guide) and their state.
   int aspiration = -1;      // -1: no aspiration catheter; 0 off; 1 on
   int balloon_guide = -1;   // -1: no balloon guide; 0 deflated; 1 inflated (flow arrest)
+  std::vector<std::string> drive_hints;  // a stent retriever: the U and E keys' lines (DeviceDrive::hints)
 };
 
 struct UiActions {

@@ -24,6 +24,12 @@ struct ToolView {
   // the wire thin, the stent section expanded. This and stent_length_mm are fixed for the run:
   // written once into every slot before the first tick.
   float wire_radius_mm = 0.0F;
+  // A stent tool (the trainer's U and E keys, host/app/device_drive.hpp): the catheter its push
+  // wire runs in (fixed for the run; -1: none or in the vessel), how much of the stent is out of
+  // every catheter (tool::StentState::unsheathed_mm), whether its retrieval pass is running.
+  int stent_carrier = -1;
+  float stent_unsheathed_mm = 0.0F;
+  bool stent_retrieving = false;
 };
 
 // A clot of the case (or an embolus a pass left), as the 3D views draw it: a body of its radius

@@ -113,6 +113,8 @@ class ThrombectomyUnit final : public ControlHandler {
   [[nodiscard]] double retrieval_pull_mN() const { return retrieval_pull_mN_; }
   // The integrated share of the clot under a stent tool (0 when none is deployed across one).
   [[nodiscard]] double stent_integration(std::size_t tool) const;
+  // Stent tool `tool`'s retrieval pass is running (begun, not yet back in a catheter).
+  [[nodiscard]] bool stent_retrieving(std::size_t tool) const;
   [[nodiscard]] const ThrombectomyFigures& figures() const { return figures_; }
   [[nodiscard]] bool aspirating(std::size_t tool) const { return tool < aspirating_.size() && aspirating_[tool] != 0; }
   [[nodiscard]] bool arrested() const { return !arrests_.empty(); }
