@@ -1,5 +1,6 @@
 #pragma once
-// Analytic lumens for the rod validation tests: a straight tube, a circular bend, a Y.
+// Analytic lumens for the rod validation tests: a straight tube, a circular bend, a Y, a sphere
+// on a tube.
 #include <cmath>
 #include <vector>
 
@@ -41,6 +42,22 @@ inline TubeNetworkWall y_bifurcation(double parent_r = 1.5, double child_r = 1.2
   return TubeNetworkWall({Tube{{0, 0, -45}, {0, 0, 0}, parent_r, parent_r, 0},
                           Tube{{0, 0, 0}, {dx, 0, dz}, parent_r, child_r, 1},
                           Tube{{0, 0, 0}, {-dx, 0, dz}, parent_r, child_r, 2}});
+}
+
+// The bundled sac as a free sphere: the dome radius of the sphere of its volume (~3.2 mm), a 1 mm
+// neck, 20 mm up the parent artery.
+inline constexpr double kSacSphereR = 3.2;
+inline constexpr double kSacNeckR = 1.0;
+inline const glm::dvec3 kSacCentre(0.0, 0.0, 20.0);
+
+// A free sphere (the sac; segment 1) centred at `centre`, opened by a parent artery of radius
+// neck_r along +z from z = -5 (segment 0): the coiling tests' analytic aneurysm.
+inline TubeNetworkWall sphere_on_a_tube(double sphere_r, double neck_r, const glm::dvec3& centre) {
+  TubeNetworkWall wall;
+  wall.add_tube(Tube{{0, 0, -5}, centre, neck_r, neck_r, 0});
+  wall.add_tube(Tube{centre, centre + glm::dvec3(0, 0, 1e-3), sphere_r, sphere_r, 1});
+  wall.build();
+  return wall;
 }
 
 }  // namespace cathbox::tool::testing

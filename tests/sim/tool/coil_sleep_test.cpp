@@ -13,28 +13,23 @@
 #include "scenario/case_file.hpp"
 #include "tool/displaced_wall.hpp"
 #include "tool/simulator.hpp"
+#include "analytic_walls.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {
 namespace {
 
 // A parent artery (radius 1 mm along z) opening into a free sphere of the bundled sac's size.
-constexpr double kSphereR = 3.2;
-constexpr double kNeckR = 1.0;
-const glm::dvec3 kCentre(0.0, 0.0, 20.0);
+constexpr double kSphereR = testing::kSacSphereR, kNeckR = testing::kSacNeckR;
+const glm::dvec3 kCentre = testing::kSacCentre;
 constexpr double kCoilLength = 40.0;
 constexpr double kLoopD = 4.0;
 const Entry kEntry{{0, 0, -3}, {0, 0, 1}};
 const double kMicroDepth = kCentre.z - std::sqrt(kSphereR * kSphereR - kNeckR * kNeckR) + 1.0 - kEntry.point_mm.z;
 constexpr std::size_t kMicro = 0, kFirst = 1, kSecond = 2;
 
-TubeNetworkWall sphere_on_a_tube() {
-  TubeNetworkWall wall;
-  wall.add_tube(Tube{{0, 0, -5}, kCentre, kNeckR, kNeckR, 0});
-  wall.add_tube(Tube{kCentre, kCentre + glm::dvec3(0, 0, 1e-3), kSphereR, kSphereR, 1});
-  wall.build();
-  return wall;
-}
+// A parent artery (radius 1 mm along z) opening into a free sphere.
+TubeNetworkWall sphere_on_a_tube() { return testing::sphere_on_a_tube(kSphereR, kNeckR, kCentre); }
 
 std::vector<ToolSpec> micro_and_two_coils() {
   ToolSpec first = default_coil(kCoilLength, kLoopD), second = default_coil(kCoilLength, kLoopD);

@@ -22,27 +22,20 @@
 #include "tool/coil_metrics.hpp"
 #include "scenario/script_player.hpp"
 #include "tool/simulator.hpp"
+#include "analytic_walls.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {
 namespace {
 
-// The bundled sac's size: the dome radius of the sphere of its volume is ~3.2 mm.
-constexpr double kSphereR = 3.2;
-constexpr double kNeckR = 1.0;
-const glm::dvec3 kCentre(0.0, 0.0, 20.0);
+constexpr double kSphereR = testing::kSacSphereR, kNeckR = testing::kSacNeckR;
+const glm::dvec3 kCentre = testing::kSacCentre;
 constexpr double kCoilOd = 0.25;
 constexpr double kLoopD = 4.0;
 constexpr double kCoilLength = 40.0;
 
 // A parent artery (radius 1 mm along z) opening into a free sphere.
-TubeNetworkWall sphere_on_a_tube() {
-  TubeNetworkWall wall;
-  wall.add_tube(Tube{{0, 0, -5}, kCentre, kNeckR, kNeckR, 0});
-  wall.add_tube(Tube{kCentre, kCentre + glm::dvec3(0, 0, 1e-3), kSphereR, kSphereR, 1});
-  wall.build();
-  return wall;
-}
+TubeNetworkWall sphere_on_a_tube() { return testing::sphere_on_a_tube(kSphereR, kNeckR, kCentre); }
 
 std::vector<ToolSpec> micro_and_coil() { return {default_microcatheter(), default_coil(kCoilLength, kLoopD)}; }
 
