@@ -31,13 +31,13 @@ void VacuumHold::release() {
 }
 
 bool VacuumHold::release_removed(std::span<const ClotId> removed) {
-  if (!tool_ || std::none_of(thrombus_.begin(), thrombus_.end(), [&](ClotId k) { return std::ranges::find(removed, k) != removed.end(); })) {
+  if (!tool_ || std::none_of(thrombus_.begin(), thrombus_.end(), [&](ClotId k) { return std::find(removed.begin(), removed.end(), k) != removed.end(); })) {
     return false;
   }
   release();
   return true;
 }
 
-bool VacuumHold::holds(ClotId clot) const { return tool_.has_value() && std::ranges::find(thrombus_, clot) != thrombus_.end(); }
+bool VacuumHold::holds(ClotId clot) const { return tool_.has_value() && std::find(thrombus_.begin(), thrombus_.end(), clot) != thrombus_.end(); }
 
 }  // namespace cathbox::session
