@@ -12,6 +12,13 @@ std::string out_of(const session::ToolView& stent) {
   return buf;
 }
 
+// "5 mm/s": a drive's speed as the HUD names it (from the constants the drive moves at).
+std::string speed(double mm_s) {
+  char buf[24];
+  std::snprintf(buf, sizeof buf, "%.0f mm/s", mm_s);
+  return buf;
+}
+
 bool fully_out(const session::ToolView& stent) {
   return stent.stent_unsheathed_mm >= stent.stent_length_mm - DeviceDrive::kFullyOut_mm;
 }
@@ -83,16 +90,16 @@ std::vector<std::string> DeviceDrive::hints(const session::SceneSnapshot& snap, 
   const std::string carrier_name = carrier < names.size() ? names[carrier] : std::string("catheter");
   std::vector<std::string> out;
   if (mode_ == Mode::kUnsheathe) {
-    out.push_back("U: UNSHEATHING " + out_of(st) + ", the " + carrier_name + " back at 5 mm/s (U, arrows or Tab: stop)");
+    out.push_back("U: UNSHEATHING " + out_of(st) + ", the " + carrier_name + " back at " + speed(kUnsheathe_mm_s) + " (U, arrows or Tab: stop)");
   } else {
     out.push_back(fully_out(st) ? "U: the stent is unsheathed (" + out_of(st) + ")"
-                                : "U: unsheathe the stent (" + out_of(st) + " out; the " + carrier_name + " back at 5 mm/s)");
+                                : "U: unsheathe the stent (" + out_of(st) + " out; the " + carrier_name + " back at " + speed(kUnsheathe_mm_s) + ")");
   }
   if (mode_ == Mode::kRetrieve) {
-    out.push_back(st.stent_retrieving ? "E: RETRIEVING at 10 mm/s, pass running (E, arrows or Tab: stop)"
-                                      : "E: RETRIEVING at 10 mm/s (E, arrows or Tab: stop)");
+    out.push_back("E: RETRIEVING at " + speed(kRetrieve_mm_s) + (st.stent_retrieving ? ", pass running" : "") +
+                  " (E, arrows or Tab: stop)");
   } else if (st.stent_unsheathed_mm > 0.0F) {
-    out.emplace_back("E: retrieve the stent (back at 10 mm/s into a catheter)");
+    out.push_back("E: retrieve the stent (back at " + speed(kRetrieve_mm_s) + " into a catheter)");
   }
   return out;
 }
