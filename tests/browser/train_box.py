@@ -10,7 +10,7 @@ import subprocess
 import time
 
 from browser_test import Failure, check, wait_until
-from train_page import END_JS, end_of_run, end_run, hold, hud, open_assignment
+from train_page import END_JS, advance, end_of_run, end_run, hold, hud, open_assignment
 from selenium.common.exceptions import WebDriverException
 from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.by import By
@@ -145,6 +145,13 @@ def test_webhid(b, assignment, report):
         check(held and r["from_end"] < 10 and held["damping"] >= held["stiffness"] * 0.005 / 2 - 1,
               "the law at rest: a stiffness among the last 10 commands, and damping b >= K T / 2: %s (%s from the end)" % (held, r["from_end"]))
         check(r["underdamped"] == 0, "%d of %d commands with damping under K T / 2" % (r["underdamped"], r["commands"]))
+        # U while the box holds the hand: refused with one line on the HUD (app::DeviceDrive), as
+        # in cathbox-trainer with a box.
+        ActionChains(b.driver).send_keys("u").perform()
+        advance(b, 1)
+        line = b.js("return document.getElementById('hud').textContent.split('\\n').pop()")
+        check(line == "U: refused while a box drives the tools (draw the catheter back on the box)", "U with a box: %r" % line)
+        report["webhid_u_with_box"] = line
         end_run(b, "the WebHID run")
         # A box not calibrated: refused, one line, the keyboard drives.
         open_assignment(b, assignment, "virtual")

@@ -11,7 +11,9 @@ page uploads the record; the server accepts it only if every state hash
 replays (201), and `cathbox session replay --check` replays the stored record natively.
 Screenshots (3D) go to --out. Any SEVERE console message fails the test. Last, on the server
 restarted without --wasm, opening a case shows one line naming what is missing. On a two-tool
-case (neuro), Tab hands over the other tool and Escape ends the run, uploaded. A native record
+case (neuro), Tab hands over the other tool and Escape ends the run, uploaded. On a stent
+retriever's case (train_stent.py) U unsheathes the stent and E retrieves it, keys only, and the
+uploaded record holds the pass; with a box connected U is refused on the HUD. A native record
 (`cathbox session run --virtual`) given to the page's "Check a record" file input replays in the
 worker with every state hash checked (passed, all ticks); the same record with one byte changed
 is refused, the page saying why, and so is the record against another case's (neuro) surface (a
@@ -46,8 +48,8 @@ The page carries no test hook: the test reads it as a user does, from the page (
 HUD's figures, the notes under the keys, the box's figures, the end card, the record check's line,
 the record download) and from the server (the stored result, as the trainee's own API call). The
 WebHID part also reads what the box received from window.fakeBox, the test's own stand-in.
-The parts live by concept in train_page.py, train_box.py, train_fluoro.py, train_replay.py and
-train_clock.py.
+The parts live by concept in train_page.py, train_box.py, train_fluoro.py, train_replay.py,
+train_stent.py and train_clock.py.
 
   tests/browser/train_test.py --bin build/release/bin --wasm build/wasm/bin --source . --out build/release/browser
 """
@@ -67,6 +69,7 @@ from train_clock import test_real_clock  # noqa: E402
 from train_fluoro import test_contrast, test_fluoroscopy  # noqa: E402
 from train_page import END_JS, STATE_JS, advance, end_of_run, hold, hud, open_assignment, seed  # noqa: E402
 from train_replay import test_native_record_in_page, test_native_replay  # noqa: E402
+from train_stent import test_stent_keys  # noqa: E402
 from selenium.webdriver.common.action_chains import ActionChains  # noqa: E402
 from selenium.webdriver.common.by import By  # noqa: E402
 from selenium.webdriver.common.keys import Keys  # noqa: E402
@@ -174,11 +177,13 @@ def main():
     parser.add_argument("--source", required=True)
     parser.add_argument("--out", required=True)
     parser.add_argument("--real-clock", type=int, default=0, metavar="SECONDS", help="also run on the worker's own clock and report its jitter")
-    parser.add_argument("--only", choices=["real-clock", "fluoroscopy"],
+    parser.add_argument("--only", choices=["real-clock", "fluoroscopy", "stent"],
                         help="only that part (after logging in), to measure or work on it; real-clock needs --real-clock")
     parser.add_argument("--spin", type=float, default=None, metavar="MS", help="the real-clock runs with /train.html?spin=MS")
     parser.add_argument("--rig-fifo", type=int, default=None, metavar="PRIO",
                         help="the real-clock runs with the browser's worker threads at SCHED_FIFO PRIO, as a kiosk rig's launcher may set them")
+    parser.add_argument("--rig-slice", type=int, default=None, metavar="US",
+                        help="the real-clock runs with the browser's worker threads at an EEVDF slice of US µs (scripts/rig-priority --slice)")
     parser.add_argument("--query", default=None, metavar="Q", help="the real-clock runs with /train.html?...&Q (e.g. frame_ms=50)")
     parser.add_argument("--chromium-arg", action="append", default=[], metavar="ARG",
                         help="one more Chromium switch for the trainee's browser (repeatable; e.g. --in-process-gpu)")
@@ -203,7 +208,9 @@ def main():
         if args.only:
             if args.only == "real-clock":
                 for view in ("3d", "fluoro"):
-                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query)
+                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice)
+            elif args.only == "stent":
+                test_stent_keys(b, centre, report)
             else:
                 test_fluoroscopy(b, two_tools, report)
             b.drain_console()
@@ -220,6 +227,8 @@ def main():
         b.drain_console()
         test_tab_and_escape(b, centre, two_tools, report)
         b.drain_console()
+        test_stent_keys(b, centre, report)
+        b.drain_console()
         test_webhid(b, assignment, report)
         b.drain_console()
         test_fluoroscopy(b, two_tools, report)
@@ -228,7 +237,7 @@ def main():
         b.drain_console()
         if args.real_clock:
             for view in ("3d", "fluoro"):
-                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query)
+                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice)
                 b.drain_console()
         test_box_bridge(b, centre, assignment, report)
         b.drain_console()

@@ -34,11 +34,20 @@ int DeviceDrive::stent_tool(const session::SceneSnapshot& snap) {
 }
 
 DriveCommand DeviceDrive::update(const DriveKeys& keys, const session::SceneSnapshot& snap) {
+  box_ = keys.box;
   if (mode_ != Mode::kIdle && snap.run_over) return stop("the run is over: the drive stops");
+  if (keys.box) return box_holds(keys);
   if (keys.cancel) return mode_ != Mode::kIdle ? stop(mode_ == Mode::kUnsheathe ? "U: unsheathing stopped" : "E: retrieval stopped") : DriveCommand{};
   if (keys.unsheathe) return mode_ == Mode::kUnsheathe ? stop("U: unsheathing stopped") : start(Mode::kUnsheathe, snap);
   if (keys.retrieve) return mode_ == Mode::kRetrieve ? stop("E: retrieval stopped") : start(Mode::kRetrieve, snap);
   return mode_ != Mode::kIdle ? drive(snap) : DriveCommand{};
+}
+
+// A box holds the hand: the keys refused, a drive running stopped.
+DriveCommand DeviceDrive::box_holds(const DriveKeys& keys) {
+  if (keys.unsheathe) return stop("U: refused while a box drives the tools (draw the catheter back on the box)");
+  if (keys.retrieve) return stop("E: refused while a box drives the tools (pull the stent back on the box)");
+  return mode_ != Mode::kIdle ? stop("a box drives the tools: the drive stops") : DriveCommand{};
 }
 
 DriveCommand DeviceDrive::start(Mode mode, const session::SceneSnapshot& snap) {
@@ -88,6 +97,7 @@ std::vector<std::string> DeviceDrive::hints(const session::SceneSnapshot& snap, 
   const session::ToolView& st = snap.tools[static_cast<std::size_t>(stent)];
   const auto carrier = static_cast<std::size_t>(st.stent_carrier);
   const std::string carrier_name = carrier < names.size() ? names[carrier] : std::string("catheter");
+  if (box_) return {"U, E: off while a box drives the tools (" + out_of(st) + " of the stent out)"};
   std::vector<std::string> out;
   if (mode_ == Mode::kUnsheathe) {
     out.push_back("U: UNSHEATHING " + out_of(st) + ", the " + carrier_name + " back at " + speed(kUnsheathe_mm_s) + " (U, arrows or Tab: stop)");

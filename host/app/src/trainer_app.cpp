@@ -284,8 +284,9 @@ void TrainerApp::post_live_actions(const UiActions& act, const InputActions& inp
     (void)live_->post(session::Control::balloon_guide(static_cast<std::size_t>(snap.balloon_guide_tool), !snap.flow_arrest));
   }
   // U / E: the stent's unsheathing and retrieval drives set the keyboard hand's speed over the
-  // keys' own (set in InputController::handle) while one runs.
-  const DriveKeys keys{input.unsheathe, input.retrieve, input.steering || input.switch_tool || act.switch_tool};
+  // keys' own (set in InputController::handle) while one runs; refused while a box holds the hand.
+  const DriveKeys keys{input.unsheathe, input.retrieve, input.steering || input.switch_tool || act.switch_tool,
+                       live_->hand_kind() == session::HandKind::kBox};
   const DriveCommand drive = drive_.update(keys, snap);
   if (drive.select) (void)live_->post(session::Control::select_tool(*drive.select));
   if (drive.driving) keyboard_.set_speeds(drive.insert_mm_s, 0.0);

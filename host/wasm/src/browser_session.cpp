@@ -103,6 +103,34 @@ std::size_t BrowserSession::pack_snapshot() {
   return packed_.size();
 }
 
+bool BrowserSession::tick(double insert_mm_s, double rotate_rad_s, bool steering, bool box) {
+  auto& exchange = session_->snapshots();
+  exchange.acquire();
+  app::DriveKeys keys = pressed_;
+  pressed_ = {};
+  keys.cancel = keys.cancel || steering;
+  keys.box = box;
+  const app::DriveCommand drive = drive_.update(keys, exchange.read_slot());
+  if (drive.select) (void)session_->post(session::Control::select_tool(*drive.select));
+  if (!drive.note.empty()) drive_notes_.push_back(drive.note);
+  if (drive.driving) {
+    insert_mm_s = drive.insert_mm_s;
+    rotate_rad_s = 0.0;
+  }
+  keyboard_.set_speeds(insert_mm_s, rotate_rad_s);
+  return session_->step_virtual(1) == 1 && !session_->over();
+}
+
+std::string BrowserSession::drive_json() {
+  std::string out = "{\"hints\":[";
+  const std::vector<std::string> hints = drive_.hints(session_->snapshots().read_slot(), session_->tool_names());
+  for (std::size_t i = 0; i < hints.size(); ++i) out += (i ? "," : "") + quoted(hints[i]);
+  out += "],\"notes\":[";
+  for (std::size_t i = 0; i < drive_notes_.size(); ++i) out += (i ? "," : "") + quoted(drive_notes_[i]);
+  drive_notes_.clear();
+  return out + "]}";
+}
+
 void BrowserSession::fluoro_keys(int bits) {
   const auto on = [bits](int k) { return (bits & (1 << k)) != 0; };
   const session::FluoroKeys keys{on(0), on(1), on(2), on(3), on(4), on(5), on(6), on(7)};

@@ -41,8 +41,15 @@ EMSCRIPTEN_KEEPALIVE int cbx_open(const char* case_path, const char* mesh_path, 
 
 EMSCRIPTEN_KEEPALIVE const char* cbx_error() { return g_error.c_str(); }
 
-EMSCRIPTEN_KEEPALIVE void cbx_set_speeds(double insert_mm_s, double rotate_rad_s) {
-  if (g_session) g_session->set_speeds(insert_mm_s, rotate_rad_s);
+// U / E pressed (1 each): the stent's drive (BrowserSession::drive_keys), taken at the next tick.
+EMSCRIPTEN_KEEPALIVE void cbx_drive_keys(int unsheathe, int retrieve) {
+  if (g_session) g_session->drive_keys(unsheathe != 0, retrieve != 0);
+}
+
+// The drive's HUD lines and notes as JSON (BrowserSession::drive_json).
+EMSCRIPTEN_KEEPALIVE const char* cbx_drive() {
+  g_text = g_session ? g_session->drive_json() : std::string("{\"hints\":[],\"notes\":[]}");
+  return g_text.c_str();
 }
 
 EMSCRIPTEN_KEEPALIVE void cbx_next_tool() {
@@ -53,8 +60,10 @@ EMSCRIPTEN_KEEPALIVE void cbx_end_run() {
   if (g_session) g_session->end_run();
 }
 
-EMSCRIPTEN_KEEPALIVE double cbx_step(double ticks) {
-  return g_session ? static_cast<double>(g_session->step(static_cast<std::int64_t>(ticks))) : 0.0;
+// One tick with the keys held (mm/s, rad/s; steering 1: a movement key held; box 1: a box drives
+// the tools): BrowserSession::tick. 1 while the run goes on.
+EMSCRIPTEN_KEEPALIVE int cbx_tick(double insert_mm_s, double rotate_rad_s, int steering, int box) {
+  return g_session && g_session->tick(insert_mm_s, rotate_rad_s, steering != 0, box != 0) ? 1 : 0;
 }
 
 EMSCRIPTEN_KEEPALIVE int cbx_over() { return g_session && g_session->over() ? 1 : 0; }

@@ -31,6 +31,9 @@ const DriveKeys kNone{};
 const DriveKeys kU{true, false, false};
 const DriveKeys kE{false, true, false};
 const DriveKeys kArrow{false, false, true};
+const DriveKeys kBox{false, false, false, true};  // a box holds the hand, no key
+const DriveKeys kUBox{true, false, false, true};
+const DriveKeys kEBox{false, true, false, true};
 
 TEST(DeviceDrive, FindsTheStentInACatheter) {
   EXPECT_EQ(DeviceDrive::stent_tool(stack(kStent, 50.0, 0.0F)), static_cast<int>(kStent));
@@ -156,6 +159,28 @@ TEST(DeviceDrive, HintsNameTheKeysWhenIdle) {
   ASSERT_EQ(h.size(), 2U);
   EXPECT_EQ(h[0], "U: the stent is unsheathed (20 / 20 mm)");
   EXPECT_EQ(h[1], "E: retrieve the stent (back at 10 mm/s into a catheter)");
+}
+
+TEST(DeviceDrive, RefusedWhileABoxHoldsTheHandAndARunningDriveStops) {
+  DeviceDrive d;
+  DriveCommand c = d.update(kUBox, stack(kMicro, 56.0, 0.0F));
+  EXPECT_FALSE(c.driving);
+  EXPECT_FALSE(c.select) << "no tool selected under the box's hand";
+  EXPECT_EQ(c.note, "U: refused while a box drives the tools (draw the catheter back on the box)");
+  c = d.update(kEBox, stack(kStent, 50.0, 20.0F));
+  EXPECT_FALSE(c.driving);
+  EXPECT_FALSE(c.select);
+  EXPECT_EQ(c.note, "E: refused while a box drives the tools (pull the stent back on the box)");
+  EXPECT_EQ(d.mode(), DeviceDrive::Mode::kIdle);
+  const std::vector<std::string> names{"guide", "microcatheter", "stent"};
+  EXPECT_EQ(d.hints(stack(kStent, 50.0, 8.0F), names), std::vector<std::string>{"U, E: off while a box drives the tools (8 / 20 mm of the stent out)"});
+  EXPECT_TRUE(d.update(kE, stack(kStent, 50.0, 20.0F)).driving) << "the box gone: E drives again";
+  c = d.update(kBox, stack(kStent, 48.0, 20.0F));
+  EXPECT_FALSE(c.driving) << "a box connected during a drive stops it";
+  EXPECT_EQ(c.note, "a box drives the tools: the drive stops");
+  EXPECT_EQ(d.mode(), DeviceDrive::Mode::kIdle);
+  EXPECT_TRUE(d.update(kBox, stack(kStent, 48.0, 20.0F)).note.empty()) << "said once";
+  EXPECT_EQ(d.hints(stack(kStent, 48.0, 20.0F), names).size(), 1U);
 }
 
 }  // namespace

@@ -15,6 +15,11 @@
 // - A held arrow or WASD key, Tab (or the HUD's switch-tool button), the same key again or the
 //   end of the run stops a drive; the other key switches to its drive. A drive also stops when
 //   the driven tool is out to its hub (insertion 0).
+// - While a box drives the tools (a connected box holds the hand) U and E are refused with a line
+//   (the trainee's hands are on the box: they draw the catheter back there), a drive running
+//   stops, and the HUD's line says so.
+// Shared by cathbox-trainer (once per frame) and the trainee page's haptic worker (host/wasm,
+// once per tick: BrowserSession::tick), compiled from this file into both.
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -28,6 +33,7 @@ struct DriveKeys {
   bool unsheathe = false;  // U pressed this frame
   bool retrieve = false;   // E pressed this frame
   bool cancel = false;     // an arrow / WASD held, or Tab pressed
+  bool box = false;        // a connected box holds the hand (not a key: the hand's state this frame)
 };
 
 struct DriveCommand {
@@ -49,13 +55,15 @@ class DeviceDrive {
   [[nodiscard]] Mode mode() const { return mode_; }
   // The HUD's lines for the two keys (empty when the case has no stent retriever in a catheter),
   // e.g. "U: unsheathe the stent (microcatheter back 5 mm/s)", or while a drive runs
-  // "U: UNSHEATHING 12 / 20 mm (U, arrows or Tab: stop)". `names`: the case's tools.
+  // "U: UNSHEATHING 12 / 20 mm (U, arrows or Tab: stop)"; while a box holds the hand (as of the
+  // last update) one line saying the keys are off. `names`: the case's tools.
   [[nodiscard]] std::vector<std::string> hints(const session::SceneSnapshot& snap, const std::vector<std::string>& names) const;
 
   // The case's first stent retriever that runs in a catheter (-1: none).
   [[nodiscard]] static int stent_tool(const session::SceneSnapshot& snap);
 
  private:
+  [[nodiscard]] DriveCommand box_holds(const DriveKeys& keys);
   [[nodiscard]] DriveCommand start(Mode mode, const session::SceneSnapshot& snap);
   [[nodiscard]] DriveCommand drive(const session::SceneSnapshot& snap);
   [[nodiscard]] DriveCommand stop(std::string note);
@@ -63,6 +71,7 @@ class DeviceDrive {
   Mode mode_ = Mode::kIdle;
   std::size_t tool_ = 0;  // the tool being driven
   bool pass_seen_ = false;  // a retrieval: the session's pass has been seen running
+  bool box_ = false;  // the last update's DriveKeys::box
 };
 
 }  // namespace cathbox::app

@@ -28,7 +28,7 @@
 // the keys, the box's figures, the end card, the record check's line).
 import { requireUser, api, guarded, showError, el } from './api.js';
 import { VesselView, loadMesh } from './scene.js';
-import { speedsFor, isControlKey, fluoroBits } from './train_keys.js';
+import { speedsFor, isControlKey, fluoroBits, steering } from './train_keys.js';
 import { FluoroView, H } from './fluoro_view.js';
 import { CArmPanel } from './carm_panel.js';
 import { Histogram } from './tick_stats.js';
@@ -85,6 +85,8 @@ function hudText(s) {
     'rotation  ' + s.rotation_rad.toFixed(3) + ' rad',
     'hand      ' + s.hand_force_mN.toFixed(1) + ' mN  ' + s.torque_mNmm.toFixed(2) + ' mN·mm',
     'wall      ' + s.wall_force_mN.toFixed(1) + ' mN',
+    ...run.drive.hints,  // the stent retriever's U and E (app::DeviceDrive::hints), its last note
+    ...(run.drive.note ? [run.drive.note] : []),
   ].join('\n');
 }
 
@@ -215,6 +217,7 @@ function draw() {
 }
 
 function setKeys() {
+  run.keys[2] = steering(run.held) ? 1 : 0;
   if (run.boxReport && run.boxReport.live) return;  // the box drives the tool; Tab and Escape still work
   const [insert, twist] = speedsFor(run.held);
   run.keys[0] = insert;
@@ -227,6 +230,7 @@ function onKey(e, down) {
   if (down && !e.repeat) {
     if (e.code === 'Tab') worker.postMessage({ type: 'next_tool' });
     else if (e.code === 'Escape') worker.postMessage({ type: 'end' });
+    else if (e.code === 'KeyU' || e.code === 'KeyE') worker.postMessage({ type: 'drive', unsheathe: e.code === 'KeyU', retrieve: e.code === 'KeyE' });
     else if (e.code === 'KeyC') { views.global.setVessel(views.mesh); }
     else if (e.code === 'KeyF') {
       for (const v of [views.global, views.local]) { v.vessel.material.wireframe = !v.vessel.material.wireframe; v.dirty = true; }
@@ -328,6 +332,10 @@ function startWorker() {
   worker.onmessage = (e) => {
     const m = e.data;
     if (m.type === 'frame') {
+      if (m.drive) {
+        run.drive.hints = m.drive.hints;
+        if (m.drive.notes.length) run.drive.note = m.drive.notes[m.drive.notes.length - 1];
+      }
       showFrame(m.data, m.metrics, m.fluoro);
       if (frames) frames.pacer.health(m.lateMs || 0);
       run.boxReport = m.box;
@@ -413,7 +421,8 @@ async function openCase(a) {
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
   frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1,
     pacer: new FramePacer({ minMs: numberParam('frame_ms', FRAME_MS), maxMs: numberParam('frame_max_ms', FRAME_MAX_MS) }) };
-  run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(), keys: new Float64Array(new SharedArrayBuffer(16)) };
+  run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(),
+    keys: new Float64Array(new SharedArrayBuffer(24)), drive: { hints: [], note: '' } };
   setState('opening', 'opening ' + a.case);
   document.getElementById('pick').hidden = true;
   document.getElementById('run').hidden = false;

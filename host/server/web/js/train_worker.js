@@ -13,9 +13,12 @@
 //               came after) and posted at the end (the page's clock note shows it).
 //   'virtual' — no clock of its own: the page says `advance N` (its "Run N ticks" control) and
 //   exactly N ticks run.
-// Either way a tick reads the keys' speeds the page wrote into shared memory (Float64Array:
-// insertion mm/s, rotation rad/s) just before it runs, as the native trainer's haptic thread
-// reads its KeyboardInput.
+// Either way a tick reads the keys the page wrote into shared memory (Float64Array: insertion
+// mm/s, rotation rad/s, 1 while a movement key is held) just before it runs, as the native
+// trainer's haptic thread reads its KeyboardInput. U and E (the stent retriever's drives,
+// cathbox-trainer's app::DeviceDrive compiled into the module) come as `drive` messages and are
+// decided at the next tick; refused while a box drives the tools. Each frame carries the drive's
+// HUD lines and notes.
 //
 // The box, over the bridge (?box=ws://...) or WebHID: its driver (js/train_box.js) runs here,
 // between tick slices, writing the keys' speeds and sending the force law at most 8 ms apart (the
@@ -25,14 +28,15 @@
 // reports (inputreport, sendReport, receiveFeatureReport): they never cross the page's thread.
 //
 // Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
-// advance {ticks}, next_tool, end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
+// advance {ticks}, next_tool, drive {unsheathe, retrieve} (U / E pressed), end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
 // box_hid (the page was allowed a WebHID box: open it here), fluoro_keys {bits}
 // (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}, carm {what: 'angles' | 'geometry' |
 // 'rate', values} (the C-arm panel's edit, posted as the native panel posts it). Out: ready {summary,
 // open_ms, fluoro, projections (the C-arm panel's: [{name, lao, cranial}])}, carm_note {text} (an
 // edit refused: its line; '' when taken),
 // fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics,
-// fluoro: {header, phantom?, floats?, indices?, carm (the C-arm now: 9 numbers, cbx_carm_state)} or null},
+// fluoro: {header, phantom?, floats?, indices?, carm (the C-arm now: 9 numbers, cbx_carm_state)} or null,
+// drive {hints, notes} (the stent's U / E lines)},
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
 // box_note {text}, error {message}.
@@ -77,10 +81,11 @@ function bind(m) {
   return {
     open: c('cbx_open', 'number', ['string', 'string', 'string']),
     error: c('cbx_error', 'string', []),
-    speeds: c('cbx_set_speeds', null, ['number', 'number']),
+    tick: c('cbx_tick', 'number', ['number', 'number', 'number', 'number']),
+    driveKeys: c('cbx_drive_keys', null, ['number', 'number']),
+    drive: c('cbx_drive', 'string', []),
     nextTool: c('cbx_next_tool', null, []),
     end: c('cbx_end_run', null, []),
-    step: c('cbx_step', 'number', ['number']),
     over: c('cbx_over', 'number', []),
     snapshot: c('cbx_snapshot', 'number', []),
     snapshotData: c('cbx_snapshot_data', 'number', []),
@@ -104,11 +109,10 @@ function bind(m) {
   };
 }
 
-// One tick, with the keys as they are now.
+// One tick, with the keys as they are now (speeds, a movement key held) and whether a box drives
+// the tools; the stent's U / E drive (app::DeviceDrive, in the module) decides first.
 function tick() {
-  fn.speeds(keys[0], keys[1]);
-  fn.step(1);
-  if (fn.over()) over = true;
+  if (!fn.tick(keys[0], keys[1], keys[2], box && box.live ? 1 : 0)) over = true;
 }
 
 // A copy of n elements of the module's memory at byte address `at` (HEAPF32, HEAPF64, HEAPU32).
@@ -151,7 +155,8 @@ function postFrame() {
   const moved = [data.buffer];
   if (fluoro) for (const k of ['header', 'phantom', 'floats', 'indices']) if (fluoro[k]) moved.push(fluoro[k].buffer);
   const lateMs = ticker ? ticker.stats.takeWorst() : 0;  // the page paces its drawing by it (js/frame_pacer.js)
-  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro, lateMs }, moved);
+  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro, lateMs,
+    drive: JSON.parse(fn.drive()) }, moved);
 }
 
 function finish() {
@@ -297,6 +302,8 @@ onmessage = (e) => {
       postMessage({ type: 'carm_note', text: done < 0 ? fn.error() : '' });
     } else if (m.type === 'fluoro_size') {
       fluoroSize = m.size;  // the next frame projects the phantom for it if it is new
+    } else if (m.type === 'drive') {
+      fn.driveKeys(m.unsheathe ? 1 : 0, m.retrieve ? 1 : 0);
     } else if (m.type === 'next_tool') {
       fn.nextTool();
     } else if (m.type === 'end') {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/carm_panel_model.hpp"
+#include "app/device_drive.hpp"
 #include "base/result.hpp"
 #include "protocol/cbx_command_report.h"
 #include "session/keyboard_input.hpp"
@@ -30,12 +31,28 @@ class BrowserSession {
                                                                           const std::string& mesh_path,
                                                                           const std::string& record_path);
 
-  // The keys held, as the native trainer maps them (host/app input_controller.cpp): mm/s, rad/s.
-  void set_speeds(double insert_mm_s, double rotate_rad_s) { keyboard_.set_speeds(insert_mm_s, rotate_rad_s); }
-  void next_tool() { (void)session_->post(session::Control::select_next_tool()); }
+  // Tab: the next tool (it also stops a stent drive, as in cathbox-trainer).
+  void next_tool() {
+    (void)session_->post(session::Control::select_next_tool());
+    pressed_.cancel = true;
+  }
   void end_run() { session_->end_run(); }
-  // Up to `ticks` ticks of the session's virtual clock (the worker's pacer decides when).
-  std::int64_t step(std::int64_t ticks) { return session_->step_virtual(ticks); }
+  // U or E pressed on the page: taken by the next tick's app::DeviceDrive (host/app
+  // device_drive.hpp, cathbox-trainer's own: U unsheathes the stent, E retrieves it).
+  void drive_keys(bool unsheathe, bool retrieve) {
+    pressed_.unsheathe = pressed_.unsheathe || unsheathe;
+    pressed_.retrieve = pressed_.retrieve || retrieve;
+  }
+  // One tick of the session's virtual clock (the worker's pacer decides when) with the keys held
+  // now, as the native trainer maps them (host/app input_controller.cpp): mm/s, rad/s; `steering`
+  // an arrow or WASD key held (it stops a drive); `box` a box drives the tools (U and E refused).
+  // The stent's drive decides first, from the newest snapshot, and while it runs its speed
+  // replaces the keys' (cathbox-trainer decides once a frame, the page once a tick). False once
+  // the run is over.
+  bool tick(double insert_mm_s, double rotate_rad_s, bool steering, bool box);
+  // The drive's HUD lines (DeviceDrive::hints) and its notes since the last call (a drive stopped
+  // or refused), {"hints":[...],"notes":[...]}.
+  [[nodiscard]] std::string drive_json();
   [[nodiscard]] bool over() const { return session_->over(); }
   [[nodiscard]] std::int64_t ticks() const { return session_->ticks(); }
 
@@ -81,6 +98,9 @@ class BrowserSession {
   BrowserSession() = default;
   bool carm_sync();
   session::KeyboardInput keyboard_;
+  app::DeviceDrive drive_;
+  app::DriveKeys pressed_;  // U, E, Tab since the last tick
+  std::vector<std::string> drive_notes_;
   std::unique_ptr<session::Session> session_;
   const LawTapHand* hand_ = nullptr;  // the session's hand (owned by it)
   BrowserBoxLaw box_law_;
