@@ -1,12 +1,13 @@
 """The stent retriever's U and E keys on the trainee page (train_test.py): cathbox-trainer's
 app::DeviceDrive in the haptic worker. The small Y of tests/host/session/stent_tube_case.hpp (a
 3.6 mm parent, a 2.8 mm branch straight on with a 10 mm red-cell-rich clot 6 mm into it; balloon
-guide > microcatheter > a 4 x 20 mm stent retriever, embedding cut to 0.5 s) is written here from
-the same figures. In virtual time, keys only: the guide to 20 mm, the microcatheter across the
-clot to 56 mm, the stent to 50 mm; U draws the microcatheter back at 5 mm/s until the whole stent
-is out and stops by itself; a 1 s dwell; E pulls the stent back at 10 mm/s until its pass ends.
+guide > microcatheter > a 4 x 20 mm stent retriever, embedding cut to 0.5 s) is read from
+tests/host/session/data/stent_tube.{case,hclm}, as the native tests read it. In virtual time,
+keys only: the guide to 20 mm, the microcatheter across the clot to 56 mm, the stent to 50 mm;
+U draws the microcatheter back at 5 mm/s until the whole stent is out and stops by itself; a
+1 s dwell; E pulls the stent back at 10 mm/s until its pass ends.
 The uploaded record (every state hash replayed by the server) holds one stent pass."""
-import math
+import os
 
 from browser_test import Api, check
 from train_page import END_JS, advance, end_of_run, hold, hud, open_assignment
@@ -14,35 +15,17 @@ from selenium.webdriver.common.action_chains import ActionChains
 from selenium.webdriver.common.keys import Keys
 
 
-def tube_segment(seg, name, links, flow, fx, fz, dx, dz, length_mm, radius_mm):
-    """One HCLM segment: points every 2 mm from (fx, 0, fz) along (dx, 0, dz)."""
-    n = round(length_mm / 2.0) + 1
-    lines = ["g %d" % seg, "l " + name, "f %g" % flow] + links + ["n %d" % n]
-    lines += ["v %g 0 %g %g" % (fx + dx * 2.0 * i, fz + dz * 2.0 * i, radius_mm) for i in range(n)]
-    return "\n".join(lines) + "\n"
-
-
-def stent_tube_case():
-    """(case text, HCLM text): the Y and its stack, as stent_tube_case.hpp writes them."""
-    side = math.sqrt(0.5)
-    hclm = "s 3\n\n" + "\n".join([tube_segment(1, "parent", ["p 0", "c 2 2 3"], 200, 0, 0, 0, 1, 30, 1.8),
-                                  tube_segment(2, "straight_branch", ["p 1 1", "c 0"], 120, 0, 30, 0, 1, 50, 1.4),
-                                  tube_segment(3, "side_branch", ["p 1 1", "c 0"], 80, 0, 30, side, side, 30, 1.2)])
-    case = "\n".join([
-        "cathbox-case 1", "name stent retriever in a straight branch", "vessel stent_tube.hclm", "clot 2 6 10 red=60 fibrin=30",
-        "tool guide catheter", "  section 900 od=2.7 ei=400 gj=300", "  section 80 od=2.7 ei=80 gj=60", "  friction 0.15",
-        "  inner_diameter 2.13", "  balloon length=10 from_tip=3 nominal=1 burst=2 chart=0.1:3,0.5:7,1:9,2:10", "end",
-        "tool microcatheter catheter", "  section 1400 od=0.85 ei=8 gj=6", "  section 150 od=0.8 ei=2 gj=1.6", "  friction 0.1",
-        "  inner_diameter 0.53", "  inside guide", "  spacing 2 0.5 40", "end",
-        "tool stent guidewire", "  section 1700 od=0.4 ei=30 gj=23", "  section 60 od=0.4 ei=5 gj=4", "  section 20 od=0.45 ei=2 gj=1.5",
-        "  friction 0.08", "  inside microcatheter", "  spacing 2 0.5 30", "  stent_retriever diameter=4 length=20 embed=0.5", "end"]) + "\n"
-    return case, hclm
+def stent_tube_case(source):
+    """(case text, HCLM text): the Y and its stack, tests/host/session/data/stent_tube.{case,hclm},
+    as the native stent-retriever tests read them (stent_tube_case.hpp)."""
+    data = os.path.join(source, "tests", "host", "session", "data", "stent_tube.")
+    return open(data + "case").read(), open(data + "hclm").read()
 
 
 def seed_stent(centre):
     """The case on the server, assigned to ann; the assignment's id."""
     teacher = Api(centre.base).login("teacher")
-    case, hclm = stent_tube_case()
+    case, hclm = stent_tube_case(centre.args.source)
     teacher.json("POST", "/cases", {"name": "stent", "case_file": "stent_tube.case", "case": case, "hclm_file": "stent_tube.hclm", "hclm": hclm})
     _, a = teacher.json("POST", "/assignments", {"trainee": "ann", "case": "stent", "criteria": []})
     return a["id"]

@@ -4,63 +4,42 @@
 // branch; balloon guide > microcatheter > a 4 x 20 mm stent retriever (embedding time 0.5 s), and
 // the script of one pass retrieved into the guide under flow arrest. Shared with the server's
 // trace test (tests/host/server/records_test.cpp).
-#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "session_fixtures.hpp"
 
 namespace cathbox::session::fixtures {
 
-// One HCLM segment: points every 2 mm from `from` along `dir` for `length_mm`.
-inline std::string tube_segment(int id, const char* name, const char* links, double flow, double fx, double fz, double dx, double dz,
-                    double length_mm, double radius_mm) {
-  const int n = static_cast<int>(std::lround(length_mm / 2.0)) + 1;
+// The bundled text of tests/host/session/data/stent_tube.`ext` (also read by the trainee page's
+// browser test, tests/browser/train_stent.py).
+inline std::string stent_tube_data(const char* ext) {
+  std::ifstream in(std::string(CATHBOX_SOURCE_DIR) + "/tests/host/session/data/stent_tube." + ext);
   std::ostringstream s;
-  s << "g " << id << "\nl " << name << "\nf " << flow << "\n" << links << "n " << n << "\n";
-  for (int i = 0; i < n; ++i) s << "v " << fx + dx * 2.0 * i << " 0 " << fz + dz * 2.0 * i << " " << radius_mm << "\n";
+  s << in.rdbuf();
   return s.str();
 }
 
-// The Y and its stack, written into CATHBOX_BINARY_DIR/`dir`; `clot` the case's clot line,
-// `guide_extra` more lines for the guide. The case file's path.
+// The Y and its stack, written into CATHBOX_BINARY_DIR/`dir`; `clot` replaces the case's clot
+// line, `guide_extra` are more lines for the guide (before its `end`). The case file's path.
 inline std::string write_stent_tube_case(const char* clot = "clot 2 6 10 red=60 fibrin=30\n", const char* guide_extra = "",
                                          const std::string& dir = "session_test") {
-  const double side = std::sqrt(0.5);
-  const std::string hclm = "s 3\n\n" + tube_segment(1, "parent", "p 0\nc 2 2 3\n", 200, 0, 0, 0, 1, 30, 1.8) + "\n" +
-                           tube_segment(2, "straight_branch", "p 1 1\nc 0\n", 120, 0, 30, 0, 1, 50, 1.4) + "\n" +
-                           tube_segment(3, "side_branch", "p 1 1\nc 0\n", 80, 0, 30, side, side, 30, 1.2);
   const std::string vessel = fixtures::temp_path(dir, "stent_tube.hclm");
-  std::ofstream(vessel) << hclm;
+  std::ofstream(vessel) << stent_tube_data("hclm");
+  std::string text = stent_tube_data("case");
+  const auto line = [&](const std::string& head) {
+    const std::size_t at = text.find("\n" + head) + 1;
+    return std::pair{at, text.find('\n', at) + 1 - at};
+  };
+  const auto [clot_at, clot_n] = line("clot ");
+  text.replace(clot_at, clot_n, clot);
+  text.insert(line("end").first, guide_extra);  // the guide is the first tool
+  const auto [vessel_at, vessel_n] = line("vessel ");
+  text.replace(vessel_at, vessel_n, "vessel " + vessel + "\n");
   const std::string path = fixtures::temp_path(dir, "stent_tube.case");
-  std::ofstream(path) << "cathbox-case 1\n"
-                         "name stent retriever in a straight branch\n"
-                         "vessel " << vessel << "\n"
-                      << clot << "tool guide catheter\n"
-                         "  section 900 od=2.7 ei=400 gj=300\n"
-                         "  section 80 od=2.7 ei=80 gj=60\n"
-                         "  friction 0.15\n"
-                         "  inner_diameter 2.13\n"
-                         "  balloon length=10 from_tip=3 nominal=1 burst=2 chart=0.1:3,0.5:7,1:9,2:10\n"
-                      << guide_extra << "end\n"
-                         "tool microcatheter catheter\n"
-                         "  section 1400 od=0.85 ei=8 gj=6\n"
-                         "  section 150 od=0.8 ei=2 gj=1.6\n"
-                         "  friction 0.1\n"
-                         "  inner_diameter 0.53\n"
-                         "  inside guide\n"
-                         "  spacing 2 0.5 40\n"
-                         "end\n"
-                         "tool stent guidewire\n"
-                         "  section 1700 od=0.4 ei=30 gj=23\n"
-                         "  section 60 od=0.4 ei=5 gj=4\n"
-                         "  section 20 od=0.45 ei=2 gj=1.5\n"
-                         "  friction 0.08\n"
-                         "  inside microcatheter\n"
-                         "  spacing 2 0.5 30\n"
-                         "  stent_retriever diameter=4 length=20 embed=0.5\n"
-                         "end\n";
+  std::ofstream(path) << text;
   return path;
 }
 
