@@ -87,6 +87,10 @@ EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m,
     for (const session::ToolConvergence& c : m.convergence) {
       if (c.solved_ticks > 0) ImGui::TextDisabled("%-22s %8.2f %% (%s)", "unconverged steps", c.unconverged_pct(), c.tool.c_str());
     }
+    if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {  // released coils at rest, not solved
+      ImGui::TextDisabled("%-22s %8lld (%lld wakes)", "coil steps asleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
+                          static_cast<long long>(*m.coil_sleep_wakes));
+    }
     ImGui::Separator();
     optional_row("fluoroscopy time", m.fluoroscopy_time_s, "s");
     optional_row("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");

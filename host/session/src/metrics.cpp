@@ -228,6 +228,10 @@ std::string MetricsCollector::format(const Metrics& m) {
     const std::optional<double> hern = m.coil_herniations ? std::optional<double>(*m.coil_herniations) : std::nullopt;
     optional_figure("coil herniations", hern, "");
     optional_figure("kick-back", m.kick_back_mm, "mm");
+    if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {
+      appendf(out, "%-21s %lld coil steps skipped, %lld wakes\n", "coil sleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
+              static_cast<long long>(*m.coil_sleep_wakes));
+    }
   }
   if (m.balloon_inflations) {  // an angioplasty case: its figures, else no lines at all
     optional_figure("stenosis before", m.stenosis_before_pct, "%");
@@ -305,6 +309,8 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.coil_length_mm) add("coil_length_mm", *m.coil_length_mm);
   if (m.coil_herniations) add("coil_herniations", *m.coil_herniations);
   if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
+  if (m.coil_sleep_skipped_steps) add("coil_sleep_skipped_steps", static_cast<double>(*m.coil_sleep_skipped_steps));
+  if (m.coil_sleep_wakes) add("coil_sleep_wakes", static_cast<double>(*m.coil_sleep_wakes));
   if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
   if (m.residual_stenosis_pct) add("residual_stenosis_pct", *m.residual_stenosis_pct);
   if (m.balloon_inflations) add("balloon_inflations", *m.balloon_inflations);
@@ -337,6 +343,7 @@ std::vector<std::string> metric_names() {
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm",
+          "coil_sleep_skipped_steps", "coil_sleep_wakes",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
           "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",

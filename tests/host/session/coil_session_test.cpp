@@ -2,7 +2,7 @@
 // tool's nodes and SceneSnapshot::coils carries it, node for node where the simulator has it
 // (the trainer draws it from there in the 3D view and the fluoroscopy); `load_coil` then feeds
 // the case's next coil; the record (its header with the next coil, the detach_coil and
-// load_coil controls) replays with every state hash matching. A small analytic case (a 6.4 mm sphere on a 2 mm
+// load_coil controls) replays with every state hash matching, and its coil sleep counts in the metrics. A small analytic case (a 6.4 mm sphere on a 2 mm
 // artery, microcatheter and a 20 mm coil), in virtual time.
 #include <gtest/gtest.h>
 
@@ -12,6 +12,7 @@
 #include <string>
 
 #include "session/keyboard_hand.hpp"
+#include "session/metrics.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
@@ -25,7 +26,8 @@ namespace {
 
 // The microcatheter's tip 1 mm into the sphere, the coil pushed out until its detachment zone
 // is 1.5 mm past the tip, released at 2400 ms, the pusher drawn back; at 3000 ms the next coil
-// (15 mm) is loaded at the hub and pushed 10 mm into the catheters.
+// (15 mm) is loaded at the hub and pushed 10 mm into the catheters; four seconds' rest
+// to the end (the released coil creeps, 0.06 um a tick, until ~6 s, then sleeps).
 constexpr const char* kScript = R"(0     select microcatheter
 0     insert_to 21 at 20
 0     select coil
@@ -35,7 +37,7 @@ constexpr const char* kScript = R"(0     select microcatheter
 2500  insert_to 15 at 40
 3000  load_coil
 3000  insert_to 10 at 40
-3400  end
+7400  end
 )";
 
 std::unique_ptr<SessionCase> sphere_case() {
@@ -51,6 +53,7 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
   ASSERT_TRUE(hand);
   const std::string record = fixtures::temp_path("coil_session_test", "coil.cbxrec");
   std::string error;
+  std::int64_t sleep_skipped = -1, sleep_wakes = -1;
   {
     Session s(std::move(scene), std::move(hand));
     const base::Status<> recording = s.record_to(record);
@@ -99,6 +102,16 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
     EXPECT_EQ(s.simulator().coils_loaded(1), 1u);
     EXPECT_EQ(s.simulator().rod(1).spec().detach_mm, 15.0) << "the tool carries the next coil";
     EXPECT_NEAR(s.simulator().insertion_mm(1), 10.0, 1e-9) << "pushed from the hub";
+    // The coil sleep in the metrics: the simulator's own counts; the released coil came to rest
+    // and slept once nothing near it moved.
+    const tool::CoilSleep& sleep = s.simulator().coil_sleep();
+    ASSERT_TRUE(s.metrics().coil_sleep_skipped_steps.has_value());
+    ASSERT_TRUE(s.metrics().coil_sleep_wakes.has_value());
+    EXPECT_EQ(*s.metrics().coil_sleep_skipped_steps, static_cast<std::int64_t>(sleep.skipped_steps()));
+    EXPECT_EQ(*s.metrics().coil_sleep_wakes, static_cast<std::int64_t>(sleep.wakes()));
+    EXPECT_GT(sleep.skipped_steps(), 0u) << "the released coil never slept";
+    sleep_skipped = *s.metrics().coil_sleep_skipped_steps;
+    sleep_wakes = *s.metrics().coil_sleep_wakes;
   }  // the record is closed
   auto reader_opened = RecordReader::open(record);
   ASSERT_TRUE(reader_opened) << reader_opened.error().message;
@@ -121,6 +134,17 @@ TEST(CoilSession, AfterDetachTheSceneSnapshotHoldsTheReleasedCoilWhereTheSimulat
   ASSERT_TRUE(r.error.empty()) << r.error;
   EXPECT_FALSE(r.mismatch);
   EXPECT_GT(r.hashes_checked, 10);
+  // The replay sleeps the same coil steps; the figures are named for the server and printed.
+  EXPECT_EQ(r.metrics.coil_sleep_skipped_steps, sleep_skipped);
+  EXPECT_EQ(r.metrics.coil_sleep_wakes, sleep_wakes);
+  int named = 0;
+  for (const NamedMetric& n : named_metrics(r.metrics)) {
+    if (n.name == "coil_sleep_skipped_steps") named += n.value == static_cast<double>(sleep_skipped) ? 1 : 100;
+    if (n.name == "coil_sleep_wakes") named += n.value == static_cast<double>(sleep_wakes) ? 1 : 100;
+  }
+  EXPECT_EQ(named, 2);
+  EXPECT_NE(MetricsCollector::format(r.metrics).find("coil sleep            " + std::to_string(sleep_skipped) + " coil steps skipped"),
+            std::string::npos);
 }
 
 // The wall forces after a release: the session's readings (TickView::contacts, what the peak
@@ -170,7 +194,7 @@ TEST(CoilSession, TheWallForceReadingsCoverTheReleasedCoil) {
   ReleasedCoilWallForces forces;
   s.add_observer(forces);
   while (!s.over()) s.step_virtual(1000);
-  ASSERT_GT(forces.ticks, 900) << "the coil is released at 2400 ms of 3400";
+  ASSERT_GT(forces.ticks, 4900) << "the coil is released at 2400 ms of 7400";
   EXPECT_EQ(forces.sizes_match, forces.ticks) << "a reading per snapshot tool";
   EXPECT_GT(forces.checked, 0) << "no tick on which every step converged";
   EXPECT_EQ(forces.wrong, 0) << "first at " << forces.first_wrong_us << " us (of " << forces.checked << " checked)";

@@ -195,6 +195,8 @@ json metrics_json(const session::ReplayResult& r) {
           {"coil_length_mm", optional_number(m.coil_length_mm)},
           {"coil_herniations", m.coil_herniations ? json(*m.coil_herniations) : json(nullptr)},
           {"kick_back_mm", optional_number(m.kick_back_mm)},
+          {"coil_sleep_skipped_steps", m.coil_sleep_skipped_steps ? json(*m.coil_sleep_skipped_steps) : json(nullptr)},
+          {"coil_sleep_wakes", m.coil_sleep_wakes ? json(*m.coil_sleep_wakes) : json(nullptr)},
           {"stenosis_before_pct", optional_number(m.stenosis_before_pct)},
           {"residual_stenosis_pct", optional_number(m.residual_stenosis_pct)},
           {"balloon_inflations", m.balloon_inflations ? json(*m.balloon_inflations) : json(nullptr)},

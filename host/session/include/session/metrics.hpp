@@ -125,6 +125,10 @@ struct Metrics {
   std::optional<double> coil_length_mm;
   std::optional<int> coil_herniations;
   std::optional<double> kick_back_mm;
+  // Released coils at rest are not solved (tool::CoilSleep): coil steps skipped, and times a
+  // sleeping coil was woken, since the run began.
+  std::optional<std::int64_t> coil_sleep_skipped_steps;
+  std::optional<std::int64_t> coil_sleep_wakes;
   // Filled by the session when the case has a balloon catheter in a meshed vessel.
   std::optional<double> stenosis_before_pct;     // with a lesion found in the vessel
   std::optional<double> residual_stenosis_pct;
@@ -183,6 +187,11 @@ class MetricsCollector {
   [[nodiscard]] const Metrics& metrics() const { return m_; }
   // The coiling figures, from the session's tool::CoilMetrics after each tick.
   void set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm);
+  // The simulator's coil sleep counts (tool::CoilSleep::skipped_steps, wakes), with the coiling figures.
+  void set_coil_sleep(std::int64_t skipped_steps, std::int64_t wakes) {
+    m_.coil_sleep_skipped_steps = skipped_steps;
+    m_.coil_sleep_wakes = wakes;
+  }
   // Tool `t`'s convergence counts (ContactReadings::solved_ticks / held_ticks) after each tick;
   // its name is taken when the tool is first seen (no allocation on later ticks).
   void set_convergence(std::size_t t, std::string_view tool, std::int64_t solved_ticks, std::int64_t unconverged_ticks);
