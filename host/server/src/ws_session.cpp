@@ -37,6 +37,16 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
       if (subprotocol) res.set(http::field::sec_websocket_protocol, "cathbox");
     }));
     ws_.read_message_max(publisher_ ? kMaxFrameBytes : kMaxWatcherMessageBytes);
+    // The socket's idle time counts from its upgrade (its first message in), and sweeps see it
+    // from now: before the peer has the answer, so a sweep after the peer's handshake finds it
+    // with that stamp, however late the accept's completion runs here.
+    last_activity_us_ = now_us();
+    next_recheck_us_ = last_activity_us_ + recheck_us();
+    {
+      std::lock_guard lock(s_.ws_mutex);
+      std::erase_if(s_.ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
+      s_.ws_sockets.push_back(shared_from_this());
+    }
     auto self = shared_from_this();
     ws_.async_accept(req, [self](beast::error_code ec) { self->on_accept(ec); });
   }
@@ -47,30 +57,33 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
 
   // On the server's clock (http_server.hpp): an idle socket closes; the token is checked again
   // every ws_recheck_s.
+  // A sweep that comes while the handshake is still being answered is judged when it completes.
   void sweep(std::int64_t now_us) override {
     net::post(ws_.get_executor(), [self = shared_from_this(), now_us] {
       if (self->finished_) return;
-      const std::int64_t idle_us = std::int64_t{self->s_.options.ws_idle_timeout_s} * 1'000'000;
-      if (self->evictable_when_idle() && now_us - self->last_activity_us_ >= idle_us) {
-        self->finish();
-        self->ws_.async_close(websocket::close_reason(websocket::close_code::going_away, "idle"), [self](beast::error_code) {});
+      if (!self->accepted_) {
+        self->swept_before_accept_us_ = now_us;
         return;
       }
-      if (!self->rechecking_ && now_us >= self->next_recheck_us_) self->recheck();
+      self->judge(now_us);
     });
   }
 
  private:
+  // At the sweep's `now_us`: closes the socket when idle too long, else rechecks its token when due.
+  void judge(std::int64_t now_us) {
+    const std::int64_t idle_us = std::int64_t{s_.options.ws_idle_timeout_s} * 1'000'000;
+    if (evictable_when_idle() && now_us - last_activity_us_ >= idle_us) {
+      finish();
+      ws_.async_close(websocket::close_reason(websocket::close_code::going_away, "idle"), [self = shared_from_this()](beast::error_code) {});
+      return;
+    }
+    if (!rechecking_ && now_us >= next_recheck_us_) recheck();
+  }
+
   void on_accept(beast::error_code ec) {
     if (ec) return finish();
     accepted_ = true;
-    last_activity_us_ = now_us();
-    next_recheck_us_ = last_activity_us_ + recheck_us();
-    {
-      std::lock_guard lock(s_.ws_mutex);
-      std::erase_if(s_.ws_sockets, [](const std::weak_ptr<SweptSocket>& w) { return w.expired(); });
-      s_.ws_sockets.push_back(shared_from_this());
-    }
     if (publisher_) {
       ++s_.publishers;
       ++s_.publishers_now;
@@ -80,6 +93,10 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
       if (can_supervise(caller_.role)) s_.hub.subscribe_events(shared_from_this());
       for (const std::string& rig : watching_) s_.hub.subscribe(rig, shared_from_this(), watch_restriction());
       enqueue(std::make_shared<const std::string>(first_message_));
+    }
+    if (swept_before_accept_us_ >= 0) {
+      judge(swept_before_accept_us_);
+      if (finished_) return;
     }
     read();
   }
@@ -235,6 +252,7 @@ class WsSession final : public LiveSubscriber, public SweptSocket, public std::e
   websocket::stream<TlsOrPlainStream> ws_;
   std::int64_t last_activity_us_ = 0;  // the server's clock: the last message in or out
   std::int64_t next_recheck_us_ = 0;
+  std::int64_t swept_before_accept_us_ = -1;  // the last sweep's time while the handshake was answered (-1: none)
   bool rechecking_ = false;
   beast::flat_buffer buffer_;
   Caller caller_;

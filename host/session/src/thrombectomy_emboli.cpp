@@ -88,12 +88,13 @@ ClotView ThrombectomyUnit::embolus_view(std::size_t k) const {
 }
 
 // Each embolus still on its way, carried on to its end in the control run's network (no
-// arrest); the ones before it lodged there too, so a later one meets the flows they leave.
+// arrest); the ones before it lodged there too (clots with ids of their own, taken out again by
+// those ids), so a later one meets the flows they leave.
 void ThrombectomyUnit::finish(std::int64_t time_us) {
   if (finished_) return;
   finished_ = true;
   if (in_transit_.empty()) return;
-  const std::size_t remaining = clots_.size();
+  std::vector<ClotId> would_lodge;
   if (resolve(time_us, false)) {
     for (const flow::EmbolusTransit& e : in_transit_) {
       EmbolusInTransit d{segment_name(e.position().segment), e.position().arc_mm, {}, false};
@@ -102,7 +103,8 @@ void ThrombectomyUnit::finish(std::int64_t time_us) {
       if (on.state() == flow::TransitState::kAspirated) continue;  // the catheter would take it: not an embolus
       if (on.done()) {
         const std::vector<flow::Terminal> without = network_.terminals();
-        clots_.push_back(on.path().lodged);
+        add_clot(on.path().lodged);
+        would_lodge.push_back(clot_ids_.back());
         if (!resolve(time_us, false)) break;
         d.would_lodge = segment_name(on.path().lodged.segment);
         d.new_territory = !flow::new_territories(target_, without, network_.terminals()).empty();
@@ -114,7 +116,7 @@ void ThrombectomyUnit::finish(std::int64_t time_us) {
       figures_.emboli_in_transit.push_back(std::move(d));
     }
   }
-  clots_.resize(remaining);
+  erase_clots(would_lodge);
   (void)resolve(time_us, true);
 }
 

@@ -116,20 +116,26 @@ TEST_P(AttackHttpTest, PagesCarryAStrictPolicy) {
   }
 }
 
-// True once the socket is closed by the server: reads until a close (bounded: a few reads that
-// each wait for the server's answer, never a sleep).
+// What decides the WebSocket tests below is the order of events on the server's clock
+// (ManualClock, HttpServer::sweep()), never how long something takes: each read waits for an
+// answer the server owes (a message, a close), and kHangGuard_ms only keeps a broken server from
+// hanging the test (a read that reaches it fails with the socket's "timeout" line).
+constexpr int kHangGuard_ms = 60'000;
+
+// True once the socket is closed by the server: the next reads end with its close, not a
+// message (at most 4 messages still queued before it are skipped).
 bool closed_by_server(WsClient& ws, std::string& why) {
   for (int i = 0; i < 5; ++i) {
-    const Result<std::string> m = ws.read(5000);
+    const Result<std::string> m = ws.read(kHangGuard_ms);
     why = m ? std::string() : m.error().message;
-    if (!m && why != WsClient::kReadTimeout) return true;
+    if (!m) return why != WsClient::kReadTimeout;
   }
   return false;
 }
 
-// A message arrives within `timeout_ms` (else the socket's line).
-::testing::AssertionResult reads(WsClient& ws, int timeout_ms) {
-  const Result<std::string> m = ws.read(timeout_ms);
+// A message arrives (else the socket's line).
+::testing::AssertionResult reads(WsClient& ws) {
+  const Result<std::string> m = ws.read(kHangGuard_ms);
   if (!m) return ::testing::AssertionFailure() << m.error().message;
   return ::testing::AssertionSuccess();
 }
@@ -138,7 +144,7 @@ bool closed_by_server(WsClient& ws, std::string& why) {
 // counts as activity).
 bool answers(WsClient& ws, std::string& why) {
   if (!ws.send(R"({"type":"nonsense"})")) return false;
-  const Result<std::string> m = ws.read(5000);
+  const Result<std::string> m = ws.read(kHangGuard_ms);
   if (!m) why = m.error().message;
   return m.ok();
 }
@@ -157,7 +163,7 @@ TEST_P(AttackHttpTest, AWatchersSocketClosesWhenItsTokenIsRevoked) {
   WsClient watcher;
   ASSERT_TRUE(watcher.connect(server.base_url(), "/api/v1/live/watch", teacher));
   std::string error;
-  ASSERT_TRUE(reads(watcher, 10000));  // the rig list
+  ASSERT_TRUE(reads(watcher));  // the rig list
   HttpClient http(server.base_url());
   http.set_token(teacher);
   ASSERT_EQ(http.post_json("/api/v1/logout", "").status, 204);
@@ -180,11 +186,11 @@ TEST_P(AttackHttpTest, IdleWebSocketsAreEvicted) {
   WsClient stream, idle_watcher, instructor;
   std::string error;
   ASSERT_TRUE(instructor.connect(server.base_url(), "/api/v1/live/watch", teacher));
-  ASSERT_TRUE(reads(instructor, 5000));  // the rig list
+  ASSERT_TRUE(reads(instructor));  // the rig list
   ASSERT_TRUE(stream.connect(server.base_url(), "/api/v1/live/rigs/rig-07/stream?case=ybif", alice));
-  ASSERT_TRUE(reads(instructor, 5000));  // alice's stream started
+  ASSERT_TRUE(reads(instructor));  // alice's stream started
   ASSERT_TRUE(idle_watcher.connect(server.base_url(), "/api/v1/live/watch", bob));
-  ASSERT_TRUE(reads(idle_watcher, 5000));  // the rig list
+  ASSERT_TRUE(reads(idle_watcher));  // the rig list
   clock.advance_us(59'000'000);
   server.app->http().sweep();
   ASSERT_TRUE(answers(idle_watcher, error)) << error;  // still open, and now active again
@@ -198,7 +204,7 @@ TEST_P(AttackHttpTest, IdleWebSocketsAreEvicted) {
   // The instructor's watcher is still open (it answers) and saw the stream end.
   bool ended = false;
   for (int i = 0; i < 5 && !ended; ++i) {
-    const Result<std::string> m = instructor.read(5000);
+    const Result<std::string> m = instructor.read(kHangGuard_ms);
     ASSERT_TRUE(m) << m.error().message;
     ended = m->find(R"("type":"ended")") != std::string::npos;
   }

@@ -401,5 +401,63 @@ TEST(ThrombectomyUnit, AFragmentStillInTransitWhenTheRunEndsIsCountedWhereTheFlo
   EXPECT_NE(MetricsCollector::format(m).find("would lodge in the " + t.would_lodge), std::string::npos) << MetricsCollector::format(m);
 }
 
+// Two clots, the first in the list taken out, so ids and places in the list differ: a short
+// red-cell-rich clot in the right M1 (segment 15) ingested or corked by pass 1; then pass 2 loses
+// the fibrin-rich left M1 clot and its fragment is on its way when the run ends. finish() lodges
+// the fragment as a clot of its own for its figures and takes that one out again by its id: the
+// left M1 clot stays, alone, and the network is as it was (a mix-up of ids and places would
+// erase the left M1 clot and leave the embolus in the network).
+TEST(ThrombectomyUnit, FinishTakesOutTheClotItLodgedNotOneThatRemains) {
+  const auto run_to_a_lost_fragment = [](M1& c) {
+    load_m1(c, {{"inner_diameter 1.73", "inner_diameter 0.89"},
+                {"clot 22 2 13 red=60 fibrin=30", "clot 15 2 2 red=60 fibrin=30\nclot 22 2 13 red=15 fibrin=75"}});
+    ASSERT_TRUE(c.unit);
+    ASSERT_EQ(c.unit->clots().size(), 2u);
+    const std::uint32_t right_m1 = index_of(c.scene->flow->model(), 15);
+    ASSERT_EQ(c.unit->clots()[0].segment, right_m1);
+    const flow::CenterlineLocator loc(c.scene->flow->model());
+    ASSERT_TRUE(c.unit->set_aspiration(kAspirationCatheter, true, 0));
+    place(c, loc.point_at(right_m1, 2.0), 130.0, 1000);
+    ASSERT_TRUE(c.unit->engaged());
+    place(c, loc.point_at(right_m1, 0.5), 118.0, 2000);
+    ASSERT_EQ(c.unit->figures().passes, 1);
+    ASSERT_EQ(c.unit->clots().size(), 1u) << "pass 1 takes the right M1 clot out";
+    ASSERT_EQ(c.unit->clots()[0].segment, c.m1);
+    place(c, loc.point_at(c.m1, 2.0), 130.0, 3000);
+    ASSERT_TRUE(c.unit->engaged());
+    place(c, loc.point_at(c.ica_terminal, 2.0), 118.0, 4000);
+    ASSERT_EQ(c.unit->figures().passes, 2);
+    ASSERT_EQ(c.unit->clots().size(), 1u) << "lost: the left M1 clot stays";
+    ASSERT_EQ(c.unit->emboli_in_transit(), 1u);
+  };
+  M1 ended;
+  M1 carried;
+  run_to_a_lost_fragment(ended);
+  run_to_a_lost_fragment(carried);
+  if (HasFatalFailure()) return;
+  ended.unit->tick(5000, ended.snap);
+  ASSERT_EQ(ended.unit->emboli_in_transit(), 1u);
+  const flow::Clot before_clot = ended.unit->clots()[0];
+  const std::vector<flow::Terminal> before = ended.scene->flow->terminals();
+  ended.unit->finish(5000);
+  (void)carry_emboli(carried, 4000);
+  ASSERT_EQ(carried.unit->figures().emboli_lodged.size(), 1u);
+  ASSERT_EQ(ended.unit->figures().emboli_in_transit.size(), 1u);
+  EXPECT_EQ(ended.unit->figures().emboli_in_transit[0].would_lodge, carried.unit->figures().emboli_lodged[0]);
+  // The clot that remains is the left M1's, as it was; the network occluded by it alone again.
+  ASSERT_EQ(ended.unit->clots().size(), 1u);
+  EXPECT_EQ(ended.unit->clots()[0].segment, before_clot.segment);
+  EXPECT_EQ(ended.unit->clots()[0].arc_start_mm, before_clot.arc_start_mm);
+  EXPECT_EQ(ended.unit->clots()[0].length_mm, before_clot.length_mm);
+  const std::vector<flow::Terminal> after = ended.scene->flow->terminals();
+  ASSERT_EQ(after.size(), before.size());
+  for (std::size_t k = 0; k < after.size(); ++k) EXPECT_NEAR(after[k].flow_ml_min, before[k].flow_ml_min, 1e-9) << k;
+  // A new pass on the remaining clot still engages it by its id (the vacuum holds the left M1's).
+  const flow::CenterlineLocator loc(ended.scene->flow->model());
+  place(ended, loc.point_at(ended.m1, 2.0), 130.0, 6000);
+  EXPECT_TRUE(ended.unit->engaged());
+  EXPECT_GT(ended.unit->aspiration_grip_mN(kAspirationCatheter), 0.0) << "the fibrin-rich clot on the 0.035\" lumen pulls";
+}
+
 }  // namespace
 }  // namespace cathbox::session

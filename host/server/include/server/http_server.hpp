@@ -65,8 +65,9 @@ struct HttpServerOptions {
   // (0: only when sweep() is called, for tests in virtual time):
   // - an open WebSocket's token is checked again every ws_recheck_s: logged out, expired or
   //   disabled closes the socket (1008 policy violation);
-  // - idle for ws_idle_timeout_s (no message either way; pings do not count) closes a rig's
-  //   stream (its rig name is released) and a trainee's watcher that watches no rig (1001 "idle");
+  // - idle for ws_idle_timeout_s (no message either way, counted from the upgrade; pings do
+  //   not count) closes a rig's stream (its rig name is released) and a trainee's watcher that
+  //   watches no rig (1001 "idle");
   //   an instructor's watcher and a watcher of rigs stay however quiet the rigs are;
   // - one account holds at most max_websockets_per_account of them (more: 429 on the upgrade).
   int ws_recheck_s = 10;
@@ -106,7 +107,8 @@ class HttpServer {
   [[nodiscard]] bool tls() const;
   [[nodiscard]] HttpServerStats stats() const;
   // Looks at every open WebSocket now (idle eviction, token recheck); runs by itself every
-  // sweep_every_ms.
+  // sweep_every_ms. Each socket is judged on its own I/O thread at this call's time (one whose
+  // handshake is still being answered, when it completes); a socket is seen from its upgrade.
   void sweep();
 
   struct Impl;
