@@ -23,7 +23,7 @@ void Rod::solve_positions(Newton& s) {
   for (int it = 0; it < s.rounds; ++it) {
     build_system(s);
     if (!newton_direction(s)) break;  // keep the previous positions; never propagate NaN
-    if (join_wall(s)) continue;
+    if (join_wall(s, it)) continue;
     damp_reversal(s);
     line_search(s);
     hold_gaps(s);
@@ -36,7 +36,7 @@ void Rod::solve_positions(Newton& s) {
     }
     // A node left in the wall at the end would be clamped at the penetration limit, which
     // reads as the contact cap: up to two more iterations hold it.
-    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + s.activations + 2) ++s.rounds;
+    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;
   }
 }
 
@@ -106,7 +106,7 @@ bool Rod::newton_direction(Newton& s) {
 
 // Nodes off the wall that the step would carry into it join the active set (at most three
 // times a step); the caller solves again.
-bool Rod::join_wall(Newton& s) {
+bool Rod::join_wall(Newton& s, int it) {
   const std::size_t n = x_.size();
   bool joined = false;
   for (std::size_t k = first_free_; k < n && s.activations < 3; ++k) {
@@ -127,8 +127,7 @@ bool Rod::join_wall(Newton& s) {
   }
   if (!joined) return false;
   ++s.activations;
-  // The same linearisation solved again with them held: not an iterate, so not one of the cap's.
-  ++s.rounds;
+  if (it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;  // solve with them held
   s.refactor = true;
   s.rejoin = true;
   return true;

@@ -19,7 +19,7 @@ struct Rod::Newton {
   std::size_t dofs = 0;           // unknowns of the simulated window, 3 per node
   std::size_t free0 = 0;          // first unknown of a free node
   int iterations = 0;             // RodSettings::newton_iterations, at least 1
-  int rounds = 0;                 // iterations allowed, raised by each join and up to two to hold nodes
+  int rounds = 0;                 // iterations allowed, raised by up to two to hold joining nodes
   int activations = 0;            // rounds that solved again with nodes joined to the active set
   // The Hessian is assembled and factored again only when the active set or an active contact
   // plane changed, or a step failed to lower the energy; otherwise only the gradient is rebuilt

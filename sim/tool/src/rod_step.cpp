@@ -65,7 +65,7 @@ void Rod::start_solve(Newton& s, double dt_s) {
   const bool warm = warm_ok_ && !compressed_ && settings_.warm_start != 0.0;
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 from = x_[k];
-    if (warm && k >= warm_first_) x_[k] += warm_move(k);
+    if (warm && k >= warm_first_) x_[k] += solved_move_[k] * settings_.warm_start;
     solved_move_[k] = from;
   }
   warm_ok_ = false;
@@ -85,17 +85,6 @@ void Rod::start_solve(Newton& s, double dt_s) {
   s.rounds = s.iterations;
   s.rejoin_from = n;
   std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
-}
-
-// A node's warm-start move: the RodSettings::warm_start fraction of its last motion; none for a
-// node the wall held at the end of that step. Extrapolated, a wire's tip sliding along a branch
-// wall was carried into the wall each step it converged, and the solve from there folded the
-// wire back on itself (NestedTools.MicrocatheterFollowsTheWireWhereverItWasSteered: 4 of 10
-// wire placements folded once join rounds left the Newton cap and more steps converged).
-glm::dvec3 Rod::warm_move(std::size_t k) const {
-  const NodeContact& nc = node_contacts_[k];
-  if (nc.has_plane && (nc.normal_force > 0.0 || nc.normal_force2 > 0.0)) return glm::dvec3(0.0);
-  return solved_move_[k] * settings_.warm_start;
 }
 
 void Rod::finish_solve(const Newton& s) {

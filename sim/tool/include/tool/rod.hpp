@@ -237,12 +237,11 @@ class Rod {
   void start_solve(Newton& s, double dt_s);  // warm start, weights, contacts, active set
   void solve_positions(Newton& s); // Gauss-Newton iterations on the node positions
   void finish_solve(const Newton& s);  // penetration limits, rod-rod projections, clamp force
-  [[nodiscard]] glm::dvec3 warm_move(std::size_t k) const;  // the warm start of free node k
   // One Newton iteration's phases, in order.
   void build_system(Newton& s);    // assemble (or amend) and factor
   void add_joined_wall_terms(Newton& s);
   [[nodiscard]] bool newton_direction(Newton& s);  // false: not finite
-  bool join_wall(Newton& s);  // nodes the step would carry into the wall join: true
+  bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
   void damp_reversal(Newton& s);
   void line_search(Newton& s);
   void place(double scale);  // free nodes at x_pred_ + scale delta_
