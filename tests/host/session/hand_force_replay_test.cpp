@@ -301,6 +301,22 @@ TEST_P(DeadEndRendering, TheBoxRendersWithinItsFullScaleAndSlew) {
 
 INSTANTIATE_TEST_SUITE_P(Meets, DeadEndRendering, ::testing::Values(kRuns[3], kRuns[5]), run_name);
 
+// The dead ends' wire converges on >= 99.5 % of its ticks (issue 29): a tick that ends
+// unconverged is solved again in 2, then 4 sub-increments of the hand's motion (RodSettings::
+// substeps_max; rigid 2.41 -> 0.29 %, compliant 1.59 -> 0.02 %: docs/sim-tool/convergence.md).
+class DeadEndConvergence : public ::testing::TestWithParam<FeelRun> {};
+
+TEST_P(DeadEndConvergence, TheWireConvergesOnAtLeast99Point5PercentOfItsTicks) {
+  const FeelRun& run = GetParam();
+  Metrics m;
+  const HandForceTrace trace = run_session(run, m);
+  ASSERT_GT(trace.ticks, 1000);
+  ASSERT_FALSE(m.convergence.empty());
+  for (const ToolConvergence& c : m.convergence) EXPECT_LE(c.unconverged_pct(), kUnconvergedMax_pct) << c.tool;
+}
+
+INSTANTIATE_TEST_SUITE_P(Meets, DeadEndConvergence, ::testing::Values(kRuns[3], kRuns[5]), run_name);
+
 // The dead ends: the wire's own force against its helix, with every step converged (check 3).
 // The tolerance: the rod's own agreement with Lubinski's frictionless helix (15 %, sim/tool's
 // helical buckling test) on either side of the band between the frictionless line (the least a
