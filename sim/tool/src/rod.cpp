@@ -10,6 +10,7 @@
 
 #include "rod_geometry.hpp"
 #include "rod_node_contact.hpp"
+#include "rod_step_start.hpp"
 #include "tool/banded_cholesky.hpp"
 
 namespace cathbox::tool {
@@ -131,6 +132,7 @@ void Rod::set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction) {
   insertion_mm_ = 0.0;
   rotation_rad_ = 0.0;
   stepped_insertion_mm_ = 0.0;
+  stepped_rotation_rad_ = 0.0;
   for (std::size_t k = 0; k < x_.size(); ++k) place_outside(k);
   for (NodeContact& c : node_contacts_) c = NodeContact{};
   contacts_.clear();

@@ -21,8 +21,7 @@ constexpr int kProjectionRounds = 6;  // wall / rod-rod projections alternated a
 constexpr double kRegatherMargins = 0.1;  // own motion (in margins) that takes the planes afresh after a solve
 }  // namespace
 
-void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
-  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+void Rod::step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
   begin_step();
   edge_contacts_.clear();
   if (first_free_ < x_.size()) {

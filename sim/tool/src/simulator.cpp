@@ -268,6 +268,13 @@ void Simulator::prepare(std::size_t t) {
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
 }
 
+// A tool with no catheter around it and none inside it (not a coil).
+bool Simulator::lone(std::size_t t) const {
+  const std::size_t n = rods_.size();
+  return rods_[t].spec().kind != ToolKind::kCoil && outer_of_[t] >= n && carrier_[t] >= n &&
+         std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
+}
+
 void Simulator::update_contact_members() {
   // Coils (their part past the detachment zone), released coils, and the tips of the
   // catheters coils leave.
@@ -294,9 +301,7 @@ void Simulator::update_contact_members() {
   // buckled into a dead end folds onto itself (its tip passed through its shaft without this).
   for (std::size_t t = 0; t < n; ++t) {
     const Rod& rod = rods_[t];
-    const bool lone = rod.spec().kind != ToolKind::kCoil && outer_of_[t] >= n && carrier_[t] >= n &&
-                      std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
-    if (!lone || rod.first_free_node() >= rod.node_total()) continue;
+    if (!lone(t) || rod.first_free_node() >= rod.node_total()) continue;
     RodContactField::Member m;
     m.rod = &rod;
     m.edge_first = rod.first_edge();
@@ -386,6 +391,9 @@ void Simulator::step(double dt_s) {
     update_contact_members();
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
+    // An unconverged tick solved again in sub-increments: lone tools only (convergence.md,
+    // "Sub-stepped ticks": on nested tools a test of the steered microcatheter failed with it).
+    rods_[t].settings().substeps_max = lone(t) ? tuning::kLoneToolSubsteps : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     WallProbe probe;
     probe.center_mm = rods_[t].tip().position_mm;

@@ -98,7 +98,8 @@ class Rod {
     leader_ = leader;
     leader_insertion_mm_ = leader_insertion_mm;
   }
-  // One quasi-static step of dt seconds against the wall (and other rods, when given).
+  // One quasi-static step of dt seconds against the wall (and other rods, when given); solved
+  // again in sub-increments when it ends unconverged (RodSettings::substeps_max).
   void step(double dt_s, const WallModel& wall, const RodObstacles* obstacles = nullptr);
 
   // Detaches the distal `length_mm` of the tool (a coil at its detachment zone, which must be
@@ -189,6 +190,8 @@ class Rod {
   [[nodiscard]] const ForceLaw& force_law() const { return law_; }
   // Solver diagnostics of the last step: iterations used.
   [[nodiscard]] int last_iterations() const { return last_iterations_; }
+  // Sub-increments the last tick was solved in: 1, or 2, 4 ... after an unconverged solve.
+  [[nodiscard]] int last_substeps() const { return last_substeps_; }
   // The last step's Newton iterations met the convergence test: its contact forces (the
   // penalty of each node's penetration) are close to an equilibrium's, not exactly one's: after
   // the test the step still moves nodes, limit_penetration() pushing any node past the
@@ -213,6 +216,7 @@ class Rod {
   }
   struct NodeContact;  // a node's wall contact (src/rod_node_contact.hpp)
   struct Newton;       // the Newton solve's state within a step (src/rod_newton.hpp)
+  struct StepStart;    // the state a step starts from (src/rod_step_start.hpp)
   Rod();  // an empty rod, filled by split_distal
 
   // Construction (rod.cpp, rod_material.cpp).
@@ -232,7 +236,11 @@ class Rod {
   void advect(double delta_mm);
   void seed_buckling();
 
-  // The phases of step() (rod_step.cpp, rod_newton.cpp).
+  // A tick solved again in sub-increments (rod_substep.cpp).
+  void step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles);
+  void save_step_start();
+  void restore_step_start(int parts);
+  // The phases of step_once() (rod_step.cpp, rod_newton.cpp).
   void begin_step();               // the predictor moves the tool by the insertion change
   void start_solve(Newton& s, double dt_s);  // warm start, weights, contacts, active set
   void solve_positions(Newton& s); // Gauss-Newton iterations on the node positions
@@ -321,6 +329,7 @@ class Rod {
   double insertion_mm_ = 0.0;
   double rotation_rad_ = 0.0;
   double stepped_insertion_mm_ = 0.0;  // insertion at the end of the last step
+  double stepped_rotation_rad_ = 0.0;  // rotation at the end of the last step
   bool compressed_ = false;            // the last step ended with a compressed edge
   double material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
   const Rod* leader_ = nullptr;
@@ -376,6 +385,8 @@ class Rod {
   ForceLaw law_;
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
+  int last_substeps_ = 1;
+  std::unique_ptr<StepStart> step_start_;  // made at the first step that keeps it
 };
 
 }  // namespace cathbox::tool

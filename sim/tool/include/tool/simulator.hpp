@@ -171,6 +171,7 @@ class Simulator {
   void update_chain();
   void prepare(std::size_t tool);
   void update_contact_members();
+  [[nodiscard]] bool lone(std::size_t t) const;  // no catheter around it, none inside it, not a coil
   void update_sheath(std::size_t tool, double dt_s);
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
   [[nodiscard]] bool steered_now(std::size_t c) const;

@@ -1,0 +1,116 @@
+// A tick whose Newton solve ends unconverged is solved again from its start, as 2, then 4 (up
+// to RodSettings::substeps_max) equal sub-increments of the motion imposed at the clamp (the
+// insertion, the rotation, the material advance of an inner tool), each of dt / parts: the
+// tool's velocity, hence its drag and the hand's rate terms, stays the tick's, while each solve
+// starts 1 / parts as far from its equilibrium and the solver's drag floor holds each node
+// parts times stiffer. A fixed, deterministic count: never a time budget (replays stay
+// bit-identical on every target). The tick's state and hand force are its last sub-step's.
+// The entry's move with a carrier's tip (move_entry, before the step) is not subdivided.
+#include <algorithm>
+#include <cmath>
+
+#include "rod_step_start.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+template <typename T>
+void keep(std::vector<T>& into, const std::vector<T>& from, std::size_t first) {
+  into.assign(from.begin() + static_cast<std::ptrdiff_t>(std::min(first, from.size())), from.end());
+}
+
+template <typename T>
+void put_back(std::vector<T>& into, const std::vector<T>& from, std::size_t first) {
+  std::copy(from.begin(), from.end(), into.begin() + static_cast<std::ptrdiff_t>(first));
+}
+
+}  // namespace
+
+void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+  const int most = settings_.substeps_max;
+  if (most > 1) save_step_start();
+  const double insertion = insertion_mm_;
+  const double rotation = rotation_rad_;
+  const double advance = material_advance_mm_;
+  step_once(dt_s, wall, obstacles);
+  last_substeps_ = 1;
+  for (int parts = 2; parts <= most && !warm_ok_ && first_free_ < x_.size(); parts *= 2) {
+    restore_step_start(parts);
+    const double insertion0 = stepped_insertion_mm_;
+    const double rotation0 = stepped_rotation_rad_;
+    for (int j = 1; j <= parts; ++j) {
+      const double u = static_cast<double>(j) / parts;
+      insertion_mm_ = j == parts ? insertion : insertion0 + (insertion - insertion0) * u;
+      rotation_rad_ = j == parts ? rotation : rotation0 + (rotation - rotation0) * u;
+      material_advance_mm_ = std::isfinite(advance) ? advance / parts : advance;
+      step_once(dt_s / parts, wall, obstacles);
+      stepped_rotation_rad_ = rotation_rad_;
+    }
+    last_substeps_ = parts;
+  }
+  stepped_rotation_rad_ = rotation_rad_;
+}
+
+void Rod::save_step_start() {
+  if (!step_start_) step_start_ = std::make_unique<StepStart>();
+  StepStart& s = *step_start_;
+  s.from = first_;
+  keep(s.x, x_, first_);
+  keep(s.grip_anchor, grip_anchor_, first_);
+  keep(s.grip_limit, grip_limit_, first_);
+  keep(s.solved_move, solved_move_, first_);
+  keep(s.gathered_at, gathered_at_, first_);
+  keep(s.node_contacts, node_contacts_, first_);
+  keep(s.tw_regime, tw_regime_, first_);
+  keep(s.theta, theta_, first_);
+  keep(s.ref_twist, ref_twist_, first_);
+  keep(s.t, t_, first_);
+  keep(s.d1, d1_, first_);
+  keep(s.m1, m1_, first_);
+  keep(s.m2, m2_, first_);
+  s.contacts = contacts_;
+  s.edge_contacts = edge_contacts_;
+  s.first = first_;
+  s.first_free = first_free_;
+  s.warm_first = warm_first_;
+  s.stepped_insertion_mm = stepped_insertion_mm_;
+  s.stepped_rotation_rad = stepped_rotation_rad_;
+  s.compressed = compressed_;
+  s.warm_ok = warm_ok_;
+}
+
+// Back to the step's start; the last converged motion the warm start reads is cut to a part's.
+void Rod::restore_step_start(int parts) {
+  const StepStart& s = *step_start_;
+  const std::size_t from = s.from;
+  // Nodes that joined the window below its start during the failed attempt go back outside.
+  for (std::size_t k = std::min(first_, from); k < from; ++k) place_outside(k);
+  put_back(x_, s.x, from);
+  put_back(grip_anchor_, s.grip_anchor, from);
+  put_back(grip_limit_, s.grip_limit, from);
+  put_back(solved_move_, s.solved_move, from);
+  put_back(gathered_at_, s.gathered_at, from);
+  put_back(node_contacts_, s.node_contacts, from);
+  put_back(tw_regime_, s.tw_regime, from);
+  put_back(theta_, s.theta, from);
+  put_back(ref_twist_, s.ref_twist, from);
+  put_back(t_, s.t, from);
+  put_back(d1_, s.d1, from);
+  put_back(m1_, s.m1, from);
+  put_back(m2_, s.m2, from);
+  contacts_ = s.contacts;
+  edge_contacts_ = s.edge_contacts;
+  first_ = s.first;
+  first_free_ = s.first_free;
+  warm_first_ = s.warm_first;
+  stepped_insertion_mm_ = s.stepped_insertion_mm;
+  stepped_rotation_rad_ = s.stepped_rotation_rad;
+  compressed_ = s.compressed;
+  warm_ok_ = s.warm_ok;
+  const double scale = 1.0 / parts;
+  for (std::size_t k = warm_first_; k < solved_move_.size(); ++k) solved_move_[k] *= scale;
+}
+
+}  // namespace cathbox::tool

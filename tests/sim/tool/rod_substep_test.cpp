@@ -1,0 +1,107 @@
+// A tick whose Newton solve ends unconverged is solved again from its start in 2, then 4 equal
+// sub-increments of the clamp's motion, each of dt / parts (RodSettings::substeps_max,
+// sim/tool/src/rod_substep.cpp). Quasi-static: a frictionless rod's equilibrium depends on where
+// the clamp is, not on how it got there, so the subdivided tick must be exactly the sub-ticks it
+// stands for, and it must end at the equilibrium the slow push reaches: Lubinski's helix
+// (Lubinski, Althouse & Logan, J. Petroleum Technology 14(6), 1962: a wire pushed delta past the
+// closed end of a tube of length L, radial clearance r, reads F = 4 EI delta / (r^2 L); the rod
+// itself against it: helical_buckling_test.cpp).
+#include <algorithm>
+#include <cstddef>
+
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "tool/rod.hpp"
+#include "tool/simulator.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+constexpr double kTubeRadius_mm = 2.0;
+constexpr double kWireDiameter_mm = 0.36;
+constexpr double kEi_Nmm2 = 40.0;  // the bundled 0.014" guidewire's shaft
+constexpr double kTubeEnd_mm = 200.0;
+constexpr double kContact_mm = kTubeEnd_mm + kTubeRadius_mm - kWireDiameter_mm / 2.0;  // tip at the closed end
+
+Rod make_wire() {
+  ToolSpec spec;
+  spec.name = "wire";
+  spec.sections.push_back(ToolSection{600.0, kWireDiameter_mm, kEi_Nmm2, 31.0, 0.0});
+  spec.friction = 0.0;
+  spec.max_spacing_mm = 1.0;
+  spec.tip_spacing_mm = 1.0;
+  RodSettings settings;
+  settings.warm_start = 0.0;  // each solve starts from the predictor alone: the two paths compare exactly
+  Rod rod(spec, settings);
+  rod.set_entry({0, 0, 0}, {0, 0, 1});
+  return rod;
+}
+
+void push(Rod& rod, const WallModel& wall, double& insertion, double target, double per_step) {
+  while (insertion < target - 1e-9) {
+    insertion = std::min(target, insertion + per_step);
+    rod.set_boundary(insertion, 0.0);
+    rod.step(1e-3, wall);
+  }
+}
+
+TEST(RodSubsteps, AnUnconvergedTickIsSolvedAgainAsItsSubTicksAndEndsOnLubinskisHelix) {
+  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
+  Rod a = make_wire();
+  Rod b = make_wire();
+  a.settings().substeps_max = 1;
+  b.settings().substeps_max = 1;
+  double ia = 0.0;
+  double ib = 0.0;
+  push(a, wall, ia, kContact_mm + 5.0, 0.05);  // the same history: 50 mm/s to 5 mm past the end
+  push(b, wall, ib, kContact_mm + 5.0, 0.05);
+  // One tick pushing 0.4 mm (0.4 m/s) into the helix: its solve does not converge in one.
+  constexpr double kJump_mm = 0.4;
+  a.settings().substeps_max = 4;
+  ia += kJump_mm;
+  a.set_boundary(ia, 0.0);
+  a.step(1e-3, wall);
+  const int parts = a.last_substeps();
+  ASSERT_GT(parts, 1) << "the tick converged whole: nothing was subdivided";
+  EXPECT_TRUE(a.converged());
+  for (int j = 1; j <= parts; ++j) {
+    b.set_boundary(ib + kJump_mm * j / parts, 0.0);
+    b.step(1e-3 / parts, wall);
+  }
+  ib += kJump_mm;
+  ASSERT_EQ(a.node_total(), b.node_total());
+  for (std::size_t k = a.first_node(); k < a.node_total(); ++k) {
+    ASSERT_EQ(a.positions()[k].x, b.positions()[k].x) << "node " << k;
+    ASSERT_EQ(a.positions()[k].y, b.positions()[k].y) << "node " << k;
+    ASSERT_EQ(a.positions()[k].z, b.positions()[k].z) << "node " << k;
+  }
+  EXPECT_EQ(a.hand_force_mN(), b.hand_force_mN());
+  EXPECT_EQ(a.converged(), b.converged());
+  // Held, it settles on the helix 6 mm past the end.
+  for (int k = 0; k < 50; ++k) a.step(1e-3, wall);
+  const double clearance_mm = kTubeRadius_mm - kWireDiameter_mm / 2.0;
+  const double expected = 4.0 * kEi_Nmm2 * 1000.0 * (ia - kContact_mm) / (clearance_mm * clearance_mm * kContact_mm);
+  EXPECT_NEAR(a.hand_force_mN() / expected, 1.0, 0.15);
+}
+
+// Without subdivision the same tick ends unconverged (the test above is not vacuous), and a
+// converged tick is never solved again.
+TEST(RodSubsteps, OnlyAnUnconvergedTickIsSubdivided) {
+  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
+  Rod rod = make_wire();
+  rod.settings().substeps_max = 1;
+  double insertion = 0.0;
+  push(rod, wall, insertion, kContact_mm + 5.0, 0.05);
+  rod.set_boundary(insertion + 0.4, 0.0);
+  rod.step(1e-3, wall);
+  EXPECT_FALSE(rod.converged());
+  EXPECT_EQ(rod.last_substeps(), 1);
+  rod.settings().substeps_max = 4;
+  for (int k = 0; k < 200; ++k) rod.step(1e-3, wall);  // held: every tick converges whole
+  EXPECT_TRUE(rod.converged());
+  EXPECT_EQ(rod.last_substeps(), 1);
+}
+
+}  // namespace
+}  // namespace cathbox::tool
