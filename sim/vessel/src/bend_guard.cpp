@@ -8,6 +8,9 @@
 
 #include <glm/geometric.hpp>
 
+#include "vessel/centerline_smoother.hpp"
+#include "vessel/mesh_options.hpp"
+
 namespace cathbox::vessel {
 namespace {
 
@@ -44,13 +47,27 @@ constexpr std::ptrdiff_t kWindow = 2;  // points on each side of a tight one tha
   return relax;
 }
 
+[[nodiscard]] double tightest(const std::vector<CenterlinePoint>& points) {
+  double out = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i + 1 < points.size(); ++i) out = std::min(out, bend_over_radius(points, i));
+  return out;
+}
+
 }  // namespace
 
-double tightest_bend_over_radius(const Segment& segment) {
-  double tightest = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 1; i + 1 < segment.points.size(); ++i) tightest = std::min(tightest, bend_over_radius(segment.points, i));
-  return tightest;
+std::vector<CenterlinePoint> swept_centerline(const Segment& segment) {
+  const MeshOptions defaults;
+  std::vector<CenterlinePoint> points = segment.points;
+  for (int pass = 0; pass < defaults.smoothing_passes; ++pass) {
+    if (defaults.smoothing == SmoothingMethod::kTaubin) taubin_polyline(points);
+    else smooth_polyline(points);
+  }
+  return points;
 }
+
+double tightest_bend_over_radius(const Segment& segment) { return tightest(segment.points); }
+
+double tightest_swept_bend_over_radius(const Segment& segment) { return tightest(swept_centerline(segment)); }
 
 BendGuardReport round_tight_bends(VesselModel& model, double min_bend_radii) {
   BendGuardReport report;
@@ -58,14 +75,15 @@ BendGuardReport round_tight_bends(VesselModel& model, double min_bend_radii) {
   report.tightest_before = std::numeric_limits<double>::infinity();
   for (Segment& segment : model.segments) {
     std::vector<CenterlinePoint>& points = segment.points;
-    const double tightest = tightest_bend_over_radius(segment);
-    if (tightest >= min_bend_radii) continue;
+    const double swept = tightest_swept_bend_over_radius(segment);
+    if (swept >= min_bend_radii) continue;
     ++report.bends;
-    report.tightest_before = std::min(report.tightest_before, tightest);
+    report.tightest_before = std::min(report.tightest_before, swept);
     const std::vector<CenterlinePoint> before = points;
     bool tight = true;
     for (int pass = 0; pass < kMaxPasses && tight; ++pass) {
-      const std::vector<char> relax = tight_windows(points, min_bend_radii, tight);
+      // Measured on the centreline the mesher sweeps, relaxed on the one it is given (the same points).
+      const std::vector<char> relax = tight_windows(swept_centerline(segment), min_bend_radii, tight);
       if (!tight) break;
       const std::vector<CenterlinePoint> last = points;
       for (std::size_t i = 1; i + 1 < points.size(); ++i) {

@@ -25,6 +25,10 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
+#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
+#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <glm/geometric.hpp>
 
 #include "vessel/point_range.hpp"
@@ -252,12 +256,14 @@ class SurfaceImporter {
   template <typename Lap>
   bool skeletonise(Lap& lap) {
     Skeleton skeleton;
-    Skeletonization mcs(mesh_);
+    const Mesh flow_mesh = flow_copy();
+    Skeletonization mcs(flow_mesh);
     // CGAL's default shortest edge is 0.2 % of the bounding box's diagonal (0.9 mm for a head and
     // neck tree): the flow collapses branches thinner than a few of those into their parent. The
-    // input's own median edge keeps them (the mesher resolves every vessel it was given).
-    mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm()));
-    contract_until_convergence(mcs);
+    // flow mesh's own median edge keeps them (the mesher resolves every vessel it was given; on
+    // the decimated copy, the full lumen's shorter median gave 42 / 22 with extra spurs).
+    mcs.set_min_edge_length(std::min(mcs.min_edge_length(), median_edge_mm(flow_mesh)));
+    contract_until_convergence(mcs, flow_mesh);
     mcs.convert_to_skeleton(skeleton);
     out_.stats.seconds.flow = lap();
     out_.stats.skeleton_points = boost::num_vertices(skeleton);
@@ -311,10 +317,27 @@ class SurfaceImporter {
     return true;
   }
 
+  // The flow runs on a copy of the lumen decimated to kFlowFaces triangles (shortest edges first,
+  // collapsed to their midpoints) when it has more than twice as many; the distances to the wall
+  // (radii, centring, nodes' radii) are measured on the lumen itself. The 293k-triangle
+  // head-and-neck tree: flow 5.2 -> 2.7 s of CPU (2.2 s of it the decimation), 37 segments / 20
+  // junctions, the generator's own (35 / 19 on the full lumen).
+  static constexpr std::size_t kFlowFaces = 25'000;
+  [[nodiscard]] Mesh flow_copy() const {
+    Mesh copy = mesh_;
+    if (copy.number_of_faces() <= 2 * kFlowFaces) return copy;
+    namespace SMS = CGAL::Surface_mesh_simplification;
+    const SMS::Count_stop_predicate<Mesh> stop(kFlowFaces * 3 / 2);  // a closed triangle mesh: E = 3F/2
+    SMS::edge_collapse(copy, stop,
+                       CGAL::parameters::get_cost(SMS::Edge_length_cost<Mesh>()).get_placement(SMS::Midpoint_placement<Mesh>()));
+    copy.collect_garbage();
+    return copy;
+  }
+
   // CGAL's contract_until_convergence, with the meso-skeleton's halfedges numbered in list order
   // before each collapse pass (the std::less above orders the pass's edges by those numbers).
-  void contract_until_convergence(Skeletonization& mcs) const {
-    const double original_area = PMP::area(mesh_);
+  static void contract_until_convergence(Skeletonization& mcs, const Mesh& flow_mesh) {
+    const double original_area = PMP::area(flow_mesh);
     auto& meso = const_cast<skeleton_order::Meso&>(mcs.meso_skeleton());  // the flow's own, not const
     double last_area = 0.0;
     for (std::size_t iteration = 0; iteration < mcs.max_iterations(); ++iteration) {
@@ -371,11 +394,11 @@ class SurfaceImporter {
     }
   }
 
-  [[nodiscard]] double median_edge_mm() const {
+  [[nodiscard]] static double median_edge_mm(const Mesh& mesh) {
     std::vector<double> lengths;
-    lengths.reserve(mesh_.number_of_edges());
-    for (Mesh::Edge_index e : mesh_.edges()) {
-      lengths.push_back(std::sqrt(CGAL::squared_distance(mesh_.point(mesh_.vertex(e, 0)), mesh_.point(mesh_.vertex(e, 1)))));
+    lengths.reserve(mesh.number_of_edges());
+    for (Mesh::Edge_index e : mesh.edges()) {
+      lengths.push_back(std::sqrt(CGAL::squared_distance(mesh.point(mesh.vertex(e, 0)), mesh.point(mesh.vertex(e, 1)))));
     }
     if (lengths.empty()) return 0.0;
     std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());

@@ -128,7 +128,7 @@ TEST(CaseLibrary, IcaGradesAreOrderedByTurning) {
 TEST(CaseLibrary, NoCenterlineBendsTighterThanItsLumenAndTheKinkDoesNotFold) {
   for (const std::string& name : library_case_names()) {
     const VesselModel m = library_model(*library_case(name));
-    for (const Segment& s : m.segments) EXPECT_GE(tightest_bend_over_radius(s), kMinBendRadii) << name << ": " << s.name;
+    for (const Segment& s : m.segments) EXPECT_GE(tightest_swept_bend_over_radius(s), kMinBendRadii) << name << ": " << s.name;
   }
   const VesselModel kink = library_model(*library_case("ica_kink"));
   const VesselSurface surface = build_vessel_surface(kink);

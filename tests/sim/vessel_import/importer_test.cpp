@@ -176,9 +176,10 @@ TEST(Importer, HeldOutArchCurvesWithGapsAndAnOverlappingJunctionMeshClosed) {
 }
 
 // A right-angled corner in an SWC trace (points 1 mm apart, radius 2 mm): the centreline bends at
-// 0.35 lumen radii there, so the swept tube's inner wall passes the bend's centre and crosses
-// itself. The import rounds the corner to 1.1 radii or more (vessel/bend_guard.hpp, as the case
-// generator rounds a kink) and says so; the surface is then free of crossing triangles.
+// 0.35 lumen radii there (0.45 on the smoothed line the mesher sweeps), so the swept tube's inner
+// wall passes the bend's centre and crosses itself. The import rounds the swept corner to 1.1 radii
+// or more (vessel/bend_guard.hpp, as the case generator rounds a kink) and says so; the surface is
+// then free of crossing triangles.
 TEST(Importer, ATightImportedBendIsRoundedAndDoesNotFold) {
   std::string swc;
   vessel::Segment corner;
@@ -198,10 +199,10 @@ TEST(Importer, ATightImportedBendIsRoundedAndDoesNotFold) {
   const ImportResult r = import_centerlines_text(swc, "corner.swc", Format::kSwc);
   ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
   ASSERT_EQ(r.model.segments.size(), 1u);
-  EXPECT_NE(r.summary().find("1 bend tighter than 1.1 lumen radii rounded (tightest 0.354 radii"), std::string::npos)
+  EXPECT_NE(r.summary().find("1 bend tighter than 1.1 lumen radii rounded (tightest 0.453 radii"), std::string::npos)
       << r.summary();
   EXPECT_EQ(r.bends.left_tight, 0u);
-  EXPECT_GE(vessel::tightest_bend_over_radius(r.model.segments[0]), vessel::kMinBendRadii);
+  EXPECT_GE(vessel::tightest_swept_bend_over_radius(r.model.segments[0]), vessel::kMinBendRadii);
   EXPECT_LT(r.bends.max_move_mm, 2.0) << "the corner is rounded, not the vessel moved";
   const vessel::VesselSurface surface = vessel::build_vessel_surface(r.model);
   ASSERT_TRUE(surface.ok()) << surface.error;

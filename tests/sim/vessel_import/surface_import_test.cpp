@@ -156,8 +156,8 @@ void expect_same_shape(const vessel::VesselModel& truth, const ImportResult& imp
 // The generator's model meshed, written as `ext`, imported: the network's shape, the centreline
 // and the radius against the generator's. Points within 1.5 radii of a junction or an end are
 // left out of the radius check (there the distance to the surface is not the tube's radius).
-void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext) {
-  const vessel::VesselSurface surface = vessel::build_vessel_surface(truth);
+void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(truth, options);
   ASSERT_TRUE(surface.ok()) << surface.error;
   const std::string path = temp_path("round_trip" + ext);
   ASSERT_EQ(ext == ".vtp" ? write_vtp(surface.mesh, path) : vessel::write_mesh(surface.mesh, path), "");
@@ -181,6 +181,14 @@ TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughStl) {
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughVtp) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".vtp");
+}
+
+// 32 points per ring: over 50,000 triangles, so the flow runs on a copy decimated to 25,000
+// (surface_skeleton.cpp) while radii and centring use the full lumen.
+TEST(SurfaceImport, FineYBifurcationRoundTripsThroughTheDecimatedFlow) {
+  vessel::MeshOptions options;
+  options.ring_points = 32;
+  expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl", options);
 }
 
 TEST(SurfaceImport, VtpSurfaceCellsNamingMissingPointsAreRefusedInOneLine) {
