@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include "analytic_walls.hpp"
+#include "closed_tube_wire.hpp"
 #include "tool/rod.hpp"
 #include "tool/simulator.hpp"
 
@@ -29,23 +30,10 @@ namespace cathbox::tool {
 namespace {
 
 TEST(RodValidation, WirePushedIntoAClosedTubeBucklesIntoLubinskisHelix) {
-  constexpr double kTubeRadius_mm = 2.0;
-  constexpr double kWireDiameter_mm = 0.36;
-  constexpr double kEi_Nmm2 = 40.0;  // the bundled 0.014" guidewire's shaft
-  constexpr double kTubeEnd_mm = 200.0;
-  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
-  ToolSpec spec;
-  spec.name = "wire";
-  spec.sections.push_back(ToolSection{600.0, kWireDiameter_mm, kEi_Nmm2, 31.0, 0.0});
-  spec.friction = 0.0;
-  spec.max_spacing_mm = 1.0;
-  spec.tip_spacing_mm = 1.0;
-  Rod rod(spec);
-  rod.set_entry({0, 0, 0}, {0, 0, 1});
-  // The tip meets the closed end (the capsule's pole, kTubeRadius_mm past its axis' end) here.
-  const double contact_mm = kTubeEnd_mm + kTubeRadius_mm - kWireDiameter_mm / 2.0;
-  const double clearance_mm = kTubeRadius_mm - kWireDiameter_mm / 2.0;
-  const double per_mm = 4.0 * kEi_Nmm2 * 1000.0 / (clearance_mm * clearance_mm * contact_mm);  // mN per mm pushed
+  const TubeNetworkWall wall = testing::closed_helix_tube();
+  Rod rod = testing::closed_tube_wire();
+  const double contact_mm = testing::kHelixContact_mm;
+  const double per_mm = testing::lubinski_helix_mN(1.0);  // mN per mm pushed
   double insertion = 0.0;
   const auto push_to = [&](double target, double per_step) {
     while (insertion < target - 1e-9) {

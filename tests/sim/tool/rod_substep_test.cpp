@@ -11,31 +11,19 @@
 
 #include <gtest/gtest.h>
 
-#include "analytic_walls.hpp"
+#include "closed_tube_wire.hpp"
 #include "tool/rod.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {
 namespace {
 
-constexpr double kTubeRadius_mm = 2.0;
-constexpr double kWireDiameter_mm = 0.36;
-constexpr double kEi_Nmm2 = 40.0;  // the bundled 0.014" guidewire's shaft
-constexpr double kTubeEnd_mm = 200.0;
-constexpr double kContact_mm = kTubeEnd_mm + kTubeRadius_mm - kWireDiameter_mm / 2.0;  // tip at the closed end
+using testing::kHelixContact_mm;
 
 Rod make_wire() {
-  ToolSpec spec;
-  spec.name = "wire";
-  spec.sections.push_back(ToolSection{600.0, kWireDiameter_mm, kEi_Nmm2, 31.0, 0.0});
-  spec.friction = 0.0;
-  spec.max_spacing_mm = 1.0;
-  spec.tip_spacing_mm = 1.0;
   RodSettings settings;
   settings.warm_start = 0.0;  // each solve starts from the predictor alone: the two paths compare exactly
-  Rod rod(spec, settings);
-  rod.set_entry({0, 0, 0}, {0, 0, 1});
-  return rod;
+  return testing::closed_tube_wire(settings);
 }
 
 void push(Rod& rod, const WallModel& wall, double& insertion, double target, double per_step) {
@@ -47,15 +35,15 @@ void push(Rod& rod, const WallModel& wall, double& insertion, double target, dou
 }
 
 TEST(RodSubsteps, AnUnconvergedTickIsSolvedAgainAsItsSubTicksAndEndsOnLubinskisHelix) {
-  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
+  const TubeNetworkWall wall = testing::closed_helix_tube();
   Rod a = make_wire();
   Rod b = make_wire();
   a.settings().substeps_max = 1;
   b.settings().substeps_max = 1;
   double ia = 0.0;
   double ib = 0.0;
-  push(a, wall, ia, kContact_mm + 5.0, 0.05);  // the same history: 50 mm/s to 5 mm past the end
-  push(b, wall, ib, kContact_mm + 5.0, 0.05);
+  push(a, wall, ia, kHelixContact_mm + 5.0, 0.05);  // the same history: 50 mm/s to 5 mm past the end
+  push(b, wall, ib, kHelixContact_mm + 5.0, 0.05);
   // One tick pushing 0.4 mm (0.4 m/s) into the helix: its solve does not converge in one.
   constexpr double kJump_mm = 0.4;
   a.settings().substeps_max = 4;
@@ -80,19 +68,18 @@ TEST(RodSubsteps, AnUnconvergedTickIsSolvedAgainAsItsSubTicksAndEndsOnLubinskisH
   EXPECT_EQ(a.converged(), b.converged());
   // Held, it settles on the helix 6 mm past the end.
   for (int k = 0; k < 50; ++k) a.step(1e-3, wall);
-  const double clearance_mm = kTubeRadius_mm - kWireDiameter_mm / 2.0;
-  const double expected = 4.0 * kEi_Nmm2 * 1000.0 * (ia - kContact_mm) / (clearance_mm * clearance_mm * kContact_mm);
+  const double expected = testing::lubinski_helix_mN(ia - kHelixContact_mm);
   EXPECT_NEAR(a.hand_force_mN() / expected, 1.0, 0.15);
 }
 
 // Without subdivision the same tick ends unconverged (the test above is not vacuous), and a
 // converged tick is never solved again.
 TEST(RodSubsteps, OnlyAnUnconvergedTickIsSubdivided) {
-  const TubeNetworkWall wall = testing::straight_tube(kTubeRadius_mm, -10.0, kTubeEnd_mm);
+  const TubeNetworkWall wall = testing::closed_helix_tube();
   Rod rod = make_wire();
   rod.settings().substeps_max = 1;
   double insertion = 0.0;
-  push(rod, wall, insertion, kContact_mm + 5.0, 0.05);
+  push(rod, wall, insertion, kHelixContact_mm + 5.0, 0.05);
   rod.set_boundary(insertion + 0.4, 0.0);
   rod.step(1e-3, wall);
   EXPECT_FALSE(rod.converged());
