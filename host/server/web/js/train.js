@@ -36,6 +36,7 @@ import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { askForBox, chooseBox } from './box_transport.js';
 import { FramePacer } from './frame_pacer.js';
+import { unpack, hudText, fit } from './train_snapshot.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -58,49 +59,6 @@ let run = null;  // {assignment, started, tools, held: Set of key codes, keys: F
 const fluoro = { available: false, view: null, vessel: null, main: params.get('view') === 'fluoro' ? 'fluoro' : null, bits: 0, panel: null };
 
 function status(text) { document.getElementById('status').textContent = text; }
-
-// Snapshot floats (host/wasm browser_session.cpp): the header, the tools, the contacts.
-function unpack(d) {
-  const s = {
-    tick: d[0], time_s: d[1], insertion_mm: d[2], rotation_rad: d[3], hand_force_mN: d[4], torque_mNmm: d[5],
-    wall_force_mN: d[6], tip: [d[7], d[8], d[9]], held: d[10], over: d[11] > 0, tools: [], contacts: [],
-  };
-  let i = 14;
-  for (let t = 0; t < d[12]; ++t) {
-    const n = d[i];
-    s.tools.push({ active: d[i + 1] > 0, nodes: d.subarray(i + 2, i + 2 + 3 * n) });
-    i += 2 + 3 * n;
-  }
-  for (let c = 0; c < d[13]; ++c, i += 4) s.contacts.push({ p_mm: [d[i], d[i + 1], d[i + 2]], f_mN: d[i + 3] });
-  return s;
-}
-
-function hudText(s) {
-  const tool = run.tools[s.held] || '?';
-  return [
-    run.caseName + '  ' + (clock === 'virtual' ? '(virtual clock)' : ''),
-    'time      ' + s.time_s.toFixed(3) + ' s',
-    'tool      ' + tool,
-    'insertion ' + s.insertion_mm.toFixed(2) + ' mm',
-    'rotation  ' + s.rotation_rad.toFixed(3) + ' rad',
-    'hand      ' + s.hand_force_mN.toFixed(1) + ' mN  ' + s.torque_mNmm.toFixed(2) + ' mN·mm',
-    'wall      ' + s.wall_force_mN.toFixed(1) + ' mN',
-    ...run.drive.hints,  // the stent retriever's U and E (app::DeviceDrive::hints), its last note
-    ...(run.drive.note ? [run.drive.note] : []),
-  ].join('\n');
-}
-
-// At most `max` nodes of a flat [x,y,z,...] list: every k-th, and always the tip (the views draw
-// 256 nodes a tool; a longer tool would otherwise lose its distal end).
-function fit(flat, max = 256) {
-  const n = flat.length / 3;
-  if (n <= max) return flat;
-  const step = Math.ceil((n - 1) / (max - 1));
-  const out = [];
-  for (let i = 0; i < n - 1; i += step) out.push(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
-  out.push(flat[3 * n - 3], flat[3 * n - 2], flat[3 * n - 1]);
-  return out;
-}
 
 // The canvas's pixels, the size the worker makes the image for (null: not shown).
 function fluoroSize() {
@@ -159,7 +117,7 @@ function showFrame(data, metrics, f) {
   views.global.setContacts(s.contacts);
   views.local.setContacts(s.contacts);
   followTip(s);
-  document.getElementById('hud').textContent = hudText(s);
+  document.getElementById('hud').textContent = hudText(s, run, clock === 'virtual');
 }
 
 // The local view: behind the tip, along the held tool's last segment.
