@@ -28,6 +28,35 @@ struct Rod::StepStart {
   double stepped_rotation_rad = 0.0;
   bool compressed = false;
   bool warm_ok = false;
+
+  // Each kept field beside the rod's own: per_node(kept, live) for the window's per-node and
+  // per-edge vectors (from `from` on), whole(kept, live) for the rest. Saving and restoring walk
+  // the same list, so a field added here is both kept and put back.
+  template <typename PerNode, typename Whole>
+  void pair_with(Rod& rod, PerNode&& per_node, Whole&& whole) {
+    per_node(x, rod.x_);
+    per_node(grip_anchor, rod.grip_anchor_);
+    per_node(grip_limit, rod.grip_limit_);
+    per_node(solved_move, rod.solved_move_);
+    per_node(gathered_at, rod.gathered_at_);
+    per_node(node_contacts, rod.node_contacts_);
+    per_node(tw_regime, rod.tw_regime_);
+    per_node(theta, rod.theta_);
+    per_node(ref_twist, rod.ref_twist_);
+    per_node(t, rod.t_);
+    per_node(d1, rod.d1_);
+    per_node(m1, rod.m1_);
+    per_node(m2, rod.m2_);
+    whole(contacts, rod.contacts_);
+    whole(edge_contacts, rod.edge_contacts_);
+    whole(first, rod.first_);
+    whole(first_free, rod.first_free_);
+    whole(warm_first, rod.warm_first_);
+    whole(stepped_insertion_mm, rod.stepped_insertion_mm_);
+    whole(stepped_rotation_rad, rod.stepped_rotation_rad_);
+    whole(compressed, rod.compressed_);
+    whole(warm_ok, rod.warm_ok_);
+  }
 };
 
 }  // namespace cathbox::tool

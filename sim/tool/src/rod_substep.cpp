@@ -57,58 +57,20 @@ void Rod::save_step_start() {
   if (!step_start_) step_start_ = std::make_unique<StepStart>();
   StepStart& s = *step_start_;
   s.from = first_;
-  keep(s.x, x_, first_);
-  keep(s.grip_anchor, grip_anchor_, first_);
-  keep(s.grip_limit, grip_limit_, first_);
-  keep(s.solved_move, solved_move_, first_);
-  keep(s.gathered_at, gathered_at_, first_);
-  keep(s.node_contacts, node_contacts_, first_);
-  keep(s.tw_regime, tw_regime_, first_);
-  keep(s.theta, theta_, first_);
-  keep(s.ref_twist, ref_twist_, first_);
-  keep(s.t, t_, first_);
-  keep(s.d1, d1_, first_);
-  keep(s.m1, m1_, first_);
-  keep(s.m2, m2_, first_);
-  s.contacts = contacts_;
-  s.edge_contacts = edge_contacts_;
-  s.first = first_;
-  s.first_free = first_free_;
-  s.warm_first = warm_first_;
-  s.stepped_insertion_mm = stepped_insertion_mm_;
-  s.stepped_rotation_rad = stepped_rotation_rad_;
-  s.compressed = compressed_;
-  s.warm_ok = warm_ok_;
+  s.pair_with(
+      *this, [&](auto& kept, const auto& live) { keep(kept, live, first_); },
+      [](auto& kept, const auto& live) { kept = live; });
 }
 
 // Back to the step's start; the last converged motion the warm start reads is cut to a part's.
 void Rod::restore_step_start(int parts) {
-  const StepStart& s = *step_start_;
+  StepStart& s = *step_start_;
   const std::size_t from = s.from;
   // Nodes that joined the window below its start during the failed attempt go back outside.
   for (std::size_t k = std::min(first_, from); k < from; ++k) place_outside(k);
-  put_back(x_, s.x, from);
-  put_back(grip_anchor_, s.grip_anchor, from);
-  put_back(grip_limit_, s.grip_limit, from);
-  put_back(solved_move_, s.solved_move, from);
-  put_back(gathered_at_, s.gathered_at, from);
-  put_back(node_contacts_, s.node_contacts, from);
-  put_back(tw_regime_, s.tw_regime, from);
-  put_back(theta_, s.theta, from);
-  put_back(ref_twist_, s.ref_twist, from);
-  put_back(t_, s.t, from);
-  put_back(d1_, s.d1, from);
-  put_back(m1_, s.m1, from);
-  put_back(m2_, s.m2, from);
-  contacts_ = s.contacts;
-  edge_contacts_ = s.edge_contacts;
-  first_ = s.first;
-  first_free_ = s.first_free;
-  warm_first_ = s.warm_first;
-  stepped_insertion_mm_ = s.stepped_insertion_mm;
-  stepped_rotation_rad_ = s.stepped_rotation_rad;
-  compressed_ = s.compressed;
-  warm_ok_ = s.warm_ok;
+  s.pair_with(
+      *this, [&](const auto& kept, auto& live) { put_back(live, kept, from); },
+      [](const auto& kept, auto& live) { live = kept; });
   const double scale = 1.0 / parts;
   for (std::size_t k = warm_first_; k < solved_move_.size(); ++k) solved_move_[k] *= scale;
 }
