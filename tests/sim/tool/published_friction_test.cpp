@@ -3,9 +3,9 @@
 // against published measurements").
 //
 // Sources (what was read, and where):
-// - Wypych, *Handbook of Surface Improvement and Modification*, ChemTec 2018, Table 11.1
-//   ("Friction coefficients of common materials"): PTFE on steel, static 0.18, dynamic 0.16
-//   (dry). A stainless pusher in a PTFE-lined lumen is this pair; a saline-flushed lumen is
+// - *Handbook of Surface Improvement and Modification* (Wypych, ChemTec 2018; the page read
+//   showed its title and p. 167, not the author or year), Table 11.1 ("Friction coefficients
+//   of common materials"): PTFE on steel, static 0.18, dynamic 0.16 (dry). A stainless pusher in a PTFE-lined lumen is this pair; a saline-flushed lumen is
 //   lubricated, so the dry dynamic coefficient is the upper bound.
 // - Schroeder J, *The mechanical properties of guidewires. Part III: Sliding friction*,
 //   Cardiovasc Intervent Radiol 16(2):93-97, 1993 (abstract): "Teflon coating reduces the
