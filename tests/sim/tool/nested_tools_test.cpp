@@ -10,52 +10,16 @@
 #include <gtest/gtest.h>
 
 #include "analytic_walls.hpp"
+#include "nested_tool_setup.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool {
 namespace {
 
-ToolSpec catheter(const std::string& name, double od, double id, double ei, double mu_lumen) {
-  ToolSpec s;
-  s.name = name;
-  s.kind = ToolKind::kCatheter;
-  s.sections = {ToolSection{600.0, od, ei, 0.8 * ei, 0.0}};
-  s.inner_diameter_mm = id;
-  s.lumen_friction = mu_lumen;
-  s.friction = 0.0;
-  s.drag_mN_s_per_mm2 = 0.0;
-  s.valve_friction_mN = 0.0;  // the lumens' friction alone
-  s.max_spacing_mm = 0.5;
-  return s;
-}
-
-ToolSpec wire(const std::string& name, double od, double ei) {
-  ToolSpec s;
-  s.name = name;
-  s.sections = {ToolSection{700.0, od, ei, 0.75 * ei, 0.0}};
-  s.friction = 0.0;
-  s.drag_mN_s_per_mm2 = 0.0;
-  s.valve_friction_mN = 0.0;  // the lumens' friction alone
-  s.max_spacing_mm = 0.5;
-  return s;
-}
-
-RodSettings precise() {
-  RodSettings s;
-  s.newton_iterations = 20;
-  s.convergence_mm = 1e-7;
-  s.min_drag_mN_s_per_mm2 = 1e-5;
-  s.buckling_seed_mm = 0.0;
-  return s;
-}
-
-void drive(Simulator& sim, std::size_t tool, double target, double per_step) {
-  while (std::abs(sim.insertion_mm(tool) - target) > 1e-9) {
-    const double d = std::clamp(target - sim.insertion_mm(tool), -per_step, per_step);
-    sim.set_insertion(tool, sim.insertion_mm(tool) + d);
-    sim.step();
-  }
-}
+using testing::catheter;
+using testing::drive;
+using testing::precise;
+using testing::wire;
 
 struct BendCase {
   double angle_deg;
