@@ -11,7 +11,9 @@ const HapticThread* Session::active_thread() const {
 }
 
 void Session::start() {
-  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);  // never waits on the haptic thread
+  // Walls built on a worker, swapped in at the same ticks as in virtual time (a late build makes
+  // its due tick wait: tool/wall_swap.hpp).
+  if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);
   if (!real_thread_) {
     real_thread_ = std::make_unique<HapticThread>(steady_, options_.period_us, [this](std::int64_t) { return tick(); });
   }

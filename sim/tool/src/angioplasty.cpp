@@ -39,7 +39,7 @@ AngioplastyFigures Angioplasty::figures(const Simulator& sim) const {
   f.rupture_risk_events = lumen_.rupture_risk_events();
   f.max_oversize_ratio = lumen_.max_oversize_ratio();
   f.wall_swaps = swap_.swaps();
-  f.late_ticks = swap_.late_ticks();
+  f.swap_waits = swap_.waits();
   const std::size_t t = first_balloon_tool(sim);
   if (t < sim.tool_count()) {
     const Balloon& b = *sim.balloon(t);

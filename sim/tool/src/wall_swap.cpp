@@ -133,14 +133,18 @@ bool WallSwap::poll(Simulator& sim, std::int64_t now) {
   if (!due_tick_ || now < *due_tick_) return false;
   std::optional<WallResult> built;
   {
-    // try_lock: the builder holds the lock only to hand over pointers; if it has it, look again
-    // next tick rather than wait.
-    const std::unique_lock lock(mutex_, std::try_to_lock);
-    if (lock.owns_lock() && done_) built.swap(done_);
-  }
-  if (!built) {
-    ++late_ticks_;
-    return false;
+    std::unique_lock lock(mutex_);
+    if (!done_) {  // only with the worker: the build is late, this tick waits for it
+      if (wait_hook_) {
+        lock.unlock();
+        wait_hook_();
+        lock.lock();
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      idle_.wait(lock, [&] { return done_.has_value(); });
+      wait_seconds_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    built.swap(done_);
   }
   due_tick_.reset();
   if (!built->ok()) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "session/action_script_hand.hpp"
@@ -69,13 +70,16 @@ TEST(AngioplastySession, TheBundledCaseWidensTheLesionAndReplays) {
   ASSERT_EQ(reader->header().tools.size(), 2u);
   EXPECT_TRUE(reader->header().tools[0].balloon.present()) << "the balloon is in the record's header";
   int balloon_controls = 0;
+  std::uint64_t last_hash = 0;
   TickRecord t;
   while (reader->next(t)) {
+    if (t.state_hash) last_hash = *t.state_hash;
     for (std::size_t i = 0; i < t.control_count; ++i) {
       balloon_controls += t.controls[i].kind == static_cast<std::uint16_t>(ControlKind::kBalloon) ? 1 : 0;
     }
   }
   EXPECT_EQ(balloon_controls, 2);
+  std::printf("last recorded state hash %016llx\n", static_cast<unsigned long long>(last_hash));
   const ReplayResult r = replay_record(path);
   ASSERT_TRUE(r.error.empty()) << r.error;
   EXPECT_FALSE(r.mismatch);

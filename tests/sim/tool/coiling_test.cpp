@@ -23,6 +23,7 @@
 #include "scenario/script_player.hpp"
 #include "tool/simulator.hpp"
 #include "analytic_walls.hpp"
+#include "state_fnv.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {
@@ -535,6 +536,9 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
               "second coil's deepest overlap %.1f %% of the diameter\n",
               metrics.figures().deployed_mm, 100.0 * metrics.figures().packing_density, sac.volume_mm3,
               metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction);
+  // The end state, bit for bit: the same build gives the same hash alone or beside any load.
+  std::printf("end-state hash %016llx after %llu steps\n", static_cast<unsigned long long>(testing::state_fnv(sim)),
+              static_cast<unsigned long long>(sim.steps()));
 }
 
 // Later coils pack against earlier ones in the bundled sac (the bundled coiling case holds 4

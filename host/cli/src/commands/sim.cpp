@@ -51,8 +51,8 @@ void print_angioplasty(const cathbox::tool::AngioplastyFigures& f) {
   std::printf("balloon: %d inflation(s), %.2f s inflated, max %.1f atm%s; rupture-risk events: %d (largest %.2fx reference)\n",
               f.inflations, f.inflated_time_s, f.max_pressure_atm, f.over_rated_burst ? " (over rated burst)" : "",
               f.rupture_risk_events, f.max_oversize_ratio);
-  std::printf("wall swaps: %llu, late ticks: %llu\n", static_cast<unsigned long long>(f.wall_swaps),
-              static_cast<unsigned long long>(f.late_ticks));
+  std::printf("wall swaps: %llu, of which waited for the builder: %llu\n", static_cast<unsigned long long>(f.wall_swaps),
+              static_cast<unsigned long long>(f.swap_waits));
 }
 
 int usage_error(const std::string& message) { return cathbox::cli::usage_error(spec(), message, "sim run"); }

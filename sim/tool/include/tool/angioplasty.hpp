@@ -33,7 +33,7 @@ struct AngioplastyFigures {
   int rupture_risk_events = 0;      // over-sized inflations (LumenRemodelParams::oversize_ratio)
   double max_oversize_ratio = 0.0;
   std::uint64_t wall_swaps = 0;
-  std::uint64_t late_ticks = 0;     // ticks run on the old wall after a new one was due
+  std::uint64_t swap_waits = 0;     // swaps whose due tick waited for the worker (live runs only)
 };
 
 class Angioplasty {

@@ -1,17 +1,18 @@
 #pragma once
-// A new wall for a changed lumen, built beside the old one off the haptic thread and swapped
-// into the simulator between two ticks; the haptic loop never waits for it.
+// A new wall for a changed lumen, built beside the old one and swapped into the simulator
+// between two ticks, at a tick the simulation decides.
 //
 // request(model, tick) hands the lumen to the builder (re-mesh + collision tree + MeshWall:
-// WallBuilder) and schedules the swap for tick + latency_ticks, a time decided by the
-// simulation, so runs are the same in virtual time whatever the machine:
-//  - kSynchronous (headless, tests, replay): the wall is built inside request(); it is swapped
-//    in by poll() at the scheduled tick.
-//  - kWorker (the live haptic loop): a worker thread builds it; poll() swaps it in at the
-//    scheduled tick if it is ready, else at the first tick after it is (each tick run on the old
-//    wall past the scheduled one counts in late_ticks(); poll() only looks, it never blocks).
-//    The same lumen then gives the same wall at the same tick as the synchronous mode as long as
-//    the build takes less than the latency (bench_tool measures it against the 300 ms budget).
+// WallBuilder) and schedules the swap for tick + latency_ticks. poll() swaps it in at exactly
+// that tick in both modes, so which wall a tick runs on, and so every result, is a function of
+// the run's inputs alone, whatever the machine's load or the threads' timing (a record replays
+// a live run bit for bit):
+//  - kSynchronous (headless, tests, replay, the browser): the wall is built inside request().
+//  - kWorker (the live haptic loop): a worker thread builds it while the ticks run on the old
+//    wall. A build not done by the due tick makes that tick wait for it (waits() counts such
+//    swaps, wait_seconds() how long each waited): the haptic tick costs its step alone as long
+//    as the build takes less than the latency (bench_angioplasty measures it against the
+//    300 ms), and a late build stalls the loop for its remaining time, never changes the tick.
 // The old wall stays valid (owned here) until the swap, and is destroyed afterwards off the
 // haptic thread (by the worker; in synchronous mode at once). One wall is built at a time: a
 // request while one is pending is refused (the caller asks again after the swap).
@@ -27,6 +28,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "base/atomic_shared_ptr.hpp"
@@ -70,9 +72,12 @@ class WallSwap {
   [[nodiscard]] const WallModel& wall() const { return *current_; }
   // Asks for a wall of `model` (copied), due at tick `now` + latency; false while one is pending.
   bool request(const vessel::VesselModel& model, std::int64_t now);
-  // Between two ticks, on the haptic thread: swaps a ready wall into `sim` when due. Returns
-  // true when it swapped. Never waits for the builder.
+  // Between two ticks, on the haptic thread: swaps the requested wall into `sim` at its due
+  // tick (waiting for the builder if it is not done). True when it swapped.
   bool poll(Simulator& sim, std::int64_t now);
+  // Called on the polling thread when a due wall's builder is not done, before the tick waits
+  // for it (tests release a builder they hold there, to run the late path in virtual time).
+  void set_wait_hook(std::function<void()> hook) { wait_hook_ = std::move(hook); }
   // Blocks until the builder is idle (tests, benches, the end of a run; never the haptic loop).
   void drain();
 
@@ -84,7 +89,10 @@ class WallSwap {
   // without one).
   [[nodiscard]] std::uint64_t generation() const { return generation_.load(std::memory_order_acquire); }
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const;
-  [[nodiscard]] std::uint64_t late_ticks() const { return late_ticks_; }
+  // Swaps whose due tick had to wait for the builder (kWorker only), and how long each waited
+  // in wall seconds (a figure of the machine, never fed back into the simulation).
+  [[nodiscard]] std::uint64_t waits() const { return wait_seconds_.size(); }
+  [[nodiscard]] const std::vector<double>& wait_seconds() const { return wait_seconds_; }
   [[nodiscard]] std::uint64_t failures() const { return failures_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
   // Seconds the builder took for each wall so far (measured on the builder's thread), in wall
@@ -101,7 +109,9 @@ class WallSwap {
   Mode mode_;
   std::int64_t latency_;
   std::optional<std::int64_t> due_tick_;
-  std::uint64_t requests_ = 0, swaps_ = 0, late_ticks_ = 0, failures_ = 0;
+  std::uint64_t requests_ = 0, swaps_ = 0, failures_ = 0;
+  std::vector<double> wait_seconds_;
+  std::function<void()> wait_hook_;
   std::string last_error_;
   std::atomic<std::uint64_t> generation_{0};
   base::AtomicSharedPtr<const WallSurface> surface_;
