@@ -280,7 +280,9 @@ class Centre:
 
 
 class Browser:
-    def __init__(self, out, spki=None, extra_args=()):
+    def __init__(self, out, spki=None, extra_args=(), browser_log=None):
+        """`browser_log`: a file that gets Chromium's own stdout and stderr (e.g. V8's
+        `--js-flags=--trace-gc` lines), through chromedriver's --enable-chrome-logs."""
         self.out = out
         options = webdriver.ChromeOptions()
         options.binary_location = "/usr/bin/chromium"
@@ -293,7 +295,13 @@ class Browser:
                   "--hide-scrollbars", "--mute-audio", "--no-first-run", "--disable-extensions", *extra_args]:
             options.add_argument(a)
         options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-        self.driver = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+        service = Service("/usr/bin/chromedriver")
+        if browser_log:
+            # Line-buffered (coreutils' stdbuf library, inherited by every Chromium process), so that a
+            # renderer ended by quit() leaves no lines in its stdio buffer.
+            env = dict(os.environ, LD_PRELOAD="/usr/libexec/coreutils/libstdbuf.so", _STDBUF_O="L", _STDBUF_E="L")
+            service = Service("/usr/bin/chromedriver", service_args=["--enable-chrome-logs"], log_file=open(browser_log, "wb"), env=env)
+        self.driver = webdriver.Chrome(service=service, options=options)
         self.viewport(1280, 720)
         self.driver.set_page_load_timeout(WAIT_S)
         self.driver.set_script_timeout(WAIT_S)

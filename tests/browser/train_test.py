@@ -187,6 +187,8 @@ def main():
     parser.add_argument("--query", default=None, metavar="Q", help="the real-clock runs with /train.html?...&Q (e.g. frame_ms=50)")
     parser.add_argument("--chromium-arg", action="append", default=[], metavar="ARG",
                         help="one more Chromium switch for the trainee's browser (repeatable; e.g. --in-process-gpu)")
+    parser.add_argument("--browser-log", default=None, metavar="FILE",
+                        help="the trainee's Chromium's own output into FILE (e.g. with --chromium-arg=--js-flags=--trace-gc)")
     parser.add_argument("--keep", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -202,7 +204,7 @@ def main():
         watcher = Browser(args.out)
         watcher.base = centre.base
         watcher.login("teacher")
-        b = Browser(args.out, extra_args=args.chromium_arg)
+        b = Browser(args.out, extra_args=args.chromium_arg, browser_log=args.browser_log)
         b.base = centre.base
         b.login("ann")
         if args.only:
