@@ -25,15 +25,12 @@
 #include <CGAL/Polygon_mesh_processing/triangulate_hole.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Edge_length_cost.h>
-#include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Midpoint_placement.h>
-#include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 #include <glm/geometric.hpp>
 
 #include "vessel/point_range.hpp"
 #include "vessel_import/surface_import.hpp"
 
+#include "flow_decimation.hpp"
 #include "flow_specialisations.hpp"
 
 namespace cathbox::vessel_import {
@@ -318,19 +315,14 @@ class SurfaceImporter {
   }
 
   // The flow runs on a copy of the lumen decimated to kFlowFaces triangles (shortest edges first,
-  // collapsed to their midpoints) when it has more than twice as many; the distances to the wall
-  // (radii, centring, nodes' radii) are measured on the lumen itself. The 293k-triangle
-  // head-and-neck tree: flow 5.2 -> 2.7 s of CPU (2.2 s of it the decimation), 37 segments / 20
-  // junctions, the generator's own (35 / 19 on the full lumen).
+  // collapsed to their midpoints: flow_decimation.cpp) when it has more than twice as many; the
+  // distances to the wall (radii, centring, nodes' radii) are measured on the lumen itself. The
+  // 293k-triangle head-and-neck tree: 37 segments / 20 junctions, the generator's own (35 / 19 on
+  // the full lumen); flow ~1.5 s of CPU at a load of 14 (sim/vessel_import/README.md, "Speed").
   static constexpr std::size_t kFlowFaces = 25'000;
   [[nodiscard]] Mesh flow_copy() const {
     Mesh copy = mesh_;
-    if (copy.number_of_faces() <= 2 * kFlowFaces) return copy;
-    namespace SMS = CGAL::Surface_mesh_simplification;
-    const SMS::Count_stop_predicate<Mesh> stop(kFlowFaces * 3 / 2);  // a closed triangle mesh: E = 3F/2
-    SMS::edge_collapse(copy, stop,
-                       CGAL::parameters::get_cost(SMS::Edge_length_cost<Mesh>()).get_placement(SMS::Midpoint_placement<Mesh>()));
-    copy.collect_garbage();
+    if (copy.number_of_faces() > 2 * kFlowFaces) collapse_shortest_edges(copy, kFlowFaces);
     return copy;
   }
 
