@@ -306,12 +306,16 @@ TEST_P(DeadEndRendering, TheBoxRendersWithinItsFullScaleAndSlew) {
 
 INSTANTIATE_TEST_SUITE_P(Meets, DeadEndRendering, ::testing::Values(kRuns[3], kRuns[5]), run_name);
 
-// The dead ends' wire converges on >= 99.5 % of its ticks (issue 29): a tick that ends
-// unconverged is solved again in 2, then 4 sub-increments of the hand's motion (RodSettings::
-// substeps_max; rigid 2.41 -> 0.29 %, compliant 1.59 -> 0.02 %: docs/sim-tool/convergence.md).
-class DeadEndConvergence : public ::testing::TestWithParam<FeelRun> {};
+// Every tool's step converges on >= 99.5 % of its ticks (issue 29), in the runs whose hand force
+// has its own checks elsewhere: the dead ends (checks 2 and 3) and the coiling run (check 1 not
+// yet met). A tick that ends unconverged is solved again in 2, then 4 sub-increments of the
+// hand's motion (RodSettings::substeps_max, lone tools only): dead end 2.41 -> 0.29 %, compliant
+// 1.59 -> 0.02 %. The coiling run is instantiated disabled (run it with
+// --gtest_also_run_disabled_tests) until its nested tools converge: microcatheter / microwire /
+// coil 1.47 / 6.43 / 4.42 % (docs/sim-tool/convergence.md, "Sub-stepped ticks").
+class ToolConvergence : public ::testing::TestWithParam<FeelRun> {};
 
-TEST_P(DeadEndConvergence, TheWireConvergesOnAtLeast99Point5PercentOfItsTicks) {
+TEST_P(ToolConvergence, EveryToolConvergesOnAtLeast99Point5PercentOfItsTicks) {
   const FeelRun& run = GetParam();
   Metrics m;
   const HandForceTrace trace = run_session(run, m);
@@ -320,7 +324,8 @@ TEST_P(DeadEndConvergence, TheWireConvergesOnAtLeast99Point5PercentOfItsTicks) {
   expect_every_tool_converged(m);
 }
 
-INSTANTIATE_TEST_SUITE_P(Meets, DeadEndConvergence, ::testing::Values(kRuns[3], kRuns[5]), run_name);
+INSTANTIATE_TEST_SUITE_P(Meets, ToolConvergence, ::testing::Values(kRuns[3], kRuns[5]), run_name);
+INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, ToolConvergence, ::testing::Values(kRuns[2]), run_name);
 
 // The dead ends: the wire's own force against its helix, with every step converged (check 3).
 // The tolerance: the rod's own agreement with Lubinski's frictionless helix (15 %, sim/tool's
@@ -348,7 +353,7 @@ TEST_P(DeadEndHelix, TheWiresOwnForceFollowsLubinskisHelixWithConvergedSteps) {
 
 // Not met yet (docs/sim-tool/convergence.md, "What the hand-force replays check"): the wire reads
 // 3.5 (rigid) and 1.7 (compliant) times the band's top at 260 mm, buckled in one plane, and
-// its steps now converge (0.29 / 0.02 % unconverged, DeadEndConvergence).
+// its steps now converge (0.29 / 0.02 % unconverged, ToolConvergence).
 INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, DeadEndHelix, ::testing::Values(kRuns[3], kRuns[5]), run_name);
 
 }  // namespace
