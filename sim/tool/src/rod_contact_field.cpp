@@ -65,6 +65,7 @@ void RodContactField::set_members(std::span<const Member> members) {
   double max_edge = 0.0;
   max_radius_mm_ = 0.0;
   items_.clear();
+  balls_.clear();
   for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
     const Member& m = members_[mi];
     const Rod& rod = *m.rod;
@@ -73,7 +74,8 @@ void RodContactField::set_members(std::span<const Member> members) {
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge = std::max(max_edge, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
       max_radius_mm_ = std::max({max_radius_mm_, rod.node_radius_mm(e), rod.node_radius_mm(e + 1)});
-      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), glm::dvec3(0.0), edge_reach(rod, e), edge_radius(rod, e)});
+      items_.push_back(Item{mi, static_cast<std::uint32_t>(e), edge_radius(rod, e)});
+      balls_.push_back(Ball{glm::dvec3(0.0), edge_reach(rod, e)});
     }
   }
   first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
@@ -110,9 +112,9 @@ bool RodContactField::update_mids() const {
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
     const glm::dvec3& p0 = x[item.edge];
     const glm::dvec3& p1 = x[item.edge + 1];
-    item.mid = 0.5 * (p0 + p1);
+    balls_[i].mid = 0.5 * (p0 + p1);
     if (covered) {
-      const glm::dvec3 d = item.mid - listed_mid_[i];
+      const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
       covered = glm::dot(d, d) <= limit_sq;
       const glm::dvec3 d0 = p0 - listed_end_[2 * i];
       const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
@@ -149,7 +151,7 @@ void RodContactField::build_grid(bool listed) const {
   std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
   bucket_of_item_.clear();
   for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3 c = glm::floor((listed ? listed_mid_[i] : items_[i].mid) / cell_mm_);
+    const glm::dvec3 c = glm::floor((listed ? listed_mid_[i] : balls_[i].mid) / cell_mm_);
     const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
                                     static_cast<std::int64_t>(c.z));
     bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
@@ -174,7 +176,7 @@ bool RodContactField::relist_moved() const {
   for (std::size_t i = 0; i < n; ++i) {
     Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
-    const glm::dvec3 d = item.mid - listed_mid_[i];
+    const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
     if (partial && glm::dot(d, d) <= keep_sq) {
       relisted_[i] = 0;
       item.drift = std::sqrt(std::max(glm::dot(x[item.edge] - listed_end_[2 * i], x[item.edge] - listed_end_[2 * i]),
@@ -182,7 +184,7 @@ bool RodContactField::relist_moved() const {
                                                x[item.edge + 1] - listed_end_[2 * i + 1])));
       continue;
     }
-    listed_mid_[i] = item.mid;
+    listed_mid_[i] = balls_[i].mid;
     listed_end_[2 * i] = x[item.edge];
     listed_end_[2 * i + 1] = x[item.edge + 1];
     item.drift = 0.0;
@@ -213,7 +215,7 @@ void RodContactField::build_list() const {
     for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
       if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
       const Item& b = items_[j];
-      if (apart(listed_mid_[i], a.reach, listed_mid_[j], b.reach, margin_ + skin_)) return;
+      if (apart(listed_mid_[i], balls_[i].reach, listed_mid_[j], balls_[j].reach, margin_ + skin_)) return;
       if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
       if (j > i) fresh_.push_back({i, j});
       else lower_.push_back({j, i});
@@ -288,9 +290,11 @@ template <typename Fn>
 void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const {
   for (std::uint32_t i = first_item_[mi]; i < first_item_[mi + 1]; ++i) {
     const Item& a = items_[i];
+    const Ball ball = balls_[i];
     for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
-      const Item& b = items_[pairs_[p]];
-      if (apart(a.mid, a.reach, b.mid, b.reach, margin)) continue;
+      const std::uint32_t j = pairs_[p];
+      if (apart(ball.mid, ball.reach, balls_[j].mid, balls_[j].reach, margin)) continue;
+      const Item& b = items_[j];
       const Member& other = members_[b.member];
       if (excluded_now(me, a.edge, other, b.edge)) continue;
       fn(a, other, b, p);
@@ -392,10 +396,10 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
     for (std::uint32_t i = 0; i < items_.size(); ++i) {
       const Item& a = items_[i];
       const Member& me = members_[a.member];
-      for_neighbours(a.mid, [&](std::uint32_t j) {
+      for_neighbours(balls_[i].mid, [&](std::uint32_t j) {
         const Item& b = items_[j];
         const Member& other = members_[b.member];
-        if (j == i || apart(a.mid, a.reach, b.mid, b.reach, 0.0)) return;
+        if (j == i || apart(balls_[i].mid, balls_[i].reach, balls_[j].mid, balls_[j].reach, 0.0)) return;
         if (excluded_always(me, a.edge, other, b.edge) || excluded_now(me, a.edge, other, b.edge)) return;
         pair_depth(a, other, b, 0);
       });

@@ -16,16 +16,6 @@
 
 namespace cathbox::tool {
 
-glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const {
-  // Bending residual on the unit tangents around vertex i: r = t_b - t_a - (rest turn towards
-  // m1). |t_b - t_a| is 2 sin(phi/2) of the turning angle phi: the discrete curvature for small
-  // angles, and bounded for kinks, which keeps the Gauss-Newton steps good.
-  glm::dvec3 r = tb - ta;
-  if (kturn1_[i] != 0.0) r -= (m1_[i - 1] + m1_[i]) * (0.5 * kturn1_[i]);
-  if (kturn2_[i] != 0.0) r -= (m2_[i - 1] + m2_[i]) * (0.5 * kturn2_[i]);
-  return r;
-}
-
 // An inflated balloon's grip: an elastic-plastic anchor that slips beyond its limit.
 [[gnu::always_inline]] inline void Rod::add_grip_terms(std::size_t k, glm::dmat3& h) {
   const glm::dmat3 identity(1.0);

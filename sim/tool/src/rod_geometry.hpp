@@ -21,7 +21,7 @@ inline double finite_or(double v, double fallback) { return std::isfinite(v) ? v
 // Rotates v by the rotation that takes unit vector `from` onto unit vector `to` (parallel transport).
 // Rodrigues' formula with the unnormalised axis a = from x to (|a| = sin, 1 - cos = |a|^2 / (1 + cos)):
 // no square root or division by the sine, which the frames call twice per edge and step.
-inline glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
+[[gnu::always_inline]] inline glm::dvec3 transport(const glm::dvec3& v, const glm::dvec3& from, const glm::dvec3& to) {
   const glm::dvec3 a = glm::cross(from, to);
   const double s2 = glm::dot(a, a);
   const double c = glm::dot(from, to);

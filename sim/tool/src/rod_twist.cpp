@@ -4,6 +4,7 @@
 // wall friction), the material frames, and the torque and torsional stiffness at the hand.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -95,7 +96,10 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
     tw_off_[j] = 0.0;
     tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
   }
-  // Twist at every vertex i between edges i-1 and i.
+  // Twist at every vertex i between edges i-1 and i. `framed`: the last edge whose material
+  // frame the pre-curve's coupling set in this assembly (an edge's frame once, not at both of
+  // its vertices: the angles do not change within it).
+  std::size_t framed = std::numeric_limits<std::size_t>::max();  // none yet
   for (std::size_t i = free_ ? 1 : ef; i + 1 < n; ++i) {
     const double c = gj_[i] / (i == ef && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
     const double tau = theta_[i] - theta_[i - 1] + ref_twist_[i];
@@ -109,7 +113,7 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
     }
     if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
       linear = false;
-      add_twist_curvature(i, ef);
+      add_twist_curvature(i, ef, framed);
     }
   }
   return linear;
@@ -121,13 +125,14 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
 // solve on another bending energy (add_twist_curvature_kb) and a position solve on this one,
 // taken in turn, never came to rest (a coil left in a sphere turned at 8-18 um a tick for ever;
 // docs/sim-tool/convergence.md). Attached tools keep the binormal form, not yet measured.
-void Rod::add_twist_curvature(std::size_t i, std::size_t ef) {
+void Rod::add_twist_curvature(std::size_t i, std::size_t ef, std::size_t& framed) {
   if (!free_) {
-    add_twist_curvature_kb(i, ef);
+    add_twist_curvature_kb(i, ef, framed);
     return;
   }
-  set_material_frame(i - 1);
+  if (framed != i - 1) set_material_frame(i - 1);
   set_material_frame(i);
+  framed = i;
   const glm::dvec3 ta = glm::normalize(x_[i] - x_[i - 1]);
   const glm::dvec3 tb = glm::normalize(x_[i + 1] - x_[i]);
   const glm::dvec3 r = bend_residual(i, ta, tb);
@@ -177,7 +182,7 @@ void Rod::add_twist_holonomy_loads() {
 
 namespace {
 // The linearised change of a vertex's reference twist, d(psi)/dx . (x - x0) over its three nodes.
-double psi_change(const glm::dvec3* dpsi, const glm::dvec3* x, const glm::dvec3* x0) {
+[[gnu::always_inline]] inline double psi_change(const glm::dvec3* dpsi, const glm::dvec3* x, const glm::dvec3* x0) {
   double s = 0.0;
   for (std::size_t j = 0; j < 3; ++j) s += glm::dot(dpsi[j], x[j] - x0[j]);
   return s;
@@ -215,7 +220,7 @@ double Rod::twist_stiffness_energy() const {
 
 // The discrete curvature binormal's material components against kbar: E = w/2 |k - kbar|^2
 // with dk1/dtheta = k2, dk2/dtheta = -k1.
-void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef) {
+void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef, std::size_t& framed) {
   const glm::dvec3 a = x_[i] - x_[i - 1];
   const glm::dvec3 b = x_[i + 1] - x_[i];
   const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
@@ -223,7 +228,8 @@ void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef) {
   const double w = 0.5 * (ei_[i] + ei_extra_[i]) / voronoi_[i];
   for (std::size_t e = i - 1; e <= i; ++e) {
     if (e < ef) continue;
-    set_material_frame(e);
+    if (e != framed) set_material_frame(e);
+    framed = e;
     const double k1 = glm::dot(kb, m2_[e]);
     const double k2 = -glm::dot(kb, m1_[e]);
     tw_rhs_[e - ef] += w * (kbar2_[i] * k1 - kbar1_[i] * k2);

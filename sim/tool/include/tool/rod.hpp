@@ -262,12 +262,13 @@ class Rod {
   void project_contacts(const RodObstacles* obstacles);
   void linearise_clamp(const Newton& s);
 
-  // (Helpers declared inline are defined, always inlined, in the one file that calls them: the
-  // hot loops of the assembly and the twist solve keep the code they had as lambdas.)
+  // (Helpers declared inline are defined, always inlined, in the one file that calls them, or in
+  // rod_newton.hpp when the energy and the twist both do: the hot loops of the assembly and the
+  // twist solve keep the code they had as lambdas.)
 
   // Energy, gradient and Hessian of the step (rod_energy.cpp).
   // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
-  [[nodiscard]] glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
+  [[nodiscard]] inline glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
   inline void add_grad(std::size_t k, const glm::dvec3& g);  // grad_ at node k (rod_newton.hpp)
   void assemble(bool hessian);
   static void estimate_curvature(NodeContact& c, const WallContact& wc);
@@ -301,8 +302,8 @@ class Rod {
   inline void set_material_frame(std::size_t e);
   void solve_twist(double dt_s);
   [[nodiscard]] bool assemble_twist(double dt_s, std::size_t ef, std::size_t m);  // false: nonlinear
-  void add_twist_curvature(std::size_t i, std::size_t ef);
-  void add_twist_curvature_kb(std::size_t i, std::size_t ef);
+  void add_twist_curvature(std::size_t i, std::size_t ef, std::size_t& framed);
+  void add_twist_curvature_kb(std::size_t i, std::size_t ef, std::size_t& framed);
   void add_twist_holonomy_loads();
   void add_twist_stiffness(bool hessian);
   [[nodiscard]] double twist_stiffness_energy() const;
