@@ -84,6 +84,10 @@ void Rod::start_solve(Newton& s, double dt_s) {
   s.rounds = s.iterations;
   s.rejoin_from = n;
   std::fill(held_gap_.begin(), held_gap_.end(), std::numeric_limits<double>::quiet_NaN());
+  // Joins are a solve's own: one on its last round (the round count at its limit) is never
+  // amended into a system, and left set it would add its node's wall terms to a later solve's
+  // join a second time (on top of the assembly's, or for a node long off the wall).
+  std::fill(joined_.begin(), joined_.end(), std::uint8_t{0});
 }
 
 void Rod::finish_solve(const Newton& s) {

@@ -7,6 +7,7 @@
 // closed end of a tube of length L, radial clearance r, reads F = 4 EI delta / (r^2 L); the rod
 // itself against it: helical_buckling_test.cpp).
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 #include <gtest/gtest.h>
@@ -88,6 +89,46 @@ TEST(RodSubsteps, OnlyAnUnconvergedTickIsSubdivided) {
   for (int k = 0; k < 200; ++k) rod.step(1e-3, wall);  // held: every tick converges whole
   EXPECT_TRUE(rod.converged());
   EXPECT_EQ(rod.last_substeps(), 1);
+}
+
+// Joins to the wall's active set are a solve's own. A whole attempt that ended on a join (its
+// last round, the round count at its limit: with 2 Newton iterations a tick, rounds raised to 4,
+// 3 joins) left the join bits set, and the sub-ticks' solves added those nodes' wall terms a
+// second time at their next join: the subdivided tick then missed its sub-ticks by up to 4 um.
+TEST(RodSubsteps, AFailedAttemptsJoinsDoNotCarryIntoItsSubTicks) {
+  const TubeNetworkWall wall = testing::closed_helix_tube();
+  for (const double jump : {0.2, 0.3, 0.4, 0.6}) {
+    Rod a = make_wire();
+    Rod b = make_wire();
+    for (Rod* r : {&a, &b}) {
+      r->settings().substeps_max = 1;
+      r->settings().newton_iterations = 2;
+    }
+    double ia = 0.0;
+    double ib = 0.0;
+    push(a, wall, ia, kHelixContact_mm + 3.0, 0.05);
+    push(b, wall, ib, kHelixContact_mm + 3.0, 0.05);
+    a.settings().substeps_max = 4;
+    ia += jump;
+    a.set_boundary(ia, 0.0);
+    a.step(1e-3, wall);
+    const int parts = a.last_substeps();
+    for (int j = 1; j <= parts; ++j) {  // the sub-ticks' insertions rounded as rod_substep.cpp's
+      b.set_boundary(j == parts ? ia : ib + (ia - ib) * (static_cast<double>(j) / parts), 0.0);
+      b.step(1e-3 / parts, wall);
+    }
+    ASSERT_GT(parts, 1) << "jump " << jump << ": the tick converged whole";
+    ASSERT_EQ(a.node_total(), b.node_total());
+    int differ = 0;
+    double most = 0.0;
+    for (std::size_t k = a.first_node(); k < a.node_total(); ++k) {
+      const glm::dvec3 d = a.positions()[k] - b.positions()[k];
+      differ += d.x != 0.0 || d.y != 0.0 || d.z != 0.0;
+      most = std::max({most, std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+    }
+    EXPECT_EQ(differ, 0) << "jump " << jump << " parts " << parts << " largest " << most << " mm";
+    EXPECT_EQ(a.hand_force_mN(), b.hand_force_mN()) << "jump " << jump;
+  }
 }
 
 }  // namespace
