@@ -345,10 +345,13 @@ class SurfaceImporter {
     }
   }
 
-  // The flow leaves a point off the axis by up to a tenth of the radius where the tube bends.
-  // Each inner point climbs the distance to the surface within its cross-section (the plane
-  // normal to the branch there) until it is on the medial axis, moving at most half its first
-  // distance; its radius is then its distance to the surface. Nodes stay where the flow put them.
+  // The flow leaves a point off the axis by up to a tenth of the radius where the tube bends
+  // (and, on the decimated copy, near a junction by up to a quarter of it). Each inner point
+  // climbs the distance to the surface within its cross-section (the plane normal to the branch
+  // there) until it is on the medial axis, moving at most half its first distance: a step that
+  // would go further is halved like one that does not climb (ending the climb there left the fine
+  // Y's point 0.094 mm off the axis, 4.3 % small). Its radius is then its distance to the
+  // surface. Nodes stay where the flow put them.
   // One closest-point query per step, started from the last closest point (the tree's search
   // then prunes at once: the step moves the point by a fraction of its radius).
   static void centre(std::vector<vessel::CenterlinePoint>& points, const Tree& tree) {
@@ -366,7 +369,10 @@ class SurfaceImporter {
         away -= glm::dot(away, tangent) * tangent;
         if (glm::length(away) <= 0.0) break;
         const glm::dvec3 q = to_glm(p) + step * glm::normalize(away);
-        if (glm::length(q - start) > reach) break;
+        if (glm::length(q - start) > reach) {
+          step *= 0.5;
+          continue;
+        }
         const Point qp(q.x, q.y, q.z);
         const Point cq = tree.closest_point(qp, c);
         const double dq = std::sqrt(CGAL::squared_distance(qp, cq));

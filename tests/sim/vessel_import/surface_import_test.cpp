@@ -156,14 +156,23 @@ void expect_same_shape(const vessel::VesselModel& truth, const ImportResult& imp
 // The generator's model meshed, written as `ext`, imported: the network's shape, the centreline
 // and the radius against the generator's. Points within 1.5 radii of a junction or an end are
 // left out of the radius check (there the distance to the surface is not the tube's radius).
-void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
+AxisCheck expect_round_trip(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
   const vessel::VesselSurface surface = vessel::build_vessel_surface(truth, options);
-  ASSERT_TRUE(surface.ok()) << surface.error;
+  if (!surface.ok()) {
+    ADD_FAILURE() << surface.error;
+    return {};
+  }
   const std::string path = temp_path("round_trip" + ext);
-  ASSERT_EQ(ext == ".vtp" ? write_vtp(surface.mesh, path) : vessel::write_mesh(surface.mesh, path), "");
+  if (const std::string written = ext == ".vtp" ? write_vtp(surface.mesh, path) : vessel::write_mesh(surface.mesh, path); !written.empty()) {
+    ADD_FAILURE() << written;
+    return {};
+  }
   const ImportResult imported = import_centerlines(path);
   fs::remove(path);
-  ASSERT_TRUE(imported.ok()) << imported.errors.front().to_string();
+  if (!imported.ok()) {
+    ADD_FAILURE() << imported.errors.front().to_string();
+    return {};
+  }
   expect_same_shape(truth, imported, surface.mesh.triangle_count());
   const AxisCheck c = check_against(truth, imported.model);
   EXPECT_LT(c.worst_near_feature, 1.0) << imported.summary();  // in the lumen (measured 0.61-0.66)
@@ -173,6 +182,7 @@ void expect_round_trip(const vessel::VesselModel& truth, const std::string& ext,
               worst_and_median(c.axis_mm, 1.0, "mm").c_str(), worst_and_median(c.radius_error, 100.0, "%").c_str());
   EXPECT_EQ(c.off_axis, 0u) << imported.summary();
   EXPECT_EQ(c.off_radius, 0u) << c.checked << " checked; " << imported.summary();
+  return c;
 }
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughStl) {
@@ -184,11 +194,17 @@ TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughVtp) {
 }
 
 // 32 points per ring: over 50,000 triangles, so the flow runs on a copy decimated to 25,000
-// (surface_skeleton.cpp) while radii and centring use the full lumen.
+// (surface_skeleton.cpp) while radii and centring use the full lumen. The finer polygon is
+// within 0.5 % of the generator's circle (cos(pi/32) = 0.9952), so every checked point is held
+// to 1 % of the generator's radius and 0.02 mm of its axis: the flow on the copy leaves one point
+// 0.5 mm off the axis, which a centring that ended its climb at its reach left 0.094 mm off, 4.3 %
+// small (measured with 0.0019 mm and 0.15 %).
 TEST(SurfaceImport, FineYBifurcationRoundTripsThroughTheDecimatedFlow) {
   vessel::MeshOptions options;
   options.ring_points = 32;
-  expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl", options);
+  const AxisCheck c = expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl", options);
+  for (double e : c.radius_error) EXPECT_LT(std::abs(e), 0.01);
+  for (double d : c.axis_mm) EXPECT_LT(d, 0.02);
 }
 
 TEST(SurfaceImport, VtpSurfaceCellsNamingMissingPointsAreRefusedInOneLine) {
