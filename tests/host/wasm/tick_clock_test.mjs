@@ -9,6 +9,7 @@ const dir = path.resolve(process.argv[2]);
 const { TickClock, MAX_CATCH_UP } = await import(pathToFileURL(path.join(dir, 'tick_clock.js')).href);
 const { TickStats, BIN_MS } = await import(pathToFileURL(path.join(dir, 'tick_stats.js')).href);
 const { FramePacer } = await import(pathToFileURL(path.join(dir, 'frame_pacer.js')).href);
+const { SharedFrame, FrameReader } = await import(pathToFileURL(path.join(dir, 'frame_share.js')).href);
 
 let failures = 0;
 function check(ok, what) {
@@ -174,6 +175,38 @@ function machine({ tickMs = 0.1, wake = () => 0, spinMs, maxCatchUp } = {}) {
   off.drew(5);
   off.health(10);
   check(off.budgetMs === 0 && off.due(5), 'maxMs 0: no budget, every frame due: ' + off.budgetMs);
+}
+
+// 9. The shared frame (frame_share.js): the page takes a whole frame once; none while the worker
+// is writing (odd sequence) or when it wrote again during the copy; the capacities travel with it.
+{
+  const w = SharedFrame.create(8, 16);
+  const r = new FrameReader(w.buffer);
+  check(r.take() === null, 'nothing before the first frame');
+  const text = (s, to) => { const b = new TextEncoder().encode(s); to.set(b); return b.length; };
+  w.begin();
+  w.f32.set([1, 2, 3]);
+  const mb = text('{"a":1}', w.metrics);
+  const db = text('{"hints":[]}', w.drive);
+  w.f64[0] = 0.75;
+  check(r.take() === null, 'no frame while the worker writes it');
+  w.setCounts(3, mb, db, 0);
+  w.end();
+  const f = r.take();
+  check(f && f.data.length === 3 && f.data[2] === 3 && f.metricsText === '{"a":1}' && f.driveText === '{"hints":[]}' &&
+    f.lateMs === 0.75 && f.fluoro === null, 'the frame as written: ' + JSON.stringify(f && [...f.data]));
+  check(r.take() === null, 'taken once');
+  w.begin(); w.f32[0] = 9; w.setCounts(1, mb, db, 1); w.end();
+  const g = r.take();
+  check(g && g.data[0] === 9 && g.fluoro && g.fluoro.header.length === 56 && g.fluoro.carm.length === 9, 'the next, with the fluoroscopy');
+  const torn = new FrameReader(w.buffer);
+  const load = Atomics.load;
+  let calls = 0;
+  Atomics.load = (a, i) => { const v = load(a, i); return ++calls === 2 ? v + 2 : v; };  // the worker wrote during the copy
+  check(torn.take() === null, 'a frame rewritten during the copy is not taken');
+  Atomics.load = load;
+  check(torn.take() !== null, 'the next look takes it');
+  check(!w.fits(9, 0, 0) && w.fits(8, 16, 16), 'the capacities: 8 floats, 16 bytes');
 }
 
 if (failures) {

@@ -37,6 +37,7 @@ import { showEnd } from './train_end.js';
 import { askForBox, chooseBox } from './box_transport.js';
 import { FramePacer } from './frame_pacer.js';
 import { unpack, hudText, fit } from './train_snapshot.js';
+import { FrameReader } from './frame_share.js';
 
 const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
@@ -101,13 +102,32 @@ function fluoroNote(f) {
     (fluoro.view ? `, ${fluoro.view.stats.images} images drawn` : '');
 }
 
-function showFrame(data, metrics, f) {
+// The newest frame the worker wrote into the shared frame (js/frame_share.js), if any: the page's
+// animation frame takes it, and so do the worker's ready, advanced and over messages (the state a
+// step or the run ended at is shown before the page says so).
+let frameReader = null;
+
+function takeFrame() {
+  const f = frameReader && run ? frameReader.take() : null;
+  if (!f) return;
+  const drive = JSON.parse(f.driveText);
+  run.drive.hints = drive.hints;
+  if (drive.notes.length) run.drive.note = drive.notes[drive.notes.length - 1];
+  if (f.fluoro) takeFluoro(f.fluoro);
+  showFrame(f.data, JSON.parse(f.metricsText));
+  if (frames) frames.pacer.health(f.lateMs || 0);
+}
+
+// The fluoroscopy's header and C-arm (each frame), with the phantom or the scenes when new (a
+// fluoro_data message); kept whole for a view made later.
+function takeFluoro(f) {
+  fluoro.last = Object.assign(fluoro.last || {}, f);
+  if (fluoro.view) fluoro.view.update(f);
+  if (f.carm && fluoro.panel) fluoro.panel.update(f.carm);
+}
+
+function showFrame(data, metrics) {
   const s = unpack(data);
-  if (f) {  // kept whole (the phantom and the scenes come only when new) for a view made later
-    fluoro.last = Object.assign(fluoro.last || {}, f);
-    if (fluoro.view) fluoro.view.update(f);
-    if (f.carm && fluoro.panel) fluoro.panel.update(f.carm);
-  }
   run.last = s;
   run.metrics = metrics;
   if (run.live) run.live.frame(s, metrics);
@@ -149,6 +169,7 @@ function frameNote() {
 
 function draw() {
   if (!views) return;
+  takeFrame();
   const t0 = performance.now();
   if (firstFrameMs !== null && !frames.pacer.due(t0)) return requestAnimationFrame(draw);  // the first frame unpaced
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
@@ -289,25 +310,21 @@ function startWorker() {
   worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
   worker.onmessage = (e) => {
     const m = e.data;
-    if (m.type === 'frame') {
-      if (m.drive) {
-        run.drive.hints = m.drive.hints;
-        if (m.drive.notes.length) run.drive.note = m.drive.notes[m.drive.notes.length - 1];
-      }
-      showFrame(m.data, m.metrics, m.fluoro);
-      if (frames) frames.pacer.health(m.lateMs || 0);
-      run.boxReport = m.box;
-      showBoxReport(m.box || { live: false, state: null });  // no box in the worker yet: said so
+    if (m.type === 'frames') frameReader = new FrameReader(m.buffer);
+    else if (m.type === 'box') {
+      run.boxReport = m.report;
+      showBoxReport(m.report);
     }
+    else if (m.type === 'fluoro_data') takeFluoro(m);
     else if (m.type === 'box_note') boxNote(m.text);
     else if (m.type === 'carm_note') { if (fluoro.panel) fluoro.panel.refused(m.text); }
     else if (m.type === 'fluoro_vessel') {
       fluoro.vessel = m;
       if (fluoro.view) fluoro.view.setVessel(m.vertices, m.indices);
     }
-    else if (m.type === 'ready') onReady(m);
-    else if (m.type === 'advanced') onStepped(m.ticks);
-    else if (m.type === 'over') onOver(m);
+    else if (m.type === 'ready') { takeFrame(); onReady(m); showBoxReport({ live: false, state: null }); }  // no box in the worker yet: said so
+    else if (m.type === 'advanced') { takeFrame(); onStepped(m.ticks); }
+    else if (m.type === 'over') { takeFrame(); onOver(m); }
     else if (m.type === 'replayed') onReplayed(m);
     else if (m.type === 'error') { setState('error', ''); showError(m.message); }
   };

@@ -34,9 +34,10 @@
 // 'rate', values} (the C-arm panel's edit, posted as the native panel posts it). Out: ready {summary,
 // open_ms, fluoro, projections (the C-arm panel's: [{name, lao, cranial}])}, carm_note {text} (an
 // edit refused: its line; '' when taken),
-// fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frame {data: Float32Array, metrics,
-// fluoro: {header, phantom?, floats?, indices?, carm (the C-arm now: 9 numbers, cbx_carm_state)} or null,
-// drive {hints, notes} (the stent's U / E lines)},
+// fluoro_vessel {vertices, indices, shaders: the fluoroscopy's GLSL texts}, frames {buffer: the shared
+// frame's SharedArrayBuffer (js/frame_share.js), at open and when a frame outgrows it}; the frames
+// themselves are written there, not posted; fluoro_data {header, carm, phantom?, floats?, indices?}
+// (the phantom or the scenes, when new), box {report} (each frame while a box is connected),
 // advanced {ticks}, over {summary, record (bytes), jitter},
 // replayed {passed, figures {ticks, recorded_ticks, hashes_checked, mismatch_tick}, message, ms},
 // box_note {text}, error {message}.
@@ -54,9 +55,12 @@ let clock = 'real';
 let over = false;
 const sleepCell = new Int32Array(new SharedArrayBuffer(4));
 const clockModule = import('/js/tick_clock.js');  // fetched while the session loads
+const frameModule = import('/js/frame_share.js');
+let frameShare = null;  // js/frame_share.js, once loaded
+const HEADER_DOUBLES = 56;
 let ticker = null;  // the real clock's TickClock
 let box = null;  // the box's BoxDriver (bridge or WebHID), or null
-let latest = null;  // the newest snapshot's hand figures, for the box driver
+const latest = { insertion_mm: 0, rotation_rad: 0, hand_force_mN: 0, torque_mNmm: 0 };  // the newest snapshot's hand figures, for the box driver
 let sessionOpen = false;
 let hidAsked = false;  // box_hid came before the session opened
 
@@ -126,37 +130,95 @@ function copyHeap(heap, at, n) {
 
 // The fluoroscopy (wasm/browser_fluoro.hpp, js/fluoro_view.js): the page's image size while it
 // shows it (null: the 3D view), and what it was last sent.
-const HEADER_DOUBLES = 56;
 let fluoroOn = false;
 let fluoroSize = null;
 let fluoroSent = { scene: -1, phantom: -1 };
 
-function fluoroFrame() {
-  if (!fluoroOn || !fluoroSize) return null;
-  const header = copyHeap('HEAPF64', fn.fluoroFrame(fluoroSize[0], fluoroSize[1]), HEADER_DOUBLES);
-  const out = { header, carm: copyHeap('HEAPF64', fn.carmState(), 9) };
-  if (header[43] !== fluoroSent.phantom) {
+// The header and the C-arm into the shared frame's doubles (1.., 57..); the phantom and the scenes,
+// when new, as a fluoro_data message with their own header (js/fluoro_view.js keeps the scenes'
+// header with them). False while the fluoroscopy is not shown.
+function fluoroFrame(f64) {
+  if (!fluoroOn || !fluoroSize) return false;
+  const h = fn.fluoroFrame(fluoroSize[0], fluoroSize[1]);
+  const c = fn.carmState();
+  heapFits(Math.max(h + 8 * HEADER_DOUBLES, c + 72));
+  const heap = mod.HEAPF64;
+  for (let i = 0; i < HEADER_DOUBLES; ++i) f64[1 + i] = heap[(h >> 3) + i];
+  for (let i = 0; i < 9; ++i) f64[1 + HEADER_DOUBLES + i] = heap[(c >> 3) + i];
+  const newPhantom = f64[1 + 43] !== fluoroSent.phantom;
+  const newScene = f64[1] && f64[1 + 42] !== fluoroSent.scene;
+  if (!newPhantom && !newScene) return true;
+  const out = { type: 'fluoro_data', header: copyHeap('HEAPF64', h, HEADER_DOUBLES), carm: copyHeap('HEAPF64', c, 9) };
+  if (newPhantom) {
     out.phantom = copyHeap('HEAPF32', fn.fluoroData(2), fn.fluoroSize(2));
-    fluoroSent.phantom = header[43];
+    fluoroSent.phantom = out.header[43];
   }
-  if (header[0] && header[42] !== fluoroSent.scene) {
+  if (newScene) {
     out.floats = copyHeap('HEAPF32', fn.fluoroData(3), fn.fluoroSize(3));
     out.indices = copyHeap('HEAPU32', fn.fluoroData(4), fn.fluoroSize(4));
-    fluoroSent.scene = header[42];
+    fluoroSent.scene = out.header[42];
   }
-  return out;
+  postMessage(out, ['header', 'phantom', 'floats', 'indices'].filter((k) => out[k]).map((k) => out[k].buffer));
+  return true;
+}
+
+// The frame (js/frame_share.js): the snapshot floats, the metrics' and the drive's JSON bytes, the
+// worst lateness and the fluoroscopy's header and C-arm, copied from the module's memory into the
+// shared frame with plain loops (no view, array or string made); the page reads it on its
+// animation frame. What is new and large (the phantom, the scenes) and the box's report go as a
+// message, and a frame that outgrows the buffer makes a bigger one (said in a message).
+const FRAME_FLOATS = 1 << 16;
+const FRAME_BYTES = 1 << 14;
+let shared = null;  // the SharedFrame, made at open
+let framed = false;  // a frame was written (the box driver's hand figures are the session's)
+
+function heapFits(end) { if (end > mod.HEAPU8.length) fn.error(); }  // a string call renews grown views
+
+function cstrLength(at) {
+  const h = mod.HEAPU8;
+  let e = at;
+  while (h[e] !== 0) ++e;
+  return e - at;
+}
+
+function copyBytes(from, n, to) {
+  const h = mod.HEAPU8;
+  for (let i = 0; i < n; ++i) to[i] = h[from + i];
+}
+
+function ensureShared(n, mb, db) {
+  if (shared && shared.fits(n, mb, db)) return;
+  shared = frameShare.SharedFrame.create(Math.max(FRAME_FLOATS, 2 * n), Math.max(FRAME_BYTES, 2 * mb, 2 * db));
+  postMessage({ type: 'frames', buffer: shared.buffer });
 }
 
 function postFrame() {
   const n = fn.snapshot();
-  const data = copyHeap('HEAPF32', fn.snapshotData(), n);
-  latest = { insertion_mm: data[2], rotation_rad: data[3], hand_force_mN: data[4], torque_mNmm: data[5] };
-  const fluoro = fluoroFrame();
-  const moved = [data.buffer];
-  if (fluoro) for (const k of ['header', 'phantom', 'floats', 'indices']) if (fluoro[k]) moved.push(fluoro[k].buffer);
-  const lateMs = ticker ? ticker.stats.takeWorst() : 0;  // the page paces its drawing by it (js/frame_pacer.js)
-  postMessage({ type: 'frame', data, metrics: JSON.parse(fn.snapshotMetrics()), box: box ? box.report() : null, fluoro, lateMs,
-    drive: JSON.parse(fn.drive()) }, moved);
+  const at = fn.snapshotData();
+  heapFits(at + 4 * n);
+  const metricsAt = mod._cbx_snapshot_metrics();
+  heapFits(metricsAt);
+  const mb = cstrLength(metricsAt);
+  ensureShared(n, mb, 0);
+  shared.begin();
+  const f32 = shared.f32;
+  const heap = mod.HEAPF32;
+  const i0 = at >> 2;
+  for (let i = 0; i < n; ++i) f32[i] = heap[i0 + i];
+  copyBytes(metricsAt, mb, shared.metrics);  // before cbx_drive: the module's one text buffer
+  const driveAt = mod._cbx_drive();
+  const db = Math.min(cstrLength(driveAt), shared.drive.length);
+  copyBytes(driveAt, db, shared.drive);
+  const fluoro = fluoroFrame(shared.f64);
+  shared.f64[0] = ticker ? ticker.stats.takeWorst() : 0;  // the page paces its drawing by it (js/frame_pacer.js)
+  shared.setCounts(n, mb, db, fluoro ? 1 : 0);
+  shared.end();
+  latest.insertion_mm = f32[2];
+  latest.rotation_rad = f32[3];
+  latest.hand_force_mN = f32[4];
+  latest.torque_mNmm = f32[5];
+  framed = true;
+  if (box) postMessage({ type: 'box', report: box.report() });
 }
 
 function finish() {
@@ -203,7 +265,7 @@ async function openBox(url) {
   try {
     const [{ BoxDriver, SEND_MS }, { WebSocketBox, WebHidBox }] = await Promise.all([import('/js/train_box.js'), import('/js/box_transport.js')]);
     if (box) box.stop();
-    box = new BoxDriver({ keys, sessionAt: () => (over ? null : latest), onChange: note,
+    box = new BoxDriver({ keys, sessionAt: () => (over || !framed ? null : latest), onChange: note,
       law: { configure: (c) => boxLaw.configure(c, SEND_MS), command: boxLaw.command } });
     await box.connect(url ? new WebSocketBox(url) : new WebHidBox());
   } catch (err) {
@@ -246,6 +308,7 @@ async function open(m) {
   FS.writeFile('/case/collision.cbxmesh', new Uint8Array(m.mesh));
   if (!fn.open('/case/' + m.caseFile, '/case/collision.cbxmesh', '/run/run.cbxrec')) return fail(fn.error());
   sessionOpen = true;
+  frameShare = await frameModule;
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
   fluoroOn = fn.fluoroOpen() === 1;
