@@ -6,8 +6,11 @@
 #include <glm/geometric.hpp>
 
 #include "collision/segment_pair.hpp"
+#include "rod_contact_grid.hpp"
 
 namespace cathbox::tool {
+
+using rod_contact_detail::apart;
 
 namespace {
 
@@ -25,24 +28,12 @@ double edge_reach(const Rod& rod, std::size_t e) {
   return 0.55 * (rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1)) + edge_radius(rod, e);
 }
 
-// Broad phase of a pair: edges whose spheres around their middles (half the length plus the
-// radius) are further apart than the margin cannot touch.
-bool apart(const glm::dvec3& mid_a, double reach_a, const glm::dvec3& mid_b, double reach_b, double margin) {
-  const glm::dvec3 d = mid_a - mid_b;
-  const double r = reach_a + reach_b + margin;
-  return glm::dot(d, d) > r * r;
-}
-
 glm::dvec3 any_perpendicular(const glm::dvec3& t) {
   const glm::dvec3 a = std::abs(t.x) < 0.6 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
   const glm::dvec3 p = a - t * glm::dot(a, t);
   const double l = glm::length(p);
   return l > 1e-12 ? p / l : glm::dvec3(0, 0, 1);
 }
-
-}  // namespace
-
-namespace {
 
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
   return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
@@ -93,182 +84,6 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);
   if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
-}
-
-std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const {
-  // Teschner et al. (2003) spatial hash.
-  const std::uint64_t h = (static_cast<std::uint64_t>(x) * 73856093u) ^ (static_cast<std::uint64_t>(y) * 19349663u) ^
-                          (static_cast<std::uint64_t>(z) * 83492791u);
-  return static_cast<std::size_t>(h) & bucket_mask_;
-}
-
-bool RodContactField::update_mids() const {
-  // An edge's middle that moved less than half the skin since the list was built keeps every
-  // pair within the contact reach among the listed ones (two middles close by at most the skin).
-  const double limit_sq = 0.25 * skin_ * skin_;
-  bool covered = list_valid_;
-  for (std::size_t i = 0; i < items_.size(); ++i) {
-    Item& item = items_[i];
-    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
-    const glm::dvec3& p0 = x[item.edge];
-    const glm::dvec3& p1 = x[item.edge + 1];
-    balls_[i].mid = 0.5 * (p0 + p1);
-    if (covered) {
-      const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
-      covered = glm::dot(d, d) <= limit_sq;
-      const glm::dvec3 d0 = p0 - listed_end_[2 * i];
-      const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
-      item.drift = std::sqrt(std::max(glm::dot(d0, d0), glm::dot(d1, d1)));
-    }
-  }
-  return covered;
-}
-
-template <typename Fn>
-void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
-  const glm::dvec3 c = glm::floor(p / cell_mm_);
-  const auto cx = static_cast<std::int64_t>(c.x);
-  const auto cy = static_cast<std::int64_t>(c.y);
-  const auto cz = static_cast<std::int64_t>(c.z);
-  // A bucket that several of the 27 cells hash to is visited once: it carries this query's stamp.
-  if (++query_ == 0) {
-    std::fill(seen_.begin(), seen_.end(), 0u);
-    query_ = 1;
-  }
-  for (std::int64_t dz = -1; dz <= 1; ++dz)
-    for (std::int64_t dy = -1; dy <= 1; ++dy)
-      for (std::int64_t dx = -1; dx <= 1; ++dx) {
-        const std::size_t b = bucket_of(cx + dx, cy + dy, cz + dz);
-        if (seen_[b] == query_) continue;
-        seen_[b] = query_;
-        for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(grid_[i]);
-      }
-}
-
-void RodContactField::build_grid(bool listed) const {
-  const std::size_t buckets = bucket_mask_ + 1;
-  const std::size_t n = items_.size();
-  std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
-  bucket_of_item_.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    const glm::dvec3 c = glm::floor((listed ? listed_mid_[i] : balls_[i].mid) / cell_mm_);
-    const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
-                                    static_cast<std::int64_t>(c.z));
-    bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
-    ++start_[b + 1];
-  }
-  for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
-  // Counting sort of the item indices by bucket.
-  fill_.assign(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets));
-  grid_.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) grid_[fill_[bucket_of_item_[i]]++] = i;
-}
-
-// Items whose middle left its listed place by more than a quarter of the skin (every item when
-// the members changed) are listed again where they are now; the ends' drifts are set afresh.
-bool RodContactField::relist_moved() const {
-  const std::size_t n = items_.size();
-  const bool partial = list_valid_ && listed_mid_.size() == n;
-  listed_mid_.resize(n);
-  listed_end_.resize(2 * n);
-  relisted_.assign(n, 1);
-  const double keep_sq = 0.0625 * skin_ * skin_;
-  for (std::size_t i = 0; i < n; ++i) {
-    Item& item = items_[i];
-    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
-    const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
-    if (partial && glm::dot(d, d) <= keep_sq) {
-      relisted_[i] = 0;
-      item.drift = std::sqrt(std::max(glm::dot(x[item.edge] - listed_end_[2 * i], x[item.edge] - listed_end_[2 * i]),
-                                      glm::dot(x[item.edge + 1] - listed_end_[2 * i + 1],
-                                               x[item.edge + 1] - listed_end_[2 * i + 1])));
-      continue;
-    }
-    listed_mid_[i] = balls_[i].mid;
-    listed_end_[2 * i] = x[item.edge];
-    listed_end_[2 * i + 1] = x[item.edge + 1];
-    item.drift = 0.0;
-  }
-  return partial;
-}
-
-void RodContactField::build_list() const {
-  ++list_builds_;
-  const std::size_t n = items_.size();
-  relisted_all_ = !relist_moved();
-  if (relisted_all_) halves_.clear();  // the members changed: no pair is kept
-  build_grid(true);
-  // Each pair is classified on the two items' listed middles: a pair left out is further apart
-  // than the reach plus the margin and the skin there, and each item stays within half the skin
-  // of its listed middle until the next build, so it cannot come into reach. Pairs of two items
-  // not listed again are kept from the last build; a relisted item's pairs are found afresh:
-  // with higher items (`fresh_`, in rising order per item, as the lists need them) and with
-  // lower items kept in place (`lower_`, sorted after).
-  std::erase_if(halves_, [&](const auto& h) { return relisted_[h.first] != 0 || relisted_[h.second] != 0; });
-  fresh_.clear();
-  lower_.clear();
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (relisted_[i] == 0) continue;
-    const std::size_t from = fresh_.size();
-    const Item& a = items_[i];
-    const Member& ma = members_[a.member];
-    for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
-      if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
-      const Item& b = items_[j];
-      if (apart(listed_mid_[i], balls_[i].reach, listed_mid_[j], balls_[j].reach, margin_ + skin_)) return;
-      if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
-      if (j > i) fresh_.push_back({i, j});
-      else lower_.push_back({j, i});
-    });
-    std::sort(fresh_.begin() + static_cast<std::ptrdiff_t>(from), fresh_.end());
-  }
-  std::sort(lower_.begin(), lower_.end());
-  merged_.clear();
-  std::merge(halves_.begin(), halves_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(merged_));
-  halves_.clear();
-  std::merge(merged_.begin(), merged_.end(), lower_.begin(), lower_.end(), std::back_inserter(halves_));
-  const bool partial = !relisted_all_;
-  if (partial) {
-    kept_start_.swap(pair_start_);
-    kept_pairs_.swap(pairs_);
-    kept_gap_.swap(last_gap_);
-  }
-  pair_start_.assign(n + 1, 0u);
-  for (const auto& [i, j] : halves_) ++pair_start_[i + 1], ++pair_start_[j + 1];
-  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
-  // Item k receives its lower partners (while they are filled, in rising order) before its own
-  // higher ones: each list comes out sorted.
-  pairs_.resize(pair_start_[n]);
-  mirror_.resize(pair_start_[n]);
-  next_.assign(pair_start_.begin(), pair_start_.end() - 1);
-  for (const auto& [i, j] : halves_) {
-    mirror_[next_[i]] = next_[j];
-    mirror_[next_[j]] = next_[i];
-    pairs_[next_[i]++] = j;
-    pairs_[next_[j]++] = i;
-  }
-  last_gap_.assign(pairs_.size(), LastGap{});
-  if (partial) keep_last_gaps();
-  lower_side_.assign(pairs_.size(), LowerSide{});
-  gathers_ = 0;
-  list_valid_ = true;
-}
-
-// A pair of two items not listed again keeps its last tested gap: both items' drifts are still
-// measured from the same listed ends, so the gather's cull stays a bound (without it the gathers
-// after a build tested every listed pair again). Both lists of an item are sorted: one merge walk.
-void RodContactField::keep_last_gaps() const {
-  const std::size_t n = items_.size();
-  for (std::size_t i = 0; i < n && i + 1 < kept_start_.size(); ++i) {
-    if (relisted_[i] != 0) continue;
-    std::uint32_t o = kept_start_[i];
-    const std::uint32_t o_end = kept_start_[i + 1];
-    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1] && o < o_end; ++p) {
-      const std::uint32_t j = pairs_[p];
-      while (o < o_end && kept_pairs_[o] < j) ++o;
-      if (o < o_end && kept_pairs_[o] == j && relisted_[j] == 0) last_gap_[p] = kept_gap_[o];
-    }
-  }
 }
 
 bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {

@@ -34,7 +34,7 @@ import { CArmPanel } from './carm_panel.js';
 import { Histogram } from './tick_stats.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
-import { askForBox, chooseBox } from './box_transport.js';
+import { offerBox, boxNote, showBoxReport } from './train_box_panel.js';
 import { FramePacer } from './frame_pacer.js';
 import { unpack, hudText, fit } from './train_snapshot.js';
 import { FrameReader } from './frame_share.js';
@@ -279,33 +279,6 @@ async function onOver(m) {
   setState(end.state === 'done' ? 'stored' : 'refused', end.state === 'done' ? '' : 'the server refused the record');
 }
 
-// The box's figures under the keys: its position, the page's decoding and command stream, the
-// last force law sent and the box's own state (protocol/README.md's status bits, its command echo);
-// and what the box said of itself on connect (its feature reports: device info, calibration,
-// limits) or that the reference box's figures stand in for them.
-function showBoxReport(r) {
-  if (!r) return;
-  const s = r.state;
-  const law = r.law;
-  const st = r.stats || {};
-  const line = document.getElementById('box-report');
-  if (!s) {  // nothing from a box yet: said, not a line of blanks
-    line.textContent = r.live ? 'Box connected: waiting for its first report.' : 'No box connected: the keyboard drives the tool.';
-  } else {
-    line.textContent =
-      `box ${(r.box_mm ?? 0).toFixed(3)} mm ${(r.box_rad ?? 0).toFixed(4)} rad; states ${st.states}, missed ${st.missed}, rejected ${st.rejected}, ` +
-      `longest report gap ${(st.max_report_gap_ms ?? 0).toFixed(3)} ms, longest command gap ${(st.max_send_gap_ms ?? 0).toFixed(3)} ms; ` +
-      (law ? `law seq ${law.seq}, offset ${law.insertion_offset_mN} mN` : 'no law sent yet') + `; box status 0x${s.status.toString(16)}, ` +
-      `faults ${s.faults}, mode ${s.mode}, rx errors ${s.rx_errors}, command echo ${s.command_seq_echo}, ` +
-      `force ${s.insertion_force_mN} mN`;
-  }
-  const c = r.config;
-  if (!c) return;
-  const who = c.source === 'the box' ? `${c.board} ${c.serial}, firmware ${c.firmware}` : c.source;
-  document.getElementById('box-config').textContent = `Box: ${who}; ${c.insertion_counts_per_m} counts/m, ${c.rotation_counts_per_rev} counts/rev, ` +
-    `full scale ${c.full_scale_mN} mN, ${c.full_scale_uNm} µN·m, slew ${c.slew_mN_per_ms} mN/ms, ${c.mode === 2 ? 'motor' : 'brake'} mode`;
-}
-
 function startWorker() {
   worker = new Worker('/js/train_worker.js', { name: 'cathbox-haptic' });
   worker.onmessage = (e) => {
@@ -335,38 +308,6 @@ function setTarget(t) {
   if (!t) return;
   views.global.setTarget(t.slice(0, 3), t[3]);
   views.local.setTarget(t.slice(0, 3), t[3]);
-}
-
-function boxNote(text) { document.getElementById('box-note').textContent = text; }
-
-// The box the address or the browser offers (js/box_transport.js); the keyboard until it is up.
-// Either way the haptic worker drives it (js/train_worker.js): the page only asks Chromium for the
-// WebHID box (the chooser needs a click here) and shows the figures the worker's frames carry.
-function offerBox() {
-  const choice = chooseBox(params);
-  if (!choice.kind) return boxNote(choice.why);
-  if (choice.kind === 'bridge') {
-    run.boxUrl = choice.url;
-    return boxNote('box: the box bridge at ' + choice.url + ' (connecting from the haptic worker)');
-  }
-  boxNote('The keyboard drives the tool until a box is connected.');
-  const button = document.getElementById('connect-box');
-  button.hidden = false;
-  button.onclick = () => guarded(async () => {
-    button.hidden = true;
-    let name = null;
-    try {
-      name = await askForBox();
-    } catch (err) {
-      return boxNote('no box: WebHID: ' + err.message + ' (the keyboard drives the tool)');
-    }
-    if (!name) {
-      button.hidden = false;
-      return boxNote('no box: none chosen (the keyboard drives the tool)');
-    }
-    boxNote('box: WebHID ' + name + ' (connecting from the haptic worker)');
-    worker.postMessage({ type: 'box_hid' });
-  });
 }
 
 // The virtual clock: "Run N ticks" runs exactly N; the note beside it says when they ran.
@@ -407,7 +348,7 @@ async function openCase(a) {
   views.local.setVessel(mesh);
   views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
   if (SCALE !== 1) for (const v of [views.global, views.local]) { v.renderer.setPixelRatio(SCALE); v.resize(); }
-  offerBox();
+  offerBox(params, run, () => worker.postMessage({ type: 'box_hid' }));
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,

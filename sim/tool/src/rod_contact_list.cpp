@@ -1,0 +1,164 @@
+// The rod-contact field's candidate list: the present middles and whether the list still covers
+// them, the hash grid, and the (partial) rebuild of the listed pairs with their kept gaps.
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+
+#include <glm/geometric.hpp>
+
+#include "rod_contact_grid.hpp"
+#include "tool/rod_contact_field.hpp"
+
+namespace cathbox::tool {
+
+using rod_contact_detail::apart;
+
+bool RodContactField::update_mids() const {
+  // An edge's middle that moved less than half the skin since the list was built keeps every
+  // pair within the contact reach among the listed ones (two middles close by at most the skin).
+  const double limit_sq = 0.25 * skin_ * skin_;
+  bool covered = list_valid_;
+  for (std::size_t i = 0; i < items_.size(); ++i) {
+    Item& item = items_[i];
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    const glm::dvec3& p0 = x[item.edge];
+    const glm::dvec3& p1 = x[item.edge + 1];
+    balls_[i].mid = 0.5 * (p0 + p1);
+    if (covered) {
+      const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
+      covered = glm::dot(d, d) <= limit_sq;
+      const glm::dvec3 d0 = p0 - listed_end_[2 * i];
+      const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
+      item.drift = std::sqrt(std::max(glm::dot(d0, d0), glm::dot(d1, d1)));
+    }
+  }
+  return covered;
+}
+
+void RodContactField::build_grid(bool listed) const {
+  const std::size_t buckets = bucket_mask_ + 1;
+  const std::size_t n = items_.size();
+  std::fill(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets + 1), 0u);
+  bucket_of_item_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::dvec3 c = glm::floor((listed ? listed_mid_[i] : balls_[i].mid) / cell_mm_);
+    const std::size_t b = bucket_of(static_cast<std::int64_t>(c.x), static_cast<std::int64_t>(c.y),
+                                    static_cast<std::int64_t>(c.z));
+    bucket_of_item_.push_back(static_cast<std::uint32_t>(b));
+    ++start_[b + 1];
+  }
+  for (std::size_t b = 0; b < buckets; ++b) start_[b + 1] += start_[b];
+  // Counting sort of the item indices by bucket.
+  fill_.assign(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets));
+  grid_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) grid_[fill_[bucket_of_item_[i]]++] = i;
+}
+
+// Items whose middle left its listed place by more than a quarter of the skin (every item when
+// the members changed) are listed again where they are now; the ends' drifts are set afresh.
+bool RodContactField::relist_moved() const {
+  const std::size_t n = items_.size();
+  const bool partial = list_valid_ && listed_mid_.size() == n;
+  listed_mid_.resize(n);
+  listed_end_.resize(2 * n);
+  relisted_.assign(n, 1);
+  const double keep_sq = 0.0625 * skin_ * skin_;
+  for (std::size_t i = 0; i < n; ++i) {
+    Item& item = items_[i];
+    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
+    const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
+    if (partial && glm::dot(d, d) <= keep_sq) {
+      relisted_[i] = 0;
+      item.drift = std::sqrt(std::max(glm::dot(x[item.edge] - listed_end_[2 * i], x[item.edge] - listed_end_[2 * i]),
+                                      glm::dot(x[item.edge + 1] - listed_end_[2 * i + 1],
+                                               x[item.edge + 1] - listed_end_[2 * i + 1])));
+      continue;
+    }
+    listed_mid_[i] = balls_[i].mid;
+    listed_end_[2 * i] = x[item.edge];
+    listed_end_[2 * i + 1] = x[item.edge + 1];
+    item.drift = 0.0;
+  }
+  return partial;
+}
+
+void RodContactField::build_list() const {
+  ++list_builds_;
+  const std::size_t n = items_.size();
+  relisted_all_ = !relist_moved();
+  if (relisted_all_) halves_.clear();  // the members changed: no pair is kept
+  build_grid(true);
+  // Each pair is classified on the two items' listed middles: a pair left out is further apart
+  // than the reach plus the margin and the skin there, and each item stays within half the skin
+  // of its listed middle until the next build, so it cannot come into reach. Pairs of two items
+  // not listed again are kept from the last build; a relisted item's pairs are found afresh:
+  // with higher items (`fresh_`, in rising order per item, as the lists need them) and with
+  // lower items kept in place (`lower_`, sorted after).
+  std::erase_if(halves_, [&](const auto& h) { return relisted_[h.first] != 0 || relisted_[h.second] != 0; });
+  fresh_.clear();
+  lower_.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (relisted_[i] == 0) continue;
+    const std::size_t from = fresh_.size();
+    const Item& a = items_[i];
+    const Member& ma = members_[a.member];
+    for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
+      if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
+      const Item& b = items_[j];
+      if (apart(listed_mid_[i], balls_[i].reach, listed_mid_[j], balls_[j].reach, margin_ + skin_)) return;
+      if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
+      if (j > i) fresh_.push_back({i, j});
+      else lower_.push_back({j, i});
+    });
+    std::sort(fresh_.begin() + static_cast<std::ptrdiff_t>(from), fresh_.end());
+  }
+  std::sort(lower_.begin(), lower_.end());
+  merged_.clear();
+  std::merge(halves_.begin(), halves_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(merged_));
+  halves_.clear();
+  std::merge(merged_.begin(), merged_.end(), lower_.begin(), lower_.end(), std::back_inserter(halves_));
+  const bool partial = !relisted_all_;
+  if (partial) {
+    kept_start_.swap(pair_start_);
+    kept_pairs_.swap(pairs_);
+    kept_gap_.swap(last_gap_);
+  }
+  pair_start_.assign(n + 1, 0u);
+  for (const auto& [i, j] : halves_) ++pair_start_[i + 1], ++pair_start_[j + 1];
+  for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
+  // Item k receives its lower partners (while they are filled, in rising order) before its own
+  // higher ones: each list comes out sorted.
+  pairs_.resize(pair_start_[n]);
+  mirror_.resize(pair_start_[n]);
+  next_.assign(pair_start_.begin(), pair_start_.end() - 1);
+  for (const auto& [i, j] : halves_) {
+    mirror_[next_[i]] = next_[j];
+    mirror_[next_[j]] = next_[i];
+    pairs_[next_[i]++] = j;
+    pairs_[next_[j]++] = i;
+  }
+  last_gap_.assign(pairs_.size(), LastGap{});
+  if (partial) keep_last_gaps();
+  lower_side_.assign(pairs_.size(), LowerSide{});
+  gathers_ = 0;
+  list_valid_ = true;
+}
+
+// A pair of two items not listed again keeps its last tested gap: both items' drifts are still
+// measured from the same listed ends, so the gather's cull stays a bound (without it the gathers
+// after a build tested every listed pair again). Both lists of an item are sorted: one merge walk.
+void RodContactField::keep_last_gaps() const {
+  const std::size_t n = items_.size();
+  for (std::size_t i = 0; i < n && i + 1 < kept_start_.size(); ++i) {
+    if (relisted_[i] != 0) continue;
+    std::uint32_t o = kept_start_[i];
+    const std::uint32_t o_end = kept_start_[i + 1];
+    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1] && o < o_end; ++p) {
+      const std::uint32_t j = pairs_[p];
+      while (o < o_end && kept_pairs_[o] < j) ++o;
+      if (o < o_end && kept_pairs_[o] == j && relisted_[j] == 0) last_gap_[p] = kept_gap_[o];
+    }
+  }
+}
+
+}  // namespace cathbox::tool
