@@ -193,12 +193,12 @@ std::vector<LibraryCase> all_cases() {
                     "acom_aneurysm",
                     "# Saccular aneurysm of the anterior communicating artery; guide in the left ICA, the\n"
                     "# approach through the left A1.\n" + sac_ref,
-                    "# Past the PCom origin, the microcatheter and the microwire are turned 135 degrees at the\n"
+                    "# Past the PCom origin, the microcatheter and the microwire are turned 145 degrees at the\n"
                     "# ICA terminus so that their tips point into the left A1 (untouched, the wire takes the M1).\n"
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
                     "0      insert_to 40 at 20\n1000   insert_to 112 at 20\n1000   select microcatheter\n"
-                    "1000   insert_to 108 at 20\n5500   rotate_to 135 at 180\n5500   select microwire\n"
-                    "5500   rotate_to 135 at 180\n7000   insert_to 175 at 10\n7500   select microcatheter\n"
+                    "1000   insert_to 108 at 20\n5500   rotate_to 145 at 180\n5500   select microwire\n"
+                    "5500   rotate_to 145 at 180\n7000   insert_to 175 at 10\n7500   select microcatheter\n"
                     "7500   insert_to 165 at 10\n14000  end\n"),
       aneurysm_case("aneurysm_basilar", "library: basilar tip aneurysm", AneurysmSite::kBasilarTip, 8.0, 4.0,
                     "left_vertebral", 0.5, "basilar_tip_aneurysm",
