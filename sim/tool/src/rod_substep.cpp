@@ -1,14 +1,11 @@
 // A tick whose Newton solve ends unconverged is solved again from its start, as 2, then 4 (up
 // to RodSettings::substeps_max) equal sub-increments of the motion imposed at the clamp (the
-// insertion, the rotation), each of dt / parts: the
+// insertion, the rotation, the material advance of an inner tool), each of dt / parts: the
 // tool's velocity, hence its drag and the hand's rate terms, stays the tick's, while each solve
 // starts 1 / parts as far from its equilibrium and the solver's drag floor holds each node
 // parts times stiffer. A fixed, deterministic count: never a time budget (replays stay
 // bit-identical on every target). The tick's state and hand force are its last sub-step's.
-// The entry's move with a carrier's tip (move_entry, before the step) is not subdivided, and an
-// inner tool's material advance goes whole to the first sub-step (none to the others): cut into
-// parts, each one follow-the-leader slide (Rod::advect), a carried wire steered into a branch
-// folded back in every placement of NestedTools.MicrocatheterFollowsTheWireWhereverItWasSteered.
+// The entry's move with a carrier's tip (move_entry, before the step) is not subdivided.
 #include <algorithm>
 #include <cmath>
 
@@ -47,7 +44,7 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       const double u = static_cast<double>(j) / parts;
       insertion_mm_ = j == parts ? insertion : insertion0 + (insertion - insertion0) * u;
       rotation_rad_ = j == parts ? rotation : rotation0 + (rotation - rotation0) * u;
-      material_advance_mm_ = (j == 1 || !std::isfinite(advance)) ? advance : 0.0;
+      material_advance_mm_ = std::isfinite(advance) ? advance / parts : advance;
       step_once(dt_s / parts, wall, obstacles);
       stepped_rotation_rad_ = rotation_rad_;
     }

@@ -391,9 +391,9 @@ void Simulator::step(double dt_s) {
     update_contact_members();
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
-    // An unconverged tick solved again in sub-increments, every tool (convergence.md, "Sub-stepped
-    // ticks"; an inner tool's material advance goes whole to the first, rod_substep.cpp).
-    rods_[t].settings().substeps_max = tuning::kToolSubsteps;
+    // An unconverged tick solved again in sub-increments: lone tools only (convergence.md,
+    // "Sub-stepped ticks": on nested tools a test of the steered microcatheter failed with it).
+    rods_[t].settings().substeps_max = lone(t) ? tuning::kLoneToolSubsteps : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     WallProbe probe;
     probe.center_mm = rods_[t].tip().position_mm;

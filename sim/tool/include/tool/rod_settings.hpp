@@ -11,7 +11,7 @@ struct RodSettings {
   int newton_iterations = 8;               // most Gauss-Newton iterations on positions per step
   // A tick whose solve ends unconverged is solved again from its start in 2, then 4 ... (up to
   // this many) sub-increments of the imposed motion, each of dt / parts (rod_substep.cpp,
-  // docs/sim-tool/convergence.md). 1: never (the default; the Simulator gives every tool 4).
+  // docs/sim-tool/convergence.md). 1: never (the default; the Simulator gives lone tools 4).
   int substeps_max = 1;
   int twist_iterations = 2;                // Newton iterations on the twist angles per step
   double contact_stiffness_mN_per_mm = 2.0e5;  // wall penalty per node
