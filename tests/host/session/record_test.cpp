@@ -230,7 +230,7 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 9;  // format version 9 (a record before every tool was sub-stepped), CRC fixed up
+  bytes[8] = 9;  // format version 9 (a record before the join bits were cleared per solve), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
   const auto v9 = RecordReader::from_bytes(bytes, "v9.cbxrec");
