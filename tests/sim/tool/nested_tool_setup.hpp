@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <string>
 
+#include "rod_test_support.hpp"
 #include "tool/simulator.hpp"
 
 namespace cathbox::tool::testing {
@@ -36,14 +37,7 @@ inline ToolSpec wire(const std::string& name, double od, double ei) {
   return s;
 }
 
-inline RodSettings precise() {
-  RodSettings s;
-  s.newton_iterations = 20;
-  s.convergence_mm = 1e-7;
-  s.min_drag_mN_s_per_mm2 = 1e-5;
-  s.buckling_seed_mm = 0.0;
-  return s;
-}
+inline RodSettings precise() { return quasi_static_settings(20, 1e-7, 1e-5); }
 
 // Inserts `tool` to `target` in steps of at most `per_step` mm, one simulator step each.
 inline void drive(Simulator& sim, std::size_t tool, double target, double per_step) {

@@ -20,13 +20,20 @@ inline ToolSpec uniform_tool(double length, double od, double ei, double gj, dou
   return spec;
 }
 
-inline RodSettings static_settings() {
+// Solver settings for a quasi-static check: no buckling seed, a drag floor far under the forces
+// measured, and the given Newton cap and tolerance.
+inline RodSettings quasi_static_settings(int newton_iterations, double convergence_mm, double min_drag) {
   RodSettings s;
-  s.newton_iterations = 30;
-  s.convergence_mm = 1e-8;
-  s.twist_iterations = 4;
-  s.min_drag_mN_s_per_mm2 = 1e-6;
+  s.newton_iterations = newton_iterations;
+  s.convergence_mm = convergence_mm;
+  s.min_drag_mN_s_per_mm2 = min_drag;
   s.buckling_seed_mm = 0.0;
+  return s;
+}
+
+inline RodSettings static_settings() {
+  RodSettings s = quasi_static_settings(30, 1e-8, 1e-6);
+  s.twist_iterations = 4;
   return s;
 }
 
