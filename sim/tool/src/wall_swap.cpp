@@ -129,6 +129,21 @@ void WallSwap::retire(std::unique_ptr<WallModel> old) {
   wake_.notify_one();
 }
 
+void WallSwap::WaitTally::add(double seconds) {
+  recent[count % kRecent] = seconds;
+  ++count;
+  total_seconds += seconds;
+  max_seconds = std::max(max_seconds, seconds);
+}
+
+std::vector<double> WallSwap::WaitTally::recent_seconds() const {
+  const std::uint64_t kept = std::min<std::uint64_t>(count, kRecent);
+  std::vector<double> out;
+  out.reserve(kept);
+  for (std::uint64_t k = count - kept; k < count; ++k) out.push_back(recent[k % kRecent]);
+  return out;
+}
+
 bool WallSwap::poll(Simulator& sim, std::int64_t now) {
   if (!due_tick_ || now < *due_tick_) return false;
   std::optional<WallResult> built;
@@ -142,7 +157,7 @@ bool WallSwap::poll(Simulator& sim, std::int64_t now) {
       }
       const auto t0 = std::chrono::steady_clock::now();
       idle_.wait(lock, [&] { return done_.has_value(); });
-      wait_seconds_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      wait_tally_.add(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     built.swap(done_);
   }

@@ -89,6 +89,8 @@ TEST(WallSwap, ALateBuildMakesTheDueTickWaitAndTheOldWallServesUntilIt) {
   EXPECT_EQ(hook_calls, 1);
   EXPECT_EQ(gate.built, 1);
   EXPECT_EQ(swap.waits(), 1u);
+  ASSERT_EQ(swap.wait_tally().recent_seconds().size(), 1u);
+  EXPECT_EQ(swap.wait_tally().recent_seconds()[0], swap.wait_tally().max_seconds);
   EXPECT_NE(&sim.wall(), old);
   EXPECT_EQ(&sim.wall(), &swap.wall());
   ASSERT_TRUE(sim.wall().probe(probe, hint, c));
@@ -167,6 +169,26 @@ TEST(WallSwap, TheRunIsTheSameBitForBitHoweverLateTheWorkerBuildsTheWall) {
   EXPECT_NE(later.hashes[901 - 1], reference.hashes[901 - 1]) << "a swap one tick later shows in the next tick's state";
   std::printf("end-state hash %016llx, the wall swapped in at tick %lld\n",
               static_cast<unsigned long long>(reference.hashes.back()), static_cast<long long>(reference.swapped_at));
+}
+
+// The waits are tallied in fixed storage (the haptic thread never allocates for them): a count,
+// a total and a maximum over every wait, and the last kRecent waits, oldest first, for a median.
+TEST(WallSwapWaitTally, KeepsEveryWaitsSumAndMaximumAndTheLastOnesInOrder) {
+  WallSwap::WaitTally tally;
+  EXPECT_TRUE(tally.recent_seconds().empty());
+  const std::size_t n = WallSwap::WaitTally::kRecent + 5;
+  double total = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double w = k == 3 ? 9.0 : 1e-3 * static_cast<double>(k);  // the largest falls out of the ring
+    tally.add(w);
+    total += w;
+  }
+  EXPECT_EQ(tally.count, n);
+  EXPECT_DOUBLE_EQ(tally.total_seconds, total);
+  EXPECT_EQ(tally.max_seconds, 9.0);
+  const std::vector<double> recent = tally.recent_seconds();
+  ASSERT_EQ(recent.size(), WallSwap::WaitTally::kRecent);
+  for (std::size_t i = 0; i < recent.size(); ++i) EXPECT_EQ(recent[i], 1e-3 * static_cast<double>(i + 5)) << i;
 }
 
 }  // namespace

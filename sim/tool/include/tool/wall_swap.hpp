@@ -10,7 +10,7 @@
 //  - kSynchronous (headless, tests, replay, the browser): the wall is built inside request().
 //  - kWorker (the live haptic loop): a worker thread builds it while the ticks run on the old
 //    wall. A build not done by the due tick makes that tick wait for it (waits() counts such
-//    swaps, wait_seconds() how long each waited): the haptic tick costs its step alone as long
+//    swaps, wait_tally() how long, in fixed storage): the haptic tick costs its step alone as long
 //    as the build takes less than the latency (bench_angioplasty measures it against the
 //    300 ms), and a late build stalls the loop for its remaining time, never changes the tick.
 // The old wall stays valid (owned here) until the swap, and is destroyed afterwards off the
@@ -20,6 +20,7 @@
 // Renderers follow the walls through generation() (the swaps so far, 0 for the initial wall)
 // and surface() (the present wall's WallSurface: the widened model and its mesh), both readable
 // from any thread; the swap publishes the new surface before the generation.
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -91,8 +92,17 @@ class WallSwap {
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const;
   // Swaps whose due tick had to wait for the builder (kWorker only), and how long each waited
   // in wall seconds (a figure of the machine, never fed back into the simulation).
-  [[nodiscard]] std::uint64_t waits() const { return wait_seconds_.size(); }
-  [[nodiscard]] const std::vector<double>& wait_seconds() const { return wait_seconds_; }
+  struct WaitTally {
+    static constexpr std::size_t kRecent = 128;  // the last waits kept for a median
+    std::uint64_t count = 0;
+    double total_seconds = 0.0, max_seconds = 0.0;
+    std::array<double, kRecent> recent{};  // ring: the wait of swap k at recent[k % kRecent]
+    void add(double seconds);
+    // The recorded waits, oldest first (at most kRecent of them).
+    [[nodiscard]] std::vector<double> recent_seconds() const;
+  };
+  [[nodiscard]] std::uint64_t waits() const { return wait_tally_.count; }
+  [[nodiscard]] const WaitTally& wait_tally() const { return wait_tally_; }
   [[nodiscard]] std::uint64_t failures() const { return failures_; }
   [[nodiscard]] const std::string& last_error() const { return last_error_; }
   // Seconds the builder took for each wall so far (measured on the builder's thread), in wall
@@ -110,7 +120,7 @@ class WallSwap {
   std::int64_t latency_;
   std::optional<std::int64_t> due_tick_;
   std::uint64_t requests_ = 0, swaps_ = 0, failures_ = 0;
-  std::vector<double> wait_seconds_;
+  WaitTally wait_tally_;
   std::function<void()> wait_hook_;
   std::string last_error_;
   std::atomic<std::uint64_t> generation_{0};
