@@ -187,10 +187,10 @@ ToolSpec microwire_soft_for(double soft_mm, double friction) {
 // 107 mN at 0.08 (1.4x). The rise is the mechanics, not the solver
 // (FrictionlessPushIntoABendCostsTheBendingEnergyOfTheStiffPart below): pushing the 40 N.mm2
 // shaft into the siphon's 5 mm genu costs (40 - 3) / (2 x 5^2) = 0.74 N with no friction at
-// all, and friction on the bend's contact forces adds to it. So either the path above is tighter
-// than Zoarski's (not given in the abstract; PTFE tubing of 2 mm OD rarely bends to a 5 mm
-// radius) or the bundled wire's 50 mm soft tip is short of a real 0.014" wire's taper; no
-// published taper profile was found to decide. Run: --gtest_also_run_disabled_tests.
+// all (8 g in any bend under 15.4 mm), and friction on the bend's contact forces adds to it.
+// So either the path above is tighter than Zoarski's (its radii are not in the abstract) or the
+// bundled wire's 50 mm soft tip is short of a real 0.014" wire's taper; no published taper
+// profile was found to decide. Run: --gtest_also_run_disabled_tests.
 TEST(PublishedPush, DISABLED_NotYetGuidewireAloneThroughACarotidLikePathwayStaysUnderZoarskisEightGrams) {
   const TubeNetworkWall wall = carotid_like_tube();
   struct Wire {
