@@ -17,7 +17,7 @@ CLOCK_NOTE = re.compile(
     r"lateness p50 ([0-9.]+) ms, p99 ([0-9.]+) ms, max ([0-9.]+) ms; a tick's run p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
     r"late ticks after a sleep (\d+), after ticks (\d+), after the event loop (\d+), caught up (\d+)\.$")
 DRAW_NOTE = re.compile(r"Page: (\d+) frames drawn, interval p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; drawing p50 ([0-9.]+) ms, p99 ([0-9.]+) ms; "
-                       r"(\d+) held back by the frame budget\.$")
+                       r"(\d+) held back by the frame budget(?:; (?:at most (\d+) a second|no cap) \(WebGL: (.*)\))?\.$")
 FRAME_NOTE = re.compile(r"First frame (\d+) ms after choosing the case(?: \(the session opened in (\d+) ms\))?\.$")
 
 
@@ -37,7 +37,8 @@ def clock_figures(b):
     d = DRAW_NOTE.match(b.js("return document.getElementById('draw-note').textContent"))
     check(d is not None, "the page's drawing note: %r" % b.js("return document.getElementById('draw-note').textContent"))
     frames = {"frames": int(d.group(1)), "interval_p50_ms": float(d.group(2)), "interval_p99_ms": float(d.group(3)),
-              "draw_p50_ms": float(d.group(4)), "draw_p99_ms": float(d.group(5)), "held_back": int(d.group(6))}
+              "draw_p50_ms": float(d.group(4)), "draw_p99_ms": float(d.group(5)), "held_back": int(d.group(6)),
+              "fps_cap": int(d.group(7)) if d.group(7) else None, "webgl": d.group(8)}
     return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None, frames
 
 

@@ -112,6 +112,9 @@ def test_keyboard_run(b, watcher, centre, assignment, report):
     check(result["complete"] is True and result["case"] == "ybif", "the stored result: %s" % json.dumps(result)[:400])
     b.wait(EC.visibility_of_element_located((By.ID, "metrics-table")), "the end-of-run metrics")
     b.shot("train-end")
+    # Headless Chromium draws WebGL with SwiftShader (on the CPU): the page caps its frames at 30 a second.
+    draw = b.js("return document.getElementById('draw-note').textContent")
+    check("at most 30 a second (WebGL: " in draw and "SwiftShader" in draw, "the page's drawing note on software GL: %r" % draw)
     # The record the page offers for download: compared with the server's copy below.
     # As a user gets it: the link's download, in the browser's download folder.
     downloads = os.path.join(centre.tmp, "downloads")

@@ -8,7 +8,7 @@ import { pathToFileURL } from 'url';
 const dir = path.resolve(process.argv[2]);
 const { TickClock, MAX_CATCH_UP } = await import(pathToFileURL(path.join(dir, 'tick_clock.js')).href);
 const { TickStats, BIN_MS } = await import(pathToFileURL(path.join(dir, 'tick_stats.js')).href);
-const { FramePacer } = await import(pathToFileURL(path.join(dir, 'frame_pacer.js')).href);
+const { FramePacer, frameCap } = await import(pathToFileURL(path.join(dir, 'frame_pacer.js')).href);
 const { SharedFrame, FrameReader } = await import(pathToFileURL(path.join(dir, 'frame_share.js')).href);
 
 let failures = 0;
@@ -175,6 +175,26 @@ function machine({ tickMs = 0.1, wake = () => 0, spinMs, maxCatchUp } = {}) {
   off.drew(5);
   off.health(10);
   check(off.budgetMs === 0 && off.due(5), 'maxMs 0: no budget, every frame due: ' + off.budgetMs);
+}
+
+// 8b. The page's frame cap (frameCap): 30 a second on a software rasteriser unless ?fps= says
+// otherwise, none on a GPU; at 30 the budget (29.3 ms) takes every other 60 Hz animation frame
+// even when they jitter by up to 3 ms (a budget of the whole period would skip to every third),
+// and the worker writes at the period.
+{
+  const soft = frameCap({ software: true });
+  check(soft.fps === 30 && near(soft.workerMs, 1000 / 30, 1e-9), 'software: 30 a second, the worker every 33.3 ms');
+  const p = new FramePacer({ minMs: soft.minMs });
+  let drawn = 0;
+  let last = -1;
+  for (let k = 0; k < 60; ++k) {
+    const t = k * 1000 / 60 + [0, 2, -2, 3, -3, 1][k % 6];  // animation frames 16.7 ms apart, jittering up to 3 ms
+    if (p.due(t)) { p.drew(t); ++drawn; check(last < 0 || k - last === 2, 'every other animation frame: ' + k + ' after ' + last); last = k; }
+  }
+  check(drawn === 30, 'software: 30 of 60 animation frames drawn: ' + drawn);
+  check(frameCap({ software: false }).fps === 0 && frameCap().minMs === 0 && frameCap().workerMs === 0, 'a GPU: no cap');
+  check(frameCap({ fps: 0, software: true }).fps === 0, '?fps=0: no cap on software either');
+  check(frameCap({ fps: 5, software: false }).minMs === 196, '?fps=5 on a GPU: 196 ms');
 }
 
 // 9. The shared frame (frame_share.js): the page takes a whole frame once; none while the worker

@@ -31,3 +31,13 @@ export class FramePacer {
 
   drew(now) { this.lastAt = now; }
 }
+
+// The page's frame cap: `fps` asked (?fps=; null when not), else `softwareFps` where WebGL
+// rasterises on the CPU (each frame presented costs tens of ms of it there: docs/wasm/haptic-clock.md)
+// and none on a GPU. The budget is a little (4 ms) under the period, so that animation frames at
+// a 60 Hz display's rate that jitter still give every other one at 30, not every third; the
+// worker writes its frames at the period itself (workerMs; 0: its own rate).
+export function frameCap({ fps = null, software = false, softwareFps = 30 } = {}) {
+  const f = Math.max(0, fps ?? (software ? softwareFps : 0));
+  return { fps: f, minMs: f > 0 ? Math.max(0, 1000 / f - 4) : 0, workerMs: f > 0 ? 1000 / f : 0 };
+}

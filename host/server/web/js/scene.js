@@ -36,6 +36,15 @@ export function forceColor(f, hot = 200) {
   return new THREE.Color().setHSL((1 - x) * 0.33, 1, 0.5);
 }
 
+// The WebGL implementation's name (WEBGL_debug_renderer_info where the browser offers it, else
+// RENDERER) and whether it rasterises on the CPU (SwiftShader, Mesa's llvmpipe/softpipe, Windows'
+// Basic Render Driver): there every frame drawn is CPU taken from everything else on the machine.
+export function glRenderer(gl) {
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+  return { name, software: /swiftshader|llvmpipe|softpipe|software|basic render/i.test(name) };
+}
+
 const MAX_NODES = 256;
 const MAX_CONTACTS = 32;
 

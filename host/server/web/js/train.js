@@ -2,21 +2,18 @@
 // bundle, the surface to draw, the collision surface the session runs on), the session in a
 // dedicated Web Worker (js/train_worker.js: WebAssembly, its own 1 kHz clock), the keyboard as in
 // cathbox-trainer, a global and a local 3D view with the HUD, the end-of-run metrics, and the
-// record uploaded as the native trainer uploads it (POST /results?assignment=ID).
-//
-// The run is streamed live to instructors as rig `browser-USER` (js/train_live.js).
+// record uploaded as the native trainer uploads it (POST /results?assignment=ID). The run is
+// streamed live to instructors as rig `browser-USER` (js/train_live.js).
 //
 // A box (js/train_box.js over js/box_transport.js, driven in the haptic worker) drives the held tool
 // in place of the keys: ?box=ws://HOST:PORT uses cathbox-box-bridge in front of cathbox-emu; where
 // the browser has WebHID, "Connect box" asks Chromium for the box (the page's only part: the chooser
 // needs a click) and the worker opens it; elsewhere the page says so and keeps the keys.
 //
-// /train.html?spin=MS: the worker's clock spins the last MS before each deadline (default 0.2; 0
-// sleeps to it; js/tick_clock.js).
-// /train.html?frame_ms=MIN&frame_max_ms=MAX: the page's frame budget (js/frame_pacer.js): it draws
-// at most every MIN ms, and a late tick in the haptic worker stretches that towards MAX (equal
-// MAX and MIN: a fixed budget; defaults FRAME_MS, FRAME_MAX_MS: 0, no budget, since no gain was
-// measured: docs/wasm/haptic-clock.md).
+// /train.html?spin=MS: the worker's clock spins the last MS before each deadline (js/tick_clock.js).
+// /train.html?fps=N: frames taken and drawn at most N a second (0: every animation frame; default
+// SOFTWARE_FPS on a software rasteriser, scene.js glRenderer; js/frame_pacer.js frameCap).
+// /train.html?frame_ms=MIN&frame_max_ms=MAX: the adaptive frame budget (js/frame_pacer.js; off).
 // /train.html?scale=S (0.25-1): the views drawn at S of the page's pixel density, stretched to size.
 // /train.html?view=fluoro|3d: the main view, as cathbox-trainer's --view (default: fluoroscopy for a
 // `realistic` case); the page's button switches it. The fluoroscopic image is js/fluoro_view.js
@@ -27,7 +24,7 @@
 // No test hook: what a test checks is on the page (the status, the HUD's figures, the notes under
 // the keys, the box's figures, the end card, the record check's line).
 import { requireUser, api, guarded, showError, el } from './api.js';
-import { VesselView, loadMesh } from './scene.js';
+import { VesselView, loadMesh, glRenderer } from './scene.js';
 import { speedsFor, isControlKey, fluoroBits, steering } from './train_keys.js';
 import { FluoroView, H } from './fluoro_view.js';
 import { CArmPanel } from './carm_panel.js';
@@ -35,7 +32,7 @@ import { Histogram } from './tick_stats.js';
 import { LiveRig } from './train_live.js';
 import { showEnd } from './train_end.js';
 import { offerBox, boxNote, showBoxReport } from './train_box_panel.js';
-import { FramePacer } from './frame_pacer.js';
+import { FramePacer, frameCap } from './frame_pacer.js';
 import { unpack, hudText, fit } from './train_snapshot.js';
 import { FrameReader } from './frame_share.js';
 
@@ -43,7 +40,7 @@ const user = requireUser(['trainee']);
 const params = new URLSearchParams(location.search);
 const clock = params.get('clock') === 'virtual' ? 'virtual' : 'real';
 const numberParam = (name, fallback) => (params.has(name) && Number.isFinite(Number(params.get(name))) ? Number(params.get(name)) : fallback);
-const FRAME_MS = 0;
+const SOFTWARE_FPS = 30;
 const FRAME_MAX_MS = 0;
 const SCALE = Math.min(1, Math.max(0.25, numberParam('scale', 1)));  // ?scale=S: canvas pixels per CSS pixel (software GL's work)
 
@@ -109,13 +106,14 @@ let frameReader = null;
 
 function takeFrame() {
   const f = frameReader && run ? frameReader.take() : null;
-  if (!f) return;
+  if (!f) return false;
   const drive = JSON.parse(f.driveText);
   run.drive.hints = drive.hints;
   if (drive.notes.length) run.drive.note = drive.notes[drive.notes.length - 1];
   if (f.fluoro) takeFluoro(f.fluoro);
   showFrame(f.data, JSON.parse(f.metricsText));
   if (frames) frames.pacer.health(f.lateMs || 0);
+  return true;
 }
 
 // The fluoroscopy's header and C-arm (each frame), with the phantom or the scenes when new (a
@@ -161,17 +159,23 @@ function followTip(s) {
 // with a software GL the GPU process's work is not in it).
 let frames = null;
 
+function paceFrames(gl) {  // ?fps=, else SOFTWARE_FPS on a software rasteriser (frameCap)
+  const cap = frameCap({ fps: params.has('fps') ? numberParam('fps', 0) : null, software: gl.software, softwareFps: SOFTWARE_FPS });
+  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1, cap, gl,
+    pacer: new FramePacer({ minMs: numberParam('frame_ms', cap.minMs), maxMs: numberParam('frame_max_ms', FRAME_MAX_MS) }) };
+}
+
 function frameNote() {
   const ms = (h) => `p50 ${(h.percentile(0.5) ?? 0).toFixed(2)} ms, p99 ${(h.percentile(0.99) ?? 0).toFixed(2)} ms`;
   return `Page: ${frames.draw.count} frames drawn, interval ${ms(frames.interval)}; drawing ${ms(frames.draw)}; ` +
-    `${frames.pacer.skipped} held back by the frame budget.`;
+    `${frames.pacer.skipped} held back by the frame budget; ${frames.cap.fps ? 'at most ' + frames.cap.fps + ' a second' : 'no cap'} (WebGL: ${frames.gl.name}).`;
 }
 
 function draw() {
   if (!views) return;
-  takeFrame();
   const t0 = performance.now();
   if (firstFrameMs !== null && !frames.pacer.due(t0)) return requestAnimationFrame(draw);  // the first frame unpaced
+  const took = takeFrame();  // the HUD, the views' tools: only when due (changed text is painted and composited too)
   const fluoroShown = fluoro.main === 'fluoro' && fluoro.view;
   const drew = fluoroShown ? fluoro.view.render() : views.global.render();
   if (fluoroShown && fluoro.last) {  // what the monitor shows, once drawn
@@ -180,7 +184,7 @@ function draw() {
     if (line.textContent !== note) line.textContent = note;
   }
   const drewLocal = views.local.render();
-  if ((drew || drewLocal) && frames) {
+  if ((took || drewLocal || (drew && !fluoroShown)) && frames) {  // shown (not the fluoroscopy keeping its image)
     const t1 = performance.now();
     frames.draw.add(t1 - t0);
     if (frames.lastAt >= 0) frames.interval.add(t0 - frames.lastAt);
@@ -335,8 +339,6 @@ async function openCase(a) {
   if (!self.crossOriginIsolated) throw new Error('this page needs cross-origin isolation (the server sends COOP/COEP headers; is a proxy dropping them?)');
   const version = a.case_version === 'latest' ? 'latest' : String(a.case_version);
   const base = '/cases/' + encodeURIComponent(a.case) + '/versions/' + version;
-  frames = { interval: new Histogram(), draw: new Histogram(), lastAt: -1,
-    pacer: new FramePacer({ minMs: numberParam('frame_ms', FRAME_MS), maxMs: numberParam('frame_max_ms', FRAME_MAX_MS) }) };
   run = { assignment: a, version, started: performance.now(), caseName: a.case, tools: [], held: new Set(),
     keys: new Float64Array(new SharedArrayBuffer(24)), drive: { hints: [], note: '' } };
   setState('opening', 'opening ' + a.case);
@@ -347,12 +349,13 @@ async function openCase(a) {
   views.global.setVessel(mesh);
   views.local.setVessel(mesh);
   views.local.tip.scale.setScalar(0.25);  // the tip's marker, not a ball filling the close-up
+  paceFrames(glRenderer(views.global.renderer.getContext()));
   if (SCALE !== 1) for (const v of [views.global, views.local]) { v.renderer.setPixelRatio(SCALE); v.resize(); }
   offerBox(params, run, () => worker.postMessage({ type: 'box_hid' }));
   requestAnimationFrame(draw);
   if (!worker) startWorker();
   worker.postMessage({ type: 'open', caseFile: bundle.case_file, caseText: bundle.case, hclmFile: bundle.hclm_file, hclmText: bundle.hclm,
-    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl, fluoroSize: fluoro.main === 'fluoro' ? fluoroSize() : null, spinMs: params.has('spin') ? Number(params.get('spin')) : undefined },
+    mesh: collision, clock, keys: run.keys.buffer, box: run.boxUrl, frameMs: frames.cap.workerMs, fluoroSize: fluoro.main === 'fluoro' ? fluoroSize() : null, spinMs: params.has('spin') ? Number(params.get('spin')) : undefined },
     [collision]);
 }
 

@@ -27,7 +27,7 @@
 // says box_hid; this worker finds the permitted box with navigator.hid.getDevices() and owns its
 // reports (inputreport, sendReport, receiveFeatureReport): they never cross the page's thread.
 //
-// Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box},
+// Messages in: open {caseFile, caseText, hclmFile, hclmText, mesh (CBXMESH2 bytes), clock, keys, box, frameMs},
 // advance {ticks}, next_tool, drive {unsheathe, retrieve} (U / E pressed), end, replay {record (.cbxrec bytes), mesh (CBXMESH2 bytes)},
 // box_hid (the page was allowed a WebHID box: open it here), fluoro_keys {bits}
 // (the fluoroscopy keys held), fluoro_size {size: [w, h] or null}, carm {what: 'angles' | 'geometry' |
@@ -43,7 +43,11 @@
 // box_note {text}, error {message}.
 'use strict';
 
+// A frame every FRAME_MS, or at the page's own frame rate when it draws less often (its `frameMs`
+// at open: ?fps=, 30 a second on a software rasteriser): a frame the page never takes is the
+// worker's time spent (the snapshot, the metrics' JSON, the fluoroscopy's inputs) between ticks.
 const FRAME_MS = 16;
+let frameMs = FRAME_MS;
 // Overdue ticks run back to back up to 50 (a tick is ~35 µs in wasm: 50 take ~2 ms), so a stall
 // of the worker's thread up to 50 ms costs no simulated time; beyond, they are dropped.
 const CATCH_UP_TICKS = 50;
@@ -231,7 +235,7 @@ function finish() {
   postMessage({ type: 'over', summary, record: record.buffer, jitter }, [record.buffer]);
 }
 
-// The real clock (js/tick_clock.js): one slice of ticks, a frame every 16 ms, then the event loop.
+// The real clock (js/tick_clock.js): one slice of ticks, a frame every frameMs, then the event loop.
 const yielder = new MessageChannel();
 yielder.port1.onmessage = () => slice();
 let lastFrameAt = 0;
@@ -239,7 +243,7 @@ const runTick = () => { tick(); return !over; };
 
 function slice() {
   if (ticker.slice(runTick) === 'over') return finish();
-  if (performance.now() - lastFrameAt >= FRAME_MS) {
+  if (performance.now() - lastFrameAt >= frameMs) {
     lastFrameAt = performance.now();
     postFrame();
   }
@@ -311,6 +315,7 @@ async function open(m) {
   frameShare = await frameModule;
   keys = new Float64Array(m.keys);
   clock = m.clock === 'virtual' ? 'virtual' : 'real';
+  frameMs = Math.max(FRAME_MS, Number(m.frameMs) || 0);
   fluoroOn = fn.fluoroOpen() === 1;
   fluoroSent = { scene: -1, phantom: -1 };
   fluoroSize = m.fluoroSize || null;
