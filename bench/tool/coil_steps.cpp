@@ -74,6 +74,60 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   state.SetLabel("coil into a 6.4 mm sphere");
 }
 
+namespace {
+
+// The released coils' motion in each timed step, and what sleeping (coil_sleep.hpp) made of it.
+class ReleasedMotion {
+ public:
+  explicit ReleasedMotion(Simulator& sim)
+      : skipped0_(sim.coil_sleep().skipped_steps()),
+        wakes0_(sim.coil_sleep().wakes()),
+        rest_mm_(sim.coil_sleep_settings().rest_move_mm) {}
+  void before(const Simulator& sim) {
+    before_.clear();
+    for (std::size_t i = 0; i < sim.detached_count(); ++i) {
+      const std::span<const glm::dvec3> x = sim.detached(i).positions();
+      before_.insert(before_.end(), x.begin(), x.end());
+    }
+  }
+  void after(const Simulator& sim) {
+    double moved = 0.0;
+    for (std::size_t i = 0, j = 0; i < sim.detached_count(); ++i) {
+      for (const glm::dvec3& p : sim.detached(i).positions()) {
+        const double m = glm::length(p - before_[j++]);
+        moved = std::max(moved, m);
+        restless_ += m > rest_mm_ ? 1.0 : 0.0;
+        nodes_ += 1.0;
+      }
+    }
+    largest_mm_ = std::max(largest_mm_, moved);
+    sum_mm_ += moved;
+    ++steps_;
+  }
+  // How far the released coils' nodes move in a step (the largest node's), largest and mean;
+  // their steps skipped asleep, in % of theirs, and their wakes; the share of their node moves
+  // above the sleep's stillness test (a coil sleeps once every node of it has stayed under it
+  // for rest_ticks steps).
+  void report(benchmark::State& state, const Simulator& sim) const {
+    const double steps = std::max(1.0, steps_);
+    const double coil_steps = steps * static_cast<double>(std::max<std::size_t>(1, sim.detached_count()));
+    state.counters["released_move_max_um"] = 1e3 * largest_mm_;
+    state.counters["released_move_mean_um"] = 1e3 * sum_mm_ / steps;
+    state.counters["released_asleep_pct"] =
+        100.0 * static_cast<double>(sim.coil_sleep().skipped_steps() - skipped0_) / coil_steps;
+    state.counters["released_wakes"] = static_cast<double>(sim.coil_sleep().wakes() - wakes0_);
+    state.counters["released_restless_pct"] = 100.0 * restless_ / std::max(1.0, nodes_);
+  }
+
+ private:
+  std::uint64_t skipped0_, wakes0_;
+  double rest_mm_;
+  std::vector<glm::dvec3> before_;
+  double largest_mm_ = 0.0, sum_mm_ = 0.0, restless_ = 0.0, nodes_ = 0.0, steps_ = 0.0;
+};
+
+}  // namespace
+
 // The sphere of BM_StepCoilDeploy already holding 300 mm of coil: a third coil going in. The
 // set-up (two coils deployed and detached, ~15,000 steps) is done once, outside the timing.
 void BM_StepCoilPacking(benchmark::State& state) {
@@ -119,23 +173,13 @@ void BM_StepCoilPacking(benchmark::State& state) {
   double push = sim.insertion_mm(3), iterations = 0.0, peak_mN = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
-  std::vector<glm::dvec3> before;
-  double released_move_mm = 0.0, released_move_sum_mm = 0.0;
+  ReleasedMotion released(sim);
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(3, push);
-    before.clear();
-    for (std::size_t i = 0; i < sim.detached_count(); ++i) {
-      const std::span<const glm::dvec3> x = sim.detached(i).positions();
-      before.insert(before.end(), x.begin(), x.end());
-    }
+    released.before(sim);
     times.step(sim);
-    double moved = 0.0;
-    for (std::size_t i = 0, j = 0; i < sim.detached_count(); ++i) {
-      for (const glm::dvec3& p : sim.detached(i).positions()) moved = std::max(moved, glm::length(p - before[j++]));
-    }
-    released_move_mm = std::max(released_move_mm, moved);
-    released_move_sum_mm += moved;
+    released.after(sim);
     iterations += sim.rod(3).last_iterations();
     peak_mN = std::max(peak_mN, std::abs(sim.rod(3).hand_force_mN()));
   }
@@ -144,10 +188,7 @@ void BM_StepCoilPacking(benchmark::State& state) {
   times.report(state);
   const auto steps = static_cast<double>(std::max<std::size_t>(1, times.count()));
   state.counters["packing_before_pct"] = packed_pct;
-  // How far the released coils' nodes move in a step (the largest node's), largest and mean:
-  // what a sleeping scheme for released coils at rest would have to see fall to ~0.
-  state.counters["released_move_max_um"] = 1e3 * released_move_mm;
-  state.counters["released_move_mean_um"] = 1e3 * released_move_sum_mm / steps;
+  released.report(state, sim);
   state.counters["packing_after_pct"] = 100.0 * metrics.figures().packing_density;
   state.counters["coil_newton_its"] = iterations / steps;
   state.counters["peak_hand_mN"] = peak_mN;
