@@ -201,27 +201,6 @@ inline ProfileError profile_error(const SurfaceMesh& mesh, const Segment& s, dou
   return out;
 }
 
-// Every segment's lumen, from one input radius beyond its first ring to one before its last,
-// against the input centreline: the worst relative error over all segments.
-inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
-  ProfileError worst;
-  for (std::size_t s = 0; s < model.segments.size(); ++s) {
-    const Segment& segment = model.segments[s];
-    const Ring& first = surface.control.rings[surface.control.segment_first_ring[s]];
-    const Ring& last = surface.control.rings[surface.control.segment_first_ring[s + 1] - 1];
-    const SurfaceMesh own = region_only(surface.mesh, {RegionKind::kSegment, segment.id});
-    const ProfileError e = profile_error(own, segment, first.arc_mm + segment.points.front().radius_mm,
-                                                     last.arc_mm - segment.points.back().radius_mm);
-    worst.samples += e.samples;
-    if (std::abs(e.worst) > std::abs(worst.worst)) {
-      const int samples = worst.samples;
-      worst = e;
-      worst.samples = samples;
-    }
-  }
-  return worst;
-}
-
 // One closed cut's error, for distributions (median, percentiles) as well as the worst.
 struct SampleError {
   std::int32_t segment_id = 0;
@@ -250,6 +229,22 @@ inline std::vector<SampleError> errors_along_segments(const VesselModel& model, 
     }
   }
   return out;
+}
+
+// Every segment's lumen, from one input radius beyond its first ring to one before its last,
+// against the input centreline: the worst relative error over all segments.
+inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
+  ProfileError worst;
+  for (const SampleError& e : errors_along_segments(model, surface)) {
+    ++worst.samples;
+    if (std::abs(e.error) > std::abs(worst.worst)) {
+      worst.worst = e.error;
+      worst.worst_arc = e.arc;
+      worst.worst_surface = e.surface;
+      worst.worst_input = e.input;
+    }
+  }
+  return worst;
 }
 
 }  // namespace cathbox::vessel::test

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <malloc.h>
@@ -182,9 +183,12 @@ int run_info(const cli::Args& args) {
 // afresh and unmaps them when freed, so every one is faulted in page by page again (~1 us a
 // page on a virtual machine, a quarter of the command's time at 7M triangles). Serving them
 // from the heap and keeping freed memory for the next one faults each page in once.
+// One arena for every thread, so that the check running beside the writer (run_mesh) reuses the
+// subdivision's freed memory too instead of faulting in an arena of its own.
 void keep_freed_memory() {
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_ARENA_MAX, 1);
 }
 
 int run_mesh(cli::Args& args) {
@@ -223,11 +227,16 @@ int run_mesh(cli::Args& args) {
     std::fprintf(stderr, "%s: %s\n", path.c_str(), surface.error.c_str());
     return cli::kExitBadInput;
   }
-  if (const std::string error = vessel::write_mesh(surface.mesh, *output); !error.empty()) {
+  // The check (about a sixth of the command's CPU) runs on a second thread while this one writes
+  // the file (its copy into the page cache is most of the writing): both only read the mesh.
+  vessel::MeshAnalysis a;
+  std::thread check([&a, &surface] { a = vessel::analyze_mesh(surface.mesh); });
+  const std::string error = vessel::write_mesh(surface.mesh, *output);
+  check.join();
+  if (!error.empty()) {
     std::fprintf(stderr, "cathbox vessel mesh: %s\n", error.c_str());
     return error.rfind("unknown mesh format", 0) == 0 ? cli::kExitBadInput : cli::kExitFailure;
   }
-  const vessel::MeshAnalysis a = vessel::analyze_mesh(surface.mesh);
   std::printf("%s: control mesh %zu vertices %zu faces; surface %zu vertices %zu triangles; euler %d; %s, %s; "
               "volume %.1f mm3\n",
               output->c_str(), surface.control.vertex_count(), surface.control.face_count(), a.vertices, a.triangles,
