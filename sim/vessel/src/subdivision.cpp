@@ -427,7 +427,9 @@ void emit_child_quads(const Far::TopologyRefiner& refiner, int parent_level, con
       split_quad(out.positions_mm, v, face_triangles.data() + 6 * j);
     }
     out.triangles.insert(out.triangles.end(), face_triangles.begin(), face_triangles.end());
-    out.triangle_regions.insert(out.triangle_regions.end(), 2 * static_cast<std::size_t>(n), region);
+    // Within the reserved capacity: inlined appends (vector's fill insert is an out-of-line call
+    // with a general path, 3 % of the command at 3,000 segments).
+    for (int k = 0; k < 2 * n; ++k) out.triangle_regions.push_back(region);
   }
 }
 

@@ -305,6 +305,12 @@ std::string ImportResult::summary() const {
            std::to_string(network.shared_points) + " shared points dropped)";
   }
   if (network.duplicates > 0) out += "; " + std::to_string(network.duplicates) + " duplicate polylines dropped";
+  if (network.stubs > 0) {
+    char stubs[112];
+    std::snprintf(stubs, sizeof stubs, "; %zu free-ended stubs inside their junction's vessels pruned (up to %.3g mm)",
+                  network.stubs, network.longest_stub_mm);
+    out += stubs;
+  }
   if (network.contracted > 0) out += "; " + std::to_string(network.contracted) + " short branches between junctions contracted";
   if (network.joined > 0) out += "; " + std::to_string(network.joined) + " pass-through nodes joined";
   if (network.ends_joined > 0) {

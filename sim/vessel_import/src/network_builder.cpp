@@ -244,6 +244,30 @@ void contract_short_branches(Graph& g, NetworkStats& stats) {
   }
 }
 
+// Free-ended branches shorter than kStubRadii of their junction's radius: pruned (the tip lies
+// inside the vessels there). The junction keeps at least two other branches.
+void prune_stubs(Graph& g, NetworkStats& stats) {
+  for (bool changed = true; changed;) {
+    changed = false;
+    const auto incident = g.incidence();
+    for (std::size_t e = 0; e < g.edges().size() && !changed; ++e) {
+      const Edge& edge = g.edges()[e];
+      if (!edge.alive || edge.a == edge.b) continue;
+      const bool free_a = incident[edge.a].size() == 1;
+      const bool free_b = incident[edge.b].size() == 1;
+      if (free_a == free_b) continue;
+      const std::size_t junction = free_a ? edge.b : edge.a;
+      if (incident[junction].size() < 3) continue;
+      const double length = length_of(edge.points);
+      if (length >= kStubRadii * node_radius(g, incident[junction], junction)) continue;
+      g.edges()[e].alive = false;
+      ++stats.stubs;
+      stats.longest_stub_mm = std::max(stats.longest_stub_mm, length);
+      changed = true;
+    }
+  }
+}
+
 // A branch from a node back to itself: split in two at its middle point.
 void split_self_loops(Graph& g) {
   for (std::size_t e = 0; e < g.edges().size(); ++e) {
@@ -467,6 +491,7 @@ bool make_segments(Graph& g, const Orientation& orientation, NetworkBuild& out, 
 NetworkBuild finish(Graph& g, NetworkStats stats) {
   NetworkBuild out;
   merge_collapsed(g);
+  prune_stubs(g, stats);
   contract_short_branches(g, stats);
   split_self_loops(g);
   join_chains(g, stats);

@@ -175,8 +175,10 @@ base::Result<vtkDataArray*> find_radius_array(vtkPointData* point_data, const st
       }
     }
     if (!radius) {
-      return base::Error{"no radius array (tried MaximumInscribedSphereRadius, Radius, radius; point arrays: " +
-                         array_names(point_data) + "); name one with --radius-array"};
+      std::string tried;
+      for (const std::string& name : default_radius_arrays()) tried += (tried.empty() ? "" : ", ") + name;
+      return base::Error{"no radius array (tried " + tried + "; point arrays: " + array_names(point_data) +
+                         "); name one with --radius-array"};
     }
   }
   if (radius->GetNumberOfComponents() != 1) {

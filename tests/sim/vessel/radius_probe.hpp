@@ -4,13 +4,21 @@
 // distance from the centreline point is compared with the input radius there.
 //
 // The input centreline of a segment is its points joined by a Catmull-Rom curve (8 steps per
-// span, as the mesher places its ring centres), the radius linear between points. A cut keeps
+// span, as the mesher places its ring centres), the radius linear between points. Each cut is
+// normal to the curve's chord from one radius behind to one radius ahead (kTangentWindowRadii):
+// the axis' direction at the lumen's scale. The central difference of the refined samples, used
+// before, follows every kink of a real centreline (a 0.08 mm step after a 0.76 mm one, where the
+// uniform Catmull-Rom curve doubles back; points jittering 0.1-0.3 mm on a 0.5 mm lumen) and tilts
+// the cut there: an ellipse read as +8 to +31 % on public VMTK and DBiharMesher centrelines
+// whose lumen is within 2.6 % when cut across its axis (RadiusFidelity.JitteryUnevenCentrelines...).
+// The chord is exact in a circular bend (symmetric about the sample). A cut keeps
 // the triangle edges crossing the plane within `reach` input radii of the centre; its radius is
 // the length-weighted mean distance of the cut from the centre (exact for a circle), with the
 // smallest and largest distances and how many of 16 directions around the centre it covers.
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -30,8 +38,23 @@ struct AxisSample {
   double arc = 0.0;  // along the refined input curve from the segment's first point
 };
 
-// The refined input centreline of one segment.
-inline std::vector<AxisSample> input_axis(const Segment& s, int steps = 8) {
+constexpr double kTangentWindowRadii = 1.0;
+
+// The position at arc t along refined samples (linear between them, clamped at the ends).
+inline glm::dvec3 position_at_arc(const std::vector<AxisSample>& axis, double t) {
+  if (t <= axis.front().arc) return axis.front().pos;
+  if (t >= axis.back().arc) return axis.back().pos;
+  const auto it = std::upper_bound(axis.begin(), axis.end(), t, [](double v, const AxisSample& a) { return v < a.arc; });
+  const AxisSample& b = *it;
+  const AxisSample& a = *(it - 1);
+  const double span = b.arc - a.arc;
+  return span > 0.0 ? a.pos + (b.pos - a.pos) * ((t - a.arc) / span) : a.pos;
+}
+
+// The refined input centreline of one segment. Tangents: with window_radii > 0, the chord from
+// the curve at arc - w r to arc + w r (w = window_radii, r the sample's radius); with 0, the
+// central difference of the refined samples.
+inline std::vector<AxisSample> input_axis(const Segment& s, int steps = 8, double window_radii = kTangentWindowRadii) {
   const auto& p = s.points;
   std::vector<AxisSample> out;
   for (std::size_t i = 0; i + 1 < p.size(); ++i) {
@@ -56,6 +79,16 @@ inline std::vector<AxisSample> input_axis(const Segment& s, int steps = 8) {
     const glm::dvec3 d = out[std::min(i + 1, out.size() - 1)].pos - out[i > 0 ? i - 1 : 0].pos;
     out[i].tangent = glm::length(d) > 0.0 ? glm::normalize(d) : glm::dvec3(0.0, 0.0, 1.0);
     if (i > 0) out[i].arc = out[i - 1].arc + glm::length(out[i].pos - out[i - 1].pos);
+  }
+  if (window_radii > 0.0) {
+    std::vector<glm::dvec3> chord(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      const double h = window_radii * out[i].radius;
+      chord[i] = position_at_arc(out, out[i].arc + h) - position_at_arc(out, out[i].arc - h);
+    }
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (glm::length(chord[i]) > 0.0) out[i].tangent = glm::normalize(chord[i]);
+    }
   }
   return out;
 }
@@ -168,22 +201,47 @@ inline ProfileError profile_error(const SurfaceMesh& mesh, const Segment& s, dou
   return out;
 }
 
-// Every segment's lumen, from one input radius beyond its first ring to one before its last,
-// against the input centreline: the worst relative error over all segments.
-inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
-  ProfileError worst;
+// One closed cut's error, for distributions (median, percentiles) as well as the worst.
+struct SampleError {
+  std::int32_t segment_id = 0;
+  double arc = 0.0;
+  double surface = 0.0;  // the cut's mean radius
+  double input = 0.0;
+  double error = 0.0;    // surface / input - 1
+};
+
+// Every closed cut of worst_along_segments()'s range, segment by segment.
+inline std::vector<SampleError> errors_along_segments(const VesselModel& model, const VesselSurface& surface,
+                                                      double window_radii = kTangentWindowRadii, double reach_radii = 1.8) {
+  std::vector<SampleError> out;
   for (std::size_t s = 0; s < model.segments.size(); ++s) {
     const Segment& segment = model.segments[s];
     const Ring& first = surface.control.rings[surface.control.segment_first_ring[s]];
     const Ring& last = surface.control.rings[surface.control.segment_first_ring[s + 1] - 1];
     const SurfaceMesh own = region_only(surface.mesh, {RegionKind::kSegment, segment.id});
-    const ProfileError e = profile_error(own, segment, first.arc_mm + segment.points.front().radius_mm,
-                                                     last.arc_mm - segment.points.back().radius_mm);
-    worst.samples += e.samples;
-    if (std::abs(e.worst) > std::abs(worst.worst)) {
-      const int samples = worst.samples;
-      worst = e;
-      worst.samples = samples;
+    const double from = first.arc_mm + segment.points.front().radius_mm;
+    const double to = last.arc_mm - segment.points.back().radius_mm;
+    for (const AxisSample& a : input_axis(segment, 8, window_radii)) {
+      if (a.arc < from || a.arc > to) continue;
+      const Cut cut = cut_surface(own, a.pos, a.tangent, reach_radii * a.radius);
+      if (!cut.closed()) continue;
+      out.push_back({segment.id, a.arc, cut.mean, a.radius, cut.mean / a.radius - 1.0});
+    }
+  }
+  return out;
+}
+
+// Every segment's lumen, from one input radius beyond its first ring to one before its last,
+// against the input centreline: the worst relative error over all segments.
+inline ProfileError worst_along_segments(const VesselModel& model, const VesselSurface& surface) {
+  ProfileError worst;
+  for (const SampleError& e : errors_along_segments(model, surface)) {
+    ++worst.samples;
+    if (std::abs(e.error) > std::abs(worst.worst)) {
+      worst.worst = e.error;
+      worst.worst_arc = e.arc;
+      worst.worst_surface = e.surface;
+      worst.worst_input = e.input;
     }
   }
   return worst;

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_graph.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -156,6 +157,36 @@ TEST(NetworkBuilder, DuplicatesDroppedShortBranchesBetweenJunctionsContracted) {
   expect_network(built, 4, 1, 0);
   EXPECT_EQ(built.stats.duplicates, 1u);
   EXPECT_EQ(built.stats.contracted, 1u);
+}
+
+// A surface skeleton's stub (VMTK's test aorta surface left a 2-point, 0.024 mm free-ended branch
+// at a junction of 4-7 mm vessels; the mesher then needed its spherical-hull fallback there): a
+// free-ended branch shorter than the junction's radius ends inside the vessels there and is
+// pruned. A side branch longer than that radius stays, and so does a short vessel that is the
+// whole network.
+TEST(NetworkBuilder, FreeEndedStubsInsideTheirJunctionArePruned) {
+  std::vector<Branch> branches;
+  branches.push_back({line(straight({0, 0, 0}, {0, 0, 40}, 4.0)), 1, 2});
+  branches.push_back({line(straight({0, 0, 40}, {15, 0, 70}, 3.0)), 2, 3});
+  branches.push_back({line(straight({0, 0, 40}, {-15, 0, 70}, 3.0)), 2, 4});
+  branches.push_back({line({{{0, 0, 40}, 3.9}, {{0.02, 0.013, 40.0}, 3.9}}), 2, 5});  // 0.024 mm
+  const NetworkBuild built = build_network(branches);
+  expect_network(built, 3, 1, 0);
+  EXPECT_EQ(built.stats.stubs, 1u);
+  EXPECT_NEAR(built.stats.longest_stub_mm, 0.024, 0.001);
+  EXPECT_EQ(built.stats.free_ends, 3u);
+  const vessel::VesselSurface surface = vessel::build_vessel_surface(built.model);
+  ASSERT_TRUE(surface.ok()) << surface.error;
+  EXPECT_TRUE(surface.control.fallback_junctions.empty()) << vessel::fallback_summary(surface.control);
+  // A 6 mm side branch off the 4 mm trunk reaches out of it (1.5 radii): kept.
+  branches.back() = {line(straight({0, 0, 40}, {0, 6, 40}, 1.0)), 2, 5};
+  const NetworkBuild side = build_network(branches);
+  expect_network(side, 4, 1, 0);
+  EXPECT_EQ(side.stats.stubs, 0u);
+  // A lone short vessel (no junction) is not a stub.
+  std::vector<Branch> lone;
+  lone.push_back({line(straight({0, 0, 0}, {0, 0, 1}, 2.0)), 1, 2});
+  expect_network(build_network(lone), 1, 0, 0);
 }
 
 TEST(NetworkBuilder, ExplicitTopology) {

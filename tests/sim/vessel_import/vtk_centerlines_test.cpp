@@ -56,6 +56,20 @@ TEST(VtkCenterlines, PlainPolylinesAndTheRadiusArrayName) {
   const VtkRead wrong_name = read_vtk_centerlines(other, "Radius", false);
   ASSERT_FALSE(wrong_name.ok());
   EXPECT_NE(wrong_name.errors.front().message.find("no point array 'Radius'"), std::string::npos);
+  EXPECT_NE(missing.errors.front().message.find("tried MaximumInscribedSphereRadius, Radius, radius, radii;"),
+            std::string::npos) << missing.errors.front().to_string();
+}
+
+// DBiharMesher's centrelines (BlueFern/DBiharMesher, data/*_Centreline.vtk) name their radius
+// array `radii`: found without --radius-array.
+TEST(VtkCenterlines, RadiiArrayOfDBiharMesherIsFound) {
+  const std::string path = write_temp("radii.vtk", legacy("radii"));
+  const VtkRead read = read_vtk_centerlines(path, "", false);
+  ASSERT_TRUE(read.ok()) << read.errors.front().to_string();
+  EXPECT_EQ(read.arrays.radius_array, "radii");
+  const ImportResult r = import_centerlines(path);
+  ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
+  EXPECT_NE(r.summary().find("radius from 'radii'"), std::string::npos) << r.summary();
 }
 
 struct BadVtk {

@@ -17,7 +17,10 @@
 // bridge to its nearest point there.
 //
 // Polylines with their topology given (SWC: every branching sample is a node) skip that step.
-// Both then go through the same clean-up: repeated points removed, branches shorter than
+// Both then go through the same clean-up: repeated points removed, a branch from a junction to a
+// free end shorter than kStubRadii of the junction's radius (the widest end there) pruned (its
+// tip lies inside the vessel it leaves; a surface skeleton leaves such stubs where the flow
+// collapsed), branches shorter than
 // kContractRadii between two junctions contracted into one junction (the mesher needs room
 // between junctions), chains through nodes with exactly two branches joined into one segment, a
 // branch that returns to its own start split in two. Each connected piece is then oriented from
@@ -37,6 +40,7 @@ constexpr double kOverlapRadii = 0.25;  // a point this near the network (in its
 constexpr double kSnapRadii = 1.0;      // attaching this near a node (along the network) joins the node
 constexpr double kContractRadii = 1.0;  // a branch this short between two junctions is contracted
 constexpr double kJoinRadii = 2.0;      // a free end this near another polyline (in the wider radius) joins it
+constexpr double kStubRadii = 1.0;      // a free-ended branch this short from a junction is pruned
 
 struct Polyline {
   std::vector<vessel::CenterlinePoint> points;  // mm
@@ -57,6 +61,8 @@ struct NetworkStats {
   std::size_t shared_points = 0;     // points dropped as shared
   std::size_t duplicates = 0;        // polylines lying entirely on the network
   std::size_t contracted = 0;        // short branches between junctions contracted
+  std::size_t stubs = 0;             // free-ended stubs at junctions pruned
+  double longest_stub_mm = 0.0;      // the longest of those
   std::size_t joined = 0;            // two-branch nodes joined through
   std::size_t ends_joined = 0;       // free ends bridged to a nearby polyline
   double widest_join_gap_mm = 0.0;   // the longest of those bridges

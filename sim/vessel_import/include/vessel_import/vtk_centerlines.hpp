@@ -2,7 +2,7 @@
 // Centrelines in VTK polydata, as VMTK writes them (vmtkcenterlines, vmtkbranchextractor,
 // vmtknetworkextraction) in legacy .vtk or XML .vtp files: points, line cells (polylines),
 // the radius as a point-data array (VMTK: "MaximumInscribedSphereRadius"; network extraction:
-// "Radius"), and after vmtkbranchextractor the cell-data arrays "CenterlineIds" and "TractIds"
+// "Radius"; DBiharMesher: "radii"), and after vmtkbranchextractor the cell-data arrays "CenterlineIds" and "TractIds"
 // (each centreline cut into tracts at its branch points, the shared tracts repeated).
 //
 // read_vtk_centerlines() reads the file with VTK (vtkPolyDataReader, vtkXMLPolyDataReader) and
@@ -47,7 +47,7 @@ struct PolylinesRead {
 
 // The default radius arrays, tried in this order when none is named.
 [[nodiscard]] inline const std::vector<std::string>& default_radius_arrays() {
-  static const std::vector<std::string> names = {"MaximumInscribedSphereRadius", "Radius", "radius"};
+  static const std::vector<std::string> names = {"MaximumInscribedSphereRadius", "Radius", "radius", "radii"};
   return names;
 }
 
