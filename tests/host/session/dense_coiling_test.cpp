@@ -17,7 +17,7 @@
 // Not met yet, so disabled (run it with --gtest_also_run_disabled_tests): every other check
 // holds, but one coil node passes the neck plane while the framing coil goes in (one episode,
 // 21-28 s, with 3, 3.5, 4 or 5 mm helical or 4 mm complex framing loops, the microcatheter 2, 3
-// or 4 mm past the neck).
+// or 4 mm past the neck, a 1.6 mm neck).
 #include <gtest/gtest.h>
 
 #include <algorithm>
