@@ -13,12 +13,13 @@ using detail::kPi;
 using detail::Network;
 
 std::vector<std::string> CaseGenerator::case_names() {
-  return {"neuro", "neuro_aneurysm", "neuro_stenosis", "y_bifurcation"};
+  return {"neuro", "neuro_aneurysm", "neuro_small_aneurysm", "neuro_stenosis", "y_bifurcation"};
 }
 
 VesselModel CaseGenerator::make_case(const std::string& name) {
   if (name == "neuro") return neuro();
   if (name == "neuro_aneurysm") return neuro_aneurysm();
+  if (name == "neuro_small_aneurysm") return neuro_small_aneurysm();
   if (name == "neuro_stenosis") return neuro_stenosis();
   if (name == "y_bifurcation") return y_bifurcation();
   return {};
@@ -27,6 +28,13 @@ VesselModel CaseGenerator::make_case(const std::string& name) {
 VesselModel CaseGenerator::neuro() { return detail::build_neuro({}, false); }
 VesselModel CaseGenerator::neuro_aneurysm() {
   return detail::build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation, .dome_mm = 6.4, .neck_mm = 2.4}, false);
+}
+// The dense coiling case's sac (cases/neuro_coiling_dense.case): a small narrow-necked aneurysm, dome 4.0 mm,
+// neck 2.0 mm (dome/neck 2.0), as the small (< 5 mm) ruptured aneurysms of a population series
+// measured (dome 3.9 +- 1.1 mm, neck 1.6 mm: Dolati et al., Calgary, PMC4494560, 2015); 3-4 mm
+// aneurysms are 46.8 % of UCAS Japan's 6,697 (NEJM 2012 cohort).
+VesselModel CaseGenerator::neuro_small_aneurysm() {
+  return detail::build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation, .dome_mm = 4.0, .neck_mm = 2.0}, false);
 }
 VesselModel CaseGenerator::neuro_stenosis() { return detail::build_neuro({}, true); }
 VesselModel CaseGenerator::neuro_variant(const NeuroMorphology& morphology) { return detail::build_neuro(morphology, false); }

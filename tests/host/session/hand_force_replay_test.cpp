@@ -26,168 +26,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <string>
-#include <vector>
 
-#include "session/action_script_hand.hpp"
-#include "session/control.hpp"
-#include "session/passive_law.hpp"
-#include "session/session.hpp"
+#include "hand_force_trace.hpp"
 
 namespace cathbox::session {
 namespace {
 
-constexpr double kFullScale_mN = 5000.0;       // the box's insertion full scale
-constexpr double kSlewPerTick_mN = 100.0;      // the box's slew limit per 1 ms tick
-constexpr double kUnconvergedMax_pct = 0.5;    // issue 29: every tool converges on ≥ 99.5 % of ticks
-constexpr double kRounding_mN = 1e-6;          // a slew step met exactly, less its rounding
-
-struct FeelRun {
-  const char* name;
-  const char* case_file;  // relative to the source tree
-  const char* actions;
-};
-
-// Per tick: the held tool's hand force and its change since the last tick with the same tool.
-class HandForceTrace : public TickObserver {
- public:
-  void observe(const TickView& v) override {
-    const double f = v.snapshot.tools[v.input.held].hand_force_mN;
-    bool fresh = !started_ || v.input.held != held_;
-    for (const Control& c : v.controls) {
-      if (c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil)) fresh = true;
-    }
-    render(v, fresh);
-    if (!fresh) {
-      const double jump = std::abs(f - last_mN_);
-      if (jump > max_jump_mN) {
-        max_jump_mN = jump;
-        max_jump_ms = v.time_us / 1000;
-      }
-      if (jump > kSlewPerTick_mN) ++ticks_over_slew;
-    }
-    if (std::abs(f) > peak_mN) {
-      peak_mN = std::abs(f);
-      peak_ms = v.time_us / 1000;
-    }
-    if (std::abs(f) > kSlewPerTick_mN) ++ticks_over_100mN;
-    // The solver's own word, per rod (the case's tools, then the released coils), to check the
-    // metrics' unconverged shares against.
-    const std::size_t tools = v.sim.tool_count();
-    const std::size_t rods = tools + v.sim.detached_count();
-    unconverged.resize(rods, 0);
-    solved.resize(rods, 0);
-    for (std::size_t t = 0; t < rods; ++t) {
-      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.detached(t - tools);
-      if (rod.first_free_node() >= rod.node_total()) continue;
-      ++solved[t];
-      if (!rod.converged()) ++unconverged[t];
-    }
-    started_ = true;
-    held_ = v.input.held;
-    last_mN_ = f;
-    ++ticks;
-  }
-  std::int64_t ticks = 0;
-  double peak_mN = 0.0;
-  std::int64_t peak_ms = 0;
-  double max_jump_mN = 0.0;
-  std::int64_t max_jump_ms = 0;
-  std::int64_t ticks_over_slew = 0;   // change > 100 mN from the last tick
-  std::int64_t ticks_over_100mN = 0;  // |force| > 100 mN
-  std::vector<std::int64_t> unconverged, solved;  // per rod
-  // What the box renders (resisting +): PassiveLaw's shaped law at the hand's position and speed.
-  double rendered_peak_mN = 0.0;
-  double rendered_max_jump_mN = 0.0;
-  std::int64_t rendered_max_jump_ms = 0;
-  std::int64_t rendered_ticks_over_slew = 0;
-  // The held tool's own force on the last tick the hand pushed in (the end of the push).
-  double pushed_force_mN = 0.0;
-  double pushed_to_mm = 0.0;
-
- private:
-  // BoxHand::feel's path (box_hand.cpp): the law to the box's frame (here the session's: the
-  // scripted hand has no count origin, and a translation changes no force), shaped with the box's
-  // readback, which an ideal box reports as the output it rendered at the hand's position and
-  // speed. The limits are PassiveLawLimits' defaults, the emulated box's (5 N, 100 mN/ms, 1 ms).
-  void render(const TickView& v, bool fresh) {
-    const double x = static_cast<double>(v.input.tools[v.input.held].insertion_um) * 1e-3;
-    const double speed = fresh ? 0.0 : (x - hand_mm_) / (static_cast<double>(v.time_us - time_us_) * 1e-6);
-    if (fresh) {
-      box_law_.reset();
-      readback_ = {};
-    }
-    const ShapedLaw shaped = box_law_.shape(v.sim.force_law(v.input.held), readback_);
-    const double out = shaped.output_mN(x, speed);
-    if (!fresh) {
-      const double jump = std::abs(-out - rendered_mN_);
-      if (jump > rendered_max_jump_mN) {
-        rendered_max_jump_mN = jump;
-        rendered_max_jump_ms = v.time_us / 1000;
-      }
-      if (jump > kSlewPerTick_mN + kRounding_mN) ++rendered_ticks_over_slew;
-      if (speed > 0.0) {
-        pushed_force_mN = v.snapshot.tools[v.input.held].hand_force_mN;
-        pushed_to_mm = x;
-      }
-    }
-    rendered_peak_mN = std::max(rendered_peak_mN, std::abs(out));
-    readback_ = {out, speed};
-    rendered_mN_ = -out;
-    hand_mm_ = x;
-    time_us_ = v.time_us;
-  }
-  PassiveLaw box_law_;
-  BoxReadback readback_;
-  double rendered_mN_ = 0.0;
-  double hand_mm_ = 0.0;
-  std::int64_t time_us_ = 0;
-
-  bool started_ = false;
-  std::size_t held_ = 0;
-  double last_mN_ = 0.0;
-};
-
-// Runs a case with its script as a session in virtual time, to its end; prints the figures.
-// Every tool's unconverged share within issue 29's bound.
-void expect_every_tool_converged(const Metrics& m) {
-  for (const ToolConvergence& c : m.convergence) EXPECT_LE(c.unconverged_pct(), kUnconvergedMax_pct) << c.tool;
-}
-
-HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Case* spec = nullptr) {
-  HandForceTrace trace;
-  const std::string root = std::string(CATHBOX_SOURCE_DIR) + "/";
-  SessionCaseLoad loaded = load_session_case(root + run.case_file);
-  EXPECT_TRUE(loaded) << loaded.error().message;
-  if (!loaded) return trace;
-  if (spec != nullptr) *spec = loaded.value()->spec;
-  std::string error;
-  auto script = ActionScriptHand::load(root + run.actions, *loaded.value());
-  EXPECT_TRUE(script) << (script ? "" : script.error().message);
-  if (!script) return trace;
-  auto hand = std::move(*script);
-  Session s(std::move(loaded.value()), std::move(hand));
-  s.add_observer(trace);
-  while (!s.over() && s.step_virtual(1000) > 0) {
-  }
-  metrics = s.metrics();
-  std::printf("%s: %lld ticks; peak hand force %.1f mN at %.3f s; largest change %.1f mN/tick at %.3f s; "
-              "%lld ticks change > 100 mN, %lld ticks |F| > 100 mN\n",
-              run.name, static_cast<long long>(trace.ticks), trace.peak_mN, static_cast<double>(trace.peak_ms) * 1e-3,
-              trace.max_jump_mN, static_cast<double>(trace.max_jump_ms) * 1e-3,
-              static_cast<long long>(trace.ticks_over_slew), static_cast<long long>(trace.ticks_over_100mN));
-  std::printf("  box-rendered: peak %.1f mN; largest change %.1f mN/tick at %.3f s; %lld ticks change > 100 mN\n",
-              trace.rendered_peak_mN, trace.rendered_max_jump_mN, static_cast<double>(trace.rendered_max_jump_ms) * 1e-3,
-              static_cast<long long>(trace.rendered_ticks_over_slew));
-  for (const ToolConvergence& c : metrics.convergence) {
-    std::printf("  %-22s unconverged %.2f %% of %lld solved ticks\n", c.tool.c_str(), c.unconverged_pct(),
-                static_cast<long long>(c.solved_ticks));
-  }
-  if (metrics.packing_density_pct) std::printf("  packing density %.2f %%\n", *metrics.packing_density_pct);
-  return trace;
-}
+using test::FeelRun;
+using test::HandForceTrace;
+using test::expect_every_tool_converged;
+using test::run_session;
+using test::kFullScale_mN;
+using test::kSlewPerTick_mN;
+using test::kRounding_mN;
 
 const FeelRun kRuns[] = {
     {"y_bifurcation_left", "cases/y_bifurcation.case", "cases/y_bifurcation_left.actions"},

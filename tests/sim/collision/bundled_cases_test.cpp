@@ -195,7 +195,7 @@ std::string case_name(const ::testing::TestParamInfo<BundledCase>& info) {
 
 INSTANTIATE_TEST_SUITE_P(Cases, BundledCaseTest,
                          ::testing::Values(BundledCase{"neuro.hclm", 1}, BundledCase{"neuro_aneurysm.hclm", 1},
-                                           BundledCase{"y_bifurcation.hclm", 2}, BundledCase{"seed_catheter.hclm", 3}),
+                                           BundledCase{"neuro_small_aneurysm.hclm", 1}, BundledCase{"y_bifurcation.hclm", 2}, BundledCase{"seed_catheter.hclm", 3}),
                          case_name);
 
 }  // namespace

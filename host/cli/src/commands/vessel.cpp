@@ -77,8 +77,8 @@ const cli::GroupSpec& spec() {
                         {.name = "no-radius-filter", .help = "keep radii as read"}}},
            {.name = "generate",
             .positionals = "NAME",
-            .help = "a bundled or random case (NAME: neuro, neuro_aneurysm, neuro_stenosis, y_bifurcation, "
-                    "random-tree, random-graph)",
+            .help = "a bundled or random case (NAME: neuro, neuro_aneurysm, neuro_small_aneurysm, neuro_stenosis, "
+                    "y_bifurcation, random-tree, random-graph)",
             .options = {{.name = "output", .value = "OUT.hclm", .help = "the HCLM file", .required = true, .short_name = 'o'},
                         {.name = "all", .value = "DIR", .help = "all bundled cases into DIR (instead of NAME and -o)"},
                         {.name = "seed", .value = "S", .help = "random-tree / random-graph seed"},

@@ -38,13 +38,15 @@ struct NeuroMorphology {
 
 class CaseGenerator {
  public:
-  // Names of the bundled cases: "neuro", "neuro_aneurysm", "neuro_stenosis", "y_bifurcation".
+  // Names of the bundled cases: "neuro", "neuro_aneurysm", "neuro_small_aneurysm", "neuro_stenosis",
+  // "y_bifurcation".
   [[nodiscard]] static std::vector<std::string> case_names();
   // The named case; an empty model for an unknown name.
   [[nodiscard]] static VesselModel make_case(const std::string& name);
 
   [[nodiscard]] static VesselModel neuro();            // healthy arch-to-Willis network
   [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the right MCA bifurcation
+  [[nodiscard]] static VesselModel neuro_small_aneurysm();  // the same site, a 4.0 mm dome, 2.0 mm neck
   [[nodiscard]] static VesselModel neuro_stenosis();   // + 70 % stenosis at the left ICA origin
   [[nodiscard]] static VesselModel y_bifurcation();    // one parent, two children (steering tests)
   // The arch-to-Willis network with the given morphology (neuro() is the default one).

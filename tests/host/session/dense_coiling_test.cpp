@@ -1,0 +1,89 @@
+// The dense coiling case played to its end by its script (cases/neuro_coiling_dense.case +
+// .actions) as a session in virtual time, as `cathbox session run --virtual` plays it: a framing,
+// two filling and two finishing coils through one microcatheter into the small MCA bifurcation
+// sac pack it to at least a quarter of its volume (the clinical aim: mean final packing 27 %,
+// Piotin et al., Radiology 243(2), 2007; >= 24 % against compaction, Sluzewski et al., Radiology
+// 231(3), 2004), with
+//   - no coil node ever past the neck plane into the parent artery (no herniation episode),
+//   - every coil detached at its markers (the deployed length is the case's coils' sum),
+//   - what the box renders of the held tool's force (session::PassiveLaw, as BoxHand shapes it)
+//     within the box's 5 N full scale and its 100 mN-per-tick slew, detachments and loads
+//     included,
+//   - the coil pushed into the sac at 8 mm/s within the box's full scale; its median, 95th
+//     percentile and largest printed beside the bundled figures of
+//     docs/sim-tool/published-forces.md (no published coil insertion force with a figure has
+//     been read: the published sources there state orderings only, so no tighter bound).
+// Labelled long (~100 s of CPU): docs/sim-tool/coiling-and-angioplasty.md, "Dense coiling".
+// Not met yet, so disabled (run it with --gtest_also_run_disabled_tests): every other check
+// holds, but one coil node passes the neck plane while the framing coil goes in (one episode,
+// 21-28 s, with 3, 3.5, 4 or 5 mm helical or 4 mm complex framing loops, the microcatheter 2, 3
+// or 4 mm past the neck, a 1.6 mm neck).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "hand_force_trace.hpp"
+#include "scenario/case_file.hpp"
+
+namespace cathbox::session {
+namespace {
+
+constexpr double kPackingMin_pct = 25.0;
+
+// The p-th quantile (0..1) of the values, by the nearest rank.
+double quantile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto k = static_cast<std::size_t>(std::lround(p * static_cast<double>(v.size() - 1)));
+  return v[std::min(k, v.size() - 1)];
+}
+
+TEST(DenseCoiling, DISABLED_TheDenseCasePacksAQuarterOfTheSacWithoutHerniationWithinTheBoxsLimits) {
+  const test::FeelRun run{"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"};
+  Metrics m;
+  tool::Case spec;
+  const test::HandForceTrace trace = test::run_session(run, m, &spec);
+  ASSERT_GT(trace.ticks, 1000);
+
+  // The case's coils and their sum: all of it deployed and released.
+  const auto coil = std::find_if(spec.tools.begin(), spec.tools.end(), [](const tool::ToolSpec& t) { return t.kind == tool::ToolKind::kCoil; });
+  ASSERT_NE(coil, spec.tools.end());
+  double total_mm = coil->detach_mm;
+  for (const tool::ToolSection& s : coil->next_coils) total_mm += s.length_mm;
+  const auto coil_tool = static_cast<std::size_t>(coil - spec.tools.begin());
+  ASSERT_TRUE(m.packing_density_pct && m.coil_length_mm && m.coil_herniations && m.kick_back_mm);
+  std::printf("  %zu coils, %.1f mm: deployed %.1f mm, packing %.2f %%, %d herniations, kick-back %.2f mm\n",
+              coil->next_coils.size() + 1, total_mm, *m.coil_length_mm, *m.packing_density_pct, *m.coil_herniations,
+              *m.kick_back_mm);
+  EXPECT_NEAR(*m.coil_length_mm, total_mm, 0.6);
+  EXPECT_GE(*m.packing_density_pct, kPackingMin_pct);
+  EXPECT_EQ(*m.coil_herniations, 0);
+
+  // What the box renders: within its full scale and slew on every tick.
+  EXPECT_LE(trace.rendered_peak_mN, test::kFullScale_mN + test::kRounding_mN);
+  EXPECT_LE(trace.rendered_max_jump_mN, test::kSlewPerTick_mN + test::kRounding_mN)
+      << "at " << trace.rendered_max_jump_ms << " ms";
+  EXPECT_EQ(trace.rendered_ticks_over_slew, 0);
+
+  // The coil's own force while the hand pushes it: up the microcatheter (40 mm/s) and out into
+  // the sac (8 mm/s).
+  std::vector<double> up, out;
+  for (const test::HandForceTrace::Push& p : trace.pushes) {
+    if (p.tool != coil_tool) continue;
+    if (p.speed_mm_s > 30.0) up.push_back(p.force_mN);
+    if (p.speed_mm_s > 6.0 && p.speed_mm_s < 10.0) out.push_back(p.force_mN);
+  }
+  ASSERT_FALSE(out.empty());
+  std::printf("  coil pushed up the microcatheter: median %.0f, p95 %.0f, largest %.0f mN (%zu ticks)\n", quantile(up, 0.5),
+              quantile(up, 0.95), quantile(up, 1.0), up.size());
+  std::printf("  coil pushed into the sac: median %.0f, p95 %.0f, largest %.0f mN (%zu ticks)\n", quantile(out, 0.5),
+              quantile(out, 0.95), quantile(out, 1.0), out.size());
+  EXPECT_LE(quantile(out, 1.0), test::kFullScale_mN);
+}
+
+}  // namespace
+}  // namespace cathbox::session
