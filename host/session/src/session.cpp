@@ -296,10 +296,9 @@ void Session::log_events(int tip_segment, double tip_force_mN) {
   // The tip's own force (not the tick's largest contact, which may be another tool's shaft).
   // Where: a vessel segment, a junction's wall (MeshWall::kJunction, no one segment), or no
   // segment found (-1); never a raw negative id.
-  if (metrics_.contact_began() && tip_segment >= 0) {
-    log("tip on the wall, segment %d (%.1f mN)", tip_segment, tip_force_mN);
-  } else if (metrics_.contact_began()) {
-    log("tip on the wall%s (%.1f mN)", tip_segment == tool::MeshWall::kJunction ? " at a junction" : "", tip_force_mN);
+  if (metrics_.contact_began()) {
+    if (tip_segment >= 0) log("tip on the wall, segment %d (%.1f mN)", tip_segment, tip_force_mN);
+    else log("tip on the wall%s (%.1f mN)", tip_segment == tool::MeshWall::kJunction ? " at a junction" : "", tip_force_mN);
   }
   if (metrics_.target_just_reached()) {
     log("target reached: %.1f mm of tip travel", metrics_.metrics().tip_path_mm);
