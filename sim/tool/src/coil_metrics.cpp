@@ -23,12 +23,17 @@ double CoilMetrics::attached_deployed_mm(const Simulator& sim, std::size_t coil_
   return std::clamp(past, 0.0, sim.rod(coil_tool).spec().detach_mm);
 }
 
-int CoilMetrics::herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm) const {
+int CoilMetrics::herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm,
+                           double& deepest_mm) const {
   int n = 0;
   const std::span<const glm::dvec3> x = rod.positions();
   for (std::size_t k = first; k < end; ++k) {
     if (rod.node_from_tip_mm(k) > leaving_from_tip_mm) continue;
-    if (sac_.depth_mm(x[k]) < -rod.node_radius_mm(k)) ++n;
+    const double depth = sac_.depth_mm(x[k]);
+    if (depth < -rod.node_radius_mm(k)) {
+      ++n;
+      deepest_mm = std::max(deepest_mm, -depth);
+    }
   }
   return n;
 }
@@ -38,6 +43,7 @@ void CoilMetrics::observe(const Simulator& sim) {
   f_.coil_volume_mm3 = 0.0;
   f_.kick_back_now_mm = 0.0;
   int herniated_now = 0;
+  double deepest_mm = 0.0;
   for (CoilTool& c : coils_) {
     const Rod& rod = sim.rod(c.tool);
     if (c.load != sim.coils_loaded(c.tool)) {  // the next coil loaded: its kick-back is its own
@@ -48,7 +54,7 @@ void CoilMetrics::observe(const Simulator& sim) {
     if (out > 0.0) {
       f_.deployed_mm += out;
       f_.coil_volume_mm3 += cylinder_volume_mm3(2.0 * rod.radius_at_mm(0.0), out);
-      herniated_now += herniated(rod, rod.first_free_node(), rod.node_total(), out - kLeavingZone_mm);
+      herniated_now += herniated(rod, rod.first_free_node(), rod.node_total(), out - kLeavingZone_mm, deepest_mm);
     }
     if (c.catheter >= sim.tool_count()) continue;
     const double depth = sac_.depth_mm(sim.tip(c.catheter).position_mm);
@@ -67,7 +73,7 @@ void CoilMetrics::observe(const Simulator& sim) {
     const Rod& coil = sim.detached(i);
     f_.deployed_mm += coil.length_mm();
     f_.coil_volume_mm3 += cylinder_volume_mm3(2.0 * coil.radius_at_mm(0.0), coil.length_mm());
-    herniated_now += herniated(coil, 0, coil.node_total(), coil.length_mm() + 1.0);
+    herniated_now += herniated(coil, 0, coil.node_total(), coil.length_mm() + 1.0, deepest_mm);
   }
   f_.packing_density = sac_.volume_mm3 > 0.0 ? f_.coil_volume_mm3 / sac_.volume_mm3 : 0.0;
   // A new episode after a gap without herniated coil (a loop flickering across the plane is one).
@@ -79,6 +85,8 @@ void CoilMetrics::observe(const Simulator& sim) {
     clear_since_s_ = sim.time_s();
   }
   f_.herniated_nodes = herniated_now;
+  f_.herniated_peak_nodes = std::max(f_.herniated_peak_nodes, herniated_now);
+  f_.herniated_depth_mm = std::max(f_.herniated_depth_mm, deepest_mm);
   f_.kick_back_mm = std::max(f_.kick_back_mm, f_.kick_back_now_mm);
 }
 

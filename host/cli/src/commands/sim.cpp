@@ -41,6 +41,14 @@ const cathbox::cli::GroupSpec& spec() {
 }
 
 // The balloon's figures, one per line (host/cli/README.md).
+void print_coils(const cathbox::tool::CoilFigures& c, double sac_volume_mm3) {
+  std::printf("coil: %.1f mm deployed, packing density %.1f %% of a %.1f mm3 sac, %d herniations, kick-back %.2f mm\n",
+              c.deployed_mm, 100.0 * c.packing_density, sac_volume_mm3, c.herniations, c.kick_back_mm);
+  if (c.herniations > 0)
+    std::printf("coil herniated: up to %d nodes at once, %.2f mm past the neck plane\n", c.herniated_peak_nodes,
+                c.herniated_depth_mm);
+}
+
 void print_angioplasty(const cathbox::tool::AngioplastyFigures& f) {
   if (f.lesion) {
     std::printf("stenosis before: %.1f %%, residual stenosis: %.1f %% (reference %.2f mm)\n", f.stenosis_before_percent,
@@ -133,11 +141,7 @@ int run_run(cathbox::cli::Args& args) {
   std::printf("%llu steps, %llu rows -> %s\n", static_cast<unsigned long long>(result.steps),
               static_cast<unsigned long long>(result.rows), out_path->c_str());
   for (const std::string& note : result.notes) std::fprintf(stderr, "%s\n", note.c_str());
-  if (result.coils) {
-    const cathbox::tool::CoilFigures& c = *result.coils;
-    std::printf("coil: %.1f mm deployed, packing density %.1f %% of a %.1f mm3 sac, %d herniations, kick-back %.2f mm\n",
-                c.deployed_mm, 100.0 * c.packing_density, options.sac->volume_mm3, c.herniations, c.kick_back_mm);
-  }
+  if (result.coils) print_coils(*result.coils, options.sac->volume_mm3);
   if (result.angioplasty) print_angioplasty(*result.angioplasty);
   return kExitOk;
 }

@@ -11,6 +11,10 @@
 //                          kLeavingZone_mm of coil leaving the catheter tip
 //   herniations            episodes of herniated coil (from none to some, after at least
 //                          kHerniationGap_s without any): an error event
+//   herniation extent      the most nodes herniated at once and the deepest of them past the
+//                          neck plane (mm) so far: an episode may be one node for one tick or
+//                          a loop lying in the parent artery for seconds (Abdihalim et al.,
+//                          AJNR 2011, grade the protrusion by its extent in the parent lumen)
 //   kick-back              how far the microcatheter's tip was pushed back out of the sac along
 //                          the neck normal from where it was when its coil began to deploy
 //                          until the coil's release, less what its own hand withdrew it (peak, mm)
@@ -29,6 +33,8 @@ struct CoilFigures {
   double packing_density = 0.0;   // fraction (0.25 = 25 %)
   int herniated_nodes = 0;        // this step
   int herniations = 0;            // episodes so far
+  int herniated_peak_nodes = 0;   // the most nodes herniated at once so far
+  double herniated_depth_mm = 0.0;  // the deepest herniated node past the neck plane so far
   double kick_back_mm = 0.0;      // peak so far
   double kick_back_now_mm = 0.0;  // this step
 };
@@ -60,7 +66,10 @@ class CoilMetrics {
     double ref_insertion_mm = 0.0;  // ... and the catheter's insertion
     std::size_t load = 0;       // the coil on the tool (Simulator::coils_loaded): a new one deploys afresh
   };
-  [[nodiscard]] int herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm) const;
+  // Herniated nodes of rod[first, end) within leaving_from_tip_mm of its tip, the deepest past
+  // the neck plane raising `deepest_mm`.
+  [[nodiscard]] int herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm,
+                              double& deepest_mm) const;
 
   AneurysmSac sac_;
   std::vector<CoilTool> coils_;
