@@ -11,7 +11,9 @@
 //   lkarstensen/stEVE_bench @ 1c7640e (MIT): the 25 curves of data/dualdevicenav/Centrelines_comb/
 //     (an aortic arch with its supra-aortic vessels) as one dualdevicenav_centrelines_comb.mrk.json,
 //     the files' "markups" lists concatenated in file-name order; its worst sample is +10.6 %
-//     (segment 13), so it is held to 11 %, not 5 %: not met
+//     (segment 13), so it is held to 11 %, not 5 %: not met; and its 21 numbered curves alone
+//     ("Centerline curve (N)", without the named LCCA, RCCA, LVA, RVA) as
+//     dualdevicenav_21_numbered_curves.mrk.json: 5 components, worst +5.5 %, held to 6 %: not met
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -83,7 +85,8 @@ INSTANTIATE_TEST_SUITE_P(Public, RealFiles,
                                            RealFile{"test_vmtkcenterlines_test_carotidprofiles_centerlines.vtp", 0.05},
                                            RealFile{"721A_Centreline.vtk", 0.05}, RealFile{"227A_Centreline.vtk", 0.05},
                                            RealFile{"aorta-surface.stl", 0.05}, RealFile{"aorta-surface-open-ends.stl", 0.05},
-                                           RealFile{"dualdevicenav_centrelines_comb.mrk.json", 0.11}),
+                                           RealFile{"dualdevicenav_centrelines_comb.mrk.json", 0.11},
+                                           RealFile{"dualdevicenav_21_numbered_curves.mrk.json", 0.06}),
                          [](const ::testing::TestParamInfo<RealFile>& p) {
                            std::string name = std::filesystem::path(p.param.name).filename().string();
                            name = name.substr(0, name.find('.'));
