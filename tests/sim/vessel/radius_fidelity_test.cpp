@@ -103,6 +103,8 @@ TEST(RadiusFidelity, StenosisThroatsComeOutAtTheirInputRadius) {
       ASSERT_TRUE(surface.ok()) << surface.error;
       const double throat = 2.0 * (1.0 - reduction);
       const double got = surface_radius_at(surface.mesh, 30.0, 3.0);
+      std::printf("stenosis %.0f %%, points every %.1f mm: throat %+.2f %%\n", 100.0 * reduction, spacing,
+                  100.0 * (got / throat - 1.0));
       EXPECT_NEAR(got / throat, 1.0, 0.05) << reduction * 100 << " % stenosis, points every " << spacing << " mm: "
                                            << got << " mm for " << throat;
     }
@@ -128,6 +130,7 @@ TEST(RadiusFidelity, BundledSeventyPercentStenosisStaysSeventyPercent) {
   }
   const test::Cut cut = test::cut_surface(surface.mesh, axis[throat].pos, axis[throat].tangent, 2.0 * axis[throat].radius);
   ASSERT_TRUE(cut.closed());
+  std::printf("neuro_stenosis ICA throat: %+.2f %%\n", 100.0 * (cut.mean / axis[throat].radius - 1.0));
   EXPECT_NEAR(cut.mean / axis[throat].radius, 1.0, 0.05) << cut.mean << " mm at the throat for " << axis[throat].radius;
 }
 
@@ -142,6 +145,7 @@ TEST(RadiusFidelity, BulgesFollowTheInputAlongTheirWholeLength) {
     const VesselSurface surface = build_vessel_surface(model);
     ASSERT_TRUE(surface.ok()) << surface.error;
     const test::ProfileError e = test::profile_error(surface.mesh, model.segments[0], 10.0, 50.0);
+    std::printf("bulge, points every %.1f mm: worst %+.2f %% over %d cuts\n", spacing, 100.0 * e.worst, e.samples);
     EXPECT_GT(e.samples, 100);
     EXPECT_LT(std::abs(e.worst), 0.05) << "points every " << spacing << " mm: " << e.worst_surface << " for "
                                        << e.worst_input << " at " << e.worst_arc << " mm";
@@ -213,6 +217,8 @@ TEST(RadiusFidelity, NarrowJunctionsDoNotPinchTheBranches) {
               worst_at = from_centre;
             }
           }
+          std::printf("%s %.0f deg, M %d, branch %d: outer side worst %+.2f %% over %d cuts\n",
+                      confluence ? "confluence" : "bifurcation", angle, m, b, 100.0 * worst, samples);
           EXPECT_GT(samples, 50);
           EXPECT_LT(std::abs(worst), 0.03) << (confluence ? "confluence " : "bifurcation ") << angle << " deg, M " << m
                                            << ", branch " << b << ": " << worst * 100 << " % at " << worst_at
@@ -243,6 +249,7 @@ TEST(RadiusFidelity, CurvedHelicalConfluentAndLoopingSegmentsWithinThreePercentO
       const VesselSurface surface = build_vessel_surface(model, options);
       ASSERT_TRUE(surface.ok()) << name << ": " << surface.error;
       const test::ProfileError e = test::worst_along_segments(model, surface);
+      std::printf("%s, M %d: worst %+.2f %% over %d cuts\n", name.c_str(), m, 100.0 * e.worst, e.samples);
       EXPECT_GT(e.samples, 100) << name;
       EXPECT_LT(std::abs(e.worst), 0.03) << name << " M " << m << ": " << e.worst_surface << " mm for "
                                          << e.worst_input << " at arc " << e.worst_arc;

@@ -4,6 +4,7 @@
 #include "vessel_import/importer.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 
@@ -36,6 +37,7 @@ TEST_P(ImportedExample, MeshesClosedAndFollowsItsCentreline) {
   EXPECT_EQ(a.euler_characteristic, surface.euler_characteristic);
   EXPECT_GT(a.signed_volume_mm3, 0.0);
   const vessel::test::ProfileError e = vessel::test::worst_along_segments(r.model, surface);
+  std::printf("%s: radius worst %+.2f %% over %d cuts\n", GetParam(), 100.0 * e.worst, e.samples);
   EXPECT_GT(e.samples, 100);
   EXPECT_LT(std::abs(e.worst), 0.03) << e.worst_surface << " mm for " << e.worst_input << " at arc " << e.worst_arc;
 }
