@@ -42,26 +42,32 @@ def clock_figures(b):
     return jitter, int(f.group(1)), int(f.group(2)) if f.group(2) else None, frames
 
 
-def rig_priority(b, source, fifo=None, slice_us=None):
+def rig_priority(b, source, fifo=None, slice_us=None, gpu=None):
     """What a kiosk rig's launcher may do for the page (never the page itself, which cannot):
     scripts/rig-priority gives the browser's worker threads SCHED_FIFO `fifo`, as the native haptic
     thread runs (needs CAP_SYS_NICE), or keeps them SCHED_OTHER with an EEVDF slice of `slice_us`
-    (no capability for the user's own browser). The threads changed."""
-    how = ["--fifo", str(fifo)] if fifo else ["--slice", str(slice_us)]
-    out = subprocess.run([os.path.join(source, "scripts/rig-priority"), "--once", *how,
-                          "--under", str(b.driver.service.process.pid)], capture_output=True, text=True)
-    check(out.returncode == 0, "scripts/rig-priority: %s" % out.stderr.strip())
-    return len(out.stdout.splitlines())
+    (no capability for the user's own browser), or lowers the GPU process (`gpu`: idle, SCHED_IDLE,
+    or a nice value; no capability either; scripts/train-browser does it; with fifo or slice_us too).
+    The threads changed."""
+    changed = 0
+    for how in (["--fifo", str(fifo)] if fifo else ["--slice", str(slice_us)] if slice_us else None, ["--gpu", str(gpu)] if gpu else None):
+        if not how:
+            continue
+        out = subprocess.run([os.path.join(source, "scripts/rig-priority"), "--once", *how,
+                              "--under", str(b.driver.service.process.pid)], capture_output=True, text=True)
+        check(out.returncode == 0, "scripts/rig-priority: %s" % out.stderr.strip())
+        changed += len(out.stdout.splitlines())
+    return changed
 
 
-def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fifo=None, query=None, slice_us=None):
+def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fifo=None, query=None, slice_us=None, gpu=None):
     """The worker's own 1 kHz clock for `seconds`, W held (and Space, the pedal, in fluoroscopy),
     then Escape: jitter and first frame, with the machine's load average. `fifo`: the rig's
     launcher gives the workers' threads that real-time priority (rig_priority) once the run starts.
     `query`: more of the page's options (e.g. `frame_ms=50`). `slice_us`: the launcher gives them that
-    EEVDF slice instead (rig_priority)."""
+    EEVDF slice instead (rig_priority). `gpu`: the launcher lowers the GPU process instead (idle or a nice value)."""
     open_assignment(b, assignment, "real", view, spin, query)
-    raised = rig_priority(b, centre.args.source, fifo, slice_us) if fifo or slice_us else 0
+    raised = rig_priority(b, centre.args.source, fifo, slice_us, gpu) if fifo or slice_us or gpu else 0
     body = b.driver.find_element(By.TAG_NAME, "body")
     keys = ["w", Keys.SPACE] if view == "fluoro" else ["w"]
     down = ActionChains(b.driver)
@@ -82,6 +88,6 @@ def test_real_clock(b, centre, assignment, seconds, report, view, spin=None, fif
     jitter, first_ms, open_ms, frames = clock_figures(b)
     report.setdefault("real_clock", {})[view] = {
         "jitter": jitter, "first_frame_ms": first_ms, "open_ms": open_ms, "frames": frames, "end": end,
-        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)], "spin_ms": spin, "fifo_threads": raised if fifo else 0,
-        "slice_us": slice_us, "slice_threads": raised if slice_us else 0, "query": query,
+        "load_average": [round(load_before, 2), round(os.getloadavg()[0], 2)], "spin_ms": spin, "fifo_threads": raised if fifo and not gpu else 0,
+        "slice_us": slice_us, "slice_threads": raised if slice_us else 0, "gpu": gpu, "gpu_threads": raised if gpu else 0, "query": query,
         "fluoro": b.js(FLUORO_NOTE_JS) if view == "fluoro" else None}

@@ -187,6 +187,8 @@ def main():
                         help="the real-clock runs with the browser's worker threads at SCHED_FIFO PRIO, as a kiosk rig's launcher may set them")
     parser.add_argument("--rig-slice", type=int, default=None, metavar="US",
                         help="the real-clock runs with the browser's worker threads at an EEVDF slice of US µs (scripts/rig-priority --slice)")
+    parser.add_argument("--rig-gpu", default=None, metavar="idle|NICE",
+                        help="the real-clock runs with the browser's GPU process at SCHED_IDLE or nice NICE (scripts/rig-priority --gpu)")
     parser.add_argument("--query", default=None, metavar="Q", help="the real-clock runs with /train.html?...&Q (e.g. frame_ms=50)")
     parser.add_argument("--chromium-arg", action="append", default=[], metavar="ARG",
                         help="one more Chromium switch for the trainee's browser (repeatable; e.g. --in-process-gpu)")
@@ -213,7 +215,8 @@ def main():
         if args.only:
             if args.only == "real-clock":
                 for view in ("3d", "fluoro"):
-                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice)
+                    test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice,
+                                    args.rig_gpu)
             elif args.only == "stent":
                 test_stent_keys(b, centre, report)
             else:
@@ -242,7 +245,8 @@ def main():
         b.drain_console()
         if args.real_clock:
             for view in ("3d", "fluoro"):
-                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice)
+                test_real_clock(b, centre, assignment, args.real_clock, report, view, args.spin, args.rig_fifo, args.query, args.rig_slice,
+                                    args.rig_gpu)
                 b.drain_console()
         test_box_bridge(b, centre, assignment, report)
         b.drain_console()

@@ -46,30 +46,30 @@ void BrowserFluoro::project_phantom(const flow::CArm& carm, int width, int heigh
   // As FluoroRenderer::project_phantom: L and sqrt(T_ref / T) = exp((L - L_ref) / 2) per pixel,
   // bottom row first (as GL textures are filled).
   const std::vector<float> path = flow::HeadPhantom::neuro().project(carm, width, height);
-  phantom_rg_.resize(2 * path.size());
+  image_.phantom.resize(2 * path.size());
   const auto w = static_cast<std::size_t>(width);
   const auto h = static_cast<std::size_t>(height);
   for (std::size_t i = 0; i < path.size(); ++i) {
     const std::size_t o = 2 * ((h - 1 - i / w) * w + i % w);
-    phantom_rg_[o] = path[i];
-    phantom_rg_[o + 1] = static_cast<float>(std::exp(0.5 * (path[i] - l_ref)));
+    image_.phantom[o] = path[i];
+    image_.phantom[o + 1] = static_cast<float>(std::exp(0.5 * (path[i] - l_ref)));
   }
 }
 
 void BrowserFluoro::pack_scenes(const app::FluoroInputs& in, double patient_pixel_mm, double keV) {
-  scene_floats_.clear();
-  scene_indices_.clear();
+  image_.scene_floats.clear();
+  image_.scene_indices.clear();
   const app::FluoroScene* scenes[] = {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask};
   for (int s = 0; s < 4; ++s) {
     const app::FluoroScene& scene = *scenes[s];
     const bool cells = scene.cell_iodine_mgI_ml.size() == cell_count_ && cell_count_ > 0;
-    if (cells) scene_floats_.insert(scene_floats_.end(), scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end());
+    if (cells) image_.scene_floats.insert(image_.scene_floats.end(), scene.cell_iodine_mgI_ml.begin(), scene.cell_iodine_mgI_ml.end());
     tools_.build(scene, patient_pixel_mm, keV);
-    scene_floats_.insert(scene_floats_.end(), tools_.vertices().begin(), tools_.vertices().end());
-    scene_indices_.insert(scene_indices_.end(), tools_.indices().begin(), tools_.indices().end());
-    header_[kScenes + 3 * s] = cells ? static_cast<double>(cell_count_) : 0.0;
-    header_[kScenes + 3 * s + 1] = static_cast<double>(tools_.vertices().size());
-    header_[kScenes + 3 * s + 2] = static_cast<double>(tools_.indices().size());
+    image_.scene_floats.insert(image_.scene_floats.end(), tools_.vertices().begin(), tools_.vertices().end());
+    image_.scene_indices.insert(image_.scene_indices.end(), tools_.indices().begin(), tools_.indices().end());
+    image_.header[kScenes + 3 * s] = cells ? static_cast<double>(cell_count_) : 0.0;
+    image_.header[kScenes + 3 * s + 1] = static_cast<double>(tools_.vertices().size());
+    image_.header[kScenes + 3 * s + 2] = static_cast<double>(tools_.indices().size());
   }
 }
 
@@ -85,44 +85,44 @@ void BrowserFluoro::frame(const session::SceneSnapshot& snapshot, int width, int
   const double l_ref = -std::log(std::clamp(in.patient_transmission, 1e-9, 1.0));
   const double keV = in.dose.effective_keV;
   const double pixel_mm = carm.pixel_mm(m.width, m.height);
-  header_[kHasImage] = has_image ? 1.0 : 0.0;
-  header_[kPulse] = static_cast<double>(in.shown.pulse);
-  header_[kSubtracted] = subtracted ? 1.0 : 0.0;
-  header_[kRoadmap] = roadmap ? 1.0 : 0.0;
-  header_[kWidth] = m.width;
-  header_[kHeight] = m.height;
-  header_[kLRef] = l_ref;
-  header_[kIodineMu] = flow::iodine_per_mm_per_mgI_ml(keV);
+  image_.header[kHasImage] = has_image ? 1.0 : 0.0;
+  image_.header[kPulse] = static_cast<double>(in.shown.pulse);
+  image_.header[kSubtracted] = subtracted ? 1.0 : 0.0;
+  image_.header[kRoadmap] = roadmap ? 1.0 : 0.0;
+  image_.header[kWidth] = m.width;
+  image_.header[kHeight] = m.height;
+  image_.header[kLRef] = l_ref;
+  image_.header[kIodineMu] = flow::iodine_per_mm_per_mgI_ml(keV);
   const double sod = carm.depth_mm(carm.isocenter_mm());
-  header_[kSod] = sod;
+  image_.header[kSod] = sod;
   const glm::dvec3 source = carm.source_mm();
-  header_[kSourceX] = source.x;
-  header_[kSourceY] = source.y;
-  header_[kSourceZ] = source.z;
-  header_[kFieldHalf] = 0.5 * std::min(m.width, m.height) * in.pose.collimation;
+  image_.header[kSourceX] = source.x;
+  image_.header[kSourceY] = source.y;
+  image_.header[kSourceZ] = source.z;
+  image_.header[kFieldHalf] = 0.5 * std::min(m.width, m.height) * in.pose.collimation;
   const flow::FluoroDose dose(in.dose);
   const app::FluoroScene* scenes[] = {&in.shown, &in.mask, &in.roadmap, &in.roadmap_mask};
   for (int s = 0; s < 4; ++s) {
-    header_[kSigma + s] = display.noise ? dose.log_noise_sigma(scenes[s]->mode, pixel_mm) : 0.0;
-    header_[kSeeds + s] = app::pulse_seed(scenes[s]->pulse);
+    image_.header[kSigma + s] = display.noise ? dose.log_noise_sigma(scenes[s]->mode, pixel_mm) : 0.0;
+    image_.header[kSeeds + s] = app::pulse_seed(scenes[s]->pulse);
   }
   const float shown[] = {display.fluoro_slope, display.dsa_background, display.dsa_gain, display.roadmap_gain, display.anatomy_gain};
-  std::copy(std::begin(shown), std::end(shown), header_.begin() + kDisplay);
+  std::copy(std::begin(shown), std::end(shown), image_.header.begin() + kDisplay);
   const glm::mat4 vp = carm.projection_matrix(m.width, m.height, 0.25 * sod, carm.pose().sid_mm) * carm.view_matrix();
-  for (int i = 0; i < 16; ++i) header_[kViewProj + i] = vp[i / 4][i % 4];
+  for (int i = 0; i < 16; ++i) image_.header[kViewProj + i] = vp[i / 4][i % 4];
   // The phantom is projected for a pose and size before its first pulse (the worker asks at
   // open, before its clock starts: a projection is tens of ms of CPU).
   if (const std::uint64_t key = pose_key(in.pose, m.width, m.height, l_ref); key != phantom_key_) {
     project_phantom(carm, m.width, m.height, l_ref);
     phantom_key_ = key;
-    header_[kPhantomVersion] += 1.0;
+    image_.header[kPhantomVersion] += 1.0;
   }
   if (!has_image) return;
   if (const std::uint64_t key = pose_key(in.pose, m.width, m.height, static_cast<double>(snapshot.fluoro.inputs_version));
       key != scene_key_) {
     pack_scenes(in, pixel_mm / carm.magnification(carm.isocenter_mm()), keV);
     scene_key_ = key;
-    header_[kSceneVersion] += 1.0;
+    image_.header[kSceneVersion] += 1.0;
   }
 }
 

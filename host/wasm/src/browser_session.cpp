@@ -185,6 +185,12 @@ const BrowserFluoro& BrowserSession::fluoro_frame(int width, int height) {
   return fluoro_;
 }
 
+const FluoroImage* BrowserSession::fluoro_request(int width, int height) {
+  if (!fluoro_thread_) fluoro_thread_ = std::make_unique<FluoroThread>(fluoro_);
+  fluoro_thread_->request(session_->snapshots().read_slot(), width, height);
+  return fluoro_thread_->take();
+}
+
 cbx_command_report BrowserSession::box_command(double box_offset_mm, double box_offset_rad, const BoxReading& reading) {
   return box_law_.command(hand_->law(), box_offset_mm, box_offset_rad, reading);
 }

@@ -102,7 +102,14 @@ EMSCRIPTEN_KEEPALIVE void cbx_fluoro_keys(int bits) {
   if (g_session) g_session->fluoro_keys(bits);
 }
 EMSCRIPTEN_KEEPALIVE const double* cbx_fluoro_frame(int width, int height) {
-  return g_session ? g_session->fluoro_frame(width, height).header().data() : nullptr;
+  return g_session ? g_session->fluoro_frame(width, height).image().header.data() : nullptr;
+}
+// The same image made on the module's fluoroscopy thread (wasm/fluoro_thread.hpp): the snapshot
+// handed to it, the newest image it made returned (0 until one is). The arrays below are then
+// that image's.
+EMSCRIPTEN_KEEPALIVE const double* cbx_fluoro_request(int width, int height) {
+  const cathbox::wasm::FluoroImage* image = g_session ? g_session->fluoro_request(width, height) : nullptr;
+  return image ? image->header.data() : nullptr;
 }
 
 // Pointers and sizes (elements) of the arrays, 0: vessel vertices, 1: vessel indices, 2: phantom,
@@ -113,9 +120,9 @@ EMSCRIPTEN_KEEPALIVE const void* cbx_fluoro_data(int which) {
   switch (which) {
     case 0: return f->vessel_vertices().data();
     case 1: return f->vessel_indices().data();
-    case 2: return f->phantom().data();
-    case 3: return f->scene_floats().data();
-    default: return f->scene_indices().data();
+    case 2: return g_session->fluoro_image().phantom.data();
+    case 3: return g_session->fluoro_image().scene_floats.data();
+    default: return g_session->fluoro_image().scene_indices.data();
   }
 }
 EMSCRIPTEN_KEEPALIVE int cbx_fluoro_size(int which) {
@@ -124,9 +131,9 @@ EMSCRIPTEN_KEEPALIVE int cbx_fluoro_size(int which) {
   switch (which) {
     case 0: return static_cast<int>(f->vessel_vertices().size());
     case 1: return static_cast<int>(f->vessel_indices().size());
-    case 2: return static_cast<int>(f->phantom().size());
-    case 3: return static_cast<int>(f->scene_floats().size());
-    default: return static_cast<int>(f->scene_indices().size());
+    case 2: return static_cast<int>(g_session->fluoro_image().phantom.size());
+    case 3: return static_cast<int>(g_session->fluoro_image().scene_floats.size());
+    default: return static_cast<int>(g_session->fluoro_image().scene_indices.size());
   }
 }
 

@@ -108,6 +108,7 @@ function bind(m) {
     fluoroOpen: c('cbx_fluoro_open', 'number', []),
     fluoroKeys: c('cbx_fluoro_keys', null, ['number']),
     fluoroFrame: c('cbx_fluoro_frame', 'number', ['number', 'number']),
+    fluoroRequest: c('cbx_fluoro_request', 'number', ['number', 'number']),
     fluoroData: c('cbx_fluoro_data', 'number', ['number']),
     fluoroSize: c('cbx_fluoro_size', 'number', ['number']),
     fluoroShader: c('cbx_fluoro_shader', 'string', ['number']),
@@ -138,20 +139,31 @@ let fluoroOn = false;
 let fluoroSize = null;
 let fluoroSent = { scene: -1, phantom: -1 };
 
-// The header and the C-arm into the shared frame's doubles (1.., 57..); the phantom and the scenes,
-// when new, as a fluoro_data message with their own header (js/fluoro_view.js keeps the scenes'
-// header with them). False while the fluoroscopy is not shown.
-function fluoroFrame(f64) {
-  if (!fluoroOn || !fluoroSize) return false;
-  const h = fn.fluoroFrame(fluoroSize[0], fluoroSize[1]);
-  const c = fn.carmState();
-  heapFits(Math.max(h + 8 * HEADER_DOUBLES, c + 72));
+// The fluoroscopy's image for this frame, made before the frame's write (so that the page's read
+// of the shared frame never waits on it): on the real clock by the module's fluoroscopy thread
+// (cbx_fluoro_request: the snapshot handed over, its newest image taken; wasm/fluoro_thread.hpp),
+// so that no tick waits for an image's work (the inputs, a pulse's tool tubes, a new pose's
+// phantom); on the virtual clock here (cbx_fluoro_frame: the image of this very snapshot).
+// The header's address, or 0 (not shown, or no image made yet).
+function fluoroImage() {
+  if (!fluoroOn || !fluoroSize) return 0;
+  return clock === 'real' ? fn.fluoroRequest(fluoroSize[0], fluoroSize[1]) : fn.fluoroFrame(fluoroSize[0], fluoroSize[1]);
+}
+
+// The header and the C-arm into the shared frame's doubles (1.., 57..), inside the frame's write.
+function fluoroHeader(f64, h, c) {
   const heap = mod.HEAPF64;
   for (let i = 0; i < HEADER_DOUBLES; ++i) f64[1 + i] = heap[(h >> 3) + i];
   for (let i = 0; i < 9; ++i) f64[1 + HEADER_DOUBLES + i] = heap[(c >> 3) + i];
-  const newPhantom = f64[1 + 43] !== fluoroSent.phantom;
-  const newScene = f64[1] && f64[1 + 42] !== fluoroSent.scene;
-  if (!newPhantom && !newScene) return true;
+}
+
+// The phantom and the scenes, when new, as a fluoro_data message with their own header
+// (js/fluoro_view.js keeps the scenes' header with them), after the frame's write.
+function fluoroData(h, c) {
+  const heap = mod.HEAPF64;
+  const newPhantom = heap[(h >> 3) + 43] !== fluoroSent.phantom;
+  const newScene = heap[h >> 3] && heap[(h >> 3) + 42] !== fluoroSent.scene;
+  if (!newPhantom && !newScene) return;
   const out = { type: 'fluoro_data', header: copyHeap('HEAPF64', h, HEADER_DOUBLES), carm: copyHeap('HEAPF64', c, 9) };
   if (newPhantom) {
     out.phantom = copyHeap('HEAPF32', fn.fluoroData(2), fn.fluoroSize(2));
@@ -163,7 +175,6 @@ function fluoroFrame(f64) {
     fluoroSent.scene = out.header[42];
   }
   postMessage(out, ['header', 'phantom', 'floats', 'indices'].filter((k) => out[k]).map((k) => out[k].buffer));
-  return true;
 }
 
 // The frame (js/frame_share.js): the snapshot floats, the metrics' and the drive's JSON bytes, the
@@ -204,6 +215,9 @@ function postFrame() {
   heapFits(metricsAt);
   const mb = cstrLength(metricsAt);
   ensureShared(n, mb, 0);
+  const h = fluoroImage();
+  const c = h ? fn.carmState() : 0;
+  if (h) heapFits(Math.max(h + 8 * HEADER_DOUBLES, c + 72));
   shared.begin();
   const f32 = shared.f32;
   const heap = mod.HEAPF32;
@@ -213,10 +227,11 @@ function postFrame() {
   const driveAt = mod._cbx_drive();
   const db = Math.min(cstrLength(driveAt), shared.drive.length);
   copyBytes(driveAt, db, shared.drive);
-  const fluoro = fluoroFrame(shared.f64);
+  if (h) fluoroHeader(shared.f64, h, c);
   shared.f64[0] = ticker ? ticker.stats.takeWorst() : 0;  // the page paces its drawing by it (js/frame_pacer.js)
-  shared.setCounts(n, mb, db, fluoro ? 1 : 0);
+  shared.setCounts(n, mb, db, h ? 1 : 0);
   shared.end();
+  if (h) fluoroData(h, c);
   latest.insertion_mm = f32[2];
   latest.rotation_rad = f32[3];
   latest.hand_force_mN = f32[4];

@@ -47,6 +47,15 @@ enum FluoroHeader : int {
   kHeaderSize = kScenes + 12,
 };
 
+// One image's data for the page: the header, the phantom, the scenes' floats and indices (the
+// phantom and the scenes belong to the header's versions).
+struct FluoroImage {
+  std::array<double, kHeaderSize> header{};
+  std::vector<float> phantom;
+  std::vector<float> scene_floats;
+  std::vector<std::uint32_t> scene_indices;
+};
+
 class BrowserFluoro {
  public:
   // The session's lumen tied to its fluoroscopy unit's cells; false when the case has no unit.
@@ -57,10 +66,7 @@ class BrowserFluoro {
   // The image for a display of width x height pixels from the snapshot; the header, and the
   // phantom and the scenes made again only when they changed (their versions say so).
   void frame(const session::SceneSnapshot& snapshot, int width, int height);
-  [[nodiscard]] const std::array<double, kHeaderSize>& header() const { return header_; }
-  [[nodiscard]] const std::vector<float>& phantom() const { return phantom_rg_; }
-  [[nodiscard]] const std::vector<float>& scene_floats() const { return scene_floats_; }
-  [[nodiscard]] const std::vector<std::uint32_t>& scene_indices() const { return scene_indices_; }
+  [[nodiscard]] const FluoroImage& image() const { return image_; }
 
  private:
   void project_phantom(const flow::CArm& carm, int width, int height, double l_ref);
@@ -71,12 +77,9 @@ class BrowserFluoro {
   std::vector<float> vessel_vertices_;
   std::vector<std::uint32_t> vessel_indices_;
   app::FluoroToolMesh tools_;
-  std::array<double, kHeaderSize> header_{};
+  FluoroImage image_;
   std::uint64_t phantom_key_ = 0;
   std::uint64_t scene_key_ = 0;
-  std::vector<float> phantom_rg_;
-  std::vector<float> scene_floats_;
-  std::vector<std::uint32_t> scene_indices_;
 };
 
 }  // namespace cathbox::wasm

@@ -18,6 +18,7 @@
 #include "session/session.hpp"
 #include "wasm/browser_fluoro.hpp"
 #include "wasm/browser_box_law.hpp"
+#include "wasm/fluoro_thread.hpp"
 
 namespace cathbox::wasm {
 
@@ -74,6 +75,12 @@ class BrowserSession {
   // pack_snapshot() took; open_fluoro() false: the case has no fluoroscopy unit.
   bool open_fluoro() { return fluoro_.open(*session_); }
   const BrowserFluoro& fluoro_frame(int width, int height);
+  // The same made off the caller's thread (wasm/fluoro_thread.hpp, started by the first call):
+  // the snapshot pack_snapshot() took handed over, the newest image made returned (null until
+  // one is). The haptic worker's real clock uses this, so that no tick waits for an image.
+  const FluoroImage* fluoro_request(int width, int height);
+  // The image whose arrays the page is sent: the thread's once it runs, else fluoro_frame()'s.
+  [[nodiscard]] const FluoroImage& fluoro_image() const { return fluoro_thread_ ? fluoro_thread_->shown() : fluoro_.image(); }
   // The C-arm panel: the native trainer's panel model (app::CArmPanelModel) synced to the
   // snapshot's C-arm before each edit. The projections offered (the standard ones, then the
   // case's working views) as JSON [{"name","lao","cranial"}]; an edit returns 1 (its control
@@ -107,6 +114,7 @@ class BrowserSession {
   std::vector<float> packed_;
   session::FluoroSwitches switches_;
   BrowserFluoro fluoro_;
+  std::unique_ptr<FluoroThread> fluoro_thread_;
   app::CArmPanelModel carm_;
   std::array<double, 9> carm_state_{};
   std::uint64_t record_bytes_ = 0;
