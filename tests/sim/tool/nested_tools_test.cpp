@@ -17,6 +17,9 @@ namespace cathbox::tool {
 namespace {
 
 using testing::catheter;
+using testing::kTriaxialEntry;
+using testing::steer_wire_into_a_branch;
+using testing::triaxial_stack;
 using testing::drive;
 using testing::precise;
 using testing::wire;
@@ -130,35 +133,6 @@ TEST(SheathFriction, StraightCatheterHasNoFrictionAndStickComesBeforeSlip) {
   // Straight: nothing presses the wire on the lumen, the hand feels the tip load alone.
   EXPECT_NEAR(sim.hand_force_mN(1), 30.0, 0.5);
   EXPECT_NEAR(sim.sheath(1).force_limit_fwd_mN, 0.0, 1e-6);
-}
-
-// Guide > microcatheter (45 degree tip) > microwire (50 degree tip), for the Y below.
-std::vector<ToolSpec> triaxial_stack() {
-  ToolSpec guide = catheter("guide", 1.6, 1.2, 20.0, 0.05);
-  ToolSpec micro = catheter("micro", 0.8, 0.45, 2.0, 0.05);
-  micro.inside = "guide";
-  micro.sections.push_back(ToolSection{6.0, 0.8, 0.3, 0.25, 45.0});
-  ToolSpec mw = wire("microwire", 0.36, 0.3);
-  mw.inside = "micro";
-  mw.sections.push_back(ToolSection{5.0, 0.36, 0.05, 0.04, 50.0});
-  return {guide, micro, mw};
-}
-// 1 mm inside the start of testing::y_bifurcation's parent tube (z = -45 to 0). The stack used
-// to enter at z = -58, 11 mm below the tube's closed end, and was pushed through the wall
-// (10^5-10^8 mN at the hands); the depths below keep the tips where they were.
-const Entry kTriaxialEntry{{0, 0, -44}, {0, 0, 1}};
-
-// The stack in, then the wire alone turned half a turn (its tip into the left branch) and
-// pushed 30 mm on, past the bifurcation.
-void steer_wire_into_a_branch(Simulator& sim, double turns = 0.5, double wire_mm = 71.0) {
-  drive(sim, 0, 16.0, 0.3);
-  drive(sim, 1, 31.0, 0.3);
-  drive(sim, 2, 41.0, 0.3);
-  for (int i = 0; i < 600; ++i) {
-    sim.set_rotation(2, 2.0 * M_PI * turns * i / 600.0);
-    sim.step();
-  }
-  drive(sim, 2, wire_mm, 0.2);
 }
 
 // The microcatheter's advance over the wire, per 1 ms step: 0.1 mm (100 mm/s, a brisk push).
@@ -286,7 +260,9 @@ TEST(NestedTools, MicrocatheterFollowsTheWireIntoItsBranchWithoutABucklingSeed) 
 // Since the wall's gap follows its curvature (sim/tool README, "Curved gap") the wire's soft
 // 50-degree tip ends hooked 2.3-2.9 mm behind its furthest point in 6 of the 10 placements (in
 // the branch each time; the flat planes left 8 straight and 2 folded 6.5-8 mm back); the
-// microcatheter follows those too. Within 2 mm, as the test had it, it counted 8 of 20.
+// microcatheter follows those too. Within 2 mm, as the test had it, it counted 8 of 20. The
+// folds this counts out are not physical: a converged wire folds by holding an edge through the
+// divider's apex (steered_wire_test.cpp), so fewer than 12 means the solve reached that artefact.
 TEST(NestedTools, MicrocatheterFollowsTheWireWhereverItWasSteered) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
   const std::vector<ToolSpec> tools = triaxial_stack();
