@@ -227,6 +227,10 @@ std::string MetricsCollector::format(const Metrics& m) {
     optional_figure("coil length deployed", m.coil_length_mm, "mm");
     const std::optional<double> hern = m.coil_herniations ? std::optional<double>(*m.coil_herniations) : std::nullopt;
     optional_figure("coil herniations", hern, "");
+    if (m.coil_herniations > 0 && m.coil_herniated_peak_nodes && m.coil_herniated_depth_mm) {
+      appendf(out, "%-21s up to %d nodes at once, %.2f mm past the neck plane\n", "herniation extent",
+              *m.coil_herniated_peak_nodes, *m.coil_herniated_depth_mm);
+    }
     optional_figure("kick-back", m.kick_back_mm, "mm");
     if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {
       appendf(out, "%-21s %lld coil steps skipped, %lld wakes\n", "coil sleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
@@ -245,11 +249,13 @@ std::string MetricsCollector::format(const Metrics& m) {
   return out;
 }
 
-void MetricsCollector::set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm) {
-  m_.packing_density_pct = packing_density_pct;
-  m_.coil_length_mm = coil_length_mm;
-  m_.coil_herniations = herniations;
-  m_.kick_back_mm = kick_back_mm;
+void MetricsCollector::set_coiling(const tool::CoilFigures& f) {
+  m_.packing_density_pct = 100.0 * f.packing_density;
+  m_.coil_length_mm = f.deployed_mm;
+  m_.coil_herniations = f.herniations;
+  m_.coil_herniated_peak_nodes = f.herniated_peak_nodes;
+  m_.coil_herniated_depth_mm = f.herniated_depth_mm;
+  m_.kick_back_mm = f.kick_back_mm;
 }
 
 double Metrics::unconverged_pct_max() const {
@@ -308,6 +314,8 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.packing_density_pct) add("packing_density_pct", *m.packing_density_pct);
   if (m.coil_length_mm) add("coil_length_mm", *m.coil_length_mm);
   if (m.coil_herniations) add("coil_herniations", *m.coil_herniations);
+  if (m.coil_herniated_peak_nodes) add("coil_herniated_peak_nodes", *m.coil_herniated_peak_nodes);
+  if (m.coil_herniated_depth_mm) add("coil_herniated_depth_mm", *m.coil_herniated_depth_mm);
   if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
   if (m.coil_sleep_skipped_steps) add("coil_sleep_skipped_steps", static_cast<double>(*m.coil_sleep_skipped_steps));
   if (m.coil_sleep_wakes) add("coil_sleep_wakes", static_cast<double>(*m.coil_sleep_wakes));
@@ -342,7 +350,8 @@ std::vector<std::string> metric_names() {
           "path_efficiency", "wall_contacts", "peak_wall_force_mN", "time_above_threshold_s",
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
-          "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "kick_back_mm",
+          "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "coil_herniated_peak_nodes",
+          "coil_herniated_depth_mm", "kick_back_mm",
           "coil_sleep_skipped_steps", "coil_sleep_wakes",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",

@@ -278,7 +278,7 @@ void Session::observe(std::int64_t n, const HandFeedback& fb) {
   if (coil_metrics_) {
     coil_metrics_->observe(*sim_);
     const tool::CoilFigures& fig = coil_metrics_->figures();
-    metrics_.set_coiling(100.0 * fig.packing_density, fig.deployed_mm, fig.herniations, fig.kick_back_mm);
+    metrics_.set_coiling(fig);
     const tool::CoilSleep& sleep = sim_->coil_sleep();
     metrics_.set_coil_sleep(static_cast<std::int64_t>(sleep.skipped_steps()), static_cast<std::int64_t>(sleep.wakes()));
     if (coil_metrics_->herniation_began()) log("coil herniating into the parent artery (%d nodes past the neck)", fig.herniated_nodes);

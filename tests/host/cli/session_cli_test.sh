@@ -102,7 +102,7 @@ rec="$work/coil.cbxrec"
 expect 0 "$cb" session run --case "$coil_case" --script "$work/coil.actions" --record "$rec"
 [ "$(grep -c "coil of the coil detached" "$work/out")" -eq 2 ] || fail "coil: not two detaches: $(tail -5 "$work/out")"
 grep -q "^packing density" "$work/out" || fail "coil: no packing density line"
-check_run coil '.coil_length_mm > 30 and .packing_density_pct > 0' \
+check_run coil '.coil_length_mm > 30 and .packing_density_pct > 0 and .coil_herniated_peak_nodes >= 0 and .coil_herniated_depth_mm >= 0' \
   '.controls.detach_coil == 2 and .controls.load_coil == 1 and .tools[1].kind == "coil"'
 
 # Thrombectomy: the carotid-T aspiration under balloon-guide arrest reperfuses on its first pass

@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace cathbox::session {
 namespace {
@@ -188,6 +191,40 @@ TEST(Metrics, FluoroscopyFiguresStayEmptyUntilTheirModuleFillsThem) {
   EXPECT_FALSE(m.dose_area_product_mGy_cm2);
   EXPECT_FALSE(m.fluoroscopy_runs);
   EXPECT_FALSE(m.contrast_volume_ml);
+}
+
+// The coiling figures as tool::CoilMetrics gives them: packing as a percentage, the herniation
+// count and its extent named for the server (every name one metric_names() lists) and printed,
+// the extent only once a coil has herniated.
+TEST(Metrics, CoilingFiguresCarryTheHerniationsExtent) {
+  MetricsCollector m;
+  tool::CoilFigures f;
+  f.packing_density = 0.25;
+  f.deployed_mm = 310.0;
+  m.set_coiling(f);
+  EXPECT_EQ(MetricsCollector::format(m.metrics()).find("herniation extent"), std::string::npos) << "none herniated";
+  f.herniations = 1;
+  f.herniated_nodes = 3;
+  f.herniated_peak_nodes = 51;
+  f.herniated_depth_mm = 2.33;
+  f.kick_back_mm = 0.16;
+  m.set_coiling(f);
+  const Metrics& s = m.metrics();
+  EXPECT_DOUBLE_EQ(*s.packing_density_pct, 25.0);
+  EXPECT_EQ(*s.coil_herniations, 1);
+  EXPECT_EQ(*s.coil_herniated_peak_nodes, 51);
+  EXPECT_DOUBLE_EQ(*s.coil_herniated_depth_mm, 2.33);
+  const std::vector<std::string> names = metric_names();
+  int found = 0;
+  for (const NamedMetric& n : named_metrics(s)) {
+    EXPECT_NE(std::find(names.begin(), names.end(), n.name), names.end()) << n.name;
+    if (n.name == "coil_herniated_peak_nodes") found += n.value == 51.0 ? 1 : 100;
+    if (n.name == "coil_herniated_depth_mm") found += n.value == 2.33 ? 1 : 100;
+  }
+  EXPECT_EQ(found, 2);
+  EXPECT_NE(MetricsCollector::format(s).find("herniation extent     up to 51 nodes at once, 2.33 mm past the neck plane"),
+            std::string::npos)
+      << MetricsCollector::format(s);
 }
 
 }  // namespace

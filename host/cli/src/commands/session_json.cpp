@@ -194,6 +194,8 @@ json metrics_json(const session::ReplayResult& r) {
           {"packing_density_pct", optional_number(m.packing_density_pct)},
           {"coil_length_mm", optional_number(m.coil_length_mm)},
           {"coil_herniations", m.coil_herniations ? json(*m.coil_herniations) : json(nullptr)},
+          {"coil_herniated_peak_nodes", m.coil_herniated_peak_nodes ? json(*m.coil_herniated_peak_nodes) : json(nullptr)},
+          {"coil_herniated_depth_mm", optional_number(m.coil_herniated_depth_mm)},
           {"kick_back_mm", optional_number(m.kick_back_mm)},
           {"coil_sleep_skipped_steps", m.coil_sleep_skipped_steps ? json(*m.coil_sleep_skipped_steps) : json(nullptr)},
           {"coil_sleep_wakes", m.coil_sleep_wakes ? json(*m.coil_sleep_wakes) : json(nullptr)},

@@ -24,7 +24,8 @@
 // and, in a case with a coil tool and an aneurysm sac, the coiling figures of sim/tool's
 // CoilMetrics (coil_metrics.hpp): packing density (coil volume pi/4 d^2 L ÷ sac volume, %),
 // coil length deployed, herniations (episodes of coil in the parent artery past the neck
-// plane, an error) and microcatheter kick-back (peak, mm).
+// plane, an error), their extent (the most nodes herniated at once, the deepest past the neck
+// plane, mm) and microcatheter kick-back (peak, mm).
 // and, per tool (the case's tools, then the coils released), the unconverged share: the ticks
 // its step ran out of Newton iterations ÷ the ticks it had a step to solve, in % (a reading of
 // the solver, not of the trainee: forces of such steps are not read, contact_readings.hpp).
@@ -43,6 +44,7 @@
 
 #include "flow/reperfusion.hpp"
 #include "tool/angioplasty.hpp"
+#include "tool/coil_metrics.hpp"
 
 namespace cathbox::session {
 
@@ -124,6 +126,8 @@ struct Metrics {
   std::optional<double> packing_density_pct;
   std::optional<double> coil_length_mm;
   std::optional<int> coil_herniations;
+  std::optional<int> coil_herniated_peak_nodes;     // the most nodes herniated at once
+  std::optional<double> coil_herniated_depth_mm;    // the deepest of them past the neck plane
   std::optional<double> kick_back_mm;
   // Released coils at rest are not solved (tool::CoilSleep): coil steps skipped, and times a
   // sleeping coil was woken, since the run began.
@@ -186,7 +190,7 @@ class MetricsCollector {
   void set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs, double contrast_volume_ml);
   [[nodiscard]] const Metrics& metrics() const { return m_; }
   // The coiling figures, from the session's tool::CoilMetrics after each tick.
-  void set_coiling(double packing_density_pct, double coil_length_mm, int herniations, double kick_back_mm);
+  void set_coiling(const tool::CoilFigures& f);
   // The simulator's coil sleep counts (tool::CoilSleep::skipped_steps, wakes), with the coiling figures.
   void set_coil_sleep(std::int64_t skipped_steps, std::int64_t wakes) {
     m_.coil_sleep_skipped_steps = skipped_steps;
