@@ -82,7 +82,8 @@ class ReleasedMotion {
   explicit ReleasedMotion(Simulator& sim)
       : skipped0_(sim.coil_sleep().skipped_steps()),
         wakes0_(sim.coil_sleep().wakes()),
-        rest_mm_(sim.coil_sleep_settings().rest_move_mm) {}
+        rest_mm_(sim.coil_sleep_settings().rest_share *
+                 (sim.detached_count() > 0 ? sim.detached(0).settings().convergence_mm : RodSettings{}.convergence_mm)) {}
   void before(const Simulator& sim) {
     before_.clear();
     for (std::size_t i = 0; i < sim.detached_count(); ++i) {
@@ -106,8 +107,8 @@ class ReleasedMotion {
   }
   // How far the released coils' nodes move in a step (the largest node's), largest and mean;
   // their steps skipped asleep, in % of theirs, and their wakes; the share of their node moves
-  // above the sleep's stillness test (a coil sleeps once every node of it has stayed under it
-  // for rest_ticks steps).
+  // above the sleep's stillness test (a coil sleeps once every node of it has stayed under it,
+  // and within its drift limit, for rest_ticks steps).
   void report(benchmark::State& state, const Simulator& sim) const {
     const double steps = std::max(1.0, steps_);
     const double coil_steps = steps * static_cast<double>(std::max<std::size_t>(1, sim.detached_count()));
