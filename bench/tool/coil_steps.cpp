@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -79,10 +80,12 @@ namespace {
 // The released coils' motion in each timed step, and what sleeping (coil_sleep.hpp) made of it.
 class ReleasedMotion {
  public:
-  explicit ReleasedMotion(Simulator& sim)
-      : skipped0_(sim.coil_sleep().skipped_steps()),
+  ReleasedMotion(Simulator& sim, std::size_t moving)
+      : moving_(moving),
+        skipped0_(sim.coil_sleep().skipped_steps()),
         wakes0_(sim.coil_sleep().wakes()),
-        rest_mm_(sim.coil_sleep_settings().rest_move_mm) {}
+        rest_mm_(sim.coil_sleep_settings().rest_share *
+                 (sim.detached_count() > 0 ? sim.detached(0).settings().convergence_mm : RodSettings{}.convergence_mm)) {}
   void before(const Simulator& sim) {
     before_.clear();
     for (std::size_t i = 0; i < sim.detached_count(); ++i) {
@@ -97,6 +100,7 @@ class ReleasedMotion {
         const double m = glm::length(p - before_[j++]);
         moved = std::max(moved, m);
         restless_ += m > rest_mm_ ? 1.0 : 0.0;
+        near(sim, p);
         nodes_ += 1.0;
       }
     }
@@ -106,8 +110,8 @@ class ReleasedMotion {
   }
   // How far the released coils' nodes move in a step (the largest node's), largest and mean;
   // their steps skipped asleep, in % of theirs, and their wakes; the share of their node moves
-  // above the sleep's stillness test (a coil sleeps once every node of it has stayed under it
-  // for rest_ticks steps).
+  // above the sleep's stillness test (a coil sleeps once every node of it has stayed under it,
+  // and within its drift limit, for rest_ticks steps).
   void report(benchmark::State& state, const Simulator& sim) const {
     const double steps = std::max(1.0, steps_);
     const double coil_steps = steps * static_cast<double>(std::max<std::size_t>(1, sim.detached_count()));
@@ -117,9 +121,23 @@ class ReleasedMotion {
         100.0 * static_cast<double>(sim.coil_sleep().skipped_steps() - skipped0_) / coil_steps;
     state.counters["released_wakes"] = static_cast<double>(sim.coil_sleep().wakes() - wakes0_);
     state.counters["released_restless_pct"] = 100.0 * restless_ / std::max(1.0, nodes_);
+    state.counters["released_near_0_5mm_pct"] = 100.0 * near_[0] / std::max(1.0, nodes_);
+    state.counters["released_near_1mm_pct"] = 100.0 * near_[1] / std::max(1.0, nodes_);
   }
 
  private:
+  // The share of released nodes an island solve round the moving coil would take: those within
+  // 0.5 and 1 mm of its free nodes after the step.
+  void near(const Simulator& sim, const glm::dvec3& p) {
+    const Rod& rod = sim.rod(moving_);
+    double closest = std::numeric_limits<double>::infinity();
+    const std::span<const glm::dvec3> x = rod.positions();
+    for (std::size_t k = rod.first_free_node(); k < x.size(); ++k) closest = std::min(closest, glm::dot(x[k] - p, x[k] - p));
+    near_[0] += closest <= 0.25 ? 1.0 : 0.0;
+    near_[1] += closest <= 1.0 ? 1.0 : 0.0;
+  }
+  std::size_t moving_;
+  double near_[2] = {0.0, 0.0};
   std::uint64_t skipped0_, wakes0_;
   double rest_mm_;
   std::vector<glm::dvec3> before_;
@@ -173,7 +191,7 @@ void BM_StepCoilPacking(benchmark::State& state) {
   double push = sim.insertion_mm(3), iterations = 0.0, peak_mN = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
-  ReleasedMotion released(sim);
+  ReleasedMotion released(sim, 3);
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(3, push);

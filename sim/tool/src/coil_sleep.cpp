@@ -50,21 +50,22 @@ bool CoilSleep::near(const Coil& c, const Rod& coil, const glm::dvec3& p, double
   return false;
 }
 
-// The moves of a solved rod's nodes this step, recorded against every sleeping coil they are
-// near; `last` becomes the rod's positions. Returns the largest move (infinite for a new rod).
+// The moves of a rod's nodes in its solve, recorded against every sleeping coil they are near;
+// `last` becomes the rod's positions. Returns the largest move. A rod whose node count changed
+// (new, cut at a detachment, reloaded) moved by an unknown amount: infinite, for every sleeping
+// coil any of its nodes is near.
 double CoilSleep::disturb(const Rod& rod, std::vector<glm::dvec3>& last, std::span<const Rod> coils, double margin_mm) {
   const std::span<const glm::dvec3> x = rod.positions();
-  double worst = std::numeric_limits<double>::infinity();
-  if (last.size() == x.size()) {
-    worst = 0.0;
-    for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
-      const double m = glm::length(x[k] - last[k]);
-      worst = std::max(worst, m);
-      if (!(m > 0.0)) continue;
-      for (std::size_t s = 0; s < coils_.size(); ++s) {
-        if (!coils_[s].asleep || &coils[s] == &rod || m <= step_disturb_[s]) continue;
-        if (near(coils_[s], coils[s], x[k], rod.node_radius_mm(k), margin_mm)) step_disturb_[s] = m;
-      }
+  const bool known = last.size() == x.size();
+  double worst = known ? 0.0 : std::numeric_limits<double>::infinity();
+  for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
+    const double m = known ? glm::length(x[k] - last[k]) : std::numeric_limits<double>::infinity();
+    worst = std::max(worst, m);
+    if (!(m > 0.0)) continue;
+    for (std::size_t s = 0; s < coils_.size(); ++s) {
+      Coil& c = coils_[s];
+      if (!c.asleep || &coils[s] == &rod || c.disturbed > settings_.wake_move_mm) continue;
+      if (near(c, coils[s], x[k], rod.node_radius_mm(k), margin_mm)) c.disturbed += m;
     }
   }
   last.assign(x.begin(), x.end());
@@ -86,7 +87,7 @@ void CoilSleep::fall_asleep(std::size_t i, const Rod& coil) {
   }
 }
 
-// The bounding spheres of every sleeping coil's runs of nodes (after a coil fell asleep).
+// The bounding spheres of every sleeping coil's runs of nodes (after a coil fell asleep or woke).
 void CoilSleep::rebuild_chunks(std::span<const Rod> coils) {
   chunks_.clear();
   for (std::size_t i = 0; i < coils_.size(); ++i) {
@@ -110,42 +111,70 @@ void CoilSleep::rebuild_chunks(std::span<const Rod> coils) {
   }
 }
 
-void CoilSleep::observe(std::span<const Rod> tools, std::span<const Rod> coils, double margin_mm) {
+// Coil i's solve moved its nodes by at most `move`: at rest this step (under rest_share of its
+// tolerance), and for rest_ticks steps with no net drift over drift_share of it?
+bool CoilSleep::at_rest(std::size_t i, const Rod& coil, double move) {
+  Coil& c = coils_[i];
+  const std::span<const glm::dvec3> x = coil.positions();
+  const double tolerance = coil.settings().convergence_mm;
+  if (!(move <= settings_.rest_share * tolerance)) {
+    c.still = 0;
+    return false;
+  }
+  std::vector<glm::dvec3>& from = window_[i];
+  double drift = 0.0;
+  for (std::size_t k = 0; c.still > 0 && k < x.size(); ++k) drift = std::max(drift, glm::length(x[k] - from[k]));
+  if (c.still == 0 || from.size() != x.size() || !(drift <= settings_.drift_share * tolerance)) {
+    from.assign(x.begin(), x.end());  // a new window from here
+    c.still = 1;
+    return c.still >= settings_.rest_ticks;
+  }
+  return ++c.still >= settings_.rest_ticks;
+}
+
+void CoilSleep::begin(std::span<const Rod> tools, std::span<const Rod> coils) {
   if (!settings_.enabled) {
     if (asleep_count() > 0) wake_all();
     return;
   }
-  skipped_ += asleep_count();  // the coils asleep now were not solved in this step
   if (coils_.size() != coils.size()) {
     coils_.resize(coils.size());
     coil_last_.resize(coils.size());
+    window_.resize(coils.size());
+    std::size_t most = 0;
+    for (const Rod& c : coils) most += (c.node_total() + kChunkNodes - 1) / kChunkNodes;
+    chunks_.reserve(most);
     rebuild_chunks(coils);
   }
   tool_last_.resize(tools.size());
-  step_disturb_.assign(coils.size(), 0.0);
-  for (std::size_t t = 0; t < tools.size(); ++t) disturb(tools[t], tool_last_[t], coils, margin_mm);
-  bool changed = false;
-  for (std::size_t i = 0; i < coils.size(); ++i) {
-    Coil& c = coils_[i];
-    if (c.asleep) continue;
-    const double move = disturb(coils[i], coil_last_[i], coils, margin_mm);
-    c.still = move <= settings_.rest_move_mm ? c.still + 1 : 0;
-    if (c.still >= settings_.rest_ticks) {
-      fall_asleep(i, coils[i]);
-      changed = true;
-    }
+}
+
+void CoilSleep::tool_solved(std::size_t t, std::span<const Rod> tools, std::span<const Rod> coils, double margin_mm) {
+  if (settings_.enabled && t < tool_last_.size()) disturb(tools[t], tool_last_[t], coils, margin_mm);
+}
+
+bool CoilSleep::wake_before(std::size_t i, std::span<const Rod> coils) {
+  if (!settings_.enabled || i >= coils_.size()) return true;
+  Coil& c = coils_[i];
+  if (!c.asleep) return true;
+  if (!(c.disturbed > settings_.wake_move_mm)) return false;
+  c = Coil{};
+  ++wakes_;
+  rebuild_chunks(coils);
+  return true;
+}
+
+void CoilSleep::coil_solved(std::size_t i, std::span<const Rod> coils, double margin_mm) {
+  if (!settings_.enabled || i >= coils_.size()) return;
+  if (coils_[i].asleep) {
+    ++skipped_;
+    return;
   }
-  for (std::size_t i = 0; i < coils.size(); ++i) {
-    Coil& c = coils_[i];
-    if (!c.asleep || step_disturb_[i] == 0.0) continue;
-    c.disturbed += step_disturb_[i];
-    if (c.disturbed > settings_.wake_move_mm) {
-      c = Coil{};
-      ++wakes_;
-      changed = true;
-    }
+  const double move = disturb(coils[i], coil_last_[i], coils, margin_mm);
+  if (at_rest(i, coils[i], move)) {
+    fall_asleep(i, coils[i]);
+    rebuild_chunks(coils);
   }
-  if (changed) rebuild_chunks(coils);
 }
 
 }  // namespace cathbox::tool

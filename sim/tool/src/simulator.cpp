@@ -379,6 +379,23 @@ void Simulator::update_tip_grips() {
   }
 }
 
+// The released coils, after the attached tools. A sleeping coil is woken before its own solve
+// by the rods solved before it (coil_sleep.hpp) and starts as a coil at rest.
+void Simulator::step_released(double dt_s) {
+  // A wall that moved in place (the pulse) since the last step: every coil is solved again.
+  if (wall_->revision() != wall_revision_) sleep_.wake_all();
+  wall_revision_ = wall_->revision();
+  update_contact_members();
+  for (std::size_t i = 0; i < detached_.size(); ++i) {
+    const bool was_asleep = sleep_.asleep(i);
+    if (sleep_.wake_before(i, detached_)) {
+      if (was_asleep) detached_[i].forget_motion();
+      detached_[i].step(dt_s, *wall_, &contacts_);
+    }
+    sleep_.coil_solved(i, detached_, contacts_.margin_mm());
+  }
+}
+
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
   const std::size_t n = rods_.size();
@@ -386,6 +403,8 @@ void Simulator::step(double dt_s) {
   update_balloons(dt_s);
   update_stents();
   update_tip_grips();
+  const bool released = !detached_.empty();
+  if (released) sleep_.begin(rods_, detached_);
   for (const std::size_t t : order_) {
     prepare(t);
     update_contact_members();
@@ -395,6 +414,7 @@ void Simulator::step(double dt_s) {
     // "Sub-stepped ticks": on nested tools a test of the steered microcatheter failed with it).
     rods_[t].settings().substeps_max = lone(t) ? tuning::kLoneToolSubsteps : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
+    if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;
     probe.center_mm = rods_[t].tip().position_mm;
     probe.range_mm = kTipProbeRange_mm;
@@ -402,16 +422,7 @@ void Simulator::step(double dt_s) {
     if (insertion_[t] > 0.0 && wall_->probe(probe, tip_hint_[t], c)) tip_segment_[t] = c.segment;
     else if (insertion_[t] <= 0.0) tip_segment_[t] = -1;
   }
-  if (!detached_.empty()) {
-    // A wall that moved in place (the pulse) since the last step: every coil is solved again.
-    if (wall_->revision() != wall_revision_) sleep_.wake_all();
-    wall_revision_ = wall_->revision();
-    update_contact_members();
-    for (std::size_t i = 0; i < detached_.size(); ++i) {
-      if (!sleep_.asleep(i)) detached_[i].step(dt_s, *wall_, &contacts_);
-    }
-    sleep_.observe(rods_, detached_, contacts_.margin_mm());
-  }
+  if (released) step_released(dt_s);
   // Friction in the lumens, felt at the hands, and its reaction on the catheters.
   for (std::size_t t = 0; t < n; ++t) {
     std::vector<glm::dvec3>& next = coupling_next_[t];

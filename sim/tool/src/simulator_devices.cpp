@@ -1,6 +1,8 @@
 // The simulator's device actions: coil detachment and loading, balloon inflation.
 #include "tool/simulator.hpp"
 
+#include "simulator_tuning.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -29,6 +31,7 @@ DeviceError Simulator::detach(std::size_t tool) {
   removed_mm_[tool] += length;
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());
+  coil.settings().warm_start = tuning::kReleasedCoilWarmStart;
   detached_.push_back(std::move(coil));
   // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
   update_contact_members();

@@ -8,5 +8,13 @@ inline constexpr double kCouplingRelaxation = 0.5;  // loads from inner tools: n
 inline constexpr double kTipPushRelaxation = 0.1;
 // Most sub-increments a lone tool's unconverged tick is solved again in (RodSettings::substeps_max).
 inline constexpr int kLoneToolSubsteps = 4;
+// A released coil's warm start (RodSettings::warm_start): a coil pushed at a steady rate starts
+// each step from its whole last motion (1), but a released one only relaxes, and with 1 the
+// extrapolated motion is carried into the next step undiminished (its friction anchors and
+// contacts gathered at the extrapolated start keep it): the packing bench's held pile crept
+// 3-17 um a tick without end. At 0.5 the carried motion halves each step and the pile settles
+// (0.02 um a tick on average at 3-4 s, 1.04 Newton iterations a step; 0 settles alike with 1.40):
+// docs/journal/sim-tool-step-time.md, "What keeps the packing bench's pile moving".
+inline constexpr double kReleasedCoilWarmStart = 0.5;
 inline constexpr double kMinSheathEdge = 0.5;  // shortest sheath-path edge, of the holder's node spacing
 }  // namespace cathbox::tool::tuning

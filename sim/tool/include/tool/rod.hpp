@@ -111,6 +111,9 @@ class Rod {
   [[nodiscard]] bool free() const { return free_; }
   // The wall changed (a new collision tree): every node is probed afresh in the next step.
   void forget_wall();
+  // The next step starts from where the rod is, not from its last motion (a released coil woken
+  // from sleep starts as a coil at rest).
+  void forget_motion() { warm_ok_ = false; }
 
   // Test and coupling hooks.
   void set_node_load(std::size_t node, const glm::dvec3& force_mN);  // constant external force
@@ -139,6 +142,7 @@ class Rod {
                                                  : settings_.stick_stiffness_ratio * settings_.contact_stiffness_mN_per_mm;
   }
   RodSettings& settings() { return settings_; }
+  [[nodiscard]] const RodSettings& settings() const { return settings_; }
 
   // Properties of the tool at a distance from its tip.
   [[nodiscard]] double radius_at_mm(double from_tip_mm) const;

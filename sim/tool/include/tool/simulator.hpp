@@ -183,6 +183,7 @@ class Simulator {
   void update_balloons(double dt_s);
   void update_stents();
   void update_tip_grips();
+  void step_released(double dt_s);
   void apply_coil_settings(std::size_t coil);
 
   const WallModel* wall_;
