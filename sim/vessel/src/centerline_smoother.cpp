@@ -1,6 +1,7 @@
 #include "vessel/centerline_smoother.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <glm/geometric.hpp>
 
@@ -14,7 +15,16 @@ void umbrella_step(std::vector<CenterlinePoint>& points, const std::vector<doubl
   for (std::size_t l = 1; l + 1 < points.size(); ++l) {
     const CenterlinePoint current = points[l];
     const CenterlinePoint& next = points[l + 1];
-    points[l].pos_mm += factor * (0.5 * (previous.pos_mm + next.pos_mm) - current.pos_mm);
+    // Normal to the neighbours' chord only: the umbrella step of unevenly spaced points on a
+    // straight line slides them along it, away from the radius they carry. (Non-finite or
+    // overflowing values, from a point outside the body's range, are left to the mesher's range
+    // check, so that a NaN stays in the coordinate it was in.)
+    glm::dvec3 step = 0.5 * (previous.pos_mm + next.pos_mm) - current.pos_mm;
+    const glm::dvec3 chord = next.pos_mm - previous.pos_mm;
+    const double chord2 = glm::dot(chord, chord);
+    const double along = glm::dot(step, chord);
+    if (chord2 > 0.0 && std::isfinite(chord2) && std::isfinite(along)) step -= (along / chord2) * chord;
+    points[l].pos_mm += factor * step;
     points[l].radius_mm +=
         factor * radius_weight[l] * (0.5 * (previous.radius_mm + next.radius_mm) - current.radius_mm);
     previous = current;

@@ -348,10 +348,12 @@ class SurfaceImporter {
   // The flow leaves a point off the axis by up to a tenth of the radius where the tube bends
   // (and, on the decimated copy, near a junction by up to a quarter of it). Each inner point
   // climbs the distance to the surface within its cross-section (the plane normal to the branch
-  // there) until it is on the medial axis, moving at most half its first distance: a step that
-  // would go further is halved like one that does not climb (ending the climb there left the fine
-  // Y's point 0.094 mm off the axis, 4.3 % small). Its radius is then its distance to the
-  // surface. Nodes stay where the flow put them.
+  // there) until it is on the medial axis, moving at most its first distance (within the empty
+  // ball about where the flow put it, so inside the lumen): a step that would go further is halved
+  // like one that does not climb (ending the climb there left the fine Y's point 0.094 mm off the
+  // axis, 4.3 % small; a reach of half the first distance left the Y's OBJ point beside the carina
+  // 0.10 mm off, 6.7 % small). Its radius is then its distance to the surface. Nodes stay where
+  // the flow put them.
   // One closest-point query per step, started from the last closest point (the tree's search
   // then prunes at once: the step moves the point by a fraction of its radius).
   static void centre(std::vector<vessel::CenterlinePoint>& points, const Tree& tree) {
@@ -362,7 +364,7 @@ class SurfaceImporter {
       Point p(start.x, start.y, start.z);
       Point c = tree.closest_point(p);
       double d = std::sqrt(CGAL::squared_distance(p, c));
-      const double reach = 0.5 * d;
+      const double reach = d;  // the empty ball about the start: inside the lumen
       double step = 0.25 * d;
       for (int k = 0; k < 24 && step > 1e-4 * d; ++k) {
         glm::dvec3 away = to_glm(p) - to_glm(c);

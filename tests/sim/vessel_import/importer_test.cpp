@@ -201,7 +201,7 @@ TEST(Importer, ATightImportedBendIsRoundedAndDoesNotFold) {
   const ImportResult r = import_centerlines_text(swc, "corner.swc", Format::kSwc);
   ASSERT_TRUE(r.ok()) << r.errors.front().to_string();
   ASSERT_EQ(r.model.segments.size(), 1u);
-  EXPECT_NE(r.summary().find("1 bend tighter than 1.1 lumen radii rounded (tightest 0.453 radii"), std::string::npos)
+  EXPECT_NE(r.summary().find("1 bend tighter than 1.1 lumen radii rounded (tightest 0.523 radii"), std::string::npos)
       << r.summary();
   EXPECT_EQ(r.bends.left_tight, 0u);
   EXPECT_GE(vessel::tightest_swept_bend_over_radius(r.model.segments[0]), vessel::kMinBendRadii);

@@ -10,10 +10,10 @@
 //   BlueFern/DBiharMesher @ 9b7c903: data/721A_Centreline.vtk, data/227A_Centreline.vtk
 //   lkarstensen/stEVE_bench @ 1c7640e (MIT): the 25 curves of data/dualdevicenav/Centrelines_comb/
 //     (an aortic arch with its supra-aortic vessels) as one dualdevicenav_centrelines_comb.mrk.json,
-//     the files' "markups" lists concatenated in file-name order; its worst sample is +10.6 %
+//     the files' "markups" lists concatenated in file-name order; its worst sample is +10.9 %
 //     (segment 13), so it is held to 11 %, not 5 %: not met; and its 21 numbered curves alone
 //     ("Centerline curve (N)", without the named LCCA, RCCA, LVA, RVA) as
-//     dualdevicenav_21_numbered_curves.mrk.json: 5 components, worst +5.5 %, held to 6 %: not met
+//     dualdevicenav_21_numbered_curves.mrk.json: 5 components, worst +5.7 %, held to 6 %: not met
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -74,13 +74,13 @@ TEST_P(RealFiles, MeshWithinFivePercentOfTheirRadiusAtEverySample) {
   EXPECT_LT(std::abs(worst->error), GetParam().worst) << name;
 }
 
-// The bundled SOFA lumen (decimated to 4,000 triangles) is the one real file not held to 5 %: its
-// thin side branch (segment 3) widens from 0.32 to 0.66 mm in 1.4 mm with points 0.12-0.51 mm
-// apart, and 5 cuts on that flank are 5.1-7.6 % under. The mesher's Taubin smoothing is the cause:
-// its umbrella step slides unevenly spaced points along the line with their radii (with 0 passes
-// the worst is 3.3 %; with each step projected normal to the neighbours' chord, 3.6 %).
+// The bundled SOFA lumen (decimated to 4,000 triangles) has the hardest flank: its thin side
+// branch (segment 3) widens from 0.32 to 0.66 mm in 1.4 mm with points 0.12-0.51 mm apart. Its
+// worst sample was -7.6 % while the smoother's umbrella step slid unevenly spaced points along
+// the line with their radii; with the step normal to the neighbours' chord (and the skeleton's
+// centring reaching its whole first distance) it is +2.5 %.
 INSTANTIATE_TEST_SUITE_P(Public, RealFiles,
-                         ::testing::Values(RealFile{"cases/sofa_aneurysm/aneurysm3D_1.ply", 0.08},
+                         ::testing::Values(RealFile{"cases/sofa_aneurysm/aneurysm3D_1.ply", 0.05},
                                            RealFile{"aorta-centerline.vtp", 0.05},
                                            RealFile{"test_vmtkcenterlines_test_carotidprofiles_centerlines.vtp", 0.05},
                                            RealFile{"721A_Centreline.vtk", 0.05}, RealFile{"227A_Centreline.vtk", 0.05},

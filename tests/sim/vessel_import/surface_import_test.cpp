@@ -198,7 +198,7 @@ TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughVtp) {
 // within 0.5 % of the generator's circle (cos(pi/32) = 0.9952), so every checked point is held
 // to 1 % of the generator's radius and 0.02 mm of its axis: the flow on the copy leaves one point
 // 0.5 mm off the axis, which a centring that ended its climb at its reach left 0.094 mm off, 4.3 %
-// small (measured with 0.0019 mm and 0.15 %).
+// small (measured with 0.0013 mm and 0.13 %).
 TEST(SurfaceImport, FineYBifurcationRoundTripsThroughTheDecimatedFlow) {
   vessel::MeshOptions options;
   options.ring_points = 32;
