@@ -121,6 +121,28 @@ std::optional<double> Args::number(std::string_view name) {
   return v;
 }
 
+std::optional<std::vector<double>> Args::numbers(std::string_view name, std::size_t count) {
+  const auto text = value(name);
+  if (!text) return std::nullopt;
+  std::vector<double> out;
+  bool good = true;
+  for (const char* p = text->c_str(); good;) {
+    char* end = nullptr;
+    errno = 0;
+    const double v = std::strtod(p, &end);
+    good = end != p && errno == 0 && std::isfinite(v) && (*end == ',' || *end == '\0');
+    if (good) out.push_back(v);
+    if (!good || *end == '\0') break;
+    p = end + 1;
+  }
+  if (!good || out.size() != count) {
+    error_ = "option --" + std::string(name) + ": '" + *text + "' is not " + std::to_string(count) +
+             " comma-separated finite numbers";
+    return std::nullopt;
+  }
+  return out;
+}
+
 std::optional<long long> Args::integer(std::string_view name) {
   const auto text = value(name);
   if (!text) return std::nullopt;

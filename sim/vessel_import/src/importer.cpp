@@ -57,19 +57,24 @@ namespace {
   return {};
 }
 
+// `unit`: mm per input unit, for the orientation points.
 void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::string_view file,
-            const ImportOptions& options, ImportResult& result) {
+            const ImportOptions& options, double unit, ImportResult& result) {
   if (std::string problem = first_point_out_of_range(polylines, branches); !problem.empty()) {
     result.errors.push_back({std::string(file), 0, 0, std::move(problem)});
     return;
   }
-  NetworkBuild built = branches.empty() ? build_network(polylines) : build_network(branches);
+  Orient orient;
+  if (options.inlet) orient.inlet_mm = *options.inlet * unit;
+  if (options.sac) orient.sac_mm = *options.sac * unit;
+  NetworkBuild built = branches.empty() ? build_network(polylines, orient) : build_network(branches, orient);
   if (!built.ok()) {
     result.errors.push_back({std::string(file), 0, 0, built.error});
     return;
   }
   result.model = std::move(built.model);
   result.network = built.stats;
+  if (!built.oriented.empty()) result.notes.push_back(built.oriented);
   if (options.filter_radii) {
     result.filter = vessel::filter_radii(result.model);
     result.filtered = true;
@@ -226,7 +231,7 @@ ImportResult import_surface(PolygonSoup soup, const std::string& path, const Imp
   result.lumen = std::move(imported.lumen);
   result.polylines = imported.branches.size();
   const std::clock_t start = std::clock();
-  finish({}, std::move(imported.branches), path, options, result);
+  finish({}, std::move(imported.branches), path, options, surface_options.unit_mm, result);
   if (result.ok()) tag_lumen_regions(result.model, result.lumen);
   const SurfaceStats& st = result.surface;
   const SurfaceStats::Seconds& s = result.surface.seconds;
@@ -343,7 +348,7 @@ ImportResult import_centerlines_text(std::string_view text, std::string_view fil
       result.errors.push_back({std::string(file), 0, 0, "no branch: every sample is a lone root"});
       return result;
     }
-    finish({}, std::move(branches.branches), file, options, result);
+    finish({}, std::move(branches.branches), file, options, unit, result);
     return result;
   }
   if (format == Format::kSlicerMarkups) {
@@ -357,7 +362,7 @@ ImportResult import_centerlines_text(std::string_view text, std::string_view fil
     if (read.skipped_markups > 0) result.notes.push_back(std::to_string(read.skipped_markups) + " markups that are not curves skipped");
     if (read.skipped_points > 0) result.notes.push_back(std::to_string(read.skipped_points) + " undefined control points skipped");
     if (read.coordinate_system == "RAS") result.notes.push_back("RAS coordinates turned to LPS");
-    finish(std::move(read.curves), {}, file, options, result);
+    finish(std::move(read.curves), {}, file, options, unit, result);
     return result;
   }
   result.errors.push_back({std::string(file), 0, 0, "VTK files are read from disk (import_centerlines)"});
@@ -404,7 +409,7 @@ ImportResult import_centerlines(const std::string& path, const ImportOptions& op
       result.notes.push_back(std::to_string(lines.regrouped_tracts) + " tracts (CenterlineIds, TractIds) rejoined into " +
                              std::to_string(lines.polylines.size()) + " centrelines");
     }
-    finish(std::move(lines.polylines), {}, path, options, result);
+    finish(std::move(lines.polylines), {}, path, options, options.unit_mm > 0.0 ? options.unit_mm : 1.0, result);
     return result;
   }
   bool ok = false;

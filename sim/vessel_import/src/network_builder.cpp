@@ -1,5 +1,7 @@
 #include "vessel_import/network_builder.hpp"
 
+#include "network_orient.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -336,9 +338,10 @@ void join_chains(Graph& g, NetworkStats& stats) {
 // ancestor they close a cycle on).
 class Orientation {
  public:
-  explicit Orientation(const Graph& g)
+  // `inlet`: a free end that roots its piece (kNone: each piece's widest free end).
+  Orientation(const Graph& g, std::size_t inlet)
       : forward(g.edges().size(), 1), g_(g), incident_(g.incidence()), state_(g.node_count(), 0),
-        used_(g.edges().size(), 0) {}
+        used_(g.edges().size(), 0), inlet_(inlet) {}
 
   void run(NetworkStats& stats) {
     for (std::size_t start = 0; start < g_.node_count(); ++start) {
@@ -379,6 +382,7 @@ class Orientation {
 
   // The widest free end; with none, a first walk finds a node on a cycle, the real one starts there.
   std::size_t root_of(const std::vector<std::size_t>& members, std::size_t start) {
+    if (inlet_ != kNone && std::find(members.begin(), members.end(), inlet_) != members.end()) return inlet_;
     std::size_t root = kNone;
     double widest = -1.0;
     for (std::size_t n : members) {
@@ -438,7 +442,23 @@ class Orientation {
   std::vector<std::vector<std::size_t>> incident_;
   std::vector<int> state_;  // 0 unseen, 1 on the stack, 2 done
   std::vector<char> used_;
+  std::size_t inlet_;
 };
+
+// The free end nearest `p` (kNone: no free end) and its distance.
+[[nodiscard]] std::size_t nearest_free_end(const Graph& g, const glm::dvec3& p, double& distance) {
+  const auto incident = g.incidence();
+  std::size_t best = kNone;
+  distance = std::numeric_limits<double>::infinity();
+  for (std::size_t n = 0; n < g.node_count(); ++n) {
+    const double d = glm::length(g.node(n) - p);
+    if (incident[n].size() == 1 && d < distance) {
+      distance = d;
+      best = n;
+    }
+  }
+  return best;
+}
 
 // Segments in discovery order, with their end nodes after orientation; parents and children
 // from the nodes they share. False (out.error set) for a junction no segment ends or starts at.
@@ -488,18 +508,29 @@ bool make_segments(Graph& g, const Orientation& orientation, NetworkBuild& out, 
 }
 
 // Clean-up, orientation and HCLM segments (see the header).
-NetworkBuild finish(Graph& g, NetworkStats stats) {
+NetworkBuild finish(Graph& g, NetworkStats stats, const Orient& orient) {
   NetworkBuild out;
   merge_collapsed(g);
   prune_stubs(g, stats);
   contract_short_branches(g, stats);
   split_self_loops(g);
   join_chains(g, stats);
-  Orientation orientation(g);
+  std::size_t inlet = kNone;
+  double inlet_gap = 0.0;
+  if (orient.inlet_mm) {
+    inlet = nearest_free_end(g, *orient.inlet_mm, inlet_gap);
+    if (inlet == kNone) {
+      out.error = "--inlet: the network has no free end to be the inlet";
+      return out;
+    }
+  }
+  Orientation orientation(g, inlet);
   orientation.run(stats);
   if (!make_segments(g, orientation, out, stats)) return out;
   if (out.model.segments.empty()) out.error = "no vessel left: every polyline was a single point";
   out.stats = stats;
+  if (out.ok() && orient.inlet_mm) out.oriented = inlet_note(out.model, *orient.inlet_mm, inlet_gap);
+  if (out.ok() && orient.sac_mm) name_sac(out, *orient.sac_mm);
   return out;
 }
 
@@ -536,7 +567,7 @@ void join_near_ends(Graph& g, NetworkStats& stats) {
 
 }  // namespace
 
-NetworkBuild build_network(const std::vector<Polyline>& polylines) {
+NetworkBuild build_network(const std::vector<Polyline>& polylines, const Orient& orient) {
   Graph g;
   NetworkStats stats;
   stats.polylines = polylines.size();
@@ -587,10 +618,10 @@ NetworkBuild build_network(const std::vector<Polyline>& polylines) {
     g.add_edge(std::move(points), from, to, line.name);
   }
   join_near_ends(g, stats);
-  return finish(g, stats);
+  return finish(g, stats, orient);
 }
 
-NetworkBuild build_network(const std::vector<Branch>& branches) {
+NetworkBuild build_network(const std::vector<Branch>& branches, const Orient& orient) {
   Graph g;
   NetworkStats stats;
   stats.polylines = branches.size();
@@ -606,7 +637,7 @@ NetworkBuild build_network(const std::vector<Branch>& branches) {
     const std::size_t b = node(branch.to, branch.line.points.back().pos_mm);
     g.add_edge(branch.line.points, a, b, branch.line.name);
   }
-  return finish(g, stats);
+  return finish(g, stats, orient);
 }
 
 }  // namespace cathbox::vessel_import

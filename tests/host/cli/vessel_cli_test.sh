@@ -44,6 +44,17 @@ expect 0 "$cathbox" vessel --help
 cmp -s "$work/out" "$work/help.txt" || fail "vessel --help differs from vessel help"
 expect 2 "$cathbox" vessel generate no_such_case -o "$work/x.hclm"
 
+# Import: --inlet and --sac take X,Y,Z; a bad value or a sac point on a branching segment is
+# refused in one line naming the option, exit 2 (sim/vessel_import/README.md, "Inlet and sac").
+ply="$src/cases/sofa_aneurysm/aneurysm3D_1.ply"
+expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --inlet 1,2
+grep -q "^cathbox vessel: option --inlet: '1,2' is not 3 comma-separated finite numbers$" "$work/err" || fail "--inlet 1,2: $(cat "$work/err")"
+expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --sac 1,2,nan
+grep -q "^cathbox vessel: option --sac: " "$work/err" || fail "--sac 1,2,nan: $(cat "$work/err")"
+expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --inlet=-19.67,-11.52,-13.17 --sac 0,0,0
+[ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "^$ply: --sac: the segment nearest the point (1, .*) is not blind" "$work/err" ||
+  fail "--sac on the parent: $(cat "$work/err")"
+
 # Meshing: every format, control mesh, open ends.
 for ext in obj ply stl; do
   expect 0 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/y.$ext" --ring 8 --level 2

@@ -41,6 +41,8 @@ class Args {
   // Parses option `name` as a number; on a bad value sets error() and returns nullopt.
   [[nodiscard]] std::optional<double> number(std::string_view name);
   [[nodiscard]] std::optional<long long> integer(std::string_view name);
+  // Option `name` as `count` comma-separated finite numbers ("X,Y,Z"); on a bad value sets error().
+  [[nodiscard]] std::optional<std::vector<double>> numbers(std::string_view name, std::size_t count);
 
  private:
   std::vector<std::pair<std::string, std::string>> options_;

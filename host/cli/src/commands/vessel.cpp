@@ -74,6 +74,8 @@ const cli::GroupSpec& spec() {
                         {.name = "surface-out", .value = "FILE", .help = "a surface: write the repaired lumen (.obj, .ply, .stl, .cbxmesh)"},
                         {.name = "units", .value = "mm|cm|m|um", .help = "the input's length unit"},
                         {.name = "radius-array", .value = "NAME", .help = "the point array holding the radius"},
+                        {.name = "inlet", .value = "X,Y,Z", .help = "the free end nearest this point (input units) is the inlet; default: the widest"},
+                        {.name = "sac", .value = "X,Y,Z", .help = "the blind segment nearest this point (input units) is an aneurysm sac"},
                         {.name = "no-radius-filter", .help = "keep radii as read"}}},
            {.name = "generate",
             .positionals = "NAME",
@@ -309,6 +311,11 @@ int run_import(cli::Args& args) {
   if (const auto name = args.value("radius-array")) options.radius_array = *name;
   options.filter_radii = !args.flag("no-radius-filter");
   options.keep_largest = args.flag("largest");
+  const auto inlet = args.numbers("inlet", 3);
+  const auto sac = args.numbers("sac", 3);
+  if (!args.ok()) return usage_error(args.error());
+  if (inlet) options.inlet = glm::dvec3((*inlet)[0], (*inlet)[1], (*inlet)[2]);
+  if (sac) options.sac = glm::dvec3((*sac)[0], (*sac)[1], (*sac)[2]);
   const std::string& path = args.positionals()[0];
   const vessel_import::ImportResult result = vessel_import::import_centerlines(path, options);
   if (!result.ok()) {

@@ -35,6 +35,11 @@ struct ImportOptions {
   std::string radius_array;         // VTK point array / Slicer measurement; empty: the usual names
   bool filter_radii = true;         // vessel::filter_radii before writing
   bool keep_largest = false;        // a surface in several pieces: keep the largest (else refused)
+  // Orientation (network_builder.hpp, Orient), in the input's coordinates and unit (a Slicer
+  // file: LPS, mm unless unit_mm): the free end nearest `inlet` is the inlet; the blind segment
+  // nearest `sac` is an aneurysm sac. Unset: the widest free end is the inlet, no sac is named.
+  std::optional<glm::dvec3> inlet;
+  std::optional<glm::dvec3> sac;
 };
 
 struct ImportResult {

@@ -27,10 +27,16 @@
 // its widest free end (or, without free ends, from a node on a cycle) by a depth-first walk:
 // branches point away from the root, branches closing a cycle point back up it, so every junction
 // has a segment ending there and one starting there, as HCLM's parent/child relation needs.
+// The widest free end is a guess at the inlet that fails on a closed surface with an aneurysm (the
+// sac's end is the widest): Orient names the inlet (the free end nearest a point roots its piece)
+// and the sac (the blind segment nearest a point is named "aneurysm", which sim/flow closes).
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "vessel/vessel_model.hpp"
 
@@ -72,17 +78,26 @@ struct NetworkStats {
   std::size_t cycles = 0;
 };
 
+// Points (mm, the network's frame) naming the inlet and an aneurysm sac; unset: the default above.
+struct Orient {
+  std::optional<glm::dvec3> inlet_mm;  // the free end nearest it is its piece's root
+  std::optional<glm::dvec3> sac_mm;    // the segment nearest it must end blind: named kSacName
+};
+
+inline constexpr const char* kSacName = "aneurysm";  // sim/flow's is_sac_name closes such a blind end
+
 struct NetworkBuild {
   vessel::VesselModel model;  // segment ids 1..n, the root's first segment first
   NetworkStats stats;
-  std::string error;          // empty on success
+  std::string oriented;       // with Orient: what the points chose ("inlet: segment 1's start, 0.4 mm from the point")
+  std::string error;          // empty on success; a bad Orient point's error starts "--inlet: " / "--sac: "
   [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
 // Polylines given by geometry, in the order given (overlap is with the earlier ones).
-[[nodiscard]] NetworkBuild build_network(const std::vector<Polyline>& polylines);
+[[nodiscard]] NetworkBuild build_network(const std::vector<Polyline>& polylines, const Orient& orient = {});
 
 // Branches with their nodes given; node ids need not be dense.
-[[nodiscard]] NetworkBuild build_network(const std::vector<Branch>& branches);
+[[nodiscard]] NetworkBuild build_network(const std::vector<Branch>& branches, const Orient& orient = {});
 
 }  // namespace cathbox::vessel_import
