@@ -19,8 +19,6 @@ constexpr double kRodContactStep_mm = 0.04;
 // forces of a few mN) ends steps with its contacts a few micrometres from settled; at 2e5 mN/mm
 // each micrometre read as 200 mN. Penetration stays held to 5 % of its radius by projection.
 constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
-constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
-constexpr double kBalloonGripFriction = 0.3;    // balloon on the intima (inflated)
 }  // namespace
 
 const char* device_error_text(DeviceError e) {
@@ -266,117 +264,6 @@ void Simulator::prepare(std::size_t t) {
     if (loads[k] != glm::dvec3(0.0)) rod.add_coupling_load(k, loads[k]);
   }
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
-}
-
-// A tool with no catheter around it and none inside it (not a coil).
-bool Simulator::lone(std::size_t t) const {
-  const std::size_t n = rods_.size();
-  return rods_[t].spec().kind != ToolKind::kCoil && outer_of_[t] >= n && carrier_[t] >= n &&
-         std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
-}
-
-void Simulator::update_contact_members() {
-  // Coils (their part past the detachment zone), released coils, and the tips of the
-  // catheters coils leave.
-  const std::size_t n = rods_.size();
-  members_.clear();
-  for (std::size_t t = 0; t < n; ++t) {
-    const Rod& rod = rods_[t];
-    if (rod.spec().kind != ToolKind::kCoil || removed_mm_[t] > 0.0 || rod.first_free_node() >= rod.node_total()) continue;
-    std::size_t first = rod.first_edge();
-    while (first + 1 < rod.node_total() && rod.node_from_tip_mm(first) > rod.spec().detach_mm + 1e-9) ++first;
-    RodContactField::Member m;
-    m.rod = &rod;
-    m.edge_first = first;
-    m.edge_last = rod.node_total() - 1;
-    m.self = true;
-    const std::size_t c = carrier_[t];
-    if (c < n) {
-      m.hollow = &rods_[c];
-      m.hollow_depth_mm = 2.0 * (rod.node_radius_mm(rod.node_total() - 1) + rods_[c].radius_at_mm(0.0)) + 0.5;
-    }
-    if (m.edge_first < m.edge_last) members_.push_back(m);
-  }
-  // A lone tool (no catheter around it, none inside it) against its own far parts: a wire
-  // buckled into a dead end folds onto itself (its tip passed through its shaft without this).
-  for (std::size_t t = 0; t < n; ++t) {
-    const Rod& rod = rods_[t];
-    if (!lone(t) || rod.first_free_node() >= rod.node_total()) continue;
-    RodContactField::Member m;
-    m.rod = &rod;
-    m.edge_first = rod.first_edge();
-    m.edge_last = rod.node_total() - 1;
-    m.self = true;
-    m.self_only = true;  // two lone tools side by side are not solved against each other
-    if (m.edge_first < m.edge_last) members_.push_back(m);
-  }
-  const bool coils = !members_.empty() || !detached_.empty();
-  if (!coils) {
-    contacts_.set_members(members_);
-    return;
-  }
-  for (const Rod& coil : detached_) {
-    RodContactField::Member m;
-    m.rod = &coil;
-    m.edge_first = 0;
-    m.edge_last = coil.node_total() - 1;
-    m.self = true;
-    members_.push_back(m);
-  }
-  for (std::size_t t = 0; t < n; ++t) {
-    bool carries = false;
-    for (std::size_t u = 0; u < n; ++u) {
-      carries = carries || (rods_[u].spec().kind == ToolKind::kCoil && outer_of_[u] == t);
-    }
-    const Rod& rod = rods_[t];
-    if (!carries || rod.first_free_node() >= rod.node_total()) continue;
-    RodContactField::Member m;
-    m.rod = &rod;
-    m.edge_first = rod.first_edge();
-    while (m.edge_first + 1 < rod.node_total() && rod.node_from_tip_mm(m.edge_first) > kCatheterTipContact_mm) ++m.edge_first;
-    m.edge_last = rod.node_total() - 1;
-    if (m.edge_first < m.edge_last) members_.push_back(m);
-  }
-  contacts_.set_members(members_);
-}
-
-void Simulator::update_balloons(double dt_s) {
-  for (std::size_t t = 0; t < rods_.size(); ++t) {
-    if (!balloons_[t]) continue;
-    Balloon& b = *balloons_[t];
-    b.step(dt_s);
-    // An inflated balloon grips the wall: friction on its surface, pressed with the pressure.
-    Rod& rod = rods_[t];
-    const double lo = b.spec().from_tip_mm;
-    const double hi = lo + b.spec().length_mm;
-    const double pressure = b.inflated() ? b.pressure_atm() * Balloon::kAtm_N_per_mm2 : 0.0;
-    for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
-      const double s = rod.node_from_tip_mm(k);
-      if (s < lo || s > hi) continue;
-      const double h = k + 1 < rod.node_total() ? rod.node_from_tip_mm(k) - rod.node_from_tip_mm(k + 1)
-                                                 : rod.node_from_tip_mm(k - 1) - rod.node_from_tip_mm(k);
-      const double area = M_PI * b.diameter_mm() * h;
-      rod.set_grip(k, kBalloonGripFriction * pressure * area * 1000.0);
-    }
-  }
-}
-
-// A stent out of its catheters expands and grips the wall (stent_retriever.hpp).
-void Simulator::update_stents() {
-  for (std::size_t t = 0; t < rods_.size(); ++t) {
-    if (stents_[t]) stents_[t]->update(rods_[t], *wall_);
-  }
-}
-
-// The owner's grips on tool tips (set_tip_grip), on the tip node while it is free.
-void Simulator::update_tip_grips() {
-  for (std::size_t t = 0; t < rods_.size(); ++t) {
-    Rod& rod = rods_[t];
-    const std::size_t tip = rod.node_total() - 1;
-    // A stent's or a balloon's own grip holds that node.
-    if (stents_[t] || (balloons_[t] && balloons_[t]->spec().from_tip_mm <= 0.0)) continue;
-    rod.set_grip(tip, rod.first_free_node() <= tip ? tip_grip_[t] : 0.0);
-  }
 }
 
 // The released coils, after the attached tools. A sleeping coil is woken before its own solve

@@ -1,4 +1,4 @@
-// The simulator's device actions: coil detachment and loading, balloon inflation.
+// The simulator's devices: coil detachment and loading, balloon inflation, and their per-step updates.
 #include "tool/simulator.hpp"
 
 #include "simulator_tuning.hpp"
@@ -9,6 +9,10 @@
 #include <glm/geometric.hpp>
 
 namespace cathbox::tool {
+
+namespace {
+constexpr double kBalloonGripFriction = 0.3;  // balloon on the intima (inflated)
+}  // namespace
 
 bool Simulator::carries_attached_coil(std::size_t tool) const {
   return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && rods_[tool].spec().detach_mm > 0.0 &&
@@ -116,6 +120,46 @@ void Simulator::balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_m
     if (s > lo && s < hi) points_mm.push_back(rod.positions()[k]);
   }
   points_mm.push_back(rod.point_at_from_tip(lo));
+}
+
+// The per-step device updates: balloons, stents, the owner's tip grips.
+void Simulator::update_balloons(double dt_s) {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    if (!balloons_[t]) continue;
+    Balloon& b = *balloons_[t];
+    b.step(dt_s);
+    // An inflated balloon grips the wall: friction on its surface, pressed with the pressure.
+    Rod& rod = rods_[t];
+    const double lo = b.spec().from_tip_mm;
+    const double hi = lo + b.spec().length_mm;
+    const double pressure = b.inflated() ? b.pressure_atm() * Balloon::kAtm_N_per_mm2 : 0.0;
+    for (std::size_t k = rod.first_free_node(); k < rod.node_total(); ++k) {
+      const double s = rod.node_from_tip_mm(k);
+      if (s < lo || s > hi) continue;
+      const double h = k + 1 < rod.node_total() ? rod.node_from_tip_mm(k) - rod.node_from_tip_mm(k + 1)
+                                                 : rod.node_from_tip_mm(k - 1) - rod.node_from_tip_mm(k);
+      const double area = M_PI * b.diameter_mm() * h;
+      rod.set_grip(k, kBalloonGripFriction * pressure * area * 1000.0);
+    }
+  }
+}
+
+// A stent out of its catheters expands and grips the wall (stent_retriever.hpp).
+void Simulator::update_stents() {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    if (stents_[t]) stents_[t]->update(rods_[t], *wall_);
+  }
+}
+
+// The owner's grips on tool tips (set_tip_grip), on the tip node while it is free.
+void Simulator::update_tip_grips() {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    Rod& rod = rods_[t];
+    const std::size_t tip = rod.node_total() - 1;
+    // A stent's or a balloon's own grip holds that node.
+    if (stents_[t] || (balloons_[t] && balloons_[t]->spec().from_tip_mm <= 0.0)) continue;
+    rod.set_grip(tip, rod.first_free_node() <= tip ? tip_grip_[t] : 0.0);
+  }
 }
 
 }  // namespace cathbox::tool

@@ -1,0 +1,86 @@
+// Which rods are solved against each other (RodContactField members): coils past their
+// detachment zone, released coils, the tips of the catheters coils leave, and a lone tool
+// against its own far parts.
+#include "tool/simulator.hpp"
+
+#include <algorithm>
+
+namespace cathbox::tool {
+
+namespace {
+constexpr double kCatheterTipContact_mm = 3.0;  // the catheter's distal length coils can touch
+}  // namespace
+
+// A tool with no catheter around it and none inside it (not a coil).
+bool Simulator::lone(std::size_t t) const {
+  const std::size_t n = rods_.size();
+  return rods_[t].spec().kind != ToolKind::kCoil && outer_of_[t] >= n && carrier_[t] >= n &&
+         std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
+}
+
+void Simulator::update_contact_members() {
+  // Coils (their part past the detachment zone), released coils, and the tips of the
+  // catheters coils leave.
+  const std::size_t n = rods_.size();
+  members_.clear();
+  for (std::size_t t = 0; t < n; ++t) {
+    const Rod& rod = rods_[t];
+    if (rod.spec().kind != ToolKind::kCoil || removed_mm_[t] > 0.0 || rod.first_free_node() >= rod.node_total()) continue;
+    std::size_t first = rod.first_edge();
+    while (first + 1 < rod.node_total() && rod.node_from_tip_mm(first) > rod.spec().detach_mm + 1e-9) ++first;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = first;
+    m.edge_last = rod.node_total() - 1;
+    m.self = true;
+    const std::size_t c = carrier_[t];
+    if (c < n) {
+      m.hollow = &rods_[c];
+      m.hollow_depth_mm = 2.0 * (rod.node_radius_mm(rod.node_total() - 1) + rods_[c].radius_at_mm(0.0)) + 0.5;
+    }
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
+  // A lone tool (no catheter around it, none inside it) against its own far parts: a wire
+  // buckled into a dead end folds onto itself (its tip passed through its shaft without this).
+  for (std::size_t t = 0; t < n; ++t) {
+    const Rod& rod = rods_[t];
+    if (!lone(t) || rod.first_free_node() >= rod.node_total()) continue;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = rod.first_edge();
+    m.edge_last = rod.node_total() - 1;
+    m.self = true;
+    m.self_only = true;  // two lone tools side by side are not solved against each other
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
+  const bool coils = !members_.empty() || !detached_.empty();
+  if (!coils) {
+    contacts_.set_members(members_);
+    return;
+  }
+  for (const Rod& coil : detached_) {
+    RodContactField::Member m;
+    m.rod = &coil;
+    m.edge_first = 0;
+    m.edge_last = coil.node_total() - 1;
+    m.self = true;
+    members_.push_back(m);
+  }
+  for (std::size_t t = 0; t < n; ++t) {
+    bool carries = false;
+    for (std::size_t u = 0; u < n; ++u) {
+      carries = carries || (rods_[u].spec().kind == ToolKind::kCoil && outer_of_[u] == t);
+    }
+    const Rod& rod = rods_[t];
+    if (!carries || rod.first_free_node() >= rod.node_total()) continue;
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = rod.first_edge();
+    while (m.edge_first + 1 < rod.node_total() && rod.node_from_tip_mm(m.edge_first) > kCatheterTipContact_mm) ++m.edge_first;
+    m.edge_last = rod.node_total() - 1;
+    if (m.edge_first < m.edge_last) members_.push_back(m);
+  }
+  contacts_.set_members(members_);
+}
+
+}  // namespace cathbox::tool
