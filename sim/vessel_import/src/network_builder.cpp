@@ -540,10 +540,33 @@ NetworkBuild finish(Graph& g, NetworkStats stats, const Orient& orient) {
   return edge.points[at.piece].radius_mm + at.t * (edge.points[at.piece + 1].radius_mm - edge.points[at.piece].radius_mm);
 }
 
-// Free ends within kJoinRadii of another polyline are bridged to their nearest point there
-// (splitting it, or joining its end node within kSnapRadii). The polylines sharing the end's own
-// piece of network (its edge and the edges at its other node) are not candidates: a short branch
-// lies near its parent without being meant to join it twice.
+// Where a free end's own axis, extended past it by up to kReachRadii of its radius, enters another
+// polyline's lumen (the first sample, every quarter radius, within that polyline's radius of it):
+// a branch stopping at its parent's wall has its centre the parent's radius plus its own from
+// the parent's axis, so this joins it up to one more own radius short of that. Two vessels side
+// by side never enter each other's lumen along their own axes.
+[[nodiscard]] Location reach_along_axis(const Graph& g, const Edge& edge, bool at_front,
+                                        const std::vector<std::size_t>& skip) {
+  const std::vector<CenterlinePoint>& p = edge.points;
+  const std::size_t back = std::min<std::size_t>(3, p.size() - 1);  // the end's direction over 3 pieces
+  const CenterlinePoint& end = at_front ? p.front() : p.back();
+  const glm::dvec3 from = at_front ? p[back].pos_mm : p[p.size() - 1 - back].pos_mm;
+  const double length = glm::length(end.pos_mm - from);
+  if (length <= 0.0 || end.radius_mm <= 0.0) return {};
+  const glm::dvec3 dir = (end.pos_mm - from) / length;
+  const double step = 0.25 * end.radius_mm;
+  for (double s = step; s <= kReachRadii * end.radius_mm + 1e-9; s += step) {
+    const Location at = g.nearest(end.pos_mm + s * dir, skip);
+    if (at.edge != kNone && at.distance <= radius_at(g, at)) return at;
+  }
+  return {};
+}
+
+// Free ends within kJoinRadii of another polyline are bridged to their nearest point there, and
+// ends whose extended axis enters another polyline's lumen (reach_along_axis) to the place it
+// enters (splitting it, or joining its end node within kSnapRadii). The polylines sharing the
+// end's own piece of network (its edge and the edges at its other node) are not candidates: a
+// short branch lies near its parent without being meant to join it twice.
 void join_near_ends(Graph& g, NetworkStats& stats) {
   for (std::size_t n = 0; n < g.node_count(); ++n) {
     const std::vector<std::vector<std::size_t>> incident = g.incidence();
@@ -555,8 +578,11 @@ void join_near_ends(Graph& g, NetworkStats& stats) {
     skip.push_back(e);
     std::sort(skip.begin(), skip.end());
     const CenterlinePoint end = edge.a == n ? edge.points.front() : edge.points.back();
-    const Location at = g.nearest(end.pos_mm, skip);
-    if (at.edge == kNone || at.distance > kJoinRadii * std::max(end.radius_mm, radius_at(g, at))) continue;
+    Location at = g.nearest(end.pos_mm, skip);
+    if (at.edge == kNone || at.distance > kJoinRadii * std::max(end.radius_mm, radius_at(g, at))) {
+      at = reach_along_axis(g, edge, edge.a == n, skip);
+      if (at.edge == kNone) continue;
+    }
     const std::size_t m = g.attach(at, end.radius_mm);  // may add an edge: `edge` is not used after
     if (m == n || m == other) continue;
     g.bridge(e, n, m);

@@ -115,6 +115,29 @@ TEST(NetworkBuilder, CurveEndsShortOfAnotherVesselAreJoinedThere) {
   EXPECT_EQ(apart.stats.ends_joined, 0u);
 }
 
+// A branch stopping short of its parent's wall: the same radius as the parent (1 mm), its end
+// 2.9 mm from the parent's axis, 0.9 mm short of where its tube would touch the wall (centre at
+// the parent's radius plus its own, 2 mm). That is beyond kJoinRadii (2 mm), but its axis
+// extended 1.9 mm (within kReachRadii, 2 of its radii) enters the parent's lumen: joined there.
+// Two vessels side by side (1 mm radii, parallel axes 2.6 mm apart, their ends level, as a
+// public 21-curve set's two anterior cerebral arteries end 3.1 mm apart) never enter each
+// other's lumen along their own axes: kept apart.
+TEST(NetworkBuilder, AnEndShortOfItsParentsWallJoinsAndVesselsSideBySideDoNot) {
+  const auto parent = straight({0, 0, 0}, {0, 0, 40}, 1.0);
+  const auto branch = straight({0, 2.9, 20}, {0, 20, 20}, 1.0);
+  const NetworkBuild joined = build_network(std::vector<Polyline>{line(parent), line(branch)});
+  expect_network(joined, 3, 1, 0);
+  EXPECT_EQ(joined.stats.components, 1u);
+  EXPECT_EQ(joined.stats.ends_joined, 1u);
+  EXPECT_NEAR(joined.stats.widest_join_gap_mm, 2.9, 0.05);  // to the parent's axis where it enters
+  const auto left = straight({0, 0, 0}, {0, 0, 30}, 1.0);
+  const auto right = straight({2.6, 0, 0}, {2.6, 0, 30}, 1.0);
+  const NetworkBuild apart = build_network(std::vector<Polyline>{line(left), line(right)});
+  ASSERT_TRUE(apart.ok()) << apart.error;
+  EXPECT_EQ(apart.stats.components, 2u);
+  EXPECT_EQ(apart.stats.ends_joined, 0u);
+}
+
 TEST(NetworkBuilder, CyclesAndClosedLoops) {
   // A ring of four arcs with a feeder and a branch (circle-of-Willis-like), and a closed curve.
   std::vector<Polyline> ring;

@@ -14,7 +14,8 @@
 // one lying entirely on the network is a duplicate and adds nothing. Then a free end lying within
 // kJoinRadii of the wider radius of another polyline (segmentation tools leave curve ends a few
 // millimetres short of the vessel they branch from or continue) is joined to it by a straight
-// bridge to its nearest point there.
+// bridge to its nearest point there, and so is one whose own axis, extended by kReachRadii of its
+// radius, enters another polyline's lumen (a branch stopping short of its parent's wall), there.
 //
 // Polylines with their topology given (SWC: every branching sample is a node) skip that step.
 // Both then go through the same clean-up: repeated points removed, a branch from a junction to a
@@ -46,6 +47,7 @@ constexpr double kOverlapRadii = 0.25;  // a point this near the network (in its
 constexpr double kSnapRadii = 1.0;      // attaching this near a node (along the network) joins the node
 constexpr double kContractRadii = 1.0;  // a branch this short between two junctions is contracted
 constexpr double kJoinRadii = 2.0;      // a free end this near another polyline (in the wider radius) joins it
+constexpr double kReachRadii = 2.0;     // ... or its axis extended this far (in its radius) entering a lumen
 constexpr double kStubRadii = 1.0;      // a free-ended branch this short from a junction is pruned
 
 struct Polyline {
