@@ -22,25 +22,32 @@
 namespace cathbox::session {
 namespace {
 
-TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cathbox_surface_case_" + std::to_string(::getpid()));
+// The Y bifurcation's HCLM and its level-1 lumen (coarser than a case meshes) in `dir`, and
+// y.case naming both with `extra` lines; the lumen's triangle count.
+std::size_t write_surface_case(const std::filesystem::path& dir, const std::string& extra) {
   std::filesystem::create_directories(dir);
   const vessel::VesselModel model = vessel::CaseGenerator::y_bifurcation();
-  ASSERT_TRUE(vessel::save_hclm(model, (dir / "y.hclm").string()).empty());
+  EXPECT_TRUE(vessel::save_hclm(model, (dir / "y.hclm").string()).empty());
   vessel::MeshOptions coarse;
   coarse.subdivision_level = 1;
   const vessel::VesselSurface lumen = vessel::build_vessel_surface(model, coarse);
-  ASSERT_TRUE(lumen.ok()) << lumen.error;
+  EXPECT_TRUE(lumen.ok()) << lumen.error;
   std::ofstream(dir / "lumen.cbxmesh", std::ios::binary) << vessel::encode_mesh_wire(lumen.mesh);
+  std::ofstream(dir / "y.case") << "cathbox-case 1\nvessel y.hclm\nsurface lumen.cbxmesh\ntarget 2 1.0\n" << extra;
+  return lumen.mesh.triangle_count();
+}
+
+TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cathbox_surface_case_" + std::to_string(::getpid()));
+  const std::size_t triangles = write_surface_case(dir, "");
   const std::string case_path = (dir / "y.case").string();
-  std::ofstream(case_path) << "cathbox-case 1\nvessel y.hclm\nsurface lumen.cbxmesh\ntarget 2 1.0\n";
 
   SessionCaseLoad loaded = load_session_case(case_path);
   ASSERT_TRUE(loaded) << loaded.error().message;
   const SessionCase& scene = *loaded.value();
   EXPECT_TRUE(scene.surface_given());
   ASSERT_NE(scene.mesh(), nullptr);
-  EXPECT_EQ(scene.mesh()->triangle_count(), lumen.mesh.triangle_count());
+  EXPECT_EQ(scene.mesh()->triangle_count(), triangles);
   EXPECT_FALSE(scene.route_mm.empty());  // the graph still gives the route to the target
 
   RecordHeader h;
@@ -65,7 +72,7 @@ TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
   SessionCaseLoad replayed = session_case_from_record(back);
   ASSERT_TRUE(replayed) << replayed.error().message;
   EXPECT_TRUE(replayed.value()->surface_given());
-  EXPECT_EQ(replayed.value()->mesh()->triangle_count(), lumen.mesh.triangle_count());
+  EXPECT_EQ(replayed.value()->mesh()->triangle_count(), triangles);
 
   back.surface_bytes.clear();  // a record naming a surface it does not carry is refused
   const SessionCaseLoad bare = session_case_from_record(back);
@@ -80,17 +87,8 @@ TEST(SurfaceCase, TheRecordCarriesTheWallAndRebuildsIt) {
 // the carotid's), and every segment's wall by its Laplace P R^2 / (E h).
 TEST(SurfaceCase, ACompliantSurfaceDistendsWithThePulse) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("cathbox_surface_pulse_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const vessel::VesselModel model = vessel::CaseGenerator::y_bifurcation();
-  ASSERT_TRUE(vessel::save_hclm(model, (dir / "y.hclm").string()).empty());
-  vessel::MeshOptions coarse;
-  coarse.subdivision_level = 1;
-  const vessel::VesselSurface lumen = vessel::build_vessel_surface(model, coarse);
-  ASSERT_TRUE(lumen.ok()) << lumen.error;
-  std::ofstream(dir / "lumen.cbxmesh", std::ios::binary) << vessel::encode_mesh_wire(lumen.mesh);
+  write_surface_case(dir, "wall intracranial\nflow pulsatile 60 1\n");
   const std::string case_path = (dir / "y.case").string();
-  std::ofstream(case_path) << "cathbox-case 1\nvessel y.hclm\nsurface lumen.cbxmesh\ntarget 2 1.0\nwall intracranial\n"
-                              "flow pulsatile 60 1\n";
   SessionCaseLoad loaded = load_session_case(case_path);
   std::filesystem::remove_all(dir);
   ASSERT_TRUE(loaded) << loaded.error().message;
