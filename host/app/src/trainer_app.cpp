@@ -174,17 +174,21 @@ void TrainerApp::load_fluoro_view(const session::SessionCase& scene) {
   }
 }
 
-void TrainerApp::follow_wall(const session::Session& s, std::uint64_t generation, bool wait) {
+void TrainerApp::follow_wall(const session::Session& s, std::uint64_t generation, double wall_pressure_kPa, bool wait) {
   const session::FluoroUnit* unit = fluoro_ ? s.fluoro() : nullptr;
-  std::optional<VesselFollower::Prepared> next = follower_.poll(generation, s, unit ? &unit->transport() : nullptr, wait);
+  std::optional<VesselFollower::Prepared> next =
+      follower_.poll(generation, wall_pressure_kPa, s, unit ? &unit->transport() : nullptr, wait);
   if (!next) return;
   renderer_->upload_vessel(next->scene);
   if (fluoro_ && next->fluoro) {
     fluoro_->upload_vessel(std::move(*next->fluoro));
     fluoro_vessel_ = std::move(*next->fluoro_vessel);
   }
+  const bool widened = !shown_wall_ || shown_wall_->generation != next->generation;
   shown_wall_ = std::make_unique<VesselFollower::Prepared>(std::move(*next));  // the views point into it
-  ui_->add_line("vessel wall " + std::to_string(shown_wall_->generation) + ": the widened lumen is shown");
+  if (widened && shown_wall_->generation > 0) {
+    ui_->add_line("vessel wall " + std::to_string(shown_wall_->generation) + ": the widened lumen is shown");
+  }
 }
 
 void TrainerApp::frame_camera() {

@@ -115,7 +115,7 @@ int TrainerApp::run_frame(FrameLoop& loop, const std::string& chosen_path) {
   session::Session& s = current();
   s.snapshots().acquire();
   const session::SceneSnapshot& snap = s.snapshots().read_slot();
-  follow_wall(s, snap.wall_generation, loop.virtual_time);
+  follow_wall(s, snap.wall_generation, snap.wall_pressure_kPa, loop.virtual_time);
   ui_->drain(s.events());
   if (link_ && live_) link_->publish(snap);
   FrameActions actions;

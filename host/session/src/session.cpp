@@ -201,6 +201,11 @@ void Session::step_world(std::int64_t n) {
     sim_->set_insertion(t, static_cast<double>(input_.tools[t].insertion_um) * 1e-3);
     sim_->set_rotation(t, static_cast<double>(input_.tools[t].rotation_urad) * 1e-6);
   }
+  if (wall_field_ && pulse_mean_kPa_ > 0.0) {
+    // The wall distends with the pulse (one sine and a multiply per segment; no allocation).
+    const double t_s = static_cast<double>(n * options_.period_us) * 1e-6;
+    wall_field_->set_pressure_kPa(pulse_mean_kPa_ * (scene_->flow->flow_scale(t_s) - 1.0));
+  }
   sim_->step(static_cast<double>(options_.period_us) * 1e-6);
   if (angioplasty_) {
     angioplasty_->after_step(*sim_);

@@ -78,8 +78,19 @@ void Session::build_simulator() {
                                                          std::move(builder));
     }
   }
-  sim_ = std::make_unique<tool::Simulator>(angioplasty_ ? angioplasty_->wall() : scene_->world->wall(), tools, scene_->entry);
-  tool::use_case_wall(*sim_, scene_->spec.wall ? &*scene_->spec.wall : nullptr);  // a compliant wall
+  const tool::CaseWall* compliant = scene_->spec.wall ? &*scene_->spec.wall : nullptr;
+  const vessel::VesselModel* read = scene_->world->source_model();
+  if (!angioplasty_) wall_field_ = tool::make_case_wall_field(compliant, scene_->world->wall(), read);
+  if (wall_field_ && scene_->flow) {
+    // The pulse scales every flow (flow_network.hpp), and with the terminal resistances fixed every
+    // pressure above venous with it: the inlet's is the largest.
+    for (std::size_t k = 0; k < scene_->flow->node_count(); ++k) {
+      pulse_mean_kPa_ = std::max(pulse_mean_kPa_, 1e-3 * scene_->flow->node_pressure_Pa(static_cast<int>(k)));
+    }
+  }
+  const tool::WallModel& wall = angioplasty_ ? angioplasty_->wall() : wall_field_ ? wall_field_->wall() : scene_->world->wall();
+  sim_ = std::make_unique<tool::Simulator>(wall, tools, scene_->entry);
+  tool::use_case_wall(*sim_, compliant, read);  // a compliant wall
 }
 
 // A case with a vessel network: the fluoroscopy unit, and the thrombectomy unit when it has clots.

@@ -102,6 +102,7 @@ void Session::publish() {
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
+  s.wall_pressure_kPa = wall_field_ ? wall_field_->pressure_kPa() : 0.0;
   if (thrombectomy_) {
     s.aspirating = s.aspiration_tool >= 0 && thrombectomy_->aspirating(static_cast<std::size_t>(s.aspiration_tool));
     s.flow_arrest = thrombectomy_->arrested();

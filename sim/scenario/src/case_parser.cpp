@@ -170,8 +170,13 @@ bool CaseParser::view_statement(const std::vector<std::string_view>& w) {
 }
 
 bool CaseParser::wall_statement(const std::vector<std::string_view>& w) {
-  double v[1];
-  if (!expect_args(w, 2) || !once(seen_.wall, w[0]) || !numbers(w, 2, v, 1)) return false;
+  // `wall TERRITORY` alone: the radius is the vessel's (its graph's median, case_wall.hpp).
+  double v[1] = {0.0};
+  if (w.size() == 2) {
+    if (!once(seen_.wall, w[0])) return false;
+  } else if (!expect_args(w, 2) || !once(seen_.wall, w[0]) || !numbers(w, 2, v, 1)) {
+    return false;
+  }
   CaseWall cw;
   if (w[1] == "cervical") {
     cw.territory = Territory::kCervical;
@@ -180,7 +185,7 @@ bool CaseParser::wall_statement(const std::vector<std::string_view>& w) {
   } else {
     return error_here("wall: territory must be 'cervical' or 'intracranial', not '" + std::string(w[1]) + "'");
   }
-  if (v[0] < 0.5 || v[0] > 15.0) return error_here("wall: lumen radius must be in [0.5, 15] mm");
+  if (w.size() > 2 && (v[0] < 0.5 || v[0] > 15.0)) return error_here("wall: lumen radius must be in [0.5, 15] mm");
   cw.radius_mm = v[0];
   c_.wall = cw;
   return true;
@@ -194,8 +199,8 @@ bool CaseParser::check_vessel() {
   if (!c_.surface_path.empty() && c_.vessel_path.empty()) {
     return error_at(last, "a 'surface' needs a 'vessel' (its centreline graph: route, targets, flow)");
   }
-  if (!c_.surface_path.empty() && c_.wall) {
-    return error_at(last, "a compliant 'wall' is re-meshed from the vessel's centrelines: it cannot take a 'surface'");
+  if (c_.wall && c_.wall->radius_mm == 0.0 && c_.vessel_path.empty()) {
+    return error_at(last, "a 'wall' without a radius takes the 'vessel''s: give 'wall TERRITORY RADIUS_MM' with tubes");
   }
   if (c_.tubes.size() > 0 && !c_.entry) return error_at(last, "analytic tubes need an 'entry'");
   return true;

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -24,6 +25,7 @@
 #include "session/action_script_hand.hpp"
 #include "flow/c_arm.hpp"
 #include "flow/head_phantom.hpp"
+#include "session/keyboard_hand.hpp"
 #include "session/session.hpp"
 #include "tool/lumen_remodel.hpp"
 
@@ -170,7 +172,7 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
     s.snapshots().acquire();
     const std::uint64_t generation = s.snapshots().read_slot().wall_generation;
     ASSERT_EQ(generation, 0u) << "no wall is due before 300 ticks after the balloon moved the lumen";
-    ASSERT_FALSE(follower.poll(generation, s, nullptr).has_value());
+    ASSERT_FALSE(follower.poll(generation, 0.0, s, nullptr).has_value());
   }
   const Image inflating = render(cam, "wall_follow_inflating.png");
   EXPECT_EQ(inflating.pixels, before.pixels) << "the view changed before the new wall was in";
@@ -179,7 +181,7 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   while (!s.over()) {
     s.step_virtual(500);
     s.snapshots().acquire();
-    if (auto next = follower.poll(s.snapshots().read_slot().wall_generation, s, nullptr)) {
+    if (auto next = follower.poll(s.snapshots().read_slot().wall_generation, 0.0, s, nullptr)) {
       renderer_.upload_vessel(next->scene);
       shown = std::make_unique<VesselFollower::Prepared>(std::move(*next));
     }
@@ -188,7 +190,7 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   const std::uint64_t last = s.snapshots().read_slot().wall_generation;
   ASSERT_GE(last, 1u);
   while (follower.shown() < last) {
-    auto next = follower.poll(last, s, nullptr, true);
+    auto next = follower.poll(last, 0.0, s, nullptr, true);
     ASSERT_TRUE(next.has_value());
     renderer_.upload_vessel(next->scene);
     shown = std::make_unique<VesselFollower::Prepared>(std::move(*next));
@@ -288,6 +290,60 @@ TEST_F(WallFollowRender, TheGlobalViewShowsTheWidenedLumenOnceTheNewWallIsIn) {
   std::printf("fluoroscopy: %.1f px/mm at the lesion; darker band %d px across its narrowest point, %.0f px predicted\n", px_per_mm, band,
               predicted);
   EXPECT_NEAR(band, predicted, 0.15 * predicted + 3.0);
+}
+
+// The bundled public surface (cases/sofa_aneurysm) with a compliant wall and a pulse: the views
+// draw the case's own surface moved by the pulse, each vertex along its normal by its segment's
+// Laplace distension at the drawn pressure step (the displacements the collision queries read),
+// and never the centrelines' re-meshed tubes (no overview, no coarser fluoroscopy mesh).
+TEST(WallFollowPulse, TheDrawnSurfaceMovesWithThePulseAsTheQueriesDo) {
+  const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/sofa_aneurysm/";
+  const std::string case_path = std::string(CATHBOX_TEST_OUT) + "/sofa_compliant.case";
+  std::ofstream(case_path) << "cathbox-case 1\nvessel " << dir << "vessel.hclm\nsurface " << dir
+                           << "lumen.cbxmesh\nwall intracranial\nflow pulsatile 60 1\n";
+  session::SessionCaseLoad loaded = session::load_session_case(case_path);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  session::KeyboardInput keys;
+  session::Session s(std::move(loaded.value()), std::make_unique<session::KeyboardHand>(keys, 1e-3));
+  ASSERT_NE(s.wall_field(), nullptr);
+  ASSERT_NE(s.fluoro(), nullptr);
+  s.step_virtual(250);  // peak systole: the flow's 1 + (PI / 2) sin(2 pi t) at t = 0.25 s
+  const double pressure_kPa = s.wall_field()->pressure_kPa();
+  EXPECT_GT(pressure_kPa, 5.0);
+  VesselFollower follower;
+  std::optional<VesselFollower::Prepared> next = follower.poll(0, pressure_kPa, s, &s.fluoro()->transport(), true);
+  ASSERT_TRUE(next.has_value());
+  EXPECT_TRUE(next->overview.triangles.empty());
+  EXPECT_TRUE(next->fluoro_mesh.triangles.empty());
+  EXPECT_TRUE(next->fluoro_vessel.has_value());
+  const vessel::SurfaceMesh& base = *s.scene().mesh();
+  const vessel::SurfaceMesh& drawn = next->surface->mesh;
+  ASSERT_EQ(drawn.positions_mm.size(), base.positions_mm.size());
+  const tool::WallDistension& d = s.wall_field()->distension();
+  const double step_kPa = std::lround(pressure_kPa / kDrawnPressureStep_kPa) * kDrawnPressureStep_kPa;
+  double lo = 1e9, hi = 0.0, largest = 0.0;
+  for (std::size_t i = 0; i < d.segment_count(); ++i) {
+    lo = std::min(lo, d.compliance_mm_per_kPa(i) * step_kPa);
+    hi = std::max(hi, d.compliance_mm_per_kPa(i) * step_kPa);
+  }
+  for (std::size_t v = 0; v < base.positions_mm.size(); ++v) {
+    const glm::dvec3 moved = glm::dvec3(drawn.positions_mm[v]) - glm::dvec3(base.positions_mm[v]);
+    const double w = glm::dot(moved, glm::dvec3(base.normals[v]));
+    EXPECT_NEAR(glm::length(moved), std::abs(w), 1e-5);  // along the normal
+    EXPECT_GE(w, lo - 1e-5);
+    EXPECT_LE(w, hi + 1e-5);
+    largest = std::max(largest, w);
+  }
+  std::printf("drawn wall at %.1f kPa (step %.1f): vertices moved %.1f .. %.1f um (segments' Laplace %.1f .. %.1f)\n",
+              pressure_kPa, step_kPa, 1e3 * lo, 1e3 * largest, 1e3 * lo, 1e3 * hi);
+  // The same step again: nothing to prepare; diastole: the wall drawn inside the imaged one.
+  EXPECT_FALSE(follower.poll(0, pressure_kPa, s, &s.fluoro()->transport(), true).has_value());
+  s.step_virtual(500);  // t = 0.75 s
+  next = follower.poll(0, s.wall_field()->pressure_kPa(), s, &s.fluoro()->transport(), true);
+  ASSERT_TRUE(next.has_value());
+  EXPECT_LT(glm::dot(glm::dvec3(next->surface->mesh.positions_mm[0]) - glm::dvec3(base.positions_mm[0]),
+                     glm::dvec3(base.normals[0])),
+            0.0);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "scenario/case_file.hpp"
+#include "scenario/case_wall.hpp"
 #include "scenario/case_world.hpp"
 #include "tool/mesh_wall.hpp"
 #include "vessel/case_generator.hpp"
@@ -101,16 +102,53 @@ TEST_F(CaseSurface, BadSurfacesAreRefusedInOneLineNamingTheFile) {
   EXPECT_NE(error_of("other.cbxmesh").find("other.cbxmesh: triangle 5 belongs to segment 77"), std::string::npos);
 }
 
-TEST_F(CaseSurface, ASurfaceNeedsAVesselAndNoCompliantWall) {
+TEST_F(CaseSurface, ASurfaceNeedsAVessel) {
   const CaseParse bare = parse_case("cathbox-case 1\nsurface lumen.cbxmesh\ntube 1 0 0 0 2 0 0 50 2\nentry 0 0 1 0 0 1\n", "x.case");
   ASSERT_FALSE(bare);
   EXPECT_NE(bare.error().message.find("a 'surface' needs a 'vessel'"), std::string::npos);
   const CaseParse twice = parse("surface a.cbxmesh\nsurface b.cbxmesh\n");
   ASSERT_FALSE(twice);
   EXPECT_NE(twice.error().message.find("y.case:4: surface given twice"), std::string::npos);
-  const CaseParse compliant = parse("surface a.cbxmesh\nwall cervical 3\n");
-  ASSERT_FALSE(compliant);
-  EXPECT_NE(compliant.error().message.find("cannot take a 'surface'"), std::string::npos);
+  // A `wall` without a radius takes the vessel's: tubes have none to give.
+  const CaseParse tubes = parse_case("cathbox-case 1\nwall cervical\ntube 1 0 0 0 2 0 0 50 2\nentry 0 0 1 0 0 1\n", "x.case");
+  ASSERT_FALSE(tubes);
+  EXPECT_NE(tubes.error().message.find("x.case:4: a 'wall' without a radius takes the 'vessel''s"), std::string::npos);
+}
+
+// The case's surface takes the compliant wall (issue 29 on issue 31's surfaces): the contact's
+// stiffness at the graph's radius, and the surface itself, moved along its normals by each
+// segment's Laplace distension, is what the tools meet.
+TEST_F(CaseSurface, ASurfaceTakesTheCompliantWall) {
+  write("lumen.cbxmesh", vessel::encode_mesh_wire(lumen_));
+  const CaseParse c = parse("surface lumen.cbxmesh\nwall intracranial\n");
+  ASSERT_TRUE(c) << c.error().message;
+  ASSERT_TRUE(c->wall.has_value());
+  EXPECT_EQ(c->wall->radius_mm, 0.0);
+  WorldBuild world = build_world(*c);
+  ASSERT_TRUE(world) << world.error().message;
+  const vessel::VesselModel* read = (*world)->source_model();
+  ASSERT_NE(read, nullptr);
+  EXPECT_EQ(case_wall_radius_mm(*c->wall, read), median_radius_mm(model_));
+  const std::unique_ptr<CaseWallField> field = make_case_wall_field(&*c->wall, (*world)->wall(), read);
+  ASSERT_NE(field, nullptr);
+  ASSERT_EQ(field->distension().segment_count(), model_.segments.size());
+  // A probe on the parent's axis, half way: the wall moves out by that segment's P / k.
+  const vessel::Segment& parent = model_.segments.front();
+  const glm::dvec3 mid = parent.points[parent.points.size() / 2].pos_mm;
+  WallProbe probe;
+  probe.center_mm = mid;
+  probe.radius_mm = 0.1;
+  probe.range_mm = 10.0;
+  WallHint hint;
+  WallContact rest, moved;
+  ASSERT_TRUE(field->wall().probe(probe, hint, rest));
+  field->set_pressure_kPa(4.0);
+  ASSERT_TRUE(field->wall().probe(probe, hint, moved));
+  ASSERT_GE(rest.segment, 0);
+  const std::size_t index = *model_.index_of(rest.segment);
+  EXPECT_NEAR(moved.distance_mm - rest.distance_mm, 4.0 * field->distension().compliance_mm_per_kPa(index), 1e-9);
+  EXPECT_GT(moved.distance_mm, rest.distance_mm);
+  EXPECT_NE(field->wall().revision(), 0u);  // a rod at rest against it is solved again
 }
 
 }  // namespace

@@ -86,7 +86,7 @@ class TrainerApp {
   void load_fluoro_view(const session::SessionCase& scene);
   void frame_camera();
   // The views follow the session's wall (a balloon widened the lumen): uploads a prepared one.
-  void follow_wall(const session::Session& s, std::uint64_t generation, bool wait);
+  void follow_wall(const session::Session& s, std::uint64_t generation, double wall_pressure_kPa, bool wait);
 
   TrainerOptions options_;
   std::string program_dir_;

@@ -115,7 +115,7 @@ int run_run(cathbox::cli::Args& args) {
     angioplasty.emplace(*(*world)->source_model(), (*world)->release_wall(), cathbox::tool::WallSwap::Mode::kSynchronous);
   }
   cathbox::tool::Simulator sim(angioplasty ? angioplasty->wall() : (*world)->wall(), scenario_case.tools, (*world)->entry());
-  cathbox::tool::use_case_wall(sim, scenario_case.wall ? &*scenario_case.wall : nullptr);  // a compliant wall
+  cathbox::tool::use_case_wall(sim, scenario_case.wall ? &*scenario_case.wall : nullptr, (*world)->source_model());  // a compliant wall
   std::ofstream out(*out_path, std::ios::binary | std::ios::trunc);
   if (!out) {
     std::fprintf(stderr, "%s: cannot open for writing\n", out_path->c_str());

@@ -97,6 +97,9 @@ struct SceneSnapshot {
   // The vessel walls swapped in so far (a balloon widened the lumen; 0: the case's surface).
   // When it changes, Session::wall_surface() has the new lumen's model and mesh to draw.
   std::uint64_t wall_generation = 0;
+  // A compliant wall's transmural pressure over the mean (kPa; 0 without one or without a
+  // pulse): Session::wall_field()'s distension at it is how far the wall has moved.
+  double wall_pressure_kPa = 0.0;
   // Thrombectomy (thrombectomy_unit.hpp): the index of the case's first aspiration catheter and
   // of its first catheter with a balloon (-1: none), whether each is on / inflated now.
   int aspiration_tool = -1;

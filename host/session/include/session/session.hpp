@@ -39,6 +39,7 @@
 #include "session/thrombectomy_unit.hpp"
 #include "tool/coil_metrics.hpp"
 #include "tool/angioplasty.hpp"
+#include "scenario/case_wall.hpp"
 #include "tool/simulator.hpp"
 #include "tool/snapshot.hpp"
 
@@ -121,6 +122,10 @@ class Session {
   // (SceneSnapshot::wall_generation > 0): the widened model and its surface mesh. Empty while
   // the case's own surface (scene().mesh()) is the wall, and in cases without a balloon.
   [[nodiscard]] std::shared_ptr<const tool::WallSurface> wall_surface() const;
+  // The compliant wall the pulse moves (a case's `wall` line on a vessel; null otherwise): its
+  // segments' distension, immutable, for renderers that move the drawn surface by
+  // SceneSnapshot::wall_pressure_kPa.
+  [[nodiscard]] const tool::CaseWallField* wall_field() const { return wall_field_.get(); }
   // The header a record of this session gets.
   [[nodiscard]] RecordHeader record_header() const;
 
@@ -179,6 +184,10 @@ class Session {
   // (synchronous builds in virtual time, a worker thread in real time; sim/tool/README.md).
   // Declared before sim_, which uses its wall.
   std::unique_ptr<tool::Angioplasty> angioplasty_;
+  // A case's compliant wall on a vessel (no balloon): the world's wall moved by the pulse, and the
+  // pulse's pressure amplitude over the mean (the inlet's pressure above venous, kPa).
+  std::unique_ptr<tool::CaseWallField> wall_field_;
+  double pulse_mean_kPa_ = 0.0;
   std::unique_ptr<tool::Simulator> sim_;
   tool::Snapshot snap_;
   TickInput input_;

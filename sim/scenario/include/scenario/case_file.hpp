@@ -74,11 +74,14 @@ struct CaseTarget {
   double fraction = 1.0;
 };
 
-// `wall TERRITORY RADIUS_MM`: the wall gives under the tools by its own mechanics
-// (compliant_contact.hpp), with the territory's material (arterial_wall.hpp) at that lumen radius.
+// `wall TERRITORY [RADIUS_MM]`: the wall gives under the tools by its own mechanics
+// (compliant_contact.hpp), with the territory's material (arterial_wall.hpp) at that lumen radius
+// (without one, a `vessel`'s: its centreline graph's median radius, the distance to the surface
+// for an imported one), and distends with the pulse (wall_distension.hpp), a meshed vessel's or
+// a `surface`'s alike.
 struct CaseWall {
   Territory territory = Territory::kCervical;
-  double radius_mm = 2.0;
+  double radius_mm = 2.0;  // 0: the vessel's
 };
 
 // `clot SEG FROM_MM LENGTH_MM ...`: the segment is checked against the vessel model when the
