@@ -17,12 +17,14 @@
 
 namespace cathbox::bench {
 
-// Wall and thread-CPU time of each step; median and p99 as counters.
+// Wall and thread-CPU time of each step; median and p99 as counters, and the same of the steps
+// in which every solved rod converged (the rest end at the Newton iteration cap).
 class StepTimes {
  public:
   explicit StepTimes(std::size_t steps) {
     wall_.reserve(steps);
     cpu_.reserve(steps);
+    unconverged_.reserve(steps);
     its_.reserve(3 * steps);
     switches_.reserve(steps);
     faults_.reserve(steps);
@@ -42,7 +44,13 @@ class StepTimes {
     switches_.push_back(static_cast<int>(r1.ru_nivcsw - r0.ru_nivcsw));
     faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
     rods_ = sim.tool_count();
-    for (std::size_t t = 0; t < rods_; ++t) its_.push_back(sim.rod(t).last_iterations());
+    bool unconverged = false;
+    for (std::size_t t = 0; t < rods_; ++t) {
+      const tool::Rod& rod = sim.rod(t);
+      its_.push_back(rod.last_iterations());
+      unconverged = unconverged || (rod.first_free_node() < rod.node_total() && !rod.converged());
+    }
+    unconverged_.push_back(unconverged ? 1 : 0);
     if (wall_probes_ != nullptr) {
       probes_.push_back(static_cast<double>(wall_probes_->probes() - probes_seen_));
       probes_seen_ = wall_probes_->probes();
@@ -66,16 +74,18 @@ class StepTimes {
   // another process ran on the core mid-step, and the step's thread CPU time carries the cache
   // refill; a long step is likelier to be preempted, so under load the tail's share is high
   // whatever made the step long) and their page faults. Call it before report(), which sorts
-  // the times.
+  // the times. `tail_unconverged_pct`: the share of the tail's steps in which a rod ended
+  // unconverged.
   void report_tail(benchmark::State& state, const std::vector<std::string>& names, const std::string& prefix = "") const {
     if (cpu_.empty() || rods_ == 0 || its_.size() != cpu_.size() * rods_) return;
     std::vector<double> sorted = cpu_;
     const double p99 = pick(sorted, 0.99);
-    std::size_t tail_steps = 0, preempted = 0, faults = 0, all_preempted = 0;
+    std::size_t tail_steps = 0, preempted = 0, faults = 0, all_preempted = 0, unconverged = 0;
     for (std::size_t k = 0; k < cpu_.size(); ++k) {
       all_preempted += switches_[k] > 0 ? 1 : 0;
       if (cpu_[k] < p99) continue;
       ++tail_steps;
+      unconverged += k < unconverged_.size() ? unconverged_[k] : 0;
       preempted += switches_[k] > 0 ? 1 : 0;
       faults += static_cast<std::size_t>(faults_[k]);
     }
@@ -83,6 +93,7 @@ class StepTimes {
     state.counters[prefix + "preempted_pct"] = 100.0 * static_cast<double>(all_preempted) / static_cast<double>(cpu_.size());
     state.counters[prefix + "tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
     state.counters[prefix + "tail_faults"] = static_cast<double>(faults) / tail_n;
+    state.counters[prefix + "tail_unconverged_pct"] = 100.0 * static_cast<double>(unconverged) / tail_n;
     for (std::size_t t = 0; t < rods_ && t < names.size(); ++t) {
       double all = 0.0, tail = 0.0;
       for (std::size_t k = 0; k < cpu_.size(); ++k) {
@@ -103,7 +114,21 @@ class StepTimes {
       state.counters[prefix + "tail_probes"] = tail / tail_n;
     }
   }
+  // `unconverged_pct`: the steps in which a solved rod ended unconverged; `cpu_median_converged_us`
+  // and `cpu_p99_converged_us`: the thread CPU of the others.
   void report(benchmark::State& state, const std::string& prefix = "") {
+    if (unconverged_.size() == cpu_.size() && !cpu_.empty()) {
+      std::vector<double> converged;
+      for (std::size_t k = 0; k < cpu_.size(); ++k) {
+        if (unconverged_[k] == 0) converged.push_back(cpu_[k]);
+      }
+      state.counters[prefix + "unconverged_pct"] =
+          100.0 * static_cast<double>(cpu_.size() - converged.size()) / static_cast<double>(cpu_.size());
+      if (!converged.empty()) {
+        state.counters[prefix + "cpu_median_converged_us"] = pick(converged, 0.5);
+        state.counters[prefix + "cpu_p99_converged_us"] = pick(converged, 0.99);
+      }
+    }
     state.counters[prefix + "median_us"] = pick(wall_, 0.5);
     state.counters[prefix + "p99_us"] = pick(wall_, 0.99);
     state.counters[prefix + "cpu_median_us"] = pick(cpu_, 0.5);
@@ -113,11 +138,13 @@ class StepTimes {
   void add(const StepTimes& other) {
     wall_.insert(wall_.end(), other.wall_.begin(), other.wall_.end());
     cpu_.insert(cpu_.end(), other.cpu_.begin(), other.cpu_.end());
+    unconverged_.insert(unconverged_.end(), other.unconverged_.begin(), other.unconverged_.end());
   }
 
  private:
   std::vector<double> wall_, cpu_;
   std::vector<int> its_;  // Newton iterations, rods_ per step
+  std::vector<std::uint8_t> unconverged_;  // per step: 1 when a solved rod ended unconverged
   std::vector<int> switches_, faults_;  // involuntary context switches and page faults per step
   std::size_t rods_ = 0;
   const CountingWall* wall_probes_ = nullptr;
