@@ -8,6 +8,7 @@
 
 #include "centerline_polyline.hpp"
 #include "junction_patch.hpp"
+#include "ring_arcs.hpp"
 #include "vessel/point_range.hpp"
 #include "vessel/rotation_minimizing_frame.hpp"
 
@@ -26,9 +27,6 @@ constexpr double kTrimStepRadii = 0.2;      // step when rings still overlap
 constexpr double kPlaneMarginRadii = 0.15;  // how far behind another ring's plane a ring must be
 constexpr double kCapOffsetRadii = 0.5;     // cap ring distance beyond the free end
 constexpr double kCapRingScale = 0.6;       // cap ring radius / end ring radius
-constexpr double kEndGapSpacing = 0.35;     // HCLM points closer to a trimmed end (in spacings) get no ring
-constexpr double kRadiusStep = 0.1;         // largest radius change between adaptive rings, of the radius
-constexpr int kMaxRingsPerSpan = 16;        // adaptive rings between two HCLM points, at most
 constexpr double kMinControlRadius = 0.25;  // solved control radius, at least this of the target
 
 // c with c[0] = t[0], c[n-1] = t[n-1] and (c[j-1] + 4 c[j] + c[j+1]) / 6 = t[j] inside
@@ -230,27 +228,7 @@ class Builder {
       for (double arc : pl.arc) arcs.push_back(a + (arc / pl.length) * (b - a));
       return;
     }
-    // Every HCLM point strictly inside (a, b), except one closer to a trimmed end than a third of
-    // its spacing to the next point (the end ring stands for it).
-    arcs.push_back(a);
-    const std::size_t n = pl.arc.size();
-    for (std::size_t i = 1; i + 1 < n; ++i) {
-      const double t = pl.arc[i];
-      if (t - a < kEndGapSpacing * (pl.arc[i + 1] - t) || b - t < kEndGapSpacing * (t - pl.arc[i - 1])) continue;
-      arcs.push_back(t);
-    }
-    arcs.push_back(b);
-    // Between two of them the radius is linear; where it changes by more than kRadiusStep of
-    // itself, rings are added evenly so that every step is below that.
-    const std::size_t base = arcs.size();
-    for (std::size_t i = 0; i + 1 < base; ++i) {
-      const double r0 = sample_radius(pl, arcs[i]);
-      const double r1 = sample_radius(pl, arcs[i + 1]);
-      const double steps = std::ceil(std::abs(r1 - r0) / (kRadiusStep * std::max(r0, r1)) - 1e-9);
-      const int extra = static_cast<int>(std::min(steps, static_cast<double>(kMaxRingsPerSpan))) - 1;
-      for (int k = 1; k <= extra; ++k) arcs.push_back(arcs[i] + (arcs[i + 1] - arcs[i]) * k / (extra + 1));
-    }
-    if (arcs.size() > base) std::sort(arcs.begin(), arcs.end());
+    detail::adaptive_ring_arcs(pl, a, b, arcs);
   }
 
   // Along the segment, Catmull-Clark converges to the cubic B-spline of the ring sequence, whose

@@ -10,10 +10,12 @@
 //   BlueFern/DBiharMesher @ 9b7c903: data/721A_Centreline.vtk, data/227A_Centreline.vtk
 //   lkarstensen/stEVE_bench @ 1c7640e (MIT): the 25 curves of data/dualdevicenav/Centrelines_comb/
 //     (an aortic arch with its supra-aortic vessels) as one dualdevicenav_centrelines_comb.mrk.json,
-//     the files' "markups" lists concatenated in file-name order; its worst sample is +10.9 %
-//     (segment 13), so it is held to 11 %, not 5 %: not met; and its 21 numbered curves alone
-//     ("Centerline curve (N)", without the named LCCA, RCCA, LVA, RVA) as
-//     dualdevicenav_21_numbered_curves.mrk.json: 5 components, worst +5.7 %, held to 6 %: not met
+//     the files' "markups" lists concatenated in file-name order (worst -2.6 %, held to 3 %), and
+//     its 21 numbered curves alone ("Centerline curve (N)", without the named LCCA, RCCA, LVA, RVA)
+//     as dualdevicenav_21_numbered_curves.mrk.json (5 components; worst +2.7 %, held to 3 %). They
+//     read +10.9 % and +5.7 % while the probe counted a carotid siphon's other limb within its reach
+//     and a loop where the cut grazed a widening lumen's shoulder, and the mesher's rings jumped
+//     from 1 mm to 0.19 mm apart at a radius ramp (radius_real_defects_test.cpp in tests/sim/vessel).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -85,8 +87,8 @@ INSTANTIATE_TEST_SUITE_P(Public, RealFiles,
                                            RealFile{"test_vmtkcenterlines_test_carotidprofiles_centerlines.vtp", 0.05},
                                            RealFile{"721A_Centreline.vtk", 0.05}, RealFile{"227A_Centreline.vtk", 0.05},
                                            RealFile{"aorta-surface.stl", 0.05}, RealFile{"aorta-surface-open-ends.stl", 0.05},
-                                           RealFile{"dualdevicenav_centrelines_comb.mrk.json", 0.11},
-                                           RealFile{"dualdevicenav_21_numbered_curves.mrk.json", 0.06}),
+                                           RealFile{"dualdevicenav_centrelines_comb.mrk.json", 0.03},
+                                           RealFile{"dualdevicenav_21_numbered_curves.mrk.json", 0.03}),
                          [](const ::testing::TestParamInfo<RealFile>& p) {
                            std::string name = std::filesystem::path(p.param.name).filename().string();
                            name = name.substr(0, name.find('.'));
