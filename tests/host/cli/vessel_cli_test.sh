@@ -71,6 +71,24 @@ grep -q "closed, manifold" "$work/out" || fail "mesh with the thesis smoothing: 
 expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --smoothing gaussian
 expect 2 "$cathbox" vessel mesh "$src/cases/y_bifurcation.hclm" -o "$work/x.obj" --rings every-mm
 
+# scripts/sac-neck: the opening of a sac as meshed. The ACom sac has no branch at its base, so its
+# neck plane reads its nominal 2.2 mm neck (2.02-2.85 mm); the small MCA sac's plane takes in both
+# M2 origins (2.47-8.23 mm). A file without a sac, or a missing argument: exit 2.
+expect 0 "$cathbox" vessel mesh "$src/cases/library/aneurysm_acom.hclm" -o "$work/acom.obj"
+python3 "$src/scripts/sac-neck" "$src/cases/library/aneurysm_acom.hclm" "$work/acom.obj" 0 >"$work/neck" ||
+  fail "sac-neck on the ACom sac"
+awk '/^depth/ { if ($5 < 1.8 || $7 > 3.2) bad = 1; seen = 1 } END { exit !(seen && !bad) }' "$work/neck" ||
+  fail "sac-neck: the ACom neck is not near its 2.2 mm: $(cat "$work/neck")"
+expect 0 "$cathbox" vessel mesh "$src/cases/neuro_small_aneurysm.hclm" -o "$work/small.obj"
+python3 "$src/scripts/sac-neck" "$src/cases/neuro_small_aneurysm.hclm" "$work/small.obj" 0 >"$work/neck" ||
+  fail "sac-neck on the small sac"
+awk '/^depth/ { if ($7 > 6.0) wide = 1 } END { exit !wide }' "$work/neck" ||
+  fail "sac-neck: the small sac's neck plane should take in the M2 origins: $(cat "$work/neck")"
+python3 "$src/scripts/sac-neck" "$src/cases/y_bifurcation.hclm" "$work/acom.obj" >"$work/neck" 2>&1 &&
+  fail "sac-neck: a vessel without a sac was accepted"
+grep -q "no segment named" "$work/neck" || fail "sac-neck: no sac: $(cat "$work/neck")"
+python3 "$src/scripts/sac-neck" "$src/cases/y_bifurcation.hclm" >/dev/null 2>&1 && fail "sac-neck: one argument accepted"
+
 # Generate: bundled cases reproduce the shipped files; random models validate.
 expect 0 "$cathbox" vessel generate --all "$work/cases"
 for c in neuro neuro_aneurysm neuro_stenosis y_bifurcation; do
