@@ -293,6 +293,17 @@ class Rod {
   void limit_penetration();
   void finish_contacts();
   void add_second_contact(std::size_t k);
+  // The wall against edge k -> k + 1 (rod_edge_wall.cpp, gap inline in rod_node_contact.hpp):
+  // a plane where the wall bulges between the nodes (a carina's apex, a bend's inner side).
+  [[nodiscard]] inline double edge_wall_gap(std::size_t k) const;
+  bool refresh_edge_walls(const WallModel& wall, bool only_moved);
+  void add_edge_wall_term(std::size_t k, bool hessian);
+  void add_edge_wall_terms(bool hessian);
+  [[nodiscard]] double edge_wall_energy() const;
+  bool join_edge_walls();
+  void update_edge_wall_set(Newton& s);
+  void limit_edge_walls();
+  void add_edge_wall_contacts();
 
   // Contacts with other rods (rod_edge_contact.cpp).
   [[nodiscard]] inline double edge_gap(const EdgeContact& c) const;
