@@ -1,8 +1,10 @@
 // The wall against the rod's edges (RodSettings::edge_wall_contact). A node's contact holds the
 // node's ball out of the wall; a sharp convex wall (a carina's flow divider, a sac's neck) can
-// still pass between two nodes and through the edge joining them. Each free edge whose middle
-// is near the wall (its ball not inside the wall-free ball round either node's last probe) is
-// probed at its middle, whose closest wall the wall model gives exactly; where the wall there is
+// still pass between two nodes and through the edge joining them. Each free edge whose nodes'
+// wall normals turn against it enough for a bulge (a convex wall's bound, from the nodes' own
+// probes: no probe for an edge along a tube's side) and whose middle is near the wall (its ball
+// not inside the wall-free ball round either node's last probe) is probed at its middle, whose
+// closest wall the wall model gives exactly; where the wall there is
 // nearer than the nodes' mean distance by kBulge radii (it bulges between them), a one-sided
 // plane at that wall point holds the middle (s = 1/2), its penalty shared by the two nodes by the
 // barycentric weights 1 - s and s, in the nodes' active-set machinery (joins, leaving, the hard
@@ -30,72 +32,115 @@ constexpr double kEnd = 0.05;    // a wall point nearer an end than this (of the
 // Radii: a sharp feature's bulge; at 0.025 the shaft's edges in every bend took planes, which
 // moved a curved tip's converged slip (RodValidation.CurvedTip...) and tripled coiling's shares.
 constexpr double kBulge = 0.25;
+// Of kBulge: the least bound on the bulge (from the nodes' normals) for which the middle is
+// probed; below one, for normals up to a re-probe's move old and walls not quite convex.
+constexpr double kTurnShare = 0.5;
+
+// The penetration an edge's plane allows at its point s: the nodes' ratio of its radius there.
+double edge_allowed_mm(double ratio, double radius_a, double radius_b, double s) {
+  return ratio * (radius_a * (1.0 - s) + radius_b * s);
+}
 }  // namespace
 
+// A node's centre distance to the wall, at least (its own plane's, else its probed clearance
+// less its move since).
+double Rod::node_wall_distance(std::size_t j) const {
+  const NodeContact& nc = node_contacts_[j];
+  if (nc.has_plane) return radius_[j] - plane_gap(j);
+  return radius_[j] + std::max(0.0, nc.clearance - glm::length(x_[j] - nc.query_pos));
+}
+
+// The nodes' last probes bound the bulge before the middle is probed. Where the wall's solid is
+// convex (a ridge, a carina's apex) the distance d to it is a convex function whose gradient is
+// -n (n the wall normal, out of the lumen), so d(mid) >= d_j - n_j . (mid - x_j) at either node
+// and the middle is nearer than the nodes' mean by at most e . (n_k - n_k+1) / 4 (e the edge
+// from k): the normal must turn against the edge's direction across it. A wall along the edge (a
+// tube's side, a sac's inner face) turns it the other way or hardly at all, and its edges are not
+// probed. A node whose probe found no wall in range has no normal to tell. A node widened past
+// its section (an expanded stent filling its lumen) touches the wall all round, its closest
+// point anywhere on the ring: its edges are the nodes' alone.
+bool Rod::edge_may_bulge(std::size_t k) const {
+  const NodeContact& a = node_contacts_[k];
+  const NodeContact& b = node_contacts_[k + 1];
+  const double range = settings_.query_range_mm;
+  const double r = 0.5 * (radius_[k] + radius_[k + 1]);
+  const bool known = a.clearance >= 0.0 && a.clearance < range && b.clearance >= 0.0 && b.clearance < range;
+  if (known && 0.25 * glm::dot(x_[k + 1] - x_[k], a.normal - b.normal) < kTurnShare * kBulge * r) return false;
+  const auto widened = [&](std::size_t j) { return radius_[j] > 0.5 * section_at(j).outer_diameter_mm; };
+  return !widened(k) && !widened(k + 1);
+}
+
 bool Rod::refresh_edge_walls(const WallModel& wall, bool only_moved) {
-  const std::size_t n = x_.size();
-  bool active_changed = false;
+  edge_planes_ = 0;
   if (!settings_.edge_wall_contact) return false;
-  const double margin = settings_.contact_margin_mm;
-  // A node's centre distance to the wall, at least (its own plane's, else its probed clearance
-  // less its move since).
-  const auto node_distance = [&](std::size_t j) {
-    const NodeContact& nc = node_contacts_[j];
-    if (nc.has_plane) return radius_[j] - plane_gap(j);
-    return radius_[j] + std::max(0.0, nc.clearance - glm::length(x_[j] - nc.query_pos));
-  };
-  for (std::size_t k = first_free_; k + 1 < n; ++k) {
-    NodeContact::EdgeWall& ew = node_contacts_[k].edge;
-    const glm::dvec3 mid = 0.5 * (x_[k] + x_[k + 1]);
-    const double r = 0.5 * (radius_[k] + radius_[k + 1]);
-    const double moved = glm::length(mid - ew.query_mid);
-    if (ew.clearance >= 0.0) {
-      if (only_moved && moved < settings_.requery_move_mm) continue;
-      if (!ew.has_plane && moved < ew.clearance - margin) continue;
-    }
-    // The middle's ball widened by the margin inside the wall-free ball a node's last probe
-    // found (its radius plus clearance round where it was probed): no wall near the middle.
-    const auto inside_free_ball = [&](std::size_t j) {
-      const NodeContact& nc = node_contacts_[j];
-      return nc.clearance > 0.0 && glm::length(mid - nc.query_pos) + r + margin <= radius_[j] + nc.clearance;
-    };
-    if (inside_free_ball(k) || inside_free_ball(k + 1)) {
-      active_changed = active_changed || ew.active;
-      ew = NodeContact::EdgeWall{.hint = ew.hint};
-      continue;
-    }
-    WallProbe probe;
-    probe.center_mm = mid;
-    probe.radius_mm = r;
-    probe.range_mm = settings_.query_range_mm;
-    probe.margin_mm = margin;
-    probe.second_wall = false;
-    probe.depth_mm = insertion_mm_ - 0.5 * (from_tip_[k] + from_tip_[k + 1]);
-    WallContact wc;
-    ew.query_mid = mid;
-    active_changed = active_changed || ew.active;
-    bool plane = false;
-    if (wall.probe(probe, ew.hint, wc) && std::isfinite(wc.distance_mm)) {
-      ew.clearance = std::max(0.0, wc.distance_mm - r);
-      const glm::dvec3 e = x_[k + 1] - x_[k];
-      const double len2 = glm::dot(e, e);
-      const double s = len2 > 0.0 ? std::clamp(glm::dot(wc.point_mm - x_[k], e) / len2, 0.0, 1.0) : 0.5;
-      const double mean = 0.5 * (node_distance(k) + node_distance(k + 1));
-      const bool bulges = ew.has_plane || wc.distance_mm < mean - kBulge * r;  // kept while near
-      plane = wc.distance_mm - r < margin && s >= kEnd && s <= 1.0 - kEnd && bulges;
-      if (plane) {
-        ew.s = 0.5;  // the probed point
-        ew.point = wc.point_mm;
-        ew.normal = wc.normal;
-        ew.segment = wc.segment;
-      }
-    } else {
-      ew.clearance = settings_.query_range_mm;
-    }
-    ew.has_plane = plane;
-    if (!plane) ew.active = false;
+  bool active_changed = false;
+  for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
+    if (refresh_edge_wall(wall, k, only_moved)) active_changed = true;
+    if (node_contacts_[k].edge.has_plane) ++edge_planes_;
   }
   return active_changed;
+}
+
+// Edge k's plane, probed again where it may have changed; true when an active plane was let go
+// or probed again (the active set may change).
+bool Rod::refresh_edge_wall(const WallModel& wall, std::size_t k, bool only_moved) {
+  NodeContact::EdgeWall& ew = node_contacts_[k].edge;
+  if (!ew.has_plane && !edge_may_bulge(k)) {
+    if (ew.clearance >= 0.0) ew = NodeContact::EdgeWall{.hint = ew.hint};
+    return false;
+  }
+  const double margin = settings_.contact_margin_mm;
+  const glm::dvec3 mid = 0.5 * (x_[k] + x_[k + 1]);
+  const double r = 0.5 * (radius_[k] + radius_[k + 1]);
+  const double moved = glm::length(mid - ew.query_mid);
+  if (ew.clearance >= 0.0) {
+    if (only_moved && moved < settings_.requery_move_mm) return false;
+    if (!ew.has_plane && moved < ew.clearance - margin) return false;
+  }
+  // The middle's ball widened by the margin inside the wall-free ball a node's last probe
+  // found (its radius plus clearance round where it was probed): no wall near the middle.
+  const auto inside_free_ball = [&](std::size_t j) {
+    const NodeContact& nc = node_contacts_[j];
+    return nc.clearance > 0.0 && glm::length(mid - nc.query_pos) + r + margin <= radius_[j] + nc.clearance;
+  };
+  const bool was_active = ew.active;
+  if (inside_free_ball(k) || inside_free_ball(k + 1)) {
+    ew = NodeContact::EdgeWall{.hint = ew.hint};
+    return was_active;
+  }
+  WallProbe probe;
+  probe.center_mm = mid;
+  probe.radius_mm = r;
+  probe.range_mm = settings_.query_range_mm;
+  probe.margin_mm = margin;
+  probe.second_wall = false;
+  probe.depth_mm = insertion_mm_ - 0.5 * (from_tip_[k] + from_tip_[k + 1]);
+  WallContact wc;
+  ew.query_mid = mid;
+  bool plane = false;
+  if (wall.probe(probe, ew.hint, wc) && std::isfinite(wc.distance_mm)) {
+    ew.clearance = std::max(0.0, wc.distance_mm - r);
+    const glm::dvec3 e = x_[k + 1] - x_[k];
+    const double len2 = glm::dot(e, e);
+    const double s = len2 > 0.0 ? std::clamp(glm::dot(wc.point_mm - x_[k], e) / len2, 0.0, 1.0) : 0.5;
+    const double mean = 0.5 * (node_wall_distance(k) + node_wall_distance(k + 1));
+    const bool bulges = ew.has_plane || wc.distance_mm < mean - kBulge * r;  // kept while near
+    plane = wc.distance_mm - r < margin && s >= kEnd && s <= 1.0 - kEnd && bulges;
+    if (plane) {
+      ew.s = 0.5;  // the probed point
+      ew.point = wc.point_mm;
+      ew.normal = wc.normal;
+      ew.segment = wc.segment;
+    }
+  } else {
+    ew.clearance = settings_.query_range_mm;
+  }
+  ew.has_plane = plane;
+  if (!plane) {
+    ew.active = false;
+    ew.normal_force = 0.0;
+  }
+  return was_active;
 }
 
 // The penalty of edge k's active plane: energy, gradient and (Gauss-Newton) Hessian blocks.
@@ -119,12 +164,14 @@ void Rod::add_edge_wall_term(std::size_t k, bool hessian) {
 }
 
 void Rod::add_edge_wall_terms(bool hessian) {
+  if (edge_planes_ == 0) return;
   for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) add_edge_wall_term(k, hessian);
 }
 
 double Rod::edge_wall_energy() const {
-  const WallPenalty wall(settings_);
   double e = 0.0;
+  if (edge_planes_ == 0) return e;
+  const WallPenalty wall(settings_);
   for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
     const NodeContact::EdgeWall& ew = node_contacts_[k].edge;
     if (ew.has_plane && ew.active) e += wall.energy(edge_wall_gap(k));
@@ -136,6 +183,7 @@ double Rod::edge_wall_energy() const {
 // of joined_ at the edge's first node).
 bool Rod::join_edge_walls() {
   bool joined = false;
+  if (edge_planes_ == 0) return joined;
   for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
     NodeContact::EdgeWall& ew = node_contacts_[k].edge;
     if (!ew.has_plane || ew.active) continue;
@@ -153,11 +201,12 @@ bool Rod::join_edge_walls() {
 
 // As for the nodes: an edge its plane would have to pull leaves; one carried into it joins.
 void Rod::update_edge_wall_set(Newton& s) {
+  if (edge_planes_ == 0) return;
   for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
     NodeContact::EdgeWall& ew = node_contacts_[k].edge;
     if (!ew.has_plane) continue;
     const double phi = edge_wall_gap(k);
-    const double allowed = settings_.max_penetration_ratio * (radius_[k] * (1.0 - ew.s) + radius_[k + 1] * ew.s);
+    const double allowed = edge_allowed_mm(settings_.max_penetration_ratio, radius_[k], radius_[k + 1], ew.s);
     if (ew.active && phi < -1e-9) {
       ew.active = false;
       s.refactor = true;
@@ -174,11 +223,11 @@ void Rod::update_edge_wall_set(Newton& s) {
 // The hard limit after the solve: an edge past it is moved out along its normal by the least
 // move of its two nodes that does it (each by its weight).
 void Rod::limit_edge_walls() {
-  for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
+  for (std::size_t k = first_free_; edge_planes_ > 0 && k + 1 < x_.size(); ++k) {
     NodeContact::EdgeWall& ew = node_contacts_[k].edge;
     if (!ew.has_plane) continue;
     const double phi = edge_wall_gap(k);
-    const double allowed = settings_.max_penetration_ratio * (radius_[k] * (1.0 - ew.s) + radius_[k + 1] * ew.s);
+    const double allowed = edge_allowed_mm(settings_.max_penetration_ratio, radius_[k], radius_[k + 1], ew.s);
     if (phi > 0.0) ew.active = true;
     if (phi <= allowed) continue;
     const double wa = 1.0 - ew.s;
@@ -191,6 +240,7 @@ void Rod::limit_edge_walls() {
 
 // After the step: each pressed edge's contact, reported at its nearer node.
 void Rod::add_edge_wall_contacts() {
+  if (edge_planes_ == 0) return;  // an edge without a plane keeps no force (refresh_edge_walls)
   const WallPenalty wall(settings_);
   for (std::size_t k = first_free_; k + 1 < x_.size(); ++k) {
     NodeContact::EdgeWall& ew = node_contacts_[k].edge;

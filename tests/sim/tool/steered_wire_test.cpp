@@ -14,8 +14,8 @@
 // the node-only contact's artefact, not an equilibrium of the rod in the lumen: the right shape
 // keeps every part of the wire in the lumen (within the README's 10 % of its radius) and, the
 // wire being frictionless, advances its tip into the branch. It needs the wall against the
-// edges (RodSettings::edge_wall_contact, rod_edge_wall.cpp): with node contacts alone the edge
-// between the two held nodes passes through the apex.
+// edges (RodSettings::edge_wall_contact, rod_edge_wall.cpp; off by default): with node contacts
+// alone the edge between the two held nodes passes through the apex.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -297,6 +297,9 @@ class Rod {
   // a plane where the wall bulges between the nodes (a carina's apex, a bend's inner side).
   [[nodiscard]] inline double edge_wall_gap(std::size_t k) const;
   bool refresh_edge_walls(const WallModel& wall, bool only_moved);
+  bool refresh_edge_wall(const WallModel& wall, std::size_t k, bool only_moved);
+  [[nodiscard]] bool edge_may_bulge(std::size_t k) const;
+  [[nodiscard]] double node_wall_distance(std::size_t j) const;
   void add_edge_wall_term(std::size_t k, bool hessian);
   void add_edge_wall_terms(bool hessian);
   [[nodiscard]] double edge_wall_energy() const;
@@ -371,6 +374,7 @@ class Rod {
   std::size_t distal_first_ = std::numeric_limits<std::size_t>::max();  // set_distal_friction
   double distal_mu_ = 0.0;
   std::vector<NodeContact> node_contacts_;
+  std::size_t edge_planes_ = 0;  // edges holding a wall plane at the last refresh (rod_edge_wall.cpp)
   // Per edge (k: node k -> k+1).
   std::vector<double> rest_, theta_, theta_start_, ref_twist_;
   std::vector<glm::dvec3> t_, d1_, m1_, m2_;

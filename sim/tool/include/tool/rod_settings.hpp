@@ -27,7 +27,8 @@ struct RodSettings {
   double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
   // The wall against edges where it bulges between two nodes (a carina's apex): rod_edge_wall.cpp.
-  // Off by default: on, it moves a coil-sleep test and coiling's shares (sim/tool/README.md, "Limits").
+  // Off by default: on, a stent retriever in a faceted mesh tube needs 6.0 Newton iterations a
+  // step (1.6 off) and coiling's microwire share rises (sim/tool/README.md, "Limits").
   bool edge_wall_contact = false;
   double max_node_step_mm = 0.2;           // largest position update of one iteration
   // Numerical damping: the solver never damps a node less than this (blood's drag is ~1e-5);
