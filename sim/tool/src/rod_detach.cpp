@@ -68,6 +68,7 @@ void Rod::copy_distal(Rod& coil, std::size_t k0, double length_mm) const {
   coil.grip_anchor_.assign(n - k0, glm::dvec3(0.0));
   coil.grip_limit_.assign(n - k0, 0.0);
   coil.node_contacts_ = tail(node_contacts_, k0);
+  coil.edge_planes_ = edge_planes_;
   coil.rest_ = tail(rest_, k0);
   coil.theta_ = tail(theta_, k0);
   coil.theta_start_ = coil.theta_;

@@ -190,6 +190,7 @@ void Rod::assemble(bool hessian) {
   }
 
   add_edge_contact_terms(hessian);
+  add_edge_wall_terms(hessian);
   add_twist_stiffness(hessian);
 }
 
@@ -238,7 +239,7 @@ double Rod::energy() const {
     const double ks = wall_stick_mN_per_mm(k);
     e += ks * slip <= limit ? 0.5 * ks * slip * slip : limit * slip - 0.5 * limit * limit / ks;
   }
-  return e + twist_stiffness_energy();
+  return e + edge_wall_energy() + twist_stiffness_energy();
 }
 
 }  // namespace cathbox::tool

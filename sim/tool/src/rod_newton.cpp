@@ -85,6 +85,7 @@ void Rod::add_joined_wall_terms(Newton& s) {
       grad_[d + 2] += g.z;
       energy_ += wall.energy(phi);
     }
+    if (joined_[k] & 4) add_edge_wall_term(k, true);
     joined_[k] = 0;
   }
   s.rejoin = false;
@@ -125,6 +126,7 @@ bool Rod::join_wall(Newton& s, int it) {
       joined_[k] |= 2;
     }
   }
+  if (s.activations < 3 && join_edge_walls()) joined = true;
   if (!joined) return false;
   ++s.activations;
   if (it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;  // solve with them held
@@ -242,6 +244,7 @@ void Rod::update_active_set(Newton& s) {
     update(nc.active, plane_gap(k), allowed);
     if (nc.has_second) update(nc.active2, second_gap(k), allowed);
   }
+  update_edge_wall_set(s);
 }
 
 void Rod::follow_moves(Newton& s) {

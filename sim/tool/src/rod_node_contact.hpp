@@ -43,6 +43,22 @@ struct Rod::NodeContact {
   glm::dvec3 bend_dir2{0.0};
   double bend2_per_mm = 0.0;
   [[nodiscard]] bool curved() const { return bend_per_mm != 0.0 || bend2_per_mm != 0.0; }
+  // The wall against the edge from this node to the next (rod_edge_wall.cpp): a one-sided plane
+  // at the wall's closest point to the edge's middle, holding the edge's point s (its middle),
+  // taken only where the wall bulges between the nodes (nearer the middle than the nodes' mean),
+  // so a flat or concave wall stays the nodes' own.
+  struct EdgeWall {
+    bool has_plane = false;
+    bool active = false;
+    double s = 0.5;
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0.0};
+    glm::dvec3 query_mid{0.0};
+    double clearance = -1.0;  // the middle's surface clearance when last probed; < 0: probe again
+    double normal_force = 0.0;
+    std::int32_t segment = -1;
+    WallHint hint;
+  } edge;
 };
 
 inline double Rod::plane_gap(std::size_t k) const {
@@ -67,6 +83,13 @@ inline glm::dvec3 Rod::gap_normal(std::size_t k) const {
 inline double Rod::second_gap(std::size_t k) const {
   const NodeContact& nc = node_contacts_[k];
   return glm::dot(nc.normal2, x_[k] - nc.point2) + radius_[k];
+}
+
+// Penetration of edge k -> k + 1's point s (its radius there) into the edge's wall plane.
+inline double Rod::edge_wall_gap(std::size_t k) const {
+  const NodeContact::EdgeWall& ew = node_contacts_[k].edge;
+  const glm::dvec3 p = x_[k] * (1.0 - ew.s) + x_[k + 1] * ew.s;
+  return glm::dot(ew.normal, p - ew.point) + radius_[k] * (1.0 - ew.s) + radius_[k + 1] * ew.s;
 }
 
 inline double Rod::edge_gap(const EdgeContact& c) const {

@@ -80,6 +80,8 @@ void Rod::start_solve(Newton& s, double dt_s) {
     NodeContact& nc = node_contacts_[k];
     nc.active = nc.has_plane && (nc.normal_force > 0.0 || plane_gap(k) > 0.0);
     nc.active2 = nc.has_second && (nc.normal_force2 > 0.0 || second_gap(k) > 0.0);
+    NodeContact::EdgeWall& ew = nc.edge;
+    ew.active = ew.has_plane && k + 1 < n && (ew.normal_force > 0.0 || edge_wall_gap(k) > 0.0);
   }
   s.rounds = s.iterations;
   s.rejoin_from = n;

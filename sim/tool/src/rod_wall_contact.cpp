@@ -70,6 +70,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.active2 = false;
     }
   }
+  if (refresh_edge_walls(wall, only_moved)) active_changed = true;
   return active_changed;
 }
 
@@ -131,6 +132,7 @@ void Rod::limit_penetration() {
       if (phi2 > allowed) x_[k] -= nc.normal2 * (phi2 - allowed);
     }
   };
+  limit_edge_walls();
   for (std::size_t k = first_free_; k < n; ++k) {
     NodeContact& nc = node_contacts_[k];
     if (nc.has_plane) {
@@ -194,6 +196,7 @@ void Rod::finish_contacts() {
     out.segment = nc.segment;
     contacts_.push_back(out);
   }
+  add_edge_wall_contacts();
 }
 
 // The contact on the second plane of node k (a crease of a meshed wall): normal force only.

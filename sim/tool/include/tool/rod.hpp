@@ -293,6 +293,20 @@ class Rod {
   void limit_penetration();
   void finish_contacts();
   void add_second_contact(std::size_t k);
+  // The wall against edge k -> k + 1 (rod_edge_wall.cpp, gap inline in rod_node_contact.hpp):
+  // a plane where the wall bulges between the nodes (a carina's apex, a bend's inner side).
+  [[nodiscard]] inline double edge_wall_gap(std::size_t k) const;
+  bool refresh_edge_walls(const WallModel& wall, bool only_moved);
+  bool refresh_edge_wall(const WallModel& wall, std::size_t k, bool only_moved);
+  [[nodiscard]] bool edge_may_bulge(std::size_t k) const;
+  [[nodiscard]] double node_wall_distance(std::size_t j) const;
+  void add_edge_wall_term(std::size_t k, bool hessian);
+  void add_edge_wall_terms(bool hessian);
+  [[nodiscard]] double edge_wall_energy() const;
+  bool join_edge_walls();
+  void update_edge_wall_set(Newton& s);
+  void limit_edge_walls();
+  void add_edge_wall_contacts();
 
   // Contacts with other rods (rod_edge_contact.cpp).
   [[nodiscard]] inline double edge_gap(const EdgeContact& c) const;
@@ -360,6 +374,7 @@ class Rod {
   std::size_t distal_first_ = std::numeric_limits<std::size_t>::max();  // set_distal_friction
   double distal_mu_ = 0.0;
   std::vector<NodeContact> node_contacts_;
+  std::size_t edge_planes_ = 0;  // edges holding a wall plane at the last refresh (rod_edge_wall.cpp)
   // Per edge (k: node k -> k+1).
   std::vector<double> rest_, theta_, theta_start_, ref_twist_;
   std::vector<glm::dvec3> t_, d1_, m1_, m2_;

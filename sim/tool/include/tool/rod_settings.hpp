@@ -26,6 +26,10 @@ struct RodSettings {
   double contact_margin_mm = 0.15;         // nodes this close to the wall get a contact plane
   double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
+  // The wall against edges where it bulges between two nodes (a carina's apex): rod_edge_wall.cpp.
+  // Off by default: on, a stent retriever in a faceted mesh tube needs 6.0 Newton iterations a
+  // step (1.6 off) and coiling's microwire share rises (sim/tool/README.md, "Limits").
+  bool edge_wall_contact = false;
   double max_node_step_mm = 0.2;           // largest position update of one iteration
   // Numerical damping: the solver never damps a node less than this (blood's drag is ~1e-5);
   // the excess is taken back out of the force and torque the hand feels.
