@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 10;  // format version 10 (a record before released coils' warm start 0.5 and the smoother's change), CRC fixed up
+  bytes[8] = 11;  // format version 11 (a record before the mesher's ring spacing next to added rings), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v10 = RecordReader::from_bytes(bytes, "v10.cbxrec");
-  ASSERT_FALSE(v10);
-  EXPECT_EQ(v10.error().message, "v10.cbxrec: byte 8: record format version 10, this build reads version 11");
+  const auto v11 = RecordReader::from_bytes(bytes, "v11.cbxrec");
+  ASSERT_FALSE(v11);
+  EXPECT_EQ(v11.error().message, "v11.cbxrec: byte 8: record format version 11, this build reads version 12");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
