@@ -285,5 +285,46 @@ TEST(SurfaceImport, SelfCrossingPolygonsAreRefusedInOneLine) {
   }
 }
 
+// Issue 31's bad surfaces, each one line naming the file: a file that is no mesh, and a lumen in
+// two pieces (the generated Y and a closed tetrahedron 100 mm away) refused unless --largest,
+// which keeps the Y and gives its three branches.
+TEST(SurfaceImport, NoMeshAndTwoPiecesAreRefusedInOneLineAndLargestKeepsTheLumen) {
+  const std::string text = temp_path("notes.stl");
+  std::ofstream(text) << "these are notes, not a mesh\n";
+  std::vector<ImportError> errors;
+  const PolygonSoup none = read_polygon_soup_file(text, errors);
+  const SurfaceImport from_none = errors.empty() ? import_surface_soup(none, text, {}) : SurfaceImport{};
+  const std::vector<ImportError>& refused = errors.empty() ? from_none.errors : errors;
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_NE(refused.front().to_string().find("not a surface"), std::string::npos) << refused.front().to_string();
+  EXPECT_EQ(refused.front().to_string().find('\n'), std::string::npos);
+  fs::remove(text);
+
+  const vessel::VesselSurface y = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
+  ASSERT_TRUE(y.ok()) << y.error;
+  PolygonSoup soup;
+  for (const glm::vec3& q : y.mesh.positions_mm) soup.points.emplace_back(q);
+  for (std::size_t t = 0; t < y.mesh.triangle_count(); ++t) {
+    soup.polygons.push_back({y.mesh.triangles[3 * t], y.mesh.triangles[3 * t + 1], y.mesh.triangles[3 * t + 2]});
+  }
+  const std::size_t base = soup.points.size();
+  for (const glm::dvec3& q : {glm::dvec3{100, 0, 0}, glm::dvec3{102, 0, 0}, glm::dvec3{100, 2, 0}, glm::dvec3{100, 0, 2}}) soup.points.push_back(q);
+  for (const std::vector<std::size_t>& f : std::vector<std::vector<std::size_t>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    soup.polygons.push_back({base + f[0], base + f[1], base + f[2]});
+  }
+  const SurfaceImport two = import_surface_soup(soup, "two.stl", {});
+  ASSERT_EQ(two.errors.size(), 1u);
+  const std::string line = two.errors.front().to_string();
+  EXPECT_EQ(line.rfind("two.stl: ", 0), 0u) << line;
+  EXPECT_NE(line.find("2 disconnected pieces"), std::string::npos) << line;
+  EXPECT_NE(line.find("--largest"), std::string::npos) << line;
+  SurfaceOptions largest;
+  largest.keep_largest = true;
+  const SurfaceImport kept = import_surface_soup(soup, "two.stl", largest);
+  ASSERT_TRUE(kept.ok()) << kept.errors.front().to_string();
+  EXPECT_EQ(kept.lumen.triangle_count(), y.mesh.triangle_count());
+  EXPECT_EQ(kept.branches.size(), 3u);
+}
+
 }  // namespace
 }  // namespace cathbox::vessel_import
