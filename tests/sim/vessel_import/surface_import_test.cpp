@@ -33,6 +33,16 @@ std::string temp_path(const std::string& name) {
   return (fs::temp_directory_path() / ("cathbox_surface_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
+// The mesh's triangles as a polygon soup, as a reader would hand it over.
+PolygonSoup soup_of(const vessel::SurfaceMesh& mesh) {
+  PolygonSoup soup;
+  for (const glm::vec3& p : mesh.positions_mm) soup.points.emplace_back(p);
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    soup.polygons.push_back({mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]});
+  }
+  return soup;
+}
+
 // The mesh as VTK XML PolyData (ASCII), as the Vascular Model Repository and Aneurisk ship
 // their models: every other triangle as a 3-point triangle strip, the rest as polygons.
 std::string write_vtp(const vessel::SurfaceMesh& mesh, const std::string& path) {
@@ -229,11 +239,7 @@ TEST(SurfaceImport, VtpSurfaceCellsNamingMissingPointsAreRefusedInOneLine) {
 TEST(SurfaceImport, SkeletonDoesNotDependOnFileOrderOrHeap) {
   const vessel::VesselSurface surface = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
   ASSERT_TRUE(surface.ok()) << surface.error;
-  PolygonSoup as_written;
-  for (const glm::vec3& p : surface.mesh.positions_mm) as_written.points.emplace_back(p);
-  for (std::size_t t = 0; t < surface.mesh.triangle_count(); ++t) {
-    as_written.polygons.push_back({surface.mesh.triangles[3 * t], surface.mesh.triangles[3 * t + 1], surface.mesh.triangles[3 * t + 2]});
-  }
+  const PolygonSoup as_written = soup_of(surface.mesh);
   PolygonSoup reordered;
   const std::size_t n = as_written.points.size();
   std::vector<std::size_t> slot(n);  // vertex i of as_written is reordered's slot[i]
@@ -302,11 +308,7 @@ TEST(SurfaceImport, NoMeshAndTwoPiecesAreRefusedInOneLineAndLargestKeepsTheLumen
 
   const vessel::VesselSurface y = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
   ASSERT_TRUE(y.ok()) << y.error;
-  PolygonSoup soup;
-  for (const glm::vec3& q : y.mesh.positions_mm) soup.points.emplace_back(q);
-  for (std::size_t t = 0; t < y.mesh.triangle_count(); ++t) {
-    soup.polygons.push_back({y.mesh.triangles[3 * t], y.mesh.triangles[3 * t + 1], y.mesh.triangles[3 * t + 2]});
-  }
+  PolygonSoup soup = soup_of(y.mesh);
   const std::size_t base = soup.points.size();
   for (const glm::dvec3& q : {glm::dvec3{100, 0, 0}, glm::dvec3{102, 0, 0}, glm::dvec3{100, 2, 0}, glm::dvec3{100, 0, 2}}) soup.points.push_back(q);
   for (const std::vector<std::size_t>& f : std::vector<std::vector<std::size_t>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
