@@ -112,6 +112,7 @@ bool CaseParser::path_statement(const std::vector<std::string_view>& w) {
   if (!expect_args(w, 1)) return false;
   std::string& path = w[0] == "vessel" ? c_.vessel_path : c_.surface_path;
   if (!path.empty()) return error_here(std::string(w[0]) + " given twice");
+  if (w[0] == "surface") surface_line_ = lines_.line();
   std::filesystem::path p{std::string(w[1])};
   if (p.is_relative()) p = std::filesystem::path{std::string(file_)}.parent_path() / p;
   path = p.lexically_normal().string();
@@ -198,6 +199,14 @@ bool CaseParser::check_vessel() {
   if (!c_.vessel_path.empty() && !c_.tubes.empty()) return error_at(last, "give either 'vessel' or 'tube' lines, not both");
   if (!c_.surface_path.empty() && c_.vessel_path.empty()) {
     return error_at(last, "a 'surface' needs a 'vessel' (its centreline graph: route, targets, flow)");
+  }
+  // The angioplasty unit re-meshes the wall from the vessel's centrelines at every inflation: a
+  // given surface would be swapped for that mesh on the first one, so the two are not combined.
+  for (const ToolSpec& t : c_.tools) {
+    if (!c_.surface_path.empty() && t.balloon.present()) {
+      return error_at(surface_line_, "a 'surface' case cannot carry a balloon (tool '" + t.name +
+                                         "'): angioplasty re-meshes the wall from the 'vessel''s centrelines");
+    }
   }
   if (c_.wall && c_.wall->radius_mm == 0.0 && c_.vessel_path.empty()) {
     return error_at(last, "a 'wall' without a radius takes the 'vessel''s: give 'wall TERRITORY RADIUS_MM' with tubes");

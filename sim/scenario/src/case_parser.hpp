@@ -182,6 +182,7 @@ class CaseParser {
   std::vector<std::size_t> tool_lines_;  // each tool's `tool` line
   std::vector<std::string> flow_keys_;
   std::size_t stent_line_ = 0;  // the last stent_retriever statement
+  std::size_t surface_line_ = 0;  // the `surface` statement
 };
 
 }  // namespace cathbox::tool::detail

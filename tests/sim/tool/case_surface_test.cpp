@@ -115,6 +115,20 @@ TEST_F(CaseSurface, ASurfaceNeedsAVessel) {
   EXPECT_NE(tubes.error().message.find("x.case:4: a 'wall' without a radius takes the 'vessel''s"), std::string::npos);
 }
 
+// A balloon re-meshes the wall from the HCLM's centrelines at each inflation (session_setup's
+// angioplasty unit), which would drop the given surface: the case is refused at its surface line.
+TEST_F(CaseSurface, ASurfaceCaseCannotCarryABalloon) {
+  const std::string balloon =
+      "tool b catheter\n  section 1400 od=0.9 ei=60 gj=45\n  inner_diameter 0.45\n"
+      "  balloon length=20 from_tip=3 nominal=6 burst=14 chart=2:4.6,6:5.0,10:5.3,14:5.5\nend\n";
+  const CaseParse with = parse("surface lumen.cbxmesh\n" + balloon);
+  ASSERT_FALSE(with);
+  EXPECT_NE(with.error().message.find("y.case:3: a 'surface' case cannot carry a balloon (tool 'b')"), std::string::npos)
+      << with.error().message;
+  const CaseParse without = parse(balloon);  // the same balloon on the meshed wall
+  EXPECT_TRUE(without) << without.error().message;
+}
+
 // The case's surface takes the compliant wall (issue 29 on issue 31's surfaces): the contact's
 // stiffness at the graph's radius, and the surface itself, moved along its normals by each
 // segment's Laplace distension, is what the tools meet.

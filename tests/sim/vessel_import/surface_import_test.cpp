@@ -33,6 +33,16 @@ std::string temp_path(const std::string& name) {
   return (fs::temp_directory_path() / ("cathbox_surface_" + std::to_string(::getpid()) + "_" + name)).string();
 }
 
+// The mesh's triangles as a polygon soup, as a reader would hand it over.
+PolygonSoup soup_of(const vessel::SurfaceMesh& mesh) {
+  PolygonSoup soup;
+  for (const glm::vec3& p : mesh.positions_mm) soup.points.emplace_back(p);
+  for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
+    soup.polygons.push_back({mesh.triangles[3 * t], mesh.triangles[3 * t + 1], mesh.triangles[3 * t + 2]});
+  }
+  return soup;
+}
+
 // The mesh as VTK XML PolyData (ASCII), as the Vascular Model Repository and Aneurisk ship
 // their models: every other triangle as a 3-point triangle strip, the rest as polygons.
 std::string write_vtp(const vessel::SurfaceMesh& mesh, const std::string& path) {
@@ -229,11 +239,7 @@ TEST(SurfaceImport, VtpSurfaceCellsNamingMissingPointsAreRefusedInOneLine) {
 TEST(SurfaceImport, SkeletonDoesNotDependOnFileOrderOrHeap) {
   const vessel::VesselSurface surface = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
   ASSERT_TRUE(surface.ok()) << surface.error;
-  PolygonSoup as_written;
-  for (const glm::vec3& p : surface.mesh.positions_mm) as_written.points.emplace_back(p);
-  for (std::size_t t = 0; t < surface.mesh.triangle_count(); ++t) {
-    as_written.polygons.push_back({surface.mesh.triangles[3 * t], surface.mesh.triangles[3 * t + 1], surface.mesh.triangles[3 * t + 2]});
-  }
+  const PolygonSoup as_written = soup_of(surface.mesh);
   PolygonSoup reordered;
   const std::size_t n = as_written.points.size();
   std::vector<std::size_t> slot(n);  // vertex i of as_written is reordered's slot[i]
@@ -283,6 +289,43 @@ TEST(SurfaceImport, SelfCrossingPolygonsAreRefusedInOneLine) {
     EXPECT_EQ(line.find('\n'), std::string::npos) << line;
     EXPECT_EQ(line.rfind("hexagon.vtp: ", 0), 0u) << line;
   }
+}
+
+// Issue 31's bad surfaces, each one line naming the file: a file that is no mesh, and a lumen in
+// two pieces (the generated Y and a closed tetrahedron 100 mm away) refused unless --largest,
+// which keeps the Y and gives its three branches.
+TEST(SurfaceImport, NoMeshAndTwoPiecesAreRefusedInOneLineAndLargestKeepsTheLumen) {
+  const std::string text = temp_path("notes.stl");
+  std::ofstream(text) << "these are notes, not a mesh\n";
+  std::vector<ImportError> errors;
+  const PolygonSoup none = read_polygon_soup_file(text, errors);
+  const SurfaceImport from_none = errors.empty() ? import_surface_soup(none, text, {}) : SurfaceImport{};
+  const std::vector<ImportError>& refused = errors.empty() ? from_none.errors : errors;
+  ASSERT_EQ(refused.size(), 1u);
+  EXPECT_NE(refused.front().to_string().find("not a surface"), std::string::npos) << refused.front().to_string();
+  EXPECT_EQ(refused.front().to_string().find('\n'), std::string::npos);
+  fs::remove(text);
+
+  const vessel::VesselSurface y = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
+  ASSERT_TRUE(y.ok()) << y.error;
+  PolygonSoup soup = soup_of(y.mesh);
+  const std::size_t base = soup.points.size();
+  for (const glm::dvec3& q : {glm::dvec3{100, 0, 0}, glm::dvec3{102, 0, 0}, glm::dvec3{100, 2, 0}, glm::dvec3{100, 0, 2}}) soup.points.push_back(q);
+  for (const std::vector<std::size_t>& f : std::vector<std::vector<std::size_t>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    soup.polygons.push_back({base + f[0], base + f[1], base + f[2]});
+  }
+  const SurfaceImport two = import_surface_soup(soup, "two.stl", {});
+  ASSERT_EQ(two.errors.size(), 1u);
+  const std::string line = two.errors.front().to_string();
+  EXPECT_EQ(line.rfind("two.stl: ", 0), 0u) << line;
+  EXPECT_NE(line.find("2 disconnected pieces"), std::string::npos) << line;
+  EXPECT_NE(line.find("--largest"), std::string::npos) << line;
+  SurfaceOptions largest;
+  largest.keep_largest = true;
+  const SurfaceImport kept = import_surface_soup(soup, "two.stl", largest);
+  ASSERT_TRUE(kept.ok()) << kept.errors.front().to_string();
+  EXPECT_EQ(kept.lumen.triangle_count(), y.mesh.triangle_count());
+  EXPECT_EQ(kept.branches.size(), 3u);
 }
 
 }  // namespace
