@@ -30,6 +30,10 @@ using detail::split_self_loops;
 // Clean-up, orientation and HCLM segments (see the header).
 NetworkBuild finish(Graph& g, NetworkStats stats, const Orient& orient) {
   NetworkBuild out;
+  if (orient.sac_mm && !orient.inlet_mm) {
+    out.error = kSacNeedsInlet;
+    return out;
+  }
   merge_collapsed(g);
   prune_stubs(g, stats);
   contract_short_branches(g, stats);

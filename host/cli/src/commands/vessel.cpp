@@ -82,7 +82,7 @@ const cli::GroupSpec& spec() {
                         {.name = "units", .value = "mm|cm|m|um", .help = "the input's length unit"},
                         {.name = "radius-array", .value = "NAME", .help = "the point array holding the radius"},
                         {.name = "inlet", .value = "X,Y,Z", .help = "the free end nearest this point (input units) is the inlet; default: the widest"},
-                        {.name = "sac", .value = "X,Y,Z", .help = "the blind segment nearest this point (input units) is an aneurysm sac"},
+                        {.name = "sac", .value = "X,Y,Z", .help = "the blind segment nearest this point (input units) is an aneurysm sac; needs --inlet"},
                         {.name = "no-radius-filter", .help = "keep radii as read"}}},
            {.name = "generate",
             .positionals = "NAME",

@@ -86,6 +86,7 @@ int run_import(cli::Args& args, const cli::GroupSpec& group) {
   const auto inlet = args.numbers("inlet", 3);
   const auto sac = args.numbers("sac", 3);
   if (!args.ok()) return usage_error(args.error());
+  if (sac && !inlet) return usage_error(vessel_import::kSacNeedsInlet);
   if (inlet) options.inlet = glm::dvec3((*inlet)[0], (*inlet)[1], (*inlet)[2]);
   if (sac) options.sac = glm::dvec3((*sac)[0], (*sac)[1], (*sac)[2]);
   const std::string& path = args.positionals()[0];
