@@ -1,18 +1,16 @@
 #include "vessel_import/importer.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
 #include <limits>
 #include <sstream>
-#include <unordered_map>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
-#include <glm/gtc/type_precision.hpp>
 
+#include "lumen_regions.hpp"
 #include "vessel/control_mesh_builder.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/point_range.hpp"
@@ -24,16 +22,6 @@
 
 namespace cathbox::vessel_import {
 namespace {
-
-[[nodiscard]] std::string lower(std::string_view s) {
-  std::string out(s);
-  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return out;
-}
-
-[[nodiscard]] bool ends_with(std::string_view s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
-}
 
 // The network, the radius filter and the final check, shared by every format.
 // The first point outside the body's range (vessel/point_range.hpp), named by its polyline.
@@ -134,82 +122,6 @@ void finish(std::vector<Polyline> polylines, std::vector<Branch> branches, std::
   return metres ? 1000.0 : 1.0;
 }
 
-// The centreline points of a model in a grid of cells as wide as its widest radius, for the
-// nearest segment to a point (searched outward ring by ring).
-class CentrelineGrid {
- public:
-  explicit CentrelineGrid(const vessel::VesselModel& model) {
-    for (const vessel::Segment& s : model.segments) {
-      for (const vessel::CenterlinePoint& p : s.points) cell_ = std::max(cell_, p.radius_mm);
-    }
-    for (const vessel::Segment& s : model.segments) {
-      for (const vessel::CenterlinePoint& p : s.points) cells_[hash(key(p.pos_mm))].push_back({p.pos_mm, s.id});
-    }
-    fallback_ = model.segments.empty() ? 0 : model.segments.front().id;
-  }
-  [[nodiscard]] bool usable() const { return cell_ > 0.0; }
-
-  [[nodiscard]] std::int32_t nearest_segment(const glm::dvec3& c) const {
-    Best best{std::numeric_limits<double>::infinity(), fallback_};
-    const glm::i64vec3 home = key(c);
-    for (std::int64_t ring = 0; ring < 64; ++ring) {
-      visit_ring(home, ring, c, best);
-      if (best.distance <= static_cast<double>(ring) * cell_) break;  // no farther ring is nearer
-    }
-    return best.id;
-  }
-
- private:
-  struct Entry {
-    glm::dvec3 pos;
-    std::int32_t id;
-  };
-  struct Best {
-    double distance;
-    std::int32_t id;
-  };
-  [[nodiscard]] glm::i64vec3 key(const glm::dvec3& p) const {
-    return glm::i64vec3(std::floor(p.x / cell_), std::floor(p.y / cell_), std::floor(p.z / cell_));
-  }
-  [[nodiscard]] static std::size_t hash(const glm::i64vec3& k) {
-    return static_cast<std::size_t>((k.x * 73856093) ^ (k.y * 19349663) ^ (k.z * 83492791));
-  }
-  // The cells on the surface of the cube `ring` cells out from `home`.
-  void visit_ring(const glm::i64vec3& home, std::int64_t ring, const glm::dvec3& c, Best& best) const {
-    for (std::int64_t dx = -ring; dx <= ring; ++dx) {
-      for (std::int64_t dy = -ring; dy <= ring; ++dy) {
-        for (std::int64_t dz = -ring; dz <= ring; ++dz) {
-          if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) == ring) visit_cell(home + glm::i64vec3(dx, dy, dz), c, best);
-        }
-      }
-    }
-  }
-  void visit_cell(const glm::i64vec3& k, const glm::dvec3& c, Best& best) const {
-    const auto it = cells_.find(hash(k));
-    if (it == cells_.end()) return;
-    for (const Entry& e : it->second) {
-      const double d = glm::length(e.pos - c);
-      if (d < best.distance) best = {d, e.id};
-    }
-  }
-
-  double cell_ = 0.0;
-  std::int32_t fallback_ = 0;
-  std::unordered_map<std::size_t, std::vector<Entry>> cells_;
-};
-
-// Each lumen triangle takes the segment whose centreline point is nearest its centroid.
-void tag_lumen_regions(const vessel::VesselModel& model, vessel::SurfaceMesh& lumen) {
-  const CentrelineGrid grid(model);
-  if (!grid.usable()) return;
-  for (std::size_t t = 0; t < lumen.triangle_count(); ++t) {
-    const glm::dvec3 c = (glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t]]) +
-                          glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t + 1]]) +
-                          glm::dvec3(lumen.positions_mm[lumen.triangles[3 * t + 2]])) / 3.0;
-    lumen.triangle_regions[t] = {vessel::RegionKind::kSegment, grid.nearest_segment(c)};
-  }
-}
-
 // A surface's polygons (read from STL/OBJ/PLY/OFF or a VTK surface) into the result.
 [[nodiscard]] double cpu_seconds_since(std::clock_t start) {
   return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
@@ -249,86 +161,6 @@ ImportResult import_surface(PolygonSoup soup, const std::string& path, const Imp
 }
 
 }  // namespace
-
-std::optional<Format> format_from_name(std::string_view name) {
-  const std::string n = lower(name);
-  if (n == "vtk") return Format::kVtkLegacy;
-  if (n == "vtp") return Format::kVtkXml;
-  if (n == "slicer" || n == "mrk.json" || n == "json") return Format::kSlicerMarkups;
-  if (n == "swc") return Format::kSwc;
-  if (n == "surface" || n == "stl" || n == "obj" || n == "ply" || n == "off") return Format::kSurface;
-  return std::nullopt;
-}
-
-std::optional<Format> format_from_path(std::string_view path) {
-  const std::string p = lower(path);
-  if (ends_with(p, ".vtk")) return Format::kVtkLegacy;
-  if (ends_with(p, ".vtp")) return Format::kVtkXml;
-  if (ends_with(p, ".json")) return Format::kSlicerMarkups;
-  if (ends_with(p, ".swc")) return Format::kSwc;
-  for (const char* ext : {".stl", ".obj", ".ply", ".off"}) {
-    if (ends_with(p, ext)) return Format::kSurface;
-  }
-  return std::nullopt;
-}
-
-const char* format_name(Format format) {
-  switch (format) {
-    case Format::kVtkLegacy: return "VTK legacy polydata";
-    case Format::kVtkXml: return "VTK XML polydata";
-    case Format::kSlicerMarkups: return "Slicer markups";
-    case Format::kSwc: return "SWC";
-    case Format::kSurface: return "surface";
-  }
-  return "?";
-}
-
-std::optional<double> unit_to_mm(std::string_view unit) {
-  if (unit == "mm") return 1.0;
-  if (unit == "cm") return 10.0;
-  if (unit == "m") return 1000.0;
-  if (unit == "um") return 1e-3;
-  return std::nullopt;
-}
-
-std::string ImportResult::summary() const {
-  double r_min = std::numeric_limits<double>::infinity();
-  double r_max = 0.0;
-  for (const vessel::Segment& s : model.segments) {
-    for (const vessel::CenterlinePoint& p : s.points) {
-      r_min = std::min(r_min, p.radius_mm);
-      r_max = std::max(r_max, p.radius_mm);
-    }
-  }
-  char buf[512];
-  std::snprintf(buf, sizeof buf, "%s, %zu polylines: %zu segments, %zu junctions, %zu free ends, %zu cycles, %zu components, radius %.3g..%.3g mm",
-                format_name(format), polylines, model.segments.size(), network.junctions, network.free_ends,
-                network.cycles, network.components, r_min, r_max);
-  std::string out = buf;
-  if (network.overlapping > 0) {
-    out += "; " + std::to_string(network.overlapping) + " overlapping polylines split off a shared trunk (" +
-           std::to_string(network.shared_points) + " shared points dropped)";
-  }
-  if (network.duplicates > 0) out += "; " + std::to_string(network.duplicates) + " duplicate polylines dropped";
-  if (network.stubs > 0) {
-    char stubs[112];
-    std::snprintf(stubs, sizeof stubs, "; %zu free-ended stubs inside their junction's vessels pruned (up to %.3g mm)",
-                  network.stubs, network.longest_stub_mm);
-    out += stubs;
-  }
-  if (network.contracted > 0) out += "; " + std::to_string(network.contracted) + " short branches between junctions contracted";
-  if (network.joined > 0) out += "; " + std::to_string(network.joined) + " pass-through nodes joined";
-  if (network.ends_joined > 0) {
-    char gap[96];
-    std::snprintf(gap, sizeof gap, "; %zu curve ends joined to a nearby vessel across gaps up to %.3g mm",
-                  network.ends_joined, network.widest_join_gap_mm);
-    out += gap;
-  }
-  out += filtered ? "; radius filter " + filter.summary() : "; radius filter off";
-  if (std::string rounded = bends.summary(); !rounded.empty()) out += "; " + rounded;
-  for (const std::string& note : notes) out += "; " + note;
-  return out;
-}
 
 ImportResult import_centerlines_text(std::string_view text, std::string_view file, Format format,
                                      const ImportOptions& options) {

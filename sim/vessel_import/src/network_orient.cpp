@@ -62,7 +62,7 @@ void name_sac(NetworkBuild& out, const glm::dvec3& point_mm) {
     return;
   }
   if (sac.parents.empty()) {
-    out.error = "--sac: " + which + " starts at an inlet (with --inlet, name an inlet away from the sac)";
+    out.error = "--sac: " + which + " starts at an inlet (name an --inlet away from the sac)";
     return;
   }
   sac.name = kSacName;

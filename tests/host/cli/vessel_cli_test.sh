@@ -51,6 +51,11 @@ expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --inlet 1,2
 grep -q "^cathbox vessel: option --inlet: '1,2' is not 3 comma-separated finite numbers$" "$work/err" || fail "--inlet 1,2: $(cat "$work/err")"
 expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --sac 1,2,nan
 grep -q "^cathbox vessel: option --sac: " "$work/err" || fail "--sac 1,2,nan: $(cat "$work/err")"
+# --sac without --inlet: the sac's end (the widest) would be the inlet and a point at the case's
+# entry would name the entry's segment the sac; refused before reading IN.
+expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --sac=-19.67,-11.52,-13.17
+grep -q "^cathbox vessel: --sac: needs --inlet (" "$work/err" || fail "--sac without --inlet: $(cat "$work/err")"
+[ ! -e "$work/imp" ] || fail "--sac without --inlet wrote $work/imp"
 expect 2 "$cathbox" vessel import "$ply" -o "$work/imp" --inlet=-19.67,-11.52,-13.17 --sac 0,0,0
 [ "$(wc -l <"$work/err")" -eq 1 ] && grep -q "^$ply: --sac: the segment nearest the point (1, .*) is not blind" "$work/err" ||
   fail "--sac on the parent: $(cat "$work/err")"

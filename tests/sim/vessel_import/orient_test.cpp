@@ -110,5 +110,22 @@ TEST_F(Orient, ASacPointOnABranchingSegmentIsRefusedInOneLine) {
   EXPECT_NE(line.find("is not blind"), std::string::npos) << line;
 }
 
+// Without --inlet the root is the widest free end, here the sac's: the entry's segment then ends
+// blind and would pass as the sac (issue 31). A sac point is refused without the inlet; with it,
+// the entry's segment is the parent, which branches: the same point is refused as not blind.
+TEST_F(Orient, ASacWithoutAnInletIsRefusedInOneLine) {
+  ImportOptions options;
+  options.sac = glm::dvec3(1, 0.5, 0);  // on the entry's segment
+  const ImportResult r = import_centerlines(path_, options);
+  ASSERT_EQ(r.errors.size(), 1u);
+  EXPECT_EQ(r.errors.front().to_string(), path_ + ": " + kSacNeedsInlet);
+  options.inlet = glm::dvec3(-1, 0.5, 0);
+  const ImportResult named = import_centerlines(path_, options);
+  ASSERT_EQ(named.errors.size(), 1u);
+  const std::string line = named.errors.front().to_string();
+  EXPECT_NE(line.find(": --sac: the segment nearest the point (1, "), std::string::npos) << line;
+  EXPECT_NE(line.find("is not blind"), std::string::npos) << line;
+}
+
 }  // namespace
 }  // namespace cathbox::vessel_import

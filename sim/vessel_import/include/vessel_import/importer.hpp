@@ -37,7 +37,8 @@ struct ImportOptions {
   bool keep_largest = false;        // a surface in several pieces: keep the largest (else refused)
   // Orientation (network_builder.hpp, Orient), in the input's coordinates and unit (a Slicer
   // file: LPS, mm unless unit_mm): the free end nearest `inlet` is the inlet; the blind segment
-  // nearest `sac` is an aneurysm sac. Unset: the widest free end is the inlet, no sac is named.
+  // nearest `sac` is an aneurysm sac (refused without `inlet`: kSacNeedsInlet). Unset: the widest
+  // free end is the inlet, no sac is named.
   std::optional<glm::dvec3> inlet;
   std::optional<glm::dvec3> sac;
 };

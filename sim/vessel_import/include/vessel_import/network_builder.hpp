@@ -81,10 +81,16 @@ struct NetworkStats {
 };
 
 // Points (mm, the network's frame) naming the inlet and an aneurysm sac; unset: the default above.
+// A sac needs the inlet named too (kSacNeedsInlet).
 struct Orient {
   std::optional<glm::dvec3> inlet_mm;  // the free end nearest it is its piece's root
   std::optional<glm::dvec3> sac_mm;    // the segment nearest it must end blind: named kSacName
 };
+
+// The error for a sac without an inlet: the default root, the widest free end, is on an aneurysm
+// surface the sac's own end, which turns the entry into a blind outlet that passes as the sac.
+inline constexpr const char* kSacNeedsInlet =
+    "--sac: needs --inlet (without it the inlet is the widest free end, on an aneurysm surface the sac's own end)";
 
 inline constexpr const char* kSacName = "aneurysm";  // sim/flow's is_sac_name closes such a blind end
 
