@@ -291,6 +291,26 @@ TEST(SurfaceImport, SelfCrossingPolygonsAreRefusedInOneLine) {
   }
 }
 
+// Issue 31's "self-intersections beyond repair": the generated Y's closed, one-piece lumen with
+// one wall vertex pulled three times its distance through the mean of all vertices, so its
+// triangles reach across the lumen and through the opposite walls. No repair step moves
+// vertices, so the import refuses it with the message and where.
+TEST(SurfaceImport, WallPulledThroughTheLumenIsRefusedAsSelfIntersectingInOneLine) {
+  const vessel::VesselSurface y = vessel::build_vessel_surface(vessel::CaseGenerator::y_bifurcation());
+  ASSERT_TRUE(y.ok()) << y.error;
+  PolygonSoup soup = soup_of(y.mesh);
+  glm::dvec3 mean(0.0);
+  for (const glm::dvec3& p : soup.points) mean += p;
+  mean /= static_cast<double>(soup.points.size());
+  soup.points[0] += 3.0 * (mean - soup.points[0]);
+  const SurfaceImport imported = import_surface_soup(soup, "pulled.stl", {});
+  ASSERT_EQ(imported.errors.size(), 1u);
+  const std::string line = imported.errors.front().to_string();
+  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  EXPECT_EQ(line.rfind("pulled.stl: self-intersections beyond repair: ", 0), 0u) << line;
+  EXPECT_NE(line.find(" pairs of triangles cross, the first near ("), std::string::npos) << line;
+}
+
 // Issue 31's bad surfaces, each one line naming the file: a file that is no mesh, and a lumen in
 // two pieces (the generated Y and a closed tetrahedron 100 mm away) refused unless --largest,
 // which keeps the Y and gives its three branches.
