@@ -199,6 +199,16 @@ class SurfaceImporter {
 
   bool check_lumen() {
     if (!CGAL::is_closed(mesh_)) return refuse("no closed lumen: the surface still has borders after capping its open ends");
+    CGAL::Bbox_3 box;
+    for (VertexIndex v : mesh_.vertices()) box += mesh_.point(v).bbox();
+    out_.stats.extent_mm = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
+    // An open sheet (a disc, a cut-open wall) is closed by its cap onto itself: it encloses nothing.
+    const double volume = std::abs(PMP::volume(mesh_));
+    if (volume <= 1e-6 * std::pow(out_.stats.extent_mm, 3.0)) {
+      return refuse("no closed lumen: the surface and the caps of its " + std::to_string(out_.stats.open_ends.size()) +
+                    " open ends enclose " + mm(volume) + "3 in a " + mm(out_.stats.extent_mm) +
+                    " extent (an open sheet, not a vessel's wall)");
+    }
     if (PMP::does_self_intersect(mesh_)) {
       std::vector<std::pair<Mesh::Face_index, Mesh::Face_index>> pairs;
       PMP::self_intersections(mesh_, std::back_inserter(pairs));
@@ -207,9 +217,6 @@ class SurfaceImporter {
                     " pairs of triangles cross, the first near (" + mm(at.x) + ", " + mm(at.y) + ", " + mm(at.z) + ")");
     }
     if (!PMP::is_outward_oriented(mesh_)) PMP::reverse_face_orientations(mesh_);
-    CGAL::Bbox_3 box;
-    for (VertexIndex v : mesh_.vertices()) box += mesh_.point(v).bbox();
-    out_.stats.extent_mm = std::max({box.xmax() - box.xmin(), box.ymax() - box.ymin(), box.zmax() - box.zmin()});
     out_.stats.triangles = mesh_.number_of_faces();
     return true;
   }

@@ -311,6 +311,48 @@ TEST(SurfaceImport, WallPulledThroughTheLumenIsRefusedAsSelfIntersectingInOneLin
   EXPECT_NE(line.find(" pairs of triangles cross, the first near ("), std::string::npos) << line;
 }
 
+// Issue 31's "no closed lumen": an open sheet (a flat disc of 24 triangles, 10 mm across) has one
+// border; capping it closes the disc onto itself, enclosing nothing. Refused as no lumen, not as
+// the self-intersections its cap makes. A dome (a hemispherical shell) capped encloses a volume
+// and imports.
+TEST(SurfaceImport, AnOpenSheetIsRefusedAsNoClosedLumenInOneLine) {
+  PolygonSoup disc;
+  disc.points.emplace_back(0.0, 0.0, 0.0);
+  for (int k = 0; k < 24; ++k) {
+    const double a = 2.0 * std::acos(-1.0) * k / 24.0;
+    disc.points.emplace_back(5.0 * std::cos(a), 5.0 * std::sin(a), 0.0);
+    disc.polygons.push_back({0, static_cast<std::size_t>(1 + k), static_cast<std::size_t>(1 + (k + 1) % 24)});
+  }
+  const SurfaceImport imported = import_surface_soup(disc, "disc.stl", {});
+  ASSERT_EQ(imported.errors.size(), 1u);
+  const std::string line = imported.errors.front().to_string();
+  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  EXPECT_EQ(line.rfind("disc.stl: no closed lumen: the surface and the caps of its 1 open ends enclose ", 0), 0u) << line;
+  EXPECT_NE(line.find("(an open sheet, not a vessel's wall)"), std::string::npos) << line;
+
+  PolygonSoup dome;  // radius 5 mm: 12 rings of 24 points from the pole down to the equator
+  const double pi = std::acos(-1.0);
+  auto at = [](int i, int j) { return static_cast<std::size_t>(i == 0 ? 0 : 1 + (i - 1) * 24 + j % 24); };
+  dome.points.emplace_back(0.0, 0.0, 5.0);
+  for (int i = 1; i <= 12; ++i) {
+    for (int j = 0; j < 24; ++j) {
+      const double th = 0.5 * pi * i / 12.0, ph = 2.0 * pi * j / 24.0;
+      dome.points.emplace_back(5.0 * std::sin(th) * std::cos(ph), 5.0 * std::sin(th) * std::sin(ph), 5.0 * std::cos(th));
+    }
+  }
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < 24; ++j) {
+      if (i == 0) {
+        dome.polygons.push_back({at(0, 0), at(1, j), at(1, j + 1)});
+      } else {
+        dome.polygons.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)});
+      }
+    }
+  }
+  const SurfaceImport capped = import_surface_soup(dome, "dome.stl", {});
+  EXPECT_TRUE(capped.errors.empty()) << capped.errors.front().to_string();
+}
+
 // Issue 31's bad surfaces, each one line naming the file: a file that is no mesh, and a lumen in
 // two pieces (the generated Y and a closed tetrahedron 100 mm away) refused unless --largest,
 // which keeps the Y and gives its three branches.
