@@ -195,6 +195,15 @@ AxisCheck expect_round_trip(const vessel::VesselModel& truth, const std::string&
   return c;
 }
 
+// An import's refusal: exactly one error, on one line (empty, with a failure, otherwise).
+std::string refusal_line(const SurfaceImport& imported) {
+  EXPECT_EQ(imported.errors.size(), 1u);
+  if (imported.errors.size() != 1) return {};
+  std::string line = imported.errors.front().to_string();
+  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  return line;
+}
+
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughStl) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl");
 }
@@ -284,9 +293,7 @@ TEST(SurfaceImport, SelfCrossingPolygonsAreRefusedInOneLine) {
     soup.points = points;
     soup.polygons = {{2, 1, 3, 0, 4, 5}, {0, 2, 0}, {2, 5, 1}};
     const SurfaceImport imported = import_surface_soup(soup, "hexagon.vtp", {});
-    ASSERT_EQ(imported.errors.size(), 1u);
-    const std::string line = imported.errors.front().to_string();
-    EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+    const std::string line = refusal_line(imported);
     EXPECT_EQ(line.rfind("hexagon.vtp: ", 0), 0u) << line;
   }
 }
@@ -304,9 +311,7 @@ TEST(SurfaceImport, WallPulledThroughTheLumenIsRefusedAsSelfIntersectingInOneLin
   mean /= static_cast<double>(soup.points.size());
   soup.points[0] += 3.0 * (mean - soup.points[0]);
   const SurfaceImport imported = import_surface_soup(soup, "pulled.stl", {});
-  ASSERT_EQ(imported.errors.size(), 1u);
-  const std::string line = imported.errors.front().to_string();
-  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  const std::string line = refusal_line(imported);
   EXPECT_EQ(line.rfind("pulled.stl: self-intersections beyond repair: ", 0), 0u) << line;
   EXPECT_NE(line.find(" pairs of triangles cross, the first near ("), std::string::npos) << line;
 }
@@ -324,9 +329,7 @@ TEST(SurfaceImport, AnOpenSheetIsRefusedAsNoClosedLumenInOneLine) {
     disc.polygons.push_back({0, static_cast<std::size_t>(1 + k), static_cast<std::size_t>(1 + (k + 1) % 24)});
   }
   const SurfaceImport imported = import_surface_soup(disc, "disc.stl", {});
-  ASSERT_EQ(imported.errors.size(), 1u);
-  const std::string line = imported.errors.front().to_string();
-  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  const std::string line = refusal_line(imported);
   EXPECT_EQ(line.rfind("disc.stl: no closed lumen: the surface and the caps of its 1 open ends enclose ", 0), 0u) << line;
   EXPECT_NE(line.find("(an open sheet, not a vessel's wall)"), std::string::npos) << line;
 
@@ -377,8 +380,7 @@ TEST(SurfaceImport, NoMeshAndTwoPiecesAreRefusedInOneLineAndLargestKeepsTheLumen
     soup.polygons.push_back({base + f[0], base + f[1], base + f[2]});
   }
   const SurfaceImport two = import_surface_soup(soup, "two.stl", {});
-  ASSERT_EQ(two.errors.size(), 1u);
-  const std::string line = two.errors.front().to_string();
+  const std::string line = refusal_line(two);
   EXPECT_EQ(line.rfind("two.stl: ", 0), 0u) << line;
   EXPECT_NE(line.find("2 disconnected pieces"), std::string::npos) << line;
   EXPECT_NE(line.find("--largest"), std::string::npos) << line;
