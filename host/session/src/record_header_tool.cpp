@@ -145,7 +145,7 @@ std::vector<std::uint8_t> encode_tool(const tool::ToolSpec& spec) {
 }
 
 int decode_tool(std::span<const std::uint8_t> v, std::size_t at, RecordHeader& h, FieldError& err) {
-  if (h.tools.size() >= kMaxTools) return err.bad(at, "header: more than 4 tools");
+  if (h.tools.size() >= kMaxTools) return err.bad(at, "header: more than " + std::to_string(kMaxTools) + " tools");
   tool::ToolSpec spec;
   spec.sections.clear();
   Fields f(v, at);

@@ -298,9 +298,9 @@ std::string RecordReader::decode_entry(std::uint64_t kind, std::span<const std::
 
 std::string RecordReader::decode_tools(ByteReader& p) {
   const std::size_t tool_count = header_.tools.size();
-  std::uint8_t mask = 0;
-  if (!p.u8(mask)) return "empty tools entry";
-  for (std::size_t t = 0; t < kMaxTools; ++t) {
+  std::uint16_t mask = 0;
+  if (!p.u16(mask)) return "tools entry shorter than its 2-byte mask";
+  for (std::size_t t = 0; t < 4 * sizeof(mask); ++t) {  // every bit pair of the mask: a tool past the record's is refused
     for (std::size_t axis = 0; axis < 2; ++axis) {
       if ((mask & (1u << (2 * t + axis))) == 0) continue;
       if (t >= tool_count) return "tools entry moves tool " + std::to_string(t) + ", the record has " + std::to_string(tool_count);

@@ -180,17 +180,19 @@ void Recorder::control(const Control& c) {
   entry_end();
 }
 
+static_assert(2 * kMaxTools <= 16, "the tools entry's mask is a u16: two bits a tool");
+
 void Recorder::tools(const TickInput& in) {
   if (finished_) return;
-  std::uint8_t mask = 0;
+  std::uint16_t mask = 0;
   for (std::size_t t = 0; t < in.tool_count && t < kMaxTools; ++t) {
-    if (in.tools[t].insertion_um != last_tools_[t].insertion_um) mask |= static_cast<std::uint8_t>(1u << (2 * t));
-    if (in.tools[t].rotation_urad != last_tools_[t].rotation_urad) mask |= static_cast<std::uint8_t>(1u << (2 * t + 1));
+    if (in.tools[t].insertion_um != last_tools_[t].insertion_um) mask |= static_cast<std::uint16_t>(1u << (2 * t));
+    if (in.tools[t].rotation_urad != last_tools_[t].rotation_urad) mask |= static_cast<std::uint16_t>(1u << (2 * t + 1));
   }
   if (mask == 0) return;
   entry_begin(static_cast<std::uint16_t>(EntryKind::kTools));
   ByteWriter w(current_->data);
-  w.u8(mask);
+  w.u16(mask);
   for (std::size_t t = 0; t < in.tool_count && t < kMaxTools; ++t) {
     if (mask & (1u << (2 * t))) w.zigzag(in.tools[t].insertion_um - last_tools_[t].insertion_um);
     if (mask & (1u << (2 * t + 1))) w.zigzag(in.tools[t].rotation_urad - last_tools_[t].rotation_urad);

@@ -12,7 +12,7 @@ namespace cathbox::tool::detail {
 // `tool NAME KIND`: a new tool, whose lines follow up to its `end`.
 bool CaseParser::tool_header(const std::vector<std::string_view>& w) {
   if (!expect_args(w, 2)) return false;
-  if (c_.tools.size() >= kMaxTools) return error_here("too many tools (at most 4)");
+  if (c_.tools.size() >= kMaxTools) return error_here("too many tools (at most " + std::to_string(kMaxTools) + ")");
   for (const ToolSpec& t : c_.tools) {
     if (t.name == w[1]) return error_here("tool '" + std::string(w[1]) + "' defined twice");
   }

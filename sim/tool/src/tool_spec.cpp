@@ -161,7 +161,7 @@ bool nesting_cycle(std::span<const ToolSpec> tools, std::size_t i) {
 }
 
 std::string check_tools(std::span<const ToolSpec> tools) {
-  if (tools.empty() || tools.size() > ToolLimits::kMaxTools) return "a case has 1 to 4 tools";
+  if (tools.empty() || tools.size() > ToolLimits::kMaxTools) return "a case has 1 to " + std::to_string(ToolLimits::kMaxTools) + " tools";
   for (const ToolSpec& t : tools) {
     if (std::string e = check_tool(t); !e.empty()) return e;
   }

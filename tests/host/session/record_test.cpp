@@ -230,36 +230,34 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 11;  // format version 11 (a record before the mesher's ring spacing next to added rings), CRC fixed up
+  bytes[8] = 12;  // format version 12 (a record before 6 tools and the tools entry's u16 mask), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v11 = RecordReader::from_bytes(bytes, "v11.cbxrec");
-  ASSERT_FALSE(v11);
-  EXPECT_EQ(v11.error().message, "v11.cbxrec: byte 8: record format version 11, this build reads version 12");
+  const auto v12 = RecordReader::from_bytes(bytes, "v12.cbxrec");
+  ASSERT_FALSE(v12);
+  EXPECT_EQ(v12.error().message, "v12.cbxrec: byte 8: record format version 12, this build reads version 13");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
 }
 
-// A block written by hand: a newer writer's entry kind (99; 69, the devices range's first
-// unused number; or 38, the fluoroscopy range's first unused number) in tick 0.
-class UnknownKind : public ::testing::TestWithParam<int> {};
-
-TEST_P(UnknownKind, IsRefusedNotMisread) {
-  const int kind = GetParam();
-  // One file per parameter: CTest runs the instances side by side.
-  std::vector<std::uint8_t> bytes = read_bytes(write_sample("kind" + std::to_string(kind) + ".cbxrec", 5, false));
+// The sample's file header and header block, then a ticks block written by hand: tick 0 holds
+// one entry of `kind` with `payload`. The bytes and where the ticks block starts.
+std::pair<std::vector<std::uint8_t>, std::size_t> with_tick_entry(const std::string& name, std::uint64_t kind,
+                                                                  const std::vector<std::uint8_t>& payload) {
+  std::vector<std::uint8_t> bytes = read_bytes(write_sample(name, 5, false));
   // Cut the ticks block off, keep the file header and the header block.
   const auto probe = RecordReader::from_bytes(bytes, "k");
-  ASSERT_TRUE(probe) << probe.error().message;
+  EXPECT_TRUE(probe) << probe.error().message;
+  if (!probe) return {};
   bytes.resize((*probe)->bytes_read());
   std::vector<std::uint8_t> raw;
   record::ByteWriter w(raw);
   w.u64(0);
   w.u32(1);
-  w.varint(static_cast<std::uint64_t>(kind));
-  w.varint(2);
-  w.u16(0xBEEF);
+  w.varint(kind);
+  w.varint(payload.size());
+  w.bytes(payload);
   w.u8(0);  // end of tick
   std::vector<std::uint8_t> head;
   record::ByteWriter hw(head);
@@ -272,6 +270,17 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
   const std::size_t block_at = bytes.size();
   bytes.insert(bytes.end(), head.begin(), head.end());
   bytes.insert(bytes.end(), raw.begin(), raw.end());
+  return {bytes, block_at};
+}
+
+// A newer writer's entry kind (99; 69, the devices range's first unused number; or 38, the
+// fluoroscopy range's first unused number) in tick 0.
+class UnknownKind : public ::testing::TestWithParam<int> {};
+
+TEST_P(UnknownKind, IsRefusedNotMisread) {
+  const int kind = GetParam();
+  // One file per parameter: CTest runs the instances side by side.
+  const auto [bytes, block_at] = with_tick_entry("kind" + std::to_string(kind) + ".cbxrec", static_cast<std::uint64_t>(kind), {0xEF, 0xBE});
   auto opened = RecordReader::from_bytes(bytes, "new.cbxrec");
   ASSERT_TRUE(opened) << opened.error().message;
   auto& r = *opened;
@@ -280,6 +289,26 @@ TEST_P(UnknownKind, IsRefusedNotMisread) {
   EXPECT_EQ(r->error(), "new.cbxrec: byte " + std::to_string(block_at) +
                             ": tick 0, offset 12 of the block's data: unknown kind " + std::to_string(kind) +
                             " (a newer record? this build knows 1-4 and controls 16, 32-37, 64-68)");
+}
+
+// The tools entry's u16 mask: a bit of a tool the record does not have (the sample has 2; bit 4
+// is tool 2's insertion, bit 15 tool 7's rotation, past the 6 a case holds) is refused, and a
+// one-byte mask (version 12's) is short.
+TEST(Record, AToolsEntryMovingAToolTheRecordLacksIsRefused) {
+  struct Case {
+    std::vector<std::uint8_t> payload;
+    std::string what;
+  };
+  for (const Case& c : {Case{{0x10, 0x00, 0x02}, "tools entry moves tool 2, the record has 2"},
+                        Case{{0x00, 0x80, 0x02}, "tools entry moves tool 7, the record has 2"},
+                        Case{{0x01}, "tools entry shorter than its 2-byte mask"}}) {
+    const auto [bytes, block_at] = with_tick_entry("mask.cbxrec", 1, c.payload);
+    auto opened = RecordReader::from_bytes(bytes, "m.cbxrec");
+    ASSERT_TRUE(opened) << opened.error().message;
+    TickRecord t;
+    EXPECT_FALSE((*opened)->next(t));
+    EXPECT_EQ((*opened)->error(), "m.cbxrec: byte " + std::to_string(block_at) + ": tick 0, offset 12 of the block's data: " + c.what);
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Record, UnknownKind, ::testing::Values(99, 38, 69));

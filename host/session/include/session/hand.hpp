@@ -17,14 +17,16 @@
 
 #include "session/device_record.hpp"
 #include "tool/force_law.hpp"
+#include "tool/tool_spec.hpp"
 
 namespace cathbox::session {
 
 class ControlSink;
 struct Control;
 
-// A case has at most 4 tools (sim/tool/README.md).
-inline constexpr std::size_t kMaxTools = 4;
+// The tools a case has at most (tool::ToolLimits, sim/tool/README.md): 6, balloon-assisted
+// coiling's guide, balloon catheter and its wire, microcatheter, microwire and coil.
+inline constexpr std::size_t kMaxTools = tool::ToolLimits::kMaxTools;
 // Released coils a scene snapshot carries (drawn in the 3D view and the fluoroscopy); coils
 // released beyond these are simulated but not drawn.
 inline constexpr std::size_t kMaxReleasedCoils = 16;

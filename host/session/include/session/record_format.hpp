@@ -17,9 +17,9 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // Raised whenever the simulator's results for the same inputs change (the state hashes a record
 // carries would no longer replay): 2 since the rod's Newton solve line-searches every update and
 // stops on the full step, 3 since an inner tool's clamp pushes back on its carrier's tip and a
-// catheter's tip follows the wire from its own tip (issue 29). An older record is refused in one
-// line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 12;
+// catheter's tip follows the wire from its own tip (issue 29), 13 since a case holds 6 tools and
+// the tools entry's mask is a u16. An older record is refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 13;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
@@ -33,7 +33,7 @@ enum class Compression : std::uint8_t { kNone = 0, kZstd = 1 };
 // payload is the control's.
 enum class EntryKind : std::uint16_t {
   kEndOfTick = 0,  // no length, no payload: the tick is complete
-  kTools = 1,      // u8 changed mask (bit 2t: tool t's insertion, 2t+1: its rotation), then one
+  kTools = 1,      // u16 changed mask (bit 2t: tool t's insertion, 2t+1: its rotation), then one
                    // zigzag varint delta (µm or µrad) per set bit, in bit order
   kStateHash = 2,  // u64 XXH3-64 of the simulation state after this tick's step
   kBoxStatus = 3,  // u8 flags (bit 0 present, bit 1 link up), u16 faults

@@ -126,7 +126,7 @@ inline constexpr double kNominalLumenRadius_mm = 2.0;
 
 // The limits a tool must keep (the case file checks them statement by statement).
 struct ToolLimits {
-  static constexpr std::size_t kMaxTools = 4;
+  static constexpr std::size_t kMaxTools = 6;  // balloon-assisted coiling: guide, balloon catheter and its wire, microcatheter, microwire, coil
   static constexpr std::size_t kMaxSections = 64;
   static constexpr double kMaxLength_mm = 4000.0;
   static constexpr double kMaxNodes = 6000.0;
