@@ -231,6 +231,21 @@ class SessionTest(unittest.TestCase):
         x, y = int(48 + tip_mm[0] / px), int(48 - tip_mm[1] / px)
         self.assertTrue(dark[max(0, y - 2):y + 3, max(0, x - 2):x + 3].any())
 
+    def test_six_tools_take_six_speeds(self):
+        # Balloon-assisted coiling's six tools (tests/host/session/data/balloon_remodelling.case):
+        # speeds are (6, 2); every tool, the coil (index 5) included, moves by its own.
+        here = os.path.dirname(os.path.abspath(__file__))
+        s = cathbox.Session(os.path.join(here, "..", "session", "data", "balloon_remodelling.case"))
+        self.assertEqual(s.tool_count, 6)
+        with self.assertRaises(ValueError) as e:
+            s.set_speeds(np.zeros((4, 2)))
+        self.assertIn("expected (6, 2)", str(e.exception))
+        s.set_speeds(np.array([[10.0, 0.0], [9.0, 0.0], [8.0, 0.0], [7.0, 0.0], [6.0, 0.0], [5.0, 0.5]]))
+        self.assertEqual(s.step(100), 100)
+        for t, mm in enumerate([1.0, 0.9, 0.8, 0.7, 0.6, 0.5]):
+            self.assertAlmostEqual(s.insertion_mm(t), mm, places=9)
+        self.assertAlmostEqual(s.rotation_rad(5), 0.05, places=9)
+
 
 if __name__ == "__main__":
     unittest.main()
