@@ -57,6 +57,24 @@ inline std::string record_left_branch(const std::function<void(session::SessionC
   return path;
 }
 
+// The case at `case_path` driven by the action script at `actions`, recorded in virtual time to
+// `case_path`.cbxrec: the record's bytes (empty when the case or script does not load).
+inline std::string record_by_script(const std::string& case_path, const std::string& actions) {
+  auto scene = session::load_session_case(case_path);
+  EXPECT_TRUE(scene) << scene.error().message;
+  if (!scene) return {};
+  auto script = session::ActionScriptHand::load(actions, *scene.value());
+  EXPECT_TRUE(script) << (script ? "" : script.error().message);
+  if (!script) return {};
+  session::Session s(std::move(scene.value()), std::move(*script));
+  const std::string path = case_path + ".cbxrec";
+  const base::Status<> recording = s.record_to(path);
+  EXPECT_TRUE(recording) << recording.error().message;
+  while (!s.over()) s.step_virtual(1000);
+  EXPECT_TRUE(s.recorder()->close());
+  return read_all(path);
+}
+
 namespace detail {
 inline std::uint32_t u32_at(const std::string& b, std::size_t at) {
   std::uint32_t v = 0;

@@ -8,8 +8,6 @@
 #include <string>
 
 #include "record_files.hpp"
-#include "session/action_script_hand.hpp"
-#include "session/session.hpp"
 #include "support/api_fixture.hpp"
 
 namespace cathbox::server::test {
@@ -34,23 +32,6 @@ std::string write_case() {
   return (dir / "six.case").string();
 }
 
-std::string record_case(const std::string& case_path) {
-  auto scene = session::load_session_case(case_path);
-  EXPECT_TRUE(scene) << scene.error().message;
-  if (!scene) return {};
-  EXPECT_EQ(scene.value()->spec.tools.size(), 6u);
-  auto script = session::ActionScriptHand::load(kData + "balloon_remodelling.actions", *scene.value());
-  EXPECT_TRUE(script) << (script ? "" : script.error().message);
-  if (!script) return {};
-  session::Session s(std::move(scene.value()), std::move(*script));
-  const std::string path = case_path + ".cbxrec";
-  const base::Status<> recording = s.record_to(path);
-  EXPECT_TRUE(recording) << recording.error().message;
-  while (!s.over()) s.step_virtual(1000);
-  EXPECT_TRUE(s.recorder()->close());
-  return read_all(path);
-}
-
 class SixToolsRecordsTest : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SixToolsRecordsTest, ASixToolRecordIsReplayedAndStored) {
@@ -67,7 +48,7 @@ TEST_P(SixToolsRecordsTest, ASixToolRecordIsReplayedAndStored) {
   const ApiResponse up = f.call("POST", "/api/v1/cases", body.dump(), teacher);
   ASSERT_EQ(up.status, 201) << up.body;
   const json a = f.call_json("POST", "/api/v1/assignments", {{"trainee", "alice"}, {"case", "six"}}, teacher, 201);
-  const std::string record = record_case(case_path);
+  const std::string record = record_by_script(case_path, kData + "balloon_remodelling.actions");
   ASSERT_FALSE(record.empty());
   const ApiResponse stored = f.call("POST", "/api/v1/results?assignment=" + std::to_string(a["id"].get<int>()), record, alice);
   ASSERT_EQ(stored.status, 201) << stored.body;

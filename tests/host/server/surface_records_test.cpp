@@ -41,18 +41,9 @@ std::string write_surface_case(const std::string& folder, int subdivision_level)
 
 // The left branch by action script on that case, recorded in virtual time: the record's bytes.
 std::string record_surface_case(const std::string& case_path) {
-  auto scene = session::load_session_case(case_path);
-  EXPECT_TRUE(scene) << scene.error().message;
-  EXPECT_TRUE(scene.value()->surface_given());
-  auto script = session::ActionScriptHand::load(std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions", *scene.value());
-  EXPECT_TRUE(script) << (script ? "" : script.error().message);
-  session::Session s(std::move(scene.value()), std::move(*script));
-  const std::string path = case_path + ".cbxrec";
-  const base::Status<> recording = s.record_to(path);
-  EXPECT_TRUE(recording) << recording.error().message;
-  while (!s.over()) s.step_virtual(1000);
-  EXPECT_TRUE(s.recorder()->close());
-  return read_all(path);
+  const auto scene = session::load_session_case(case_path);
+  EXPECT_TRUE(scene && scene.value()->surface_given()) << (scene ? "no surface" : scene.error().message);
+  return record_by_script(case_path, std::string(CATHBOX_SOURCE_DIR) + "/cases/y_bifurcation_left.actions");
 }
 
 ApiResponse upload_surface_case(ApiFixture& f, const std::string& case_path, const std::string& token) {
