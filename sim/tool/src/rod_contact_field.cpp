@@ -35,10 +35,11 @@ glm::dvec3 any_perpendicular(const glm::dvec3& t) {
   return l > 1e-12 ? p / l : glm::dvec3(0, 0, 1);
 }
 
+// The same member but for its radius override.
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
   return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
-         a.self_only == b.self_only &&
-         a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm;
+         a.self_only == b.self_only && a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm &&
+         a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0);
 }
 
 }  // namespace
@@ -48,13 +49,19 @@ void RodContactField::set_members(std::span<const Member> members) {
   for (std::size_t i = 0; same && i < members.size(); ++i) {
     same = same_member(members[i], members_[i]) && members[i].rod->node_total() == node_totals_[i];
   }
-  if (same) return;
+  if (same) {
+    set_radii(members);
+    return;
+  }
   list_valid_ = false;
   members_.assign(members.begin(), members.end());
   node_totals_.clear();
   first_item_.clear();
-  double max_edge = 0.0;
+  listed_radius_.clear();
+  grown_mm_ = 0.0;
+  max_edge_mm_ = 0.0;
   max_radius_mm_ = 0.0;
+  max_override_mm_ = 0.0;
   items_.clear();
   balls_.clear();
   for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
@@ -62,8 +69,15 @@ void RodContactField::set_members(std::span<const Member> members) {
     const Rod& rod = *m.rod;
     node_totals_.push_back(rod.node_total());
     first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
+    listed_radius_.push_back(m.radius_mm);
+    max_override_mm_ = std::max(max_override_mm_, m.radius_mm);
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
-      max_edge = std::max(max_edge, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
+      max_edge_mm_ = std::max(max_edge_mm_, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
+      if (m.radius_mm > 0.0) {
+        items_.push_back(Item{mi, static_cast<std::uint32_t>(e), m.radius_mm});
+        balls_.push_back(Ball{glm::dvec3(0.0), edge_reach(rod, e) - edge_radius(rod, e) + m.radius_mm});
+        continue;
+      }
       max_radius_mm_ = std::max({max_radius_mm_, rod.node_radius_mm(e), rod.node_radius_mm(e + 1)});
       items_.push_back(Item{mi, static_cast<std::uint32_t>(e), edge_radius(rod, e)});
       balls_.push_back(Ball{glm::dvec3(0.0), edge_reach(rod, e)});
@@ -71,8 +85,7 @@ void RodContactField::set_members(std::span<const Member> members) {
   }
   first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
   const std::size_t items = items_.size();
-  // Edges that can be listed have midpoints within one cell of each other.
-  cell_mm_ = std::max(0.05, max_edge + 2.0 * max_radius_mm_ + margin_ + skin_);
+  update_cell();
   std::size_t buckets = 64;
   while (buckets < 2 * items) buckets *= 2;
   bucket_mask_ = buckets - 1;
@@ -86,8 +99,37 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
 }
 
+// Edges that can be listed have midpoints within one cell of each other: an override touches
+// the members' own edges only.
+void RodContactField::update_cell() {
+  cell_mm_ = std::max(0.05, max_edge_mm_ + max_radius_mm_ + std::max(max_radius_mm_, max_override_mm_) + margin_ + skin_);
+}
+
+// A member's radius override changed: its items take it at once. Growth since the list was
+// built brings pairs closer like motion: the list covers it (update_mids), a build lists all.
+void RodContactField::set_radii(std::span<const Member> members) {
+  bool changed = false;
+  for (std::size_t mi = 0; mi < members.size(); ++mi) {
+    const double r = members[mi].radius_mm;
+    if (r == members_[mi].radius_mm) continue;
+    changed = true;
+    members_[mi].radius_mm = r;
+    grown_mm_ = std::max(grown_mm_, r - listed_radius_[mi]);
+    const Rod& rod = *members_[mi].rod;
+    for (std::uint32_t i = first_item_[mi]; i < first_item_[mi + 1]; ++i) {
+      const std::size_t e = items_[i].edge;
+      items_[i].radius = r;
+      balls_[i].reach = edge_reach(rod, e) - edge_radius(rod, e) + r;
+    }
+  }
+  if (!changed) return;
+  max_override_mm_ = 0.0;
+  for (const Member& m : members_) max_override_mm_ = std::max(max_override_mm_, m.radius_mm);
+  update_cell();
+}
+
 bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
-  if (a.rod != b.rod) return a.self_only || b.self_only;
+  if (a.rod != b.rod) return a.self_only || b.self_only || (a.radius_mm > 0.0 && !b.coil) || (b.radius_mm > 0.0 && !a.coil);
   if (!a.self) return true;
   const double h = std::max(a.rod->node_from_tip_mm(ea) - a.rod->node_from_tip_mm(ea + 1),
                             a.rod->node_from_tip_mm(eb) - a.rod->node_from_tip_mm(eb + 1));
@@ -174,6 +216,8 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     EdgeContact c;
     c.edge = static_cast<std::uint32_t>(e);
     c.s = s;
+    // A balloon takes the coil's contact law: the two sides push alike.
+    if (me.radius_mm > 0.0) c.stiffness_mN_per_mm = other.rod->settings().contact_stiffness_mN_per_mm;
     c.normal = d > 1e-9 ? (p - q) / d : any_perpendicular(glm::normalize(a1 - a0));
     if (other.rod == &rod) {
       c.offset_mm = glm::dot(c.normal, 0.5 * (p + q)) + 0.5 * rr;  // each side takes half

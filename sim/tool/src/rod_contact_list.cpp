@@ -16,8 +16,10 @@ using rod_contact_detail::apart;
 bool RodContactField::update_mids() const {
   // An edge's middle that moved less than half the skin since the list was built keeps every
   // pair within the contact reach among the listed ones (two middles close by at most the skin).
-  const double limit_sq = 0.25 * skin_ * skin_;
-  bool covered = list_valid_;
+  // A radius override grown since the build (an inflating balloon) takes its share of the room.
+  const double room = 0.5 * skin_ - grown_mm_;
+  const double limit_sq = grown_mm_ > 0.0 ? room * room : 0.25 * skin_ * skin_;
+  bool covered = list_valid_ && room > 0.0;
   for (std::size_t i = 0; i < items_.size(); ++i) {
     Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
@@ -58,7 +60,10 @@ void RodContactField::build_grid(bool listed) const {
 // the members changed) are listed again where they are now; the ends' drifts are set afresh.
 bool RodContactField::relist_moved() const {
   const std::size_t n = items_.size();
-  const bool partial = list_valid_ && listed_mid_.size() == n;
+  // A grown radius override relists every item (its pairs' classification used the old reach).
+  const bool partial = list_valid_ && listed_mid_.size() == n && !(grown_mm_ > 0.0);
+  for (std::size_t mi = 0; mi < members_.size(); ++mi) listed_radius_[mi] = members_[mi].radius_mm;
+  grown_mm_ = 0.0;
   listed_mid_.resize(n);
   listed_end_.resize(2 * n);
   relisted_.assign(n, 1);

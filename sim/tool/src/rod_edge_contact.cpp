@@ -32,11 +32,12 @@ bool Rod::moved_since_gather(double limit_mm) const {
 
 // Other rods (and the rod's own far parts): one-sided penalty on the gathered planes.
 void Rod::add_edge_contact_terms(bool hessian) {
-  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kc_rod = settings_.contact_stiffness_mN_per_mm;
   const rod_detail::BlockAdder add{*matrix_, first_, hessian};
   for (const EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     if (phi <= 0.0) continue;
+    const double kc = ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : kc_rod;
     const std::size_t a = ec.edge;
     const double wa = 1.0 - ec.s;
     const double wb = ec.s;
@@ -53,7 +54,7 @@ void Rod::add_edge_contact_terms(bool hessian) {
 
 bool Rod::finish_edge_contacts() {
   // Held to within the penetration limit, like the wall; the force is the penalty's.
-  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kc_rod = settings_.contact_stiffness_mN_per_mm;
   bool pushed = false;
   for (EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
@@ -64,6 +65,7 @@ bool Rod::finish_edge_contacts() {
       if (ec.edge >= first_free_) x_[ec.edge] += push;
       if (ec.edge + 1 >= first_free_) x_[ec.edge + 1] += push;
     }
+    const double kc = ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : kc_rod;
     ec.force_mN = kc * std::max(0.0, std::min(phi, allowed));
   }
   slip_grips();

@@ -291,6 +291,7 @@ void Simulator::step(double dt_s) {
   update_stents();
   update_tip_grips();
   const bool released = !detached_.empty();
+  if (released && balloon_moved_) sleep_.wake_all();  // a balloon's diameter moved (coils may rest on it)
   if (released) sleep_.begin(rods_, detached_);
   for (const std::size_t t : order_) {
     prepare(t);

@@ -1,6 +1,6 @@
 // Which rods are solved against each other (RodContactField members): coils past their
-// detachment zone, released coils, the tips of the catheters coils leave, and a lone tool
-// against its own far parts.
+// detachment zone, released coils, the tips of the catheters coils leave, the working length of
+// an inflated balloon (against coils only), and a lone tool against its own far parts.
 #include "tool/simulator.hpp"
 
 #include <algorithm>
@@ -33,6 +33,7 @@ void Simulator::update_contact_members() {
     m.edge_first = first;
     m.edge_last = rod.node_total() - 1;
     m.self = true;
+    m.coil = true;
     const std::size_t c = carrier_[t];
     if (c < n) {
       m.hollow = &rods_[c];
@@ -64,6 +65,7 @@ void Simulator::update_contact_members() {
     m.edge_first = 0;
     m.edge_last = coil.node_total() - 1;
     m.self = true;
+    m.coil = true;
     members_.push_back(m);
   }
   for (std::size_t t = 0; t < n; ++t) {
@@ -80,7 +82,35 @@ void Simulator::update_contact_members() {
     m.edge_last = rod.node_total() - 1;
     if (m.edge_first < m.edge_last) members_.push_back(m);
   }
+  add_balloon_members();
   contacts_.set_members(members_);
+}
+
+// An inflated balloon (any pressure above none) against the coils: the edges whose middle lies
+// on its working length, as capsules of its present diameter (its compliance chart). Deflated it
+// is no member: the coils pass its shaft as they pass every catheter's but their own.
+void Simulator::add_balloon_members() {
+  if (std::none_of(members_.begin(), members_.end(), [](const RodContactField::Member& m) { return m.coil; })) return;
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    if (!balloons_[t] || !(balloons_[t]->pressure_atm() > 0.0)) continue;
+    const Rod& rod = rods_[t];
+    if (rod.first_free_node() >= rod.node_total()) continue;
+    const double lo = balloons_[t]->spec().from_tip_mm;
+    const double hi = lo + balloons_[t]->spec().length_mm;
+    const auto middle = [&](std::size_t e) { return 0.5 * (rod.node_from_tip_mm(e) + rod.node_from_tip_mm(e + 1)); };
+    RodContactField::Member m;
+    m.rod = &rod;
+    m.edge_first = rod.first_edge();
+    while (m.edge_first + 1 < rod.node_total() && middle(m.edge_first) > hi) ++m.edge_first;
+    m.edge_last = m.edge_first;
+    while (m.edge_last + 1 < rod.node_total() && middle(m.edge_last) >= lo) ++m.edge_last;
+    m.radius_mm = 0.5 * balloons_[t]->diameter_mm();
+    if (m.edge_first >= m.edge_last) continue;
+    // One member a rod: a lone balloon catheter's contact with its own far parts gives way
+    // while its balloon is inflated (gripping the wall, it does not fold onto itself).
+    std::erase_if(members_, [&](const RodContactField::Member& o) { return o.rod == &rod; });
+    members_.push_back(m);
+  }
 }
 
 }  // namespace cathbox::tool

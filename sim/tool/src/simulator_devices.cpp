@@ -124,10 +124,14 @@ void Simulator::balloon_axis(std::size_t tool, std::vector<glm::dvec3>& points_m
 
 // The per-step device updates: balloons, stents, the owner's tip grips.
 void Simulator::update_balloons(double dt_s) {
+  balloon_moved_ = false;
   for (std::size_t t = 0; t < rods_.size(); ++t) {
     if (!balloons_[t]) continue;
     Balloon& b = *balloons_[t];
+    const double before_atm = b.pressure_atm();
     b.step(dt_s);
+    // Its diameter moves under the coils it touches: sleeping coils are solved again.
+    balloon_moved_ = balloon_moved_ || b.pressure_atm() != before_atm;
     // An inflated balloon grips the wall: friction on its surface, pressed with the pressure.
     Rod& rod = rods_[t];
     const double lo = b.spec().from_tip_mm;

@@ -132,6 +132,52 @@ TEST(Angioplasty, AnOversizedInflationIsARuptureRisk) {
   EXPECT_NEAR(lumen.max_oversize_ratio(), 1.25, 0.05);
 }
 
+// A remodelling balloon (balloon-assisted coiling) in a healthy parent artery: sized to the
+// parent, the lumen keeps its radius (no new wall, no rupture risk); over-inflated, the lumen
+// takes the chart's diameter at that pressure and no more, and after deflation keeps the
+// model's (1 - recoil) of the gain (lumen_remodel.hpp: the gain is taken as plastic, as after
+// angioplasty of a lesion).
+TEST(Angioplasty, ARemodellingBalloonWidensAHealthyParentNoFurtherThanItsChart) {
+  vessel::VesselModel healthy;
+  healthy.segments.emplace_back();
+  for (int i = 0; i <= 40; ++i) healthy.segments[0].points.push_back({{0.0, 0.0, 1.0 * i}, 2.0});  // a 4 mm parent
+  BalloonSpec compliant;  // 4.0 mm at 2 atm, 5.0 mm at 4 atm
+  compliant.length_mm = 10.0;
+  compliant.pressure_atm = {1.0, 2.0, 4.0};
+  compliant.diameter_mm = {3.0, 4.0, 5.0};
+  compliant.nominal_atm = 2.0;
+  compliant.rated_burst_atm = 4.0;
+  const std::vector<glm::dvec3> axis = axis_along(healthy.segments[0], 15.0, 25.0);
+  const auto widest = [](const vessel::VesselModel& m) {
+    double r = 0.0;
+    for (const vessel::CenterlinePoint& p : m.segments[0].points) r = std::max(r, p.radius_mm);
+    return r;
+  };
+  const auto inflate = [&](LumenRemodel& lumen, double atm) {
+    Balloon balloon(compliant, 0.9);
+    balloon.set_target_pressure(atm);
+    bool changed = false;
+    for (int tick = 0; tick < 6000; ++tick) {
+      if (tick == 4000) balloon.deflate();
+      balloon.step(1e-3);
+      changed |= lumen.apply({axis, balloon.diameter_mm(), balloon.inflated()});
+      if (tick == 3999) {
+        EXPECT_NEAR(widest(lumen.model()), std::max(2.0, 0.5 * balloon.diameter_at(atm)), 1e-12);
+      }
+    }
+    return changed;
+  };
+  LumenRemodel sized(healthy);
+  EXPECT_FALSE(inflate(sized, 2.0)) << "a balloon of the parent's size asked for a new wall";
+  EXPECT_EQ(sized.model(), healthy);
+  EXPECT_EQ(sized.rupture_risk_events(), 0);
+  LumenRemodel over(healthy);
+  EXPECT_TRUE(inflate(over, 4.0));
+  EXPECT_EQ(over.rupture_risk_events(), 1);  // 5.0 / 4.0 = 1.25 > 1.1
+  const LumenRemodelParams params;
+  EXPECT_NEAR(widest(over.model()), 2.0 + (1.0 - params.recoil) * 0.5, 1e-12);
+}
+
 ToolSpec short_wire() {
   ToolSpec spec;
   spec.sections = {ToolSection{100.0, 0.36, 20.0, 15.0, 0.0}};

@@ -44,6 +44,7 @@ struct EdgeContact {
   glm::dvec3 normal{0.0};
   double offset_mm = 0.0;
   double force_mN = 0.0;  // after the step: the contact force along the normal
+  double stiffness_mN_per_mm = 0.0;  // > 0: this contact's penalty stiffness, not the rod's own
 };
 
 // Rods (and the rod itself, away from its neighbours along it) a rod must not pass through.

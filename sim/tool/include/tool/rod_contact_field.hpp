@@ -1,6 +1,7 @@
 #pragma once
 // Contacts between rods, and between the far parts of one rod: the loops of a coil against
-// each other, against earlier coils and against the microcatheter's tip. Edges are capsules
+// each other, against earlier coils, against the microcatheter's tip and against an inflated
+// balloon (a member whose edges take its radius, touching coils only). Edges are capsules
 // (the segment between two nodes swept by the node radius); two edges closer than the sum of
 // their radii plus a margin give each side a contact plane (RodObstacles). Another rod is
 // frozen while one is solved, so its side of the gap is the plane; two parts of the same rod
@@ -36,12 +37,17 @@ class RodContactField final : public RodObstacles {
     // are still in its lumen (the coil leaving the microcatheter's tip).
     double hollow_depth_mm = 0.0;
     const Rod* hollow = nullptr;
+    bool coil = false;            // a coil (attached past its detachment zone, or released)
+    // > 0: every edge of this member is a capsule of this radius, touching coil members only,
+    // their contact law (their contact stiffness) on both sides: an inflated balloon's working
+    // length. A change of this alone keeps the candidate list (growth counts as motion).
+    double radius_mm = 0.0;
   };
 
   explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), skin_(skin_mm) {}
 
   // The rods taking part in this step (positions are read at each gather). Members equal to
-  // the present ones keep the candidate list.
+  // the present ones (but for radius_mm) keep the candidate list.
   void set_members(std::span<const Member> members);
   [[nodiscard]] std::span<const Member> members() const { return members_; }
 
@@ -76,6 +82,8 @@ class RodContactField final : public RodObstacles {
   };
   // Sets the present middles of every item; false when the candidate list does not cover them.
   [[nodiscard]] bool update_mids() const;
+  void set_radii(std::span<const Member> members);  // the radius overrides of the present members
+  void update_cell();
   void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
   [[nodiscard]] bool relist_moved() const;  // false: every item relisted (a full build)
   void build_list() const;
@@ -94,7 +102,13 @@ class RodContactField final : public RodObstacles {
   std::vector<std::uint32_t> first_item_;  // per member: index of its first item
   std::vector<std::size_t> node_totals_;   // per member: the rod's node count when set
   double cell_mm_ = 1.0;
-  double max_radius_mm_ = 0.0;
+  double max_edge_mm_ = 0.0;
+  double max_radius_mm_ = 0.0;       // of the members' own edges
+  double max_override_mm_ = 0.0;     // of the radius overrides
+  // Per member: the radius override the list was built with; the most any override has grown
+  // since (the list covers the middles' motion plus this).
+  mutable std::vector<double> listed_radius_;
+  mutable double grown_mm_ = 0.0;
   // Items in member order, edges rising; their middles are updated at every gather.
   mutable std::vector<Item> items_;
   mutable std::vector<Ball> balls_;  // per item

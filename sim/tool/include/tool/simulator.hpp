@@ -12,8 +12,8 @@
 // tool's path. The friction of each tool in the lumens around it is felt at its hand and drags
 // the catheters (SheathFriction). Coils leave their microcatheter taking their secondary shape,
 // touch themselves, earlier coils and the microcatheter's tip (RodContactField), and are
-// released by detach(). Balloons inflate along a compliance curve (Balloon) and grip the wall
-// while inflated.
+// released by detach(). Balloons inflate along a compliance curve (Balloon), grip the wall
+// while inflated, and hold the coils off with their working length (RodContactField).
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -171,6 +171,7 @@ class Simulator {
   void update_chain();
   void prepare(std::size_t tool);
   void update_contact_members();
+  void add_balloon_members();
   [[nodiscard]] bool lone(std::size_t t) const;  // no catheter around it, none inside it, not a coil
   void update_sheath(std::size_t tool, double dt_s);
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
@@ -207,6 +208,7 @@ class Simulator {
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
+  bool balloon_moved_ = false;         // some balloon's pressure changed in this step
   std::vector<std::optional<StentRetriever>> stents_;
   std::vector<double> tip_grip_;       // per tool, mN (set_tip_grip)
   std::vector<Rod> detached_;
