@@ -203,11 +203,9 @@ void Rod::place_outside(std::size_t k) {
 }
 
 void Rod::update_window() {
-  const std::size_t n = x_.size();
-  // Last node not past the entry (depth <= 0); max_insertion keeps it >= 1.
-  std::size_t kp = station_at(from_tip_, insertion_mm_);
-  if (from_tip_[kp + 1 < n ? kp + 1 : kp] >= insertion_mm_) kp = kp + 1 < n ? kp + 1 : kp;
-  if (kp < 1) kp = 1;
+  // Last node not past the entry (depth <= 0; held within rounding while the insertion holds
+  // still since the last step); max_insertion keeps it >= 1.
+  const std::size_t kp = rod_detail::last_outside(from_tip_, insertion_mm_, stepped_insertion_mm_);
   first_ = kp - 1;
   first_free_ = kp + 1;
   for (std::size_t k = first_; k < first_free_; ++k) place_outside(k);

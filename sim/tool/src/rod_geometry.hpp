@@ -66,4 +66,22 @@ inline std::size_t station_near(const std::vector<double>& from_tip, double d, s
   return k;
 }
 
+// Rounding of an insertion. Two hands' positions subtracted (an inner tool's protrusion past its
+// carrier's tip) are exact only to rounding: a microwire kept 7 mm ahead of its microcatheter,
+// both advanced at 10 mm/s, read 7 +- 1.4e-14 mm, and its node 7 mm from the tip went out of the
+// clamp and back on 421 ticks in 2.7 s, each release a step that could not converge
+// (convergence.md, "A node on the entry").
+inline constexpr double kEntrySlack_mm = 1e-6;
+
+// The last node not past the entry (its depth, insertion - from_tip, <= 0); at least 1, so the
+// clamp's two nodes exist. While the insertion holds still (within kEntrySlack_mm of the last
+// step's), a node within kEntrySlack_mm of the entry is not past it: held on the entry line, not
+// let out and taken back on rounding. A moving insertion crosses a node once, as it always did.
+inline std::size_t last_outside(const std::vector<double>& from_tip, double insertion_mm, double last_insertion_mm) {
+  const double d = std::abs(insertion_mm - last_insertion_mm) <= kEntrySlack_mm ? insertion_mm - kEntrySlack_mm : insertion_mm;
+  std::size_t kp = station_at(from_tip, d);
+  if (kp + 1 < from_tip.size() && from_tip[kp + 1] >= d) ++kp;
+  return std::max<std::size_t>(kp, 1);
+}
+
 }  // namespace cathbox::tool::rod_detail

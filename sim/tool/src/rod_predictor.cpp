@@ -14,7 +14,6 @@
 namespace cathbox::tool {
 
 using rod_detail::perpendicular_unit;
-using rod_detail::station_at;
 
 namespace {
 
@@ -46,11 +45,7 @@ void Rod::advect(double delta_mm) {
   const std::size_t n = x_.size();
   if (delta_mm == 0.0) return;
   const double old_insertion = insertion_mm_ - delta_mm;
-  const std::size_t new_kp = [&] {
-    std::size_t kp = station_at(from_tip_, insertion_mm_);
-    if (kp + 1 < n && from_tip_[kp + 1] >= insertion_mm_) ++kp;
-    return std::max<std::size_t>(kp, 1);
-  }();
+  const std::size_t new_kp = rod_detail::last_outside(from_tip_, insertion_mm_, stepped_insertion_mm_);
   std::size_t j = first_;  // segment [j, j+1] of the old curve holding the target station
   for (std::size_t k = new_kp + 1; k < n; ++k) {
     const double s = from_tip_[k] - delta_mm;  // station (old curve) the node moves to

@@ -48,8 +48,8 @@ void Rod::begin_step() {
         std::isfinite(material_advance_mm_) ? material_advance_mm_ : insertion_mm_ - stepped_insertion_mm_;
     material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
     advect(advance);
+    update_window();  // (before the step's insertion is kept: the window holds still with it)
     stepped_insertion_mm_ = insertion_mm_;
-    update_window();
   }
   for (std::size_t k = first_; k < old_first; ++k) x_start_[k] = x_[k];
   for (std::size_t k = first_; k + 1 < n; ++k) theta_start_[k] = theta_[k];
