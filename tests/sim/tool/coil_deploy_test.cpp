@@ -18,21 +18,7 @@
 namespace cathbox::tool {
 namespace {
 
-using testing::drive;
-using testing::expect_packed_apart;
-using testing::kCentre;
-using testing::kCoil;
-using testing::kCoilLength;
-using testing::kCoilOd;
-using testing::kEntry;
-using testing::kLoopD;
-using testing::kMicro;
-using testing::kNeckZ;
-using testing::kSphereR;
-using testing::place_microcatheter;
-using testing::push_watching_overlap;
-using testing::sphere_on_a_tube;
-using testing::WorstOverlap;
+using namespace testing;  // coil_test_support.hpp: the sphere, the tools, drive and the packing checks
 
 // A 150 mm coil (5 mm helical loops, the bench's) pushed whole out of the microcatheter into the
 // 6.4 mm sphere at 20 mm/s, every step checked in virtual time (7,400 steps).

@@ -21,18 +21,7 @@
 namespace cathbox::tool {
 namespace {
 
-using testing::drive;
-using testing::kCentre;
-using testing::kCoil;
-using testing::kCoilLength;
-using testing::kCoilOd;
-using testing::kEntry;
-using testing::kLoopD;
-using testing::kNeckZ;
-using testing::kSphereR;
-using testing::micro_and_coil;
-using testing::place_microcatheter;
-using testing::sphere_on_a_tube;
+using namespace testing;  // coil_test_support.hpp: the sphere, the tools, drive and the packing checks
 
 // Mean diameter of the circle through nodes k - m, k, k + m along a coil.
 double mean_loop_diameter(std::span<const glm::dvec3> x, std::size_t first, std::size_t last, std::size_t m) {

@@ -25,13 +25,7 @@
 namespace cathbox::tool {
 namespace {
 
-using testing::drive;
-using testing::expect_in_the_sac;
-using testing::expect_packed_apart;
-using testing::kCoil;
-using testing::kCoilOd;
-using testing::push_watching_overlap;
-using testing::WorstOverlap;
+using namespace testing;  // coil_test_support.hpp: the sphere, the tools, drive and the packing checks
 
 // The triaxial stack of the bundled coiling case, driven by its action file as `cathbox sim
 // run` drives it: from the guide in the right ICA the microcatheter reaches the neck of the
