@@ -1,5 +1,6 @@
-// The Cortex-M4 side of the emulated STM32F411: Unicorn, memory map, NVIC, SysTick, SCB,
-// exception entry and return, instruction counting. The peripherals are in
+// The Cortex-M4 side of the emulated STM32F411: Unicorn, the memory map, reset, instruction
+// counting, the run loop and flash. Exception entry and return are in
+// stm32_exceptions.cpp, the register accesses in stm32_register_access.cpp, the peripherals in
 // stm32_peripherals.cpp.
 #include "emu/stm32_machine.hpp"
 
@@ -9,16 +10,17 @@
 #include <cstdio>
 #include <cstring>
 
+#include "stm32_core.hpp"
 #include "stm32_peripherals.hpp"
 
 namespace cathbox::emu {
+
+using stm32_core::kTrampoline;
+using stm32_core::kXpsrThumb;
+
 namespace {
 
-constexpr uint32_t kTrampoline = Stm32Machine::kSysmemBase + 0x200u;  // exception return (EXC_RETURN stand-in)
 constexpr uint32_t kSysmemSize = 0x8000u;
-constexpr uint32_t kSysTickException = 15u;
-constexpr uint32_t kIrqCount = 86u;
-constexpr uint32_t kXpsrThumb = 1u << 24;
 constexpr uint64_t kSliceCycles = 960;  // 10 us: the longest the CPU runs before interrupts are looked at
 
 uint64_t periph_read_cb(uc_engine*, uint64_t offset, unsigned size, void* user) {
@@ -246,136 +248,6 @@ void Stm32Machine::on_bootloader_entry() {
   uc_emu_stop(uc_);
 }
 
-int Stm32Machine::exception_priority(uint32_t exception) const {
-  if (exception == kSysTickException) return static_cast<int>(shpr3_ >> 24);
-  return nvic_priority_[exception - 16u];
-}
-
-int Stm32Machine::pending_exception(int& priority) const {
-  int best = -1;
-  priority = 256;
-  auto consider = [&](uint32_t exception) {
-    const int p = exception_priority(exception);
-    if (p < priority) {
-      priority = p;
-      best = static_cast<int>(exception);
-    }
-  };
-  if (systick_pending_) consider(kSysTickException);
-  for (uint32_t irq = 0; irq < kIrqCount; ++irq) {
-    const uint32_t bit = 1u << (irq % 32u);
-    if ((nvic_pending_[irq / 32u] & bit) && (nvic_enabled_[irq / 32u] & bit)) consider(16u + irq);
-  }
-  return best;
-}
-
-void Stm32Machine::take_interrupts() {
-  p_->update_irqs(*this);
-  if (otg_.irq()) nvic_pending_[2] |= 1u << (67u - 64u);
-  int priority = 0;
-  const int exception = pending_exception(priority);
-  if (exception < 0) return;
-  sleeping_ = false;  // WFI wakes on a pending interrupt
-  if (reg(UC_ARM_REG_PRIMASK) & 1u) return;
-  // Priority: the STM32F4 implements 4 bits (the top of each byte); equal priority does not preempt.
-  if (!active_.empty() && (priority & 0xF0) >= (active_.back().priority & 0xF0)) return;
-  enter(static_cast<uint32_t>(exception), priority);
-}
-
-void Stm32Machine::enter(uint32_t exception, int priority) {
-  if (exception == kSysTickException) {
-    systick_pending_ = false;
-  } else {
-    nvic_pending_[(exception - 16u) / 32u] &= ~(1u << ((exception - 16u) % 32u));
-  }
-  Frame f{};
-  f.exception = exception;
-  f.priority = priority;
-  f.start_instructions = instructions_;
-  for (int i = 0; i < 16; ++i) uc_reg_read(uc_, UC_ARM_REG_D0 + i, &f.fp[static_cast<size_t>(i)]);
-  f.fpscr = reg(UC_ARM_REG_FPSCR);
-  // The basic frame (R0-R3, R12, LR, return address, xPSR), 8-byte aligned (CCR.STKALIGN).
-  uint32_t sp = reg(UC_ARM_REG_SP);
-  uint32_t xpsr = reg(UC_ARM_REG_XPSR);
-  if (sp & 4u) {
-    sp -= 4u;
-    xpsr |= 1u << 9;
-  }
-  sp -= 32u;
-  const uint32_t frame[8] = {reg(UC_ARM_REG_R0), reg(UC_ARM_REG_R1), reg(UC_ARM_REG_R2), reg(UC_ARM_REG_R3),
-                             reg(UC_ARM_REG_R12), reg(UC_ARM_REG_LR), reg(UC_ARM_REG_PC) | 1u, xpsr};
-  if (uc_mem_write(uc_, sp, frame, sizeof frame) != UC_ERR_OK) {
-    fail("exception entry: stack pointer 0x" + std::to_string(sp) + " outside SRAM");
-    return;
-  }
-  uint32_t handler = 0;
-  if (uc_mem_read(uc_, vtor_ + 4u * exception, &handler, 4) != UC_ERR_OK || (handler & ~1u) == 0u) {
-    fail("exception " + std::to_string(exception) + ": no handler in the vector table at VTOR");
-    return;
-  }
-  active_.push_back(f);
-  set_reg(UC_ARM_REG_SP, sp);
-  set_reg(UC_ARM_REG_LR, kTrampoline | 1u);
-  set_reg(UC_ARM_REG_PC, handler | 1u);
-}
-
-void Stm32Machine::on_return_trampoline() {
-  if (active_.empty()) {
-    fail("exception return with no exception active");
-    return;
-  }
-  const Frame f = active_.back();
-  active_.pop_back();
-  if (f.exception == kSysTickException) {
-    tick_last_ = instructions_ - f.start_instructions;
-    tick_max_ = std::max(tick_max_, tick_last_);
-    ++ticks_;
-  }
-  uint32_t sp = reg(UC_ARM_REG_SP);
-  uint32_t frame[8];
-  uc_mem_read(uc_, sp, frame, sizeof frame);
-  sp += 32u + ((frame[7] & (1u << 9)) ? 4u : 0u);
-  set_reg(UC_ARM_REG_R0, frame[0]);
-  set_reg(UC_ARM_REG_R1, frame[1]);
-  set_reg(UC_ARM_REG_R2, frame[2]);
-  set_reg(UC_ARM_REG_R3, frame[3]);
-  set_reg(UC_ARM_REG_R12, frame[4]);
-  set_reg(UC_ARM_REG_LR, frame[5]);
-  set_reg(UC_ARM_REG_XPSR, (frame[6] & 1u ? kXpsrThumb : 0u) | (frame[7] & 0xF80F0000u) | kXpsrThumb);
-  set_reg(UC_ARM_REG_SP, sp);
-  for (int i = 0; i < 16; ++i) uc_reg_write(uc_, UC_ARM_REG_D0 + i, &f.fp[static_cast<size_t>(i)]);
-  set_reg(UC_ARM_REG_FPSCR, f.fpscr);
-  set_reg(UC_ARM_REG_PC, frame[6] | 1u);
-  uc_emu_stop(uc_);  // tail-chaining: whatever is pending is taken before the thread resumes
-}
-
-void Stm32Machine::advance_timers(uint64_t now) {
-  const uint64_t elapsed = now - timer_cycles_;
-  timer_cycles_ = now;
-  if ((systick_csr_ & 1u) && systick_rvr_ > 0) {
-    const uint64_t period = static_cast<uint64_t>(systick_rvr_) + 1u;
-    uint64_t left = elapsed;
-    while (left > 0) {
-      const uint64_t to_wrap = systick_cvr_ == 0 ? period : systick_cvr_;
-      if (left < to_wrap) {
-        systick_cvr_ = static_cast<uint32_t>(to_wrap - left);
-        break;
-      }
-      left -= to_wrap;
-      systick_cvr_ = 0;
-      if (systick_csr_ & 2u) systick_pending_ = true;
-      systick_csr_ |= 1u << 16;
-      if (left == 0) systick_cvr_ = systick_rvr_ + 1u;
-    }
-  }
-  p_->advance(*this, elapsed);
-}
-
-uint64_t Stm32Machine::cycles_to_systick() const {
-  if (!(systick_csr_ & 1u) || systick_rvr_ == 0) return UINT64_MAX;
-  return systick_cvr_ == 0 ? systick_rvr_ + 1u : systick_cvr_;
-}
-
 bool Stm32Machine::run(uint64_t cycles) {
   const uint64_t end = cycles_ + cycles;
   while (!stopped_ && !in_bootloader_ && cycles_ < end) {
@@ -437,98 +309,5 @@ uint32_t Stm32Machine::pc() const { return reg(UC_ARM_REG_PC); }
 std::vector<uint8_t> Stm32Machine::flash() const { return flash_; }
 
 Stm32Outputs Stm32Machine::outputs() const { return p_->outputs(); }
-
-uint64_t Stm32Machine::periph_read(uint32_t address, unsigned size) {
-  uint32_t v = 0;
-  if (!p_->read(*this, address, size, v)) fail(Peripherals::unmodelled(address, false));
-  return v;
-}
-
-void Stm32Machine::periph_write(uint32_t address, unsigned size, uint32_t value) {
-  if (!p_->write(*this, address, size, value)) fail(Peripherals::unmodelled(address, true));
-}
-
-uint64_t Stm32Machine::otg_read(uint32_t offset, unsigned) {
-  uint32_t v = 0;
-  if (!otg_.read(offset, v)) fail(Peripherals::unmodelled(0x50000000u + offset, false));
-  trace("OTG_FS", OtgFs::register_name(offset), 0x50000000u + offset, false, v);
-  return v;
-}
-
-void Stm32Machine::otg_write(uint32_t offset, unsigned, uint32_t value) {
-  if (!otg_.write(offset, value)) fail(Peripherals::unmodelled(0x50000000u + offset, true));
-  trace("OTG_FS", OtgFs::register_name(offset), 0x50000000u + offset, true, value);
-}
-
-uint64_t Stm32Machine::scs_read(uint32_t address, unsigned size) {
-  uint32_t v = 0;
-  const char* name = "?";
-  if (address == 0xE0042008u) {
-    v = dbgmcu_apb1_fz_; name = "DBGMCU_APB1_FZ";
-  } else if (address >= 0xE000E400u && address < 0xE000E400u + kIrqCount) {
-    v = nvic_priority_[address - 0xE000E400u]; name = "NVIC_IPR";
-    if (size == 4) for (uint32_t i = 1; i < 4; ++i) v |= static_cast<uint32_t>(nvic_priority_[address - 0xE000E400u + i]) << (8 * i);
-  } else if (address >= 0xE000E100u && address < 0xE000E10Cu) {
-    v = nvic_enabled_[(address - 0xE000E100u) / 4]; name = "NVIC_ISER";
-  } else if (address >= 0xE000E180u && address < 0xE000E18Cu) {
-    v = nvic_enabled_[(address - 0xE000E180u) / 4]; name = "NVIC_ICER";
-  } else if (address >= 0xE000E200u && address < 0xE000E20Cu) {
-    v = nvic_pending_[(address - 0xE000E200u) / 4]; name = "NVIC_ISPR";
-  } else {
-    switch (address) {
-      case 0xE000E010u: v = systick_csr_; systick_csr_ &= ~(1u << 16); name = "SYST_CSR"; break;
-      case 0xE000E014u: v = systick_rvr_; name = "SYST_RVR"; break;
-      case 0xE000E018u: v = systick_cvr_; name = "SYST_CVR"; break;
-      case 0xE000ED00u: v = 0x410FC241u; name = "SCB_CPUID"; break;
-      case 0xE000ED08u: v = vtor_; name = "SCB_VTOR"; break;
-      case 0xE000ED0Cu: v = 0xFA050000u | (aircr_ & 0x700u); name = "SCB_AIRCR"; break;
-      case 0xE000ED20u: v = shpr3_; name = "SCB_SHPR3"; break;
-      case 0xE000ED88u: v = cpacr_; name = "SCB_CPACR"; break;
-      default: fail(Peripherals::unmodelled(address, false)); return 0;
-    }
-  }
-  trace("SCS", name, address, false, v);
-  return v;
-}
-
-void Stm32Machine::scs_write(uint32_t address, unsigned size, uint32_t v) {
-  const char* name = "?";
-  if (address == 0xE0042008u) {
-    dbgmcu_apb1_fz_ = v; name = "DBGMCU_APB1_FZ";
-  } else if (address >= 0xE000E400u && address < 0xE000E400u + kIrqCount) {
-    name = "NVIC_IPR";
-    for (uint32_t i = 0; i < size && address - 0xE000E400u + i < kIrqCount; ++i)
-      nvic_priority_[address - 0xE000E400u + i] = static_cast<uint8_t>((v >> (8 * i)) & 0xF0u);
-  } else if (address >= 0xE000E100u && address < 0xE000E10Cu) {
-    nvic_enabled_[(address - 0xE000E100u) / 4] |= v; name = "NVIC_ISER";
-  } else if (address >= 0xE000E180u && address < 0xE000E18Cu) {
-    nvic_enabled_[(address - 0xE000E180u) / 4] &= ~v; name = "NVIC_ICER";
-  } else if (address >= 0xE000E200u && address < 0xE000E20Cu) {
-    nvic_pending_[(address - 0xE000E200u) / 4] |= v; name = "NVIC_ISPR";
-  } else if (address >= 0xE000E280u && address < 0xE000E28Cu) {
-    nvic_pending_[(address - 0xE000E280u) / 4] &= ~v; name = "NVIC_ICPR";
-  } else {
-    switch (address) {
-      case 0xE000E010u: systick_csr_ = (systick_csr_ & (1u << 16)) | (v & 7u); name = "SYST_CSR"; break;
-      case 0xE000E014u: systick_rvr_ = v & 0xFFFFFFu; name = "SYST_RVR"; break;
-      case 0xE000E018u: systick_cvr_ = 0; systick_csr_ &= ~(1u << 16); name = "SYST_CVR"; break;
-      case 0xE000ED08u: vtor_ = v & 0xFFFFFE00u; name = "SCB_VTOR"; break;
-      case 0xE000ED0Cu:
-        name = "SCB_AIRCR";
-        if ((v >> 16) == 0x05FAu) {
-          aircr_ = v & 0x700u;
-          if (v & (1u << 2)) {  // SYSRESETREQ
-            reset_requested_ = true;
-            uc_emu_stop(uc_);
-          }
-        }
-        break;
-      case 0xE000ED20u: shpr3_ = v & 0xF0F00000u; name = "SCB_SHPR3"; break;
-      case 0xE000ED88u: cpacr_ = v & (0xFu << 20); name = "SCB_CPACR"; break;
-      default: fail(Peripherals::unmodelled(address, true)); return;
-    }
-  }
-  trace("SCS", name, address, true, v);
-}
 
 }  // namespace cathbox::emu

@@ -24,6 +24,7 @@
 
 #include "tool/force_law.hpp"
 #include "tool/index_range.hpp"
+#include "tool/rod_contacts.hpp"
 #include "tool/rod_settings.hpp"
 #include "tool/tool_spec.hpp"
 #include "tool/wall_model.hpp"
@@ -31,41 +32,6 @@
 namespace cathbox::tool {
 
 class BandedCholesky;
-class Rod;
-
-// One side of a contact between two rods, or between two parts of one rod, as the rod being
-// solved sees it: the point p = (1 - s) x[edge] + s x[edge + 1] must stay on the positive side
-// of the plane normal . p >= offset_mm. The planes are taken when gathered and held for the
-// iterations that follow (the other side is frozen, or, for two parts of the same rod, each
-// side is held to its half of the gap); penetration is penalised quadratically.
-struct EdgeContact {
-  std::uint32_t edge = 0;
-  double s = 0.0;
-  glm::dvec3 normal{0.0};
-  double offset_mm = 0.0;
-  double force_mN = 0.0;  // after the step: the contact force along the normal
-  double stiffness_mN_per_mm = 0.0;  // > 0: this contact's penalty stiffness, not the rod's own
-};
-
-// Rods (and the rod itself, away from its neighbours along it) a rod must not pass through.
-class RodObstacles {
- public:
-  virtual ~RodObstacles() = default;
-  // Replaces `out` with the contact planes of `rod` at its present positions.
-  virtual void gather(const Rod& rod, std::vector<EdgeContact>& out) const = 0;
-  // Pairs closer than the contact distance plus this margin are gathered; a node may move
-  // half of it before the planes are gathered again.
-  [[nodiscard]] virtual double margin_mm() const = 0;
-};
-
-struct RodContact {
-  std::uint32_t node = 0;
-  glm::dvec3 point_mm{0.0};      // wall point
-  glm::dvec3 normal{0.0};        // unit, out of the lumen
-  double normal_force_mN = 0.0;  // wall on the tool, along -normal
-  glm::dvec3 friction_mN{0.0};   // wall friction on the tool
-  std::int32_t segment = -1;
-};
 
 struct TipPose {
   glm::dvec3 position_mm{0.0};
