@@ -29,14 +29,18 @@ VesselModel CaseGenerator::neuro() { return detail::build_neuro({}, false); }
 VesselModel CaseGenerator::neuro_aneurysm() {
   return detail::build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation, .dome_mm = 6.4, .neck_mm = 2.4}, false);
 }
-// The dense coiling case's sac (cases/neuro_coiling_dense.case): a small aneurysm generated with dome
-// 4.0 mm and neck 2.0 mm (dome/neck 2.0); as meshed its neck plane opens 2.47 x 8.23 mm (both M2
-// origins in it: scripts/sac-neck), so it is not narrow-necked at the wall. The generated sizes
-// follow the small (< 5 mm) ruptured aneurysms of a population series (dome 3.9 +- 1.1 mm, neck
-// 1.6 mm: Dolati et al., Calgary, PMC4494560, 2015); 3-4 mm aneurysms are 46.8 % of UCAS Japan's
-// 6,697 (NEJM 2012 cohort).
+// The dense coiling case's sac (cases/neuro_coiling_dense.case): a small aneurysm of the published
+// shape, round, 4.0 mm across on a 1.8 mm neck, 3.79 mm deep (aspect ratio 2.1), its neck plane
+// 2.5 mm out from the M1's end so the bifurcation (both M2 origins) lies behind it. Small (< 5 mm)
+// ruptured aneurysms measured dome 3.9 +- 1.1 mm, neck 1.6 mm, aspect ratio 2.1 +- 0.6 (Dolati et
+// al., Calgary, PMC4494560, 2015); 3-4 mm aneurysms are 46.8 % of UCAS Japan's 6,697 (NEJM 2012).
 VesselModel CaseGenerator::neuro_small_aneurysm() {
-  return detail::build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation, .dome_mm = 4.0, .neck_mm = 2.0}, false);
+  return detail::build_neuro({.aneurysm = AneurysmSite::kMcaBifurcation,
+                              .dome_mm = 4.0,
+                              .neck_mm = 1.8,
+                              .sac_shape = SacShape::kRound,
+                              .neck_offset_mm = 2.5},
+                             false);
 }
 VesselModel CaseGenerator::neuro_stenosis() { return detail::build_neuro({}, true); }
 VesselModel CaseGenerator::neuro_variant(const NeuroMorphology& morphology) { return detail::build_neuro(morphology, false); }

@@ -81,6 +81,33 @@ namespace {
           {base + 6.5 * s * axis, 3.2 * s}, {base + 8.5 * s * axis, 2.6 * s}, {base + 10.0 * s * axis, 1.4 * s}};
 }
 
+// A round sac (SacShape::kRound): the sphere of the dome's diameter cut by the neck plane, that
+// plane `offset_mm` out along `axis` from `base` (the parent's end), the segment keeping the neck's
+// radius from the base to it (in the mesh that stretch lies in the junction's patch). The sphere's
+// centre is sqrt(R^2 - r^2) past the neck plane, so the sac is R + sqrt(R^2 - r^2) deep (R the
+// dome's, r the neck's radius); knots 0.5 mm apart on the sphere, the last 0.6 mm short of its top
+// (the mesher closes a free end with a cap half a radius beyond it).
+[[nodiscard]] std::vector<Knot> round_sac_knots(const glm::dvec3& base, const glm::dvec3& axis, double neck_mm, double dome_mm,
+                                                double offset_mm) {
+  const double big_r = 0.5 * dome_mm, r = 0.5 * neck_mm;
+  const double centre = std::sqrt(big_r * big_r - r * r);  // past the neck plane
+  const double depth = big_r + centre;
+  const glm::dvec3 neck = base + offset_mm * axis;
+  std::vector<Knot> knots{{base, r}, {neck, r}};
+  const int steps = static_cast<int>(std::ceil((depth - 0.75) / 0.5));
+  for (int k = 1; k <= steps; ++k) {
+    const double z = (depth - 0.75) * k / steps;
+    knots.push_back({neck + z * axis, std::sqrt(std::max(r * r, big_r * big_r - (z - centre) * (z - centre)))});
+  }
+  return knots;
+}
+
+// The sac's knots for the morphology's shape.
+[[nodiscard]] std::vector<Knot> sac_knots(const NeuroMorphology& m, const glm::dvec3& base, const glm::dvec3& axis) {
+  return m.sac_shape == SacShape::kRound ? round_sac_knots(base, axis, m.neck_mm, m.dome_mm, m.neck_offset_mm)
+                                         : sac_knots(base, axis, m.neck_mm, m.dome_mm);
+}
+
 // The aortic arch's shape for each arch type [11][12]: the arch is a half ellipse whose top stays
 // put; `height_mm` is its vertical semi-axis and the branch origins (degrees along it, 90 = top)
 // move down the ascending limb as the type rises. Vertical drop of the brachiocephalic origin
@@ -299,13 +326,13 @@ class NeuroBuilder {
     if (!left && m_.aneurysm == AneurysmSite::kMcaBifurcation) {
       // [9] Saccular aneurysm at the (right) MCA bifurcation, pointing along the M1 axis.
       const glm::dvec3 base = net_.end(m1);
-      net_.add(side + "mca_aneurysm", sac_knots(base, glm::normalize(base - P(22, 16, 237)), m_.neck_mm, m_.dome_mm), {m1}, 0.0,
+      net_.add(side + "mca_aneurysm", sac_knots(m_, base, glm::normalize(base - P(22, 16, 237))), {m1}, 0.0,
                nullptr, 0.35);
     }
     if (left && m_.aneurysm == AneurysmSite::kPcom) {
       // [9][14] Left posterior communicating aneurysm: from the ICA wall at the PComm origin,
       // pointing posterolaterally and down (the usual projection).
-      net_.add(side + "pcom_aneurysm", sac_knots(net_.end(ica), glm::normalize(glm::dvec3(1.0, -0.5, -0.35)), m_.neck_mm, m_.dome_mm),
+      net_.add(side + "pcom_aneurysm", sac_knots(m_, net_.end(ica), glm::normalize(glm::dvec3(1.0, -0.5, -0.35))),
                {ica}, 0.0, nullptr, 0.35);
     }
     // A1 [6]: ~13 mm medially and anteriorly, 2.3 mm; ends at the AComm.
@@ -350,7 +377,7 @@ class NeuroBuilder {
     basilar_ = net_.add("basilar", {{vb_junction, 1.65}, {{0, -3, 215}, 1.6}, {{0, -1, 232}, 1.55}}, {lva, rva}, 190.0);
     if (m_.aneurysm == AneurysmSite::kBasilarTip) {
       // [9][14] Basilar tip aneurysm: along the basilar axis, between the two P1 origins.
-      net_.add("basilar_tip_aneurysm", sac_knots(net_.end(basilar_), glm::normalize(glm::dvec3(0, 0.12, 1)), m_.neck_mm, m_.dome_mm),
+      net_.add("basilar_tip_aneurysm", sac_knots(m_, net_.end(basilar_), glm::normalize(glm::dvec3(0, 0.12, 1))),
                {basilar_}, 0.0, nullptr, 0.35);
     }
   }
@@ -382,7 +409,7 @@ class NeuroBuilder {
       // anteriorly and up; the AComm is split there.
       const std::int32_t acomm =
           net_.add("anterior_communicating", {{net_.end(left.a1), 0.75}, {{0, 28.5, 241}, 0.75}}, {left.a1});
-      net_.add("acom_aneurysm", sac_knots(net_.end(acomm), glm::normalize(glm::dvec3(0, 0.7, 0.7)), m_.neck_mm, m_.dome_mm),
+      net_.add("acom_aneurysm", sac_knots(m_, net_.end(acomm), glm::normalize(glm::dvec3(0, 0.7, 0.7))),
                {acomm}, 0.0, nullptr, 0.35);
       net_.add_link("anterior_communicating_2", acomm, {}, net_.end(right.a1), 0.75, {a2_right});
     } else {

@@ -191,11 +191,11 @@ end
   expect_packed_apart(sim, overlap);
 }
 
-// cases/neuro_coiling_dense.*: five coils (310 mm) through one microcatheter into the small sac
+// cases/neuro_coiling_dense.*: four coils (230 mm) through one microcatheter into the small round sac
 // of neuro_small_aneurysm.hclm, each loaded only after the last was detached, each pushed out
 // until its detachment zone is 0.1 mm past the tip (the script's markers, the microcatheter
-// pushed to 151 mm: 151.1 mm + the coil's length), framing first (its loops the 4.0 mm dome),
-// then loops of non-increasing size.
+// pushed to 152.5 mm: 152.6 mm + the coil's length), framing first (its loops 3.5 mm in the
+// 3.94 mm dome), then loops of non-increasing size.
 TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarkers) {
   const std::string dir = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
   CaseParse c = load_case(dir + "neuro_coiling_dense.case");
@@ -206,8 +206,8 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
   ASSERT_NE(coil, c->tools.end());
   std::vector<const ToolSection*> coils{&coil->sections.back()};
   for (const ToolSection& s : coil->next_coils) coils.push_back(&s);
-  ASSERT_EQ(coils.size(), 5u);
-  EXPECT_EQ(coils.front()->loop_diameter_mm, 4.0);
+  ASSERT_EQ(coils.size(), 4u);
+  EXPECT_EQ(coils.front()->loop_diameter_mm, 3.5);
   double total = 0.0;
   for (std::size_t k = 0; k < coils.size(); ++k) {
     total += coils[k]->length_mm;
@@ -215,7 +215,7 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
       EXPECT_LE(coils[k]->loop_diameter_mm, coils[k - 1]->loop_diameter_mm) << "coil " << k + 1;
     }
   }
-  EXPECT_NEAR(total, 310.0, 1e-9);
+  EXPECT_NEAR(total, 230.0, 1e-9);
   std::size_t loaded = 0, detached = 0;
   bool attached = true;
   for (const Action& a : script->actions) {
@@ -226,11 +226,11 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
       EXPECT_FALSE(attached) << "line " << a.line << ": load_coil before the last coil was detached";
       attached = true, ++loaded;
     } else if (a.kind == ActionKind::kInsertTo && a.speed == 8.0 && loaded < coils.size()) {
-      EXPECT_NEAR(a.value, 151.1 + coils[loaded]->length_mm, 1e-9) << "line " << a.line;
+      EXPECT_NEAR(a.value, 152.6 + coils[loaded]->length_mm, 1e-9) << "line " << a.line;
     }
   }
-  EXPECT_EQ(loaded, 4u);
-  EXPECT_EQ(detached, 5u);
+  EXPECT_EQ(loaded, 3u);
+  EXPECT_EQ(detached, 4u);
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 #include "vessel/case_generator.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -71,6 +74,32 @@ TEST(CaseGenerator, PathologicalVariants) {
   EXPECT_NEAR(2.0 * dome, 6.4, 0.3);
   EXPECT_TRUE(sac.children.empty());
   EXPECT_EQ(aneurysm.segments.size(), healthy.segments.size() + 1);
+}
+
+// The dense coiling case's sac: small ruptured aneurysms (< 5 mm) measured dome 3.9 +- 1.1 mm, neck
+// 1.6 mm, aspect ratio (depth / neck) 2.1 +- 0.6 (Dolati et al., Calgary, PMC4494560, 2015). Round:
+// the 4.0 mm sphere on a 1.8 mm neck 2.5 mm out from the M1's end, the sac's line ending 0.75 mm
+// short of the sphere's top (the mesher's cap closes it); depth R + sqrt(R^2 - r^2) = 3.79 mm.
+TEST(CaseGenerator, SmallAneurysmIsRoundOnANarrowNeckPastTheBifurcation) {
+  const VesselModel m = CaseGenerator::neuro_small_aneurysm();
+  const Segment& sac = named(m, "right_mca_aneurysm");
+  const Segment& m1 = named(m, "right_middle_cerebral_m1");
+  EXPECT_EQ(sac.points.front().pos_mm, m1.points.back().pos_mm);
+  const glm::dvec3 axis = glm::normalize(sac.points[1].pos_mm - sac.points.front().pos_mm);
+  double dome = 0.0, neck_at = 0.0;
+  for (const CenterlinePoint& p : sac.points) {
+    dome = std::max(dome, p.radius_mm);
+    const double along = glm::dot(p.pos_mm - sac.points.front().pos_mm, axis);
+    if (p.radius_mm <= 0.9 + 1e-9) neck_at = along;
+    EXPECT_NEAR(glm::length(p.pos_mm - sac.points.front().pos_mm), along, 1e-9);  // on one straight axis
+    EXPECT_GE(p.radius_mm, 0.9 - 1e-9);
+  }
+  EXPECT_NEAR(2.0 * dome, 4.0, 0.1);  // sampled between knots: 3.94
+  EXPECT_GT(neck_at, 2.0);  // the neck's radius up to the knot 2.5 mm out (the last sample before it)
+  EXPECT_LE(neck_at, 2.5);
+  const double depth = glm::dot(sac.points.back().pos_mm - sac.points.front().pos_mm, axis) - 2.5 + 0.75;
+  EXPECT_NEAR(depth, 2.0 + std::sqrt(4.0 - 0.81), 1e-9);
+  EXPECT_NEAR(depth / 1.8, 2.1, 0.6);
 }
 
 TEST(CaseGenerator, RandomTreesAreDeterministicAndSized) {

@@ -27,6 +27,10 @@ struct RandomTreeOptions {
 enum class ArchType { kTypeI, kTypeII, kTypeIII, kBovine };
 enum class IcaTortuosity { kStraight, kTortuous, kCoiled, kKinked };  // Weibel-Fields grades
 enum class AneurysmSite { kNone, kAcom, kPcom, kBasilarTip, kMcaBifurcation };
+// kElongated: from the parent's end, widening to the dome and 1.56 domes deep (the bundled 6.4 mm
+// MCA sac); kRound: a sphere of the dome's diameter cut by the neck plane (the published small
+// aneurysm's shape), that plane `neck_offset_mm` out along the sac's axis from the parent's end.
+enum class SacShape { kElongated, kRound };
 
 struct NeuroMorphology {
   ArchType arch = ArchType::kTypeI;
@@ -34,6 +38,9 @@ struct NeuroMorphology {
   AneurysmSite aneurysm = AneurysmSite::kNone;
   double dome_mm = 6.4;  // saccular aneurysm: dome (sac) diameter
   double neck_mm = 2.4;  // and neck diameter
+  SacShape sac_shape = SacShape::kElongated;
+  double neck_offset_mm = 0.0;  // kRound: the neck plane's distance from the parent's end (the
+                                // junction's patch, with the branch origins, lies behind it)
 };
 
 class CaseGenerator {
@@ -46,7 +53,7 @@ class CaseGenerator {
 
   [[nodiscard]] static VesselModel neuro();            // healthy arch-to-Willis network
   [[nodiscard]] static VesselModel neuro_aneurysm();   // + saccular aneurysm at the right MCA bifurcation
-  [[nodiscard]] static VesselModel neuro_small_aneurysm();  // the same site, a 4.0 mm dome, 2.0 mm neck
+  [[nodiscard]] static VesselModel neuro_small_aneurysm();  // the same site, a round 4.0 mm sac on a 1.8 mm neck
   [[nodiscard]] static VesselModel neuro_stenosis();   // + 70 % stenosis at the left ICA origin
   [[nodiscard]] static VesselModel y_bifurcation();    // one parent, two children (steering tests)
   // The arch-to-Willis network with the given morphology (neuro() is the default one).
