@@ -98,6 +98,8 @@ void Rod::size_scratch() {
   grad_.assign(3 * n, 0.0);
   delta_.assign(3 * n, 0.0);
   work_.assign(3 * n, 0.0);
+  plain_delta_.assign(3 * n, 0.0);
+  predicted_.reserve(4 * n);
   friction_limit_.assign(n, 0.0);
   joined_.assign(n, 0);
   last_step_.assign(3 * n, 0.0);

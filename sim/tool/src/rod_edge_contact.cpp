@@ -52,6 +52,96 @@ void Rod::add_edge_contact_terms(bool hessian) {
   }
 }
 
+// The Newton step of an iteration, solved again with the penalty of the open planes it would
+// cross. An open plane (the edge's point short of it) is out of the assembly, so the step went
+// through it and the line search cut the whole step to 1/8-1/64 (a coil pushed into its sac:
+// BM_StepCoilDeploy's capped steps). Each plane the step crosses takes its quadratic penalty,
+// on both sides, into the step's model (into the factored matrix and the right-hand side, not
+// into the gradient and the energy the line search reads) and the step is solved again; a
+// plane so taken that the new step leaves open (it would pull) is taken out again, up to
+// RodSettings::contact_predictions solves. The step then stops at the planes rather than short
+// of them all. The model is this iteration's only: the next assembly has the penetrated planes.
+void Rod::predict_edge_contacts(Newton& s) {
+  // Not on a released coil: it settles in one iteration a step, and the solves again cost the
+  // packing bench's step ~10 % of its median.
+  if (settings_.contact_predictions <= 0 || free_ || edge_contacts_.empty()) return;
+  predicted_.assign(edge_contacts_.size(), 0);
+  bool any = false;
+  for (int pass = 0; pass < settings_.contact_predictions; ++pass) {
+    const std::size_t from = take_crossed_planes();
+    if (from == x_.size()) break;
+    if (!any) std::copy(delta_.begin(), delta_.begin() + static_cast<std::ptrdiff_t>(s.dofs), plain_delta_.begin());
+    any = true;
+    matrix_->refactor_from(from - first_);
+    solve_with_taken_planes(s);
+  }
+  if (!any) return;
+  s.refactor = true;  // the factor holds the planes: never reused as a chord
+  // The energy must fall along it (the line search's slope); else the plain step.
+  double slope = 0.0;
+  for (std::size_t i = s.free0; i < s.dofs; ++i) slope += grad_[i] * delta_[i];
+  const double largest = largest_update();
+  if (!(slope < 0.0) || !std::isfinite(largest)) {
+    std::copy(plain_delta_.begin(), plain_delta_.begin() + static_cast<std::ptrdiff_t>(s.dofs), delta_.begin());
+    return;
+  }
+  s.largest = largest;
+}
+
+// One pass of predict_edge_contacts: the open planes the step in delta_ crosses are taken into
+// the assembled matrix, those taken that it leaves open are taken out. Returns the first node
+// whose blocks changed (the node count: none).
+std::size_t Rod::take_crossed_planes() {
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const rod_detail::BlockAdder add{*matrix_, first_, true};
+  const auto moved = [&](std::size_t k) {
+    const std::size_t d = 3 * (k - first_);
+    return k >= first_free_ ? glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) : glm::dvec3(0.0);
+  };
+  std::size_t from = x_.size();
+  for (std::size_t i = 0; i < edge_contacts_.size(); ++i) {
+    const EdgeContact& ec = edge_contacts_[i];
+    const double phi = edge_gap(ec);
+    if (phi > 0.0) continue;  // in the assembly
+    const std::size_t a = ec.edge;
+    const double wa = 1.0 - ec.s;
+    const double wb = ec.s;
+    const double after = phi - glm::dot(ec.normal, moved(a) * wa + moved(a + 1) * wb);
+    double sign = 0.0;
+    if (predicted_[i] == 0 && after > 0.0) sign = 1.0, predicted_[i] = 1;
+    else if (predicted_[i] == 1 && after < 0.0) sign = -1.0, predicted_[i] = 0;
+    if (sign == 0.0) continue;
+    const glm::dmat3 nn = (sign * kc) * glm::outerProduct(ec.normal, ec.normal);
+    if (a >= first_free_) add(a, a, nn * (wa * wa));
+    if (a + 1 >= first_free_) add(a + 1, a + 1, nn * (wb * wb));
+    if (a >= first_free_) add(a + 1, a, nn * (wa * wb));
+    from = std::min(from, std::max(a, first_free_));
+  }
+  return from;
+}
+
+// The Newton step on the factor holding the taken planes: the right-hand side is the gradient's
+// with each taken plane's pull towards it (minus the gradient of kc phi^2 / 2, phi < 0).
+void Rod::solve_with_taken_planes(const Newton& s) {
+  const double kc = settings_.contact_stiffness_mN_per_mm;
+  for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
+  for (std::size_t i = 0; i < edge_contacts_.size(); ++i) {
+    if (!predicted_[i]) continue;
+    const EdgeContact& ec = edge_contacts_[i];
+    const glm::dvec3 pull = ec.normal * (kc * edge_gap(ec));
+    for (std::size_t j = 0; j < 2; ++j) {
+      const std::size_t k = ec.edge + j;
+      if (k < first_free_) continue;
+      const std::size_t d = 3 * (k - first_);
+      const double w = j == 0 ? 1.0 - ec.s : ec.s;
+      delta_[d] += pull.x * w;
+      delta_[d + 1] += pull.y * w;
+      delta_[d + 2] += pull.z * w;
+    }
+  }
+  matrix_->solve(delta_.data());
+}
+
 bool Rod::finish_edge_contacts() {
   // Held to within the penetration limit, like the wall; the force is the penalty's.
   const double kc_rod = settings_.contact_stiffness_mN_per_mm;

@@ -24,6 +24,7 @@ void Rod::solve_positions(Newton& s) {
     build_system(s);
     if (!newton_direction(s)) break;  // keep the previous positions; never propagate NaN
     if (join_wall(s, it)) continue;
+    predict_edge_contacts(s);
     damp_reversal(s);
     line_search(s);
     hold_gaps(s);
@@ -92,17 +93,20 @@ void Rod::add_joined_wall_terms(Newton& s) {
 }
 
 bool Rod::newton_direction(Newton& s) {
-  const std::size_t n = x_.size();
   for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
   matrix_->solve(delta_.data());
+  s.largest = largest_update();
+  return std::isfinite(s.largest);
+}
+
+double Rod::largest_update() const {
   double largest = 0.0;
-  for (std::size_t k = first_free_; k < n; ++k) {
+  for (std::size_t k = first_free_; k < x_.size(); ++k) {
     const std::size_t d = 3 * (k - first_);
     const double m = std::sqrt(delta_[d] * delta_[d] + delta_[d + 1] * delta_[d + 1] + delta_[d + 2] * delta_[d + 2]);
     largest = std::max(largest, m);
   }
-  s.largest = largest;
-  return std::isfinite(largest);
+  return largest;
 }
 
 // Nodes off the wall that the step would carry into it join the active set (at most three

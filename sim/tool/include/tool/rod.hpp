@@ -221,6 +221,10 @@ class Rod {
   void add_joined_wall_terms(Newton& s);
   [[nodiscard]] bool newton_direction(Newton& s);  // false: not finite
   bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
+  void predict_edge_contacts(Newton& s);  // the step solved again with the rod-rod planes it crosses
+  std::size_t take_crossed_planes();  // one pass of it: first node whose blocks changed
+  void solve_with_taken_planes(const Newton& s);
+  [[nodiscard]] double largest_update() const;  // the largest node update in delta_
   void damp_reversal(Newton& s);
   void line_search(Newton& s);
   void place(double scale);  // free nodes at x_pred_ + scale delta_
@@ -348,6 +352,8 @@ class Rod {
 
   // Solver scratch, sized once.
   std::vector<double> grad_, delta_, work_, friction_limit_;
+  std::vector<double> plain_delta_;         // the Newton step before predict_edge_contacts
+  std::vector<std::uint8_t> predicted_;     // per edge contact: its plane in the step's model
   // Per step: EA / rest per edge, EI / (Voronoi length) per bending vertex, solver drag / dt per
   // free node (update_weights).
   std::vector<double> axial_k_, bend_w_, drag_k_;

@@ -46,6 +46,11 @@ struct RodSettings {
   // Halve an update below trust_step_mm nearly undoing the last. Off by default: every update
   // now goes through the line search, which breaks the friction two-cycles this was made for.
   bool damp_reversals = false;
+  // Planes of other rods (and of the rod's far parts) the Newton step would cross: open, they are
+  // out of the Hessian, so the step went through them and the line search cut it to a few per
+  // cent. Their penalty is taken into the step's model and it is solved again, up to this many
+  // times an iteration (rod_edge_contact.cpp, predict_edge_contacts). 0: never.
+  int contact_predictions = 8;
   double trust_step_mm = 0.01;             // reversal damping applies below this update
   // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
   // iterations from the advected positions plus this fraction of each free node's motion in
