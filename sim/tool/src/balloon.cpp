@@ -6,7 +6,11 @@
 namespace cathbox::tool {
 
 Balloon::Balloon(const BalloonSpec& spec, double shaft_diameter_mm)
-    : spec_(spec), shaft_diameter_mm_(shaft_diameter_mm) {}
+    : spec_(spec), shaft_diameter_mm_(shaft_diameter_mm) {
+  if (!spec_.pressure_atm.empty() && spec_.pressure_atm.front() > 0.0) {
+    inflated_above_atm_ = std::min(kInflatedAbove_atm, spec_.pressure_atm.front());
+  }
+}
 
 double Balloon::diameter_at(double p) const {
   const auto& ps = spec_.pressure_atm;

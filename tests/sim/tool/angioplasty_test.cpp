@@ -178,6 +178,36 @@ TEST(Angioplasty, ARemodellingBalloonWidensAHealthyParentNoFurtherThanItsChart) 
   EXPECT_NEAR(widest(over.model()), 2.0 + (1.0 - params.recoil) * 0.5, 1e-12);
 }
 
+// An inflation counts once the balloon is unfolded: above 1 atm, or above its chart's first
+// pressure if that is lower. A compliant remodelling balloon (its chart from 0.5 atm, that of
+// tests/host/session/data/balloon_remodelling.case) held at 1 atm is up (it was counted as
+// never inflated while its coils rested on it); the semi-compliant angioplasty balloon (its
+// chart from 2 atm) at 1 atm is still folded, as before.
+TEST(Angioplasty, AnInflationCountsOnceTheBalloonIsUnfoldedOnItsChart) {
+  BalloonSpec remodelling;
+  remodelling.length_mm = 10.0;
+  remodelling.pressure_atm = {0.5, 1.0, 2.0, 3.0};
+  remodelling.diameter_mm = {3.0, 4.0, 4.5, 4.8};
+  remodelling.nominal_atm = 1.0;
+  remodelling.rated_burst_atm = 3.0;
+  const auto held = [](const BalloonSpec& spec, double atm) {
+    Balloon balloon(spec, 0.9);
+    balloon.set_target_pressure(atm);
+    for (int tick = 0; tick < 2000; ++tick) balloon.step(1e-3);  // 1 s up, then held 1 s at atm
+    balloon.deflate();
+    for (int tick = 0; tick < 1000; ++tick) balloon.step(1e-3);
+    return balloon;
+  };
+  const Balloon compliant = held(remodelling, 1.0);
+  EXPECT_EQ(compliant.inflations(), 1);
+  // Above 0.5 atm: from 0.25 s (2 atm/s up) to 0.05 s into the deflation (10 atm/s down).
+  EXPECT_NEAR(compliant.inflated_time_s(), 2.0 - 0.25 + 0.05, 0.01);
+  EXPECT_EQ(held(remodelling, 0.4).inflations(), 0);  // still folding out to its first point
+  const Balloon angioplasty = held(balloon_5mm(), 1.0);
+  EXPECT_EQ(angioplasty.inflations(), 0);
+  EXPECT_EQ(held(balloon_5mm(), 6.0).inflations(), 1);
+}
+
 ToolSpec short_wire() {
   ToolSpec spec;
   spec.sections = {ToolSection{100.0, 0.36, 20.0, 15.0, 0.0}};

@@ -17,7 +17,10 @@ class Balloon {
  public:
   static constexpr double kInflateRate_atm_s = 2.0;   // a hand turning the indeflator's screw
   static constexpr double kDeflateRate_atm_s = 10.0;  // vacuum
-  static constexpr double kInflatedAbove_atm = 1.0;   // an inflation counts from here
+  // An inflation counts above 1 atm, or above the chart's first pressure if that is lower: a
+  // compliant remodelling balloon (chart from 0.5 atm) is up at 1 atm, a semi-compliant
+  // angioplasty balloon (chart from 2 atm) still folded.
+  static constexpr double kInflatedAbove_atm = 1.0;
   static constexpr double kMaxPressure_atm = 30.0;    // what an inflation device reaches
   static constexpr double kAtm_N_per_mm2 = 0.101325;
 
@@ -30,7 +33,7 @@ class Balloon {
 
   [[nodiscard]] double pressure_atm() const { return pressure_atm_; }
   [[nodiscard]] double target_atm() const { return target_atm_; }
-  [[nodiscard]] bool inflated() const { return pressure_atm_ > kInflatedAbove_atm; }
+  [[nodiscard]] bool inflated() const { return pressure_atm_ > inflated_above_atm_; }
   // Unconstrained diameter and volume at the present pressure.
   [[nodiscard]] double diameter_mm() const { return diameter_at(pressure_atm_); }
   [[nodiscard]] double volume_ml() const { return volume_at(pressure_atm_); }
@@ -49,6 +52,7 @@ class Balloon {
  private:
   BalloonSpec spec_;
   double shaft_diameter_mm_;
+  double inflated_above_atm_ = kInflatedAbove_atm;
   double pressure_atm_ = 0.0;
   double target_atm_ = 0.0;
   int inflations_ = 0;
