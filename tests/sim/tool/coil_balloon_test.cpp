@@ -194,10 +194,10 @@ TEST(CoilBalloon, AReleasedCoilRestsOnTheInflatedBalloonAndDeflatedLiesPastTheNe
 }
 
 // A coil's tip node pressed sideways on the inflated balloon's crest, both rods solved in turn
-// against the contact field until at rest. The coil is a 3 mm stub out of its clamp, stiffer than
+// against the contact field until at rest. The coil is a 3 mm cantilever out of its clamp, stiffer than
 // a wind (1 N mm^2) so that its tip stays on the crest (a node pushed onto a convex obstacle is
-// unstable sideways: the stub's lateral stiffness 3 EI / L^3 = 111 mN/mm is above the load over
-// the crest's radius, 20 / 2.1 = 10 mN/mm); the stub's clamp takes a share of the load, the
+// unstable sideways: the cantilever's lateral stiffness 3 EI / L^3 = 111 mN/mm is above the load over
+// the crest's radius, 20 / 2.1 = 10 mN/mm); its clamp takes a share of the load, the
 // contact the rest.
 TEST(CoilBalloon, ACoilNodePressedOnTheBalloonFeelsMinusTheBalloonsForceAtTheContactLawsGap) {
   const testing::NoWall wall;
@@ -208,7 +208,7 @@ TEST(CoilBalloon, ACoilNodePressedOnTheBalloonFeelsMinusTheBalloonsForceAtTheCon
   testing::insert_to(balloon, wall, 20.0, 0.5);
   constexpr double kR = 2.0;  // the chart's radius at 2 atm (remodelling_balloon())
   constexpr double kCoilR = 0.125;
-  constexpr double kStub = 3.0;
+  constexpr double kFreeLength = 3.0;
   ToolSpec wind;
   wind.name = "coil";
   wind.kind = ToolKind::kCoil;
@@ -222,8 +222,8 @@ TEST(CoilBalloon, ACoilNodePressedOnTheBalloonFeelsMinusTheBalloonsForceAtTheCon
   coil_settings.convergence_mm = 1e-7;
   Rod coil(wind, coil_settings);
   // Across the balloon's axis at z = 12, its tip touching the balloon's crest.
-  coil.set_entry({-kStub, kR + kCoilR, 12.0}, {1, 0, 0});
-  testing::insert_to(coil, wall, kStub, 0.5);
+  coil.set_entry({-kFreeLength, kR + kCoilR, 12.0}, {1, 0, 0});
+  testing::insert_to(coil, wall, kFreeLength, 0.5);
   const std::size_t mid = coil.node_total() - 1;
   constexpr double kF_mN = 20.0;
   coil.set_node_load(mid, {0.0, -kF_mN, 0.0});
