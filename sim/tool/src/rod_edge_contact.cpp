@@ -37,7 +37,7 @@ void Rod::add_edge_contact_terms(bool hessian) {
   for (const EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
     if (phi <= 0.0) continue;
-    const double kc = ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : kc_rod;
+    const double kc = edge_stiffness(ec, kc_rod);
     const std::size_t a = ec.edge;
     const double wa = 1.0 - ec.s;
     const double wb = ec.s;
@@ -92,7 +92,7 @@ void Rod::predict_edge_contacts(Newton& s) {
 // the assembled matrix, those taken that it leaves open are taken out. Returns the first node
 // whose blocks changed (the node count: none).
 std::size_t Rod::take_crossed_planes() {
-  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kc_rod = settings_.contact_stiffness_mN_per_mm;
   const rod_detail::BlockAdder add{*matrix_, first_, true};
   const auto moved = [&](std::size_t k) {
     const std::size_t d = 3 * (k - first_);
@@ -111,7 +111,7 @@ std::size_t Rod::take_crossed_planes() {
     if (predicted_[i] == 0 && after > 0.0) sign = 1.0, predicted_[i] = 1;
     else if (predicted_[i] == 1 && after < 0.0) sign = -1.0, predicted_[i] = 0;
     if (sign == 0.0) continue;
-    const glm::dmat3 nn = (sign * kc) * glm::outerProduct(ec.normal, ec.normal);
+    const glm::dmat3 nn = (sign * edge_stiffness(ec, kc_rod)) * glm::outerProduct(ec.normal, ec.normal);
     if (a >= first_free_) add(a, a, nn * (wa * wa));
     if (a + 1 >= first_free_) add(a + 1, a + 1, nn * (wb * wb));
     if (a >= first_free_) add(a + 1, a, nn * (wa * wb));
@@ -123,12 +123,12 @@ std::size_t Rod::take_crossed_planes() {
 // The Newton step on the factor holding the taken planes: the right-hand side is the gradient's
 // with each taken plane's pull towards it (minus the gradient of kc phi^2 / 2, phi < 0).
 void Rod::solve_with_taken_planes(const Newton& s) {
-  const double kc = settings_.contact_stiffness_mN_per_mm;
+  const double kc_rod = settings_.contact_stiffness_mN_per_mm;
   for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
   for (std::size_t i = 0; i < edge_contacts_.size(); ++i) {
     if (!predicted_[i]) continue;
     const EdgeContact& ec = edge_contacts_[i];
-    const glm::dvec3 pull = ec.normal * (kc * edge_gap(ec));
+    const glm::dvec3 pull = ec.normal * (edge_stiffness(ec, kc_rod) * edge_gap(ec));
     for (std::size_t j = 0; j < 2; ++j) {
       const std::size_t k = ec.edge + j;
       if (k < first_free_) continue;
@@ -155,7 +155,7 @@ bool Rod::finish_edge_contacts() {
       if (ec.edge >= first_free_) x_[ec.edge] += push;
       if (ec.edge + 1 >= first_free_) x_[ec.edge + 1] += push;
     }
-    const double kc = ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : kc_rod;
+    const double kc = edge_stiffness(ec, kc_rod);
     ec.force_mN = kc * std::max(0.0, std::min(phi, allowed));
   }
   slip_grips();

@@ -216,7 +216,7 @@ double Rod::energy() const {
   const WallPenalty wall(settings_);
   for (const EdgeContact& ec : edge_contacts_) {
     const double phi = edge_gap(ec);
-    if (phi > 0.0) e += 0.5 * (ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : kc) * phi * phi;
+    if (phi > 0.0) e += 0.5 * edge_stiffness(ec, kc) * phi * phi;
   }
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 moved = x_[k] - x_start_[k];

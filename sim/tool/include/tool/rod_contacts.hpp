@@ -24,6 +24,13 @@ struct EdgeContact {
   double stiffness_mN_per_mm = 0.0;  // > 0: this contact's penalty stiffness, not the rod's own
 };
 
+// The penalty stiffness of a contact: its own if set (a balloon's side takes the coil's law),
+// else the rod's `rod_kc`. Every term of a plane (energy, gradient, Hessian, the predicted step,
+// the force read after the step) uses this one.
+inline double edge_stiffness(const EdgeContact& ec, double rod_kc) {
+  return ec.stiffness_mN_per_mm > 0.0 ? ec.stiffness_mN_per_mm : rod_kc;
+}
+
 // Rods (and the rod itself, away from its neighbours along it) a rod must not pass through.
 class RodObstacles {
  public:
