@@ -191,7 +191,7 @@ end
   expect_packed_apart(sim, overlap);
 }
 
-// cases/neuro_coiling_dense.*: four coils (230 mm) through one microcatheter into the small round sac
+// cases/neuro_coiling_dense.*: four coils (210 mm) through one microcatheter into the small round sac
 // of neuro_small_aneurysm.hclm, each loaded only after the last was detached, each pushed out
 // until its detachment zone is 0.1 mm past the tip (the script's markers, the microcatheter
 // pushed to 152.5 mm: 152.6 mm + the coil's length), framing first (its loops 3.5 mm in the
@@ -215,7 +215,7 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
       EXPECT_LE(coils[k]->loop_diameter_mm, coils[k - 1]->loop_diameter_mm) << "coil " << k + 1;
     }
   }
-  EXPECT_NEAR(total, 230.0, 1e-9);
+  EXPECT_NEAR(total, 210.0, 1e-9);
   std::size_t loaded = 0, detached = 0;
   bool attached = true;
   for (const Action& a : script->actions) {
