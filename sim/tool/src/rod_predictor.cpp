@@ -1,9 +1,10 @@
 // The predictor: before each solve the free nodes follow the present centreline by the
 // insertion change (follow the leader), the part near the entry follows the entry's move (an
-// inner tool riding on its carrier's tip), and a compressed straight rod gets the lateral
+// inner tool riding on its carrier's tip), and a compressed straight or flat rod gets the lateral
 // imperfection that lets it buckle. The elastic solve then corrects the shape.
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <glm/geometric.hpp>
 
@@ -34,6 +35,27 @@ bool onto_arc(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, con
   if (!(len > 0.0)) return false;
   out = centre + r * (glm::length(b - centre) / len);
   return true;
+}
+
+// How far the nodes from `first` on lie out of the plane through the line (entry, dir) that
+// holds the node farthest from it (0 for a straight rod, or one bent in that plane only).
+double out_of_plane_mm(std::span<const glm::dvec3> x, std::size_t first, const glm::dvec3& entry, const glm::dvec3& dir) {
+  glm::dvec3 farthest(0.0);
+  double far2 = 0.0;
+  for (std::size_t k = first; k < x.size(); ++k) {
+    const glm::dvec3 r = x[k] - entry;
+    const glm::dvec3 side = r - dir * glm::dot(r, dir);
+    const double d2 = glm::dot(side, side);
+    if (d2 > far2) {
+      far2 = d2;
+      farthest = side;
+    }
+  }
+  if (!(far2 > 0.0)) return 0.0;
+  const glm::dvec3 normal = glm::cross(dir, farthest / std::sqrt(far2));
+  double out = 0.0;
+  for (std::size_t k = first; k < x.size(); ++k) out = std::max(out, std::abs(glm::dot(x[k] - entry, normal)));
+  return out;
 }
 
 }  // namespace
@@ -101,15 +123,17 @@ void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, co
 }
 
 void Rod::seed_buckling() {
-  // A perfectly straight rod pushed along its axis stays on the unstable straight branch;
-  // real tools are never perfectly straight, so give the free nodes a tiny lateral offset.
-  // A rod already bent by more than the offset would give (by the vessel, its own shape or an
-  // earlier seed) needs none: seeding it again every compressed step only shakes it (and the
-  // shaken rod then spends Newton iterations taking the offset back out).
+  // A perfectly straight rod pushed along its axis stays on the unstable straight branch, and
+  // one bent in a single plane (a pre-curved tip in a straight tube) in that plane: the solve
+  // has nothing across it to grow, so the wire buckles flat where a real one goes helical
+  // (docs/sim-tool/convergence.md, "What the hand-force replays check"). Real tools are never
+  // perfectly straight nor perfectly flat, so give the free nodes a tiny lateral offset. A rod
+  // already out of every plane through its entry line by more than the offset would give (by
+  // the vessel's path, its own shape or an earlier seed) needs none: seeding it again every
+  // compressed step only shakes it (and the shaken rod then spends Newton iterations taking the
+  // offset back out).
   const std::size_t n = x_.size();
-  for (std::size_t k = std::max(first_free_, std::size_t{1}); k + 1 < n; ++k) {
-    if (glm::length(t_[k] - t_[k - 1]) * rest_[k] > settings_.buckling_seed_mm) return;
-  }
+  if (out_of_plane_mm(x_, first_free_, entry_, dir_) > settings_.buckling_seed_mm) return;
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);
     const double a = 0.7 * static_cast<double>(k);
