@@ -39,6 +39,7 @@
 #include <benchmark/benchmark.h>
 
 #include "../bench_samples.hpp"
+#include "haptic_loop.hpp"
 
 #include "app/fluoro_renderer.hpp"
 #include "app/frame_capture.hpp"
@@ -46,7 +47,6 @@
 #include "app/gl_window.hpp"
 #include "app/png_writer.hpp"
 #include "flow/contrast_transport.hpp"
-#include "session/scripted_hand.hpp"
 #include "session/session.hpp"
 #include "vessel/hclm.hpp"
 #include "vessel/vessel_mesher.hpp"
@@ -54,6 +54,8 @@
 namespace {
 
 using namespace cathbox;
+using bench::haptic;
+using bench::HapticWindow;
 constexpr int kSize = 1024;
 
 // The case, its flow, contrast filling the right ICA territory, and the renderer in a window.
@@ -126,96 +128,6 @@ struct Rig {
     in.shown.tools.push_back(std::move(tool));
     return in;
   }
-};
-
-// The 1 kHz haptic loop beside the renderer: the real session tick (simulator, hand, contrast
-// transport, fluoroscopy unit) on its own thread.
-class HapticLoop {
- public:
-  // Before a benchmark's timed loop: a run going (a new one if the last has ended).
-  bool ensure_running(std::string& error) {
-    if (session_ && !session_->over()) return true;
-    retire();
-    session::SessionCaseLoad scene = session::load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro.case");
-    if (!scene) return (error = scene.error().message), false;
-    session::SessionOptions options;
-    options.end_at_target = false;
-    // A hand that never ends its run: no time limit, no end of the path (it keeps pushing, backing
-    // off and trying again there, the contact-heavy case), never gives up.
-    session::ScriptedHandSettings settings;
-    settings.time_limit_s = 1e9;
-    settings.end_margin_mm = -1.0;
-    settings.max_fruitless_retries = 1 << 30;
-    auto hand = std::make_unique<session::ScriptedHand>(scene.value()->route_mm, scene.value()->spec.tools.front().length_mm(), settings);
-    hand->set_tick_s(static_cast<double>(options.period_us) * 1e-6);
-    session_ = std::make_unique<session::Session>(std::move(scene.value()), std::move(hand), options);
-    session_->start();
-    ++starts_;
-    return true;
-  }
-  // Ticks run and dropped so far, over all runs.
-  [[nodiscard]] std::int64_t ticks() const { return ticks_done_ + (session_ ? session_->ticks() : 0); }
-  [[nodiscard]] std::int64_t dropped() const { return dropped_done_ + (session_ ? session_->dropped_ticks() : 0); }
-  [[nodiscard]] std::int64_t cpu_us() const { return cpu_done_us_ + (session_ ? session_->haptic_cpu_time_us() : 0); }
-  // Runs started (more than one: a run ended and the next was loaded).
-  [[nodiscard]] int starts() const { return starts_; }
-  // The scheduling the loop's thread obtained (SCHED_FIFO, nice or normal).
-  [[nodiscard]] std::string scheduling() const { return session_ ? session_->haptic_scheduling() : scheduling_; }
-  void retire() {
-    if (!session_) return;
-    scheduling_ = session_->haptic_scheduling();
-    session_->stop();
-    ticks_done_ += session_->ticks();
-    dropped_done_ += session_->dropped_ticks();
-    cpu_done_us_ += session_->haptic_cpu_time_us();
-    session_.reset();
-  }
-
- private:
-  std::unique_ptr<session::Session> session_;
-  std::int64_t ticks_done_ = 0;
-  std::int64_t dropped_done_ = 0;
-  std::int64_t cpu_done_us_ = 0;
-  std::string scheduling_ = "not started";
-  int starts_ = 0;
-};
-
-HapticLoop& haptic() {
-  static HapticLoop loop;
-  return loop;
-}
-
-// A benchmark's share of the haptic loop: its ticks and drops from construction to report().
-class HapticWindow {
- public:
-  explicit HapticWindow(benchmark::State& state) {
-    std::string error;
-    if (!haptic().ensure_running(error)) state.SkipWithError(("haptic loop: " + error).c_str());
-    ticks0_ = haptic().ticks();
-    dropped0_ = haptic().dropped();
-    cpu0_us_ = haptic().cpu_us();
-    starts0_ = haptic().starts();
-    t0_ = std::chrono::steady_clock::now();
-  }
-  // Between frames (not timed): a new run when the scripted hand's has ended.
-  void keep(benchmark::State& state) {
-    std::string error;
-    if (!haptic().ensure_running(error)) state.SkipWithError(("haptic loop: " + error).c_str());
-  }
-  void report(benchmark::State& state) const {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
-    state.counters["haptic_dropped"] = static_cast<double>(haptic().dropped() - dropped0_);
-    state.counters["haptic_hz"] = s > 0.0 ? static_cast<double>(haptic().ticks() - ticks0_) / s : 0.0;
-    state.counters["haptic_restarts"] = haptic().starts() - starts0_;
-    state.counters["haptic_cpu_share"] = s > 0.0 ? static_cast<double>(haptic().cpu_us() - cpu0_us_) * 1e-6 / s : 0.0;
-  }
-
- private:
-  std::int64_t ticks0_ = 0;
-  std::int64_t dropped0_ = 0;
-  std::int64_t cpu0_us_ = 0;
-  int starts0_ = 0;
-  std::chrono::steady_clock::time_point t0_;
 };
 
 Rig* rig() {
@@ -431,6 +343,7 @@ int write_shots(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  using cathbox::bench::haptic;
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]).rfind("--shots=", 0) == 0) return write_shots(std::string(argv[i]).substr(8));
   }

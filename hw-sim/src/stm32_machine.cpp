@@ -1,7 +1,7 @@
 // The Cortex-M4 side of the emulated STM32F411: Unicorn, the memory map, reset, instruction
 // counting, the run loop and flash. Exception entry and return are in
 // stm32_exceptions.cpp, the register accesses in stm32_register_access.cpp, the peripherals in
-// stm32_peripherals.cpp.
+// stm32_register_table.cpp (their registers) and stm32_peripherals.cpp (their behaviour).
 #include "emu/stm32_machine.hpp"
 
 #include <unicorn/unicorn.h>

@@ -11,12 +11,18 @@
 namespace cathbox::emu {
 
 struct Stm32Machine::Peripherals {
+  // RM0383 table 1 (memory map): the modelled blocks' base addresses.
+  static constexpr uint32_t kRcc = 0x40023800u, kFlash = 0x40023C00u, kPwr = 0x40007000u, kIwdg = 0x40003000u;
+  static constexpr uint32_t kAdc = 0x40012000u, kSyscfg = 0x40013800u, kExti = 0x40013C00u;
+  static constexpr uint32_t kGpio[3] = {0x40020000u, 0x40020400u, 0x40020800u};
+  static constexpr uint32_t kTim[4] = {0x40000000u, 0x40000400u, 0x40000800u, 0x40000C00u};
+
   struct Register {
     const char* peripheral;
     const char* name;
     uint32_t reset;
   };
-  Peripherals();
+  Peripherals();  // the register table (stm32_register_table.cpp)
   void reset();
   bool read(Stm32Machine& m, uint32_t address, unsigned size, uint32_t& value);
   bool write(Stm32Machine& m, uint32_t address, unsigned size, uint32_t value);

@@ -1,5 +1,5 @@
 // The emulated STM32F411's memory-mapped registers as Unicorn hands their accesses over: the
-// peripherals (stm32_peripherals.cpp), OTG_FS, and the Cortex-M4's System Control Space (NVIC,
+// peripherals (stm32_register_table.cpp, stm32_peripherals.cpp), OTG_FS, and the Cortex-M4's System Control Space (NVIC,
 // SysTick, SCB) with DBGMCU.
 #include "emu/stm32_machine.hpp"
 

@@ -1,6 +1,7 @@
 #pragma once
 // Internal to the API: the parsed request a handler sees, query helpers, JSON answers, and
-// the handlers themselves (one file per resource: api_users, api_cases, api_work, api_live).
+// the handlers themselves (one file per resource: api_users, api_cases, api_work (assignments),
+// api_result_upload and api_results (results), api_live, api_audit).
 #include <functional>
 #include <map>
 #include <memory>
@@ -60,6 +61,8 @@ Reply case_version(Call& call);
 Reply case_bundle(Call& call);
 Reply case_mesh(Call& call);
 
+// Assignments (api_work.cpp); results: upload_result in api_result_upload.cpp, the rest in
+// api_results.cpp.
 Reply list_assignments(Call& call);
 Reply create_assignment(Call& call);
 Reply get_assignment(Call& call);

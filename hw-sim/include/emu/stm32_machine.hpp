@@ -3,7 +3,7 @@
 // flashed (flash at 0x08000000, 128 KiB SRAM, system memory with the unique ID), with the board
 // models written for this project from RM0383 and the Cortex-M4 user guide: the NVIC and
 // SysTick (exception entry and return are done here: Unicorn leaves them to the board), RCC,
-// PWR, FLASH, GPIO A-C, EXTI/SYSCFG, TIM2-5, ADC1, IWDG and DBGMCU (stm32_peripherals.cpp), and
+// PWR, FLASH, GPIO A-C, EXTI/SYSCFG, TIM2-5, ADC1, IWDG and DBGMCU (stm32_register_table.cpp, stm32_peripherals.cpp), and
 // the USB OTG FS device core (otg_fs.hpp). Time is the CPU's: one instruction = one cycle at
 // 96 MHz (SYSCLK from the PLL); run(cycles) executes that many, or sleeps (WFI) until an
 // interrupt is due. An access to a register no model implements stops the machine with an

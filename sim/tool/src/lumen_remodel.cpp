@@ -43,19 +43,47 @@ glm::dvec3 middle(std::span<const glm::dvec3> axis) {
   return axis.back();
 }
 
+// The healthy vessel on each side of point i: the widest point 5-10 mm proximal and the widest
+// 5-10 mm distal along the segment (radius 0: the segment does not reach that window).
+struct ReferenceWindows {
+  double proximal_r = 0.0, proximal_arc = 0.0, distal_r = 0.0, distal_arc = 0.0;
+};
+ReferenceWindows reference_windows(const vessel::Segment& s, const std::vector<double>& arc, std::size_t i) {
+  ReferenceWindows w;
+  for (std::size_t k = 0; k < s.points.size(); ++k) {
+    const double d = arc[k] - arc[i];
+    const double r = s.points[k].radius_mm;
+    if (d <= -kReferenceNear_mm && d >= -kReferenceFar_mm && r > w.proximal_r) {
+      w.proximal_r = r;
+      w.proximal_arc = arc[k];
+    }
+    if (d >= kReferenceNear_mm && d <= kReferenceFar_mm && r > w.distal_r) {
+      w.distal_r = r;
+      w.distal_arc = arc[k];
+    }
+  }
+  return w;
+}
+
+// The line through the two windows' widest points, read at point i (0 without both).
+double interpolated(const ReferenceWindows& w, double arc_i) {
+  if (!(w.proximal_r > 0.0 && w.distal_r > 0.0)) return 0.0;
+  return w.proximal_r + (w.distal_r - w.proximal_r) * (arc_i - w.proximal_arc) / (w.distal_arc - w.proximal_arc);
+}
+
 }  // namespace
 
 double reference_radius(const vessel::Segment& s, std::size_t i) {
   const std::vector<double> arc = arcs(s);
-  double before = 0.0, after = 0.0;
-  for (std::size_t k = 0; k < s.points.size(); ++k) {
-    const double d = arc[k] - arc[i];
-    const double r = s.points[k].radius_mm;
-    if (d <= -kReferenceNear_mm && d >= -kReferenceFar_mm) before = std::max(before, r);
-    if (d >= kReferenceNear_mm && d <= kReferenceFar_mm) after = std::max(after, r);
-  }
-  if (before > 0.0 && after > 0.0) return 0.5 * (before + after);
-  if (before > 0.0 || after > 0.0) return std::max(before, after);
+  return interpolated(reference_windows(s, arc, i), arc[i]);
+}
+
+double sizing_reference_radius(const vessel::Segment& s, std::size_t i) {
+  const std::vector<double> arc = arcs(s);
+  const ReferenceWindows w = reference_windows(s, arc, i);
+  const double both = interpolated(w, arc[i]);
+  if (both > 0.0) return both;
+  if (w.proximal_r > 0.0 || w.distal_r > 0.0) return std::max(w.proximal_r, w.distal_r);
   return s.points[i].radius_mm;
 }
 
@@ -66,7 +94,7 @@ Lesion find_lesion(const vessel::VesselModel& model) {
     const vessel::Segment& seg = model.segments[s];
     for (std::size_t i = 0; i < seg.points.size(); ++i) {
       const double ref = reference_radius(seg, i);
-      if (!(ref > 0.0)) continue;
+      if (!(ref > 0.0)) continue;  // no healthy vessel on both sides: not gradable
       const double narrowing = 1.0 - seg.points[i].radius_mm / ref;
       if (narrowing > worst) {
         worst = narrowing;
@@ -104,7 +132,7 @@ LumenRemodel::LumenRemodel(vessel::VesselModel source, const LumenRemodelParams&
     r0_.push_back(r);
     arc_.push_back(arcs(s));
     std::vector<double> ref;
-    for (std::size_t i = 0; i < s.points.size(); ++i) ref.push_back(reference_radius(s, i));
+    for (std::size_t i = 0; i < s.points.size(); ++i) ref.push_back(sizing_reference_radius(s, i));
     ref0_.push_back(ref);
   }
   peak_ = r0_;

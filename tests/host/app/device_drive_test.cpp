@@ -1,8 +1,8 @@
 // The stent retriever's U (unsheathe) and E (retrieve) drives of the keyboard hand (no GL;
 // host/app/device_drive.hpp): what they select and the speed they set from snapshots built by
 // hand (guide 0 > microcatheter 1 > stent 2, as in tests/host/session/stent_tube_case.hpp), and
-// where they stop. The session-level run of the same speeds is
-// tests/host/session/stent_keys_session_test.cpp.
+// where they stop. The same keys in the trainer are driven by the browser test
+// (tests/browser/train_stent.py, test_stent_keys).
 #include <gtest/gtest.h>
 
 #include "app/device_drive.hpp"

@@ -120,7 +120,7 @@ TEST(CaseLibrary, IcaGradesAreOrderedByTurning) {
 }
 
 // Weibel and Fields' kink is an acute angle between two limbs of the artery; the lumen still
-// goes round it. The generator rounds the apex on an arc of two lumen radii (neuro_case.cpp), so
+// goes round it. The generator rounds the apex on an arc of two lumen radii (neuro_shapes.cpp), so
 // no case's centreline bends tighter than 1.1 of its lumen radius (the coil's loop bends at
 // 2.4) and the kinked ICA's surface does not cross itself. Before, the
 // apex bent at 0.86 radii: the wall folded over itself there and the wire's tip stopped at the

@@ -1,6 +1,7 @@
 #pragma once
 // The three roles of a training centre. What each may do is decided on the server, per
-// endpoint (api_router.cpp); the table is in host/server/README.md.
+// endpoint (each handler checks its caller: Call::require_* in src/api.cpp); the table is in
+// host/server/README.md.
 #include <optional>
 #include <string_view>
 

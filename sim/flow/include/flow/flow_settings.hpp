@@ -1,7 +1,7 @@
 #pragma once
 // What the blood-flow model is built from besides the vessel geometry: the physiological
-// defaults (sources in flow_settings.cpp and sim/flow/README.md) and a case's overrides, which
-// the case file gives as `flow ...` statements (sim/tool/README.md). Units are in the names.
+// defaults (below; sources in src/territory.cpp and sim/flow/README.md) and a case's overrides,
+// which the case file gives as `flow ...` statements (sim/flow/README.md). Units are in the names.
 #include <cstddef>
 #include <cstdint>
 #include <string>

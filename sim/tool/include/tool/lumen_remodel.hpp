@@ -13,12 +13,17 @@
 // value in that range, a parameter here, not a fit. No dissection, plaque shift or time
 // course: the lumen is what the balloon made it, less the recoil, at once.
 //
-// Stenosis, as quantitative angiography grades it: at a centre-line point the reference
-// diameter is interpolated from the healthy vessel on both sides (the mean of the widest radius
-// 5-10 mm proximal and 5-10 mm distal along the segment; one side alone near a segment end),
-// and stenosis % = 100 (1 - minimal lumen diameter / reference diameter). The lesion is the
-// point of the model with the largest narrowing, with the contiguous points around it that
-// are narrower than 90 % of their reference.
+// Stenosis, as quantitative angiography grades it: stenosis % = 100 (1 - minimal lumen diameter
+// / reference diameter), the reference interpolated across the lesion from the healthy vessel
+// on both sides of it (QCA's interpolated reference diameter: Reiber et al., Circulation
+// 1985;71:280-8; NASCET and WASID likewise grade against normal artery of the same vessel,
+// N Engl J Med 1991;325:445-53, Samuels et al., AJNR 2000;21:643-6). Here: the line through
+// the widest point 5-10 mm proximal and the widest 5-10 mm distal along the segment, read at
+// the point (a tapering artery is its own reference). A point without vessel 5 mm past it on
+// both sides is not graded: the neck of a blind aneurysm sac against its dome, or a segment's
+// end against the wider vessel it tapers from, is no lesion. The lesion is the point of the
+// model with the largest narrowing, with the contiguous points around it that are narrower
+// than 90 % of their reference.
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -38,8 +43,12 @@ struct Lesion {
   [[nodiscard]] bool found() const { return reference_diameter_mm > 0.0; }
 };
 
-// Reference radius at point i of segment s (see above).
+// Interpolated reference radius at point i of segment s (see above); 0 where the segment does
+// not reach 5 mm past the point on both sides.
 [[nodiscard]] double reference_radius(const vessel::Segment& s, std::size_t i);
+// The reference a balloon is sized against where it sits: reference_radius, else the widest
+// radius of the one window the segment reaches, else the point's own radius.
+[[nodiscard]] double sizing_reference_radius(const vessel::Segment& s, std::size_t i);
 // The narrowest point of the model against its reference, and the lesion around it (not
 // found when nothing is narrowed by 10 % or more).
 [[nodiscard]] Lesion find_lesion(const vessel::VesselModel& model);

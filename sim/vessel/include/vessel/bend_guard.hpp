@@ -1,7 +1,7 @@
 #pragma once
 // A swept tube whose centreline bends tighter than its own radius folds its inner wall over
 // itself: the rings on the inside of the bend pass the bend's centre. The case generator keeps
-// its bends at kMinBendRadii lumen radii or more (rounded_corner in src/neuro_case.cpp); a
+// its bends at kMinBendRadii lumen radii or more (rounded_corner in src/neuro_shapes.cpp); a
 // centreline from elsewhere (a file, a surface's skeleton) gets the same bound here.
 //
 // A bend is measured at each inner point of a segment: the circle through it and its two
