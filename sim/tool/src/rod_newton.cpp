@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -18,6 +19,76 @@
 #include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
+
+namespace {
+
+// The axial springs' second-order stretch of a Newton step d. The Hessian holds each edge's
+// spring to second order at the assembly, so a node carried sideways by m lengthens its edges by
+// ~m^2 / 2l beyond the model (a coil's EA / l of 10^7 mN/mm reads 20 um sideways over a 0.5 mm
+// edge as 0.8 mN.mm): the full step's energy rises and the line search cuts it. The correction
+// c = -H^-1 r (a second-order correction, Nocedal & Wright, Numerical Optimization, 2006, §18.3),
+// r each edge's length at the full step beyond the model's times its EA / l, along the edge as
+// assembled, on the factor that gave the step (into `c`, the rod's scratch, unused until the
+// solve ends), takes that stretch back along the edges; the step then follows x + t d + t^2 c,
+// the stretch of t d being t^2 that of d.
+struct StretchStep {
+  std::vector<glm::dvec3>& x;
+  const std::vector<glm::dvec3>& x_pred;  // the free nodes where the system was assembled
+  const std::vector<double>& d;
+  std::vector<double>& c;
+  std::size_t first, first_free;
+
+  [[nodiscard]] glm::dvec3 dof3(const std::vector<double>& v, std::size_t k) const {
+    const std::size_t i = 3 * (k - first);
+    return k >= first_free ? glm::dvec3(v[i], v[i + 1], v[i + 2]) : glm::dvec3(0.0);
+  }
+  // Free nodes at x_pred + t d + t^2 c.
+  void place(double t) const {
+    for (std::size_t k = first_free; k < x.size(); ++k) x[k] = x_pred[k] + dof3(d, k) * t + dof3(c, k) * (t * t);
+  }
+  // c for the full step; false when it is not finite.
+  bool correct(const std::vector<double>& axial_k, const BandedCholesky& h,
+               std::size_t free0, std::size_t dofs) const {
+    const std::size_t n = x.size();
+    std::fill(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(dofs), 0.0);
+    const auto at = [&](std::size_t k) { return k >= first_free ? x_pred[k] : x[k]; };
+    const auto pull = [&](std::size_t k, const glm::dvec3& f) {  // the right-hand side, -r
+      if (k < first_free) return;
+      const std::size_t i = 3 * (k - first);
+      c[i] -= f.x;
+      c[i + 1] -= f.y;
+      c[i + 2] -= f.z;
+    };
+    for (std::size_t k = std::max(first, first_free > 0 ? first_free - 1 : 0); k + 1 < n; ++k) {
+      const glm::dvec3 e = at(k + 1) - at(k);
+      const glm::dvec3 step = dof3(d, k + 1) - dof3(d, k);
+      const double len = std::max(glm::length(e), 1e-12);
+      const glm::dvec3 u = e * (1.0 / len);
+      // The edge's length at the full step beyond the model's (len + u.step), as a force along
+      // the edge as assembled (the constraint's gradient there; the force's turn with the edge
+      // pulled a soft coil's nodes sideways by millimetres).
+      const double over = glm::length(e + step) - len - glm::dot(u, step);
+      const glm::dvec3 r = u * (axial_k[k] * over);
+      pull(k + 1, r);
+      pull(k, -r);
+    }
+    h.solve(c.data());
+    for (std::size_t i = free0; i < dofs; ++i) {
+      if (!std::isfinite(c[i])) return false;
+    }
+    return true;
+  }
+};
+
+// A coil not yet released: the tools with the arc predictor that have a clamp. Its line search
+// follows the curve below, and a join round (nodes the step would carry into the wall, solved
+// again held, no iterate) is a round of its own: the deploy's capped steps spent 2.1-2.8 of their
+// 8 rounds on joins. Elsewhere a join is one of the cap (a round of its own on every rod moved
+// the steered wire's and the bundled sac's tests), and a released coil, which settles in one
+// iteration a step, is spared the correction's solve (the packing bench's median).
+bool attached_coil(const RodSettings& settings, bool released) { return settings.arc_predictor && !released; }
+
+}  // namespace
 
 void Rod::solve_positions(Newton& s) {
   for (int it = 0; it < s.rounds; ++it) {
@@ -37,7 +108,8 @@ void Rod::solve_positions(Newton& s) {
     }
     // A node left in the wall at the end would be clamped at the penetration limit, which
     // reads as the contact cap: up to two more iterations hold it.
-    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;
+    const int joins = attached_coil(settings_, free_) ? s.activations : 0;
+    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + joins + 2) ++s.rounds;
   }
 }
 
@@ -133,7 +205,8 @@ bool Rod::join_wall(Newton& s, int it) {
   if (s.activations < 3 && join_edge_walls()) joined = true;
   if (!joined) return false;
   ++s.activations;
-  if (it + 1 == s.rounds && s.rounds < s.iterations + 2) ++s.rounds;  // solve with them held
+  // A round of its own on an attached coil; elsewhere one of the cap, but the last (to hold them).
+  if (attached_coil(settings_, free_) || (it + 1 == s.rounds && s.rounds < s.iterations + 2)) ++s.rounds;
   s.refactor = true;
   s.rejoin = true;
   return true;
@@ -161,17 +234,27 @@ void Rod::damp_reversal(Newton& s) {
 // inside, a constant μN outside, whose Hessian has no stiffness along the slip) is sent across the
 // edge and back by full Gauss-Newton steps of a few µm, step after step, and never meets the
 // convergence test (the angioplasty run's guidewire: 20 % of its ticks).
+//
+// On an attached coil every try is on the curve x + t d + t^2 c, c the
+// correction of the axial springs' second-order stretch (StretchStep, above), and no step is
+// extended.
 void Rod::line_search(Newton& s) {
   const double e0 = energy_;
   double slope = 0.0;
   for (std::size_t i = s.free0; i < s.dofs; ++i) slope += grad_[i] * delta_[i];
   double e1 = e0;
+  const StretchStep step{x_, x_pred_, delta_, work_, first_, first_free_};
+  const bool curved = attached_coil(settings_, free_) && step.correct(axial_k_, *matrix_, s.free0, s.dofs);
   for (int tries = 0;; ++tries) {
-    place(s.scale);
+    if (curved) {
+      step.place(s.scale);
+    } else {
+      place(s.scale);
+    }
     if (tries >= 6 || slope >= 0.0) break;
     e1 = energy();
     if (e1 <= e0 + 1e-4 * s.scale * slope) {
-      if (tries == 0 && s.scale == 1.0) extend(s, slope, e0, e1);
+      if (tries == 0 && s.scale == 1.0 && !curved) extend(s, slope, e0, e1);
       break;
     }
     s.scale *= 0.5;

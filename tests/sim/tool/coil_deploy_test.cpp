@@ -31,7 +31,8 @@ using namespace testing;  // coil_test_support.hpp: the sphere, the tools, drive
 // projected into the wall on stale planes); the microcatheter's (its tip pushed by the loops,
 // the default penalty) 1 N. Those two are regression bounds on what the solver reaches, not
 // yet the physical ~10 mN (sim/tool/README.md, Limits). Loops may not interpenetrate beyond 10 %
-// of the coil diameter (issue 16; before: 11.7 %).
+// of the coil diameter (issue 16; before: 11.7 %). Under 1 % of the steps may end unconverged
+// (issue 29; 8.1 % before the stretch correction and the join rounds, convergence.md).
 TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApart) {
   constexpr double kLongCoil = 150.0;
   const TubeNetworkWall wall = sphere_on_a_tube();
@@ -45,10 +46,13 @@ TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApar
     }
   };
   Peak hand, coil_wall, micro_wall, overlap;
+  int steps = 0, unconverged = 0;
   const double start = sim.insertion_mm(kCoil);
   while (sim.insertion_mm(kCoil) < micro + kLongCoil - 2.0) {
     sim.set_insertion(kCoil, sim.insertion_mm(kCoil) + 0.02);  // 20 mm/s at 1 kHz
     sim.step();
+    ++steps;
+    unconverged += sim.rod(kCoil).converged() ? 0 : 1;
     const double pushed = sim.insertion_mm(kCoil) - start;
     ASSERT_TRUE(std::isfinite(sim.hand_force_mN(kCoil))) << "at " << pushed << " mm";
     hand.see(std::abs(sim.hand_force_mN(kCoil)), pushed);
@@ -57,14 +61,16 @@ TEST(CoilDeploy, WholeCoilIntoTheSphereKeepsHandAndWallForcesBoundedAndLoopsApar
     const RodContactField::Overlap o = sim.worst_coil_overlap();
     if (o.diameter_mm > 0.0) overlap.see(o.depth_mm / o.diameter_mm, pushed);
   }
-  std::printf("150 mm coil: pusher %.1f mN, coil wall %.1f mN, microcatheter wall %.1f mN, overlap %.2f %%\n", hand.value,
-              coil_wall.value, micro_wall.value, 100.0 * overlap.value);
+  const double unconverged_pct = 100.0 * unconverged / steps;
+  std::printf("150 mm coil: pusher %.1f mN, coil wall %.1f mN, microcatheter wall %.1f mN, overlap %.2f %%, unconverged %.2f %%\n",
+              hand.value, coil_wall.value, micro_wall.value, 100.0 * overlap.value, unconverged_pct);
   EXPECT_LT(hand.value, 200.0) << "pusher force " << hand.value << " mN at " << hand.at_mm << " mm deployed";
   EXPECT_LT(coil_wall.value, 250.0) << "coil wall contact " << coil_wall.value << " mN at " << coil_wall.at_mm << " mm";
   EXPECT_LT(micro_wall.value, 1000.0) << "microcatheter wall contact " << micro_wall.value << " mN at "
                                       << micro_wall.at_mm << " mm";
   EXPECT_LT(overlap.value, 0.10) << "loop overlap " << 100.0 * overlap.value << " % of the coil diameter at "
                                  << overlap.at_mm << " mm";
+  EXPECT_LT(unconverged_pct, 1.0) << unconverged << " of " << steps << " steps unconverged";
 }
 
 // Later coils pack against earlier ones: two 40 mm coils (4 mm loops) through the same
