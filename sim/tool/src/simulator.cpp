@@ -266,16 +266,6 @@ void Simulator::prepare(std::size_t t) {
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
 }
 
-namespace {
-// The innermost guidewire of a stack (carried by a catheter, carrying nothing, no stent on it):
-// its unconverged ticks are sub-stepped as a lone tool's (convergence.md, "Sub-stepped carried
-// wires"; a stent retriever's re-solves took the stent case's p99 from 826 to 2,318 us).
-bool carried_wire(const std::vector<Rod>& rods, const std::vector<std::size_t>& outer_of, std::size_t t) {
-  return rods[t].spec().kind == ToolKind::kGuidewire && !rods[t].spec().stent.present() && outer_of[t] < rods.size() &&
-         std::none_of(outer_of.begin(), outer_of.end(), [t](std::size_t o) { return o == t; });
-}
-}  // namespace
-
 // The released coils, after the attached tools. A sleeping coil is woken before its own solve
 // by the rods solved before it (coil_sleep.hpp) and starts as a coil at rest.
 void Simulator::step_released(double dt_s) {
@@ -308,10 +298,9 @@ void Simulator::step(double dt_s) {
     update_contact_members();
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
-    // An unconverged tick solved again in sub-increments: lone tools and carried guidewires
-    // (convergence.md, "Sub-stepped ticks", "Sub-stepped carried wires"; not catheters and coils:
-    // their re-solves cost the coil benches' and the stent case's p99 several ticks).
-    rods_[t].settings().substeps_max = lone(t) || carried_wire(rods_, outer_of_, t) ? tuning::kLoneToolSubsteps : 1;
+    // An unconverged tick solved again in sub-increments: lone tools only (convergence.md,
+    // "Sub-stepped ticks": on nested tools a test of the steered microcatheter failed with it).
+    rods_[t].settings().substeps_max = lone(t) ? tuning::kLoneToolSubsteps : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;
