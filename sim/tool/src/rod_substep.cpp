@@ -1,6 +1,6 @@
 // A tick whose Newton solve ends unconverged is solved again from its start, as 2, then 4 (up
 // to RodSettings::substeps_max) equal sub-increments of the motion imposed at the clamp (the
-// insertion, the rotation, the material advance of an inner tool), each of dt / parts: the
+// insertion and the rotation; an inner tool's material advance all in the first), each of dt / parts: the
 // tool's velocity, hence its drag and the hand's rate terms, stays the tick's, while each solve
 // starts 1 / parts as far from its equilibrium and the solver's drag floor holds each node
 // parts times stiffer. A fixed, deterministic count: never a time budget (replays stay
@@ -44,7 +44,12 @@ void Rod::step(double dt_s, const WallModel& wall, const RodObstacles* obstacles
       const double u = static_cast<double>(j) / parts;
       insertion_mm_ = j == parts ? insertion : insertion0 + (insertion - insertion0) * u;
       rotation_rad_ = j == parts ? rotation : rotation0 + (rotation - rotation0) * u;
-      material_advance_mm_ = std::isfinite(advance) ? advance / parts : advance;
+      // A carried tool's material advance (its slide along its carrier's path, one follow-the-
+      // leader move in advect) goes whole into the first part: cut into parts it folded the
+      // steered wire of NestedTools.MicrocatheterFollowsTheWireWhereverItWasSteered in 20 of 20
+      // placements (convergence.md, "Every tool sub-stepped, the advance whole in the first part").
+      // A lone tool has none set (NaN: each part advances by its own insertion change).
+      material_advance_mm_ = std::isfinite(advance) ? (j == 1 ? advance : 0.0) : advance;
       step_once(dt_s / parts, wall, obstacles);
       stepped_rotation_rad_ = rotation_rad_;
     }

@@ -161,10 +161,10 @@ INSTANTIATE_TEST_SUITE_P(Meets, DeadEndRendering, ::testing::Values(kRuns[3], kR
 // Every tool's step converges on >= 99.5 % of its ticks (issue 29), in the runs whose hand force
 // has its own checks elsewhere: the dead ends (checks 2 and 3) and the coiling run (check 1 not
 // yet met). A tick that ends unconverged is solved again in 2, then 4 sub-increments of the
-// hand's motion (RodSettings::substeps_max, lone tools only): dead end 2.41 -> 0.29 %, compliant
-// 1.59 -> 0.02 %. The coiling run is instantiated disabled (run it with
+// hand's motion (RodSettings::substeps_max, lone tools and carried guidewires): dead end 2.41 ->
+// 0.29 %, compliant 1.59 -> 0.02 %. The coiling run is instantiated disabled (run it with
 // --gtest_also_run_disabled_tests) until its nested tools converge: microcatheter / microwire /
-// coil 1.47 / 6.43 / 4.42 % (docs/sim-tool/convergence.md, "Sub-stepped ticks").
+// coil 1.05 / 0.35 / 2.76 % (docs/sim-tool/convergence.md, "Sub-stepped carried wires").
 class ToolConvergence : public ::testing::TestWithParam<FeelRun> {};
 
 TEST_P(ToolConvergence, EveryToolConvergesOnAtLeast99Point5PercentOfItsTicks) {
