@@ -21,20 +21,6 @@ constexpr double kRodContactStep_mm = 0.04;
 constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
 }  // namespace
 
-const char* device_error_text(DeviceError e) {
-  switch (e) {
-    case DeviceError::kNone: return "ok";
-    case DeviceError::kNoSuchTool: return "no such tool";
-    case DeviceError::kNotACoil: return "the tool carries no coil to detach";
-    case DeviceError::kCoilInCatheter: return "the coil's detachment zone is still inside the catheter";
-    case DeviceError::kNotABalloon: return "the tool has no balloon";
-    case DeviceError::kOutOfRange: return "pressure or volume out of range";
-    case DeviceError::kCoilAttached: return "the loaded coil is not detached yet";
-    case DeviceError::kNoNextCoil: return "the case lists no further coil for this tool";
-  }
-  return "unknown";
-}
-
 Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
                      const RodSettings& settings)
     : wall_(&wall), entry_(entry), settings_(settings), contacts_(kRodContactMargin_mm) {

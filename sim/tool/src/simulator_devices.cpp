@@ -14,6 +14,20 @@ namespace {
 constexpr double kBalloonGripFriction = 0.3;  // balloon on the intima (inflated)
 }  // namespace
 
+const char* device_error_text(DeviceError e) {
+  switch (e) {
+    case DeviceError::kNone: return "ok";
+    case DeviceError::kNoSuchTool: return "no such tool";
+    case DeviceError::kNotACoil: return "the tool carries no coil to detach";
+    case DeviceError::kCoilInCatheter: return "the coil's detachment zone is still inside the catheter";
+    case DeviceError::kNotABalloon: return "the tool has no balloon";
+    case DeviceError::kOutOfRange: return "pressure or volume out of range";
+    case DeviceError::kCoilAttached: return "the loaded coil is not detached yet";
+    case DeviceError::kNoNextCoil: return "the case lists no further coil for this tool";
+  }
+  return "unknown";
+}
+
 bool Simulator::carries_attached_coil(std::size_t tool) const {
   return tool < rods_.size() && rods_[tool].spec().kind == ToolKind::kCoil && rods_[tool].spec().detach_mm > 0.0 &&
          !(removed_mm_[tool] > 0.0);
