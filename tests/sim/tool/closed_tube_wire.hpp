@@ -19,12 +19,12 @@ inline constexpr double kHelixClearance_mm = kHelixTubeRadius_mm - kHelixWireDia
 
 inline TubeNetworkWall closed_helix_tube() { return straight_tube(kHelixTubeRadius_mm, -10.0, kHelixTubeEnd_mm); }
 
-// The wire, 600 mm, nodes every 1 mm, its entry at the origin along +z.
-inline Rod closed_tube_wire(const RodSettings& settings = {}) {
+// The wire, 600 mm, nodes every 1 mm, its entry at the origin along +z; frictionless unless told.
+inline Rod closed_tube_wire(const RodSettings& settings = {}, double friction = 0.0) {
   ToolSpec spec;
   spec.name = "wire";
   spec.sections.push_back(ToolSection{600.0, kHelixWireDiameter_mm, kHelixWireEi_Nmm2, 31.0, 0.0});
-  spec.friction = 0.0;
+  spec.friction = friction;
   spec.max_spacing_mm = 1.0;
   spec.tip_spacing_mm = 1.0;
   Rod rod(spec, settings);

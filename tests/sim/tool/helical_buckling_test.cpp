@@ -61,6 +61,69 @@ TEST(RodValidation, WirePushedIntoAClosedTubeBucklesIntoLubinskisHelix) {
 }
 
 
+// The wall's friction on the helix, to first order in mu. Mitchell ("Frictional forces in helical
+// buckling of tubing", SPE Drilling Engineering 1(6), 1986) takes the friction along the tube's
+// axis only; pushed in, the helix's contacts also travel round the wall as its pitch shortens,
+// and Coulomb's friction opposes that slip too. Derived here by virtual work: the hand's power is
+// the stored energy's rate plus the friction's dissipation, and the stored energy is stationary
+// at the frictionless equilibrium, so to first order in mu the friction adds to the frictionless
+// force F0 the dissipation per push, evaluated on the frictionless helix:
+//   F - F0 = mu w L * min_c integral_0^1 sqrt(x^2 + ((x + c) / alpha)^2) dx,
+// w = r F0^2 / (4 EI) the contact load per length, alpha = r sqrt(F0 / (2 EI)) the helix's angle
+// to the axis (Lubinski), x the place along the helix from the closed end (0) to the entry (1).
+// Per unit push a point at x slides x along the axis (the strain alpha^2 / 2 is uniform) and
+// (x + c) / alpha round the tube (its angle round, alpha x L / r, grows with alpha); the whole
+// helix may also turn (c): an isotropic wire's bend turns round its straight part at no cost, and
+// its far end sits near the cap's pole (0.28 mm off the axis), so nothing holds its phase and the
+// friction's torque balance sets c, where the dissipation is least. Taken along the axis only, the
+// integral is 1/2: F - F0 = F0 mu delta / (2 r), Mitchell's formula to first order. The helix's
+// contacts travel round 2-4 times as far as along it here, so the excess is that much larger.
+// Tolerance 15 %, the rod's own agreement with the frictionless helix (above); mu 0.01 keeps the
+// terms of second order in mu to a few per cent.
+double first_order_excess_mN(double f0_mN, double mu) {
+  const double ei = testing::kHelixWireEi_Nmm2 * 1000.0;
+  const double r = testing::kHelixClearance_mm;
+  const double alpha = r * std::sqrt(f0_mN / (2.0 * ei));
+  const double w = r * f0_mN * f0_mN / (4.0 * ei);
+  constexpr int kCells = 2000;
+  double least = 1e300;
+  for (int i = 0; i <= 200; ++i) {  // c from -1 (held at the entry) to 0 (held at the far end)
+    const double c = -static_cast<double>(i) / 200.0;
+    double sum = 0.0;
+    for (int k = 0; k < kCells; ++k) {
+      const double x = (k + 0.5) / kCells;
+      sum += std::hypot(x, (x + c) / alpha) / kCells;
+    }
+    least = std::min(least, sum);
+  }
+  return mu * w * testing::kHelixContact_mm * least;
+}
+
+TEST(RodValidation, TheWallsFrictionRoundTheTubeRaisesTheHelixsForceByItsVirtualWork) {
+  constexpr double kMu = 0.01;
+  const TubeNetworkWall wall = testing::closed_helix_tube();
+  for (const double delta : {5.0, 12.0}) {
+    double force[2] = {0.0, 0.0};
+    for (int with_friction = 0; with_friction < 2; ++with_friction) {
+      Rod rod = testing::closed_tube_wire({}, with_friction != 0 ? kMu : 0.0);
+      const double target = testing::kHelixContact_mm + delta;
+      for (double insertion = 0.0; insertion < target - 1e-9;) {
+        insertion = std::min(target, insertion + 0.03);  // 30 mm/s, the dead-end script's
+        rod.set_boundary(insertion, 0.0);
+        rod.step(1e-3, wall);
+      }
+      force[with_friction] = rod.hand_force_mN();
+    }
+    const double excess = force[1] - force[0];
+    const double expected = first_order_excess_mN(force[0], kMu);
+    const double axial_only = force[0] * kMu * delta / (2.0 * testing::kHelixClearance_mm);
+    std::printf("pushed %.0f mm past the end: %.0f mN frictionless, %.0f mN at mu %.2f: excess %.1f mN, virtual work "
+                "%.1f mN (along the axis only, Mitchell's to first order, %.1f mN)\n",
+                delta, force[0], force[1], kMu, excess, expected, axial_only);
+    EXPECT_NEAR(excess / expected, 1.0, 0.15) << "pushed " << delta << " mm past the end";
+  }
+}
+
 // The dead end's wire (tests/host/session/data/dead_end.case): a 0.014" wire with a soft 50 mm
 // tip curved 45 degrees over its last 3 mm, friction 0.08, in the tube of radius 2 mm closed at
 // 200 mm, entering along its axis.
