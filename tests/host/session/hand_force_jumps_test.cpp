@@ -4,10 +4,12 @@
 // (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
 // (`Simulator::sheath`, with its slip limit's change) and the valves (`Simulator::valve`, its own
 // less its inner tools'), the solver's word on the held rod and its carriers (converged,
-// iterations, sub-steps), a node crossing the held tool's clamp, and this tick's controls
-// (detach). Run: test_session_hand_force --gtest_filter='*HandForceJumps*'
+// iterations, sub-steps), the held rod's wall contacts (their change, how many slip), a node
+// crossing the held tool's clamp, and this tick's controls (detach). Run: test_session_hand_force --gtest_filter='*HandForceJumps*'
 // The table of causes: docs/sim-tool/convergence.md, "The hand force's jumps, by cause".
 #include <gtest/gtest.h>
+
+#include <glm/geometric.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -42,6 +44,20 @@ Split split_of(const tool::Simulator& sim, std::size_t held) {
   }
   s.own = s.total - s.sheath - s.valve;
   return s;
+}
+
+// The held rod's wall contacts, and how many slip (friction at mu N).
+struct WallTouch {
+  std::size_t contacts = 0, slipping = 0;
+};
+
+WallTouch wall_touch(const tool::Rod& rod) {
+  WallTouch w;
+  for (const tool::RodContact& c : rod.contacts()) {
+    ++w.contacts;
+    if (glm::length(c.friction_mN) >= 0.99 * rod.spec().friction * c.normal_force_mN && c.normal_force_mN > 0.0) ++w.slipping;
+  }
+  return w;
 }
 
 // The held rod and the catheters round it: "c" converged, "U" not, with its sub-steps and iterations.
@@ -81,11 +97,13 @@ class JumpPrinter : public TickObserver {
     if (!fresh && v.sim.detached_count() != detached_) events += " released";
     if (!fresh && std::abs(now.total - last_.total) > kSlewPerTick_mN) {
       ++jumps;
-      std::printf("%9.3f %-13s %8.1f %+7.1f | own %+7.1f sheath %+7.1f (%s, limit %+7.1f) valve %+6.1f | v %6.2f dv %+6.2f mm/s | %s |%s\n",
+      const WallTouch w = wall_touch(rod);
+      std::printf("%9.3f %-13s %8.1f %+7.1f | own %+7.1f sheath %+7.1f (%s, limit %+7.1f) valve %+6.1f | v %6.2f dv %+6.2f mm/s | wall %zu (%+d), %zu slip | %s |%s\n",
                   static_cast<double>(v.time_us) * 1e-6, rod.spec().name.c_str(), now.total, now.total - last_.total,
                   now.own - last_.own, now.sheath - last_.sheath, v.sim.sheath(held).sticking ? "stick" : "slip",
                   now.limit - last_.limit,
-                  now.valve - last_.valve, speed, speed - speed_, solver_word(v.sim, held).c_str(), events.c_str());
+                  now.valve - last_.valve, speed, speed - speed_, w.contacts,
+                  static_cast<int>(w.contacts) - static_cast<int>(touch_.contacts), w.slipping, solver_word(v.sim, held).c_str(), events.c_str());
     }
     started_ = true;
     held_ = held;
@@ -94,6 +112,7 @@ class JumpPrinter : public TickObserver {
     speed_ = speed;
     free_node_ = free_node;
     detached_ = v.sim.detached_count();
+    touch_ = wall_touch(rod);
   }
   std::int64_t jumps = 0;
 
@@ -103,6 +122,7 @@ class JumpPrinter : public TickObserver {
   Split last_;
   double x_mm_ = 0.0, speed_ = 0.0;
   std::size_t free_node_ = 0, detached_ = 0;
+  WallTouch touch_;
 };
 
 class HandForceJumps : public ::testing::TestWithParam<FeelRun> {};
