@@ -2,6 +2,7 @@
 // Per-step timing of bench_tool's step benchmarks: wall and thread-CPU time, Newton iterations,
 // preemptions, page faults and wall probes of each step; medians, p99s and the tail as counters.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -28,9 +29,11 @@ class StepTimes {
     its_.reserve(3 * steps);
     switches_.reserve(steps);
     faults_.reserve(steps);
+    work_.reserve(steps);
   }
   // Times one sim.step() and keeps each rod's Newton iterations in it.
   void step(tool::Simulator& sim) {
+    const Work before = total_work(sim);
     rusage r0{};
     getrusage(RUSAGE_THREAD, &r0);
     const double c0 = thread_cpu_us();
@@ -51,6 +54,9 @@ class StepTimes {
       unconverged = unconverged || (rod.first_free_node() < rod.node_total() && !rod.converged());
     }
     unconverged_.push_back(unconverged ? 1 : 0);
+    Work step = total_work(sim);
+    for (std::size_t i = 0; i < step.size(); ++i) step[i] -= before[i];
+    work_.push_back(step);
     if (wall_probes_ != nullptr) {
       probes_.push_back(static_cast<double>(wall_probes_->probes() - probes_seen_));
       probes_seen_ = wall_probes_->probes();
@@ -104,6 +110,21 @@ class StepTimes {
       state.counters[prefix + "its_" + names[t]] = all / static_cast<double>(cpu_.size());
       state.counters[prefix + "tail_its_" + names[t]] = tail / tail_n;
     }
+    // The solver's work a step, summed over the rods (deterministic, unlike the times): the
+    // factorisations, block rows factored, solves and line-search tries, over all steps and the
+    // tail (`tail_factors` ...).
+    if (work_.size() == cpu_.size()) {
+      static const char* const kWork[] = {"factors", "rows_factored", "solves", "line_tries"};
+      for (std::size_t i = 0; i < std::size(kWork); ++i) {
+        double all = 0.0, tail = 0.0;
+        for (std::size_t k = 0; k < cpu_.size(); ++k) {
+          all += work_[k][i];
+          if (cpu_[k] >= p99) tail += work_[k][i];
+        }
+        state.counters[prefix + kWork[i]] = all / static_cast<double>(cpu_.size());
+        state.counters[prefix + "tail_" + kWork[i]] = tail / tail_n;
+      }
+    }
     if (probes_.size() == cpu_.size()) {
       double all = 0.0, tail = 0.0;
       for (std::size_t k = 0; k < cpu_.size(); ++k) {
@@ -150,6 +171,18 @@ class StepTimes {
   const CountingWall* wall_probes_ = nullptr;
   std::uint64_t probes_seen_ = 0;
   std::vector<double> probes_;  // wall probes per step
+  using Work = std::array<double, 4>;  // factorisations, rows factored, solves, line-search tries
+  std::vector<Work> work_;              // per step, summed over the rods
+
+  static Work total_work(const tool::Simulator& sim) {
+    Work sum{};
+    for (std::size_t t = 0; t < sim.tool_count(); ++t) {
+      const tool::Rod::SolverWork w = sim.rod(t).solver_work();
+      sum[0] += static_cast<double>(w.factors), sum[1] += static_cast<double>(w.rows_factored);
+      sum[2] += static_cast<double>(w.solves), sum[3] += static_cast<double>(w.line_tries);
+    }
+    return sum;
+  }
 };
 
 }  // namespace cathbox::bench

@@ -130,6 +130,8 @@ bool BandedCholesky::refactor_from(std::size_t from) { return factor_rows(std::m
 bool BandedCholesky::factor_rows(std::size_t from) {
   const std::size_t first_node = first_;
   bool ok = true;
+  ++work_.factors;
+  work_.rows_factored += n_ > from ? n_ - from : 0;
   for (std::size_t i = from; i < n_; ++i) {
     // L(i, i-2) = A(i, i-2) L(i-2, i-2)^-T
     // L(i, i-1) = (A(i, i-1) - L(i, i-2) L(i-1, i-2)^T) L(i-1, i-1)^-T
@@ -155,6 +157,7 @@ bool BandedCholesky::factor_rows(std::size_t from) {
 }
 
 void BandedCholesky::solve(double* v) const {
+  ++work_.solves;
   // Forward: L y = v.
   for (std::size_t i = first_; i < n_; ++i) {
     double r[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};

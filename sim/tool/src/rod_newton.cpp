@@ -252,6 +252,7 @@ void Rod::line_search(Newton& s) {
       place(s.scale);
     }
     if (tries >= 6 || slope >= 0.0) break;
+    ++retired_work_.line_tries;
     e1 = energy();
     if (e1 <= e0 + 1e-4 * s.scale * slope) {
       if (tries == 0 && s.scale == 1.0 && !curved) extend(s, slope, e0, e1);

@@ -10,6 +10,7 @@
 // (its dot products are chains of dependent multiply-adds): same arithmetic, several times
 // faster (bench/tool).
 #include <cstddef>
+#include <cstdint>
 #include <cstring>
 #include <vector>
 
@@ -59,6 +60,17 @@ class BandedCholesky {
 
   [[nodiscard]] std::size_t nodes() const { return n_; }
 
+  // Work done since construction (bench/tool's deterministic counters): factorisations (whole
+  // or from a row), the block rows they factored, solves.
+  struct Work {
+    std::uint64_t factors = 0, rows_factored = 0, solves = 0;
+    Work& operator+=(const Work& o) {
+      factors += o.factors, rows_factored += o.rows_factored, solves += o.solves;
+      return *this;
+    }
+  };
+  [[nodiscard]] const Work& work() const { return work_; }
+
  private:
   // A 3x3 block, column-major like glm (v[3 column + row]); plain doubles so that the fixed
   // loops below unroll (glm's indexed access goes through a switch).
@@ -80,6 +92,7 @@ class BandedCholesky {
   std::vector<Block> l1_;    // factor L(i, i-1)
   std::vector<Block> l2_;    // factor L(i, i-2)
   std::vector<Block> dinv_;  // inverse of the lower-triangular diagonal factor L(i, i)
+  mutable Work work_;
 };
 
 }  // namespace cathbox::tool

@@ -161,6 +161,12 @@ class Rod {
   [[nodiscard]] const ForceLaw& force_law() const { return law_; }
   // Solver diagnostics of the last step: iterations used.
   [[nodiscard]] int last_iterations() const { return last_iterations_; }
+  // Solver work since the rod was made (bench/tool's deterministic counters): factorisations
+  // (whole or from a row), block rows factored, solves of the factor, line-search tries.
+  struct SolverWork {
+    std::uint64_t factors = 0, rows_factored = 0, solves = 0, line_tries = 0;
+  };
+  [[nodiscard]] SolverWork solver_work() const;
   // Sub-increments the last tick was solved in: 1, or 2, 4 ... after an unconverged solve.
   [[nodiscard]] int last_substeps() const { return last_substeps_; }
   // The last step's Newton iterations met the convergence test: its contact forces (the
@@ -379,6 +385,7 @@ class Rod {
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
   int last_substeps_ = 1;
+  SolverWork retired_work_;  // of the matrices size_scratch() replaced, and the line-search tries
   std::unique_ptr<StepStart> step_start_;  // made at the first step that keeps it
 };
 
