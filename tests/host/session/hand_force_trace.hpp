@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,7 @@ constexpr double kRounding_mN = 1e-6;          // a slew step met exactly, less 
 
 struct FeelRun {
   const char* name;
-  const char* case_file;  // relative to the source tree
+  const char* case_file;  // relative to the source tree, or absolute
   const char* actions;
 };
 
@@ -142,20 +143,26 @@ inline void expect_every_tool_converged(const Metrics& m) {
   for (const ToolConvergence& c : m.convergence) EXPECT_LE(c.unconverged_pct(), kUnconvergedMax_pct) << c.tool;
 }
 
-inline HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Case* spec = nullptr) {
+// setup, when given, is called with the loaded case and the session before the first tick (to add
+// an observer that needs the case's world).
+inline HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Case* spec = nullptr,
+                                  const std::function<void(const SessionCase&, Session&)>& setup = {}) {
   HandForceTrace trace;
-  const std::string root = std::string(CATHBOX_SOURCE_DIR) + "/";
-  SessionCaseLoad loaded = load_session_case(root + run.case_file);
+  const auto path = [](const char* file) {  // relative to the source tree, or absolute
+    return file[0] == '/' ? std::string(file) : std::string(CATHBOX_SOURCE_DIR) + "/" + file;
+  };
+  SessionCaseLoad loaded = load_session_case(path(run.case_file));
   EXPECT_TRUE(loaded) << loaded.error().message;
   if (!loaded) return trace;
   if (spec != nullptr) *spec = loaded.value()->spec;
   std::string error;
-  auto script = ActionScriptHand::load(root + run.actions, *loaded.value());
+  auto script = ActionScriptHand::load(path(run.actions), *loaded.value());
   EXPECT_TRUE(script) << (script ? "" : script.error().message);
   if (!script) return trace;
   auto hand = std::move(*script);
   Session s(std::move(loaded.value()), std::move(hand));
   s.add_observer(trace);
+  if (setup) setup(s.scene(), s);
   while (!s.over() && s.step_virtual(1000) > 0) {
   }
   metrics = s.metrics();
