@@ -252,17 +252,6 @@ void Simulator::prepare(std::size_t t) {
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
 }
 
-namespace {
-// The innermost guidewire of a stack (carried by a catheter, carrying nothing, no stent on it):
-// its unconverged ticks are sub-stepped as a lone tool's while no catheter around it is steered
-// by what it carries (Simulator::step; convergence.md, "Sub-stepped carried wires").
-bool carried_wire(const std::vector<ToolSpec>& specs, const std::vector<std::size_t>& outer_of, std::size_t t) {
-  const std::size_t n = specs.size();
-  if (specs[t].kind != ToolKind::kGuidewire || specs[t].stent.present() || outer_of[t] >= n) return false;
-  return std::none_of(outer_of.begin(), outer_of.end(), [t](std::size_t o) { return o == t; });
-}
-}  // namespace
-
 // The released coils, after the attached tools. A sleeping coil is woken before its own solve
 // by the rods solved before it (coil_sleep.hpp) and starts as a coil at rest.
 void Simulator::step_released(double dt_s) {
@@ -295,14 +284,8 @@ void Simulator::step(double dt_s) {
     update_contact_members();
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
-    // An unconverged tick solved again in sub-increments: lone tools and carried guidewires
-    // (convergence.md, "Sub-stepped ticks", "Sub-stepped carried wires"; catheters' and coils'
-    // re-solves cost the coil and stent benches' p99 several ticks).
-    bool substepped = lone(t) || carried_wire(specs_, outer_of_, t);
-    for (std::size_t c = outer_of_[t], guard = 0; substepped && c < n && guard <= n; c = outer_of_[c], ++guard) {
-      if (steered_now(c)) substepped = false;
-    }
-    rods_[t].settings().substeps_max = substepped ? tuning::kLoneToolSubsteps : 1;
+    // An unconverged tick solved again in sub-increments (Simulator::substepped).
+    rods_[t].settings().substeps_max = substepped(t) ? tuning::kLoneToolSubsteps : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;

@@ -18,6 +18,30 @@ bool Simulator::lone(std::size_t t) const {
          std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
 }
 
+// An unconverged tick is solved again in sub-increments (Rod::step) for a lone tool and for a
+// tool carried in a catheter (a guidewire carrying nothing, a catheter, an attached coil) while
+// neither it nor any catheter around it is steered by what it carries (steered_now) and no stent
+// is on it or inside it (convergence.md, "Sub-stepped ticks", "Sub-stepped carried wires",
+// "Sub-stepped carried catheters and coils": a stent retriever's re-solves cost the stent case's
+// p99 several ticks; a steered stack's path left main's in the thrombectomy run).
+bool Simulator::substepped(std::size_t t) const {
+  if (lone(t)) return true;
+  const std::size_t n = rods_.size();
+  if (outer_of_[t] >= n || steered_now(t)) return false;
+  const ToolKind kind = specs_[t].kind;
+  const bool carries = std::any_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
+  if (!(kind == ToolKind::kCatheter || kind == ToolKind::kCoil || (kind == ToolKind::kGuidewire && !carries))) {
+    return false;
+  }
+  for (std::size_t u = 0; u < n; ++u) {
+    if ((u == t || nested_in(u, t)) && specs_[u].stent.present()) return false;
+  }
+  for (std::size_t c = outer_of_[t], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (steered_now(c)) return false;
+  }
+  return true;
+}
+
 void Simulator::update_contact_members() {
   // Coils (their part past the detachment zone), released coils, and the tips of the
   // catheters coils leave.
