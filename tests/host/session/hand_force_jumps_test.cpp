@@ -5,7 +5,7 @@
 // (`Simulator::sheath`, with its slip limit's change) and the valves (`Simulator::valve`, its own
 // less its inner tools'), the solver's word on the held rod and its carriers (converged,
 // iterations, sub-steps), the held rod's wall contacts (their change, how many slip), a node
-// crossing the held tool's clamp, and this tick's controls (detach). Run: test_session_hand_force --gtest_filter='*HandForceJumps*'
+// crossing the held tool's clamp, and this tick's controls (detach). Run: test_session_hand_force_jumps (ctest label `long`)
 // The table of causes: docs/sim-tool/convergence.md, "The hand force's jumps, by cause".
 #include <gtest/gtest.h>
 

@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 13;  // format version 13 (a record before the rod's out-of-plane seed and the coil's stretch correction), CRC fixed up
+  bytes[8] = 14;  // format version 14 (a record before the stubs' seed rule and the carried catheters' sub-steps), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v13 = RecordReader::from_bytes(bytes, "v13.cbxrec");
-  ASSERT_FALSE(v13);
-  EXPECT_EQ(v13.error().message, "v13.cbxrec: byte 8: record format version 13, this build reads version 14");
+  const auto v14 = RecordReader::from_bytes(bytes, "v14.cbxrec");
+  ASSERT_FALSE(v14);
+  EXPECT_EQ(v14.error().message, "v14.cbxrec: byte 8: record format version 14, this build reads version 15");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);
