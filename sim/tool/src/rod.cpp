@@ -117,21 +117,17 @@ void Rod::size_scratch() {
   gathered_at_.assign(n, glm::dvec3(0.0));
   solved_move_.assign(n, glm::dvec3(0.0));
   warm_ok_ = false;
-  if (matrix_) {
-    const BandedCholesky::Work& w = matrix_->work();
-    retired_work_.factors += w.factors;
-    retired_work_.rows_factored += w.rows_factored;
-    retired_work_.solves += w.solves;
-  }
+  retired_work_ = solver_work();  // the replaced matrix's work is kept
   matrix_ = std::make_unique<BandedCholesky>(n);
 }
 
 Rod::SolverWork Rod::solver_work() const {
   SolverWork w = retired_work_;
   if (matrix_) {
-    w.factors += matrix_->work().factors;
-    w.rows_factored += matrix_->work().rows_factored;
-    w.solves += matrix_->work().solves;
+    const BandedCholesky::Work& m = matrix_->work();
+    w.factors += m.factors;
+    w.rows_factored += m.rows_factored;
+    w.solves += m.solves;
   }
   return w;
 }

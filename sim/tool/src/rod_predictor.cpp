@@ -60,8 +60,8 @@ double out_of_plane_mm(std::span<const glm::dvec3> x, std::size_t first, const g
 
 // The fewest free nodes a compressed rod is seeded with. The out-of-plane test reads 0 for one
 // free node whatever its place (a plane through the entry line holds any one point), and for two
-// reads under the seed while the stub is near straight (a straight stub from the entry lies in
-// one such plane; the stent case's two-node stubs read ~0.1 um), which one this short is: far
+// reads under the seed while the short rod is near straight (a straight one from the entry lies
+// in one such plane; the stent case's two-node rods read ~0.1 um), which one this short is: far
 // under its buckling load (clamped-free Euler pi^2 EI / (4 l^2), l <= two edges), it has nothing
 // to buckle into, so seeding it on every compressed step only shakes it.
 constexpr std::size_t kSeedNodesMin = 3;
@@ -139,7 +139,7 @@ void Rod::seed_buckling() {
   // already out of every plane through its entry line by more than the offset would give (by
   // the vessel's path, its own shape or an earlier seed) needs none: seeding it again every
   // compressed step only shakes it (and the shaken rod then spends Newton iterations taking the
-  // offset back out). A stub of fewer than kSeedNodesMin free nodes is never seeded.
+  // offset back out). A rod of fewer than kSeedNodesMin free nodes is never seeded.
   const std::size_t n = x_.size();
   if (n - first_free_ < kSeedNodesMin) return;
   if (out_of_plane_mm(x_, first_free_, entry_, dir_) > settings_.buckling_seed_mm) return;

@@ -71,8 +71,8 @@ TEST(HandForceFigures, MetricsReportTheHandsPeakAndEachToolsUnconvergedShare) {
 
 // Check 1, the bounds of issue 29 ("the feel") on the tool's own force. Met by the Y bifurcation,
 // the angioplasty and the held-out bend; the coiling run is instantiated disabled (run it with
-// --gtest_also_run_disabled_tests) until its tools converge and its changes over the slew are gone
-// (each one's cause: hand_force_jumps_test.cpp); the dead ends have checks 2 and 3
+// --gtest_also_run_disabled_tests) until its changes over the slew are gone (its tools converge:
+// ToolConvergence; each change's cause: hand_force_jumps_test.cpp); the dead ends have checks 2 and 3
 // instead (their wire's own force is physically over 5 N). Figures: docs/sim-tool/convergence.md
 // (HandForceFigures prints them). The angioplasty met them once the wire's clamp at the balloon
 // catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip) and the predictor

@@ -230,7 +230,7 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 14;  // format version 14 (a record before the stubs' seed rule and the carried catheters' sub-steps), CRC fixed up
+  bytes[8] = 14;  // format version 14 (a record before the short rods' seed rule and the carried catheters' sub-steps), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
   const auto v14 = RecordReader::from_bytes(bytes, "v14.cbxrec");

@@ -84,14 +84,14 @@ TEST(RodBehaviour, StraightToolPushedIntoADeadEndBucklesFromTheSeedAndIsNotResee
   }
 }
 
-// A stub of one or two nodes past the entry pushed onto a closed end: the out-of-plane test of
+// A short rod of one or two free nodes past the entry pushed onto a closed end: the out-of-plane test of
 // the buckling seed reads 0 for it whatever its shape (a plane through the entry line holds any
 // one node, and the first free node is held near the line by the clamp), so it was seeded on
 // every compressed step (the stent case's bench: every such step, 68 of 14,000) and the solve
-// spent its iterations taking the 10 um back out. A stub that short (<= 2 edges) is far under its
+// spent its iterations taking the 10 um back out. A rod that short (<= 2 edges) is far under its
 // buckling load (clamped-free Euler, pi^2 EI / (4 l^2): 49 N for this one at l = 1 mm), so it
 // stays on the entry line: unseeded, nothing moves it off.
-TEST(RodBehaviour, AStubOfOneOrTwoNodesPushedOntoADeadEndIsNotSeeded) {
+TEST(RodBehaviour, AShortRodOfOneOrTwoFreeNodesPushedOntoADeadEndIsNotSeeded) {
   const ToolSpec spec = uniform_tool(120.0, 0.36, 20.0, 15.0, 0.5, 0.1);
   for (const double end_mm : {0.0, 0.3}) {  // the tip meets the cap 0.42 mm past the tube's end
     const TubeNetworkWall wall = testing::straight_tube(0.6, -5.0, end_mm);
@@ -106,9 +106,9 @@ TEST(RodBehaviour, AStubOfOneOrTwoNodesPushedOntoADeadEndIsNotSeeded) {
     const std::size_t free_nodes = rod.node_total() - rod.first_free_node();
     std::printf("tube's end %.1f mm past the entry: %zu free nodes, lateral %.3g mm, hand force %.0f mN\n", end_mm, free_nodes,
                 lateral, rod.hand_force_mN());
-    ASSERT_LE(free_nodes, 2U) << "the stub this test is about";
+    ASSERT_LE(free_nodes, 2U) << "the short rod this test is about";
     EXPECT_GT(rod.hand_force_mN(), 100.0) << "pushed onto the cap";
-    EXPECT_LT(lateral, 1e-9) << "a stub of " << free_nodes << " free nodes stays on the entry line";
+    EXPECT_LT(lateral, 1e-9) << "a rod of " << free_nodes << " free nodes stays on the entry line";
   }
 }
 

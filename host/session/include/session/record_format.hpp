@@ -20,7 +20,7 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // catheter's tip follows the wire from its own tip (issue 29), 13 since a case holds 6 tools and
 // the tools entry's mask is a u16, 14 since a planar compressed rod is seeded out of its plane and
 // an attached coil's step corrects its stretch and a carried wire's ticks are sub-stepped, 15
-// since a stub of under 3 free nodes is not seeded and a carried catheter's or attached coil's
+// since a rod of under 3 free nodes is not seeded and a carried catheter's or attached coil's
 // unconverged tick is sub-stepped. An older record is refused in one line, not mis-replayed.
 inline constexpr std::uint16_t kFormatVersion = 15;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32

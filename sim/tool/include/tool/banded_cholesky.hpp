@@ -64,10 +64,6 @@ class BandedCholesky {
   // or from a row), the block rows they factored, solves.
   struct Work {
     std::uint64_t factors = 0, rows_factored = 0, solves = 0;
-    Work& operator+=(const Work& o) {
-      factors += o.factors, rows_factored += o.rows_factored, solves += o.solves;
-      return *this;
-    }
   };
   [[nodiscard]] const Work& work() const { return work_; }
 
