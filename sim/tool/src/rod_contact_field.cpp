@@ -39,7 +39,7 @@ glm::dvec3 any_perpendicular(const glm::dvec3& t) {
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
   return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
          a.self_only == b.self_only && a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm &&
-         a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0) && a.margin_mm == b.margin_mm;
+         a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0);
 }
 
 }  // namespace
@@ -62,7 +62,6 @@ void RodContactField::set_members(std::span<const Member> members) {
   max_edge_mm_ = 0.0;
   max_radius_mm_ = 0.0;
   max_override_mm_ = 0.0;
-  reach_margin_ = margin_;
   items_.clear();
   balls_.clear();
   for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
@@ -71,7 +70,6 @@ void RodContactField::set_members(std::span<const Member> members) {
     node_totals_.push_back(rod.node_total());
     first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
     listed_radius_.push_back(m.radius_mm);
-    reach_margin_ = std::max(reach_margin_, margin_of(m));
     max_override_mm_ = std::max(max_override_mm_, m.radius_mm);
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge_mm_ = std::max(max_edge_mm_, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
@@ -104,7 +102,7 @@ void RodContactField::set_members(std::span<const Member> members) {
 // Edges that can be listed have midpoints within one cell of each other: an override touches
 // the members' own edges only.
 void RodContactField::update_cell() {
-  cell_mm_ = std::max(0.05, max_edge_mm_ + max_radius_mm_ + std::max(max_radius_mm_, max_override_mm_) + reach_margin_ + skin_);
+  cell_mm_ = std::max(0.05, max_edge_mm_ + max_radius_mm_ + std::max(max_radius_mm_, max_override_mm_) + margin_ + skin_);
 }
 
 // A member's radius override changed: its items take it at once. Growth since the list was
@@ -161,13 +159,6 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
   }
 }
 
-double RodContactField::margin_mm(const Rod& rod) const {
-  for (const Member& m : members_) {
-    if (m.rod == &rod) return margin_of(m);
-  }
-  return margin_;
-}
-
 void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) const {
   out.clear();
   std::uint32_t mi = 0;
@@ -180,9 +171,8 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     gathers_ = 1;
   }
   const Member& me = members_[mi];
-  const double margin = margin_of(me);
   const std::span<const glm::dvec3> x = rod.positions();
-  for_candidates(me, mi, margin, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
+  for_candidates(me, mi, margin_, [&](const Item& a, const Member& other, const Item& b, std::uint32_t slot) {
     const std::size_t e = a.edge;
     const std::size_t f = b.edge;
     const double rr = a.radius + b.radius;
@@ -208,7 +198,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     // since (both measured from the listed positions) cannot be in reach; the segment test
     // would reject it.
     LastGap& last = last_gap_[slot];
-    if (last.gap_mm - last.drift_mm - a.drift - b.drift >= rr + margin + 1e-9) return;
+    if (last.gap_mm - last.drift_mm - a.drift - b.drift >= rr + margin_ + 1e-9) return;
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
     const glm::dvec3& b0 = other.rod->positions()[f];
@@ -221,7 +211,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     const double d = glm::length(p - q);
     last.gap_mm = d;
     last.drift_mm = a.drift + b.drift;
-    if (d >= rr + margin) return;
+    if (d >= rr + margin_) return;
     if (side != nullptr) side->contact = static_cast<std::uint32_t>(out.size()), side->t = t;
     EdgeContact c;
     c.edge = static_cast<std::uint32_t>(e);

@@ -349,7 +349,7 @@ void Rod::follow_moves(Newton& s) {
     if (nc.has_second && !nc.active2 && second_gap(k) > 0.0) nc.active2 = true, s.refactor = true;
   }
   // Planes of other rods are taken again once a node has moved half the margin.
-  if (moved_since_gather(0.5 * s.obstacles->margin_mm(*this))) {
+  if (moved_since_gather(0.5 * s.obstacles->margin_mm())) {
     gather_obstacles(*s.obstacles);
     s.refactor = true;
   }

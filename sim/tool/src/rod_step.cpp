@@ -125,7 +125,7 @@ void Rod::project_contacts(const RodObstacles* obstacles) {
     if (round > 0) limit_penetration();
     // Other rods are frozen while this one is solved: the planes of the solve are taken again
     // unless a node moved a tenth of the margin since they were gathered.
-    if (obstacles != nullptr && (round > 0 || moved_since_gather(kRegatherMargins * obstacles->margin_mm(*this)))) {
+    if (obstacles != nullptr && (round > 0 || moved_since_gather(kRegatherMargins * obstacles->margin_mm()))) {
       gather_obstacles(*obstacles);
     }
     if (!finish_edge_contacts()) break;

@@ -3,8 +3,6 @@
 // an inflated balloon (against coils only), and a lone tool against its own far parts.
 #include "tool/simulator.hpp"
 
-#include "simulator_tuning.hpp"
-
 #include <algorithm>
 
 namespace cathbox::tool {
@@ -60,7 +58,6 @@ void Simulator::update_contact_members() {
     m.edge_last = rod.node_total() - 1;
     m.self = true;
     m.coil = true;
-    m.margin_mm = tuning::kPushedCoilMargin_mm;
     const std::size_t c = carrier_[t];
     if (c < n) {
       m.hollow = &rods_[c];

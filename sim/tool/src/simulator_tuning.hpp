@@ -16,10 +16,5 @@ inline constexpr int kLoneToolSubsteps = 4;
 // (0.02 um a tick on average at 3-4 s, 1.04 Newton iterations a step; 0 settles alike with 1.40):
 // docs/journal/sim-tool-step-time.md, "What keeps the packing bench's pile moving".
 inline constexpr double kReleasedCoilWarmStart = 0.5;
-// The coil being pushed gathers its rod-rod planes within twice the field's margin (0.1 mm,
-// simulator.cpp; its step stays capped at 0.04 mm): it takes them again after 0.1 mm of motion
-// instead of 0.05, and its tail steps refactor less. Released coils keep the field's margin, so
-// their pairs (the packing's bulk) do not grow.
-inline constexpr double kPushedCoilMargin_mm = 0.2;
 inline constexpr double kMinSheathEdge = 0.5;  // shortest sheath-path edge, of the holder's node spacing
 }  // namespace cathbox::tool::tuning

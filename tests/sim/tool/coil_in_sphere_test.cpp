@@ -248,39 +248,5 @@ TEST_F(CoilInSphere, TheTwoSidesOfASelfContactHoldOnePlane) {
   EXPECT_EQ(paired, contacts.size());
 }
 
-// A member's own margin (the coil being pushed takes twice the field's) gathers what a field of
-// that margin gathers, and the rod reads it as its margin; the other members keep the field's.
-TEST_F(CoilInSphere, AMembersOwnMarginGathersAsAFieldOfThatMargin) {
-  drive(sim, kCoil, micro + 0.95 * kCoilLength, 0.02);
-  const Rod& coil = sim.rod(kCoil);
-  RodContactField::Member m;
-  m.rod = &coil;
-  m.edge_first = coil.first_edge();
-  m.edge_last = coil.node_total() - 1;
-  m.self = true;
-  RodContactField wide(0.3);
-  wide.set_members(std::span<const RodContactField::Member>(&m, 1));
-  m.margin_mm = 0.3;
-  RodContactField own(0.1);
-  own.set_members(std::span<const RodContactField::Member>(&m, 1));
-  std::vector<EdgeContact> a, b;
-  wide.gather(coil, a);
-  own.gather(coil, b);
-  EXPECT_DOUBLE_EQ(own.margin_mm(coil), 0.3);
-  EXPECT_DOUBLE_EQ(own.margin_mm(), 0.1);
-  ASSERT_GT(a.size(), 20u);
-  ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    EXPECT_EQ(a[i].edge, b[i].edge);
-    EXPECT_EQ(a[i].normal, b[i].normal);
-    EXPECT_EQ(a[i].offset_mm, b[i].offset_mm);
-  }
-  // The field's own margin gathers fewer of them.
-  m.margin_mm = 0.0;
-  own.set_members(std::span<const RodContactField::Member>(&m, 1));
-  own.gather(coil, b);
-  EXPECT_LT(b.size(), a.size());
-}
-
 }  // namespace
 }  // namespace cathbox::tool

@@ -42,12 +42,9 @@ class RodContactField final : public RodObstacles {
     // their contact law (their contact stiffness) on both sides: an inflated balloon's working
     // length. A change of this alone keeps the candidate list (growth counts as motion).
     double radius_mm = 0.0;
-    // > 0: the margin this member's gathers use instead of the field's (a wider one for the coil
-    // being pushed: its steps may be longer; the other members' pair counts do not grow).
-    double margin_mm = 0.0;
   };
 
-  explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), reach_margin_(margin_mm), skin_(skin_mm) {}
+  explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), skin_(skin_mm) {}
 
   // The rods taking part in this step (positions are read at each gather). Members equal to
   // the present ones (but for radius_mm) keep the candidate list.
@@ -55,9 +52,7 @@ class RodContactField final : public RodObstacles {
   [[nodiscard]] std::span<const Member> members() const { return members_; }
 
   void gather(const Rod& rod, std::vector<EdgeContact>& out) const override;
-  [[nodiscard]] double margin_mm(const Rod& rod) const override;
-  // The field's margin (members without their own).
-  [[nodiscard]] double margin_mm() const { return margin_; }
+  [[nodiscard]] double margin_mm() const override { return margin_; }
 
   // Deepest overlap of two non-neighbouring edges (sum of radii minus distance) among the
   // members, and the shortest distance between the centre lines; for tests and metrics.
@@ -101,10 +96,7 @@ class RodContactField final : public RodObstacles {
   template <typename Fn>
   void for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const;
 
-  [[nodiscard]] double margin_of(const Member& m) const { return m.margin_mm > 0.0 ? m.margin_mm : margin_; }
-
   double margin_;
-  double reach_margin_;  // the widest margin of the members (the list covers it)
   double skin_;
   std::vector<Member> members_;
   std::vector<std::uint32_t> first_item_;  // per member: index of its first item

@@ -37,9 +37,9 @@ class RodObstacles {
   virtual ~RodObstacles() = default;
   // Replaces `out` with the contact planes of `rod` at its present positions.
   virtual void gather(const Rod& rod, std::vector<EdgeContact>& out) const = 0;
-  // Pairs closer than the contact distance plus this margin are gathered for `rod`; a node may
-  // move half of it before the planes are gathered again.
-  [[nodiscard]] virtual double margin_mm(const Rod& rod) const = 0;
+  // Pairs closer than the contact distance plus this margin are gathered; a node may move
+  // half of it before the planes are gathered again.
+  [[nodiscard]] virtual double margin_mm() const = 0;
 };
 
 struct RodContact {
