@@ -22,9 +22,10 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   // A holder's first free node (just past its entry: the carrier's tip, or the entry) fades in
   // over its first edge, in position (from the entry line, where it crossed, to its own place)
   // and in weight (SheathVertex::weight): it joins the path where its clamp left it and takes its
-  // lateral play and its share of the turning in proportion to the length it is out. Left out
-  // until a spacing from the entry (the rule before), it stepped the wire's lumen friction by
-  // 0.3-1.4 N in one tick at each of the microcatheter's nodes leaving the guide's tip.
+  // lateral play and its share of the turning in proportion to the length it is out. The rule
+  // before (the entry's vertex left out while the node was under half a spacing past it, then put
+  // back) stepped the coiling run's wire by 0.3-1.4 N in a tick at each of the microcatheter's
+  // nodes leaving the guide's tip.
   std::size_t holder_station = Rod::kNoStation;
   const auto vertex = [&](glm::dvec3 p, std::size_t holder, std::size_t node, double depth, bool at_node) {
     const Rod& h = rods_[holder];
