@@ -53,20 +53,57 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
   return out;
 }
 
-// Turning angle and curvature at the interior vertices (index 0 is distal).
+// Turning angle and bending push at the vertices (index 0 is distal), a fading vertex's
+// neighbourhood mixed between the path without it and with it by its weight.
 void SheathFriction::measure_turning(const std::vector<SheathVertex>& path) {
   const std::size_t m = path.size();
+  measure_on(path, false, turning_, bending_);
+  bool fading = false;
+  for (const SheathVertex& v : path) fading = fading || v.weight < 1.0;
+  if (!fading) return;
+  measure_on(path, true, turning_without_, bending_without_);
+  for (std::size_t j = 0; j < m; ++j) {
+    // The vertices whose turning or bending reads a fading vertex f: f - 2 ... f + 2.
+    double w = 1.0;
+    for (std::size_t f = j >= 2 ? j - 2 : 0; f <= j + 2 && f < m; ++f) w = std::min(w, std::clamp(path[f].weight, 0.0, 1.0));
+    turning_[j] = w * turning_[j] + (1.0 - w) * turning_without_[j];
+    bending_[j] = w * bending_[j] + (1.0 - w) * bending_without_[j];
+  }
+}
+
+// Turning, curvature and the bending push on the path's vertices, or on those not fading in
+// (the others get none).
+void SheathFriction::measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::vector<double>& turning,
+                                std::vector<double>& bending) {
+  const std::size_t m = path.size();
+  turning.assign(m, 0.0);
+  bending.assign(m, 0.0);
   curvature_.assign(m, 0.0);
-  bending_.assign(m, 0.0);
-  for (std::size_t j = 1; j + 1 < m; ++j) {
-    const glm::dvec3 a = path[j].point_mm - path[j + 1].point_mm;  // distal direction, proximal edge
-    const glm::dvec3 b = path[j - 1].point_mm - path[j].point_mm;  // distal edge
+  active_.clear();
+  for (std::size_t j = 0; j < m; ++j) {
+    if (!skip_fading || path[j].weight >= 1.0) active_.push_back(j);
+  }
+  const std::size_t r = active_.size();
+  for (std::size_t i = 1; i + 1 < r; ++i) {
+    const std::size_t j = active_[i];
+    const glm::dvec3 a = path[j].point_mm - path[active_[i + 1]].point_mm;  // distal direction, proximal edge
+    const glm::dvec3 b = path[active_[i - 1]].point_mm - path[j].point_mm;  // distal edge
     const double la = glm::length(a);
     const double lb = glm::length(b);
     if (!(la > 1e-9) || !(lb > 1e-9)) continue;
     const double c = std::clamp(glm::dot(a, b) / (la * lb), -1.0, 1.0);
-    turning_[j] = base::portable::acos(c) * std::clamp(path[j].coverage, 0.0, 1.0);
-    curvature_[j] = turning_[j] / (0.5 * (la + lb));
+    turning[j] = base::portable::acos(c) * std::clamp(path[j].coverage, 0.0, 1.0);
+    curvature_[j] = turning[j] / (0.5 * (la + lb));
+  }
+  for (std::size_t i = 0; i + 1 < r; ++i) {
+    const std::size_t j = active_[i];
+    const std::size_t next = active_[i + 1];
+    const double dk = std::abs(curvature_[j] - curvature_[next]);
+    if (!(dk > 0.0)) continue;
+    const double k = std::max({curvature_[j], curvature_[next], 1e-9});
+    const double h = glm::length(path[j].point_mm - path[next].point_mm);
+    const double l = std::max(h, 2.0 * std::sqrt(2.0 * std::max(0.0, path[j].clearance_mm) / k));
+    bending[j] = path[j].inner_ei_Nmm2 * kMilli * dk / l;
   }
 }
 
@@ -76,19 +113,8 @@ std::pair<double, double> SheathFriction::capstan_normals(const std::vector<Shea
   double t_fwd = distal_force_mN;
   double t_back = distal_force_mN;
   for (std::size_t j = 0; j < m; ++j) {
-    double bending = 0.0;
-    if (j + 1 < m) {
-      const double dk = std::abs(curvature_[j] - curvature_[j + 1]);
-      if (dk > 0.0) {
-        const double k = std::max({curvature_[j], curvature_[j + 1], 1e-9});
-        const double h = glm::length(path[j].point_mm - path[j + 1].point_mm);
-        const double l = std::max(h, 2.0 * std::sqrt(2.0 * std::max(0.0, path[j].clearance_mm) / k));
-        bending = path[j].inner_ei_Nmm2 * kMilli * dk / l;
-      }
-    }
-    bending_[j] = bending;
-    normal_fwd_[j] = std::abs(t_fwd) * turning_[j] + bending;
-    normal_back_[j] = std::abs(t_back) * turning_[j] + bending;
+    normal_fwd_[j] = std::abs(t_fwd) * turning_[j] + bending_[j];
+    normal_back_[j] = std::abs(t_back) * turning_[j] + bending_[j];
     t_fwd += path[j].mu * normal_fwd_[j];
     t_back -= path[j].mu * normal_back_[j];
   }

@@ -16,5 +16,4 @@ inline constexpr int kLoneToolSubsteps = 4;
 // (0.02 um a tick on average at 3-4 s, 1.04 Newton iterations a step; 0 settles alike with 1.40):
 // docs/journal/sim-tool-step-time.md, "What keeps the packing bench's pile moving".
 inline constexpr double kReleasedCoilWarmStart = 0.5;
-inline constexpr double kMinSheathEdge = 0.5;  // shortest sheath-path edge, of the holder's node spacing
 }  // namespace cathbox::tool::tuning

@@ -20,11 +20,15 @@
 // where a path ending at the end point itself stepped at every node (its curvature rising as the
 // end neared a node, 1/|end - node|, and its turning lost when the end passed it: a pusher drawn
 // back through a microcatheter's tip read a sawtooth of 600 -> 1,100 mN a node).
-// The path's turning and curvature are read from its vertices, so the simulator leaves out a
-// vertex nearer than half a node spacing to one of another origin (the entry and the first free
-// node past it; a catheter's tip node and the first free node of the tool it holds): across so
-// short an edge the direction is the nodes' lateral play, and the bending term read it as
-// newtons of normal force (Simulator::build_sheath_path).
+// The path's turning and curvature are read from its vertices, and a holder's first free node
+// (just past the entry, or past the tip of the catheter that carries it) fades in over its first
+// edge (SheathVertex::weight): its place goes from the entry line, where it crossed, to its own
+// in proportion to the length it is out, and the turning and bending of the vertices round it
+// from those of the path without it to those with it. Across so short an edge the direction is
+// the node's lateral play, which the bending term read as newtons of normal force; the rule
+// before (a vertex nearer than half a spacing to one of another origin left out, then put back)
+// stepped the coiling run's wire drawn back by -0.3 N and then -1.4 N in one tick at each of the
+// microcatheter's nodes leaving the guide's tip (Simulator::build_sheath_path).
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -48,6 +52,10 @@ struct SheathVertex {
   // inner tool's end, whose share grows from 0 to 1 as the end goes from it to the next holder
   // node (the path's first vertex, which the end has not reached).
   double coverage = 1.0;
+  // Weight of a holder's first free node fading in over its first edge past its entry (0 as it
+  // crosses, 1 a spacing out): the path's turning and bending there are those of the path
+  // without it and with it, mixed in this proportion.
+  double weight = 1.0;
 };
 
 class SheathFriction {
@@ -81,6 +89,8 @@ class SheathFriction {
   // stick spring with slip at the limits; the axial profile and reactions of the friction acting
   // (returns the twist's friction torque limit); the twist spring with slip at that limit.
   void measure_turning(const std::vector<SheathVertex>& path);
+  void measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::vector<double>& turning,
+                  std::vector<double>& bending);
   std::pair<double, double> capstan_normals(const std::vector<SheathVertex>& path, double distal_force_mN);
   void stick_slide(double k, Result& out);
   double distribute_friction(const std::vector<SheathVertex>& path, double distal_force_mN, const Result& out);
@@ -91,6 +101,8 @@ class SheathFriction {
   double turn_ = 0.0;
   double turn_anchor_ = 0.0;
   std::vector<double> normal_fwd_, normal_back_, axial_, turning_, curvature_, bending_;
+  std::vector<double> turning_without_, bending_without_;  // the fading vertices left out
+  std::vector<std::size_t> active_;
   std::vector<glm::dvec3> reaction_;
 };
 
