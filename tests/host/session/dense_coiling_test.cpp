@@ -69,11 +69,11 @@ TEST(DenseCoiling, DISABLED_TheDenseCasePacksAQuarterOfTheSacWithoutHerniationWi
   for (const tool::ToolSection& s : coil->next_coils) total_mm += s.length_mm;
   const auto coil_tool = static_cast<std::size_t>(coil - spec.tools.begin());
   ASSERT_TRUE(m.packing_density_pct && m.coil_length_mm && m.coil_herniations && m.coil_herniated_peak_nodes &&
-              m.coil_herniated_depth_mm && m.kick_back_mm);
+              m.coil_herniated_depth_mm && m.kick_back_mm && m.kick_forward_mm);
   std::printf("  %zu coils, %.1f mm: deployed %.1f mm, packing %.2f %%, %d herniations (up to %d nodes, %.2f mm past "
-              "the neck), kick-back %.2f mm\n",
+              "the neck), kick-back %.2f mm, kick-forward %.2f mm\n",
               coil->next_coils.size() + 1, total_mm, *m.coil_length_mm, *m.packing_density_pct, *m.coil_herniations,
-              *m.coil_herniated_peak_nodes, *m.coil_herniated_depth_mm, *m.kick_back_mm);
+              *m.coil_herniated_peak_nodes, *m.coil_herniated_depth_mm, *m.kick_back_mm, *m.kick_forward_mm);
   EXPECT_NEAR(*m.coil_length_mm, total_mm, 0.6);
   EXPECT_GE(*m.packing_density_pct, kPackingMin_pct);
   EXPECT_EQ(*m.coil_herniations, 0);
