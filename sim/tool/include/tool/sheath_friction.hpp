@@ -12,9 +12,9 @@
 // lumped over the covered length: sticking, the hand feels the anchor's stiffness; slipping,
 // the limit. The reaction (the catheter dragged along by the friction) goes back onto the
 // catheters' nodes as loads for the next step. The push of the inner tool's axial force on the
-// catheter's bends is applied only where set_bend_reaction says (the simulator: a coil, whose
-// push into a sac reaches its held microcatheter's curves; lagged by a step, for a wire steering
-// its catheter through navigation it fed back on itself and moved the bundled runs).
+// catheter's bends is applied only where set_bend_reaction says (the simulator: for a coil while
+// tuning::kCoilBendReaction, off; for a wire steering its catheter through navigation, lagged
+// by a step, it fed back on itself and moved the bundled runs).
 // The path ends at the holder's node just past the inner tool's end, the turning of the node
 // behind that end taken in proportion to the edge covered (SheathVertex::coverage), and the inner
 // tool's stiffness at a vertex is its mean over the vertex's span: the normal forces change by
