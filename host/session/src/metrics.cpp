@@ -232,6 +232,7 @@ std::string MetricsCollector::format(const Metrics& m) {
               *m.coil_herniated_peak_nodes, *m.coil_herniated_depth_mm);
     }
     optional_figure("kick-back", m.kick_back_mm, "mm");
+    optional_figure("kick-forward", m.kick_forward_mm, "mm");
     if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {
       appendf(out, "%-21s %lld coil steps skipped, %lld wakes\n", "coil sleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
               static_cast<long long>(*m.coil_sleep_wakes));
@@ -256,6 +257,7 @@ void MetricsCollector::set_coiling(const tool::CoilFigures& f) {
   m_.coil_herniated_peak_nodes = f.herniated_peak_nodes;
   m_.coil_herniated_depth_mm = f.herniated_depth_mm;
   m_.kick_back_mm = f.kick_back_mm;
+  m_.kick_forward_mm = f.kick_forward_mm;
 }
 
 double Metrics::unconverged_pct_max() const {
@@ -317,6 +319,7 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.coil_herniated_peak_nodes) add("coil_herniated_peak_nodes", *m.coil_herniated_peak_nodes);
   if (m.coil_herniated_depth_mm) add("coil_herniated_depth_mm", *m.coil_herniated_depth_mm);
   if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
+  if (m.kick_forward_mm) add("kick_forward_mm", *m.kick_forward_mm);
   if (m.coil_sleep_skipped_steps) add("coil_sleep_skipped_steps", static_cast<double>(*m.coil_sleep_skipped_steps));
   if (m.coil_sleep_wakes) add("coil_sleep_wakes", static_cast<double>(*m.coil_sleep_wakes));
   if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
@@ -351,7 +354,7 @@ std::vector<std::string> metric_names() {
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "coil_herniated_peak_nodes",
-          "coil_herniated_depth_mm", "kick_back_mm",
+          "coil_herniated_depth_mm", "kick_back_mm", "kick_forward_mm",
           "coil_sleep_skipped_steps", "coil_sleep_wakes",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",

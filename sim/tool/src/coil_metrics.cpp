@@ -67,6 +67,7 @@ void CoilMetrics::observe(const Simulator& sim) {
     if (c.deploying && sim.released_mm(c.tool) == 0.0) {  // until the coil is released
       const double kick = (c.ref_depth_mm - depth) - (c.ref_insertion_mm - insertion);
       f_.kick_back_now_mm = std::max(f_.kick_back_now_mm, kick);
+      f_.kick_forward_mm = std::max(f_.kick_forward_mm, -kick);
     }
   }
   for (std::size_t i = 0; i < sim.detached_count(); ++i) {

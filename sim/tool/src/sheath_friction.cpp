@@ -151,11 +151,17 @@ double SheathFriction::distribute_friction(const std::vector<SheathVertex>& path
     const double fj = (f >= 0.0 ? 1.0 : -1.0) * path[j].mu * normal[j] * share;  // resists insertion
     torque_limit += path[j].mu * (std::abs(t) * turning_[j] + bending_[j]) * path[j].inner_radius_mm;
     t += fj;
-    // Reaction on the holder: the friction drags it along.
+    // Reaction on the holder: the friction drags it along, and where the path turns the axial
+    // force t presses on the lumen with t (a - b), a and b the directions of the edges in and
+    // out (a compressed tool pushes the bend outwards, one in tension pulls it in).
     const glm::dvec3 distal =
         j > 0 ? unit_or(path[j - 1].point_mm - path[j].point_mm, glm::dvec3(0.0))
               : unit_or(path[0].point_mm - path[1].point_mm, glm::dvec3(0.0));
     reaction_[j] = distal * fj;
+    if (bend_reaction_ && j > 0 && j + 1 < m) {
+      const glm::dvec3 in = unit_or(path[j].point_mm - path[j + 1].point_mm, glm::dvec3(0.0));
+      reaction_[j] += t * std::clamp(path[j].coverage, 0.0, 1.0) * (in - distal);
+    }
   }
   axial_[m] = t;
   return torque_limit;

@@ -134,6 +134,9 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
   const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
   const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  // A coil's push on the bends of the catheter it leaves (SheathFriction::set_bend_reaction),
+  // while tuning::kCoilBendReaction says.
+  sheath_[u].set_bend_reaction(tuning::kCoilBendReaction && rod.spec().kind == ToolKind::kCoil);
   sheath_result_[u] = sheath_[u].update(slide, turn, distal, path_, k_anchor);
   const SheathFriction::Result& r = sheath_result_[u];
   hand_force_[u] = distal + r.force_mN;

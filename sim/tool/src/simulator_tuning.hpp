@@ -3,6 +3,13 @@
 
 namespace cathbox::tool::tuning {
 inline constexpr double kCouplingRelaxation = 0.5;  // loads from inner tools: new = r new + (1 - r) old
+// A coil's axial force pushing on its catheters' turns (SheathFriction::set_bend_reaction; the
+// reactions then sum to its free-body balance). Off: the held microcatheter feels the coil's
+// lumen friction alone, which drags it forwards (the dense coiling case's tip climbs 1.5 of its
+// 2 mm into the sac from it). On, the bundled coiling run's microcatheter kicks back 3.24 mm
+// (its case's criterion: <= 2) and the dense case's tip falls back to the neck plane after the
+// frame (docs/sim-tool/coiling.md, "Dense coiling"), so it waits for a case that holds the tip.
+inline constexpr bool kCoilBendReaction = false;
 // The push of a carried wire on its balloon catheter's tip, lagged a tick: new = r new + (1 - r)
 // old. The angioplasty run's guidewire is unconverged on 0.04 % of its ticks at 0.1, 0.16 % at 0.5.
 inline constexpr double kTipPushRelaxation = 0.1;

@@ -94,7 +94,7 @@ const char* const kShapes = R"({
                      "contrast_volume_ml": "number|null", "packing_density_pct": "number|null",
                      "coil_length_mm": "number|null", "coil_herniations": "integer|null",
                      "coil_herniated_peak_nodes": "integer|null", "coil_herniated_depth_mm": "number|null",
-                     "kick_back_mm": "number|null", "coil_sleep_skipped_steps": "integer|null",
+                     "kick_back_mm": "number|null", "kick_forward_mm": "number|null", "coil_sleep_skipped_steps": "integer|null",
                      "coil_sleep_wakes": "integer|null", "stenosis_before_pct": "number|null",
                      "residual_stenosis_pct": "number|null", "balloon_inflations": "integer|null",
                      "balloon_inflated_s": "number|null", "rupture_risk_events": "integer|null",

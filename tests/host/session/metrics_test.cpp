@@ -194,7 +194,7 @@ TEST(Metrics, FluoroscopyFiguresStayEmptyUntilTheirModuleFillsThem) {
 }
 
 // The coiling figures as tool::CoilMetrics gives them: packing as a percentage, the herniation
-// count and its extent named for the server (every name one metric_names() lists) and printed,
+// count and its extent and the microcatheter's kick-forward named for the server (every name one metric_names() lists) and printed,
 // the extent only once a coil has herniated.
 TEST(Metrics, CoilingFiguresCarryTheHerniationsExtent) {
   MetricsCollector m;
@@ -208,6 +208,7 @@ TEST(Metrics, CoilingFiguresCarryTheHerniationsExtent) {
   f.herniated_peak_nodes = 51;
   f.herniated_depth_mm = 2.33;
   f.kick_back_mm = 0.16;
+  f.kick_forward_mm = 2.2;
   m.set_coiling(f);
   const Metrics& s = m.metrics();
   EXPECT_DOUBLE_EQ(*s.packing_density_pct, 25.0);
@@ -220,8 +221,9 @@ TEST(Metrics, CoilingFiguresCarryTheHerniationsExtent) {
     EXPECT_NE(std::find(names.begin(), names.end(), n.name), names.end()) << n.name;
     if (n.name == "coil_herniated_peak_nodes") found += n.value == 51.0 ? 1 : 100;
     if (n.name == "coil_herniated_depth_mm") found += n.value == 2.33 ? 1 : 100;
+    if (n.name == "kick_forward_mm") found += n.value == 2.2 ? 1 : 100;
   }
-  EXPECT_EQ(found, 2);
+  EXPECT_EQ(found, 3);
   EXPECT_NE(MetricsCollector::format(s).find("herniation extent     up to 51 nodes at once, 2.33 mm past the neck plane"),
             std::string::npos)
       << MetricsCollector::format(s);

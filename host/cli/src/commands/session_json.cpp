@@ -197,6 +197,7 @@ json metrics_json(const session::ReplayResult& r) {
           {"coil_herniated_peak_nodes", m.coil_herniated_peak_nodes ? json(*m.coil_herniated_peak_nodes) : json(nullptr)},
           {"coil_herniated_depth_mm", optional_number(m.coil_herniated_depth_mm)},
           {"kick_back_mm", optional_number(m.kick_back_mm)},
+          {"kick_forward_mm", optional_number(m.kick_forward_mm)},
           {"coil_sleep_skipped_steps", m.coil_sleep_skipped_steps ? json(*m.coil_sleep_skipped_steps) : json(nullptr)},
           {"coil_sleep_wakes", m.coil_sleep_wakes ? json(*m.coil_sleep_wakes) : json(nullptr)},
           {"stenosis_before_pct", optional_number(m.stenosis_before_pct)},

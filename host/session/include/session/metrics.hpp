@@ -129,6 +129,7 @@ struct Metrics {
   std::optional<int> coil_herniated_peak_nodes;     // the most nodes herniated at once
   std::optional<double> coil_herniated_depth_mm;    // the deepest of them past the neck plane
   std::optional<double> kick_back_mm;
+  std::optional<double> kick_forward_mm;  // the tip's climb into the sac, tool::CoilFigures
   // Released coils at rest are not solved (tool::CoilSleep): coil steps skipped, and times a
   // sleeping coil was woken, since the run began.
   std::optional<std::int64_t> coil_sleep_skipped_steps;

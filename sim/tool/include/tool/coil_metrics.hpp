@@ -37,6 +37,9 @@ struct CoilFigures {
   double herniated_depth_mm = 0.0;  // the deepest herniated node past the neck plane so far
   double kick_back_mm = 0.0;      // peak so far
   double kick_back_now_mm = 0.0;  // this step
+  // The microcatheter tip's climb into the sac (its depth past the neck beyond what its hub's
+  // insertion gives) while a coil goes out: kick-back's other sign, peak so far.
+  double kick_forward_mm = 0.0;
 };
 
 class CoilMetrics {

@@ -11,8 +11,10 @@
 // force is an elastic-plastic anchor (stick, then slip at the limit), like the wall friction,
 // lumped over the covered length: sticking, the hand feels the anchor's stiffness; slipping,
 // the limit. The reaction (the catheter dragged along by the friction) goes back onto the
-// catheters' nodes as loads for the next step. The push of a compressed inner tool on the
-// catheter's bends is not applied to the catheter (lagged by a step it feeds back on itself).
+// catheters' nodes as loads for the next step. The push of the inner tool's axial force on the
+// catheter's bends is applied only where set_bend_reaction says (the simulator: for a coil while
+// tuning::kCoilBendReaction, off; for a wire steering its catheter through navigation, lagged
+// by a step, it fed back on itself and moved the bundled runs).
 // The path ends at the holder's node just past the inner tool's end, the turning of the node
 // behind that end taken in proportion to the edge covered (SheathVertex::coverage), and the inner
 // tool's stiffness at a vertex is its mean over the vertex's span: the normal forces change by
@@ -77,6 +79,11 @@ class SheathFriction {
   Result update(double slide_mm, double turn_rad, double distal_force_mN, const std::vector<SheathVertex>& path,
                 double anchor_stiffness_mN_per_mm);
 
+  // Whether the reaction holds, besides the friction, the axial force's push on the path's turns
+  // (t (a - b) at a vertex, a and b the unit directions in and out): then the reactions sum to
+  // the inner tool's free-body balance, t_entry a_entry - t_distal b_distal. Off, the holders
+  // feel the friction alone (the friction drags them forward and nothing pushes back).
+  void set_bend_reaction(bool on) { bend_reaction_ = on; }
   // The reaction on the holders, one per path vertex (the force the inner tool exerts there).
   [[nodiscard]] const std::vector<glm::dvec3>& reaction_mN() const { return reaction_; }
   // Axial force along the path from the distal end (index 0) to the entry, for the last update.
@@ -100,6 +107,7 @@ class SheathFriction {
   double anchor_ = 0.0;       // where the stick spring is relaxed, mm
   double turn_ = 0.0;
   double turn_anchor_ = 0.0;
+  bool bend_reaction_ = false;
   std::vector<double> normal_fwd_, normal_back_, axial_, turning_, curvature_, bending_;
   std::vector<double> turning_without_, bending_without_;  // the fading vertices left out
   std::vector<std::size_t> active_;
