@@ -33,9 +33,11 @@ function(cathbox_add_test)
 endfunction()
 
 # cathbox_add_fuzzer(NAME n SOURCES ... [LIBS ...] [CORPUS dir ...])
-# The sources define LLVMFuzzerTestOneInput. With CATHBOX_FUZZ (clang) this is a libFuzzer
-# binary; otherwise it is linked with a replay driver and a CTest entry replays every file of
-# the seed corpora, so each fuzz target is compiled and exercised on every build.
+# The sources define LLVMFuzzerTestOneInput. With CATHBOX_FUZZ (clang, the asan preset) this is
+# a libFuzzer binary (the rest of that tree is compiled -fsanitize=fuzzer-no-link; only these
+# link libFuzzer's main); otherwise it is linked with a replay driver. Either way a CTest entry
+# replays every file of the seed corpora (libFuzzer's -runs=0 runs the given corpora once), so
+# each fuzz target is compiled and exercised on every build.
 function(cathbox_add_fuzzer)
   cmake_parse_arguments(A "" "NAME" "SOURCES;LIBS;CORPUS" ${ARGN})
   set(target fuzz_${A_NAME})
@@ -45,11 +47,12 @@ function(cathbox_add_fuzzer)
   if(CATHBOX_FUZZ)
     target_compile_options(${target} PRIVATE -fsanitize=fuzzer)
     target_link_options(${target} PRIVATE -fsanitize=fuzzer)
+    add_test(NAME fuzz_replay.${A_NAME} COMMAND ${target} -runs=0 ${A_CORPUS})
   else()
     target_sources(${target} PRIVATE ${PROJECT_SOURCE_DIR}/tests/fuzz/replay_main.cpp)
     add_test(NAME fuzz_replay.${A_NAME} COMMAND ${target} ${A_CORPUS})
-    set_tests_properties(fuzz_replay.${A_NAME} PROPERTIES LABELS unit TIMEOUT 120)
   endif()
+  set_tests_properties(fuzz_replay.${A_NAME} PROPERTIES LABELS unit TIMEOUT 120)
   string(REPLACE ";" "," corpus_list "${A_CORPUS}")
   set_property(GLOBAL APPEND PROPERTY CATHBOX_FUZZERS "${target}|${corpus_list}")
 endfunction()
