@@ -57,30 +57,49 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
 // neighbourhood mixed between the path without it and with it by its weight.
 void SheathFriction::measure_turning(const std::vector<SheathVertex>& path) {
   const std::size_t m = path.size();
-  measure_on(path, false, turning_, bending_);
-  bool fading = false;
-  for (const SheathVertex& v : path) fading = fading || v.weight < 1.0;
-  if (!fading) return;
-  measure_on(path, true, turning_without_, bending_without_);
-  for (std::size_t j = 0; j < m; ++j) {
-    // The vertices whose turning or bending reads a fading vertex f: f - 2 ... f + 2.
-    double w = 1.0;
-    for (std::size_t f = j >= 2 ? j - 2 : 0; f <= j + 2 && f < m; ++f) w = std::min(w, std::clamp(path[f].weight, 0.0, 1.0));
-    turning_[j] = w * turning_[j] + (1.0 - w) * turning_without_[j];
-    bending_[j] = w * bending_[j] + (1.0 - w) * bending_without_[j];
+  const auto fading = [&](std::size_t j) { return path[j].weight < 1.0; };
+  for (std::vector<double>* v : {&turning_, &bending_, &curvature_, &turning_without_, &bending_without_}) v->resize(m);
+  measure_on(path, false, 0, m, turning_, bending_);
+  // The vertices that read a fading vertex f are f - 2 ... f + 2; a run [lo, hi) of them (runs that
+  // touch merged) is measured again without the fading vertices, on the vertices from the first
+  // one kept below the run to the second one kept above it (what its turning and bending read):
+  // the same values as the whole path measured without them, for a few vertices' work.
+  for (std::size_t j = 0; j < m;) {
+    std::size_t f = j;
+    while (f < m && !fading(f)) ++f;
+    if (f == m) break;
+    const std::size_t lo = f >= 2 ? f - 2 : 0;
+    std::size_t hi = std::min(m, f + 3);
+    for (std::size_t g = f + 1; g < m && g <= hi + 2; ++g) {
+      if (fading(g)) hi = std::min(m, g + 3);
+    }
+    std::size_t first = lo;
+    for (std::size_t k = lo; k-- > 0;) {
+      if (!fading(k)) {
+        first = k;
+        break;
+      }
+    }
+    std::size_t last = hi;
+    for (std::size_t kept = 0; last < m && kept < 2; ++last) kept += fading(last) ? 0 : 1;
+    measure_on(path, true, first, last, turning_without_, bending_without_);
+    for (std::size_t i = lo; i < hi; ++i) {
+      double w = 1.0;
+      for (std::size_t g = i >= 2 ? i - 2 : 0; g <= i + 2 && g < m; ++g) w = std::min(w, std::clamp(path[g].weight, 0.0, 1.0));
+      turning_[i] = w * turning_[i] + (1.0 - w) * turning_without_[i];
+      bending_[i] = w * bending_[i] + (1.0 - w) * bending_without_[i];
+    }
+    j = hi;
   }
 }
 
-// Turning, curvature and the bending push on the path's vertices, or on those not fading in
-// (the others get none).
-void SheathFriction::measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::vector<double>& turning,
-                                std::vector<double>& bending) {
-  const std::size_t m = path.size();
-  turning.assign(m, 0.0);
-  bending.assign(m, 0.0);
-  curvature_.assign(m, 0.0);
+// Turning, curvature and the bending push on the path's vertices [first, last), or on those of
+// them not fading in (the others get none).
+void SheathFriction::measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::size_t first,
+                                std::size_t last, std::vector<double>& turning, std::vector<double>& bending) {
+  for (std::vector<double>* v : {&turning, &bending, &curvature_}) std::fill(v->begin() + first, v->begin() + last, 0.0);
   active_.clear();
-  for (std::size_t j = 0; j < m; ++j) {
+  for (std::size_t j = first; j < last; ++j) {
     if (!skip_fading || path[j].weight >= 1.0) active_.push_back(j);
   }
   const std::size_t r = active_.size();

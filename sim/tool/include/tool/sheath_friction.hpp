@@ -96,8 +96,8 @@ class SheathFriction {
   // stick spring with slip at the limits; the axial profile and reactions of the friction acting
   // (returns the twist's friction torque limit); the twist spring with slip at that limit.
   void measure_turning(const std::vector<SheathVertex>& path);
-  void measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::vector<double>& turning,
-                  std::vector<double>& bending);
+  void measure_on(const std::vector<SheathVertex>& path, bool skip_fading, std::size_t first, std::size_t last,
+                  std::vector<double>& turning, std::vector<double>& bending);
   std::pair<double, double> capstan_normals(const std::vector<SheathVertex>& path, double distal_force_mN);
   void stick_slide(double k, Result& out);
   double distribute_friction(const std::vector<SheathVertex>& path, double distal_force_mN, const Result& out);
