@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdio>
 
+#include "device/dfuse_layout.hpp"
 #include "protocol/cbx_bytes.h"
 #include "protocol/cbx_usb_requests.h"
 
@@ -21,12 +22,6 @@ const char* dfu_status_name(uint8_t status) {
     case CBX_DFU_ERR_STALLEDPKT: return "errSTALLEDPKT";
     default: return "error";
   }
-}
-
-std::string hex(uint32_t v) {
-  char text[16];
-  std::snprintf(text, sizeof text, "0x%08x", v);
-  return text;
 }
 
 }  // namespace
@@ -92,8 +87,8 @@ Status DfuseClient::command(uint8_t code, uint32_t address, const char* what) {
   std::array<uint8_t, 5> cmd{code};
   cbx_put_u32(cmd.data() + 1, address);
   auto sent = dnload(0, cmd);
-  if (!sent) return make_error(sent.error().code, std::string(what) + " " + hex(address) + ": " + sent.error().message);
-  return wait_state(CBX_DFU_DNLOAD_IDLE, (std::string(what) + " " + hex(address)).c_str());
+  if (!sent) return make_error(sent.error().code, std::string(what) + " " + hex_address(address) + ": " + sent.error().message);
+  return wait_state(CBX_DFU_DNLOAD_IDLE, (std::string(what) + " " + hex_address(address)).c_str());
 }
 
 Status DfuseClient::set_address(uint32_t address) { return command(CBX_DFUSE_SET_ADDRESS, address, "set address"); }
@@ -107,7 +102,7 @@ Status DfuseClient::write(uint32_t address, std::span<const uint8_t> data) {
     if (!at) return at;
     auto sent = dnload(2, data.subspan(off, n));
     if (!sent) return sent;
-    auto done = wait_state(CBX_DFU_DNLOAD_IDLE, ("write at " + hex(address + static_cast<uint32_t>(off))).c_str());
+    auto done = wait_state(CBX_DFU_DNLOAD_IDLE, ("write at " + hex_address(address + static_cast<uint32_t>(off))).c_str());
     if (!done) return done;
   }
   return Ok{};
@@ -124,7 +119,7 @@ Result<std::vector<uint8_t>> DfuseClient::read(uint32_t address, size_t length) 
     auto got = usb_.control_in({CBX_DFU_IN_TYPE, CBX_DFU_UPLOAD, static_cast<uint16_t>(block), 0},
                                std::span<uint8_t>(out).subspan(off, n));
     if (!got) return got.error();
-    if (got.value() != n) return make_error(Errc::kDeviceError, "upload at " + hex(address + static_cast<uint32_t>(off)) + " returned " + std::to_string(got.value()) + " bytes");
+    if (got.value() != n) return make_error(Errc::kDeviceError, "upload at " + hex_address(address + static_cast<uint32_t>(off)) + " returned " + std::to_string(got.value()) + " bytes");
   }
   auto back = ensure_idle();
   if (!back) return back.error();

@@ -1,6 +1,7 @@
 #include "device/dfuse_layout.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 
@@ -97,6 +98,12 @@ bool DfuseLayout::covers(uint32_t address, uint32_t size) const {
     at = static_cast<uint64_t>(s->address) + s->size;
   }
   return true;
+}
+
+std::string hex_address(uint32_t address) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%08x", address);
+  return text;
 }
 
 }  // namespace cathbox::device

@@ -12,12 +12,6 @@
 namespace cathbox::device {
 namespace {
 
-std::string hex(uint32_t v) {
-  char text[16];
-  std::snprintf(text, sizeof text, "0x%08x", v);
-  return text;
-}
-
 Error refuse(const std::string& what) { return make_error(Errc::kBadImage, "image refused, nothing erased: " + what); }
 
 void report(const Flasher::Progress& progress, const std::string& step, size_t done, size_t total) {
@@ -53,31 +47,31 @@ Status Flasher::check_image(const DfuImage& image, const FirmwareTarget& target)
   for (const auto& e : image.elements) {
     const uint64_t end = uint64_t{e.address} + e.data.size();
     if (e.data.empty() || e.address < target.flash_base || end > flash_end) {
-      return refuse("element at " + hex(e.address) + " of " + std::to_string(e.data.size()) + " bytes lies outside flash " +
-                    hex(target.flash_base) + ".." + hex(static_cast<uint32_t>(flash_end - 1)));
+      return refuse("element at " + hex_address(e.address) + " of " + std::to_string(e.data.size()) + " bytes lies outside flash " +
+                    hex_address(target.flash_base) + ".." + hex_address(static_cast<uint32_t>(flash_end - 1)));
     }
     spans.emplace_back(e.address, end);
   }
   std::sort(spans.begin(), spans.end());
   for (size_t i = 1; i < spans.size(); ++i) {
-    if (spans[i].first < spans[i - 1].second) return refuse("elements overlap at " + hex(static_cast<uint32_t>(spans[i].first)));
+    if (spans[i].first < spans[i - 1].second) return refuse("elements overlap at " + hex_address(static_cast<uint32_t>(spans[i].first)));
   }
   // The vector table at the start of flash: initial stack pointer in RAM, reset handler a
   // Thumb address inside the image.
   const auto vectors = std::find_if(image.elements.begin(), image.elements.end(),
                                     [&](const DfuElement& e) { return e.address == target.flash_base; });
   if (vectors == image.elements.end() || vectors->data.size() < 8) {
-    return refuse("no vector table at " + hex(target.flash_base));
+    return refuse("no vector table at " + hex_address(target.flash_base));
   }
   const uint32_t sp = cbx_get_u32(vectors->data.data());
   const uint32_t reset = cbx_get_u32(vectors->data.data() + 4);
   if (sp <= target.ram_base || sp > target.ram_base + target.ram_size) {
-    return refuse("initial stack pointer " + hex(sp) + " is not in this MCU's RAM (wrong target?)");
+    return refuse("initial stack pointer " + hex_address(sp) + " is not in this MCU's RAM (wrong target?)");
   }
   const bool in_image = std::any_of(spans.begin(), spans.end(), [&](const auto& s) {
     return (reset & ~1u) >= s.first && (reset & ~1u) < s.second;
   });
-  if ((reset & 1u) == 0u || !in_image) return refuse("reset vector " + hex(reset) + " is not a Thumb address in the image");
+  if ((reset & 1u) == 0u || !in_image) return refuse("reset vector " + hex_address(reset) + " is not a Thumb address in the image");
   return Ok{};
 }
 
@@ -91,7 +85,7 @@ Result<FlashReport> Flasher::flash(ControlTransfer& usb, const DfuImage& image, 
   if (!layout) return layout.error();
   for (const auto& e : image.elements) {
     if (!layout.value().covers(e.address, static_cast<uint32_t>(e.data.size()))) {
-      return refuse("element at " + hex(e.address) + " is not in the bootloader's writable memory '" + name.value() + "'");
+      return refuse("element at " + hex_address(e.address) + " is not in the bootloader's writable memory '" + name.value() + "'");
     }
   }
   DfuseClient dfu(usb);
@@ -131,7 +125,7 @@ Result<FlashReport> Flasher::flash(ControlTransfer& usb, const DfuImage& image, 
     const auto diff = std::mismatch(e.data.begin(), e.data.end(), back.value().begin());
     if (diff.first != e.data.end()) {
       const auto at = e.address + static_cast<uint32_t>(diff.first - e.data.begin());
-      return make_error(Errc::kVerify, "verify failed at " + hex(at) + ": the bootloader is still running; flash again");
+      return make_error(Errc::kVerify, "verify failed at " + hex_address(at) + ": the bootloader is still running; flash again");
     }
     result.bytes_verified += e.data.size();
   }

@@ -8,12 +8,12 @@
 #include <cstring>
 #include <thread>
 
+#include "os_error.hpp"
+
 namespace cathbox::device {
 namespace {
 
-constexpr const char* kConsumer = "cathbox-recovery";
-
-Error gpio_error(const std::string& what) { return make_error(Errc::kIo, what + ": " + std::strerror(errno)); }
+constexpr const char* kRecoveryConsumer = "cathbox-recovery";
 
 bool parse_line(const std::string& text, unsigned& out) {
   if (text.empty()) return false;
@@ -46,21 +46,21 @@ Result<GpioConfig> GpioConfig::parse(const std::string& text) {
 
 Result<std::unique_ptr<GpiodBootPins>> GpiodBootPins::open(const GpioConfig& config) {
   gpiod_chip* chip = gpiod_chip_open_lookup(config.chip.c_str());
-  if (chip == nullptr) return gpio_error("open GPIO chip '" + config.chip + "'");
+  if (chip == nullptr) return os_error("open GPIO chip '" + config.chip + "'");
   gpiod_line* boot0 = gpiod_chip_get_line(chip, config.boot0_line);
   gpiod_line* nrst = gpiod_chip_get_line(chip, config.nrst_line);
   if (boot0 == nullptr || nrst == nullptr) {
     gpiod_chip_close(chip);
-    return gpio_error(config.chip + ": no line " + std::to_string(boot0 == nullptr ? config.boot0_line : config.nrst_line));
+    return os_error(config.chip + ": no line " + std::to_string(boot0 == nullptr ? config.boot0_line : config.nrst_line));
   }
-  if (gpiod_line_request_output(boot0, kConsumer, 0) != 0) {
+  if (gpiod_line_request_output(boot0, kRecoveryConsumer, 0) != 0) {
     gpiod_chip_close(chip);
-    return gpio_error(config.chip + ": request BOOT0 line " + std::to_string(config.boot0_line));
+    return os_error(config.chip + ": request BOOT0 line " + std::to_string(config.boot0_line));
   }
-  if (gpiod_line_request_output_flags(nrst, kConsumer, GPIOD_LINE_REQUEST_FLAG_OPEN_DRAIN, 1) != 0) {
+  if (gpiod_line_request_output_flags(nrst, kRecoveryConsumer, GPIOD_LINE_REQUEST_FLAG_OPEN_DRAIN, 1) != 0) {
     gpiod_line_release(boot0);
     gpiod_chip_close(chip);
-    return gpio_error(config.chip + ": request NRST line " + std::to_string(config.nrst_line));
+    return os_error(config.chip + ": request NRST line " + std::to_string(config.nrst_line));
   }
   return std::unique_ptr<GpiodBootPins>(new GpiodBootPins(chip, boot0, nrst, config));
 }
@@ -75,12 +75,12 @@ GpiodBootPins::~GpiodBootPins() {
 }
 
 Status GpiodBootPins::set_boot0(bool high) {
-  if (gpiod_line_set_value(boot0_, high ? 1 : 0) != 0) return gpio_error("set BOOT0");
+  if (gpiod_line_set_value(boot0_, high ? 1 : 0) != 0) return os_error("set BOOT0");
   return Ok{};
 }
 
 Status GpiodBootPins::set_reset(bool asserted) {
-  if (gpiod_line_set_value(nrst_, asserted ? 0 : 1) != 0) return gpio_error("set NRST");
+  if (gpiod_line_set_value(nrst_, asserted ? 0 : 1) != 0) return os_error("set NRST");
   return Ok{};
 }
 

@@ -1,17 +1,17 @@
 #include "flow/aspiration.hpp"
 
 #include <algorithm>
+#include <numbers>
 
 namespace cathbox::flow {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
-double area_mm2(double diameter_mm) { return 0.25 * kPi * diameter_mm * diameter_mm; }
+double area_mm2(double diameter_mm) { return 0.25 * std::numbers::pi * diameter_mm * diameter_mm; }
 
 // The clot's wall load under the wedge strain and its head term, N.
 double wedge_wall_N(const AspirationClot& clot) {
-  return ClotCompressionLaw(clot.composition).stress_kPa(kWedgeStrain) * 1e3 * kPi * clot.diameter_mm * clot.length_mm * 1e-6;
+  return ClotCompressionLaw(clot.composition).stress_kPa(kWedgeStrain) * 1e3 * std::numbers::pi * clot.diameter_mm * clot.length_mm * 1e-6;
 }
 double head_N(const AspirationClot& clot, double pressure_head_Pa) { return std::max(0.0, pressure_head_Pa) * area_mm2(clot.diameter_mm) * 1e-6; }
 
@@ -42,7 +42,7 @@ AspirationResult aspirate(VacuumSource source, double inner_diameter_mm, const A
   const ClotCompressionLaw law(clot.composition);
   const ClotFriction friction = clot_wall_friction(clot.composition);
   const double strain = std::max(0.0, 1.0 - inner_diameter_mm / clot.diameter_mm);
-  r.ingest_force_N = friction.kinetic_coefficient * law.stress_kPa(strain) * 1e3 * kPi * inner_diameter_mm * clot.length_mm * 1e-6;
+  r.ingest_force_N = friction.kinetic_coefficient * law.stress_kPa(strain) * 1e3 * std::numbers::pi * inner_diameter_mm * clot.length_mm * 1e-6;
   r.hold_force_N = clot_hold_force_N(clot, pressure_head_Pa);
   if (strain <= 0.0 || r.force_N > r.ingest_force_N) {
     r.outcome = AspirationOutcome::kIngested;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -30,8 +31,8 @@ std::string check_pose(const CArmPose& p) {
 }
 
 CArm::CArm(const CArmPose& pose) : pose_(pose) {
-  const double l = pose.lao_deg * kPi / 180.0;
-  const double c = pose.cranial_deg * kPi / 180.0;
+  const double l = pose.lao_deg * std::numbers::pi / 180.0;
+  const double c = pose.cranial_deg * std::numbers::pi / 180.0;
   beam_ = {std::cos(c) * std::sin(l), std::cos(c) * std::cos(l), std::sin(c)};
   const glm::dvec3 superior{0.0, 0.0, 1.0};
   up_ = glm::normalize(superior - glm::dot(superior, beam_) * beam_);

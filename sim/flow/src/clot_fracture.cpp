@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "lumen.hpp"
 
@@ -15,12 +16,12 @@ double wall_shear_Pa(const FlowNetwork& network, const CenterlinePosition& at) {
   const double r_m = 1e-3 * radius_at_mm(s, point_arcs_mm(s), at.arc_mm);
   const double q_m3_s = 1e-9 * std::abs(network.segments()[at.segment].flow_mm3_s);
   const double mu_Pa_s = 1e-3 * network.settings().viscosity_mPa_s;
-  return 4.0 * mu_Pa_s * q_m3_s / (kPi * r_m * r_m * r_m);
+  return 4.0 * mu_Pa_s * q_m3_s / (std::numbers::pi * r_m * r_m * r_m);
 }
 
 double critical_crack_mm(const ClotComposition& c, double shear_Pa) {
   if (!(shear_Pa > 0.0)) return std::numeric_limits<double>::infinity();
-  return 1e3 * kClotToughness_J_m2 * clot_tensile_modulus_Pa(c) / (kPi * shear_Pa * shear_Pa);
+  return 1e3 * kClotToughness_J_m2 * clot_tensile_modulus_Pa(c) / (std::numbers::pi * shear_Pa * shear_Pa);
 }
 
 std::vector<Fragment> fragments_in_flow(const Fragment& whole, double shear_Pa) {

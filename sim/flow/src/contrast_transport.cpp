@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "lumen.hpp"
@@ -20,7 +21,7 @@ constexpr double kMinCellLength_mm = 0.1;  // volume floor for degenerate (zero-
 double partial_cone_volume(double r0, double r1, double length_mm, double x_mm) {
   if (length_mm <= 0.0) return 0.0;
   const double dr = (r1 - r0) / length_mm;
-  return kPi * (r0 * r0 * x_mm + r0 * dr * x_mm * x_mm + dr * dr * x_mm * x_mm * x_mm / 3.0);
+  return std::numbers::pi * (r0 * r0 * x_mm + r0 * dr * x_mm * x_mm + dr * dr * x_mm * x_mm * x_mm / 3.0);
 }
 
 // Arc lengths of n + 1 boundaries cutting a segment into n cells of equal lumen volume.
@@ -64,14 +65,14 @@ ContrastTransport::ContrastTransport(const FlowNetwork& network, const Transport
     SegmentCells& s = segs_[i];
     const std::vector<double> arcs = point_arcs_mm(seg);
     const double length = arcs.back();
-    const double mean_r = length > 0.0 ? std::sqrt(f.volume_mm3 / (kPi * length)) : seg.points.front().radius_mm;
+    const double mean_r = length > 0.0 ? std::sqrt(f.volume_mm3 / (std::numbers::pi * length)) : seg.points.front().radius_mm;
     const double cell_len = std::max(options_.cell_length_mm, options_.cell_length_radii * mean_r);
     const int n = std::max(std::max(options_.min_cells, 1), static_cast<int>(std::lround(length / cell_len)));
     s.first = static_cast<std::uint32_t>(conc_.size());
     s.count = static_cast<std::uint32_t>(n);
     s.bounds = static_cast<std::uint32_t>(bounds_.size());
     s.faces = static_cast<std::uint32_t>(gamma_.size());
-    const double floor_volume = kPi * f.min_radius_mm * f.min_radius_mm * kMinCellLength_mm;
+    const double floor_volume = std::numbers::pi * f.min_radius_mm * f.min_radius_mm * kMinCellLength_mm;
     s.cell_volume_mm3 = std::max(f.volume_mm3 / n, floor_volume);
     s.flow_mm3_s = std::abs(f.flow_mm3_s) < kFlowNoise * max_flow ? 0.0 : f.flow_mm3_s;
     s.start_node = f.start_node;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 
 #include "lumen.hpp"
@@ -66,8 +67,8 @@ double cone_distance_mm(double r0, double r1, double length_mm, double volume_mm
   double x = length_mm * volume_mm3 / cone_volume_mm3(r0, r1, length_mm);
   for (int it = 0; it < 8; ++it) {
     const double r = r0 + k * x;
-    const double f = kPi * (r0 * r0 * x + r0 * k * x * x + k * k * x * x * x / 3.0) - volume_mm3;
-    const double dx = f / (kPi * r * r);
+    const double f = std::numbers::pi * (r0 * r0 * x + r0 * k * x * x + k * k * x * x * x / 3.0) - volume_mm3;
+    const double dx = f / (std::numbers::pi * r * r);
     x = std::clamp(x - dx, 0.0, length_mm);
     if (std::abs(dx) < 1e-12 * length_mm) break;
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <numeric>
 #include <optional>
 #include <tuple>
@@ -28,7 +29,6 @@ using terminals::EndNodes;
 using terminals::promote_widest_outlet;
 
 constexpr double kBloodDensity_kg_m3 = 1060.0;
-constexpr double kMinResistance = 1e-12;  // a zero-length segment still conducts finitely
 
 class NodeSets {
  public:
@@ -281,10 +281,10 @@ base::Status<> FlowNetwork::solve_pressures() {
   const double mu = settings_.viscosity_mPa_s * 1e-3;
   for (SegmentFlow& f : segments_) {
     f.flow_mm3_s = f.start_node == f.end_node ? 0.0 : (p[f.start_node] - p[f.end_node]) / f.resistance_Pa_s_per_mm3;
-    const double area = f.length_mm > 0.0 ? f.volume_mm3 / f.length_mm : kPi * f.min_radius_mm * f.min_radius_mm;
+    const double area = f.length_mm > 0.0 ? f.volume_mm3 / f.length_mm : std::numbers::pi * f.min_radius_mm * f.min_radius_mm;
     f.mean_velocity_mm_s = std::abs(f.flow_mm3_s) / area;
-    f.peak_velocity_mm_s = std::abs(f.flow_mm3_s) / (kPi * f.min_radius_mm * f.min_radius_mm);
-    const double d_mm = 2.0 * std::sqrt(area / kPi);
+    f.peak_velocity_mm_s = std::abs(f.flow_mm3_s) / (std::numbers::pi * f.min_radius_mm * f.min_radius_mm);
+    const double d_mm = 2.0 * std::sqrt(area / std::numbers::pi);
     f.reynolds = kBloodDensity_kg_m3 * f.mean_velocity_mm_s * 1e-3 * d_mm * 1e-3 / mu;
   }
   for (Terminal& t : terminals_) {
@@ -316,7 +316,7 @@ int FlowNetwork::closed_terminal_of(std::uint32_t segment) const {
 
 double FlowNetwork::flow_scale(double time_s) const {
   if (settings_.heart_rate_bpm <= 0.0 || settings_.pulsatility_index <= 0.0) return 1.0;
-  return 1.0 + 0.5 * settings_.pulsatility_index * std::sin(2.0 * kPi * time_s * settings_.heart_rate_bpm / 60.0);
+  return 1.0 + 0.5 * settings_.pulsatility_index * std::sin(2.0 * std::numbers::pi * time_s * settings_.heart_rate_bpm / 60.0);
 }
 
 double FlowNetwork::max_flow_scale() const {

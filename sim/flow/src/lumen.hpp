@@ -2,6 +2,7 @@
 // Lumen geometry of a segment between its centreline points, taken as truncated cones (the
 // radius varies linearly between points): arc length, volume and Poiseuille resistance.
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -10,18 +11,19 @@
 
 namespace cathbox::flow {
 
-inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kPa_per_mmHg = 133.322387415;
+// The least resistance a segment is given (Pa.s/mm^3): a zero-length one still conducts finitely.
+inline constexpr double kMinResistance = 1e-12;
 
 // Volume of a truncated cone of length L between radii r0 and r1.
 [[nodiscard]] inline double cone_volume_mm3(double r0, double r1, double length_mm) {
-  return kPi * length_mm * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;
+  return std::numbers::pi * length_mm * (r0 * r0 + r0 * r1 + r1 * r1) / 3.0;
 }
 
 // Poiseuille resistance of a truncated cone: the integral of 8 mu / (pi r^4) dx, in Pa.s/mm^3
 // for mu in Pa.s and lengths in mm.
 [[nodiscard]] inline double cone_resistance(double r0, double r1, double length_mm, double mu_Pa_s) {
-  return 8.0 * mu_Pa_s * length_mm * (r0 * r0 + r0 * r1 + r1 * r1) / (3.0 * kPi * r0 * r0 * r0 * r1 * r1 * r1);
+  return 8.0 * mu_Pa_s * length_mm * (r0 * r0 + r0 * r1 + r1 * r1) / (3.0 * std::numbers::pi * r0 * r0 * r0 * r1 * r1 * r1);
 }
 
 // Arc length at each centreline point (0 at the first).

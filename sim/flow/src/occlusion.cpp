@@ -1,6 +1,7 @@
 // FlowNetwork::occlude: clots and balloons as resistance (flow/clot.hpp), then the final solve again.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -9,8 +10,6 @@
 
 namespace cathbox::flow {
 namespace {
-
-constexpr double kMinResistance = 1e-12;
 
 struct ClotResistance {
   double lumen = 0.0;  // the open vessel over the clot's length, Pa.s/mm^3
@@ -32,7 +31,7 @@ ClotResistance clot_resistance(const vessel::Segment& seg, double a, double b, d
     const double r1 = radius_at_mm(seg, arcs, hi);
     const double len = hi - lo;
     r.lumen += cone_resistance(r0, r1, len, mu_Pa_s);
-    darcy += mu_Pa_s * len / (kappa_mm2 * kPi * r0 * r1);  // integral of mu / (kappa pi r^2) dx
+    darcy += mu_Pa_s * len / (kappa_mm2 * std::numbers::pi * r0 * r1);  // integral of mu / (kappa pi r^2) dx
     if (open_scale > 0.0) channel += cone_resistance(open_scale * r0, open_scale * r1, len, mu_Pa_s);
   }
   r.clot = channel > 0.0 ? 1.0 / (1.0 / darcy + 1.0 / channel) : darcy;
@@ -59,7 +58,7 @@ std::string check_clot(const vessel::VesselModel& model, const Clot& c, std::siz
 
 double catheter_resistance_Pa_s_per_mm3(double length_mm, double inner_diameter_mm, double viscosity_mPa_s) {
   const double d2 = inner_diameter_mm * inner_diameter_mm;
-  return 128.0 * viscosity_mPa_s * 1e-3 * length_mm / (kPi * d2 * d2);
+  return 128.0 * viscosity_mPa_s * 1e-3 * length_mm / (std::numbers::pi * d2 * d2);
 }
 
 base::Status<> FlowNetwork::occlude(std::span<const Clot> clots, std::span<const FlowArrest> arrests,

@@ -1,5 +1,6 @@
 #include "flow/territory.hpp"
 
+#include <numbers>
 #include <string>
 
 namespace cathbox::flow {
@@ -42,7 +43,6 @@ constexpr double kAcaOfCarotid = 12.0 / 33.0;
 // [3] and [1]: (415 - 0.36 * 0.15 * 5000) / 5000
 constexpr double kExternalCarotidShareOfOutput = (415.0 - kCarotidShareOfCerebral * 0.15 * 5000.0) / 5000.0;
 constexpr double kUpperLimbShareOfOutput = 0.03;          // estimate, see above
-constexpr double kPi = 3.14159265358979323846;
 
 std::string normalised(std::string_view name) {
   std::string s(name);
@@ -123,7 +123,7 @@ double territory_flow_per_side_ml_min(Territory t, const FlowSettings& s) {
 
 double murray_flow_ml_min(double radius_mm, const FlowSettings& s) {
   const double mu_Pa_s = s.viscosity_mPa_s * 1e-3;
-  const double q_mm3_s = kPi * s.wall_shear_stress_Pa * radius_mm * radius_mm * radius_mm / (4.0 * mu_Pa_s);
+  const double q_mm3_s = std::numbers::pi * s.wall_shear_stress_Pa * radius_mm * radius_mm * radius_mm / (4.0 * mu_Pa_s);
   return q_mm3_s * 0.06;
 }
 

@@ -1,6 +1,7 @@
 #include "vessel/case_generator.hpp"
 
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -9,7 +10,6 @@
 
 namespace cathbox::vessel {
 
-using detail::kPi;
 using detail::Network;
 
 std::vector<std::string> CaseGenerator::case_names() {
@@ -51,7 +51,7 @@ VesselModel CaseGenerator::y_bifurcation() {
   Network net;
   const std::int32_t parent = net.add("parent", {{{0, 0, 0}, 3.0}, {{0, 0, 30}, 3.0}, {{0, 0, 60}, 3.0}}, {}, 400.0);
   const glm::dvec3 split = net.end(parent);
-  const double a = 30.0 * kPi / 180.0;
+  const double a = 30.0 * std::numbers::pi / 180.0;
   net.add("left_branch", {{split, 2.2}, {split + 25.0 * glm::dvec3(std::sin(a), 0, std::cos(a)), 2.2},
                           {split + 50.0 * glm::dvec3(std::sin(a), 0, std::cos(a)), 2.2}},
           {parent}, 200.0);
@@ -67,8 +67,8 @@ VesselModel CaseGenerator::helix(double helix_radius_mm, double pitch_mm, double
   s.id = 1;
   s.name = "helix";
   for (int i = 0; i < points; ++i) {
-    const double t = 2.0 * kPi * turns * i / (points - 1);
-    s.points.push_back({{helix_radius_mm * std::cos(t), helix_radius_mm * std::sin(t), pitch_mm * t / (2.0 * kPi)},
+    const double t = 2.0 * std::numbers::pi * turns * i / (points - 1);
+    s.points.push_back({{helix_radius_mm * std::cos(t), helix_radius_mm * std::sin(t), pitch_mm * t / (2.0 * std::numbers::pi)},
                         radius_mm});
   }
   model.segments.push_back(std::move(s));

@@ -4,6 +4,7 @@
 // `spacing_radii` local radii apart (denser in bends); children start at their parents' end.
 #include <cstdint>
 #include <functional>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -13,7 +14,6 @@
 
 namespace cathbox::vessel::detail {
 
-inline constexpr double kPi = 3.14159265358979323846;
 
 struct Knot {
   glm::dvec3 pos_mm;

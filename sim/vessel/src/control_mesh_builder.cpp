@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -125,10 +126,9 @@ bool ControlMeshBuilder::trim_junction(const Junction& junction, bool relaxed) {
 
 }  // namespace detail
 
-using detail::kPi;
 
 double tube_shrink_ratio(int ring_points) {
-  const double phi = 2.0 * kPi / ring_points;
+  const double phi = 2.0 * std::numbers::pi / ring_points;
   // Uniform cubic B-spline through the regular M-gon: at a vertex (P- + 4P + P+)/6, between
   // two vertices (P-1 + 23 P0 + 23 P1 + P2)/48 (radial parts).
   const double at_vertex = (4.0 + 2.0 * std::cos(phi)) / 6.0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -59,7 +60,7 @@ void ControlMeshBuilder::reserve_mesh() {
   ring_cos_.resize(m);
   ring_sin_.resize(m);
   for (int k = 0; k < m_; ++k) {
-    const double angle = 2.0 * kPi * k / m_;
+    const double angle = 2.0 * std::numbers::pi * k / m_;
     ring_cos_[static_cast<std::size_t>(k)] = std::cos(angle);
     ring_sin_[static_cast<std::size_t>(k)] = std::sin(angle);
   }

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -15,7 +16,6 @@
 
 namespace cathbox::vessel::detail {
 
-inline constexpr double kPi = 3.14159265358979323846;
 
 class ControlMeshBuilder {
  public:

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -72,8 +73,7 @@ JunctionPatchResult hull_patch(const std::vector<glm::dvec3>& hull_points, const
   return result;
 }
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kMinDirectionAngle = 10.0 * kPi / 180.0;  // directions closer than this are pushed apart
+constexpr double kMinDirectionAngle = 10.0 * std::numbers::pi / 180.0;  // directions closer than this are pushed apart
 constexpr double kDirectionStep = 0.05;                    // radians per push
 constexpr int kDirectionIterations = 400;
 constexpr double kCapShare = 0.4;   // a ring's circle: this share of the angle to the nearest other direction
@@ -128,7 +128,7 @@ JunctionPatchResult build_spherical_junction_patch(const std::vector<glm::dvec3>
   std::vector<glm::dvec3> sphere;
   sphere.reserve(points.size());
   for (std::size_t i = 0; i < u.size(); ++i) {
-    double nearest = kPi;
+    double nearest = std::numbers::pi;
     for (std::size_t j = 0; j < u.size(); ++j) {
       if (j != i) nearest = std::min(nearest, std::acos(std::clamp(glm::dot(u[i], u[j]), -1.0, 1.0)));
     }
@@ -139,7 +139,7 @@ JunctionPatchResult build_spherical_junction_patch(const std::vector<glm::dvec3>
     const double sense = glm::dot(glm::cross(frames[i].normal, frames[i].binormal), frames[i].out) < 0.0 ? -1.0 : 1.0;
     const glm::dvec3 binormal = sense * glm::cross(u[i], normal);
     for (int m = 0; m < ring_points; ++m) {
-      const double angle = 2.0 * kPi * m / ring_points;
+      const double angle = 2.0 * std::numbers::pi * m / ring_points;
       sphere.push_back(std::cos(cap) * u[i] + std::sin(cap) * (std::cos(angle) * normal + std::sin(angle) * binormal));
     }
   }

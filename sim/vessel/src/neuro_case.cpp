@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -107,11 +108,11 @@ class NeuroBuilder {
   // the descending aorta goes down. Liberty: the three branch origins are 40 degrees (~21 mm)
   // apart along the arch (often closer in vivo) so each junction has room for its rings.
   [[nodiscard]] glm::dvec3 arch(double deg) const {
-    const double a = deg * kPi / 180.0;
+    const double a = deg * std::numbers::pi / 180.0;
     return arch_center_ + kArchRadius * (std::cos(a) * anterior_ + (shape_.height_mm / kArchRadius) * std::sin(a) * up_);
   }
   [[nodiscard]] glm::dvec3 arch_normal(double deg) const {
-    const double a = deg * kPi / 180.0;
+    const double a = deg * std::numbers::pi / 180.0;
     const glm::dvec3 n = std::cos(a) * (shape_.height_mm / kArchRadius) * anterior_ + std::sin(a) * up_;
     return shape_.height_mm == kArchRadius ? n : glm::normalize(n);
   }

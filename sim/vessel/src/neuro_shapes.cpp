@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
@@ -66,7 +67,7 @@ namespace {
   const double r[] = {2.65, 2.6, 2.6, 2.6, 2.55, 2.5, 2.5, 2.45, 2.45};
   std::vector<Knot> knots{{{28, 14, 138}, 2.8}, {{28, 15, 148}, 2.7}};
   for (int k = 0; k <= 8; ++k) {  // clockwise seen from the front, from the loop's left point
-    const double a = k * kPi / 4.0;
+    const double a = k * std::numbers::pi / 4.0;
     knots.push_back({{36.0 - kLoopRadius * std::cos(a), y[k], 156.5 + kLoopRadius * std::sin(a)}, r[k]});
   }
   knots.push_back({{27, 7, 166}, 2.4});

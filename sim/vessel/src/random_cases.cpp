@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include <glm/geometric.hpp>
@@ -15,7 +16,6 @@ namespace cathbox::vessel {
 namespace {
 
 using detail::Knot;
-using detail::kPi;
 using detail::Network;
 
 // Deterministic uniform numbers (independent of the standard library's distributions).
@@ -41,7 +41,7 @@ class Random {
 [[nodiscard]] std::vector<Knot> curved_path(Random& rng, const glm::dvec3& start, const glm::dvec3& dir, double length,
                                             double r0, double r1) {
   const glm::dvec3 side = any_perpendicular(dir);
-  const glm::dvec3 bend_axis = rotate(side, dir, rng.uniform(0.0, 2.0 * kPi));
+  const glm::dvec3 bend_axis = rotate(side, dir, rng.uniform(0.0, 2.0 * std::numbers::pi));
   const double bend = rng.uniform(-0.25, 0.25);
   const glm::dvec3 mid_dir = rotate(dir, bend_axis, 0.5 * bend);
   const glm::dvec3 end_dir = rotate(dir, bend_axis, bend);
@@ -75,7 +75,7 @@ class RandomGraphBuilder {
     const double ring_radius = rng_.uniform(22.0, 30.0);
     junction_.resize(static_cast<std::size_t>(n_));
     for (int j = 0; j < n_; ++j) {
-      const double a = 2.0 * kPi * (j + rng_.uniform(-0.12, 0.12)) / n_;
+      const double a = 2.0 * std::numbers::pi * (j + rng_.uniform(-0.12, 0.12)) / n_;
       junction_[static_cast<std::size_t>(j)] = {ring_radius * std::cos(a), ring_radius * std::sin(a), rng_.uniform(-2.0, 2.0)};
     }
     nodes_.resize(static_cast<std::size_t>(n_));
@@ -182,15 +182,15 @@ VesselModel CaseGenerator::random_tree(std::uint64_t seed, const RandomTreeOptio
   const std::int32_t root = net.add("root", curved_path(rng, {0, 0, 0}, {0, 0, 1}, 10.0 * r0, r0, r0), {});
   std::vector<Tip> queue{{root, {0, 0, 1}, r0}};
   int count = 1;
-  const double deg = kPi / 180.0;
+  const double deg = std::numbers::pi / 180.0;
   for (std::size_t q = 0; q < queue.size() && count < options.segments; ++q) {
     const Tip tip = queue[q];
     int children = rng.chance(options.trifurcation_chance) ? 3 : 2;
     children = std::min(children, options.segments - count);
-    const double azimuth0 = rng.uniform(0.0, 2.0 * kPi);
+    const double azimuth0 = rng.uniform(0.0, 2.0 * std::numbers::pi);
     const glm::dvec3 side = any_perpendicular(tip.dir);
     for (int c = 0; c < children; ++c) {
-      const double azimuth = azimuth0 + 2.0 * kPi * c / std::max(children, 2) + rng.uniform(-0.3, 0.3);
+      const double azimuth = azimuth0 + 2.0 * std::numbers::pi * c / std::max(children, 2) + rng.uniform(-0.3, 0.3);
       const double angle = children == 1 ? 0.0
                                          : rng.uniform(options.min_branch_angle_deg, options.max_branch_angle_deg) * deg;
       const glm::dvec3 axis = rotate(side, tip.dir, azimuth);

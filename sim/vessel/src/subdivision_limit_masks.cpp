@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -12,7 +13,6 @@
 namespace cathbox::vessel::detail {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Catmull-Clark limit positions and normals of the vertices of level L (L >= 1), each computed
 // from its one-ring in level L (the limit masks), the one-ring read off level L-1's ordered
@@ -50,10 +50,10 @@ class LimitMasks {
   static void fill_trig(int n, Trig& t) {
     const double dn = static_cast<double>(n);
     for (int i = 0; i <= n; ++i) {
-      t.cos[static_cast<std::size_t>(i)] = std::cos(2.0 * kPi * static_cast<double>(i) / dn);
-      t.sin[static_cast<std::size_t>(i)] = std::sin(2.0 * kPi * static_cast<double>(i) / dn);
+      t.cos[static_cast<std::size_t>(i)] = std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / dn);
+      t.sin[static_cast<std::size_t>(i)] = std::sin(2.0 * std::numbers::pi * static_cast<double>(i) / dn);
     }
-    t.a_n = 1.0 + t.cos[1] + std::cos(kPi / dn) * std::sqrt(2.0 * (9.0 + t.cos[1]));
+    t.a_n = 1.0 + t.cos[1] + std::cos(std::numbers::pi / dn) * std::sqrt(2.0 * (9.0 + t.cos[1]));
   }
   static const Trig& trig(int n) {
     static const std::array<Trig, kTabulated + 1> table = [] {

@@ -33,4 +33,7 @@ class DfuseLayout {
   std::vector<DfuseSector> sectors_;
 };
 
+// A flash address as messages name it: "0x08004000".
+[[nodiscard]] std::string hex_address(uint32_t address);
+
 }  // namespace cathbox::device
