@@ -171,8 +171,9 @@ TEST(RodBehaviour, APreCurvedWirePushedIntoAClosedTubeBucklesOutOfItsTipsPlane) 
 // plane as it buckles: by half the clearance within 10 mm of push after its own hand force first
 // passes the clamped-clamped Euler load of the tube's 200 mm, 4 pi^2 EI / L^2 = 39.5 mN (the largest
 // any end support gives; the solver's drag floor slows the out-of-plane growth). While the rod
-// seeded its imperfection only at an edge strain of 5e-4 (2.5 N), the wire stayed flat some 50 mm
-// further, to 1.8 N at the hand, then snapped to the helix (610 mN in one tick).
+// seeded its imperfection only at an edge strain of 5e-4 (2.5 N), the wire here stayed flat past
+// 240 mm (the session's dead end to 253.5 mm, 1.8 N at the hand, then snapped to the helix, 610 mN
+// in one tick).
 TEST(RodBehaviour, APreCurvedWireLeavesItsTipsPlaneAsItBucklesInAClosedTube) {
   const TubeNetworkWall wall = testing::straight_tube(2.0, -10.0, 200.0);
   const std::vector<ToolSpec> tools{dead_end_wire()};
