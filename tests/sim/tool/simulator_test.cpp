@@ -46,9 +46,11 @@ TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
   const glm::dvec3 wire_tip = wire_nodes.back();
   const glm::dvec3 on_cath = sim.rod(cath).point_at_depth(20.0, nullptr, nullptr);
   EXPECT_LT(glm::length(wire_tip - on_cath), 1e-6);
-  // A straight catheter adds no friction: the wire feels only the valve on the catheter's hub.
-  EXPECT_NEAR(sim.hand_force_mN(wire), sim.valve(wire).force_mN, 1e-9);
-  EXPECT_NEAR(sim.hand_force_mN(wire), kDefaultValveFriction_mN, 1e-9);
+  // A straight catheter adds no friction: the wire feels only the valve on the catheter's hub
+  // (to 1e-6 mN: pushed at 200 mm/s the catheter is compressed past the buckling seed's 50 mN by
+  // the solver's drag and takes its 10 um offset, whose lumen friction reads ~1e-8 mN).
+  EXPECT_NEAR(sim.hand_force_mN(wire), sim.valve(wire).force_mN, 1e-6);
+  EXPECT_NEAR(sim.hand_force_mN(wire), kDefaultValveFriction_mN, 1e-6);
   // Pushed beyond the catheter tip, the wire leads.
   drive(sim, wire, 45.0, 0.2);
   const glm::dvec3 cath_tip = sim.tip(cath).position_mm;

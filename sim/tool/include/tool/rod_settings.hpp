@@ -78,7 +78,11 @@ struct RodSettings {
   // stick spring weaker than f / rho lets it swing across the plane's tangent every iteration.
   bool curved_wall_gap = true;
   double buckling_seed_mm = 1.0e-2;        // lateral imperfection added to a compressed rod
-  double buckling_strain = 5.0e-4;         // ... once an edge is compressed by this strain
+  // ... once an edge is compressed by this strain: 50 mN at the default EA (5,000 N), about the
+  // Euler load of a 200 mm span of a 0.014" wire (4 pi^2 EI / L^2 = 39 mN). At 5e-4 (2.5 N) a
+  // wire folded in one plane stayed there to 1.8 N at the hand and snapped from the flat buckle to
+  // the helix (docs/sim-tool/convergence.md, "The flat buckle's snaps").
+  double buckling_strain = 1.0e-5;
 };
 
 }  // namespace cathbox::tool
