@@ -337,7 +337,7 @@ void Rod::update_active_set(Newton& s) {
 
 void Rod::follow_moves(Newton& s) {
   const std::size_t n = x_.size();
-  if (refresh_contacts(s.wall, true)) s.refactor = true;
+  if (refresh_contacts(s.wall, true, true)) s.refactor = true;
   if (s.obstacles == nullptr) return;
   // A node the re-probe finds in the wall joins the active set now: among other rods (a coil in
   // its sac) the joins of the iterations above are soon spent, and a node left out was carried

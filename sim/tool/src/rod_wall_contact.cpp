@@ -14,7 +14,13 @@
 
 namespace cathbox::tool {
 
-bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
+namespace {
+// A second plane whose normal is this close to the first one's is that face again (MeshWall's
+// own test for a crease).
+constexpr double kSameFace = 0.995;
+}  // namespace
+
+bool Rod::refresh_contacts(const WallModel& wall, bool only_moved, bool keep_creases) {
   const std::size_t n = x_.size();
   bool active_changed = false;
   for (std::size_t k = first_free_; k < n; ++k) {
@@ -48,9 +54,17 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved) {
       c.has_plane = wc.distance_mm - radius_[k] < settings_.contact_margin_mm;
       c.point = wc.point_mm;
       c.normal = wc.normal;
-      c.has_second = c.has_plane && wc.has_second;
-      c.point2 = wc.second_point_mm;
-      c.normal2 = wc.second_normal;
+      // Within a solve a node keeps the crease's second plane the wall gave it while the
+      // re-probe reports none (the other face no longer its closest feature there): dropped, the
+      // node slid back into that face, took the plane again on the next re-probe and was pushed
+      // out, every iteration (the stent retriever's push wire on the ICA's faceted bend:
+      // docs/sim-tool/convergence.md, "A crease's second plane held within the solve").
+      const bool keep = keep_creases && c.has_plane && c.has_second && !wc.has_second && glm::dot(c.normal2, wc.normal) < kSameFace;
+      c.has_second = c.has_plane && (wc.has_second || keep);
+      if (!keep) {
+        c.point2 = wc.second_point_mm;
+        c.normal2 = wc.second_normal;
+      }
       if (!c.has_second) c.active2 = false;
       c.segment = wc.segment;
     } else {

@@ -17,6 +17,7 @@
 
 #include "base/read_file.hpp"
 #include "flow/centerline_locator.hpp"
+#include "hand_force_trace.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
 #include "session/thrombectomy_unit.hpp"
@@ -92,6 +93,23 @@ class HeldForceSlew : public TickObserver {
   double last_mN_ = 0.0;
 };
 
+// The metrics' per-tool convergence counts as they stood at a moment of the run (the
+// retrieval's start), to take each tool's share over the rest of it.
+class ConvergenceFrom : public TickObserver {
+ public:
+  explicit ConvergenceFrom(std::int64_t from_us) : from_us_(from_us) {}
+  void observe(const TickView& v) override {
+    if (taken_ || v.time_us < from_us_) return;
+    at_from = v.metrics.convergence;
+    taken_ = true;
+  }
+  std::vector<ToolConvergence> at_from;
+
+ private:
+  std::int64_t from_us_;
+  bool taken_ = false;
+};
+
 TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) {
   SessionCaseLoad loaded = load_session_case(short_wait_case());
   ASSERT_TRUE(loaded) << loaded.error().message;
@@ -106,6 +124,8 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     const std::size_t stent = s.simulator().find_tool("stent");
     HeldForceSlew slew;
     s.add_observer(slew);
+    ConvergenceFrom retrieval(static_cast<std::int64_t>(228'000 - kWaitCut_ms) * 1000);  // the microcatheter into the guide
+    s.add_observer(retrieval);
     double integration = 0.0;
     while (!s.over()) {
       s.step_virtual(1000);
@@ -122,6 +142,25 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     }
     EXPECT_GT(integration, 0.9);
     live = s.metrics();
+    // Issue 29: every tool's step converges on >= 99.5 % of its ticks. The stent retriever does,
+    // over the whole run and over the retrieval (the push wire over the ICA's faceted bend:
+    // docs/sim-tool/convergence.md, "A crease's second plane held within the solve"), and the
+    // guide. Not yet the microcatheter (1.31 %, 0.74 % in the retrieval) and the microwire
+    // (0.85 %, the access): printed, not bounded.
+    ASSERT_EQ(retrieval.at_from.size(), live.convergence.size());
+    for (std::size_t t = 0; t < live.convergence.size(); ++t) {
+      ToolConvergence during = live.convergence[t];
+      during.solved_ticks -= retrieval.at_from[t].solved_ticks;
+      during.unconverged_ticks -= retrieval.at_from[t].unconverged_ticks;
+      const ToolConvergence& all = live.convergence[t];
+      std::printf("  %-14s unconverged %.2f %% of %lld solved ticks; in the retrieval %.2f %% of %lld\n", all.tool.c_str(),
+                  all.unconverged_pct(), static_cast<long long>(all.solved_ticks), during.unconverged_pct(),
+                  static_cast<long long>(during.solved_ticks));
+      if (t == stent || t == s.simulator().find_tool("guide")) {
+        EXPECT_LE(all.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool;
+        EXPECT_LE(during.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool << " in the retrieval";
+      }
+    }
   }
   ASSERT_TRUE(live.thrombectomy);
   const ThrombectomyFigures& t = *live.thrombectomy;

@@ -266,7 +266,8 @@ class Rod {
   [[nodiscard]] inline double plane_gap(std::size_t k) const;   // penetration of node k into its plane
   [[nodiscard]] inline double second_gap(std::size_t k) const;  // ... into its second plane
   // Re-probes the wall; true when the plane of a node in the active set was replaced.
-  bool refresh_contacts(const WallModel& wall, bool only_moved);
+  // keep_creases (within a solve): a node keeps a crease's second plane the re-probe drops.
+  bool refresh_contacts(const WallModel& wall, bool only_moved, bool keep_creases = false);
   void limit_penetration();
   void finish_contacts();
   void add_second_contact(std::size_t k);
