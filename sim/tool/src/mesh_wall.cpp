@@ -67,7 +67,7 @@ bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) c
     }
     for (std::size_t i = 0; i < count; ++i) {
       const glm::dvec3 normal = -contacts[i].normal;
-      if (glm::dot(normal, out.normal) < 0.995 && glm::dot(normal, out.normal) > -0.5) {
+      if (glm::dot(normal, out.normal) < kCreaseSameFaceCos && glm::dot(normal, out.normal) > -0.5) {
         out.has_second = true;
         out.second_point_mm = contacts[i].wall_point_mm;
         out.second_normal = normal;

@@ -9,16 +9,11 @@
 #include <glm/mat3x3.hpp>
 
 #include "rod_node_contact.hpp"
+#include "tool/mesh_wall.hpp"
 #include "tool/rod.hpp"
 #include "tool/wall_penalty.hpp"
 
 namespace cathbox::tool {
-
-namespace {
-// A second plane whose normal is this close to the first one's is that face again (MeshWall's
-// own test for a crease).
-constexpr double kSameFace = 0.995;
-}  // namespace
 
 bool Rod::refresh_contacts(const WallModel& wall, bool only_moved, bool keep_creases) {
   const std::size_t n = x_.size();
@@ -59,7 +54,7 @@ bool Rod::refresh_contacts(const WallModel& wall, bool only_moved, bool keep_cre
       // node slid back into that face, took the plane again on the next re-probe and was pushed
       // out, every iteration (the stent retriever's push wire on the ICA's faceted bend:
       // docs/sim-tool/convergence.md, "A crease's second plane held within the solve").
-      const bool keep = keep_creases && c.has_plane && c.has_second && !wc.has_second && glm::dot(c.normal2, wc.normal) < kSameFace;
+      const bool keep = keep_creases && c.has_plane && c.has_second && !wc.has_second && glm::dot(c.normal2, wc.normal) < kCreaseSameFaceCos;
       c.has_second = c.has_plane && (wc.has_second || keep);
       if (!keep) {
         c.point2 = wc.second_point_mm;

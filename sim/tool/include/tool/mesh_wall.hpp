@@ -13,6 +13,11 @@
 
 namespace cathbox::tool {
 
+// A facet met near a node's closest one is a crease's second face when its outward normal turns
+// from the first's by more than this cosine (and less than a fold back, > -0.5); nearer, it is the
+// same face again (MeshWall's probe, and a rod keeping a crease's plane within a solve).
+inline constexpr double kCreaseSameFaceCos = 0.995;
+
 class MeshWall final : public WallModel {
  public:
   // Segment reported for wall points on a junction between segments.
