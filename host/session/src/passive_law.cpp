@@ -30,9 +30,10 @@ ShapedLaw PassiveLaw::shape(const tool::ForceLaw& law, const BoxReadback& readba
   }
   out.damping_mN_s_per_mm = std::min(damping, std::max(limits_.max_damping_mN_s_per_mm, out.damping_mN_s_per_mm));
   out.stiffness_mN_per_mm = stiffness;
-  // 2. Slew: the force at the new position, against what the last law gives there.
+  // 2. Slew: the force at the new position, against the last law's force (the simulation's step
+  // says where its spring went; carried on, a slipped stick spring ratchets: passive_law.hpp).
   const double step = limits_.slew_mN_per_ms * limits_.tick_ms;
-  const double before = have_last_ ? last_.force_mN(out.insertion0_mm, 0.0) : 0.0;
+  const double before = have_last_ ? last_.force0_mN : 0.0;
   out.force0_mN = std::clamp(out.force0_mN, before - step, before + step);
   // 1. Full scale.
   out.force0_mN = std::clamp(out.force0_mN, -limits_.full_scale_mN, limits_.full_scale_mN);

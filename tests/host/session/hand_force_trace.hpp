@@ -83,6 +83,9 @@ class HandForceTrace : public TickObserver {
   double rendered_max_jump_mN = 0.0;
   std::int64_t rendered_max_jump_ms = 0;
   std::int64_t rendered_ticks_over_slew = 0;
+  // The largest difference between what the box renders and the tool's own force, and when.
+  double rendered_off_mN = 0.0;
+  std::int64_t rendered_off_ms = 0;
   // The held tool's own force on the last tick the hand pushed in (the end of the push).
   double pushed_force_mN = 0.0;
   double pushed_to_mm = 0.0;
@@ -121,6 +124,11 @@ class HandForceTrace : public TickObserver {
       }
     }
     rendered_peak_mN = std::max(rendered_peak_mN, std::abs(out));
+    const double off = std::abs(-out - v.snapshot.tools[v.input.held].hand_force_mN);
+    if (off > rendered_off_mN) {
+      rendered_off_mN = off;
+      rendered_off_ms = v.time_us / 1000;
+    }
     readback_ = {out, speed};
     rendered_mN_ = -out;
     hand_mm_ = x;
@@ -171,9 +179,11 @@ inline HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Ca
               run.name, static_cast<long long>(trace.ticks), trace.peak_mN, static_cast<double>(trace.peak_ms) * 1e-3,
               trace.max_jump_mN, static_cast<double>(trace.max_jump_ms) * 1e-3,
               static_cast<long long>(trace.ticks_over_slew), static_cast<long long>(trace.ticks_over_100mN));
-  std::printf("  box-rendered: peak %.1f mN; largest change %.1f mN/tick at %.3f s; %lld ticks change > 100 mN\n",
+  std::printf("  box-rendered: peak %.1f mN; largest change %.1f mN/tick at %.3f s; %lld ticks change > 100 mN; "
+              "largest |rendered - own| %.1f mN at %.3f s\n",
               trace.rendered_peak_mN, trace.rendered_max_jump_mN, static_cast<double>(trace.rendered_max_jump_ms) * 1e-3,
-              static_cast<long long>(trace.rendered_ticks_over_slew));
+              static_cast<long long>(trace.rendered_ticks_over_slew), trace.rendered_off_mN,
+              static_cast<double>(trace.rendered_off_ms) * 1e-3);
   for (const ToolConvergence& c : metrics.convergence) {
     std::printf("  %-22s unconverged %.2f %% of %lld solved ticks\n", c.tool.c_str(), c.unconverged_pct(),
                 static_cast<long long>(c.solved_ticks));

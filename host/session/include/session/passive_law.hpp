@@ -2,11 +2,15 @@
 // Shapes the held tool's force law (box frame, sim/tool/force_law.hpp) into one the box can
 // render without putting energy into the hand, before BoxHand sends it (docs/passive_rendering.md):
 //   1. Full scale: the force at the law's position stays within the box's max_force_mN.
-//   2. Slew: from one command to the next, the force the law gives at the new position
-//      changes by at most the box's force_slew_mN_per_ms per tick, and the command's output
-//      range (out_min, out_max) is the box's readback +- that step, so what the box renders
-//      (the law's spring followed by the hand, its damper when the hand stops) moves at most a
-//      step a tick: the simulation, not only the firmware's clamp, respects the box's slew limit.
+//   2. Slew: from one command to the next, the law's force changes by at most the box's
+//      force_slew_mN_per_ms per tick, and the command's output range (out_min, out_max) is the
+//      box's readback +- that step, so what the box renders (the law's spring followed by the
+//      hand, its damper when the hand stops) moves at most a step a tick: the simulation, not
+//      only the firmware's clamp, respects the box's slew limit. The step is taken from the last
+//      law's force, not from its spring carried to the new position: the spring is the
+//      simulation's linearisation, and a stick anchor's (a valve or lumen, 2e4 mN/mm) slips
+//      within microns or moves with the catheter round the tool; slewed from it, the sent force
+//      climbed k dx - step a tick to the full scale while the tool's own force was 0.
 //   3. Sampled stiffness (Colgate & Schenkel 1997, "Passivity of a class of sampled-data
 //      systems"): a spring K rendered with sample period T is passive when the damping it
 //      meets exceeds K T / 2. The simulation's stiffness reaches the hand through the 1 ms
