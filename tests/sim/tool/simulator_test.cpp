@@ -30,6 +30,18 @@ void drive(Simulator& sim, std::size_t tool, double target, double per_step) {
   }
 }
 
+// The wire 27 mm in, 7 mm ahead of its catheter (as the bundled coiling script holds its microwire).
+struct WireAheadOfCatheter {
+  TubeNetworkWall wall = testing::y_bifurcation();
+  Simulator sim{wall, coaxial_tools(), Entry{{0, 0, -42}, {0, 0, 1}}};
+  std::size_t cath = sim.find_tool("cath");
+  std::size_t wire = sim.find_tool("wire");
+  WireAheadOfCatheter() {
+    drive(sim, cath, 20.0, 0.2);
+    drive(sim, wire, 27.0, 0.2);
+  }
+};
+
 TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
   const TubeNetworkWall wall = testing::y_bifurcation();
   const std::vector<ToolSpec> tools = coaxial_tools();
@@ -66,12 +78,10 @@ TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
 // there, not let out of the clamp and taken back on rounding (on main it was: every release a
 // step that could not converge; docs/sim-tool/convergence.md, "A node on the entry").
 TEST(Simulator, ANodeOnTheCathetersTipStaysHeldWhileTheProtrusionHoldsStillToRounding) {
-  const TubeNetworkWall wall = testing::y_bifurcation();
-  Simulator sim(wall, coaxial_tools(), Entry{{0, 0, -42}, {0, 0, 1}});
-  const std::size_t cath = sim.find_tool("cath");
-  const std::size_t wire = sim.find_tool("wire");
-  drive(sim, cath, 20.0, 0.2);
-  drive(sim, wire, 27.0, 0.2);
+  WireAheadOfCatheter stack;
+  Simulator& sim = stack.sim;
+  const std::size_t cath = stack.cath;
+  const std::size_t wire = stack.wire;
   const Rod& rod = sim.rod(wire);
   ASSERT_NEAR(rod.insertion_mm(), 7.0, 1e-12);
   bool station = false;
@@ -114,12 +124,10 @@ TEST(Simulator, ActiveToolSelectionAndForceLawOfTheInnerTool) {
 // 2e4 mN/mm spring had the box render 400 mN of drag at 20 mm/s with the wire's own force 0
 // (docs/session/passive-rendering.md, "Anchors on a moving catheter").
 TEST(Simulator, AnAnchorOnACatheterThatMovesIsNotASpringInTheWiresForceLaw) {
-  const TubeNetworkWall wall = testing::y_bifurcation();
-  Simulator sim(wall, coaxial_tools(), Entry{{0, 0, -42}, {0, 0, 1}});
-  const std::size_t cath = sim.find_tool("cath");
-  const std::size_t wire = sim.find_tool("wire");
-  drive(sim, cath, 20.0, 0.2);
-  drive(sim, wire, 27.0, 0.2);
+  WireAheadOfCatheter stack;
+  Simulator& sim = stack.sim;
+  const std::size_t cath = stack.cath;
+  const std::size_t wire = stack.wire;
   const RodSettings defaults;
   const double k_anchor = defaults.contact_stiffness_mN_per_mm * defaults.stick_stiffness_ratio;
   // Both held, the wire eased back 1 um (the valve's 20 mN over its 2e4 mN/mm: it sat at its
