@@ -59,6 +59,9 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   rotation_.assign(n, 0.0);
   stepped_depth_.assign(n, 0.0);
   stepped_rotation_.assign(n, 0.0);
+  stepped_insertion_.assign(n, 0.0);
+  moved_mm_.assign(n, 0.0);
+  turned_rad_.assign(n, 0.0);
   removed_mm_.assign(n, 0.0);
   free_start_.assign(n, 0.0);
   carrier_.assign(n, n);
@@ -331,6 +334,9 @@ void Simulator::step(double dt_s) {
   }
   for (std::size_t t = 0; t < n; ++t) {
     stepped_depth_[t] = tip_depth_mm(t);
+    moved_mm_[t] = insertion_[t] - stepped_insertion_[t];
+    turned_rad_[t] = rotation_[t] - stepped_rotation_[t];
+    stepped_insertion_[t] = insertion_[t];
     stepped_rotation_[t] = rotation_[t];
   }
   time_s_ += dt_s;
@@ -347,18 +353,31 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   law.insertion0_mm = insertion_[tool];
   law.force0_mN = hand_force_[tool];
   law.torque0_mNmm = hand_torque_[tool];
+  // A stuck anchor (the lumen's or the valve's stick spring) is stated as a spring only while
+  // what it holds the tool to, the catheter round it (the patient for a valve on a tool in the
+  // vessel), did not move in the step. The box renders a law's spring about a point fixed in its
+  // own frame; an anchor on a catheter that moves is not one (the coiling run's microwire
+  // advanced with its microcatheter at 20 mm/s: stated, its 2 x 2e4 mN/mm had PassiveLaw add the
+  // K T / 2 damper, 400 mN of drag, while the wire's force was 0). It still reaches the hand
+  // through the force, each step, bounded by its slip limit (docs/session/passive-rendering.md).
+  const std::size_t o = outer_of_[tool];
+  const bool held_in_place = o >= rods_.size() || moved_mm_[o] == 0.0;
+  const bool held_in_turn = o >= rods_.size() || turned_rad_[o] == 0.0;
   const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
   const double radius = rods_[tool].radius_at_mm(0.0);
-  if (outer_of_[tool] < rods_.size()) {
+  if (o < rods_.size()) {
     const SheathFriction::Result& r = sheath_result_[tool];
-    if (r.sticking && (r.force_limit_fwd_mN > 0.0 || r.force_limit_back_mN < 0.0)) law.stiffness_mN_per_mm += k_anchor;
-    if (r.twist_sticking && r.torque_limit_mNmm > 0.0) {
+    if (held_in_place && r.sticking && (r.force_limit_fwd_mN > 0.0 || r.force_limit_back_mN < 0.0)) {
+      law.stiffness_mN_per_mm += k_anchor;
+    }
+    if (held_in_turn && r.twist_sticking && r.torque_limit_mNmm > 0.0) {
       law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
     }
   }
   const ValveFriction::Result& v = valve_result_[tool];
-  if (v.sticking && insertion_[tool] > 0.0) law.stiffness_mN_per_mm += k_anchor;
-  if (v.twist_sticking && insertion_[tool] > 0.0) law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
+  const bool in_valve = insertion_[tool] > 0.0;
+  if (held_in_place && v.sticking && in_valve) law.stiffness_mN_per_mm += k_anchor;
+  if (held_in_turn && v.twist_sticking && in_valve) law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
   return law;
 }
 

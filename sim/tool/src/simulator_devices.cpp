@@ -71,6 +71,9 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   rotation_[tool] = 0.0;
   stepped_depth_[tool] = 0.0;
   stepped_rotation_[tool] = 0.0;
+  stepped_insertion_[tool] = 0.0;
+  moved_mm_[tool] = 0.0;
+  turned_rad_[tool] = 0.0;
   removed_mm_[tool] = 0.0;
   tip_segment_[tool] = -1;
   tip_hint_[tool] = WallHint{};

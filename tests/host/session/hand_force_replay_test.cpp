@@ -14,7 +14,8 @@
 //    shapes it (passive_law.hpp), the box's output (ShapedLaw::output_mN) read at the hand's
 //    position and speed each tick and fed back as the next tick's readback.
 //    In every run checked here, what the box renders peaks within a slew step of the tool's own
-//    force (expect_rendered_within_the_tools_peak).
+//    force, and follows it within a step while the tool advances with the catheter round it
+//    (expect_rendered_within_the_tools_peak).
 // 3. DeadEndHelix.TheWiresOwnForceFollowsLubinskisHelixWithConvergedSteps: the wire's own force
 //    at the end of the push against helical buckling in the run's geometry (Lubinski, Althouse
 //    & Logan 1962; with wall friction while pushing in, Mitchell 1986), and every tool's
@@ -76,12 +77,18 @@ void expect_metrics_are_the_traces(const Metrics& m, const HandForceTrace& trace
 // their share at the peak. Rendered / own peak: Y bifurcation 22.3 / 21.8, angioplasty 58.0 /
 // 50.0, coiling 886.2 / 886.0 mN. Before PassiveLaw slewed the law's force from the last law's
 // own, not from its spring carried to the new place (which the simulation's stick anchors,
-// 2e4 mN/mm, never follow): 417.4, 154.0 and 5,000 mN (docs/session/passive-rendering.md). The
-// coiling run's largest |rendered - own|, 400 mN at 1.0-2.0 s, is the K T / 2 damper of the
-// microwire's two stuck anchors at the 20 mm/s it advances with its microcatheter, its force 0.
+// 2e4 mN/mm, never follow): 417.4, 154.0 and 5,000 mN (docs/session/passive-rendering.md).
+// While the hand advances the tool with the catheter round it (the coiling run's microwire with
+// its microcatheter at 20 mm/s, 1.0-2.0 s), the box renders the tool's own force within a step:
+// 0.0 mN apart over those 999 ticks. Before Simulator::force_law left out the anchors of a
+// catheter that moves, their 2 x 2e4 mN/mm had PassiveLaw add a K T / 2 damper of 20 mN s/mm,
+// 400.0 mN there while the wire's own force was 0. Runs with no catheter round the held tool
+// have no such tick.
 void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
   EXPECT_LE(trace.rendered_peak_mN, trace.peak_mN + kSlewPerTick_mN)
       << "own peak " << trace.peak_mN << " mN at " << trace.peak_ms << " ms";
+  EXPECT_LE(trace.carried_off_mN, kSlewPerTick_mN)
+      << "of " << trace.carried_ticks << " ticks advancing with the catheter, at " << trace.carried_off_ms << " ms";
 }
 
 // Check 1, the bounds of issue 29 ("the feel") on the tool's own force. Met by the Y bifurcation,

@@ -86,6 +86,11 @@ class HandForceTrace : public TickObserver {
   // The largest difference between what the box renders and the tool's own force, and when.
   double rendered_off_mN = 0.0;
   std::int64_t rendered_off_ms = 0;
+  // The same over the ticks the hand advanced the tool together with the catheter round it (by
+  // the same micrometres: nothing slides in its valve or lumen), and how many there were.
+  double carried_off_mN = 0.0;
+  std::int64_t carried_off_ms = 0;
+  std::int64_t carried_ticks = 0;
   // The held tool's own force on the last tick the hand pushed in (the end of the push).
   double pushed_force_mN = 0.0;
   double pushed_to_mm = 0.0;
@@ -103,6 +108,11 @@ class HandForceTrace : public TickObserver {
   // speed. The limits are PassiveLawLimits' defaults, the emulated box's (5 N, 100 mN/ms, 1 ms).
   void render(const TickView& v, bool fresh) {
     const double x = static_cast<double>(v.input.tools[v.input.held].insertion_um) * 1e-3;
+    const std::size_t outer = v.sim.outer_of(v.input.held);
+    const std::int64_t carrier_um = outer < v.sim.tool_count() ? v.input.tools[outer].insertion_um : 0;
+    const std::int64_t hand_um = v.input.tools[v.input.held].insertion_um;
+    const bool carried = !fresh && outer < v.sim.tool_count() && outer == carrier_of_ && hand_um > hand_um_ &&
+                         hand_um - hand_um_ == carrier_um - carrier_um_;
     const double speed = fresh ? 0.0 : (x - hand_mm_) / (static_cast<double>(v.time_us - time_us_) * 1e-6);
     if (fresh) {
       box_law_.reset();
@@ -129,6 +139,16 @@ class HandForceTrace : public TickObserver {
       rendered_off_mN = off;
       rendered_off_ms = v.time_us / 1000;
     }
+    if (carried) {
+      ++carried_ticks;
+      if (off > carried_off_mN) {
+        carried_off_mN = off;
+        carried_off_ms = v.time_us / 1000;
+      }
+    }
+    carrier_of_ = outer;
+    carrier_um_ = carrier_um;
+    hand_um_ = hand_um;
     readback_ = {out, speed};
     rendered_mN_ = -out;
     hand_mm_ = x;
@@ -138,6 +158,8 @@ class HandForceTrace : public TickObserver {
   BoxReadback readback_;
   double rendered_mN_ = 0.0;
   double hand_mm_ = 0.0;
+  std::int64_t hand_um_ = 0, carrier_um_ = 0;
+  std::size_t carrier_of_ = 0;
   std::int64_t time_us_ = 0;
 
   bool started_ = false;
@@ -180,10 +202,11 @@ inline HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Ca
               trace.max_jump_mN, static_cast<double>(trace.max_jump_ms) * 1e-3,
               static_cast<long long>(trace.ticks_over_slew), static_cast<long long>(trace.ticks_over_100mN));
   std::printf("  box-rendered: peak %.1f mN; largest change %.1f mN/tick at %.3f s; %lld ticks change > 100 mN; "
-              "largest |rendered - own| %.1f mN at %.3f s\n",
+              "largest |rendered - own| %.1f mN at %.3f s; advanced with its catheter %lld ticks, %.1f mN at %.3f s\n",
               trace.rendered_peak_mN, trace.rendered_max_jump_mN, static_cast<double>(trace.rendered_max_jump_ms) * 1e-3,
               static_cast<long long>(trace.rendered_ticks_over_slew), trace.rendered_off_mN,
-              static_cast<double>(trace.rendered_off_ms) * 1e-3);
+              static_cast<double>(trace.rendered_off_ms) * 1e-3, static_cast<long long>(trace.carried_ticks),
+              trace.carried_off_mN, static_cast<double>(trace.carried_off_ms) * 1e-3);
   for (const ToolConvergence& c : metrics.convergence) {
     std::printf("  %-22s unconverged %.2f %% of %lld solved ticks\n", c.tool.c_str(), c.unconverged_pct(),
                 static_cast<long long>(c.solved_ticks));

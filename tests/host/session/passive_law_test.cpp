@@ -37,7 +37,8 @@ TEST(PassiveLaw, ForceStepsAreSlewLimitedFromTheLastLawsForce) {
 // each step the simulation gives the force at the new place (here 0) with the same stiffness.
 // Slewed from the spring carried 20 um on (800 mN a tick over the 100 mN step), the sent force
 // climbed to the full scale while the tool's own force was 0. What the box renders stays the
-// tool's force plus the sampled-stiffness damper, K T / 2 v = 20 mN s/mm x 20 mm/s = 400 mN.
+// tool's force plus the sampled-stiffness damper, K T / 2 v = 20 mN s/mm x 20 mm/s = 400 mN, for
+// a law that states the spring (Simulator::force_law no longer does while the catheter moves).
 TEST(PassiveLaw, AStickSpringTheSimulationReanchorsDoesNotRatchetTheForce) {
   constexpr double kSpeed = 20.0;  // mm/s, 20 um a 1 ms tick
   PassiveLaw p;

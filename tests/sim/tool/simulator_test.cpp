@@ -30,6 +30,18 @@ void drive(Simulator& sim, std::size_t tool, double target, double per_step) {
   }
 }
 
+// The wire 27 mm in, 7 mm ahead of its catheter (as the bundled coiling script holds its microwire).
+struct WireAheadOfCatheter {
+  TubeNetworkWall wall = testing::y_bifurcation();
+  Simulator sim{wall, coaxial_tools(), Entry{{0, 0, -42}, {0, 0, 1}}};
+  std::size_t cath = sim.find_tool("cath");
+  std::size_t wire = sim.find_tool("wire");
+  WireAheadOfCatheter() {
+    drive(sim, cath, 20.0, 0.2);
+    drive(sim, wire, 27.0, 0.2);
+  }
+};
+
 TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
   const TubeNetworkWall wall = testing::y_bifurcation();
   const std::vector<ToolSpec> tools = coaxial_tools();
@@ -66,12 +78,10 @@ TEST(Simulator, WireInsideCatheterFollowsItThenLeadsBeyondItsTip) {
 // there, not let out of the clamp and taken back on rounding (on main it was: every release a
 // step that could not converge; docs/sim-tool/convergence.md, "A node on the entry").
 TEST(Simulator, ANodeOnTheCathetersTipStaysHeldWhileTheProtrusionHoldsStillToRounding) {
-  const TubeNetworkWall wall = testing::y_bifurcation();
-  Simulator sim(wall, coaxial_tools(), Entry{{0, 0, -42}, {0, 0, 1}});
-  const std::size_t cath = sim.find_tool("cath");
-  const std::size_t wire = sim.find_tool("wire");
-  drive(sim, cath, 20.0, 0.2);
-  drive(sim, wire, 27.0, 0.2);
+  WireAheadOfCatheter stack;
+  Simulator& sim = stack.sim;
+  const std::size_t cath = stack.cath;
+  const std::size_t wire = stack.wire;
   const Rod& rod = sim.rod(wire);
   ASSERT_NEAR(rod.insertion_mm(), 7.0, 1e-12);
   bool station = false;
@@ -104,6 +114,50 @@ TEST(Simulator, ActiveToolSelectionAndForceLawOfTheInnerTool) {
   drive(sim, 0, 20.0, 0.5);
   drive(sim, 1, 35.0, 0.5);
   EXPECT_DOUBLE_EQ(sim.force_law(1).insertion0_mm, 35.0);
+}
+
+// A stuck anchor is a spring in the force law only while the catheter it holds the wire to stays
+// put (its insertion for the axial spring, its rotation for the twist's): the box renders a law's
+// spring about a point fixed in its frame, and PassiveLaw adds the K T / 2 damper for it (Colgate
+// & Schenkel 1997). Wire and catheter advanced together (the bundled coiling run's microwire and
+// microcatheter at 20 mm/s), the valve on the catheter's hub moves with the wire: stated, its
+// 2e4 mN/mm spring had the box render 400 mN of drag at 20 mm/s with the wire's own force 0
+// (docs/session/passive-rendering.md, "Anchors on a moving catheter").
+TEST(Simulator, AnAnchorOnACatheterThatMovesIsNotASpringInTheWiresForceLaw) {
+  WireAheadOfCatheter stack;
+  Simulator& sim = stack.sim;
+  const std::size_t cath = stack.cath;
+  const std::size_t wire = stack.wire;
+  const RodSettings defaults;
+  const double k_anchor = defaults.contact_stiffness_mN_per_mm * defaults.stick_stiffness_ratio;
+  // Both held, the wire eased back 1 um (the valve's 20 mN over its 2e4 mN/mm: it sat at its
+  // slip limit from the push): the valve sticks and its spring is in the law.
+  sim.set_insertion(wire, 27.0 - 1e-3);
+  for (int i = 0; i < 5; ++i) sim.step();
+  ASSERT_TRUE(sim.valve(wire).sticking);
+  EXPECT_GE(sim.force_law(wire).stiffness_mN_per_mm, k_anchor);
+  // Both advanced at 20 mm/s: the valve still sticks (nothing slides through it), but it moves.
+  for (int i = 1; i <= 50; ++i) {
+    sim.set_insertion(cath, 20.0 + 0.02 * i);
+    sim.set_insertion(wire, 27.0 - 1e-3 + 0.02 * i);
+    sim.step();
+    ASSERT_TRUE(sim.valve(wire).sticking) << "step " << i;
+    EXPECT_LT(sim.force_law(wire).stiffness_mN_per_mm, k_anchor) << "step " << i;
+  }
+  // Held again: the spring is back.
+  sim.step();
+  EXPECT_GE(sim.force_law(wire).stiffness_mN_per_mm, k_anchor);
+  // The twist the same: the valve's k r^2 while the catheter holds its turn, not while both turn.
+  const double r = sim.rod(wire).radius_at_mm(0.0);
+  ASSERT_TRUE(sim.valve(wire).twist_sticking);
+  EXPECT_GE(sim.force_law(wire).torsion_stiffness_mNmm_per_rad, k_anchor * r * r);
+  for (int i = 1; i <= 10; ++i) {
+    sim.set_rotation(cath, 0.01 * i);
+    sim.set_rotation(wire, 0.01 * i);
+    sim.step();
+    ASSERT_TRUE(sim.valve(wire).twist_sticking) << "step " << i;
+    EXPECT_LT(sim.force_law(wire).torsion_stiffness_mNmm_per_rad, k_anchor * r * r) << "step " << i;
+  }
 }
 
 TEST(Simulator, SnapshotCopyReusesItsStorage) {

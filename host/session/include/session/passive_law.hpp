@@ -15,7 +15,9 @@
 //      systems"): a spring K rendered with sample period T is passive when the damping it
 //      meets exceeds K T / 2. The simulation's stiffness reaches the hand through the 1 ms
 //      command as well as the 10 kHz law, so damping is added to b >= K T / 2 with T the
-//      command period, minus the box's own friction damping.
+//      command period, minus the box's own friction damping. K is the law's: the simulation
+//      leaves out the stick anchors of a catheter that moved (Simulator::force_law), which are
+//      no spring about a point fixed in the box's frame.
 //   5. Held resistance (a virtual coupling's damper, Colgate, Stanley & Brown 1995): when the simulation's force drops
 //      faster than the grip can follow (a wire that buckles), the resistance it had is not
 //      let go at once as a spring would release the grip, but kept as a damper that lets the

@@ -196,6 +196,9 @@ class Simulator {
   std::vector<std::size_t> outer_of_;  // index of the catheter around it, or tool_count() if none
   std::vector<std::size_t> order_;     // outer tools first
   std::vector<double> insertion_, rotation_, stepped_depth_, stepped_rotation_, removed_mm_, free_start_;
+  // Each tool's insertion at the end of its last step, and how far it moved and turned in it (force_law:
+  // an anchor on a catheter that moved is not a spring fixed in the box's frame).
+  std::vector<double> stepped_insertion_, moved_mm_, turned_rad_;
   std::vector<std::size_t> carrier_;   // the catheter whose tip the tool's free part starts at
   std::vector<std::int32_t> tip_segment_;
   std::vector<WallHint> tip_hint_;
