@@ -23,7 +23,9 @@ bool Simulator::lone(std::size_t t) const {
 // neither it nor any catheter around it is steered by what it carries (steered_now) and no stent
 // is on it or inside it (convergence.md, "Sub-stepped ticks", "Sub-stepped carried wires",
 // "Sub-stepped carried catheters and coils": a stent retriever's re-solves cost the stent case's
-// p99 several ticks; a steered stack's path left main's in the thrombectomy run).
+// p99 several ticks; a steered stack's path left main's in the thrombectomy run). In a stack whose
+// only steerable catheter is its outermost one, a balloon guide, that guide's steering does not
+// hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide").
 bool Simulator::substepped(std::size_t t) const {
   if (lone(t)) return true;
   const std::size_t n = rods_.size();
@@ -36,8 +38,17 @@ bool Simulator::substepped(std::size_t t) const {
   for (std::size_t u = 0; u < n; ++u) {
     if ((u == t || nested_in(u, t)) && specs_[u].stent.present()) return false;
   }
+  // Whether the only catheter round t that its inner tools can steer (t included) is the outermost
+  // one, a balloon catheter: the stent retriever cases' balloon guide, not the aspiration stacks
+  // (their aspiration catheter, steered while advanced, sits inside the guide).
+  bool guided = false;
+  for (std::size_t c = t, guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (specs_[c].steered_by_inner == InnerSteering::kNone) continue;
+    guided = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
+    if (!guided) break;
+  }
   for (std::size_t c = outer_of_[t], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
-    if (steered_now(c)) return false;
+    if (steered_now(c) && !(guided && outer_of_[c] >= n)) return false;
   }
   return true;
 }

@@ -142,11 +142,12 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     }
     EXPECT_GT(integration, 0.9);
     live = s.metrics();
-    // Issue 29: every tool's step converges on >= 99.5 % of its ticks. The stent retriever does,
-    // over the whole run and over the retrieval (the push wire over the ICA's faceted bend:
-    // docs/sim-tool/convergence.md, "A crease's second plane held within the solve"), and the
-    // guide. Not yet the microcatheter (1.31 %, 0.74 % in the retrieval) and the microwire
-    // (0.85 %, the access): printed, not bounded.
+    // Issue 29: every tool's step converges on >= 99.5 % of its ticks. Over the whole run and over
+    // the retrieval: the guide, the microwire (0.08 %, sub-stepped under the balloon guide:
+    // docs/sim-tool/convergence.md, "Sub-stepped under a balloon guide") and the stent retriever
+    // (0.39 %, 0.50 % in the retrieval: the push wire over the ICA's faceted bend, "A crease's
+    // second plane held within the solve"). Not yet the microcatheter, which carries the stent
+    // retriever and is not sub-stepped (1.65 %): printed, not bounded.
     ASSERT_EQ(retrieval.at_from.size(), live.convergence.size());
     for (std::size_t t = 0; t < live.convergence.size(); ++t) {
       ToolConvergence during = live.convergence[t];
@@ -156,10 +157,9 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
       std::printf("  %-14s unconverged %.2f %% of %lld solved ticks; in the retrieval %.2f %% of %lld\n", all.tool.c_str(),
                   all.unconverged_pct(), static_cast<long long>(all.solved_ticks), during.unconverged_pct(),
                   static_cast<long long>(during.solved_ticks));
-      if (t == stent || t == s.simulator().find_tool("guide")) {
-        EXPECT_LE(all.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool;
-        EXPECT_LE(during.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool << " in the retrieval";
-      }
+      if (t == s.simulator().find_tool("microcatheter")) continue;
+      EXPECT_LE(all.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool;
+      EXPECT_LE(during.unconverged_pct(), test::kUnconvergedMax_pct) << all.tool << " in the retrieval";
     }
   }
   ASSERT_TRUE(live.thrombectomy);
