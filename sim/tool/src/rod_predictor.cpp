@@ -130,7 +130,7 @@ void Rod::move_entry(const glm::dvec3& point_mm, const glm::dvec3& direction, co
   entry_d1_ = rl > 1e-9 ? r / rl : perpendicular_unit(dir_);
 }
 
-void Rod::seed_buckling() {
+bool Rod::seed_buckling() {
   // A perfectly straight rod pushed along its axis stays on the unstable straight branch, and
   // one bent in a single plane (a pre-curved tip in a straight tube) in that plane: the solve
   // has nothing across it to grow, so the wire buckles flat where a real one goes helical
@@ -141,13 +141,14 @@ void Rod::seed_buckling() {
   // compressed step only shakes it (and the shaken rod then spends Newton iterations taking the
   // offset back out). A rod of fewer than kSeedNodesMin free nodes is never seeded.
   const std::size_t n = x_.size();
-  if (n - first_free_ < kSeedNodesMin) return;
-  if (out_of_plane_mm(x_, first_free_, entry_, dir_) > settings_.buckling_seed_mm) return;
+  if (n - first_free_ < kSeedNodesMin) return false;
+  if (out_of_plane_mm(x_, first_free_, entry_, dir_) > settings_.buckling_seed_mm) return false;
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);
     const double a = 0.7 * static_cast<double>(k);
     x_[k] += (m1_[e] * base::portable::cos(a) + m2_[e] * base::portable::sin(a)) * settings_.buckling_seed_mm;
   }
+  return true;
 }
 
 }  // namespace cathbox::tool

@@ -57,11 +57,12 @@ void Rod::begin_step() {
 
 void Rod::start_solve(Newton& s, double dt_s) {
   const std::size_t n = x_.size();
-  if (compressed_) seed_buckling();
-  // Warm start from the last converged step's motion (never after a compressed one: a
-  // jammed, buckled tool extrapolated keeps shaking). solved_move_ then keeps where this
-  // step's solve starts from (the advected position), until the step's own motion is known.
-  const bool warm = warm_ok_ && !compressed_ && settings_.warm_start != 0.0;
+  const bool seeded = compressed_ && seed_buckling();
+  // Warm start from the last converged step's motion (never after a jammed step: a buckled
+  // tool extrapolated keeps shaking; nor on a seeded one: the extrapolation would carry the
+  // last solve's taking the seed back out against the new seed). solved_move_ then keeps where
+  // this step's solve starts from (the advected position), until the step's own motion is known.
+  const bool warm = warm_ok_ && !jammed_ && !seeded && settings_.warm_start != 0.0;
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 from = x_[k];
     if (warm && k >= warm_first_) x_[k] += solved_move_[k] * settings_.warm_start;

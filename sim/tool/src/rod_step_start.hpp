@@ -27,6 +27,7 @@ struct Rod::StepStart {
   double stepped_insertion_mm = 0.0;
   double stepped_rotation_rad = 0.0;
   bool compressed = false;
+  bool jammed = false;
   bool warm_ok = false;
 
   // Each kept field beside the rod's own: per_node(kept, live) for the window's per-node and
@@ -55,6 +56,7 @@ struct Rod::StepStart {
     whole(stepped_insertion_mm, rod.stepped_insertion_mm_);
     whole(stepped_rotation_rad, rod.stepped_rotation_rad_);
     whole(compressed, rod.compressed_);
+    whole(jammed, rod.jammed_);
     whole(warm_ok, rod.warm_ok_);
   }
 };

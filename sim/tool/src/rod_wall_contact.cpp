@@ -130,6 +130,7 @@ void Rod::estimate_curvature(NodeContact& c, const WallContact& wc) {
 void Rod::limit_penetration() {
   const std::size_t n = x_.size();
   compressed_ = false;
+  jammed_ = false;
   constexpr int kCreaseRounds = 16;
   const auto limit_both_planes = [this](std::size_t k, double allowed) {
     const NodeContact& nc = node_contacts_[k];
@@ -156,7 +157,10 @@ void Rod::limit_penetration() {
         if (phi2 > allowed) limit_both_planes(k, allowed);
       }
     }
-    if (k > 0 && glm::length(x_[k] - x_[k - 1]) < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
+    if (k == 0) continue;
+    const double length = glm::length(x_[k] - x_[k - 1]);
+    if (length < rest_[k - 1] * (1.0 - settings_.buckling_strain)) compressed_ = true;
+    if (length < rest_[k - 1] * (1.0 - settings_.warm_start_strain)) jammed_ = true;
   }
 }
 

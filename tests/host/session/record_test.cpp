@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 16;  // format version 16 (a record before the buckling seed's strain fell to 1e-5), CRC fixed up
+  bytes[8] = 17;  // format version 17 (a record before the warm start's jam strain), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v16 = RecordReader::from_bytes(bytes, "v16.cbxrec");
-  ASSERT_FALSE(v16);
-  EXPECT_EQ(v16.error().message, "v16.cbxrec: byte 8: record format version 16, this build reads version 17");
+  const auto v17 = RecordReader::from_bytes(bytes, "v17.cbxrec");
+  ASSERT_FALSE(v17);
+  EXPECT_EQ(v17.error().message, "v17.cbxrec: byte 8: record format version 17, this build reads version 18");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

@@ -224,6 +224,58 @@ TEST(RodBehaviour, WarmStartMeetsTheSameMotionInFewerIterations) {
   EXPECT_LT(glm::length(tip_warm - tip_cold), 0.05);
 }
 
+TEST(RodBehaviour, AToolPushedOutOfAnyPlaneKeepsTheWarmStartWhileCompressedShortOfAJam) {
+  // A tool with wall friction pushed on at 20 mm/s through two bends in different planes (so it
+  // lies out of every plane through its entry and is never given a buckling seed) is compressed
+  // past buckling_strain (1e-5) on most steps, far short of a jam. Starting those steps from half
+  // the last motion, as the default does (a step starts cold only when seeded or after one
+  // compressed past warm_start_strain), takes fewer Newton iterations than starting every
+  // compressed step cold (warm_start_strain at buckling_strain: the rule before record format
+  // 18, under which the ADAPT session's aspiration catheter, pushed round the siphon, went
+  // unconverged on 17 % of its ticks and jammed: docs/sim-tool/convergence.md, "The warm start
+  // after the seed"), and the tool ends where it ends cold.
+  std::vector<glm::dvec3> path = testing::bend_points(10.0, M_PI / 2.0, 20.0, 0.0);
+  const glm::dvec3 corner = path.back();
+  for (int i = 1; i <= 90; ++i) {  // from +x towards +y, radius 10 mm
+    const double a = M_PI / 2.0 * i / 90.0;
+    path.push_back(corner + glm::dvec3{10.0 * std::sin(a), 10.0 * (1.0 - std::cos(a)), 0.0});
+  }
+  path.push_back(path.back() + glm::dvec3{0.0, 40.0, 0.0});
+  TubeNetworkWall wall;
+  wall.add_polyline(path, 1.0, 0);
+  wall.build();
+  const ToolSpec spec = uniform_tool(150.0, 0.8, 20.0, 15.0, 1.0, 0.3);
+  constexpr double kSeedForce_mN = 50.0;  // buckling_strain's 1e-5 at the default EA, 5,000 N
+  const auto run = [&](double warm, double jam_strain, int& iterations, int& compressed_steps) {
+    RodSettings settings;
+    settings.warm_start = warm;
+    settings.warm_start_strain = jam_strain;
+    Rod rod(spec, settings);
+    rod.set_entry({0, 0, -20}, {0, 0, 1});
+    insert_to(rod, wall, 30.0, 0.05);
+    iterations = 0;
+    compressed_steps = 0;
+    for (int i = 1; i <= 2000; ++i) {
+      rod.set_boundary(30.0 + 0.02 * i, 0.0);
+      rod.step(1e-3, wall);
+      iterations += rod.last_iterations();
+      if (rod.hand_force_mN() > kSeedForce_mN) ++compressed_steps;
+    }
+    return rod.tip().position_mm;
+  };
+  const RodSettings defaults;
+  int cold = 0, old_rule = 0, warm = 0, pushed = 0, unused = 0;
+  const glm::dvec3 tip_cold = run(0.0, defaults.warm_start_strain, cold, unused);
+  run(defaults.warm_start, defaults.buckling_strain, old_rule, unused);
+  const glm::dvec3 tip_warm = run(defaults.warm_start, defaults.warm_start_strain, warm, pushed);
+  std::printf("  Newton iterations over 2,000 steps: cold %d, cold after every compressed step %d, default %d; "
+              "%d steps pushed with more than 50 mN\n", cold, old_rule, warm, pushed);
+  EXPECT_GT(pushed, 1000);
+  EXPECT_LT(warm, old_rule);
+  EXPECT_LT(warm, cold);
+  EXPECT_LT(glm::length(tip_warm - tip_cold), 0.05);
+}
+
 TEST(RodBehaviour, ReversalDampingLeavesTheToolWhereItEndsWithout) {
   // A tool with wall friction and a tip load worked back and forth (1 mm at 1 Hz) and twisted
   // through a 90 degree bend at the haptic rate, with and without halving small updates that

@@ -211,7 +211,7 @@ class Rod {
   void place_outside(std::size_t k);
   void update_window();
   void advect(double delta_mm);
-  void seed_buckling();
+  bool seed_buckling();  // true when it moved the nodes
 
   // A tick solved again in sub-increments (rod_substep.cpp).
   void step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles);
@@ -327,7 +327,8 @@ class Rod {
   double rotation_rad_ = 0.0;
   double stepped_insertion_mm_ = 0.0;  // insertion at the end of the last step
   double stepped_rotation_rad_ = 0.0;  // rotation at the end of the last step
-  bool compressed_ = false;            // the last step ended with a compressed edge
+  bool compressed_ = false;            // the last step ended with an edge compressed past buckling_strain
+  bool jammed_ = false;                // ... past warm_start_strain
   double material_advance_mm_ = std::numeric_limits<double>::quiet_NaN();
   const Rod* leader_ = nullptr;
   double leader_insertion_mm_ = 0.0;

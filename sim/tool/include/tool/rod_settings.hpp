@@ -52,11 +52,18 @@ struct RodSettings {
   // times an iteration (rod_edge_contact.cpp, predict_edge_contacts). 0: never.
   int contact_predictions = 8;
   double trust_step_mm = 0.01;             // reversal damping applies below this update
-  // Warm start: a step whose predecessor converged (and ended uncompressed) starts its Newton
-  // iterations from the advected positions plus this fraction of each free node's motion in
-  // that step (the solve and the wall clamp), instead of from the advected positions alone. The
-  // equilibrium sought is the same; a tool still moving is met nearer it. 0 turns it off.
+  // Warm start: a step whose predecessor converged (and ended with no edge compressed by more
+  // than warm_start_strain) and that is not given a buckling seed starts its Newton iterations
+  // from the advected positions plus this fraction of each free node's motion in that step (the
+  // solve and the wall clamp), instead of from the advected positions alone. The equilibrium
+  // sought is the same; a tool still moving is met nearer it. 0 turns it off.
   double warm_start = 0.5;
+  // A jammed tool (compressed past this strain: 2.5 N at the default EA) starts cold: its
+  // buckled motion extrapolated keeps shaking it. A catheter pushed round the siphon is
+  // compressed past buckling_strain on most steps; cold there, the ADAPT session's aspiration
+  // catheter went unconverged on 17 % of its ticks and jammed (docs/sim-tool/convergence.md,
+  // "The warm start after the seed").
+  double warm_start_strain = 5.0e-4;
   // Read the clamp force at the linearised equilibrium of the last Newton step (its whole
   // step) rather than at the final positions. Always so for a rod among other rods; a coil tool
   // sets it for its whole life, since its stiff axial springs read 1 um of residual as newtons
