@@ -57,7 +57,7 @@ void Rod::begin_step() {
 
 void Rod::start_solve(Newton& s, double dt_s) {
   const std::size_t n = x_.size();
-  const bool seeded = compressed_ && seed_buckling();
+  const bool seeded = compressed_ && seed_buckling();  // (or too short to be)
   // Warm start from the last converged step's motion (never after a jammed step: a buckled
   // tool extrapolated keeps shaking; nor on a seeded one: the extrapolation would carry the
   // last solve's taking the seed back out against the new seed). solved_move_ then keeps where

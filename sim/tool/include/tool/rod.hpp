@@ -211,7 +211,7 @@ class Rod {
   void place_outside(std::size_t k);
   void update_window();
   void advect(double delta_mm);
-  bool seed_buckling();  // true when it moved the nodes
+  bool seed_buckling();  // false when the rod lies out of every plane through its entry (not seeded)
 
   // A tick solved again in sub-increments (rod_substep.cpp).
   void step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles);
