@@ -97,7 +97,8 @@ void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
 // peak, 97.8 mN/tick); the coiling run is instantiated disabled (run it with
 // --gtest_also_run_disabled_tests) until its changes over the slew are gone (its tools converge:
 // ToolConvergence; each change's cause: hand_force_jumps_test.cpp) and so is the rigid dead end
-// (3 ticks over the slew: a capped fold release and two nodes crossing the entry at 3.4 N); the dead
+// (2 ticks over the slew on record format 18, up to 171 mN at 8.588 s; 3 on format 17: a capped fold
+// release and two nodes crossing the entry at 3.4 N); the dead
 // ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
 // (HandForceReplay and ToolConvergence print them). The angioplasty met them once the wire's
 // clamp at the balloon catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip)
