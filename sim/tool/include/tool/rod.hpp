@@ -211,7 +211,7 @@ class Rod {
   void place_outside(std::size_t k);
   void update_window();
   void advect(double delta_mm);
-  bool seed_buckling();  // false when the rod lies out of every plane through its entry (not seeded)
+  bool seed_buckling();  // whether the rod lies within one plane through its entry (seeded, or too short to seed)
 
   // A tick solved again in sub-increments (rod_substep.cpp).
   void step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles);
