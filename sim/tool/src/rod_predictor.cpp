@@ -139,10 +139,10 @@ bool Rod::seed_buckling() {
   // already out of every plane through its entry line by more than the offset would give (by
   // the vessel's path, its own shape or an earlier seed) needs none: seeding it again every
   // compressed step only shakes it (and the shaken rod then spends Newton iterations taking the
-  // offset back out). A rod of fewer than kSeedNodesMin free nodes is never seeded. False only
-  // for a rod out of every plane: a step seeded, or too short to seed, starts cold (start_solve).
+  // offset back out). A rod of fewer than kSeedNodesMin free nodes is never seeded. Whether it
+  // seeded: a step seeded starts cold (start_solve); one too short to seed keeps its warm start.
   const std::size_t n = x_.size();
-  if (n - first_free_ < kSeedNodesMin) return true;
+  if (n - first_free_ < kSeedNodesMin) return false;
   if (out_of_plane_mm(x_, first_free_, entry_, dir_) > settings_.buckling_seed_mm) return false;
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t e = std::min(k, n - 2);

@@ -57,13 +57,13 @@ void Rod::begin_step() {
 
 void Rod::start_solve(Newton& s, double dt_s) {
   const std::size_t n = x_.size();
-  // Compressed and lying within one plane through its entry: seeded now, or too short to seed.
-  const bool planar = compressed_ && seed_buckling();
+  // Compressed and lying within one plane through its entry: seeded now.
+  const bool seeded = compressed_ && seed_buckling();
   // Warm start from the last converged step's motion (never after a jammed step: a buckled
-  // tool extrapolated keeps shaking; nor on a planar compressed one: the extrapolation would
-  // carry the last solve's taking the seed back out against the new seed). solved_move_ then keeps where
+  // tool extrapolated keeps shaking; nor on a step seeded now: the extrapolation would carry the
+  // last solve's taking the seed back out against the new seed). solved_move_ then keeps where
   // this step's solve starts from (the advected position), until the step's own motion is known.
-  const bool warm = warm_ok_ && !jammed_ && !planar && settings_.warm_start != 0.0;
+  const bool warm = warm_ok_ && !jammed_ && !seeded && settings_.warm_start != 0.0;
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 from = x_[k];
     if (warm && k >= warm_first_) x_[k] += solved_move_[k] * settings_.warm_start;

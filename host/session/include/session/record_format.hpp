@@ -24,9 +24,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // unconverged tick is sub-stepped, 16 since a holder's first free node fades into the lumen
 // friction's path over its first edge, 17 since a compressed rod is seeded out of its plane from
 // a strain of 1e-5, not 5e-4, 18 since a seeded or jammed rod starts cold (not every compressed
-// one) and a stack steered only by its outermost balloon guide is sub-stepped. An older record is
-// refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 18;
+// one) and a stack steered only by its outermost balloon guide is sub-stepped, 19 since a compressed
+// rod too short to seed keeps its warm start. An older record is refused in one line, not
+// mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 19;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

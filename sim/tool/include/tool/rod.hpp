@@ -211,7 +211,7 @@ class Rod {
   void place_outside(std::size_t k);
   void update_window();
   void advect(double delta_mm);
-  bool seed_buckling();  // whether the rod lies within one plane through its entry (seeded, or too short to seed)
+  bool seed_buckling();  // seeds a compressed rod lying within one plane through its entry; whether it did
 
   // A tick solved again in sub-increments (rod_substep.cpp).
   void step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles);

@@ -53,8 +53,7 @@ struct RodSettings {
   int contact_predictions = 8;
   double trust_step_mm = 0.01;             // reversal damping applies below this update
   // Warm start: a step whose predecessor converged (and ended with no edge compressed by more
-  // than warm_start_strain) and that is not given a buckling seed (nor compressed on a rod too
-  // short to seed) starts its Newton iterations
+  // than warm_start_strain) and that is not given a buckling seed starts its Newton iterations
   // from the advected positions plus this fraction of each free node's motion in that step (the
   // solve and the wall clamp), instead of from the advected positions alone. The equilibrium
   // sought is the same; a tool still moving is met nearer it. 0 turns it off.
