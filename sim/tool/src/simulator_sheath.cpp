@@ -74,6 +74,12 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
       vertex(p, first_holder, b, end, false);
     }
   }
+  // Every holder node behind the distal vertex follows it. A node on the end itself (within the
+  // tolerance) is behind it when point_at_depth put the end in the edge distal of that node (the
+  // distal vertex then the node after it); left out as past the end, as it was, the path lost it
+  // for the tick the end sat on it: the pulled-back empty pusher's slip limit 117 mN shallower for
+  // that one tick in the coiling run (27.455 / 40.155 s).
+  const double distal_depth = path.front().depth_mm;
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     const Rod& h = rods_[c];
     const double lo = free_start_[c];
@@ -81,7 +87,8 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
     if (hi <= lo) continue;
     for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
       const double depth = lo + h.node_depth_mm(k);
-      if (depth >= end - 1e-9 || depth <= lo) continue;
+      if (depth >= end - 1e-9 && !(c == first_holder && depth < distal_depth - 1e-9)) continue;
+      if (depth <= lo) continue;
       vertex(h.positions()[k], c, k, depth, true);
     }
   }
