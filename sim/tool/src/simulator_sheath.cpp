@@ -10,6 +10,56 @@
 
 namespace cathbox::tool {
 
+namespace {
+
+// The inner tool's covered part a sheath path is built for: its tip and where its covered part
+// ends (depths from the entry), and the station the holders' lumen radius was last read at.
+struct SheathSpan {
+  const Rod& inner;
+  double tip_mm;
+  double end_mm;
+  std::size_t station = Rod::kNoStation;
+};
+
+// A vertex of the path at `p` on holder `h` (its free part starting `free_start` deep). A holder's
+// first free node (just past its entry: the carrier's tip, or the entry) fades in over its first
+// edge, in position (from the entry line, where it crossed, to its own place) and in weight
+// (SheathVertex::weight): it joins the path where its clamp left it and takes its lateral play and
+// its share of the turning in proportion to the length it is out. The rule before (the entry's
+// vertex left out while the node was under half a spacing past it, then put back) stepped the
+// coiling run's wire by 0.3-1.4 N in a tick at each of the microcatheter's nodes leaving the
+// guide's tip.
+SheathVertex sheath_vertex(SheathSpan& span, const Rod& h, double free_start, glm::dvec3 p, std::size_t holder,
+                           std::size_t node, double depth, bool at_node) {
+  double weight = 1.0;
+  const std::size_t ff = h.first_free_node();
+  if (at_node && node == ff && ff >= 2 && node < h.node_total()) {
+    const double s = h.node_depth_mm(ff);
+    const double edge = s - h.node_depth_mm(ff - 1);
+    const glm::dvec3 back = h.positions()[ff - 1] - h.positions()[ff - 2];
+    const double lb = glm::length(back);
+    if (edge > 1e-9 && lb > 1e-12) {
+      weight = std::clamp(s / edge, 0.0, 1.0);
+      const glm::dvec3 on_line = h.positions()[ff - 1] + back * ((s - h.node_depth_mm(ff - 1)) / lb);
+      p = on_line + (p - on_line) * weight;
+    }
+  }
+  SheathVertex v;
+  v.point_mm = p;
+  v.holder = static_cast<std::uint32_t>(holder);
+  v.node = static_cast<std::uint32_t>(node);
+  v.depth_mm = depth;
+  const double from_tip = span.tip_mm - std::min(depth, span.end_mm);
+  const double holder_from_tip = h.insertion_mm() - (depth - free_start);
+  v.inner_radius_mm = span.inner.radius_at_mm(from_tip);
+  v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, span.station) - v.inner_radius_mm);
+  v.mu = h.spec().lumen_friction;
+  v.weight = weight;
+  return v;
+}
+
+}  // namespace
+
 void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path) const {
   // From where the tool's covered part ends (its own part's clamp, or its tip) back to the
   // entry, along the free parts of the catheters around it, innermost first.
@@ -19,41 +69,9 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
   const double tip_u = tip_depth_mm(u);
   const double end = std::min(tip_u, free_start_[u]);
   if (end <= 0.0) return;
-  // A holder's first free node (just past its entry: the carrier's tip, or the entry) fades in
-  // over its first edge, in position (from the entry line, where it crossed, to its own place)
-  // and in weight (SheathVertex::weight): it joins the path where its clamp left it and takes its
-  // lateral play and its share of the turning in proportion to the length it is out. The rule
-  // before (the entry's vertex left out while the node was under half a spacing past it, then put
-  // back) stepped the coiling run's wire by 0.3-1.4 N in a tick at each of the microcatheter's
-  // nodes leaving the guide's tip.
-  std::size_t holder_station = Rod::kNoStation;
+  SheathSpan span{inner, tip_u, end};
   const auto vertex = [&](glm::dvec3 p, std::size_t holder, std::size_t node, double depth, bool at_node) {
-    const Rod& h = rods_[holder];
-    double weight = 1.0;
-    const std::size_t ff = h.first_free_node();
-    if (at_node && node == ff && ff >= 2 && node < h.node_total()) {
-      const double s = h.node_depth_mm(ff);
-      const double edge = s - h.node_depth_mm(ff - 1);
-      const glm::dvec3 back = h.positions()[ff - 1] - h.positions()[ff - 2];
-      const double lb = glm::length(back);
-      if (edge > 1e-9 && lb > 1e-12) {
-        weight = std::clamp(s / edge, 0.0, 1.0);
-        const glm::dvec3 on_line = h.positions()[ff - 1] + back * ((s - h.node_depth_mm(ff - 1)) / lb);
-        p = on_line + (p - on_line) * weight;
-      }
-    }
-    SheathVertex v;
-    v.point_mm = p;
-    v.holder = static_cast<std::uint32_t>(holder);
-    v.node = static_cast<std::uint32_t>(node);
-    v.depth_mm = depth;
-    const double from_tip = tip_u - std::min(depth, end);
-    const double holder_from_tip = h.insertion_mm() - (depth - free_start_[holder]);
-    v.inner_radius_mm = inner.radius_at_mm(from_tip);
-    v.clearance_mm = std::max(0.0, h.inner_radius_at_mm(holder_from_tip, holder_station) - v.inner_radius_mm);
-    v.mu = h.spec().lumen_friction;
-    v.weight = weight;
-    path.push_back(v);
+    path.push_back(sheath_vertex(span, rods_[holder], free_start_[holder], p, holder, node, depth, at_node));
   };
   // The distal end: the holder's node just past the inner tool's end (its tip node when the
   // inner tool leaves it), the vertex behind the end covering its turning in proportion.
