@@ -5,6 +5,7 @@
 #include <array>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -23,6 +24,25 @@ using testing::triaxial_stack;
 using testing::drive;
 using testing::precise;
 using testing::wire;
+
+// Tool 1 drawn back over `steps` steps, to insertion_at(i) on step i: the largest change of its
+// hand force between steps and its mean, with its lumen friction slipping (never sticking) on
+// every step.
+template <typename Insertion>
+std::pair<double, double> slide_back(Simulator& sim, int steps, Insertion insertion_at) {
+  double last = sim.hand_force_mN(1);
+  double worst = 0.0, total = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    sim.set_insertion(1, insertion_at(i));
+    sim.step();
+    const double f = sim.hand_force_mN(1);
+    worst = std::max(worst, std::abs(f - last));
+    total += std::abs(f);
+    last = f;
+    EXPECT_FALSE(sim.sheath(1).sticking) << "step " << i;
+  }
+  return {worst, total / steps};
+}
 
 struct BendCase {
   double angle_deg;
@@ -98,19 +118,7 @@ TEST(SheathFriction, AnInnerToolsEndDrawnBackThroughABendIsFeltContinuously) {
     sim.set_insertion(1, sim.insertion_mm(1) - 0.01);
     sim.step();
   }
-  double last = sim.hand_force_mN(1);
-  double worst = 0.0, total = 0.0;
-  const int steps = 300;  // 3 mm: six of the catheter's nodes
-  for (int i = 0; i < steps; ++i) {
-    sim.set_insertion(1, sim.insertion_mm(1) - 0.01);
-    sim.step();
-    const double f = sim.hand_force_mN(1);
-    worst = std::max(worst, std::abs(f - last));
-    total += std::abs(f);
-    last = f;
-    EXPECT_FALSE(sim.sheath(1).sticking) << "step " << i;
-  }
-  const double mean = total / steps;
+  const auto [worst, mean] = slide_back(sim, 300, [&](int) { return sim.insertion_mm(1) - 0.01; });  // 3 mm: six nodes
   EXPECT_GT(mean, 0.5) << "the bend's friction is felt";
   EXPECT_LT(worst, 0.02 * mean) << "largest change between steps, mean " << mean << " mN";
 }
@@ -140,19 +148,7 @@ TEST(SheathFriction, AnInnerToolsEndOnACatheterNodeKeepsThatNodesBend) {
     sim.set_insertion(1, start + 0.5 - (i + 1) / 32.0);
     sim.step();
   }
-  double last = sim.hand_force_mN(1);
-  double worst = 0.0, total = 0.0;
-  const int steps = 96;  // 3 mm: six of the catheter's nodes
-  for (int i = 0; i < steps; ++i) {
-    sim.set_insertion(1, start - (i + 1) / 32.0);
-    sim.step();
-    const double f = sim.hand_force_mN(1);
-    worst = std::max(worst, std::abs(f - last));
-    total += std::abs(f);
-    last = f;
-    EXPECT_FALSE(sim.sheath(1).sticking) << "step " << i;
-  }
-  const double mean = total / steps;
+  const auto [worst, mean] = slide_back(sim, 96, [&](int i) { return start - (i + 1) / 32.0; });  // 3 mm: six nodes
   EXPECT_GT(mean, 0.5) << "the bend's friction is felt";
   EXPECT_LT(worst, 0.05 * mean) << "largest change between steps, mean " << mean << " mN";
 }
