@@ -92,21 +92,21 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
       vertex(p, first_holder, b, end, false);
     }
   }
-  // Every holder node behind the distal vertex follows it. A node on the end itself (within the
-  // tolerance) is behind it when point_at_depth put the end in the edge distal of that node (the
-  // distal vertex then the node after it); left out as past the end, as it was, the path lost it
+  // Every holder node behind the distal vertex follows it: on the first holder, every node short
+  // of that vertex, which is the node past the end when point_at_depth put the end in the edge
+  // distal of a node. A node on the end itself left out as past the end (as it was) lost its bend
   // for the tick the end sat on it: the pulled-back empty pusher's slip limit 117 mN shallower for
   // that one tick in the coiling run (27.455 / 40.155 s).
-  const double distal_depth = path.front().depth_mm;
+  const double distal_depth = std::max(end, path.front().depth_mm);
   for (std::size_t c = outer_of_[u], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     const Rod& h = rods_[c];
     const double lo = free_start_[c];
     const double hi = std::min(end, tip_depth_mm(c));
     if (hi <= lo) continue;
+    const double past = c == first_holder ? distal_depth : end;
     for (std::size_t k = h.node_total(); k-- > h.first_free_node();) {
       const double depth = lo + h.node_depth_mm(k);
-      if (depth >= end - 1e-9 && !(c == first_holder && depth < distal_depth - 1e-9)) continue;
-      if (depth <= lo) continue;
+      if (depth >= past - 1e-9 || depth <= lo) continue;
       vertex(h.positions()[k], c, k, depth, true);
     }
   }
