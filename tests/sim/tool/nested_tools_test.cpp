@@ -44,6 +44,14 @@ std::pair<double, double> slide_back(Simulator& sim, int steps, Insertion insert
   return {worst, total / steps};
 }
 
+// A 1 mm lumen turning 180 degrees on radius R, with 2 mm in and 40 mm out.
+TubeNetworkWall half_turn(double R) {
+  TubeNetworkWall wall;
+  wall.add_polyline(testing::bend_points(R, M_PI, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
+  wall.build();
+  return wall;
+}
+
 struct BendCase {
   double angle_deg;
   double mu;
@@ -101,19 +109,16 @@ INSTANTIATE_TEST_SUITE_P(Bends, SheathCapstan,
 // (in the coiling run a pusher drawn back read 600 -> 1,100 mN a node).
 TEST(SheathFriction, AnInnerToolsEndDrawnBackThroughABendIsFeltContinuously) {
   const double R = 10.0;
-  const double angle = M_PI;
-  TubeNetworkWall wall;
-  wall.add_polyline(testing::bend_points(R, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
-  wall.build();
+  const TubeNetworkWall wall = half_turn(R);
   ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);
   ToolSpec w = wire("wire", 0.36, 0.5);
   w.sections = {ToolSection{690.0, 0.36, 0.5, 0.4, 0.0}, ToolSection{10.0, 0.36, 0.05, 0.04, 0.0}};
   w.inside = "cath";
   const std::vector<ToolSpec> tools{cath, w};
   Simulator sim(wall, tools, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
-  const double cath_in = 2.0 + R * angle + 8.0;
+  const double cath_in = 2.0 + R * M_PI + 8.0;
   drive(sim, 0, cath_in, 0.1);
-  drive(sim, 1, 2.0 + 0.75 * R * angle, 0.1);  // the wire's end three quarters round the bend
+  drive(sim, 1, 2.0 + 0.75 * R * M_PI, 0.1);  // the wire's end three quarters round the bend
   for (int i = 0; i < 20; ++i) {               // drawn back into slip
     sim.set_insertion(1, sim.insertion_mm(1) - 0.01);
     sim.step();
@@ -132,10 +137,7 @@ TEST(SheathFriction, AnInnerToolsEndDrawnBackThroughABendIsFeltContinuously) {
 // its slip limit a third shallower for one tick (+117 mN, then -109 mN).
 TEST(SheathFriction, AnInnerToolsEndOnACatheterNodeKeepsThatNodesBend) {
   const double R = 10.0;
-  const double angle = M_PI;
-  TubeNetworkWall wall;
-  wall.add_polyline(testing::bend_points(R, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
-  wall.build();
+  const TubeNetworkWall wall = half_turn(R);
   ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, 0.3);
   ToolSpec w = wire("wire", 0.36, 0.5);
   w.inside = "cath";
