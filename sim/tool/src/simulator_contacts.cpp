@@ -29,7 +29,13 @@ bool Simulator::lone(std::size_t t) const {
 bool Simulator::substepped(std::size_t t) const {
   if (lone(t)) return true;
   const std::size_t n = rods_.size();
-  if (outer_of_[t] >= n || steered_now(t)) return false;
+  if (outer_of_[t] >= n) return false;
+  // A catheter directly in a balloon guide (the aspiration catheter of the aspiration stacks) is
+  // sub-stepped while it is steered too: its inner tools' push on its tip is a lagged load, the
+  // same in each part (convergence.md, "Sub-stepped in an aspiration stack").
+  const std::size_t holder = outer_of_[t];
+  const bool in_guide = outer_of_[holder] >= n && specs_[holder].steered_by_inner == InnerSteering::kAlways;
+  if (steered_now(t) && !in_guide) return false;
   const ToolKind kind = specs_[t].kind;
   const bool carries = std::any_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
   if (!(kind == ToolKind::kCatheter || kind == ToolKind::kCoil || (kind == ToolKind::kGuidewire && !carries))) {
@@ -47,8 +53,14 @@ bool Simulator::substepped(std::size_t t) const {
     guided = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
     if (!guided) break;
   }
-  for (std::size_t c = outer_of_[t], guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
-    if (steered_now(c) && !(guided && outer_of_[c] >= n)) return false;
+  // An outermost balloon guide's steering holds back only a catheter carried in another catheter
+  // within it (the aspiration stacks' microcatheter: sub-stepped, it left the wire's path for the
+  // ICA terminus' other branch in the ADAPT run; convergence.md, "Sub-stepped in an aspiration
+  // stack"), not the catheter directly in the guide nor a guidewire or coil.
+  for (std::size_t c = holder, guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
+    if (!steered_now(c)) continue;
+    const bool guide = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
+    if (!(guide && (guided || in_guide || kind != ToolKind::kCatheter))) return false;
   }
   return true;
 }
