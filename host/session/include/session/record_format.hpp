@@ -26,9 +26,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // a strain of 1e-5, not 5e-4, 18 since a seeded or jammed rod starts cold (not every compressed
 // one) and a stack steered only by its outermost balloon guide is sub-stepped, 19 since a compressed
 // rod too short to seed keeps its warm start and a sheath path keeps the node an inner tool's
-// end sits on. An older record is refused in one line, not
+// end sits on, 20 since a balloon guide's steering no longer holds back the catheter directly in
+// it. An older record is refused in one line, not
 // mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 19;
+inline constexpr std::uint16_t kFormatVersion = 20;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
