@@ -77,6 +77,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   coupling_next_.resize(n);
   coupling_set_.assign(n, IndexRange{});
   tip_push_.assign(n, glm::dvec3(0.0));
+  converged_clamp_.assign(n, glm::dvec3(0.0));
   for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
   balloons_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -422,6 +422,37 @@ TEST(NestedTools, ABalloonCatheterIsSteeredParkedToo) {
   EXPECT_GT(apart[1], 1e-6);
 }
 
+// A steered catheter takes its wire's push from the wire's last converged step: an unconverged
+// step's clamp force is its leftover penetration's penalty. The ADAPT M1 run's microwire, its
+// clamp carried 1.5 mm sideways in a tick by its microcatheter's tip, read up to 790 N there, and
+// the microcatheter it steers converged into the wall under that push (82 contacts at their cap,
+// -20 N at the hand for 22 ticks; convergence.md, "An aspiration stack sub-stepped"). Here the
+// wire, parked in a branch beyond a balloon catheter's tip, is held to one Newton iteration under
+// a 300 mN load across its tip: the catheter's tip stays within 0.1 mm of where the converged wire
+// left it (0.04 mm: the lumen friction's reaction on the catheter still reads the unconverged
+// wire's axial force; before, the tip moved 2.1 mm).
+TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  std::vector<ToolSpec> tools = triaxial_stack();
+  tools[1].steered_by_inner = InnerSteering::kAlways;
+  Simulator sim(wall, tools, kTriaxialEntry);
+  steer_wire_into_a_branch(sim);
+  for (int i = 0; i < 200; ++i) sim.step();  // parked
+  ASSERT_TRUE(sim.rod(2).converged());
+  const glm::dvec3 parked = sim.tip(1).position_mm;
+  sim.rod_settings(2).newton_iterations = 1;
+  sim.set_node_load(2, sim.rod(2).node_total() - 1, {3.0e2, 0.0, 0.0});
+  int unconverged = 0;
+  double moved = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    sim.step();
+    unconverged += sim.rod(2).converged() ? 0 : 1;
+    moved = std::max(moved, glm::length(sim.tip(1).position_mm - parked));
+  }
+  EXPECT_EQ(unconverged, 100);
+  EXPECT_LT(moved, 0.1);
+}
+
 // An aspiration stack in a balloon guide (neuro_thrombectomy_m1.case's: guide kAlways >
 // aspiration kWhileAdvanced > microcatheter > wire): the guide's steering no longer keeps the
 // aspiration catheter in it nor the wire from their sub-steps (RodSettings::substeps_max 4), only
