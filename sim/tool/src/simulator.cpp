@@ -289,7 +289,12 @@ void Simulator::step(double dt_s) {
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
     // An unconverged tick solved again in sub-increments (Simulator::substepped).
-    rods_[t].settings().substeps_max = substepped(t) ? tuning::kLoneToolSubsteps : 1;
+    // A catheter directly in a balloon guide in up to kGuidedCatheterSubsteps (the ADAPT pass).
+    const std::size_t o = outer_of_[t];
+    const bool guided = o < n && outer_of_[o] >= n && specs_[o].steered_by_inner == InnerSteering::kAlways &&
+                        specs_[t].kind == ToolKind::kCatheter;
+    const int most = guided ? tuning::kGuidedCatheterSubsteps : tuning::kLoneToolSubsteps;
+    rods_[t].settings().substeps_max = substepped(t) ? most : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;
