@@ -23,9 +23,18 @@ CaseParse load_case(const std::string& path) {
 }
 
 void steer_aspiration_catheters(Case& c) {
+  const auto aspirated = [&c](const std::string& name) {
+    return std::any_of(c.aspiration.begin(), c.aspiration.end(), [&name](const CaseAspiration& a) { return a.tool == name; });
+  };
+  for (ToolSpec& t : c.tools) t.steered_by_inner = aspirated(t.name) ? InnerSteering::kWhileAdvanced : InnerSteering::kNone;
+  // A catheter run in an aspiration catheter (the ADAPT stacks' microcatheter) is steered by the
+  // wire it carries while advanced too: unsteered, only predicted along the wire's path, its
+  // converged steps left the wire for the PCom (convergence.md, "An aspiration stack
+  // sub-stepped"). Not one a stent retriever runs in (the Solumbra stacks': not measured).
   for (ToolSpec& t : c.tools) {
-    const bool aspirated = std::any_of(c.aspiration.begin(), c.aspiration.end(), [&t](const CaseAspiration& a) { return a.tool == t.name; });
-    t.steered_by_inner = aspirated ? InnerSteering::kWhileAdvanced : InnerSteering::kNone;
+    if (t.kind != ToolKind::kCatheter || t.inside.empty() || !aspirated(t.inside)) continue;
+    const bool stent = std::any_of(c.tools.begin(), c.tools.end(), [&t](const ToolSpec& u) { return u.inside == t.name && u.stent.present(); });
+    if (!stent) t.steered_by_inner = InnerSteering::kWhileAdvanced;
   }
 }
 

@@ -77,6 +77,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   coupling_next_.resize(n);
   coupling_set_.assign(n, IndexRange{});
   tip_push_.assign(n, glm::dvec3(0.0));
+  converged_clamp_.assign(n, glm::dvec3(0.0));
   for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
   balloons_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -288,7 +289,12 @@ void Simulator::step(double dt_s) {
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
     // An unconverged tick solved again in sub-increments (Simulator::substepped).
-    rods_[t].settings().substeps_max = substepped(t) ? tuning::kLoneToolSubsteps : 1;
+    // A catheter directly in a balloon guide in up to kGuidedCatheterSubsteps (the ADAPT pass).
+    const std::size_t o = outer_of_[t];
+    const bool guided = o < n && outer_of_[o] >= n && specs_[o].steered_by_inner == InnerSteering::kAlways &&
+                        specs_[t].kind == ToolKind::kCatheter;
+    const int most = guided ? tuning::kGuidedCatheterSubsteps : tuning::kLoneToolSubsteps;
+    rods_[t].settings().substeps_max = substepped(t) ? most : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;

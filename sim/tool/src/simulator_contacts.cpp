@@ -25,17 +25,22 @@ bool Simulator::lone(std::size_t t) const {
 // "Sub-stepped carried catheters and coils": a stent retriever's re-solves cost the stent case's
 // p99 several ticks; a steered stack's path left main's in the thrombectomy run). In a stack whose
 // only steerable catheter is its outermost one, a balloon guide, that guide's steering does not
-// hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide").
+// hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide"); in any
+// balloon guide's stack, no steering holds back a wire, a coil or a catheter its wire steers
+// (convergence.md, "An aspiration stack sub-stepped").
 bool Simulator::substepped(std::size_t t) const {
   if (lone(t)) return true;
   const std::size_t n = rods_.size();
   if (outer_of_[t] >= n) return false;
-  // A catheter directly in a balloon guide (the aspiration catheter of the aspiration stacks) is
-  // sub-stepped while it is steered too: its inner tools' push on its tip is a lagged load, the
-  // same in each part (convergence.md, "Sub-stepped in an aspiration stack").
+  // A catheter in a balloon guide's stack (the aspiration stacks' aspiration catheter and
+  // microcatheter) is sub-stepped while it is steered too: its inner tools' push on its tip is a
+  // lagged load, the same in each part (convergence.md, "An aspiration stack sub-stepped").
   const std::size_t holder = outer_of_[t];
+  std::size_t outermost = holder;
+  for (std::size_t guard = 0; outer_of_[outermost] < n && guard <= n; ++guard) outermost = outer_of_[outermost];
   const bool in_guide = outer_of_[holder] >= n && specs_[holder].steered_by_inner == InnerSteering::kAlways;
-  if (steered_now(t) && !in_guide) return false;
+  const bool guide_stack = specs_[outermost].steered_by_inner == InnerSteering::kAlways;
+  if (steered_now(t) && !guide_stack) return false;
   const ToolKind kind = specs_[t].kind;
   const bool carries = std::any_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
   if (!(kind == ToolKind::kCatheter || kind == ToolKind::kCoil || (kind == ToolKind::kGuidewire && !carries))) {
@@ -44,6 +49,12 @@ bool Simulator::substepped(std::size_t t) const {
   for (std::size_t u = 0; u < n; ++u) {
     if ((u == t || nested_in(u, t)) && specs_[u].stent.present()) return false;
   }
+  // In a balloon guide's stack no catheter's steering, the guide's or one advanced over it, holds
+  // back a wire, a coil or a catheter its wire steers (the ADAPT run's microwire, held back while
+  // its microcatheter was advanced, went unconverged and steered that microcatheter into the wall;
+  // the microcatheter, held back while the aspiration catheter was advanced over it, was
+  // unconverged on 1.2 % of its ticks: convergence.md, "An aspiration stack sub-stepped").
+  if (guide_stack && (kind != ToolKind::kCatheter || specs_[t].steered_by_inner != InnerSteering::kNone)) return true;
   // Whether the only catheter round t that its inner tools can steer (t included) is the outermost
   // one, a balloon catheter: the stent retriever cases' balloon guide, not the aspiration stacks
   // (their aspiration catheter, steered while advanced, sits inside the guide).
@@ -53,14 +64,13 @@ bool Simulator::substepped(std::size_t t) const {
     guided = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
     if (!guided) break;
   }
-  // An outermost balloon guide's steering holds back only a catheter carried in another catheter
-  // within it (the aspiration stacks' microcatheter: sub-stepped, it left the wire's path for the
-  // ICA terminus' other branch in the ADAPT run; convergence.md, "Sub-stepped in an aspiration
-  // stack"), not the catheter directly in the guide nor a guidewire or coil.
+  // The guide's steering holds back only an unsteered catheter carried in another catheter within
+  // it (sub-stepped, such a microcatheter left the wire's path for the PCom in the ADAPT run;
+  // convergence.md, "An aspiration stack sub-stepped"), not the catheter directly in it.
   for (std::size_t c = holder, guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     if (!steered_now(c)) continue;
     const bool guide = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
-    if (!(guide && (guided || in_guide || kind != ToolKind::kCatheter))) return false;
+    if (!(guide && (guided || in_guide))) return false;
   }
   return true;
 }

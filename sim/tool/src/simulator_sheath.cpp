@@ -169,11 +169,15 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   // the carrier's tip direction, is the inner tool's push on that tip (a wire bent out of a
   // catheter's tip into its path steers the tip after it; along the tip it is the inner tool's
   // push from the hand, which the sheath carries), on a carrier its ToolSpec::steered_by_inner
-  // says is steered now (sim/tool README, "Coaxial tools").
+  // says is steered now (sim/tool README, "Coaxial tools"). The push of the inner tool's last
+  // converged step: an unconverged one's clamp force is a leftover penetration's penalty (the
+  // ADAPT run's microwire read up to 790 N on it, and its microcatheter, steered by it, snapped
+  // into the wall at -20 N; convergence.md, "An aspiration stack sub-stepped").
   const std::size_t c = carrier_[u];
+  if (has_free && rod.converged()) converged_clamp_[u] = rod.clamp_force_mN();
   if (has_free && c < n && steered_now(c)) {
     const glm::dvec3 along = rods_[c].tip().direction;
-    const glm::dvec3 held = rod.clamp_force_mN();
+    const glm::dvec3 held = converged_clamp_[u];
     const glm::dvec3 lateral = held - along * glm::dot(held, along);
     if (std::isfinite(lateral.x + lateral.y + lateral.z)) {
       tip_push_[c] -= lateral * tuning::kTipPushRelaxation;

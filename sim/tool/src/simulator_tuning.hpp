@@ -15,6 +15,11 @@ inline constexpr bool kCoilBendReaction = false;
 inline constexpr double kTipPushRelaxation = 0.1;
 // Most sub-increments a lone tool's unconverged tick is solved again in (RodSettings::substeps_max).
 inline constexpr int kLoneToolSubsteps = 4;
+// And a catheter directly in a balloon guide (the aspiration stacks' aspiration catheter): its pass,
+// withdrawn at 10 mm/s with the clot, its tip snapping back down the terminal ICA, left 162
+// ticks unconverged after 4 parts in the ADAPT M1 run (0.50 %), ~102 after 8 (0.32 %;
+// convergence.md, "An aspiration stack sub-stepped").
+inline constexpr int kGuidedCatheterSubsteps = 8;
 // A released coil's warm start (RodSettings::warm_start): a coil pushed at a steady rate starts
 // each step from its whole last motion (1), but a released one only relaxes, and with 1 the
 // extrapolated motion is carried into the next step undiminished (its friction anchors and

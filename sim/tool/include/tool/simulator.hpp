@@ -209,6 +209,7 @@ class Simulator {
   std::vector<std::vector<glm::dvec3>> coupling_next_;  // loads for the next step, per tool node
   std::vector<IndexRange> coupling_set_;                 // nodes of each coupling_next_ ever loaded
   std::vector<glm::dvec3> tip_push_;  // per tool: the tools it carries pushing on its tip node, relaxed
+  std::vector<glm::dvec3> converged_clamp_;  // per tool: its clamp force at its last converged step
   std::vector<double> hand_force_, hand_torque_;
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
