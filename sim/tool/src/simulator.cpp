@@ -87,6 +87,18 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
       specs_[i].steered_by_inner = InnerSteering::kAlways;
     }
   }
+  // A catheter run directly in a balloon guide (the stent-retriever stacks' microcatheter) is
+  // steered by the wire it carries while advanced, as an aspiration stack's microcatheter is
+  // (tool::steer_aspiration_catheters): unsteered and sub-stepped, the M1 stent case's left the
+  // wire for a side branch at 30 s (convergence.md, "The stent retriever's microcatheter
+  // sub-stepped").
+  for (std::size_t i = 0; i < n; ++i) {
+    const ToolSpec& t = tools[i];
+    if (t.kind != ToolKind::kCatheter || t.inside.empty() || specs_[i].steered_by_inner != InnerSteering::kNone) continue;
+    const auto guide = std::find_if(tools.begin(), tools.end(), [&t](const ToolSpec& g) { return g.name == t.inside; });
+    if (guide == tools.end() || !guide->balloon.present() || !guide->inside.empty()) continue;
+    specs_[i].steered_by_inner = InnerSteering::kWhileAdvanced;
+  }
   stents_.resize(n);
   tip_grip_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {

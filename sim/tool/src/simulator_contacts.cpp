@@ -18,16 +18,30 @@ bool Simulator::lone(std::size_t t) const {
          std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
 }
 
+// Whether stent retriever u is part out of its catheters, part crimped in them: being unsheathed
+// or drawn back in, the catheter's tip sliding over the crimp. Wholly inside (no node of it free:
+// the M1 case's stent in the microcatheter's hub while it is advanced over the wire) or wholly
+// out, it is not.
+bool Simulator::unsheathing(std::size_t u) const {
+  if (!specs_[u].stent.present() || !stents_[u]) return false;
+  const Rod& rod = rods_[u];
+  if (rod.first_free_node() >= rod.node_total()) return false;
+  return stents_[u]->state().unsheathed_mm < specs_[u].stent.length_mm - 1e-9;
+}
+
 // An unconverged tick is solved again in sub-increments (Rod::step) for a lone tool and for a
 // tool carried in a catheter (a guidewire carrying nothing, a catheter, an attached coil) while
-// neither it nor any catheter around it is steered by what it carries (steered_now) and no stent
-// is on it or inside it (convergence.md, "Sub-stepped ticks", "Sub-stepped carried wires",
-// "Sub-stepped carried catheters and coils": a stent retriever's re-solves cost the stent case's
-// p99 several ticks; a steered stack's path left main's in the thrombectomy run). In a stack whose
+// neither it nor any catheter around it is steered by what it carries (steered_now), no stent
+// is on it and none inside it is being unsheathed (convergence.md, "Sub-stepped ticks",
+// "Sub-stepped carried wires", "Sub-stepped carried catheters and coils": a stent retriever's
+// re-solves cost the stent case's p99 several ticks; a steered stack's path left main's in the
+// thrombectomy run). In a stack whose
 // only steerable catheter is its outermost one, a balloon guide, that guide's steering does not
 // hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide"); in any
 // balloon guide's stack, no steering holds back a wire, a coil or a catheter its wire steers
-// (convergence.md, "An aspiration stack sub-stepped").
+// (convergence.md, "An aspiration stack sub-stepped"). A stent retriever still in its catheter's
+// hub, or wholly unsheathed, does not hold back a catheter its wire steers ("The stent
+// retriever's microcatheter sub-stepped").
 bool Simulator::substepped(std::size_t t) const {
   if (lone(t)) return true;
   const std::size_t n = rods_.size();
@@ -47,7 +61,13 @@ bool Simulator::substepped(std::size_t t) const {
     return false;
   }
   for (std::size_t u = 0; u < n; ++u) {
-    if ((u == t || nested_in(u, t)) && specs_[u].stent.present()) return false;
+    if (u == t && specs_[u].stent.present()) return false;
+    // One in the catheter's hub or wholly out keeps back only a catheter its wire does not steer
+    // (the Solumbra stacks' microcatheter, in an aspiration catheter: not measured sub-stepped).
+    if (u != t && nested_in(u, t) && specs_[u].stent.present() &&
+        (specs_[t].steered_by_inner == InnerSteering::kNone || unsheathing(u))) {
+      return false;
+    }
   }
   // In a balloon guide's stack no catheter's steering, the guide's or one advanced over it, holds
   // back a wire, a coil or a catheter its wire steers (the ADAPT run's microwire, held back while

@@ -302,6 +302,52 @@ TEST(StentRetriever, RetrievedIntoTheGuideEndsTheGripWithoutAJump) {
   EXPECT_LT(peak_mN, 1000.0);
 }
 
+// The M1 stent-retriever stack (a balloon guide > the microcatheter > the microwire and the stent
+// retriever): the microcatheter advanced over the wire with the stent still in its hub is
+// sub-stepped like the ADAPT stack's (in up to 8 parts: convergence.md, "The stent retriever's
+// microcatheter sub-stepped"); while the stent is being unsheathed (part out, part crimped) it is
+// not, and once the stent is wholly out it is again.
+TEST(StentRetriever, ItsMicrocatheterInABalloonGuideIsSubSteppedButWhileUnsheathing) {
+  const TubeNetworkWall wall = testing::straight_tube(1.6, -10.0, 300.0);
+  std::vector<ToolSpec> tools = stent_tools(device(4.0, 20.0));
+  ToolSpec guide;
+  guide.name = "guide";
+  guide.kind = ToolKind::kCatheter;
+  guide.sections = {ToolSection{900.0, 2.7, 400.0, 300.0, 0.0}, ToolSection{80.0, 2.7, 80.0, 60.0, 0.0}};
+  guide.inner_diameter_mm = 2.13;
+  guide.friction = 0.15;
+  guide.balloon.length_mm = 10.0;
+  guide.balloon.from_tip_mm = 3.0;
+  guide.balloon.pressure_atm = {0.1, 0.5, 1.0, 2.0};
+  guide.balloon.diameter_mm = {3.0, 7.0, 9.0, 10.0};
+  guide.balloon.nominal_atm = 1.0;
+  guide.balloon.rated_burst_atm = 2.0;
+  ToolSpec microwire;
+  microwire.name = "microwire";
+  microwire.sections = {ToolSection{1750.0, 0.36, 40.0, 31.0, 0.0}, ToolSection{50.0, 0.36, 3.0, 2.3, 0.0}};
+  microwire.friction = 0.08;
+  microwire.inside = "microcatheter";
+  tools[0].inside = "guide";
+  tools.insert(tools.begin(), guide);
+  tools.insert(tools.begin() + 2, microwire);  // guide, microcatheter, microwire, stent
+  Simulator sim(wall, tools, Entry{{0, 0, 0}, {0, 0, 1}});
+  const auto parts = [&sim] { return sim.rod(1).settings().substeps_max; };
+  drive(sim, 0, 25.0, 100.0);
+  drive(sim, 1, 40.0, 100.0);
+  drive(sim, 2, 90.0, 100.0);
+  drive(sim, 1, 60.0, 40.0);  // over the wire, the stent in the hub
+  EXPECT_EQ(parts(), 8) << "advanced over the wire";
+  drive(sim, 2, 0.0, 200.0);
+  drive(sim, 3, 59.0, 100.0);
+  drive(sim, 1, 50.0, 20.0);  // unsheathing: ~10 mm of the stent out
+  ASSERT_GT(sim.stent(3)->state().unsheathed_mm, 5.0);
+  ASSERT_LT(sim.stent(3)->state().unsheathed_mm, 15.0);
+  EXPECT_EQ(parts(), 1) << "while unsheathing";
+  drive(sim, 1, 30.0, 40.0);
+  ASSERT_NEAR(sim.stent(3)->state().unsheathed_mm, 20.0, 1e-6);
+  EXPECT_EQ(parts(), 8) << "the stent wholly out";
+}
+
 // On a meshed wall (the held-out tortuous path as a 16-sided tube, the surface's model its
 // centreline) an expanded stent node is held by the tube round the centreline
 // (WallProbe::lumen_axis), not by the facets whose planes it flipped between: the Solitaire's
