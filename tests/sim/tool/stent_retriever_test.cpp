@@ -272,18 +272,23 @@ TEST(StentRetriever, ResheathingIntoTheMicrocatheterEndsTheGripWithoutAJump) {
   EXPECT_LT(peak_mN, 1000.0);
 }
 
-
-// Retrieved into a guide catheter (the microcatheter drawn back inside it first), as the
-// bundled script does: the pull stays bounded up to the stent's re-sheathing in the guide.
-TEST(StentRetriever, RetrievedIntoTheGuideEndsTheGripWithoutAJump) {
-  const TubeNetworkWall wall = testing::straight_tube(1.6, -10.0, 300.0);
-  std::vector<ToolSpec> tools = stent_tools(device(4.0, 20.0));
+// An 8F guide catheter (2.7 mm outside, 2.13 mm lumen) the stacks below run in.
+ToolSpec guide_catheter() {
   ToolSpec guide;
   guide.name = "guide";
   guide.kind = ToolKind::kCatheter;
   guide.sections = {ToolSection{900.0, 2.7, 400.0, 300.0, 0.0}, ToolSection{80.0, 2.7, 80.0, 60.0, 0.0}};
   guide.inner_diameter_mm = 2.13;
   guide.friction = 0.15;
+  return guide;
+}
+
+// Retrieved into a guide catheter (the microcatheter drawn back inside it first), as the
+// bundled script does: the pull stays bounded up to the stent's re-sheathing in the guide.
+TEST(StentRetriever, RetrievedIntoTheGuideEndsTheGripWithoutAJump) {
+  const TubeNetworkWall wall = testing::straight_tube(1.6, -10.0, 300.0);
+  std::vector<ToolSpec> tools = stent_tools(device(4.0, 20.0));
+  const ToolSpec guide = guide_catheter();
   tools[0].inside = "guide";
   tools.insert(tools.begin(), guide);
   Simulator sim(wall, tools, Entry{{0, 0, 0}, {0, 0, 1}});
@@ -310,12 +315,7 @@ TEST(StentRetriever, RetrievedIntoTheGuideEndsTheGripWithoutAJump) {
 TEST(StentRetriever, ItsMicrocatheterInABalloonGuideIsSubSteppedButWhileUnsheathing) {
   const TubeNetworkWall wall = testing::straight_tube(1.6, -10.0, 300.0);
   std::vector<ToolSpec> tools = stent_tools(device(4.0, 20.0));
-  ToolSpec guide;
-  guide.name = "guide";
-  guide.kind = ToolKind::kCatheter;
-  guide.sections = {ToolSection{900.0, 2.7, 400.0, 300.0, 0.0}, ToolSection{80.0, 2.7, 80.0, 60.0, 0.0}};
-  guide.inner_diameter_mm = 2.13;
-  guide.friction = 0.15;
+  ToolSpec guide = guide_catheter();
   guide.balloon.length_mm = 10.0;
   guide.balloon.from_tip_mm = 3.0;
   guide.balloon.pressure_atm = {0.1, 0.5, 1.0, 2.0};

@@ -27,8 +27,8 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // one) and a stack steered only by its outermost balloon guide is sub-stepped, 19 since a compressed
 // rod too short to seed keeps its warm start and a sheath path keeps the node an inner tool's
 // end sits on, 20 since no steering in a balloon guide's stack holds back a wire or a catheter
-// its wire steers, a catheter in an aspiration catheter is steered by its wire, and a steered
-// carrier's tip takes its wire's last converged push. An older record is refused in one line, not
+// its wire steers, a catheter in an aspiration catheter or directly in a balloon guide is steered
+// by its wire, and a steered carrier's tip takes its wire's last converged push. An older record is refused in one line, not
 // mis-replayed.
 inline constexpr std::uint16_t kFormatVersion = 20;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
