@@ -19,6 +19,21 @@ constexpr double kRodContactStep_mm = 0.04;
 // forces of a few mN) ends steps with its contacts a few micrometres from settled; at 2e5 mN/mm
 // each micrometre read as 200 mN. Penetration stays held to 5 % of its radius by projection.
 constexpr double kCoilContactStiffness_mN_per_mm = 2.0e4;
+
+// A catheter run directly in a balloon guide (the stent-retriever stacks' microcatheter) is
+// steered by the wire it carries while advanced, as an aspiration stack's microcatheter is
+// (tool::steer_aspiration_catheters): unsteered and sub-stepped, the M1 stent case's left the
+// wire for a side branch at 30 s (convergence.md, "The stent retriever's microcatheter
+// sub-stepped").
+void steer_catheters_in_balloon_guides(std::span<const ToolSpec> tools, std::vector<ToolSpec>& specs) {
+  for (std::size_t i = 0; i < tools.size(); ++i) {
+    const ToolSpec& t = tools[i];
+    if (t.kind != ToolKind::kCatheter || t.inside.empty() || specs[i].steered_by_inner != InnerSteering::kNone) continue;
+    const auto guide = std::find_if(tools.begin(), tools.end(), [&t](const ToolSpec& g) { return g.name == t.inside; });
+    if (guide == tools.end() || !guide->balloon.present() || !guide->inside.empty()) continue;
+    specs[i].steered_by_inner = InnerSteering::kWhileAdvanced;
+  }
+}
 }  // namespace
 
 Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
@@ -87,18 +102,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
       specs_[i].steered_by_inner = InnerSteering::kAlways;
     }
   }
-  // A catheter run directly in a balloon guide (the stent-retriever stacks' microcatheter) is
-  // steered by the wire it carries while advanced, as an aspiration stack's microcatheter is
-  // (tool::steer_aspiration_catheters): unsteered and sub-stepped, the M1 stent case's left the
-  // wire for a side branch at 30 s (convergence.md, "The stent retriever's microcatheter
-  // sub-stepped").
-  for (std::size_t i = 0; i < n; ++i) {
-    const ToolSpec& t = tools[i];
-    if (t.kind != ToolKind::kCatheter || t.inside.empty() || specs_[i].steered_by_inner != InnerSteering::kNone) continue;
-    const auto guide = std::find_if(tools.begin(), tools.end(), [&t](const ToolSpec& g) { return g.name == t.inside; });
-    if (guide == tools.end() || !guide->balloon.present() || !guide->inside.empty()) continue;
-    specs_[i].steered_by_inner = InnerSteering::kWhileAdvanced;
-  }
+  steer_catheters_in_balloon_guides(tools, specs_);
   stents_.resize(n);
   tip_grip_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -302,9 +306,7 @@ void Simulator::step(double dt_s) {
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
     // An unconverged tick solved again in sub-increments (Simulator::substepped).
     // A catheter directly in a balloon guide in up to kGuidedCatheterSubsteps (the ADAPT pass).
-    const std::size_t o = outer_of_[t];
-    const bool guided = o < n && outer_of_[o] >= n && specs_[o].steered_by_inner == InnerSteering::kAlways &&
-                        specs_[t].kind == ToolKind::kCatheter;
+    const bool guided = outer_of_[t] < n && balloon_guide(outer_of_[t]) && specs_[t].kind == ToolKind::kCatheter;
     const int most = guided ? tuning::kGuidedCatheterSubsteps : tuning::kLoneToolSubsteps;
     rods_[t].settings().substeps_max = substepped(t) ? most : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);

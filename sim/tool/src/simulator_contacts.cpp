@@ -18,6 +18,10 @@ bool Simulator::lone(std::size_t t) const {
          std::none_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
 }
 
+bool Simulator::balloon_guide(std::size_t c) const {
+  return outer_of_[c] >= rods_.size() && specs_[c].steered_by_inner == InnerSteering::kAlways;
+}
+
 // Whether stent retriever u is part out of its catheters, part crimped in them: being unsheathed
 // or drawn back in, the catheter's tip sliding over the crimp. Wholly inside (no node of it free:
 // the M1 case's stent in the microcatheter's hub while it is advanced over the wire) or wholly
@@ -52,8 +56,8 @@ bool Simulator::substepped(std::size_t t) const {
   const std::size_t holder = outer_of_[t];
   std::size_t outermost = holder;
   for (std::size_t guard = 0; outer_of_[outermost] < n && guard <= n; ++guard) outermost = outer_of_[outermost];
-  const bool in_guide = outer_of_[holder] >= n && specs_[holder].steered_by_inner == InnerSteering::kAlways;
-  const bool guide_stack = specs_[outermost].steered_by_inner == InnerSteering::kAlways;
+  const bool in_guide = balloon_guide(holder);
+  const bool guide_stack = balloon_guide(outermost);
   if (steered_now(t) && !guide_stack) return false;
   const ToolKind kind = specs_[t].kind;
   const bool carries = std::any_of(outer_of_.begin(), outer_of_.end(), [t](std::size_t o) { return o == t; });
@@ -81,7 +85,7 @@ bool Simulator::substepped(std::size_t t) const {
   bool guided = false;
   for (std::size_t c = t, guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     if (specs_[c].steered_by_inner == InnerSteering::kNone) continue;
-    guided = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
+    guided = balloon_guide(c);
     if (!guided) break;
   }
   // The guide's steering holds back only an unsteered catheter carried in another catheter within
@@ -89,8 +93,7 @@ bool Simulator::substepped(std::size_t t) const {
   // convergence.md, "An aspiration stack sub-stepped"), not the catheter directly in it.
   for (std::size_t c = holder, guard = 0; c < n && guard <= n; c = outer_of_[c], ++guard) {
     if (!steered_now(c)) continue;
-    const bool guide = outer_of_[c] >= n && specs_[c].steered_by_inner == InnerSteering::kAlways;
-    if (!(guide && (guided || in_guide))) return false;
+    if (!(balloon_guide(c) && (guided || in_guide))) return false;
   }
   return true;
 }

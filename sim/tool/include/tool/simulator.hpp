@@ -176,6 +176,7 @@ class Simulator {
   // Whether tool t's unconverged tick is solved again in sub-increments this step.
   [[nodiscard]] bool substepped(std::size_t t) const;
   [[nodiscard]] bool unsheathing(std::size_t u) const;  // stent u part out of its catheters, part in
+  [[nodiscard]] bool balloon_guide(std::size_t c) const;  // c is outermost and a balloon catheter (kAlways)
   void update_sheath(std::size_t tool, double dt_s);
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
   [[nodiscard]] bool steered_now(std::size_t c) const;
