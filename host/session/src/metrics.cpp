@@ -171,6 +171,15 @@ void format_thrombectomy(std::string& out, const ThrombectomyFigures& t) {
   if (t.stent_passes > 0) appendf(out, "%-21s %.3f N (%d stent passes)\n", "retrieval force", t.retrieval_force_peak_N, t.stent_passes);
 }
 
+// One line of the coils' detachments: the pusher's force at each release, and how many of them
+// were under tension (none printed before the first detachment).
+void format_detach_forces(std::string& out, const Metrics& m) {
+  if (m.coil_detach_force_mN.empty()) return;
+  appendf(out, "%-21s", "detach force");
+  for (std::size_t i = 0; i < m.coil_detach_force_mN.size(); ++i) appendf(out, "%s %+.1f", i == 0 ? "" : ",", m.coil_detach_force_mN[i]);
+  appendf(out, " mN (%d under tension, over %.0f mN)\n", m.coil_detached_under_tension.value_or(0), tool::CoilMetrics::kNeutral_mN);
+}
+
 }  // namespace
 
 std::string MetricsCollector::format(const Metrics& m) {
@@ -233,6 +242,7 @@ std::string MetricsCollector::format(const Metrics& m) {
     }
     optional_figure("kick-back", m.kick_back_mm, "mm");
     optional_figure("kick-forward", m.kick_forward_mm, "mm");
+    format_detach_forces(out, m);
     if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {
       appendf(out, "%-21s %lld coil steps skipped, %lld wakes\n", "coil sleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
               static_cast<long long>(*m.coil_sleep_wakes));
@@ -258,6 +268,10 @@ void MetricsCollector::set_coiling(const tool::CoilFigures& f) {
   m_.coil_herniated_depth_mm = f.herniated_depth_mm;
   m_.kick_back_mm = f.kick_back_mm;
   m_.kick_forward_mm = f.kick_forward_mm;
+  const std::size_t kept = std::min<std::size_t>(static_cast<std::size_t>(f.detachments), tool::CoilFigures::kMaxDetachments);
+  m_.coil_detach_force_mN.assign(f.detach_force_mN.begin(), f.detach_force_mN.begin() + static_cast<std::ptrdiff_t>(kept));
+  m_.coil_detach_force_peak_mN = f.detach_force_peak_mN;
+  m_.coil_detached_under_tension = f.detached_under_tension;
 }
 
 double Metrics::unconverged_pct_max() const {
@@ -320,6 +334,8 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   if (m.coil_herniated_depth_mm) add("coil_herniated_depth_mm", *m.coil_herniated_depth_mm);
   if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
   if (m.kick_forward_mm) add("kick_forward_mm", *m.kick_forward_mm);
+  if (m.coil_detach_force_peak_mN) add("coil_detach_force_peak_mN", *m.coil_detach_force_peak_mN);
+  if (m.coil_detached_under_tension) add("coil_detached_under_tension", *m.coil_detached_under_tension);
   if (m.coil_sleep_skipped_steps) add("coil_sleep_skipped_steps", static_cast<double>(*m.coil_sleep_skipped_steps));
   if (m.coil_sleep_wakes) add("coil_sleep_wakes", static_cast<double>(*m.coil_sleep_wakes));
   if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
@@ -354,7 +370,7 @@ std::vector<std::string> metric_names() {
           "wrong_branch_entries", "retractions", "peak_insertion_speed_mm_s", "tool_changes",
           "peak_hand_force_mN", "unconverged_pct", "fluoroscopy_time_s", "dose_area_product_mGy_cm2", "fluoroscopy_runs",
           "contrast_volume_ml", "packing_density_pct", "coil_length_mm", "coil_herniations", "coil_herniated_peak_nodes",
-          "coil_herniated_depth_mm", "kick_back_mm", "kick_forward_mm",
+          "coil_herniated_depth_mm", "kick_back_mm", "kick_forward_mm", "coil_detach_force_peak_mN", "coil_detached_under_tension",
           "coil_sleep_skipped_steps", "coil_sleep_wakes",
           "stenosis_before_pct", "residual_stenosis_pct", "balloon_inflations", "balloon_inflated_s",
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",

@@ -38,6 +38,13 @@ int CoilMetrics::herniated(const Rod& rod, std::size_t first, std::size_t end, d
   return n;
 }
 
+void CoilMetrics::detached(double force_mN) {
+  if (static_cast<std::size_t>(f_.detachments) < CoilFigures::kMaxDetachments) f_.detach_force_mN[static_cast<std::size_t>(f_.detachments)] = force_mN;
+  ++f_.detachments;
+  f_.detach_force_peak_mN = std::max(f_.detach_force_peak_mN, std::abs(force_mN));
+  if (std::abs(force_mN) > kNeutral_mN) ++f_.detached_under_tension;
+}
+
 void CoilMetrics::observe(const Simulator& sim) {
   f_.deployed_mm = 0.0;
   f_.coil_volume_mm3 = 0.0;
@@ -50,6 +57,10 @@ void CoilMetrics::observe(const Simulator& sim) {
       c.load = sim.coils_loaded(c.tool);
       c.deploying = false;
     }
+    const bool released = sim.released_mm(c.tool) > 0.0;
+    if (released && !c.released) detached(c.force_mN);
+    c.released = released;
+    if (!released) c.force_mN = sim.hand_force_mN(c.tool) - sim.sheath(c.tool).force_mN - sim.valve(c.tool).force_mN;
     const double out = attached_deployed_mm(sim, c.tool);
     if (out > 0.0) {
       f_.deployed_mm += out;

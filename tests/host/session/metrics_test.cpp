@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace cathbox::session {
@@ -193,6 +194,17 @@ TEST(Metrics, FluoroscopyFiguresStayEmptyUntilTheirModuleFillsThem) {
   EXPECT_FALSE(m.contrast_volume_ml);
 }
 
+// Every named metric of `s` is one metric_names() lists, and each of `want` is named once with its value.
+void expect_named(const Metrics& s, const std::vector<std::pair<std::string, double>>& want) {
+  const std::vector<std::string> names = metric_names();
+  for (const NamedMetric& n : named_metrics(s)) EXPECT_NE(std::find(names.begin(), names.end(), n.name), names.end()) << n.name;
+  for (const auto& [name, value] : want) {
+    int found = 0;
+    for (const NamedMetric& n : named_metrics(s)) found += n.name == name ? (n.value == value ? 1 : 100) : 0;
+    EXPECT_EQ(found, 1) << name;
+  }
+}
+
 // The coiling figures as tool::CoilMetrics gives them: packing as a percentage, the herniation
 // count and its extent and the microcatheter's kick-forward named for the server (every name one metric_names() lists) and printed,
 // the extent only once a coil has herniated.
@@ -215,17 +227,31 @@ TEST(Metrics, CoilingFiguresCarryTheHerniationsExtent) {
   EXPECT_EQ(*s.coil_herniations, 1);
   EXPECT_EQ(*s.coil_herniated_peak_nodes, 51);
   EXPECT_DOUBLE_EQ(*s.coil_herniated_depth_mm, 2.33);
-  const std::vector<std::string> names = metric_names();
-  int found = 0;
-  for (const NamedMetric& n : named_metrics(s)) {
-    EXPECT_NE(std::find(names.begin(), names.end(), n.name), names.end()) << n.name;
-    if (n.name == "coil_herniated_peak_nodes") found += n.value == 51.0 ? 1 : 100;
-    if (n.name == "coil_herniated_depth_mm") found += n.value == 2.33 ? 1 : 100;
-    if (n.name == "kick_forward_mm") found += n.value == 2.2 ? 1 : 100;
-  }
-  EXPECT_EQ(found, 3);
+  expect_named(s, {{"coil_herniated_peak_nodes", 51.0}, {"coil_herniated_depth_mm", 2.33}, {"kick_forward_mm", 2.2}});
   EXPECT_NE(MetricsCollector::format(s).find("herniation extent     up to 51 nodes at once, 2.33 mm past the neck plane"),
             std::string::npos)
+      << MetricsCollector::format(s);
+}
+
+// Each detachment's pusher force as tool::CoilMetrics gives it: kept in order, the largest and the
+// count under tension named for the server (metric_names() lists them), printed once a coil is off.
+TEST(Metrics, CoilingFiguresCarryTheDetachForces) {
+  MetricsCollector m;
+  tool::CoilFigures f;
+  f.packing_density = 0.02;
+  m.set_coiling(f);
+  EXPECT_TRUE(m.metrics().coil_detach_force_mN.empty());
+  EXPECT_EQ(MetricsCollector::format(m.metrics()).find("detach force"), std::string::npos) << "none detached";
+  f.detachments = 2;
+  f.detach_force_mN[0] = 288.5;
+  f.detach_force_mN[1] = -4.25;
+  f.detach_force_peak_mN = 288.5;
+  f.detached_under_tension = 1;
+  m.set_coiling(f);
+  const Metrics& s = m.metrics();
+  EXPECT_EQ(s.coil_detach_force_mN, (std::vector<double>{288.5, -4.25}));
+  expect_named(s, {{"coil_detach_force_peak_mN", 288.5}, {"coil_detached_under_tension", 1.0}});
+  EXPECT_NE(MetricsCollector::format(s).find("detach force          +288.5, -4.2 mN (1 under tension, over 30 mN)"), std::string::npos)
       << MetricsCollector::format(s);
 }
 

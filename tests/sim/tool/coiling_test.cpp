@@ -130,6 +130,15 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
               "second coil's deepest overlap %.1f %% of the diameter\n",
               metrics.figures().deployed_mm, 100.0 * metrics.figures().packing_density, sac.volume_mm3,
               metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction);
+  // Each release's push on the coil (CoilMetrics' detach force): the bundled script detaches at
+  // rest with the hand still holding the coil against the dome at its markers, under tension
+  // (docs/sim-tool/convergence.md, "Detaching in neutral": easing the hand back first unloads the
+  // pusher's lumen friction, which holds the microcatheter 5.5 mm forward in the sac, and the
+  // microcatheter springs back out of it).
+  const CoilFigures& f = metrics.figures();
+  ASSERT_EQ(f.detachments, 2);
+  std::printf("detach force: %+.1f, %+.1f mN (%d under tension)\n", f.detach_force_mN[0], f.detach_force_mN[1],
+              f.detached_under_tension);
   // The end state, bit for bit: the same build gives the same hash alone or beside any load.
   std::printf("end-state hash %016llx after %llu steps\n", static_cast<unsigned long long>(testing::state_fnv(sim)),
               static_cast<unsigned long long>(sim.steps()));

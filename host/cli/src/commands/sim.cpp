@@ -47,6 +47,11 @@ void print_coils(const cathbox::tool::CoilFigures& c, double sac_volume_mm3) {
   if (c.herniations > 0)
     std::printf("coil herniated: up to %d nodes at once, %.2f mm past the neck plane\n", c.herniated_peak_nodes,
                 c.herniated_depth_mm);
+  if (c.detachments == 0) return;
+  std::printf("coil detach force:");
+  const int kept = std::min(c.detachments, static_cast<int>(cathbox::tool::CoilFigures::kMaxDetachments));
+  for (int i = 0; i < kept; ++i) std::printf("%s %+.1f", i == 0 ? "" : ",", c.detach_force_mN[static_cast<std::size_t>(i)]);
+  std::printf(" mN (%d under tension)\n", c.detached_under_tension);
 }
 
 void print_angioplasty(const cathbox::tool::AngioplastyFigures& f) {

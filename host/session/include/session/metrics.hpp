@@ -25,7 +25,8 @@
 // CoilMetrics (coil_metrics.hpp): packing density (coil volume pi/4 d^2 L ÷ sac volume, %),
 // coil length deployed, herniations (episodes of coil in the parent artery past the neck
 // plane, an error), their extent (the most nodes herniated at once, the deepest past the neck
-// plane, mm) and microcatheter kick-back (peak, mm).
+// plane, mm), microcatheter kick-back (peak, mm) and, per detachment, the pusher's push on its
+// coil when it was released (mN; "detached under tension" over tool::CoilMetrics::kNeutral_mN).
 // and, per tool (the case's tools, then the coils released), the unconverged share: the ticks
 // its step ran out of Newton iterations ÷ the ticks it had a step to solve, in % (a reading of
 // the solver, not of the trainee: forces of such steps are not read, contact_readings.hpp).
@@ -130,6 +131,12 @@ struct Metrics {
   std::optional<double> coil_herniated_depth_mm;    // the deepest of them past the neck plane
   std::optional<double> kick_back_mm;
   std::optional<double> kick_forward_mm;  // the tip's climb into the sac, tool::CoilFigures
+  // Per detachment (in order), the pusher's push on its coil when it was released (mN, positive
+  // pushing the coil on; tool::CoilFigures::detach_force_mN), the largest |force|
+  // of them (0 before any) and how many were over tool::CoilMetrics::kNeutral_mN.
+  std::vector<double> coil_detach_force_mN;
+  std::optional<double> coil_detach_force_peak_mN;
+  std::optional<int> coil_detached_under_tension;
   // Released coils at rest are not solved (tool::CoilSleep): coil steps skipped, and times a
   // sleeping coil was woken, since the run began.
   std::optional<std::int64_t> coil_sleep_skipped_steps;

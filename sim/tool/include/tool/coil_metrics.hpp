@@ -18,7 +18,18 @@
 //   kick-back              how far the microcatheter's tip was pushed back out of the sac along
 //                          the neck normal from where it was when its coil began to deploy
 //                          until the coil's release, less what its own hand withdrew it (peak, mm)
+//   detach force           per detachment, the pusher's push on its coil on the last step
+//                          before the release (mN, positive pushing the coil on): its axial
+//                          force where it leaves the microcatheter's tip, i.e. its hand force
+//                          less the lumen friction of the catheters round it and the
+//                          haemostatic valve's grip (both hold the pusher on after the release);
+//                          and the largest of them in magnitude. A coil detached in neutral
+//                          reads ~0; one detached with the hand still pressing it into the sac
+//                          (or pulling it back) reads that load, which the release lets go of
+//                          in one step (the hand feels it jump, the microcatheter kicks, the
+//                          coil moves). Detachments over kNeutral_mN count as "under tension".
 // Nothing allocates after construction.
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -40,12 +51,22 @@ struct CoilFigures {
   // The microcatheter tip's climb into the sac (its depth past the neck beyond what its hub's
   // insertion gives) while a coil goes out: kick-back's other sign, peak so far.
   double kick_forward_mm = 0.0;
+  // Detachments so far, and the pusher's push on its coil at each (the first kMaxDetachments kept).
+  static constexpr std::size_t kMaxDetachments = 16;
+  int detachments = 0;
+  std::array<double, kMaxDetachments> detach_force_mN{};
+  double detach_force_peak_mN = 0.0;  // the largest |force| at any detachment so far
+  int detached_under_tension = 0;     // detachments with |force| > CoilMetrics::kNeutral_mN
 };
 
 class CoilMetrics {
  public:
   static constexpr double kLeavingZone_mm = 1.0;
   static constexpr double kHerniationGap_s = 0.05;
+  // The largest push a detachment counts as "in neutral" at: between a coil released free in a
+  // sphere (~2 mN, coil_in_sphere_test) and the bundled frame's push held against the dome at its
+  // markers (203 mN; docs/sim-tool/convergence.md, "Detaching in neutral"); not a clinical figure.
+  static constexpr double kNeutral_mN = 30.0;
 
   CoilMetrics(const Simulator& sim, const AneurysmSac& sac);
 
@@ -68,7 +89,11 @@ class CoilMetrics {
     double ref_depth_mm = 0.0;  // the catheter tip's depth in the sac then ...
     double ref_insertion_mm = 0.0;  // ... and the catheter's insertion
     std::size_t load = 0;       // the coil on the tool (Simulator::coils_loaded): a new one deploys afresh
+    bool released = false;      // its coil is released (seen at the last observe)
+    double force_mN = 0.0;      // its axial force (above) at the last observe while its coil was attached
   };
+  // A release seen on this observe: the pusher's force before it.
+  void detached(double force_mN);
   // Herniated nodes of rod[first, end) within leaving_from_tip_mm of its tip, the deepest past
   // the neck plane raising `deepest_mm`.
   [[nodiscard]] int herniated(const Rod& rod, std::size_t first, std::size_t end, double leaving_from_tip_mm,
