@@ -121,6 +121,7 @@ void BandedCholesky::multiply_add(const double* x, double* y, std::size_t row_fi
 }
 
 bool BandedCholesky::factor(std::size_t first_node) {
+  if (first_node != first_) kept_rows_ = 0;
   first_ = first_node;
   return factor_rows(first_node);
 }
@@ -131,6 +132,7 @@ bool BandedCholesky::factor_rows(std::size_t from) {
   const std::size_t first_node = first_;
   bool ok = true;
   ++work_.factors;
+  kept_rows_ = std::min(kept_rows_, from);
   work_.rows_factored += n_ > from ? n_ - from : 0;
   for (std::size_t i = from; i < n_; ++i) {
     // L(i, i-2) = A(i, i-2) L(i-2, i-2)^-T
@@ -158,8 +160,32 @@ bool BandedCholesky::factor_rows(std::size_t from) {
 
 void BandedCholesky::solve(double* v) const {
   ++work_.solves;
-  // Forward: L y = v.
-  for (std::size_t i = first_; i < n_; ++i) {
+  forward(v, first_);
+  backward(v);
+}
+
+void BandedCholesky::solve_keeping(double* v) {
+  ++work_.solves;
+  forward(v, first_);
+  kept_.assign(v + 3 * first_, v + 3 * n_);
+  kept_rows_ = n_;
+  backward(v);
+}
+
+void BandedCholesky::solve_again(double* v, std::size_t same) {
+  ++work_.solves;
+  const std::size_t from = std::max(first_, std::min({same, kept_rows_, n_}));
+  std::copy(kept_.begin(), kept_.begin() + static_cast<std::ptrdiff_t>(3 * (from - first_)), v + 3 * first_);
+  forward(v, from);
+  kept_.resize(3 * (n_ - first_));
+  std::copy(v + 3 * from, v + 3 * n_, kept_.begin() + static_cast<std::ptrdiff_t>(3 * (from - first_)));
+  kept_rows_ = n_;
+  backward(v);
+}
+
+// Forward: L y = v, from block row `from` on (the rows before it hold y already).
+void BandedCholesky::forward(double* v, std::size_t from) const {
+  for (std::size_t i = from; i < n_; ++i) {
     double r[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
     if (i >= first_ + 1) subtract_times(r, l1_[i].v, v + 3 * (i - 1));
     if (i >= first_ + 2) subtract_times(r, l2_[i].v, v + 3 * (i - 2));
@@ -168,7 +194,10 @@ void BandedCholesky::solve(double* v) const {
     v[3 * i + 1] = m[at(1, 0)] * r[0] + m[at(1, 1)] * r[1];
     v[3 * i + 2] = m[at(2, 0)] * r[0] + m[at(2, 1)] * r[1] + m[at(2, 2)] * r[2];
   }
-  // Backward: L^T x = y.
+}
+
+// Backward: L^T x = y.
+void BandedCholesky::backward(double* v) const {
   for (std::size_t i = n_; i-- > first_;) {
     double r[3] = {v[3 * i], v[3 * i + 1], v[3 * i + 2]};
     if (i + 1 < n_) subtract_transposed_times(r, l1_[i + 1].v, v + 3 * (i + 1));

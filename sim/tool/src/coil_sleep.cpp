@@ -58,6 +58,20 @@ double CoilSleep::disturb(const Rod& rod, std::vector<glm::dvec3>& last, std::sp
   const std::span<const glm::dvec3> x = rod.positions();
   const bool known = last.size() == x.size();
   double worst = known ? 0.0 : std::numeric_limits<double>::infinity();
+  // With no other coil asleep only the largest move is wanted: the largest square, rooted once
+  // (the root is monotonic, so the same bits as the largest root; glm::length is the root of
+  // the dot product).
+  bool any_asleep = false;
+  for (std::size_t s = 0; s < coils_.size(); ++s) any_asleep = any_asleep || (coils_[s].asleep && &coils[s] != &rod);
+  if (known && !any_asleep) {
+    double worst_sq = 0.0;
+    for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
+      const glm::dvec3 d = x[k] - last[k];
+      worst_sq = std::max(worst_sq, glm::dot(d, d));
+    }
+    last.assign(x.begin(), x.end());
+    return std::sqrt(worst_sq);
+  }
   for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
     const double m = known ? glm::length(x[k] - last[k]) : std::numeric_limits<double>::infinity();
     worst = std::max(worst, m);

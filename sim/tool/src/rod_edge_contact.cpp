@@ -73,7 +73,7 @@ void Rod::predict_edge_contacts(Newton& s) {
     if (!any) std::copy(delta_.begin(), delta_.begin() + static_cast<std::ptrdiff_t>(s.dofs), plain_delta_.begin());
     any = true;
     matrix_->refactor_from(from - first_);
-    solve_with_taken_planes(s);
+    solve_with_taken_planes(s, from);
   }
   if (!any) return;
   s.refactor = true;  // the factor holds the planes: never reused as a chord
@@ -121,8 +121,12 @@ std::size_t Rod::take_crossed_planes() {
 }
 
 // The Newton step on the factor holding the taken planes: the right-hand side is the gradient's
-// with each taken plane's pull towards it (minus the gradient of kc phi^2 / 2, phi < 0).
-void Rod::solve_with_taken_planes(const Newton& s) {
+// with each taken plane's pull towards it (minus the gradient of kc phi^2 / 2, phi < 0). The
+// planes taken or let go in this pass are at node `from` and later, where the factor was
+// refactored: before it the right-hand side and the factor are the last solve's (the plain
+// step's or the last pass's, the same planes adding the same pulls in the same order), so its
+// forward pass there is kept.
+void Rod::solve_with_taken_planes(const Newton& s, std::size_t from) {
   const double kc_rod = settings_.contact_stiffness_mN_per_mm;
   for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
   for (std::size_t i = 0; i < edge_contacts_.size(); ++i) {
@@ -139,7 +143,7 @@ void Rod::solve_with_taken_planes(const Newton& s) {
       delta_[d + 2] += pull.z * w;
     }
   }
-  matrix_->solve(delta_.data());
+  matrix_->solve_again(delta_.data(), from - first_);
 }
 
 bool Rod::finish_edge_contacts() {

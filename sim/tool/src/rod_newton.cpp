@@ -166,7 +166,7 @@ void Rod::add_joined_wall_terms(Newton& s) {
 
 bool Rod::newton_direction(Newton& s) {
   for (std::size_t i = 0; i < s.dofs; ++i) delta_[i] = i >= s.free0 ? -grad_[i] : 0.0;
-  matrix_->solve(delta_.data());
+  matrix_->solve_keeping(delta_.data());  // predict_edge_contacts solves it again from a row
   s.largest = largest_update();
   return std::isfinite(s.largest);
 }

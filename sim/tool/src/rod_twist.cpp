@@ -4,7 +4,6 @@
 // wall friction), the material frames, and the torque and torsional stiffness at the hand.
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -42,8 +41,8 @@ void Rod::update_frames() {
 
 [[gnu::always_inline]] inline void Rod::set_material_frame(std::size_t e) {
   const glm::dvec3 d2 = glm::cross(t_[e], d1_[e]);
-  const double c = base::portable::cos(theta_[e]);
-  const double s = base::portable::sin(theta_[e]);
+  double s = 0.0, c = 0.0;
+  base::portable::sincos(theta_[e], s, c);
   m1_[e] = d1_[e] * c + d2 * s;
   m2_[e] = d2 * c - d1_[e] * s;
 }
@@ -96,10 +95,8 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
     tw_off_[j] = 0.0;
     tw_rhs_[j] = c * (theta_[e] - theta_start_[e]);
   }
-  // Twist at every vertex i between edges i-1 and i. `framed`: the last edge whose material
-  // frame the pre-curve's coupling set in this assembly (an edge's frame once, not at both of
-  // its vertices: the angles do not change within it).
-  std::size_t framed = std::numeric_limits<std::size_t>::max();  // none yet
+  // Twist at every vertex i between edges i-1 and i.
+  TwistSweep sweep;
   for (std::size_t i = free_ ? 1 : ef; i + 1 < n; ++i) {
     const double c = gj_[i] / (i == ef && !free_ ? 0.5 * rest_[i] : voronoi_[i]);
     const double tau = theta_[i] - theta_[i - 1] + ref_twist_[i];
@@ -113,7 +110,7 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
     }
     if (kbar1_[i] != 0.0 || kbar2_[i] != 0.0) {
       linear = false;
-      add_twist_curvature(i, ef, framed);
+      add_twist_curvature(i, ef, sweep);
     }
   }
   return linear;
@@ -125,16 +122,18 @@ bool Rod::assemble_twist(double dt_s, std::size_t ef, std::size_t m) {
 // solve on another bending energy (add_twist_curvature_kb) and a position solve on this one,
 // taken in turn, never came to rest (a coil left in a sphere turned at 8-18 um a tick for ever;
 // docs/sim-tool/convergence.md). Attached tools keep the binormal form, not yet measured.
-void Rod::add_twist_curvature(std::size_t i, std::size_t ef, std::size_t& framed) {
+void Rod::add_twist_curvature(std::size_t i, std::size_t ef, TwistSweep& sweep) {
   if (!free_) {
-    add_twist_curvature_kb(i, ef, framed);
+    add_twist_curvature_kb(i, ef, sweep);
     return;
   }
-  if (framed != i - 1) set_material_frame(i - 1);
+  if (sweep.framed != i - 1) set_material_frame(i - 1);
   set_material_frame(i);
-  framed = i;
-  const glm::dvec3 ta = glm::normalize(x_[i] - x_[i - 1]);
+  sweep.framed = i;
+  const glm::dvec3 ta = sweep.tangent_edge == i - 1 ? sweep.tangent : glm::normalize(x_[i] - x_[i - 1]);
   const glm::dvec3 tb = glm::normalize(x_[i + 1] - x_[i]);
+  sweep.tangent_edge = i;
+  sweep.tangent = tb;
   const glm::dvec3 r = bend_residual(i, ta, tb);
   const double w = bend_w_[i];
   for (std::size_t e = i - 1; e <= i; ++e) {
@@ -220,7 +219,7 @@ double Rod::twist_stiffness_energy() const {
 
 // The discrete curvature binormal's material components against kbar: E = w/2 |k - kbar|^2
 // with dk1/dtheta = k2, dk2/dtheta = -k1.
-void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef, std::size_t& framed) {
+void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef, TwistSweep& sweep) {
   const glm::dvec3 a = x_[i] - x_[i - 1];
   const glm::dvec3 b = x_[i + 1] - x_[i];
   const double chi = std::max(glm::length(a) * glm::length(b) + glm::dot(a, b), 1e-12);
@@ -228,8 +227,8 @@ void Rod::add_twist_curvature_kb(std::size_t i, std::size_t ef, std::size_t& fra
   const double w = 0.5 * (ei_[i] + ei_extra_[i]) / voronoi_[i];
   for (std::size_t e = i - 1; e <= i; ++e) {
     if (e < ef) continue;
-    if (e != framed) set_material_frame(e);
-    framed = e;
+    if (e != sweep.framed) set_material_frame(e);
+    sweep.framed = e;
     const double k1 = glm::dot(kb, m2_[e]);
     const double k2 = -glm::dot(kb, m1_[e]);
     tw_rhs_[e - ef] += w * (kbar2_[i] * k1 - kbar1_[i] * k2);

@@ -142,31 +142,71 @@ TEST(BandedCholesky, SolvesAStiffRodChainToRoundingLevel) {
   }
 }
 
-TEST(BandedCholesky, RefactoringFromAChangedDiagonalBlockEqualsAFullFactorisation) {
-  std::mt19937 rng(5);
+// Random systems of 3, 8 and 40 nodes, each factored from `first` (0, 1, 2), with every third
+// node from `first` on as the one whose diagonal block a contact changes: fn(band, first,
+// changed, b), b a right-hand side.
+template <typename Fn>
+void for_each_changed_row(unsigned seed, Fn&& fn) {
+  std::mt19937 rng(seed);
   for (const std::size_t nodes : {3U, 8U, 40U}) {
     for (std::size_t first = 0; first < 3; ++first) {
       for (std::size_t changed = first; changed < nodes; changed += 3) {
         BandedCholesky band(nodes);
         build(band, nodes, rng);
         ASSERT_TRUE(band.factor(first));
-        // A contact joining at node `changed`: k n n^T on its diagonal block.
-        const glm::dvec3 normal = glm::normalize(glm::dvec3(0.3, -0.8, 0.5));
-        band.add_block(changed, changed, 2.0e5 * glm::outerProduct(normal, normal));
         std::vector<double> b(3 * nodes);
         for (std::size_t i = 0; i < b.size(); ++i) b[i] = std::cos(0.7 * static_cast<double>(i));
-        std::vector<double> partial = b;
-        ASSERT_TRUE(band.refactor_from(changed));
-        band.solve(partial.data());
-        std::vector<double> full = b;
-        ASSERT_TRUE(band.factor(first));
-        band.solve(full.data());
-        for (std::size_t i = 0; i < b.size(); ++i) {
-          ASSERT_EQ(partial[i], full[i]) << nodes << " nodes, first " << first << ", changed " << changed << ", unknown " << i;
-        }
+        fn(band, first, changed, b);
       }
     }
   }
+}
+
+// A contact joining at node `changed`: k n n^T on its diagonal block.
+void join_contact(BandedCholesky& band, std::size_t node) {
+  const glm::dvec3 normal = glm::normalize(glm::dvec3(0.3, -0.8, 0.5));
+  band.add_block(node, node, 2.0e5 * glm::outerProduct(normal, normal));
+}
+
+TEST(BandedCholesky, RefactoringFromAChangedDiagonalBlockEqualsAFullFactorisation) {
+  for_each_changed_row(5, [](BandedCholesky& band, std::size_t first, std::size_t changed, const std::vector<double>& b) {
+    join_contact(band, changed);
+    std::vector<double> partial = b;
+    ASSERT_TRUE(band.refactor_from(changed));
+    band.solve(partial.data());
+    std::vector<double> full = b;
+    ASSERT_TRUE(band.factor(first));
+    band.solve(full.data());
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      ASSERT_EQ(partial[i], full[i]) << "first " << first << ", changed " << changed << ", unknown " << i;
+    }
+  });
+}
+
+// The Newton step solved again with a contact plane taken at node `changed` (rod_edge_contact.cpp):
+// the factor refactored from there and the right-hand side changed from there on; solve_again
+// keeps the kept forward pass before it and equals a whole solve bit for bit, twice in a row
+// (the second pass keeps the first's) and after a factorisation from an earlier row.
+TEST(BandedCholesky, SolvingAgainFromAChangedRowEqualsAWholeSolve) {
+  for_each_changed_row(9, [](BandedCholesky& band, std::size_t first, std::size_t changed, const std::vector<double>& b) {
+    std::vector<double> plain = b;
+    band.solve_keeping(plain.data());
+    std::vector<double> again = b, whole = b;
+    for (int pass = 0; pass < 3; ++pass) {
+      // Pass 2 changes an earlier row than it says: the factorisation from it must count.
+      const std::size_t row = pass == 2 ? first : changed;
+      join_contact(band, row);
+      ASSERT_TRUE(band.refactor_from(row));
+      for (std::size_t i = 3 * changed; i < b.size(); ++i) again[i] = whole[i] = b[i] + 0.1 * pass;
+      band.solve_again(again.data(), changed);
+      std::vector<double> x = whole;
+      band.solve(x.data());
+      for (std::size_t i = 3 * first; i < b.size(); ++i) {
+        ASSERT_EQ(again[i], x[i]) << "first " << first << ", changed " << changed << ", pass " << pass << ", unknown " << i;
+      }
+      again = whole;
+    }
+  });
 }
 
 TEST(BandedCholesky, MultiplyAddOverABlockOfRowsAndColumns) {

@@ -59,8 +59,9 @@ struct Reduced {
 inline Reduced reduce(double x) {
   const double k = std::nearbyint(x * kTwoOverPi);
   const double r = ((x - k * kHalfPi1) - k * kHalfPi2) - k * kHalfPi3;
-  long q = static_cast<long>(std::fmod(k, 4.0));
-  if (q < 0) q += 4;
+  // k mod 4, in [0, 4): k is a whole number of magnitude below 2^23 (kMaxReduced), so its low
+  // two bits in two's complement are fmod(k, 4) taken into [0, 4), without fmod's cost.
+  const long q = static_cast<long>(k) & 3L;
   return {r, q};
 }
 
@@ -104,6 +105,25 @@ inline constexpr double kMaxReduced = 6.0e6;
     case 1: return -detail::sin_kernel(d.r);
     case 2: return -detail::cos_kernel(d.r);
     default: return detail::sin_kernel(d.r);
+  }
+}
+
+// sin(x) and cos(x) at once, bit for bit those of sin and cos above, on one reduction (the rod's
+// material frames take both of every edge's angle).
+inline void sincos(double x, double& s, double& c) {
+  if (!std::isfinite(x) || std::fabs(x) > detail::kMaxReduced) {
+    s = sin(x);
+    c = cos(x);
+    return;
+  }
+  const detail::Reduced d = detail::reduce(x);
+  const double sk = detail::sin_kernel(d.r);
+  const double ck = detail::cos_kernel(d.r);
+  switch (d.q) {
+    case 0: s = sk, c = ck; return;
+    case 1: s = ck, c = -sk; return;
+    case 2: s = -sk, c = -ck; return;
+    default: s = -ck, c = sk; return;
   }
 }
 

@@ -57,6 +57,13 @@ class BandedCholesky {
   bool refactor_from(std::size_t from);
   // Solves the factored block for b, by unknown (entries [3 first_node, 3 n)), in place.
   void solve(double* b) const;
+  // solve(), keeping the forward pass (L y = b) for solve_again.
+  void solve_keeping(double* b);
+  // solve() of a right-hand side equal to the last kept one's in block rows before `same` (on a
+  // factor refactored since only from rows at or after it, or not at all): those rows of the
+  // forward pass are the kept ones, bit for bit, and are not computed again (the Newton step
+  // solved again with the contact planes it would cross: rod_edge_contact.cpp). Keeps its own.
+  void solve_again(double* b, std::size_t same);
 
   [[nodiscard]] std::size_t nodes() const { return n_; }
 
@@ -81,6 +88,8 @@ class BandedCholesky {
   }
 
   bool factor_rows(std::size_t from);
+  void forward(double* v, std::size_t from) const;   // L y = v in place, rows [from, n)
+  void backward(double* v) const;                    // L^T x = y in place
 
   std::size_t n_ = 0;
   std::size_t first_ = 0;
@@ -88,6 +97,10 @@ class BandedCholesky {
   std::vector<Block> l1_;    // factor L(i, i-1)
   std::vector<Block> l2_;    // factor L(i, i-2)
   std::vector<Block> dinv_;  // inverse of the lower-triangular diagonal factor L(i, i)
+  // The last kept forward pass (by unknown), valid in block rows [first_, kept_rows_): a
+  // factorisation from a row lowers it.
+  std::vector<double> kept_;
+  std::size_t kept_rows_ = 0;
   mutable Work work_;
 };
 

@@ -229,7 +229,7 @@ class Rod {
   bool join_wall(Newton& s, int it);  // nodes the step would carry into the wall join: true
   void predict_edge_contacts(Newton& s);  // the step solved again with the rod-rod planes it crosses
   std::size_t take_crossed_planes();  // one pass of it: first node whose blocks changed
-  void solve_with_taken_planes(const Newton& s);
+  void solve_with_taken_planes(const Newton& s, std::size_t from);
   [[nodiscard]] double largest_update() const;  // the largest node update in delta_
   void damp_reversal(Newton& s);
   void line_search(Newton& s);
@@ -298,8 +298,16 @@ class Rod {
   inline void set_material_frame(std::size_t e);
   void solve_twist(double dt_s);
   [[nodiscard]] bool assemble_twist(double dt_s, std::size_t ef, std::size_t m);  // false: nonlinear
-  void add_twist_curvature(std::size_t i, std::size_t ef, std::size_t& framed);
-  void add_twist_curvature_kb(std::size_t i, std::size_t ef, std::size_t& framed);
+  // What an assembly of the twist system carries from vertex to vertex: the last edge whose
+  // material frame it set, and the last edge's unit tangent (each edge's once, not at both of
+  // its vertices: neither the angles nor the nodes change within it).
+  struct TwistSweep {
+    std::size_t framed = std::numeric_limits<std::size_t>::max();  // none yet
+    std::size_t tangent_edge = std::numeric_limits<std::size_t>::max();
+    glm::dvec3 tangent{0.0};
+  };
+  void add_twist_curvature(std::size_t i, std::size_t ef, TwistSweep& sweep);
+  void add_twist_curvature_kb(std::size_t i, std::size_t ef, TwistSweep& sweep);
   void add_twist_holonomy_loads();
   void add_twist_stiffness(bool hessian);
   [[nodiscard]] double twist_stiffness_energy() const;
