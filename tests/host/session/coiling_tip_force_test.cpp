@@ -95,7 +95,7 @@ TEST(CoilingSession, WallForceEventsReportTheHeldTipAtConvergedStepsWithinAPhysi
   EXPECT_GE(events, 5);  // the microcatheter's tip touches the wall in the bends on its way
   // The held tip at the converged steps is within the bound; the peak wall force is the
   // largest contact of the converged steps (the stiff wire-in-microcatheter shaft in the
-  // bends, the wire's first node past the microcatheter's tip: README, "Wall forces").
+  // bends, the wire's first node past the microcatheter's tip: docs/session/wall-forces.md).
   EXPECT_LE(forces.converged_tip_mN, kTipBound_mN);
   EXPECT_DOUBLE_EQ(s.metrics().peak_wall_force_mN, forces.converged_any_mN);
   std::printf("tip on the wall: %d events, largest %.1f mN; held tip at converged steps <= %.1f mN, at unconverged "
