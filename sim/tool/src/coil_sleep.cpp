@@ -57,25 +57,19 @@ bool CoilSleep::near(const Coil& c, const Rod& coil, const glm::dvec3& p, double
 double CoilSleep::disturb(const Rod& rod, std::vector<glm::dvec3>& last, std::span<const Rod> coils, double margin_mm) {
   const std::span<const glm::dvec3> x = rod.positions();
   const bool known = last.size() == x.size();
-  double worst = known ? 0.0 : std::numeric_limits<double>::infinity();
-  // With no other coil asleep only the largest move is wanted: the largest square, rooted once
-  // (the root is monotonic, so the same bits as the largest root; glm::length is the root of
-  // the dot product).
+  constexpr double kUnknown = std::numeric_limits<double>::infinity();
+  // Moves compared as squares and rooted only where a sleeping coil is to be told (the root is
+  // monotonic: the root of the largest square is the largest root, the same bits; glm::length is
+  // the root of the dot product). With no other coil asleep that is once, for the largest.
   bool any_asleep = false;
   for (std::size_t s = 0; s < coils_.size(); ++s) any_asleep = any_asleep || (coils_[s].asleep && &coils[s] != &rod);
-  if (known && !any_asleep) {
-    double worst_sq = 0.0;
-    for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
-      const glm::dvec3 d = x[k] - last[k];
-      worst_sq = std::max(worst_sq, glm::dot(d, d));
-    }
-    last.assign(x.begin(), x.end());
-    return std::sqrt(worst_sq);
-  }
+  double worst_sq = known ? 0.0 : kUnknown;
   for (std::size_t k = rod.first_node(); k < x.size(); ++k) {
-    const double m = known ? glm::length(x[k] - last[k]) : std::numeric_limits<double>::infinity();
-    worst = std::max(worst, m);
-    if (!(m > 0.0)) continue;
+    const glm::dvec3 d = known ? x[k] - last[k] : glm::dvec3(0.0);
+    const double m_sq = known ? glm::dot(d, d) : kUnknown;
+    worst_sq = std::max(worst_sq, m_sq);
+    if (!any_asleep || !(m_sq > 0.0)) continue;
+    const double m = std::sqrt(m_sq);
     for (std::size_t s = 0; s < coils_.size(); ++s) {
       Coil& c = coils_[s];
       if (!c.asleep || &coils[s] == &rod || c.disturbed > settings_.wake_move_mm) continue;
@@ -83,7 +77,7 @@ double CoilSleep::disturb(const Rod& rod, std::vector<glm::dvec3>& last, std::sp
     }
   }
   last.assign(x.begin(), x.end());
-  return worst;
+  return std::sqrt(worst_sq);
 }
 
 void CoilSleep::fall_asleep(std::size_t i, const Rod& coil) {
