@@ -2,6 +2,7 @@
 // stiffness (the Schur complement of the factored free block on a unit insertion) and the
 // physical damping, with the solver's numerical damping taken back out of what the hand feels.
 #include <algorithm>
+#include <cmath>
 
 #include <glm/geometric.hpp>
 
@@ -31,6 +32,7 @@ void Rod::compute_force_law(double dt_s) {
   law_.torsion_damping_mNmm_s_per_rad = rot_physical_total;
   law_.torque0_mNmm = hand_torque_mNmm_;
   clamp_force_ = glm::dvec3(0.0);
+  free_part_load_mN_ = 0.0;
   if (first_free_ >= n || free_) {
     hand_force_mN_ = 0.0;
     law_.force0_mN = 0.0;
@@ -45,6 +47,7 @@ void Rod::compute_force_law(double dt_s) {
   // The numerical damping on the free nodes reaches the clamp through the rod: out of the hand.
   const double force = glm::dot(clamp_force_, dir_) - glm::dot(numerical_drag, dir_);
   hand_force_mN_ = force;
+  free_part_load_mN_ = sum_free_part_loads(dt_s);
   law_.force0_mN = force;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.
   const std::size_t dofs = 3 * (n - first_);
@@ -66,6 +69,28 @@ void Rod::compute_force_law(double dt_s) {
   for (std::size_t i = free0; i < dofs; ++i) coupling += delta_[i] * work_[i];
   const double k_with_drag = kpp - coupling;
   law_.stiffness_mN_per_mm = std::max(0.0, k_with_drag - drag_total / dt_s);
+}
+
+// The external forces on the free nodes, each by its magnitude (Rod::free_part_load_mN): the
+// drag of the step's motion and the loads (node_terms), a grip's pull on its anchor (its slip
+// limit at most: add_grip_terms), the wall contacts' normal force and friction, and the rod-rod
+// and self contacts on an edge with a free end.
+double Rod::sum_free_part_loads(double dt_s) const {
+  const std::size_t n = x_.size();
+  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  double sum = 0.0;
+  for (std::size_t k = first_free_; k < n; ++k) {
+    const glm::dvec3 twist = k < twist_load_.size() ? twist_load_[k] : glm::dvec3(0.0);
+    sum += solver_drag(k) / dt_s * glm::length(x_[k] - x_start_[k]) + glm::length(load_[k] + coupling_[k] + twist);
+    if (grip_limit_[k] > 0.0) sum += std::min(grip_limit_[k], kg * glm::length(x_[k] - grip_anchor_[k]));
+  }
+  for (const RodContact& c : contacts_) {
+    if (c.node >= first_free_) sum += std::abs(c.normal_force_mN) + glm::length(c.friction_mN);
+  }
+  for (const EdgeContact& c : edge_contacts_) {
+    if (c.edge + 1 >= first_free_) sum += std::abs(c.force_mN);
+  }
+  return sum;
 }
 
 }  // namespace cathbox::tool

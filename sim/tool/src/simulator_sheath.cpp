@@ -162,7 +162,15 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   // A coil's push on the bends of the catheter it leaves (SheathFriction::set_bend_reaction),
   // while tuning::kCoilBendReaction says.
   sheath_[u].set_bend_reaction(tuning::kCoilBendReaction && rod.spec().kind == ToolKind::kCoil);
-  sheath_result_[u] = sheath_[u].update(slide, turn, distal, path_, k_anchor);
+  // The axial force the capstan reads from the free part: no more than the free part's external
+  // forces sum to (Rod::free_part_load_mN; the free-body balance). A clamp force beyond it is
+  // held by nothing on the free part: the parked stent retriever's push wire, its first free
+  // edges pressed by the withdrawn microcatheter's tip against nodes held at the wall, read up to
+  // 771 N, whose capstan term stuck the friction and dragged the microcatheter (convergence.md,
+  // "The M1 stent retriever's jumps, by cause"). The hand still feels distal + friction.
+  const double carried = has_free ? rod.free_part_load_mN() : 0.0;
+  const double read = std::clamp(distal, -carried, carried);
+  sheath_result_[u] = sheath_[u].update(slide, turn, read, path_, k_anchor);
   const SheathFriction::Result& r = sheath_result_[u];
   hand_force_[u] = distal + r.force_mN;
   // The inner tool leaves its carrier's tip clamped to it: what the clamp holds it with, across

@@ -5,6 +5,7 @@
 #include <array>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -57,6 +58,31 @@ struct BendCase {
   double mu;
 };
 
+// A catheter (lumen friction mu) through a 1 mm lumen that turns by `angle` on a radius of 20 mm,
+// 8 mm past the bend, and a wire (EI 0.05 N mm^2) in it 6 mm out of its tip, loaded on its tip by
+// `f_out` against the bend's exit.
+class CapstanBend {
+ public:
+  static constexpr double kRadius = 20.0;
+  CapstanBend(double angle, double mu, double f_out) {
+    wall_.add_polyline(testing::bend_points(kRadius, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
+    wall_.build();
+    ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, mu);
+    ToolSpec w = wire("wire", 0.36, 0.05);
+    w.inside = "cath";
+    sim_.emplace(wall_, std::vector<ToolSpec>{cath, w}, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
+    const double cath_in = 2.0 + kRadius * angle + 8.0;
+    drive(*sim_, 0, cath_in, 0.1);
+    drive(*sim_, 1, cath_in + 6.0, 0.1);
+    sim_->set_node_load(1, sim_->rod(1).node_total() - 1, -testing::bend_exit_tangent(angle) * f_out);
+  }
+  Simulator& sim() { return *sim_; }
+
+ private:
+  TubeNetworkWall wall_;
+  std::optional<Simulator> sim_;
+};
+
 class SheathCapstan : public ::testing::TestWithParam<BendCase> {};
 
 // A wire pushed (then pulled) through a catheter that turns by theta in a bend, against a load
@@ -64,21 +90,8 @@ class SheathCapstan : public ::testing::TestWithParam<BendCase> {};
 TEST_P(SheathCapstan, HandForceOverTipForceIsExpMuTheta) {
   const double angle = GetParam().angle_deg * M_PI / 180.0;
   const double mu = GetParam().mu;
-  const double R = 20.0;
-  TubeNetworkWall wall;
-  wall.add_polyline(testing::bend_points(R, angle, 2.0, 40.0, M_PI / 720.0), 1.0, 0);
-  wall.build();
-  ToolSpec cath = catheter("cath", 0.8, 0.6, 2.0, mu);
-  ToolSpec w = wire("wire", 0.36, 0.05);
-  w.inside = "cath";
-  const std::vector<ToolSpec> tools{cath, w};
-  Simulator sim(wall, tools, Entry{{0, 0, -2}, {0, 0, 1}}, precise());
-  const double cath_in = 2.0 + R * angle + 8.0;
-  drive(sim, 0, cath_in, 0.1);
-  drive(sim, 1, cath_in + 6.0, 0.1);
-  const std::size_t tip = sim.rod(1).node_total() - 1;
-  const double f_out = 50.0;
-  sim.set_node_load(1, tip, -testing::bend_exit_tangent(angle) * f_out);
+  CapstanBend bend(angle, mu, 50.0);
+  Simulator& sim = bend.sim();
   const double expected = std::exp(mu * angle);
   for (const double dir : {1.0, -1.0}) {
     double ratio = 0.0;
@@ -96,6 +109,26 @@ TEST_P(SheathCapstan, HandForceOverTipForceIsExpMuTheta) {
     EXPECT_NEAR(ratio / want, 1.0, 0.10) << (dir > 0 ? "push" : "pull") << " ratio " << ratio << " expected " << want;
     EXPECT_FALSE(sim.sheath(1).sticking);
   }
+}
+
+// The capstan reads the inner tool's free part's push on its clamp no higher than the external
+// forces on that free part sum to (Rod::free_part_load_mN): in equilibrium the clamp holds the
+// free part against their vector sum (its free-body balance), so there the bound never binds.
+// Here the free part's push is the load on its tip through 6 mm of wire in the lumen: the read is
+// the clamp force whole, and the load is among the forces summed.
+TEST(SheathCapstanRead, AFreePartInEquilibriumIsReadWhole) {
+  CapstanBend bend(M_PI / 2.0, 0.2, 50.0);
+  Simulator& sim = bend.sim();
+  int loaded = 0;
+  for (int i = 0; i < 200; ++i) {
+    sim.set_insertion(1, sim.insertion_mm(1) + 0.005);
+    sim.step();
+    if (i < 150) continue;
+    const double pushed = sim.rod(1).hand_force_mN();
+    loaded += pushed > 45.0 ? 1 : 0;
+    EXPECT_GE(sim.rod(1).free_part_load_mN(), std::abs(pushed)) << "step " << i;
+  }
+  EXPECT_GE(loaded, 45) << "the tip's load pushes on the clamp";
 }
 
 INSTANTIATE_TEST_SUITE_P(Bends, SheathCapstan,

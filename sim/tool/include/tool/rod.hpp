@@ -154,6 +154,14 @@ class Rod {
   [[nodiscard]] double rest_curvature_per_mm(std::size_t k) const;
   // Force the rod exerts on its clamp (the entry), lateral components included.
   [[nodiscard]] glm::dvec3 clamp_force_mN() const;
+  // The sum of the magnitudes of the external forces on the free nodes after the last step: the
+  // walls' normal force and friction, other rods' and its own contacts, the loads, a balloon's
+  // grip (its slip limit at most), the drag the solve balanced. The clamp holds the free part
+  // against their vector sum, in equilibrium, so no more than this: a clamp force above it is
+  // balanced by nothing on the free part (the clamp force is linearised on to the moves after the
+  // solve, penetration limits and rod-rod projections, which report no force; sim/tool README,
+  // "Coaxial tools").
+  [[nodiscard]] double free_part_load_mN() const { return free_part_load_mN_; }
 
   // What the tool exerts on the hand: positive resists insertion / rotation.
   [[nodiscard]] double hand_force_mN() const { return hand_force_mN_; }
@@ -324,6 +332,7 @@ class Rod {
 
   // The force law for the box (rod_force_law.cpp).
   void compute_force_law(double dt_s);
+  [[nodiscard]] double sum_free_part_loads(double dt_s) const;  // free_part_load_mN_ (rod_force_law.cpp)
 
   ToolSpec spec_;
   RodSettings settings_;
@@ -391,6 +400,7 @@ class Rod {
   glm::dvec3 clamp_force_{0.0};
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
+  double free_part_load_mN_ = 0.0;
   ForceLaw law_;
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
