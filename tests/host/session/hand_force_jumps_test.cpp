@@ -1,12 +1,13 @@
 // Where the held tool's hand force changes by more than the box's slew (100 mN a 1 ms tick) in
-// the coiling run and the dead ends, and from what (issue 29, "the feel"): every such tick printed
-// with the held tool, the hand's speed and its change, the force split into the tool's own part
-// (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
+// the coiling run, the dead ends and the ADAPT M1 run, and from what (issue 29, "the feel"):
+// every such tick printed with the held tool, the hand's speed and its change, the force split
+// into the tool's own part (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
 // (`Simulator::sheath`, with its slip limit's change) and the valves (`Simulator::valve`, its own
 // less its inner tools'), the solver's word on the held rod and its carriers (converged,
 // iterations, sub-steps), the held rod's wall contacts (their change, how many slip), a node
 // crossing the held tool's clamp, and this tick's controls (detach). Run: test_session_hand_force_jumps (ctest label `long`)
-// The table of causes: docs/sim-tool/convergence.md, "The hand force's jumps, by cause".
+// The tables of causes: docs/sim-tool/convergence.md, "The hand force's jumps, by cause" and
+// "The ADAPT M1 run's jumps, by cause".
 #include <gtest/gtest.h>
 
 #include <glm/geometric.hpp>
@@ -157,7 +158,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(FeelRun{"neuro_coiling", "cases/neuro_coiling.case", "cases/neuro_coiling.actions"},
                       FeelRun{"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"},
                       FeelRun{"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case",
-                              "tests/host/session/data/dead_end.actions"}),
+                              "tests/host/session/data/dead_end.actions"},
+                      FeelRun{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"}),
     run_name);
 
 }  // namespace
