@@ -168,7 +168,7 @@ bool Rod::finish_edge_contacts() {
 
 // Gripping nodes that were pulled beyond the limit slip: the anchor follows.
 void Rod::slip_grips() {
-  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double kg = settings_.stick_stiffness_mN_per_mm();
   for (std::size_t k = first_free_; k < x_.size(); ++k) {
     if (grip_limit_[k] <= 0.0) continue;
     const glm::dvec3 rel = x_[k] - grip_anchor_[k];

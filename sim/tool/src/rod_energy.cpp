@@ -19,7 +19,7 @@ namespace cathbox::tool {
 // An inflated balloon's grip: an elastic-plastic anchor that slips beyond its limit.
 [[gnu::always_inline]] inline void Rod::add_grip_terms(std::size_t k, glm::dmat3& h) {
   const glm::dmat3 identity(1.0);
-  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double kg = settings_.stick_stiffness_mN_per_mm();
   const glm::dvec3 rel = x_[k] - grip_anchor_[k];
   const double rel_len = glm::length(rel);
   const double limit = grip_limit_[k];

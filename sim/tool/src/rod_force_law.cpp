@@ -77,7 +77,7 @@ void Rod::compute_force_law(double dt_s) {
 // and self contacts on an edge with a free end.
 double Rod::sum_free_part_loads(double dt_s) const {
   const std::size_t n = x_.size();
-  const double kg = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double kg = settings_.stick_stiffness_mN_per_mm();
   double sum = 0.0;
   for (std::size_t k = first_free_; k < n; ++k) {
     const glm::dvec3 twist = k < twist_load_.size() ? twist_load_[k] : glm::dvec3(0.0);

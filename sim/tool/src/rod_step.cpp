@@ -31,7 +31,6 @@ void Rod::step_once(double dt_s, const WallModel& wall, const RodObstacles* obst
     finish_solve(s);
   } else {
     hand_force_mN_ = 0.0;
-    free_part_load_mN_ = 0.0;
     warm_ok_ = false;  // all in the catheter: its last solved motion is no guide when it comes out
   }
   update_frames();

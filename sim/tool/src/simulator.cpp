@@ -337,7 +337,7 @@ void Simulator::step(double dt_s) {
   }
   // The haemostatic valves: each tool's, moving with what it slides through (the patient, or
   // the hub of its catheter, which feels the reaction).
-  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double k_anchor = settings_.stick_stiffness_mN_per_mm();
   for (std::size_t t = 0; t < n; ++t) {
     const std::size_t o = outer_of_[t];
     const double through = insertion_[t] - (o < n ? insertion_[o] : 0.0);
@@ -383,7 +383,7 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   const std::size_t o = outer_of_[tool];
   const bool held_in_place = o >= rods_.size() || moved_mm_[o] == 0.0;
   const bool held_in_turn = o >= rods_.size() || turned_rad_[o] == 0.0;
-  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double k_anchor = settings_.stick_stiffness_mN_per_mm();
   const double radius = rods_[tool].radius_at_mm(0.0);
   if (o < rods_.size()) {
     const SheathFriction::Result& r = sheath_result_[tool];

@@ -158,7 +158,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   build_sheath_path(u, path_);
   const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
   const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
-  const double k_anchor = settings_.contact_stiffness_mN_per_mm * settings_.stick_stiffness_ratio;
+  const double k_anchor = settings_.stick_stiffness_mN_per_mm();
   // A coil's push on the bends of the catheter it leaves (SheathFriction::set_bend_reaction),
   // while tuning::kCoilBendReaction says.
   sheath_[u].set_bend_reaction(tuning::kCoilBendReaction && rod.spec().kind == ToolKind::kCoil);

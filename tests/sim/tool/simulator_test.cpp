@@ -129,7 +129,7 @@ TEST(Simulator, AnAnchorOnACatheterThatMovesIsNotASpringInTheWiresForceLaw) {
   const std::size_t cath = stack.cath;
   const std::size_t wire = stack.wire;
   const RodSettings defaults;
-  const double k_anchor = defaults.contact_stiffness_mN_per_mm * defaults.stick_stiffness_ratio;
+  const double k_anchor = defaults.stick_stiffness_mN_per_mm();
   // Both held, the wire eased back 1 um (the valve's 20 mN over its 2e4 mN/mm: it sat at its
   // slip limit from the push): the valve sticks and its spring is in the law.
   sim.set_insertion(wire, 27.0 - 1e-3);

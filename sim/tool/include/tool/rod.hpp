@@ -106,7 +106,7 @@ class Rod {
   // 0 shear (a coil): stick_stiffness_ratio of the contact stiffness, as the other stick springs.
   [[nodiscard]] double wall_stick_mN_per_mm(std::size_t k) const {
     return settings_.wall_shear_mN_per_mm2 > 0.0 ? settings_.wall_shear_mN_per_mm2 * radius_[k]
-                                                 : settings_.stick_stiffness_ratio * settings_.contact_stiffness_mN_per_mm;
+                                                 : settings_.stick_stiffness_mN_per_mm();
   }
   RodSettings& settings() { return settings_; }
   [[nodiscard]] const RodSettings& settings() const { return settings_; }

@@ -23,6 +23,8 @@ struct RodSettings {
   // The stick springs that are not the wall's (rod-rod contact, a balloon's grip, the sheath and
   // valve anchors): this fraction of contact_stiffness_mN_per_mm.
   double stick_stiffness_ratio = 0.1;
+  // Those stick springs' stiffness.
+  [[nodiscard]] double stick_stiffness_mN_per_mm() const { return contact_stiffness_mN_per_mm * stick_stiffness_ratio; }
   double contact_margin_mm = 0.15;         // nodes this close to the wall get a contact plane
   double query_range_mm = 1.5;             // wall search distance; beyond it a node is free
   double requery_move_mm = 0.02;           // re-probe after the first iteration if a node moved more
