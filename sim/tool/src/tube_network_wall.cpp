@@ -100,20 +100,25 @@ double TubeNetworkWall::depth_in(std::size_t i, const glm::dvec3& p, glm::dvec3&
   return r - glm::length(p - axis_point);
 }
 
-double TubeNetworkWall::deepest(const glm::dvec3& p, bool use_grid, std::size_t& best_i, glm::dvec3& best_axis) const {
-  const std::uint32_t* first = nullptr;
-  const std::uint32_t* last = nullptr;
-  if (use_grid) {
-    const std::int64_t c = cell_of(p);
-    if (c >= 0) {
-      first = cell_items_.data() + cell_start_[static_cast<std::size_t>(c)];
-      last = cell_items_.data() + cell_start_[static_cast<std::size_t>(c) + 1];
+template <typename Fn>
+void TubeNetworkWall::for_candidates(const glm::dvec3& p, bool use_grid, Fn&& fn) const {
+  const std::int64_t c = use_grid ? cell_of(p) : -1;
+  if (c >= 0) {
+    const std::uint32_t* first = cell_items_.data() + cell_start_[static_cast<std::size_t>(c)];
+    const std::uint32_t* last = cell_items_.data() + cell_start_[static_cast<std::size_t>(c) + 1];
+    if (first != last) {
+      for (const std::uint32_t* it = first; it != last; ++it) fn(static_cast<std::size_t>(*it));
+      return;
     }
   }
+  for (std::size_t i = 0; i < tubes_.size(); ++i) fn(i);
+}
+
+double TubeNetworkWall::deepest(const glm::dvec3& p, bool use_grid, std::size_t& best_i, glm::dvec3& best_axis) const {
   double best = -std::numeric_limits<double>::infinity();
   best_i = 0;
   best_axis = glm::dvec3(0.0);
-  auto consider = [&](std::size_t i) {
+  for_candidates(p, use_grid, [&](std::size_t i) {
     glm::dvec3 q;
     const double d = depth_in(i, p, q);
     if (d > best) {
@@ -121,21 +126,21 @@ double TubeNetworkWall::deepest(const glm::dvec3& p, bool use_grid, std::size_t&
       best_i = i;
       best_axis = q;
     }
-  };
-  if (first != nullptr && first != last) {
-    for (const std::uint32_t* it = first; it != last; ++it) consider(*it);
-  } else {
-    for (std::size_t i = 0; i < tubes_.size(); ++i) consider(i);
-  }
+  });
   return best;
 }
 
+// The grid's cell holds every tube whose depth at p is above -kGridReach_mm, and LumenBlend
+// weighs none below -LumenBlend::kBand_mm: the cell's candidates are all it needs.
 double TubeNetworkWall::lumen_radius_mm(const glm::dvec3& p) const {
   if (tubes_.empty()) return -1.0;
-  std::size_t i = 0;
-  glm::dvec3 axis(0.0);
-  const double depth = deepest(p, true, i, axis);
-  return std::isfinite(depth) ? depth + glm::length(p - axis) : -1.0;
+  LumenBlend blend;
+  for_candidates(p, true, [&](std::size_t i) {
+    glm::dvec3 axis;
+    const double depth = depth_in(i, p, axis);
+    blend.add(depth, depth + glm::length(p - axis));
+  });
+  return blend.radius_mm();
 }
 
 bool TubeNetworkWall::closest(const glm::dvec3& p, bool use_grid, WallContact& out) const {

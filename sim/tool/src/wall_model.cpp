@@ -1,6 +1,7 @@
 #include "tool/wall_model.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <glm/geometric.hpp>
@@ -22,18 +23,32 @@ CentrelineFoot nearest_on_centreline(const vessel::Segment& s, const glm::dvec3&
   return best;
 }
 
+double LumenBlend::radius_mm() const {
+  if (tubes_.empty()) return -1.0;
+  double deepest = -std::numeric_limits<double>::infinity();
+  for (const auto& [depth, radius] : tubes_) deepest = std::max(deepest, depth);
+  const double band = std::max(deepest, kBand_mm);
+  double sum_w = 0.0;
+  double sum_wr = 0.0;
+  for (const auto& [depth, radius] : tubes_) {
+    const double lift = depth - deepest + band;
+    if (!(lift > 0.0)) continue;
+    sum_w += lift * lift;
+    sum_wr += lift * lift * radius;
+  }
+  return sum_w > 0.0 ? sum_wr / sum_w : -1.0;
+}
+
 double centreline_radius_mm(const vessel::VesselModel& model, const glm::dvec3& p) {
-  double best = std::numeric_limits<double>::infinity();
-  double radius = -1.0;
+  LumenBlend blend;
   for (const vessel::Segment& s : model.segments) {
     if (s.points.empty()) continue;
     const CentrelineFoot f = nearest_on_centreline(s, p);
-    if (!(f.distance2_mm2 < best)) continue;
-    best = f.distance2_mm2;
     const double r0 = s.points[f.piece].radius_mm;
-    radius = f.piece + 1 < s.points.size() ? r0 + f.t * (s.points[f.piece + 1].radius_mm - r0) : r0;
+    const double r = f.piece + 1 < s.points.size() ? r0 + f.t * (s.points[f.piece + 1].radius_mm - r0) : r0;
+    blend.add(r - std::sqrt(f.distance2_mm2), r);
   }
-  return radius;
+  return blend.radius_mm();
 }
 
 double WallModel::lumen_radius_mm(const glm::dvec3& point_mm) const {

@@ -1,5 +1,10 @@
 #include "tool/tube_network_wall.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 namespace cathbox::tool {
@@ -30,6 +35,57 @@ TEST(TubeNetworkWall, UnionTakesTheDeepestTube) {
   EXPECT_EQ(seg, 0);
   EXPECT_NEAR(wall.signed_distance({5, 0, 10}, &seg), 1.0, 1e-12);
   EXPECT_EQ(seg, 1);
+}
+
+// A parent lumen of radius 2 mm along +z ending at the origin, and a branch of radius 1.2 mm from
+// there towards (12, 0, 30): the lumen read walked along the parent's axis from z = -5 and on
+// along the branch's for 5 mm, in 1 um steps. Returns the largest |dr/ds| (per mm of path).
+constexpr double kParentR = 2.0;
+constexpr double kBranchR = 1.2;
+const glm::dvec3 kBranchEnd{12.0, 0.0, 30.0};
+
+double steepest_lumen_read(const std::function<double(const glm::dvec3&)>& read) {
+  const glm::dvec3 along = glm::normalize(kBranchEnd);
+  constexpr double kStep = 1e-3;
+  double steepest = 0.0;
+  double last = read({0, 0, -5});
+  for (double s = -5.0 + kStep; s <= 5.0; s += kStep) {
+    const glm::dvec3 p = s < 0.0 ? glm::dvec3(0, 0, s) : s * along;
+    const double r = read(p);
+    steepest = std::max(steepest, std::abs(r - last) / kStep);
+    last = r;
+  }
+  return steepest;
+}
+
+// Two lumens whose weights are d^2 (LumenBlend on their axes, where h = D): with one depth fixed
+// at c and the other falling at 1 mm/mm, dr/ds = 2 dR x c^2 / (x^2 + c^2)^2 is largest at
+// x = c / sqrt(3): 9 / (8 sqrt 3) dR / c. Along the branch (c = 1.2 mm) that is 0.433 per mm; along
+// the parent (c = 2 mm) 0.260. The deepest tube alone jumps 0.8 mm at once (800 per mm here).
+const double kSteepestBlend = 9.0 / (8.0 * std::sqrt(3.0)) * (kParentR - kBranchR) / kBranchR;
+
+TEST(TubeNetworkWall, LumenRadiusIsContinuousAcrossAJunction) {
+  const TubeNetworkWall wall({Tube{{0, 0, -40}, {0, 0, 0}, kParentR, kParentR, 0},
+                              Tube{{0, 0, 0}, kBranchEnd, kBranchR, kBranchR, 1}});
+  EXPECT_NEAR(steepest_lumen_read([&](const glm::dvec3& p) { return wall.lumen_radius_mm(p); }), kSteepestBlend, 0.005);
+  // Alone in a tube (every other more than its depth shallower) the read is that tube's radius.
+  EXPECT_DOUBLE_EQ(wall.lumen_radius_mm({0.5, 0, -10}), kParentR);
+  EXPECT_DOUBLE_EQ(wall.lumen_radius_mm(4.0 * glm::normalize(kBranchEnd)), kBranchR);
+  EXPECT_LT(TubeNetworkWall().lumen_radius_mm({0, 0, 0}), 0.0);
+}
+
+TEST(CentrelineRadius, IsContinuousAcrossAJunction) {
+  vessel::VesselModel model;
+  vessel::Segment parent;
+  parent.id = 0;
+  for (int i = 0; i <= 40; ++i) parent.points.push_back({{0, 0, -40.0 + i}, kParentR});
+  vessel::Segment branch;
+  branch.id = 1;
+  for (int i = 0; i <= 30; ++i) branch.points.push_back({kBranchEnd * (i / 30.0), kBranchR});
+  model.segments = {parent, branch};
+  EXPECT_NEAR(steepest_lumen_read([&](const glm::dvec3& p) { return centreline_radius_mm(model, p); }), kSteepestBlend, 0.005);
+  EXPECT_DOUBLE_EQ(centreline_radius_mm(model, {0.5, 0, -10}), kParentR);
+  EXPECT_LT(centreline_radius_mm(vessel::VesselModel{}, {0, 0, 0}), 0.0);
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ class TubeNetworkWall final : public WallModel {
   void build(double cell_mm = 0.0);
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
-  // The radius of the tube the point lies deepest in, at its axis point.
+  // The radii of the tubes holding the point, at their axis points, blended (LumenBlend).
   [[nodiscard]] double lumen_radius_mm(const glm::dvec3& point_mm) const override;
   // Signed distance of a point to the wall (positive inside the lumen) and the tube holding it.
   [[nodiscard]] double signed_distance(const glm::dvec3& p_mm, std::int32_t* segment = nullptr) const;
@@ -42,6 +42,9 @@ class TubeNetworkWall final : public WallModel {
   // The tube p lies deepest in (its index, axis point and depth); -inf depth when none.
   [[nodiscard]] double deepest(const glm::dvec3& p, bool use_grid, std::size_t& best_i, glm::dvec3& best_axis) const;
   [[nodiscard]] std::int64_t cell_of(const glm::dvec3& p) const;
+  // Calls fn(i) for each tube that may hold p: the grid cell's, else every tube.
+  template <typename Fn>
+  void for_candidates(const glm::dvec3& p, bool use_grid, Fn&& fn) const;
 
   std::vector<Tube> tubes_;
   glm::dvec3 origin_{0.0};

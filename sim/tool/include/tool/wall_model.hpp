@@ -5,6 +5,8 @@
 // implement it.
 #include <cstdint>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -60,9 +62,10 @@ class WallModel {
   // Fills `out` and returns true when the wall is within probe.range_mm of the node surface
   // (or the node is outside the lumen); returns false otherwise.
   [[nodiscard]] virtual bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const = 0;
-  // The lumen's radius at a point inside it: the analytic tube's there, else the radius of the
-  // nearest point on the centrelines of the surface's model (a scan of its points: for events
-  // and occasional reads, not every node every step); negative when the wall cannot tell.
+  // The lumen's radius at a point inside it: the analytic tubes' there, else the centrelines' of
+  // the surface's model (centreline_radius_mm: a scan of its points, for events and occasional
+  // reads, not every node every step); continuous across junctions (LumenBlend); negative when
+  // the wall cannot tell.
   [[nodiscard]] virtual double lumen_radius_mm(const glm::dvec3& point_mm) const;
   // Counts the changes of a wall that moves in place (a displaced wall's pulse): a rod at rest
   // against it must be solved again when it changes. 0 for a wall that never moves.
@@ -77,7 +80,26 @@ struct CentrelineFoot {
   double t = 0.0;
 };
 [[nodiscard]] CentrelineFoot nearest_on_centreline(const vessel::Segment& s, const glm::dvec3& point_mm);
-// The radius of the nearest point on a model's centrelines (linear along each piece).
+// The lumen's radius at a point from the tubes (or centrelines) that may hold it, each given as
+// its radius at the point's foot on its axis and the point's depth in it (that radius minus the
+// distance to the axis). The deepest tube alone would make the read jump where the deepest
+// changes (a junction, where a branch of another radius takes over; the joint of two pieces):
+// each tube weighs max(0, d - D + h)^2, d its depth, D the deepest, h = max(D, kBand_mm), so a
+// tube's weight rises from 0 as it comes within h of the deepest and the read is continuous.
+// A point in one tube alone (every other more than h shallower) reads that tube's radius exactly.
+class LumenBlend {
+ public:
+  static constexpr double kBand_mm = 0.1;  // the blend's least width, for points near the wall
+  void add(double depth_mm, double radius_mm) { tubes_.emplace_back(depth_mm, radius_mm); }
+  // The blended radius; negative when no tube was added.
+  [[nodiscard]] double radius_mm() const;
+
+ private:
+  std::vector<std::pair<double, double>> tubes_;  // (depth, radius)
+};
+
+// The lumen's radius at a point of a model's centrelines: the radii at the nearest point of each
+// segment's centreline (linear along each piece), blended by LumenBlend.
 [[nodiscard]] double centreline_radius_mm(const vessel::VesselModel& model, const glm::dvec3& point_mm);
 
 }  // namespace cathbox::tool
