@@ -72,6 +72,9 @@ void Session::build_simulator() {
     // builder of the next walls so that they reuse the regions the balloon leaves alone.
     tool::WallBuilder builder = tool::cached_mesh_wall_builder();
     auto wall = builder(*scene_->world->source_model());
+    // A build that cannot mesh (the WebAssembly session) builds it on the world's surface, which
+    // is the same mesh: the same wall, so that its runs replay here hash for hash.
+    if (!wall && scene_->world->mesh() != nullptr) wall = tool::build_mesh_wall(*scene_->world->source_model(), *scene_->world->mesh());
     if (wall) {
       angioplasty_ = std::make_unique<tool::Angioplasty>(*scene_->world->source_model(), std::move(*wall),
                                                          tool::WallSwap::Mode::kSynchronous, tool::LumenRemodelParams{},

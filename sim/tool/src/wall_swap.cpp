@@ -34,8 +34,10 @@ WallResult timed_build(const WallBuilder& builder, const vessel::VesselModel& mo
 
 }  // namespace
 
-WallResult build_mesh_wall(const vessel::VesselModel& model, collision::TreeCache* cache) {
-  vessel::VesselSurface surface = vessel::build_vessel_surface(model);
+namespace {
+
+// The wall on `surface` (its mesh), holding `model` for the renderers and the lumen reads.
+WallResult mesh_wall_on(const vessel::VesselModel& model, vessel::VesselSurface surface, collision::TreeCache* cache) {
   if (!surface.ok()) return base::Error{"widened vessel: " + surface.error};
   collision::TreeBuild tree = cache != nullptr ? collision::ObbTree::build(surface.mesh, {}, *cache)
                                                : collision::ObbTree::build(surface.mesh);
@@ -43,6 +45,16 @@ WallResult build_mesh_wall(const vessel::VesselModel& model, collision::TreeCach
   // The tree keeps its own copy of the mesh: the surface moves on to the renderers.
   auto drawn = std::make_shared<WallSurface>(WallSurface{model, std::move(surface.mesh)});
   return WallResult(std::make_unique<MeshWall>(std::move(*tree), MeshWall::kDefaultHintSlots, std::move(drawn)));
+}
+
+}  // namespace
+
+WallResult build_mesh_wall(const vessel::VesselModel& model, collision::TreeCache* cache) {
+  return mesh_wall_on(model, vessel::build_vessel_surface(model), cache);
+}
+
+WallResult build_mesh_wall(const vessel::VesselModel& model, vessel::SurfaceMesh made) {
+  return mesh_wall_on(model, vessel::build_vessel_surface(model, std::move(made)), nullptr);
 }
 
 WallBuilder cached_mesh_wall_builder() {

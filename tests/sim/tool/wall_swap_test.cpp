@@ -7,13 +7,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <mutex>
+#include <sstream>
 
 #include "analytic_walls.hpp"
 #include "state_fnv.hpp"
+#include "vessel/hclm.hpp"
+#include "vessel/vessel_mesher.hpp"
 
 namespace cathbox::tool {
 namespace {
@@ -169,6 +174,46 @@ TEST(WallSwap, TheRunIsTheSameBitForBitHoweverLateTheWorkerBuildsTheWall) {
   EXPECT_NE(later.hashes[901 - 1], reference.hashes[901 - 1]) << "a swap one tick later shows in the next tick's state";
   std::printf("end-state hash %016llx, the wall swapped in at tick %lld\n",
               static_cast<unsigned long long>(reference.hashes.back()), static_cast<long long>(reference.swapped_at));
+}
+
+// A balloon case's own first wall built on a surface meshed elsewhere (as the WebAssembly
+// session, which cannot mesh, builds it on the case's surface) is the wall meshed here: the same
+// model (the case's, unsmoothed: not the world's smoothed centrelines, whose lumen read split the
+// trainee page's stent run from its native replay), the same contacts, the same lumen read.
+TEST(BuildMeshWall, OnASurfaceMeshedElsewhereIsTheWallMeshedHere) {
+  std::ifstream in(CATHBOX_SOURCE_DIR "/tests/host/session/data/stent_tube.hclm");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const vessel::HclmReadResult read = vessel::read_hclm(text.str(), "stent_tube.hclm");
+  ASSERT_TRUE(read.ok());
+  const auto here = build_mesh_wall(read.model);
+  const auto given = build_mesh_wall(read.model, vessel::build_vessel_surface(read.model).mesh);
+  ASSERT_TRUE(here) << here.error().message;
+  ASSERT_TRUE(given) << given.error().message;
+  EXPECT_EQ((*given)->surface()->model, read.model);
+  EXPECT_EQ((*given)->surface()->model, (*here)->surface()->model);
+  EXPECT_EQ((*given)->surface()->mesh.positions_mm, (*here)->surface()->mesh.positions_mm);
+  int touched = 0;
+  for (int i = 0; i < 400; ++i) {
+    // Along the side branch (45 degrees from z = 30 mm) and round it.
+    const double s = 0.05 * i;
+    const glm::dvec3 p(0.7071 * s + 0.6 * std::cos(i), 0.6 * std::sin(i), 30.0 + 0.7071 * s);
+    WallProbe probe;
+    probe.center_mm = p;
+    probe.radius_mm = 0.5;
+    probe.lumen_axis = (i % 2) == 1;
+    WallHint h1, h2;
+    WallContact c1, c2;
+    const bool a = (*here)->probe(probe, h1, c1);
+    ASSERT_EQ((*given)->probe(probe, h2, c2), a) << i;
+    touched += a ? 1 : 0;
+    if (a) {
+      EXPECT_EQ(c1.distance_mm, c2.distance_mm) << i;
+      EXPECT_EQ(c1.normal, c2.normal) << i;
+    }
+    EXPECT_EQ((*given)->lumen_radius_mm(p), (*here)->lumen_radius_mm(p)) << i;
+  }
+  EXPECT_GT(touched, 100);
 }
 
 // The waits are tallied in fixed storage (the haptic thread never allocates for them): a count,

@@ -48,6 +48,11 @@ using WallBuilder = std::function<base::Result<std::unique_ptr<WallModel>>(const
 // same as in the last wall built with it (collision::TreeCache): the same tree, built faster.
 [[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model,
                                                                        collision::TreeCache* cache = nullptr);
+// The same wall on a surface meshed elsewhere (`made`: the case's own, as a build that cannot
+// mesh reads it; the WebAssembly session has no OpenSubdiv): it holds `model` as build_mesh_wall
+// does, so that its lumen read and lumen axis are the same as a wall meshed here.
+[[nodiscard]] base::Result<std::unique_ptr<WallModel>> build_mesh_wall(const vessel::VesselModel& model,
+                                                                       vessel::SurfaceMesh made);
 // build_mesh_wall with one TreeCache carried from each wall to the next (copies share it; one
 // build at a time, as WallSwap builds). Build the first wall with it too, so that the first
 // rebuild already reuses the regions a balloon did not touch.
