@@ -23,19 +23,37 @@ CentrelineFoot nearest_on_centreline(const vessel::Segment& s, const glm::dvec3&
   return best;
 }
 
+void LumenBlend::add(double depth_mm, double radius_mm) {
+  added_ = true;
+  deepest_mm_ = std::max(deepest_mm_, depth_mm);
+  if (!(depth_mm > floor_mm())) return;
+  if (count_ == kHeld && more_.empty()) {
+    // Drop the held tubes that no longer weigh, in order.
+    const double floor = floor_mm();
+    count_ = static_cast<std::size_t>(std::remove_if(held_.begin(), held_.begin() + static_cast<std::ptrdiff_t>(count_),
+                                                     [floor](const Held& h) { return !(h.depth_mm > floor); }) -
+                                      held_.begin());
+  }
+  if (count_ < kHeld && more_.empty()) {
+    held_[count_++] = {depth_mm, radius_mm};
+  } else {
+    more_.push_back({depth_mm, radius_mm});
+  }
+}
+
 double LumenBlend::radius_mm() const {
-  if (tubes_.empty()) return -1.0;
-  double deepest = -std::numeric_limits<double>::infinity();
-  for (const auto& [depth, radius] : tubes_) deepest = std::max(deepest, depth);
-  const double band = std::max(deepest, kBand_mm);
+  if (!added_) return -1.0;
+  const double band = std::max(deepest_mm_, kBand_mm);
   double sum_w = 0.0;
   double sum_wr = 0.0;
-  for (const auto& [depth, radius] : tubes_) {
-    const double lift = depth - deepest + band;
-    if (!(lift > 0.0)) continue;
+  const auto weigh = [&](const Held& h) {
+    const double lift = h.depth_mm - deepest_mm_ + band;
+    if (!(lift > 0.0)) return;
     sum_w += lift * lift;
-    sum_wr += lift * lift * radius;
-  }
+    sum_wr += lift * lift * h.radius_mm;
+  };
+  std::for_each(held_.begin(), held_.begin() + static_cast<std::ptrdiff_t>(count_), weigh);
+  std::for_each(more_.begin(), more_.end(), weigh);
   return sum_w > 0.0 ? sum_wr / sum_w : -1.0;
 }
 

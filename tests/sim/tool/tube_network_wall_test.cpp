@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
+#include <limits>
+#include <utility>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -72,6 +76,43 @@ TEST(TubeNetworkWall, LumenRadiusIsContinuousAcrossAJunction) {
   EXPECT_DOUBLE_EQ(wall.lumen_radius_mm({0.5, 0, -10}), kParentR);
   EXPECT_DOUBLE_EQ(wall.lumen_radius_mm(4.0 * glm::normalize(kBranchEnd)), kBranchR);
   EXPECT_LT(TubeNetworkWall().lumen_radius_mm({0, 0, 0}), 0.0);
+}
+
+// The blend holds at most 32 tubes in place and drops those that weigh nothing at the deepest so
+// far: whatever the order and count (here up to 200, many that weigh and many that never do), its
+// read is the weighted mean of every tube's, bit for bit, summed in the order they were added.
+TEST(LumenBlend, ReadsEveryWeighingTubeHowManySoEver) {
+  std::uint64_t x = 0x9e3779b97f4a7c15ull;
+  const auto uniform = [&x] {
+    x ^= x << 13;
+    x ^= x >> 7;
+    x ^= x << 17;
+    return static_cast<double>(x >> 11) / 9007199254740992.0;
+  };
+  for (const int count : {1, 5, 31, 32, 33, 64, 200}) {
+    for (int round = 0; round < 20; ++round) {
+      std::vector<std::pair<double, double>> tubes;
+      for (int i = 0; i < count; ++i) {
+        const double depth = -1.0 + 3.0 * uniform();  // some outside, some deep
+        tubes.emplace_back(depth, 0.5 + 2.0 * uniform());
+      }
+      LumenBlend blend;
+      double deepest = -std::numeric_limits<double>::infinity();
+      for (const auto& [d, r] : tubes) {
+        blend.add(d, r);
+        deepest = std::max(deepest, d);
+      }
+      const double band = std::max(deepest, LumenBlend::kBand_mm);
+      double w = 0.0;
+      double wr = 0.0;
+      for (const auto& [d, r] : tubes) {
+        const double lift = d - deepest + band;
+        if (lift > 0.0) w += lift * lift, wr += lift * lift * r;
+      }
+      EXPECT_EQ(blend.radius_mm(), wr / w) << count << " tubes, round " << round;
+    }
+  }
+  EXPECT_LT(LumenBlend().radius_mm(), 0.0);
 }
 
 TEST(CentrelineRadius, IsContinuousAcrossAJunction) {

@@ -3,9 +3,11 @@
 // closest wall point, the wall's outward normal there and the signed clearance of the centre.
 // Analytic walls (tubes, bends, bifurcations) and the vessel mesh (through the collision tree)
 // implement it.
+#include <algorithm>
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -90,12 +92,25 @@ struct CentrelineFoot {
 class LumenBlend {
  public:
   static constexpr double kBand_mm = 0.1;  // the blend's least width, for points near the wall
-  void add(double depth_mm, double radius_mm) { tubes_.emplace_back(depth_mm, radius_mm); }
+  void add(double depth_mm, double radius_mm);
   // The blended radius; negative when no tube was added.
   [[nodiscard]] double radius_mm() const;
 
  private:
-  std::vector<std::pair<double, double>> tubes_;  // (depth, radius)
+  // Held in place (a read runs in the haptic step: a stent node's regauge), past kHeld in more_.
+  // A tube shallower than the deepest so far by its band or more weighs 0 now and at every
+  // deeper D (D - max(D, band) never falls), so it is not kept.
+  static constexpr std::size_t kHeld = 32;
+  struct Held {
+    double depth_mm;
+    double radius_mm;
+  };
+  [[nodiscard]] double floor_mm() const { return deepest_mm_ - std::max(deepest_mm_, kBand_mm); }
+  std::array<Held, kHeld> held_{};
+  std::size_t count_ = 0;
+  std::vector<Held> more_;  // once held_ is full of tubes that still weigh
+  double deepest_mm_ = -std::numeric_limits<double>::infinity();
+  bool added_ = false;
 };
 
 // The lumen's radius at a point of a model's centrelines: the radii at the nearest point of each
