@@ -223,6 +223,13 @@ void Rod::update_window() {
   first_ = kp - 1;
   first_free_ = kp + 1;
   for (std::size_t k = first_; k < first_free_; ++k) place_outside(k);
+  // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry): the clamp edge
+  // bends from as far ahead of the clamp node as that node is behind the entry, keeping at least
+  // kClampEdgeFloor of the edge to the first free node.
+  clamp_shift_mm_ = 0.0;
+  if (settings_.clamp_hinge_at_entry && kp + 1 < x_.size()) {
+    clamp_shift_mm_ = std::clamp(from_tip_[kp] - insertion_mm_, 0.0, (1.0 - kClampEdgeFloor) * rest_[kp]);
+  }
 }
 
 glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {

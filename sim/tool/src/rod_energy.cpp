@@ -86,6 +86,38 @@ namespace cathbox::tool {
   }
 }
 
+// Edge k's stretching (gradient and energy, node to node) and, for the Hessian, its c_e P_e with
+// w_sum the bending weights of its two vertices. u and inv come back as the edge's tangent and
+// inverse length as its bending sees them: the clamp chord's on the hinge edge (the clamp's hinge
+// at the entry point, Rod::clamp_chord), whose block is then the stretching's on P_e plus the
+// bending's on the chord's projector.
+[[gnu::always_inline]] inline void Rod::add_edge_terms(std::size_t k, double w_sum, bool hinge, bool hessian, glm::dvec3& u,
+                                                       double& inv, double& ks, glm::dmat3& pc) {
+  const glm::dmat3 identity(1.0);
+  const glm::dvec3 e = x_[k + 1] - x_[k];
+  const double len = std::max(glm::length(e), 1e-12);
+  inv = 1.0 / len;
+  u = e * inv;
+  ks = axial_k_[k];
+  const glm::dvec3 f = u * (ks * (len - rest_[k]));
+  energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
+  add_grad(k + 1, f);
+  add_grad(k, -f);
+  if (!hinge) {
+    if (hessian) pc = (identity - glm::outerProduct(u, u)) * (ks * std::max(0.0, 1.0 - rest_[k] * inv) - ks + w_sum * (inv * inv));
+    return;
+  }
+  const glm::dvec3 chord = clamp_chord();
+  const double inv_b = 1.0 / std::max(glm::length(chord), 1e-12);
+  const glm::dvec3 u_b = chord * inv_b;
+  if (hessian) {
+    pc = (identity - glm::outerProduct(u, u)) * (ks * std::max(0.0, 1.0 - rest_[k] * inv) - ks) +
+         (identity - glm::outerProduct(u_b, u_b)) * (w_sum * (inv_b * inv_b));
+  }
+  u = u_b;
+  inv = inv_b;
+}
+
 // The free node k's own terms: drag, loads, grip, wall penalty and friction. Returns its block
 // on the Hessian's diagonal (the gradient and the energy take the terms as they go).
 [[gnu::always_inline]] inline glm::dmat3 Rod::node_terms(std::size_t k) {
@@ -129,30 +161,17 @@ void Rod::assemble(bool hessian) {
   // Edge k - 1 and vertex k - 1, carried from the last node.
   glm::dvec3 u_prev(0.0);
   double inv_prev = 1.0;  // 1 / l_{k-1}
-  glm::dmat3 p_prev(0.0), m_prev(0.0);
-  double ks_prev = 0.0, c_prev = 0.0, g_prev = 0.0;
+  glm::dmat3 pc_prev(0.0), m_prev(0.0);
+  double ks_prev = 0.0, g_prev = 0.0;
   double w = 0.0;  // vertex k's bending weight (first_ is no vertex)
+  const std::size_t hinge_edge = clamp_shift_mm_ > 0.0 ? first_ + 1 : n;  // bends on clamp_chord()
   for (std::size_t k = first_; k < n; ++k) {
-    // Edge k: node k -> k + 1.
+    // Edge k: node k -> k + 1 (its stretching, and c_e P_e; u, inv as the bending sees it).
     glm::dvec3 u(0.0);
-    double inv = 1.0, ks = 0.0, c = 0.0;
-    glm::dmat3 p(0.0);
+    double inv = 1.0, ks = 0.0;
+    glm::dmat3 pc(0.0);
     const double w_next = vertex(k + 1) ? bend_w_[k + 1] : 0.0;
-    if (k + 1 < n) {
-      const glm::dvec3 e = x_[k + 1] - x_[k];
-      const double len = std::max(glm::length(e), 1e-12);
-      inv = 1.0 / len;
-      u = e * inv;
-      ks = axial_k_[k];
-      const glm::dvec3 f = u * (ks * (len - rest_[k]));
-      energy_ += 0.5 * ks * (len - rest_[k]) * (len - rest_[k]);
-      add_grad(k + 1, f);
-      add_grad(k, -f);
-      if (hessian) {
-        p = identity - glm::outerProduct(u, u);
-        c = ks * std::max(0.0, 1.0 - rest_[k] * inv) - ks + (w + w_next) * (inv * inv);
-      }
-    }
+    if (k + 1 < n) add_edge_terms(k, w + w_next, k == hinge_edge, hessian, u, inv, ks, pc);
     // Vertex k, between edges k - 1 and k.
     double g = 0.0;
     glm::dmat3 m(0.0);
@@ -175,16 +194,15 @@ void Rod::assemble(bool hessian) {
     // Wall contacts, friction, drag and loads on the free nodes: one block on the diagonal.
     const glm::dmat3 h = k >= first_free_ ? node_terms(k) : zero;
     if (hessian) {
-      const glm::dmat3 diag = h + identity * (ks + ks_prev) + p * c + p_prev * c_prev + (m + glm::transpose(m)) * g;
-      const glm::dmat3 sub1 = -(identity * ks_prev + p_prev * c_prev + m * g + m_prev * g_prev);
+      const glm::dmat3 diag = h + identity * (ks + ks_prev) + pc + pc_prev + (m + glm::transpose(m)) * g;
+      const glm::dmat3 sub1 = -(identity * ks_prev + pc_prev + m * g + m_prev * g_prev);
       matrix_->set_row(k - first_, diag, sub1, m_prev * g_prev);
     }
     u_prev = u;
     inv_prev = inv;
-    p_prev = p;
+    pc_prev = pc;
     m_prev = m;
     ks_prev = ks;
-    c_prev = c;
     g_prev = g;
     w = w_next;
   }
@@ -204,7 +222,8 @@ double Rod::energy() const {
     const double len = std::max(glm::length(edge), 1e-12);
     const double stretch = len - rest_[k];
     e += 0.5 * axial_k_[k] * stretch * stretch;
-    const glm::dvec3 u = edge * (1.0 / len);
+    glm::dvec3 u = edge * (1.0 / len);
+    if (clamp_shift_mm_ > 0.0 && k == first_ + 1) u = glm::normalize(clamp_chord());  // bends on it
     if (k >= first_ + 1) {
       const glm::dvec3 r = bend_residual(k, u_prev, u);
       e += 0.5 * bend_w_[k] * glm::dot(r, r);

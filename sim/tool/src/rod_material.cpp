@@ -166,11 +166,20 @@ void Rod::update_weights(double dt_s) {
   // region. A first free node bending over its whole region at once halved the stiffness of
   // the node that crossed, at every node the tool slid by (the hand force of a coil pushed out
   // of its microcatheter, or a wire drawn back into it, a sawtooth of one node spacing).
+  // With the clamp's hinge at the entry point (clamp_shift_mm_) the clamp edge bends over the
+  // part past the entry: the clamp vertex over half of it, and the two vertices' rest turns are
+  // scaled to the lengths they bend over (2 sin(phi / 2) to first order in phi).
   const double past = free_ ? 0.0 : insertion_mm_ - from_tip_[std::min(first_free_, n - 1)];
+  const bool hinge = !free_ && clamp_shift_mm_ > 0.0;
+  hinge_turn_scale_[0] = hinge_turn_scale_[1] = 1.0;
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
     double length = voronoi_[i];
     if (!free_ && i == first_ + 1) {
-      length = 0.5 * rest_[i];
+      length = 0.5 * (rest_[i] - clamp_shift_mm_);
+      if (hinge) hinge_turn_scale_[0] = length / voronoi_[i];
+    } else if (hinge && i == first_ + 2) {
+      length = 0.5 * (rest_[i] + rest_[i - 1] - clamp_shift_mm_);
+      hinge_turn_scale_[1] = length / voronoi_[i];
     } else if (!free_ && i == first_ + 2) {
       length = 0.5 * rest_[i] + 0.5 * std::clamp(past, 0.0, rest_[i - 1]);
     }

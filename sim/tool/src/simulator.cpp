@@ -67,6 +67,11 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   // Coils and the catheters they leave move in small iterations (no loop through another).
   for (std::size_t i = 0; i < n; ++i) {
     if (tools[i].kind == ToolKind::kCoil) apply_coil_settings(i);
+    // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone
+    // in the body, held by the introducer's valve; one in a catheter or carrying others keeps it
+    // at its clamp node (docs/sim-tool/convergence.md, "The clamp's hinge at the entry point").
+    const bool alone = outer_of_[i] >= n && std::none_of(outer_of_.begin(), outer_of_.end(), [i](std::size_t o) { return o == i; });
+    rods_[i].settings().clamp_hinge_at_entry = alone;
   }
   specs_.assign(tools.begin(), tools.end());
   loaded_.assign(n, 0);
@@ -120,6 +125,7 @@ void Simulator::apply_coil_settings(std::size_t i) {
   rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
   rods_[i].settings().linearised_clamp = true;
   rods_[i].settings().arc_predictor = true;
+  rods_[i].settings().clamp_hinge_at_entry = false;  // in its catheter (load_next_coil builds afresh)
   // A coil pushed at a steady rate moves as it did the step before: the whole last motion is the
   // better start (BM_StepCoilDeploy: 6.7 -> 5.4 Newton iterations a step).
   rods_[i].settings().warm_start = 1.0;

@@ -196,7 +196,7 @@ TEST(SheathFriction, AnInnerToolsEndOnACatheterNodeKeepsThatNodesBend) {
 // of the whole limit would move it by 1 % a tick; the turning read over the short first edge
 // brings it in earlier, and the bound is 5 % of the mean. The tick a node crosses the guide's
 // tip is left out: the microcatheter's own shape steps there (the clamp's half edge of
-// compliance, RodValidation.CantileverSlidOutOfItsClampStepsByHalfAnEdgesHingeAsANodeCrosses;
+// compliance of a tool in a catheter, RodValidation.CantileverSlidOutOfItsClampFollowsEulerBernoulliAsNodesCross;
 // its first free node moves 0.03 mm sideways here). The path that left a node out until it was
 // half a spacing past the guide's tip and then put the tip's vertex back stepped there by 0.9 of
 // the mean limit (the coiling run's wire drawn back: -0.3 N, then -1.4 N in one tick).

@@ -258,12 +258,23 @@ class Rod {
   // Energy, gradient and Hessian of the step (rod_energy.cpp).
   // Bending residual at vertex i (first_ + 1 .. n - 2) from the unit tangents either side.
   [[nodiscard]] inline glm::dvec3 bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const;
+  // The scale of vertex i's rest turn: the clamp vertex's and the first free node's with the
+  // clamp's hinge at the entry point (hinge_turn_scale_), 1 elsewhere.
+  [[nodiscard]] double turn_scale(std::size_t i) const {
+    const std::size_t h = i - (first_ + 1);
+    return h < 2 ? hinge_turn_scale_[h] : 1.0;
+  }
+  // The clamp edge's bending chord (RodSettings::clamp_hinge_at_entry): from the entry point, or
+  // as near it as kClampEdgeFloor lets, to the first free node.
+  [[nodiscard]] glm::dvec3 clamp_chord() const { return x_[first_ + 2] - (x_[first_ + 1] + dir_ * clamp_shift_mm_); }
   inline void add_grad(std::size_t k, const glm::dvec3& g);  // grad_ at node k (rod_newton.hpp)
   void assemble(bool hessian);
   static void estimate_curvature(NodeContact& c, const WallContact& wc);
   double geo_floor_ = 0.0;
   // Drag, loads, grip, wall penalty and friction at free node k: its diagonal block.
   [[nodiscard]] inline glm::dmat3 node_terms(std::size_t k);
+  inline void add_edge_terms(std::size_t k, double w_sum, bool hinge, bool hessian, glm::dvec3& u, double& inv, double& ks,
+                             glm::dmat3& pc);
   inline void add_grip_terms(std::size_t k, glm::dmat3& h);
   inline void add_wall_terms(std::size_t k, glm::dmat3& h);
   void add_edge_contact_terms(bool hessian);
@@ -352,6 +363,12 @@ class Rod {
   std::size_t first_ = 0;       // first simulated node
   std::size_t first_free_ = 0;  // first node past the entry
   bool free_ = false;           // detached: every node free, no clamp
+  // RodSettings::clamp_hinge_at_entry: how far ahead of the clamp node (first_ + 1), up the
+  // entry line, the clamp edge's bending starts (update_window); the edge stretches node to
+  // node. The rest turns at the clamp vertex and the first free node scaled to the lengths they
+  // bend over (hinge_turn_scale_, update_weights).
+  double clamp_shift_mm_ = 0.0;
+  double hinge_turn_scale_[2] = {1.0, 1.0};
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;

@@ -7,6 +7,11 @@
 
 namespace cathbox::tool {
 
+// The shortest the clamp edge bends over, in its rest length, when the clamp's hinge is at the
+// entry point (RodSettings::clamp_hinge_at_entry): its bending stiffness grows as 1 / length, so
+// the hinge stays within this much of an edge behind the entry.
+inline constexpr double kClampEdgeFloor = 0.05;
+
 struct RodSettings {
   int newton_iterations = 8;               // most Gauss-Newton iterations on positions per step
   // A tick whose solve ends unconverged is solved again from its start in 2, then 4 ... (up to
@@ -75,6 +80,15 @@ struct RodSettings {
   // instead of along the chords between them (coils: a chord slide shortens every edge of a
   // loop, which the stiff axial springs then push back out in the solve).
   bool arc_predictor = false;
+  // The clamp's hinge at the entry point: the clamp edge (the last node not past the entry to
+  // the first free node) bends from the entry point, not from that node (up to an edge behind
+  // the entry), over the part of it past the entry (at least kClampEdgeFloor of it; the edge
+  // stretches node to node), so a node crossing the entry changes the free part's compliance by
+  // no step. Off: the hinge at the clamp node, half an edge of compliance gained or lost at
+  // every crossing. The Simulator sets it for a tool alone in the body, and off for one in a
+  // catheter or carrying others (docs/sim-tool/convergence.md, "The clamp's hinge at the entry
+  // point", where the other tools' runs with it are measured).
+  bool clamp_hinge_at_entry = true;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   // A compliant wall's layer (wall_penalty.hpp): past this penetration the wall's contact
   // stiffness is wall_stiffening times contact_stiffness_mN_per_mm. Infinity: one stiffness.
