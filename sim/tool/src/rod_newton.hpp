@@ -50,6 +50,7 @@ inline void Rod::add_grad(std::size_t k, const glm::dvec3& g) {
 // the energy and the twist call it per vertex.
 [[gnu::always_inline]] inline glm::dvec3 Rod::bend_residual(std::size_t i, const glm::dvec3& ta, const glm::dvec3& tb) const {
   glm::dvec3 r = tb - ta;
+  if (kturn1_[i] == 0.0 && kturn2_[i] == 0.0) return r;
   // The clamp vertex and the first free node bend over lengths of their own (update_weights).
   const double scale = turn_scale(i);
   if (kturn1_[i] != 0.0) r -= (m1_[i - 1] + m1_[i]) * (0.5 * kturn1_[i] * scale);

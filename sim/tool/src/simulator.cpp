@@ -67,11 +67,6 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   // Coils and the catheters they leave move in small iterations (no loop through another).
   for (std::size_t i = 0; i < n; ++i) {
     if (tools[i].kind == ToolKind::kCoil) apply_coil_settings(i);
-    // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone
-    // in the body, held by the introducer's valve; one in a catheter or carrying others keeps it
-    // at its clamp node (docs/sim-tool/convergence.md, "The clamp's hinge at the entry point").
-    const bool alone = outer_of_[i] >= n && std::none_of(outer_of_.begin(), outer_of_.end(), [i](std::size_t o) { return o == i; });
-    rods_[i].settings().clamp_hinge_at_entry = alone;
   }
   specs_.assign(tools.begin(), tools.end());
   loaded_.assign(n, 0);
@@ -85,6 +80,10 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   removed_mm_.assign(n, 0.0);
   free_start_.assign(n, 0.0);
   carrier_.assign(n, n);
+  // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone
+  // in the body, held by the introducer's valve; one in a catheter or carrying others keeps it
+  // at its clamp node (docs/sim-tool/convergence.md, "The clamp's hinge at the entry point").
+  for (std::size_t i = 0; i < n; ++i) rods_[i].settings().clamp_hinge_at_entry = lone(i);
   tip_segment_.assign(n, -1);
   tip_hint_.assign(n, WallHint{});
   extra_ei_.assign(max_nodes, 0.0);
