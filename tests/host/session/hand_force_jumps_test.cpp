@@ -1,5 +1,6 @@
 // Where the held tool's hand force changes by more than the box's slew (100 mN a 1 ms tick) in
-// the coiling run, the dead ends and the ADAPT M1 run, and from what (issue 29, "the feel"):
+// the coiling run, the dead ends, the ADAPT M1 run and the M1 stent retriever's (its wait cut),
+// and from what (issue 29, "the feel"):
 // every such tick printed with the held tool, the hand's speed and its change, the force split
 // into the tool's own part (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
 // (`Simulator::sheath`, with its slip limit's change) and the valves (`Simulator::valve`, its own
@@ -15,9 +16,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 
 #include "hand_force_trace.hpp"
+#include "stent_short_wait.hpp"
 
 namespace cathbox::session {
 namespace {
@@ -137,11 +140,18 @@ TEST_P(HandForceJumps, PrintsEveryChangeOverTheSlewWithItsParts) {
   JumpPrinter printer;
   test::HandForceTrace trace;
   const std::string root = std::string(CATHBOX_SOURCE_DIR) + "/";
-  SessionCaseLoad loaded = load_session_case(root + run.case_file);
+  SessionCaseLoad loaded = load_session_case(run.stent_short_wait ? fixtures::stent_short_wait_case() : root + run.case_file);
   ASSERT_TRUE(loaded) << loaded.error().message;
-  auto script = ActionScriptHand::load(root + run.actions, *loaded.value());
-  ASSERT_TRUE(script) << script.error().message;
-  Session s(std::move(loaded.value()), std::move(*script));
+  std::unique_ptr<Hand> hand;
+  if (run.stent_short_wait) {
+    hand = fixtures::script_hand(*loaded.value(), fixtures::stent_short_wait_script());
+  } else {
+    auto script = ActionScriptHand::load(root + run.actions, *loaded.value());
+    ASSERT_TRUE(script) << script.error().message;
+    hand = std::move(*script);
+  }
+  ASSERT_TRUE(hand);
+  Session s(std::move(loaded.value()), std::move(hand));
   s.add_observer(trace);
   s.add_observer(printer);
   while (!s.over() && s.step_virtual(1000) > 0) {
@@ -159,7 +169,9 @@ INSTANTIATE_TEST_SUITE_P(
                       FeelRun{"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"},
                       FeelRun{"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case",
                               "tests/host/session/data/dead_end.actions"},
-                      FeelRun{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"}),
+                      FeelRun{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"},
+                      FeelRun{"stent_retriever_m1", "cases/neuro_thrombectomy_m1_stentretriever.case",
+                              "cases/neuro_thrombectomy_m1_stentretriever.actions", true}),
     run_name);
 
 }  // namespace

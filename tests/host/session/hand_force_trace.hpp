@@ -28,6 +28,7 @@ struct FeelRun {
   const char* name;
   const char* case_file;  // relative to the source tree, or absolute
   const char* actions;
+  bool stent_short_wait = false;  // the bundled stent retriever run with its wait cut (stent_short_wait.hpp)
 };
 
 // Per tick: the held tool's hand force and its change since the last tick with the same tool.

@@ -7,60 +7,21 @@
 // Solitaire (Front Neurol 2024;15:1486738).
 #include <gtest/gtest.h>
 
-#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
-#include "base/read_file.hpp"
 #include "flow/centerline_locator.hpp"
 #include "hand_force_trace.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
 #include "session/thrombectomy_unit.hpp"
 #include "session_fixtures.hpp"
+#include "stent_short_wait.hpp"
 
 namespace cathbox::session {
 namespace {
-
-const std::string kCases = std::string(CATHBOX_SOURCE_DIR) + "/cases/";
-
-// The bundled case and script with the embedding time cut from 180 s to 5 s: the case's
-// `embed=` and every script time from the end of the wait on moved 175 s earlier. The bundled
-// wait costs ~150 s of CPU (the whole script 196 s); the access, unsheathing and retrieval are
-// the same.
-constexpr std::int64_t kWaitCut_ms = 175'000;
-
-std::string short_wait_case() {
-  std::string text = base::read_file(kCases + "neuro_thrombectomy_m1_stentretriever.case", 1 << 20).value();
-  const auto replace = [&](const std::string& from, const std::string& to) {
-    const std::size_t at = text.find(from);
-    EXPECT_NE(at, std::string::npos) << from;
-    if (at != std::string::npos) text.replace(at, from.size(), to);
-  };
-  replace("embed=180", "embed=5");
-  replace("\nvessel neuro.hclm", "\nvessel " + kCases + "neuro.hclm");
-  const std::string path = fixtures::temp_path("session_test", "stent_retriever_short.case");
-  std::ofstream(path) << text;
-  return path;
-}
-
-std::string short_wait_script(const std::string& name = "neuro_thrombectomy_m1_stentretriever.actions") {
-  std::ifstream in(kCases + name);
-  std::ostringstream out;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::int64_t at_ms = 0;
-    std::size_t digits = 0;
-    if (!line.empty() && std::isdigit(static_cast<unsigned char>(line[0])) != 0) at_ms = std::stoll(line, &digits);
-    if (at_ms > 48'000) line = std::to_string(at_ms - kWaitCut_ms) + line.substr(digits);
-    out << line << '\n';
-  }
-  return out.str();
-}
 
 // The held tool's hand force, tick to tick while the hand holds the same tool: its largest change
 // (the box slews at most 100 mN a tick: hand_force_replay_test.cpp) and where.
@@ -111,9 +72,9 @@ class ConvergenceFrom : public TickObserver {
 };
 
 TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) {
-  SessionCaseLoad loaded = load_session_case(short_wait_case());
+  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case());
   ASSERT_TRUE(loaded) << loaded.error().message;
-  std::unique_ptr<Hand> script = fixtures::script_hand(*loaded.value(), short_wait_script());
+  std::unique_ptr<Hand> script = fixtures::script_hand(*loaded.value(), fixtures::stent_short_wait_script());
   ASSERT_TRUE(script);
   const std::string path = fixtures::temp_path("session_test", "stent_retriever_m1.cbxrec");
   Metrics live;
@@ -124,7 +85,7 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     const std::size_t stent = s.simulator().find_tool("stent");
     HeldForceSlew slew;
     s.add_observer(slew);
-    ConvergenceFrom retrieval(static_cast<std::int64_t>(228'000 - kWaitCut_ms) * 1000);  // the microcatheter into the guide
+    ConvergenceFrom retrieval(static_cast<std::int64_t>(228'000 - fixtures::kStentWaitCut_ms) * 1000);  // the microcatheter into the guide
     s.add_observer(retrieval);
     double integration = 0.0;
     while (!s.over()) {
@@ -207,10 +168,10 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
 // M1, where it lodges tens of ms later: an embolus, eTICI 0, against the careful run's eTICI 3
 // in one pass without emboli (thrombectomy_unit.hpp, "Stent retrievers").
 TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
-  SessionCaseLoad loaded = load_session_case(short_wait_case());
+  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case());
   ASSERT_TRUE(loaded) << loaded.error().message;
   std::unique_ptr<Hand> script =
-      fixtures::script_hand(*loaded.value(), short_wait_script("neuro_thrombectomy_m1_stentretriever_careless.actions"));
+      fixtures::script_hand(*loaded.value(), fixtures::stent_short_wait_script("neuro_thrombectomy_m1_stentretriever_careless.actions"));
   ASSERT_TRUE(script);
   Session s(std::move(loaded.value()), std::move(script));
   ASSERT_TRUE(s.thrombectomy());
