@@ -99,7 +99,11 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
     if (sim.coils_loaded(coil) == 1) {
       const RodContactField::Overlap o = sim.worst_coil_overlap();
       if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > second_overlap.fraction) {
-        second_overlap = {o.depth_mm / o.diameter_mm, metrics.figures().deployed_mm - c->tools[coil].detach_mm};
+        second_overlap.fraction = o.depth_mm / o.diameter_mm;
+        second_overlap.at_mm = metrics.figures().deployed_mm - c->tools[coil].detach_mm;
+      }
+      if (sim.detached_count() == 1) {
+        second_overlap.closest_mm = std::min(second_overlap.closest_mm, closest_to_first_released(sim, coil));
       }
     }
     if (player->settled(now, 100)) break;
@@ -127,9 +131,10 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   EXPECT_LT(pusher_peak_mN, 5.0e4);
   std::printf("pusher after detach: peak %.0f mN\n", pusher_peak_mN);
   std::printf("two coils: %.1f mm deployed, packing %.2f %% of %.1f mm3, %d herniations, kick-back %.2f mm, "
-              "second coil's deepest overlap %.1f %% of the diameter\n",
+              "second coil's deepest overlap %.1f %% of the diameter, closest to the first %.2f mm while pushed\n",
               metrics.figures().deployed_mm, 100.0 * metrics.figures().packing_density, sac.volume_mm3,
-              metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction);
+              metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction,
+              second_overlap.closest_mm);
   // Each release's push on the coil (CoilMetrics' detach force): the bundled script detaches at
   // rest with the hand still holding the coil against the dome at its markers, under tension
   // (docs/sim-tool/convergence.md, "Detaching in neutral": easing the hand back first unloads the
