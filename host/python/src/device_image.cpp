@@ -52,8 +52,8 @@ void render_device_image(const tool::Snapshot& state, const flow::CArm& c_arm, i
   for (const tool::ToolSnapshot& t : state.tools) {
     std::fill(chord, chord + pixels, 0.0F);
     draw_tube(t, c_arm, width, height, chord);
-    const auto mu = static_cast<float>((t.kind == tool::ToolKind::kCatheter || t.kind == tool::ToolKind::kBalloon) ? settings.catheter_mu_per_mm
-                                                                           : settings.guidewire_mu_per_mm);
+    const auto mu =
+        static_cast<float>(tool::is_catheter(t.kind) ? settings.catheter_mu_per_mm : settings.guidewire_mu_per_mm);
     for (std::size_t i = 0; i < pixels; ++i) depth[i] += mu * chord[i];
   }
   for (std::size_t i = 0; i < pixels && i < out.size(); ++i) {

@@ -81,9 +81,10 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   free_start_.assign(n, 0.0);
   carrier_.assign(n, n);
   // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone
-  // in the body, held by the introducer's valve; one in a catheter or carrying others keeps it
-  // at its clamp node (docs/sim-tool/convergence.md, "The clamp's hinge at the entry point").
-  for (std::size_t i = 0; i < n; ++i) rods_[i].settings().clamp_hinge_at_entry = lone(i);
+  // in the body, held by the introducer's valve, and for every catheter (balloon catheters
+  // included); a wire or a coil in a catheter keeps it at its clamp node (docs/sim-tool/
+  // convergence.md, "The clamp's hinge at the entry point" and "Catheters hinged at the entry").
+  for (std::size_t i = 0; i < n; ++i) rods_[i].settings().clamp_hinge_at_entry = lone(i) || is_catheter(tools[i].kind);
   tip_segment_.assign(n, -1);
   tip_hint_.assign(n, WallHint{});
   extra_ei_.assign(max_nodes, 0.0);

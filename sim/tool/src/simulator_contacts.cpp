@@ -36,10 +36,11 @@ bool Simulator::unsheathing(std::size_t u) const {
 // An unconverged tick is solved again in sub-increments (Rod::step) for a lone tool and for a
 // tool carried in a catheter (a guidewire carrying nothing, a catheter, an attached coil) while
 // neither it nor any catheter around it is steered by what it carries (steered_now), no stent
-// is on it and none inside it is being unsheathed (convergence.md, "Sub-stepped ticks",
+// on it or inside it is being unsheathed (convergence.md, "Sub-stepped ticks",
 // "Sub-stepped carried wires", "Sub-stepped carried catheters and coils": a stent retriever's
-// re-solves cost the stent case's p99 several ticks; a steered stack's path left main's in the
-// thrombectomy run). In a stack whose
+// re-solves while unsheathed cost the stent case's p99 several ticks; a steered stack's path
+// left main's in the thrombectomy run; "Catheters hinged at the entry": wholly out, as in its
+// retrieval, it is sub-stepped). In a stack whose
 // only steerable catheter is its outermost one, a balloon guide, that guide's steering does not
 // hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide"); in any
 // balloon guide's stack, no steering holds back a wire, a coil or a catheter its wire steers
@@ -65,7 +66,7 @@ bool Simulator::substepped(std::size_t t) const {
     return false;
   }
   for (std::size_t u = 0; u < n; ++u) {
-    if (u == t && specs_[u].stent.present()) return false;
+    if (u == t && specs_[u].stent.present() && unsheathing(u)) return false;
     // One in the catheter's hub or wholly out keeps back only a catheter its wire does not steer
     // (the Solumbra stacks' microcatheter, in an aspiration catheter: not measured sub-stepped).
     if (u != t && nested_in(u, t) && specs_[u].stent.present() &&

@@ -32,9 +32,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // friction's capstan reads an inner tool's free-part push no higher than the free part's external
 // forces sum to, 22 since the lumen read blends the radii of the tubes (or centrelines) a point
 // lies in (LumenBlend: a stent retriever's expansion no longer steps at a junction), 23 since a
-// tool alone in the body bends from the entry point (RodSettings::clamp_hinge_at_entry). An older
+// tool alone in the body bends from the entry point (RodSettings::clamp_hinge_at_entry), 24 since a
+// catheter bends from it too and a wholly unsheathed stent retriever is sub-stepped. An older
 // record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 23;
+inline constexpr std::uint16_t kFormatVersion = 24;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

@@ -85,9 +85,10 @@ struct RodSettings {
   // the entry), over the part of it past the entry (at least kClampEdgeFloor of it; the edge
   // stretches node to node), so a node crossing the entry changes the free part's compliance by
   // no step. Off: the hinge at the clamp node, half an edge of compliance gained or lost at
-  // every crossing. The Simulator sets it for a tool alone in the body, and off for one in a
-  // catheter or carrying others (docs/sim-tool/convergence.md, "The clamp's hinge at the entry
-  // point", where the other tools' runs with it are measured).
+  // every crossing. The Simulator sets it for a tool alone in the body and for every catheter,
+  // and off for a wire or a coil in a catheter (docs/sim-tool/convergence.md, "The clamp's hinge
+  // at the entry point", where the other tools' runs with it are measured, and "Catheters hinged
+  // at the entry").
   bool clamp_hinge_at_entry = true;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   // A compliant wall's layer (wall_penalty.hpp): past this penetration the wall's contact

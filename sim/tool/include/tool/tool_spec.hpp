@@ -14,6 +14,9 @@ namespace cathbox::tool {
 
 enum class ToolKind : std::uint8_t { kGuidewire = 0, kCatheter = 1, kCoil = 2, kBalloon = 3 };
 
+// A tube: a catheter or a balloon catheter (guides, aspiration catheters, microcatheters).
+constexpr bool is_catheter(ToolKind kind) { return kind == ToolKind::kCatheter || kind == ToolKind::kBalloon; }
+
 // Secondary (rest) shape of a coil section. The primary wind (the platinum wire wound into a
 // soft spring of the section's outer diameter) is the section's od, ei and gj; the secondary
 // shape is its rest curvature, taken up as the coil leaves the microcatheter:
