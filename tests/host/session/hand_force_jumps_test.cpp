@@ -140,7 +140,9 @@ TEST_P(HandForceJumps, PrintsEveryChangeOverTheSlewWithItsParts) {
   JumpPrinter printer;
   test::HandForceTrace trace;
   const std::string root = std::string(CATHBOX_SOURCE_DIR) + "/";
-  SessionCaseLoad loaded = load_session_case(run.stent_short_wait ? fixtures::stent_short_wait_case() : root + run.case_file);
+  const std::string case_file =
+      run.stent_short_wait ? fixtures::stent_short_wait_case("stent_retriever_short_jumps.case") : root + run.case_file;
+  SessionCaseLoad loaded = load_session_case(case_file);
   ASSERT_TRUE(loaded) << loaded.error().message;
   std::unique_ptr<Hand> hand;
   if (run.stent_short_wait) {

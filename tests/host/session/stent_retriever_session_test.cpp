@@ -72,7 +72,7 @@ class ConvergenceFrom : public TickObserver {
 };
 
 TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) {
-  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case());
+  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case("stent_retriever_short.case"));
   ASSERT_TRUE(loaded) << loaded.error().message;
   std::unique_ptr<Hand> script = fixtures::script_hand(*loaded.value(), fixtures::stent_short_wait_script());
   ASSERT_TRUE(script);
@@ -168,10 +168,11 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
 // M1, where it lodges tens of ms later: an embolus, eTICI 0, against the careful run's eTICI 3
 // in one pass without emboli (thrombectomy_unit.hpp, "Stent retrievers").
 TEST(StentRetrieverSession, CarelessRunWithoutFlowArrestLosesTheClot) {
-  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case());
+  SessionCaseLoad loaded = load_session_case(fixtures::stent_short_wait_case("stent_retriever_short_careless.case"));
   ASSERT_TRUE(loaded) << loaded.error().message;
   std::unique_ptr<Hand> script =
-      fixtures::script_hand(*loaded.value(), fixtures::stent_short_wait_script("neuro_thrombectomy_m1_stentretriever_careless.actions"));
+      fixtures::script_hand(*loaded.value(),
+                            fixtures::stent_short_wait_script("neuro_thrombectomy_m1_stentretriever_careless.actions"));
   ASSERT_TRUE(script);
   Session s(std::move(loaded.value()), std::move(script));
   ASSERT_TRUE(s.thrombectomy());

@@ -19,8 +19,9 @@ namespace cathbox::session::fixtures {
 
 constexpr std::int64_t kStentWaitCut_ms = 175'000;
 
-// The short-wait case, written below the build tree; its path.
-inline std::string stent_short_wait_case() {
+// The short-wait case, written below the build tree as `file` (each test its own: ctest runs
+// them side by side, and one writing the file another reads would hand it a part); its path.
+inline std::string stent_short_wait_case(const std::string& file) {
   std::string text = base::read_file(case_path("neuro_thrombectomy_m1_stentretriever.case"), 1 << 20).value();
   const auto replace = [&](const std::string& from, const std::string& to) {
     const std::size_t at = text.find(from);
@@ -29,7 +30,7 @@ inline std::string stent_short_wait_case() {
   };
   replace("embed=180", "embed=5");
   replace("\nvessel neuro.hclm", "\nvessel " + case_path("neuro.hclm"));
-  const std::string path = temp_path("session_test", "stent_retriever_short.case");
+  const std::string path = temp_path("session_test", file);
   std::ofstream(path) << text;
   return path;
 }
