@@ -13,6 +13,11 @@ inline constexpr bool kCoilBendReaction = false;
 // The push of a carried wire on its balloon catheter's tip, lagged a tick: new = r new + (1 - r)
 // old. The angioplasty run's guidewire is unconverged on 0.04 % of its ticks at 0.1, 0.16 % at 0.5.
 inline constexpr double kTipPushRelaxation = 0.1;
+// The most that push changes in a step on a balloon catheter (decay and new push together): the
+// relaxation times the box's slew (100 mN a tick), so an inner tool's clamp that changes by up to
+// the slew moves it at the full relaxed rate and a wall touch's 700-850 mN at the slew's
+// (Simulator::limit_tip_push).
+inline constexpr double kTipPushSlew_mN = kTipPushRelaxation * 100.0;
 // Most sub-increments a lone tool's unconverged tick is solved again in (RodSettings::substeps_max).
 inline constexpr int kLoneToolSubsteps = 4;
 // And a catheter directly in a balloon guide (the aspiration stacks' aspiration catheter): its pass,

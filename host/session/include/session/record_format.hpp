@@ -33,9 +33,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // forces sum to, 22 since the lumen read blends the radii of the tubes (or centrelines) a point
 // lies in (LumenBlend: a stent retriever's expansion no longer steps at a junction), 23 since a
 // tool alone in the body bends from the entry point (RodSettings::clamp_hinge_at_entry), 24 since a
-// catheter bends from it too and a wholly unsheathed stent retriever is sub-stepped. An older
+// catheter bends from it too and a wholly unsheathed stent retriever is sub-stepped, 25 since a
+// carried tool's push on a balloon catheter's tip changes by at most 10 mN a step. An older
 // record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 24;
+inline constexpr std::uint16_t kFormatVersion = 25;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

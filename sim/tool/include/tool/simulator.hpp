@@ -93,6 +93,9 @@ class Simulator {
   [[nodiscard]] double hand_torque_mNmm(std::size_t tool) const;
   [[nodiscard]] ForceLaw force_law(std::size_t tool) const;
   [[nodiscard]] TipPose tip(std::size_t tool) const { return rods_[tool].tip(); }
+  // The push the tools a catheter carries put on its tip node (steering; zero on a tool that
+  // carries none or is not steered): lagged a step, relaxed, its change bounded.
+  [[nodiscard]] glm::dvec3 tip_push_mN(std::size_t tool) const { return tip_push_[tool]; }
   // Depth past the entry of a tool's tip, and where its own (simulated) part begins: the
   // furthest tip of the catheters around it (0 for a tool in the vessel).
   [[nodiscard]] double tip_depth_mm(std::size_t tool) const;
@@ -178,6 +181,7 @@ class Simulator {
   [[nodiscard]] bool unsheathing(std::size_t u) const;  // stent u part out of its catheters, part in
   [[nodiscard]] bool balloon_guide(std::size_t c) const;  // c is outermost and a balloon catheter (kAlways)
   void update_sheath(std::size_t tool, double dt_s);
+  void limit_tip_push();
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
   [[nodiscard]] bool steered_now(std::size_t c) const;
   void build_sheath_path(std::size_t tool, std::vector<SheathVertex>& path) const;
@@ -211,6 +215,7 @@ class Simulator {
   std::vector<std::vector<glm::dvec3>> coupling_next_;  // loads for the next step, per tool node
   std::vector<IndexRange> coupling_set_;                 // nodes of each coupling_next_ ever loaded
   std::vector<glm::dvec3> tip_push_;  // per tool: the tools it carries pushing on its tip node, relaxed
+  std::vector<glm::dvec3> tip_push_before_;  // scratch: tip_push_ at the start of the step
   std::vector<glm::dvec3> converged_clamp_;  // per tool: its clamp force at its last converged step
   std::vector<double> hand_force_, hand_torque_;
   std::vector<ValveFriction> valve_;
