@@ -456,6 +456,19 @@ TEST(NestedTools, ABalloonCatheterIsSteeredParkedToo) {
   EXPECT_GT(apart[1], 1e-6);
 }
 
+// The triaxial stack with its microcatheter steered as a balloon catheter is, parked too
+// (InnerSteering::kAlways), and its wire steered into a branch beyond that tip and parked 200 steps.
+std::vector<ToolSpec> balloon_steered_stack() {
+  std::vector<ToolSpec> tools = triaxial_stack();
+  tools[1].steered_by_inner = InnerSteering::kAlways;
+  return tools;
+}
+
+void park_wire_in_a_branch(Simulator& sim) {
+  steer_wire_into_a_branch(sim);
+  for (int i = 0; i < 200; ++i) sim.step();
+}
+
 // A steered catheter takes its wire's push from the wire's last converged step: an unconverged
 // step's clamp force is its leftover penetration's penalty. The ADAPT M1 run's microwire, its
 // clamp carried 1.5 mm sideways in a tick by its microcatheter's tip, read up to 790 N there, and
@@ -467,11 +480,8 @@ TEST(NestedTools, ABalloonCatheterIsSteeredParkedToo) {
 // wire's axial force; before, the tip moved 2.1 mm).
 TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
-  std::vector<ToolSpec> tools = triaxial_stack();
-  tools[1].steered_by_inner = InnerSteering::kAlways;
-  Simulator sim(wall, tools, kTriaxialEntry);
-  steer_wire_into_a_branch(sim);
-  for (int i = 0; i < 200; ++i) sim.step();  // parked
+  Simulator sim(wall, balloon_steered_stack(), kTriaxialEntry);
+  park_wire_in_a_branch(sim);
   ASSERT_TRUE(sim.rod(2).converged());
   const glm::dvec3 parked = sim.tip(1).position_mm;
   sim.rod_settings(2).newton_iterations = 1;
@@ -498,11 +508,8 @@ TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
 // parked wire's push, so the bound holds nothing.
 TEST(NestedTools, ABalloonCatheterTipsPushChangesByAtMostTheSlewsTenthAStep) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
-  std::vector<ToolSpec> tools = triaxial_stack();
-  tools[1].steered_by_inner = InnerSteering::kAlways;
-  Simulator sim(wall, tools, kTriaxialEntry);
-  steer_wire_into_a_branch(sim);
-  for (int i = 0; i < 200; ++i) sim.step();  // parked
+  Simulator sim(wall, balloon_steered_stack(), kTriaxialEntry);
+  park_wire_in_a_branch(sim);
   const double parked = glm::length(sim.tip_push_mN(1));
   const std::size_t node = sim.rod(2).first_free_node();
   sim.set_node_load(2, node, {3.0e2, 0.0, 0.0});
