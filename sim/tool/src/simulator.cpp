@@ -297,11 +297,12 @@ void Simulator::step_released(double dt_s) {
 
 // A balloon catheter's tip (steered by what it carries even parked, InnerSteering::kAlways)
 // takes that push changed by at most tuning::kTipPushSlew_mN a step: a one-tick wall touch of the
-// inner tool's stub (its clamp 700-850 mN across the tip) no longer lands a tenth of itself on the
-// tip at once, throwing it off the touch and the stub back onto the wall some ticks later (the
-// ADAPT run's balloon guide; convergence.md, "The balloon guide's steering push bounded"). Not on
-// a catheter steered while advanced: bounded there too, the M1 Solumbra run's parked
-// microcatheter was left unconverged on 21 % of its ticks (0.24 % unbounded).
+// inner tool's short free part beyond the tip (its clamp 700-850 mN across the tip) no longer
+// lands a tenth of itself on the tip at once, throwing the tip off the touch and that free part
+// back onto the wall some ticks later (the ADAPT run's balloon guide; convergence.md, "The
+// balloon guide's steering push bounded"). Not on a catheter steered while advanced: bounded
+// there too, the M1 Solumbra run's parked microcatheter was left unconverged on 21 % of its ticks
+// (0.24 % unbounded).
 void Simulator::limit_tip_push() {
   for (std::size_t t = 0; t < tip_push_.size(); ++t) {
     if (specs_[t].steered_by_inner != InnerSteering::kAlways) continue;

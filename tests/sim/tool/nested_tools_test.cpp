@@ -498,14 +498,14 @@ TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
 }
 
 // A balloon catheter's tip takes its wire's push changed by at most the slew's tenth a step
-// (tuning::kTipPushSlew_mN, 10 mN): the ADAPT M1 run's aspiration catheter, its stub touching
-// the wall for one tick (its clamp 700-850 mN across the balloon guide's tip), put a tenth of that
-// on the guide's tip at once and threw it off the wall 0.6-0.7 mm, to come back 6-9 ticks later
-// (convergence.md, "The balloon guide's steering push bounded"). Here the parked wire beyond a
-// balloon catheter's tip is loaded 300 mN across its first free node at once (its clamp then
-// swings by up to ~500 mN a step, a tenth of which the push took unbounded): the push changes by
-// no more than 10 mN a step and reaches that bound; with the load gone it falls back to the
-// parked wire's push, so the bound holds nothing.
+// (tuning::kTipPushSlew_mN, 10 mN): the ADAPT M1 run's aspiration catheter, its 2-3 mm free part
+// beyond the balloon guide touching the wall for one tick (its clamp 700-850 mN across the guide's
+// tip), put a tenth of that on the guide's tip at once and threw it off the wall 0.6-0.7 mm, to
+// come back 6-9 ticks later (convergence.md, "The balloon guide's steering push bounded"). Here
+// the parked wire beyond a balloon catheter's tip is loaded 300 mN across its first free node at
+// once (its clamp then swings by up to ~500 mN a step, a tenth of which the push took unbounded):
+// the push changes by no more than 10 mN a step and reaches that bound; with the load gone it
+// falls back to the parked wire's push, so the bound holds nothing.
 TEST(NestedTools, ABalloonCatheterTipsPushChangesByAtMostTheSlewsTenthAStep) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
   Simulator sim(wall, balloon_steered_stack(), kTriaxialEntry);
