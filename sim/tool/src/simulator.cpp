@@ -80,11 +80,6 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   removed_mm_.assign(n, 0.0);
   free_start_.assign(n, 0.0);
   carrier_.assign(n, n);
-  // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone
-  // in the body, held by the introducer's valve, and for every catheter (balloon catheters
-  // included); a wire or a coil in a catheter keeps it at its clamp node (docs/sim-tool/
-  // convergence.md, "The clamp's hinge at the entry point" and "Catheters hinged at the entry").
-  for (std::size_t i = 0; i < n; ++i) rods_[i].settings().clamp_hinge_at_entry = lone(i) || is_catheter(tools[i].kind);
   tip_segment_.assign(n, -1);
   tip_hint_.assign(n, WallHint{});
   extra_ei_.assign(max_nodes, 0.0);
@@ -108,6 +103,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
     }
   }
   steer_catheters_in_balloon_guides(tools, specs_);
+  for (std::size_t i = 0; i < n; ++i) rods_[i].settings().clamp_hinge_at_entry = hinged_at_entry(i);
   stents_.resize(n);
   tip_grip_.assign(n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -295,17 +291,44 @@ void Simulator::step_released(double dt_s) {
   }
 }
 
-// A balloon catheter's tip (steered by what it carries even parked, InnerSteering::kAlways)
-// takes that push changed by at most tuning::kTipPushSlew_mN a step: a one-tick wall touch of the
-// inner tool's short free part beyond the tip (its clamp 700-850 mN across the tip) no longer
-// lands a tenth of itself on the tip at once, throwing the tip off the touch and that free part
-// back onto the wall some ticks later (the ADAPT run's balloon guide; convergence.md, "The
-// balloon guide's steering push bounded"). Not on a catheter steered while advanced: bounded
-// there too, the M1 Solumbra run's parked microcatheter was left unconverged on 21 % of its ticks
-// (0.24 % unbounded).
+// The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone in
+// the body, held by the introducer's valve, for every catheter (balloon catheters included), and
+// for a guidewire in a catheter its inner tools steer, but a stent retriever's push wire: that
+// catheter's tip yields to the hinged wire's stronger moment (its push bounded, push_bounded).
+// A coil, and a wire in an unsteered catheter, keep it at the clamp node: the M1 Solumbra run's
+// microwire, hinged at its unsteered microcatheter's tip while that catheter was advanced over
+// it, read 26-490 N of clamp force and was unconverged on 0.59 % of its ticks (convergence.md,
+// "The clamp's hinge at the entry point", "Catheters hinged at the entry" and "Wires hinged in
+// the catheters they steer").
+bool Simulator::hinged_at_entry(std::size_t t) const {
+  const ToolSpec& s = specs_[t];
+  if (lone(t) || is_catheter(s.kind)) return true;
+  const std::size_t o = outer_of_[t];
+  return s.kind == ToolKind::kGuidewire && !s.stent.present() && o < rods_.size() &&
+         specs_[o].steered_by_inner != InnerSteering::kNone;
+}
+
+// A balloon catheter's tip (steered by what it carries even parked, InnerSteering::kAlways), and
+// the tip of a catheter with a wire hinged at it (hinged_at_entry), take that push changed by at
+// most tuning::kTipPushSlew_mN a step: a one-tick wall touch of the inner tool's short free part
+// beyond the tip (its clamp 700-850 mN across the tip) no longer lands a tenth of itself on the
+// tip at once, throwing the tip off the touch and that free part back onto the wall some ticks
+// later (the ADAPT run's balloon guide; convergence.md, "The balloon guide's steering push
+// bounded"), and the hinged wire's clamp does not steer its catheter's tip into the M1 accesses'
+// crease (23.0 s). Not on a catheter that carries only catheters and is steered while advanced:
+// bounded there too, the M1 Solumbra run's parked microcatheter was left unconverged on 21 % of its
+// ticks (0.24 % unbounded).
+bool Simulator::push_bounded(std::size_t c) const {
+  if (specs_[c].steered_by_inner == InnerSteering::kAlways) return true;
+  for (std::size_t u = 0; u < rods_.size(); ++u) {
+    if (outer_of_[u] == c && specs_[u].kind == ToolKind::kGuidewire && rods_[u].settings().clamp_hinge_at_entry) return true;
+  }
+  return false;
+}
+
 void Simulator::limit_tip_push() {
   for (std::size_t t = 0; t < tip_push_.size(); ++t) {
-    if (specs_[t].steered_by_inner != InnerSteering::kAlways) continue;
+    if (!push_bounded(t)) continue;
     const glm::dvec3 change = tip_push_[t] - tip_push_before_[t];
     const double length = glm::length(change);
     if (length > tuning::kTipPushSlew_mN) tip_push_[t] = tip_push_before_[t] + change * (tuning::kTipPushSlew_mN / length);

@@ -10,10 +10,11 @@ inline constexpr double kCouplingRelaxation = 0.5;  // loads from inner tools: n
 // (its case's criterion: <= 2) and the dense case's tip falls back to the neck plane after the
 // frame (docs/sim-tool/coiling.md, "Dense coiling"), so it waits for a case that holds the tip.
 inline constexpr bool kCoilBendReaction = false;
-// The push of a carried wire on its balloon catheter's tip, lagged a tick: new = r new + (1 - r)
+// The push of a carried wire on its steered catheter's tip, lagged a tick: new = r new + (1 - r)
 // old. The angioplasty run's guidewire is unconverged on 0.04 % of its ticks at 0.1, 0.16 % at 0.5.
 inline constexpr double kTipPushRelaxation = 0.1;
-// The most that push changes in a step on a balloon catheter (decay and new push together): the
+// The most that push changes in a step on a balloon catheter, or on a catheter with a guidewire
+// hinged at its tip (Simulator::push_bounded; decay and new push together): the
 // relaxation times the box's slew (100 mN a tick), so an inner tool's clamp that changes by up to
 // the slew moves it at the full relaxed rate and a wall touch's 700-850 mN at the slew's
 // (Simulator::limit_tip_push).

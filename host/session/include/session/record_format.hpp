@@ -34,9 +34,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // lies in (LumenBlend: a stent retriever's expansion no longer steps at a junction), 23 since a
 // tool alone in the body bends from the entry point (RodSettings::clamp_hinge_at_entry), 24 since a
 // catheter bends from it too and a wholly unsheathed stent retriever is sub-stepped, 25 since a
-// carried tool's push on a balloon catheter's tip changes by at most 10 mN a step. An older
-// record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 25;
+// carried tool's push on a balloon catheter's tip changes by at most 10 mN a step, 26 since a
+// guidewire in a catheter it steers bends from that catheter's tip and its push there is bounded
+// too. An older record is refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 26;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
