@@ -137,13 +137,29 @@ void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm
   }
 }
 
-// A balloon catheter always; an aspiration catheter while its hand advances it (its tip deeper
-// than the step before).
+// A balloon catheter always; an aspiration catheter (and a catheter it or a balloon guide carries)
+// while its hand advances it (its tip deeper than the step before) or while a wire or catheter
+// leaving its tip is drawn back into it (that tool's tip shallower than the step before; not a
+// stent retriever: the careless M1 run's stent re-sheathed into its microcatheter read 0.381 N
+// against 0.151, its cage's lean steering the tip it is stripped at). Drawn back, the
+// tool's free part shortens to a stub whose lean on the tip grows as its length falls: held by
+// a tip that never gives, the ADAPT run's microcatheter drawn into its parked aspiration
+// catheter, its 1 mm stub pressed on the wall, read up to 1.1 N of clamp force, 1.0 N of it
+// along the tip, and swung 150-570 mN a tick (convergence.md, "A carrier steered while its tool
+// is drawn back"). Not while both are parked: the Solumbra microcatheter leaning on the parked
+// aspiration catheter's tip stalled the stent's steps (docs/session/thrombectomy.md).
 bool Simulator::steered_now(std::size_t c) const {
   switch (specs_[c].steered_by_inner) {
     case InnerSteering::kAlways: return true;
-    case InnerSteering::kWhileAdvanced: return tip_depth_mm(c) > stepped_depth_[c] + 1e-9;
+    case InnerSteering::kWhileAdvanced: return tip_depth_mm(c) > stepped_depth_[c] + 1e-9 || drawn_back_into(c);
     case InnerSteering::kNone: return false;
+  }
+  return false;
+}
+
+bool Simulator::drawn_back_into(std::size_t c) const {
+  for (std::size_t u = 0; u < rods_.size(); ++u) {
+    if (carrier_[u] == c && !specs_[u].stent.present() && tip_depth_mm(u) < stepped_depth_[u] - 1e-9) return true;
   }
   return false;
 }

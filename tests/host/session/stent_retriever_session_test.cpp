@@ -123,7 +123,9 @@ TEST(StentRetrieverSession, M1ClotRetrievedUnderFlowArrestReperfusesAndReplays) 
     // behind the microcatheter's tip, each node crossing that tip changed its hand force by up to
     // 395 mN (10 ticks over 100 mN at 34.08-34.12 s). It bends from the tip of the microcatheter it
     // steers now (Simulator::hinged_at_entry; convergence.md, "Wires hinged in the catheters they
-    // steer"): its last tick there (-322.6 mN at 34.125 s, the wire's end leaving the tip) remains.
+    // steer"), and that tip gives to it while it is drawn back ("A carrier steered while its tool
+    // is drawn back": its end entering the tip then read -322.6 mN in a tick); one tick over the
+    // slew remains (-131.2 mN at 34.118 s, 90 mN of it the lumen friction turning to slip).
     const std::size_t microwire = s.simulator().find_tool("microwire");
     ASSERT_LT(microwire, slew.per_tool_over_100.size());
     EXPECT_LE(slew.per_tool_over_100[microwire], 1);

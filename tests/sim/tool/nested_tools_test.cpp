@@ -451,6 +451,31 @@ TEST(NestedTools, ASteeredCatheterIsSteeredOnlyWhileItIsAdvanced) {
   EXPECT_GT(apart[1], 1e-6);
 }
 
+// ... and while the wire leaving its tip is drawn back into it (a wire or a catheter; not a stent
+// retriever being re-sheathed: Simulator::steered_now): the shortening free part's lean
+// on the tip is a reaction the tip gives to (the ADAPT run's microcatheter drawn into its parked
+// aspiration catheter, its stub pressed on the wall, read 1.1 N at a tip that never gave;
+// convergence.md, "A carrier steered while its tool is drawn back"). Both stacks parked 200 steps
+// as above, then both wires drawn back 4 mm at 0.02 mm a step: the steered catheter's tip leaves
+// the unsteered one's.
+TEST(NestedTools, ASteeredCatheterIsSteeredWhileItsWireIsDrawnBackThroughItsTip) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  std::vector<ToolSpec> steered = triaxial_stack();
+  steered[1].steered_by_inner = InnerSteering::kWhileAdvanced;
+  Simulator a(wall, triaxial_stack(), kTriaxialEntry);
+  Simulator b(wall, steered, kTriaxialEntry);
+  a.rod_settings(2).clamp_hinge_at_entry = b.rod(2).settings().clamp_hinge_at_entry;
+  for (Simulator* sim : {&a, &b}) {
+    steer_wire_into_a_branch(*sim);
+    for (int i = 0; i < 200; ++i) sim->step();
+  }
+  EXPECT_LT(glm::length(a.tip(1).position_mm - b.tip(1).position_mm), 1e-12);
+  for (Simulator* sim : {&a, &b}) drive(*sim, 2, sim->insertion_mm(2) - 4.0, 0.02);
+  const double apart = glm::length(a.tip(1).position_mm - b.tip(1).position_mm);
+  std::printf("the microcatheters' tips %.4f mm apart after the wire was drawn back 4 mm\n", apart);
+  EXPECT_GT(apart, 1e-3);
+}
+
 // A balloon catheter (InnerSteering::kAlways) takes it parked too: the wire's lean on its tip is
 // a reaction whether or not the hand moves the catheter (sim/tool README, "Coaxial tools").
 TEST(NestedTools, ABalloonCatheterIsSteeredParkedToo) {

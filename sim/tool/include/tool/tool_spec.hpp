@@ -63,7 +63,7 @@ struct StentRetrieverSpec {
 enum class InnerSteering : std::uint8_t {
   kNone,           // not steered (the coiling stack's microcatheter: docs/sim-tool/convergence.md)
   kAlways,         // a balloon catheter (the Simulator sets it): parked or advanced, its wire steers it
-  kWhileAdvanced,  // an aspiration catheter (tool::steer_aspiration_catheters): only while its hand advances it
+  kWhileAdvanced,  // an aspiration catheter (tool::steer_aspiration_catheters): while its hand advances it, or a wire or catheter leaving its tip is drawn back
 };
 
 struct ToolSpec {
