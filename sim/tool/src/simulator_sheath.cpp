@@ -142,9 +142,9 @@ void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm
 // leaving its tip is drawn back into it (that tool's tip shallower than the step before; not a
 // stent retriever: the careless M1 run's stent re-sheathed into its microcatheter read 0.381 N
 // against 0.151, its cage's lean steering the tip it is stripped at). Drawn back, the
-// tool's free part shortens to a stub whose lean on the tip grows as its length falls: held by
+// tool's free part shortens, and its lean on the tip grows as its length falls: held by
 // a tip that never gives, the ADAPT run's microcatheter drawn into its parked aspiration
-// catheter, its 1 mm stub pressed on the wall, read up to 1.1 N of clamp force, 1.0 N of it
+// catheter, its last 1 mm pressed on the wall, read up to 1.1 N of clamp force, 1.0 N of it
 // along the tip, and swung 150-570 mN a tick (convergence.md, "A carrier steered while its tool
 // is drawn back"). Not while both are parked: the Solumbra microcatheter leaning on the parked
 // aspiration catheter's tip stalled the stent's steps (docs/session/thrombectomy.md).

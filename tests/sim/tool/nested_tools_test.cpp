@@ -454,7 +454,7 @@ TEST(NestedTools, ASteeredCatheterIsSteeredOnlyWhileItIsAdvanced) {
 // ... and while the wire leaving its tip is drawn back into it (a wire or a catheter; not a stent
 // retriever being re-sheathed: Simulator::steered_now): the shortening free part's lean
 // on the tip is a reaction the tip gives to (the ADAPT run's microcatheter drawn into its parked
-// aspiration catheter, its stub pressed on the wall, read 1.1 N at a tip that never gave;
+// aspiration catheter, its last 1 mm pressed on the wall, read 1.1 N at a tip that never gave;
 // convergence.md, "A carrier steered while its tool is drawn back"). Both stacks parked 200 steps
 // as above, then both wires drawn back 4 mm at 0.02 mm a step: the steered catheter's tip leaves
 // the unsteered one's.
