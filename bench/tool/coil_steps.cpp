@@ -180,6 +180,7 @@ void BM_StepCoilPacking(benchmark::State& state) {
       state.SkipWithError("a coil did not detach");
       return;
     }
+    while (sim.parting(c)) sim.step();  // the hand at rest while its detachment zone parts
     drive(c, micro - 10.0, 0.2);  // its pusher drawn back into the microcatheter
   }
   drive(3, micro - 0.5, 0.2);

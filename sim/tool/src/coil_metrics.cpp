@@ -60,7 +60,8 @@ void CoilMetrics::observe(const Simulator& sim) {
     const bool released = sim.released_mm(c.tool) > 0.0;
     if (released && !c.released) detached(c.force_mN);
     c.released = released;
-    if (!released) c.force_mN = sim.hand_force_mN(c.tool) - sim.sheath(c.tool).force_mN - sim.valve(c.tool).force_mN;
+    // The push at the detach command: read until the zone starts to part (Simulator::detach).
+    if (!released && !sim.parting(c.tool)) c.force_mN = sim.hand_force_mN(c.tool) - sim.sheath(c.tool).force_mN - sim.valve(c.tool).force_mN;
     const double out = attached_deployed_mm(sim, c.tool);
     if (out > 0.0) {
       f_.deployed_mm += out;

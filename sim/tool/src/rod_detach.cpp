@@ -10,15 +10,34 @@
 
 namespace cathbox::tool {
 
-Rod Rod::split_distal(double length_mm) {
-  Rod coil;
+// The detachment node: the station length_mm from the tip, with two nodes on either side of it.
+std::size_t Rod::station_vertex(double length_mm) const {
   const std::size_t n = x_.size();
-  // The detachment node: the station length_mm from the tip.
   std::size_t k0 = n;
   for (std::size_t k = 0; k < n; ++k) {
     if (std::abs(from_tip_[k] - length_mm) < 1e-9) k0 = k;
   }
-  if (k0 + 2 >= n || k0 < 2) return coil;  // not a node, or too short to stand alone
+  return k0 + 2 >= n || k0 < 2 ? n : k0;  // not a node, or too short to stand alone
+}
+
+bool Rod::soften_joint(double length_mm, double share) {
+  const std::size_t k0 = station_vertex(length_mm);
+  if (k0 >= x_.size()) return false;
+  if (joint_ != k0) {
+    joint_ = k0;
+    joint_ei_ = ei_[k0];
+    joint_gj_ = gj_[k0];
+  }
+  const double s = std::clamp(share, 0.0, 1.0);
+  ei_[k0] = joint_ei_ * s;
+  gj_[k0] = joint_gj_ * s;
+  return true;
+}
+
+Rod Rod::split_distal(double length_mm) {
+  Rod coil;
+  const std::size_t k0 = station_vertex(length_mm);
+  if (k0 >= x_.size()) return coil;
   copy_distal(coil, k0, length_mm);
   keep_proximal(k0, length_mm);
   return coil;
@@ -119,6 +138,7 @@ void Rod::keep_proximal(std::size_t k0, double length_mm) {
     }
   }
   spec_.detach_mm = 0.0;
+  joint_ = static_cast<std::size_t>(-1);
   contacts_.clear();
   edge_contacts_.clear();
   update_window();

@@ -113,6 +113,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
     rods_[i].settings().contact_stiffness_mN_per_mm = std::min(rods_[i].settings().contact_stiffness_mN_per_mm, kStentContactStiffness_mN_per_mm);
   }
   detached_.reserve(16);
+  parting_s_.assign(n, -1.0);
   path_.reserve(max_nodes * 2);
 }
 
@@ -342,6 +343,7 @@ void Simulator::step(double dt_s) {
   update_balloons(dt_s);
   update_stents();
   update_tip_grips();
+  advance_partings(dt_s);
   const bool released = !detached_.empty();
   if (released && balloon_moved_) sleep_.wake_all();  // a balloon's diameter moved (coils may rest on it)
   if (released) sleep_.begin(rods_, detached_);

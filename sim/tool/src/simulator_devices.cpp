@@ -40,12 +40,52 @@ bool Simulator::has_next_coil(std::size_t tool) const {
 DeviceError Simulator::detach(std::size_t tool) {
   if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
   if (!carries_attached_coil(tool)) return DeviceError::kNotACoil;
+  if (parting(tool)) return DeviceError::kNone;  // already parting
+  // The detachment zone must have left the catheter (its marker past the catheter's tip).
+  if (!zone_out(tool) || !rods_[tool].soften_joint(rods_[tool].spec().detach_mm, 1.0)) return DeviceError::kCoilInCatheter;
+  parting_s_[tool] = 0.0;
+  return DeviceError::kNone;
+}
+
+bool Simulator::parting(std::size_t tool) const { return tool < parting_s_.size() && parting_s_[tool] >= 0.0; }
+
+bool Simulator::zone_out(std::size_t tool) const {
+  return tip_depth_mm(tool) - free_start_[tool] >= rods_[tool].spec().detach_mm + 1e-6;
+}
+
+// A detachment zone does not part in an instant: an electrolytic zone dissolves, a thermal one
+// melts. Its section shrinking at a steady rate, the bending and twisting stiffness of the joint
+// between coil and pusher (EI, GJ ~ r^4) fall as (1 - t / T)^4 of their built values, and the
+// coil is released at T = tuning::kDetachParting_s, its joint by then carrying no moment. What
+// the pusher held its coil with at the junction (the coil bent out of the catheter's tip: the
+// bundled coiling run's +203 / +155 mN at the hand) so leaves the hand as the zone parts, not in
+// one tick (-276.9 / -233.5 mN at 26.800 / 39.500 s when the release was instant). A zone drawn
+// back into the catheter before it parts stays whole, its joint restored (an electrolytic zone
+// dissolves only in the blood). The axial push through the joint is carried whole until the
+// release (its edges keep their stiffness: a softened edge would fold into the pusher).
+void Simulator::advance_partings(double dt_s) {
+  for (std::size_t t = 0; t < parting_s_.size(); ++t) {
+    if (!parting(t)) continue;
+    Rod& rod = rods_[t];
+    if (!zone_out(t)) {
+      rod.soften_joint(rod.spec().detach_mm, 1.0);
+      parting_s_[t] = -1.0;
+      continue;
+    }
+    parting_s_[t] += dt_s;
+    const double left = std::max(0.0, 1.0 - parting_s_[t] / tuning::kDetachParting_s);
+    rod.soften_joint(rod.spec().detach_mm, left * left * left * left);
+    if (left <= 0.0) release_coil(t);
+  }
+}
+
+// The parted zone: the coil becomes a free rod, the pusher keeps the proximal part.
+void Simulator::release_coil(std::size_t tool) {
+  parting_s_[tool] = -1.0;
   Rod& rod = rods_[tool];
   const double length = rod.spec().detach_mm;
-  // The detachment zone must have left the catheter (its marker past the catheter's tip).
-  if (tip_depth_mm(tool) - free_start_[tool] < length + 1e-6) return DeviceError::kCoilInCatheter;
   Rod coil = rod.split_distal(length);
-  if (coil.node_total() == 0) return DeviceError::kCoilInCatheter;
+  if (coil.node_total() == 0) return;
   removed_mm_[tool] += length;
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());
@@ -53,7 +93,6 @@ DeviceError Simulator::detach(std::size_t tool) {
   detached_.push_back(std::move(coil));
   // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
   update_contact_members();
-  return DeviceError::kNone;
 }
 
 DeviceError Simulator::load_next_coil(std::size_t tool) {

@@ -34,4 +34,9 @@ inline constexpr int kGuidedCatheterSubsteps = 8;
 // (0.02 um a tick on average at 3-4 s, 1.04 Newton iterations a step; 0 settles alike with 1.40):
 // docs/journal/sim-tool-step-time.md, "What keeps the packing bench's pile moving".
 inline constexpr double kReleasedCoilWarmStart = 0.5;
+// How long a detachment zone takes to part once detach starts it (Simulator::advance_partings):
+// its joint's bending and twisting stiffness fall as (1 - t / T)^4 to nothing at T, the coil then
+// released. The moment the joint held leaves the hand over T, at first 4 / T of it a second
+// (docs/sim-tool/coiling.md, "Detachment: the zone parts").
+inline constexpr double kDetachParting_s = 0.1;
 }  // namespace cathbox::tool::tuning

@@ -222,6 +222,9 @@ TEST(CoilSession, AfterLoadCoilTheKeyboardHandCarriesOnFromTheHub) {
   EXPECT_EQ(s.simulator().coils_loaded(1), 0u) << "no load before the detach";
   ASSERT_TRUE(s.post(Control::detach_coil(1)));
   s.step_virtual(2);
+  EXPECT_TRUE(s.simulator().parting(1)) << "the detachment zone parts over 0.1 s";
+  EXPECT_EQ(s.simulator().detached_count(), 0u);
+  s.step_virtual(100);
   ASSERT_EQ(s.simulator().detached_count(), 1u);
   keys.set_speeds(-40.0, 0.0);
   s.step_virtual(600);  // the pusher drawn back 24 mm

@@ -93,11 +93,11 @@ TEST(CoilDeploy, SecondCoilPacksAgainstTheFirstDetachedOneAndStaysInTheSac) {
   const AneurysmSac sac = *sphere_cap_sac(kCentre, kSphereR, {0, 0, kNeckZ});
   CoilMetrics metrics(sim, sac);
   drive(sim, kFirst, micro + kCoilLength + 1.0, 0.02, &metrics);
-  ASSERT_EQ(sim.detach(kFirst), DeviceError::kNone);
+  ASSERT_EQ(release_coil(sim, kFirst, &metrics), DeviceError::kNone);
   drive(sim, kFirst, micro - 10.0, 0.2, &metrics);  // the pusher back, its end 10 mm inside the tip
   drive(sim, kSecond, micro - 0.5, 0.2, &metrics);
   const WorstOverlap overlap = push_watching_overlap(sim, kSecond, micro + kCoilLength + 1.0, 0.02, metrics);
-  ASSERT_EQ(sim.detach(kSecond), DeviceError::kNone);
+  ASSERT_EQ(release_coil(sim, kSecond, &metrics), DeviceError::kNone);
   for (int i = 0; i < 200; ++i) {
     sim.step();
     metrics.observe(sim);

@@ -52,7 +52,7 @@ TEST_F(CoilInSphere, CoilReleasedInAFreeSphereStaysInsideAndFormsLoopsOfItsRestD
   // Push the whole coil out (its detachment zone 1 mm past the tip) at 20 mm/s, detach, and let
   // it settle for 2 s (the soft coil relaxes against the solver's damping).
   drive(sim, kCoil, micro + kCoilLength + 1.0, 0.02, &metrics);
-  ASSERT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  ASSERT_EQ(release_coil(sim, kCoil), DeviceError::kNone);
   for (int i = 0; i < 2000; ++i) {
     sim.step();
     metrics.observe(sim);
@@ -84,7 +84,7 @@ TEST_F(CoilInSphere, CoilReleasedInAFreeSphereStaysInsideAndFormsLoopsOfItsRestD
 TEST_F(CoilInSphere, ReleasedCoilLeftAloneComesToRest) {
   sim.coil_sleep_settings().enabled = false;  // solved every step (asleep it would not move at all)
   drive(sim, kCoil, micro + kCoilLength + 1.0, 0.02);
-  ASSERT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  ASSERT_EQ(release_coil(sim, kCoil), DeviceError::kNone);
   double worst_mm = 0.0;
   for (int i = 0; i < 6000; ++i) {
     const std::span<const glm::dvec3> x = sim.detached(0).positions();
@@ -109,7 +109,7 @@ TEST_F(CoilInSphere, PackingDensityIsTheAnalyticCoilVolumeOverTheSac) {
   EXPECT_NEAR(metrics.figures().coil_volume_mm3 / analytic_half, 1.0, 0.03);
   // All of it, released: pi/4 d^2 L over the sphere cap's volume.
   drive(sim, kCoil, micro + kCoilLength + 1.0, 0.02, &metrics);
-  ASSERT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  ASSERT_EQ(release_coil(sim, kCoil), DeviceError::kNone);
   for (int i = 0; i < 50; ++i) {
     sim.step();
     metrics.observe(sim);
@@ -128,8 +128,8 @@ TEST_F(CoilInSphere, PackingDensityIsTheAnalyticCoilVolumeOverTheSac) {
 }
 
 // The detach force (CoilMetrics: the pusher's push on its coil where it leaves the microcatheter,
-// on the last step before the release): the coil pushed out (its detachment zone 1 mm past the
-// tip), held at rest 0.3 s, then detached. Free in the sphere it is released in neutral (a few
+// on the last step before the detach command starts the zone parting): the coil pushed out (its
+// detachment zone 1 mm past the tip), held at rest 0.3 s, then detached and released. Free in the sphere it is released in neutral (a few
 // mN: the loops' own spring); with the coil mass pressing back on the pusher (a 200 mN load on
 // the coil's proximal node, back along the catheter's axis: the bundled frame's 203 mN push held
 // against the dome at its markers, docs/sim-tool/convergence.md, "Detaching in neutral") it is
@@ -152,7 +152,7 @@ double detach_after_rest(Simulator& sim, CoilMetrics& metrics, double load_mN) {
   }
   const double before = push_on_coil_mN(sim, kCoil);
   sim.set_node_load(kCoil, proximal, {0.0, 0.0, 0.0});
-  EXPECT_EQ(sim.detach(kCoil), DeviceError::kNone);
+  EXPECT_EQ(release_coil(sim, kCoil, &metrics), DeviceError::kNone);
   for (int i = 0; i < 20; ++i) {
     sim.step();
     metrics.observe(sim);

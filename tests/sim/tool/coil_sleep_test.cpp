@@ -15,6 +15,7 @@
 #include "tool/displaced_wall.hpp"
 #include "tool/simulator.hpp"
 #include "analytic_walls.hpp"
+#include "coil_release.hpp"
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool {
@@ -57,7 +58,7 @@ void release_first(Simulator& sim) {
   drive(sim, kFirst, kMicroDepth - 0.5, 0.2);
   drive(sim, kSecond, kMicroDepth - 20.0, 0.2);
   drive(sim, kFirst, kMicroDepth + kCoilLength + 1.0, 0.02);
-  ASSERT_EQ(sim.detach(kFirst), DeviceError::kNone);
+  ASSERT_EQ(testing::release_coil(sim, kFirst), DeviceError::kNone);
   drive(sim, kFirst, kMicroDepth - 10.0, 0.2);
 }
 

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "analytic_walls.hpp"
+#include "coil_release.hpp"
 #include "scenario/case_file.hpp"
 #include "tool/aneurysm_sac.hpp"
 #include "tool/coil_metrics.hpp"

@@ -74,6 +74,10 @@ class Rod {
   // the wall and other rods. This rod keeps the proximal part (its tip is the detachment
   // point; insertion and length shrink by length_mm).
   [[nodiscard]] Rod split_distal(double length_mm);
+  // The detachment zone parting before split_distal: the bending and twisting stiffness of the
+  // vertex `length_mm` from the tip (the joint of coil and pusher) at `share` of their built values
+  // (1 restores them). False if that station is not a vertex of the rod.
+  bool soften_joint(double length_mm, double share);
   // True for a free rod (a detached coil).
   [[nodiscard]] bool free() const { return free_; }
   // The wall changed (a new collision tree): every node is probed afresh in the next step.
@@ -338,6 +342,7 @@ class Rod {
   void hand_twist(double dt_s, std::size_t ef, std::size_t m);
 
   // Detaching (rod_detach.cpp).
+  [[nodiscard]] std::size_t station_vertex(double length_mm) const;  // node_total() if none
   void copy_distal(Rod& coil, std::size_t k0, double length_mm) const;
   void keep_proximal(std::size_t k0, double length_mm);
 
@@ -372,6 +377,9 @@ class Rod {
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;
+  // soften_joint: the vertex it softens (node_total() for none) and its built EI and GJ.
+  std::size_t joint_ = static_cast<std::size_t>(-1);
+  double joint_ei_ = 0.0, joint_gj_ = 0.0;
   // Rest curvature towards m1 and m2: 2 tan(phi/2) for the twist coupling, 2 sin(phi/2) for
   // the bending residual (phi = the rest turning angle at the node).
   std::vector<double> kbar1_, kbar2_, kturn1_, kturn2_;

@@ -107,8 +107,13 @@ class Simulator {
   // Inserted node positions of a tool, entry to tip, the part inside catheters included.
   void inserted_positions(std::size_t tool, std::vector<glm::dvec3>& out) const;
 
-  // Coils. Releases the coil of `tool` at its detachment zone; it must be out of the catheter.
+  // Coils. Starts the release of the coil of `tool` at its detachment zone, which must be out of
+  // the catheter: the zone parts over tuning::kDetachParting_s (its joint's bending and twisting
+  // stiffness falling with its section, advance_partings), then the coil is released. A zone
+  // drawn back into the catheter before it parts stays whole (parting() goes false, unreleased).
   [[nodiscard]] DeviceError detach(std::size_t tool);
+  // `tool`'s detachment zone is parting (detach started, the coil not released yet).
+  [[nodiscard]] bool parting(std::size_t tool) const;
   [[nodiscard]] std::size_t detached_count() const { return detached_.size(); }
   [[nodiscard]] const Rod& detached(std::size_t i) const { return detached_[i]; }
   // Length of coil released from `tool` (its present coil) so far (0 before detach).
@@ -196,6 +201,9 @@ class Simulator {
   void update_stents();
   void update_tip_grips();
   void step_released(double dt_s);
+  void advance_partings(double dt_s);
+  void release_coil(std::size_t tool);
+  [[nodiscard]] bool zone_out(std::size_t tool) const;  // its coil's detachment zone is past the catheter's tip
   void apply_coil_settings(std::size_t coil);
 
   const WallModel* wall_;
@@ -228,6 +236,8 @@ class Simulator {
   std::vector<std::optional<StentRetriever>> stents_;
   std::vector<double> tip_grip_;       // per tool, mN (set_tip_grip)
   std::vector<Rod> detached_;
+  // Per tool: how long its detachment zone has been parting (detach), negative while none does.
+  std::vector<double> parting_s_;
   std::vector<ToolSpec> specs_;        // the tools as the case gives them (next coils included)
   std::vector<std::size_t> loaded_;    // next coils loaded per tool
   RodContactField contacts_;
