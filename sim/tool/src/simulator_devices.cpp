@@ -58,7 +58,7 @@ bool Simulator::zone_out(std::size_t tool) const {
 // between coil and pusher (EI, GJ ~ r^4) fall as (1 - t / T)^4 of their built values, and the
 // coil is released at T = tuning::kDetachParting_s, its joint by then carrying no moment. What
 // the pusher held its coil with at the junction (the coil bent out of the catheter's tip: the
-// bundled coiling run's +203 / +155 mN at the hand) so leaves the hand as the zone parts, not in
+// bundled coiling run's +201 / +167 mN at the hand) so leaves the hand as the zone parts, not in
 // one tick (-276.9 / -233.5 mN at 26.800 / 39.500 s when the release was instant). A zone drawn
 // back into the catheter before it parts stays whole, its joint restored (an electrolytic zone
 // dissolves only in the blood). The axial push through the joint is carried whole until the
@@ -85,7 +85,10 @@ void Simulator::release_coil(std::size_t tool) {
   Rod& rod = rods_[tool];
   const double length = rod.spec().detach_mm;
   Rod coil = rod.split_distal(length);
-  if (coil.node_total() == 0) return;
+  if (coil.node_total() == 0) {  // not a vertex (detach checked it is): the joint stays whole
+    rod.soften_joint(length, 1.0);
+    return;
+  }
   removed_mm_[tool] += length;
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());

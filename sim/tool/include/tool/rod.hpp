@@ -377,7 +377,7 @@ class Rod {
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;
-  // soften_joint: the vertex it softens (node_total() for none) and its built EI and GJ.
+  // soften_joint: the vertex it softens (size_t(-1) for none) and its built EI and GJ.
   std::size_t joint_ = static_cast<std::size_t>(-1);
   double joint_ei_ = 0.0, joint_gj_ = 0.0;
   // Rest curvature towards m1 and m2: 2 tan(phi/2) for the twist coupling, 2 sin(phi/2) for
