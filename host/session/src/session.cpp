@@ -207,6 +207,7 @@ void Session::step_world(std::int64_t n) {
     wall_field_->set_pressure_kPa(pulse_mean_kPa_ * (scene_->flow->flow_scale(t_s) - 1.0));
   }
   sim_->step(static_cast<double>(options_.period_us) * 1e-6);
+  log_partings();
   if (angioplasty_) {
     angioplasty_->after_step(*sim_);
     const tool::AngioplastyFigures f = angioplasty_->figures(*sim_);
@@ -297,6 +298,22 @@ void Session::observe(std::int64_t n, const HandFeedback& fb) {
 }
 
 // The tick's events in the log (and the target in the record); the box's link and faults.
+// A coil's detachment zone that stopped parting this tick (Simulator::detach): its coil released,
+// or the zone drawn back into the catheter before it parted (the coil still attached).
+void Session::log_partings() {
+  for (std::size_t t = 0; t < input_.tool_count && t < parting_.size(); ++t) {
+    const bool now = sim_->parting(t);
+    if (parting_[t] && !now) {
+      if (sim_->released_mm(t) > 0.0) {
+        log("coil of the %s detached", tool_names_[t].c_str());
+      } else {
+        log("the %s's coil not detached: its zone was drawn back into the catheter", tool_names_[t].c_str());
+      }
+    }
+    parting_[t] = now;
+  }
+}
+
 void Session::log_events(int tip_segment, double tip_force_mN) {
   // The tip's own force (not the tick's largest contact, which may be another tool's shaft).
   // Where: a vessel segment, a junction's wall (MeshWall::kJunction, no one segment), or no

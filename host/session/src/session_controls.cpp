@@ -22,7 +22,7 @@ bool Session::SelectTool::apply(Control& c, ControlContext& ctx) {
 bool Session::DetachCoil::apply(Control& c, ControlContext& ctx) {
   if (c.size != 1) return false;
   if (!s_.device_done(ctx.sim.detach(c.payload[0]), "detach")) return false;
-  s_.log("coil of the %s detached", s_.tool_names_[c.payload[0]].c_str());
+  s_.log("detaching the coil of the %s: its zone parts in 0.1 s", s_.tool_names_[c.payload[0]].c_str());
   return true;
 }
 

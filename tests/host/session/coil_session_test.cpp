@@ -205,18 +205,28 @@ TEST(CoilSession, TheWallForceReadingsCoverTheReleasedCoil) {
 // By keyboard (as by a box): K and L post detach_coil and load_coil for the held tool. After a
 // load the new pusher starts at the hub and the hand carries on from there, wherever the key
 // presses (or the box's slider) had left it; a load before a detach is refused.
-TEST(CoilSession, AfterLoadCoilTheKeyboardHandCarriesOnFromTheHub) {
-  std::unique_ptr<SessionCase> scene = sphere_case();
-  ASSERT_TRUE(scene);
+// The sphere case driven by the keys: the microcatheter 21 mm in at 20 mm/s, then the coil held
+// and pushed to 42.5 mm (its detachment zone 1.5 mm past the tip), the keys let go.
+struct KeyboardCoil {
   KeyboardInput keys;
-  Session s(std::move(scene), std::make_unique<KeyboardHand>(keys, 1e-3));
-  keys.set_speeds(20.0, 0.0);
-  s.step_virtual(1050);  // the microcatheter 21 mm in
-  ASSERT_TRUE(s.post(Control::select_tool(1)));
-  s.step_virtual(1);
-  ASSERT_EQ(s.held_tool(), 1u);
-  s.step_virtual(2125);  // the coil 42.5 mm in: its detachment zone past the tip
-  keys.set_speeds(0.0, 0.0);
+  Session s{sphere_case(), std::make_unique<KeyboardHand>(keys, 1e-3)};
+
+  void push_coil_out() {
+    keys.set_speeds(20.0, 0.0);
+    s.step_virtual(1050);
+    ASSERT_TRUE(s.post(Control::select_tool(1)));
+    s.step_virtual(1);
+    ASSERT_EQ(s.held_tool(), 1u);
+    s.step_virtual(2125);
+    keys.set_speeds(0.0, 0.0);
+  }
+};
+
+TEST(CoilSession, AfterLoadCoilTheKeyboardHandCarriesOnFromTheHub) {
+  KeyboardCoil run;
+  ASSERT_NO_FATAL_FAILURE(run.push_coil_out());
+  KeyboardInput& keys = run.keys;
+  Session& s = run.s;
   ASSERT_TRUE(s.post(Control::load_coil(1)));
   s.step_virtual(2);
   EXPECT_EQ(s.simulator().coils_loaded(1), 0u) << "no load before the detach";
@@ -239,6 +249,49 @@ TEST(CoilSession, AfterLoadCoilTheKeyboardHandCarriesOnFromTheHub) {
   keys.set_speeds(20.0, 0.0);
   s.step_virtual(500);
   EXPECT_NEAR(s.simulator().insertion_mm(1), 10.0, 0.05);
+}
+
+// A detach the hand does not wait for: the pusher drawn back at 40 mm/s right after K takes the
+// detachment zone (1.5 mm past the tip) into the catheter within 0.04 s, before it has parted
+// (0.1 s: Simulator::detach), so the zone stays whole, the coil comes back with its pusher, and
+// the log says so; pushed out again and held still, the next detach releases it.
+TEST(CoilSession, ADetachmentZoneDrawnBackBeforeItPartsKeepsItsCoil) {
+  KeyboardCoil run;
+  ASSERT_NO_FATAL_FAILURE(run.push_coil_out());
+  KeyboardInput& keys = run.keys;
+  Session& s = run.s;
+  s.step_virtual(1);
+  ASSERT_TRUE(s.post(Control::detach_coil(1)));
+  s.step_virtual(2);
+  ASSERT_TRUE(s.simulator().parting(1));
+  keys.set_speeds(-40.0, 0.0);
+  s.step_virtual(100);  // 4 mm back: the zone in the catheter from ~0.04 s
+  keys.set_speeds(0.0, 0.0);
+  s.step_virtual(200);
+  EXPECT_FALSE(s.simulator().parting(1));
+  EXPECT_EQ(s.simulator().detached_count(), 0u) << "released though drawn back before its zone parted";
+  EXPECT_TRUE(s.simulator().carries_attached_coil(1));
+  bool started = false, stopped = false, detached = false;
+  LogEvent e;
+  while (s.events().pop(e)) {
+    const std::string text = e.text.data();
+    started = started || text.find("detaching the coil of the coil") != std::string::npos;
+    stopped = stopped || text.find("coil not detached: its zone was drawn back into the catheter") != std::string::npos;
+    detached = detached || text.find("coil of the coil detached") != std::string::npos;
+  }
+  EXPECT_TRUE(started);
+  EXPECT_TRUE(stopped);
+  EXPECT_FALSE(detached);
+  // Out again (4 mm at 20 mm/s), held, detached: released 0.1 s later.
+  keys.set_speeds(20.0, 0.0);
+  s.step_virtual(200);
+  keys.set_speeds(0.0, 0.0);
+  s.step_virtual(1);
+  ASSERT_TRUE(s.post(Control::detach_coil(1)));
+  s.step_virtual(110);
+  EXPECT_EQ(s.simulator().detached_count(), 1u);
+  while (s.events().pop(e)) detached = detached || std::string(e.text.data()).find("coil of the coil detached") != std::string::npos;
+  EXPECT_TRUE(detached);
 }
 
 }  // namespace

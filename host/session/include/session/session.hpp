@@ -160,6 +160,7 @@ class Session {
   HandFeedback feel(std::int64_t n);
   void observe(std::int64_t n, const HandFeedback& fb);
   void log_events(int tip_segment, double tip_force_mN);
+  void log_partings();
   void apply(Control control);
   void end(record::EndReason reason, std::string text);
   // The snapshot: what is fixed for the run into every slot once (before the first tick), then
@@ -215,6 +216,7 @@ class Session {
   std::size_t applied_count_ = 0;
   bool tool_changed_ = false;
   bool coil_loaded_ = false;  // a load_coil applied at this tick (metrics: the held tool replaced)
+  std::array<bool, kMaxTools> parting_{};  // per tool: its coil's detachment zone parted last tick
   int rupture_events_ = 0;  // rupture-risk events logged so far
   std::vector<TickObserver*> observers_;
   std::unique_ptr<Recorder> recorder_;
