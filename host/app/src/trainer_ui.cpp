@@ -92,6 +92,7 @@ void draw_run_controls(const UiStatus& status, const CaseCatalog& catalog, int c
   if (ImGui::Button("switch tool (Tab)")) act.switch_tool = true;
   ImGui::TextDisabled("Up/Down push/pull, Left/Right twist, Shift fast");
   if (status.can_detach) ImGui::TextDisabled("K: detach the coil");
+  if (status.detaching) ImGui::TextDisabled("detaching the coil: hold the pusher still");
   if (status.can_load) ImGui::TextDisabled("L: load the next coil");
   if (status.aspiration >= 0) ImGui::TextDisabled("V: aspiration %s", status.aspiration == 1 ? "ON (V: off)" : "off");
   if (status.balloon_guide >= 0) ImGui::TextDisabled("B: balloon guide %s", status.balloon_guide == 1 ? "INFLATED (flow arrest)" : "deflated");

@@ -45,6 +45,7 @@ void Session::publish() {
   const std::size_t active = sim_->active_tool();
   s.held_tool = active;
   s.held_coil_attached = sim_->carries_attached_coil(active);
+  s.held_coil_parting = sim_->parting(active);
   s.held_next_coil = !s.held_coil_attached && sim_->has_next_coil(active);
   // The snapshot lists the case's tools, then the released coils (copied within the reserved
   // capacity: publishing never allocates).

@@ -264,6 +264,8 @@ TEST(CoilSession, ADetachmentZoneDrawnBackBeforeItPartsKeepsItsCoil) {
   ASSERT_TRUE(s.post(Control::detach_coil(1)));
   s.step_virtual(2);
   ASSERT_TRUE(s.simulator().parting(1));
+  ASSERT_TRUE(s.snapshots().acquire());
+  EXPECT_TRUE(s.snapshots().read_slot().held_coil_parting) << "the HUD asks for a still pusher";
   keys.set_speeds(-40.0, 0.0);
   s.step_virtual(100);  // 4 mm back: the zone in the catheter from ~0.04 s
   keys.set_speeds(0.0, 0.0);

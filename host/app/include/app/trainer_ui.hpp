@@ -29,6 +29,7 @@ struct UiStatus {
   bool replay = false;     // Replay mode: no case picker, no driving
   std::string record;      // the record being written (live) or played (replay)
   bool can_detach = false;  // the held tool's coil is attached: the HUD names K
+  bool detaching = false;   // its detachment zone is parting: the HUD asks for a still pusher
   bool can_load = false;    // its coil is released and a next one listed: the HUD names L
   // A thrombectomy case: the HUD names V (aspiration) and B (balloon guide) and their state.
   int aspiration = -1;      // -1: no aspiration catheter; 0 off; 1 on

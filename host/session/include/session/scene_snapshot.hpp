@@ -70,6 +70,7 @@ struct SceneSnapshot {
   std::int64_t tick = 0;              // ticks run so far
   std::size_t held_tool = 0;
   bool held_coil_attached = false;  // the held tool's coil is not released yet (detach_coil would)
+  bool held_coil_parting = false;   // ... and its detachment zone is parting (released within 0.1 s)
   bool held_next_coil = false;      // its coil is released and the case lists a next (load_coil would)
   std::array<ToolView, kMaxTools> tools;
   int tool_count = 0;                 // the case's tools (the simulator's, in case order)
