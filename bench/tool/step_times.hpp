@@ -26,6 +26,7 @@ class StepTimes {
     wall_.reserve(steps);
     cpu_.reserve(steps);
     unconverged_.reserve(steps);
+    substepped_.reserve(steps);
     its_.reserve(3 * steps);
     switches_.reserve(steps);
     faults_.reserve(steps);
@@ -47,13 +48,15 @@ class StepTimes {
     switches_.push_back(static_cast<int>(r1.ru_nivcsw - r0.ru_nivcsw));
     faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
     rods_ = sim.tool_count();
-    bool unconverged = false;
+    bool unconverged = false, substepped = false;
     for (std::size_t t = 0; t < rods_; ++t) {
       const tool::Rod& rod = sim.rod(t);
       its_.push_back(rod.last_iterations());
       unconverged = unconverged || (rod.first_free_node() < rod.node_total() && !rod.converged());
+      substepped = substepped || rod.last_substeps() > 1;
     }
     unconverged_.push_back(unconverged ? 1 : 0);
+    substepped_.push_back(substepped ? 1 : 0);
     Work step = total_work(sim);
     for (std::size_t i = 0; i < step.size(); ++i) step[i] -= before[i];
     work_.push_back(step);
@@ -81,17 +84,21 @@ class StepTimes {
   // refill; a long step is likelier to be preempted, so under load the tail's share is high
   // whatever made the step long) and their page faults. Call it before report(), which sorts
   // the times. `tail_unconverged_pct`: the share of the tail's steps in which a rod ended
-  // unconverged.
+  // unconverged; `substepped_pct` / `tail_substepped_pct`: of all steps / the tail's, those in
+  // which a rod's unconverged solve was done again in sub-steps (Rod::last_substeps).
   void report_tail(benchmark::State& state, const std::vector<std::string>& names, const std::string& prefix = "") const {
     if (cpu_.empty() || rods_ == 0 || its_.size() != cpu_.size() * rods_) return;
     std::vector<double> sorted = cpu_;
     const double p99 = pick(sorted, 0.99);
     std::size_t tail_steps = 0, preempted = 0, faults = 0, all_preempted = 0, unconverged = 0;
+    std::size_t substepped = 0, all_substepped = 0;
     for (std::size_t k = 0; k < cpu_.size(); ++k) {
       all_preempted += switches_[k] > 0 ? 1 : 0;
+      all_substepped += substepped_[k];
       if (cpu_[k] < p99) continue;
       ++tail_steps;
       unconverged += k < unconverged_.size() ? unconverged_[k] : 0;
+      substepped += substepped_[k];
       preempted += switches_[k] > 0 ? 1 : 0;
       faults += static_cast<std::size_t>(faults_[k]);
     }
@@ -100,6 +107,8 @@ class StepTimes {
     state.counters[prefix + "tail_preempted_pct"] = 100.0 * static_cast<double>(preempted) / tail_n;
     state.counters[prefix + "tail_faults"] = static_cast<double>(faults) / tail_n;
     state.counters[prefix + "tail_unconverged_pct"] = 100.0 * static_cast<double>(unconverged) / tail_n;
+    state.counters[prefix + "substepped_pct"] = 100.0 * static_cast<double>(all_substepped) / static_cast<double>(cpu_.size());
+    state.counters[prefix + "tail_substepped_pct"] = 100.0 * static_cast<double>(substepped) / tail_n;
     for (std::size_t t = 0; t < rods_ && t < names.size(); ++t) {
       double all = 0.0, tail = 0.0;
       for (std::size_t k = 0; k < cpu_.size(); ++k) {
@@ -166,6 +175,7 @@ class StepTimes {
   std::vector<double> wall_, cpu_;
   std::vector<int> its_;  // Newton iterations, rods_ per step
   std::vector<std::uint8_t> unconverged_;  // per step: 1 when a solved rod ended unconverged
+  std::vector<std::uint8_t> substepped_;   // per step: 1 when a rod was solved again in sub-steps
   std::vector<int> switches_, faults_;  // involuntary context switches and page faults per step
   std::size_t rods_ = 0;
   const CountingWall* wall_probes_ = nullptr;
