@@ -225,9 +225,15 @@ void Rod::update_window() {
   for (std::size_t k = first_; k < first_free_; ++k) place_outside(k);
   // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry): the clamp edge
   // bends from as far ahead of the clamp node as that node is behind the entry, keeping at least
-  // kClampEdgeFloor of the edge to the first free node.
+  // kClampEdgeFloor of the edge to the first free node. Not while an attached coil's clamp node
+  // is its joint with the pusher or a pusher node: the pusher (500 times the coil's EI in the
+  // bundled cases) is held straight in the lumen up to the joint, so the coil's end bends at the
+  // clamp node, as without the hinge; hinged at the entry there, each coil's end jammed as it left
+  // the catheter (convergence.md, "Coils hinged at the entry"). The switch is at the node crossing
+  // that makes the joint the clamp node.
   clamp_shift_mm_ = 0.0;
-  if (settings_.clamp_hinge_at_entry && kp + 1 < x_.size()) {
+  const bool pusher_at_clamp = spec_.detach_mm > 0.0 && from_tip_[kp] >= spec_.detach_mm - 1e-9;
+  if (settings_.clamp_hinge_at_entry && kp + 1 < x_.size() && !pusher_at_clamp) {
     clamp_shift_mm_ = std::clamp(from_tip_[kp] - insertion_mm_, 0.0, (1.0 - kClampEdgeFloor) * rest_[kp]);
   }
 }

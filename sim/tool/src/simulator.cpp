@@ -122,7 +122,6 @@ void Simulator::apply_coil_settings(std::size_t i) {
   rods_[i].settings().contact_stiffness_mN_per_mm = kCoilContactStiffness_mN_per_mm;
   rods_[i].settings().linearised_clamp = true;
   rods_[i].settings().arc_predictor = true;
-  rods_[i].settings().clamp_hinge_at_entry = false;  // in its catheter (load_next_coil builds afresh)
   // A coil pushed at a steady rate moves as it did the step before: the whole last motion is the
   // better start (BM_StepCoilDeploy: 6.7 -> 5.4 Newton iterations a step).
   rods_[i].settings().warm_start = 1.0;
@@ -293,17 +292,20 @@ void Simulator::step_released(double dt_s) {
 }
 
 // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone in
-// the body, held by the introducer's valve, for every catheter (balloon catheters included), and
-// for a guidewire in a catheter its inner tools steer, but a stent retriever's push wire: that
+// the body, held by the introducer's valve, for every catheter (balloon catheters included), for
+// a coil (but while its joint or pusher is the clamp node: Rod::update_window), and for a
+// guidewire in a catheter its inner tools steer, but a stent retriever's push wire: that
 // catheter's tip yields to the hinged wire's stronger moment (its push bounded, push_bounded).
-// A coil, and a wire in an unsteered catheter, keep it at the clamp node: the M1 Solumbra run's
+// A coil's node crossings at its microcatheter's tip went with it (the bundled coiling run's 2
+// over 100 mN a tick; convergence.md, "Coils hinged at the entry").
+// A wire in an unsteered catheter keeps it at the clamp node: the M1 Solumbra run's
 // microwire, hinged at its unsteered microcatheter's tip while that catheter was advanced over
 // it, read 26-490 N of clamp force and was unconverged on 0.59 % of its ticks (convergence.md,
 // "The clamp's hinge at the entry point", "Catheters hinged at the entry" and "Wires hinged in
 // the catheters they steer").
 bool Simulator::hinged_at_entry(std::size_t t) const {
   const ToolSpec& s = specs_[t];
-  if (lone(t) || is_catheter(s.kind)) return true;
+  if (lone(t) || is_catheter(s.kind) || s.kind == ToolKind::kCoil) return true;
   const std::size_t o = outer_of_[t];
   return s.kind == ToolKind::kGuidewire && !s.stent.present() && o < rods_.size() &&
          specs_[o].steered_by_inner != InnerSteering::kNone;

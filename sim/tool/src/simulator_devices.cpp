@@ -109,6 +109,7 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   rods_[tool] = Rod(spec, settings_);
   rods_[tool].set_entry(entry_.point_mm, entry_.direction);
   apply_coil_settings(tool);
+  rods_[tool].settings().clamp_hinge_at_entry = hinged_at_entry(tool);
   insertion_[tool] = 0.0;
   rotation_[tool] = 0.0;
   stepped_depth_[tool] = 0.0;
