@@ -85,10 +85,12 @@ struct RodSettings {
   // the entry), over the part of it past the entry (at least kClampEdgeFloor of it; the edge
   // stretches node to node), so a node crossing the entry changes the free part's compliance by
   // no step. Off: the hinge at the clamp node, half an edge of compliance gained or lost at
-  // every crossing. The Simulator sets it for a tool alone in the body and for every catheter,
-  // and off for a wire or a coil in a catheter (docs/sim-tool/convergence.md, "The clamp's hinge
-  // at the entry point", where the other tools' runs with it are measured, and "Catheters hinged
-  // at the entry").
+  // every crossing. The Simulator sets it for a tool alone in the body, every catheter, every
+  // coil (Rod::update_window leaves it out while a coil's joint or pusher is the clamp node) and a
+  // wire in a catheter it steers, and off for a wire in an unsteered catheter
+  // (Simulator::hinged_at_entry; docs/sim-tool/convergence.md, "The clamp's hinge at the entry
+  // point", where the other tools' runs with it are measured, "Catheters hinged at the entry",
+  // "Wires hinged in the catheters they steer" and "Coils hinged at the entry").
   bool clamp_hinge_at_entry = true;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   // A compliant wall's layer (wall_penalty.hpp): past this penetration the wall's contact
