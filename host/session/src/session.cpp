@@ -297,7 +297,6 @@ void Session::observe(std::int64_t n, const HandFeedback& fb) {
   }
 }
 
-// The tick's events in the log (and the target in the record); the box's link and faults.
 // A coil's detachment zone that stopped parting this tick (Simulator::detach): its coil released,
 // or the zone drawn back into the catheter before it parted (the coil still attached).
 void Session::log_partings() {
@@ -314,6 +313,7 @@ void Session::log_partings() {
   }
 }
 
+// The tick's events in the log (and the target in the record); the box's link and faults.
 void Session::log_events(int tip_segment, double tip_force_mN) {
   // The tip's own force (not the tick's largest contact, which may be another tool's shaft).
   // Where: a vessel segment, a junction's wall (MeshWall::kJunction, no one segment), or no
