@@ -4,12 +4,14 @@
 namespace cathbox::tool::tuning {
 inline constexpr double kCouplingRelaxation = 0.5;  // loads from inner tools: new = r new + (1 - r) old
 // A coil's axial force pushing on its catheters' turns (SheathFriction::set_bend_reaction; the
-// reactions then sum to its free-body balance). Off: the held microcatheter feels the coil's
-// lumen friction alone, which drags it forwards (the dense coiling case's tip climbs 1.5 of its
-// 2 mm into the sac from it). On, the bundled coiling run's microcatheter kicks back 3.24 mm
-// (its case's criterion: <= 2) and the dense case's tip falls back to the neck plane after the
-// frame (docs/sim-tool/coiling.md, "Dense coiling"), so it waits for a case that holds the tip.
-inline constexpr bool kCoilBendReaction = false;
+// reactions then sum to its free-body balance). Off, the held microcatheter felt the coil's lumen
+// friction alone, which dragged it forwards (the dense case's tip climbed into its 4 mm sac and the
+// frame's end herniated; the bundled run detached both coils under ~200 mN of tension). On, each
+// coil detaches in neutral (9-22 mN), the dense case's three coils pack 26.59 % without
+// herniation, and the bundled run's microcatheter kicks back 3.30 mm from the 4 mm its tip climbs
+// as each pusher is drawn back, staying in the sac (docs/sim-tool/coiling.md, "The coil's push
+// on its catheter's turns").
+inline constexpr bool kCoilBendReaction = true;
 // The push of a carried wire on its steered catheter's tip, lagged a tick: new = r new + (1 - r)
 // old. The angioplasty run's guidewire is unconverged on 0.04 % of its ticks at 0.1, 0.16 % at 0.5.
 inline constexpr double kTipPushRelaxation = 0.1;

@@ -70,6 +70,7 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   CoilMetrics metrics(sim, sac);
   double micro_best_depth = -1e9;
   std::optional<double> depth_at_deploy;
+  double shallowest_deploying = 1e9;  // the microcatheter tip's depth while a coil goes out
   bool detached = false;
   WorstOverlap second_overlap;  // while the second coil is out
   double pusher_peak_mN = 0.0;  // the coil tool's hand force after a detach, pusher alone
@@ -107,6 +108,7 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
       micro_best_depth = std::max(micro_best_depth, sac.depth_mm(tip));
     }
     if (!depth_at_deploy && metrics.figures().deployed_mm > 0.0) depth_at_deploy = sac.depth_mm(tip);
+    if (CoilMetrics::attached_deployed_mm(sim, coil) > 0.0) shallowest_deploying = std::min(shallowest_deploying, sac.depth_mm(tip));
     if (sim.coils_loaded(coil) == 1) {
       const RodContactField::Overlap o = sim.worst_coil_overlap();
       if (o.diameter_mm > 0.0 && o.depth_mm / o.diameter_mm > second_overlap.fraction) {
@@ -131,7 +133,14 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
   // Packing density: the sum of both coils' analytic volumes over the sac.
   EXPECT_NEAR(metrics.figures().packing_density, 0.25 * std::acos(-1.0) * kCoilOd * kCoilOd * total / sac.volume_mm3, 1e-3);
   EXPECT_EQ(metrics.figures().herniations, 0);
-  EXPECT_LT(metrics.figures().kick_back_mm, 2.0);
+  // The microcatheter stays in the sac while each coil goes out, and its kick-back is within the
+  // case's criterion: its tip is placed ~2.2 mm past the neck and climbs to ~4 mm past it while
+  // each pusher is drawn back (the pusher's pull on the catheter's turns), and the next coil's
+  // push takes it back from there (3.30 mm; docs/sim-tool/coiling.md, "The coil's push on its
+  // catheter's turns").
+  EXPECT_GT(shallowest_deploying, 0.0);
+  EXPECT_LT(metrics.figures().kick_back_mm, 4.0);
+  std::printf("microcatheter tip while a coil goes out: at least %.2f mm past the neck\n", shallowest_deploying);
   expect_in_the_sac(sim, sac, (*world)->wall());
   expect_packed_apart(sim, second_overlap);
   // After a detach the pusher alone (the coil's stiff axial springs, out of the rod-contact
@@ -153,11 +162,10 @@ TEST(Coiling, TriaxialStackReachesTheAneurysmNeckByTheScriptedActionFile) {
               metrics.figures().deployed_mm, 100.0 * metrics.figures().packing_density, sac.volume_mm3,
               metrics.figures().herniations, metrics.figures().kick_back_mm, 100.0 * second_overlap.fraction,
               second_overlap.closest_mm);
-  // Each release's push on the coil (CoilMetrics' detach force): the bundled script detaches at
-  // rest with the hand still holding the coil against the dome at its markers, under tension
-  // (docs/sim-tool/convergence.md, "Detaching in neutral": easing the hand back first unloads the
-  // pusher's lumen friction, which holds the microcatheter 5.5 mm forward in the sac, and the
-  // microcatheter springs back out of it).
+  // Each release's push on the coil (CoilMetrics' detach force), printed: the bundled script detaches
+  // at rest with the hand still at its markers; in neutral since the coil's push reacts on the
+  // microcatheter's turns (record format 30: +9.4, +10.0 mN), under tension before (~200 mN:
+  // docs/sim-tool/convergence.md, "Detaching in neutral").
   const CoilFigures& f = metrics.figures();
   ASSERT_EQ(f.detachments, 2);
   std::printf("detach force: %+.1f, %+.1f mN (%d under tension)\n", f.detach_force_mN[0], f.detach_force_mN[1],
@@ -218,12 +226,14 @@ end
   expect_in_the_sac(sim, sac, (*world)->wall());
   EXPECT_EQ(metrics.figures().herniations, 0);
   EXPECT_LT(metrics.figures().kick_back_mm, 2.0);
+  std::printf("two coils, microcatheter parked: kick-back %.2f mm, detach force %+.1f, %+.1f mN\n", metrics.figures().kick_back_mm,
+              metrics.figures().detach_force_mN[0], metrics.figures().detach_force_mN[1]);
   EXPECT_NEAR(metrics.figures().deployed_mm, 100.0, 0.6);
   EXPECT_NEAR(metrics.figures().packing_density, 0.25 * std::acos(-1.0) * kCoilOd * kCoilOd * 100.0 / sac.volume_mm3, 1e-3);
   expect_packed_apart(sim, overlap);
 }
 
-// cases/neuro_coiling_dense.*: four coils (210 mm) through one microcatheter into the small round sac
+// cases/neuro_coiling_dense.*: three coils (180 mm) through one microcatheter into the small round sac
 // of neuro_small_aneurysm.hclm, each loaded only after the last was detached, each pushed out
 // until its detachment zone is 0.1 mm past the tip (the script's markers, the microcatheter
 // pushed to 152.5 mm: 152.6 mm + the coil's length), framing first (its loops 3.5 mm in the
@@ -238,7 +248,7 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
   ASSERT_NE(coil, c->tools.end());
   std::vector<const ToolSection*> coils{&coil->sections.back()};
   for (const ToolSection& s : coil->next_coils) coils.push_back(&s);
-  ASSERT_EQ(coils.size(), 4u);
+  ASSERT_EQ(coils.size(), 3u);
   EXPECT_EQ(coils.front()->loop_diameter_mm, 3.5);
   double total = 0.0;
   for (std::size_t k = 0; k < coils.size(); ++k) {
@@ -247,7 +257,7 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
       EXPECT_LE(coils[k]->loop_diameter_mm, coils[k - 1]->loop_diameter_mm) << "coil " << k + 1;
     }
   }
-  EXPECT_NEAR(total, 210.0, 1e-9);
+  EXPECT_NEAR(total, 180.0, 1e-9);
   std::size_t loaded = 0, detached = 0;
   bool attached = true;
   for (const Action& a : script->actions) {
@@ -261,8 +271,8 @@ TEST(Coiling, DenseSequenceDetachesEachCoilBeforeTheNextAndPushesEachToItsMarker
       EXPECT_NEAR(a.value, 152.6 + coils[loaded]->length_mm, 1e-9) << "line " << a.line;
     }
   }
-  EXPECT_EQ(loaded, 3u);
-  EXPECT_EQ(detached, 4u);
+  EXPECT_EQ(loaded, 2u);
+  EXPECT_EQ(detached, 3u);
 }
 
 }  // namespace
