@@ -51,6 +51,7 @@ const FeelRun kRuns[] = {
     {"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"},
     {"held_out_bend", "tests/host/session/data/held_out_bend.case", "tests/host/session/data/held_out_bend.actions"},
     {"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case", "tests/host/session/data/dead_end.actions"},
+    {"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"},
 };
 
 // The metrics' own figures are the trace's: the peak hand force, and each tool's unconverged share
@@ -97,8 +98,11 @@ void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
 // peak, 72.8 mN/tick), and by the rigid dead end once its wire's clamp hinged at the entry point
 // (RodSettings::clamp_hinge_at_entry, record format 23: its 2 ticks over the slew, 170.6 mN at
 // 8.588 s and 127.7 at 8.655, were nodes crossing the entry at 3.4 N; now 91.7 mN/tick, 3,645 mN
-// peak); the coiling run is instantiated disabled (run it with --gtest_also_run_disabled_tests)
-// until its changes over the slew are gone (its tools converge: ToolConvergence; each change's
+// peak); the coiling runs are instantiated disabled (run them with --gtest_also_run_disabled_tests)
+// until their changes over the slew are gone (record format 30: the bundled run 3 ticks, all before
+// its coils; the dense run 32, every tool converged: its microcatheter advanced over the wire into
+// the small sac, 10.7-11.1 s, 14; the microwire drawn back across the microcatheter's tip, one
+// each 0.4 mm node crossing, 13.0-13.3 s, 17, up to 385.6 mN; the frame going out at 27.871 s, 1) (its tools converge: ToolConvergence; each change's
 // cause: hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
 // (HandForceReplay and ToolConvergence print them). The angioplasty met them once the wire's
 // clamp at the balloon catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip)
@@ -125,7 +129,7 @@ TEST_P(HandForceReplay, StaysWithinTheBoxsSlewAndFullScaleWithConvergedSteps) {
 std::string run_name(const ::testing::TestParamInfo<FeelRun>& info) { return info.param.name; }
 
 INSTANTIATE_TEST_SUITE_P(Meets, HandForceReplay, ::testing::Values(kRuns[0], kRuns[1], kRuns[3], kRuns[4], kRuns[5]), run_name);
-INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, HandForceReplay, ::testing::Values(kRuns[2]), run_name);
+INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, HandForceReplay, ::testing::Values(kRuns[2], kRuns[6]), run_name);
 
 // Helical buckling of the dead end's wire, from its case: one tube of radius R closed at its far
 // end by a round cap, the entry on its axis; the wire's shaft (its proximal section: EI, diameter
