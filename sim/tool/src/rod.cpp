@@ -150,6 +150,7 @@ void Rod::set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction) {
   for (std::size_t k = 0; k < x_.size(); ++k) place_outside(k);
   for (NodeContact& c : node_contacts_) c = NodeContact{};
   contacts_.clear();
+  hinged_back_at_kp_ = static_cast<std::size_t>(-1);
   update_window();
 }
 
@@ -230,10 +231,17 @@ void Rod::update_window() {
   // bundled cases) is held straight in the lumen up to the joint, so the coil's end bends at the
   // clamp node, as without the hinge; hinged at the entry there, each coil's end jammed as it left
   // the catheter (convergence.md, "Coils hinged at the entry"). The switch is at the node crossing
-  // that makes the joint the clamp node.
+  // that makes the joint the clamp node. A tool drawn back (hinge_while_drawn_back) is hinged too,
+  // that word taken only when the clamp node changes, so a clamp node that holds still keeps its
+  // clamp edge.
   clamp_shift_mm_ = 0.0;
+  if (kp != hinged_back_at_kp_) {
+    hinged_back_ = drawn_back_;
+    hinged_back_at_kp_ = kp;
+  }
+  const bool hinged = settings_.clamp_hinge_at_entry || hinged_back_;
   const bool pusher_at_clamp = spec_.detach_mm > 0.0 && from_tip_[kp] >= spec_.detach_mm - 1e-9;
-  if (settings_.clamp_hinge_at_entry && kp + 1 < x_.size() && !pusher_at_clamp) {
+  if (hinged && kp + 1 < x_.size() && !pusher_at_clamp) {
     clamp_shift_mm_ = std::clamp(from_tip_[kp] - insertion_mm_, 0.0, (1.0 - kClampEdgeFloor) * rest_[kp]);
   }
 }

@@ -302,7 +302,7 @@ void Simulator::step_released(double dt_s) {
 // microwire, hinged at its unsteered microcatheter's tip while that catheter was advanced over
 // it, read 26-490 N of clamp force and was unconverged on 0.59 % of its ticks (convergence.md,
 // "The clamp's hinge at the entry point", "Catheters hinged at the entry" and "Wires hinged in
-// the catheters they steer").
+// the catheters they steer"), but while its hand draws it back (drawn_back_wire).
 bool Simulator::hinged_at_entry(std::size_t t) const {
   const ToolSpec& s = specs_[t];
   if (lone(t) || is_catheter(s.kind) || s.kind == ToolKind::kCoil) return true;
@@ -311,8 +311,20 @@ bool Simulator::hinged_at_entry(std::size_t t) const {
          specs_[o].steered_by_inner != InnerSteering::kNone;
 }
 
+// A guidewire in a catheter (not a stent's push wire) that its hand draws back this step bends
+// from that catheter's tip too (Rod::hinge_while_drawn_back, taken at node crossings only, so it
+// never moves a clamp that holds still): drawn back at its clamp node, the dense coiling run's
+// microwire bent at each node crossing of its microcatheter's tip, up to 386 mN on the hand in a
+// tick (17 ticks over 100 mN; 3 hinged: convergence.md, "A wire drawn back bends from its
+// catheter's tip"). Not while the catheter is advanced over it: that lost the Solumbra runs.
+bool Simulator::drawn_back_wire(std::size_t t) const {
+  const ToolSpec& s = specs_[t];
+  return s.kind == ToolKind::kGuidewire && !s.stent.present() && outer_of_[t] < rods_.size() &&
+         insertion_[t] < stepped_insertion_[t] - 1e-9;
+}
+
 // A balloon catheter's tip (steered by what it carries even parked, InnerSteering::kAlways), and
-// the tip of a catheter with a wire hinged at it (hinged_at_entry), take that push changed by at
+// the tip of a catheter with a wire hinged at it (hinged_at_entry, or drawn back), take that push changed by at
 // most tuning::kTipPushSlew_mN a step: a one-tick wall touch of the inner tool's short free part
 // beyond the tip (its clamp 700-850 mN across the tip) no longer lands a tenth of itself on the
 // tip at once, throwing the tip off the touch and that free part back onto the wall some ticks
@@ -324,7 +336,8 @@ bool Simulator::hinged_at_entry(std::size_t t) const {
 bool Simulator::push_bounded(std::size_t c) const {
   if (specs_[c].steered_by_inner == InnerSteering::kAlways) return true;
   for (std::size_t u = 0; u < rods_.size(); ++u) {
-    if (outer_of_[u] == c && specs_[u].kind == ToolKind::kGuidewire && rods_[u].settings().clamp_hinge_at_entry) return true;
+    if (outer_of_[u] != c || specs_[u].kind != ToolKind::kGuidewire) continue;
+    if (rods_[u].settings().clamp_hinge_at_entry || drawn_back_wire(u)) return true;
   }
   return false;
 }
@@ -349,15 +362,18 @@ void Simulator::step(double dt_s) {
   const bool released = !detached_.empty();
   if (released && balloon_moved_) sleep_.wake_all();  // a balloon's diameter moved (coils may rest on it)
   if (released) sleep_.begin(rods_, detached_);
+  for (std::size_t t = 0; t < n; ++t) rods_[t].hinge_while_drawn_back(drawn_back_wire(t));
   for (const std::size_t t : order_) {
     prepare(t);
     update_contact_members();
     const bool member = std::any_of(members_.begin(), members_.end(),
                                     [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
     // An unconverged tick solved again in sub-increments (Simulator::substepped).
-    // A catheter directly in a balloon guide in up to kGuidedCatheterSubsteps (the ADAPT pass).
+    // A guidewire, and a catheter directly in a balloon guide (the ADAPT pass), in up to
+    // tuning::kFineSubsteps.
     const bool guided = outer_of_[t] < n && balloon_guide(outer_of_[t]) && specs_[t].kind == ToolKind::kCatheter;
-    const int most = guided ? tuning::kGuidedCatheterSubsteps : tuning::kLoneToolSubsteps;
+    const bool fine = guided || specs_[t].kind == ToolKind::kGuidewire;
+    const int most = fine ? tuning::kFineSubsteps : tuning::kLoneToolSubsteps;
     rods_[t].settings().substeps_max = substepped(t) ? most : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());

@@ -26,8 +26,13 @@ inline constexpr int kLoneToolSubsteps = 4;
 // And a catheter directly in a balloon guide (the aspiration stacks' aspiration catheter): its pass,
 // withdrawn at 10 mm/s with the clot, its tip snapping back down the terminal ICA, left 162
 // ticks unconverged after 4 parts in the ADAPT M1 run (0.50 %), ~102 after 8 (0.32 %;
-// convergence.md, "An aspiration stack sub-stepped").
-inline constexpr int kGuidedCatheterSubsteps = 8;
+// convergence.md, "An aspiration stack sub-stepped"). And every guidewire: the dense coiling
+// run's microwire, hinged at its microcatheter's tip while drawn back, has a short free part
+// whose tip and base touch the sac wall and whose Newton steps swing between the two contacts'
+// active sets (0.01-0.1 mm, never under convergence_mm): 36 ticks unconverged after 4 parts
+// (0.52 %), 4 after 8 (0.06 %; convergence.md, "A wire drawn back bends from its catheter's tip").
+// Every sub-stepped tool at 8 moved the dense run's third coil into the parent artery.
+inline constexpr int kFineSubsteps = 8;
 // A released coil's warm start (RodSettings::warm_start): a coil pushed at a steady rate starts
 // each step from its whole last motion (1), but a released one only relaxes, and with 1 the
 // extrapolated motion is carried into the next step undiminished (its friction anchors and

@@ -99,11 +99,13 @@ void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
 // (RodSettings::clamp_hinge_at_entry, record format 23: its 2 ticks over the slew, 170.6 mN at
 // 8.588 s and 127.7 at 8.655, were nodes crossing the entry at 3.4 N; now 91.7 mN/tick, 3,645 mN
 // peak); the coiling runs are instantiated disabled (run them with --gtest_also_run_disabled_tests)
-// until their changes over the slew are gone (record format 30: the bundled run 3 ticks, all before
-// its coils; the dense run 32, every tool converged: its microcatheter advanced over the wire into
-// the small sac, 10.7-11.1 s, 14; the microwire drawn back across the microcatheter's tip, one
-// each 0.4 mm node crossing, 13.0-13.3 s, 17, up to 385.6 mN; the frame going out at 27.871 s, 1) (its tools converge: ToolConvergence; each change's
-// cause: hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
+// until their changes over the slew are gone (record format 31: the bundled run 2 ticks, both before
+// its coils, 10.506 s the microcatheter's start over the wire +124.5 mN, 13.088 s the microwire
+// drawn back -114.7; the dense run 16, every tool converged: its microcatheter advanced and turned
+// over the wire in the small sac's neck, 10.716-11.119 s, 13, up to 207.4 mN; the microwire drawn
+// back, 13.020-13.329 s, 3. Format 30 had 3 and 32: convergence.md, "A wire drawn back bends from
+// its catheter's tip") (its tools converge: ToolConvergence; each change's cause:
+// hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
 // (HandForceReplay and ToolConvergence print them). The angioplasty met them once the wire's
 // clamp at the balloon catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip)
 // and the predictor stopped putting the catheter's tip on the wire's chord behind its entry

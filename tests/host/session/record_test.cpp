@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 29;  // format version 29 (a record before a coil's push reacted on its catheter's turns), CRC fixed up
+  bytes[8] = 30;  // format version 30 (a record before a wire drawn back bent from its catheter's tip), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v29 = RecordReader::from_bytes(bytes, "v29.cbxrec");
-  ASSERT_FALSE(v29);
-  EXPECT_EQ(v29.error().message, "v29.cbxrec: byte 8: record format version 29, this build reads version 30");
+  const auto v30 = RecordReader::from_bytes(bytes, "v30.cbxrec");
+  ASSERT_FALSE(v30);
+  EXPECT_EQ(v30.error().message, "v30.cbxrec: byte 8: record format version 30, this build reads version 31");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

@@ -114,6 +114,9 @@ class Rod {
   }
   RodSettings& settings() { return settings_; }
   [[nodiscard]] const RodSettings& settings() const { return settings_; }
+  // Whether the hand draws the tool back this step: it then bends from the entry point as
+  // RodSettings::clamp_hinge_at_entry does, switched at node crossings only (update_window).
+  void hinge_while_drawn_back(bool drawn_back) { drawn_back_ = drawn_back; }
 
   // Properties of the tool at a distance from its tip.
   [[nodiscard]] double radius_at_mm(double from_tip_mm) const;
@@ -374,6 +377,10 @@ class Rod {
   // bend over (hinge_turn_scale_, update_weights).
   double clamp_shift_mm_ = 0.0;
   double hinge_turn_scale_[2] = {1.0, 1.0};
+  // hinge_while_drawn_back's word, and that word as taken when the clamp node last changed
+  // (update_window): the hinge it adds switches only at a node crossing.
+  bool drawn_back_ = false, hinged_back_ = false;
+  std::size_t hinged_back_at_kp_ = static_cast<std::size_t>(-1);
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;

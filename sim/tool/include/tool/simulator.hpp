@@ -182,6 +182,7 @@ class Simulator {
   void add_balloon_members();
   [[nodiscard]] bool lone(std::size_t t) const;  // no catheter around it, none inside it, not a coil
   [[nodiscard]] bool hinged_at_entry(std::size_t t) const;  // RodSettings::clamp_hinge_at_entry for tool t
+  [[nodiscard]] bool drawn_back_wire(std::size_t t) const;  // Rod::hinge_while_drawn_back for tool t
   [[nodiscard]] bool push_bounded(std::size_t c) const;  // carrier c's tip push is slew-limited (limit_tip_push)
   // Whether tool t's unconverged tick is solved again in sub-increments this step.
   [[nodiscard]] bool substepped(std::size_t t) const;
