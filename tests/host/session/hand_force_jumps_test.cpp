@@ -1,5 +1,6 @@
 // Where the held tool's hand force changes by more than the box's slew (100 mN a 1 ms tick) in
-// the coiling run, the dead ends, the ADAPT M1 run and the M1 stent retriever's (its wait cut),
+// the coiling runs (bundled and dense), the dead ends, the ADAPT M1 run and the M1 stent
+// retriever's (its wait cut),
 // and from what (issue 29, "the feel"):
 // every such tick printed with the held tool, the hand's speed and its change, the force split
 // into the tool's own part (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
@@ -168,6 +169,7 @@ std::string run_name(const ::testing::TestParamInfo<FeelRun>& info) { return inf
 INSTANTIATE_TEST_SUITE_P(
     Runs, HandForceJumps,
     ::testing::Values(FeelRun{"neuro_coiling", "cases/neuro_coiling.case", "cases/neuro_coiling.actions"},
+                      FeelRun{"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"},
                       FeelRun{"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"},
                       FeelRun{"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case",
                               "tests/host/session/data/dead_end.actions"},
