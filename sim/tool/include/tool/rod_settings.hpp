@@ -87,11 +87,12 @@ struct RodSettings {
   // no step. Off: the hinge at the clamp node, half an edge of compliance gained or lost at
   // every crossing. The Simulator sets it for a tool alone in the body, every catheter, every
   // coil (Rod::update_window leaves it out while a coil's joint or pusher is the clamp node) and a
-  // wire in a catheter it steers, and off for a wire in an unsteered catheter but while its hand
-  // draws it back; the rod takes it at node crossings only (Simulator::hinged_at_entry;
-  // docs/sim-tool/convergence.md, "The clamp's hinge at the entry point", where the other tools'
-  // runs with it are measured, "Catheters hinged at the entry", "Wires hinged in the catheters
-  // they steer", "Coils hinged at the entry" and "A wire drawn back bends from its catheter's tip").
+  // wire in a catheter it steers, and off for a wire in an unsteered catheter
+  // (Simulator::hinged_at_entry), which bends from the entry only while its hand draws it back
+  // (Rod::hinge_while_drawn_back, switched at node crossings; docs/sim-tool/convergence.md, "The
+  // clamp's hinge at the entry point", where the other tools' runs with it are measured,
+  // "Catheters hinged at the entry", "Wires hinged in the catheters they steer", "Coils hinged
+  // at the entry" and "A wire drawn back bends from its catheter's tip").
   bool clamp_hinge_at_entry = true;
   double max_penetration_ratio = 0.05;     // hard limit of wall penetration, in tool radii
   // A compliant wall's layer (wall_penalty.hpp): past this penetration the wall's contact
