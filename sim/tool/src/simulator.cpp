@@ -34,6 +34,9 @@ void steer_catheters_in_balloon_guides(std::span<const ToolSpec> tools, std::vec
     specs[i].steered_by_inner = InnerSteering::kWhileAdvanced;
   }
 }
+
+// A guidewire that is not a stent's push wire (the wire whose clamp may hinge at its catheter's tip).
+bool plain_guidewire(const ToolSpec& s) { return s.kind == ToolKind::kGuidewire && !s.stent.present(); }
 }  // namespace
 
 Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
@@ -307,8 +310,7 @@ bool Simulator::hinged_at_entry(std::size_t t) const {
   const ToolSpec& s = specs_[t];
   if (lone(t) || is_catheter(s.kind) || s.kind == ToolKind::kCoil) return true;
   const std::size_t o = outer_of_[t];
-  return s.kind == ToolKind::kGuidewire && !s.stent.present() && o < rods_.size() &&
-         specs_[o].steered_by_inner != InnerSteering::kNone;
+  return plain_guidewire(s) && o < rods_.size() && specs_[o].steered_by_inner != InnerSteering::kNone;
 }
 
 // A guidewire in a catheter (not a stent's push wire) that its hand draws back this step bends
@@ -318,9 +320,7 @@ bool Simulator::hinged_at_entry(std::size_t t) const {
 // tick (17 ticks over 100 mN; 3 hinged: convergence.md, "A wire drawn back bends from its
 // catheter's tip"). Not while the catheter is advanced over it: that lost the Solumbra runs.
 bool Simulator::drawn_back_wire(std::size_t t) const {
-  const ToolSpec& s = specs_[t];
-  return s.kind == ToolKind::kGuidewire && !s.stent.present() && outer_of_[t] < rods_.size() &&
-         insertion_[t] < stepped_insertion_[t] - 1e-9;
+  return plain_guidewire(specs_[t]) && outer_of_[t] < rods_.size() && insertion_[t] < stepped_insertion_[t] - 1e-9;
 }
 
 // A balloon catheter's tip (steered by what it carries even parked, InnerSteering::kAlways), and
