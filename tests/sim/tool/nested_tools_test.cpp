@@ -600,6 +600,61 @@ TEST(NestedTools, AWireBendsFromTheTipOfTheCatheterItSteersWhosePushIsBounded) {
   EXPECT_GT(largest, 9.99);
 }
 
+// A guidewire in a catheter it does not steer (the coiling and Solumbra stacks') bends at its
+// clamp node while it is held or pushed, and from the catheter's tip while its hand draws it back
+// (Simulator::drawn_back_wire, Rod::hinge_while_drawn_back), that word taken only when the clamp
+// node changes: a clamp that holds still keeps its edge (convergence.md, "A wire drawn back bends
+// from its catheter's tip"). The wire parked in a branch beyond the unsteered microcatheter: not
+// hinged; drawn back at 20 mm/s, not hinged until its clamp node first changes, hinged from
+// there on; held still, still hinged; pushed again, not hinged from its next crossing.
+TEST(NestedTools, AWireDrawnBackBendsFromItsCatheterTipFromItsFirstNodeCrossing) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  Simulator sim(wall, triaxial_stack(), kTriaxialEntry);
+  ASSERT_FALSE(sim.rod(2).settings().clamp_hinge_at_entry);
+  park_wire_in_a_branch(sim);
+  const Rod& w = sim.rod(2);
+  EXPECT_EQ(w.clamp_shift_mm(), 0.0);
+  // Drawn back until three crossings have passed.
+  const std::size_t parked_clamp = w.first_free_node();
+  int crossings = 0, steps_before = 0, hinged_after = 0, steps_after = 0;
+  double largest_change = 0.0, last = sim.hand_force_mN(2);
+  std::size_t clamp = parked_clamp;
+  while (crossings < 3) {
+    sim.set_insertion(2, sim.insertion_mm(2) - 0.02);
+    sim.step();
+    largest_change = std::max(largest_change, std::abs(sim.hand_force_mN(2) - last));
+    last = sim.hand_force_mN(2);
+    if (w.first_free_node() != clamp) ++crossings;
+    clamp = w.first_free_node();
+    if (crossings == 0) {
+      ++steps_before;
+      EXPECT_EQ(w.clamp_shift_mm(), 0.0) << "step " << steps_before << " before the first crossing";
+    } else {
+      ++steps_after;
+      hinged_after += w.clamp_shift_mm() > 0.0 ? 1 : 0;
+    }
+    ASSERT_LT(steps_before + steps_after, 2000) << "the clamp node never changed";
+  }
+  EXPECT_GT(steps_before, 0);
+  EXPECT_EQ(hinged_after, steps_after);
+  // Held still: the hinge stays (no crossing, no switch).
+  for (int i = 0; i < 50; ++i) sim.step();
+  EXPECT_GT(w.clamp_shift_mm(), 0.0);
+  // Pushed again: off from the next crossing.
+  const std::size_t held = w.first_free_node();
+  int pushed = 0;
+  while (w.first_free_node() == held && pushed < 2000) {
+    sim.set_insertion(2, sim.insertion_mm(2) + 0.02);
+    sim.step();
+    ++pushed;
+  }
+  ASSERT_NE(w.first_free_node(), held);
+  EXPECT_EQ(w.clamp_shift_mm(), 0.0);
+  std::printf("drawn back: %d steps before the first crossing, %d after (hinged on %d); the hand force changed by "
+              "at most %.2f mN a step\n",
+              steps_before, steps_after, hinged_after, largest_change);
+}
+
 // An aspiration stack in a balloon guide (neuro_thrombectomy_m1.case's: guide kAlways >
 // aspiration kWhileAdvanced > microcatheter kWhileAdvanced > wire): the guide's steering keeps
 // neither the aspiration catheter in it, nor the microcatheter its wire steers, nor the wire from

@@ -117,6 +117,9 @@ class Rod {
   // Whether the hand draws the tool back this step: it then bends from the entry point as
   // RodSettings::clamp_hinge_at_entry does, switched at node crossings only (update_window).
   void hinge_while_drawn_back(bool drawn_back) { drawn_back_ = drawn_back; }
+  // How far ahead of the clamp node its edge bends from (the clamp's hinge, toward the entry
+  // point): 0 while the clamp edge bends at the clamp node.
+  [[nodiscard]] double clamp_shift_mm() const { return clamp_shift_mm_; }
 
   // Properties of the tool at a distance from its tip.
   [[nodiscard]] double radius_at_mm(double from_tip_mm) const;
