@@ -1,6 +1,7 @@
 // The simulator's sheath paths: the lumens of the catheters around a tool, and their friction.
 #include "tool/simulator.hpp"
 
+#include "sheath_anchor.hpp"
 #include "simulator_tuning.hpp"
 
 #include <algorithm>
@@ -174,7 +175,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   build_sheath_path(u, path_);
   const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
   const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
-  const double k_anchor = settings_.stick_stiffness_mN_per_mm();
+  const double k_anchor = sheath_anchor_mN_per_mm(rod, tip_depth_mm(u), rods_[o], tip_depth_mm(o));
   // A coil's push on the bends of the catheter it leaves (SheathFriction::set_bend_reaction),
   // while tuning::kCoilBendReaction says.
   sheath_[u].set_bend_reaction(tuning::kCoilBendReaction && rod.spec().kind == ToolKind::kCoil);

@@ -25,8 +25,8 @@ struct RodSettings {
   // (1,369 mN/mm^2: 246 mN/mm under a 0.014" wire) on a rigid wall too, whose normal stiffness is
   // a numerical penalty; a case's `wall` line sets its territory's. 0: the ratio below (coils).
   double wall_shear_mN_per_mm2 = patch_shear_stiffness_mN_per_mm2(kCervicalWall);
-  // The stick springs that are not the wall's (rod-rod contact, a balloon's grip, the sheath and
-  // valve anchors): this fraction of contact_stiffness_mN_per_mm.
+  // The stick springs that are not the wall's nor the lumen's (rod-rod contact, a balloon's grip,
+  // the valve anchors): this fraction of contact_stiffness_mN_per_mm.
   double stick_stiffness_ratio = 0.1;
   // Those stick springs' stiffness.
   [[nodiscard]] double stick_stiffness_mN_per_mm() const { return contact_stiffness_mN_per_mm * stick_stiffness_ratio; }
