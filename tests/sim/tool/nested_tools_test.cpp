@@ -268,6 +268,34 @@ TEST(SheathFriction, StraightCatheterHasNoFrictionAndStickComesBeforeSlip) {
   EXPECT_NEAR(sim.sheath(1).force_limit_fwd_mN, 0.0, 1e-6);
 }
 
+// Stuck, the lumen's friction is held by the two shafts from the hands at the catheter's hub (its
+// length less its depth, plus half the covered depth, the wire's alongside), each stretching as
+// EA / L, in series (sheath_anchor.hpp): a wire stuck in a catheter that turns 90 degrees, drawn
+// back 0.25 um a step, changes its lumen friction by the series stiffness times the slide, never
+// the stick spring's 2e4 mN/mm.
+TEST(SheathFriction, StuckTheLumenIsHeldByTheTwoShaftsAxialStiffnessInSeries) {
+  CapstanBend bend(M_PI / 2.0, 0.1, 50.0);
+  Simulator& sim = bend.sim();
+  for (int i = 0; i < 20; ++i) sim.step();
+  const Rod& cath = sim.rod(0);
+  const Rod& w = sim.rod(1);
+  for (int i = 0; i < 4; ++i) {
+    const double before = sim.sheath(1).force_mN;
+    const double slide_mm = -2.5e-4;
+    sim.set_insertion(1, sim.insertion_mm(1) + slide_mm);
+    sim.step();
+    ASSERT_TRUE(sim.sheath(1).sticking) << "step " << i;
+    const double shaft_mm = cath.length_mm() - sim.tip_depth_mm(0) + 0.5 * sim.tip_depth_mm(0);
+    const double k_cath = 1e3 * cath.spec().axial_stiffness_N / shaft_mm;  // mN/mm
+    const double k_wire = 1e3 * w.spec().axial_stiffness_N / shaft_mm;
+    const double k_series = k_cath * k_wire / (k_cath + k_wire);
+    const double change = sim.sheath(1).force_mN - before;
+    std::printf("step %d: lumen friction %+.4f mN, %.1f mN/mm (the shafts: %.1f; the stick spring %.0f)\n", i,
+                sim.sheath(1).force_mN, change / slide_mm, k_series, sim.rod(1).settings().stick_stiffness_mN_per_mm());
+    EXPECT_NEAR(change / slide_mm, k_series, 1e-3 * k_series);
+  }
+}
+
 // The microcatheter's advance over the wire, per 1 ms step: 0.1 mm (100 mm/s, a brisk push).
 // At 0.2-0.3 mm a step (200-300 mm/s; the solver's largest node update is 0.2 mm an iteration)
 // the branch it took was a matter of rounding: 58-80 % of 270 variants followed the wire, whose
