@@ -26,6 +26,7 @@ SheathFriction::Result SheathFriction::update(double slide_mm, double turn_rad, 
                                               const std::vector<SheathVertex>& path,
                                               double anchor_stiffness_mN_per_mm) {
   Result out;
+  out.anchor_mN_per_mm = anchor_stiffness_mN_per_mm;
   const std::size_t m = path.size();
   normal_fwd_.assign(m, 0.0);
   normal_back_.assign(m, 0.0);

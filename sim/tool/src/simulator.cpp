@@ -1,6 +1,5 @@
 #include "tool/simulator.hpp"
 
-#include "sheath_anchor.hpp"
 #include "simulator_tuning.hpp"
 
 #include <algorithm>
@@ -456,7 +455,7 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   const double radius = rods_[tool].radius_at_mm(0.0);
   if (o < rods_.size()) {
     const SheathFriction::Result& r = sheath_result_[tool];
-    const double k_sheath = sheath_anchor_mN_per_mm(rods_[tool], tip_depth_mm(tool), rods_[o], tip_depth_mm(o));
+    const double k_sheath = r.anchor_mN_per_mm;  // the step's, sheath_anchor.hpp
     if (held_in_place && r.sticking && (r.force_limit_fwd_mN > 0.0 || r.force_limit_back_mN < 0.0)) {
       law.stiffness_mN_per_mm += k_sheath;
     }

@@ -70,6 +70,7 @@ class SheathFriction {
     double torque_limit_mNmm = 0.0;
     bool sticking = true;
     bool twist_sticking = true;
+    double anchor_mN_per_mm = 0.0;   // the stick spring it was given (the twist's: times r^2)
   };
 
   // Relative sliding and turning of the inner tool against its catheter in this step, the
