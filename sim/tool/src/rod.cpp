@@ -233,17 +233,29 @@ void Rod::update_window() {
   // the catheter (convergence.md, "Coils hinged at the entry"). The switch is at the node crossing
   // that makes the joint the clamp node. A tool drawn back (hinge_while_drawn_back) is hinged too,
   // that word taken only when the clamp node changes, so a clamp node that holds still keeps its
-  // clamp edge.
+  // clamp edge (and until that change its hinge walks to the entry point: below).
   clamp_shift_mm_ = 0.0;
   if (kp != hinged_back_at_kp_) {
     hinged_back_ = drawn_back_;
     hinged_back_at_kp_ = kp;
+    back_from_mm_ = -std::numeric_limits<double>::infinity();
   }
   const bool hinged = settings_.clamp_hinge_at_entry || hinged_back_;
   const bool pusher_at_clamp = spec_.detach_mm > 0.0 && from_tip_[kp] >= spec_.detach_mm - 1e-9;
-  if (hinged && kp + 1 < x_.size() && !pusher_at_clamp) {
-    clamp_shift_mm_ = std::clamp(from_tip_[kp] - insertion_mm_, 0.0, (1.0 - kClampEdgeFloor) * rest_[kp]);
+  if (kp + 1 >= x_.size() || pusher_at_clamp) return;
+  const double ceiling = (1.0 - kClampEdgeFloor) * rest_[kp];
+  if (hinged) {
+    clamp_shift_mm_ = std::clamp(from_tip_[kp] - insertion_mm_, 0.0, ceiling);
+    return;
   }
+  // Drawn back before the clamp node has changed: the hinge moves from the clamp node to the
+  // entry point in proportion to the draw-back, reaching the entry as the next node crosses it,
+  // so the switch to hinged at that crossing moves nothing (back_from_mm_: the insertion the
+  // draw-back started from; pushed back past it, the clamp node bends again).
+  if (drawn_back_ && stepped_insertion_mm_ > back_from_mm_) back_from_mm_ = stepped_insertion_mm_;
+  const double to_crossing = back_from_mm_ - from_tip_[kp + 1];  // draw-back from there to the crossing
+  const double drawn = back_from_mm_ - insertion_mm_;
+  if (drawn > 0.0 && to_crossing > 0.0) clamp_shift_mm_ = std::min(ceiling, rest_[kp] * drawn / to_crossing);
 }
 
 glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {

@@ -115,7 +115,8 @@ class Rod {
   RodSettings& settings() { return settings_; }
   [[nodiscard]] const RodSettings& settings() const { return settings_; }
   // Whether the hand draws the tool back this step: it then bends from the entry point as
-  // RodSettings::clamp_hinge_at_entry does, switched at node crossings only (update_window).
+  // RodSettings::clamp_hinge_at_entry does, switched at node crossings only; before the first,
+  // its hinge walks from the clamp node to the entry point with the draw-back (update_window).
   void hinge_while_drawn_back(bool drawn_back) { drawn_back_ = drawn_back; }
   // How far ahead of the clamp node its edge bends from (the clamp's hinge, toward the entry
   // point): 0 while the clamp edge bends at the clamp node.
@@ -384,6 +385,7 @@ class Rod {
   // (update_window): the hinge it adds switches only at a node crossing.
   bool drawn_back_ = false, hinged_back_ = false;
   std::size_t hinged_back_at_kp_ = static_cast<std::size_t>(-1);
+  double back_from_mm_ = -std::numeric_limits<double>::infinity();  // update_window's draw-back start
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;
