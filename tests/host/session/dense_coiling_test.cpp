@@ -33,6 +33,7 @@ namespace cathbox::session {
 namespace {
 
 constexpr double kPackingMin_pct = 25.0;
+constexpr double kKickBackMax_mm = 2.0;
 
 // The p-th quantile (0..1) of the values, by the nearest rank.
 double quantile(std::vector<double> v, double p) {
@@ -43,7 +44,8 @@ double quantile(std::vector<double> v, double p) {
 }
 
 // Since record format 30 (the coil's push on its catheter's turns, tuning::kCoilBendReaction) the
-// three coils run clean: 26.59 %, kick-back 1.66 mm, kick-forward 0.45 mm. Before it the tip was
+// three coils run clean: 26.59 %, kick-back 1.66 mm, kick-forward 0.45 mm (format 33, the filling
+// coil at 6 mm/s: 1.81 mm, within the case's 2 mm; at 8 mm/s it herniated). Before it the tip was
 // dragged up to the dome by the coil's lumen friction alone and the frame's end herniated past
 // it (formats 22-29; format 15 ran clean on a knife's edge): docs/sim-tool/coiling.md, "Dense
 // coiling", "Why the tip climbs".
@@ -79,6 +81,7 @@ TEST(DenseCoiling, TheDenseCasePacksAQuarterOfTheSacWithoutHerniationWithinTheBo
   EXPECT_EQ(*m.coil_herniations, 0);
   EXPECT_EQ(*m.coil_herniated_peak_nodes, 0);
   EXPECT_EQ(*m.coil_herniated_depth_mm, 0.0);
+  EXPECT_LE(*m.kick_back_mm, kKickBackMax_mm);  // the case's criterion: the microcatheter stays in the neck
   // Every tool's step converged on at least 99.5 % of its ticks (issue 29).
   test::expect_every_tool_converged(m);
 
@@ -89,12 +92,12 @@ TEST(DenseCoiling, TheDenseCasePacksAQuarterOfTheSacWithoutHerniationWithinTheBo
   EXPECT_EQ(trace.rendered_ticks_over_slew, 0);
 
   // The coil's own force while the hand pushes it: up the microcatheter (40 mm/s) and out into
-  // the sac (8 mm/s).
+  // the sac (8 mm/s; the filling coil 6 mm/s).
   std::vector<double> up, out;
   for (const test::HandForceTrace::Push& p : trace.pushes) {
     if (p.tool != coil_tool) continue;
     if (p.speed_mm_s > 30.0) up.push_back(p.force_mN);
-    if (p.speed_mm_s > 6.0 && p.speed_mm_s < 10.0) out.push_back(p.force_mN);
+    if (p.speed_mm_s > 5.0 && p.speed_mm_s < 10.0) out.push_back(p.force_mN);
   }
   ASSERT_FALSE(out.empty());
   std::printf("  coil pushed up the microcatheter: median %.0f, p95 %.0f, largest %.0f mN (%zu ticks)\n", quantile(up, 0.5),

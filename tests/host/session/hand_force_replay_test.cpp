@@ -56,7 +56,7 @@ const FeelRun kRuns[] = {
 
 // The metrics' own figures are the trace's: the peak hand force, and each tool's unconverged share
 // from the solver's count (Rod::converged() over the ticks it had free nodes). Checked on each run
-// by the test that simulates it (HandForceReplay, ToolConvergence: the six runs between them), not
+// by the test that simulates it (HandForceReplay, ToolConvergence: the seven runs between them), not
 // by a second simulation of every run. Every run's figures (run_session prints them):
 // --gtest_filter='Meets/HandForceReplay.*:Meets/ToolConvergence.*'.
 void expect_metrics_are_the_traces(const Metrics& m, const HandForceTrace& trace) {
@@ -103,10 +103,10 @@ void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
 // ticks, 10.506 s the microcatheter's start over the wire +124.5 mN, the wire's lumen friction
 // turning at the stick spring's 100 mN a tick, and 13.088 s the microwire's last node let go by
 // the rigid wall -114.7, both gone; largest 88.3 mN/tick; convergence.md, "The lumen's stick
-// spring is the shafts' axial compliance"). The dense coiling run is instantiated disabled (run it
-// with --gtest_also_run_disabled_tests) until its one change over the slew is gone (13.019 s, the
-// microwire's first node crossing as it is drawn back, +121.4 mN; 16 at format 31) (its tools
-// converge: ToolConvergence; each change's cause: hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
+// spring is the shafts' axial compliance"); and by the dense coiling run once a wire drawn back
+// walked its hinge to its catheter's tip before its first node crossing (record format 33: its
+// one tick, 13.019 s, +121.4 mN, was the hinge switched there at once; largest 63.6 mN/tick; each
+// change's cause: hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
 // (HandForceReplay and ToolConvergence print them). The angioplasty met them once the wire's
 // clamp at the balloon catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip)
 // and the predictor stopped putting the catheter's tip on the wire's chord behind its entry
@@ -131,8 +131,7 @@ TEST_P(HandForceReplay, StaysWithinTheBoxsSlewAndFullScaleWithConvergedSteps) {
 
 std::string run_name(const ::testing::TestParamInfo<FeelRun>& info) { return info.param.name; }
 
-INSTANTIATE_TEST_SUITE_P(Meets, HandForceReplay, ::testing::Values(kRuns[0], kRuns[1], kRuns[2], kRuns[3], kRuns[4], kRuns[5]), run_name);
-INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, HandForceReplay, ::testing::Values(kRuns[6]), run_name);
+INSTANTIATE_TEST_SUITE_P(Meets, HandForceReplay, ::testing::ValuesIn(kRuns), run_name);
 
 // Helical buckling of the dead end's wire, from its case: one tube of radius R closed at its far
 // end by a round cap, the entry on its axis; the wire's shaft (its proximal section: EI, diameter
