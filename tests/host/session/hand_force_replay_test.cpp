@@ -105,7 +105,7 @@ void expect_rendered_within_the_tools_peak(const HandForceTrace& trace) {
 // the rigid wall -114.7, both gone; largest 88.3 mN/tick; convergence.md, "The lumen's stick
 // spring is the shafts' axial compliance"); and by the dense coiling run once a wire drawn back
 // walked its hinge to its catheter's tip before its first node crossing (record format 33: its
-// one tick, 13.019 s, +121.4 mN, was the hinge switched there at once; largest 63.6 mN/tick; each
+// one tick, 13.019 s, +121.4 mN, was the hinge switched there at once; largest 56.4 mN/tick; each
 // change's cause: hand_force_jumps_test.cpp). The dead ends also have checks 2 and 3. Figures: docs/sim-tool/convergence.md
 // (HandForceReplay and ToolConvergence print them). The angioplasty met them once the wire's
 // clamp at the balloon catheter's tip pushed back on that tip (Simulator::push_on_carrier_tip)

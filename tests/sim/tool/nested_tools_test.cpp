@@ -636,8 +636,9 @@ TEST(NestedTools, AWireBendsFromTheTipOfTheCatheterItSteersWhosePushIsBounded) {
 // tip in proportion to the draw-back, so the crossing moves it by no more than the edge floor
 // (Rod::update_window; switched there at once, the dense coiling run's microwire changed the hand
 // force by 121.4 mN in a tick). The wire parked in a branch beyond the unsteered microcatheter:
-// not hinged, and pushed on by half an edge; drawn back at 20 mm/s, its hinge walks to the tip before the first crossing and stays
-// there; held still, still hinged; pushed again, not hinged from its next crossing.
+// not hinged, and pushed on by half an edge; drawn back at 20 mm/s, its hinge walks to the tip
+// before the first crossing and stays there; held still, still hinged; pushed again, not hinged
+// from its next crossing.
 TEST(NestedTools, AWireDrawnBackWalksItsHingeToItsCatheterTipBeforeItsFirstNodeCrossing) {
   const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
   Simulator sim(wall, triaxial_stack(), kTriaxialEntry);
