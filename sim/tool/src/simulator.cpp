@@ -441,9 +441,9 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   law.insertion0_mm = insertion_[tool];
   law.force0_mN = hand_force_[tool];
   law.torque0_mNmm = hand_torque_[tool];
-  // A stuck anchor (the lumen's or the valve's stick spring) is stated as a spring only while
-  // what it holds the tool to, the catheter round it (the patient for a valve on a tool in the
-  // vessel), did not move in the step. The box renders a law's spring about a point fixed in its
+  // A stuck anchor (the lumen's, its shafts' compliance: sheath_anchor.hpp; or the valve's stick
+  // spring) is stated as a spring only while what it holds the tool to, the catheter round it
+  // (the patient for a valve on a tool in the vessel), did not move in the step. The box renders a law's spring about a point fixed in its
   // own frame; an anchor on a catheter that moves is not one (the coiling run's microwire
   // advanced with its microcatheter at 20 mm/s: stated, its 2 x 2e4 mN/mm had PassiveLaw add the
   // K T / 2 damper, 400 mN of drag, while the wire's force was 0). It still reaches the hand
@@ -451,7 +451,6 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   const std::size_t o = outer_of_[tool];
   const bool held_in_place = o >= rods_.size() || moved_mm_[o] == 0.0;
   const bool held_in_turn = o >= rods_.size() || turned_rad_[o] == 0.0;
-  const double k_anchor = settings_.stick_stiffness_mN_per_mm();
   const double radius = rods_[tool].radius_at_mm(0.0);
   if (o < rods_.size()) {
     const SheathFriction::Result& r = sheath_result_[tool];
@@ -465,8 +464,9 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   }
   const ValveFriction::Result& v = valve_result_[tool];
   const bool in_valve = insertion_[tool] > 0.0;
-  if (held_in_place && v.sticking && in_valve) law.stiffness_mN_per_mm += k_anchor;
-  if (held_in_turn && v.twist_sticking && in_valve) law.torsion_stiffness_mNmm_per_rad += k_anchor * radius * radius;
+  const double k_valve = settings_.stick_stiffness_mN_per_mm();
+  if (held_in_place && v.sticking && in_valve) law.stiffness_mN_per_mm += k_valve;
+  if (held_in_turn && v.twist_sticking && in_valve) law.torsion_stiffness_mNmm_per_rad += k_valve * radius * radius;
   return law;
 }
 
