@@ -235,6 +235,7 @@ void Rod::update_window() {
   // that word taken only when the clamp node changes, so a clamp node that holds still keeps its
   // clamp edge (and until that change its hinge walks to the entry point: below).
   clamp_shift_mm_ = 0.0;
+  hinge_walking_ = false;
   if (kp != hinged_back_at_kp_) {
     hinged_back_ = drawn_back_;
     hinged_back_at_kp_ = kp;
@@ -256,6 +257,7 @@ void Rod::update_window() {
   const double to_crossing = back_from_mm_ - from_tip_[kp + 1];  // draw-back from there to the crossing
   const double drawn = back_from_mm_ - insertion_mm_;
   if (drawn > 0.0 && to_crossing > 0.0) clamp_shift_mm_ = std::min(ceiling, rest_[kp] * drawn / to_crossing);
+  hinge_walking_ = clamp_shift_mm_ > 0.0;
 }
 
 glm::dvec3 Rod::point_at_from_tip(double from_tip_mm) const {

@@ -170,7 +170,11 @@ void Rod::update_weights(double dt_s) {
   // part past the entry: the clamp vertex over half of it, and the two vertices' rest turns are
   // scaled to the lengths they bend over (2 sin(phi / 2) to first order in phi).
   const double past = free_ ? 0.0 : insertion_mm_ - from_tip_[std::min(first_free_, n - 1)];
-  const bool hinge = !free_ && clamp_shift_mm_ > 0.0;
+  // While a drawn-back tool's hinge walks to the entry (update_window) the clamp vertex bends over
+  // the half edge past its hinge and the rest keep the clamp node's weights: the hinge's at a
+  // shift just over 0 would add the part of the edge behind the entry to the first free node's at
+  // once (a cantilever's deflection stepped by 0.2 of an edge's hinge as the walk began).
+  const bool hinge = !free_ && clamp_shift_mm_ > 0.0 && !hinge_walking_;
   hinge_turn_scale_[0] = hinge_turn_scale_[1] = 1.0;
   for (std::size_t i = first_ + 1; i + 1 < n; ++i) {
     double length = voronoi_[i];

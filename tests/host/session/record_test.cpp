@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 32;  // format version 32 (a record before a drawn-back wire walked its hinge to the tip), CRC fixed up
+  bytes[8] = 33;  // format version 33 (a record before the walking hinge kept the clamp node's weights), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v32 = RecordReader::from_bytes(bytes, "v32.cbxrec");
-  ASSERT_FALSE(v32);
-  EXPECT_EQ(v32.error().message, "v32.cbxrec: byte 8: record format version 32, this build reads version 33");
+  const auto v33 = RecordReader::from_bytes(bytes, "v33.cbxrec");
+  ASSERT_FALSE(v33);
+  EXPECT_EQ(v33.error().message, "v33.cbxrec: byte 8: record format version 33, this build reads version 34");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

@@ -386,6 +386,7 @@ class Rod {
   bool drawn_back_ = false, hinged_back_ = false;
   std::size_t hinged_back_at_kp_ = static_cast<std::size_t>(-1);
   double back_from_mm_ = -std::numeric_limits<double>::infinity();  // update_window's draw-back start
+  bool hinge_walking_ = false;  // the hinge walking there: the weights stay the clamp node's (update_weights)
 
   // Per node.
   std::vector<double> from_tip_, radius_, inner_radius_, ei_, ei_extra_, gj_, voronoi_, drag_per_mm_;
