@@ -51,6 +51,8 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   double iterations = 0.0, micro_iterations = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
+  const std::uint64_t tests0 = sim.coil_contacts().pair_tests();
+  const std::uint64_t carries0 = sim.coil_contacts().list_carries();
   for (auto _ : state) {
     push += 0.02;
     sim.set_insertion(1, push);
@@ -72,6 +74,8 @@ void BM_StepCoilDeploy(benchmark::State& state) {
   // Builds of the rod-rod candidate list per step (worst_coil_overlap above reads it too).
   state.counters["list_builds"] = static_cast<double>(sim.coil_contacts().list_builds() - builds0) / steps;
   state.counters["gathers"] = static_cast<double>(sim.coil_contacts().gather_calls() - gathers0) / steps;
+  state.counters["pair_tests"] = static_cast<double>(sim.coil_contacts().pair_tests() - tests0) / steps;
+  state.counters["list_carries"] = static_cast<double>(sim.coil_contacts().list_carries() - carries0) / steps;
   state.SetLabel("coil into a 6.4 mm sphere");
 }
 
@@ -192,6 +196,8 @@ void BM_StepCoilPacking(benchmark::State& state) {
   double push = sim.insertion_mm(3), iterations = 0.0, peak_mN = 0.0;
   const std::uint64_t builds0 = sim.coil_contacts().list_builds();
   const std::uint64_t gathers0 = sim.coil_contacts().gather_calls();
+  const std::uint64_t tests0 = sim.coil_contacts().pair_tests();
+  const std::uint64_t carries0 = sim.coil_contacts().list_carries();
   ReleasedMotion released(sim, 3);
   for (auto _ : state) {
     push += 0.02;
@@ -213,6 +219,8 @@ void BM_StepCoilPacking(benchmark::State& state) {
   state.counters["peak_hand_mN"] = peak_mN;
   state.counters["list_builds"] = static_cast<double>(sim.coil_contacts().list_builds() - builds0) / steps;
   state.counters["gathers"] = static_cast<double>(sim.coil_contacts().gather_calls() - gathers0) / steps;
+  state.counters["pair_tests"] = static_cast<double>(sim.coil_contacts().pair_tests() - tests0) / steps;
+  state.counters["list_carries"] = static_cast<double>(sim.coil_contacts().list_carries() - carries0) / steps;
   state.SetLabel("third coil into a sphere holding 300 mm");
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -53,12 +54,25 @@ void RodContactField::set_members(std::span<const Member> members) {
     set_radii(members);
     return;
   }
+  if (ranges_moved(members)) {
+    carry_list_over(members);
+    return;
+  }
   list_valid_ = false;
   members_.assign(members.begin(), members.end());
+  grown_mm_ = 0.0;
+  listed_radius_.clear();
+  for (const Member& m : members_) listed_radius_.push_back(m.radius_mm);
+  list_items();
+  ref_end_.assign(2 * items_.size(), glm::dvec3(std::numeric_limits<double>::quiet_NaN()));
+  ref_moved_.assign(items_.size(), 0.0);
+}
+
+// Items in member order, edges rising, of the present members; the grid and the lists sized
+// for them.
+void RodContactField::list_items() {
   node_totals_.clear();
   first_item_.clear();
-  listed_radius_.clear();
-  grown_mm_ = 0.0;
   max_edge_mm_ = 0.0;
   max_radius_mm_ = 0.0;
   max_override_mm_ = 0.0;
@@ -69,7 +83,6 @@ void RodContactField::set_members(std::span<const Member> members) {
     const Rod& rod = *m.rod;
     node_totals_.push_back(rod.node_total());
     first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
-    listed_radius_.push_back(m.radius_mm);
     max_override_mm_ = std::max(max_override_mm_, m.radius_mm);
     for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge_mm_ = std::max(max_edge_mm_, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
@@ -92,11 +105,87 @@ void RodContactField::set_members(std::span<const Member> members) {
   if (start_.size() < buckets + 1) start_.assign(buckets + 1, 0);
   if (grid_.capacity() < items) grid_.reserve(items);
   if (listed_mid_.capacity() < items) listed_mid_.reserve(items);
-  if (listed_end_.capacity() < 2 * items) listed_end_.reserve(2 * items);
+  if (ref_end_.capacity() < 2 * items) ref_end_.reserve(2 * items);
   if (pair_start_.capacity() < items + 1) pair_start_.reserve(items + 1);
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);
   if (seen_.size() < buckets) seen_.assign(buckets, 0u), query_ = 0;
+}
+
+// The same members, rods and radii, with only the edge ranges moved (a coil pushed or drawn a
+// node across its catheter's tip or its detachment zone, every 0.5 mm of a push).
+bool RodContactField::ranges_moved(std::span<const Member> members) const {
+  if (!list_valid_ || members.size() != members_.size()) return false;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    Member m = members[i];
+    m.edge_first = members_[i].edge_first;
+    m.edge_last = members_[i].edge_last;
+    if (!same_member(m, members_[i]) || m.radius_mm != members_[i].radius_mm ||
+        m.rod->node_total() != node_totals_[i]) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The members' edge ranges moved: an edge that stays keeps its listed place, its pairs with the
+// others that stay and their last gaps (the same pairs a partial build keeps: an edge's index
+// on its rod is unchanged, and the items keep their order); an edge that comes in is listed by
+// the next build, which the next gather makes. The contacts are a fresh search's either way,
+// but a full build of a packed sac at each node crossing was the coil benches' slowest steps.
+void RodContactField::carry_list_over(std::span<const Member> members) {
+  members_before_.assign(members_.begin(), members_.end());
+  first_before_.assign(first_item_.begin(), first_item_.end());
+  const std::size_t n_before = items_.size();
+  members_.assign(members.begin(), members.end());
+  list_items();
+  const std::size_t n = items_.size();
+  // Old item -> new item (kNoContact: its edge left its member); a new item's listed middle is
+  // infinitely far, so the build lists it.
+  next_.assign(n_before, kNoContact);
+  carried_mid_.assign(n, glm::dvec3(std::numeric_limits<double>::infinity()));
+  carried_end_.assign(2 * n, glm::dvec3(std::numeric_limits<double>::quiet_NaN()));
+  carried_moved_.assign(n, 0.0);
+  for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
+    const std::size_t first = members_[mi].edge_first;
+    const std::size_t last = first + (first_item_[mi + 1] - first_item_[mi]);
+    for (std::uint32_t i = first_before_[mi]; i < first_before_[mi + 1]; ++i) {
+      const std::size_t e = members_before_[mi].edge_first + (i - first_before_[mi]);
+      if (e < first || e >= last) continue;
+      const auto j = static_cast<std::uint32_t>(first_item_[mi] + (e - first));
+      next_[i] = j;
+      carried_mid_[j] = listed_mid_[i];
+      carried_end_[2 * j] = ref_end_[2 * i];
+      carried_end_[2 * j + 1] = ref_end_[2 * i + 1];
+      carried_moved_[j] = ref_moved_[i];
+    }
+  }
+  listed_mid_.swap(carried_mid_);
+  ref_end_.swap(carried_end_);
+  ref_moved_.swap(carried_moved_);
+  std::erase_if(halves_, [&](const Half& h) { return next_[h.first] == kNoContact || next_[h.second] == kNoContact; });
+  for (Half& h : halves_) h = {next_[h.first], next_[h.second]};
+  // The lists and their last gaps in the new items' order (the map keeps the order, so each
+  // list stays sorted), for the build to keep.
+  kept_start_.assign(n + 1, 0u);
+  kept_pairs_.clear();
+  kept_gap_.clear();
+  for (std::uint32_t i = 0; i < n_before && i + 1 < pair_start_.size(); ++i) {
+    if (next_[i] == kNoContact) continue;
+    const std::size_t listed = kept_pairs_.size();
+    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
+      if (next_[pairs_[p]] == kNoContact) continue;
+      kept_pairs_.push_back(next_[pairs_[p]]);
+      kept_gap_.push_back(last_gap_[p]);
+    }
+    kept_start_[next_[i] + 1] = static_cast<std::uint32_t>(kept_pairs_.size() - listed);
+  }
+  for (std::size_t j = 0; j < n; ++j) kept_start_[j + 1] += kept_start_[j];
+  pair_start_.swap(kept_start_);
+  pairs_.swap(kept_pairs_);
+  last_gap_.swap(kept_gap_);
+  carried_ = true;
+  ++list_carries_;
 }
 
 // Edges that can be listed have midpoints within one cell of each other: an override touches
@@ -195,22 +284,22 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     if (side != nullptr) *side = LowerSide{gathers_, kNoContact, 0.0};
     // Two segments whose ends moved by at most m and n come no closer than their distance
     // less m + n: a pair that was far enough apart when last tested and has not moved enough
-    // since (both measured from the listed positions) cannot be in reach; the segment test
-    // would reject it.
+    // since (each bounded by its drifts then and now and its reference's moves between: Item)
+    // cannot be in reach; the segment test would reject it.
     LastGap& last = last_gap_[slot];
-    if (last.gap_mm - last.drift_mm - a.drift - b.drift >= rr + margin_ + 1e-9) return;
+    if (last.bound_mm - a.base - a.drift - b.base - b.drift >= rr + margin_ + 1e-9) return;
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
     const glm::dvec3& b0 = other.rod->positions()[f];
     const glm::dvec3& b1 = other.rod->positions()[f + 1];
     const collision::SegmentPair pair = collision::closest_segment_segment(a0, a1, b0, b1);
+    ++pair_tests_;
     const double s = pair.s;
     const double t = pair.t;
     const glm::dvec3 p = a0 + (a1 - a0) * s;
     const glm::dvec3 q = b0 + (b1 - b0) * t;
     const double d = glm::length(p - q);
-    last.gap_mm = d;
-    last.drift_mm = a.drift + b.drift;
+    last.bound_mm = d - a.drift - b.drift + a.base + b.base;
     if (d >= rr + margin_) return;
     if (side != nullptr) side->contact = static_cast<std::uint32_t>(out.size()), side->t = t;
     EdgeContact c;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -19,7 +20,8 @@ bool RodContactField::update_mids() const {
   // A radius override grown since the build (an inflating balloon) takes its share of the room.
   const double room = 0.5 * skin_ - grown_mm_;
   const double limit_sq = grown_mm_ > 0.0 ? room * room : 0.25 * skin_ * skin_;
-  bool covered = list_valid_ && room > 0.0;
+  const double rebase = kRebaseMargins * margin_;
+  bool covered = list_valid_ && !carried_ && room > 0.0;
   for (std::size_t i = 0; i < items_.size(); ++i) {
     Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
@@ -29,10 +31,20 @@ bool RodContactField::update_mids() const {
     if (covered) {
       const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
       covered = glm::dot(d, d) <= limit_sq;
-      const glm::dvec3 d0 = p0 - listed_end_[2 * i];
-      const glm::dvec3 d1 = p1 - listed_end_[2 * i + 1];
-      item.drift = std::sqrt(std::max(glm::dot(d0, d0), glm::dot(d1, d1)));
     }
+    // The cull's reference follows the edge once it has drifted a tenth of the margin (none
+    // yet, NaN: an edge new to the field takes its ends).
+    glm::dvec3& r0 = ref_end_[2 * i];
+    glm::dvec3& r1 = ref_end_[2 * i + 1];
+    double drift = std::sqrt(std::max(glm::dot(p0 - r0, p0 - r0), glm::dot(p1 - r1, p1 - r1)));
+    if (!(drift <= rebase)) {
+      if (std::isfinite(drift)) ref_moved_[i] += drift;
+      r0 = p0;
+      r1 = p1;
+      drift = 0.0;
+    }
+    item.drift = drift;
+    item.base = ref_moved_[i];
   }
   return covered;
 }
@@ -57,7 +69,7 @@ void RodContactField::build_grid(bool listed) const {
 }
 
 // Items whose middle left its listed place by more than a quarter of the skin (every item when
-// the members changed) are listed again where they are now; the ends' drifts are set afresh.
+// the members changed) are listed again where they are now.
 bool RodContactField::relist_moved() const {
   const std::size_t n = items_.size();
   // A grown radius override relists every item (its pairs' classification used the old reach).
@@ -65,30 +77,24 @@ bool RodContactField::relist_moved() const {
   for (std::size_t mi = 0; mi < members_.size(); ++mi) listed_radius_[mi] = members_[mi].radius_mm;
   grown_mm_ = 0.0;
   listed_mid_.resize(n);
-  listed_end_.resize(2 * n);
   relisted_.assign(n, 1);
+  relisted_count_ = 0;
   const double keep_sq = 0.0625 * skin_ * skin_;
   for (std::size_t i = 0; i < n; ++i) {
-    Item& item = items_[i];
-    const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
     const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
     if (partial && glm::dot(d, d) <= keep_sq) {
       relisted_[i] = 0;
-      item.drift = std::sqrt(std::max(glm::dot(x[item.edge] - listed_end_[2 * i], x[item.edge] - listed_end_[2 * i]),
-                                      glm::dot(x[item.edge + 1] - listed_end_[2 * i + 1],
-                                               x[item.edge + 1] - listed_end_[2 * i + 1])));
       continue;
     }
+    ++relisted_count_;
     listed_mid_[i] = balls_[i].mid;
-    listed_end_[2 * i] = x[item.edge];
-    listed_end_[2 * i + 1] = x[item.edge + 1];
-    item.drift = 0.0;
   }
   return partial;
 }
 
 void RodContactField::build_list() const {
   ++list_builds_;
+  carried_ = false;
   const std::size_t n = items_.size();
   relisted_all_ = !relist_moved();
   if (relisted_all_) halves_.clear();  // the members changed: no pair is kept
@@ -149,19 +155,18 @@ void RodContactField::build_list() const {
   list_valid_ = true;
 }
 
-// A pair of two items not listed again keeps its last tested gap: both items' drifts are still
-// measured from the same listed ends, so the gather's cull stays a bound (without it the gathers
-// after a build tested every listed pair again). Both lists of an item are sorted: one merge walk.
+// A pair listed again keeps its last tested bound: it holds whatever the list does, each item's
+// drift and reference being its own (without it the gathers after a build tested every pair of
+// the items listed again). Both lists of an item are sorted: one merge walk.
 void RodContactField::keep_last_gaps() const {
   const std::size_t n = items_.size();
   for (std::size_t i = 0; i < n && i + 1 < kept_start_.size(); ++i) {
-    if (relisted_[i] != 0) continue;
     std::uint32_t o = kept_start_[i];
     const std::uint32_t o_end = kept_start_[i + 1];
     for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1] && o < o_end; ++p) {
       const std::uint32_t j = pairs_[p];
       while (o < o_end && kept_pairs_[o] < j) ++o;
-      if (o < o_end && kept_pairs_[o] == j && relisted_[j] == 0) last_gap_[p] = kept_gap_[o];
+      if (o < o_end && kept_pairs_[o] == j) last_gap_[p] = kept_gap_[o];
     }
   }
 }

@@ -9,14 +9,18 @@
 // (O(edges)) and are kept as a Verlet list: pairs within the contact reach plus a skin are
 // listed, and the list serves every gather until an edge's middle has moved half the skin
 // from where it was listed or the members change. A build then lists again only the edges
-// that moved a quarter of the skin (all when the members changed), pairs being classified on
-// the listed middles, and keeps the pairs of the others (released coils at rest). A gather then tests only the listed pairs,
-// and skips the segment test of a pair whose last tested distance, less what the ends of both
-// edges have moved since, keeps it out of reach (kept across a build for the pairs it keeps). The two sides of a contact of a rod with
-// itself come from one segment test (from its lower edge): one plane, normals opposite. The
-// contacts are those of a fresh search.
+// that moved a quarter of the skin or came into a member, pairs being classified on the listed
+// middles, and keeps the pairs of the others (released coils at rest). It lists all only when
+// the members change: members whose edge ranges alone moved (a coil's node crossing its
+// catheter's tip, every node spacing of a push) keep their edges' places, pairs and bounds.
+// A gather then tests only the listed pairs, and skips the segment test of a pair whose last
+// tested distance, less what the ends of both edges can have moved since, keeps it out of
+// reach (each edge's move bounded by its drift from a reference that follows it: Item). The
+// two sides of a contact of a rod with itself come from one segment test (from its lower
+// edge): one plane, normals opposite. The contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <utility>
 #include <vector>
@@ -64,15 +68,27 @@ class RodContactField final : public RodObstacles {
 
   // Times the candidate list was built (diagnostics, benches).
   [[nodiscard]] std::uint64_t list_builds() const { return list_builds_; }
+  // Times the members' edge ranges moved and the list was carried over to them, and the edges
+  // the last build listed again, of items() (diagnostics, tests).
+  [[nodiscard]] std::uint64_t list_carries() const { return list_carries_; }
+  [[nodiscard]] std::size_t relisted_by_last_build() const { return relisted_count_; }
+  [[nodiscard]] std::size_t items() const { return items_.size(); }
   // Gathers made (diagnostics, benches).
   [[nodiscard]] std::uint64_t gather_calls() const { return gather_calls_; }
+  // Segment tests the gathers made (diagnostics, benches).
+  [[nodiscard]] std::uint64_t pair_tests() const { return pair_tests_; }
 
  private:
   struct Item {
     std::uint32_t member = 0;
     std::uint32_t edge = 0;
     double radius = 0.0;  // the edge's (the mean of its nodes')
-    double drift = 0.0;   // the farther end's distance from where it was when the list was built
+    // The gather's cull (LastGap): the farther end's distance from its reference ends, and how
+    // far the reference has moved in all (each move taken when the drift passes a tenth of the
+    // margin): an end has moved between two gathers by at most the drifts at both and the
+    // reference's moves between them.
+    double drift = 0.0;
+    double base = 0.0;
   };
   // An item's middle now and its reach (half its length plus its radius), apart from the rest of
   // it: the gather's pair loop reads only these for every listed pair (32 bytes, two a line).
@@ -83,11 +99,14 @@ class RodContactField final : public RodObstacles {
   // Sets the present middles of every item; false when the candidate list does not cover them.
   [[nodiscard]] bool update_mids() const;
   void set_radii(std::span<const Member> members);  // the radius overrides of the present members
+  void list_items();  // the items of the present members, the grid sized for them
+  [[nodiscard]] bool ranges_moved(std::span<const Member> members) const;  // only their edge ranges differ
+  void carry_list_over(std::span<const Member> members);
   void update_cell();
   void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
   [[nodiscard]] bool relist_moved() const;  // false: every item relisted (a full build)
   void build_list() const;
-  void keep_last_gaps() const;  // after a partial build: the kept pairs' last gaps
+  void keep_last_gaps() const;  // after a partial build: the last gaps of pairs listed again
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
   [[nodiscard]] bool excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
@@ -95,6 +114,10 @@ class RodContactField final : public RodObstacles {
   void for_neighbours(const glm::dvec3& p, Fn&& fn) const;
   template <typename Fn>
   void for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const;
+
+  // The cull's reference follows an edge that drifted this many margins from it (a reference
+  // moved often keeps the bound near the path an edge took: a pushed coil's, or a settling one's).
+  static constexpr double kRebaseMargins = 0.1;
 
   double margin_;
   double skin_;
@@ -113,17 +136,27 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<Item> items_;
   mutable std::vector<Ball> balls_;  // per item
   mutable std::vector<glm::dvec3> listed_mid_;  // the middles when the list was built
-  mutable std::vector<glm::dvec3> listed_end_;  // the ends (2 per item) when the list was built
+  mutable std::vector<glm::dvec3> ref_end_;    // the cull's reference ends (2 per item)
+  mutable std::vector<double> ref_moved_;       // per item: its reference's moves summed (Item::base)
   mutable bool list_valid_ = false;
+  mutable bool carried_ = false;  // carried over to moved ranges: the next gather builds
   mutable std::uint64_t list_builds_ = 0;
+  std::uint64_t list_carries_ = 0;
+  // carry_list_over's scratch: the members and items before, the listed places and the cull's
+  // references in the new order.
+  std::vector<Member> members_before_;
+  std::vector<std::uint32_t> first_before_;
+  std::vector<glm::dvec3> carried_mid_, carried_end_;
+  std::vector<double> carried_moved_;
   mutable std::uint64_t gather_calls_ = 0;
+  mutable std::uint64_t pair_tests_ = 0;
   // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
   mutable std::vector<std::uint32_t> pair_start_;
   mutable std::vector<std::uint32_t> pairs_;
-  // Per slot: the pair's segment distance when last tested and the two items' drifts then.
+  // Per slot: the pair's segment distance when last tested, less both items' drifts then, plus
+  // their bases then: less their bases and drifts now, a lower bound on their distance now.
   struct LastGap {
-    double gap_mm = -1.0;  // not tested since the build
-    double drift_mm = 0.0;
+    double bound_mm = -std::numeric_limits<double>::infinity();  // not tested since it was listed
   };
   mutable std::vector<LastGap> last_gap_;
   // The last build's lists and gaps, while a partial build carries the kept pairs' gaps over.
@@ -146,6 +179,7 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<Half> halves_;  // the last build's pairs, lower item first, rising
   mutable std::vector<Half> fresh_, lower_, merged_;  // a build's new pairs, and a merge
   mutable std::vector<std::uint8_t> relisted_;        // per item: listed again by this build
+  mutable std::size_t relisted_count_ = 0;
   mutable std::vector<std::uint32_t> next_;                              // a build's fill positions
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
   mutable std::vector<std::uint32_t> start_;
