@@ -284,10 +284,12 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     if (side != nullptr) *side = LowerSide{gathers_, kNoContact, 0.0};
     // Two segments whose ends moved by at most m and n come no closer than their distance
     // less m + n: a pair that was far enough apart when last tested and has not moved enough
-    // since (each bounded by its drifts then and now and its reference's moves between: Item)
+    // since (each bounded by its drifts then and now and its reference's moves between: Span)
     // cannot be in reach; the segment test would reject it.
     LastGap& last = last_gap_[slot];
-    if (last.bound_mm - a.base - a.drift - b.base - b.drift >= rr + margin_ + 1e-9) return;
+    const Span& sa = spans_[static_cast<std::size_t>(&a - items_.data())];
+    const Span& sb = spans_[static_cast<std::size_t>(&b - items_.data())];
+    if (last.bound_mm - sa.far - sb.far >= rr + margin_ + 1e-9) return;
     const glm::dvec3& a0 = x[e];
     const glm::dvec3& a1 = x[e + 1];
     const glm::dvec3& b0 = other.rod->positions()[f];
@@ -299,7 +301,7 @@ void RodContactField::gather(const Rod& rod, std::vector<EdgeContact>& out) cons
     const glm::dvec3 p = a0 + (a1 - a0) * s;
     const glm::dvec3 q = b0 + (b1 - b0) * t;
     const double d = glm::length(p - q);
-    last.bound_mm = d - a.drift - b.drift + a.base + b.base;
+    last.bound_mm = d + sa.near + sb.near;
     if (d >= rr + margin_) return;
     if (side != nullptr) side->contact = static_cast<std::uint32_t>(out.size()), side->t = t;
     EdgeContact c;

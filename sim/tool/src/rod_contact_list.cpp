@@ -22,8 +22,9 @@ bool RodContactField::update_mids() const {
   const double limit_sq = grown_mm_ > 0.0 ? room * room : 0.25 * skin_ * skin_;
   const double rebase = kRebaseMargins * margin_;
   bool covered = list_valid_ && !carried_ && room > 0.0;
+  spans_.resize(items_.size());
   for (std::size_t i = 0; i < items_.size(); ++i) {
-    Item& item = items_[i];
+    const Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();
     const glm::dvec3& p0 = x[item.edge];
     const glm::dvec3& p1 = x[item.edge + 1];
@@ -43,8 +44,7 @@ bool RodContactField::update_mids() const {
       r1 = p1;
       drift = 0.0;
     }
-    item.drift = drift;
-    item.base = ref_moved_[i];
+    spans_[i] = Span{ref_moved_[i] + drift, ref_moved_[i] - drift};
   }
   return covered;
 }

@@ -15,7 +15,7 @@
 // catheter's tip, every node spacing of a push) keep their edges' places, pairs and bounds.
 // A gather then tests only the listed pairs, and skips the segment test of a pair whose last
 // tested distance, less what the ends of both edges can have moved since, keeps it out of
-// reach (each edge's move bounded by its drift from a reference that follows it: Item). The
+// reach (each edge's move bounded by its drift from a reference that follows it: Span). The
 // two sides of a contact of a rod with itself come from one segment test (from its lower
 // edge): one plane, normals opposite. The contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
@@ -83,12 +83,15 @@ class RodContactField final : public RodObstacles {
     std::uint32_t member = 0;
     std::uint32_t edge = 0;
     double radius = 0.0;  // the edge's (the mean of its nodes')
-    // The gather's cull (LastGap): the farther end's distance from its reference ends, and how
-    // far the reference has moved in all (each move taken when the drift passes a tenth of the
-    // margin): an end has moved between two gathers by at most the drifts at both and the
-    // reference's moves between them.
-    double drift = 0.0;
-    double base = 0.0;
+  };
+  // An item's terms in the gather's cull (LastGap), apart from the pair loop's reads: its drift
+  // (the farther end's distance from its reference ends) and base (how far the reference has
+  // moved in all, each move taken when the drift passes a tenth of the margin), as base + drift
+  // and base - drift. An end has moved between two gathers by at most the drifts at both and the
+  // reference's moves between them.
+  struct Span {
+    double far = 0.0;
+    double near = 0.0;
   };
   // An item's middle now and its reach (half its length plus its radius), apart from the rest of
   // it: the gather's pair loop reads only these for every listed pair (32 bytes, two a line).
@@ -137,7 +140,8 @@ class RodContactField final : public RodObstacles {
   mutable std::vector<Ball> balls_;  // per item
   mutable std::vector<glm::dvec3> listed_mid_;  // the middles when the list was built
   mutable std::vector<glm::dvec3> ref_end_;    // the cull's reference ends (2 per item)
-  mutable std::vector<double> ref_moved_;       // per item: its reference's moves summed (Item::base)
+  mutable std::vector<double> ref_moved_;       // per item: its reference's moves summed (Span's base)
+  mutable std::vector<Span> spans_;             // per item
   mutable bool list_valid_ = false;
   mutable bool carried_ = false;  // carried over to moved ranges: the next gather builds
   mutable std::uint64_t list_builds_ = 0;
@@ -153,8 +157,8 @@ class RodContactField final : public RodObstacles {
   // Candidate list: item i's candidates are pairs_[pair_start_[i] .. pair_start_[i + 1]), rising.
   mutable std::vector<std::uint32_t> pair_start_;
   mutable std::vector<std::uint32_t> pairs_;
-  // Per slot: the pair's segment distance when last tested, less both items' drifts then, plus
-  // their bases then: less their bases and drifts now, a lower bound on their distance now.
+  // Per slot: the pair's segment distance when last tested plus both items' Span::near then:
+  // less their Span::far now, a lower bound on their distance now.
   struct LastGap {
     double bound_mm = -std::numeric_limits<double>::infinity();  // not tested since it was listed
   };
