@@ -128,10 +128,10 @@ bool RodContactField::ranges_moved(std::span<const Member> members) const {
   return true;
 }
 
-// The members' edge ranges moved: an edge that stays keeps its listed place, its pairs with the
-// others that stay and their last gaps (the same pairs a partial build keeps: an edge's index
-// on its rod is unchanged, and the items keep their order); an edge that comes in is listed by
-// the next build, which the next gather makes. The contacts are a fresh search's either way,
+// The members' edge ranges moved: an edge that stays keeps its listed place, its cull reference,
+// its pairs with the others that stay and their last bounds (the same pairs a partial build
+// keeps: an edge's index on its rod is unchanged, and the items keep their order); an edge that
+// comes in is listed by the next build, which the next gather makes. The contacts are a fresh search's either way,
 // but a full build of a packed sac at each node crossing was the coil benches' slowest steps.
 void RodContactField::carry_list_over(std::span<const Member> members) {
   members_before_.assign(members_.begin(), members_.end());
@@ -165,7 +165,7 @@ void RodContactField::carry_list_over(std::span<const Member> members) {
   ref_moved_.swap(carried_moved_);
   std::erase_if(halves_, [&](const Half& h) { return next_[h.first] == kNoContact || next_[h.second] == kNoContact; });
   for (Half& h : halves_) h = {next_[h.first], next_[h.second]};
-  // The lists and their last gaps in the new items' order (the map keeps the order, so each
+  // The lists and their last bounds in the new items' order (the map keeps the order, so each
   // list stays sorted), for the build to keep.
   kept_start_.assign(n + 1, 0u);
   kept_pairs_.clear();
