@@ -128,66 +128,6 @@ bool RodContactField::ranges_moved(std::span<const Member> members) const {
   return true;
 }
 
-// The members' edge ranges moved: an edge that stays keeps its listed place, its cull reference,
-// its pairs with the others that stay and their last bounds (the same pairs a partial build
-// keeps: an edge's index on its rod is unchanged, and the items keep their order); an edge that
-// comes in is listed by the next build, which the next gather makes. The contacts are a fresh search's either way,
-// but a full build of a packed sac at each node crossing was the coil benches' slowest steps.
-void RodContactField::carry_list_over(std::span<const Member> members) {
-  members_before_.assign(members_.begin(), members_.end());
-  first_before_.assign(first_item_.begin(), first_item_.end());
-  const std::size_t n_before = items_.size();
-  members_.assign(members.begin(), members.end());
-  list_items();
-  const std::size_t n = items_.size();
-  // Old item -> new item (kNoContact: its edge left its member); a new item's listed middle is
-  // infinitely far, so the build lists it.
-  next_.assign(n_before, kNoContact);
-  carried_mid_.assign(n, glm::dvec3(std::numeric_limits<double>::infinity()));
-  carried_end_.assign(2 * n, glm::dvec3(std::numeric_limits<double>::quiet_NaN()));
-  carried_moved_.assign(n, 0.0);
-  for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
-    const std::size_t first = members_[mi].edge_first;
-    const std::size_t last = first + (first_item_[mi + 1] - first_item_[mi]);
-    for (std::uint32_t i = first_before_[mi]; i < first_before_[mi + 1]; ++i) {
-      const std::size_t e = members_before_[mi].edge_first + (i - first_before_[mi]);
-      if (e < first || e >= last) continue;
-      const auto j = static_cast<std::uint32_t>(first_item_[mi] + (e - first));
-      next_[i] = j;
-      carried_mid_[j] = listed_mid_[i];
-      carried_end_[2 * j] = ref_end_[2 * i];
-      carried_end_[2 * j + 1] = ref_end_[2 * i + 1];
-      carried_moved_[j] = ref_moved_[i];
-    }
-  }
-  listed_mid_.swap(carried_mid_);
-  ref_end_.swap(carried_end_);
-  ref_moved_.swap(carried_moved_);
-  std::erase_if(halves_, [&](const Half& h) { return next_[h.first] == kNoContact || next_[h.second] == kNoContact; });
-  for (Half& h : halves_) h = {next_[h.first], next_[h.second]};
-  // The lists and their last bounds in the new items' order (the map keeps the order, so each
-  // list stays sorted), for the build to keep.
-  kept_start_.assign(n + 1, 0u);
-  kept_pairs_.clear();
-  kept_gap_.clear();
-  for (std::uint32_t i = 0; i < n_before && i + 1 < pair_start_.size(); ++i) {
-    if (next_[i] == kNoContact) continue;
-    const std::size_t listed = kept_pairs_.size();
-    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
-      if (next_[pairs_[p]] == kNoContact) continue;
-      kept_pairs_.push_back(next_[pairs_[p]]);
-      kept_gap_.push_back(last_gap_[p]);
-    }
-    kept_start_[next_[i] + 1] = static_cast<std::uint32_t>(kept_pairs_.size() - listed);
-  }
-  for (std::size_t j = 0; j < n; ++j) kept_start_[j + 1] += kept_start_[j];
-  pair_start_.swap(kept_start_);
-  pairs_.swap(kept_pairs_);
-  last_gap_.swap(kept_gap_);
-  carried_ = true;
-  ++list_carries_;
-}
-
 // Edges that can be listed have midpoints within one cell of each other: an override touches
 // the members' own edges only.
 void RodContactField::update_cell() {
