@@ -106,6 +106,7 @@ void RodContactField::list_items() {
   if (grid_.capacity() < items) grid_.reserve(items);
   if (listed_mid_.capacity() < items) listed_mid_.reserve(items);
   if (ref_end_.capacity() < 2 * items) ref_end_.reserve(2 * items);
+  spans_.resize(items);  // update_mids sets them
   if (pair_start_.capacity() < items + 1) pair_start_.reserve(items + 1);
   if (bucket_of_item_.capacity() < items) bucket_of_item_.reserve(items);
   if (fill_.capacity() < buckets) fill_.reserve(buckets);

@@ -23,7 +23,6 @@ bool RodContactField::update_mids() const {
   const double limit_sq = grown_mm_ > 0.0 ? room * room : 0.25 * skin_ * skin_;
   const double rebase = kRebaseMargins * margin_;
   bool covered = list_valid_ && !carried_ && room > 0.0;
-  spans_.resize(items_.size());
   for (std::size_t i = 0; i < items_.size(); ++i) {
     const Item& item = items_[i];
     const std::span<const glm::dvec3> x = members_[item.member].rod->positions();

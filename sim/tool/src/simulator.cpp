@@ -443,10 +443,11 @@ ForceLaw Simulator::force_law(std::size_t tool) const {
   law.torque0_mNmm = hand_torque_[tool];
   // A stuck anchor (the lumen's, its shafts' compliance: sheath_anchor.hpp; or the valve's stick
   // spring) is stated as a spring only while what it holds the tool to, the catheter round it
-  // (the patient for a valve on a tool in the vessel), did not move in the step. The box renders a law's spring about a point fixed in its
-  // own frame; an anchor on a catheter that moves is not one (the coiling run's microwire
-  // advanced with its microcatheter at 20 mm/s: stated, its 2 x 2e4 mN/mm had PassiveLaw add the
-  // K T / 2 damper, 400 mN of drag, while the wire's force was 0). It still reaches the hand
+  // (the patient for a valve on a tool in the vessel), did not move in the step. The box renders
+  // a law's spring about a point fixed in its own frame; an anchor on a catheter that moves is
+  // not one (the coiling run's microwire advanced with its microcatheter at 20 mm/s: stated, its
+  // 2 x 2e4 mN/mm had PassiveLaw add the K T / 2 damper, 400 mN of drag, while the wire's force
+  // was 0). It still reaches the hand
   // through the force, each step, bounded by its slip limit (docs/session/passive-rendering.md).
   const std::size_t o = outer_of_[tool];
   const bool held_in_place = o >= rods_.size() || moved_mm_[o] == 0.0;

@@ -99,7 +99,8 @@ class RodContactField final : public RodObstacles {
     glm::dvec3 mid{0.0};
     double reach = 0.0;
   };
-  // Sets the present middles of every item; false when the candidate list does not cover them.
+  // Sets the present middles of every item and its cull terms (Span, its reference moved once it
+  // drifted kRebaseMargins); false when the candidate list does not cover the middles.
   [[nodiscard]] bool update_mids() const;
   void set_radii(std::span<const Member> members);  // the radius overrides of the present members
   void list_items();  // the items of the present members, the grid sized for them
