@@ -36,7 +36,7 @@ bool Simulator::unsheathing(std::size_t u) const {
 // An unconverged tick is solved again in sub-increments (Rod::step) for a lone tool and for a
 // tool carried in a catheter (a guidewire carrying nothing, a catheter, an attached coil) while
 // neither it nor any catheter around it is steered by what it carries (steered_now), no stent
-// on it or inside it is being unsheathed (convergence.md, "Sub-stepped ticks",
+// on it is being unsheathed (convergence.md, "Sub-stepped ticks",
 // "Sub-stepped carried wires", "Sub-stepped carried catheters and coils": a stent retriever's
 // re-solves while unsheathed cost the stent case's p99 several ticks; a steered stack's path
 // left main's in the thrombectomy run; "Catheters hinged at the entry": wholly out, as in its
@@ -44,9 +44,10 @@ bool Simulator::unsheathing(std::size_t u) const {
 // only steerable catheter is its outermost one, a balloon guide, that guide's steering does not
 // hold the tools inside it back (convergence.md, "Sub-stepped under a balloon guide"); in any
 // balloon guide's stack, no steering holds back a wire, a coil or a catheter its wire steers
-// (convergence.md, "An aspiration stack sub-stepped"). A stent retriever still in its catheter's
-// hub, or wholly unsheathed, does not hold back a catheter its wire steers ("The stent
-// retriever's microcatheter sub-stepped").
+// (convergence.md, "An aspiration stack sub-stepped"). A stent retriever does not hold back a
+// catheter its wire steers, in its hub, being unsheathed from it or wholly out ("The stent
+// retriever's microcatheter sub-stepped", "The stent's microcatheter sub-stepped while the stent
+// is unsheathed").
 bool Simulator::substepped(std::size_t t) const {
   if (lone(t)) return true;
   const std::size_t n = rods_.size();
@@ -67,10 +68,9 @@ bool Simulator::substepped(std::size_t t) const {
   }
   for (std::size_t u = 0; u < n; ++u) {
     if (u == t && specs_[u].stent.present() && unsheathing(u)) return false;
-    // One in the catheter's hub or wholly out keeps back only a catheter its wire does not steer
-    // (the Solumbra stacks' microcatheter, in an aspiration catheter: not measured sub-stepped).
-    if (u != t && nested_in(u, t) && specs_[u].stent.present() &&
-        (specs_[t].steered_by_inner == InnerSteering::kNone || unsheathing(u))) {
+    // One inside keeps back only a catheter its wire does not steer (the Solumbra stacks'
+    // microcatheter, in an aspiration catheter: not measured sub-stepped).
+    if (u != t && nested_in(u, t) && specs_[u].stent.present() && specs_[t].steered_by_inner == InnerSteering::kNone) {
       return false;
     }
   }

@@ -310,9 +310,10 @@ TEST(StentRetriever, RetrievedIntoTheGuideEndsTheGripWithoutAJump) {
 // The M1 stent-retriever stack (a balloon guide > the microcatheter > the microwire and the stent
 // retriever): the microcatheter advanced over the wire with the stent still in its hub is
 // sub-stepped like the ADAPT stack's (in up to 8 parts: convergence.md, "The stent retriever's
-// microcatheter sub-stepped"); while the stent is being unsheathed (part out, part crimped) it is
-// not, and once the stent is wholly out it is again.
-TEST(StentRetriever, ItsMicrocatheterInABalloonGuideIsSubSteppedButWhileUnsheathing) {
+// microcatheter sub-stepped"), and so it is while the stent is being unsheathed (part out, part
+// crimped; whole steps there left it unconverged on 0.05 % of the M1 short run's ticks)
+// and once the stent is wholly out. The stent itself is not while unsheathed.
+TEST(StentRetriever, ItsMicrocatheterInABalloonGuideIsSubSteppedUnsheathingToo) {
   const TubeNetworkWall wall = testing::straight_tube(1.6, -10.0, 300.0);
   std::vector<ToolSpec> tools = stent_tools(device(4.0, 20.0));
   ToolSpec guide = guide_catheter();
@@ -342,7 +343,8 @@ TEST(StentRetriever, ItsMicrocatheterInABalloonGuideIsSubSteppedButWhileUnsheath
   drive(sim, 1, 50.0, 20.0);  // unsheathing: ~10 mm of the stent out
   ASSERT_GT(sim.stent(3)->state().unsheathed_mm, 5.0);
   ASSERT_LT(sim.stent(3)->state().unsheathed_mm, 15.0);
-  EXPECT_EQ(parts(), 1) << "while unsheathing";
+  EXPECT_EQ(parts(), 8) << "while unsheathing";
+  EXPECT_EQ(sim.rod(3).settings().substeps_max, 1) << "the stent itself is not, while unsheathed";
   drive(sim, 1, 30.0, 40.0);
   ASSERT_NEAR(sim.stent(3)->state().unsheathed_mm, 20.0, 1e-6);
   EXPECT_EQ(parts(), 8) << "the stent wholly out";

@@ -43,9 +43,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // drawn back bends from its catheter's tip and every guidewire is sub-stepped in up to 8 parts, 32
 // since a tool's lumen friction sticks with its shafts' axial compliance (sheath_anchor.hpp), 33 since a wire drawn back walks its hinge to its catheter's tip
 // before its first node crossing (Rod::update_window), 34 since the weights stay the clamp
-// node's while it walks (Rod::update_weights). An older record is refused in one line, not
-// mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 34;
+// node's while it walks (Rod::update_weights), 35 since a stent retriever being unsheathed
+// from a catheter its wire steers no longer holds that catheter back from sub-steps
+// (Simulator::substepped). An older record is refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 35;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
