@@ -143,7 +143,8 @@ class HandForceJumps : public ::testing::TestWithParam<JumpRun> {};
 
 // The printer sees the ticks HandForceTrace counts (the same held tool, no coil loaded): its
 // count of changes over the slew is the trace's, and no more than the run is known to have (the
-// bundled ADAPT run is checked here alone; the others by HandForceReplay too).
+// ADAPT and stent-retriever runs are checked here alone; the coiling and dead-end runs by
+// HandForceReplay too).
 TEST_P(HandForceJumps, PrintsEveryChangeOverTheSlewWithItsParts) {
   const FeelRun& run = GetParam().run;
   std::printf("%9s %-13s %8s %7s | parts' changes (mN) | hand | held rod and carriers: converged its/substeps | events\n",
