@@ -66,12 +66,12 @@ bool Simulator::substepped(std::size_t t) const {
   if (!(kind == ToolKind::kCatheter || kind == ToolKind::kCoil || (kind == ToolKind::kGuidewire && !carries))) {
     return false;
   }
-  for (std::size_t u = 0; u < n; ++u) {
-    if (u == t && specs_[u].stent.present() && unsheathing(u)) return false;
-    // One inside keeps back only a catheter its wire does not steer (the Solumbra stacks'
-    // microcatheter, in an aspiration catheter: not measured sub-stepped).
-    if (u != t && nested_in(u, t) && specs_[u].stent.present() && specs_[t].steered_by_inner == InnerSteering::kNone) {
-      return false;
+  if (specs_[t].stent.present() && unsheathing(t)) return false;
+  // A stent retriever inside keeps back only a catheter its wire does not steer (the Solumbra
+  // stacks' microcatheter, in an aspiration catheter: not measured sub-stepped).
+  if (specs_[t].steered_by_inner == InnerSteering::kNone) {
+    for (std::size_t u = 0; u < n; ++u) {
+      if (u != t && nested_in(u, t) && specs_[u].stent.present()) return false;
     }
   }
   // In a balloon guide's stack no catheter's steering, the guide's or one advanced over it, holds
