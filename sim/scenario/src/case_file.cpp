@@ -27,14 +27,15 @@ void steer_aspiration_catheters(Case& c) {
     return std::any_of(c.aspiration.begin(), c.aspiration.end(), [&name](const CaseAspiration& a) { return a.tool == name; });
   };
   for (ToolSpec& t : c.tools) t.steered_by_inner = aspirated(t.name) ? InnerSteering::kWhileAdvanced : InnerSteering::kNone;
-  // A catheter run in an aspiration catheter (the ADAPT stacks' microcatheter) is steered by the
-  // wire it carries while advanced too: unsteered, only predicted along the wire's path, its
-  // converged steps left the wire for the PCom (convergence.md, "An aspiration stack
-  // sub-stepped"). Not one a stent retriever runs in (the Solumbra stacks': not measured).
+  // A catheter run in an aspiration catheter (the ADAPT and Solumbra stacks' microcatheter) is
+  // steered by the wire it carries while advanced too: unsteered, only predicted along the wire's
+  // path, the ADAPT stack's converged steps left the wire for the PCom (convergence.md, "An
+  // aspiration stack sub-stepped"), and the M1 Solumbra stack's left it at the M1's junction once
+  // the lumen's bending push was the moment's change ("The lumen's bending push from the change
+  // of the moment").
   for (ToolSpec& t : c.tools) {
     if (t.kind != ToolKind::kCatheter || t.inside.empty() || !aspirated(t.inside)) continue;
-    const bool stent = std::any_of(c.tools.begin(), c.tools.end(), [&t](const ToolSpec& u) { return u.inside == t.name && u.stent.present(); });
-    if (!stent) t.steered_by_inner = InnerSteering::kWhileAdvanced;
+    t.steered_by_inner = InnerSteering::kWhileAdvanced;
   }
 }
 

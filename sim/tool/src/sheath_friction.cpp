@@ -118,12 +118,13 @@ void SheathFriction::measure_on(const std::vector<SheathVertex>& path, bool skip
   for (std::size_t i = 0; i + 1 < r; ++i) {
     const std::size_t j = active_[i];
     const std::size_t next = active_[i + 1];
-    const double dk = std::abs(curvature_[j] - curvature_[next]);
-    if (!(dk > 0.0)) continue;
+    // The shear the lumen holds: the change of the bending moment EI k over the edge.
+    const double dm = std::abs(path[j].inner_ei_Nmm2 * curvature_[j] - path[next].inner_ei_Nmm2 * curvature_[next]);
+    if (!(dm > 0.0)) continue;
     const double k = std::max({curvature_[j], curvature_[next], 1e-9});
     const double h = glm::length(path[j].point_mm - path[next].point_mm);
     const double l = std::max(h, 2.0 * std::sqrt(2.0 * std::max(0.0, path[j].clearance_mm) / k));
-    bending[j] = path[j].inner_ei_Nmm2 * kMilli * dk / l;
+    bending[j] = kMilli * dm / l;
   }
 }
 

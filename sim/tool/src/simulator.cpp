@@ -302,7 +302,7 @@ void Simulator::step_released(double dt_s) {
 // A coil's node crossings at its microcatheter's tip went with it (the bundled coiling run's 2
 // over 100 mN a tick; convergence.md, "Coils hinged at the entry").
 // A wire in an unsteered catheter keeps it at the clamp node: the M1 Solumbra run's
-// microwire, hinged at its unsteered microcatheter's tip while that catheter was advanced over
+// microwire (its microcatheter unsteered until record format 36), hinged at that tip while it was advanced over
 // it, read 26-490 N of clamp force and was unconverged on 0.59 % of its ticks (convergence.md,
 // "The clamp's hinge at the entry point", "Catheters hinged at the entry" and "Wires hinged in
 // the catheters they steer"), but while its hand draws it back (drawn_back_wire).
@@ -332,9 +332,12 @@ bool Simulator::drawn_back_wire(std::size_t t) const {
 // bounded"), and the hinged wire's clamp does not steer its catheter's tip into the M1 accesses'
 // crease (23.0 s). Not on a catheter that carries only catheters and is steered while advanced:
 // bounded there too, the M1 Solumbra run's parked microcatheter was left unconverged on 21 % of its
-// ticks (0.24 % unbounded).
+// ticks (0.24 % unbounded); but while a tool leaving its tip is drawn back into it
+// (drawn_back_into): the ADAPT run's microcatheter drawn back into its parked aspiration catheter
+// on ~1 N of clamp force moved the hand 115.3 mN in a tick unbounded, 99.2 mN bounded
+// (convergence.md, "The lumen's bending push from the change of the moment").
 bool Simulator::push_bounded(std::size_t c) const {
-  if (specs_[c].steered_by_inner == InnerSteering::kAlways) return true;
+  if (specs_[c].steered_by_inner == InnerSteering::kAlways || drawn_back_into(c)) return true;
   for (std::size_t u = 0; u < rods_.size(); ++u) {
     if (outer_of_[u] != c || specs_[u].kind != ToolKind::kGuidewire) continue;
     if (rods_[u].settings().clamp_hinge_at_entry || drawn_back_wire(u)) return true;

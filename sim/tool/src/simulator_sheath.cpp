@@ -119,22 +119,23 @@ void Simulator::build_sheath_path(std::size_t u, std::vector<SheathVertex>& path
 }
 
 // The share of its turning the vertex behind the inner tool's end covers, and the inner tool's
-// mean EI over the covered part of each vertex's proximal edge (the edge its bending term sits on).
+// bending stiffness over each vertex's span (half its edges each way, up to the tool's end), its
+// sections' compliances in series (Rod::vertex_bending_Nmm2): a turn concentrated at a vertex
+// bends the tool's softer part there.
 void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path) {
   const std::size_t m = path.size();
   if (m >= 2) {
     const double edge = path[0].depth_mm - path[1].depth_mm;
     path[1].coverage = edge > 1e-9 ? std::clamp((end_mm - path[1].depth_mm) / edge, 0.0, 1.0) : 1.0;
   }
+  // Depth d lies tip_mm - d from the tip: inner.length_mm() - (tip_mm - d) from the proximal end.
+  const double proximal_at_tip = inner.length_mm() - tip_mm;
   for (std::size_t j = 0; j < m; ++j) {
-    const double far = path[j].depth_mm;
-    const double hi = std::min(far, end_mm);
-    const double lo = j + 1 < m ? path[j + 1].depth_mm : hi;
-    if (hi > lo + 1e-9) {
-      path[j].inner_ei_Nmm2 = inner.bending_integral_Nmm3(tip_mm - hi, tip_mm - lo) / (hi - lo);
-    } else {
-      path[j].inner_ei_Nmm2 = inner.bending_at_Nmm2(tip_mm - std::min(far, end_mm));
-    }
+    const double at = path[j].depth_mm;
+    const double hi = std::min(j > 0 ? 0.5 * (at + path[j - 1].depth_mm) : at, end_mm);
+    const double lo = j + 1 < m ? 0.5 * (at + path[j + 1].depth_mm) : at;
+    const double fallback = inner.bending_at_Nmm2(tip_mm - std::min(at, end_mm));
+    path[j].inner_ei_Nmm2 = hi > lo + 1e-9 ? inner.vertex_bending_Nmm2(proximal_at_tip + lo, proximal_at_tip + hi, fallback) : fallback;
   }
 }
 

@@ -175,12 +175,14 @@ std::vector<LibraryCase> all_cases() {
       aneurysm_case("aneurysm_mca", "library: right MCA bifurcation aneurysm", AneurysmSite::kMcaBifurcation, 6.4, 2.4,
                     "right_internal_carotid", 0.12, "right_mca_aneurysm",
                     "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,
+                    "# The microcatheter's last push at 4 mm/s: at 5 mm/s it kicks back 9 mm short of the\n"
+                    "# target (record format 36; cases/README.md).\n"
                     "0      select microcatheter\n0      rotate_to 180 at 720\n0      select microwire\n"
                     "0      rotate_to 180 at 720\n1000   select microcatheter\n1000   insert_to 22 at 20\n"
                     "1000   select microwire\n1000   insert_to 40 at 20\n2000   insert_to 112 at 20\n"
                     "2000   select microcatheter\n2000   insert_to 108 at 20\n6500   select microwire\n"
                     "6500   insert_to 165 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
-                    "10500  insert_to 160 at 5\n14000  end\n"),
+                    "10500  insert_to 160 at 4\n14000  end\n"),
       aneurysm_case("aneurysm_pcom", "library: left PCom aneurysm", AneurysmSite::kPcom, 6.0, 3.0,
                     "left_internal_carotid", 0.12, "left_pcom_aneurysm",
                     "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"

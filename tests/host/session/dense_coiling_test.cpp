@@ -45,7 +45,9 @@ double quantile(std::vector<double> v, double p) {
 
 // Since record format 30 (the coil's push on its catheter's turns, tuning::kCoilBendReaction) the
 // three coils run clean: 26.59 %, kick-back 1.66 mm, kick-forward 0.45 mm (format 33, the filling
-// coil at 6 mm/s: 1.81 mm, within the case's 2 mm; at 8 mm/s it herniated). Before it the tip was
+// coil at 6 mm/s: 1.81 mm, within the case's 2 mm; at 8 mm/s it herniated; format 36, the
+// microcatheter turned back 89 degrees: 1.95 mm; at 90 it herniated once, convergence.md, "How
+// narrow the dense case's path is"). Before it the tip was
 // dragged up to the dome by the coil's lumen friction alone and the frame's end herniated past
 // it (formats 22-29; format 15 ran clean on a knife's edge): docs/sim-tool/coiling.md, "Dense
 // coiling", "Why the tip climbs".

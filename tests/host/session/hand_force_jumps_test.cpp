@@ -8,7 +8,7 @@
 // less its inner tools'), the solver's word on the held rod and its carriers (converged,
 // iterations, sub-steps), the held rod's wall contacts (their change, how many slip), a node
 // crossing the held tool's clamp, and this tick's controls (detach). Each run has no more such
-// ticks than it is known to: none, but the stent retriever's one (JumpRun). Run:
+// ticks: none. Run:
 // test_session_hand_force_jumps (ctest label `long`)
 // The tables of causes: docs/sim-tool/convergence.md, "The hand force's jumps, by cause" and
 // "The ADAPT M1 run's jumps, by cause".
@@ -132,21 +132,13 @@ class JumpPrinter : public TickObserver {
   WallTouch touch_;
 };
 
-// A run and the ticks over the slew it is known to have (convergence.md, "Today's unconverged
-// shares": the M1 stent retriever's short run, its microwire drawn back at 100 mm/s at 34.118 s).
-struct JumpRun {
-  FeelRun run;
-  std::int64_t known_over_slew = 0;
-};
-
-class HandForceJumps : public ::testing::TestWithParam<JumpRun> {};
+class HandForceJumps : public ::testing::TestWithParam<FeelRun> {};
 
 // The printer sees the ticks HandForceTrace counts (the same held tool, no coil loaded): its
-// count of changes over the slew is the trace's, and no more than the run is known to have (the
-// ADAPT and stent-retriever runs are checked here alone; the coiling and dead-end runs by
-// HandForceReplay too).
+// count of changes over the slew is the trace's, and none (the ADAPT and stent-retriever runs
+// are checked here alone; the coiling and dead-end runs by HandForceReplay too).
 TEST_P(HandForceJumps, PrintsEveryChangeOverTheSlewWithItsParts) {
-  const FeelRun& run = GetParam().run;
+  const FeelRun& run = GetParam();
   std::printf("%9s %-13s %8s %7s | parts' changes (mN) | hand | held rod and carriers: converged its/substeps | events\n",
               "t (s)", "held", "F (mN)", "dF");
   JumpPrinter printer;
@@ -173,22 +165,21 @@ TEST_P(HandForceJumps, PrintsEveryChangeOverTheSlewWithItsParts) {
   std::printf("%s: %lld ticks change > 100 mN, largest %.1f mN at %.3f s\n", run.name,
               static_cast<long long>(printer.jumps), trace.max_jump_mN, static_cast<double>(trace.max_jump_ms) * 1e-3);
   EXPECT_EQ(printer.jumps, trace.ticks_over_slew);
-  EXPECT_LE(trace.ticks_over_slew, GetParam().known_over_slew) << "ticks over the box's slew";
+  EXPECT_EQ(trace.ticks_over_slew, 0) << "ticks over the box's slew";
 }
 
-std::string run_name(const ::testing::TestParamInfo<JumpRun>& info) { return info.param.run.name; }
+std::string run_name(const ::testing::TestParamInfo<FeelRun>& info) { return info.param.name; }
 
 INSTANTIATE_TEST_SUITE_P(
     Runs, HandForceJumps,
-    ::testing::Values(JumpRun{{"neuro_coiling", "cases/neuro_coiling.case", "cases/neuro_coiling.actions"}},
-                      JumpRun{{"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"}},
-                      JumpRun{{"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"}},
-                      JumpRun{{"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case",
-                               "tests/host/session/data/dead_end.actions"}},
-                      JumpRun{{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"}},
-                      JumpRun{{"stent_retriever_m1", "cases/neuro_thrombectomy_m1_stentretriever.case",
-                               "cases/neuro_thrombectomy_m1_stentretriever.actions", true},
-                              1}),
+    ::testing::Values(FeelRun{"neuro_coiling", "cases/neuro_coiling.case", "cases/neuro_coiling.actions"},
+                      FeelRun{"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"},
+                      FeelRun{"dead_end", "tests/host/session/data/dead_end.case", "tests/host/session/data/dead_end.actions"},
+                      FeelRun{"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case",
+                              "tests/host/session/data/dead_end.actions"},
+                      FeelRun{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"},
+                      FeelRun{"stent_retriever_m1", "cases/neuro_thrombectomy_m1_stentretriever.case",
+                              "cases/neuro_thrombectomy_m1_stentretriever.actions", true}),
     run_name);
 
 }  // namespace

@@ -545,6 +545,9 @@ TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
   ASSERT_TRUE(sim.rod(2).converged());
   const glm::dvec3 parked = sim.tip(1).position_mm;
   sim.rod_settings(2).newton_iterations = 1;
+  // No step of it passes the convergence test (one iteration under the load converged on 14 of
+  // the 100 steps once the lumen's bending push was the moment's change, and their pushes steered).
+  sim.rod_settings(2).convergence_mm = 1e-12;
   sim.set_node_load(2, sim.rod(2).node_total() - 1, {3.0e2, 0.0, 0.0});
   int unconverged = 0;
   double moved = 0.0;

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include "sheath_path.hpp"
 #include "tool/sheath_friction.hpp"
 
 namespace cathbox::tool {
@@ -20,7 +21,6 @@ namespace {
 // A path from the distal end back to the entry: straight along b_distal to the bend at the
 // origin, then straight back along a_entry, the bend turning by theta over `arc` vertices.
 std::vector<SheathVertex> bent_path(double theta, double mu, int arc) {
-  std::vector<SheathVertex> distal_first;
   const double r = 10.0;
   const double step = 1.0;
   // proximal straight from (0,0,-20) to (0,0,0) along +z, then an arc in the x-z plane, then straight
@@ -32,21 +32,7 @@ std::vector<SheathVertex> bent_path(double theta, double mu, int arc) {
   }
   const glm::dvec3 out(std::sin(theta), 0.0, std::cos(theta));
   for (int i = 1; i <= 20; ++i) pts.push_back(pts.back() + out * step);
-  double depth = 0.0;
-  std::vector<double> depths{0.0};
-  for (std::size_t i = 1; i < pts.size(); ++i) depths.push_back(depth += glm::length(pts[i] - pts[i - 1]));
-  for (std::size_t i = pts.size(); i-- > 0;) {
-    SheathVertex v;
-    v.point_mm = pts[i];
-    v.node = static_cast<std::uint32_t>(i);
-    v.depth_mm = depths[i];
-    v.inner_ei_Nmm2 = 0.0;  // a limp inner tool: the capstan alone
-    v.inner_radius_mm = 0.125;
-    v.clearance_mm = 0.09;
-    v.mu = mu;
-    distal_first.push_back(v);
-  }
-  return distal_first;
+  return testing::sheath_path(pts, {.ei_Nmm2 = {}, .radius_mm = 0.125, .clearance_mm = 0.09, .mu = mu});  // a limp inner tool: the capstan alone
 }
 
 struct Balance {

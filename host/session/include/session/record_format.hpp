@@ -45,8 +45,11 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // before its first node crossing (Rod::update_window), 34 since the weights stay the clamp
 // node's while it walks (Rod::update_weights), 35 since a stent retriever being unsheathed
 // from a catheter its wire steers no longer holds that catheter back from sub-steps
-// (Simulator::substepped). An older record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 35;
+// (Simulator::substepped), 36 since the lumen's bending push is the change of the inner tool's
+// bending moment, its stiffness over each vertex's span in series (SheathFriction), and a
+// carrier's tip push is bounded while a tool leaving it is drawn back. An older record is
+// refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 36;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

@@ -137,6 +137,9 @@ class Rod {
   // length it is the mean stiffness over it, continuous as the tool slides: a section boundary
   // or the tip passing a point changes it by the slid length, not in one step.
   [[nodiscard]] double bending_integral_Nmm3(double near_mm, double far_mm) const;
+  // The bending stiffness over [from_mm, to_mm] (from the proximal end), its sections'
+  // compliances in series; fallback_Nmm2 for an empty span or an unbendable section in it.
+  [[nodiscard]] double vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nmm2) const;
 
   [[nodiscard]] const ToolSpec& spec() const { return spec_; }
   [[nodiscard]] double insertion_mm() const { return insertion_mm_; }
@@ -222,7 +225,6 @@ class Rod {
   // Radius, stiffnesses, rest shape and drag of node k from the section holding it.
   void set_node_material(std::size_t k);
   void set_rest_shape(std::size_t k, double curvature_per_mm, double direction_rad);
-  [[nodiscard]] double vertex_bending_Nmm2(double from_mm, double to_mm, double fallback_Nmm2) const;
   // The step's stiffness and drag coefficients (axial_k_, bend_w_, drag_k_), once per step.
   void update_weights(double dt_s);
 

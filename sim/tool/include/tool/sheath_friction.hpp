@@ -4,8 +4,9 @@
 // inner tool presses on the lumen:
 //   - capstan: an axial force T in the inner tool through a turn of angle theta presses with
 //     |T| theta (Euler-Eytelwein: pushed or pulled through a bend, F_in / F_out = e^(mu theta));
-//   - bending: forced to follow a change of curvature dk, the inner tool (stiffness EI) presses
-//     with EI |dk| / l, l being the length over which its radial clearance c lets it take up the
+//   - bending: where the inner tool's bending moment EI k changes (its curvature, or its
+//     stiffness where a wire's core ends), the lumen holds the shear, |d(EI k)| / l (beam theory,
+//     V = dM/ds), l being the length over which its radial clearance c lets it take up the
 //     change, 2 sqrt(2 c / k) (never shorter than the node spacing);
 // and Coulomb friction mu N of the lumen liner resists the relative sliding and turning. The
 // force is an elastic-plastic anchor (stick, then slip at the limit), like the wall friction,
@@ -17,7 +18,9 @@
 // by a step, it fed back on itself and moved the bundled runs).
 // The path ends at the holder's node just past the inner tool's end, the turning of the node
 // behind that end taken in proportion to the edge covered (SheathVertex::coverage), and the inner
-// tool's stiffness at a vertex is its mean over the vertex's span: the normal forces change by
+// tool's stiffness at a vertex is its sections' in series over the vertex's span (a turn there
+// bends its softer part; the mean over the proximal edge ratcheted a soft catheter kinked where a
+// wire's core ends, a node at a time): the normal forces change by
 // the length slid as the inner tool's end and its section boundaries pass the holder's nodes,
 // where a path ending at the end point itself stepped at every node (its curvature rising as the
 // end neared a node, 1/|end - node|, and its turning lost when the end passed it: a pusher drawn
@@ -46,7 +49,7 @@ struct SheathVertex {
   std::uint32_t holder = 0;        // tool whose free part the vertex is a node of
   std::uint32_t node = 0;          // that node
   double depth_mm = 0.0;           // depth past the entry along the path
-  double inner_ei_Nmm2 = 0.0;      // bending stiffness of the inner tool there (mean over the vertex's span)
+  double inner_ei_Nmm2 = 0.0;      // bending stiffness of the inner tool over the vertex's span (in series)
   double inner_radius_mm = 0.0;
   double clearance_mm = 0.0;       // lumen radius of the holder minus the inner tool's radius
   double mu = 0.0;                 // lumen friction of the holder
