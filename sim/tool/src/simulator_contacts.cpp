@@ -68,8 +68,8 @@ bool Simulator::substepped(std::size_t t) const {
   }
   if (specs_[t].stent.present() && unsheathing(t)) return false;
   // A stent retriever inside keeps back only a catheter its wire does not steer (a case file's
-  // microcatheter in a plain guide: not measured sub-stepped; every bundled stack's microcatheter
-  // is steered by its wire since the Solumbra stacks' was, record format 36).
+  // microcatheter carrying one in a plain guide: not measured sub-stepped; no bundled case has
+  // one since the Solumbra stacks' microcatheter is steered, record format 36).
   if (specs_[t].steered_by_inner == InnerSteering::kNone) {
     for (std::size_t u = 0; u < n; ++u) {
       if (u != t && nested_in(u, t) && specs_[u].stent.present()) return false;

@@ -47,8 +47,9 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // from a catheter its wire steers no longer holds that catheter back from sub-steps
 // (Simulator::substepped), 36 since the lumen's bending push is the change of the inner tool's
 // bending moment, its stiffness over each vertex's span in series (SheathFriction), and a
-// carrier's tip push is bounded while a tool leaving it is drawn back. An older record is
-// refused in one line, not mis-replayed.
+// carrier's tip push is bounded while a tool leaving it is drawn back (a catheter carrying a
+// stent retriever in an aspiration catheter steered too). An older record is refused in one
+// line, not mis-replayed.
 inline constexpr std::uint16_t kFormatVersion = 36;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
