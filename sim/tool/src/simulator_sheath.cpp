@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/geometric.hpp>
 
@@ -130,12 +131,17 @@ void Simulator::cover_sheath_path(const Rod& inner, double tip_mm, double end_mm
   }
   // Depth d lies tip_mm - d from the tip: inner.length_mm() - (tip_mm - d) from the proximal end.
   const double proximal_at_tip = inner.length_mm() - tip_mm;
+  // The stiffness at the vertex itself where its span is empty or holds an unbendable section:
+  // looked up only then, walking the stations as the vertices go from the tip back.
+  std::size_t station = Rod::kNoStation;
   for (std::size_t j = 0; j < m; ++j) {
     const double at = path[j].depth_mm;
     const double hi = std::min(j > 0 ? 0.5 * (at + path[j - 1].depth_mm) : at, end_mm);
     const double lo = j + 1 < m ? 0.5 * (at + path[j + 1].depth_mm) : at;
-    const double fallback = inner.bending_at_Nmm2(tip_mm - std::min(at, end_mm));
-    path[j].inner_ei_Nmm2 = hi > lo + 1e-9 ? inner.vertex_bending_Nmm2(proximal_at_tip + lo, proximal_at_tip + hi, fallback) : fallback;
+    constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+    double ei = hi > lo + 1e-9 ? inner.vertex_bending_Nmm2(proximal_at_tip + lo, proximal_at_tip + hi, kNone) : kNone;
+    if (std::isnan(ei)) ei = inner.bending_at_Nmm2(tip_mm - std::min(at, end_mm), station);
+    path[j].inner_ei_Nmm2 = ei;
   }
 }
 
