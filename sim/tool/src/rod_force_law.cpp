@@ -46,9 +46,15 @@ void Rod::compute_force_law(double dt_s) {
   }
   // The numerical damping on the free nodes reaches the clamp through the rod: out of the hand.
   const double force = glm::dot(clamp_force_, dir_) - glm::dot(numerical_drag, dir_);
-  hand_force_mN_ = force;
   free_part_load_mN_ = sum_free_part_loads(dt_s);
-  law_.force0_mN = force;
+  // The clamp holds the free part against the sum of the external forces on it, so no more than
+  // their magnitudes sum to. A clamp linearised on to the moves after the solve (penetration
+  // limits, projections: they report no force; linearise_clamp) can read more, balanced by
+  // nothing: a wire jammed 15 mm out of its microcatheter read 12.8 N against its free part's
+  // 2.2 N. The hand gets the bound. A clamp that takes the last Newton step whole has no such
+  // moves in it: it is the linearised equilibrium, kept as it is.
+  hand_force_mN_ = clamp_after_moves_ ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
+  law_.force0_mN = hand_force_mN_;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.
   const std::size_t dofs = 3 * (n - first_);
   const std::size_t free0 = 3 * (first_free_ - first_);

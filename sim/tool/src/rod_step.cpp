@@ -143,6 +143,7 @@ void Rod::linearise_clamp(const Newton& s) {
   const std::size_t n = x_.size();
   bool whole = s.obstacles != nullptr || settings_.linearised_clamp;
   for (std::size_t i = s.free0; whole && i < s.dofs; ++i) whole = std::isfinite(delta_[i]);
+  clamp_after_moves_ = !whole;
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t d = 3 * (k - first_);
     const glm::dvec3 moved = whole ? glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) : x_[k] - x_pred_[k];

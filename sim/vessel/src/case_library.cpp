@@ -66,9 +66,11 @@ end
 
 // Arch cases: from the descending aorta over the arch into the left common carotid.
 // `hook_mm`: the catheter's insertion, pulled back to from over the arch, at which its tip (turned
-// up) drops into the target's origin for this arch.
+// up) drops into the target's origin for this arch, so that the wire leaves it without its tip
+// catching on the wall and snapping free (library_feel_test.cpp: no tool's force changes by more
+// than the box's slew); `advance_mm_s`: the catheter's speed up the descending aorta.
 LibraryCase arch_case(const std::string& name, const std::string& title, ArchType type, int hook_mm,
-                      const std::string& about) {
+                      int advance_mm_s, const std::string& about) {
   LibraryCase c;
   c.name = name;
   c.title = title;
@@ -89,7 +91,7 @@ LibraryCase arch_case(const std::string& name, const std::string& title, ArchTyp
       "# out of it into the left common carotid.\n"
       "0      select catheter\n"
       "0      rotate_to 90 at 360\n"
-      "0      insert_to 130 at 30\n"
+      "0      insert_to 130 at " + std::to_string(advance_mm_s) + "\n"
       "0      select guidewire\n"
       "0      insert_to 120 at 30\n"
       "4500   insert_to " + std::to_string(hook_mm - 15) + " at 30\n"
@@ -153,14 +155,14 @@ std::vector<LibraryCase> all_cases() {
   const std::string ica_ref = "# Grades: Weibel and Fields, Neurology 1965.\n";
   const std::string sac_ref = "# Sizes and sites: UCAS (NEJM 2012), ISUIA (Lancet 2003).\n";
   return {
-      arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI, 85,
+      arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI, 87, 30,
                 "# Type I arch: the great vessels arise from the top of the arch (brachiocephalic origin\n"
                 "# 5.4 mm = 0.8 common carotid diameters below it).\n" + arch_ref),
-      arch_case("arch_type2", "library: type II aortic arch", ArchType::kTypeII, 90,
+      arch_case("arch_type2", "library: type II aortic arch", ArchType::kTypeII, 90, 30,
                 "# Type II arch: the brachiocephalic origin 10.5 mm = 1.6 CCA diameters below the top.\n" + arch_ref),
-      arch_case("arch_type3", "library: type III aortic arch", ArchType::kTypeIII, 90,
+      arch_case("arch_type3", "library: type III aortic arch", ArchType::kTypeIII, 91, 20,
                 "# Type III arch: the brachiocephalic origin 13.5 mm = 2.1 CCA diameters below the top.\n" + arch_ref),
-      arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine, 100,
+      arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine, 102, 30,
                 "# Bovine arch (type I shape): the left common carotid arises from the brachiocephalic\n"
                 "# trunk, 16 mm above the arch.\n" + arch_ref),
       ica_case("ica_straight", "library: straight cervical ICA", IcaTortuosity::kStraight,
@@ -176,38 +178,46 @@ std::vector<LibraryCase> all_cases() {
                     "right_internal_carotid", 0.12, "right_mca_aneurysm",
                     "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,
                     "# The microcatheter's last push at 4 mm/s: at 5 mm/s it kicks back 9 mm short of the\n"
-                    "# target (record format 36; cases/README.md).\n"
+                    "# target (record format 36; cases/README.md). The wire stops at 145 mm: pushed on to 165\n"
+                    "# it jammed in the sac at up to 6 N (library_feel_test.cpp).\n"
                     "0      select microcatheter\n0      rotate_to 180 at 720\n0      select microwire\n"
                     "0      rotate_to 180 at 720\n1000   select microcatheter\n1000   insert_to 22 at 20\n"
                     "1000   select microwire\n1000   insert_to 40 at 20\n2000   insert_to 112 at 20\n"
                     "2000   select microcatheter\n2000   insert_to 108 at 20\n6500   select microwire\n"
-                    "6500   insert_to 165 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
+                    "6500   insert_to 145 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
                     "10500  insert_to 160 at 4\n14000  end\n"),
       aneurysm_case("aneurysm_pcom", "library: left PCom aneurysm", AneurysmSite::kPcom, 6.0, 3.0,
                     "left_internal_carotid", 0.12, "left_pcom_aneurysm",
                     "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"
                     "# left ICA.\n" + sac_ref,
+                    "# The wire stays in the microcatheter until it is at 108 mm, then leads at 3 mm/s with the\n"
+                    "# microcatheter following at 5: leaving the tip at 20 mm/s, pressed on the wall, its\n"
+                    "# force swung by 420 mN a tick (library_feel_test.cpp).\n"
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
-                    "0      insert_to 40 at 20\n1000   insert_to 112 at 20\n1000   select microcatheter\n"
-                    "1000   insert_to 108 at 20\n5500   select microwire\n5500   insert_to 150 at 10\n"
-                    "6000   select microcatheter\n6000   insert_to 142 at 10\n11000  end\n"),
+                    "0      insert_to 40 at 20\n1000   insert_to 104 at 20\n1000   select microcatheter\n"
+                    "1000   insert_to 108 at 20\n5500   select microwire\n5500   insert_to 150 at 3\n"
+                    "6000   select microcatheter\n6000   insert_to 142 at 5\n16000  end\n"),
       aneurysm_case("aneurysm_acom", "library: ACom aneurysm", AneurysmSite::kAcom, 5.0, 2.2, "left_internal_carotid", 0.12,
                     "acom_aneurysm",
                     "# Saccular aneurysm of the anterior communicating artery; guide in the left ICA, the\n"
                     "# approach through the left A1.\n" + sac_ref,
                     "# Past the PCom origin, the microcatheter and the microwire are turned 145 degrees at the\n"
                     "# ICA terminus so that their tips point into the left A1 (untouched, the wire takes the M1).\n"
+                    "# The wire stays in the microcatheter until then: out of its tip at 20 mm/s, pressed on\n"
+                    "# the wall, its force swung by up to 1.3 N a tick (library_feel_test.cpp).\n"
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
-                    "0      insert_to 40 at 20\n1000   insert_to 112 at 20\n1000   select microcatheter\n"
+                    "0      insert_to 40 at 20\n1000   insert_to 104 at 20\n1000   select microcatheter\n"
                     "1000   insert_to 108 at 20\n5500   rotate_to 145 at 180\n5500   select microwire\n"
                     "5500   rotate_to 145 at 180\n7000   insert_to 175 at 10\n7500   select microcatheter\n"
                     "7500   insert_to 165 at 10\n14000  end\n"),
       aneurysm_case("aneurysm_basilar", "library: basilar tip aneurysm", AneurysmSite::kBasilarTip, 8.0, 4.0,
                     "left_vertebral", 0.5, "basilar_tip_aneurysm",
                     "# Wide-necked saccular aneurysm at the basilar tip; guide in the left vertebral (V2).\n" + sac_ref,
+                    "# The wire leads at 5 mm/s: at 10 it jammed 15 mm out of the microcatheter as that\n"
+                    "# followed (tests/host/session/data/basilar_wire_jammed.actions).\n"
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
                     "0      insert_to 40 at 20\n1000   insert_to 110 at 20\n1000   select microcatheter\n"
-                    "1000   insert_to 100 at 20\n6000   select microwire\n6000   insert_to 128 at 10\n"
+                    "1000   insert_to 100 at 20\n6000   select microwire\n6000   insert_to 128 at 5\n"
                     "6500   select microcatheter\n6500   insert_to 122 at 10\n11000  end\n"),
   };
 }

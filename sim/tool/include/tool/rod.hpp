@@ -441,6 +441,7 @@ class Rod {
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
   double free_part_load_mN_ = 0.0;
+  bool clamp_after_moves_ = false;  // the last solve's clamp was linearised on to the moves after it
   ForceLaw law_;
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
