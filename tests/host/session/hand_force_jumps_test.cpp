@@ -1,6 +1,6 @@
 // Where the held tool's hand force changes by more than the box's slew (100 mN a 1 ms tick) in
-// the coiling runs (bundled and dense), the dead ends, the ADAPT M1 run and the M1 stent
-// retriever's (its wait cut),
+// the coiling runs (bundled and dense), the dead ends, the ADAPT M1 run, the M1 stent
+// retriever's (its wait cut, and whole) and the carotid-T stent retriever's,
 // and from what (issue 29, "the feel"):
 // every such tick printed with the held tool, the hand's speed and its change, the force split
 // into the tool's own part (its clamp, `Rod::hand_force_mN`), the lumen friction of the catheters round it
@@ -180,6 +180,24 @@ INSTANTIATE_TEST_SUITE_P(
                       FeelRun{"adapt_m1", "cases/neuro_thrombectomy_m1.case", "cases/neuro_thrombectomy_m1_adapt.actions"},
                       FeelRun{"stent_retriever_m1", "cases/neuro_thrombectomy_m1_stentretriever.case",
                               "cases/neuro_thrombectomy_m1_stentretriever.actions", true}),
+    run_name);
+
+// The bundled stent-retriever runs whole (~240 s of virtual time, ~3 min of CPU each). The
+// Solumbra pair's held microcatheter, drawn back into the aspiration catheter at 236-237 s,
+// changes by up to 906 mN a tick on 56 and 57 ticks: its last free nodes, a stub, touch the wall
+// every other tick (docs/sim-tool/convergence.md, "The case library's runs at the hand").
+INSTANTIATE_TEST_SUITE_P(
+    WholeRuns, HandForceJumps,
+    ::testing::Values(FeelRun{"stent_retriever_m1_whole", "cases/neuro_thrombectomy_m1_stentretriever.case",
+                              "cases/neuro_thrombectomy_m1_stentretriever.actions"},
+                      FeelRun{"stent_retriever_ica_t", "cases/neuro_thrombectomy_ica_t_stentretriever.case",
+                              "cases/neuro_thrombectomy_ica_t_stentretriever.actions"}),
+    run_name);
+INSTANTIATE_TEST_SUITE_P(
+    DISABLED_NotYet, HandForceJumps,
+    ::testing::Values(FeelRun{"solumbra_m1", "cases/neuro_thrombectomy_m1_solumbra.case", "cases/neuro_thrombectomy_m1_solumbra.actions"},
+                      FeelRun{"solumbra_ica_t", "cases/neuro_thrombectomy_ica_t_solumbra.case",
+                              "cases/neuro_thrombectomy_ica_t_solumbra.actions"}),
     run_name);
 
 }  // namespace

@@ -1,6 +1,7 @@
-// The force the trainee's hand gets, tick by tick, in every bundled case that has a script, in a
-// wire pushed into a dead end, and in a run into a bend that no other test or setting was tuned
-// on (tests/host/session/data): each as a session in virtual time, as `cathbox session run
+// The force the trainee's hand gets, tick by tick, in the bundled cases' scripted runs (but for
+// the longer thrombectomy ones, which the jumps printer runs, and the case library:
+// library_feel_test.cpp), in a wire pushed into a dead end, and in a run into a bend that no
+// other test or setting was tuned on (tests/host/session/data): each as a session in virtual time, as `cathbox session run
 // --virtual` runs it. Three checks, each with its own meaning (docs/sim-tool/convergence.md,
 // "What the hand-force replays check"):
 //
@@ -52,11 +53,12 @@ const FeelRun kRuns[] = {
     {"held_out_bend", "tests/host/session/data/held_out_bend.case", "tests/host/session/data/held_out_bend.actions"},
     {"dead_end_compliant", "tests/host/session/data/dead_end_compliant.case", "tests/host/session/data/dead_end.actions"},
     {"neuro_coiling_dense", "cases/neuro_coiling_dense.case", "cases/neuro_coiling_dense.actions"},
+    {"ica_t_aspiration", "cases/neuro_thrombectomy_ica_t.case", "cases/neuro_thrombectomy_ica_t.actions"},
 };
 
 // The metrics' own figures are the trace's: the peak hand force, and each tool's unconverged share
 // from the solver's count (Rod::converged() over the ticks it had free nodes). Checked on each run
-// by the test that simulates it (HandForceReplay, ToolConvergence: the seven runs between them), not
+// by the test that simulates it (HandForceReplay, ToolConvergence: the eight runs between them), not
 // by a second simulation of every run. Every run's figures (run_session prints them):
 // --gtest_filter='Meets/HandForceReplay.*:Meets/ToolConvergence.*'.
 void expect_metrics_are_the_traces(const Metrics& m, const HandForceTrace& trace) {

@@ -67,8 +67,10 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   EXPECT_EQ(t.etici_final, flow::Etici::k3);
   EXPECT_TRUE(t.first_pass_effect);
   EXPECT_EQ(t.emboli, 0);
-  // The pass ends 10 mm into the withdrawal that starts at 11 s (10 mm/s): 12 s.
-  EXPECT_NEAR(static_cast<double>(t.time_to_reperfusion_us) * 1e-6, 12.0, 0.01);
+  // The pass ends 10 mm into the withdrawal that starts at 11 s (0.1 mm at 2 mm/s, then 10 mm/s):
+  // 11.05 + 9.9 / 10 = 12.04 s.
+  constexpr double kReperfused_s = 11.05 + 9.9 / 10.0;
+  EXPECT_NEAR(static_cast<double>(t.time_to_reperfusion_us) * 1e-6, kReperfused_s, 0.01);
   // The balloon guide (not an angioplasty balloon): inflated once at 9 s, deflated at 14.5 s.
   EXPECT_EQ(t.balloon_guide_inflations, 1);
   EXPECT_NEAR(t.flow_arrest_s, 5.5, 0.002);
@@ -90,7 +92,7 @@ TEST(ThrombectomySession, CarotidTAspirationUnderFlowArrestReperfusesAndReplays)
   EXPECT_EQ(named["etici_final"], 6.0);
   EXPECT_EQ(named["first_pass_effect"], 1.0);
   EXPECT_EQ(named["emboli"], 0.0);
-  EXPECT_NEAR(named["time_to_reperfusion_s"], 12.0, 0.01);
+  EXPECT_NEAR(named["time_to_reperfusion_s"], kReperfused_s, 0.01);
   // Aspiration on / off and the balloon guide inflated / deflated: four controls in the record.
   auto opened = RecordReader::open(path);
   ASSERT_TRUE(opened) << opened.error().message;
