@@ -190,8 +190,8 @@ std::vector<LibraryCase> all_cases() {
                     "left_internal_carotid", 0.12, "left_pcom_aneurysm",
                     "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"
                     "# left ICA.\n" + sac_ref,
-                    "# The wire stays in the microcatheter until it is at 108 mm, then leads at 3 mm/s with the\n"
-                    "# microcatheter following at 5: leaving the tip at 20 mm/s, pressed on the wall, its\n"
+                    "# The wire stays 4 mm inside the microcatheter as that goes to 108 mm, then leads at 3 mm/s,\n"
+                    "# the microcatheter following at 5: leaving the tip at 20 mm/s, pressed on the wall, its\n"
                     "# force swung by 420 mN a tick (library_feel_test.cpp).\n"
                     "0      select microcatheter\n0      insert_to 22 at 20\n0      select microwire\n"
                     "0      insert_to 40 at 20\n1000   insert_to 104 at 20\n1000   select microcatheter\n"
