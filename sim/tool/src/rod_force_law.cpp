@@ -11,7 +11,7 @@
 
 namespace cathbox::tool {
 
-void Rod::compute_force_law(double dt_s) {
+void Rod::compute_force_law(double dt_s, bool clamp_after_moves) {
   const std::size_t n = x_.size();
   law_.insertion0_mm = insertion_mm_;
   law_.rotation0_rad = rotation_rad_;
@@ -53,7 +53,7 @@ void Rod::compute_force_law(double dt_s) {
   // nothing: a wire jammed 15 mm out of its microcatheter read 12.8 N against its free part's
   // 2.2 N. The hand gets the bound. A clamp that takes the last Newton step whole has no such
   // moves in it: it is the linearised equilibrium, kept as it is.
-  hand_force_mN_ = clamp_after_moves_ ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
+  hand_force_mN_ = clamp_after_moves ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
   law_.force0_mN = hand_force_mN_;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.
   const std::size_t dofs = 3 * (n - first_);

@@ -24,11 +24,12 @@ constexpr double kRegatherMargins = 0.1;  // own motion (in margins) that takes 
 void Rod::step_once(double dt_s, const WallModel& wall, const RodObstacles* obstacles) {
   begin_step();
   edge_contacts_.clear();
+  bool clamp_after_moves = false;
   if (first_free_ < x_.size()) {
     Newton s(wall, obstacles);
     start_solve(s, dt_s);
     solve_positions(s);
-    finish_solve(s);
+    clamp_after_moves = finish_solve(s);
   } else {
     hand_force_mN_ = 0.0;
     warm_ok_ = false;  // all in the catheter: its last solved motion is no guide when it comes out
@@ -36,7 +37,7 @@ void Rod::step_once(double dt_s, const WallModel& wall, const RodObstacles* obst
   update_frames();
   solve_twist(dt_s);
   finish_contacts();
-  compute_force_law(dt_s);
+  compute_force_law(dt_s, clamp_after_moves);
 }
 
 void Rod::begin_step() {
@@ -94,7 +95,7 @@ void Rod::start_solve(Newton& s, double dt_s) {
   std::fill(joined_.begin(), joined_.end(), std::uint8_t{0});
 }
 
-void Rod::finish_solve(const Newton& s) {
+bool Rod::finish_solve(const Newton& s) {
   const std::size_t n = x_.size();
   settle_held_nodes();
   refresh_contacts(s.wall, true);
@@ -102,7 +103,7 @@ void Rod::finish_solve(const Newton& s) {
   for (std::size_t k = first_free_; k < n; ++k) solved_move_[k] = x_[k] - solved_move_[k];
   warm_first_ = first_free_;
   project_contacts(s.obstacles);
-  linearise_clamp(s);
+  return linearise_clamp(s);
 }
 
 // A node held in the last iteration but past the limit (the step was cut to max_node_step_mm)
@@ -139,11 +140,10 @@ void Rod::project_contacts(const RodObstacles* obstacles) {
 // often ends its step before its contacts settle; its clamp takes the last Newton step
 // whole instead (the free part at the linearised equilibrium: g_p - K_pf K_ff^-1 g_f), so
 // the residual of its stiff axial springs and of the final projections stays out of the hand.
-void Rod::linearise_clamp(const Newton& s) {
+bool Rod::linearise_clamp(const Newton& s) {
   const std::size_t n = x_.size();
   bool whole = s.obstacles != nullptr || settings_.linearised_clamp;
   for (std::size_t i = s.free0; whole && i < s.dofs; ++i) whole = std::isfinite(delta_[i]);
-  clamp_after_moves_ = !whole;
   for (std::size_t k = first_free_; k < n; ++k) {
     const std::size_t d = 3 * (k - first_);
     const glm::dvec3 moved = whole ? glm::dvec3(delta_[d], delta_[d + 1], delta_[d + 2]) : x_[k] - x_pred_[k];
@@ -152,6 +152,7 @@ void Rod::linearise_clamp(const Newton& s) {
     work_[d + 2] = moved.z;
   }
   matrix_->multiply_add(work_.data(), grad_.data(), 0, s.free0, s.free0, s.dofs);
+  return !whole;
 }
 
 }  // namespace cathbox::tool

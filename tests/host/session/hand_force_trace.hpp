@@ -174,29 +174,37 @@ inline void expect_every_tool_converged(const Metrics& m) {
   for (const ToolConvergence& c : m.convergence) EXPECT_LE(c.unconverged_pct(), kUnconvergedMax_pct) << c.tool;
 }
 
-// setup, when given, is called with the loaded case and the session before the first tick (to add
-// an observer that needs the case's world).
+// Runs a case with an action script (both paths as given) in virtual time to its end, `observer`
+// on every tick; the run's metrics. `spec`, when given, gets the loaded case; `setup`, when given,
+// is called with the loaded case and the session before the first tick (to add an observer that
+// needs the case's world). False (a test failure recorded) when the case or the script does not load.
+inline bool run_scripted(const std::string& case_file, const std::string& actions, TickObserver& observer, Metrics& metrics,
+                         tool::Case* spec = nullptr,
+                         const std::function<void(const SessionCase&, Session&)>& setup = {}) {
+  SessionCaseLoad loaded = load_session_case(case_file);
+  EXPECT_TRUE(loaded) << (loaded ? "" : loaded.error().message);
+  if (!loaded) return false;
+  if (spec != nullptr) *spec = loaded.value()->spec;
+  auto script = ActionScriptHand::load(actions, *loaded.value());
+  EXPECT_TRUE(script) << (script ? "" : script.error().message);
+  if (!script) return false;
+  Session s(std::move(loaded.value()), std::move(*script));
+  s.add_observer(observer);
+  if (setup) setup(s.scene(), s);
+  while (!s.over() && s.step_virtual(1000) > 0) {
+  }
+  metrics = s.metrics();
+  return true;
+}
+
+// A FeelRun's session with the held tool's trace; prints the figures.
 inline HandForceTrace run_session(const FeelRun& run, Metrics& metrics, tool::Case* spec = nullptr,
                                   const std::function<void(const SessionCase&, Session&)>& setup = {}) {
   HandForceTrace trace;
   const auto path = [](const char* file) {  // relative to the source tree, or absolute
     return file[0] == '/' ? std::string(file) : std::string(CATHBOX_SOURCE_DIR) + "/" + file;
   };
-  SessionCaseLoad loaded = load_session_case(path(run.case_file));
-  EXPECT_TRUE(loaded) << loaded.error().message;
-  if (!loaded) return trace;
-  if (spec != nullptr) *spec = loaded.value()->spec;
-  std::string error;
-  auto script = ActionScriptHand::load(path(run.actions), *loaded.value());
-  EXPECT_TRUE(script) << (script ? "" : script.error().message);
-  if (!script) return trace;
-  auto hand = std::move(*script);
-  Session s(std::move(loaded.value()), std::move(hand));
-  s.add_observer(trace);
-  if (setup) setup(s.scene(), s);
-  while (!s.over() && s.step_virtual(1000) > 0) {
-  }
-  metrics = s.metrics();
+  if (!run_scripted(path(run.case_file), path(run.actions), trace, metrics, spec, setup)) return trace;
   std::printf("%s: %lld ticks; peak hand force %.1f mN at %.3f s; largest change %.1f mN/tick at %.3f s; "
               "%lld ticks change > 100 mN, %lld ticks |F| > 100 mN\n",
               run.name, static_cast<long long>(trace.ticks), trace.peak_mN, static_cast<double>(trace.peak_ms) * 1e-3,

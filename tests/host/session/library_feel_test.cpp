@@ -71,15 +71,7 @@ struct ScriptedRun {
 
 // Runs a case with an action script in virtual time to its end (the script's, or the target).
 void run_scripted(const std::string& case_file, const std::string& actions, ScriptedRun& run) {
-  SessionCaseLoad loaded = load_session_case(case_file);
-  ASSERT_TRUE(loaded) << (loaded ? "" : loaded.error().message);
-  auto script = ActionScriptHand::load(actions, *loaded.value());
-  ASSERT_TRUE(script) << (script ? "" : script.error().message);
-  Session s(std::move(loaded.value()), std::move(*script));
-  s.add_observer(run.force);
-  while (!s.over() && s.step_virtual(1000) > 0) {
-  }
-  run.metrics = s.metrics();
+  ASSERT_TRUE(test::run_scripted(case_file, actions, run.force, run.metrics));
   for (std::size_t t = 0; t < run.force.tools.size(); ++t) {
     const EveryToolForce::Tool& k = run.force.tools[t];
     std::printf("  %-14s peak %7.1f mN at %6.3f s; largest change %7.1f mN/tick at %6.3f s, %lld ticks over %.0f\n",

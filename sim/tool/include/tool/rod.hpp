@@ -242,7 +242,9 @@ class Rod {
   void begin_step();               // the predictor moves the tool by the insertion change
   void start_solve(Newton& s, double dt_s);  // warm start, weights, contacts, active set
   void solve_positions(Newton& s); // Gauss-Newton iterations on the node positions
-  void finish_solve(const Newton& s);  // penetration limits, rod-rod projections, clamp force
+  // Penetration limits, rod-rod projections, clamp force; true: the clamp took in the moves
+  // after the solve (linearise_clamp).
+  bool finish_solve(const Newton& s);
   // One Newton iteration's phases, in order.
   void build_system(Newton& s);    // assemble (or amend) and factor
   void add_joined_wall_terms(Newton& s);
@@ -262,7 +264,7 @@ class Rod {
   // After the iterations.
   void settle_held_nodes();
   void project_contacts(const RodObstacles* obstacles);
-  void linearise_clamp(const Newton& s);
+  bool linearise_clamp(const Newton& s);  // true: linearised on to the moves after the solve
 
   // (Helpers declared inline are defined, always inlined, in the one file that calls them, or in
   // rod_newton.hpp when the energy and the twist both do: the hot loops of the assembly and the
@@ -356,7 +358,8 @@ class Rod {
   void keep_proximal(std::size_t k0, double length_mm);
 
   // The force law for the box (rod_force_law.cpp).
-  void compute_force_law(double dt_s);
+  // `clamp_after_moves`: finish_solve's word (the hand force is then bounded by the free part's loads).
+  void compute_force_law(double dt_s, bool clamp_after_moves);
   [[nodiscard]] double sum_free_part_loads(double dt_s) const;  // free_part_load_mN_ (rod_force_law.cpp)
 
   ToolSpec spec_;
@@ -441,7 +444,6 @@ class Rod {
   double hand_force_mN_ = 0.0;
   double hand_torque_mNmm_ = 0.0;
   double free_part_load_mN_ = 0.0;
-  bool clamp_after_moves_ = false;  // the last solve's clamp was linearised on to the moves after it
   ForceLaw law_;
   double energy_ = 0.0;  // energy at the last assembly
   int last_iterations_ = 0;
