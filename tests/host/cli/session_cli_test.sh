@@ -123,6 +123,19 @@ expect 0 "$cb" session replay "$rec" --out "$work/b.csv" --every 10
 cmp -s "$work/a.csv" "$work/b.csv" || fail "two replays of one record differ"
 [ "$(wc -l <"$work/a.csv")" -gt 100 ] || fail "replay log too short: $(wc -l <"$work/a.csv") lines"
 
+# Every tool's hand force against the box's limits (`--forces`): the wire alone is the held tool
+# throughout, so its peak is the metrics' peak hand force; the coil record has a line per tool.
+expect 0 "$cb" session replay "$rec" --forces
+forces_line='^[^ ].* peak +[0-9.]+ mN at +[0-9.]+ s; largest change +[0-9.]+ mN/tick at +[0-9.]+ s; [0-9]+ ticks over 100 mN/tick, [0-9]+ over 5000 mN$'
+[ "$(grep -cE "$forces_line" "$work/out")" -eq 1 ] || fail "forces: not one tool line: $(cat "$work/out")"
+peak=$(grep -E "$forces_line" "$work/out" | sed -E 's/.* peak +([0-9.]+) mN.*/\1/')
+"$cb" session metrics "$rec" --json >"$work/metrics.json" || fail "forces: metrics"
+jq -e --argjson p "$peak" '(.peak_hand_force_mN - $p | fabs) < 0.06 and $p > 1' "$work/metrics.json" >/dev/null ||
+  fail "forces: peak $peak against the metrics' $(jq .peak_hand_force_mN "$work/metrics.json")"
+expect 0 "$cb" session replay "$work/coil.cbxrec" --forces
+tools=$("$cb" session info "$work/coil.cbxrec" --json | jq '.tools | length')
+[ "$tools" -ge 2 ] && [ "$(grep -cE "$forces_line" "$work/out")" -eq "$tools" ] || fail "forces: $tools tools: $(cat "$work/out")"
+
 # Bad records: one line naming the file and the byte, exit 2; nothing written.
 head -c 100 "$rec" >"$work/cut.cbxrec"
 expect 2 "$cb" session replay "$work/cut.cbxrec" --check

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "hand_force_trace.hpp"
+#include "session/tool_forces.hpp"
 
 namespace cathbox::session {
 namespace {
@@ -23,45 +24,24 @@ namespace {
 using test::kFullScale_mN;
 using test::kSlewPerTick_mN;
 
-// Every tool's hand force, tick by tick.
+// Every tool's hand force, tick by tick (session::ToolForces, as `cathbox session replay --forces`
+// prints it), and the largest excess of each tool's clamp force over its free part's loads.
 class EveryToolForce : public TickObserver {
  public:
-  struct Tool {
-    double peak_mN = 0.0, last_mN = 0.0, largest_change_mN = 0.0;
-    std::int64_t peak_ms = 0, change_ms = 0, over_slew = 0;
-    // The largest excess of the clamp's own force over the free part's loads, and when.
-    double over_free_body_mN = 0.0;
-    std::int64_t over_free_body_ms = 0;
-  };
   void observe(const TickView& v) override {
-    const tool::Simulator& sim = v.sim;
-    // (A tool's force is its own from tick to tick, held by the hand or not: with a box per tool
-    // each box renders its tool's.)
-    tools.resize(sim.tool_count());
-    names.resize(sim.tool_count());
-    for (std::size_t t = 0; t < sim.tool_count(); ++t) {
-      Tool& k = tools[t];
-      names[t] = sim.rod(t).spec().name;
-      const double f = sim.hand_force_mN(t);
-      const std::int64_t ms = v.time_us / 1000;
-      if (std::abs(f) > k.peak_mN) k.peak_mN = std::abs(f), k.peak_ms = ms;
-      if (ticks_ > 0) {
-        const double change = std::abs(f - k.last_mN);
-        if (change > k.largest_change_mN) k.largest_change_mN = change, k.change_ms = ms;
-        if (change > kSlewPerTick_mN) ++k.over_slew;
-      }
-      k.last_mN = f;
-      const tool::Rod& rod = sim.rod(t);
+    forces.observe(v);
+    over_free_body_mN.resize(v.sim.tool_count(), 0.0);
+    over_free_body_ms.resize(v.sim.tool_count(), 0);
+    for (std::size_t t = 0; t < v.sim.tool_count(); ++t) {
+      const tool::Rod& rod = v.sim.rod(t);
       const double excess = std::abs(rod.hand_force_mN()) - rod.free_part_load_mN();
-      if (excess > k.over_free_body_mN) k.over_free_body_mN = excess, k.over_free_body_ms = ms;
+      if (excess > over_free_body_mN[t]) over_free_body_mN[t] = excess, over_free_body_ms[t] = v.time_us / 1000;
     }
-    ++ticks_;
   }
-  std::vector<Tool> tools;
-  std::vector<std::string> names;
-
- private:
-  std::int64_t ticks_ = 0;
+  [[nodiscard]] const std::vector<ToolForces::Tool>& tools() const { return forces.tools(); }
+  ToolForces forces;
+  std::vector<double> over_free_body_mN;
+  std::vector<std::int64_t> over_free_body_ms;
 };
 
 struct ScriptedRun {
@@ -69,15 +49,14 @@ struct ScriptedRun {
   Metrics metrics;
 };
 
+double seconds(std::int64_t us) { return 1e-6 * static_cast<double>(us); }
+
 // Runs a case with an action script in virtual time to its end (the script's, or the target).
 void run_scripted(const std::string& case_file, const std::string& actions, ScriptedRun& run) {
   ASSERT_TRUE(test::run_scripted(case_file, actions, run.force, run.metrics));
-  for (std::size_t t = 0; t < run.force.tools.size(); ++t) {
-    const EveryToolForce::Tool& k = run.force.tools[t];
-    std::printf("  %-14s peak %7.1f mN at %6.3f s; largest change %7.1f mN/tick at %6.3f s, %lld ticks over %.0f\n",
-                run.force.names[t].c_str(), k.peak_mN, 1e-3 * static_cast<double>(k.peak_ms), k.largest_change_mN,
-                1e-3 * static_cast<double>(k.change_ms), static_cast<long long>(k.over_slew), kSlewPerTick_mN);
-  }
+  EXPECT_EQ(run.force.forces.slew_per_tick_mN(), kSlewPerTick_mN);
+  EXPECT_EQ(run.force.forces.full_scale_mN(), kFullScale_mN);
+  std::printf("%s", run.force.forces.format().c_str());
 }
 
 // The library cases whose scripted run still changes a tool's force by more than the box's slew
@@ -110,10 +89,10 @@ ScriptedRun run_library_case(const std::string& name) {
 }
 
 void expect_reached_within_full_scale(const ScriptedRun& run) {
-  ASSERT_FALSE(run.force.tools.empty());
+  ASSERT_FALSE(run.force.tools().empty());
   EXPECT_TRUE(run.metrics.target_reached) << "closest " << run.metrics.closest_to_target_mm << " mm";
-  for (std::size_t t = 0; t < run.force.tools.size(); ++t) {
-    EXPECT_LE(run.force.tools[t].peak_mN, kFullScale_mN) << run.force.names[t] << " at " << run.force.tools[t].peak_ms << " ms";
+  for (const ToolForces::Tool& k : run.force.tools()) {
+    EXPECT_LE(k.peak_mN, kFullScale_mN) << k.name << " at " << seconds(k.peak_us) << " s";
   }
 }
 
@@ -123,9 +102,8 @@ class LibraryFeel : public ::testing::TestWithParam<std::string> {};
 TEST_P(LibraryFeel, EveryToolsForceStaysWithinTheBoxsFullScaleAndSlewOnTheWayToTheTarget) {
   const ScriptedRun run = run_library_case(GetParam());
   expect_reached_within_full_scale(run);
-  for (std::size_t t = 0; t < run.force.tools.size(); ++t) {
-    EXPECT_EQ(run.force.tools[t].over_slew, 0)
-        << run.force.names[t] << ": " << run.force.tools[t].largest_change_mN << " mN at " << run.force.tools[t].change_ms << " ms";
+  for (const ToolForces::Tool& k : run.force.tools()) {
+    EXPECT_EQ(k.over_slew, 0) << k.name << ": " << k.largest_change_mN << " mN at " << seconds(k.change_us) << " s";
   }
 }
 
@@ -159,13 +137,14 @@ TEST(LibraryFeelJammed, AToolsOwnForceIsNoMoreThanItsFreePartsLoads) {
   ScriptedRun run;
   run_scripted(std::string(CATHBOX_SOURCE_DIR) + "/cases/library/aneurysm_basilar.case",
                std::string(CATHBOX_SOURCE_DIR) + "/tests/host/session/data/basilar_wire_jammed.actions", run);
-  ASSERT_EQ(run.force.tools.size(), 3U);
-  const EveryToolForce::Tool& wire = run.force.tools[2];
+  ASSERT_EQ(run.force.tools().size(), 3U);
+  ASSERT_EQ(run.force.over_free_body_mN.size(), 3U);
+  const ToolForces::Tool& wire = run.force.tools()[2];
   EXPECT_GT(wire.peak_mN, 2000.0) << "the wire does not jam: the script no longer tests the bound";
-  for (std::size_t t = 0; t < run.force.tools.size(); ++t) {
-    EXPECT_LE(run.force.tools[t].over_free_body_mN, 1e-6)
-        << run.force.names[t] << " at " << run.force.tools[t].over_free_body_ms << " ms";
-    EXPECT_LE(run.force.tools[t].peak_mN, kFullScale_mN) << run.force.names[t];
+  for (std::size_t t = 0; t < run.force.tools().size(); ++t) {
+    const ToolForces::Tool& k = run.force.tools()[t];
+    EXPECT_LE(run.force.over_free_body_mN[t], 1e-6) << k.name << " at " << run.force.over_free_body_ms[t] << " ms";
+    EXPECT_LE(k.peak_mN, kFullScale_mN) << k.name;
   }
 }
 

@@ -14,6 +14,7 @@
 #include "session_run.hpp"
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
+#include "session/tool_forces.hpp"
 #include "scenario/scenario_runner.hpp"
 
 namespace cathbox::cli {
@@ -42,7 +43,9 @@ const GroupSpec& spec() {
             .help = "replays the record on a fresh simulator",
             .options = {{.name = "check", .help = "exit 1 at the first state hash that differs"},
                         {.name = "out", .value = "LOG.csv", .help = "log the held tool in cathbox sim run's columns"},
-                        {.name = "every", .value = "MS", .help = "with --out: a row every MS ms"}}},
+                        {.name = "every", .value = "MS", .help = "with --out: a row every MS ms"},
+                        {.name = "forces",
+                         .help = "print every tool's peak hand force, largest change a tick and ticks over the box's slew and full scale"}}},
            {.name = "metrics", .positionals = "REC", .help = "replays (hash-checked) and prints every metric", .options = {json}},
            {.name = "info", .positionals = "REC", .help = "the record's header and what its ticks hold", .options = {json}}},
   };
@@ -98,6 +101,8 @@ int run_replay(Args& args) {
     log = std::make_unique<CsvLog>(csv, every, replay->header().period_us);
     replay->session().add_observer(*log);
   }
+  session::ToolForces forces;
+  if (args.flag("forces")) replay->session().add_observer(forces);
   replay->step(-1);
   const session::ReplayResult r = replay->result();
   if (csv.is_open()) {
@@ -123,6 +128,7 @@ int run_replay(Args& args) {
               static_cast<long long>(r.ticks), static_cast<long long>(r.recorded_ticks),
               static_cast<long long>(r.hashes_checked));
   if (!r.end && r.error.empty()) std::printf("the record has no end block: the recording process stopped (killed?)\n");
+  if (args.flag("forces")) std::printf("%s", forces.format().c_str());
   if (r.mismatch) print_mismatch();
   if (!r.error.empty()) {
     std::fprintf(stderr, "%s\n", r.error.c_str());
