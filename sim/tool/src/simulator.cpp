@@ -90,6 +90,9 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   sheath_result_.assign(n, SheathFriction::Result{});
   hand_force_.assign(n, 0.0);
   hand_torque_.assign(n, 0.0);
+  converged_law_.assign(n, ForceLaw{});
+  have_converged_law_.assign(n, 0);
+  held_.assign(n, 0);
   valve_.assign(n, ValveFriction{});
   valve_result_.assign(n, ValveFriction::Result{});
   coupling_next_.resize(n);
@@ -423,6 +426,7 @@ void Simulator::step(double dt_s) {
       hand_torque_[o] -= valve_result_[t].torque_mNmm;
     }
   }
+  hold_unconverged();
   for (std::size_t t = 0; t < n; ++t) {
     stepped_depth_[t] = tip_depth_mm(t);
     moved_mm_[t] = insertion_[t] - stepped_insertion_[t];
@@ -437,8 +441,37 @@ void Simulator::step(double dt_s) {
 double Simulator::hand_force_mN(std::size_t tool) const { return hand_force_[tool]; }
 double Simulator::hand_torque_mNmm(std::size_t tool) const { return hand_torque_[tool]; }
 
+// The hand force, torque and law of an unconverged tick (issue 29: "a tick that does not converge
+// still gives a force consistent with the last converged state, never a leftover penetration
+// times a penalty"): a tool whose solve ends this tick unconverged (after its sub-steps) keeps
+// its last converged tick's force and torque, and the law that tick's stiffness and damping about
+// where the hand is now (force_law). Its state goes on from the unconverged solve as before: only
+// what the hand feels is held. Without it the ADAPT pass's aspiration catheter, unconverged at
+// 61.129 s with a node on the wall at 2,605 mN, moved the hand by +114.3 and -100.0 mN in two
+// ticks (convergence.md, "An unconverged tick's hand force held").
+void Simulator::hold_unconverged() {
+  for (std::size_t t = 0; t < rods_.size(); ++t) {
+    const Rod& rod = rods_[t];
+    const bool unconverged = rod.first_free_node() < rod.node_total() && !rod.converged();
+    held_[t] = unconverged && have_converged_law_[t] != 0 ? 1 : 0;
+    if (held_[t] != 0) {
+      hand_force_[t] = converged_law_[t].force0_mN;
+      hand_torque_[t] = converged_law_[t].torque0_mNmm;
+    } else if (!unconverged) {
+      converged_law_[t] = force_law(t);
+      have_converged_law_[t] = 1;
+    }
+  }
+}
+
 ForceLaw Simulator::force_law(std::size_t tool) const {
   ForceLaw law = rods_[tool].force_law();
+  if (held_[tool] != 0) {
+    ForceLaw held = converged_law_[tool];
+    held.insertion0_mm = insertion_[tool];
+    held.rotation0_rad = law.rotation0_rad;
+    return held;
+  }
   // The inner tool's law is expressed in its own insertion, not its protrusion; every law
   // carries the friction of the lumens and the valve around the tool.
   law.insertion0_mm = insertion_[tool];

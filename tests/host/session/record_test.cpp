@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 36;  // format version 36 (a record before the hand force's free-body bound), CRC fixed up
+  bytes[8] = 37;  // format version 37 (a record before an unconverged tick's hand force was held), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v36 = RecordReader::from_bytes(bytes, "v36.cbxrec");
-  ASSERT_FALSE(v36);
-  EXPECT_EQ(v36.error().message, "v36.cbxrec: byte 8: record format version 36, this build reads version 37");
+  const auto v37 = RecordReader::from_bytes(bytes, "v37.cbxrec");
+  ASSERT_FALSE(v37);
+  EXPECT_EQ(v37.error().message, "v37.cbxrec: byte 8: record format version 37, this build reads version 38");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

@@ -139,7 +139,10 @@ void load_m1(M1& out, const std::vector<std::pair<std::string, std::string>>& re
     ASSERT_NE(at, std::string::npos) << from;
     text.replace(at, from.size(), to);
   }
-  const std::string path = fixtures::temp_path("session_test", "m1_variant.case");
+  // Each test its own file: ctest runs these tests side by side, and one truncating the file
+  // another is reading handed it an empty case ("no vessel").
+  const std::string path = fixtures::temp_path(
+      "session_test", std::string("m1_variant_") + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".case");
   std::ofstream(path) << text;
   SessionCaseLoad loaded = load_session_case(path);
   ASSERT_TRUE(loaded) << loaded.error().message;

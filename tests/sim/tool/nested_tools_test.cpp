@@ -560,6 +560,50 @@ TEST(NestedTools, AnUnconvergedWiresPushDoesNotSteerItsCatheter) {
   EXPECT_LT(moved, 0.1);
 }
 
+// An unconverged tick gives the hand its last converged tick's force and torque, and its law
+// that tick's stiffness about the hand's insertion (Simulator::hold_unconverged; issue 29: "a
+// tick that does not converge still gives a force consistent with the last converged state, never
+// a leftover penetration times a penalty"). The wire parked in a branch, held to one Newton
+// iteration with a tolerance nothing meets, loaded 300 mN across its tip and pushed on 0.01 mm a
+// step: every tick unconverged, its hand force and law held; its own unconverged clamp reads
+// otherwise. Let converge again, the hand follows the loaded wire.
+TEST(NestedTools, AnUnconvergedTicksHandForceIsTheLastConvergedTicks) {
+  const TubeNetworkWall wall = testing::y_bifurcation(2.0, 1.6, 14.0, 40.0);
+  Simulator sim(wall, triaxial_stack(), kTriaxialEntry);
+  park_wire_in_a_branch(sim);
+  ASSERT_TRUE(sim.rod(2).converged());
+  const double parked = sim.hand_force_mN(2);
+  const double parked_torque = sim.hand_torque_mNmm(2);
+  const ForceLaw parked_law = sim.force_law(2);
+  const int iterations = sim.rod_settings(2).newton_iterations;
+  const double tolerance = sim.rod_settings(2).convergence_mm;
+  sim.rod_settings(2).newton_iterations = 1;
+  sim.rod_settings(2).convergence_mm = 1e-12;
+  sim.set_node_load(2, sim.rod(2).node_total() - 1, {3.0e2, 0.0, 0.0});
+  double own_apart = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    sim.set_insertion(2, sim.insertion_mm(2) + 0.01);
+    sim.step();
+    ASSERT_FALSE(sim.rod(2).converged()) << "step " << i;
+    EXPECT_EQ(sim.hand_force_mN(2), parked) << "step " << i;
+    EXPECT_EQ(sim.hand_torque_mNmm(2), parked_torque) << "step " << i;
+    const ForceLaw law = sim.force_law(2);
+    EXPECT_EQ(law.force0_mN, parked);
+    EXPECT_EQ(law.insertion0_mm, sim.insertion_mm(2));
+    EXPECT_EQ(law.stiffness_mN_per_mm, parked_law.stiffness_mN_per_mm);
+    EXPECT_EQ(law.damping_mN_s_per_mm, parked_law.damping_mN_s_per_mm);
+    own_apart = std::max(own_apart, std::abs(sim.rod(2).hand_force_mN() - parked));
+  }
+  EXPECT_GT(own_apart, 1.0);  // the unconverged clamp's own reading, which the hand no longer gets
+  sim.rod_settings(2).newton_iterations = iterations;
+  sim.rod_settings(2).convergence_mm = tolerance;
+  for (int i = 0; i < 200 && !sim.rod(2).converged(); ++i) sim.step();
+  ASSERT_TRUE(sim.rod(2).converged());
+  EXPECT_NE(sim.hand_force_mN(2), parked);
+  std::printf("held %.2f mN over 20 unconverged ticks (the clamp's own reading up to %.2f mN off); converged again: %.2f mN\n",
+              parked, own_apart, sim.hand_force_mN(2));
+}
+
 // A balloon catheter's tip takes its wire's push changed by at most the slew's tenth a step
 // (tuning::kTipPushSlew_mN, 10 mN): the ADAPT M1 run's aspiration catheter, its 2-3 mm free part
 // beyond the balloon guide touching the wall for one tick (its clamp 700-850 mN across the guide's

@@ -190,6 +190,7 @@ class Simulator {
   [[nodiscard]] bool balloon_guide(std::size_t c) const;  // c is outermost and a balloon catheter (kAlways)
   void update_sheath(std::size_t tool, double dt_s);
   void limit_tip_push();
+  void hold_unconverged();  // an unconverged tick's hand force and law: the last converged tick's
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
   [[nodiscard]] bool steered_now(std::size_t c) const;
   [[nodiscard]] bool drawn_back_into(std::size_t c) const;  // a wire or catheter leaving c's tip is drawn back this step
@@ -230,6 +231,10 @@ class Simulator {
   std::vector<glm::dvec3> tip_push_before_;  // scratch: tip_push_ at the start of the step
   std::vector<glm::dvec3> converged_clamp_;  // per tool: its clamp force at its last converged step
   std::vector<double> hand_force_, hand_torque_;
+  // Per tool: its force law at its last converged tick (or unsolved one), whether it has one, and
+  // whether this tick's hand force and law are held to it (hold_unconverged).
+  std::vector<ForceLaw> converged_law_;
+  std::vector<std::uint8_t> have_converged_law_, held_;
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
