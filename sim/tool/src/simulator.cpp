@@ -398,7 +398,7 @@ void Simulator::step(double dt_s) {
     for (std::size_t k = coupling_set_[t].begin_in(next.size()); k < coupling_set_[t].end_in(next.size()); ++k) {
       next[k] *= 1.0 - tuning::kCouplingRelaxation;
     }
-    tip_push_[t] *= 1.0 - tuning::kTipPushRelaxation;
+    if (!tip_lean_held(t)) tip_push_[t] *= 1.0 - tuning::kTipPushRelaxation;
   }
   for (const std::size_t t : order_) {
     if (outer_of_[t] < n) {

@@ -165,6 +165,28 @@ bool Simulator::steered_now(std::size_t c) const {
   return false;
 }
 
+// A carrier steered while advanced (kWhileAdvanced), parked with a tool leaving its tip, keeps
+// the steering push its last steered step left: nothing moved since, so the lean of the tool
+// it carries on its tip is the lean it had. Relaxed away instead (as on a carrier that carries
+// nothing out of its tip), the M1 Solumbra run's aspiration catheter, stopped at 100 mm over its
+// microcatheter, sprang back into it: the microcatheter, held at that tip, was pressed into the
+// wall at the contact cap (4,000 mN), its hand read 1.2 -> 3.9 N in 4 ticks and 8.3 N as its wire
+// was drawn out (118 ticks over the box's 5 N); kept, 2.4 N and none (convergence.md, "A parked
+// carrier keeps its tool's lean"). Still not steered by it while parked (the lean followed
+// tick by tick stalled the Solumbra stent's steps: steered_now).
+bool Simulator::tip_lean_held(std::size_t c) const {
+  if (specs_[c].steered_by_inner != InnerSteering::kWhileAdvanced || steered_now(c)) return false;
+  for (std::size_t u = 0; u < rods_.size(); ++u) {
+    if (carrier_[u] == c && leaves_tip(u)) return true;
+  }
+  return false;
+}
+
+bool Simulator::leaves_tip(std::size_t u) const {
+  const Rod& rod = rods_[u];
+  return tip_depth_mm(u) > free_start_[u] && rod.first_free_node() < rod.node_total();
+}
+
 bool Simulator::drawn_back_into(std::size_t c) const {
   for (std::size_t u = 0; u < rods_.size(); ++u) {
     if (carrier_[u] == c && !specs_[u].stent.present() && tip_depth_mm(u) < stepped_depth_[u] - 1e-9) return true;
@@ -177,7 +199,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   const std::size_t n = rods_.size();
   const Rod& rod = rods_[u];
   const std::size_t o = outer_of_[u];
-  const bool has_free = tip_depth_mm(u) > free_start_[u] && rod.first_free_node() < rod.node_total();
+  const bool has_free = leaves_tip(u);
   const double distal = has_free ? rod.hand_force_mN() : 0.0;
   build_sheath_path(u, path_);
   const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);

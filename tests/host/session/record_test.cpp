@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 37;  // format version 37 (a record before an unconverged tick's hand force was held), CRC fixed up
+  bytes[8] = 38;  // format version 38 (a record before a parked carrier kept its tool's lean), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v37 = RecordReader::from_bytes(bytes, "v37.cbxrec");
-  ASSERT_FALSE(v37);
-  EXPECT_EQ(v37.error().message, "v37.cbxrec: byte 8: record format version 37, this build reads version 38");
+  const auto v38 = RecordReader::from_bytes(bytes, "v38.cbxrec");
+  ASSERT_FALSE(v38);
+  EXPECT_EQ(v38.error().message, "v38.cbxrec: byte 8: record format version 38, this build reads version 39");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

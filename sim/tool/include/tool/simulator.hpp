@@ -194,6 +194,8 @@ class Simulator {
   // Whether carrier `c`'s tip follows the tools it carries this step (ToolSpec::steered_by_inner).
   [[nodiscard]] bool steered_now(std::size_t c) const;
   [[nodiscard]] bool drawn_back_into(std::size_t c) const;  // a wire or catheter leaving c's tip is drawn back this step
+  [[nodiscard]] bool leaves_tip(std::size_t u) const;  // tool u has a free part beyond its carrier's tip
+  [[nodiscard]] bool tip_lean_held(std::size_t c) const;  // c's steering push kept as it is this step
   void build_sheath_path(std::size_t tool, std::vector<SheathVertex>& path) const;
   static void cover_sheath_path(const Rod& inner, double tip_mm, double end_mm, std::vector<SheathVertex>& path);
   [[nodiscard]] bool nested_in(std::size_t inner, std::size_t outer) const;
