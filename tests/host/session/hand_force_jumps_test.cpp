@@ -184,8 +184,9 @@ INSTANTIATE_TEST_SUITE_P(
 
 // The bundled stent-retriever runs whole (~240 s of virtual time, ~3 min of CPU each). The
 // Solumbra pair's held microcatheter, drawn back into the aspiration catheter at 236-237 s,
-// changes by up to 906 mN a tick on 56 and 57 ticks: its last free nodes, a stub, touch the wall
-// every other tick (docs/sim-tool/convergence.md, "The case library's runs at the hand").
+// changes by up to 811 mN a tick on 43 ticks each (record format 39): its last free nodes, a stub,
+// touch the wall every other tick, its lumen friction reversing with them (docs/sim-tool/
+// convergence.md, "The case library's runs at the hand", "A parked carrier keeps its tool's lean").
 INSTANTIATE_TEST_SUITE_P(
     WholeRuns, HandForceJumps,
     ::testing::Values(FeelRun{"stent_retriever_m1_whole", "cases/neuro_thrombectomy_m1_stentretriever.case",
