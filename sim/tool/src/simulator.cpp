@@ -90,8 +90,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   sheath_result_.assign(n, SheathFriction::Result{});
   hand_force_.assign(n, 0.0);
   hand_torque_.assign(n, 0.0);
-  converged_law_.assign(n, ForceLaw{});
-  have_converged_law_.assign(n, 0);
+  converged_law_.assign(n, std::nullopt);
   held_.assign(n, 0);
   valve_.assign(n, ValveFriction{});
   valve_result_.assign(n, ValveFriction::Result{});

@@ -126,7 +126,7 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   valve_result_[tool] = ValveFriction::Result{};
   hand_force_[tool] = 0.0;
   hand_torque_[tool] = 0.0;
-  have_converged_law_[tool] = 0;
+  converged_law_[tool].reset();
   held_[tool] = 0;
   coupling_next_[tool].assign(rods_[tool].node_total(), glm::dvec3(0.0));
   coupling_set_[tool] = IndexRange{};

@@ -16,13 +16,12 @@ void Simulator::hold_unconverged() {
   for (std::size_t t = 0; t < rods_.size(); ++t) {
     const Rod& rod = rods_[t];
     const bool unconverged = rod.first_free_node() < rod.node_total() && !rod.converged();
-    held_[t] = unconverged && have_converged_law_[t] != 0 ? 1 : 0;
+    held_[t] = unconverged && converged_law_[t].has_value() ? 1 : 0;
     if (held_[t] != 0) {
-      hand_force_[t] = converged_law_[t].force0_mN;
-      hand_torque_[t] = converged_law_[t].torque0_mNmm;
+      hand_force_[t] = converged_law_[t]->force0_mN;
+      hand_torque_[t] = converged_law_[t]->torque0_mNmm;
     } else if (!unconverged) {
       converged_law_[t] = force_law(t);
-      have_converged_law_[t] = 1;
     }
   }
 }
@@ -30,7 +29,7 @@ void Simulator::hold_unconverged() {
 ForceLaw Simulator::force_law(std::size_t tool) const {
   ForceLaw law = rods_[tool].force_law();
   if (held_[tool] != 0) {
-    ForceLaw held = converged_law_[tool];
+    ForceLaw held = *converged_law_[tool];
     held.insertion0_mm = insertion_[tool];
     held.rotation0_rad = law.rotation0_rad;
     return held;

@@ -233,10 +233,10 @@ class Simulator {
   std::vector<glm::dvec3> tip_push_before_;  // scratch: tip_push_ at the start of the step
   std::vector<glm::dvec3> converged_clamp_;  // per tool: its clamp force at its last converged step
   std::vector<double> hand_force_, hand_torque_;
-  // Per tool: its force law at its last converged tick (or unsolved one), whether it has one, and
-  // whether this tick's hand force and law are held to it (hold_unconverged).
-  std::vector<ForceLaw> converged_law_;
-  std::vector<std::uint8_t> have_converged_law_, held_;
+  // Per tool: its force law at its last converged tick (none before one), and whether this tick's
+  // hand force and law are held to it (hold_unconverged).
+  std::vector<std::optional<ForceLaw>> converged_law_;
+  std::vector<std::uint8_t> held_;
   std::vector<ValveFriction> valve_;
   std::vector<ValveFriction::Result> valve_result_;
   std::vector<std::optional<Balloon>> balloons_;
