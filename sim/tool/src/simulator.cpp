@@ -97,6 +97,7 @@ Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, con
   coupling_next_.resize(n);
   coupling_set_.assign(n, IndexRange{});
   tip_push_.assign(n, glm::dvec3(0.0));
+  push_slew_.assign(n, PushSlew{});
   converged_clamp_.assign(n, glm::dvec3(0.0));
   for (std::size_t i = 0; i < n; ++i) coupling_next_[i].assign(rods_[i].node_total(), glm::dvec3(0.0));
   balloons_.resize(n);
@@ -338,6 +339,10 @@ bool Simulator::drawn_back_wire(std::size_t t) const {
 // (drawn_back_into): the ADAPT run's microcatheter drawn back into its parked aspiration catheter
 // on ~1 N of clamp force moved the hand 115.3 mN in a tick unbounded, 99.2 mN bounded
 // (convergence.md, "The lumen's bending push from the change of the moment").
+// While a tool is drawn back into it the bound adapts to the push's own reversals (limit_tip_push):
+// the free part shortens, its lateral stiffness (3 EI / l^3) rises past what a lagged push can
+// follow, and the push swung at the bound every tick (convergence.md, "The steering push's slew
+// halved at its reversals").
 bool Simulator::push_bounded(std::size_t c) const {
   if (specs_[c].steered_by_inner == InnerSteering::kAlways || drawn_back_into(c)) return true;
   for (std::size_t u = 0; u < rods_.size(); ++u) {
@@ -349,10 +354,22 @@ bool Simulator::push_bounded(std::size_t c) const {
 
 void Simulator::limit_tip_push() {
   for (std::size_t t = 0; t < tip_push_.size(); ++t) {
-    if (!push_bounded(t)) continue;
-    const glm::dvec3 change = tip_push_[t] - tip_push_before_[t];
+    PushSlew& slew = push_slew_[t];
+    if (!push_bounded(t)) {
+      slew = PushSlew{};
+      continue;
+    }
+    glm::dvec3 change = tip_push_[t] - tip_push_before_[t];
+    if (!drawn_back_into(t)) slew.share = 1.0;
+    else if (glm::dot(change, slew.last) < 0.0) slew.share = std::max(slew.share * tuning::kPushSlewDown, tuning::kPushSlewFloor);
+    else slew.share = std::min(slew.share * tuning::kPushSlewUp, 1.0);
+    const double most = tuning::kTipPushSlew_mN * slew.share;
     const double length = glm::length(change);
-    if (length > tuning::kTipPushSlew_mN) tip_push_[t] = tip_push_before_[t] + change * (tuning::kTipPushSlew_mN / length);
+    if (length > most) {
+      change *= most / length;
+      tip_push_[t] = tip_push_before_[t] + change;
+    }
+    slew.last = change;
   }
 }
 

@@ -131,6 +131,7 @@ DeviceError Simulator::load_next_coil(std::size_t tool) {
   coupling_next_[tool].assign(rods_[tool].node_total(), glm::dvec3(0.0));
   coupling_set_[tool] = IndexRange{};
   tip_push_[tool] = glm::dvec3(0.0);
+  push_slew_[tool] = PushSlew{};
   converged_clamp_[tool] = glm::dvec3(0.0);
   if (extra_ei_.size() < rods_[tool].node_total()) extra_ei_.resize(rods_[tool].node_total(), 0.0);
   update_chain();

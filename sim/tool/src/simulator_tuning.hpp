@@ -21,6 +21,16 @@ inline constexpr double kTipPushRelaxation = 0.1;
 // the slew moves it at the full relaxed rate and a wall touch's 700-850 mN at the slew's
 // (Simulator::limit_tip_push).
 inline constexpr double kTipPushSlew_mN = kTipPushRelaxation * 100.0;
+// While a tool leaving the catheter is drawn back into it, that bound adapts to the push's own
+// reversals as Rprop's step does (Riedmiller & Braun, ICNN 1993): a change against the last one
+// halves the share of the slew the push may change by, one along it (or none) regrows it by 1.2,
+// between the floor and the whole slew. The M1 Solumbra run's microcatheter drawn back at 20 mm/s
+// into its aspiration catheter: that catheter's push swung +-10 mN every tick, its tip +-0.1 mm,
+// and the microcatheter's last 1-2 mm tapped the wall every other tick (43 held ticks over the
+// box's slew, 810.9 mN); halved at reversals, 4 ticks and 120.6 mN.
+inline constexpr double kPushSlewDown = 0.5;
+inline constexpr double kPushSlewUp = 1.2;
+inline constexpr double kPushSlewFloor = 1.0 / 16.0;
 // Most sub-increments a lone tool's unconverged tick is solved again in (RodSettings::substeps_max).
 inline constexpr int kLoneToolSubsteps = 4;
 // And a catheter directly in a balloon guide (the aspiration stacks' aspiration catheter): its pass,

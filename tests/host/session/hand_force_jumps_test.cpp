@@ -183,10 +183,12 @@ INSTANTIATE_TEST_SUITE_P(
     run_name);
 
 // The bundled stent-retriever runs whole (~240 s of virtual time, ~3 min of CPU each). The
-// Solumbra pair's held microcatheter, drawn back into the aspiration catheter at 236-237 s,
-// changes by up to 811 mN a tick on 43 ticks each (record format 39): its last free nodes, a stub,
-// touch the wall every other tick, its lumen friction reversing with them (docs/sim-tool/
-// convergence.md, "The case library's runs at the hand", "A parked carrier keeps its tool's lean").
+// Solumbra pair's held tool changes by more than the slew on 4 ticks each (record format 40; up to
+// 120.6 / 140.5 mN): the microcatheter drawn back over the stent (55.517 s) and, its last 1-2 mm
+// out of the aspiration catheter's tip, sticking and slipping on the wall (237.030 s), and the stent
+// pulled into the aspirating catheter (248.1-248.3 s). Format 39's 43 ticks (up to 810.9 mN, that
+// stub tapping the wall every other tick as the catheter's steering push swung at its bound) are
+// gone (docs/sim-tool/convergence.md, "The steering push's slew halved at its reversals").
 INSTANTIATE_TEST_SUITE_P(
     WholeRuns, HandForceJumps,
     ::testing::Values(FeelRun{"stent_retriever_m1_whole", "cases/neuro_thrombectomy_m1_stentretriever.case",

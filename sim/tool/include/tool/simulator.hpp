@@ -231,6 +231,13 @@ class Simulator {
   std::vector<IndexRange> coupling_set_;                 // nodes of each coupling_next_ ever loaded
   std::vector<glm::dvec3> tip_push_;  // per tool: the tools it carries pushing on its tip node, relaxed
   std::vector<glm::dvec3> tip_push_before_;  // scratch: tip_push_ at the start of the step
+  // Per carrier whose push is slew-limited: the push's last change, and the share of the slew it
+  // may change by this step (limit_tip_push: halved where the push reverses, regrown where not).
+  struct PushSlew {
+    glm::dvec3 last{0.0};
+    double share = 1.0;
+  };
+  std::vector<PushSlew> push_slew_;
   std::vector<glm::dvec3> converged_clamp_;  // per tool: its clamp force at its last converged step
   std::vector<double> hand_force_, hand_torque_;
   // Per tool: its force law at its last converged tick (none before one), and whether this tick's
