@@ -41,7 +41,7 @@ class HandForceTrace : public TickObserver {
       if (c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil)) fresh = true;
     }
     render(v, fresh);
-    if (!fresh) {
+    if (!fresh && v.time_us >= jumps_from_us) {
       const double jump = std::abs(f - last_mN_);
       if (jump > max_jump_mN) {
         max_jump_mN = jump;
@@ -71,6 +71,7 @@ class HandForceTrace : public TickObserver {
     last_mN_ = f;
     ++ticks;
   }
+  std::int64_t jumps_from_us = 0;  // set before the run: the changes below counted from then on
   std::int64_t ticks = 0;
   double peak_mN = 0.0;
   std::int64_t peak_ms = 0;
