@@ -1,9 +1,13 @@
 // `cathbox session`: a haptic session without the trainer's window (host/session), and what a
 // record holds (host/cli/README.md documents the --json shapes). The command line is spec() below.
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli/args.hpp"
@@ -15,6 +19,7 @@
 #include "session/record_reader.hpp"
 #include "session/replay.hpp"
 #include "session/tool_forces.hpp"
+#include "session/tool_trace.hpp"
 #include "scenario/scenario_runner.hpp"
 
 namespace cathbox::cli {
@@ -45,7 +50,9 @@ const GroupSpec& spec() {
                         {.name = "out", .value = "LOG.csv", .help = "log the held tool in cathbox sim run's columns"},
                         {.name = "every", .value = "MS", .help = "with --out: a row every MS ms"},
                         {.name = "forces",
-                         .help = "print every tool's peak hand force, largest change a tick and ticks over the box's slew and full scale"}}},
+                         .help = "print every tool's peak hand force, largest change a tick and ticks over the box's slew and full scale"},
+                        {.name = "trace", .value = "FROM-TO",
+                         .help = "print every tool's force, solve, tip and contacts at each tick from FROM to TO s"}}},
            {.name = "metrics", .positionals = "REC", .help = "replays (hash-checked) and prints every metric", .options = {json}},
            {.name = "info", .positionals = "REC", .help = "the record's header and what its ticks hold", .options = {json}}},
   };
@@ -73,6 +80,21 @@ class CsvLog final : public session::TickObserver {
   std::int64_t period_us_;
 };
 
+// "FROM-TO" in seconds, 0 <= FROM <= TO, both finite: the window of --trace.
+std::optional<std::pair<double, double>> seconds_window(const std::string& text) {
+  const std::size_t dash = text.find('-', 1);
+  if (dash == std::string::npos) return std::nullopt;
+  const std::string from_text = text.substr(0, dash);
+  const std::string to_text = text.substr(dash + 1);
+  char* end = nullptr;
+  const double from = std::strtod(from_text.c_str(), &end);
+  if (from_text.empty() || *end != '\0') return std::nullopt;
+  const double to = std::strtod(to_text.c_str(), &end);
+  if (to_text.empty() || *end != '\0') return std::nullopt;
+  if (!std::isfinite(from) || !std::isfinite(to) || from < 0.0 || to < from || to > 1e6) return std::nullopt;
+  return std::pair{from, to};
+}
+
 int run_replay(Args& args) {
   if (args.positionals().size() != 1) return usage_error("replay takes one record file");
   long long every = 1;
@@ -82,6 +104,12 @@ int run_replay(Args& args) {
     every = *v;
   }
   if (args.value("every") && !args.value("out")) return usage_error("--every needs --out");
+  std::optional<session::ToolTrace> trace;
+  if (const auto window = args.value("trace")) {
+    const std::optional<std::pair<double, double>> w = seconds_window(*window);
+    if (!w) return usage_error("--trace must be FROM-TO in seconds, 0 <= FROM <= TO (e.g. 12.5-12.6)");
+    trace.emplace(std::llround(w->first * 1e6), std::llround(w->second * 1e6), stdout);
+  }
   const std::string& path = args.positionals()[0];
   const bool check = args.flag("check");
   base::Result<std::unique_ptr<session::Replay>> opened = session::Replay::open(path, check);
@@ -103,6 +131,7 @@ int run_replay(Args& args) {
   }
   session::ToolForces forces;
   if (args.flag("forces")) replay->session().add_observer(forces);
+  if (trace) replay->session().add_observer(*trace);
   replay->step(-1);
   const session::ReplayResult r = replay->result();
   if (csv.is_open()) {
