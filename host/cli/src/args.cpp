@@ -121,7 +121,7 @@ std::optional<double> Args::number(std::string_view name) {
   return v;
 }
 
-std::optional<std::vector<double>> Args::numbers(std::string_view name, std::size_t count) {
+std::optional<std::vector<double>> Args::numbers(std::string_view name, std::size_t count, char separator) {
   const auto text = value(name);
   if (!text) return std::nullopt;
   std::vector<double> out;
@@ -130,14 +130,15 @@ std::optional<std::vector<double>> Args::numbers(std::string_view name, std::siz
     char* end = nullptr;
     errno = 0;
     const double v = std::strtod(p, &end);
-    good = end != p && errno == 0 && std::isfinite(v) && (*end == ',' || *end == '\0');
+    good = end != p && errno == 0 && std::isfinite(v) && (*end == separator || *end == '\0');
     if (good) out.push_back(v);
     if (!good || *end == '\0') break;
     p = end + 1;
   }
   if (!good || out.size() != count) {
-    error_ = "option --" + std::string(name) + ": '" + *text + "' is not " + std::to_string(count) +
-             " comma-separated finite numbers";
+    const std::string separated = separator == ',' ? "comma" : std::string("'") + separator + "'";
+    error_ = "option --" + std::string(name) + ": '" + *text + "' is not " + std::to_string(count) + " " + separated +
+             "-separated finite numbers";
     return std::nullopt;
   }
   return out;

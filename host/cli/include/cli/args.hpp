@@ -41,8 +41,9 @@ class Args {
   // Parses option `name` as a number; on a bad value sets error() and returns nullopt.
   [[nodiscard]] std::optional<double> number(std::string_view name);
   [[nodiscard]] std::optional<long long> integer(std::string_view name);
-  // Option `name` as `count` comma-separated finite numbers ("X,Y,Z"); on a bad value sets error().
-  [[nodiscard]] std::optional<std::vector<double>> numbers(std::string_view name, std::size_t count);
+  // Option `name` as `count` finite numbers separated by `separator` ("X,Y,Z"; "FROM-TO" with
+  // '-', a leading minus still a number's); on a bad value sets error().
+  [[nodiscard]] std::optional<std::vector<double>> numbers(std::string_view name, std::size_t count, char separator = ',');
 
  private:
   std::vector<std::pair<std::string, std::string>> options_;

@@ -3,11 +3,9 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <fstream>
 #include <optional>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "cli/args.hpp"
@@ -80,21 +78,6 @@ class CsvLog final : public session::TickObserver {
   std::int64_t period_us_;
 };
 
-// "FROM-TO" in seconds, 0 <= FROM <= TO, both finite: the window of --trace.
-std::optional<std::pair<double, double>> seconds_window(const std::string& text) {
-  const std::size_t dash = text.find('-', 1);
-  if (dash == std::string::npos) return std::nullopt;
-  const std::string from_text = text.substr(0, dash);
-  const std::string to_text = text.substr(dash + 1);
-  char* end = nullptr;
-  const double from = std::strtod(from_text.c_str(), &end);
-  if (from_text.empty() || *end != '\0') return std::nullopt;
-  const double to = std::strtod(to_text.c_str(), &end);
-  if (to_text.empty() || *end != '\0') return std::nullopt;
-  if (!std::isfinite(from) || !std::isfinite(to) || from < 0.0 || to < from || to > 1e6) return std::nullopt;
-  return std::pair{from, to};
-}
-
 int run_replay(Args& args) {
   if (args.positionals().size() != 1) return usage_error("replay takes one record file");
   long long every = 1;
@@ -105,10 +88,12 @@ int run_replay(Args& args) {
   }
   if (args.value("every") && !args.value("out")) return usage_error("--every needs --out");
   std::optional<session::ToolTrace> trace;
-  if (const auto window = args.value("trace")) {
-    const std::optional<std::pair<double, double>> w = seconds_window(*window);
-    if (!w) return usage_error("--trace must be FROM-TO in seconds, 0 <= FROM <= TO (e.g. 12.5-12.6)");
-    trace.emplace(std::llround(w->first * 1e6), std::llround(w->second * 1e6), stdout);
+  if (args.value("trace")) {
+    const std::optional<std::vector<double>> w = args.numbers("trace", 2, '-');
+    if (!w || (*w)[0] < 0.0 || (*w)[1] < (*w)[0] || (*w)[1] > 1e6) {
+      return usage_error("--trace must be FROM-TO in seconds, 0 <= FROM <= TO (e.g. 12.5-12.6)");
+    }
+    trace.emplace(std::llround((*w)[0] * 1e6), std::llround((*w)[1] * 1e6), stdout);
   }
   const std::string& path = args.positionals()[0];
   const bool check = args.flag("check");
