@@ -69,8 +69,10 @@ end
 // up) drops into the target's origin for this arch, so that the wire leaves it without its tip
 // catching on the wall and snapping free (library_feel_test.cpp: no tool's force changes by more
 // than the box's slew); `advance_mm_s`: the catheter's speed up the descending aorta.
+// `lead`: the script from the wire's lead out of the hooked catheter on (9 s), where a morphology
+// needs its own; empty, the wire is led at 15 mm/s to 70 mm past the hook.
 LibraryCase arch_case(const std::string& name, const std::string& title, ArchType type, int hook_mm,
-                      int advance_mm_s, const std::string& about) {
+                      int advance_mm_s, const std::string& about, const std::string& lead = "") {
   LibraryCase c;
   c.name = name;
   c.title = title;
@@ -88,7 +90,7 @@ LibraryCase arch_case(const std::string& name, const std::string& title, ArchTyp
       "# The catheter, its tip turned a quarter turn, leads the wire up the descending aorta past the\n"
       "# left subclavian and over the arch; then, the wire drawn back inside and the tip turned up, it\n"
       "# is pulled back slowly until the tip drops into the target's origin, and the wire is advanced\n"
-      "# out of it into the left common carotid.\n"
+      "# out of it into the left common carotid" + std::string(lead.empty() ? ".\n" : " (below).\n") +
       "0      select catheter\n"
       "0      rotate_to 90 at 360\n"
       "0      insert_to 130 at " + std::to_string(advance_mm_s) + "\n"
@@ -97,10 +99,11 @@ LibraryCase arch_case(const std::string& name, const std::string& title, ArchTyp
       "4500   insert_to " + std::to_string(hook_mm - 15) + " at 30\n"
       "4500   select catheter\n"
       "4500   rotate_to 0 at 180\n"
-      "5500   insert_to " + std::to_string(hook_mm) + " at 10\n"
-      "9000   select guidewire\n"
-      "9000   insert_to " + std::to_string(hook_mm + 70) + " at 15\n"
-      "14000  end\n";
+      "5500   insert_to " + std::to_string(hook_mm) + " at 10\n" +
+      (lead.empty() ? "9000   select guidewire\n"
+                      "9000   insert_to " + std::to_string(hook_mm + 70) + " at 15\n"
+                      "14000  end\n"
+                    : lead);
   return c;
 }
 
@@ -164,7 +167,17 @@ std::vector<LibraryCase> all_cases() {
                 "# Type III arch: the brachiocephalic origin 13.5 mm = 2.1 CCA diameters below the top.\n" + arch_ref),
       arch_case("arch_bovine", "library: bovine aortic arch", ArchType::kBovine, 102, 30,
                 "# Bovine arch (type I shape): the left common carotid arises from the brachiocephalic\n"
-                "# trunk, 16 mm above the arch.\n" + arch_ref),
+                "# trunk, 16 mm above the arch.\n" + arch_ref,
+                "# The wire is led out of the hook 15.5 mm into the left common carotid at 10 mm/s and stopped\n"
+                "# short of the node crossing where its second free node, pressed on the wall past the hooked\n"
+                "# tip, snapped off at 118.1 mm (led on at 15 mm/s: 4 ticks over the box's 100 mN slew). Catheter\n"
+                "# and wire then go on together 5 mm at 5 mm/s, so the catheter's tip comes into the carotid's\n"
+                "# origin over the wire, coaxial, and the wire goes on out of it at 5 mm/s to the target.\n"
+                "# Stopped at 117-118 mm it reaches with no tick over the slew (116 or 118.5 mm: 1 tick); the\n"
+                "# window is the wire's length out of the hook, 15-16 mm (docs/sim-tool/convergence.md).\n"
+                "9000   select guidewire\n9000   insert_to 117.5 at 10\n12250  select catheter\n"
+                "12250  insert_to 107 at 5\n12250  select guidewire\n12250  insert_to 122.5 at 5\n"
+                "13450  insert_to 172 at 5\n26350  end\n"),
       ica_case("ica_straight", "library: straight cervical ICA", IcaTortuosity::kStraight,
                "# Cervical left ICA without tortuosity (the reference).\n" + ica_ref),
       ica_case("ica_tortuous", "library: tortuous cervical ICA", IcaTortuosity::kTortuous,
@@ -177,15 +190,21 @@ std::vector<LibraryCase> all_cases() {
       aneurysm_case("aneurysm_mca", "library: right MCA bifurcation aneurysm", AneurysmSite::kMcaBifurcation, 6.4, 2.4,
                     "right_internal_carotid", 0.12, "right_mca_aneurysm",
                     "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,
-                    "# The microcatheter's last push at 4 mm/s: at 5 mm/s it kicks back 9 mm short of the\n"
-                    "# target (record format 36; cases/README.md). The wire stops at 145 mm: pushed on to 165\n"
-                    "# it jammed in the sac at up to 6 N (library_feel_test.cpp).\n"
+                    "# The microwire is led 8 mm out of the microcatheter's tip while both sit at the guide's tip\n"
+                    "# in the straight cervical ICA, where the guide holds the microcatheter coaxial: it comes out\n"
+                    "# touching no wall (led out of a curved microcatheter parked anywhere up the ICA, its tip on\n"
+                    "# the wall, each node crossing the tip jumped 500-1000 mN). The two go up as a unit at\n"
+                    "# 20 mm/s, the wire's tip (turned 135 degrees) 8 mm ahead through the siphon and the terminus\n"
+                    "# into the M1. With the microcatheter at 125 mm the wire is drawn back 3 mm inside it, and the\n"
+                    "# microcatheter goes on alone at 4 mm/s, turned to 90 degrees to lift its tip off the M1's\n"
+                    "# floor into the neck (unturned it passes 1.6-1.8 mm below the target). Stopped at 120-130 mm,\n"
+                    "# the wire 1-6 mm inside, the last push at 3-6 mm/s, the unit at 10-20 mm/s, the wire turned\n"
+                    "# 135-180 degrees and 8-10 mm ahead: all reach with no tick over the box's 100 mN slew.\n"
                     "0      select microcatheter\n0      rotate_to 180 at 720\n0      select microwire\n"
-                    "0      rotate_to 180 at 720\n1000   select microcatheter\n1000   insert_to 22 at 20\n"
-                    "1000   select microwire\n1000   insert_to 40 at 20\n2000   insert_to 112 at 20\n"
-                    "2000   select microcatheter\n2000   insert_to 108 at 20\n6500   select microwire\n"
-                    "6500   insert_to 145 at 10\n7000   select microcatheter\n7000   insert_to 135 at 10\n"
-                    "10500  insert_to 160 at 4\n14000  end\n"),
+                    "0      rotate_to 135 at 720\n1200   insert_to 8 at 4\n3500   insert_to 133 at 20\n"
+                    "3500   select microcatheter\n3500   insert_to 125 at 20\n9950   select microwire\n"
+                    "9950   insert_to 122 at 4\n12900  select microcatheter\n12900  rotate_to 90 at 360\n"
+                    "12900  insert_to 160 at 4\n21900  end\n"),
       aneurysm_case("aneurysm_pcom", "library: left PCom aneurysm", AneurysmSite::kPcom, 6.0, 3.0,
                     "left_internal_carotid", 0.12, "left_pcom_aneurysm",
                     "# Saccular aneurysm of the left ICA at the posterior communicating origin; guide in the\n"

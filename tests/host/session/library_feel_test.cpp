@@ -59,21 +59,11 @@ void run_scripted(const std::string& case_file, const std::string& actions, Scri
   std::printf("%s", run.force.forces.format().c_str());
 }
 
-// The library cases whose scripted run still changes a tool's force by more than the box's slew
-// (docs/sim-tool/convergence.md, "The case library's runs at the hand"): the bovine arch's wire
-// leaving the catheter's tip (4 ticks), the MCA run's wire leaving the microcatheter's tip pressed
-// on the wall at its junction (44 ticks, node crossings).
-const std::vector<std::string> kSlewNotYet{"aneurysm_mca", "arch_bovine"};
-
-// Every bundled library case (cases/library/NAME.case), or those whose slew is met or not.
-enum class Slew { kAny, kMet, kNotYet };
-std::vector<std::string> library_cases(Slew slew) {
+// Every bundled library case (cases/library/NAME.case).
+std::vector<std::string> library_cases() {
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(std::string(CATHBOX_SOURCE_DIR) + "/cases/library")) {
-    if (e.path().extension() != ".case") continue;
-    const std::string name = e.path().stem().string();
-    const bool not_yet = std::find(kSlewNotYet.begin(), kSlewNotYet.end(), name) != kSlewNotYet.end();
-    if (slew == Slew::kAny || not_yet == (slew == Slew::kNotYet)) names.push_back(name);
+    if (e.path().extension() == ".case") names.push_back(e.path().stem().string());
   }
   std::sort(names.begin(), names.end());
   return names;
@@ -107,26 +97,9 @@ TEST_P(LibraryFeel, EveryToolsForceStaysWithinTheBoxsFullScaleAndSlewOnTheWayToT
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Meets, LibraryFeel, ::testing::ValuesIn(library_cases(Slew::kMet)), param_name);
-INSTANTIATE_TEST_SUITE_P(DISABLED_NotYet, LibraryFeel, ::testing::ValuesIn(library_cases(Slew::kNotYet)), param_name);
+INSTANTIATE_TEST_SUITE_P(Meets, LibraryFeel, ::testing::ValuesIn(library_cases()), param_name);
 
-// The cases not meeting the slew yet still hold the full scale.
-class LibraryFullScale : public ::testing::TestWithParam<std::string> {};
-
-TEST_P(LibraryFullScale, EveryToolsForceStaysWithinTheBoxsFullScaleOnTheWayToTheTarget) {
-  expect_reached_within_full_scale(run_library_case(GetParam()));
-}
-
-INSTANTIATE_TEST_SUITE_P(SlewNotYet, LibraryFullScale, ::testing::ValuesIn(library_cases(Slew::kNotYet)), param_name);
-
-TEST(LibraryCases, EveryCaseIsRunByTheFeelTests) {
-  EXPECT_EQ(library_cases(Slew::kMet).size() + library_cases(Slew::kNotYet).size(), library_cases(Slew::kAny).size());
-  EXPECT_GE(library_cases(Slew::kAny).size(), 12U);
-  for (const std::string& name : kSlewNotYet) {
-    const auto all = library_cases(Slew::kAny);
-    EXPECT_NE(std::find(all.begin(), all.end(), name), all.end()) << name << " is not a library case";
-  }
-}
+TEST(LibraryCases, EveryCaseIsRunByTheFeelTests) { EXPECT_GE(library_cases().size(), 12U); }
 
 // The basilar case with its microwire pushed on at 10 mm/s while the microcatheter advances over
 // it (a careless hand): the wire jams 15 mm out of the microcatheter's tip. Its clamp, linearised
