@@ -1,7 +1,9 @@
 #include "vessel/case_library.hpp"
 
 #include <cstdio>
+#include <iterator>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -153,10 +155,8 @@ LibraryCase aneurysm_case(const std::string& name, const std::string& title, Ane
   return c;
 }
 
-std::vector<LibraryCase> all_cases() {
+std::vector<LibraryCase> arch_cases() {
   const std::string arch_ref = "# Arch types: Madhwal et al. 2008; bovine arch: Layton et al. AJNR 2006.\n";
-  const std::string ica_ref = "# Grades: Weibel and Fields, Neurology 1965.\n";
-  const std::string sac_ref = "# Sizes and sites: UCAS (NEJM 2012), ISUIA (Lancet 2003).\n";
   return {
       arch_case("arch_type1", "library: type I aortic arch", ArchType::kTypeI, 87, 30,
                 "# Type I arch: the great vessels arise from the top of the arch (brachiocephalic origin\n"
@@ -178,6 +178,12 @@ std::vector<LibraryCase> all_cases() {
                 "9000   select guidewire\n9000   insert_to 117.5 at 10\n12250  select catheter\n"
                 "12250  insert_to 107 at 5\n12250  select guidewire\n12250  insert_to 122.5 at 5\n"
                 "13450  insert_to 172 at 5\n26350  end\n"),
+  };
+}
+
+std::vector<LibraryCase> ica_cases() {
+  const std::string ica_ref = "# Grades: Weibel and Fields, Neurology 1965.\n";
+  return {
       ica_case("ica_straight", "library: straight cervical ICA", IcaTortuosity::kStraight,
                "# Cervical left ICA without tortuosity (the reference).\n" + ica_ref),
       ica_case("ica_tortuous", "library: tortuous cervical ICA", IcaTortuosity::kTortuous,
@@ -187,6 +193,12 @@ std::vector<LibraryCase> all_cases() {
       ica_case("ica_kink", "library: kinked cervical ICA", IcaTortuosity::kKinked,
                "# Cervical left ICA with an acute (83 degree) angle between two limbs (Weibel-Fields kinking),\n"
                "# its apex rounded at 5 mm (two lumen radii: a tighter bend folds the wall).\n" + ica_ref),
+  };
+}
+
+std::vector<LibraryCase> aneurysm_cases() {
+  const std::string sac_ref = "# Sizes and sites: UCAS (NEJM 2012), ISUIA (Lancet 2003).\n";
+  return {
       aneurysm_case("aneurysm_mca", "library: right MCA bifurcation aneurysm", AneurysmSite::kMcaBifurcation, 6.4, 2.4,
                     "right_internal_carotid", 0.12, "right_mca_aneurysm",
                     "# Saccular aneurysm at the right MCA bifurcation; guide in the right ICA.\n" + sac_ref,
@@ -239,6 +251,15 @@ std::vector<LibraryCase> all_cases() {
                     "1000   insert_to 100 at 20\n6000   select microwire\n6000   insert_to 128 at 5\n"
                     "6500   select microcatheter\n6500   insert_to 122 at 10\n11000  end\n"),
   };
+}
+
+// The library in its order: arches, cervical ICAs, aneurysms.
+std::vector<LibraryCase> all_cases() {
+  std::vector<LibraryCase> all = arch_cases();
+  for (std::vector<LibraryCase> part : {ica_cases(), aneurysm_cases()}) {
+    all.insert(all.end(), std::make_move_iterator(part.begin()), std::make_move_iterator(part.end()));
+  }
+  return all;
 }
 
 }  // namespace
