@@ -20,7 +20,10 @@ base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::load(
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
   std::vector<tool::ScriptPlayer::ToolInfo> out;
-  for (const tool::ToolSpec& spec : scene.spec.tools) out.push_back(tool::tool_info(spec));
+  for (const tool::ToolSpec& spec : scene.spec.tools) {
+    out.push_back(tool::tool_info(spec));
+    for (const tool::CaseAspiration& a : scene.spec.aspiration) out.back().aspirator = out.back().aspirator || a.tool == spec.name;
+  }
   return out;
 }
 

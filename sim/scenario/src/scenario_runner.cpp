@@ -54,7 +54,10 @@ void write_scenario_row(std::ostream& csv, const Simulator& sim, std::int64_t ti
 ScenarioResult run_scenario(Simulator& sim, const Script& script, const ScenarioOptions& options, std::ostream& csv) {
   ScenarioResult result;
   std::vector<ScriptPlayer::ToolInfo> tools;
-  for (std::size_t t = 0; t < sim.tool_count(); ++t) tools.push_back(tool_info(sim.rod(t).spec()));
+  for (std::size_t t = 0; t < sim.tool_count(); ++t) {
+    tools.push_back(tool_info(sim.rod(t).spec()));
+    tools.back().aspirator = true;  // no thrombectomy unit here: `aspiration` lines are passed over, not checked
+  }
   // Every tool a script names must exist before anything runs.
   base::Result<ScriptPlayer> player = ScriptPlayer::make(script, tools, sim.active_tool(), options.script_name);
   if (!player) {

@@ -29,8 +29,8 @@ double advance_motion(Motion& m, double value) {
 }
 
 // Walks a script's actions as the player will, checking each against the tool selected then:
-// a coil is detached before the next is loaded, a balloon verb meets a balloon, a selected tool
-// exists.
+// a coil is detached before the next is loaded, a balloon verb meets a balloon, an aspiration a
+// vacuum source, a selected tool exists.
 class ScriptCheck {
   using ToolInfo = ScriptPlayer::ToolInfo;
 
@@ -49,6 +49,12 @@ class ScriptCheck {
       const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
       const std::string name = current_ < tools_.size() ? tools_[current_].name : "?";
       return verb + ": tool '" + name + "' has no balloon";
+    }
+    if (a.kind == ActionKind::kBalloonGuide && (current_ >= tools_.size() || !tools_[current_].balloon)) {
+      return "balloon_guide: tool '" + who() + "' has no balloon";
+    }
+    if (a.kind == ActionKind::kAspiration && (current_ >= tools_.size() || !tools_[current_].aspirator)) {
+      return "aspiration: tool '" + who() + "' has no vacuum source (the case's `aspiration` names the catheter that has)";
     }
     if (a.kind == ActionKind::kDetach && !carries_coil()) return "detach: '" + who() + "' carries no coil";
     if (a.kind == ActionKind::kSelect) return select(a.tool);

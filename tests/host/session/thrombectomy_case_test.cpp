@@ -84,5 +84,23 @@ TEST(ThrombectomyCase, EveryScriptLoadsOnItsCase) {
   }
 }
 
+// A script's `aspiration` on a tool the case gives no vacuum source is refused at load, naming
+// its line: the Solumbra case's microcatheter selected when the pump is switched on (a run did
+// this and went on with no vacuum: the sheared rim embolized, eTICI 2b50).
+TEST(ThrombectomyCase, AnAspirationOnAToolWithNoVacuumIsRefusedAtLoad) {
+  SessionCaseLoad loaded = load_session_case(std::string(CATHBOX_SOURCE_DIR) + "/cases/neuro_thrombectomy_m1_solumbra.case");
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  const std::vector<tool::ScriptPlayer::ToolInfo> tools = ActionScriptHand::tool_infos(*loaded.value());
+  const auto made = [&](const char* text) {
+    const tool::ScriptParse p = tool::parse_script(text, "s.actions");
+    EXPECT_TRUE(p) << p.error().message;
+    const auto hand = ActionScriptHand::make(*p, "s.actions", tools, 0);
+    return hand ? std::string("ok") : hand.error().message;
+  };
+  EXPECT_EQ(made("0 select aspiration\n1 aspiration on\n"), "ok");
+  EXPECT_EQ(made("0 select microcatheter\n1 aspiration on\n"),
+            "s.actions:2: aspiration: tool 'microcatheter' has no vacuum source (the case's `aspiration` names the catheter that has)");
+}
+
 }  // namespace
 }  // namespace cathbox::session

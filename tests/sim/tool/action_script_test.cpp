@@ -126,6 +126,27 @@ TEST(ActionScript, LoadCoilFeedsTheNextCoilFromTheHub) {
             "l.actions:1: load_coil: takes no arguments (it loads the selected coil tool's next coil)");
 }
 
+// The thrombectomy verbs act on the tool selected when they come: `aspiration` on one the case
+// gives a vacuum source, `balloon_guide` on one with a balloon. Any other is refused at load with
+// its line (in a session it was refused only when due, and the run went on without a vacuum).
+TEST(ActionScript, ThrombectomyVerbsMeetTheirDeviceOnTheSelectedTool) {
+  ScriptPlayer::ToolInfo aspiration{"aspiration", 1000.0, false, false, {}, true};
+  ScriptPlayer::ToolInfo guide{"guide", 1000.0, false, true, {}, false};
+  const std::vector<ScriptPlayer::ToolInfo> tools{guide, aspiration, {"microcatheter", 1500.0, false}};
+  const auto made = [&](const char* text) {
+    const ScriptParse p = parse_script(text, "t.actions");
+    EXPECT_TRUE(p) << p.error().message;
+    const base::Result<ScriptPlayer> player = ScriptPlayer::make(*p, tools, 0, "t.actions");
+    return player ? std::string("ok") : player.error().message;
+  };
+  EXPECT_EQ(made("0 balloon_guide inflate\n5 select aspiration\n6 aspiration on\n7 aspiration off\n"), "ok");
+  EXPECT_EQ(made("0 select aspiration\n1 select microcatheter\n2 aspiration on\n"),
+            "t.actions:3: aspiration: tool 'microcatheter' has no vacuum source (the case's `aspiration` names the catheter that has)");
+  EXPECT_EQ(made("0 aspiration on\n"),
+            "t.actions:1: aspiration: tool 'guide' has no vacuum source (the case's `aspiration` names the catheter that has)");
+  EXPECT_EQ(made("0 select aspiration\n1 balloon_guide inflate\n"), "t.actions:2: balloon_guide: tool 'aspiration' has no balloon");
+}
+
 TEST_P(ActionScriptErrors, NameFileAndLine) {
   const ScriptParse p = parse_script(GetParam().text, "s.actions");
   ASSERT_FALSE(p);

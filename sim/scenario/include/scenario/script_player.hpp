@@ -27,11 +27,14 @@ class ScriptPlayer {
     bool balloon = false;  // carries a balloon (inflate / deflate may act on it)
     // Coil tools: the largest insertion with each next coil loaded (`load_coil`), in order.
     std::vector<double> next_coil_max_insertion_mm{};
+    bool aspirator = false;  // the case's `aspiration` names it (aspiration on / off may act on it)
   };
 
-  // Checks that every tool the script selects exists, that every `detach` finds a coil and
-  // every inflate / deflate a balloon on the tool selected then; on failure returns one line: "file:line: select: the case has no tool 'x' (tools: a b)",
-  // "file:line: detach: 'x' carries no coil" or "file:line: inflate: tool 'x' has no balloon";
+  // Checks that every tool the script selects exists, that every `detach` finds a coil, every
+  // inflate / deflate and `balloon_guide` a balloon and every `aspiration` a vacuum source on the
+  // tool selected then; on failure returns one line: "file:line: select: the case has no tool 'x' (tools: a b)",
+  // "file:line: detach: 'x' carries no coil", "file:line: inflate: tool 'x' has no balloon" or
+  // "file:line: aspiration: tool 'x' has no vacuum source (the case's `aspiration` names the catheter that has)";
   // and that every `load_coil` finds a next coil on the selected tool and comes after a
   // `detach` of its present coil ("file:line: load_coil: 'x' has no further coil (the case
   // lists 1 after the first)", "file:line: load_coil: the coil of 'x' is not detached yet").
