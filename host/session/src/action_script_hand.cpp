@@ -1,5 +1,6 @@
 #include "session/action_script_hand.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "session/control.hpp"
@@ -20,9 +21,10 @@ base::Result<std::unique_ptr<ActionScriptHand>> ActionScriptHand::load(
 
 std::vector<tool::ScriptPlayer::ToolInfo> ActionScriptHand::tool_infos(const SessionCase& scene) {
   std::vector<tool::ScriptPlayer::ToolInfo> out;
+  const std::vector<tool::CaseAspiration>& vacuum = scene.spec.aspiration;
   for (const tool::ToolSpec& spec : scene.spec.tools) {
     out.push_back(tool::tool_info(spec));
-    for (const tool::CaseAspiration& a : scene.spec.aspiration) out.back().aspirator = out.back().aspirator || a.tool == spec.name;
+    out.back().aspirator = std::any_of(vacuum.begin(), vacuum.end(), [&](const tool::CaseAspiration& a) { return a.tool == spec.name; });
   }
   return out;
 }

@@ -45,28 +45,29 @@ class ScriptCheck {
       std::string problem = load_coil();
       if (!problem.empty()) return problem;
     }
-    if (is_balloon(a.kind) && (current_ >= tools_.size() || !tools_[current_].balloon)) {
+    if (is_balloon(a.kind) && !selected_has(&ToolInfo::balloon)) {
       const std::string verb = a.kind == ActionKind::kDeflate ? "deflate" : "inflate";
       const std::string name = current_ < tools_.size() ? tools_[current_].name : "?";
       return verb + ": tool '" + name + "' has no balloon";
     }
-    if (a.kind == ActionKind::kBalloonGuide && (current_ >= tools_.size() || !tools_[current_].balloon)) {
+    if (a.kind == ActionKind::kBalloonGuide && !selected_has(&ToolInfo::balloon)) {
       return "balloon_guide: tool '" + who() + "' has no balloon";
     }
-    if (a.kind == ActionKind::kAspiration && (current_ >= tools_.size() || !tools_[current_].aspirator)) {
+    if (a.kind == ActionKind::kAspiration && !selected_has(&ToolInfo::aspirator)) {
       return "aspiration: tool '" + who() + "' has no vacuum source (the case's `aspiration` names the catheter that has)";
     }
-    if (a.kind == ActionKind::kDetach && !carries_coil()) return "detach: '" + who() + "' carries no coil";
+    if (a.kind == ActionKind::kDetach && !selected_has(&ToolInfo::coil)) return "detach: '" + who() + "' carries no coil";
     if (a.kind == ActionKind::kSelect) return select(a.tool);
     return {};
   }
 
  private:
   [[nodiscard]] std::string who() const { return current_ < tools_.size() ? tools_[current_].name : std::string("no tool"); }
-  [[nodiscard]] bool carries_coil() const { return current_ < tools_.size() && tools_[current_].coil; }
+  // The tool selected now carries `device` (coil, balloon, aspirator).
+  [[nodiscard]] bool selected_has(bool ToolInfo::*device) const { return current_ < tools_.size() && tools_[current_].*device; }
 
   std::string load_coil() {
-    if (!carries_coil()) return "load_coil: '" + who() + "' carries no coil";
+    if (!selected_has(&ToolInfo::coil)) return "load_coil: '" + who() + "' carries no coil";
     const std::size_t listed = tools_[current_].next_coil_max_insertion_mm.size();
     if (loads_[current_] >= listed) {
       return "load_coil: '" + who() + "' has no further coil (the case lists " + std::to_string(listed) + " after the first)";
