@@ -13,6 +13,13 @@
 //  - RealTimeTicks/<seconds>: the haptic thread in real time; the interval between ticks (p50,
 //    p99, max; the label: the scheduling the OS granted), beside the trainee page's worker clock
 //    (scripts/bench train, which also runs it without CAP_SYS_NICE: a normal-priority thread).
+//  - CaseAtRigSpeed/<case>: a bundled case driven by its own action script through the haptic
+//    thread's loop (HapticThread::run, its pacer: up to 4 late ticks caught up, the rest dropped)
+//    on a clock that moves by each tick's thread CPU time and jumps to the next deadline when the
+//    loop waits: what a rig whose haptic thread has a core of this machine to itself would run
+//    (no other process, no scheduling). Per tick: median, p99, max CPU; ticks over the 1 ms
+//    budget; ticks the pacer dropped; the latest a tick started; the second of the run with
+//    the most ticks over budget. Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
 //    head-and-neck tree (cases/library/ica_straight.hclm) meshed with 10 points per ring (293k
 //    triangles) as STL, imported as a surface and written as `cathbox vessel import -o CASE_DIR`
@@ -31,6 +38,8 @@
 #include <vector>
 
 #include "session/action_script_hand.hpp"
+#include "session/clock.hpp"
+#include "session/haptic_thread.hpp"
 #include "session/recorder.hpp"
 #include "session/replay.hpp"
 #include "session/session.hpp"
@@ -198,6 +207,50 @@ void Recording(benchmark::State& state) {
   state.counters["p99_us"] = percentile(samples_us, 0.99);
   state.counters["bytes_per_tick"] = static_cast<double>(rec->bytes_written()) / static_cast<double>(std::max<std::int64_t>(tick, 1));
 }
+void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
+  const std::string base = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name;
+  for (auto _ : state) {
+    std::string error;
+    auto session = open_session(base + ".case", base + ".actions", error);
+    if (!session) {
+      state.SkipWithError(error.c_str());
+      return;
+    }
+    constexpr std::int64_t kPeriod_us = 1000;
+    cathbox::session::VirtualClock clock;
+    std::vector<double> cpu_us;
+    std::vector<int> over_per_second;
+    std::int64_t behind_us = 0;
+    cathbox::session::HapticThread loop(clock, kPeriod_us, [&](std::int64_t sim_us) {
+      // How late this tick starts on its deadline (the dropped ticks' deadlines skipped).
+      behind_us = std::max(behind_us, clock.now_us() - (sim_us + loop.dropped() * kPeriod_us));
+      const double c0 = thread_cpu_us();
+      session->step_virtual(1);
+      const double used = thread_cpu_us() - c0;
+      cpu_us.push_back(used);
+      const auto second = static_cast<std::size_t>(sim_us / 1'000'000);
+      if (over_per_second.size() <= second) over_per_second.resize(second + 1, 0);
+      if (used > static_cast<double>(kPeriod_us)) ++over_per_second[second];
+      clock.advance_us(static_cast<std::int64_t>(used));
+      return !session->over();
+    });
+    loop.run(cathbox::base::stop_token{});
+    session->stop();
+    const auto worst = std::max_element(over_per_second.begin(), over_per_second.end());
+    state.counters["ticks"] = static_cast<double>(cpu_us.size());
+    state.counters["tick_cpu_median_us"] = percentile(cpu_us, 0.5);
+    state.counters["tick_cpu_p99_us"] = percentile(cpu_us, 0.99);
+    state.counters["tick_cpu_max_us"] = percentile(cpu_us, 1.0);
+    state.counters["over_1ms"] = static_cast<double>(std::count_if(cpu_us.begin(), cpu_us.end(), [](double us) { return us > 1000.0; }));
+    state.counters["dropped"] = static_cast<double>(loop.dropped());
+    state.counters["late_max_ms"] = static_cast<double>(behind_us) * 1e-3;
+    state.counters["worst_second"] = worst == over_per_second.end() ? 0.0 : static_cast<double>(worst - over_per_second.begin());
+    state.counters["worst_second_over_1ms"] = worst == over_per_second.end() ? 0.0 : *worst;
+  }
+}
+BENCHMARK_CAPTURE(CaseAtRigSpeed, neuro_coiling, std::string("neuro_coiling"))->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(CaseAtRigSpeed, neuro_coiling_dense, std::string("neuro_coiling_dense"))->Iterations(1)->Unit(benchmark::kSecond);
+
 // The imported case folder (see the header); empty with `error` set when a step failed.
 std::string imported_case(std::string& error) {
   const auto read = cathbox::vessel::load_hclm(std::string(CATHBOX_SOURCE_DIR) + "/cases/library/ica_straight.hclm");
