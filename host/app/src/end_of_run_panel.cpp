@@ -43,6 +43,23 @@ void draw_thrombectomy(const session::ThrombectomyFigures& t) {
   if (t.stent_passes > 0) ImGui::Text("%-22s %8.3f N", "retrieval force", t.retrieval_force_peak_N);
 }
 
+// Figures of the simulation and the rig, not of the trainee (greyed): the solver's share of steps
+// that ran out of iterations, per tool (forces of those steps are not read); released coils at
+// rest, not solved; a real-time run's dropped haptic ticks (did the rig keep up?).
+void draw_simulation_figures(const session::Metrics& m) {
+  for (const session::ToolConvergence& c : m.convergence) {
+    if (c.solved_ticks > 0) ImGui::TextDisabled("%-22s %8.2f %% (%s)", "unconverged steps", c.unconverged_pct(), c.tool.c_str());
+  }
+  if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {
+    ImGui::TextDisabled("%-22s %8lld (%lld wakes)", "coil steps asleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
+                        static_cast<long long>(*m.coil_sleep_wakes));
+  }
+  if (const std::optional<double> pct = m.haptic_dropped_pct()) {
+    ImGui::TextDisabled("%-22s %8lld (%.2f %% of real time)", "haptic ticks dropped", static_cast<long long>(*m.haptic_dropped_ticks),
+                        *pct);
+  }
+}
+
 }  // namespace
 
 EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m, const std::string& record_path,
@@ -82,15 +99,7 @@ EndOfRunActions draw_end_of_run(const Viewport& area, const session::Metrics& m,
     ImGui::Text("%-22s %8.1f mm/s", "peak insertion speed", m.peak_insertion_speed_mm_s);
     ImGui::Text("%-22s %8d", "tool changes", m.tool_changes);
     ImGui::Text("%-22s %8.1f mN", "peak hand force", m.peak_hand_force_mN);
-    // The solver's share of steps that ran out of iterations, per tool: forces of those steps
-    // are not read (a figure of the simulation's trustworthiness, not of the trainee).
-    for (const session::ToolConvergence& c : m.convergence) {
-      if (c.solved_ticks > 0) ImGui::TextDisabled("%-22s %8.2f %% (%s)", "unconverged steps", c.unconverged_pct(), c.tool.c_str());
-    }
-    if (m.coil_sleep_skipped_steps && m.coil_sleep_wakes) {  // released coils at rest, not solved
-      ImGui::TextDisabled("%-22s %8lld (%lld wakes)", "coil steps asleep", static_cast<long long>(*m.coil_sleep_skipped_steps),
-                          static_cast<long long>(*m.coil_sleep_wakes));
-    }
+    draw_simulation_figures(m);
     ImGui::Separator();
     optional_row("fluoroscopy time", m.fluoroscopy_time_s, "s");
     optional_row("dose-area product", m.dose_area_product_mGy_cm2, "mGy cm2");

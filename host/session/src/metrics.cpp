@@ -257,6 +257,10 @@ std::string MetricsCollector::format(const Metrics& m) {
     optional_figure("rupture-risk events", risk, "");
   }
   if (m.thrombectomy) format_thrombectomy(out, *m.thrombectomy);  // a thrombectomy case, else no lines at all
+  if (const std::optional<double> pct = m.haptic_dropped_pct()) {  // a real-time run, else no line
+    appendf(out, "%-21s %lld (%.2f %% of the run's real time)\n", "haptic ticks dropped",
+            static_cast<long long>(*m.haptic_dropped_ticks), *pct);
+  }
   return out;
 }
 
@@ -272,6 +276,13 @@ void MetricsCollector::set_coiling(const tool::CoilFigures& f) {
   m_.coil_detach_force_mN.assign(f.detach_force_mN.begin(), f.detach_force_mN.begin() + static_cast<std::ptrdiff_t>(kept));
   m_.coil_detach_force_peak_mN = f.detach_force_peak_mN;
   m_.coil_detached_under_tension = f.detached_under_tension;
+}
+
+std::optional<double> Metrics::haptic_dropped_pct() const {
+  if (!haptic_dropped_ticks) return std::nullopt;
+  const auto ticks = static_cast<double>(haptic_ticks);
+  const auto dropped = static_cast<double>(*haptic_dropped_ticks);
+  return ticks + dropped > 0.0 ? 100.0 * dropped / (ticks + dropped) : 0.0;
 }
 
 double Metrics::unconverged_pct_max() const {
@@ -361,6 +372,7 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
     add("flow_arrest_s", t.flow_arrest_s);
     if (t.stent_passes > 0) add("retrieval_force_peak_N", t.retrieval_force_peak_N);
   }
+  if (m.haptic_dropped_ticks) add("haptic_dropped_ticks", static_cast<double>(*m.haptic_dropped_ticks));
   return out;
 }
 
@@ -376,7 +388,7 @@ std::vector<std::string> metric_names() {
           "rupture_risk_events", "thrombectomy_passes", "etici_pass_1", "etici_pass_2", "etici_pass_3", "etici_pass_4",
           "etici_pass_5", "etici_pass_6", "etici_pass_7", "etici_pass_8", "etici_final", "reperfused_pct_final",
           "first_pass_effect", "emboli", "emboli_new_territory", "emboli_in_transit", "time_to_reperfusion_s", "balloon_guide_inflations",
-          "flow_arrest_s", "retrieval_force_peak_N"};
+          "flow_arrest_s", "retrieval_force_peak_N", "haptic_dropped_ticks"};
 }
 
 void MetricsCollector::set_fluoroscopy(double time_s, double dose_area_product_mGy_cm2, int runs,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 #include "base/text_tokens.hpp"
 
@@ -173,6 +174,12 @@ bool RecordReader::parse_end(std::uint64_t at) {
       case record::EndTag::kEndUnix_us:
         if (v.size() != 8 || !fv.u64(u)) return fail(at, "end block: end time is not 8 bytes");
         e.end_unix_us = static_cast<std::int64_t>(u);
+        break;
+      case record::EndTag::kHapticDropped:
+        if (v.size() != 8 || !fv.u64(u) || u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+          return fail(at, "end block: dropped haptic ticks are not 8 bytes");
+        }
+        e.haptic_dropped_ticks = static_cast<std::int64_t>(u);
         break;
       default:
         if (!(tag >= 64 && tag < 128)) return fail(at, "end block: unknown field " + std::to_string(tag));

@@ -261,7 +261,8 @@ void Recorder::seal(bool force) {
   block_ticks_ = 0;
 }
 
-void Recorder::finish(record::EndReason reason, std::string_view text, std::int64_t ticks, std::int64_t end_unix_us) {
+void Recorder::finish(record::EndReason reason, std::string_view text, std::int64_t ticks, std::int64_t end_unix_us,
+                      std::optional<std::int64_t> haptic_dropped) {
   if (finished_) return;
   seal(true);
   // The end block goes through the same queue, after the last ticks.
@@ -274,6 +275,9 @@ void Recorder::finish(record::EndReason reason, std::string_view text, std::int6
   w.field_text(static_cast<std::uint32_t>(record::EndTag::kReasonText), text);
   w.field_u64(static_cast<std::uint32_t>(record::EndTag::kTicks), static_cast<std::uint64_t>(ticks));
   w.field_u64(static_cast<std::uint32_t>(record::EndTag::kEndUnix_us), static_cast<std::uint64_t>(end_unix_us));
+  if (haptic_dropped) {
+    w.field_u64(static_cast<std::uint32_t>(record::EndTag::kHapticDropped), static_cast<std::uint64_t>(*haptic_dropped));
+  }
   if (full_.push(end.get())) pool_.push_back(std::move(end));
   finished_ = true;
   done_.store(true, std::memory_order_release);

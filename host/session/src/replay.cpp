@@ -44,6 +44,11 @@ ReplayResult Replay::result() const {
   r.mismatch = hand_->first_mismatch();
   r.end = hand_->reader().end();
   r.metrics = session_->metrics();
+  // The rig's own figure, as its record says (a replay runs in virtual time and drops none).
+  if (r.end && r.end->haptic_dropped_ticks) {
+    r.metrics.haptic_dropped_ticks = r.end->haptic_dropped_ticks;
+    r.metrics.haptic_ticks = r.end->ticks;
+  }
   return r;
 }
 

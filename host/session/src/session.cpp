@@ -115,7 +115,8 @@ void Session::apply(Control control) {
 }
 
 std::int64_t Session::clock_now_us() {
-  return real_thread_ ? steady_.now_us() : tick_ * options_.period_us;
+  if (!real_thread_) return tick_ * options_.period_us;
+  return options_.real_time_clock != nullptr ? options_.real_time_clock->now_us() : steady_.now_us();
 }
 
 void Session::end(record::EndReason reason, std::string text) {
@@ -128,7 +129,13 @@ void Session::end(record::EndReason reason, std::string text) {
   }
   hand_->release();
   log("%s", end_text_.c_str());
-  if (recorder_) recorder_->finish(reason, end_text_, tick_, unix_now_us());
+  // A real-time run keeps its dropped haptic ticks (a virtual one drops none by construction).
+  std::optional<std::int64_t> dropped;
+  if (real_thread_) {
+    dropped = real_thread_->dropped();
+    metrics_.set_haptic_dropped(*dropped, tick_);
+  }
+  if (recorder_) recorder_->finish(reason, end_text_, tick_, unix_now_us(), dropped);
   over_.store(true, std::memory_order_release);
   publish();
 }

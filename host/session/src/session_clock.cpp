@@ -15,7 +15,8 @@ void Session::start() {
   // its due tick wait: tool/wall_swap.hpp).
   if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);
   if (!real_thread_) {
-    real_thread_ = std::make_unique<HapticThread>(steady_, options_.period_us, [this](std::int64_t) { return tick(); });
+    device::Clock& clock = options_.real_time_clock != nullptr ? *options_.real_time_clock : steady_;
+    real_thread_ = std::make_unique<HapticThread>(clock, options_.period_us, [this](std::int64_t) { return tick(); });
   }
   real_thread_->start();
 }

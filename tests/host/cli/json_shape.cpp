@@ -79,7 +79,8 @@ const char* const kShapes = R"({
                   "period_us": "integer", "hash_every": "integer", "ticks": "integer", "duration_s": "number",
                   "state_hashes": "integer", "controls": {"*": "integer"}, "box_status_changes": "integer",
                   "target_reached_tick": "integer|null", "finished": "boolean",
-                  "end": {"?": true, "reason": "string", "text": "string", "end_unix_us": "integer"},
+                  "end": {"?": true, "reason": "string", "text": "string", "end_unix_us": "integer",
+                          "haptic_dropped_ticks": "integer|null"},
                   "error": "string|null"},
  "session-metrics": {"ticks": "integer", "hashes_checked": "integer", "procedure_time_s": "number",
                      "has_target": "boolean", "target_reached": "boolean", "time_to_target_s": "number|null",
@@ -109,7 +110,8 @@ const char* const kShapes = R"({
                                                              "would_lodge": "string|null", "new_territory": "boolean"}],
                                       "time_to_reperfusion_s": "number|null",
                                       "balloon_guide_inflations": "integer", "flow_arrest_s": "number",
-                                      "stent_passes": "integer", "retrieval_force_peak_N": "number|null"}}
+                                      "stent_passes": "integer", "retrieval_force_peak_N": "number|null"},
+                     "haptic_dropped_ticks": "integer|null"}
 })";
 
 bool is_type(const ordered_json& v, const std::string& type) {

@@ -64,7 +64,8 @@ json info_json(const std::string& path, const session::RecordReader& reader, con
   if (reader.end()) {
     end = {{"reason", session::record::end_reason_name(reader.end()->reason)},
            {"text", reader.end()->text},
-           {"end_unix_us", reader.end()->end_unix_us}};
+           {"end_unix_us", reader.end()->end_unix_us},
+           {"haptic_dropped_ticks", reader.end()->haptic_dropped_ticks ? json(*reader.end()->haptic_dropped_ticks) : json(nullptr)}};
   }
   return {{"file", path},
           {"bytes", reader.bytes_read()},
@@ -126,6 +127,9 @@ std::string info_text(const std::string& path, const session::RecordReader& read
   if (reader.end()) {
     add("end", std::string(session::record::end_reason_name(reader.end()->reason)) +
                    (reader.end()->text.empty() ? "" : ": " + reader.end()->text));
+    if (reader.end()->haptic_dropped_ticks) {
+      add("real time", "ran by its haptic thread, " + std::to_string(*reader.end()->haptic_dropped_ticks) + " ticks dropped");
+    }
   } else {
     add("end", "none: the recording process stopped (killed?); readable to its last complete block");
   }
@@ -208,7 +212,8 @@ json metrics_json(const session::ReplayResult& r) {
           {"balloon_inflations", m.balloon_inflations ? json(*m.balloon_inflations) : json(nullptr)},
           {"balloon_inflated_s", optional_number(m.balloon_inflated_s)},
           {"rupture_risk_events", m.rupture_risk_events ? json(*m.rupture_risk_events) : json(nullptr)},
-          {"thrombectomy", thrombectomy}};
+          {"thrombectomy", thrombectomy},
+          {"haptic_dropped_ticks", m.haptic_dropped_ticks ? json(*m.haptic_dropped_ticks) : json(nullptr)}};
 }
 
 }  // namespace cathbox::cli

@@ -149,6 +149,13 @@ struct Metrics {
   std::optional<int> rupture_risk_events;
   // Filled by the session when the case has clots (a thrombectomy case).
   std::optional<ThrombectomyFigures> thrombectomy;
+  // A real-time run's haptic ticks dropped (its loop fell behind by more than it catches up:
+  // HapticPacer), set when it ends, and read back from its record's end block; none in virtual
+  // time. Of the rig, not of the trainee: each dropped tick is a millisecond the wire lagged the hand.
+  std::optional<std::int64_t> haptic_dropped_ticks;
+  std::int64_t haptic_ticks = 0;  // the ticks the loop ran, beside them
+  // The dropped ticks' share of the run's real time (dropped / (ticks + dropped)), in %.
+  [[nodiscard]] std::optional<double> haptic_dropped_pct() const;
 };
 
 // What the metrics look at in one tick.
@@ -209,6 +216,12 @@ class MetricsCollector {
   void set_convergence(std::size_t t, std::string_view tool, std::int64_t solved_ticks, std::int64_t unconverged_ticks);
   // The angioplasty figures, from the session's tool::Angioplasty after each tick.
   void set_angioplasty(const tool::AngioplastyFigures& f);
+  // A real-time run's dropped haptic ticks and the ticks it ran, when it ends
+  // (Metrics::haptic_dropped_ticks).
+  void set_haptic_dropped(std::int64_t dropped, std::int64_t ticks) {
+    m_.haptic_dropped_ticks = dropped;
+    m_.haptic_ticks = ticks;
+  }
   // The thrombectomy figures, from the session's ThrombectomyUnit after each tick.
   void set_thrombectomy(const ThrombectomyFigures& f) { m_.thrombectomy = f; }
   // Only the flow-arrest figures (every tick while a guide is inflated: no allocation).

@@ -113,7 +113,8 @@ enum class DeviceTag : std::uint32_t {
   kRotationCountsPerRev = 6, kInsertionFullScaleMn = 7, kRotationFullScaleUnm = 8,
   kInsertionActuator = 9, kRotationActuator = 10,
 };
-enum class EndTag : std::uint32_t { kReason = 1, kReasonText = 2, kTicks = 3, kEndUnix_us = 4 };
+// 64: the haptic ticks a real-time run dropped (u64), in the range an older reader skips.
+enum class EndTag : std::uint32_t { kReason = 1, kReasonText = 2, kTicks = 3, kEndUnix_us = 4, kHapticDropped = 64 };
 
 [[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b = {});
 

@@ -42,6 +42,9 @@ struct RecordEnd {
   std::string text;
   std::int64_t ticks = 0;
   std::int64_t end_unix_us = 0;
+  // A real-time run's ticks its haptic loop dropped (it fell behind by more than its catch-up);
+  // none for a run in virtual time or a record from before the field.
+  std::optional<std::int64_t> haptic_dropped_ticks;
 };
 
 class RecordReader {

@@ -9,6 +9,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include "base/jthread.hpp"
@@ -51,7 +52,9 @@ class Recorder {
 
   // Ends the record once: seals the last block and queues the end block (the writer thread
   // drains in the background). Later calls do nothing.
-  void finish(record::EndReason reason, std::string_view text, std::int64_t ticks, std::int64_t end_unix_us);
+  // `haptic_dropped`: a real-time run's dropped haptic ticks (none in virtual time).
+  void finish(record::EndReason reason, std::string_view text, std::int64_t ticks, std::int64_t end_unix_us,
+              std::optional<std::int64_t> haptic_dropped = std::nullopt);
   // Waits until everything queued is in the file and closes it; false when a write failed.
   bool close();
 

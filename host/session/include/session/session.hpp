@@ -52,6 +52,9 @@ struct SessionOptions {
   bool end_at_target = true;          // the run ends when the tip reaches the target
   std::optional<std::size_t> held_tool;  // the tool in the hand at the start (default: the simulator's)
   std::size_t max_nodes_per_tool = 2048;  // snapshot capacity (nodes beyond are not drawn)
+  // The clock start() paces the haptic thread against (null: the machine's monotonic clock; a
+  // test gives a VirtualClock, stalls and all).
+  device::Clock* real_time_clock = nullptr;
 };
 
 // What observers see after each tick (haptic thread; keep it short, no blocking).
