@@ -10,6 +10,7 @@ import subprocess
 import time
 
 from browser_test import Failure, check, wait_until
+from train_clock import CLOCK_NOTE
 from train_page import END_JS, advance, end_of_run, end_run, hold, hud, open_assignment
 from selenium.common.exceptions import WebDriverException
 from selenium.webdriver.common.action_chains import ActionChains
@@ -345,6 +346,14 @@ def test_webhid_emulated(b, centre, assignment, report):
         b.shot("train-webhid-emulated-end")
         check(end == "target reached", "the emulated box's hand: the run ended by '%s', not at the target (%s)" % (end, hud(b)))
         check(result["complete"] is True, "the stored result: %s" % result)
+        # The worker's clock told the session its dropped ticks: the record the server replayed
+        # carries the page's own count.
+        note = b.js("return document.getElementById('clock-note').textContent")
+        clock = CLOCK_NOTE.match(note)
+        check(clock is not None, "the page's clock note: %r" % note)
+        dropped = int(clock.group(5))
+        stored = (result.get("metrics") or {}).get("haptic_dropped_ticks")
+        check(stored == dropped, "the result's haptic_dropped_ticks %r, the page's clock note %d" % (stored, dropped))
         wait_until(lambda: "page closed" in open(bridge_err).read(), "the bridge to see the page close")
         closed = [x for x in open(bridge_err).read().splitlines() if "page closed" in x][-1]
         bridge.terminate()
@@ -353,6 +362,7 @@ def test_webhid_emulated(b, centre, assignment, report):
                                      "tool_mm": round(at["insertion_mm"] - first["at"]["insertion_mm"], 2), "state": box["state"],
                                      "law": box["law"], "stats": box["stats"], "config": box["config"], "end": end,
                                      "seconds_of_run": hud(b)["time_s"], "result": result["id"], "bridge": closed,
-                                     "sent": b.js("return window.fakeBox.sent"), "seconds": round(time.monotonic() - started, 1)}
+                                     "sent": b.js("return window.fakeBox.sent"), "dropped": dropped,
+                                     "seconds": round(time.monotonic() - started, 1)}
     finally:
         b.driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})

@@ -60,6 +60,11 @@ EMSCRIPTEN_KEEPALIVE void cbx_end_run() {
   if (g_session) g_session->end_run();
 }
 
+// The haptic worker's real clock has dropped `total` ticks so far (its record and metrics keep it).
+EMSCRIPTEN_KEEPALIVE void cbx_note_dropped(double total) {
+  if (g_session) g_session->note_dropped(static_cast<std::int64_t>(total));
+}
+
 // One tick with the keys held (mm/s, rad/s; steering 1: a movement key held; box 1: a box drives
 // the tools): BrowserSession::tick. 1 while the run goes on.
 EMSCRIPTEN_KEEPALIVE int cbx_tick(double insert_mm_s, double rotate_rad_s, int steering, int box) {

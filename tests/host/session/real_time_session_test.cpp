@@ -1,6 +1,7 @@
 // A session run in real time (Session::start, its own haptic thread) on a virtual clock: a tick
 // that stalls the loop makes it drop ticks, and the run keeps the count in its metrics (text,
-// named) and its record's end block, which a replay reads back. A run in virtual time has none.
+// named) and its record's end block, which a replay reads back. A run in virtual time has none;
+// one paced from outside (the trainee page's worker) keeps what its pacer told.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -107,6 +108,27 @@ TEST(RealTimeSession, ARunOnTimeDropsNoneAndARunInVirtualTimeHasNoFigure) {
   EXPECT_FALSE(r.end->haptic_dropped_ticks);
   EXPECT_FALSE(r.metrics.haptic_dropped_ticks);
   EXPECT_FALSE(named(r.metrics, "haptic_dropped_ticks"));
+}
+
+// The trainee page's worker paces the session itself (in virtual time inside) and tells it the
+// ticks its clock dropped: the run keeps the last total told, as its own thread's.
+TEST(RealTimeSession, ARunPacedOutsideKeepsTheDropsItsPacerTold) {
+  const std::unique_ptr<Session> run = scripted_session(nullptr);
+  Session& s = *run;
+  const std::string path = fixtures::temp_path("real_time_session_test", "paced.cbxrec");
+  ASSERT_TRUE(s.record_to(path));
+  s.note_paced_drops(0);
+  s.step_virtual(500);
+  s.note_paced_drops(12);
+  s.step_virtual(500);
+  s.note_paced_drops(19);
+  while (!s.over()) s.step_virtual(1000);
+  ASSERT_TRUE(s.recorder()->close());
+  EXPECT_EQ(s.metrics().haptic_dropped_ticks, 19);
+  const ReplayResult r = replay_record(path);
+  ASSERT_TRUE(r.matched()) << r.error;
+  EXPECT_EQ(r.metrics.haptic_dropped_ticks, 19);
+  EXPECT_NEAR(*r.metrics.haptic_dropped_pct(), 100.0 * 19 / 2019, 1e-9);
 }
 
 }  // namespace

@@ -94,6 +94,7 @@ function bind(m) {
     drive: c('cbx_drive', 'string', []),
     nextTool: c('cbx_next_tool', null, []),
     end: c('cbx_end_run', null, []),
+    noteDropped: c('cbx_note_dropped', null, ['number']),
     over: c('cbx_over', 'number', []),
     snapshot: c('cbx_snapshot', 'number', []),
     snapshotData: c('cbx_snapshot_data', 'number', []),
@@ -254,7 +255,14 @@ function finish() {
 const yielder = new MessageChannel();
 yielder.port1.onmessage = () => slice();
 let lastFrameAt = 0;
-const runTick = () => { tick(); return !over; };
+// The ticks the clock dropped are told to the session before the next runs (its record's end
+// block and metrics keep the total: host/session/README.md, "Haptic ticks dropped").
+let toldDropped = 0;
+const runTick = () => {
+  if (ticker.stats.dropped !== toldDropped) fn.noteDropped(toldDropped = ticker.stats.dropped);
+  tick();
+  return !over;
+};
 
 function slice() {
   if (ticker.slice(runTick) === 'over') return finish();
@@ -355,6 +363,7 @@ async function open(m) {
       ...(Number.isFinite(m.spinMs) ? { spinMs: m.spinMs } : {}),
     });
     ticker.begin();
+    fn.noteDropped(toldDropped = 0);  // a run on the real clock: none dropped yet
     slice();
   }
 }

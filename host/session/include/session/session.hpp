@@ -94,6 +94,10 @@ class Session {
   bool post(const Control& control) { return controls_.post(control); }
   // The run ends at the next tick (reason: ended by the trainee).
   void end_run() { end_requested_.store(true, std::memory_order_release); }
+  // A run paced in real time by a clock outside the session (the trainee page's haptic worker,
+  // which steps it in virtual time) tells the ticks its pacer has dropped so far; the run's end
+  // keeps the last total as a real-time run keeps its own thread's (Metrics::haptic_dropped_ticks).
+  void note_paced_drops(std::int64_t total) { paced_drops_.store(total, std::memory_order_release); }
 
   // Real time: the haptic thread against the steady clock.
   void start();
@@ -229,6 +233,7 @@ class Session {
   std::unique_ptr<HapticThread> virtual_thread_;
   std::atomic<bool> over_{false};
   std::atomic<bool> end_requested_{false};
+  std::atomic<std::int64_t> paced_drops_{-1};  // note_paced_drops' total; -1: never told
   record::EndReason end_reason_ = record::EndReason::kStopped;
   std::string end_text_;
   BoxStatus last_box_{};

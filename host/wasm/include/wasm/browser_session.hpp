@@ -38,6 +38,8 @@ class BrowserSession {
     pressed_.cancel = true;
   }
   void end_run() { session_->end_run(); }
+  // The worker's real clock dropped ticks: its total so far (session::Session::note_paced_drops).
+  void note_dropped(std::int64_t total) { session_->note_paced_drops(total); }
   // U or E pressed on the page: taken by the next tick's app::DeviceDrive (host/app
   // device_drive.hpp, cathbox-trainer's own: U unsheathes the stent, E retrieves it).
   void drive_keys(bool unsheathe, bool retrieve) {
