@@ -131,9 +131,7 @@ void Session::end(record::EndReason reason, std::string text) {
   log("%s", end_text_.c_str());
   // A real-time run keeps its dropped haptic ticks, its own thread's or those its outside pacer
   // told (a run in virtual time drops none by construction, and has no figure).
-  std::optional<std::int64_t> dropped;
-  if (real_thread_) dropped = real_thread_->dropped();
-  else if (const std::int64_t told = paced_drops_.load(std::memory_order_acquire); told >= 0) dropped = told;
+  const std::optional<std::int64_t> dropped = real_time_drops();
   if (dropped) metrics_.set_haptic_dropped(*dropped, tick_);
   if (recorder_) recorder_->finish(reason, end_text_, tick_, unix_now_us(), dropped);
   over_.store(true, std::memory_order_release);

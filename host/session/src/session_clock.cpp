@@ -36,6 +36,12 @@ std::int64_t Session::step_virtual(std::int64_t ticks) {
   return tick_ - before;
 }
 
+std::optional<std::int64_t> Session::real_time_drops() const {
+  if (real_thread_) return real_thread_->dropped();
+  const std::int64_t told = paced_drops_.load(std::memory_order_acquire);
+  return told >= 0 ? std::optional<std::int64_t>(told) : std::nullopt;
+}
+
 double Session::haptic_rate_hz() const { return active_thread() ? active_thread()->rate_hz() : 0.0; }
 std::int64_t Session::dropped_ticks() const { return active_thread() ? active_thread()->dropped() : 0; }
 std::int64_t Session::haptic_cpu_time_us() const { return active_thread() ? active_thread()->cpu_time_us() : 0; }

@@ -99,22 +99,31 @@ void Session::publish() {
   s.haptic_ticks = tick_;
   s.dropped_ticks = t ? t->dropped() : 0;
   s.metrics = metrics_.metrics();
+  // A real-time run's drops so far (the live frame's figure; the metrics take the total at the end).
+  if (const std::optional<std::int64_t> dropped = real_time_drops(); dropped && !s.metrics.haptic_dropped_ticks) {
+    s.metrics.haptic_dropped_ticks = dropped;
+    s.metrics.haptic_ticks = tick_;
+  }
   s.wall_force_mN = contacts_.wall_mN();
   if (fluoro_) fluoro_->publish(s.fluoro);
   s.run_over = over_.load(std::memory_order_relaxed);
   s.wall_generation = angioplasty_ ? angioplasty_->swap().generation() : 0;
   s.wall_pressure_kPa = wall_field_ ? wall_field_->pressure_kPa() : 0.0;
-  if (thrombectomy_) {
-    s.aspirating = s.aspiration_tool >= 0 && thrombectomy_->aspirating(static_cast<std::size_t>(s.aspiration_tool));
-    s.flow_arrest = thrombectomy_->arrested();
-    s.clot_count = static_cast<int>(std::min<std::size_t>(thrombectomy_->clots().size(), SceneSnapshot::kMaxClots));
-    for (int k = 0; k < s.clot_count; ++k) s.clots[static_cast<std::size_t>(k)] = thrombectomy_->clot_view(static_cast<std::size_t>(k));
-    for (std::size_t k = 0; k < thrombectomy_->emboli_in_transit() && s.clot_count < SceneSnapshot::kMaxClots; ++k) {
-      s.clots[static_cast<std::size_t>(s.clot_count++)] = thrombectomy_->embolus_view(k);
-    }
-    s.clots_removed = thrombectomy_->clots_removed();
-  }
+  if (thrombectomy_) publish_clots(s);
   exchange_.publish();
+}
+
+// A thrombectomy case's part of the snapshot: the pump, the flow arrest, the clots and the emboli
+// in transit (within the snapshot's room), the clots removed.
+void Session::publish_clots(SceneSnapshot& s) const {
+  s.aspirating = s.aspiration_tool >= 0 && thrombectomy_->aspirating(static_cast<std::size_t>(s.aspiration_tool));
+  s.flow_arrest = thrombectomy_->arrested();
+  s.clot_count = static_cast<int>(std::min<std::size_t>(thrombectomy_->clots().size(), SceneSnapshot::kMaxClots));
+  for (int k = 0; k < s.clot_count; ++k) s.clots[static_cast<std::size_t>(k)] = thrombectomy_->clot_view(static_cast<std::size_t>(k));
+  for (std::size_t k = 0; k < thrombectomy_->emboli_in_transit() && s.clot_count < SceneSnapshot::kMaxClots; ++k) {
+    s.clots[static_cast<std::size_t>(s.clot_count++)] = thrombectomy_->embolus_view(k);
+  }
+  s.clots_removed = thrombectomy_->clots_removed();
 }
 
 const std::vector<FluoroCell>& Session::fluoro_cells() const {

@@ -121,6 +121,10 @@ TEST(RealTimeSession, ARunPacedOutsideKeepsTheDropsItsPacerTold) {
   s.step_virtual(500);
   s.note_paced_drops(12);
   s.step_virtual(500);
+  // The live frame's figure: the drops so far, in the published snapshot's metrics.
+  s.snapshots().acquire();
+  EXPECT_EQ(s.snapshots().read_slot().metrics.haptic_dropped_ticks, 12);
+  EXPECT_EQ(s.snapshots().read_slot().metrics.haptic_ticks, 1000);
   s.note_paced_drops(19);
   while (!s.over()) s.step_virtual(1000);
   ASSERT_TRUE(s.recorder()->close());

@@ -174,7 +174,11 @@ class Session {
   // the tick's state into the writer's slot after each tick.
   void prepare_snapshot(SceneSnapshot& s) const;
   void publish();
+  void publish_clots(SceneSnapshot& s) const;  // publish(): a thrombectomy case's part
   [[nodiscard]] const HapticThread* active_thread() const;
+  // A run paced in real time: the ticks dropped so far (its own thread's, or what its outside
+  // pacer told); none in virtual time.
+  [[nodiscard]] std::optional<std::int64_t> real_time_drops() const;
   [[nodiscard]] std::int64_t clock_now_us();
   void log(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
   // A coil control the simulator refused is logged ("VERB refused: why"), not applied, not
