@@ -31,6 +31,7 @@ import base64
 import hashlib
 import json
 import os
+import re
 import shutil
 import signal
 import socket
@@ -362,6 +363,23 @@ class Browser:
 # A live panel's readout for rig-12 (data-stat 'seq': the frame it drew last; 'drawn': how many).
 RIG12_STAT_JS = "const e = document.querySelector(\"section[data-rig='rig-12'] [data-stat='%s']\"); return e ? Number(e.textContent) : null;"
 
+def live_real_time_rig(b, centre, env, password_file):
+    """A rig whose haptic thread runs in real time (cathbox-trainer --emu): its panel shows the
+    ticks it has dropped so far (`rig dropped N ticks`), from its live frames' metrics."""
+    b.open("/live.html?rigs=rig-08")
+    b.wait_js("return document.getElementById('status').textContent === '(connected)'", "the watcher socket")
+    rig = subprocess.Popen([centre.program("cathbox-trainer"), "--headless", "--emu", "--server", centre.base, "--user", "ann",
+                            "--password-file", password_file, "--rig", "rig-08", "--no-record", "--seconds", "3"],
+                           env=env, stdout=open(os.path.join(centre.tmp, "rig", "trainer-rig-08.log"), "w"), stderr=subprocess.STDOUT)
+    centre.processes.append(rig)
+    shown = b.wait_js("const e = document.querySelector(\"section[data-rig='rig-08'] [data-stat='dropped']\"); return e ? e.textContent : null;",
+                      "rig-08's dropped ticks on its panel", timeout=60)
+    check(re.fullmatch(r"\d+ ticks?", shown) is not None, "rig-08's dropped ticks: %r" % shown)
+    b.shot("live-real-time-rig")
+    rig.wait(timeout=120)
+    return shown
+
+
 def test_live(b, centre, args, report):
     """A rig streamed by a headless trainer appears live and its tip moves; then a steady 30 Hz
     stream for the frame rate."""
@@ -393,6 +411,7 @@ def test_live(b, centre, args, report):
     report["live_tip_moved"] = "%s -> %s" % (first, second)
     b.wait_js("const c = document.querySelector(\"section[data-rig='rig-07'] canvas\"); return c && c.width > 100;", "the 3D view")
     trainer.wait(timeout=120)
+    report["live_rig_dropped"] = live_real_time_rig(b, centre, env, password_file)
 
     # A second rig streaming at a steady 30 Hz of wall time (frames from a recorded run's trace)
     # for 5 s: the page must apply the frames as they come and show the last one sent. How fast it

@@ -130,7 +130,7 @@ function apply(p) {
       el('b', { 'data-stat': 'fluoro' }, fluoroTime === null ? 'none' : 'off'), fluoroTime === null ? '' : ' ' + fmt(fluoroTime) + ' s'),
     ...SHOWN_METRICS.filter((k) => k in m).map((k) => stat(k.replace(/_/g, ' '), fmt(m[k], 1), k)),
     // A rig paced in real time: the haptic ticks it has dropped (it fell behind the hand).
-    ...('haptic_dropped_ticks' in m ? [stat('rig dropped', m.haptic_dropped_ticks + ' ticks', 'dropped')] : []),
+    ...('haptic_dropped_ticks' in m ? [stat('rig dropped', m.haptic_dropped_ticks + (m.haptic_dropped_ticks === 1 ? ' tick' : ' ticks'), 'dropped')] : []),
     ...(f.seq === undefined ? [] : [stat('frame', String(f.seq), 'seq')]),
     stat('drawn', String(p.drawn), 'drawn'),
   );
