@@ -177,7 +177,7 @@ bool RecordReader::parse_end(std::uint64_t at) {
         break;
       case record::EndTag::kHapticDropped:
         if (v.size() != 8 || !fv.u64(u) || u > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
-          return fail(at, "end block: dropped haptic ticks are not 8 bytes");
+          return fail(at, "end block: dropped haptic ticks are not an 8-byte count");
         }
         e.haptic_dropped_ticks = static_cast<std::int64_t>(u);
         break;

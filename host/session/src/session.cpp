@@ -115,8 +115,7 @@ void Session::apply(Control control) {
 }
 
 std::int64_t Session::clock_now_us() {
-  if (!real_thread_) return tick_ * options_.period_us;
-  return options_.real_time_clock != nullptr ? options_.real_time_clock->now_us() : steady_.now_us();
+  return real_thread_ ? real_clock().now_us() : tick_ * options_.period_us;
 }
 
 void Session::end(record::EndReason reason, std::string text) {

@@ -15,8 +15,7 @@ void Session::start() {
   // its due tick wait: tool/wall_swap.hpp).
   if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);
   if (!real_thread_) {
-    device::Clock& clock = options_.real_time_clock != nullptr ? *options_.real_time_clock : steady_;
-    real_thread_ = std::make_unique<HapticThread>(clock, options_.period_us, [this](std::int64_t) { return tick(); });
+    real_thread_ = std::make_unique<HapticThread>(real_clock(), options_.period_us, [this](std::int64_t) { return tick(); });
   }
   real_thread_->start();
 }
@@ -35,6 +34,8 @@ std::int64_t Session::step_virtual(std::int64_t ticks) {
   virtual_thread_->run(base::stop_token{}, virtual_thread_->ticks() + ticks);
   return tick_ - before;
 }
+
+device::Clock& Session::real_clock() { return options_.real_time_clock != nullptr ? *options_.real_time_clock : steady_; }
 
 std::optional<std::int64_t> Session::real_time_drops() const {
   if (real_thread_) return real_thread_->dropped();

@@ -128,7 +128,7 @@ std::string info_text(const std::string& path, const session::RecordReader& read
     add("end", std::string(session::record::end_reason_name(reader.end()->reason)) +
                    (reader.end()->text.empty() ? "" : ": " + reader.end()->text));
     if (reader.end()->haptic_dropped_ticks) {
-      add("real time", "ran by its haptic thread, " + std::to_string(*reader.end()->haptic_dropped_ticks) + " ticks dropped");
+      add("real time", "paced in real time, " + std::to_string(*reader.end()->haptic_dropped_ticks) + " haptic ticks dropped");
     }
   } else {
     add("end", "none: the recording process stopped (killed?); readable to its last complete block");

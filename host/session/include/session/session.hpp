@@ -180,6 +180,7 @@ class Session {
   // pacer told); none in virtual time.
   [[nodiscard]] std::optional<std::int64_t> real_time_drops() const;
   [[nodiscard]] std::int64_t clock_now_us();
+  [[nodiscard]] device::Clock& real_clock();  // what start() paces against (SessionOptions::real_time_clock)
   void log(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
   // A coil control the simulator refused is logged ("VERB refused: why"), not applied, not
   // recorded: false. True when it was done.
