@@ -19,7 +19,8 @@
 //    loop waits: what a rig whose haptic thread has a core of this machine to itself would run
 //    (no other process, no scheduling). Per tick: median, p99, max CPU; ticks over the 1 ms
 //    budget; ticks the pacer dropped; the latest a tick started; the second of the run with
-//    the most ticks over budget. Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
+//    the most ticks over budget; the released coils' steps skipped asleep and their wakes. The ten
+//    slowest ticks (case time, CPU) go to stderr. Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
 //    head-and-neck tree (cases/library/ica_straight.hclm) meshed with 10 points per ring (293k
 //    triangles) as STL, imported as a surface and written as `cathbox vessel import -o CASE_DIR`
@@ -207,6 +208,21 @@ void Recording(benchmark::State& state) {
   state.counters["p99_us"] = percentile(samples_us, 0.99);
   state.counters["bytes_per_tick"] = static_cast<double>(rec->bytes_written()) / static_cast<double>(std::max<std::int64_t>(tick, 1));
 }
+// The ten slowest ticks of a run (their case time and CPU time), on stderr: where to look first.
+void print_slowest_ticks(const std::string& case_name, const std::vector<double>& cpu_us,
+                         const std::vector<std::int64_t>& tick_at_us) {
+  std::vector<std::size_t> order(cpu_us.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const std::size_t shown = std::min<std::size_t>(10, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(shown), order.end(),
+                    [&](std::size_t a, std::size_t b) { return cpu_us[a] > cpu_us[b]; });
+  std::fprintf(stderr, "%s: slowest ticks (case time s: CPU us):", case_name.c_str());
+  for (std::size_t i = 0; i < shown; ++i) {
+    std::fprintf(stderr, " %.3f: %.0f", 1e-6 * static_cast<double>(tick_at_us[order[i]]), cpu_us[order[i]]);
+  }
+  std::fprintf(stderr, "\n");
+}
+
 void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
   const std::string base = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name;
   for (auto _ : state) {
@@ -219,6 +235,7 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     constexpr std::int64_t kPeriod_us = 1000;
     cathbox::session::VirtualClock clock;
     std::vector<double> cpu_us;
+    std::vector<std::int64_t> tick_at_us;
     std::vector<int> over_per_second;
     std::int64_t behind_us = 0;
     cathbox::session::HapticThread loop(clock, kPeriod_us, [&](std::int64_t sim_us) {
@@ -228,6 +245,7 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
       session->step_virtual(1);
       const double used = thread_cpu_us() - c0;
       cpu_us.push_back(used);
+      tick_at_us.push_back(sim_us);
       const auto second = static_cast<std::size_t>(sim_us / 1'000'000);
       if (over_per_second.size() <= second) over_per_second.resize(second + 1, 0);
       if (used > static_cast<double>(kPeriod_us)) ++over_per_second[second];
@@ -246,6 +264,11 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     state.counters["late_max_ms"] = static_cast<double>(behind_us) * 1e-3;
     state.counters["worst_second"] = worst == over_per_second.end() ? 0.0 : static_cast<double>(worst - over_per_second.begin());
     state.counters["worst_second_over_1ms"] = worst == over_per_second.end() ? 0.0 : *worst;
+    // Released coils' steps skipped asleep (tool/coil_sleep.hpp), and their wakes.
+    const cathbox::tool::CoilSleep& sleep = session->simulator().coil_sleep();
+    state.counters["coil_steps_asleep"] = static_cast<double>(sleep.skipped_steps());
+    state.counters["coil_wakes"] = static_cast<double>(sleep.wakes());
+    print_slowest_ticks(case_name, cpu_us, tick_at_us);
   }
 }
 BENCHMARK_CAPTURE(CaseAtRigSpeed, neuro_coiling, std::string("neuro_coiling"))->Iterations(1)->Unit(benchmark::kSecond);
