@@ -62,22 +62,34 @@ def fake_in_page(b):
 def fake_in_worker(b, backend, url=None):
     """fake_webhid.js's worker half, in the page's haptic worker (js/train_worker.js) through the
     DevTools protocol: the worker's target attached, the script evaluated in its global scope (the
-    worker's own navigator.hid replaced), detached; its arrival is said on the fake's channel."""
-    def workers(_):
+    worker's own navigator.hid replaced), detached; its arrival is said on the fake's channel. The
+    fake takes only in a worker whose session is open and running, which may come after its target
+    is listed (a page still loading its session, under load): it is evaluated again, every half
+    second, until it says it is in (fake_webhid.js takes it once per worker)."""
+    def workers():
         targets = b.driver.execute_cdp_cmd("Target.getTargets", {})["targetInfos"]
-        return [t for t in targets if t["type"] == "worker" and t["url"].endswith("/js/train_worker.js")] or None
+        return [t for t in targets if t["type"] == "worker" and t["url"].endswith("/js/train_worker.js")]
     source = "self.FAKE_WEBHID = %s;\n%s" % (json.dumps({"backend": backend, "url": url}), open(FAKE_SOURCE).read())
-    # Every haptic worker the browser lists (the previous pages' may linger, kept for going back):
-    # the fake takes only in the one whose session is open and running (fake_webhid.js).
-    for target in b.wait(workers, "the haptic worker's DevTools target"):
-        try:
-            session = b.driver.execute_cdp_cmd("Target.attachToTarget", {"targetId": target["targetId"], "flatten": False})["sessionId"]
-            b.driver.execute_cdp_cmd("Target.sendMessageToTarget", {"sessionId": session, "message": json.dumps(
-                {"id": 1, "method": "Runtime.evaluate", "params": {"expression": source}})})
-            b.driver.execute_cdp_cmd("Target.detachFromTarget", {"sessionId": session})
-        except WebDriverException:
-            pass  # a worker gone meanwhile (a previous page's)
-    b.wait_js("return window.fakeBox.installed === %s" % json.dumps(backend), "the fake WebHID box in the haptic worker")
+    tried = [0.0]
+
+    def installed(_):
+        if b.js("return window.fakeBox.installed === %s" % json.dumps(backend)):
+            return True
+        if time.monotonic() - tried[0] < 0.5:
+            return None
+        tried[0] = time.monotonic()
+        # Every haptic worker the browser lists (the previous pages' may linger, kept for going
+        # back): the fake takes only in the one whose session is open and running.
+        for target in workers():
+            try:
+                session = b.driver.execute_cdp_cmd("Target.attachToTarget", {"targetId": target["targetId"], "flatten": False})["sessionId"]
+                b.driver.execute_cdp_cmd("Target.sendMessageToTarget", {"sessionId": session, "message": json.dumps(
+                    {"id": 1, "method": "Runtime.evaluate", "params": {"expression": source}})})
+                b.driver.execute_cdp_cmd("Target.detachFromTarget", {"sessionId": session})
+            except WebDriverException:
+                pass  # a worker gone meanwhile (a previous page's)
+        return None
+    b.wait(installed, "the fake WebHID box in the haptic worker")
 
 
 def connect_box(b, expect):
