@@ -140,6 +140,10 @@ std::string MetricsCollector::format(const Metrics& m) {
 std::vector<NamedMetric> named_metrics(const Metrics& m) {
   std::vector<NamedMetric> out;
   auto add = [&out](const char* name, double v) { out.push_back({name, v}); };
+  // A figure the run has only in some cases (an optional): named when it has one.
+  auto add_if = [&add](const char* name, const auto& v) {
+    if (v) add(name, static_cast<double>(*v));
+  };
   add("procedure_time_s", static_cast<double>(m.procedure_time_us) * 1e-6);
   if (m.has_target) {
     add("target_reached", m.target_reached ? 1.0 : 0.0);
@@ -160,26 +164,26 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
   // Per tool, under its name (the server's results and debrief list them; criteria name the
   // largest, above).
   for (const ToolConvergence& c : m.convergence) out.push_back({"unconverged_pct." + c.tool, c.unconverged_pct()});
-  if (m.fluoroscopy_time_s) add("fluoroscopy_time_s", *m.fluoroscopy_time_s);
-  if (m.dose_area_product_mGy_cm2) add("dose_area_product_mGy_cm2", *m.dose_area_product_mGy_cm2);
-  if (m.fluoroscopy_runs) add("fluoroscopy_runs", *m.fluoroscopy_runs);
-  if (m.contrast_volume_ml) add("contrast_volume_ml", *m.contrast_volume_ml);
-  if (m.packing_density_pct) add("packing_density_pct", *m.packing_density_pct);
-  if (m.coil_length_mm) add("coil_length_mm", *m.coil_length_mm);
-  if (m.coil_herniations) add("coil_herniations", *m.coil_herniations);
-  if (m.coil_herniated_peak_nodes) add("coil_herniated_peak_nodes", *m.coil_herniated_peak_nodes);
-  if (m.coil_herniated_depth_mm) add("coil_herniated_depth_mm", *m.coil_herniated_depth_mm);
-  if (m.kick_back_mm) add("kick_back_mm", *m.kick_back_mm);
-  if (m.kick_forward_mm) add("kick_forward_mm", *m.kick_forward_mm);
-  if (m.coil_detach_force_peak_mN) add("coil_detach_force_peak_mN", *m.coil_detach_force_peak_mN);
-  if (m.coil_detached_under_tension) add("coil_detached_under_tension", *m.coil_detached_under_tension);
-  if (m.coil_sleep_skipped_steps) add("coil_sleep_skipped_steps", static_cast<double>(*m.coil_sleep_skipped_steps));
-  if (m.coil_sleep_wakes) add("coil_sleep_wakes", static_cast<double>(*m.coil_sleep_wakes));
-  if (m.stenosis_before_pct) add("stenosis_before_pct", *m.stenosis_before_pct);
-  if (m.residual_stenosis_pct) add("residual_stenosis_pct", *m.residual_stenosis_pct);
-  if (m.balloon_inflations) add("balloon_inflations", *m.balloon_inflations);
-  if (m.balloon_inflated_s) add("balloon_inflated_s", *m.balloon_inflated_s);
-  if (m.rupture_risk_events) add("rupture_risk_events", *m.rupture_risk_events);
+  add_if("fluoroscopy_time_s", m.fluoroscopy_time_s);
+  add_if("dose_area_product_mGy_cm2", m.dose_area_product_mGy_cm2);
+  add_if("fluoroscopy_runs", m.fluoroscopy_runs);
+  add_if("contrast_volume_ml", m.contrast_volume_ml);
+  add_if("packing_density_pct", m.packing_density_pct);
+  add_if("coil_length_mm", m.coil_length_mm);
+  add_if("coil_herniations", m.coil_herniations);
+  add_if("coil_herniated_peak_nodes", m.coil_herniated_peak_nodes);
+  add_if("coil_herniated_depth_mm", m.coil_herniated_depth_mm);
+  add_if("kick_back_mm", m.kick_back_mm);
+  add_if("kick_forward_mm", m.kick_forward_mm);
+  add_if("coil_detach_force_peak_mN", m.coil_detach_force_peak_mN);
+  add_if("coil_detached_under_tension", m.coil_detached_under_tension);
+  add_if("coil_sleep_skipped_steps", m.coil_sleep_skipped_steps);
+  add_if("coil_sleep_wakes", m.coil_sleep_wakes);
+  add_if("stenosis_before_pct", m.stenosis_before_pct);
+  add_if("residual_stenosis_pct", m.residual_stenosis_pct);
+  add_if("balloon_inflations", m.balloon_inflations);
+  add_if("balloon_inflated_s", m.balloon_inflated_s);
+  add_if("rupture_risk_events", m.rupture_risk_events);
   if (m.thrombectomy) {  // eTICI as its ordinal: 0, 1, 2a = 2, 2b50 = 3, 2b67 = 4, 2c = 5, 3 = 6
     const ThrombectomyFigures& t = *m.thrombectomy;
     add("thrombectomy_passes", t.passes);
@@ -198,7 +202,7 @@ std::vector<NamedMetric> named_metrics(const Metrics& m) {
     add("flow_arrest_s", t.flow_arrest_s);
     if (t.stent_passes > 0) add("retrieval_force_peak_N", t.retrieval_force_peak_N);
   }
-  if (m.haptic_dropped_ticks) add("haptic_dropped_ticks", static_cast<double>(*m.haptic_dropped_ticks));
+  add_if("haptic_dropped_ticks", m.haptic_dropped_ticks);
   return out;
 }
 
