@@ -121,7 +121,7 @@ void CoilSleep::rebuild_chunks(std::span<const Rod> coils) {
 
 // Coil i's solve moved its nodes by at most `move`: at rest this step (under rest_share of its
 // tolerance), and for rest_ticks steps with no net drift over drift_share of it?
-bool CoilSleep::at_rest(std::size_t i, const Rod& coil, double move) {
+bool CoilSleep::at_rest(std::size_t i, const Rod& coil, double move, int ticks) {
   Coil& c = coils_[i];
   const std::span<const glm::dvec3> x = coil.positions();
   const double tolerance = coil.settings().convergence_mm;
@@ -134,10 +134,11 @@ bool CoilSleep::at_rest(std::size_t i, const Rod& coil, double move) {
   for (std::size_t k = 0; c.still > 0 && k < x.size(); ++k) drift = std::max(drift, glm::length(x[k] - from[k]));
   if (c.still == 0 || from.size() != x.size() || !(drift <= settings_.drift_share * tolerance)) {
     from.assign(x.begin(), x.end());  // a new window from here
-    c.still = 1;
+    c.still = ticks;
     return c.still >= settings_.rest_ticks;
   }
-  return ++c.still >= settings_.rest_ticks;
+  c.still += ticks;
+  return c.still >= settings_.rest_ticks;
 }
 
 void CoilSleep::begin(std::span<const Rod> tools, std::span<const Rod> coils) {
@@ -172,14 +173,14 @@ bool CoilSleep::wake_before(std::size_t i, std::span<const Rod> coils) {
   return true;
 }
 
-void CoilSleep::coil_solved(std::size_t i, std::span<const Rod> coils, double margin_mm) {
+void CoilSleep::coil_solved(std::size_t i, std::span<const Rod> coils, double margin_mm, int ticks) {
   if (!settings_.enabled || i >= coils_.size()) return;
   if (coils_[i].asleep) {
     ++skipped_;
     return;
   }
   const double move = disturb(coils[i], coil_last_[i], coils, margin_mm);
-  if (at_rest(i, coils[i], move)) {
+  if (at_rest(i, coils[i], move, ticks)) {
     fall_asleep(i, coils[i]);
     rebuild_chunks(coils);
   }

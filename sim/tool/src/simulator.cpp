@@ -41,7 +41,7 @@ bool plain_guidewire(const ToolSpec& s) { return s.kind == ToolKind::kGuidewire 
 
 Simulator::Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
                      const RodSettings& settings)
-    : wall_(&wall), entry_(entry), settings_(settings), contacts_(kRodContactMargin_mm) {
+    : wall_(&wall), entry_(entry), settings_(settings), contacts_(kRodContactMargin_mm), released_turn_(tuning::kReleasedCoilTicks) {
   const std::size_t n = tools.size();
   rods_.reserve(n);
   std::size_t max_nodes = 0;
@@ -280,20 +280,22 @@ void Simulator::prepare(std::size_t t) {
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
 }
 
-// The released coils, after the attached tools. A sleeping coil is woken before its own solve
-// by the rods solved before it (coil_sleep.hpp) and starts as a coil at rest.
+// The released coils, after the attached tools, each on its turn (tuning::kReleasedCoilTicks)
+// over its turn's ticks. A sleeping coil is woken before its own solve by the rods solved before
+// it (coil_sleep.hpp) and starts as a coil at rest.
 void Simulator::step_released(double dt_s) {
   // A wall that moved in place (the pulse) since the last step: every coil is solved again.
   if (wall_->revision() != wall_revision_) sleep_.wake_all();
   wall_revision_ = wall_->revision();
   update_contact_members();
   for (std::size_t i = 0; i < detached_.size(); ++i) {
+    if ((steps_ + i) % released_turn_ != 0) continue;
     const bool was_asleep = sleep_.asleep(i);
     if (sleep_.wake_before(i, detached_)) {
       if (was_asleep) detached_[i].forget_motion();
-      detached_[i].step(dt_s, *wall_, &contacts_);
+      detached_[i].step(dt_s * static_cast<double>(released_turn_), *wall_, &contacts_);
     }
-    sleep_.coil_solved(i, detached_, contacts_.margin_mm());
+    sleep_.coil_solved(i, detached_, contacts_.margin_mm(), static_cast<int>(released_turn_));
   }
 }
 

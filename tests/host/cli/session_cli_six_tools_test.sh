@@ -34,6 +34,6 @@ open(sys.argv[2], 'wb').write(b)
 PY
 expect 2 "$cb" session replay "$work/v12.cbxrec" --check
 [ "$(wc -l <"$work/out")" -eq 1 ] &&
-  grep -qx "$work/v12.cbxrec: byte 8: record format version 12, this build reads version 40" "$work/out" ||
+  grep -qx "$work/v12.cbxrec: byte 8: record format version 12, this build reads version [0-9][0-9]*" "$work/out" ||
   fail "v12 record: $(cat "$work/out")"
 finish

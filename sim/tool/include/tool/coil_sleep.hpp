@@ -5,7 +5,8 @@
 //
 // Rest is judged in the solver's own units: a converged step's positions are known to its
 // tolerance (`RodSettings::convergence_mm`, 2 um), so a coil rests once, for `rest_ticks`
-// consecutive steps, (a) no node moved more than `rest_share` of that tolerance in a step and
+// consecutive ticks (the solves on its turns covering them, Simulator::set_released_turn_ticks),
+// (a) no node moved more than `rest_share` of that tolerance in a solve and
 // (b) no node drifted, net over those steps, more than `drift_share` of it: a steady creep of a
 // fraction of a micrometre a tick is not frozen unknowingly.
 //
@@ -59,7 +60,9 @@ class CoilSleep {
   void begin(std::span<const Rod> tools, std::span<const Rod> coils);
   void tool_solved(std::size_t t, std::span<const Rod> tools, std::span<const Rod> coils, double margin_mm);
   [[nodiscard]] bool wake_before(std::size_t i, std::span<const Rod> coils);
-  void coil_solved(std::size_t i, std::span<const Rod> coils, double margin_mm);
+  // `ticks`: the steps the coil's solve covered (Simulator::set_released_turn_ticks); the rest
+  // window counts ticks.
+  void coil_solved(std::size_t i, std::span<const Rod> coils, double margin_mm, int ticks = 1);
   // Every coil is solved again (the wall was replaced, or sleeping was switched off).
   void wake_all();
 
@@ -80,7 +83,7 @@ class CoilSleep {
   void rebuild_chunks(std::span<const Rod> coils);
   double disturb(const Rod& rod, std::vector<glm::dvec3>& last, std::span<const Rod> coils, double margin_mm);
   [[nodiscard]] bool near(const Coil& c, const Rod& coil, const glm::dvec3& p, double r, double margin_mm) const;
-  [[nodiscard]] bool at_rest(std::size_t i, const Rod& coil, double move);
+  [[nodiscard]] bool at_rest(std::size_t i, const Rod& coil, double move, int ticks);
 
   Settings settings_;
   std::vector<Coil> coils_;

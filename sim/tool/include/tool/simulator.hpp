@@ -135,6 +135,10 @@ class Simulator {
   // settings may be changed between steps (enabled = false solves every coil every step).
   [[nodiscard]] const CoilSleep& coil_sleep() const { return sleep_; }
   [[nodiscard]] CoilSleep::Settings& coil_sleep_settings() { return sleep_.settings(); }
+  // Released coils are solved on every `ticks`-th step, over that many steps' time, taking turns
+  // (tuning::kReleasedCoilTicks by default; 1 solves every coil every step). Tests and benches.
+  void set_released_turn_ticks(int ticks) { released_turn_ = ticks > 1 ? static_cast<std::size_t>(ticks) : 1; }
+  [[nodiscard]] std::size_t released_turn_ticks() const { return released_turn_; }
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
 
@@ -257,6 +261,7 @@ class Simulator {
   std::vector<std::size_t> loaded_;    // next coils loaded per tool
   RodContactField contacts_;
   CoilSleep sleep_;
+  std::size_t released_turn_;  // tuning::kReleasedCoilTicks by default
   std::uint64_t wall_revision_ = 0;  // the wall's revision() the coils last slept against
   std::vector<RodContactField::Member> members_;  // scratch
   std::size_t active_ = 0;
