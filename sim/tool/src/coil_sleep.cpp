@@ -119,8 +119,9 @@ void CoilSleep::rebuild_chunks(std::span<const Rod> coils) {
   }
 }
 
-// Coil i's solve moved its nodes by at most `move`: at rest this step (under rest_share of its
-// tolerance), and for rest_ticks steps with no net drift over drift_share of it?
+// Coil i's solve, covering `ticks` steps (its turn), moved its nodes by at most `move`: at rest
+// this solve (under rest_share of its tolerance), and for rest_ticks steps with no net drift over
+// drift_share of it?
 bool CoilSleep::at_rest(std::size_t i, const Rod& coil, double move, int ticks) {
   Coil& c = coils_[i];
   const std::span<const glm::dvec3> x = coil.positions();
