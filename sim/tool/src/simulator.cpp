@@ -289,7 +289,7 @@ void Simulator::step_released(double dt_s) {
   wall_revision_ = wall_->revision();
   update_contact_members();
   for (std::size_t i = 0; i < detached_.size(); ++i) {
-    if ((steps_ + i) % released_turn_ != 0) continue;
+    if (!released_coil_turn(i)) continue;
     const bool was_asleep = sleep_.asleep(i);
     if (sleep_.wake_before(i, detached_)) {
       if (was_asleep) detached_[i].forget_motion();

@@ -86,17 +86,17 @@ struct Settling {
 };
 Settling settle(Simulator& sim, int from, int ticks) {
   Settling out;
-  const auto turn = static_cast<std::uint64_t>(sim.released_turn_ticks());
+  const auto turn = static_cast<double>(sim.released_turn_ticks());
   for (int i = 0; i < from + ticks; ++i) {
     const std::span<const glm::dvec3> x = sim.detached(0).positions();
     const std::vector<glm::dvec3> before(x.begin(), x.end());
-    const bool on_turn = sim.steps() % turn == 0;  // coil 0's turns
+    const bool on_turn = sim.released_coil_turn(0);
     sim.step();
     const std::span<const glm::dvec3> after = sim.detached(0).positions();
     double worst_mm = 0.0;
     for (std::size_t k = 0; k < after.size(); ++k) worst_mm = std::max(worst_mm, glm::length(after[k] - before[k]));
     if (!on_turn) out.moved_off_turn += worst_mm > 0.0 ? 1 : 0;
-    if (i >= from) out.late_um_per_tick = std::max(out.late_um_per_tick, 1e3 * worst_mm / static_cast<double>(turn));
+    if (i >= from) out.late_um_per_tick = std::max(out.late_um_per_tick, 1e3 * worst_mm / turn);
   }
   return out;
 }

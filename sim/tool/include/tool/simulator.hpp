@@ -139,6 +139,8 @@ class Simulator {
   // (tuning::kReleasedCoilTicks by default; 1 solves every coil every step). Tests and benches.
   void set_released_turn_ticks(int ticks) { released_turn_ = ticks > 1 ? static_cast<std::size_t>(ticks) : 1; }
   [[nodiscard]] std::size_t released_turn_ticks() const { return released_turn_; }
+  // Released coil i is solved in the next step() (its turn: step + i a multiple of the turn).
+  [[nodiscard]] bool released_coil_turn(std::size_t i) const { return (steps_ + i) % released_turn_ == 0; }
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
 
