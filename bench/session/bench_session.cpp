@@ -38,6 +38,8 @@
 #include <thread>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include "session/action_script_hand.hpp"
 #include "session/clock.hpp"
 #include "session/haptic_thread.hpp"
@@ -51,6 +53,7 @@
 #include "scenario/case_file.hpp"
 #include "tool/simulator.hpp"
 #include "../bench_samples.hpp"
+#include "tick_solves.hpp"
 
 namespace {
 
@@ -238,12 +241,24 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     std::vector<std::int64_t> tick_at_us;
     std::vector<int> over_per_second;
     std::int64_t behind_us = 0;
+    long faults_over = 0, faults_all = 0;
+    cathbox::bench::TickSolves solves;
+    session->set_solve_observer(&solves);
     cathbox::session::HapticThread loop(clock, kPeriod_us, [&](std::int64_t sim_us) {
       // How late this tick starts on its deadline (the dropped ticks' deadlines skipped).
       behind_us = std::max(behind_us, clock.now_us() - (sim_us + loop.dropped() * kPeriod_us));
+      rusage r0{};
+      getrusage(RUSAGE_THREAD, &r0);
+      solves.begin_tick();
       const double c0 = thread_cpu_us();
       session->step_virtual(1);
       const double used = thread_cpu_us() - c0;
+      solves.end_tick(used, static_cast<double>(kPeriod_us));
+      rusage r1{};
+      getrusage(RUSAGE_THREAD, &r1);
+      const long faults = r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt;
+      faults_all += faults;
+      if (used > static_cast<double>(kPeriod_us)) faults_over += faults;
       cpu_us.push_back(used);
       tick_at_us.push_back(sim_us);
       const auto second = static_cast<std::size_t>(sim_us / 1'000'000);
@@ -261,6 +276,10 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     state.counters["tick_cpu_max_us"] = percentile(cpu_us, 1.0);
     state.counters["over_1ms"] = static_cast<double>(std::count_if(cpu_us.begin(), cpu_us.end(), [](double us) { return us > 1000.0; }));
     state.counters["dropped"] = static_cast<double>(loop.dropped());
+    // Page faults taken in the ticks (a fresh page costs a fault and its zeroing), and in those
+    // over the budget.
+    state.counters["faults"] = static_cast<double>(faults_all);
+    state.counters["faults_over_1ms"] = static_cast<double>(faults_over);
     state.counters["late_max_ms"] = static_cast<double>(behind_us) * 1e-3;
     state.counters["worst_second"] = worst == over_per_second.end() ? 0.0 : static_cast<double>(worst - over_per_second.begin());
     state.counters["worst_second_over_1ms"] = worst == over_per_second.end() ? 0.0 : *worst;
@@ -269,6 +288,7 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     state.counters["coil_steps_asleep"] = static_cast<double>(sleep.skipped_steps());
     state.counters["coil_wakes"] = static_cast<double>(sleep.wakes());
     print_slowest_ticks(case_name, cpu_us, tick_at_us);
+    solves.report(state, case_name, session->simulator());
   }
 }
 BENCHMARK_CAPTURE(CaseAtRigSpeed, neuro_coiling, std::string("neuro_coiling"))->Iterations(1)->Unit(benchmark::kSecond);

@@ -24,6 +24,15 @@ inline bool apart(const glm::dvec3& mid_a, double reach_a, const glm::dvec3& mid
   return glm::dot(d, d) > r * r;
 }
 
+// v.assign(n, value) that grows v's buffer geometrically: assign alone reallocates to exactly n
+// whenever n exceeds the capacity, and a list that grows by a few pairs a build then takes fresh
+// pages (page faults in the haptic tick) on every build.
+template <class Vector, class Value>
+void assign_grown(Vector& v, std::size_t n, const Value& value) {
+  if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / 2));
+  v.assign(n, value);
+}
+
 }  // namespace rod_contact_detail
 
 inline std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const {

@@ -14,6 +14,7 @@
 namespace cathbox::tool {
 
 using rod_contact_detail::apart;
+using rod_contact_detail::assign_grown;
 
 bool RodContactField::update_mids() const {
   // An edge's middle that moved less than half the skin since the list was built keeps every
@@ -134,7 +135,7 @@ void RodContactField::build_list() const {
     kept_pairs_.swap(pairs_);
     kept_gap_.swap(last_gap_);
   }
-  pair_start_.assign(n + 1, 0u);
+  assign_grown(pair_start_, n + 1, 0u);
   for (const auto& [i, j] : halves_) ++pair_start_[i + 1], ++pair_start_[j + 1];
   for (std::size_t i = 0; i < n; ++i) pair_start_[i + 1] += pair_start_[i];
   // Item k receives its lower partners (while they are filled, in rising order) before its own
@@ -148,9 +149,9 @@ void RodContactField::build_list() const {
     pairs_[next_[i]++] = j;
     pairs_[next_[j]++] = i;
   }
-  last_gap_.assign(pairs_.size(), LastGap{});
+  assign_grown(last_gap_, pairs_.size(), LastGap{});
   if (partial) keep_last_gaps();
-  lower_side_.assign(pairs_.size(), LowerSide{});
+  assign_grown(lower_side_, pairs_.size(), LowerSide{});
   gathers_ = 0;
   list_valid_ = true;
 }

@@ -294,6 +294,7 @@ void Simulator::step_released(double dt_s) {
     if (sleep_.wake_before(i, detached_)) {
       if (was_asleep) detached_[i].forget_motion();
       detached_[i].step(dt_s * static_cast<double>(released_turn_), *wall_, &contacts_);
+      if (observer_ != nullptr) observer_->solved(true, i, detached_[i]);
     }
     sleep_.coil_solved(i, detached_, contacts_.margin_mm(), static_cast<int>(released_turn_));
   }
@@ -377,6 +378,7 @@ void Simulator::limit_tip_push() {
 
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+  if (observer_ != nullptr) observer_->step_begins();
   const std::size_t n = rods_.size();
   update_chain();
   update_balloons(dt_s);
@@ -400,6 +402,7 @@ void Simulator::step(double dt_s) {
     const int most = fine ? tuning::kFineSubsteps : tuning::kLoneToolSubsteps;
     rods_[t].settings().substeps_max = substepped(t) ? most : 1;
     rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
+    if (observer_ != nullptr) observer_->solved(false, t, rods_[t]);
     if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
     WallProbe probe;
     probe.center_mm = rods_[t].tip().position_mm;

@@ -140,6 +140,9 @@ class Session {
   [[nodiscard]] const Metrics& metrics() const { return metrics_.metrics(); }
   [[nodiscard]] Hand& hand() { return *hand_; }
   [[nodiscard]] const tool::Simulator& simulator() const { return *sim_; }
+  // A diagnostic hook on the simulator's solves (tool::Simulator::set_solve_observer), set
+  // before the run starts; for benches.
+  void set_solve_observer(tool::Simulator::SolveObserver* observer) { sim_->set_solve_observer(observer); }
   [[nodiscard]] record::EndReason end_reason() const { return end_reason_; }
   // The fluoroscopy unit (null without a vessel network).
   [[nodiscard]] const FluoroUnit* fluoro() const { return fluoro_.get(); }

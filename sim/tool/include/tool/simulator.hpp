@@ -143,6 +143,16 @@ class Simulator {
   [[nodiscard]] bool released_coil_turn(std::size_t i) const { return (steps_ + i) % released_turn_ == 0; }
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
+  // Told of each rod solve as step() makes it (a tool's, or a released coil's on its turn), for
+  // benches that attribute a tick's time to its solves (bench/session's CaseAtRigSpeed). It
+  // only reads; null (the default) costs a test per solve.
+  class SolveObserver {
+   public:
+    virtual ~SolveObserver() = default;
+    virtual void step_begins() {}
+    virtual void solved(bool released, std::size_t index, const Rod& rod) = 0;
+  };
+  void set_solve_observer(SolveObserver* observer) { observer_ = observer; }
 
   // Balloons: the inflation device drives the pressure towards the target at its rate.
   [[nodiscard]] DeviceError inflate_pressure(std::size_t tool, double pressure_atm);
@@ -270,6 +280,7 @@ class Simulator {
   double time_s_ = 0.0;
   std::uint64_t steps_ = 0;
   std::uint64_t wall_swaps_ = 0;
+  SolveObserver* observer_ = nullptr;
 };
 
 }  // namespace cathbox::tool
