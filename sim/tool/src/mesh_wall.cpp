@@ -1,5 +1,6 @@
 #include "tool/mesh_wall.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -14,18 +15,30 @@ MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_
     axis_ = std::make_shared<const LumenAxis>(surface_->model);
     axis_hints_.resize(hint_slots);
   }
+  const auto slots = static_cast<std::uint32_t>(hint_slots);
+  const std::uint32_t second = slots >= 2 ? std::max<std::uint32_t>(1, slots / 4) : 0;
+  pool_start_[1] = slots - second;
+  pool_start_[2] = slots;
+}
+
+// A node's first query in its thread's pool takes the next slot of that pool (round robin when
+// more nodes than slots).
+void MeshWall::take_slot(WallHint& hint) const {
+  const int asked = probe_pool();
+  const int pool = pool_start_[asked + 1] > pool_start_[asked] ? asked : 0;  // a one-slot wall: one pool
+  const std::uint32_t lo = pool_start_[pool];
+  const std::uint32_t hi = pool_start_[pool + 1];
+  if (hint.index >= lo && hint.index < hi) return;
+  hint.index = lo + next_slot_[pool];
+  next_slot_[pool] = (next_slot_[pool] + 1) % (hi - lo);
+  hints_[hint.index].reset();
+  touching_[hint.index] = 0;
+  if (!axis_hints_.empty()) axis_hints_[hint.index] = AxisHint{};
 }
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
   const bool coherent = !hints_.empty();
-  if (coherent && hint.index >= hints_.size()) {
-    // A node's first query takes the next slot (round robin when more nodes than slots).
-    hint.index = next_slot_;
-    next_slot_ = (next_slot_ + 1) % static_cast<std::uint32_t>(hints_.size());
-    hints_[hint.index].reset();
-    touching_[hint.index] = 0;
-    if (!axis_hints_.empty()) axis_hints_[hint.index] = AxisHint{};
-  }
+  if (coherent) take_slot(hint);
   if (probe.lumen_axis && axis_) {
     const LumenAxis::Answer a = axis_->probe(probe, axis_hints_[hint.index], out);
     if (a != LumenAxis::Answer::kNone) return a == LumenAxis::Answer::kWall;

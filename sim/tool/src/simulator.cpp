@@ -1,5 +1,6 @@
 #include "tool/simulator.hpp"
 
+#include "background_job.hpp"
 #include "simulator_tuning.hpp"
 
 #include <algorithm>
@@ -280,26 +281,6 @@ void Simulator::prepare(std::size_t t) {
   if (tip_push_[t] != glm::dvec3(0.0)) rod.add_coupling_load(nodes - 1, tip_push_[t]);
 }
 
-// The released coils, after the attached tools, each on its turn (tuning::kReleasedCoilTicks)
-// over its turn's ticks. A sleeping coil is woken before its own solve by the rods solved before
-// it (coil_sleep.hpp) and starts as a coil at rest.
-void Simulator::step_released(double dt_s) {
-  // A wall that moved in place (the pulse) since the last step: every coil is solved again.
-  if (wall_->revision() != wall_revision_) sleep_.wake_all();
-  wall_revision_ = wall_->revision();
-  update_contact_members();
-  for (std::size_t i = 0; i < detached_.size(); ++i) {
-    if (!released_coil_turn(i)) continue;
-    const bool was_asleep = sleep_.asleep(i);
-    if (sleep_.wake_before(i, detached_)) {
-      if (was_asleep) detached_[i].forget_motion();
-      detached_[i].step(dt_s * static_cast<double>(released_turn_), *wall_, &contacts_);
-      if (observer_ != nullptr) observer_->solved(true, i, detached_[i]);
-    }
-    sleep_.coil_solved(i, detached_, contacts_.margin_mm(), static_cast<int>(released_turn_));
-  }
-}
-
 // The clamp's hinge at the entry point (RodSettings::clamp_hinge_at_entry) for a tool alone in
 // the body, held by the introducer's valve, for every catheter (balloon catheters included), for
 // a coil (but while its joint or pusher is the clamp node: Rod::update_window), and for a
@@ -376,6 +357,31 @@ void Simulator::limit_tip_push() {
   }
 }
 
+// Tool t's solve in the step, after the tools it runs in; `released`: coils are released.
+void Simulator::solve_tool(std::size_t t, double dt_s, bool released) {
+  const std::size_t n = rods_.size();
+  prepare(t);
+  update_contact_members();
+  const bool member = std::any_of(members_.begin(), members_.end(),
+                                  [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
+  // An unconverged tick solved again in sub-increments (Simulator::substepped).
+  // A guidewire, and a catheter directly in a balloon guide (the ADAPT pass), in up to
+  // tuning::kFineSubsteps.
+  const bool guided = outer_of_[t] < n && balloon_guide(outer_of_[t]) && specs_[t].kind == ToolKind::kCatheter;
+  const bool fine = guided || specs_[t].kind == ToolKind::kGuidewire;
+  const int most = fine ? tuning::kFineSubsteps : tuning::kLoneToolSubsteps;
+  rods_[t].settings().substeps_max = substepped(t) ? most : 1;
+  rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
+  if (observer_ != nullptr) observer_->solved(false, t, rods_[t]);
+  if (released) sleep_.tool_solved(t, rods_, coil_views_, contacts_.margin_mm());
+  WallProbe probe;
+  probe.center_mm = rods_[t].tip().position_mm;
+  probe.range_mm = kTipProbeRange_mm;
+  WallContact c;
+  if (insertion_[t] > 0.0 && wall_->probe(probe, tip_hint_[t], c)) tip_segment_[t] = c.segment;
+  else if (insertion_[t] <= 0.0) tip_segment_[t] = -1;
+}
+
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
   if (observer_ != nullptr) observer_->step_begins();
@@ -389,29 +395,9 @@ void Simulator::step(double dt_s) {
   if (released && balloon_moved_) sleep_.wake_all();  // a balloon's diameter moved (coils may rest on it)
   if (released) sleep_.begin(rods_, detached_);
   for (std::size_t t = 0; t < n; ++t) rods_[t].hinge_while_drawn_back(drawn_back_wire(t));
-  for (const std::size_t t : order_) {
-    prepare(t);
-    update_contact_members();
-    const bool member = std::any_of(members_.begin(), members_.end(),
-                                    [&](const RodContactField::Member& m) { return m.rod == &rods_[t]; });
-    // An unconverged tick solved again in sub-increments (Simulator::substepped).
-    // A guidewire, and a catheter directly in a balloon guide (the ADAPT pass), in up to
-    // tuning::kFineSubsteps.
-    const bool guided = outer_of_[t] < n && balloon_guide(outer_of_[t]) && specs_[t].kind == ToolKind::kCatheter;
-    const bool fine = guided || specs_[t].kind == ToolKind::kGuidewire;
-    const int most = fine ? tuning::kFineSubsteps : tuning::kLoneToolSubsteps;
-    rods_[t].settings().substeps_max = substepped(t) ? most : 1;
-    rods_[t].step(dt_s, *wall_, member ? &contacts_ : nullptr);
-    if (observer_ != nullptr) observer_->solved(false, t, rods_[t]);
-    if (released) sleep_.tool_solved(t, rods_, detached_, contacts_.margin_mm());
-    WallProbe probe;
-    probe.center_mm = rods_[t].tip().position_mm;
-    probe.range_mm = kTipProbeRange_mm;
-    WallContact c;
-    if (insertion_[t] > 0.0 && wall_->probe(probe, tip_hint_[t], c)) tip_segment_[t] = c.segment;
-    else if (insertion_[t] <= 0.0) tip_segment_[t] = -1;
-  }
-  if (released) step_released(dt_s);
+  if (released) launch_released(dt_s);
+  for (const std::size_t t : order_) solve_tool(t, dt_s, released);
+  if (released) finish_released();
   // Friction in the lumens, felt at the hands, and its reaction on the catheters.
   tip_push_before_ = tip_push_;  // same size after the first step: no allocation
   for (std::size_t t = 0; t < n; ++t) {

@@ -141,7 +141,9 @@ void Simulator::update_contact_members() {
     contacts_.set_members(members_);
     return;
   }
-  for (const Rod& coil : detached_) {
+  // The released coils by their views: the attached tools' field reads them while their own
+  // solves run beside (simulator_released.cpp).
+  for (const Rod& coil : coil_views_) {
     RodContactField::Member m;
     m.rod = &coil;
     m.edge_first = 0;

@@ -94,6 +94,7 @@ void Simulator::release_coil(std::size_t tool) {
   coupling_next_[tool].resize(rod.node_total());
   coil.settings().warm_start = tuning::kReleasedCoilWarmStart;
   detached_.push_back(std::move(coil));
+  coil_views_.push_back(Rod::contact_view_of(detached_.back()));
   // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
   update_contact_members();
 }

@@ -8,6 +8,16 @@
 
 namespace cathbox::tool {
 
+namespace {
+thread_local int t_probe_pool = 0;
+}  // namespace
+
+int probe_pool() { return t_probe_pool; }
+
+ProbePoolScope::ProbePoolScope(int pool) : before_(t_probe_pool) { t_probe_pool = pool; }
+
+ProbePoolScope::~ProbePoolScope() { t_probe_pool = before_; }
+
 CentrelineFoot nearest_on_centreline(const vessel::Segment& s, const glm::dvec3& p) {
   CentrelineFoot best{std::numeric_limits<double>::infinity(), 0, 0.0};
   for (std::size_t i = 0; i + 1 < s.points.size(); ++i) {

@@ -230,12 +230,12 @@ TEST(Record, ForeignFilesAndOtherVersionsAreRefusedInOneLine) {
   ASSERT_FALSE(hello);
   EXPECT_EQ(hello.error().message, "a.txt: byte 5: not a cathbox record: 5 bytes, shorter than the 16-byte file header");
   std::vector<std::uint8_t> bytes = read_bytes(write_sample("version.cbxrec", 10));
-  bytes[8] = 40;  // format version 40 (a record before the released coils were solved at half rate), CRC fixed up
+  bytes[8] = 41;  // format version 41 (a record before the released coils were solved beside the tools), CRC fixed up
   const std::uint32_t crc = record::crc32(std::span<const std::uint8_t>(bytes).first(12));
   cbx_put_u32(bytes.data() + 12, crc);
-  const auto v40 = RecordReader::from_bytes(bytes, "v40.cbxrec");
-  ASSERT_FALSE(v40);
-  EXPECT_EQ(v40.error().message, "v40.cbxrec: byte 8: record format version 40, this build reads version 41");
+  const auto v41 = RecordReader::from_bytes(bytes, "v41.cbxrec");
+  ASSERT_FALSE(v41);
+  EXPECT_EQ(v41.error().message, "v41.cbxrec: byte 8: record format version 41, this build reads version 42");
   const auto missing = RecordReader::open("/no/such/record.cbxrec");
   ASSERT_FALSE(missing);
   EXPECT_NE(missing.error().message.find("/no/such/record.cbxrec: cannot open"), std::string::npos);

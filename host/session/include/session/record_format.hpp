@@ -55,9 +55,10 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // since a parked carrier steered while advanced keeps its tool's lean on its tip
 // (Simulator::tip_lean_held), 40 since that push's slew, while a tool leaving the carrier is
 // drawn back into it, is halved at each of its reversals (Simulator::limit_tip_push), 41 since a
-// released coil is solved on every second tick over both (tuning::kReleasedCoilTicks). An older
-// record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 41;
+// released coil is solved on every second tick over both (tuning::kReleasedCoilTicks), 42 since
+// the released coils are solved beside the attached tools, each from where the step began
+// (Simulator::launch_released). An older record is refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 42;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

@@ -26,7 +26,9 @@ class MeshWall final : public WallModel {
   // One coherent hint per probed tool node (a node's first probe takes the next of hint_slots,
   // round robin when more nodes than slots; results equal the cold queries either way). The
   // slots are allocated here, never per step; a slot's ~4.4 KB cut of the tree is first
-  // written when that slot is used. hint_slots = 0 gives cold queries.
+  // written when that slot is used. hint_slots = 0 gives cold queries. The last quarter of the
+  // slots is probe pool 1's (wall_model.hpp: the released coils' thread), the rest pool 0's; a
+  // node probed from the other pool takes a slot of that pool.
   static constexpr std::size_t kDefaultHintSlots = 4096;
   explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots,
                     std::shared_ptr<const WallSurface> surface = {});
@@ -43,11 +45,13 @@ class MeshWall final : public WallModel {
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return surface_; }
 
  private:
+  void take_slot(WallHint& hint) const;
   collision::ObbTree tree_;
   mutable std::vector<collision::QueryHint> hints_;
   mutable std::vector<std::uint8_t> touching_;  // per slot: the last probe found the wall within touch
   bool fused_ = true;
-  mutable std::uint32_t next_slot_ = 0;
+  std::uint32_t pool_start_[kProbePools + 1] = {};  // pool p's slots: [pool_start_[p], pool_start_[p + 1])
+  mutable std::uint32_t next_slot_[kProbePools] = {};
   std::shared_ptr<const WallSurface> surface_;
   std::shared_ptr<const LumenAxis> axis_;       // of surface_'s model; null without one
   mutable std::vector<AxisHint> axis_hints_;    // per slot, as hints_

@@ -48,6 +48,12 @@ class Rod {
   Rod(const Rod&) = delete;
   Rod& operator=(const Rod&) = delete;
 
+  // A rod that stands for `rod` in a rod-contact field and a coil sleep read by one thread while
+  // another solves `rod` (Simulator: the released coils solved beside the attached tools): its
+  // nodes, radii, arc lengths, window and settings, as of the last mirror; it is never stepped.
+  [[nodiscard]] static Rod contact_view_of(const Rod& rod);
+  void mirror_contact_view(const Rod& rod);  // no allocation once sized to it
+
   // Entry point (introducer) and inward direction; resets the tool to fully withdrawn.
   void set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction);
   // Proximal boundary from the box; insertion is clamped to [0, max_insertion_mm()].

@@ -53,12 +53,17 @@ enum class DeviceError : std::uint8_t {
 };
 [[nodiscard]] const char* device_error_text(DeviceError e);
 
+class BackgroundJob;
+
 class Simulator {
  public:
   // `wall` must outlive the simulator (or its replacement, see swap_wall). Inner tools name
   // the catheter they run in in ToolSpec::inside (any depth; no cycles).
   Simulator(const WallModel& wall, std::span<const ToolSpec> tools, const Entry& entry,
             const RodSettings& settings = {});
+  ~Simulator();
+  Simulator(Simulator&&) noexcept;
+  Simulator& operator=(Simulator&&) noexcept;
 
   [[nodiscard]] std::size_t tool_count() const { return rods_.size(); }
   // A tool's solver settings, to change after construction (compliant_contact.hpp).
@@ -141,6 +146,12 @@ class Simulator {
   [[nodiscard]] std::size_t released_turn_ticks() const { return released_turn_; }
   // Released coil i is solved in the next step() (its turn: step + i a multiple of the turn).
   [[nodiscard]] bool released_coil_turn(std::size_t i) const { return (steps_ + i) % released_turn_ == 0; }
+  // The released coils on their turn are solved on a thread of their own while step() solves
+  // the attached tools, each from where the step began (launch_released). Off: solved on the
+  // calling thread at the same point, from the same state: the same results, bit for bit. On
+  // by default with two or more cores (off in the WebAssembly build).
+  void set_released_in_parallel(bool on);
+  [[nodiscard]] bool released_in_parallel() const;
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
   // Told of each rod solve as step() makes it (a tool's, or a released coil's on its turn), for
@@ -220,7 +231,11 @@ class Simulator {
   void update_balloons(double dt_s);
   void update_stents();
   void update_tip_grips();
-  void step_released(double dt_s);
+  void solve_tool(std::size_t t, double dt_s, bool released);
+  void launch_released(double dt_s);
+  void finish_released();
+  static void solve_released(void* simulator);  // the job: BackgroundJob's thread, or inline
+  [[nodiscard]] const Rod* job_rod(const Rod* rod);  // a field member's rod as the job's field sees it
   void advance_partings(double dt_s);
   void release_coil(std::size_t tool);
   [[nodiscard]] bool zone_out(std::size_t tool) const;  // its coil's detachment zone is past the catheter's tip
@@ -281,6 +296,15 @@ class Simulator {
   std::uint64_t steps_ = 0;
   std::uint64_t wall_swaps_ = 0;
   SolveObserver* observer_ = nullptr;
+  // The released coils' solve beside the attached tools' (launch_released): per released coil
+  // and per tool, a view of it as the step began (Rod::contact_view_of): the attached tools'
+  // field and the sleep read the coils' views, the coils' own field the tools' views.
+  std::vector<Rod> coil_views_, tool_views_;
+  RodContactField released_contacts_;
+  std::vector<RodContactField::Member> released_members_;  // scratch
+  std::vector<std::size_t> solving_;  // the released coils this step's job solves
+  double released_dt_s_ = 0.0;
+  std::unique_ptr<BackgroundJob> job_;
 };
 
 }  // namespace cathbox::tool

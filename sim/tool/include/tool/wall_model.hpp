@@ -49,6 +49,23 @@ struct WallHint {
   std::uint32_t index = 0xffffffffu;
 };
 
+// The hint pool the calling thread's probes take their slots from: 0, the haptic thread's; 1,
+// the thread that solves the released coils beside it (Simulator, background_job.hpp). A wall
+// that keeps per-slot state (MeshWall) keeps each pool's slots apart, so two threads probing at
+// once never share one; answers do not depend on the slots. Set for a scope.
+inline constexpr int kProbePools = 2;
+[[nodiscard]] int probe_pool();
+class ProbePoolScope {
+ public:
+  explicit ProbePoolScope(int pool);
+  ~ProbePoolScope();
+  ProbePoolScope(const ProbePoolScope&) = delete;
+  ProbePoolScope& operator=(const ProbePoolScope&) = delete;
+
+ private:
+  int before_;
+};
+
 // What a meshed wall was built from, for those who draw it (renderers): the lumen's central-axis
 // model (the HCLM radii, widened by a balloon) and the surface meshed from it. Immutable; shared.
 struct WallSurface {

@@ -1,0 +1,82 @@
+#include "background_job.hpp"
+
+namespace cathbox::tool {
+
+namespace {
+
+#if defined(__EMSCRIPTEN__)
+constexpr bool kThreadedByDefault = false;  // its thread pool is the session's (host/wasm)
+#else
+constexpr bool kThreadedByDefault = true;
+#endif
+
+inline void pause() {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#else
+  std::this_thread::yield();
+#endif
+}
+
+}  // namespace
+
+BackgroundJob::BackgroundJob() : threaded_(kThreadedByDefault && std::thread::hardware_concurrency() > 1) {}
+
+BackgroundJob::~BackgroundJob() {
+  finish();
+  if (!thread_.joinable()) return;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    quit_ = true;
+  }
+  wake_.notify_one();
+  thread_.join();
+}
+
+void BackgroundJob::set_threaded(bool on) {
+  finish();
+  threaded_ = on;
+}
+
+void BackgroundJob::start(Fn fn, void* ctx) {
+  finish();
+  if (!threaded_) {
+    fn(ctx);
+    return;
+  }
+  if (!thread_.joinable()) thread_ = std::thread([this] { loop(); });
+  done_.store(false, std::memory_order_relaxed);
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    fn_ = fn;
+    ctx_ = ctx;
+    go_ = true;
+  }
+  wake_.notify_one();
+  running_ = true;
+}
+
+void BackgroundJob::finish() {
+  if (!running_) return;
+  while (!done_.load(std::memory_order_acquire)) pause();
+  running_ = false;
+}
+
+void BackgroundJob::loop() {
+  for (;;) {
+    Fn fn = nullptr;
+    void* ctx = nullptr;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return go_ || quit_; });
+      if (quit_) return;
+      go_ = false;
+      fn = fn_;
+      ctx = ctx_;
+    }
+    fn(ctx);
+    done_.store(true, std::memory_order_release);
+  }
+}
+
+}  // namespace cathbox::tool

@@ -1,0 +1,27 @@
+// A rod's contact view (Rod::contact_view_of): what a rod-contact field (positions, radii, arc
+// lengths, depth past the entry, contact stiffness) and a coil sleep (positions, first node,
+// tolerance) read of a rod, copied so that another thread may solve the rod meanwhile.
+#include "tool/rod.hpp"
+
+namespace cathbox::tool {
+
+Rod Rod::contact_view_of(const Rod& rod) {
+  Rod view;
+  view.spec_ = rod.spec_;
+  view.mirror_contact_view(rod);
+  return view;
+}
+
+void Rod::mirror_contact_view(const Rod& rod) {
+  settings_ = rod.settings_;
+  length_mm_ = rod.length_mm_;
+  insertion_mm_ = rod.insertion_mm_;
+  first_ = rod.first_;
+  first_free_ = rod.first_free_;
+  free_ = rod.free_;
+  x_.assign(rod.x_.begin(), rod.x_.end());
+  radius_.assign(rod.radius_.begin(), rod.radius_.end());
+  from_tip_.assign(rod.from_tip_.begin(), rod.from_tip_.end());
+}
+
+}  // namespace cathbox::tool
