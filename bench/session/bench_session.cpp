@@ -19,8 +19,11 @@
 //    loop waits: what a rig whose haptic thread has a core of this machine to itself would run
 //    (no other process, no scheduling). Per tick: median, p99, max CPU; ticks over the 1 ms
 //    budget; ticks the pacer dropped; the latest a tick started; the second of the run with
-//    the most ticks over budget; the released coils' steps skipped asleep and their wakes. The ten
-//    slowest ticks (case time, CPU) go to stderr. Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
+//    the most ticks over budget; the released coils' steps skipped asleep and their wakes; page
+//    faults in the ticks. The ten slowest ticks (case time, CPU) and the over-budget ticks' CPU by
+//    solve (tick_solves.hpp: each rod by the sub-increments its solve ended in) go to stderr.
+//    The released coils' job runs on the other core (the haptic thread spins while it waits:
+//    its CPU time is the tick's). Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
 //    head-and-neck tree (cases/library/ica_straight.hclm) meshed with 10 points per ring (293k
 //    triangles) as STL, imported as a surface and written as `cathbox vessel import -o CASE_DIR`

@@ -1,5 +1,7 @@
 #include "background_job.hpp"
 
+#include <system_error>
+
 namespace cathbox::tool {
 
 namespace {
@@ -44,7 +46,15 @@ void BackgroundJob::start(Fn fn, void* ctx) {
     fn(ctx);
     return;
   }
-  if (!thread_.joinable()) thread_ = std::thread([this] { loop(); });
+  if (!thread_.joinable()) {
+    try {
+      thread_ = std::thread([this] { loop(); });
+    } catch (const std::system_error&) {  // no thread to be had: the job runs here, as unthreaded
+      threaded_ = false;
+      fn(ctx);
+      return;
+    }
+  }
   done_.store(false, std::memory_order_relaxed);
   {
     const std::lock_guard<std::mutex> lock(mutex_);
