@@ -12,6 +12,8 @@ constexpr bool kThreadedByDefault = false;  // its thread pool is the session's 
 constexpr bool kThreadedByDefault = true;
 #endif
 
+constexpr int kSpins = 2048;
+
 inline void pause() {
 #if defined(__x86_64__) || defined(__i386__)
   __builtin_ia32_pause();
@@ -68,7 +70,12 @@ void BackgroundJob::start(Fn fn, void* ctx) {
 
 void BackgroundJob::finish() {
   if (!running_) return;
-  while (!done_.load(std::memory_order_acquire)) pause();
+  // Spin (~100 us of pauses), then yield: where the job's thread waits for this core (more
+  // threads than cores: tests run side by side), it runs in this thread's place.
+  for (int i = 0; !done_.load(std::memory_order_acquire); ++i) {
+    if (i < kSpins) pause();
+    else std::this_thread::yield();
+  }
   running_ = false;
 }
 

@@ -24,8 +24,9 @@ class BackgroundJob {
   void set_threaded(bool on);
   [[nodiscard]] bool threaded() const { return threaded_; }
   void start(Fn fn, void* ctx);
-  // Waits for the started run (spinning: the caller is a real-time loop whose wait is short and
-  // whose thread CPU time is its tick's cost), then returns. Nothing started: returns at once.
+  // Waits for the started run (spinning, then yielding: the caller is a real-time loop whose
+  // wait is short and whose thread CPU time is its tick's cost), then returns. Nothing
+  // started: returns at once.
   void finish();
 
  private:
