@@ -41,6 +41,48 @@ TEST(MeshWall, ProbeAgreesWithTheAnalyticTube) {
   EXPECT_FALSE(wall.probe(probe, hint, c));
 }
 
+// The hint slots are kept apart per probe pool (wall_model.hpp: the released coils' thread probes
+// from pool 1, the haptic thread from pool 0): a node takes a slot of the pool it is probed from,
+// a node probed from the other pool moves to a slot of that one, and the answers are the same.
+// A wall of one slot has one pool.
+TEST(MeshWall, EachProbePoolTakesSlotsOfItsOwn) {
+  const std::vector<glm::dvec3> axis{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
+  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 48, 7));
+  ASSERT_TRUE(build) << build.error().message;
+  const MeshWall wall(*build, 8);  // pool 0: slots 0-5, pool 1: slots 6-7
+  WallProbe probe;
+  probe.radius_mm = 0.2;
+  std::vector<WallHint> hints(10);
+  std::vector<double> distances;
+  for (std::size_t k = 0; k < hints.size(); ++k) {
+    probe.center_mm = {0.05 * static_cast<double>(k), 0.0, static_cast<double>(k)};
+    WallContact c;
+    ASSERT_TRUE(wall.probe(probe, hints[k], c));
+    EXPECT_LT(hints[k].index, 6u) << "node " << k;
+    distances.push_back(c.distance_mm);
+  }
+  {
+    const ProbePoolScope pool(1);
+    EXPECT_EQ(probe_pool(), 1);
+    for (std::size_t k = 0; k < hints.size(); ++k) {
+      probe.center_mm = {0.05 * static_cast<double>(k), 0.0, static_cast<double>(k)};
+      WallContact c;
+      ASSERT_TRUE(wall.probe(probe, hints[k], c));
+      EXPECT_GE(hints[k].index, 6u) << "node " << k;
+      EXPECT_LT(hints[k].index, 8u) << "node " << k;
+      EXPECT_NEAR(c.distance_mm, distances[k], 1e-9) << "node " << k;
+    }
+  }
+  EXPECT_EQ(probe_pool(), 0);
+  const MeshWall one(*build, 1);
+  const ProbePoolScope pool(1);
+  WallHint h;
+  WallContact c;
+  probe.center_mm = {0.5, 0.0, 10.0};
+  ASSERT_TRUE(one.probe(probe, h, c));
+  EXPECT_EQ(h.index, 0u);
+}
+
 // Fused probes (a node that touched the wall gets one sphere query for its contacts and its
 // closest point) answer as the two queries do, node by node along walks on a meshed bend that
 // touch the wall, leave it and come back; most probes after the first are fused.

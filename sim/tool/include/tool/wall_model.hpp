@@ -52,7 +52,7 @@ struct WallHint {
 // The hint pool the calling thread's probes take their slots from: 0, the haptic thread's; 1,
 // the thread that solves the released coils beside it (Simulator, background_job.hpp). A wall
 // that keeps per-slot state (MeshWall) keeps each pool's slots apart, so two threads probing at
-// once never share one; answers do not depend on the slots. Set for a scope.
+// once never share one (a slot only speeds its node's queries up: MeshWall). Set for a scope.
 inline constexpr int kProbePools = 2;
 [[nodiscard]] int probe_pool();
 class ProbePoolScope {
