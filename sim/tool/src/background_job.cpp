@@ -24,7 +24,9 @@ inline void pause() {
 
 }  // namespace
 
-BackgroundJob::BackgroundJob() : threaded_(kThreadedByDefault && std::thread::hardware_concurrency() > 1) {}
+bool BackgroundJob::threaded_by_default() { return kThreadedByDefault && std::thread::hardware_concurrency() > 1; }
+
+BackgroundJob::BackgroundJob() : threaded_(threaded_by_default()) {}
 
 BackgroundJob::~BackgroundJob() {
   finish();

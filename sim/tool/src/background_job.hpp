@@ -23,6 +23,8 @@ class BackgroundJob {
 
   void set_threaded(bool on);
   [[nodiscard]] bool threaded() const { return threaded_; }
+  // Threaded unless in the WebAssembly build or on a single core.
+  [[nodiscard]] static bool threaded_by_default();
   void start(Fn fn, void* ctx);
   // Waits for the started run (spinning, then yielding: the caller is a real-time loop whose
   // wait is short and whose thread CPU time is its tick's cost), then returns. Nothing

@@ -30,7 +30,7 @@ void Simulator::set_released_in_parallel(bool on) {
   job_->set_threaded(on);
 }
 
-bool Simulator::released_in_parallel() const { return job_ ? job_->threaded() : BackgroundJob().threaded(); }
+bool Simulator::released_in_parallel() const { return job_ ? job_->threaded() : BackgroundJob::threaded_by_default(); }
 
 const Rod* Simulator::job_rod(const Rod* rod) {
   for (std::size_t i = 0; i < coil_views_.size(); ++i) {
