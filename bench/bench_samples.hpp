@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
 #include <time.h>
 
 #include <benchmark/benchmark.h>
@@ -19,6 +20,17 @@ inline double thread_cpu_us() {
   timespec ts{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) * 1e6 + static_cast<double>(ts.tv_nsec) * 1e-3;
+}
+
+// The calling thread's page faults (minor and major) and involuntary context switches so far:
+// the difference across a call is what it took (a fresh page, a preemption).
+struct ThreadUsage {
+  long faults = 0, preemptions = 0;
+};
+inline ThreadUsage thread_usage() {
+  rusage r{};
+  getrusage(RUSAGE_THREAD, &r);
+  return {r.ru_minflt + r.ru_majflt, r.ru_nivcsw};
 }
 
 // The q-quantile (0..1) of sorted values: the value at rank floor(q n), the last for q = 1; 0

@@ -41,8 +41,6 @@
 #include <thread>
 #include <vector>
 
-#include <sys/resource.h>
-
 #include "session/action_script_hand.hpp"
 #include "session/clock.hpp"
 #include "session/haptic_thread.hpp"
@@ -250,16 +248,13 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     cathbox::session::HapticThread loop(clock, kPeriod_us, [&](std::int64_t sim_us) {
       // How late this tick starts on its deadline (the dropped ticks' deadlines skipped).
       behind_us = std::max(behind_us, clock.now_us() - (sim_us + loop.dropped() * kPeriod_us));
-      rusage r0{};
-      getrusage(RUSAGE_THREAD, &r0);
+      const long faults0 = cathbox::bench::thread_usage().faults;
       solves.begin_tick();
       const double c0 = thread_cpu_us();
       session->step_virtual(1);
       const double used = thread_cpu_us() - c0;
       solves.end_tick(used, static_cast<double>(kPeriod_us));
-      rusage r1{};
-      getrusage(RUSAGE_THREAD, &r1);
-      const long faults = r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt;
+      const long faults = cathbox::bench::thread_usage().faults - faults0;
       faults_all += faults;
       if (used > static_cast<double>(kPeriod_us)) faults_over += faults;
       cpu_us.push_back(used);

@@ -8,8 +8,6 @@
 #include <string>
 #include <vector>
 
-#include <sys/resource.h>
-
 #include <benchmark/benchmark.h>
 
 #include "../bench_samples.hpp"
@@ -35,18 +33,16 @@ class StepTimes {
   // Times one sim.step() and keeps each rod's Newton iterations in it.
   void step(tool::Simulator& sim) {
     const Work before = total_work(sim);
-    rusage r0{};
-    getrusage(RUSAGE_THREAD, &r0);
+    const ThreadUsage u0 = thread_usage();
     const double c0 = thread_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
     sim.step();
     const auto t1 = std::chrono::steady_clock::now();
     cpu_.push_back(thread_cpu_us() - c0);
     wall_.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count());
-    rusage r1{};
-    getrusage(RUSAGE_THREAD, &r1);
-    switches_.push_back(static_cast<int>(r1.ru_nivcsw - r0.ru_nivcsw));
-    faults_.push_back(static_cast<int>(r1.ru_minflt - r0.ru_minflt + r1.ru_majflt - r0.ru_majflt));
+    const ThreadUsage u1 = thread_usage();
+    switches_.push_back(static_cast<int>(u1.preemptions - u0.preemptions));
+    faults_.push_back(static_cast<int>(u1.faults - u0.faults));
     rods_ = sim.tool_count();
     bool unconverged = false, substepped = false;
     for (std::size_t t = 0; t < rods_; ++t) {

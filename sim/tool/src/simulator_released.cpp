@@ -32,12 +32,16 @@ void Simulator::set_released_in_parallel(bool on) {
 
 bool Simulator::released_in_parallel() const { return job_ ? job_->threaded() : BackgroundJob::threaded_by_default(); }
 
-const Rod* Simulator::job_rod(const Rod* rod) {
+// A field member's rod as the job's field sees it: a released coil's view -> the coil, a tool ->
+// its view, refreshed to the tool as the step begins when `refresh`.
+const Rod* Simulator::job_rod(const Rod* rod, bool refresh) {
   for (std::size_t i = 0; i < coil_views_.size(); ++i) {
     if (rod == &coil_views_[i]) return &detached_[i];
   }
   for (std::size_t t = 0; t < rods_.size(); ++t) {
-    if (rod == &rods_[t]) return &tool_views_[t];
+    if (rod != &rods_[t]) continue;
+    if (refresh) tool_views_[t].mirror_contact_view(rods_[t]);
+    return &tool_views_[t];
   }
   return rod;
 }
@@ -65,11 +69,8 @@ void Simulator::launch_released(double dt_s) {
   // The coils' field: the same members, the tools' views for the tools, the coils themselves.
   released_members_.assign(members_.begin(), members_.end());
   for (RodContactField::Member& m : released_members_) {
-    for (std::size_t t = 0; t < rods_.size(); ++t) {
-      if (m.rod == &rods_[t]) tool_views_[t].mirror_contact_view(rods_[t]);
-    }
-    m.rod = job_rod(m.rod);
-    if (m.hollow != nullptr) m.hollow = job_rod(m.hollow);
+    m.rod = job_rod(m.rod, true);
+    if (m.hollow != nullptr) m.hollow = job_rod(m.hollow, false);  // compared, never read
   }
   released_contacts_.set_members(released_members_);
   released_dt_s_ = dt_s * static_cast<double>(released_turn_);

@@ -235,7 +235,7 @@ class Simulator {
   void launch_released(double dt_s);
   void finish_released();
   static void solve_released(void* simulator);  // the job: BackgroundJob's thread, or inline
-  [[nodiscard]] const Rod* job_rod(const Rod* rod);  // a field member's rod as the job's field sees it
+  [[nodiscard]] const Rod* job_rod(const Rod* rod, bool refresh);  // simulator_released.cpp
   void advance_partings(double dt_s);
   void release_coil(std::size_t tool);
   [[nodiscard]] bool zone_out(std::size_t tool) const;  // its coil's detachment zone is past the catheter's tip
