@@ -4,6 +4,8 @@
 // Part of obb_tree.cpp's translation unit (see query_basics.hpp).
 #include <algorithm>
 #include <cfloat>
+#include <cstdint>
+#include <iterator>
 
 #include "hint_cache.hpp"
 
@@ -19,7 +21,6 @@ struct Candidate {
   double segment_t;
   std::int32_t face;
   detail::TriangleFeature feature;
-  std::uint64_t key;
   vessel::FaceRegion region;
 };
 
@@ -85,36 +86,35 @@ class ContactCollector {
     if (!has_deepest_ || out.empty()) return 0;
     // Indices of the kept candidates (kMaxCandidates marks the deepest, kept separately).
     int kept[kMaxCandidates + 1];
-    double depth[kMaxCandidates + 1];
     int nk = 0;
     if (!overflow_) {
-      for (int i = 0; i < n_; ++i) items_[i].key = feature_key(d_, items_[i]);
       // By feature, then face: the triangles sharing an edge or a vertex report it with
       // points a few ulps apart, and the one kept must not depend on the order the tree
       // offered them (float bounds: the x86 builds' reciprocal estimate and fused clones, a
       // division in WebAssembly). Kept first-offered, the native and the WebAssembly sessions
       // took a crease's second plane from different faces and split (issue 29's line search).
-      std::sort(items_, items_ + n_, [](const Candidate& a, const Candidate& b) {
-        return a.key != b.key ? a.key < b.key : a.face < b.face;
-      });
-      bool deepest_kept = false;
+      // Grouped by feature in a small hash table (a sort of every candidate cost as much as the
+      // probe's triangle tests), each group keeping its lowest face; the groups kept are then
+      // taken in feature order: what sorting all of them by (feature, face) gave.
+      const int groups = group_by_feature();
       const std::uint64_t deepest_key = feature_key(d_, deepest_);
-      for (int i = 0; i < n_;) {
-        int j = i + 1;
-        while (j < n_ && items_[j].key == items_[i].key) ++j;
-        if (static_cast<std::uint32_t>(j - i) == expected_reports(d_, items_[i])) {
-          kept[nk++] = i;
-          if (items_[i].key == deepest_key) deepest_kept = true;
-        }
-        i = j;
+      bool deepest_kept = false;
+      Group* last = groups_;
+      for (int g = 0; g < groups; ++g) {
+        if (groups_[g].count == expected_reports(d_, items_[groups_[g].first])) *last++ = groups_[g];
+      }
+      std::sort(groups_, last, [](const Group& a, const Group& b) { return a.key < b.key; });
+      for (const Group* g = groups_; g != last; ++g) {
+        kept[nk++] = g->first;
+        deepest_kept = deepest_kept || g->key == deepest_key;
       }
       if (!deepest_kept) kept[nk++] = kMaxCandidates;
     } else {
       kept[nk++] = kMaxCandidates;
     }
-    for (int k = 0; k < nk; ++k) depth[k] = make_contact(candidate(kept[k])).depth_mm;
+    double depth[kMaxCandidates + 1];
     int order[kMaxCandidates + 1];
-    for (int k = 0; k < nk; ++k) order[k] = k;
+    for (int k = 0; k < nk; ++k) depth[k] = make_contact(candidate(kept[k])).depth_mm, order[k] = k;
     // Equal depths keep the candidates' order (a total order: std::sort's handling of equal
     // elements is the library's).
     std::sort(order, order + nk, [&](int a, int b) { return depth[a] != depth[b] ? depth[a] > depth[b] : a < b; });
@@ -124,6 +124,34 @@ class ContactCollector {
   }
 
  private:
+  struct Group {
+    std::uint64_t key;    // feature_key
+    int first;            // the candidate of the lowest face
+    std::uint32_t count;  // the candidates reporting the feature
+  };
+  static constexpr int kTableBits = 8;  // 256 slots for at most kMaxCandidates groups
+  static_assert((1 << kTableBits) >= 2 * kMaxCandidates);
+
+  // groups_[0 .. returned): the candidates' features, each with its count and lowest face.
+  int group_by_feature() {
+    std::int16_t table[1 << kTableBits];
+    std::fill(std::begin(table), std::end(table), std::int16_t{-1});
+    int groups = 0;
+    for (int i = 0; i < n_; ++i) {
+      const std::uint64_t key = feature_key(d_, items_[i]);
+      auto slot = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - kTableBits));
+      while (table[slot] >= 0 && groups_[table[slot]].key != key) slot = (slot + 1) & ((1u << kTableBits) - 1);
+      if (table[slot] < 0) {
+        table[slot] = static_cast<std::int16_t>(groups);
+        groups_[groups++] = Group{key, i, 1};
+        continue;
+      }
+      Group& g = groups_[table[slot]];
+      ++g.count;
+      if (items_[i].face < items_[g.first].face) g.first = i;
+    }
+    return groups;
+  }
   const Candidate& candidate(int index) const { return index == kMaxCandidates ? deepest_ : items_[index]; }
 
   Contact make_contact(const Candidate& c) const {
@@ -155,6 +183,7 @@ class ContactCollector {
   double radius_sq_;
   double radius_;
   Candidate items_[kMaxCandidates];
+  Group groups_[kMaxCandidates];
   int n_ = 0;
   bool overflow_ = false;
   Candidate deepest_;
@@ -179,7 +208,7 @@ struct SphereProbe {
       detail::block_corners(b, i, ta, tb, tc);
       const detail::PointOnTriangle q = detail::closest_on_triangle(centre, ta, tb, tc);
       const glm::dvec3 diff = centre - q.point;
-      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, 0, b.region}, b, i);
+      out.add({glm::dot(diff, diff), q.point, centre, 0.0, f, q.feature, b.region}, b, i);
     }
   }
 };
@@ -196,7 +225,7 @@ struct CapsuleProbe {
       detail::block_corners(blk, i, ta, tb, tc);
       const detail::SegmentOnTriangle q = detail::closest_segment_triangle(a, b, ta, tb, tc);
       out.add({q.distance_sq, q.on_triangle.point, a + q.segment_t * (b - a), q.segment_t, f,
-               q.on_triangle.feature, 0, blk.region}, blk, i);
+               q.on_triangle.feature, blk.region}, blk, i);
     }
   }
 };
