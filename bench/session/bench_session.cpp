@@ -20,8 +20,9 @@
 //    (no other process, no scheduling). Per tick: median, p99, max CPU; ticks over the 1 ms
 //    budget; ticks the pacer dropped; the latest a tick started; the second of the run with
 //    the most ticks over budget; the released coils' steps skipped asleep and their wakes; page
-//    faults in the ticks. The ten slowest ticks (case time, CPU) and the over-budget ticks' CPU by
-//    solve (tick_solves.hpp: each rod by the sub-increments its solve ended in) go to stderr.
+//    faults in the ticks. The ten slowest ticks (case time, CPU), the dropped and the over-budget
+//    ticks by second of the case, and the over-budget ticks' CPU by solve (tick_solves.hpp: each
+//    rod by the sub-increments its solve ended in) go to stderr.
 //    The released coils' job runs on the other core (the haptic thread spins while it waits:
 //    its CPU time is the tick's). Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
@@ -227,6 +228,15 @@ void print_slowest_ticks(const std::string& case_name, const std::vector<double>
   std::fprintf(stderr, "\n");
 }
 
+// The seconds of the case with a count, as "second: count".
+void print_seconds(const std::string& case_name, const char* what, const std::vector<int>& per_second) {
+  std::fprintf(stderr, "%s: %s (s: n):", case_name.c_str(), what);
+  for (std::size_t s = 0; s < per_second.size(); ++s) {
+    if (per_second[s] > 0) std::fprintf(stderr, " %zu: %d", s, per_second[s]);
+  }
+  std::fprintf(stderr, "\n");
+}
+
 void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
   const std::string base = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name;
   for (auto _ : state) {
@@ -240,8 +250,8 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     cathbox::session::VirtualClock clock;
     std::vector<double> cpu_us;
     std::vector<std::int64_t> tick_at_us;
-    std::vector<int> over_per_second;
-    std::int64_t behind_us = 0;
+    std::vector<int> over_per_second, dropped_per_second;
+    std::int64_t behind_us = 0, dropped_seen = 0;
     long faults_over = 0, faults_all = 0;
     cathbox::bench::TickSolves solves;
     session->set_solve_observer(&solves);
@@ -260,8 +270,11 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
       cpu_us.push_back(used);
       tick_at_us.push_back(sim_us);
       const auto second = static_cast<std::size_t>(sim_us / 1'000'000);
-      if (over_per_second.size() <= second) over_per_second.resize(second + 1, 0);
+      if (over_per_second.size() <= second) over_per_second.resize(second + 1, 0), dropped_per_second.resize(second + 1, 0);
       if (used > static_cast<double>(kPeriod_us)) ++over_per_second[second];
+      // The deadlines the pacer skipped before this tick, on the second they fell in.
+      dropped_per_second[second] += static_cast<int>(loop.dropped() - dropped_seen);
+      dropped_seen = loop.dropped();
       clock.advance_us(static_cast<std::int64_t>(used));
       return !session->over();
     });
@@ -286,6 +299,8 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
     state.counters["coil_steps_asleep"] = static_cast<double>(sleep.skipped_steps());
     state.counters["coil_wakes"] = static_cast<double>(sleep.wakes());
     print_slowest_ticks(case_name, cpu_us, tick_at_us);
+    print_seconds(case_name, "dropped ticks by second of the case", dropped_per_second);
+    print_seconds(case_name, "ticks over 1 ms by second of the case", over_per_second);
     solves.report(state, case_name, session->simulator());
   }
 }

@@ -29,10 +29,13 @@ class StepTimes {
     switches_.reserve(steps);
     faults_.reserve(steps);
     work_.reserve(steps);
+    released_.reserve(steps);
+    builds_.reserve(steps);
   }
   // Times one sim.step() and keeps each rod's Newton iterations in it.
   void step(tool::Simulator& sim) {
     const Work before = total_work(sim);
+    builds_seen_ = {sim.coil_contacts().list_builds(), sim.released_contacts().list_builds()};
     const ThreadUsage u0 = thread_usage();
     const double c0 = thread_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
@@ -43,6 +46,9 @@ class StepTimes {
     const ThreadUsage u1 = thread_usage();
     switches_.push_back(static_cast<int>(u1.preemptions - u0.preemptions));
     faults_.push_back(static_cast<int>(u1.faults - u0.faults));
+    released_.push_back(sim.released_timing());
+    builds_.push_back({static_cast<double>(sim.coil_contacts().list_builds() - builds_seen_[0]),
+                       static_cast<double>(sim.released_contacts().list_builds() - builds_seen_[1])});
     rods_ = sim.tool_count();
     bool unconverged = false, substepped = false;
     for (std::size_t t = 0; t < rods_; ++t) {
@@ -130,6 +136,7 @@ class StepTimes {
         state.counters[prefix + "tail_" + kWork[i]] = tail / tail_n;
       }
     }
+    report_released(state, p99, prefix);
     if (probes_.size() == cpu_.size()) {
       double all = 0.0, tail = 0.0;
       for (std::size_t k = 0; k < cpu_.size(); ++k) {
@@ -179,6 +186,41 @@ class StepTimes {
   std::vector<double> probes_;  // wall probes per step
   using Work = std::array<double, 4>;  // factorisations, rows factored, solves, line-search tries
   std::vector<Work> work_;              // per step, summed over the rods
+
+  std::vector<tool::Simulator::ReleasedTiming> released_;  // per step
+  std::vector<std::array<double, 2>> builds_;  // per step: list builds of the tools' field, the job's
+  std::array<std::uint64_t, 2> builds_seen_{};
+
+  // The released coils' job (Simulator::released_timing) over the steps in which it ran: its
+  // median run and the step's median wait for it (`released_run_median_us`,
+  // `released_wait_median_us`), and their means over the tail (`tail_released_run_us`,
+  // `tail_released_wait_us`; the tail: steps at or above the thread-CPU p99). A wait is time the
+  // calling thread spent done with the attached tools while the job still ran. And the
+  // candidate-list builds a step (RodContactField::list_builds) of the job's field, over all
+  // steps and the tail (`released_list_builds`, `tail_released_list_builds`), and of the tools'
+  // field over the tail (`tail_list_builds`; over all steps the bench's own `list_builds`).
+  void report_released(benchmark::State& state, double p99, const std::string& prefix) const {
+    if (released_.size() != cpu_.size() || builds_.size() != cpu_.size()) return;
+    std::vector<double> run, wait;
+    double tail_run = 0.0, tail_wait = 0.0, tail_n = 0.0, job_builds = 0.0, tail_builds[2] = {0.0, 0.0};
+    for (std::size_t k = 0; k < cpu_.size(); ++k) {
+      job_builds += builds_[k][1];
+      if (cpu_[k] >= p99) tail_builds[0] += builds_[k][0], tail_builds[1] += builds_[k][1], tail_n += 1.0;
+      if (released_[k].run_us <= 0.0) continue;
+      run.push_back(released_[k].run_us);
+      wait.push_back(released_[k].wait_us);
+      if (cpu_[k] >= p99) tail_run += released_[k].run_us, tail_wait += released_[k].wait_us;
+    }
+    if (run.empty()) return;
+    tail_n = std::max(1.0, tail_n);
+    state.counters[prefix + "released_run_median_us"] = pick(run, 0.5);
+    state.counters[prefix + "released_wait_median_us"] = pick(wait, 0.5);
+    state.counters[prefix + "tail_released_run_us"] = tail_run / tail_n;
+    state.counters[prefix + "tail_released_wait_us"] = tail_wait / tail_n;
+    state.counters[prefix + "released_list_builds"] = job_builds / static_cast<double>(cpu_.size());
+    state.counters[prefix + "tail_released_list_builds"] = tail_builds[1] / tail_n;
+    state.counters[prefix + "tail_list_builds"] = tail_builds[0] / tail_n;
+  }
 
   static Work total_work(const tool::Simulator& sim) {
     Work sum{};

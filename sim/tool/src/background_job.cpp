@@ -1,5 +1,6 @@
 #include "background_job.hpp"
 
+#include <chrono>
 #include <system_error>
 
 namespace cathbox::tool {
@@ -20,6 +21,12 @@ inline void pause() {
 #else
   std::this_thread::yield();
 #endif
+}
+
+double timed(BackgroundJob::Fn fn, void* ctx) {
+  const auto t0 = std::chrono::steady_clock::now();
+  fn(ctx);
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -47,7 +54,7 @@ void BackgroundJob::set_threaded(bool on) {
 void BackgroundJob::start(Fn fn, void* ctx) {
   finish();
   if (!threaded_) {
-    fn(ctx);
+    run_inline(fn, ctx);
     return;
   }
   if (!thread_.joinable()) {
@@ -55,7 +62,7 @@ void BackgroundJob::start(Fn fn, void* ctx) {
       thread_ = std::thread([this] { loop(); });
     } catch (const std::system_error&) {  // no thread to be had: the job runs here, as unthreaded
       threaded_ = false;
-      fn(ctx);
+      run_inline(fn, ctx);
       return;
     }
   }
@@ -70,14 +77,21 @@ void BackgroundJob::start(Fn fn, void* ctx) {
   running_ = true;
 }
 
+void BackgroundJob::run_inline(Fn fn, void* ctx) {
+  run_us_ = timed(fn, ctx);
+  wait_us_ = 0.0;
+}
+
 void BackgroundJob::finish() {
   if (!running_) return;
+  const auto t0 = std::chrono::steady_clock::now();
   // Spin (~100 us of pauses), then yield: where the job's thread waits for this core (more
   // threads than cores: tests run side by side), it runs in this thread's place.
   for (int i = 0; !done_.load(std::memory_order_acquire); ++i) {
     if (i < kSpins) pause();
     else std::this_thread::yield();
   }
+  wait_us_ = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   running_ = false;
 }
 
@@ -93,7 +107,7 @@ void BackgroundJob::loop() {
       fn = fn_;
       ctx = ctx_;
     }
-    fn(ctx);
+    run_us_ = timed(fn, ctx);
     done_.store(true, std::memory_order_release);
   }
 }

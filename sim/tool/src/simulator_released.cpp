@@ -84,7 +84,11 @@ void Simulator::solve_released(void* simulator) {
 }
 
 void Simulator::finish_released() {
-  if (job_) job_->finish();
+  released_timing_ = {};
+  if (job_ && !solving_.empty()) {
+    job_->finish();
+    released_timing_ = {job_->last_run_us(), job_->last_wait_us()};
+  }
   for (const std::size_t i : solving_) {
     coil_views_[i].mirror_contact_view(detached_[i]);
     if (observer_ != nullptr) observer_->solved(true, i, detached_[i]);

@@ -152,8 +152,17 @@ class Simulator {
   // by default with two or more cores (off in the WebAssembly build).
   void set_released_in_parallel(bool on);
   [[nodiscard]] bool released_in_parallel() const;
+  // The last step's released-coil job, in microseconds of the steady clock (for benches): how
+  // long it ran, and how long the step then waited for it (0 when it was over first, inline,
+  // or when no released coil was solved).
+  struct ReleasedTiming {
+    double run_us = 0.0, wait_us = 0.0;
+  };
+  [[nodiscard]] ReleasedTiming released_timing() const { return released_timing_; }
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
+  // The released coils' own field (launch_released), for benches.
+  [[nodiscard]] const RodContactField& released_contacts() const { return released_contacts_; }
   // Told of each rod solve as step() makes it (a tool's, or a released coil's on its turn), for
   // benches that attribute a tick's time to its solves (bench/session's CaseAtRigSpeed). It
   // only reads; null (the default) costs a test per solve.
@@ -303,6 +312,7 @@ class Simulator {
   RodContactField released_contacts_;
   std::vector<RodContactField::Member> released_members_;  // scratch
   std::vector<std::size_t> solving_;  // the released coils this step's job solves
+  ReleasedTiming released_timing_;
   double released_dt_s_ = 0.0;
   std::unique_ptr<BackgroundJob> job_;
 };
