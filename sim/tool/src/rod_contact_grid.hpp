@@ -24,13 +24,27 @@ inline bool apart(const glm::dvec3& mid_a, double reach_a, const glm::dvec3& mid
   return glm::dot(d, d) > r * r;
 }
 
-// v.assign(n, value) that grows v's buffer geometrically: assign alone reallocates to exactly n
-// whenever n exceeds the capacity, and a list that grows by a few pairs a build then takes fresh
-// pages (page faults in the haptic tick) on every build.
+// Room for n, the buffer grown geometrically: reserving (or assigning) alone reallocates to
+// exactly n whenever n exceeds the capacity, and a list that grows by a few pairs a build then
+// takes fresh pages (page faults in the haptic tick) on every build.
+template <class Vector>
+void reserve_grown(Vector& v, std::size_t n) {
+  if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / 2));
+}
+
+// v.assign(n, value) on a geometrically grown buffer.
 template <class Vector, class Value>
 void assign_grown(Vector& v, std::size_t n, const Value& value) {
-  if (n > v.capacity()) v.reserve(std::max(n, v.capacity() + v.capacity() / 2));
+  reserve_grown(v, n);
   v.assign(n, value);
+}
+
+// At least n elements, those there kept (new ones value-initialised): for arrays every user of
+// which writes before it reads, or tells old entries apart.
+template <class Vector>
+void resize_grown(Vector& v, std::size_t n) {
+  reserve_grown(v, n);
+  if (v.size() < n) v.resize(n);
 }
 
 }  // namespace rod_contact_detail

@@ -15,6 +15,7 @@ namespace cathbox::tool {
 
 using rod_contact_detail::apart;
 using rod_contact_detail::assign_grown;
+using rod_contact_detail::resize_grown;
 
 bool RodContactField::update_mids() const {
   // An edge's middle that moved less than half the skin since the list was built keeps every
@@ -149,25 +150,32 @@ void RodContactField::build_list() const {
     pairs_[next_[i]++] = j;
     pairs_[next_[j]++] = i;
   }
-  assign_grown(last_gap_, pairs_.size(), LastGap{});
-  if (partial) keep_last_gaps();
-  assign_grown(lower_side_, pairs_.size(), LowerSide{});
-  gathers_ = 0;
+  if (partial) {
+    keep_last_gaps();
+  } else {
+    assign_grown(last_gap_, pairs_.size(), LastGap{});
+  }
+  // A slot's lower side from before this build carries an earlier gather's stamp, which no later
+  // gather takes for its own (the stamps only rise): the sides need no clearing, only room.
+  resize_grown(lower_side_, pairs_.size());
   list_valid_ = true;
 }
 
 // A pair listed again keeps its last tested bound: it holds whatever the list does, each item's
 // drift and reference being its own (without it the gathers after a build tested every pair of
-// the items listed again). Both lists of an item are sorted: one merge walk.
+// the items listed again); a new pair is untested. Both lists of an item are sorted: one merge
+// walk, which writes every slot.
 void RodContactField::keep_last_gaps() const {
   const std::size_t n = items_.size();
-  for (std::size_t i = 0; i < n && i + 1 < kept_start_.size(); ++i) {
-    std::uint32_t o = kept_start_[i];
-    const std::uint32_t o_end = kept_start_[i + 1];
-    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1] && o < o_end; ++p) {
+  resize_grown(last_gap_, pairs_.size());  // every slot written below
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool kept = i + 1 < kept_start_.size();
+    std::uint32_t o = kept ? kept_start_[i] : 0;
+    const std::uint32_t o_end = kept ? kept_start_[i + 1] : 0;
+    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
       const std::uint32_t j = pairs_[p];
       while (o < o_end && kept_pairs_[o] < j) ++o;
-      if (o < o_end && kept_pairs_[o] == j) last_gap_[p] = kept_gap_[o];
+      last_gap_[p] = o < o_end && kept_pairs_[o] == j ? kept_gap_[o] : LastGap{};
     }
   }
 }

@@ -179,7 +179,7 @@ class RodContactField final : public RodObstacles {
   };
   mutable std::vector<std::uint32_t> mirror_;
   mutable std::vector<LowerSide> lower_side_;
-  mutable std::uint32_t gathers_ = 0;
+  mutable std::uint32_t gathers_ = 0;  // the stamp of the last gather: rises across builds
   using Half = std::pair<std::uint32_t, std::uint32_t>;
   mutable std::vector<Half> halves_;  // the last build's pairs, lower item first, rising
   mutable std::vector<Half> fresh_, lower_, merged_;  // a build's new pairs, and a merge
