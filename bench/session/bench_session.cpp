@@ -270,7 +270,10 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
       cpu_us.push_back(used);
       tick_at_us.push_back(sim_us);
       const auto second = static_cast<std::size_t>(sim_us / 1'000'000);
-      if (over_per_second.size() <= second) over_per_second.resize(second + 1, 0), dropped_per_second.resize(second + 1, 0);
+      if (over_per_second.size() <= second) {
+        over_per_second.resize(second + 1, 0);
+        dropped_per_second.resize(second + 1, 0);
+      }
       if (used > static_cast<double>(kPeriod_us)) ++over_per_second[second];
       // The deadlines the pacer skipped before this tick, on the second they fell in.
       dropped_per_second[second] += static_cast<int>(loop.dropped() - dropped_seen);

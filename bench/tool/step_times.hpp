@@ -35,7 +35,7 @@ class StepTimes {
   // Times one sim.step() and keeps each rod's Newton iterations in it.
   void step(tool::Simulator& sim) {
     const Work before = total_work(sim);
-    builds_seen_ = {sim.coil_contacts().list_builds(), sim.released_contacts().list_builds()};
+    const std::uint64_t builds0[2] = {sim.coil_contacts().list_builds(), sim.released_contacts().list_builds()};
     const ThreadUsage u0 = thread_usage();
     const double c0 = thread_cpu_us();
     const auto t0 = std::chrono::steady_clock::now();
@@ -47,8 +47,8 @@ class StepTimes {
     switches_.push_back(static_cast<int>(u1.preemptions - u0.preemptions));
     faults_.push_back(static_cast<int>(u1.faults - u0.faults));
     released_.push_back(sim.released_timing());
-    builds_.push_back({static_cast<double>(sim.coil_contacts().list_builds() - builds_seen_[0]),
-                       static_cast<double>(sim.released_contacts().list_builds() - builds_seen_[1])});
+    builds_.push_back({static_cast<double>(sim.coil_contacts().list_builds() - builds0[0]),
+                       static_cast<double>(sim.released_contacts().list_builds() - builds0[1])});
     rods_ = sim.tool_count();
     bool unconverged = false, substepped = false;
     for (std::size_t t = 0; t < rods_; ++t) {
@@ -189,7 +189,6 @@ class StepTimes {
 
   std::vector<tool::Simulator::ReleasedTiming> released_;  // per step
   std::vector<std::array<double, 2>> builds_;  // per step: list builds of the tools' field, the job's
-  std::array<std::uint64_t, 2> builds_seen_{};
 
   // The released coils' job (Simulator::released_timing) over the steps in which it ran: its
   // median run and the step's median wait for it (`released_run_median_us`,
