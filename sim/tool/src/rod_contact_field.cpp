@@ -175,16 +175,29 @@ bool RodContactField::excluded_now(const Member& a, std::size_t ea, const Member
 
 template <typename Fn>
 void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const {
+  // In chunks of an item's list: the broad phase of every slot first, without a branch (which
+  // way a packed sac's pairs go is a coin toss: half of a released coil's ~9,000 slots a gather
+  // are apart), then the slots it keeps, in their order.
+  constexpr std::uint32_t kChunk = 64;
+  std::uint32_t near[kChunk];
   for (std::uint32_t i = first_item_[mi]; i < first_item_[mi + 1]; ++i) {
     const Item& a = items_[i];
     const Ball ball = balls_[i];
-    for (std::uint32_t p = pair_start_[i]; p < pair_start_[i + 1]; ++p) {
-      const std::uint32_t j = pairs_[p];
-      if (apart(ball.mid, ball.reach, balls_[j].mid, balls_[j].reach, margin)) continue;
-      const Item& b = items_[j];
-      const Member& other = members_[b.member];
-      if (excluded_now(me, a.edge, other, b.edge)) continue;
-      fn(a, other, b, p);
+    for (std::uint32_t from = pair_start_[i]; from < pair_start_[i + 1]; from += kChunk) {
+      const std::uint32_t to = std::min(from + kChunk, pair_start_[i + 1]);
+      std::uint32_t kept = 0;
+      for (std::uint32_t p = from; p < to; ++p) {
+        const Ball& other = balls_[pairs_[p]];
+        near[kept] = p;
+        kept += apart(ball.mid, ball.reach, other.mid, other.reach, margin) ? 0u : 1u;
+      }
+      for (std::uint32_t k = 0; k < kept; ++k) {
+        const std::uint32_t p = near[k];
+        const Item& b = items_[pairs_[p]];
+        const Member& other = members_[b.member];
+        if (excluded_now(me, a.edge, other, b.edge)) continue;
+        fn(a, other, b, p);
+      }
     }
   }
 }
