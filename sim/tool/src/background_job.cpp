@@ -23,10 +23,14 @@ inline void pause() {
 #endif
 }
 
+double us_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+}
+
 double timed(BackgroundJob::Fn fn, void* ctx) {
   const auto t0 = std::chrono::steady_clock::now();
   fn(ctx);
-  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  return us_since(t0);
 }
 
 }  // namespace
@@ -91,7 +95,7 @@ void BackgroundJob::finish() {
     if (i < kSpins) pause();
     else std::this_thread::yield();
   }
-  wait_us_ = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+  wait_us_ = us_since(t0);
   running_ = false;
 }
 

@@ -187,9 +187,9 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
       const std::uint32_t to = std::min(from + kChunk, pair_start_[i + 1]);
       std::uint32_t kept = 0;
       for (std::uint32_t p = from; p < to; ++p) {
-        const Ball& other = balls_[pairs_[p]];
+        const Ball& partner = balls_[pairs_[p]];
         near[kept] = p;
-        kept += apart(ball.mid, ball.reach, other.mid, other.reach, margin) ? 0u : 1u;
+        kept += apart(ball.mid, ball.reach, partner.mid, partner.reach, margin) ? 0u : 1u;
       }
       for (std::uint32_t k = 0; k < kept; ++k) {
         const std::uint32_t p = near[k];
