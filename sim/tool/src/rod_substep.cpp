@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rod_node_contact.hpp"
 #include "rod_step_start.hpp"
 
 namespace cathbox::tool {
@@ -73,6 +74,14 @@ void Rod::restore_step_start(int parts) {
   const std::size_t from = s.from;
   // Nodes that joined the window below its start during the failed attempt go back outside.
   for (std::size_t k = std::min(first_, from); k < from; ++k) place_outside(k);
+  // The wall hints stay the ones the failed attempt left: a node whose first probe in its
+  // thread's pool took a slot there (a released coil's first solve after its release, in probe
+  // pool 1) keeps it, warm, instead of taking another, cold, on every try in parts (a hint only
+  // speeds a query up: the results are the same).
+  for (std::size_t k = from; k < node_contacts_.size() && k - from < s.node_contacts.size(); ++k) {
+    s.node_contacts[k - from].hint = node_contacts_[k].hint;
+    s.node_contacts[k - from].edge.hint = node_contacts_[k].edge.hint;
+  }
   s.pair_with(
       *this, [&](const auto& kept, auto& live) { put_back(live, kept, from); },
       [](const auto& kept, auto& live) { live = kept; });
