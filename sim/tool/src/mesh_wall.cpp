@@ -26,30 +26,15 @@ MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_
 void MeshWall::take_slot(WallHint& hint) const {
   const int asked = probe_pool();
   const int pool = pool_start_[asked + 1] > pool_start_[asked] ? asked : 0;  // a one-slot wall: one pool
-  if (hint.index >= pool_start_[pool] && hint.index < pool_start_[pool + 1]) return;
-  hint.index = next_in(pool);
+  const std::uint32_t lo = pool_start_[pool];
+  const std::uint32_t hi = pool_start_[pool + 1];
+  if (hint.index >= lo && hint.index < hi) return;
+  hint.index = lo + next_slot_[pool];
+  next_slot_[pool] = (next_slot_[pool] + 1) % (hi - lo);
   ++cold_[pool];
   hints_[hint.index].reset();
   touching_[hint.index] = 0;
   if (!axis_hints_.empty()) axis_hints_[hint.index] = AxisHint{};
-}
-
-std::uint32_t MeshWall::next_in(int pool) const {
-  const std::uint32_t lo = pool_start_[pool];
-  const std::uint32_t slot = lo + next_slot_[pool];
-  next_slot_[pool] = (next_slot_[pool] + 1) % (pool_start_[pool + 1] - lo);
-  return slot;
-}
-
-void MeshWall::hand_over(WallHint& hint, int pool) const {
-  if (pool < 0 || pool >= kProbePools || pool_start_[pool + 1] <= pool_start_[pool]) return;
-  if (hint.index >= hints_.size()) return;  // no slot yet: its first query takes one
-  if (hint.index >= pool_start_[pool] && hint.index < pool_start_[pool + 1]) return;
-  const std::uint32_t from = hint.index;
-  hint.index = next_in(pool);
-  hints_[hint.index] = hints_[from];
-  touching_[hint.index] = touching_[from];
-  if (!axis_hints_.empty()) axis_hints_[hint.index] = axis_hints_[from];
 }
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {

@@ -144,11 +144,4 @@ void Rod::keep_proximal(std::size_t k0, double length_mm) {
   update_window();
 }
 
-void Rod::hand_over_hints(const WallModel& wall, int pool) {
-  for (NodeContact& nc : node_contacts_) {
-    wall.hand_over(nc.hint, pool);
-    wall.hand_over(nc.edge.hint, pool);
-  }
-}
-
 }  // namespace cathbox::tool

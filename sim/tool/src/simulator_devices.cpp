@@ -93,9 +93,6 @@ void Simulator::release_coil(std::size_t tool) {
   stepped_depth_[tool] = tip_depth_mm(tool);
   coupling_next_[tool].resize(rod.node_total());
   coil.settings().warm_start = tuning::kReleasedCoilWarmStart;
-  // Solved from now on by the released coils' job, in probe pool 1 (simulator_released.cpp):
-  // its nodes' wall hints go there warm (before the next job starts, so no thread probes there).
-  coil.hand_over_hints(*wall_, 1);
   detached_.push_back(std::move(coil));
   coil_views_.push_back(Rod::contact_view_of(detached_.back()));
   // The field's members point at the rods: the pusher is shorter and detached_ may have moved.

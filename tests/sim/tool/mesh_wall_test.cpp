@@ -83,37 +83,6 @@ TEST(MeshWall, EachProbePoolTakesSlotsOfItsOwn) {
   EXPECT_EQ(h.index, 0u);
 }
 
-// A node handed over to another pool (a coil released to the released coils' thread) takes a slot
-// of that pool with its cut: its first query there is answered from the cut (no refill, no slot
-// taken afresh) and answers as it did. Not handed over, that query takes a slot cold.
-TEST(MeshWall, AHintHandedOverToAnotherPoolStaysWarm) {
-  const std::vector<glm::dvec3> axis{{0, 0, -5}, {0, 0, 5}, {0, 0, 15}, {0, 0, 25}};
-  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 48, 7));
-  ASSERT_TRUE(build) << build.error().message;
-  const MeshWall wall(*build, 16);  // pool 0: slots 0-11, pool 1: 12-15
-  WallProbe probe;
-  probe.radius_mm = 0.2;
-  probe.center_mm = {0.55, 0.0, 10.0};
-  WallHint handed, cold;
-  WallContact before, after_handed, after_cold;
-  ASSERT_TRUE(wall.probe(probe, handed, before));
-  cold = handed;
-  const std::uint32_t in_pool0 = handed.index;
-  const std::uint32_t refills = wall.refills_of(handed);
-  wall.hand_over(handed, 1);
-  EXPECT_NE(handed.index, in_pool0);
-  EXPECT_EQ(wall.refills_of(handed), refills);  // the cut came with it
-  const ProbePoolScope pool(1);
-  ASSERT_TRUE(wall.probe(probe, handed, after_handed));
-  EXPECT_EQ(wall.cold_slots(1), 0u);
-  EXPECT_EQ(wall.refills_of(handed), refills);
-  EXPECT_DOUBLE_EQ(after_handed.distance_mm, before.distance_mm);
-  ASSERT_TRUE(wall.probe(probe, cold, after_cold));
-  EXPECT_EQ(wall.cold_slots(1), 1u);
-  EXPECT_EQ(wall.refills_of(cold), 1u);
-  EXPECT_DOUBLE_EQ(after_cold.distance_mm, before.distance_mm);
-}
-
 // Fused probes (a node that touched the wall gets one sphere query for its contacts and its
 // closest point) answer as the two queries do, node by node along walks on a meshed bend that
 // touch the wall, leave it and come back; most probes after the first are fused.

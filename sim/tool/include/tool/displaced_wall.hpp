@@ -25,7 +25,6 @@ class DisplacedWall final : public WallModel {
   [[nodiscard]] double displacement_mm(std::int32_t segment) const;
 
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
-  void hand_over(WallHint& hint, int pool) const override { inner_.hand_over(hint, pool); }
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return inner_.surface(); }
   [[nodiscard]] std::uint64_t revision() const override { return revision_; }
   [[nodiscard]] double lumen_radius_mm(const glm::dvec3& point_mm) const override {

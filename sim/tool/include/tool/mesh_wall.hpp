@@ -36,13 +36,8 @@ class MeshWall final : public WallModel {
   // A probe with lumen_axis (and a surface to read the centrelines from) is answered by the
   // tubes round the centrelines (LumenAxis), with the node's own axis hint; the mesh otherwise.
   [[nodiscard]] bool probe(const WallProbe& probe, WallHint& hint, WallContact& out) const override;
-  void hand_over(WallHint& hint, int pool) const override;
-  // Slots a node's query took afresh in pool `pool` (its cut reset: a cold query), and the cut
-  // refills of a node's slot so far (tests, benches).
+  // Slots a node's query took afresh in pool `pool` (its cut reset: a cold query; tests, benches).
   [[nodiscard]] std::uint64_t cold_slots(int pool) const { return pool >= 0 && pool < kProbePools ? cold_[pool] : 0; }
-  [[nodiscard]] std::uint32_t refills_of(const WallHint& hint) const {
-    return hint.index < hints_.size() ? hints_[hint.index].refills() : 0;
-  }
   // A node that touched the wall at its last probe is probed with one sphere query that also
   // gives its closest point (ObbTree::sphere_contacts with `nearest`), instead of a closest
   // point and then a sphere query; the answers are the same. Off: always the two queries (for
@@ -53,7 +48,6 @@ class MeshWall final : public WallModel {
 
  private:
   void take_slot(WallHint& hint) const;
-  [[nodiscard]] std::uint32_t next_in(int pool) const;  // the pool's next slot, round robin
   collision::ObbTree tree_;
   mutable std::vector<collision::QueryHint> hints_;
   mutable std::vector<std::uint8_t> touching_;  // per slot: the last probe found the wall within touch

@@ -80,10 +80,6 @@ class Rod {
   // the wall and other rods. This rod keeps the proximal part (its tip is the detachment
   // point; insertion and length shrink by length_mm).
   [[nodiscard]] Rod split_distal(double length_mm);
-  // Its nodes' wall hints moved to probe pool `pool` with what they hold (WallModel::hand_over):
-  // a released coil's, solved from now on by the released coils' thread, whose first probes are
-  // then as warm as its last ones on the tool.
-  void hand_over_hints(const WallModel& wall, int pool);
   // The detachment zone parting before split_distal: the bending and twisting stiffness of the
   // vertex `length_mm` from the tip (the joint of coil and pusher) at `share` of their built values
   // (1 restores them). False if that station is not a vertex of the rod.

@@ -89,14 +89,6 @@ class WallModel {
   // Counts the changes of a wall that moves in place (a displaced wall's pulse): a rod at rest
   // against it must be solved again when it changes. 0 for a wall that never moves.
   [[nodiscard]] virtual std::uint64_t revision() const { return 0; }
-  // A node about to be probed from probe pool `pool` (a coil released, solved from now on by the
-  // released coils' thread) takes a slot of that pool now, with what its slot holds: its first
-  // query there is then as warm as its last here, not cold. Only while no thread probes from
-  // `pool`. A wall with no per-node state (the default) has nothing to hand over.
-  virtual void hand_over(WallHint& hint, int pool) const {
-    (void)hint;
-    (void)pool;
-  }
 };
 
 // The nearest point of a segment's centreline to a point: its squared distance, the piece
