@@ -83,12 +83,26 @@ TEST(MeshWall, EachProbePoolTakesSlotsOfItsOwn) {
   EXPECT_EQ(h.index, 0u);
 }
 
+// The 90-degree bend of radius 15 mm the probes and rods below walk and are pushed through, its
+// tube meshed at `radius_mm`, and their wire: 200 mm at 20 N.mm2 with a 10 mm tip at 1 N.mm2.
+std::vector<glm::dvec3> bend_axis() { return testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0); }
+
+collision::TreeBuild meshed_bend(double radius_mm) {
+  return collision::ObbTree::build(testing::tube_mesh(bend_axis(), radius_mm, 24));
+}
+
+ToolSpec wire_with_a_soft_tip() {
+  ToolSpec spec;
+  spec.sections = {ToolSection{200.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{10.0, 0.36, 1.0, 0.8, 0.0}};
+  return spec;
+}
+
 // Fused probes (a node that touched the wall gets one sphere query for its contacts and its
 // closest point) answer as the two queries do, node by node along walks on a meshed bend that
 // touch the wall, leave it and come back; most probes after the first are fused.
 TEST(MeshWall, FusedProbesEqualTheTwoQueryProbes) {
-  const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
-  collision::TreeBuild build = collision::ObbTree::build(testing::tube_mesh(axis, 1.5, 24));
+  const std::vector<glm::dvec3> axis = bend_axis();
+  collision::TreeBuild build = meshed_bend(1.5);
   ASSERT_TRUE(build) << build.error().message;
   MeshWall fused(*build);
   MeshWall plain(*build);
@@ -126,25 +140,12 @@ TEST(MeshWall, FusedProbesEqualTheTwoQueryProbes) {
   EXPECT_GT(free, 100);
 }
 
-// The meshed 90-degree bend of radius 15 mm in a 1 mm tube the rods below are pushed through,
-// and their wire: 200 mm at 20 N.mm2 with a 10 mm tip at 1 N.mm2.
-collision::TreeBuild meshed_bend() {
-  const std::vector<glm::dvec3> axis = testing::bend_points(15.0, M_PI / 2.0, 5.0, 30.0, M_PI / 60.0);
-  return collision::ObbTree::build(testing::tube_mesh(axis, 1.0, 24));
-}
-
-ToolSpec wire_with_a_soft_tip() {
-  ToolSpec spec;
-  spec.sections = {ToolSection{200.0, 0.36, 20.0, 15.0, 0.0}, ToolSection{10.0, 0.36, 1.0, 0.8, 0.0}};
-  return spec;
-}
-
 // A tick solved again in parts starts each try from the step's start but keeps the wall hints
 // its first try left: a rod whose nodes took slots of a new pool on that try (a released coil's
 // first solve on its thread) keeps them, warm, through its tries in parts, where it took them
 // again, cold, on every try (a hint only speeds a query up: the same answers).
 TEST(MeshWall, ARodSolvedAgainInPartsKeepsTheSlotsItsFirstTryTook) {
-  collision::TreeBuild build = meshed_bend();
+  collision::TreeBuild build = meshed_bend(1.0);
   ASSERT_TRUE(build) << build.error().message;
   const MeshWall wall(*build);
   RodSettings settings;
@@ -167,7 +168,7 @@ TEST(MeshWall, ARodSolvedAgainInPartsKeepsTheSlotsItsFirstTryTook) {
 }
 
 TEST(MeshWall, RodThroughAMeshedBendStaysInTheLumen) {
-  collision::TreeBuild build = meshed_bend();
+  collision::TreeBuild build = meshed_bend(1.0);
   ASSERT_TRUE(build) << build.error().message;
   const MeshWall wall(*build);
   Rod rod(wire_with_a_soft_tip());
