@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "session/haptic_memory.hpp"
+
 namespace cathbox::session {
 
 HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick)
@@ -11,6 +13,7 @@ HapticThread::~HapticThread() { stop(); }
 
 void HapticThread::start() {
   if (thread_.joinable()) return;
+  keep_freed_memory();
   thread_ = base::jthread([this](base::stop_token stop) {
     scheduling_.store(ThreadPriority::favour_calling_thread(), std::memory_order_relaxed);
     run(std::move(stop));

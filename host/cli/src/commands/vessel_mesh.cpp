@@ -8,6 +8,7 @@
 #include "cli/args.hpp"
 #include "cli/exit_codes.hpp"
 #include "cli/usage.hpp"
+#include "session/haptic_memory.hpp"
 #include "vessel/control_mesh_builder.hpp"
 #include "vessel/mesh_analysis.hpp"
 #include "vessel/mesh_export.hpp"
@@ -21,12 +22,12 @@ namespace {
 // subdivision levels, then the mesh check's edge lists); glibc maps blocks over 128 KB-32 MB
 // afresh and unmaps them when freed, so every one is faulted in page by page again (~1 us a
 // page on a virtual machine, a quarter of the command's time at 7M triangles). Serving them
-// from the heap and keeping freed memory for the next one faults each page in once.
-// One arena for every thread, so that the check running beside the writer (run_mesh) reuses the
-// subdivision's freed memory too instead of faulting in an arena of its own.
-void keep_freed_memory() {
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+// from the heap and keeping freed memory for the next one faults each page in once
+// (session::keep_freed_memory). One arena for every thread, so that the check running beside
+// the writer (run_mesh) reuses the subdivision's freed memory too instead of faulting in an
+// arena of its own.
+void keep_freed_memory_in_one_arena() {
+  session::keep_freed_memory();
   mallopt(M_ARENA_MAX, 1);
 }
 
@@ -63,7 +64,7 @@ int run_mesh(cli::Args& args, const cli::GroupSpec& group) {
   const std::string& path = args.positionals()[0];
   const auto model = read_model(path);
   if (!model) return cli::kExitBadInput;
-  keep_freed_memory();
+  keep_freed_memory_in_one_arena();
   const vessel::VesselSurface surface = vessel::build_vessel_surface(*model, options);
   if (!surface.ok()) {
     std::fprintf(stderr, "%s: %s\n", path.c_str(), surface.error.c_str());
