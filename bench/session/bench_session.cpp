@@ -17,14 +17,15 @@
 //    thread's loop (HapticThread::run, its pacer: up to 4 late ticks caught up, the rest dropped)
 //    on a clock that moves by each tick's thread CPU time and jumps to the next deadline when the
 //    loop waits: what a rig whose haptic thread has a core of this machine to itself would run
-//    (no other process, no scheduling; the rig's heap policy, session/haptic_memory.hpp). Per tick: median, p99, max CPU; ticks over the 1 ms
-//    budget; ticks the pacer dropped; the latest a tick started; the second of the run with
-//    the most ticks over budget; the released coils' steps skipped asleep and their wakes; page
-//    faults in the ticks. The ten slowest ticks (case time, CPU), the dropped and the over-budget
-//    ticks by second of the case, and the over-budget ticks' CPU by solve (tick_solves.hpp: each
-//    rod by the sub-increments its solve ended in) go to stderr.
-//    The released coils' job runs on the other core (the haptic thread spins while it waits:
-//    its CPU time is the tick's). Opt-in (scripts/bench session): the dense coiling case takes ~45 s.
+//    (no other process, no scheduling; the rig's heap policy, session/haptic_memory.hpp). Per
+//    tick: median, p99, max CPU; ticks over the 1 ms budget; ticks the pacer dropped; the latest
+//    a tick started; the second of the run with the most ticks over budget; the released coils'
+//    steps skipped asleep and their wakes; page faults in the ticks. The ten slowest ticks (case
+//    time, CPU), the dropped and the over-budget ticks by second of the case, and the over-budget
+//    ticks' CPU by solve (tick_solves.hpp: each rod by the sub-increments its solve ended in) go
+//    to stderr. The released coils' job runs on the other core (the haptic thread spins while it
+//    waits: its CPU time is the tick's). Opt-in (scripts/bench session): the dense coiling case
+//    takes ~45 s.
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
 //    head-and-neck tree (cases/library/ica_straight.hclm) meshed with 10 points per ring (293k
 //    triangles) as STL, imported as a surface and written as `cathbox vessel import -o CASE_DIR`

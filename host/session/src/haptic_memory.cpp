@@ -10,7 +10,7 @@ namespace cathbox::session {
 
 void keep_freed_memory() {
 #if defined(__GLIBC__)
-  constexpr int kNever = 1 << 30;  // bytes: no block is mapped on its own, no top is trimmed
+  constexpr int kNever = 1 << 30;  // bytes: no block under 1 GB mapped on its own, no top trimmed
   (void)mallopt(M_MMAP_THRESHOLD, kNever);
   (void)mallopt(M_TRIM_THRESHOLD, kNever);
 #endif
