@@ -19,13 +19,11 @@ namespace cathbox::cli {
 namespace {
 
 // Meshing allocates and frees a few hundred bytes per output triangle in large blocks (the
-// subdivision levels, then the mesh check's edge lists); glibc maps blocks over 128 KB-32 MB
-// afresh and unmaps them when freed, so every one is faulted in page by page again (~1 us a
-// page on a virtual machine, a quarter of the command's time at 7M triangles). Serving them
-// from the heap and keeping freed memory for the next one faults each page in once
-// (session::keep_freed_memory). One arena for every thread, so that the check running beside
-// the writer (run_mesh) reuses the subdivision's freed memory too instead of faulting in an
-// arena of its own.
+// subdivision levels, then the mesh check's edge lists): kept in the heap
+// (session::keep_freed_memory says why), each page is faulted in once, not once per block (~1 us
+// a page on a virtual machine, a quarter of the command's time at 7M triangles). One arena for
+// every thread, so that the check running beside the writer (run_mesh) reuses the subdivision's
+// freed memory too instead of faulting in an arena of its own.
 void keep_freed_memory_in_one_arena() {
   session::keep_freed_memory();
   mallopt(M_ARENA_MAX, 1);
