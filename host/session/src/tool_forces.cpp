@@ -6,37 +6,53 @@
 
 namespace cathbox::session {
 
+namespace {
+
+// One tick of a force against the box's limits; `fresh`: no change counted from the last tick.
+void count(ToolForces::Tool& k, double f, std::int64_t time_us, bool fresh, const PassiveLawLimits& box,
+           std::int64_t changes_from_us) {
+  if (std::abs(f) > k.peak_mN) k.peak_mN = std::abs(f), k.peak_us = time_us;
+  if (std::abs(f) > box.full_scale_mN) ++k.over_full_scale;
+  if (k.seen && !fresh && time_us >= changes_from_us) {
+    const double change = std::abs(f - k.last_mN);
+    if (change > k.largest_change_mN) k.largest_change_mN = change, k.change_us = time_us;
+    if (change > box.slew_mN_per_ms * box.tick_ms) ++k.over_slew;
+  }
+  k.last_mN = f;
+  k.seen = true;
+}
+
+}  // namespace
+
 void ToolForces::observe(const TickView& v) {
   const tool::Simulator& sim = v.sim;
   if (tools_.size() < sim.tool_count()) tools_.resize(sim.tool_count());
   for (std::size_t t = 0; t < sim.tool_count(); ++t) {
-    Tool& k = tools_[t];
-    k.name = sim.rod(t).spec().name;
-    const double f = sim.hand_force_mN(t);
-    if (std::abs(f) > k.peak_mN) k.peak_mN = std::abs(f), k.peak_us = v.time_us;
-    if (std::abs(f) > box_.full_scale_mN) ++k.over_full_scale;
-    if (k.seen) {
-      const double change = std::abs(f - k.last_mN);
-      if (change > k.largest_change_mN) k.largest_change_mN = change, k.change_us = v.time_us;
-      if (change > slew_per_tick_mN()) ++k.over_slew;
-    }
-    k.last_mN = f;
-    k.seen = true;
+    tools_[t].name = sim.rod(t).spec().name;
+    count(tools_[t], sim.hand_force_mN(t), v.time_us, false, box_, changes_from_us_);
   }
+  const std::size_t h = v.input.held;
+  if (h >= sim.tool_count()) return;
+  bool fresh = h != held_.tool;
+  for (const Control& c : v.controls) fresh = fresh || c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil);
+  held_.tool = h;
+  count(held_, sim.hand_force_mN(h), v.time_us, fresh, box_, changes_from_us_);
 }
 
 std::string ToolForces::format() const {
   std::string out;
-  for (const Tool& k : tools_) {
-    char line[256];
-    std::snprintf(line, sizeof line,
+  const auto line = [&](const char* name, const Tool& k) {
+    char text[256];
+    std::snprintf(text, sizeof text,
                   "%-16s peak %8.1f mN at %8.3f s; largest change %7.1f mN/tick at %8.3f s; %lld ticks over %.0f mN/tick, "
                   "%lld over %.0f mN\n",
-                  k.name.c_str(), k.peak_mN, 1e-6 * static_cast<double>(k.peak_us), k.largest_change_mN,
+                  name, k.peak_mN, 1e-6 * static_cast<double>(k.peak_us), k.largest_change_mN,
                   1e-6 * static_cast<double>(k.change_us), static_cast<long long>(k.over_slew), slew_per_tick_mN(),
                   static_cast<long long>(k.over_full_scale), box_.full_scale_mN);
-    out += line;
-  }
+    out += text;
+  };
+  for (const Tool& k : tools_) line(k.name.c_str(), k);
+  if (held_.seen) line("(held tool)", held_);
   return out;
 }
 

@@ -124,17 +124,29 @@ cmp -s "$work/a.csv" "$work/b.csv" || fail "two replays of one record differ"
 [ "$(wc -l <"$work/a.csv")" -gt 100 ] || fail "replay log too short: $(wc -l <"$work/a.csv") lines"
 
 # Every tool's hand force against the box's limits (`--forces`): the wire alone is the held tool
-# throughout, so its peak is the metrics' peak hand force; the coil record has a line per tool.
+# throughout, so its peak is the metrics' peak hand force and the held tool's line is its own; the
+# coil record has a line per tool and one of the held tool. `session run --forces` prints the same
+# lines after its run.
 expect 0 "$cb" session replay "$rec" --forces
-forces_line='^[^ ].* peak +[0-9.]+ mN at +[0-9.]+ s; largest change +[0-9.]+ mN/tick at +[0-9.]+ s; [0-9]+ ticks over 100 mN/tick, [0-9]+ over 5000 mN$'
+figures=' peak +[0-9.]+ mN at +[0-9.]+ s; largest change +[0-9.]+ mN/tick at +[0-9.]+ s; [0-9]+ ticks over 100 mN/tick, [0-9]+ over 5000 mN$'
+forces_line="^[^ (].*$figures"
+held_line="^\\(held tool\\) *$figures"
 [ "$(grep -cE "$forces_line" "$work/out")" -eq 1 ] || fail "forces: not one tool line: $(cat "$work/out")"
-peak=$(grep -E "$forces_line" "$work/out" | sed -E 's/.* peak +([0-9.]+) mN.*/\1/')
+[ "$(grep -cE "$held_line" "$work/out")" -eq 1 ] || fail "forces: not one held tool line: $(cat "$work/out")"
+[ "$(grep -E "$forces_line" "$work/out" | sed -E 's/^[^ ]+ +//')" = "$(grep -E "$held_line" "$work/out" | sed -E 's/^\(held tool\) +//')" ] ||
+  fail "forces: the wire alone held, its figures differ from the held tool's: $(cat "$work/out")"
+grep -E "$forces_line|$held_line" "$work/out" >"$work/replayed_forces"
+expect 0 "$cb" session run --case "$cases/y_bifurcation.case" --script "$work/push.actions" --virtual --record "$work/y2.cbxrec" --forces
+grep -E "$forces_line|$held_line" "$work/out" | cmp -s - "$work/replayed_forces" ||
+  fail "forces: session run --forces differs from the replay's: $(tail -3 "$work/out")"
+peak=$(grep -E "$forces_line" "$work/replayed_forces" | sed -E 's/.* peak +([0-9.]+) mN.*/\1/')
 "$cb" session metrics "$rec" --json >"$work/metrics.json" || fail "forces: metrics"
 jq -e --argjson p "$peak" '(.peak_hand_force_mN - $p | fabs) < 0.06 and $p > 1' "$work/metrics.json" >/dev/null ||
   fail "forces: peak $peak against the metrics' $(jq .peak_hand_force_mN "$work/metrics.json")"
 expect 0 "$cb" session replay "$work/coil.cbxrec" --forces
 tools=$("$cb" session info "$work/coil.cbxrec" --json | jq '.tools | length')
 [ "$tools" -ge 2 ] && [ "$(grep -cE "$forces_line" "$work/out")" -eq "$tools" ] || fail "forces: $tools tools: $(cat "$work/out")"
+[ "$(grep -cE "$held_line" "$work/out")" -eq 1 ] || fail "forces: not one held tool line: $(cat "$work/out")"
 
 # Every tool's state tick by tick over a window (`--trace FROM-TO`): a line per tool and tick, the
 # held one marked, before the replay's summary; a window that is not FROM-TO is a usage error.

@@ -16,6 +16,7 @@
 #include "session/control.hpp"
 #include "session/passive_law.hpp"
 #include "session/session.hpp"
+#include "session/tool_forces.hpp"
 
 namespace cathbox::session::test {
 
@@ -41,14 +42,12 @@ class HandForceTrace : public TickObserver {
       if (c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil)) fresh = true;
     }
     render(v, fresh);
-    if (!fresh && v.time_us >= jumps_from_us) {
-      const double jump = std::abs(f - last_mN_);
-      if (jump > max_jump_mN) {
-        max_jump_mN = jump;
-        max_jump_ms = v.time_us / 1000;
-      }
-      if (jump > kSlewPerTick_mN) ++ticks_over_slew;
-    }
+    // The changes a tick: the held tool's as `cathbox session replay --forces` counts them.
+    forces_.count_changes_from(jumps_from_us);
+    forces_.observe(v);
+    max_jump_mN = forces_.held().largest_change_mN;
+    max_jump_ms = forces_.held().change_us / 1000;
+    ticks_over_slew = forces_.held().over_slew;
     if (std::abs(f) > peak_mN) {
       peak_mN = std::abs(f);
       peak_ms = v.time_us / 1000;
@@ -68,7 +67,6 @@ class HandForceTrace : public TickObserver {
     }
     started_ = true;
     held_ = v.input.held;
-    last_mN_ = f;
     ++ticks;
   }
   std::int64_t jumps_from_us = 0;  // set before the run: the changes below counted from then on
@@ -166,7 +164,7 @@ class HandForceTrace : public TickObserver {
 
   bool started_ = false;
   std::size_t held_ = 0;
-  double last_mN_ = 0.0;
+  ToolForces forces_;
 };
 
 // Runs a case with its script as a session in virtual time, to its end; prints the figures.

@@ -18,6 +18,7 @@
 #include "session/box_hand.hpp"
 #include "session/multi_box_hand.hpp"
 #include "session/session.hpp"
+#include "session/tool_forces.hpp"
 
 namespace cathbox::cli {
 namespace {
@@ -156,6 +157,8 @@ int run_run(Args& args, const GroupSpec& group) {
     std::fprintf(stderr, "%s\n", recording.error().message.c_str());
     return kExitBadInput;
   }
+  session::ToolForces forces;
+  if (args.flag("forces")) s.add_observer(forces);
   if (args.flag("progress")) {
     s.recorder()->on_block_written([](std::int64_t ticks, std::uint64_t bytes) {
       std::printf("recorded %lld ticks, %llu bytes\n", static_cast<long long>(ticks), static_cast<unsigned long long>(bytes));
@@ -175,6 +178,7 @@ int run_run(Args& args, const GroupSpec& group) {
               session::record::end_reason_name(s.end_reason()), static_cast<long long>(s.ticks()),
               static_cast<double>(s.ticks() * options.period_us) * 1e-6, record->c_str(),
               static_cast<unsigned long long>(rec.bytes_written()), session::MetricsCollector::format(s.metrics()).c_str());
+  if (args.flag("forces")) std::printf("%s", forces.format().c_str());
   if (!written) {
     std::fprintf(stderr, "%s\n", rec.error().c_str());
     return kExitFailure;
