@@ -35,6 +35,7 @@ void Rod::compute_force_law(double dt_s, bool clamp_after_moves) {
   free_part_load_mN_ = 0.0;
   if (first_free_ >= n || free_) {
     hand_force_mN_ = 0.0;
+    clamp_read_mN_ = 0.0;
     law_.force0_mN = 0.0;
     law_.stiffness_mN_per_mm = 0.0;
     return;
@@ -53,7 +54,9 @@ void Rod::compute_force_law(double dt_s, bool clamp_after_moves) {
   // nothing: a wire jammed 15 mm out of its microcatheter read 12.8 N against its free part's
   // 2.2 N. The hand gets the bound. A clamp that takes the last Newton step whole has no such
   // moves in it: it is the linearised equilibrium, kept as it is.
-  hand_force_mN_ = clamp_after_moves ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
+  clamp_read_mN_ = clamp_after_moves ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
+  // A converged step taken in part: the force at its linearised equilibrium (linearise_clamp).
+  hand_force_mN_ = whole_step_extra_mN_ != 0.0 ? force + whole_step_extra_mN_ : clamp_read_mN_;
   law_.force0_mN = hand_force_mN_;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.
   const std::size_t dofs = 3 * (n - first_);

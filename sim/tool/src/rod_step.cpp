@@ -32,6 +32,7 @@ void Rod::step_once(double dt_s, const WallModel& wall, const RodObstacles* obst
     clamp_after_moves = finish_solve(s);
   } else {
     hand_force_mN_ = 0.0;
+    clamp_read_mN_ = 0.0;
     warm_ok_ = false;  // all in the catheter: its last solved motion is no guide when it comes out
   }
   update_frames();
@@ -152,7 +153,24 @@ bool Rod::linearise_clamp(const Newton& s) {
     work_[d + 2] = moved.z;
   }
   matrix_->multiply_add(work_.data(), grad_.data(), 0, s.free0, s.free0, s.dofs);
-  return !whole;
+  // A solve that converged on a step it took in part (the line search cut it) or beyond (extended)
+  // stopped off the linearised equilibrium its convergence test read: the rest of the step, through
+  // the stiff axial springs, reads as force on the clamp (the ADAPT M1 run with its speeds x0.995:
+  // -1,349 mN for one tick at 60.053 s, a converged 1.85 um step taken half; scripts/robustness).
+  // The hand gets the equilibrium's force: the clamp rows of K_pf (step - moves), along the entry.
+  whole_step_extra_mN_ = 0.0;
+  if (whole || !warm_ok_ || s.scale == 1.0) return !whole;
+  for (std::size_t i = s.free0; i < s.dofs; ++i) {
+    if (!std::isfinite(delta_[i])) return true;
+    work_[i] = delta_[i] - work_[i];
+  }
+  if (clamp_rows_.size() < s.free0) clamp_rows_.resize(s.free0);
+  std::fill(clamp_rows_.begin(), clamp_rows_.begin() + static_cast<std::ptrdiff_t>(s.free0), 0.0);
+  matrix_->multiply_add(work_.data(), clamp_rows_.data(), 0, s.free0, s.free0, s.dofs);
+  for (std::size_t d = 0; d + 2 < s.free0; d += 3) {
+    whole_step_extra_mN_ += glm::dot(glm::dvec3(clamp_rows_[d], clamp_rows_[d + 1], clamp_rows_[d + 2]), dir_);
+  }
+  return true;
 }
 
 }  // namespace cathbox::tool

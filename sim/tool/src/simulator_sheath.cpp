@@ -200,7 +200,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   const Rod& rod = rods_[u];
   const std::size_t o = outer_of_[u];
   const bool has_free = leaves_tip(u);
-  const double distal = has_free ? rod.hand_force_mN() : 0.0;
+  const double distal = has_free ? rod.clamp_read_mN() : 0.0;
   build_sheath_path(u, path_);
   const double slide = (tip_depth_mm(u) - stepped_depth_[u]) - (tip_depth_mm(o) - stepped_depth_[o]);
   const double turn = (rotation_[u] - stepped_rotation_[u]) - (rotation_[o] - stepped_rotation_[o]);
@@ -218,7 +218,7 @@ void Simulator::update_sheath(std::size_t u, double dt_s) {
   const double read = std::clamp(distal, -carried, carried);
   sheath_result_[u] = sheath_[u].update(slide, turn, read, path_, k_anchor);
   const SheathFriction::Result& r = sheath_result_[u];
-  hand_force_[u] = distal + r.force_mN;
+  hand_force_[u] = (has_free ? rod.hand_force_mN() : 0.0) + r.force_mN;
   // The inner tool leaves its carrier's tip clamped to it: what the clamp holds it with, across
   // the carrier's tip direction, is the inner tool's push on that tip (a wire bent out of a
   // catheter's tip into its path steers the tip after it; along the tip it is the inner tool's

@@ -183,8 +183,14 @@ class Rod {
   // "Coaxial tools").
   [[nodiscard]] double free_part_load_mN() const { return free_part_load_mN_; }
 
-  // What the tool exerts on the hand: positive resists insertion / rotation.
+  // What the tool exerts on the hand: positive resists insertion / rotation. A solve that
+  // converged on a step it took only in part (the line search cut it) or beyond it (extended)
+  // gives the clamp force at the linearised equilibrium its convergence test read, the step taken
+  // whole, as a rod among other rods always does (linearise_clamp).
   [[nodiscard]] double hand_force_mN() const { return hand_force_mN_; }
+  // The axial force on the clamp linearised on to the moves the step took (hand_force_mN() but
+  // on those ticks): what a carrier's capstan reads from the free part (Simulator::update_sheath).
+  [[nodiscard]] double clamp_read_mN() const { return clamp_read_mN_; }
   [[nodiscard]] double hand_torque_mNmm() const { return hand_torque_mNmm_; }
   [[nodiscard]] const ForceLaw& force_law() const { return law_; }
   // Solver diagnostics of the last step: iterations used.
@@ -448,6 +454,9 @@ class Rod {
   bool warm_ok_ = false;
   glm::dvec3 clamp_force_{0.0};
   double hand_force_mN_ = 0.0;
+  double clamp_read_mN_ = 0.0;
+  double whole_step_extra_mN_ = 0.0;   // the clamp's force from the rest of a converged step (linearise_clamp)
+  std::vector<double> clamp_rows_;     // its scratch: the clamp rows of K_pf (step - moves)
   double hand_torque_mNmm_ = 0.0;
   double free_part_load_mN_ = 0.0;
   ForceLaw law_;
