@@ -56,7 +56,7 @@ void Rod::compute_force_law(double dt_s, bool clamp_after_moves) {
   // moves in it: it is the linearised equilibrium, kept as it is.
   clamp_read_mN_ = clamp_after_moves ? std::clamp(force, -free_part_load_mN_, free_part_load_mN_) : force;
   // A converged step taken in part: the force at its linearised equilibrium (linearise_clamp).
-  hand_force_mN_ = whole_step_extra_mN_ != 0.0 ? force + whole_step_extra_mN_ : clamp_read_mN_;
+  hand_force_mN_ = whole_step_extra_mN_ ? force + *whole_step_extra_mN_ : clamp_read_mN_;
   law_.force0_mN = hand_force_mN_;
   // Stiffness: Schur complement of the (factored) free block on a unit insertion.
   const std::size_t dofs = 3 * (n - first_);

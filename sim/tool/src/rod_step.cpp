@@ -158,7 +158,7 @@ bool Rod::linearise_clamp(const Newton& s) {
   // the stiff axial springs, reads as force on the clamp (the ADAPT M1 run with its speeds x0.995:
   // -1,349 mN for one tick at 60.053 s, a converged 1.85 um step taken half; scripts/robustness).
   // The hand gets the equilibrium's force: the clamp rows of K_pf (step - moves), along the entry.
-  whole_step_extra_mN_ = 0.0;
+  whole_step_extra_mN_.reset();
   if (whole || !warm_ok_ || s.scale == 1.0) return !whole;
   for (std::size_t i = s.free0; i < s.dofs; ++i) {
     if (!std::isfinite(delta_[i])) return true;
@@ -167,9 +167,11 @@ bool Rod::linearise_clamp(const Newton& s) {
   if (clamp_rows_.size() < s.free0) clamp_rows_.resize(s.free0);
   std::fill(clamp_rows_.begin(), clamp_rows_.begin() + static_cast<std::ptrdiff_t>(s.free0), 0.0);
   matrix_->multiply_add(work_.data(), clamp_rows_.data(), 0, s.free0, s.free0, s.dofs);
+  double extra = 0.0;
   for (std::size_t d = 0; d + 2 < s.free0; d += 3) {
-    whole_step_extra_mN_ += glm::dot(glm::dvec3(clamp_rows_[d], clamp_rows_[d + 1], clamp_rows_[d + 2]), dir_);
+    extra += glm::dot(glm::dvec3(clamp_rows_[d], clamp_rows_[d + 1], clamp_rows_[d + 2]), dir_);
   }
+  whole_step_extra_mN_ = extra;
   return true;
 }
 

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -455,7 +456,9 @@ class Rod {
   glm::dvec3 clamp_force_{0.0};
   double hand_force_mN_ = 0.0;
   double clamp_read_mN_ = 0.0;
-  double whole_step_extra_mN_ = 0.0;   // the clamp's force from the rest of a converged step (linearise_clamp)
+  // The clamp's force from the rest of a converged step taken in part (linearise_clamp), and
+  // whether the last step was one: the hand then reads the moves' clamp plus it.
+  std::optional<double> whole_step_extra_mN_;
   std::vector<double> clamp_rows_;     // its scratch: the clamp rows of K_pf (step - moves)
   double hand_torque_mNmm_ = 0.0;
   double free_part_load_mN_ = 0.0;
