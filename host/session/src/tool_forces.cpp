@@ -6,37 +6,32 @@
 
 namespace cathbox::session {
 
-namespace {
-
-// One tick of a force against the box's limits; `fresh`: no change counted from the last tick.
-void count(ToolForces::Tool& k, double f, std::int64_t time_us, bool fresh, const PassiveLawLimits& box,
-           std::int64_t changes_from_us) {
+void ToolForces::count(Tool& k, double f, std::int64_t time_us, bool fresh) const {
   if (std::abs(f) > k.peak_mN) k.peak_mN = std::abs(f), k.peak_us = time_us;
-  if (std::abs(f) > box.full_scale_mN) ++k.over_full_scale;
-  if (k.seen && !fresh && time_us >= changes_from_us) {
+  if (std::abs(f) > box_.full_scale_mN) ++k.over_full_scale;
+  if (k.seen && !fresh && time_us >= changes_from_us_) {
     const double change = std::abs(f - k.last_mN);
     if (change > k.largest_change_mN) k.largest_change_mN = change, k.change_us = time_us;
-    if (change > box.slew_mN_per_ms * box.tick_ms) ++k.over_slew;
+    if (change > slew_per_tick_mN()) ++k.over_slew;
   }
   k.last_mN = f;
   k.seen = true;
 }
-
-}  // namespace
 
 void ToolForces::observe(const TickView& v) {
   const tool::Simulator& sim = v.sim;
   if (tools_.size() < sim.tool_count()) tools_.resize(sim.tool_count());
   for (std::size_t t = 0; t < sim.tool_count(); ++t) {
     tools_[t].name = sim.rod(t).spec().name;
-    count(tools_[t], sim.hand_force_mN(t), v.time_us, false, box_, changes_from_us_);
+    count(tools_[t], sim.hand_force_mN(t), v.time_us, false);
   }
   const std::size_t h = v.input.held;
   if (h >= sim.tool_count()) return;
-  bool fresh = h != held_.tool;
+  bool fresh = !held_.seen || h != held_.tool;
   for (const Control& c : v.controls) fresh = fresh || c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil);
   held_.tool = h;
-  count(held_, sim.hand_force_mN(h), v.time_us, fresh, box_, changes_from_us_);
+  held_.fresh = fresh;
+  count(held_, sim.hand_force_mN(h), v.time_us, fresh);
 }
 
 std::string ToolForces::format() const {

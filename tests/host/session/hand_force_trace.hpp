@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "session/action_script_hand.hpp"
-#include "session/control.hpp"
 #include "session/passive_law.hpp"
 #include "session/session.hpp"
 #include "session/tool_forces.hpp"
@@ -37,14 +36,11 @@ class HandForceTrace : public TickObserver {
  public:
   void observe(const TickView& v) override {
     const double f = v.snapshot.tools[v.input.held].hand_force_mN;
-    bool fresh = !started_ || v.input.held != held_;
-    for (const Control& c : v.controls) {
-      if (c.kind == static_cast<std::uint16_t>(ControlKind::kLoadCoil)) fresh = true;
-    }
-    render(v, fresh);
-    // The changes a tick: the held tool's as `cathbox session replay --forces` counts them.
+    // The changes a tick: the held tool's as `cathbox session replay --forces` counts them; a tick
+    // it starts afresh (another tool, a coil loaded) starts the box's law afresh too.
     forces_.count_changes_from(jumps_from_us);
     forces_.observe(v);
+    render(v, forces_.held().fresh);
     max_jump_mN = forces_.held().largest_change_mN;
     max_jump_ms = forces_.held().change_us / 1000;
     ticks_over_slew = forces_.held().over_slew;
@@ -65,8 +61,6 @@ class HandForceTrace : public TickObserver {
       ++solved[t];
       if (!rod.converged()) ++unconverged[t];
     }
-    started_ = true;
-    held_ = v.input.held;
     ++ticks;
   }
   std::int64_t jumps_from_us = 0;  // set before the run: the changes below counted from then on
@@ -162,8 +156,6 @@ class HandForceTrace : public TickObserver {
   std::size_t carrier_of_ = 0;
   std::int64_t time_us_ = 0;
 
-  bool started_ = false;
-  std::size_t held_ = 0;
   ToolForces forces_;
 };
 

@@ -30,6 +30,7 @@ class ToolForces final : public TickObserver {
   // The held tool's force as one box renders it (Tool's figures; `name` unused).
   struct Held : Tool {
     std::size_t tool = 0;  // the tool held at the last tick
+    bool fresh = true;     // that tick started afresh (the first, another tool, a coil loaded)
   };
   // The box's limits (PassiveLawLimits' defaults: 5 N, 100 mN a 1 ms tick).
   explicit ToolForces(const PassiveLawLimits& box = {}) : box_(box) {}
@@ -45,6 +46,8 @@ class ToolForces final : public TickObserver {
   [[nodiscard]] std::string format() const;
 
  private:
+  // One tick of a force against the box's limits; `fresh`: no change counted from the last tick.
+  void count(Tool& k, double f, std::int64_t time_us, bool fresh) const;
   PassiveLawLimits box_;
   std::vector<Tool> tools_;
   Held held_;
