@@ -303,5 +303,74 @@ TEST(RodBehaviour, ReversalDampingLeavesTheToolWhereItEndsWithout) {
   EXPECT_LT(glm::length(run(true) - run(false)), 0.05);
 }
 
+// A wall beside a straight tool along +z: a ledge on its +x side that presses it (x = 0.17, the
+// wire's radius 0.18) for 10 <= z <= 12, nothing for 12 < z < 20, and (with `clear`) a wall beyond
+// z = 20 at x = 0.28, whose plane a node near the axis takes (within the contact margin, 0.15 mm)
+// but does not touch.
+class LedgeThenClearWall final : public WallModel {
+ public:
+  static constexpr double kClearFromZ = 20.0;
+  explicit LedgeThenClearWall(bool clear) : clear_(clear) {}
+  [[nodiscard]] bool probe(const WallProbe& p, WallHint&, WallContact& out) const override {
+    const double z = p.center_mm.z;
+    double x = 0.0;
+    if (z >= 10.0 && z <= 11.4) {
+      x = 0.10;
+    } else if (clear_ && z > kClearFromZ) {
+      x = 0.06;
+    } else {
+      return false;
+    }
+    const double d = x - p.center_mm.x;
+    if (d - p.radius_mm > p.range_mm) return false;
+    out.normal = glm::dvec3(1.0, 0.0, 0.0);
+    out.distance_mm = d;
+    out.point_mm = glm::dvec3(x, p.center_mm.y, z);
+    out.segment = 0;
+    return true;
+  }
+
+ private:
+  bool clear_;
+};
+
+TEST(RodBehaviour, ANodeThatLeftTheWallIsNotHeldOnTheNextPlaneItFinds) {
+  // A node's normal force is its last step's: one that left the wall (no plane at the end of a
+  // step) has none. Kept from its last contact, it put the node in the next solve's active set as
+  // soon as the node found a plane again, and the penalty's quadratic continued below 0 pulled
+  // it there from off the wall: the dense coiling case's withdrawn pusher read -1,104.6 mN on its
+  // clamp for one tick from a node 0.15 mm clear of the sac (scripts/robustness, x0.995). Here
+  // the tool pressed by the ledge goes on past a wall it never touches: it moves as it does with
+  // no wall there at all.
+  const auto run = [](bool clear) {
+    const LedgeThenClearWall wall(clear);
+    Rod rod(uniform_tool(80.0, 0.36, 20.0, 15.0, 0.5, 0.1));
+    rod.set_entry({0, 0, 0}, {0, 0, 1});
+    std::vector<glm::dvec3> path;  // the free nodes at each step, then the hand force as (F, 0, 0)
+    double pressed_mN = 0.0;
+    for (double ins = 0.0; ins < 26.0;) {
+      ins += 0.05;
+      insert_to(rod, wall, ins, 0.05);
+      for (const RodContact& c : rod.contacts()) pressed_mN = std::max(pressed_mN, c.normal_force_mN);
+      path.insert(path.end(), rod.positions().begin() + static_cast<std::ptrdiff_t>(rod.first_free_node()), rod.positions().end());
+      path.emplace_back(rod.hand_force_mN(), 0.0, 0.0);
+    }
+    EXPECT_GT(pressed_mN, 1.0) << "the ledge presses the tool";
+    return path;
+  };
+  const std::vector<glm::dvec3> with = run(true);
+  const std::vector<glm::dvec3> without = run(false);
+  ASSERT_EQ(with.size(), without.size());
+  double largest = 0.0;  // mm, or mN for the hand force
+  std::size_t past = 0;
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    largest = std::max(largest, glm::length(with[i] - without[i]));
+    if (with[i].z > LedgeThenClearWall::kClearFromZ) ++past;
+  }
+  std::printf("clear wall: %zu node positions past it, largest difference %.3g (mm or mN)\n", past, largest);
+  EXPECT_GT(past, 500u);
+  EXPECT_LT(largest, 1e-9) << "a wall the tool does not touch moves it or reads on the hand";
+}
+
 }  // namespace
 }  // namespace cathbox::tool

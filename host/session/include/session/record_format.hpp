@@ -58,9 +58,11 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // released coil is solved on every second tick over both (tuning::kReleasedCoilTicks), 42 since
 // the released coils are solved beside the attached tools, each from where the step began
 // (Simulator::launch_released), 43 since a solve that converged on a step it took in part gives
-// the hand its linearised equilibrium's force (Rod::hand_force_mN). An older record is refused
-// in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 43;
+// the hand its linearised equilibrium's force (Rod::hand_force_mN), 44 since a node's normal
+// force is zero at the end of a step it ends with no wall plane (Rod::finish_contacts): kept from
+// its last contact, it held the node on the next plane it found. An older record is refused in
+// one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 44;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw
