@@ -102,14 +102,15 @@ void Rod::solve_positions(Newton& s) {
     update_active_set(s);
     follow_moves(s);
     last_iterations_ = it + 1;
-    if (s.largest < settings_.convergence_mm && !s.entered) {
+    const bool pulled = s.released_pull_mN > settings_.release_pull_mN;  // a node let go under a pull
+    if (s.largest < settings_.convergence_mm && !s.entered && !pulled) {
       warm_ok_ = true;
       break;
     }
     // A node left in the wall at the end would be clamped at the penetration limit, which
     // reads as the contact cap: up to two more iterations hold it.
     const int joins = attached_coil(settings_, free_) ? s.activations : 0;
-    if ((s.entered || s.deep) && it + 1 == s.rounds && s.rounds < s.iterations + joins + 2) ++s.rounds;
+    if ((s.entered || s.deep || pulled) && it + 1 == s.rounds && s.rounds < s.iterations + joins + 2) ++s.rounds;
   }
 }
 
@@ -313,8 +314,11 @@ void Rod::update_active_set(Newton& s) {
   const std::size_t n = x_.size();
   s.entered = false;
   s.deep = false;
+  s.released_pull_mN = 0.0;
+  const WallPenalty wall(settings_);
   const auto update = [&](bool& active, double phi, double allowed) {
     if (active && phi < -1e-9) {
+      s.released_pull_mN = std::max(s.released_pull_mN, -wall.gradient_mN(phi));
       active = false;
       s.refactor = true;
     } else if (!active && phi > 0.0) {

@@ -35,6 +35,7 @@ struct Rod::Newton {
   double aim = 1.0;      // the fraction of the Newton step the iteration means to take
   bool entered = false;  // a node the step carried into the wall is deeper than 1 % of the limit
   bool deep = false;     // a held node is past the penetration limit
+  double released_pull_mN = 0.0;  // the largest pull of the wall on a node the active set let go
 };
 
 inline void Rod::add_grad(std::size_t k, const glm::dvec3& g) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -370,6 +371,57 @@ TEST(RodBehaviour, ANodeThatLeftTheWallIsNotHeldOnTheNextPlaneItFinds) {
   std::printf("clear wall: %zu node positions past it, largest difference %.3g (mm or mN)\n", past, largest);
   EXPECT_GT(past, 500u);
   EXPECT_LT(largest, 1e-9) << "a wall the tool does not touch moves it or reads on the hand";
+}
+
+// An end cap across +z at `cap_z` (normal +z), which the test moves between steps.
+class MovingCap final : public WallModel {
+ public:
+  double cap_z = 0.0;
+  [[nodiscard]] bool probe(const WallProbe& p, WallHint&, WallContact& out) const override {
+    const double d = cap_z - p.center_mm.z;
+    if (d - p.radius_mm > p.range_mm) return false;
+    out.normal = glm::dvec3(0.0, 0.0, 1.0);
+    out.distance_mm = d;
+    out.point_mm = glm::dvec3(p.center_mm.x, p.center_mm.y, cap_z);
+    out.segment = 0;
+    return true;
+  }
+};
+
+TEST(RodBehaviour, AStepDoesNotConvergeOnANodeItLetGoUnderAPull) {
+  // A short stiff wire (two free nodes, EA 5,000 N) pressed on an end cap; the cap draws back
+  // 15 um. Its clamp reads the linearised equilibrium, as a coil's and a rod's among other rods do
+  // (a lone rod's is also bounded by its free part's loads, which would hide the pull). The tip ended the last step pressed, so the next solve starts with it held on the
+  // cap's plane, and the penalty's quadratic, continued below 0, pulls it there. The wire's axial
+  // springs (~2.5e6 mN/mm) let it move ~1 um, under the 2 um convergence test, and the update
+  // lets it go: converged there, the clamp read the pull (the ICA-T Solumbra run drew 106-438 mN
+  // this way). A node let go under more than RodSettings::release_pull_mN takes another
+  // iteration, and the hand reads what it does with no cap there at all.
+  const auto hand_after_cap_draws_back = [](double release_pull_mN, bool cap_there) {
+    RodSettings settings;
+    settings.release_pull_mN = release_pull_mN;
+    settings.buckling_seed_mm = 0.0;
+    settings.linearised_clamp = true;  // as a coil's, or a rod's among other rods: no bound below
+    Rod rod(uniform_tool(40.0, 0.36, 20.0, 15.0, 1.0, 0.0), settings);
+    rod.set_entry({0, 0, 0}, {0, 0, 1});
+    MovingCap wall;
+    wall.cap_z = cap_there ? 2.0 : 100.0;
+    insert_to(rod, wall, 2.0 - 0.18 + 0.004, 0.01);  // the tip 4 um into the cap's contact
+    double pressed_mN = 0.0;
+    for (const RodContact& c : rod.contacts()) pressed_mN = std::max(pressed_mN, c.normal_force_mN);
+    EXPECT_EQ(pressed_mN > 100.0, cap_there) << "the cap presses the tip";
+    wall.cap_z += 0.015;
+    rod.step(1e-3, wall);
+    EXPECT_TRUE(rod.contacts().empty());
+    return rod.hand_force_mN();
+  };
+  const double free_mN = hand_after_cap_draws_back(RodSettings{}.release_pull_mN, false);
+  const double guarded_mN = hand_after_cap_draws_back(RodSettings{}.release_pull_mN, true);
+  const double unguarded_mN = hand_after_cap_draws_back(std::numeric_limits<double>::infinity(), true);
+  std::printf("cap drawn back: hand %.3f mN (no cap %.3f), converging on the release %.1f mN\n", guarded_mN, free_mN,
+              unguarded_mN);
+  EXPECT_NEAR(guarded_mN, free_mN, 1.0);
+  EXPECT_LT(unguarded_mN, free_mN - 500.0) << "the case the guard is for: the pull read on the clamp";
 }
 
 }  // namespace

@@ -45,6 +45,12 @@ struct RodSettings {
   // the max_node_step_mm cap shortens it) is smaller: a step the line search cut short is no
   // sign of a solution.
   double convergence_mm = 2.0e-3;
+  // Nor when the iteration's active-set update let go of a node whose plane still pulled it by
+  // more than this: the wall's quadratic, continued below 0 for an active node, then pulls it,
+  // and a stiff tool that barely moves converges with that pull in its clamp's force (a pull no
+  // contact has). Half the box's force slew a tick: a pull that large reads as a jump at the
+  // hand (the ICA-T Solumbra run drew 106-438 mN this way). Infinity: never.
+  double release_pull_mN = 50.0;
   bool reuse_hessian = false;              // chord iterations while the active set is unchanged
   // A full step the energy took unshortened is extended to the minimum of the energy's parabola
   // along it (at most extend_max times), when that is lower: the Gauss-Newton Hessian holds a
