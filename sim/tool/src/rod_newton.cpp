@@ -108,7 +108,8 @@ void Rod::solve_positions(Newton& s) {
       break;
     }
     // A node left in the wall at the end would be clamped at the penetration limit, which
-    // reads as the contact cap: up to two more iterations hold it.
+    // reads as the contact cap, and one let go under a pull would leave that pull in the clamp's
+    // force: up to two more iterations settle either.
     const int joins = attached_coil(settings_, free_) ? s.activations : 0;
     if ((s.entered || s.deep || pulled) && it + 1 == s.rounds && s.rounds < s.iterations + joins + 2) ++s.rounds;
   }

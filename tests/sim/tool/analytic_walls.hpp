@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "tool/tube_network_wall.hpp"
 
 namespace cathbox::tool::testing {
@@ -12,6 +14,18 @@ class NoWall final : public WallModel {
  public:
   [[nodiscard]] bool probe(const WallProbe&, WallHint&, WallContact&) const override { return false; }
 };
+
+// The plane {x : normal . x = offset} as the wall a probe meets (normal unit, out of the lumen);
+// false beyond the probe's range. For the test walls made of planes.
+inline bool plane_contact(const WallProbe& p, const glm::dvec3& normal, double offset, WallContact& out) {
+  const double d = offset - glm::dot(normal, p.center_mm);
+  if (d - p.radius_mm > p.range_mm) return false;
+  out.normal = normal;
+  out.distance_mm = d;
+  out.point_mm = p.center_mm + normal * d;
+  out.segment = 0;
+  return true;
+}
 
 // Straight tube along +z from z0 to z1.
 inline TubeNetworkWall straight_tube(double radius_mm, double z0, double z1) {

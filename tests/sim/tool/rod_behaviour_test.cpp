@@ -304,31 +304,20 @@ TEST(RodBehaviour, ReversalDampingLeavesTheToolWhereItEndsWithout) {
   EXPECT_LT(glm::length(run(true) - run(false)), 0.05);
 }
 
-// A wall beside a straight tool along +z: a ledge on its +x side that presses it (x = 0.17, the
-// wire's radius 0.18) for 10 <= z <= 12, nothing for 12 < z < 20, and (with `clear`) a wall beyond
-// z = 20 at x = 0.28, whose plane a node near the axis takes (within the contact margin, 0.15 mm)
-// but does not touch.
+// A wall beside a straight tool along +z: a ledge on its +x side that presses it (x = 0.10, the
+// wire's radius 0.18) for 10 <= z <= 11.4, ending under the pressed nodes; nothing for
+// 11.4 < z <= 20; and (with `clear`) a wall beyond z = 20 at x = 0.06, whose plane the tool bent
+// away by the ledge takes (within the contact margin, 0.15 mm) but does not touch.
 class LedgeThenClearWall final : public WallModel {
  public:
   static constexpr double kClearFromZ = 20.0;
   explicit LedgeThenClearWall(bool clear) : clear_(clear) {}
   [[nodiscard]] bool probe(const WallProbe& p, WallHint&, WallContact& out) const override {
     const double z = p.center_mm.z;
-    double x = 0.0;
-    if (z >= 10.0 && z <= 11.4) {
-      x = 0.10;
-    } else if (clear_ && z > kClearFromZ) {
-      x = 0.06;
-    } else {
-      return false;
-    }
-    const double d = x - p.center_mm.x;
-    if (d - p.radius_mm > p.range_mm) return false;
-    out.normal = glm::dvec3(1.0, 0.0, 0.0);
-    out.distance_mm = d;
-    out.point_mm = glm::dvec3(x, p.center_mm.y, z);
-    out.segment = 0;
-    return true;
+    const glm::dvec3 normal(1.0, 0.0, 0.0);
+    if (z >= 10.0 && z <= 11.4) return testing::plane_contact(p, normal, 0.10, out);
+    if (clear_ && z > kClearFromZ) return testing::plane_contact(p, normal, 0.06, out);
+    return false;
   }
 
  private:
@@ -340,7 +329,7 @@ TEST(RodBehaviour, ANodeThatLeftTheWallIsNotHeldOnTheNextPlaneItFinds) {
   // step) has none. Kept from its last contact, it put the node in the next solve's active set as
   // soon as the node found a plane again, and the penalty's quadratic continued below 0 pulled
   // it there from off the wall: the dense coiling case's withdrawn pusher read -1,104.6 mN on its
-  // clamp for one tick from a node 0.15 mm clear of the sac (scripts/robustness, x0.995). Here
+  // clamp for one tick from a node 0.15 mm clear of the wall (scripts/robustness, x0.995). Here
   // the tool pressed by the ledge goes on past a wall it never touches: it moves as it does with
   // no wall there at all.
   const auto run = [](bool clear) {
@@ -378,25 +367,20 @@ class MovingCap final : public WallModel {
  public:
   double cap_z = 0.0;
   [[nodiscard]] bool probe(const WallProbe& p, WallHint&, WallContact& out) const override {
-    const double d = cap_z - p.center_mm.z;
-    if (d - p.radius_mm > p.range_mm) return false;
-    out.normal = glm::dvec3(0.0, 0.0, 1.0);
-    out.distance_mm = d;
-    out.point_mm = glm::dvec3(p.center_mm.x, p.center_mm.y, cap_z);
-    out.segment = 0;
-    return true;
+    return testing::plane_contact(p, glm::dvec3(0.0, 0.0, 1.0), cap_z, out);
   }
 };
 
 TEST(RodBehaviour, AStepDoesNotConvergeOnANodeItLetGoUnderAPull) {
   // A short stiff wire (two free nodes, EA 5,000 N) pressed on an end cap; the cap draws back
   // 15 um. Its clamp reads the linearised equilibrium, as a coil's and a rod's among other rods do
-  // (a lone rod's is also bounded by its free part's loads, which would hide the pull). The tip ended the last step pressed, so the next solve starts with it held on the
-  // cap's plane, and the penalty's quadratic, continued below 0, pulls it there. The wire's axial
-  // springs (~2.5e6 mN/mm) let it move ~1 um, under the 2 um convergence test, and the update
-  // lets it go: converged there, the clamp read the pull (the ICA-T Solumbra run drew 106-438 mN
-  // this way). A node let go under more than RodSettings::release_pull_mN takes another
-  // iteration, and the hand reads what it does with no cap there at all.
+  // (a lone rod's is also bounded by its free part's loads, which would hide the pull). The tip
+  // ended the last step pressed, so the next solve starts with it held on the cap's plane, and
+  // the penalty's quadratic, continued below 0, pulls it there. The wire's axial springs
+  // (~2.5e6 mN/mm) let it move ~1 um, under the 2 um convergence test, and the update lets it
+  // go: converged there, the clamp read the pull (the ICA-T Solumbra run drew 106-438 mN this
+  // way). A node let go under more than RodSettings::release_pull_mN takes another iteration, and
+  // the hand reads what it does with no cap there at all.
   const auto hand_after_cap_draws_back = [](double release_pull_mN, bool cap_there) {
     RodSettings settings;
     settings.release_pull_mN = release_pull_mN;
