@@ -15,17 +15,18 @@
 //    (scripts/bench train, which also runs it without CAP_SYS_NICE: a normal-priority thread).
 //  - CaseAtRigSpeed/<case>: a bundled case driven by its own action script through the haptic
 //    thread's loop (HapticThread::run, its pacer: up to 4 late ticks caught up, the rest dropped)
-//    on a clock that moves by each tick's thread CPU time and jumps to the next deadline when the
-//    loop waits: what a rig whose haptic thread has a core of this machine to itself would run
-//    (no other process, no scheduling; the rig's heap policy, session/haptic_memory.hpp). Per
+//    on a clock that moves by each tick's thread CPU time and, when the loop waits for its next
+//    deadline, by that wait in real time (RigClock: the released coils' job, on the other core,
+//    runs on through it as on a rig): what a rig whose haptic thread has a core of this machine
+//    to itself would run (no other process; the rig's heap policy, session/haptic_memory.hpp). Per
 //    tick: median, p99, max CPU; ticks over the 1 ms budget; ticks the pacer dropped; the latest
 //    a tick started; the second of the run with the most ticks over budget; the released coils'
 //    steps skipped asleep and their wakes; page faults in the ticks. The ten slowest ticks (case
 //    time, CPU), the dropped and the over-budget ticks by second of the case, and the over-budget
 //    ticks' CPU by solve (tick_solves.hpp: each rod by the sub-increments its solve ended in) go
 //    to stderr. The released coils' job runs on the other core (the haptic thread spins while it
-//    waits: its CPU time is the tick's). Opt-in (scripts/bench session): the dense coiling case
-//    takes ~45 s.
+//    waits: its CPU time is the tick's). Opt-in (scripts/bench session): each case takes about
+//    its own length in real time (the dense coiling case ~65 s).
 //  - FirstTickAfterImport: issue 31's "first frame <= 2 s after import". Once, untimed: the
 //    head-and-neck tree (cases/library/ica_straight.hclm) meshed with 10 points per ring (293k
 //    triangles) as STL, imported as a surface and written as `cathbox vessel import -o CASE_DIR`
@@ -34,6 +35,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -239,6 +241,33 @@ void print_seconds(const std::string& case_name, const char* what, const std::ve
   std::fprintf(stderr, "\n");
 }
 
+// CaseAtRigSpeed's clock: a rig's haptic thread with one core to itself. Time moves by the
+// thread's CPU time while it works (advance_us, after each tick) and by real time while it waits
+// for its next tick (sleep_until_us waits that long on the steady clock), so the released coils'
+// job, on the other core, runs on through the wait as on a rig (Simulator::set_released_overlap;
+// a tick that waits for it spins, and its thread CPU time carries the wait).
+class RigClock final : public cathbox::session::Clock {
+ public:
+  [[nodiscard]] std::int64_t now_us() override { return now_.load(std::memory_order_acquire); }
+  void sleep_until_us(std::int64_t deadline_us) override {
+    const std::int64_t now = now_us();
+    if (deadline_us <= now) return;
+    // Asleep as the rig's thread would be (its core free for the record's writer), then spinning
+    // the last stretch a sleep may overshoot.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(deadline_us - now);
+    std::this_thread::sleep_until(until - std::chrono::microseconds(kSpin_us));
+    while (std::chrono::steady_clock::now() < until) {
+    }
+    now_.store(deadline_us, std::memory_order_release);
+  }
+  void wait(int /*fd*/, std::int64_t max_us) override { sleep_until_us(now_us() + max_us); }
+  void advance_us(std::int64_t us) { now_.fetch_add(us, std::memory_order_acq_rel); }
+
+ private:
+  static constexpr std::int64_t kSpin_us = 100;
+  std::atomic<std::int64_t> now_{0};
+};
+
 void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
   cathbox::session::keep_freed_memory();  // as HapticThread::start() sets it on a rig
   const std::string base = std::string(CATHBOX_SOURCE_DIR) + "/cases/" + case_name;
@@ -250,7 +279,7 @@ void CaseAtRigSpeed(benchmark::State& state, const std::string& case_name) {
       return;
     }
     constexpr std::int64_t kPeriod_us = 1000;
-    cathbox::session::VirtualClock clock;
+    RigClock clock;
     std::vector<double> cpu_us;
     std::vector<std::int64_t> tick_at_us;
     std::vector<int> over_per_second, dropped_per_second;

@@ -18,6 +18,10 @@
 //            and a 150 mm, 4 mm filling coil, each pushed at 20 mm/s and detached, 10.8 % of the
 //            sphere cap), a 100 mm, 3 mm finishing coil pushed in at 20 mm/s (issue 29: its
 //            median and p99 beside the coil deploy's; the tick's budget is 1,000 us).
+//   coil packing paced: the same push stepped every 1 ms of the steady clock as the haptic loop
+//            steps it, the released coils' job left running into the wait for the next tick
+//            (Simulator::set_released_overlap, as the session runs it): each tick's latency
+//            from its start to the step's return, and the ticks late.
 //   stent retriever across a clot: a 4 x 20 mm stent retriever in a 2.8 mm artery (the M1
 //            clot's size) past a 90 degree bend, unsheathed by pulling its microcatheter back
 //            25 mm at 5 mm/s (5000 steps), then pulled back 40 mm at 10 mm/s dragging an
@@ -47,6 +51,7 @@ BENCHMARK(BM_StepTriaxial)->Unit(benchmark::kMicrosecond)->Iterations(5000);
 BENCHMARK(BM_WallReprobe)->ArgName("fused")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(3)->Repetitions(5);
 BENCHMARK(BM_StepCoilDeploy)->Unit(benchmark::kMicrosecond)->Iterations(7400);  // 148 mm of coil
 BENCHMARK(BM_StepCoilPacking)->Unit(benchmark::kMicrosecond)->Iterations(4000);  // 80 mm of the third coil
+BENCHMARK(BM_StepCoilPackingPaced)->ArgName("overlap")->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond)->Iterations(4000);  // as the haptic loop runs it
 BENCHMARK(BM_StepStentRetriever)->Unit(benchmark::kMicrosecond)->Iterations(9000);  // unsheathing, then retrieval
 BENCHMARK(BM_StepStentRetrieverCase)->Unit(benchmark::kMicrosecond)->Iterations(14000);  // dwell 2 s, retrieval 12 s
 

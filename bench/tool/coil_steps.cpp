@@ -3,9 +3,11 @@
 #include "tool_benchmarks.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -150,46 +152,67 @@ class ReleasedMotion {
 
 }  // namespace
 
-// The sphere of BM_StepCoilDeploy already holding 300 mm of coil: a third coil going in. The
-// set-up (two coils deployed and detached, ~15,000 steps) is done once, outside the timing.
-void BM_StepCoilPacking(benchmark::State& state) {
-  constexpr double kSphereR = 3.2;
-  const glm::dvec3 centre(0.0, 0.0, 20.0);
-  TubeNetworkWall wall;
-  wall.add_tube(Tube{{0, 0, -5}, centre, 1.0, 1.0, 0});
-  wall.add_tube(Tube{centre, centre + glm::dvec3(0, 0, 1e-3), kSphereR, kSphereR, 1});
-  wall.build();
-  const double lengths_mm[3] = {150.0, 150.0, 100.0};
-  const double loops_mm[3] = {5.0, 4.0, 3.0};
-  std::vector<ToolSpec> tools{default_microcatheter()};
-  for (int c = 0; c < 3; ++c) {
-    tools.push_back(default_coil(lengths_mm[c], loops_mm[c]));
-    tools.back().name = "coil " + std::to_string(c + 1);
-  }
+// The sphere of BM_StepCoilDeploy already holding 300 mm of coil, a third coil at the
+// microcatheter's tip: two coils deployed and detached (~15,000 steps, done outside the timing).
+struct PackingScene {
+  static constexpr double kSphereR = 3.2;
+  static constexpr double kLengths_mm[3] = {150.0, 150.0, 100.0};
+  static constexpr double kLoops_mm[3] = {5.0, 4.0, 3.0};
+  const glm::dvec3 centre{0.0, 0.0, 20.0};
   const Entry entry{{0, 0, -3}, {0, 0, 1}};
-  Simulator sim(wall, tools, entry);
-  const double micro = centre.z - std::sqrt(kSphereR * kSphereR - 1.0) + 1.0 - entry.point_mm.z;
-  auto drive = [&sim](std::size_t tool, double to_mm, double per_step_mm) {
-    for (double x = sim.insertion_mm(tool); std::abs(to_mm - x) > 1e-9;) {
-      x = to_mm > x ? std::min(to_mm, x + per_step_mm) : std::max(to_mm, x - per_step_mm);
-      sim.set_insertion(tool, x);
-      sim.step();
+  TubeNetworkWall wall;
+  std::optional<Simulator> sim;
+  double micro = 0.0;
+  std::optional<cathbox::tool::AneurysmSac> sac;
+  bool ok = false;  // both coils detached
+
+  PackingScene() {
+    wall.add_tube(Tube{{0, 0, -5}, centre, 1.0, 1.0, 0});
+    wall.add_tube(Tube{centre, centre + glm::dvec3(0, 0, 1e-3), kSphereR, kSphereR, 1});
+    wall.build();
+    std::vector<ToolSpec> tools{default_microcatheter()};
+    for (int c = 0; c < 3; ++c) {
+      tools.push_back(default_coil(kLengths_mm[c], kLoops_mm[c]));
+      tools.back().name = "coil " + std::to_string(c + 1);
     }
-  };
-  drive(0, micro, 0.2);
-  for (std::size_t c = 1; c <= 3; ++c) drive(c, micro - 0.5 - 10.0 * static_cast<double>(c - 1), 0.2);
-  for (std::size_t c = 1; c <= 2; ++c) {
-    drive(c, micro + lengths_mm[c - 1] + 1.0, 0.02);
-    if (sim.detach(c) != DeviceError::kNone) {
-      state.SkipWithError("a coil did not detach");
-      return;
+    sim.emplace(wall, tools, entry);
+    micro = centre.z - std::sqrt(kSphereR * kSphereR - 1.0) + 1.0 - entry.point_mm.z;
+    drive(0, micro, 0.2);
+    for (std::size_t c = 1; c <= 3; ++c) drive(c, micro - 0.5 - 10.0 * static_cast<double>(c - 1), 0.2);
+    for (std::size_t c = 1; c <= 2; ++c) {
+      drive(c, micro + kLengths_mm[c - 1] + 1.0, 0.02);
+      if (sim->detach(c) != DeviceError::kNone) return;
+      while (sim->parting(c)) sim->step();  // the hand at rest while its detachment zone parts
+      drive(c, micro - 10.0, 0.2);  // its pusher drawn back into the microcatheter
     }
-    while (sim.parting(c)) sim.step();  // the hand at rest while its detachment zone parts
-    drive(c, micro - 10.0, 0.2);  // its pusher drawn back into the microcatheter
+    drive(3, micro - 0.5, 0.2);
+    sac = sphere_cap_sac(centre, kSphereR, {0, 0, micro - 1.0 + entry.point_mm.z});
+    ok = sac.has_value();
   }
-  drive(3, micro - 0.5, 0.2);
-  const std::optional<cathbox::tool::AneurysmSac> sac = sphere_cap_sac(centre, kSphereR, {0, 0, micro - 1.0 + entry.point_mm.z});
-  CoilMetrics metrics(sim, *sac);
+  void drive(std::size_t tool, double to_mm, double per_step_mm) {
+    for (double x = sim->insertion_mm(tool); std::abs(to_mm - x) > 1e-9;) {
+      x = to_mm > x ? std::min(to_mm, x + per_step_mm) : std::max(to_mm, x - per_step_mm);
+      sim->set_insertion(tool, x);
+      sim->step();
+    }
+  }
+};
+
+// The scene, built; null (the benchmark skipped) when a coil did not detach.
+std::unique_ptr<PackingScene> packing_scene(benchmark::State& state) {
+  auto scene = std::make_unique<PackingScene>();
+  if (scene->ok) return scene;
+  state.SkipWithError("a coil did not detach");
+  return nullptr;
+}
+
+// The scene above: the third coil pushed at 20 mm/s (0.02 mm a step), steps back to back, each
+// waiting for the released coils' job before it returns (the simulator's default).
+void BM_StepCoilPacking(benchmark::State& state) {
+  const std::unique_ptr<PackingScene> scene = packing_scene(state);
+  if (!scene) return;
+  Simulator& sim = *scene->sim;
+  CoilMetrics metrics(sim, *scene->sac);
   metrics.observe(sim);
   const double packed_pct = 100.0 * metrics.figures().packing_density;
   StepTimes times(1 << 16);
@@ -222,6 +245,56 @@ void BM_StepCoilPacking(benchmark::State& state) {
   state.counters["pair_tests"] = static_cast<double>(sim.coil_contacts().pair_tests() - tests0) / steps;
   state.counters["list_carries"] = static_cast<double>(sim.coil_contacts().list_carries() - carries0) / steps;
   state.SetLabel("third coil into a sphere holding 300 mm");
+}
+
+// The same push as the haptic loop runs it: a step every 1 ms of the steady clock (the calling
+// thread spins until the tick's start, as a rig's haptic thread sleeps), and nothing read of the
+// released coils between steps but what a tick reads (released_view). overlap:1 leaves the
+// released coils' job running past each step into that wait (Simulator::set_released_overlap, as
+// the session sets it); overlap:0 waits for it in the step (the simulator's default). Per tick, its latency: from the tick's start (its deadline, not when the step
+// began: a tick started late by the one before carries that) to the step's return, when the hand
+// gets its force (`median_us`, `p99_us`, `late_pct`: ticks whose latency passed the 1 ms period);
+// and the step's thread CPU. The results are BM_StepCoilPacking's, bit for bit
+// (`packing_after_pct`, `peak_hand_mN`).
+void BM_StepCoilPackingPaced(benchmark::State& state) {
+  const std::unique_ptr<PackingScene> scene = packing_scene(state);
+  if (!scene) return;
+  Simulator& sim = *scene->sim;
+  const bool overlap = state.range(0) != 0;
+  sim.set_released_overlap(overlap);
+  std::vector<double> latency, cpu;
+  latency.reserve(1 << 13);
+  cpu.reserve(1 << 13);
+  double push = sim.insertion_mm(3), peak_mN = 0.0;
+  constexpr auto kTick = std::chrono::microseconds(1000);
+  auto due = std::chrono::steady_clock::now() + kTick;
+  for (auto _ : state) {
+    while (std::chrono::steady_clock::now() < due) {
+    }
+    push += 0.02;
+    sim.set_insertion(3, push);
+    const double c0 = thread_cpu_us();
+    sim.step();
+    const auto t1 = std::chrono::steady_clock::now();
+    cpu.push_back(thread_cpu_us() - c0);
+    latency.push_back(std::chrono::duration<double, std::micro>(t1 - due).count());
+    peak_mN = std::max(peak_mN, std::abs(sim.rod(3).hand_force_mN()));
+    due += kTick;
+  }
+  sim.settle();
+  CoilMetrics metrics(sim, *scene->sac);
+  metrics.observe(sim);
+  const double late = static_cast<double>(std::count_if(latency.begin(), latency.end(), [](double us) { return us > 1000.0; }));
+  state.counters["median_us"] = quantile(latency, 0.5);
+  state.counters["p99_us"] = quantile(latency, 0.99);
+  state.counters["max_us"] = quantile(latency, 1.0);
+  state.counters["late_pct"] = 100.0 * late / static_cast<double>(std::max<std::size_t>(1, latency.size()));
+  state.counters["cpu_median_us"] = quantile(cpu, 0.5);
+  state.counters["cpu_p99_us"] = quantile(cpu, 0.99);
+  state.counters["packing_after_pct"] = 100.0 * metrics.figures().packing_density;
+  state.counters["peak_hand_mN"] = peak_mN;
+  state.SetLabel(overlap ? "the same, paced at 1 kHz, the released coils' job running into the wait"
+                         : "the same, paced at 1 kHz, each step waiting for the released coils' job");
 }
 
 }  // namespace cathbox::bench

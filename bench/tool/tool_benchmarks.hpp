@@ -15,6 +15,7 @@ void BM_WallReprobe(benchmark::State& state);
 // coil_steps.cpp
 void BM_StepCoilDeploy(benchmark::State& state);
 void BM_StepCoilPacking(benchmark::State& state);
+void BM_StepCoilPackingPaced(benchmark::State& state);
 // stent_retriever_steps.cpp
 void BM_StepStentRetriever(benchmark::State& state);
 void BM_StepStentRetrieverCase(benchmark::State& state);

@@ -14,7 +14,7 @@ void ContactReadings::update(const tool::Simulator& sim, const tool::Snapshot& s
     solved_ticks_.resize(n, 0);
   }
   for (std::size_t t = 0; t < n; ++t) {
-    const tool::Rod& rod = t < tools ? sim.rod(t) : sim.detached(t - tools);
+    const tool::Rod& rod = t < tools ? sim.rod(t) : sim.released_view(t - tools);  // as the snapshot reads it
     const bool solved = rod.first_free_node() < rod.node_total();
     if (solved) ++solved_ticks_[t];
     if (!rod.converged() && solved) {

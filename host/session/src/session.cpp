@@ -205,12 +205,7 @@ void Session::step_world(std::int64_t n) {
     sim_->set_insertion(t, static_cast<double>(input_.tools[t].insertion_um) * 1e-3);
     sim_->set_rotation(t, static_cast<double>(input_.tools[t].rotation_urad) * 1e-6);
   }
-  if (wall_field_ && pulse_mean_kPa_ > 0.0) {
-    // The wall distends with the pulse (one sine and a multiply per segment; no allocation).
-    const double t_s = static_cast<double>(n * options_.period_us) * 1e-6;
-    wall_field_->set_pressure_kPa(pulse_mean_kPa_ * (scene_->flow->flow_scale(t_s) - 1.0));
-  }
-  sim_->step(static_cast<double>(options_.period_us) * 1e-6);
+  sim_->step(static_cast<double>(options_.period_us) * 1e-6);  // the wall's pulse first (pulse_wall)
   log_partings();
   if (angioplasty_) {
     angioplasty_->after_step(*sim_);
@@ -237,6 +232,14 @@ void Session::step_world(std::int64_t n) {
     }
     if (thrombectomy_->arrested()) metrics_.set_flow_arrest(thrombectomy_->figures().balloon_guide_inflations, thrombectomy_->figures().flow_arrest_s);
   }
+}
+
+// The wall distends with the pulse (one sine and a multiply per segment; no allocation), for
+// the tick being stepped: run by the simulator at the start of its step, once the released
+// coils' solve the last step left running is over (Simulator::set_before_solves).
+void Session::pulse_wall() {
+  const double t_s = static_cast<double>(tick_ * options_.period_us) * 1e-6;
+  wall_field_->set_pressure_kPa(pulse_mean_kPa_ * (scene_->flow->flow_scale(t_s) - 1.0));
 }
 
 // 4. What the hand feels: the held tool's force law (every tool's for a hand that feels them

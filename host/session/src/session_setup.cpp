@@ -94,6 +94,11 @@ void Session::build_simulator() {
   const tool::WallModel& wall = angioplasty_ ? angioplasty_->wall() : wall_field_ ? wall_field_->wall() : scene_->world->wall();
   sim_ = std::make_unique<tool::Simulator>(wall, tools, scene_->entry);
   tool::use_case_wall(*sim_, compliant, read);  // a compliant wall
+  // The released coils' solve may run on past a tick, into the time the haptic loop waits for
+  // the next: what the tick reads of them after the step is their last finished solve's
+  // (Simulator::released_overlap; snapshot, metrics and state hash alike).
+  sim_->set_released_overlap(true);
+  if (wall_field_ && pulse_mean_kPa_ > 0.0) sim_->set_before_solves([this] { pulse_wall(); });
 }
 
 // A case with a vessel network: the fluoroscopy unit, and the thrombectomy unit when it has clots.

@@ -83,7 +83,7 @@ void CoilMetrics::observe(const Simulator& sim) {
     }
   }
   for (std::size_t i = 0; i < sim.detached_count(); ++i) {
-    const Rod& coil = sim.detached(i);
+    const Rod& coil = sim.released_view(i);  // never waits for a solve the step left running
     f_.deployed_mm += coil.length_mm();
     f_.coil_volume_mm3 += cylinder_volume_mm3(2.0 * coil.radius_at_mm(0.0), coil.length_mm());
     herniated_now += herniated(coil, 0, coil.node_total(), coil.length_mm() + 1.0, deepest_mm);

@@ -384,6 +384,8 @@ void Simulator::solve_tool(std::size_t t, double dt_s, bool released) {
 
 void Simulator::step(double dt_s) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) dt_s = 1e-3;
+  settle();  // the last step's released coils, if it left their job running (released_overlap)
+  if (before_solves_) before_solves_();
   if (observer_ != nullptr) observer_->step_begins();
   const std::size_t n = rods_.size();
   update_chain();
@@ -397,7 +399,11 @@ void Simulator::step(double dt_s) {
   for (std::size_t t = 0; t < n; ++t) rods_[t].hinge_while_drawn_back(drawn_back_wire(t));
   if (released) launch_released(dt_s);
   for (const std::size_t t : order_) solve_tool(t, dt_s, released);
-  if (released) finish_released();
+  if (released) {
+    pending_ = true;
+    launched_step_ = steps_;
+    if (!overlap_) finish_released();
+  }
   // Friction in the lumens, felt at the hands, and its reaction on the catheters.
   tip_push_before_ = tip_push_;  // same size after the first step: no allocation
   for (std::size_t t = 0; t < n; ++t) {
@@ -449,6 +455,7 @@ double Simulator::hand_force_mN(std::size_t tool) const { return hand_force_[too
 double Simulator::hand_torque_mNmm(std::size_t tool) const { return hand_torque_[tool]; }
 
 const WallModel* Simulator::swap_wall(const WallModel& next) {
+  settle();
   const WallModel* old = wall_;
   wall_ = &next;
   for (Rod& rod : rods_) rod.forget_wall();

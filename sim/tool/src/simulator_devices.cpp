@@ -95,12 +95,14 @@ void Simulator::release_coil(std::size_t tool) {
   coil.settings().warm_start = tuning::kReleasedCoilWarmStart;
   detached_.push_back(std::move(coil));
   coil_views_.push_back(Rod::contact_view_of(detached_.back()));
+  coil_views_.back().mirror_published_view(detached_.back());
   // The field's members point at the rods: the pusher is shorter and detached_ may have moved.
   update_contact_members();
 }
 
 DeviceError Simulator::load_next_coil(std::size_t tool) {
   if (tool >= rods_.size()) return DeviceError::kNoSuchTool;
+  settle();  // a new rod: the field's members change
   if (rods_[tool].spec().kind != ToolKind::kCoil) return DeviceError::kNotACoil;
   if (!(removed_mm_[tool] > 0.0)) return DeviceError::kCoilAttached;
   if (!has_next_coil(tool)) return DeviceError::kNoNextCoil;

@@ -12,6 +12,8 @@
 // this step wakes a coil asleep on its next turn. The wall's per-node hints are kept apart per
 // thread (ProbePoolScope). Solved on the calling thread instead (set_released_in_parallel(false)),
 // the job runs at the same point from the same state: the results are the same, bit for bit.
+// With released_overlap() the step returns before the job is over and the next one takes its
+// results in first (finish_released at a fixed point either way: the same results again).
 #include <memory>
 
 #include "background_job.hpp"
@@ -22,10 +24,20 @@ namespace cathbox::tool {
 Simulator::~Simulator() {
   if (job_) job_->finish();
 }
+
+void Simulator::settle() {
+  if (pending_) finish_released();
+}
+
+void Simulator::set_released_overlap(bool on) {
+  settle();
+  overlap_ = on;
+}
 Simulator::Simulator(Simulator&&) noexcept = default;
 Simulator& Simulator::operator=(Simulator&&) noexcept = default;
 
 void Simulator::set_released_in_parallel(bool on) {
+  settle();
   if (!job_) job_ = std::make_unique<BackgroundJob>();
   job_->set_threaded(on);
 }
@@ -84,17 +96,18 @@ void Simulator::solve_released(void* simulator) {
 }
 
 void Simulator::finish_released() {
+  pending_ = false;
   released_timing_ = {};
   if (job_ && !solving_.empty()) {
     job_->finish();
     released_timing_ = {job_->last_run_us(), job_->last_wait_us()};
   }
   for (const std::size_t i : solving_) {
-    coil_views_[i].mirror_contact_view(detached_[i]);
+    coil_views_[i].mirror_published_view(detached_[i]);
     if (observer_ != nullptr) observer_->solved(true, i, detached_[i]);
   }
   for (std::size_t i = 0; i < detached_.size(); ++i) {
-    if (released_coil_turn(i)) sleep_.coil_solved(i, detached_, contacts_.margin_mm(), static_cast<int>(released_turn_));
+    if ((launched_step_ + i) % released_turn_ == 0) sleep_.coil_solved(i, detached_, contacts_.margin_mm(), static_cast<int>(released_turn_));
   }
 }
 

@@ -70,7 +70,7 @@ void Simulator::copy_snapshot(Snapshot& out) const {
   out.time_s = time_s_;
   out.step = steps_;
   out.active_tool = active_;
-  out.tools.resize(rods_.size() + detached_.size());
+  out.tools.resize(rods_.size() + coil_views_.size());
   for (std::size_t t = 0; t < rods_.size(); ++t) {
     const Rod& rod = rods_[t];
     ToolSnapshot& s = out.tools[t];
@@ -104,8 +104,10 @@ void Simulator::copy_snapshot(Snapshot& out) const {
       }
     }
   }
-  for (std::size_t i = 0; i < detached_.size(); ++i) {
-    const Rod& coil = detached_[i];
+  // The released coils as their last finished solves left them (released_view: never waiting
+  // for a solve left running by the step, released_overlap).
+  for (std::size_t i = 0; i < coil_views_.size(); ++i) {
+    const Rod& coil = coil_views_[i];
     ToolSnapshot& s = out.tools[rods_.size() + i];
     s.name = coil.spec().name;
     s.kind = ToolKind::kCoil;

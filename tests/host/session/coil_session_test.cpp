@@ -161,7 +161,7 @@ class ReleasedCoilWallForces : public TickObserver {
     const std::size_t tools = v.sim.tool_count();
     bool converged = true;
     for (std::size_t t = 0; t < v.snapshot.tools.size(); ++t) {
-      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.detached(t - tools);
+      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.released_view(t - tools);  // as the snapshot has it
       converged = converged && (rod.converged() || rod.first_free_node() >= rod.node_total());
     }
     if (!converged) return;

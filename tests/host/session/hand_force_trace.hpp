@@ -49,14 +49,15 @@ class HandForceTrace : public TickObserver {
       peak_ms = v.time_us / 1000;
     }
     if (std::abs(f) > kSlewPerTick_mN) ++ticks_over_100mN;
-    // The solver's own word, per rod (the case's tools, then the released coils), to check the
+    // The solver's own word as the tick reads it, per rod (the case's tools, then the released
+    // coils: Simulator::released_view, a coil still being solved as the step began), to check the
     // metrics' unconverged shares against.
     const std::size_t tools = v.sim.tool_count();
     const std::size_t rods = tools + v.sim.detached_count();
     unconverged.resize(rods, 0);
     solved.resize(rods, 0);
     for (std::size_t t = 0; t < rods; ++t) {
-      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.detached(t - tools);
+      const tool::Rod& rod = t < tools ? v.sim.rod(t) : v.sim.released_view(t - tools);  // as the tick reads it
       if (rod.first_free_node() >= rod.node_total()) continue;
       ++solved[t];
       if (!rod.converged()) ++unconverged[t];

@@ -31,7 +31,7 @@ class ContactReadings {
 
   // After each step: the readings of the tools whose step converged (or that have no free
   // node), from the snapshot's contacts; the others keep theirs. A coil released since the
-  // last update gets a reading of its own (sim.detached(), after sim.tool_count() tools).
+  // last update gets a reading of its own (sim.released_view(), after sim.tool_count() tools).
   void update(const tool::Simulator& sim, const tool::Snapshot& snap);
 
   [[nodiscard]] const Reading& tool(std::size_t t) const { return readings_[t]; }

@@ -61,9 +61,11 @@ inline constexpr std::array<std::uint8_t, 8> kMagic = {'C', 'B', 'X', 'R', 'E', 
 // the hand its linearised equilibrium's force (Rod::hand_force_mN), 44 since a node's normal
 // force is zero at the end of a step it ends with no wall plane (Rod::finish_contacts): kept from
 // its last contact, it held the node on the next plane it found, 45 since a solve does not
-// converge on an iteration that let a node go under more than RodSettings::release_pull_mN. An
-// older record is refused in one line, not mis-replayed.
-inline constexpr std::uint16_t kFormatVersion = 45;
+// converge on an iteration that let a node go under more than RodSettings::release_pull_mN, 46
+// since a tick reads a released coil whose solve runs beside the next tick as it was when the
+// step began (Simulator::released_overlap: its snapshot, hence the state hash, and its metrics).
+// An older record is refused in one line, not mis-replayed.
+inline constexpr std::uint16_t kFormatVersion = 46;
 inline constexpr std::size_t kFileHeaderSize = 16;   // magic, u16 version, u16 0, u32 CRC-32
 inline constexpr std::size_t kBlockHeaderSize = 16;  // type, compression, u16 0, u32 stored, u32 raw, u32 CRC-32
 inline constexpr std::uint32_t kMaxBlockBytes = 16u << 20;  // stored and raw

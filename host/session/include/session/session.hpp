@@ -167,6 +167,7 @@ class Session {
   bool ends_before(std::int64_t n);  // the time limit or the trainee's end: the run ended
   void read_hand(std::int64_t n);
   void step_world(std::int64_t n);
+  void pulse_wall();  // the compliant wall's pressure for the tick being stepped
   HandFeedback feel(std::int64_t n);
   void observe(std::int64_t n, const HandFeedback& fb);
   void log_events(int tip_segment, double tip_force_mN);

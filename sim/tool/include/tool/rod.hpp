@@ -54,6 +54,10 @@ class Rod {
   // nodes, radii, arc lengths, window and settings, as of the last mirror; it is never stepped.
   [[nodiscard]] static Rod contact_view_of(const Rod& rod);
   void mirror_contact_view(const Rod& rod);  // no allocation once sized to it
+  // The contact view and what a reader of a solved rod's results takes of it besides (its
+  // tangents and directors, its wall contacts, whether its last solve converged): a released
+  // coil as the Simulator publishes it while its next solve runs (Simulator::released_view).
+  void mirror_published_view(const Rod& rod);
 
   // Entry point (introducer) and inward direction; resets the tool to fully withdrawn.
   void set_entry(const glm::dvec3& point_mm, const glm::dvec3& direction);

@@ -16,6 +16,7 @@
 // while inflated, and hold the coils off with their working length (RodContactField).
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -87,8 +88,13 @@ class Simulator {
     if (tool < rods_.size()) rods_[tool].set_node_load(node, force_mN);
   }
 
-  // Advances the simulation by dt seconds (1 ms at haptic rate).
+  // Advances the simulation by dt seconds (1 ms at haptic rate). With released_overlap() it
+  // may return with the released coils' solve still running (below).
   void step(double dt_s = 1e-3);
+  // Called at the start of each step(), once no solve runs, before anything reads the wall: the
+  // owner's changes to a wall the simulator holds that move it in place (a DisplacedWall's pulse)
+  // go here when the released coils' solve may outlast the step (released_overlap).
+  void set_before_solves(std::function<void()> fn) { before_solves_ = std::move(fn); }
 
   [[nodiscard]] double time_s() const { return time_s_; }
   [[nodiscard]] std::uint64_t steps() const { return steps_; }
@@ -120,7 +126,16 @@ class Simulator {
   // `tool`'s detachment zone is parting (detach started, the coil not released yet).
   [[nodiscard]] bool parting(std::size_t tool) const;
   [[nodiscard]] std::size_t detached_count() const { return detached_.size(); }
-  [[nodiscard]] const Rod& detached(std::size_t i) const { return detached_[i]; }
+  // Released coil i, its solve over (settle()): its solver's state as well as its results.
+  [[nodiscard]] const Rod& detached(std::size_t i) const {
+    settle_now();
+    return detached_[i];
+  }
+  // Released coil i as its last finished solve left it, never waiting for one: its nodes, radii,
+  // arc lengths, tangents, directors, wall contacts and convergence (Rod::mirror_published_view).
+  // With released_overlap() a coil whose solve runs beside the caller reads as it was when the
+  // step began (one step behind detached(i)); otherwise the same as detached(i).
+  [[nodiscard]] const Rod& released_view(std::size_t i) const { return coil_views_[i]; }
   // Length of coil released from `tool` (its present coil) so far (0 before detach).
   [[nodiscard]] double released_mm(std::size_t tool) const { return removed_mm_[tool]; }
   // After detach: the old pusher is withdrawn and the tool's next coil (ToolSpec::next_coils,
@@ -142,7 +157,10 @@ class Simulator {
   [[nodiscard]] CoilSleep::Settings& coil_sleep_settings() { return sleep_.settings(); }
   // Released coils are solved on every `ticks`-th step, over that many steps' time, taking turns
   // (tuning::kReleasedCoilTicks by default; 1 solves every coil every step). Tests and benches.
-  void set_released_turn_ticks(int ticks) { released_turn_ = ticks > 1 ? static_cast<std::size_t>(ticks) : 1; }
+  void set_released_turn_ticks(int ticks) {
+    settle();
+    released_turn_ = ticks > 1 ? static_cast<std::size_t>(ticks) : 1;
+  }
   [[nodiscard]] std::size_t released_turn_ticks() const { return released_turn_; }
   // Released coil i is solved in the next step() (its turn: step + i a multiple of the turn).
   [[nodiscard]] bool released_coil_turn(std::size_t i) const { return (steps_ + i) % released_turn_ == 0; }
@@ -152,6 +170,17 @@ class Simulator {
   // by default with two or more cores (off in the WebAssembly build).
   void set_released_in_parallel(bool on);
   [[nodiscard]] bool released_in_parallel() const;
+  // Overlap (off by default; the session's haptic loop turns it on): step() returns as soon as
+  // the attached tools are solved, the released coils' job still running, and the next step()
+  // (or settle(), or any call that needs them: detached(), swap_wall() ...) takes its results in
+  // first, at that fixed point: the same results, bit for bit. Between the two, released_view()
+  // and copy_snapshot() read the coils as the step began. The job runs in the time the haptic
+  // loop would sleep until its next tick. A simulator with a job running is not to be moved.
+  void set_released_overlap(bool on);
+  [[nodiscard]] bool released_overlap() const { return overlap_; }
+  // Waits for a released coils' job a step left running and takes its results in (at once when
+  // none runs).
+  void settle();
   // The last step's released-coil job, in microseconds of the steady clock (for benches): how
   // long it ran, and how long the step then waited for it (0 when it was over first, inline,
   // or when no released coil was solved).
@@ -162,7 +191,10 @@ class Simulator {
   // The rod-rod contact field (its candidate-list builds, for benches).
   [[nodiscard]] const RodContactField& coil_contacts() const { return contacts_; }
   // The released coils' own field (launch_released), for benches.
-  [[nodiscard]] const RodContactField& released_contacts() const { return released_contacts_; }
+  [[nodiscard]] const RodContactField& released_contacts() const {
+    settle_now();
+    return released_contacts_;
+  }
   // Told of each rod solve as step() makes it (a tool's, or a released coil's on its turn), for
   // benches that attribute a tick's time to its solves (bench/session's CaseAtRigSpeed). It
   // only reads; null (the default) costs a test per solve.
@@ -243,6 +275,10 @@ class Simulator {
   void solve_tool(std::size_t t, double dt_s, bool released);
   void launch_released(double dt_s);
   void finish_released();
+  // settle() for the readers of what the job writes (a Simulator is never defined const).
+  void settle_now() const {
+    if (pending_) const_cast<Simulator*>(this)->finish_released();  // NOLINT(cppcoreguidelines-pro-type-const-cast)
+  }
   static void solve_released(void* simulator);  // the job: BackgroundJob's thread, or inline
   [[nodiscard]] const Rod* job_rod(const Rod* rod, bool refresh);  // simulator_released.cpp
   void advance_partings(double dt_s);
@@ -315,6 +351,10 @@ class Simulator {
   ReleasedTiming released_timing_;
   double released_dt_s_ = 0.0;
   std::unique_ptr<BackgroundJob> job_;
+  bool overlap_ = false;              // set_released_overlap
+  bool pending_ = false;              // a step's released coils not taken in yet (finish_released)
+  std::uint64_t launched_step_ = 0;   // that step's number (whose coils were on their turn)
+  std::function<void()> before_solves_;
 };
 
 }  // namespace cathbox::tool
