@@ -1,9 +1,9 @@
 // Fuzzes the record-to-result path end to end: POST /api/v1/results (bytes cut at the route's
 // body limit, kMaxRecordBytes, as the HTTP layer would) -> the session-replay record checker ->
 // the library match, the completeness rule and the store, as a trainee with an assignment (odd
-// second byte) or without. The first byte's low bit corrects the record's CRCs first (see
-// tests/fuzz/session/record_crc_fix.hpp). Property: nothing a trainee uploads gives a 5xx or a
-// crash, and every refusal is one line.
+// second byte) or without. The first byte's low bit sets the record's version to this build's
+// and corrects its CRCs first (see tests/fuzz/session/record_crc_fix.hpp). Property: nothing a
+// trainee uploads gives a 5xx or a crash, and every refusal is one line.
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>

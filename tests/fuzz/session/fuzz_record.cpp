@@ -1,8 +1,9 @@
 // libFuzzer target for the session record reader: never crash, never hang; every problem is
 // one line "fuzz.cbxrec: byte N: what". The first input byte picks the mode: with its low bit
-// set, the file header's and every block's CRC-32 are corrected first (walking the block
-// headers), so that the fuzzer also explores the header fields, the tick entries and the
-// decompression behind the CRCs instead of stopping at them.
+// set, the file header's version is set to this build's and its and every block's CRC-32 are
+// corrected first (walking the block headers: record_crc_fix.hpp), so that the fuzzer also
+// explores the header fields, the tick entries and the decompression behind them instead of
+// stopping at them.
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
