@@ -1,0 +1,94 @@
+// The rod-contact field's candidate list (rod_contact_field.cpp, rod_contact_list.cpp) against
+// a wide member: a build that lists the coils' edges again and keeps an inflated balloon's as they
+// were still pairs them wherever the balloon's reach puts its edges' middles.
+#include <cmath>
+#include <cstddef>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "analytic_walls.hpp"
+#include "collision/segment_pair.hpp"
+#include "rod_test_support.hpp"
+#include "tool/rod_contact_field.hpp"
+
+namespace cathbox::tool {
+namespace {
+
+// A straight rod of outer diameter `od` along +z from `at`, `length` mm of it inserted.
+Rod straight(const glm::dvec3& at, double od, double length) {
+  Rod rod(testing::uniform_tool(length + 10.0, od, 20.0, 15.0, 0.5, 0.0));
+  rod.set_entry(at, {0.0, 0.0, 1.0});
+  const testing::NoWall wall;
+  testing::insert_to(rod, wall, length, 0.5);
+  return rod;
+}
+
+// The pairs of an edge of `a` and an edge of `b` (their members' ranges) closer than `reach_mm`,
+// by brute force: the contacts a gather of `a` against `b` alone makes.
+std::size_t pairs_within(const RodContactField::Member& a, const RodContactField::Member& b, double reach_mm) {
+  std::size_t n = 0;
+  const auto x = a.rod->positions();
+  const auto y = b.rod->positions();
+  for (std::size_t e = a.edge_first; e < a.edge_last; ++e) {
+    for (std::size_t f = b.edge_first; f < b.edge_last; ++f) {
+      const collision::SegmentPair p = collision::closest_segment_segment(x[e], x[e + 1], y[f], y[f + 1]);
+      n += std::sqrt(p.distance_sq) < reach_mm ? 1 : 0;
+    }
+  }
+  return n;
+}
+
+RodContactField::Member member_of(const Rod& rod, bool coil, double radius_mm) {
+  RodContactField::Member m;
+  m.rod = &rod;
+  m.edge_first = rod.first_edge();
+  m.edge_last = rod.node_total() - 1;
+  m.coil = coil;
+  m.radius_mm = radius_mm;
+  return m;
+}
+
+TEST(RodContactField, APartialBuildPairsACoilWithAWideMemberKeptAsListed) {
+  // An inflated balloon's working length (every edge a 2 mm capsule) on a shaft along z from 0 to
+  // 20 mm, and two coil-sized rods (0.25 mm) pushed in alongside from z = -12: one 2.15 mm from
+  // its axis (within the two radii and the margin, 2.175 mm), one 2.30 mm on the other side
+  // (not): the balloon's edges' middles lie farther from a coil's than two coil edges' reach.
+  // Pushed in, the coils' edges are listed again while the balloon's stay as listed.
+  Rod shaft = straight({-0.5, 0.0, 0.0}, 0.5, 20.0);
+  Rod near = straight({1.65, 0.0, -12.0}, 0.25, 5.0);
+  Rod far = straight({-2.8, 0.0, -12.0}, 0.25, 5.0);
+  RodContactField field(0.05, 0.3);
+  const auto set_members = [&] {
+    const std::vector<RodContactField::Member> members{member_of(shaft, false, 2.0), member_of(near, true, 0.0),
+                                                       member_of(far, true, 0.0)};
+    field.set_members(members);
+  };
+  set_members();
+  std::vector<EdgeContact> out;
+  field.gather(near, out);
+  EXPECT_TRUE(out.empty()) << "the coils start short of the balloon";
+  const testing::NoWall wall;
+  for (double ins = 5.5; ins <= 25.0; ins += 0.5) {
+    testing::insert_to(near, wall, ins, 0.5);
+    testing::insert_to(far, wall, ins, 0.5);
+    set_members();
+    field.gather(near, out);
+  }
+  EXPECT_GT(field.list_builds(), 1u);
+  EXPECT_LT(field.relisted_by_last_build(), field.items()) << "the last build listed every edge again";
+  // Every pair of a coil edge and a balloon edge within the two radii and the margin.
+  const std::size_t expected = pairs_within(member_of(near, true, 0.0), member_of(shaft, false, 2.0), 2.0 + 0.125 + 0.05);
+  EXPECT_GT(expected, 10u);
+  EXPECT_EQ(out.size(), expected) << "the coil beside the balloon touches it along its length";
+  for (const EdgeContact& c : out) EXPECT_GT(c.normal.x, 0.99) << "edge " << c.edge;
+  field.gather(far, out);
+  EXPECT_TRUE(out.empty()) << out.size() << " contacts 2.30 mm from the balloon's axis";
+  field.gather(shaft, out);
+  EXPECT_EQ(out.size(), expected) << "the balloon's side of the same contacts";
+  for (const EdgeContact& c : out) EXPECT_LT(c.normal.x, -0.99) << "edge " << c.edge;
+}
+
+}  // namespace
+}  // namespace cathbox::tool
