@@ -236,18 +236,10 @@ TEST(CoilBalloon, ACoilNodePressedOnTheBalloonFeelsMinusTheBalloonsForceAtTheCon
   // The members as the simulator makes them: the balloon's working length (the distal 10 mm)
   // at the chart's radius, the coil with itself.
   RodContactField field(0.1);
-  RodContactField::Member b;
-  b.rod = &balloon;
-  b.edge_first = balloon.first_edge();
+  RodContactField::Member b = testing::member_of(balloon, false, kR);
   while (balloon.node_from_tip_mm(b.edge_first) + balloon.node_from_tip_mm(b.edge_first + 1) > 20.0) ++b.edge_first;
-  b.edge_last = balloon.node_total() - 1;
-  b.radius_mm = kR;
-  RodContactField::Member c;
-  c.rod = &coil;
-  c.edge_first = coil.first_edge();
-  c.edge_last = coil.node_total() - 1;
+  RodContactField::Member c = testing::member_of(coil, true, 0.0);
   c.self = true;
-  c.coil = true;
   const std::vector<RodContactField::Member> members{b, c};
   field.set_members(members);
   for (int i = 0; i < 2000; ++i) {

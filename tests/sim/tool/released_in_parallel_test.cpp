@@ -35,6 +35,19 @@ bool same_nodes(std::span<const glm::dvec3> a, std::span<const glm::dvec3> b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin());
 }
 
+// Both simulators pushed to the second coil's insertion x and stepped: every attached tool's
+// nodes and the second coil's hand force the same, bit for bit.
+void step_both_alike(Simulator& a, Simulator& b, double x, int step) {
+  for (Simulator* s : {&a, &b}) {
+    s->set_insertion(kSecond, x);
+    s->step();
+  }
+  for (std::size_t t = 0; t < a.tool_count(); ++t) {
+    ASSERT_TRUE(same_nodes(a.rod(t).positions(), b.rod(t).positions())) << "tool " << t << ", step " << step;
+  }
+  ASSERT_EQ(a.hand_force_mN(kSecond), b.hand_force_mN(kSecond)) << "step " << step;
+}
+
 // The first coil released in the sphere, its pusher drawn back, the second at the
 // microcatheter's tip; returns the microcatheter's insertion.
 double release_the_first(Simulator& s) {
@@ -63,15 +76,8 @@ TEST(ReleasedInParallel, GivesTheSameStepsBitForBitAsSolvedOnTheCallingThread) {
   const std::vector<glm::dvec3> start(threaded.detached(0).positions().begin(), threaded.detached(0).positions().end());
   int steps = 0;
   for (double x = micro - 0.5; x < micro + 10.0; x += 0.02, ++steps) {
-    for (Simulator* s : {&threaded, &inline_}) {
-      s->set_insertion(kSecond, x);
-      s->step();
-    }
-    for (std::size_t t = 0; t < threaded.tool_count(); ++t) {
-      ASSERT_TRUE(same_nodes(threaded.rod(t).positions(), inline_.rod(t).positions())) << "tool " << t << ", step " << steps;
-    }
+    ASSERT_NO_FATAL_FAILURE(step_both_alike(threaded, inline_, x, steps));
     ASSERT_TRUE(same_nodes(threaded.detached(0).positions(), inline_.detached(0).positions())) << "step " << steps;
-    ASSERT_EQ(threaded.hand_force_mN(kSecond), inline_.hand_force_mN(kSecond)) << "step " << steps;
   }
   // Not vacuous: the second coil's 10 mm pushed the released one about.
   double moved = 0.0;
@@ -99,14 +105,7 @@ TEST(ReleasedInParallel, AJobLeftRunningPastTheStepGivesTheSameStepsAndIsReadAsT
   Snapshot snap;
   int steps = 0, behind = 0;
   for (double x = micro - 0.5; x < micro + 5.0; x += 0.02, ++steps) {
-    for (Simulator* s : {&joined, &overlap}) {
-      s->set_insertion(kSecond, x);
-      s->step();
-    }
-    for (std::size_t t = 0; t < joined.tool_count(); ++t) {
-      ASSERT_TRUE(same_nodes(joined.rod(t).positions(), overlap.rod(t).positions())) << "tool " << t << ", step " << steps;
-    }
-    ASSERT_EQ(joined.hand_force_mN(kSecond), overlap.hand_force_mN(kSecond)) << "step " << steps;
+    ASSERT_NO_FATAL_FAILURE(step_both_alike(joined, overlap, x, steps));
     // Read as the step began: the coil where the last step's job left it.
     ASSERT_TRUE(same_nodes(overlap.released_view(0).positions(), last)) << "step " << steps;
     overlap.copy_snapshot(snap);

@@ -16,6 +16,8 @@
 namespace cathbox::tool {
 namespace {
 
+using testing::member_of;
+
 // A straight rod of outer diameter `od` along +z from `at`, `length` mm of it inserted.
 Rod straight(const glm::dvec3& at, double od, double length) {
   Rod rod(testing::uniform_tool(length + 10.0, od, 20.0, 15.0, 0.5, 0.0));
@@ -38,16 +40,6 @@ std::size_t pairs_within(const RodContactField::Member& a, const RodContactField
     }
   }
   return n;
-}
-
-RodContactField::Member member_of(const Rod& rod, bool coil, double radius_mm) {
-  RodContactField::Member m;
-  m.rod = &rod;
-  m.edge_first = rod.first_edge();
-  m.edge_last = rod.node_total() - 1;
-  m.coil = coil;
-  m.radius_mm = radius_mm;
-  return m;
 }
 
 TEST(RodContactField, APartialBuildPairsACoilWithAWideMemberKeptAsListed) {

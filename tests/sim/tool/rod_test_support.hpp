@@ -6,8 +6,21 @@
 #include <cmath>
 
 #include "tool/rod.hpp"
+#include "tool/rod_contact_field.hpp"
 
 namespace cathbox::tool::testing {
+
+// A rod's free edges as a rod-contact field's member: a coil, or a capsule of radius_mm (> 0: an
+// inflated balloon's working length).
+inline RodContactField::Member member_of(const Rod& rod, bool coil, double radius_mm) {
+  RodContactField::Member m;
+  m.rod = &rod;
+  m.edge_first = rod.first_edge();
+  m.edge_last = rod.node_total() - 1;
+  m.coil = coil;
+  m.radius_mm = radius_mm;
+  return m;
+}
 
 inline ToolSpec uniform_tool(double length, double od, double ei, double gj, double spacing, double mu) {
   ToolSpec spec;
