@@ -40,7 +40,7 @@ glm::dvec3 any_perpendicular(const glm::dvec3& t) {
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
   return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
          a.self_only == b.self_only && a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm &&
-         a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0);
+         a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0) && a.frozen == b.frozen;
 }
 
 }  // namespace
@@ -164,6 +164,10 @@ bool RodContactField::excluded_always(const Member& a, std::size_t ea, const Mem
   const double h = std::max(a.rod->node_from_tip_mm(ea) - a.rod->node_from_tip_mm(ea + 1),
                             a.rod->node_from_tip_mm(eb) - a.rod->node_from_tip_mm(eb + 1));
   return arc_between(*a.rod, ea, eb) < 2.0 * (edge_radius(*a.rod, ea) + edge_radius(*a.rod, eb)) + h;
+}
+
+bool RodContactField::any_frozen() const {
+  return std::any_of(members_.begin(), members_.end(), [](const Member& m) { return m.frozen; });
 }
 
 bool RodContactField::excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const {
@@ -292,8 +296,9 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
   };
   // Pairs apart by more than the contact distance do not overlap. A list that no longer covers
   // the present positions is left for the next gather to rebuild (a diagnostic does not move
-  // the solver's work): the pairs come from the grid instead.
-  if (update_mids()) {
+  // the solver's work): the pairs come from the grid instead, as they do for a field whose frozen
+  // members' pairs are not listed.
+  if (update_mids() && !any_frozen()) {
     for (std::uint32_t mi = 0; mi < members_.size(); ++mi) for_candidates(members_[mi], mi, 0.0, pair_depth);
   } else {
     build_grid(false);

@@ -118,8 +118,10 @@ void RodContactField::build_list() const {
     for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
       if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
       const Item& b = items_[j];
+      const Member& mb = members_[b.member];
+      if (ma.frozen && mb.frozen) return;  // no gather reads the pair
       if (apart(listed_mid_[i], balls_[i].reach, listed_mid_[j], balls_[j].reach, margin_ + skin_)) return;
-      if (excluded_always(ma, a.edge, members_[b.member], b.edge)) return;
+      if (excluded_always(ma, a.edge, mb, b.edge)) return;
       if (j > i) fresh_.push_back({i, j});
       else lower_.push_back({j, i});
     });

@@ -150,6 +150,7 @@ void Simulator::update_contact_members() {
     m.edge_last = coil.node_total() - 1;
     m.self = true;
     m.coil = true;
+    m.frozen = true;  // solved by the job, never gathered here
     members_.push_back(m);
   }
   for (std::size_t t = 0; t < n; ++t) {

@@ -78,10 +78,12 @@ void Simulator::launch_released(double dt_s) {
     for (const Rod& rod : rods_) tool_views_.push_back(Rod::contact_view_of(rod));
     released_contacts_ = RodContactField(contacts_.margin_mm());
   }
-  // The coils' field: the same members, the tools' views for the tools, the coils themselves.
+  // The coils' field: the same members, the tools' views for the tools (frozen), the coils
+  // themselves.
   released_members_.assign(members_.begin(), members_.end());
   for (RodContactField::Member& m : released_members_) {
     m.rod = job_rod(m.rod, true);
+    m.frozen = !m.frozen;  // the tools' views are read, the coils solved
     if (m.hollow != nullptr) m.hollow = job_rod(m.hollow, false);  // compared, never read
   }
   released_contacts_.set_members(released_members_);

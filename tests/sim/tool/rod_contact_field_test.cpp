@@ -82,5 +82,46 @@ TEST(RodContactField, APartialBuildPairsACoilWithAWideMemberKeptAsListed) {
   for (const EdgeContact& c : out) EXPECT_LT(c.normal.x, -0.99) << "edge " << c.edge;
 }
 
+TEST(RodContactField, PairsOfTwoFrozenMembersAreNotListedButStillCountInTheWorstOverlap) {
+  // Two coil-sized rods (0.25 mm) side by side, 0.20 mm apart (0.05 mm deep into each other), and
+  // a third crossing beside them 0.28 mm from the first (in the margin's reach, not touching).
+  // Frozen, the two side by side are read, never gathered: their pairs are not listed, while every
+  // pair of the third with them is, as in a field with none frozen.
+  Rod a = straight({0.0, 0.0, 0.0}, 0.25, 10.0);
+  Rod b = straight({0.20, 0.0, 0.0}, 0.25, 10.0);
+  Rod c = straight({-0.28, 0.0, 0.0}, 0.25, 10.0);
+  const auto fields_members = [&](bool frozen) {
+    std::vector<RodContactField::Member> members{member_of(a, true, 0.0), member_of(b, true, 0.0), member_of(c, true, 0.0)};
+    members[0].frozen = members[1].frozen = frozen;
+    return members;
+  };
+  RodContactField with(0.05, 0.3), without(0.05, 0.3);
+  with.set_members(fields_members(true));
+  without.set_members(fields_members(false));
+  std::vector<EdgeContact> got, expected;
+  with.gather(c, got);
+  without.gather(c, expected);
+  ASSERT_EQ(got.size(), expected.size());
+  EXPECT_EQ(got.size(), pairs_within(member_of(c, true, 0.0), member_of(a, true, 0.0), 0.25 + 0.05));
+  EXPECT_GT(got.size(), 10u);
+  for (std::size_t k = 0; k < got.size(); ++k) {
+    EXPECT_EQ(got[k].edge, expected[k].edge);
+    EXPECT_EQ(got[k].normal, expected[k].normal);
+    EXPECT_EQ(got[k].offset_mm, expected[k].offset_mm);
+  }
+  // The listed pairs are those of a field without frozen members less exactly those a field of a
+  // and b alone lists.
+  RodContactField pair_only(0.05, 0.3);
+  const std::vector<RodContactField::Member> ab{member_of(a, true, 0.0), member_of(b, true, 0.0)};
+  pair_only.set_members(ab);
+  pair_only.gather(a, expected);
+  EXPECT_GT(pair_only.listed_pairs(), 20u);
+  EXPECT_EQ(with.listed_pairs() + pair_only.listed_pairs(), without.listed_pairs());
+  // The deepest overlap is the frozen pair's, found as in the field without frozen members.
+  const RodContactField::Overlap worst = with.worst_overlap();
+  EXPECT_NEAR(worst.depth_mm, 0.05, 1e-9);
+  EXPECT_EQ(worst.depth_mm, without.worst_overlap().depth_mm);
+}
+
 }  // namespace
 }  // namespace cathbox::tool

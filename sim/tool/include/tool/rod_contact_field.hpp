@@ -46,6 +46,10 @@ class RodContactField final : public RodObstacles {
     // their contact law (their contact stiffness) on both sides: an inflated balloon's working
     // length. A change of this alone keeps the candidate list (growth counts as motion).
     double radius_mm = 0.0;
+    // Never gathered here: a rod solved elsewhere, read as it stands (the released coils' views
+    // in the attached tools' field, the tools' views in the released coils'). Pairs of two such
+    // members' edges serve no gather and are not listed; worst_overlap still finds them.
+    bool frozen = false;
   };
 
   explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), skin_(skin_mm) {}
@@ -73,6 +77,8 @@ class RodContactField final : public RodObstacles {
   [[nodiscard]] std::uint64_t list_carries() const { return list_carries_; }
   [[nodiscard]] std::size_t relisted_by_last_build() const { return relisted_count_; }
   [[nodiscard]] std::size_t items() const { return items_.size(); }
+  // Pairs the last build listed (diagnostics, tests).
+  [[nodiscard]] std::size_t listed_pairs() const { return halves_.size(); }
   // Gathers made (diagnostics, benches).
   [[nodiscard]] std::uint64_t gather_calls() const { return gather_calls_; }
   // Segment tests the gathers made (diagnostics, benches).
@@ -113,6 +119,7 @@ class RodContactField final : public RodObstacles {
   void keep_last_gaps() const;  // after a partial build: the last gaps of pairs listed again
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
+  [[nodiscard]] bool any_frozen() const;
   [[nodiscard]] bool excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
   template <typename Fn>
   void for_neighbours(const glm::dvec3& p, Fn&& fn) const;
