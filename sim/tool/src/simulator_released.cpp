@@ -86,7 +86,6 @@ void Simulator::launch_released(double dt_s) {
     m.frozen = !m.frozen;  // the tools' views are read, the coils solved
     if (m.hollow != nullptr) m.hollow = job_rod(m.hollow, false);  // compared, never read
   }
-  released_contacts_.set_members(released_members_);
   released_dt_s_ = dt_s * static_cast<double>(released_turn_);
   job_->start(&Simulator::solve_released, this);
 }
@@ -94,6 +93,9 @@ void Simulator::launch_released(double dt_s) {
 void Simulator::solve_released(void* simulator) {
   Simulator& sim = *static_cast<Simulator*>(simulator);
   const ProbePoolScope pool(1);
+  // The field's members are set here, off the caller's thread: carrying its list over to moved
+  // edge ranges (a node crossing a catheter's tip) walks every listed pair.
+  sim.released_contacts_.set_members(sim.released_members_);
   for (const std::size_t i : sim.solving_) sim.detached_[i].step(sim.released_dt_s_, *sim.wall_, &sim.released_contacts_);
 }
 
