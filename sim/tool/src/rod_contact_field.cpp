@@ -104,6 +104,7 @@ void RodContactField::list_items() {
   bucket_mask_ = buckets - 1;
   if (start_.size() < buckets + 1) start_.assign(buckets + 1, 0);
   if (grid_.capacity() < items) grid_.reserve(items);
+  if (grid_balls_.capacity() < items) grid_balls_.reserve(items);
   if (listed_mid_.capacity() < items) listed_mid_.reserve(items);
   if (ref_end_.capacity() < 2 * items) ref_end_.reserve(2 * items);
   spans_.resize(items);  // update_mids sets them

@@ -58,6 +58,11 @@ inline std::size_t RodContactField::bucket_of(std::int64_t x, std::int64_t y, st
 
 template <typename Fn>
 void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
+  for_neighbour_slots(p, [&](std::uint32_t slot) { fn(grid_[slot]); });
+}
+
+template <typename Fn>
+void RodContactField::for_neighbour_slots(const glm::dvec3& p, Fn&& fn) const {
   const glm::dvec3 c = glm::floor(p / cell_mm_);
   const auto cx = static_cast<std::int64_t>(c.x);
   const auto cy = static_cast<std::int64_t>(c.y);
@@ -73,7 +78,7 @@ void RodContactField::for_neighbours(const glm::dvec3& p, Fn&& fn) const {
         const std::size_t b = bucket_of(cx + dx, cy + dy, cz + dz);
         if (seen_[b] == query_) continue;
         seen_[b] = query_;
-        for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(grid_[i]);
+        for (std::uint32_t i = start_[b]; i < start_[b + 1]; ++i) fn(i);
       }
 }
 

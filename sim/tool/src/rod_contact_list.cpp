@@ -68,6 +68,9 @@ void RodContactField::build_grid(bool listed) const {
   fill_.assign(start_.begin(), start_.begin() + static_cast<std::ptrdiff_t>(buckets));
   grid_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) grid_[fill_[bucket_of_item_[i]]++] = i;
+  if (!listed) return;
+  grid_balls_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) grid_balls_[k] = Ball{listed_mid_[grid_[k]], balls_[grid_[k]].reach};
 }
 
 // Items whose middle left its listed place by more than a quarter of the skin (every item when
@@ -115,12 +118,16 @@ void RodContactField::build_list() const {
     const std::size_t from = fresh_.size();
     const Item& a = items_[i];
     const Member& ma = members_[a.member];
-    for_neighbours(listed_mid_[i], [&](std::uint32_t j) {
+    const glm::dvec3 mid = listed_mid_[i];
+    const double reach = balls_[i].reach;
+    for_neighbour_slots(mid, [&](std::uint32_t slot) {
+      const Ball& other = grid_balls_[slot];
+      if (apart(mid, reach, other.mid, other.reach, margin_ + skin_)) return;
+      const std::uint32_t j = grid_[slot];
       if (j == i || (j < i && relisted_[j] != 0)) return;  // the lower relisted item found it
       const Item& b = items_[j];
       const Member& mb = members_[b.member];
       if (ma.frozen && mb.frozen) return;  // no gather reads the pair
-      if (apart(listed_mid_[i], balls_[i].reach, listed_mid_[j], balls_[j].reach, margin_ + skin_)) return;
       if (excluded_always(ma, a.edge, mb, b.edge)) return;
       if (j > i) fresh_.push_back({i, j});
       else lower_.push_back({j, i});

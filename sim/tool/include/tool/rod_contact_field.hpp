@@ -122,7 +122,9 @@ class RodContactField final : public RodObstacles {
   [[nodiscard]] bool any_frozen() const;
   [[nodiscard]] bool excluded_now(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
   template <typename Fn>
-  void for_neighbours(const glm::dvec3& p, Fn&& fn) const;
+  void for_neighbours(const glm::dvec3& p, Fn&& fn) const;  // fn(item)
+  template <typename Fn>
+  void for_neighbour_slots(const glm::dvec3& p, Fn&& fn) const;  // fn(slot in grid_)
   template <typename Fn>
   void for_candidates(const Member& me, std::uint32_t mi, double margin, Fn&& fn) const;
 
@@ -196,6 +198,9 @@ class RodContactField final : public RodObstacles {
   // Hash grid for a build: bucket b holds the items grid_[start_[b] .. start_[b + 1]).
   mutable std::vector<std::uint32_t> start_;
   mutable std::vector<std::uint32_t> grid_;
+  // The listed middles and reaches in grid_'s order (a build's broad phase reads them in a run per
+  // bucket instead of gathering each candidate's from the item arrays).
+  mutable std::vector<Ball> grid_balls_;
   mutable std::vector<std::uint32_t> bucket_of_item_;
   mutable std::vector<std::uint32_t> fill_;
   mutable std::vector<std::uint32_t> seen_;  // per bucket: the last query that visited it
