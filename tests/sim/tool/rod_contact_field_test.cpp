@@ -84,7 +84,7 @@ TEST(RodContactField, APartialBuildPairsACoilWithAWideMemberKeptAsListed) {
 
 TEST(RodContactField, PairsOfTwoFrozenMembersAreNotListedButStillCountInTheWorstOverlap) {
   // Two coil-sized rods (0.25 mm) side by side, 0.20 mm apart (0.05 mm deep into each other), and
-  // a third crossing beside them 0.28 mm from the first (in the margin's reach, not touching).
+  // a third alongside them, 0.28 mm from the first (a gap of 0.03 mm: in the margin's reach).
   // Frozen, the two side by side are read, never gathered: their pairs are not listed, while every
   // pair of the third with them is, as in a field with none frozen.
   Rod a = straight({0.0, 0.0, 0.0}, 0.25, 10.0);
