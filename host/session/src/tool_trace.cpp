@@ -18,11 +18,11 @@ void ToolTrace::observe(const TickView& v) {
       const glm::dvec3 tip = rod.tip().position_mm;
       const glm::dvec3 push = sim.tip_push_mN(t);
       std::fprintf(out_,
-                   "%9.3f %-16s %s ins %8.3f F %8.1f dF %+7.1f own %8.1f clamp_shift %.3f free_from %zu of %zu converged %d its %d"
+                   "%9.3f %-16s %s ins %8.3f F %8.1f dF %+7.1f own %8.1f clamp_shift %.3f free_from %zu of %zu converged %d its %d parts %d"
                    " | tip %.4f %.4f %.4f push %.1f %.1f %.1f | wall",
                    1e-6 * static_cast<double>(v.time_us), rod.spec().name.c_str(), t == v.input.held ? "held" : "    ",
                    sim.insertion_mm(t), f, first ? 0.0 : f - last_mN_[t], rod.hand_force_mN(), rod.clamp_shift_mm(),
-                   rod.first_free_node(), rod.node_total(), rod.converged() ? 1 : 0, rod.last_iterations(), tip.x, tip.y, tip.z, push.x,
+                   rod.first_free_node(), rod.node_total(), rod.converged() ? 1 : 0, rod.last_iterations(), rod.last_substeps(), tip.x, tip.y, tip.z, push.x,
                    push.y, push.z);
       for (const tool::RodContact& c : rod.contacts()) {
         std::fprintf(out_, " n%u %.1f (%.2f %.2f %.2f) fr %.1f", c.node, c.normal_force_mN, c.normal.x, c.normal.y,

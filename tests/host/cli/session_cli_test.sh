@@ -151,7 +151,7 @@ tools=$("$cb" session info "$work/coil.cbxrec" --json | jq '.tools | length')
 # Every tool's state tick by tick over a window (`--trace FROM-TO`): a line per tool and tick, the
 # held one marked, before the replay's summary; a window that is not FROM-TO is a usage error.
 expect 0 "$cb" session replay "$work/coil.cbxrec" --trace 1.000-1.002
-trace_line='^ +[0-9]+\.[0-9]{3} .* ins +-?[0-9.]+ F +-?[0-9.]+ dF +[-+][0-9.]+ own .* converged [01] its [0-9]+ \| tip .* \| wall.* \| rods'
+trace_line='^ +[0-9]+\.[0-9]{3} .* ins +-?[0-9.]+ F +-?[0-9.]+ dF +[-+][0-9.]+ own .* converged [01] its [0-9]+ parts [0-9]+ \| tip .* \| wall.* \| rods'
 [ "$(grep -cE "$trace_line" "$work/out")" -eq $((3 * tools)) ] || fail "trace: not 3 x $tools lines: $(head -c 600 "$work/out")"
 [ "$(grep -c ' held ins ' "$work/out")" -eq 3 ] || fail "trace: not one held tool a tick: $(head -c 600 "$work/out")"
 grep -q "replayed .* state hashes checked" "$work/out" || fail "trace: no summary line"
