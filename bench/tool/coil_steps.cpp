@@ -254,8 +254,10 @@ void BM_StepCoilPacking(benchmark::State& state) {
 // the session sets it); overlap:0 waits for it in the step (the simulator's default). Per tick, its latency: from the tick's start (its deadline, not when the step
 // began: a tick started late by the one before carries that) to the step's return, when the hand
 // gets its force (`median_us`, `p99_us`, `late_pct`: ticks whose latency passed the 1 ms period);
-// and the step's thread CPU. The results are BM_StepCoilPacking's, bit for bit
-// (`packing_after_pct`, `peak_hand_mN`).
+// and the step's thread CPU. In the wait, when not late, the step's work that can be done ahead
+// (Simulator::prepare_next_step: the candidate list built before an edge has moved the whole way
+// it covers; `prepared_pct` of the waits, `step_builds_pct` the steps that still built it). The
+// results are BM_StepCoilPacking's, bit for bit (`packing_after_pct`, `peak_hand_mN`).
 void BM_StepCoilPackingPaced(benchmark::State& state) {
   const std::unique_ptr<PackingScene> scene = packing_scene(state);
   if (!scene) return;
@@ -265,7 +267,7 @@ void BM_StepCoilPackingPaced(benchmark::State& state) {
   std::vector<double> latency, cpu;
   latency.reserve(1 << 13);
   cpu.reserve(1 << 13);
-  double push = sim.insertion_mm(3), peak_mN = 0.0;
+  double push = sim.insertion_mm(3), peak_mN = 0.0, step_builds = 0.0, prepared = 0.0;
   constexpr auto kTick = std::chrono::microseconds(1000);
   auto due = std::chrono::steady_clock::now() + kTick;
   for (auto _ : state) {
@@ -274,11 +276,15 @@ void BM_StepCoilPackingPaced(benchmark::State& state) {
     push += 0.02;
     sim.set_insertion(3, push);
     const double c0 = thread_cpu_us();
+    const std::uint64_t b0 = sim.coil_contacts().list_builds();
     sim.step();
     const auto t1 = std::chrono::steady_clock::now();
     cpu.push_back(thread_cpu_us() - c0);
     latency.push_back(std::chrono::duration<double, std::micro>(t1 - due).count());
     peak_mN = std::max(peak_mN, std::abs(sim.rod(3).hand_force_mN()));
+    step_builds += static_cast<double>(sim.coil_contacts().list_builds() - b0);
+    // In the wait, as the session's haptic loop does (HapticThread's idle work): not when late.
+    if (std::chrono::steady_clock::now() < due + kTick && sim.prepare_next_step()) ++prepared;
     due += kTick;
   }
   sim.settle();
@@ -291,6 +297,9 @@ void BM_StepCoilPackingPaced(benchmark::State& state) {
   state.counters["late_pct"] = 100.0 * late / static_cast<double>(std::max<std::size_t>(1, latency.size()));
   state.counters["cpu_median_us"] = quantile(cpu, 0.5);
   state.counters["cpu_p99_us"] = quantile(cpu, 0.99);
+  const auto steps = static_cast<double>(std::max<std::size_t>(1, latency.size()));
+  state.counters["step_builds_pct"] = 100.0 * step_builds / steps;  // the list built in the step
+  state.counters["prepared_pct"] = 100.0 * prepared / steps;        // built in the wait before it
   state.counters["packing_after_pct"] = 100.0 * metrics.figures().packing_density;
   state.counters["peak_hand_mN"] = peak_mN;
   state.SetLabel(overlap ? "the same, paced at 1 kHz, the released coils' job running into the wait"

@@ -6,8 +6,8 @@
 
 namespace cathbox::session {
 
-HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick)
-    : clock_(clock), period_us_(period_us), tick_(std::move(tick)) {}
+HapticThread::HapticThread(Clock& clock, std::int64_t period_us, TickFn tick, IdleFn idle)
+    : clock_(clock), period_us_(period_us), tick_(std::move(tick)), idle_(std::move(idle)) {}
 
 HapticThread::~HapticThread() { stop(); }
 
@@ -41,10 +41,20 @@ void HapticThread::run(base::stop_token stop, std::int64_t max_ticks) {
       ++n;
       ticks_.store(n, std::memory_order_relaxed);
       meter.tick(now);
+      idle_due_ = go_on;
     }
     rate_hz_.store(meter.rate_hz(), std::memory_order_relaxed);
     if (n % 100 < static_cast<std::int64_t>(due.ticks)) cpu_us_.store(thread_cpu_time_us(), std::memory_order_relaxed);
-    if (due.ticks == 0) clock_.sleep_until_us(pacer.next_deadline_us());
+    if (due.ticks > 0) continue;
+    // No tick due: the next tick's work that can be done ahead, once, with half a period or more
+    // left before it, then the wait. (A tick that ran late goes straight on to the next: the
+    // pacer finds it due; one that ran long leaves that work to the next tick.)
+    if (idle_due_ && idle_ && pacer.next_deadline_us() - now >= period_us_ / 2) {
+      idle_due_ = false;
+      idle_();
+      continue;
+    }
+    clock_.sleep_until_us(pacer.next_deadline_us());
   }
   finished_.store(true, std::memory_order_release);
 }

@@ -15,7 +15,8 @@ void Session::start() {
   // its due tick wait: tool/wall_swap.hpp).
   if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kWorker);
   if (!real_thread_) {
-    real_thread_ = std::make_unique<HapticThread>(real_clock(), options_.period_us, [this](std::int64_t) { return tick(); });
+    real_thread_ = std::make_unique<HapticThread>(
+        real_clock(), options_.period_us, [this](std::int64_t) { return tick(); }, [this] { prepare_next_tick(); });
   }
   real_thread_->start();
 }
@@ -27,12 +28,16 @@ void Session::stop() {
 std::int64_t Session::step_virtual(std::int64_t ticks) {
   if (angioplasty_) angioplasty_->swap().set_mode(tool::WallSwap::Mode::kSynchronous);  // same walls at the same ticks
   if (!virtual_thread_) {
-    virtual_thread_ =
-        std::make_unique<HapticThread>(virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); });
+    virtual_thread_ = std::make_unique<HapticThread>(
+        virtual_clock_, options_.period_us, [this](std::int64_t) { return tick(); }, [this] { prepare_next_tick(); });
   }
   const std::int64_t before = tick_;
   virtual_thread_->run(base::stop_token{}, virtual_thread_->ticks() + ticks);
   return tick_ - before;
+}
+
+void Session::prepare_next_tick() {
+  if (!over_.load(std::memory_order_relaxed)) sim_->prepare_next_step();
 }
 
 device::Clock& Session::real_clock() { return options_.real_time_clock != nullptr ? *options_.real_time_clock : steady_; }

@@ -36,9 +36,9 @@ glm::dvec3 any_perpendicular(const glm::dvec3& t) {
   return l > 1e-12 ? p / l : glm::dvec3(0, 0, 1);
 }
 
-// The same member but for its radius override.
+// The same member but for its radius override and where its gathered edges begin among its listed ones.
 bool same_member(const RodContactField::Member& a, const RodContactField::Member& b) {
-  return a.rod == b.rod && a.edge_first == b.edge_first && a.edge_last == b.edge_last && a.self == b.self &&
+  return a.rod == b.rod && a.list_begin() == b.list_begin() && a.edge_last == b.edge_last && a.self == b.self &&
          a.self_only == b.self_only && a.hollow == b.hollow && a.hollow_depth_mm == b.hollow_depth_mm &&
          a.coil == b.coil && (a.radius_mm > 0.0) == (b.radius_mm > 0.0) && a.frozen == b.frozen;
 }
@@ -51,6 +51,7 @@ void RodContactField::set_members(std::span<const Member> members) {
     same = same_member(members[i], members_[i]) && members[i].rod->node_total() == node_totals_[i];
   }
   if (same) {
+    for (std::size_t i = 0; i < members.size(); ++i) members_[i].edge_first = members[i].edge_first;
     set_radii(members);
     return;
   }
@@ -84,7 +85,7 @@ void RodContactField::list_items() {
     node_totals_.push_back(rod.node_total());
     first_item_.push_back(static_cast<std::uint32_t>(items_.size()));
     max_override_mm_ = std::max(max_override_mm_, m.radius_mm);
-    for (std::size_t e = m.edge_first; e < m.edge_last && e + 1 < rod.node_total(); ++e) {
+    for (std::size_t e = m.list_begin(); e < m.edge_last && e + 1 < rod.node_total(); ++e) {
       max_edge_mm_ = std::max(max_edge_mm_, rod.node_from_tip_mm(e) - rod.node_from_tip_mm(e + 1));
       if (m.radius_mm > 0.0) {
         items_.push_back(Item{mi, static_cast<std::uint32_t>(e), m.radius_mm});
@@ -121,6 +122,7 @@ bool RodContactField::ranges_moved(std::span<const Member> members) const {
   for (std::size_t i = 0; i < members.size(); ++i) {
     Member m = members[i];
     m.edge_first = members_[i].edge_first;
+    m.listed_first = members_[i].listed_first;
     m.edge_last = members_[i].edge_last;
     if (!same_member(m, members_[i]) || m.radius_mm != members_[i].radius_mm ||
         m.rod->node_total() != node_totals_[i]) {
@@ -185,7 +187,7 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
   // are apart), then the slots it keeps, in their order.
   constexpr std::uint32_t kChunk = 64;
   std::uint32_t near[kChunk];
-  for (std::uint32_t i = first_item_[mi]; i < first_item_[mi + 1]; ++i) {
+  for (std::uint32_t i = first_item_[mi] + static_cast<std::uint32_t>(me.edge_first - me.list_begin()); i < first_item_[mi + 1]; ++i) {
     const Item& a = items_[i];
     const Ball ball = balls_[i];
     for (std::uint32_t from = pair_start_[i]; from < pair_start_[i + 1]; from += kChunk) {
@@ -200,7 +202,7 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
         const std::uint32_t p = near[k];
         const Item& b = items_[pairs_[p]];
         const Member& other = members_[b.member];
-        if (excluded_now(me, a.edge, other, b.edge)) continue;
+        if (b.edge < other.edge_first || excluded_now(me, a.edge, other, b.edge)) continue;
         fn(a, other, b, p);
       }
     }
@@ -306,10 +308,11 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
     for (std::uint32_t i = 0; i < items_.size(); ++i) {
       const Item& a = items_[i];
       const Member& me = members_[a.member];
+      if (a.edge < me.edge_first) continue;
       for_neighbours(balls_[i].mid, [&](std::uint32_t j) {
         const Item& b = items_[j];
         const Member& other = members_[b.member];
-        if (j == i || apart(balls_[i].mid, balls_[i].reach, balls_[j].mid, balls_[j].reach, 0.0)) return;
+        if (j == i || b.edge < other.edge_first || apart(balls_[i].mid, balls_[i].reach, balls_[j].mid, balls_[j].reach, 0.0)) return;
         if (excluded_always(me, a.edge, other, b.edge) || excluded_now(me, a.edge, other, b.edge)) return;
         pair_depth(a, other, b, 0);
       });

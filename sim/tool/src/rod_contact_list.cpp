@@ -31,7 +31,8 @@ bool RodContactField::update_mids() const {
     const glm::dvec3& p0 = x[item.edge];
     const glm::dvec3& p1 = x[item.edge + 1];
     balls_[i].mid = 0.5 * (p0 + p1);
-    if (covered) {
+    // An edge listed but not gathered (Member::listed_first) needs no cover until it is gathered.
+    if (covered && item.edge >= members_[item.member].edge_first) {
       const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
       covered = glm::dot(d, d) <= limit_sq;
     }
@@ -49,6 +50,26 @@ bool RodContactField::update_mids() const {
     spans_[i] = Span{ref_moved_[i] + drift, ref_moved_[i] - drift};
   }
   return covered;
+}
+
+bool RodContactField::prepare(double fraction) const {
+  if (members_.empty() || items_.empty()) return false;
+  const bool covered = update_mids();
+  if (covered) {
+    const double limit = fraction * 0.5 * skin_;
+    double most_sq = 0.0;
+    for (std::size_t i = 0; i < items_.size(); ++i) {
+      if (items_[i].edge < members_[items_[i].member].edge_first) continue;
+      const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
+      most_sq = std::max(most_sq, glm::dot(d, d));
+    }
+    if (most_sq <= limit * limit) return false;
+  }
+  // Listed again: the items moved more than half the trigger, as a build in a gather lists those
+  // moved a quarter of the skin, half its trigger (a lower share lists again, a tick or two later,
+  // the items the last build kept).
+  build_list(0.25 * fraction);
+  return true;
 }
 
 void RodContactField::build_grid(bool listed) const {
@@ -75,7 +96,7 @@ void RodContactField::build_grid(bool listed) const {
 
 // Items whose middle left its listed place by more than a quarter of the skin (every item when
 // the members changed) are listed again where they are now.
-bool RodContactField::relist_moved() const {
+bool RodContactField::relist_moved(double share) const {
   const std::size_t n = items_.size();
   // A grown radius override relists every item (its pairs' classification used the old reach).
   const bool partial = list_valid_ && listed_mid_.size() == n && !(grown_mm_ > 0.0);
@@ -84,7 +105,7 @@ bool RodContactField::relist_moved() const {
   listed_mid_.resize(n);
   relisted_.assign(n, 1);
   relisted_count_ = 0;
-  const double keep_sq = 0.0625 * skin_ * skin_;
+  const double keep_sq = share * share * skin_ * skin_;
   for (std::size_t i = 0; i < n; ++i) {
     const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
     if (partial && glm::dot(d, d) <= keep_sq) {
@@ -97,11 +118,11 @@ bool RodContactField::relist_moved() const {
   return partial;
 }
 
-void RodContactField::build_list() const {
+void RodContactField::build_list(double share) const {
   ++list_builds_;
   carried_ = false;
   const std::size_t n = items_.size();
-  relisted_all_ = !relist_moved();
+  relisted_all_ = !relist_moved(share);
   if (relisted_all_) halves_.clear();  // the members changed: no pair is kept
   build_grid(true);
   // Each pair is classified on the two items' listed middles: a pair left out is further apart
@@ -208,10 +229,10 @@ void RodContactField::carry_list_over(std::span<const Member> members) {
   carried_end_.assign(2 * n, glm::dvec3(std::numeric_limits<double>::quiet_NaN()));
   carried_moved_.assign(n, 0.0);
   for (std::uint32_t mi = 0; mi < members_.size(); ++mi) {
-    const std::size_t first = members_[mi].edge_first;
+    const std::size_t first = members_[mi].list_begin();
     const std::size_t last = first + (first_item_[mi + 1] - first_item_[mi]);
     for (std::uint32_t i = first_before_[mi]; i < first_before_[mi + 1]; ++i) {
-      const std::size_t e = members_before_[mi].edge_first + (i - first_before_[mi]);
+      const std::size_t e = members_before_[mi].list_begin() + (i - first_before_[mi]);
       if (e < first || e >= last) continue;
       const auto j = static_cast<std::uint32_t>(first_item_[mi] + (e - first));
       next_[i] = j;

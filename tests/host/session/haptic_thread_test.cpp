@@ -78,6 +78,30 @@ TEST(HapticThread, AStallInsideATickIsCountedAsDroppedTicks) {
   EXPECT_EQ(loop.dropped(), 26);  // 30 late ticks, 4 caught up
 }
 
+// The idle work runs once in each wait after the ticks that were due, before the next tick,
+// and not while the loop is catching up (a tick that overran goes straight on to the next) nor
+// with less than half a period left (a tick that ran long).
+TEST(HapticThread, RunsTheIdleWorkOnceInEachWaitAndNeverWhileLate) {
+  VirtualClock clock;
+  std::vector<std::int64_t> events;  // a tick's time, or -1 for the idle work
+  HapticThread loop(
+      clock, 1000,
+      [&](std::int64_t t) {
+        events.push_back(t);
+        if (t == 5000) clock.advance_us(2500);  // this tick takes 2.5 ms: 6 and 7 ms are due at once
+        if (t == 8000) clock.advance_us(600);   // this one 0.6 ms: 0.4 ms left before the next
+        return true;
+      },
+      [&] {
+        events.push_back(-1);
+        clock.advance_us(300);  // the idle work takes 0.3 ms of the wait
+      });
+  loop.run(std::stop_token{}, 10);
+  const std::vector<std::int64_t> want = {0, -1, 1000, -1, 2000, -1, 3000, -1, 4000, -1, 5000, 6000, 7000, -1, 8000, 9000};
+  EXPECT_EQ(events, want);
+  EXPECT_EQ(loop.dropped(), 0);
+}
+
 TEST(HapticThread, StartsAndStopsOnItsOwnThread) {
   VirtualClock clock;
   std::atomic<std::int64_t> seen{0};

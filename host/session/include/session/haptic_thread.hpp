@@ -1,7 +1,8 @@
 #pragma once
 // The haptic loop's thread: runs a tick function at a fixed rate (1 kHz by default) against a
 // Clock, measures the achieved rate, and counts ticks dropped after stalls. The tick function
-// receives the simulation time (ticks x period) and returns false to end the run.
+// receives the simulation time (ticks x period) and returns false to end the run; the idle
+// function, if any, runs in the wait after them.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -18,8 +19,12 @@ namespace cathbox::session {
 class HapticThread {
  public:
   using TickFn = std::function<bool(std::int64_t sim_time_us)>;
+  // Work for the next tick done ahead of it (Simulator::prepare_next_step): run once after the
+  // ticks that were due, before the loop sleeps, when half a period or more is left before the
+  // next tick. Never while late.
+  using IdleFn = std::function<void()>;
 
-  HapticThread(Clock& clock, std::int64_t period_us, TickFn tick);
+  HapticThread(Clock& clock, std::int64_t period_us, TickFn tick, IdleFn idle = {});
   ~HapticThread();
   HapticThread(const HapticThread&) = delete;
   HapticThread& operator=(const HapticThread&) = delete;
@@ -46,6 +51,8 @@ class HapticThread {
   Clock& clock_;
   std::int64_t period_us_;
   TickFn tick_;
+  IdleFn idle_;
+  bool idle_due_ = false;  // ticks ran since the idle work last did
   std::optional<HapticPacer> pacer_;
   RateMeter meter_;
   base::jthread thread_;

@@ -163,6 +163,9 @@ class Session {
   // The tools' unconverged shares into the metrics (ContactReadings' counts).
   void observe_convergence();
   bool tick();
+  // In the haptic loop's wait after a tick: the next step's work that can be done ahead
+  // (Simulator::prepare_next_step; the results are the same either way).
+  void prepare_next_tick();
   // The steps of a tick, in order (session.cpp numbers them).
   bool ends_before(std::int64_t n);  // the time limit or the trainee's end: the run ended
   void read_hand(std::int64_t n);

@@ -11,14 +11,18 @@
 // from where it was listed or the members change. A build then lists again only the edges
 // that moved a quarter of the skin or came into a member, pairs being classified on the listed
 // middles, and keeps the pairs of the others (released coils at rest). It lists all only when
-// the members change: members whose edge ranges alone moved (a coil's node crossing its
-// catheter's tip, every node spacing of a push) keep their edges' places, pairs and bounds.
+// the members change: members whose edge ranges alone moved keep their edges' places, pairs and
+// bounds. A member may list edges before its first gathered one (Member::listed_first: a coil's,
+// from a block boundary inside its catheter), so that its first edge moving within them (a node
+// crossing the catheter's tip, every node spacing of a push) changes no list. prepare() builds
+// ahead, between ticks, before the gathers have to.
 // A gather then tests only the listed pairs, and skips the segment test of a pair whose last
 // tested distance, less what the ends of both edges can have moved since, keeps it out of
 // reach (each edge's move bounded by its drift from a reference that follows it: Span). The
 // two sides of a contact of a rod with itself come from one segment test (from its lower
 // edge): one plane, normals opposite. The contacts are those of a fresh search.
 // Nothing allocates once the members are set and the list has reached its working size.
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -50,6 +54,13 @@ class RodContactField final : public RodObstacles {
     // in the attached tools' field, the tools' views in the released coils'). Pairs of two such
     // members' edges serve no gather and are not listed; worst_overlap still finds them.
     bool frozen = false;
+    // Edges [listed_first, edge_first) are listed too but never gathered nor reported (npos or
+    // edge_first or more: none). A coil's free part begins at its catheter's tip and gains an edge
+    // every node spacing it is pushed (0.5 mm, 25 ticks at 20 mm/s); listed from a boundary that
+    // moves by 16 edges at a time, the list stays valid across 15 of every 16 such crossings
+    // instead of being carried over and built again in the tick.
+    std::size_t listed_first = static_cast<std::size_t>(-1);
+    [[nodiscard]] std::size_t list_begin() const { return std::min(listed_first, edge_first); }
   };
 
   explicit RodContactField(double margin_mm = 0.05, double skin_mm = 0.3) : margin_(margin_mm), skin_(skin_mm) {}
@@ -70,6 +81,10 @@ class RodContactField final : public RodObstacles {
   };
   [[nodiscard]] Overlap worst_overlap() const;
 
+  // Between ticks: builds the candidate list now when some item's middle has moved more than
+  // `fraction` of what the list covers (half the skin), so that the next tick's gathers need not.
+  // True when it built.
+  bool prepare(double fraction) const;
   // Times the candidate list was built (diagnostics, benches).
   [[nodiscard]] std::uint64_t list_builds() const { return list_builds_; }
   // Times the members' edge ranges moved and the list was carried over to them, and the edges
@@ -114,8 +129,9 @@ class RodContactField final : public RodObstacles {
   void carry_list_over(std::span<const Member> members);
   void update_cell();
   void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
-  [[nodiscard]] bool relist_moved() const;  // false: every item relisted (a full build)
-  void build_list() const;
+  // Items moved more than `share` of the skin are listed again; false: every item (a full build).
+  [[nodiscard]] bool relist_moved(double share) const;
+  void build_list(double share = 0.25) const;
   void keep_last_gaps() const;  // after a partial build: the last gaps of pairs listed again
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;

@@ -181,6 +181,12 @@ class Simulator {
   // Waits for a released coils' job a step left running and takes its results in (at once when
   // none runs).
   void settle();
+  // Work the next step would do that the caller may do now, while it waits for the next tick (the
+  // session's haptic loop, after the hand has its force): the attached tools' candidate list of
+  // rod contacts built again once an edge has moved most of the way it covers, instead of in the
+  // next step's solve. The results are the same, bit for bit, whether or not it is called; it
+  // leaves the released coils' job running. True when it did work.
+  bool prepare_next_step();
   // The last step's released-coil job, in microseconds of the steady clock (for benches): how
   // long it ran, and how long the step then waited for it (0 when it was over first, inline,
   // or when no released coil was solved).
