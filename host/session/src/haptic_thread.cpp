@@ -49,14 +49,21 @@ void HapticThread::run(base::stop_token stop, std::int64_t max_ticks) {
     // No tick due: the next tick's work that can be done ahead, once, with half a period or more
     // left before it, then the wait. (A tick that ran late goes straight on to the next: the
     // pacer finds it due; one that ran long leaves that work to the next tick.)
-    if (idle_due_ && idle_ && pacer.next_deadline_us() - now >= period_us_ / 2) {
-      idle_due_ = false;
-      idle_();
-      continue;
-    }
+    if (idle_after(now)) continue;
     clock_.sleep_until_us(pacer.next_deadline_us());
   }
+  // A run ended by its tick count (a caller stepping the loop tick by tick in virtual time, as
+  // the browser's haptic worker does) does the idle work before it returns, not before the next
+  // call's tick.
+  if (go_on && max_ticks >= 0 && n >= max_ticks) idle_after(clock_.now_us());
   finished_.store(true, std::memory_order_release);
+}
+
+bool HapticThread::idle_after(std::int64_t now_us) {
+  if (!idle_due_ || !idle_ || pacer_->next_deadline_us() - now_us < period_us_ / 2) return false;
+  idle_due_ = false;
+  idle_();
+  return true;
 }
 
 }  // namespace cathbox::session

@@ -54,6 +54,7 @@ class HapticThread {
   IdleFn idle_;
   bool idle_due_ = false;  // ticks ran since the idle work last did
   std::optional<HapticPacer> pacer_;
+  bool idle_after(std::int64_t now_us);  // the idle work, if due and time allows; true: it ran
   RateMeter meter_;
   base::jthread thread_;
   std::atomic<bool> finished_{false};
