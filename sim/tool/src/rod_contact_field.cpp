@@ -202,7 +202,7 @@ void RodContactField::for_candidates(const Member& me, std::uint32_t mi, double 
         const std::uint32_t p = near[k];
         const Item& b = items_[pairs_[p]];
         const Member& other = members_[b.member];
-        if (b.edge < other.edge_first || excluded_now(me, a.edge, other, b.edge)) continue;
+        if (!gathered(b) || excluded_now(me, a.edge, other, b.edge)) continue;
         fn(a, other, b, p);
       }
     }
@@ -308,11 +308,11 @@ RodContactField::Overlap RodContactField::worst_overlap() const {
     for (std::uint32_t i = 0; i < items_.size(); ++i) {
       const Item& a = items_[i];
       const Member& me = members_[a.member];
-      if (a.edge < me.edge_first) continue;
+      if (!gathered(a)) continue;
       for_neighbours(balls_[i].mid, [&](std::uint32_t j) {
         const Item& b = items_[j];
         const Member& other = members_[b.member];
-        if (j == i || b.edge < other.edge_first || apart(balls_[i].mid, balls_[i].reach, balls_[j].mid, balls_[j].reach, 0.0)) return;
+        if (j == i || !gathered(b) || apart(balls_[i].mid, balls_[i].reach, balls_[j].mid, balls_[j].reach, 0.0)) return;
         if (excluded_always(me, a.edge, other, b.edge) || excluded_now(me, a.edge, other, b.edge)) return;
         pair_depth(a, other, b, 0);
       });

@@ -17,12 +17,13 @@ using rod_contact_detail::apart;
 using rod_contact_detail::assign_grown;
 using rod_contact_detail::resize_grown;
 
-bool RodContactField::update_mids() const {
+bool RodContactField::update_mids(double share) const {
   // An edge's middle that moved less than half the skin since the list was built keeps every
   // pair within the contact reach among the listed ones (two middles close by at most the skin).
   // A radius override grown since the build (an inflating balloon) takes its share of the room.
-  const double room = 0.5 * skin_ - grown_mm_;
-  const double limit_sq = grown_mm_ > 0.0 ? room * room : 0.25 * skin_ * skin_;
+  const double half = share * 0.5 * skin_;
+  const double room = half - grown_mm_;
+  const double limit_sq = grown_mm_ > 0.0 ? room * room : half * half;
   const double rebase = kRebaseMargins * margin_;
   bool covered = list_valid_ && !carried_ && room > 0.0;
   for (std::size_t i = 0; i < items_.size(); ++i) {
@@ -32,7 +33,7 @@ bool RodContactField::update_mids() const {
     const glm::dvec3& p1 = x[item.edge + 1];
     balls_[i].mid = 0.5 * (p0 + p1);
     // An edge listed but not gathered (Member::listed_first) needs no cover until it is gathered.
-    if (covered && item.edge >= members_[item.member].edge_first) {
+    if (covered && gathered(item)) {
       const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
       covered = glm::dot(d, d) <= limit_sq;
     }
@@ -53,18 +54,7 @@ bool RodContactField::update_mids() const {
 }
 
 bool RodContactField::prepare(double fraction) const {
-  if (members_.empty() || items_.empty()) return false;
-  const bool covered = update_mids();
-  if (covered) {
-    const double limit = fraction * 0.5 * skin_;
-    double most_sq = 0.0;
-    for (std::size_t i = 0; i < items_.size(); ++i) {
-      if (items_[i].edge < members_[items_[i].member].edge_first) continue;
-      const glm::dvec3 d = balls_[i].mid - listed_mid_[i];
-      most_sq = std::max(most_sq, glm::dot(d, d));
-    }
-    if (most_sq <= limit * limit) return false;
-  }
+  if (members_.empty() || items_.empty() || update_mids(fraction)) return false;
   // Listed again: the items moved more than half the trigger, as a build in a gather lists those
   // moved a quarter of the skin, half its trigger (a lower share lists again, a tick or two later,
   // the items the last build kept).

@@ -122,7 +122,10 @@ class RodContactField final : public RodObstacles {
   };
   // Sets the present middles of every item and its cull terms (Span, its reference moved once it
   // drifted kRebaseMargins); false when the candidate list does not cover the middles.
-  [[nodiscard]] bool update_mids() const;
+  // `share` < 1: whether it covers them with that share of its room to spare (prepare).
+  [[nodiscard]] bool update_mids(double share = 1.0) const;
+  // Whether gathers read the item (not an edge before its member's first: Member::listed_first).
+  [[nodiscard]] bool gathered(const Item& item) const { return item.edge >= members_[item.member].edge_first; }
   void set_radii(std::span<const Member> members);  // the radius overrides of the present members
   void list_items();  // the items of the present members, the grid sized for them
   [[nodiscard]] bool ranges_moved(std::span<const Member> members) const;  // only their edge ranges differ
