@@ -22,26 +22,28 @@ MeshWall::MeshWall(collision::ObbTree tree, std::size_t hint_slots, std::shared_
 }
 
 // A node's first query in its thread's pool takes the next slot of that pool (round robin when
-// more nodes than slots).
-void MeshWall::take_slot(WallHint& hint) const {
-  const int asked = probe_pool();
-  const int pool = pool_start_[asked + 1] > pool_start_[asked] ? asked : 0;  // a one-slot wall: one pool
+// more nodes than slots). False for a pool without slots (pool 1 of a one-slot wall): the query
+// goes cold rather than share pool 0's slot, which the other thread may be using.
+bool MeshWall::take_slot(WallHint& hint) const {
+  const int pool = probe_pool();
   const std::uint32_t lo = pool_start_[pool];
   const std::uint32_t hi = pool_start_[pool + 1];
-  if (hint.index >= lo && hint.index < hi) return;
+  if (hi <= lo) return false;
+  if (hint.index >= lo && hint.index < hi) return true;
   hint.index = lo + next_slot_[pool];
   next_slot_[pool] = (next_slot_[pool] + 1) % (hi - lo);
   ++cold_[pool];
   hints_[hint.index].reset();
   touching_[hint.index] = 0;
   if (!axis_hints_.empty()) axis_hints_[hint.index] = AxisHint{};
+  return true;
 }
 
 bool MeshWall::probe(const WallProbe& probe, WallHint& hint, WallContact& out) const {
-  const bool coherent = !hints_.empty();
-  if (coherent) take_slot(hint);
+  const bool coherent = !hints_.empty() && take_slot(hint);
   if (probe.lumen_axis && axis_) {
-    const LumenAxis::Answer a = axis_->probe(probe, axis_hints_[hint.index], out);
+    AxisHint cold;
+    const LumenAxis::Answer a = axis_->probe(probe, coherent ? axis_hints_[hint.index] : cold, out);
     if (a != LumenAxis::Answer::kNone) return a == LumenAxis::Answer::kWall;
   }
   const double reach = probe.radius_mm + probe.range_mm;

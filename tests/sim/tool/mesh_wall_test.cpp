@@ -74,13 +74,20 @@ TEST(MeshWall, EachProbePoolTakesSlotsOfItsOwn) {
     }
   }
   EXPECT_EQ(probe_pool(), 0);
+  // A wall of one slot: pool 0's. A probe from pool 1 goes cold, with the same answer, and never
+  // takes that slot (pool 0's thread may be using it at the same time).
   const MeshWall one(*build, 1);
-  const ProbePoolScope pool(1);
   WallHint h;
-  WallContact c;
+  WallContact c0, c1;
   probe.center_mm = {0.5, 0.0, 10.0};
-  ASSERT_TRUE(one.probe(probe, h, c));
+  ASSERT_TRUE(one.probe(probe, h, c0));
   EXPECT_EQ(h.index, 0u);
+  const ProbePoolScope pool(1);
+  WallHint cold;
+  ASSERT_TRUE(one.probe(probe, cold, c1));
+  EXPECT_EQ(cold.index, WallHint{}.index) << "pool 0's slot taken from pool 1";
+  EXPECT_EQ(c1.distance_mm, c0.distance_mm);
+  EXPECT_EQ(one.cold_slots(1), 0u);
 }
 
 // The 90-degree bend of radius 15 mm the probes and rods below walk and are pushed through, its

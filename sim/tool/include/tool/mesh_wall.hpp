@@ -28,7 +28,8 @@ class MeshWall final : public WallModel {
   // slots are allocated here, never per step; a slot's ~4.4 KB cut of the tree is first
   // written when that slot is used. hint_slots = 0 gives cold queries. The last quarter of the
   // slots is probe pool 1's (wall_model.hpp: the released coils' thread), the rest pool 0's; a
-  // node probed from the other pool takes a slot of that pool.
+  // node probed from the other pool takes a slot of that pool. A wall of one slot has none for
+  // pool 1: its probes there go cold (the same answers), never into pool 0's slot.
   static constexpr std::size_t kDefaultHintSlots = 4096;
   explicit MeshWall(collision::ObbTree tree, std::size_t hint_slots = kDefaultHintSlots,
                     std::shared_ptr<const WallSurface> surface = {});
@@ -47,7 +48,7 @@ class MeshWall final : public WallModel {
   [[nodiscard]] std::shared_ptr<const WallSurface> surface() const override { return surface_; }
 
  private:
-  void take_slot(WallHint& hint) const;
+  bool take_slot(WallHint& hint) const;
   collision::ObbTree tree_;
   mutable std::vector<collision::QueryHint> hints_;
   mutable std::vector<std::uint8_t> touching_;  // per slot: the last probe found the wall within touch
