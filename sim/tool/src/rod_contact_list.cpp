@@ -58,7 +58,7 @@ bool RodContactField::prepare(double fraction) const {
   // Listed again: the items moved more than half the trigger, as a build in a gather lists those
   // moved a quarter of the skin, half its trigger (a lower share lists again, a tick or two later,
   // the items the last build kept).
-  build_list(0.25 * fraction);
+  build_list(kRelistShare * fraction);
   return true;
 }
 

@@ -107,7 +107,7 @@ bool Simulator::substepped(std::size_t t) const {
   return true;
 }
 
-bool Simulator::prepare_next_step() { return !contacts_.members().empty() && contacts_.prepare(kPrepareShare); }
+bool Simulator::prepare_next_step() { return contacts_.prepare(kPrepareShare); }
 
 void Simulator::update_contact_members() {
   // Coils (their part past the detachment zone), released coils, and the tips of the

@@ -134,7 +134,9 @@ class RodContactField final : public RodObstacles {
   void build_grid(bool listed) const;  // the hash grid of the listed (or the present) middles
   // Items moved more than `share` of the skin are listed again; false: every item (a full build).
   [[nodiscard]] bool relist_moved(double share) const;
-  void build_list(double share = 0.25) const;
+  // A gather's build lists again the items moved a quarter of the skin, half what the list covers.
+  static constexpr double kRelistShare = 0.25;
+  void build_list(double share = kRelistShare) const;
   void keep_last_gaps() const;  // after a partial build: the last gaps of pairs listed again
   [[nodiscard]] std::size_t bucket_of(std::int64_t x, std::int64_t y, std::int64_t z) const;
   [[nodiscard]] bool excluded_always(const Member& a, std::size_t ea, const Member& b, std::size_t eb) const;
